@@ -1,0 +1,1 @@
+//! CiA 418 battery-module profile: objects, statuses, units, packed strings.

@@ -1,0 +1,43 @@
+//! The wire-decoding error shared by every stateless codec.
+
+/// Why bytes did not decode. `Copy`, no heap, names the field at fault.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, thiserror::Error)]
+#[non_exhaustive]
+pub enum DecodeError {
+    /// Fewer bytes than the message needs.
+    #[error("truncated: need {need} bytes, got {got}")]
+    Truncated {
+        /// Bytes the message needs.
+        need: usize,
+        /// Bytes present.
+        got: usize,
+    },
+    /// More bytes than the message may carry.
+    #[error("too long: at most {max} bytes, got {got}")]
+    TooLong {
+        /// Bytes the message may carry.
+        max: usize,
+        /// Bytes present.
+        got: usize,
+    },
+    /// A remote (RTR) frame where CiA 301 defines only data frames.
+    #[error("remote frame where only data frames are defined")]
+    UnexpectedRemote,
+}
+
+/// Checks that `data` is exactly `n` bytes long.
+pub(crate) const fn exact_len(data: &[u8], n: usize) -> Result<(), DecodeError> {
+    if data.len() < n {
+        Err(DecodeError::Truncated {
+            need: n,
+            got: data.len(),
+        })
+    } else if data.len() > n {
+        Err(DecodeError::TooLong {
+            max: n,
+            got: data.len(),
+        })
+    } else {
+        Ok(())
+    }
+}

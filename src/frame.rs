@@ -1,0 +1,361 @@
+//! CAN frames and identifiers.
+//!
+//! [`CanFrame`] is a classic CAN 2.0 frame: an 11-bit ([`CanId::Standard`]) or
+//! 29-bit ([`CanId::Extended`]) identifier, a data or remote kind, and 0..=8
+//! data bytes kept inline (no allocation). Constructors validate ranges and
+//! return [`FrameError`] instead of panicking.
+
+use core::fmt;
+
+/// The largest 11-bit identifier.
+pub const MAX_STANDARD_ID: u16 = 0x7FF;
+/// The largest 29-bit identifier.
+pub const MAX_EXTENDED_ID: u32 = 0x1FFF_FFFF;
+/// The most data bytes a classic CAN frame carries.
+pub const MAX_DATA_LEN: usize = 8;
+
+/// A CAN identifier: 11-bit (standard) or 29-bit (extended).
+///
+/// Build it with [`CanId::standard`] or [`CanId::extended`], which reject
+/// out-of-range values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum CanId {
+    /// 11-bit identifier, `0..=0x7FF`. CANopen's predefined connection set uses these.
+    Standard(u16),
+    /// 29-bit identifier, `0..=0x1FFF_FFFF`.
+    Extended(u32),
+}
+
+impl CanId {
+    /// An 11-bit identifier, or `None` above `0x7FF`.
+    #[must_use]
+    pub const fn standard(raw: u16) -> Option<Self> {
+        if raw <= MAX_STANDARD_ID {
+            Some(CanId::Standard(raw))
+        } else {
+            None
+        }
+    }
+
+    /// A 29-bit identifier, or `None` above `0x1FFF_FFFF`.
+    #[must_use]
+    pub const fn extended(raw: u32) -> Option<Self> {
+        if raw <= MAX_EXTENDED_ID {
+            Some(CanId::Extended(raw))
+        } else {
+            None
+        }
+    }
+
+    /// The identifier's numeric value.
+    #[must_use]
+    pub const fn raw(self) -> u32 {
+        match self {
+            CanId::Standard(id) => id as u32,
+            CanId::Extended(id) => id,
+        }
+    }
+
+    /// True for a 29-bit identifier.
+    #[must_use]
+    pub const fn is_extended(self) -> bool {
+        matches!(self, CanId::Extended(_))
+    }
+}
+
+impl fmt::Display for CanId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            CanId::Standard(id) => write!(f, "{id:03X}"),
+            CanId::Extended(id) => write!(f, "{id:08X}"),
+        }
+    }
+}
+
+/// Why a frame could not be built.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum FrameError {
+    /// More than 8 data bytes (or a remote frame DLC above 8).
+    #[error("CAN frame carries at most 8 data bytes, got {got}")]
+    TooLong {
+        /// The length asked for.
+        got: usize,
+    },
+    /// The identifier does not fit its format.
+    #[error("identifier {raw:#X} does not fit an {bits}-bit CAN identifier")]
+    IdOutOfRange {
+        /// The identifier asked for.
+        raw: u32,
+        /// 11 or 29.
+        bits: u8,
+    },
+}
+
+/// A classic CAN frame: identifier, data or remote, 0..=8 bytes.
+///
+/// The data bytes live inline; bytes past [`len`](Self::len) are always
+/// zero, so two frames compare equal exactly when they mean the same frame.
+///
+/// ```
+/// use canopen_codec::{CanFrame, CanId};
+/// let f = CanFrame::new(CanId::Standard(0x70A), &[0x7F]).unwrap();
+/// assert_eq!(f.data(), &[0x7F]);
+/// assert!(!f.is_remote());
+/// ```
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+pub struct CanFrame {
+    id: CanId,
+    remote: bool,
+    len: u8,
+    data: [u8; MAX_DATA_LEN],
+}
+
+impl CanFrame {
+    /// A data frame. Fails when `data` is longer than 8 bytes or the id is out of range.
+    pub fn new(id: CanId, data: &[u8]) -> Result<Self, FrameError> {
+        check_id(id)?;
+        if data.len() > MAX_DATA_LEN {
+            return Err(FrameError::TooLong { got: data.len() });
+        }
+        let mut buf = [0u8; MAX_DATA_LEN];
+        // Length checked above, so the split cannot fail.
+        if let Some(dst) = buf.get_mut(..data.len()) {
+            dst.copy_from_slice(data);
+        }
+        Ok(CanFrame {
+            id,
+            remote: false,
+            len: data.len() as u8,
+            data: buf,
+        })
+    }
+
+    /// A data frame on an 11-bit identifier (convenience for CANopen's predefined set).
+    pub fn standard(id: u16, data: &[u8]) -> Result<Self, FrameError> {
+        let id = CanId::standard(id).ok_or(FrameError::IdOutOfRange {
+            raw: u32::from(id),
+            bits: 11,
+        })?;
+        Self::new(id, data)
+    }
+
+    /// A data frame from an inline buffer, `len` bytes long. Infallible for
+    /// valid `len`; used on hot encode paths.
+    pub(crate) const fn from_parts(id: CanId, data: [u8; 8], len: u8) -> Self {
+        let len = if len as usize > MAX_DATA_LEN { 8 } else { len };
+        // Zero the tail so equality is on the meaningful bytes only.
+        let mut data = data;
+        let mut i = len as usize;
+        while i < MAX_DATA_LEN {
+            data[i] = 0;
+            i += 1;
+        }
+        CanFrame {
+            id,
+            remote: false,
+            len,
+            data,
+        }
+    }
+
+    /// A remote (RTR) frame asking for `dlc` bytes. Fails when `dlc > 8`.
+    pub fn remote(id: CanId, dlc: u8) -> Result<Self, FrameError> {
+        check_id(id)?;
+        if usize::from(dlc) > MAX_DATA_LEN {
+            return Err(FrameError::TooLong {
+                got: usize::from(dlc),
+            });
+        }
+        Ok(CanFrame {
+            id,
+            remote: true,
+            len: dlc,
+            data: [0; MAX_DATA_LEN],
+        })
+    }
+
+    /// The identifier.
+    #[must_use]
+    pub const fn id(&self) -> CanId {
+        self.id
+    }
+
+    /// True for a remote (RTR) frame.
+    #[must_use]
+    pub const fn is_remote(&self) -> bool {
+        self.remote
+    }
+
+    /// The data length code: the number of data bytes, or for a remote frame
+    /// the number requested.
+    #[must_use]
+    pub const fn dlc(&self) -> u8 {
+        self.len
+    }
+
+    /// The data bytes (empty for a remote frame).
+    #[must_use]
+    pub fn data(&self) -> &[u8] {
+        if self.remote {
+            &[]
+        } else {
+            self.data.get(..usize::from(self.len)).unwrap_or(&[])
+        }
+    }
+
+    /// The 8-byte inline buffer, zero past the data length.
+    #[must_use]
+    pub const fn padded_data(&self) -> [u8; 8] {
+        self.data
+    }
+}
+
+fn check_id(id: CanId) -> Result<(), FrameError> {
+    match id {
+        CanId::Standard(raw) if raw > MAX_STANDARD_ID => Err(FrameError::IdOutOfRange {
+            raw: u32::from(raw),
+            bits: 11,
+        }),
+        CanId::Extended(raw) if raw > MAX_EXTENDED_ID => {
+            Err(FrameError::IdOutOfRange { raw, bits: 29 })
+        }
+        _ => Ok(()),
+    }
+}
+
+impl fmt::Debug for CanFrame {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Display::fmt(self, f)
+    }
+}
+
+/// Formats as candump does: `70A#7F`, `12345678#0102`, `701#R` (remote, DLC 0)
+/// or `701#R1` (remote, DLC 1).
+impl fmt::Display for CanFrame {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}#", self.id)?;
+        if self.remote {
+            f.write_str("R")?;
+            if self.len > 0 {
+                write!(f, "{}", self.len)?;
+            }
+            return Ok(());
+        }
+        for b in self.data() {
+            write!(f, "{b:02X}")?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(feature = "embedded-can")]
+mod embedded {
+    //! Conversions to and from any [`embedded_can::Frame`] implementor.
+    use super::{CanFrame, CanId};
+
+    impl From<CanId> for embedded_can::Id {
+        fn from(id: CanId) -> Self {
+            match id {
+                // Both constructors accept every value our CanId admits; the
+                // fallbacks are unreachable for a validly built CanId.
+                CanId::Standard(raw) => embedded_can::StandardId::new(raw)
+                    .map(embedded_can::Id::Standard)
+                    .unwrap_or(embedded_can::Id::Standard(embedded_can::StandardId::MAX)),
+                CanId::Extended(raw) => embedded_can::ExtendedId::new(raw)
+                    .map(embedded_can::Id::Extended)
+                    .unwrap_or(embedded_can::Id::Extended(embedded_can::ExtendedId::MAX)),
+            }
+        }
+    }
+
+    impl From<embedded_can::Id> for CanId {
+        fn from(id: embedded_can::Id) -> Self {
+            match id {
+                embedded_can::Id::Standard(s) => CanId::Standard(s.as_raw()),
+                embedded_can::Id::Extended(e) => CanId::Extended(e.as_raw()),
+            }
+        }
+    }
+
+    impl CanFrame {
+        /// Converts any `embedded_can::Frame` into a `CanFrame`. Returns `None`
+        /// if the source frame reports more than 8 data bytes.
+        pub fn from_embedded<F: embedded_can::Frame>(frame: &F) -> Option<Self> {
+            let id = CanId::from(frame.id());
+            if frame.is_remote_frame() {
+                u8::try_from(frame.dlc())
+                    .ok()
+                    .and_then(|dlc| CanFrame::remote(id, dlc).ok())
+            } else {
+                CanFrame::new(id, frame.data()).ok()
+            }
+        }
+
+        /// Builds an `embedded_can::Frame` of the caller's type from this frame.
+        /// Returns `None` if the target type refuses it.
+        pub fn to_embedded<F: embedded_can::Frame>(&self) -> Option<F> {
+            let id = embedded_can::Id::from(self.id());
+            if self.is_remote() {
+                F::new_remote(id, usize::from(self.dlc()))
+            } else {
+                F::new(id, self.data())
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_long_data_and_bad_ids() {
+        assert_eq!(
+            CanFrame::standard(0x123, &[0; 9]),
+            Err(FrameError::TooLong { got: 9 })
+        );
+        assert_eq!(
+            CanFrame::standard(0x800, &[]),
+            Err(FrameError::IdOutOfRange {
+                raw: 0x800,
+                bits: 11
+            })
+        );
+        assert_eq!(
+            CanFrame::new(CanId::Extended(0x2000_0000), &[]),
+            Err(FrameError::IdOutOfRange {
+                raw: 0x2000_0000,
+                bits: 29
+            })
+        );
+        assert_eq!(
+            CanFrame::remote(CanId::Standard(1), 9),
+            Err(FrameError::TooLong { got: 9 })
+        );
+        assert!(CanId::standard(0x7FF).is_some());
+        assert!(CanId::standard(0x800).is_none());
+        assert!(CanId::extended(0x1FFF_FFFF).is_some());
+        assert!(CanId::extended(0x2000_0000).is_none());
+    }
+
+    #[test]
+    fn data_and_display() {
+        let f = CanFrame::standard(0x18A, &[0x74, 0x13, 0x45, 0x4E]).unwrap();
+        assert_eq!(f.data(), &[0x74, 0x13, 0x45, 0x4E]);
+        assert_eq!(f.dlc(), 4);
+        assert_eq!(f.padded_data(), [0x74, 0x13, 0x45, 0x4E, 0, 0, 0, 0]);
+        assert_eq!(format!("{f}"), "18A#7413454E");
+        let r = CanFrame::remote(CanId::Standard(0x701), 1).unwrap();
+        assert_eq!(r.data(), &[] as &[u8]);
+        assert_eq!(format!("{r}"), "701#R1");
+        let e = CanFrame::new(CanId::Extended(0x18FF_0001), &[1]).unwrap();
+        assert_eq!(format!("{e}"), "18FF0001#01");
+    }
+
+    #[test]
+    fn from_parts_zeroes_tail() {
+        let f = CanFrame::from_parts(CanId::Standard(1), [9; 8], 2);
+        assert_eq!(f, CanFrame::standard(1, &[9, 9]).unwrap());
+    }
+}

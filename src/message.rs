@@ -1,0 +1,265 @@
+//! The hot entry point: [`Message::decode`] classifies any frame under the
+//! CiA 301 predefined connection set and decodes it into a typed message.
+//!
+//! Decoding copies what it needs out of the frame (at most 8 bytes) and
+//! borrows nothing, so a [`Message`] is `Copy` and outlives its frame. It never
+//! allocates and never panics. Every message that decodes encodes back to the
+//! identical frame ([`Message::encode`]).
+
+use crate::bytes::Payload;
+use crate::cob_id::{classify, CobKind, LssDirection, NodeId, PdoNumber};
+use crate::emcy::Emergency;
+use crate::error::DecodeError;
+use crate::frame::{CanFrame, CanId};
+use crate::nmt::{Heartbeat, NmtCommand};
+use crate::sdo::{SdoRequest, SdoResponse};
+use crate::sync::Sync;
+use crate::time_of_day::TimeOfDay;
+
+/// One decoded CANopen frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Message {
+    /// 0x000: NMT module control.
+    Nmt(NmtCommand),
+    /// 0x080: SYNC.
+    Sync(Sync),
+    /// 0x080 + node: emergency.
+    Emcy {
+        /// The producer.
+        node: NodeId,
+        /// The emergency.
+        emcy: Emergency,
+    },
+    /// 0x100: TIME stamp.
+    Time(TimeOfDay),
+    /// A transmit PDO of `node` (raw payload; mapping-aware decoding is separate).
+    Tpdo {
+        /// PDO number (0-based).
+        pdo: PdoNumber,
+        /// The producer.
+        node: NodeId,
+        /// 0..=8 payload bytes.
+        payload: Payload,
+    },
+    /// A remote frame on a TPDO identifier: asks `node` to send that TPDO.
+    TpdoRequest {
+        /// PDO number (0-based).
+        pdo: PdoNumber,
+        /// The producer asked.
+        node: NodeId,
+        /// The requested data length.
+        dlc: u8,
+    },
+    /// A receive PDO of `node` (raw payload).
+    Rpdo {
+        /// PDO number (0-based).
+        pdo: PdoNumber,
+        /// The consumer.
+        node: NodeId,
+        /// 0..=8 payload bytes.
+        payload: Payload,
+    },
+    /// 0x600 + node: SDO request to the server `node`.
+    SdoRequest {
+        /// The server addressed.
+        node: NodeId,
+        /// The request.
+        sdo: SdoRequest,
+    },
+    /// 0x580 + node: SDO response from the server `node`.
+    SdoResponse {
+        /// The responding server.
+        node: NodeId,
+        /// The response.
+        sdo: SdoResponse,
+    },
+    /// 0x700 + node, data: heartbeat, boot-up or node-guarding reply.
+    Heartbeat {
+        /// The producer.
+        node: NodeId,
+        /// State and toggle.
+        heartbeat: Heartbeat,
+    },
+    /// 0x700 + node, remote frame: node-guarding request.
+    NodeGuardRequest {
+        /// The node guarded.
+        node: NodeId,
+        /// The requested data length (1 by CiA 301; kept as received).
+        dlc: u8,
+    },
+    /// 0x7E4 / 0x7E5: layer setting services (raw payload).
+    Lss {
+        /// Which way the frame travels.
+        direction: LssDirection,
+        /// 0..=8 payload bytes.
+        payload: Payload,
+    },
+    /// Outside the predefined connection set (including every 29-bit frame),
+    /// or a remote frame on an unassigned identifier: the frame itself.
+    Unknown(CanFrame),
+}
+
+impl Message {
+    /// Classifies and decodes one frame.
+    ///
+    /// Fails with a [`DecodeError`] when the identifier names a known object
+    /// but the frame does not fit it (wrong length, or a remote frame where
+    /// only data frames exist). Use [`classify`] on the frame's id to learn
+    /// what it was meant to be.
+    ///
+    /// ```
+    /// use canopen_codec::{CanFrame, Message, NodeId};
+    /// use canopen_codec::nmt::NmtState;
+    /// let f = CanFrame::standard(0x701, &[0x05]).unwrap();
+    /// match Message::decode(&f).unwrap() {
+    ///     Message::Heartbeat { node, heartbeat } => {
+    ///         assert_eq!(node, NodeId::new(1).unwrap());
+    ///         assert_eq!(heartbeat.state, NmtState::Operational);
+    ///     }
+    ///     other => panic!("{other:?}"),
+    /// }
+    /// ```
+    #[inline]
+    pub fn decode(frame: &CanFrame) -> Result<Message, DecodeError> {
+        let kind = classify(frame.id());
+        if frame.is_remote() {
+            return Self::decode_remote(kind, frame);
+        }
+        let data = frame.data();
+        Ok(match kind {
+            CobKind::Tpdo(pdo, node) => Message::Tpdo {
+                pdo,
+                node,
+                payload: payload(data),
+            },
+            CobKind::Rpdo(pdo, node) => Message::Rpdo {
+                pdo,
+                node,
+                payload: payload(data),
+            },
+            CobKind::NmtErrorControl(node) => Message::Heartbeat {
+                node,
+                heartbeat: Heartbeat::decode(data)?,
+            },
+            CobKind::SdoRx(node) => Message::SdoRequest {
+                node,
+                sdo: SdoRequest::decode(data)?,
+            },
+            CobKind::SdoTx(node) => Message::SdoResponse {
+                node,
+                sdo: SdoResponse::decode(data)?,
+            },
+            CobKind::Emcy(node) => Message::Emcy {
+                node,
+                emcy: Emergency::decode(data)?,
+            },
+            CobKind::Nmt => Message::Nmt(NmtCommand::decode(data)?),
+            CobKind::Sync => Message::Sync(Sync::decode(data)?),
+            CobKind::Time => Message::Time(TimeOfDay::decode(data)?),
+            CobKind::Lss(direction) => Message::Lss {
+                direction,
+                payload: payload(data),
+            },
+            CobKind::Unknown => Message::Unknown(*frame),
+        })
+    }
+
+    fn decode_remote(kind: CobKind, frame: &CanFrame) -> Result<Message, DecodeError> {
+        match kind {
+            CobKind::Tpdo(pdo, node) => Ok(Message::TpdoRequest {
+                pdo,
+                node,
+                dlc: frame.dlc(),
+            }),
+            CobKind::NmtErrorControl(node) => Ok(Message::NodeGuardRequest {
+                node,
+                dlc: frame.dlc(),
+            }),
+            CobKind::Unknown => Ok(Message::Unknown(*frame)),
+            _ => Err(DecodeError::UnexpectedRemote),
+        }
+    }
+
+    /// What kind of object this message is.
+    #[must_use]
+    pub fn kind(&self) -> CobKind {
+        match *self {
+            Message::Nmt(_) => CobKind::Nmt,
+            Message::Sync(_) => CobKind::Sync,
+            Message::Emcy { node, .. } => CobKind::Emcy(node),
+            Message::Time(_) => CobKind::Time,
+            Message::Tpdo { pdo, node, .. } | Message::TpdoRequest { pdo, node, .. } => {
+                CobKind::Tpdo(pdo, node)
+            }
+            Message::Rpdo { pdo, node, .. } => CobKind::Rpdo(pdo, node),
+            Message::SdoRequest { node, .. } => CobKind::SdoRx(node),
+            Message::SdoResponse { node, .. } => CobKind::SdoTx(node),
+            Message::Heartbeat { node, .. } | Message::NodeGuardRequest { node, .. } => {
+                CobKind::NmtErrorControl(node)
+            }
+            Message::Lss { direction, .. } => CobKind::Lss(direction),
+            Message::Unknown(f) => classify(f.id()),
+        }
+    }
+
+    /// The node the message belongs to, if any.
+    #[must_use]
+    pub fn node(&self) -> Option<NodeId> {
+        self.kind().node()
+    }
+
+    /// Encodes the message as a frame. For a message returned by
+    /// [`Message::decode`], this is the identical frame.
+    #[must_use]
+    pub fn encode(&self) -> CanFrame {
+        let id = |kind: CobKind| CanId::Standard(kind.cob_id().unwrap_or(0));
+        let mut buf = [0u8; 8];
+        let len: usize = match self {
+            Message::Unknown(frame) => return *frame,
+            Message::TpdoRequest { dlc, .. } | Message::NodeGuardRequest { dlc, .. } => {
+                return CanFrame::remote(id(self.kind()), (*dlc).min(8))
+                    .unwrap_or(CanFrame::from_parts(id(self.kind()), [0; 8], 0));
+            }
+            Message::Nmt(cmd) => put(&mut buf, &cmd.encode()),
+            Message::Sync(s) => {
+                let (b, n) = s.encode();
+                put(&mut buf, b.get(..n).unwrap_or(&[]))
+            }
+            Message::Emcy { emcy, .. } => put(&mut buf, &emcy.encode()),
+            Message::Time(t) => put(&mut buf, &t.encode()),
+            Message::Tpdo { payload, .. }
+            | Message::Rpdo { payload, .. }
+            | Message::Lss { payload, .. } => put(&mut buf, payload.as_slice()),
+            Message::SdoRequest { sdo, .. } => {
+                let (b, n) = sdo.encode();
+                buf = b;
+                n
+            }
+            Message::SdoResponse { sdo, .. } => {
+                let (b, n) = sdo.encode();
+                buf = b;
+                n
+            }
+            Message::Heartbeat { heartbeat, .. } => put(&mut buf, &[heartbeat.encode()]),
+        };
+        CanFrame::from_parts(id(self.kind()), buf, len as u8)
+    }
+}
+
+#[inline]
+fn payload(data: &[u8]) -> Payload {
+    // A CanFrame never holds more than 8 bytes.
+    Payload::new(data).unwrap_or_default()
+}
+
+fn put(buf: &mut [u8; 8], src: &[u8]) -> usize {
+    let n = src.len().min(8);
+    if let (Some(dst), Some(src)) = (buf.get_mut(..n), src.get(..n)) {
+        dst.copy_from_slice(src);
+    }
+    n
+}
+
+#[cfg(test)]
+#[path = "message_tests.rs"]
+mod tests;

@@ -1,0 +1,173 @@
+use super::*;
+use crate::emcy::ErrorCode;
+use crate::nmt::{NmtCommandSpecifier, NmtState, NmtTarget};
+use crate::sdo::{ClientCommand, ServerCommand};
+
+fn f(id: u16, data: &[u8]) -> CanFrame {
+    CanFrame::standard(id, data).unwrap()
+}
+
+fn n(raw: u8) -> NodeId {
+    NodeId::new(raw).unwrap()
+}
+
+fn round_trip(frame: CanFrame) -> Message {
+    let m = Message::decode(&frame).unwrap();
+    assert_eq!(m.encode(), frame, "{m:?}");
+    m
+}
+
+#[test]
+fn capture_frames_decode() {
+    assert_eq!(
+        round_trip(f(0x000, &[0x01, 0x0A])),
+        Message::Nmt(NmtCommand {
+            command: NmtCommandSpecifier::Start,
+            target: NmtTarget::Node(n(10)),
+        })
+    );
+    assert_eq!(
+        round_trip(f(0x70A, &[0x7F])),
+        Message::Heartbeat {
+            node: n(10),
+            heartbeat: Heartbeat::new(NmtState::PreOperational)
+        }
+    );
+    let Message::Emcy { node, emcy } =
+        round_trip(f(0x08A, &[0x30, 0x81, 0x01, 0x1E, 0x80, 0, 0, 0]))
+    else {
+        panic!()
+    };
+    assert_eq!(node, n(10));
+    assert_eq!(emcy.code, ErrorCode::HEARTBEAT);
+    let Message::Tpdo { pdo, node, payload } =
+        round_trip(f(0x18A, &[0x74, 0x13, 0x45, 0x4E, 0x70, 0, 0, 0]))
+    else {
+        panic!()
+    };
+    assert_eq!((pdo, node), (PdoNumber::P0, n(10)));
+    assert_eq!(payload.as_slice(), &[0x74, 0x13, 0x45, 0x4E, 0x70, 0, 0, 0]);
+    let Message::Rpdo { pdo, .. } = round_trip(f(0x30A, &[0, 0, 0, 0x0A, 0, 0x52, 0x30, 0x02]))
+    else {
+        panic!()
+    };
+    assert_eq!(pdo, PdoNumber::P1);
+}
+
+#[test]
+fn sdo_both_directions() {
+    let Message::SdoRequest { node, sdo } =
+        round_trip(f(0x602, &[0x40, 0x18, 0x10, 1, 0, 0, 0, 0]))
+    else {
+        panic!()
+    };
+    assert_eq!(node, n(2));
+    assert_eq!(
+        sdo.command,
+        ClientCommand::InitiateUpload {
+            index: 0x1018,
+            sub: 1
+        }
+    );
+    let Message::SdoResponse { sdo, .. } = round_trip(f(0x582, &[0x60, 0x17, 0x10, 0, 0, 0, 0, 0]))
+    else {
+        panic!()
+    };
+    assert_eq!(
+        sdo.command,
+        ServerCommand::InitiateDownload {
+            index: 0x1017,
+            sub: 0
+        }
+    );
+}
+
+#[test]
+fn remote_frames() {
+    let guard = CanFrame::remote(CanId::Standard(0x701), 1).unwrap();
+    assert_eq!(
+        round_trip(guard),
+        Message::NodeGuardRequest { node: n(1), dlc: 1 }
+    );
+    let rtr = CanFrame::remote(CanId::Standard(0x281), 8).unwrap();
+    assert_eq!(
+        round_trip(rtr),
+        Message::TpdoRequest {
+            pdo: PdoNumber::P1,
+            node: n(1),
+            dlc: 8
+        }
+    );
+    let odd = CanFrame::remote(CanId::Standard(0x123), 0).unwrap();
+    assert_eq!(round_trip(odd), Message::Unknown(odd));
+    for id in [0x000u16, 0x080, 0x081, 0x100, 0x201, 0x581, 0x601, 0x7E5] {
+        let r = CanFrame::remote(CanId::Standard(id), 0).unwrap();
+        assert_eq!(
+            Message::decode(&r),
+            Err(DecodeError::UnexpectedRemote),
+            "{id:X}"
+        );
+    }
+}
+
+#[test]
+fn others() {
+    assert_eq!(
+        round_trip(f(0x080, &[])),
+        Message::Sync(Sync { counter: None })
+    );
+    assert_eq!(
+        round_trip(f(0x080, &[3])),
+        Message::Sync(Sync { counter: Some(3) })
+    );
+    assert!(matches!(
+        round_trip(f(0x100, &[1, 2, 3, 4, 5, 6])),
+        Message::Time(_)
+    ));
+    assert!(matches!(
+        round_trip(f(0x7E5, &[0x04, 1, 0, 0, 0, 0, 0, 0])),
+        Message::Lss {
+            direction: LssDirection::MasterToSlave,
+            ..
+        }
+    ));
+    let ext = CanFrame::new(CanId::Extended(0x18A), &[1, 2]).unwrap();
+    assert_eq!(round_trip(ext), Message::Unknown(ext));
+    assert_eq!(round_trip(f(0x700, &[5])), Message::Unknown(f(0x700, &[5])));
+}
+
+#[test]
+fn malformed_known_objects_are_errors() {
+    assert_eq!(
+        Message::decode(&f(0x08A, &[0x30, 0x81])),
+        Err(DecodeError::Truncated { need: 8, got: 2 })
+    );
+    assert_eq!(
+        Message::decode(&f(0x000, &[1])),
+        Err(DecodeError::Truncated { need: 2, got: 1 })
+    );
+    assert_eq!(
+        Message::decode(&f(0x701, &[])),
+        Err(DecodeError::Truncated { need: 1, got: 0 })
+    );
+    assert_eq!(
+        Message::decode(&f(0x080, &[1, 2])),
+        Err(DecodeError::TooLong { max: 1, got: 2 })
+    );
+    assert_eq!(
+        Message::decode(&f(0x601, &[])),
+        Err(DecodeError::Truncated { need: 1, got: 0 })
+    );
+    assert_eq!(
+        Message::decode(&f(0x601, &[0x40, 0x00])),
+        Err(DecodeError::Truncated { need: 4, got: 2 })
+    );
+}
+
+#[test]
+fn kind_and_node() {
+    let m = Message::decode(&f(0x28A, &[])).unwrap();
+    assert_eq!(m.kind(), CobKind::Tpdo(PdoNumber::P1, n(10)));
+    assert_eq!(m.node(), Some(n(10)));
+    assert_eq!(Message::decode(&f(0x080, &[])).unwrap().node(), None);
+}

@@ -1,0 +1,57 @@
+//! SYNC (identifier 0x080), CiA 301: no data, or one counter byte.
+
+use crate::error::DecodeError;
+
+/// A SYNC message with its optional counter (1..=240 when the producer's
+/// 1019h is set; any byte is kept as received).
+///
+/// ```
+/// use canopen_codec::sync::Sync;
+/// assert_eq!(Sync::decode(&[]).unwrap(), Sync { counter: None });
+/// assert_eq!(Sync::decode(&[7]).unwrap().counter, Some(7));
+/// assert!(Sync::decode(&[1, 2]).is_err());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Sync {
+    /// The counter byte, if the frame carries one.
+    pub counter: Option<u8>,
+}
+
+impl Sync {
+    /// Decodes 0 or 1 data bytes.
+    pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
+        match *data {
+            [] => Ok(Sync { counter: None }),
+            [c] => Ok(Sync { counter: Some(c) }),
+            _ => Err(DecodeError::TooLong {
+                max: 1,
+                got: data.len(),
+            }),
+        }
+    }
+
+    /// The data bytes (`len` is 0 or 1) in an 8-byte buffer.
+    #[must_use]
+    pub fn encode(&self) -> ([u8; 1], usize) {
+        match self.counter {
+            Some(c) => ([c], 1),
+            None => ([0], 0),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn round_trip() {
+        for c in 0..=255u8 {
+            let s = Sync::decode(&[c]).unwrap();
+            let (buf, len) = s.encode();
+            assert_eq!(&buf[..len], &[c]);
+        }
+        let (_, len) = Sync::default().encode();
+        assert_eq!(len, 0);
+    }
+}

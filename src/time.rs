@@ -1,0 +1,129 @@
+//! Caller-supplied time.
+//!
+//! The crate never reads a clock. Every frame and every timeout call comes
+//! with a [`Timestamp`]: microseconds on a monotonic clock of the caller's
+//! choosing (the epoch does not matter, only differences do). All arithmetic
+//! saturates, so a clock that jumps backwards or far ahead never panics: a
+//! duration "since" a later instant is zero, and adding past `u64::MAX`
+//! stays at `u64::MAX`.
+
+use core::fmt;
+use core::time::Duration;
+
+/// An instant in microseconds on the caller's monotonic clock.
+///
+/// ```
+/// use canopen_codec::Timestamp;
+/// let t = Timestamp::from_millis(1500);
+/// assert_eq!(t.as_micros(), 1_500_000);
+/// assert_eq!(t.add_millis(500), Timestamp::from_millis(2000));
+/// // Saturating: a later instant minus an earlier one is never negative.
+/// assert_eq!(Timestamp::ZERO.saturating_micros_since(t), 0);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+pub struct Timestamp(u64);
+
+impl Timestamp {
+    /// Time zero: where simulated clocks start.
+    pub const ZERO: Timestamp = Timestamp(0);
+    /// The latest representable instant ("never").
+    pub const MAX: Timestamp = Timestamp(u64::MAX);
+
+    /// From microseconds.
+    #[must_use]
+    pub const fn from_micros(us: u64) -> Self {
+        Timestamp(us)
+    }
+
+    /// From milliseconds (saturating).
+    #[must_use]
+    pub const fn from_millis(ms: u64) -> Self {
+        Timestamp(ms.saturating_mul(1000))
+    }
+
+    /// Microseconds since the caller's epoch.
+    #[must_use]
+    pub const fn as_micros(self) -> u64 {
+        self.0
+    }
+
+    /// Whole milliseconds since the caller's epoch.
+    #[must_use]
+    pub const fn as_millis(self) -> u64 {
+        self.0 / 1000
+    }
+
+    /// `self + us`, saturating at [`Timestamp::MAX`].
+    #[must_use]
+    pub const fn add_micros(self, us: u64) -> Self {
+        Timestamp(self.0.saturating_add(us))
+    }
+
+    /// `self + ms` milliseconds, saturating at [`Timestamp::MAX`].
+    #[must_use]
+    pub const fn add_millis(self, ms: u64) -> Self {
+        self.add_micros(ms.saturating_mul(1000))
+    }
+
+    /// `self + d`, saturating at [`Timestamp::MAX`] (sub-microsecond parts are dropped).
+    #[must_use]
+    pub fn add_duration(self, d: Duration) -> Self {
+        let us = u64::try_from(d.as_micros()).unwrap_or(u64::MAX);
+        self.add_micros(us)
+    }
+
+    /// Microseconds from `earlier` to `self`; zero if `earlier` is later.
+    #[must_use]
+    pub const fn saturating_micros_since(self, earlier: Timestamp) -> u64 {
+        self.0.saturating_sub(earlier.0)
+    }
+
+    /// Time from `earlier` to `self`; zero if `earlier` is later.
+    #[must_use]
+    pub const fn saturating_duration_since(self, earlier: Timestamp) -> Duration {
+        Duration::from_micros(self.saturating_micros_since(earlier))
+    }
+
+    /// True once `self` has reached `deadline`.
+    #[must_use]
+    pub const fn has_reached(self, deadline: Timestamp) -> bool {
+        self.0 >= deadline.0
+    }
+}
+
+impl fmt::Display for Timestamp {
+    /// Seconds with microsecond precision, as candump prints them.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}.{:06}", self.0 / 1_000_000, self.0 % 1_000_000)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn saturates_both_ways() {
+        assert_eq!(Timestamp::MAX.add_millis(1), Timestamp::MAX);
+        assert_eq!(Timestamp::from_millis(u64::MAX), Timestamp::MAX);
+        assert_eq!(
+            Timestamp::from_micros(5).saturating_micros_since(Timestamp::from_micros(9)),
+            0
+        );
+        assert_eq!(
+            Timestamp::from_micros(9).saturating_duration_since(Timestamp::from_micros(5)),
+            Duration::from_micros(4)
+        );
+        assert_eq!(Timestamp::ZERO.add_duration(Duration::MAX), Timestamp::MAX);
+        assert!(Timestamp::from_millis(2).has_reached(Timestamp::from_millis(2)));
+        assert!(!Timestamp::from_millis(1).has_reached(Timestamp::from_millis(2)));
+    }
+
+    #[test]
+    fn displays_like_candump() {
+        assert_eq!(
+            format!("{}", Timestamp::from_micros(1_756_955_646_068_614)),
+            "1756955646.068614"
+        );
+    }
+}
