@@ -1,1 +1,476 @@
+//! Byte vectors for the SDO codec: the public vectors of
+//! `spec/cia301/vectors.txt` (V1-V19) and every command specifier.
 
+use super::*;
+
+fn req(bytes: &[u8]) -> ClientCommand {
+    let r = SdoRequest::decode(bytes).unwrap();
+    let (b, n) = r.encode();
+    assert_eq!(&b[..n], bytes, "request round trip");
+    r.command
+}
+
+fn resp(bytes: &[u8]) -> ServerCommand {
+    let r = SdoResponse::decode(bytes).unwrap();
+    let (b, n) = r.encode();
+    assert_eq!(&b[..n], bytes, "response round trip");
+    r.command
+}
+
+fn exp(data: &[u8]) -> InitiatePayload {
+    InitiatePayload::expedited(data).unwrap()
+}
+
+fn seg(toggle: bool, last: bool, data: &[u8]) -> Segment {
+    Segment {
+        toggle,
+        last,
+        data: SegmentData::new(data).unwrap(),
+    }
+}
+
+/// Encodes a typed command with zero reserved bytes.
+fn enc_req(c: ClientCommand) -> [u8; 8] {
+    let (b, n) = SdoRequest::new(c).encode();
+    assert_eq!(n, 8);
+    b
+}
+
+fn enc_resp(c: ServerCommand) -> [u8; 8] {
+    let (b, n) = SdoResponse::new(c).encode();
+    assert_eq!(n, 8);
+    b
+}
+
+#[test]
+fn v1_v3_expedited_upload() {
+    let up = ClientCommand::InitiateUpload {
+        index: 0x1018,
+        sub: 1,
+    };
+    assert_eq!(req(&[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]), up);
+    assert_eq!(enc_req(up), [0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]);
+    let r = ServerCommand::InitiateUpload {
+        index: 0x1018,
+        sub: 1,
+        payload: exp(&[4, 0, 0, 0]),
+    };
+    assert_eq!(resp(&[0x43, 0x18, 0x10, 0x01, 0x04, 0, 0, 0]), r);
+    assert_eq!(enc_resp(r), [0x43, 0x18, 0x10, 0x01, 0x04, 0, 0, 0]);
+    // V1b: DLC 5, n = 3, one byte.
+    assert_eq!(
+        resp(&[0x4F, 0x00, 0x14, 0x02, 0xFE]),
+        ServerCommand::InitiateUpload {
+            index: 0x1400,
+            sub: 2,
+            payload: exp(&[0xFE]),
+        }
+    );
+    // V1c / V2: size not indicated: all 4 bytes reported.
+    assert_eq!(
+        resp(&[0x42, 0x00, 0x14, 0x02, 0xFE, 0, 0, 0]),
+        ServerCommand::InitiateUpload {
+            index: 0x1400,
+            sub: 2,
+            payload: InitiatePayload::Expedited {
+                data: ExpeditedData::new(&[0xFE, 0, 0, 0]).unwrap(),
+                size_indicated: false
+            },
+        }
+    );
+    // V3: n = 2 and n = 1 with garbage padding that must be ignored (and kept).
+    assert_eq!(
+        resp(&[0x4B, 0x06, 0x20, 0x00, 0xFE, 0xFD, 0xFC, 0xFB]),
+        ServerCommand::InitiateUpload {
+            index: 0x2006,
+            sub: 0,
+            payload: exp(&[0xFE, 0xFD]),
+        }
+    );
+    assert_eq!(
+        resp(&[0x47, 0x16, 0x20, 0x00, 0xFE, 0xFD, 0xFC, 0xFB]),
+        ServerCommand::InitiateUpload {
+            index: 0x2016,
+            sub: 0,
+            payload: exp(&[0xFE, 0xFD, 0xFC]),
+        }
+    );
+}
+
+#[test]
+fn v4_v7_expedited_download() {
+    let d = ClientCommand::InitiateDownload {
+        index: 0x1017,
+        sub: 0,
+        payload: exp(&[0xA0, 0x0F]),
+    };
+    assert_eq!(req(&[0x2B, 0x17, 0x10, 0x00, 0xA0, 0x0F, 0, 0]), d);
+    assert_eq!(enc_req(d), [0x2B, 0x17, 0x10, 0x00, 0xA0, 0x0F, 0, 0]);
+    let ack = ServerCommand::InitiateDownload {
+        index: 0x1017,
+        sub: 0,
+    };
+    assert_eq!(resp(&[0x60, 0x17, 0x10, 0, 0, 0, 0, 0]), ack);
+    assert_eq!(enc_resp(ack), [0x60, 0x17, 0x10, 0, 0, 0, 0, 0]);
+    // V6: 4 bytes, n = 0.
+    let d = ClientCommand::InitiateDownload {
+        index: 0x1400,
+        sub: 1,
+        payload: exp(&[0x04, 0x02, 0x00, 0x80]),
+    };
+    assert_eq!(req(&[0x23, 0x00, 0x14, 0x01, 0x04, 0x02, 0x00, 0x80]), d);
+    assert_eq!(enc_req(d), [0x23, 0x00, 0x14, 0x01, 0x04, 0x02, 0x00, 0x80]);
+    // V7
+    assert_eq!(
+        req(&[0x23, 0x16, 0x10, 0x02, 0xF0, 0x00, 0x01, 0x00]),
+        ClientCommand::InitiateDownload {
+            index: 0x1016,
+            sub: 2,
+            payload: exp(&[0xF0, 0, 1, 0]),
+        }
+    );
+}
+
+#[test]
+fn v8_segmented_upload() {
+    assert_eq!(
+        resp(&[0x41, 0x08, 0x10, 0x00, 0x1A, 0, 0, 0]),
+        ServerCommand::InitiateUpload {
+            index: 0x1008,
+            sub: 0,
+            payload: InitiatePayload::Segmented { size: Some(26) },
+        }
+    );
+    assert_eq!(
+        req(&[0x60, 0, 0, 0, 0, 0, 0, 0]),
+        ClientCommand::UploadSegment { toggle: false }
+    );
+    assert_eq!(
+        req(&[0x70, 0, 0, 0, 0, 0, 0, 0]),
+        ClientCommand::UploadSegment { toggle: true }
+    );
+    assert_eq!(
+        enc_req(ClientCommand::UploadSegment { toggle: true }),
+        [0x70, 0, 0, 0, 0, 0, 0, 0]
+    );
+    let s = ServerCommand::UploadSegment(seg(false, false, b"Tiny No"));
+    assert_eq!(resp(&[0x00, 0x54, 0x69, 0x6E, 0x79, 0x20, 0x4E, 0x6F]), s);
+    assert_eq!(
+        enc_resp(s),
+        [0x00, 0x54, 0x69, 0x6E, 0x79, 0x20, 0x4E, 0x6F]
+    );
+    assert_eq!(
+        resp(&[0x10, 0x64, 0x65, 0x20, 0x2D, 0x20, 0x4D, 0x65]),
+        ServerCommand::UploadSegment(seg(true, false, b"de - Me"))
+    );
+    let last = ServerCommand::UploadSegment(seg(true, true, b"ins !"));
+    assert_eq!(resp(&[0x15, 0x69, 0x6E, 0x73, 0x20, 0x21, 0, 0]), last);
+    assert_eq!(enc_resp(last), [0x15, 0x69, 0x6E, 0x73, 0x20, 0x21, 0, 0]);
+}
+
+#[test]
+fn v9_v10_lenient_sizes_still_decode() {
+    // The codec reports what the frames say; the client state machine aborts.
+    assert_eq!(
+        resp(&[0x41, 0x08, 0x10, 0x00, 0x04, 0, 0, 0]),
+        ServerCommand::InitiateUpload {
+            index: 0x1008,
+            sub: 0,
+            payload: InitiatePayload::Segmented { size: Some(4) },
+        }
+    );
+    assert_eq!(
+        resp(&[0x05, 0x54, 0x69, 0x6E, 0x79, 0x20, 0, 0]),
+        ServerCommand::UploadSegment(seg(false, true, b"Tiny "))
+    );
+    assert_eq!(
+        resp(&[0x41, 0x1B, 0x20, 0x00, 0xFE, 0xFD, 0xFC, 0xFB]),
+        ServerCommand::InitiateUpload {
+            index: 0x201B,
+            sub: 0,
+            payload: InitiatePayload::Segmented {
+                size: Some(0xFBFC_FDFE)
+            },
+        }
+    );
+    assert_eq!(
+        resp(&[0x1D, 0x19, 0x21, 0x70, 0xFE, 0xFD, 0xFC, 0xFB]),
+        ServerCommand::UploadSegment(seg(true, true, &[0x19]))
+    );
+}
+
+#[test]
+fn v11_v14_segmented_download() {
+    let init = ClientCommand::InitiateDownload {
+        index: 0x2000,
+        sub: 0,
+        payload: InitiatePayload::Segmented { size: Some(13) },
+    };
+    assert_eq!(req(&[0x21, 0x00, 0x20, 0x00, 0x0D, 0, 0, 0]), init);
+    assert_eq!(enc_req(init), [0x21, 0x00, 0x20, 0x00, 0x0D, 0, 0, 0]);
+    let s0 = ClientCommand::DownloadSegment(seg(false, false, b"A long "));
+    assert_eq!(req(&[0x00, 0x41, 0x20, 0x6C, 0x6F, 0x6E, 0x67, 0x20]), s0);
+    // The fixture's ack has non-zero reserved bytes: ignored, and kept.
+    assert_eq!(
+        resp(&[0x20, 0x00, 0x20, 0x00, 0, 0, 0, 0]),
+        ServerCommand::DownloadSegment { toggle: false }
+    );
+    assert_eq!(
+        enc_resp(ServerCommand::DownloadSegment { toggle: false }),
+        [0x20, 0, 0, 0, 0, 0, 0, 0]
+    );
+    let s1 = ClientCommand::DownloadSegment(seg(true, true, b"string"));
+    assert_eq!(req(&[0x13, 0x73, 0x74, 0x72, 0x69, 0x6E, 0x67, 0x00]), s1);
+    assert_eq!(
+        enc_req(s1),
+        [0x13, 0x73, 0x74, 0x72, 0x69, 0x6E, 0x67, 0x00]
+    );
+    assert_eq!(
+        resp(&[0x30, 0x00, 0x20, 0x00, 0, 0, 0, 0]),
+        ServerCommand::DownloadSegment { toggle: true }
+    );
+    // V12
+    assert_eq!(
+        req(&[0x05, 0x6F, 0x6D, 0x61, 0x69, 0x6E, 0, 0]),
+        ClientCommand::DownloadSegment(seg(false, true, b"omain"))
+    );
+    // V13: zero length, one empty last segment.
+    assert_eq!(
+        req(&[0x21, 0x00, 0x20, 0x00, 0, 0, 0, 0]),
+        ClientCommand::InitiateDownload {
+            index: 0x2000,
+            sub: 0,
+            payload: InitiatePayload::Segmented { size: Some(0) },
+        }
+    );
+    let empty = ClientCommand::DownloadSegment(seg(false, true, &[]));
+    assert_eq!(req(&[0x0F, 0, 0, 0, 0, 0, 0, 0]), empty);
+    assert_eq!(enc_req(empty), [0x0F, 0, 0, 0, 0, 0, 0, 0]);
+    // V14: size not indicated, short non-final segment.
+    let nosize = ClientCommand::InitiateDownload {
+        index: 0x2000,
+        sub: 0,
+        payload: InitiatePayload::Segmented { size: None },
+    };
+    assert_eq!(req(&[0x20, 0x00, 0x20, 0x00, 0, 0, 0, 0]), nosize);
+    assert_eq!(enc_req(nosize), [0x20, 0x00, 0x20, 0x00, 0, 0, 0, 0]);
+    assert_eq!(
+        req(&[0x1A, 0x38, 0x39, 0, 0, 0, 0, 0]),
+        ClientCommand::DownloadSegment(seg(true, false, b"89"))
+    );
+}
+
+#[test]
+fn v15_v16_abort() {
+    let a = ServerCommand::Abort {
+        index: 0x1018,
+        sub: 1,
+        code: AbortCode::SubIndexDoesNotExist,
+    };
+    assert_eq!(resp(&[0x80, 0x18, 0x10, 0x01, 0x11, 0x00, 0x09, 0x06]), a);
+    assert_eq!(
+        enc_resp(a),
+        [0x80, 0x18, 0x10, 0x01, 0x11, 0x00, 0x09, 0x06]
+    );
+    let a = ClientCommand::Abort {
+        index: 0,
+        sub: 0,
+        code: AbortCode::SdoProtocolTimedOut,
+    };
+    assert_eq!(req(&[0x80, 0, 0, 0, 0x00, 0x00, 0x04, 0x05]), a);
+    assert_eq!(
+        abort_code_of(&[0x80, 0x00, 0x70, 0x01, 0x01, 0x00, 0x04, 0x05]),
+        Some(AbortCode::InvalidCommandSpecifier)
+    );
+    assert_eq!(abort_code_of(&[0x80, 0, 0]), None);
+    // An abort needs its code: 7 bytes are truncated.
+    assert_eq!(
+        SdoResponse::decode(&[0x80, 0x18, 0x10, 0x01, 0x11, 0x00, 0x09]),
+        Err(DecodeError::Truncated { need: 8, got: 7 })
+    );
+}
+
+#[test]
+fn v17_block_download() {
+    let init = ClientCommand::BlockDownload(ClientBlockDownload::Initiate {
+        index: 0x2000,
+        sub: 0,
+        crc: true,
+        size: Some(30),
+    });
+    assert_eq!(req(&[0xC6, 0x00, 0x20, 0x00, 0x1E, 0, 0, 0]), init);
+    assert_eq!(enc_req(init), [0xC6, 0x00, 0x20, 0x00, 0x1E, 0, 0, 0]);
+    let r = ServerCommand::BlockDownload(ServerBlockDownload::Initiate {
+        index: 0x2000,
+        sub: 0,
+        crc: true,
+        blksize: 127,
+    });
+    assert_eq!(resp(&[0xA4, 0x00, 0x20, 0x00, 0x7F, 0, 0, 0]), r);
+    assert_eq!(enc_resp(r), [0xA4, 0x00, 0x20, 0x00, 0x7F, 0, 0, 0]);
+    // Sub-block segments have no specifier: they decode as their bits say,
+    // and keep their bytes for a block state machine.
+    let s = SdoRequest::decode(&[0x85, 0x2E, 0x2E, 0, 0, 0, 0, 0]).unwrap();
+    assert_eq!(s.bytes(), &[0x85, 0x2E, 0x2E, 0, 0, 0, 0, 0]);
+    let ack = ServerCommand::BlockDownload(ServerBlockDownload::Ack {
+        ackseq: 5,
+        blksize: 127,
+    });
+    assert_eq!(resp(&[0xA2, 0x05, 0x7F, 0, 0, 0, 0, 0]), ack);
+    assert_eq!(enc_resp(ack), [0xA2, 0x05, 0x7F, 0, 0, 0, 0, 0]);
+    let end = ClientCommand::BlockDownload(ClientBlockDownload::End {
+        unused: 5,
+        crc: 0x6945,
+    });
+    assert_eq!(req(&[0xD5, 0x45, 0x69, 0, 0, 0, 0, 0]), end);
+    assert_eq!(enc_req(end), [0xD5, 0x45, 0x69, 0, 0, 0, 0, 0]);
+    let done = ServerCommand::BlockDownload(ServerBlockDownload::End);
+    assert_eq!(resp(&[0xA1, 0, 0, 0, 0, 0, 0, 0]), done);
+    assert_eq!(enc_resp(done), [0xA1, 0, 0, 0, 0, 0, 0, 0]);
+}
+
+#[test]
+fn v18_v19_block_upload() {
+    let init = ClientCommand::BlockUpload(ClientBlockUpload::Initiate {
+        index: 0x1008,
+        sub: 0,
+        crc: true,
+        blksize: 127,
+        pst: 0,
+    });
+    assert_eq!(req(&[0xA4, 0x08, 0x10, 0x00, 0x7F, 0, 0, 0]), init);
+    assert_eq!(enc_req(init), [0xA4, 0x08, 0x10, 0x00, 0x7F, 0, 0, 0]);
+    let r = ServerCommand::BlockUpload(ServerBlockUpload::Initiate {
+        index: 0x1008,
+        sub: 0,
+        crc: true,
+        size: Some(26),
+    });
+    assert_eq!(resp(&[0xC6, 0x08, 0x10, 0x00, 0x1A, 0, 0, 0]), r);
+    assert_eq!(enc_resp(r), [0xC6, 0x08, 0x10, 0x00, 0x1A, 0, 0, 0]);
+    let start = ClientCommand::BlockUpload(ClientBlockUpload::Start);
+    assert_eq!(req(&[0xA3, 0, 0, 0, 0, 0, 0, 0]), start);
+    assert_eq!(enc_req(start), [0xA3, 0, 0, 0, 0, 0, 0, 0]);
+    let ack = ClientCommand::BlockUpload(ClientBlockUpload::Ack {
+        ackseq: 4,
+        blksize: 127,
+    });
+    assert_eq!(req(&[0xA2, 0x04, 0x7F, 0, 0, 0, 0, 0]), ack);
+    assert_eq!(enc_req(ack), [0xA2, 0x04, 0x7F, 0, 0, 0, 0, 0]);
+    // V19's retransmit ack.
+    assert_eq!(
+        req(&[0xA2, 0x32, 0x7F, 0, 0, 0, 0, 0]),
+        ClientCommand::BlockUpload(ClientBlockUpload::Ack {
+            ackseq: 0x32,
+            blksize: 127
+        })
+    );
+    let end = ServerCommand::BlockUpload(ServerBlockUpload::End {
+        unused: 2,
+        crc: 0xE140,
+    });
+    assert_eq!(resp(&[0xC9, 0x40, 0xE1, 0, 0, 0, 0, 0]), end);
+    assert_eq!(enc_resp(end), [0xC9, 0x40, 0xE1, 0, 0, 0, 0, 0]);
+    assert_eq!(
+        resp(&[0xC9, 0x3B, 0x49, 0, 0, 0, 0, 0]),
+        ServerCommand::BlockUpload(ServerBlockUpload::End {
+            unused: 2,
+            crc: 0x493B
+        })
+    );
+    let fin = ClientCommand::BlockUpload(ClientBlockUpload::End);
+    assert_eq!(req(&[0xA1, 0, 0, 0, 0, 0, 0, 0]), fin);
+    assert_eq!(enc_req(fin), [0xA1, 0, 0, 0, 0, 0, 0, 0]);
+}
+
+#[test]
+fn unknown_specifiers_and_no_size_variants() {
+    assert_eq!(req(&[0xE0]), ClientCommand::Unknown(0xE0));
+    assert_eq!(resp(&[0xFF, 1, 2]), ServerCommand::Unknown(0xFF));
+    assert_eq!(resp(&[0xA3, 0, 0, 0]), ServerCommand::Unknown(0xA3));
+    assert_eq!(
+        req(&[0xC0, 0x00, 0x20, 0x01]),
+        ClientCommand::BlockDownload(ClientBlockDownload::Initiate {
+            index: 0x2000,
+            sub: 1,
+            crc: false,
+            size: None
+        })
+    );
+    assert_eq!(
+        resp(&[0xC0, 0x00, 0x20, 0x01]),
+        ServerCommand::BlockUpload(ServerBlockUpload::Initiate {
+            index: 0x2000,
+            sub: 1,
+            crc: false,
+            size: None
+        })
+    );
+}
+
+#[test]
+fn reserved_bits_survive_round_trip() {
+    // Reserved bit 4 of an initiate, bits 4-0 of an upload request, and the
+    // n field of an e=1 s=0 initiate are all kept as received.
+    for bytes in [
+        [0x5F, 0x18, 0x10, 0x01, 9, 9, 9, 9],
+        [0x3E, 0x00, 0x20, 0x00, 1, 2, 3, 4],
+        [0x7F, 1, 2, 3, 4, 5, 6, 7],
+        [0x9F, 0, 0, 0, 0, 0, 0, 0],
+        [0xBC, 0x08, 0x10, 0x00, 0x7F, 0, 0xAA, 0xBB],
+        [0xDB, 0x45, 0x69, 0xCC, 0, 0, 0, 0],
+    ] {
+        let r = SdoRequest::decode(&bytes).unwrap();
+        assert_eq!(r.encode(), (bytes, 8));
+        let s = SdoResponse::decode(&bytes).unwrap();
+        assert_eq!(s.encode(), (bytes, 8));
+    }
+}
+
+#[test]
+fn truncation_is_per_command() {
+    let t = |need, got| Err(DecodeError::Truncated { need, got });
+    assert_eq!(SdoRequest::decode(&[]).map(|r| r.command), t(1, 0));
+    assert_eq!(
+        SdoRequest::decode(&[0x40, 0x18]).map(|r| r.command),
+        t(4, 2)
+    );
+    // Expedited with n = 0 needs all 4 data bytes.
+    assert_eq!(
+        SdoRequest::decode(&[0x23, 0, 0x14, 1, 4, 2]).map(|r| r.command),
+        t(8, 6)
+    );
+    // A segment with 7 - n = 3 data bytes needs 4 bytes.
+    assert_eq!(
+        SdoRequest::decode(&[0x09, 1, 2]).map(|r| r.command),
+        t(4, 3)
+    );
+    assert!(SdoRequest::decode(&[0x09, 1, 2, 3]).is_ok());
+    // Segmented initiate with size needs 8.
+    assert_eq!(
+        SdoResponse::decode(&[0x41, 8, 0x10, 0, 0x1A]).map(|_| ()),
+        Err(DecodeError::Truncated { need: 8, got: 5 })
+    );
+    assert_eq!(
+        SdoRequest::decode(&[0; 9]).map(|r| r.command),
+        Err(DecodeError::TooLong { max: 8, got: 9 })
+    );
+}
+
+#[test]
+fn every_one_and_two_byte_frame_is_total() {
+    for b0 in 0..=255u8 {
+        for len in 0..=8usize {
+            let bytes = [b0, 0xFF, 0x00, 0x55, 0xAA, 1, 2, 3];
+            let data = &bytes[..len];
+            if let Ok(r) = SdoRequest::decode(data) {
+                let (b, n) = r.encode();
+                assert_eq!(&b[..n], data);
+            }
+            if let Ok(r) = SdoResponse::decode(data) {
+                let (b, n) = r.encode();
+                assert_eq!(&b[..n], data);
+            }
+        }
+    }
+}
