@@ -47,9 +47,11 @@ extern crate std;
 extern crate std;
 
 pub mod bytes;
+pub mod candump;
 pub mod cia418;
 pub mod cob_id;
 pub mod deltaq;
+pub mod display;
 pub mod emcy;
 pub mod error;
 pub mod frame;

@@ -1,0 +1,298 @@
+//! Human-readable forms of decoded messages, for loggers and dissectors.
+//! Written with `core::fmt` only: no allocation.
+
+use core::fmt;
+
+use crate::bytes::InlineData;
+use crate::message::Message;
+use crate::nmt::NmtTarget;
+use crate::sdo::{
+    ClientBlockDownload, ClientBlockUpload, ClientCommand, InitiatePayload, Segment,
+    ServerBlockDownload, ServerBlockUpload, ServerCommand,
+};
+
+/// Writes bytes as space-separated hex (`74 13 45`), or `-` when empty.
+pub struct Hex<'a>(pub &'a [u8]);
+
+impl fmt::Display for Hex<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.0.is_empty() {
+            return f.write_str("-");
+        }
+        for (i, b) in self.0.iter().enumerate() {
+            if i > 0 {
+                f.write_str(" ")?;
+            }
+            write!(f, "{b:02X}")?;
+        }
+        Ok(())
+    }
+}
+
+impl<const N: usize> fmt::Display for InlineData<N> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        Hex(self.as_slice()).fmt(f)
+    }
+}
+
+impl fmt::Display for NmtTarget {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            NmtTarget::All => f.write_str("all nodes"),
+            NmtTarget::Node(n) => write!(f, "node {n}"),
+            NmtTarget::Invalid(raw) => write!(f, "invalid node {raw}"),
+        }
+    }
+}
+
+fn payload(f: &mut fmt::Formatter<'_>, p: &InitiatePayload) -> fmt::Result {
+    match p {
+        InitiatePayload::Expedited {
+            data,
+            size_indicated: true,
+        } => write!(f, "expedited {} bytes: {data}", data.len()),
+        InitiatePayload::Expedited {
+            data,
+            size_indicated: false,
+        } => write!(f, "expedited, size not indicated: {data}"),
+        InitiatePayload::Segmented { size: Some(n) } => write!(f, "segmented, {n} bytes"),
+        InitiatePayload::Segmented { size: None } => f.write_str("segmented, size not indicated"),
+    }
+}
+
+fn segment(f: &mut fmt::Formatter<'_>, what: &str, s: &Segment) -> fmt::Result {
+    write!(
+        f,
+        "{what} segment t={}, {} bytes: {}{}",
+        u8::from(s.toggle),
+        s.data.len(),
+        s.data,
+        if s.last { ", last" } else { "" }
+    )
+}
+
+impl fmt::Display for ClientCommand {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ClientCommand::DownloadSegment(s) => segment(f, "download", s),
+            ClientCommand::InitiateDownload {
+                index,
+                sub,
+                payload: p,
+            } => {
+                write!(f, "initiate download {index:04X}h sub {sub}, ")?;
+                payload(f, p)
+            }
+            ClientCommand::InitiateUpload { index, sub } => {
+                write!(f, "initiate upload {index:04X}h sub {sub}")
+            }
+            ClientCommand::UploadSegment { toggle } => {
+                write!(f, "upload segment request t={}", u8::from(*toggle))
+            }
+            ClientCommand::Abort { index, sub, code } => {
+                write!(f, "abort {index:04X}h sub {sub}: {code}")
+            }
+            ClientCommand::BlockUpload(b) => match b {
+                ClientBlockUpload::Initiate {
+                    index,
+                    sub,
+                    crc,
+                    blksize,
+                    pst,
+                } => write!(
+                    f,
+                    "initiate block upload {index:04X}h sub {sub}, blksize {blksize}, pst {pst}, crc {}",
+                    if *crc { "yes" } else { "no" }
+                ),
+                ClientBlockUpload::Start => f.write_str("block upload start"),
+                ClientBlockUpload::Ack { ackseq, blksize } => {
+                    write!(f, "block upload ack seq {ackseq}, blksize {blksize}")
+                }
+                ClientBlockUpload::End => f.write_str("block upload end"),
+            },
+            ClientCommand::BlockDownload(b) => match b {
+                ClientBlockDownload::Initiate {
+                    index,
+                    sub,
+                    crc,
+                    size,
+                } => {
+                    write!(f, "initiate block download {index:04X}h sub {sub}")?;
+                    if let Some(n) = size {
+                        write!(f, ", {n} bytes")?;
+                    }
+                    write!(f, ", crc {}", if *crc { "yes" } else { "no" })
+                }
+                ClientBlockDownload::End { unused, crc } => {
+                    write!(f, "block download end, {unused} unused, crc {crc:04X}h")
+                }
+            },
+            ClientCommand::Unknown(b) => write!(f, "invalid command specifier {b:02X}h"),
+        }
+    }
+}
+
+impl fmt::Display for ServerCommand {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ServerCommand::UploadSegment(s) => segment(f, "upload", s),
+            ServerCommand::DownloadSegment { toggle } => {
+                write!(f, "download segment ack t={}", u8::from(*toggle))
+            }
+            ServerCommand::InitiateUpload {
+                index,
+                sub,
+                payload: p,
+            } => {
+                write!(f, "upload {index:04X}h sub {sub}, ")?;
+                payload(f, p)
+            }
+            ServerCommand::InitiateDownload { index, sub } => {
+                write!(f, "download {index:04X}h sub {sub} acknowledged")
+            }
+            ServerCommand::Abort { index, sub, code } => {
+                write!(f, "abort {index:04X}h sub {sub}: {code}")
+            }
+            ServerCommand::BlockDownload(b) => match b {
+                ServerBlockDownload::Initiate {
+                    index,
+                    sub,
+                    crc,
+                    blksize,
+                } => write!(
+                    f,
+                    "block download {index:04X}h sub {sub} accepted, blksize {blksize}, crc {}",
+                    if *crc { "yes" } else { "no" }
+                ),
+                ServerBlockDownload::Ack { ackseq, blksize } => {
+                    write!(f, "block download ack seq {ackseq}, blksize {blksize}")
+                }
+                ServerBlockDownload::End => f.write_str("block download end acknowledged"),
+            },
+            ServerCommand::BlockUpload(b) => match b {
+                ServerBlockUpload::Initiate {
+                    index,
+                    sub,
+                    crc,
+                    size,
+                } => {
+                    write!(f, "block upload {index:04X}h sub {sub}")?;
+                    if let Some(n) = size {
+                        write!(f, ", {n} bytes")?;
+                    }
+                    write!(f, ", crc {}", if *crc { "yes" } else { "no" })
+                }
+                ServerBlockUpload::End { unused, crc } => {
+                    write!(f, "block upload end, {unused} unused, crc {crc:04X}h")
+                }
+            },
+            ServerCommand::Unknown(b) => write!(f, "invalid command specifier {b:02X}h"),
+        }
+    }
+}
+
+impl fmt::Display for Message {
+    /// One line in words, e.g. `EMCY node 10: 8130h life guard error or
+    /// heartbeat error, reg 01h, mfr 20 80 00 00 00`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Message::Nmt(c) => write!(f, "NMT {}, {}", c.command, c.target),
+            Message::Sync(s) => match s.counter {
+                Some(c) => write!(f, "SYNC counter {c}"),
+                None => f.write_str("SYNC"),
+            },
+            Message::Emcy { node, emcy } => write!(
+                f,
+                "EMCY node {node}: {}, reg {:02X}h, mfr {}",
+                emcy.code,
+                emcy.register.bits(),
+                Hex(&emcy.manufacturer)
+            ),
+            Message::Time(t) => write!(
+                f,
+                "TIME day {} since 1984-01-01, {} ms after midnight",
+                t.days, t.millis
+            ),
+            Message::Tpdo { pdo, node, payload } => {
+                write!(f, "TPDO{pdo} node {node}: {payload}")
+            }
+            Message::TpdoRequest { pdo, node, dlc } => {
+                write!(f, "TPDO{pdo} node {node}: remote request, DLC {dlc}")
+            }
+            Message::Rpdo { pdo, node, payload } => {
+                write!(f, "RPDO{pdo} node {node}: {payload}")
+            }
+            Message::SdoRequest { node, sdo } => {
+                write!(f, "SDO request to node {node}: {}", sdo.command)
+            }
+            Message::SdoResponse { node, sdo } => {
+                write!(f, "SDO response from node {node}: {}", sdo.command)
+            }
+            Message::Heartbeat { node, heartbeat } => {
+                if heartbeat.toggle {
+                    write!(
+                        f,
+                        "node guarding reply node {node}: {}, toggle 1",
+                        heartbeat.state
+                    )
+                } else if heartbeat.is_boot_up() {
+                    write!(f, "boot-up node {node}")
+                } else {
+                    write!(f, "heartbeat node {node}: {}", heartbeat.state)
+                }
+            }
+            Message::NodeGuardRequest { node, dlc } => {
+                write!(f, "node guarding request node {node}, DLC {dlc}")
+            }
+            Message::Lss { direction, payload } => write!(f, "LSS {direction:?}: {payload}"),
+            Message::Unknown(frame) => write!(f, "unknown {frame}"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{CanFrame, Message};
+
+    fn words(id: u16, data: &[u8]) -> std::string::String {
+        format!(
+            "{}",
+            Message::decode(&CanFrame::standard(id, data).unwrap()).unwrap()
+        )
+    }
+
+    #[test]
+    fn lines() {
+        assert_eq!(words(0x000, &[1, 10]), "NMT start, node 10");
+        assert_eq!(
+            words(0x000, &[0x80, 0]),
+            "NMT enter pre-operational, all nodes"
+        );
+        assert_eq!(
+            words(0x08A, &[0x30, 0x81, 0x01, 0x20, 0x80, 0, 0, 0]),
+            "EMCY node 10: 8130h life guard error or heartbeat error, reg 01h, mfr 20 80 00 00 00"
+        );
+        assert_eq!(words(0x70A, &[0x7F]), "heartbeat node 10: pre-operational");
+        assert_eq!(words(0x701, &[0x00]), "boot-up node 1");
+        assert_eq!(
+            words(0x701, &[0x85]),
+            "node guarding reply node 1: operational, toggle 1"
+        );
+        assert_eq!(words(0x18A, &[0x74, 0x13]), "TPDO0 node 10: 74 13");
+        assert_eq!(words(0x20A, &[]), "RPDO0 node 10: -");
+        assert_eq!(
+            words(0x602, &[0x2B, 0x17, 0x10, 0, 0xA0, 0x0F, 0, 0]),
+            "SDO request to node 2: initiate download 1017h sub 0, expedited 2 bytes: A0 0F"
+        );
+        assert_eq!(
+            words(0x582, &[0x80, 0x18, 0x10, 0x01, 0x11, 0x00, 0x09, 0x06]),
+            "SDO response from node 2: abort 1018h sub 1: 06090011h Sub-index does not exist"
+        );
+        assert_eq!(
+            words(0x582, &[0x15, 0x69, 0x6E, 0x73, 0x20, 0x21, 0, 0]),
+            "SDO response from node 2: upload segment t=1, 5 bytes: 69 6E 73 20 21, last"
+        );
+        assert_eq!(words(0x080, &[]), "SYNC");
+        assert_eq!(words(0x123, &[1]), "unknown 123#01");
+    }
+}
