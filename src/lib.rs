@@ -67,3 +67,8 @@ pub use error::DecodeError;
 pub use frame::{CanFrame, CanId, FrameError};
 pub use message::Message;
 pub use time::Timestamp;
+
+/// The README's examples, compiled and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

@@ -1,0 +1,284 @@
+//! One JSON object per frame (hand-written: no serde in a no_std crate's tools).
+//!
+//! Keys: `t` (seconds or null), `id`, `kind` (nmt, sync, time, emcy, tpdo,
+//! rpdo, sdo_rx, sdo_tx, heartbeat, lss, unknown), `node` (or null), `role`,
+//! `dlc`, `data` (hex), then per-kind fields; `error` when the frame does not
+//! fit its object.
+
+use std::fmt::Write;
+
+use canopen_codec::candump::LogLine;
+use canopen_codec::cob_id::{classify, CobKind};
+use canopen_codec::sdo::{ClientCommand, InitiatePayload, ServerCommand};
+use canopen_codec::{DecodeError, Message};
+
+use crate::words::deltaq;
+use crate::Roles;
+
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+fn string(out: &mut String, s: &str) {
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if (c as u32) < 0x20 => {
+                let _ = write!(out, "\\u{:04x}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+}
+
+/// Appends `,"key":` to `out`.
+fn key(out: &mut String, k: &str) {
+    out.push(',');
+    string(out, k);
+    out.push(':');
+}
+
+fn kind_name(kind: CobKind) -> &'static str {
+    match kind {
+        CobKind::Nmt => "nmt",
+        CobKind::Sync => "sync",
+        CobKind::Emcy(_) => "emcy",
+        CobKind::Time => "time",
+        CobKind::Tpdo(..) => "tpdo",
+        CobKind::Rpdo(..) => "rpdo",
+        CobKind::SdoRx(_) => "sdo_rx",
+        CobKind::SdoTx(_) => "sdo_tx",
+        CobKind::NmtErrorControl(_) => "heartbeat",
+        CobKind::Lss(_) => "lss",
+        CobKind::Unknown => "unknown",
+    }
+}
+
+pub fn line(out: &mut String, l: &LogLine<'_>, m: &Result<Message, DecodeError>, roles: &Roles) {
+    let kind = classify(l.frame.id());
+    out.push_str("{\"t\":");
+    match l.timestamp {
+        Some(t) => {
+            let _ = write!(out, "{t}");
+        }
+        None => out.push_str("null"),
+    }
+    let _ = write!(out, ",\"id\":{}", l.frame.id().raw());
+    key(out, "kind");
+    string(out, kind_name(kind));
+    key(out, "node");
+    match kind.node() {
+        Some(n) => {
+            let _ = write!(out, "{n}");
+        }
+        None => out.push_str("null"),
+    }
+    key(out, "role");
+    match roles.role(kind.node()) {
+        Some(r) => string(out, r),
+        None => out.push_str("null"),
+    }
+    let _ = write!(
+        out,
+        ",\"extended\":{},\"remote\":{},\"dlc\":{}",
+        l.frame.id().is_extended(),
+        l.frame.is_remote(),
+        l.frame.dlc()
+    );
+    key(out, "data");
+    string(out, &hex(l.frame.data()));
+    match m {
+        Ok(msg) => fields(out, msg, roles),
+        Err(e) => {
+            key(out, "error");
+            string(out, &e.to_string());
+        }
+    }
+    out.push('}');
+}
+
+fn fields(out: &mut String, msg: &Message, roles: &Roles) {
+    key(out, "text");
+    string(out, &msg.to_string());
+    match msg {
+        Message::Nmt(c) => {
+            key(out, "command");
+            string(out, &c.command.to_string());
+            let _ = write!(out, ",\"target\":{}", u8::from(c.target));
+        }
+        Message::Sync(s) => match s.counter {
+            Some(c) => {
+                let _ = write!(out, ",\"counter\":{c}");
+            }
+            None => out.push_str(",\"counter\":null"),
+        },
+        Message::Time(t) => {
+            let _ = write!(out, ",\"days\":{},\"millis\":{}", t.days, t.millis);
+        }
+        Message::Emcy { emcy, .. } => {
+            let _ = write!(out, ",\"code\":{}", emcy.code.raw());
+            key(out, "code_name");
+            string(out, emcy.code.name());
+            let _ = write!(out, ",\"register\":{}", emcy.register.bits());
+            key(out, "mfr");
+            string(out, &hex(&emcy.manufacturer));
+            key(out, "deltaq");
+            match deltaq(msg, roles) {
+                Some((label, description)) => {
+                    out.push_str("{\"label\":");
+                    string(out, &label);
+                    key(out, "description");
+                    string(out, description);
+                    out.push('}');
+                }
+                None => out.push_str("null"),
+            }
+        }
+        Message::Tpdo { pdo, payload, .. } | Message::Rpdo { pdo, payload, .. } => {
+            let _ = write!(out, ",\"pdo\":{}", pdo.raw());
+            key(out, "payload");
+            string(out, &hex(payload.as_slice()));
+        }
+        Message::TpdoRequest { pdo, dlc, .. } => {
+            let _ = write!(out, ",\"pdo\":{},\"request\":true,\"requested_dlc\":{dlc}", pdo.raw());
+        }
+        Message::SdoRequest { sdo, .. } => client(out, &sdo.command),
+        Message::SdoResponse { sdo, .. } => server(out, &sdo.command),
+        Message::Heartbeat { heartbeat, .. } => {
+            key(out, "state");
+            string(out, &heartbeat.state.to_string());
+            let _ = write!(
+                out,
+                ",\"state_raw\":{},\"toggle\":{}",
+                heartbeat.state.bits(),
+                heartbeat.toggle
+            );
+        }
+        Message::NodeGuardRequest { dlc, .. } => {
+            let _ = write!(out, ",\"guard_request\":true,\"requested_dlc\":{dlc}");
+        }
+        Message::Lss { direction, payload } => {
+            key(out, "direction");
+            string(out, &format!("{direction:?}"));
+            key(out, "payload");
+            string(out, &hex(payload.as_slice()));
+        }
+        Message::Unknown(_) => {}
+    }
+}
+
+fn multiplexer(out: &mut String, command: &str, index: u16, sub: u8) {
+    key(out, "command");
+    string(out, command);
+    let _ = write!(out, ",\"index\":{index},\"sub\":{sub}");
+}
+
+fn initiate(out: &mut String, p: &InitiatePayload) {
+    match p {
+        InitiatePayload::Expedited {
+            data,
+            size_indicated,
+        } => {
+            let _ = write!(out, ",\"expedited\":true,\"size_indicated\":{size_indicated}");
+            key(out, "bytes");
+            string(out, &hex(data.as_slice()));
+        }
+        InitiatePayload::Segmented { size } => {
+            out.push_str(",\"expedited\":false,\"size\":");
+            match size {
+                Some(n) => {
+                    let _ = write!(out, "{n}");
+                }
+                None => out.push_str("null"),
+            }
+        }
+    }
+}
+
+fn abort(out: &mut String, index: u16, sub: u8, code: canopen_codec::sdo::AbortCode) {
+    multiplexer(out, "abort", index, sub);
+    let _ = write!(out, ",\"abort_code\":{}", code.to_u32());
+    key(out, "abort_meaning");
+    string(out, code.description());
+}
+
+fn segment(out: &mut String, command: &str, s: &canopen_codec::sdo::Segment) {
+    key(out, "command");
+    string(out, command);
+    let _ = write!(out, ",\"toggle\":{},\"last\":{}", s.toggle, s.last);
+    key(out, "bytes");
+    string(out, &hex(s.data.as_slice()));
+}
+
+fn client(out: &mut String, c: &ClientCommand) {
+    match c {
+        ClientCommand::DownloadSegment(s) => segment(out, "download_segment", s),
+        ClientCommand::InitiateDownload {
+            index,
+            sub,
+            payload,
+        } => {
+            multiplexer(out, "initiate_download", *index, *sub);
+            initiate(out, payload);
+        }
+        ClientCommand::InitiateUpload { index, sub } => {
+            multiplexer(out, "initiate_upload", *index, *sub)
+        }
+        ClientCommand::UploadSegment { toggle } => {
+            key(out, "command");
+            string(out, "upload_segment");
+            let _ = write!(out, ",\"toggle\":{toggle}");
+        }
+        ClientCommand::Abort { index, sub, code } => abort(out, *index, *sub, *code),
+        ClientCommand::BlockUpload(_) => {
+            key(out, "command");
+            string(out, "block_upload");
+        }
+        ClientCommand::BlockDownload(_) => {
+            key(out, "command");
+            string(out, "block_download");
+        }
+        ClientCommand::Unknown(_) => {
+            key(out, "command");
+            string(out, "invalid");
+        }
+    }
+}
+
+fn server(out: &mut String, c: &ServerCommand) {
+    match c {
+        ServerCommand::UploadSegment(s) => segment(out, "upload_segment", s),
+        ServerCommand::DownloadSegment { toggle } => {
+            key(out, "command");
+            string(out, "download_segment_ack");
+            let _ = write!(out, ",\"toggle\":{toggle}");
+        }
+        ServerCommand::InitiateUpload {
+            index,
+            sub,
+            payload,
+        } => {
+            multiplexer(out, "initiate_upload_response", *index, *sub);
+            initiate(out, payload);
+        }
+        ServerCommand::InitiateDownload { index, sub } => {
+            multiplexer(out, "initiate_download_response", *index, *sub)
+        }
+        ServerCommand::Abort { index, sub, code } => abort(out, *index, *sub, *code),
+        ServerCommand::BlockDownload(_) => {
+            key(out, "command");
+            string(out, "block_download");
+        }
+        ServerCommand::BlockUpload(_) => {
+            key(out, "command");
+            string(out, "block_upload");
+        }
+        ServerCommand::Unknown(_) => {
+            key(out, "command");
+            string(out, "invalid");
+        }
+    }
+}
