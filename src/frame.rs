@@ -305,6 +305,69 @@ mod embedded {
     }
 }
 
+#[cfg(all(test, feature = "embedded-can"))]
+mod embedded_tests {
+    use super::*;
+
+    /// A minimal foreign frame type, as a HAL would provide.
+    #[derive(Debug, PartialEq)]
+    struct HalFrame {
+        id: embedded_can::Id,
+        remote: bool,
+        dlc: usize,
+        data: [u8; 8],
+    }
+
+    impl embedded_can::Frame for HalFrame {
+        fn new(id: impl Into<embedded_can::Id>, data: &[u8]) -> Option<Self> {
+            let mut buf = [0; 8];
+            buf.get_mut(..data.len())?.copy_from_slice(data);
+            Some(HalFrame {
+                id: id.into(),
+                remote: false,
+                dlc: data.len(),
+                data: buf,
+            })
+        }
+        fn new_remote(id: impl Into<embedded_can::Id>, dlc: usize) -> Option<Self> {
+            (dlc <= 8).then(|| HalFrame {
+                id: id.into(),
+                remote: true,
+                dlc,
+                data: [0; 8],
+            })
+        }
+        fn is_extended(&self) -> bool {
+            matches!(self.id, embedded_can::Id::Extended(_))
+        }
+        fn is_remote_frame(&self) -> bool {
+            self.remote
+        }
+        fn id(&self) -> embedded_can::Id {
+            self.id
+        }
+        fn dlc(&self) -> usize {
+            self.dlc
+        }
+        fn data(&self) -> &[u8] {
+            &self.data[..if self.remote { 0 } else { self.dlc }]
+        }
+    }
+
+    #[test]
+    fn converts_both_ways() {
+        for ours in [
+            CanFrame::standard(0x18A, &[0x74, 0x13, 0x45]).unwrap(),
+            CanFrame::new(CanId::Extended(0x1FFF_FFFF), &[]).unwrap(),
+            CanFrame::remote(CanId::Standard(0x701), 1).unwrap(),
+        ] {
+            let hal: HalFrame = ours.to_embedded().unwrap();
+            assert_eq!(CanId::from(hal.id), ours.id());
+            assert_eq!(CanFrame::from_embedded(&hal), Some(ours));
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

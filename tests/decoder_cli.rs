@@ -11,7 +11,9 @@ use serde_json::Value;
 fn decoder() -> PathBuf {
     let exe = std::env::current_exe().unwrap();
     let dir = exe.parent().unwrap().parent().unwrap();
-    let path = dir.join("examples").join(format!("decode{}", std::env::consts::EXE_SUFFIX));
+    let path = dir
+        .join("examples")
+        .join(format!("decode{}", std::env::consts::EXE_SUFFIX));
     assert!(path.exists(), "{} not built", path.display());
     path
 }
@@ -64,7 +66,10 @@ fn both_captures_as_json() {
         let o = run(&["--json", file], None);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let out = text(&o);
-        let values: Vec<Value> = out.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+        let values: Vec<Value> = out
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
         assert_eq!(values.len(), lines);
         let mut seen_emcy = 0;
         for v in &values {
@@ -116,12 +121,16 @@ fn both_captures_as_json() {
 
 #[test]
 fn bad_lines_are_reported_and_skipped() {
-    let input = "(1.000000) can0 701#05\nnot a frame\n(2.000000) can0 08A#3081\n701#R1\n(3.5) can0 7FF#\n";
+    let input =
+        "(1.000000) can0 701#05\nnot a frame\n(2.000000) can0 08A#3081\n701#R1\n(3.5) can0 7FF#\n";
     let o = run(&["-"], Some(input));
     assert_eq!(o.status.code(), Some(1));
     let err = String::from_utf8(o.stderr).unwrap();
     assert!(err.contains("line 2: no ID#DATA field"), "{err}");
-    assert!(err.contains("line 3: frame 08A#3081 does not decode: truncated: need 8 bytes, got 2"), "{err}");
+    assert!(
+        err.contains("line 3: frame 08A#3081 does not decode: truncated: need 8 bytes, got 2"),
+        "{err}"
+    );
     assert!(err.contains("2 bad line(s)"), "{err}");
     let out = String::from_utf8(o.stdout).unwrap();
     let lines: Vec<&str> = out.lines().collect();
@@ -134,11 +143,18 @@ fn bad_lines_are_reported_and_skipped() {
 
 #[test]
 fn sdo_and_options_in_json() {
-    let input = "602#4018100100000000\n582#43181001040000000\n582#4318100104000000\n5FF#8018100111000906\n";
-    let o = run(&["--json", "--charger-node", "2", "--battery-node", "127"], Some(input));
+    let input =
+        "602#4018100100000000\n582#43181001040000000\n582#4318100104000000\n5FF#8018100111000906\n";
+    let o = run(
+        &["--json", "--charger-node", "2", "--battery-node", "127"],
+        Some(input),
+    );
     assert_eq!(o.status.code(), Some(1)); // line 2 has an odd digit count
     let out = text(&o);
-    let v: Vec<Value> = out.lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    let v: Vec<Value> = out
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
     assert_eq!(v.len(), 3);
     assert_eq!(v[0]["kind"], "sdo_rx");
     assert_eq!(v[0]["role"], "charger");

@@ -143,7 +143,11 @@ fn fields(out: &mut String, msg: &Message, roles: &Roles) {
             string(out, &hex(payload.as_slice()));
         }
         Message::TpdoRequest { pdo, dlc, .. } => {
-            let _ = write!(out, ",\"pdo\":{},\"request\":true,\"requested_dlc\":{dlc}", pdo.raw());
+            let _ = write!(
+                out,
+                ",\"pdo\":{},\"request\":true,\"requested_dlc\":{dlc}",
+                pdo.raw()
+            );
         }
         Message::SdoRequest { sdo, .. } => client(out, &sdo.command),
         Message::SdoResponse { sdo, .. } => server(out, &sdo.command),
@@ -182,7 +186,10 @@ fn initiate(out: &mut String, p: &InitiatePayload) {
             data,
             size_indicated,
         } => {
-            let _ = write!(out, ",\"expedited\":true,\"size_indicated\":{size_indicated}");
+            let _ = write!(
+                out,
+                ",\"expedited\":true,\"size_indicated\":{size_indicated}"
+            );
             key(out, "bytes");
             string(out, &hex(data.as_slice()));
         }
