@@ -57,6 +57,8 @@ pub mod error;
 pub mod frame;
 pub mod message;
 pub mod nmt;
+pub mod od;
+mod queue;
 pub mod sdo;
 pub mod sync;
 pub mod time;

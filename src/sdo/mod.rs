@@ -1,12 +1,21 @@
 //! Service data objects (SDO), CiA 301: abort codes and the frame codec.
 //!
-//! The stateful client and server build on these types.
+//! [`Client`] and [`Server`] are the sans-IO state machines for expedited
+//! and segmented transfers; both follow the crate's poll contract.
 
 mod abort;
+mod client;
+#[cfg(feature = "alloc")]
+mod collect;
 mod data;
+mod server;
 mod wire;
 
 pub use abort::{AbortCode, ALL_ABORT_CODES};
+pub use client::{Client, ClientConfig, ClientError, ClientEvent};
+#[cfg(feature = "alloc")]
+pub use collect::{Collected, UploadBuffer};
+pub use server::{AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_TIMEOUT};
 pub use data::{ExpeditedData, InitiatePayload, InlineData, Segment, SegmentData};
 pub use wire::{
     abort_code_of, ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoRequest, SdoResponse,

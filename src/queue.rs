@@ -1,0 +1,69 @@
+//! A fixed-capacity FIFO for the state machines' outputs (no allocation).
+
+/// Up to `N` items, first in first out. `push` fails when full.
+#[derive(Debug, Clone)]
+pub(crate) struct Queue<T: Copy, const N: usize> {
+    items: [Option<T>; N],
+    head: usize,
+    len: usize,
+}
+
+impl<T: Copy, const N: usize> Queue<T, N> {
+    pub(crate) const fn new() -> Self {
+        Queue {
+            items: [None; N],
+            head: 0,
+            len: 0,
+        }
+    }
+
+    /// Appends; returns false (and drops nothing already queued) when full.
+    #[must_use]
+    pub(crate) fn push(&mut self, item: T) -> bool {
+        if self.len >= N {
+            return false;
+        }
+        let slot = (self.head + self.len) % N;
+        if let Some(s) = self.items.get_mut(slot) {
+            *s = Some(item);
+            self.len += 1;
+            true
+        } else {
+            false
+        }
+    }
+
+    pub(crate) fn pop(&mut self) -> Option<T> {
+        if self.len == 0 {
+            return None;
+        }
+        let item = self.items.get_mut(self.head).and_then(Option::take);
+        self.head = (self.head + 1) % N;
+        self.len -= 1;
+        item
+    }
+
+    /// Free slots.
+    pub(crate) const fn room(&self) -> usize {
+        N - self.len
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fifo_and_capacity() {
+        let mut q: Queue<u8, 3> = Queue::new();
+        assert!(q.push(1) && q.push(2) && q.push(3));
+        assert!(!q.push(4));
+        assert_eq!(q.pop(), Some(1));
+        assert!(q.push(4));
+        assert_eq!((q.pop(), q.pop(), q.pop(), q.pop()), (Some(2), Some(3), Some(4), None));
+        assert_eq!(q.room(), 3);
+        assert!(q.push(5));
+        assert_eq!(q.pop(), Some(5));
+        assert_eq!(q.pop(), None);
+    }
+}

@@ -1,0 +1,580 @@
+//! The SDO client for one server: expedited and segmented uploads and
+//! downloads as a time-driven sans-IO state machine.
+//!
+//! # Driving it
+//!
+//! ```text
+//! start_upload(now, index, sub) / start_download(now, index, sub, data) / abort(now, code)
+//! handle_frame(now, &frame)   feed every received frame (others are ignored)
+//! handle_timeout(now)         whenever poll_timeout's deadline has passed
+//! poll_transmit()             send every frame until None
+//! poll_event()                drain events until None
+//! poll_timeout()              the next deadline, if a transfer is running
+//! ```
+//!
+//! Drain `poll_transmit` and `poll_event` after every call. If the caller
+//! lets the queues fill up, further responses are ignored (the transfer then
+//! times out and aborts) rather than lost.
+//!
+//! # Data without allocation
+//!
+//! An upload is delivered as it arrives: one [`ClientEvent::UploadData`] per
+//! frame (at most 7 bytes, with its offset), then [`ClientEvent::Uploaded`]
+//! with the total length. A download reads from the caller's data `D`
+//! (anything `AsRef<[u8]>`: a slice, an array, a `Vec`), which the client
+//! holds until the transfer ends. With the `alloc` feature,
+//! [`UploadBuffer`](super::UploadBuffer) collects an upload into a `Vec`.
+//!
+//! # Behaviour (CiA 301 and the choices of `spec/cia301/README.md`)
+//!
+//! - Values of 1..=4 bytes are downloaded expedited with the size indicated;
+//!   empty and longer values segmented with the size indicated (an empty value
+//!   is one empty last segment).
+//! - Every transfer ends in exactly one terminal event: `Uploaded`,
+//!   `Downloaded` or `Aborted`. Failures detected here send exactly one abort
+//!   frame with the transfer's index and sub-index: timeout 05040000h, wrong
+//!   or unexpected command 05040001h, toggle 05030000h, more data than
+//!   indicated 06070012h, less 06070013h, response for another object
+//!   06040043h. A received abort ends the transfer with the server's code
+//!   (code 0 is reported as 08000000h) and nothing is sent back.
+//! - An expedited upload without size indicated reports all 4 data bytes.
+//! - Frames on other identifiers, remote frames and frames too short for
+//!   their command are ignored.
+//! - **Time**: the timeout restarts on every frame sent. A timestamp earlier
+//!   than the last one never panics: the deadline is simply not reached yet.
+//!   A timestamp far ahead expires the transfer (abort 05040000h).
+
+use core::time::Duration;
+
+use super::abort::AbortCode;
+use super::data::{InitiatePayload, Segment, SegmentData};
+use super::server::{AbortOrigin, DEFAULT_TIMEOUT};
+use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
+use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
+use crate::frame::{CanFrame, CanId};
+use crate::queue::Queue;
+use crate::time::Timestamp;
+
+/// What the client reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ClientEvent {
+    /// A piece of the value being uploaded, in order.
+    UploadData {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// Offset of `data` in the value.
+        offset: usize,
+        /// 1..=7 bytes.
+        data: SegmentData,
+    },
+    /// The upload completed with `len` bytes in total.
+    Uploaded {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// Total bytes delivered in `UploadData` events.
+        len: usize,
+    },
+    /// The download completed: the server accepted `len` bytes.
+    Downloaded {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// Bytes written.
+        len: usize,
+    },
+    /// The transfer ended in an abort.
+    Aborted {
+        /// Object index of the transfer.
+        index: u16,
+        /// Sub-index of the transfer.
+        sub: u8,
+        /// The abort code sent or received.
+        code: AbortCode,
+        /// Who aborted.
+        origin: AbortOrigin,
+    },
+}
+
+impl ClientEvent {
+    /// True for the events that end a transfer.
+    #[must_use]
+    pub const fn is_terminal(&self) -> bool {
+        !matches!(self, ClientEvent::UploadData { .. })
+    }
+}
+
+/// Why a command was refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ClientError {
+    /// A transfer is already running.
+    #[error("an SDO transfer is already in progress")]
+    Busy,
+    /// The value does not fit the 32-bit SDO size field.
+    #[error("value of {len} bytes is too long for SDO")]
+    TooLong {
+        /// The length asked for.
+        len: usize,
+    },
+}
+
+/// Identifiers and timeout of one SDO client channel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ClientConfig {
+    /// Requests are sent on this identifier (default 0x600 + server node).
+    pub request_id: CanId,
+    /// Responses arrive on this identifier (default 0x580 + server node).
+    pub response_id: CanId,
+    /// How long to wait for each response (default 2000 ms).
+    pub timeout: Duration,
+}
+
+impl ClientConfig {
+    /// The default channel to `server`: 0x600/0x580 + node, 2000 ms.
+    #[must_use]
+    pub const fn for_server(server: NodeId) -> Self {
+        ClientConfig {
+            request_id: CanId::Standard(SDO_RX_BASE + server.raw() as u16),
+            response_id: CanId::Standard(SDO_TX_BASE + server.raw() as u16),
+            timeout: DEFAULT_TIMEOUT,
+        }
+    }
+}
+
+#[derive(Debug)]
+enum State<D> {
+    Idle,
+    UploadInitiated {
+        index: u16,
+        sub: u8,
+    },
+    Uploading {
+        index: u16,
+        sub: u8,
+        size: Option<usize>,
+        received: usize,
+        toggle: bool,
+    },
+    DownloadInitiated {
+        index: u16,
+        sub: u8,
+        data: D,
+        expedited: bool,
+    },
+    Downloading {
+        index: u16,
+        sub: u8,
+        data: D,
+        /// Bytes sent so far (including the segment awaiting its ack).
+        sent: usize,
+        toggle: bool,
+    },
+}
+
+/// An SDO client for one server. `D` is the type of download data.
+///
+/// ```
+/// use canopen_codec::sdo::{Client, ClientConfig, ClientEvent};
+/// use canopen_codec::{CanFrame, NodeId, Timestamp};
+///
+/// let server = NodeId::new(2).unwrap();
+/// let mut client = Client::new(ClientConfig::for_server(server));
+/// client.start_download(Timestamp::ZERO, 0x1017, 0, [0xA0, 0x0F]).unwrap();
+/// assert_eq!(client.poll_transmit().unwrap(),
+///            CanFrame::standard(0x602, &[0x2B, 0x17, 0x10, 0, 0xA0, 0x0F, 0, 0]).unwrap());
+/// let ack = CanFrame::standard(0x582, &[0x60, 0x17, 0x10, 0, 0, 0, 0, 0]).unwrap();
+/// client.handle_frame(Timestamp::from_millis(3), &ack);
+/// assert_eq!(client.poll_event(), Some(ClientEvent::Downloaded { index: 0x1017, sub: 0, len: 2 }));
+/// ```
+#[derive(Debug)]
+pub struct Client<D = &'static [u8]> {
+    config: ClientConfig,
+    state: State<D>,
+    deadline: Option<Timestamp>,
+    transmit: Queue<CanFrame, 4>,
+    events: Queue<ClientEvent, 4>,
+}
+
+impl<D: AsRef<[u8]>> Client<D> {
+    /// An idle client on `config`'s identifiers.
+    pub fn new(config: ClientConfig) -> Self {
+        Client {
+            config,
+            state: State::Idle,
+            deadline: None,
+            transmit: Queue::new(),
+            events: Queue::new(),
+        }
+    }
+
+    /// The configuration.
+    #[must_use]
+    pub const fn config(&self) -> &ClientConfig {
+        &self.config
+    }
+
+    /// True while a transfer is in progress.
+    #[must_use]
+    pub const fn is_busy(&self) -> bool {
+        !matches!(self.state, State::Idle)
+    }
+
+    /// The object of the running transfer.
+    #[must_use]
+    pub const fn current(&self) -> Option<(u16, u8)> {
+        match self.state {
+            State::Idle => None,
+            State::UploadInitiated { index, sub }
+            | State::Uploading { index, sub, .. }
+            | State::DownloadInitiated { index, sub, .. }
+            | State::Downloading { index, sub, .. } => Some((index, sub)),
+        }
+    }
+
+    /// The next frame to send.
+    #[must_use]
+    pub fn poll_transmit(&mut self) -> Option<CanFrame> {
+        self.transmit.pop()
+    }
+
+    /// The next event.
+    #[must_use]
+    pub fn poll_event(&mut self) -> Option<ClientEvent> {
+        self.events.pop()
+    }
+
+    /// When [`handle_timeout`](Self::handle_timeout) must next be called.
+    #[must_use]
+    pub fn poll_timeout(&self) -> Option<Timestamp> {
+        self.deadline
+    }
+
+    /// Starts reading `index`/`sub` from the server.
+    pub fn start_upload(&mut self, now: Timestamp, index: u16, sub: u8) -> Result<(), ClientError> {
+        self.check_idle()?;
+        self.send(ClientCommand::InitiateUpload { index, sub });
+        self.state = State::UploadInitiated { index, sub };
+        self.arm(now);
+        Ok(())
+    }
+
+    /// Starts writing `data` to `index`/`sub` on the server.
+    pub fn start_download(
+        &mut self,
+        now: Timestamp,
+        index: u16,
+        sub: u8,
+        data: D,
+    ) -> Result<(), ClientError> {
+        self.check_idle()?;
+        let bytes = data.as_ref();
+        let Ok(size) = u32::try_from(bytes.len()) else {
+            return Err(ClientError::TooLong { len: bytes.len() });
+        };
+        let payload = InitiatePayload::expedited(bytes)
+            .filter(|_| !bytes.is_empty())
+            .unwrap_or(InitiatePayload::Segmented { size: Some(size) });
+        let expedited = matches!(payload, InitiatePayload::Expedited { .. });
+        self.send(ClientCommand::InitiateDownload {
+            index,
+            sub,
+            payload,
+        });
+        self.state = State::DownloadInitiated {
+            index,
+            sub,
+            data,
+            expedited,
+        };
+        self.arm(now);
+        Ok(())
+    }
+
+    /// Aborts the running transfer with `code`: sends the abort frame and
+    /// reports [`ClientEvent::Aborted`]. Returns false when idle.
+    pub fn abort(&mut self, now: Timestamp, code: AbortCode) -> bool {
+        let _ = now;
+        if !self.is_busy() || self.transmit.room() == 0 || self.events.room() == 0 {
+            return false;
+        }
+        self.abort_local(code);
+        true
+    }
+
+    /// Tells the client time has passed; expires a stalled transfer with
+    /// abort 05040000h.
+    pub fn handle_timeout(&mut self, now: Timestamp) {
+        if let Some(deadline) = self.deadline {
+            if now.has_reached(deadline) {
+                self.abort_local(AbortCode::SdoProtocolTimedOut);
+            }
+        }
+    }
+
+    /// Feeds a received frame. Frames on other identifiers, remote frames
+    /// and frames too short for their command are ignored.
+    pub fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        if frame.id() != self.config.response_id || frame.is_remote() || !self.is_busy() {
+            return;
+        }
+        if self.transmit.room() == 0 || self.events.room() < 2 {
+            return;
+        }
+        let Ok(response) = SdoResponse::decode(frame.data()) else {
+            return;
+        };
+        if let ServerCommand::Abort { code, .. } = response.command {
+            return self.aborted_by_peer(code);
+        }
+        match core::mem::replace(&mut self.state, State::Idle) {
+            State::Idle => {}
+            State::UploadInitiated { index, sub } => {
+                self.on_upload_initiated(now, index, sub, response.command);
+            }
+            State::Uploading {
+                index,
+                sub,
+                size,
+                received,
+                toggle,
+            } => self.on_upload_segment(now, (index, sub), size, received, toggle, response.command),
+            State::DownloadInitiated {
+                index,
+                sub,
+                data,
+                expedited,
+            } => self.on_download_initiated(now, index, sub, data, expedited, response.command),
+            State::Downloading {
+                index,
+                sub,
+                data,
+                sent,
+                toggle,
+            } => self.on_download_ack(now, (index, sub), data, sent, toggle, response.command),
+        }
+    }
+
+    fn check_idle(&self) -> Result<(), ClientError> {
+        if self.is_busy() {
+            Err(ClientError::Busy)
+        } else {
+            Ok(())
+        }
+    }
+
+    fn arm(&mut self, now: Timestamp) {
+        self.deadline = Some(now.add_duration(self.config.timeout));
+    }
+
+    fn send(&mut self, command: ClientCommand) {
+        let (bytes, len) = SdoRequest::new(command).encode();
+        if let Ok(frame) = CanFrame::new(self.config.request_id, bytes.get(..len).unwrap_or(&[])) {
+            // Room is checked before any input is processed.
+            let _ = self.transmit.push(frame);
+        }
+    }
+
+    fn emit(&mut self, event: ClientEvent) {
+        // Room is checked before any input is processed.
+        let _ = self.events.push(event);
+    }
+
+    fn finish(&mut self, event: ClientEvent) {
+        self.state = State::Idle;
+        self.deadline = None;
+        self.emit(event);
+    }
+
+    fn abort_local(&mut self, code: AbortCode) {
+        let (index, sub) = self.current().unwrap_or((0, 0));
+        self.abort_object(index, sub, code);
+    }
+
+    fn abort_object(&mut self, index: u16, sub: u8, code: AbortCode) {
+        self.send(ClientCommand::Abort { index, sub, code });
+        self.finish(ClientEvent::Aborted {
+            index,
+            sub,
+            code,
+            origin: AbortOrigin::Local,
+        });
+    }
+
+    fn aborted_by_peer(&mut self, code: AbortCode) {
+        let (index, sub) = self.current().unwrap_or((0, 0));
+        let code = match code {
+            AbortCode::Other(0) => AbortCode::GeneralError,
+            c => c,
+        };
+        self.finish(ClientEvent::Aborted {
+            index,
+            sub,
+            code,
+            origin: AbortOrigin::Peer,
+        });
+    }
+
+    fn on_upload_initiated(&mut self, now: Timestamp, index: u16, sub: u8, cmd: ServerCommand) {
+        let ServerCommand::InitiateUpload {
+            index: ri,
+            sub: rs,
+            payload,
+        } = cmd
+        else {
+            return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+        };
+        if (ri, rs) != (index, sub) {
+            return self.abort_object(index, sub, AbortCode::GeneralParameterIncompatibility);
+        }
+        match payload {
+            InitiatePayload::Expedited { data, .. } => {
+                if !data.is_empty() {
+                    self.emit(ClientEvent::UploadData {
+                        index,
+                        sub,
+                        offset: 0,
+                        data: SegmentData::new(data.as_slice()).unwrap_or_default(),
+                    });
+                }
+                self.finish(ClientEvent::Uploaded {
+                    index,
+                    sub,
+                    len: data.len(),
+                });
+            }
+            InitiatePayload::Segmented { size } => {
+                self.send(ClientCommand::UploadSegment { toggle: false });
+                self.state = State::Uploading {
+                    index,
+                    sub,
+                    size: size.map(|s| usize::try_from(s).unwrap_or(usize::MAX)),
+                    received: 0,
+                    toggle: false,
+                };
+                self.arm(now);
+            }
+        }
+    }
+
+    fn on_upload_segment(
+        &mut self,
+        now: Timestamp,
+        (index, sub): (u16, u8),
+        size: Option<usize>,
+        received: usize,
+        toggle: bool,
+        cmd: ServerCommand,
+    ) {
+        let ServerCommand::UploadSegment(Segment {
+            toggle: t,
+            last,
+            data,
+        }) = cmd
+        else {
+            return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+        };
+        if t != toggle {
+            return self.abort_object(index, sub, AbortCode::ToggleBitNotAlternated);
+        }
+        let total = received + data.len();
+        if size.is_some_and(|s| total > s) {
+            return self.abort_object(index, sub, AbortCode::DataTypeLengthTooHigh);
+        }
+        if last && size.is_some_and(|s| total < s) {
+            return self.abort_object(index, sub, AbortCode::DataTypeLengthTooLow);
+        }
+        if !data.is_empty() {
+            self.emit(ClientEvent::UploadData {
+                index,
+                sub,
+                offset: received,
+                data,
+            });
+        }
+        if last {
+            return self.finish(ClientEvent::Uploaded {
+                index,
+                sub,
+                len: total,
+            });
+        }
+        self.send(ClientCommand::UploadSegment { toggle: !toggle });
+        self.state = State::Uploading {
+            index,
+            sub,
+            size,
+            received: total,
+            toggle: !toggle,
+        };
+        self.arm(now);
+    }
+
+    fn on_download_initiated(
+        &mut self,
+        now: Timestamp,
+        index: u16,
+        sub: u8,
+        data: D,
+        expedited: bool,
+        cmd: ServerCommand,
+    ) {
+        let ServerCommand::InitiateDownload { index: ri, sub: rs } = cmd else {
+            return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+        };
+        if (ri, rs) != (index, sub) {
+            return self.abort_object(index, sub, AbortCode::GeneralParameterIncompatibility);
+        }
+        let len = data.as_ref().len();
+        if expedited {
+            return self.finish(ClientEvent::Downloaded { index, sub, len });
+        }
+        self.send_segment(now, index, sub, data, 0, false);
+    }
+
+    fn send_segment(&mut self, now: Timestamp, index: u16, sub: u8, data: D, from: usize, toggle: bool) {
+        let bytes = data.as_ref();
+        let chunk = bytes.get(from..).unwrap_or(&[]);
+        let chunk = chunk.get(..chunk.len().min(7)).unwrap_or(&[]);
+        let sent = from + chunk.len();
+        self.send(ClientCommand::DownloadSegment(Segment {
+            toggle,
+            last: sent >= bytes.len(),
+            data: SegmentData::new(chunk).unwrap_or_default(),
+        }));
+        self.state = State::Downloading {
+            index,
+            sub,
+            data,
+            sent,
+            toggle,
+        };
+        self.arm(now);
+    }
+
+    fn on_download_ack(
+        &mut self,
+        now: Timestamp,
+        (index, sub): (u16, u8),
+        data: D,
+        sent: usize,
+        toggle: bool,
+        cmd: ServerCommand,
+    ) {
+        let ServerCommand::DownloadSegment { toggle: t } = cmd else {
+            return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+        };
+        if t != toggle {
+            return self.abort_object(index, sub, AbortCode::ToggleBitNotAlternated);
+        }
+        let len = data.as_ref().len();
+        if sent >= len {
+            return self.finish(ClientEvent::Downloaded { index, sub, len });
+        }
+        self.send_segment(now, index, sub, data, sent, !toggle);
+    }
+}

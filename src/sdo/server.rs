@@ -1,0 +1,602 @@
+//! The SDO server: expedited and segmented transfers over a caller-owned
+//! [`ObjectDictionary`], as a time-driven sans-IO state machine.
+//!
+//! # Driving it
+//!
+//! ```text
+//! handle_frame(now, &frame)   feed every received frame (others are ignored)
+//! handle_timeout(now)         whenever poll_timeout's deadline has passed
+//! poll_transmit()             send every frame until None
+//! poll_event()                drain events until None
+//! poll_timeout()              the next deadline, if a transfer is running
+//! ```
+//!
+//! Drain `poll_transmit` and `poll_event` after every `handle_*` call. If the
+//! caller lets the output queues fill up, further requests are ignored (the
+//! client then times out) rather than answered out of order.
+//!
+//! # Behaviour (CiA 301 and the choices of `spec/cia301/README.md`)
+//!
+//! - One transfer at a time. A new *initiate* request while a transfer is
+//!   running supersedes it: the old transfer ends with
+//!   [`ServerEvent::Aborted`] (origin [`AbortOrigin::Superseded`], no frame
+//!   sent, the dictionary's `abort_write` called for a download) and the new
+//!   request is served. A client only re-initiates after giving up on the old
+//!   transfer, so refusing would lock it out until our own timeout.
+//! - Values of 1..=4 bytes are uploaded expedited, longer and empty values
+//!   segmented with the size indicated.
+//! - Every failure ends the transfer with exactly one [`ServerEvent::Aborted`]
+//!   and, unless the client aborted, one abort frame carrying the transfer's
+//!   index and sub-index.
+//! - Block transfer is not supported: block requests are answered with abort
+//!   05040001h (command specifier not valid), as CiA 301 allows.
+//! - Frames that do not decode (too short for their command) are ignored.
+//! - **Time**: the timeout restarts on every frame of the transfer. A
+//!   timestamp earlier than the last one never panics: the deadline is simply
+//!   not reached yet. A timestamp far ahead expires the running transfer.
+
+use core::time::Duration;
+
+use super::abort::AbortCode;
+use super::data::{ExpeditedData, InitiatePayload, Segment, SegmentData};
+use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
+use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
+use crate::frame::{CanFrame, CanId};
+use crate::od::{ObjectDictionary, ObjectInfo, SizeRule};
+use crate::queue::Queue;
+use crate::time::Timestamp;
+
+/// The default SDO timeout: 2000 ms, Delta-Q's recommendation.
+pub const DEFAULT_TIMEOUT: Duration = Duration::from_millis(2000);
+
+/// Who ended a transfer with an abort.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum AbortOrigin {
+    /// This side detected the failure and sent the abort frame.
+    Local,
+    /// The peer sent an abort frame; nothing was sent back.
+    Peer,
+    /// A new initiate request replaced the transfer (server only; no frame
+    /// sent, the code is [`AbortCode::GeneralError`]).
+    Superseded,
+}
+
+/// What the server reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ServerEvent {
+    /// An upload completed: `len` bytes were read by the client.
+    Uploaded {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// Bytes transferred.
+        len: usize,
+    },
+    /// A download completed and the dictionary accepted it.
+    Downloaded {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// Bytes written.
+        len: usize,
+    },
+    /// The transfer ended in an abort.
+    Aborted {
+        /// Object index of the transfer.
+        index: u16,
+        /// Sub-index of the transfer.
+        sub: u8,
+        /// The abort code sent or received.
+        code: AbortCode,
+        /// Who aborted.
+        origin: AbortOrigin,
+    },
+}
+
+impl ServerEvent {
+    /// The object the event is about.
+    #[must_use]
+    pub const fn object(&self) -> (u16, u8) {
+        match *self {
+            ServerEvent::Uploaded { index, sub, .. }
+            | ServerEvent::Downloaded { index, sub, .. }
+            | ServerEvent::Aborted { index, sub, .. } => (index, sub),
+        }
+    }
+}
+
+/// Identifiers and timeout of one SDO server channel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ServerConfig {
+    /// Requests arrive on this identifier (default 0x600 + node).
+    pub request_id: CanId,
+    /// Responses are sent on this identifier (default 0x580 + node).
+    pub response_id: CanId,
+    /// How long to wait for the client's next frame.
+    pub timeout: Duration,
+}
+
+impl ServerConfig {
+    /// The default channel of `node`: 0x600/0x580 + node, 2000 ms.
+    #[must_use]
+    pub const fn for_node(node: NodeId) -> Self {
+        ServerConfig {
+            request_id: CanId::Standard(SDO_RX_BASE + node.raw() as u16),
+            response_id: CanId::Standard(SDO_TX_BASE + node.raw() as u16),
+            timeout: DEFAULT_TIMEOUT,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum State {
+    Idle,
+    Uploading {
+        index: u16,
+        sub: u8,
+        offset: usize,
+        len: usize,
+        toggle: bool,
+    },
+    Downloading {
+        index: u16,
+        sub: u8,
+        offset: usize,
+        size: Option<usize>,
+        toggle: bool,
+        info: ObjectInfo,
+    },
+}
+
+/// An SDO server over the dictionary `D`. See the module docs for the
+/// driving loop and behaviour.
+///
+/// ```
+/// use canopen_codec::sdo::{Server, ServerConfig, ServerEvent};
+/// use canopen_codec::od::{Access, MemoryDictionary};
+/// use canopen_codec::{CanFrame, NodeId, Timestamp};
+///
+/// let mut od = MemoryDictionary::new();
+/// od.insert(0x1017, 0, Access::ReadWrite, &1000u16.to_le_bytes());
+/// let node = NodeId::new(1).unwrap();
+/// let mut server = Server::new(ServerConfig::for_node(node), od);
+/// // Upload 1017h sub 0.
+/// let req = CanFrame::standard(0x601, &[0x40, 0x17, 0x10, 0, 0, 0, 0, 0]).unwrap();
+/// server.handle_frame(Timestamp::ZERO, &req);
+/// let resp = server.poll_transmit().unwrap();
+/// assert_eq!(resp, CanFrame::standard(0x581, &[0x4B, 0x17, 0x10, 0, 0xE8, 0x03, 0, 0]).unwrap());
+/// assert_eq!(server.poll_event(), Some(ServerEvent::Uploaded { index: 0x1017, sub: 0, len: 2 }));
+/// ```
+#[derive(Debug)]
+pub struct Server<D> {
+    config: ServerConfig,
+    od: D,
+    state: State,
+    deadline: Option<Timestamp>,
+    transmit: Queue<CanFrame, 4>,
+    events: Queue<ServerEvent, 4>,
+}
+
+impl<D: ObjectDictionary> Server<D> {
+    /// A server on `config`'s identifiers serving `od`.
+    pub fn new(config: ServerConfig, od: D) -> Self {
+        Server {
+            config,
+            od,
+            state: State::Idle,
+            deadline: None,
+            transmit: Queue::new(),
+            events: Queue::new(),
+        }
+    }
+
+    /// The configuration.
+    #[must_use]
+    pub const fn config(&self) -> &ServerConfig {
+        &self.config
+    }
+
+    /// The dictionary.
+    pub const fn od(&self) -> &D {
+        &self.od
+    }
+
+    /// The dictionary, mutably (the application updates its values here).
+    pub fn od_mut(&mut self) -> &mut D {
+        &mut self.od
+    }
+
+    /// Gives the dictionary back.
+    pub fn into_inner(self) -> D {
+        self.od
+    }
+
+    /// True while a transfer is in progress.
+    #[must_use]
+    pub const fn is_busy(&self) -> bool {
+        !matches!(self.state, State::Idle)
+    }
+
+    /// The next frame to send.
+    #[must_use]
+    pub fn poll_transmit(&mut self) -> Option<CanFrame> {
+        self.transmit.pop()
+    }
+
+    /// The next event.
+    #[must_use]
+    pub fn poll_event(&mut self) -> Option<ServerEvent> {
+        self.events.pop()
+    }
+
+    /// When [`handle_timeout`](Self::handle_timeout) must next be called.
+    #[must_use]
+    pub fn poll_timeout(&self) -> Option<Timestamp> {
+        self.deadline
+    }
+
+    /// Tells the server time has passed; expires a stalled transfer with
+    /// abort 05040000h.
+    pub fn handle_timeout(&mut self, now: Timestamp) {
+        if let Some(deadline) = self.deadline {
+            if now.has_reached(deadline) {
+                self.abort_local(AbortCode::SdoProtocolTimedOut);
+            }
+        }
+    }
+
+    /// Feeds a received frame. Frames on other identifiers, remote frames
+    /// and frames too short for their command are ignored.
+    pub fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        if frame.id() != self.config.request_id || frame.is_remote() {
+            return;
+        }
+        // Back-pressure: never answer out of order or drop an answer.
+        if self.transmit.room() == 0 || self.events.room() < 2 {
+            return;
+        }
+        let Ok(request) = SdoRequest::decode(frame.data()) else {
+            return;
+        };
+        match request.command {
+            ClientCommand::InitiateUpload { index, sub } => {
+                self.supersede();
+                self.initiate_upload(now, index, sub);
+            }
+            ClientCommand::InitiateDownload {
+                index,
+                sub,
+                payload,
+            } => {
+                self.supersede();
+                self.initiate_download(now, index, sub, payload);
+            }
+            ClientCommand::UploadSegment { toggle } => self.upload_segment(now, toggle),
+            ClientCommand::DownloadSegment(seg) => self.download_segment(now, &seg),
+            ClientCommand::Abort { code, .. } => self.abort_by_peer(code),
+            ClientCommand::BlockUpload(_)
+            | ClientCommand::BlockDownload(_)
+            | ClientCommand::Unknown(_) => {
+                self.abort_local(AbortCode::InvalidCommandSpecifier);
+            }
+        }
+    }
+
+    fn object(&self) -> (u16, u8) {
+        match self.state {
+            State::Idle => (0, 0),
+            State::Uploading { index, sub, .. } | State::Downloading { index, sub, .. } => {
+                (index, sub)
+            }
+        }
+    }
+
+    fn send(&mut self, command: ServerCommand) {
+        let (bytes, len) = SdoResponse::new(command).encode();
+        let frame = CanFrame::new(self.config.response_id, bytes.get(..len).unwrap_or(&[]));
+        if let Ok(frame) = frame {
+            // Room was checked before the request was processed.
+            let _ = self.transmit.push(frame);
+        }
+    }
+
+    fn emit(&mut self, event: ServerEvent) {
+        // Room was checked before the request was processed.
+        let _ = self.events.push(event);
+    }
+
+    fn finish(&mut self, event: ServerEvent) {
+        self.state = State::Idle;
+        self.deadline = None;
+        self.emit(event);
+    }
+
+    /// Ends the running transfer (or answers a stray request) with an abort
+    /// frame and, for a running transfer, an Aborted event.
+    fn abort_local(&mut self, code: AbortCode) {
+        let (index, sub) = self.object();
+        self.abort_object(index, sub, code);
+    }
+
+    fn abort_object(&mut self, index: u16, sub: u8, code: AbortCode) {
+        if let State::Downloading { index, sub, .. } = self.state {
+            self.od.abort_write(index, sub);
+        }
+        self.send(ServerCommand::Abort { index, sub, code });
+        self.finish(ServerEvent::Aborted {
+            index,
+            sub,
+            code,
+            origin: AbortOrigin::Local,
+        });
+    }
+
+    fn abort_by_peer(&mut self, code: AbortCode) {
+        if !self.is_busy() {
+            return;
+        }
+        let (index, sub) = self.object();
+        if let State::Downloading { .. } = self.state {
+            self.od.abort_write(index, sub);
+        }
+        // CiA 301 code 0 is not a code; report it as a general error.
+        let code = match code {
+            AbortCode::Other(0) => AbortCode::GeneralError,
+            c => c,
+        };
+        self.finish(ServerEvent::Aborted {
+            index,
+            sub,
+            code,
+            origin: AbortOrigin::Peer,
+        });
+    }
+
+    fn supersede(&mut self) {
+        if !self.is_busy() {
+            return;
+        }
+        let (index, sub) = self.object();
+        if let State::Downloading { .. } = self.state {
+            self.od.abort_write(index, sub);
+        }
+        self.finish(ServerEvent::Aborted {
+            index,
+            sub,
+            code: AbortCode::GeneralError,
+            origin: AbortOrigin::Superseded,
+        });
+    }
+
+    fn arm(&mut self, now: Timestamp) {
+        self.deadline = Some(now.add_duration(self.config.timeout));
+    }
+
+    /// Reads up to `buf.len()` bytes at `offset`, looping over short reads.
+    fn read_full(
+        &mut self,
+        index: u16,
+        sub: u8,
+        offset: usize,
+        buf: &mut [u8],
+    ) -> Result<usize, AbortCode> {
+        let mut got = 0;
+        while let Some(rest) = buf.get_mut(got..) {
+            if rest.is_empty() {
+                break;
+            }
+            let n = self.od.read(index, sub, offset + got, rest)?.min(rest.len());
+            if n == 0 {
+                break;
+            }
+            got += n;
+        }
+        Ok(got)
+    }
+
+    fn initiate_upload(&mut self, now: Timestamp, index: u16, sub: u8) {
+        let info = match self.od.info(index, sub) {
+            Ok(info) => info,
+            Err(code) => return self.abort_object(index, sub, code),
+        };
+        if !info.access.is_readable() {
+            return self.abort_object(index, sub, AbortCode::ReadOfWriteOnlyObject);
+        }
+        if (1..=4).contains(&info.len) {
+            let mut buf = [0u8; 4];
+            let want = buf.get_mut(..info.len).unwrap_or(&mut []);
+            let n = match self.read_full(index, sub, 0, want) {
+                Ok(n) => n,
+                Err(code) => return self.abort_object(index, sub, code),
+            };
+            if n == 0 {
+                return self.abort_object(index, sub, AbortCode::NoDataAvailable);
+            }
+            let data = ExpeditedData::new(buf.get(..n).unwrap_or(&[])).unwrap_or_default();
+            self.send(ServerCommand::InitiateUpload {
+                index,
+                sub,
+                payload: InitiatePayload::Expedited {
+                    data,
+                    size_indicated: true,
+                },
+            });
+            return self.finish(ServerEvent::Uploaded { index, sub, len: n });
+        }
+        let Ok(size) = u32::try_from(info.len) else {
+            return self.abort_object(index, sub, AbortCode::OutOfMemory);
+        };
+        self.send(ServerCommand::InitiateUpload {
+            index,
+            sub,
+            payload: InitiatePayload::Segmented { size: Some(size) },
+        });
+        self.state = State::Uploading {
+            index,
+            sub,
+            offset: 0,
+            len: info.len,
+            toggle: false,
+        };
+        self.arm(now);
+    }
+
+    fn upload_segment(&mut self, now: Timestamp, toggle: bool) {
+        let State::Uploading {
+            index,
+            sub,
+            offset,
+            len,
+            toggle: expected,
+        } = self.state
+        else {
+            return self.abort_local(AbortCode::InvalidCommandSpecifier);
+        };
+        if toggle != expected {
+            return self.abort_local(AbortCode::ToggleBitNotAlternated);
+        }
+        let mut buf = [0u8; 7];
+        let want = len.saturating_sub(offset).min(7);
+        let n = match self.read_full(index, sub, offset, buf.get_mut(..want).unwrap_or(&mut [])) {
+            Ok(n) => n,
+            Err(code) => return self.abort_local(code),
+        };
+        if n < want {
+            // The dictionary ran dry before the size it announced.
+            return self.abort_local(AbortCode::GeneralError);
+        }
+        let offset = offset + n;
+        let last = offset >= len;
+        self.send(ServerCommand::UploadSegment(Segment {
+            toggle,
+            last,
+            data: SegmentData::new(buf.get(..n).unwrap_or(&[])).unwrap_or_default(),
+        }));
+        if last {
+            self.finish(ServerEvent::Uploaded { index, sub, len });
+        } else {
+            self.state = State::Uploading {
+                index,
+                sub,
+                offset,
+                len,
+                toggle: !toggle,
+            };
+            self.arm(now);
+        }
+    }
+
+    fn initiate_download(&mut self, now: Timestamp, index: u16, sub: u8, payload: InitiatePayload) {
+        let info = match self.od.info(index, sub) {
+            Ok(info) => info,
+            Err(code) => return self.abort_object(index, sub, code),
+        };
+        if !info.access.is_writable() {
+            return self.abort_object(index, sub, AbortCode::WriteOfReadOnlyObject);
+        }
+        match payload {
+            InitiatePayload::Expedited {
+                data,
+                size_indicated,
+            } => {
+                let bytes = data.as_slice();
+                // Size not indicated: "up to 4 bytes", the object decides.
+                let len = match (size_indicated, info.size) {
+                    (false, SizeRule::Fixed(n)) if n <= bytes.len() => n,
+                    _ => bytes.len(),
+                };
+                if let Err(code) = info.check_download_len(len) {
+                    return self.abort_object(index, sub, code);
+                }
+                let bytes = bytes.get(..len).unwrap_or(&[]);
+                let result = self
+                    .od
+                    .write(index, sub, 0, bytes)
+                    .and_then(|()| self.od.finish_write(index, sub, len));
+                if let Err(code) = result {
+                    self.od.abort_write(index, sub);
+                    return self.abort_object(index, sub, code);
+                }
+                self.send(ServerCommand::InitiateDownload { index, sub });
+                self.finish(ServerEvent::Downloaded { index, sub, len });
+            }
+            InitiatePayload::Segmented { size } => {
+                let size = size.map(|s| usize::try_from(s).unwrap_or(usize::MAX));
+                if let Some(size) = size {
+                    if let Err(code) = info.check_download_len(size) {
+                        return self.abort_object(index, sub, code);
+                    }
+                }
+                self.send(ServerCommand::InitiateDownload { index, sub });
+                self.state = State::Downloading {
+                    index,
+                    sub,
+                    offset: 0,
+                    size,
+                    toggle: false,
+                    info,
+                };
+                self.arm(now);
+            }
+        }
+    }
+
+    fn download_segment(&mut self, now: Timestamp, seg: &Segment) {
+        let State::Downloading {
+            index,
+            sub,
+            offset,
+            size,
+            toggle,
+            info,
+        } = self.state
+        else {
+            return self.abort_local(AbortCode::InvalidCommandSpecifier);
+        };
+        if seg.toggle != toggle {
+            return self.abort_local(AbortCode::ToggleBitNotAlternated);
+        }
+        let data = seg.data.as_slice();
+        let end = offset + data.len();
+        let too_long = size.is_some_and(|s| end > s)
+            || matches!(
+                info.check_download_len(end),
+                Err(AbortCode::DataTypeLengthTooHigh)
+            );
+        if too_long {
+            return self.abort_local(AbortCode::DataTypeLengthTooHigh);
+        }
+        if let Err(code) = self.od.write(index, sub, offset, data) {
+            return self.abort_local(code);
+        }
+        if !seg.last {
+            self.send(ServerCommand::DownloadSegment { toggle });
+            self.state = State::Downloading {
+                index,
+                sub,
+                offset: end,
+                size,
+                toggle: !toggle,
+                info,
+            };
+            return self.arm(now);
+        }
+        if size.is_some_and(|s| end < s) {
+            return self.abort_local(AbortCode::DataTypeLengthTooLow);
+        }
+        if let Err(code) = info
+            .check_download_len(end)
+            .and_then(|()| self.od.finish_write(index, sub, end))
+        {
+            return self.abort_local(code);
+        }
+        self.send(ServerCommand::DownloadSegment { toggle });
+        self.finish(ServerEvent::Downloaded {
+            index,
+            sub,
+            len: end,
+        });
+    }
+}
