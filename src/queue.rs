@@ -60,7 +60,10 @@ mod tests {
         assert!(!q.push(4));
         assert_eq!(q.pop(), Some(1));
         assert!(q.push(4));
-        assert_eq!((q.pop(), q.pop(), q.pop(), q.pop()), (Some(2), Some(3), Some(4), None));
+        assert_eq!(
+            (q.pop(), q.pop(), q.pop(), q.pop()),
+            (Some(2), Some(3), Some(4), None)
+        );
         assert_eq!(q.room(), 3);
         assert!(q.push(5));
         assert_eq!(q.pop(), Some(5));

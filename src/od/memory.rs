@@ -56,7 +56,14 @@ impl MemoryDictionary {
         self.put(index, sub, access, SizeRule::Variable { max }, value)
     }
 
-    fn put(&mut self, index: u16, sub: u8, access: Access, size: SizeRule, value: &[u8]) -> &mut Self {
+    fn put(
+        &mut self,
+        index: u16,
+        sub: u8,
+        access: Access,
+        size: SizeRule,
+        value: &[u8],
+    ) -> &mut Self {
         self.entries.insert(
             (index, sub),
             Entry {
@@ -123,7 +130,13 @@ impl ObjectDictionary for MemoryDictionary {
         })
     }
 
-    fn read(&mut self, index: u16, sub: u8, offset: usize, buf: &mut [u8]) -> Result<usize, AbortCode> {
+    fn read(
+        &mut self,
+        index: u16,
+        sub: u8,
+        offset: usize,
+        buf: &mut [u8],
+    ) -> Result<usize, AbortCode> {
         let e = self.entry(index, sub)?;
         let src = e.value.get(offset..).unwrap_or(&[]);
         let n = src.len().min(buf.len());

@@ -115,8 +115,13 @@ pub trait ObjectDictionary {
 
     /// Copies bytes of the value starting at `offset` into `buf`; returns how
     /// many were copied (fewer than `buf.len()` only at the end of the value).
-    fn read(&mut self, index: u16, sub: u8, offset: usize, buf: &mut [u8])
-        -> Result<usize, AbortCode>;
+    fn read(
+        &mut self,
+        index: u16,
+        sub: u8,
+        offset: usize,
+        buf: &mut [u8],
+    ) -> Result<usize, AbortCode>;
 
     /// Writes `data` at `offset` of the value being downloaded.
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode>;
@@ -188,6 +193,9 @@ mod tests {
         };
         assert_eq!(s.check_download_len(0), Ok(()));
         assert_eq!(s.check_download_len(10), Ok(()));
-        assert_eq!(s.check_download_len(11), Err(AbortCode::DataTypeLengthTooHigh));
+        assert_eq!(
+            s.check_download_len(11),
+            Err(AbortCode::DataTypeLengthTooHigh)
+        );
     }
 }

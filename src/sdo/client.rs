@@ -342,7 +342,9 @@ impl<D: AsRef<[u8]>> Client<D> {
                 size,
                 received,
                 toggle,
-            } => self.on_upload_segment(now, (index, sub), size, received, toggle, response.command),
+            } => {
+                self.on_upload_segment(now, (index, sub), size, received, toggle, response.command)
+            }
             State::DownloadInitiated {
                 index,
                 sub,
@@ -536,7 +538,15 @@ impl<D: AsRef<[u8]>> Client<D> {
         self.send_segment(now, index, sub, data, 0, false);
     }
 
-    fn send_segment(&mut self, now: Timestamp, index: u16, sub: u8, data: D, from: usize, toggle: bool) {
+    fn send_segment(
+        &mut self,
+        now: Timestamp,
+        index: u16,
+        sub: u8,
+        data: D,
+        from: usize,
+        toggle: bool,
+    ) {
         let bytes = data.as_ref();
         let chunk = bytes.get(from..).unwrap_or(&[]);
         let chunk = chunk.get(..chunk.len().min(7)).unwrap_or(&[]);

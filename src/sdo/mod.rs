@@ -15,8 +15,8 @@ pub use abort::{AbortCode, ALL_ABORT_CODES};
 pub use client::{Client, ClientConfig, ClientError, ClientEvent};
 #[cfg(feature = "alloc")]
 pub use collect::{Collected, UploadBuffer};
-pub use server::{AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_TIMEOUT};
 pub use data::{ExpeditedData, InitiatePayload, InlineData, Segment, SegmentData};
+pub use server::{AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_TIMEOUT};
 pub use wire::{
     abort_code_of, ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoRequest, SdoResponse,
     ServerBlockDownload, ServerBlockUpload, ServerCommand,

@@ -30,6 +30,10 @@
 //!   index and sub-index.
 //! - Block transfer is not supported: block requests are answered with abort
 //!   05040001h (command specifier not valid), as CiA 301 allows.
+//! - Download lengths are checked against the dictionary's [`SizeRule`]:
+//!   too long 06070012h, too short 06070013h; an expedited download without
+//!   size indicated to a fixed object longer than 4 bytes 06070010h (the
+//!   length cannot match).
 //! - Frames that do not decode (too short for their command) are ignored.
 //! - **Time**: the timeout restarts on every frame of the transfer. A
 //!   timestamp earlier than the last one never panics: the deadline is simply
@@ -387,7 +391,10 @@ impl<D: ObjectDictionary> Server<D> {
             if rest.is_empty() {
                 break;
             }
-            let n = self.od.read(index, sub, offset + got, rest)?.min(rest.len());
+            let n = self
+                .od
+                .read(index, sub, offset + got, rest)?
+                .min(rest.len());
             if n == 0 {
                 break;
             }
@@ -505,6 +512,11 @@ impl<D: ObjectDictionary> Server<D> {
                 // Size not indicated: "up to 4 bytes", the object decides.
                 let len = match (size_indicated, info.size) {
                     (false, SizeRule::Fixed(n)) if n <= bytes.len() => n,
+                    // A fixed object longer than the frame can carry: the
+                    // length cannot match, and is not known to be short.
+                    (false, SizeRule::Fixed(_)) => {
+                        return self.abort_object(index, sub, AbortCode::DataTypeLengthMismatch);
+                    }
                     _ => bytes.len(),
                 };
                 if let Err(code) = info.check_download_len(len) {

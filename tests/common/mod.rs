@@ -1,0 +1,16 @@
+//! Test support shared by the integration tests (public API only).
+#![allow(dead_code)]
+
+pub mod pair;
+
+use canopen_codec::{CanFrame, CanId};
+
+/// A standard frame from an id and a hex string with optional spaces.
+pub fn frame(id: u16, hex: &str) -> CanFrame {
+    let digits: Vec<u8> = hex.bytes().filter(|b| !b.is_ascii_whitespace()).collect();
+    let bytes: Vec<u8> = digits
+        .chunks(2)
+        .map(|p| u8::from_str_radix(std::str::from_utf8(p).unwrap(), 16).unwrap())
+        .collect();
+    CanFrame::new(CanId::Standard(id), &bytes).unwrap()
+}
