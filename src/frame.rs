@@ -94,7 +94,7 @@ pub enum FrameError {
 
 /// A classic CAN frame: identifier, data or remote, 0..=8 bytes.
 ///
-/// The data bytes live inline; bytes past [`len`](Self::len) are always
+/// The data bytes live inline; bytes past [`dlc`](Self::dlc) are always
 /// zero, so two frames compare equal exactly when they mean the same frame.
 ///
 /// ```

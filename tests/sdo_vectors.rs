@@ -16,7 +16,13 @@ fn server(node: u8, od: MemoryDictionary) -> Server<MemoryDictionary> {
     Server::new(ServerConfig::for_node(NodeId::new(node).unwrap()), od)
 }
 
-/// Feeds `req` (hex) to the server and asserts it answers exactly `resp`.
+thread_local! {
+    static EVENTS: std::cell::RefCell<Vec<ServerEvent>> =
+        const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Feeds `req` (hex) to the server and asserts it answers exactly `resp`;
+/// drains its events (see [`events`]).
 fn exchange(s: &mut Server<MemoryDictionary>, node: u16, req: &str, resp: &str) {
     s.handle_frame(Timestamp::ZERO, &frame(0x600 + node, req));
     assert_eq!(
@@ -25,10 +31,13 @@ fn exchange(s: &mut Server<MemoryDictionary>, node: u16, req: &str, resp: &str) 
         "answer to {req}"
     );
     assert_eq!(s.poll_transmit(), None);
+    EVENTS.with(|e| e.borrow_mut().extend(std::iter::from_fn(|| s.poll_event())));
 }
 
+/// The server events since the last call.
 fn events(s: &mut Server<MemoryDictionary>) -> Vec<ServerEvent> {
-    std::iter::from_fn(|| s.poll_event()).collect()
+    assert_eq!(s.poll_event(), None);
+    EVENTS.with(|e| std::mem::take(&mut *e.borrow_mut()))
 }
 
 fn client(node: u8) -> Client<Vec<u8>> {
@@ -190,8 +199,9 @@ fn server_v16_client_abort_without_multiplexer() {
     exchange(&mut s, 2, "4008100000000000", "410810001A000000");
     s.handle_frame(Timestamp::ZERO, &frame(0x602, "8000000000000405"));
     assert_eq!(s.poll_transmit(), None);
+    assert!(EVENTS.with(|e| e.borrow().is_empty()));
     assert_eq!(
-        events(&mut s),
+        std::iter::from_fn(|| s.poll_event()).collect::<Vec<_>>(),
         vec![ServerEvent::Aborted {
             index: 0x1008,
             sub: 0,

@@ -115,6 +115,9 @@ pub enum ClientError {
     /// A transfer is already running.
     #[error("an SDO transfer is already in progress")]
     Busy,
+    /// The caller has not drained `poll_transmit` / `poll_event`.
+    #[error("output queues are full: drain poll_transmit and poll_event")]
+    QueueFull,
     /// The value does not fit the 32-bit SDO size field.
     #[error("value of {len} bytes is too long for SDO")]
     TooLong {
@@ -322,7 +325,7 @@ impl<D: AsRef<[u8]>> Client<D> {
         if frame.id() != self.config.response_id || frame.is_remote() || !self.is_busy() {
             return;
         }
-        if self.transmit.room() == 0 || self.events.room() < 2 {
+        if !self.has_room_for_input() {
             return;
         }
         let Ok(response) = SdoResponse::decode(frame.data()) else {
@@ -364,9 +367,17 @@ impl<D: AsRef<[u8]>> Client<D> {
     fn check_idle(&self) -> Result<(), ClientError> {
         if self.is_busy() {
             Err(ClientError::Busy)
+        } else if !self.has_room_for_input() {
+            Err(ClientError::QueueFull)
         } else {
             Ok(())
         }
+    }
+
+    /// An input may produce one frame and two events; one more frame and
+    /// event stay free so a timeout or abort can always be reported.
+    fn has_room_for_input(&self) -> bool {
+        self.transmit.room() >= 2 && self.events.room() >= 3
     }
 
     fn arm(&mut self, now: Timestamp) {

@@ -258,7 +258,9 @@ impl<D: ObjectDictionary> Server<D> {
             return;
         }
         // Back-pressure: never answer out of order or drop an answer.
-        if self.transmit.room() == 0 || self.events.room() < 2 {
+        // An input may produce one frame and two events; one more frame and
+        // event stay free so a timeout can always be reported.
+        if self.transmit.room() < 2 || self.events.room() < 3 {
             return;
         }
         let Ok(request) = SdoRequest::decode(frame.data()) else {
