@@ -26,7 +26,8 @@ const FAULT_PREFIX: u16 = 0xC000;
 /// [`canonical`](DeltaQCode::canonical) normalises it.
 ///
 /// [`Display`](fmt::Display) writes the charger's label (see there); no
-/// allocation.
+/// allocation. The byte-order quirk of EMCY versus 1003h and the F-0-0-6
+/// erratum are described in the [`deltaq` module docs](crate::deltaq).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum DeltaQCode {
     /// An alarm, "E-0-x-y": code `0x8000 | n`, `n = x*10 + y`.
@@ -190,9 +191,8 @@ impl DeltaQCode {
     /// F-0-0-6 erratum.
     #[must_use]
     pub const fn from_error_field(value: u32) -> (ErrorCode, Self) {
-        let eec = ErrorCode(value as u16);
-        let code = Self::from_raw(((value >> 16) as u16).swap_bytes());
-        (eec, code)
+        let entry = ErrorFieldEntry::from_u32(value);
+        (entry.code, Self::from_error_field_entry(entry))
     }
 
     /// Like [`from_error_field`](Self::from_error_field), but also accepts
@@ -221,7 +221,7 @@ impl DeltaQCode {
     /// swapped in the high word, `eec` in the low word.
     #[must_use]
     pub const fn to_error_field(self, eec: ErrorCode) -> u32 {
-        (self.raw().swap_bytes() as u32) << 16 | eec.0 as u32
+        self.to_error_field_entry(eec).to_u32()
     }
 
     /// The code in a 1003h entry already split by [`ErrorFieldEntry`] (its
@@ -265,7 +265,8 @@ impl fmt::Display for DeltaQCode {
     /// the table lists them: `E-0-3-2`, `F-0-0-6`, `E-0-0-5`. Every other
     /// value (an `Other`, or an alarm / fault number 100..=255) is the raw
     /// code as `0x` and four upper-case hex digits: `0x0000`, `0x1234`,
-    /// `0x80A5`.
+    /// `0x80A5`. A hand-built non-canonical `Other(0x8020)` displays as its
+    /// canonical form, `E-0-3-2`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self.label_parts() {
             Some((letter, x, y)) => write!(f, "{letter}-0-{x}-{y}"),

@@ -131,8 +131,8 @@ mod policy;
 pub use codes::{AlarmFaultEntry, DeltaQCode, ALARMS_AND_FAULTS};
 pub use objects::{
     AcVoltage, AlgorithmRequest, BatteryVoltage, BatteryVoltageLegacy, ChargeIndication,
-    ChargeType, ChargerAhReturned, ChargingCurrent, DerateReasons, DisplayedError,
-    ExtendedChargeStatus, ExternalOverride, OverrideSource, StatusFlags, VoltageRequest,
+    ChargeStatusFlags, ChargeType, ChargerAhReturned, ChargingCurrent, DerateReasons,
+    DisplayedError, ExtendedChargeStatus, ExternalOverride, OverrideSource, VoltageRequest,
     VoltageRequest16,
 };
 pub use policy::{emcy_reaction, emergency_reaction, OperatingMode, Reaction};

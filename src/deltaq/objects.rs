@@ -315,7 +315,7 @@ bitflags::bitflags! {
     /// Extended charge status 2006h, bits 5-0. All six bits are named; bits
     /// 1-0 are reserved (zero) on older firmware.
     #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
-    pub struct StatusFlags: u8 {
+    pub struct ChargeStatusFlags: u8 {
         /// Bit 5: charger enabled, able to charge (= 6001h bit 0).
         const CHARGER_ENABLED = 1 << 5;
         /// Bit 4: AC present.
@@ -338,14 +338,14 @@ bitflags::bitflags! {
 ///
 /// ```
 /// use canopen_codec::deltaq::{
-///     ChargeIndication, ChargeType, ExtendedChargeStatus, OverrideSource, StatusFlags,
+///     ChargeIndication, ChargeType, ExtendedChargeStatus, OverrideSource, ChargeStatusFlags,
 /// };
 /// // The capture's worked example: 0x0070.
 /// let s = ExtendedChargeStatus::from_u16(0x0070);
 /// assert_eq!(s.charge_type, ChargeType::None);
 /// assert_eq!(s.indication, ChargeIndication::Inactive);
 /// assert_eq!(s.override_source, OverrideSource::External);
-/// assert_eq!(s.flags, StatusFlags::CHARGER_ENABLED | StatusFlags::AC_PRESENT);
+/// assert_eq!(s.flags, ChargeStatusFlags::CHARGER_ENABLED | ChargeStatusFlags::AC_PRESENT);
 /// assert_eq!(s.to_u16(), 0x0070);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -357,7 +357,7 @@ pub struct ExtendedChargeStatus {
     /// Bits 7-6.
     pub override_source: OverrideSource,
     /// Bits 5-0 (bits 6-7 of the flags byte are masked off on encode).
-    pub flags: StatusFlags,
+    pub flags: ChargeStatusFlags,
 }
 
 impl ExtendedChargeStatus {
@@ -368,7 +368,7 @@ impl ExtendedChargeStatus {
             charge_type: ChargeType::from_bits((raw >> 12) as u8),
             indication: ChargeIndication::from_bits((raw >> 8) as u8),
             override_source: OverrideSource::from_bits((raw >> 6) as u8),
-            flags: StatusFlags::from_bits_retain(raw as u8 & 0x3F),
+            flags: ChargeStatusFlags::from_bits_retain(raw as u8 & 0x3F),
         }
     }
 

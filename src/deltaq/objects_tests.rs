@@ -42,12 +42,12 @@ fn extended_charge_status_0x0070() {
     assert_eq!(s.charge_type, ChargeType::None);
     assert_eq!(s.indication, ChargeIndication::Inactive);
     assert_eq!(s.override_source, OverrideSource::External);
-    assert!(s.flags.contains(StatusFlags::AC_PRESENT));
-    assert!(s.flags.contains(StatusFlags::CHARGER_ENABLED));
-    assert!(!s.flags.contains(StatusFlags::DERATING));
-    assert!(!s.flags.contains(StatusFlags::HW_SHUTDOWN));
-    assert!(!s.flags.contains(StatusFlags::ALARM_ACTIVE));
-    assert!(!s.flags.contains(StatusFlags::FAULT_ACTIVE));
+    assert!(s.flags.contains(ChargeStatusFlags::AC_PRESENT));
+    assert!(s.flags.contains(ChargeStatusFlags::CHARGER_ENABLED));
+    assert!(!s.flags.contains(ChargeStatusFlags::DERATING));
+    assert!(!s.flags.contains(ChargeStatusFlags::HW_SHUTDOWN));
+    assert!(!s.flags.contains(ChargeStatusFlags::ALARM_ACTIVE));
+    assert!(!s.flags.contains(ChargeStatusFlags::FAULT_ACTIVE));
     assert_eq!(s.encode(), [0x70, 0x00]);
 }
 
@@ -59,21 +59,25 @@ fn extended_charge_status_fields() {
     assert_eq!(s.override_source, OverrideSource::Internal);
     assert_eq!(
         s.flags,
-        StatusFlags::CHARGER_ENABLED | StatusFlags::ALARM_ACTIVE | StatusFlags::FAULT_ACTIVE
+        ChargeStatusFlags::CHARGER_ENABLED
+            | ChargeStatusFlags::ALARM_ACTIVE
+            | ChargeStatusFlags::FAULT_ACTIVE
     );
     let s = ExtendedChargeStatus::from_u16(0x271C);
     assert_eq!(s.charge_type, ChargeType::Maintenance);
     assert_eq!(s.indication, ChargeIndication::PowerSupplyMode);
     assert_eq!(
         s.flags,
-        StatusFlags::AC_PRESENT | StatusFlags::DERATING | StatusFlags::HW_SHUTDOWN
+        ChargeStatusFlags::AC_PRESENT
+            | ChargeStatusFlags::DERATING
+            | ChargeStatusFlags::HW_SHUTDOWN
     );
     // Unknown values are kept.
     let s = ExtendedChargeStatus::from_u16(0xF8C0);
     assert_eq!(s.charge_type, ChargeType::Other(15));
     assert_eq!(s.indication, ChargeIndication::Other(8));
     assert_eq!(s.override_source, OverrideSource::Other(3));
-    assert_eq!(s.flags, StatusFlags::empty());
+    assert_eq!(s.flags, ChargeStatusFlags::empty());
     assert_eq!(s.to_u16(), 0xF8C0);
     // Indications 1..=7 by name.
     let names = [
@@ -93,7 +97,7 @@ fn extended_charge_status_fields() {
         charge_type: ChargeType::Other(0x13),
         indication: ChargeIndication::Other(0x1F),
         override_source: OverrideSource::Other(6),
-        flags: StatusFlags::from_bits_retain(0xC1),
+        flags: ChargeStatusFlags::from_bits_retain(0xC1),
     };
     assert_eq!(s.to_u16(), 0x3F81);
 }
