@@ -1,0 +1,213 @@
+//! Client and server on one simulated bus (the `Pair` harness): whole
+//! transfers, random values, latencies and dropped frames.
+#![cfg(feature = "alloc")]
+
+mod common;
+
+use canopen_codec::od::{Access, MemoryDictionary};
+use canopen_codec::sdo::{ClientEvent, ServerEvent};
+use canopen_codec::Timestamp;
+use common::pair::{Dir, Pair};
+use proptest::prelude::*;
+
+fn od_with(index: u16, sub: u8, max: usize) -> MemoryDictionary {
+    let mut od = MemoryDictionary::new();
+    od.insert_variable(index, sub, Access::ReadWrite, b"", max);
+    od
+}
+
+/// Writes `value` then reads it back through the pair; returns the pair.
+fn write_then_read(index: u16, sub: u8, value: &[u8], latency_us: u64) -> Pair {
+    let mut p = Pair::new(5, od_with(index, sub, 4096));
+    p.latency_us = latency_us;
+    p.client
+        .start_download(p.now, index, sub, value.to_vec())
+        .unwrap();
+    p.drive_bounded(10_000).unwrap();
+    assert_eq!(
+        p.client_events,
+        vec![ClientEvent::Downloaded {
+            index,
+            sub,
+            len: value.len()
+        }]
+    );
+    assert_eq!(
+        p.server_events,
+        vec![ServerEvent::Downloaded {
+            index,
+            sub,
+            len: value.len()
+        }]
+    );
+    assert_eq!(p.server.od().get(index, sub), Some(value));
+    p.clear_events();
+    p.client.start_upload(p.now, index, sub).unwrap();
+    p.drive_bounded(10_000).unwrap();
+    assert_eq!(p.uploaded(), value);
+    assert_eq!(
+        p.client_events.last(),
+        Some(&ClientEvent::Uploaded {
+            index,
+            sub,
+            len: value.len()
+        })
+    );
+    assert_eq!(
+        p.server_events,
+        vec![ServerEvent::Uploaded {
+            index,
+            sub,
+            len: value.len()
+        }]
+    );
+    p
+}
+
+#[test]
+fn sizes_around_every_boundary() {
+    for len in [0usize, 1, 3, 4, 5, 6, 7, 8, 13, 14, 15, 21, 22, 1000, 2000] {
+        let value: Vec<u8> = (0..len).map(|i| (i * 7 + 3) as u8).collect();
+        let p = write_then_read(0x2000, 1, &value, 1_000);
+        // Frames on the wire: expedited 1..=4 is one exchange each way.
+        let frames_per_direction = if (1..=4).contains(&len) {
+            1
+        } else {
+            1 + len.div_ceil(7).max(1)
+        };
+        let to_server = p.wire.iter().filter(|w| w.1 == Dir::ToServer).count();
+        // The download and the upload each take `frames_per_direction` requests.
+        assert_eq!(to_server, 2 * frames_per_direction, "len {len}");
+    }
+}
+
+#[test]
+fn drive_bounded_reports_livelock() {
+    let mut p = Pair::new(5, od_with(0x2000, 0, 4096));
+    p.client
+        .start_download(p.now, 0x2000, 0, vec![0; 2000])
+        .unwrap();
+    assert!(p.drive_bounded(10).is_err());
+}
+
+/// Frames of an undisturbed transfer of `len` bytes (both directions).
+fn frames_of(len: usize) -> usize {
+    if (1..=4).contains(&len) {
+        2
+    } else {
+        2 * (1 + len.div_ceil(7).max(1))
+    }
+}
+
+fn is_timeout_abort<E: std::fmt::Debug>(e: &E) -> bool {
+    format!("{e:?}").starts_with("Aborted") && format!("{e:?}").contains("SdoProtocolTimedOut")
+}
+
+/// With frame number `k` dropped: the client ends in exactly one timeout
+/// abort (its own, or the server's abort frame when the server's deadline
+/// came first). The server ends in one timeout abort too, except in the two
+/// cases SDO cannot avoid: the first request was lost (the server never saw
+/// a transfer: no event) or the server's final response was lost (the server
+/// had finished: one success event). Nothing else happens.
+fn check_drop(len: usize, upload: bool, k: usize, latency_us: u64) {
+    let index = 0x2100;
+    let n = frames_of(len);
+    if k >= n {
+        return;
+    }
+    let value: Vec<u8> = (0..len).map(|i| i as u8 ^ 0x5A).collect();
+    let mut od = od_with(index, 0, 4096);
+    od.set(index, 0, &value);
+    let mut p = Pair::new(9, od);
+    p.latency_us = latency_us;
+    p.drop = vec![k];
+    if upload {
+        p.client.start_upload(p.now, index, 0).unwrap();
+    } else {
+        p.client
+            .start_download(p.now, index, 0, vec![0xEE; len])
+            .unwrap();
+    }
+    p.drive_bounded(10_000).unwrap();
+    let ctx = format!("len={len} upload={upload} k={k} wire={:?}", p.wire);
+    let terminal: Vec<&ClientEvent> = p.client_events.iter().filter(|e| e.is_terminal()).collect();
+    assert_eq!(terminal.len(), 1, "{ctx}");
+    assert!(is_timeout_abort(terminal[0]), "{ctx}");
+    if k == 0 {
+        assert_eq!(p.server_events, vec![], "first request lost: {ctx}");
+    } else if k == n - 1 {
+        assert_eq!(p.server_events.len(), 1, "{ctx}");
+        assert!(
+            matches!(
+                p.server_events[0],
+                ServerEvent::Uploaded { .. } | ServerEvent::Downloaded { .. }
+            ),
+            "{ctx}"
+        );
+    } else {
+        assert_eq!(p.server_events.len(), 1, "{ctx}");
+        assert!(is_timeout_abort(&p.server_events[0]), "{ctx}");
+    }
+    // A download that did not complete left the old value in place.
+    if !upload
+        && !matches!(
+            p.server_events.first(),
+            Some(ServerEvent::Downloaded { .. })
+        )
+    {
+        assert_eq!(p.server.od().get(index, 0), Some(value.as_slice()), "{ctx}");
+    }
+    // Nothing is pending afterwards, and it took the timeout to get there.
+    assert!(!p.client.is_busy() && !p.server.is_busy());
+    assert!(p.now >= Timestamp::from_millis(2000));
+    // Every abort on the wire carries the transfer's index and the timeout code.
+    for (_, _, f, _) in &p.wire {
+        if f.data().first() == Some(&0x80) {
+            assert_eq!(
+                f.data(),
+                &[0x80, 0x00, 0x21, 0x00, 0x00, 0x00, 0x04, 0x05],
+                "{ctx}"
+            );
+        }
+    }
+}
+
+#[test]
+fn every_dropped_frame_of_small_transfers() {
+    for len in [0usize, 3, 4, 5, 20] {
+        for upload in [false, true] {
+            for k in 0..12 {
+                check_drop(len, upload, k, 1_000);
+                check_drop(len, upload, k, 0);
+            }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 256,
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
+
+    #[test]
+    fn value_read_back_equals_value_written(
+        value in proptest::collection::vec(any::<u8>(), 0..=2000),
+        index in 0x1000u16..=0xFFFF,
+        sub in any::<u8>(),
+        latency_us in 0u64..=500_000,
+    ) {
+        write_then_read(index, sub, &value, latency_us);
+    }
+
+    #[test]
+    fn a_dropped_frame_ends_in_one_timeout_abort(
+        len in 0usize..=200,
+        upload in any::<bool>(),
+        k_seed in any::<usize>(),
+        latency_us in 0u64..=100_000,
+    ) {
+        check_drop(len, upload, k_seed % frames_of(len), latency_us);
+    }
+}
