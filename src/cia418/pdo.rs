@@ -63,7 +63,7 @@ impl DefaultPdo {
     /// The default COB-ID (comm. parameter sub 1) for a module with id `node`.
     #[must_use]
     pub const fn cob_id(&self, node: NodeId) -> u32 {
-        self.cob_id_base + node.raw() as u32
+        self.cob_id_base.wrapping_add(node.raw() as u32)
     }
 
     /// True if a module with device type `device_type` has this PDO.
