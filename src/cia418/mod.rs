@@ -1,1 +1,164 @@
 //! CiA 418 battery-module profile: objects, statuses, units, packed strings.
+//!
+//! Everything here follows CiA DS 418 v1.0.1 as restated in DIGEST section 6
+//! (with section 4 for the device-type bits and the Delta-Q numbering).
+//!
+//! - [`BATTERY_STATUS`] and friends: the index of every application object.
+//! - [`BatteryStatus`], [`ChargerStatus`], [`WaterLevelStatus`]: status bytes
+//!   as bitflags that keep unknown bits.
+//! - [`Temperature`], [`AmpHours`], [`EighthAmpHours`], [`BatteryVoltage`],
+//!   [`ChargeCurrentRequested`], [`StateOfCharge`]: scaled quantities with
+//!   exact integer conversions.
+//! - [`BatteryParameters`] (6020h) and [`BatteryType`] (`cccc wxyz`).
+//! - [`PackedString`] (6030h, 6031h, 6040h, 6041h): strings packed four
+//!   characters per Unsigned32.
+//! - [`EqualizationDate`] (6054h) and [`CalendarDateTime`].
+//! - [`DeviceType`] (1000h) and the default PDO set [`DEFAULT_PDOS`].
+//!
+//! Every value object has `decode(&[u8])` for the little-endian bytes an SDO
+//! upload (or a PDO slice) carries and `encode()` for the bytes to send.
+//! Decoding is total: a wrong length is a [`DecodeError`], any value of the
+//! right length decodes.
+//!
+//! **PDO numbering**: as everywhere in this crate, PDOs count from 0
+//! ([`PdoNumber`](crate::PdoNumber)); CiA 418's "1st TPDO" is `PdoNumber::P0`,
+//! its "2nd RPDO" is `PdoNumber::P1` (Delta-Q's "RPDO 1").
+
+mod battery;
+mod date;
+mod device_type;
+mod packed;
+mod pdo;
+mod status;
+mod units;
+
+#[cfg(test)]
+mod battery_tests;
+#[cfg(test)]
+mod packed_tests;
+#[cfg(test)]
+mod tests;
+
+pub use battery::{
+    BatteryParameterValue, BatteryParameters, BatteryType, Chemistry, Gravity, LeadAcid,
+    MaintenanceFree, NickelCadmiumCell, NickelCadmiumPlate, ObjectError, Plate, SilverOxide,
+};
+pub use date::{CalendarDateTime, DateError, EqualizationDate};
+pub use device_type::{DeviceType, PdoSet};
+pub use packed::{PackedString, PackedStringError, PackedStringObject, PackedText};
+pub use pdo::{DefaultPdo, PdoDirection, DEFAULT_PDOS};
+pub use status::{BatteryStatus, ChargerStatus, WaterLevelStatus};
+pub use units::{
+    AmpHours, BatteryVoltage, ChargeCurrentRequested, EighthAmpHours, SocReading, StateOfCharge,
+    Temperature,
+};
+
+use crate::error::{exact_len, DecodeError};
+
+// ---------------------------------------------------------------------------
+// Communication objects CiA 418 gives defaults for (DIGEST sections 4 and 6).
+// ---------------------------------------------------------------------------
+
+/// 1000h device type (CiA 418 section 6.2.1): bits 0-15 = 418, bits 16-19
+/// optional PDOs. See [`DeviceType`].
+pub const DEVICE_TYPE: u16 = 0x1000;
+/// 1001h error register (CiA 418 section 6.2.2): the device-profile bit
+/// flags a temperature sensor fault.
+pub const ERROR_REGISTER: u16 = 0x1001;
+/// 0080h: index of the `BatteryPar` record data type (CiA 418 section 7.2.1),
+/// the type of object 6020h.
+pub const BATTERY_PAR_DATA_TYPE: u16 = 0x0080;
+
+// ---------------------------------------------------------------------------
+// Application objects (CiA 418 section 7.3, DIGEST section 6).
+// ---------------------------------------------------------------------------
+
+/// 6000h battery status, U8 ro (CiA 418 section 7.3.1). See [`BatteryStatus`].
+pub const BATTERY_STATUS: u16 = 0x6000;
+/// 6001h charger status, U8 rw (CiA 418 section 7.3.2). See [`ChargerStatus`].
+pub const CHARGER_STATUS: u16 = 0x6001;
+/// 6010h temperature, I16 ro, 0.125 degC/bit (CiA 418 section 7.3.3). See
+/// [`Temperature`].
+pub const TEMPERATURE: u16 = 0x6010;
+/// 6020h battery parameters, RECORD `BatteryPar` ro (CiA 418 section 7.3.4).
+/// See [`BatteryParameters`].
+pub const BATTERY_PARAMETERS: u16 = 0x6020;
+/// 6030h battery serial number, ARRAY U32 packed string, max 10 characters
+/// (CiA 418 section 7.3.5). See [`PackedString`].
+pub const BATTERY_SERIAL_NUMBER: u16 = 0x6030;
+/// 6031h battery ID, ARRAY U32 packed string, max 20 characters (CiA 418
+/// section 7.3.6).
+pub const BATTERY_ID: u16 = 0x6031;
+/// 6040h vehicle serial number, ARRAY U32 packed string, max 20 characters
+/// (CiA 418 section 7.3.7).
+pub const VEHICLE_SERIAL_NUMBER: u16 = 0x6040;
+/// 6041h vehicle ID, ARRAY U32 packed string, max 20 characters (CiA 418
+/// section 7.3.8).
+pub const VEHICLE_ID: u16 = 0x6041;
+/// 6050h cumulative total Ah charge, U32 ro, 1 Ah/bit (CiA 418 section
+/// 7.3.9). See [`AmpHours`].
+pub const CUMULATIVE_TOTAL_AH_CHARGE: u16 = 0x6050;
+/// 6051h Ah expended since last charge, U16 ro, 0.125 Ah/bit (CiA 418
+/// section 7.3.10). See [`EighthAmpHours`].
+pub const AH_EXPENDED_SINCE_LAST_CHARGE: u16 = 0x6051;
+/// 6052h Ah returned during last charge, U16 rw, 0.125 Ah/bit (CiA 418
+/// section 7.3.11). See [`EighthAmpHours`].
+pub const AH_RETURNED_DURING_LAST_CHARGE: u16 = 0x6052;
+/// 6053h Ah since last equalization, U16 rw, 0.125 Ah/bit (CiA 418 section
+/// 7.3.12). See [`EighthAmpHours`].
+pub const AH_SINCE_LAST_EQUALIZATION: u16 = 0x6053;
+/// 6054h date of last equalization, ARRAY U16 rw (CiA 418 section 7.3.13).
+/// See [`EqualizationDate`].
+pub const DATE_OF_LAST_EQUALIZATION: u16 = 0x6054;
+/// 6060h battery voltage, U32 ro, 1/1024 V/bit (CiA 418 section 7.3.14). See
+/// [`BatteryVoltage`].
+pub const BATTERY_VOLTAGE: u16 = 0x6060;
+/// 6070h charge current requested, U16 ro, 1/16 A/bit (CiA 418 section
+/// 7.3.15). See [`ChargeCurrentRequested`].
+pub const CHARGE_CURRENT_REQUESTED: u16 = 0x6070;
+/// 6080h charger state of charge, U8 rw, 1 %/bit (CiA 418 section 7.3.16).
+/// See [`StateOfCharge`].
+pub const CHARGER_STATE_OF_CHARGE: u16 = 0x6080;
+/// 6081h battery state of charge, U8 ro, 1 %/bit (CiA 418 section 7.3.17).
+/// See [`StateOfCharge`].
+pub const BATTERY_STATE_OF_CHARGE: u16 = 0x6081;
+/// 6090h water level status, U8 ro (CiA 418 section 7.3.18). See
+/// [`WaterLevelStatus`].
+pub const WATER_LEVEL_STATUS: u16 = 0x6090;
+
+// ---------------------------------------------------------------------------
+// Little-endian helpers shared by the codecs (slice patterns, no indexing).
+// ---------------------------------------------------------------------------
+
+pub(crate) fn read_u8(data: &[u8]) -> Result<u8, DecodeError> {
+    exact_len(data, 1)?;
+    match *data {
+        [b] => Ok(b),
+        _ => Err(DecodeError::Truncated {
+            need: 1,
+            got: data.len(),
+        }),
+    }
+}
+
+pub(crate) fn read_u16(data: &[u8]) -> Result<u16, DecodeError> {
+    exact_len(data, 2)?;
+    match *data {
+        [a, b] => Ok(u16::from_le_bytes([a, b])),
+        _ => Err(DecodeError::Truncated {
+            need: 2,
+            got: data.len(),
+        }),
+    }
+}
+
+pub(crate) fn read_u32(data: &[u8]) -> Result<u32, DecodeError> {
+    exact_len(data, 4)?;
+    match *data {
+        [a, b, c, d] => Ok(u32::from_le_bytes([a, b, c, d])),
+        _ => Err(DecodeError::Truncated {
+            need: 4,
+            got: data.len(),
+        }),
+    }
+}
