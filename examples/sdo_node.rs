@@ -1,0 +1,222 @@
+//! An SDO server or client on a pipe: candump log lines in on stdin, out on
+//! stdout. Used to run python-canopen against this crate (see
+//! `tests/interop/sdo_interop.py`), and handy by hand.
+//!
+//! ```text
+//! sdo_node --server --node-id N
+//! sdo_node --client --node-id N [--timeout-ms T] OP...
+//!     OP = read:IDX:SUB | write:IDX:SUB:HEX     (IDX and SUB in hex)
+//! ```
+//!
+//! The server serves a small in-memory dictionary (listed by `--help`) and
+//! prints `EVENT ...` lines on stderr. The client waits for the first input
+//! line (any frame: the peer is ready), runs the operations one after the
+//! other, prints one `RESULT ...` line per operation on stderr, and exits.
+//! Time is the process's monotonic clock; input timestamps are ignored.
+
+#[path = "support/bus.rs"]
+mod bus;
+
+use std::process::ExitCode;
+
+use bus::{Input, PipeBus};
+use canopen_codec::od::{Access, MemoryDictionary};
+use canopen_codec::sdo::{
+    Client, ClientConfig, Collected, Server, ServerConfig, ServerEvent, UploadBuffer,
+};
+use canopen_codec::NodeId;
+
+const USAGE: &str = "usage: sdo_node --server --node-id N
+       sdo_node --client --node-id N [--timeout-ms T] OP...
+         OP = read:IDX:SUB | write:IDX:SUB:HEX   (IDX, SUB in hex)
+server dictionary:
+  1000:00 const u32 000F01A2      1008:00 const string
+  1018:01 ro u32 00000539         2000:00..0F rw domain (<= 4096 bytes)
+  2100:00 ro u32 12345678         2101:00 wo u32
+  2102:00 rw u16";
+
+fn dictionary() -> MemoryDictionary {
+    let mut od = MemoryDictionary::new();
+    od.insert(0x1000, 0, Access::Const, &0x000F_01A2u32.to_le_bytes());
+    od.insert_variable(0x1008, 0, Access::Const, b"canopen-codec sdo_node", 64);
+    od.insert(0x1018, 0, Access::Const, &[1]);
+    od.insert(0x1018, 1, Access::ReadOnly, &0x539u32.to_le_bytes());
+    for sub in 0..=0x0F {
+        od.insert_variable(0x2000, sub, Access::ReadWrite, b"", 4096);
+    }
+    od.insert(0x2100, 0, Access::ReadOnly, &0x1234_5678u32.to_le_bytes());
+    od.insert(0x2101, 0, Access::WriteOnly, &[0; 4]);
+    od.insert(0x2102, 0, Access::ReadWrite, &[0; 2]);
+    od
+}
+
+#[derive(Debug)]
+enum Op {
+    Read(u16, u8),
+    Write(u16, u8, Vec<u8>),
+}
+
+fn parse_op(s: &str) -> Result<Op, String> {
+    let parts: Vec<&str> = s.split(':').collect();
+    let num = |p: &str| u32::from_str_radix(p, 16).map_err(|_| format!("bad number '{p}' in {s}"));
+    let obj = |i: &str, j: &str| -> Result<(u16, u8), String> {
+        let index = u16::try_from(num(i)?).map_err(|_| format!("bad index in {s}"))?;
+        let sub = u8::try_from(num(j)?).map_err(|_| format!("bad sub-index in {s}"))?;
+        Ok((index, sub))
+    };
+    match parts.as_slice() {
+        ["read", i, j] => obj(i, j).map(|(i, j)| Op::Read(i, j)),
+        ["write", i, j, hex] => {
+            let (i, j) = obj(i, j)?;
+            if hex.len() % 2 != 0 {
+                return Err(format!("odd hex digits in {s}"));
+            }
+            let data = (0..hex.len())
+                .step_by(2)
+                .map(|k| u8::from_str_radix(&hex[k..k + 2], 16))
+                .collect::<Result<Vec<u8>, _>>()
+                .map_err(|_| format!("bad hex in {s}"))?;
+            Ok(Op::Write(i, j, data))
+        }
+        _ => Err(format!("bad operation '{s}'")),
+    }
+}
+
+fn hex(data: &[u8]) -> String {
+    data.iter().map(|b| format!("{b:02X}")).collect()
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut server = false;
+    let mut client = false;
+    let mut node = None;
+    let mut timeout_ms = None;
+    let mut ops = Vec::new();
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--server" => server = true,
+            "--client" => client = true,
+            "--node-id" => node = it.next().and_then(|v| v.parse().ok()).and_then(NodeId::new),
+            "--timeout-ms" => timeout_ms = it.next().and_then(|v| v.parse::<u64>().ok()),
+            "-h" | "--help" => {
+                eprintln!("{USAGE}");
+                return ExitCode::SUCCESS;
+            }
+            op => match parse_op(op) {
+                Ok(op) => ops.push(op),
+                Err(e) => {
+                    eprintln!("sdo_node: {e}\n{USAGE}");
+                    return ExitCode::from(2);
+                }
+            },
+        }
+    }
+    let Some(node) = node else {
+        eprintln!("sdo_node: --node-id 1..=127 is required\n{USAGE}");
+        return ExitCode::from(2);
+    };
+    match (server, client) {
+        (true, false) => run_server(node),
+        (false, true) => run_client(node, timeout_ms, ops),
+        _ => {
+            eprintln!("sdo_node: give exactly one of --server / --client\n{USAGE}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run_server(node: NodeId) -> ExitCode {
+    let bus = PipeBus::stdin("pipe");
+    let mut server = Server::new(ServerConfig::for_node(node), dictionary());
+    loop {
+        match bus.recv(server.poll_timeout()) {
+            Input::Frame(f, _) => server.handle_frame(bus.now(), &f),
+            Input::Timeout => server.handle_timeout(bus.now()),
+            Input::Closed => return ExitCode::SUCCESS,
+        }
+        while let Some(f) = server.poll_transmit() {
+            bus.send(&f);
+        }
+        while let Some(e) = server.poll_event() {
+            match e {
+                ServerEvent::Uploaded { index, sub, len } => {
+                    eprintln!("EVENT uploaded {index:04X}:{sub:02X} len {len}")
+                }
+                ServerEvent::Downloaded { index, sub, len } => {
+                    eprintln!("EVENT downloaded {index:04X}:{sub:02X} len {len}")
+                }
+                ServerEvent::Aborted {
+                    index,
+                    sub,
+                    code,
+                    origin,
+                } => eprintln!(
+                    "EVENT aborted {index:04X}:{sub:02X} {:08X} {origin:?}",
+                    code.to_u32()
+                ),
+            }
+        }
+    }
+}
+
+fn run_client(node: NodeId, timeout_ms: Option<u64>, ops: Vec<Op>) -> ExitCode {
+    let bus = PipeBus::stdin("pipe");
+    let mut config = ClientConfig::for_server(node);
+    if let Some(ms) = timeout_ms {
+        config.timeout = std::time::Duration::from_millis(ms);
+    }
+    let mut client: Client<Vec<u8>> = Client::new(config);
+    // Wait until the peer says it is ready (any line).
+    if let Input::Closed = bus.recv(None) {
+        return ExitCode::from(1);
+    }
+    for op in ops {
+        let started = match &op {
+            Op::Read(i, s) => client.start_upload(bus.now(), *i, *s),
+            Op::Write(i, s, d) => client.start_download(bus.now(), *i, *s, d.clone()),
+        };
+        if let Err(e) = started {
+            eprintln!("sdo_node: {e}");
+            return ExitCode::from(1);
+        }
+        let mut buffer = UploadBuffer::new();
+        let outcome = loop {
+            while let Some(f) = client.poll_transmit() {
+                bus.send(&f);
+            }
+            let mut done = None;
+            while let Some(e) = client.poll_event() {
+                if let Some(c) = buffer.push(&e) {
+                    done = Some(c);
+                }
+            }
+            if let Some(d) = done {
+                break d;
+            }
+            match bus.recv(client.poll_timeout()) {
+                Input::Frame(f, _) => client.handle_frame(bus.now(), &f),
+                Input::Timeout => client.handle_timeout(bus.now()),
+                Input::Closed => return ExitCode::from(1),
+            }
+        };
+        let (what, index, sub) = match op {
+            Op::Read(i, s) => ("read", i, s),
+            Op::Write(i, s, _) => ("write", i, s),
+        };
+        match outcome {
+            Collected::Value(v) => eprintln!("RESULT {what} {index:04X}:{sub:02X} ok {}", hex(&v)),
+            Collected::Written(n) => eprintln!("RESULT {what} {index:04X}:{sub:02X} ok len {n}"),
+            Collected::Aborted { code, origin } => eprintln!(
+                "RESULT {what} {index:04X}:{sub:02X} abort {:08X} {origin:?}",
+                code.to_u32()
+            ),
+        }
+        // Flush the abort frame of a failed transfer, if any.
+        while let Some(f) = client.poll_transmit() {
+            bus.send(&f);
+        }
+    }
+    ExitCode::SUCCESS
+}

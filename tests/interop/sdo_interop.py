@@ -1,0 +1,216 @@
+#!/usr/bin/env python3
+"""SDO interop between canopen-codec and python-canopen, a real and
+independent CANopen implementation.
+
+Part A: python-canopen's SDO client against our server (examples/sdo_node --server).
+Part B: our SDO client (examples/sdo_node --client) against python-canopen's
+        SDO server (a LocalNode).
+
+The two talk through a python-can bus class, PipeBus, that exchanges candump
+log lines with the example's stdin/stdout. Every case checks the value or
+abort code python-canopen reports and the one our side reports.
+
+usage: sdo_interop.py PATH/TO/sdo_node
+"""
+
+import queue
+import re
+import subprocess
+import sys
+import threading
+import time
+
+import can
+import canopen
+from canopen.objectdictionary import ODVariable, ObjectDictionary
+from canopen.objectdictionary.datatypes import DOMAIN, UNSIGNED32
+
+NODE = 5
+SIZES = [0, 1, 4, 5, 7, 8, 14, 15, 1000]
+LINE = re.compile(r"^(?:\(\d+(?:\.\d+)?\)\s+)?(?:\S+\s+)?([0-9A-Fa-f]{3})#([0-9A-Fa-f]*)$")
+
+
+class PipeBus(can.BusABC):
+    """A python-can bus whose other end is a child process speaking candump lines."""
+
+    def __init__(self, cmd, **kwargs):
+        self.proc = subprocess.Popen(
+            cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+            text=True, bufsize=1)
+        self.rx = queue.Queue()
+        self.stderr_lines = []
+        threading.Thread(target=self._read_stdout, daemon=True).start()
+        threading.Thread(target=self._read_stderr, daemon=True).start()
+        super().__init__(channel="pipe", **kwargs)
+
+    def _read_stdout(self):
+        for line in self.proc.stdout:
+            m = LINE.match(line.strip())
+            if not m:
+                print(f"bridge: unparsed line from node: {line!r}", file=sys.stderr)
+                continue
+            msg = can.Message(arbitration_id=int(m.group(1), 16),
+                              data=bytes.fromhex(m.group(2)), is_extended_id=False,
+                              timestamp=time.time())
+            self.rx.put(msg)
+
+    def _read_stderr(self):
+        for line in self.proc.stderr:
+            self.stderr_lines.append(line.rstrip("\n"))
+
+    def send(self, msg, timeout=None):
+        line = f"({time.time():.6f}) pipe {msg.arbitration_id:03X}#{bytes(msg.data).hex().upper()}\n"
+        self.proc.stdin.write(line)
+        self.proc.stdin.flush()
+
+    def _recv_internal(self, timeout):
+        try:
+            return self.rx.get(timeout=timeout), False
+        except queue.Empty:
+            return None, False
+
+    def shutdown(self):
+        try:
+            self.proc.stdin.close()
+        except OSError:
+            pass
+        try:
+            self.proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+        super().shutdown()
+
+    def lines(self, prefix):
+        return [l for l in self.stderr_lines if l.startswith(prefix)]
+
+
+def value(size, seed):
+    return bytes((i * 31 + seed) & 0xFF for i in range(size))
+
+
+failures = []
+cases = 0
+
+
+def check(name, ok, detail=""):
+    global cases
+    cases += 1
+    print(f"{'ok  ' if ok else 'FAIL'} {name}{(': ' + detail) if detail and not ok else ''}")
+    if not ok:
+        failures.append(name)
+
+
+def wait_for(bus, prefix, count, seconds=5.0):
+    end = time.time() + seconds
+    while time.time() < end and len(bus.lines(prefix)) < count:
+        time.sleep(0.01)
+    return bus.lines(prefix)
+
+
+def part_a(exe):
+    """python-canopen client -> our server."""
+    bus = PipeBus([exe, "--server", "--node-id", str(NODE)])
+    net = canopen.Network(bus)
+    net.connect()
+    node = net.add_node(NODE, ObjectDictionary())
+    node.sdo.RESPONSE_TIMEOUT = 2.0
+    try:
+        for i, size in enumerate(SIZES):
+            v = value(size, i)
+            node.sdo.download(0x2000, i, v)
+            back = node.sdo.upload(0x2000, i)
+            events = wait_for(bus, "EVENT", 2 * (i + 1))
+            ours = events[2 * i:2 * i + 2]
+            check(f"A python writes+reads {size} bytes",
+                  back == v and ours == [f"EVENT downloaded 2000:{i:02X} len {size}",
+                                         f"EVENT uploaded 2000:{i:02X} len {size}"],
+                  f"got {back.hex()} ours {ours}")
+        before = len(bus.lines("EVENT"))
+        for name, op, code in [
+            ("missing object", lambda: node.sdo.upload(0x3000, 0), 0x06020000),
+            ("missing sub-index", lambda: node.sdo.upload(0x1018, 7), 0x06090011),
+            ("read-only object", lambda: node.sdo.download(0x2100, 0, b"\x01\x02\x03\x04"), 0x06010002),
+            ("write-only object", lambda: node.sdo.upload(0x2101, 0), 0x06010001),
+            ("length too high", lambda: node.sdo.download(0x2102, 0, b"\x01\x02\x03"), 0x06070012),
+        ]:
+            try:
+                op()
+                theirs = None
+            except canopen.SdoAbortedError as e:
+                theirs = e.code
+            before += 1
+            ours = wait_for(bus, "EVENT", before)[-1]
+            check(f"A {name}: python reports {theirs and hex(theirs)}, we report '{ours}'",
+                  theirs == code and f"{code:08X} Local" in ours, f"want {code:08X}")
+    finally:
+        net.disconnect()
+
+
+def part_b(exe):
+    """our client -> python-canopen's LocalNode server."""
+    od = ObjectDictionary()
+    for i in range(len(SIZES)):
+        var = ODVariable(f"domain{i}", 0x2000 + i, 0)
+        var.data_type = DOMAIN
+        var.access_type = "rw"
+        od.add_object(var)
+    for index, access in [(0x2100, "ro"), (0x2101, "wo")]:
+        var = ODVariable(f"u32_{access}", index, 0)
+        var.data_type = UNSIGNED32
+        var.access_type = access
+        var.default = 0x12345678
+        od.add_object(var)
+
+    ops = []
+    for i, size in enumerate(SIZES):
+        v = value(size, i + 7)
+        ops += [f"write:{0x2000 + i:04X}:0:{v.hex().upper()}", f"read:{0x2000 + i:04X}:0"]
+    ops += ["read:3000:0", "write:2100:0:01020304", "read:2101:0", "write:2101:0:01020304"]
+
+    bus = PipeBus([exe, "--client", "--node-id", str(NODE)] + ops)
+    net = canopen.Network(bus)
+    net.connect()
+    local = canopen.LocalNode(NODE, od)
+    net.add_node(local)
+    try:
+        net.send_message(0x080, b"")  # "ready": our client starts on the first line
+        results = wait_for(bus, "RESULT", len(ops), seconds=30)
+        check("B our client finished every operation", len(results) == len(ops), f"{results}")
+        for i, size in enumerate(SIZES):
+            v = value(size, i + 7)
+            w, r = results[2 * i], results[2 * i + 1]
+            stored = local.data_store.get(0x2000 + i, {}).get(0)
+            check(f"B we write {size} bytes: we report '{w}', python stored {size if stored is None else len(stored)} bytes",
+                  w == f"RESULT write {0x2000 + i:04X}:00 ok len {size}" and stored == v)
+            if size == 0:
+                # python-canopen's server aborts empty uploads with 08000024h.
+                check(f"B we read 0 bytes: we report '{r}' (python aborts 08000024h)",
+                      r == f"RESULT read {0x2000 + i:04X}:00 abort 08000024 Peer")
+            else:
+                check(f"B we read {size} bytes back: '{r[:60]}'",
+                      r == f"RESULT read {0x2000 + i:04X}:00 ok {v.hex().upper()}")
+        tail = results[2 * len(SIZES):]
+        want = [
+            "RESULT read 3000:00 abort 06020000 Peer",
+            "RESULT write 2100:00 abort 06010002 Peer",
+            "RESULT read 2101:00 abort 06010001 Peer",
+            "RESULT write 2101:00 ok len 4",
+        ]
+        for got, exp in zip(tail, want):
+            check(f"B error case: we report '{got}'", got == exp, f"want '{exp}'")
+        check("B python's server saw no stray requests", local.sdo.last_received_error == 0,
+              hex(local.sdo.last_received_error))
+    finally:
+        net.disconnect()
+
+
+def main():
+    exe = sys.argv[1]
+    part_a(exe)
+    part_b(exe)
+    print(f"{cases} interop cases, {len(failures)} failed")
+    sys.exit(1 if failures else 0)
+
+
+if __name__ == "__main__":
+    main()
