@@ -1,5 +1,35 @@
 //! Small inline byte carriers (no allocation).
 
+/// Copies `min(dst.len(), src.len())` bytes. CAN payloads are at most 8
+/// bytes: a copy of a constant length compiles to a few moves, where a
+/// dynamic-length copy (or a byte loop, which LLVM turns into one) is a call
+/// to `memcpy`. This keeps the decode and encode paths call-free.
+#[inline]
+pub(crate) fn copy_short(dst: &mut [u8], src: &[u8]) {
+    #[inline(always)]
+    fn fixed<const K: usize>(dst: &mut [u8], src: &[u8]) {
+        if let (Some(d), Some(s)) = (dst.get_mut(..K), src.get(..K)) {
+            d.copy_from_slice(s);
+        }
+    }
+    match dst.len().min(src.len()) {
+        0 => {}
+        1 => fixed::<1>(dst, src),
+        2 => fixed::<2>(dst, src),
+        3 => fixed::<3>(dst, src),
+        4 => fixed::<4>(dst, src),
+        5 => fixed::<5>(dst, src),
+        6 => fixed::<6>(dst, src),
+        7 => fixed::<7>(dst, src),
+        8 => fixed::<8>(dst, src),
+        n => {
+            if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
+                d.copy_from_slice(s);
+            }
+        }
+    }
+}
+
 /// Up to `N` data bytes kept inline (no allocation).
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
 pub struct InlineData<const N: usize> {
@@ -25,9 +55,13 @@ impl<const N: usize> InlineData<N> {
 
     /// Copies `data`; `None` if it is longer than `N`.
     #[must_use]
+    #[inline]
     pub fn new(data: &[u8]) -> Option<Self> {
+        if data.len() > N {
+            return None;
+        }
         let mut bytes = [0u8; N];
-        bytes.get_mut(..data.len())?.copy_from_slice(data);
+        copy_short(&mut bytes, data);
         Some(InlineData {
             len: data.len() as u8,
             bytes,
@@ -36,18 +70,21 @@ impl<const N: usize> InlineData<N> {
 
     /// The bytes.
     #[must_use]
+    #[inline]
     pub fn as_slice(&self) -> &[u8] {
         self.bytes.get(..usize::from(self.len)).unwrap_or(&[])
     }
 
     /// Number of bytes.
     #[must_use]
+    #[inline]
     pub const fn len(&self) -> usize {
         self.len as usize
     }
 
     /// True when no bytes are held.
     #[must_use]
+    #[inline]
     pub const fn is_empty(&self) -> bool {
         self.len == 0
     }

@@ -34,6 +34,7 @@ impl NodeId {
 
     /// `Some` for `1..=127`, `None` otherwise.
     #[must_use]
+    #[inline]
     pub const fn new(raw: u8) -> Option<Self> {
         if raw >= 1 && raw <= 127 {
             Some(NodeId(raw))
@@ -77,6 +78,7 @@ impl PdoNumber {
 
     /// `Some` for `0..=3`.
     #[must_use]
+    #[inline]
     pub const fn new(n: u8) -> Option<Self> {
         if n <= 3 {
             Some(PdoNumber(n))
@@ -214,6 +216,7 @@ pub fn classify_standard(raw: u16) -> CobKind {
 impl CobKind {
     /// The 11-bit identifier of this object, or `None` for [`CobKind::Unknown`].
     #[must_use]
+    #[inline]
     pub const fn cob_id(self) -> Option<u16> {
         Some(match self {
             CobKind::Nmt => NMT,
@@ -233,6 +236,7 @@ impl CobKind {
 
     /// The node this object belongs to, if it is node-specific.
     #[must_use]
+    #[inline]
     pub const fn node(self) -> Option<NodeId> {
         match self {
             CobKind::Emcy(n)

@@ -26,6 +26,7 @@ pub enum DecodeError {
 }
 
 /// Checks that `data` is exactly `n` bytes long.
+#[inline]
 pub(crate) const fn exact_len(data: &[u8], n: usize) -> Result<(), DecodeError> {
     if data.len() < n {
         Err(DecodeError::Truncated {

@@ -112,17 +112,23 @@ pub struct CanFrame {
 }
 
 impl CanFrame {
+    /// An empty data frame on identifier 0 (a placeholder value).
+    pub const EMPTY: CanFrame = CanFrame {
+        id: CanId::Standard(0),
+        remote: false,
+        len: 0,
+        data: [0; MAX_DATA_LEN],
+    };
+
     /// A data frame. Fails when `data` is longer than 8 bytes or the id is out of range.
+    #[inline]
     pub fn new(id: CanId, data: &[u8]) -> Result<Self, FrameError> {
         check_id(id)?;
         if data.len() > MAX_DATA_LEN {
             return Err(FrameError::TooLong { got: data.len() });
         }
         let mut buf = [0u8; MAX_DATA_LEN];
-        // Length checked above, so the split cannot fail.
-        if let Some(dst) = buf.get_mut(..data.len()) {
-            dst.copy_from_slice(data);
-        }
+        crate::bytes::copy_short(&mut buf, data);
         Ok(CanFrame {
             id,
             remote: false,
@@ -142,6 +148,7 @@ impl CanFrame {
 
     /// A data frame from an inline buffer, `len` bytes long. Infallible for
     /// valid `len`; used on hot encode paths.
+    #[inline]
     pub(crate) const fn from_parts(id: CanId, data: [u8; 8], len: u8) -> Self {
         let len = if len as usize > MAX_DATA_LEN { 8 } else { len };
         // Zero the tail so equality is on the meaningful bytes only.
@@ -177,12 +184,14 @@ impl CanFrame {
 
     /// The identifier.
     #[must_use]
+    #[inline]
     pub const fn id(&self) -> CanId {
         self.id
     }
 
     /// True for a remote (RTR) frame.
     #[must_use]
+    #[inline]
     pub const fn is_remote(&self) -> bool {
         self.remote
     }
@@ -190,12 +199,14 @@ impl CanFrame {
     /// The data length code: the number of data bytes, or for a remote frame
     /// the number requested.
     #[must_use]
+    #[inline]
     pub const fn dlc(&self) -> u8 {
         self.len
     }
 
     /// The data bytes (empty for a remote frame).
     #[must_use]
+    #[inline]
     pub fn data(&self) -> &[u8] {
         if self.remote {
             &[]
@@ -206,6 +217,7 @@ impl CanFrame {
 
     /// The 8-byte inline buffer, zero past the data length.
     #[must_use]
+    #[inline]
     pub const fn padded_data(&self) -> [u8; 8] {
         self.data
     }
@@ -319,6 +331,7 @@ mod embedded_tests {
     }
 
     impl embedded_can::Frame for HalFrame {
+        #[inline]
         fn new(id: impl Into<embedded_can::Id>, data: &[u8]) -> Option<Self> {
             let mut buf = [0; 8];
             buf.get_mut(..data.len())?.copy_from_slice(data);
@@ -343,12 +356,15 @@ mod embedded_tests {
         fn is_remote_frame(&self) -> bool {
             self.remote
         }
+        #[inline]
         fn id(&self) -> embedded_can::Id {
             self.id
         }
+        #[inline]
         fn dlc(&self) -> usize {
             self.dlc
         }
+        #[inline]
         fn data(&self) -> &[u8] {
             &self.data[..if self.remote { 0 } else { self.dlc }]
         }

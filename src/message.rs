@@ -182,6 +182,7 @@ impl Message {
 
     /// What kind of object this message is.
     #[must_use]
+    #[inline]
     pub fn kind(&self) -> CobKind {
         match *self {
             Message::Nmt(_) => CobKind::Nmt,
@@ -211,6 +212,7 @@ impl Message {
     /// Encodes the message as a frame. For a message returned by
     /// [`Message::decode`], this is the identical frame.
     #[must_use]
+    #[inline]
     pub fn encode(&self) -> CanFrame {
         let id = |kind: CobKind| CanId::Standard(kind.cob_id().unwrap_or(0));
         let mut buf = [0u8; 8];
@@ -252,12 +254,11 @@ fn payload(data: &[u8]) -> Payload {
     Payload::new(data).unwrap_or_default()
 }
 
+#[inline]
+
 fn put(buf: &mut [u8; 8], src: &[u8]) -> usize {
-    let n = src.len().min(8);
-    if let (Some(dst), Some(src)) = (buf.get_mut(..n), src.get(..n)) {
-        dst.copy_from_slice(src);
-    }
-    n
+    crate::bytes::copy_short(buf, src);
+    src.len().min(8)
 }
 
 #[cfg(test)]

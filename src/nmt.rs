@@ -135,6 +135,7 @@ pub struct NmtCommand {
 
 impl NmtCommand {
     /// Decodes the 2 data bytes of an NMT frame.
+    #[inline]
     pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
         exact_len(data, 2)?;
         let [cs, node] = *data else {
@@ -151,6 +152,7 @@ impl NmtCommand {
 
     /// The 2 data bytes.
     #[must_use]
+    #[inline]
     pub fn encode(&self) -> [u8; 2] {
         [self.command.into(), self.target.into()]
     }
@@ -174,6 +176,7 @@ pub enum NmtState {
 impl NmtState {
     /// From the low 7 bits of `raw` (bit 7 is the toggle and is ignored here).
     #[must_use]
+    #[inline]
     pub const fn from_bits(raw: u8) -> Self {
         match raw & 0x7F {
             0x00 => NmtState::BootUp,
@@ -186,6 +189,7 @@ impl NmtState {
 
     /// The 7-bit value.
     #[must_use]
+    #[inline]
     pub const fn bits(self) -> u8 {
         match self {
             NmtState::BootUp => 0x00,
@@ -249,6 +253,7 @@ impl Heartbeat {
     }
 
     /// Decodes the single data byte.
+    #[inline]
     pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
         exact_len(data, 1)?;
         let [b] = *data else {
@@ -262,6 +267,7 @@ impl Heartbeat {
 
     /// From the data byte.
     #[must_use]
+    #[inline]
     pub const fn from_byte(b: u8) -> Self {
         Heartbeat {
             state: NmtState::from_bits(b),
@@ -271,6 +277,7 @@ impl Heartbeat {
 
     /// The data byte.
     #[must_use]
+    #[inline]
     pub const fn encode(&self) -> u8 {
         self.state.bits() | if self.toggle { 0x80 } else { 0 }
     }

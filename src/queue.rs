@@ -1,17 +1,20 @@
 //! A fixed-capacity FIFO for the state machines' outputs (no allocation).
 
-/// Up to `N` items, first in first out. `push` fails when full.
+/// Up to `N` items, first in first out; `push` fails when full. Slots hold a
+/// filler value when empty, so push and pop are plain copies (no `Option`
+/// tags to test and rewrite on the hot path).
 #[derive(Debug, Clone)]
 pub(crate) struct Queue<T: Copy, const N: usize> {
-    items: [Option<T>; N],
+    items: [T; N],
     head: usize,
     len: usize,
 }
 
 impl<T: Copy, const N: usize> Queue<T, N> {
-    pub(crate) const fn new() -> Self {
+    /// An empty queue whose free slots hold `filler` (never returned).
+    pub(crate) const fn new(filler: T) -> Self {
         Queue {
-            items: [None; N],
+            items: [filler; N],
             head: 0,
             len: 0,
         }
@@ -19,31 +22,34 @@ impl<T: Copy, const N: usize> Queue<T, N> {
 
     /// Appends; returns false (and drops nothing already queued) when full.
     #[must_use]
+    #[inline]
     pub(crate) fn push(&mut self, item: T) -> bool {
         if self.len >= N {
             return false;
         }
-        let slot = (self.head + self.len) % N;
-        if let Some(s) = self.items.get_mut(slot) {
-            *s = Some(item);
-            self.len += 1;
-            true
-        } else {
-            false
+        match self.items.get_mut((self.head + self.len) % N) {
+            Some(slot) => {
+                *slot = item;
+                self.len += 1;
+                true
+            }
+            None => false,
         }
     }
 
+    #[inline]
     pub(crate) fn pop(&mut self) -> Option<T> {
         if self.len == 0 {
             return None;
         }
-        let item = self.items.get_mut(self.head).and_then(Option::take);
+        let item = self.items.get(self.head).copied();
         self.head = (self.head + 1) % N;
         self.len -= 1;
         item
     }
 
     /// Free slots.
+    #[inline]
     pub(crate) const fn room(&self) -> usize {
         N - self.len
     }
@@ -55,7 +61,7 @@ mod tests {
 
     #[test]
     fn fifo_and_capacity() {
-        let mut q: Queue<u8, 3> = Queue::new();
+        let mut q: Queue<u8, 3> = Queue::new(0);
         assert!(q.push(1) && q.push(2) && q.push(3));
         assert!(!q.push(4));
         assert_eq!(q.pop(), Some(1));

@@ -19,6 +19,7 @@ pub struct Sync {
 
 impl Sync {
     /// Decodes 0 or 1 data bytes.
+    #[inline]
     pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
         match *data {
             [] => Ok(Sync { counter: None }),
@@ -32,6 +33,7 @@ impl Sync {
 
     /// The data bytes (`len` is 0 or 1) in an 8-byte buffer.
     #[must_use]
+    #[inline]
     pub fn encode(&self) -> ([u8; 1], usize) {
         match self.counter {
             Some(c) => ([c], 1),

@@ -55,6 +55,7 @@ impl Timestamp {
 
     /// `self + us`, saturating at [`Timestamp::MAX`].
     #[must_use]
+    #[inline]
     pub const fn add_micros(self, us: u64) -> Self {
         Timestamp(self.0.saturating_add(us))
     }
@@ -86,6 +87,7 @@ impl Timestamp {
 
     /// True once `self` has reached `deadline`.
     #[must_use]
+    #[inline]
     pub const fn has_reached(self, deadline: Timestamp) -> bool {
         self.0 >= deadline.0
     }

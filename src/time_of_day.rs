@@ -49,6 +49,7 @@ impl TimeOfDay {
     }
 
     /// Decodes the 6 data bytes.
+    #[inline]
     pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
         exact_len(data, 6)?;
         let word = LittleEndian::read_u32(data.get(0..4).unwrap_or(&[0; 4]));
@@ -62,6 +63,7 @@ impl TimeOfDay {
 
     /// The 6 data bytes.
     #[must_use]
+    #[inline]
     pub fn encode(&self) -> [u8; 6] {
         let word = (self.millis & 0x0FFF_FFFF) | (u32::from(self.reserved & 0x0F) << 28);
         let [a, b, c, d] = word.to_le_bytes();

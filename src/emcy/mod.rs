@@ -127,6 +127,7 @@ impl Emergency {
     pub const LEN: usize = 8;
 
     /// Decodes the 8 data bytes of an EMCY frame. Any other length is an error.
+    #[inline]
     pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
         exact_len(data, Self::LEN)?;
         let [c0, c1, reg, m0, m1, m2, m3, m4] = *data else {
@@ -144,6 +145,7 @@ impl Emergency {
 
     /// The 8 data bytes of the EMCY frame.
     #[must_use]
+    #[inline]
     pub fn encode(&self) -> [u8; 8] {
         let [c0, c1] = self.code.0.to_le_bytes();
         let [m0, m1, m2, m3, m4] = self.manufacturer;
@@ -194,6 +196,7 @@ impl ErrorFieldEntry {
     }
 
     /// Decodes the 4 little-endian bytes an SDO upload of 1003h sub n carries.
+    #[inline]
     pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
         exact_len(data, 4)?;
         Ok(Self::from_u32(LittleEndian::read_u32(data)))

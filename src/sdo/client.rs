@@ -197,6 +197,8 @@ enum State<D> {
 #[derive(Debug)]
 pub struct Client<D = &'static [u8]> {
     config: ClientConfig,
+    /// `config.timeout` in microseconds, computed once.
+    timeout_us: u64,
     state: State<D>,
     deadline: Option<Timestamp>,
     transmit: Queue<CanFrame, 4>,
@@ -208,10 +210,15 @@ impl<D: AsRef<[u8]>> Client<D> {
     pub fn new(config: ClientConfig) -> Self {
         Client {
             config,
+            timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
             state: State::Idle,
             deadline: None,
-            transmit: Queue::new(),
-            events: Queue::new(),
+            transmit: Queue::new(CanFrame::EMPTY),
+            events: Queue::new(ClientEvent::Uploaded {
+                index: 0,
+                sub: 0,
+                len: 0,
+            }),
         }
     }
 
@@ -328,7 +335,7 @@ impl<D: AsRef<[u8]>> Client<D> {
         if !self.has_room_for_input() {
             return;
         }
-        let Ok(response) = SdoResponse::decode(frame.data()) else {
+        let Ok(response) = SdoResponse::decode_frame(frame) else {
             return;
         };
         if let ServerCommand::Abort { code, .. } = response.command {
@@ -381,7 +388,7 @@ impl<D: AsRef<[u8]>> Client<D> {
     }
 
     fn arm(&mut self, now: Timestamp) {
-        self.deadline = Some(now.add_duration(self.config.timeout));
+        self.deadline = Some(now.add_micros(self.timeout_us));
     }
 
     fn send(&mut self, command: ClientCommand) {

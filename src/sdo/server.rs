@@ -176,6 +176,8 @@ enum State {
 #[derive(Debug)]
 pub struct Server<D> {
     config: ServerConfig,
+    /// `config.timeout` in microseconds, computed once.
+    timeout_us: u64,
     od: D,
     state: State,
     deadline: Option<Timestamp>,
@@ -188,11 +190,16 @@ impl<D: ObjectDictionary> Server<D> {
     pub fn new(config: ServerConfig, od: D) -> Self {
         Server {
             config,
+            timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
             od,
             state: State::Idle,
             deadline: None,
-            transmit: Queue::new(),
-            events: Queue::new(),
+            transmit: Queue::new(CanFrame::EMPTY),
+            events: Queue::new(ServerEvent::Uploaded {
+                index: 0,
+                sub: 0,
+                len: 0,
+            }),
         }
     }
 
@@ -263,7 +270,7 @@ impl<D: ObjectDictionary> Server<D> {
         if self.transmit.room() < 2 || self.events.room() < 3 {
             return;
         }
-        let Ok(request) = SdoRequest::decode(frame.data()) else {
+        let Ok(request) = SdoRequest::decode_frame(frame) else {
             return;
         };
         match request.command {
@@ -377,7 +384,7 @@ impl<D: ObjectDictionary> Server<D> {
     }
 
     fn arm(&mut self, now: Timestamp) {
-        self.deadline = Some(now.add_duration(self.config.timeout));
+        self.deadline = Some(now.add_micros(self.timeout_us));
     }
 
     /// Reads up to `buf.len()` bytes at `offset`, looping over short reads.

@@ -22,6 +22,7 @@ use byteorder::{ByteOrder, LittleEndian};
 use super::abort::AbortCode;
 use super::data::{ExpeditedData, InitiatePayload, Segment, SegmentData};
 use crate::error::DecodeError;
+use crate::frame::CanFrame;
 
 /// Block upload commands a client sends (ccs = 5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -225,6 +226,8 @@ impl RawSdo {
         bytes: [0; 8],
     };
 
+    #[inline]
+
     fn from_slice(data: &[u8]) -> Result<Self, DecodeError> {
         if data.len() > 8 {
             return Err(DecodeError::TooLong {
@@ -233,9 +236,7 @@ impl RawSdo {
             });
         }
         let mut bytes = [0u8; 8];
-        if let Some(dst) = bytes.get_mut(..data.len()) {
-            dst.copy_from_slice(data);
-        }
+        crate::bytes::copy_short(&mut bytes, data);
         Ok(RawSdo {
             len: data.len() as u8,
             bytes,
@@ -250,6 +251,7 @@ struct Reader<'a> {
 }
 
 impl Reader<'_> {
+    #[inline]
     fn need(&self, need: usize) -> Result<(), DecodeError> {
         if usize::from(self.raw.len) < need {
             Err(DecodeError::Truncated {
@@ -260,20 +262,25 @@ impl Reader<'_> {
             Ok(())
         }
     }
+    #[inline]
     fn b(&self, i: usize) -> u8 {
         self.raw.bytes.get(i).copied().unwrap_or(0)
     }
+    #[inline]
     fn u16(&self, i: usize) -> u16 {
         u16::from_le_bytes([self.b(i), self.b(i + 1)])
     }
+    #[inline]
     fn u32(&self, i: usize) -> u32 {
         u32::from_le_bytes([self.b(i), self.b(i + 1), self.b(i + 2), self.b(i + 3)])
     }
+    #[inline]
     fn multiplexer(&self) -> Result<(u16, u8), DecodeError> {
         self.need(4)?;
         Ok((self.u16(1), self.b(3)))
     }
     /// Initiate payload (shared by download request and upload response).
+    #[inline]
     fn initiate_payload(&self) -> Result<InitiatePayload, DecodeError> {
         let cmd = self.b(0);
         let e = cmd & 0x02 != 0;
@@ -309,6 +316,7 @@ impl Reader<'_> {
             }
         }
     }
+    #[inline]
     fn segment(&self) -> Result<Segment, DecodeError> {
         let cmd = self.b(0);
         let len = 7 - usize::from((cmd >> 1) & 0x07);
@@ -320,10 +328,12 @@ impl Reader<'_> {
                 .unwrap_or_default(),
         })
     }
+    #[inline]
     fn abort(&self) -> Result<(u16, u8, AbortCode), DecodeError> {
         self.need(8)?;
         Ok((self.u16(1), self.b(3), AbortCode::from(self.u32(4))))
     }
+    #[inline]
     fn size_if(&self, s: bool) -> Result<Option<u32>, DecodeError> {
         if s {
             self.need(8)?;
@@ -341,25 +351,30 @@ struct Writer {
 }
 
 impl Writer {
+    #[inline]
     fn new(raw: RawSdo) -> Self {
         Writer { raw, need: 1 }
     }
     /// Sets the bits of byte 0 selected by `mask` to `value`.
+    #[inline]
     fn cmd(&mut self, mask: u8, value: u8) {
         if let Some(b) = self.raw.bytes.get_mut(0) {
             *b = (*b & !mask) | (value & mask);
         }
     }
+    #[inline]
     fn put(&mut self, at: usize, src: &[u8]) {
-        if let Some(dst) = self.raw.bytes.get_mut(at..at + src.len()) {
-            dst.copy_from_slice(src);
+        if let Some(dst) = self.raw.bytes.get_mut(at..) {
+            crate::bytes::copy_short(dst, src);
         }
         self.need = self.need.max(at + src.len());
     }
+    #[inline]
     fn multiplexer(&mut self, index: u16, sub: u8) {
         let [lo, hi] = index.to_le_bytes();
         self.put(1, &[lo, hi, sub]);
     }
+    #[inline]
     fn initiate_payload(&mut self, specifier: u8, payload: &InitiatePayload) {
         match payload {
             InitiatePayload::Expedited {
@@ -389,6 +404,7 @@ impl Writer {
             }
         }
     }
+    #[inline]
     fn segment(&mut self, specifier: u8, seg: &Segment) {
         let n = (7 - seg.data.len().min(7)) as u8;
         self.cmd(
@@ -397,21 +413,24 @@ impl Writer {
         );
         self.put(1, seg.data.as_slice());
     }
+    #[inline]
     fn abort(&mut self, index: u16, sub: u8, code: AbortCode) {
         self.cmd(0xE0, 0x80);
         self.multiplexer(index, sub);
         self.put(4, &code.to_u32().to_le_bytes());
     }
+    #[inline]
     fn finish(mut self) -> ([u8; 8], usize) {
         let len = usize::from(self.raw.len).max(self.need).min(8);
-        if let Some(tail) = self.raw.bytes.get_mut(len..) {
-            tail.fill(0);
+        for b in self.raw.bytes.iter_mut().skip(len) {
+            *b = 0;
         }
         (self.raw.bytes, len)
     }
 }
 
 impl ClientCommand {
+    #[inline]
     fn decode_raw(raw: &RawSdo) -> Result<Self, DecodeError> {
         let r = Reader { raw };
         r.need(1)?;
@@ -476,6 +495,8 @@ impl ClientCommand {
             _ => ClientCommand::Unknown(cmd),
         })
     }
+
+    #[inline]
 
     fn encode_onto(&self, raw: RawSdo) -> ([u8; 8], usize) {
         let mut w = Writer::new(raw);
@@ -544,6 +565,7 @@ impl ClientCommand {
 }
 
 impl ServerCommand {
+    #[inline]
     fn decode_raw(raw: &RawSdo) -> Result<Self, DecodeError> {
         let r = Reader { raw };
         r.need(1)?;
@@ -607,6 +629,8 @@ impl ServerCommand {
             _ => ServerCommand::Unknown(cmd),
         })
     }
+
+    #[inline]
 
     fn encode_onto(&self, raw: RawSdo) -> ([u8; 8], usize) {
         let mut w = Writer::new(raw);
@@ -685,6 +709,7 @@ macro_rules! sdo_frame {
         impl $name {
             /// A frame carrying `command`, with reserved bytes zero and DLC 8.
             #[must_use]
+            #[inline]
             pub const fn new(command: $cmd) -> Self {
                 $name {
                     command,
@@ -701,10 +726,24 @@ macro_rules! sdo_frame {
                 })
             }
 
+            /// Decodes a frame's data straight from its 8-byte buffer (no copy).
+            #[inline]
+            pub fn decode_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
+                let raw = RawSdo {
+                    len: frame.dlc().min(8),
+                    bytes: frame.padded_data(),
+                };
+                Ok($name {
+                    command: <$cmd>::decode_raw(&raw)?,
+                    raw,
+                })
+            }
+
             /// The data bytes and length. Bytes the command does not define
             /// come from the decoded frame (zero for [`Self::new`]); the length
             /// is the decoded frame's, raised to what the command needs.
             #[must_use]
+            #[inline]
             pub fn encode(&self) -> ([u8; 8], usize) {
                 self.command.encode_onto(self.raw)
             }
