@@ -1,0 +1,100 @@
+//! The SDO server under an arbitrary sequence of received frames and time
+//! steps. Invariants: no panic; at most one transfer in progress; every frame
+//! sent is a valid SDO response on the server's response identifier (at most
+//! one per request); a running transfer ends in exactly one terminal event;
+//! the dictionary only ever holds values the size rules allow.
+#![no_main]
+
+use arbitrary::Arbitrary;
+use canopen_codec::od::{Access, MemoryDictionary, ObjectDictionary};
+use canopen_codec::sdo::{AbortOrigin, SdoResponse, Server, ServerCommand, ServerConfig, ServerEvent};
+use canopen_codec::{CanFrame, CanId, NodeId, Timestamp};
+use libfuzzer_sys::fuzz_target;
+
+#[derive(Debug, Arbitrary)]
+enum Op {
+    /// A request frame; `shape` picks a well-formed command to steer the fuzzer.
+    Frame { other: bool, remote: bool, shape: u8, data: [u8; 8], len: u8 },
+    Advance { micros: u32, backwards: bool },
+}
+
+const NODE: u8 = 4;
+
+fn dictionary() -> MemoryDictionary {
+    let mut od = MemoryDictionary::new();
+    od.insert(0x1000, 0, Access::Const, &[0xA2, 0x01, 0x0F, 0x00]);
+    od.insert(0x1017, 0, Access::ReadWrite, &[0xE8, 0x03]);
+    od.insert(0x2000, 0, Access::WriteOnly, &[0; 4]);
+    od.insert(0x2001, 0, Access::ReadWrite, &[0; 8]);
+    od.insert_variable(0x1008, 0, Access::ReadWrite, b"battery module", 20);
+    od.insert_variable(0x2002, 0, Access::ReadWrite, &[], 0);
+    od
+}
+
+fuzz_target!(|ops: Vec<Op>| {
+    let node = NodeId::new(NODE).unwrap();
+    let config = ServerConfig::for_node(node);
+    let mut server = Server::new(config, dictionary());
+    let mut now = Timestamp::from_millis(10_000);
+    for op in ops.into_iter().take(256) {
+        let was_busy = server.is_busy();
+        match op {
+            Op::Frame { other, remote, shape, mut data, len } => {
+                let id = if other { CanId::Standard(0x600 + u16::from(NODE) + 1) } else { config.request_id };
+                // Steer byte 0/1/2 towards real commands on known objects.
+                if shape & 0x80 != 0 {
+                    let objects = [0x1000u16, 0x1017, 0x2000, 0x2001, 0x1008, 0x2002, 0x3000];
+                    let [lo, hi] = objects[usize::from(shape & 7) % objects.len()].to_le_bytes();
+                    data[1] = lo;
+                    data[2] = hi;
+                    data[3] = 0;
+                }
+                let len = usize::from(len % 9);
+                let frame = if remote {
+                    CanFrame::remote(id, len as u8).unwrap()
+                } else {
+                    CanFrame::new(id, &data[..len]).unwrap()
+                };
+                server.handle_frame(now, &frame);
+            }
+            Op::Advance { micros, backwards } => {
+                now = if backwards {
+                    Timestamp::from_micros(now.as_micros().saturating_sub(u64::from(micros)))
+                } else {
+                    now.add_micros(u64::from(micros) * 16)
+                };
+                server.handle_timeout(now);
+            }
+        }
+        let mut frames = 0;
+        while let Some(f) = server.poll_transmit() {
+            frames += 1;
+            assert_eq!(f.id(), config.response_id);
+            assert_eq!(f.dlc(), 8);
+            let resp = SdoResponse::decode(f.data()).expect("server sends valid SDO frames");
+            assert!(!matches!(resp.command, ServerCommand::Unknown(_)));
+        }
+        assert!(frames <= 1, "one response per input");
+        let events: Vec<ServerEvent> = std::iter::from_fn(|| server.poll_event()).collect();
+        assert!(events.len() <= 2);
+        if events.len() == 2 {
+            assert!(matches!(events[0], ServerEvent::Aborted { origin: AbortOrigin::Superseded, .. }));
+        }
+        if was_busy && !server.is_busy() {
+            assert!(!events.is_empty(), "a running transfer ended without an event");
+        }
+        if !was_busy && server.is_busy() {
+            assert!(events.is_empty());
+        }
+        assert_eq!(server.is_busy(), server.poll_timeout().is_some());
+        // Values always fit their objects.
+        for (index, max) in [(0x1017u16, 2usize), (0x2001, 8), (0x1008, 20), (0x2002, 0)] {
+            let info = server.od().info(index, 0).unwrap();
+            if index == 0x1008 || index == 0x2002 {
+                assert!(info.len <= max);
+            } else {
+                assert_eq!(info.len, max);
+            }
+        }
+    }
+});
