@@ -1,0 +1,361 @@
+//! Proves the decode/encode paths never touch the heap.
+//!
+//! A counting `#[global_allocator]` wraps `System` and counts, per thread,
+//! every `alloc`, `alloc_zeroed` and `realloc`. Each case in [`CASES`] runs
+//! between two readings of the calling thread's counter, after its inputs
+//! (the parsed captures, the hand-made frames) are built, so only the codec
+//! calls themselves are measured. The counter is thread-local, so the test
+//! harness's other threads cannot disturb it.
+//!
+//! To cover another codec, add one line to [`CASES`]:
+//!
+//! ```text
+//! ("cia418 packed string", |fx| { black_box(PackedString::decode(black_box(&fx.bytes))); }),
+//! ```
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::hint::black_box;
+use std::path::Path;
+
+use canopen_codec::cob_id::{classify, classify_standard};
+use canopen_codec::emcy::{Emergency, ErrorCode, ErrorFieldEntry};
+use canopen_codec::nmt::{Heartbeat, NmtCommand};
+use canopen_codec::sdo::{
+    AbortCode, ClientCommand, InitiatePayload, SdoRequest, SdoResponse, ServerCommand,
+    ALL_ABORT_CODES,
+};
+use canopen_codec::sync::Sync;
+use canopen_codec::time_of_day::TimeOfDay;
+use canopen_codec::{CanFrame, CanId, Message};
+
+// ---------------------------------------------------------------------------
+// The counting allocator.
+
+struct Counting;
+
+std::thread_local! {
+    static ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
+}
+
+fn bump() {
+    // `try_with`: the slot may already be gone while a thread shuts down.
+    let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+}
+
+// SAFETY: every call is forwarded unchanged to `System`; counting does not
+// allocate (a const-initialised thread-local `Cell` needs no heap).
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        bump();
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        bump();
+        unsafe { System.alloc_zeroed(layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        bump();
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn allocations() -> u64 {
+    ALLOCATIONS.with(Cell::get)
+}
+
+/// How many allocations `f` made on this thread.
+fn count(f: impl FnOnce()) -> u64 {
+    let before = allocations();
+    f();
+    allocations() - before
+}
+
+// ---------------------------------------------------------------------------
+// Inputs, built before any measurement.
+
+struct Fixtures {
+    /// Every frame of both real captures.
+    captures: Vec<CanFrame>,
+    /// Hand-made frames covering every other decoder path, good and bad.
+    crafted: Vec<CanFrame>,
+    /// Every frame that decodes, decoded.
+    messages: Vec<Message>,
+    /// Raw SDO payloads (0..=8 bytes), requests and responses alike.
+    sdo_payloads: Vec<Vec<u8>>,
+    /// Typed SDO commands built with `new`.
+    client_commands: Vec<ClientCommand>,
+    server_commands: Vec<ServerCommand>,
+}
+
+fn parse_candump_line(line: &str) -> Option<CanFrame> {
+    let (id, data) = line.split_whitespace().nth(2)?.split_once('#')?;
+    let raw = u32::from_str_radix(id, 16).ok()?;
+    let id = match id.len() {
+        3 => CanId::standard(u16::try_from(raw).ok()?)?,
+        8 => CanId::extended(raw)?,
+        _ => return None,
+    };
+    if let Some(dlc) = data.strip_prefix('R') {
+        return CanFrame::remote(id, if dlc.is_empty() { 0 } else { dlc.parse().ok()? }).ok();
+    }
+    let bytes = (0..data.len() / 2)
+        .map(|i| u8::from_str_radix(data.get(2 * i..2 * i + 2)?, 16).ok())
+        .collect::<Option<Vec<u8>>>()?;
+    CanFrame::new(id, &bytes).ok()
+}
+
+fn fixtures() -> Fixtures {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let mut captures = Vec::new();
+    for name in ["deltaq-icl1500-startup.log", "deltaq-icl1500-charging.log"] {
+        let text = std::fs::read_to_string(root.join(name)).expect("capture file");
+        let before = captures.len();
+        captures.extend(text.lines().filter_map(parse_candump_line));
+        assert!(captures.len() > before, "no frames in {name}");
+    }
+
+    let std = |id: u16, data: &[u8]| CanFrame::standard(id, data).unwrap();
+    let sdo_payloads: Vec<Vec<u8>> = vec![
+        vec![0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0], // initiate upload 1018h/1
+        vec![0x43, 0x18, 0x10, 0x01, 1, 2, 3, 4], // expedited, 4 bytes
+        vec![0x4F, 0x00, 0x14, 0x02, 0xFE],       // python-canopen's DLC 5
+        vec![0x42, 0x00, 0x10, 0x00, 1, 2, 3, 4], // expedited, size not indicated
+        vec![0x41, 0x08, 0x10, 0x00, 0x20, 0, 0, 0], // segmented, size 32
+        vec![0x23, 0x17, 0x10, 0x00, 0xE8, 0x03, 0, 0], // download 1017h
+        vec![0x60, 0x17, 0x10, 0x00, 0, 0, 0, 0], // download response
+        vec![0x00, b'I', b'C', b'L', b'1', b'5', b'0', b'0'], // segment
+        vec![0x1B, b'0', b'0', 0, 0, 0, 0, 0],    // last segment, toggle
+        vec![0x60, 0, 0, 0, 0, 0, 0, 0],          // upload segment request
+        vec![0x80, 0x00, 0x20, 0x00, 0x00, 0x00, 0x02, 0x06], // abort
+        vec![0xA4, 0x00, 0x20, 0x00, 0x7F, 0x00, 0, 0], // block upload initiate
+        vec![0xA3, 0, 0, 0, 0, 0, 0, 0],          // block start / unknown
+        vec![0xA2, 0x7F, 0x7F, 0, 0, 0, 0, 0],    // block ack
+        vec![0xA1, 0, 0, 0, 0, 0, 0, 0],          // block end
+        vec![0xC6, 0x00, 0x20, 0x00, 0x00, 0x01, 0, 0], // block download initiate
+        vec![0xC9, 0x34, 0x12, 0, 0, 0, 0, 0],    // block end with CRC
+        vec![0xE5, 1, 2, 3, 4, 5, 6, 7],          // unknown specifier
+        vec![],                                   // truncated
+        vec![0x40, 0x00],                         // truncated multiplexer
+        vec![0x80, 0x00, 0x20, 0x00],             // truncated abort
+    ];
+    let mut crafted = vec![
+        std(0x000, &[0x01, 0x0A]),
+        std(0x000, &[0x82, 0x00]),
+        std(0x000, &[0x01]), // truncated NMT
+        std(0x080, &[]),
+        std(0x080, &[7]),
+        std(0x080, &[1, 2]), // too long SYNC
+        std(0x100, &[0x00, 0x2E, 0x93, 0x02, 0x02, 0x00]),
+        std(0x100, &[0xFF; 5]), // truncated TIME
+        std(0x08A, &[0x30, 0x81, 0x01, 0x20, 0x80, 0, 0, 0]),
+        std(0x081, &[0x00, 0x00, 0x00, 0, 0, 0, 0, 0]),
+        std(0x081, &[0x10, 0x90]), // truncated EMCY
+        std(0x701, &[0x00]),
+        std(0x701, &[0x85]),
+        std(0x701, &[]), // truncated heartbeat
+        std(0x7E5, &[0x04, 0x01, 0, 0, 0, 0, 0, 0]),
+        std(0x7E4, &[0x44, 0x01]),
+        std(0x48A, &[1, 2, 3]),
+        std(0x50A, &[]),
+        std(0x7FF, &[1, 2, 3, 4, 5, 6, 7, 8]), // unknown
+        CanFrame::remote(CanId::Standard(0x70A), 1).unwrap(),
+        CanFrame::remote(CanId::Standard(0x28A), 8).unwrap(),
+        CanFrame::remote(CanId::Standard(0x123), 0).unwrap(),
+        CanFrame::remote(CanId::Standard(0x601), 8).unwrap(), // unexpected remote
+        CanFrame::new(CanId::Extended(0x18FF_0001), &[1, 2, 3]).unwrap(),
+        CanFrame::remote(CanId::Extended(0x1FFF_FFFF), 4).unwrap(),
+    ];
+    for payload in &sdo_payloads {
+        crafted.push(std(0x60A, payload));
+        crafted.push(std(0x58A, payload));
+    }
+    let messages = captures
+        .iter()
+        .chain(&crafted)
+        .filter_map(|f| Message::decode(f).ok())
+        .collect();
+
+    let client_commands = vec![
+        ClientCommand::InitiateUpload {
+            index: 0x1018,
+            sub: 1,
+        },
+        ClientCommand::InitiateDownload {
+            index: 0x1017,
+            sub: 0,
+            payload: InitiatePayload::expedited(&[0xE8, 0x03]).unwrap(),
+        },
+        ClientCommand::UploadSegment { toggle: true },
+        ClientCommand::Abort {
+            index: 0x2000,
+            sub: 0,
+            code: AbortCode::SdoProtocolTimedOut,
+        },
+    ];
+    let server_commands = vec![
+        ServerCommand::InitiateDownload {
+            index: 0x1017,
+            sub: 0,
+        },
+        ServerCommand::InitiateUpload {
+            index: 0x1018,
+            sub: 1,
+            payload: InitiatePayload::Segmented { size: Some(40) },
+        },
+        ServerCommand::DownloadSegment { toggle: false },
+        ServerCommand::Unknown(0xFF),
+    ];
+
+    Fixtures {
+        captures,
+        crafted,
+        messages,
+        sdo_payloads,
+        client_commands,
+        server_commands,
+    }
+}
+
+// ---------------------------------------------------------------------------
+// The cases: one line (or one short block) per codec.
+
+type Case = (&'static str, fn(&Fixtures));
+
+const CASES: &[Case] = &[
+    ("Message::decode (captures)", |fx| {
+        for f in &fx.captures {
+            let _ = black_box(Message::decode(black_box(f)));
+        }
+    }),
+    ("Message::decode (crafted, incl. errors)", |fx| {
+        for f in &fx.crafted {
+            let _ = black_box(Message::decode(black_box(f)));
+        }
+    }),
+    ("Message::encode / kind / node", |fx| {
+        for m in &fx.messages {
+            black_box(black_box(m).encode());
+            black_box(m.kind());
+            black_box(m.node());
+        }
+    }),
+    ("Emergency::decode / encode", |fx| {
+        for f in fx.captures.iter().chain(&fx.crafted) {
+            if let Ok(e) = Emergency::decode(black_box(f.data())) {
+                black_box(e.encode());
+                black_box((e.is_reset(), e.code.class(), e.code.name()));
+            }
+        }
+    }),
+    ("ErrorFieldEntry", |_| {
+        for raw in [0u32, 0x0180_9000, 0x2080_8130, u32::MAX] {
+            let e = ErrorFieldEntry::from_u32(black_box(raw));
+            black_box(e.to_u32());
+            let bytes = e.to_le_bytes();
+            let _ = black_box(ErrorFieldEntry::decode(black_box(&bytes)).map(|e| e.code));
+            black_box(ErrorFieldEntry::decode(black_box(&bytes[..3])).is_err());
+        }
+    }),
+    ("NmtCommand::decode / encode", |_| {
+        for cs in 0..=255u8 {
+            for node in [0u8, 1, 127, 128, 255] {
+                let _ = black_box(NmtCommand::decode(black_box(&[cs, node])).map(|c| c.encode()));
+            }
+        }
+        let _ = black_box(NmtCommand::decode(black_box(&[1])));
+    }),
+    ("Heartbeat::decode / encode", |_| {
+        for b in 0..=255u8 {
+            let _ = black_box(Heartbeat::decode(black_box(&[b])).map(|h| h.encode()));
+        }
+        let _ = black_box(Heartbeat::decode(black_box(&[])));
+    }),
+    ("Sync::decode / encode", |_| {
+        for data in [&[][..], &[1], &[240], &[1, 2]] {
+            let _ = black_box(Sync::decode(black_box(data)).map(|s| s.encode()));
+        }
+    }),
+    ("TimeOfDay::decode / encode / unix", |_| {
+        for data in [[0u8; 6], [0xFF; 6], [0x00, 0x2E, 0x93, 0x02, 0x02, 0x00]] {
+            let t = TimeOfDay::decode(black_box(&data));
+            let _ = black_box(t.map(|t| (t.encode(), t.unix_millis())));
+        }
+        black_box(TimeOfDay::from_unix_millis(black_box(1_795_305_600_001)));
+        let _ = black_box(TimeOfDay::decode(black_box(&[0; 5])));
+    }),
+    ("SdoRequest / SdoResponse decode / encode / bytes", |fx| {
+        for p in &fx.sdo_payloads {
+            if let Ok(r) = SdoRequest::decode(black_box(p)) {
+                black_box((r.encode(), r.bytes().len()));
+            }
+            if let Ok(r) = SdoResponse::decode(black_box(p)) {
+                black_box((r.encode(), r.bytes().len()));
+            }
+            black_box(canopen_codec::sdo::abort_code_of(black_box(p)));
+        }
+    }),
+    ("SdoRequest::new / SdoResponse::new encode", |fx| {
+        for c in &fx.client_commands {
+            black_box(SdoRequest::new(*black_box(c)).encode());
+        }
+        for c in &fx.server_commands {
+            black_box(SdoResponse::new(*black_box(c)).encode());
+        }
+    }),
+    ("AbortCode conversions", |_| {
+        for code in ALL_ABORT_CODES {
+            let raw = u32::from(black_box(code));
+            black_box(AbortCode::from(black_box(raw)));
+            black_box(code.description());
+        }
+        black_box(AbortCode::from(black_box(0x1234_5678)).to_u32());
+    }),
+    ("ErrorCode class / name", |_| {
+        for raw in [0u16, 0x1000, 0x5010, 0x8130, 0xFF00, 0xFFFF] {
+            let c = ErrorCode::from(black_box(raw));
+            black_box((c.class(), c.name(), c.named().is_some()));
+        }
+    }),
+    ("cob_id::classify (every 11-bit id, some 29-bit)", |_| {
+        for raw in 0..=0x7FFu16 {
+            let kind = classify_standard(black_box(raw));
+            black_box((kind.cob_id(), kind.node()));
+            black_box(classify(CanId::Standard(raw)));
+        }
+        for raw in [0u32, 0x181, 0x1FFF_FFFF] {
+            black_box(classify(CanId::Extended(black_box(raw))));
+        }
+    }),
+];
+
+#[test]
+fn codecs_do_not_allocate() {
+    let fx = fixtures();
+    assert!(!fx.captures.is_empty() && !fx.messages.is_empty());
+
+    // The counter must see a real allocation, or a zero below proves nothing.
+    let probe = count(|| {
+        black_box(Vec::<u8>::with_capacity(black_box(16)));
+    });
+    assert!(probe >= 1, "the counting allocator did not count a Vec");
+
+    let failures: Vec<String> = CASES
+        .iter()
+        .filter_map(|(name, case)| {
+            let n = count(|| case(&fx));
+            (n != 0).then(|| format!("{name}: {n} allocation(s)"))
+        })
+        .collect();
+    assert!(
+        failures.is_empty(),
+        "allocations on a codec path:\n{}",
+        failures.join("\n")
+    );
+}
