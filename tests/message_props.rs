@@ -150,8 +150,8 @@ fn segment() -> impl Strategy<Value = Segment> {
 }
 
 /// An initiate payload. Expedited with the size indicated carries 1..=4
-/// bytes: the 2-bit n field cannot say 0 (see the note on the final report:
-/// `InitiatePayload::expedited(&[])` builds such a value anyway).
+/// bytes: the 2-bit n field cannot say 0 (`InitiatePayload::expedited(&[])`
+/// refuses to build such a value).
 fn initiate_payload() -> impl Strategy<Value = InitiatePayload> {
     prop_oneof![
         expedited_data(1..=4).prop_map(|data| InitiatePayload::Expedited {

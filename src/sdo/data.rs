@@ -12,8 +12,10 @@ pub type SegmentData = InlineData<7>;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum InitiatePayload {
     /// e = 1: the value itself. With `size_indicated` (s = 1) the n field
-    /// gives the exact length; without it (s = 0) the value is "up to 4
-    /// bytes" and `data` holds every data byte the frame carried.
+    /// gives the exact length, 1..=4 bytes (an empty `data` cannot be
+    /// expressed and encodes as 4 zero bytes; [`InitiatePayload::expedited`]
+    /// refuses it); without it (s = 0) the value is "up to 4 bytes" and
+    /// `data` holds every data byte the frame carried.
     Expedited {
         /// The data bytes.
         data: ExpeditedData,
@@ -28,9 +30,14 @@ pub enum InitiatePayload {
 }
 
 impl InitiatePayload {
-    /// An expedited payload with its size indicated; `None` above 4 bytes.
+    /// An expedited payload with its size indicated: 1..=4 bytes. `None`
+    /// for an empty value (the n field cannot say 0 bytes: CiA 301 sends it
+    /// segmented) and above 4 bytes.
     #[must_use]
     pub fn expedited(data: &[u8]) -> Option<Self> {
+        if data.is_empty() {
+            return None;
+        }
         Some(InitiatePayload::Expedited {
             data: ExpeditedData::new(data)?,
             size_indicated: true,
