@@ -40,6 +40,22 @@ pub struct InlineData<const N: usize> {
 /// The payload of a PDO or LSS frame: 0..=8 bytes.
 pub type Payload = InlineData<8>;
 
+impl InlineData<8> {
+    /// A data frame's payload, taken from its zero-padded buffer (no copy
+    /// loop; a remote frame gives an empty payload).
+    #[inline]
+    #[must_use]
+    pub fn from_frame(frame: &crate::frame::CanFrame) -> Self {
+        if frame.is_remote() {
+            return Self::default();
+        }
+        InlineData {
+            len: frame.dlc().min(8),
+            bytes: frame.padded_data(),
+        }
+    }
+}
+
 impl<const N: usize> Default for InlineData<N> {
     fn default() -> Self {
         InlineData {

@@ -121,6 +121,50 @@ impl Message {
     /// ```
     #[inline]
     pub fn decode(frame: &CanFrame) -> Result<Message, DecodeError> {
+        // The hot path: an 11-bit data frame of a node. One jump on the
+        // function code, no intermediate classification, payloads taken
+        // from the frame's zero-padded buffer without a copy loop.
+        let (CanId::Standard(raw @ 0..=0x7FF), false) = (frame.id(), frame.is_remote()) else {
+            return Self::decode_cold(frame);
+        };
+        let Some(node) = NodeId::new((raw & 0x7F) as u8) else {
+            return Self::decode_cold(frame);
+        };
+        let function = raw >> 7;
+        Ok(match function {
+            1 => Message::Emcy {
+                node,
+                emcy: Emergency::decode(frame.data())?,
+            },
+            3..=10 => {
+                let pdo = PdoNumber::from_function(function);
+                let payload = Payload::from_frame(frame);
+                if function % 2 == 1 {
+                    Message::Tpdo { pdo, node, payload }
+                } else {
+                    Message::Rpdo { pdo, node, payload }
+                }
+            }
+            11 => Message::SdoResponse {
+                node,
+                sdo: SdoResponse::decode_frame(frame)?,
+            },
+            12 => Message::SdoRequest {
+                node,
+                sdo: SdoRequest::decode_frame(frame)?,
+            },
+            14 => Message::Heartbeat {
+                node,
+                heartbeat: Heartbeat::decode(frame.data())?,
+            },
+            _ => return Self::decode_cold(frame),
+        })
+    }
+
+    /// Everything off the hot path: broadcast objects (NMT, SYNC, TIME),
+    /// LSS, remote frames, 29-bit and unassigned identifiers.
+    #[cold]
+    fn decode_cold(frame: &CanFrame) -> Result<Message, DecodeError> {
         let kind = classify(frame.id());
         if frame.is_remote() {
             return Self::decode_remote(kind, frame);
@@ -130,12 +174,12 @@ impl Message {
             CobKind::Tpdo(pdo, node) => Message::Tpdo {
                 pdo,
                 node,
-                payload: payload(data),
+                payload: Payload::from_frame(frame),
             },
             CobKind::Rpdo(pdo, node) => Message::Rpdo {
                 pdo,
                 node,
-                payload: payload(data),
+                payload: Payload::from_frame(frame),
             },
             CobKind::NmtErrorControl(node) => Message::Heartbeat {
                 node,
@@ -143,11 +187,11 @@ impl Message {
             },
             CobKind::SdoRx(node) => Message::SdoRequest {
                 node,
-                sdo: SdoRequest::decode(data)?,
+                sdo: SdoRequest::decode_frame(frame)?,
             },
             CobKind::SdoTx(node) => Message::SdoResponse {
                 node,
-                sdo: SdoResponse::decode(data)?,
+                sdo: SdoResponse::decode_frame(frame)?,
             },
             CobKind::Emcy(node) => Message::Emcy {
                 node,
@@ -158,7 +202,7 @@ impl Message {
             CobKind::Time => Message::Time(TimeOfDay::decode(data)?),
             CobKind::Lss(direction) => Message::Lss {
                 direction,
-                payload: payload(data),
+                payload: Payload::from_frame(frame),
             },
             CobKind::Unknown => Message::Unknown(*frame),
         })
@@ -246,12 +290,6 @@ impl Message {
         };
         CanFrame::from_parts(id(self.kind()), buf, len as u8)
     }
-}
-
-#[inline]
-fn payload(data: &[u8]) -> Payload {
-    // A CanFrame never holds more than 8 bytes.
-    Payload::new(data).unwrap_or_default()
 }
 
 #[inline]
