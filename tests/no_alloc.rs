@@ -21,13 +21,80 @@ use std::path::Path;
 use canopen_codec::cob_id::{classify, classify_standard};
 use canopen_codec::emcy::{Emergency, ErrorCode, ErrorFieldEntry};
 use canopen_codec::nmt::{Heartbeat, NmtCommand};
+use canopen_codec::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
 use canopen_codec::sdo::{
     AbortCode, ClientCommand, InitiatePayload, SdoRequest, SdoResponse, ServerCommand,
     ALL_ABORT_CODES,
 };
+use canopen_codec::sdo::{Client, ClientConfig, Server, ServerConfig};
 use canopen_codec::sync::Sync;
 use canopen_codec::time_of_day::TimeOfDay;
-use canopen_codec::{CanFrame, CanId, Message};
+use canopen_codec::{cia418, deltaq};
+use canopen_codec::{CanFrame, CanId, Message, NodeId, Timestamp};
+use core::fmt::Write as _;
+
+/// A `fmt::Write` that discards: formats without a `String`.
+struct Sink;
+impl core::fmt::Write for Sink {
+    fn write_str(&mut self, _: &str) -> core::fmt::Result {
+        Ok(())
+    }
+}
+
+/// One 100-byte domain at 2000h:00 in a fixed buffer: an object dictionary
+/// that does not allocate, so the SDO state machines can be measured alone.
+struct FixedOd {
+    value: [u8; 100],
+    len: usize,
+}
+
+impl ObjectDictionary for FixedOd {
+    fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
+        if (index, sub) != (0x2000, 0) {
+            return Err(AbortCode::ObjectDoesNotExist);
+        }
+        Ok(ObjectInfo {
+            access: Access::ReadWrite,
+            len: self.len,
+            size: SizeRule::Variable { max: 100 },
+            pdo_mappable: false,
+        })
+    }
+    fn read(&mut self, _: u16, _: u8, offset: usize, buf: &mut [u8]) -> Result<usize, AbortCode> {
+        let src = self.value.get(offset..self.len).unwrap_or(&[]);
+        let n = src.len().min(buf.len());
+        buf[..n].copy_from_slice(&src[..n]);
+        Ok(n)
+    }
+    fn write(&mut self, _: u16, _: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
+        let dst = self
+            .value
+            .get_mut(offset..offset + data.len())
+            .ok_or(AbortCode::DataTypeLengthTooHigh)?;
+        dst.copy_from_slice(data);
+        Ok(())
+    }
+    fn finish_write(&mut self, _: u16, _: u8, len: usize) -> Result<(), AbortCode> {
+        self.len = len;
+        Ok(())
+    }
+}
+
+static SDO_VALUE: [u8; 100] = [0x5A; 100];
+
+/// Runs one started transfer between `client` and `server` to its end,
+/// including a timeout of a second, stalled transfer.
+fn sdo_round(client: &mut Client<&'static [u8]>, server: &mut Server<FixedOd>) {
+    let now = Timestamp::from_millis(1);
+    while let Some(req) = client.poll_transmit() {
+        server.handle_frame(now, &req);
+        while black_box(server.poll_event()).is_some() {}
+        while let Some(resp) = server.poll_transmit() {
+            client.handle_frame(now, &resp);
+        }
+        while black_box(client.poll_event()).is_some() {}
+    }
+}
 
 // ---------------------------------------------------------------------------
 // The counting allocator.
@@ -321,6 +388,107 @@ const CASES: &[Case] = &[
         for raw in [0u16, 0x1000, 0x5010, 0x8130, 0xFF00, 0xFFFF] {
             let c = ErrorCode::from(black_box(raw));
             black_box((c.class(), c.name(), c.named().is_some()));
+        }
+    }),
+    (
+        "SDO client and server: segmented and expedited, both ways, timeouts",
+        |_| {
+            let node = NodeId::new(1).unwrap();
+            let mut client: Client<&'static [u8]> = Client::new(ClientConfig::for_server(node));
+            let mut server = Server::new(
+                ServerConfig::for_node(node),
+                FixedOd {
+                    value: [0; 100],
+                    len: 0,
+                },
+            );
+            let t = Timestamp::ZERO;
+            client.start_download(t, 0x2000, 0, &SDO_VALUE[..]).unwrap();
+            sdo_round(&mut client, &mut server);
+            client.start_upload(t, 0x2000, 0).unwrap();
+            sdo_round(&mut client, &mut server);
+            client
+                .start_download(t, 0x2000, 0, &SDO_VALUE[..3])
+                .unwrap();
+            sdo_round(&mut client, &mut server);
+            client.start_upload(t, 0x3000, 0).unwrap();
+            sdo_round(&mut client, &mut server);
+            client.start_upload(t, 0x2000, 0).unwrap();
+            let _ = client.poll_transmit();
+            client.handle_timeout(Timestamp::from_millis(5000));
+            while black_box(client.poll_transmit()).is_some() {}
+            while black_box(client.poll_event()).is_some() {}
+        },
+    ),
+    (
+        "Display of messages, SDO commands, codes (into a sink)",
+        |fx| {
+            for m in &fx.messages {
+                let _ = write!(Sink, "{m}");
+            }
+            for c in &fx.client_commands {
+                let _ = write!(Sink, "{c}");
+            }
+            let _ = write!(Sink, "{} {}", ErrorCode(0x8130), AbortCode::CrcError);
+        },
+    ),
+    ("candump::parse_line", |_| {
+        for line in [
+            "(1756955653.603308) can1 000#010A",
+            "701#R1",
+            "bad",
+            "18A#7413454E70000000",
+        ] {
+            let _ = black_box(canopen_codec::candump::parse_line(black_box(line)).map(|l| l.frame));
+        }
+    }),
+    (
+        "cia418 packed strings, battery type, device type, date",
+        |_| {
+            use cia418::{
+                BatteryType, DeviceType, EqualizationDate, PackedString, PackedStringObject,
+            };
+            let p = PackedString::encode(
+                PackedStringObject::BatterySerialNumber,
+                black_box("BATTERY"),
+            )
+            .unwrap();
+            let back = PackedString::decode(
+                PackedStringObject::BatterySerialNumber,
+                p.count(),
+                p.words(),
+            )
+            .unwrap();
+            black_box(back.text().len());
+            let _ = black_box(PackedString::encode(
+                PackedStringObject::BatteryId,
+                black_box("caf\u{e9}"),
+            ));
+            for raw in 0..=255u8 {
+                black_box(BatteryType::from_u8(black_box(raw)).to_u8());
+            }
+            let d = DeviceType::from_raw(black_box(0x000F_01A2));
+            black_box((d.rpdos().len(), d.tpdos().len(), d.encode()));
+            let _ = black_box(
+                EqualizationDate::from_calendar(2026, 11, 22, 10, 30).map(|d| d.to_calendar()),
+            );
+        },
+    ),
+    ("deltaq codes, objects, policy", |fx| {
+        use deltaq::{emcy_reaction, DeltaQCode, ExtendedChargeStatus, OperatingMode};
+        for f in &fx.captures {
+            if let Ok(e) = Emergency::decode(f.data()) {
+                let code = DeltaQCode::from_emergency(&e);
+                let _ = write!(Sink, "{code}");
+                black_box((code.entry(), code.to_error_field(e.code)));
+                black_box(emcy_reaction(OperatingMode::Local, e.code));
+            }
+        }
+        for raw in [0u32, 0x0180_9000, 0x06C0_5000, 0x5000_06C0] {
+            black_box(DeltaQCode::from_error_field(black_box(raw)));
+        }
+        for raw in [0u16, 0x0070, 0xFFFF] {
+            black_box(ExtendedChargeStatus::from_u16(black_box(raw)).to_u16());
         }
     }),
     ("cob_id::classify (every 11-bit id, some 29-bit)", |_| {

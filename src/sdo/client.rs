@@ -286,8 +286,8 @@ impl<D: AsRef<[u8]>> Client<D> {
         let Ok(size) = u32::try_from(bytes.len()) else {
             return Err(ClientError::TooLong { len: bytes.len() });
         };
-        let payload =
-            InitiatePayload::expedited(bytes).unwrap_or(InitiatePayload::Segmented { size: Some(size) });
+        let payload = InitiatePayload::expedited(bytes)
+            .unwrap_or(InitiatePayload::Segmented { size: Some(size) });
         let expedited = matches!(payload, InitiatePayload::Expedited { .. });
         self.send(ClientCommand::InitiateDownload {
             index,
