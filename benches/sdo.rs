@@ -72,10 +72,7 @@ fn pair() -> Pair {
 fn run((client, server): &mut Pair) -> usize {
     let now = Timestamp::ZERO;
     let mut got = 0;
-    loop {
-        let Some(req) = client.poll_transmit() else {
-            break;
-        };
+    while let Some(req) = client.poll_transmit() {
         server.handle_frame(now, &req);
         while server.poll_event().is_some() {}
         if let Some(resp) = server.poll_transmit() {

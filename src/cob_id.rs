@@ -97,7 +97,7 @@ impl PdoNumber {
     /// 0x180/0x200 are PDO 0, 0x280/0x300 PDO 1, and so on.
     #[inline]
     pub(crate) const fn from_function(function: u16) -> Self {
-        PdoNumber((function.saturating_sub(3) / 2 & 3) as u8)
+        PdoNumber(((function.saturating_sub(3) / 2) & 3) as u8)
     }
 
     /// The one-based number CiA 301 uses ("TPDO1" for `P0`).

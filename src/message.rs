@@ -293,7 +293,6 @@ impl Message {
 }
 
 #[inline]
-
 fn put(buf: &mut [u8; 8], src: &[u8]) -> usize {
     crate::bytes::copy_short(buf, src);
     src.len().min(8)

@@ -227,7 +227,6 @@ impl RawSdo {
     };
 
     #[inline]
-
     fn from_slice(data: &[u8]) -> Result<Self, DecodeError> {
         if data.len() > 8 {
             return Err(DecodeError::TooLong {
@@ -497,7 +496,6 @@ impl ClientCommand {
     }
 
     #[inline]
-
     fn encode_onto(&self, raw: RawSdo) -> ([u8; 8], usize) {
         let mut w = Writer::new(raw);
         match self {
@@ -631,7 +629,6 @@ impl ServerCommand {
     }
 
     #[inline]
-
     fn encode_onto(&self, raw: RawSdo) -> ([u8; 8], usize) {
         let mut w = Writer::new(raw);
         match self {
