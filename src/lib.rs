@@ -58,6 +58,7 @@ pub mod frame;
 pub mod message;
 pub mod nmt;
 pub mod od;
+pub mod pdo;
 mod queue;
 pub mod sdo;
 pub mod sync;
