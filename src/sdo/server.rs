@@ -158,6 +158,7 @@ enum State {
 /// driving loop and behaviour.
 ///
 /// ```
+/// # #[cfg(feature = "alloc")] { // MemoryDictionary needs `alloc`
 /// use canopen_codec::sdo::{Server, ServerConfig, ServerEvent};
 /// use canopen_codec::od::{Access, MemoryDictionary};
 /// use canopen_codec::{CanFrame, NodeId, Timestamp};
@@ -172,6 +173,7 @@ enum State {
 /// let resp = server.poll_transmit().unwrap();
 /// assert_eq!(resp, CanFrame::standard(0x581, &[0x4B, 0x17, 0x10, 0, 0xE8, 0x03, 0, 0]).unwrap());
 /// assert_eq!(server.poll_event(), Some(ServerEvent::Uploaded { index: 0x1017, sub: 0, len: 2 }));
+/// # }
 /// ```
 #[derive(Debug)]
 pub struct Server<D> {
