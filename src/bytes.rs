@@ -65,6 +65,12 @@ impl<const N: usize> Default for InlineData<N> {
     }
 }
 
+impl<const N: usize> AsRef<[u8]> for InlineData<N> {
+    fn as_ref(&self) -> &[u8] {
+        self.as_slice()
+    }
+}
+
 impl<const N: usize> InlineData<N> {
     /// The largest number of bytes this carrier holds.
     pub const CAPACITY: usize = N;

@@ -15,14 +15,7 @@ use super::{
     TEMPERATURE,
 };
 
-/// Direction of a PDO, seen from the battery module.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum PdoDirection {
-    /// Receive PDO (the module consumes it; comm. 1400h + n, mapping 1600h + n).
-    Receive,
-    /// Transmit PDO (the module produces it; comm. 1800h + n, mapping 1A00h + n).
-    Transmit,
-}
+pub use crate::pdo::PdoDirection;
 
 /// One default PDO of a CiA 418 battery module.
 ///

@@ -11,8 +11,51 @@
 
 use core::fmt;
 
+use crate::cob_id::PdoNumber;
 use crate::frame::CanId;
 use crate::sdo::AbortCode;
+
+/// Direction of a PDO, seen from the device that holds it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum PdoDirection {
+    /// Receive PDO: consumed (comm. 1400h + n, mapping 1600h + n).
+    Receive,
+    /// Transmit PDO: produced (comm. 1800h + n, mapping 1A00h + n).
+    Transmit,
+}
+
+impl PdoDirection {
+    /// The communication parameter index of PDO `n`.
+    #[must_use]
+    pub const fn comm_index(self, n: PdoNumber) -> u16 {
+        match self {
+            PdoDirection::Receive => 0x1400 + n.raw() as u16,
+            PdoDirection::Transmit => 0x1800 + n.raw() as u16,
+        }
+    }
+
+    /// The mapping parameter index of PDO `n`.
+    #[must_use]
+    pub const fn mapping_index(self, n: PdoNumber) -> u16 {
+        self.comm_index(n) + 0x200
+    }
+
+    /// Which PDO an index 1400h-1403h / 1600h-1603h / 1800h-1803h /
+    /// 1A00h-1A03h belongs to, and whether it is the mapping object.
+    #[must_use]
+    pub const fn from_index(index: u16) -> Option<(PdoDirection, PdoNumber, bool)> {
+        let dir = match index & 0xFC00 {
+            0x1400 => PdoDirection::Receive,
+            0x1800 => PdoDirection::Transmit,
+            _ => return None,
+        };
+        let is_mapping = index & 0x0200 != 0;
+        match PdoNumber::new((index & 0x01FF) as u8) {
+            Some(n) if index & 0x01FC == 0 => Some((dir, n, is_mapping)),
+            _ => None,
+        }
+    }
+}
 
 /// A PDO COB-ID entry (sub-index 1): the identifier plus three flags.
 /// Every u32 is accepted and kept bit for bit.
@@ -290,6 +333,31 @@ impl PdoCommParams {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn direction_indexes() {
+        use PdoDirection::*;
+        assert_eq!(Receive.comm_index(PdoNumber::P0), 0x1400);
+        assert_eq!(Receive.mapping_index(PdoNumber::P3), 0x1603);
+        assert_eq!(Transmit.comm_index(PdoNumber::P2), 0x1802);
+        assert_eq!(Transmit.mapping_index(PdoNumber::P1), 0x1A01);
+        for index in 0..=0xFFFFu16 {
+            match PdoDirection::from_index(index) {
+                Some((d, n, m)) => {
+                    let back = if m {
+                        d.mapping_index(n)
+                    } else {
+                        d.comm_index(n)
+                    };
+                    assert_eq!(back, index);
+                }
+                None => assert!(
+                    !matches!(index, 0x1400..=0x1403 | 0x1600..=0x1603 | 0x1800..=0x1803 | 0x1A00..=0x1A03),
+                    "{index:04X}"
+                ),
+            }
+        }
+    }
 
     #[test]
     fn cob_id_flags() {

@@ -8,7 +8,9 @@
 mod comm;
 mod mapping;
 
-pub use comm::{PdoCobId, PdoCommParams, SubValue, TransmissionType, TransmissionTypeError};
+pub use comm::{
+    PdoCobId, PdoCommParams, PdoDirection, SubValue, TransmissionType, TransmissionTypeError,
+};
 pub use mapping::{
     extract_bits, insert_bits, sign_extend, MappingEntry, MappingError, PdoMapping, MAX_BITS,
     MAX_ENTRIES,
