@@ -72,6 +72,12 @@ impl<const N: usize> AsRef<[u8]> for InlineData<N> {
 }
 
 impl<const N: usize> InlineData<N> {
+    /// No bytes.
+    pub const EMPTY: Self = InlineData {
+        len: 0,
+        bytes: [0; N],
+    };
+
     /// The largest number of bytes this carrier holds.
     pub const CAPACITY: usize = N;
 

@@ -6,12 +6,18 @@
 //! 1800h + n and 1A00h + n.
 
 mod comm;
+mod config;
 mod mapping;
+mod producer;
+mod reconfig;
 
 pub use comm::{
     PdoCobId, PdoCommParams, PdoDirection, SubValue, TransmissionType, TransmissionTypeError,
 };
+pub use config::{PdoConfig, PdoDictionary, PdoSlot};
 pub use mapping::{
     extract_bits, insert_bits, sign_extend, MappingEntry, MappingError, PdoMapping, MAX_BITS,
     MAX_ENTRIES,
 };
+pub use producer::TpdoProducer;
+pub use reconfig::{Plan, ReconfigEvent, Reconfigurer, Step};

@@ -4,7 +4,7 @@
 
 use std::collections::VecDeque;
 
-use canopen_codec::od::MemoryDictionary;
+use canopen_codec::od::{MemoryDictionary, ObjectDictionary};
 use canopen_codec::sdo::{Client, ClientConfig, ClientEvent, Server, ServerConfig, ServerEvent};
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 
@@ -15,9 +15,9 @@ pub enum Dir {
     ToClient,
 }
 
-pub struct Pair {
+pub struct Pair<D = MemoryDictionary> {
     pub client: Client<Vec<u8>>,
-    pub server: Server<MemoryDictionary>,
+    pub server: Server<D>,
     pub now: Timestamp,
     /// One-way latency in microseconds.
     pub latency_us: u64,
@@ -30,8 +30,8 @@ pub struct Pair {
     in_flight: VecDeque<(Timestamp, Dir, CanFrame)>,
 }
 
-impl Pair {
-    pub fn new(node: u8, od: MemoryDictionary) -> Self {
+impl<D: ObjectDictionary> Pair<D> {
+    pub fn new(node: u8, od: D) -> Self {
         let node = NodeId::new(node).unwrap();
         Pair {
             client: Client::new(ClientConfig::for_server(node)),

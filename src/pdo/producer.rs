@@ -1,0 +1,254 @@
+//! Transmitting one TPDO on time: event timer, inhibit time and SYNC, as a
+//! sans-IO state machine (CiA 301; DIGEST section 4 for the start-up rule).
+//!
+//! A [`TpdoProducer`] sends nothing while its COB-ID is not configured,
+//! while the COB-ID is not valid (bit 31) or while the node is not NMT
+//! operational. When all three hold, an event-driven TPDO (types 254/255) is
+//! sent at once, then whenever the event timer expires and whenever the
+//! application signals an event ([`TpdoProducer::trigger`] or a changed
+//! payload in [`TpdoProducer::set_payload`]); every transmission restarts the
+//! event timer, and none follows the previous one within the inhibit time
+//! (a request inside it is deferred to its end, not dropped). Synchronous
+//! types send on SYNC ([`TpdoProducer::handle_sync`]): type n every n-th
+//! SYNC, type 0 at the first SYNC after an event.
+//!
+//! Same poll contract as the other state machines: `handle_timeout`,
+//! `poll_transmit`, `poll_timeout`. A timestamp that goes backwards never
+//! panics; deadlines are simply not reached.
+
+use super::comm::{PdoCommParams, TransmissionType};
+use crate::bytes::Payload;
+use crate::frame::CanFrame;
+use crate::time::Timestamp;
+
+/// Produces one TPDO. See the module docs.
+///
+/// ```
+/// use canopen_codec::pdo::{PdoCobId, PdoCommParams, TpdoProducer};
+/// use canopen_codec::bytes::Payload;
+/// use canopen_codec::Timestamp;
+/// let mut p = TpdoProducer::new();
+/// p.set_payload(Timestamp::ZERO, Payload::new(&[0x01]).unwrap());
+/// p.configure(Timestamp::ZERO, PdoCommParams::event_driven(PdoCobId::standard(0x18A), 200));
+/// assert_eq!(p.poll_transmit(), None); // not operational yet
+/// p.set_operational(Timestamp::from_millis(5), true);
+/// assert_eq!(p.poll_transmit().unwrap().data(), &[0x01]);
+/// assert_eq!(p.poll_timeout(), Some(Timestamp::from_millis(205)));
+/// ```
+#[derive(Debug, Clone)]
+pub struct TpdoProducer {
+    comm: Option<PdoCommParams>,
+    operational: bool,
+    payload: Payload,
+    last_sent: Option<Timestamp>,
+    /// Event timer deadline.
+    event_at: Option<Timestamp>,
+    /// A transmission waits for the inhibit time to pass.
+    deferred: bool,
+    /// Type 0: an event happened; send at the next SYNC.
+    sync_event: bool,
+    sync_count: u8,
+    out: Option<CanFrame>,
+}
+
+impl Default for TpdoProducer {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl TpdoProducer {
+    /// An unconfigured, non-operational producer with an empty payload.
+    #[must_use]
+    pub const fn new() -> Self {
+        TpdoProducer {
+            comm: None,
+            operational: false,
+            payload: Payload::EMPTY,
+            last_sent: None,
+            event_at: None,
+            deferred: false,
+            sync_event: false,
+            sync_count: 0,
+            out: None,
+        }
+    }
+
+    /// The communication parameters, once configured.
+    #[must_use]
+    pub const fn comm(&self) -> Option<&PdoCommParams> {
+        self.comm.as_ref()
+    }
+
+    /// True when frames may be sent: configured, valid and operational.
+    #[must_use]
+    pub fn is_active(&self) -> bool {
+        self.operational
+            && self
+                .comm
+                .is_some_and(|c| c.cob_id.is_valid() && c.cob_id.can_id().is_some())
+    }
+
+    /// Sets the communication parameters (a new COB-ID takes effect at once).
+    pub fn configure(&mut self, now: Timestamp, comm: PdoCommParams) {
+        let was_active = self.is_active();
+        self.comm = Some(comm);
+        self.became(now, was_active);
+    }
+
+    /// Forgets the configuration: nothing is sent until `configure` again.
+    pub fn unconfigure(&mut self) {
+        self.comm = None;
+        self.stop();
+    }
+
+    /// Tells the producer whether the node is NMT operational.
+    pub fn set_operational(&mut self, now: Timestamp, operational: bool) {
+        let was_active = self.is_active();
+        self.operational = operational;
+        self.became(now, was_active);
+    }
+
+    fn became(&mut self, now: Timestamp, was_active: bool) {
+        match (was_active, self.is_active()) {
+            (false, true) => {
+                self.sync_count = 0;
+                self.request(now);
+            }
+            (true, false) => self.stop(),
+            _ => {}
+        }
+    }
+
+    fn stop(&mut self) {
+        self.event_at = None;
+        self.deferred = false;
+        self.sync_event = false;
+        self.out = None;
+    }
+
+    /// The payload to send. For an event-driven TPDO a changed payload is
+    /// an event (sent now, or at the end of the inhibit time).
+    pub fn set_payload(&mut self, now: Timestamp, payload: Payload) {
+        let changed = payload != self.payload;
+        self.payload = payload;
+        if changed {
+            self.trigger(now);
+        }
+    }
+
+    /// An application event: send as soon as the rules allow.
+    pub fn trigger(&mut self, now: Timestamp) {
+        if self.is_active() {
+            self.request(now);
+        }
+    }
+
+    fn request(&mut self, now: Timestamp) {
+        let Some(comm) = self.comm else { return };
+        match comm.transmission_type {
+            TransmissionType::SynchronousAcyclic => self.sync_event = true,
+            TransmissionType::SynchronousCyclic(_) => {}
+            _ => self.send_or_defer(now, comm),
+        }
+    }
+
+    fn inhibit_end(&self, comm: &PdoCommParams) -> Option<Timestamp> {
+        let last = self.last_sent?;
+        let end = last.add_micros(comm.inhibit_time_us());
+        (comm.inhibit_time_us() > 0).then_some(end)
+    }
+
+    fn send_or_defer(&mut self, now: Timestamp, comm: PdoCommParams) {
+        match self.inhibit_end(&comm) {
+            Some(end) if !now.has_reached(end) => {
+                self.deferred = true;
+                // The deferred send re-arms the event timer; an expiry inside
+                // the inhibit time is covered by it.
+                if self.event_at.is_some_and(|at| at <= end) {
+                    self.event_at = None;
+                }
+            }
+            _ => self.send(now, comm),
+        }
+    }
+
+    fn send(&mut self, now: Timestamp, comm: PdoCommParams) {
+        let Some(id) = comm.cob_id.can_id() else {
+            return;
+        };
+        self.out = CanFrame::new(id, self.payload.as_slice()).ok();
+        self.last_sent = Some(now);
+        self.deferred = false;
+        self.event_at = (comm.transmission_type.is_event_driven() && comm.event_timer_ms > 0)
+            .then(|| now.add_millis(u64::from(comm.event_timer_ms)));
+    }
+
+    /// A SYNC was received: synchronous types send here.
+    pub fn handle_sync(&mut self, now: Timestamp) {
+        let Some(comm) = self.comm.filter(|_| self.is_active()) else {
+            return;
+        };
+        match comm.transmission_type {
+            TransmissionType::SynchronousAcyclic if self.sync_event => {
+                self.sync_event = false;
+                self.send(now, comm);
+            }
+            TransmissionType::SynchronousCyclic(n) => {
+                self.sync_count = self.sync_count.saturating_add(1);
+                if self.sync_count >= n {
+                    self.sync_count = 0;
+                    self.send(now, comm);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// Tells the producer time has passed: the event timer and a deferred
+    /// transmission fire here.
+    pub fn handle_timeout(&mut self, now: Timestamp) {
+        let Some(comm) = self.comm.filter(|_| self.is_active()) else {
+            return;
+        };
+        if self.deferred {
+            if let Some(end) = self.inhibit_end(&comm) {
+                if now.has_reached(end) {
+                    return self.send(now, comm);
+                }
+            }
+        }
+        if let Some(at) = self.event_at {
+            if now.has_reached(at) {
+                self.send_or_defer(now, comm);
+            }
+        }
+    }
+
+    /// When `handle_timeout` must next be called.
+    #[must_use]
+    pub fn poll_timeout(&self) -> Option<Timestamp> {
+        if !self.is_active() {
+            return None;
+        }
+        let deferred = self
+            .deferred
+            .then(|| self.comm.as_ref().and_then(|c| self.inhibit_end(c)))
+            .flatten();
+        match (deferred, self.event_at) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
+    /// The frame to send, if one is due. A newer transmission replaces an
+    /// undrained one (a PDO carries the latest value).
+    #[must_use]
+    pub fn poll_transmit(&mut self) -> Option<CanFrame> {
+        self.out.take()
+    }
+}
+
+#[cfg(test)]
+#[path = "producer_tests.rs"]
+mod tests;

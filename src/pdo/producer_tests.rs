@@ -1,0 +1,181 @@
+use std::vec::Vec;
+
+use super::*;
+use crate::pdo::PdoCobId;
+
+fn ms(n: u64) -> Timestamp {
+    Timestamp::from_millis(n)
+}
+
+fn payload(b: &[u8]) -> Payload {
+    Payload::new(b).unwrap()
+}
+
+/// Runs the producer from `from` to `to` (ms), calling handle_timeout at
+/// every deadline; returns the send times in ms.
+fn run(p: &mut TpdoProducer, from: u64, to: u64) -> Vec<u64> {
+    let mut sent = Vec::new();
+    let mut now = ms(from);
+    if p.poll_transmit().is_some() {
+        sent.push(from);
+    }
+    for _ in 0..10_000 {
+        let Some(t) = p.poll_timeout() else { break };
+        if t > ms(to) {
+            break;
+        }
+        assert!(t >= now, "deadline in the past: {t} < {now}");
+        now = t;
+        p.handle_timeout(now);
+        if let Some(f) = p.poll_transmit() {
+            assert_eq!(f.id(), crate::CanId::Standard(0x18A));
+            sent.push(now.as_millis());
+        }
+    }
+    sent
+}
+
+fn charger_tpdo0() -> PdoCommParams {
+    PdoCommParams::event_driven(PdoCobId::standard(0x18A), 200)
+}
+
+#[test]
+fn nothing_before_configured_valid_and_operational() {
+    let mut p = TpdoProducer::new();
+    p.set_payload(ms(0), payload(&[1]));
+    p.set_operational(ms(0), true);
+    assert_eq!(
+        (p.poll_transmit(), p.poll_timeout()),
+        (None, None),
+        "not configured"
+    );
+    p.configure(ms(1), charger_tpdo0().clone_with_cob(0x8000_018A));
+    assert_eq!(
+        (p.poll_transmit(), p.poll_timeout()),
+        (None, None),
+        "COB-ID not valid"
+    );
+    p.set_operational(ms(2), false);
+    p.configure(ms(3), charger_tpdo0());
+    assert_eq!(
+        (p.poll_transmit(), p.poll_timeout()),
+        (None, None),
+        "not operational"
+    );
+    p.trigger(ms(4));
+    assert_eq!(p.poll_transmit(), None);
+    p.set_operational(ms(10), true);
+    assert_eq!(p.poll_transmit().map(|f| f.data().to_vec()), Some(vec![1]));
+    assert_eq!(p.poll_timeout(), Some(ms(210)));
+}
+
+trait CloneWithCob {
+    fn clone_with_cob(&self, raw: u32) -> Self;
+}
+impl CloneWithCob for PdoCommParams {
+    fn clone_with_cob(&self, raw: u32) -> Self {
+        PdoCommParams {
+            cob_id: PdoCobId::from_u32(raw),
+            ..*self
+        }
+    }
+}
+
+#[test]
+fn event_timer_period() {
+    let mut p = TpdoProducer::new();
+    p.configure(ms(0), charger_tpdo0());
+    p.set_operational(ms(100), true);
+    assert_eq!(run(&mut p, 100, 1000), vec![100, 300, 500, 700, 900]);
+}
+
+#[test]
+fn events_restart_the_event_timer_and_respect_inhibit() {
+    let mut p = TpdoProducer::new();
+    let mut comm = charger_tpdo0();
+    comm.inhibit_time_100us = 500; // 50 ms
+    p.configure(ms(0), comm);
+    p.set_operational(ms(0), true);
+    assert!(p.poll_transmit().is_some());
+    // A change at 20 ms is inside the inhibit time: deferred to 50 ms.
+    p.set_payload(ms(20), payload(&[2]));
+    assert_eq!(p.poll_transmit(), None);
+    assert_eq!(p.poll_timeout(), Some(ms(50)));
+    p.handle_timeout(ms(50));
+    assert_eq!(p.poll_transmit().map(|f| f.data().to_vec()), Some(vec![2]));
+    // The event timer restarted at 50 ms.
+    assert_eq!(p.poll_timeout(), Some(ms(250)));
+    // An unchanged payload is not an event.
+    p.set_payload(ms(120), payload(&[2]));
+    assert_eq!(p.poll_transmit(), None);
+    // A trigger after the inhibit time is sent at once.
+    p.trigger(ms(130));
+    assert!(p.poll_transmit().is_some());
+    assert_eq!(run(&mut p, 130, 800), vec![330, 530, 730]);
+}
+
+#[test]
+fn event_timer_inside_inhibit_is_deferred_not_lost() {
+    let mut p = TpdoProducer::new();
+    let mut comm = PdoCommParams::event_driven(PdoCobId::standard(0x18A), 10);
+    comm.inhibit_time_100us = 300; // 30 ms > the 10 ms event timer
+    p.configure(ms(0), comm);
+    p.set_operational(ms(0), true);
+    assert_eq!(run(&mut p, 0, 100), vec![0, 30, 60, 90]);
+}
+
+#[test]
+fn disabling_stops_and_reenabling_resends() {
+    let mut p = TpdoProducer::new();
+    p.configure(ms(0), charger_tpdo0());
+    p.set_operational(ms(0), true);
+    assert!(p.poll_transmit().is_some());
+    p.configure(ms(50), charger_tpdo0().clone_with_cob(0x8000_018A));
+    assert_eq!((p.poll_transmit(), p.poll_timeout()), (None, None));
+    p.configure(ms(60), charger_tpdo0());
+    assert!(p.poll_transmit().is_some());
+    p.set_operational(ms(70), false);
+    assert_eq!(p.poll_timeout(), None);
+    p.unconfigure();
+    p.set_operational(ms(80), true);
+    assert_eq!((p.poll_transmit(), p.poll_timeout()), (None, None));
+}
+
+#[test]
+fn synchronous_types() {
+    let mut p = TpdoProducer::new();
+    let mut comm = charger_tpdo0();
+    comm.transmission_type = TransmissionType::SynchronousCyclic(3);
+    p.configure(ms(0), comm);
+    p.set_operational(ms(0), true);
+    assert_eq!((p.poll_transmit(), p.poll_timeout()), (None, None));
+    let mut sent = Vec::new();
+    for i in 1..=9u64 {
+        p.handle_sync(ms(i));
+        if p.poll_transmit().is_some() {
+            sent.push(i);
+        }
+    }
+    assert_eq!(sent, vec![3, 6, 9]);
+    comm.transmission_type = TransmissionType::SynchronousAcyclic;
+    p.configure(ms(10), comm);
+    p.handle_sync(ms(11));
+    assert_eq!(p.poll_transmit(), None, "no event yet");
+    p.set_payload(ms(12), payload(&[9]));
+    assert_eq!(p.poll_transmit(), None, "waits for SYNC");
+    p.handle_sync(ms(13));
+    assert_eq!(p.poll_transmit().map(|f| f.data().to_vec()), Some(vec![9]));
+}
+
+#[test]
+fn time_going_backwards_is_harmless() {
+    let mut p = TpdoProducer::new();
+    p.configure(ms(1000), charger_tpdo0());
+    p.set_operational(ms(1000), true);
+    assert!(p.poll_transmit().is_some());
+    p.handle_timeout(ms(10));
+    assert_eq!(p.poll_transmit(), None);
+    p.handle_timeout(Timestamp::MAX);
+    assert!(p.poll_transmit().is_some());
+    assert_eq!(p.poll_timeout(), Some(Timestamp::MAX));
+}
