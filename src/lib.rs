@@ -55,6 +55,7 @@ pub mod display;
 pub mod emcy;
 pub mod error;
 pub mod frame;
+pub mod heartbeat;
 pub mod message;
 pub mod nmt;
 pub mod od;

@@ -1,0 +1,369 @@
+//! Heartbeat producer (object 1017h) and consumer (object 1016h), CiA 301,
+//! as sans-IO state machines.
+//!
+//! - [`HeartbeatProducer`] sends the boot-up message once, then
+//!   `700h + node # state` every period. By default it sends only on the
+//!   period, as the Delta-Q charger does (its capture shows the first
+//!   "operational" heartbeat at the next period after NMT start); set
+//!   [`HeartbeatProducer::send_on_change`] for CANopenNode's behaviour of
+//!   sending at once when the state changes.
+//! - [`HeartbeatConsumer`] watches up to `N` nodes. An entry (node id + time
+//!   in ms, as a 1016h sub-index: bits 23-16 node, 15-0 time) with node 0 or
+//!   time 0 is disabled. Monitoring of a node starts at its first heartbeat.
+//!   When more than `time` passes without one, it reports
+//!   [`HeartbeatEvent::Lost`] once; the next heartbeat reports
+//!   [`HeartbeatEvent::Restored`]. Boot-up messages and state changes are
+//!   reported too.
+//!
+//! Same poll contract as the other state machines. Time that goes backwards
+//! never panics: deadlines are simply not reached; a jump far ahead expires
+//! every running timer once.
+
+use crate::cob_id::{NodeId, NMT_ERROR_CONTROL_BASE};
+use crate::frame::{CanFrame, CanId};
+use crate::nmt::{Heartbeat, NmtState};
+use crate::queue::Queue;
+use crate::time::Timestamp;
+
+/// Sends this node's boot-up message and heartbeats.
+///
+/// ```
+/// use canopen_codec::heartbeat::HeartbeatProducer;
+/// use canopen_codec::nmt::NmtState;
+/// use canopen_codec::{NodeId, Timestamp};
+/// let mut p = HeartbeatProducer::new(NodeId::new(10).unwrap(), 1000);
+/// p.boot(Timestamp::ZERO);
+/// assert_eq!(p.poll_transmit().unwrap().to_string(), "70A#00");
+/// p.set_state(Timestamp::ZERO, NmtState::PreOperational);
+/// assert_eq!(p.poll_timeout(), Some(Timestamp::from_millis(1000)));
+/// p.handle_timeout(Timestamp::from_millis(1000));
+/// assert_eq!(p.poll_transmit().unwrap().to_string(), "70A#7F");
+/// ```
+#[derive(Debug, Clone)]
+pub struct HeartbeatProducer {
+    node: NodeId,
+    period_ms: u16,
+    state: NmtState,
+    next: Option<Timestamp>,
+    /// Send at once when the state changes (CANopenNode); default false.
+    pub send_on_change: bool,
+    out: Queue<CanFrame, 2>,
+}
+
+impl HeartbeatProducer {
+    /// A producer for `node` with period `period_ms` (1017h; 0 = no heartbeats).
+    #[must_use]
+    pub const fn new(node: NodeId, period_ms: u16) -> Self {
+        HeartbeatProducer {
+            node,
+            period_ms,
+            state: NmtState::BootUp,
+            next: None,
+            send_on_change: false,
+            out: Queue::new(CanFrame::EMPTY),
+        }
+    }
+
+    /// The state reported.
+    #[must_use]
+    pub const fn state(&self) -> NmtState {
+        self.state
+    }
+
+    /// The period in ms.
+    #[must_use]
+    pub const fn period_ms(&self) -> u16 {
+        self.period_ms
+    }
+
+    fn frame(&self, state: NmtState) -> CanFrame {
+        let id = CanId::Standard(NMT_ERROR_CONTROL_BASE + u16::from(self.node.raw()));
+        CanFrame::from_parts(id, [Heartbeat::new(state).encode(), 0, 0, 0, 0, 0, 0, 0], 1)
+    }
+
+    fn arm(&mut self, now: Timestamp) {
+        self.next = (self.period_ms > 0).then(|| now.add_millis(u64::from(self.period_ms)));
+    }
+
+    /// (Re)boots: sends the boot-up message and enters pre-operational; the
+    /// first heartbeat follows one period later.
+    pub fn boot(&mut self, now: Timestamp) {
+        let _ = self.out.push(self.frame(NmtState::BootUp));
+        self.state = NmtState::PreOperational;
+        self.arm(now);
+    }
+
+    /// Changes the reported NMT state.
+    pub fn set_state(&mut self, now: Timestamp, state: NmtState) {
+        let changed = state != self.state;
+        self.state = state;
+        if changed && self.send_on_change && self.period_ms > 0 {
+            let _ = self.out.push(self.frame(state));
+            self.arm(now);
+        }
+    }
+
+    /// Changes the period (1017h written). Restarts the timer.
+    pub fn set_period(&mut self, now: Timestamp, period_ms: u16) {
+        self.period_ms = period_ms;
+        self.arm(now);
+    }
+
+    /// Sends the heartbeat when its time has come.
+    pub fn handle_timeout(&mut self, now: Timestamp) {
+        if let Some(next) = self.next {
+            if now.has_reached(next) {
+                let _ = self.out.push(self.frame(self.state));
+                self.arm(now);
+            }
+        }
+    }
+
+    /// When the next heartbeat is due.
+    #[must_use]
+    pub fn poll_timeout(&self) -> Option<Timestamp> {
+        self.next
+    }
+
+    /// The next frame to send.
+    #[must_use]
+    pub fn poll_transmit(&mut self) -> Option<CanFrame> {
+        self.out.pop()
+    }
+}
+
+/// One consumer entry (a 1016h sub-index).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct ConsumerEntry {
+    /// The node watched (0 disables the entry).
+    pub node: u8,
+    /// Heartbeat consumer time in ms (0 disables the entry).
+    pub time_ms: u16,
+}
+
+impl ConsumerEntry {
+    /// From the Unsigned32 of a 1016h sub-index.
+    #[must_use]
+    pub const fn from_u32(raw: u32) -> Self {
+        ConsumerEntry {
+            node: (raw >> 16) as u8,
+            time_ms: raw as u16,
+        }
+    }
+
+    /// The Unsigned32 (bits 31-24 reserved, 0).
+    #[must_use]
+    pub const fn to_u32(self) -> u32 {
+        (self.node as u32) << 16 | self.time_ms as u32
+    }
+
+    /// True when the entry watches a node.
+    #[must_use]
+    pub const fn is_enabled(self) -> bool {
+        self.time_ms != 0 && NodeId::new(self.node).is_some()
+    }
+}
+
+/// What the consumer reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum HeartbeatEvent {
+    /// The node sent its boot-up message.
+    BootUp(NodeId),
+    /// The node's reported state changed (not reported for the first
+    /// heartbeat, which starts monitoring).
+    StateChanged {
+        /// The node.
+        node: NodeId,
+        /// Its new state.
+        state: NmtState,
+    },
+    /// No heartbeat within the consumer time (reported once per silence).
+    Lost(NodeId),
+    /// A heartbeat arrived after `Lost`.
+    Restored {
+        /// The node.
+        node: NodeId,
+        /// The state it reports.
+        state: NmtState,
+    },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Watch {
+    entry: ConsumerEntry,
+    deadline: Option<Timestamp>,
+    state: Option<NmtState>,
+    lost: bool,
+}
+
+const IDLE: Watch = Watch {
+    entry: ConsumerEntry {
+        node: 0,
+        time_ms: 0,
+    },
+    deadline: None,
+    state: None,
+    lost: false,
+};
+
+/// Watches the heartbeats of up to `N` nodes (1016h sub 1..=N).
+///
+/// ```
+/// use canopen_codec::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent};
+/// use canopen_codec::{CanFrame, NodeId, Timestamp};
+/// let mut c: HeartbeatConsumer<4> = HeartbeatConsumer::new();
+/// c.set_entry(Timestamp::ZERO, 0, ConsumerEntry { node: 1, time_ms: 2000 });
+/// let hb = CanFrame::standard(0x701, &[0x05]).unwrap();
+/// c.handle_frame(Timestamp::from_millis(100), &hb);
+/// c.handle_timeout(Timestamp::from_millis(2100));
+/// assert_eq!(c.poll_event(), Some(HeartbeatEvent::Lost(NodeId::new(1).unwrap())));
+/// ```
+#[derive(Debug, Clone)]
+pub struct HeartbeatConsumer<const N: usize> {
+    watches: [Watch; N],
+    events: Queue<HeartbeatEvent, 8>,
+}
+
+impl<const N: usize> Default for HeartbeatConsumer<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> HeartbeatConsumer<N> {
+    /// No node watched.
+    #[must_use]
+    pub const fn new() -> Self {
+        HeartbeatConsumer {
+            watches: [IDLE; N],
+            events: Queue::new(HeartbeatEvent::BootUp(NodeId::MIN)),
+        }
+    }
+
+    /// Sets entry `slot` (0-based: 1016h sub `slot + 1`). A changed entry
+    /// restarts monitoring (it waits for the next heartbeat). Returns false
+    /// when `slot` is out of range or another enabled entry already watches
+    /// the node (CiA 301 forbids duplicates).
+    pub fn set_entry(&mut self, now: Timestamp, slot: usize, entry: ConsumerEntry) -> bool {
+        let _ = now;
+        let duplicate = entry.is_enabled()
+            && self
+                .watches
+                .iter()
+                .enumerate()
+                .any(|(i, w)| i != slot && w.entry.is_enabled() && w.entry.node == entry.node);
+        match self.watches.get_mut(slot) {
+            Some(w) if !duplicate => {
+                if w.entry != entry {
+                    *w = Watch { entry, ..IDLE };
+                }
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Entry `slot`.
+    #[must_use]
+    pub fn entry(&self, slot: usize) -> Option<ConsumerEntry> {
+        self.watches.get(slot).map(|w| w.entry)
+    }
+
+    /// The last state a node reported, if it is watched and has been heard.
+    #[must_use]
+    pub fn state(&self, node: NodeId) -> Option<NmtState> {
+        self.watch(node).and_then(|w| w.state)
+    }
+
+    /// True when the node is watched, has been heard and is not lost.
+    #[must_use]
+    pub fn is_alive(&self, node: NodeId) -> bool {
+        self.watch(node)
+            .is_some_and(|w| w.state.is_some() && !w.lost)
+    }
+
+    fn watch(&self, node: NodeId) -> Option<&Watch> {
+        self.watches
+            .iter()
+            .find(|w| w.entry.is_enabled() && w.entry.node == node.raw())
+    }
+
+    /// Feeds a received frame; only heartbeats of watched nodes matter.
+    pub fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        let CanId::Standard(raw) = frame.id() else {
+            return;
+        };
+        if frame.is_remote() || raw & 0x780 != NMT_ERROR_CONTROL_BASE {
+            return;
+        }
+        let Some(node) = NodeId::new((raw & 0x7F) as u8) else {
+            return;
+        };
+        let Ok(hb) = Heartbeat::decode(frame.data()) else {
+            return;
+        };
+        if self.events.room() < 2 {
+            return; // back-pressure: undrained events
+        }
+        let Some(w) = self
+            .watches
+            .iter_mut()
+            .find(|w| w.entry.is_enabled() && w.entry.node == node.raw())
+        else {
+            return;
+        };
+        w.deadline = Some(now.add_millis(u64::from(w.entry.time_ms)));
+        let previous = w.state.replace(hb.state);
+        let was_lost = core::mem::replace(&mut w.lost, false);
+        let event = if hb.is_boot_up() {
+            Some(HeartbeatEvent::BootUp(node))
+        } else if was_lost {
+            Some(HeartbeatEvent::Restored {
+                node,
+                state: hb.state,
+            })
+        } else {
+            match previous {
+                Some(p) if p != hb.state => Some(HeartbeatEvent::StateChanged {
+                    node,
+                    state: hb.state,
+                }),
+                _ => None,
+            }
+        };
+        if let Some(e) = event {
+            let _ = self.events.push(e);
+        }
+    }
+
+    /// Reports `Lost` for every node whose time has run out.
+    pub fn handle_timeout(&mut self, now: Timestamp) {
+        for w in &mut self.watches {
+            let Some(deadline) = w.deadline else { continue };
+            if !now.has_reached(deadline) || self.events.room() == 0 {
+                continue;
+            }
+            w.deadline = None;
+            w.lost = true;
+            if let Some(node) = NodeId::new(w.entry.node) {
+                let _ = self.events.push(HeartbeatEvent::Lost(node));
+            }
+        }
+    }
+
+    /// The earliest deadline.
+    #[must_use]
+    pub fn poll_timeout(&self) -> Option<Timestamp> {
+        self.watches.iter().filter_map(|w| w.deadline).min()
+    }
+
+    /// The next event.
+    #[must_use]
+    pub fn poll_event(&mut self) -> Option<HeartbeatEvent> {
+        self.events.pop()
+    }
+}
+
+#[cfg(test)]
+#[path = "heartbeat_tests.rs"]
+mod tests;

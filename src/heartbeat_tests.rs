@@ -1,0 +1,216 @@
+use super::*;
+use std::vec::Vec;
+
+fn ms(n: u64) -> Timestamp {
+    Timestamp::from_millis(n)
+}
+
+fn n(raw: u8) -> NodeId {
+    NodeId::new(raw).unwrap()
+}
+
+fn hb(node: u8, state: u8) -> CanFrame {
+    CanFrame::standard(0x700 + u16::from(node), &[state]).unwrap()
+}
+
+fn events<const N: usize>(c: &mut HeartbeatConsumer<N>) -> Vec<HeartbeatEvent> {
+    core::iter::from_fn(|| c.poll_event()).collect()
+}
+
+#[test]
+fn producer_boot_then_period() {
+    let mut p = HeartbeatProducer::new(n(10), 1000);
+    assert_eq!(p.poll_timeout(), None);
+    p.boot(ms(0));
+    assert_eq!(p.poll_transmit(), Some(hb(10, 0x00)));
+    assert_eq!(p.state(), NmtState::PreOperational);
+    let mut sent = Vec::new();
+    while let Some(now) = p.poll_timeout().filter(|t| *t <= ms(3500)) {
+        if now == ms(2000) {
+            // NMT start between heartbeats: reported at the next period.
+            p.set_state(now, NmtState::Operational);
+        }
+        p.handle_timeout(now);
+        sent.extend(core::iter::from_fn(|| p.poll_transmit()).map(|f| (now.as_millis(), f)));
+    }
+    assert_eq!(
+        sent,
+        vec![
+            (1000, hb(10, 0x7F)),
+            (2000, hb(10, 0x05)),
+            (3000, hb(10, 0x05))
+        ]
+    );
+}
+
+#[test]
+fn producer_options() {
+    let mut p = HeartbeatProducer::new(n(1), 100);
+    p.send_on_change = true;
+    p.boot(ms(0));
+    let _ = p.poll_transmit();
+    p.set_state(ms(30), NmtState::Operational);
+    assert_eq!(p.poll_transmit(), Some(hb(1, 0x05)));
+    assert_eq!(p.poll_timeout(), Some(ms(130)));
+    p.set_state(ms(40), NmtState::Operational);
+    assert_eq!(p.poll_transmit(), None, "no change, nothing sent");
+    p.set_period(ms(50), 0);
+    assert_eq!(p.poll_timeout(), None);
+    p.handle_timeout(ms(1000));
+    assert_eq!(p.poll_transmit(), None);
+}
+
+#[test]
+fn consumer_entries() {
+    assert_eq!(
+        ConsumerEntry::from_u32(0x0001_07D0),
+        ConsumerEntry {
+            node: 1,
+            time_ms: 2000
+        }
+    );
+    assert_eq!(
+        ConsumerEntry {
+            node: 1,
+            time_ms: 2000
+        }
+        .to_u32(),
+        0x0001_07D0
+    );
+    assert!(!ConsumerEntry {
+        node: 0,
+        time_ms: 2000
+    }
+    .is_enabled());
+    assert!(!ConsumerEntry {
+        node: 1,
+        time_ms: 0
+    }
+    .is_enabled());
+    assert!(!ConsumerEntry {
+        node: 128,
+        time_ms: 10
+    }
+    .is_enabled());
+    let mut c: HeartbeatConsumer<2> = HeartbeatConsumer::new();
+    assert!(c.set_entry(
+        ms(0),
+        0,
+        ConsumerEntry {
+            node: 1,
+            time_ms: 2000
+        }
+    ));
+    assert!(
+        !c.set_entry(
+            ms(0),
+            1,
+            ConsumerEntry {
+                node: 1,
+                time_ms: 500
+            }
+        ),
+        "duplicate node"
+    );
+    assert!(
+        !c.set_entry(
+            ms(0),
+            2,
+            ConsumerEntry {
+                node: 2,
+                time_ms: 500
+            }
+        ),
+        "no slot 2"
+    );
+    assert!(c.set_entry(
+        ms(0),
+        1,
+        ConsumerEntry {
+            node: 2,
+            time_ms: 0
+        }
+    ));
+    assert_eq!(
+        c.entry(0),
+        Some(ConsumerEntry {
+            node: 1,
+            time_ms: 2000
+        })
+    );
+}
+
+#[test]
+fn consumer_lifecycle() {
+    let mut c: HeartbeatConsumer<4> = HeartbeatConsumer::new();
+    c.set_entry(
+        ms(0),
+        0,
+        ConsumerEntry {
+            node: 1,
+            time_ms: 2000,
+        },
+    );
+    // Not monitored before the first heartbeat.
+    assert_eq!(c.poll_timeout(), None);
+    c.handle_timeout(ms(100_000));
+    assert_eq!(events(&mut c), vec![]);
+    c.handle_frame(ms(100_000), &hb(1, 0x00));
+    assert_eq!(events(&mut c), vec![HeartbeatEvent::BootUp(n(1))]);
+    c.handle_frame(ms(100_100), &hb(1, 0x7F));
+    assert_eq!(
+        events(&mut c),
+        vec![HeartbeatEvent::StateChanged {
+            node: n(1),
+            state: NmtState::PreOperational
+        }]
+    );
+    c.handle_frame(ms(100_200), &hb(1, 0x7F));
+    assert_eq!(events(&mut c), vec![]);
+    assert!(c.is_alive(n(1)));
+    assert_eq!(c.poll_timeout(), Some(ms(102_200)));
+    c.handle_timeout(ms(102_199));
+    assert_eq!(events(&mut c), vec![]);
+    c.handle_timeout(ms(102_200));
+    assert_eq!(events(&mut c), vec![HeartbeatEvent::Lost(n(1))]);
+    assert!(!c.is_alive(n(1)));
+    c.handle_timeout(ms(110_000));
+    assert_eq!(events(&mut c), vec![], "lost once per silence");
+    c.handle_frame(ms(110_000), &hb(1, 0x05));
+    assert_eq!(
+        events(&mut c),
+        vec![HeartbeatEvent::Restored {
+            node: n(1),
+            state: NmtState::Operational
+        }]
+    );
+    assert_eq!(c.state(n(1)), Some(NmtState::Operational));
+    // Other nodes, guarding requests and malformed frames are ignored.
+    c.handle_frame(ms(110_001), &hb(2, 0x05));
+    c.handle_frame(ms(110_001), &CanFrame::standard(0x701, &[]).unwrap());
+    c.handle_frame(
+        ms(110_001),
+        &CanFrame::remote(CanId::Standard(0x701), 1).unwrap(),
+    );
+    c.handle_frame(ms(110_001), &CanFrame::standard(0x181, &[5]).unwrap());
+    assert_eq!(events(&mut c), vec![]);
+    assert_eq!(c.poll_timeout(), Some(ms(112_000)));
+}
+
+#[test]
+fn consumer_time_backwards_and_far_ahead() {
+    let mut c: HeartbeatConsumer<1> = HeartbeatConsumer::new();
+    c.set_entry(
+        ms(0),
+        0,
+        ConsumerEntry {
+            node: 5,
+            time_ms: 100,
+        },
+    );
+    c.handle_frame(ms(5000), &hb(5, 0x05));
+    c.handle_timeout(ms(0));
+    assert_eq!(events(&mut c), vec![]);
+    c.handle_timeout(Timestamp::MAX);
+    assert_eq!(events(&mut c), vec![HeartbeatEvent::Lost(n(5))]);
+}

@@ -1,0 +1,67 @@
+//! The heartbeat consumer reports exactly one `Lost` per silence longer
+//! than its consumer time, at the moment the time runs out, and never a
+//! false one.
+
+use canopen_codec::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent};
+use canopen_codec::{CanFrame, NodeId, Timestamp};
+use proptest::prelude::*;
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 1024, failure_persistence: None, ..ProptestConfig::default() })]
+
+    #[test]
+    fn one_lost_per_silence_longer_than_the_time(
+        time_ms in 1u16..=3000,
+        start in 0u64..=10_000,
+        gaps in proptest::collection::vec(0u64..=6000, 0..40),
+        tail in 0u64..=8000,
+    ) {
+        let node = NodeId::new(1).unwrap();
+        let mut c: HeartbeatConsumer<2> = HeartbeatConsumer::new();
+        c.set_entry(Timestamp::ZERO, 0, ConsumerEntry { node: 1, time_ms });
+        // Heartbeat arrival times (ms): start, then each gap.
+        let mut arrivals = vec![start];
+        for g in &gaps {
+            arrivals.push(arrivals.last().unwrap() + g);
+        }
+        let end = arrivals.last().unwrap() + tail;
+        // Expected Lost instants: after each silence strictly longer than the
+        // time (a heartbeat arriving exactly at the deadline comes first).
+        let t = u64::from(time_ms);
+        let mut expected = Vec::new();
+        for w in arrivals.windows(2) {
+            if w[1] - w[0] > t {
+                expected.push(w[0] + t);
+            }
+        }
+        if end - arrivals.last().unwrap() >= t {
+            expected.push(arrivals.last().unwrap() + t);
+        }
+        // Drive: frames first at equal instants, then timeouts.
+        let frame = CanFrame::standard(0x701, &[0x05]).unwrap();
+        let mut lost = Vec::new();
+        let mut restored = 0;
+        let mut i = 0;
+        loop {
+            let next_frame = arrivals.get(i).copied();
+            let next_timeout = c.poll_timeout().map(|d| d.as_millis()).filter(|d| *d <= end);
+            let now = match (next_frame, next_timeout) {
+                (Some(f), Some(d)) if f <= d => { c.handle_frame(Timestamp::from_millis(f), &frame); i += 1; f }
+                (Some(f), None) => { c.handle_frame(Timestamp::from_millis(f), &frame); i += 1; f }
+                (_, Some(d)) => { c.handle_timeout(Timestamp::from_millis(d)); d }
+                (None, None) => break,
+            };
+            while let Some(e) = c.poll_event() {
+                match e {
+                    HeartbeatEvent::Lost(n) => { prop_assert_eq!(n, node); lost.push(now); }
+                    HeartbeatEvent::Restored { .. } => restored += 1,
+                    other => prop_assert!(false, "unexpected {:?}", other),
+                }
+            }
+        }
+        prop_assert_eq!(&lost, &expected);
+        // Every silence but a final one ends in a Restored.
+        let final_silence = usize::from(end - arrivals.last().unwrap() >= t);
+        prop_assert_eq!(restored, lost.len() - final_silence);
+    }
+}
