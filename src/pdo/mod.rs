@@ -8,6 +8,7 @@
 mod comm;
 mod config;
 mod mapping;
+mod od_io;
 mod producer;
 mod reconfig;
 
@@ -19,5 +20,6 @@ pub use mapping::{
     extract_bits, insert_bits, sign_extend, MappingEntry, MappingError, PdoMapping, MAX_BITS,
     MAX_ENTRIES,
 };
+pub use od_io::{read_mapped, write_mapped, RpdoError};
 pub use producer::TpdoProducer;
 pub use reconfig::{Plan, ReconfigEvent, Reconfigurer, Step};

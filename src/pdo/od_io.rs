@@ -1,0 +1,201 @@
+//! Moving PDO data between a payload and an object dictionary: building a
+//! TPDO's payload from the mapped objects' current values, and writing a
+//! received RPDO's fields into the mapped objects.
+
+use super::mapping::{extract_bits, insert_bits, PdoMapping};
+use crate::bytes::Payload;
+use crate::emcy::ErrorCode;
+use crate::od::ObjectDictionary;
+use crate::sdo::AbortCode;
+
+/// Why a received RPDO was not (fully) processed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, thiserror::Error)]
+#[non_exhaustive]
+pub enum RpdoError {
+    /// The payload is shorter than the mapping: not processed (EMCY 8210h).
+    #[error("RPDO of {got} bytes is shorter than its {need}-byte mapping")]
+    TooShort {
+        /// Bytes the mapping needs.
+        need: usize,
+        /// Bytes received.
+        got: usize,
+    },
+    /// The dictionary refused a mapped object's value.
+    #[error("RPDO field {index:04X}h:{sub:02X} refused: {code}")]
+    Refused {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// The dictionary's code.
+        code: AbortCode,
+    },
+}
+
+impl RpdoError {
+    /// The EMCY code a device raises for this error (8210h for a short PDO;
+    /// none for a refused value).
+    #[must_use]
+    pub const fn emcy_code(&self) -> Option<ErrorCode> {
+        match self {
+            RpdoError::TooShort { .. } => Some(ErrorCode::PDO_LENGTH),
+            RpdoError::Refused { .. } => None,
+        }
+    }
+}
+
+/// Builds a TPDO payload from the mapped objects' current values (each
+/// object read little-endian, its low `bits` bits packed). Dummy entries
+/// give zero bits.
+pub fn read_mapped<D: ObjectDictionary + ?Sized>(
+    mapping: &PdoMapping,
+    od: &mut D,
+) -> Result<Payload, AbortCode> {
+    let mut payload = [0u8; 8];
+    for (entry, offset) in mapping.entries().iter().zip(mapping.offsets()) {
+        if entry.is_dummy() {
+            continue;
+        }
+        let mut buf = [0u8; 8];
+        let len = usize::from(entry.bits).div_ceil(8).min(8);
+        let n = od.read(
+            entry.index,
+            entry.sub,
+            0,
+            buf.get_mut(..len).unwrap_or(&mut []),
+        )?;
+        let value = u64::from_le_bytes(buf) & low_bytes_mask(n);
+        insert_bits(&mut payload, offset, u32::from(entry.bits), value);
+    }
+    Ok(Payload::new(payload.get(..mapping.byte_len()).unwrap_or(&[])).unwrap_or_default())
+}
+
+fn low_bytes_mask(n: usize) -> u64 {
+    if n >= 8 {
+        u64::MAX
+    } else {
+        (1u64 << (8 * n)) - 1
+    }
+}
+
+/// Writes a received RPDO's fields into the mapped objects. A payload
+/// shorter than the mapping is refused whole ([`RpdoError::TooShort`],
+/// EMCY 8210h); a longer one is processed and `Ok(true)` says so (CiA 301
+/// allows EMCY 8220h). Dummy entries are skipped. Each field is written as
+/// `ceil(bits / 8)` little-endian bytes.
+pub fn write_mapped<D: ObjectDictionary + ?Sized>(
+    mapping: &PdoMapping,
+    payload: &[u8],
+    od: &mut D,
+) -> Result<bool, RpdoError> {
+    let need = mapping.byte_len();
+    if payload.len() < need {
+        return Err(RpdoError::TooShort {
+            need,
+            got: payload.len(),
+        });
+    }
+    for (entry, offset) in mapping.entries().iter().zip(mapping.offsets()) {
+        if entry.is_dummy() {
+            continue;
+        }
+        let value = extract_bits(payload, offset, u32::from(entry.bits));
+        let len = usize::from(entry.bits).div_ceil(8).min(8);
+        let bytes = value.to_le_bytes();
+        let data = bytes.get(..len).unwrap_or(&[]);
+        let refused = |code| RpdoError::Refused {
+            index: entry.index,
+            sub: entry.sub,
+            code,
+        };
+        od.write(entry.index, entry.sub, 0, data).map_err(refused)?;
+        od.finish_write(entry.index, entry.sub, len)
+            .map_err(refused)?;
+    }
+    Ok(payload.len() > need)
+}
+
+#[cfg(all(test, feature = "alloc"))]
+mod tests {
+    use super::*;
+    use crate::od::{Access, MemoryDictionary};
+    use crate::pdo::MappingEntry;
+
+    fn od() -> MemoryDictionary {
+        let mut od = MemoryDictionary::new();
+        od.insert(0x6010, 0, Access::ReadOnly, &(-80i16).to_le_bytes());
+        od.insert(0x6000, 0, Access::ReadOnly, &[0x01]);
+        od.insert(0x6060, 0, Access::ReadOnly, &(51_200u32).to_le_bytes());
+        od.insert(0x6001, 0, Access::ReadWrite, &[0]);
+        od.insert(0x6052, 0, Access::ReadWrite, &[0, 0]);
+        od.insert(0x6080, 0, Access::ReadWrite, &[0xFF]);
+        od
+    }
+
+    #[test]
+    fn tpdo_payload_from_objects() {
+        let m = PdoMapping::new(&[
+            MappingEntry::new(0x6010, 0, 16),
+            MappingEntry::new(0x6000, 0, 8),
+            MappingEntry::new(0x6060, 0, 32),
+        ])
+        .unwrap();
+        let p = read_mapped(&m, &mut od()).unwrap();
+        assert_eq!(p.as_slice(), &[0xB0, 0xFF, 0x01, 0x00, 0xC8, 0x00, 0x00]);
+        // A dummy entry is zero; a missing object is the dictionary's code.
+        let m = PdoMapping::new(&[
+            MappingEntry::new(0x0005, 0, 8),
+            MappingEntry::new(0x6000, 0, 8),
+        ])
+        .unwrap();
+        assert_eq!(
+            read_mapped(&m, &mut od()).unwrap().as_slice(),
+            &[0x00, 0x01]
+        );
+        let m = PdoMapping::new(&[MappingEntry::new(0x6099, 0, 8)]).unwrap();
+        assert_eq!(
+            read_mapped(&m, &mut od()),
+            Err(AbortCode::ObjectDoesNotExist)
+        );
+    }
+
+    #[test]
+    fn rpdo_fields_into_objects() {
+        // CiA 418 3rd RPDO: 6001h/8, 6052h/16, 6080h/8.
+        let m = PdoMapping::new(&[
+            MappingEntry::new(0x6001, 0, 8),
+            MappingEntry::new(0x6052, 0, 16),
+            MappingEntry::new(0x6080, 0, 8),
+        ])
+        .unwrap();
+        let mut od = od();
+        assert_eq!(
+            write_mapped(&m, &[0x01, 0x34, 0x12, 0x50], &mut od),
+            Ok(false)
+        );
+        assert_eq!(od.get(0x6001, 0), Some(&[0x01][..]));
+        assert_eq!(od.get(0x6052, 0), Some(&[0x34, 0x12][..]));
+        assert_eq!(od.get(0x6080, 0), Some(&[0x50][..]));
+        assert_eq!(
+            write_mapped(&m, &[0x00, 0x00, 0x00, 0x10, 0xEE], &mut od),
+            Ok(true)
+        );
+        let short = write_mapped(&m, &[0x01, 0x34, 0x12], &mut od);
+        assert_eq!(short, Err(RpdoError::TooShort { need: 4, got: 3 }));
+        assert_eq!(short.unwrap_err().emcy_code(), Some(ErrorCode::PDO_LENGTH));
+        assert_eq!(
+            od.get(0x6080, 0),
+            Some(&[0x10][..]),
+            "a short RPDO changes nothing"
+        );
+        let m = PdoMapping::new(&[MappingEntry::new(0x6099, 0, 8)]).unwrap();
+        assert!(matches!(
+            write_mapped(&m, &[1], &mut od),
+            Err(RpdoError::Refused {
+                index: 0x6099,
+                code: AbortCode::ObjectDoesNotExist,
+                ..
+            })
+        ));
+    }
+}
