@@ -30,6 +30,10 @@
 //!   index and sub-index.
 //! - Block transfer is not supported: block requests are answered with abort
 //!   05040001h (command specifier not valid), as CiA 301 allows.
+//! - A segment request, or a command with an unknown specifier, while no
+//!   transfer runs is answered with abort 05040001h carrying index and
+//!   sub-index 0, and reported as an [`ServerEvent::Aborted`] for object 0:0.
+//!   A received abort while idle is ignored.
 //! - Download lengths are checked against the dictionary's [`SizeRule`]:
 //!   too long 06070012h, too short 06070013h; an expedited download without
 //!   size indicated to a fixed object longer than 4 bytes 06070010h (the
