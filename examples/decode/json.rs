@@ -3,15 +3,18 @@
 //! Keys: `t` (seconds or null), `id`, `kind` (nmt, sync, time, emcy, tpdo,
 //! rpdo, sdo_rx, sdo_tx, heartbeat, lss, unknown), `node` (or null), `role`,
 //! `dlc`, `data` (hex), then per-kind fields; `error` when the frame does not
-//! fit its object.
+//! fit its object; `mapping`, `unmapped_bytes` and `fields` when a PDO
+//! mapping is known for the frame (see main.rs).
 
 use std::fmt::Write;
 
 use canopen_codec::candump::LogLine;
 use canopen_codec::cob_id::{classify, CobKind};
+use canopen_codec::pdo::{FieldValue, NamedFields};
 use canopen_codec::sdo::{ClientCommand, InitiatePayload, ServerCommand};
 use canopen_codec::{DecodeError, Message};
 
+use crate::pdo_args::Source;
 use crate::words::deltaq;
 use crate::Roles;
 
@@ -57,7 +60,13 @@ fn kind_name(kind: CobKind) -> &'static str {
     }
 }
 
-pub fn line(out: &mut String, l: &LogLine<'_>, m: &Result<Message, DecodeError>, roles: &Roles) {
+pub fn line(
+    out: &mut String,
+    l: &LogLine<'_>,
+    m: &Result<Message, DecodeError>,
+    roles: &Roles,
+    pdo: Option<&(Source, NamedFields)>,
+) {
     let kind = classify(l.frame.id());
     out.push_str("{\"t\":");
     match l.timestamp {
@@ -97,7 +106,56 @@ pub fn line(out: &mut String, l: &LogLine<'_>, m: &Result<Message, DecodeError>,
             string(out, &e.to_string());
         }
     }
+    if let Some((source, fields)) = pdo {
+        pdo_fields(out, *source, fields);
+    }
     out.push('}');
+}
+
+/// `"mapping":..,"unmapped_bytes":..,"fields":[{"index":..,"sub":..,"bits":..,
+/// "name":..,"raw":..,"kind":..,"value":..,"unit":..,"text":..}, ...]`.
+fn pdo_fields(out: &mut String, source: Source, fields: &NamedFields) {
+    key(out, "mapping");
+    string(out, source.name());
+    let _ = write!(out, ",\"unmapped_bytes\":{}", fields.unmapped_bytes());
+    key(out, "fields");
+    out.push('[');
+    for (i, f) in fields.iter().enumerate() {
+        if i > 0 {
+            out.push(',');
+        }
+        let _ = write!(
+            out,
+            "{{\"index\":{},\"sub\":{},\"bits\":{}",
+            f.entry.index, f.entry.sub, f.entry.bits
+        );
+        key(out, "name");
+        string(out, f.name);
+        let _ = write!(out, ",\"raw\":{}", f.raw);
+        key(out, "kind");
+        string(out, f.value.kind());
+        key(out, "value");
+        match &f.value {
+            // The exact decimal form is a valid JSON number.
+            FieldValue::Scaled { value, .. } | FieldValue::OutOfRange { value, .. } => {
+                let _ = write!(out, "{value}");
+            }
+            v @ (FieldValue::Flags(_)
+            | FieldValue::Error(_)
+            | FieldValue::Algorithm(_)
+            | FieldValue::BatteryType(_)
+            | FieldValue::Chars(_)) => string(out, &v.to_string()),
+            _ => out.push_str("null"),
+        }
+        if let Some(unit) = f.value.unit() {
+            key(out, "unit");
+            string(out, unit.symbol());
+        }
+        key(out, "text");
+        string(out, &f.to_string());
+        out.push('}');
+    }
+    out.push(']');
 }
 
 fn fields(out: &mut String, msg: &Message, roles: &Roles) {

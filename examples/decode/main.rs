@@ -2,16 +2,65 @@
 //! words or as JSON lines.
 //!
 //! ```text
-//! cargo run --example decode -- [--json] [--charger-node N] [--battery-node N] [FILE]
+//! cargo run --example decode -- [--json] [--charger-node N] [--battery-node N]
+//!     [--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [FILE]
 //! ```
 //!
 //! With no FILE it reads stdin; with no FILE and a terminal on stdin it
 //! decodes the bundled real Delta-Q capture so a new user sees it work.
 //! Malformed lines (and frames that do not fit their CANopen object) are
 //! reported on stderr with their line number; the run goes on. Exit status:
-//! 0 all lines good, 1 some line bad, 2 usage or I/O error.
+//! 0 all lines good, 1 some line bad, 2 usage or I/O error (a malformed
+//! `--pdo` included).
+//!
+//! ## PDO fields
+//!
+//! A PDO's bytes mean nothing without its mapping, so the decoder takes it
+//! as configuration:
+//!
+//! - `--pdo COBID=INDEX:SUB:BITS,...` (repeatable, one COB-ID each) gives
+//!   the mapping of the PDO on identifier COBID: COBID, INDEX and SUB in hex
+//!   (`18A` or `0x18A`), BITS in decimal, entries in mapping order. Dummy
+//!   entries (index 1..1F, e.g. `6:0:16`) and 2FFAh are padding. The
+//!   objects are read from the dictionary of the node the COB-ID belongs to:
+//!   the battery node's is CiA 418, any other node's the Delta-Q charger's.
+//! - Without `--pdo` for a COB-ID, the defaults apply: the Delta-Q charger's
+//!   default PDOs on the charger node's COB-IDs (0x18A.., 0x20A..), the
+//!   CiA 418 battery-module defaults on the battery node's (0x181.., 0x201..).
+//!   `--no-default-pdos` turns them off. A frame with no known mapping is
+//!   printed raw, as before.
+//! - `--pdo-capture-mapping` decodes the bundled real capture: it adds the
+//!   mapping of shared/spec/captures/README.md (the integrator remapped that
+//!   charger) and implies `--no-default-pdos`; 0x28A, whose layout is not
+//!   published, stays raw. It is the same as
+//!
+//! ```text
+//! cargo run --example decode -- --no-default-pdos \
+//!     --pdo 18A=2002:0:16,2101:0:16,2006:0:16,6:0:16 \
+//!     --pdo 38A=2060:0:32,2200:0:16,6080:0:8,5:0:8 \
+//!     --pdo 20A=2FFA:1:8,6081:0:8,4201:0:8,2276:0:16,6070:0:16,6000:0:8 \
+//!     --pdo 30A=2FFA:1:8,2FFA:1:8,2002:0:16,2101:0:16,6010:0:16 \
+//!     tests/data/deltaq-icl1500-charging.log
+//! ```
+//!
+//! In words, the fields follow the frame after ` = `, numbers **rounded to
+//! at most 2 decimals** with trailing zeros dropped (halves away from zero:
+//! 0x1374/256 A prints `19.45 A`, 0x07BA/16 V `123.63 V`, 0x5200/256 V
+//! `82 V`), padding left out, and
+//! `(+N unmapped bytes)` when the frame is longer than its mapping; a
+//! default mapping is labelled `[charger default]` / `[battery default]`.
+//! In `--json` the frame gets `mapping` (`given`, `charger default`,
+//! `battery default`), `unmapped_bytes` and `fields`: one object per entry
+//! with `index`, `sub`, `bits`, `name`, `raw`, `kind` (`scaled`, `flags`,
+//! `invalid`, `no_value`, `padding`, `missing`, `raw`, ...), `value` (the
+//! **exact** number for scaled values, e.g. 19.453125; words for bit fields
+//! and codes; null otherwise), `unit` where the object has one, and `text`.
+//!
+//! 6010h temperature is decoded per CiA 418 (0.125 degC/bit, no offset):
+//! the capture README's DBC adds -40 degC, which the profile does not have.
 
 mod json;
+mod pdo_args;
 mod words;
 
 use std::io::{self, BufRead, BufWriter, IsTerminal, Write};
@@ -43,10 +92,12 @@ impl Roles {
 struct Options {
     json: bool,
     roles: Roles,
+    pdos: pdo_args::Mappings,
     file: Option<String>,
 }
 
-const USAGE: &str = "usage: decode [--json] [--charger-node N] [--battery-node N] [FILE]";
+const USAGE: &str = "usage: decode [--json] [--charger-node N] [--battery-node N] \
+[--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [FILE]";
 
 fn parse_node(v: Option<String>, what: &str) -> Result<NodeId, String> {
     let v = v.ok_or(format!("{what} needs a value"))?;
@@ -63,12 +114,24 @@ fn parse_args() -> Result<Options, String> {
             charger: NodeId::new(10).ok_or("default charger")?,
             battery: NodeId::new(1).ok_or("default battery")?,
         },
+        pdos: pdo_args::Mappings {
+            given: Vec::new(),
+            defaults: true,
+        },
         file: None,
     };
+    let mut capture = false;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         match a.as_str() {
             "--json" => opts.json = true,
+            "--pdo" => {
+                let v = args.next().ok_or("--pdo needs COBID=INDEX:SUB:BITS,...")?;
+                opts.pdos.add(&v)?;
+            }
+            s if s.starts_with("--pdo=") => opts.pdos.add(&s["--pdo=".len()..])?,
+            "--no-default-pdos" => opts.pdos.defaults = false,
+            "--pdo-capture-mapping" => capture = true,
             "--charger-node" => opts.roles.charger = parse_node(args.next(), "--charger-node")?,
             "--battery-node" => opts.roles.battery = parse_node(args.next(), "--battery-node")?,
             "-h" | "--help" => return Err(String::new()),
@@ -76,6 +139,9 @@ fn parse_args() -> Result<Options, String> {
             _ if opts.file.is_some() => return Err("more than one FILE".into()),
             _ => opts.file = Some(a),
         }
+    }
+    if capture {
+        opts.pdos.add_capture()?;
     }
     Ok(opts)
 }
@@ -145,11 +211,15 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
             eprintln!("line {lineno}: frame {} does not decode: {e}", parsed.frame);
             bad += 1;
         }
+        let fields = decoded
+            .as_ref()
+            .ok()
+            .and_then(|m| opts.pdos.fields(&parsed.frame, m, &opts.roles));
         text.clear();
         if opts.json {
-            json::line(&mut text, &parsed, &decoded, &opts.roles);
+            json::line(&mut text, &parsed, &decoded, &opts.roles, fields.as_ref());
         } else {
-            words::line(&mut text, &parsed, &decoded, &opts.roles);
+            words::line(&mut text, &parsed, &decoded, &opts.roles, fields.as_ref());
         }
         writeln!(out, "{text}")?;
     }

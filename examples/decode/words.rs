@@ -5,12 +5,20 @@ use std::fmt::Write;
 use canopen_codec::candump::LogLine;
 use canopen_codec::cob_id::classify;
 use canopen_codec::deltaq::DeltaQCode;
+use canopen_codec::pdo::{FieldValue, NamedFields};
 use canopen_codec::{DecodeError, Message};
 
+use crate::pdo_args::Source;
 use crate::Roles;
 
 /// `1756955653.612992  08A  charger  EMCY node 10: 8130h ..., Delta-Q E-0-3-2 heartbeat lost`
-pub fn line(out: &mut String, l: &LogLine<'_>, m: &Result<Message, DecodeError>, roles: &Roles) {
+pub fn line(
+    out: &mut String,
+    l: &LogLine<'_>,
+    m: &Result<Message, DecodeError>,
+    roles: &Roles,
+    fields: Option<&(Source, NamedFields)>,
+) {
     match l.timestamp {
         Some(t) => {
             let _ = write!(out, "{:>17}", t.to_string());
@@ -29,6 +37,9 @@ pub fn line(out: &mut String, l: &LogLine<'_>, m: &Result<Message, DecodeError>,
             let _ = write!(out, "{msg}");
             if let Some((label, description)) = deltaq(msg, roles) {
                 let _ = write!(out, ", Delta-Q {label} {description}");
+            }
+            if let Some((source, fields)) = fields {
+                pdo_fields(out, *source, fields);
             }
         }
         Err(e) => {
@@ -55,4 +66,22 @@ pub fn deltaq(msg: &Message, roles: &Roles) -> Option<(String, &'static str)> {
         .entry()
         .map_or("unknown Delta-Q code", |e| e.description);
     Some((code.to_string(), description))
+}
+
+/// ` = 2002h charging current 19.45 A; ...`: numbers rounded to at most 2
+/// decimals (`{:#.2}`: `82 V`, `19.45 A`), padding
+/// left out, the source named when it is a default.
+fn pdo_fields(out: &mut String, source: Source, fields: &NamedFields) {
+    out.push_str(" =");
+    if source != Source::Given {
+        let _ = write!(out, " [{}]", source.name());
+    }
+    let mut first = true;
+    for f in fields.iter().filter(|f| f.value != FieldValue::Padding) {
+        let _ = write!(out, "{} {f:#.2}", if first { "" } else { ";" });
+        first = false;
+    }
+    if fields.unmapped_bytes() > 0 {
+        let _ = write!(out, " (+{} unmapped bytes)", fields.unmapped_bytes());
+    }
 }

@@ -1,21 +1,34 @@
 //! Process data objects (PDO), CiA 301: mapping entries and their
-//! validation, bit-exact packing, communication parameters.
+//! validation, bit-exact packing, communication parameters, the
+//! reconfiguration procedure (device and client side), TPDO timers, the default PDO
+//! sets of the charger and the battery module, and named, scaled decoding
+//! of PDO fields ([`Catalogue`]).
 //!
 //! PDOs are numbered from 0 ([`crate::PdoNumber`]): RPDO n has its
 //! communication parameters at 1400h + n and mapping at 1600h + n, TPDO n at
 //! 1800h + n and 1A00h + n.
 
+mod catalogue;
 mod comm;
 mod config;
+mod defaults;
 mod mapping;
 mod od_io;
 mod producer;
 mod reconfig;
 
+pub use catalogue::{
+    Catalogue, CatalogueEntry, FieldValue, Fixed, Flags, FlagsKind, Interpretation, Marker,
+    NamedField, NamedFields, Unit, CIA418_OBJECTS, DELTAQ_OBJECTS,
+};
 pub use comm::{
     PdoCobId, PdoCommParams, PdoDirection, SubValue, TransmissionType, TransmissionTypeError,
 };
 pub use config::{PdoConfig, PdoDictionary, PdoSlot};
+pub use defaults::{
+    battery_default_mapping, charger_default_mapping, charger_default_pdo,
+    default_mapping_for_cob_id, ChargerDefaultPdo, CHARGER_DEFAULT_PDOS,
+};
 pub use mapping::{
     extract_bits, insert_bits, sign_extend, MappingEntry, MappingError, PdoMapping, MAX_BITS,
     MAX_ENTRIES,

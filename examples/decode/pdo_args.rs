@@ -1,0 +1,164 @@
+//! PDO mappings for the decoder: `--pdo COBID=INDEX:SUB:BITS,...`, the
+//! bundled capture's mapping (`--pdo-capture-mapping`) and the defaults.
+
+use canopen_codec::cob_id::classify_standard;
+use canopen_codec::pdo::{
+    default_mapping_for_cob_id, Catalogue, MappingEntry, NamedFields, PdoMapping, MAX_ENTRIES,
+};
+use canopen_codec::{CanFrame, CanId, Message};
+
+use crate::Roles;
+
+/// The mapping of the real capture, from shared/spec/captures/README.md, in
+/// `--pdo` syntax. Unnamed padding uses CiA 301 dummy entries (0005h
+/// UNSIGNED8, 0006h UNSIGNED16). 0x28A's layout is not published: it stays
+/// unmapped (raw).
+pub const CAPTURE_PDOS: [&str; 4] = [
+    "18A=2002:0:16,2101:0:16,2006:0:16,6:0:16",
+    "38A=2060:0:32,2200:0:16,6080:0:8,5:0:8",
+    "20A=2FFA:1:8,6081:0:8,4201:0:8,2276:0:16,6070:0:16,6000:0:8",
+    "30A=2FFA:1:8,2FFA:1:8,2002:0:16,2101:0:16,6010:0:16",
+];
+
+/// Where a frame's mapping came from.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Source {
+    /// `--pdo` or `--pdo-capture-mapping`.
+    Given,
+    /// The Delta-Q charger's default for the charger node's COB-IDs.
+    ChargerDefault,
+    /// The CiA 418 default for the battery node's COB-IDs.
+    BatteryDefault,
+}
+
+impl Source {
+    pub fn name(self) -> &'static str {
+        match self {
+            Source::Given => "given",
+            Source::ChargerDefault => "charger default",
+            Source::BatteryDefault => "battery default",
+        }
+    }
+}
+
+/// The mappings the user gave, and whether the defaults apply.
+pub struct Mappings {
+    pub given: Vec<(u16, PdoMapping)>,
+    pub defaults: bool,
+}
+
+fn hex<T: TryFrom<u32>>(s: &str, what: &str, max: u32) -> Result<T, String> {
+    let digits = s
+        .strip_prefix("0x")
+        .or_else(|| s.strip_prefix("0X"))
+        .unwrap_or(s);
+    u32::from_str_radix(digits, 16)
+        .ok()
+        .filter(|v| *v <= max && !digits.starts_with('+'))
+        .and_then(|v| T::try_from(v).ok())
+        .ok_or(format!("{what} '{s}' is not hex 0..={max:X}"))
+}
+
+/// Parses `COBID=INDEX:SUB:BITS,...`.
+pub fn parse_pdo(arg: &str) -> Result<(u16, PdoMapping), String> {
+    let fail = |why: String| format!("--pdo '{arg}': {why}");
+    let (cob, list) = arg
+        .split_once('=')
+        .ok_or_else(|| fail("expected COBID=INDEX:SUB:BITS,...".into()))?;
+    let cob_id: u16 = hex(cob.trim(), "COB-ID", 0x7FF).map_err(fail)?;
+    let mut entries = Vec::new();
+    for item in list.split(',') {
+        let parts: Vec<&str> = item.trim().split(':').collect();
+        let [index, sub, bits] = parts[..] else {
+            return Err(fail(format!(
+                "entry '{item}' is not INDEX:SUB:BITS (hex:hex:decimal)"
+            )));
+        };
+        let index: u16 = hex(index, "index", 0xFFFF).map_err(fail)?;
+        let sub: u8 = hex(sub, "sub-index", 0xFF).map_err(fail)?;
+        let bits: u8 = bits
+            .parse()
+            .ok()
+            .filter(|b| (1..=64).contains(b))
+            .ok_or_else(|| fail(format!("bits '{bits}' is not a decimal 1..=64")))?;
+        entries.push(MappingEntry::new(index, sub, bits));
+    }
+    if entries.len() > MAX_ENTRIES {
+        return Err(fail(format!(
+            "{} entries, at most {MAX_ENTRIES}",
+            entries.len()
+        )));
+    }
+    let mapping = PdoMapping::new(&entries).map_err(|e| fail(e.to_string()))?;
+    Ok((cob_id, mapping))
+}
+
+impl Mappings {
+    /// Adds a `--pdo` mapping; a COB-ID given twice is an error.
+    pub fn add(&mut self, arg: &str) -> Result<(), String> {
+        let (cob_id, mapping) = parse_pdo(arg)?;
+        if self.given.iter().any(|(id, _)| *id == cob_id) {
+            return Err(format!("--pdo: COB-ID {cob_id:03X} given twice"));
+        }
+        self.given.push((cob_id, mapping));
+        Ok(())
+    }
+
+    /// Adds the capture's mapping for COB-IDs not given with `--pdo`, and
+    /// turns the defaults off (this charger was remapped).
+    pub fn add_capture(&mut self) -> Result<(), String> {
+        for spec in CAPTURE_PDOS {
+            let (cob_id, mapping) = parse_pdo(spec)?;
+            if !self.given.iter().any(|(id, _)| *id == cob_id) {
+                self.given.push((cob_id, mapping));
+            }
+        }
+        self.defaults = false;
+        Ok(())
+    }
+
+    /// The named fields of a PDO (or unclassified data) frame, if a mapping
+    /// is known for its identifier.
+    pub fn fields(
+        &self,
+        frame: &CanFrame,
+        msg: &Message,
+        roles: &Roles,
+    ) -> Option<(Source, NamedFields)> {
+        let CanId::Standard(id) = frame.id() else {
+            return None;
+        };
+        if frame.is_remote()
+            || !matches!(
+                msg,
+                Message::Tpdo { .. } | Message::Rpdo { .. } | Message::Unknown(_)
+            )
+        {
+            return None;
+        }
+        let (source, catalogue, mapping) = match self.given.iter().find(|(g, _)| *g == id) {
+            Some((_, m)) => {
+                // A mapping names objects of the dictionary of the node the
+                // COB-ID belongs to: the battery's is CiA 418, any other
+                // node's is read as the Delta-Q charger's.
+                let node = classify_standard(id).node();
+                let cat = if node == Some(roles.battery) && roles.battery != roles.charger {
+                    Catalogue::BatteryModule
+                } else {
+                    Catalogue::DeltaQCharger
+                };
+                (Source::Given, cat, *m)
+            }
+            None if self.defaults => {
+                let (cat, m) = default_mapping_for_cob_id(id, roles.charger, roles.battery)?;
+                let source = match cat {
+                    Catalogue::BatteryModule => Source::BatteryDefault,
+                    Catalogue::DeltaQCharger => Source::ChargerDefault,
+                };
+                (source, cat, m)
+            }
+            None => return None,
+        };
+        Some((source, catalogue.decode(&mapping, frame.data())))
+    }
+}
