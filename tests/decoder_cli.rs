@@ -188,6 +188,12 @@ fn terminal_stdin_decodes_the_bundled_capture() {
     assert!(o.status.success(), "{out}");
     assert!(out.contains("decoding tests/data/deltaq-icl1500-startup.log (bundled real capture)"));
     assert!(out.contains("Delta-Q E-0-3-2 heartbeat lost"));
+    // The bundled capture is decoded with its integrator's PDO mapping.
+    assert!(out.contains("with its integrator's PDO mapping"), "{out}");
+    assert!(
+        out.contains("2002h charging current 19.48 A; 2101h battery voltage 78.27 V"),
+        "{out}"
+    );
     assert_eq!(
         out.lines().filter(|l| l.contains(" 701  battery")).count(),
         525

@@ -147,7 +147,7 @@ fn parse_args() -> Result<Options, String> {
 }
 
 fn main() -> ExitCode {
-    let opts = match parse_args() {
+    let mut opts = match parse_args() {
         Ok(o) => o,
         Err(e) => {
             if !e.is_empty() {
@@ -167,7 +167,23 @@ fn main() -> ExitCode {
             }
         },
         None if io::stdin().is_terminal() => {
-            eprintln!("decode: no input given; decoding {BUNDLED_NAME}");
+            // The bundled capture was remapped by its integrator: decode it
+            // with the mapping of captures/README.md unless told otherwise.
+            let remap = opts.pdos.given.is_empty() && opts.pdos.defaults;
+            if remap {
+                if let Err(e) = opts.pdos.add_capture() {
+                    eprintln!("decode: {e}");
+                    return ExitCode::from(2);
+                }
+            }
+            eprintln!(
+                "decode: no input given; decoding {BUNDLED_NAME}{}",
+                if remap {
+                    " with its integrator's PDO mapping (--pdo-capture-mapping)"
+                } else {
+                    ""
+                }
+            );
             Box::new(BUNDLED.as_bytes())
         }
         None => Box::new(io::stdin().lock()),
