@@ -27,6 +27,7 @@
 mod battery;
 mod date;
 mod device_type;
+mod module;
 mod objects;
 mod packed;
 mod pdo;
@@ -46,6 +47,7 @@ pub use battery::{
 };
 pub use date::{CalendarDateTime, DateError, EqualizationDate};
 pub use device_type::{DeviceType, PdoSet};
+pub use module::{BatteryEvent, BatteryModule, BatteryModuleConfig};
 pub use objects::{
     BatteryObjects, Identity, BATTERY_OBJECT_INDEXES, IDENTITY, MANUFACTURER_DEVICE_NAME,
     PRODUCER_HEARTBEAT_TIME, SDO_SERVER_PARAMETER,

@@ -361,6 +361,11 @@ impl BatteryObjects {
         PackedString::decode(object, v.count, &v.words)
     }
 
+    /// Forgets a download in progress (the module's resets).
+    pub(crate) fn abort_pending(&mut self) {
+        self.pending = None;
+    }
+
     /// True if the dictionary has object `index` (any sub-index).
     #[must_use]
     pub fn has_object(index: u16) -> bool {
