@@ -273,6 +273,7 @@ fn no_tpdos_before_start_nor_after_stop() {
 #[test]
 fn reset_communication_sends_boot_up_and_restores_pdo_defaults() {
     let mut b = Bench::new();
+    assert_eq!(b.download(0x1017, 0, &500u16.to_le_bytes()), Ok(()));
     // Disable TPDO 0 and change its event timer by SDO.
     assert_eq!(b.download(0x1800, 1, &0x8000_0181u32.to_le_bytes()), Ok(()));
     assert_eq!(b.download(0x1800, 5, &500u16.to_le_bytes()), Ok(()));
@@ -284,7 +285,16 @@ fn reset_communication_sends_boot_up_and_restores_pdo_defaults() {
     assert_eq!(t0.comm.event_timer_ms, 500);
     b.send(0x000, &[0x01, 0x01]);
     b.advance_to(1_100);
-    assert!(with_id(&b.take_log(), "181#").is_empty(), "disabled");
+    let log = b.take_log();
+    assert!(with_id(&log, "181#").is_empty(), "disabled");
+    assert_eq!(
+        with_id(&log, "701#"),
+        vec![
+            (0, "701#00".to_string()),
+            (500, "701#05".to_string()),
+            (1_000, "701#05".to_string())
+        ]
+    );
     b.events();
 
     assert_eq!(b.send(0x000, &[0x82, 0x01]), vec!["701#00"]);
@@ -307,7 +317,8 @@ fn reset_communication_sends_boot_up_and_restores_pdo_defaults() {
     assert_eq!(t0.comm.cob_id.to_u32(), 0x181);
     assert_eq!(t0.comm.event_timer_ms, 200);
     assert_eq!(b.upload(0x1800, 1), Ok(vec![0x81, 0x01, 0, 0]));
-    // The heartbeat restarts from the reset.
+    assert_eq!(b.upload(0x1017, 0), Ok(vec![0xE8, 0x03]));
+    // The heartbeat restarts from the reset with the default period.
     b.advance_to(2_100);
     assert_eq!(
         with_id(&b.take_log(), "701#"),
@@ -481,4 +492,69 @@ fn frames_for_other_nodes_are_ignored() {
     assert_eq!(b.m.charger_status(), ChargerStatus::empty());
     assert!(b.events().is_empty());
     assert!(b.take_log().is_empty());
+}
+
+/// DIGEST section 6, row by row, through the module's SDO frames: upload
+/// length, and a download of that length accepted (rw) or refused with
+/// 06010002h (ro, const).
+#[test]
+fn every_profile_object_through_sdo() {
+    let rows: &[(u16, u8, bool, usize)] = &[
+        (0x6000, 0, false, 1),
+        (0x6001, 0, true, 1),
+        (0x6010, 0, false, 2),
+        (0x6020, 0, false, 1),
+        (0x6020, 1, false, 1),
+        (0x6020, 2, false, 2),
+        (0x6020, 3, false, 2),
+        (0x6020, 4, false, 2),
+        (0x6030, 0, false, 1),
+        (0x6030, 1, false, 4),
+        (0x6031, 0, false, 1),
+        (0x6031, 1, false, 4),
+        (0x6040, 0, false, 1),
+        (0x6040, 1, false, 4),
+        (0x6041, 0, false, 1),
+        (0x6041, 1, false, 4),
+        (0x6050, 0, false, 4),
+        (0x6051, 0, false, 2),
+        (0x6052, 0, true, 2),
+        (0x6053, 0, true, 2),
+        (0x6054, 0, false, 1),
+        (0x6054, 1, true, 2),
+        (0x6054, 2, true, 2),
+        (0x6060, 0, false, 4),
+        (0x6070, 0, false, 2),
+        (0x6080, 0, true, 1),
+        (0x6081, 0, false, 1),
+        (0x6090, 0, false, 1),
+        (0x1000, 0, false, 4),
+        (0x1001, 0, false, 1),
+        (0x1017, 0, true, 2),
+        (0x1018, 4, false, 4),
+        (0x1200, 2, false, 4),
+    ];
+    let mut b = Bench::with(BatteryModuleConfig {
+        device_type: DeviceType::cia418(0xF_0000),
+        ..node1()
+    });
+    assert_eq!(b.upload(0x1000, 0), Ok(vec![0xA2, 0x01, 0x0F, 0x00]));
+    for &(index, sub, writable, len) in rows {
+        let value = b.upload(index, sub).unwrap();
+        assert_eq!(value.len(), len, "{index:04X}h:{sub}");
+        let got = b.download(index, sub, &vec![0x01; len]);
+        if writable {
+            assert_eq!(got, Ok(()), "{index:04X}h:{sub}");
+            assert_eq!(b.upload(index, sub), Ok(vec![0x01; len]));
+        } else {
+            assert_eq!(got, Err(0x0601_0002), "{index:04X}h:{sub}");
+        }
+    }
+    // All six default PDOs exist with the optional bits set.
+    for n in [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2] {
+        assert!(b.m.pdo_config().get(PdoDirection::Receive, n).is_some());
+        assert!(b.m.pdo_config().get(PdoDirection::Transmit, n).is_some());
+    }
+    assert_eq!(b.upload(0x1A01, 0), Ok(vec![3]));
+    assert_eq!(b.upload(0x1A01, 3), Ok(vec![0x20, 0x00, 0x60, 0x60]));
 }

@@ -13,9 +13,10 @@
 //! poll_timeout()              the earliest deadline of all internal timers
 //! ```
 //!
-//! Drain `poll_transmit` and `poll_event` after every call: the event queue
-//! holds 16 events; while it has fewer than 3 free slots SDO requests are
-//! not served (the client times out) and further events are dropped.
+//! Drain `poll_transmit` after every call. Events are informational: the
+//! queue keeps the latest 16 and drops the oldest when full, so an
+//! application that never calls `poll_event` still has a working module.
+//! The EMCY queue holds 8 frames; more are dropped until it is drained.
 //! `poll_transmit` yields the heartbeat / boot-up frames first, then EMCY,
 //! then SDO responses, then TPDOs.
 //!
@@ -353,9 +354,14 @@ impl BatteryModule {
     // ----- application commands --------------------------------------------
 
     /// Changes object values in `f`; mapped values that changed are events
-    /// for the event-driven TPDOs.
+    /// for the event-driven TPDOs, and a changed 1017h re-arms the heartbeat.
     pub fn update(&mut self, now: Timestamp, f: impl FnOnce(&mut BatteryObjects)) {
+        let period = self.objects().heartbeat_time_ms;
         f(&mut self.server.od_mut().inner);
+        let new_period = self.objects().heartbeat_time_ms;
+        if new_period != period {
+            self.heartbeat.set_period(now, new_period);
+        }
         self.refresh_tpdos(now);
     }
 
@@ -445,7 +451,7 @@ impl BatteryModule {
                 p.handle_sync(now);
             }
         }
-        if self.sdo_allowed() && self.events.room() >= 3 {
+        if self.sdo_allowed() {
             self.server.handle_frame(now, frame);
             self.drain_server(now);
         }
@@ -511,8 +517,12 @@ impl BatteryModule {
         matches!(self.state, NmtState::PreOperational | NmtState::Operational)
     }
 
+    /// Queues an event; when the queue is full the oldest is dropped.
     fn push_event(&mut self, event: BatteryEvent) {
-        let _ = self.events.push(event);
+        if !self.events.push(event) {
+            let _ = self.events.pop();
+            let _ = self.events.push(event);
+        }
     }
 
     fn handle_nmt(&mut self, now: Timestamp, data: &[u8]) {

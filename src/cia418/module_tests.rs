@@ -69,3 +69,18 @@ fn hostile_frames_and_times_never_panic() {
         let _ = m.poll_timeout();
     }
 }
+
+#[test]
+fn a_full_event_queue_drops_the_oldest() {
+    let mut m = module();
+    for sub in 0..20u8 {
+        m.push_event(BatteryEvent::ObjectWritten { index: 0x6001, sub });
+    }
+    let subs: std::vec::Vec<u8> = core::iter::from_fn(|| m.poll_event())
+        .map(|e| match e {
+            BatteryEvent::ObjectWritten { sub, .. } => sub,
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    assert_eq!(subs, (4..20).collect::<std::vec::Vec<u8>>());
+}
