@@ -558,3 +558,29 @@ fn every_profile_object_through_sdo() {
     assert_eq!(b.upload(0x1A01, 0), Ok(vec![3]));
     assert_eq!(b.upload(0x1A01, 3), Ok(vec![0x20, 0x00, 0x60, 0x60]));
 }
+
+#[test]
+fn optional_pdos_declared_by_the_device_type() {
+    use canopen_codec::cia418::{BatteryVoltage, ChargeCurrentRequested, StateOfCharge};
+    let mut b = Bench::with(BatteryModuleConfig {
+        device_type: DeviceType::cia418(0xF_0000),
+        ..node1()
+    });
+    let now = b.now;
+    b.m.set_temperature(now, Temperature::from_celsius(25).unwrap());
+    b.m.set_battery_status(now, BatteryStatus::READY_TO_CHARGE);
+    b.m.set_battery_voltage(now, BatteryVoltage::from_volts(48).unwrap());
+    b.m.set_charge_current_requested(now, ChargeCurrentRequested::from_amps(10).unwrap());
+    b.m.set_battery_state_of_charge(now, StateOfCharge::new(80).unwrap());
+    let mut out = b.send(0x000, &[0x01, 0x00]);
+    out.sort();
+    assert_eq!(out, vec!["181#C80001", "281#C8000100C00000", "381#A00050"]);
+    // 3rd RPDO: 6001h, 6052h, 6080h.
+    assert!(b.send(0x401, &[0x01, 0x10, 0x02, 0x37]).is_empty());
+    assert_eq!(b.m.charger_status(), ChargerStatus::ENABLED);
+    assert_eq!(b.m.ah_returned_during_last_charge().raw(), 0x0210);
+    assert_eq!(b.m.charger_state_of_charge().percent(), Some(55));
+    b.take_log();
+    b.advance_to(200);
+    assert_eq!(b.take_log().len(), 3);
+}
