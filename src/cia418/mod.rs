@@ -27,6 +27,8 @@
 mod battery;
 mod date;
 mod device_type;
+mod module;
+mod objects;
 mod packed;
 mod pdo;
 mod status;
@@ -45,6 +47,11 @@ pub use battery::{
 };
 pub use date::{CalendarDateTime, DateError, EqualizationDate};
 pub use device_type::{DeviceType, PdoSet};
+pub use module::{BatteryEvent, BatteryModule, BatteryModuleConfig};
+pub use objects::{
+    BatteryObjects, Identity, BATTERY_OBJECT_INDEXES, IDENTITY, MANUFACTURER_DEVICE_NAME,
+    PRODUCER_HEARTBEAT_TIME, SDO_SERVER_PARAMETER,
+};
 pub use packed::{PackedString, PackedStringError, PackedStringObject, PackedText};
 pub use pdo::{DefaultPdo, PdoDirection, DEFAULT_PDOS};
 pub use status::{BatteryStatus, ChargerStatus, WaterLevelStatus};

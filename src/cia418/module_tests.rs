@@ -1,0 +1,86 @@
+use super::*;
+
+fn module() -> BatteryModule {
+    BatteryModule::new(BatteryModuleConfig::default())
+}
+
+fn drain(m: &mut BatteryModule) -> std::vec::Vec<CanFrame> {
+    core::iter::from_fn(|| m.poll_transmit()).collect()
+}
+
+#[test]
+fn nothing_happens_before_boot() {
+    let mut m = module();
+    assert_eq!(m.poll_timeout(), None);
+    m.handle_frame(
+        Timestamp::ZERO,
+        &CanFrame::standard(0x000, &[0x01, 0x00]).unwrap(),
+    );
+    m.handle_timeout(Timestamp::MAX);
+    assert_eq!(m.nmt_state(), NmtState::BootUp);
+    assert!(drain(&mut m).is_empty());
+    assert_eq!(m.poll_event(), None);
+}
+
+#[test]
+fn default_pdo_set_follows_the_device_type() {
+    let mut config = BatteryModuleConfig::default();
+    let pdos = default_pdo_config(&config);
+    assert!(pdos
+        .get(PdoDirection::Transmit, PdoNumber::P0)
+        .unwrap()
+        .is_valid());
+    assert!(pdos.get(PdoDirection::Transmit, PdoNumber::P1).is_none());
+    assert!(pdos
+        .get(PdoDirection::Receive, PdoNumber::P0)
+        .unwrap()
+        .is_valid());
+    config.enable_tpdos = false;
+    config.device_type = DeviceType::cia418(DeviceType::TPDO_2ND | DeviceType::RPDO_3RD);
+    let pdos = default_pdo_config(&config);
+    let t1 = pdos.get(PdoDirection::Transmit, PdoNumber::P1).unwrap();
+    assert_eq!(t1.comm.cob_id.to_u32(), 0x8000_0281);
+    assert_eq!(t1.count(), 3);
+    assert!(pdos.get(PdoDirection::Receive, PdoNumber::P2).is_some());
+    assert!(pdos.get(PdoDirection::Receive, PdoNumber::P1).is_none());
+}
+
+#[test]
+fn hostile_frames_and_times_never_panic() {
+    let mut m = BatteryModule::new(BatteryModuleConfig {
+        device_type: DeviceType::cia418(0xF_0000),
+        ..BatteryModuleConfig::default()
+    });
+    m.boot(Timestamp::MAX);
+    let ids = [
+        0x000u16, 0x080, 0x081, 0x181, 0x201, 0x301, 0x401, 0x601, 0x701, 0x7FF,
+    ];
+    let mut t = 0u64;
+    for (i, id) in ids.iter().cycle().take(2_000).enumerate() {
+        let len = i % 9;
+        let data: std::vec::Vec<u8> = (0..len).map(|k| (i * 31 + k * 7) as u8).collect();
+        let frame = CanFrame::standard(*id, &data).unwrap();
+        t = t.wrapping_mul(6364136223846793005).wrapping_add(i as u64);
+        let now = Timestamp::from_micros(t);
+        m.handle_frame(now, &frame);
+        m.handle_timeout(now);
+        let _ = drain(&mut m);
+        while m.poll_event().is_some() {}
+        let _ = m.poll_timeout();
+    }
+}
+
+#[test]
+fn a_full_event_queue_drops_the_oldest() {
+    let mut m = module();
+    for sub in 0..20u8 {
+        m.push_event(BatteryEvent::ObjectWritten { index: 0x6001, sub });
+    }
+    let subs: std::vec::Vec<u8> = core::iter::from_fn(|| m.poll_event())
+        .map(|e| match e {
+            BatteryEvent::ObjectWritten { sub, .. } => sub,
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    assert_eq!(subs, (4..20).collect::<std::vec::Vec<u8>>());
+}

@@ -1,0 +1,304 @@
+use super::*;
+use crate::cia418::{BatteryParameterValue, BatteryType};
+
+fn od() -> BatteryObjects {
+    BatteryObjects::new(NodeId::new(1).unwrap(), "Battery module")
+}
+
+fn read(od: &mut BatteryObjects, index: u16, sub: u8) -> Result<std::vec::Vec<u8>, AbortCode> {
+    let len = od.info(index, sub)?.len;
+    let mut buf = std::vec![0u8; len];
+    let n = od.read(index, sub, 0, &mut buf)?;
+    assert_eq!(n, len, "{index:04X}h:{sub} read length");
+    Ok(buf)
+}
+
+fn write(od: &mut BatteryObjects, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
+    let info = od.info(index, sub)?;
+    if !info.access.is_writable() {
+        // What the SDO server checks before writing; the dictionary checks it too.
+        assert_eq!(
+            od.write(index, sub, 0, data),
+            Err(AbortCode::WriteOfReadOnlyObject)
+        );
+        return Err(AbortCode::WriteOfReadOnlyObject);
+    }
+    od.write(index, sub, 0, data)?;
+    od.finish_write(index, sub, data.len())
+}
+
+/// DIGEST section 6, row by row: (index, sub, access, length, mappable).
+const TABLE: &[(u16, u8, Access, usize, bool)] = &[
+    (0x6000, 0, Access::ReadOnly, 1, true),
+    (0x6001, 0, Access::ReadWrite, 1, true),
+    (0x6010, 0, Access::ReadOnly, 2, true),
+    (0x6020, 0, Access::ReadOnly, 1, false),
+    (0x6020, 1, Access::ReadOnly, 1, false),
+    (0x6020, 2, Access::ReadOnly, 2, false),
+    (0x6020, 3, Access::ReadOnly, 2, false),
+    (0x6020, 4, Access::ReadOnly, 2, false),
+    (0x6030, 0, Access::ReadOnly, 1, false),
+    (0x6030, 1, Access::ReadOnly, 4, false),
+    (0x6031, 0, Access::ReadOnly, 1, false),
+    (0x6031, 1, Access::ReadOnly, 4, false),
+    (0x6040, 0, Access::ReadOnly, 1, false),
+    (0x6040, 1, Access::ReadOnly, 4, false),
+    (0x6041, 0, Access::ReadOnly, 1, false),
+    (0x6041, 1, Access::ReadOnly, 4, false),
+    (0x6050, 0, Access::ReadOnly, 4, false),
+    (0x6051, 0, Access::ReadOnly, 2, false),
+    (0x6052, 0, Access::ReadWrite, 2, true),
+    (0x6053, 0, Access::ReadWrite, 2, false),
+    (0x6054, 0, Access::ReadOnly, 1, false),
+    (0x6054, 1, Access::ReadWrite, 2, false),
+    (0x6054, 2, Access::ReadWrite, 2, false),
+    (0x6060, 0, Access::ReadOnly, 4, true),
+    (0x6070, 0, Access::ReadOnly, 2, true),
+    (0x6080, 0, Access::ReadWrite, 1, true),
+    (0x6081, 0, Access::ReadOnly, 1, true),
+    (0x6090, 0, Access::ReadOnly, 1, false),
+    (0x1000, 0, Access::Const, 4, false),
+    (0x1001, 0, Access::ReadOnly, 1, false),
+    (0x1017, 0, Access::ReadWrite, 2, false),
+    (0x1018, 0, Access::ReadOnly, 1, false),
+    (0x1018, 1, Access::ReadOnly, 4, false),
+    (0x1018, 4, Access::ReadOnly, 4, false),
+    (0x1200, 0, Access::ReadOnly, 1, false),
+    (0x1200, 1, Access::ReadOnly, 4, false),
+    (0x1200, 2, Access::ReadOnly, 4, false),
+];
+
+#[test]
+fn every_object_has_its_access_length_and_mapping() {
+    let mut od = od();
+    for &(index, sub, access, len, mappable) in TABLE {
+        let info = od.info(index, sub).unwrap();
+        assert_eq!(info.access, access, "{index:04X}h:{sub}");
+        assert_eq!(info.len, len, "{index:04X}h:{sub}");
+        assert_eq!(info.pdo_mappable, mappable, "{index:04X}h:{sub}");
+        assert_eq!(read(&mut od, index, sub).unwrap().len(), len);
+        // Write back a value of the right length: rw accepted, ro refused.
+        let value = std::vec![0x01; len];
+        let got = write(&mut od, index, sub, &value);
+        if access.is_writable() {
+            assert_eq!(got, Ok(()), "{index:04X}h:{sub}");
+            assert_eq!(read(&mut od, index, sub).unwrap(), value);
+        } else {
+            assert_eq!(got, Err(AbortCode::WriteOfReadOnlyObject));
+        }
+    }
+}
+
+#[test]
+fn every_table_index_is_served() {
+    for index in BATTERY_OBJECT_INDEXES {
+        assert!(od().info(index, 0).is_ok(), "{index:04X}h");
+    }
+}
+
+#[test]
+fn writable_objects_refuse_wrong_lengths() {
+    let mut od = od();
+    for &(index, sub, access, len, _) in TABLE {
+        if !access.is_writable() {
+            continue;
+        }
+        let long = std::vec![0; len + 1];
+        assert_eq!(
+            write(&mut od, index, sub, &long),
+            Err(AbortCode::DataTypeLengthTooHigh),
+            "{index:04X}h:{sub}"
+        );
+        let short = std::vec![0; len - 1];
+        assert_eq!(
+            write(&mut od, index, sub, &short),
+            Err(AbortCode::DataTypeLengthTooLow),
+            "{index:04X}h:{sub}"
+        );
+    }
+}
+
+#[test]
+fn missing_objects_and_sub_indexes() {
+    let od = od();
+    assert_eq!(od.info(0x6002, 0), Err(AbortCode::ObjectDoesNotExist));
+    assert_eq!(od.info(0x2000, 0), Err(AbortCode::ObjectDoesNotExist));
+    for (index, sub) in [
+        (0x6000, 1),
+        (0x6020, 5),
+        (0x6054, 3),
+        (0x1018, 5),
+        (0x1200, 3),
+        (0x1008, 1),
+        (0x6030, 2), // beyond the element count
+        (0x6041, 6),
+    ] {
+        assert_eq!(
+            od.info(index, sub),
+            Err(AbortCode::SubIndexDoesNotExist),
+            "{index:04X}h:{sub}"
+        );
+    }
+}
+
+#[test]
+fn communication_object_values() {
+    let mut od = BatteryObjects::new(NodeId::new(5).unwrap(), "BMS-418");
+    od.device_type = DeviceType::cia418(DeviceType::TPDO_2ND);
+    od.identity = Identity {
+        vendor_id: 0x0000_0123,
+        product_code: 0x418,
+        revision_number: 0x0001_0002,
+        serial_number: 0xDEAD_BEEF,
+    };
+    assert_eq!(read(&mut od, 0x1000, 0).unwrap(), [0xA2, 0x01, 0x04, 0x00]);
+    assert_eq!(read(&mut od, 0x1001, 0).unwrap(), [0]);
+    assert_eq!(read(&mut od, 0x1008, 0).unwrap(), b"BMS-418");
+    assert_eq!(od.info(0x1008, 0).unwrap().access, Access::Const);
+    assert_eq!(read(&mut od, 0x1017, 0).unwrap(), [0xE8, 0x03]);
+    assert_eq!(read(&mut od, 0x1018, 0).unwrap(), [4]);
+    assert_eq!(read(&mut od, 0x1018, 1).unwrap(), [0x23, 0x01, 0, 0]);
+    assert_eq!(read(&mut od, 0x1018, 2).unwrap(), [0x18, 0x04, 0, 0]);
+    assert_eq!(read(&mut od, 0x1018, 3).unwrap(), [0x02, 0, 0x01, 0]);
+    assert_eq!(read(&mut od, 0x1018, 4).unwrap(), [0xEF, 0xBE, 0xAD, 0xDE]);
+    assert_eq!(read(&mut od, 0x1200, 0).unwrap(), [2]);
+    assert_eq!(read(&mut od, 0x1200, 1).unwrap(), [0x05, 0x06, 0, 0]);
+    assert_eq!(read(&mut od, 0x1200, 2).unwrap(), [0x85, 0x05, 0, 0]);
+}
+
+#[test]
+fn device_name_reads_at_offsets() {
+    let mut od = od();
+    let mut buf = [0u8; 7];
+    assert_eq!(od.read(0x1008, 0, 0, &mut buf), Ok(7));
+    assert_eq!(&buf, b"Battery");
+    assert_eq!(od.read(0x1008, 0, 7, &mut buf), Ok(7));
+    assert_eq!(&buf, b" module");
+    assert_eq!(od.read(0x1008, 0, 14, &mut buf), Ok(0));
+    assert_eq!(od.read(0x1008, 0, usize::MAX, &mut buf), Ok(0));
+}
+
+#[test]
+fn packed_string_arrays() {
+    let mut od = od();
+    od.set_text(PackedStringObject::BatterySerialNumber, "BATTERY")
+        .unwrap();
+    assert_eq!(read(&mut od, 0x6030, 0).unwrap(), [2]);
+    assert_eq!(
+        read(&mut od, 0x6030, 1).unwrap(),
+        0x5454_4142u32.to_le_bytes()
+    );
+    assert_eq!(
+        read(&mut od, 0x6030, 2).unwrap(),
+        0x0059_5245u32.to_le_bytes()
+    );
+    assert_eq!(od.info(0x6030, 3), Err(AbortCode::SubIndexDoesNotExist));
+    assert_eq!(
+        od.packed_string(PackedStringObject::BatterySerialNumber)
+            .unwrap()
+            .text()
+            .as_str(),
+        "BATTERY"
+    );
+    // 20 characters: five elements.
+    od.set_text(PackedStringObject::VehicleId, "ABCDEFGHIJKLMNOPQRST")
+        .unwrap();
+    assert_eq!(read(&mut od, 0x6041, 0).unwrap(), [5]);
+    assert_eq!(read(&mut od, 0x6041, 5).unwrap(), *b"QRST");
+    // A packed string with padding elements.
+    let p = PackedString::encode_with_count(PackedStringObject::BatteryId, "AB", 3).unwrap();
+    od.set_packed_string(&p);
+    assert_eq!(read(&mut od, 0x6031, 0).unwrap(), [3]);
+    assert_eq!(read(&mut od, 0x6031, 1).unwrap(), [b'A', b'B', 0, 0]);
+    assert_eq!(read(&mut od, 0x6031, 3).unwrap(), [0, 0, 0, 0]);
+    // Empty by default: one zero element.
+    assert_eq!(read(&mut od, 0x6040, 0).unwrap(), [1]);
+    assert_eq!(read(&mut od, 0x6040, 1).unwrap(), [0, 0, 0, 0]);
+    assert!(od
+        .set_text(PackedStringObject::BatterySerialNumber, "ELEVEN CHAR")
+        .is_err());
+}
+
+#[test]
+fn application_values_are_little_endian() {
+    let mut od = od();
+    od.temperature = Temperature::from_raw(-80);
+    od.battery_voltage = BatteryVoltage::from_raw(51_200);
+    od.battery_parameters
+        .set(BatteryParameterValue::BatteryType(BatteryType::from_u8(
+            0x10,
+        )));
+    od.battery_parameters.ah_capacity = 600;
+    assert_eq!(read(&mut od, 0x6010, 0).unwrap(), [0xB0, 0xFF]);
+    assert_eq!(read(&mut od, 0x6060, 0).unwrap(), [0x00, 0xC8, 0, 0]);
+    assert_eq!(read(&mut od, 0x6020, 0).unwrap(), [4]);
+    assert_eq!(read(&mut od, 0x6020, 1).unwrap(), [0x10]);
+    assert_eq!(read(&mut od, 0x6020, 2).unwrap(), [0x58, 0x02]);
+    assert_eq!(read(&mut od, 0x6070, 0).unwrap(), [0xFF, 0xFF]);
+    assert_eq!(read(&mut od, 0x6080, 0).unwrap(), [0xFF]);
+    assert_eq!(read(&mut od, 0x6081, 0).unwrap(), [0xFF]);
+    assert_eq!(read(&mut od, 0x6054, 0).unwrap(), [2]);
+}
+
+#[test]
+fn value_checks() {
+    let mut od = od();
+    assert_eq!(write(&mut od, 0x6080, 0, &[100]), Ok(()));
+    assert_eq!(write(&mut od, 0x6080, 0, &[0xFF]), Ok(()));
+    assert_eq!(
+        write(&mut od, 0x6080, 0, &[101]),
+        Err(AbortCode::ValueTooHigh)
+    );
+    assert_eq!(od.charger_state_of_charge, StateOfCharge::INVALID);
+    assert_eq!(
+        write(&mut od, 0x6054, 1, &1440u16.to_le_bytes()),
+        Err(AbortCode::ValueTooHigh)
+    );
+    assert_eq!(write(&mut od, 0x6054, 1, &1439u16.to_le_bytes()), Ok(()));
+    assert_eq!(od.date_of_last_equalization.minutes, 1439);
+    assert_eq!(
+        write(&mut od, 0x6054, 0, &[2]),
+        Err(AbortCode::WriteOfReadOnlyObject)
+    );
+    assert_eq!(write(&mut od, 0x1017, 0, &[0xF4, 0x01]), Ok(()));
+    assert_eq!(od.heartbeat_time_ms, 500);
+    assert_eq!(write(&mut od, 0x6001, 0, &[0x81]), Ok(()));
+    assert_eq!(od.charger_status.bits(), 0x81);
+}
+
+#[test]
+fn segmented_write_in_pieces_and_abort() {
+    let mut od = od();
+    od.write(0x6052, 0, 0, &[0x10]).unwrap();
+    od.write(0x6052, 0, 1, &[0x02]).unwrap();
+    od.finish_write(0x6052, 0, 2).unwrap();
+    assert_eq!(od.ah_returned_during_last_charge.raw(), 0x0210);
+    // Out-of-order offset.
+    assert_eq!(
+        od.write(0x6052, 0, 3, &[0]),
+        Err(AbortCode::DataTypeLengthTooHigh)
+    );
+    // An aborted download changes nothing.
+    od.write(0x6052, 0, 0, &[0xAA]).unwrap();
+    od.abort_write(0x6052, 0);
+    assert_eq!(
+        od.finish_write(0x6052, 0, 2),
+        Err(AbortCode::DataTypeLengthTooLow)
+    );
+    assert_eq!(od.ah_returned_during_last_charge.raw(), 0x0210);
+}
+
+#[test]
+fn hostile_reads_and_writes_never_panic() {
+    let mut od = od();
+    let mut buf = [0u8; 8];
+    for index in [0x1000u16, 0x1008, 0x1018, 0x6030, 0x6054, 0xFFFF, 0] {
+        for sub in [0u8, 1, 4, 5, 0xFF] {
+            let _ = od.read(index, sub, usize::MAX, &mut buf);
+            let _ = od.read(index, sub, 3, &mut []);
+            let _ = od.write(index, sub, usize::MAX, &[1, 2, 3]);
+            let _ = od.write(index, sub, 0, &[0; 9]);
+            let _ = od.finish_write(index, sub, usize::MAX);
+        }
+    }
+}
