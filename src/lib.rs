@@ -49,6 +49,7 @@ extern crate std;
 pub mod bytes;
 pub mod candump;
 pub mod cia418;
+pub mod cia419;
 pub mod cob_id;
 pub mod deltaq;
 pub mod display;

@@ -1,0 +1,375 @@
+//! The charger's object dictionary: CiA 301 communication objects, the
+//! CiA 418 objects a CiA 419 charger shares with the battery module, and
+//! the Delta-Q manufacturer objects of DIGEST section 5a. Fixed storage, no
+//! allocation.
+
+use crate::cia418::Identity;
+use crate::emcy::ErrorRegister;
+use crate::heartbeat::ConsumerEntry;
+use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
+use crate::sdo::AbortCode;
+
+/// CiA 419 device type (1000h): profile 419 (01A3h), no additional bits.
+pub const CHARGER_DEVICE_TYPE: u32 = 419;
+/// Entries the error history (1003h) keeps.
+pub const ERROR_HISTORY_LEN: usize = 10;
+
+/// The charger's object values. Fields are the application's to read and
+/// write; SDO access goes through [`ObjectDictionary`] with the access
+/// rights of each object.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ChargerObjects {
+    /// 1000h.
+    pub device_type: u32,
+    /// 1001h.
+    pub error_register: ErrorRegister,
+    history: [u32; ERROR_HISTORY_LEN],
+    history_len: u8,
+    /// 1008h.
+    pub device_name: &'static str,
+    /// 1016h sub 1: the battery module's heartbeat consumer entry.
+    pub consumer: ConsumerEntry,
+    /// 1017h.
+    pub heartbeat_ms: u16,
+    /// 1018h.
+    pub identity: Identity,
+    /// 6000h battery status (written by the BMS).
+    pub battery_status: u8,
+    /// 6001h charger status (bit 0: able to charge).
+    pub charger_status: u8,
+    /// 6010h battery temperature (0.125 degC).
+    pub temperature: i16,
+    /// 6052h Ah returned (Delta-Q: Q3 Ah, FFFFh no value).
+    pub ah_returned: u16,
+    /// 6060h battery voltage (1/1024 V).
+    pub battery_voltage: u32,
+    /// 6070h charge current requested (1/16 A).
+    pub current_requested: u16,
+    /// 6080h charger state of charge (%; FFh invalid).
+    pub charger_soc: u8,
+    /// 6081h battery state of charge (%; FFh invalid).
+    pub battery_soc: u8,
+    /// 2002h charging current (Q8 A).
+    pub charging_current: u16,
+    /// 2006h extended charge status.
+    pub extended_status: u16,
+    /// 2060h current displayed error (a 1003h-style entry; 0 none).
+    pub displayed_error: u32,
+    /// 2100h battery voltage, legacy (Q10 V).
+    pub battery_voltage_q10: u16,
+    /// 2101h battery voltage (Q8 V).
+    pub battery_voltage_q8: u16,
+    /// 2200h AC voltage (Q4 V).
+    pub ac_voltage: u16,
+    /// 2241h active algorithm request (FFFFFFFFh none).
+    pub algorithm_request: u32,
+    /// 2271h voltage request (Q10 V, FFFFFFFFh none).
+    pub voltage_request: u32,
+    /// 2276h voltage request (Q8 V, FFFFh none).
+    pub voltage_request_q8: u16,
+    /// 4201h external override.
+    pub external_override: u8,
+    pending: Option<((u16, u8), [u8; 4], usize)>,
+}
+
+impl ChargerObjects {
+    /// Defaults: Delta-Q "no value" markers, SOC invalid, device type 419.
+    #[must_use]
+    pub const fn new(
+        device_name: &'static str,
+        heartbeat_ms: u16,
+        consumer: ConsumerEntry,
+    ) -> Self {
+        ChargerObjects {
+            device_type: CHARGER_DEVICE_TYPE,
+            error_register: ErrorRegister::empty(),
+            history: [0; ERROR_HISTORY_LEN],
+            history_len: 0,
+            device_name,
+            consumer,
+            heartbeat_ms,
+            identity: Identity {
+                vendor_id: 0,
+                product_code: 0,
+                revision_number: 0,
+                serial_number: 0,
+            },
+            battery_status: 0,
+            charger_status: 0,
+            temperature: 0,
+            ah_returned: 0xFFFF,
+            battery_voltage: 0,
+            current_requested: 0xFFFF,
+            charger_soc: 0xFF,
+            battery_soc: 0xFF,
+            charging_current: 0,
+            extended_status: 0,
+            displayed_error: 0,
+            battery_voltage_q10: 0xFFFF,
+            battery_voltage_q8: 0xFFFF,
+            ac_voltage: 0xFFFF,
+            algorithm_request: 0xFFFF_FFFF,
+            voltage_request: 0xFFFF_FFFF,
+            voltage_request_q8: 0xFFFF,
+            external_override: 0,
+            pending: None,
+        }
+    }
+
+    /// Records an error in 1003h: newest first, at most 10 (the oldest falls off).
+    pub fn push_error(&mut self, entry: u32) {
+        self.history.rotate_right(1);
+        if let Some(first) = self.history.first_mut() {
+            *first = entry;
+        }
+        self.history_len = (self.history_len + 1).min(ERROR_HISTORY_LEN as u8);
+    }
+
+    /// The error history, newest first.
+    #[must_use]
+    pub fn errors(&self) -> &[u32] {
+        self.history
+            .get(..usize::from(self.history_len))
+            .unwrap_or(&[])
+    }
+
+    /// Value, access and mappability of a (non-string) object, as up to 4
+    /// little-endian bytes.
+    fn scalar(&self, index: u16, sub: u8) -> Result<(Access, bool, Bytes), AbortCode> {
+        use Access::{Const, ReadOnly as Ro, ReadWrite as Rw};
+        let b1 = |v: u8| Bytes::new(&[v]).unwrap_or_default();
+        let b2 = |v: u16| Bytes::new(&v.to_le_bytes()).unwrap_or_default();
+        let b4 = |v: u32| Bytes::new(&v.to_le_bytes()).unwrap_or_default();
+        let one = |s: u8, a, m, v: Bytes| {
+            if sub == s {
+                Ok((a, m, v))
+            } else {
+                Err(AbortCode::SubIndexDoesNotExist)
+            }
+        };
+        match index {
+            0x1000 => one(0, Const, false, b4(self.device_type)),
+            0x1001 => one(0, Ro, false, b1(self.error_register.bits())),
+            0x1003 => match sub {
+                0 => Ok((Rw, false, b1(self.history_len))),
+                1..=10 => match self.errors().get(usize::from(sub) - 1) {
+                    Some(e) => Ok((Ro, false, b4(*e))),
+                    None => Err(AbortCode::NoDataAvailable),
+                },
+                _ => Err(AbortCode::SubIndexDoesNotExist),
+            },
+            0x1016 => match sub {
+                0 => Ok((Const, false, b1(1))),
+                1 => Ok((Rw, false, b4(self.consumer.to_u32()))),
+                _ => Err(AbortCode::SubIndexDoesNotExist),
+            },
+            0x1017 => one(0, Rw, false, b2(self.heartbeat_ms)),
+            0x1018 => match (sub, self.identity.sub(sub)) {
+                (0, _) => Ok((Const, false, b1(4))),
+                (_, Some(v)) => Ok((Ro, false, b4(v))),
+                _ => Err(AbortCode::SubIndexDoesNotExist),
+            },
+            0x6000 => one(0, Rw, true, b1(self.battery_status)),
+            0x6001 => one(0, Ro, true, b1(self.charger_status)),
+            0x6010 => one(0, Rw, true, b2(self.temperature as u16)),
+            0x6052 => one(0, Rw, true, b2(self.ah_returned)),
+            0x6060 => one(0, Rw, true, b4(self.battery_voltage)),
+            0x6070 => one(0, Rw, true, b2(self.current_requested)),
+            0x6080 => one(0, Ro, true, b1(self.charger_soc)),
+            0x6081 => one(0, Rw, true, b1(self.battery_soc)),
+            0x2002 => one(0, Rw, true, b2(self.charging_current)),
+            0x2006 => one(0, Ro, true, b2(self.extended_status)),
+            0x2060 => one(0, Ro, true, b4(self.displayed_error)),
+            0x2100 => one(0, Ro, true, b2(self.battery_voltage_q10)),
+            0x2101 => one(0, Rw, true, b2(self.battery_voltage_q8)),
+            0x2200 => one(0, Ro, true, b2(self.ac_voltage)),
+            0x2241 => one(0, Rw, true, b4(self.algorithm_request)),
+            0x2271 => one(0, Rw, true, b4(self.voltage_request)),
+            0x2276 => one(0, Rw, true, b2(self.voltage_request_q8)),
+            0x4201 => one(0, Rw, true, b1(self.external_override)),
+            0x2FFA => match sub {
+                0 => Ok((Const, false, b1(2))),
+                1 | 2 => Ok((Rw, true, b1(0))),
+                _ => Err(AbortCode::SubIndexDoesNotExist),
+            },
+            _ => Err(AbortCode::ObjectDoesNotExist),
+        }
+    }
+
+    fn store(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
+        let u8v = || data.first().copied().unwrap_or(0);
+        let u16v = || match *data {
+            [a, b] => u16::from_le_bytes([a, b]),
+            _ => 0,
+        };
+        let u32v = || match *data {
+            [a, b, c, d] => u32::from_le_bytes([a, b, c, d]),
+            _ => 0,
+        };
+        match (index, sub) {
+            (0x1003, 0) => {
+                // Only 0 may be written: it clears the history.
+                if u8v() != 0 {
+                    return Err(AbortCode::InvalidValue);
+                }
+                self.history_len = 0;
+                self.history = [0; ERROR_HISTORY_LEN];
+            }
+            (0x1016, 1) => self.consumer = ConsumerEntry::from_u32(u32v()),
+            (0x1017, 0) => self.heartbeat_ms = u16v(),
+            (0x6000, 0) => self.battery_status = u8v(),
+            (0x6010, 0) => self.temperature = u16v() as i16,
+            (0x6052, 0) => self.ah_returned = u16v(),
+            (0x6060, 0) => self.battery_voltage = u32v(),
+            (0x6070, 0) => self.current_requested = u16v(),
+            (0x6081, 0) => self.battery_soc = u8v(),
+            (0x2002, 0) => self.charging_current = u16v(),
+            (0x2101, 0) => self.battery_voltage_q8 = u16v(),
+            (0x2241, 0) => self.algorithm_request = u32v(),
+            (0x2271, 0) => self.voltage_request = u32v(),
+            (0x2276, 0) => self.voltage_request_q8 = u16v(),
+            (0x4201, 0) => self.external_override = u8v(),
+            (0x2FFA, 1 | 2) => {}
+            _ => return Err(AbortCode::WriteOfReadOnlyObject),
+        }
+        Ok(())
+    }
+}
+
+type Bytes = crate::bytes::InlineData<4>;
+
+impl ObjectDictionary for ChargerObjects {
+    fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
+        if (index, sub) == (0x1008, 0) {
+            return Ok(ObjectInfo {
+                access: Access::Const,
+                len: self.device_name.len(),
+                size: SizeRule::Variable { max: 0 },
+                pdo_mappable: false,
+            });
+        }
+        let (access, mappable, value) = match self.scalar(index, sub) {
+            // An empty history entry still exists; it has no data.
+            Err(AbortCode::NoDataAvailable) => (
+                Access::ReadOnly,
+                false,
+                Bytes::new(&[0; 4]).unwrap_or_default(),
+            ),
+            other => other?,
+        };
+        let mut info = ObjectInfo::fixed(access, value.len());
+        info.pdo_mappable = mappable;
+        Ok(info)
+    }
+
+    fn read(
+        &mut self,
+        index: u16,
+        sub: u8,
+        offset: usize,
+        buf: &mut [u8],
+    ) -> Result<usize, AbortCode> {
+        let src: &[u8] = if (index, sub) == (0x1008, 0) {
+            self.device_name.as_bytes()
+        } else {
+            let (_, _, value) = self.scalar(index, sub)?;
+            let n = value.len().saturating_sub(offset).min(buf.len());
+            crate::bytes::copy_short(buf, value.as_slice().get(offset..).unwrap_or(&[]));
+            return Ok(n);
+        };
+        let src = src.get(offset..).unwrap_or(&[]);
+        let n = src.len().min(buf.len());
+        if let (Some(d), Some(s)) = (buf.get_mut(..n), src.get(..n)) {
+            d.copy_from_slice(s);
+        }
+        Ok(n)
+    }
+
+    fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
+        let (key, mut buf, len) = match self.pending {
+            Some((k, b, l)) if k == (index, sub) => (k, b, l),
+            _ => ((index, sub), [0u8; 4], 0),
+        };
+        if offset != len || len + data.len() > 4 {
+            return Err(AbortCode::DataTypeLengthTooHigh);
+        }
+        if let Some(dst) = buf.get_mut(len..) {
+            crate::bytes::copy_short(dst, data);
+        }
+        self.pending = Some((key, buf, len + data.len()));
+        Ok(())
+    }
+
+    fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
+        let (buf, got) = match self.pending.take() {
+            Some((k, b, l)) if k == (index, sub) => (b, l),
+            _ => ([0u8; 4], 0),
+        };
+        self.store(index, sub, buf.get(..got.min(len)).unwrap_or(&[]))
+    }
+
+    fn abort_write(&mut self, _: u16, _: u8) {
+        self.pending = None;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn history_newest_first_last_ten() {
+        let mut o = ChargerObjects::new("charger", 1000, ConsumerEntry::default());
+        for i in 1..=12u32 {
+            o.push_error(i);
+        }
+        assert_eq!(o.errors(), &[12, 11, 10, 9, 8, 7, 6, 5, 4, 3]);
+        let mut buf = [0u8; 4];
+        assert_eq!(o.read(0x1003, 0, 0, &mut buf), Ok(1));
+        assert_eq!(buf[0], 10);
+        assert_eq!(o.read(0x1003, 1, 0, &mut buf), Ok(4));
+        assert_eq!(buf, 12u32.to_le_bytes());
+        o.write(0x1003, 0, 0, &[0]).unwrap();
+        o.finish_write(0x1003, 0, 1).unwrap();
+        assert!(o.errors().is_empty());
+        assert_eq!(
+            o.read(0x1003, 1, 0, &mut buf),
+            Err(AbortCode::NoDataAvailable)
+        );
+        o.write(0x1003, 0, 0, &[3]).unwrap();
+        assert_eq!(o.finish_write(0x1003, 0, 1), Err(AbortCode::InvalidValue));
+    }
+
+    #[test]
+    fn objects_and_access() {
+        let mut o = ChargerObjects::new(
+            "charger",
+            1000,
+            ConsumerEntry {
+                node: 1,
+                time_ms: 2000,
+            },
+        );
+        assert_eq!(o.info(0x1000, 0).unwrap().access, Access::Const);
+        assert_eq!(o.info(0x1008, 0).unwrap().len, 7);
+        assert_eq!(o.info(0x1016, 1).unwrap().len, 4);
+        assert!(o.info(0x2002, 0).unwrap().pdo_mappable);
+        assert!(o.info(0x2FFA, 1).unwrap().pdo_mappable);
+        assert_eq!(o.info(0x6001, 0).unwrap().access, Access::ReadOnly);
+        assert_eq!(o.info(0x6000, 1), Err(AbortCode::SubIndexDoesNotExist));
+        assert_eq!(o.info(0x6090, 0), Err(AbortCode::ObjectDoesNotExist));
+        let mut buf = [0u8; 8];
+        assert_eq!(o.read(0x1016, 1, 0, &mut buf), Ok(4));
+        assert_eq!(buf[..4], [0xD0, 0x07, 0x01, 0x00]);
+        assert_eq!(o.read(0x1008, 0, 3, &mut buf), Ok(4));
+        assert_eq!(&buf[..4], b"rger");
+        o.write(0x6000, 0, 0, &[1]).unwrap();
+        o.finish_write(0x6000, 0, 1).unwrap();
+        assert_eq!(o.battery_status, 1);
+        o.write(0x2006, 0, 0, &[1, 0]).unwrap();
+        assert_eq!(
+            o.finish_write(0x2006, 0, 2),
+            Err(AbortCode::WriteOfReadOnlyObject)
+        );
+    }
+}
