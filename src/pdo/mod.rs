@@ -7,9 +7,11 @@
 
 mod comm;
 mod mapping;
+mod pack;
 
 pub use comm::{PdoCobId, PdoCommParams, SubValue, TransmissionType, TransmissionTypeError};
 pub use mapping::{
     extract_bits, insert_bits, sign_extend, MappingEntry, MappingError, PdoMapping, MAX_BITS,
     MAX_ENTRIES,
 };
+pub use pack::{FieldError, FieldKind, PackError, UnpackError, Unpacked, Value};
