@@ -501,6 +501,58 @@ const CASES: &[Case] = &[
             black_box(classify(CanId::Extended(black_box(raw))));
         }
     }),
+    (
+        "pdo pack / unpack (Delta-Q TPDO 3 typed, P2, errors)",
+        |_| {
+            use canopen_codec::pdo::{FieldKind, MappingEntry as E, PdoMapping, Value};
+            use deltaq::{BatteryVoltageLegacy, ChargingCurrent, ExtendedChargeStatus};
+            let m = PdoMapping::new(&[
+                E::new(0x2002, 0, 16),
+                E::new(0x2100, 0, 16),
+                E::new(0x2006, 0, 16),
+            ])
+            .unwrap();
+            for data in [
+                &[0x74, 0x13, 0x45, 0x4E, 0x70, 0x00][..],
+                &[0x74; 8],
+                &[0x74; 5],
+            ] {
+                if let Ok(u) = m.unpack(black_box(data)) {
+                    let raw16 = |i| u.raw(i).and_then(|r| u16::try_from(r).ok()).unwrap_or(0);
+                    black_box((
+                        ChargingCurrent::from_raw(raw16(0)),
+                        BatteryVoltageLegacy::from_raw(raw16(1)),
+                    ));
+                    let _ = black_box((
+                        ExtendedChargeStatus::from_u16(raw16(2)),
+                        u.emcy_code(),
+                        m.pack_raw(u.raws()),
+                    ));
+                }
+            }
+            let p2 = PdoMapping::new(&[4, 8, 24, 12, 3, 13].map(|b| E::new(0x2000, 1, b))).unwrap();
+            let v = [
+                Value::Unsigned(3),
+                Value::Signed(-2),
+                Value::Unsigned(0x98_7654),
+                Value::Unsigned(0x321),
+                Value::Signed(-1),
+                Value::Signed(-1071),
+            ];
+            let packed = p2.pack(black_box(&v)).unwrap();
+            let u = p2.unpack(packed.as_slice()).unwrap();
+            let _ = black_box((
+                u.signed(5),
+                u.value(2, FieldKind::Unsigned),
+                u.value(2, FieldKind::Real32),
+            ));
+            let _ = black_box((
+                p2.pack(&v[..2]),
+                p2.pack_raw(&[1 << 5; 6]),
+                u.iter().count(),
+            ));
+        },
+    ),
 ];
 
 #[test]

@@ -14,6 +14,7 @@ mod config;
 mod defaults;
 mod mapping;
 mod od_io;
+mod pack;
 mod producer;
 mod reconfig;
 
@@ -34,5 +35,6 @@ pub use mapping::{
     MAX_ENTRIES,
 };
 pub use od_io::{read_mapped, write_mapped, RpdoError};
+pub use pack::{FieldError, FieldKind, PackError, UnpackError, Unpacked, Value};
 pub use producer::TpdoProducer;
 pub use reconfig::{Plan, ReconfigEvent, Reconfigurer, Step};
