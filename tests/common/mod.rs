@@ -1,6 +1,7 @@
 //! Test support shared by the integration tests (public API only).
 #![allow(dead_code)]
 
+pub mod bus;
 pub mod pair;
 
 use canopen_codec::{CanFrame, CanId};
