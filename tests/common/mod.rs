@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod bus;
+#[cfg(feature = "alloc")]
 pub mod pair;
 
 use canopen_codec::{CanFrame, CanId};
