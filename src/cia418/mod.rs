@@ -14,6 +14,9 @@
 //!   characters per Unsigned32.
 //! - [`EqualizationDate`] (6054h) and [`CalendarDateTime`].
 //! - [`DeviceType`] (1000h) and the default PDO set [`DEFAULT_PDOS`].
+//! - [`BatteryModule`]: a whole CiA 418 node (object dictionary
+//!   [`BatteryObjects`], SDO server, default PDOs, heartbeat, EMCY, NMT
+//!   slave) as a sans-IO state machine.
 //!
 //! Every value object has `decode(&[u8])` for the little-endian bytes an SDO
 //! upload (or a PDO slice) carries and `encode()` for the bytes to send.
