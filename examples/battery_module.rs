@@ -342,7 +342,7 @@ impl Clock {
 }
 
 /// The slowly changing values of `--simulate`: one step a second; the
-/// voltage follows a triangle of +-2 % over 60 s, the state of charge rises
+/// voltage follows a triangle of +-2 % over 60 s starting at the given value, the state of charge rises
 /// by 1 % every 5 s up to 100 %.
 struct Simulation {
     next: Timestamp,
@@ -355,7 +355,12 @@ impl Simulation {
         self.step += 1;
         self.next = now.add_millis(1000);
         let phase = i64::try_from(self.step % 60).unwrap_or(0);
-        let tri = if phase < 30 { phase - 15 } else { 45 - phase }; // -15..=15
+        // 0, 1 .. 15, 14 .. -15, -14 .. -1: a triangle starting at 0.
+        let tri = match phase {
+            0..=15 => phase,
+            16..=45 => 30 - phase,
+            _ => phase - 60,
+        };
         let base = i64::from(self.voltage.raw());
         let raw = base + base * tri * 2 / 1500;
         let voltage = BatteryVoltage::from_raw(u32::try_from(raw.max(0)).unwrap_or(u32::MAX));

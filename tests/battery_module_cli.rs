@@ -51,9 +51,11 @@ fn stderr(o: &Output) -> String {
 /// NMT start, an SDO upload of 1000h, then a foreign frame that only moves
 /// the clock: TPDO 0 at the start and every 200 ms, the heartbeat one
 /// period after the first timestamped line, all in the input's time base.
+/// (Lines are >= 100 ms apart: a line handled later than its time on the
+/// live clock would be handled at the clock's time instead.)
 const SCRIPT: &str = "\
 (100.000000) can0 000#0101
-(100.100000) can0 601#4000100000000000
+(100.500000) can0 601#4000100000000000
 (101.250000) can0 70A#05
 ";
 
@@ -65,9 +67,9 @@ fn nmt_start_sdo_upload_and_timers_in_the_input_time_base() {
     let tpdo = "181#C80001"; // 6010h 25.0 degC (C8 00), 6000h ready to charge
     let want = [
         format!("(100.000000) can0 {tpdo}"),
-        "(100.100000) can0 581#43001000A2010000".to_string(),
         format!("(100.200000) can0 {tpdo}"),
         format!("(100.400000) can0 {tpdo}"),
+        "(100.500000) can0 581#43001000A2010000".to_string(),
         format!("(100.600000) can0 {tpdo}"),
         format!("(100.800000) can0 {tpdo}"),
         "(101.000000) can0 701#05".to_string(),
@@ -90,9 +92,9 @@ fn nmt_start_sdo_upload_and_timers_in_the_input_time_base() {
 fn options_set_the_objects_and_the_optional_pdos() {
     let script = "\
 (5.000000) can0 601#4030600100000000
-(5.010000) can0 601#4020600100000000
-(5.020000) can0 000#0101
-(5.100000) can0 70A#05
+(5.500000) can0 601#4020600100000000
+(6.000000) can0 000#0101
+(6.100000) can0 70A#05
 ";
     let o = run(
         &[
@@ -110,6 +112,8 @@ fn options_set_the_objects_and_the_optional_pdos() {
             "-10.5",
             "--device-type",
             "40000",
+            "--heartbeat-ms",
+            "0",
         ],
         script,
     );
@@ -120,9 +124,9 @@ fn options_set_the_objects_and_the_optional_pdos() {
         rest,
         [
             "(5.000000) can0 581#4330600141424344",
-            "(5.010000) can0 581#4F206001A0000000",
-            "(5.020000) can0 181#ACFF01",
-            "(5.020000) can0 281#ACFF0100CE0000",
+            "(5.500000) can0 581#4F206001A0000000",
+            "(6.000000) can0 181#ACFF01",
+            "(6.000000) can0 281#ACFF0100CE0000",
         ],
         "stderr: {}",
         stderr(&o)
