@@ -80,8 +80,14 @@ impl PipeBus {
 
     /// Writes one frame as a candump log line and flushes.
     pub fn send(&self, frame: &CanFrame) {
+        self.send_at(frame, self.now());
+    }
+
+    /// Writes one frame as a candump log line stamped `timestamp` (a time
+    /// base of the caller's choosing) and flushes.
+    pub fn send_at(&self, frame: &CanFrame, timestamp: Timestamp) {
         let line = LogLineDisplay {
-            timestamp: self.now(),
+            timestamp,
             interface: &self.interface,
             frame,
         };
