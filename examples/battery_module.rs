@@ -12,46 +12,22 @@
 //!
 //! # Time
 //!
-//! The module is driven with one clock, in microseconds, whose time base is
-//! the one the output lines are stamped in:
-//!
-//! - At start it is the **system clock** (wall time at start plus the
-//!   monotonic clock since), so `</dev/null` or lines without timestamps
-//!   give candump lines with ordinary UNIX times.
-//! - The **first input line with a timestamp** switches the time base to the
-//!   input's: its timestamp is taken as the time of the module's last step
-//!   (its boot, or the last timer it ran), so the module's own clock never
-//!   jumps, and every later output line is stamped in the input's base.
-//!   (So the phase of the heartbeat follows the boot: the first heartbeat
-//!   is one period after the first timestamped line when that line came
-//!   before the first heartbeat.)
-//! - A later timestamp **ahead** of the clock moves it forward: every timer
-//!   due on the way (heartbeats, TPDO event timers, SDO timeouts) runs at
-//!   its own due time, in order, with output lines stamped with that time,
-//!   before the line's frame is handled. A replayed script or log therefore
-//!   gives the same output whatever the speed it is piped in.
-//! - A timestamp **behind** the clock (a late line) is handled at the
-//!   clock's current time: the clock never goes backwards. A line without a
-//!   timestamp is handled at the current time.
-//! - **Between lines** the clock runs on the monotonic clock from the last
-//!   timestamp that moved it, so heartbeats and TPDOs keep coming on time
-//!   while the input is quiet.
-//! - Timers are run at their due time, not at the moment the process wakes
-//!   up, so periods do not drift. A jump of more than [`MAX_STEPS`] timer
-//!   runs expires what is left once, at the target time.
-//!
-//! When stdin closes the module keeps running on the monotonic clock for
-//! `--linger-ms` (default 2000 ms, so `</dev/null` shows the boot-up and two
-//! heartbeats), then exits with status 0; `--linger-ms 0` exits as soon as
-//! the last line has been handled.
+//! Input timestamps, when present, set the time base; between lines the
+//! monotonic clock runs on (see `examples/support/node.rs` for the exact
+//! rules, shared with the `charger` example). When stdin closes the module
+//! keeps running for `--linger-ms` (default 2000 ms, so `</dev/null` shows
+//! the boot-up and two heartbeats), then exits with status 0.
 
 #[path = "support/bus.rs"]
 mod bus;
+#[path = "support/node.rs"]
+mod node;
 
 use std::process::ExitCode;
-use std::time::{Duration, SystemTime, UNIX_EPOCH};
+use std::time::Duration;
 
-use bus::{Input, PipeBus};
+use bus::PipeBus;
+use node::{Device, Runner};
 use canopen_codec::cia418::{
     BatteryEvent, BatteryModule, BatteryModuleConfig, BatteryParameters, BatteryStatus,
     BatteryType, BatteryVoltage, DeviceType, Identity, PackedStringObject, StateOfCharge,
@@ -85,6 +61,7 @@ sends out on stdout, its events on stderr.
   --no-enable-tpdos      keep CiA 418's default: TPDO COB-IDs not valid
                          (bit 31) until a tool enables them by SDO
   --simulate             voltage and state of charge change slowly (1 s steps)
+  --nmt-start            act as the NMT master after boot: send 000#0100 (start all nodes)
   --linger-ms N          keep running N ms after stdin closes (default 2000)
   --interface NAME       interface name in the output lines (default can0)
   -h, --help             this text
@@ -92,8 +69,6 @@ sends out on stdout, its events on stderr.
 Time: the system clock until the first input line with a timestamp, then
 that line's time base (see the example's documentation).";
 
-/// Timer runs in one catch-up before the rest is expired at once.
-pub const MAX_STEPS: u32 = 1_000_000;
 
 #[derive(Debug)]
 struct Options {
@@ -106,6 +81,7 @@ struct Options {
     soc: StateOfCharge,
     status: BatteryStatus,
     simulate: bool,
+    nmt_start: bool,
     linger: Duration,
     interface: String,
 }
@@ -165,6 +141,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
         soc: StateOfCharge::from_raw(50),
         status: BatteryStatus::READY_TO_CHARGE,
         simulate: false,
+        nmt_start: false,
         linger: Duration::from_millis(2000),
         interface: "can0".to_string(),
     };
@@ -250,6 +227,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
             "--heartbeat-ms" => o.config.heartbeat_ms = int(value()?)?,
             "--no-enable-tpdos" => o.config.enable_tpdos = false,
             "--simulate" => o.simulate = true,
+            "--nmt-start" => o.nmt_start = true,
             "--linger-ms" => {
                 let v = value()?;
                 let ms = v
@@ -262,83 +240,6 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
         }
     }
     Ok(Some(o))
-}
-
-/// The clock described in the module docs. All values are microseconds;
-/// "external" is the base of the output lines, "internal" the module's.
-struct Clock {
-    /// external (live) = monotonic + `off`
-    off: i128,
-    /// internal = external - `shift`
-    shift: i128,
-    /// Whether a timestamped line has set the time base.
-    anchored: bool,
-    /// The last external time the module was driven at.
-    last: i128,
-}
-
-fn micros(t: Timestamp) -> i128 {
-    i128::from(t.as_micros())
-}
-
-fn stamp(us: i128) -> Timestamp {
-    Timestamp::from_micros(u64::try_from(us.max(0)).unwrap_or(u64::MAX))
-}
-
-impl Clock {
-    fn new(bus: &PipeBus) -> Self {
-        let wall = SystemTime::now()
-            .duration_since(UNIX_EPOCH)
-            .map_or(0, |d| i128::try_from(d.as_micros()).unwrap_or(0));
-        let off = wall - micros(bus.now());
-        Clock {
-            off,
-            shift: 0,
-            anchored: false,
-            last: wall,
-        }
-    }
-
-    /// The current external time (never before the last step).
-    fn now(&self, bus: &PipeBus) -> i128 {
-        (micros(bus.now()) + self.off).max(self.last)
-    }
-
-    /// The external time at which to handle a line stamped `ts`.
-    fn on_line(&mut self, bus: &PipeBus, ts: Option<Timestamp>) -> i128 {
-        let now = self.now(bus);
-        let Some(t) = ts.map(micros) else {
-            return now;
-        };
-        if !self.anchored {
-            // `t` is the time of the module's last step: internal time is
-            // unchanged, only the external base moves.
-            self.anchored = true;
-            self.shift += t - self.last;
-            self.last = t;
-            self.off = t - micros(bus.now());
-            return t;
-        }
-        if t > now {
-            self.off = t - micros(bus.now());
-            t
-        } else {
-            now
-        }
-    }
-
-    fn internal(&self, external: i128) -> Timestamp {
-        stamp(external - self.shift)
-    }
-
-    fn external(&self, internal: Timestamp) -> i128 {
-        micros(internal) + self.shift
-    }
-
-    /// A deadline (external) on the bus's monotonic clock.
-    fn monotonic(&self, external: i128) -> Timestamp {
-        stamp(external - self.off)
-    }
 }
 
 /// The slowly changing values of `--simulate`: one step a second; the
@@ -376,69 +277,34 @@ impl Simulation {
     }
 }
 
-struct Node {
-    bus: PipeBus,
-    clock: Clock,
+/// The module and its optional simulation, as one device for the runner.
+struct BatteryDevice {
     module: BatteryModule,
     sim: Option<Simulation>,
 }
 
-impl Node {
-    /// The earliest internal deadline (module or simulation).
-    fn deadline(&self) -> Option<Timestamp> {
+impl Device for BatteryDevice {
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        self.module.handle_frame(now, frame);
+    }
+    fn handle_timeout(&mut self, now: Timestamp) {
+        if let Some(sim) = self.sim.as_mut().filter(|s| now.has_reached(s.next)) {
+            sim.run(now, &mut self.module);
+        }
+        self.module.handle_timeout(now);
+    }
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        self.module.poll_transmit()
+    }
+    fn poll_timeout(&self) -> Option<Timestamp> {
         let sim = self.sim.as_ref().map(|s| s.next);
         match (self.module.poll_timeout(), sim) {
             (Some(a), Some(b)) => Some(a.min(b)),
             (a, b) => a.or(b),
         }
     }
-
-    fn flush(&mut self, internal: Timestamp) {
-        let at = stamp(self.clock.external(internal));
-        while let Some(f) = self.module.poll_transmit() {
-            self.bus.send_at(&f, at);
-        }
-        while let Some(e) = self.module.poll_event() {
-            eprintln!("{}", describe(&e));
-        }
-    }
-
-    /// Runs every timer due up to `target` (external) at its due time.
-    fn advance(&mut self, target: i128) {
-        let end = self.clock.internal(target);
-        let mut steps = 0;
-        while let Some(due) = self.deadline().filter(|d| *d <= end) {
-            let due = if steps >= MAX_STEPS { end } else { due };
-            steps += 1;
-            let now = due.max(self.clock.internal(self.clock.last));
-            if let Some(sim) = self.sim.as_mut().filter(|s| now.has_reached(s.next)) {
-                sim.run(now, &mut self.module);
-            }
-            self.module.handle_timeout(now);
-            self.clock.last = self.clock.external(now);
-            self.flush(now);
-            if steps > MAX_STEPS {
-                break;
-            }
-        }
-        self.clock.last = self.clock.last.max(target);
-    }
-
-    fn handle_frame(&mut self, frame: &CanFrame, ts: Option<Timestamp>) {
-        let t = self.clock.on_line(&self.bus, ts);
-        self.advance(t);
-        let now = self.clock.internal(t);
-        self.module.handle_frame(now, frame);
-        self.flush(now);
-    }
-
-    /// Sleeps until `external` (or less) on the monotonic clock.
-    fn sleep_until(&self, external: i128) {
-        let wait = self
-            .clock
-            .monotonic(external)
-            .saturating_micros_since(self.bus.now());
-        std::thread::sleep(Duration::from_micros(wait));
+    fn events(&mut self) -> Vec<String> {
+        std::iter::from_fn(|| self.module.poll_event()).map(|e| describe(&e)).collect()
     }
 }
 
@@ -496,8 +362,14 @@ fn main() -> ExitCode {
         }
     }
     let bus = PipeBus::stdin(&o.interface);
-    let clock = Clock::new(&bus);
-    let boot = clock.internal(clock.last);
+    let (mut runner, boot) = Runner::new(
+        bus,
+        BatteryDevice {
+            module,
+            sim: None,
+        },
+    );
+    let module = &mut runner.device.module;
     module.update(boot, |obj| {
         obj.battery_parameters = o.parameters;
         obj.battery_voltage = o.voltage;
@@ -517,42 +389,21 @@ fn main() -> ExitCode {
         }
     );
     module.boot(boot);
-    let sim = o.simulate.then(|| Simulation {
+    runner.device.sim = o.simulate.then(|| Simulation {
         next: boot.add_millis(1000),
         step: 0,
         voltage: o.voltage,
     });
-    let mut node = Node {
-        bus,
-        clock,
-        module,
-        sim,
-    };
-    node.flush(boot);
-    loop {
-        let wait = node
-            .deadline()
-            .map(|d| node.clock.monotonic(node.clock.external(d)));
-        match node.bus.recv(wait) {
-            Input::Frame(f, ts) => node.handle_frame(&f, ts),
-            Input::Timeout => {
-                let now = node.clock.now(&node.bus);
-                node.advance(now);
-            }
-            Input::Closed => break,
+    runner.flush(boot);
+    if o.nmt_start {
+        // The BMS as NMT master (the real capture's battery controller sends
+        // 000#010A): start every node, this one included.
+        if let Ok(start) = CanFrame::standard(0x000, &[0x01, 0x00]) {
+            runner.bus.send_at(&start, node::stamp(runner.clock.external(boot)));
+            runner.device.module.handle_frame(boot, &start);
+            runner.flush(boot);
         }
     }
-    let linger = i128::try_from(o.linger.as_micros()).unwrap_or(i128::MAX / 4);
-    let end = node.clock.now(&node.bus) + linger;
-    while linger > 0 && node.clock.now(&node.bus) < end {
-        let next = node
-            .deadline()
-            .map(|d| node.clock.external(d))
-            .filter(|d| *d <= end)
-            .unwrap_or(end);
-        node.sleep_until(next);
-        let now = node.clock.now(&node.bus).min(end);
-        node.advance(now);
-    }
+    runner.run(o.linger);
     ExitCode::SUCCESS
 }

@@ -1,0 +1,191 @@
+//! A virtual Delta-Q style CiA 419 charger on a pipe: candump log lines in on
+//! stdin, the frames it sends out on stdout (one candump log line per frame,
+//! flushed), its events in words on stderr. It runs one
+//! [`Charger`](canopen_codec::cia419::Charger): heartbeat supervision of the
+//! battery module, PDO COB-ID pairing by SDO, TPDOs, EMCYs.
+//!
+//! ```text
+//! cargo run --example charger -- --node-id 10 --battery-node 1 [--mode local|remote] </dev/null
+//! # a whole session: the module's output feeds the charger and back
+//! mkfifo /tmp/c2b
+//! cargo run -q --example battery_module -- --simulate --nmt-start </tmp/c2b \
+//!   | cargo run -q --example charger >/tmp/c2b
+//! ```
+//!
+//! Options: `--node-id N` (10), `--battery-node N` (1), `--mode
+//! local|remote|local-override|monitoring` (local), `--no-configure` (use the
+//! charger's own default COB-IDs, as the real capture does, instead of
+//! reading the module's), `--self-start` (enter operational after boot
+//! instead of waiting for an NMT start), `--heartbeat-ms` (1000),
+//! `--battery-timeout-ms` (2000), `--current A` and `--voltage V` (the
+//! charger's 2002h / 2100h / 2101h measurements), `--linger-ms` (2000),
+//! `--interface NAME` (can0).
+//!
+//! Time: see `examples/support/node.rs` (shared with `battery_module`).
+
+#[path = "support/bus.rs"]
+mod bus;
+#[path = "support/node.rs"]
+mod node;
+
+use std::process::ExitCode;
+use std::time::Duration;
+
+use bus::PipeBus;
+use canopen_codec::cia419::{Charger, ChargerConfig, ChargerEvent};
+use canopen_codec::deltaq::{OperatingMode, Reaction};
+use canopen_codec::{CanFrame, NodeId, Timestamp};
+use node::{Device, Runner};
+
+const USAGE: &str = "usage: charger [--node-id N] [--battery-node N] [--mode local|remote|local-override|monitoring]
+               [--no-configure] [--self-start] [--heartbeat-ms MS] [--battery-timeout-ms MS]
+               [--current A] [--voltage V] [--linger-ms MS] [--interface NAME]";
+
+struct Options {
+    config: ChargerConfig,
+    current_a: f64,
+    voltage_v: f64,
+    linger: Duration,
+    interface: String,
+}
+
+fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
+    let node = |v: &str| {
+        v.parse::<u8>()
+            .ok()
+            .and_then(NodeId::new)
+            .ok_or(format!("'{v}' is not a node id 1..=127"))
+    };
+    let mut config = ChargerConfig::new(node("10")?, node("1")?);
+    config.device_name = "canopen-codec charger";
+    let mut o = Options {
+        config,
+        current_a: 0.0,
+        voltage_v: 0.0,
+        linger: Duration::from_millis(2000),
+        interface: "can0".into(),
+    };
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        let mut value = || it.next().ok_or(format!("{a} needs a value"));
+        let number = |v: &String| v.parse::<f64>().map_err(|_| format!("{a}: '{v}' is not a number"));
+        let ms = |v: &String| v.parse::<u16>().map_err(|_| format!("{a}: '{v}' is not 0..=65535 ms"));
+        match a.as_str() {
+            "-h" | "--help" => return Ok(None),
+            "--node-id" => o.config.node = node(value()?)?,
+            "--battery-node" => o.config.battery = node(value()?)?,
+            "--mode" => {
+                o.config.mode = match value()?.as_str() {
+                    "local" => OperatingMode::Local,
+                    "remote" => OperatingMode::Remote,
+                    "local-override" => OperatingMode::LocalOverride,
+                    "monitoring" => OperatingMode::MonitoringOnly,
+                    other => return Err(format!("--mode: unknown mode '{other}'")),
+                }
+            }
+            "--no-configure" => o.config.configure_cob_ids = false,
+            "--self-start" => o.config.self_start = true,
+            "--heartbeat-ms" => o.config.heartbeat_ms = ms(value()?)?,
+            "--battery-timeout-ms" => o.config.battery_timeout_ms = ms(value()?)?,
+            "--current" => o.current_a = number(value()?)?,
+            "--voltage" => o.voltage_v = number(value()?)?,
+            "--linger-ms" => o.linger = Duration::from_millis(u64::from(ms(value()?)?)),
+            "--interface" => o.interface = value()?.clone(),
+            other => return Err(format!("unknown option '{other}'")),
+        }
+    }
+    if !(0.0..=255.0).contains(&o.current_a) || !(0.0..=64.0 * 4.0).contains(&o.voltage_v) {
+        return Err("--current must be 0..=255 A and --voltage 0..=256 V".into());
+    }
+    Ok(Some(o))
+}
+
+fn describe(e: &ChargerEvent) -> String {
+    match *e {
+        ChargerEvent::NmtStateChanged { from, to } => format!("event: NMT {from} -> {to}"),
+        ChargerEvent::BatteryFound { state } => {
+            format!("event: battery module found ({state})")
+        }
+        ChargerEvent::BatteryLost => {
+            "event: battery module heartbeat lost: EMCY E-0-3-2, TPDOs stopped".to_string()
+        }
+        ChargerEvent::Configured { tpdos, rpdos } => format!(
+            "event: PDO COB-IDs configured: TPDOs {tpdos:04b}, RPDOs {rpdos:04b} (bit n = PDO n)"
+        ),
+        ChargerEvent::ConfigurationFailed { index, sub, code } => format!(
+            "event: reading the module's {index:04X}h sub {sub} failed: {code}; EMCY E-0-3-0"
+        ),
+        ChargerEvent::NotABatteryModule { device_type } => {
+            format!("event: device type {device_type:08X}h is not a CiA 418 battery module")
+        }
+        ChargerEvent::BatteryEmcy { emcy, reaction } => {
+            let what = match reaction {
+                Reaction::Continue => "continue",
+                Reaction::TerminateCharging => "terminate charging",
+                Reaction::ShutDown => "shut down",
+                Reaction::TemperatureSensorFault => "temperature-sensor-fault handling",
+            };
+            format!("event: battery EMCY {} (reg {:02X}h): {what}", emcy.code, emcy.register.bits())
+        }
+        ChargerEvent::RpdoReceived { pdo } => format!("event: RPDO {pdo} received"),
+        ChargerEvent::RpdoRefused { pdo, error } => format!("event: RPDO {pdo} refused: {error}"),
+        ChargerEvent::ObjectWritten { index, sub } => {
+            format!("event: SDO download to {index:04X}h sub {sub:02X}h")
+        }
+    }
+}
+
+impl Device for Charger {
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        Charger::handle_frame(self, now, frame);
+    }
+    fn handle_timeout(&mut self, now: Timestamp) {
+        Charger::handle_timeout(self, now);
+    }
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        Charger::poll_transmit(self)
+    }
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        Charger::poll_timeout(self)
+    }
+    fn events(&mut self) -> Vec<String> {
+        std::iter::from_fn(|| self.poll_event())
+            .filter(|e| !matches!(e, ChargerEvent::RpdoReceived { .. }))
+            .map(|e| describe(&e))
+            .collect()
+    }
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let o = match parse_args(&args) {
+        Ok(Some(o)) => o,
+        Ok(None) => {
+            println!("{USAGE}");
+            return ExitCode::SUCCESS;
+        }
+        Err(e) => {
+            eprintln!("charger: {e}\n{USAGE}");
+            return ExitCode::from(2);
+        }
+    };
+    let (mut runner, boot) = Runner::new(PipeBus::stdin(&o.interface), Charger::new(o.config));
+    eprintln!(
+        "charger: node {}, battery node {}, mode {}, COB-ID configuration {}",
+        o.config.node,
+        o.config.battery,
+        o.config.mode,
+        if o.config.configure_cob_ids { "on" } else { "off (default COB-IDs)" }
+    );
+    runner.device.boot(boot);
+    let (current, voltage) = (o.current_a, o.voltage_v);
+    runner.device.update(boot, |obj| {
+        obj.charging_current = (current * 256.0).round() as u16;
+        obj.battery_voltage_q8 = (voltage * 256.0).round() as u16;
+        obj.battery_voltage_q10 = (voltage * 1024.0).round().min(65535.0) as u16;
+        obj.charger_status = 0x01;
+    });
+    runner.flush(boot);
+    runner.run(o.linger);
+    ExitCode::SUCCESS
+}
