@@ -27,7 +27,6 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use bus::PipeBus;
-use node::{Device, Runner};
 use canopen_codec::cia418::{
     BatteryEvent, BatteryModule, BatteryModuleConfig, BatteryParameters, BatteryStatus,
     BatteryType, BatteryVoltage, DeviceType, Identity, PackedStringObject, StateOfCharge,
@@ -35,6 +34,7 @@ use canopen_codec::cia418::{
 };
 use canopen_codec::sdo::AbortOrigin;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
+use node::{Device, Runner};
 
 const USAGE: &str = "usage: battery_module [OPTIONS]
 A virtual CiA 418 battery module: candump lines in on stdin, the frames it
@@ -68,7 +68,6 @@ sends out on stdout, its events on stderr.
 
 Time: the system clock until the first input line with a timestamp, then
 that line's time base (see the example's documentation).";
-
 
 #[derive(Debug)]
 struct Options {
@@ -304,7 +303,9 @@ impl Device for BatteryDevice {
         }
     }
     fn events(&mut self) -> Vec<String> {
-        std::iter::from_fn(|| self.module.poll_event()).map(|e| describe(&e)).collect()
+        std::iter::from_fn(|| self.module.poll_event())
+            .map(|e| describe(&e))
+            .collect()
     }
 }
 
@@ -362,13 +363,7 @@ fn main() -> ExitCode {
         }
     }
     let bus = PipeBus::stdin(&o.interface);
-    let (mut runner, boot) = Runner::new(
-        bus,
-        BatteryDevice {
-            module,
-            sim: None,
-        },
-    );
+    let (mut runner, boot) = Runner::new(bus, BatteryDevice { module, sim: None });
     let module = &mut runner.device.module;
     module.update(boot, |obj| {
         obj.battery_parameters = o.parameters;
@@ -399,7 +394,9 @@ fn main() -> ExitCode {
         // The BMS as NMT master (the real capture's battery controller sends
         // 000#010A): start every node, this one included.
         if let Ok(start) = CanFrame::standard(0x000, &[0x01, 0x00]) {
-            runner.bus.send_at(&start, node::stamp(runner.clock.external(boot)));
+            runner
+                .bus
+                .send_at(&start, node::stamp(runner.clock.external(boot)));
             runner.device.module.handle_frame(boot, &start);
             runner.flush(boot);
         }

@@ -68,8 +68,14 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
     let mut it = args.iter();
     while let Some(a) = it.next() {
         let mut value = || it.next().ok_or(format!("{a} needs a value"));
-        let number = |v: &String| v.parse::<f64>().map_err(|_| format!("{a}: '{v}' is not a number"));
-        let ms = |v: &String| v.parse::<u16>().map_err(|_| format!("{a}: '{v}' is not 0..=65535 ms"));
+        let number = |v: &String| {
+            v.parse::<f64>()
+                .map_err(|_| format!("{a}: '{v}' is not a number"))
+        };
+        let ms = |v: &String| {
+            v.parse::<u16>()
+                .map_err(|_| format!("{a}: '{v}' is not 0..=65535 ms"))
+        };
         match a.as_str() {
             "-h" | "--help" => return Ok(None),
             "--node-id" => o.config.node = node(value()?)?,
@@ -125,7 +131,11 @@ fn describe(e: &ChargerEvent) -> String {
                 Reaction::ShutDown => "shut down",
                 Reaction::TemperatureSensorFault => "temperature-sensor-fault handling",
             };
-            format!("event: battery EMCY {} (reg {:02X}h): {what}", emcy.code, emcy.register.bits())
+            format!(
+                "event: battery EMCY {} (reg {:02X}h): {what}",
+                emcy.code,
+                emcy.register.bits()
+            )
         }
         ChargerEvent::RpdoReceived { pdo } => format!("event: RPDO {pdo} received"),
         ChargerEvent::RpdoRefused { pdo, error } => format!("event: RPDO {pdo} refused: {error}"),
@@ -175,7 +185,11 @@ fn main() -> ExitCode {
         o.config.node,
         o.config.battery,
         o.config.mode,
-        if o.config.configure_cob_ids { "on" } else { "off (default COB-IDs)" }
+        if o.config.configure_cob_ids {
+            "on"
+        } else {
+            "off (default COB-IDs)"
+        }
     );
     runner.device.boot(boot);
     let (current, voltage) = (o.current_a, o.voltage_v);
