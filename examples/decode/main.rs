@@ -61,12 +61,15 @@
 
 mod json;
 mod pdo_args;
+mod sdo;
+mod sdo_value;
 mod words;
 
 use std::io::{self, BufRead, BufWriter, IsTerminal, Write};
 use std::process::ExitCode;
 
 use canopen_codec::candump::parse_line;
+use canopen_codec::cob_id::classify;
 use canopen_codec::{Message, NodeId};
 
 const BUNDLED: &str = include_str!("../../tests/data/deltaq-icl1500-startup.log");
@@ -208,6 +211,7 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
     let mut out = BufWriter::new(stdout.lock());
     let mut bad = 0;
     let mut text = String::new();
+    let mut sdo = sdo::Tracker::default();
     for (i, line) in input.lines().enumerate() {
         let line = line?;
         let lineno = i + 1;
@@ -238,7 +242,30 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
             words::line(&mut text, &parsed, &decoded, &opts.roles, fields.as_ref());
         }
         writeln!(out, "{text}")?;
+        let kind = classify(parsed.frame.id());
+        if let Some(report) = sdo.handle(
+            parsed.timestamp,
+            kind,
+            parsed.frame.data().first().copied(),
+            &decoded,
+        ) {
+            transfer(&mut out, &report, opts)?;
+        }
+    }
+    for report in sdo.finish() {
+        transfer(&mut out, &report, opts)?;
     }
     out.flush()?;
     Ok(bad)
+}
+
+/// Writes the extra line of a finished SDO transfer.
+fn transfer(out: &mut impl Write, report: &sdo::Report, opts: &Options) -> io::Result<()> {
+    let mut text = String::new();
+    if opts.json {
+        json::transfer(&mut text, report, &opts.roles);
+    } else {
+        words::transfer(&mut text, report, &opts.roles);
+    }
+    writeln!(out, "{text}")
 }
