@@ -4,7 +4,9 @@
 //! rpdo, sdo_rx, sdo_tx, heartbeat, lss, unknown), `node` (or null), `role`,
 //! `dlc`, `data` (hex), then per-kind fields; `error` when the frame does not
 //! fit its object; `mapping`, `unmapped_bytes` and `fields` when a PDO
-//! mapping is known for the frame (see main.rs).
+//! mapping is known for the frame (see main.rs). After the frame that ends
+//! an SDO transfer comes one more object of kind `sdo_transfer` (see
+//! [`transfer`]).
 
 use std::fmt::Write;
 

@@ -520,6 +520,13 @@ fn block(
             Some((new, _)) => (Some(new), None),
             None => (Some(tr), None),
         },
+        // The server answering something other than a block download:
+        // the block transfer is over (its end was not seen).
+        (Direction::Download, Frame::Server(s))
+            if !matches!(s, ServerCommand::BlockDownload(_)) =>
+        {
+            (None, None)
+        }
         _ => (Some(tr), None),
     }
 }
