@@ -4,7 +4,9 @@
 //! rpdo, sdo_rx, sdo_tx, heartbeat, lss, unknown), `node` (or null), `role`,
 //! `dlc`, `data` (hex), then per-kind fields; `error` when the frame does not
 //! fit its object; `mapping`, `unmapped_bytes` and `fields` when a PDO
-//! mapping is known for the frame (see main.rs).
+//! mapping is known for the frame (see main.rs). After the frame that ends
+//! an SDO transfer comes one more object of kind `sdo_transfer` (see
+//! [`transfer`]).
 
 use std::fmt::Write;
 
@@ -15,7 +17,9 @@ use canopen_codec::sdo::{ClientCommand, InitiatePayload, ServerCommand};
 use canopen_codec::{DecodeError, Message};
 
 use crate::pdo_args::Source;
-use crate::words::deltaq;
+use crate::sdo::{End, Report};
+use crate::sdo_value::Value;
+use crate::words::{deltaq, described, sentence};
 use crate::Roles;
 
 fn hex(bytes: &[u8]) -> String {
@@ -346,4 +350,99 @@ fn server(out: &mut String, c: &ServerCommand) {
             string(out, "invalid");
         }
     }
+}
+
+/// The extra object after the frame that ended an SDO transfer:
+/// `{"t":..,"kind":"sdo_transfer","node":..,"role":..,"direction":..,
+/// "index":..,"sub":..,"status":"complete"|"aborted"|"incomplete",
+/// "size":..,"indicated_size":..,"size_indicated":..,"size_mismatch":..,
+/// "truncated":..,"bytes":"hex","name":..,"value":..,"unit":..,
+/// "meaning":..,"text":..}`, with `"abort":{"code":..,"meaning":..,"by":..}`
+/// or `"incomplete":"why"` where the transfer did not complete. `value`,
+/// `unit` and `meaning` are null unless it completed.
+pub fn transfer(out: &mut String, r: &Report, roles: &Roles) {
+    let d = described(r, roles);
+    out.push_str("{\"t\":");
+    match r.t {
+        Some(t) => {
+            let _ = write!(out, "{t}");
+        }
+        None => out.push_str("null"),
+    }
+    key(out, "kind");
+    string(out, "sdo_transfer");
+    let _ = write!(out, ",\"node\":{}", r.node);
+    key(out, "role");
+    match roles.role(Some(r.node)) {
+        Some(role) => string(out, role),
+        None => out.push_str("null"),
+    }
+    key(out, "direction");
+    string(out, r.direction.name());
+    let _ = write!(out, ",\"index\":{},\"sub\":{}", r.index, r.sub);
+    key(out, "status");
+    string(
+        out,
+        match r.end {
+            End::Complete => "complete",
+            End::Aborted { .. } => "aborted",
+            End::Incomplete(_) => "incomplete",
+        },
+    );
+    let _ = write!(out, ",\"size\":{},\"indicated_size\":", r.total);
+    match r.indicated {
+        Some(n) => {
+            let _ = write!(out, "{n}");
+        }
+        None => out.push_str("null"),
+    }
+    let _ = write!(
+        out,
+        ",\"size_indicated\":{},\"size_mismatch\":{},\"truncated\":{}",
+        r.size_indicated,
+        r.size_mismatch().is_some(),
+        r.truncated()
+    );
+    key(out, "bytes");
+    string(out, &hex(&r.bytes));
+    key(out, "name");
+    match &d.name {
+        Some(n) => string(out, n),
+        None => out.push_str("null"),
+    }
+    let complete = r.end == End::Complete;
+    key(out, "value");
+    match &d.value {
+        Value::Number(n) if complete => out.push_str(n),
+        Value::Text(s) if complete => string(out, s),
+        _ => out.push_str("null"),
+    }
+    key(out, "unit");
+    match d.unit {
+        Some(u) if complete => string(out, u),
+        _ => out.push_str("null"),
+    }
+    key(out, "meaning");
+    match &d.meaning {
+        Some(m) if complete => string(out, m),
+        _ => out.push_str("null"),
+    }
+    match &r.end {
+        End::Complete => {}
+        End::Aborted { code, by } => {
+            let _ = write!(out, ",\"abort\":{{\"code\":{}", code.to_u32());
+            key(out, "meaning");
+            string(out, code.description());
+            key(out, "by");
+            string(out, by.name());
+            out.push('}');
+        }
+        End::Incomplete(why) => {
+            key(out, "incomplete");
+            string(out, why);
+        }
+    }
+    key(out, "text");
+    string(out, &sentence(r, &d));
+    out.push('}');
 }

@@ -56,17 +56,64 @@
 //! **exact** number for scaled values, e.g. 19.453125; words for bit fields
 //! and codes; null otherwise), `unit` where the object has one, and `text`.
 //!
+//! ## SDO transfers
+//!
+//! The decoder follows one SDO transfer per server node (requests on
+//! 0x600 + node, responses on 0x580 + node) and, after the frame that ends
+//! one, prints one extra line (in `--json`, one extra object):
+//!
+//! ```text
+//! 1757100000.207750  transfer  -        SDO upload 1008h:00 from node 2: 26 bytes "Tiny Node - Mega Domains !" (manufacturer device name)
+//! 1757100000.101350  transfer  -        SDO download 1017h:00 to node 2: A0 0F (producer heartbeat time: 4000 ms)
+//! 1757100000.501350  transfer  -        SDO upload 1018h:01 from node 2 aborted: 06090011h Sub-index does not exist
+//! ```
+//!
+//! - A transfer ends with the expedited response or acknowledgement, the
+//!   last upload segment (c = 1), the acknowledgement of the last download
+//!   segment, or an abort from either side (`aborted by the client` when the
+//!   client sent it; the transfer's own index and sub-index are shown, not
+//!   the abort frame's).
+//! - A transfer broken off (a new initiate on its channel, a wrong toggle
+//!   bit, a response for another object, a frame that does not fit, a
+//!   malformed frame, or the end of the log) is reported once as
+//!   `incomplete: <why> (N bytes transferred of M indicated)`. Frames with no
+//!   transfer open (a stray segment, an abort) add no transfer line.
+//! - An indicated size other than the bytes transferred is printed as
+//!   `[size mismatch: ...]` (JSON `size_mismatch`, `indicated_size`, `size`);
+//!   an expedited value with s = 0 as `[size not indicated]`. At most 64 KiB
+//!   of a transfer are kept (`[truncated: ...]`, JSON `truncated`); the
+//!   count goes on.
+//! - The value is named and interpreted where the object is known: 1000h
+//!   (CiA 418 optional PDOs when its profile is 418), 1001h, 1003h (with the
+//!   Delta-Q code on the charger node), 1008h-100Ah strings, 1016h-1018h,
+//!   PDO communication and mapping objects 1400h-1BFFh (numbered from 0 as
+//!   the frame lines do: 1800h is TPDO0), and the profile objects of the
+//!   node's catalogue: Delta-Q then CiA 418 on the charger node, CiA 418 on
+//!   the battery node and on nodes with no role. Otherwise bytes only.
+//! - Block transfers are followed (so their data frames are not misread) but
+//!   not reassembled: only their aborts are reported.
+//!
+//! JSON: `{"t","kind":"sdo_transfer","node","role","direction":"upload"|
+//! "download","index","sub","status":"complete"|"aborted"|"incomplete",
+//! "size","indicated_size","size_indicated","size_mismatch","truncated",
+//! "bytes"(hex),"name","value","unit","meaning","text"}` plus
+//! `"abort":{"code","meaning","by"}` or `"incomplete":"why"`; `value`,
+//! `unit` and `meaning` are null unless the transfer completed.
+//!
 //! 6010h temperature is decoded per CiA 418 (0.125 degC/bit, no offset):
 //! the capture README's DBC adds -40 degC, which the profile does not have.
 
 mod json;
 mod pdo_args;
+mod sdo;
+mod sdo_value;
 mod words;
 
 use std::io::{self, BufRead, BufWriter, IsTerminal, Write};
 use std::process::ExitCode;
 
 use canopen_codec::candump::parse_line;
+use canopen_codec::cob_id::classify;
 use canopen_codec::{Message, NodeId};
 
 const BUNDLED: &str = include_str!("../../tests/data/deltaq-icl1500-startup.log");
@@ -208,6 +255,7 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
     let mut out = BufWriter::new(stdout.lock());
     let mut bad = 0;
     let mut text = String::new();
+    let mut sdo = sdo::Tracker::default();
     for (i, line) in input.lines().enumerate() {
         let line = line?;
         let lineno = i + 1;
@@ -238,7 +286,30 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
             words::line(&mut text, &parsed, &decoded, &opts.roles, fields.as_ref());
         }
         writeln!(out, "{text}")?;
+        let kind = classify(parsed.frame.id());
+        if let Some(report) = sdo.handle(
+            parsed.timestamp,
+            kind,
+            parsed.frame.data().first().copied(),
+            &decoded,
+        ) {
+            transfer(&mut out, &report, opts)?;
+        }
+    }
+    for report in sdo.finish() {
+        transfer(&mut out, &report, opts)?;
     }
     out.flush()?;
     Ok(bad)
+}
+
+/// Writes the extra line of a finished SDO transfer.
+fn transfer(out: &mut impl Write, report: &sdo::Report, opts: &Options) -> io::Result<()> {
+    let mut text = String::new();
+    if opts.json {
+        json::transfer(&mut text, report, &opts.roles);
+    } else {
+        words::transfer(&mut text, report, &opts.roles);
+    }
+    writeln!(out, "{text}")
 }

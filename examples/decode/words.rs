@@ -6,9 +6,11 @@ use canopen_codec::candump::LogLine;
 use canopen_codec::cob_id::classify;
 use canopen_codec::deltaq::DeltaQCode;
 use canopen_codec::pdo::{FieldValue, NamedFields};
-use canopen_codec::{DecodeError, Message};
+use canopen_codec::{DecodeError, Message, NodeId};
 
 use crate::pdo_args::Source;
+use crate::sdo::{End, Report, Side};
+use crate::sdo_value::{describe, quote, Described, Role};
 use crate::Roles;
 
 /// `1756955653.612992  08A  charger  EMCY node 10: 8130h ..., Delta-Q E-0-3-2 heartbeat lost`
@@ -84,4 +86,128 @@ fn pdo_fields(out: &mut String, source: Source, fields: &NamedFields) {
     if fields.unmapped_bytes() > 0 {
         let _ = write!(out, " (+{} unmapped bytes)", fields.unmapped_bytes());
     }
+}
+
+/// The role of a node, for naming its objects.
+pub fn role(node: NodeId, roles: &Roles) -> Role {
+    match roles.role(Some(node)) {
+        Some("charger") => Role::Charger,
+        Some("battery") => Role::Battery,
+        _ => Role::Other,
+    }
+}
+
+/// The name and meaning of a complete transfer's value.
+pub fn described(r: &Report, roles: &Roles) -> Described {
+    describe(
+        r.index,
+        r.sub,
+        &r.bytes,
+        role(r.node, roles),
+        r.size_indicated,
+    )
+}
+
+fn hex_spaced(bytes: &[u8]) -> String {
+    let v: Vec<String> = bytes.iter().map(|b| format!("{b:02X}")).collect();
+    v.join(" ")
+}
+
+/// `SDO upload 1008h:00 from node 1: 26 bytes "Tiny ..." (manufacturer
+/// device name)`, `SDO download 1017h:00 to node 2: A0 0F (producer
+/// heartbeat time: 4000 ms)`, `SDO upload 1018h:01 from node 2 aborted:
+/// 06090011h Sub-index does not exist`.
+pub fn sentence(r: &Report, d: &Described) -> String {
+    let mut s = format!(
+        "SDO {} {:04X}h:{:02X} {} node {}",
+        r.direction.name(),
+        r.index,
+        r.sub,
+        r.direction.preposition(),
+        r.node
+    );
+    let so_far = |s: &mut String| {
+        let _ = write!(s, " ({} bytes transferred", r.total);
+        if let Some(n) = r.indicated {
+            let _ = write!(s, " of {n} indicated");
+        }
+        s.push(')');
+    };
+    match &r.end {
+        End::Aborted { code, by } => {
+            match by {
+                Side::Server => s.push_str(" aborted: "),
+                Side::Client => s.push_str(" aborted by the client: "),
+            }
+            let _ = write!(s, "{code}");
+            if r.total > 0 {
+                so_far(&mut s);
+            }
+            return s;
+        }
+        End::Incomplete(why) => {
+            let _ = write!(s, " incomplete: {why}");
+            so_far(&mut s);
+            return s;
+        }
+        End::Complete => {}
+    }
+    s.push_str(": ");
+    if d.string {
+        let _ = write!(s, "{} bytes {}", r.total, quote(&r.bytes));
+    } else if r.total == 0 {
+        s.push_str("0 bytes");
+    } else if r.total <= 8 {
+        s.push_str(&hex_spaced(&r.bytes));
+    } else {
+        let _ = write!(s, "{} bytes {}", r.total, hex_spaced(&r.bytes));
+    }
+    match (&d.name, &d.meaning) {
+        (Some(n), Some(m)) => {
+            let _ = write!(s, " ({n}: {m})");
+        }
+        (Some(n), None) => {
+            let _ = write!(s, " ({n})");
+        }
+        (None, Some(m)) => {
+            let _ = write!(s, " ({m})");
+        }
+        (None, None) => {}
+    }
+    if r.truncated() {
+        let _ = write!(
+            s,
+            " [truncated: the first {} of {} bytes kept]",
+            r.bytes.len(),
+            r.total
+        );
+    }
+    if let Some(n) = r.size_mismatch() {
+        let _ = write!(
+            s,
+            " [size mismatch: {n} bytes indicated, {} transferred]",
+            r.total
+        );
+    }
+    if !r.size_indicated {
+        s.push_str(" [size not indicated]");
+    }
+    s
+}
+
+/// The extra line after the frame that ended a transfer, in the columns of
+/// the frame lines with `transfer` in the identifier column.
+pub fn transfer(out: &mut String, r: &Report, roles: &Roles) {
+    match r.t {
+        Some(t) => {
+            let _ = write!(out, "{:>17}", t.to_string());
+        }
+        None => out.push_str("                -"),
+    }
+    let _ = write!(
+        out,
+        "  transfer  {:<7}  {}",
+        roles.role(Some(r.node)).unwrap_or("-"),
+        sentence(r, &described(r, roles))
+    );
 }
