@@ -853,3 +853,35 @@ fn sdo_garbage_never_panics() {
         }
     }
 }
+
+#[test]
+fn bundled_session_shows_configuration_loss_and_recovery() {
+    let o = run(&["--bundled", "session"], None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = text(&o);
+    // The charger's configuration reads, reassembled and explained, twice.
+    assert_eq!(
+        out.matches("transfer  battery  SDO upload 1000h:00 from node 1: A2 01 00 00 (device type: CiA 418 battery module").count(),
+        2
+    );
+    assert!(out.contains(
+        "SDO upload 1800h:01 from node 1: 81 01 00 00 (TPDO0 communication: COB-ID: 181h, valid)"
+    ));
+    assert!(out.contains("1763800007.000500       08A  charger  EMCY node 10: 8130h life guard error or heartbeat error, reg 01h, mfr 20 80 00 00 00, Delta-Q E-0-3-2 heartbeat lost"));
+    assert!(out.contains("08A  charger  EMCY node 10: 0000h error reset or no error"));
+    let o = run(&["--json", "--bundled", "session"], None);
+    let transfers: Vec<Value> = text(&o)
+        .lines()
+        .map(|l| serde_json::from_str::<Value>(l).unwrap())
+        .filter(|v| v["kind"] == "sdo_transfer")
+        .collect();
+    assert_eq!(transfers.len(), 6);
+    assert!(transfers
+        .iter()
+        .all(|v| v["status"] == "complete" && v["node"] == 1));
+    assert_eq!(run(&["--bundled", "other"], None).status.code(), Some(2));
+    assert_eq!(
+        run(&["--bundled", "session", STARTUP], None).status.code(),
+        Some(2)
+    );
+}

@@ -118,6 +118,9 @@ use canopen_codec::{Message, NodeId};
 
 const BUNDLED: &str = include_str!("../../tests/data/deltaq-icl1500-startup.log");
 const BUNDLED_NAME: &str = "tests/data/deltaq-icl1500-startup.log (bundled real capture)";
+const SESSION: &str = include_str!("../../tests/data/virtual-session.log");
+const SESSION_NAME: &str =
+    "tests/data/virtual-session.log (bundled session of the virtual charger and battery module)";
 
 /// Which node is which, for naming Delta-Q codes and roles.
 #[derive(Clone, Copy)]
@@ -141,10 +144,12 @@ struct Options {
     roles: Roles,
     pdos: pdo_args::Mappings,
     file: Option<String>,
+    /// `--bundled capture|session`.
+    bundled: Option<&'static str>,
 }
 
 const USAGE: &str = "usage: decode [--json] [--charger-node N] [--battery-node N] \
-[--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [FILE]";
+[--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [--bundled capture|session] [FILE]";
 
 fn parse_node(v: Option<String>, what: &str) -> Result<NodeId, String> {
     let v = v.ok_or(format!("{what} needs a value"))?;
@@ -166,6 +171,7 @@ fn parse_args() -> Result<Options, String> {
             defaults: true,
         },
         file: None,
+        bundled: None,
     };
     let mut capture = false;
     let mut args = std::env::args().skip(1);
@@ -178,6 +184,18 @@ fn parse_args() -> Result<Options, String> {
             }
             s if s.starts_with("--pdo=") => opts.pdos.add(&s["--pdo=".len()..])?,
             "--no-default-pdos" => opts.pdos.defaults = false,
+            "--bundled" => {
+                opts.bundled = Some(match args.next().as_deref() {
+                    Some("capture") => "capture",
+                    Some("session") => "session",
+                    other => {
+                        return Err(format!(
+                            "--bundled takes capture or session, not {}",
+                            other.unwrap_or("nothing")
+                        ))
+                    }
+                })
+            }
             "--pdo-capture-mapping" => capture = true,
             "--charger-node" => opts.roles.charger = parse_node(args.next(), "--charger-node")?,
             "--battery-node" => opts.roles.battery = parse_node(args.next(), "--battery-node")?,
@@ -204,36 +222,57 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let input: Box<dyn BufRead> = match opts.file.as_deref() {
-        Some("-") => Box::new(io::stdin().lock()),
-        Some(path) => match std::fs::File::open(path) {
-            Ok(f) => Box::new(io::BufReader::new(f)),
-            Err(e) => {
-                eprintln!("decode: {path}: {e}");
-                return ExitCode::from(2);
-            }
-        },
-        None if io::stdin().is_terminal() => {
-            // The bundled capture was remapped by its integrator: decode it
-            // with the mapping of captures/README.md unless told otherwise.
-            let remap = opts.pdos.given.is_empty() && opts.pdos.defaults;
-            if remap {
+    if opts.bundled.is_some() && opts.file.is_some() {
+        eprintln!("decode: give a FILE or --bundled, not both\n{USAGE}");
+        return ExitCode::from(2);
+    }
+    let input: Box<dyn BufRead> = match (opts.bundled, opts.file.as_deref()) {
+        (Some("session"), _) => {
+            eprintln!("decode: decoding {SESSION_NAME}");
+            Box::new(SESSION.as_bytes())
+        }
+        (Some(_), _) => {
+            // The real capture, with its integrator's mapping unless told otherwise.
+            if opts.pdos.given.is_empty() && opts.pdos.defaults {
                 if let Err(e) = opts.pdos.add_capture() {
                     eprintln!("decode: {e}");
                     return ExitCode::from(2);
                 }
             }
-            eprintln!(
-                "decode: no input given; decoding {BUNDLED_NAME}{}",
-                if remap {
-                    " with its integrator's PDO mapping (--pdo-capture-mapping)"
-                } else {
-                    ""
-                }
-            );
+            eprintln!("decode: decoding {BUNDLED_NAME}");
             Box::new(BUNDLED.as_bytes())
         }
-        None => Box::new(io::stdin().lock()),
+        (None, file) => match file {
+            Some("-") => Box::new(io::stdin().lock()),
+            Some(path) => match std::fs::File::open(path) {
+                Ok(f) => Box::new(io::BufReader::new(f)),
+                Err(e) => {
+                    eprintln!("decode: {path}: {e}");
+                    return ExitCode::from(2);
+                }
+            },
+            None if io::stdin().is_terminal() => {
+                // The bundled capture was remapped by its integrator: decode it
+                // with the mapping of captures/README.md unless told otherwise.
+                let remap = opts.pdos.given.is_empty() && opts.pdos.defaults;
+                if remap {
+                    if let Err(e) = opts.pdos.add_capture() {
+                        eprintln!("decode: {e}");
+                        return ExitCode::from(2);
+                    }
+                }
+                eprintln!(
+                    "decode: no input given; decoding {BUNDLED_NAME}{}",
+                    if remap {
+                        " with its integrator's PDO mapping (--pdo-capture-mapping)"
+                    } else {
+                        ""
+                    }
+                );
+                Box::new(BUNDLED.as_bytes())
+            }
+            None => Box::new(io::stdin().lock()),
+        },
     };
     match run(input, &opts) {
         Ok(0) => ExitCode::SUCCESS,
