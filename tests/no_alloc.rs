@@ -491,6 +491,48 @@ const CASES: &[Case] = &[
             black_box(ExtendedChargeStatus::from_u16(black_box(raw)).to_u16());
         }
     }),
+    (
+        "charger and battery module: boot, configuration, NMT start, PDOs, loss",
+        |_| {
+            use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig};
+            use canopen_codec::cia419::{Charger, ChargerConfig};
+            let (c_node, b_node) = (NodeId::new(10).unwrap(), NodeId::new(1).unwrap());
+            let mut charger = Charger::new(ChargerConfig::new(c_node, b_node));
+            let mut battery = BatteryModule::new(BatteryModuleConfig::new(b_node));
+            charger.boot(Timestamp::ZERO);
+            battery.boot(Timestamp::ZERO);
+            let start = CanFrame::standard(0x000, &[0x01, 0x00]).unwrap();
+            let mut now = Timestamp::ZERO;
+            for step in 0..4_500u64 {
+                now = Timestamp::from_millis(step);
+                if step == 100 {
+                    charger.handle_frame(now, &start);
+                    battery.handle_frame(now, &start);
+                }
+                if step < 2_000 {
+                    while let Some(f) = battery.poll_transmit() {
+                        charger.handle_frame(now, &f);
+                    }
+                }
+                while let Some(f) = charger.poll_transmit() {
+                    if step < 2_000 {
+                        battery.handle_frame(now, &f);
+                    }
+                }
+                charger.handle_timeout(now);
+                battery.handle_timeout(now);
+                while black_box(charger.poll_event()).is_some() {}
+                while black_box(battery.poll_event()).is_some() {}
+                if step == 1_000 {
+                    assert!(charger.is_configured());
+                }
+            }
+            assert!(
+                !charger.is_configured(),
+                "the module was lost at 2 s: {now}"
+            );
+        },
+    ),
     ("cob_id::classify (every 11-bit id, some 29-bit)", |_| {
         for raw in 0..=0x7FFu16 {
             let kind = classify_standard(black_box(raw));
