@@ -355,3 +355,39 @@ fn without_cob_id_configuration_defaults_are_used() {
         .iter()
         .any(|e| matches!(e, ChargerEvent::RpdoReceived { .. })));
 }
+
+#[test]
+fn module_reset_while_configured_is_configured_again() {
+    let mut bus = started();
+    bus.run_until(ms(500));
+    // The BMS resets the module's communication: it boots again (default
+    // PDOs), and the charger pairs again without raising any error.
+    bus.inject(CanFrame::standard(0x000, &[0x82, 0x01]).unwrap());
+    bus.run_until(ms(700));
+    let l = bus.lines(500, 510);
+    assert_eq!(
+        l,
+        [
+            "   500.000 Test 000#8201",
+            "   500.500 Battery 701#00",
+            // The charger's TPDO period falls here, before the boot-up arrives.
+            "   500.500 Charger 201#00",
+            "   501.000 Charger 601#4000100000000000",
+            "   501.500 Battery 581#43001000A2010000",
+            "   502.000 Charger 601#4000140100000000",
+            "   502.500 Battery 581#4300140101020000",
+            "   503.000 Charger 601#4000180100000000",
+            "   503.500 Battery 581#4300180181010000",
+            "   504.000 Charger 201#00",
+        ]
+    );
+    assert!(
+        bus.frames_on(0x08A).is_empty(),
+        "no EMCY for a reset module"
+    );
+    let configured = events(&bus)
+        .iter()
+        .filter(|e| matches!(e, ChargerEvent::Configured { .. }))
+        .count();
+    assert_eq!(configured, 2);
+}
