@@ -48,7 +48,7 @@ use core::time::Duration;
 use super::objects::ChargerObjects;
 use crate::bytes::InlineData;
 use crate::cia418::DeviceType;
-use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE, NMT, SDO_RX_BASE, SDO_TX_BASE};
+use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE, NMT};
 use crate::deltaq::{emergency_reaction, DeltaQCode, OperatingMode, Reaction};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::{CanFrame, CanId};
@@ -798,13 +798,4 @@ impl Charger {
             }
         }
     }
-}
-
-/// The SDO channel ids the charger uses (request to the battery, response).
-#[must_use]
-pub const fn battery_sdo_ids(battery: NodeId) -> (u16, u16) {
-    (
-        SDO_RX_BASE + battery.raw() as u16,
-        SDO_TX_BASE + battery.raw() as u16,
-    )
 }

@@ -6,5 +6,5 @@
 mod charger;
 mod objects;
 
-pub use charger::{battery_sdo_ids, Charger, ChargerConfig, ChargerEvent};
+pub use charger::{Charger, ChargerConfig, ChargerEvent};
 pub use objects::{ChargerObjects, CHARGER_DEVICE_TYPE, ERROR_HISTORY_LEN};
