@@ -17,21 +17,16 @@ stdin/stdout. The object dictionary python-canopen needs is built below.
 usage: battery_interop.py PATH/TO/battery_module
 """
 
-import queue
-import re
-import subprocess
 import sys
-import threading
 import time
 
-import can
 import canopen
+from pipebus import PipeBus
 from canopen.objectdictionary import ODArray, ODRecord, ODVariable, ObjectDictionary
 from canopen.objectdictionary.datatypes import (
     INTEGER16, UNSIGNED8, UNSIGNED16, UNSIGNED32, VISIBLE_STRING)
 
 NODE = 1
-LINE = re.compile(r"^(?:\(\d+(?:\.\d+)?\)\s+)?(?:\S+\s+)?([0-9A-Fa-f]{3})#([0-9A-Fa-f]*)$")
 
 # The values the module is started with.
 DEVICE_NAME = "vbat interop"
@@ -62,60 +57,6 @@ ARGS = [
     "--soc", str(SOC),
     "--linger-ms", "0",
 ]
-
-
-class PipeBus(can.BusABC):
-    """A python-can bus whose other end is a child process speaking candump lines."""
-
-    def __init__(self, cmd, **kwargs):
-        self.proc = subprocess.Popen(
-            cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-            text=True, bufsize=1)
-        self.rx = queue.Queue()
-        self.stderr_lines = []
-        self.seen = []  # (time, id, data) of every frame from the node
-        threading.Thread(target=self._read_stdout, daemon=True).start()
-        threading.Thread(target=self._read_stderr, daemon=True).start()
-        super().__init__(channel="pipe", **kwargs)
-
-    def _read_stdout(self):
-        for line in self.proc.stdout:
-            m = LINE.match(line.strip())
-            if not m:
-                print(f"bridge: unparsed line from node: {line!r}", file=sys.stderr)
-                continue
-            now = time.time()
-            msg = can.Message(arbitration_id=int(m.group(1), 16),
-                              data=bytes.fromhex(m.group(2)), is_extended_id=False,
-                              timestamp=now)
-            self.seen.append((now, msg.arbitration_id, bytes(msg.data)))
-            self.rx.put(msg)
-
-    def _read_stderr(self):
-        for line in self.proc.stderr:
-            self.stderr_lines.append(line.rstrip("\n"))
-
-    def send(self, msg, timeout=None):
-        line = f"({time.time():.6f}) pipe {msg.arbitration_id:03X}#{bytes(msg.data).hex().upper()}\n"
-        self.proc.stdin.write(line)
-        self.proc.stdin.flush()
-
-    def _recv_internal(self, timeout):
-        try:
-            return self.rx.get(timeout=timeout), False
-        except queue.Empty:
-            return None, False
-
-    def shutdown(self):
-        try:
-            self.proc.stdin.close()
-        except OSError:
-            pass
-        try:
-            self.proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
-        super().shutdown()
 
 
 def var(name, index, sub, data_type, access="ro", mappable=False):

@@ -13,75 +13,16 @@ abort code python-canopen reports and the one our side reports.
 usage: sdo_interop.py PATH/TO/sdo_node
 """
 
-import queue
-import re
-import subprocess
 import sys
-import threading
 import time
 
-import can
 import canopen
+from pipebus import PipeBus
 from canopen.objectdictionary import ODVariable, ObjectDictionary
 from canopen.objectdictionary.datatypes import DOMAIN, UNSIGNED32
 
 NODE = 5
 SIZES = [0, 1, 4, 5, 7, 8, 14, 15, 1000]
-LINE = re.compile(r"^(?:\(\d+(?:\.\d+)?\)\s+)?(?:\S+\s+)?([0-9A-Fa-f]{3})#([0-9A-Fa-f]*)$")
-
-
-class PipeBus(can.BusABC):
-    """A python-can bus whose other end is a child process speaking candump lines."""
-
-    def __init__(self, cmd, **kwargs):
-        self.proc = subprocess.Popen(
-            cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-            text=True, bufsize=1)
-        self.rx = queue.Queue()
-        self.stderr_lines = []
-        threading.Thread(target=self._read_stdout, daemon=True).start()
-        threading.Thread(target=self._read_stderr, daemon=True).start()
-        super().__init__(channel="pipe", **kwargs)
-
-    def _read_stdout(self):
-        for line in self.proc.stdout:
-            m = LINE.match(line.strip())
-            if not m:
-                print(f"bridge: unparsed line from node: {line!r}", file=sys.stderr)
-                continue
-            msg = can.Message(arbitration_id=int(m.group(1), 16),
-                              data=bytes.fromhex(m.group(2)), is_extended_id=False,
-                              timestamp=time.time())
-            self.rx.put(msg)
-
-    def _read_stderr(self):
-        for line in self.proc.stderr:
-            self.stderr_lines.append(line.rstrip("\n"))
-
-    def send(self, msg, timeout=None):
-        line = f"({time.time():.6f}) pipe {msg.arbitration_id:03X}#{bytes(msg.data).hex().upper()}\n"
-        self.proc.stdin.write(line)
-        self.proc.stdin.flush()
-
-    def _recv_internal(self, timeout):
-        try:
-            return self.rx.get(timeout=timeout), False
-        except queue.Empty:
-            return None, False
-
-    def shutdown(self):
-        try:
-            self.proc.stdin.close()
-        except OSError:
-            pass
-        try:
-            self.proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
-        super().shutdown()
-
-    def lines(self, prefix):
-        return [l for l in self.stderr_lines if l.startswith(prefix)]
 
 
 def value(size, seed):

@@ -1,0 +1,71 @@
+"""PipeBus: a python-can bus whose other end is a child process speaking
+candump log lines on its stdin/stdout (the crate's example programs). Shared
+by the interop scripts in this directory."""
+
+import queue
+import re
+import subprocess
+import threading
+import time
+
+import can
+
+LINE = re.compile(r"^(?:\(\d+(?:\.\d+)?\)\s+)?(?:\S+\s+)?([0-9A-Fa-f]{3})#([0-9A-Fa-f]*)$")
+
+
+class PipeBus(can.BusABC):
+    """A python-can bus whose other end is a child process speaking candump lines."""
+
+    def __init__(self, cmd, **kwargs):
+        self.proc = subprocess.Popen(
+            cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+            text=True, bufsize=1)
+        self.rx = queue.Queue()
+        self.stderr_lines = []
+        self.seen = []  # (time, id, data) of every frame from the node
+        threading.Thread(target=self._read_stdout, daemon=True).start()
+        threading.Thread(target=self._read_stderr, daemon=True).start()
+        super().__init__(channel="pipe", **kwargs)
+
+    def _read_stdout(self):
+        for line in self.proc.stdout:
+            m = LINE.match(line.strip())
+            if not m:
+                print(f"bridge: unparsed line from node: {line!r}", file=sys.stderr)
+                continue
+            now = time.time()
+            msg = can.Message(arbitration_id=int(m.group(1), 16),
+                              data=bytes.fromhex(m.group(2)), is_extended_id=False,
+                              timestamp=now)
+            self.seen.append((now, msg.arbitration_id, bytes(msg.data)))
+            self.rx.put(msg)
+
+    def _read_stderr(self):
+        for line in self.proc.stderr:
+            self.stderr_lines.append(line.rstrip("\n"))
+
+    def send(self, msg, timeout=None):
+        line = f"({time.time():.6f}) pipe {msg.arbitration_id:03X}#{bytes(msg.data).hex().upper()}\n"
+        self.proc.stdin.write(line)
+        self.proc.stdin.flush()
+
+    def _recv_internal(self, timeout):
+        try:
+            return self.rx.get(timeout=timeout), False
+        except queue.Empty:
+            return None, False
+
+    def shutdown(self):
+        try:
+            self.proc.stdin.close()
+        except OSError:
+            pass
+        try:
+            self.proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+        super().shutdown()
+
+    def lines(self, prefix):
+        """The child's stderr lines that start with `prefix`."""
+        return [l for l in self.stderr_lines if l.startswith(prefix)]
