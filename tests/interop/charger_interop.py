@@ -1,0 +1,178 @@
+#!/usr/bin/env python3
+"""Interop between the virtual charger (examples/charger) and python-canopen,
+a real and independent CANopen implementation, playing the battery side.
+
+python-canopen runs a LocalNode as the battery module (node 1: its SDO
+server answers the charger's configuration reads of 1000h, 1400h:01 and
+1800h:01; its NMT slave sends the heartbeat) and a RemoteNode for the
+charger (node 10: NMT start as the real capture's BMS does with 000#010A,
+SDO reads of the charger's objects, its EMCY consumer). Then the battery's
+heartbeat stops: the charger must raise E-0-3-2 (EMCY 8130h, register 01h,
+Delta-Q code 8020h little-endian) and keep it in 1003h with the Delta-Q byte
+order; then the heartbeat comes back and the charger reconfigures and sends
+an error reset.
+
+usage: charger_interop.py PATH/TO/charger
+"""
+
+import sys
+import time
+
+import canopen
+from canopen.objectdictionary import ODRecord, ODVariable, ObjectDictionary
+from canopen.objectdictionary.datatypes import UNSIGNED8, UNSIGNED16, UNSIGNED32
+from pipebus import PipeBus
+
+CHARGER = 10
+BATTERY = 1
+
+failures = []
+cases = 0
+
+
+def check(name, ok, detail=""):
+    global cases
+    cases += 1
+    print(f"{'ok  ' if ok else 'FAIL'} {name}{(': ' + str(detail)) if detail and not ok else ''}")
+    if not ok:
+        failures.append(name)
+
+
+def var(name, index, sub, dtype, access, default):
+    v = ODVariable(name, index, sub)
+    v.data_type = dtype
+    v.access_type = access
+    v.default = default
+    return v
+
+
+def battery_od():
+    """The objects the charger reads from a CiA 418 battery module."""
+    od = ObjectDictionary()
+    od.add_object(var("Device type", 0x1000, 0, UNSIGNED32, "ro", 0x000001A2))
+    od.add_object(var("Producer heartbeat time", 0x1017, 0, UNSIGNED16, "rw", 0))
+    for index, cob in [(0x1400, 0x201), (0x1800, 0x181)]:
+        rec = ODRecord(f"PDO {index:04X}", index)
+        rec.add_member(var("Highest sub-index", index, 0, UNSIGNED8, "const", 5))
+        rec.add_member(var("COB-ID", index, 1, UNSIGNED32, "rw", cob))
+        od.add_object(rec)
+    # python-canopen's LocalNode wants the mappings beside the parameters
+    # (the CiA 418 defaults: 1600h 6001h/8; 1A00h 6010h/16, 6000h/8).
+    for index, entries in [(0x1600, [0x60010008]), (0x1A00, [0x60100010, 0x60000008])]:
+        rec = ODRecord(f"Mapping {index:04X}", index)
+        rec.add_member(var("Number of entries", index, 0, UNSIGNED8, "rw", len(entries)))
+        for n, e in enumerate(entries, 1):
+            rec.add_member(var(f"Entry {n}", index, n, UNSIGNED32, "rw", e))
+        od.add_object(rec)
+    for index, dtype in [(0x6000, UNSIGNED8), (0x6001, UNSIGNED8), (0x6010, UNSIGNED16)]:
+        v = var(f"{index:04X}", index, 0, dtype, "rw", 0)
+        v.pdo_mappable = True
+        od.add_object(v)
+    return od
+
+
+def charger_od():
+    od = ObjectDictionary()
+    od.add_object(var("Device type", 0x1000, 0, UNSIGNED32, "ro", 0))
+    od.add_object(var("Producer heartbeat time", 0x1017, 0, UNSIGNED16, "rw", 0))
+    return od
+
+
+def frames(bus, cob_id, since):
+    return [(ts, d) for ts, i, d in bus.seen if i == cob_id and ts >= since]
+
+
+def wait_until(pred, seconds):
+    end = time.time() + seconds
+    while time.time() < end:
+        if pred():
+            return True
+        time.sleep(0.02)
+    return pred()
+
+
+def main():
+    exe = sys.argv[1]
+    bus = PipeBus([exe, "--node-id", str(CHARGER), "--battery-node", str(BATTERY),
+                   "--current", "19.5", "--voltage", "48", "--linger-ms", "0"])
+    net = canopen.Network(bus)
+    net.connect()
+    battery = canopen.LocalNode(BATTERY, battery_od())
+    net.add_node(battery)
+    reads = []
+    battery.add_read_callback(lambda index, subindex, od: reads.append((index, subindex)))
+    charger = net.add_node(CHARGER, charger_od())
+    charger.sdo.RESPONSE_TIMEOUT = 2.0
+    try:
+        check("the charger boots (70A#00)", wait_until(lambda: frames(bus, 0x700 + CHARGER, 0), 3))
+        # The battery module boots and sends its heartbeat.
+        net.send_message(0x700 + BATTERY, [0x00])
+        battery.nmt.state = "OPERATIONAL"
+        battery.nmt.start_heartbeat(200)
+        configured = wait_until(lambda: any("configured" in l for l in bus.stderr_lines), 5)
+        check("the charger reads 1000h, 1400h:01, 1800h:01 from python-canopen's server",
+              configured and reads[:3] == [(0x1000, 0), (0x1400, 1), (0x1800, 1)], reads)
+        # NMT start, as the BMS in the real capture (000#010A).
+        charger.nmt.state = "OPERATIONAL"
+        t0 = time.time()
+        time.sleep(1.2)
+        tpdo = frames(bus, 0x201, t0)
+        check("charger TPDO 0 on the module's RPDO 0 COB-ID 201h, about every 200 ms",
+              4 <= len(tpdo) <= 8 and all(d == b"\x01" for _, d in tpdo), tpdo)
+        check("charger heartbeat reports operational",
+              wait_until(lambda: frames(bus, 0x700 + CHARGER, t0)[-1:] and
+                         frames(bus, 0x700 + CHARGER, t0)[-1][1] == b"\x05", 2))
+        # python-canopen reads the charger's objects.
+        check("1000h = 419 (CiA 419 charger)", charger.sdo.upload(0x1000, 0) == (419).to_bytes(4, "little"))
+        check("1008h device name (segmented upload)",
+              charger.sdo.upload(0x1008, 0) == b"canopen-codec charger")
+        check("1016h:01 = node 1, 2000 ms", charger.sdo.upload(0x1016, 1) == bytes([0xD0, 0x07, 0x01, 0x00]))
+        check("1017h = 1000 ms", charger.sdo.upload(0x1017, 0) == (1000).to_bytes(2, "little"))
+        check("2002h = 19.5 A (Q8)", charger.sdo.upload(0x2002, 0) == (19 * 256 + 128).to_bytes(2, "little"))
+        check("1003h:00 = 0 (no error yet)", charger.sdo.upload(0x1003, 0) == b"\x00")
+        try:
+            charger.sdo.download(0x2006, 0, b"\x00\x00")
+            check("2006h is read-only", False)
+        except canopen.SdoAbortedError as e:
+            check("2006h is read-only (06010002h)", e.code == 0x06010002, hex(e.code))
+        # The battery's heartbeat stops.
+        battery.nmt.stop_heartbeat()
+        t1 = time.time()
+        lost = wait_until(lambda: len(charger.emcy.log) >= 1, 4)
+        e = charger.emcy.log[0] if lost else None
+        check("EMCY 8130h, register 01h, Delta-Q E-0-3-2 (20 80 ...)",
+              e is not None and e.code == 0x8130 and e.register == 0x01 and bytes(e.data[:2]) == b"\x20\x80",
+              e and (hex(e.code), e.register, bytes(e.data).hex()))
+        check("lost after the 2000 ms consumer time", e is not None and 1.6 <= e.timestamp - t1 <= 3.5,
+              e and e.timestamp - t1)
+        time.sleep(0.6)
+        check("charger TPDOs stop", not frames(bus, 0x201, time.time() - 0.5))
+        check("1003h:00 = 1", charger.sdo.upload(0x1003, 0) == b"\x01")
+        check("1003h:01 = 20808130h (Delta-Q byte order)",
+              charger.sdo.upload(0x1003, 1) == (0x20808130).to_bytes(4, "little"))
+        # The battery is back: boot-up and heartbeat.
+        net.send_message(0x700 + BATTERY, [0x00])
+        battery.nmt.start_heartbeat(200)
+        reset = wait_until(lambda: any(x.code == 0 for x in charger.emcy.log), 5)
+        check("reconfigured and error reset EMCY (0000h)", reset, [hex(x.code) for x in charger.emcy.log])
+        check("the configuration was read again", reads.count((0x1000, 0)) == 2, reads)
+        t2 = time.time()
+        time.sleep(0.7)
+        check("charger TPDOs resume", len(frames(bus, 0x201, t2)) >= 2)
+        charger.sdo.download(0x1003, 0, b"\x00")
+        check("writing 0 to 1003h:00 clears the history", charger.sdo.upload(0x1003, 0) == b"\x00")
+        check("no EMCY beyond E-0-3-2 and the reset", [x.code for x in charger.emcy.log] == [0x8130, 0],
+              [hex(x.code) for x in charger.emcy.log])
+    finally:
+        battery.nmt.stop_heartbeat()
+        net.disconnect()
+    events = [l for l in bus.stderr_lines if l.startswith("event:")]
+    check("the charger reported the loss and the recovery in words",
+          any("heartbeat lost" in l for l in events) and
+          sum("configured" in l for l in events) == 2, events)
+    print(f"{cases} interop cases, {len(failures)} failed")
+    sys.exit(1 if failures else 0)
+
+
+if __name__ == "__main__":
+    main()
