@@ -71,8 +71,8 @@ use crate::frame::{CanFrame, CanId};
 use crate::heartbeat::HeartbeatProducer;
 use crate::nmt::{NmtCommand, NmtCommandSpecifier, NmtState};
 use crate::pdo::{
-    read_mapped, write_mapped, MappingEntry, PdoCobId, PdoCommParams, PdoConfig, PdoDictionary,
-    PdoDirection, PdoMapping, PdoSlot, RpdoError, TpdoProducer, TransmissionType, MAX_ENTRIES,
+    receive_rpdo, MappingEntry, PdoCobId, PdoCommParams, PdoConfig, PdoDictionary, PdoDirection,
+    PdoMapping, PdoSlot, RpdoError, TpdoSet, TransmissionType, MAX_ENTRIES,
 };
 use crate::queue::Queue;
 use crate::sdo::{AbortCode, AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_TIMEOUT};
@@ -205,7 +205,7 @@ pub struct BatteryModule {
     state: NmtState,
     server: ModuleServer,
     heartbeat: HeartbeatProducer,
-    tpdos: [TpdoProducer; 4],
+    tpdos: TpdoSet,
     transmit: Queue<CanFrame, 8>,
     events: Queue<BatteryEvent, 16>,
     temperature_fault: bool,
@@ -237,8 +237,6 @@ fn default_pdo_config(config: &BatteryModuleConfig) -> PdoConfig {
     pdos
 }
 
-const PDO_NUMBERS: [PdoNumber; 4] = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3];
-
 macro_rules! setters {
     ($($(#[$doc:meta])* $name:ident => $field:ident: $ty:ty;)*) => {
         $(
@@ -264,7 +262,7 @@ impl BatteryModule {
             state: NmtState::BootUp,
             server: Server::new(Self::server_config(&config), od),
             heartbeat: HeartbeatProducer::new(config.node, config.heartbeat_ms),
-            tpdos: [const { TpdoProducer::new() }; 4],
+            tpdos: TpdoSet::new(),
             transmit: Queue::new(CanFrame::EMPTY),
             events: Queue::new(BatteryEvent::Reset { node: false }),
             temperature_fault: false,
@@ -447,9 +445,7 @@ impl BatteryModule {
         }
         if id == CanId::Standard(SYNC_ID) && self.state == NmtState::Operational {
             self.refresh_tpdos(now);
-            for p in &mut self.tpdos {
-                p.handle_sync(now);
-            }
+            self.tpdos.handle_sync(now);
         }
         if self.sdo_allowed() {
             self.server.handle_frame(now, frame);
@@ -469,9 +465,7 @@ impl BatteryModule {
         self.drain_server(now);
         self.heartbeat.handle_timeout(now);
         self.refresh_tpdos(now);
-        for p in &mut self.tpdos {
-            p.handle_timeout(now);
-        }
+        self.tpdos.handle_timeout(now);
     }
 
     // ----- outputs ---------------------------------------------------------
@@ -488,7 +482,7 @@ impl BatteryModule {
         if let Some(f) = self.server.poll_transmit() {
             return Some(f);
         }
-        self.tpdos.iter_mut().find_map(TpdoProducer::poll_transmit)
+        self.tpdos.poll_transmit()
     }
 
     /// The next event.
@@ -506,7 +500,7 @@ impl BatteryModule {
         }
         [self.server.poll_timeout(), self.heartbeat.poll_timeout()]
             .into_iter()
-            .chain(self.tpdos.iter().map(TpdoProducer::poll_timeout))
+            .chain([self.tpdos.poll_timeout()])
             .flatten()
             .min()
     }
@@ -560,9 +554,7 @@ impl BatteryModule {
         self.heartbeat = HeartbeatProducer::new(self.config.node, period);
         self.heartbeat.send_on_change = send_on_change;
         self.heartbeat.boot(now);
-        for p in &mut self.tpdos {
-            *p = TpdoProducer::new();
-        }
+        self.tpdos = TpdoSet::new();
         self.refresh_tpdos(now);
         self.sync_tpdos(now);
         self.set_state(now, NmtState::PreOperational);
@@ -600,9 +592,7 @@ impl BatteryModule {
         if operational {
             self.refresh_tpdos(now);
         }
-        for p in &mut self.tpdos {
-            p.set_operational(now, operational);
-        }
+        self.tpdos.set_operational(now, operational);
         self.push_event(BatteryEvent::NmtStateChanged { from, to });
     }
 
@@ -622,33 +612,22 @@ impl BatteryModule {
     }
 
     fn handle_rpdo(&mut self, now: Timestamp, frame: &CanFrame) {
-        let mut processed = false;
-        for pdo in PDO_NUMBERS {
-            let od = self.server.od_mut();
-            let Some(slot) = od.config.get(PdoDirection::Receive, pdo) else {
-                continue;
-            };
-            if !slot.is_valid() || slot.comm.cob_id.can_id() != Some(frame.id()) {
-                continue;
-            }
-            let mapping = slot.mapping();
-            processed = true;
-            match write_mapped(&mapping, frame.data(), &mut od.inner) {
-                Ok(_) => self.push_event(BatteryEvent::RpdoReceived { pdo }),
-                Err(error) => {
-                    if let Some(code) = error.emcy_code() {
-                        let register = self.error_register()
-                            | ErrorRegister::GENERIC
-                            | ErrorRegister::COMMUNICATION;
-                        self.send_emcy(code, register);
-                    }
-                    self.push_event(BatteryEvent::RpdoRefused { pdo, error });
+        let Some((pdo, result)) = receive_rpdo(self.server.od_mut(), frame) else {
+            return;
+        };
+        match result {
+            Ok(_) => self.push_event(BatteryEvent::RpdoReceived { pdo }),
+            Err(error) => {
+                if let Some(code) = error.emcy_code() {
+                    let register = self.error_register()
+                        | ErrorRegister::GENERIC
+                        | ErrorRegister::COMMUNICATION;
+                    self.send_emcy(code, register);
                 }
+                self.push_event(BatteryEvent::RpdoRefused { pdo, error });
             }
         }
-        if processed {
-            self.refresh_tpdos(now);
-        }
+        self.refresh_tpdos(now);
     }
 
     /// Hands the SDO server's events on and reacts to written objects.
@@ -684,31 +663,12 @@ impl BatteryModule {
         }
     }
 
-    /// Reads every TPDO's payload from the objects; a changed payload is an
-    /// event for its producer.
     fn refresh_tpdos(&mut self, now: Timestamp) {
-        let od = self.server.od_mut();
-        for (pdo, producer) in PDO_NUMBERS.into_iter().zip(self.tpdos.iter_mut()) {
-            let Some(slot) = od.config.get(PdoDirection::Transmit, pdo) else {
-                continue;
-            };
-            let mapping = slot.mapping();
-            if let Ok(payload) = read_mapped(&mapping, &mut od.inner) {
-                producer.set_payload(now, payload);
-            }
-        }
+        self.tpdos.refresh(now, self.server.od_mut());
     }
 
-    /// Gives each producer its TPDO's current communication parameters.
     fn sync_tpdos(&mut self, now: Timestamp) {
-        let config = &self.server.od().config;
-        for (pdo, producer) in PDO_NUMBERS.into_iter().zip(self.tpdos.iter_mut()) {
-            match config.get(PdoDirection::Transmit, pdo).map(|s| s.comm) {
-                Some(comm) if producer.comm() != Some(&comm) => producer.configure(now, comm),
-                None if producer.comm().is_some() => producer.unconfigure(),
-                _ => {}
-            }
-        }
+        self.tpdos.sync(now, &self.server.od().config);
     }
 }
 

@@ -55,8 +55,8 @@ use crate::frame::{CanFrame, CanId};
 use crate::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent, HeartbeatProducer};
 use crate::nmt::{NmtCommand, NmtCommandSpecifier, NmtState};
 use crate::pdo::{
-    charger_default_pdo, read_mapped, write_mapped, PdoCobId, PdoCommParams, PdoConfig,
-    PdoDictionary, PdoDirection, PdoSlot, RpdoError, TpdoProducer,
+    charger_default_pdo, receive_rpdo, PdoCobId, PdoCommParams, PdoConfig, PdoDictionary,
+    PdoDirection, PdoSlot, RpdoError, TpdoSet,
 };
 use crate::queue::Queue;
 use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent, Server, ServerConfig, ServerEvent};
@@ -222,7 +222,7 @@ pub struct Charger {
     client: Client<&'static [u8]>,
     heartbeat: HeartbeatProducer,
     consumer: HeartbeatConsumer<1>,
-    tpdos: [TpdoProducer; 4],
+    tpdos: TpdoSet,
     link: Link,
     /// The value of the upload in progress (1000h or a COB-ID: 4 bytes).
     upload_value: [u8; 4],
@@ -250,12 +250,7 @@ impl Charger {
             }),
             heartbeat: HeartbeatProducer::new(config.node, config.heartbeat_ms),
             consumer: HeartbeatConsumer::new(),
-            tpdos: [
-                TpdoProducer::new(),
-                TpdoProducer::new(),
-                TpdoProducer::new(),
-                TpdoProducer::new(),
-            ],
+            tpdos: TpdoSet::new(),
             link: Link::Absent,
             upload_value: [0; 4],
             error_active: false,
@@ -367,9 +362,7 @@ impl Charger {
         self.consumer = HeartbeatConsumer::new();
         let entry = self.objects().consumer;
         let _ = self.consumer.set_entry(now, 0, entry);
-        for p in &mut self.tpdos {
-            *p = TpdoProducer::new();
-        }
+        self.tpdos = TpdoSet::new();
         self.link = Link::Absent;
         self.error_active = false;
         self.sync_tpdos(now);
@@ -421,9 +414,7 @@ impl Charger {
         self.client.handle_timeout(now);
         self.drain_client(now);
         self.refresh_tpdos(now);
-        for p in &mut self.tpdos {
-            p.handle_timeout(now);
-        }
+        self.tpdos.handle_timeout(now);
     }
 
     // ----- outputs -----------------------------------------------------------
@@ -443,7 +434,7 @@ impl Charger {
         if let Some(f) = self.client.poll_transmit() {
             return Some(f);
         }
-        self.tpdos.iter_mut().find_map(TpdoProducer::poll_transmit)
+        self.tpdos.poll_transmit()
     }
 
     /// The next event.
@@ -465,7 +456,7 @@ impl Charger {
             self.client.poll_timeout(),
         ]
         .into_iter()
-        .chain(self.tpdos.iter().map(TpdoProducer::poll_timeout))
+        .chain([self.tpdos.poll_timeout()])
         .flatten()
         .min()
     }
@@ -521,9 +512,7 @@ impl Charger {
         if run {
             self.refresh_tpdos(now);
         }
-        for p in &mut self.tpdos {
-            p.set_operational(now, run);
-        }
+        self.tpdos.set_operational(now, run);
     }
 
     fn send_emcy(&mut self, emcy: Emergency) {
@@ -742,60 +731,28 @@ impl Charger {
     }
 
     fn handle_rpdo(&mut self, now: Timestamp, frame: &CanFrame) {
-        let mut processed = false;
-        for pdo in PDO_NUMBERS {
-            let od = self.server.od_mut();
-            let Some(slot) = od.config.get(PdoDirection::Receive, pdo) else {
-                continue;
-            };
-            if !slot.is_valid() || slot.comm.cob_id.can_id() != Some(frame.id()) {
-                continue;
-            }
-            let mapping = slot.mapping();
-            processed = true;
-            match write_mapped(&mapping, frame.data(), &mut od.inner) {
-                Ok(_) => self.push_event(ChargerEvent::RpdoReceived { pdo }),
-                Err(error) => {
-                    if let Some(code) = error.emcy_code() {
-                        let register = ErrorRegister::GENERIC | ErrorRegister::COMMUNICATION;
-                        self.send_emcy(Emergency {
-                            code,
-                            register,
-                            manufacturer: DeltaQCode::INVALID_PDO_LENGTH
-                                .to_emergency(code, register)
-                                .manufacturer,
-                        });
-                    }
-                    self.push_event(ChargerEvent::RpdoRefused { pdo, error });
+        let Some((pdo, result)) = receive_rpdo(self.server.od_mut(), frame) else {
+            return;
+        };
+        match result {
+            Ok(_) => self.push_event(ChargerEvent::RpdoReceived { pdo }),
+            Err(error) => {
+                if let Some(code) = error.emcy_code() {
+                    // Delta-Q's E-0-4-6 "invalid PDO length" with EEC 8210h.
+                    let register = ErrorRegister::GENERIC | ErrorRegister::COMMUNICATION;
+                    self.send_emcy(DeltaQCode::INVALID_PDO_LENGTH.to_emergency(code, register));
                 }
+                self.push_event(ChargerEvent::RpdoRefused { pdo, error });
             }
         }
-        if processed {
-            self.refresh_tpdos(now);
-        }
+        self.refresh_tpdos(now);
     }
 
     fn refresh_tpdos(&mut self, now: Timestamp) {
-        let od = self.server.od_mut();
-        for (pdo, producer) in PDO_NUMBERS.into_iter().zip(self.tpdos.iter_mut()) {
-            let Some(slot) = od.config.get(PdoDirection::Transmit, pdo) else {
-                continue;
-            };
-            let mapping = slot.mapping();
-            if let Ok(payload) = read_mapped(&mapping, &mut od.inner) {
-                producer.set_payload(now, payload);
-            }
-        }
+        self.tpdos.refresh(now, self.server.od_mut());
     }
 
     fn sync_tpdos(&mut self, now: Timestamp) {
-        let config = &self.server.od().config;
-        for (pdo, producer) in PDO_NUMBERS.into_iter().zip(self.tpdos.iter_mut()) {
-            match config.get(PdoDirection::Transmit, pdo).map(|s| s.comm) {
-                Some(comm) if producer.comm() != Some(&comm) => producer.configure(now, comm),
-                None if producer.comm().is_some() => producer.unconfigure(),
-                _ => {}
-            }
-        }
+        self.tpdos.sync(now, &self.server.od().config);
     }
 }

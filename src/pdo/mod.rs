@@ -17,6 +17,7 @@ mod od_io;
 mod pack;
 mod producer;
 mod reconfig;
+mod runtime;
 
 pub use catalogue::{
     Catalogue, CatalogueEntry, FieldValue, Fixed, Flags, FlagsKind, Interpretation, Marker,
@@ -38,3 +39,4 @@ pub use od_io::{read_mapped, write_mapped, RpdoError};
 pub use pack::{FieldError, FieldKind, PackError, UnpackError, Unpacked, Value};
 pub use producer::TpdoProducer;
 pub use reconfig::{Plan, ReconfigEvent, Reconfigurer, Step};
+pub use runtime::{receive_rpdo, TpdoSet};
