@@ -15,23 +15,29 @@
 //!   [`HeartbeatEvent::Restored`]. Boot-up messages and state changes are
 //!   reported too.
 //!
-//! Same poll contract as the other state machines. Time that goes backwards
+//! Both implement [`Machine`], the crate's state-machine contract. Time that goes backwards
 //! never panics: deadlines are simply not reached; a jump far ahead expires
 //! every running timer once.
 
+use core::convert::Infallible;
+use core::time::Duration;
+
 use crate::cob_id::{NodeId, NMT_ERROR_CONTROL_BASE};
 use crate::frame::{CanFrame, CanId};
+use crate::machine::Machine;
 use crate::nmt::{Heartbeat, NmtState};
-use crate::queue::Queue;
-use crate::time::Timestamp;
+use crate::queue::{EventQueue, Queue};
+use crate::time::{Timers, Timestamp};
 
 /// Sends this node's boot-up message and heartbeats.
 ///
 /// ```
 /// use canopen_codec::heartbeat::HeartbeatProducer;
+/// use canopen_codec::machine::Machine;
 /// use canopen_codec::nmt::NmtState;
 /// use canopen_codec::{NodeId, Timestamp};
-/// let mut p = HeartbeatProducer::new(NodeId::new(10).unwrap(), 1000);
+/// use core::time::Duration;
+/// let mut p = HeartbeatProducer::new(NodeId::new(10).unwrap(), Duration::from_millis(1000));
 /// p.boot(Timestamp::ZERO);
 /// assert_eq!(p.poll_transmit().unwrap().to_string(), "70A#00");
 /// p.set_state(Timestamp::ZERO, NmtState::PreOperational);
@@ -42,23 +48,27 @@ use crate::time::Timestamp;
 #[derive(Debug, Clone)]
 pub struct HeartbeatProducer {
     node: NodeId,
-    period_ms: u16,
+    period_us: u64,
     state: NmtState,
-    next: Option<Timestamp>,
+    timers: Timers<1>,
     /// Send at once when the state changes (CANopenNode); default false.
     pub send_on_change: bool,
     out: Queue<CanFrame, 2>,
 }
 
+/// The producer's one timer: the next heartbeat.
+const NEXT_HEARTBEAT: usize = 0;
+
 impl HeartbeatProducer {
-    /// A producer for `node` with period `period_ms` (1017h; 0 = no heartbeats).
+    /// A producer for `node` with period `period` (1017h, whole
+    /// milliseconds; zero = no heartbeats).
     #[must_use]
-    pub const fn new(node: NodeId, period_ms: u16) -> Self {
+    pub fn new(node: NodeId, period: Duration) -> Self {
         HeartbeatProducer {
             node,
-            period_ms,
+            period_us: whole_millis_us(period),
             state: NmtState::BootUp,
-            next: None,
+            timers: Timers::new(),
             send_on_change: false,
             out: Queue::new(CanFrame::EMPTY),
         }
@@ -70,10 +80,10 @@ impl HeartbeatProducer {
         self.state
     }
 
-    /// The period in ms.
+    /// The period (whole milliseconds).
     #[must_use]
-    pub const fn period_ms(&self) -> u16 {
-        self.period_ms
+    pub const fn period(&self) -> Duration {
+        Duration::from_micros(self.period_us)
     }
 
     fn frame(&self, state: NmtState) -> CanFrame {
@@ -82,13 +92,23 @@ impl HeartbeatProducer {
     }
 
     fn arm(&mut self, now: Timestamp) {
-        self.next = (self.period_ms > 0).then(|| now.add_millis(u64::from(self.period_ms)));
+        let next = (self.period_us > 0).then(|| now.add_micros(self.period_us));
+        self.timers.set(NEXT_HEARTBEAT, next);
+    }
+
+    /// Queues a frame; a full queue (the caller did not drain
+    /// `poll_transmit`) keeps the newest: a heartbeat carries the state now.
+    fn send(&mut self, frame: CanFrame) {
+        if !self.out.push(frame) {
+            let _ = self.out.pop();
+            let _ = self.out.push(frame);
+        }
     }
 
     /// (Re)boots: sends the boot-up message and enters pre-operational; the
     /// first heartbeat follows one period later.
     pub fn boot(&mut self, now: Timestamp) {
-        let _ = self.out.push(self.frame(NmtState::BootUp));
+        self.send(self.frame(NmtState::BootUp));
         self.state = NmtState::PreOperational;
         self.arm(now);
     }
@@ -97,38 +117,57 @@ impl HeartbeatProducer {
     pub fn set_state(&mut self, now: Timestamp, state: NmtState) {
         let changed = state != self.state;
         self.state = state;
-        if changed && self.send_on_change && self.period_ms > 0 {
-            let _ = self.out.push(self.frame(state));
+        if changed && self.send_on_change && self.period_us > 0 {
+            self.send(self.frame(state));
             self.arm(now);
         }
     }
 
-    /// Changes the period (1017h written). Restarts the timer.
-    pub fn set_period(&mut self, now: Timestamp, period_ms: u16) {
-        self.period_ms = period_ms;
+    /// Changes the period (1017h written; whole milliseconds, zero stops
+    /// the heartbeat). Restarts the timer.
+    pub fn set_period(&mut self, now: Timestamp, period: Duration) {
+        self.period_us = whole_millis_us(period);
         self.arm(now);
     }
+}
+
+/// `d` truncated to whole milliseconds, in microseconds (1016h and 1017h
+/// count milliseconds).
+fn whole_millis_us(d: Duration) -> u64 {
+    u64::try_from(d.as_millis())
+        .unwrap_or(u64::MAX)
+        .saturating_mul(1000)
+}
+
+impl Machine for HeartbeatProducer {
+    type Event = Infallible;
+
+    /// The producer takes no input frames.
+    fn handle_frame(&mut self, _now: Timestamp, _frame: &CanFrame) {}
 
     /// Sends the heartbeat when its time has come.
-    pub fn handle_timeout(&mut self, now: Timestamp) {
-        if let Some(next) = self.next {
-            if now.has_reached(next) {
-                let _ = self.out.push(self.frame(self.state));
-                self.arm(now);
-            }
+    fn handle_timeout(&mut self, now: Timestamp) {
+        if self.timers.expire(NEXT_HEARTBEAT, now) {
+            self.send(self.frame(self.state));
+            self.arm(now);
         }
     }
 
-    /// When the next heartbeat is due.
-    #[must_use]
-    pub fn poll_timeout(&self) -> Option<Timestamp> {
-        self.next
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        self.out.pop()
     }
 
-    /// The next frame to send.
-    #[must_use]
-    pub fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.out.pop()
+    /// When the next heartbeat is due.
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        self.timers.next()
+    }
+
+    fn poll_event(&mut self) -> Option<Infallible> {
+        None
+    }
+
+    fn events_dropped(&self) -> u64 {
+        0
     }
 }
 
@@ -157,6 +196,22 @@ impl ConsumerEntry {
         (self.node as u32) << 16 | self.time_ms as u32
     }
 
+    /// An entry watching `node` with consumer time `time` (whole
+    /// milliseconds, saturating at 65535 ms).
+    #[must_use]
+    pub fn new(node: NodeId, time: Duration) -> Self {
+        ConsumerEntry {
+            node: node.raw(),
+            time_ms: crate::time::millis_u16(time),
+        }
+    }
+
+    /// The consumer time.
+    #[must_use]
+    pub const fn time(self) -> Duration {
+        Duration::from_millis(self.time_ms as u64)
+    }
+
     /// True when the entry watches a node.
     #[must_use]
     pub const fn is_enabled(self) -> bool {
@@ -166,6 +221,7 @@ impl ConsumerEntry {
 
 /// What the consumer reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum HeartbeatEvent {
     /// The node sent its boot-up message.
     BootUp(NodeId),
@@ -208,20 +264,28 @@ const IDLE: Watch = Watch {
 
 /// Watches the heartbeats of up to `N` nodes (1016h sub 1..=N).
 ///
+/// Every heartbeat of a watched node refreshes its deadline, whether or not
+/// the application reads the events (the back-pressure rule of
+/// [`crate::machine`]): a node that beats within its time is never reported
+/// lost. The queue keeps the latest 8 events.
+///
 /// ```
 /// use canopen_codec::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent};
+/// use canopen_codec::machine::Machine;
 /// use canopen_codec::{CanFrame, NodeId, Timestamp};
+/// use core::time::Duration;
+/// let node = NodeId::new(1).unwrap();
 /// let mut c: HeartbeatConsumer<4> = HeartbeatConsumer::new();
-/// c.set_entry(Timestamp::ZERO, 0, ConsumerEntry { node: 1, time_ms: 2000 });
+/// c.set_entry(Timestamp::ZERO, 0, ConsumerEntry::new(node, Duration::from_millis(2000)));
 /// let hb = CanFrame::standard(0x701, &[0x05]).unwrap();
 /// c.handle_frame(Timestamp::from_millis(100), &hb);
 /// c.handle_timeout(Timestamp::from_millis(2100));
-/// assert_eq!(c.poll_event(), Some(HeartbeatEvent::Lost(NodeId::new(1).unwrap())));
+/// assert_eq!(c.poll_event(), Some(HeartbeatEvent::Lost(node)));
 /// ```
 #[derive(Debug, Clone)]
 pub struct HeartbeatConsumer<const N: usize> {
     watches: [Watch; N],
-    events: Queue<HeartbeatEvent, 8>,
+    events: EventQueue<HeartbeatEvent, 8>,
 }
 
 impl<const N: usize> Default for HeartbeatConsumer<N> {
@@ -236,7 +300,7 @@ impl<const N: usize> HeartbeatConsumer<N> {
     pub const fn new() -> Self {
         HeartbeatConsumer {
             watches: [IDLE; N],
-            events: Queue::new(HeartbeatEvent::BootUp(NodeId::MIN)),
+            events: EventQueue::new(HeartbeatEvent::BootUp(NodeId::MIN)),
         }
     }
 
@@ -287,9 +351,13 @@ impl<const N: usize> HeartbeatConsumer<N> {
             .iter()
             .find(|w| w.entry.is_enabled() && w.entry.node == node.raw())
     }
+}
+
+impl<const N: usize> Machine for HeartbeatConsumer<N> {
+    type Event = HeartbeatEvent;
 
     /// Feeds a received frame; only heartbeats of watched nodes matter.
-    pub fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
         let CanId::Standard(raw) = frame.id() else {
             return;
         };
@@ -302,9 +370,6 @@ impl<const N: usize> HeartbeatConsumer<N> {
         let Ok(hb) = Heartbeat::decode(frame.data()) else {
             return;
         };
-        if self.events.room() < 2 {
-            return; // back-pressure: undrained events
-        }
         let Some(w) = self
             .watches
             .iter_mut()
@@ -332,35 +397,41 @@ impl<const N: usize> HeartbeatConsumer<N> {
             }
         };
         if let Some(e) = event {
-            let _ = self.events.push(e);
+            self.events.push(e);
         }
     }
 
     /// Reports `Lost` for every node whose time has run out.
-    pub fn handle_timeout(&mut self, now: Timestamp) {
+    fn handle_timeout(&mut self, now: Timestamp) {
         for w in &mut self.watches {
             let Some(deadline) = w.deadline else { continue };
-            if !now.has_reached(deadline) || self.events.room() == 0 {
+            if !now.has_reached(deadline) {
                 continue;
             }
             w.deadline = None;
             w.lost = true;
             if let Some(node) = NodeId::new(w.entry.node) {
-                let _ = self.events.push(HeartbeatEvent::Lost(node));
+                self.events.push(HeartbeatEvent::Lost(node));
             }
         }
     }
 
+    /// The consumer sends nothing.
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        None
+    }
+
     /// The earliest deadline.
-    #[must_use]
-    pub fn poll_timeout(&self) -> Option<Timestamp> {
+    fn poll_timeout(&self) -> Option<Timestamp> {
         self.watches.iter().filter_map(|w| w.deadline).min()
     }
 
-    /// The next event.
-    #[must_use]
-    pub fn poll_event(&mut self) -> Option<HeartbeatEvent> {
+    fn poll_event(&mut self) -> Option<HeartbeatEvent> {
         self.events.pop()
+    }
+
+    fn events_dropped(&self) -> u64 {
+        self.events.dropped()
     }
 }
 

@@ -1,4 +1,6 @@
 use super::*;
+use crate::machine::Machine;
+use core::time::Duration;
 use std::vec::Vec;
 
 fn ms(n: u64) -> Timestamp {
@@ -19,7 +21,7 @@ fn events<const N: usize>(c: &mut HeartbeatConsumer<N>) -> Vec<HeartbeatEvent> {
 
 #[test]
 fn producer_boot_then_period() {
-    let mut p = HeartbeatProducer::new(n(10), 1000);
+    let mut p = HeartbeatProducer::new(n(10), Duration::from_millis(1000));
     assert_eq!(p.poll_timeout(), None);
     p.boot(ms(0));
     assert_eq!(p.poll_transmit(), Some(hb(10, 0x00)));
@@ -45,7 +47,7 @@ fn producer_boot_then_period() {
 
 #[test]
 fn producer_options() {
-    let mut p = HeartbeatProducer::new(n(1), 100);
+    let mut p = HeartbeatProducer::new(n(1), Duration::from_millis(100));
     p.send_on_change = true;
     p.boot(ms(0));
     let _ = p.poll_transmit();
@@ -54,7 +56,7 @@ fn producer_options() {
     assert_eq!(p.poll_timeout(), Some(ms(130)));
     p.set_state(ms(40), NmtState::Operational);
     assert_eq!(p.poll_transmit(), None, "no change, nothing sent");
-    p.set_period(ms(50), 0);
+    p.set_period(ms(50), Duration::ZERO);
     assert_eq!(p.poll_timeout(), None);
     p.handle_timeout(ms(1000));
     assert_eq!(p.poll_transmit(), None);

@@ -57,6 +57,7 @@ pub mod emcy;
 pub mod error;
 pub mod frame;
 pub mod heartbeat;
+pub mod machine;
 pub mod message;
 pub mod nmt;
 pub mod od;

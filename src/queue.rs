@@ -1,4 +1,6 @@
-//! A fixed-capacity FIFO for the state machines' outputs (no allocation).
+//! Fixed-capacity FIFOs for the state machines' outputs (no allocation):
+//! [`Queue`] refuses when full (frames), [`EventQueue`] drops the oldest and
+//! counts (events: the back-pressure rule of [`crate::machine`]).
 
 /// Up to `N` items, first in first out; `push` fails when full. Slots hold a
 /// filler value when empty, so push and pop are plain copies (no `Option`
@@ -53,6 +55,66 @@ impl<T: Copy, const N: usize> Queue<T, N> {
     pub(crate) const fn room(&self) -> usize {
         N - self.len
     }
+
+    /// Items queued.
+    #[inline]
+    pub(crate) const fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Drops everything queued.
+    #[inline]
+    pub(crate) fn clear(&mut self) {
+        self.head = 0;
+        self.len = 0;
+    }
+}
+
+/// The event queue of a state machine: up to `N` events; pushing onto a
+/// full queue drops the oldest event and counts it, so the newest events
+/// (a transfer's terminal event among them) are always kept.
+#[derive(Debug, Clone)]
+pub(crate) struct EventQueue<T: Copy, const N: usize> {
+    queue: Queue<T, N>,
+    dropped: u64,
+}
+
+impl<T: Copy, const N: usize> EventQueue<T, N> {
+    /// An empty queue (`filler` is never returned).
+    pub(crate) const fn new(filler: T) -> Self {
+        EventQueue {
+            queue: Queue::new(filler),
+            dropped: 0,
+        }
+    }
+
+    /// Appends `event`; when full, the oldest event is dropped and counted.
+    #[inline]
+    pub(crate) fn push(&mut self, event: T) {
+        if self.queue.room() == 0 {
+            let _ = self.queue.pop();
+            self.dropped = self.dropped.saturating_add(1);
+        }
+        let _ = self.queue.push(event);
+    }
+
+    /// The oldest event.
+    #[inline]
+    pub(crate) fn pop(&mut self) -> Option<T> {
+        self.queue.pop()
+    }
+
+    /// Events dropped so far.
+    #[inline]
+    pub(crate) const fn dropped(&self) -> u64 {
+        self.dropped
+    }
+
+    /// Events queued.
+    #[inline]
+    pub(crate) const fn len(&self) -> usize {
+        self.queue.len()
+    }
 }
 
 #[cfg(test)]
@@ -72,7 +134,26 @@ mod tests {
         );
         assert_eq!(q.room(), 3);
         assert!(q.push(5));
+        assert_eq!(q.len(), 1);
         assert_eq!(q.pop(), Some(5));
         assert_eq!(q.pop(), None);
+        assert!(q.push(6) && q.push(7));
+        q.clear();
+        assert_eq!((q.len(), q.pop()), (0, None));
+    }
+
+    #[test]
+    fn event_queue_drops_oldest_and_counts() {
+        let mut q: EventQueue<u8, 2> = EventQueue::new(0);
+        q.push(1);
+        q.push(2);
+        assert_eq!(q.dropped(), 0);
+        q.push(3);
+        q.push(4);
+        assert_eq!(q.dropped(), 2);
+        assert_eq!(q.len(), 2);
+        assert_eq!((q.pop(), q.pop(), q.pop()), (Some(3), Some(4), None));
+        q.push(5);
+        assert_eq!((q.pop(), q.dropped()), (Some(5), 2));
     }
 }

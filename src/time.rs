@@ -100,6 +100,90 @@ impl fmt::Display for Timestamp {
     }
 }
 
+/// A machine's timers in one fixed table: slot `i` holds the deadline of
+/// timer `i` (each machine names its slots with a `#[repr(usize)]` enum),
+/// and [`Timers::next`] is the earliest, which is what the machine's
+/// `poll_timeout` returns. No allocation; out-of-range slots are ignored.
+///
+/// ```
+/// use canopen_codec::time::Timers;
+/// use canopen_codec::Timestamp;
+/// let mut t: Timers<2> = Timers::new();
+/// t.set(0, Some(Timestamp::from_millis(30)));
+/// t.set(1, Some(Timestamp::from_millis(10)));
+/// assert_eq!(t.next(), Some(Timestamp::from_millis(10)));
+/// assert!(!t.expire(0, Timestamp::from_millis(20)));
+/// assert!(t.expire(1, Timestamp::from_millis(20)));
+/// assert_eq!(t.next(), Some(Timestamp::from_millis(30)));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Timers<const N: usize> {
+    deadlines: [Option<Timestamp>; N],
+}
+
+impl<const N: usize> Default for Timers<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> Timers<N> {
+    /// Every timer stopped.
+    #[must_use]
+    pub const fn new() -> Self {
+        Timers {
+            deadlines: [None; N],
+        }
+    }
+
+    /// Arms (`Some`) or stops (`None`) timer `slot`.
+    #[inline]
+    pub fn set(&mut self, slot: usize, deadline: Option<Timestamp>) {
+        if let Some(d) = self.deadlines.get_mut(slot) {
+            *d = deadline;
+        }
+    }
+
+    /// The deadline of timer `slot`.
+    #[must_use]
+    #[inline]
+    pub fn get(&self, slot: usize) -> Option<Timestamp> {
+        self.deadlines.get(slot).copied().flatten()
+    }
+
+    /// True (and the timer stopped) when timer `slot` is armed and `now`
+    /// has reached its deadline.
+    #[inline]
+    pub fn expire(&mut self, slot: usize, now: Timestamp) -> bool {
+        match self.deadlines.get_mut(slot) {
+            Some(d) if d.is_some_and(|at| now.has_reached(at)) => {
+                *d = None;
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// Stops every timer.
+    pub fn clear(&mut self) {
+        self.deadlines = [None; N];
+    }
+
+    /// The earliest armed deadline.
+    #[must_use]
+    #[inline]
+    pub fn next(&self) -> Option<Timestamp> {
+        self.deadlines.iter().flatten().min().copied()
+    }
+}
+
+/// A duration as whole milliseconds for a 16-bit object (1017h, 1016h,
+/// event timers), saturating at 65535 ms.
+#[must_use]
+pub fn millis_u16(d: Duration) -> u16 {
+    u16::try_from(d.as_millis()).unwrap_or(u16::MAX)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,6 +3,7 @@
 //! false one.
 
 use canopen_codec::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent};
+use canopen_codec::machine::Machine;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 use proptest::prelude::*;
 

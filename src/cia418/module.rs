@@ -69,6 +69,7 @@ use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE, NMT};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::{CanFrame, CanId};
 use crate::heartbeat::HeartbeatProducer;
+use crate::machine::Machine;
 use crate::nmt::{NmtCommand, NmtCommandSpecifier, NmtState};
 use crate::pdo::{
     receive_rpdo, MappingEntry, PdoCobId, PdoCommParams, PdoConfig, PdoDictionary, PdoDirection,
@@ -261,7 +262,10 @@ impl BatteryModule {
             config,
             state: NmtState::BootUp,
             server: Server::new(Self::server_config(&config), od),
-            heartbeat: HeartbeatProducer::new(config.node, config.heartbeat_ms),
+            heartbeat: HeartbeatProducer::new(
+                config.node,
+                Duration::from_millis(u64::from(config.heartbeat_ms)),
+            ),
             tpdos: TpdoSet::new(),
             transmit: Queue::new(CanFrame::EMPTY),
             events: Queue::new(BatteryEvent::Reset { node: false }),
@@ -358,7 +362,8 @@ impl BatteryModule {
         f(&mut self.server.od_mut().inner);
         let new_period = self.objects().heartbeat_time_ms;
         if new_period != period {
-            self.heartbeat.set_period(now, new_period);
+            self.heartbeat
+                .set_period(now, Duration::from_millis(u64::from(new_period)));
         }
         self.refresh_tpdos(now);
     }
@@ -551,7 +556,8 @@ impl BatteryModule {
         let period = self.config.heartbeat_ms;
         self.server.od_mut().inner.heartbeat_time_ms = period;
         let send_on_change = self.heartbeat.send_on_change;
-        self.heartbeat = HeartbeatProducer::new(self.config.node, period);
+        self.heartbeat =
+            HeartbeatProducer::new(self.config.node, Duration::from_millis(u64::from(period)));
         self.heartbeat.send_on_change = send_on_change;
         self.heartbeat.boot(now);
         self.tpdos = TpdoSet::new();
@@ -638,7 +644,8 @@ impl BatteryModule {
                 ServerEvent::Downloaded { index, sub, .. } => {
                     if index == PRODUCER_HEARTBEAT_TIME {
                         let period = self.objects().heartbeat_time_ms;
-                        self.heartbeat.set_period(now, period);
+                        self.heartbeat
+                            .set_period(now, Duration::from_millis(u64::from(period)));
                     }
                     written = true;
                     self.push_event(BatteryEvent::ObjectWritten { index, sub });
@@ -669,6 +676,28 @@ impl BatteryModule {
 
     fn sync_tpdos(&mut self, now: Timestamp) {
         self.tpdos.sync(now, &self.server.od().config);
+    }
+}
+
+impl crate::machine::Machine for BatteryModule {
+    type Event = BatteryEvent;
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        Self::handle_frame(self, now, frame);
+    }
+    fn handle_timeout(&mut self, now: Timestamp) {
+        Self::handle_timeout(self, now);
+    }
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        Self::poll_transmit(self)
+    }
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        Self::poll_timeout(self)
+    }
+    fn poll_event(&mut self) -> Option<BatteryEvent> {
+        Self::poll_event(self)
+    }
+    fn events_dropped(&self) -> u64 {
+        0
     }
 }
 

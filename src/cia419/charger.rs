@@ -53,6 +53,7 @@ use crate::deltaq::{emergency_reaction, DeltaQCode, OperatingMode, Reaction};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::{CanFrame, CanId};
 use crate::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent, HeartbeatProducer};
+use crate::machine::Machine;
 use crate::nmt::{NmtCommand, NmtCommandSpecifier, NmtState};
 use crate::pdo::{
     charger_default_pdo, receive_rpdo, PdoCobId, PdoCommParams, PdoConfig, PdoDictionary,
@@ -248,7 +249,10 @@ impl Charger {
                 timeout: config.sdo_timeout,
                 ..ClientConfig::for_server(config.battery)
             }),
-            heartbeat: HeartbeatProducer::new(config.node, config.heartbeat_ms),
+            heartbeat: HeartbeatProducer::new(
+                config.node,
+                Duration::from_millis(u64::from(config.heartbeat_ms)),
+            ),
             consumer: HeartbeatConsumer::new(),
             tpdos: TpdoSet::new(),
             link: Link::Absent,
@@ -357,7 +361,10 @@ impl Charger {
             timeout: config.sdo_timeout,
             ..ClientConfig::for_server(config.battery)
         });
-        self.heartbeat = HeartbeatProducer::new(config.node, config.heartbeat_ms);
+        self.heartbeat = HeartbeatProducer::new(
+            config.node,
+            Duration::from_millis(u64::from(config.heartbeat_ms)),
+        );
         self.heartbeat.boot(now);
         self.consumer = HeartbeatConsumer::new();
         let entry = self.objects().consumer;
@@ -713,7 +720,8 @@ impl Charger {
                 match index {
                     0x1017 => {
                         let ms = self.objects().heartbeat_ms;
-                        self.heartbeat.set_period(now, ms);
+                        self.heartbeat
+                            .set_period(now, Duration::from_millis(u64::from(ms)));
                     }
                     0x1016 => {
                         let entry = self.objects().consumer;
@@ -754,5 +762,27 @@ impl Charger {
 
     fn sync_tpdos(&mut self, now: Timestamp) {
         self.tpdos.sync(now, &self.server.od().config);
+    }
+}
+
+impl crate::machine::Machine for Charger {
+    type Event = ChargerEvent;
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        Self::handle_frame(self, now, frame);
+    }
+    fn handle_timeout(&mut self, now: Timestamp) {
+        Self::handle_timeout(self, now);
+    }
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        Self::poll_transmit(self)
+    }
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        Self::poll_timeout(self)
+    }
+    fn poll_event(&mut self) -> Option<ChargerEvent> {
+        Self::poll_event(self)
+    }
+    fn events_dropped(&self) -> u64 {
+        0
     }
 }

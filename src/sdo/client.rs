@@ -605,3 +605,25 @@ impl<D: AsRef<[u8]>> Client<D> {
         self.send_segment(now, index, sub, data, sent, !toggle);
     }
 }
+
+impl<D: AsRef<[u8]>> crate::machine::Machine for Client<D> {
+    type Event = ClientEvent;
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        Self::handle_frame(self, now, frame);
+    }
+    fn handle_timeout(&mut self, now: Timestamp) {
+        Self::handle_timeout(self, now);
+    }
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        Self::poll_transmit(self)
+    }
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        Self::poll_timeout(self)
+    }
+    fn poll_event(&mut self) -> Option<ClientEvent> {
+        Self::poll_event(self)
+    }
+    fn events_dropped(&self) -> u64 {
+        0
+    }
+}

@@ -627,3 +627,25 @@ impl<D: ObjectDictionary> Server<D> {
         });
     }
 }
+
+impl<D: ObjectDictionary> crate::machine::Machine for Server<D> {
+    type Event = ServerEvent;
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        Self::handle_frame(self, now, frame);
+    }
+    fn handle_timeout(&mut self, now: Timestamp) {
+        Self::handle_timeout(self, now);
+    }
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        Self::poll_transmit(self)
+    }
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        Self::poll_timeout(self)
+    }
+    fn poll_event(&mut self) -> Option<ServerEvent> {
+        Self::poll_event(self)
+    }
+    fn events_dropped(&self) -> u64 {
+        0
+    }
+}
