@@ -52,6 +52,7 @@ pub mod cia418;
 pub mod cia419;
 pub mod cob_id;
 pub mod deltaq;
+pub mod device;
 pub mod display;
 pub mod emcy;
 pub mod error;

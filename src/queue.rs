@@ -55,19 +55,6 @@ impl<T: Copy, const N: usize> Queue<T, N> {
     pub(crate) const fn room(&self) -> usize {
         N - self.len
     }
-
-    /// Items queued.
-    #[inline]
-    pub(crate) const fn len(&self) -> usize {
-        self.len
-    }
-
-    /// Drops everything queued.
-    #[inline]
-    pub(crate) fn clear(&mut self) {
-        self.head = 0;
-        self.len = 0;
-    }
 }
 
 /// The event queue of a state machine: up to `N` events; pushing onto a
@@ -109,12 +96,6 @@ impl<T: Copy, const N: usize> EventQueue<T, N> {
     pub(crate) const fn dropped(&self) -> u64 {
         self.dropped
     }
-
-    /// Events queued.
-    #[inline]
-    pub(crate) const fn len(&self) -> usize {
-        self.queue.len()
-    }
 }
 
 #[cfg(test)]
@@ -134,12 +115,8 @@ mod tests {
         );
         assert_eq!(q.room(), 3);
         assert!(q.push(5));
-        assert_eq!(q.len(), 1);
         assert_eq!(q.pop(), Some(5));
         assert_eq!(q.pop(), None);
-        assert!(q.push(6) && q.push(7));
-        q.clear();
-        assert_eq!((q.len(), q.pop()), (0, None));
     }
 
     #[test]
@@ -151,7 +128,6 @@ mod tests {
         q.push(3);
         q.push(4);
         assert_eq!(q.dropped(), 2);
-        assert_eq!(q.len(), 2);
         assert_eq!((q.pop(), q.pop(), q.pop()), (Some(3), Some(4), None));
         q.push(5);
         assert_eq!((q.pop(), q.dropped()), (Some(5), 2));

@@ -44,6 +44,9 @@ mod packed_tests;
 #[cfg(test)]
 mod tests;
 
+pub use crate::device::{
+    Identity, IDENTITY, MANUFACTURER_DEVICE_NAME, PRODUCER_HEARTBEAT_TIME, SDO_SERVER_PARAMETER,
+};
 pub use battery::{
     BatteryParameterValue, BatteryParameters, BatteryType, Chemistry, Gravity, LeadAcid,
     MaintenanceFree, NickelCadmiumCell, NickelCadmiumPlate, ObjectError, Plate, SilverOxide,
@@ -51,10 +54,7 @@ pub use battery::{
 pub use date::{CalendarDateTime, DateError, EqualizationDate};
 pub use device_type::{DeviceType, PdoSet};
 pub use module::{BatteryEvent, BatteryModule, BatteryModuleConfig};
-pub use objects::{
-    BatteryObjects, Identity, BATTERY_OBJECT_INDEXES, IDENTITY, MANUFACTURER_DEVICE_NAME,
-    PRODUCER_HEARTBEAT_TIME, SDO_SERVER_PARAMETER,
-};
+pub use objects::{BatteryObjects, BATTERY_OBJECT_INDEXES};
 pub use packed::{PackedString, PackedStringError, PackedStringObject, PackedText};
 pub use pdo::{DefaultPdo, PdoDirection, DEFAULT_PDOS};
 pub use status::{BatteryStatus, ChargerStatus, WaterLevelStatus};

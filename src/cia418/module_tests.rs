@@ -1,4 +1,7 @@
 use super::*;
+use crate::machine::Machine;
+use crate::sdo::AbortCode;
+use crate::{CanFrame, CanId, PdoNumber};
 
 fn module() -> BatteryModule {
     BatteryModule::new(BatteryModuleConfig::default())
@@ -74,7 +77,8 @@ fn hostile_frames_and_times_never_panic() {
 fn a_full_event_queue_drops_the_oldest() {
     let mut m = module();
     for sub in 0..20u8 {
-        m.push_event(BatteryEvent::ObjectWritten { index: 0x6001, sub });
+        m.device
+            .push_event(BatteryEvent::ObjectWritten { index: 0x6001, sub });
     }
     let subs: std::vec::Vec<u8> = core::iter::from_fn(|| m.poll_event())
         .map(|e| match e {
@@ -83,4 +87,5 @@ fn a_full_event_queue_drops_the_oldest() {
         })
         .collect();
     assert_eq!(subs, (4..20).collect::<std::vec::Vec<u8>>());
+    assert_eq!(m.events_dropped(), 4);
 }

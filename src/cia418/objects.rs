@@ -1,19 +1,13 @@
-//! The object dictionary of a CiA 418 battery module as a fixed struct, no
-//! allocation: [`BatteryObjects`] implements
-//! [`ObjectDictionary`](crate::od::ObjectDictionary) for the communication
-//! objects 1000h, 1001h, 1008h, 1017h, 1018h, 1200h and every application
-//! object 6000h-6090h of CiA 418 (DIGEST section 6). The PDO objects
-//! (1400h-1A03h) are layered on top by
-//! [`PdoDictionary`](crate::pdo::PdoDictionary).
+//! The application objects of a CiA 418 battery module as a fixed struct,
+//! no allocation: [`BatteryObjects`] implements
+//! [`ObjectDictionary`](crate::od::ObjectDictionary) for every application
+//! object 6000h-6090h of CiA 418 v1.0.1 (section 7.3). The communication
+//! objects (1000h, 1001h, 1003h, 1008h, 1017h, 1018h, 1200h) and the PDO
+//! objects (1400h-1A03h) are the device core's
+//! ([`crate::device::CommObjects`], [`PdoDictionary`](crate::pdo::PdoDictionary)).
 //!
 //! | index | object | type | access | PDO |
 //! |---|---|---|---|---|
-//! | 1000h | device type | U32 | const | |
-//! | 1001h | error register | U8 | ro | |
-//! | 1008h | manufacturer device name | VISIBLE_STRING | const | |
-//! | 1017h | producer heartbeat time (ms) | U16 | rw | |
-//! | 1018h | identity (sub 0 = 4; vendor, product, revision, serial) | RECORD of U32 | ro | |
-//! | 1200h | SDO server parameter (sub 0 = 2; 600h + node, 580h + node) | RECORD of U32 | ro | |
 //! | 6000h | battery status | U8 | ro | yes |
 //! | 6001h | charger status | U8 | rw | yes |
 //! | 6010h | temperature | I16 | ro | yes |
@@ -42,36 +36,18 @@
 use super::{AmpHours, EighthAmpHours};
 use super::{
     BatteryParameters, BatteryStatus, BatteryVoltage, ChargeCurrentRequested, ChargerStatus,
-    DeviceType, EqualizationDate, PackedString, PackedStringError, PackedStringObject,
-    StateOfCharge, Temperature, WaterLevelStatus, AH_EXPENDED_SINCE_LAST_CHARGE,
-    AH_RETURNED_DURING_LAST_CHARGE, AH_SINCE_LAST_EQUALIZATION, BATTERY_ID, BATTERY_PARAMETERS,
-    BATTERY_SERIAL_NUMBER, BATTERY_STATE_OF_CHARGE, BATTERY_STATUS, BATTERY_VOLTAGE,
-    CHARGER_STATE_OF_CHARGE, CHARGER_STATUS, CHARGE_CURRENT_REQUESTED, CUMULATIVE_TOTAL_AH_CHARGE,
-    DATE_OF_LAST_EQUALIZATION, DEVICE_TYPE, ERROR_REGISTER, TEMPERATURE, VEHICLE_ID,
-    VEHICLE_SERIAL_NUMBER, WATER_LEVEL_STATUS,
+    EqualizationDate, PackedString, PackedStringError, PackedStringObject, StateOfCharge,
+    Temperature, WaterLevelStatus, AH_EXPENDED_SINCE_LAST_CHARGE, AH_RETURNED_DURING_LAST_CHARGE,
+    AH_SINCE_LAST_EQUALIZATION, BATTERY_ID, BATTERY_PARAMETERS, BATTERY_SERIAL_NUMBER,
+    BATTERY_STATE_OF_CHARGE, BATTERY_STATUS, BATTERY_VOLTAGE, CHARGER_STATE_OF_CHARGE,
+    CHARGER_STATUS, CHARGE_CURRENT_REQUESTED, CUMULATIVE_TOTAL_AH_CHARGE,
+    DATE_OF_LAST_EQUALIZATION, TEMPERATURE, VEHICLE_ID, VEHICLE_SERIAL_NUMBER, WATER_LEVEL_STATUS,
 };
-use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
-use crate::emcy::ErrorRegister;
 use crate::od::{Access, ObjectDictionary, ObjectInfo};
 use crate::sdo::AbortCode;
 
-/// 1008h manufacturer device name, VISIBLE_STRING const (CiA 301).
-pub const MANUFACTURER_DEVICE_NAME: u16 = 0x1008;
-/// 1017h producer heartbeat time in ms, U16 rw (CiA 301).
-pub const PRODUCER_HEARTBEAT_TIME: u16 = 0x1017;
-/// 1018h identity object, RECORD of U32 ro (CiA 301).
-pub const IDENTITY: u16 = 0x1018;
-/// 1200h first SDO server parameter, RECORD of U32 ro (CiA 301).
-pub const SDO_SERVER_PARAMETER: u16 = 0x1200;
-
 /// Every index [`BatteryObjects`] serves.
-pub const BATTERY_OBJECT_INDEXES: [u16; 24] = [
-    DEVICE_TYPE,
-    ERROR_REGISTER,
-    MANUFACTURER_DEVICE_NAME,
-    PRODUCER_HEARTBEAT_TIME,
-    IDENTITY,
-    SDO_SERVER_PARAMETER,
+pub const BATTERY_OBJECT_INDEXES: [u16; 18] = [
     BATTERY_STATUS,
     CHARGER_STATUS,
     TEMPERATURE,
@@ -91,36 +67,6 @@ pub const BATTERY_OBJECT_INDEXES: [u16; 24] = [
     BATTERY_STATE_OF_CHARGE,
     WATER_LEVEL_STATUS,
 ];
-
-/// 1018h identity object: sub 1-4 (CiA 301).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub struct Identity {
-    /// Sub 1: vendor-ID (assigned by CiA).
-    pub vendor_id: u32,
-    /// Sub 2: product code.
-    pub product_code: u32,
-    /// Sub 3: revision number.
-    pub revision_number: u32,
-    /// Sub 4: serial number.
-    pub serial_number: u32,
-}
-
-impl Identity {
-    /// Value of sub 0, highest sub-index supported.
-    pub const HIGHEST_SUB_INDEX: u8 = 4;
-
-    /// The value of sub-index `sub` (1..=4).
-    #[must_use]
-    pub const fn sub(&self, sub: u8) -> Option<u32> {
-        match sub {
-            1 => Some(self.vendor_id),
-            2 => Some(self.product_code),
-            3 => Some(self.revision_number),
-            4 => Some(self.serial_number),
-            _ => None,
-        }
-    }
-}
 
 /// A packed-string ARRAY as stored: element count and elements.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -187,8 +133,7 @@ struct Pending {
 /// ```
 /// use canopen_codec::cia418::{BatteryObjects, Temperature};
 /// use canopen_codec::od::ObjectDictionary;
-/// use canopen_codec::NodeId;
-/// let mut od = BatteryObjects::new(NodeId::new(1).unwrap(), "BMS");
+/// let mut od = BatteryObjects::new();
 /// od.temperature = Temperature::from_celsius(25).unwrap();
 /// let mut buf = [0u8; 2];
 /// assert_eq!(od.read(0x6010, 0, 0, &mut buf), Ok(2));
@@ -197,17 +142,6 @@ struct Pending {
 /// ```
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct BatteryObjects {
-    node: NodeId,
-    /// 1000h device type (bits 16-19: optional PDOs).
-    pub device_type: DeviceType,
-    /// 1001h error register.
-    pub error_register: ErrorRegister,
-    /// 1008h manufacturer device name.
-    pub device_name: &'static str,
-    /// 1017h producer heartbeat time in ms.
-    pub heartbeat_time_ms: u16,
-    /// 1018h identity.
-    pub identity: Identity,
     /// 6000h battery status.
     pub battery_status: BatteryStatus,
     /// 6001h charger status (written by the charger).
@@ -270,26 +204,19 @@ fn packed_slot(object: PackedStringObject) -> usize {
     }
 }
 
+impl Default for BatteryObjects {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl BatteryObjects {
-    /// The objects of module `node` named `device_name` (1008h): device
-    /// type 418 with no optional PDOs, heartbeat 1000 ms, everything else
-    /// zero except the two states of charge (FFh, invalid), the charge
-    /// current requested (FFFFh, invalid) and the packed strings (empty,
-    /// one element).
+    /// The power-on values: everything zero except the two states of
+    /// charge (FFh, invalid), the charge current requested (FFFFh, invalid)
+    /// and the packed strings (empty, one element).
     #[must_use]
-    pub const fn new(node: NodeId, device_name: &'static str) -> Self {
+    pub const fn new() -> Self {
         BatteryObjects {
-            node,
-            device_type: DeviceType::cia418(0),
-            error_register: ErrorRegister::empty(),
-            device_name,
-            heartbeat_time_ms: 1000,
-            identity: Identity {
-                vendor_id: 0,
-                product_code: 0,
-                revision_number: 0,
-                serial_number: 0,
-            },
             battery_status: BatteryStatus::empty(),
             charger_status: ChargerStatus::empty(),
             temperature: Temperature::from_raw(0),
@@ -315,12 +242,6 @@ impl BatteryObjects {
             packed: [PackedValue::EMPTY; 4],
             pending: None,
         }
-    }
-
-    /// The node id (1200h values).
-    #[must_use]
-    pub const fn node(&self) -> NodeId {
-        self.node
     }
 
     /// Stores a packed string (6030h, 6031h, 6040h, 6041h).
@@ -361,32 +282,16 @@ impl BatteryObjects {
         PackedString::decode(object, v.count, &v.words)
     }
 
-    /// Forgets a download in progress (the module's resets).
-    pub(crate) fn abort_pending(&mut self) {
-        self.pending = None;
-    }
-
     /// True if the dictionary has object `index` (any sub-index).
     #[must_use]
     pub fn has_object(index: u16) -> bool {
         BATTERY_OBJECT_INDEXES.contains(&index)
     }
 
-    /// Access, current value and PDO-mappability of every object but 1008h.
+    /// Access, current value and PDO-mappability of every object.
     fn entry(&self, index: u16, sub: u8) -> Result<(Access, Value, bool), AbortCode> {
-        use Access::{Const, ReadOnly as Ro, ReadWrite as Rw};
-        let node = u32::from(self.node.raw());
+        use Access::{ReadOnly as Ro, ReadWrite as Rw};
         let found = match (index, sub) {
-            (DEVICE_TYPE, 0) => (Const, v32(self.device_type.raw()), false),
-            (ERROR_REGISTER, 0) => (Ro, v8(self.error_register.bits()), false),
-            (PRODUCER_HEARTBEAT_TIME, 0) => (Rw, v16(self.heartbeat_time_ms), false),
-            (IDENTITY, 0) => (Ro, v8(Identity::HIGHEST_SUB_INDEX), false),
-            (IDENTITY, s) if self.identity.sub(s).is_some() => {
-                (Ro, v32(self.identity.sub(s).unwrap_or(0)), false)
-            }
-            (SDO_SERVER_PARAMETER, 0) => (Ro, v8(2), false),
-            (SDO_SERVER_PARAMETER, 1) => (Ro, v32(u32::from(SDO_RX_BASE) + node), false),
-            (SDO_SERVER_PARAMETER, 2) => (Ro, v32(u32::from(SDO_TX_BASE) + node), false),
             (BATTERY_STATUS, 0) => (Ro, v8(self.battery_status.bits()), true),
             (CHARGER_STATUS, 0) => (Rw, v8(self.charger_status.bits()), true),
             (TEMPERATURE, 0) => (Ro, v16(self.temperature.raw() as u16), true),
@@ -445,9 +350,6 @@ impl BatteryObjects {
     /// Applies a complete, length-checked write.
     fn apply(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
         match (index, sub, data) {
-            (PRODUCER_HEARTBEAT_TIME, 0, &[a, b]) => {
-                self.heartbeat_time_ms = u16::from_le_bytes([a, b]);
-            }
             (CHARGER_STATUS, 0, &[a]) => self.charger_status = ChargerStatus::from_bits_retain(a),
             (AH_RETURNED_DURING_LAST_CHARGE, 0, &[a, b]) => {
                 self.ah_returned_during_last_charge =
@@ -482,12 +384,6 @@ impl BatteryObjects {
 
 impl ObjectDictionary for BatteryObjects {
     fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-        if index == MANUFACTURER_DEVICE_NAME {
-            return match sub {
-                0 => Ok(ObjectInfo::fixed(Access::Const, self.device_name.len())),
-                _ => Err(AbortCode::SubIndexDoesNotExist),
-            };
-        }
         let (access, value, mappable) = self.entry(index, sub)?;
         let info = ObjectInfo::fixed(access, value.len());
         Ok(if mappable { info.mappable() } else { info })
@@ -500,17 +396,8 @@ impl ObjectDictionary for BatteryObjects {
         offset: usize,
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let value;
-        let bytes: &[u8] = if index == MANUFACTURER_DEVICE_NAME {
-            if sub != 0 {
-                return Err(AbortCode::SubIndexDoesNotExist);
-            }
-            self.device_name.as_bytes()
-        } else {
-            value = self.entry(index, sub)?.1;
-            value.as_slice()
-        };
-        let src = bytes.get(offset..).unwrap_or(&[]);
+        let value = self.entry(index, sub)?.1;
+        let src = value.as_slice().get(offset..).unwrap_or(&[]);
         let mut n = 0;
         for (d, s) in buf.iter_mut().zip(src) {
             *d = *s;

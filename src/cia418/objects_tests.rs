@@ -1,11 +1,28 @@
-use super::*;
-use crate::cia418::{BatteryParameterValue, BatteryType};
+//! The battery module's whole dictionary (application objects here, the
+//! communication objects of the device core, the PDO objects) as an SDO
+//! server sees it.
 
-fn od() -> BatteryObjects {
-    BatteryObjects::new(NodeId::new(1).unwrap(), "Battery module")
+use super::*;
+use crate::cia418::{
+    BatteryModule, BatteryModuleConfig, BatteryParameterValue, BatteryType, DeviceType,
+};
+use crate::device::{Dictionary, Identity};
+use crate::NodeId;
+
+type Od = Dictionary<BatteryObjects>;
+
+fn module_od(node: u8, name: &'static str, f: impl FnOnce(&mut BatteryModuleConfig)) -> Od {
+    let mut config = BatteryModuleConfig::new(NodeId::new(node).unwrap());
+    config.device_name = name;
+    f(&mut config);
+    BatteryModule::new(config).dictionary().clone()
 }
 
-fn read(od: &mut BatteryObjects, index: u16, sub: u8) -> Result<std::vec::Vec<u8>, AbortCode> {
+fn od() -> Od {
+    module_od(1, "Battery module", |_| {})
+}
+
+fn read(od: &mut Od, index: u16, sub: u8) -> Result<std::vec::Vec<u8>, AbortCode> {
     let len = od.info(index, sub)?.len;
     let mut buf = std::vec![0u8; len];
     let n = od.read(index, sub, 0, &mut buf)?;
@@ -13,7 +30,7 @@ fn read(od: &mut BatteryObjects, index: u16, sub: u8) -> Result<std::vec::Vec<u8
     Ok(buf)
 }
 
-fn write(od: &mut BatteryObjects, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
+fn write(od: &mut Od, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
     let info = od.info(index, sub)?;
     if !info.access.is_writable() {
         // What the SDO server checks before writing; the dictionary checks it too.
@@ -143,14 +160,15 @@ fn missing_objects_and_sub_indexes() {
 
 #[test]
 fn communication_object_values() {
-    let mut od = BatteryObjects::new(NodeId::new(5).unwrap(), "BMS-418");
-    od.device_type = DeviceType::cia418(DeviceType::TPDO_2ND);
-    od.identity = Identity {
-        vendor_id: 0x0000_0123,
-        product_code: 0x418,
-        revision_number: 0x0001_0002,
-        serial_number: 0xDEAD_BEEF,
-    };
+    let mut od = module_od(5, "BMS-418", |c| {
+        c.device_type = DeviceType::cia418(DeviceType::TPDO_2ND);
+        c.identity = Identity {
+            vendor_id: 0x0000_0123,
+            product_code: 0x418,
+            revision_number: 0x0001_0002,
+            serial_number: 0xDEAD_BEEF,
+        };
+    });
     assert_eq!(read(&mut od, 0x1000, 0).unwrap(), [0xA2, 0x01, 0x04, 0x00]);
     assert_eq!(read(&mut od, 0x1001, 0).unwrap(), [0]);
     assert_eq!(read(&mut od, 0x1008, 0).unwrap(), b"BMS-418");
@@ -181,7 +199,9 @@ fn device_name_reads_at_offsets() {
 #[test]
 fn packed_string_arrays() {
     let mut od = od();
-    od.set_text(PackedStringObject::BatterySerialNumber, "BATTERY")
+    od.inner
+        .app
+        .set_text(PackedStringObject::BatterySerialNumber, "BATTERY")
         .unwrap();
     assert_eq!(read(&mut od, 0x6030, 0).unwrap(), [2]);
     assert_eq!(
@@ -194,20 +214,24 @@ fn packed_string_arrays() {
     );
     assert_eq!(od.info(0x6030, 3), Err(AbortCode::SubIndexDoesNotExist));
     assert_eq!(
-        od.packed_string(PackedStringObject::BatterySerialNumber)
+        od.inner
+            .app
+            .packed_string(PackedStringObject::BatterySerialNumber)
             .unwrap()
             .text()
             .as_str(),
         "BATTERY"
     );
     // 20 characters: five elements.
-    od.set_text(PackedStringObject::VehicleId, "ABCDEFGHIJKLMNOPQRST")
+    od.inner
+        .app
+        .set_text(PackedStringObject::VehicleId, "ABCDEFGHIJKLMNOPQRST")
         .unwrap();
     assert_eq!(read(&mut od, 0x6041, 0).unwrap(), [5]);
     assert_eq!(read(&mut od, 0x6041, 5).unwrap(), *b"QRST");
     // A packed string with padding elements.
     let p = PackedString::encode_with_count(PackedStringObject::BatteryId, "AB", 3).unwrap();
-    od.set_packed_string(&p);
+    od.inner.app.set_packed_string(&p);
     assert_eq!(read(&mut od, 0x6031, 0).unwrap(), [3]);
     assert_eq!(read(&mut od, 0x6031, 1).unwrap(), [b'A', b'B', 0, 0]);
     assert_eq!(read(&mut od, 0x6031, 3).unwrap(), [0, 0, 0, 0]);
@@ -215,6 +239,8 @@ fn packed_string_arrays() {
     assert_eq!(read(&mut od, 0x6040, 0).unwrap(), [1]);
     assert_eq!(read(&mut od, 0x6040, 1).unwrap(), [0, 0, 0, 0]);
     assert!(od
+        .inner
+        .app
         .set_text(PackedStringObject::BatterySerialNumber, "ELEVEN CHAR")
         .is_err());
 }
@@ -222,13 +248,15 @@ fn packed_string_arrays() {
 #[test]
 fn application_values_are_little_endian() {
     let mut od = od();
-    od.temperature = Temperature::from_raw(-80);
-    od.battery_voltage = BatteryVoltage::from_raw(51_200);
-    od.battery_parameters
+    od.inner.app.temperature = Temperature::from_raw(-80);
+    od.inner.app.battery_voltage = BatteryVoltage::from_raw(51_200);
+    od.inner
+        .app
+        .battery_parameters
         .set(BatteryParameterValue::BatteryType(BatteryType::from_u8(
             0x10,
         )));
-    od.battery_parameters.ah_capacity = 600;
+    od.inner.app.battery_parameters.ah_capacity = 600;
     assert_eq!(read(&mut od, 0x6010, 0).unwrap(), [0xB0, 0xFF]);
     assert_eq!(read(&mut od, 0x6060, 0).unwrap(), [0x00, 0xC8, 0, 0]);
     assert_eq!(read(&mut od, 0x6020, 0).unwrap(), [4]);
@@ -249,21 +277,21 @@ fn value_checks() {
         write(&mut od, 0x6080, 0, &[101]),
         Err(AbortCode::ValueTooHigh)
     );
-    assert_eq!(od.charger_state_of_charge, StateOfCharge::INVALID);
+    assert_eq!(od.inner.app.charger_state_of_charge, StateOfCharge::INVALID);
     assert_eq!(
         write(&mut od, 0x6054, 1, &1440u16.to_le_bytes()),
         Err(AbortCode::ValueTooHigh)
     );
     assert_eq!(write(&mut od, 0x6054, 1, &1439u16.to_le_bytes()), Ok(()));
-    assert_eq!(od.date_of_last_equalization.minutes, 1439);
+    assert_eq!(od.inner.app.date_of_last_equalization.minutes, 1439);
     assert_eq!(
         write(&mut od, 0x6054, 0, &[2]),
         Err(AbortCode::WriteOfReadOnlyObject)
     );
     assert_eq!(write(&mut od, 0x1017, 0, &[0xF4, 0x01]), Ok(()));
-    assert_eq!(od.heartbeat_time_ms, 500);
+    assert_eq!(od.inner.comm.heartbeat_ms, 500);
     assert_eq!(write(&mut od, 0x6001, 0, &[0x81]), Ok(()));
-    assert_eq!(od.charger_status.bits(), 0x81);
+    assert_eq!(od.inner.app.charger_status.bits(), 0x81);
 }
 
 #[test]
@@ -272,7 +300,7 @@ fn segmented_write_in_pieces_and_abort() {
     od.write(0x6052, 0, 0, &[0x10]).unwrap();
     od.write(0x6052, 0, 1, &[0x02]).unwrap();
     od.finish_write(0x6052, 0, 2).unwrap();
-    assert_eq!(od.ah_returned_during_last_charge.raw(), 0x0210);
+    assert_eq!(od.inner.app.ah_returned_during_last_charge.raw(), 0x0210);
     // Out-of-order offset.
     assert_eq!(
         od.write(0x6052, 0, 3, &[0]),
@@ -285,7 +313,7 @@ fn segmented_write_in_pieces_and_abort() {
         od.finish_write(0x6052, 0, 2),
         Err(AbortCode::DataTypeLengthTooLow)
     );
-    assert_eq!(od.ah_returned_during_last_charge.raw(), 0x0210);
+    assert_eq!(od.inner.app.ah_returned_during_last_charge.raw(), 0x0210);
 }
 
 #[test]

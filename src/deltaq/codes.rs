@@ -48,6 +48,9 @@ impl DeltaQCode {
     pub const BATTERY_MODULE_COMMUNICATION: DeltaQCode = DeltaQCode::Alarm(30);
     /// E-0-3-2, heartbeat lost (EEC 8130h).
     pub const HEARTBEAT_LOST: DeltaQCode = DeltaQCode::Alarm(32);
+    /// E-0-4-2, CAN configuration error (EEC 6000h): the charger raises it
+    /// when the module's 1000h does not name profile 418.
+    pub const CAN_CONFIGURATION: DeltaQCode = DeltaQCode::Alarm(42);
     /// E-0-4-3, PDO CRC error (EEC 9000h).
     pub const PDO_CRC: DeltaQCode = DeltaQCode::Alarm(43);
     /// E-0-4-4, PDO sequence count error (EEC 9000h).

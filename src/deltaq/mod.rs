@@ -124,10 +124,14 @@
 //! assert_eq!(status.to_u16(), 0x0070);
 //! ```
 
+mod charger;
+mod charger_objects;
 mod codes;
 mod objects;
 mod policy;
 
+pub use charger::{Charger, ChargerConfig, ChargerEvent, DELTAQ_TPDO_3_BIT};
+pub use charger_objects::ChargerObjects;
 pub use codes::{AlarmFaultEntry, DeltaQCode, ALARMS_AND_FAULTS};
 pub use objects::{
     AcVoltage, AlgorithmRequest, BatteryVoltage, BatteryVoltageLegacy, ChargeIndication,

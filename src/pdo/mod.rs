@@ -39,4 +39,4 @@ pub use od_io::{read_mapped, write_mapped, RpdoError};
 pub use pack::{FieldError, FieldKind, PackError, UnpackError, Unpacked, Value};
 pub use producer::TpdoProducer;
 pub use reconfig::{Plan, ReconfigEvent, Reconfigurer, Step};
-pub use runtime::{receive_rpdo, TpdoSet};
+pub use runtime::{RpdoFrame, RpdoReceiver, TpdoSet};

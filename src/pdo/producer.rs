@@ -12,20 +12,38 @@
 //! types send on SYNC ([`TpdoProducer::handle_sync`]): type n every n-th
 //! SYNC, type 0 at the first SYNC after an event.
 //!
-//! Same poll contract as the other state machines: `handle_timeout`,
-//! `poll_transmit`, `poll_timeout`. A timestamp that goes backwards never
-//! panics; deadlines are simply not reached.
+//! It implements [`Machine`], the crate's state-machine contract: SYNC
+//! arrives as a frame through `handle_frame` (identifier 080h unless
+//! [`TpdoProducer::set_sync_id`] says otherwise, CiA 301 object 1005h), the
+//! event timer and the end of the inhibit time are its two timers. It
+//! reports no events. A timestamp that goes backwards never panics;
+//! deadlines are simply not reached.
+
+use core::convert::Infallible;
 
 use super::comm::{PdoCommParams, TransmissionType};
 use crate::bytes::Payload;
-use crate::frame::CanFrame;
-use crate::time::Timestamp;
+use crate::cob_id::SYNC;
+use crate::frame::{CanFrame, CanId};
+use crate::machine::Machine;
+use crate::time::{Timers, Timestamp};
+
+/// The producer's timers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(usize)]
+enum Timer {
+    /// The event timer (1800h sub 5) of an event-driven TPDO.
+    Event,
+    /// A transmission deferred to the end of the inhibit time (1800h sub 3).
+    InhibitEnd,
+}
 
 /// Produces one TPDO. See the module docs.
 ///
 /// ```
 /// use canopen_codec::pdo::{PdoCobId, PdoCommParams, TpdoProducer};
 /// use canopen_codec::bytes::Payload;
+/// use canopen_codec::machine::Machine;
 /// use canopen_codec::Timestamp;
 /// let mut p = TpdoProducer::new();
 /// p.set_payload(Timestamp::ZERO, Payload::new(&[0x01]).unwrap());
@@ -41,13 +59,11 @@ pub struct TpdoProducer {
     operational: bool,
     payload: Payload,
     last_sent: Option<Timestamp>,
-    /// Event timer deadline.
-    event_at: Option<Timestamp>,
-    /// A transmission waits for the inhibit time to pass.
-    deferred: bool,
+    timers: Timers<2>,
     /// Type 0: an event happened; send at the next SYNC.
     sync_event: bool,
     sync_count: u8,
+    sync_id: CanId,
     out: Option<CanFrame>,
 }
 
@@ -66,12 +82,17 @@ impl TpdoProducer {
             operational: false,
             payload: Payload::EMPTY,
             last_sent: None,
-            event_at: None,
-            deferred: false,
+            timers: Timers::new(),
             sync_event: false,
             sync_count: 0,
+            sync_id: CanId::Standard(SYNC),
             out: None,
         }
+    }
+
+    /// The SYNC identifier the producer listens to (default 080h).
+    pub fn set_sync_id(&mut self, id: CanId) {
+        self.sync_id = id;
     }
 
     /// The communication parameters, once configured.
@@ -121,8 +142,7 @@ impl TpdoProducer {
     }
 
     fn stop(&mut self) {
-        self.event_at = None;
-        self.deferred = false;
+        self.timers.clear();
         self.sync_event = false;
         self.out = None;
     }
@@ -162,11 +182,15 @@ impl TpdoProducer {
     fn send_or_defer(&mut self, now: Timestamp, comm: PdoCommParams) {
         match self.inhibit_end(&comm) {
             Some(end) if !now.has_reached(end) => {
-                self.deferred = true;
+                self.timers.set(Timer::InhibitEnd as usize, Some(end));
                 // The deferred send re-arms the event timer; an expiry inside
                 // the inhibit time is covered by it.
-                if self.event_at.is_some_and(|at| at <= end) {
-                    self.event_at = None;
+                if self
+                    .timers
+                    .get(Timer::Event as usize)
+                    .is_some_and(|at| at <= end)
+                {
+                    self.timers.set(Timer::Event as usize, None);
                 }
             }
             _ => self.send(now, comm),
@@ -179,13 +203,14 @@ impl TpdoProducer {
         };
         self.out = CanFrame::new(id, self.payload.as_slice()).ok();
         self.last_sent = Some(now);
-        self.deferred = false;
-        self.event_at = (comm.transmission_type.is_event_driven() && comm.event_timer_ms > 0)
+        self.timers.set(Timer::InhibitEnd as usize, None);
+        let event = (comm.transmission_type.is_event_driven() && comm.event_timer_ms > 0)
             .then(|| now.add_millis(u64::from(comm.event_timer_ms)));
+        self.timers.set(Timer::Event as usize, event);
     }
 
     /// A SYNC was received: synchronous types send here.
-    pub fn handle_sync(&mut self, now: Timestamp) {
+    fn handle_sync(&mut self, now: Timestamp) {
         let Some(comm) = self.comm.filter(|_| self.is_active()) else {
             return;
         };
@@ -204,48 +229,52 @@ impl TpdoProducer {
             _ => {}
         }
     }
+}
 
-    /// Tells the producer time has passed: the event timer and a deferred
-    /// transmission fire here.
-    pub fn handle_timeout(&mut self, now: Timestamp) {
-        let Some(comm) = self.comm.filter(|_| self.is_active()) else {
-            return;
-        };
-        if self.deferred {
-            if let Some(end) = self.inhibit_end(&comm) {
-                if now.has_reached(end) {
-                    return self.send(now, comm);
-                }
-            }
-        }
-        if let Some(at) = self.event_at {
-            if now.has_reached(at) {
-                self.send_or_defer(now, comm);
-            }
+impl Machine for TpdoProducer {
+    type Event = Infallible;
+
+    /// A SYNC frame (the producer's SYNC identifier, not remote): the
+    /// synchronous transmission types send here. Other frames are ignored.
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        if frame.id() == self.sync_id && !frame.is_remote() {
+            self.handle_sync(now);
         }
     }
 
-    /// When `handle_timeout` must next be called.
-    #[must_use]
-    pub fn poll_timeout(&self) -> Option<Timestamp> {
-        if !self.is_active() {
-            return None;
+    /// The event timer and a deferred transmission fire here.
+    fn handle_timeout(&mut self, now: Timestamp) {
+        let Some(comm) = self.comm.filter(|_| self.is_active()) else {
+            return;
+        };
+        if self.timers.expire(Timer::InhibitEnd as usize, now) {
+            return self.send(now, comm);
         }
-        let deferred = self
-            .deferred
-            .then(|| self.comm.as_ref().and_then(|c| self.inhibit_end(c)))
-            .flatten();
-        match (deferred, self.event_at) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
+        if self.timers.expire(Timer::Event as usize, now) {
+            self.send_or_defer(now, comm);
         }
     }
 
     /// The frame to send, if one is due. A newer transmission replaces an
     /// undrained one (a PDO carries the latest value).
-    #[must_use]
-    pub fn poll_transmit(&mut self) -> Option<CanFrame> {
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
         self.out.take()
+    }
+
+    /// The earlier of the event timer and the end of the inhibit time.
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        if !self.is_active() {
+            return None;
+        }
+        self.timers.next()
+    }
+
+    fn poll_event(&mut self) -> Option<Infallible> {
+        None
+    }
+
+    fn events_dropped(&self) -> u64 {
+        0
     }
 }
 

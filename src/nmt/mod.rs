@@ -15,6 +15,9 @@ use core::fmt;
 use crate::cob_id::NodeId;
 use crate::error::{exact_len, DecodeError};
 
+mod slave;
+pub use slave::{NmtSlave, NmtSlaveEvent, ResetKind};
+
 /// NMT command specifier (byte 0 of an NMT frame).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum NmtCommandSpecifier {

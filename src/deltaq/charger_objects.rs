@@ -1,38 +1,19 @@
-//! The charger's object dictionary: CiA 301 communication objects, the
-//! CiA 418 objects a CiA 419 charger shares with the battery module, and
-//! the Delta-Q manufacturer objects of DIGEST section 5a. Fixed storage, no
-//! allocation.
+//! The Delta-Q charger's application objects: the CiA 418 objects a CiA
+//! 419 charger shares with the battery module (6000h-6081h) and the
+//! Delta-Q manufacturer objects (Delta-Q IC Series CANopen interface
+//! specification rev 2.0, section 5: 2002h, 2006h, 2060h, 2100h, 2101h,
+//! 2200h, 2241h, 2271h, 2276h, 4201h, and the 2FFAh padding objects its
+//! PDO mappings use). Fixed storage, no allocation. The communication
+//! objects (1000h-1FFFh) are the device core's ([`crate::device`]).
 
-use crate::cia418::Identity;
-use crate::emcy::ErrorRegister;
-use crate::heartbeat::ConsumerEntry;
-use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
+use crate::od::{Access, ObjectDictionary, ObjectInfo};
 use crate::sdo::AbortCode;
-
-/// CiA 419 device type (1000h): profile 419 (01A3h), no additional bits.
-pub const CHARGER_DEVICE_TYPE: u32 = 419;
-/// Entries the error history (1003h) keeps.
-pub const ERROR_HISTORY_LEN: usize = 10;
 
 /// The charger's object values. Fields are the application's to read and
 /// write; SDO access goes through [`ObjectDictionary`] with the access
 /// rights of each object.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ChargerObjects {
-    /// 1000h.
-    pub device_type: u32,
-    /// 1001h.
-    pub error_register: ErrorRegister,
-    history: [u32; ERROR_HISTORY_LEN],
-    history_len: u8,
-    /// 1008h.
-    pub device_name: &'static str,
-    /// 1016h sub 1: the battery module's heartbeat consumer entry.
-    pub consumer: ConsumerEntry,
-    /// 1017h.
-    pub heartbeat_ms: u16,
-    /// 1018h.
-    pub identity: Identity,
     /// 6000h battery status (written by the BMS).
     pub battery_status: u8,
     /// 6001h charger status (bit 0: able to charge).
@@ -72,28 +53,17 @@ pub struct ChargerObjects {
     pending: Option<((u16, u8), [u8; 4], usize)>,
 }
 
+impl Default for ChargerObjects {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
 impl ChargerObjects {
-    /// Defaults: Delta-Q "no value" markers, SOC invalid, device type 419.
+    /// Power-on values: the Delta-Q "no value" markers, SOC invalid.
     #[must_use]
-    pub const fn new(
-        device_name: &'static str,
-        heartbeat_ms: u16,
-        consumer: ConsumerEntry,
-    ) -> Self {
+    pub const fn new() -> Self {
         ChargerObjects {
-            device_type: CHARGER_DEVICE_TYPE,
-            error_register: ErrorRegister::empty(),
-            history: [0; ERROR_HISTORY_LEN],
-            history_len: 0,
-            device_name,
-            consumer,
-            heartbeat_ms,
-            identity: Identity {
-                vendor_id: 0,
-                product_code: 0,
-                revision_number: 0,
-                serial_number: 0,
-            },
             battery_status: 0,
             charger_status: 0,
             temperature: 0,
@@ -116,23 +86,6 @@ impl ChargerObjects {
         }
     }
 
-    /// Records an error in 1003h: newest first, at most 10 (the oldest falls off).
-    pub fn push_error(&mut self, entry: u32) {
-        self.history.rotate_right(1);
-        if let Some(first) = self.history.first_mut() {
-            *first = entry;
-        }
-        self.history_len = (self.history_len + 1).min(ERROR_HISTORY_LEN as u8);
-    }
-
-    /// The error history, newest first.
-    #[must_use]
-    pub fn errors(&self) -> &[u32] {
-        self.history
-            .get(..usize::from(self.history_len))
-            .unwrap_or(&[])
-    }
-
     /// Value, access and mappability of a (non-string) object, as up to 4
     /// little-endian bytes.
     fn scalar(&self, index: u16, sub: u8) -> Result<(Access, bool, Bytes), AbortCode> {
@@ -148,27 +101,6 @@ impl ChargerObjects {
             }
         };
         match index {
-            0x1000 => one(0, Const, false, b4(self.device_type)),
-            0x1001 => one(0, Ro, false, b1(self.error_register.bits())),
-            0x1003 => match sub {
-                0 => Ok((Rw, false, b1(self.history_len))),
-                1..=10 => match self.errors().get(usize::from(sub) - 1) {
-                    Some(e) => Ok((Ro, false, b4(*e))),
-                    None => Err(AbortCode::NoDataAvailable),
-                },
-                _ => Err(AbortCode::SubIndexDoesNotExist),
-            },
-            0x1016 => match sub {
-                0 => Ok((Const, false, b1(1))),
-                1 => Ok((Rw, false, b4(self.consumer.to_u32()))),
-                _ => Err(AbortCode::SubIndexDoesNotExist),
-            },
-            0x1017 => one(0, Rw, false, b2(self.heartbeat_ms)),
-            0x1018 => match (sub, self.identity.sub(sub)) {
-                (0, _) => Ok((Const, false, b1(4))),
-                (_, Some(v)) => Ok((Ro, false, b4(v))),
-                _ => Err(AbortCode::SubIndexDoesNotExist),
-            },
             0x6000 => one(0, Rw, true, b1(self.battery_status)),
             0x6001 => one(0, Ro, true, b1(self.charger_status)),
             0x6010 => one(0, Rw, true, b2(self.temperature as u16)),
@@ -207,16 +139,6 @@ impl ChargerObjects {
             _ => 0,
         };
         match (index, sub) {
-            (0x1003, 0) => {
-                // Only 0 may be written: it clears the history.
-                if u8v() != 0 {
-                    return Err(AbortCode::InvalidValue);
-                }
-                self.history_len = 0;
-                self.history = [0; ERROR_HISTORY_LEN];
-            }
-            (0x1016, 1) => self.consumer = ConsumerEntry::from_u32(u32v()),
-            (0x1017, 0) => self.heartbeat_ms = u16v(),
             (0x6000, 0) => self.battery_status = u8v(),
             (0x6010, 0) => self.temperature = u16v() as i16,
             (0x6052, 0) => self.ah_returned = u16v(),
@@ -240,23 +162,7 @@ type Bytes = crate::bytes::InlineData<4>;
 
 impl ObjectDictionary for ChargerObjects {
     fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-        if (index, sub) == (0x1008, 0) {
-            return Ok(ObjectInfo {
-                access: Access::Const,
-                len: self.device_name.len(),
-                size: SizeRule::Variable { max: 0 },
-                pdo_mappable: false,
-            });
-        }
-        let (access, mappable, value) = match self.scalar(index, sub) {
-            // An empty history entry still exists; it has no data.
-            Err(AbortCode::NoDataAvailable) => (
-                Access::ReadOnly,
-                false,
-                Bytes::new(&[0; 4]).unwrap_or_default(),
-            ),
-            other => other?,
-        };
+        let (access, mappable, value) = self.scalar(index, sub)?;
         let mut info = ObjectInfo::fixed(access, value.len());
         info.pdo_mappable = mappable;
         Ok(info)
@@ -269,19 +175,9 @@ impl ObjectDictionary for ChargerObjects {
         offset: usize,
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let src: &[u8] = if (index, sub) == (0x1008, 0) {
-            self.device_name.as_bytes()
-        } else {
-            let (_, _, value) = self.scalar(index, sub)?;
-            let n = value.len().saturating_sub(offset).min(buf.len());
-            crate::bytes::copy_short(buf, value.as_slice().get(offset..).unwrap_or(&[]));
-            return Ok(n);
-        };
-        let src = src.get(offset..).unwrap_or(&[]);
-        let n = src.len().min(buf.len());
-        if let (Some(d), Some(s)) = (buf.get_mut(..n), src.get(..n)) {
-            d.copy_from_slice(s);
-        }
+        let (_, _, value) = self.scalar(index, sub)?;
+        let n = value.len().saturating_sub(offset).min(buf.len());
+        crate::bytes::copy_short(buf, value.as_slice().get(offset..).unwrap_or(&[]));
         Ok(n)
     }
 
@@ -318,51 +214,18 @@ mod tests {
     use super::*;
 
     #[test]
-    fn history_newest_first_last_ten() {
-        let mut o = ChargerObjects::new("charger", 1000, ConsumerEntry::default());
-        for i in 1..=12u32 {
-            o.push_error(i);
-        }
-        assert_eq!(o.errors(), &[12, 11, 10, 9, 8, 7, 6, 5, 4, 3]);
-        let mut buf = [0u8; 4];
-        assert_eq!(o.read(0x1003, 0, 0, &mut buf), Ok(1));
-        assert_eq!(buf[0], 10);
-        assert_eq!(o.read(0x1003, 1, 0, &mut buf), Ok(4));
-        assert_eq!(buf, 12u32.to_le_bytes());
-        o.write(0x1003, 0, 0, &[0]).unwrap();
-        o.finish_write(0x1003, 0, 1).unwrap();
-        assert!(o.errors().is_empty());
-        assert_eq!(
-            o.read(0x1003, 1, 0, &mut buf),
-            Err(AbortCode::NoDataAvailable)
-        );
-        o.write(0x1003, 0, 0, &[3]).unwrap();
-        assert_eq!(o.finish_write(0x1003, 0, 1), Err(AbortCode::InvalidValue));
-    }
-
-    #[test]
     fn objects_and_access() {
-        let mut o = ChargerObjects::new(
-            "charger",
-            1000,
-            ConsumerEntry {
-                node: 1,
-                time_ms: 2000,
-            },
-        );
-        assert_eq!(o.info(0x1000, 0).unwrap().access, Access::Const);
-        assert_eq!(o.info(0x1008, 0).unwrap().len, 7);
-        assert_eq!(o.info(0x1016, 1).unwrap().len, 4);
+        let mut o = ChargerObjects::new();
         assert!(o.info(0x2002, 0).unwrap().pdo_mappable);
         assert!(o.info(0x2FFA, 1).unwrap().pdo_mappable);
         assert_eq!(o.info(0x6001, 0).unwrap().access, Access::ReadOnly);
         assert_eq!(o.info(0x6000, 1), Err(AbortCode::SubIndexDoesNotExist));
         assert_eq!(o.info(0x6090, 0), Err(AbortCode::ObjectDoesNotExist));
+        assert_eq!(o.info(0x1000, 0), Err(AbortCode::ObjectDoesNotExist));
         let mut buf = [0u8; 8];
-        assert_eq!(o.read(0x1016, 1, 0, &mut buf), Ok(4));
-        assert_eq!(buf[..4], [0xD0, 0x07, 0x01, 0x00]);
-        assert_eq!(o.read(0x1008, 0, 3, &mut buf), Ok(4));
-        assert_eq!(&buf[..4], b"rger");
+        assert_eq!(o.read(0x2276, 0, 0, &mut buf), Ok(2));
+        assert_eq!(buf[..2], [0xFF, 0xFF]);
+        assert_eq!(o.read(0x2241, 0, 2, &mut buf), Ok(2));
         o.write(0x6000, 0, 0, &[1]).unwrap();
         o.finish_write(0x6000, 0, 1).unwrap();
         assert_eq!(o.battery_status, 1);

@@ -1,0 +1,609 @@
+//! The charger session: a CiA 419 charger in the Delta-Q IC Series flavour
+//! (Delta-Q IC Series CANopen interface specification rev 2.0, sections
+//! 3-4) as a profile on the CiA 301 device core ([`crate::device`]).
+//!
+//! What it adds to the core:
+//!
+//! - **NMT slave** with heartbeat producer (1017h, 1000 ms) and boot-up
+//!   (the core's).
+//!   With [`ChargerConfig::self_start`] it enters operational by itself after
+//!   boot; otherwise it waits for an NMT start (in the real capture the BMS
+//!   sends `000#010A`).
+//! - **Heartbeat consumer** of the battery module (1016h, 2000 ms; the
+//!   core's supervision, the charger's reaction).
+//! - **PDO COB-ID configuration** (CiA 419 section 7.2; Delta-Q section 4.2),
+//!   when [`ChargerConfig::configure_cob_ids`] is set: on finding the battery
+//!   module (its first heartbeat, boot-up, or a heartbeat after a loss) the
+//!   charger reads 1000h by SDO; the profile must be 418 (else
+//!   [`ChargerEvent::NotABatteryModule`] and EMCY E-0-4-2). For each PDO the
+//!   device type declares it reads the module's COB-ID (communication
+//!   parameter sub 1) and sets its own paired PDO to the same identifier:
+//!   charger TPDO 0 / RPDO 0 always (module RPDO 0 at 1400h, TPDO 0 at
+//!   1800h); TPDO 1 / 2 when bits 16 / 17 say the module has RPDO 1 / 2;
+//!   RPDO 1 / 2 when bits 18 / 19 say it has TPDO 1 / 2
+//!   ([`crate::cia419::PDO_PAIRS`]); TPDO 3 only when Delta-Q's bit 20
+//!   ([`DELTAQ_TPDO_3_BIT`]) asks for it. The settings are volatile. **Choice**
+//!   (the documents are silent): a module COB-ID with bit 31 set ("not
+//!   valid", CiA 418's TPDO default) is copied by its identifier bits and the
+//!   charger's own paired PDO is enabled; enabling the module's TPDOs is the
+//!   module's business. Without `configure_cob_ids` the charger uses its own
+//!   default COB-IDs (18Ah, 28Ah, 38Ah, 48Ah; 20Ah, 30Ah, 40Ah), as in the
+//!   real capture.
+//! - **TPDOs** are sent only while configured, NMT operational and the
+//!   battery module present, at 200 ms (TPDO 0-2) and 1000 ms (TPDO 3).
+//! - **Battery lost** (no heartbeat for the consumer time): EMCY 8130h with
+//!   Delta-Q alarm E-0-3-2, error register 01h, as the real capture shows
+//!   (`08A#3081012080000000`); the entry goes to 1003h in the Delta-Q byte
+//!   order (high word = the Delta-Q code byte-swapped); TPDOs stop and the
+//!   configuration is forgotten. A failed configuration (the module's SDO
+//!   server aborts or does not answer) raises E-0-3-0 "battery module
+//!   communication error" (the capture's `08A#3081011E80000000`). When the
+//!   module is back and configured, an error-reset EMCY (code 0000h) clears
+//!   the error register.
+//! - **EMCY consumer**: the module's EMCYs are decoded and reported with the
+//!   reaction of the Delta-Q policy for the operating mode
+//!   ([`crate::deltaq::emergency_reaction`]); acting on it (stopping the
+//!   charge) is the application's part.
+//! - **SDO server** for the charger's own objects ([`ChargerObjects`]) and
+//!   the core's communication objects, including the 1003h error history
+//!   (last 10, newest first).
+//! - **NMT resets** are the core's: reset node restores every object,
+//!   reset communication only the communication objects; both forget the
+//!   pairing and are reported as [`DeviceEvent::Reset`].
+
+use core::time::Duration;
+
+use super::charger_objects::ChargerObjects;
+use super::{emergency_reaction, timeouts, DeltaQCode, OperatingMode, Reaction};
+use crate::bytes::InlineData;
+use crate::cia419::{PdoPair, CHARGER_DEVICE_TYPE, PDO_PAIRS};
+use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
+use crate::device::{
+    machine_on_device, CommObjects, Device, DeviceConfig, DeviceEvent, ErrorFieldFormat, Profile,
+};
+use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
+use crate::frame::{CanFrame, CanId};
+use crate::heartbeat::{ConsumerEntry, HeartbeatEvent};
+use crate::machine::Machine;
+use crate::nmt::NmtState;
+use crate::pdo::{PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoSlot, RpdoError};
+use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent};
+use crate::time::{millis_u16, Timestamp};
+
+/// Delta-Q's device-type bit 20 of the battery module: "the charger shall
+/// send TPDO 3" (Delta-Q IC Series CANopen interface specification rev 2.0,
+/// section 4.2).
+pub const DELTAQ_TPDO_3_BIT: u32 = 1 << 20;
+
+/// How the charger is set up.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ChargerConfig {
+    /// The charger's node id (Delta-Q default 10).
+    pub node: NodeId,
+    /// The battery module's node id (default 1).
+    pub battery: NodeId,
+    /// Operating mode: decides the reaction to the module's EMCYs.
+    pub mode: OperatingMode,
+    /// Read the module's PDO COB-IDs and pair the charger's PDOs with them.
+    pub configure_cob_ids: bool,
+    /// Enter operational after boot without waiting for an NMT start.
+    pub self_start: bool,
+    /// Heartbeat producer period (1017h).
+    pub heartbeat: Duration,
+    /// Heartbeat consumer time for the battery module (1016h).
+    pub battery_timeout: Duration,
+    /// Event timers of TPDO 0..3.
+    pub tpdo_periods: [Duration; 4],
+    /// SDO timeout of the configuration client and of the server.
+    pub sdo_timeout: Duration,
+    /// 1008h.
+    pub device_name: &'static str,
+}
+
+impl ChargerConfig {
+    /// Delta-Q defaults for charger `node` and battery module `battery`
+    /// (Delta-Q section 4.3: heartbeat 1000 ms, consumer 2000 ms, SDO
+    /// 2000 ms, TPDO 0-2 every 200 ms and TPDO 3 every 1000 ms).
+    #[must_use]
+    pub const fn new(node: NodeId, battery: NodeId) -> Self {
+        let fast = Duration::from_millis(timeouts::CHARGER_TPDO_0_2_PERIOD_MS);
+        ChargerConfig {
+            node,
+            battery,
+            mode: OperatingMode::Local,
+            configure_cob_ids: true,
+            self_start: false,
+            heartbeat: Duration::from_millis(timeouts::HEARTBEAT_PRODUCER_MS),
+            battery_timeout: Duration::from_millis(timeouts::HEARTBEAT_CONSUMER_MS),
+            tpdo_periods: [
+                fast,
+                fast,
+                fast,
+                Duration::from_millis(timeouts::CHARGER_TPDO_3_PERIOD_MS),
+            ],
+            sdo_timeout: Duration::from_millis(timeouts::SDO_MS),
+            device_name: "canopen-codec charger",
+        }
+    }
+
+    /// The device core's configuration for this charger.
+    #[must_use]
+    pub fn device_config(&self) -> DeviceConfig {
+        DeviceConfig {
+            device_type: CHARGER_DEVICE_TYPE,
+            device_name: self.device_name,
+            heartbeat: self.heartbeat,
+            sdo_timeout: self.sdo_timeout,
+            pdos: default_pdos(self),
+            error_field: ErrorFieldFormat::SwappedInfo,
+            ..DeviceConfig::new(self.node)
+        }
+        .with_consumers(&[ConsumerEntry::new(self.battery, self.battery_timeout)])
+    }
+}
+
+/// What the charger reports.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub enum ChargerEvent {
+    /// An event of the device core (NMT, SDO, RPDOs, heartbeats, resets).
+    Device(DeviceEvent),
+    /// The battery module was heard (first heartbeat, boot-up, or back after a loss).
+    BatteryFound {
+        /// The state it reports.
+        state: NmtState,
+    },
+    /// The battery module's heartbeat was lost.
+    BatteryLost,
+    /// The PDOs are paired and configured; `tpdos` / `rpdos` say which (bit n = PDO n).
+    Configured {
+        /// Charger TPDOs in use.
+        tpdos: u8,
+        /// Charger RPDOs in use.
+        rpdos: u8,
+    },
+    /// Reading the module's configuration failed.
+    ConfigurationFailed {
+        /// Object read.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// Abort code.
+        code: AbortCode,
+    },
+    /// 1000h does not name profile 418.
+    NotABatteryModule {
+        /// The module's 1000h.
+        device_type: u32,
+    },
+    /// The module sent an EMCY; `reaction` is the policy's answer.
+    BatteryEmcy {
+        /// The emergency.
+        emcy: Emergency,
+        /// What the charger should do.
+        reaction: Reaction,
+    },
+}
+
+impl From<DeviceEvent> for ChargerEvent {
+    fn from(e: DeviceEvent) -> Self {
+        ChargerEvent::Device(e)
+    }
+}
+
+/// Where the configuration of the PDO pairing stands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Link {
+    /// Module not heard (or lost).
+    Absent,
+    /// Reading 1000h.
+    DeviceType,
+    /// Reading the module's COB-ID of pair `i` (index into [`PAIRS`]), the
+    /// module's device type.
+    CobId(usize, u32),
+    /// Configured: TPDOs may run.
+    Ready,
+    /// Configuration failed; waits for the module to come back.
+    Failed,
+}
+
+/// The CiA 419 pairs, then Delta-Q's TPDO 3 (module RPDO 3 at 1403h).
+const PAIRS: [PdoPair; 7] = {
+    let [a, b, c, d, e, f] = PDO_PAIRS;
+    let tpdo3 = PdoPair {
+        module_comm_index: 0x1403,
+        charger_direction: PdoDirection::Transmit,
+        charger_pdo: PdoNumber::P3,
+        device_type_bit: DELTAQ_TPDO_3_BIT,
+    };
+    [a, b, c, d, e, f, tpdo3]
+};
+
+const PDO_NUMBERS: [PdoNumber; 4] = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3];
+
+/// The charger's default PDO set: its published mappings, with COB-IDs
+/// not valid until configured (or valid defaults without configuration).
+fn default_pdos(config: &ChargerConfig) -> PdoConfig {
+    let mut pdos = PdoConfig::new();
+    for dir in [PdoDirection::Transmit, PdoDirection::Receive] {
+        for n in PDO_NUMBERS {
+            let d = crate::pdo::charger_default_pdo(dir, n);
+            let Some(mapping) = d.mapping() else { continue };
+            let cob = PdoCobId::from_u32(u32::from(d.cob_id(config.node)))
+                .with_valid(!config.configure_cob_ids);
+            let period = match dir {
+                PdoDirection::Transmit => config
+                    .tpdo_periods
+                    .get(usize::from(n.raw()))
+                    .map_or(0, |p| millis_u16(*p)),
+                PdoDirection::Receive => 0,
+            };
+            pdos.insert(
+                dir,
+                n,
+                PdoSlot::new(PdoCommParams::event_driven(cob, period), &mapping),
+            );
+        }
+    }
+    pdos
+}
+
+type ChargerDevice = Device<ChargerObjects, ChargerEvent>;
+
+/// The charger's behaviour on top of the core.
+#[derive(Debug)]
+struct ChargerProfile {
+    config: ChargerConfig,
+    client: Client<&'static [u8]>,
+    link: Link,
+    /// The value of the upload in progress (1000h or a COB-ID: 4 bytes).
+    upload_value: [u8; 4],
+}
+
+/// The charger. See the module docs; it implements
+/// [`Machine`](crate::machine::Machine).
+///
+/// ```
+/// use canopen_codec::deltaq::{Charger, ChargerConfig};
+/// use canopen_codec::machine::Machine;
+/// use canopen_codec::{CanFrame, NodeId, Timestamp};
+/// let mut c = Charger::new(ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::new(1).unwrap()));
+/// c.boot(Timestamp::ZERO);
+/// assert_eq!(c.poll_transmit().unwrap().to_string(), "70A#00");
+/// // The battery module's heartbeat: the charger reads its device type.
+/// c.handle_frame(Timestamp::from_millis(10), &CanFrame::standard(0x701, &[0x05]).unwrap());
+/// assert_eq!(c.poll_transmit().unwrap().to_string(), "601#4000100000000000");
+/// ```
+#[derive(Debug)]
+pub struct Charger {
+    device: ChargerDevice,
+    profile: ChargerProfile,
+}
+
+machine_on_device!(Charger, ChargerEvent);
+
+impl Charger {
+    /// A charger with `config`, not yet booted.
+    #[must_use]
+    pub fn new(config: ChargerConfig) -> Self {
+        Charger {
+            device: Device::new(config.device_config(), ChargerObjects::new()),
+            profile: ChargerProfile::new(config),
+        }
+    }
+
+    // ----- getters -----------------------------------------------------------
+
+    /// The configuration.
+    #[must_use]
+    pub const fn config(&self) -> &ChargerConfig {
+        &self.profile.config
+    }
+
+    /// The NMT state.
+    #[must_use]
+    pub const fn nmt_state(&self) -> NmtState {
+        self.device.nmt_state()
+    }
+
+    /// True once the PDO pairing is done and the module is present.
+    #[must_use]
+    pub const fn is_configured(&self) -> bool {
+        matches!(self.profile.link, Link::Ready)
+    }
+
+    /// The device core.
+    #[must_use]
+    pub const fn device(&self) -> &ChargerDevice {
+        &self.device
+    }
+
+    /// The charger's application objects.
+    #[must_use]
+    pub const fn objects(&self) -> &ChargerObjects {
+        self.device.objects()
+    }
+
+    /// The communication objects (1001h, the 1003h history, 1016h, 1017h, ...).
+    #[must_use]
+    pub const fn comm(&self) -> &CommObjects {
+        self.device.comm()
+    }
+
+    /// The PDO configuration (COB-IDs after pairing).
+    #[must_use]
+    pub const fn pdo_config(&self) -> &PdoConfig {
+        self.device.pdo_config()
+    }
+
+    // ----- commands ----------------------------------------------------------
+
+    /// Changes objects (measurements, status) and refreshes the TPDOs.
+    pub fn update(&mut self, now: Timestamp, f: impl FnOnce(&mut ChargerObjects)) {
+        self.device.update(now, f);
+    }
+
+    /// Boots: boot-up message, default PDOs, pre-operational (or
+    /// operational with `self_start`).
+    pub fn boot(&mut self, now: Timestamp) {
+        self.profile.restart(&mut self.device, now);
+        self.device.boot(now, &mut self.profile);
+    }
+}
+
+impl ChargerProfile {
+    fn new(config: ChargerConfig) -> Self {
+        ChargerProfile {
+            config,
+            client: Self::client(&config),
+            link: Link::Absent,
+            upload_value: [0; 4],
+        }
+    }
+
+    fn client(config: &ChargerConfig) -> Client<&'static [u8]> {
+        Client::new(ClientConfig {
+            timeout: config.sdo_timeout,
+            ..ClientConfig::for_server(config.battery)
+        })
+    }
+
+    /// Boot or NMT reset: no transfer, no pairing.
+    fn restart(&mut self, device: &mut ChargerDevice, now: Timestamp) {
+        self.client = Self::client(&self.config);
+        self.link = Link::Absent;
+        device.set_tpdos_enabled(now, false);
+    }
+
+    /// Raises a Delta-Q alarm: EMCY with the code in the manufacturer
+    /// bytes, 1001h generic bit, 1003h entry.
+    fn raise(device: &mut ChargerDevice, code: DeltaQCode) {
+        let eec = code.entry().map_or(ErrorCode::GENERIC, |e| e.eec);
+        device.raise_error(
+            ErrorRegister::GENERIC,
+            code.to_emergency(eec, ErrorRegister::empty()),
+        );
+    }
+
+    /// Moves the client's frames into the device's queue and handles its events.
+    fn drain_client(&mut self, device: &mut ChargerDevice, now: Timestamp) {
+        while let Some(e) = self.client.poll_event() {
+            match e {
+                ClientEvent::UploadData { offset, data, .. } => self.on_upload_data(offset, data),
+                ClientEvent::Uploaded { .. } => self.on_uploaded(device, now),
+                ClientEvent::Aborted {
+                    index, sub, code, ..
+                } => {
+                    if matches!(self.link, Link::DeviceType | Link::CobId(..)) {
+                        self.link = Link::Failed;
+                        device.push_event(ChargerEvent::ConfigurationFailed { index, sub, code });
+                        Self::raise(device, DeltaQCode::BATTERY_MODULE_COMMUNICATION);
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+
+    fn battery_found(
+        &mut self,
+        device: &mut ChargerDevice,
+        now: Timestamp,
+        state: NmtState,
+        again: bool,
+    ) {
+        if !again && self.link != Link::Absent {
+            return;
+        }
+        if again && self.link != Link::Absent && self.link != Link::Failed {
+            // A boot-up while configured: the module reset its PDOs; redo it.
+            self.forget_pairing(device, now);
+        }
+        device.push_event(ChargerEvent::BatteryFound { state });
+        if self.config.configure_cob_ids {
+            self.link = Link::DeviceType;
+            if self.client.start_upload(now, 0x1000, 0).is_err() {
+                self.link = Link::Failed;
+            }
+        } else {
+            self.link = Link::Ready;
+            self.configured(device, now);
+        }
+    }
+
+    fn battery_lost(&mut self, device: &mut ChargerDevice, now: Timestamp) {
+        device.push_event(ChargerEvent::BatteryLost);
+        Self::raise(device, DeltaQCode::HEARTBEAT_LOST);
+        let _ = self.client.abort(now, AbortCode::GeneralError);
+        while self.client.poll_event().is_some() {}
+        self.forget_pairing(device, now);
+    }
+
+    /// Back to the not-valid default COB-IDs (when configuring them).
+    fn forget_pairing(&mut self, device: &mut ChargerDevice, now: Timestamp) {
+        if self.config.configure_cob_ids {
+            let defaults = default_pdos(&self.config);
+            device.update_pdos(now, |c| *c = defaults);
+        }
+        self.link = Link::Absent;
+        device.set_tpdos_enabled(now, false);
+    }
+
+    fn configured(&mut self, device: &mut ChargerDevice, now: Timestamp) {
+        let config = device.pdo_config();
+        let mask = |dir| {
+            PDO_NUMBERS
+                .iter()
+                .filter(|n| config.get(dir, **n).is_some_and(PdoSlot::is_valid))
+                .fold(0u8, |m, n| m | 1 << n.raw())
+        };
+        let (tpdos, rpdos) = (mask(PdoDirection::Transmit), mask(PdoDirection::Receive));
+        device.push_event(ChargerEvent::Configured { tpdos, rpdos });
+        device.clear_error(ErrorRegister::GENERIC);
+        device.set_tpdos_enabled(now, true);
+    }
+
+    fn on_upload_data(&mut self, offset: usize, data: InlineData<7>) {
+        // Values read here are at most 4 bytes; keep them in the pending slot.
+        if offset == 0 {
+            self.upload_value = [0; 4];
+        }
+        for (i, b) in data.as_slice().iter().enumerate() {
+            if let Some(slot) = self.upload_value.get_mut(offset + i) {
+                *slot = *b;
+            }
+        }
+    }
+
+    fn on_uploaded(&mut self, device: &mut ChargerDevice, now: Timestamp) {
+        let value = u32::from_le_bytes(self.upload_value);
+        match self.link {
+            Link::DeviceType => {
+                if value & 0xFFFF != 418 {
+                    self.link = Link::Failed;
+                    device.push_event(ChargerEvent::NotABatteryModule { device_type: value });
+                    Self::raise(device, DeltaQCode::CAN_CONFIGURATION);
+                    return;
+                }
+                self.next_pair(device, now, 0, value);
+            }
+            Link::CobId(i, device_type) => {
+                if let Some(p) = PAIRS.get(i) {
+                    let module = PdoCobId::from_u32(value);
+                    let mine = PdoCobId::from_u32(module.to_u32() & !PdoCobId::NOT_VALID);
+                    let (dir, n) = (p.charger_direction, p.charger_pdo);
+                    device.update_pdos(now, |c| {
+                        if let Some(slot) = c.get_mut(dir, n) {
+                            slot.comm.cob_id = mine;
+                        }
+                    });
+                }
+                self.next_pair(device, now, i + 1, device_type);
+            }
+            _ => {}
+        }
+    }
+
+    /// Starts reading the next pair the device type declares, or finishes.
+    fn next_pair(&mut self, device: &mut ChargerDevice, now: Timestamp, from: usize, dt: u32) {
+        let config = device.pdo_config();
+        let next = PAIRS.iter().enumerate().skip(from).find(|(_, p)| {
+            p.is_declared(dt) && config.get(p.charger_direction, p.charger_pdo).is_some()
+        });
+        match next {
+            Some((i, p)) => {
+                self.link = Link::CobId(i, dt);
+                if self
+                    .client
+                    .start_upload(now, p.module_comm_index, 1)
+                    .is_err()
+                {
+                    self.link = Link::Failed;
+                }
+            }
+            None => {
+                self.link = Link::Ready;
+                self.configured(device, now);
+            }
+        }
+    }
+}
+
+impl Profile<ChargerObjects, ChargerEvent> for ChargerProfile {
+    fn on_event(&mut self, device: &mut ChargerDevice, now: Timestamp, event: &DeviceEvent) {
+        let battery = self.config.battery;
+        match *event {
+            DeviceEvent::Reset { .. } => self.restart(device, now),
+            DeviceEvent::NmtStateChanged {
+                to: NmtState::PreOperational,
+                ..
+            } if self.config.self_start => {
+                device.set_nmt_state(now, NmtState::Operational, self);
+            }
+            DeviceEvent::Heartbeat(e) => match e {
+                HeartbeatEvent::Lost(n) if n == battery => self.battery_lost(device, now),
+                HeartbeatEvent::BootUp(n) if n == battery => {
+                    self.battery_found(device, now, NmtState::BootUp, true);
+                }
+                HeartbeatEvent::Restored { node, state } if node == battery => {
+                    self.battery_found(device, now, state, true);
+                }
+                HeartbeatEvent::StateChanged { node, state }
+                    if node == battery && self.link == Link::Absent =>
+                {
+                    self.battery_found(device, now, state, false);
+                }
+                _ => {}
+            },
+            _ => {}
+        }
+    }
+
+    fn on_frame(&mut self, device: &mut ChargerDevice, now: Timestamp, frame: &CanFrame) {
+        let battery = self.config.battery;
+        if frame.id() == CanId::Standard(EMCY_BASE + u16::from(battery.raw())) {
+            if let Ok(emcy) = Emergency::decode(frame.data()) {
+                let reaction = emergency_reaction(self.config.mode, &emcy);
+                device.push_event(ChargerEvent::BatteryEmcy { emcy, reaction });
+            }
+            return;
+        }
+        // The first heartbeat starts monitoring without an event.
+        if self.link == Link::Absent {
+            let consumer = device.heartbeat_consumer();
+            if let Some(state) = consumer.state(battery) {
+                if consumer.is_alive(battery) {
+                    self.battery_found(device, now, state, false);
+                }
+            }
+        }
+        if matches!(
+            device.nmt_state(),
+            NmtState::PreOperational | NmtState::Operational
+        ) {
+            self.client.handle_frame(now, frame);
+            self.drain_client(device, now);
+        }
+    }
+
+    fn on_timeout(&mut self, device: &mut ChargerDevice, now: Timestamp) {
+        self.client.handle_timeout(now);
+        self.drain_client(device, now);
+    }
+
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        self.client.poll_transmit()
+    }
+
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        self.client.poll_timeout()
+    }
+
+    /// Delta-Q's E-0-4-6 "invalid PDO length" with EEC 8210h (Delta-Q
+    /// section 4.4.1) for a short RPDO.
+    fn rpdo_emergency(&self, register: ErrorRegister, error: &RpdoError) -> Option<Emergency> {
+        let code = error.emcy_code()?;
+        let register = register | ErrorRegister::GENERIC | ErrorRegister::COMMUNICATION;
+        Some(DeltaQCode::INVALID_PDO_LENGTH.to_emergency(code, register))
+    }
+}

@@ -1,0 +1,845 @@
+//! The CiA 301 device core that every device of the crate is built on: NMT
+//! slave, heartbeat producer (1017h) and consumer (1016h), EMCY producer
+//! with the error register (1001h) and the error history (1003h), the SDO
+//! server over the object dictionary, the TPDOs, RPDO reception and SYNC,
+//! and one event queue. A profile (the CiA 418 battery module, the Delta-Q
+//! charger) adds only its own objects (`A`, the application dictionary)
+//! and behaviour (a [`Profile`]).
+//!
+//! # Driving it
+//!
+//! [`Device`] follows the crate's [state-machine contract](crate::machine):
+//! [`Device::boot`] once at power-on, then `handle_frame` / `handle_timeout`
+//! with the profile, drain `poll_transmit` after every call. `Device<A,
+//! DeviceEvent>` with no profile (`()`) implements [`Machine`] itself: a
+//! plain CiA 301 slave over any dictionary `A`.
+//!
+//! `poll_transmit` order: heartbeat and boot-up, then EMCY and the
+//! profile's queued frames, then SDO responses, then the profile's own
+//! machines ([`Profile::poll_transmit`]), then TPDOs.
+//!
+//! # Behaviour (CiA 301)
+//!
+//! - **NMT** ([`NmtSlave`]): nothing is handled before [`Device::boot`].
+//!   Boot and every reset send the boot-up message and enter
+//!   pre-operational. **Reset node** (81h) restores every object to its
+//!   power-on value: the communication objects, the PDO configuration and
+//!   the application objects. **Reset communication** (82h) restores only
+//!   the communication objects (1000h-1FFFh, PDO configuration included)
+//!   and keeps the application objects. Both drop a running SDO transfer
+//!   silently, restart the heartbeat and are reported as
+//!   [`DeviceEvent::Reset`] followed by the state change.
+//! - **SDO** is served in pre-operational and operational; entering
+//!   stopped drops a running transfer silently (no SDO in stopped).
+//! - **EMCY** frames (80h + node) are sent only in pre-operational and
+//!   operational; the error register changes in any state.
+//!   [`Device::raise_error`] sets bits of 1001h (and the generic bit),
+//!   records the error in 1003h ([`ErrorFieldFormat`]) and sends the EMCY;
+//!   [`Device::clear_error`] clears bits and sends the error reset (0000h).
+//! - **TPDOs** run only in operational and while the profile allows
+//!   ([`Device::set_tpdos_enabled`]); their payloads are read from the
+//!   mapped objects before every transmission chance, and a changed mapped
+//!   value is an event. **RPDOs** are written into the mapped objects only
+//!   in operational; a payload shorter than its mapping is refused whole
+//!   with EMCY 8210h ([`Profile::rpdo_emergency`]).
+//! - **Heartbeat**: the boot-up message at boot and resets, then the state
+//!   every 1017h period; an SDO write to 1017h changes the period at once.
+//!   Heartbeats of the nodes in 1016h are supervised; their events are
+//!   reported as [`DeviceEvent::Heartbeat`] whether or not events are read.
+//! - **Back-pressure**: the event queue keeps the latest 16 events and
+//!   counts what it drops ([`Machine::events_dropped`]); nothing else
+//!   depends on it.
+//! - Total: no frame, timestamp or call order panics.
+
+use core::time::Duration;
+
+mod objects;
+
+pub use objects::{
+    CommObjects, DeviceObjects, ErrorFieldFormat, Identity, CONSUMER_HEARTBEAT_TIME, DEVICE_TYPE,
+    ERROR_HISTORY_LEN, ERROR_REGISTER, IDENTITY, MANUFACTURER_DEVICE_NAME, MAX_CONSUMERS,
+    PRE_DEFINED_ERROR_FIELD, PRODUCER_HEARTBEAT_TIME, SDO_SERVER_PARAMETER,
+};
+
+use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
+use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
+use crate::frame::{CanFrame, CanId};
+use crate::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent, HeartbeatProducer};
+use crate::machine::Machine;
+use crate::nmt::{NmtSlave, NmtSlaveEvent, NmtState, ResetKind};
+use crate::od::ObjectDictionary;
+use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoError, RpdoReceiver, TpdoSet};
+use crate::queue::{EventQueue, Queue};
+use crate::sdo::{AbortCode, AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_TIMEOUT};
+use crate::time::{millis_u16, Timestamp};
+
+/// How a [`Device`] is set up: the power-on values of its communication
+/// objects (restored by the NMT resets) and its policies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DeviceConfig {
+    /// The node id.
+    pub node: NodeId,
+    /// 1000h device type.
+    pub device_type: u32,
+    /// 1008h manufacturer device name.
+    pub device_name: &'static str,
+    /// 1018h identity.
+    pub identity: Identity,
+    /// 1017h producer heartbeat time (whole milliseconds; zero: none).
+    pub heartbeat: Duration,
+    /// Send a heartbeat at once when the NMT state changes (CANopenNode's
+    /// behaviour) rather than at the next period (the Delta-Q charger's).
+    pub heartbeat_on_change: bool,
+    /// 1016h entries: the first `consumer_slots` are the sub-indexes.
+    pub consumers: [ConsumerEntry; MAX_CONSUMERS],
+    /// 1016h sub 0 (0: the device has no 1016h).
+    pub consumer_slots: u8,
+    /// SDO server timeout.
+    pub sdo_timeout: Duration,
+    /// The PDO configuration (1400h-1A03h) at power-on.
+    pub pdos: PdoConfig,
+    /// How an EMCY is recorded in 1003h.
+    pub error_field: ErrorFieldFormat,
+}
+
+impl DeviceConfig {
+    /// Node `node`: device type 0, no name, heartbeat 1000 ms, no consumer
+    /// entries, SDO timeout 2000 ms, no PDOs, standard 1003h entries.
+    #[must_use]
+    pub const fn new(node: NodeId) -> Self {
+        DeviceConfig {
+            node,
+            device_type: 0,
+            device_name: "",
+            identity: Identity::ZERO,
+            heartbeat: Duration::from_millis(1000),
+            heartbeat_on_change: false,
+            consumers: [ConsumerEntry {
+                node: 0,
+                time_ms: 0,
+            }; MAX_CONSUMERS],
+            consumer_slots: 0,
+            sdo_timeout: DEFAULT_TIMEOUT,
+            pdos: PdoConfig::new(),
+            error_field: ErrorFieldFormat::LittleEndianInfo,
+        }
+    }
+
+    /// The same with 1016h holding `entries` (at most [`MAX_CONSUMERS`]).
+    #[must_use]
+    pub fn with_consumers(mut self, entries: &[ConsumerEntry]) -> Self {
+        let mut n = 0u8;
+        for (slot, e) in self.consumers.iter_mut().zip(entries) {
+            *slot = *e;
+            n += 1;
+        }
+        self.consumer_slots = n;
+        self
+    }
+
+    fn comm_objects(&self) -> CommObjects {
+        let mut comm = CommObjects::new(self.node);
+        comm.device_type = self.device_type;
+        comm.device_name = self.device_name;
+        comm.identity = self.identity;
+        comm.heartbeat_ms = millis_u16(self.heartbeat);
+        comm.set_consumers(
+            self.consumers
+                .get(..usize::from(self.consumer_slots))
+                .unwrap_or(&[]),
+        );
+        comm
+    }
+
+    fn server_config(&self) -> ServerConfig {
+        ServerConfig {
+            timeout: self.sdo_timeout,
+            ..ServerConfig::for_node(self.node)
+        }
+    }
+}
+
+/// What the device core reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum DeviceEvent {
+    /// The NMT state changed (boot, NMT command or reset).
+    NmtStateChanged {
+        /// The state before ([`NmtState::BootUp`] before the first boot).
+        from: NmtState,
+        /// The new state.
+        to: NmtState,
+    },
+    /// An NMT reset was executed (followed by the boot-up message and the
+    /// state change to pre-operational).
+    Reset {
+        /// `true` for reset node (81h: every object restored), `false` for
+        /// reset communication (82h: the communication objects restored).
+        node: bool,
+    },
+    /// An SDO download to an object completed.
+    ObjectWritten {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+    },
+    /// An RPDO was written into the objects.
+    RpdoReceived {
+        /// The RPDO number (from 0).
+        pdo: PdoNumber,
+    },
+    /// An RPDO was not (fully) processed.
+    RpdoRefused {
+        /// The RPDO number (from 0).
+        pdo: PdoNumber,
+        /// Why.
+        error: RpdoError,
+    },
+    /// An SDO transfer ended in an abort.
+    SdoAborted {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// The abort code.
+        code: AbortCode,
+        /// Who aborted.
+        origin: AbortOrigin,
+    },
+    /// The heartbeat consumer (1016h) reported something.
+    Heartbeat(HeartbeatEvent),
+}
+
+/// What a profile adds to the device core. Every method has a default that
+/// does nothing, so `()` is the profile of a plain CiA 301 device.
+pub trait Profile<A, E: Copy> {
+    /// A core event happened (it is already queued for the application).
+    fn on_event(&mut self, device: &mut Device<A, E>, now: Timestamp, event: &DeviceEvent) {
+        let _ = (device, now, event);
+    }
+
+    /// Every received frame while the device runs, after the core.
+    fn on_frame(&mut self, device: &mut Device<A, E>, now: Timestamp, frame: &CanFrame) {
+        let _ = (device, now, frame);
+    }
+
+    /// Time has passed (after the core's own timers).
+    fn on_timeout(&mut self, device: &mut Device<A, E>, now: Timestamp) {
+        let _ = (device, now);
+    }
+
+    /// The profile's own frames (sent after the SDO server's, before TPDOs).
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        None
+    }
+
+    /// The profile's own earliest deadline.
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        None
+    }
+
+    /// The EMCY for a refused RPDO (none: no EMCY). The default is CiA 301's
+    /// 8210h "PDO not processed due to length error" for a short payload,
+    /// with the error register plus the generic and communication bits (not
+    /// latched into 1001h).
+    fn rpdo_emergency(&self, register: ErrorRegister, error: &RpdoError) -> Option<Emergency> {
+        error.emcy_code().map(|code| Emergency {
+            code,
+            register: register | ErrorRegister::GENERIC | ErrorRegister::COMMUNICATION,
+            manufacturer: [0; 5],
+        })
+    }
+}
+
+impl<A, E: Copy> Profile<A, E> for () {}
+
+/// The dictionary the SDO server serves: PDO objects, communication
+/// objects, application objects.
+pub type Dictionary<A> = PdoDictionary<DeviceObjects<A>>;
+
+/// Events a device keeps.
+const EVENT_CAPACITY: usize = 16;
+
+/// The CiA 301 device core. See the [module docs](self).
+///
+/// ```
+/// use canopen_codec::device::{Device, DeviceConfig, DeviceEvent};
+/// use canopen_codec::machine::Machine;
+/// use canopen_codec::od::MemoryDictionary;
+/// use canopen_codec::{CanFrame, NodeId, Timestamp};
+/// let config = DeviceConfig::new(NodeId::new(3).unwrap());
+/// let mut dev: Device<MemoryDictionary, DeviceEvent> = Device::new(config, MemoryDictionary::new());
+/// dev.boot(Timestamp::ZERO, &mut ());
+/// assert_eq!(dev.poll_transmit().unwrap().to_string(), "703#00");
+/// // An SDO upload of 1017h: 1000 ms.
+/// dev.handle_frame(Timestamp::ZERO, &CanFrame::standard(0x603, &[0x40, 0x17, 0x10, 0, 0, 0, 0, 0]).unwrap());
+/// assert_eq!(dev.poll_transmit().unwrap().to_string(), "583#4B171000E8030000");
+/// ```
+#[derive(Debug)]
+pub struct Device<A, E: Copy> {
+    config: DeviceConfig,
+    nmt: NmtSlave,
+    heartbeat: HeartbeatProducer,
+    consumer: HeartbeatConsumer<MAX_CONSUMERS>,
+    server: Server<Dictionary<A>>,
+    tpdos: TpdoSet,
+    rpdos: RpdoReceiver,
+    /// The profile allows TPDOs (besides NMT operational).
+    tpdos_enabled: bool,
+    /// The application objects at power-on (restored by reset node).
+    power_on: A,
+    transmit: Queue<CanFrame, 16>,
+    frames_dropped: u64,
+    events: EventQueue<E, EVENT_CAPACITY>,
+}
+
+impl<A, E> Device<A, E>
+where
+    A: ObjectDictionary + Clone,
+    E: Copy + From<DeviceEvent>,
+{
+    /// A device with `config` over the application objects `app` (their
+    /// power-on values), not yet booted.
+    pub fn new(config: DeviceConfig, app: A) -> Self {
+        let od = PdoDictionary::new(
+            config.pdos,
+            DeviceObjects {
+                comm: config.comm_objects(),
+                app: app.clone(),
+            },
+        );
+        let mut heartbeat = HeartbeatProducer::new(config.node, config.heartbeat);
+        heartbeat.send_on_change = config.heartbeat_on_change;
+        Device {
+            config,
+            nmt: NmtSlave::new(config.node),
+            heartbeat,
+            consumer: HeartbeatConsumer::new(),
+            server: Server::new(config.server_config(), od),
+            tpdos: TpdoSet::new(),
+            rpdos: RpdoReceiver::new(),
+            tpdos_enabled: true,
+            power_on: app,
+            transmit: Queue::new(CanFrame::EMPTY),
+            frames_dropped: 0,
+            events: EventQueue::new(E::from(DeviceEvent::Reset { node: true })),
+        }
+    }
+
+    // ----- getters ---------------------------------------------------------
+
+    /// The configuration.
+    #[must_use]
+    pub const fn config(&self) -> &DeviceConfig {
+        &self.config
+    }
+
+    /// The node id.
+    #[must_use]
+    pub const fn node(&self) -> NodeId {
+        self.config.node
+    }
+
+    /// The NMT state ([`NmtState::BootUp`] until [`boot`](Self::boot)).
+    #[must_use]
+    pub const fn nmt_state(&self) -> NmtState {
+        self.nmt.state()
+    }
+
+    /// True once booted.
+    #[must_use]
+    pub const fn is_running(&self) -> bool {
+        self.nmt.is_running()
+    }
+
+    /// The whole dictionary the SDO server serves.
+    #[must_use]
+    pub const fn dictionary(&self) -> &Dictionary<A> {
+        self.server.od()
+    }
+
+    /// The application objects.
+    #[must_use]
+    pub const fn objects(&self) -> &A {
+        &self.server.od().inner.app
+    }
+
+    /// The communication objects.
+    #[must_use]
+    pub const fn comm(&self) -> &CommObjects {
+        &self.server.od().inner.comm
+    }
+
+    /// The PDO configuration (1400h-1A03h) as the SDO server sees it.
+    #[must_use]
+    pub const fn pdo_config(&self) -> &PdoConfig {
+        &self.server.od().config
+    }
+
+    /// 1001h error register.
+    #[must_use]
+    pub const fn error_register(&self) -> ErrorRegister {
+        self.comm().error_register
+    }
+
+    /// The heartbeat consumer (1016h), for its nodes' states.
+    #[must_use]
+    pub const fn heartbeat_consumer(&self) -> &HeartbeatConsumer<MAX_CONSUMERS> {
+        &self.consumer
+    }
+
+    /// Frames dropped because `poll_transmit` was not drained (oldest first).
+    #[must_use]
+    pub const fn frames_dropped(&self) -> u64 {
+        self.frames_dropped
+    }
+
+    // ----- commands --------------------------------------------------------
+
+    /// Boots the device (power-on): boot-up message, pre-operational. The
+    /// profile sees the state change (use `&mut ()` for a plain device).
+    pub fn boot<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+        self.restart(now, ResetKind::Node);
+        self.drain_nmt(now, profile);
+    }
+
+    /// Changes application objects in `f`; mapped values that changed are
+    /// events for the event-driven TPDOs.
+    pub fn update(&mut self, now: Timestamp, f: impl FnOnce(&mut A)) {
+        f(&mut self.server.od_mut().inner.app);
+        self.refresh_tpdos(now);
+    }
+
+    /// Changes communication objects in `f` (the application's own
+    /// changes; no SDO rules applied): a changed 1017h re-arms the
+    /// heartbeat, changed 1016h entries restart their supervision.
+    pub fn update_comm(&mut self, now: Timestamp, f: impl FnOnce(&mut CommObjects)) {
+        f(&mut self.server.od_mut().inner.comm);
+        self.apply_heartbeat_period(now);
+        self.apply_consumers(now);
+        self.refresh_tpdos(now);
+    }
+
+    /// Changes the PDO configuration in `f` (no SDO rules applied) and puts
+    /// it into effect.
+    pub fn update_pdos(&mut self, now: Timestamp, f: impl FnOnce(&mut PdoConfig)) {
+        f(&mut self.server.od_mut().config);
+        self.reconfigure_pdos(now);
+    }
+
+    /// Mutable access to the application objects without side effects
+    /// (for the profile's own bookkeeping).
+    pub fn objects_mut(&mut self) -> &mut A {
+        &mut self.server.od_mut().inner.app
+    }
+
+    /// Whether the TPDOs may run besides NMT operational (the profile's
+    /// condition; default true).
+    pub fn set_tpdos_enabled(&mut self, now: Timestamp, enabled: bool) {
+        self.tpdos_enabled = enabled;
+        self.gate_pdos(now);
+    }
+
+    /// Enters `state` by the device's own decision (e.g. a charger that
+    /// starts itself), as an NMT command would.
+    pub fn set_nmt_state<P: Profile<A, E>>(
+        &mut self,
+        now: Timestamp,
+        state: NmtState,
+        profile: &mut P,
+    ) {
+        if self.nmt.is_running() && !matches!(state, NmtState::BootUp) {
+            self.nmt.set_state(now, state);
+            self.drain_nmt(now, profile);
+        }
+    }
+
+    /// Sets `bits` (and the generic bit) in 1001h, records `emcy` in 1003h
+    /// and sends it with the new register value.
+    pub fn raise_error(&mut self, bits: ErrorRegister, mut emcy: Emergency) {
+        let comm = &mut self.server.od_mut().inner.comm;
+        comm.error_register |= bits | ErrorRegister::GENERIC;
+        comm.push_error(self.config.error_field.entry(&emcy));
+        emcy.register = comm.error_register;
+        self.send_emergency(&emcy);
+    }
+
+    /// Clears `bits` of 1001h (and the generic bit when no other is left)
+    /// and sends the error reset EMCY (0000h) with the new register value.
+    /// Does nothing when none of `bits` is set.
+    pub fn clear_error(&mut self, bits: ErrorRegister) {
+        let reg = &mut self.server.od_mut().inner.comm.error_register;
+        if !reg.intersects(bits) {
+            return;
+        }
+        reg.remove(bits);
+        if reg.difference(ErrorRegister::GENERIC).is_empty() {
+            reg.remove(ErrorRegister::GENERIC);
+        }
+        let register = *reg;
+        self.send_emergency(&Emergency {
+            code: ErrorCode::NO_ERROR,
+            register,
+            manufacturer: [0; 5],
+        });
+    }
+
+    /// Sends an EMCY as it is (no change to 1001h or 1003h); only in
+    /// pre-operational and operational.
+    pub fn send_emergency(&mut self, emcy: &Emergency) {
+        if !self.nmt.sdo_allowed() {
+            return;
+        }
+        let id = CanId::Standard(EMCY_BASE + u16::from(self.config.node.raw()));
+        if let Ok(frame) = CanFrame::new(id, &emcy.encode()) {
+            self.send(frame);
+        }
+    }
+
+    /// Queues a frame of the profile's (sent after EMCYs, before SDO
+    /// responses).
+    pub fn send(&mut self, frame: CanFrame) {
+        if !self.transmit.push(frame) {
+            let _ = self.transmit.pop();
+            let _ = self.transmit.push(frame);
+            self.frames_dropped = self.frames_dropped.saturating_add(1);
+        }
+    }
+
+    /// Queues an event of the profile's.
+    pub fn push_event(&mut self, event: E) {
+        self.events.push(event);
+    }
+
+    /// Re-reads the TPDO payloads from the objects now.
+    pub fn refresh_tpdos(&mut self, now: Timestamp) {
+        self.tpdos.refresh(now, self.server.od_mut());
+    }
+
+    // ----- inputs ----------------------------------------------------------
+
+    /// Feeds a received frame: NMT, heartbeats of 1016h's nodes, SYNC, this
+    /// node's SDO requests and RPDOs, then the profile's frames.
+    pub fn handle_frame<P: Profile<A, E>>(
+        &mut self,
+        now: Timestamp,
+        frame: &CanFrame,
+        profile: &mut P,
+    ) {
+        if !self.nmt.is_running() {
+            return;
+        }
+        self.nmt.handle_frame(now, frame);
+        if self.drain_nmt(now, profile) {
+            return;
+        }
+        self.consumer.handle_frame(now, frame);
+        self.drain_consumer(now, profile);
+        if self.nmt.sdo_allowed() {
+            self.server.handle_frame(now, frame);
+            self.drain_server(now, profile);
+        }
+        if self.nmt.state() == NmtState::Operational {
+            self.refresh_tpdos(now);
+            self.tpdos.handle_frame(now, frame);
+        }
+        self.rpdos.handle_frame(now, frame);
+        self.drain_rpdos(now, profile);
+        profile.on_frame(self, now, frame);
+    }
+
+    /// Tells the device time has passed: heartbeat, supervision, SDO
+    /// timeout, the profile's timers, TPDO timers.
+    pub fn handle_timeout<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+        if !self.nmt.is_running() {
+            return;
+        }
+        self.heartbeat.handle_timeout(now);
+        self.consumer.handle_timeout(now);
+        self.drain_consumer(now, profile);
+        self.server.handle_timeout(now);
+        self.drain_server(now, profile);
+        profile.on_timeout(self, now);
+        self.refresh_tpdos(now);
+        self.tpdos.handle_timeout(now);
+    }
+
+    // ----- outputs ---------------------------------------------------------
+
+    /// The next frame to send (order in the module docs).
+    #[must_use]
+    pub fn poll_transmit_with<P: Profile<A, E>>(&mut self, profile: &mut P) -> Option<CanFrame> {
+        self.heartbeat
+            .poll_transmit()
+            .or_else(|| self.transmit.pop())
+            .or_else(|| self.server.poll_transmit())
+            .or_else(|| profile.poll_transmit())
+            .or_else(|| self.tpdos.poll_transmit())
+    }
+
+    /// The earliest deadline of the core's and the profile's timers.
+    #[must_use]
+    pub fn poll_timeout_with<P: Profile<A, E>>(&self, profile: &P) -> Option<Timestamp> {
+        if !self.nmt.is_running() {
+            return None;
+        }
+        [
+            self.heartbeat.poll_timeout(),
+            self.consumer.poll_timeout(),
+            self.server.poll_timeout(),
+            profile.poll_timeout(),
+            self.tpdos.poll_timeout(),
+        ]
+        .into_iter()
+        .flatten()
+        .min()
+    }
+
+    /// The next event.
+    #[must_use]
+    pub fn next_event(&mut self) -> Option<E> {
+        self.events.pop()
+    }
+
+    /// Events dropped because the queue was full.
+    #[must_use]
+    pub const fn dropped_events(&self) -> u64 {
+        self.events.dropped()
+    }
+
+    // ----- internals -------------------------------------------------------
+
+    fn emit<P: Profile<A, E>>(&mut self, now: Timestamp, event: DeviceEvent, profile: &mut P) {
+        self.events.push(E::from(event));
+        profile.on_event(self, now, &event);
+    }
+
+    /// Handles the NMT slave's events; true when the frame was an NMT
+    /// command that changed something (it is not for anyone else here).
+    fn drain_nmt<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) -> bool {
+        let mut acted = false;
+        while let Some(event) = self.nmt.poll_event() {
+            acted = true;
+            match event {
+                NmtSlaveEvent::Reset(kind) => {
+                    let node = kind == ResetKind::Node;
+                    self.emit(now, DeviceEvent::Reset { node }, profile);
+                    self.restart(now, kind);
+                }
+                NmtSlaveEvent::StateChanged { from, to } => {
+                    self.entered(now, to);
+                    self.emit(now, DeviceEvent::NmtStateChanged { from, to }, profile);
+                }
+            }
+        }
+        acted
+    }
+
+    /// Boot or reset: restores the objects `kind` says, boot-up message,
+    /// pre-operational.
+    fn restart(&mut self, now: Timestamp, kind: ResetKind) {
+        let app = match kind {
+            ResetKind::Node => self.power_on.clone(),
+            ResetKind::Communication => self.objects().clone(),
+        };
+        let od = PdoDictionary::new(
+            self.config.pdos,
+            DeviceObjects {
+                comm: self.config.comm_objects(),
+                app,
+            },
+        );
+        // A new server drops a running transfer silently.
+        self.server = Server::new(self.config.server_config(), od);
+        self.heartbeat = HeartbeatProducer::new(self.config.node, self.config.heartbeat);
+        self.heartbeat.send_on_change = self.config.heartbeat_on_change;
+        self.heartbeat.boot(now);
+        self.consumer = HeartbeatConsumer::new();
+        self.apply_consumers(now);
+        self.tpdos.reset();
+        self.reconfigure_pdos(now);
+        self.nmt.boot(now);
+    }
+
+    /// The core's part of entering `to`.
+    fn entered(&mut self, now: Timestamp, to: NmtState) {
+        if to == NmtState::Stopped && self.server.is_busy() {
+            // No SDO in stopped: the running transfer ends silently.
+            let placeholder = Server::new(
+                self.config.server_config(),
+                PdoDictionary::new(
+                    PdoConfig::new(),
+                    DeviceObjects {
+                        comm: CommObjects::new(self.config.node),
+                        app: self.power_on.clone(),
+                    },
+                ),
+            );
+            let od = core::mem::replace(&mut self.server, placeholder).into_inner();
+            self.server = Server::new(self.config.server_config(), od);
+        }
+        self.heartbeat.set_state(now, to);
+        self.gate_pdos(now);
+    }
+
+    fn gate_pdos(&mut self, now: Timestamp) {
+        let operational = self.nmt.state() == NmtState::Operational;
+        self.rpdos.set_enabled(operational);
+        let run = operational && self.tpdos_enabled;
+        if run {
+            self.refresh_tpdos(now);
+        }
+        self.tpdos.set_operational(now, run);
+    }
+
+    fn reconfigure_pdos(&mut self, now: Timestamp) {
+        self.refresh_tpdos(now);
+        self.tpdos.reconfigure(now, &self.server.od().config);
+        self.rpdos.reconfigure(&self.server.od().config);
+        self.gate_pdos(now);
+    }
+
+    fn apply_heartbeat_period(&mut self, now: Timestamp) {
+        let period = Duration::from_millis(u64::from(self.comm().heartbeat_ms));
+        if period != self.heartbeat.period() {
+            self.heartbeat.set_period(now, period);
+        }
+    }
+
+    fn apply_consumers(&mut self, now: Timestamp) {
+        let entries = self.server.od().inner.comm.consumers();
+        for slot in 0..MAX_CONSUMERS {
+            let entry = entries.get(slot).copied().unwrap_or_default();
+            let _ = self.consumer.set_entry(now, slot, entry);
+        }
+    }
+
+    fn drain_consumer<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+        while let Some(e) = self.consumer.poll_event() {
+            self.emit(now, DeviceEvent::Heartbeat(e), profile);
+        }
+    }
+
+    /// Hands the SDO server's events on and puts written objects into effect.
+    fn drain_server<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+        while let Some(event) = self.server.poll_event() {
+            match event {
+                ServerEvent::Downloaded { index, sub, .. } => {
+                    match index {
+                        PRODUCER_HEARTBEAT_TIME => self.apply_heartbeat_period(now),
+                        CONSUMER_HEARTBEAT_TIME => self.apply_consumers(now),
+                        _ if PdoDirection::from_index(index).is_some() => {
+                            self.reconfigure_pdos(now);
+                        }
+                        _ => {}
+                    }
+                    self.refresh_tpdos(now);
+                    self.emit(now, DeviceEvent::ObjectWritten { index, sub }, profile);
+                }
+                ServerEvent::Aborted {
+                    index,
+                    sub,
+                    code,
+                    origin,
+                } => self.emit(
+                    now,
+                    DeviceEvent::SdoAborted {
+                        index,
+                        sub,
+                        code,
+                        origin,
+                    },
+                    profile,
+                ),
+                _ => {}
+            }
+        }
+    }
+
+    fn drain_rpdos<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+        while let Some(rpdo) = self.rpdos.poll_event() {
+            let Some(result) = RpdoReceiver::apply(&rpdo, self.server.od_mut()) else {
+                continue;
+            };
+            let pdo = rpdo.pdo;
+            match result {
+                Ok(_) => self.emit(now, DeviceEvent::RpdoReceived { pdo }, profile),
+                Err(error) => {
+                    if let Some(emcy) = profile.rpdo_emergency(self.error_register(), &error) {
+                        self.send_emergency(&emcy);
+                    }
+                    self.emit(now, DeviceEvent::RpdoRefused { pdo, error }, profile);
+                }
+            }
+            self.refresh_tpdos(now);
+        }
+    }
+}
+
+impl<A: ObjectDictionary + Clone> Machine for Device<A, DeviceEvent> {
+    type Event = DeviceEvent;
+
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        Device::handle_frame(self, now, frame, &mut ());
+    }
+
+    fn handle_timeout(&mut self, now: Timestamp) {
+        Device::handle_timeout(self, now, &mut ());
+    }
+
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        self.poll_transmit_with(&mut ())
+    }
+
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        self.poll_timeout_with(&())
+    }
+
+    fn poll_event(&mut self) -> Option<DeviceEvent> {
+        self.next_event()
+    }
+
+    fn events_dropped(&self) -> u64 {
+        self.dropped_events()
+    }
+}
+
+/// Implements [`Machine`] for a profile type that holds its core in
+/// `self.device` and its [`Profile`] in `self.profile`.
+macro_rules! machine_on_device {
+    ($ty:ty, $event:ty) => {
+        impl $crate::machine::Machine for $ty {
+            type Event = $event;
+
+            fn handle_frame(&mut self, now: $crate::Timestamp, frame: &$crate::CanFrame) {
+                self.device.handle_frame(now, frame, &mut self.profile);
+            }
+
+            fn handle_timeout(&mut self, now: $crate::Timestamp) {
+                self.device.handle_timeout(now, &mut self.profile);
+            }
+
+            fn poll_transmit(&mut self) -> Option<$crate::CanFrame> {
+                self.device.poll_transmit_with(&mut self.profile)
+            }
+
+            fn poll_timeout(&self) -> Option<$crate::Timestamp> {
+                self.device.poll_timeout_with(&self.profile)
+            }
+
+            fn poll_event(&mut self) -> Option<$event> {
+                self.device.next_event()
+            }
+
+            fn events_dropped(&self) -> u64 {
+                self.device.dropped_events()
+            }
+        }
+    };
+}
+pub(crate) use machine_on_device;
+
+#[cfg(test)]
+#[path = "tests.rs"]
+mod tests;

@@ -1,0 +1,469 @@
+//! The communication objects every device of the core has (CiA 301,
+//! 1000h-1FFFh apart from the PDO objects), and the dictionary that layers
+//! them over the profile's application objects.
+//!
+//! | index | object | type | access |
+//! |---|---|---|---|
+//! | 1000h | device type | U32 | const |
+//! | 1001h | error register | U8 | ro |
+//! | 1003h | pre-defined error field: sub 0 the number of entries (rw; only 0 may be written, which clears the history, else 06090030h), sub 1-10 the entries, newest first (ro; an empty entry reads 08000024h) | ARRAY of U32 | |
+//! | 1008h | manufacturer device name | VISIBLE_STRING | const |
+//! | 1016h | consumer heartbeat time: sub 0 the number of entries (const), sub 1..n node (bits 23-16) and time in ms (bits 15-0) (rw; an enabled entry for a node another entry watches is 06040043h) | ARRAY of U32 | (only with entries) |
+//! | 1017h | producer heartbeat time, ms | U16 | rw |
+//! | 1018h | identity: sub 0 = 4 (ro), vendor-ID, product code, revision, serial number | RECORD of U32 | ro |
+//! | 1200h | SDO server parameter: sub 0 = 2, 600h + node, 580h + node | RECORD of U32 | ro |
+//!
+//! Objects the table does not name are passed to the application's
+//! dictionary, which may add communication objects of its own.
+
+use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
+use crate::emcy::{Emergency, ErrorFieldEntry, ErrorRegister};
+use crate::heartbeat::ConsumerEntry;
+use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
+use crate::sdo::AbortCode;
+
+/// 1000h device type (CiA 301).
+pub const DEVICE_TYPE: u16 = 0x1000;
+/// 1001h error register (CiA 301).
+pub const ERROR_REGISTER: u16 = 0x1001;
+/// 1003h pre-defined error field: the error history (CiA 301).
+pub const PRE_DEFINED_ERROR_FIELD: u16 = 0x1003;
+/// 1008h manufacturer device name (CiA 301).
+pub const MANUFACTURER_DEVICE_NAME: u16 = 0x1008;
+/// 1016h consumer heartbeat time (CiA 301).
+pub const CONSUMER_HEARTBEAT_TIME: u16 = 0x1016;
+/// 1017h producer heartbeat time (CiA 301).
+pub const PRODUCER_HEARTBEAT_TIME: u16 = 0x1017;
+/// 1018h identity object (CiA 301).
+pub const IDENTITY: u16 = 0x1018;
+/// 1200h the default SDO server's parameters (CiA 301).
+pub const SDO_SERVER_PARAMETER: u16 = 0x1200;
+
+/// Entries the error history (1003h) keeps.
+pub const ERROR_HISTORY_LEN: usize = 10;
+/// Heartbeat consumer entries (1016h sub-indexes) a device can have.
+pub const MAX_CONSUMERS: usize = 4;
+
+/// 1018h identity object: sub 1-4 (CiA 301).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Identity {
+    /// Sub 1: vendor-ID (assigned by CiA).
+    pub vendor_id: u32,
+    /// Sub 2: product code.
+    pub product_code: u32,
+    /// Sub 3: revision number.
+    pub revision_number: u32,
+    /// Sub 4: serial number.
+    pub serial_number: u32,
+}
+
+impl Identity {
+    /// Value of sub 0, highest sub-index supported.
+    pub const HIGHEST_SUB_INDEX: u8 = 4;
+
+    /// All zero.
+    pub const ZERO: Identity = Identity {
+        vendor_id: 0,
+        product_code: 0,
+        revision_number: 0,
+        serial_number: 0,
+    };
+
+    /// The value of sub-index `sub` (1..=4).
+    #[must_use]
+    pub const fn sub(&self, sub: u8) -> Option<u32> {
+        match sub {
+            1 => Some(self.vendor_id),
+            2 => Some(self.product_code),
+            3 => Some(self.revision_number),
+            4 => Some(self.serial_number),
+            _ => None,
+        }
+    }
+}
+
+/// How an emergency becomes a 1003h entry. CiA 301 puts the error code in
+/// bits 0-15 and leaves bits 16-31 to the manufacturer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum ErrorFieldFormat {
+    /// Bits 16-31: manufacturer bytes 0-1 of the EMCY, little-endian.
+    #[default]
+    LittleEndianInfo,
+    /// Bits 16-31: manufacturer bytes 0-1 of the EMCY with their bytes
+    /// swapped (the Delta-Q IC Series charger's 1003h).
+    SwappedInfo,
+}
+
+impl ErrorFieldFormat {
+    /// The 1003h entry for `emcy`.
+    #[must_use]
+    pub const fn entry(self, emcy: &Emergency) -> ErrorFieldEntry {
+        let [m0, m1, ..] = emcy.manufacturer;
+        let info = u16::from_le_bytes([m0, m1]);
+        ErrorFieldEntry {
+            code: emcy.code,
+            info: match self {
+                ErrorFieldFormat::LittleEndianInfo => info,
+                ErrorFieldFormat::SwappedInfo => info.swap_bytes(),
+            },
+        }
+    }
+}
+
+/// The communication objects of the table in the [module docs](self).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CommObjects {
+    node: NodeId,
+    /// 1000h.
+    pub device_type: u32,
+    /// 1001h.
+    pub error_register: ErrorRegister,
+    history: [u32; ERROR_HISTORY_LEN],
+    history_len: u8,
+    /// 1008h.
+    pub device_name: &'static str,
+    consumers: [ConsumerEntry; MAX_CONSUMERS],
+    consumer_slots: u8,
+    /// 1017h, ms.
+    pub heartbeat_ms: u16,
+    /// 1018h.
+    pub identity: Identity,
+    pending: Option<((u16, u8), [u8; 4], usize)>,
+}
+
+impl CommObjects {
+    /// The objects of node `node` with an empty history, no error, no
+    /// consumer entries and the other values zero or empty.
+    #[must_use]
+    pub const fn new(node: NodeId) -> Self {
+        CommObjects {
+            node,
+            device_type: 0,
+            error_register: ErrorRegister::empty(),
+            history: [0; ERROR_HISTORY_LEN],
+            history_len: 0,
+            device_name: "",
+            consumers: [ConsumerEntry {
+                node: 0,
+                time_ms: 0,
+            }; MAX_CONSUMERS],
+            consumer_slots: 0,
+            heartbeat_ms: 0,
+            identity: Identity::ZERO,
+            pending: None,
+        }
+    }
+
+    /// The node id (1200h values).
+    #[must_use]
+    pub const fn node(&self) -> NodeId {
+        self.node
+    }
+
+    /// Records an entry in 1003h: newest first, at most 10 (the oldest falls off).
+    pub fn push_error(&mut self, entry: ErrorFieldEntry) {
+        self.history.rotate_right(1);
+        if let Some(first) = self.history.first_mut() {
+            *first = entry.to_u32();
+        }
+        self.history_len = (self.history_len + 1).min(ERROR_HISTORY_LEN as u8);
+    }
+
+    /// The error history (1003h sub 1..), newest first.
+    #[must_use]
+    pub fn errors(&self) -> &[u32] {
+        self.history
+            .get(..usize::from(self.history_len))
+            .unwrap_or(&[])
+    }
+
+    /// Clears the error history (what writing 0 to 1003h sub 0 does).
+    pub fn clear_errors(&mut self) {
+        self.history = [0; ERROR_HISTORY_LEN];
+        self.history_len = 0;
+    }
+
+    /// Sets the 1016h entries: sub 0 becomes `entries.len()` (at most
+    /// [`MAX_CONSUMERS`]; extra entries are ignored). No entries: no 1016h.
+    pub fn set_consumers(&mut self, entries: &[ConsumerEntry]) {
+        self.consumers = [ConsumerEntry::default(); MAX_CONSUMERS];
+        let mut n = 0u8;
+        for (slot, e) in self.consumers.iter_mut().zip(entries) {
+            *slot = *e;
+            n += 1;
+        }
+        self.consumer_slots = n;
+    }
+
+    /// The 1016h entries (sub 1..=sub 0).
+    #[must_use]
+    pub fn consumers(&self) -> &[ConsumerEntry] {
+        self.consumers
+            .get(..usize::from(self.consumer_slots))
+            .unwrap_or(&[])
+    }
+
+    /// True if the index is one of these objects.
+    #[must_use]
+    pub const fn has_object(&self, index: u16) -> bool {
+        match index {
+            CONSUMER_HEARTBEAT_TIME => self.consumer_slots > 0,
+            DEVICE_TYPE
+            | ERROR_REGISTER
+            | PRE_DEFINED_ERROR_FIELD
+            | MANUFACTURER_DEVICE_NAME
+            | PRODUCER_HEARTBEAT_TIME
+            | IDENTITY
+            | SDO_SERVER_PARAMETER => true,
+            _ => false,
+        }
+    }
+
+    /// Access and value (up to 4 bytes) of every object but 1008h.
+    fn scalar(&self, index: u16, sub: u8) -> Result<(Access, Value), AbortCode> {
+        use Access::{Const, ReadOnly as Ro, ReadWrite as Rw};
+        let node = u32::from(self.node.raw());
+        let found = match (index, sub) {
+            (DEVICE_TYPE, 0) => (Const, Value::u32(self.device_type)),
+            (ERROR_REGISTER, 0) => (Ro, Value::u8(self.error_register.bits())),
+            (PRE_DEFINED_ERROR_FIELD, 0) => (Rw, Value::u8(self.history_len)),
+            (PRE_DEFINED_ERROR_FIELD, 1..=10) => match self.errors().get(usize::from(sub) - 1) {
+                Some(e) => (Ro, Value::u32(*e)),
+                None => (Ro, Value::EMPTY_ENTRY),
+            },
+            (CONSUMER_HEARTBEAT_TIME, 0) if self.consumer_slots > 0 => {
+                (Const, Value::u8(self.consumer_slots))
+            }
+            (CONSUMER_HEARTBEAT_TIME, s) if s > 0 => match self.consumers().get(usize::from(s) - 1)
+            {
+                Some(e) => (Rw, Value::u32(e.to_u32())),
+                None => return Err(AbortCode::SubIndexDoesNotExist),
+            },
+            (PRODUCER_HEARTBEAT_TIME, 0) => (Rw, Value::u16(self.heartbeat_ms)),
+            (IDENTITY, 0) => (Ro, Value::u8(Identity::HIGHEST_SUB_INDEX)),
+            (IDENTITY, s) => match self.identity.sub(s) {
+                Some(v) => (Ro, Value::u32(v)),
+                None => return Err(AbortCode::SubIndexDoesNotExist),
+            },
+            (SDO_SERVER_PARAMETER, 0) => (Ro, Value::u8(2)),
+            (SDO_SERVER_PARAMETER, 1) => (Ro, Value::u32(u32::from(SDO_RX_BASE) + node)),
+            (SDO_SERVER_PARAMETER, 2) => (Ro, Value::u32(u32::from(SDO_TX_BASE) + node)),
+            (i, _) if self.has_object(i) => return Err(AbortCode::SubIndexDoesNotExist),
+            _ => return Err(AbortCode::ObjectDoesNotExist),
+        };
+        Ok(found)
+    }
+
+    /// Applies a complete, length-checked write.
+    fn apply(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
+        match (index, sub, data) {
+            (PRE_DEFINED_ERROR_FIELD, 0, &[0]) => self.clear_errors(),
+            (PRE_DEFINED_ERROR_FIELD, 0, _) => return Err(AbortCode::InvalidValue),
+            (CONSUMER_HEARTBEAT_TIME, s, &[a, b, c, d]) if s > 0 => {
+                let entry = ConsumerEntry::from_u32(u32::from_le_bytes([a, b, c, d]));
+                let slot = usize::from(s) - 1;
+                let duplicate = entry.is_enabled()
+                    && self
+                        .consumers()
+                        .iter()
+                        .enumerate()
+                        .any(|(i, e)| i != slot && e.is_enabled() && e.node == entry.node);
+                if duplicate {
+                    return Err(AbortCode::GeneralParameterIncompatibility);
+                }
+                match self.consumers.get_mut(slot) {
+                    Some(e) if slot < usize::from(self.consumer_slots) => *e = entry,
+                    _ => return Err(AbortCode::SubIndexDoesNotExist),
+                }
+            }
+            (PRODUCER_HEARTBEAT_TIME, 0, &[a, b]) => self.heartbeat_ms = u16::from_le_bytes([a, b]),
+            _ => return Err(AbortCode::WriteOfReadOnlyObject),
+        }
+        Ok(())
+    }
+}
+
+/// Up to 4 little-endian bytes of a value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Value {
+    bytes: [u8; 4],
+    len: u8,
+}
+
+impl Value {
+    /// A 1003h entry beyond the history: 4 bytes long, read as 08000024h.
+    const EMPTY_ENTRY: Value = Value {
+        bytes: [0; 4],
+        len: 0xFF,
+    };
+
+    const fn u8(v: u8) -> Self {
+        Value {
+            bytes: [v, 0, 0, 0],
+            len: 1,
+        }
+    }
+
+    const fn u16(v: u16) -> Self {
+        let [a, b] = v.to_le_bytes();
+        Value {
+            bytes: [a, b, 0, 0],
+            len: 2,
+        }
+    }
+
+    const fn u32(v: u32) -> Self {
+        Value {
+            bytes: v.to_le_bytes(),
+            len: 4,
+        }
+    }
+
+    fn len(self) -> usize {
+        usize::from(self.len).min(4)
+    }
+}
+
+impl ObjectDictionary for CommObjects {
+    fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
+        if index == MANUFACTURER_DEVICE_NAME {
+            return match sub {
+                0 => Ok(ObjectInfo {
+                    access: Access::Const,
+                    len: self.device_name.len(),
+                    size: SizeRule::Variable { max: 0 },
+                    pdo_mappable: false,
+                }),
+                _ => Err(AbortCode::SubIndexDoesNotExist),
+            };
+        }
+        let (access, value) = self.scalar(index, sub)?;
+        Ok(ObjectInfo::fixed(access, value.len()))
+    }
+
+    fn read(
+        &mut self,
+        index: u16,
+        sub: u8,
+        offset: usize,
+        buf: &mut [u8],
+    ) -> Result<usize, AbortCode> {
+        let value;
+        let src: &[u8] = if index == MANUFACTURER_DEVICE_NAME {
+            if sub != 0 {
+                return Err(AbortCode::SubIndexDoesNotExist);
+            }
+            self.device_name.as_bytes()
+        } else {
+            value = self.scalar(index, sub)?.1;
+            if value == Value::EMPTY_ENTRY {
+                return Err(AbortCode::NoDataAvailable);
+            }
+            value.bytes.get(..value.len()).unwrap_or(&[])
+        };
+        let src = src.get(offset..).unwrap_or(&[]);
+        let n = src.len().min(buf.len());
+        if let (Some(d), Some(s)) = (buf.get_mut(..n), src.get(..n)) {
+            d.copy_from_slice(s);
+        }
+        Ok(n)
+    }
+
+    fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
+        let info = self.info(index, sub)?;
+        if !info.access.is_writable() {
+            return Err(AbortCode::WriteOfReadOnlyObject);
+        }
+        let (mut buf, len) = match self.pending {
+            Some((k, b, l)) if k == (index, sub) && offset > 0 => (b, l),
+            _ => ([0u8; 4], 0),
+        };
+        let end = len.saturating_add(data.len());
+        if offset != len || end > buf.len() {
+            self.pending = None;
+            return Err(AbortCode::DataTypeLengthTooHigh);
+        }
+        if let Some(dst) = buf.get_mut(len..end) {
+            dst.copy_from_slice(data);
+        }
+        self.pending = Some(((index, sub), buf, end));
+        Ok(())
+    }
+
+    fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
+        let (buf, got) = match self.pending.take() {
+            Some((k, b, l)) if k == (index, sub) => (b, l),
+            _ => ([0u8; 4], 0),
+        };
+        let info = self.info(index, sub)?;
+        if !info.access.is_writable() {
+            return Err(AbortCode::WriteOfReadOnlyObject);
+        }
+        let got = got.min(len);
+        info.check_download_len(got)?;
+        self.apply(index, sub, buf.get(..got).unwrap_or(&[]))
+    }
+
+    fn abort_write(&mut self, _: u16, _: u8) {
+        self.pending = None;
+    }
+}
+
+/// A device's dictionary below the PDO objects: the [`CommObjects`], then
+/// the application's objects `A` for every index they do not have.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct DeviceObjects<A> {
+    /// The communication objects.
+    pub comm: CommObjects,
+    /// The application (profile) objects.
+    pub app: A,
+}
+
+impl<A: ObjectDictionary> DeviceObjects<A> {
+    fn target(&mut self, index: u16) -> &mut dyn ObjectDictionary
+    where
+        A: Sized,
+    {
+        if self.comm.has_object(index) {
+            &mut self.comm
+        } else {
+            &mut self.app
+        }
+    }
+}
+
+impl<A: ObjectDictionary> ObjectDictionary for DeviceObjects<A> {
+    fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
+        if self.comm.has_object(index) {
+            self.comm.info(index, sub)
+        } else {
+            self.app.info(index, sub)
+        }
+    }
+
+    fn read(
+        &mut self,
+        index: u16,
+        sub: u8,
+        offset: usize,
+        buf: &mut [u8],
+    ) -> Result<usize, AbortCode> {
+        self.target(index).read(index, sub, offset, buf)
+    }
+
+    fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
+        self.target(index).write(index, sub, offset, data)
+    }
+
+    fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
+        self.target(index).finish_write(index, sub, len)
+    }
+
+    fn abort_write(&mut self, index: u16, sub: u8) {
+        self.target(index).abort_write(index, sub);
+    }
+}
+
+#[cfg(test)]
+#[path = "objects_tests.rs"]
+mod tests;

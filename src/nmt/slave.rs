@@ -1,0 +1,259 @@
+//! The NMT slave (CiA 301, network management): the NMT state of one node
+//! and its answer to the master's module-control commands, as a
+//! [`Machine`].
+//!
+//! | command (`000# cs node`) | from | to |
+//! |---|---|---|
+//! | start remote node (01h) | pre-operational, stopped | operational |
+//! | stop remote node (02h) | pre-operational, operational | stopped |
+//! | enter pre-operational (80h) | operational, stopped | pre-operational |
+//! | reset node (81h) | any | initialisation, then boot-up and pre-operational |
+//! | reset communication (82h) | any | initialisation, then boot-up and pre-operational |
+//!
+//! A command addresses this node when its node byte is the node id or 0
+//! (all nodes); others, unknown specifiers and frames of the wrong length
+//! are ignored, as is everything before [`NmtSlave::boot`]. A reset is
+//! reported as [`NmtSlaveEvent::Reset`]: the owner restores its objects
+//! (all of them for reset node, the communication objects 1000h-1FFFh for
+//! reset communication, CiA 301 7.3.2.2.1) and calls [`NmtSlave::boot`]
+//! again, which sends nothing itself (the boot-up message is the heartbeat
+//! producer's); the state change is then reported from the state before
+//! the reset to pre-operational. The slave sends no frames and arms no timers.
+
+use super::{NmtCommand, NmtCommandSpecifier, NmtState};
+use crate::cob_id::{NodeId, NMT};
+use crate::frame::{CanFrame, CanId};
+use crate::machine::Machine;
+use crate::queue::EventQueue;
+use crate::time::Timestamp;
+
+/// Which NMT reset the master commanded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ResetKind {
+    /// Reset node (81h): every object back to its power-on value.
+    Node,
+    /// Reset communication (82h): the communication objects (1000h-1FFFh)
+    /// back to their power-on values; application objects are kept.
+    Communication,
+}
+
+/// What the NMT slave reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum NmtSlaveEvent {
+    /// The state changed (boot, a command, or a reset).
+    StateChanged {
+        /// The state before ([`NmtState::BootUp`] while initialising).
+        from: NmtState,
+        /// The new state.
+        to: NmtState,
+    },
+    /// The master commanded a reset; the slave is initialising until the
+    /// owner calls [`NmtSlave::boot`].
+    Reset(ResetKind),
+}
+
+/// The NMT state machine of node `node`. See the module docs.
+///
+/// ```
+/// use canopen_codec::machine::Machine;
+/// use canopen_codec::nmt::{NmtSlave, NmtSlaveEvent, NmtState};
+/// use canopen_codec::{CanFrame, NodeId, Timestamp};
+/// let mut nmt = NmtSlave::new(NodeId::new(10).unwrap());
+/// nmt.boot(Timestamp::ZERO);
+/// nmt.handle_frame(Timestamp::ZERO, &CanFrame::standard(0x000, &[0x01, 0x0A]).unwrap());
+/// assert_eq!(nmt.state(), NmtState::Operational);
+/// assert_eq!(nmt.poll_event(), Some(NmtSlaveEvent::StateChanged {
+///     from: NmtState::BootUp, to: NmtState::PreOperational }));
+/// assert_eq!(nmt.poll_event(), Some(NmtSlaveEvent::StateChanged {
+///     from: NmtState::PreOperational, to: NmtState::Operational }));
+/// ```
+#[derive(Debug, Clone)]
+pub struct NmtSlave {
+    node: NodeId,
+    state: NmtState,
+    /// The state a reset left (reported as the `from` of the boot after it).
+    before_reset: Option<NmtState>,
+    events: EventQueue<NmtSlaveEvent, 8>,
+}
+
+impl NmtSlave {
+    /// A node that has not booted yet ([`NmtState::BootUp`]: initialising).
+    #[must_use]
+    pub const fn new(node: NodeId) -> Self {
+        NmtSlave {
+            node,
+            state: NmtState::BootUp,
+            before_reset: None,
+            events: EventQueue::new(NmtSlaveEvent::Reset(ResetKind::Node)),
+        }
+    }
+
+    /// The node id.
+    #[must_use]
+    pub const fn node(&self) -> NodeId {
+        self.node
+    }
+
+    /// The current state.
+    #[must_use]
+    pub const fn state(&self) -> NmtState {
+        self.state
+    }
+
+    /// True once booted and not initialising after a reset.
+    #[must_use]
+    pub const fn is_running(&self) -> bool {
+        !matches!(self.state, NmtState::BootUp)
+    }
+
+    /// True in pre-operational and operational, where SDO and EMCY are
+    /// served (CiA 301: not in stopped).
+    #[must_use]
+    pub const fn sdo_allowed(&self) -> bool {
+        matches!(self.state, NmtState::PreOperational | NmtState::Operational)
+    }
+
+    /// Initialisation finished (power-on or after a reset): enters
+    /// pre-operational. After a reset the state change is reported from the
+    /// state the reset left (none when that was pre-operational).
+    pub fn boot(&mut self, now: Timestamp) {
+        let _ = now;
+        let from = self.before_reset.take().unwrap_or(self.state);
+        self.state = NmtState::PreOperational;
+        if from != NmtState::PreOperational {
+            self.events.push(NmtSlaveEvent::StateChanged {
+                from,
+                to: NmtState::PreOperational,
+            });
+        }
+    }
+
+    /// Enters `to` by the node's own decision (e.g. a device that starts
+    /// itself); reported like a commanded change.
+    pub fn set_state(&mut self, now: Timestamp, to: NmtState) {
+        let _ = now;
+        let from = self.state;
+        if from != to {
+            self.state = to;
+            self.events.push(NmtSlaveEvent::StateChanged { from, to });
+        }
+    }
+
+    fn reset(&mut self, kind: ResetKind) {
+        self.before_reset = Some(self.state);
+        self.state = NmtState::BootUp;
+        self.events.push(NmtSlaveEvent::Reset(kind));
+    }
+}
+
+impl Machine for NmtSlave {
+    type Event = NmtSlaveEvent;
+
+    /// Obeys an NMT module-control command addressed to this node.
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        if !self.is_running() || frame.is_remote() || frame.id() != CanId::Standard(NMT) {
+            return;
+        }
+        let Ok(cmd) = NmtCommand::decode(frame.data()) else {
+            return;
+        };
+        if !cmd.target.addresses(self.node) {
+            return;
+        }
+        match cmd.command {
+            NmtCommandSpecifier::Start => self.set_state(now, NmtState::Operational),
+            NmtCommandSpecifier::Stop => self.set_state(now, NmtState::Stopped),
+            NmtCommandSpecifier::EnterPreOperational => {
+                self.set_state(now, NmtState::PreOperational);
+            }
+            NmtCommandSpecifier::ResetNode => self.reset(ResetKind::Node),
+            NmtCommandSpecifier::ResetCommunication => self.reset(ResetKind::Communication),
+            NmtCommandSpecifier::Unknown(_) => {}
+        }
+    }
+
+    /// The slave has no timers.
+    fn handle_timeout(&mut self, _now: Timestamp) {}
+
+    /// The slave sends nothing (the heartbeat producer reports its state).
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        None
+    }
+
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        None
+    }
+
+    fn poll_event(&mut self) -> Option<NmtSlaveEvent> {
+        self.events.pop()
+    }
+
+    fn events_dropped(&self) -> u64 {
+        self.events.dropped()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::vec::Vec;
+
+    fn nmt(cs: u8, node: u8) -> CanFrame {
+        CanFrame::standard(NMT, &[cs, node]).unwrap()
+    }
+
+    fn drain(s: &mut NmtSlave) -> Vec<NmtSlaveEvent> {
+        core::iter::from_fn(|| s.poll_event()).collect()
+    }
+
+    #[test]
+    fn every_command_row() {
+        use NmtState::{BootUp, Operational as Op, PreOperational as Pre, Stopped};
+        let t = Timestamp::ZERO;
+        let mut s = NmtSlave::new(NodeId::new(10).unwrap());
+        s.handle_frame(t, &nmt(0x01, 10));
+        assert_eq!(s.state(), BootUp, "ignored before boot");
+        s.boot(t);
+        // (command, node byte, state after)
+        let rows = [
+            (0x01, 10, Op),
+            (0x02, 0, Stopped),
+            (0x80, 10, Pre),
+            (0x02, 10, Stopped),
+            (0x01, 10, Op),
+            (0x80, 0, Pre),
+            (0x01, 11, Pre), // another node
+            (0x55, 10, Pre), // unknown specifier
+        ];
+        for (cs, node, want) in rows {
+            s.handle_frame(t, &nmt(cs, node));
+            assert_eq!(s.state(), want, "command {cs:02X}h node {node}");
+        }
+        let _ = drain(&mut s);
+        for (cs, kind) in [(0x81, ResetKind::Node), (0x82, ResetKind::Communication)] {
+            s.handle_frame(t, &nmt(0x01, 10));
+            s.handle_frame(t, &nmt(cs, 10));
+            assert_eq!(
+                drain(&mut s)[1..],
+                [NmtSlaveEvent::Reset(kind)],
+                "no state change until boot"
+            );
+            assert!(!s.is_running());
+            s.handle_frame(t, &nmt(0x01, 10));
+            assert_eq!(s.state(), BootUp, "initialising until boot");
+            s.boot(t);
+            assert_eq!(
+                drain(&mut s),
+                [NmtSlaveEvent::StateChanged { from: Op, to: Pre }]
+            );
+        }
+        // Wrong length, remote frames and other identifiers are ignored.
+        s.handle_frame(t, &CanFrame::standard(NMT, &[0x01]).unwrap());
+        s.handle_frame(t, &CanFrame::standard(NMT, &[0x01, 10, 0]).unwrap());
+        s.handle_frame(t, &CanFrame::remote(CanId::Standard(NMT), 2).unwrap());
+        s.handle_frame(t, &CanFrame::standard(0x001, &[0x01, 10]).unwrap());
+        assert_eq!((s.state(), drain(&mut s)), (Pre, Vec::new()));
+        assert!(s.sdo_allowed());
+    }
+}
