@@ -9,8 +9,9 @@
 //! # Driving it
 //!
 //! [`Device`] follows the crate's [state-machine contract](crate::machine):
-//! [`Device::boot`] once at power-on, then `handle_frame` / `handle_timeout`
-//! with the profile, drain `poll_transmit` after every call. `Device<A,
+//! [`Device::boot`] once at power-on, then [`Device::handle_frame_with`] /
+//! [`Device::handle_timeout_with`] with the profile, and drain
+//! [`Device::poll_transmit_with`] after every call. `Device<A,
 //! DeviceEvent>` with no profile (`()`) implements [`Machine`] itself: a
 //! plain CiA 301 slave over any dictionary `A`.
 //!
@@ -521,7 +522,7 @@ where
 
     /// Feeds a received frame: NMT, heartbeats of 1016h's nodes, SYNC, this
     /// node's SDO requests and RPDOs, then the profile's frames.
-    pub fn handle_frame<P: Profile<A, E>>(
+    pub fn handle_frame_with<P: Profile<A, E>>(
         &mut self,
         now: Timestamp,
         frame: &CanFrame,
@@ -551,7 +552,7 @@ where
 
     /// Tells the device time has passed: heartbeat, supervision, SDO
     /// timeout, the profile's timers, TPDO timers.
-    pub fn handle_timeout<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+    pub fn handle_timeout_with<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
         if !self.nmt.is_running() {
             return;
         }
@@ -781,11 +782,11 @@ impl<A: ObjectDictionary + Clone> Machine for Device<A, DeviceEvent> {
     type Event = DeviceEvent;
 
     fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        Device::handle_frame(self, now, frame, &mut ());
+        self.handle_frame_with(now, frame, &mut ());
     }
 
     fn handle_timeout(&mut self, now: Timestamp) {
-        Device::handle_timeout(self, now, &mut ());
+        self.handle_timeout_with(now, &mut ());
     }
 
     fn poll_transmit(&mut self) -> Option<CanFrame> {
@@ -813,11 +814,11 @@ macro_rules! machine_on_device {
             type Event = $event;
 
             fn handle_frame(&mut self, now: $crate::Timestamp, frame: &$crate::CanFrame) {
-                self.device.handle_frame(now, frame, &mut self.profile);
+                self.device.handle_frame_with(now, frame, &mut self.profile);
             }
 
             fn handle_timeout(&mut self, now: $crate::Timestamp) {
-                self.device.handle_timeout(now, &mut self.profile);
+                self.device.handle_timeout_with(now, &mut self.profile);
             }
 
             fn poll_transmit(&mut self) -> Option<$crate::CanFrame> {

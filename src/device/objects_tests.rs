@@ -1,1 +1,249 @@
+use super::*;
+use std::vec::Vec;
 
+fn comm() -> CommObjects {
+    let mut c = CommObjects::new(NodeId::new(5).unwrap());
+    c.device_type = 0x0004_01A2;
+    c.device_name = "node five";
+    c.heartbeat_ms = 1000;
+    c.identity = Identity {
+        vendor_id: 1,
+        product_code: 2,
+        revision_number: 3,
+        serial_number: 4,
+    };
+    c.set_consumers(&[
+        ConsumerEntry {
+            node: 1,
+            time_ms: 2000,
+        },
+        ConsumerEntry::default(),
+    ]);
+    c
+}
+
+fn read(od: &mut impl ObjectDictionary, index: u16, sub: u8) -> Result<Vec<u8>, AbortCode> {
+    let len = od.info(index, sub)?.len;
+    let mut buf = std::vec![0u8; len];
+    let n = od.read(index, sub, 0, &mut buf)?;
+    assert_eq!(n, len, "{index:04X}h:{sub} read length");
+    Ok(buf)
+}
+
+fn write(
+    od: &mut impl ObjectDictionary,
+    index: u16,
+    sub: u8,
+    data: &[u8],
+) -> Result<(), AbortCode> {
+    od.write(index, sub, 0, data)?;
+    od.finish_write(index, sub, data.len())
+}
+
+/// The table of the module docs, row by row: (index, sub, access, value).
+#[test]
+fn every_row_of_the_table() {
+    use Access::{Const, ReadOnly as Ro, ReadWrite as Rw};
+    let rows: &[(u16, u8, Access, &[u8])] = &[
+        (0x1000, 0, Const, &[0xA2, 0x01, 0x04, 0x00]),
+        (0x1001, 0, Ro, &[0]),
+        (0x1003, 0, Rw, &[0]),
+        (0x1008, 0, Const, b"node five"),
+        (0x1016, 0, Const, &[2]),
+        (0x1016, 1, Rw, &[0xD0, 0x07, 0x01, 0x00]),
+        (0x1016, 2, Rw, &[0, 0, 0, 0]),
+        (0x1017, 0, Rw, &[0xE8, 0x03]),
+        (0x1018, 0, Ro, &[4]),
+        (0x1018, 1, Ro, &[1, 0, 0, 0]),
+        (0x1018, 2, Ro, &[2, 0, 0, 0]),
+        (0x1018, 3, Ro, &[3, 0, 0, 0]),
+        (0x1018, 4, Ro, &[4, 0, 0, 0]),
+        (0x1200, 0, Ro, &[2]),
+        (0x1200, 1, Ro, &[0x05, 0x06, 0, 0]),
+        (0x1200, 2, Ro, &[0x85, 0x05, 0, 0]),
+    ];
+    let mut c = comm();
+    for &(index, sub, access, value) in rows {
+        assert_eq!(
+            c.info(index, sub).unwrap().access,
+            access,
+            "{index:04X}h:{sub}"
+        );
+        assert_eq!(
+            read(&mut c, index, sub).unwrap(),
+            value,
+            "{index:04X}h:{sub}"
+        );
+        if !access.is_writable() {
+            assert_eq!(
+                write(&mut c, index, sub, value),
+                Err(AbortCode::WriteOfReadOnlyObject),
+                "{index:04X}h:{sub}"
+            );
+        }
+    }
+    for (index, sub) in [
+        (0x1000, 1),
+        (0x1016, 3),
+        (0x1018, 5),
+        (0x1200, 3),
+        (0x1008, 1),
+        (0x1003, 11),
+    ] {
+        assert_eq!(
+            c.info(index, sub),
+            Err(AbortCode::SubIndexDoesNotExist),
+            "{index:04X}h:{sub}"
+        );
+    }
+    assert_eq!(c.info(0x1005, 0), Err(AbortCode::ObjectDoesNotExist));
+    c.set_consumers(&[]);
+    assert_eq!(c.info(0x1016, 0), Err(AbortCode::ObjectDoesNotExist));
+}
+
+#[test]
+fn error_history_newest_first_last_ten() {
+    let mut c = comm();
+    assert_eq!(
+        c.read(0x1003, 1, 0, &mut [0; 4]),
+        Err(AbortCode::NoDataAvailable)
+    );
+    assert_eq!(c.info(0x1003, 1).unwrap().len, 4);
+    for i in 1..=12u16 {
+        c.push_error(ErrorFieldEntry {
+            code: crate::emcy::ErrorCode(i),
+            info: 0,
+        });
+    }
+    assert_eq!(c.errors(), &[12, 11, 10, 9, 8, 7, 6, 5, 4, 3]);
+    assert_eq!(read(&mut c, 0x1003, 0).unwrap(), [10]);
+    assert_eq!(read(&mut c, 0x1003, 1).unwrap(), 12u32.to_le_bytes());
+    assert_eq!(read(&mut c, 0x1003, 10).unwrap(), 3u32.to_le_bytes());
+    assert_eq!(write(&mut c, 0x1003, 0, &[3]), Err(AbortCode::InvalidValue));
+    assert_eq!(c.errors().len(), 10);
+    assert_eq!(write(&mut c, 0x1003, 0, &[0]), Ok(()));
+    assert!(c.errors().is_empty());
+    assert_eq!(
+        write(&mut c, 0x1003, 1, &[0; 4]),
+        Err(AbortCode::WriteOfReadOnlyObject)
+    );
+}
+
+#[test]
+fn writes_and_their_checks() {
+    let mut c = comm();
+    assert_eq!(write(&mut c, 0x1017, 0, &[0xF4, 0x01]), Ok(()));
+    assert_eq!(c.heartbeat_ms, 500);
+    assert_eq!(
+        write(&mut c, 0x1017, 0, &[1]),
+        Err(AbortCode::DataTypeLengthTooLow)
+    );
+    assert_eq!(
+        write(&mut c, 0x1017, 0, &[1, 2, 3]),
+        Err(AbortCode::DataTypeLengthTooHigh)
+    );
+    // 1016h sub 2 watching node 1 as well: refused (CiA 301: one entry per node).
+    assert_eq!(
+        write(&mut c, 0x1016, 2, &0x0001_0064u32.to_le_bytes()),
+        Err(AbortCode::GeneralParameterIncompatibility)
+    );
+    assert_eq!(
+        write(&mut c, 0x1016, 2, &0x0002_0064u32.to_le_bytes()),
+        Ok(())
+    );
+    assert_eq!(
+        c.consumers()[1],
+        ConsumerEntry {
+            node: 2,
+            time_ms: 100
+        }
+    );
+    // A disabled duplicate is fine.
+    assert_eq!(
+        write(&mut c, 0x1016, 2, &0x0001_0000u32.to_le_bytes()),
+        Ok(())
+    );
+    assert_eq!(
+        write(&mut c, 0x1016, 0, &[2]),
+        Err(AbortCode::WriteOfReadOnlyObject)
+    );
+    // An aborted write changes nothing.
+    c.write(0x1017, 0, 0, &[0x10]).unwrap();
+    c.abort_write(0x1017, 0);
+    assert_eq!(
+        c.finish_write(0x1017, 0, 2),
+        Err(AbortCode::DataTypeLengthTooLow)
+    );
+    assert_eq!(c.heartbeat_ms, 500);
+}
+
+#[test]
+fn error_field_formats() {
+    let emcy = Emergency {
+        code: crate::emcy::ErrorCode(0x8130),
+        register: ErrorRegister::GENERIC,
+        manufacturer: [0x20, 0x80, 0, 0, 0],
+    };
+    assert_eq!(
+        ErrorFieldFormat::LittleEndianInfo.entry(&emcy).to_u32(),
+        0x8020_8130
+    );
+    // Delta-Q: E-0-3-2 (8020h) byte-swapped in the high word.
+    assert_eq!(
+        ErrorFieldFormat::SwappedInfo.entry(&emcy).to_u32(),
+        0x2080_8130
+    );
+}
+
+#[test]
+fn layered_dictionary_routes_by_index() {
+    #[derive(Clone)]
+    struct App(u8);
+    impl ObjectDictionary for App {
+        fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
+            match (index, sub) {
+                (0x2000, 0) | (0x1F00, 0) => Ok(ObjectInfo::fixed(Access::ReadWrite, 1)),
+                _ => Err(AbortCode::ObjectDoesNotExist),
+            }
+        }
+        fn read(&mut self, _: u16, _: u8, _: usize, buf: &mut [u8]) -> Result<usize, AbortCode> {
+            buf.first_mut().map(|b| *b = self.0);
+            Ok(1)
+        }
+        fn write(&mut self, _: u16, _: u8, _: usize, data: &[u8]) -> Result<(), AbortCode> {
+            self.0 = data.first().copied().unwrap_or(0);
+            Ok(())
+        }
+    }
+    let mut od = DeviceObjects {
+        comm: comm(),
+        app: App(7),
+    };
+    assert_eq!(read(&mut od, 0x2000, 0).unwrap(), [7]);
+    assert_eq!(
+        read(&mut od, 0x1F00, 0).unwrap(),
+        [7],
+        "other 1xxxh objects are the application's"
+    );
+    assert_eq!(read(&mut od, 0x1001, 0).unwrap(), [0]);
+    assert_eq!(write(&mut od, 0x2000, 0, &[9]), Ok(()));
+    assert_eq!(od.app.0, 9);
+    assert_eq!(od.info(0x3000, 0), Err(AbortCode::ObjectDoesNotExist));
+}
+
+#[test]
+fn hostile_reads_and_writes_never_panic() {
+    let mut c = comm();
+    let mut buf = [0u8; 8];
+    for index in [
+        0x1000u16, 0x1003, 0x1008, 0x1016, 0x1017, 0x1018, 0x1200, 0xFFFF, 0,
+    ] {
+        for sub in [0u8, 1, 4, 5, 10, 11, 0xFF] {
+            let _ = c.read(index, sub, usize::MAX, &mut buf);
+            let _ = c.read(index, sub, 3, &mut []);
+            let _ = c.write(index, sub, usize::MAX, &[1, 2, 3]);
+            let _ = c.write(index, sub, 0, &[0; 9]);
+            let _ = c.finish_write(index, sub, usize::MAX);
+        }
+    }
+}

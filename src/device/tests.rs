@@ -1,1 +1,272 @@
+use super::*;
+use crate::od::{Access, ObjectInfo};
+use crate::pdo::{MappingEntry, PdoCobId, PdoCommParams, PdoMapping, PdoSlot};
+use std::string::{String, ToString};
+use std::vec::Vec;
 
+/// One mappable, writable U8 object (2000h) of the application.
+#[derive(Debug, Clone, PartialEq)]
+struct App(u8);
+
+impl ObjectDictionary for App {
+    fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
+        match (index, sub) {
+            (0x2000, 0) => Ok(ObjectInfo::fixed(Access::ReadWrite, 1).mappable()),
+            (0x2000, _) => Err(AbortCode::SubIndexDoesNotExist),
+            _ => Err(AbortCode::ObjectDoesNotExist),
+        }
+    }
+    fn read(
+        &mut self,
+        index: u16,
+        sub: u8,
+        offset: usize,
+        buf: &mut [u8],
+    ) -> Result<usize, AbortCode> {
+        self.info(index, sub)?;
+        match (offset, buf.first_mut()) {
+            (0, Some(b)) => {
+                *b = self.0;
+                Ok(1)
+            }
+            _ => Ok(0),
+        }
+    }
+    fn write(&mut self, index: u16, sub: u8, _: usize, data: &[u8]) -> Result<(), AbortCode> {
+        self.info(index, sub)?;
+        self.0 = data.first().copied().unwrap_or(0);
+        Ok(())
+    }
+}
+
+type Dev = Device<App, DeviceEvent>;
+
+fn node() -> NodeId {
+    NodeId::new(4).unwrap()
+}
+
+fn ms(n: u64) -> Timestamp {
+    Timestamp::from_millis(n)
+}
+
+fn frame(id: u16, data: &[u8]) -> CanFrame {
+    CanFrame::standard(id, data).unwrap()
+}
+
+/// TPDO 0 on 184h and RPDO 0 on 204h, both mapping 2000h (8 bits).
+fn config() -> DeviceConfig {
+    let mapping = PdoMapping::new(&[MappingEntry::new(0x2000, 0, 8)]).unwrap();
+    let mut pdos = PdoConfig::new();
+    pdos.insert(
+        PdoDirection::Transmit,
+        PdoNumber::P0,
+        PdoSlot::new(
+            PdoCommParams::event_driven(PdoCobId::standard(0x184), 100),
+            &mapping,
+        ),
+    );
+    pdos.insert(
+        PdoDirection::Receive,
+        PdoNumber::P0,
+        PdoSlot::new(
+            PdoCommParams::event_driven(PdoCobId::standard(0x204), 0),
+            &mapping,
+        ),
+    );
+    DeviceConfig {
+        device_type: 0x1234,
+        device_name: "dev",
+        pdos,
+        ..DeviceConfig::new(node())
+    }
+    .with_consumers(&[ConsumerEntry::new(
+        NodeId::new(1).unwrap(),
+        Duration::from_millis(1000),
+    )])
+}
+
+fn booted() -> Dev {
+    let mut d = Dev::new(config(), App(7));
+    d.boot(ms(0), &mut ());
+    d
+}
+
+fn sent(d: &mut Dev) -> Vec<String> {
+    core::iter::from_fn(|| d.poll_transmit())
+        .map(|f| f.to_string())
+        .collect()
+}
+
+fn events(d: &mut Dev) -> Vec<DeviceEvent> {
+    core::iter::from_fn(|| d.poll_event()).collect()
+}
+
+fn sdo_write_u8(d: &mut Dev, now: Timestamp, index: u16, value: u8) {
+    let [lo, hi] = index.to_le_bytes();
+    d.handle_frame(now, &frame(0x604, &[0x2F, lo, hi, 0, value, 0, 0, 0]));
+}
+
+#[test]
+fn nothing_before_boot_then_boot_up_and_pre_operational() {
+    let mut d = Dev::new(config(), App(7));
+    d.handle_frame(ms(0), &frame(0x000, &[0x01, 0x04]));
+    d.handle_timeout(ms(5000));
+    assert_eq!((sent(&mut d), d.poll_timeout()), (Vec::new(), None));
+    d.boot(ms(0), &mut ());
+    assert_eq!(sent(&mut d), ["704#00"]);
+    assert_eq!(d.nmt_state(), NmtState::PreOperational);
+    assert_eq!(
+        events(&mut d),
+        [DeviceEvent::NmtStateChanged {
+            from: NmtState::BootUp,
+            to: NmtState::PreOperational
+        }]
+    );
+    assert_eq!(d.poll_timeout(), Some(ms(1000)));
+}
+
+#[test]
+fn reset_node_restores_every_object_reset_communication_only_the_communication_objects() {
+    for (cs, restored) in [(0x81u8, true), (0x82, false)] {
+        let mut d = booted();
+        d.update(ms(1), |a| a.0 = 99);
+        sdo_write_u8(&mut d, ms(2), 0x2000, 42);
+        assert_eq!(d.objects().0, 42);
+        d.update_comm(ms(3), |c| c.heartbeat_ms = 250);
+        d.raise_error(ErrorRegister::CURRENT, Emergency::default());
+        let _ = (sent(&mut d), events(&mut d));
+        d.handle_frame(ms(10), &frame(0x000, &[cs, 0]));
+        assert_eq!(d.objects().0, if restored { 7 } else { 42 }, "{cs:02X}h");
+        assert_eq!(d.comm().heartbeat_ms, 1000, "{cs:02X}h restores 1017h");
+        assert!(d.error_register().is_empty() && d.comm().errors().is_empty());
+        assert_eq!(sent(&mut d), ["704#00"], "boot-up again");
+        assert_eq!(
+            events(&mut d),
+            [DeviceEvent::Reset { node: restored }],
+            "already pre-operational: no state change"
+        );
+        assert_eq!(d.poll_timeout(), Some(ms(1010)));
+    }
+}
+
+#[test]
+fn sdo_write_of_1017h_rearms_the_heartbeat() {
+    let mut d = booted();
+    let _ = sent(&mut d);
+    d.handle_frame(
+        ms(100),
+        &frame(0x604, &[0x2B, 0x17, 0x10, 0, 0xF4, 0x01, 0, 0]),
+    );
+    assert_eq!(sent(&mut d), ["584#6017100000000000"]);
+    assert_eq!(d.poll_timeout(), Some(ms(600)));
+    assert_eq!(
+        events(&mut d)[1..],
+        [DeviceEvent::ObjectWritten {
+            index: 0x1017,
+            sub: 0
+        }]
+    );
+}
+
+#[test]
+fn emcy_raise_and_clear_with_the_register_and_history() {
+    let mut d = booted();
+    let _ = sent(&mut d);
+    let emcy = Emergency {
+        code: ErrorCode(0x5010),
+        register: ErrorRegister::empty(),
+        manufacturer: [1, 2, 0, 0, 0],
+    };
+    d.raise_error(ErrorRegister::DEVICE_PROFILE, emcy);
+    assert_eq!(sent(&mut d), ["084#1050210102000000"]);
+    assert_eq!(d.comm().errors(), &[0x0201_5010]);
+    d.clear_error(ErrorRegister::DEVICE_PROFILE);
+    assert_eq!(sent(&mut d), ["084#0000000000000000"]);
+    d.clear_error(ErrorRegister::DEVICE_PROFILE);
+    assert_eq!(sent(&mut d), Vec::<String>::new(), "nothing to clear");
+    // Stopped: the register changes, no frame.
+    d.handle_frame(ms(1), &frame(0x000, &[0x02, 4]));
+    d.raise_error(ErrorRegister::VOLTAGE, emcy);
+    assert_eq!(sent(&mut d), Vec::<String>::new());
+    assert!(d
+        .error_register()
+        .contains(ErrorRegister::VOLTAGE | ErrorRegister::GENERIC));
+}
+
+#[test]
+fn stopped_drops_a_transfer_silently_and_serves_no_sdo() {
+    let mut d = booted();
+    let _ = sent(&mut d);
+    // A segmented upload of 1008h ("dev" is 3 bytes: expedited) -- use a
+    // segmented download to 1008h instead: initiate, then stop.
+    d.handle_frame(ms(1), &frame(0x604, &[0x21, 0x00, 0x20, 0, 1, 0, 0, 0]));
+    assert_eq!(sent(&mut d), ["584#6000200000000000"]);
+    d.handle_frame(ms(2), &frame(0x000, &[0x02, 0]));
+    d.handle_timeout(ms(10_000));
+    assert!(
+        sent(&mut d).iter().all(|f| f.starts_with("704#")),
+        "no abort frame in stopped"
+    );
+    d.handle_frame(
+        ms(10_001),
+        &frame(0x604, &[0x40, 0x00, 0x10, 0, 0, 0, 0, 0]),
+    );
+    assert_eq!(sent(&mut d), Vec::<String>::new());
+}
+
+#[test]
+fn pdos_only_in_operational_and_short_rpdos_refused() {
+    let mut d = booted();
+    let _ = sent(&mut d);
+    d.handle_frame(ms(1), &frame(0x204, &[5]));
+    assert_eq!(d.objects().0, 7, "no RPDO in pre-operational");
+    d.handle_frame(ms(2), &frame(0x000, &[0x01, 4]));
+    assert_eq!(sent(&mut d), ["184#07"]);
+    d.handle_frame(ms(3), &frame(0x204, &[5]));
+    assert_eq!(d.objects().0, 5);
+    assert_eq!(
+        sent(&mut d),
+        ["184#05"],
+        "a changed mapped value is an event"
+    );
+    d.handle_frame(ms(4), &frame(0x204, &[]));
+    assert_eq!(sent(&mut d), ["084#1082110000000000"]);
+    let evs = events(&mut d);
+    assert!(evs.contains(&DeviceEvent::RpdoRefused {
+        pdo: PdoNumber::P0,
+        error: RpdoError::TooShort { need: 1, got: 0 }
+    }));
+    d.set_tpdos_enabled(ms(5), false);
+    d.handle_timeout(ms(500));
+    assert!(sent(&mut d).iter().all(|f| !f.starts_with("184#")));
+}
+
+#[test]
+fn undrained_events_change_nothing() {
+    // Two devices fed the same frames; one is drained, one never.
+    let mut drained = booted();
+    let mut undrained = booted();
+    let hb = frame(0x701, &[0x05]);
+    for i in 0..200u64 {
+        let now = ms(i * 700);
+        for d in [&mut drained, &mut undrained] {
+            d.handle_frame(now, &hb);
+            sdo_write_u8(d, now, 0x2000, i as u8);
+            d.handle_timeout(now);
+        }
+        assert_eq!(sent(&mut drained), sent(&mut undrained), "step {i}");
+        assert_eq!(drained.poll_timeout(), undrained.poll_timeout());
+        let _ = events(&mut drained);
+    }
+    // The boot state change and 200 object writes, 16 kept.
+    assert_eq!(undrained.events_dropped(), 201 - 16);
+    assert_eq!(drained.events_dropped(), 0);
+    assert!(undrained
+        .heartbeat_consumer()
+        .is_alive(NodeId::new(1).unwrap()));
+    let kept = events(&mut undrained);
+    assert_eq!(kept.len(), 16);
+    assert!(!kept
+        .iter()
+        .any(|e| matches!(e, DeviceEvent::Heartbeat(HeartbeatEvent::Lost(_)))));
+}
