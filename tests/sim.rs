@@ -8,12 +8,15 @@ mod common;
 use std::collections::VecDeque;
 use std::time::Duration;
 
+use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig};
+use canopen_codec::cia419::{Charger, ChargerConfig, ChargerEvent};
 use canopen_codec::heartbeat::{
     ConsumerEntry, HeartbeatConsumer, HeartbeatEvent, HeartbeatProducer,
 };
 use canopen_codec::machine::Machine;
 use canopen_codec::nmt::NmtState;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
+use common::devices::{boot_all, charger_bus};
 use common::frame;
 use common::sim::{Handle, Sim, TEST};
 
@@ -356,4 +359,97 @@ fn undrained_consumer_events_change_no_protocol_behaviour() {
         undrained.machine(cu).events_dropped(),
         (events.len() - 8) as u64
     );
+}
+
+/// The charger and the battery module for 8 s: configuration, NMT start,
+/// a communication reset of the module at 3 s, the module unplugged at
+/// 5 s. Events of the two are drained or not as asked.
+fn device_session(drain_charger: bool, drain_battery: bool) -> Session {
+    let charger = Charger::new(ChargerConfig::new(
+        NodeId::new(10).unwrap(),
+        NodeId::new(1).unwrap(),
+    ));
+    let battery = BatteryModule::new(BatteryModuleConfig::new(NodeId::new(1).unwrap()));
+    let (mut sim, c, b) = charger_bus(charger, Some(battery));
+    sim.set_drain_events(c, drain_charger);
+    sim.set_drain_events(b, drain_battery);
+    boot_all(&mut sim, c, b);
+    sim.run_until(ms(100));
+    sim.inject(frame(0x000, "0100"));
+    sim.run_until(ms(3000));
+    sim.inject(frame(0x000, "8201"));
+    sim.run_until(ms(5000));
+    let unplugged = sim.unplug(b).unwrap();
+    sim.run_until(ms(8000));
+    Session {
+        sim,
+        charger: c,
+        battery: b,
+        unplugged,
+    }
+}
+
+struct Session {
+    sim: Sim,
+    charger: Handle<Charger>,
+    battery: Handle<BatteryModule>,
+    /// The module, as it was when unplugged.
+    unplugged: BatteryModule,
+}
+
+/// An undrained machine kept the newest of the events a drained one
+/// reported (the oldest were dropped), and reported them nowhere else.
+fn kept_newest<E: PartialEq + std::fmt::Debug>(all: &[E], kept: &[E]) {
+    assert!(
+        !kept.is_empty() && kept.len() < all.len(),
+        "{} of {}",
+        kept.len(),
+        all.len()
+    );
+    assert_eq!(kept, &all[all.len() - kept.len()..]);
+}
+
+#[test]
+fn undrained_device_events_change_no_protocol_behaviour() {
+    let Session {
+        sim: drained,
+        charger: c,
+        battery: b,
+        ..
+    } = device_session(true, true);
+    let lines = drained.lines(0, 8000);
+    // The session has what it should: configuration, TPDOs, the loss EMCY.
+    assert!(lines
+        .iter()
+        .any(|l| l.contains("Charger 601#4000100000000000")));
+    assert!(lines.iter().any(|l| l.contains("Battery 181#")));
+    assert!(lines
+        .iter()
+        .any(|l| l.contains("Charger 08A#3081012080000000")));
+    let charger_events = drained.event_list(c);
+    assert!(charger_events.contains(&ChargerEvent::BatteryLost));
+    let battery_events = drained.event_list(b);
+    for (drain_charger, drain_battery) in [(false, true), (true, false), (false, false)] {
+        let Session {
+            sim: mut undrained,
+            mut unplugged,
+            ..
+        } = device_session(drain_charger, drain_battery);
+        assert_eq!(
+            undrained.lines(0, 8000),
+            lines,
+            "charger drained {drain_charger}, battery drained {drain_battery}"
+        );
+        if !drain_charger {
+            assert!(undrained.events(c).is_empty());
+            let kept: Vec<_> =
+                std::iter::from_fn(|| undrained.machine_mut(c).poll_event()).collect();
+            kept_newest(&charger_events, &kept);
+        }
+        if !drain_battery {
+            assert!(undrained.events(b).is_empty());
+            let kept: Vec<_> = std::iter::from_fn(|| unplugged.poll_event()).collect();
+            kept_newest(&battery_events, &kept);
+        }
+    }
 }
