@@ -32,9 +32,10 @@ use canopen_codec::cia418::{
     BatteryType, BatteryVoltage, DeviceType, Identity, PackedStringObject, StateOfCharge,
     Temperature,
 };
+use canopen_codec::machine::Machine;
 use canopen_codec::sdo::AbortOrigin;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
-use node::{Device, Runner};
+use node::Runner;
 
 const USAGE: &str = "usage: battery_module [OPTIONS]
 A virtual CiA 418 battery module: candump lines in on stdin, the frames it
@@ -276,13 +277,15 @@ impl Simulation {
     }
 }
 
-/// The module and its optional simulation, as one device for the runner.
+/// The module and its optional simulation, as one machine for the runner:
+/// the simulation's step is one more timer.
 struct BatteryDevice {
     module: BatteryModule,
     sim: Option<Simulation>,
 }
 
-impl Device for BatteryDevice {
+impl Machine for BatteryDevice {
+    type Event = BatteryEvent;
     fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
         self.module.handle_frame(now, frame);
     }
@@ -302,15 +305,17 @@ impl Device for BatteryDevice {
             (a, b) => a.or(b),
         }
     }
-    fn events(&mut self) -> Vec<String> {
-        std::iter::from_fn(|| self.module.poll_event())
-            .map(|e| describe(&e))
-            .collect()
+    fn poll_event(&mut self) -> Option<BatteryEvent> {
+        self.module.poll_event()
+    }
+    fn events_dropped(&self) -> u64 {
+        self.module.events_dropped()
     }
 }
 
-fn describe(e: &BatteryEvent) -> String {
-    match *e {
+/// An event in words for stderr (every event is printed).
+fn describe(e: &BatteryEvent) -> Option<String> {
+    let words = match *e {
         BatteryEvent::NmtStateChanged { from, to } => format!("event: NMT {from} -> {to}"),
         BatteryEvent::Reset { node: true } => "event: NMT reset node".to_string(),
         BatteryEvent::Reset { node: false } => "event: NMT reset communication".to_string(),
@@ -334,7 +339,8 @@ fn describe(e: &BatteryEvent) -> String {
             };
             format!("event: SDO transfer of {index:04X}h sub {sub:02X}h aborted {by}: {code}")
         }
-    }
+    };
+    Some(words)
 }
 
 fn main() -> ExitCode {
@@ -363,7 +369,7 @@ fn main() -> ExitCode {
         }
     }
     let bus = PipeBus::stdin(&o.interface);
-    let (mut runner, boot) = Runner::new(bus, BatteryDevice { module, sim: None });
+    let (mut runner, boot) = Runner::new(bus, BatteryDevice { module, sim: None }, describe);
     let module = &mut runner.device.module;
     module.update(boot, |obj| {
         obj.battery_parameters = o.parameters;

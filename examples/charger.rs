@@ -34,8 +34,8 @@ use std::time::Duration;
 use bus::PipeBus;
 use canopen_codec::cia419::{Charger, ChargerConfig, ChargerEvent};
 use canopen_codec::deltaq::{OperatingMode, Reaction};
-use canopen_codec::{CanFrame, NodeId, Timestamp};
-use node::{Device, Runner};
+use canopen_codec::NodeId;
+use node::Runner;
 
 const USAGE: &str = "usage: charger [--node-id N] [--battery-node N] [--mode local|remote|local-override|monitoring]
                [--no-configure] [--self-start] [--heartbeat-ms MS] [--battery-timeout-ms MS]
@@ -106,8 +106,10 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
     Ok(Some(o))
 }
 
-fn describe(e: &ChargerEvent) -> String {
-    match *e {
+/// An event in words for stderr (`None` for the RPDOs, which come every
+/// 200 ms).
+fn describe(e: &ChargerEvent) -> Option<String> {
+    let words = match *e {
         ChargerEvent::NmtStateChanged { from, to } => format!("event: NMT {from} -> {to}"),
         ChargerEvent::BatteryFound { state } => {
             format!("event: battery module found ({state})")
@@ -137,33 +139,13 @@ fn describe(e: &ChargerEvent) -> String {
                 emcy.register.bits()
             )
         }
-        ChargerEvent::RpdoReceived { pdo } => format!("event: RPDO {pdo} received"),
+        ChargerEvent::RpdoReceived { .. } => return None,
         ChargerEvent::RpdoRefused { pdo, error } => format!("event: RPDO {pdo} refused: {error}"),
         ChargerEvent::ObjectWritten { index, sub } => {
             format!("event: SDO download to {index:04X}h sub {sub:02X}h")
         }
-    }
-}
-
-impl Device for Charger {
-    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        Charger::handle_frame(self, now, frame);
-    }
-    fn handle_timeout(&mut self, now: Timestamp) {
-        Charger::handle_timeout(self, now);
-    }
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        Charger::poll_transmit(self)
-    }
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        Charger::poll_timeout(self)
-    }
-    fn events(&mut self) -> Vec<String> {
-        std::iter::from_fn(|| self.poll_event())
-            .filter(|e| !matches!(e, ChargerEvent::RpdoReceived { .. }))
-            .map(|e| describe(&e))
-            .collect()
-    }
+    };
+    Some(words)
 }
 
 fn main() -> ExitCode {
@@ -179,7 +161,11 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let (mut runner, boot) = Runner::new(PipeBus::stdin(&o.interface), Charger::new(o.config));
+    let (mut runner, boot) = Runner::new(
+        PipeBus::stdin(&o.interface),
+        Charger::new(o.config),
+        describe,
+    );
     eprintln!(
         "charger: node {}, battery node {}, mode {}, COB-ID configuration {}",
         o.config.node,

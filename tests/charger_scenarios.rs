@@ -11,7 +11,8 @@ use canopen_codec::deltaq::Reaction;
 use canopen_codec::emcy::ErrorCode;
 use canopen_codec::sdo::AbortCode;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
-use common::bus::Bus;
+use common::devices::{boot_all, charger_bus};
+use common::sim::{Handle, Sim};
 
 fn ms(n: u64) -> Timestamp {
     Timestamp::from_millis(n)
@@ -34,26 +35,29 @@ fn battery() -> BatteryModule {
     battery_with(DeviceType::cia418(0))
 }
 
-fn start_all(bus: &mut Bus) {
+/// The simulated bus with the charger and the battery module's place.
+type Bus = (Sim, Handle<Charger>, Handle<BatteryModule>);
+
+fn start_all(bus: &mut Sim) {
     bus.inject(CanFrame::standard(0x000, &[0x01, 0x00]).unwrap());
 }
 
 /// Boots both, starts them at 100 ms.
 fn started() -> Bus {
-    let mut bus = Bus::new(Some(charger()), Some(battery()));
-    bus.boot_all();
+    let (mut bus, c, b) = charger_bus(charger(), Some(battery()));
+    boot_all(&mut bus, c, b);
     bus.run_until(ms(100));
     start_all(&mut bus);
-    bus
+    (bus, c, b)
 }
 
-fn events(bus: &Bus) -> Vec<ChargerEvent> {
-    bus.charger_events.iter().map(|(_, e)| *e).collect()
+fn events(bus: &Sim, c: Handle<Charger>) -> Vec<ChargerEvent> {
+    bus.event_list(c)
 }
 
 #[test]
 fn normal_start() {
-    let mut bus = started();
+    let (mut bus, c, _) = started();
     bus.run_until(ms(1000));
     // Boot-ups; the charger finds the module at its boot-up and reads 1000h
     // (418, no optional PDOs), then the module's RPDO 0 and TPDO 0 COB-IDs;
@@ -86,7 +90,7 @@ fn normal_start() {
         ]
     );
     assert_eq!(
-        events(&bus)[..3],
+        events(&bus, c)[..3],
         [
             ChargerEvent::NmtStateChanged {
                 from: canopen_codec::nmt::NmtState::BootUp,
@@ -101,9 +105,9 @@ fn normal_start() {
             },
         ]
     );
-    assert!(bus.charger.as_ref().unwrap().is_configured());
+    assert!(bus.machine(c).is_configured());
     // The charger's TPDO 0 now uses the module's RPDO 0 identifier.
-    let pdos = bus.charger.as_ref().unwrap().pdo_config();
+    let pdos = bus.machine(c).pdo_config();
     let t0 = pdos
         .get(
             canopen_codec::pdo::PdoDirection::Transmit,
@@ -115,19 +119,17 @@ fn normal_start() {
 
 #[test]
 fn terminate_charge_via_battery_status() {
-    let mut bus = started();
+    let (mut bus, c, b) = started();
     bus.run_until(ms(2000));
-    bus.battery
-        .as_mut()
-        .unwrap()
-        .set_battery_status(ms(2000), BatteryStatus::READY_TO_CHARGE);
+    bus.with(b, |m, now| {
+        m.set_battery_status(now, BatteryStatus::READY_TO_CHARGE)
+    });
     bus.run_until(ms(2500));
-    assert_eq!(bus.charger.as_ref().unwrap().objects().battery_status, 0x01);
+    assert_eq!(bus.machine(c).objects().battery_status, 0x01);
     // The BMS withdraws "ready to charge": an event, sent at once.
-    bus.battery
-        .as_mut()
-        .unwrap()
-        .set_battery_status(ms(2500), BatteryStatus::empty());
+    bus.with(b, |m, now| {
+        m.set_battery_status(now, BatteryStatus::empty())
+    });
     bus.run_until(ms(2600));
     assert_eq!(
         bus.lines(2000, 2600)
@@ -142,15 +144,15 @@ fn terminate_charge_via_battery_status() {
             "  2500.000 Battery 181#000000",
         ]
     );
-    assert_eq!(bus.charger.as_ref().unwrap().objects().battery_status, 0x00);
+    assert_eq!(bus.machine(c).objects().battery_status, 0x00);
 }
 
 #[test]
 fn battery_lost_during_charge_then_restored() {
-    let mut bus = started();
+    let (mut bus, c, b) = started();
     bus.run_until(ms(2000));
     // Unplugged right after its 2000 ms heartbeat.
-    bus.battery = None;
+    bus.unplug(b);
     bus.run_until(ms(5000));
     // Last heartbeat received at 2000.5: lost at 4000.5, E-0-3-2 as in the
     // real capture; the charger's TPDOs stop.
@@ -160,15 +162,15 @@ fn battery_lost_during_charge_then_restored() {
     );
     let tpdos = bus.frames_on(0x201);
     assert_eq!(tpdos.last().unwrap().0, 3_900_500, "no TPDO after the loss");
-    let c = bus.charger.as_ref().unwrap();
-    assert_eq!(c.objects().errors(), &[0x2080_8130]);
-    assert!(!c.is_configured());
-    assert!(events(&bus).contains(&ChargerEvent::BatteryLost));
+    let charger = bus.machine(c);
+    assert_eq!(charger.objects().errors(), &[0x2080_8130]);
+    assert!(!charger.is_configured());
+    assert!(events(&bus, c).contains(&ChargerEvent::BatteryLost));
     // Communication restored: a new module boots at 6000 ms; the charger
     // re-reads the configuration, clears the error and resumes its TPDO.
-    bus.battery = Some(battery());
+    bus.plug(b, battery());
     bus.run_until(ms(6000));
-    bus.battery.as_mut().unwrap().boot(ms(6000));
+    bus.with(b, |m, now| m.boot(now));
     bus.run_until(ms(6300));
     assert_eq!(
         bus.lines(6000, 6300),
@@ -186,16 +188,16 @@ fn battery_lost_during_charge_then_restored() {
             "  6203.500 Charger 201#00",
         ]
     );
-    assert!(bus.charger.as_ref().unwrap().is_configured());
+    assert!(bus.machine(c).is_configured());
 }
 
 #[test]
 fn battery_lost_before_charge() {
-    let mut bus = Bus::new(Some(charger()), Some(battery()));
-    bus.boot_all();
+    let (mut bus, c, b) = charger_bus(charger(), Some(battery()));
+    boot_all(&mut bus, c, b);
     // Unplugged right after its boot-up message: the configuration read is
     // never answered.
-    bus.battery = None;
+    bus.unplug(b);
     bus.run_until(ms(2500));
     assert_eq!(
         bus.lines(0, 2500),
@@ -215,8 +217,8 @@ fn battery_lost_before_charge() {
 
 #[test]
 fn can_connected_with_battery_unplugged() {
-    let mut bus = Bus::new(Some(charger()), None);
-    bus.boot_all();
+    let (mut bus, c, b) = charger_bus(charger(), None);
+    boot_all(&mut bus, c, b);
     bus.run_until(ms(100));
     start_all(&mut bus);
     bus.run_until(ms(3500));
@@ -239,8 +241,8 @@ fn module_with_every_optional_pdo() {
     let all = DeviceType::cia418(
         DeviceType::RPDO_2ND | DeviceType::RPDO_3RD | DeviceType::TPDO_2ND | DeviceType::TPDO_3RD,
     );
-    let mut bus = Bus::new(Some(charger()), Some(battery_with(all)));
-    bus.boot_all();
+    let (mut bus, c, b) = charger_bus(charger(), Some(battery_with(all)));
+    boot_all(&mut bus, c, b);
     bus.run_until(ms(50));
     let reads: Vec<String> = bus
         .lines(0, 50)
@@ -259,7 +261,7 @@ fn module_with_every_optional_pdo() {
             "     6.500 Charger 601#4002180100000000",
         ]
     );
-    assert!(events(&bus).contains(&ChargerEvent::Configured {
+    assert!(events(&bus, c).contains(&ChargerEvent::Configured {
         tpdos: 0b111,
         rpdos: 0b111
     }));
@@ -276,11 +278,11 @@ fn module_with_every_optional_pdo() {
 fn module_whose_sdo_server_aborts() {
     // Device type says "RPDO 3 (Delta-Q manufacturer)", but the module has
     // no 1403h: the read is aborted, the configuration fails with E-0-3-0.
-    let mut bus = Bus::new(
-        Some(charger()),
+    let (mut bus, c, b) = charger_bus(
+        charger(),
         Some(battery_with(DeviceType::cia418(DeviceType::DELTAQ_RPDO_3))),
     );
-    bus.boot_all();
+    boot_all(&mut bus, c, b);
     bus.run_until(ms(100));
     start_all(&mut bus);
     bus.run_until(ms(1500));
@@ -293,35 +295,31 @@ fn module_whose_sdo_server_aborts() {
             "     4.500 Charger 08A#3081011E80000000",
         ]
     );
-    assert!(events(&bus).contains(&ChargerEvent::ConfigurationFailed {
-        index: 0x1403,
-        sub: 1,
-        code: AbortCode::ObjectDoesNotExist
-    }));
+    assert!(
+        events(&bus, c).contains(&ChargerEvent::ConfigurationFailed {
+            index: 0x1403,
+            sub: 1,
+            code: AbortCode::ObjectDoesNotExist
+        })
+    );
     assert!(
         bus.frames_on(0x201).is_empty(),
         "no TPDO without a configuration"
     );
-    assert_eq!(
-        bus.charger.as_ref().unwrap().objects().errors(),
-        &[0x1E80_8130]
-    );
+    assert_eq!(bus.machine(c).objects().errors(), &[0x1E80_8130]);
 }
 
 #[test]
 fn battery_emcy_is_reported_with_the_policy_reaction() {
-    let mut bus = started();
+    let (mut bus, c, b) = started();
     bus.run_until(ms(500));
-    bus.battery
-        .as_mut()
-        .unwrap()
-        .set_temperature_sensor_fault(ms(500), true);
+    bus.with(b, |m, now| m.set_temperature_sensor_fault(now, true));
     bus.run_until(ms(600));
     assert_eq!(
         bus.frames_on(0x081),
         [(500_000, vec![0x10, 0x50, 0x21, 0, 0, 0, 0, 0])]
     );
-    let reported: Vec<(ErrorCode, Reaction)> = events(&bus)
+    let reported: Vec<(ErrorCode, Reaction)> = events(&bus, c)
         .into_iter()
         .filter_map(|e| match e {
             ChargerEvent::BatteryEmcy { emcy, reaction } => Some((emcy.code, reaction)),
@@ -342,8 +340,8 @@ fn without_cob_id_configuration_defaults_are_used() {
     // As in the real capture: no SDO at all, TPDOs on the charger's own ids.
     let mut config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::new(1).unwrap());
     config.configure_cob_ids = false;
-    let mut bus = Bus::new(Some(Charger::new(config)), Some(battery()));
-    bus.boot_all();
+    let (mut bus, c, b) = charger_bus(Charger::new(config), Some(battery()));
+    boot_all(&mut bus, c, b);
     bus.run_until(ms(100));
     start_all(&mut bus);
     bus.run_until(ms(1000));
@@ -351,14 +349,14 @@ fn without_cob_id_configuration_defaults_are_used() {
     let times: Vec<u64> = bus.frames_on(0x18A).iter().map(|(t, _)| *t).collect();
     assert_eq!(times, [100_500, 300_500, 500_500, 700_500, 900_500]);
     // The module's TPDO 0 (181h) is not one of the charger's RPDOs here.
-    assert!(!events(&bus)
+    assert!(!events(&bus, c)
         .iter()
         .any(|e| matches!(e, ChargerEvent::RpdoReceived { .. })));
 }
 
 #[test]
 fn module_reset_while_configured_is_configured_again() {
-    let mut bus = started();
+    let (mut bus, c, _) = started();
     bus.run_until(ms(500));
     // The BMS resets the module's communication: it boots again (default
     // PDOs), and the charger pairs again without raising any error.
@@ -385,7 +383,7 @@ fn module_reset_while_configured_is_configured_again() {
         bus.frames_on(0x08A).is_empty(),
         "no EMCY for a reset module"
     );
-    let configured = events(&bus)
+    let configured = events(&bus, c)
         .iter()
         .filter(|e| matches!(e, ChargerEvent::Configured { .. }))
         .count();

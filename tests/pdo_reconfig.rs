@@ -13,7 +13,7 @@ use canopen_codec::pdo::{
 };
 use canopen_codec::sdo::{AbortCode, AbortOrigin, ClientConfig, ClientEvent, ServerEvent};
 use canopen_codec::{NodeId, PdoNumber, Timestamp};
-use common::pair::{Dir, Pair};
+use common::sdo::{SdoPair, SERVER};
 
 const NODE: u8 = 1;
 
@@ -56,28 +56,27 @@ fn battery() -> PdoDictionary<MemoryDictionary> {
     PdoDictionary::new(config, od)
 }
 
-fn pair() -> Pair<PdoDictionary<MemoryDictionary>> {
-    Pair::new(NODE, battery())
+fn pair() -> SdoPair<PdoDictionary<MemoryDictionary>> {
+    SdoPair::new(NODE, battery())
 }
 
 /// Downloads `value` to `index`/`sub`; returns the client's terminal event
 /// and checks the server agrees (and, on an abort, the exact abort frame).
 fn write(
-    p: &mut Pair<PdoDictionary<MemoryDictionary>>,
+    p: &mut SdoPair<PdoDictionary<MemoryDictionary>>,
     index: u16,
     sub: u8,
     value: &[u8],
 ) -> Result<(), AbortCode> {
     p.clear_events();
-    let wire_before = p.wire.len();
-    p.client
-        .start_download(p.now, index, sub, value.to_vec())
+    let wire_before = p.log().len();
+    p.with_client(|c, now| c.start_download(now, index, sub, value.to_vec()))
         .unwrap();
     p.drive_bounded(1_000).unwrap();
-    match p.client_events.as_slice() {
+    match p.client_events().as_slice() {
         [ClientEvent::Downloaded { .. }] => {
             assert_eq!(
-                p.server_events,
+                p.server_events(),
                 vec![ServerEvent::Downloaded {
                     index,
                     sub,
@@ -94,14 +93,14 @@ fn write(
             let [lo, hi] = index.to_le_bytes();
             let mut abort = vec![0x80, lo, hi, sub];
             abort.extend_from_slice(&code.to_u32().to_le_bytes());
-            let last = p.wire[wire_before..]
+            let last = p.log()[wire_before..]
                 .iter()
                 .rev()
-                .find(|w| w.1 == Dir::ToClient)
+                .find(|s| s.from == SERVER)
                 .unwrap();
-            assert_eq!(last.2.data(), abort.as_slice(), "exact abort frame");
+            assert_eq!(last.frame.data(), abort.as_slice(), "exact abort frame");
             assert_eq!(
-                p.server_events,
+                p.server_events(),
                 vec![ServerEvent::Aborted {
                     index,
                     sub,
@@ -119,16 +118,15 @@ fn u32le(v: u32) -> [u8; 4] {
     v.to_le_bytes()
 }
 
-fn tpdo0(p: &Pair<PdoDictionary<MemoryDictionary>>) -> PdoSlot {
-    *p.server
-        .od()
+fn tpdo0(p: &SdoPair<PdoDictionary<MemoryDictionary>>) -> PdoSlot {
+    *p.od()
         .config
         .get(PdoDirection::Transmit, PdoNumber::P0)
         .unwrap()
 }
 
 /// Puts TPDO 0 (default: not valid) into the valid state with its id.
-fn enable_tpdo0(p: &mut Pair<PdoDictionary<MemoryDictionary>>) {
+fn enable_tpdo0(p: &mut SdoPair<PdoDictionary<MemoryDictionary>>) {
     assert_eq!(write(p, 0x1800, 1, &u32le(0x181)), Ok(()));
     assert!(tpdo0(p).is_valid());
 }
@@ -316,16 +314,19 @@ fn transmission_type_inhibit_time_and_sub0() {
 #[test]
 fn pdo_objects_read_back() {
     let mut p = pair();
-    p.client.start_upload(p.now, 0x1A01, 3).unwrap();
+    p.with_client(|c, now| c.start_upload(now, 0x1A01, 3))
+        .unwrap();
     p.drive_bounded(100).unwrap();
     assert_eq!(p.uploaded(), u32le(0x6060_0020));
     p.clear_events();
-    p.client.start_upload(p.now, 0x1801, 1).unwrap();
+    p.with_client(|c, now| c.start_upload(now, 0x1801, 1))
+        .unwrap();
     p.drive_bounded(100).unwrap();
     assert_eq!(p.uploaded(), u32le(0x8000_0281));
     // Other objects pass through to the application's dictionary.
     p.clear_events();
-    p.client.start_upload(p.now, 0x1008, 0).unwrap();
+    p.with_client(|c, now| c.start_upload(now, 0x1008, 0))
+        .unwrap();
     p.drive_bounded(100).unwrap();
     assert_eq!(p.uploaded(), b"battery");
 }

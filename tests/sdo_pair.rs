@@ -1,4 +1,4 @@
-//! Client and server on one simulated bus (the `Pair` harness): whole
+//! Client and server on one simulated bus (`common::sdo::SdoPair`): whole
 //! transfers, random values, latencies and dropped frames.
 #![cfg(feature = "alloc")]
 
@@ -7,7 +7,7 @@ mod common;
 use canopen_codec::od::{Access, MemoryDictionary};
 use canopen_codec::sdo::{ClientEvent, ServerEvent};
 use canopen_codec::Timestamp;
-use common::pair::{Dir, Pair};
+use common::sdo::{SdoPair, CLIENT};
 use proptest::prelude::*;
 
 fn od_with(index: u16, sub: u8, max: usize) -> MemoryDictionary {
@@ -17,15 +17,14 @@ fn od_with(index: u16, sub: u8, max: usize) -> MemoryDictionary {
 }
 
 /// Writes `value` then reads it back through the pair; returns the pair.
-fn write_then_read(index: u16, sub: u8, value: &[u8], latency_us: u64) -> Pair {
-    let mut p = Pair::new(5, od_with(index, sub, 4096));
+fn write_then_read(index: u16, sub: u8, value: &[u8], latency_us: u64) -> SdoPair {
+    let mut p = SdoPair::new(5, od_with(index, sub, 4096));
     p.latency_us = latency_us;
-    p.client
-        .start_download(p.now, index, sub, value.to_vec())
+    p.with_client(|c, now| c.start_download(now, index, sub, value.to_vec()))
         .unwrap();
     p.drive_bounded(10_000).unwrap();
     assert_eq!(
-        p.client_events,
+        p.client_events(),
         vec![ClientEvent::Downloaded {
             index,
             sub,
@@ -33,20 +32,21 @@ fn write_then_read(index: u16, sub: u8, value: &[u8], latency_us: u64) -> Pair {
         }]
     );
     assert_eq!(
-        p.server_events,
+        p.server_events(),
         vec![ServerEvent::Downloaded {
             index,
             sub,
             len: value.len()
         }]
     );
-    assert_eq!(p.server.od().get(index, sub), Some(value));
+    assert_eq!(p.od().get(index, sub), Some(value));
     p.clear_events();
-    p.client.start_upload(p.now, index, sub).unwrap();
+    p.with_client(|c, now| c.start_upload(now, index, sub))
+        .unwrap();
     p.drive_bounded(10_000).unwrap();
     assert_eq!(p.uploaded(), value);
     assert_eq!(
-        p.client_events.last(),
+        p.client_events().last(),
         Some(&ClientEvent::Uploaded {
             index,
             sub,
@@ -54,7 +54,7 @@ fn write_then_read(index: u16, sub: u8, value: &[u8], latency_us: u64) -> Pair {
         })
     );
     assert_eq!(
-        p.server_events,
+        p.server_events(),
         vec![ServerEvent::Uploaded {
             index,
             sub,
@@ -75,7 +75,7 @@ fn sizes_around_every_boundary() {
         } else {
             1 + len.div_ceil(7).max(1)
         };
-        let to_server = p.wire.iter().filter(|w| w.1 == Dir::ToServer).count();
+        let to_server = p.sent_by(CLIENT).count();
         // The download and the upload each take `frames_per_direction` requests.
         assert_eq!(to_server, 2 * frames_per_direction, "len {len}");
     }
@@ -83,9 +83,8 @@ fn sizes_around_every_boundary() {
 
 #[test]
 fn drive_bounded_reports_livelock() {
-    let mut p = Pair::new(5, od_with(0x2000, 0, 4096));
-    p.client
-        .start_download(p.now, 0x2000, 0, vec![0; 2000])
+    let mut p = SdoPair::new(5, od_with(0x2000, 0, 4096));
+    p.with_client(|c, now| c.start_download(now, 0x2000, 0, vec![0; 2000]))
         .unwrap();
     assert!(p.drive_bounded(10).is_err());
 }
@@ -118,53 +117,50 @@ fn check_drop(len: usize, upload: bool, k: usize, latency_us: u64) {
     let value: Vec<u8> = (0..len).map(|i| i as u8 ^ 0x5A).collect();
     let mut od = od_with(index, 0, 4096);
     od.set(index, 0, &value);
-    let mut p = Pair::new(9, od);
+    let mut p = SdoPair::new(9, od);
     p.latency_us = latency_us;
-    p.drop = vec![k];
+    p.drop_nth(k);
     if upload {
-        p.client.start_upload(p.now, index, 0).unwrap();
+        p.with_client(|c, now| c.start_upload(now, index, 0))
+            .unwrap();
     } else {
-        p.client
-            .start_download(p.now, index, 0, vec![0xEE; len])
+        p.with_client(|c, now| c.start_download(now, index, 0, vec![0xEE; len]))
             .unwrap();
     }
     p.drive_bounded(10_000).unwrap();
-    let ctx = format!("len={len} upload={upload} k={k} wire={:?}", p.wire);
-    let terminal: Vec<&ClientEvent> = p.client_events.iter().filter(|e| e.is_terminal()).collect();
+    let ctx = format!("len={len} upload={upload} k={k} wire={:?}", p.log());
+    let client_events = p.client_events();
+    let server_events = p.server_events();
+    let terminal: Vec<&ClientEvent> = client_events.iter().filter(|e| e.is_terminal()).collect();
     assert_eq!(terminal.len(), 1, "{ctx}");
     assert!(is_timeout_abort(terminal[0]), "{ctx}");
     if k == 0 {
-        assert_eq!(p.server_events, vec![], "first request lost: {ctx}");
+        assert_eq!(p.server_events(), vec![], "first request lost: {ctx}");
     } else if k == n - 1 {
-        assert_eq!(p.server_events.len(), 1, "{ctx}");
+        assert_eq!(server_events.len(), 1, "{ctx}");
         assert!(
             matches!(
-                p.server_events[0],
+                server_events[0],
                 ServerEvent::Uploaded { .. } | ServerEvent::Downloaded { .. }
             ),
             "{ctx}"
         );
     } else {
-        assert_eq!(p.server_events.len(), 1, "{ctx}");
-        assert!(is_timeout_abort(&p.server_events[0]), "{ctx}");
+        assert_eq!(server_events.len(), 1, "{ctx}");
+        assert!(is_timeout_abort(&server_events[0]), "{ctx}");
     }
     // A download that did not complete left the old value in place.
-    if !upload
-        && !matches!(
-            p.server_events.first(),
-            Some(ServerEvent::Downloaded { .. })
-        )
-    {
-        assert_eq!(p.server.od().get(index, 0), Some(value.as_slice()), "{ctx}");
+    if !upload && !matches!(server_events.first(), Some(ServerEvent::Downloaded { .. })) {
+        assert_eq!(p.od().get(index, 0), Some(value.as_slice()), "{ctx}");
     }
     // Nothing is pending afterwards, and it took the timeout to get there.
-    assert!(!p.client.is_busy() && !p.server.is_busy());
-    assert!(p.now >= Timestamp::from_millis(2000));
+    assert!(!p.client().is_busy() && !p.server().is_busy());
+    assert!(p.now() >= Timestamp::from_millis(2000));
     // Every abort on the wire carries the transfer's index and the timeout code.
-    for (_, _, f, _) in &p.wire {
-        if f.data().first() == Some(&0x80) {
+    for s in p.log() {
+        if s.frame.data().first() == Some(&0x80) {
             assert_eq!(
-                f.data(),
+                s.frame.data(),
                 &[0x80, 0x00, 0x21, 0x00, 0x00, 0x00, 0x04, 0x05],
                 "{ctx}"
             );

@@ -14,7 +14,7 @@ use canopen_codec::cia418::{
 };
 use canopen_codec::cia419::{Charger, ChargerConfig};
 use canopen_codec::{CanFrame, NodeId, Timestamp};
-use common::bus::Bus;
+use common::devices::{boot_all, charger_bus};
 
 const EPOCH_US: u64 = 1_763_800_000_000_000;
 const FILE: &str = "tests/data/virtual-session.log";
@@ -45,25 +45,25 @@ fn session() -> String {
         o.extended_status = 0x1130; // normal charge, <80 %, charger enabled, AC present
         o.charger_status = 0x01;
     });
-    let mut bus = Bus::new(Some(charger), Some(battery(ms(0))));
-    bus.boot_all();
+    let (mut bus, c, b) = charger_bus(charger, Some(battery(ms(0))));
+    boot_all(&mut bus, c, b);
     bus.run_until(ms(20));
     // The BMS starts every node.
     bus.inject(CanFrame::standard(0x000, &[0x01, 0x00]).unwrap());
     bus.run_until(ms(5000));
-    bus.battery = None; // unplugged
+    bus.unplug(b);
     bus.run_until(ms(9000));
-    bus.battery = Some(battery(ms(9000)));
-    bus.battery.as_mut().unwrap().boot(ms(9000));
+    bus.plug(b, battery(ms(9000)));
+    bus.with(b, |m, now| m.boot(now));
     bus.run_until(ms(9020));
     bus.inject(CanFrame::standard(0x000, &[0x01, 0x00]).unwrap());
     bus.run_until(ms(12_000));
     let mut out = String::new();
-    for (t, _, f) in &bus.log {
+    for s in bus.log() {
         let line = LogLineDisplay {
-            timestamp: Timestamp::from_micros(EPOCH_US + t.as_micros()),
+            timestamp: Timestamp::from_micros(EPOCH_US + s.at.as_micros()),
             interface: "vcan0",
-            frame: f,
+            frame: &s.frame,
         };
         out.push_str(&format!("{line}\n"));
     }

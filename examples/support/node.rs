@@ -33,26 +33,13 @@
 
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
+use canopen_codec::machine::Machine;
 use canopen_codec::{CanFrame, Timestamp};
 
 use crate::bus::{Input, PipeBus};
 
 /// Most timer runs one catch-up performs.
 const MAX_STEPS: usize = 1_000_000;
-
-/// A node the runner drives (the crate's poll contract, plus its events in words).
-pub trait Device {
-    /// Feeds a received frame.
-    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame);
-    /// Time has passed.
-    fn handle_timeout(&mut self, now: Timestamp);
-    /// The next frame to send.
-    fn poll_transmit(&mut self) -> Option<CanFrame>;
-    /// The next deadline.
-    fn poll_timeout(&self) -> Option<Timestamp>;
-    /// The events since the last call, in words.
-    fn events(&mut self) -> Vec<String>;
-}
 
 /// The clock described in this file's docs. All values are microseconds;
 /// "external" is the base of the output lines, "internal" the module's.
@@ -131,20 +118,33 @@ impl Clock {
     }
 }
 
-/// A device on a pipe with its clock.
-pub struct Runner<D> {
+/// A state machine (the crate's [`Machine`] contract) on a pipe with its
+/// clock; its events are printed on stderr in the words `describe` gives
+/// them (`None`: not printed).
+pub struct Runner<M: Machine> {
     pub bus: PipeBus,
     pub clock: Clock,
-    pub device: D,
+    pub device: M,
+    describe: fn(&M::Event) -> Option<String>,
 }
 
-impl<D: Device> Runner<D> {
+impl<M: Machine> Runner<M> {
     /// Starts the clock on `bus`; returns the runner and the boot instant
     /// (internal time) at which to boot the device.
-    pub fn new(bus: PipeBus, device: D) -> (Self, Timestamp) {
+    pub fn new(
+        bus: PipeBus,
+        device: M,
+        describe: fn(&M::Event) -> Option<String>,
+    ) -> (Self, Timestamp) {
         let clock = Clock::new(&bus);
         let boot = clock.internal(clock.last);
-        (Runner { bus, clock, device }, boot)
+        let runner = Runner {
+            bus,
+            clock,
+            device,
+            describe,
+        };
+        (runner, boot)
     }
 
     /// Sends what the device has queued, stamped `internal`, and prints its events.
@@ -153,8 +153,10 @@ impl<D: Device> Runner<D> {
         while let Some(f) = self.device.poll_transmit() {
             self.bus.send_at(&f, at);
         }
-        for e in self.device.events() {
-            eprintln!("{e}");
+        while let Some(e) = self.device.poll_event() {
+            if let Some(words) = (self.describe)(&e) {
+                eprintln!("{words}");
+            }
         }
     }
 

@@ -1,9 +1,10 @@
 //! Test support shared by the integration tests (public API only).
 #![allow(dead_code)]
 
-pub mod bus;
+pub mod devices;
 #[cfg(feature = "alloc")]
-pub mod pair;
+pub mod sdo;
+pub mod sim;
 
 use canopen_codec::{CanFrame, CanId};
 
