@@ -224,7 +224,9 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
                     serial_number,
                 };
             }
-            "--heartbeat-ms" => o.config.heartbeat_ms = int(value()?)?,
+            "--heartbeat-ms" => {
+                o.config.heartbeat = std::time::Duration::from_millis(u64::from(int(value()?)?));
+            }
             "--no-enable-tpdos" => o.config.enable_tpdos = false,
             "--simulate" => o.simulate = true,
             "--nmt-start" => o.nmt_start = true,
@@ -339,6 +341,8 @@ fn describe(e: &BatteryEvent) -> Option<String> {
             };
             format!("event: SDO transfer of {index:04X}h sub {sub:02X}h aborted {by}: {code}")
         }
+        BatteryEvent::Heartbeat(h) => format!("event: heartbeat supervision: {h:?}"),
+        _ => return None,
     };
     Some(words)
 }
@@ -382,7 +386,7 @@ fn main() -> ExitCode {
         "battery_module: node {}, device type {:08X}h, heartbeat {} ms, TPDOs {}",
         o.config.node,
         o.config.device_type.raw(),
-        o.config.heartbeat_ms,
+        o.config.heartbeat.as_millis(),
         if o.config.enable_tpdos {
             "enabled"
         } else {

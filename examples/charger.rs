@@ -1,7 +1,7 @@
 //! A virtual Delta-Q style CiA 419 charger on a pipe: candump log lines in on
 //! stdin, the frames it sends out on stdout (one candump log line per frame,
 //! flushed), its events in words on stderr. It runs one
-//! [`Charger`](canopen_codec::cia419::Charger): heartbeat supervision of the
+//! [`Charger`](canopen_codec::deltaq::Charger): heartbeat supervision of the
 //! battery module, PDO COB-ID pairing by SDO, TPDOs, EMCYs.
 //!
 //! ```text
@@ -32,8 +32,9 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use bus::PipeBus;
-use canopen_codec::cia419::{Charger, ChargerConfig, ChargerEvent};
+use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
 use canopen_codec::deltaq::{OperatingMode, Reaction};
+use canopen_codec::device::DeviceEvent;
 use canopen_codec::NodeId;
 use node::Runner;
 
@@ -91,8 +92,12 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
             }
             "--no-configure" => o.config.configure_cob_ids = false,
             "--self-start" => o.config.self_start = true,
-            "--heartbeat-ms" => o.config.heartbeat_ms = ms(value()?)?,
-            "--battery-timeout-ms" => o.config.battery_timeout_ms = ms(value()?)?,
+            "--heartbeat-ms" => {
+                o.config.heartbeat = Duration::from_millis(u64::from(ms(value()?)?))
+            }
+            "--battery-timeout-ms" => {
+                o.config.battery_timeout = Duration::from_millis(u64::from(ms(value()?)?));
+            }
             "--current" => o.current_a = number(value()?)?,
             "--voltage" => o.voltage_v = number(value()?)?,
             "--linger-ms" => o.linger = Duration::from_millis(u64::from(ms(value()?)?)),
@@ -110,7 +115,13 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
 /// 200 ms).
 fn describe(e: &ChargerEvent) -> Option<String> {
     let words = match *e {
-        ChargerEvent::NmtStateChanged { from, to } => format!("event: NMT {from} -> {to}"),
+        ChargerEvent::Device(DeviceEvent::NmtStateChanged { from, to }) => {
+            format!("event: NMT {from} -> {to}")
+        }
+        ChargerEvent::Device(DeviceEvent::Reset { node }) => {
+            let what = if node { "node" } else { "communication" };
+            format!("event: NMT reset {what}")
+        }
         ChargerEvent::BatteryFound { state } => {
             format!("event: battery module found ({state})")
         }
@@ -139,11 +150,17 @@ fn describe(e: &ChargerEvent) -> Option<String> {
                 emcy.register.bits()
             )
         }
-        ChargerEvent::RpdoReceived { .. } => return None,
-        ChargerEvent::RpdoRefused { pdo, error } => format!("event: RPDO {pdo} refused: {error}"),
-        ChargerEvent::ObjectWritten { index, sub } => {
+        ChargerEvent::Device(DeviceEvent::RpdoRefused { pdo, error }) => {
+            format!("event: RPDO {pdo} refused: {error}")
+        }
+        ChargerEvent::Device(DeviceEvent::ObjectWritten { index, sub }) => {
             format!("event: SDO download to {index:04X}h sub {sub:02X}h")
         }
+        ChargerEvent::Device(DeviceEvent::SdoAborted {
+            index, sub, code, ..
+        }) => format!("event: SDO transfer of {index:04X}h sub {sub:02X}h aborted: {code}"),
+        // RPDOs come every 200 ms; heartbeats are reported as battery found/lost.
+        _ => return None,
     };
     Some(words)
 }

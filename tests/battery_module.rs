@@ -7,6 +7,7 @@ use canopen_codec::cia418::{
     PackedStringObject, Temperature,
 };
 use canopen_codec::emcy::ErrorRegister;
+use canopen_codec::machine::Machine;
 use canopen_codec::nmt::NmtState;
 use canopen_codec::pdo::{PdoDirection, RpdoError};
 use canopen_codec::sdo::{AbortCode, AbortOrigin};

@@ -6,8 +6,9 @@
 mod common;
 
 use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig, BatteryStatus, DeviceType};
-use canopen_codec::cia419::{Charger, ChargerConfig, ChargerEvent};
 use canopen_codec::deltaq::Reaction;
+use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
+use canopen_codec::device::DeviceEvent;
 use canopen_codec::emcy::ErrorCode;
 use canopen_codec::sdo::AbortCode;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
@@ -92,10 +93,10 @@ fn normal_start() {
     assert_eq!(
         events(&bus, c)[..3],
         [
-            ChargerEvent::NmtStateChanged {
+            ChargerEvent::Device(DeviceEvent::NmtStateChanged {
                 from: canopen_codec::nmt::NmtState::BootUp,
                 to: canopen_codec::nmt::NmtState::PreOperational
-            },
+            }),
             ChargerEvent::BatteryFound {
                 state: canopen_codec::nmt::NmtState::BootUp
             },
@@ -163,7 +164,7 @@ fn battery_lost_during_charge_then_restored() {
     let tpdos = bus.frames_on(0x201);
     assert_eq!(tpdos.last().unwrap().0, 3_900_500, "no TPDO after the loss");
     let charger = bus.machine(c);
-    assert_eq!(charger.objects().errors(), &[0x2080_8130]);
+    assert_eq!(charger.comm().errors(), &[0x2080_8130]);
     assert!(!charger.is_configured());
     assert!(events(&bus, c).contains(&ChargerEvent::BatteryLost));
     // Communication restored: a new module boots at 6000 ms; the charger
@@ -306,7 +307,7 @@ fn module_whose_sdo_server_aborts() {
         bus.frames_on(0x201).is_empty(),
         "no TPDO without a configuration"
     );
-    assert_eq!(bus.machine(c).objects().errors(), &[0x1E80_8130]);
+    assert_eq!(bus.machine(c).comm().errors(), &[0x1E80_8130]);
 }
 
 #[test]
@@ -351,7 +352,7 @@ fn without_cob_id_configuration_defaults_are_used() {
     // The module's TPDO 0 (181h) is not one of the charger's RPDOs here.
     assert!(!events(&bus, c)
         .iter()
-        .any(|e| matches!(e, ChargerEvent::RpdoReceived { .. })));
+        .any(|e| matches!(e, ChargerEvent::Device(DeviceEvent::RpdoReceived { .. }))));
 }
 
 #[test]

@@ -495,7 +495,8 @@ const CASES: &[Case] = &[
         "charger and battery module: boot, configuration, NMT start, PDOs, loss",
         |_| {
             use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig};
-            use canopen_codec::cia419::{Charger, ChargerConfig};
+            use canopen_codec::deltaq::{Charger, ChargerConfig};
+            use canopen_codec::machine::Machine;
             let (c_node, b_node) = (NodeId::new(10).unwrap(), NodeId::new(1).unwrap());
             let mut charger = Charger::new(ChargerConfig::new(c_node, b_node));
             let mut battery = BatteryModule::new(BatteryModuleConfig::new(b_node));

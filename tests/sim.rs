@@ -9,7 +9,7 @@ use std::collections::VecDeque;
 use std::time::Duration;
 
 use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig};
-use canopen_codec::cia419::{Charger, ChargerConfig, ChargerEvent};
+use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
 use canopen_codec::heartbeat::{
     ConsumerEntry, HeartbeatConsumer, HeartbeatEvent, HeartbeatProducer,
 };

@@ -1,11 +1,13 @@
 //! The CiA 418 battery module under arbitrary frames and time steps.
 //! Invariants: no panic; every frame it sends is its own (heartbeat 701h,
 //! EMCY 81h, SDO response 581h) or one of its valid TPDO COB-IDs, and TPDOs
-//! only in NMT operational.
+//! only in NMT operational; a twin module whose events are never read sends
+//! exactly the same frames and has the same deadlines (back-pressure).
 #![no_main]
 
 use arbitrary::Arbitrary;
 use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig, DeviceType};
+use canopen_codec::machine::Machine;
 use canopen_codec::nmt::NmtState;
 use canopen_codec::pdo::PdoDirection;
 use canopen_codec::{CanFrame, CanId, NodeId, PdoNumber, Timestamp};
@@ -25,8 +27,12 @@ fuzz_target!(|input: (u8, Vec<Op>)| {
     let mut config = BatteryModuleConfig::new(NodeId::new(1).unwrap());
     config.device_type = DeviceType::cia418(u32::from(bits & 0x1F) << 16);
     let mut m = BatteryModule::new(config);
+    // A twin whose events are never read: the back-pressure rule says it
+    // sends exactly the same frames at the same deadlines.
+    let mut twin = BatteryModule::new(config);
     let mut now = Timestamp::from_millis(1);
     m.boot(now);
+    twin.boot(now);
     for op in ops.into_iter().take(300) {
         match op {
             Op::Frame { id_sel, raw_id, data, len } => {
@@ -34,6 +40,7 @@ fuzz_target!(|input: (u8, Vec<Op>)| {
                 let len = usize::from(len % 9);
                 let f = CanFrame::new(CanId::Standard(id), &data[..len]).unwrap();
                 m.handle_frame(now, &f);
+                twin.handle_frame(now, &f);
             }
             Op::Advance { micros, backwards } => {
                 now = if backwards {
@@ -42,10 +49,16 @@ fuzz_target!(|input: (u8, Vec<Op>)| {
                     now.add_micros(u64::from(micros) * 8)
                 };
                 m.handle_timeout(now);
+                twin.handle_timeout(now);
             }
-            Op::Fault(on) => m.set_temperature_sensor_fault(now, on),
+            Op::Fault(on) => {
+                m.set_temperature_sensor_fault(now, on);
+                twin.set_temperature_sensor_fault(now, on);
+            }
         }
+        assert_eq!(m.poll_timeout(), twin.poll_timeout(), "deadlines differ when undrained");
         while let Some(f) = m.poll_transmit() {
+            assert_eq!(twin.poll_transmit(), Some(f), "undrained twin sent otherwise");
             let CanId::Standard(id) = f.id() else { panic!("29-bit frame sent: {f}") };
             if [0x701, 0x081, 0x581].contains(&id) {
                 continue;
@@ -58,6 +71,8 @@ fuzz_target!(|input: (u8, Vec<Op>)| {
             assert!(is_tpdo, "frame for another node's COB-ID: {f}");
             assert_eq!(m.nmt_state(), NmtState::Operational, "TPDO outside operational: {f}");
         }
+        assert_eq!(twin.poll_transmit(), None, "undrained twin sent more");
         while m.poll_event().is_some() {}
+        assert_eq!(m.events_dropped(), 0, "drained after every step: nothing dropped");
     }
 });

@@ -22,7 +22,7 @@
 //! - **Objects**: 1000h is profile 418 with the optional-PDO bits of
 //!   [`BatteryModuleConfig::device_type`]; the application objects
 //!   6000h-6090h are [`BatteryObjects`]. Reset node (81h) restores them to
-//!   their values at [`BatteryModule::new`]; reset communication (82h)
+//!   their values at [`BatteryModule::boot`]; reset communication (82h)
 //!   keeps them.
 //! - **TPDOs**: the CiA 418 default set ([`DEFAULT_PDOS`]) for the PDOs the
 //!   device type declares. CiA 418 v1.0.1 (6.2.5) makes the TPDO COB-IDs

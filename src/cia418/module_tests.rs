@@ -1,7 +1,7 @@
 use super::*;
 use crate::machine::Machine;
-use crate::sdo::AbortCode;
-use crate::{CanFrame, CanId, PdoNumber};
+
+use crate::{CanFrame, PdoNumber};
 
 fn module() -> BatteryModule {
     BatteryModule::new(BatteryModuleConfig::default())

@@ -66,14 +66,14 @@ mod tests {
     #[test]
     fn pairs_row_by_row() {
         use PdoDirection::{Receive as R, Transmit as T};
-        let (P0, P1, P2) = (PdoNumber::P0, PdoNumber::P1, PdoNumber::P2);
+        let (p0, p1, p2) = (PdoNumber::P0, PdoNumber::P1, PdoNumber::P2);
         let want = [
-            (0x1400, T, P0, None),
-            (0x1800, R, P0, None),
-            (0x1401, T, P1, Some(16)),
-            (0x1402, T, P2, Some(17)),
-            (0x1801, R, P1, Some(18)),
-            (0x1802, R, P2, Some(19)),
+            (0x1400, T, p0, None),
+            (0x1800, R, p0, None),
+            (0x1401, T, p1, Some(16)),
+            (0x1402, T, p2, Some(17)),
+            (0x1801, R, p1, Some(18)),
+            (0x1802, R, p2, Some(19)),
         ];
         for (p, (index, dir, n, bit)) in PDO_PAIRS.iter().zip(want) {
             assert_eq!(

@@ -530,6 +530,16 @@ impl ChargerProfile {
 }
 
 impl Profile<ChargerObjects, ChargerEvent> for ChargerProfile {
+    /// The battery module's heartbeat events are reported as
+    /// [`ChargerEvent::BatteryFound`] / [`ChargerEvent::BatteryLost`].
+    fn keep_event(&self, event: &DeviceEvent) -> bool {
+        let battery = self.config.battery;
+        !matches!(event, DeviceEvent::Heartbeat(
+            HeartbeatEvent::BootUp(n) | HeartbeatEvent::Lost(n)
+            | HeartbeatEvent::Restored { node: n, .. } | HeartbeatEvent::StateChanged { node: n, .. }
+        ) if *n == battery)
+    }
+
     fn on_event(&mut self, device: &mut ChargerDevice, now: Timestamp, event: &DeviceEvent) {
         let battery = self.config.battery;
         match *event {

@@ -24,8 +24,9 @@
 //! - **NMT** ([`NmtSlave`]): nothing is handled before [`Device::boot`].
 //!   Boot and every reset send the boot-up message and enter
 //!   pre-operational. **Reset node** (81h) restores every object to its
-//!   power-on value: the communication objects, the PDO configuration and
-//!   the application objects. **Reset communication** (82h) restores only
+//!   power-on value: the communication objects and the PDO configuration
+//!   to the [`DeviceConfig`], the application objects to their values at
+//!   [`Device::boot`] (what the application set before booting). **Reset communication** (82h) restores only
 //!   the communication objects (1000h-1FFFh, PDO configuration included)
 //!   and keeps the application objects. Both drop a running SDO transfer
 //!   silently, restart the heartbeat and are reported as
@@ -215,7 +216,14 @@ pub enum DeviceEvent {
 /// What a profile adds to the device core. Every method has a default that
 /// does nothing, so `()` is the profile of a plain CiA 301 device.
 pub trait Profile<A, E: Copy> {
-    /// A core event happened (it is already queued for the application).
+    /// Whether a core event goes to the application's queue (default: all;
+    /// a profile that reports an event in its own words drops it here).
+    fn keep_event(&self, event: &DeviceEvent) -> bool {
+        let _ = event;
+        true
+    }
+
+    /// A core event happened (after it was queued, if kept).
     fn on_event(&mut self, device: &mut Device<A, E>, now: Timestamp, event: &DeviceEvent) {
         let _ = (device, now, event);
     }
@@ -288,7 +296,7 @@ pub struct Device<A, E: Copy> {
     rpdos: RpdoReceiver,
     /// The profile allows TPDOs (besides NMT operational).
     tpdos_enabled: bool,
-    /// The application objects at power-on (restored by reset node).
+    /// The application objects at boot (restored by reset node).
     power_on: A,
     transmit: Queue<CanFrame, 16>,
     frames_dropped: u64,
@@ -300,8 +308,8 @@ where
     A: ObjectDictionary + Clone,
     E: Copy + From<DeviceEvent>,
 {
-    /// A device with `config` over the application objects `app` (their
-    /// power-on values), not yet booted.
+    /// A device with `config` over the application objects `app`, not yet
+    /// booted.
     pub fn new(config: DeviceConfig, app: A) -> Self {
         let od = PdoDictionary::new(
             config.pdos,
@@ -401,6 +409,9 @@ where
     /// Boots the device (power-on): boot-up message, pre-operational. The
     /// profile sees the state change (use `&mut ()` for a plain device).
     pub fn boot<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+        // The application objects as they are now are the power-on values
+        // reset node restores.
+        self.power_on = self.objects().clone();
         self.restart(now, ResetKind::Node);
         self.drain_nmt(now, profile);
     }
@@ -612,7 +623,9 @@ where
     // ----- internals -------------------------------------------------------
 
     fn emit<P: Profile<A, E>>(&mut self, now: Timestamp, event: DeviceEvent, profile: &mut P) {
-        self.events.push(E::from(event));
+        if profile.keep_event(&event) {
+            self.events.push(E::from(event));
+        }
         profile.on_event(self, now, &event);
     }
 

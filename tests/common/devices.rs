@@ -2,7 +2,7 @@
 //! [`CHARGER`] and [`BATTERY`]).
 
 use canopen_codec::cia418::BatteryModule;
-use canopen_codec::cia419::Charger;
+use canopen_codec::deltaq::Charger;
 
 use super::sim::{Handle, Sim};
 
