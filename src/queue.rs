@@ -57,12 +57,14 @@ impl<T: Copy, const N: usize> Queue<T, N> {
     }
 
     /// Items queued.
+    #[cfg(test)]
     #[inline]
     pub(crate) const fn len(&self) -> usize {
         self.len
     }
 
     /// Drops everything queued.
+    #[cfg(test)]
     #[inline]
     pub(crate) fn clear(&mut self) {
         self.head = 0;
@@ -111,6 +113,7 @@ impl<T: Copy, const N: usize> EventQueue<T, N> {
     }
 
     /// Events queued.
+    #[cfg(test)]
     #[inline]
     pub(crate) const fn len(&self) -> usize {
         self.queue.len()

@@ -4,6 +4,7 @@
 
 use std::collections::VecDeque;
 
+use canopen_codec::machine::Machine;
 use canopen_codec::od::{MemoryDictionary, ObjectDictionary};
 use canopen_codec::sdo::{Client, ClientConfig, ClientEvent, Server, ServerConfig, ServerEvent};
 use canopen_codec::{CanFrame, NodeId, Timestamp};
