@@ -21,3 +21,6 @@ pub use wire::{
     abort_code_of, ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoRequest, SdoResponse,
     ServerBlockDownload, ServerBlockUpload, ServerCommand,
 };
+
+#[cfg(test)]
+mod machine_tests;
