@@ -36,7 +36,7 @@
 //! holds until the transfer ends. With the `alloc` feature,
 //! [`UploadBuffer`](super::UploadBuffer) collects an upload into a `Vec`.
 //!
-//! # Behaviour (CiA 301 section 7.2.4, service data object, and the choices made here)
+//! # Behaviour (CiA 301 section 7.2.4, SDO, and the choices made here)
 //!
 //! - Values of 1..=4 bytes are downloaded expedited with the size indicated;
 //!   empty and longer values segmented with the size indicated (an empty value

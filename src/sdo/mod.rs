@@ -1,7 +1,8 @@
 //! Service data objects (SDO), CiA 301: abort codes and the frame codec.
 //!
 //! [`Client`] and [`Server`] are the sans-IO state machines for expedited
-//! and segmented transfers; both implement the state-machine contract of [`crate::machine`].
+//! and segmented transfers; both implement the state-machine contract of
+//! [`crate::machine`].
 
 mod abort;
 mod client;

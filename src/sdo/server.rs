@@ -26,7 +26,7 @@
 //! - **Timer**: one, the timeout for the client's next frame, armed on
 //!   every response of a running transfer and stopped when it ends.
 //!
-//! # Behaviour (CiA 301 section 7.2.4, service data object, and the choices made here)
+//! # Behaviour (CiA 301 section 7.2.4, SDO, and the choices made here)
 //!
 //! - One transfer at a time. A new *initiate* request while a transfer is
 //!   running supersedes it: the old transfer ends with
