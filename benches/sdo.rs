@@ -6,6 +6,7 @@
 
 use std::hint::black_box;
 
+use canopen_codec::machine::Machine;
 use canopen_codec::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
 use canopen_codec::sdo::{AbortCode, Client, ClientConfig, ClientEvent, Server, ServerConfig};
 use canopen_codec::{NodeId, Timestamp};

@@ -338,6 +338,7 @@ fn describe(e: &BatteryEvent) -> Option<String> {
                 AbortOrigin::Local => "by us",
                 AbortOrigin::Peer => "by the client",
                 AbortOrigin::Superseded => "superseded by a new request",
+                _ => "for another reason",
             };
             format!("event: SDO transfer of {index:04X}h sub {sub:02X}h aborted {by}: {code}")
         }

@@ -20,6 +20,7 @@ mod bus;
 use std::process::ExitCode;
 
 use bus::{Input, PipeBus};
+use canopen_codec::machine::Machine;
 use canopen_codec::od::{Access, MemoryDictionary};
 use canopen_codec::sdo::{
     Client, ClientConfig, Collected, Server, ServerConfig, ServerEvent, UploadBuffer,
@@ -156,6 +157,7 @@ fn run_server(node: NodeId) -> ExitCode {
                     "EVENT aborted {index:04X}:{sub:02X} {:08X} {origin:?}",
                     code.to_u32()
                 ),
+                other => eprintln!("EVENT {other:?}"),
             }
         }
     }

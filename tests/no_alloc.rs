@@ -20,6 +20,7 @@ use std::path::Path;
 
 use canopen_codec::cob_id::{classify, classify_standard};
 use canopen_codec::emcy::{Emergency, ErrorCode, ErrorFieldEntry};
+use canopen_codec::machine::Machine;
 use canopen_codec::nmt::{Heartbeat, NmtCommand};
 use canopen_codec::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
 use canopen_codec::sdo::{

@@ -6,6 +6,7 @@
 mod common;
 
 use canopen_codec::cia418::DEFAULT_PDOS;
+use canopen_codec::machine::Machine;
 use canopen_codec::od::{Access, MemoryDictionary};
 use canopen_codec::pdo::{
     MappingEntry, PdoCobId, PdoCommParams, PdoConfig, PdoDictionary, PdoDirection, PdoMapping,

@@ -4,6 +4,7 @@
 
 mod common;
 
+use canopen_codec::machine::Machine;
 use canopen_codec::od::{Access, MemoryDictionary};
 use canopen_codec::sdo::{
     AbortCode, AbortOrigin, Client, ClientConfig, ClientEvent, Server, ServerConfig, ServerEvent,
@@ -549,23 +550,36 @@ fn time_going_backwards_never_panics_or_expires() {
 }
 
 #[test]
-fn undrained_queues_apply_back_pressure() {
-    // A client whose events are never drained stops taking responses; the
-    // transfer then ends in one timeout abort instead of losing data.
+fn undrained_events_never_stall_a_transfer() {
+    // A client whose events are never drained goes on taking responses:
+    // every segment is requested, the oldest events are dropped and
+    // counted, and a stalled server still ends in one timeout abort.
     let mut c = client();
     c.start_upload(T0, 0x1008, 0).unwrap();
-    let _ = c.poll_transmit();
+    assert_eq!(c.poll_transmit(), Some(frame(0x601, "4008100000000000")));
     c.handle_frame(T0, &frame(0x581, "4108100064000000"));
     let mut toggle = false;
     for _ in 0..10 {
-        let _ = c.poll_transmit();
-        let cmd = if toggle { "10" } else { "00" };
-        c.handle_frame(T0, &frame(0x581, &format!("{cmd}41414141414141")));
+        let (req, seg) = if toggle { ("70", "10") } else { ("60", "00") };
+        assert_eq!(
+            c.poll_transmit(),
+            Some(frame(0x601, &format!("{req}00000000000000")))
+        );
+        c.handle_frame(T0, &frame(0x581, &format!("{seg}41414141414141")));
         toggle = !toggle;
     }
-    let _ = c.poll_transmit();
+    assert_eq!(c.poll_transmit(), Some(frame(0x601, "6000000000000000")));
     let events: Vec<ClientEvent> = std::iter::from_fn(|| c.poll_event()).collect();
-    assert_eq!(events.len(), 2, "{events:?}");
+    let offsets: Vec<usize> = events
+        .iter()
+        .map(|e| match e {
+            ClientEvent::UploadData { offset, .. } => *offset,
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    assert_eq!(offsets, [42, 49, 56, 63]);
+    assert_eq!(c.events_dropped(), 6);
+    assert_eq!(c.frames_dropped(), 0);
     assert!(c.is_busy());
     c.handle_timeout(Timestamp::from_millis(2000));
     assert_eq!(c.poll_transmit(), Some(frame(0x601, "8008100000000405")));

@@ -5,6 +5,7 @@
 
 mod common;
 
+use canopen_codec::machine::Machine;
 use canopen_codec::od::{Access, MemoryDictionary};
 use canopen_codec::sdo::{
     AbortCode, AbortOrigin, Client, ClientConfig, ClientEvent, Server, ServerConfig, ServerEvent,

@@ -1,11 +1,18 @@
 //! The SDO client under an arbitrary sequence of received frames, time steps
-//! and commands. Invariants: no panic; at most one transfer in progress
-//! (a start while busy is refused); every frame sent is a valid SDO request
-//! on the client's request identifier; every started transfer ends in at most
-//! one terminal event, and upload pieces arrive in order.
+//! and commands, run on two copies side by side: one whose events are read
+//! after every call, one whose events are read only when the input says so.
+//! Invariants: no panic; at most one transfer in progress (a start while
+//! busy is refused, and only then); every frame sent is a valid SDO request
+//! on the client's request identifier, at most one per call; both copies
+//! send exactly the same frames and keep the same timers (an undrained event
+//! queue never changes protocol behaviour); the undrained copy's events are
+//! the drained copy's with exactly `events_dropped` of them left out; every
+//! started transfer ends in exactly one terminal event, and upload pieces
+//! arrive in order.
 #![no_main]
 
 use arbitrary::Arbitrary;
+use canopen_codec::machine::Machine;
 use canopen_codec::sdo::{AbortCode, Client, ClientCommand, ClientConfig, ClientError, ClientEvent, SdoRequest};
 use canopen_codec::{CanFrame, CanId, NodeId, Timestamp};
 use libfuzzer_sys::fuzz_target;
@@ -19,20 +26,36 @@ enum Op {
     StartUpload { index: u16, sub: u8 },
     StartDownload { index: u16, sub: u8, len: u16 },
     Abort { code: u32 },
+    /// Read the second copy's events now.
+    ReadUndrained,
+    /// Leave this op's frames unsent until after the next op (both copies).
+    HoldTransmit,
 }
 
 const NODE: u8 = 3;
+
+/// `sub` is `full` with some elements left out, in order.
+fn is_subsequence<T: PartialEq>(sub: &[T], full: &[T]) -> bool {
+    let mut it = full.iter();
+    sub.iter().all(|x| it.any(|y| y == x))
+}
 
 fuzz_target!(|ops: Vec<Op>| {
     let node = NodeId::new(NODE).unwrap();
     let config = ClientConfig::for_server(node);
     let mut client: Client<Vec<u8>> = Client::new(config);
+    let mut undrained: Client<Vec<u8>> = Client::new(config);
     let mut now = Timestamp::from_millis(10_000);
     let mut started = 0usize;
     let mut terminal = 0usize;
     let mut expected_offset = 0usize;
+    let mut all_events: Vec<ClientEvent> = Vec::new();
+    let mut read_undrained: Vec<ClientEvent> = Vec::new();
+    let mut hold = false;
+    let mut held = 0u64;
     for op in ops.into_iter().take(256) {
         let was_busy = client.is_busy();
+        let hold_now = std::mem::take(&mut hold);
         match op {
             Op::Frame { other, remote, data, len } => {
                 let id = if other { CanId::Standard(0x580 + u16::from(NODE) + 1) } else { config.response_id };
@@ -43,6 +66,7 @@ fuzz_target!(|ops: Vec<Op>| {
                     CanFrame::new(id, &data[..len]).unwrap()
                 };
                 client.handle_frame(now, &frame);
+                undrained.handle_frame(now, &frame);
             }
             Op::Advance { micros, backwards } => {
                 now = if backwards {
@@ -51,19 +75,26 @@ fuzz_target!(|ops: Vec<Op>| {
                     now.add_micros(u64::from(micros) * 16)
                 };
                 client.handle_timeout(now);
+                undrained.handle_timeout(now);
             }
-            Op::StartUpload { index, sub } => match client.start_upload(now, index, sub) {
-                Ok(()) => {
-                    assert!(!was_busy);
-                    started += 1;
-                    expected_offset = 0;
+            Op::StartUpload { index, sub } => {
+                let result = client.start_upload(now, index, sub);
+                assert_eq!(undrained.start_upload(now, index, sub), result);
+                match result {
+                    Ok(()) => {
+                        assert!(!was_busy);
+                        started += 1;
+                        expected_offset = 0;
+                    }
+                    Err(ClientError::Busy) => assert!(was_busy),
+                    Err(e) => panic!("unexpected {e}"),
                 }
-                Err(ClientError::Busy) => assert!(was_busy),
-                Err(e) => panic!("unexpected {e}"),
-            },
+            }
             Op::StartDownload { index, sub, len } => {
                 let data = vec![0xA5; usize::from(len)];
-                match client.start_download(now, index, sub, data) {
+                let result = client.start_download(now, index, sub, data.clone());
+                assert_eq!(undrained.start_download(now, index, sub, data), result);
+                match result {
                     Ok(()) => {
                         assert!(!was_busy);
                         started += 1;
@@ -74,17 +105,36 @@ fuzz_target!(|ops: Vec<Op>| {
             }
             Op::Abort { code } => {
                 let aborted = client.abort(now, AbortCode::from(code));
+                assert_eq!(undrained.abort(now, AbortCode::from(code)), aborted);
                 assert_eq!(aborted, was_busy);
             }
+            Op::ReadUndrained => read_undrained.extend(std::iter::from_fn(|| undrained.poll_event())),
+            Op::HoldTransmit => hold = true,
         }
-        while let Some(f) = client.poll_transmit() {
-            assert_eq!(f.id(), config.request_id);
-            assert!(!f.is_remote());
-            assert_eq!(f.dlc(), 8, "{f}");
-            let req = SdoRequest::decode(f.data()).expect("client sends valid SDO frames");
-            assert!(!matches!(req.command, ClientCommand::Unknown(_)));
+        // An undrained transmit queue keeps the newest frame and counts the other.
+        assert!(client.frames_dropped() <= held);
+        assert_eq!(undrained.frames_dropped(), client.frames_dropped());
+        if hold_now {
+            held += 1;
+        } else {
+            let mut frames = 0;
+            while let Some(f) = client.poll_transmit() {
+                frames += 1;
+                assert_eq!(undrained.poll_transmit(), Some(f), "the copies' frames differ");
+                assert_eq!(f.id(), config.request_id);
+                assert!(!f.is_remote());
+                assert_eq!(f.dlc(), 8, "{f}");
+                let req = SdoRequest::decode(f.data()).expect("client sends valid SDO frames");
+                assert!(!matches!(req.command, ClientCommand::Unknown(_)));
+            }
+            assert!(frames <= 1, "at most one frame per call");
+            assert_eq!(undrained.poll_transmit(), None, "the copies' frames differ");
         }
+        assert_eq!(undrained.poll_timeout(), client.poll_timeout());
+        assert_eq!(undrained.is_busy(), client.is_busy());
+        assert_eq!(undrained.current(), client.current());
         while let Some(e) = client.poll_event() {
+            all_events.push(e);
             match e {
                 ClientEvent::UploadData { offset, data, .. } => {
                     assert_eq!(offset, expected_offset);
@@ -98,6 +148,7 @@ fuzz_target!(|ops: Vec<Op>| {
                 _ => terminal += 1,
             }
         }
+        assert_eq!(client.events_dropped(), 0, "a drained client drops no events");
         assert!(terminal <= started, "more terminal events than transfers");
         // A transfer that is no longer running has ended exactly once.
         if !client.is_busy() {
@@ -108,4 +159,10 @@ fuzz_target!(|ops: Vec<Op>| {
             assert!(client.poll_timeout().is_some());
         }
     }
+    // The undrained copy saw the same events, minus exactly the dropped ones
+    // (oldest first), and the newest is the newest there is.
+    read_undrained.extend(std::iter::from_fn(|| undrained.poll_event()));
+    assert!(is_subsequence(&read_undrained, &all_events));
+    assert_eq!(read_undrained.len() as u64 + undrained.events_dropped(), all_events.len() as u64);
+    assert_eq!(read_undrained.last(), all_events.last());
 });

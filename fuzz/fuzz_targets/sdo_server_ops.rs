@@ -1,11 +1,18 @@
 //! The SDO server under an arbitrary sequence of received frames and time
-//! steps. Invariants: no panic; at most one transfer in progress; every frame
-//! sent is a valid SDO response on the server's response identifier (at most
-//! one per request); a running transfer ends in exactly one terminal event;
-//! the dictionary only ever holds values the size rules allow.
+//! steps, run on two copies side by side: one whose events are read after
+//! every call, one whose events are read only when the input says so.
+//! Invariants: no panic; at most one transfer in progress; every frame sent
+//! is a valid SDO response on the server's response identifier (at most one
+//! per request); both copies send exactly the same frames, keep the same
+//! timers and end with the same dictionary (an undrained event queue never
+//! changes protocol behaviour); the undrained copy's events are the drained
+//! copy's with exactly `events_dropped` of them left out; a running
+//! transfer ends in exactly one terminal event; the dictionary only ever
+//! holds values the size rules allow.
 #![no_main]
 
 use arbitrary::Arbitrary;
+use canopen_codec::machine::Machine;
 use canopen_codec::od::{Access, MemoryDictionary, ObjectDictionary};
 use canopen_codec::sdo::{AbortOrigin, SdoResponse, Server, ServerCommand, ServerConfig, ServerEvent};
 use canopen_codec::{CanFrame, CanId, NodeId, Timestamp};
@@ -16,9 +23,12 @@ enum Op {
     /// A request frame; `shape` picks a well-formed command to steer the fuzzer.
     Frame { other: bool, remote: bool, shape: u8, data: [u8; 8], len: u8 },
     Advance { micros: u32, backwards: bool },
+    /// Read the second copy's events now.
+    ReadUndrained,
 }
 
 const NODE: u8 = 4;
+const OBJECTS: [u16; 6] = [0x1000, 0x1017, 0x2000, 0x2001, 0x1008, 0x2002];
 
 fn dictionary() -> MemoryDictionary {
     let mut od = MemoryDictionary::new();
@@ -31,11 +41,20 @@ fn dictionary() -> MemoryDictionary {
     od
 }
 
+/// `sub` is `full` with some elements left out, in order.
+fn is_subsequence<T: PartialEq>(sub: &[T], full: &[T]) -> bool {
+    let mut it = full.iter();
+    sub.iter().all(|x| it.any(|y| y == x))
+}
+
 fuzz_target!(|ops: Vec<Op>| {
     let node = NodeId::new(NODE).unwrap();
     let config = ServerConfig::for_node(node);
     let mut server = Server::new(config, dictionary());
+    let mut undrained = Server::new(config, dictionary());
     let mut now = Timestamp::from_millis(10_000);
+    let mut all_events: Vec<ServerEvent> = Vec::new();
+    let mut read_undrained: Vec<ServerEvent> = Vec::new();
     for op in ops.into_iter().take(256) {
         let was_busy = server.is_busy();
         match op {
@@ -56,6 +75,7 @@ fuzz_target!(|ops: Vec<Op>| {
                     CanFrame::new(id, &data[..len]).unwrap()
                 };
                 server.handle_frame(now, &frame);
+                undrained.handle_frame(now, &frame);
             }
             Op::Advance { micros, backwards } => {
                 now = if backwards {
@@ -64,18 +84,27 @@ fuzz_target!(|ops: Vec<Op>| {
                     now.add_micros(u64::from(micros) * 16)
                 };
                 server.handle_timeout(now);
+                undrained.handle_timeout(now);
             }
+            Op::ReadUndrained => read_undrained.extend(std::iter::from_fn(|| undrained.poll_event())),
         }
         let mut frames = 0;
         while let Some(f) = server.poll_transmit() {
             frames += 1;
+            assert_eq!(undrained.poll_transmit(), Some(f), "the copies' frames differ");
             assert_eq!(f.id(), config.response_id);
             assert_eq!(f.dlc(), 8);
             let resp = SdoResponse::decode(f.data()).expect("server sends valid SDO frames");
             assert!(!matches!(resp.command, ServerCommand::Unknown(_)));
         }
+        assert_eq!(undrained.poll_transmit(), None, "the copies' frames differ");
         assert!(frames <= 1, "one response per input");
+        assert_eq!((server.frames_dropped(), undrained.frames_dropped()), (0, 0));
+        assert_eq!(undrained.poll_timeout(), server.poll_timeout());
+        assert_eq!(undrained.is_busy(), server.is_busy());
         let events: Vec<ServerEvent> = std::iter::from_fn(|| server.poll_event()).collect();
+        assert_eq!(server.events_dropped(), 0, "a drained server drops no events");
+        all_events.extend_from_slice(&events);
         assert!(events.len() <= 2);
         if events.len() == 2 {
             assert!(matches!(events[0], ServerEvent::Aborted { origin: AbortOrigin::Superseded, .. }));
@@ -97,4 +126,11 @@ fuzz_target!(|ops: Vec<Op>| {
             }
         }
     }
+    for index in OBJECTS {
+        assert_eq!(undrained.od().get(index, 0), server.od().get(index, 0));
+    }
+    read_undrained.extend(std::iter::from_fn(|| undrained.poll_event()));
+    assert!(is_subsequence(&read_undrained, &all_events));
+    assert_eq!(read_undrained.len() as u64 + undrained.events_dropped(), all_events.len() as u64);
+    assert_eq!(read_undrained.last(), all_events.last());
 });

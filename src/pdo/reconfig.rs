@@ -15,6 +15,7 @@ use super::mapping::{PdoMapping, MAX_ENTRIES};
 use crate::bytes::InlineData;
 use crate::cob_id::PdoNumber;
 use crate::frame::CanFrame;
+use crate::machine::Machine;
 use crate::sdo::{AbortCode, AbortOrigin, Client, ClientConfig, ClientError, ClientEvent};
 use crate::time::Timestamp;
 

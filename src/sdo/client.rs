@@ -3,18 +3,29 @@
 //!
 //! # Driving it
 //!
-//! ```text
-//! start_upload(now, index, sub) / start_download(now, index, sub, data) / abort(now, code)
-//! handle_frame(now, &frame)   feed every received frame (others are ignored)
-//! handle_timeout(now)         whenever poll_timeout's deadline has passed
-//! poll_transmit()             send every frame until None
-//! poll_event()                drain events until None
-//! poll_timeout()              the next deadline, if a transfer is running
-//! ```
+//! The client implements [`Machine`], the crate's state-machine contract
+//! (call order and back-pressure rule: see [`crate::machine`]). Its commands
+//! are [`Client::start_upload`], [`Client::start_download`] and
+//! [`Client::abort`]; after each of them and after every `handle_*` call,
+//! send what [`Machine::poll_transmit`] returns.
 //!
-//! Drain `poll_transmit` and `poll_event` after every call. If the caller
-//! lets the queues fill up, further responses are ignored (the transfer then
-//! times out and aborts) rather than lost.
+//! - **Events** go to a queue of four; when it is full the oldest event is
+//!   dropped and counted ([`Machine::events_dropped`]). Transfers run by
+//!   their own rules whether or not events are read; a transfer's terminal
+//!   event is pushed last, so it is the newest event kept until the next
+//!   transfer reports.
+//! - **Frames**: every call queues at most one frame (a request, a segment
+//!   or an abort), so the transmit queue holds one, and a caller that
+//!   drains it after every call, as the contract asks, never loses a frame.
+//!   A caller that does not loses the older, unsent frame, counted by
+//!   [`Client::frames_dropped`]; the newest is kept, and frames that are
+//!   sent are always in the order they were made. Why not refuse the input
+//!   instead: SDO is confirmed request/response, so the newest frame is the
+//!   one that matches the client's state (a timeout's abort replaces the
+//!   request it gave up on), whereas holding input back would let the
+//!   obsolete frame go out later, answering a state the transfer has left.
+//! - **Timer**: one, the response timeout, armed when a request is queued
+//!   and stopped when the transfer ends.
 //!
 //! # Data without allocation
 //!
@@ -25,7 +36,7 @@
 //! holds until the transfer ends. With the `alloc` feature,
 //! [`UploadBuffer`](super::UploadBuffer) collects an upload into a `Vec`.
 //!
-//! # Behaviour (CiA 301 and the choices of `spec/cia301/README.md`)
+//! # Behaviour (CiA 301 section 7.2.4, SDO, and the choices made here)
 //!
 //! - Values of 1..=4 bytes are downloaded expedited with the size indicated;
 //!   empty and longer values segmented with the size indicated (an empty value
@@ -52,11 +63,20 @@ use super::server::{AbortOrigin, DEFAULT_TIMEOUT};
 use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
-use crate::queue::Queue;
-use crate::time::Timestamp;
+use crate::machine::Machine;
+use crate::queue::EventQueue;
+use crate::time::{Timers, Timestamp};
+
+/// How many events the client keeps before dropping the oldest. One input
+/// reports at most two (the last upload piece and `Uploaded`).
+const EVENT_CAPACITY: usize = 4;
+
+/// The client's one timer: the response timeout of the running transfer.
+const RESPONSE_TIMEOUT: usize = 0;
 
 /// What the client reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum ClientEvent {
     /// A piece of the value being uploaded, in order.
     UploadData {
@@ -115,9 +135,6 @@ pub enum ClientError {
     /// A transfer is already running.
     #[error("an SDO transfer is already in progress")]
     Busy,
-    /// The caller has not drained `poll_transmit` / `poll_event`.
-    #[error("output queues are full: drain poll_transmit and poll_event")]
-    QueueFull,
     /// The value does not fit the 32-bit SDO size field.
     #[error("value of {len} bytes is too long for SDO")]
     TooLong {
@@ -182,6 +199,7 @@ enum State<D> {
 /// An SDO client for one server. `D` is the type of download data.
 ///
 /// ```
+/// use canopen_codec::machine::Machine;
 /// use canopen_codec::sdo::{Client, ClientConfig, ClientEvent};
 /// use canopen_codec::{CanFrame, NodeId, Timestamp};
 ///
@@ -200,9 +218,10 @@ pub struct Client<D = &'static [u8]> {
     /// `config.timeout` in microseconds, computed once.
     timeout_us: u64,
     state: State<D>,
-    deadline: Option<Timestamp>,
-    transmit: Queue<CanFrame, 4>,
-    events: Queue<ClientEvent, 4>,
+    timers: Timers<1>,
+    /// One frame: every call produces at most one (see the module docs).
+    transmit: EventQueue<CanFrame, 1>,
+    events: EventQueue<ClientEvent, EVENT_CAPACITY>,
 }
 
 impl<D: AsRef<[u8]>> Client<D> {
@@ -212,9 +231,9 @@ impl<D: AsRef<[u8]>> Client<D> {
             config,
             timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
             state: State::Idle,
-            deadline: None,
-            transmit: Queue::new(CanFrame::EMPTY),
-            events: Queue::new(ClientEvent::Uploaded {
+            timers: Timers::new(),
+            transmit: EventQueue::new(CanFrame::EMPTY),
+            events: EventQueue::new(ClientEvent::Uploaded {
                 index: 0,
                 sub: 0,
                 len: 0,
@@ -246,22 +265,13 @@ impl<D: AsRef<[u8]>> Client<D> {
         }
     }
 
-    /// The next frame to send.
+    /// How many unsent frames were dropped because the caller did not
+    /// drain [`Machine::poll_transmit`] before the next call (the newest
+    /// frame is kept; see the module docs). Zero for a caller that follows
+    /// the contract. Saturates at `u64::MAX`.
     #[must_use]
-    pub fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.transmit.pop()
-    }
-
-    /// The next event.
-    #[must_use]
-    pub fn poll_event(&mut self) -> Option<ClientEvent> {
-        self.events.pop()
-    }
-
-    /// When [`handle_timeout`](Self::handle_timeout) must next be called.
-    #[must_use]
-    pub fn poll_timeout(&self) -> Option<Timestamp> {
-        self.deadline
+    pub const fn frames_dropped(&self) -> u64 {
+        self.transmit.dropped()
     }
 
     /// Starts reading `index`/`sub` from the server.
@@ -305,107 +315,45 @@ impl<D: AsRef<[u8]>> Client<D> {
     }
 
     /// Aborts the running transfer with `code`: sends the abort frame and
-    /// reports [`ClientEvent::Aborted`]. Returns false when idle.
+    /// reports [`ClientEvent::Aborted`]. Returns false (and does nothing)
+    /// when idle.
     pub fn abort(&mut self, now: Timestamp, code: AbortCode) -> bool {
         let _ = now;
-        if !self.is_busy() || self.transmit.room() == 0 || self.events.room() == 0 {
+        if !self.is_busy() {
             return false;
         }
         self.abort_local(code);
         true
     }
 
-    /// Tells the client time has passed; expires a stalled transfer with
-    /// abort 05040000h.
-    pub fn handle_timeout(&mut self, now: Timestamp) {
-        if let Some(deadline) = self.deadline {
-            if now.has_reached(deadline) {
-                self.abort_local(AbortCode::SdoProtocolTimedOut);
-            }
-        }
-    }
-
-    /// Feeds a received frame. Frames on other identifiers, remote frames
-    /// and frames too short for their command are ignored.
-    pub fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        if frame.id() != self.config.response_id || frame.is_remote() || !self.is_busy() {
-            return;
-        }
-        if !self.has_room_for_input() {
-            return;
-        }
-        let Ok(response) = SdoResponse::decode_frame(frame) else {
-            return;
-        };
-        if let ServerCommand::Abort { code, .. } = response.command {
-            return self.aborted_by_peer(code);
-        }
-        match core::mem::replace(&mut self.state, State::Idle) {
-            State::Idle => {}
-            State::UploadInitiated { index, sub } => {
-                self.on_upload_initiated(now, index, sub, response.command);
-            }
-            State::Uploading {
-                index,
-                sub,
-                size,
-                received,
-                toggle,
-            } => {
-                self.on_upload_segment(now, (index, sub), size, received, toggle, response.command)
-            }
-            State::DownloadInitiated {
-                index,
-                sub,
-                data,
-                expedited,
-            } => self.on_download_initiated(now, index, sub, data, expedited, response.command),
-            State::Downloading {
-                index,
-                sub,
-                data,
-                sent,
-                toggle,
-            } => self.on_download_ack(now, (index, sub), data, sent, toggle, response.command),
-        }
-    }
-
     fn check_idle(&self) -> Result<(), ClientError> {
         if self.is_busy() {
             Err(ClientError::Busy)
-        } else if !self.has_room_for_input() {
-            Err(ClientError::QueueFull)
         } else {
             Ok(())
         }
     }
 
-    /// An input may produce one frame and two events; one more frame and
-    /// event stay free so a timeout or abort can always be reported.
-    fn has_room_for_input(&self) -> bool {
-        self.transmit.room() >= 2 && self.events.room() >= 3
-    }
-
     fn arm(&mut self, now: Timestamp) {
-        self.deadline = Some(now.add_micros(self.timeout_us));
+        self.timers
+            .set(RESPONSE_TIMEOUT, Some(now.add_micros(self.timeout_us)));
     }
 
     fn send(&mut self, command: ClientCommand) {
         let (bytes, len) = SdoRequest::new(command).encode();
         if let Ok(frame) = CanFrame::new(self.config.request_id, bytes.get(..len).unwrap_or(&[])) {
-            // Room is checked before any input is processed.
-            let _ = self.transmit.push(frame);
+            // At most one frame per call: a drained queue always has room.
+            self.transmit.push(frame);
         }
     }
 
     fn emit(&mut self, event: ClientEvent) {
-        // Room is checked before any input is processed.
-        let _ = self.events.push(event);
+        self.events.push(event);
     }
 
     fn finish(&mut self, event: ClientEvent) {
         self.state = State::Idle;
-        self.deadline = None;
+        self.timers.set(RESPONSE_TIMEOUT, None);
         self.emit(event);
     }
 
@@ -606,24 +554,73 @@ impl<D: AsRef<[u8]>> Client<D> {
     }
 }
 
-impl<D: AsRef<[u8]>> crate::machine::Machine for Client<D> {
+impl<D: AsRef<[u8]>> Machine for Client<D> {
     type Event = ClientEvent;
-    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        Self::handle_frame(self, now, frame);
-    }
+
+    /// Tells the client time has passed; expires a stalled transfer with
+    /// abort 05040000h.
     fn handle_timeout(&mut self, now: Timestamp) {
-        Self::handle_timeout(self, now);
+        if self.timers.expire(RESPONSE_TIMEOUT, now) {
+            self.abort_local(AbortCode::SdoProtocolTimedOut);
+        }
     }
+
+    /// Feeds a received frame. Frames on other identifiers, remote frames
+    /// and frames too short for their command are ignored.
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        if frame.id() != self.config.response_id || frame.is_remote() || !self.is_busy() {
+            return;
+        }
+        let Ok(response) = SdoResponse::decode_frame(frame) else {
+            return;
+        };
+        if let ServerCommand::Abort { code, .. } = response.command {
+            return self.aborted_by_peer(code);
+        }
+        match core::mem::replace(&mut self.state, State::Idle) {
+            State::Idle => {}
+            State::UploadInitiated { index, sub } => {
+                self.on_upload_initiated(now, index, sub, response.command);
+            }
+            State::Uploading {
+                index,
+                sub,
+                size,
+                received,
+                toggle,
+            } => {
+                self.on_upload_segment(now, (index, sub), size, received, toggle, response.command)
+            }
+            State::DownloadInitiated {
+                index,
+                sub,
+                data,
+                expedited,
+            } => self.on_download_initiated(now, index, sub, data, expedited, response.command),
+            State::Downloading {
+                index,
+                sub,
+                data,
+                sent,
+                toggle,
+            } => self.on_download_ack(now, (index, sub), data, sent, toggle, response.command),
+        }
+    }
+
     fn poll_transmit(&mut self) -> Option<CanFrame> {
-        Self::poll_transmit(self)
+        self.transmit.pop()
     }
+
+    /// The response deadline of the running transfer (`None` when idle).
     fn poll_timeout(&self) -> Option<Timestamp> {
-        Self::poll_timeout(self)
+        self.timers.next()
     }
+
     fn poll_event(&mut self) -> Option<ClientEvent> {
-        Self::poll_event(self)
+        self.events.pop()
     }
+
     fn events_dropped(&self) -> u64 {
-        0
+        self.events.dropped()
     }
 }

@@ -1,7 +1,8 @@
 //! Service data objects (SDO), CiA 301: abort codes and the frame codec.
 //!
 //! [`Client`] and [`Server`] are the sans-IO state machines for expedited
-//! and segmented transfers; both follow the crate's poll contract.
+//! and segmented transfers; both implement the state-machine contract of
+//! [`crate::machine`].
 
 mod abort;
 mod client;
@@ -21,3 +22,6 @@ pub use wire::{
     abort_code_of, ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoRequest, SdoResponse,
     ServerBlockDownload, ServerBlockUpload, ServerCommand,
 };
+
+#[cfg(test)]
+mod machine_tests;

@@ -3,19 +3,30 @@
 //!
 //! # Driving it
 //!
-//! ```text
-//! handle_frame(now, &frame)   feed every received frame (others are ignored)
-//! handle_timeout(now)         whenever poll_timeout's deadline has passed
-//! poll_transmit()             send every frame until None
-//! poll_event()                drain events until None
-//! poll_timeout()              the next deadline, if a transfer is running
-//! ```
+//! The server implements [`Machine`], the crate's state-machine contract
+//! (call order and back-pressure rule: see [`crate::machine`]); it has no
+//! commands. After every `handle_*` call, send what
+//! [`Machine::poll_transmit`] returns.
 //!
-//! Drain `poll_transmit` and `poll_event` after every `handle_*` call. If the
-//! caller lets the output queues fill up, further requests are ignored (the
-//! client then times out) rather than answered out of order.
+//! - **Events** go to a queue of four; when it is full the oldest event is
+//!   dropped and counted ([`Machine::events_dropped`]). Requests are served
+//!   whether or not events are read; a transfer's terminal event is pushed
+//!   last, so it is the newest event kept until the next transfer reports.
+//! - **Frames**: every call queues at most one frame (one response or abort
+//!   per request, one abort per timeout; a superseded transfer ends without
+//!   a frame), so the transmit queue holds one, and a caller that drains it
+//!   after every call, as the contract asks, never loses a frame. A caller
+//!   that does not loses the older, unsent frame, counted by
+//!   [`Server::frames_dropped`]; the newest is kept, and frames that are
+//!   sent are always in the order they were made. Why not refuse the
+//!   request instead: SDO is confirmed request/response and the client
+//!   waits for the answer to the request it sent last, so the newest
+//!   response is the one it expects; ignoring the request would let the
+//!   obsolete answer go out later, to a request the client has given up on.
+//! - **Timer**: one, the timeout for the client's next frame, armed on
+//!   every response of a running transfer and stopped when it ends.
 //!
-//! # Behaviour (CiA 301 and the choices of `spec/cia301/README.md`)
+//! # Behaviour (CiA 301 section 7.2.4, SDO, and the choices made here)
 //!
 //! - One transfer at a time. A new *initiate* request while a transfer is
 //!   running supersedes it: the old transfer ends with
@@ -50,15 +61,24 @@ use super::data::{ExpeditedData, InitiatePayload, Segment, SegmentData};
 use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
+use crate::machine::Machine;
 use crate::od::{ObjectDictionary, ObjectInfo, SizeRule};
-use crate::queue::Queue;
-use crate::time::Timestamp;
+use crate::queue::EventQueue;
+use crate::time::{Timers, Timestamp};
+
+/// How many events the server keeps before dropping the oldest. One request
+/// reports at most two (a superseded transfer and the new one's end).
+const EVENT_CAPACITY: usize = 4;
+
+/// The server's one timer: the timeout for the client's next frame.
+const REQUEST_TIMEOUT: usize = 0;
 
 /// The default SDO timeout: 2000 ms, Delta-Q's recommendation.
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_millis(2000);
 
 /// Who ended a transfer with an abort.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum AbortOrigin {
     /// This side detected the failure and sent the abort frame.
     Local,
@@ -71,6 +91,7 @@ pub enum AbortOrigin {
 
 /// What the server reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum ServerEvent {
     /// An upload completed: `len` bytes were read by the client.
     Uploaded {
@@ -163,6 +184,7 @@ enum State {
 ///
 /// ```
 /// # #[cfg(feature = "alloc")] { // MemoryDictionary needs `alloc`
+/// use canopen_codec::machine::Machine;
 /// use canopen_codec::sdo::{Server, ServerConfig, ServerEvent};
 /// use canopen_codec::od::{Access, MemoryDictionary};
 /// use canopen_codec::{CanFrame, NodeId, Timestamp};
@@ -186,9 +208,10 @@ pub struct Server<D> {
     timeout_us: u64,
     od: D,
     state: State,
-    deadline: Option<Timestamp>,
-    transmit: Queue<CanFrame, 4>,
-    events: Queue<ServerEvent, 4>,
+    timers: Timers<1>,
+    /// One frame: every call produces at most one (see the module docs).
+    transmit: EventQueue<CanFrame, 1>,
+    events: EventQueue<ServerEvent, EVENT_CAPACITY>,
 }
 
 impl<D: ObjectDictionary> Server<D> {
@@ -199,9 +222,9 @@ impl<D: ObjectDictionary> Server<D> {
             timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
             od,
             state: State::Idle,
-            deadline: None,
-            transmit: Queue::new(CanFrame::EMPTY),
-            events: Queue::new(ServerEvent::Uploaded {
+            timers: Timers::new(),
+            transmit: EventQueue::new(CanFrame::EMPTY),
+            events: EventQueue::new(ServerEvent::Uploaded {
                 index: 0,
                 sub: 0,
                 len: 0,
@@ -236,71 +259,13 @@ impl<D: ObjectDictionary> Server<D> {
         !matches!(self.state, State::Idle)
     }
 
-    /// The next frame to send.
+    /// How many unsent frames were dropped because the caller did not
+    /// drain [`Machine::poll_transmit`] before the next call (the newest
+    /// frame is kept; see the module docs). Zero for a caller that follows
+    /// the contract. Saturates at `u64::MAX`.
     #[must_use]
-    pub fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.transmit.pop()
-    }
-
-    /// The next event.
-    #[must_use]
-    pub fn poll_event(&mut self) -> Option<ServerEvent> {
-        self.events.pop()
-    }
-
-    /// When [`handle_timeout`](Self::handle_timeout) must next be called.
-    #[must_use]
-    pub fn poll_timeout(&self) -> Option<Timestamp> {
-        self.deadline
-    }
-
-    /// Tells the server time has passed; expires a stalled transfer with
-    /// abort 05040000h.
-    pub fn handle_timeout(&mut self, now: Timestamp) {
-        if let Some(deadline) = self.deadline {
-            if now.has_reached(deadline) {
-                self.abort_local(AbortCode::SdoProtocolTimedOut);
-            }
-        }
-    }
-
-    /// Feeds a received frame. Frames on other identifiers, remote frames
-    /// and frames too short for their command are ignored.
-    pub fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        if frame.id() != self.config.request_id || frame.is_remote() {
-            return;
-        }
-        // Back-pressure: never answer out of order or drop an answer.
-        // An input may produce one frame and two events; one more frame and
-        // event stay free so a timeout can always be reported.
-        if self.transmit.room() < 2 || self.events.room() < 3 {
-            return;
-        }
-        let Ok(request) = SdoRequest::decode_frame(frame) else {
-            return;
-        };
-        match request.command {
-            ClientCommand::InitiateUpload { index, sub } => {
-                self.supersede();
-                self.initiate_upload(now, index, sub);
-            }
-            ClientCommand::InitiateDownload {
-                index,
-                sub,
-                payload,
-            } => {
-                self.supersede();
-                self.initiate_download(now, index, sub, payload);
-            }
-            ClientCommand::UploadSegment { toggle } => self.upload_segment(now, toggle),
-            ClientCommand::DownloadSegment(seg) => self.download_segment(now, &seg),
-            ClientCommand::Abort { code, .. } => self.abort_by_peer(code),
-            ClientCommand::BlockUpload(_)
-            | ClientCommand::BlockDownload(_)
-            | ClientCommand::Unknown(_) => {
-                self.abort_local(AbortCode::InvalidCommandSpecifier);
-            }
-        }
+    pub const fn frames_dropped(&self) -> u64 {
+        self.transmit.dropped()
     }
 
     fn object(&self) -> (u16, u8) {
@@ -316,19 +281,18 @@ impl<D: ObjectDictionary> Server<D> {
         let (bytes, len) = SdoResponse::new(command).encode();
         let frame = CanFrame::new(self.config.response_id, bytes.get(..len).unwrap_or(&[]));
         if let Ok(frame) = frame {
-            // Room was checked before the request was processed.
-            let _ = self.transmit.push(frame);
+            // At most one frame per call: a drained queue always has room.
+            self.transmit.push(frame);
         }
     }
 
     fn emit(&mut self, event: ServerEvent) {
-        // Room was checked before the request was processed.
-        let _ = self.events.push(event);
+        self.events.push(event);
     }
 
     fn finish(&mut self, event: ServerEvent) {
         self.state = State::Idle;
-        self.deadline = None;
+        self.timers.set(REQUEST_TIMEOUT, None);
         self.emit(event);
     }
 
@@ -390,7 +354,8 @@ impl<D: ObjectDictionary> Server<D> {
     }
 
     fn arm(&mut self, now: Timestamp) {
-        self.deadline = Some(now.add_micros(self.timeout_us));
+        self.timers
+            .set(REQUEST_TIMEOUT, Some(now.add_micros(self.timeout_us)));
     }
 
     /// Reads up to `buf.len()` bytes at `offset`, looping over short reads.
@@ -628,24 +593,64 @@ impl<D: ObjectDictionary> Server<D> {
     }
 }
 
-impl<D: ObjectDictionary> crate::machine::Machine for Server<D> {
+impl<D: ObjectDictionary> Machine for Server<D> {
     type Event = ServerEvent;
-    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        Self::handle_frame(self, now, frame);
-    }
+
+    /// Tells the server time has passed; expires a stalled transfer with
+    /// abort 05040000h.
     fn handle_timeout(&mut self, now: Timestamp) {
-        Self::handle_timeout(self, now);
+        if self.timers.expire(REQUEST_TIMEOUT, now) {
+            self.abort_local(AbortCode::SdoProtocolTimedOut);
+        }
     }
+
+    /// Feeds a received frame. Frames on other identifiers, remote frames
+    /// and frames too short for their command are ignored.
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        if frame.id() != self.config.request_id || frame.is_remote() {
+            return;
+        }
+        let Ok(request) = SdoRequest::decode_frame(frame) else {
+            return;
+        };
+        match request.command {
+            ClientCommand::InitiateUpload { index, sub } => {
+                self.supersede();
+                self.initiate_upload(now, index, sub);
+            }
+            ClientCommand::InitiateDownload {
+                index,
+                sub,
+                payload,
+            } => {
+                self.supersede();
+                self.initiate_download(now, index, sub, payload);
+            }
+            ClientCommand::UploadSegment { toggle } => self.upload_segment(now, toggle),
+            ClientCommand::DownloadSegment(seg) => self.download_segment(now, &seg),
+            ClientCommand::Abort { code, .. } => self.abort_by_peer(code),
+            ClientCommand::BlockUpload(_)
+            | ClientCommand::BlockDownload(_)
+            | ClientCommand::Unknown(_) => {
+                self.abort_local(AbortCode::InvalidCommandSpecifier);
+            }
+        }
+    }
+
     fn poll_transmit(&mut self) -> Option<CanFrame> {
-        Self::poll_transmit(self)
+        self.transmit.pop()
     }
+
+    /// The timeout of the running transfer (`None` when idle).
     fn poll_timeout(&self) -> Option<Timestamp> {
-        Self::poll_timeout(self)
+        self.timers.next()
     }
+
     fn poll_event(&mut self) -> Option<ServerEvent> {
-        Self::poll_event(self)
+        self.events.pop()
     }
+
     fn events_dropped(&self) -> u64 {
-        0
+        self.events.dropped()
     }
 }
