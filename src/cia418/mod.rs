@@ -28,6 +28,7 @@
 //! its "2nd RPDO" is `PdoNumber::P1` (Delta-Q's "RPDO 1").
 
 mod battery;
+mod catalogue;
 mod date;
 mod device_type;
 mod module;
@@ -44,19 +45,26 @@ mod packed_tests;
 #[cfg(test)]
 mod tests;
 
+/// The CiA 301 indexes a CiA 418 module serves, re-exported from
+/// [`od::index`](crate::od::index) (defined there only).
+pub use crate::od::index::{
+    DEVICE_TYPE, ERROR_REGISTER, IDENTITY, MANUFACTURER_DEVICE_NAME, PRODUCER_HEARTBEAT_TIME,
+    SDO_SERVER_PARAMETER,
+};
 pub use battery::{
     BatteryParameterValue, BatteryParameters, BatteryType, Chemistry, Gravity, LeadAcid,
     MaintenanceFree, NickelCadmiumCell, NickelCadmiumPlate, ObjectError, Plate, SilverOxide,
 };
+pub use catalogue::{
+    BATTERY_MODULE_CATALOGUE, BATTERY_STATUS_FLAGS, BATTERY_TYPE_FORMAT, CHARGER_STATUS_FLAGS,
+    CIA418_OBJECTS, WATER_LEVEL_STATUS_FLAGS,
+};
 pub use date::{CalendarDateTime, DateError, EqualizationDate};
 pub use device_type::{DeviceType, PdoSet};
 pub use module::{BatteryEvent, BatteryModule, BatteryModuleConfig};
-pub use objects::{
-    BatteryObjects, Identity, BATTERY_OBJECT_INDEXES, IDENTITY, MANUFACTURER_DEVICE_NAME,
-    PRODUCER_HEARTBEAT_TIME, SDO_SERVER_PARAMETER,
-};
+pub use objects::{BatteryObjects, Identity, BATTERY_OBJECT_INDEXES};
 pub use packed::{PackedString, PackedStringError, PackedStringObject, PackedText};
-pub use pdo::{DefaultPdo, PdoDirection, DEFAULT_PDOS};
+pub use pdo::{battery_default_mapping, DefaultPdo, PdoDirection, DEFAULT_PDOS};
 pub use status::{BatteryStatus, ChargerStatus, WaterLevelStatus};
 pub use units::{
     AmpHours, BatteryVoltage, ChargeCurrentRequested, EighthAmpHours, SocReading, StateOfCharge,
@@ -66,15 +74,12 @@ pub use units::{
 use crate::error::{exact_len, DecodeError};
 
 // ---------------------------------------------------------------------------
-// Communication objects CiA 418 gives defaults for (DIGEST sections 4 and 6).
+// Objects CiA 418 defines beyond CiA 301. CiA 418 v1.0.1, 6.2.1: in 1000h
+// device type bits 0-15 are 418 and bits 16-19 flag the optional PDOs (see
+// [`DeviceType`]); 6.2.2: in 1001h error register the device-profile bit
+// (bit 5) flags a temperature sensor fault.
 // ---------------------------------------------------------------------------
 
-/// 1000h device type (CiA 418 section 6.2.1): bits 0-15 = 418, bits 16-19
-/// optional PDOs. See [`DeviceType`].
-pub const DEVICE_TYPE: u16 = 0x1000;
-/// 1001h error register (CiA 418 section 6.2.2): the device-profile bit
-/// flags a temperature sensor fault.
-pub const ERROR_REGISTER: u16 = 0x1001;
 /// 0080h: index of the `BatteryPar` record data type (CiA 418 section 7.2.1),
 /// the type of object 6020h.
 pub const BATTERY_PAR_DATA_TYPE: u16 = 0x0080;

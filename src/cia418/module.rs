@@ -59,7 +59,7 @@
 
 use core::time::Duration;
 
-use super::objects::{BatteryObjects, Identity, PRODUCER_HEARTBEAT_TIME};
+use super::objects::{BatteryObjects, Identity};
 use super::{
     AmpHours, BatteryParameters, BatteryStatus, BatteryVoltage, ChargeCurrentRequested,
     ChargerStatus, DeviceType, EighthAmpHours, EqualizationDate, PackedStringError,
@@ -71,6 +71,7 @@ use crate::frame::{CanFrame, CanId};
 use crate::heartbeat::HeartbeatProducer;
 use crate::machine::Machine;
 use crate::nmt::{NmtCommand, NmtCommandSpecifier, NmtState};
+use crate::od::index::PRODUCER_HEARTBEAT_TIME;
 use crate::pdo::{
     receive_rpdo, MappingEntry, PdoCobId, PdoCommParams, PdoConfig, PdoDictionary, PdoDirection,
     PdoMapping, PdoSlot, RpdoError, TpdoSet, TransmissionType, MAX_ENTRIES,

@@ -52,17 +52,11 @@ use super::{
 };
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::emcy::ErrorRegister;
+use crate::od::index::{
+    IDENTITY, MANUFACTURER_DEVICE_NAME, PRODUCER_HEARTBEAT_TIME, SDO_SERVER_PARAMETER,
+};
 use crate::od::{Access, ObjectDictionary, ObjectInfo};
 use crate::sdo::AbortCode;
-
-/// 1008h manufacturer device name, VISIBLE_STRING const (CiA 301).
-pub const MANUFACTURER_DEVICE_NAME: u16 = 0x1008;
-/// 1017h producer heartbeat time in ms, U16 rw (CiA 301).
-pub const PRODUCER_HEARTBEAT_TIME: u16 = 0x1017;
-/// 1018h identity object, RECORD of U32 ro (CiA 301).
-pub const IDENTITY: u16 = 0x1018;
-/// 1200h first SDO server parameter, RECORD of U32 ro (CiA 301).
-pub const SDO_SERVER_PARAMETER: u16 = 0x1200;
 
 /// Every index [`BatteryObjects`] serves.
 pub const BATTERY_OBJECT_INDEXES: [u16; 24] = [

@@ -166,3 +166,18 @@ fn default_pdo_mapping_values() {
     }
     assert_eq!(DEFAULT_PDOS[4].total_bits(), 56);
 }
+
+#[test]
+fn battery_defaults_from_the_cia418_table() {
+    let m = battery_default_mapping(PdoDirection::Transmit, PdoNumber::P1).unwrap();
+    assert_eq!(
+        m.entries(),
+        &[
+            crate::pdo::MappingEntry::new(0x6010, 0, 16),
+            crate::pdo::MappingEntry::new(0x6000, 0, 8),
+            crate::pdo::MappingEntry::new(0x6060, 0, 32),
+        ]
+    );
+    let m = battery_default_mapping(PdoDirection::Receive, PdoNumber::P2).unwrap();
+    assert_eq!(m.total_bits(), 32);
+}

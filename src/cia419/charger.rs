@@ -49,15 +49,15 @@ use super::objects::ChargerObjects;
 use crate::bytes::InlineData;
 use crate::cia418::DeviceType;
 use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE, NMT};
-use crate::deltaq::{emergency_reaction, DeltaQCode, OperatingMode, Reaction};
+use crate::deltaq::{charger_default_pdo, emergency_reaction, DeltaQCode, OperatingMode, Reaction};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::{CanFrame, CanId};
 use crate::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent, HeartbeatProducer};
 use crate::machine::Machine;
 use crate::nmt::{NmtCommand, NmtCommandSpecifier, NmtState};
 use crate::pdo::{
-    charger_default_pdo, receive_rpdo, PdoCobId, PdoCommParams, PdoConfig, PdoDictionary,
-    PdoDirection, PdoSlot, RpdoError, TpdoSet,
+    receive_rpdo, PdoCobId, PdoCommParams, PdoConfig, PdoDictionary, PdoDirection, PdoSlot,
+    RpdoError, TpdoSet,
 };
 use crate::queue::Queue;
 use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent, Server, ServerConfig, ServerEvent};
@@ -289,8 +289,8 @@ impl Charger {
             for n in PDO_NUMBERS {
                 let d = charger_default_pdo(dir, n);
                 let Some(mapping) = d.mapping() else { continue };
-                let cob = PdoCobId::from_u32(u32::from(d.cob_id(config.node)))
-                    .with_valid(!config.configure_cob_ids);
+                let cob =
+                    PdoCobId::from_u32(d.cob_id(config.node)).with_valid(!config.configure_cob_ids);
                 let period = match dir {
                     PdoDirection::Transmit => config
                         .tpdo_periods_ms

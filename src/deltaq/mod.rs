@@ -124,16 +124,26 @@
 //! assert_eq!(status.to_u16(), 0x0070);
 //! ```
 
+mod catalogue;
 mod codes;
 mod objects;
+mod pdo;
 mod policy;
 
+pub use catalogue::{
+    ALGORITHM_REQUEST_FORMAT, CHARGER_CATALOGUE, DELTAQ_OBJECTS, DERATE_REASONS_FLAGS,
+    DISPLAYED_ERROR_FORMAT, EXTENDED_CHARGE_STATUS_FLAGS, EXTERNAL_OVERRIDE_FLAGS,
+};
 pub use codes::{AlarmFaultEntry, DeltaQCode, ALARMS_AND_FAULTS};
 pub use objects::{
     AcVoltage, AlgorithmRequest, BatteryVoltage, BatteryVoltageLegacy, ChargeIndication,
     ChargeStatusFlags, ChargeType, ChargerAhReturned, ChargingCurrent, DerateReasons,
     DisplayedError, ExtendedChargeStatus, ExternalOverride, OverrideSource, VoltageRequest,
     VoltageRequest16,
+};
+pub use pdo::{
+    charger_default_mapping, charger_default_pdo, default_mapping_for_cob_id, paired_module_pdo,
+    CHARGER_DEFAULT_PDOS,
 };
 pub use policy::{emcy_reaction, emergency_reaction, OperatingMode, Reaction};
 
