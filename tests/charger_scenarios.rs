@@ -278,7 +278,9 @@ fn module_whose_sdo_server_aborts() {
     // no 1403h: the read is aborted, the configuration fails with E-0-3-0.
     let mut bus = Bus::new(
         Some(charger()),
-        Some(battery_with(DeviceType::cia418(DeviceType::DELTAQ_RPDO_3))),
+        Some(battery_with(DeviceType::cia418(
+            canopen_codec::deltaq::device_type::RPDO_3,
+        ))),
     );
     bus.boot_all();
     bus.run_until(ms(100));

@@ -4,7 +4,7 @@
 //! charger node).
 
 use canopen_codec::cia418::{DeviceType, BATTERY_MODULE_CATALOGUE};
-use canopen_codec::deltaq::{DeltaQCode, CHARGER_CATALOGUE};
+use canopen_codec::deltaq::{device_type, DeltaQCode, CHARGER_CATALOGUE};
 use canopen_codec::emcy::{ErrorCode, ErrorRegister};
 use canopen_codec::pdo::{Catalogue, FieldValue, MappingEntry};
 
@@ -131,14 +131,13 @@ fn device_type(v: u32) -> String {
     };
     let mut s = format!(
         "CiA 418 battery module, RPDOs {}, TPDOs {}",
-        list(dt.rpdos()),
+        list(device_type::module_rpdos(dt)),
         list(dt.tpdos())
     );
-    if dt.deltaq_deprecated() {
+    if device_type::deprecated(dt) {
         s.push_str(", Delta-Q deprecated bit 21");
     }
-    let other =
-        dt.cia418_reserved_bits() & !(DeviceType::DELTAQ_RPDO_3 | DeviceType::DELTAQ_DEPRECATED);
+    let other = dt.cia418_reserved_bits() & !(device_type::RPDO_3 | device_type::DEPRECATED);
     if other != 0 {
         s.push_str(&format!(", reserved bits {other:08X}h"));
     }

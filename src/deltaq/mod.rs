@@ -126,6 +126,7 @@
 
 mod catalogue;
 mod codes;
+pub mod device_type;
 mod objects;
 mod pdo;
 mod policy;
