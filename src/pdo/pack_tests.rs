@@ -6,7 +6,6 @@
 use super::*;
 use crate::pdo::{extract_bits, insert_bits};
 use std::string::ToString;
-use std::vec::Vec;
 
 fn mapping(widths: &[u8]) -> PdoMapping {
     let mut entries = [MappingEntry::default(); MAX_ENTRIES];
