@@ -1,4 +1,6 @@
-//! End-to-end scenarios (DIGEST section 7): the charger and a CiA 418
+//! End-to-end scenarios (the use cases of "Delta-Q IC Series CANopen
+//! interface specification rev 2.0", section 7: normal charge, terminate
+//! via 6000h, battery module lost and restored, ...): the charger and a CiA 418
 //! battery module on one simulated bus (0.5 ms latency) with a simulated
 //! clock from zero; the test plays the NMT master. Each scenario asserts the
 //! exact frames and times on the bus.

@@ -1,7 +1,9 @@
 //! CiA 418 battery-module profile: objects, statuses, units, packed strings.
 //!
-//! Everything here follows CiA DS 418 v1.0.1 as restated in DIGEST section 6
-//! (with section 4 for the device-type bits and the Delta-Q numbering).
+//! Everything here follows CiA 418 v1.0.1 ("Device profile for battery
+//! modules"): 6.2 for the communication objects (device type, error
+//! register, default PDOs), 7.2 and 7.3 for the application objects. Delta-Q's
+//! readings of the module's objects live in the `deltaq` module.
 //!
 //! - [`BATTERY_STATUS`] and friends: the index of every application object.
 //! - [`BatteryStatus`], [`ChargerStatus`], [`WaterLevelStatus`]: status bytes
@@ -13,7 +15,10 @@
 //! - [`PackedString`] (6030h, 6031h, 6040h, 6041h): strings packed four
 //!   characters per Unsigned32.
 //! - [`EqualizationDate`] (6054h) and [`CalendarDateTime`].
-//! - [`DeviceType`] (1000h) and the default PDO set [`DEFAULT_PDOS`].
+//! - [`DeviceType`] (1000h) and the default PDO set [`DEFAULT_PDOS`]
+//!   ([`battery_default_mapping`]).
+//! - [`BATTERY_MODULE_CATALOGUE`], [`CIA418_OBJECTS`]: the application
+//!   objects for decoding PDO fields in words.
 //! - [`BatteryModule`]: a whole CiA 418 node (object dictionary
 //!   [`BatteryObjects`], SDO server, default PDOs, heartbeat, EMCY, NMT
 //!   slave) as a sans-IO state machine.
@@ -85,7 +90,7 @@ use crate::error::{exact_len, DecodeError};
 pub const BATTERY_PAR_DATA_TYPE: u16 = 0x0080;
 
 // ---------------------------------------------------------------------------
-// Application objects (CiA 418 section 7.3, DIGEST section 6).
+// Application objects (CiA 418 v1.0.1, 7.3.1-7.3.18).
 // ---------------------------------------------------------------------------
 
 /// 6000h battery status, U8 ro (CiA 418 section 7.3.1). See [`BatteryStatus`].

@@ -3,7 +3,8 @@
 use super::*;
 use crate::cob_id::{NodeId, PdoNumber};
 
-/// DIGEST section 6, application object table, row by row.
+/// CiA 418 v1.0.1, 7.3.1-7.3.18: the index of every application object, row
+/// by row.
 #[test]
 fn object_indexes() {
     let rows: [(u16, u16); 18] = [
@@ -49,8 +50,8 @@ type Row = (
     Option<u32>,
 );
 
-/// DIGEST section 6, default PDOs of the battery module, row by row, with
-/// literal values (COB-ID for node 1, then node 127).
+/// CiA 418 v1.0.1, 6.2.3-6.2.8: the default PDOs of the battery module, row
+/// by row, with literal values (COB-ID for node 1, then node 127).
 #[test]
 fn default_pdo_rows() {
     let rows: [Row; 6] = [

@@ -1,4 +1,4 @@
-//! Scaled quantities of CiA 418 (DIGEST section 6): each is a newtype over
+//! Scaled quantities of CiA 418 (v1.0.1, 7.3.3-7.3.17): each is a newtype over
 //! the raw object value, with exact integer conversions to a sub-unit that
 //! divides the resolution (0.125 degC = 125 millidegrees, 0.125 Ah = 125 mAh,
 //! 1/16 A = 62 500 uA, 1/1024 V = 976 562 500 pV) and a float view for
@@ -322,7 +322,7 @@ impl BatteryVoltage {
 /// **Invalid marker**: the profile says "FFh shall indicate an invalid value"
 /// for this 16-bit object. This crate treats **0xFFFF** as the invalid marker
 /// ([`ChargeCurrentRequested::INVALID`]); 0x00FF is 15.9375 A, a valid
-/// request (DIGEST section 6, notes).
+/// request (CiA 418 v1.0.1, 7.3.15).
 ///
 /// ```
 /// use canopen_codec::cia418::ChargeCurrentRequested;
