@@ -52,13 +52,13 @@ impl FlagWord {
     #[must_use]
     pub const fn known_bits(&self) -> u64 {
         let mut known = 0;
-        let mut i = 0;
-        while i < self.fields.len() {
-            known |= match self.fields[i] {
+        let mut rest = self.fields;
+        while let [field, tail @ ..] = rest {
+            known |= match *field {
                 FlagField::Bit { mask, .. } | FlagField::Choice { mask, .. } => mask,
                 FlagField::OtherBits { .. } => 0,
             };
-            i += 1;
+            rest = tail;
         }
         known
     }
