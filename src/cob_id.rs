@@ -1,7 +1,10 @@
 //! Node ids and the CiA 301 predefined connection set.
 //!
 //! [`classify`] maps any identifier to the communication object it carries
-//! under the predefined connection set (DIGEST section 1); [`CobKind::cob_id`]
+//! under the CiA 301 predefined connection set (NMT 000h, SYNC 080h, EMCY
+//! 080h + node, TIME 100h, TPDO 1-4 180h/280h/380h/480h + node, RPDO 1-4
+//! 200h/300h/400h/500h + node, SDO 580h/600h + node, heartbeat 700h + node,
+//! LSS 7E4h/7E5h); [`CobKind::cob_id`]
 //! maps back. 29-bit identifiers are outside the predefined set and classify as
 //! [`CobKind::Unknown`].
 //!
@@ -265,10 +268,11 @@ mod tests {
         NodeId::new(raw).unwrap()
     }
 
-    /// DIGEST section 1, default COB-ID table, row by row, for the charger
+    /// The default COB-ID table of "Delta-Q IC Series CANopen interface
+    /// specification rev 2.0", section 4.3.2, row by row, for the charger
     /// (0x0A) and the battery module (0x01).
     #[test]
-    fn digest_cob_id_table() {
+    fn deltaq_default_cob_id_table() {
         let rows: [(u16, u16, CobKind); 10] = [
             (0x60A, 0x601, CobKind::SdoRx(n(1))),
             (0x58A, 0x581, CobKind::SdoTx(n(1))),

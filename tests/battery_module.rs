@@ -495,7 +495,8 @@ fn frames_for_other_nodes_are_ignored() {
     assert!(b.take_log().is_empty());
 }
 
-/// DIGEST section 6, row by row, through the module's SDO frames: upload
+/// CiA 418 v1.0.1, 7.3.1-7.3.18 (each object's type and access), row by
+/// row, through the module's SDO frames: upload
 /// length, and a download of that length accepted (rw) or refused with
 /// 06010002h (ro, const).
 #[test]

@@ -1,4 +1,6 @@
-//! End-to-end scenarios (DIGEST section 7): the charger and a CiA 418
+//! End-to-end scenarios (the use cases of "Delta-Q IC Series CANopen
+//! interface specification rev 2.0", section 7: normal charge, terminate
+//! via 6000h, battery module lost and restored, ...): the charger and a CiA 418
 //! battery module on one simulated bus (0.5 ms latency) with a simulated
 //! clock from zero; the test plays the NMT master. Each scenario asserts the
 //! exact frames and times on the bus.
@@ -281,7 +283,9 @@ fn module_whose_sdo_server_aborts() {
     // no 1403h: the read is aborted, the configuration fails with E-0-3-0.
     let (mut bus, c, b) = charger_bus(
         charger(),
-        Some(battery_with(DeviceType::cia418(DeviceType::DELTAQ_RPDO_3))),
+        Some(battery_with(DeviceType::cia418(
+            canopen_codec::deltaq::device_type::RPDO_3,
+        ))),
     );
     boot_all(&mut bus, c, b);
     bus.run_until(ms(100));

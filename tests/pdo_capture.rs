@@ -1,20 +1,21 @@
-//! The real Delta-Q ICL1500 capture's PDOs (tests/data, from
-//! shared/spec/captures) decoded with the mapping its README gives, through
+//! The real Delta-Q ICL1500 capture's PDOs (tests/data) decoded with the
+//! mapping tests/data/CAPTURES.md gives, through
 //! the public API only. Expected numbers are worked out by hand from the
 //! bytes (little-endian, fields packed in mapping order).
 
 use canopen_codec::candump::parse_line;
-use canopen_codec::cia418::BatteryStatus;
+use canopen_codec::cia418::{BatteryStatus, BATTERY_MODULE_CATALOGUE, BATTERY_STATUS_FLAGS};
 use canopen_codec::deltaq::{
     ChargeIndication, ChargeStatusFlags, ChargeType, DisplayedError, ExtendedChargeStatus,
-    ExternalOverride, OverrideSource,
+    ExternalOverride, OverrideSource, CHARGER_CATALOGUE, DISPLAYED_ERROR_FORMAT,
+    EXTENDED_CHARGE_STATUS_FLAGS, EXTERNAL_OVERRIDE_FLAGS,
 };
 use canopen_codec::pdo::{
-    Catalogue, FieldValue, Fixed, Flags, MappingEntry, NamedField, NamedFields, PdoMapping, Unit,
+    FieldValue, Fixed, Flags, Formatted, MappingEntry, NamedField, NamedFields, PdoMapping, Unit,
 };
 use canopen_codec::{CanFrame, Message};
 
-/// captures/README.md: (COB-ID, entries as (index, sub, bits)). The
+/// tests/data/CAPTURES.md: (COB-ID, entries as (index, sub, bits)). The
 /// README's unnamed padding is mapped with CiA 301 dummy entries (0005h
 /// UNSIGNED8, 0006h UNSIGNED16); where it names 2FFAh:01 that is used.
 /// (index, sub-index, bits).
@@ -85,7 +86,7 @@ fn decode(line: &str) -> NamedFields {
         other => panic!("{other:?}"),
     };
     let m = mapping_of(id).unwrap();
-    let fields = Catalogue::DeltaQCharger.decode(&m, payload.as_slice());
+    let fields = CHARGER_CATALOGUE.decode(&m, payload.as_slice());
     assert_eq!(fields.unmapped_bytes(), 0);
     fields
 }
@@ -133,12 +134,19 @@ fn charger_tpdo0_worked_example() {
                 0,
                 "extended charge status",
                 0x0070,
-                FieldValue::Flags(Flags::ExtendedChargeStatus(ExtendedChargeStatus {
-                    charge_type: ChargeType::None,
-                    indication: ChargeIndication::Inactive,
-                    override_source: OverrideSource::External,
-                    flags: ChargeStatusFlags::AC_PRESENT | ChargeStatusFlags::CHARGER_ENABLED,
-                })),
+                FieldValue::Flags(Flags::new(
+                    &EXTENDED_CHARGE_STATUS_FLAGS,
+                    u64::from(
+                        ExtendedChargeStatus {
+                            charge_type: ChargeType::None,
+                            indication: ChargeIndication::Inactive,
+                            override_source: OverrideSource::External,
+                            flags: ChargeStatusFlags::AC_PRESENT
+                                | ChargeStatusFlags::CHARGER_ENABLED,
+                        }
+                        .to_u16(),
+                    ),
+                )),
             ),
             (0x0006, 0, "padding", 0, FieldValue::Padding),
         ],
@@ -166,7 +174,10 @@ fn charger_tpdo2_worked_example() {
                 0,
                 "displayed error",
                 0,
-                FieldValue::Error(DisplayedError::NONE),
+                FieldValue::Formatted(Formatted {
+                    format: &DISPLAYED_ERROR_FORMAT,
+                    raw: u64::from(DisplayedError::NONE.to_u32()),
+                }),
             ),
             // 0x07BA / 16 = 123.625 V
             (
@@ -215,7 +226,10 @@ fn charger_rpdo0_from_the_bms() {
                 0,
                 "external override",
                 1,
-                FieldValue::Flags(Flags::ExternalOverride(ExternalOverride::EQUALIZE)),
+                FieldValue::Flags(Flags::new(
+                    &EXTERNAL_OVERRIDE_FLAGS,
+                    u64::from(ExternalOverride::EQUALIZE.bits()),
+                )),
             ),
             // 0x5200 / 256 = 82 V
             (
@@ -238,7 +252,10 @@ fn charger_rpdo0_from_the_bms() {
                 0,
                 "battery status",
                 1,
-                FieldValue::Flags(Flags::BatteryStatus(BatteryStatus::READY_TO_CHARGE)),
+                FieldValue::Flags(Flags::new(
+                    &BATTERY_STATUS_FLAGS,
+                    u64::from(BatteryStatus::READY_TO_CHARGE.bits()),
+                )),
             ),
         ],
     );
@@ -414,7 +431,7 @@ fn decoding_and_display_do_not_allocate() {
     .collect();
     let before = ALLOCATIONS.with(Cell::get);
     for (m, data) in &frames {
-        for cat in [Catalogue::DeltaQCharger, Catalogue::BatteryModule] {
+        for cat in [CHARGER_CATALOGUE, BATTERY_MODULE_CATALOGUE] {
             let fields = black_box(cat.decode(black_box(m), black_box(data)));
             write!(Sink, "{fields} {fields:.2} {fields:#.2}").unwrap();
             for f in &fields {

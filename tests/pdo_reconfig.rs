@@ -1,4 +1,6 @@
-//! The PDO reconfiguration procedure (DIGEST section 5) through the SDO
+//! The PDO reconfiguration procedure (CiA 301 PDO mapping; "Delta-Q IC
+//! Series CANopen interface specification rev 2.0", section 4.6.2) through
+//! the SDO
 //! server: every rule, accepted and rejected, with the exact abort code; and
 //! whole runs of the client-side procedure against the device side.
 #![cfg(feature = "alloc")]

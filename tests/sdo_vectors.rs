@@ -1,5 +1,7 @@
-//! The public vectors V1-V16 of spec/cia301/vectors.txt replayed frame by
-//! frame against our SDO server and client. LENIENT vectors assert our
+//! Public SDO vectors V1-V16, byte-exact frame sequences taken from
+//! python-canopen's `test/test_sdo.py` and CANopenNode's
+//! `test/running_canopen/*.bats`, replayed frame by frame against our SDO
+//! server and client. LENIENT vectors assert our
 //! strict abort instead.
 #![cfg(feature = "alloc")]
 

@@ -144,11 +144,9 @@ fn pdo_fields(out: &mut String, source: Source, fields: &NamedFields) {
             FieldValue::Scaled { value, .. } | FieldValue::OutOfRange { value, .. } => {
                 let _ = write!(out, "{value}");
             }
-            v @ (FieldValue::Flags(_)
-            | FieldValue::Error(_)
-            | FieldValue::Algorithm(_)
-            | FieldValue::BatteryType(_)
-            | FieldValue::Chars(_)) => string(out, &v.to_string()),
+            v @ (FieldValue::Flags(_) | FieldValue::Formatted(_) | FieldValue::Chars(_)) => {
+                string(out, &v.to_string())
+            }
             _ => out.push_str("null"),
         }
         if let Some(unit) = f.value.unit() {

@@ -30,7 +30,7 @@
 //!   `--no-default-pdos` turns them off. A frame with no known mapping is
 //!   printed raw, as before.
 //! - `--pdo-capture-mapping` decodes the bundled real capture: it adds the
-//!   mapping of shared/spec/captures/README.md (the integrator remapped that
+//!   mapping of tests/data/CAPTURES.md (the integrator remapped that
 //!   charger) and implies `--no-default-pdos`; 0x28A, whose layout is not
 //!   published, stays raw. It is the same as
 //!
@@ -253,7 +253,7 @@ fn main() -> ExitCode {
             },
             None if io::stdin().is_terminal() => {
                 // The bundled capture was remapped by its integrator: decode it
-                // with the mapping of captures/README.md unless told otherwise.
+                // with the mapping of tests/data/CAPTURES.md unless told otherwise.
                 let remap = opts.pdos.given.is_empty() && opts.pdos.defaults;
                 if remap {
                     if let Err(e) = opts.pdos.add_capture() {

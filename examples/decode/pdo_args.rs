@@ -1,15 +1,15 @@
 //! PDO mappings for the decoder: `--pdo COBID=INDEX:SUB:BITS,...`, the
 //! bundled capture's mapping (`--pdo-capture-mapping`) and the defaults.
 
+use canopen_codec::cia418::BATTERY_MODULE_CATALOGUE;
 use canopen_codec::cob_id::classify_standard;
-use canopen_codec::pdo::{
-    default_mapping_for_cob_id, Catalogue, MappingEntry, NamedFields, PdoMapping, MAX_ENTRIES,
-};
+use canopen_codec::deltaq::{default_mapping_for_cob_id, CHARGER_CATALOGUE};
+use canopen_codec::pdo::{MappingEntry, NamedFields, PdoMapping, MAX_ENTRIES};
 use canopen_codec::{CanFrame, CanId, Message};
 
 use crate::Roles;
 
-/// The mapping of the real capture, from shared/spec/captures/README.md, in
+/// The mapping of the real capture, from tests/data/CAPTURES.md, in
 /// `--pdo` syntax. Unnamed padding uses CiA 301 dummy entries (0005h
 /// UNSIGNED8, 0006h UNSIGNED16). 0x28A's layout is not published: it stays
 /// unmapped (raw).
@@ -143,17 +143,18 @@ impl Mappings {
                 // node's is read as the Delta-Q charger's.
                 let node = classify_standard(id).node();
                 let cat = if node == Some(roles.battery) && roles.battery != roles.charger {
-                    Catalogue::BatteryModule
+                    BATTERY_MODULE_CATALOGUE
                 } else {
-                    Catalogue::DeltaQCharger
+                    CHARGER_CATALOGUE
                 };
                 (Source::Given, cat, *m)
             }
             None if self.defaults => {
                 let (cat, m) = default_mapping_for_cob_id(id, roles.charger, roles.battery)?;
-                let source = match cat {
-                    Catalogue::BatteryModule => Source::BatteryDefault,
-                    Catalogue::DeltaQCharger => Source::ChargerDefault,
+                let source = if cat == BATTERY_MODULE_CATALOGUE {
+                    Source::BatteryDefault
+                } else {
+                    Source::ChargerDefault
                 };
                 (source, cat, m)
             }

@@ -3,8 +3,8 @@
 //! battery node and any node without a role, Delta-Q then CiA 418 for the
 //! charger node).
 
-use canopen_codec::cia418::DeviceType;
-use canopen_codec::deltaq::DeltaQCode;
+use canopen_codec::cia418::{DeviceType, BATTERY_MODULE_CATALOGUE};
+use canopen_codec::deltaq::{device_type, DeltaQCode, CHARGER_CATALOGUE};
 use canopen_codec::emcy::{ErrorCode, ErrorRegister};
 use canopen_codec::pdo::{Catalogue, FieldValue, MappingEntry};
 
@@ -131,14 +131,13 @@ fn device_type(v: u32) -> String {
     };
     let mut s = format!(
         "CiA 418 battery module, RPDOs {}, TPDOs {}",
-        list(dt.rpdos()),
+        list(device_type::module_rpdos(dt)),
         list(dt.tpdos())
     );
-    if dt.deltaq_deprecated() {
+    if device_type::deprecated(dt) {
         s.push_str(", Delta-Q deprecated bit 21");
     }
-    let other =
-        dt.cia418_reserved_bits() & !(DeviceType::DELTAQ_RPDO_3 | DeviceType::DELTAQ_DEPRECATED);
+    let other = dt.cia418_reserved_bits() & !(device_type::RPDO_3 | device_type::DEPRECATED);
     if other != 0 {
         s.push_str(&format!(", reserved bits {other:08X}h"));
     }
@@ -210,8 +209,8 @@ fn mapping_entry(v: u32, catalogue: Catalogue) -> String {
 /// `exact` is false for an expedited value with s = 0.
 pub fn describe(index: u16, sub: u8, bytes: &[u8], role: Role, exact: bool) -> Described {
     let catalogue = match role {
-        Role::Charger => Catalogue::DeltaQCharger,
-        Role::Battery | Role::Other => Catalogue::BatteryModule,
+        Role::Charger => CHARGER_CATALOGUE,
+        Role::Battery | Role::Other => BATTERY_MODULE_CATALOGUE,
     };
     let entries = |what: &str| Described::named(format!("{what}: highest sub-index"));
     let count = |d: Described| unsigned(d, bytes, 1, exact, |v| v.to_string());

@@ -1,6 +1,8 @@
 //! 6020h battery parameters (record `BatteryPar`, CiA 418 sections 7.2.1 and
-//! 7.3.4) and the battery type byte `cccc wxyz` (CiA 418 appendix A, DIGEST
-//! section 6).
+//! 7.3.4) and the battery type byte `cccc wxyz` (CiA 418 v1.0.1, 7.3.4 and
+//! appendix A): the high nibble `cccc` is the chemistry, the low nibble
+//! `wxyz` its variant; unlisted chemistries (0000, 0100, 1111) decode to an
+//! unknown variant that keeps the byte.
 
 use core::fmt;
 

@@ -3,8 +3,8 @@
 use super::*;
 use crate::error::DecodeError;
 
-/// DIGEST section 6: "flooded, normal gravity, flat plate lead acid =
-/// 0b0001_0000".
+/// CiA 418 v1.0.1, 7.3.4 (battery type): flooded, normal gravity, flat
+/// plate lead acid is 0b0001_0000.
 #[test]
 fn flooded_lead_acid_example() {
     let t = BatteryType::from(0b0001_0000);
@@ -22,7 +22,8 @@ fn flooded_lead_acid_example() {
     assert_eq!(BatteryType::decode(&[0x10]), Ok(t));
 }
 
-/// Every chemistry row of the DIGEST table, with its code.
+/// Every chemistry row of CiA 418's battery-type table (v1.0.1, 7.3.4), with
+/// its code.
 #[test]
 fn chemistry_rows() {
     let rows: [(u8, Chemistry); 16] = [

@@ -1,18 +1,18 @@
-//! 1000h device type of a CiA 418 battery module (CiA 418 section 6.2.1,
-//! DIGEST section 4): bits 0-15 the device profile number (418), bits 16-19
-//! the optional PDOs, and Delta-Q's readings of bits 20 and 21.
+//! 1000h device type of a CiA 418 battery module (CiA 418 v1.0.1, 6.2.1):
+//! bits 0-15 the device profile number (418), bits 16-19 the optional PDOs,
+//! bits 20-31 reserved (0).
 //!
-//! | bit | CiA 418 name | Delta-Q name | this crate |
-//! |---|---|---|---|
-//! | 16 | 2nd RPDO | RPDO 1 | [`DeviceType::RPDO_2ND`] = [`DeviceType::DELTAQ_RPDO_1`], RPDO `P1` |
-//! | 17 | 3rd RPDO | RPDO 2 | [`DeviceType::RPDO_3RD`] = [`DeviceType::DELTAQ_RPDO_2`], RPDO `P2` |
-//! | 18 | 2nd TPDO | TPDO 1 | [`DeviceType::TPDO_2ND`] = [`DeviceType::DELTAQ_TPDO_1`], TPDO `P1` |
-//! | 19 | 3rd TPDO | TPDO 2 | [`DeviceType::TPDO_3RD`] = [`DeviceType::DELTAQ_TPDO_2`], TPDO `P2` |
-//! | 20 | reserved | RPDO 3 (manufacturer) | [`DeviceType::DELTAQ_RPDO_3`], RPDO `P3` |
-//! | 21 | reserved | deprecated | [`DeviceType::DELTAQ_DEPRECATED`] |
+//! | bit | CiA 418 name | this crate |
+//! |---|---|---|
+//! | 16 | 2nd RPDO | [`DeviceType::RPDO_2ND`], RPDO `P1` |
+//! | 17 | 3rd RPDO | [`DeviceType::RPDO_3RD`], RPDO `P2` |
+//! | 18 | 2nd TPDO | [`DeviceType::TPDO_2ND`], TPDO `P1` |
+//! | 19 | 3rd TPDO | [`DeviceType::TPDO_3RD`], TPDO `P2` |
+//! | 20-31 | reserved | [`DeviceType::CIA418_RESERVED`] |
 //!
 //! The 1st RPDO and 1st TPDO (`P0`) are mandatory and always present. All
-//! 32 bits are kept, so a round trip is exact.
+//! 32 bits are kept, so a round trip is exact (a vendor that gives reserved
+//! bits a meaning reads them in its own profile module).
 
 use crate::cob_id::PdoNumber;
 use crate::error::DecodeError;
@@ -96,20 +96,6 @@ impl DeviceType {
     /// Bit 19: CiA 418 "3rd TPDO" (TPDO `P2`).
     pub const TPDO_3RD: u32 = 1 << 19;
 
-    /// Bit 16 as Delta-Q names it: "RPDO 1" (same bit as [`Self::RPDO_2ND`]).
-    pub const DELTAQ_RPDO_1: u32 = Self::RPDO_2ND;
-    /// Bit 17 as Delta-Q names it: "RPDO 2" (same bit as [`Self::RPDO_3RD`]).
-    pub const DELTAQ_RPDO_2: u32 = Self::RPDO_3RD;
-    /// Bit 18 as Delta-Q names it: "TPDO 1" (same bit as [`Self::TPDO_2ND`]).
-    pub const DELTAQ_TPDO_1: u32 = Self::TPDO_2ND;
-    /// Bit 19 as Delta-Q names it: "TPDO 2" (same bit as [`Self::TPDO_3RD`]).
-    pub const DELTAQ_TPDO_2: u32 = Self::TPDO_3RD;
-    /// Bit 20: Delta-Q "RPDO 3 (manufacturer)" (reserved in CiA 418): the
-    /// module receives the charger's manufacturer TPDO 3.
-    pub const DELTAQ_RPDO_3: u32 = 1 << 20;
-    /// Bit 21: Delta-Q "deprecated" (reserved in CiA 418).
-    pub const DELTAQ_DEPRECATED: u32 = 1 << 21;
-
     /// Bits 20-31, reserved by CiA 418 (shall read 0).
     pub const CIA418_RESERVED: u32 = 0xFFF0_0000;
 
@@ -156,16 +142,15 @@ impl DeviceType {
         self.0 & mask == mask
     }
 
-    /// Bits CiA 418 reserves (20-31) that are set; 0 on a conforming module.
-    /// Delta-Q's bits 20 and 21 show up here too.
+    /// Bits CiA 418 reserves (20-31) that are set; 0 on a conforming module
+    /// (a vendor's own use of them shows up here too).
     #[must_use]
     pub const fn cia418_reserved_bits(self) -> u32 {
         self.0 & Self::CIA418_RESERVED
     }
 
     /// The battery module's receive PDOs: `P0` always (mandatory), `P1` for
-    /// bit 16, `P2` for bit 17, and `P3` for Delta-Q's bit 20 (manufacturer
-    /// RPDO 3; reserved and 0 on a plain CiA 418 module).
+    /// bit 16, `P2` for bit 17.
     #[must_use]
     pub const fn rpdos(self) -> PdoSet {
         let mut s = PdoSet::EMPTY.with(PdoNumber::P0);
@@ -174,9 +159,6 @@ impl DeviceType {
         }
         if self.has(Self::RPDO_3RD) {
             s = s.with(PdoNumber::P2);
-        }
-        if self.has(Self::DELTAQ_RPDO_3) {
-            s = s.with(PdoNumber::P3);
         }
         s
     }
@@ -193,18 +175,6 @@ impl DeviceType {
             s = s.with(PdoNumber::P2);
         }
         s
-    }
-
-    /// Delta-Q bit 20: the module wants the charger's manufacturer TPDO 3.
-    #[must_use]
-    pub const fn deltaq_manufacturer_rpdo3(self) -> bool {
-        self.has(Self::DELTAQ_RPDO_3)
-    }
-
-    /// Delta-Q bit 21 (deprecated) is set.
-    #[must_use]
-    pub const fn deltaq_deprecated(self) -> bool {
-        self.has(Self::DELTAQ_DEPRECATED)
     }
 
     /// Decodes the 4 little-endian bytes of 1000h (any value).
@@ -237,17 +207,12 @@ mod tests {
 
     #[test]
     fn bit_table() {
-        // DIGEST section 4, device type bits, both numberings.
+        // CiA 418 v1.0.1, 6.2.1: the optional-PDO bits of 1000h.
         assert_eq!(DeviceType::RPDO_2ND, 0x0001_0000);
         assert_eq!(DeviceType::RPDO_3RD, 0x0002_0000);
         assert_eq!(DeviceType::TPDO_2ND, 0x0004_0000);
         assert_eq!(DeviceType::TPDO_3RD, 0x0008_0000);
-        assert_eq!(DeviceType::DELTAQ_RPDO_1, 0x0001_0000);
-        assert_eq!(DeviceType::DELTAQ_RPDO_2, 0x0002_0000);
-        assert_eq!(DeviceType::DELTAQ_TPDO_1, 0x0004_0000);
-        assert_eq!(DeviceType::DELTAQ_TPDO_2, 0x0008_0000);
-        assert_eq!(DeviceType::DELTAQ_RPDO_3, 0x0010_0000);
-        assert_eq!(DeviceType::DELTAQ_DEPRECATED, 0x0020_0000);
+        assert_eq!(DeviceType::CIA418_RESERVED, 0xFFF0_0000);
     }
 
     #[test]
@@ -265,11 +230,10 @@ mod tests {
     fn every_pdo_bit() {
         let dt = DeviceType::decode(&[0xA2, 0x01, 0x3F, 0x00]).unwrap();
         assert_eq!(dt.raw(), 0x003F_01A2);
-        assert_eq!(dt.rpdos().len(), 4);
+        assert_eq!(dt.rpdos().len(), 3);
         assert_eq!(dt.tpdos().len(), 3);
+        assert!(!dt.rpdos().contains(PdoNumber::P3));
         assert!(!dt.tpdos().contains(PdoNumber::P3));
-        assert!(dt.deltaq_manufacturer_rpdo3());
-        assert!(dt.deltaq_deprecated());
         assert_eq!(dt.cia418_reserved_bits(), 0x0030_0000);
         assert_eq!(dt.encode(), [0xA2, 0x01, 0x3F, 0x00]);
     }

@@ -1,7 +1,9 @@
 //! CiA 418 battery-module profile: objects, statuses, units, packed strings.
 //!
-//! Everything here follows CiA DS 418 v1.0.1 as restated in DIGEST section 6
-//! (with section 4 for the device-type bits and the Delta-Q numbering).
+//! Everything here follows CiA 418 v1.0.1 ("Device profile for battery
+//! modules"): 6.2 for the communication objects (device type, error
+//! register, default PDOs), 7.2 and 7.3 for the application objects. Delta-Q's
+//! readings of the module's objects live in the `deltaq` module.
 //!
 //! - [`BATTERY_STATUS`] and friends: the index of every application object.
 //! - [`BatteryStatus`], [`ChargerStatus`], [`WaterLevelStatus`]: status bytes
@@ -13,7 +15,10 @@
 //! - [`PackedString`] (6030h, 6031h, 6040h, 6041h): strings packed four
 //!   characters per Unsigned32.
 //! - [`EqualizationDate`] (6054h) and [`CalendarDateTime`].
-//! - [`DeviceType`] (1000h) and the default PDO set [`DEFAULT_PDOS`].
+//! - [`DeviceType`] (1000h) and the default PDO set [`DEFAULT_PDOS`]
+//!   ([`battery_default_mapping`]).
+//! - [`BATTERY_MODULE_CATALOGUE`], [`CIA418_OBJECTS`]: the application
+//!   objects for decoding PDO fields in words.
 //! - [`BatteryModule`]: a whole CiA 418 node (object dictionary
 //!   [`BatteryObjects`], SDO server, default PDOs, heartbeat, EMCY, NMT
 //!   slave) as a sans-IO state machine.
@@ -28,6 +33,7 @@
 //! its "2nd RPDO" is `PdoNumber::P1` (Delta-Q's "RPDO 1").
 
 mod battery;
+mod catalogue;
 mod date;
 mod device_type;
 mod module;
@@ -44,19 +50,27 @@ mod packed_tests;
 #[cfg(test)]
 mod tests;
 
-pub use crate::device::{
-    Identity, IDENTITY, MANUFACTURER_DEVICE_NAME, PRODUCER_HEARTBEAT_TIME, SDO_SERVER_PARAMETER,
+pub use crate::device::Identity;
+/// The CiA 301 indexes a CiA 418 module serves, re-exported from
+/// [`od::index`](crate::od::index) (defined there only).
+pub use crate::od::index::{
+    DEVICE_TYPE, ERROR_REGISTER, IDENTITY, MANUFACTURER_DEVICE_NAME, PRODUCER_HEARTBEAT_TIME,
+    SDO_SERVER_PARAMETER,
 };
 pub use battery::{
     BatteryParameterValue, BatteryParameters, BatteryType, Chemistry, Gravity, LeadAcid,
     MaintenanceFree, NickelCadmiumCell, NickelCadmiumPlate, ObjectError, Plate, SilverOxide,
+};
+pub use catalogue::{
+    BATTERY_MODULE_CATALOGUE, BATTERY_STATUS_FLAGS, BATTERY_TYPE_FORMAT, CHARGER_STATUS_FLAGS,
+    CIA418_OBJECTS, WATER_LEVEL_STATUS_FLAGS,
 };
 pub use date::{CalendarDateTime, DateError, EqualizationDate};
 pub use device_type::{DeviceType, PdoSet};
 pub use module::{BatteryEvent, BatteryModule, BatteryModuleConfig};
 pub use objects::{BatteryObjects, BATTERY_OBJECT_INDEXES};
 pub use packed::{PackedString, PackedStringError, PackedStringObject, PackedText};
-pub use pdo::{DefaultPdo, PdoDirection, DEFAULT_PDOS};
+pub use pdo::{battery_default_mapping, DefaultPdo, PdoDirection, DEFAULT_PDOS};
 pub use status::{BatteryStatus, ChargerStatus, WaterLevelStatus};
 pub use units::{
     AmpHours, BatteryVoltage, ChargeCurrentRequested, EighthAmpHours, SocReading, StateOfCharge,
@@ -66,21 +80,18 @@ pub use units::{
 use crate::error::{exact_len, DecodeError};
 
 // ---------------------------------------------------------------------------
-// Communication objects CiA 418 gives defaults for (DIGEST sections 4 and 6).
+// Objects CiA 418 defines beyond CiA 301. CiA 418 v1.0.1, 6.2.1: in 1000h
+// device type bits 0-15 are 418 and bits 16-19 flag the optional PDOs (see
+// [`DeviceType`]); 6.2.2: in 1001h error register the device-profile bit
+// (bit 5) flags a temperature sensor fault.
 // ---------------------------------------------------------------------------
 
-/// 1000h device type (CiA 418 section 6.2.1): bits 0-15 = 418, bits 16-19
-/// optional PDOs. See [`DeviceType`].
-pub const DEVICE_TYPE: u16 = 0x1000;
-/// 1001h error register (CiA 418 section 6.2.2): the device-profile bit
-/// flags a temperature sensor fault.
-pub const ERROR_REGISTER: u16 = 0x1001;
 /// 0080h: index of the `BatteryPar` record data type (CiA 418 section 7.2.1),
 /// the type of object 6020h.
 pub const BATTERY_PAR_DATA_TYPE: u16 = 0x0080;
 
 // ---------------------------------------------------------------------------
-// Application objects (CiA 418 section 7.3, DIGEST section 6).
+// Application objects (CiA 418 v1.0.1, 7.3.1-7.3.18).
 // ---------------------------------------------------------------------------
 
 /// 6000h battery status, U8 ro (CiA 418 section 7.3.1). See [`BatteryStatus`].

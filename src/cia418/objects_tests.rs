@@ -44,7 +44,8 @@ fn write(od: &mut Od, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode>
     od.finish_write(index, sub, data.len())
 }
 
-/// DIGEST section 6, row by row: (index, sub, access, length, mappable).
+/// CiA 418 v1.0.1, 7.3.1-7.3.18 (the application objects' type and access),
+/// row by row: (index, sub, access, length, mappable).
 const TABLE: &[(u16, u8, Access, usize, bool)] = &[
     (0x6000, 0, Access::ReadOnly, 1, true),
     (0x6001, 0, Access::ReadWrite, 1, true),

@@ -1,5 +1,6 @@
-//! The default PDO set of a CiA 418 battery module (CiA 418 sections
-//! 6.2.3-6.2.8, DIGEST section 6), as data.
+//! The default PDO set of a CiA 418 battery module (CiA 418 v1.0.1,
+//! 6.2.3-6.2.8: the 1st-3rd RPDO and TPDO), as data in the CiA 301 row type
+//! [`DefaultPdo`].
 //!
 //! All six PDOs are asynchronous (transmission type 255). RPDO COB-IDs
 //! default to `0x200/0x300/0x400 + node`; the profile allows bit 30 ("no RTR")
@@ -7,7 +8,7 @@
 //! without it. TPDO COB-IDs default to "not valid" (bit 31 set): the module's
 //! application enables them.
 
-use crate::cob_id::{NodeId, PdoNumber};
+use crate::cob_id::PdoNumber;
 
 use super::{
     DeviceType, AH_RETURNED_DURING_LAST_CHARGE, BATTERY_STATE_OF_CHARGE, BATTERY_STATUS,
@@ -15,9 +16,18 @@ use super::{
     TEMPERATURE,
 };
 
-pub use crate::pdo::PdoDirection;
+pub use crate::pdo::{DefaultPdo, PdoDirection};
 
-/// One default PDO of a CiA 418 battery module.
+use crate::pdo::{default_mapping, PdoMapping};
+
+const TT_ASYNC: u8 = 255;
+
+/// The CiA 418 default PDOs: 1st, 2nd, 3rd RPDO, then 1st, 2nd, 3rd TPDO
+/// (CiA 418 v1.0.1, 6.2.3-6.2.8). The 1st RPDO and TPDO are mandatory, the
+/// others exist when device-type bits 16-19 say so; the RPDOs carry the
+/// charger's 6001h (+ 6052h, + 6080h), the TPDOs the module's 6010h and
+/// 6000h (+ 6060h), and 6070h with 6081h. The profile prints the 1st TPDO's
+/// default COB-ID as `80000 0180h`, read as 8000_0180h + node (not valid).
 ///
 /// ```
 /// use canopen_codec::cia418::{DEFAULT_PDOS, DeviceType};
@@ -28,68 +38,6 @@ pub use crate::pdo::PdoDirection;
 /// assert_eq!(first_tpdo.entries, &[(0x6010, 0, 16), (0x6000, 0, 8)]);
 /// assert!(first_tpdo.is_present(DeviceType::cia418(0)));
 /// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct DefaultPdo {
-    /// Receive or transmit, seen from the module.
-    pub direction: PdoDirection,
-    /// PDO number, counted from 0 (CiA 418's "1st" is `P0`).
-    pub number: PdoNumber,
-    /// Communication parameter index (1400h + n or 1800h + n).
-    pub communication_index: u16,
-    /// Mapping parameter index (1600h + n or 1A00h + n).
-    pub mapping_index: u16,
-    /// Default COB-ID without the node id (bit 31 set for the TPDOs: not
-    /// valid); see [`DefaultPdo::cob_id`].
-    pub cob_id_base: u32,
-    /// Transmission type (255: asynchronous, event-driven).
-    pub transmission_type: u8,
-    /// Default event timer in ms (sub 5): 200 for TPDOs, 0 (off) for RPDOs.
-    pub event_timer_ms: u16,
-    /// Default mapping entries as (index, sub-index, length in bits).
-    pub entries: &'static [(u16, u8, u8)],
-    /// The device-type (1000h) bit that says the PDO exists; `None` for the
-    /// mandatory 1st RPDO and 1st TPDO.
-    pub enabled_by: Option<u32>,
-}
-
-impl DefaultPdo {
-    /// The default COB-ID (comm. parameter sub 1) for a module with id `node`.
-    #[must_use]
-    pub const fn cob_id(&self, node: NodeId) -> u32 {
-        self.cob_id_base.wrapping_add(node.raw() as u32)
-    }
-
-    /// True if a module with device type `device_type` has this PDO.
-    #[must_use]
-    pub const fn is_present(&self, device_type: DeviceType) -> bool {
-        match self.enabled_by {
-            None => true,
-            Some(bit) => device_type.has(bit),
-        }
-    }
-
-    /// The mapping entries as CiA 301 Unsigned32 values (index << 16 | sub
-    /// << 8 | bits), sub 1 first.
-    pub fn mapping_values(&self) -> impl Iterator<Item = u32> + '_ {
-        self.entries.iter().map(|&(index, sub, bits)| {
-            u32::from(index) << 16 | u32::from(sub) << 8 | u32::from(bits)
-        })
-    }
-
-    /// Total mapped length in bits.
-    #[must_use]
-    pub fn total_bits(&self) -> u32 {
-        self.entries
-            .iter()
-            .map(|&(_, _, bits)| u32::from(bits))
-            .sum()
-    }
-}
-
-const TT_ASYNC: u8 = 255;
-
-/// The CiA 418 default PDOs: 1st, 2nd, 3rd RPDO, then 1st, 2nd, 3rd TPDO
-/// (DIGEST section 6, "Default PDOs of the battery module").
 pub const DEFAULT_PDOS: [DefaultPdo; 6] = [
     DefaultPdo {
         direction: PdoDirection::Receive,
@@ -172,3 +120,18 @@ pub const DEFAULT_PDOS: [DefaultPdo; 6] = [
         enabled_by: Some(DeviceType::TPDO_3RD),
     },
 ];
+
+/// The CiA 418 battery module's default mapping of one of its PDOs (from
+/// [`DEFAULT_PDOS`]); `None` for PDO 3, which CiA 418 does not define.
+///
+/// ```
+/// use canopen_codec::cia418::{battery_default_mapping, PdoDirection};
+/// use canopen_codec::pdo::MappingEntry;
+/// use canopen_codec::PdoNumber;
+/// let m = battery_default_mapping(PdoDirection::Transmit, PdoNumber::P0).unwrap();
+/// assert_eq!(m.entries(), &[MappingEntry::new(0x6010, 0, 16), MappingEntry::new(0x6000, 0, 8)]);
+/// ```
+#[must_use]
+pub fn battery_default_mapping(direction: PdoDirection, number: PdoNumber) -> Option<PdoMapping> {
+    default_mapping(&DEFAULT_PDOS, direction, number)
+}

@@ -1,10 +1,11 @@
 //! Status bytes: 6000h battery status, 6001h charger status, 6090h water
 //! level status (CiA 418 sections 7.3.1, 7.3.2, 7.3.18).
 //!
-//! The bit tables of 6000h and 6001h did not survive the extraction of the
-//! profile and are not public (DIGEST section 6, notes). Only the bits known
-//! from the profile and Delta-Q's object list are named; every other bit is
-//! kept (`from_bits_retain`) so a round trip is exact.
+//! The bit tables of 6000h and 6001h (CiA 418 v1.0.1, 7.3.1 and 7.3.2) are
+//! not public in full. Only the bits known are named: 6000h bit 0 "battery
+//! ready to be charged", 6001h bit 0 "charger enabled" (as Delta-Q's object
+//! list also reads them); every other bit is kept (`from_bits_retain`) so a
+//! round trip is exact.
 
 use crate::error::DecodeError;
 

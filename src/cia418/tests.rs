@@ -3,7 +3,8 @@
 use super::*;
 use crate::cob_id::{NodeId, PdoNumber};
 
-/// DIGEST section 6, application object table, row by row.
+/// CiA 418 v1.0.1, 7.3.1-7.3.18: the index of every application object, row
+/// by row.
 #[test]
 fn object_indexes() {
     let rows: [(u16, u16); 18] = [
@@ -49,8 +50,8 @@ type Row = (
     Option<u32>,
 );
 
-/// DIGEST section 6, default PDOs of the battery module, row by row, with
-/// literal values (COB-ID for node 1, then node 127).
+/// CiA 418 v1.0.1, 6.2.3-6.2.8: the default PDOs of the battery module, row
+/// by row, with literal values (COB-ID for node 1, then node 127).
 #[test]
 fn default_pdo_rows() {
     let rows: [Row; 6] = [
@@ -165,4 +166,19 @@ fn default_pdo_mapping_values() {
         assert!(pdo.mapping_values().eq(expected.iter().copied()));
     }
     assert_eq!(DEFAULT_PDOS[4].total_bits(), 56);
+}
+
+#[test]
+fn battery_defaults_from_the_cia418_table() {
+    let m = battery_default_mapping(PdoDirection::Transmit, PdoNumber::P1).unwrap();
+    assert_eq!(
+        m.entries(),
+        &[
+            crate::pdo::MappingEntry::new(0x6010, 0, 16),
+            crate::pdo::MappingEntry::new(0x6000, 0, 8),
+            crate::pdo::MappingEntry::new(0x6060, 0, 32),
+        ]
+    );
+    let m = battery_default_mapping(PdoDirection::Receive, PdoNumber::P2).unwrap();
+    assert_eq!(m.total_bits(), 32);
 }

@@ -1,4 +1,4 @@
-//! Scaled quantities of CiA 418 (DIGEST section 6): each is a newtype over
+//! Scaled quantities of CiA 418 (v1.0.1, 7.3.3-7.3.17): each is a newtype over
 //! the raw object value, with exact integer conversions to a sub-unit that
 //! divides the resolution (0.125 degC = 125 millidegrees, 0.125 Ah = 125 mAh,
 //! 1/16 A = 62 500 uA, 1/1024 V = 976 562 500 pV) and a float view for
@@ -148,9 +148,10 @@ impl AmpHours {
 /// 6051h / 6052h / 6053h ampere-hours, Unsigned16, 0.125 Ah per bit (CiA 418
 /// sections 7.3.10-7.3.12).
 ///
-/// CiA 418 defines no "no value" marker for these objects; Delta-Q's charger
-/// uses 0xFFFF as the default of 6052h ("no value"), which this type keeps as
-/// the raw value 8191.875 Ah: compare with [`EighthAmpHours::DELTAQ_NO_VALUE`].
+/// CiA 418 defines no "no value" marker for these objects: 0xFFFF is the
+/// largest reading, 8191.875 Ah ([`EighthAmpHours::MAX`]). A device profile
+/// that reserves 0xFFFF as "no value" reads the object with a type of its
+/// own.
 ///
 /// ```
 /// use canopen_codec::cia418::EighthAmpHours;
@@ -165,8 +166,9 @@ pub struct EighthAmpHours(u16);
 impl EighthAmpHours {
     /// Milliampere-hours per bit.
     pub const MILLIAMP_HOURS_PER_BIT: u32 = 125;
-    /// 0xFFFF, Delta-Q's default "no value" for 6052h (not a CiA 418 marker).
-    pub const DELTAQ_NO_VALUE: EighthAmpHours = EighthAmpHours(0xFFFF);
+    /// 0xFFFF, the largest value: 8191.875 Ah (CiA 418 gives it no special
+    /// meaning).
+    pub const MAX: EighthAmpHours = EighthAmpHours(0xFFFF);
 
     /// Wraps a raw object value.
     #[must_use]
@@ -320,7 +322,7 @@ impl BatteryVoltage {
 /// **Invalid marker**: the profile says "FFh shall indicate an invalid value"
 /// for this 16-bit object. This crate treats **0xFFFF** as the invalid marker
 /// ([`ChargeCurrentRequested::INVALID`]); 0x00FF is 15.9375 A, a valid
-/// request (DIGEST section 6, notes).
+/// request (CiA 418 v1.0.1, 7.3.15).
 ///
 /// ```
 /// use canopen_codec::cia418::ChargeCurrentRequested;
@@ -580,7 +582,7 @@ mod tests {
         assert!(AmpHours::decode(&[0; 3]).is_err());
 
         let e = EighthAmpHours::decode(&[0xFF, 0xFF]).unwrap();
-        assert_eq!(e, EighthAmpHours::DELTAQ_NO_VALUE);
+        assert_eq!(e, EighthAmpHours::MAX);
         assert_eq!(e.milliamp_hours(), 8_191_875);
         assert_eq!(EighthAmpHours::from_milliamp_hours(8_191_875), Some(e));
         assert_eq!(EighthAmpHours::from_milliamp_hours(8_192_000), None);

@@ -1,6 +1,6 @@
 //! The charger session: a CiA 419 charger in the Delta-Q IC Series flavour
-//! (Delta-Q IC Series CANopen interface specification rev 2.0, sections
-//! 3-4) as a profile on the CiA 301 device core ([`crate::device`]).
+//! (Delta-Q IC Series CANopen interface specification rev 2.0, section 4)
+//! as a profile on the CiA 301 device core ([`crate::device`]).
 //!
 //! What it adds to the core:
 //!
@@ -11,7 +11,7 @@
 //!   sends `000#010A`).
 //! - **Heartbeat consumer** of the battery module (1016h, 2000 ms; the
 //!   core's supervision, the charger's reaction).
-//! - **PDO COB-ID configuration** (CiA 419 section 7.2; Delta-Q section 4.2),
+//! - **PDO COB-ID configuration** (CiA 419 section 7.2; Delta-Q section 4.5.5),
 //!   when [`ChargerConfig::configure_cob_ids`] is set: on finding the battery
 //!   module (its first heartbeat, boot-up, or a heartbeat after a loss) the
 //!   charger reads 1000h by SDO; the profile must be 418 (else
@@ -22,7 +22,7 @@
 //!   1800h); TPDO 1 / 2 when bits 16 / 17 say the module has RPDO 1 / 2;
 //!   RPDO 1 / 2 when bits 18 / 19 say it has TPDO 1 / 2
 //!   ([`crate::cia419::PDO_PAIRS`]); TPDO 3 only when Delta-Q's bit 20
-//!   ([`DELTAQ_TPDO_3_BIT`]) asks for it. The settings are volatile. **Choice**
+//!   ([`device_type::RPDO_3`](super::device_type::RPDO_3)) asks for it. The settings are volatile. **Choice**
 //!   (the documents are silent): a module COB-ID with bit 31 set ("not
 //!   valid", CiA 418's TPDO default) is copied by its identifier bits and the
 //!   charger's own paired PDO is enabled; enabling the module's TPDOs is the
@@ -54,6 +54,7 @@
 use core::time::Duration;
 
 use super::charger_objects::ChargerObjects;
+use super::{charger_default_pdo, device_type};
 use super::{emergency_reaction, timeouts, DeltaQCode, OperatingMode, Reaction};
 use crate::bytes::InlineData;
 use crate::cia419::{PdoPair, CHARGER_DEVICE_TYPE, PDO_PAIRS};
@@ -69,11 +70,6 @@ use crate::nmt::NmtState;
 use crate::pdo::{PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoSlot, RpdoError};
 use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent};
 use crate::time::{millis_u16, Timestamp};
-
-/// Delta-Q's device-type bit 20 of the battery module: "the charger shall
-/// send TPDO 3" (Delta-Q IC Series CANopen interface specification rev 2.0,
-/// section 4.2).
-pub const DELTAQ_TPDO_3_BIT: u32 = 1 << 20;
 
 /// How the charger is set up.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -102,8 +98,9 @@ pub struct ChargerConfig {
 
 impl ChargerConfig {
     /// Delta-Q defaults for charger `node` and battery module `battery`
-    /// (Delta-Q section 4.3: heartbeat 1000 ms, consumer 2000 ms, SDO
-    /// 2000 ms, TPDO 0-2 every 200 ms and TPDO 3 every 1000 ms).
+    /// (Delta-Q IC Series CANopen interface specification rev 2.0, sections
+    /// 4.3.1, 4.5.1, 4.5.2 and 4.6.1: heartbeat 1000 ms, consumer 2000 ms,
+    /// SDO 2000 ms, TPDO 0-2 every 200 ms and TPDO 3 every 1000 ms).
     #[must_use]
     pub const fn new(node: NodeId, battery: NodeId) -> Self {
         let fast = Duration::from_millis(timeouts::CHARGER_TPDO_0_2_PERIOD_MS);
@@ -214,7 +211,7 @@ const PAIRS: [PdoPair; 7] = {
         module_comm_index: 0x1403,
         charger_direction: PdoDirection::Transmit,
         charger_pdo: PdoNumber::P3,
-        device_type_bit: DELTAQ_TPDO_3_BIT,
+        device_type_bit: device_type::RPDO_3,
     };
     [a, b, c, d, e, f, tpdo3]
 };
@@ -227,10 +224,10 @@ fn default_pdos(config: &ChargerConfig) -> PdoConfig {
     let mut pdos = PdoConfig::new();
     for dir in [PdoDirection::Transmit, PdoDirection::Receive] {
         for n in PDO_NUMBERS {
-            let d = crate::pdo::charger_default_pdo(dir, n);
+            let d = charger_default_pdo(dir, n);
             let Some(mapping) = d.mapping() else { continue };
-            let cob = PdoCobId::from_u32(u32::from(d.cob_id(config.node)))
-                .with_valid(!config.configure_cob_ids);
+            let cob =
+                PdoCobId::from_u32(d.cob_id(config.node)).with_valid(!config.configure_cob_ids);
             let period = match dir {
                 PdoDirection::Transmit => config
                     .tpdo_periods
@@ -609,8 +606,9 @@ impl Profile<ChargerObjects, ChargerEvent> for ChargerProfile {
         self.client.poll_timeout()
     }
 
-    /// Delta-Q's E-0-4-6 "invalid PDO length" with EEC 8210h (Delta-Q
-    /// section 4.4.1) for a short RPDO.
+    /// Delta-Q's E-0-4-6 "invalid PDO length" with EEC 8210h (Delta-Q IC
+    /// Series CANopen interface specification rev 2.0, section 4.4.1) for a
+    /// short RPDO.
     fn rpdo_emergency(&self, register: ErrorRegister, error: &RpdoError) -> Option<Emergency> {
         let code = error.emcy_code()?;
         let register = register | ErrorRegister::GENERIC | ErrorRegister::COMMUNICATION;

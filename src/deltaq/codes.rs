@@ -278,8 +278,8 @@ impl fmt::Display for DeltaQCode {
     }
 }
 
-/// One row of the Delta-Q alarm and fault table (DIGEST section 3; the
-/// document's section 4.4.1). Rows the document groups ("E-0-0-1, E-0-2-1")
+/// One row of the Delta-Q alarm and fault table ("Delta-Q IC Series CANopen
+/// interface specification rev 2.0", section 4.4.1). Rows the document groups ("E-0-0-1, E-0-2-1")
 /// are separate rows here.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct AlarmFaultEntry {

@@ -1,10 +1,12 @@
 //! Row-by-row tests of the Delta-Q alarm and fault table, and of the code
 //! type's decoding, encoding and labels.
 //!
-//! Every expected value below is a literal copied from DIGEST section 3 (the
-//! 1003h column; the EMCY bytes and SDO wire bytes are those values laid out
-//! as the digest's E-0-0-1 example shows, with error register 01h), never
-//! computed by the code under test.
+//! Every expected value below is a literal copied from the alarm and fault
+//! tables of "Delta-Q IC Series CANopen interface specification rev 2.0",
+//! section 4.4.1 (the "Object 1003h Error Code" column; the EMCY bytes and
+//! SDO wire bytes are those values laid out as section 4.4.1.1 describes:
+//! EEC little-endian, error register 01h, the Delta-Q code little-endian in
+//! bytes 3-4), never computed by the code under test.
 
 use super::*;
 use crate::emcy::{Emergency, ErrorCode, ErrorFieldEntry, ErrorRegister};
@@ -131,7 +133,7 @@ rows! {
 }
 
 #[test]
-fn table_is_exactly_the_digest_rows() {
+fn table_is_exactly_the_specification_rows() {
     assert_eq!(ALARMS_AND_FAULTS.len(), 47);
     assert_eq!(CASES.len(), 47);
     assert_eq!(
@@ -227,7 +229,7 @@ fn lenient_changes_only_erratum_shaped_values() {
     }
 }
 
-/// The real capture (captures/deltaq-icl1500-startup.log).
+/// The real capture (tests/data/deltaq-icl1500-startup.log).
 #[test]
 fn capture_emcy_frames() {
     // 08A#3081012080000000: E-0-3-2 heartbeat lost.

@@ -1,9 +1,12 @@
 //! Delta-Q IC Series charger: alarm and fault table, the 1003h byte-order
 //! quirk, manufacturer objects and the EMCY-consumer reaction policy.
 //!
-//! Source: Delta-Q "IC Series CANopen Interface Specification", document rev
-//! 2.0 (CANopen interface 2.6), 2018, and Delta-Q's published object list, as
-//! restated (with errata) in the project's DIGEST sections 2, 3 and 5a.
+//! Sources: "Delta-Q IC Series CANopen interface specification rev 2.0"
+//! (CANopen interface 2.6, 2018), cited by its own section numbers, and
+//! Delta-Q's published object list (its EDS; rev 2.0 moved the object
+//! descriptions there). Two errata of the document are corrected where they
+//! are used: the F-0-0-6 1003h value (below) and the 2100h scale
+//! ([`BatteryVoltageLegacy`]).
 //!
 //! - [`DeltaQCode`], [`ALARMS_AND_FAULTS`]: the charger's alarm ("E-0-x-y")
 //!   and fault ("F-0-x-y") codes, decoded from its EMCY frames
@@ -16,6 +19,12 @@
 //!   the scaled values ([`ChargingCurrent`], [`BatteryVoltage`], ...) and
 //!   the other object types, with "no value" sentinels as `None`.
 //! - [`timeouts`]: the recommended timeouts.
+//! - [`device_type`]: Delta-Q's reading of the battery module's 1000h bits
+//!   (bit 20: the module wants the charger's TPDO 3).
+//! - [`CHARGER_DEFAULT_PDOS`]: the charger's default PDO set, and
+//!   [`default_mapping_for_cob_id`] for a bus of charger and module.
+//! - [`CHARGER_CATALOGUE`], [`DELTAQ_OBJECTS`]: the charger's objects for
+//!   decoding PDO fields in words.
 //!
 //! ```
 //! use canopen_codec::deltaq::{emcy_reaction, DeltaQCode, OperatingMode, Reaction};
@@ -29,7 +38,7 @@
 //! assert_eq!(emcy_reaction(OperatingMode::Local, e.code), Reaction::Continue);
 //! ```
 //!
-//! ## Alarm and fault codes (DIGEST section 3; document section 4.4.1)
+//! ## Alarm and fault codes (document section 4.4.1)
 //!
 //! A Delta-Q code is 16 bits: prefix | number. Alarms ("E-0-x-y", user
 //! recoverable) have prefix 8000h, faults ("F-0-x-y", charger hardware) C000h,
@@ -95,7 +104,7 @@
 //! Every received code is to be logged, whatever the reaction; that is the
 //! caller's job.
 //!
-//! ## Object values (DIGEST sections 5 and 5a)
+//! ## Object values (Delta-Q's object list)
 //!
 //! Scaled values keep the raw integer ([`raw`](ChargingCurrent::raw)); unit
 //! accessors convert it: `as_f32` / `as_f64` (exact in `f64`; exact in `f32`
@@ -124,13 +133,20 @@
 //! assert_eq!(status.to_u16(), 0x0070);
 //! ```
 
+mod catalogue;
 mod charger;
 mod charger_objects;
 mod codes;
+pub mod device_type;
 mod objects;
+mod pdo;
 mod policy;
 
-pub use charger::{Charger, ChargerConfig, ChargerEvent, DELTAQ_TPDO_3_BIT};
+pub use catalogue::{
+    ALGORITHM_REQUEST_FORMAT, CHARGER_CATALOGUE, DELTAQ_OBJECTS, DERATE_REASONS_FLAGS,
+    DISPLAYED_ERROR_FORMAT, EXTENDED_CHARGE_STATUS_FLAGS, EXTERNAL_OVERRIDE_FLAGS,
+};
+pub use charger::{Charger, ChargerConfig, ChargerEvent};
 pub use charger_objects::ChargerObjects;
 pub use codes::{AlarmFaultEntry, DeltaQCode, ALARMS_AND_FAULTS};
 pub use objects::{
@@ -139,10 +155,15 @@ pub use objects::{
     DisplayedError, ExtendedChargeStatus, ExternalOverride, OverrideSource, VoltageRequest,
     VoltageRequest16,
 };
+pub use pdo::{
+    charger_default_mapping, charger_default_pdo, default_mapping_for_cob_id, paired_module_pdo,
+    CHARGER_DEFAULT_PDOS,
+};
 pub use policy::{emcy_reaction, emergency_reaction, OperatingMode, Reaction};
 
 /// Object dictionary indexes of the Delta-Q charger's manufacturer objects
-/// (DIGEST section 5a), plus 6052h whose scaling the charger fixes.
+/// (Delta-Q's published object list), plus 6052h whose scaling the charger
+/// fixes.
 pub mod index {
     /// 2002h charging current, U16 Q8 A ([`ChargingCurrent`](super::ChargingCurrent)).
     pub const CHARGING_CURRENT: u16 = 0x2002;
@@ -190,8 +211,10 @@ pub mod index {
     pub const AH_RETURNED: u16 = 0x6052;
 }
 
-/// Delta-Q's recommended timeouts and periods, in milliseconds (DIGEST
-/// section 2; document section 4.3). The charger does not support SYNC.
+/// Delta-Q's recommended timeouts and periods, in milliseconds ("Delta-Q IC
+/// Series CANopen interface specification rev 2.0", section 4.3.1, Table 1,
+/// and section 4.5.5 for the TPDO periods). The charger does not support
+/// SYNC.
 pub mod timeouts {
     /// Boot-up: 5000 ms.
     pub const BOOT_UP_MS: u64 = 5000;

@@ -1,4 +1,5 @@
-//! Values of the Delta-Q manufacturer objects (DIGEST section 5a) and of
+//! Values of the Delta-Q manufacturer objects (Delta-Q's published object
+//! list) and of
 //! 6052h as the charger scales it; scaling and "no value" rules are in the
 //! parent module's docs.
 
@@ -138,7 +139,8 @@ scaled! {
 scaled! {
     /// 2100h battery voltage (legacy): U16, **Q10 V** (1/1024 V), 0..64 V.
     ///
-    /// Erratum (DIGEST section 5): the document's PDO table calls 2100h
+    /// Erratum ("Delta-Q IC Series CANopen interface specification rev
+    /// 2.0", section 4.6.1, Table 2): the document's PDO table calls 2100h
     /// "Battery Voltage Q8 UINT16", but its revision 1.6 note says 2100h "was
     /// limited in range to 0 - 64V" and added 2101h ([`BatteryVoltage`], Q8)
     /// to replace it in the PDO; 0..64 V in 16 bits is Q10, as Delta-Q's

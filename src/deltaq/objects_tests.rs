@@ -6,7 +6,7 @@ use crate::emcy::ErrorCode;
 use crate::error::DecodeError;
 
 /// The capture's charger TPDO 0 `18A#7413454E70000000` and TPDO 2
-/// `38A#00000000BA07FF00` (captures/README.md worked example).
+/// `38A#00000000BA07FF00` (the worked example of tests/data/CAPTURES.md).
 #[test]
 fn capture_worked_example() {
     assert_eq!(

@@ -52,15 +52,30 @@
 //!   counts what it drops ([`Machine::events_dropped`]); nothing else
 //!   depends on it.
 //! - Total: no frame, timestamp or call order panics.
+//!
+//! # Communication objects ([`CommObjects`])
+//!
+//! | index | object | type | access |
+//! |---|---|---|---|
+//! | 1000h | device type | U32 | const |
+//! | 1001h | error register | U8 | ro |
+//! | 1003h | pre-defined error field: sub 0 the number of entries (rw; only 0 may be written, which clears the history, else 06090030h), sub 1-10 the entries, newest first (ro; an empty entry reads 08000024h) | ARRAY of U32 | |
+//! | 1008h | manufacturer device name | VISIBLE_STRING | const |
+//! | 1016h | consumer heartbeat time: sub 0 the number of entries (const), sub 1..n node (bits 23-16) and time in ms (bits 15-0) (rw; an enabled entry for a node another entry watches is 06040043h) | ARRAY of U32 | (only with entries) |
+//! | 1017h | producer heartbeat time, ms | U16 | rw |
+//! | 1018h | identity: sub 0 = 4 (ro), vendor-ID, product code, revision, serial number | RECORD of U32 | ro |
+//! | 1200h | SDO server parameter: sub 0 = 2, 600h + node, 580h + node | RECORD of U32 | ro |
+//!
+//! Objects the table does not name are passed to the application's
+//! dictionary, which may add communication objects of its own; the PDO
+//! objects (1400h-1A03h) are served by [`PdoDictionary`] above both.
 
 use core::time::Duration;
 
 mod objects;
 
 pub use objects::{
-    CommObjects, DeviceObjects, ErrorFieldFormat, Identity, CONSUMER_HEARTBEAT_TIME, DEVICE_TYPE,
-    ERROR_HISTORY_LEN, ERROR_REGISTER, IDENTITY, MANUFACTURER_DEVICE_NAME, MAX_CONSUMERS,
-    PRE_DEFINED_ERROR_FIELD, PRODUCER_HEARTBEAT_TIME, SDO_SERVER_PARAMETER,
+    CommObjects, DeviceObjects, ErrorFieldFormat, Identity, ERROR_HISTORY_LEN, MAX_CONSUMERS,
 };
 
 use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
@@ -69,6 +84,7 @@ use crate::frame::{CanFrame, CanId};
 use crate::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent, HeartbeatProducer};
 use crate::machine::Machine;
 use crate::nmt::{NmtSlave, NmtSlaveEvent, NmtState, ResetKind};
+use crate::od::index::{CONSUMER_HEARTBEAT_TIME, PRODUCER_HEARTBEAT_TIME};
 use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoError, RpdoReceiver, TpdoSet};
 use crate::queue::{EventQueue, Queue};
@@ -273,6 +289,7 @@ const EVENT_CAPACITY: usize = 16;
 /// The CiA 301 device core. See the [module docs](self).
 ///
 /// ```
+/// # #[cfg(feature = "alloc")] {
 /// use canopen_codec::device::{Device, DeviceConfig, DeviceEvent};
 /// use canopen_codec::machine::Machine;
 /// use canopen_codec::od::MemoryDictionary;
@@ -284,6 +301,7 @@ const EVENT_CAPACITY: usize = 16;
 /// // An SDO upload of 1017h: 1000 ms.
 /// dev.handle_frame(Timestamp::ZERO, &CanFrame::standard(0x603, &[0x40, 0x17, 0x10, 0, 0, 0, 0, 0]).unwrap());
 /// assert_eq!(dev.poll_transmit().unwrap().to_string(), "583#4B171000E8030000");
+/// # }
 /// ```
 #[derive(Debug)]
 pub struct Device<A, E: Copy> {

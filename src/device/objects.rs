@@ -1,17 +1,7 @@
 //! The communication objects every device of the core has (CiA 301,
 //! 1000h-1FFFh apart from the PDO objects), and the dictionary that layers
-//! them over the profile's application objects.
-//!
-//! | index | object | type | access |
-//! |---|---|---|---|
-//! | 1000h | device type | U32 | const |
-//! | 1001h | error register | U8 | ro |
-//! | 1003h | pre-defined error field: sub 0 the number of entries (rw; only 0 may be written, which clears the history, else 06090030h), sub 1-10 the entries, newest first (ro; an empty entry reads 08000024h) | ARRAY of U32 | |
-//! | 1008h | manufacturer device name | VISIBLE_STRING | const |
-//! | 1016h | consumer heartbeat time: sub 0 the number of entries (const), sub 1..n node (bits 23-16) and time in ms (bits 15-0) (rw; an enabled entry for a node another entry watches is 06040043h) | ARRAY of U32 | (only with entries) |
-//! | 1017h | producer heartbeat time, ms | U16 | rw |
-//! | 1018h | identity: sub 0 = 4 (ro), vendor-ID, product code, revision, serial number | RECORD of U32 | ro |
-//! | 1200h | SDO server parameter: sub 0 = 2, 600h + node, 580h + node | RECORD of U32 | ro |
+//! them over the profile's application objects
+//! (the table is in the [device core docs](crate::device)).
 //!
 //! Objects the table does not name are passed to the application's
 //! dictionary, which may add communication objects of its own.
@@ -19,25 +9,12 @@
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::emcy::{Emergency, ErrorFieldEntry, ErrorRegister};
 use crate::heartbeat::ConsumerEntry;
+use crate::od::index::{
+    CONSUMER_HEARTBEAT_TIME, DEVICE_TYPE, ERROR_REGISTER, IDENTITY, MANUFACTURER_DEVICE_NAME,
+    PRE_DEFINED_ERROR_FIELD, PRODUCER_HEARTBEAT_TIME, SDO_SERVER_PARAMETER,
+};
 use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
 use crate::sdo::AbortCode;
-
-/// 1000h device type (CiA 301).
-pub const DEVICE_TYPE: u16 = 0x1000;
-/// 1001h error register (CiA 301).
-pub const ERROR_REGISTER: u16 = 0x1001;
-/// 1003h pre-defined error field: the error history (CiA 301).
-pub const PRE_DEFINED_ERROR_FIELD: u16 = 0x1003;
-/// 1008h manufacturer device name (CiA 301).
-pub const MANUFACTURER_DEVICE_NAME: u16 = 0x1008;
-/// 1016h consumer heartbeat time (CiA 301).
-pub const CONSUMER_HEARTBEAT_TIME: u16 = 0x1016;
-/// 1017h producer heartbeat time (CiA 301).
-pub const PRODUCER_HEARTBEAT_TIME: u16 = 0x1017;
-/// 1018h identity object (CiA 301).
-pub const IDENTITY: u16 = 0x1018;
-/// 1200h the default SDO server's parameters (CiA 301).
-pub const SDO_SERVER_PARAMETER: u16 = 0x1200;
 
 /// Entries the error history (1003h) keeps.
 pub const ERROR_HISTORY_LEN: usize = 10;
@@ -110,7 +87,7 @@ impl ErrorFieldFormat {
     }
 }
 
-/// The communication objects of the table in the [module docs](self).
+/// The communication objects of the table in the [device core docs](crate::device).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct CommObjects {
     node: NodeId,

@@ -207,7 +207,9 @@ fn layered_dictionary_routes_by_index() {
             }
         }
         fn read(&mut self, _: u16, _: u8, _: usize, buf: &mut [u8]) -> Result<usize, AbortCode> {
-            buf.first_mut().map(|b| *b = self.0);
+            if let Some(b) = buf.first_mut() {
+                *b = self.0;
+            }
             Ok(1)
         }
         fn write(&mut self, _: u16, _: u8, _: usize, data: &[u8]) -> Result<(), AbortCode> {

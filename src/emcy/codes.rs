@@ -1,6 +1,7 @@
-//! Emergency error code classes and named codes (CiA 301, with the CiA 401
-//! rows CANopenNode ships and CiA 418's 5010h), from
-//! `spec/cia301/emcy_codes.tsv`.
+//! Emergency error code classes and named codes (CiA 301, emergency error
+//! codes table, with the CiA 401 rows CANopenNode ships and CiA 418's 5010h
+//! "temperature sensor fault", CiA 418 v1.0.1, 5.3). The names are those
+//! CANopenNode's `CO_EMC_*` macros and python-canopen give the same codes.
 
 use super::ErrorCode;
 

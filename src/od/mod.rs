@@ -18,6 +18,7 @@
 
 use crate::sdo::AbortCode;
 
+pub mod index;
 #[cfg(feature = "alloc")]
 mod memory;
 #[cfg(feature = "alloc")]

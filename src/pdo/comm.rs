@@ -13,6 +13,7 @@ use core::fmt;
 
 use crate::cob_id::PdoNumber;
 use crate::frame::CanId;
+use crate::od::index::{RPDO_COMMUNICATION, TPDO_COMMUNICATION};
 use crate::sdo::AbortCode;
 
 /// Direction of a PDO, seen from the device that holds it.
@@ -29,8 +30,8 @@ impl PdoDirection {
     #[must_use]
     pub const fn comm_index(self, n: PdoNumber) -> u16 {
         match self {
-            PdoDirection::Receive => 0x1400 + n.raw() as u16,
-            PdoDirection::Transmit => 0x1800 + n.raw() as u16,
+            PdoDirection::Receive => RPDO_COMMUNICATION + n.raw() as u16,
+            PdoDirection::Transmit => TPDO_COMMUNICATION + n.raw() as u16,
         }
     }
 
@@ -45,8 +46,8 @@ impl PdoDirection {
     #[must_use]
     pub const fn from_index(index: u16) -> Option<(PdoDirection, PdoNumber, bool)> {
         let dir = match index & 0xFC00 {
-            0x1400 => PdoDirection::Receive,
-            0x1800 => PdoDirection::Transmit,
+            RPDO_COMMUNICATION => PdoDirection::Receive,
+            TPDO_COMMUNICATION => PdoDirection::Transmit,
             _ => return None,
         };
         let is_mapping = index & 0x0200 != 0;

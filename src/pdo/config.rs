@@ -1,7 +1,11 @@
 //! The device side of PDO configuration: objects 1400h-1403h, 1600h-1603h,
 //! 1800h-1803h and 1A00h-1A03h as an [`ObjectDictionary`] layer that
-//! enforces the reconfiguration rules of DIGEST section 5 / CiA 301 when the
-//! SDO server writes them.
+//! enforces the CiA 301 PDO mapping procedure when the SDO server writes
+//! them: the mapping of a PDO changes only while its COB-ID has bit 31 set
+//! (not valid) and its sub-index 0 is 0; sub 0 then takes 1..=8 entries
+//! whose objects are mappable, non-zero and 64 bits at most in total (the
+//! procedure "Delta-Q IC Series CANopen interface specification rev 2.0",
+//! section 4.6.2, spells out for the charger).
 //!
 //! [`PdoDictionary`] wraps the application's dictionary `D`: it serves the
 //! PDO objects from its [`PdoConfig`] and passes every other index to `D`

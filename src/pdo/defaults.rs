@@ -1,42 +1,48 @@
-//! Default PDO sets as data: the Delta-Q charger's TPDOs 0-3 and RPDOs 0-3
-//! (DIGEST section 4, "Charger default PDO mappings" and the pairing table),
-//! and the battery module's CiA 418 set ([`crate::cia418::DEFAULT_PDOS`]) as
-//! [`PdoMapping`]s.
+//! Default PDO sets as data: one row type, [`DefaultPdo`], for any device
+//! profile's table of default PDOs (communication parameters 1400h + n /
+//! 1800h + n and mappings 1600h + n / 1A00h + n, CiA 301), and lookups over
+//! such a table.
 //!
-//! **Numbering.** PDOs count from 0 ([`PdoNumber`]), as Delta-Q does: the
-//! charger's TPDO 1 (1801h / 1A01h) pairs with CiA 418's "2nd RPDO" of the
-//! module. **Direction** ([`PdoDirection`]) is seen from the device that owns
-//! the PDO: a charger `Transmit` PDO is one the charger sends.
+//! The tables themselves belong to the profiles that define them (the
+//! CiA 418 battery module's set and the Delta-Q charger's set live in those
+//! profile modules).
 //!
-//! **Charger RPDO 3 is not published.** Delta-Q's documents give the
-//! charger's RPDO 3 (1403h / 1603h) a COB-ID and a pairing (the module's TPDO
-//! 3, "not expected from the module") but no mapping; its row here has
-//! `entries: None` and [`charger_default_mapping`] returns `None` for it.
+//! **Numbering.** PDOs count from 0 ([`PdoNumber`]): a profile's "1st TPDO"
+//! is `PdoNumber::P0`. **Direction** ([`PdoDirection`]) is seen from the
+//! device that owns the PDO: a `Transmit` PDO is one the device sends.
 //!
 //! ```
-//! use canopen_codec::cia418::PdoDirection;
-//! use canopen_codec::pdo::{charger_default_mapping, MappingEntry};
-//! use canopen_codec::PdoNumber;
+//! use canopen_codec::pdo::{default_mapping, find_default, DefaultPdo, MappingEntry, PdoDirection};
+//! use canopen_codec::{NodeId, PdoNumber};
 //!
-//! let tpdo3 = charger_default_mapping(PdoDirection::Transmit, PdoNumber::P3).unwrap();
-//! assert_eq!(tpdo3.entries(), &[
-//!     MappingEntry::new(0x2002, 0, 16),
-//!     MappingEntry::new(0x2100, 0, 16),
-//!     MappingEntry::new(0x2006, 0, 16),
-//! ]);
-//! assert_eq!(charger_default_mapping(PdoDirection::Receive, PdoNumber::P3), None);
+//! const TABLE: [DefaultPdo; 1] = [DefaultPdo {
+//!     direction: PdoDirection::Transmit,
+//!     number: PdoNumber::P0,
+//!     communication_index: 0x1800,
+//!     mapping_index: 0x1A00,
+//!     cob_id_base: 0x180,
+//!     transmission_type: 255,
+//!     event_timer_ms: 100,
+//!     entries: &[(0x6000, 0, 8)],
+//!     enabled_by: None,
+//! }];
+//! let row = find_default(&TABLE, PdoDirection::Transmit, PdoNumber::P0).unwrap();
+//! assert_eq!(row.cob_id(NodeId::new(5).unwrap()), 0x185);
+//! let m = default_mapping(&TABLE, PdoDirection::Transmit, PdoNumber::P0).unwrap();
+//! assert_eq!(m.entries(), &[MappingEntry::new(0x6000, 0, 8)]);
+//! assert_eq!(default_mapping(&TABLE, PdoDirection::Receive, PdoNumber::P0), None);
 //! ```
 
-use crate::cia418::{PdoDirection, DEFAULT_PDOS};
-use crate::cob_id::{classify_standard, CobKind, NodeId, PdoNumber};
+use crate::cob_id::{NodeId, PdoNumber};
 
-use super::catalogue::Catalogue;
-use super::mapping::{MappingEntry, PdoMapping};
+use super::comm::PdoDirection;
+use super::mapping::{MappingEntry, PdoMapping, MAX_ENTRIES};
 
-/// One default PDO of the Delta-Q charger (DIGEST section 4).
+/// One default PDO of a device profile: its parameters as the profile
+/// gives them for a device that has not been configured.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct ChargerDefaultPdo {
-    /// Transmit (the charger sends it) or receive (the charger consumes it).
+pub struct DefaultPdo {
+    /// Receive or transmit, seen from the device that owns the PDO.
     pub direction: PdoDirection,
     /// PDO number, counted from 0.
     pub number: PdoNumber,
@@ -44,220 +50,95 @@ pub struct ChargerDefaultPdo {
     pub communication_index: u16,
     /// Mapping parameter index (1600h + n or 1A00h + n).
     pub mapping_index: u16,
-    /// Default COB-ID without the node id (0x180/0x280/0x380/0x480 for
-    /// TPDOs, 0x200/0x300/0x400/0x500 for RPDOs); see
-    /// [`ChargerDefaultPdo::cob_id`].
-    pub cob_id_base: u16,
-    /// Transmit period in ms (200 for TPDO 0..2, 1000 for TPDO 3); `None`
-    /// for receive PDOs.
-    pub period_ms: Option<u16>,
-    /// Default mapping entries, sub 1 first; `None` where the mapping is not
-    /// published (RPDO 3).
-    pub entries: Option<&'static [MappingEntry]>,
-    /// The battery module's PDO this one pairs with, seen from the module
-    /// (the charger's TPDO n pairs with the module's RPDO n and vice versa).
-    pub paired_direction: PdoDirection,
-    /// The paired module PDO's communication parameter index.
-    pub paired_communication_index: u16,
+    /// Default COB-ID (communication parameter sub 1) without the node id,
+    /// flags included (bit 31 set: not valid); see [`DefaultPdo::cob_id`].
+    pub cob_id_base: u32,
+    /// Transmission type (sub 2; 255: asynchronous, event-driven).
+    pub transmission_type: u8,
+    /// Default event timer (sub 5) in ms; 0 is off.
+    pub event_timer_ms: u16,
+    /// Default mapping entries as (index, sub-index, length in bits), sub 1
+    /// first. Empty where the profile publishes no default mapping for the
+    /// PDO (a default PDO with nothing mapped carries nothing, so the empty
+    /// list is never a real default); [`DefaultPdo::mapping`] is `None`
+    /// then.
+    pub entries: &'static [(u16, u8, u8)],
+    /// The device-type (1000h) bits that must all be set for the PDO to
+    /// exist; `None` for a PDO every device has.
+    pub enabled_by: Option<u32>,
 }
 
-impl ChargerDefaultPdo {
-    /// The default 11-bit COB-ID for a charger with id `node`
-    /// (`0x18A` for TPDO 0 of node 10).
+impl DefaultPdo {
+    /// The default COB-ID (communication parameter sub 1) for a device with
+    /// id `node`, flags included.
     #[must_use]
-    pub const fn cob_id(&self, node: NodeId) -> u16 {
-        self.cob_id_base + node.raw() as u16
+    pub const fn cob_id(&self, node: NodeId) -> u32 {
+        self.cob_id_base.wrapping_add(node.raw() as u32)
     }
 
-    /// The default mapping, `None` where it is not published.
+    /// True if a device whose device type (1000h) is `device_type` has this
+    /// PDO.
+    #[must_use]
+    pub fn is_present(&self, device_type: impl Into<u32>) -> bool {
+        match self.enabled_by {
+            None => true,
+            Some(bits) => device_type.into() & bits == bits,
+        }
+    }
+
+    /// The mapping entries as CiA 301 Unsigned32 values (index << 16 | sub
+    /// << 8 | bits), sub 1 first.
+    pub fn mapping_values(&self) -> impl Iterator<Item = u32> + '_ {
+        self.entries
+            .iter()
+            .map(|&(index, sub, bits)| MappingEntry::new(index, sub, bits).to_u32())
+    }
+
+    /// Total mapped length in bits.
+    #[must_use]
+    pub fn total_bits(&self) -> u32 {
+        self.entries
+            .iter()
+            .map(|&(_, _, bits)| u32::from(bits))
+            .sum()
+    }
+
+    /// The default mapping; `None` where none is published (no entries) or
+    /// the entries do not form a valid mapping.
     #[must_use]
     pub fn mapping(&self) -> Option<PdoMapping> {
-        self.entries.and_then(|e| PdoMapping::new(e).ok())
+        if self.entries.is_empty() {
+            return None;
+        }
+        let mut entries = [MappingEntry::default(); MAX_ENTRIES];
+        for (slot, &(index, sub, bits)) in entries.iter_mut().zip(self.entries) {
+            *slot = MappingEntry::new(index, sub, bits);
+        }
+        PdoMapping::new(entries.get(..self.entries.len())?).ok()
     }
 }
 
-const fn e(index: u16, bits: u8) -> MappingEntry {
-    MappingEntry::new(index, 0, bits)
-}
-
-/// The Delta-Q charger's default PDOs: TPDO 0..3, then RPDO 0..3 (DIGEST
-/// section 4).
-pub const CHARGER_DEFAULT_PDOS: [ChargerDefaultPdo; 8] = [
-    ChargerDefaultPdo {
-        direction: PdoDirection::Transmit,
-        number: PdoNumber::P0,
-        communication_index: 0x1800,
-        mapping_index: 0x1A00,
-        cob_id_base: 0x180,
-        period_ms: Some(200),
-        entries: Some(&[e(0x6001, 8)]),
-        paired_direction: PdoDirection::Receive,
-        paired_communication_index: 0x1400,
-    },
-    ChargerDefaultPdo {
-        direction: PdoDirection::Transmit,
-        number: PdoNumber::P1,
-        communication_index: 0x1801,
-        mapping_index: 0x1A01,
-        cob_id_base: 0x280,
-        period_ms: Some(200),
-        entries: Some(&[e(0x6001, 8), e(0x6052, 16)]),
-        paired_direction: PdoDirection::Receive,
-        paired_communication_index: 0x1401,
-    },
-    ChargerDefaultPdo {
-        direction: PdoDirection::Transmit,
-        number: PdoNumber::P2,
-        communication_index: 0x1802,
-        mapping_index: 0x1A02,
-        cob_id_base: 0x380,
-        period_ms: Some(200),
-        entries: Some(&[e(0x6001, 8), e(0x6052, 16), e(0x6080, 8)]),
-        paired_direction: PdoDirection::Receive,
-        paired_communication_index: 0x1402,
-    },
-    ChargerDefaultPdo {
-        direction: PdoDirection::Transmit,
-        number: PdoNumber::P3,
-        communication_index: 0x1803,
-        mapping_index: 0x1A03,
-        cob_id_base: 0x480,
-        period_ms: Some(1000),
-        entries: Some(&[e(0x2002, 16), e(0x2100, 16), e(0x2006, 16)]),
-        paired_direction: PdoDirection::Receive,
-        paired_communication_index: 0x1403,
-    },
-    ChargerDefaultPdo {
-        direction: PdoDirection::Receive,
-        number: PdoNumber::P0,
-        communication_index: 0x1400,
-        mapping_index: 0x1600,
-        cob_id_base: 0x200,
-        period_ms: None,
-        entries: Some(&[e(0x6010, 16), e(0x6000, 8)]),
-        paired_direction: PdoDirection::Transmit,
-        paired_communication_index: 0x1800,
-    },
-    ChargerDefaultPdo {
-        direction: PdoDirection::Receive,
-        number: PdoNumber::P1,
-        communication_index: 0x1401,
-        mapping_index: 0x1601,
-        cob_id_base: 0x300,
-        period_ms: None,
-        entries: Some(&[e(0x6010, 16), e(0x6000, 8), e(0x6060, 32)]),
-        paired_direction: PdoDirection::Transmit,
-        paired_communication_index: 0x1801,
-    },
-    ChargerDefaultPdo {
-        direction: PdoDirection::Receive,
-        number: PdoNumber::P2,
-        communication_index: 0x1402,
-        mapping_index: 0x1602,
-        cob_id_base: 0x400,
-        period_ms: None,
-        entries: Some(&[e(0x6070, 16), e(0x6081, 8)]),
-        paired_direction: PdoDirection::Transmit,
-        paired_communication_index: 0x1802,
-    },
-    ChargerDefaultPdo {
-        direction: PdoDirection::Receive,
-        number: PdoNumber::P3,
-        communication_index: 0x1403,
-        mapping_index: 0x1603,
-        cob_id_base: 0x500,
-        period_ms: None,
-        // Not published by Delta-Q: no entries rather than a guess.
-        entries: None,
-        paired_direction: PdoDirection::Transmit,
-        paired_communication_index: 0x1803,
-    },
-];
-
-/// The charger's default PDO row for a direction and number.
+/// The row of `table` for a direction and number, if the table has one.
 #[must_use]
-pub fn charger_default_pdo(
+pub fn find_default(
+    table: &[DefaultPdo],
     direction: PdoDirection,
     number: PdoNumber,
-) -> &'static ChargerDefaultPdo {
-    let row = match direction {
-        PdoDirection::Transmit => 0,
-        PdoDirection::Receive => 4,
-    } + usize::from(number.raw() & 3);
-    // The table has 8 rows and `row` is below 8; fall back to the first row
-    // rather than index.
-    CHARGER_DEFAULT_PDOS
-        .get(row)
-        .unwrap_or(&CHARGER_DEFAULT_PDOS[0])
-}
-
-/// The Delta-Q charger's default mapping of one of its PDOs; `None` for RPDO
-/// 3, whose mapping is not published.
-#[must_use]
-pub fn charger_default_mapping(direction: PdoDirection, number: PdoNumber) -> Option<PdoMapping> {
-    charger_default_pdo(direction, number).mapping()
-}
-
-/// The CiA 418 battery module's default mapping of one of its PDOs (from
-/// [`DEFAULT_PDOS`]); `None` for PDO 3, which CiA 418 does not define.
-///
-/// ```
-/// use canopen_codec::cia418::PdoDirection;
-/// use canopen_codec::pdo::{battery_default_mapping, MappingEntry};
-/// use canopen_codec::PdoNumber;
-/// let m = battery_default_mapping(PdoDirection::Transmit, PdoNumber::P0).unwrap();
-/// assert_eq!(m.entries(), &[MappingEntry::new(0x6010, 0, 16), MappingEntry::new(0x6000, 0, 8)]);
-/// ```
-#[must_use]
-pub fn battery_default_mapping(direction: PdoDirection, number: PdoNumber) -> Option<PdoMapping> {
-    let pdo = DEFAULT_PDOS
+) -> Option<&DefaultPdo> {
+    table
         .iter()
-        .find(|p| p.direction == direction && p.number == number)?;
-    let mut entries = [MappingEntry::default(); super::MAX_ENTRIES];
-    for (slot, &(index, sub, bits)) in entries.iter_mut().zip(pdo.entries) {
-        *slot = MappingEntry::new(index, sub, bits);
-    }
-    PdoMapping::new(entries.get(..pdo.entries.len())?).ok()
+        .find(|p| p.direction == direction && p.number == number)
 }
 
-/// Which default mapping an 11-bit COB-ID carries, given which node is the
-/// charger and which the battery module: a PDO identifier of the charger
-/// node gets the charger's default (decoded with
-/// [`Catalogue::DeltaQCharger`]), one of the battery node the CiA 418
-/// default ([`Catalogue::BatteryModule`]). `None` for any other identifier
-/// and where no default mapping exists (charger RPDO 3, PDO 3 of the module).
-///
-/// This follows the predefined connection set; a charger that copied the
-/// module's COB-IDs (CiA 419 configuration) uses other identifiers, for which
-/// the caller passes the mapping explicitly.
-///
-/// ```
-/// use canopen_codec::pdo::{default_mapping_for_cob_id, Catalogue, MappingEntry};
-/// use canopen_codec::NodeId;
-/// let (charger, battery) = (NodeId::new(10).unwrap(), NodeId::new(1).unwrap());
-/// let (cat, m) = default_mapping_for_cob_id(0x20A, charger, battery).unwrap();
-/// assert_eq!(cat, Catalogue::DeltaQCharger);
-/// assert_eq!(m.entries(), &[MappingEntry::new(0x6010, 0, 16), MappingEntry::new(0x6000, 0, 8)]);
-/// assert_eq!(default_mapping_for_cob_id(0x18B, charger, battery), None);
-/// ```
+/// The default mapping of one PDO of `table`; `None` where the table has no
+/// such PDO or publishes no mapping for it.
 #[must_use]
-pub fn default_mapping_for_cob_id(
-    cob_id: u16,
-    charger: NodeId,
-    battery: NodeId,
-) -> Option<(Catalogue, PdoMapping)> {
-    let (direction, number, node) = match classify_standard(cob_id) {
-        CobKind::Tpdo(n, node) => (PdoDirection::Transmit, n, node),
-        CobKind::Rpdo(n, node) => (PdoDirection::Receive, n, node),
-        _ => return None,
-    };
-    if node == charger {
-        charger_default_mapping(direction, number).map(|m| (Catalogue::DeltaQCharger, m))
-    } else if node == battery {
-        battery_default_mapping(direction, number).map(|m| (Catalogue::BatteryModule, m))
-    } else {
-        None
-    }
+pub fn default_mapping(
+    table: &[DefaultPdo],
+    direction: PdoDirection,
+    number: PdoNumber,
+) -> Option<PdoMapping> {
+    find_default(table, direction, number)?.mapping()
 }
 
 #[cfg(test)]

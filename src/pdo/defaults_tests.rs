@@ -1,190 +1,94 @@
-//! Every row of the Delta-Q charger's default PDO table against the DIGEST's
-//! literals (section 4, "Charger default PDO mappings", the pairing table
-//! and the default COB-IDs of section 1).
+//! The generic default-PDO row: COB-ID, presence, mapping values and the
+//! lookups, on a small table of its own (the profiles' tables are tested
+//! row by row in their modules).
 
 use super::*;
-use crate::cia418::PdoDirection::{Receive, Transmit};
+use PdoDirection::{Receive, Transmit};
 
 fn n(raw: u8) -> NodeId {
     NodeId::new(raw).unwrap()
 }
 
-/// (direction, number, comm, mapping, COB-ID of node 0x0A, period, entries
-/// as Unsigned32, paired comm index)
-type Row = (
-    PdoDirection,
-    u8,
-    u16,
-    u16,
-    u16,
-    Option<u16>,
-    Option<&'static [u32]>,
-    u16,
-);
-
-const DIGEST: [Row; 8] = [
-    (
-        Transmit,
-        0,
-        0x1800,
-        0x1A00,
-        0x18A,
-        Some(200),
-        Some(&[0x6001_0008]),
-        0x1400,
-    ),
-    (
-        Transmit,
-        1,
-        0x1801,
-        0x1A01,
-        0x28A,
-        Some(200),
-        Some(&[0x6001_0008, 0x6052_0010]),
-        0x1401,
-    ),
-    (
-        Transmit,
-        2,
-        0x1802,
-        0x1A02,
-        0x38A,
-        Some(200),
-        Some(&[0x6001_0008, 0x6052_0010, 0x6080_0008]),
-        0x1402,
-    ),
-    (
-        Transmit,
-        3,
-        0x1803,
-        0x1A03,
-        0x48A,
-        Some(1000),
-        Some(&[0x2002_0010, 0x2100_0010, 0x2006_0010]),
-        0x1403,
-    ),
-    (
-        Receive,
-        0,
-        0x1400,
-        0x1600,
-        0x20A,
-        None,
-        Some(&[0x6010_0010, 0x6000_0008]),
-        0x1800,
-    ),
-    (
-        Receive,
-        1,
-        0x1401,
-        0x1601,
-        0x30A,
-        None,
-        Some(&[0x6010_0010, 0x6000_0008, 0x6060_0020]),
-        0x1801,
-    ),
-    (
-        Receive,
-        2,
-        0x1402,
-        0x1602,
-        0x40A,
-        None,
-        Some(&[0x6070_0010, 0x6081_0008]),
-        0x1802,
-    ),
-    // RPDO 3: mapping not published.
-    (Receive, 3, 0x1403, 0x1603, 0x50A, None, None, 0x1803),
+const TABLE: [DefaultPdo; 3] = [
+    DefaultPdo {
+        direction: Transmit,
+        number: PdoNumber::P0,
+        communication_index: 0x1800,
+        mapping_index: 0x1A00,
+        cob_id_base: 0x8000_0180,
+        transmission_type: 255,
+        event_timer_ms: 200,
+        entries: &[(0x6010, 0, 16), (0x6000, 0, 8)],
+        enabled_by: None,
+    },
+    DefaultPdo {
+        direction: Receive,
+        number: PdoNumber::P1,
+        communication_index: 0x1401,
+        mapping_index: 0x1601,
+        cob_id_base: 0x300,
+        transmission_type: 255,
+        event_timer_ms: 0,
+        entries: &[(0x6001, 0, 8), (0x6052, 0, 16)],
+        enabled_by: Some(1 << 16 | 1 << 3),
+    },
+    DefaultPdo {
+        direction: Receive,
+        number: PdoNumber::P3,
+        communication_index: 0x1403,
+        mapping_index: 0x1603,
+        cob_id_base: 0x500,
+        transmission_type: 255,
+        event_timer_ms: 0,
+        entries: &[],
+        enabled_by: None,
+    },
 ];
 
 #[test]
-fn every_charger_row_matches_the_digest() {
-    assert_eq!(CHARGER_DEFAULT_PDOS.len(), DIGEST.len());
-    for (row, want) in CHARGER_DEFAULT_PDOS.iter().zip(DIGEST) {
-        let (dir, num, comm, map, cob, period, entries, paired) = want;
-        let ctx = format!("{dir:?} {num}");
-        assert_eq!(row.direction, dir, "{ctx}");
-        assert_eq!(row.number.raw(), num, "{ctx}");
-        assert_eq!(row.communication_index, comm, "{ctx}");
-        assert_eq!(row.mapping_index, map, "{ctx}");
-        assert_eq!(row.cob_id(n(0x0A)), cob, "{ctx}");
-        assert_eq!(row.period_ms, period, "{ctx}");
-        let got: Option<std::vec::Vec<u32>> =
-            row.entries.map(|e| e.iter().map(|e| e.to_u32()).collect());
-        assert_eq!(got.as_deref(), entries, "{ctx}");
-        assert_eq!(row.paired_communication_index, paired, "{ctx}");
-        // The paired module PDO runs the other way.
-        assert_ne!(row.paired_direction, row.direction, "{ctx}");
-        // Lookup by direction and number finds the same row.
-        assert_eq!(charger_default_pdo(dir, row.number), row, "{ctx}");
-        let mapping = charger_default_mapping(dir, row.number);
-        assert_eq!(
-            mapping.map(|m| m
-                .entries()
-                .iter()
-                .map(|e| e.to_u32())
-                .collect::<std::vec::Vec<_>>()),
-            entries.map(<[u32]>::to_vec),
-            "{ctx}"
-        );
-    }
+fn cob_id_keeps_the_flags() {
+    assert_eq!(TABLE[0].cob_id(n(1)), 0x8000_0181);
+    assert_eq!(TABLE[0].cob_id(n(127)), 0x8000_01FF);
+    assert_eq!(TABLE[1].cob_id(n(10)), 0x30A);
 }
 
 #[test]
-fn charger_cob_ids_for_the_battery_node_and_the_capture() {
-    let p = |d, k| charger_default_pdo(d, PdoNumber::new(k).unwrap());
-    assert_eq!(p(Transmit, 0).cob_id(n(1)), 0x181);
-    assert_eq!(p(Transmit, 3).cob_id(n(1)), 0x481);
-    assert_eq!(p(Receive, 0).cob_id(n(1)), 0x201);
-    assert_eq!(p(Receive, 3).cob_id(n(127)), 0x57F);
+fn presence_needs_every_bit() {
+    assert!(TABLE[0].is_present(0u32));
+    assert!(!TABLE[1].is_present(1u32 << 16));
+    assert!(TABLE[1].is_present(1u32 << 16 | 1 << 3 | 0x1A2));
 }
 
 #[test]
-fn charger_mappings_mirror_the_battery_module() {
-    // The charger's TPDO n carries what the module's RPDO n expects, and
-    // its RPDO n what the module's TPDO n sends (n = 0..2).
-    for k in 0..3 {
-        let k = PdoNumber::new(k).unwrap();
-        assert_eq!(
-            charger_default_mapping(Transmit, k),
-            battery_default_mapping(Receive, k)
-        );
-        assert_eq!(
-            charger_default_mapping(Receive, k),
-            battery_default_mapping(Transmit, k)
-        );
-    }
-    assert_eq!(battery_default_mapping(Transmit, PdoNumber::P3), None);
-    assert_eq!(battery_default_mapping(Receive, PdoNumber::P3), None);
-}
-
-#[test]
-fn battery_defaults_from_cia418() {
-    let m = battery_default_mapping(Transmit, PdoNumber::P1).unwrap();
+fn mapping_values_and_bits() {
+    assert!(TABLE[0]
+        .mapping_values()
+        .eq([0x6010_0010, 0x6000_0008].into_iter()));
+    assert_eq!(TABLE[0].total_bits(), 24);
+    assert_eq!(TABLE[2].total_bits(), 0);
     assert_eq!(
-        m.entries(),
+        TABLE[1].mapping().unwrap().entries(),
         &[
-            MappingEntry::new(0x6010, 0, 16),
-            MappingEntry::new(0x6000, 0, 8),
-            MappingEntry::new(0x6060, 0, 32),
+            MappingEntry::new(0x6001, 0, 8),
+            MappingEntry::new(0x6052, 0, 16)
         ]
     );
-    let m = battery_default_mapping(Receive, PdoNumber::P2).unwrap();
-    assert_eq!(m.total_bits(), 32);
+    // No entries: no published mapping.
+    assert_eq!(TABLE[2].mapping(), None);
 }
 
 #[test]
-fn defaults_by_cob_id() {
-    let (c, b) = (n(10), n(1));
-    let tpdo3 = default_mapping_for_cob_id(0x48A, c, b).unwrap();
-    assert_eq!(tpdo3.0, Catalogue::DeltaQCharger);
-    assert_eq!(tpdo3.1.total_bits(), 48);
-    let battery = default_mapping_for_cob_id(0x181, c, b).unwrap();
-    assert_eq!(battery.0, Catalogue::BatteryModule);
-    assert_eq!(battery.1.entries()[0], MappingEntry::new(0x6010, 0, 16));
-    assert_eq!(default_mapping_for_cob_id(0x50A, c, b), None); // RPDO 3
-    assert_eq!(default_mapping_for_cob_id(0x481, c, b), None); // no CiA 418 PDO 3
-    assert_eq!(default_mapping_for_cob_id(0x70A, c, b), None); // heartbeat
-    assert_eq!(default_mapping_for_cob_id(0x182, c, b), None); // other node
-    assert_eq!(default_mapping_for_cob_id(0xFFFF, c, b), None);
+fn lookups() {
+    assert_eq!(
+        find_default(&TABLE, Receive, PdoNumber::P1),
+        Some(&TABLE[1])
+    );
+    assert_eq!(find_default(&TABLE, Receive, PdoNumber::P0), None);
+    assert_eq!(find_default(&[], Transmit, PdoNumber::P0), None);
+    assert_eq!(
+        default_mapping(&TABLE, Transmit, PdoNumber::P0).map(|m| m.total_bits()),
+        Some(24)
+    );
+    assert_eq!(default_mapping(&TABLE, Receive, PdoNumber::P3), None);
+    assert_eq!(default_mapping(&TABLE, Transmit, PdoNumber::P2), None);
 }

@@ -1,8 +1,8 @@
 //! Process data objects (PDO), CiA 301: mapping entries and their
 //! validation, bit-exact packing, communication parameters, the
-//! reconfiguration procedure (device and client side), TPDO timers, the default PDO
-//! sets of the charger and the battery module, and named, scaled decoding
-//! of PDO fields ([`Catalogue`]).
+//! reconfiguration procedure (device and client side), TPDO timers, the row
+//! type of a profile's default PDO set ([`DefaultPdo`]), and named, scaled
+//! decoding of PDO fields ([`Catalogue`]).
 //!
 //! PDOs are numbered from 0 ([`crate::PdoNumber`]): RPDO n has its
 //! communication parameters at 1400h + n and mapping at 1600h + n, TPDO n at
@@ -20,17 +20,14 @@ mod reconfig;
 mod runtime;
 
 pub use catalogue::{
-    Catalogue, CatalogueEntry, FieldValue, Fixed, Flags, FlagsKind, Interpretation, Marker,
-    NamedField, NamedFields, Unit, CIA418_OBJECTS, DELTAQ_OBJECTS,
+    Catalogue, CatalogueEntry, FieldValue, Fixed, FlagField, FlagWord, Flags, Formatted,
+    Interpretation, Marker, NamedField, NamedFields, Unit, ValueFormat,
 };
 pub use comm::{
     PdoCobId, PdoCommParams, PdoDirection, SubValue, TransmissionType, TransmissionTypeError,
 };
 pub use config::{PdoConfig, PdoDictionary, PdoSlot};
-pub use defaults::{
-    battery_default_mapping, charger_default_mapping, charger_default_pdo,
-    default_mapping_for_cob_id, ChargerDefaultPdo, CHARGER_DEFAULT_PDOS,
-};
+pub use defaults::{default_mapping, find_default, DefaultPdo};
 pub use mapping::{
     extract_bits, insert_bits, sign_extend, MappingEntry, MappingError, PdoMapping, MAX_BITS,
     MAX_ENTRIES,

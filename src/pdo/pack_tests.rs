@@ -1,12 +1,11 @@
-//! Tests of PDO packing and unpacking: vectors P1 and P2
-//! (spec/cia301/vectors.txt section 9), extremes of every width, the Delta-Q
-//! charger TPDO 3, length rules, dummy and padding entries.
+//! Tests of PDO packing and unpacking: vectors P1 and P2 (from
+//! python-canopen's test suite, see below), extremes of every width, length
+//! rules, dummy and padding entries. (The Delta-Q charger's TPDO 3 and its
+//! padding object are tested in the deltaq module.)
 
 use super::*;
-use crate::deltaq::{index, BatteryVoltageLegacy, ChargingCurrent, ExtendedChargeStatus};
 use crate::pdo::{extract_bits, insert_bits};
 use std::string::ToString;
-use std::vec::Vec;
 
 fn mapping(widths: &[u8]) -> PdoMapping {
     let mut entries = [MappingEntry::default(); MAX_ENTRIES];
@@ -157,54 +156,6 @@ fn most_negative_bit_patterns() {
     }
 }
 
-/// Delta-Q charger TPDO 3: 2002h/16 charging current (Q8 A), 2100h/16
-/// battery voltage legacy (Q10 V, DIGEST erratum), 2006h/16 extended charge
-/// status. Bytes from the capture's `18A#7413454E70000000`.
-#[test]
-fn deltaq_tpdo3() {
-    let m = PdoMapping::new(&[
-        MappingEntry::new(index::CHARGING_CURRENT, 0, 16),
-        MappingEntry::new(index::BATTERY_VOLTAGE_LEGACY, 0, 16),
-        MappingEntry::new(index::EXTENDED_CHARGE_STATUS, 0, 16),
-    ])
-    .unwrap();
-    let data = [0x74, 0x13, 0x45, 0x4E, 0x70, 0x00];
-    let u = m.unpack(&data).unwrap();
-    assert!(!u.longer_than_mapping());
-    let raw16 = |i| u16::try_from(u.raw(i).unwrap()).unwrap();
-    let current = ChargingCurrent::from_raw(raw16(0)).unwrap();
-    assert_eq!(current.milliamps(), 19_453); // 0x1374 / 256 A
-    let volts = BatteryVoltageLegacy::from_raw(raw16(1)).unwrap();
-    assert_eq!(volts.raw(), 0x4E45);
-    assert_eq!(volts.millivolts(), 19_567); // 0x4E45 / 1024 V = 19.567...
-    let status = ExtendedChargeStatus::from_u16(raw16(2));
-    assert_eq!(status.to_u16(), 0x0070);
-    assert_eq!(
-        m.pack_raw(&[0x1374, 0x4E45, 0x0070]).unwrap().as_slice(),
-        data
-    );
-    let entries: Vec<_> = u.iter().map(|(e, raw)| (e.index, raw)).collect();
-    assert_eq!(
-        entries,
-        [(0x2002, 0x1374), (0x2100, 0x4E45), (0x2006, 0x0070)]
-    );
-
-    // The whole 8-byte frame: decoded, flagged 8220h.
-    let frame = [0x74, 0x13, 0x45, 0x4E, 0x70, 0x00, 0x00, 0x00];
-    let long = m.unpack(&frame).unwrap();
-    assert_eq!(long.raws(), u.raws());
-    assert!(long.longer_than_mapping());
-    assert_eq!(long.emcy_code(), Some(ErrorCode::PDO_LENGTH_EXCEEDED));
-    assert_eq!(long.emcy_code(), Some(ErrorCode(0x8220)));
-
-    // Cut short: not processed, 8210h.
-    for n in 0..6 {
-        let e = m.unpack(&data[..n]).unwrap_err();
-        assert_eq!(e, UnpackError::TooShort { need: 6, got: n });
-        assert_eq!(e.emcy_code(), ErrorCode(0x8210));
-    }
-}
-
 #[test]
 fn short_payload_of_a_bit_mapping() {
     // 58 bits need 8 bytes; 7 is not enough even though 56 of them fit.
@@ -258,29 +209,6 @@ fn dummy_entries() {
         m.pack_raw(u.raws()).unwrap().as_slice(),
         [0xF9, 0x4F, 0x23, 0x01]
     );
-}
-
-#[test]
-fn deltaq_padding_object() {
-    // 2002h/16, 2FFAh:01/8 padding, 2006h/16: the status is read after the
-    // padding byte.
-    let m = PdoMapping::new(&[
-        MappingEntry::new(index::CHARGING_CURRENT, 0, 16),
-        MappingEntry::new(index::PADDING, 1, 8),
-        MappingEntry::new(index::EXTENDED_CHARGE_STATUS, 0, 16),
-    ])
-    .unwrap();
-    assert_eq!(m.byte_len(), 5);
-    let u = m.unpack(&[0x74, 0x13, 0x00, 0x70, 0x00]).unwrap();
-    assert_eq!(u.raws(), [0x1374, 0, 0x0070]);
-    let p = m
-        .pack(&[
-            Value::Unsigned(0x1374),
-            Value::Unsigned(0),
-            Value::Unsigned(0x0070),
-        ])
-        .unwrap();
-    assert_eq!(p.as_slice(), [0x74, 0x13, 0x00, 0x70, 0x00]);
 }
 
 #[test]

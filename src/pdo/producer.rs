@@ -1,5 +1,9 @@
 //! Transmitting one TPDO on time: event timer, inhibit time and SYNC, as a
-//! sans-IO state machine (CiA 301; DIGEST section 4 for the start-up rule).
+//! sans-IO state machine (CiA 301; the start-up rule is the Delta-Q IC
+//! Series CANopen interface specification rev 2.0, section 4.5.3: "at
+//! start-up the charger's TPDOs shall be disabled and not transmitted even
+//! if the charger is in the NMT operational state" until their COB-IDs are
+//! configured).
 //!
 //! A [`TpdoProducer`] sends nothing while its COB-ID is not configured,
 //! while the COB-ID is not valid (bit 31) or while the node is not NMT

@@ -1,4 +1,7 @@
-//! The client side of PDO reconfiguration (DIGEST section 5): the exact
+//! The client side of PDO reconfiguration (the CiA 301 mapping procedure,
+//! as "Delta-Q IC Series CANopen interface specification rev 2.0", section
+//! 4.6.2, lists it: set COB-ID bit 31, write 0 to mapping sub 0, write the
+//! entries, write their count, clear bit 31): the exact
 //! sequence of SDO downloads that remaps a PDO of another node, and a
 //! driver that runs it over an SDO [`Client`].
 //!

@@ -1,4 +1,6 @@
-//! SDO abort codes, CiA 301 (all 31 of `spec/cia301/sdo_abort_codes.tsv`).
+//! SDO abort codes, CiA 301: all 31 codes CiA 301 defines, with the
+//! meanings the open implementations (python-canopen, CANopenNode, Lely)
+//! agree on.
 
 use core::fmt;
 

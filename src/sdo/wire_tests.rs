@@ -1,5 +1,8 @@
-//! Byte vectors for the SDO codec: the public vectors of
-//! `spec/cia301/vectors.txt` (V1-V19) and every command specifier.
+//! Byte vectors for the SDO codec: public byte-exact SDO frame sequences
+//! from the test suites of python-canopen, CANopenNode and Wireshark's
+//! dissector (numbered V1-V19 here; expedited, segmented, block and abort
+//! transfers, some of them lenient where a strict stack aborts) and every
+//! command specifier.
 
 use super::*;
 

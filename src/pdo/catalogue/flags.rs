@@ -1,45 +1,113 @@
-//! Bit-field objects (6000h, 6001h, 6090h, 2006h, 2008h, 4201h) in words.
+//! Bit-field objects in words: a [`FlagWord`] describes the fields of one
+//! object as static data, and [`Flags`] is a raw value read with it.
 
 use core::fmt;
 
-use super::*;
+/// One field of a bit-field object.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum FlagField {
+    /// A flag: says `set` when every bit of `mask` is set, otherwise
+    /// `clear` (or nothing).
+    Bit {
+        /// The flag's bit(s).
+        mask: u64,
+        /// Words when set.
+        set: &'static str,
+        /// Words when clear, if any.
+        clear: Option<&'static str>,
+    },
+    /// A multi-bit field whose values have names: `(value, words)`, with
+    /// `None` for a value that says nothing. An unlisted value reads
+    /// `"{unknown} {value}"`.
+    Choice {
+        /// The field's bits (contiguous); the value is shifted down to bit 0.
+        mask: u64,
+        /// The named values.
+        values: &'static [(u64, Option<&'static str>)],
+        /// What an unlisted value is called (`charge type` gives
+        /// `charge type 15`).
+        unknown: &'static str,
+    },
+    /// Bits within `mask` that no [`FlagField::Bit`] or
+    /// [`FlagField::Choice`] of the word covers: when any is set, says
+    /// `other bits XXh` (in place, two hex digits at least).
+    OtherBits {
+        /// Where unknown bits are looked for.
+        mask: u64,
+    },
+}
+
+/// How to say a bit-field object in words: its fields in the order they
+/// are written, and what to say when none of them writes anything.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct FlagWord {
+    /// The fields, in writing order.
+    pub fields: &'static [FlagField],
+    /// Written when no field wrote anything (`none`), if anything.
+    pub when_empty: Option<&'static str>,
+}
+
+impl FlagWord {
+    /// The bits some [`FlagField::Bit`] or [`FlagField::Choice`] covers.
+    #[must_use]
+    pub const fn known_bits(&self) -> u64 {
+        let mut known = 0;
+        let mut rest = self.fields;
+        while let [field, tail @ ..] = rest {
+            known |= match *field {
+                FlagField::Bit { mask, .. } | FlagField::Choice { mask, .. } => mask,
+                FlagField::OtherBits { .. } => 0,
+            };
+            rest = tail;
+        }
+        known
+    }
+}
 
 /// The decoded value of a bit-field object; `Display` says it in words.
+///
+/// ```
+/// use canopen_codec::pdo::{FlagField, FlagWord, Flags};
+/// const WORD: FlagWord = FlagWord {
+///     fields: &[
+///         FlagField::Bit { mask: 0x01, set: "ready", clear: Some("not ready") },
+///         FlagField::Choice { mask: 0x30, values: &[(0, None), (1, Some("slow"))], unknown: "speed" },
+///         FlagField::OtherBits { mask: 0xFF },
+///     ],
+///     when_empty: None,
+/// };
+/// assert_eq!(Flags::new(&WORD, 0x11).to_string(), "ready, slow");
+/// assert_eq!(Flags::new(&WORD, 0xA0).to_string(), "not ready, speed 2, other bits 80h");
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Flags {
-    /// 6000h.
-    BatteryStatus(BatteryStatus),
-    /// 6001h.
-    ChargerStatus(ChargerStatus),
-    /// 6090h.
-    WaterLevelStatus(WaterLevelStatus),
-    /// 2006h.
-    ExtendedChargeStatus(ExtendedChargeStatus),
-    /// 2008h.
-    DerateReasons(DerateReasons),
-    /// 4201h.
-    ExternalOverride(ExternalOverride),
+pub struct Flags {
+    word: &'static FlagWord,
+    raw: u64,
 }
 
 impl Flags {
-    /// Decodes the raw bits of a `kind` object (excess high bits ignored).
+    /// `raw` read with `word`.
     #[must_use]
-    pub const fn from_raw(kind: FlagsKind, raw: u64) -> Self {
-        let byte = raw as u8;
-        match kind {
-            FlagsKind::BatteryStatus => Flags::BatteryStatus(BatteryStatus::from_bits_retain(byte)),
-            FlagsKind::ChargerStatus => Flags::ChargerStatus(ChargerStatus::from_bits_retain(byte)),
-            FlagsKind::WaterLevelStatus => {
-                Flags::WaterLevelStatus(WaterLevelStatus::from_bits_retain(byte))
-            }
-            FlagsKind::ExtendedChargeStatus => {
-                Flags::ExtendedChargeStatus(ExtendedChargeStatus::from_u16(raw as u16))
-            }
-            FlagsKind::DerateReasons => Flags::DerateReasons(DerateReasons::from_bits_retain(byte)),
-            FlagsKind::ExternalOverride => {
-                Flags::ExternalOverride(ExternalOverride::from_bits_retain(byte))
-            }
-        }
+    pub const fn new(word: &'static FlagWord, raw: u64) -> Self {
+        Flags { word, raw }
+    }
+
+    /// The raw bits.
+    #[must_use]
+    pub const fn raw(self) -> u64 {
+        self.raw
+    }
+
+    /// The description they are read with.
+    #[must_use]
+    pub const fn word(self) -> &'static FlagWord {
+        self.word
+    }
+
+    /// True if every bit of `mask` is set.
+    #[must_use]
+    pub const fn contains(self, mask: u64) -> bool {
+        self.raw & mask == mask
     }
 }
 
@@ -49,11 +117,7 @@ struct List<'a, 'b> {
     empty: bool,
 }
 
-impl<'a, 'b> List<'a, 'b> {
-    fn new(f: &'a mut fmt::Formatter<'b>) -> Self {
-        List { f, empty: true }
-    }
-
+impl List<'_, '_> {
     fn item(&mut self, args: fmt::Arguments<'_>) -> fmt::Result {
         if !self.empty {
             self.f.write_str(", ")?;
@@ -61,129 +125,47 @@ impl<'a, 'b> List<'a, 'b> {
         self.empty = false;
         self.f.write_fmt(args)
     }
-
-    fn flags(&mut self, set: u8, names: &[(u8, &str)]) -> fmt::Result {
-        let mut known = 0u8;
-        for &(bit, name) in names {
-            known |= bit;
-            if set & bit != 0 {
-                self.item(format_args!("{name}"))?;
-            }
-        }
-        match set & !known {
-            0 => Ok(()),
-            rest => self.item(format_args!("other bits {rest:02X}h")),
-        }
-    }
-
-    fn none_if_empty(&mut self) -> fmt::Result {
-        if self.empty {
-            self.f.write_str("none")?;
-        }
-        Ok(())
-    }
 }
 
 impl fmt::Display for Flags {
-    /// `ready to charge`, `AC present, charger enabled, override external
-    /// (BMS)`, ...; unknown bits as `other bits 80h`.
+    /// The fields in the word's order, comma-separated: `ready to charge`,
+    /// `AC present, charger enabled, override external (BMS)`, ...; unknown
+    /// bits as `other bits 80h`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let mut l = List::new(f);
-        match *self {
-            Flags::BatteryStatus(s) => {
-                let ready = s.contains(BatteryStatus::READY_TO_CHARGE);
-                l.item(format_args!(
-                    "{}",
-                    if ready {
-                        "ready to charge"
-                    } else {
-                        "not ready to charge"
+        let mut l = List { f, empty: true };
+        let raw = self.raw;
+        for field in self.word.fields {
+            match *field {
+                FlagField::Bit { mask, set, clear } => {
+                    if raw & mask == mask && mask != 0 {
+                        l.item(format_args!("{set}"))?;
+                    } else if let Some(clear) = clear {
+                        l.item(format_args!("{clear}"))?;
                     }
-                ))?;
-                extra(&mut l, s.bits() & !0x01)
-            }
-            Flags::ChargerStatus(s) => {
-                let on = s.contains(ChargerStatus::ENABLED);
-                l.item(format_args!(
-                    "{}",
-                    if on { "enabled" } else { "not enabled" }
-                ))?;
-                extra(&mut l, s.bits() & !0x01)
-            }
-            Flags::WaterLevelStatus(s) => {
-                l.item(format_args!("{}", if s.is_full() { "full" } else { "low" }))?;
-                extra(&mut l, s.bits() & !0x01)
-            }
-            Flags::ExtendedChargeStatus(s) => {
-                l.flags(
-                    s.flags.bits(),
-                    &[
-                        (ChargeStatusFlags::FAULT_ACTIVE.bits(), "fault active"),
-                        (ChargeStatusFlags::ALARM_ACTIVE.bits(), "alarm active"),
-                        (ChargeStatusFlags::HW_SHUTDOWN.bits(), "hardware shutdown"),
-                        (ChargeStatusFlags::DERATING.bits(), "de-rating"),
-                        (ChargeStatusFlags::AC_PRESENT.bits(), "AC present"),
-                        (ChargeStatusFlags::CHARGER_ENABLED.bits(), "charger enabled"),
-                    ],
-                )?;
-                match s.override_source {
-                    OverrideSource::Internal => l.item(format_args!("override internal"))?,
-                    OverrideSource::External => l.item(format_args!("override external (BMS)"))?,
-                    OverrideSource::Other(v) => l.item(format_args!("override source {v}"))?,
                 }
-                let indication = match s.indication {
-                    ChargeIndication::Inactive => None,
-                    ChargeIndication::Below80 => Some("below 80 %"),
-                    ChargeIndication::Above80 => Some("above 80 %"),
-                    ChargeIndication::Finishing => Some("finishing"),
-                    ChargeIndication::Complete => Some("complete"),
-                    ChargeIndication::Resting => Some("resting"),
-                    ChargeIndication::Equalize => Some("equalize"),
-                    ChargeIndication::PowerSupplyMode => Some("power-supply mode"),
-                    ChargeIndication::Other(v) => {
-                        l.item(format_args!("indication {v}"))?;
-                        None
+                FlagField::Choice {
+                    mask,
+                    values,
+                    unknown,
+                } => {
+                    let value = (raw & mask) >> (mask.trailing_zeros() % 64);
+                    match values.iter().find(|&&(v, _)| v == value) {
+                        Some(&(_, Some(words))) => l.item(format_args!("{words}"))?,
+                        Some(&(_, None)) => {}
+                        None => l.item(format_args!("{unknown} {value}"))?,
                     }
-                };
-                if let Some(i) = indication {
-                    l.item(format_args!("{i}"))?;
                 }
-                match s.charge_type {
-                    ChargeType::None => Ok(()),
-                    ChargeType::Normal => l.item(format_args!("normal charge")),
-                    ChargeType::Maintenance => l.item(format_args!("maintenance charge")),
-                    ChargeType::Other(v) => l.item(format_args!("charge type {v}")),
+                FlagField::OtherBits { mask } => {
+                    let rest = raw & mask & !self.word.known_bits();
+                    if rest != 0 {
+                        l.item(format_args!("other bits {rest:02X}h"))?;
+                    }
                 }
-            }
-            Flags::DerateReasons(s) => {
-                l.flags(
-                    s.bits(),
-                    &[
-                        (DerateReasons::AC_VOLTAGE.bits(), "AC voltage"),
-                        (DerateReasons::BATTERY_VOLTAGE.bits(), "battery voltage"),
-                        (DerateReasons::TEMPERATURE.bits(), "temperature"),
-                        (DerateReasons::AC_CURRENT_LIMIT.bits(), "AC current limit"),
-                    ],
-                )?;
-                l.none_if_empty()
-            }
-            Flags::ExternalOverride(s) => {
-                l.flags(
-                    s.bits(),
-                    &[
-                        (ExternalOverride::EQUALIZE.bits(), "equalize"),
-                        (ExternalOverride::MAINTENANCE.bits(), "maintenance"),
-                    ],
-                )?;
-                l.none_if_empty()
             }
         }
+        match self.word.when_empty {
+            Some(words) if l.empty => l.f.write_str(words),
+            _ => Ok(()),
+        }
     }
-}
-
-fn extra(l: &mut List<'_, '_>, rest: u8) -> fmt::Result {
-    if rest != 0 {
-        l.item(format_args!("other bits {rest:02X}h"))?;
-    }
-    Ok(())
 }

@@ -1,71 +1,51 @@
-//! Named, scaled PDO fields: a catalogue of the CiA 418 application objects
-//! (6000h-6090h) and the Delta-Q charger's manufacturer objects, and a
-//! decoder that turns a PDO payload plus its mapping into [`NamedField`]s
-//! without allocating.
+//! Named, scaled PDO fields: a catalogue of object descriptions (name,
+//! width, how to read the bits) and a decoder that turns a PDO payload plus
+//! its mapping into [`NamedField`]s without allocating.
+//!
+//! This is the CiA 301 mechanism only. The tables belong to the device
+//! profiles that define the objects: the CiA 418 module's application
+//! objects and the Delta-Q charger's manufacturer objects are catalogued in
+//! those profile modules, and a device's [`Catalogue`] lists the tables its
+//! dictionary holds, first match wins.
 //!
 //! ```
-//! use canopen_codec::pdo::{Catalogue, MappingEntry, PdoMapping};
+//! use canopen_codec::pdo::{Catalogue, CatalogueEntry, MappingEntry, PdoMapping, Unit};
 //!
-//! // The real capture's charger TPDO 0, remapped by its integrator
-//! // (captures/README.md): 2002h/16, 2101h/16, 2006h/16, 16 bits padding.
+//! // A made-up manufacturer object: 2000h, U16 in 1/16 V.
+//! const OBJECTS: &[CatalogueEntry] =
+//!     &[CatalogueEntry::scaled(0x2000, "bus voltage", 16, 4, Some(Unit::Volt))];
+//! const DEVICE: Catalogue = Catalogue::new("example device", &[OBJECTS]);
+//!
 //! let mapping = PdoMapping::new(&[
-//!     MappingEntry::new(0x2002, 0, 16),
-//!     MappingEntry::new(0x2101, 0, 16),
-//!     MappingEntry::new(0x2006, 0, 16),
-//!     MappingEntry::new(0x0006, 0, 16), // UNSIGNED16 dummy entry
+//!     MappingEntry::new(0x2000, 0, 16),
+//!     MappingEntry::new(0x0005, 0, 8), // UNSIGNED8 dummy entry
 //! ]).unwrap();
-//! let fields = Catalogue::DeltaQCharger.decode(&mapping, &[0x74, 0x13, 0x45, 0x4E, 0x70, 0, 0, 0]);
-//! let words: Vec<String> = fields.iter().map(|f| format!("{f:.2}")).collect();
-//! assert_eq!(words, [
-//!     "2002h charging current 19.45 A",
-//!     "2101h battery voltage 78.27 V",
-//!     "2006h extended charge status: AC present, charger enabled, override external (BMS)",
-//!     "0006h padding (16 bits)",
-//! ]);
-//! // Without a precision the value is exact: 0x1374 / 256.
-//! assert_eq!(fields.as_slice()[0].to_string(), "2002h charging current 19.453125 A");
+//! let fields = DEVICE.decode(&mapping, &[0xBA, 0x07, 0xFF]);
+//! assert_eq!(fields.to_string(), "2000h bus voltage 123.625 V; 0005h padding (8 bits)");
+//! assert_eq!(format!("{fields:.2}"), "2000h bus voltage 123.63 V; 0005h padding (8 bits)");
 //! ```
-//!
-//! ## Which device's meaning
-//!
-//! An object's meaning belongs to the device whose dictionary holds it, so
-//! a catalogue is chosen per device ([`Catalogue`]), not per index:
-//!
-//! - [`Catalogue::BatteryModule`] knows the CiA 418 objects only. Indexes
-//!   2000h-5FFFh are manufacturer-specific; on an unknown module they have
-//!   no known meaning and decode as [`FieldValue::Raw`].
-//! - [`Catalogue::DeltaQCharger`] knows the Delta-Q objects and the CiA 418
-//!   objects the charger implements, with the charger's meaning where it
-//!   differs. The one difference known is **6052h**: both scale it by
-//!   0.125 Ah, but on the charger 0xFFFF is "no value" (its default), while
-//!   CiA 418 has no marker and 0xFFFF reads 8191.875 Ah.
-//!
-//! A PDO is decoded with the catalogue of the device that owns the PDO's
-//! dictionary: a charger's TPDOs *and* RPDOs (the RPDOs write into the
-//! charger's dictionary) use [`Catalogue::DeltaQCharger`].
 //!
 //! ## Values
 //!
-//! Every scale in the catalogue is a power of two, so a value is an exact
-//! [`Fixed`] (`raw / 2^frac_bits`) with an exact decimal form: `Display`
-//! prints every digit (`19.453125`), or rounds to a precision when one is
-//! given (`{:.2}` gives `19.45`; halves away from zero). No floating point
-//! is involved; [`Fixed::to_f64`] is there for callers who want one.
+//! Every scale is a power of two, so a value is an exact [`Fixed`]
+//! (`raw / 2^frac_bits`) with an exact decimal form: `Display` prints every
+//! digit (`19.453125`), or rounds to a precision when one is given (`{:.2}`
+//! gives `19.45`; halves away from zero). No floating point is involved;
+//! [`Fixed::to_f64`] is there for callers who want one.
 //!
-//! - **Markers.** CiA 418 marks invalid readings (6070h 0xFFFF, 6080h /
-//!   6081h 0xFF): [`FieldValue::Invalid`]. Delta-Q's 0xFFFF / 0xFFFF_FFFF
-//!   defaults mean "no value": [`FieldValue::NoValue`]. For 6070h the profile
-//!   says "FFh" of a 16-bit object; 0xFFFF is taken as the marker (0x00FF is
-//!   a valid 15.9375 A).
-//! - **6010h temperature** is CiA 418's Integer16 at 0.125 degC per bit, no
-//!   offset. (The integrator's DBC for the real capture adds -40 degC; that
-//!   is not the profile and is not applied here.)
-//! - **Bit fields** (6000h, 6001h, 6090h, 2006h, 2008h, 4201h) decode to
-//!   [`Flags`], whose `Display` says the set bits in words and keeps unknown
+//! - **Markers.** An object may reserve a raw value: as an invalid reading
+//!   ([`FieldValue::Invalid`]) or as "no value" ([`FieldValue::NoValue`]);
+//!   see [`Marker`].
+//! - **Bit fields** decode to [`Flags`], described by a static
+//!   [`FlagWord`]; `Display` says the set bits in words and keeps unknown
 //!   bits (`other bits 80h`).
+//! - **Profile values** a table cannot describe (a code with a description,
+//!   a packed request word) are [`FieldValue::Formatted`], written by the
+//!   profile's [`ValueFormat`].
 //! - **Widths.** A field whose mapped length differs from the object's size
-//!   is not scaled: [`FieldValue::WrongWidth`]. Padding (dummy entries 0001h-
-//!   001Fh and Delta-Q's 2FFAh) is [`FieldValue::Padding`] at any width.
+//!   is not scaled: [`FieldValue::WrongWidth`]. Padding (CiA 301 dummy
+//!   entries 0001h-001Fh, and objects catalogued as
+//!   [`Interpretation::Padding`]) is [`FieldValue::Padding`] at any width.
 //! - **Short frames.** A field that does not fit in the payload is
 //!   [`FieldValue::Missing`] (CiA 301 would answer with EMCY 8210h); extra
 //!   payload bytes past the mapping are counted in
@@ -73,18 +53,14 @@
 
 use core::fmt;
 
-use crate::cia418::{BatteryStatus, BatteryType, ChargerStatus, WaterLevelStatus};
-use crate::deltaq::{
-    AlgorithmRequest, ChargeIndication, ChargeStatusFlags, ChargeType, DerateReasons,
-    DisplayedError, ExtendedChargeStatus, ExternalOverride, OverrideSource,
-};
+use core::hash::{Hash, Hasher};
 
 use super::mapping::{extract_bits, sign_extend, MappingEntry, PdoMapping, MAX_ENTRIES};
 
+mod fixed;
 mod flags;
-mod tables;
-pub use flags::Flags;
-pub use tables::{CIA418_OBJECTS, DELTAQ_OBJECTS};
+pub use fixed::Fixed;
+pub use flags::{FlagField, FlagWord, Flags};
 
 /// A unit of a scaled value.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -131,113 +107,6 @@ impl fmt::Display for Unit {
     }
 }
 
-/// An exact binary fixed-point number: `raw / 2^frac_bits`.
-///
-/// ```
-/// use canopen_codec::pdo::Fixed;
-/// let v = Fixed::new(0x07BA, 4); // 1978 / 16
-/// assert_eq!(v.to_string(), "123.625");
-/// assert_eq!(format!("{v:.2}"), "123.63");
-/// assert_eq!(format!("{:.2}", Fixed::new(82 * 256, 8)), "82.00");
-/// assert_eq!(format!("{:#.2}", Fixed::new(82 * 256, 8)), "82"); // at most 2 places
-/// assert_eq!(format!("{:.1}", Fixed::new(-3, 3)), "-0.4");
-/// assert_eq!(v.to_f64(), 123.625);
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct Fixed {
-    raw: i64,
-    frac_bits: u8,
-}
-
-impl Fixed {
-    /// Most fractional bits (larger values are clamped to it).
-    pub const MAX_FRAC_BITS: u8 = 32;
-
-    /// `raw / 2^frac_bits`; `frac_bits` above 32 is taken as 32.
-    #[must_use]
-    pub const fn new(raw: i64, frac_bits: u8) -> Self {
-        let frac_bits = if frac_bits > Self::MAX_FRAC_BITS {
-            Self::MAX_FRAC_BITS
-        } else {
-            frac_bits
-        };
-        Fixed { raw, frac_bits }
-    }
-
-    /// The integer numerator.
-    #[must_use]
-    pub const fn raw(self) -> i64 {
-        self.raw
-    }
-
-    /// The number of fractional bits.
-    #[must_use]
-    pub const fn frac_bits(self) -> u8 {
-        self.frac_bits
-    }
-
-    /// The value as `f64` (exact while `|raw| < 2^53`).
-    #[must_use]
-    pub fn to_f64(self) -> f64 {
-        self.raw as f64 / (1u64 << self.frac_bits) as f64
-    }
-}
-
-impl fmt::Display for Fixed {
-    /// Exact decimal digits, or rounded (halves away from zero) to the
-    /// formatter's precision (at most 18 places); with `#` as well
-    /// (`{:#.2}`), trailing zeros after rounding are dropped: at most that
-    /// many places.
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let q = u32::from(self.frac_bits.min(Self::MAX_FRAC_BITS));
-        let magnitude = u128::from(self.raw.unsigned_abs());
-        let negative = self.raw < 0;
-        match f.precision() {
-            None => {
-                let int = magnitude >> q;
-                let frac = magnitude & ((1u128 << q) - 1);
-                if negative {
-                    f.write_str("-")?;
-                }
-                write!(f, "{int}")?;
-                if frac != 0 {
-                    // frac / 2^q = frac * 5^q / 10^q: exactly q digits.
-                    let mut digits = frac * 5u128.pow(q);
-                    let mut width = q as usize;
-                    while digits % 10 == 0 && width > 1 {
-                        digits /= 10;
-                        width -= 1;
-                    }
-                    write!(f, ".{digits:0width$}")?;
-                }
-                Ok(())
-            }
-            Some(places) => {
-                let places = places.min(18);
-                let scale = 10u128.pow(places as u32);
-                let half = if q == 0 { 0 } else { 1u128 << (q - 1) };
-                let rounded = (magnitude * scale + half) >> q;
-                if negative && rounded != 0 {
-                    f.write_str("-")?;
-                }
-                write!(f, "{}", rounded / scale)?;
-                let (mut frac, mut places) = (rounded % scale, places);
-                if f.alternate() {
-                    // `{:#.2}`: at most 2 places, trailing zeros dropped.
-                    while places > 0 && frac % 10 == 0 {
-                        frac /= 10;
-                        places -= 1;
-                    }
-                }
-                if places > 0 {
-                    write!(f, ".{frac:0places$}")?;
-                }
-                Ok(())
-            }
-        }
-    }
-}
-
 /// Writes `v` with the formatter's precision and `#` flag (and nothing
 /// else) passed on.
 fn forward<T: fmt::Display>(f: &mut fmt::Formatter<'_>, v: &T) -> fmt::Result {
@@ -254,27 +123,56 @@ fn forward<T: fmt::Display>(f: &mut fmt::Formatter<'_>, v: &T) -> fmt::Result {
 pub enum Marker {
     /// No special value.
     None,
-    /// This raw value marks an invalid reading (CiA 418).
+    /// This raw value marks an invalid reading (CiA 418 marks its sensor
+    /// readings this way).
     Invalid(u64),
-    /// This raw value means "no value" (Delta-Q defaults).
+    /// This raw value means "no value" (Delta-Q's defaults of 0xFFFF and
+    /// 0xFFFF_FFFF are).
     NoValue(u64),
 }
 
-/// Which bit-field object a [`Interpretation::Flags`] entry is.
+/// How a profile writes a value that a table cannot describe: a function
+/// of the raw bits, named by `kind`. Formats are told apart by `kind`
+/// alone (equality and hashing ignore the functions).
+#[derive(Debug, Clone, Copy)]
+pub struct ValueFormat {
+    /// A short name for machine output (`error`, `algorithm`,
+    /// `battery_type`); [`FieldValue::kind`] returns it.
+    pub kind: &'static str,
+    /// False for raw values that mean "no value"; the field then decodes as
+    /// [`FieldValue::NoValue`].
+    pub has_value: fn(u64) -> bool,
+    /// Writes the value in words (precision and `#` are the formatter's).
+    pub write: fn(u64, &mut fmt::Formatter<'_>) -> fmt::Result,
+}
+
+impl PartialEq for ValueFormat {
+    fn eq(&self, other: &Self) -> bool {
+        self.kind == other.kind
+    }
+}
+
+impl Eq for ValueFormat {}
+
+impl Hash for ValueFormat {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        self.kind.hash(state);
+    }
+}
+
+/// A value written by a profile's [`ValueFormat`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum FlagsKind {
-    /// 6000h battery status.
-    BatteryStatus,
-    /// 6001h charger status.
-    ChargerStatus,
-    /// 6090h water level status.
-    WaterLevelStatus,
-    /// 2006h Delta-Q extended charge status.
-    ExtendedChargeStatus,
-    /// 2008h Delta-Q derate reasons.
-    DerateReasons,
-    /// 4201h Delta-Q external override.
-    ExternalOverride,
+pub struct Formatted {
+    /// The format.
+    pub format: &'static ValueFormat,
+    /// The raw bits, zero-extended.
+    pub raw: u64,
+}
+
+impl fmt::Display for Formatted {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        (self.format.write)(self.raw, f)
+    }
 }
 
 /// How a catalogue entry turns raw bits into a value.
@@ -298,14 +196,10 @@ pub enum Interpretation {
         /// The unit, if the object has one.
         unit: Option<Unit>,
     },
-    /// A bit-field object.
-    Flags(FlagsKind),
-    /// 2060h: a 1003h-style error entry ([`DisplayedError`]).
-    DisplayedError,
-    /// 2241h: an algorithm request ([`AlgorithmRequest`]).
-    AlgorithmRequest,
-    /// 6020h sub 1: the battery type byte ([`BatteryType`]).
-    BatteryType,
+    /// A bit-field object, described by its flag word.
+    Flags(&'static FlagWord),
+    /// A value the profile writes itself.
+    Formatted(&'static ValueFormat),
     /// One Unsigned32 element of a packed string: four ISO 646 characters,
     /// the first in the least significant byte.
     Chars,
@@ -331,6 +225,73 @@ pub struct CatalogueEntry {
 }
 
 impl CatalogueEntry {
+    /// An entry for sub-index 0 of `index`.
+    #[must_use]
+    pub const fn new(
+        index: u16,
+        name: &'static str,
+        bits: u8,
+        interpretation: Interpretation,
+    ) -> Self {
+        CatalogueEntry {
+            index,
+            first_sub: 0,
+            last_sub: 0,
+            name,
+            bits,
+            interpretation,
+        }
+    }
+
+    /// An unsigned entry for sub-index 0 of `index`: `raw / 2^frac_bits`
+    /// in `unit`, no marker, no range limit.
+    #[must_use]
+    pub const fn scaled(
+        index: u16,
+        name: &'static str,
+        bits: u8,
+        frac_bits: u8,
+        unit: Option<Unit>,
+    ) -> Self {
+        Self::new(
+            index,
+            name,
+            bits,
+            Interpretation::Unsigned {
+                frac_bits,
+                unit,
+                marker: Marker::None,
+                max: None,
+            },
+        )
+    }
+
+    /// This entry covering sub-indexes `first..=last` instead.
+    #[must_use]
+    pub const fn subs(mut self, first: u8, last: u8) -> Self {
+        self.first_sub = first;
+        self.last_sub = last;
+        self
+    }
+
+    /// This unsigned entry with a marker and a largest raw value in range
+    /// (other interpretations are returned unchanged).
+    #[must_use]
+    pub const fn marked(mut self, marker: Marker, range_max: Option<u64>) -> Self {
+        if let Interpretation::Unsigned {
+            frac_bits, unit, ..
+        } = self.interpretation
+        {
+            self.interpretation = Interpretation::Unsigned {
+                frac_bits,
+                unit,
+                marker,
+                max: range_max,
+            };
+        }
+        self
+    }
+
     /// True if this entry describes `index`:`sub`.
     #[must_use]
     pub const fn covers(&self, index: u16, sub: u8) -> bool {
@@ -338,32 +299,43 @@ impl CatalogueEntry {
     }
 }
 
-/// Whose object dictionary a PDO's entries name (see the module docs,
-/// "Which device's meaning").
+/// Whose object dictionary a PDO's entries name: a device's tables of
+/// [`CatalogueEntry`], searched in order (an object's meaning belongs to
+/// the device whose dictionary holds it, so a catalogue is chosen per
+/// device, not per index).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Catalogue {
-    /// A CiA 418 battery module: [`CIA418_OBJECTS`] only.
-    BatteryModule,
-    /// The Delta-Q IC Series charger: [`DELTAQ_OBJECTS`], then
-    /// [`CIA418_OBJECTS`].
-    DeltaQCharger,
+pub struct Catalogue {
+    name: &'static str,
+    tables: &'static [&'static [CatalogueEntry]],
 }
 
 impl Catalogue {
-    /// The catalogue entry of `index`:`sub`, if known.
-    ///
-    /// ```
-    /// use canopen_codec::pdo::Catalogue;
-    /// assert_eq!(Catalogue::DeltaQCharger.lookup(0x2002, 0).unwrap().name, "charging current");
-    /// assert!(Catalogue::BatteryModule.lookup(0x2002, 0).is_none());
-    /// ```
+    /// A catalogue named `name` that looks `index`:`sub` up in `tables`, in
+    /// order.
+    #[must_use]
+    pub const fn new(name: &'static str, tables: &'static [&'static [CatalogueEntry]]) -> Self {
+        Catalogue { name, tables }
+    }
+
+    /// The device it describes, in words.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        self.name
+    }
+
+    /// Its tables, searched in order.
+    #[must_use]
+    pub const fn tables(self) -> &'static [&'static [CatalogueEntry]] {
+        self.tables
+    }
+
+    /// The catalogue entry of `index`:`sub`, if known: the first match in
+    /// the first table that has one.
     #[must_use]
     pub fn lookup(self, index: u16, sub: u8) -> Option<&'static CatalogueEntry> {
-        let find = |t: &'static [CatalogueEntry]| t.iter().find(|e| e.covers(index, sub));
-        match self {
-            Catalogue::BatteryModule => find(CIA418_OBJECTS),
-            Catalogue::DeltaQCharger => find(DELTAQ_OBJECTS).or_else(|| find(CIA418_OBJECTS)),
-        }
+        self.tables
+            .iter()
+            .find_map(|t| t.iter().find(|e| e.covers(index, sub)))
     }
 
     /// Names and interprets one field: `raw` holds the entry's bits as
@@ -416,15 +388,11 @@ impl Catalogue {
                 value: Fixed::new(sign_extend(raw, bits), frac_bits),
                 unit,
             },
-            Interpretation::Flags(kind) => FieldValue::Flags(Flags::from_raw(kind, raw)),
-            Interpretation::DisplayedError => {
-                FieldValue::Error(DisplayedError::from_u32(raw as u32))
+            Interpretation::Flags(word) => FieldValue::Flags(Flags::new(word, raw)),
+            Interpretation::Formatted(format) if (format.has_value)(raw) => {
+                FieldValue::Formatted(Formatted { format, raw })
             }
-            Interpretation::AlgorithmRequest => match AlgorithmRequest::from_u32(raw as u32) {
-                Some(r) => FieldValue::Algorithm(r),
-                None => FieldValue::NoValue,
-            },
-            Interpretation::BatteryType => FieldValue::BatteryType(BatteryType::from_u8(raw as u8)),
+            Interpretation::Formatted(_) => FieldValue::NoValue,
             Interpretation::Chars => FieldValue::Chars((raw as u32).to_le_bytes()),
             Interpretation::Padding => FieldValue::Padding,
         };
@@ -484,17 +452,14 @@ pub enum FieldValue {
     },
     /// A bit-field object.
     Flags(Flags),
-    /// 2060h: the displayed error (0 is none).
-    Error(DisplayedError),
-    /// 2241h: an algorithm request.
-    Algorithm(AlgorithmRequest),
-    /// 6020h sub 1: the battery type.
-    BatteryType(BatteryType),
+    /// A value its profile writes ([`ValueFormat`]).
+    Formatted(Formatted),
     /// Four characters of a packed string (zero bytes are padding).
     Chars([u8; 4]),
-    /// The object's "invalid" marker (CiA 418).
+    /// The object's "invalid" marker ([`Marker::Invalid`]).
     Invalid,
-    /// The object's "no value" marker (Delta-Q).
+    /// The object's "no value" marker ([`Marker::NoValue`]), or a
+    /// [`ValueFormat`] that finds no value in the bits.
     NoValue,
     /// Padding bits.
     Padding,
@@ -512,18 +477,16 @@ pub enum FieldValue {
 
 impl FieldValue {
     /// A short name of the variant, for machine output: `scaled`,
-    /// `out_of_range`, `flags`, `error`, `algorithm`, `battery_type`,
-    /// `chars`, `invalid`, `no_value`, `padding`, `missing`, `wrong_width`,
-    /// `raw`.
+    /// `out_of_range`, `flags`, the [`ValueFormat::kind`] of a formatted
+    /// value, `chars`, `invalid`, `no_value`, `padding`, `missing`,
+    /// `wrong_width`, `raw`.
     #[must_use]
     pub const fn kind(&self) -> &'static str {
         match self {
             FieldValue::Scaled { .. } => "scaled",
             FieldValue::OutOfRange { .. } => "out_of_range",
             FieldValue::Flags(_) => "flags",
-            FieldValue::Error(_) => "error",
-            FieldValue::Algorithm(_) => "algorithm",
-            FieldValue::BatteryType(_) => "battery_type",
+            FieldValue::Formatted(v) => v.format.kind,
             FieldValue::Chars(_) => "chars",
             FieldValue::Invalid => "invalid",
             FieldValue::NoValue => "no_value",
@@ -555,8 +518,8 @@ impl FieldValue {
 
 impl fmt::Display for FieldValue {
     /// The value alone: `19.453125 A` (precision and `#` passed on to the
-    /// number, see [`Fixed`]'s `Display`),
-    /// `AC present, ...`, `invalid`, `no value`, ...
+    /// number, see [`Fixed`]'s `Display`), a bit field in words,
+    /// `invalid`, `no value`, ...
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             FieldValue::Scaled { value, unit } | FieldValue::OutOfRange { value, unit } => {
@@ -570,25 +533,7 @@ impl fmt::Display for FieldValue {
                 Ok(())
             }
             FieldValue::Flags(flags) => write!(f, "{flags}"),
-            FieldValue::Error(e) if e.is_none() => f.write_str("none"),
-            FieldValue::Error(e) => {
-                write!(f, "{}", e.code)?;
-                if let Some(d) = e.code.description() {
-                    write!(f, " {d}")?;
-                }
-                write!(f, " (EEC {:04X}h)", e.eec.raw())
-            }
-            FieldValue::Algorithm(r) => {
-                write!(f, "algorithm {} variant {}", r.algorithm, r.variant)?;
-                if r.revert_after_ac_loss {
-                    f.write_str(", revert after AC loss")?;
-                }
-                if r.store_permanently {
-                    f.write_str(", store permanently")?;
-                }
-                Ok(())
-            }
-            FieldValue::BatteryType(t) => write!(f, "{} ({:02X}h)", t.chemistry(), t.to_u8()),
+            FieldValue::Formatted(v) => forward(f, v),
             FieldValue::Chars(chars) => {
                 f.write_str("\"")?;
                 for &c in chars.iter().filter(|&&c| c != 0) {
@@ -640,8 +585,8 @@ impl NamedField {
 impl fmt::Display for NamedField {
     /// `2002h charging current 19.453125 A` (a precision rounds the number:
     /// `{:.2}` gives `19.45 A`; `{:#.2}` gives at most 2 places, `82 V` for
-    /// `82.00 V`), `2006h extended charge status: AC present,
-    /// ...`, `6080h charger state of charge: invalid (raw FFh)`,
+    /// `82.00 V`), `2008h derate reasons: AC voltage, temperature`,
+    /// `6080h charger state of charge: invalid (raw FFh)`,
     /// `2FFAh:01 padding (8 bits)`. The sub-index is shown when not 0.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let e = self.entry;

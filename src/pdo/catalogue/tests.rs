@@ -1,5 +1,6 @@
-//! Catalogue: exact numbers, markers, bit fields in words, widths, short
-//! frames, the per-device meaning of 6052h, and totality.
+//! Catalogue mechanism: exact numbers, markers, flag words, profile
+//! formats, widths, dummies, short frames and totality, on a small table of
+//! its own (the profiles' tables are tested in their modules).
 
 use std::string::{String, ToString};
 use std::vec::Vec;
@@ -7,14 +8,6 @@ use std::vec::Vec;
 use proptest::prelude::*;
 
 use super::*;
-
-fn one(cat: Catalogue, index: u16, sub: u8, bits: u8, raw: u64) -> NamedField {
-    cat.interpret(MappingEntry::new(index, sub, bits), raw)
-}
-
-fn dq(index: u16, bits: u8, raw: u64) -> String {
-    one(Catalogue::DeltaQCharger, index, 0, bits, raw).to_string()
-}
 
 #[test]
 fn fixed_exact_and_rounded() {
@@ -60,211 +53,180 @@ fn fixed_exact_and_rounded() {
     assert_eq!(Fixed::new(-3, 3).to_f64(), -0.375);
 }
 
+const WORD: FlagWord = FlagWord {
+    fields: &[
+        FlagField::Bit {
+            mask: 0x01,
+            set: "on",
+            clear: Some("off"),
+        },
+        FlagField::Bit {
+            mask: 0x02,
+            set: "hot",
+            clear: None,
+        },
+        FlagField::Choice {
+            mask: 0x0C,
+            values: &[(0, None), (1, Some("mode one"))],
+            unknown: "mode",
+        },
+        FlagField::OtherBits { mask: 0xFF },
+    ],
+    when_empty: None,
+};
+
+const QUIET: FlagWord = FlagWord {
+    fields: &[
+        FlagField::Bit {
+            mask: 0x01,
+            set: "alarm",
+            clear: None,
+        },
+        FlagField::OtherBits { mask: 0x0F },
+    ],
+    when_empty: Some("none"),
+};
+
+fn has_value(raw: u64) -> bool {
+    raw != 0xFF
+}
+
+fn write_code(raw: u64, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+    write!(f, "code {raw}")
+}
+
+const CODE: ValueFormat = ValueFormat {
+    kind: "code",
+    has_value,
+    write: write_code,
+};
+
+const TABLE: &[CatalogueEntry] = &[
+    CatalogueEntry::scaled(0x2000, "current", 16, 8, Some(Unit::Ampere))
+        .marked(Marker::NoValue(0xFFFF), None),
+    CatalogueEntry::scaled(0x2001, "level", 8, 0, Some(Unit::Percent))
+        .marked(Marker::Invalid(0xFF), Some(100)),
+    CatalogueEntry::new(
+        0x2002,
+        "temperature",
+        16,
+        Interpretation::Signed {
+            frac_bits: 3,
+            unit: Some(Unit::DegreeCelsius),
+        },
+    ),
+    CatalogueEntry::new(0x2003, "status", 8, Interpretation::Flags(&WORD)),
+    CatalogueEntry::new(0x2004, "code", 8, Interpretation::Formatted(&CODE)),
+    CatalogueEntry::new(0x2005, "name", 32, Interpretation::Chars).subs(1, 2),
+    CatalogueEntry::new(0x2006, "filler", 8, Interpretation::Padding).subs(1, 1),
+    CatalogueEntry::new(0x2007, "alarms", 8, Interpretation::Flags(&QUIET)),
+];
+const SECOND: &[CatalogueEntry] = &[
+    CatalogueEntry::scaled(0x2000, "shadowed", 16, 0, None),
+    CatalogueEntry::scaled(0x3000, "counter", 32, 0, None),
+];
+const CAT: Catalogue = Catalogue::new("test device", &[TABLE, SECOND]);
+
+fn one(index: u16, sub: u8, bits: u8, raw: u64) -> NamedField {
+    CAT.interpret(MappingEntry::new(index, sub, bits), raw)
+}
+
+fn words(index: u16, sub: u8, bits: u8, raw: u64) -> String {
+    one(index, sub, bits, raw).to_string()
+}
+
 #[test]
-fn deltaq_scaled_objects() {
-    assert_eq!(dq(0x2002, 16, 0x1374), "2002h charging current 19.453125 A");
+fn lookup_first_table_first() {
+    assert_eq!(CAT.name(), "test device");
+    assert_eq!(CAT.tables().len(), 2);
+    assert_eq!(CAT.lookup(0x2000, 0).unwrap().name, "current");
+    assert_eq!(CAT.lookup(0x3000, 0).unwrap().name, "counter");
+    assert_eq!(CAT.lookup(0x2005, 2).unwrap().name, "name");
+    assert!(CAT.lookup(0x2005, 3).is_none());
+    assert!(CAT.lookup(0x4000, 0).is_none());
+    assert!(Catalogue::new("empty", &[]).lookup(0x2000, 0).is_none());
+}
+
+#[test]
+fn scaled_markers_and_ranges() {
+    assert_eq!(words(0x2000, 0, 16, 0x1374), "2000h current 19.453125 A");
     assert_eq!(
-        dq(0x2100, 16, 0xC800),
-        "2100h battery voltage (legacy) 50 V"
-    );
-    assert_eq!(dq(0x2101, 16, 0x5200), "2101h battery voltage 82 V");
-    assert_eq!(dq(0x2200, 16, 0x07BA), "2200h AC voltage 123.625 V");
-    assert_eq!(dq(0x2271, 32, 0xE000), "2271h voltage request 56 V");
-    assert_eq!(dq(0x2276, 16, 0x5200), "2276h voltage request 82 V");
-    assert_eq!(dq(0x2275, 8, 12), "2275h cable resistance 12 mOhm");
-    assert_eq!(
-        dq(0x2002, 16, 0xFFFF),
-        "2002h charging current: no value (raw FFFFh)"
+        format!("{:.2}", one(0x2000, 0, 16, 0x1374)),
+        "2000h current 19.45 A"
     );
     assert_eq!(
-        dq(0x2271, 32, 0xFFFF_FFFF),
-        "2271h voltage request: no value (raw FFFFFFFFh)"
+        words(0x2000, 0, 16, 0xFFFF),
+        "2000h current: no value (raw FFFFh)"
     );
-    let f = one(Catalogue::DeltaQCharger, 0x2002, 0, 16, 0x1374);
-    assert_eq!(format!("{f:.2}"), "2002h charging current 19.45 A");
-    let g = one(Catalogue::DeltaQCharger, 0x2101, 0, 16, 0x5200);
-    assert_eq!(format!("{g:#.2}"), "2101h battery voltage 82 V");
-    assert_eq!(format!("{:#.2}", g.value), "82 V");
+    assert_eq!(one(0x2000, 0, 16, 0xFFFF).value, FieldValue::NoValue);
+    assert_eq!(words(0x2001, 0, 8, 76), "2001h level 76 %");
+    assert_eq!(words(0x2001, 0, 8, 150), "2001h level 150 % (out of range)");
+    assert_eq!(one(0x2001, 0, 8, 150).value.kind(), "out_of_range");
+    assert_eq!(words(0x2001, 0, 8, 0xFF), "2001h level: invalid (raw FFh)");
+    assert_eq!(words(0x2002, 0, 16, 0xFEC0), "2002h temperature -40 degC");
+    assert_eq!(words(0x3000, 0, 32, 7), "3000h counter 7");
+    let f = one(0x2000, 0, 16, 0x1374);
     assert_eq!(f.value.unit(), Some(Unit::Ampere));
     assert_eq!(f.value.number(), Some(Fixed::new(0x1374, 8)));
     assert_eq!(f.value.kind(), "scaled");
 }
 
 #[test]
-fn deltaq_words() {
+fn flag_words() {
+    assert_eq!(words(0x2003, 0, 8, 0x00), "2003h status: off");
+    assert_eq!(words(0x2003, 0, 8, 0x07), "2003h status: on, hot, mode one");
     assert_eq!(
-        dq(0x2006, 16, 0x0070),
-        "2006h extended charge status: AC present, charger enabled, override external (BMS)"
+        words(0x2003, 0, 8, 0x8C),
+        "2003h status: off, mode 3, other bits 80h"
     );
+    assert_eq!(words(0x2007, 0, 8, 0), "2007h alarms: none");
+    assert_eq!(words(0x2007, 0, 8, 0x11), "2007h alarms: alarm");
+    assert_eq!(words(0x2007, 0, 8, 0x04), "2007h alarms: other bits 04h");
+    let FieldValue::Flags(flags) = one(0x2003, 0, 8, 0x03).value else {
+        panic!("not flags")
+    };
+    assert_eq!(flags.raw(), 0x03);
+    assert!(flags.contains(0x02) && !flags.contains(0x04));
+    assert_eq!(flags.word(), &WORD);
+    assert_eq!(WORD.known_bits(), 0x0F);
+    assert_eq!(flags.to_string(), "on, hot");
+}
+
+#[test]
+fn profile_formats() {
+    let f = one(0x2004, 0, 8, 12);
+    assert_eq!(f.to_string(), "2004h code: code 12");
+    assert_eq!(f.value.kind(), "code");
     assert_eq!(
-        dq(0x2006, 16, 0x1133),
-        "2006h extended charge status: fault active, alarm active, AC present, charger enabled, \
-         override internal, below 80 %, normal charge"
+        f.value,
+        FieldValue::Formatted(Formatted {
+            format: &CODE,
+            raw: 12
+        })
     );
+    assert_eq!(one(0x2004, 0, 8, 0xFF).value, FieldValue::NoValue);
+    assert_eq!(words(0x2005, 1, 32, 0x5454_4142), "2005h:01 name: \"BATT\"");
     assert_eq!(
-        dq(0x2006, 16, 0xF8CC),
-        "2006h extended charge status: hardware shutdown, de-rating, override source 3, \
-         indication 8, charge type 15"
-    );
-    assert_eq!(
-        dq(0x2006, 16, 0x2600),
-        "2006h extended charge status: override internal, equalize, maintenance charge"
-    );
-    assert_eq!(dq(0x2008, 8, 0), "2008h derate reasons: none");
-    assert_eq!(
-        dq(0x2008, 8, 0x85),
-        "2008h derate reasons: AC voltage, temperature, other bits 80h"
-    );
-    assert_eq!(dq(0x4201, 8, 0x01), "4201h external override: equalize");
-    assert_eq!(dq(0x4201, 8, 0x00), "4201h external override: none");
-    assert_eq!(dq(0x2060, 32, 0), "2060h displayed error: none");
-    assert_eq!(
-        dq(0x2060, 32, 0x2080_8130),
-        "2060h displayed error: E-0-3-2 heartbeat lost (EEC 8130h)"
-    );
-    assert_eq!(
-        dq(0x2241, 32, 0x8000_000B),
-        "2241h algorithm request: algorithm 11 variant 0, store permanently"
-    );
-    assert_eq!(
-        dq(0x2241, 32, 0xFFFF_FFFF),
-        "2241h algorithm request: no value (raw FFFFFFFFh)"
-    );
-    assert_eq!(
-        one(Catalogue::DeltaQCharger, 0x2FFA, 1, 8, 0).to_string(),
-        "2FFAh:01 padding (8 bits)"
-    );
-    assert_eq!(
-        one(Catalogue::DeltaQCharger, 0x2FFA, 2, 8, 0).to_string(),
-        "2FFAh:02 padding (8 bits)"
+        words(0x2005, 2, 32, 0x2201_5C41),
+        "2005h:02 name: \"A\\x5C\\x01\\x22\""
     );
 }
 
 #[test]
-fn cia418_objects() {
-    let b =
-        |index, sub, bits, raw| one(Catalogue::BatteryModule, index, sub, bits, raw).to_string();
-    assert_eq!(b(0x6000, 0, 8, 1), "6000h battery status: ready to charge");
-    assert_eq!(
-        b(0x6000, 0, 8, 0x80),
-        "6000h battery status: not ready to charge, other bits 80h"
-    );
-    assert_eq!(b(0x6001, 0, 8, 1), "6001h charger status: enabled");
-    assert_eq!(b(0x6001, 0, 8, 0), "6001h charger status: not enabled");
-    assert_eq!(b(0x6090, 0, 8, 1), "6090h water level status: full");
-    assert_eq!(b(0x6090, 0, 8, 0), "6090h water level status: low");
-    assert_eq!(b(0x6010, 0, 16, 0x0230), "6010h temperature 70 degC");
-    assert_eq!(b(0x6010, 0, 16, 0xFEC0), "6010h temperature -40 degC");
-    assert_eq!(b(0x6010, 0, 16, 0xFFFF), "6010h temperature -0.125 degC");
-    assert_eq!(
-        b(0x6020, 1, 8, 0x10),
-        "6020h:01 battery type: lead acid (10h)"
-    );
-    assert_eq!(b(0x6020, 2, 16, 400), "6020h:02 Ah capacity 400 Ah");
-    assert_eq!(b(0x6020, 4, 16, 24), "6020h:04 number of cells 24");
-    assert_eq!(
-        b(0x6030, 1, 32, 0x5454_4142),
-        "6030h:01 battery serial number: \"BATT\""
-    );
-    assert_eq!(
-        b(0x6030, 2, 32, 0x0059_5245),
-        "6030h:02 battery serial number: \"ERY\""
-    );
-    assert_eq!(
-        b(0x6031, 5, 32, 0x2201_5C41),
-        "6031h:05 battery ID: \"A\\x5C\\x01\\x22\""
-    );
-    assert_eq!(
-        b(0x6050, 0, 32, 10_000),
-        "6050h cumulative total Ah charge 10000 Ah"
-    );
-    assert_eq!(
-        b(0x6051, 0, 16, 12),
-        "6051h Ah expended since last charge 1.5 Ah"
-    );
-    assert_eq!(
-        b(0x6054, 2, 16, 14_000),
-        "6054h:02 last equalization, days since 1984-01-01 14000 d"
-    );
-    assert_eq!(b(0x6060, 0, 32, 0xC800), "6060h battery voltage 50 V");
-    assert_eq!(
-        b(0x6070, 0, 16, 0x00A0),
-        "6070h charge current requested 10 A"
-    );
-    assert_eq!(
-        b(0x6070, 0, 16, 0x00FF),
-        "6070h charge current requested 15.9375 A"
-    );
-    assert_eq!(
-        b(0x6070, 0, 16, 0xFFFF),
-        "6070h charge current requested: invalid (raw FFFFh)"
-    );
-    assert_eq!(
-        b(0x6080, 0, 8, 0xFF),
-        "6080h charger state of charge: invalid (raw FFh)"
-    );
-    assert_eq!(b(0x6081, 0, 8, 76), "6081h battery state of charge 76 %");
-    assert_eq!(
-        b(0x6081, 0, 8, 150),
-        "6081h battery state of charge 150 % (out of range)"
-    );
-}
-
-#[test]
-fn ah_returned_differs_between_devices() {
-    let module = one(Catalogue::BatteryModule, 0x6052, 0, 16, 0xFFFF);
-    assert_eq!(
-        module.to_string(),
-        "6052h Ah returned during last charge 8191.875 Ah"
-    );
-    let charger = one(Catalogue::DeltaQCharger, 0x6052, 0, 16, 0xFFFF);
-    assert_eq!(charger.value, FieldValue::NoValue);
-    let charger = one(Catalogue::DeltaQCharger, 0x6052, 0, 16, 12);
-    assert_eq!(
-        charger.to_string(),
-        "6052h Ah returned during last charge 1.5 Ah"
-    );
-}
-
-#[test]
-fn manufacturer_objects_belong_to_the_charger() {
-    let f = one(Catalogue::BatteryModule, 0x2002, 0, 16, 0x1374);
-    assert_eq!(f.value, FieldValue::Raw);
-    assert_eq!(f.to_string(), "2002h unknown object: raw 1374h (16 bits)");
-    // The charger also knows the CiA 418 objects.
-    assert_eq!(
-        one(Catalogue::DeltaQCharger, 0x6081, 0, 8, 76).to_string(),
-        "6081h battery state of charge 76 %"
-    );
-}
-
-#[test]
-fn widths_dummies_and_unknown_subs() {
-    let f = one(Catalogue::DeltaQCharger, 0x2002, 0, 8, 0x74);
+fn widths_dummies_and_unknown_objects() {
+    let f = one(0x2000, 0, 8, 0x74);
     assert_eq!(f.value, FieldValue::WrongWidth { object_bits: 16 });
     assert_eq!(
         f.to_string(),
-        "2002h charging current: raw 74h, mapped as 8 bits, object has 16"
+        "2000h current: raw 74h, mapped as 8 bits, object has 16"
     );
-    let d = one(Catalogue::BatteryModule, 0x0006, 0, 16, 0xABCD);
+    let d = one(0x0006, 0, 16, 0xABCD);
     assert_eq!(d.value, FieldValue::Padding);
     assert_eq!(d.to_string(), "0006h padding (16 bits)");
-    assert_eq!(
-        one(Catalogue::DeltaQCharger, 0x2FFA, 1, 16, 0).value,
-        FieldValue::Padding
-    );
-    assert_eq!(
-        one(Catalogue::BatteryModule, 0x6020, 5, 16, 1).value,
-        FieldValue::Raw
-    );
-    assert_eq!(
-        one(Catalogue::BatteryModule, 0x6030, 4, 32, 1).value,
-        FieldValue::Raw
-    );
-    assert_eq!(
-        one(Catalogue::BatteryModule, 0x7000, 0, 1, 1).to_string(),
-        "7000h unknown object: raw 1h (1 bits)"
-    );
+    assert_eq!(words(0x2006, 1, 16, 0), "2006h:01 filler (16 bits)");
+    let u = one(0x7000, 0, 1, 1);
+    assert_eq!(u.value, FieldValue::Raw);
+    assert_eq!(u.to_string(), "7000h unknown object: raw 1h (1 bits)");
 }
 
 fn mapping(entries: &[(u16, u8, u8)]) -> PdoMapping {
@@ -277,8 +239,8 @@ fn mapping(entries: &[(u16, u8, u8)]) -> PdoMapping {
 
 #[test]
 fn short_and_long_frames() {
-    let m = mapping(&[(0x6010, 0, 16), (0x6000, 0, 8), (0x6060, 0, 32)]);
-    let fields = Catalogue::BatteryModule.decode(&m, &[0x30, 0x02, 0x01, 0x00]);
+    let m = mapping(&[(0x2002, 0, 16), (0x2003, 0, 8), (0x3000, 0, 32)]);
+    let fields = CAT.decode(&m, &[0x30, 0x02, 0x01, 0x00]);
     assert_eq!(fields.len(), 3);
     let s = fields.as_slice();
     assert_eq!(s[0].value.number(), Some(Fixed::new(0x230, 3)));
@@ -287,77 +249,23 @@ fn short_and_long_frames() {
     assert_eq!(s[2].raw, 0);
     assert_eq!(
         s[2].to_string(),
-        "6060h battery voltage: missing (past the end of the frame)"
+        "3000h counter: missing (past the end of the frame)"
     );
     assert_eq!(fields.unmapped_bytes(), 0);
-
-    let m = mapping(&[(0x6001, 0, 8)]);
-    let fields = Catalogue::DeltaQCharger.decode(&m, &[1, 2, 3]);
+    let m = mapping(&[(0x2001, 0, 8)]);
+    let fields = CAT.decode(&m, &[1, 2, 3]);
     assert_eq!(fields.unmapped_bytes(), 2);
-    assert_eq!(fields.to_string(), "6001h charger status: enabled");
-
-    let empty = Catalogue::DeltaQCharger.decode(&PdoMapping::EMPTY, &[1]);
+    assert_eq!(fields.to_string(), "2001h level 1 %");
+    let empty = CAT.decode(&PdoMapping::EMPTY, &[1]);
     assert!(empty.is_empty());
     assert_eq!(empty.to_string(), "");
-}
-
-#[test]
-fn the_capture_tpdo2_in_words() {
-    let m = mapping(&[
-        (0x2060, 0, 32),
-        (0x2200, 0, 16),
-        (0x6080, 0, 8),
-        (0x0005, 0, 8),
-    ]);
-    let fields = Catalogue::DeltaQCharger.decode(&m, &[0, 0, 0, 0, 0xBA, 0x07, 0xFF, 0]);
-    assert_eq!(
-        format!("{fields:.2}"),
-        "2060h displayed error: none; 2200h AC voltage 123.63 V; \
-         6080h charger state of charge: invalid (raw FFh); 0005h padding (8 bits)"
-    );
-    let kinds: Vec<&str> = fields.iter().map(|f| f.value.kind()).collect();
-    assert_eq!(kinds, ["error", "scaled", "invalid", "padding"]);
-}
-
-#[test]
-fn catalogue_tables_are_consistent() {
-    for table in [CIA418_OBJECTS, DELTAQ_OBJECTS] {
-        for (i, a) in table.iter().enumerate() {
-            assert!(a.first_sub <= a.last_sub, "{a:?}");
-            assert!(a.bits >= 1 && a.bits <= 32, "{a:?}");
-            for b in &table[i + 1..] {
-                let overlap =
-                    a.index == b.index && a.first_sub <= b.last_sub && b.first_sub <= a.last_sub;
-                assert!(!overlap, "{a:?} overlaps {b:?}");
-            }
-        }
-    }
-    // Every CiA 418 application object 6000h-6090h is there.
-    for index in [
-        0x6000, 0x6001, 0x6010, 0x6020, 0x6030, 0x6031, 0x6040, 0x6041, 0x6050, 0x6051, 0x6052,
-        0x6053, 0x6054, 0x6060, 0x6070, 0x6080, 0x6081, 0x6090,
-    ] {
-        assert!(
-            CIA418_OBJECTS.iter().any(|e| e.index == index),
-            "{index:04X}h"
-        );
-    }
-    for index in [
-        0x2002, 0x2006, 0x2008, 0x2060, 0x2100, 0x2101, 0x2200, 0x2241, 0x2271, 0x2276, 0x4201,
-        0x2FFA, 0x6052,
-    ] {
-        assert!(
-            DELTAQ_OBJECTS.iter().any(|e| e.index == index),
-            "{index:04X}h"
-        );
-    }
 }
 
 proptest! {
     #![proptest_config(ProptestConfig { failure_persistence: None, ..ProptestConfig::default() })]
 
     /// Decoding is total and displays without panicking, for any mapping
-    /// and any payload, in both catalogues.
+    /// and any payload.
     #[test]
     fn decode_is_total(
         raw_entries in proptest::collection::vec(any::<u32>(), 0..=8),
@@ -365,27 +273,12 @@ proptest! {
         precision in proptest::option::of(0usize..25),
     ) {
         let Ok(m) = PdoMapping::from_u32s(&raw_entries) else { return Ok(()) };
-        for cat in [Catalogue::BatteryModule, Catalogue::DeltaQCharger] {
-            let fields = cat.decode(&m, &payload);
-            prop_assert_eq!(fields.len(), m.len());
-            let _ = match precision {
-                Some(p) => format!("{fields:.p$}"),
-                None => fields.to_string(),
-            };
-        }
-    }
-
-    /// Catalogue entries over their own widths, with realistic mappings.
-    #[test]
-    fn known_objects_are_total(raw in any::<u64>(), pick in 0usize..64) {
-        for cat in [Catalogue::BatteryModule, Catalogue::DeltaQCharger] {
-            let table = [CIA418_OBJECTS, DELTAQ_OBJECTS].concat();
-            let def = &table[pick % table.len()];
-            let bits = u32::from(def.bits);
-            let raw = raw & (u64::MAX >> (64 - bits));
-            let f = cat.interpret(MappingEntry::new(def.index, def.first_sub, def.bits), raw);
-            let _ = format!("{f} {f:.2} {}", f.value);
-        }
+        let fields = CAT.decode(&m, &payload);
+        prop_assert_eq!(fields.len(), m.len());
+        let _ = match precision {
+            Some(p) => format!("{fields:.p$}"),
+            None => fields.to_string(),
+        };
     }
 
     /// The exact and the rounded forms agree with f64 where f64 is exact.

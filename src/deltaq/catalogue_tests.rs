@@ -1,0 +1,367 @@
+//! The Delta-Q charger's catalogue, row by row, and both device catalogues
+//! together: the per-device meaning of 6052h, manufacturer objects, short
+//! frames, the capture's TPDO 2, and totality.
+
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+use proptest::prelude::*;
+
+use super::*;
+use crate::cia418::BATTERY_MODULE_CATALOGUE;
+use crate::pdo::{FieldValue, Fixed, MappingEntry, NamedField, PdoMapping};
+
+fn one(cat: Catalogue, index: u16, sub: u8, bits: u8, raw: u64) -> NamedField {
+    cat.interpret(MappingEntry::new(index, sub, bits), raw)
+}
+
+fn dq(index: u16, bits: u8, raw: u64) -> String {
+    one(CHARGER_CATALOGUE, index, 0, bits, raw).to_string()
+}
+
+#[test]
+fn deltaq_scaled_objects() {
+    assert_eq!(dq(0x2002, 16, 0x1374), "2002h charging current 19.453125 A");
+    assert_eq!(
+        dq(0x2100, 16, 0xC800),
+        "2100h battery voltage (legacy) 50 V"
+    );
+    assert_eq!(dq(0x2101, 16, 0x5200), "2101h battery voltage 82 V");
+    assert_eq!(dq(0x2200, 16, 0x07BA), "2200h AC voltage 123.625 V");
+    assert_eq!(dq(0x2271, 32, 0xE000), "2271h voltage request 56 V");
+    assert_eq!(dq(0x2276, 16, 0x5200), "2276h voltage request 82 V");
+    assert_eq!(dq(0x2275, 8, 12), "2275h cable resistance 12 mOhm");
+    assert_eq!(
+        dq(0x2002, 16, 0xFFFF),
+        "2002h charging current: no value (raw FFFFh)"
+    );
+    assert_eq!(
+        dq(0x2271, 32, 0xFFFF_FFFF),
+        "2271h voltage request: no value (raw FFFFFFFFh)"
+    );
+    let f = one(CHARGER_CATALOGUE, 0x2002, 0, 16, 0x1374);
+    assert_eq!(format!("{f:.2}"), "2002h charging current 19.45 A");
+    let g = one(CHARGER_CATALOGUE, 0x2101, 0, 16, 0x5200);
+    assert_eq!(format!("{g:#.2}"), "2101h battery voltage 82 V");
+    assert_eq!(format!("{:#.2}", g.value), "82 V");
+    assert_eq!(f.value.unit(), Some(Unit::Ampere));
+    assert_eq!(f.value.number(), Some(Fixed::new(0x1374, 8)));
+    assert_eq!(f.value.kind(), "scaled");
+}
+
+#[test]
+fn deltaq_words() {
+    assert_eq!(
+        dq(0x2006, 16, 0x0070),
+        "2006h extended charge status: AC present, charger enabled, override external (BMS)"
+    );
+    assert_eq!(
+        dq(0x2006, 16, 0x1133),
+        "2006h extended charge status: fault active, alarm active, AC present, charger enabled, \
+         override internal, below 80 %, normal charge"
+    );
+    assert_eq!(
+        dq(0x2006, 16, 0xF8CC),
+        "2006h extended charge status: hardware shutdown, de-rating, override source 3, \
+         indication 8, charge type 15"
+    );
+    assert_eq!(
+        dq(0x2006, 16, 0x2600),
+        "2006h extended charge status: override internal, equalize, maintenance charge"
+    );
+    assert_eq!(dq(0x2008, 8, 0), "2008h derate reasons: none");
+    assert_eq!(
+        dq(0x2008, 8, 0x85),
+        "2008h derate reasons: AC voltage, temperature, other bits 80h"
+    );
+    assert_eq!(dq(0x4201, 8, 0x01), "4201h external override: equalize");
+    assert_eq!(dq(0x4201, 8, 0x00), "4201h external override: none");
+    assert_eq!(dq(0x2060, 32, 0), "2060h displayed error: none");
+    assert_eq!(
+        dq(0x2060, 32, 0x2080_8130),
+        "2060h displayed error: E-0-3-2 heartbeat lost (EEC 8130h)"
+    );
+    assert_eq!(
+        dq(0x2241, 32, 0x8000_000B),
+        "2241h algorithm request: algorithm 11 variant 0, store permanently"
+    );
+    assert_eq!(
+        dq(0x2241, 32, 0xFFFF_FFFF),
+        "2241h algorithm request: no value (raw FFFFFFFFh)"
+    );
+    assert_eq!(
+        one(CHARGER_CATALOGUE, 0x2FFA, 1, 8, 0).to_string(),
+        "2FFAh:01 padding (8 bits)"
+    );
+    assert_eq!(
+        one(CHARGER_CATALOGUE, 0x2FFA, 2, 8, 0).to_string(),
+        "2FFAh:02 padding (8 bits)"
+    );
+}
+
+#[test]
+fn ah_returned_differs_between_devices() {
+    let module = one(BATTERY_MODULE_CATALOGUE, 0x6052, 0, 16, 0xFFFF);
+    assert_eq!(
+        module.to_string(),
+        "6052h Ah returned during last charge 8191.875 Ah"
+    );
+    let charger = one(CHARGER_CATALOGUE, 0x6052, 0, 16, 0xFFFF);
+    assert_eq!(charger.value, FieldValue::NoValue);
+    let charger = one(CHARGER_CATALOGUE, 0x6052, 0, 16, 12);
+    assert_eq!(
+        charger.to_string(),
+        "6052h Ah returned during last charge 1.5 Ah"
+    );
+}
+
+#[test]
+fn manufacturer_objects_belong_to_the_charger() {
+    let f = one(BATTERY_MODULE_CATALOGUE, 0x2002, 0, 16, 0x1374);
+    assert_eq!(f.value, FieldValue::Raw);
+    assert_eq!(f.to_string(), "2002h unknown object: raw 1374h (16 bits)");
+    // The charger also knows the CiA 418 objects.
+    assert_eq!(
+        one(CHARGER_CATALOGUE, 0x6081, 0, 8, 76).to_string(),
+        "6081h battery state of charge 76 %"
+    );
+}
+
+#[test]
+fn widths_dummies_and_unknown_subs() {
+    let f = one(CHARGER_CATALOGUE, 0x2002, 0, 8, 0x74);
+    assert_eq!(f.value, FieldValue::WrongWidth { object_bits: 16 });
+    assert_eq!(
+        f.to_string(),
+        "2002h charging current: raw 74h, mapped as 8 bits, object has 16"
+    );
+    let d = one(BATTERY_MODULE_CATALOGUE, 0x0006, 0, 16, 0xABCD);
+    assert_eq!(d.value, FieldValue::Padding);
+    assert_eq!(d.to_string(), "0006h padding (16 bits)");
+    assert_eq!(
+        one(CHARGER_CATALOGUE, 0x2FFA, 1, 16, 0).value,
+        FieldValue::Padding
+    );
+    assert_eq!(
+        one(BATTERY_MODULE_CATALOGUE, 0x6020, 5, 16, 1).value,
+        FieldValue::Raw
+    );
+    assert_eq!(
+        one(BATTERY_MODULE_CATALOGUE, 0x6030, 4, 32, 1).value,
+        FieldValue::Raw
+    );
+    assert_eq!(
+        one(BATTERY_MODULE_CATALOGUE, 0x7000, 0, 1, 1).to_string(),
+        "7000h unknown object: raw 1h (1 bits)"
+    );
+}
+
+fn mapping(entries: &[(u16, u8, u8)]) -> PdoMapping {
+    let e: Vec<MappingEntry> = entries
+        .iter()
+        .map(|&(i, s, b)| MappingEntry::new(i, s, b))
+        .collect();
+    PdoMapping::new(&e).unwrap()
+}
+
+#[test]
+fn short_and_long_frames() {
+    let m = mapping(&[(0x6010, 0, 16), (0x6000, 0, 8), (0x6060, 0, 32)]);
+    let fields = BATTERY_MODULE_CATALOGUE.decode(&m, &[0x30, 0x02, 0x01, 0x00]);
+    assert_eq!(fields.len(), 3);
+    let s = fields.as_slice();
+    assert_eq!(s[0].value.number(), Some(Fixed::new(0x230, 3)));
+    assert_eq!(s[1].raw, 1);
+    assert_eq!(s[2].value, FieldValue::Missing);
+    assert_eq!(s[2].raw, 0);
+    assert_eq!(
+        s[2].to_string(),
+        "6060h battery voltage: missing (past the end of the frame)"
+    );
+    assert_eq!(fields.unmapped_bytes(), 0);
+
+    let m = mapping(&[(0x6001, 0, 8)]);
+    let fields = CHARGER_CATALOGUE.decode(&m, &[1, 2, 3]);
+    assert_eq!(fields.unmapped_bytes(), 2);
+    assert_eq!(fields.to_string(), "6001h charger status: enabled");
+
+    let empty = CHARGER_CATALOGUE.decode(&PdoMapping::EMPTY, &[1]);
+    assert!(empty.is_empty());
+    assert_eq!(empty.to_string(), "");
+}
+
+#[test]
+fn the_capture_tpdo2_in_words() {
+    let m = mapping(&[
+        (0x2060, 0, 32),
+        (0x2200, 0, 16),
+        (0x6080, 0, 8),
+        (0x0005, 0, 8),
+    ]);
+    let fields = CHARGER_CATALOGUE.decode(&m, &[0, 0, 0, 0, 0xBA, 0x07, 0xFF, 0]);
+    assert_eq!(
+        format!("{fields:.2}"),
+        "2060h displayed error: none; 2200h AC voltage 123.63 V; \
+         6080h charger state of charge: invalid (raw FFh); 0005h padding (8 bits)"
+    );
+    let kinds: Vec<&str> = fields.iter().map(|f| f.value.kind()).collect();
+    assert_eq!(kinds, ["error", "scaled", "invalid", "padding"]);
+}
+
+#[test]
+fn catalogue_tables_are_consistent() {
+    for table in [CIA418_OBJECTS, DELTAQ_OBJECTS] {
+        for (i, a) in table.iter().enumerate() {
+            assert!(a.first_sub <= a.last_sub, "{a:?}");
+            assert!(a.bits >= 1 && a.bits <= 32, "{a:?}");
+            for b in &table[i + 1..] {
+                let overlap =
+                    a.index == b.index && a.first_sub <= b.last_sub && b.first_sub <= a.last_sub;
+                assert!(!overlap, "{a:?} overlaps {b:?}");
+            }
+        }
+    }
+    // Every CiA 418 application object 6000h-6090h is there.
+    for index in [
+        0x6000, 0x6001, 0x6010, 0x6020, 0x6030, 0x6031, 0x6040, 0x6041, 0x6050, 0x6051, 0x6052,
+        0x6053, 0x6054, 0x6060, 0x6070, 0x6080, 0x6081, 0x6090,
+    ] {
+        assert!(
+            CIA418_OBJECTS.iter().any(|e| e.index == index),
+            "{index:04X}h"
+        );
+    }
+    for index in [
+        0x2002, 0x2006, 0x2008, 0x2060, 0x2100, 0x2101, 0x2200, 0x2241, 0x2271, 0x2276, 0x4201,
+        0x2FFA, 0x6052,
+    ] {
+        assert!(
+            DELTAQ_OBJECTS.iter().any(|e| e.index == index),
+            "{index:04X}h"
+        );
+    }
+}
+
+/// The 2006h flag word says what [`ExtendedChargeStatus`] decodes, for
+/// every 16-bit value; 2008h and 4201h likewise for every byte.
+#[test]
+fn flag_words_agree_with_the_typed_values() {
+    use super::super::ExtendedChargeStatus;
+    for raw in 0..=u16::MAX {
+        let s = ExtendedChargeStatus::from_u16(raw);
+        let mut want: Vec<String> = Vec::new();
+        for (flag, name) in [
+            (ChargeStatusFlags::FAULT_ACTIVE, "fault active"),
+            (ChargeStatusFlags::ALARM_ACTIVE, "alarm active"),
+            (ChargeStatusFlags::HW_SHUTDOWN, "hardware shutdown"),
+            (ChargeStatusFlags::DERATING, "de-rating"),
+            (ChargeStatusFlags::AC_PRESENT, "AC present"),
+            (ChargeStatusFlags::CHARGER_ENABLED, "charger enabled"),
+        ] {
+            if s.flags.contains(flag) {
+                want.push(name.into());
+            }
+        }
+        want.push(match s.override_source {
+            OverrideSource::Internal => "override internal".into(),
+            OverrideSource::External => "override external (BMS)".into(),
+            OverrideSource::Other(v) => format!("override source {v}"),
+        });
+        match s.indication {
+            ChargeIndication::Inactive => {}
+            ChargeIndication::Below80 => want.push("below 80 %".into()),
+            ChargeIndication::Above80 => want.push("above 80 %".into()),
+            ChargeIndication::Finishing => want.push("finishing".into()),
+            ChargeIndication::Complete => want.push("complete".into()),
+            ChargeIndication::Resting => want.push("resting".into()),
+            ChargeIndication::Equalize => want.push("equalize".into()),
+            ChargeIndication::PowerSupplyMode => want.push("power-supply mode".into()),
+            ChargeIndication::Other(v) => want.push(format!("indication {v}")),
+        }
+        match s.charge_type {
+            ChargeType::None => {}
+            ChargeType::Normal => want.push("normal charge".into()),
+            ChargeType::Maintenance => want.push("maintenance charge".into()),
+            ChargeType::Other(v) => want.push(format!("charge type {v}")),
+        }
+        let got = one(CHARGER_CATALOGUE, 0x2006, 0, 16, u64::from(raw));
+        assert_eq!(got.value.to_string(), want.join(", "), "{raw:04X}h");
+    }
+    for byte in 0..=255u8 {
+        let words = |names: &[(u8, &str)]| -> String {
+            let mut known = 0;
+            let mut v: Vec<String> = Vec::new();
+            for &(bit, name) in names {
+                known |= bit;
+                if byte & bit != 0 {
+                    v.push(name.into());
+                }
+            }
+            if byte & !known != 0 {
+                v.push(format!("other bits {:02X}h", byte & !known));
+            }
+            if v.is_empty() {
+                "none".into()
+            } else {
+                v.join(", ")
+            }
+        };
+        assert_eq!(
+            one(CHARGER_CATALOGUE, 0x2008, 0, 8, u64::from(byte))
+                .value
+                .to_string(),
+            words(&[
+                (DerateReasons::AC_VOLTAGE.bits(), "AC voltage"),
+                (DerateReasons::BATTERY_VOLTAGE.bits(), "battery voltage"),
+                (DerateReasons::TEMPERATURE.bits(), "temperature"),
+                (DerateReasons::AC_CURRENT_LIMIT.bits(), "AC current limit"),
+            ])
+        );
+        assert_eq!(
+            one(CHARGER_CATALOGUE, 0x4201, 0, 8, u64::from(byte))
+                .value
+                .to_string(),
+            words(&[
+                (ExternalOverride::EQUALIZE.bits(), "equalize"),
+                (ExternalOverride::MAINTENANCE.bits(), "maintenance"),
+            ])
+        );
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// Decoding is total and displays without panicking, for any mapping
+    /// and any payload, in both catalogues.
+    #[test]
+    fn decode_is_total(
+        raw_entries in proptest::collection::vec(any::<u32>(), 0..=8),
+        payload in proptest::collection::vec(any::<u8>(), 0..=10),
+        precision in proptest::option::of(0usize..25),
+    ) {
+        let Ok(m) = PdoMapping::from_u32s(&raw_entries) else { return Ok(()) };
+        for cat in [BATTERY_MODULE_CATALOGUE, CHARGER_CATALOGUE] {
+            let fields = cat.decode(&m, &payload);
+            prop_assert_eq!(fields.len(), m.len());
+            let _ = match precision {
+                Some(p) => format!("{fields:.p$}"),
+                None => fields.to_string(),
+            };
+        }
+    }
+
+    /// Catalogue entries over their own widths, with realistic mappings.
+    #[test]
+    fn known_objects_are_total(raw in any::<u64>(), pick in 0usize..64) {
+        for cat in [BATTERY_MODULE_CATALOGUE, CHARGER_CATALOGUE] {
+            let table = [CIA418_OBJECTS, DELTAQ_OBJECTS].concat();
+            let def = &table[pick % table.len()];
+            let bits = u32::from(def.bits);
+            let raw = raw & (u64::MAX >> (64 - bits));
+            let f = cat.interpret(MappingEntry::new(def.index, def.first_sub, def.bits), raw);
+            let _ = format!("{f} {f:.2} {}", f.value);
+        }
+    }
+
+}
