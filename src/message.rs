@@ -18,6 +18,7 @@ use crate::time_of_day::TimeOfDay;
 
 /// One decoded CANopen frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum Message {
     /// 0x000: NMT module control.
     Nmt(NmtCommand),

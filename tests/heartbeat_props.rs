@@ -66,3 +66,58 @@ proptest! {
         prop_assert_eq!(restored, lost.len() - final_silence);
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 512, failure_persistence: None, ..ProptestConfig::default() })]
+
+    /// The back-pressure rule: a consumer whose events are never read still
+    /// takes every heartbeat. A node beating within its time (with state
+    /// changes that fill the event queue) is never reported lost, its
+    /// deadline is always one consumer time after its last heartbeat, and
+    /// once the events are read a silence gives exactly one `Lost`.
+    #[test]
+    fn undrained_events_never_make_a_beating_node_lost(
+        time_ms in 2u16..=3000,
+        beats in proptest::collection::vec((0u16..=u16::MAX, 0u8..4), 1..80),
+        silences in 1usize..4,
+    ) {
+        let node = NodeId::new(1).unwrap();
+        let mut c: HeartbeatConsumer<1> = HeartbeatConsumer::new();
+        c.set_entry(Timestamp::ZERO, 0, ConsumerEntry { node: 1, time_ms });
+        let states = [0x05u8, 0x7F, 0x04, 0x05];
+        let t = u64::from(time_ms);
+        let mut now = 0u64;
+        let mut events_made = 0u64;
+        let mut last_state: Option<u8> = None;
+        for (gap, s) in &beats {
+            // A gap shorter than the consumer time.
+            now += u64::from(*gap) % t;
+            let state = states[usize::from(*s)];
+            c.handle_timeout(Timestamp::from_millis(now));
+            c.handle_frame(Timestamp::from_millis(now), &CanFrame::standard(0x701, &[state]).unwrap());
+            c.handle_timeout(Timestamp::from_millis(now));
+            if last_state.is_some_and(|p| p != state) {
+                events_made += 1;
+            }
+            last_state = Some(state);
+            prop_assert!(c.is_alive(node), "lost while beating at {} ms", now);
+            prop_assert_eq!(c.poll_timeout(), Some(Timestamp::from_millis(now + t)));
+        }
+        // Nothing was read: the queue kept the newest 8 and counted the rest.
+        prop_assert_eq!(c.events_dropped(), events_made.saturating_sub(8));
+        let kept: Vec<HeartbeatEvent> = std::iter::from_fn(|| c.poll_event()).collect();
+        prop_assert_eq!(kept.len() as u64, events_made.min(8));
+        prop_assert!(kept.iter().all(|e| matches!(e, HeartbeatEvent::StateChanged { .. })), "only state changes");
+        // Drained from now on: each silence longer than the time is one Lost.
+        for _ in 0..silences {
+            now += t;
+            c.handle_timeout(Timestamp::from_millis(now));
+            c.handle_timeout(Timestamp::from_millis(now + 5 * t));
+            prop_assert_eq!(c.poll_event(), Some(HeartbeatEvent::Lost(node)));
+            prop_assert_eq!(c.poll_event(), None);
+            now += 5 * t;
+            c.handle_frame(Timestamp::from_millis(now), &CanFrame::standard(0x701, &[0x05]).unwrap());
+            prop_assert!(matches!(c.poll_event(), Some(HeartbeatEvent::Restored { .. })), "restored");
+        }
+    }
+}

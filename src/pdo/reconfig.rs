@@ -100,6 +100,7 @@ impl Plan {
 
 /// How a reconfiguration ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
 pub enum ReconfigEvent {
     /// Every step was accepted.
     Done,
