@@ -270,7 +270,7 @@ impl Simulation {
         let step = self.step;
         module.update(now, |o| {
             o.battery_voltage = voltage;
-            if step % 5 == 0 {
+            if step.is_multiple_of(5) {
                 if let Some(p) = o.battery_state_of_charge.percent() {
                     o.battery_state_of_charge = StateOfCharge::from_raw((p + 1).min(100));
                 }

@@ -56,6 +56,36 @@ impl InlineData<8> {
     }
 }
 
+impl InlineData<4> {
+    /// One byte.
+    #[must_use]
+    pub const fn le_u8(v: u8) -> Self {
+        InlineData {
+            len: 1,
+            bytes: [v, 0, 0, 0],
+        }
+    }
+
+    /// A `u16`, little-endian (CANopen's byte order).
+    #[must_use]
+    pub const fn le_u16(v: u16) -> Self {
+        let [a, b] = v.to_le_bytes();
+        InlineData {
+            len: 2,
+            bytes: [a, b, 0, 0],
+        }
+    }
+
+    /// A `u32`, little-endian (CANopen's byte order).
+    #[must_use]
+    pub const fn le_u32(v: u32) -> Self {
+        InlineData {
+            len: 4,
+            bytes: v.to_le_bytes(),
+        }
+    }
+}
+
 impl<const N: usize> Default for InlineData<N> {
     fn default() -> Self {
         InlineData {

@@ -320,7 +320,7 @@ fn heartbeat_session(drain: bool) -> (Sim, Handle<HeartbeatConsumer<1>>, Vec<See
         }
         if sim.is_plugged(p) && step % 12 == 0 {
             k += 1;
-            let state = if k % 2 == 0 {
+            let state = if k.is_multiple_of(2) {
                 NmtState::PreOperational
             } else {
                 NmtState::Operational

@@ -48,11 +48,10 @@ use super::{
 };
 use crate::cob_id::NodeId;
 use crate::device::{
-    machine_on_device, CommObjects, Device, DeviceConfig, DeviceEvent, Dictionary, Identity,
-    Profile,
+    machine_on_device, CommObjects, Device, DeviceConfig, DeviceEvent, Identity, Profile,
 };
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
-use crate::nmt::NmtState;
+
 use crate::pdo::{
     MappingEntry, PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoMapping, PdoSlot,
     TransmissionType, MAX_ENTRIES,
@@ -144,7 +143,10 @@ impl Profile<BatteryObjects, BatteryEvent> for ModuleProfile {
     }
 }
 
-/// A CiA 418 battery module. See the module docs for the behaviour.
+/// A CiA 418 battery module. See the module docs for the behaviour. It
+/// dereferences to its [`Device`] core, whose getters give its objects
+/// (`objects()`, `comm()`, `pdo_config()`, `dictionary()`), `nmt_state()`
+/// and `error_register()`.
 ///
 /// ```
 /// use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig, BatteryStatus, Temperature};
@@ -167,7 +169,7 @@ pub struct BatteryModule {
     profile: ModuleProfile,
 }
 
-machine_on_device!(BatteryModule, BatteryEvent);
+machine_on_device!(BatteryModule, BatteryObjects, BatteryEvent);
 
 /// The CiA 418 default PDO set of a module with `config`.
 fn default_pdo_config(config: &BatteryModuleConfig) -> PdoConfig {
@@ -225,54 +227,6 @@ impl BatteryModule {
         &self.config
     }
 
-    /// The node id.
-    #[must_use]
-    pub const fn node(&self) -> NodeId {
-        self.config.node
-    }
-
-    /// The NMT state ([`NmtState::BootUp`] until [`boot`](Self::boot)).
-    #[must_use]
-    pub const fn nmt_state(&self) -> NmtState {
-        self.device.nmt_state()
-    }
-
-    /// The device core (communication objects, PDOs, heartbeat consumer).
-    #[must_use]
-    pub const fn device(&self) -> &Device<BatteryObjects, BatteryEvent> {
-        &self.device
-    }
-
-    /// The whole dictionary the SDO server serves.
-    #[must_use]
-    pub const fn dictionary(&self) -> &Dictionary<BatteryObjects> {
-        self.device.dictionary()
-    }
-
-    /// The application objects.
-    #[must_use]
-    pub const fn objects(&self) -> &BatteryObjects {
-        self.device.objects()
-    }
-
-    /// The communication objects (1000h-1FFFh but the PDO objects).
-    #[must_use]
-    pub const fn comm(&self) -> &CommObjects {
-        self.device.comm()
-    }
-
-    /// The PDO configuration (1400h-1A03h) as the SDO server sees it.
-    #[must_use]
-    pub const fn pdo_config(&self) -> &PdoConfig {
-        self.device.pdo_config()
-    }
-
-    /// 1001h error register.
-    #[must_use]
-    pub const fn error_register(&self) -> ErrorRegister {
-        self.device.error_register()
-    }
-
     /// True while the temperature sensor fault is set.
     #[must_use]
     pub const fn temperature_sensor_fault(&self) -> bool {
@@ -282,31 +236,31 @@ impl BatteryModule {
     /// 6001h charger status, as the charger last wrote it.
     #[must_use]
     pub const fn charger_status(&self) -> ChargerStatus {
-        self.objects().charger_status
+        self.device.objects().charger_status
     }
 
     /// 6052h Ah returned during last charge.
     #[must_use]
     pub const fn ah_returned_during_last_charge(&self) -> EighthAmpHours {
-        self.objects().ah_returned_during_last_charge
+        self.device.objects().ah_returned_during_last_charge
     }
 
     /// 6053h Ah since last equalization.
     #[must_use]
     pub const fn ah_since_last_equalization(&self) -> EighthAmpHours {
-        self.objects().ah_since_last_equalization
+        self.device.objects().ah_since_last_equalization
     }
 
     /// 6054h date of last equalization.
     #[must_use]
     pub const fn date_of_last_equalization(&self) -> EqualizationDate {
-        self.objects().date_of_last_equalization
+        self.device.objects().date_of_last_equalization
     }
 
     /// 6080h charger state of charge, as the charger last wrote it.
     #[must_use]
     pub const fn charger_state_of_charge(&self) -> StateOfCharge {
-        self.objects().charger_state_of_charge
+        self.device.objects().charger_state_of_charge
     }
 
     // ----- application commands --------------------------------------------

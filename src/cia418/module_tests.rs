@@ -1,5 +1,6 @@
 use super::*;
 use crate::machine::Machine;
+use crate::nmt::NmtState;
 
 use crate::{CanFrame, PdoNumber};
 

@@ -43,7 +43,8 @@ use super::{
     CHARGER_STATUS, CHARGE_CURRENT_REQUESTED, CUMULATIVE_TOTAL_AH_CHARGE,
     DATE_OF_LAST_EQUALIZATION, TEMPERATURE, VEHICLE_ID, VEHICLE_SERIAL_NUMBER, WATER_LEVEL_STATUS,
 };
-use crate::od::{Access, ObjectDictionary, ObjectInfo};
+use crate::bytes::InlineData;
+use crate::od::{Access, ObjectDictionary, ObjectInfo, WriteBuffer};
 use crate::sdo::AbortCode;
 
 /// Every index [`BatteryObjects`] serves.
@@ -90,41 +91,7 @@ impl PackedValue {
     }
 }
 
-/// A value of at most 4 bytes, little-endian.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-struct Value {
-    bytes: [u8; 4],
-    len: usize,
-}
-
-impl Value {
-    fn from_slice(data: &[u8]) -> Self {
-        let mut bytes = [0u8; 4];
-        for (d, s) in bytes.iter_mut().zip(data) {
-            *d = *s;
-        }
-        Value {
-            bytes,
-            len: data.len().min(4),
-        }
-    }
-
-    fn as_slice(&self) -> &[u8] {
-        self.bytes.get(..self.len).unwrap_or(&[])
-    }
-
-    const fn len(&self) -> usize {
-        self.len
-    }
-}
-
-/// A download in progress (values are at most 4 bytes).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct Pending {
-    key: (u16, u8),
-    buf: [u8; 4],
-    len: usize,
-}
+type Value = InlineData<4>;
 
 /// The values of a CiA 418 battery module's objects (see the module docs
 /// for the table). The application sets the fields it measures; the
@@ -172,27 +139,7 @@ pub struct BatteryObjects {
     pub water_level: WaterLevelStatus,
     /// 6030h, 6031h, 6040h, 6041h in [`PackedStringObject::ALL`] order.
     packed: [PackedValue; 4],
-    pending: Option<Pending>,
-}
-
-const fn v8(v: u8) -> Value {
-    Value {
-        bytes: [v, 0, 0, 0],
-        len: 1,
-    }
-}
-const fn v16(v: u16) -> Value {
-    let [a, b] = v.to_le_bytes();
-    Value {
-        bytes: [a, b, 0, 0],
-        len: 2,
-    }
-}
-const fn v32(v: u32) -> Value {
-    Value {
-        bytes: v.to_le_bytes(),
-        len: 4,
-    }
+    pending: WriteBuffer,
 }
 
 fn packed_slot(object: PackedStringObject) -> usize {
@@ -240,7 +187,7 @@ impl BatteryObjects {
             battery_state_of_charge: StateOfCharge::INVALID,
             water_level: WaterLevelStatus::empty(),
             packed: [PackedValue::EMPTY; 4],
-            pending: None,
+            pending: WriteBuffer::new(),
         }
     }
 
@@ -292,37 +239,59 @@ impl BatteryObjects {
     fn entry(&self, index: u16, sub: u8) -> Result<(Access, Value, bool), AbortCode> {
         use Access::{ReadOnly as Ro, ReadWrite as Rw};
         let found = match (index, sub) {
-            (BATTERY_STATUS, 0) => (Ro, v8(self.battery_status.bits()), true),
-            (CHARGER_STATUS, 0) => (Rw, v8(self.charger_status.bits()), true),
-            (TEMPERATURE, 0) => (Ro, v16(self.temperature.raw() as u16), true),
+            (BATTERY_STATUS, 0) => (Ro, Value::le_u8(self.battery_status.bits()), true),
+            (CHARGER_STATUS, 0) => (Rw, Value::le_u8(self.charger_status.bits()), true),
+            (TEMPERATURE, 0) => (Ro, Value::le_u16(self.temperature.raw() as u16), true),
             (BATTERY_PARAMETERS, s) if s <= BatteryParameters::HIGHEST_SUB_INDEX => {
                 let bytes = self.battery_parameters.encode_sub(s).unwrap_or_default();
-                (Ro, Value::from_slice(bytes.as_slice()), false)
+                (Ro, Value::new(bytes.as_slice()).unwrap_or_default(), false)
             }
-            (CUMULATIVE_TOTAL_AH_CHARGE, 0) => {
-                (Ro, v32(self.cumulative_total_ah_charge.raw()), false)
+            (CUMULATIVE_TOTAL_AH_CHARGE, 0) => (
+                Ro,
+                Value::le_u32(self.cumulative_total_ah_charge.raw()),
+                false,
+            ),
+            (AH_EXPENDED_SINCE_LAST_CHARGE, 0) => (
+                Ro,
+                Value::le_u16(self.ah_expended_since_last_charge.raw()),
+                false,
+            ),
+            (AH_RETURNED_DURING_LAST_CHARGE, 0) => (
+                Rw,
+                Value::le_u16(self.ah_returned_during_last_charge.raw()),
+                true,
+            ),
+            (AH_SINCE_LAST_EQUALIZATION, 0) => (
+                Rw,
+                Value::le_u16(self.ah_since_last_equalization.raw()),
+                false,
+            ),
+            (DATE_OF_LAST_EQUALIZATION, 0) => (
+                Ro,
+                Value::le_u8(EqualizationDate::NUMBER_OF_ELEMENTS),
+                false,
+            ),
+            (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_MINUTES) => (
+                Rw,
+                Value::le_u16(self.date_of_last_equalization.minutes),
+                false,
+            ),
+            (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_DAYS) => (
+                Rw,
+                Value::le_u16(self.date_of_last_equalization.days),
+                false,
+            ),
+            (BATTERY_VOLTAGE, 0) => (Ro, Value::le_u32(self.battery_voltage.raw()), true),
+            (CHARGE_CURRENT_REQUESTED, 0) => {
+                (Ro, Value::le_u16(self.charge_current_requested.raw()), true)
             }
-            (AH_EXPENDED_SINCE_LAST_CHARGE, 0) => {
-                (Ro, v16(self.ah_expended_since_last_charge.raw()), false)
+            (CHARGER_STATE_OF_CHARGE, 0) => {
+                (Rw, Value::le_u8(self.charger_state_of_charge.raw()), true)
             }
-            (AH_RETURNED_DURING_LAST_CHARGE, 0) => {
-                (Rw, v16(self.ah_returned_during_last_charge.raw()), true)
+            (BATTERY_STATE_OF_CHARGE, 0) => {
+                (Ro, Value::le_u8(self.battery_state_of_charge.raw()), true)
             }
-            (AH_SINCE_LAST_EQUALIZATION, 0) => {
-                (Rw, v16(self.ah_since_last_equalization.raw()), false)
-            }
-            (DATE_OF_LAST_EQUALIZATION, 0) => (Ro, v8(EqualizationDate::NUMBER_OF_ELEMENTS), false),
-            (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_MINUTES) => {
-                (Rw, v16(self.date_of_last_equalization.minutes), false)
-            }
-            (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_DAYS) => {
-                (Rw, v16(self.date_of_last_equalization.days), false)
-            }
-            (BATTERY_VOLTAGE, 0) => (Ro, v32(self.battery_voltage.raw()), true),
-            (CHARGE_CURRENT_REQUESTED, 0) => (Ro, v16(self.charge_current_requested.raw()), true),
-            (CHARGER_STATE_OF_CHARGE, 0) => (Rw, v8(self.charger_state_of_charge.raw()), true),
-            (BATTERY_STATE_OF_CHARGE, 0) => (Ro, v8(self.battery_state_of_charge.raw()), true),
-            (WATER_LEVEL_STATUS, 0) => (Ro, v8(self.water_level.bits()), false),
+            (WATER_LEVEL_STATUS, 0) => (Ro, Value::le_u8(self.water_level.bits()), false),
             (i, s) => {
                 let Some(object) = PackedStringObject::from_index(i) else {
                     return Err(if Self::has_object(i) {
@@ -337,10 +306,10 @@ impl BatteryObjects {
                     .copied()
                     .unwrap_or(PackedValue::EMPTY);
                 if s == 0 {
-                    (Ro, v8(v.count), false)
+                    (Ro, Value::le_u8(v.count), false)
                 } else {
                     let word = v.word(s).ok_or(AbortCode::SubIndexDoesNotExist)?;
-                    (Ro, v32(word), false)
+                    (Ro, Value::le_u32(word), false)
                 }
             }
         };
@@ -397,57 +366,22 @@ impl ObjectDictionary for BatteryObjects {
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
         let value = self.entry(index, sub)?.1;
-        let src = value.as_slice().get(offset..).unwrap_or(&[]);
-        let mut n = 0;
-        for (d, s) in buf.iter_mut().zip(src) {
-            *d = *s;
-            n += 1;
-        }
-        Ok(n)
+        Ok(crate::od::read_at(value.as_slice(), offset, buf))
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
         let info = self.info(index, sub)?;
-        if !info.access.is_writable() {
-            return Err(AbortCode::WriteOfReadOnlyObject);
-        }
-        let (mut buf, len) = match self.pending {
-            Some(p) if p.key == (index, sub) && offset > 0 => (p.buf, p.len),
-            _ => ([0u8; 4], 0),
-        };
-        let end = len.saturating_add(data.len());
-        if offset != len || end > buf.len() {
-            self.pending = None;
-            return Err(AbortCode::DataTypeLengthTooHigh);
-        }
-        for (d, s) in buf.iter_mut().skip(len).zip(data) {
-            *d = *s;
-        }
-        self.pending = Some(Pending {
-            key: (index, sub),
-            buf,
-            len: end,
-        });
-        Ok(())
+        self.pending.write_to(&info, index, sub, offset, data)
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let (buf, got) = match self.pending.take() {
-            Some(p) if p.key == (index, sub) => (p.buf, p.len),
-            _ => ([0u8; 4], 0),
-        };
-        let info = self.info(index, sub)?;
-        if !info.access.is_writable() {
-            return Err(AbortCode::WriteOfReadOnlyObject);
-        }
-        let got = got.min(len);
-        info.check_download_len(got)?;
-        self.apply(index, sub, buf.get(..got).unwrap_or(&[]))
+        let info = self.info(index, sub);
+        let value = self.pending.finish(info, index, sub, len)?;
+        self.apply(index, sub, value.as_slice())
     }
 
-    fn abort_write(&mut self, index: u16, sub: u8) {
-        let _ = (index, sub);
-        self.pending = None;
+    fn abort_write(&mut self, _: u16, _: u8) {
+        self.pending.clear();
     }
 }
 

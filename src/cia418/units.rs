@@ -191,7 +191,7 @@ impl EighthAmpHours {
     /// `Some` if `mah` is a multiple of 125 mAh that fits 16 bits.
     #[must_use]
     pub const fn from_milliamp_hours(mah: u32) -> Option<Self> {
-        if mah % Self::MILLIAMP_HOURS_PER_BIT != 0 {
+        if !mah.is_multiple_of(Self::MILLIAMP_HOURS_PER_BIT) {
             return None;
         }
         let raw = mah / Self::MILLIAMP_HOURS_PER_BIT;
@@ -281,7 +281,7 @@ impl BatteryVoltage {
     /// `Some` if `pv` is a whole number of 1/1024 V steps that fits 32 bits.
     #[must_use]
     pub const fn from_picovolts(pv: u64) -> Option<Self> {
-        if pv % Self::PICOVOLTS_PER_BIT != 0 {
+        if !pv.is_multiple_of(Self::PICOVOLTS_PER_BIT) {
             return None;
         }
         let raw = pv / Self::PICOVOLTS_PER_BIT;
@@ -374,7 +374,7 @@ impl ChargeCurrentRequested {
     /// (at most 4095.875 A).
     #[must_use]
     pub const fn from_microamps(ua: u32) -> Option<Self> {
-        if ua % Self::MICROAMPS_PER_BIT != 0 {
+        if !ua.is_multiple_of(Self::MICROAMPS_PER_BIT) {
             return None;
         }
         let raw = ua / Self::MICROAMPS_PER_BIT;

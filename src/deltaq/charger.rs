@@ -60,7 +60,7 @@ use crate::bytes::InlineData;
 use crate::cia419::{PdoPair, CHARGER_DEVICE_TYPE, PDO_PAIRS};
 use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
 use crate::device::{
-    machine_on_device, CommObjects, Device, DeviceConfig, DeviceEvent, ErrorFieldFormat, Profile,
+    machine_on_device, Device, DeviceConfig, DeviceEvent, ErrorFieldFormat, Profile,
 };
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::{CanFrame, CanId};
@@ -258,7 +258,9 @@ struct ChargerProfile {
 }
 
 /// The charger. See the module docs; it implements
-/// [`Machine`](crate::machine::Machine).
+/// [`Machine`](crate::machine::Machine) and dereferences to its [`Device`]
+/// core, whose getters give its objects (`objects()`, `comm()` with 1001h
+/// and the 1003h history, `pdo_config()`) and `nmt_state()`.
 ///
 /// ```
 /// use canopen_codec::deltaq::{Charger, ChargerConfig};
@@ -277,7 +279,7 @@ pub struct Charger {
     profile: ChargerProfile,
 }
 
-machine_on_device!(Charger, ChargerEvent);
+machine_on_device!(Charger, ChargerObjects, ChargerEvent);
 
 impl Charger {
     /// A charger with `config`, not yet booted.
@@ -297,40 +299,10 @@ impl Charger {
         &self.profile.config
     }
 
-    /// The NMT state.
-    #[must_use]
-    pub const fn nmt_state(&self) -> NmtState {
-        self.device.nmt_state()
-    }
-
     /// True once the PDO pairing is done and the module is present.
     #[must_use]
     pub const fn is_configured(&self) -> bool {
         matches!(self.profile.link, Link::Ready)
-    }
-
-    /// The device core.
-    #[must_use]
-    pub const fn device(&self) -> &ChargerDevice {
-        &self.device
-    }
-
-    /// The charger's application objects.
-    #[must_use]
-    pub const fn objects(&self) -> &ChargerObjects {
-        self.device.objects()
-    }
-
-    /// The communication objects (1001h, the 1003h history, 1016h, 1017h, ...).
-    #[must_use]
-    pub const fn comm(&self) -> &CommObjects {
-        self.device.comm()
-    }
-
-    /// The PDO configuration (COB-IDs after pairing).
-    #[must_use]
-    pub const fn pdo_config(&self) -> &PdoConfig {
-        self.device.pdo_config()
     }
 
     // ----- commands ----------------------------------------------------------

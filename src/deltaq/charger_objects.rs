@@ -6,7 +6,7 @@
 //! PDO mappings use). Fixed storage, no allocation. The communication
 //! objects (1000h-1FFFh) are the device core's ([`crate::device`]).
 
-use crate::od::{Access, ObjectDictionary, ObjectInfo};
+use crate::od::{Access, ObjectDictionary, ObjectInfo, WriteBuffer};
 use crate::sdo::AbortCode;
 
 /// The charger's object values. Fields are the application's to read and
@@ -50,7 +50,7 @@ pub struct ChargerObjects {
     pub voltage_request_q8: u16,
     /// 4201h external override.
     pub external_override: u8,
-    pending: Option<((u16, u8), [u8; 4], usize)>,
+    pending: WriteBuffer,
 }
 
 impl Default for ChargerObjects {
@@ -82,7 +82,7 @@ impl ChargerObjects {
             voltage_request: 0xFFFF_FFFF,
             voltage_request_q8: 0xFFFF,
             external_override: 0,
-            pending: None,
+            pending: WriteBuffer::new(),
         }
     }
 
@@ -176,36 +176,22 @@ impl ObjectDictionary for ChargerObjects {
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
         let (_, _, value) = self.scalar(index, sub)?;
-        let n = value.len().saturating_sub(offset).min(buf.len());
-        crate::bytes::copy_short(buf, value.as_slice().get(offset..).unwrap_or(&[]));
-        Ok(n)
+        Ok(crate::od::read_at(value.as_slice(), offset, buf))
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
-        let (key, mut buf, len) = match self.pending {
-            Some((k, b, l)) if k == (index, sub) => (k, b, l),
-            _ => ((index, sub), [0u8; 4], 0),
-        };
-        if offset != len || len + data.len() > 4 {
-            return Err(AbortCode::DataTypeLengthTooHigh);
-        }
-        if let Some(dst) = buf.get_mut(len..) {
-            crate::bytes::copy_short(dst, data);
-        }
-        self.pending = Some((key, buf, len + data.len()));
-        Ok(())
+        self.pending.write(index, sub, offset, data)
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let (buf, got) = match self.pending.take() {
-            Some((k, b, l)) if k == (index, sub) => (b, l),
-            _ => ([0u8; 4], 0),
-        };
-        self.store(index, sub, buf.get(..got.min(len)).unwrap_or(&[]))
+        let mut pending = self.pending;
+        self.pending.clear();
+        let data = pending.take(index, sub);
+        self.store(index, sub, data.get(..len.min(data.len())).unwrap_or(&[]))
     }
 
     fn abort_write(&mut self, _: u16, _: u8) {
-        self.pending = None;
+        self.pending.clear();
     }
 }
 

@@ -838,9 +838,20 @@ impl<A: ObjectDictionary + Clone> Machine for Device<A, DeviceEvent> {
 }
 
 /// Implements [`Machine`] for a profile type that holds its core in
-/// `self.device` and its [`Profile`] in `self.profile`.
+/// `self.device` and its [`Profile`] in `self.profile`, and `Deref` to the
+/// core (read-only: its getters).
 macro_rules! machine_on_device {
-    ($ty:ty, $event:ty) => {
+    ($ty:ty, $objects:ty, $event:ty) => {
+        impl core::ops::Deref for $ty {
+            type Target = $crate::device::Device<$objects, $event>;
+
+            /// The device core, for its getters (objects, communication
+            /// objects, PDO configuration, NMT state, error register, ...).
+            fn deref(&self) -> &Self::Target {
+                &self.device
+            }
+        }
+
         impl $crate::machine::Machine for $ty {
             type Event = $event;
 

@@ -6,6 +6,7 @@
 //! Objects the table does not name are passed to the application's
 //! dictionary, which may add communication objects of its own.
 
+use crate::bytes::InlineData;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::emcy::{Emergency, ErrorFieldEntry, ErrorRegister};
 use crate::heartbeat::ConsumerEntry;
@@ -13,7 +14,7 @@ use crate::od::index::{
     CONSUMER_HEARTBEAT_TIME, DEVICE_TYPE, ERROR_REGISTER, IDENTITY, MANUFACTURER_DEVICE_NAME,
     PRE_DEFINED_ERROR_FIELD, PRODUCER_HEARTBEAT_TIME, SDO_SERVER_PARAMETER,
 };
-use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
+use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
 use crate::sdo::AbortCode;
 
 /// Entries the error history (1003h) keeps.
@@ -105,7 +106,7 @@ pub struct CommObjects {
     pub heartbeat_ms: u16,
     /// 1018h.
     pub identity: Identity,
-    pending: Option<((u16, u8), [u8; 4], usize)>,
+    pending: WriteBuffer,
 }
 
 impl CommObjects {
@@ -127,7 +128,7 @@ impl CommObjects {
             consumer_slots: 0,
             heartbeat_ms: 0,
             identity: Identity::ZERO,
-            pending: None,
+            pending: WriteBuffer::new(),
         }
     }
 
@@ -206,7 +207,7 @@ impl CommObjects {
             (PRE_DEFINED_ERROR_FIELD, 0) => (Rw, Value::u8(self.history_len)),
             (PRE_DEFINED_ERROR_FIELD, 1..=10) => match self.errors().get(usize::from(sub) - 1) {
                 Some(e) => (Ro, Value::u32(*e)),
-                None => (Ro, Value::EMPTY_ENTRY),
+                None => (Ro, Value::NoData),
             },
             (CONSUMER_HEARTBEAT_TIME, 0) if self.consumer_slots > 0 => {
                 (Const, Value::u8(self.consumer_slots))
@@ -260,44 +261,32 @@ impl CommObjects {
     }
 }
 
-/// Up to 4 little-endian bytes of a value.
+/// A value of up to 4 bytes, or an error-history entry beyond the history
+/// (4 bytes long, read as 08000024h "no data available").
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct Value {
-    bytes: [u8; 4],
-    len: u8,
+enum Value {
+    Bytes(InlineData<4>),
+    NoData,
 }
 
 impl Value {
-    /// A 1003h entry beyond the history: 4 bytes long, read as 08000024h.
-    const EMPTY_ENTRY: Value = Value {
-        bytes: [0; 4],
-        len: 0xFF,
-    };
-
     const fn u8(v: u8) -> Self {
-        Value {
-            bytes: [v, 0, 0, 0],
-            len: 1,
-        }
+        Value::Bytes(InlineData::le_u8(v))
     }
 
     const fn u16(v: u16) -> Self {
-        let [a, b] = v.to_le_bytes();
-        Value {
-            bytes: [a, b, 0, 0],
-            len: 2,
-        }
+        Value::Bytes(InlineData::le_u16(v))
     }
 
     const fn u32(v: u32) -> Self {
-        Value {
-            bytes: v.to_le_bytes(),
-            len: 4,
-        }
+        Value::Bytes(InlineData::le_u32(v))
     }
 
-    fn len(self) -> usize {
-        usize::from(self.len).min(4)
+    const fn len(self) -> usize {
+        match self {
+            Value::Bytes(b) => b.len(),
+            Value::NoData => 4,
+        }
     }
 }
 
@@ -332,57 +321,28 @@ impl ObjectDictionary for CommObjects {
             }
             self.device_name.as_bytes()
         } else {
-            value = self.scalar(index, sub)?.1;
-            if value == Value::EMPTY_ENTRY {
-                return Err(AbortCode::NoDataAvailable);
-            }
-            value.bytes.get(..value.len()).unwrap_or(&[])
+            value = match self.scalar(index, sub)?.1 {
+                Value::Bytes(b) => b,
+                Value::NoData => return Err(AbortCode::NoDataAvailable),
+            };
+            value.as_slice()
         };
-        let src = src.get(offset..).unwrap_or(&[]);
-        let n = src.len().min(buf.len());
-        if let (Some(d), Some(s)) = (buf.get_mut(..n), src.get(..n)) {
-            d.copy_from_slice(s);
-        }
-        Ok(n)
+        Ok(crate::od::read_at(src, offset, buf))
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
         let info = self.info(index, sub)?;
-        if !info.access.is_writable() {
-            return Err(AbortCode::WriteOfReadOnlyObject);
-        }
-        let (mut buf, len) = match self.pending {
-            Some((k, b, l)) if k == (index, sub) && offset > 0 => (b, l),
-            _ => ([0u8; 4], 0),
-        };
-        let end = len.saturating_add(data.len());
-        if offset != len || end > buf.len() {
-            self.pending = None;
-            return Err(AbortCode::DataTypeLengthTooHigh);
-        }
-        if let Some(dst) = buf.get_mut(len..end) {
-            dst.copy_from_slice(data);
-        }
-        self.pending = Some(((index, sub), buf, end));
-        Ok(())
+        self.pending.write_to(&info, index, sub, offset, data)
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let (buf, got) = match self.pending.take() {
-            Some((k, b, l)) if k == (index, sub) => (b, l),
-            _ => ([0u8; 4], 0),
-        };
-        let info = self.info(index, sub)?;
-        if !info.access.is_writable() {
-            return Err(AbortCode::WriteOfReadOnlyObject);
-        }
-        let got = got.min(len);
-        info.check_download_len(got)?;
-        self.apply(index, sub, buf.get(..got).unwrap_or(&[]))
+        let info = self.info(index, sub);
+        let value = self.pending.finish(info, index, sub, len)?;
+        self.apply(index, sub, value.as_slice())
     }
 
     fn abort_write(&mut self, _: u16, _: u8) {
-        self.pending = None;
+        self.pending.clear();
     }
 }
 

@@ -138,12 +138,7 @@ impl ObjectDictionary for MemoryDictionary {
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
         let e = self.entry(index, sub)?;
-        let src = e.value.get(offset..).unwrap_or(&[]);
-        let n = src.len().min(buf.len());
-        if let (Some(dst), Some(src)) = (buf.get_mut(..n), src.get(..n)) {
-            dst.copy_from_slice(src);
-        }
-        Ok(n)
+        Ok(super::read_at(&e.value, offset, buf))
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {

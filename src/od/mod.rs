@@ -21,8 +21,10 @@ use crate::sdo::AbortCode;
 pub mod index;
 #[cfg(feature = "alloc")]
 mod memory;
+mod write_buffer;
 #[cfg(feature = "alloc")]
 pub use memory::MemoryDictionary;
+pub use write_buffer::WriteBuffer;
 
 /// Access rights of an object, CiA 301.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -105,6 +107,26 @@ impl ObjectInfo {
             _ => Ok(()),
         }
     }
+}
+
+/// Copies the bytes of `value` from `offset` into `buf` and returns how
+/// many: what [`ObjectDictionary::read`] does for a value held in memory
+/// (an offset at or past the end copies nothing).
+///
+/// ```
+/// let mut buf = [0u8; 3];
+/// assert_eq!(canopen_codec::od::read_at(b"battery", 5, &mut buf), 2);
+/// assert_eq!(&buf[..2], b"ry");
+/// assert_eq!(canopen_codec::od::read_at(b"battery", usize::MAX, &mut buf), 0);
+/// ```
+#[inline]
+pub fn read_at(value: &[u8], offset: usize, buf: &mut [u8]) -> usize {
+    let src = value.get(offset..).unwrap_or(&[]);
+    let n = src.len().min(buf.len());
+    if let (Some(d), Some(s)) = (buf.get_mut(..n), src.get(..n)) {
+        d.copy_from_slice(s);
+    }
+    n
 }
 
 /// An object dictionary the SDO server serves. Implemented by the

@@ -37,7 +37,7 @@
 use super::comm::{PdoCommParams, PdoDirection};
 use super::mapping::{MappingEntry, MappingError, PdoMapping, MAX_ENTRIES};
 use crate::cob_id::PdoNumber;
-use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
+use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
 use crate::sdo::AbortCode;
 
 /// One PDO's configuration: communication parameters and mapping entries
@@ -151,7 +151,7 @@ pub struct PdoDictionary<D> {
     pub config: PdoConfig,
     /// The application's dictionary (all other objects).
     pub inner: D,
-    pending: Option<((u16, u8), [u8; 4], usize)>,
+    pending: WriteBuffer,
 }
 
 impl<D: ObjectDictionary> PdoDictionary<D> {
@@ -160,7 +160,7 @@ impl<D: ObjectDictionary> PdoDictionary<D> {
         PdoDictionary {
             config,
             inner,
-            pending: None,
+            pending: WriteBuffer::new(),
         }
     }
 
@@ -321,10 +321,7 @@ impl<D: ObjectDictionary> ObjectDictionary for PdoDictionary<D> {
             slot.comm.encode_sub(sub)
         }
         .ok_or(AbortCode::SubIndexDoesNotExist)?;
-        let src = value.as_slice().get(offset..).unwrap_or(&[]);
-        let n = src.len().min(buf.len());
-        crate::bytes::copy_short(buf, src);
-        Ok(n)
+        Ok(crate::od::read_at(value.as_slice(), offset, buf))
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
@@ -335,36 +332,23 @@ impl<D: ObjectDictionary> ObjectDictionary for PdoDictionary<D> {
             return self.inner.write(index, sub, offset, data);
         }
         // PDO objects are at most 4 bytes: buffer until finish_write.
-        let (key, mut buf, mut len) = match self.pending {
-            Some((k, b, l)) if k == (index, sub) => (k, b, l),
-            _ => ((index, sub), [0u8; 4], 0),
-        };
-        if offset != len || len + data.len() > 4 {
-            return Err(AbortCode::DataTypeLengthTooHigh);
-        }
-        if let Some(dst) = buf.get_mut(len..) {
-            crate::bytes::copy_short(dst, data);
-        }
-        len += data.len();
-        self.pending = Some((key, buf, len));
-        Ok(())
+        self.pending.write(index, sub, offset, data)
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
         if self.pdo_object(index).is_none() {
             return self.inner.finish_write(index, sub, len);
         }
-        let (buf, got) = match self.pending.take() {
-            Some((k, b, l)) if k == (index, sub) => (b, l),
-            _ => ([0u8; 4], 0),
-        };
-        self.apply(index, sub, buf.get(..got.min(len)).unwrap_or(&[]))
+        let mut pending = self.pending;
+        self.pending.clear();
+        let data = pending.take(index, sub);
+        self.apply(index, sub, data.get(..len.min(data.len())).unwrap_or(&[]))
     }
 
     fn abort_write(&mut self, index: u16, sub: u8) {
         if self.pdo_object(index).is_none() {
             return self.inner.abort_write(index, sub);
         }
-        self.pending = None;
+        self.pending.clear();
     }
 }

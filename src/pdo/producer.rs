@@ -13,7 +13,7 @@
 //! payload in [`TpdoProducer::set_payload`]); every transmission restarts the
 //! event timer, and none follows the previous one within the inhibit time
 //! (a request inside it is deferred to its end, not dropped). Synchronous
-//! types send on SYNC ([`TpdoProducer::handle_sync`]): type n every n-th
+//! types send on a SYNC frame (through `handle_frame`): type n every n-th
 //! SYNC, type 0 at the first SYNC after an event.
 //!
 //! It implements [`Machine`], the crate's state-machine contract: SYNC

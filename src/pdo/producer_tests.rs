@@ -149,9 +149,16 @@ fn synchronous_types() {
     p.configure(ms(0), comm);
     p.set_operational(ms(0), true);
     assert_eq!((p.poll_transmit(), p.poll_timeout()), (None, None));
+    let sync = CanFrame::standard(0x080, &[]).unwrap();
     let mut sent = Vec::new();
     for i in 1..=9u64 {
-        p.handle_sync(ms(i));
+        // Neither another identifier nor a remote frame is a SYNC.
+        p.handle_frame(ms(i), &CanFrame::standard(0x081, &[]).unwrap());
+        p.handle_frame(
+            ms(i),
+            &CanFrame::remote(crate::CanId::Standard(0x080), 0).unwrap(),
+        );
+        p.handle_frame(ms(i), &sync);
         if p.poll_transmit().is_some() {
             sent.push(i);
         }
@@ -159,11 +166,14 @@ fn synchronous_types() {
     assert_eq!(sent, vec![3, 6, 9]);
     comm.transmission_type = TransmissionType::SynchronousAcyclic;
     p.configure(ms(10), comm);
-    p.handle_sync(ms(11));
+    p.handle_frame(ms(11), &sync);
     assert_eq!(p.poll_transmit(), None, "no event yet");
     p.set_payload(ms(12), payload(&[9]));
     assert_eq!(p.poll_transmit(), None, "waits for SYNC");
-    p.handle_sync(ms(13));
+    p.set_sync_id(crate::CanId::Standard(0x090));
+    p.handle_frame(ms(13), &sync);
+    assert_eq!(p.poll_transmit(), None, "SYNC on 090h now");
+    p.handle_frame(ms(13), &CanFrame::standard(0x090, &[1]).unwrap());
     assert_eq!(p.poll_transmit().map(|f| f.data().to_vec()), Some(vec![9]));
 }
 

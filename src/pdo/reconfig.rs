@@ -19,6 +19,7 @@ use crate::bytes::InlineData;
 use crate::cob_id::PdoNumber;
 use crate::frame::CanFrame;
 use crate::machine::Machine;
+use crate::queue::EventQueue;
 use crate::sdo::{AbortCode, AbortOrigin, Client, ClientConfig, ClientError, ClientEvent};
 use crate::time::Timestamp;
 
@@ -117,16 +118,17 @@ pub enum ReconfigEvent {
     },
 }
 
-/// Runs a [`Plan`] with its own SDO [`Client`]; follows the crate's poll
-/// contract (`handle_frame`, `handle_timeout`, `poll_transmit`,
-/// `poll_timeout`, `poll_event`). Exactly one [`ReconfigEvent`] ends a run.
+/// Runs a [`Plan`] with its own SDO [`Client`]; implements [`Machine`], the
+/// crate's state-machine contract. Exactly one [`ReconfigEvent`] ends a run;
+/// the queue keeps the outcomes of the last 2 runs and counts older ones it
+/// drops.
 #[derive(Debug)]
 pub struct Reconfigurer {
     client: Client<InlineData<4>>,
     plan: Plan,
     next: usize,
     running: bool,
-    outcome: Option<ReconfigEvent>,
+    outcomes: EventQueue<ReconfigEvent, 2>,
 }
 
 impl Reconfigurer {
@@ -144,7 +146,7 @@ impl Reconfigurer {
             },
             next: 0,
             running: false,
-            outcome: None,
+            outcomes: EventQueue::new(ReconfigEvent::Done),
         }
     }
 
@@ -161,7 +163,6 @@ impl Reconfigurer {
         }
         self.plan = plan;
         self.next = 0;
-        self.outcome = None;
         self.running = true;
         self.advance(now);
         Ok(())
@@ -189,7 +190,7 @@ impl Reconfigurer {
 
     fn finish(&mut self, event: ReconfigEvent) {
         self.running = false;
-        self.outcome = Some(event);
+        self.outcomes.push(event);
     }
 
     fn drain(&mut self, now: Timestamp) {
@@ -214,34 +215,37 @@ impl Reconfigurer {
             }
         }
     }
+}
 
-    /// Feeds a received frame.
-    pub fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+impl Machine for Reconfigurer {
+    type Event = ReconfigEvent;
+
+    /// Feeds a received frame (the server's SDO responses).
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
         self.client.handle_frame(now, frame);
         self.drain(now);
     }
 
-    /// Tells it time has passed.
-    pub fn handle_timeout(&mut self, now: Timestamp) {
+    /// The SDO timeout of the running step.
+    fn handle_timeout(&mut self, now: Timestamp) {
         self.client.handle_timeout(now);
         self.drain(now);
     }
 
-    /// The next frame to send.
-    #[must_use]
-    pub fn poll_transmit(&mut self) -> Option<CanFrame> {
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
         self.client.poll_transmit()
     }
 
-    /// When `handle_timeout` must next be called.
-    #[must_use]
-    pub fn poll_timeout(&self) -> Option<Timestamp> {
+    fn poll_timeout(&self) -> Option<Timestamp> {
         self.client.poll_timeout()
     }
 
-    /// The outcome, once.
-    #[must_use]
-    pub fn poll_event(&mut self) -> Option<ReconfigEvent> {
-        self.outcome.take()
+    /// The outcome of a run.
+    fn poll_event(&mut self) -> Option<ReconfigEvent> {
+        self.outcomes.pop()
+    }
+
+    fn events_dropped(&self) -> u64 {
+        self.outcomes.dropped()
     }
 }

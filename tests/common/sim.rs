@@ -473,7 +473,7 @@ impl Sim {
             .map(|d| d.arrives)
             .chain(self.entries.iter().filter_map(|e| e.node.poll_timeout()))
             .min();
-        let Some(next) = next.filter(|t| limit.map_or(true, |l| *t <= l)) else {
+        let Some(next) = next.filter(|t| limit.is_none_or(|l| *t <= l)) else {
             return false;
         };
         self.now = self.now.max(next);

@@ -75,7 +75,7 @@ impl fmt::Display for Fixed {
                     // frac / 2^q = frac * 5^q / 10^q: exactly q digits.
                     let mut digits = frac * 5u128.pow(q);
                     let mut width = q as usize;
-                    while digits % 10 == 0 && width > 1 {
+                    while digits.is_multiple_of(10) && width > 1 {
                         digits /= 10;
                         width -= 1;
                     }

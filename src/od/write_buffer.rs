@@ -1,0 +1,194 @@
+//! [`WriteBuffer`]: the buffer a dictionary of small values (at most 4
+//! bytes each) keeps while a download is in progress, so the value is
+//! applied whole at [`finish_write`](super::ObjectDictionary::finish_write)
+//! and a refused or aborted download changes nothing.
+
+use super::ObjectInfo;
+use crate::bytes::InlineData;
+use crate::sdo::AbortCode;
+
+/// The bytes of one download in progress, at most 4.
+///
+/// ```
+/// use canopen_codec::od::WriteBuffer;
+/// use canopen_codec::sdo::AbortCode;
+/// let mut w = WriteBuffer::new();
+/// w.write(0x1017, 0, 0, &[0xE8]).unwrap();
+/// w.write(0x1017, 0, 1, &[0x03]).unwrap();
+/// assert_eq!(w.take(0x1017, 0), &[0xE8, 0x03]);
+/// assert_eq!(w.take(0x1017, 0), &[] as &[u8], "taken once");
+/// assert_eq!(w.write(0x1017, 0, 0, &[0; 5]), Err(AbortCode::DataTypeLengthTooHigh));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct WriteBuffer {
+    key: Option<(u16, u8)>,
+    bytes: [u8; 4],
+    len: usize,
+}
+
+impl WriteBuffer {
+    /// Empty.
+    #[must_use]
+    pub const fn new() -> Self {
+        WriteBuffer {
+            key: None,
+            bytes: [0; 4],
+            len: 0,
+        }
+    }
+
+    /// Appends `data` at `offset` of the value of `index`/`sub`. Offset 0
+    /// starts a new value; any other offset must continue the same object
+    /// exactly where it stopped. Out of order, or more than 4 bytes in all,
+    /// is 06070012h and forgets the value.
+    pub fn write(
+        &mut self,
+        index: u16,
+        sub: u8,
+        offset: usize,
+        data: &[u8],
+    ) -> Result<(), AbortCode> {
+        if offset == 0 {
+            *self = Self::new();
+            self.key = Some((index, sub));
+        }
+        let end = self.len.saturating_add(data.len());
+        let fits = self.key == Some((index, sub)) && offset == self.len && end <= self.bytes.len();
+        match self.bytes.get_mut(self.len..end) {
+            Some(dst) if fits => {
+                dst.copy_from_slice(data);
+                self.len = end;
+                Ok(())
+            }
+            _ => {
+                self.clear();
+                Err(AbortCode::DataTypeLengthTooHigh)
+            }
+        }
+    }
+
+    /// The bytes written for `index`/`sub` (empty for another object), and
+    /// forgets them.
+    pub fn take(&mut self, index: u16, sub: u8) -> &[u8] {
+        let key = self.key.take();
+        let len = core::mem::take(&mut self.len);
+        if key == Some((index, sub)) {
+            self.bytes.get(..len).unwrap_or(&[])
+        } else {
+            &[]
+        }
+    }
+
+    /// [`write`](Self::write) to an object described by `info`: refused
+    /// with 06010002h when it is not writable.
+    pub fn write_to(
+        &mut self,
+        info: &ObjectInfo,
+        index: u16,
+        sub: u8,
+        offset: usize,
+        data: &[u8],
+    ) -> Result<(), AbortCode> {
+        if !info.access.is_writable() {
+            self.clear();
+            return Err(AbortCode::WriteOfReadOnlyObject);
+        }
+        self.write(index, sub, offset, data)
+    }
+
+    /// The complete value of a download of `len` bytes to an object
+    /// described by `info` (the dictionary's answer for it), checked against
+    /// its access (06010002h) and size rule (06070012h / 06070013h). The
+    /// buffer is empty afterwards, whatever the outcome.
+    pub fn finish(
+        &mut self,
+        info: Result<ObjectInfo, AbortCode>,
+        index: u16,
+        sub: u8,
+        len: usize,
+    ) -> Result<InlineData<4>, AbortCode> {
+        let taken = self.take(index, sub);
+        let value =
+            InlineData::new(taken.get(..len.min(taken.len())).unwrap_or(&[])).unwrap_or_default();
+        let info = info?;
+        if !info.access.is_writable() {
+            return Err(AbortCode::WriteOfReadOnlyObject);
+        }
+        info.check_download_len(value.len())?;
+        Ok(value)
+    }
+
+    /// Forgets the value in progress (an aborted download).
+    pub fn clear(&mut self) {
+        *self = Self::new();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pieces_order_and_limits() {
+        let mut w = WriteBuffer::new();
+        assert_eq!(w.write(1, 0, 0, &[1, 2]), Ok(()));
+        assert_eq!(w.write(1, 0, 2, &[3, 4]), Ok(()));
+        assert_eq!(w.take(1, 0), &[1, 2, 3, 4]);
+        // Another object's continuation, a gap, an overlap, too long.
+        for (index, offset, data) in [(2u16, 1usize, &[9u8][..]), (1, 3, &[9]), (1, 0, &[0; 5])] {
+            let _ = w.write(1, 0, 0, &[7]);
+            assert_eq!(
+                w.write(index, 0, offset, data),
+                Err(AbortCode::DataTypeLengthTooHigh)
+            );
+            assert_eq!(w.take(1, 0), &[] as &[u8], "forgotten");
+        }
+        assert_eq!(w.write(1, 0, 0, &[7]), Ok(()));
+        assert_eq!(w.take(2, 0), &[] as &[u8], "another object's take");
+        assert_eq!(
+            w.write(1, 0, usize::MAX, &[1]),
+            Err(AbortCode::DataTypeLengthTooHigh)
+        );
+        assert_eq!(w.write(1, 0, 0, &[]), Ok(()));
+        assert_eq!(w.take(1, 0), &[] as &[u8]);
+        w.write(1, 0, 0, &[5]).unwrap();
+        w.clear();
+        assert_eq!(w.take(1, 0), &[] as &[u8]);
+    }
+
+    #[test]
+    fn checked_writes() {
+        use crate::od::Access;
+        let rw = ObjectInfo::fixed(Access::ReadWrite, 2);
+        let ro = ObjectInfo::fixed(Access::ReadOnly, 2);
+        let mut w = WriteBuffer::new();
+        assert_eq!(
+            w.write_to(&ro, 1, 0, 0, &[1]),
+            Err(AbortCode::WriteOfReadOnlyObject)
+        );
+        w.write_to(&rw, 1, 0, 0, &[1, 2]).unwrap();
+        assert_eq!(w.finish(Ok(rw), 1, 0, 2).unwrap().as_slice(), &[1, 2]);
+        w.write_to(&rw, 1, 0, 0, &[1]).unwrap();
+        assert_eq!(
+            w.finish(Ok(rw), 1, 0, 1),
+            Err(AbortCode::DataTypeLengthTooLow)
+        );
+        w.write_to(&rw, 1, 0, 0, &[1, 2]).unwrap();
+        assert_eq!(
+            w.finish(Ok(ro), 1, 0, 2),
+            Err(AbortCode::WriteOfReadOnlyObject)
+        );
+        w.write_to(&rw, 1, 0, 0, &[1, 2]).unwrap();
+        assert_eq!(
+            w.finish(Err(AbortCode::ObjectDoesNotExist), 1, 0, 2),
+            Err(AbortCode::ObjectDoesNotExist)
+        );
+        // The declared length cuts what was written.
+        w.write_to(&rw, 1, 0, 0, &[1, 2]).unwrap();
+        assert_eq!(
+            w.finish(Ok(rw), 1, 0, 1),
+            Err(AbortCode::DataTypeLengthTooLow)
+        );
+        assert_eq!(w.take(1, 0), &[] as &[u8], "always empty afterwards");
+    }
+}
