@@ -72,212 +72,29 @@
 
 use core::time::Duration;
 
+mod config;
 mod objects;
+mod profile;
 
+pub use config::DeviceConfig;
 pub use objects::{
     CommObjects, DeviceObjects, ErrorFieldFormat, Identity, ERROR_HISTORY_LEN, MAX_CONSUMERS,
 };
+pub(crate) use profile::machine_on_device;
+pub use profile::{DeviceEvent, Profile};
 
-use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
+use crate::cob_id::{NodeId, EMCY_BASE};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::{CanFrame, CanId};
-use crate::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent, HeartbeatProducer};
+use crate::heartbeat::{HeartbeatConsumer, HeartbeatProducer};
 use crate::machine::Machine;
 use crate::nmt::{NmtSlave, NmtSlaveEvent, NmtState, ResetKind};
 use crate::od::index::{CONSUMER_HEARTBEAT_TIME, PRODUCER_HEARTBEAT_TIME};
 use crate::od::ObjectDictionary;
-use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoError, RpdoReceiver, TpdoSet};
+use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
 use crate::queue::{EventQueue, Queue};
-use crate::sdo::{AbortCode, AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_TIMEOUT};
-use crate::time::{millis_u16, Timestamp};
-
-/// How a [`Device`] is set up: the power-on values of its communication
-/// objects (restored by the NMT resets) and its policies.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct DeviceConfig {
-    /// The node id.
-    pub node: NodeId,
-    /// 1000h device type.
-    pub device_type: u32,
-    /// 1008h manufacturer device name.
-    pub device_name: &'static str,
-    /// 1018h identity.
-    pub identity: Identity,
-    /// 1017h producer heartbeat time (whole milliseconds; zero: none).
-    pub heartbeat: Duration,
-    /// Send a heartbeat at once when the NMT state changes (CANopenNode's
-    /// behaviour) rather than at the next period (the Delta-Q charger's).
-    pub heartbeat_on_change: bool,
-    /// 1016h entries: the first `consumer_slots` are the sub-indexes.
-    pub consumers: [ConsumerEntry; MAX_CONSUMERS],
-    /// 1016h sub 0 (0: the device has no 1016h).
-    pub consumer_slots: u8,
-    /// SDO server timeout.
-    pub sdo_timeout: Duration,
-    /// The PDO configuration (1400h-1A03h) at power-on.
-    pub pdos: PdoConfig,
-    /// How an EMCY is recorded in 1003h.
-    pub error_field: ErrorFieldFormat,
-}
-
-impl DeviceConfig {
-    /// Node `node`: device type 0, no name, heartbeat 1000 ms, no consumer
-    /// entries, SDO timeout 2000 ms, no PDOs, standard 1003h entries.
-    #[must_use]
-    pub const fn new(node: NodeId) -> Self {
-        DeviceConfig {
-            node,
-            device_type: 0,
-            device_name: "",
-            identity: Identity::ZERO,
-            heartbeat: Duration::from_millis(1000),
-            heartbeat_on_change: false,
-            consumers: [ConsumerEntry {
-                node: 0,
-                time_ms: 0,
-            }; MAX_CONSUMERS],
-            consumer_slots: 0,
-            sdo_timeout: DEFAULT_TIMEOUT,
-            pdos: PdoConfig::new(),
-            error_field: ErrorFieldFormat::LittleEndianInfo,
-        }
-    }
-
-    /// The same with 1016h holding `entries` (at most [`MAX_CONSUMERS`]).
-    #[must_use]
-    pub fn with_consumers(mut self, entries: &[ConsumerEntry]) -> Self {
-        let mut n = 0u8;
-        for (slot, e) in self.consumers.iter_mut().zip(entries) {
-            *slot = *e;
-            n += 1;
-        }
-        self.consumer_slots = n;
-        self
-    }
-
-    fn comm_objects(&self) -> CommObjects {
-        let mut comm = CommObjects::new(self.node);
-        comm.device_type = self.device_type;
-        comm.device_name = self.device_name;
-        comm.identity = self.identity;
-        comm.heartbeat_ms = millis_u16(self.heartbeat);
-        comm.set_consumers(
-            self.consumers
-                .get(..usize::from(self.consumer_slots))
-                .unwrap_or(&[]),
-        );
-        comm
-    }
-
-    fn server_config(&self) -> ServerConfig {
-        ServerConfig {
-            timeout: self.sdo_timeout,
-            ..ServerConfig::for_node(self.node)
-        }
-    }
-}
-
-/// What the device core reports.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[non_exhaustive]
-pub enum DeviceEvent {
-    /// The NMT state changed (boot, NMT command or reset).
-    NmtStateChanged {
-        /// The state before ([`NmtState::BootUp`] before the first boot).
-        from: NmtState,
-        /// The new state.
-        to: NmtState,
-    },
-    /// An NMT reset was executed (followed by the boot-up message and the
-    /// state change to pre-operational).
-    Reset {
-        /// `true` for reset node (81h: every object restored), `false` for
-        /// reset communication (82h: the communication objects restored).
-        node: bool,
-    },
-    /// An SDO download to an object completed.
-    ObjectWritten {
-        /// Object index.
-        index: u16,
-        /// Sub-index.
-        sub: u8,
-    },
-    /// An RPDO was written into the objects.
-    RpdoReceived {
-        /// The RPDO number (from 0).
-        pdo: PdoNumber,
-    },
-    /// An RPDO was not (fully) processed.
-    RpdoRefused {
-        /// The RPDO number (from 0).
-        pdo: PdoNumber,
-        /// Why.
-        error: RpdoError,
-    },
-    /// An SDO transfer ended in an abort.
-    SdoAborted {
-        /// Object index.
-        index: u16,
-        /// Sub-index.
-        sub: u8,
-        /// The abort code.
-        code: AbortCode,
-        /// Who aborted.
-        origin: AbortOrigin,
-    },
-    /// The heartbeat consumer (1016h) reported something.
-    Heartbeat(HeartbeatEvent),
-}
-
-/// What a profile adds to the device core. Every method has a default that
-/// does nothing, so `()` is the profile of a plain CiA 301 device.
-pub trait Profile<A, E: Copy> {
-    /// Whether a core event goes to the application's queue (default: all;
-    /// a profile that reports an event in its own words drops it here).
-    fn keep_event(&self, event: &DeviceEvent) -> bool {
-        let _ = event;
-        true
-    }
-
-    /// A core event happened (after it was queued, if kept).
-    fn on_event(&mut self, device: &mut Device<A, E>, now: Timestamp, event: &DeviceEvent) {
-        let _ = (device, now, event);
-    }
-
-    /// Every received frame while the device runs, after the core.
-    fn on_frame(&mut self, device: &mut Device<A, E>, now: Timestamp, frame: &CanFrame) {
-        let _ = (device, now, frame);
-    }
-
-    /// Time has passed (after the core's own timers).
-    fn on_timeout(&mut self, device: &mut Device<A, E>, now: Timestamp) {
-        let _ = (device, now);
-    }
-
-    /// The profile's own frames (sent after the SDO server's, before TPDOs).
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        None
-    }
-
-    /// The profile's own earliest deadline.
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        None
-    }
-
-    /// The EMCY for a refused RPDO (none: no EMCY). The default is CiA 301's
-    /// 8210h "PDO not processed due to length error" for a short payload,
-    /// with the error register plus the generic and communication bits (not
-    /// latched into 1001h).
-    fn rpdo_emergency(&self, register: ErrorRegister, error: &RpdoError) -> Option<Emergency> {
-        error.emcy_code().map(|code| Emergency {
-            code,
-            register: register | ErrorRegister::GENERIC | ErrorRegister::COMMUNICATION,
-            manufacturer: [0; 5],
-        })
-    }
-}
-
-impl<A, E: Copy> Profile<A, E> for () {}
+use crate::sdo::{Server, ServerEvent};
+use crate::time::Timestamp;
 
 /// The dictionary the SDO server serves: PDO objects, communication
 /// objects, application objects.
@@ -836,52 +653,6 @@ impl<A: ObjectDictionary + Clone> Machine for Device<A, DeviceEvent> {
         self.dropped_events()
     }
 }
-
-/// Implements [`Machine`] for a profile type that holds its core in
-/// `self.device` and its [`Profile`] in `self.profile`, and `Deref` to the
-/// core (read-only: its getters).
-macro_rules! machine_on_device {
-    ($ty:ty, $objects:ty, $event:ty) => {
-        impl core::ops::Deref for $ty {
-            type Target = $crate::device::Device<$objects, $event>;
-
-            /// The device core, for its getters (objects, communication
-            /// objects, PDO configuration, NMT state, error register, ...).
-            fn deref(&self) -> &Self::Target {
-                &self.device
-            }
-        }
-
-        impl $crate::machine::Machine for $ty {
-            type Event = $event;
-
-            fn handle_frame(&mut self, now: $crate::Timestamp, frame: &$crate::CanFrame) {
-                self.device.handle_frame_with(now, frame, &mut self.profile);
-            }
-
-            fn handle_timeout(&mut self, now: $crate::Timestamp) {
-                self.device.handle_timeout_with(now, &mut self.profile);
-            }
-
-            fn poll_transmit(&mut self) -> Option<$crate::CanFrame> {
-                self.device.poll_transmit_with(&mut self.profile)
-            }
-
-            fn poll_timeout(&self) -> Option<$crate::Timestamp> {
-                self.device.poll_timeout_with(&self.profile)
-            }
-
-            fn poll_event(&mut self) -> Option<$event> {
-                self.device.next_event()
-            }
-
-            fn events_dropped(&self) -> u64 {
-                self.device.dropped_events()
-            }
-        }
-    };
-}
-pub(crate) use machine_on_device;
 
 #[cfg(test)]
 #[path = "tests.rs"]

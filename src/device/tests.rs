@@ -1,6 +1,10 @@
 use super::*;
+use crate::cob_id::PdoNumber;
+use crate::heartbeat::{ConsumerEntry, HeartbeatEvent};
 use crate::od::{Access, ObjectInfo};
+use crate::pdo::RpdoError;
 use crate::pdo::{MappingEntry, PdoCobId, PdoCommParams, PdoMapping, PdoSlot};
+use crate::sdo::AbortCode;
 use std::string::{String, ToString};
 use std::vec::Vec;
 

@@ -1,0 +1,160 @@
+//! What the device core reports ([`DeviceEvent`]) and what a profile adds
+//! to it ([`Profile`]).
+
+use super::Device;
+use crate::cob_id::PdoNumber;
+use crate::emcy::{Emergency, ErrorRegister};
+use crate::frame::CanFrame;
+use crate::heartbeat::HeartbeatEvent;
+use crate::nmt::NmtState;
+use crate::pdo::RpdoError;
+use crate::sdo::{AbortCode, AbortOrigin};
+use crate::time::Timestamp;
+
+/// What the device core reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum DeviceEvent {
+    /// The NMT state changed (boot, NMT command or reset).
+    NmtStateChanged {
+        /// The state before ([`NmtState::BootUp`] before the first boot).
+        from: NmtState,
+        /// The new state.
+        to: NmtState,
+    },
+    /// An NMT reset was executed (followed by the boot-up message and the
+    /// state change to pre-operational).
+    Reset {
+        /// `true` for reset node (81h: every object restored), `false` for
+        /// reset communication (82h: the communication objects restored).
+        node: bool,
+    },
+    /// An SDO download to an object completed.
+    ObjectWritten {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+    },
+    /// An RPDO was written into the objects.
+    RpdoReceived {
+        /// The RPDO number (from 0).
+        pdo: PdoNumber,
+    },
+    /// An RPDO was not (fully) processed.
+    RpdoRefused {
+        /// The RPDO number (from 0).
+        pdo: PdoNumber,
+        /// Why.
+        error: RpdoError,
+    },
+    /// An SDO transfer ended in an abort.
+    SdoAborted {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// The abort code.
+        code: AbortCode,
+        /// Who aborted.
+        origin: AbortOrigin,
+    },
+    /// The heartbeat consumer (1016h) reported something.
+    Heartbeat(HeartbeatEvent),
+}
+
+/// What a profile adds to the device core. Every method has a default that
+/// does nothing, so `()` is the profile of a plain CiA 301 device.
+pub trait Profile<A, E: Copy> {
+    /// Whether a core event goes to the application's queue (default: all;
+    /// a profile that reports an event in its own words drops it here).
+    fn keep_event(&self, event: &DeviceEvent) -> bool {
+        let _ = event;
+        true
+    }
+
+    /// A core event happened (after it was queued, if kept).
+    fn on_event(&mut self, device: &mut Device<A, E>, now: Timestamp, event: &DeviceEvent) {
+        let _ = (device, now, event);
+    }
+
+    /// Every received frame while the device runs, after the core.
+    fn on_frame(&mut self, device: &mut Device<A, E>, now: Timestamp, frame: &CanFrame) {
+        let _ = (device, now, frame);
+    }
+
+    /// Time has passed (after the core's own timers).
+    fn on_timeout(&mut self, device: &mut Device<A, E>, now: Timestamp) {
+        let _ = (device, now);
+    }
+
+    /// The profile's own frames (sent after the SDO server's, before TPDOs).
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        None
+    }
+
+    /// The profile's own earliest deadline.
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        None
+    }
+
+    /// The EMCY for a refused RPDO (none: no EMCY). The default is CiA 301's
+    /// 8210h "PDO not processed due to length error" for a short payload,
+    /// with the error register plus the generic and communication bits (not
+    /// latched into 1001h).
+    fn rpdo_emergency(&self, register: ErrorRegister, error: &RpdoError) -> Option<Emergency> {
+        error.emcy_code().map(|code| Emergency {
+            code,
+            register: register | ErrorRegister::GENERIC | ErrorRegister::COMMUNICATION,
+            manufacturer: [0; 5],
+        })
+    }
+}
+
+impl<A, E: Copy> Profile<A, E> for () {}
+
+/// Implements [`Machine`] for a profile type that holds its core in
+/// `self.device` and its [`Profile`] in `self.profile`, and `Deref` to the
+/// core (read-only: its getters).
+macro_rules! machine_on_device {
+    ($ty:ty, $objects:ty, $event:ty) => {
+        impl core::ops::Deref for $ty {
+            type Target = $crate::device::Device<$objects, $event>;
+
+            /// The device core, for its getters (objects, communication
+            /// objects, PDO configuration, NMT state, error register, ...).
+            fn deref(&self) -> &Self::Target {
+                &self.device
+            }
+        }
+
+        impl $crate::machine::Machine for $ty {
+            type Event = $event;
+
+            fn handle_frame(&mut self, now: $crate::Timestamp, frame: &$crate::CanFrame) {
+                self.device.handle_frame_with(now, frame, &mut self.profile);
+            }
+
+            fn handle_timeout(&mut self, now: $crate::Timestamp) {
+                self.device.handle_timeout_with(now, &mut self.profile);
+            }
+
+            fn poll_transmit(&mut self) -> Option<$crate::CanFrame> {
+                self.device.poll_transmit_with(&mut self.profile)
+            }
+
+            fn poll_timeout(&self) -> Option<$crate::Timestamp> {
+                self.device.poll_timeout_with(&self.profile)
+            }
+
+            fn poll_event(&mut self) -> Option<$event> {
+                self.device.next_event()
+            }
+
+            fn events_dropped(&self) -> u64 {
+                self.device.dropped_events()
+            }
+        }
+    };
+}
+pub(crate) use machine_on_device;
