@@ -2,6 +2,8 @@
 //! public API only, frame by frame: boot-up, heartbeat, NMT, TPDOs, RPDOs,
 //! SDO and EMCY.
 
+mod common;
+
 use canopen_codec::cia418::{
     BatteryEvent, BatteryModule, BatteryModuleConfig, BatteryStatus, ChargerStatus, DeviceType,
     PackedStringObject, Temperature,
@@ -12,23 +14,31 @@ use canopen_codec::nmt::NmtState;
 use canopen_codec::pdo::{PdoDirection, RpdoError};
 use canopen_codec::sdo::{AbortCode, AbortOrigin};
 use canopen_codec::{CanFrame, NodeId, PdoNumber, Timestamp};
+use common::sim::{Handle, Sim};
 
-/// A module on a simulated bus: every frame it sends is logged as
+/// A module alone on the simulated bus (`common::sim`, no latency): the
+/// test is the other end. Every frame the module sends is logged as
 /// `(ms, candump text)`.
 struct Bench {
-    m: BatteryModule,
-    now: Timestamp,
+    sim: Sim,
+    h: Handle<BatteryModule>,
+    /// How much of the sim's log has been collected.
+    seen: usize,
     log: Vec<(u64, String)>,
 }
 
 impl Bench {
     fn with(config: BatteryModuleConfig) -> Self {
+        let mut sim = Sim::new(0);
+        let h = sim.add("Battery", BatteryModule::new(config));
+        sim.set_drain_events(h, false);
+        sim.with(h, |m, now| m.boot(now));
         let mut b = Bench {
-            m: BatteryModule::new(config),
-            now: Timestamp::ZERO,
+            sim,
+            h,
+            seen: 0,
             log: Vec::new(),
         };
-        b.m.boot(b.now);
         b.collect();
         b
     }
@@ -37,40 +47,51 @@ impl Bench {
         Self::with(BatteryModuleConfig::new(NodeId::new(1).unwrap()))
     }
 
+    /// The module (for its getters).
+    fn m(&self) -> &BatteryModule {
+        self.sim.machine(self.h)
+    }
+
+    /// The bus's clock.
+    fn now(&self) -> Timestamp {
+        self.sim.now()
+    }
+
+    /// Runs a command on the module at the current time; its frames go out.
+    fn run(&mut self, f: impl FnOnce(&mut BatteryModule, Timestamp)) {
+        self.sim.with(self.h, f);
+    }
+
+    /// Frames the module sent since the last call.
     fn collect(&mut self) -> Vec<String> {
         let mut out = Vec::new();
-        while let Some(f) = self.m.poll_transmit() {
-            out.push(f.to_string());
-            self.log.push((self.now.as_millis(), f.to_string()));
+        for s in self.sim.log().iter().skip(self.seen) {
+            if s.from == "Battery" {
+                out.push(s.frame.to_string());
+                self.log.push((s.at.as_millis(), s.frame.to_string()));
+            }
         }
+        self.seen = self.sim.log().len();
         out
     }
 
     /// Advances the clock to `ms`, firing every deadline on the way.
     fn advance_to(&mut self, ms: u64) {
-        let end = Timestamp::from_millis(ms);
-        for _ in 0..10_000 {
-            match self.m.poll_timeout() {
-                Some(t) if t <= end => {
-                    self.now = self.now.max(t);
-                    self.m.handle_timeout(self.now);
-                    self.collect();
-                }
-                _ => break,
-            }
-        }
-        self.now = self.now.max(end);
+        self.sim.run_until(Timestamp::from_millis(ms));
+        self.collect();
     }
 
     /// Delivers a frame; returns what the module sent in answer.
     fn send(&mut self, id: u16, data: &[u8]) -> Vec<String> {
-        let frame = CanFrame::standard(id, data).unwrap();
-        self.m.handle_frame(self.now, &frame);
+        self.sim.inject(CanFrame::standard(id, data).unwrap());
+        let now = self.sim.now();
+        self.sim.run_until(now);
         self.collect()
     }
 
     fn events(&mut self) -> Vec<BatteryEvent> {
-        std::iter::from_fn(|| self.m.poll_event()).collect()
+        let h = self.h;
+        std::iter::from_fn(|| self.sim.machine_mut(h).poll_event()).collect()
     }
 
     fn take_log(&mut self) -> Vec<(u64, String)> {
@@ -79,14 +100,12 @@ impl Bench {
 
     /// Sends an SDO request to node 1 and returns the one response's data.
     fn sdo(&mut self, req: [u8; 8]) -> [u8; 8] {
-        let frame = CanFrame::standard(0x601, &req).unwrap();
-        self.m.handle_frame(self.now, &frame);
         let mut resp = None;
-        while let Some(f) = self.m.poll_transmit() {
-            self.log.push((self.now.as_millis(), f.to_string()));
-            if f.id() == CanFrame::standard(0x581, &[]).unwrap().id() {
+        for f in self.send(0x601, &req) {
+            if f.starts_with("581#") {
                 assert!(resp.is_none(), "one response per request");
-                resp = Some(f.padded_data());
+                let frame: CanFrame = canopen_codec::candump::parse_frame(&f).unwrap();
+                resp = Some(frame.padded_data());
             }
         }
         resp.expect("an SDO response")
@@ -156,7 +175,7 @@ fn node1() -> BatteryModuleConfig {
 fn boot_up_message_at_boot() {
     let mut b = Bench::new();
     assert_eq!(b.take_log(), vec![(0, "701#00".to_string())]);
-    assert_eq!(b.m.nmt_state(), NmtState::PreOperational);
+    assert_eq!(b.m().nmt_state(), NmtState::PreOperational);
     assert_eq!(
         b.events(),
         vec![BatteryEvent::NmtStateChanged {
@@ -204,12 +223,12 @@ fn heartbeat_every_1017h_period() {
 #[test]
 fn nmt_start_sends_tpdo0_every_200ms_with_application_values() {
     let mut b = Bench::new();
-    b.m.set_temperature(b.now, Temperature::from_celsius(25).unwrap());
-    b.m.set_battery_status(b.now, BatteryStatus::READY_TO_CHARGE);
+    b.run(|m, now| m.set_temperature(now, Temperature::from_celsius(25).unwrap()));
+    b.run(|m, now| m.set_battery_status(now, BatteryStatus::READY_TO_CHARGE));
     b.take_log();
     b.events();
     assert_eq!(b.send(0x000, &[0x01, 0x01]), vec!["181#C80001"]);
-    assert_eq!(b.m.nmt_state(), NmtState::Operational);
+    assert_eq!(b.m().nmt_state(), NmtState::Operational);
     assert_eq!(
         b.events(),
         vec![BatteryEvent::NmtStateChanged {
@@ -229,8 +248,8 @@ fn nmt_start_sends_tpdo0_every_200ms_with_application_values() {
         ]
     );
     // A changed mapped value is an event: sent at once, timer restarted.
-    b.now = Timestamp::from_millis(700);
-    b.m.set_temperature(b.now, Temperature::from_raw(-80));
+    b.advance_to(700);
+    b.run(|m, now| m.set_temperature(now, Temperature::from_raw(-80)));
     assert_eq!(b.collect(), vec!["181#B0FF01"]);
     b.advance_to(899);
     assert!(with_id(&b.take_log(), "181#").len() == 1);
@@ -253,7 +272,7 @@ fn no_tpdos_before_start_nor_after_stop() {
     b.advance_to(1_500);
     assert_eq!(with_id(&b.take_log(), "181#").len(), 3); // 1100, 1300, 1500
     b.send(0x000, &[0x02, 0x01]);
-    assert_eq!(b.m.nmt_state(), NmtState::Stopped);
+    assert_eq!(b.m().nmt_state(), NmtState::Stopped);
     b.advance_to(3_000);
     let log = b.take_log();
     assert!(with_id(&log, "181#").is_empty());
@@ -265,7 +284,7 @@ fn no_tpdos_before_start_nor_after_stop() {
     assert!(b.send(0x601, &[0x40, 0x00, 0x10, 0, 0, 0, 0, 0]).is_empty());
     // Pre-operational again: SDO yes, TPDO no.
     b.send(0x000, &[0x80, 0x01]);
-    assert_eq!(b.m.nmt_state(), NmtState::PreOperational);
+    assert_eq!(b.m().nmt_state(), NmtState::PreOperational);
     assert_eq!(b.upload(0x1000, 0), Ok(vec![0xA2, 0x01, 0x00, 0x00]));
     b.advance_to(3_900);
     assert!(with_id(&b.take_log(), "181#").is_empty());
@@ -278,10 +297,11 @@ fn reset_communication_sends_boot_up_and_restores_pdo_defaults() {
     // Disable TPDO 0 and change its event timer by SDO.
     assert_eq!(b.download(0x1800, 1, &0x8000_0181u32.to_le_bytes()), Ok(()));
     assert_eq!(b.download(0x1800, 5, &500u16.to_le_bytes()), Ok(()));
-    let t0 =
-        *b.m.pdo_config()
-            .get(PdoDirection::Transmit, PdoNumber::P0)
-            .unwrap();
+    let t0 = *b
+        .m()
+        .pdo_config()
+        .get(PdoDirection::Transmit, PdoNumber::P0)
+        .unwrap();
     assert!(!t0.is_valid());
     assert_eq!(t0.comm.event_timer_ms, 500);
     b.send(0x000, &[0x01, 0x01]);
@@ -299,7 +319,7 @@ fn reset_communication_sends_boot_up_and_restores_pdo_defaults() {
     b.events();
 
     assert_eq!(b.send(0x000, &[0x82, 0x01]), vec!["701#00"]);
-    assert_eq!(b.m.nmt_state(), NmtState::PreOperational);
+    assert_eq!(b.m().nmt_state(), NmtState::PreOperational);
     assert_eq!(
         b.events(),
         vec![
@@ -310,10 +330,11 @@ fn reset_communication_sends_boot_up_and_restores_pdo_defaults() {
             }
         ]
     );
-    let t0 =
-        *b.m.pdo_config()
-            .get(PdoDirection::Transmit, PdoNumber::P0)
-            .unwrap();
+    let t0 = *b
+        .m()
+        .pdo_config()
+        .get(PdoDirection::Transmit, PdoNumber::P0)
+        .unwrap();
     assert!(t0.is_valid());
     assert_eq!(t0.comm.cob_id.to_u32(), 0x181);
     assert_eq!(t0.comm.event_timer_ms, 200);
@@ -357,8 +378,10 @@ fn sdo_upload_of_1008h_segmented_and_6030h_sub_1() {
         ..node1()
     });
     assert_eq!(b.upload(0x1008, 0), Ok(b"Lead-acid BMS 48V".to_vec()));
-    b.m.set_text(PackedStringObject::BatterySerialNumber, "BATTERY")
-        .unwrap();
+    b.run(|m, _| {
+        m.set_text(PackedStringObject::BatterySerialNumber, "BATTERY")
+            .unwrap()
+    });
     assert_eq!(b.upload(0x6030, 0), Ok(vec![2]));
     assert_eq!(b.upload(0x6030, 1), Ok(vec![0x42, 0x41, 0x54, 0x54]));
     assert_eq!(b.upload(0x6030, 2), Ok(vec![0x45, 0x52, 0x59, 0x00]));
@@ -373,7 +396,7 @@ fn sdo_download_to_6001h_and_read_only_6000h() {
     let mut b = Bench::new();
     b.events();
     assert_eq!(b.download(0x6001, 0, &[0x01]), Ok(()));
-    assert_eq!(b.m.charger_status(), ChargerStatus::ENABLED);
+    assert_eq!(b.m().charger_status(), ChargerStatus::ENABLED);
     assert_eq!(
         b.events(),
         vec![BatteryEvent::ObjectWritten {
@@ -392,9 +415,9 @@ fn sdo_download_to_6001h_and_read_only_6000h() {
         }]
     );
     assert_eq!(b.download(0x6080, 0, &[55]), Ok(()));
-    assert_eq!(b.m.charger_state_of_charge().percent(), Some(55));
+    assert_eq!(b.m().charger_state_of_charge().percent(), Some(55));
     assert_eq!(b.download(0x6052, 0, &[0x10, 0x02]), Ok(()));
-    assert_eq!(b.m.ah_returned_during_last_charge().raw(), 0x0210);
+    assert_eq!(b.m().ah_returned_during_last_charge().raw(), 0x0210);
 }
 
 #[test]
@@ -403,7 +426,7 @@ fn charger_rpdo_writes_6001h_only_while_operational() {
     b.events();
     b.send(0x201, &[0x01]);
     assert_eq!(
-        b.m.charger_status(),
+        b.m().charger_status(),
         ChargerStatus::empty(),
         "pre-operational"
     );
@@ -411,7 +434,7 @@ fn charger_rpdo_writes_6001h_only_while_operational() {
     b.send(0x000, &[0x01, 0x01]);
     b.events();
     b.send(0x201, &[0x01]);
-    assert_eq!(b.m.charger_status(), ChargerStatus::ENABLED);
+    assert_eq!(b.m().charger_status(), ChargerStatus::ENABLED);
     assert_eq!(
         b.events(),
         vec![BatteryEvent::RpdoReceived { pdo: PdoNumber::P0 }]
@@ -438,14 +461,14 @@ fn short_rpdo_raises_emcy_8210h() {
         }]
     );
     assert_eq!(
-        b.m.charger_status(),
+        b.m().charger_status(),
         ChargerStatus::empty(),
         "refused whole"
     );
     // The full length is accepted.
     assert!(b.send(0x301, &[0x01, 0x10, 0x02]).is_empty());
-    assert_eq!(b.m.charger_status(), ChargerStatus::ENABLED);
-    assert_eq!(b.m.ah_returned_during_last_charge().raw(), 0x0210);
+    assert_eq!(b.m().charger_status(), ChargerStatus::ENABLED);
+    assert_eq!(b.m().ah_returned_during_last_charge().raw(), 0x0210);
     // An empty 1st RPDO is short too.
     assert_eq!(b.send(0x201, &[]), vec!["081#1082110000000000"]);
 }
@@ -454,23 +477,23 @@ fn short_rpdo_raises_emcy_8210h() {
 fn temperature_sensor_fault_emcy_bytes() {
     let mut b = Bench::new();
     b.take_log();
-    b.m.set_temperature_sensor_fault(b.now, true);
+    b.run(|m, now| m.set_temperature_sensor_fault(now, true));
     assert_eq!(b.collect(), vec!["081#1050210000000000"]);
     assert_eq!(
-        b.m.error_register(),
+        b.m().error_register(),
         ErrorRegister::GENERIC | ErrorRegister::DEVICE_PROFILE
     );
     assert_eq!(b.upload(0x1001, 0), Ok(vec![0x21]));
-    b.m.set_temperature_sensor_fault(b.now, true);
+    b.run(|m, now| m.set_temperature_sensor_fault(now, true));
     assert!(b.collect().is_empty(), "no repeat");
-    b.m.set_temperature_sensor_fault(b.now, false);
+    b.run(|m, now| m.set_temperature_sensor_fault(now, false));
     assert_eq!(b.collect(), vec!["081#0000000000000000"]);
-    assert_eq!(b.m.error_register(), ErrorRegister::empty());
+    assert_eq!(b.m().error_register(), ErrorRegister::empty());
     // Stopped: the register changes, no EMCY is sent.
     b.send(0x000, &[0x02, 0x01]);
-    b.m.set_temperature_sensor_fault(b.now, true);
+    b.run(|m, now| m.set_temperature_sensor_fault(now, true));
     assert!(b.collect().is_empty());
-    assert_eq!(b.m.error_register().bits(), 0x21);
+    assert_eq!(b.m().error_register().bits(), 0x21);
 }
 
 #[test]
@@ -482,7 +505,7 @@ fn frames_for_other_nodes_are_ignored() {
     assert!(b.send(0x000, &[0x82, 0x02]).is_empty());
     assert!(b.send(0x000, &[0x01, 0x80]).is_empty());
     assert!(b.send(0x000, &[0x01]).is_empty());
-    assert_eq!(b.m.nmt_state(), NmtState::PreOperational);
+    assert_eq!(b.m().nmt_state(), NmtState::PreOperational);
     assert!(b.send(0x602, &[0x40, 0x00, 0x10, 0, 0, 0, 0, 0]).is_empty());
     b.send(0x000, &[0x01, 0x01]);
     b.take_log();
@@ -490,7 +513,7 @@ fn frames_for_other_nodes_are_ignored() {
     b.send(0x202, &[0x01]);
     b.send(0x182, &[0x01, 0x02, 0x03]);
     b.send(0x702, &[0x05]);
-    assert_eq!(b.m.charger_status(), ChargerStatus::empty());
+    assert_eq!(b.m().charger_status(), ChargerStatus::empty());
     assert!(b.events().is_empty());
     assert!(b.take_log().is_empty());
 }
@@ -554,8 +577,8 @@ fn every_profile_object_through_sdo() {
     }
     // All six default PDOs exist with the optional bits set.
     for n in [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2] {
-        assert!(b.m.pdo_config().get(PdoDirection::Receive, n).is_some());
-        assert!(b.m.pdo_config().get(PdoDirection::Transmit, n).is_some());
+        assert!(b.m().pdo_config().get(PdoDirection::Receive, n).is_some());
+        assert!(b.m().pdo_config().get(PdoDirection::Transmit, n).is_some());
     }
     assert_eq!(b.upload(0x1A01, 0), Ok(vec![3]));
     assert_eq!(b.upload(0x1A01, 3), Ok(vec![0x20, 0x00, 0x60, 0x60]));
@@ -568,20 +591,22 @@ fn optional_pdos_declared_by_the_device_type() {
         device_type: DeviceType::cia418(0xF_0000),
         ..node1()
     });
-    let now = b.now;
-    b.m.set_temperature(now, Temperature::from_celsius(25).unwrap());
-    b.m.set_battery_status(now, BatteryStatus::READY_TO_CHARGE);
-    b.m.set_battery_voltage(now, BatteryVoltage::from_volts(48).unwrap());
-    b.m.set_charge_current_requested(now, ChargeCurrentRequested::from_amps(10).unwrap());
-    b.m.set_battery_state_of_charge(now, StateOfCharge::new(80).unwrap());
+    let now = b.now();
+    b.run(|m, _| m.set_temperature(now, Temperature::from_celsius(25).unwrap()));
+    b.run(|m, _| m.set_battery_status(now, BatteryStatus::READY_TO_CHARGE));
+    b.run(|m, _| m.set_battery_voltage(now, BatteryVoltage::from_volts(48).unwrap()));
+    b.run(|m, _| {
+        m.set_charge_current_requested(now, ChargeCurrentRequested::from_amps(10).unwrap())
+    });
+    b.run(|m, _| m.set_battery_state_of_charge(now, StateOfCharge::new(80).unwrap()));
     let mut out = b.send(0x000, &[0x01, 0x00]);
     out.sort();
     assert_eq!(out, vec!["181#C80001", "281#C8000100C00000", "381#A00050"]);
     // 3rd RPDO: 6001h, 6052h, 6080h.
     assert!(b.send(0x401, &[0x01, 0x10, 0x02, 0x37]).is_empty());
-    assert_eq!(b.m.charger_status(), ChargerStatus::ENABLED);
-    assert_eq!(b.m.ah_returned_during_last_charge().raw(), 0x0210);
-    assert_eq!(b.m.charger_state_of_charge().percent(), Some(55));
+    assert_eq!(b.m().charger_status(), ChargerStatus::ENABLED);
+    assert_eq!(b.m().ah_returned_during_last_charge().raw(), 0x0210);
+    assert_eq!(b.m().charger_state_of_charge().percent(), Some(55));
     b.take_log();
     b.advance_to(200);
     assert_eq!(b.take_log().len(), 3);

@@ -67,6 +67,7 @@ use crate::frame::{CanFrame, CanId};
 use crate::heartbeat::{ConsumerEntry, HeartbeatEvent};
 use crate::machine::Machine;
 use crate::nmt::NmtState;
+use crate::od::index::DEVICE_TYPE;
 use crate::pdo::{PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoSlot, RpdoError};
 use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent};
 use crate::time::{millis_u16, Timestamp};
@@ -391,7 +392,7 @@ impl ChargerProfile {
         device.push_event(ChargerEvent::BatteryFound { state });
         if self.config.configure_cob_ids {
             self.link = Link::DeviceType;
-            if self.client.start_upload(now, 0x1000, 0).is_err() {
+            if self.client.start_upload(now, DEVICE_TYPE, 0).is_err() {
                 self.link = Link::Failed;
             }
         } else {
