@@ -92,20 +92,6 @@ pub const BATTERY_TYPE_FORMAT: ValueFormat = ValueFormat {
     write: write_battery_type,
 };
 
-const fn scaled(
-    index: u16,
-    name: &'static str,
-    bits: u8,
-    frac_bits: u8,
-    unit: Option<Unit>,
-) -> CatalogueEntry {
-    CatalogueEntry::scaled(index, name, bits, frac_bits, unit)
-}
-
-const fn other(index: u16, name: &'static str, bits: u8, i: Interpretation) -> CatalogueEntry {
-    CatalogueEntry::new(index, name, bits, i)
-}
-
 const A: Option<Unit> = Some(Unit::Ampere);
 const V: Option<Unit> = Some(Unit::Volt);
 const AH: Option<Unit> = Some(Unit::AmpereHour);
@@ -115,19 +101,19 @@ const PCT: Option<Unit> = Some(Unit::Percent);
 /// name, size and scale of each. 6051h-6053h are 0.125 Ah per bit, 6060h
 /// 1/1024 V, 6070h 1/16 A; 6080h and 6081h are 0..100 % with 0xFF invalid.
 pub const CIA418_OBJECTS: &[CatalogueEntry] = &[
-    other(
+    CatalogueEntry::new(
         0x6000,
         "battery status",
         8,
         Interpretation::Flags(&BATTERY_STATUS_FLAGS),
     ),
-    other(
+    CatalogueEntry::new(
         0x6001,
         "charger status",
         8,
         Interpretation::Flags(&CHARGER_STATUS_FLAGS),
     ),
-    other(
+    CatalogueEntry::new(
         0x6010,
         "temperature",
         16,
@@ -136,31 +122,31 @@ pub const CIA418_OBJECTS: &[CatalogueEntry] = &[
             unit: Some(Unit::DegreeCelsius),
         },
     ),
-    scaled(0x6020, "battery parameters: highest sub-index", 8, 0, None),
-    other(
+    CatalogueEntry::scaled(0x6020, "battery parameters: highest sub-index", 8, 0, None),
+    CatalogueEntry::new(
         0x6020,
         "battery type",
         8,
         Interpretation::Formatted(&BATTERY_TYPE_FORMAT),
     )
     .subs(1, 1),
-    scaled(0x6020, "Ah capacity", 16, 0, AH).subs(2, 2),
-    scaled(0x6020, "maximum charge current", 16, 0, A).subs(3, 3),
-    scaled(0x6020, "number of cells", 16, 0, None).subs(4, 4),
-    scaled(0x6030, "battery serial number: elements", 8, 0, None),
-    other(0x6030, "battery serial number", 32, Interpretation::Chars).subs(1, 3),
-    scaled(0x6031, "battery ID: elements", 8, 0, None),
-    other(0x6031, "battery ID", 32, Interpretation::Chars).subs(1, 5),
-    scaled(0x6040, "vehicle serial number: elements", 8, 0, None),
-    other(0x6040, "vehicle serial number", 32, Interpretation::Chars).subs(1, 5),
-    scaled(0x6041, "vehicle ID: elements", 8, 0, None),
-    other(0x6041, "vehicle ID", 32, Interpretation::Chars).subs(1, 5),
-    scaled(0x6050, "cumulative total Ah charge", 32, 0, AH),
-    scaled(0x6051, "Ah expended since last charge", 16, 3, AH),
-    scaled(0x6052, "Ah returned during last charge", 16, 3, AH),
-    scaled(0x6053, "Ah since last equalization", 16, 3, AH),
-    scaled(0x6054, "date of last equalization: elements", 8, 0, None),
-    scaled(
+    CatalogueEntry::scaled(0x6020, "Ah capacity", 16, 0, AH).subs(2, 2),
+    CatalogueEntry::scaled(0x6020, "maximum charge current", 16, 0, A).subs(3, 3),
+    CatalogueEntry::scaled(0x6020, "number of cells", 16, 0, None).subs(4, 4),
+    CatalogueEntry::scaled(0x6030, "battery serial number: elements", 8, 0, None),
+    CatalogueEntry::new(0x6030, "battery serial number", 32, Interpretation::Chars).subs(1, 3),
+    CatalogueEntry::scaled(0x6031, "battery ID: elements", 8, 0, None),
+    CatalogueEntry::new(0x6031, "battery ID", 32, Interpretation::Chars).subs(1, 5),
+    CatalogueEntry::scaled(0x6040, "vehicle serial number: elements", 8, 0, None),
+    CatalogueEntry::new(0x6040, "vehicle serial number", 32, Interpretation::Chars).subs(1, 5),
+    CatalogueEntry::scaled(0x6041, "vehicle ID: elements", 8, 0, None),
+    CatalogueEntry::new(0x6041, "vehicle ID", 32, Interpretation::Chars).subs(1, 5),
+    CatalogueEntry::scaled(0x6050, "cumulative total Ah charge", 32, 0, AH),
+    CatalogueEntry::scaled(0x6051, "Ah expended since last charge", 16, 3, AH),
+    CatalogueEntry::scaled(0x6052, "Ah returned during last charge", 16, 3, AH),
+    CatalogueEntry::scaled(0x6053, "Ah since last equalization", 16, 3, AH),
+    CatalogueEntry::scaled(0x6054, "date of last equalization: elements", 8, 0, None),
+    CatalogueEntry::scaled(
         0x6054,
         "last equalization, minutes since midnight",
         16,
@@ -168,7 +154,7 @@ pub const CIA418_OBJECTS: &[CatalogueEntry] = &[
         Some(Unit::Minute),
     )
     .subs(1, 1),
-    scaled(
+    CatalogueEntry::scaled(
         0x6054,
         "last equalization, days since 1984-01-01",
         16,
@@ -176,11 +162,14 @@ pub const CIA418_OBJECTS: &[CatalogueEntry] = &[
         Some(Unit::Day),
     )
     .subs(2, 2),
-    scaled(0x6060, "battery voltage", 32, 10, V),
-    scaled(0x6070, "charge current requested", 16, 4, A).marked(Marker::Invalid(0xFFFF), None),
-    scaled(0x6080, "charger state of charge", 8, 0, PCT).marked(Marker::Invalid(0xFF), Some(100)),
-    scaled(0x6081, "battery state of charge", 8, 0, PCT).marked(Marker::Invalid(0xFF), Some(100)),
-    other(
+    CatalogueEntry::scaled(0x6060, "battery voltage", 32, 10, V),
+    CatalogueEntry::scaled(0x6070, "charge current requested", 16, 4, A)
+        .marked(Marker::Invalid(0xFFFF), None),
+    CatalogueEntry::scaled(0x6080, "charger state of charge", 8, 0, PCT)
+        .marked(Marker::Invalid(0xFF), Some(100)),
+    CatalogueEntry::scaled(0x6081, "battery state of charge", 8, 0, PCT)
+        .marked(Marker::Invalid(0xFF), Some(100)),
+    CatalogueEntry::new(
         0x6090,
         "water level status",
         8,
