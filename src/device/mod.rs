@@ -188,8 +188,9 @@ pub enum DeviceEvent {
         /// The new state.
         to: NmtState,
     },
-    /// An NMT reset was executed (followed by the boot-up message and the
-    /// state change to pre-operational).
+    /// An NMT reset was executed: reported once the objects are restored
+    /// and the boot-up message is queued, before the state change to
+    /// pre-operational.
     Reset {
         /// `true` for reset node (81h: every object restored), `false` for
         /// reset communication (82h: the communication objects restored).
@@ -495,18 +496,19 @@ where
         self.send_emergency(&emcy);
     }
 
-    /// Clears `bits` of 1001h (and the generic bit when no other is left)
-    /// and sends the error reset EMCY (0000h) with the new register value.
-    /// Does nothing when none of `bits` is set.
+    /// Clears `bits` of 1001h and sends the error reset EMCY (0000h) with
+    /// the new register value. The generic bit follows CiA 301 (set while
+    /// any error is signalled): it is cleared when no other bit is left and
+    /// kept, even when `bits` names it, while one is. Does nothing when none
+    /// of `bits` is set.
     pub fn clear_error(&mut self, bits: ErrorRegister) {
         let reg = &mut self.server.od_mut().inner.comm.error_register;
         if !reg.intersects(bits) {
             return;
         }
         reg.remove(bits);
-        if reg.difference(ErrorRegister::GENERIC).is_empty() {
-            reg.remove(ErrorRegister::GENERIC);
-        }
+        let others = !reg.difference(ErrorRegister::GENERIC).is_empty();
+        reg.set(ErrorRegister::GENERIC, others);
         let register = *reg;
         self.send_emergency(&Emergency {
             code: ErrorCode::NO_ERROR,
@@ -655,9 +657,12 @@ where
             acted = true;
             match event {
                 NmtSlaveEvent::Reset(kind) => {
+                    // Restored first, so the profile sees the device as the
+                    // reset left it (pre-operational, running) and may act
+                    // on it, e.g. start itself; the state change follows.
+                    self.restart(now, kind);
                     let node = kind == ResetKind::Node;
                     self.emit(now, DeviceEvent::Reset { node }, profile);
-                    self.restart(now, kind);
                 }
                 NmtSlaveEvent::StateChanged { from, to } => {
                     self.entered(now, to);

@@ -270,3 +270,25 @@ fn undrained_events_change_nothing() {
         .iter()
         .any(|e| matches!(e, DeviceEvent::Heartbeat(HeartbeatEvent::Lost(_)))));
 }
+
+/// CiA 301, 1001h: bit 0 (generic error) is set whenever any error is
+/// signalled. Clearing only the generic bit while another error remains
+/// keeps it (and says so in the error reset EMCY). Failed before the fix:
+/// the register became 04h (current, no generic bit).
+#[test]
+fn clearing_the_generic_bit_keeps_it_while_other_errors_remain() {
+    let mut d = booted();
+    let _ = sent(&mut d);
+    d.raise_error(ErrorRegister::CURRENT, Emergency::default());
+    d.raise_error(ErrorRegister::GENERIC, Emergency::default());
+    let _ = sent(&mut d);
+    d.clear_error(ErrorRegister::GENERIC);
+    assert_eq!(
+        d.error_register(),
+        ErrorRegister::GENERIC | ErrorRegister::CURRENT
+    );
+    assert_eq!(sent(&mut d), ["084#0000030000000000"]);
+    d.clear_error(ErrorRegister::CURRENT);
+    assert!(d.error_register().is_empty());
+    assert_eq!(sent(&mut d), ["084#0000000000000000"]);
+}
