@@ -676,6 +676,9 @@ where
     /// Boot or reset: restores the objects `kind` says, boot-up message,
     /// pre-operational.
     fn restart(&mut self, now: Timestamp, kind: ResetKind) {
+        // A running transfer ends silently; a download is aborted in the
+        // dictionary before the application objects are kept.
+        self.server.cancel();
         let app = match kind {
             ResetKind::Node => self.power_on.clone(),
             ResetKind::Communication => self.objects().clone(),
@@ -687,7 +690,6 @@ where
                 app,
             },
         );
-        // A new server drops a running transfer silently.
         self.server = Server::new(self.config.server_config(), od);
         self.heartbeat = HeartbeatProducer::new(self.config.node, self.config.heartbeat);
         self.heartbeat.send_on_change = self.config.heartbeat_on_change;
@@ -701,20 +703,9 @@ where
 
     /// The core's part of entering `to`.
     fn entered(&mut self, now: Timestamp, to: NmtState) {
-        if to == NmtState::Stopped && self.server.is_busy() {
+        if to == NmtState::Stopped {
             // No SDO in stopped: the running transfer ends silently.
-            let placeholder = Server::new(
-                self.config.server_config(),
-                PdoDictionary::new(
-                    PdoConfig::new(),
-                    DeviceObjects {
-                        comm: CommObjects::new(self.config.node),
-                        app: self.power_on.clone(),
-                    },
-                ),
-            );
-            let od = core::mem::replace(&mut self.server, placeholder).into_inner();
-            self.server = Server::new(self.config.server_config(), od);
+            self.server.cancel();
         }
         self.heartbeat.set_state(now, to);
         self.gate_pdos(now);
@@ -746,9 +737,16 @@ where
 
     fn apply_consumers(&mut self, now: Timestamp) {
         let entries = self.server.od().inner.comm.consumers();
+        let wanted = |slot: usize| entries.get(slot).copied().unwrap_or_default();
+        // Changed slots are freed first, so a node that moves to another
+        // sub-index is not refused as a duplicate of its old one.
         for slot in 0..MAX_CONSUMERS {
-            let entry = entries.get(slot).copied().unwrap_or_default();
-            let _ = self.consumer.set_entry(now, slot, entry);
+            if self.consumer.entry(slot) != Some(wanted(slot)) {
+                let _ = self.consumer.set_entry(now, slot, ConsumerEntry::default());
+            }
+        }
+        for slot in 0..MAX_CONSUMERS {
+            let _ = self.consumer.set_entry(now, slot, wanted(slot));
         }
     }
 

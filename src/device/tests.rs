@@ -91,7 +91,7 @@ fn booted() -> Dev {
     d
 }
 
-fn sent(d: &mut Dev) -> Vec<String> {
+fn sent(d: &mut impl Machine) -> Vec<String> {
     core::iter::from_fn(|| d.poll_transmit())
         .map(|f| f.to_string())
         .collect()
@@ -291,4 +291,90 @@ fn clearing_the_generic_bit_keeps_it_while_other_errors_remain() {
     d.clear_error(ErrorRegister::CURRENT);
     assert!(d.error_register().is_empty());
     assert_eq!(sent(&mut d), ["084#0000000000000000"]);
+}
+
+/// The heartbeat supervision follows 1016h whatever the order of the
+/// changed entries: moving node 2 from sub 2 to sub 1 while sub 2 takes
+/// node 3 watches nodes 2 and 3 and no longer node 1. Failed before the
+/// fix: sub 1 was refused as a duplicate of the old sub 2 and kept
+/// watching node 1, so node 2's silence went unnoticed there.
+#[test]
+fn consumer_entries_follow_1016h_whatever_the_order() {
+    let n = |id| NodeId::new(id).unwrap();
+    let entry = |id| ConsumerEntry::new(n(id), Duration::from_millis(1000));
+    let mut d = Dev::new(config().with_consumers(&[entry(1), entry(2)]), App(7));
+    d.boot(ms(0), &mut ());
+    d.update_comm(ms(1), |c| c.set_consumers(&[entry(2), entry(3)]));
+    let watched: Vec<_> = (0..2).map(|s| d.heartbeat_consumer().entry(s)).collect();
+    assert_eq!(watched, [Some(entry(2)), Some(entry(3))]);
+    let _ = events(&mut d);
+    // Node 1 is no longer watched, node 2 is.
+    d.handle_frame(ms(2), &frame(0x701, &[0x05]));
+    d.handle_frame(ms(2), &frame(0x702, &[0x05]));
+    d.handle_timeout(ms(1500));
+    assert_eq!(
+        events(&mut d),
+        [DeviceEvent::Heartbeat(HeartbeatEvent::Lost(n(2)))]
+    );
+}
+
+/// A download that NMT stop or reset communication drops ends in the
+/// dictionary's `abort_write`, as the `ObjectDictionary` contract says
+/// ("the download was aborted after some write calls"): the next download
+/// of the same object succeeds. Failed before the fix: the dictionary still
+/// held the dropped transfer's bytes and refused the new value with
+/// 08000000h.
+#[cfg(feature = "alloc")]
+#[test]
+fn a_dropped_download_is_aborted_in_the_dictionary() {
+    use crate::od::{Access, MemoryDictionary};
+    for cs in [0x02u8, 0x82] {
+        let mut od = MemoryDictionary::new();
+        od.insert(0x2100, 0, Access::ReadWrite, &[0; 8]);
+        let mut d: Device<MemoryDictionary, DeviceEvent> =
+            Device::new(DeviceConfig::new(node()), od);
+        d.boot(ms(0), &mut ());
+        let _ = sent(&mut d);
+        // Segmented download of 8 bytes: initiate, first segment.
+        d.handle_frame(ms(1), &frame(0x604, &[0x21, 0x00, 0x21, 0, 8, 0, 0, 0]));
+        assert_eq!(sent(&mut d), ["584#6000210000000000"]);
+        d.handle_frame(ms(2), &frame(0x604, &[0x00, 1, 2, 3, 4, 5, 6, 7]));
+        assert_eq!(sent(&mut d), ["584#2000000000000000"]);
+        d.handle_frame(ms(3), &frame(0x000, &[cs, 4]));
+        d.handle_frame(ms(4), &frame(0x000, &[0x80, 4]));
+        let _ = sent(&mut d);
+        // The same object again, expedited.
+        d.handle_frame(ms(5), &frame(0x604, &[0x23, 0x00, 0x21, 0, 9, 9, 9, 9]));
+        assert_eq!(
+            sent(&mut d),
+            ["584#8000210013000706"],
+            "{cs:02X}h: the 4-byte value is refused by length only"
+        );
+        let mut answers = Vec::new();
+        for (t, data) in [
+            (6, [0x21, 0x00, 0x21, 0, 8, 0, 0, 0]),
+            (7, [0x00, 1, 2, 3, 4, 5, 6, 7]),
+            (8, [0x1D, 8, 0, 0, 0, 0, 0, 0]),
+        ] {
+            d.handle_frame(ms(t), &frame(0x604, &data));
+            answers.extend(sent(&mut d));
+        }
+        assert_eq!(
+            answers,
+            [
+                "584#6000210000000000",
+                "584#2000000000000000",
+                "584#3000000000000000"
+            ],
+            "{cs:02X}h"
+        );
+        let mut buf = [0u8; 8];
+        let _ = d
+            .dictionary()
+            .inner
+            .app
+            .clone()
+            .read(0x2100, 0, 0, &mut buf);
+        assert_eq!(buf, [1, 2, 3, 4, 5, 6, 7, 8], "{cs:02X}h");
+    }
 }
