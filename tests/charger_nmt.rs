@@ -2,8 +2,8 @@
 //! (CiA 301: no SDO in stopped; an NMT command is obeyed) and its PDO
 //! COB-ID configuration ("Delta-Q IC Series CANopen interface
 //! specification rev 2.0", section 4.5.5) survives a module that reboots
-//! in the middle of it. Driven directly through the public API, frame by
-//! frame.
+//! in the middle of it and refuses a module that is not one (E-0-4-2).
+//! Driven directly through the public API, frame by frame.
 
 use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
 use canopen_codec::machine::Machine;
@@ -163,4 +163,37 @@ fn self_start_obeys_enter_pre_operational() {
         c.handle_frame(ms(3), &nmt(0x80, 0));
         assert_eq!(c.nmt_state(), NmtState::PreOperational);
     }
+}
+
+/// Section 4.5.5 and the section 4.4.1 table: a module whose 1000h does not
+/// name profile 418 is not paired; the charger raises E-0-4-2 "CAN
+/// configuration error" (EMCY 6000h, Delta-Q code 802Ah little-endian in
+/// the EMCY, 2A806000h in 1003h) and sends no TPDO even when operational
+/// (section 4.5.3).
+#[test]
+fn module_that_is_not_a_battery_module_raises_e_0_4_2() {
+    let mut c = booted(config());
+    c.handle_frame(ms(10), &beat());
+    assert_eq!(sent(&mut c), [READ_1000H]);
+    // 1000h = 401 (0191h): a CiA 401 I/O module.
+    c.handle_frame(
+        ms(11),
+        &frame(0x581, &[0x43, 0x00, 0x10, 0, 0x91, 0x01, 0, 0]),
+    );
+    assert_eq!(sent(&mut c), ["08A#0060012A80000000"]);
+    assert_eq!(c.comm().errors(), &[0x2A80_6000]);
+    assert!(std::iter::from_fn(|| c.poll_event())
+        .any(|e| e == ChargerEvent::NotABatteryModule { device_type: 401 }));
+    c.handle_frame(ms(12), &nmt(0x01, 10));
+    let mut all = sent(&mut c);
+    for t in (100..3000).step_by(100) {
+        c.handle_frame(ms(t), &beat());
+        all.extend(sent(&mut c));
+        c.handle_timeout(ms(t + 1));
+        all.extend(sent(&mut c));
+    }
+    assert!(
+        all.iter().all(|f| f.starts_with("70A#")),
+        "no TPDO unconfigured: {all:?}"
+    );
 }

@@ -378,3 +378,62 @@ fn a_dropped_download_is_aborted_in_the_dictionary() {
         assert_eq!(buf, [1, 2, 3, 4, 5, 6, 7, 8], "{cs:02X}h");
     }
 }
+
+/// 1016h and 1003h over SDO, end to end (CiA 301): a consumer entry takes
+/// effect at once (supervision of the new node from its first heartbeat),
+/// an enabled entry for a node another sub-index watches is refused with
+/// 06040043h and changes nothing, writing 0 to 1003h sub 0 clears the
+/// history and any other value is refused with 06090030h.
+#[test]
+fn sdo_writes_of_1016h_and_1003h() {
+    let n = |id| NodeId::new(id).unwrap();
+    let entry = |id| ConsumerEntry::new(n(id), Duration::from_millis(1000));
+    let mut d = Dev::new(config().with_consumers(&[entry(1), entry(2)]), App(7));
+    d.boot(ms(0), &mut ());
+    let _ = sent(&mut d);
+    // 1016h sub 1 = node 3, 500 ms (0003_01F4h).
+    d.handle_frame(
+        ms(1),
+        &frame(0x604, &[0x23, 0x16, 0x10, 1, 0xF4, 0x01, 3, 0]),
+    );
+    assert_eq!(sent(&mut d), ["584#6016100100000000"]);
+    assert_eq!(
+        d.heartbeat_consumer().entry(0),
+        Some(ConsumerEntry::new(n(3), Duration::from_millis(500)))
+    );
+    // Sub 2 = node 3 as well: refused, sub 2 still watches node 2.
+    d.handle_frame(
+        ms(2),
+        &frame(0x604, &[0x23, 0x16, 0x10, 2, 0xE8, 0x03, 3, 0]),
+    );
+    assert_eq!(sent(&mut d), ["584#8016100243000406"]);
+    assert_eq!(
+        d.comm().consumers(),
+        [
+            ConsumerEntry::new(n(3), Duration::from_millis(500)),
+            entry(2)
+        ]
+    );
+    assert_eq!(d.heartbeat_consumer().entry(1), Some(entry(2)));
+    let _ = events(&mut d);
+    d.handle_frame(ms(10), &frame(0x703, &[0x05]));
+    d.handle_timeout(ms(510));
+    assert_eq!(
+        events(&mut d),
+        [DeviceEvent::Heartbeat(HeartbeatEvent::Lost(n(3)))]
+    );
+
+    d.raise_error(ErrorRegister::CURRENT, Emergency::default());
+    d.raise_error(ErrorRegister::CURRENT, Emergency::default());
+    let _ = sent(&mut d);
+    d.handle_frame(ms(600), &frame(0x604, &[0x2F, 0x03, 0x10, 0, 1, 0, 0, 0]));
+    assert_eq!(sent(&mut d), ["584#8003100030000906"]);
+    assert_eq!(d.comm().errors().len(), 2);
+    d.handle_frame(ms(601), &frame(0x604, &[0x2F, 0x03, 0x10, 0, 0, 0, 0, 0]));
+    assert_eq!(sent(&mut d), ["584#6003100000000000"]);
+    assert!(d.comm().errors().is_empty());
+    assert!(
+        !d.error_register().is_empty(),
+        "clearing the history leaves 1001h alone"
+    );
+}
