@@ -92,8 +92,9 @@ impl HeartbeatProducer {
     }
 
     fn arm(&mut self, now: Timestamp) {
-        let next = (self.period_us > 0).then(|| now.add_micros(self.period_us));
-        self.timers.set(NEXT_HEARTBEAT, next);
+        // Zero period: no heartbeat; at the end of the clock: no later one.
+        self.timers
+            .set(NEXT_HEARTBEAT, now.deadline_after(self.period_us));
     }
 
     /// Queues a frame; a full queue (the caller did not drain

@@ -66,6 +66,23 @@ impl Timestamp {
         self.add_micros(ms.saturating_mul(1000))
     }
 
+    /// The deadline of a timer that runs `us` from `self` (saturating at
+    /// [`Timestamp::MAX`]), or `None` when that is not later than `self`
+    /// (`us` zero, or `self` already [`Timestamp::MAX`]). A periodic timer
+    /// re-armed at the end of the clock would otherwise be due again at
+    /// once, for ever; this way a far-ahead timestamp expires it once, as
+    /// the state-machine contract says.
+    #[must_use]
+    #[inline]
+    pub(crate) const fn deadline_after(self, us: u64) -> Option<Timestamp> {
+        let at = self.add_micros(us);
+        if at.0 > self.0 {
+            Some(at)
+        } else {
+            None
+        }
+    }
+
     /// `self + d`, saturating at [`Timestamp::MAX`] (sub-microsecond parts are dropped).
     #[must_use]
     pub fn add_duration(self, d: Duration) -> Self {

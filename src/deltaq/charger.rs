@@ -7,8 +7,9 @@
 //! - **NMT slave** with heartbeat producer (1017h, 1000 ms) and boot-up
 //!   (the core's).
 //!   With [`ChargerConfig::self_start`] it enters operational by itself after
-//!   boot; otherwise it waits for an NMT start (in the real capture the BMS
-//!   sends `000#010A`).
+//!   boot and after every NMT reset (an NMT "enter pre-operational" from
+//!   the master is obeyed); otherwise it waits for an NMT start (in the
+//!   real capture the BMS sends `000#010A`).
 //! - **Heartbeat consumer** of the battery module (1016h, 2000 ms; the
 //!   core's supervision, the charger's reaction).
 //! - **PDO COB-ID configuration** (CiA 419 section 7.2; Delta-Q section 4.5.5),
@@ -26,7 +27,12 @@
 //!   (the documents are silent): a module COB-ID with bit 31 set ("not
 //!   valid", CiA 418's TPDO default) is copied by its identifier bits and the
 //!   charger's own paired PDO is enabled; enabling the module's TPDOs is the
-//!   module's business. Without `configure_cob_ids` the charger uses its own
+//!   module's business. The SDO client runs only where CiA 301 allows
+//!   SDO (pre-operational and operational): a module found while the
+//!   charger is stopped, or a configuration that an NMT stop interrupts
+//!   (silently: no abort frame in stopped), is read from 1000h again on
+//!   entering pre-operational or operational; a module boot-up during
+//!   the configuration restarts it. Without `configure_cob_ids` the charger uses its own
 //!   default COB-IDs (18Ah, 28Ah, 38Ah, 48Ah; 20Ah, 30Ah, 40Ah), as in the
 //!   real capture.
 //! - **TPDOs** are sent only while configured, NMT operational and the
@@ -194,6 +200,9 @@ impl From<DeviceEvent> for ChargerEvent {
 enum Link {
     /// Module not heard (or lost).
     Absent,
+    /// Module heard while NMT stopped (no SDO there, CiA 301): the
+    /// configuration starts on entering pre-operational or operational.
+    Pending,
     /// Reading 1000h.
     DeviceType,
     /// Reading the module's COB-ID of pair `i` (index into [`PAIRS`]), the
@@ -247,6 +256,15 @@ fn default_pdos(config: &ChargerConfig) -> PdoConfig {
 }
 
 type ChargerDevice = Device<ChargerObjects, ChargerEvent>;
+
+/// SDO (server and client) runs in pre-operational and operational only
+/// (CiA 301).
+fn sdo_allowed(device: &ChargerDevice) -> bool {
+    matches!(
+        device.nmt_state(),
+        NmtState::PreOperational | NmtState::Operational
+    )
+}
 
 /// The charger's behaviour on top of the core.
 #[derive(Debug)]
@@ -318,6 +336,10 @@ impl Charger {
     pub fn boot(&mut self, now: Timestamp) {
         self.profile.restart(&mut self.device, now);
         self.device.boot(now, &mut self.profile);
+        if self.profile.config.self_start {
+            self.device
+                .set_nmt_state(now, NmtState::Operational, &mut self.profile);
+        }
     }
 }
 
@@ -390,14 +412,23 @@ impl ChargerProfile {
             self.forget_pairing(device, now);
         }
         device.push_event(ChargerEvent::BatteryFound { state });
-        if self.config.configure_cob_ids {
-            self.link = Link::DeviceType;
-            if self.client.start_upload(now, DEVICE_TYPE, 0).is_err() {
-                self.link = Link::Failed;
-            }
-        } else {
+        if !self.config.configure_cob_ids {
             self.link = Link::Ready;
             self.configured(device, now);
+        } else if sdo_allowed(device) {
+            self.start_configuration(now);
+        } else {
+            self.link = Link::Pending;
+        }
+    }
+
+    /// Reads the module's 1000h with a fresh client: a transfer of an
+    /// earlier attempt (a module that rebooted meanwhile) ends silently.
+    fn start_configuration(&mut self, now: Timestamp) {
+        self.client = Self::client(&self.config);
+        self.link = Link::DeviceType;
+        if self.client.start_upload(now, DEVICE_TYPE, 0).is_err() {
+            self.link = Link::Failed;
         }
     }
 
@@ -513,13 +544,28 @@ impl Profile<ChargerObjects, ChargerEvent> for ChargerProfile {
     fn on_event(&mut self, device: &mut ChargerDevice, now: Timestamp, event: &DeviceEvent) {
         let battery = self.config.battery;
         match *event {
-            DeviceEvent::Reset { .. } => self.restart(device, now),
-            DeviceEvent::NmtStateChanged {
-                to: NmtState::PreOperational,
-                ..
-            } if self.config.self_start => {
-                device.set_nmt_state(now, NmtState::Operational, self);
+            DeviceEvent::Reset { .. } => {
+                self.restart(device, now);
+                // The core has restored the device (pre-operational).
+                if self.config.self_start {
+                    device.set_nmt_state(now, NmtState::Operational, self);
+                }
             }
+            DeviceEvent::NmtStateChanged {
+                to: NmtState::Stopped,
+                ..
+            } => {
+                // No SDO in stopped: a configuration in progress ends
+                // without a frame and is redone when SDO is allowed again.
+                if matches!(self.link, Link::DeviceType | Link::CobId(..)) {
+                    self.client = Self::client(&self.config);
+                    self.link = Link::Pending;
+                }
+            }
+            DeviceEvent::NmtStateChanged {
+                to: NmtState::PreOperational | NmtState::Operational,
+                ..
+            } if self.link == Link::Pending => self.start_configuration(now),
             DeviceEvent::Heartbeat(e) => match e {
                 HeartbeatEvent::Lost(n) if n == battery => self.battery_lost(device, now),
                 HeartbeatEvent::BootUp(n) if n == battery => {
@@ -557,10 +603,7 @@ impl Profile<ChargerObjects, ChargerEvent> for ChargerProfile {
                 }
             }
         }
-        if matches!(
-            device.nmt_state(),
-            NmtState::PreOperational | NmtState::Operational
-        ) {
+        if sdo_allowed(device) {
             self.client.handle_frame(now, frame);
             self.drain_client(device, now);
         }

@@ -86,7 +86,7 @@ pub use profile::{DeviceEvent, Profile};
 use crate::cob_id::{NodeId, EMCY_BASE};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::{CanFrame, CanId};
-use crate::heartbeat::{HeartbeatConsumer, HeartbeatProducer};
+use crate::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatProducer};
 use crate::machine::Machine;
 use crate::nmt::{NmtSlave, NmtSlaveEvent, NmtState, ResetKind};
 use crate::od::index::{CONSUMER_HEARTBEAT_TIME, PRODUCER_HEARTBEAT_TIME};
@@ -312,18 +312,19 @@ where
         self.send_emergency(&emcy);
     }
 
-    /// Clears `bits` of 1001h (and the generic bit when no other is left)
-    /// and sends the error reset EMCY (0000h) with the new register value.
-    /// Does nothing when none of `bits` is set.
+    /// Clears `bits` of 1001h and sends the error reset EMCY (0000h) with
+    /// the new register value. The generic bit follows CiA 301 (set while
+    /// any error is signalled): it is cleared when no other bit is left and
+    /// kept, even when `bits` names it, while one is. Does nothing when none
+    /// of `bits` is set.
     pub fn clear_error(&mut self, bits: ErrorRegister) {
         let reg = &mut self.server.od_mut().inner.comm.error_register;
         if !reg.intersects(bits) {
             return;
         }
         reg.remove(bits);
-        if reg.difference(ErrorRegister::GENERIC).is_empty() {
-            reg.remove(ErrorRegister::GENERIC);
-        }
+        let others = !reg.difference(ErrorRegister::GENERIC).is_empty();
+        reg.set(ErrorRegister::GENERIC, others);
         let register = *reg;
         self.send_emergency(&Emergency {
             code: ErrorCode::NO_ERROR,
@@ -472,9 +473,12 @@ where
             acted = true;
             match event {
                 NmtSlaveEvent::Reset(kind) => {
+                    // Restored first, so the profile sees the device as the
+                    // reset left it (pre-operational, running) and may act
+                    // on it, e.g. start itself; the state change follows.
+                    self.restart(now, kind);
                     let node = kind == ResetKind::Node;
                     self.emit(now, DeviceEvent::Reset { node }, profile);
-                    self.restart(now, kind);
                 }
                 NmtSlaveEvent::StateChanged { from, to } => {
                     self.entered(now, to);
@@ -488,6 +492,9 @@ where
     /// Boot or reset: restores the objects `kind` says, boot-up message,
     /// pre-operational.
     fn restart(&mut self, now: Timestamp, kind: ResetKind) {
+        // A running transfer ends silently; a download is aborted in the
+        // dictionary before the application objects are kept.
+        self.server.cancel();
         let app = match kind {
             ResetKind::Node => self.power_on.clone(),
             ResetKind::Communication => self.objects().clone(),
@@ -499,7 +506,6 @@ where
                 app,
             },
         );
-        // A new server drops a running transfer silently.
         self.server = Server::new(self.config.server_config(), od);
         self.heartbeat = HeartbeatProducer::new(self.config.node, self.config.heartbeat);
         self.heartbeat.send_on_change = self.config.heartbeat_on_change;
@@ -513,20 +519,9 @@ where
 
     /// The core's part of entering `to`.
     fn entered(&mut self, now: Timestamp, to: NmtState) {
-        if to == NmtState::Stopped && self.server.is_busy() {
+        if to == NmtState::Stopped {
             // No SDO in stopped: the running transfer ends silently.
-            let placeholder = Server::new(
-                self.config.server_config(),
-                PdoDictionary::new(
-                    PdoConfig::new(),
-                    DeviceObjects {
-                        comm: CommObjects::new(self.config.node),
-                        app: self.power_on.clone(),
-                    },
-                ),
-            );
-            let od = core::mem::replace(&mut self.server, placeholder).into_inner();
-            self.server = Server::new(self.config.server_config(), od);
+            self.server.cancel();
         }
         self.heartbeat.set_state(now, to);
         self.gate_pdos(now);
@@ -558,9 +553,16 @@ where
 
     fn apply_consumers(&mut self, now: Timestamp) {
         let entries = self.server.od().inner.comm.consumers();
+        let wanted = |slot: usize| entries.get(slot).copied().unwrap_or_default();
+        // Changed slots are freed first, so a node that moves to another
+        // sub-index is not refused as a duplicate of its old one.
         for slot in 0..MAX_CONSUMERS {
-            let entry = entries.get(slot).copied().unwrap_or_default();
-            let _ = self.consumer.set_entry(now, slot, entry);
+            if self.consumer.entry(slot) != Some(wanted(slot)) {
+                let _ = self.consumer.set_entry(now, slot, ConsumerEntry::default());
+            }
+        }
+        for slot in 0..MAX_CONSUMERS {
+            let _ = self.consumer.set_entry(now, slot, wanted(slot));
         }
     }
 

@@ -22,8 +22,9 @@ pub enum DeviceEvent {
         /// The new state.
         to: NmtState,
     },
-    /// An NMT reset was executed (followed by the boot-up message and the
-    /// state change to pre-operational).
+    /// An NMT reset was executed: reported once the objects are restored
+    /// and the boot-up message is queued, before the state change to
+    /// pre-operational.
     Reset {
         /// `true` for reset node (81h: every object restored), `false` for
         /// reset communication (82h: the communication objects restored).

@@ -95,7 +95,7 @@ fn booted() -> Dev {
     d
 }
 
-fn sent(d: &mut Dev) -> Vec<String> {
+fn sent(d: &mut impl Machine) -> Vec<String> {
     core::iter::from_fn(|| d.poll_transmit())
         .map(|f| f.to_string())
         .collect()
@@ -273,4 +273,171 @@ fn undrained_events_change_nothing() {
     assert!(!kept
         .iter()
         .any(|e| matches!(e, DeviceEvent::Heartbeat(HeartbeatEvent::Lost(_)))));
+}
+
+/// CiA 301, 1001h: bit 0 (generic error) is set whenever any error is
+/// signalled. Clearing only the generic bit while another error remains
+/// keeps it (and says so in the error reset EMCY). Failed before the fix:
+/// the register became 04h (current, no generic bit).
+#[test]
+fn clearing_the_generic_bit_keeps_it_while_other_errors_remain() {
+    let mut d = booted();
+    let _ = sent(&mut d);
+    d.raise_error(ErrorRegister::CURRENT, Emergency::default());
+    d.raise_error(ErrorRegister::GENERIC, Emergency::default());
+    let _ = sent(&mut d);
+    d.clear_error(ErrorRegister::GENERIC);
+    assert_eq!(
+        d.error_register(),
+        ErrorRegister::GENERIC | ErrorRegister::CURRENT
+    );
+    assert_eq!(sent(&mut d), ["084#0000030000000000"]);
+    d.clear_error(ErrorRegister::CURRENT);
+    assert!(d.error_register().is_empty());
+    assert_eq!(sent(&mut d), ["084#0000000000000000"]);
+}
+
+/// The heartbeat supervision follows 1016h whatever the order of the
+/// changed entries: moving node 2 from sub 2 to sub 1 while sub 2 takes
+/// node 3 watches nodes 2 and 3 and no longer node 1. Failed before the
+/// fix: sub 1 was refused as a duplicate of the old sub 2 and kept
+/// watching node 1, so node 2's silence went unnoticed there.
+#[test]
+fn consumer_entries_follow_1016h_whatever_the_order() {
+    let n = |id| NodeId::new(id).unwrap();
+    let entry = |id| ConsumerEntry::new(n(id), Duration::from_millis(1000));
+    let mut d = Dev::new(config().with_consumers(&[entry(1), entry(2)]), App(7));
+    d.boot(ms(0), &mut ());
+    d.update_comm(ms(1), |c| c.set_consumers(&[entry(2), entry(3)]));
+    let watched: Vec<_> = (0..2).map(|s| d.heartbeat_consumer().entry(s)).collect();
+    assert_eq!(watched, [Some(entry(2)), Some(entry(3))]);
+    let _ = events(&mut d);
+    // Node 1 is no longer watched, node 2 is.
+    d.handle_frame(ms(2), &frame(0x701, &[0x05]));
+    d.handle_frame(ms(2), &frame(0x702, &[0x05]));
+    d.handle_timeout(ms(1500));
+    assert_eq!(
+        events(&mut d),
+        [DeviceEvent::Heartbeat(HeartbeatEvent::Lost(n(2)))]
+    );
+}
+
+/// A download that NMT stop or reset communication drops ends in the
+/// dictionary's `abort_write`, as the `ObjectDictionary` contract says
+/// ("the download was aborted after some write calls"): the next download
+/// of the same object succeeds. Failed before the fix: the dictionary still
+/// held the dropped transfer's bytes and refused the new value with
+/// 08000000h.
+#[cfg(feature = "alloc")]
+#[test]
+fn a_dropped_download_is_aborted_in_the_dictionary() {
+    use crate::od::{Access, MemoryDictionary};
+    for cs in [0x02u8, 0x82] {
+        let mut od = MemoryDictionary::new();
+        od.insert(0x2100, 0, Access::ReadWrite, &[0; 8]);
+        let mut d: Device<MemoryDictionary, DeviceEvent> =
+            Device::new(DeviceConfig::new(node()), od);
+        d.boot(ms(0), &mut ());
+        let _ = sent(&mut d);
+        // Segmented download of 8 bytes: initiate, first segment.
+        d.handle_frame(ms(1), &frame(0x604, &[0x21, 0x00, 0x21, 0, 8, 0, 0, 0]));
+        assert_eq!(sent(&mut d), ["584#6000210000000000"]);
+        d.handle_frame(ms(2), &frame(0x604, &[0x00, 1, 2, 3, 4, 5, 6, 7]));
+        assert_eq!(sent(&mut d), ["584#2000000000000000"]);
+        d.handle_frame(ms(3), &frame(0x000, &[cs, 4]));
+        d.handle_frame(ms(4), &frame(0x000, &[0x80, 4]));
+        let _ = sent(&mut d);
+        // The same object again, expedited.
+        d.handle_frame(ms(5), &frame(0x604, &[0x23, 0x00, 0x21, 0, 9, 9, 9, 9]));
+        assert_eq!(
+            sent(&mut d),
+            ["584#8000210013000706"],
+            "{cs:02X}h: the 4-byte value is refused by length only"
+        );
+        let mut answers = Vec::new();
+        for (t, data) in [
+            (6, [0x21, 0x00, 0x21, 0, 8, 0, 0, 0]),
+            (7, [0x00, 1, 2, 3, 4, 5, 6, 7]),
+            (8, [0x1D, 8, 0, 0, 0, 0, 0, 0]),
+        ] {
+            d.handle_frame(ms(t), &frame(0x604, &data));
+            answers.extend(sent(&mut d));
+        }
+        assert_eq!(
+            answers,
+            [
+                "584#6000210000000000",
+                "584#2000000000000000",
+                "584#3000000000000000"
+            ],
+            "{cs:02X}h"
+        );
+        let mut buf = [0u8; 8];
+        let _ = d
+            .dictionary()
+            .inner
+            .app
+            .clone()
+            .read(0x2100, 0, 0, &mut buf);
+        assert_eq!(buf, [1, 2, 3, 4, 5, 6, 7, 8], "{cs:02X}h");
+    }
+}
+
+/// 1016h and 1003h over SDO, end to end (CiA 301): a consumer entry takes
+/// effect at once (supervision of the new node from its first heartbeat),
+/// an enabled entry for a node another sub-index watches is refused with
+/// 06040043h and changes nothing, writing 0 to 1003h sub 0 clears the
+/// history and any other value is refused with 06090030h.
+#[test]
+fn sdo_writes_of_1016h_and_1003h() {
+    let n = |id| NodeId::new(id).unwrap();
+    let entry = |id| ConsumerEntry::new(n(id), Duration::from_millis(1000));
+    let mut d = Dev::new(config().with_consumers(&[entry(1), entry(2)]), App(7));
+    d.boot(ms(0), &mut ());
+    let _ = sent(&mut d);
+    // 1016h sub 1 = node 3, 500 ms (0003_01F4h).
+    d.handle_frame(
+        ms(1),
+        &frame(0x604, &[0x23, 0x16, 0x10, 1, 0xF4, 0x01, 3, 0]),
+    );
+    assert_eq!(sent(&mut d), ["584#6016100100000000"]);
+    assert_eq!(
+        d.heartbeat_consumer().entry(0),
+        Some(ConsumerEntry::new(n(3), Duration::from_millis(500)))
+    );
+    // Sub 2 = node 3 as well: refused, sub 2 still watches node 2.
+    d.handle_frame(
+        ms(2),
+        &frame(0x604, &[0x23, 0x16, 0x10, 2, 0xE8, 0x03, 3, 0]),
+    );
+    assert_eq!(sent(&mut d), ["584#8016100243000406"]);
+    assert_eq!(
+        d.comm().consumers(),
+        [
+            ConsumerEntry::new(n(3), Duration::from_millis(500)),
+            entry(2)
+        ]
+    );
+    assert_eq!(d.heartbeat_consumer().entry(1), Some(entry(2)));
+    let _ = events(&mut d);
+    d.handle_frame(ms(10), &frame(0x703, &[0x05]));
+    d.handle_timeout(ms(510));
+    assert_eq!(
+        events(&mut d),
+        [DeviceEvent::Heartbeat(HeartbeatEvent::Lost(n(3)))]
+    );
+
+    d.raise_error(ErrorRegister::CURRENT, Emergency::default());
+    d.raise_error(ErrorRegister::CURRENT, Emergency::default());
+    let _ = sent(&mut d);
+    d.handle_frame(ms(600), &frame(0x604, &[0x2F, 0x03, 0x10, 0, 1, 0, 0, 0]));
+    assert_eq!(sent(&mut d), ["584#8003100030000906"]);
+    assert_eq!(d.comm().errors().len(), 2);
+    d.handle_frame(ms(601), &frame(0x604, &[0x2F, 0x03, 0x10, 0, 0, 0, 0, 0]));
+    assert_eq!(sent(&mut d), ["584#6003100000000000"]);
+    assert!(d.comm().errors().is_empty());
+    assert!(
+        !d.error_register().is_empty(),
+        "clearing the history leaves 1001h alone"
+    );
 }

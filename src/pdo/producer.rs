@@ -208,8 +208,12 @@ impl TpdoProducer {
         self.out = CanFrame::new(id, self.payload.as_slice()).ok();
         self.last_sent = Some(now);
         self.timers.set(Timer::InhibitEnd as usize, None);
-        let event = (comm.transmission_type.is_event_driven() && comm.event_timer_ms > 0)
-            .then(|| now.add_millis(u64::from(comm.event_timer_ms)));
+        // No event timer (0), or none later than the end of the clock.
+        let event = if comm.transmission_type.is_event_driven() {
+            now.deadline_after(u64::from(comm.event_timer_ms).saturating_mul(1000))
+        } else {
+            None
+        };
         self.timers.set(Timer::Event as usize, event);
     }
 

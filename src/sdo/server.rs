@@ -259,6 +259,18 @@ impl<D: ObjectDictionary> Server<D> {
         !matches!(self.state, State::Idle)
     }
 
+    /// Ends the running transfer without a frame or an event, as the
+    /// owner's NMT state requires (CiA 301: no SDO in stopped; a reset
+    /// drops it); for a download the dictionary's `abort_write` is called.
+    /// Does nothing while idle.
+    pub fn cancel(&mut self) {
+        if let State::Downloading { index, sub, .. } = self.state {
+            self.od.abort_write(index, sub);
+        }
+        self.state = State::Idle;
+        self.timers.set(REQUEST_TIMEOUT, None);
+    }
+
     /// How many unsent frames were dropped because the caller did not
     /// drain [`Machine::poll_transmit`] before the next call (the newest
     /// frame is kept; see the module docs). Zero for a caller that follows
