@@ -147,10 +147,22 @@ impl Machine for HeartbeatProducer {
     fn handle_frame(&mut self, _now: Timestamp, _frame: &CanFrame) {}
 
     /// Sends the heartbeat when its time has come.
+    /// Sends the heartbeat when its time has come. The next one is due one
+    /// period after the one just due (a late call does not make the period
+    /// drift), or one period from `now` when the call is more than a period
+    /// late.
     fn handle_timeout(&mut self, now: Timestamp) {
+        let Some(due) = self.timers.get(NEXT_HEARTBEAT) else {
+            return;
+        };
         if self.timers.expire(NEXT_HEARTBEAT, now) {
             self.send(self.frame(self.state));
-            self.arm(now);
+            match due.deadline_after(self.period_us) {
+                Some(next) if !now.has_reached(next) => {
+                    self.timers.set(NEXT_HEARTBEAT, Some(next));
+                }
+                _ => self.arm(now),
+            }
         }
     }
 

@@ -216,3 +216,19 @@ fn consumer_time_backwards_and_far_ahead() {
     c.handle_timeout(Timestamp::MAX);
     assert_eq!(events(&mut c), vec![HeartbeatEvent::Lost(n(5))]);
 }
+
+#[test]
+fn producer_period_does_not_drift_when_called_late() {
+    let mut p = HeartbeatProducer::new(n(3), Duration::from_millis(100));
+    p.boot(ms(0));
+    let _ = p.poll_transmit();
+    // Called 30 ms late: sent now, the next one still at 200 ms.
+    p.handle_timeout(ms(130));
+    assert_eq!(p.poll_transmit(), Some(hb(3, 0x7F)));
+    assert_eq!(p.poll_timeout(), Some(ms(200)));
+    // Called more than a period late: one heartbeat, then a period from now.
+    p.handle_timeout(ms(450));
+    assert_eq!(p.poll_transmit(), Some(hb(3, 0x7F)));
+    assert_eq!(p.poll_transmit(), None);
+    assert_eq!(p.poll_timeout(), Some(ms(550)));
+}

@@ -74,7 +74,11 @@ pub trait Profile<A, E: Copy> {
         true
     }
 
-    /// A core event happened (after it was queued, if kept).
+    /// A core event happened (after it was queued, if kept). The profile
+    /// may act on the device here, including
+    /// [`Device::set_nmt_state`](super::Device::set_nmt_state), which reports
+    /// its state change through this method again: a profile must not
+    /// change the state on every state change (that would never end).
     fn on_event(&mut self, device: &mut Device<A, E>, now: Timestamp, event: &DeviceEvent) {
         let _ = (device, now, event);
     }
