@@ -68,6 +68,7 @@ pub mod sdo;
 pub mod sync;
 pub mod time;
 pub mod time_of_day;
+pub mod trace;
 
 pub use cob_id::{CobKind, NodeId, PdoNumber};
 pub use error::DecodeError;

@@ -1,0 +1,110 @@
+//! Vector ASC logs (CANalyzer / CANoe and python-can's `ASCWriter`):
+//!
+//! ```text
+//! date Tue Dec 01 09:11:16.935 2026
+//! base hex  timestamps absolute
+//! internal events logged
+//! Begin Triggerblock Thu Sep 04 03:14:13.603 2025
+//!  0.000000 Start of measurement
+//!    1.234567 1  18A             Rx   d 8 74 13 45 4E 70 00 00 00
+//!    1.244251 1  70A             Rx   r 1
+//!    1.331259 1  18DAF110x       Rx   d 2 01 02
+//!    1.400000 1  ErrorFrame
+//!    1.500000 CANFD   1 Rx 18A  ...
+//! End TriggerBlock
+//! ```
+//!
+//! The time is seconds since the start of the measurement; the channel is
+//! a number; an identifier ending in `x` is 29-bit; `base dec` means
+//! identifiers in decimal. `d` is a data frame (length, then the bytes),
+//! `r` a remote frame (length optional). Text after the data (`Length = ..
+//! BitCount = ..`) is ignored.
+
+use super::fields::{can_id, dec_u32, decimal_scaled, frame, hex_u32};
+use super::{Direction, Record, State, TraceError, TraceFrame, Unsupported};
+use crate::time::Timestamp;
+
+/// True when the line is an ASC frame line.
+pub(super) fn looks_like_frame(line: &str) -> bool {
+    let mut t = line.split_whitespace();
+    let (Some(time), Some(ch), Some(_id), Some(dir), Some(kind)) =
+        (t.next(), t.next(), t.next(), t.next(), t.next())
+    else {
+        return false;
+    };
+    time.contains('.')
+        && decimal_scaled(time, 6).is_some()
+        && dec_u32(ch).is_some()
+        && matches!(dir, "Rx" | "Tx")
+        && matches!(kind, "d" | "r")
+}
+
+pub(super) fn parse<'a>(line: &'a str, state: &mut State) -> Result<Record<'a>, TraceError> {
+    let t = line.trim();
+    let mut tokens = t.split_whitespace();
+    let Some(first) = tokens.next() else {
+        return Ok(Record::Meta);
+    };
+    let Some(us) = decimal_scaled(first, 6).filter(|_| first.contains('.')) else {
+        // Header lines: `date`, `base`, `internal events logged`, `//`,
+        // `Begin Triggerblock`, `End TriggerBlock`.
+        if first == "base" {
+            state.asc_decimal = tokens.next() == Some("dec");
+        }
+        return Ok(Record::Meta);
+    };
+    let second = tokens.next().ok_or(TraceError::MissingField)?;
+    if second.eq_ignore_ascii_case("CANFD") {
+        return Ok(Record::Unsupported(Unsupported::CanFd));
+    }
+    if dec_u32(second).is_none() {
+        // `Start of measurement`, `Log trigger event`, statistics.
+        return Ok(Record::Unsupported(Unsupported::Event));
+    }
+    let channel = second;
+    let id_text = tokens.next().ok_or(TraceError::MissingField)?;
+    if id_text.eq_ignore_ascii_case("ErrorFrame") {
+        return Ok(Record::Unsupported(Unsupported::ErrorFrame));
+    }
+    let direction = match tokens.next() {
+        Some("Rx") => Direction::Rx,
+        Some("Tx") => Direction::Tx,
+        // `Statistic:`, `Status:` and other channel events.
+        _ => return Ok(Record::Unsupported(Unsupported::Event)),
+    };
+    let (digits, extended) = match id_text.strip_suffix(['x', 'X']) {
+        Some(d) => (d, true),
+        None => (id_text, false),
+    };
+    let raw = if state.asc_decimal {
+        dec_u32(digits)
+    } else {
+        hex_u32(digits)
+    }
+    .ok_or(TraceError::BadId)?;
+    let id = can_id(raw, extended)?;
+    let remote = match tokens.next() {
+        Some("d") => false,
+        Some("r") => true,
+        _ => return Err(TraceError::MissingField),
+    };
+    let dlc = match tokens.next() {
+        Some(d) => dec_u32(d)
+            .and_then(|d| u8::try_from(d).ok())
+            .ok_or(TraceError::BadDlc)?,
+        None if remote => 0,
+        None => return Err(TraceError::BadDlc),
+    };
+    let frame = frame(
+        id,
+        dlc,
+        remote,
+        tokens.take(if remote { 0 } else { usize::from(dlc) }),
+    )?;
+    Ok(Record::Frame(TraceFrame {
+        timestamp: Some(Timestamp::from_micros(us)),
+        channel: Some(channel),
+        direction: Some(direction),
+        frame,
+    }))
+}

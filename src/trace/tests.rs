@@ -1,0 +1,412 @@
+//! One test per format and version, from the formats' published
+//! descriptions (PEAK-System's "PCAN-View trace file format" for `.trc`,
+//! can-utils' candump, Vector's ASC description) and from what
+//! python-can 4.6's `ASCWriter`, `CSVWriter`, `TRCWriter` and
+//! `CanutilsLogWriter` wrote for the same four frames.
+
+use super::*;
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+/// Every line through one parser: frames as `us candump-text channel dir`,
+/// the rest by kind.
+fn run(p: &mut LineParser, lines: &[&str]) -> Vec<String> {
+    lines
+        .iter()
+        .map(|l| match p.parse(l) {
+            Ok(Record::Frame(f)) => format!(
+                "{} {} {} {}",
+                f.timestamp.map_or(-1, |t| t.as_micros() as i128),
+                f.frame,
+                f.channel.unwrap_or("-"),
+                match f.direction {
+                    Some(Direction::Rx) => "Rx",
+                    Some(Direction::Tx) => "Tx",
+                    None => "-",
+                }
+            ),
+            Ok(Record::Meta) => "meta".to_string(),
+            Ok(Record::Unsupported(u)) => format!("unsupported {u:?}"),
+            Err(e) => format!("error {e:?}"),
+        })
+        .collect()
+}
+
+#[test]
+fn python_can_asc() {
+    let lines = [
+        "date Tue Dec 01 09:11:16.935 2026",
+        "base hex  timestamps absolute",
+        "internal events logged",
+        "Begin Triggerblock Thu Sep 04 03:14:13.603 2025",
+        " 0.000000 Start of measurement",
+        " 0.000000 1  18A             Rx   d 8 74 13 45 4E 70 00 00 00",
+        " 0.009684 1  70A             Rx   r 1 ",
+        " 0.096692 1  18DAF110x       Rx   d 2 01 02",
+        " 0.196692 1  0               Tx   d 2 01 0A",
+        "End TriggerBlock",
+    ];
+    let mut p = LineParser::auto();
+    assert_eq!(
+        run(&mut p, &lines),
+        [
+            "meta",
+            "meta",
+            "meta",
+            "meta",
+            "unsupported Event",
+            "0 18A#7413454E70000000 1 Rx",
+            "9684 70A#R1 1 Rx",
+            "96692 18DAF110#0102 1 Rx",
+            "196692 000#010A 1 Tx",
+            "meta",
+        ]
+    );
+    assert_eq!(p.format(), Some(Format::VectorAsc));
+}
+
+#[test]
+fn asc_decimal_base_error_frames_fd_and_trailing_text() {
+    let mut p = LineParser::new(Format::VectorAsc);
+    let lines = [
+        "base dec  timestamps absolute",
+        "   1.500000 2  394             Rx   d 2 01 02  Length = 240000 BitCount = 124 ID = 394",
+        "   1.600000 1  ErrorFrame",
+        "   1.700000 CANFD   1 Rx 18A  0 0 8 8 74 13 45 4E 70 00 00 00",
+        "   1.800000 1  Statistic: D 0 R 0 XD 0 XR 0 E 0 O 0 B 0.00%",
+        "   1.900000 1  1802            Rx   r",
+        "   1.950000 1  18A             Rx   d 0",
+        "base hex  timestamps absolute",
+        "   2.000000 1  18A             Rx   d 9 00 00 00 00 00 00 00 00 00",
+        "   2.100000 1  18A             Rx   d 8 00 00",
+        "   2.200000 1  18G             Rx   d 0",
+    ];
+    assert_eq!(
+        run(&mut p, &lines),
+        [
+            "meta",
+            "1500000 18A#0102 2 Rx",
+            "unsupported ErrorFrame",
+            "unsupported CanFd",
+            "unsupported Event",
+            "1900000 70A#R 1 Rx",
+            "error BadId",
+            "meta",
+            "error CanFd",
+            "error BadDlc",
+            "error BadId",
+        ]
+    );
+}
+
+#[test]
+fn python_can_csv() {
+    let lines = [
+        "timestamp,arbitration_id,extended,remote,error,dlc,data",
+        "1756955653.603308,0x18a,0,0,0,8,dBNFTnAAAAA=",
+        "1756955653.612992,0x70a,0,1,0,1,",
+        "1756955653.7,0x18daf110,1,0,0,2,AQI=",
+        "1756955653.8,0x0,0,0,0,2,AQo=",
+        "1756955653.9,0x0,0,0,1,0,",
+        "1756955654.0,0x18a,0,0,0,3,AQo=",
+        "1756955654.1,0x18a,0,0,0,2,AQ*=",
+        "1756955654.2,0x18a,0,0,0,2",
+    ];
+    let mut p = LineParser::auto();
+    assert_eq!(
+        run(&mut p, &lines),
+        [
+            "meta",
+            "1756955653603308 18A#7413454E70000000 - -",
+            "1756955653612992 70A#R1 - -",
+            "1756955653700000 18DAF110#0102 - -",
+            "1756955653800000 000#010A - -",
+            "unsupported ErrorFrame",
+            "error BadDlc",
+            "error BadData",
+            "error MissingField",
+        ]
+    );
+    assert_eq!(p.format(), Some(Format::PythonCanCsv));
+}
+
+#[test]
+fn python_can_trc_2_1_with_start_time_and_columns() {
+    let lines = [
+        ";$FILEVERSION=2.1",
+        ";$STARTTIME=45904.134879667916",
+        ";$COLUMNS=N,O,T,B,I,d,R,L,D",
+        ";---+-- ------+------ +- +- --+----- +- +- +--- +- -- -- -- -- -- -- --",
+        "      0         0.000 DT  1     018A Rx -  8    74 13 45 4E 70 00 00 00",
+        "      1        96.692 DT  1 18DAF110 Rx -  2    01 02",
+        "      2       196.692 DT  1     0000 Tx -  2    01 0A",
+    ];
+    let mut p = LineParser::auto();
+    let out = run(&mut p, &lines);
+    assert_eq!(out[..4], ["meta", "meta", "meta", "meta"]);
+    // $STARTTIME is 2025-09-04 03:14:13.603308 UTC (python-can wrote the
+    // first frame's own timestamp, 1756955653.603308, at offset 0).
+    let start: i128 = out[4].split(' ').next().unwrap().parse().unwrap();
+    assert!((start - 1_756_955_653_603_308).abs() <= 1, "{start}");
+    assert!(out[4].ends_with(" 18A#7413454E70000000 1 Rx"));
+    assert_eq!(out[5], format!("{} 18DAF110#0102 1 Rx", start + 96_692));
+    assert_eq!(out[6], format!("{} 000#010A 1 Tx", start + 196_692));
+}
+
+#[test]
+fn trc_1_0_to_1_3() {
+    let cases: [(&str, &str); 4] = [
+        ("1.0", "     1)      1841  0300  8  00 00 00 00 00 00 00 01"),
+        (
+            "1.1",
+            "     1)      1841.6  Rx         0300  8  00 00 00 00 00 00 00 01",
+        ),
+        (
+            "1.2",
+            "     1)      1841.600 1  Rx         0300  8  00 00 00 00 00 00 00 01",
+        ),
+        (
+            "1.3",
+            "     1)      1841.600 1  Rx         0300 -  8  00 00 00 00 00 00 00 01",
+        ),
+    ];
+    for (version, line) in cases {
+        let header = format!(";$FILEVERSION={version}");
+        let mut p = LineParser::auto();
+        let out = run(&mut p, &[&header, line]);
+        let channel = if version >= "1.2" { "1" } else { "-" };
+        let dir = if version >= "1.1" { "Rx" } else { "-" };
+        let ms = if version == "1.0" {
+            1_841_000
+        } else {
+            1_841_600
+        };
+        assert_eq!(
+            out,
+            [
+                "meta".to_string(),
+                format!("{ms} 300#0000000000000001 {channel} {dir}")
+            ],
+            "{version}"
+        );
+    }
+    // PEAK's 1.1 example: 29-bit, remote, a warning line; no header: 1.1.
+    let mut p = LineParser::new(Format::PcanTrc);
+    assert_eq!(
+        run(
+            &mut p,
+            &[
+                "     3)      2403.6  Rx     00000400  2  00 00",
+                "     4)      2404.3  Rx         0000  0  RTR",
+                "     5)      3442.3  Warng  FFFFFFFF  4  00 00 00 08 BUSHEAVY",
+                "     6)      3443.0  Error  00000000  0",
+                "     7)      3444.0  Rx         0300  8  00 00",
+            ]
+        ),
+        [
+            "2403600 00000400#0000 - Rx",
+            "2404300 000#R - Rx",
+            "unsupported Event",
+            "unsupported ErrorFrame",
+            "error BadDlc",
+        ]
+    );
+}
+
+#[test]
+fn trc_2_0_types() {
+    let lines = [
+        ";$FILEVERSION=2.0",
+        ";$COLUMNS=N,O,T,I,d,l,D",
+        "      1      1059.900 DT 0300 Rx 7 00 00 00 00 04 00 00",
+        "      3      1298.945 DT 18EFF100 Rx 2 00 00",
+        "      5      1323.201 RR 0300 Rx 7",
+        "      6      1332.400 ER      Rx 04 00 02 00 00",
+        "      7      1333.000 FD 0300 Rx 12 00 00 00 00 00 00 00 00 00 00 00 00",
+        "      8      1334.000 ST Rx 00 00 00 08",
+    ];
+    let mut p = LineParser::auto();
+    assert_eq!(
+        run(&mut p, &lines),
+        [
+            "meta",
+            "meta",
+            "1059900 300#00000000040000 - Rx",
+            "1298945 18EFF100#0000 - Rx",
+            "1323201 300#R7 - Rx",
+            "unsupported ErrorFrame",
+            "unsupported CanFd",
+            "unsupported Event",
+        ]
+    );
+}
+
+#[test]
+fn candump_screen_with_every_timestamp_kind() {
+    let lines = [
+        "  can0  18A   [8]  74 13 45 4E 70 00 00 00",
+        "  can0  701   [1]  remote request",
+        "(1756955653.603308)  can0  18A   [8]  74 13 45 4E 70 00 00 00",
+        "(2025-09-04 03:14:13.603308)  can0  18DAF110   [2]  01 02",
+        "  can0  RX - -  18A   [2]  74 13",
+        "  can0  18A   [2]  74 13   't.'",
+        "  can0  20000004   [8]  00 04 00 00 00 00 00 00   ERRORFRAME",
+        "  can0  123  [12]  00 11 22 33 44 55 66 77 88 99 AA BB",
+        "  can0  18A   [9]  74",
+        "  can0  18A   [2]  74",
+    ];
+    let mut p = LineParser::auto();
+    assert_eq!(
+        run(&mut p, &lines),
+        [
+            "-1 18A#7413454E70000000 can0 -",
+            "-1 701#R1 can0 -",
+            "1756955653603308 18A#7413454E70000000 can0 -",
+            "1756955653603308 18DAF110#0102 can0 -",
+            "-1 18A#7413 can0 Rx",
+            "-1 18A#7413 can0 -",
+            "unsupported ErrorFrame",
+            "unsupported CanFd",
+            "error CanFd",
+            "error BadDlc",
+        ]
+    );
+    assert_eq!(p.format(), Some(Format::CandumpScreen));
+    // -t z is time since the start; -t d deltas, summed when declared.
+    let z = [
+        "(000.000000)  can0  000   [2]  01 0A",
+        "(000.100211)  can0  000   [2]  01 0A",
+    ];
+    assert_eq!(
+        run(&mut LineParser::new(Format::CandumpScreen), &z),
+        ["0 000#010A can0 -", "100211 000#010A can0 -"]
+    );
+    let d = [
+        "(000.100000)  can0  000   [0]",
+        "(000.100211)  can0  000   [0]",
+    ];
+    assert_eq!(
+        run(
+            &mut LineParser::new(Format::CandumpScreen).with_delta_times(),
+            &d
+        ),
+        ["100000 000# can0 -", "200211 000# can0 -"]
+    );
+}
+
+#[test]
+fn candump_log_with_python_can_direction_flags() {
+    let lines = [
+        "(1756955653.603308) can0 18A#7413454E70000000 R",
+        "(1756955653.612992) can0 70A#R R",
+        "(1756955653.800000) can0 000#010A T",
+        "18A##07413454E",
+        "(1756955653.9) can0 000#01 X",
+    ];
+    let mut p = LineParser::auto();
+    assert_eq!(
+        run(&mut p, &lines),
+        [
+            "1756955653603308 18A#7413454E70000000 can0 Rx",
+            "1756955653612992 70A#R can0 Rx",
+            "1756955653800000 000#010A can0 Tx",
+            "unsupported CanFd",
+            "error Candump(TrailingText)",
+        ]
+    );
+    assert_eq!(p.format(), Some(Format::CandumpLog));
+}
+
+#[test]
+fn detection_and_names() {
+    for (line, want) in [
+        (";$FILEVERSION=2.1", Some(Format::PcanTrc)),
+        (
+            "     1)      1841.6  Rx         0300  8  00",
+            Some(Format::PcanTrc),
+        ),
+        ("date Tue Dec 01 09:11:16.935 2026", Some(Format::VectorAsc)),
+        ("   1.5 1  18A Rx d 0", Some(Format::VectorAsc)),
+        (
+            "timestamp,arbitration_id,extended,remote,error,dlc,data",
+            Some(Format::PythonCanCsv),
+        ),
+        ("  can0  18A   [0]", Some(Format::CandumpScreen)),
+        ("(1.0) can0 18A#00", Some(Format::CandumpLog)),
+        ("hello", None),
+    ] {
+        assert_eq!(Format::detect(line), want, "{line}");
+    }
+    let mut p = LineParser::auto();
+    assert_eq!(p.parse("hello"), Err(TraceError::UnknownFormat));
+    assert_eq!(p.parse(""), Ok(Record::Meta));
+    assert_eq!(p.format(), None);
+    for f in [
+        Format::CandumpLog,
+        Format::CandumpScreen,
+        Format::PcanTrc,
+        Format::VectorAsc,
+        Format::PythonCanCsv,
+    ] {
+        assert_eq!(Format::from_name(f.name()), Some(f));
+    }
+    assert_eq!(Format::from_name("pcap"), None);
+}
+
+#[test]
+fn hostile_lines_never_panic() {
+    let samples = [
+        "(",
+        ")",
+        "()",
+        "(1.2.3)",
+        "(99999999999999999999999.9) can0 1#",
+        "[",
+        "[]",
+        "[99999999999]",
+        ";$STARTTIME=",
+        ";$STARTTIME=99999999999999999999.99999999999999999999",
+        ";$COLUMNS=",
+        ";$COLUMNS=N,O,T,B,I,d,R,L,D,X,Y,Z,W",
+        ";$FILEVERSION=9.9",
+        ";$FILEVERSION=x.y",
+        "1) 2",
+        "1) 1.5 Rx",
+        "1) 1.5 Rx 12345678901 8",
+        " 1 2 DT",
+        " 1 2 DT 1 FFFFFFFFF Rx - 1 00",
+        "1.0 1 18A Rx d",
+        "1.0 1 18A Rx d 255",
+        "1.0 1 x Rx d 0",
+        ",,,,,,",
+        "1,0x,0,0,0,0,",
+        "1,0x18a,2,0,0,0,",
+        "1,0xFFFFFFFFF,1,0,0,0,",
+        "  can0  (2025-13-45 99:99:99.9)  1 [1]",
+        "(2025-09-04 03:14:13.603308 extra) can0 18A [0]",
+        "\u{feff}(1.0) can0 18A#00",
+        "ü ö ä",
+    ];
+    for format in [
+        Format::CandumpLog,
+        Format::CandumpScreen,
+        Format::PcanTrc,
+        Format::VectorAsc,
+        Format::PythonCanCsv,
+    ] {
+        for version in [
+            ";$FILEVERSION=1.0",
+            ";$FILEVERSION=1.3",
+            ";$FILEVERSION=2.0",
+            ";$FILEVERSION=2.1",
+        ] {
+            let mut p = LineParser::new(format);
+            let _ = p.parse(version);
+            for s in samples {
+                if let Ok(Record::Frame(f)) = p.parse(s) {
+                    assert!(f.frame.data().len() <= 8);
+                }
+            }
+        }
+    }
+}
