@@ -1,10 +1,18 @@
-//! CANopen log decoder: reads candump log lines and prints every frame in
-//! words or as JSON lines.
+//! CANopen log decoder: reads a CAN trace and prints every frame in words
+//! or as JSON lines.
 //!
 //! ```text
-//! cargo run --example decode -- [--json] [--charger-node N] [--battery-node N]
+//! cargo run --example decode -- [--json] [--format F] [--charger-node N] [--battery-node N]
 //!     [--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [FILE]
 //! ```
+//!
+//! The trace format is detected from its first telling line, or given with
+//! `--format`: `candump` (candump `-L` log lines), `candump-screen`
+//! (candump screen output; `candump-screen-delta` for `-t d` times),
+//! `trc` (PCAN-View 1.0-2.1), `asc` (Vector ASC), `csv` (python-can CSV)
+//! (`canopen_codec::trace`). Header and comment lines are skipped; CAN FD
+//! and error frames are reported on stderr, line by line, and do not count
+//! as bad lines.
 //!
 //! With no FILE it reads stdin; with no FILE and a terminal on stdin it
 //! decodes the bundled real Delta-Q capture so a new user sees it work.
@@ -112,8 +120,9 @@ mod words;
 use std::io::{self, BufRead, BufWriter, IsTerminal, Write};
 use std::process::ExitCode;
 
-use canopen_codec::candump::parse_line;
+use canopen_codec::candump::LogLine;
 use canopen_codec::cob_id::classify;
+use canopen_codec::trace::{Format, LineParser, Record};
 use canopen_codec::{Message, NodeId};
 
 const BUNDLED: &str = include_str!("../../tests/data/deltaq-icl1500-startup.log");
@@ -146,9 +155,13 @@ struct Options {
     file: Option<String>,
     /// `--bundled capture|session`.
     bundled: Option<&'static str>,
+    /// `--format`: the trace format (detected when absent) and `-t d` times.
+    format: Option<Format>,
+    delta_times: bool,
 }
 
-const USAGE: &str = "usage: decode [--json] [--charger-node N] [--battery-node N] \
+const USAGE: &str = "usage: decode [--json] [--format candump|candump-screen|candump-screen-delta|trc|asc|csv] \
+[--charger-node N] [--battery-node N] \
 [--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [--bundled capture|session] [FILE]";
 
 fn parse_node(v: Option<String>, what: &str) -> Result<NodeId, String> {
@@ -172,12 +185,26 @@ fn parse_args() -> Result<Options, String> {
         },
         file: None,
         bundled: None,
+        format: None,
+        delta_times: false,
     };
     let mut capture = false;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         match a.as_str() {
             "--json" => opts.json = true,
+            "--format" => {
+                let v = args.next().ok_or("--format needs a format name")?;
+                if v == "candump-screen-delta" {
+                    opts.format = Some(Format::CandumpScreen);
+                    opts.delta_times = true;
+                } else {
+                    opts.format = Some(Format::from_name(&v).ok_or(format!(
+                        "--format: unknown format '{v}' (candump, candump-screen, \
+candump-screen-delta, trc, asc, csv)"
+                    ))?);
+                }
+            }
             "--pdo" => {
                 let v = args.next().ok_or("--pdo needs COBID=INDEX:SUB:BITS,...")?;
                 opts.pdos.add(&v)?;
@@ -295,14 +322,24 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
     let mut bad = 0;
     let mut text = String::new();
     let mut sdo = sdo::Tracker::default();
+    let mut reader = opts.format.map_or_else(LineParser::auto, LineParser::new);
+    if opts.delta_times {
+        reader = reader.with_delta_times();
+    }
     for (i, line) in input.lines().enumerate() {
         let line = line?;
         let lineno = i + 1;
-        if line.trim().is_empty() {
-            continue;
-        }
-        let parsed = match parse_line(&line) {
-            Ok(p) => p,
+        let parsed = match reader.parse(&line) {
+            Ok(Record::Frame(f)) => LogLine {
+                timestamp: f.timestamp,
+                interface: f.channel,
+                frame: f.frame,
+            },
+            Ok(Record::Unsupported(what)) => {
+                eprintln!("line {lineno}: {what:?} not decoded: {line}");
+                continue;
+            }
+            Ok(_) => continue,
             Err(e) => {
                 eprintln!("line {lineno}: {e}: {line}");
                 bad += 1;

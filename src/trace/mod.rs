@@ -189,7 +189,7 @@ pub enum TraceError {
     #[error("CAN FD frame")]
     CanFd,
     /// The candump log line did not parse.
-    #[error("candump: {0}")]
+    #[error("{0}")]
     Candump(crate::candump::CandumpError),
 }
 
