@@ -1,4 +1,8 @@
-//! The hot decode path on the real Delta-Q ICL1500 captures.
+//! The hot decode path on the real Delta-Q ICL1500 captures (2235 frames).
+//! They are third-party data, not in this repository: the bench reads them
+//! from the shared data folder beside the checkout (its `spec` / `captures`
+//! folder) or `$CANOPEN_SHARED_DIR`, and falls back to our own recorded
+//! session (tests/data/virtual-session.log) when they are absent, saying so.
 //!
 //! Run with `cargo bench --bench decode`. Groups:
 //!
@@ -12,15 +16,25 @@
 //! `message_decode` as a ratio to `copy_baseline`.
 
 use std::hint::black_box;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use canopen_codec::{CanFrame, CanId, Message};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
-const CAPTURES: [&str; 2] = [
-    "tests/data/deltaq-icl1500-startup.log",
-    "tests/data/deltaq-icl1500-charging.log",
-];
+const CAPTURES: [&str; 2] = ["deltaq-icl1500-startup.log", "deltaq-icl1500-charging.log"];
+
+/// The captures' folder (see the module docs).
+fn captures_dir() -> PathBuf {
+    std::env::var_os("CANOPEN_SHARED_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("..")
+                .join("shared")
+        })
+        .join("spec")
+        .join("captures")
+}
 
 /// Parses one candump log line: `(1756955646.068614) can1 70A#7F`,
 /// `12345678#0102` (29-bit), `701#R` / `701#R1` (remote). `None` for blank
@@ -50,14 +64,29 @@ fn parse_candump_line(line: &str) -> Option<CanFrame> {
 }
 
 fn load_captures() -> Vec<CanFrame> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = captures_dir();
+    let mut paths: Vec<PathBuf> = CAPTURES.iter().map(|n| dir.join(n)).collect();
+    if !paths.iter().all(|p| p.is_file()) {
+        eprintln!(
+            "decode bench: the real captures are not in {}; using tests/data/virtual-session.log",
+            dir.display()
+        );
+        paths = vec![Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests")
+            .join("data")
+            .join("virtual-session.log")];
+    }
     let mut frames = Vec::new();
-    for name in CAPTURES {
-        let text = std::fs::read_to_string(root.join(name))
-            .unwrap_or_else(|e| panic!("reading {name}: {e}"));
+    for path in paths {
+        let text = std::fs::read_to_string(&path)
+            .unwrap_or_else(|e| panic!("reading {}: {e}", path.display()));
         let before = frames.len();
         frames.extend(text.lines().filter_map(parse_candump_line));
-        assert!(frames.len() > before, "no frames parsed from {name}");
+        assert!(
+            frames.len() > before,
+            "no frames parsed from {}",
+            path.display()
+        );
     }
     frames
 }

@@ -13,6 +13,8 @@
 //! ("cia418 packed string", |fx| { black_box(PackedString::decode(black_box(&fx.bytes))); }),
 //! ```
 
+mod common;
+
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::hint::black_box;
@@ -149,7 +151,7 @@ fn count(f: impl FnOnce()) -> u64 {
 // Inputs, built before any measurement.
 
 struct Fixtures {
-    /// Every frame of both real captures.
+    /// Every frame of our own logs and of both real captures (when present).
     captures: Vec<CanFrame>,
     /// Hand-made frames covering every other decoder path, good and bad.
     crafted: Vec<CanFrame>,
@@ -180,13 +182,26 @@ fn parse_candump_line(line: &str) -> Option<CanFrame> {
 }
 
 fn fixtures() -> Fixtures {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    // Our own logs always; the real captures too when the shared data
+    // folder is beside the checkout.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests")
+        .join("data");
+    let mut logs = vec![
+        root.join("virtual-session.log"),
+        root.join("sdo-sample.log"),
+    ];
+    logs.extend(
+        [common::captures::STARTUP, common::captures::CHARGING]
+            .into_iter()
+            .filter_map(common::captures::path),
+    );
     let mut captures = Vec::new();
-    for name in ["deltaq-icl1500-startup.log", "deltaq-icl1500-charging.log"] {
-        let text = std::fs::read_to_string(root.join(name)).expect("capture file");
+    for path in logs {
+        let text = std::fs::read_to_string(&path).expect("log file");
         let before = captures.len();
         captures.extend(text.lines().filter_map(parse_candump_line));
-        assert!(captures.len() > before, "no frames in {name}");
+        assert!(captures.len() > before, "no frames in {}", path.display());
     }
 
     let std = |id: u16, data: &[u8]| CanFrame::standard(id, data).unwrap();

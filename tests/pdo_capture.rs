@@ -1,7 +1,10 @@
-//! The real Delta-Q ICL1500 capture's PDOs (tests/data) decoded with the
-//! mapping tests/data/CAPTURES.md gives, through
+//! The real Delta-Q ICL1500 capture's PDOs decoded with the mapping
+//! tests/data/CAPTURES.md gives (the captures are read from the shared data
+//! folder beside the checkout: `common::captures`), through
 //! the public API only. Expected numbers are worked out by hand from the
 //! bytes (little-endian, fields packed in mapping order).
+
+mod common;
 
 use canopen_codec::candump::parse_line;
 use canopen_codec::cia418::{BatteryStatus, BATTERY_MODULE_CATALOGUE, BATTERY_STATUS_FLAGS};
@@ -336,10 +339,13 @@ fn charger_rpdo1_from_the_bms() {
 /// wrongly sized field), and the charging log's current sits near 19.5 A.
 #[test]
 fn whole_captures_decode() {
-    for (log, min_frames) in [
-        (include_str!("data/deltaq-icl1500-startup.log"), 500),
-        (include_str!("data/deltaq-icl1500-charging.log"), 300),
-    ] {
+    let (Some(startup), Some(charging)) = (
+        common::captures::text(common::captures::STARTUP),
+        common::captures::text(common::captures::CHARGING),
+    ) else {
+        return;
+    };
+    for (log, min_frames) in [(startup.as_str(), 500), (charging.as_str(), 300)] {
         let mut decoded = 0;
         for line in log.lines() {
             let parsed = parse_line(line).unwrap();
@@ -367,7 +373,6 @@ fn whole_captures_decode() {
         }
         assert!(decoded >= min_frames, "{decoded}");
     }
-    let charging = include_str!("data/deltaq-icl1500-charging.log");
     let amps: Vec<f64> = charging
         .lines()
         .filter(|l| l.contains(" 18A#"))

@@ -15,7 +15,9 @@
 //! as bad lines.
 //!
 //! With no FILE it reads stdin; with no FILE and a terminal on stdin it
-//! decodes the bundled real Delta-Q capture so a new user sees it work.
+//! decodes the bundled session of the crate's own virtual charger and
+//! battery module (`tests/data/virtual-session.log`: normal start,
+//! heartbeat loss with E-0-3-2, recovery) so a new user sees it work.
 //! Malformed lines (and frames that do not fit their CANopen object) are
 //! reported on stderr with their line number; the run goes on. Exit status:
 //! 0 all lines good, 1 some line bad, 2 usage or I/O error (a malformed
@@ -37,7 +39,8 @@
 //!   CiA 418 battery-module defaults on the battery node's (0x181.., 0x201..).
 //!   `--no-default-pdos` turns them off. A frame with no known mapping is
 //!   printed raw, as before.
-//! - `--pdo-capture-mapping` decodes the bundled real capture: it adds the
+//! - `--pdo-capture-mapping` decodes the real Delta-Q captures (third-party
+//!   data, not in this repository; see tests/data/CAPTURES.md): it adds the
 //!   mapping of tests/data/CAPTURES.md (the integrator remapped that
 //!   charger) and implies `--no-default-pdos`; 0x28A, whose layout is not
 //!   published, stays raw. It is the same as
@@ -125,8 +128,6 @@ use canopen_codec::cob_id::classify;
 use canopen_codec::trace::{Format, LineParser, Record};
 use canopen_codec::{Message, NodeId};
 
-const BUNDLED: &str = include_str!("../../tests/data/deltaq-icl1500-startup.log");
-const BUNDLED_NAME: &str = "tests/data/deltaq-icl1500-startup.log (bundled real capture)";
 const SESSION: &str = include_str!("../../tests/data/virtual-session.log");
 const SESSION_NAME: &str =
     "tests/data/virtual-session.log (bundled session of the virtual charger and battery module)";
@@ -153,7 +154,7 @@ struct Options {
     roles: Roles,
     pdos: pdo_args::Mappings,
     file: Option<String>,
-    /// `--bundled capture|session`.
+    /// `--bundled session`.
     bundled: Option<&'static str>,
     /// `--format`: the trace format (detected when absent) and `-t d` times.
     format: Option<Format>,
@@ -162,7 +163,7 @@ struct Options {
 
 const USAGE: &str = "usage: decode [--json] [--format candump|candump-screen|candump-screen-delta|trc|asc|csv] \
 [--charger-node N] [--battery-node N] \
-[--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [--bundled capture|session] [FILE]";
+[--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [--bundled session] [FILE]";
 
 fn parse_node(v: Option<String>, what: &str) -> Result<NodeId, String> {
     let v = v.ok_or(format!("{what} needs a value"))?;
@@ -213,11 +214,10 @@ candump-screen-delta, trc, asc, csv)"
             "--no-default-pdos" => opts.pdos.defaults = false,
             "--bundled" => {
                 opts.bundled = Some(match args.next().as_deref() {
-                    Some("capture") => "capture",
                     Some("session") => "session",
                     other => {
                         return Err(format!(
-                            "--bundled takes capture or session, not {}",
+                            "--bundled takes session, not {}",
                             other.unwrap_or("nothing")
                         ))
                     }
@@ -239,7 +239,7 @@ candump-screen-delta, trc, asc, csv)"
 }
 
 fn main() -> ExitCode {
-    let mut opts = match parse_args() {
+    let opts = match parse_args() {
         Ok(o) => o,
         Err(e) => {
             if !e.is_empty() {
@@ -254,52 +254,23 @@ fn main() -> ExitCode {
         return ExitCode::from(2);
     }
     let input: Box<dyn BufRead> = match (opts.bundled, opts.file.as_deref()) {
-        (Some("session"), _) => {
+        (Some(_), _) => {
             eprintln!("decode: decoding {SESSION_NAME}");
             Box::new(SESSION.as_bytes())
         }
-        (Some(_), _) => {
-            // The real capture, with its integrator's mapping unless told otherwise.
-            if opts.pdos.given.is_empty() && opts.pdos.defaults {
-                if let Err(e) = opts.pdos.add_capture() {
-                    eprintln!("decode: {e}");
-                    return ExitCode::from(2);
-                }
+        (None, Some("-")) => Box::new(io::stdin().lock()),
+        (None, Some(path)) => match std::fs::File::open(path) {
+            Ok(f) => Box::new(io::BufReader::new(f)),
+            Err(e) => {
+                eprintln!("decode: {path}: {e}");
+                return ExitCode::from(2);
             }
-            eprintln!("decode: decoding {BUNDLED_NAME}");
-            Box::new(BUNDLED.as_bytes())
-        }
-        (None, file) => match file {
-            Some("-") => Box::new(io::stdin().lock()),
-            Some(path) => match std::fs::File::open(path) {
-                Ok(f) => Box::new(io::BufReader::new(f)),
-                Err(e) => {
-                    eprintln!("decode: {path}: {e}");
-                    return ExitCode::from(2);
-                }
-            },
-            None if io::stdin().is_terminal() => {
-                // The bundled capture was remapped by its integrator: decode it
-                // with the mapping of tests/data/CAPTURES.md unless told otherwise.
-                let remap = opts.pdos.given.is_empty() && opts.pdos.defaults;
-                if remap {
-                    if let Err(e) = opts.pdos.add_capture() {
-                        eprintln!("decode: {e}");
-                        return ExitCode::from(2);
-                    }
-                }
-                eprintln!(
-                    "decode: no input given; decoding {BUNDLED_NAME}{}",
-                    if remap {
-                        " with its integrator's PDO mapping (--pdo-capture-mapping)"
-                    } else {
-                        ""
-                    }
-                );
-                Box::new(BUNDLED.as_bytes())
-            }
-            None => Box::new(io::stdin().lock()),
         },
+        (None, None) if io::stdin().is_terminal() => {
+            eprintln!("decode: no input given; decoding {SESSION_NAME}");
+            Box::new(SESSION.as_bytes())
+        }
+        (None, None) => Box::new(io::stdin().lock()),
     };
     match run(input, &opts) {
         Ok(0) => ExitCode::SUCCESS,

@@ -229,7 +229,7 @@ fn lenient_changes_only_erratum_shaped_values() {
     }
 }
 
-/// The real capture (tests/data/deltaq-icl1500-startup.log).
+/// Two EMCY frames of the real startup capture (tests/data/CAPTURES.md).
 #[test]
 fn capture_emcy_frames() {
     // 08A#3081012080000000: E-0-3-2 heartbeat lost.

@@ -1,6 +1,7 @@
 //! Test support shared by the integration tests (public API only).
 #![allow(dead_code)]
 
+pub mod captures;
 pub mod devices;
 #[cfg(feature = "alloc")]
 pub mod sdo;
