@@ -51,7 +51,7 @@
 //!     --pdo 38A=2060:0:32,2200:0:16,6080:0:8,5:0:8 \
 //!     --pdo 20A=2FFA:1:8,6081:0:8,4201:0:8,2276:0:16,6070:0:16,6000:0:8 \
 //!     --pdo 30A=2FFA:1:8,2FFA:1:8,2002:0:16,2101:0:16,6010:0:16 \
-//!     tests/data/deltaq-icl1500-charging.log
+//!     deltaq-icl1500-charging.log
 //! ```
 //!
 //! In words, the fields follow the frame after ` = `, numbers **rounded to
