@@ -1,7 +1,7 @@
-//! The `decode` example run as a program on the real captures (read from
-//! the shared data folder beside the checkout: `common::captures`) and on
-//! our own logs.
-#![cfg(feature = "std")]
+//! The `canopen-decode` program run on the real captures (read from the
+//! shared data folder beside the checkout: `common::captures`) and on our
+//! own logs. Cargo builds the program for these tests (feature `cli`).
+#![cfg(feature = "cli")]
 
 mod common;
 
@@ -11,15 +11,9 @@ use std::process::{Command, Output, Stdio};
 
 use serde_json::Value;
 
-/// `target/<profile>/examples/decode`, built by `cargo test` before the tests run.
+/// The program, built by cargo for this test crate.
 fn decoder() -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    let dir = exe.parent().unwrap().parent().unwrap();
-    let path = dir
-        .join("examples")
-        .join(format!("decode{}", std::env::consts::EXE_SUFFIX));
-    assert!(path.exists(), "{} not built", path.display());
-    path
+    PathBuf::from(env!("CARGO_BIN_EXE_canopen-decode"))
 }
 
 fn run(args: &[&str], stdin: Option<&str>) -> Output {
@@ -501,7 +495,7 @@ fn bad_pdo_values_exit_2() {
         assert_eq!(o.status.code(), Some(2), "{args:?}");
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(err.contains(why), "{args:?}: {err}");
-        assert!(err.contains("usage: decode"), "{err}");
+        assert!(err.contains("usage: canopen-decode"), "{err}");
     }
 }
 

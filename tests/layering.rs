@@ -19,7 +19,8 @@ const PROFILES: [&str; 3] = ["cia418", "cia419", "deltaq"];
 
 /// Directories under `src/` that are profiles (allowed to name each other
 /// and everything below them).
-const PROFILE_DIRS: [&str; 3] = ["cia418", "cia419", "deltaq"];
+// `bin` holds the programs, which sit on top of every layer.
+const PROFILE_DIRS: [&str; 4] = ["cia418", "cia419", "deltaq", "bin"];
 
 /// Files under `src/` that are not a layer: the crate root declares every
 /// module, profiles included.
@@ -170,6 +171,7 @@ fn which_files_are_layers() {
         "cia418/pdo.rs",
         "cia419/charger.rs",
         "deltaq/catalogue.rs",
+        "bin/canopen-decode/main.rs",
     ] {
         assert!(!is_cia301_layer(Path::new(not)), "{not}");
     }

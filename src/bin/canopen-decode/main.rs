@@ -1,8 +1,10 @@
-//! CANopen log decoder: reads a CAN trace and prints every frame in words
-//! or as JSON lines.
+//! `canopen-decode`, the CANopen log decoder: reads a CAN trace and prints
+//! every frame in words or as JSON lines. Install it with
+//! `cargo install --path . --features cli`; in the repository `cargo decode`
+//! runs it (an alias of `cargo run --features cli --bin canopen-decode --`).
 //!
 //! ```text
-//! cargo run --example decode -- [--json] [--format F] [--charger-node N] [--battery-node N]
+//! canopen-decode [--json] [--format F] [--charger-node N] [--battery-node N]
 //!     [--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [FILE]
 //! ```
 //!
@@ -46,7 +48,7 @@
 //!   published, stays raw. It is the same as
 //!
 //! ```text
-//! cargo run --example decode -- --no-default-pdos \
+//! canopen-decode --no-default-pdos \
 //!     --pdo 18A=2002:0:16,2101:0:16,2006:0:16,6:0:16 \
 //!     --pdo 38A=2060:0:32,2200:0:16,6080:0:8,5:0:8 \
 //!     --pdo 20A=2FFA:1:8,6081:0:8,4201:0:8,2276:0:16,6070:0:16,6000:0:8 \
@@ -128,7 +130,7 @@ use canopen_codec::cob_id::classify;
 use canopen_codec::trace::{Format, LineParser, Record};
 use canopen_codec::{Message, NodeId};
 
-const SESSION: &str = include_str!("../../tests/data/virtual-session.log");
+const SESSION: &str = include_str!("../../../tests/data/virtual-session.log");
 const SESSION_NAME: &str =
     "tests/data/virtual-session.log (bundled session of the virtual charger and battery module)";
 
@@ -161,7 +163,7 @@ struct Options {
     delta_times: bool,
 }
 
-const USAGE: &str = "usage: decode [--json] [--format candump|candump-screen|candump-screen-delta|trc|asc|csv] \
+const USAGE: &str = "usage: canopen-decode [--json] [--format candump|candump-screen|candump-screen-delta|trc|asc|csv] \
 [--charger-node N] [--battery-node N] \
 [--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [--bundled session] [FILE]";
 
@@ -243,31 +245,31 @@ fn main() -> ExitCode {
         Ok(o) => o,
         Err(e) => {
             if !e.is_empty() {
-                eprintln!("decode: {e}");
+                eprintln!("canopen-decode: {e}");
             }
             eprintln!("{USAGE}");
             return ExitCode::from(2);
         }
     };
     if opts.bundled.is_some() && opts.file.is_some() {
-        eprintln!("decode: give a FILE or --bundled, not both\n{USAGE}");
+        eprintln!("canopen-decode: give a FILE or --bundled, not both\n{USAGE}");
         return ExitCode::from(2);
     }
     let input: Box<dyn BufRead> = match (opts.bundled, opts.file.as_deref()) {
         (Some(_), _) => {
-            eprintln!("decode: decoding {SESSION_NAME}");
+            eprintln!("canopen-decode: decoding {SESSION_NAME}");
             Box::new(SESSION.as_bytes())
         }
         (None, Some("-")) => Box::new(io::stdin().lock()),
         (None, Some(path)) => match std::fs::File::open(path) {
             Ok(f) => Box::new(io::BufReader::new(f)),
             Err(e) => {
-                eprintln!("decode: {path}: {e}");
+                eprintln!("canopen-decode: {path}: {e}");
                 return ExitCode::from(2);
             }
         },
         (None, None) if io::stdin().is_terminal() => {
-            eprintln!("decode: no input given; decoding {SESSION_NAME}");
+            eprintln!("canopen-decode: no input given; decoding {SESSION_NAME}");
             Box::new(SESSION.as_bytes())
         }
         (None, None) => Box::new(io::stdin().lock()),
@@ -275,12 +277,12 @@ fn main() -> ExitCode {
     match run(input, &opts) {
         Ok(0) => ExitCode::SUCCESS,
         Ok(bad) => {
-            eprintln!("decode: {bad} bad line(s)");
+            eprintln!("canopen-decode: {bad} bad line(s)");
             ExitCode::from(1)
         }
         Err(e) if e.kind() == io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("decode: {e}");
+            eprintln!("canopen-decode: {e}");
             ExitCode::from(2)
         }
     }
