@@ -974,3 +974,36 @@ fn every_trace_format_decodes_the_same_frames() {
     let o = run(&[], Some("hello\n(1.0) can0 70A#05\n"));
     assert_eq!(o.status.code(), Some(1));
 }
+
+/// CiA 301 node guarding: the reply to a remote request on 700h + node is a
+/// guarding reply whatever its toggle (the first reply has toggle 0); a
+/// frame there without a request is a heartbeat.
+#[test]
+fn guarding_replies_follow_their_request() {
+    let log = "(1.0) can0 70A#R1\n(1.001) can0 70A#05\n(1.5) can0 70A#05\n\
+               (2.0) can0 70A#R1\n(2.001) can0 70A#85\n(2.5) can0 70A#85\n";
+    let o = run(&[], Some(log));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let words: Vec<String> = text(&o)
+        .lines()
+        .map(|l| l.split("charger  ").nth(1).unwrap().to_string())
+        .collect();
+    assert_eq!(
+        words,
+        [
+            "node guarding request node 10, DLC 1",
+            "node guarding reply node 10: operational, toggle 0",
+            "heartbeat node 10: operational",
+            "node guarding request node 10, DLC 1",
+            "node guarding reply node 10: operational, toggle 1",
+            // Toggle 1 without a request: the library's reading stands.
+            "node guarding reply node 10: operational, toggle 1",
+        ]
+    );
+    let o = run(&["--json"], Some(log));
+    let replies: Vec<bool> = text(&o)
+        .lines()
+        .map(|l| serde_json::from_str::<Value>(l).unwrap()["guard_reply"] == true)
+        .collect();
+    assert_eq!(replies, [false, true, false, false, true, false]);
+}

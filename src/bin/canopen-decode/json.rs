@@ -70,6 +70,7 @@ pub fn line(
     m: &Result<Message, DecodeError>,
     roles: &Roles,
     pdo: Option<&(Source, NamedFields)>,
+    guard_reply: bool,
 ) {
     let kind = classify(l.frame.id());
     out.push_str("{\"t\":");
@@ -104,7 +105,7 @@ pub fn line(
     key(out, "data");
     string(out, &hex(l.frame.data()));
     match m {
-        Ok(msg) => fields(out, msg, roles),
+        Ok(msg) => fields(out, msg, roles, guard_reply),
         Err(e) => {
             key(out, "error");
             string(out, &e.to_string());
@@ -160,9 +161,12 @@ fn pdo_fields(out: &mut String, source: Source, fields: &NamedFields) {
     out.push(']');
 }
 
-fn fields(out: &mut String, msg: &Message, roles: &Roles) {
+fn fields(out: &mut String, msg: &Message, roles: &Roles, guard_reply: bool) {
     key(out, "text");
-    string(out, &msg.to_string());
+    string(out, &crate::words::Text { msg, guard_reply }.to_string());
+    if guard_reply {
+        out.push_str(",\"guard_reply\":true");
+    }
     match msg {
         Message::Nmt(c) => {
             key(out, "command");

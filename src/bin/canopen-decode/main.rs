@@ -296,6 +296,8 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
     let mut text = String::new();
     let mut sdo = sdo::Tracker::default();
     let mut reader = opts.format.map_or_else(LineParser::auto, LineParser::new);
+    // Nodes with a node-guarding request not answered yet.
+    let mut guarding = [false; 128];
     if opts.delta_times {
         reader = reader.with_delta_times();
     }
@@ -328,11 +330,39 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
             .as_ref()
             .ok()
             .and_then(|m| opts.pdos.fields(&parsed.frame, m, &opts.roles));
+        // A reply on 700h + node after a remote request there is a guarding
+        // reply, whatever its toggle.
+        let guard_reply = match &decoded {
+            Ok(Message::NodeGuardRequest { node, .. }) => {
+                if let Some(g) = guarding.get_mut(usize::from(node.raw())) {
+                    *g = true;
+                }
+                false
+            }
+            Ok(Message::Heartbeat { node, .. }) => guarding
+                .get_mut(usize::from(node.raw()))
+                .is_some_and(std::mem::take),
+            _ => false,
+        };
         text.clear();
         if opts.json {
-            json::line(&mut text, &parsed, &decoded, &opts.roles, fields.as_ref());
+            json::line(
+                &mut text,
+                &parsed,
+                &decoded,
+                &opts.roles,
+                fields.as_ref(),
+                guard_reply,
+            );
         } else {
-            words::line(&mut text, &parsed, &decoded, &opts.roles, fields.as_ref());
+            words::line(
+                &mut text,
+                &parsed,
+                &decoded,
+                &opts.roles,
+                fields.as_ref(),
+                guard_reply,
+            );
         }
         writeln!(out, "{text}")?;
         let kind = classify(parsed.frame.id());

@@ -13,6 +13,30 @@ use crate::sdo::{End, Report, Side};
 use crate::sdo_value::{describe, quote, Described, Role};
 use crate::Roles;
 
+/// A message in words; a frame on 700h + node that answers a node-guarding
+/// remote request is a guarding reply whatever its toggle bit (CiA 301:
+/// the toggle alternates from 0), not a heartbeat.
+pub struct Text<'a> {
+    /// The message.
+    pub msg: &'a Message,
+    /// It answers a node-guarding request.
+    pub guard_reply: bool,
+}
+
+impl std::fmt::Display for Text<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.msg {
+            Message::Heartbeat { node, heartbeat } if self.guard_reply => write!(
+                f,
+                "node guarding reply node {node}: {}, toggle {}",
+                heartbeat.state,
+                u8::from(heartbeat.toggle)
+            ),
+            msg => write!(f, "{msg}"),
+        }
+    }
+}
+
 /// `1756955653.612992  08A  charger  EMCY node 10: 8130h ..., Delta-Q E-0-3-2 heartbeat lost`
 pub fn line(
     out: &mut String,
@@ -20,6 +44,7 @@ pub fn line(
     m: &Result<Message, DecodeError>,
     roles: &Roles,
     fields: Option<&(Source, NamedFields)>,
+    guard_reply: bool,
 ) {
     match l.timestamp {
         Some(t) => {
@@ -36,7 +61,7 @@ pub fn line(
     );
     match m {
         Ok(msg) => {
-            let _ = write!(out, "{msg}");
+            let _ = write!(out, "{}", Text { msg, guard_reply });
             if let Some((label, description)) = deltaq(msg, roles) {
                 let _ = write!(out, ", Delta-Q {label} {description}");
             }
