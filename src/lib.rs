@@ -58,6 +58,7 @@ pub mod emcy;
 pub mod error;
 pub mod frame;
 pub mod heartbeat;
+pub mod lenient;
 pub mod machine;
 pub mod message;
 pub mod nmt;

@@ -140,7 +140,17 @@ fn both_captures_as_json() {
 fn bad_lines_are_reported_and_skipped() {
     let input =
         "(1.000000) can0 701#05\nnot a frame\n(2.000000) can0 08A#3081\n701#R1\n(3.5) can0 7FF#\n";
+    // Lenient (the default): the 2-byte EMCY is read and flagged.
     let o = run(&["-"], Some(input));
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8(o.stderr.clone()).unwrap();
+    assert!(err.contains("1 bad line(s)"), "{err}");
+    assert!(text(&o).contains(
+        "EMCY node 10: 8130h life guard error or heartbeat error, reg 00h, mfr 00 00 00 00 00, \
+         Delta-Q 0x0000 unknown Delta-Q code [deviates: 2 bytes where CiA 301 has 8 (the missing ones read as 0)]"
+    ), "{}", text(&o));
+    // --strict: a deviation is a malformed frame.
+    let o = run(&["--strict", "-"], Some(input));
     assert_eq!(o.status.code(), Some(1));
     let err = String::from_utf8(o.stderr).unwrap();
     assert!(err.contains("line 2: no ID#DATA field"), "{err}");
@@ -1006,4 +1016,32 @@ fn guarding_replies_follow_their_request() {
         .map(|l| serde_json::from_str::<Value>(l).unwrap()["guard_reply"] == true)
         .collect();
     assert_eq!(replies, [false, true, false, false, true, false]);
+}
+
+/// Frames real devices send that deviate from CiA 301 harmlessly are read
+/// and flagged (words and JSON), never counted as malformed unless
+/// `--strict`.
+#[test]
+fn deviating_frames_are_read_and_flagged() {
+    let log = "(1.0) can0 000#01\n(1.1) can0 100#0000000010270000\n(1.2) can0 08A#\n\
+               (1.3) can0 080#0102\n(1.4) can0 70A#05FF\n";
+    let o = run(&["--json"], Some(log));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let deviations: Vec<String> = text(&o)
+        .lines()
+        .map(|l| serde_json::from_str::<Value>(l).unwrap()["deviation"].to_string())
+        .collect();
+    assert_eq!(
+        deviations,
+        [
+            "\"1 bytes where CiA 301 has 2 (the missing ones read as 0)\"",
+            "\"8 bytes where CiA 301 has at most 6 (the extra ones ignored)\"",
+            "\"0 bytes where CiA 301 has 8 (the missing ones read as 0)\"",
+            "\"2 bytes where CiA 301 has at most 1 (the extra ones ignored)\"",
+            "\"2 bytes where CiA 301 has at most 1 (the extra ones ignored)\"",
+        ]
+    );
+    let o = run(&["--strict"], Some(log));
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("5 bad line(s)"));
 }

@@ -1,4 +1,5 @@
-//! `Message::decode` on any classic CAN frame: never panics, and whatever
+//! `Message::decode` (and `decode_lenient`) on any classic CAN frame: never
+//! panics, and whatever
 //! decodes re-encodes to the identical frame.
 //!
 //! Input layout (raw bytes, no `Arbitrary`, so the fuzzer's mutations map
@@ -64,5 +65,16 @@ fuzz_target!(|bytes: &[u8]| {
         Err(err) => {
             let _ = write!(Sink, "{err} {err:?}");
         }
+    }
+    // The lenient reading agrees with the strict one where that succeeds,
+    // and otherwise says how the frame deviates (or fails the same way).
+    match (Message::decode(&frame), Message::decode_lenient(&frame)) {
+        (Ok(strict), lenient) => assert_eq!(lenient, Ok((strict, None))),
+        (Err(err), Ok((msg, deviation))) => {
+            assert!(deviation.is_some(), "{frame}: read leniently without a deviation");
+            assert_eq!(msg.kind(), classify(frame.id()), "{frame}");
+            let _ = write!(Sink, "{err} {msg}");
+        }
+        (Err(err), Err(again)) => assert_eq!(err, again, "{frame}"),
     }
 });

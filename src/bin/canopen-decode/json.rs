@@ -70,8 +70,9 @@ pub fn line(
     m: &Result<Message, DecodeError>,
     roles: &Roles,
     pdo: Option<&(Source, NamedFields)>,
-    guard_reply: bool,
+    notes: &crate::Notes,
 ) {
+    let guard_reply = notes.guard_reply;
     let kind = classify(l.frame.id());
     out.push_str("{\"t\":");
     match l.timestamp {
@@ -113,6 +114,10 @@ pub fn line(
     }
     if let Some((source, fields)) = pdo {
         pdo_fields(out, *source, fields);
+    }
+    if let Some(d) = notes.deviation {
+        key(out, "deviation");
+        string(out, &d.to_string());
     }
     out.push('}');
 }

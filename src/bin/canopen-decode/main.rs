@@ -134,6 +134,15 @@ const SESSION: &str = include_str!("../../../tests/data/virtual-session.log");
 const SESSION_NAME: &str =
     "tests/data/virtual-session.log (bundled session of the virtual charger and battery module)";
 
+/// What the decoder knows about a line besides its message.
+#[derive(Clone, Copy, Default)]
+pub struct Notes {
+    /// The frame answers a node-guarding request.
+    pub guard_reply: bool,
+    /// How the frame deviates from CiA 301 (read anyway).
+    pub deviation: Option<canopen_codec::lenient::Deviation>,
+}
+
 /// Which node is which, for naming Delta-Q codes and roles.
 #[derive(Clone, Copy)]
 pub struct Roles {
@@ -161,9 +170,11 @@ struct Options {
     /// `--format`: the trace format (detected when absent) and `-t d` times.
     format: Option<Format>,
     delta_times: bool,
+    /// `--strict`: frames that deviate from CiA 301 are malformed.
+    strict: bool,
 }
 
-const USAGE: &str = "usage: canopen-decode [--json] [--format candump|candump-screen|candump-screen-delta|trc|asc|csv] \
+const USAGE: &str = "usage: canopen-decode [--json] [--strict] [--format candump|candump-screen|candump-screen-delta|trc|asc|csv] \
 [--charger-node N] [--battery-node N] \
 [--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [--bundled session] [FILE]";
 
@@ -190,12 +201,14 @@ fn parse_args() -> Result<Options, String> {
         bundled: None,
         format: None,
         delta_times: false,
+        strict: false,
     };
     let mut capture = false;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         match a.as_str() {
             "--json" => opts.json = true,
+            "--strict" => opts.strict = true,
             "--format" => {
                 let v = args.next().ok_or("--format needs a format name")?;
                 if v == "candump-screen-delta" {
@@ -321,7 +334,14 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
                 continue;
             }
         };
-        let decoded = Message::decode(&parsed.frame);
+        let (decoded, deviation) = if opts.strict {
+            (Message::decode(&parsed.frame), None)
+        } else {
+            match Message::decode_lenient(&parsed.frame) {
+                Ok((m, d)) => (Ok(m), d),
+                Err(e) => (Err(e), None),
+            }
+        };
         if let Err(e) = &decoded {
             eprintln!("line {lineno}: frame {} does not decode: {e}", parsed.frame);
             bad += 1;
@@ -344,6 +364,10 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
                 .is_some_and(std::mem::take),
             _ => false,
         };
+        let notes = Notes {
+            guard_reply,
+            deviation,
+        };
         text.clear();
         if opts.json {
             json::line(
@@ -352,7 +376,7 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
                 &decoded,
                 &opts.roles,
                 fields.as_ref(),
-                guard_reply,
+                &notes,
             );
         } else {
             words::line(
@@ -361,7 +385,7 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
                 &decoded,
                 &opts.roles,
                 fields.as_ref(),
-                guard_reply,
+                &notes,
             );
         }
         writeln!(out, "{text}")?;

@@ -44,8 +44,9 @@ pub fn line(
     m: &Result<Message, DecodeError>,
     roles: &Roles,
     fields: Option<&(Source, NamedFields)>,
-    guard_reply: bool,
+    notes: &crate::Notes,
 ) {
+    let guard_reply = notes.guard_reply;
     match l.timestamp {
         Some(t) => {
             let _ = write!(out, "{:>17}", t.to_string());
@@ -67,6 +68,9 @@ pub fn line(
             }
             if let Some((source, fields)) = fields {
                 pdo_fields(out, *source, fields);
+            }
+            if let Some(d) = notes.deviation {
+                let _ = write!(out, " [deviates: {d}]");
             }
         }
         Err(e) => {
