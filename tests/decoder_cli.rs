@@ -53,7 +53,10 @@ fn startup_capture_in_words() {
     let Some(startup) = capture(common::captures::STARTUP) else {
         return;
     };
-    let o = run(&[&startup], None);
+    let o = run(
+        &["--charger-node", "10", "--battery-node", "1", &startup],
+        None,
+    );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let out = text(&o);
     assert_eq!(out.lines().count(), 1387);
@@ -80,7 +83,17 @@ fn both_captures_as_json() {
         return;
     };
     for (file, lines, emcys) in [(&startup, 1387, 4), (&charging, 848, 1)] {
-        let o = run(&["--json", file], None);
+        let o = run(
+            &[
+                "--charger-node",
+                "10",
+                "--battery-node",
+                "1",
+                "--json",
+                file,
+            ],
+            None,
+        );
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let out = text(&o);
         let values: Vec<Value> = out
@@ -141,7 +154,10 @@ fn bad_lines_are_reported_and_skipped() {
     let input =
         "(1.000000) can0 701#05\nnot a frame\n(2.000000) can0 08A#3081\n701#R1\n(3.5) can0 7FF#\n";
     // Lenient (the default): the 2-byte EMCY is read and flagged.
-    let o = run(&["-"], Some(input));
+    let o = run(
+        &["--charger-node", "10", "--battery-node", "1", "-"],
+        Some(input),
+    );
     assert_eq!(o.status.code(), Some(1));
     let err = String::from_utf8(o.stderr.clone()).unwrap();
     assert!(err.contains("1 bad line(s)"), "{err}");
@@ -150,7 +166,17 @@ fn bad_lines_are_reported_and_skipped() {
          Delta-Q 0x0000 unknown Delta-Q code [deviates: 2 bytes where CiA 301 has 8 (the missing ones read as 0)]"
     ), "{}", text(&o));
     // --strict: a deviation is a malformed frame.
-    let o = run(&["--strict", "-"], Some(input));
+    let o = run(
+        &[
+            "--charger-node",
+            "10",
+            "--battery-node",
+            "1",
+            "--strict",
+            "-",
+        ],
+        Some(input),
+    );
     assert_eq!(o.status.code(), Some(1));
     let err = String::from_utf8(o.stderr).unwrap();
     assert!(err.contains("line 2: no ID#DATA field"), "{err}");
@@ -235,7 +261,11 @@ fn terminal_stdin_decodes_the_bundled_session() {
 
 /// The capture README's mapping, as `--pdo` arguments (padding the README
 /// leaves unnamed as CiA 301 dummy entries 0005h / 0006h).
-const CAPTURE_PDO_ARGS: [&str; 9] = [
+const CAPTURE_PDO_ARGS: [&str; 13] = [
+    "--charger-node",
+    "10",
+    "--battery-node",
+    "1",
     "--no-default-pdos",
     "--pdo",
     "18A=2002:0:16,2101:0:16,2006:0:16,6:0:16",
@@ -406,7 +436,10 @@ fn default_mappings_apply_without_pdo() {
     // 6000h), battery TPDO 0 (the same, CiA 418), charger RPDO 3 (no
     // published mapping: raw), another node (no mapping: raw).
     let input = "48A#7413003070000000\n20A#300201\n181#C0FE00\n50A#01\n182#01\n";
-    let o = run(&["-"], Some(input));
+    let o = run(
+        &["--charger-node", "10", "--battery-node", "1", "-"],
+        Some(input),
+    );
     assert!(o.status.success());
     let out = text(&o);
     let lines: Vec<&str> = out.lines().collect();
@@ -435,7 +468,10 @@ fn default_mappings_apply_without_pdo() {
     assert!(!lines[3].contains(" = "), "{out}");
     assert!(!lines[4].contains(" = "), "{out}");
 
-    let o = run(&["--json", "-"], Some(input));
+    let o = run(
+        &["--charger-node", "10", "--battery-node", "1", "--json", "-"],
+        Some(input),
+    );
     let v: Vec<Value> = text(&o)
         .lines()
         .map(|l| serde_json::from_str(l).unwrap())
@@ -448,12 +484,32 @@ fn default_mappings_apply_without_pdo() {
     assert!(v[3].get("fields").is_none());
 
     // --no-default-pdos: everything raw.
-    let o = run(&["--no-default-pdos", "-"], Some(input));
+    let o = run(
+        &[
+            "--charger-node",
+            "10",
+            "--battery-node",
+            "1",
+            "--no-default-pdos",
+            "-",
+        ],
+        Some(input),
+    );
     assert!(!text(&o).contains(" = "));
 
     // A given mapping on the battery node reads CiA 418 objects only; a
     // short frame marks the missing field.
-    let o = run(&["--pdo=181=2002:0:16,6081:0:8", "-"], Some("181#7413\n"));
+    let o = run(
+        &[
+            "--charger-node",
+            "10",
+            "--battery-node",
+            "1",
+            "--pdo=181=2002:0:16,6081:0:8",
+            "-",
+        ],
+        Some("181#7413\n"),
+    );
     assert!(
         text(&o).contains(
             "= 2002h unknown object: raw 1374h (16 bits); \
@@ -645,7 +701,10 @@ fn sdo_objects_named_by_role() {
 601#4081600000000000\n581#4F816000FF000000\n\
 601#4017100000000000\n581#4317100010270000\n\
 602#4000140200000000\n582#42001402FE000000\n";
-    let o = run(&["-"], Some(input));
+    let o = run(
+        &["--charger-node", "10", "--battery-node", "1", "-"],
+        Some(input),
+    );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(
         transfers(&text(&o)),
@@ -666,7 +725,10 @@ fn sdo_objects_named_by_role() {
              event-driven (manufacturer-specific)) [size not indicated]",
         ]
     );
-    let v = json_transfers(&run(&["--json", "-"], Some(input)));
+    let v = json_transfers(&run(
+        &["--charger-node", "10", "--battery-node", "1", "--json", "-"],
+        Some(input),
+    ));
     assert_eq!(v[0]["role"], "battery");
     assert_eq!(v[0]["value"], "enabled");
     assert_eq!(v[6]["value"], 0x6001_0010);
@@ -992,7 +1054,7 @@ fn every_trace_format_decodes_the_same_frames() {
 fn guarding_replies_follow_their_request() {
     let log = "(1.0) can0 70A#R1\n(1.001) can0 70A#05\n(1.5) can0 70A#05\n\
                (2.0) can0 70A#R1\n(2.001) can0 70A#85\n(2.5) can0 70A#85\n";
-    let o = run(&[], Some(log));
+    let o = run(&["--charger-node", "10"], Some(log));
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let words: Vec<String> = text(&o)
         .lines()
@@ -1010,7 +1072,7 @@ fn guarding_replies_follow_their_request() {
             "node guarding reply node 10: operational, toggle 1",
         ]
     );
-    let o = run(&["--json"], Some(log));
+    let o = run(&["--charger-node", "10", "--json"], Some(log));
     let replies: Vec<bool> = text(&o)
         .lines()
         .map(|l| serde_json::from_str::<Value>(l).unwrap()["guard_reply"] == true)
@@ -1044,4 +1106,49 @@ fn deviating_frames_are_read_and_flagged() {
     let o = run(&["--strict"], Some(log));
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("5 bad line(s)"));
+}
+
+/// No node has a role without evidence: an I/O module at node 10 is not a
+/// charger (its PDOs print raw), and a node becomes the battery module once
+/// the log shows its 1000h naming profile 418 (then the CiA 418 defaults
+/// apply to its PDOs).
+#[test]
+fn roles_only_from_evidence() {
+    // Node 10 sends a TPDO; nobody says what it is.
+    let o = run(
+        &[],
+        Some("(1.0) can0 18A#C80001\n(1.1) can0 08A#3081012080000000\n"),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = text(&o);
+    assert!(
+        out.contains("18A  -        TPDO0 node 10: C8 00 01\n"),
+        "{out}"
+    );
+    assert!(
+        !out.contains("Delta-Q"),
+        "no Delta-Q label without a charger: {out}"
+    );
+    // Node 1's device type read by SDO: profile 418, a battery module.
+    let log = "(1.0) can0 181#C80001\n(1.1) can0 601#4000100000000000\n\
+               (1.2) can0 581#43001000A2010000\n(1.3) can0 181#C80001\n";
+    let o = run(&[], Some(log));
+    let out = text(&o);
+    let lines: Vec<&str> = out.lines().collect();
+    assert!(
+        lines[0].contains("181  -        TPDO0 node 1: C8 00 01"),
+        "{out}"
+    );
+    assert!(
+        out.contains("node 1 is the battery (its device type, 1000h, says so)"),
+        "{out}"
+    );
+    assert!(
+        lines.last().unwrap().contains(
+            "181  battery  TPDO0 node 1: C8 00 01 = [battery default] 6010h temperature 25 degC; 6000h battery status: ready to charge"
+        ),
+        "{out}"
+    );
+    let o = run(&["--json"], Some(log));
+    assert!(text(&o).contains("{\"kind\":\"role\",\"node\":1,\"role\":\"battery\"}"));
 }

@@ -36,9 +36,13 @@
 //!   entries (index 1..1F, e.g. `6:0:16`) and 2FFAh are padding. The
 //!   objects are read from the dictionary of the node the COB-ID belongs to:
 //!   the battery node's is CiA 418, any other node's the Delta-Q charger's.
-//! - Without `--pdo` for a COB-ID, the defaults apply: the Delta-Q charger's
-//!   default PDOs on the charger node's COB-IDs (0x18A.., 0x20A..), the
-//!   CiA 418 battery-module defaults on the battery node's (0x181.., 0x201..).
+//! - Without `--pdo` for a COB-ID, the defaults apply to nodes with a role:
+//!   the Delta-Q charger's default PDOs on the charger's COB-IDs, the
+//!   CiA 418 battery-module defaults on the battery module's. A node has a
+//!   role only from evidence: `--charger-node` / `--battery-node`, or its
+//!   1000h read by SDO in the log (profile 419: charger, 418: battery
+//!   module; reported on a line of its own). `--pdo-capture-mapping` and
+//!   the bundled session imply charger 10 and battery module 1.
 //!   `--no-default-pdos` turns them off. A frame with no known mapping is
 //!   printed raw, as before.
 //! - `--pdo-capture-mapping` decodes the real Delta-Q captures (third-party
@@ -143,20 +147,64 @@ pub struct Notes {
     pub deviation: Option<canopen_codec::lenient::Deviation>,
 }
 
-/// Which node is which, for naming Delta-Q codes and roles.
-#[derive(Clone, Copy)]
+/// Which node is which, for naming Delta-Q codes and roles. A node has a
+/// role only from evidence: `--charger-node` / `--battery-node`, or its
+/// device type (1000h) read by SDO in the log naming profile 419 (a
+/// charger) or 418 (a battery module).
+#[derive(Clone, Copy, Default)]
 pub struct Roles {
-    pub charger: NodeId,
-    pub battery: NodeId,
+    pub charger: Option<NodeId>,
+    pub battery: Option<NodeId>,
 }
 
 impl Roles {
     pub fn role(&self, node: Option<NodeId>) -> Option<&'static str> {
         match node {
-            Some(n) if n == self.charger => Some("charger"),
-            Some(n) if n == self.battery => Some("battery"),
+            Some(n) if Some(n) == self.charger => Some("charger"),
+            Some(n) if Some(n) == self.battery => Some("battery"),
             _ => None,
         }
+    }
+
+    /// The bundled session's nodes (charger 10, battery module 1) unless given.
+    fn demo(&mut self) {
+        self.charger = self.charger.or(NodeId::new(10));
+        self.battery = self.battery.or(NodeId::new(1));
+    }
+
+    /// True when `node` is the charger.
+    pub fn is_charger(&self, node: NodeId) -> bool {
+        self.charger == Some(node)
+    }
+
+    /// True when `node` is the battery module (and not also the charger).
+    pub fn is_battery(&self, node: NodeId) -> bool {
+        self.battery == Some(node) && self.charger != Some(node)
+    }
+
+    /// Learns a role from a completed upload of 1000h (device type): the
+    /// profile number in bits 0-15, 418 a battery module, 419 a charger.
+    /// Roles given on the command line or learned before are kept.
+    fn learn(&mut self, report: &sdo::Report) -> Option<&'static str> {
+        if (report.index, report.sub) != (0x1000, 0)
+            || !matches!(report.end, sdo::End::Complete)
+            || !matches!(report.direction, sdo::Direction::Upload)
+        {
+            return None;
+        }
+        let [a, b, ..] = report.bytes[..] else {
+            return None;
+        };
+        let (slot, name) = match u16::from_le_bytes([a, b]) {
+            418 => (&mut self.battery, "battery"),
+            419 => (&mut self.charger, "charger"),
+            _ => return None,
+        };
+        if slot.is_some() {
+            return None;
+        }
+        *slot = Some(report.node);
+        Some(name)
     }
 }
 
@@ -189,10 +237,7 @@ fn parse_node(v: Option<String>, what: &str) -> Result<NodeId, String> {
 fn parse_args() -> Result<Options, String> {
     let mut opts = Options {
         json: false,
-        roles: Roles {
-            charger: NodeId::new(10).ok_or("default charger")?,
-            battery: NodeId::new(1).ok_or("default battery")?,
-        },
+        roles: Roles::default(),
         pdos: pdo_args::Mappings {
             given: Vec::new(),
             defaults: true,
@@ -239,8 +284,12 @@ candump-screen-delta, trc, asc, csv)"
                 })
             }
             "--pdo-capture-mapping" => capture = true,
-            "--charger-node" => opts.roles.charger = parse_node(args.next(), "--charger-node")?,
-            "--battery-node" => opts.roles.battery = parse_node(args.next(), "--battery-node")?,
+            "--charger-node" => {
+                opts.roles.charger = Some(parse_node(args.next(), "--charger-node")?);
+            }
+            "--battery-node" => {
+                opts.roles.battery = Some(parse_node(args.next(), "--battery-node")?);
+            }
             "-h" | "--help" => return Err(String::new()),
             s if s.starts_with('-') && s != "-" => return Err(format!("unknown option {s}")),
             _ if opts.file.is_some() => return Err("more than one FILE".into()),
@@ -249,12 +298,15 @@ candump-screen-delta, trc, asc, csv)"
     }
     if capture {
         opts.pdos.add_capture()?;
+        // The capture's nodes: the Delta-Q charger 10, the battery module 1.
+        opts.roles.charger = opts.roles.charger.or(NodeId::new(10));
+        opts.roles.battery = opts.roles.battery.or(NodeId::new(1));
     }
     Ok(opts)
 }
 
 fn main() -> ExitCode {
-    let opts = match parse_args() {
+    let mut opts = match parse_args() {
         Ok(o) => o,
         Err(e) => {
             if !e.is_empty() {
@@ -270,6 +322,7 @@ fn main() -> ExitCode {
     }
     let input: Box<dyn BufRead> = match (opts.bundled, opts.file.as_deref()) {
         (Some(_), _) => {
+            opts.roles.demo();
             eprintln!("canopen-decode: decoding {SESSION_NAME}");
             Box::new(SESSION.as_bytes())
         }
@@ -282,6 +335,7 @@ fn main() -> ExitCode {
             }
         },
         (None, None) if io::stdin().is_terminal() => {
+            opts.roles.demo();
             eprintln!("canopen-decode: no input given; decoding {SESSION_NAME}");
             Box::new(SESSION.as_bytes())
         }
@@ -303,6 +357,7 @@ fn main() -> ExitCode {
 
 /// Decodes every line; returns the number of bad lines.
 fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
+    let mut roles = opts.roles;
     let stdout = io::stdout();
     let mut out = BufWriter::new(stdout.lock());
     let mut bad = 0;
@@ -349,7 +404,7 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
         let fields = decoded
             .as_ref()
             .ok()
-            .and_then(|m| opts.pdos.fields(&parsed.frame, m, &opts.roles));
+            .and_then(|m| opts.pdos.fields(&parsed.frame, m, &roles));
         // A reply on 700h + node after a remote request there is a guarding
         // reply, whatever its toggle.
         let guard_reply = match &decoded {
@@ -374,7 +429,7 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
                 &mut text,
                 &parsed,
                 &decoded,
-                &opts.roles,
+                &roles,
                 fields.as_ref(),
                 &notes,
             );
@@ -383,7 +438,7 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
                 &mut text,
                 &parsed,
                 &decoded,
-                &opts.roles,
+                &roles,
                 fields.as_ref(),
                 &notes,
             );
@@ -396,23 +451,43 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
             parsed.frame.data().first().copied(),
             &decoded,
         ) {
-            transfer(&mut out, &report, opts)?;
+            let learned = roles.learn(&report);
+            transfer(&mut out, &report, opts.json, &roles)?;
+            if let Some(role) = learned {
+                let what = if opts.json {
+                    format!(
+                        "{{\"kind\":\"role\",\"node\":{},\"role\":\"{role}\"}}",
+                        report.node
+                    )
+                } else {
+                    format!(
+                        "node {} is the {role} (its device type, 1000h, says so)",
+                        report.node
+                    )
+                };
+                writeln!(out, "{what}")?;
+            }
         }
     }
     for report in sdo.finish() {
-        transfer(&mut out, &report, opts)?;
+        transfer(&mut out, &report, opts.json, &roles)?;
     }
     out.flush()?;
     Ok(bad)
 }
 
 /// Writes the extra line of a finished SDO transfer.
-fn transfer(out: &mut impl Write, report: &sdo::Report, opts: &Options) -> io::Result<()> {
+fn transfer(
+    out: &mut impl Write,
+    report: &sdo::Report,
+    json: bool,
+    roles: &Roles,
+) -> io::Result<()> {
     let mut text = String::new();
-    if opts.json {
-        json::transfer(&mut text, report, &opts.roles);
+    if json {
+        json::transfer(&mut text, report, roles);
     } else {
-        words::transfer(&mut text, report, &opts.roles);
+        words::transfer(&mut text, report, roles);
     }
     writeln!(out, "{text}")
 }

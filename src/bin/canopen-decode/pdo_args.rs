@@ -5,6 +5,7 @@ use canopen_codec::cia418::BATTERY_MODULE_CATALOGUE;
 use canopen_codec::cob_id::classify_standard;
 use canopen_codec::deltaq::{default_mapping_for_cob_id, CHARGER_CATALOGUE};
 use canopen_codec::pdo::{MappingEntry, NamedFields, PdoMapping, MAX_ENTRIES};
+use canopen_codec::NodeId;
 use canopen_codec::{CanFrame, CanId, Message};
 
 use crate::Roles;
@@ -142,7 +143,7 @@ impl Mappings {
                 // COB-ID belongs to: the battery's is CiA 418, any other
                 // node's is read as the Delta-Q charger's.
                 let node = classify_standard(id).node();
-                let cat = if node == Some(roles.battery) && roles.battery != roles.charger {
+                let cat = if node.is_some_and(|n| roles.is_battery(n)) {
                     BATTERY_MODULE_CATALOGUE
                 } else {
                     CHARGER_CATALOGUE
@@ -150,7 +151,17 @@ impl Mappings {
                 (Source::Given, cat, *m)
             }
             None if self.defaults => {
-                let (cat, m) = default_mapping_for_cob_id(id, roles.charger, roles.battery)?;
+                // Defaults only for a node with a role.
+                let node = classify_standard(id).node()?;
+                let other = NodeId::new(node.raw() % 127 + 1)?;
+                let (charger, battery) = if roles.is_charger(node) {
+                    (node, other)
+                } else if roles.is_battery(node) {
+                    (other, node)
+                } else {
+                    return None;
+                };
+                let (cat, m) = default_mapping_for_cob_id(id, charger, battery)?;
                 let source = if cat == BATTERY_MODULE_CATALOGUE {
                     Source::BatteryDefault
                 } else {

@@ -89,7 +89,7 @@ pub fn deltaq(msg: &Message, roles: &Roles) -> Option<(String, &'static str)> {
     let Message::Emcy { node, emcy } = msg else {
         return None;
     };
-    if *node != roles.charger || emcy.is_reset() {
+    if !roles.is_charger(*node) || emcy.is_reset() {
         return None;
     }
     let code = DeltaQCode::from_emergency(emcy);
