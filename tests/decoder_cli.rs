@@ -1152,3 +1152,69 @@ fn roles_only_from_evidence() {
     let o = run(&["--json"], Some(log));
     assert!(text(&o).contains("{\"kind\":\"role\",\"node\":1,\"role\":\"battery\"}"));
 }
+
+/// Splits one RFC 4180 row.
+fn csv_row(line: &str) -> Vec<String> {
+    let (mut fields, mut cur, mut quoted, mut chars) =
+        (Vec::new(), String::new(), false, line.chars().peekable());
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                cur.push('"');
+                chars.next();
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => fields.push(std::mem::take(&mut cur)),
+            (c, _) => cur.push(c),
+        }
+    }
+    fields.push(cur);
+    fields
+}
+
+/// `--output csv`: a header and one row of 12 documented columns per frame,
+/// quoted where a field holds a comma; no transfer rows.
+#[test]
+fn csv_output_one_row_per_frame() {
+    let log = "(1.0) can0 000#01\n(1.1) can0 70A#05\n(1.2) can0 18A#7413454E70000000\n\
+               (1.3) can0 601#4000100000000000\n(1.4) can0 581#43001000A2010000\n\
+               (1.5) can0 08A#3081\n";
+    let o = run(&["--output", "csv", "--charger-node", "10"], Some(log));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = text(&o);
+    let rows: Vec<Vec<String>> = out.lines().map(csv_row).collect();
+    assert_eq!(
+        rows[0].join(","),
+        "time,id,extended,remote,dlc,data,kind,node,role,text,deviation,error"
+    );
+    assert_eq!(rows.len(), 7, "{out}");
+    assert!(rows.iter().all(|r| r.len() == 12), "{out}");
+    assert_eq!(
+        rows[1][..9],
+        ["1.000000", "000", "0", "0", "1", "01", "nmt", "", ""]
+    );
+    assert_eq!(rows[1][9], "NMT start, all nodes");
+    assert!(rows[1][10].starts_with("1 bytes where CiA 301 has 2"));
+    assert_eq!(
+        rows[2][6..10],
+        [
+            "heartbeat",
+            "10",
+            "charger",
+            "heartbeat node 10: operational"
+        ]
+    );
+    assert_eq!(rows[3][5], "7413454E70000000");
+    assert!(
+        rows[5][9].starts_with("SDO response from node 1"),
+        "{:?}",
+        rows[5]
+    );
+    assert!(rows[6][9].contains("Delta-Q"), "{:?}", rows[6]);
+    // The same frames under --strict: the short EMCY is an error row.
+    let o = run(&["--output", "csv", "--strict"], Some(log));
+    let last = csv_row(text(&o).lines().last().unwrap());
+    assert_eq!(last[9], "");
+    assert_eq!(last[11], "truncated: need 8 bytes, got 2");
+    assert_eq!(run(&["--output", "xml"], None).status.code(), Some(2));
+}

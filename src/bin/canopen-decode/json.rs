@@ -48,7 +48,7 @@ fn key(out: &mut String, k: &str) {
     out.push(':');
 }
 
-fn kind_name(kind: CobKind) -> &'static str {
+pub fn kind_name(kind: CobKind) -> &'static str {
     match kind {
         CobKind::Nmt => "nmt",
         CobKind::Sync => "sync",

@@ -120,6 +120,7 @@
 //! 6010h temperature is decoded per CiA 418 (0.125 degC/bit, no offset):
 //! the capture README's DBC adds -40 degC, which the profile does not have.
 
+mod csv;
 mod json;
 mod pdo_args;
 mod sdo;
@@ -210,6 +211,8 @@ impl Roles {
 
 struct Options {
     json: bool,
+    /// `--output csv`.
+    csv: bool,
     roles: Roles,
     pdos: pdo_args::Mappings,
     file: Option<String>,
@@ -222,7 +225,7 @@ struct Options {
     strict: bool,
 }
 
-const USAGE: &str = "usage: canopen-decode [--json] [--strict] [--format candump|candump-screen|candump-screen-delta|trc|asc|csv] \
+const USAGE: &str = "usage: canopen-decode [--json | --output words|json|csv] [--strict] [--format candump|candump-screen|candump-screen-delta|trc|asc|csv] \
 [--charger-node N] [--battery-node N] \
 [--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [--bundled session] [FILE]";
 
@@ -237,6 +240,7 @@ fn parse_node(v: Option<String>, what: &str) -> Result<NodeId, String> {
 fn parse_args() -> Result<Options, String> {
     let mut opts = Options {
         json: false,
+        csv: false,
         roles: Roles::default(),
         pdos: pdo_args::Mappings {
             given: Vec::new(),
@@ -253,6 +257,17 @@ fn parse_args() -> Result<Options, String> {
     while let Some(a) = args.next() {
         match a.as_str() {
             "--json" => opts.json = true,
+            "--output" => match args.next().as_deref() {
+                Some("words") => (opts.json, opts.csv) = (false, false),
+                Some("json") => (opts.json, opts.csv) = (true, false),
+                Some("csv") => (opts.json, opts.csv) = (false, true),
+                other => {
+                    return Err(format!(
+                        "--output takes words, json or csv, not {}",
+                        other.unwrap_or("nothing")
+                    ))
+                }
+            },
             "--strict" => opts.strict = true,
             "--format" => {
                 let v = args.next().ok_or("--format needs a format name")?;
@@ -364,6 +379,9 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
     let mut text = String::new();
     let mut sdo = sdo::Tracker::default();
     let mut reader = opts.format.map_or_else(LineParser::auto, LineParser::new);
+    if opts.csv {
+        writeln!(out, "{}", csv::HEADER)?;
+    }
     // Nodes with a node-guarding request not answered yet.
     let mut guarding = [false; 128];
     if opts.delta_times {
@@ -424,7 +442,16 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
             deviation,
         };
         text.clear();
-        if opts.json {
+        if opts.csv {
+            csv::line(
+                &mut text,
+                &parsed,
+                &decoded,
+                &roles,
+                fields.as_ref(),
+                &notes,
+            );
+        } else if opts.json {
             json::line(
                 &mut text,
                 &parsed,
@@ -445,6 +472,18 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
         }
         writeln!(out, "{text}")?;
         let kind = classify(parsed.frame.id());
+        if opts.csv {
+            // Rows are frames only; SDO transfers still teach roles.
+            if let Some(report) = sdo.handle(
+                parsed.timestamp,
+                kind,
+                parsed.frame.data().first().copied(),
+                &decoded,
+            ) {
+                let _ = roles.learn(&report);
+            }
+            continue;
+        }
         if let Some(report) = sdo.handle(
             parsed.timestamp,
             kind,
@@ -469,7 +508,7 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
             }
         }
     }
-    for report in sdo.finish() {
+    for report in sdo.finish().into_iter().filter(|_| !opts.csv) {
         transfer(&mut out, &report, opts.json, &roles)?;
     }
     out.flush()?;

@@ -46,7 +46,6 @@ pub fn line(
     fields: Option<&(Source, NamedFields)>,
     notes: &crate::Notes,
 ) {
-    let guard_reply = notes.guard_reply;
     match l.timestamp {
         Some(t) => {
             let _ = write!(out, "{:>17}", t.to_string());
@@ -60,6 +59,20 @@ pub fn line(
         l.frame.id().to_string(),
         roles.role(node).unwrap_or("-")
     );
+    message(out, l, m, roles, fields, notes);
+}
+
+/// The message part of a line (after the time, identifier and role
+/// columns): what the CSV output's `text` column holds too.
+pub fn message(
+    out: &mut String,
+    l: &LogLine<'_>,
+    m: &Result<Message, DecodeError>,
+    roles: &Roles,
+    fields: Option<&(Source, NamedFields)>,
+    notes: &crate::Notes,
+) {
+    let guard_reply = notes.guard_reply;
     match m {
         Ok(msg) => {
             let _ = write!(out, "{}", Text { msg, guard_reply });

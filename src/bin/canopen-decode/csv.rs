@@ -1,0 +1,98 @@
+//! `--output csv`: one row per frame, for spreadsheets. Columns:
+//!
+//! | column | content |
+//! |---|---|
+//! | `time` | seconds with microseconds, as the trace gives it (empty when the line has none) |
+//! | `id` | the identifier in hex (3 digits: 11-bit, 8 digits: 29-bit) |
+//! | `extended`, `remote` | `1` or `0` |
+//! | `dlc` | the length |
+//! | `data` | the data bytes in hex, no spaces |
+//! | `kind` | the CANopen object kind, as in the JSON output (`nmt`, `emcy`, `tpdo`, `heartbeat`, ...) |
+//! | `node` | the node id, empty for NMT, SYNC, TIME |
+//! | `role` | `charger`, `battery` or empty |
+//! | `text` | the frame in words, as the words output's message column |
+//! | `deviation` | how the frame deviates from CiA 301, empty when it does not |
+//! | `error` | why the frame does not decode, empty when it does |
+//!
+//! Fields are quoted (RFC 4180) when they hold a comma, a quote or a line
+//! break. SDO transfer and role lines of the other outputs are not rows.
+
+use std::fmt::Write;
+
+use canopen_codec::candump::LogLine;
+use canopen_codec::cob_id::classify;
+use canopen_codec::pdo::NamedFields;
+use canopen_codec::{DecodeError, Message};
+
+use crate::pdo_args::Source;
+use crate::{Notes, Roles};
+
+/// The header row.
+pub const HEADER: &str = "time,id,extended,remote,dlc,data,kind,node,role,text,deviation,error";
+
+/// Appends `field`, quoted when it needs to be.
+fn field(out: &mut String, field: &str) {
+    if field.contains([',', '"', '\n', '\r']) {
+        out.push('"');
+        out.push_str(&field.replace('"', "\"\""));
+        out.push('"');
+    } else {
+        out.push_str(field);
+    }
+}
+
+/// One row.
+pub fn line(
+    out: &mut String,
+    l: &LogLine<'_>,
+    m: &Result<Message, DecodeError>,
+    roles: &Roles,
+    fields: Option<&(Source, NamedFields)>,
+    notes: &Notes,
+) {
+    if let Some(t) = l.timestamp {
+        let _ = write!(out, "{t}");
+    }
+    let kind = classify(l.frame.id());
+    let _ = write!(
+        out,
+        ",{},{},{},{},",
+        l.frame.id(),
+        u8::from(l.frame.id().is_extended()),
+        u8::from(l.frame.is_remote()),
+        l.frame.dlc()
+    );
+    for b in l.frame.data() {
+        let _ = write!(out, "{b:02X}");
+    }
+    let _ = write!(out, ",{},", crate::json::kind_name(kind));
+    if let Some(n) = kind.node() {
+        let _ = write!(out, "{n}");
+    }
+    out.push(',');
+    field(out, roles.role(kind.node()).unwrap_or(""));
+    out.push(',');
+    let mut text = String::new();
+    if m.is_ok() {
+        crate::words::message(
+            &mut text,
+            l,
+            m,
+            roles,
+            fields,
+            &Notes {
+                deviation: None,
+                ..*notes
+            },
+        );
+    }
+    field(out, &text);
+    out.push(',');
+    if let Some(d) = notes.deviation {
+        field(out, &d.to_string());
+    }
+    out.push(',');
+    if let Err(e) = m {
+        field(out, &e.to_string());
+    }
+}
