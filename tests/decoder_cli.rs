@@ -1218,3 +1218,80 @@ fn csv_output_one_row_per_frame() {
     assert_eq!(last[11], "truncated: need 8 bytes, got 2");
     assert_eq!(run(&["--output", "xml"], None).status.code(), Some(2));
 }
+
+/// `--summary-only` on our recorded session: node 1's heartbeat silence
+/// while unplugged, its second boot-up, the charger's E-0-3-2 cleared by
+/// the error reset after recovery; nothing open, so `--check` exits 0.
+#[test]
+fn summary_of_the_bundled_session() {
+    let o = run(&["--bundled", "session", "--summary-only", "--check"], None);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let out = text(&o);
+    for want in [
+        "  node 1 (battery):\n    heartbeats: 10, period 1000 ms, largest gap 4000 ms\n",
+        "    boot-up at 1763800009.000000 (not preceded by an NMT reset)\n",
+        "    silent from 1763800005.000000 (+5.000 s) to 1763800009.000000 (+9.000 s)\n",
+        "    SDO transfers: 6, aborted: 0\n",
+        "  node 10 (charger):\n",
+        "    EMCY at 1763800007.000500 (+7.000 s): 8130h life guard error or heartbeat error, \
+         Delta-Q E-0-3-2 heartbeat lost (cleared by an error reset)\n",
+        "  PDO 181h: 40 frames",
+        "  open problems at the end: none\n",
+    ] {
+        assert!(out.contains(want), "missing {want:?} in\n{out}");
+    }
+    assert!(!out.contains("TPDO0"), "--summary-only prints no frames");
+    let o = run(&["--bundled", "session", "--summary-only", "--json"], None);
+    let v: Value = serde_json::from_str(text(&o).trim()).unwrap();
+    assert_eq!(v["kind"], "summary");
+    assert_eq!(v["open_problems"], false);
+    assert_eq!(
+        v["nodes"][0]["silences"][0]["to"].as_f64(),
+        Some(1_763_800_009.0)
+    );
+    assert_eq!(v["nodes"][1]["emcys"][0]["cleared"], true);
+}
+
+/// The real startup capture: node 1's heartbeat stops and never returns,
+/// the charger raised E-0-3-2 then E-0-3-0 and cleared neither: `--check`
+/// exits 3.
+#[test]
+fn summary_of_the_real_startup_capture() {
+    let Some(startup) = capture(common::captures::STARTUP) else {
+        return;
+    };
+    let o = run(
+        &[
+            "--summary-only",
+            "--check",
+            "--pdo-capture-mapping",
+            &startup,
+        ],
+        None,
+    );
+    assert_eq!(
+        o.status.code(),
+        Some(3),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let out = text(&o);
+    let node1 = out.split("  node 10").next().unwrap();
+    assert!(
+        node1.contains("silent from 1756955706.019119 (+59.950 s, its last heartbeat) until the end of the log"),
+        "{out}"
+    );
+    let e032 = out
+        .find("Delta-Q E-0-3-2 heartbeat lost (not cleared)")
+        .expect("E-0-3-2");
+    let e030 = out
+        .find("Delta-Q E-0-3-0 battery module communication error (not cleared)")
+        .expect("E-0-3-0");
+    assert!(e032 < e030, "{out}");
+    assert!(out.contains("  open problems at the end: yes"));
+}

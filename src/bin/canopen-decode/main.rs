@@ -125,6 +125,7 @@ mod json;
 mod pdo_args;
 mod sdo;
 mod sdo_value;
+mod summary;
 mod words;
 
 use std::io::{self, BufRead, BufWriter, IsTerminal, Write};
@@ -213,6 +214,10 @@ struct Options {
     json: bool,
     /// `--output csv`.
     csv: bool,
+    /// `--summary`, `--summary-only`, `--check`.
+    summary: bool,
+    frames: bool,
+    check: bool,
     roles: Roles,
     pdos: pdo_args::Mappings,
     file: Option<String>,
@@ -226,7 +231,7 @@ struct Options {
 }
 
 const USAGE: &str = "usage: canopen-decode [--json | --output words|json|csv] [--strict] [--format candump|candump-screen|candump-screen-delta|trc|asc|csv] \
-[--charger-node N] [--battery-node N] \
+[--summary] [--summary-only] [--check] [--charger-node N] [--battery-node N] \
 [--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [--bundled session] [FILE]";
 
 fn parse_node(v: Option<String>, what: &str) -> Result<NodeId, String> {
@@ -241,6 +246,9 @@ fn parse_args() -> Result<Options, String> {
     let mut opts = Options {
         json: false,
         csv: false,
+        summary: false,
+        frames: true,
+        check: false,
         roles: Roles::default(),
         pdos: pdo_args::Mappings {
             given: Vec::new(),
@@ -269,6 +277,9 @@ fn parse_args() -> Result<Options, String> {
                 }
             },
             "--strict" => opts.strict = true,
+            "--summary" => opts.summary = true,
+            "--summary-only" => (opts.summary, opts.frames) = (true, false),
+            "--check" => (opts.summary, opts.check) = (true, true),
             "--format" => {
                 let v = args.next().ok_or("--format needs a format name")?;
                 if v == "candump-screen-delta" {
@@ -357,8 +368,12 @@ fn main() -> ExitCode {
         (None, None) => Box::new(io::stdin().lock()),
     };
     match run(input, &opts) {
-        Ok(0) => ExitCode::SUCCESS,
-        Ok(bad) => {
+        Ok((_, true)) if opts.check => {
+            eprintln!("canopen-decode: problems open at the end of the log (--check)");
+            ExitCode::from(3)
+        }
+        Ok((0, _)) => ExitCode::SUCCESS,
+        Ok((bad, _)) => {
             eprintln!("canopen-decode: {bad} bad line(s)");
             ExitCode::from(1)
         }
@@ -370,9 +385,11 @@ fn main() -> ExitCode {
     }
 }
 
-/// Decodes every line; returns the number of bad lines.
-fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
+/// Decodes every line; returns the number of bad lines and whether the
+/// summary found a problem still open at the end.
+fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
     let mut roles = opts.roles;
+    let mut summary = summary::Summary::default();
     let stdout = io::stdout();
     let mut out = BufWriter::new(stdout.lock());
     let mut bad = 0;
@@ -441,78 +458,97 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<usize> {
             guard_reply,
             deviation,
         };
-        text.clear();
-        if opts.csv {
-            csv::line(
-                &mut text,
-                &parsed,
-                &decoded,
-                &roles,
-                fields.as_ref(),
-                &notes,
-            );
-        } else if opts.json {
-            json::line(
-                &mut text,
-                &parsed,
-                &decoded,
-                &roles,
-                fields.as_ref(),
-                &notes,
-            );
-        } else {
-            words::line(
-                &mut text,
-                &parsed,
-                &decoded,
-                &roles,
-                fields.as_ref(),
-                &notes,
-            );
-        }
-        writeln!(out, "{text}")?;
-        let kind = classify(parsed.frame.id());
-        if opts.csv {
-            // Rows are frames only; SDO transfers still teach roles.
-            if let Some(report) = sdo.handle(
+        if let Ok(msg) = &decoded {
+            summary.frame(
                 parsed.timestamp,
-                kind,
-                parsed.frame.data().first().copied(),
-                &decoded,
-            ) {
-                let _ = roles.learn(&report);
-            }
-            continue;
+                parsed.frame.id().raw(),
+                msg,
+                guard_reply,
+                &roles,
+            );
         }
-        if let Some(report) = sdo.handle(
+        if opts.frames {
+            text.clear();
+            if opts.csv {
+                csv::line(
+                    &mut text,
+                    &parsed,
+                    &decoded,
+                    &roles,
+                    fields.as_ref(),
+                    &notes,
+                );
+            } else if opts.json {
+                json::line(
+                    &mut text,
+                    &parsed,
+                    &decoded,
+                    &roles,
+                    fields.as_ref(),
+                    &notes,
+                );
+            } else {
+                words::line(
+                    &mut text,
+                    &parsed,
+                    &decoded,
+                    &roles,
+                    fields.as_ref(),
+                    &notes,
+                );
+            }
+            writeln!(out, "{text}")?;
+        }
+        let kind = classify(parsed.frame.id());
+        let Some(report) = sdo.handle(
             parsed.timestamp,
             kind,
             parsed.frame.data().first().copied(),
             &decoded,
-        ) {
-            let learned = roles.learn(&report);
-            transfer(&mut out, &report, opts.json, &roles)?;
-            if let Some(role) = learned {
-                let what = if opts.json {
-                    format!(
-                        "{{\"kind\":\"role\",\"node\":{},\"role\":\"{role}\"}}",
-                        report.node
-                    )
-                } else {
-                    format!(
-                        "node {} is the {role} (its device type, 1000h, says so)",
-                        report.node
-                    )
-                };
-                writeln!(out, "{what}")?;
-            }
+        ) else {
+            continue;
+        };
+        summary.transfer(&report);
+        let learned = roles.learn(&report);
+        // CSV rows are frames only.
+        if !opts.frames || opts.csv {
+            continue;
+        }
+        transfer(&mut out, &report, opts.json, &roles)?;
+        if let Some(role) = learned {
+            let what = if opts.json {
+                format!(
+                    "{{\"kind\":\"role\",\"node\":{},\"role\":\"{role}\"}}",
+                    report.node
+                )
+            } else {
+                format!(
+                    "node {} is the {role} (its device type, 1000h, says so)",
+                    report.node
+                )
+            };
+            writeln!(out, "{what}")?;
         }
     }
-    for report in sdo.finish().into_iter().filter(|_| !opts.csv) {
-        transfer(&mut out, &report, opts.json, &roles)?;
+    for report in sdo.finish() {
+        summary.transfer(&report);
+        if opts.frames && !opts.csv {
+            transfer(&mut out, &report, opts.json, &roles)?;
+        }
+    }
+    let mut open = false;
+    if opts.summary {
+        text.clear();
+        if opts.json {
+            open = summary.json(&mut text, &roles);
+            writeln!(out, "{text}")?;
+        } else {
+            open = summary.words(&mut text, &roles);
+            write!(out, "{text}")?;
+        }
     }
     out.flush()?;
-    Ok(bad)
+    Ok((bad, open))
 }
 
 /// Writes the extra line of a finished SDO transfer.

@@ -1,0 +1,406 @@
+//! `--summary`: the bus health of a log, per node and per PDO, after the
+//! frames (or alone with `--summary-only`). Memory is bounded by the number
+//! of nodes and COB-IDs, not by the log's length: the heartbeat period is
+//! the median of a node's first [`PERIOD_SAMPLES`] gaps.
+//!
+//! Per node: its role, the NMT states its heartbeats reported and the
+//! transitions, the heartbeat period (median) and the largest gap, every
+//! silence longer than 3 periods (with its end, or "until the end of the
+//! log"), boot-ups and whether an NMT reset preceded them, EMCYs with their
+//! names (Delta-Q labels on a charger) and whether an error reset cleared
+//! them, SDO transfers (count, aborts with object and code), node-guarding
+//! requests and replies. Per PDO COB-ID: frames and rate. `--check` makes
+//! the program exit 3 when a problem is still open at the end: a node
+//! silent until the end, or an EMCY not cleared.
+
+use std::collections::BTreeMap;
+use std::fmt::Write;
+
+use canopen_codec::deltaq::DeltaQCode;
+use canopen_codec::nmt::{NmtCommandSpecifier, NmtState, NmtTarget};
+use canopen_codec::{Message, NodeId, Timestamp};
+
+use crate::sdo::{End, Report};
+use crate::Roles;
+
+/// Heartbeat gaps kept per node for the period (the median of them).
+pub const PERIOD_SAMPLES: usize = 64;
+/// At most this many items of a kind are listed per node (counted beyond).
+const LISTED: usize = 32;
+
+#[derive(Default)]
+struct Node {
+    heartbeats: u64,
+    last_heartbeat: Option<Timestamp>,
+    gaps: Vec<u64>,
+    largest_gap: u64,
+    /// (start, end) of gaps longer than 3 periods; end `None`: until the end.
+    silences: Vec<(Timestamp, Option<Timestamp>)>,
+    state: Option<NmtState>,
+    transitions: Vec<(Timestamp, NmtState)>,
+    boot_ups: Vec<(Timestamp, Option<&'static str>)>,
+    /// The last NMT reset addressed to this node, not yet followed by a boot-up.
+    reset_pending: Option<&'static str>,
+    /// EMCYs: time, text, cleared.
+    emcys: Vec<(Timestamp, String, bool)>,
+    emcys_more: u64,
+    sdo_transfers: u64,
+    sdo_aborts: Vec<String>,
+    guard_requests: u64,
+    guard_replies: u64,
+}
+
+/// The summary being collected.
+#[derive(Default)]
+pub struct Summary {
+    nodes: BTreeMap<u8, Node>,
+    /// COB-ID -> (frames, first, last).
+    pdos: BTreeMap<u32, (u64, Timestamp, Timestamp)>,
+    first: Option<Timestamp>,
+    last: Option<Timestamp>,
+}
+
+/// A time as the log gives it.
+fn secs(t: Timestamp) -> String {
+    t.to_string()
+}
+
+impl Summary {
+    fn node(&mut self, n: NodeId) -> &mut Node {
+        self.nodes.entry(n.raw()).or_default()
+    }
+
+    /// One decoded frame at `t`.
+    pub fn frame(
+        &mut self,
+        t: Option<Timestamp>,
+        id: u32,
+        msg: &Message,
+        guard_reply: bool,
+        roles: &Roles,
+    ) {
+        let t = t.or(self.last).unwrap_or(Timestamp::ZERO);
+        self.first.get_or_insert(t);
+        self.last = Some(self.last.map_or(t, |l| l.max(t)));
+        match *msg {
+            Message::Nmt(cmd) => {
+                let what = match cmd.command {
+                    NmtCommandSpecifier::ResetNode => "reset node",
+                    NmtCommandSpecifier::ResetCommunication => "reset communication",
+                    _ => return,
+                };
+                let targets: Vec<NodeId> = match cmd.target {
+                    NmtTarget::Node(n) => vec![n],
+                    NmtTarget::All => self.nodes.keys().filter_map(|k| NodeId::new(*k)).collect(),
+                    _ => Vec::new(),
+                };
+                for n in targets {
+                    self.node(n).reset_pending = Some(what);
+                }
+            }
+            Message::Heartbeat { node, heartbeat } => {
+                let n = self.node(node);
+                if guard_reply {
+                    n.guard_replies += 1;
+                } else {
+                    n.heartbeats += 1;
+                    if let Some(prev) = n.last_heartbeat {
+                        let gap = t.saturating_micros_since(prev);
+                        n.largest_gap = n.largest_gap.max(gap);
+                        if n.gaps.len() < PERIOD_SAMPLES {
+                            n.gaps.push(gap);
+                        }
+                        if let Some(p) = period(&n.gaps) {
+                            if gap > 3 * p && n.silences.len() < LISTED {
+                                n.silences.push((prev, Some(t)));
+                            }
+                        }
+                    }
+                    n.last_heartbeat = Some(t);
+                }
+                if heartbeat.is_boot_up() {
+                    let after = n.reset_pending.take();
+                    if n.boot_ups.len() < LISTED {
+                        n.boot_ups.push((t, after));
+                    }
+                } else if n.state != Some(heartbeat.state) {
+                    n.state = Some(heartbeat.state);
+                    if n.transitions.len() < LISTED {
+                        n.transitions.push((t, heartbeat.state));
+                    }
+                }
+            }
+            Message::NodeGuardRequest { node, .. } => self.node(node).guard_requests += 1,
+            Message::Emcy { node, emcy } => {
+                let charger = roles.is_charger(node);
+                let n = self.node(node);
+                if emcy.is_reset() {
+                    for e in &mut n.emcys {
+                        e.2 = true;
+                    }
+                    return;
+                }
+                let mut text = emcy.code.to_string();
+                if charger {
+                    let code = DeltaQCode::from_emergency(&emcy);
+                    if let Some(d) = code.description() {
+                        let _ = write!(text, ", Delta-Q {code} {d}");
+                    }
+                }
+                if n.emcys.len() < LISTED {
+                    n.emcys.push((t, text, false));
+                } else {
+                    n.emcys_more += 1;
+                }
+            }
+            Message::Tpdo { .. } | Message::Rpdo { .. } => {
+                let e = self.pdos.entry(id).or_insert((0, t, t));
+                e.0 += 1;
+                e.2 = t;
+            }
+            _ => {}
+        }
+    }
+
+    /// A finished SDO transfer.
+    pub fn transfer(&mut self, r: &Report) {
+        let n = self.node(r.node);
+        n.sdo_transfers += 1;
+        if let End::Aborted { code, by } = &r.end {
+            if n.sdo_aborts.len() < LISTED {
+                n.sdo_aborts.push(format!(
+                    "{:04X}h:{:02X} {} by the {}",
+                    r.index,
+                    r.sub,
+                    code,
+                    by.name()
+                ));
+            }
+        }
+    }
+
+    /// Closes open silences at the end of the log; true when a problem is
+    /// still open (a node silent until the end, an EMCY not cleared).
+    fn finish(&mut self) -> bool {
+        let end = self.last.unwrap_or(Timestamp::ZERO);
+        let mut open = false;
+        for n in self.nodes.values_mut() {
+            if let (Some(last), Some(p)) = (n.last_heartbeat, period(&n.gaps)) {
+                if end.saturating_micros_since(last) > 3 * p {
+                    n.silences.push((last, None));
+                    open = true;
+                }
+            }
+            open |= n.emcys.iter().any(|e| !e.2);
+        }
+        open
+    }
+
+    /// Seconds from the first frame of the log to `t`.
+    fn offset(&self, t: Timestamp) -> String {
+        let us = t.saturating_micros_since(self.first.unwrap_or(t));
+        format!("+{}.{:03} s", us / 1_000_000, us % 1_000_000 / 1000)
+    }
+
+    /// The summary as one JSON object (`"kind":"summary"`); true when a
+    /// problem is still open.
+    pub fn json(&mut self, out: &mut String, roles: &Roles) -> bool {
+        use crate::json::string;
+        let open = self.finish();
+        out.push_str("{\"kind\":\"summary\",\"nodes\":[");
+        for (i, (id, n)) in self.nodes.iter().enumerate() {
+            if i > 0 {
+                out.push(',');
+            }
+            let _ = write!(out, "{{\"node\":{id},\"role\":");
+            match roles.role(NodeId::new(*id)) {
+                Some(r) => string(out, r),
+                None => out.push_str("null"),
+            }
+            let _ = write!(
+                out,
+                ",\"heartbeats\":{},\"period_ms\":{},\"largest_gap_ms\":{}",
+                n.heartbeats,
+                period(&n.gaps).map_or("null".into(), |p| (p / 1000).to_string()),
+                n.largest_gap / 1000
+            );
+            out.push_str(",\"states\":[");
+            for (j, (t, st)) in n.transitions.iter().enumerate() {
+                let _ = write!(
+                    out,
+                    "{}{{\"t\":{t},\"state\":",
+                    if j > 0 { "," } else { "" }
+                );
+                string(out, &st.to_string());
+                out.push('}');
+            }
+            out.push_str("],\"boot_ups\":[");
+            for (j, (t, after)) in n.boot_ups.iter().enumerate() {
+                let _ = write!(
+                    out,
+                    "{}{{\"t\":{t},\"after\":",
+                    if j > 0 { "," } else { "" }
+                );
+                match after {
+                    Some(a) => string(out, a),
+                    None => out.push_str("null"),
+                }
+                out.push('}');
+            }
+            out.push_str("],\"silences\":[");
+            for (j, (from, to)) in n.silences.iter().enumerate() {
+                let to = to.map_or("null".into(), |t| t.to_string());
+                let _ = write!(
+                    out,
+                    "{}{{\"from\":{from},\"to\":{to}}}",
+                    if j > 0 { "," } else { "" }
+                );
+            }
+            out.push_str("],\"emcys\":[");
+            for (j, (t, text, cleared)) in n.emcys.iter().enumerate() {
+                let _ = write!(out, "{}{{\"t\":{t},\"text\":", if j > 0 { "," } else { "" });
+                string(out, text);
+                let _ = write!(out, ",\"cleared\":{cleared}}}");
+            }
+            let _ = write!(
+                out,
+                "],\"sdo_transfers\":{},\"sdo_aborts\":[",
+                n.sdo_transfers
+            );
+            for (j, a) in n.sdo_aborts.iter().enumerate() {
+                if j > 0 {
+                    out.push(',');
+                }
+                string(out, a);
+            }
+            let _ = write!(
+                out,
+                "],\"guard_requests\":{},\"guard_replies\":{}}}",
+                n.guard_requests, n.guard_replies
+            );
+        }
+        out.push_str("],\"pdos\":[");
+        for (i, (id, (count, first, last))) in self.pdos.iter().enumerate() {
+            let _ = write!(
+                out,
+                "{}{{\"cob_id\":{id},\"frames\":{count},\"first\":{first},\"last\":{last}}}",
+                if i > 0 { "," } else { "" }
+            );
+        }
+        let _ = write!(out, "],\"open_problems\":{open}}}");
+        open
+    }
+
+    /// The summary in words; true when a problem is still open.
+    pub fn words(&mut self, out: &mut String, roles: &Roles) -> bool {
+        let open = self.finish();
+        let _ = writeln!(out, "summary:");
+        for (id, n) in &self.nodes {
+            let node = NodeId::new(*id);
+            let role = roles
+                .role(node)
+                .map_or(String::new(), |r| format!(" ({r})"));
+            let _ = writeln!(out, "  node {id}{role}:");
+            if n.heartbeats > 0 {
+                let p = period(&n.gaps).map_or("-".into(), |p| format!("{} ms", p / 1000));
+                let _ = writeln!(
+                    out,
+                    "    heartbeats: {}, period {p}, largest gap {} ms",
+                    n.heartbeats,
+                    n.largest_gap / 1000
+                );
+            }
+            if !n.transitions.is_empty() {
+                let list: Vec<String> = n
+                    .transitions
+                    .iter()
+                    .map(|(t, s)| format!("{s} at {}", secs(*t)))
+                    .collect();
+                let _ = writeln!(out, "    states: {}", list.join(", "));
+            }
+            for (t, after) in &n.boot_ups {
+                let why = after.map_or("not preceded by an NMT reset".into(), |w| {
+                    format!("after {w}")
+                });
+                let _ = writeln!(out, "    boot-up at {} ({why})", secs(*t));
+            }
+            for (from, to) in &n.silences {
+                let _ = match to {
+                    Some(to) => writeln!(
+                        out,
+                        "    silent from {} ({}) to {} ({})",
+                        secs(*from),
+                        self.offset(*from),
+                        secs(*to),
+                        self.offset(*to)
+                    ),
+                    None => writeln!(
+                        out,
+                        "    silent from {} ({}, its last heartbeat) until the end of the log",
+                        secs(*from),
+                        self.offset(*from)
+                    ),
+                };
+            }
+            for (t, text, cleared) in &n.emcys {
+                let state = if *cleared {
+                    "cleared by an error reset"
+                } else {
+                    "not cleared"
+                };
+                let _ = writeln!(
+                    out,
+                    "    EMCY at {} ({}): {text} ({state})",
+                    secs(*t),
+                    self.offset(*t)
+                );
+            }
+            if n.emcys_more > 0 {
+                let _ = writeln!(out, "    ... {} more EMCYs", n.emcys_more);
+            }
+            if n.sdo_transfers > 0 {
+                let _ = writeln!(
+                    out,
+                    "    SDO transfers: {}, aborted: {}",
+                    n.sdo_transfers,
+                    n.sdo_aborts.len()
+                );
+                for a in &n.sdo_aborts {
+                    let _ = writeln!(out, "      abort {a}");
+                }
+            }
+            if n.guard_requests > 0 || n.guard_replies > 0 {
+                let _ = writeln!(
+                    out,
+                    "    node guarding: {} requests, {} replies",
+                    n.guard_requests, n.guard_replies
+                );
+            }
+        }
+        for (id, (count, first, last)) in &self.pdos {
+            let span = last.saturating_micros_since(*first);
+            let rate = if span > 0 && *count > 1 {
+                format!("{:.1}/s", (*count - 1) as f64 * 1e6 / span as f64)
+            } else {
+                "-".into()
+            };
+            let _ = writeln!(out, "  PDO {id:03X}h: {count} frames, {rate}");
+        }
+        let _ = writeln!(
+            out,
+            "  open problems at the end: {}",
+            if open { "yes" } else { "none" }
+        );
+        open
+    }
+}
+
+/// The median of the gaps (µs), once there are 3.
+fn period(gaps: &[u64]) -> Option<u64> {
+    if gaps.len() < 3 {
+        return None;
+    }
+    let mut g = gaps.to_vec();
+    g.sort_unstable();
+    g.get(g.len() / 2).copied()
+}
