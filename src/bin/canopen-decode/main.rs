@@ -404,10 +404,18 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
     if opts.delta_times {
         reader = reader.with_delta_times();
     }
-    for (i, line) in input.lines().enumerate() {
-        let line = line?;
-        let lineno = i + 1;
-        let parsed = match reader.parse(&line) {
+    let mut input = input;
+    let mut line = String::new();
+    let mut lineno = 0usize;
+    loop {
+        // One buffer for every line (no allocation per line).
+        line.clear();
+        if input.read_line(&mut line)? == 0 {
+            break;
+        }
+        lineno += 1;
+        let line = line.trim_end_matches(['\n', '\r']);
+        let parsed = match reader.parse(line) {
             Ok(Record::Frame(f)) => LogLine {
                 timestamp: f.timestamp,
                 interface: f.channel,
@@ -508,7 +516,9 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
         ) else {
             continue;
         };
-        summary.transfer(&report);
+        if opts.summary {
+            summary.transfer(&report);
+        }
         let learned = roles.learn(&report);
         // CSV rows are frames only.
         if !opts.frames || opts.csv {

@@ -33,6 +33,8 @@ struct Node {
     heartbeats: u64,
     last_heartbeat: Option<Timestamp>,
     gaps: Vec<u64>,
+    /// The median of `gaps`, recomputed only when a gap is added.
+    period: Option<u64>,
     largest_gap: u64,
     /// (start, end) of gaps longer than 3 periods; end `None`: until the end.
     silences: Vec<(Timestamp, Option<Timestamp>)>,
@@ -109,8 +111,9 @@ impl Summary {
                         n.largest_gap = n.largest_gap.max(gap);
                         if n.gaps.len() < PERIOD_SAMPLES {
                             n.gaps.push(gap);
+                            n.period = period(&n.gaps);
                         }
-                        if let Some(p) = period(&n.gaps) {
+                        if let Some(p) = n.period {
                             if gap > 3 * p && n.silences.len() < LISTED {
                                 n.silences.push((prev, Some(t)));
                             }

@@ -48,7 +48,9 @@ pub fn line(
 ) {
     match l.timestamp {
         Some(t) => {
-            let _ = write!(out, "{:>17}", t.to_string());
+            // Right-aligned in 17 columns, without a temporary string.
+            let (secs, micros) = (t.as_micros() / 1_000_000, t.as_micros() % 1_000_000);
+            let _ = write!(out, "{secs:>10}.{micros:06}");
         }
         None => out.push_str("                -"),
     }
@@ -242,7 +244,9 @@ pub fn sentence(r: &Report, d: &Described) -> String {
 pub fn transfer(out: &mut String, r: &Report, roles: &Roles) {
     match r.t {
         Some(t) => {
-            let _ = write!(out, "{:>17}", t.to_string());
+            // Right-aligned in 17 columns, without a temporary string.
+            let (secs, micros) = (t.as_micros() / 1_000_000, t.as_micros() % 1_000_000);
+            let _ = write!(out, "{secs:>10}.{micros:06}");
         }
         None => out.push_str("                -"),
     }
