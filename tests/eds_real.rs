@@ -8,7 +8,7 @@
 
 use std::path::PathBuf;
 
-use canopen_codec::eds::{parse_bytes, DataType, Eds, ObjectType, WarningKind};
+use canopen_codec::eds::{parse, parse_bytes, write, DataType, Eds, ObjectType, WarningKind};
 use canopen_codec::od::{Access, ObjectDictionary};
 use canopen_codec::pdo::{MappingEntry, PdoDirection};
 use canopen_codec::NodeId;
@@ -29,17 +29,24 @@ fn eds_dir() -> PathBuf {
 }
 
 /// Parses one real file: `None` (and a note) when the folder is absent.
-/// Every real file must parse without an error.
+/// Every real file must parse without an error, and its model must survive
+/// being written and read back.
 fn load(name: &str) -> Option<Eds> {
     let path = eds_dir().join(name);
     let Ok(bytes) = std::fs::read(&path) else {
         eprintln!("skipped: {} is absent", path.display());
         return None;
     };
-    match parse_bytes(&bytes) {
-        Ok(eds) => Some(eds),
+    let eds = match parse_bytes(&bytes) {
+        Ok(eds) => eds,
         Err(e) => panic!("{name}: {e}"),
-    }
+    };
+    let mut again = parse(&write(&eds)).unwrap();
+    let mut expected = eds.clone();
+    again.clear_positions();
+    expected.clear_positions();
+    assert_eq!(again, expected, "{name}: written and read back");
+    Some(eds)
 }
 
 fn node10() -> NodeId {

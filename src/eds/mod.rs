@@ -39,11 +39,13 @@ mod dictionary;
 mod parse;
 mod types;
 mod value;
+mod write;
 
 pub use dictionary::{DictionaryError, PdoDescription, MAX_VARIABLE_LEN};
 pub use parse::{parse, parse_bytes};
 pub use types::{AccessType, DataType, ObjectType};
 pub use value::{encode_value, eval_int, parse_int, uses_node_id, ValueError};
+pub use write::write;
 
 /// Keys as written, in file order (later duplicates win in [`Keys::get`]).
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -241,6 +243,22 @@ impl Eds {
             Some(e) => Some(e.name.as_str()),
             None if sub == 0 && o.subs.is_empty() => Some(o.entry.name.as_str()),
             None => None,
+        }
+    }
+
+    /// Forgets where things were read from: every line number becomes 0
+    /// and the warnings are dropped. Two texts that describe the same
+    /// device (a file and its [`write()`] output) then compare equal.
+    pub fn clear_positions(&mut self) {
+        self.warnings.clear();
+        for s in &mut self.other_sections {
+            s.line = 0;
+        }
+        for o in self.objects.values_mut() {
+            o.entry.line = 0;
+            for e in o.subs.values_mut() {
+                e.line = 0;
+            }
         }
     }
 
