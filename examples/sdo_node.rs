@@ -4,6 +4,7 @@
 //!
 //! ```text
 //! sdo_node --server --node-id N [--eds FILE]
+//! sdo_node --print-eds FILE
 //! sdo_node --client --node-id N [--timeout-ms T] OP...
 //!     OP = read:IDX:SUB | write:IDX:SUB:HEX     (IDX and SUB in hex)
 //! ```
@@ -29,6 +30,7 @@ use canopen_codec::sdo::{
 use canopen_codec::NodeId;
 
 const USAGE: &str = "usage: sdo_node --server --node-id N [--eds FILE]
+       sdo_node --print-eds FILE   (read an EDS/DCF, write it back out)
        sdo_node --client --node-id N [--timeout-ms T] OP...
          OP = read:IDX:SUB | write:IDX:SUB:HEX   (IDX, SUB in hex)
 server dictionary:
@@ -103,6 +105,7 @@ fn main() -> ExitCode {
             "--client" => client = true,
             "--node-id" => node = it.next().and_then(|v| v.parse().ok()).and_then(NodeId::new),
             "--eds" => eds = it.next().cloned(),
+            "--print-eds" => return print_eds(it.next().map_or("", String::as_str)),
             "--timeout-ms" => timeout_ms = it.next().and_then(|v| v.parse::<u64>().ok()),
             "-h" | "--help" => {
                 eprintln!("{USAGE}");
@@ -132,6 +135,21 @@ fn main() -> ExitCode {
         (false, true) => run_client(node, timeout_ms, ops),
         _ => {
             eprintln!("sdo_node: give exactly one of --server / --client\n{USAGE}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Reads the EDS or DCF at `path` and prints it as `eds::write` writes it.
+fn print_eds(path: &str) -> ExitCode {
+    let read = std::fs::read(path).map_err(|e| e.to_string());
+    match read.and_then(|b| canopen_codec::eds::parse_bytes(&b).map_err(|e| e.to_string())) {
+        Ok(eds) => {
+            print!("{}", canopen_codec::eds::write(&eds));
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("sdo_node: {path}: {e}");
             ExitCode::from(2)
         }
     }

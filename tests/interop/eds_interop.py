@@ -8,7 +8,9 @@ For every variable of the description: a readable one uploads to the value
 python-canopen computes from the same DefaultValue for the same node id
 ($NODEID resolved); a write-only one aborts 06010001h; a writable one takes
 its own value back in a download; a read-only or const one refuses it with
-06010002h.
+06010002h. Then the EDS as we write it (sdo_node --print-eds) must load in
+python-canopen's importer to the same objects: names, data types, access,
+PDO mapping and defaults.
 
 usage: eds_interop.py PATH/TO/sdo_node PATH/TO/FILE.eds
 (when FILE.eds is absent it says so and passes: the real EDS files are not
@@ -16,7 +18,9 @@ part of the repository)
 """
 
 import os
+import subprocess
 import sys
+import tempfile
 
 import canopen
 from canopen.objectdictionary import ODArray, ODRecord
@@ -101,6 +105,20 @@ def main(exe, eds):
                 check(f"{where} not writable", code == 0x06010002, f"abort {code and hex(code)}")
     finally:
         net.disconnect()
+    written = subprocess.run([exe, "--print-eds", eds], check=True, capture_output=True).stdout
+    with tempfile.NamedTemporaryFile(suffix=".eds") as f:
+        f.write(written)
+        f.flush()
+        ours = canopen.import_od(f.name, NODE)
+    theirs = canopen.import_od(eds, NODE)
+    described = lambda od: {
+        (v.index, v.subindex): (v.name, v.data_type, v.access_type.lower(), v.pdo_mappable, v.default)
+        for v in variables(od)
+    }
+    a, b = described(ours), described(theirs)
+    check("written EDS has the same variables", a.keys() == b.keys(), f"{set(a) ^ set(b)}")
+    for key in sorted(a.keys() & b.keys()):
+        check(f"written EDS {key[0]:04X}:{key[1]:02X}", a[key] == b[key], f"ours {a[key]} original {b[key]}")
     for where in skipped:
         print(f"note {where}: python-canopen cannot encode its DefaultValue")
     print(f"{cases - len(failures)}/{cases} EDS interop checks passed ({eds})")
