@@ -35,12 +35,14 @@ use alloc::collections::BTreeMap;
 use alloc::string::String;
 use alloc::vec::Vec;
 
+mod describe;
 mod dictionary;
 mod parse;
 mod types;
 mod value;
 mod write;
 
+pub use describe::Described;
 pub use dictionary::{DictionaryError, PdoDescription, MAX_VARIABLE_LEN};
 pub use parse::{parse, parse_bytes};
 pub use types::{AccessType, DataType, ObjectType};
