@@ -3,13 +3,15 @@
 //! `tests/interop/sdo_interop.py`), and handy by hand.
 //!
 //! ```text
-//! sdo_node --server --node-id N
+//! sdo_node --server --node-id N [--eds FILE]
+//! sdo_node --print-eds FILE
 //! sdo_node --client --node-id N [--timeout-ms T] OP...
 //!     OP = read:IDX:SUB | write:IDX:SUB:HEX     (IDX and SUB in hex)
 //! ```
 //!
-//! The server serves a small in-memory dictionary (listed by `--help`) and
-//! prints `EVENT ...` lines on stderr. The client waits for the first input
+//! The server serves a small in-memory dictionary (listed by `--help`), or
+//! with `--eds` the dictionary an EDS or DCF (CiA 306) describes, built for
+//! the node id (`canopen_codec::eds`), and prints `EVENT ...` lines on stderr. The client waits for the first input
 //! line (any frame: the peer is ready), runs the operations one after the
 //! other, prints one `RESULT ...` line per operation on stderr, and exits.
 //! Time is the process's monotonic clock; input timestamps are ignored.
@@ -27,7 +29,8 @@ use canopen_codec::sdo::{
 };
 use canopen_codec::NodeId;
 
-const USAGE: &str = "usage: sdo_node --server --node-id N
+const USAGE: &str = "usage: sdo_node --server --node-id N [--eds FILE]
+       sdo_node --print-eds FILE   (read an EDS/DCF, write it back out)
        sdo_node --client --node-id N [--timeout-ms T] OP...
          OP = read:IDX:SUB | write:IDX:SUB:HEX   (IDX, SUB in hex)
 server dictionary:
@@ -93,6 +96,7 @@ fn main() -> ExitCode {
     let mut client = false;
     let mut node = None;
     let mut timeout_ms = None;
+    let mut eds = None;
     let mut ops = Vec::new();
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -100,6 +104,8 @@ fn main() -> ExitCode {
             "--server" => server = true,
             "--client" => client = true,
             "--node-id" => node = it.next().and_then(|v| v.parse().ok()).and_then(NodeId::new),
+            "--eds" => eds = it.next().cloned(),
+            "--print-eds" => return print_eds(it.next().map_or("", String::as_str)),
             "--timeout-ms" => timeout_ms = it.next().and_then(|v| v.parse::<u64>().ok()),
             "-h" | "--help" => {
                 eprintln!("{USAGE}");
@@ -119,7 +125,13 @@ fn main() -> ExitCode {
         return ExitCode::from(2);
     };
     match (server, client) {
-        (true, false) => run_server(node),
+        (true, false) => match eds.map_or_else(|| Ok(dictionary()), |p| eds_dictionary(&p, node)) {
+            Ok(od) => run_server(node, od),
+            Err(e) => {
+                eprintln!("sdo_node: {e}");
+                ExitCode::from(2)
+            }
+        },
         (false, true) => run_client(node, timeout_ms, ops),
         _ => {
             eprintln!("sdo_node: give exactly one of --server / --client\n{USAGE}");
@@ -128,9 +140,34 @@ fn main() -> ExitCode {
     }
 }
 
-fn run_server(node: NodeId) -> ExitCode {
+/// Reads the EDS or DCF at `path` and prints it as `eds::write` writes it.
+fn print_eds(path: &str) -> ExitCode {
+    let read = std::fs::read(path).map_err(|e| e.to_string());
+    match read.and_then(|b| canopen_codec::eds::parse_bytes(&b).map_err(|e| e.to_string())) {
+        Ok(eds) => {
+            print!("{}", canopen_codec::eds::write(&eds));
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("sdo_node: {path}: {e}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// The dictionary the EDS or DCF at `path` describes, for `node`.
+fn eds_dictionary(path: &str, node: NodeId) -> Result<MemoryDictionary, String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
+    let eds = canopen_codec::eds::parse_bytes(&bytes).map_err(|e| format!("{path}: {e}"))?;
+    for w in &eds.warnings {
+        eprintln!("sdo_node: {path}: line {}: {:?}", w.line, w.kind);
+    }
+    eds.dictionary(node).map_err(|e| format!("{path}: {e}"))
+}
+
+fn run_server(node: NodeId, od: MemoryDictionary) -> ExitCode {
     let bus = PipeBus::stdin("pipe");
-    let mut server = Server::new(ServerConfig::for_node(node), dictionary());
+    let mut server = Server::new(ServerConfig::for_node(node), od);
     loop {
         match bus.recv(server.poll_timeout()) {
             Input::Frame(f, _) => server.handle_frame(bus.now(), &f),

@@ -54,6 +54,8 @@ pub mod cob_id;
 pub mod deltaq;
 pub mod device;
 pub mod display;
+#[cfg(feature = "alloc")]
+pub mod eds;
 pub mod emcy;
 pub mod error;
 pub mod frame;
