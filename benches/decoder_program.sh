@@ -13,7 +13,7 @@ cd "$(dirname "${BASH_SOURCE[0]}")/.."
 LINES=${1:-1000000}
 shared=${CANOPEN_SHARED_DIR:-../shared}
 # (built in two steps: the tracked text names no path outside the repository)
-captures="$shared/spec"
+captures="${shared}"/spec
 captures="$captures/captures"
 sources=("$captures/deltaq-icl1500-startup.log" "$captures/deltaq-icl1500-charging.log")
 if [[ ! -f ${sources[0]} || ! -f ${sources[1]} ]]; then
