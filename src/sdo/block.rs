@@ -230,6 +230,13 @@ impl Receiver {
         }
     }
 
+    /// The same receiver, treating a repeat of `frame` (the initiate frame
+    /// that opened the transfer) as a duplicate until the first segment.
+    pub(crate) fn after(mut self, frame: &[u8]) -> Self {
+        self.acked_frame = Payload::new(frame);
+        self
+    }
+
     /// The block size this receiver announces.
     pub(crate) const fn block_size(&self) -> u8 {
         self.blksize

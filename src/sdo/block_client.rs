@@ -133,6 +133,7 @@ impl<D: AsRef<[u8]>> Client<D> {
         now: Timestamp,
         state: State<D>,
         cmd: ServerCommand,
+        frame: &[u8],
     ) {
         match state {
             State::BlockDownloadInitiated { index, sub, data } => {
@@ -227,7 +228,7 @@ impl<D: AsRef<[u8]>> Client<D> {
                     self.state = State::BlockUploading {
                         index,
                         sub,
-                        rx: Receiver::new(blksize, size, crc && self.config.crc),
+                        rx: Receiver::new(blksize, size, crc && self.config.crc).after(frame),
                     };
                     self.arm(now);
                 }

@@ -198,7 +198,12 @@ impl<D: ObjectDictionary> Server<D> {
         self.arm(now);
     }
 
-    pub(super) fn on_block_download(&mut self, now: Timestamp, cmd: ClientBlockDownload) {
+    pub(super) fn on_block_download(
+        &mut self,
+        now: Timestamp,
+        cmd: ClientBlockDownload,
+        frame: &[u8],
+    ) {
         match (cmd, self.state) {
             (
                 ClientBlockDownload::Initiate {
@@ -210,7 +215,7 @@ impl<D: ObjectDictionary> Server<D> {
                 _,
             ) => {
                 self.supersede();
-                self.initiate_block_download(now, (index, sub), crc, size);
+                self.initiate_block_download(now, (index, sub), crc, size, frame);
             }
             (
                 ClientBlockDownload::End { unused, crc },
@@ -251,6 +256,7 @@ impl<D: ObjectDictionary> Server<D> {
         (index, sub): (u16, u8),
         crc: bool,
         size: Option<u32>,
+        frame: &[u8],
     ) {
         let info = match self.od.info(index, sub) {
             Ok(info) => info,
@@ -278,7 +284,7 @@ impl<D: ObjectDictionary> Server<D> {
             index,
             sub,
             info,
-            rx: Receiver::new(blksize, size, crc && self.config.crc),
+            rx: Receiver::new(blksize, size, crc && self.config.crc).after(frame),
         };
         self.arm(now);
     }

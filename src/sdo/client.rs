@@ -667,7 +667,7 @@ impl<D: AsRef<[u8]>> Machine for Client<D> {
                 sent,
                 toggle,
             } => self.on_download_ack(now, (index, sub), data, sent, toggle, response.command),
-            state => self.on_block_response(now, state, response.command),
+            state => self.on_block_response(now, state, response.command, frame.data()),
         }
     }
 

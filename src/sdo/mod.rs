@@ -44,8 +44,8 @@
 //!   the last in-order one (the segment after it is resent). A segment
 //!   without the last flag shorter than 8 bytes is ignored (its data is not
 //!   all there). A frame byte-identical to the one that completed the
-//!   previous sub-block, before anything newer arrived, is a duplicate and
-//!   ignored.
+//!   previous sub-block (or the initiate frame that opened the transfer),
+//!   before anything newer arrived, is a duplicate and ignored.
 //! - While a sub-block is being received every frame but an abort (byte 0
 //!   80h) is a segment; a new initiate is only recognised between
 //!   sub-blocks and after the last one.
@@ -60,6 +60,15 @@
 //! - Timeout 05040000h; the timer restarts on every frame received and on
 //!   every sub-block begun.
 //! - An empty value is one segment with the last flag and 7 unused bytes.
+//!
+//! **Repeated frames**: CiA 301 numbers the segments of a sub-block but not
+//! the sub-blocks, so a repeated acknowledgement cannot be told from the
+//! next one; a sender that takes it runs a sub-block ahead of the receiver
+//! and a later loss makes it resend the wrong segments. Only the CRC
+//! catches that (05040004h): leave [`ClientConfig::crc`] and
+//! [`ServerConfig::crc`] on where frames can repeat. Immediate repeats of
+//! the frame that opened the transfer or closed a sub-block are recognised
+//! and ignored (see above).
 
 mod abort;
 mod block;

@@ -699,7 +699,7 @@ impl<D: ObjectDictionary> Machine for Server<D> {
             ClientCommand::DownloadSegment(seg) => self.download_segment(now, &seg),
             ClientCommand::Abort { code, .. } => self.abort_by_peer(code),
             ClientCommand::BlockUpload(b) => self.on_block_upload(now, b),
-            ClientCommand::BlockDownload(b) => self.on_block_download(now, b),
+            ClientCommand::BlockDownload(b) => self.on_block_download(now, b, frame.data()),
             ClientCommand::Unknown(_) => {
                 self.abort_local(AbortCode::InvalidCommandSpecifier);
             }
