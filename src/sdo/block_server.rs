@@ -77,9 +77,10 @@ impl<D: ObjectDictionary> Server<D> {
     /// the dictionary at its offset; a failed or short read ends the
     /// transfer with the dictionary's code (short: 08000000h) instead.
     pub(super) fn next_block_segment(&mut self) -> Option<CanFrame> {
-        let State::BlockUploading { index, sub, mut tx } = self.state else {
+        let State::BlockUploading { index, sub, tx } = &self.state else {
             return None;
         };
+        let (index, sub) = (*index, *sub);
         let planned = tx.next()?;
         let mut buf = [0u8; 7];
         let want = buf.get_mut(..planned.len).unwrap_or(&mut []);
@@ -94,8 +95,11 @@ impl<D: ObjectDictionary> Server<D> {
                 return self.transmit.pop();
             }
         }
+        // Updated in place: the state is not copied per segment.
+        let State::BlockUploading { tx, .. } = &mut self.state else {
+            return None;
+        };
         let frame = tx.emit(buf.get(..planned.len).unwrap_or(&[]));
-        self.state = State::BlockUploading { index, sub, tx };
         CanFrame::new(self.config.response_id, &frame).ok()
     }
 
