@@ -268,13 +268,26 @@ fn protocol_switch_threshold() {
             len: 2
         })
     );
-    // ...and refuses it when it did not.
+    // ...and, leniently, when it did not (python-canopen's server switches
+    // every block upload): here to a segmented upload.
     let mut c = client();
-    c.start_block_upload(T0, 0x1017, 0).unwrap();
+    c.start_block_upload(T0, 0x1008, 0).unwrap();
     let _ = sent(&mut c);
     assert_eq!(
-        resp(&mut c, "4B 17 10 00 E8 03 00 00"),
-        ["80 17 10 00 01 00 04 05"]
+        resp(&mut c, "41 08 10 00 02 00 00 00"),
+        ["60 00 00 00 00 00 00 00"]
+    );
+    assert_eq!(
+        resp(&mut c, "0B 4F 4B 00 00 00 00 00"),
+        Vec::<String>::new()
+    );
+    assert_eq!(
+        events(&mut c).last(),
+        Some(&ClientEvent::Uploaded {
+            index: 0x1008,
+            sub: 0,
+            len: 2
+        })
     );
 }
 

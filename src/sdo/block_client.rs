@@ -232,9 +232,10 @@ impl<D: AsRef<[u8]>> Client<D> {
                     };
                     self.arm(now);
                 }
-                // The protocol switch: a normal upload answers, allowed
-                // only when a threshold was offered.
-                ServerCommand::InitiateUpload { .. } if self.config.block_threshold != 0 => {
+                // The protocol switch: a normal upload answers. Followed
+                // whatever threshold was offered (lenient: python-canopen's
+                // server answers every block upload so).
+                ServerCommand::InitiateUpload { .. } => {
                     self.on_upload_initiated(now, index, sub, cmd);
                 }
                 _ => self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier),

@@ -54,9 +54,12 @@
 //!   frame before the last segment: 05040001h; a total above / below the
 //!   indicated size 06070012h / 06070013h, as for segmented transfers.
 //! - A command that does not fit the phase (a start while idle, an ack
-//!   before the start, a segmented response to a block initiate, a normal
-//!   upload answer when no protocol switch threshold was offered):
-//!   05040001h. A response for another object: 06040043h.
+//!   before the start, a segmented response to a block download initiate):
+//!   05040001h. A response for another object: 06040043h. A normal upload
+//!   answer to a block upload initiate is followed as the protocol switch
+//!   even when the value is above the threshold offered, or none was
+//!   (lenient: python-canopen's server answers every block upload so, and
+//!   the value arrives intact).
 //! - Timeout 05040000h; the timer restarts on every frame received and on
 //!   every sub-block begun.
 //! - An empty value is one segment with the last flag and 7 unused bytes.
