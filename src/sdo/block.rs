@@ -1,5 +1,5 @@
 //! The sub-block rules of SDO block transfer, shared by the client and the
-//! server (CiA 301 section 7.2.4.3.16, SDO block download, and 7.2.4.3.19,
+//! server (CiA 301 section 7.2.4.3, SDO protocols: SDO block download and
 //! SDO block upload): one implementation of "which segment may come next"
 //! for the sender and the receiver of the data, whichever machine that is.
 //!

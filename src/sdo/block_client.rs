@@ -1,6 +1,7 @@
 //! Block download and block upload of [`Client`] (CiA 301 section
-//! 7.2.4.3.16 ff., SDO block transfer): the commands, the responses the
-//! block states accept, and the lazily made segments of a block download.
+//! 7.2.4.3, SDO protocols: SDO block download and upload): the commands,
+//! the responses the block states accept, and the lazily made segments of
+//! a block download.
 //! The sub-block rules themselves are shared with the server
 //! (`super::super::block`).
 
@@ -18,7 +19,7 @@ const ABORT: u8 = 0x80;
 
 impl<D: AsRef<[u8]>> Client<D> {
     /// Starts reading `index`/`sub` from the server by block upload (CiA
-    /// 301 section 7.2.4.3.19), asking for sub-blocks of
+    /// 301 section 7.2.4.3, SDO block upload), asking for sub-blocks of
     /// [`ClientConfig::block_size`](super::ClientConfig::block_size)
     /// segments, with CRC if [`ClientConfig::crc`](super::ClientConfig::crc)
     /// and the protocol switch threshold
@@ -45,7 +46,7 @@ impl<D: AsRef<[u8]>> Client<D> {
     }
 
     /// Starts writing `data` to `index`/`sub` by block download (CiA 301
-    /// section 7.2.4.3.16), with the size indicated and CRC if
+    /// section 7.2.4.3, SDO block download), with the size indicated and CRC if
     /// [`ClientConfig::crc`](super::ClientConfig::crc); the server chooses
     /// the block size. Values of any length, 0 included, go by block.
     pub fn start_block_download(

@@ -1,6 +1,6 @@
 //! Block download and block upload of [`Server`] (CiA 301 section
-//! 7.2.4.3.16 ff., SDO block transfer): the requests the block states
-//! accept and the lazily read segments of a block upload. The sub-block
+//! 7.2.4.3, SDO protocols: SDO block download and upload): the requests
+//! the block states accept and the lazily read segments of a block upload. The sub-block
 //! rules themselves are shared with the client (`super::super::block`).
 
 use super::super::block::{check_block_size, Acked, Receiver, Sender};

@@ -1,4 +1,4 @@
-//! Block transfer byte vectors (CiA 301 section 7.2.4.3.16 ff. frame
+//! Block transfer byte vectors (CiA 301 section 7.2.4.3, SDO protocols, frame
 //! layouts; V17/V18 are python-canopen's test transfers) through the client
 //! and the server, each direction on its own, and the crash sequences seen
 //! in another Rust stack. No allocation needed.

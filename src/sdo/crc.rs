@@ -1,7 +1,7 @@
 //! The CRC of SDO block transfer: CRC-16/CCITT with polynomial 1021h and
 //! initial value 0 (also known as CRC-16/XMODEM), no reflection, no final
 //! XOR, computed over all data bytes of the transfer (CiA 301 section
-//! 7.2.4.3.16, SDO block download / block upload: "CRC").
+//! 7.2.4.3, SDO protocols: SDO block download / block upload, "CRC").
 
 /// Slicing tables of polynomial 1021h, built at compile time (8 x 256
 /// entries, 4 KiB): `TABLES[k][x]` is the CRC register after byte `x`
@@ -96,7 +96,8 @@ pub fn crc16_update(crc: u16, data: &[u8]) -> u16 {
 }
 
 /// The CRC of SDO block transfer over `data`: CRC-16/CCITT, polynomial
-/// 1021h, initial value 0 (CiA 301 section 7.2.4.3.16).
+/// 1021h, initial value 0 (CiA 301 section 7.2.4.3, SDO block download /
+/// upload).
 ///
 /// ```
 /// use canopen_codec::sdo::crc16;

@@ -4,7 +4,7 @@
 //! segmented and block transfers; both implement the state-machine contract
 //! of [`crate::machine`].
 //!
-//! # Block transfer (CiA 301 section 7.2.4.3.16 ff.)
+//! # Block transfer (CiA 301 section 7.2.4.3, SDO protocols)
 //!
 //! [`Client::start_block_download`] and [`Client::start_block_upload`] move a
 //! value in sub-blocks of 1..=127 segments of 7 bytes, numbered from 1; the

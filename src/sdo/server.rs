@@ -39,9 +39,9 @@
 //! - Every failure ends the transfer with exactly one [`ServerEvent::Aborted`]
 //!   and, unless the client aborted, one abort frame carrying the transfer's
 //!   index and sub-index.
-//! - Block download and block upload (CiA 301 section 7.2.4.3.16 ff.): the
-//!   sub-block rules and the abort choices are in the [`sdo`](super) module
-//!   docs. During a block upload's sub-block, [`Machine::poll_transmit`]
+//! - Block download and block upload (CiA 301 section 7.2.4.3, SDO
+//!   protocols): the sub-block rules and the abort choices are in the
+//!   [`sdo`](super) module docs. During a block upload's sub-block, [`Machine::poll_transmit`]
 //!   yields one segment per call, read from the dictionary when polled.
 //! - A segment request, or a command with an unknown specifier, while no
 //!   transfer runs is answered with abort 05040001h carrying index and
