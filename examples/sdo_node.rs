@@ -7,6 +7,7 @@
 //! sdo_node --print-eds FILE
 //! sdo_node --client --node-id N [--timeout-ms T] OP...
 //!     OP = read:IDX:SUB | write:IDX:SUB:HEX     (IDX and SUB in hex)
+//!        | bread:IDX:SUB | bwrite:IDX:SUB:HEX   (the same by block transfer)
 //! ```
 //!
 //! The server serves a small in-memory dictionary (listed by `--help`), or
@@ -33,6 +34,7 @@ const USAGE: &str = "usage: sdo_node --server --node-id N [--eds FILE]
        sdo_node --print-eds FILE   (read an EDS/DCF, write it back out)
        sdo_node --client --node-id N [--timeout-ms T] OP...
          OP = read:IDX:SUB | write:IDX:SUB:HEX   (IDX, SUB in hex)
+            | bread:IDX:SUB | bwrite:IDX:SUB:HEX (by block transfer)
 server dictionary:
   1000:00 const u32 000F01A2      1008:00 const string
   1018:01 ro u32 00000539         2000:00..0F rw domain (<= 4096 bytes)
@@ -56,8 +58,10 @@ fn dictionary() -> MemoryDictionary {
 
 #[derive(Debug)]
 enum Op {
-    Read(u16, u8),
-    Write(u16, u8, Vec<u8>),
+    /// Index, sub-index, by block transfer.
+    Read(u16, u8, bool),
+    /// Index, sub-index, value, by block transfer.
+    Write(u16, u8, Vec<u8>, bool),
 }
 
 fn parse_op(s: &str) -> Result<Op, String> {
@@ -69,8 +73,8 @@ fn parse_op(s: &str) -> Result<Op, String> {
         Ok((index, sub))
     };
     match parts.as_slice() {
-        ["read", i, j] => obj(i, j).map(|(i, j)| Op::Read(i, j)),
-        ["write", i, j, hex] => {
+        [op @ ("read" | "bread"), i, j] => obj(i, j).map(|(i, j)| Op::Read(i, j, *op == "bread")),
+        [op @ ("write" | "bwrite"), i, j, hex] => {
             let (i, j) = obj(i, j)?;
             if hex.len() % 2 != 0 {
                 return Err(format!("odd hex digits in {s}"));
@@ -80,7 +84,7 @@ fn parse_op(s: &str) -> Result<Op, String> {
                 .map(|k| u8::from_str_radix(&hex[k..k + 2], 16))
                 .collect::<Result<Vec<u8>, _>>()
                 .map_err(|_| format!("bad hex in {s}"))?;
-            Ok(Op::Write(i, j, data))
+            Ok(Op::Write(i, j, data, *op == "bwrite"))
         }
         _ => Err(format!("bad operation '{s}'")),
     }
@@ -213,8 +217,10 @@ fn run_client(node: NodeId, timeout_ms: Option<u64>, ops: Vec<Op>) -> ExitCode {
     }
     for op in ops {
         let started = match &op {
-            Op::Read(i, s) => client.start_upload(bus.now(), *i, *s),
-            Op::Write(i, s, d) => client.start_download(bus.now(), *i, *s, d.clone()),
+            Op::Read(i, s, false) => client.start_upload(bus.now(), *i, *s),
+            Op::Read(i, s, true) => client.start_block_upload(bus.now(), *i, *s),
+            Op::Write(i, s, d, false) => client.start_download(bus.now(), *i, *s, d.clone()),
+            Op::Write(i, s, d, true) => client.start_block_download(bus.now(), *i, *s, d.clone()),
         };
         if let Err(e) = started {
             eprintln!("sdo_node: {e}");
@@ -241,8 +247,8 @@ fn run_client(node: NodeId, timeout_ms: Option<u64>, ops: Vec<Op>) -> ExitCode {
             }
         };
         let (what, index, sub) = match op {
-            Op::Read(i, s) => ("read", i, s),
-            Op::Write(i, s, _) => ("write", i, s),
+            Op::Read(i, s, _) => ("read", i, s),
+            Op::Write(i, s, _, _) => ("write", i, s),
         };
         match outcome {
             Collected::Value(v) => eprintln!("RESULT {what} {index:04X}:{sub:02X} ok {}", hex(&v)),

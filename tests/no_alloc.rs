@@ -437,6 +437,41 @@ const CASES: &[Case] = &[
         },
     ),
     (
+        "SDO client and server: block download and upload, CRC, timeout",
+        |_| {
+            let node = NodeId::new(1).unwrap();
+            let mut client: Client<&'static [u8]> = Client::new(ClientConfig {
+                block_size: 5,
+                ..ClientConfig::for_server(node)
+            });
+            let mut server = Server::new(
+                ServerConfig {
+                    block_size: 3,
+                    ..ServerConfig::for_node(node)
+                },
+                FixedOd {
+                    value: [0; 100],
+                    len: 0,
+                },
+            );
+            let t = Timestamp::ZERO;
+            client
+                .start_block_download(t, 0x2000, 0, &SDO_VALUE[..])
+                .unwrap();
+            sdo_round(&mut client, &mut server);
+            assert_eq!(server.od().len, 100);
+            client.start_block_upload(t, 0x2000, 0).unwrap();
+            sdo_round(&mut client, &mut server);
+            client.start_block_upload(t, 0x3000, 0).unwrap();
+            sdo_round(&mut client, &mut server);
+            client.start_block_upload(t, 0x2000, 0).unwrap();
+            let _ = client.poll_transmit();
+            client.handle_timeout(Timestamp::from_millis(5000));
+            while black_box(client.poll_transmit()).is_some() {}
+            while black_box(client.poll_event()).is_some() {}
+        },
+    ),
+    (
         "Display of messages, SDO commands, codes (into a sink)",
         |fx| {
             for m in &fx.messages {

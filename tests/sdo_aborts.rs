@@ -103,9 +103,9 @@ fn server_bad_command_specifier() {
         "8008100001000405",
         server_abort(0x1008, 0, AbortCode::InvalidCommandSpecifier),
     );
-    // A block upload request: not supported.
+    // A block upload start with no block upload initiated.
     assert_server_abort(
-        &["A40810007F000000"],
+        &["A300000000000000"],
         "8000000001000405",
         server_abort(0, 0, AbortCode::InvalidCommandSpecifier),
     );

@@ -2,8 +2,11 @@
 //! and commands, run on two copies side by side: one whose events are read
 //! after every call, one whose events are read only when the input says so.
 //! Invariants: no panic; at most one transfer in progress (a start while
-//! busy is refused, and only then); every frame sent is a valid SDO request
-//! on the client's request identifier, at most one per call; both copies
+//! busy is refused, and only then); every frame sent is on the client's
+//! request identifier with DLC 8, and each drain of the transmit queue is at
+//! most one valid SDO request followed by at most one block download
+//! sub-block (segments numbered 1, 2, .. up to 127, only the last may carry
+//! the last flag); both copies
 //! send exactly the same frames and keep the same timers (an undrained event
 //! queue never changes protocol behaviour); the undrained copy's events are
 //! the drained copy's with exactly `events_dropped` of them left out; every
@@ -25,6 +28,10 @@ enum Op {
     Advance { micros: u32, backwards: bool },
     StartUpload { index: u16, sub: u8 },
     StartDownload { index: u16, sub: u8, len: u16 },
+    StartBlockUpload { index: u16, sub: u8 },
+    StartBlockDownload { index: u16, sub: u8, len: u16 },
+    /// A well-formed block transfer response for the running transfer.
+    BlockResponse { kind: u8, a: u8, b: u8, data: [u8; 7] },
     Abort { code: u32 },
     /// Read the second copy's events now.
     ReadUndrained,
@@ -33,6 +40,20 @@ enum Op {
 }
 
 const NODE: u8 = 3;
+
+/// A valid SDO request (not a sub-block segment).
+fn is_request(f: &CanFrame) -> bool {
+    SdoRequest::decode(f.data()).is_ok_and(|r| !matches!(r.command, ClientCommand::Unknown(_)))
+}
+
+/// Segments numbered 1, 2, .. (at most 127), the last flag only on the last.
+fn is_sub_block(frames: &[CanFrame]) -> bool {
+    frames.len() <= 127
+        && frames.iter().enumerate().all(|(i, f)| {
+            let b0 = f.data()[0];
+            usize::from(b0 & 0x7F) == i + 1 && (b0 & 0x80 == 0 || i + 1 == frames.len())
+        })
+}
 
 /// `sub` is `full` with some elements left out, in order.
 fn is_subsequence<T: PartialEq>(sub: &[T], full: &[T]) -> bool {
@@ -103,6 +124,56 @@ fuzz_target!(|ops: Vec<Op>| {
                     Err(e) => panic!("unexpected {e}"),
                 }
             }
+            Op::StartBlockUpload { index, sub } => {
+                let result = client.start_block_upload(now, index, sub);
+                assert_eq!(undrained.start_block_upload(now, index, sub), result);
+                match result {
+                    Ok(()) => {
+                        assert!(!was_busy);
+                        started += 1;
+                        expected_offset = 0;
+                    }
+                    Err(ClientError::Busy) => assert!(was_busy),
+                    Err(e) => panic!("unexpected {e}"),
+                }
+            }
+            Op::StartBlockDownload { index, sub, len } => {
+                let data: Vec<u8> = (0..usize::from(len) % 2000).map(|i| i as u8).collect();
+                let result = client.start_block_download(now, index, sub, data.clone());
+                assert_eq!(undrained.start_block_download(now, index, sub, data), result);
+                match result {
+                    Ok(()) => {
+                        assert!(!was_busy);
+                        started += 1;
+                    }
+                    Err(ClientError::Busy) => assert!(was_busy),
+                    Err(e) => panic!("unexpected {e}"),
+                }
+            }
+            Op::BlockResponse { kind, a, b, data } => {
+                let (index, sub) = client.current().unwrap_or((0x2000, 0));
+                let [lo, hi] = index.to_le_bytes();
+                let [d0, d1, d2, d3, d4, d5, d6] = data;
+                let bytes = match kind % 7 {
+                    // Block download initiate response, sc = a bit 0, blksize b.
+                    0 => [0xA0 | (a & 1) << 2, lo, hi, sub, b, 0, 0, 0],
+                    // Block download sub-block ack.
+                    1 => [0xA2, a, b, 0, 0, 0, 0, 0],
+                    // Block download end response.
+                    2 => [0xA1, 0, 0, 0, 0, 0, 0, 0],
+                    // Block upload initiate response with size a + 256 b.
+                    3 => [0xC6 | (b & 1) << 2, lo, hi, sub, a, b >> 4, 0, 0],
+                    // Sub-block segment: seqno and last flag from a.
+                    4 => [a, d0, d1, d2, d3, d4, d5, d6],
+                    // Block upload end: unused bytes and CRC.
+                    5 => [0xC1 | (a & 7) << 2, b, d0, 0, 0, 0, 0, 0],
+                    // Protocol switch: a normal segmented upload response.
+                    _ => [0x41, lo, hi, sub, a, 0, 0, 0],
+                };
+                let frame = CanFrame::new(config.response_id, &bytes).unwrap();
+                client.handle_frame(now, &frame);
+                undrained.handle_frame(now, &frame);
+            }
             Op::Abort { code } => {
                 let aborted = client.abort(now, AbortCode::from(code));
                 assert_eq!(undrained.abort(now, AbortCode::from(code)), aborted);
@@ -117,17 +188,19 @@ fuzz_target!(|ops: Vec<Op>| {
         if hold_now {
             held += 1;
         } else {
-            let mut frames = 0;
+            let mut frames = Vec::new();
             while let Some(f) = client.poll_transmit() {
-                frames += 1;
                 assert_eq!(undrained.poll_transmit(), Some(f), "the copies' frames differ");
                 assert_eq!(f.id(), config.request_id);
                 assert!(!f.is_remote());
                 assert_eq!(f.dlc(), 8, "{f}");
-                let req = SdoRequest::decode(f.data()).expect("client sends valid SDO frames");
-                assert!(!matches!(req.command, ClientCommand::Unknown(_)));
+                frames.push(f);
+                assert!(frames.len() <= 128, "more than a request and a sub-block");
             }
-            assert!(frames <= 1, "at most one frame per call");
+            assert!(
+                is_sub_block(&frames) || (is_request(&frames[0]) && is_sub_block(&frames[1..])),
+                "not one request and one sub-block: {frames:?}"
+            );
             assert_eq!(undrained.poll_transmit(), None, "the copies' frames differ");
         }
         assert_eq!(undrained.poll_timeout(), client.poll_timeout());

@@ -2,8 +2,10 @@
 //! steps, run on two copies side by side: one whose events are read after
 //! every call, one whose events are read only when the input says so.
 //! Invariants: no panic; at most one transfer in progress; every frame sent
-//! is a valid SDO response on the server's response identifier (at most one
-//! per request); both copies send exactly the same frames, keep the same
+//! is on the server's response identifier with DLC 8, and each drain of the
+//! transmit queue is at most one valid SDO response followed by at most one
+//! block upload sub-block (segments numbered 1, 2, .. up to 127, only the
+//! last may carry the last flag); both copies send exactly the same frames, keep the same
 //! timers and end with the same dictionary (an undrained event queue never
 //! changes protocol behaviour); the undrained copy's events are the drained
 //! copy's with exactly `events_dropped` of them left out; a running
@@ -23,6 +25,8 @@ enum Op {
     /// A request frame; `shape` picks a well-formed command to steer the fuzzer.
     Frame { other: bool, remote: bool, shape: u8, data: [u8; 8], len: u8 },
     Advance { micros: u32, backwards: bool },
+    /// A well-formed block transfer request on a known object.
+    BlockRequest { kind: u8, object: u8, a: u8, b: u8, data: [u8; 7] },
     /// Read the second copy's events now.
     ReadUndrained,
 }
@@ -39,6 +43,20 @@ fn dictionary() -> MemoryDictionary {
     od.insert_variable(0x1008, 0, Access::ReadWrite, b"battery module", 20);
     od.insert_variable(0x2002, 0, Access::ReadWrite, &[], 0);
     od
+}
+
+/// A valid SDO response (not a sub-block segment).
+fn is_response(f: &CanFrame) -> bool {
+    SdoResponse::decode(f.data()).is_ok_and(|r| !matches!(r.command, ServerCommand::Unknown(_)))
+}
+
+/// Segments numbered 1, 2, .. (at most 127), the last flag only on the last.
+fn is_sub_block(frames: &[CanFrame]) -> bool {
+    frames.len() <= 127
+        && frames.iter().enumerate().all(|(i, f)| {
+            let b0 = f.data()[0];
+            usize::from(b0 & 0x7F) == i + 1 && (b0 & 0x80 == 0 || i + 1 == frames.len())
+        })
 }
 
 /// `sub` is `full` with some elements left out, in order.
@@ -86,19 +104,45 @@ fuzz_target!(|ops: Vec<Op>| {
                 server.handle_timeout(now);
                 undrained.handle_timeout(now);
             }
+            Op::BlockRequest { kind, object, a, b, data } => {
+                let objects = [0x1000u16, 0x1017, 0x2000, 0x2001, 0x1008, 0x2002, 0x3000];
+                let [lo, hi] = objects[usize::from(object) % objects.len()].to_le_bytes();
+                let [d0, d1, d2, d3, d4, d5, d6] = data;
+                let bytes = match kind % 7 {
+                    // Block upload initiate: cc = a bit 0, blksize b, pst from a.
+                    0 => [0xA0 | (a & 1) << 2, lo, hi, 0, b, a >> 4, 0, 0],
+                    // Block upload start.
+                    1 => [0xA3, 0, 0, 0, 0, 0, 0, 0],
+                    // Block upload sub-block ack.
+                    2 => [0xA2, a, b, 0, 0, 0, 0, 0],
+                    // Block upload end.
+                    3 => [0xA1, 0, 0, 0, 0, 0, 0, 0],
+                    // Block download initiate with size a (s = b bit 0, cc = b bit 1).
+                    4 => [0xC0 | (b & 2) << 1 | (b & 1) << 1, lo, hi, 0, a, 0, 0, 0],
+                    // Sub-block segment: seqno and last flag from a.
+                    5 => [a, d0, d1, d2, d3, d4, d5, d6],
+                    // Block download end: unused bytes and CRC.
+                    _ => [0xC1 | (a & 7) << 2, b, d0, 0, 0, 0, 0, 0],
+                };
+                let frame = CanFrame::new(config.request_id, &bytes).unwrap();
+                server.handle_frame(now, &frame);
+                undrained.handle_frame(now, &frame);
+            }
             Op::ReadUndrained => read_undrained.extend(std::iter::from_fn(|| undrained.poll_event())),
         }
-        let mut frames = 0;
+        let mut frames = Vec::new();
         while let Some(f) = server.poll_transmit() {
-            frames += 1;
             assert_eq!(undrained.poll_transmit(), Some(f), "the copies' frames differ");
             assert_eq!(f.id(), config.response_id);
             assert_eq!(f.dlc(), 8);
-            let resp = SdoResponse::decode(f.data()).expect("server sends valid SDO frames");
-            assert!(!matches!(resp.command, ServerCommand::Unknown(_)));
+            frames.push(f);
+            assert!(frames.len() <= 128, "more than a response and a sub-block");
         }
         assert_eq!(undrained.poll_transmit(), None, "the copies' frames differ");
-        assert!(frames <= 1, "one response per input");
+        assert!(
+            is_sub_block(&frames) || (is_response(&frames[0]) && is_sub_block(&frames[1..])),
+            "not one response and one sub-block: {frames:?}"
+        );
         assert_eq!((server.frames_dropped(), undrained.frames_dropped()), (0, 0));
         assert_eq!(undrained.poll_timeout(), server.poll_timeout());
         assert_eq!(undrained.is_busy(), server.is_busy());

@@ -5,9 +5,12 @@
 //!
 //! The client implements [`Machine`], the crate's state-machine contract
 //! (call order and back-pressure rule: see [`crate::machine`]). Its commands
-//! are [`Client::start_upload`], [`Client::start_download`] and
+//! are [`Client::start_upload`], [`Client::start_download`],
+//! [`Client::start_block_upload`], [`Client::start_block_download`] and
 //! [`Client::abort`]; after each of them and after every `handle_*` call,
-//! send what [`Machine::poll_transmit`] returns.
+//! send what [`Machine::poll_transmit`] returns. During a block download's
+//! sub-block, `poll_transmit` yields one segment per call, made from the
+//! data when polled (the block rules: see the [`sdo`](super) module docs).
 //!
 //! - **Events** go to a queue of four; when it is full the oldest event is
 //!   dropped and counted ([`Machine::events_dropped`]). Transfers run by
@@ -58,6 +61,7 @@
 use core::time::Duration;
 
 use super::abort::AbortCode;
+use super::block::{Receiver, Sender, MAX_BLOCK_SIZE};
 use super::data::{InitiatePayload, Segment, SegmentData};
 use super::server::{AbortOrigin, DEFAULT_TIMEOUT};
 use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
@@ -152,6 +156,17 @@ pub struct ClientConfig {
     pub response_id: CanId,
     /// How long to wait for each response (default 2000 ms).
     pub timeout: Duration,
+    /// Block upload: segments per sub-block this client asks for, 1..=127
+    /// (default 127; 0 counts as 1, above 127 as 127). CiA 301: the
+    /// receiver of the data chooses the block size.
+    pub block_size: u8,
+    /// Block transfer: this client supports CRC (default true). CiA 301:
+    /// the CRC is used only when both sides support it.
+    pub crc: bool,
+    /// Block upload: the protocol switch threshold sent in the initiate
+    /// request (default 0, no switch). CiA 301: the server may answer a
+    /// block upload of at most this many bytes with a normal upload.
+    pub block_threshold: u8,
 }
 
 impl ClientConfig {
@@ -162,6 +177,9 @@ impl ClientConfig {
             request_id: CanId::Standard(SDO_RX_BASE + server.raw() as u16),
             response_id: CanId::Standard(SDO_TX_BASE + server.raw() as u16),
             timeout: DEFAULT_TIMEOUT,
+            block_size: MAX_BLOCK_SIZE,
+            crc: true,
+            block_threshold: 0,
         }
     }
 }
@@ -193,6 +211,37 @@ enum State<D> {
         /// Bytes sent so far (including the segment awaiting its ack).
         sent: usize,
         toggle: bool,
+    },
+    /// Block download: the initiate request is out.
+    BlockDownloadInitiated {
+        index: u16,
+        sub: u8,
+        data: D,
+    },
+    /// Block download: sub-blocks are being sent (segments are made when
+    /// polled) and acknowledged.
+    BlockDownloading {
+        index: u16,
+        sub: u8,
+        data: D,
+        tx: Sender,
+    },
+    /// Block download: the end frame is out.
+    BlockDownloadEnding {
+        index: u16,
+        sub: u8,
+        len: usize,
+    },
+    /// Block upload: the initiate request is out.
+    BlockUploadInitiated {
+        index: u16,
+        sub: u8,
+    },
+    /// Block upload: receiving sub-blocks, then the end frame.
+    BlockUploading {
+        index: u16,
+        sub: u8,
+        rx: Receiver,
     },
 }
 
@@ -261,7 +310,12 @@ impl<D: AsRef<[u8]>> Client<D> {
             State::UploadInitiated { index, sub }
             | State::Uploading { index, sub, .. }
             | State::DownloadInitiated { index, sub, .. }
-            | State::Downloading { index, sub, .. } => Some((index, sub)),
+            | State::Downloading { index, sub, .. }
+            | State::BlockDownloadInitiated { index, sub, .. }
+            | State::BlockDownloading { index, sub, .. }
+            | State::BlockDownloadEnding { index, sub, .. }
+            | State::BlockUploadInitiated { index, sub }
+            | State::BlockUploading { index, sub, .. } => Some((index, sub)),
         }
     }
 
@@ -386,7 +440,13 @@ impl<D: AsRef<[u8]>> Client<D> {
         });
     }
 
-    fn on_upload_initiated(&mut self, now: Timestamp, index: u16, sub: u8, cmd: ServerCommand) {
+    pub(super) fn on_upload_initiated(
+        &mut self,
+        now: Timestamp,
+        index: u16,
+        sub: u8,
+        cmd: ServerCommand,
+    ) {
         let ServerCommand::InitiateUpload {
             index: ri,
             sub: rs,
@@ -571,6 +631,9 @@ impl<D: AsRef<[u8]>> Machine for Client<D> {
         if frame.id() != self.config.response_id || frame.is_remote() || !self.is_busy() {
             return;
         }
+        if self.block_segment(now, frame.data()) {
+            return;
+        }
         let Ok(response) = SdoResponse::decode_frame(frame) else {
             return;
         };
@@ -604,11 +667,14 @@ impl<D: AsRef<[u8]>> Machine for Client<D> {
                 sent,
                 toggle,
             } => self.on_download_ack(now, (index, sub), data, sent, toggle, response.command),
+            state => self.on_block_response(now, state, response.command, frame.data()),
         }
     }
 
+    /// The queued frame, else the next segment of a block download's
+    /// sub-block, made now from the data at its offset.
     fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.transmit.pop()
+        self.transmit.pop().or_else(|| self.next_block_segment())
     }
 
     /// The response deadline of the running transfer (`None` when idle).
@@ -624,3 +690,6 @@ impl<D: AsRef<[u8]>> Machine for Client<D> {
         self.events.dropped()
     }
 }
+
+#[path = "block_client.rs"]
+mod block;

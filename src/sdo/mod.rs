@@ -1,13 +1,84 @@
 //! Service data objects (SDO), CiA 301: abort codes and the frame codec.
 //!
-//! [`Client`] and [`Server`] are the sans-IO state machines for expedited
-//! and segmented transfers; both implement the state-machine contract of
-//! [`crate::machine`].
+//! [`Client`] and [`Server`] are the sans-IO state machines for expedited,
+//! segmented and block transfers; both implement the state-machine contract
+//! of [`crate::machine`].
+//!
+//! # Block transfer (CiA 301 section 7.2.4.3, SDO protocols)
+//!
+//! [`Client::start_block_download`] and [`Client::start_block_upload`] move a
+//! value in sub-blocks of 1..=127 segments of 7 bytes, numbered from 1; the
+//! receiver of the data chooses the block size ([`ClientConfig::block_size`]
+//! for uploads, [`ServerConfig::block_size`] for downloads) and, after the
+//! segment with the block's last number or the last flag, acknowledges the
+//! last sequence number it received in order; the sender goes on from the
+//! segment after it. The end frame carries the unused bytes of the last
+//! segment and the CRC ([`crc16`]: CRC-16/CCITT, polynomial 1021h, initial
+//! value 0, over all data bytes), used only when both sides announced CRC
+//! support. The server answers a block upload of at most the client's
+//! protocol switch threshold bytes with a normal upload.
+//!
+//! **One frame per poll, nothing buffered**: a block sender makes each
+//! segment when [`Machine::poll_transmit`](crate::machine::Machine::poll_transmit)
+//! is called, from the data at the segment's offset (the server reads its
+//! dictionary there), so a whole sub-block comes out of one drain of the
+//! transmit queue while the queue itself holds one frame. A block receiver
+//! passes every in-order segment on at once (the client as
+//! [`ClientEvent::UploadData`], the server as a dictionary write) and holds
+//! only the segment with the last flag until the end frame says how many of
+//! its bytes are data.
+//!
+//! **Aborts and the choices made where CiA 301 leaves room**:
+//!
+//! - Block size 0 or above 127 in an initiate or an acknowledgement:
+//!   05040002h. The block size of the acknowledgement that confirms the last
+//!   segment is not checked (no sub-block follows).
+//! - Sequence number 0 (other than the abort frame 80h) or above the block
+//!   size: 05040003h. An acknowledgement with an `ackseq` above the number
+//!   of segments sent in the sub-block: 05040003h (the receiver claims
+//!   segments that were never sent). `ackseq` 0 (nothing received) is
+//!   legal: the sender resends the whole sub-block, as often as asked; a
+//!   receiver that stops answering is ended by the timeout.
+//! - Out-of-order segments are ignored, except that one carrying the
+//!   block's last number or the last flag makes the receiver acknowledge
+//!   the last in-order one (the segment after it is resent). A segment
+//!   without the last flag shorter than 8 bytes is ignored (its data is not
+//!   all there). A frame byte-identical to the one that completed the
+//!   previous sub-block (or the initiate frame that opened the transfer),
+//!   before anything newer arrived, is a duplicate and ignored.
+//! - While a sub-block is being received every frame but an abort (byte 0
+//!   80h) is a segment; a new initiate is only recognised between
+//!   sub-blocks and after the last one.
+//! - End frame: CRC mismatch 05040004h; more unused bytes claimed than the
+//!   last segment lets be data (it carried fewer than 7 - n bytes) or an end
+//!   frame before the last segment: 05040001h; a total above / below the
+//!   indicated size 06070012h / 06070013h, as for segmented transfers.
+//! - A command that does not fit the phase (a start while idle, an ack
+//!   before the start, a segmented response to a block download initiate):
+//!   05040001h. A response for another object: 06040043h. A normal upload
+//!   answer to a block upload initiate is followed as the protocol switch
+//!   even when the value is above the threshold offered, or none was
+//!   (lenient: python-canopen's server answers every block upload so, and
+//!   the value arrives intact).
+//! - Timeout 05040000h; the timer restarts on every frame received and on
+//!   every sub-block begun.
+//! - An empty value is one segment with the last flag and 7 unused bytes.
+//!
+//! **Repeated frames**: CiA 301 numbers the segments of a sub-block but not
+//! the sub-blocks, so a repeated acknowledgement cannot be told from the
+//! next one; a sender that takes it runs a sub-block ahead of the receiver
+//! and a later loss makes it resend the wrong segments. Only the CRC
+//! catches that (05040004h): leave [`ClientConfig::crc`] and
+//! [`ServerConfig::crc`] on where frames can repeat. Immediate repeats of
+//! the frame that opened the transfer or closed a sub-block are recognised
+//! and ignored (see above).
 
 mod abort;
+mod block;
 mod client;
 #[cfg(feature = "alloc")]
 mod collect;
+mod crc;
 mod data;
 mod server;
 mod wire;
@@ -16,6 +87,7 @@ pub use abort::{AbortCode, ALL_ABORT_CODES};
 pub use client::{Client, ClientConfig, ClientError, ClientEvent};
 #[cfg(feature = "alloc")]
 pub use collect::{Collected, UploadBuffer};
+pub use crc::{crc16, crc16_update};
 pub use data::{ExpeditedData, InitiatePayload, InlineData, Segment, SegmentData};
 pub use server::{AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_TIMEOUT};
 pub use wire::{

@@ -39,8 +39,10 @@
 //! - Every failure ends the transfer with exactly one [`ServerEvent::Aborted`]
 //!   and, unless the client aborted, one abort frame carrying the transfer's
 //!   index and sub-index.
-//! - Block transfer is not supported: block requests are answered with abort
-//!   05040001h (command specifier not valid), as CiA 301 allows.
+//! - Block download and block upload (CiA 301 section 7.2.4.3, SDO
+//!   protocols): the sub-block rules and the abort choices are in the
+//!   [`sdo`](super) module docs. During a block upload's sub-block, [`Machine::poll_transmit`]
+//!   yields one segment per call, read from the dictionary when polled.
 //! - A segment request, or a command with an unknown specifier, while no
 //!   transfer runs is answered with abort 05040001h carrying index and
 //!   sub-index 0, and reported as an [`ServerEvent::Aborted`] for object 0:0.
@@ -57,6 +59,7 @@
 use core::time::Duration;
 
 use super::abort::AbortCode;
+use super::block::{Receiver, Sender, MAX_BLOCK_SIZE};
 use super::data::{ExpeditedData, InitiatePayload, Segment, SegmentData};
 use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
@@ -145,6 +148,13 @@ pub struct ServerConfig {
     pub response_id: CanId,
     /// How long to wait for the client's next frame.
     pub timeout: Duration,
+    /// Block download: segments per sub-block this server asks for, 1..=127
+    /// (default 127; 0 counts as 1, above 127 as 127). CiA 301: the
+    /// receiver of the data chooses the block size.
+    pub block_size: u8,
+    /// Block transfer: this server supports CRC (default true). CiA 301:
+    /// the CRC is used only when both sides support it.
+    pub crc: bool,
 }
 
 impl ServerConfig {
@@ -155,6 +165,8 @@ impl ServerConfig {
             request_id: CanId::Standard(SDO_RX_BASE + node.raw() as u16),
             response_id: CanId::Standard(SDO_TX_BASE + node.raw() as u16),
             timeout: DEFAULT_TIMEOUT,
+            block_size: MAX_BLOCK_SIZE,
+            crc: true,
         }
     }
 }
@@ -176,6 +188,34 @@ enum State {
         size: Option<usize>,
         toggle: bool,
         info: ObjectInfo,
+    },
+    /// Block upload: initiate answered, waiting for the start command.
+    BlockUploadInitiated {
+        index: u16,
+        sub: u8,
+        len: usize,
+        crc: bool,
+        blksize: u8,
+    },
+    /// Block upload: sub-blocks are being sent (segments are made when
+    /// polled) and acknowledged.
+    BlockUploading {
+        index: u16,
+        sub: u8,
+        tx: Sender,
+    },
+    /// Block upload: the end frame is out.
+    BlockUploadEnding {
+        index: u16,
+        sub: u8,
+        len: usize,
+    },
+    /// Block download: receiving sub-blocks, then the end frame.
+    BlockDownloading {
+        index: u16,
+        sub: u8,
+        info: ObjectInfo,
+        rx: Receiver,
     },
 }
 
@@ -264,7 +304,8 @@ impl<D: ObjectDictionary> Server<D> {
     /// drops it); for a download the dictionary's `abort_write` is called.
     /// Does nothing while idle.
     pub fn cancel(&mut self) {
-        if let State::Downloading { index, sub, .. } = self.state {
+        if self.is_writing() {
+            let (index, sub) = self.object();
             self.od.abort_write(index, sub);
         }
         self.state = State::Idle;
@@ -283,10 +324,22 @@ impl<D: ObjectDictionary> Server<D> {
     fn object(&self) -> (u16, u8) {
         match self.state {
             State::Idle => (0, 0),
-            State::Uploading { index, sub, .. } | State::Downloading { index, sub, .. } => {
-                (index, sub)
-            }
+            State::Uploading { index, sub, .. }
+            | State::Downloading { index, sub, .. }
+            | State::BlockUploadInitiated { index, sub, .. }
+            | State::BlockUploading { index, sub, .. }
+            | State::BlockUploadEnding { index, sub, .. }
+            | State::BlockDownloading { index, sub, .. } => (index, sub),
         }
+    }
+
+    /// True while a download (segmented or block) has written to the
+    /// dictionary or may write to it.
+    const fn is_writing(&self) -> bool {
+        matches!(
+            self.state,
+            State::Downloading { .. } | State::BlockDownloading { .. }
+        )
     }
 
     fn send(&mut self, command: ServerCommand) {
@@ -316,7 +369,8 @@ impl<D: ObjectDictionary> Server<D> {
     }
 
     fn abort_object(&mut self, index: u16, sub: u8, code: AbortCode) {
-        if let State::Downloading { index, sub, .. } = self.state {
+        if self.is_writing() {
+            let (index, sub) = self.object();
             self.od.abort_write(index, sub);
         }
         self.send(ServerCommand::Abort { index, sub, code });
@@ -333,7 +387,7 @@ impl<D: ObjectDictionary> Server<D> {
             return;
         }
         let (index, sub) = self.object();
-        if let State::Downloading { .. } = self.state {
+        if self.is_writing() {
             self.od.abort_write(index, sub);
         }
         // CiA 301 code 0 is not a code; report it as a general error.
@@ -354,7 +408,7 @@ impl<D: ObjectDictionary> Server<D> {
             return;
         }
         let (index, sub) = self.object();
-        if let State::Downloading { .. } = self.state {
+        if self.is_writing() {
             self.od.abort_write(index, sub);
         }
         self.finish(ServerEvent::Aborted {
@@ -395,7 +449,7 @@ impl<D: ObjectDictionary> Server<D> {
         Ok(got)
     }
 
-    fn initiate_upload(&mut self, now: Timestamp, index: u16, sub: u8) {
+    pub(super) fn initiate_upload(&mut self, now: Timestamp, index: u16, sub: u8) {
         let info = match self.od.info(index, sub) {
             Ok(info) => info,
             Err(code) => return self.abort_object(index, sub, code),
@@ -622,6 +676,9 @@ impl<D: ObjectDictionary> Machine for Server<D> {
         if frame.id() != self.config.request_id || frame.is_remote() {
             return;
         }
+        if self.block_segment(now, frame.data()) {
+            return;
+        }
         let Ok(request) = SdoRequest::decode_frame(frame) else {
             return;
         };
@@ -641,16 +698,18 @@ impl<D: ObjectDictionary> Machine for Server<D> {
             ClientCommand::UploadSegment { toggle } => self.upload_segment(now, toggle),
             ClientCommand::DownloadSegment(seg) => self.download_segment(now, &seg),
             ClientCommand::Abort { code, .. } => self.abort_by_peer(code),
-            ClientCommand::BlockUpload(_)
-            | ClientCommand::BlockDownload(_)
-            | ClientCommand::Unknown(_) => {
+            ClientCommand::BlockUpload(b) => self.on_block_upload(now, b),
+            ClientCommand::BlockDownload(b) => self.on_block_download(now, b, frame.data()),
+            ClientCommand::Unknown(_) => {
                 self.abort_local(AbortCode::InvalidCommandSpecifier);
             }
         }
     }
 
+    /// The queued frame, else the next segment of a block upload's
+    /// sub-block, read from the dictionary now (or the abort if that fails).
     fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.transmit.pop()
+        self.transmit.pop().or_else(|| self.next_block_segment())
     }
 
     /// The timeout of the running transfer (`None` when idle).
@@ -666,3 +725,6 @@ impl<D: ObjectDictionary> Machine for Server<D> {
         self.events.dropped()
     }
 }
+
+#[path = "block_server.rs"]
+mod block;

@@ -5,6 +5,12 @@ independent CANopen implementation.
 Part A: python-canopen's SDO client against our server (examples/sdo_node --server).
 Part B: our SDO client (examples/sdo_node --client) against python-canopen's
         SDO server (a LocalNode).
+Part C: python-canopen's SDO client against our server with block transfer
+        (block download, then block upload, with CRC).
+Part D: our client's block transfers against python-canopen's server, which
+        has no block support: it answers a block download with abort
+        05040001h and every block upload with a normal upload (the CiA 301
+        protocol switch), which our client follows.
 
 The two talk through a python-can bus class, PipeBus, that exchanges candump
 log lines with the example's stdin/stdout. Every case checks the value or
@@ -23,6 +29,7 @@ from canopen.objectdictionary.datatypes import DOMAIN, UNSIGNED32
 
 NODE = 5
 SIZES = [0, 1, 4, 5, 7, 8, 14, 15, 1000]
+BLOCK_SIZES = [1, 7, 8, 100, 889, 1000, 4096]
 
 
 def value(size, seed):
@@ -145,10 +152,72 @@ def part_b(exe):
         net.disconnect()
 
 
+def part_c(exe):
+    """python-canopen client -> our server, block transfer both ways."""
+    bus = PipeBus([exe, "--server", "--node-id", str(NODE)])
+    net = canopen.Network(bus)
+    net.connect()
+    node = net.add_node(NODE, ObjectDictionary())
+    node.sdo.RESPONSE_TIMEOUT = 2.0
+    try:
+        for i, size in enumerate(BLOCK_SIZES):
+            sub = len(SIZES) + i
+            v = value(size, sub)
+            with node.sdo.open(0x2000, sub, "wb", size=size, block_transfer=True) as f:
+                f.write(v)
+            with node.sdo.open(0x2000, sub, "rb", block_transfer=True) as f:
+                back = f.read()
+            events = wait_for(bus, "EVENT", 2 * (i + 1))
+            ours = events[2 * i:2 * i + 2]
+            check(f"C python block-writes+block-reads {size} bytes",
+                  back == v and ours == [f"EVENT downloaded 2000:{sub:02X} len {size}",
+                                         f"EVENT uploaded 2000:{sub:02X} len {size}"],
+                  f"got {len(back)} bytes, equal {back == v}, ours {ours}")
+    finally:
+        net.disconnect()
+
+
+def part_d(exe):
+    """our client's block transfers -> python-canopen's LocalNode server."""
+    od = ObjectDictionary()
+    for i in range(len(BLOCK_SIZES)):
+        var = ODVariable(f"block{i}", 0x2000 + i, 0)
+        var.data_type = DOMAIN
+        var.access_type = "rw"
+        od.add_object(var)
+    ops = []
+    for i, size in enumerate(BLOCK_SIZES):
+        v = value(size, i + 11).hex().upper()
+        ops += [f"bwrite:{0x2000 + i:04X}:0:{v}", f"write:{0x2000 + i:04X}:0:{v}",
+                f"bread:{0x2000 + i:04X}:0"]
+    bus = PipeBus([exe, "--client", "--node-id", str(NODE)] + ops)
+    net = canopen.Network(bus)
+    net.connect()
+    local = canopen.LocalNode(NODE, od)
+    net.add_node(local)
+    try:
+        net.send_message(0x080, b"")
+        results = wait_for(bus, "RESULT", len(ops), seconds=60)
+        check("D our client finished every operation", len(results) == len(ops), f"{results}")
+        for i, size in enumerate(BLOCK_SIZES):
+            v = value(size, i + 11)
+            idx = f"{0x2000 + i:04X}:00"
+            bw, w, br = results[3 * i:3 * i + 3]
+            check(f"D our block write of {size} bytes: python aborts 05040001h ('{bw}')",
+                  bw == f"RESULT write {idx} abort 05040001 Peer")
+            check(f"D our block read of {size} bytes, switched to a normal upload",
+                  w == f"RESULT write {idx} ok len {size}"
+                  and br == f"RESULT read {idx} ok {v.hex().upper()}", f"{w} / {br[:60]}")
+    finally:
+        net.disconnect()
+
+
 def main():
     exe = sys.argv[1]
     part_a(exe)
     part_b(exe)
+    part_c(exe)
+    part_d(exe)
     print(f"{cases} interop cases, {len(failures)} failed")
     sys.exit(1 if failures else 0)
 

@@ -1,0 +1,364 @@
+//! The sub-block rules of SDO block transfer, shared by the client and the
+//! server (CiA 301 section 7.2.4.3, SDO protocols: SDO block download and
+//! SDO block upload): one implementation of "which segment may come next"
+//! for the sender and the receiver of the data, whichever machine that is.
+//!
+//! - A sub-block is 1..=`blksize` segments numbered 1..=`blksize`; byte 0 of
+//!   a segment is the sequence number (bits 6-0) and the last flag c (bit 7),
+//!   bytes 1-7 are data. The value is cut into 7-byte segments; the last one
+//!   has c = 1 and its unused byte count travels in the end frame. An empty
+//!   value is one segment with c = 1 and 7 unused bytes.
+//! - The receiver answers after the segment numbered `blksize` or the one
+//!   with c = 1 with the last sequence number it received in order (0: none)
+//!   and the next block size; the sender goes on from the segment after it,
+//!   numbering from 1 again.
+//! - Nothing is buffered but one segment: the sender generates each segment
+//!   when it is polled, from the data at the segment's offset; the receiver
+//!   passes every in-order segment on at once except the one with c = 1,
+//!   which it holds until the end frame says how many of its bytes are data.
+
+use super::abort::AbortCode;
+use super::crc::crc16_update;
+use super::data::SegmentData;
+use crate::bytes::Payload;
+
+/// The largest block size, CiA 301: 1..=127 segments per sub-block.
+pub(crate) const MAX_BLOCK_SIZE: u8 = 127;
+
+/// Data bytes per segment.
+const SEGMENT: usize = 7;
+
+/// Checks a block size from the peer: 05040002h unless it is 1..=127.
+pub(crate) const fn check_block_size(blksize: u8) -> Result<u8, AbortCode> {
+    if blksize >= 1 && blksize <= MAX_BLOCK_SIZE {
+        Ok(blksize)
+    } else {
+        Err(AbortCode::InvalidBlockSize)
+    }
+}
+
+/// A configured block size brought into 1..=127.
+pub(crate) const fn clamp_block_size(blksize: u8) -> u8 {
+    if blksize == 0 {
+        1
+    } else if blksize > MAX_BLOCK_SIZE {
+        MAX_BLOCK_SIZE
+    } else {
+        blksize
+    }
+}
+
+/// Segments of a value of `len` bytes (an empty value is one segment).
+const fn segments_of(len: usize) -> usize {
+    let n = len.div_ceil(SEGMENT);
+    if n == 0 {
+        1
+    } else {
+        n
+    }
+}
+
+/// The next segment a [`Sender`] wants to send.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Planned {
+    /// Offset of its first data byte in the value.
+    pub offset: usize,
+    /// Data bytes it carries (0..=7).
+    pub len: usize,
+}
+
+/// What an acknowledgement means to the sender.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Acked {
+    /// More segments follow: poll again.
+    More,
+    /// Every segment is acknowledged: send the end frame.
+    Done {
+        /// Unused bytes of the last segment (0..=7).
+        unused: u8,
+        /// The CRC of all data (0 when CRC is not in use).
+        crc: u16,
+    },
+}
+
+/// The sending side of the sub-block phase.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Sender {
+    len: usize,
+    /// Segment index (from 0) of sequence number 1 of this sub-block.
+    first: usize,
+    /// Segments generated in this sub-block.
+    generated: u8,
+    blksize: u8,
+    crc_on: bool,
+    crc: u16,
+    /// Segments already in `crc` (every segment enters it once, in order).
+    crc_upto: usize,
+}
+
+impl Sender {
+    /// A sender of `len` bytes with the receiver's first block size.
+    pub(crate) const fn new(len: usize, blksize: u8, crc_on: bool) -> Self {
+        Sender {
+            len,
+            first: 0,
+            generated: 0,
+            blksize,
+            crc_on,
+            crc: 0,
+            crc_upto: 0,
+        }
+    }
+
+    /// Bytes in the whole value.
+    pub(crate) const fn len(&self) -> usize {
+        self.len
+    }
+
+    /// The segment to send next, or `None` when the sub-block is out and
+    /// the acknowledgement is due.
+    pub(crate) const fn next(&self) -> Option<Planned> {
+        let index = self.first + self.generated as usize;
+        if self.generated >= self.blksize || index >= segments_of(self.len) {
+            return None;
+        }
+        let offset = index * SEGMENT;
+        let left = self.len.saturating_sub(offset);
+        Some(Planned {
+            offset,
+            len: if left < SEGMENT { left } else { SEGMENT },
+        })
+    }
+
+    /// Builds the segment `next` planned, with its `data` (read at the
+    /// planned offset; at most 7 bytes are used), and counts it as sent.
+    pub(crate) fn emit(&mut self, data: &[u8]) -> [u8; 8] {
+        let index = self.first + usize::from(self.generated);
+        let data = data.get(..data.len().min(SEGMENT)).unwrap_or(&[]);
+        if self.crc_on && index == self.crc_upto {
+            self.crc = crc16_update(self.crc, data);
+            self.crc_upto += 1;
+        }
+        self.generated = self.generated.saturating_add(1);
+        let last = index + 1 >= segments_of(self.len);
+        let mut frame = [0u8; 8];
+        let (head, body) = frame.split_at_mut(1);
+        if let Some(b0) = head.first_mut() {
+            *b0 = self.generated | u8::from(last) << 7;
+        }
+        if let Some(dst) = body.get_mut(..data.len()) {
+            dst.copy_from_slice(data);
+        }
+        frame
+    }
+
+    /// Takes the receiver's acknowledgement: `ackseq` segments of this
+    /// sub-block arrived in order, `blksize` is the next block size.
+    ///
+    /// An `ackseq` above the number of segments sent in this sub-block is
+    /// 05040003h; a block size outside 1..=127 is 05040002h, unless every
+    /// segment is acknowledged (no further sub-block needs it).
+    pub(crate) fn on_ack(&mut self, ackseq: u8, blksize: u8) -> Result<Acked, AbortCode> {
+        if ackseq > self.generated {
+            return Err(AbortCode::InvalidSequenceNumber);
+        }
+        let acked = self.first + usize::from(ackseq);
+        let total = segments_of(self.len);
+        if acked >= total {
+            let unused = (total * SEGMENT).saturating_sub(self.len);
+            return Ok(Acked::Done {
+                unused: u8::try_from(unused).unwrap_or(0),
+                crc: if self.crc_on { self.crc } else { 0 },
+            });
+        }
+        self.blksize = check_block_size(blksize)?;
+        self.first = acked;
+        self.generated = 0;
+        Ok(Acked::More)
+    }
+}
+
+/// What one received segment asks the receiver's owner to do.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct Step {
+    /// Write (or report) these bytes at this offset.
+    pub write: Option<(usize, SegmentData)>,
+    /// Then acknowledge with this sequence number (and the block size).
+    pub ack: Option<u8>,
+}
+
+/// How the end frame completed the transfer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Ended {
+    /// The data bytes of the held last segment, at their offset.
+    pub write: Option<(usize, SegmentData)>,
+    /// Bytes in the whole value.
+    pub total: usize,
+}
+
+/// The receiving side of the sub-block phase.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Receiver {
+    blksize: u8,
+    /// The next in-order sequence number.
+    expected: u8,
+    size: Option<usize>,
+    /// Bytes passed on (the held segment not included).
+    received: usize,
+    crc_on: bool,
+    crc: u16,
+    /// The segment with c = 1, once received in order.
+    held: Option<SegmentData>,
+    /// The frame that completed the last sub-block, while nothing of the
+    /// next one has arrived (to recognise its duplicate).
+    acked_frame: Option<Payload>,
+}
+
+impl Receiver {
+    /// A receiver expecting sub-blocks of `blksize` segments and `size`
+    /// bytes in total when indicated.
+    pub(crate) const fn new(blksize: u8, size: Option<usize>, crc_on: bool) -> Self {
+        Receiver {
+            blksize,
+            expected: 1,
+            size,
+            received: 0,
+            crc_on,
+            crc: 0,
+            held: None,
+            acked_frame: None,
+        }
+    }
+
+    /// The same receiver, treating a repeat of `frame` (the initiate frame
+    /// that opened the transfer) as a duplicate until the first segment.
+    pub(crate) fn after(mut self, frame: &[u8]) -> Self {
+        self.acked_frame = Payload::new(frame);
+        self
+    }
+
+    /// The block size this receiver announces.
+    pub(crate) const fn block_size(&self) -> u8 {
+        self.blksize
+    }
+
+    /// True once the segment with c = 1 arrived in order and was
+    /// acknowledged: the end frame comes next.
+    pub(crate) const fn is_done(&self) -> bool {
+        self.held.is_some()
+    }
+
+    /// True if `bytes` repeat the frame that completed the last sub-block
+    /// while nothing newer arrived: a duplicate, to be ignored.
+    pub(crate) fn is_duplicate(&self, bytes: &[u8]) -> bool {
+        self.acked_frame
+            .is_some_and(|f| self.expected == 1 && f.as_slice() == bytes)
+    }
+
+    /// Takes one sub-block segment (the whole frame data).
+    ///
+    /// Sequence number 0 or above the block size is 05040003h. A duplicate
+    /// of the frame that completed the previous sub-block is ignored. An
+    /// in-order segment is passed on (or held, with c = 1); at the block's
+    /// last number or c = 1 the acknowledgement is due. An out-of-order
+    /// segment is ignored, except that at the block's last number or c = 1
+    /// it triggers the acknowledgement of the last in-order one. A segment
+    /// without c shorter than 8 bytes is ignored (its data is not all
+    /// there). More data than indicated is 06070012h.
+    pub(crate) fn on_segment(&mut self, bytes: &[u8]) -> Result<Step, AbortCode> {
+        let [b0, data @ ..] = bytes else {
+            return Ok(Step::default());
+        };
+        let seq = b0 & 0x7F;
+        let last = b0 & 0x80 != 0;
+        if seq == 0 || seq > self.blksize {
+            return Err(AbortCode::InvalidSequenceNumber);
+        }
+        if self.is_duplicate(bytes) || self.is_done() {
+            return Ok(Step::default());
+        }
+        let ends_block = last || seq == self.blksize;
+        if seq != self.expected {
+            if !ends_block {
+                return Ok(Step::default());
+            }
+            let ackseq = self.expected.saturating_sub(1);
+            self.expected = 1;
+            self.acked_frame = None;
+            return Ok(Step {
+                write: None,
+                ack: Some(ackseq),
+            });
+        }
+        let data = data.get(..data.len().min(SEGMENT)).unwrap_or(&[]);
+        let seg = SegmentData::new(data).unwrap_or_default();
+        let mut step = Step::default();
+        if last {
+            self.held = Some(seg);
+        } else {
+            if data.len() < SEGMENT {
+                return Ok(Step::default());
+            }
+            let end = self.received.saturating_add(SEGMENT);
+            if self.size.is_some_and(|s| end > s) {
+                return Err(AbortCode::DataTypeLengthTooHigh);
+            }
+            if self.crc_on {
+                self.crc = crc16_update(self.crc, data);
+            }
+            step.write = Some((self.received, seg));
+            self.received = end;
+        }
+        self.acked_frame = None;
+        if ends_block {
+            step.ack = Some(seq);
+            self.expected = 1;
+            self.acked_frame = Payload::new(bytes);
+        } else {
+            self.expected = seq + 1;
+        }
+        Ok(step)
+    }
+
+    /// Takes the end frame: `unused` bytes of the held last segment carry
+    /// no data, `crc` is the sender's CRC.
+    ///
+    /// Before the last segment arrived, or with more unused bytes than the
+    /// held segment lets be data (7 minus its data bytes), it is 05040001h;
+    /// a total above / below the indicated size 06070012h / 06070013h; a
+    /// CRC mismatch (CRC in use) 05040004h.
+    pub(crate) fn on_end(&mut self, unused: u8, crc: u16) -> Result<Ended, AbortCode> {
+        let Some(held) = self.held else {
+            return Err(AbortCode::InvalidCommandSpecifier);
+        };
+        if usize::from(unused) > SEGMENT {
+            return Err(AbortCode::InvalidCommandSpecifier);
+        }
+        let keep = SEGMENT - usize::from(unused);
+        let Some(data) = held.as_slice().get(..keep) else {
+            return Err(AbortCode::InvalidCommandSpecifier);
+        };
+        let total = self.received.saturating_add(data.len());
+        match self.size {
+            Some(s) if total > s => return Err(AbortCode::DataTypeLengthTooHigh),
+            Some(s) if total < s => return Err(AbortCode::DataTypeLengthTooLow),
+            _ => {}
+        }
+        if self.crc_on && crc16_update(self.crc, data) != crc {
+            return Err(AbortCode::CrcError);
+        }
+        Ok(Ended {
+            write: (!data.is_empty())
+                .then(|| (self.received, SegmentData::new(data).unwrap_or_default())),
+            total,
+        })
+    }
+}
+
+#[cfg(test)]
+#[path = "block_tests.rs"]
+mod tests;
+
+#[cfg(test)]
+#[path = "block_abort_tests.rs"]
+mod abort_tests;
