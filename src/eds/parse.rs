@@ -24,6 +24,8 @@ struct RawSection<'a> {
 /// Reads an EDS or DCF from text. A leading byte order mark and CRLF line
 /// ends are accepted.
 pub fn parse(text: &str) -> Result<Eds, Error> {
+    // A byte order mark at the start (one) is not part of the first line.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut warnings = Vec::new();
     let sections = split_sections(text, &mut warnings)?;
     build(&sections, warnings)
@@ -33,10 +35,11 @@ pub fn parse(text: &str) -> Result<Eds, Error> {
 /// a line that is not UTF-8 (a name in Latin-1, say) is read with its
 /// invalid bytes replaced by U+FFFD and a [`WarningKind::NotUtf8`].
 pub fn parse_bytes(bytes: &[u8]) -> Result<Eds, Error> {
-    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    // UTF-8 text reads exactly as `parse` reads it (which skips the mark).
     if let Ok(text) = core::str::from_utf8(bytes) {
         return parse(text);
     }
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let mut warnings = Vec::new();
     let mut text = String::with_capacity(bytes.len());
     for (n, line) in bytes.split(|b| *b == b'\n').enumerate() {

@@ -412,3 +412,22 @@ fn pdo_mapping_entries() {
     );
     assert_eq!(m.total_bits(), 24);
 }
+
+/// Found by the `eds_parse` fuzz target in CI: text that starts with two
+/// byte order marks read differently through `parse` and `parse_bytes`
+/// (each skipped one, `parse_bytes` before handing the rest to `parse`).
+#[test]
+fn parse_and_parse_bytes_agree_on_byte_order_marks() {
+    for text in [
+        "\u{feff}\u{feff}",
+        "\u{feff}",
+        "\u{feff}\u{feff}[FileInfo]\nFileName=x.eds\n",
+        "\u{feff}[FileInfo]\nFileName=x.eds\n",
+    ] {
+        assert_eq!(parse(text), parse_bytes(text.as_bytes()), "{text:?}");
+    }
+    assert_eq!(
+        parse("\u{feff}[FileInfo]\nFileName=x.eds\n").map(|e| e.file_info.file_name),
+        parse("[FileInfo]\nFileName=x.eds\n").map(|e| e.file_info.file_name)
+    );
+}
