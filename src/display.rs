@@ -14,16 +14,31 @@ use crate::sdo::{
 /// Writes bytes as space-separated hex (`74 13 45`), or `-` when empty.
 pub struct Hex<'a>(pub &'a [u8]);
 
+const HEX_DIGITS: &[u8; 16] = b"0123456789ABCDEF";
+
 impl fmt::Display for Hex<'_> {
+    /// Up to 8 bytes at a time are spelled into a stack buffer and written
+    /// with one `write_str` (this is on the log decoder's hot path).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.0.is_empty() {
             return f.write_str("-");
         }
-        for (i, b) in self.0.iter().enumerate() {
-            if i > 0 {
+        for (c, chunk) in self.0.chunks(8).enumerate() {
+            if c > 0 {
                 f.write_str(" ")?;
             }
-            write!(f, "{b:02X}")?;
+            let mut buf = [b' '; 24];
+            let mut n = 0;
+            for (i, b) in chunk.iter().enumerate() {
+                let at = i * 3;
+                if let Some([hi, lo]) = buf.get_mut(at..at + 2) {
+                    *hi = HEX_DIGITS[usize::from(b >> 4)];
+                    *lo = HEX_DIGITS[usize::from(b & 0x0F)];
+                }
+                n = at + 2;
+            }
+            // Only ASCII hex digits and spaces were written.
+            f.write_str(core::str::from_utf8(buf.get(..n).unwrap_or(&[])).unwrap_or(""))?;
         }
         Ok(())
     }

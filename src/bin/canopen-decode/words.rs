@@ -46,21 +46,53 @@ pub fn line(
     fields: Option<&(Source, NamedFields)>,
     notes: &crate::Notes,
 ) {
+    // The columns are spelled by hand: this is the hot path of the program.
     match l.timestamp {
         Some(t) => {
-            // Right-aligned in 17 columns, without a temporary string.
+            // Seconds right-aligned in 10 columns, then 6 digits of micros.
             let (secs, micros) = (t.as_micros() / 1_000_000, t.as_micros() % 1_000_000);
-            let _ = write!(out, "{secs:>10}.{micros:06}");
+            let mut digits = [b' '; 20];
+            let mut i = digits.len();
+            let mut v = secs;
+            loop {
+                i -= 1;
+                digits[i] = b'0' + (v % 10) as u8;
+                v /= 10;
+                if v == 0 || i == 0 {
+                    break;
+                }
+            }
+            let start = i.min(digits.len() - 10);
+            out.push_str(std::str::from_utf8(&digits[start..]).unwrap_or(""));
+            out.push('.');
+            let mut frac = [b'0'; 6];
+            let mut v = micros;
+            for d in frac.iter_mut().rev() {
+                *d = b'0' + (v % 10) as u8;
+                v /= 10;
+            }
+            out.push_str(std::str::from_utf8(&frac).unwrap_or(""));
         }
         None => out.push_str("                -"),
     }
-    let node = classify(l.frame.id()).node();
-    let _ = write!(
-        out,
-        "  {:>8}  {:<7}  ",
-        l.frame.id().to_string(),
-        roles.role(node).unwrap_or("-")
-    );
+    let id = l.frame.id();
+    let (raw, width) = match id {
+        canopen_codec::CanId::Standard(r) => (u32::from(r), 3),
+        canopen_codec::CanId::Extended(r) => (r, 8),
+    };
+    let mut hex = [b' '; 8];
+    for (k, slot) in hex.iter_mut().rev().take(width).enumerate() {
+        *slot = b"0123456789ABCDEF"[((raw >> (4 * k)) & 0xF) as usize];
+    }
+    out.push_str("  ");
+    out.push_str(std::str::from_utf8(&hex).unwrap_or(""));
+    out.push_str("  ");
+    let role = roles.role(classify(id).node()).unwrap_or("-");
+    out.push_str(role);
+    for _ in role.len()..7 {
+        out.push(' ');
+    }
+    out.push_str("  ");
     message(out, l, m, roles, fields, notes);
 }
 
