@@ -276,7 +276,8 @@ fn read_u32<D: ObjectDictionary + ?Sized>(od: &mut D, index: u16, sub: u8) -> Op
 }
 
 impl Eds {
-    /// Describes every object of `od` that a line of `tables` covers (see
+    /// Describes every object of `od` (one that answers sub-index 0) that a
+    /// line of `tables` covers (see
     /// [`from_dictionary`](Self::from_dictionary): values, access and
     /// PDO-mappable flags come from the dictionary, names, data types and
     /// object types from the tables; sub-objects the tables do not name
@@ -295,8 +296,8 @@ impl Eds {
         let mut indexes = Vec::new();
         for d in tables.iter().flat_map(|t| t.iter()) {
             for index in d.first..=d.last {
-                let present = (0..=u8::MAX).any(|sub| od.info(index, sub).is_ok());
-                if present && !indexes.contains(&index) {
+                // Every object has a sub-index 0 (CiA 301, section 7.4.3).
+                if od.info(index, 0).is_ok() && !indexes.contains(&index) {
                     indexes.push(index);
                 }
             }
@@ -454,6 +455,60 @@ mod tests {
             assert_eq!(x, y, "{index:04X}h/{sub}");
         }
         assert_eq!(od2.info(0x2100, 0).unwrap().access, Access::WriteOnly);
+    }
+
+    #[test]
+    fn tables_name_runs_and_set_object_types() {
+        const SUBS: &[SubDescription] = &[
+            SubDescription {
+                first: 0,
+                last: 0,
+                name: "Number of entries",
+                data_type: DataType::Unsigned8,
+            },
+            SubDescription {
+                first: 1,
+                last: 3,
+                name: "Entry",
+                data_type: DataType::Unsigned16,
+            },
+        ];
+        const TABLE: &[ObjectDescription] = &[
+            ObjectDescription::var(0x1000, "Device type", DataType::Unsigned32),
+            ObjectDescription::with_subs(0x2000, 0x2001, "List", ObjectType::Array, SUBS),
+        ];
+        let mut od = MemoryDictionary::new();
+        od.insert(0x1000, 0, Access::Const, &0x1A2u32.to_le_bytes());
+        od.insert(0x2001, 0, Access::Const, &[2]);
+        od.insert(0x2001, 1, Access::ReadWrite, &7u16.to_le_bytes());
+        od.insert(0x2001, 2, Access::ReadWrite, &8u16.to_le_bytes());
+        od.insert(0x2001, 9, Access::ReadWrite, &[0; 2]);
+        od.insert(0x3000, 0, Access::ReadWrite, &[0]);
+        od.insert_variable(0x1008, 0, Access::Const, b"name; with a comment", 32);
+        let header = DeviceHeader {
+            file_name: "x.eds",
+            description: "test",
+            vendor_name: Some("Vendor"),
+        };
+        let eds = Eds::describe(&mut od, &[TABLE], &header);
+        // 1008h and 3000h are in no table; 2001h sub 9 is in no line.
+        assert_eq!(
+            eds.objects.keys().copied().collect::<Vec<_>>(),
+            [0x1000, 0x2001]
+        );
+        let list = &eds.objects[&0x2001];
+        assert_eq!(list.entry.name, "List 2");
+        assert_eq!(list.entry.object_type, ObjectType::Array);
+        assert_eq!(eds.name(0x2001, 0), Some("Number of entries"));
+        assert_eq!(eds.name(0x2001, 2), Some("Entry 2"));
+        assert_eq!(eds.name(0x2001, 9), None);
+        assert_eq!(eds.name(0x1000, 0), Some("Device type"));
+        assert_eq!(eds.device_info.product_name, None);
+        let back = super::super::parse(&super::super::write(&eds)).unwrap();
+        assert_eq!(back.device_info.vendor_name.as_deref(), Some("Vendor"));
+        assert_eq!(back.device_info.vendor_number, Some(0));
+        assert_eq!(back.file_info.file_name.as_deref(), Some("x.eds"));
+        assert_eq!(back.warnings, []);
     }
 
     #[test]
