@@ -28,10 +28,11 @@ use std::time::Duration;
 
 use bus::PipeBus;
 use canopen_codec::cia418::{
-    BatteryEvent, BatteryModule, BatteryModuleConfig, BatteryParameters, BatteryStatus,
-    BatteryType, BatteryVoltage, DeviceType, Identity, PackedStringObject, StateOfCharge,
-    Temperature,
+    battery_module_eds, BatteryEvent, BatteryModule, BatteryModuleConfig, BatteryObjects,
+    BatteryParameters, BatteryStatus, BatteryType, BatteryVoltage, DeviceType, Identity,
+    PackedStringObject, StateOfCharge, Temperature,
 };
+use canopen_codec::eds;
 use canopen_codec::machine::Machine;
 use canopen_codec::sdo::AbortOrigin;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
@@ -65,6 +66,8 @@ sends out on stdout, its events on stderr.
   --nmt-start            act as the NMT master after boot: send 000#0100 (start all nodes)
   --linger-ms N          keep running N ms after stdin closes (default 2000)
   --interface NAME       interface name in the output lines (default can0)
+  --print-eds            print the module's EDS (CiA 306) as configured by the
+                         other options on stdout and exit
   -h, --help             this text
 
 Time: the system clock until the first input line with a timestamp, then
@@ -84,6 +87,7 @@ struct Options {
     nmt_start: bool,
     linger: Duration,
     interface: String,
+    print_eds: bool,
 }
 
 fn hex_u32(s: &str) -> Result<u32, String> {
@@ -144,6 +148,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
         nmt_start: false,
         linger: Duration::from_millis(2000),
         interface: "can0".to_string(),
+        print_eds: false,
     };
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -230,6 +235,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
             "--no-enable-tpdos" => o.config.enable_tpdos = false,
             "--simulate" => o.simulate = true,
             "--nmt-start" => o.nmt_start = true,
+            "--print-eds" => o.print_eds = true,
             "--linger-ms" => {
                 let v = value()?;
                 let ms = v
@@ -348,6 +354,15 @@ fn describe(e: &BatteryEvent) -> Option<String> {
     Some(words)
 }
 
+/// The object values the options set.
+fn set_objects(obj: &mut BatteryObjects, o: &Options) {
+    obj.battery_parameters = o.parameters;
+    obj.battery_voltage = o.voltage;
+    obj.temperature = o.temperature;
+    obj.battery_state_of_charge = o.soc;
+    obj.battery_status = o.status;
+}
+
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let o = match parse_args(&args) {
@@ -373,16 +388,15 @@ fn main() -> ExitCode {
             }
         }
     }
+    if o.print_eds {
+        module.update(Timestamp::ZERO, |obj| set_objects(obj, &o));
+        print!("{}", eds::write(&battery_module_eds(&module)));
+        return ExitCode::SUCCESS;
+    }
     let bus = PipeBus::stdin(&o.interface);
     let (mut runner, boot) = Runner::new(bus, BatteryDevice { module, sim: None }, describe);
     let module = &mut runner.device.module;
-    module.update(boot, |obj| {
-        obj.battery_parameters = o.parameters;
-        obj.battery_voltage = o.voltage;
-        obj.temperature = o.temperature;
-        obj.battery_state_of_charge = o.soc;
-        obj.battery_status = o.status;
-    });
+    module.update(boot, |obj| set_objects(obj, &o));
     eprintln!(
         "battery_module: node {}, device type {:08X}h, heartbeat {} ms, TPDOs {}",
         o.config.node,

@@ -32,15 +32,19 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use bus::PipeBus;
-use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
+use canopen_codec::deltaq::{charger_eds, Charger, ChargerConfig, ChargerEvent, ChargerObjects};
 use canopen_codec::deltaq::{OperatingMode, Reaction};
 use canopen_codec::device::DeviceEvent;
-use canopen_codec::NodeId;
+use canopen_codec::eds;
+use canopen_codec::{NodeId, Timestamp};
 use node::Runner;
 
 const USAGE: &str = "usage: charger [--node-id N] [--battery-node N] [--mode local|remote|local-override|monitoring]
                [--no-configure] [--self-start] [--heartbeat-ms MS] [--battery-timeout-ms MS]
-               [--current A] [--voltage V] [--linger-ms MS] [--interface NAME]";
+               [--current A] [--voltage V] [--linger-ms MS] [--interface NAME]
+               [--print-eds]
+--print-eds prints the charger's EDS (CiA 306) as configured by the other
+options on stdout and exits.";
 
 struct Options {
     config: ChargerConfig,
@@ -48,6 +52,7 @@ struct Options {
     voltage_v: f64,
     linger: Duration,
     interface: String,
+    print_eds: bool,
 }
 
 fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
@@ -65,6 +70,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
         voltage_v: 0.0,
         linger: Duration::from_millis(2000),
         interface: "can0".into(),
+        print_eds: false,
     };
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -92,6 +98,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
             }
             "--no-configure" => o.config.configure_cob_ids = false,
             "--self-start" => o.config.self_start = true,
+            "--print-eds" => o.print_eds = true,
             "--heartbeat-ms" => {
                 o.config.heartbeat = Duration::from_millis(u64::from(ms(value()?)?))
             }
@@ -178,6 +185,19 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    let (current, voltage) = (o.current_a, o.voltage_v);
+    let set_objects = |obj: &mut ChargerObjects| {
+        obj.charging_current = (current * 256.0).round() as u16;
+        obj.battery_voltage_q8 = (voltage * 256.0).round() as u16;
+        obj.battery_voltage_q10 = (voltage * 1024.0).round().min(65535.0) as u16;
+        obj.charger_status = 0x01;
+    };
+    if o.print_eds {
+        let mut charger = Charger::new(o.config);
+        charger.update(Timestamp::ZERO, set_objects);
+        print!("{}", eds::write(&charger_eds(&charger)));
+        return ExitCode::SUCCESS;
+    }
     let (mut runner, boot) = Runner::new(
         PipeBus::stdin(&o.interface),
         Charger::new(o.config),
@@ -195,13 +215,7 @@ fn main() -> ExitCode {
         }
     );
     runner.device.boot(boot);
-    let (current, voltage) = (o.current_a, o.voltage_v);
-    runner.device.update(boot, |obj| {
-        obj.charging_current = (current * 256.0).round() as u16;
-        obj.battery_voltage_q8 = (voltage * 256.0).round() as u16;
-        obj.battery_voltage_q10 = (voltage * 1024.0).round().min(65535.0) as u16;
-        obj.charger_status = 0x01;
-    });
+    runner.device.update(boot, set_objects);
     runner.flush(boot);
     runner.run(o.linger);
     ExitCode::SUCCESS

@@ -36,6 +36,8 @@ mod battery;
 mod catalogue;
 mod date;
 mod device_type;
+#[cfg(feature = "alloc")]
+mod eds;
 mod module;
 mod objects;
 mod packed;
@@ -67,6 +69,8 @@ pub use catalogue::{
 };
 pub use date::{CalendarDateTime, DateError, EqualizationDate};
 pub use device_type::{DeviceType, PdoSet};
+#[cfg(feature = "alloc")]
+pub use eds::{battery_module_eds, CIA418_OBJECT_DESCRIPTIONS};
 pub use module::{BatteryEvent, BatteryModule, BatteryModuleConfig};
 pub use objects::{BatteryObjects, BATTERY_OBJECT_INDEXES};
 pub use packed::{PackedString, PackedStringError, PackedStringObject, PackedText};

@@ -138,6 +138,8 @@ mod charger;
 mod charger_objects;
 mod codes;
 pub mod device_type;
+#[cfg(feature = "alloc")]
+mod eds;
 mod objects;
 mod pdo;
 mod policy;
@@ -149,6 +151,8 @@ pub use catalogue::{
 pub use charger::{Charger, ChargerConfig, ChargerEvent};
 pub use charger_objects::ChargerObjects;
 pub use codes::{AlarmFaultEntry, DeltaQCode, ALARMS_AND_FAULTS};
+#[cfg(feature = "alloc")]
+pub use eds::{charger_eds, DELTAQ_OBJECT_DESCRIPTIONS};
 pub use objects::{
     AcVoltage, AlgorithmRequest, BatteryVoltage, BatteryVoltageLegacy, ChargeIndication,
     ChargeStatusFlags, ChargeType, ChargerAhReturned, ChargingCurrent, DerateReasons,

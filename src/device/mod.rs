@@ -73,10 +73,14 @@
 use core::time::Duration;
 
 mod config;
+#[cfg(feature = "alloc")]
+mod descriptions;
 mod objects;
 mod profile;
 
 pub use config::DeviceConfig;
+#[cfg(feature = "alloc")]
+pub use descriptions::COMM_OBJECT_DESCRIPTIONS;
 pub use objects::{
     CommObjects, DeviceObjects, ErrorFieldFormat, Identity, ERROR_HISTORY_LEN, MAX_CONSUMERS,
 };

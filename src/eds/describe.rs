@@ -6,7 +6,7 @@ use alloc::string::{String, ToString};
 use alloc::vec::Vec;
 use alloc::{format, vec};
 
-use super::{AccessType, DataType, Eds, Entry, Object, ObjectType};
+use super::{AccessType, DataType, Eds, Entry, Keys, Object, ObjectType};
 use crate::od::{Access, ObjectDictionary, ObjectInfo};
 
 /// What the caller says about one sub-object found in the dictionary: its
@@ -137,6 +137,257 @@ impl Eds {
     }
 }
 
+/// One line of a description table: an object (or a run of objects, such
+/// as the PDO parameters 1400h-15FFh) with its `ParameterName`, its
+/// `ObjectType` and the name and data type of each sub-object, as CiA 306
+/// ("Electronic data sheet specification for CANopen", section 4.6 "Object
+/// descriptions") writes them. [`Eds::describe`] turns a dictionary and
+/// such tables into an [`Eds`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ObjectDescription {
+    /// The first index described.
+    pub first: u16,
+    /// The last index described (`first` for a single object).
+    pub last: u16,
+    /// `ParameterName`; for a run of objects, `" <n>"` is appended, `n`
+    /// counting from 1 at `first`.
+    pub name: &'static str,
+    /// VAR, ARRAY or RECORD.
+    pub object_type: ObjectType,
+    /// The data type of a VAR (unused for an ARRAY or RECORD).
+    pub data_type: DataType,
+    /// The sub-objects of an ARRAY or RECORD (empty for a VAR).
+    pub subs: &'static [SubDescription],
+}
+
+/// Names and data type of a run of sub-indexes of an [`ObjectDescription`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SubDescription {
+    /// The first sub-index.
+    pub first: u8,
+    /// The last sub-index (`first` for a single sub-object).
+    pub last: u8,
+    /// `ParameterName`; for a run, `" <sub>"` is appended.
+    pub name: &'static str,
+    /// `DataType`.
+    pub data_type: DataType,
+}
+
+impl ObjectDescription {
+    /// A VAR at `index`.
+    #[must_use]
+    pub const fn var(index: u16, name: &'static str, data_type: DataType) -> Self {
+        ObjectDescription {
+            first: index,
+            last: index,
+            name,
+            object_type: ObjectType::Var,
+            data_type,
+            subs: &[],
+        }
+    }
+
+    /// An ARRAY or RECORD at `first..=last` with sub-objects `subs`.
+    #[must_use]
+    pub const fn with_subs(
+        first: u16,
+        last: u16,
+        name: &'static str,
+        object_type: ObjectType,
+        subs: &'static [SubDescription],
+    ) -> Self {
+        ObjectDescription {
+            first,
+            last,
+            name,
+            object_type,
+            data_type: DataType::Domain,
+            subs,
+        }
+    }
+
+    /// The `ParameterName` of object `index` (which this line covers).
+    fn object_name(&self, index: u16) -> String {
+        if self.first == self.last {
+            self.name.to_string()
+        } else {
+            let n = u32::from(index.saturating_sub(self.first)).saturating_add(1);
+            format!("{} {n}", self.name)
+        }
+    }
+
+    /// The name and data type of `sub` of `index`, if this line has it.
+    fn sub(&self, index: u16, sub: u8) -> Option<Described> {
+        if self.subs.is_empty() {
+            return (sub == 0).then(|| Described {
+                name: self.object_name(index),
+                data_type: self.data_type,
+            });
+        }
+        let d = self
+            .subs
+            .iter()
+            .find(|d| (d.first..=d.last).contains(&sub))?;
+        let name = if d.first == d.last {
+            d.name.to_string()
+        } else {
+            format!("{} {sub}", d.name)
+        };
+        Some(Described {
+            name,
+            data_type: d.data_type,
+        })
+    }
+}
+
+/// What `[FileInfo]` and `[DeviceInfo]` say about a device that
+/// [`Eds::describe`] describes, besides what its dictionary holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DeviceHeader<'a> {
+    /// `FileName` (CiA 306, section 4.2 "File information").
+    pub file_name: &'a str,
+    /// `Description`.
+    pub description: &'a str,
+    /// `VendorName` (CiA 306, section 4.3 "General device information"),
+    /// if known: the vendor-ID of 1018h is written as `VendorNumber`.
+    pub vendor_name: Option<&'a str>,
+}
+
+/// The line of `tables` that covers `index`.
+fn line_of<'t>(tables: &[&'t [ObjectDescription]], index: u16) -> Option<&'t ObjectDescription> {
+    tables
+        .iter()
+        .flat_map(|t| t.iter())
+        .find(|d| (d.first..=d.last).contains(&index))
+}
+
+/// A text fit for an EDS line (no comment, no line break, not padded).
+fn plain(s: &str) -> Option<&str> {
+    (s.trim() == s && !s.contains(['\n', '\r', ';', '\0'])).then_some(s)
+}
+
+/// The 32-bit value at `index`/`sub` of `od`, if readable.
+fn read_u32<D: ObjectDictionary + ?Sized>(od: &mut D, index: u16, sub: u8) -> Option<u32> {
+    let mut b = [0u8; 4];
+    match od.read(index, sub, 0, &mut b) {
+        Ok(4) => Some(u32::from_le_bytes(b)),
+        _ => None,
+    }
+}
+
+impl Eds {
+    /// Describes every object of `od` (one that answers sub-index 0) that a
+    /// line of `tables` covers (see
+    /// [`from_dictionary`](Self::from_dictionary): values, access and
+    /// PDO-mappable flags come from the dictionary, names, data types and
+    /// object types from the tables; sub-objects the tables do not name
+    /// are left out), with the `[FileInfo]` (CiA 306, section 4.2 "File
+    /// information") and `[DeviceInfo]` (section 4.3 "General device
+    /// information") of `header`: `ProductName` from 1008h, `VendorNumber`,
+    /// `ProductNumber` and `RevisionNumber` from 1018h sub 1-3,
+    /// `NrOfRXPDO`/`NrOfTXPDO` from the PDO communication parameters
+    /// present, every bit rate (a sans-IO device runs at whatever the bus
+    /// runs at), no LSS, simple boot-up slave.
+    pub fn describe<D: ObjectDictionary + ?Sized>(
+        od: &mut D,
+        tables: &[&[ObjectDescription]],
+        header: &DeviceHeader<'_>,
+    ) -> Eds {
+        let mut indexes = Vec::new();
+        for d in tables.iter().flat_map(|t| t.iter()) {
+            for index in d.first..=d.last {
+                // Every object has a sub-index 0 (CiA 301, section 7.4.3).
+                if od.info(index, 0).is_ok() && !indexes.contains(&index) {
+                    indexes.push(index);
+                }
+            }
+        }
+        indexes.sort_unstable();
+        let mut eds = Eds::from_dictionary(od, &indexes, |index, sub, _| {
+            line_of(tables, index)?.sub(index, sub)
+        });
+        for o in eds.objects.values_mut() {
+            if let Some(d) = line_of(tables, o.index) {
+                if !o.subs.is_empty() {
+                    o.entry.name = d.object_name(o.index);
+                    o.entry.object_type = d.object_type;
+                }
+            }
+        }
+        let count = |range: core::ops::RangeInclusive<u16>| {
+            u16::try_from(indexes.iter().filter(|i| range.contains(i)).count()).unwrap_or(u16::MAX)
+        };
+        let (rx, tx) = (count(0x1400..=0x15FF), count(0x1800..=0x19FF));
+        let mut name = vec![0u8; 256];
+        let product = match od.read(0x1008, 0, 0, &mut name) {
+            Ok(n) => core::str::from_utf8(name.get(..n).unwrap_or(&[]))
+                .ok()
+                .and_then(plain)
+                .map(ToString::to_string),
+            Err(_) => None,
+        };
+        let [vendor, code, revision] = [1, 2, 3].map(|sub| read_u32(od, 0x1018, sub));
+
+        let file = &mut eds.file_info;
+        file.file_name = plain(header.file_name).map(ToString::to_string);
+        file.file_version = Some("1".to_string());
+        file.eds_version = Some("4.0".to_string());
+        file.description = plain(header.description).map(ToString::to_string);
+        file.created_by = Some("canopen-codec".to_string());
+        let mut keys = Vec::new();
+        if let Some(v) = &file.file_name {
+            keys.push(("FileName".to_string(), v.clone()));
+        }
+        keys.push(("FileVersion".to_string(), "1".to_string()));
+        keys.push(("FileRevision".to_string(), "0".to_string()));
+        keys.push(("EDSVersion".to_string(), "4.0".to_string()));
+        if let Some(v) = &file.description {
+            keys.push(("Description".to_string(), v.clone()));
+        }
+        keys.push(("CreatedBy".to_string(), "canopen-codec".to_string()));
+        file.keys = Keys(keys);
+
+        let info = &mut eds.device_info;
+        info.vendor_name = header.vendor_name.and_then(plain).map(ToString::to_string);
+        info.vendor_number = vendor;
+        info.product_name = product;
+        info.product_number = code;
+        info.revision_number = revision;
+        info.baud_rates = vec![10, 20, 50, 125, 250, 500, 800, 1000];
+        info.nr_of_rx_pdo = Some(rx);
+        info.nr_of_tx_pdo = Some(tx);
+        info.lss_supported = false;
+        let mut keys = Vec::new();
+        if let Some(v) = &info.vendor_name {
+            keys.push(("VendorName".to_string(), v.clone()));
+        }
+        let hex = |v: Option<u32>| format!("0x{:08X}", v.unwrap_or(0));
+        keys.push(("VendorNumber".to_string(), hex(vendor)));
+        if let Some(v) = &info.product_name {
+            keys.push(("ProductName".to_string(), v.clone()));
+        }
+        keys.push(("ProductNumber".to_string(), hex(code)));
+        keys.push(("RevisionNumber".to_string(), hex(revision)));
+        for rate in &info.baud_rates {
+            keys.push((format!("BaudRate_{rate}"), "1".to_string()));
+        }
+        for (k, v) in [
+            ("SimpleBootUpMaster", "0"),
+            ("SimpleBootUpSlave", "1"),
+            ("Granularity", "8"),
+            ("DynamicChannelsSupported", "0"),
+            ("GroupMessaging", "0"),
+        ] {
+            keys.push((k.to_string(), v.to_string()));
+        }
+        keys.push(("NrOfRXPDO".to_string(), format!("{rx}")));
+        keys.push(("NrOfTXPDO".to_string(), format!("{tx}")));
+        keys.push(("LSS_Supported".to_string(), "0".to_string()));
+        info.keys = Keys(keys);
+        eds
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -204,6 +455,60 @@ mod tests {
             assert_eq!(x, y, "{index:04X}h/{sub}");
         }
         assert_eq!(od2.info(0x2100, 0).unwrap().access, Access::WriteOnly);
+    }
+
+    #[test]
+    fn tables_name_runs_and_set_object_types() {
+        const SUBS: &[SubDescription] = &[
+            SubDescription {
+                first: 0,
+                last: 0,
+                name: "Number of entries",
+                data_type: DataType::Unsigned8,
+            },
+            SubDescription {
+                first: 1,
+                last: 3,
+                name: "Entry",
+                data_type: DataType::Unsigned16,
+            },
+        ];
+        const TABLE: &[ObjectDescription] = &[
+            ObjectDescription::var(0x1000, "Device type", DataType::Unsigned32),
+            ObjectDescription::with_subs(0x2000, 0x2001, "List", ObjectType::Array, SUBS),
+        ];
+        let mut od = MemoryDictionary::new();
+        od.insert(0x1000, 0, Access::Const, &0x1A2u32.to_le_bytes());
+        od.insert(0x2001, 0, Access::Const, &[2]);
+        od.insert(0x2001, 1, Access::ReadWrite, &7u16.to_le_bytes());
+        od.insert(0x2001, 2, Access::ReadWrite, &8u16.to_le_bytes());
+        od.insert(0x2001, 9, Access::ReadWrite, &[0; 2]);
+        od.insert(0x3000, 0, Access::ReadWrite, &[0]);
+        od.insert_variable(0x1008, 0, Access::Const, b"name; with a comment", 32);
+        let header = DeviceHeader {
+            file_name: "x.eds",
+            description: "test",
+            vendor_name: Some("Vendor"),
+        };
+        let eds = Eds::describe(&mut od, &[TABLE], &header);
+        // 1008h and 3000h are in no table; 2001h sub 9 is in no line.
+        assert_eq!(
+            eds.objects.keys().copied().collect::<Vec<_>>(),
+            [0x1000, 0x2001]
+        );
+        let list = &eds.objects[&0x2001];
+        assert_eq!(list.entry.name, "List 2");
+        assert_eq!(list.entry.object_type, ObjectType::Array);
+        assert_eq!(eds.name(0x2001, 0), Some("Number of entries"));
+        assert_eq!(eds.name(0x2001, 2), Some("Entry 2"));
+        assert_eq!(eds.name(0x2001, 9), None);
+        assert_eq!(eds.name(0x1000, 0), Some("Device type"));
+        assert_eq!(eds.device_info.product_name, None);
+        let back = super::super::parse(&super::super::write(&eds)).unwrap();
+        assert_eq!(back.device_info.vendor_name.as_deref(), Some("Vendor"));
+        assert_eq!(back.device_info.vendor_number, Some(0));
+        assert_eq!(back.file_info.file_name.as_deref(), Some("x.eds"));
+        assert_eq!(back.warnings, []);
     }
 
     #[test]

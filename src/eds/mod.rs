@@ -42,7 +42,7 @@ mod types;
 mod value;
 mod write;
 
-pub use describe::Described;
+pub use describe::{Described, DeviceHeader, ObjectDescription, SubDescription};
 pub use dictionary::{DictionaryError, PdoDescription, MAX_VARIABLE_LEN};
 pub use parse::{parse, parse_bytes};
 pub use types::{AccessType, DataType, ObjectType};

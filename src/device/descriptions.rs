@@ -1,0 +1,131 @@
+//! The names and data types of the CiA 301 objects the device core serves
+//! (1000h-1FFFh), for describing a device as an EDS
+//! ([`Eds::describe`](crate::eds::Eds::describe)).
+
+use crate::eds::{DataType, ObjectDescription, ObjectType, SubDescription};
+
+const U8: DataType = DataType::Unsigned8;
+const U16: DataType = DataType::Unsigned16;
+const U32: DataType = DataType::Unsigned32;
+
+const fn sub(first: u8, last: u8, name: &'static str, data_type: DataType) -> SubDescription {
+    SubDescription {
+        first,
+        last,
+        name,
+        data_type,
+    }
+}
+
+const HIGHEST: SubDescription = sub(0, 0, "Highest sub-index supported", U8);
+
+const PDO_COMM_RX: &[SubDescription] = &[
+    HIGHEST,
+    sub(1, 1, "COB-ID used by RPDO", U32),
+    sub(2, 2, "Transmission type", U8),
+    sub(3, 3, "Inhibit time", U16),
+    sub(4, 4, "Compatibility entry", U8),
+    sub(5, 5, "Event-timer", U16),
+    sub(6, 6, "SYNC start value", U8),
+];
+
+const PDO_COMM_TX: &[SubDescription] = &[
+    HIGHEST,
+    sub(1, 1, "COB-ID used by TPDO", U32),
+    sub(2, 2, "Transmission type", U8),
+    sub(3, 3, "Inhibit time", U16),
+    sub(4, 4, "Compatibility entry", U8),
+    sub(5, 5, "Event-timer", U16),
+    sub(6, 6, "SYNC start value", U8),
+];
+
+const PDO_MAPPING: &[SubDescription] = &[
+    sub(0, 0, "Number of mapped application objects in PDO", U8),
+    sub(1, 64, "Application object", U32),
+];
+
+/// The CiA 301 communication objects of the device core
+/// ([`CommObjects`](super::CommObjects): 1000h, 1001h, 1003h, 1008h, 1016h,
+/// 1017h, 1018h, 1200h) and the PDO communication and mapping parameters
+/// (1400h-1BFFh), with the object and sub-object names of CiA 301
+/// ("CANopen application layer and communication profile", section 7.5.2
+/// "Object dictionary entries": 7.5.2.1 device type to 7.5.2.38 TPDO
+/// mapping parameter) and their data types. A run of PDO parameters is
+/// named with its number from 1 ("RPDO communication parameter 1" is
+/// 1400h, the crate's `PdoNumber::P0`).
+pub const COMM_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
+    ObjectDescription::var(0x1000, "Device type", U32),
+    ObjectDescription::var(0x1001, "Error register", U8),
+    ObjectDescription::with_subs(
+        0x1003,
+        0x1003,
+        "Pre-defined error field",
+        ObjectType::Array,
+        &[
+            sub(0, 0, "Number of errors", U8),
+            sub(1, 254, "Standard error field", U32),
+        ],
+    ),
+    ObjectDescription::var(0x1008, "Manufacturer device name", DataType::VisibleString),
+    ObjectDescription::with_subs(
+        0x1016,
+        0x1016,
+        "Consumer heartbeat time",
+        ObjectType::Array,
+        &[HIGHEST, sub(1, 127, "Consumer heartbeat time", U32)],
+    ),
+    ObjectDescription::var(0x1017, "Producer heartbeat time", U16),
+    ObjectDescription::with_subs(
+        0x1018,
+        0x1018,
+        "Identity object",
+        ObjectType::Record,
+        &[
+            HIGHEST,
+            sub(1, 1, "Vendor-ID", U32),
+            sub(2, 2, "Product code", U32),
+            sub(3, 3, "Revision number", U32),
+            sub(4, 4, "Serial number", U32),
+        ],
+    ),
+    ObjectDescription::with_subs(
+        0x1200,
+        0x1200,
+        "SDO server parameter",
+        ObjectType::Record,
+        &[
+            HIGHEST,
+            sub(1, 1, "COB-ID client to server (rx)", U32),
+            sub(2, 2, "COB-ID server to client (tx)", U32),
+            sub(3, 3, "Node-ID of the SDO client", U8),
+        ],
+    ),
+    ObjectDescription::with_subs(
+        0x1400,
+        0x15FF,
+        "RPDO communication parameter",
+        ObjectType::Record,
+        PDO_COMM_RX,
+    ),
+    ObjectDescription::with_subs(
+        0x1600,
+        0x17FF,
+        "RPDO mapping parameter",
+        ObjectType::Record,
+        PDO_MAPPING,
+    ),
+    ObjectDescription::with_subs(
+        0x1800,
+        0x19FF,
+        "TPDO communication parameter",
+        ObjectType::Record,
+        PDO_COMM_TX,
+    ),
+    ObjectDescription::with_subs(
+        0x1A00,
+        0x1BFF,
+        "TPDO mapping parameter",
+        ObjectType::Record,
+        PDO_MAPPING,
+    ),
+];
