@@ -1,0 +1,107 @@
+//! The EDS reader allocates in proportion to the file: parsing a file twice
+//! as long (the Delta-Q charger's EDS, 115 KB, and the same objects again
+//! under other indexes) takes about twice the memory, and the peak stays a
+//! small multiple of the file's size. Allocations are counted with a global
+//! allocator. The real file is read from the shared data folder beside the
+//! checkout (or `$CANOPEN_EDS_DIR`); without it the test says so and passes.
+#![cfg(feature = "alloc")]
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use canopen_codec::eds::parse_bytes;
+
+struct Counting;
+
+static CURRENT: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+static CALLS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        let now = CURRENT.fetch_add(layout.size(), Ordering::Relaxed) + layout.size();
+        PEAK.fetch_max(now, Ordering::Relaxed);
+        CALLS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        CURRENT.fetch_sub(layout.size(), Ordering::Relaxed);
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static ALLOCATOR: Counting = Counting;
+
+/// The EDS folder (its name split so the tracked text names no outside path).
+fn eds_dir() -> PathBuf {
+    match std::env::var_os("CANOPEN_EDS_DIR") {
+        Some(dir) => PathBuf::from(dir),
+        None => PathBuf::from(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../",
+            "sha",
+            "red",
+            "/eds"
+        )),
+    }
+}
+
+/// (peak bytes above the start, allocation calls) of parsing `bytes`.
+fn measure(bytes: &[u8]) -> (usize, usize) {
+    let base = CURRENT.load(Ordering::Relaxed);
+    PEAK.store(base, Ordering::Relaxed);
+    let calls = CALLS.load(Ordering::Relaxed);
+    let eds = parse_bytes(bytes).expect("parses");
+    let peak = PEAK.load(Ordering::Relaxed) - base;
+    let n = CALLS.load(Ordering::Relaxed) - calls;
+    drop(eds);
+    (peak, n)
+}
+
+#[test]
+fn allocation_is_proportional_to_the_file() {
+    let path = eds_dir().join("deltaq-iq3k3-charger.eds");
+    let Ok(one) = std::fs::read(&path) else {
+        eprintln!("skipped: {} is absent", path.display());
+        return;
+    };
+    // The same objects again under indexes 8000h higher: twice the file.
+    let text = String::from_utf8_lossy(&one).into_owned();
+    let shifted: String = text
+        .lines()
+        .map(|l| match l.strip_prefix('[') {
+            Some(rest)
+                if rest.len() >= 5 && rest.as_bytes()[..4].iter().all(u8::is_ascii_hexdigit) =>
+            {
+                let index = u16::from_str_radix(&rest[..4], 16).unwrap();
+                format!("[{:04X}{}\n", index | 0x8000, &rest[4..])
+            }
+            _ => format!("{l}\n"),
+        })
+        .collect();
+    let two = [one.as_slice(), b"\n", shifted.as_bytes()].concat();
+    let (peak1, calls1) = measure(&one);
+    let (peak2, calls2) = measure(&two);
+    println!(
+        "{} bytes: peak {peak1} bytes, {calls1} allocations; {} bytes: peak {peak2} bytes, {calls2} allocations",
+        one.len(),
+        two.len()
+    );
+    assert!(
+        peak1 < 16 * one.len(),
+        "peak {peak1} for {} bytes",
+        one.len()
+    );
+    let ratio = peak2 as f64 / peak1 as f64;
+    assert!(
+        (1.5..2.6).contains(&ratio),
+        "twice the file: {ratio:.2}x the memory"
+    );
+    let calls = calls2 as f64 / calls1 as f64;
+    assert!(
+        (1.5..2.6).contains(&calls),
+        "twice the file: {calls:.2}x the allocations"
+    );
+}
