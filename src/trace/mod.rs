@@ -284,10 +284,13 @@ impl LineParser {
 /// candump `-x`) appends (`R`, `T`) accepted.
 fn candump_log(line: &str) -> Result<Record<'_>, TraceError> {
     let t = line.trim();
-    let (body, direction) = match t.rsplit_once(' ') {
-        Some((b, "R")) => (b, Some(Direction::Rx)),
-        Some((b, "T")) => (b, Some(Direction::Tx)),
-        _ => (t, None),
+    // Only the last two bytes decide (this is the decoder's hot path).
+    let (body, direction) = if let Some(b) = t.strip_suffix(" R") {
+        (b, Some(Direction::Rx))
+    } else if let Some(b) = t.strip_suffix(" T") {
+        (b, Some(Direction::Tx))
+    } else {
+        (t, None)
     };
     match crate::candump::parse_line(body) {
         Ok(l) => Ok(Record::Frame(TraceFrame {
