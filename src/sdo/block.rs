@@ -28,6 +28,11 @@ pub(crate) const MAX_BLOCK_SIZE: u8 = 127;
 /// Data bytes per segment.
 const SEGMENT: usize = 7;
 
+/// Byte 0 of an abort frame; in the sub-block phase every other frame from
+/// the sender of the data is a segment (sequence number 0 with c = 1 is not
+/// a segment).
+const ABORT: u8 = 0x80;
+
 /// Checks a block size from the peer: 05040002h unless it is 1..=127.
 pub(crate) const fn check_block_size(blksize: u8) -> Result<u8, AbortCode> {
     if blksize >= 1 && blksize <= MAX_BLOCK_SIZE {
@@ -253,6 +258,43 @@ impl Receiver {
     pub(crate) fn is_duplicate(&self, bytes: &[u8]) -> bool {
         self.acked_frame
             .is_some_and(|f| self.expected == 1 && f.as_slice() == bytes)
+    }
+
+    /// Takes a frame from the sender of the data while sub-blocks are being
+    /// received: `None` when it is not a segment but a command for the
+    /// normal path (an abort, byte 0 80h, or any frame once the last
+    /// segment is in: the end frame comes next); otherwise what
+    /// [`Receiver::on_segment`] makes of it (a duplicate of the frame that
+    /// completed the last sub-block is ignored).
+    pub(crate) fn take(&mut self, bytes: &[u8]) -> Option<Result<Step, AbortCode>> {
+        if self.is_duplicate(bytes) {
+            return Some(Ok(Step::default()));
+        }
+        if self.is_done() || bytes.first() == Some(&ABORT) {
+            return None;
+        }
+        Some(self.on_segment(bytes))
+    }
+
+    /// Sets the block size announced from now on (an observer follows the
+    /// size each acknowledgement gives).
+    pub(crate) fn set_block_size(&mut self, blksize: u8) {
+        self.blksize = blksize;
+    }
+
+    /// Bytes passed on so far (the held last segment not included).
+    pub(crate) const fn received(&self) -> usize {
+        self.received
+    }
+
+    /// The indicated size.
+    pub(crate) const fn size(&self) -> Option<usize> {
+        self.size
+    }
+
+    /// Whether the CRC is checked at the end.
+    pub(crate) const fn crc_on(&self) -> bool {
+        self.crc_on
     }
 
     /// Takes one sub-block segment (the whole frame data).

@@ -80,6 +80,7 @@ mod client;
 mod collect;
 mod crc;
 mod data;
+mod segmented;
 mod server;
 mod wire;
 
