@@ -282,16 +282,6 @@ impl Receiver {
         self.blksize = blksize;
     }
 
-    /// Bytes passed on so far (the held last segment not included).
-    pub(crate) const fn received(&self) -> usize {
-        self.received
-    }
-
-    /// The indicated size.
-    pub(crate) const fn size(&self) -> Option<usize> {
-        self.size
-    }
-
     /// Whether the CRC is checked at the end.
     pub(crate) const fn crc_on(&self) -> bool {
         self.crc_on

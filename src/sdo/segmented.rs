@@ -61,11 +61,13 @@ impl Segments {
     }
 
     /// Bytes received so far.
+    #[cfg(test)]
     pub(crate) const fn received(&self) -> usize {
         self.received
     }
 
     /// The indicated size.
+    #[cfg(test)]
     pub(crate) const fn size(&self) -> Option<usize> {
         self.size
     }
