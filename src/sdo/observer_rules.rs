@@ -52,8 +52,10 @@ enum Phase {
     /// acknowledges `ack` when one is due; after the last segment the end
     /// frame.
     SubBlocks { rx: Receiver, ack: Option<u8> },
-    /// The end frame was taken; the receiver's confirmation is due.
-    EndAckDue { crc_checked: bool },
+    /// The end frame was taken; the receiver's confirmation is due (a
+    /// repeat of the end frame meanwhile is ignored, as the receiver,
+    /// done with the transfer, ignores it).
+    EndAckDue { crc_checked: bool, end: Payload },
     /// A frame broke a rule: the abort `by` that side is due. Until it
     /// comes, frames of a block's data sender are still segments.
     Violated {
@@ -112,6 +114,21 @@ impl Open {
             transfer: self.transfer,
             bytes: self.bytes,
             crc_checked,
+        }
+    }
+
+    /// A frame that repeats one the receiver of the data recognises as a
+    /// repeat: the block upload initiate response before the first segment
+    /// (the client's block receiver knows it), the end frame after it was
+    /// taken.
+    fn is_repeat(&self, from: Side, bytes: &[u8]) -> bool {
+        if from != self.data_sender() {
+            return false;
+        }
+        match &self.phase {
+            Phase::BlockUploadStartDue(rx) => rx.is_duplicate(bytes),
+            Phase::EndAckDue { end, .. } => end.as_slice() == bytes,
+            _ => false,
         }
     }
 
@@ -175,6 +192,7 @@ pub(super) fn step(
     if let Some(seen) = block_segment(open, channel, from, bytes, out) {
         return seen;
     }
+    let repeat = open.as_ref().is_some_and(|o| o.is_repeat(from, bytes));
     let (command, seen) = match from {
         Side::Client => match SdoRequest::decode_frame(frame) {
             Ok(request) => (
@@ -203,6 +221,9 @@ pub(super) fn step(
             }
         },
     };
+    if repeat {
+        return seen;
+    }
     let abort = match command {
         Command::Client(ClientCommand::Abort { code, .. })
         | Command::Server(ServerCommand::Abort { code, .. }) => Some(code),
@@ -255,7 +276,7 @@ pub(super) fn step(
         return seen;
     };
     let done = match command {
-        Command::Client(c) => client(o, c, out),
+        Command::Client(c) => client(o, c, bytes, out),
         Command::Server(s) => server(o, s, bytes, out),
     };
     if let Some(end) = done {
@@ -408,7 +429,7 @@ fn initiate(channel: SdoChannel, c: &ClientCommand, bytes: &[u8]) -> Option<(Tra
 
 /// Takes a client command (not an initiate, not an abort); `Some` when it
 /// ended the transfer.
-fn client(o: &mut Open, c: ClientCommand, out: &mut Sink) -> Option<End> {
+fn client(o: &mut Open, c: ClientCommand, bytes: &[u8], out: &mut Sink) -> Option<End> {
     let upload = o.transfer.direction == Direction::Upload;
     match (c, o.phase) {
         (ClientCommand::UploadSegment { toggle }, Phase::UploadRequestDue(rx)) => {
@@ -429,13 +450,14 @@ fn client(o: &mut Open, c: ClientCommand, out: &mut Sink) -> Option<End> {
         (ClientCommand::BlockUpload(ClientBlockUpload::Ack { ackseq, blksize }), _) if upload => {
             return ack(o, ackseq, blksize, Side::Client);
         }
-        (ClientCommand::BlockUpload(ClientBlockUpload::End), Phase::EndAckDue { crc_checked })
-            if upload =>
-        {
+        (
+            ClientCommand::BlockUpload(ClientBlockUpload::End),
+            Phase::EndAckDue { crc_checked, .. },
+        ) if upload => {
             return Some(End::Completed(crc_checked));
         }
         (ClientCommand::BlockDownload(ClientBlockDownload::End { unused, crc }), _) if !upload => {
-            end(o, unused, crc, Side::Server, out);
+            end(o, (unused, crc), bytes, Side::Server, out);
         }
         _ => o.violate(AbortCode::InvalidCommandSpecifier, Side::Server),
     }
@@ -489,7 +511,7 @@ fn ack(o: &mut Open, ackseq: u8, blksize: u8, from: Side) -> Option<End> {
 }
 
 /// The sender's end frame; `checker` is the receiver of the data.
-fn end(o: &mut Open, unused: u8, crc: u16, checker: Side, out: &mut Sink) {
+fn end(o: &mut Open, (unused, crc): (u8, u16), bytes: &[u8], checker: Side, out: &mut Sink) {
     let Phase::SubBlocks { mut rx, .. } = o.phase else {
         return o.violate(AbortCode::InvalidCommandSpecifier, checker);
     };
@@ -503,6 +525,7 @@ fn end(o: &mut Open, unused: u8, crc: u16, checker: Side, out: &mut Sink) {
             }
             o.phase = Phase::EndAckDue {
                 crc_checked: rx.crc_on(),
+                end: Payload::new(bytes).unwrap_or_default(),
             };
         }
         Err(code) => o.violate(code, checker),
@@ -628,7 +651,7 @@ fn server(o: &mut Open, s: ServerCommand, bytes: &[u8], out: &mut Sink) -> Optio
         }
         (
             ServerCommand::BlockDownload(ServerBlockDownload::End),
-            Phase::EndAckDue { crc_checked },
+            Phase::EndAckDue { crc_checked, .. },
         ) if !upload => {
             return Some(End::Completed(crc_checked));
         }
@@ -655,7 +678,7 @@ fn server(o: &mut Open, s: ServerCommand, bytes: &[u8], out: &mut Sink) -> Optio
             o.phase = Phase::BlockUploadStartDue(Receiver::new(blksize, size, crc).after(bytes));
         }
         (ServerCommand::BlockUpload(ServerBlockUpload::End { unused, crc }), _) if upload => {
-            end(o, unused, crc, Side::Client, out);
+            end(o, (unused, crc), bytes, Side::Client, out);
         }
         _ => o.violate(AbortCode::InvalidCommandSpecifier, Side::Client),
     }
