@@ -109,6 +109,7 @@ fuzz_target!(|ops: Vec<Op>| {
                 t.delivered += data.len();
                 assert!(t.delivered <= t.carried, "more bytes delivered than carried");
             }
+            ObserverEvent::RuleBroken { .. } => assert!(t.open, "a rule broken with nothing open"),
             ObserverEvent::Completed { bytes, .. }
             | ObserverEvent::Aborted { bytes, .. }
             | ObserverEvent::BrokenOff { bytes, .. } => {

@@ -360,6 +360,21 @@ impl Receiver {
     /// a total above / below the indicated size 06070012h / 06070013h; a
     /// CRC mismatch (CRC in use) 05040004h.
     pub(crate) fn on_end(&mut self, unused: u8, crc: u16) -> Result<Ended, AbortCode> {
+        match self.on_end_lenient(unused, crc)? {
+            (ended, None) => Ok(ended),
+            (_, Some(code)) => Err(code),
+        }
+    }
+
+    /// The rules of [`Receiver::on_end`], for an observer: the end frames
+    /// that cannot be read (05040001h) are errors; the size and CRC rules
+    /// give the transfer as it ended and the code they call for, since a
+    /// peer may accept it anyway.
+    pub(crate) fn on_end_lenient(
+        &mut self,
+        unused: u8,
+        crc: u16,
+    ) -> Result<(Ended, Option<AbortCode>), AbortCode> {
         let Some(held) = self.held else {
             return Err(AbortCode::InvalidCommandSpecifier);
         };
@@ -371,19 +386,18 @@ impl Receiver {
             return Err(AbortCode::InvalidCommandSpecifier);
         };
         let total = self.received.saturating_add(data.len());
-        match self.size {
-            Some(s) if total > s => return Err(AbortCode::DataTypeLengthTooHigh),
-            Some(s) if total < s => return Err(AbortCode::DataTypeLengthTooLow),
-            _ => {}
-        }
-        if self.crc_on && crc16_update(self.crc, data) != crc {
-            return Err(AbortCode::CrcError);
-        }
-        Ok(Ended {
+        let broken = match self.size {
+            Some(s) if total > s => Some(AbortCode::DataTypeLengthTooHigh),
+            Some(s) if total < s => Some(AbortCode::DataTypeLengthTooLow),
+            _ if self.crc_on && crc16_update(self.crc, data) != crc => Some(AbortCode::CrcError),
+            _ => None,
+        };
+        let ended = Ended {
             write: (!data.is_empty())
                 .then(|| (self.received, SegmentData::new(data).unwrap_or_default())),
             total,
-        })
+        };
+        Ok((ended, broken))
     }
 }
 

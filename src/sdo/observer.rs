@@ -11,6 +11,7 @@
 //! - [`ObserverEvent::Started`] at the client's initiate frame;
 //! - [`ObserverEvent::Data`] for each piece of the value, in order, with its
 //!   offset (collect or hash them without a heap);
+//! - [`ObserverEvent::RuleBroken`] at a frame that breaks a rule;
 //! - exactly one end: [`ObserverEvent::Completed`] (bytes seen against the
 //!   indicated size, the CRC checked for a block transfer),
 //!   [`ObserverEvent::Aborted`] (the code, by the client or the server) or
@@ -26,13 +27,22 @@
 //! end frame's unused bytes and CRC) are the crate's one implementation,
 //! so the observer's reading of a transfer is the receiving machine's.
 //!
-//! **A frame that breaks a rule** (a repeated toggle bit, a sequence number
-//! beyond the block size, a CRC that does not match) does not end the
-//! transfer at once: a strict peer answers it with an abort, and the
-//! observer waits for that frame, so the transfer ends as
-//! [`ObserverEvent::Aborted`] with the peer's code and the code the observer
-//! expected. Any other frame on the channel (or the timeout, or the end of
-//! the trace) ends it as [`BreakReason::Violation`] instead.
+//! **A frame that breaks a rule** is reported as
+//! [`ObserverEvent::RuleBroken`] with the abort code a strict peer answers
+//! it with, and does not end the transfer at once:
+//!
+//! - after a rule the transfer cannot be followed past (a repeated toggle
+//!   bit, a command out of phase, a block size or sequence number out of
+//!   range, a response for another object) the observer waits for the
+//!   abort: the transfer ends as [`ObserverEvent::Aborted`] with the peer's
+//!   code and the one expected, or, at any other frame on the channel, the
+//!   timeout or the end of the trace, as [`BreakReason::Violation`];
+//! - after a size or CRC rule (more or fewer bytes than indicated, a CRC
+//!   that does not match) the observer goes on as the peers do (lenient, as
+//!   a log reader must be: real devices accept such transfers): an abort
+//!   ends it as [`ObserverEvent::Aborted`] with the code expected, and a
+//!   transfer the peers finish is [`ObserverEvent::Completed`] (a segmented
+//!   upload, which nobody confirms, at the next frame on the channel).
 //!
 //! **Timing.** A transfer with no frame for [`ObserverConfig::timeout`]
 //! ends as [`BreakReason::Timeout`] at the next
@@ -236,6 +246,17 @@ pub enum ObserverEvent {
         /// 1..=7 bytes.
         data: SegmentData,
     },
+    /// A frame broke a rule of the transfer: the side `by` should answer
+    /// with an abort of `code` (the transfer stays open until that abort
+    /// or the next frame; see the module docs).
+    RuleBroken {
+        /// The channel of the transfer.
+        channel: SdoChannel,
+        /// The abort code the rule calls for.
+        code: AbortCode,
+        /// The side that should abort.
+        by: Side,
+    },
     /// The transfer completed: both sides confirmed it.
     Completed {
         /// The transfer, as finally known.
@@ -289,7 +310,9 @@ impl ObserverEvent {
             | ObserverEvent::Completed { transfer: t, .. }
             | ObserverEvent::Aborted { transfer: t, .. }
             | ObserverEvent::BrokenOff { transfer: t, .. } => t.channel,
-            ObserverEvent::Data { channel, .. } => *channel,
+            ObserverEvent::Data { channel, .. } | ObserverEvent::RuleBroken { channel, .. } => {
+                *channel
+            }
         }
     }
 }
@@ -584,7 +607,7 @@ impl<const EXTRA: usize> Observer<EXTRA> {
             None if defaults => self.defaults.iter_mut().find(|o| o.is_some())?,
             None => return None,
         };
-        open.take().map(|o| o.broken_off(BreakReason::EndOfTrace))
+        open.take().map(|o| o.ended(BreakReason::EndOfTrace))
     }
 
     fn expire(&mut self, now: Timestamp) {
@@ -602,7 +625,7 @@ impl<const EXTRA: usize> Observer<EXTRA> {
             };
             if now.has_reached(deadline) {
                 if let Some(o) = open.take() {
-                    events.push(o.broken_off(BreakReason::Timeout));
+                    events.push(o.ended(BreakReason::Timeout));
                 }
             } else {
                 earliest = Some(earliest.map_or(deadline, |e| e.min(deadline)));
@@ -618,7 +641,8 @@ impl<const EXTRA: usize> Default for Observer<EXTRA> {
     }
 }
 
-/// The events one frame makes (at most four).
+/// The events one frame makes (at most four: a transfer broken off, and a
+/// new one started, delivering, and completed or breaking a rule).
 #[derive(Default)]
 pub(super) struct Sink {
     events: [Option<ObserverEvent>; 4],

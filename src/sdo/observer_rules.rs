@@ -56,6 +56,9 @@ enum Phase {
     /// repeat of the end frame meanwhile is ignored, as the receiver,
     /// done with the transfer, ignores it).
     EndAckDue { crc_checked: bool, end: Payload },
+    /// A segmented upload's last segment broke a size rule: the client's
+    /// abort may follow; any other frame (or the end) completes it.
+    Accepted,
     /// A frame broke a rule: the abort `by` that side is due. Until it
     /// comes, frames of a block's data sender are still segments.
     Violated {
@@ -71,6 +74,10 @@ pub(crate) struct Open {
     transfer: Transfer,
     bytes: usize,
     phase: Phase,
+    /// A rule just broken, to report.
+    broken: Option<(AbortCode, Side)>,
+    /// The first rule broken that the transfer went on past (sizes, CRC).
+    flagged: Option<AbortCode>,
     /// When it is broken off for silence.
     pub(super) deadline: Option<Timestamp>,
 }
@@ -81,9 +88,20 @@ impl Open {
         self.transfer
     }
 
+    /// The end event when `reason` ends the transfer, or a frame that is not
+    /// the abort it waits for: a transfer waiting for the abort a rule
+    /// called for ends as that violation, one that a peer accepted past a
+    /// rule completes.
+    pub(super) fn ended(self, reason: BreakReason) -> ObserverEvent {
+        if let Phase::Accepted = self.phase {
+            return self.completed(false);
+        }
+        self.broken_off(reason)
+    }
+
     /// The end event for `reason` (a transfer waiting for the abort a rule
     /// called for ends as that violation whatever the reason).
-    pub(super) fn broken_off(self, reason: BreakReason) -> ObserverEvent {
+    fn broken_off(self, reason: BreakReason) -> ObserverEvent {
         let reason = match self.phase {
             Phase::Violated { code, by, .. } => BreakReason::Violation { code, by },
             _ => reason,
@@ -98,7 +116,7 @@ impl Open {
     fn aborted(self, code: AbortCode, by: Side) -> ObserverEvent {
         let expected = match self.phase {
             Phase::Violated { code, .. } => Some(code),
-            _ => None,
+            _ => self.flagged,
         };
         ObserverEvent::Aborted {
             transfer: self.transfer,
@@ -152,6 +170,29 @@ impl Open {
         });
     }
 
+    /// A rule the transfer can be followed past (the indicated size, the
+    /// CRC) is broken: `by` should abort with `code`, and if it does not,
+    /// the transfer goes on as the peers run it.
+    fn flag(&mut self, code: AbortCode, by: Side) {
+        self.broken = Some((code, by));
+        self.flagged = self.flagged.or(Some(code));
+    }
+
+    /// Takes a segment of a segmented transfer as the receiver of the data
+    /// (`by`) would: a wrong toggle bit ends the reading of it, a size rule
+    /// broken is flagged and the segment taken.
+    fn segment(&mut self, rx: &mut Segments, seg: &Segment, by: Side) -> Option<usize> {
+        match rx.check(seg) {
+            Ok(()) => {}
+            Err(AbortCode::ToggleBitNotAlternated) => {
+                self.violate(AbortCode::ToggleBitNotAlternated, by);
+                return None;
+            }
+            Err(code) => self.flag(code, by),
+        }
+        Some(rx.accept(seg).offset)
+    }
+
     /// `code` is due from `by`: the next frame should be its abort.
     fn violate(&mut self, code: AbortCode, by: Side) {
         let segments_from = match self.phase {
@@ -163,6 +204,7 @@ impl Open {
             by,
             segments_from,
         };
+        self.broken = Some((code, by));
     }
 }
 
@@ -182,6 +224,20 @@ enum Command {
 
 /// Takes one frame from `from` on `channel` with the transfer `open` there.
 pub(super) fn step(
+    open: &mut Option<Open>,
+    channel: SdoChannel,
+    from: Side,
+    frame: &CanFrame,
+    out: &mut Sink,
+) -> Observed {
+    let seen = take(open, channel, from, frame, out);
+    if let Some((code, by)) = open.as_mut().and_then(|o| o.broken.take()) {
+        out.push(ObserverEvent::RuleBroken { channel, code, by });
+    }
+    seen
+}
+
+fn take(
     open: &mut Option<Open>,
     channel: SdoChannel,
     from: Side,
@@ -235,19 +291,21 @@ pub(super) fn step(
         }
         return seen;
     }
-    if let Some(o) = open.take_if(|o| matches!(o.phase, Phase::Violated { .. })) {
-        out.push(o.broken_off(BreakReason::NewInitiate));
+    if let Some(o) = open.take_if(|o| matches!(o.phase, Phase::Violated { .. } | Phase::Accepted)) {
+        out.push(o.ended(BreakReason::NewInitiate));
     }
     if let Command::Client(c) = &command {
         if let Some((transfer, phase)) = initiate(channel, c, bytes) {
             if let Some(o) = open.take() {
-                out.push(o.broken_off(BreakReason::NewInitiate));
+                out.push(o.ended(BreakReason::NewInitiate));
             }
             out.push(ObserverEvent::Started(transfer));
             let mut o = Open {
                 transfer,
                 bytes: 0,
                 phase,
+                broken: None,
+                flagged: None,
                 deadline: None,
             };
             if let ClientCommand::InitiateDownload {
@@ -283,7 +341,7 @@ pub(super) fn step(
         if let Some(o) = open.take() {
             out.push(match end {
                 End::Completed(crc_checked) => o.completed(crc_checked),
-                End::Broken(reason) => o.broken_off(reason),
+                End::Broken(reason) => o.ended(reason),
             });
         }
     }
@@ -467,16 +525,13 @@ fn client(o: &mut Open, c: ClientCommand, bytes: &[u8], out: &mut Sink) -> Optio
 /// Placed as the server places it; the abort it would send is due when
 /// the segment breaks a rule.
 fn download_segment(o: &mut Open, rx: &mut Segments, seg: &Segment, out: &mut Sink) {
-    match rx.on_segment(seg) {
-        Ok(placed) => {
-            o.phase = Phase::DownloadAckDue {
-                rx: *rx,
-                toggle: seg.toggle,
-                last: seg.last,
-            };
-            o.deliver(placed.offset, seg.data, out);
-        }
-        Err(code) => o.violate(code, Side::Server),
+    if let Some(offset) = o.segment(rx, seg, Side::Server) {
+        o.phase = Phase::DownloadAckDue {
+            rx: *rx,
+            toggle: seg.toggle,
+            last: seg.last,
+        };
+        o.deliver(offset, seg.data, out);
     }
 }
 
@@ -518,13 +573,16 @@ fn end(o: &mut Open, (unused, crc): (u8, u16), bytes: &[u8], checker: Side, out:
     if !rx.is_done() {
         return o.violate(AbortCode::InvalidCommandSpecifier, checker);
     }
-    match rx.on_end(unused, crc) {
-        Ok(ended) => {
+    match rx.on_end_lenient(unused, crc) {
+        Ok((ended, broken)) => {
+            if let Some(code) = broken {
+                o.flag(code, checker);
+            }
             if let Some((offset, data)) = ended.write {
                 o.deliver(offset, data, out);
             }
             o.phase = Phase::EndAckDue {
-                crc_checked: rx.crc_on(),
+                crc_checked: rx.crc_on() && broken != Some(AbortCode::CrcError),
                 end: Payload::new(bytes).unwrap_or_default(),
             };
         }
@@ -594,15 +652,15 @@ fn server(o: &mut Open, s: ServerCommand, bytes: &[u8], out: &mut Sink) -> Optio
             o.phase = Phase::DownloadSegmentDue(Segments::new(size));
         }
         (ServerCommand::UploadSegment(seg), Phase::UploadSegmentDue(mut rx)) => {
-            match rx.on_segment(&seg) {
-                Ok(placed) => {
-                    o.deliver(placed.offset, seg.data, out);
-                    if seg.last {
-                        return Some(End::Completed(false));
-                    }
+            if let Some(offset) = o.segment(&mut rx, &seg, Side::Client) {
+                o.deliver(offset, seg.data, out);
+                if seg.last && o.flagged.is_some() {
+                    o.phase = Phase::Accepted;
+                } else if seg.last {
+                    return Some(End::Completed(false));
+                } else {
                     o.phase = Phase::UploadRequestDue(rx);
                 }
-                Err(code) => o.violate(code, Side::Client),
             }
         }
         (

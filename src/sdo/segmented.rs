@@ -75,20 +75,34 @@ impl Segments {
     /// Takes one segment: its toggle must be the expected one (05030000h),
     /// the total may not exceed the indicated size (06070012h), and a last
     /// segment may not leave it short (06070013h). On success the toggle
-    /// alternates and the segment's place in the value is returned.
+    /// alternates and the segment's place in the value is returned; on an
+    /// error nothing changes.
     pub(crate) fn on_segment(&mut self, segment: &Segment) -> Result<Placed, AbortCode> {
+        self.check(segment)?;
+        Ok(self.accept(segment))
+    }
+
+    /// The rules of [`Segments::on_segment`], without taking the segment.
+    pub(crate) fn check(&self, segment: &Segment) -> Result<(), AbortCode> {
         check_toggle(segment.toggle, self.toggle)?;
-        let offset = self.received;
-        let total = offset.saturating_add(segment.data.len());
+        let total = self.received.saturating_add(segment.data.len());
         if self.size.is_some_and(|s| total > s) {
             return Err(AbortCode::DataTypeLengthTooHigh);
         }
         if segment.last && self.size.is_some_and(|s| total < s) {
             return Err(AbortCode::DataTypeLengthTooLow);
         }
+        Ok(())
+    }
+
+    /// Takes a segment whatever the rules say (an observer following a
+    /// peer that accepted it): the toggle alternates, the bytes count.
+    pub(crate) fn accept(&mut self, segment: &Segment) -> Placed {
+        let offset = self.received;
+        let total = offset.saturating_add(segment.data.len());
         self.received = total;
         self.toggle = !self.toggle;
-        Ok(Placed { offset, total })
+        Placed { offset, total }
     }
 }
 
