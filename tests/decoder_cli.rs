@@ -715,7 +715,8 @@ fn sdo_objects_named_by_role() {
             "SDO upload 1001h:00 from node 10: 81 (error register: generic, manufacturer)",
             "SDO upload 1003h:01 from node 10: 00 90 80 01 (pre-defined error field: 9000h external error, \
              information 0180h, Delta-Q E-0-0-1 battery high voltage (threshold from the algorithm))",
-            "SDO download 1400h:01 to node 4: 04 02 00 80 (RPDO0 communication: COB-ID: 204h, invalid)",
+            "SDO download 1400h:01 to node 4: 04 02 00 80 (RPDO0 communication: COB-ID: 204h, invalid) \
+             [RPDO0 of node 4 is not valid (COB-ID bit 31 set)]",
             "SDO download 1016h:02 to node 4: F0 00 01 00 (consumer heartbeat time: node 1, 240 ms)",
             "SDO upload 1A00h:01 from node 1: 10 00 01 60 (TPDO0 mapping: entry 1: 6001h:00/16 charger status)",
             "SDO upload 6030h:01 from node 1: 41 42 43 44 (battery serial number: \"ABCD\")",
@@ -1386,4 +1387,68 @@ fn sdo_channels_on_other_cob_ids_are_declared_with_sdo() {
         let o = run(&["--sdo", bad, "-"], Some(input));
         assert_eq!(o.status.code(), Some(2), "--sdo {bad}");
     }
+}
+
+#[test]
+fn pdo_mappings_written_by_sdo_apply_to_the_pdos_that_follow() {
+    // Node 5 (no role): TPDO 1 (1801h/1A01h) remapped by the CiA 301
+    // procedure (0 entries, the entries, then their number), then moved to
+    // 2A5h; its frames decode by the mapping from then on.
+    let input = "\
+285#1122334455\n\
+605#2F011A0000000000\n585#60011A0000000000\n\
+605#23011A0108000060\n585#60011A0100000000\n\
+605#23011A0210001060\n585#60011A0200000000\n\
+605#2F011A0002000000\n585#60011A0000000000\n\
+285#2A3412\n\
+605#23011801A5020000\n585#6001180100000000\n\
+2A5#2B7856\n";
+    let o = run(&["-"], Some(input));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = text(&o);
+    let lines: Vec<&str> = out.lines().collect();
+    // Before the remap the frame is raw.
+    assert!(
+        lines[0].ends_with("TPDO1 node 5: 11 22 33 44 55"),
+        "{}",
+        lines[0]
+    );
+    let remap = lines
+        .iter()
+        .find(|l| l.contains("SDO download 1A01h:00") && l.contains("02"))
+        .unwrap();
+    assert!(
+        remap.ends_with(
+            "[TPDO1 of node 5 maps 6000h:00/8, 6010h:00/16; applied to the frames on 285h that follow]"
+        ),
+        "{remap}"
+    );
+    let pdo = lines
+        .iter()
+        .find(|l| l.contains("  285  ") && l.contains("2A 34 12"))
+        .unwrap();
+    assert!(pdo.contains("[from SDO in the log]"), "{pdo}");
+    assert!(
+        pdo.contains("6000h unknown object: raw 2Ah")
+            && pdo.contains("6010h unknown object: raw 1234h"),
+        "{pdo}"
+    );
+    let moved = lines
+        .iter()
+        .find(|l| l.contains("SDO download 1801h:01"))
+        .unwrap();
+    assert!(
+        moved.ends_with("[TPDO1 of node 5 now on 2A5h; its mapping applies there]"),
+        "{moved}"
+    );
+    let last = lines.last().unwrap();
+    assert!(last.contains("[from SDO in the log]"), "{last}");
+    // In JSON the transfer carries the note and the PDO its fields.
+    let v = json_lines(&run(&["--json", "-"], Some(input)));
+    let notes: Vec<&str> = v.iter().filter_map(|x| x["pdo_config"].as_str()).collect();
+    assert_eq!(notes.len(), 3, "{notes:?}");
+    assert_eq!(notes[0], "TPDO1 of node 5: mapping cleared (0 entries)");
+    assert!(notes[1].starts_with("TPDO1 of node 5 maps"), "{}", notes[1]);
+    let fields = v.last().unwrap()["fields"].as_array().unwrap().len();
+    assert_eq!(fields, 2);
 }

@@ -54,7 +54,7 @@ pub fn string(out: &mut String, s: &str) {
 }
 
 /// Appends `,"key":` to `out`.
-fn key(out: &mut String, k: &str) {
+pub fn key(out: &mut String, k: &str) {
     out.push(',');
     string(out, k);
     out.push(':');

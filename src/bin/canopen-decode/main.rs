@@ -133,6 +133,7 @@
 mod csv;
 mod json;
 mod pdo_args;
+mod pdo_learn;
 mod sdo;
 mod sdo_value;
 mod summary;
@@ -475,6 +476,7 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
     let mut bad = 0;
     let mut text = String::new();
     let mut sdo = sdo::Tracker::default();
+    let mut learned = pdo_learn::Learned::default();
     for &channel in &opts.sdo_channels {
         sdo.add_channel(channel)
             .map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, format!("--sdo: {e}")))?;
@@ -566,7 +568,7 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
         let fields = decoded
             .as_ref()
             .ok()
-            .and_then(|m| opts.pdos.fields(&parsed.frame, m, &roles));
+            .and_then(|m| opts.pdos.fields(&parsed.frame, m, &roles, &learned));
         // A reply on 700h + node after a remote request there is a guarding
         // reply, whatever its toggle.
         let guard_reply = match &decoded {
@@ -632,13 +634,14 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
             if opts.summary {
                 summary.transfer(&report);
             }
-            let learned = roles.learn(&report);
+            let role_learned = roles.learn(&report);
+            let pdo_note = learned.transfer(&report);
             // CSV rows are frames only.
             if !opts.frames || opts.csv {
                 continue;
             }
-            transfer(&mut out, &report, opts.json, &roles)?;
-            if let Some(role) = learned {
+            transfer(&mut out, &report, opts.json, &roles, pdo_note.as_deref())?;
+            if let Some(role) = role_learned {
                 let what = if opts.json {
                     format!(
                         "{{\"kind\":\"role\",\"node\":{},\"role\":\"{role}\"}}",
@@ -657,7 +660,7 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
     for report in sdo.finish() {
         summary.transfer(&report);
         if opts.frames && !opts.csv {
-            transfer(&mut out, &report, opts.json, &roles)?;
+            transfer(&mut out, &report, opts.json, &roles, None)?;
         }
     }
     let mut open = false;
@@ -676,17 +679,32 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
 }
 
 /// Writes the extra line of a finished SDO transfer.
+/// Writes the extra line of a finished SDO transfer; `pdo_note` says how it
+/// changed a PDO's configuration.
 fn transfer(
     out: &mut impl Write,
     report: &sdo::Report,
     json: bool,
     roles: &Roles,
+    pdo_note: Option<&str>,
 ) -> io::Result<()> {
     let mut text = String::new();
     if json {
         json::transfer(&mut text, report, roles);
+        if let (Some(note), Some(body)) = (pdo_note, text.strip_suffix('}')) {
+            let mut with = body.to_string();
+            json::key(&mut with, "pdo_config");
+            json::string(&mut with, note);
+            with.push('}');
+            text = with;
+        }
     } else {
         words::transfer(&mut text, report, roles);
+        if let Some(note) = pdo_note {
+            text.push_str(" [");
+            text.push_str(note);
+            text.push(']');
+        }
     }
     writeln!(out, "{text}")
 }
