@@ -1452,3 +1452,63 @@ fn pdo_mappings_written_by_sdo_apply_to_the_pdos_that_follow() {
     let fields = v.last().unwrap()["fields"].as_array().unwrap().len();
     assert_eq!(fields, 2);
 }
+
+/// A small device description of our own, for `--eds`: a pump controller
+/// (CiA 401 device type) whose TPDO0 carries its speed (2000h sub 0,
+/// UNSIGNED16) and temperature (2001h, INTEGER8), and whose SDO server is
+/// not on the default COB-IDs: 640h/5C0h + $NODEID (643h/5C3h for node 3).
+const PUMP_EDS: &str = "[FileInfo]\nFileName=pump.eds\n\n[DeviceInfo]\nVendorName=Us\nProductName=Pump\n\n\
+[MandatoryObjects]\nSupportedObjects=1\n1=0x1000\n\n\
+[1000]\nParameterName=Device type\nObjectType=0x7\nDataType=0x0007\nAccessType=ro\nDefaultValue=0x00000191\nPDOMapping=0\n\n\
+[OptionalObjects]\nSupportedObjects=4\n1=0x1200\n2=0x1800\n3=0x1A00\n4=0x2000\n\n\
+[1200]\nParameterName=Server SDO parameter\nObjectType=0x9\nSubNumber=3\n\n\
+[1200sub0]\nParameterName=Highest sub-index\nObjectType=0x7\nDataType=0x0005\nAccessType=ro\nDefaultValue=2\nPDOMapping=0\n\n\
+[1200sub1]\nParameterName=COB-ID client to server\nObjectType=0x7\nDataType=0x0007\nAccessType=ro\nDefaultValue=$NODEID+0x640\nPDOMapping=0\n\n\
+[1200sub2]\nParameterName=COB-ID server to client\nObjectType=0x7\nDataType=0x0007\nAccessType=ro\nDefaultValue=$NODEID+0x5C0\nPDOMapping=0\n\n\
+[1800]\nParameterName=TPDO0 communication\nObjectType=0x9\nSubNumber=2\n\n\
+[1800sub0]\nParameterName=Highest sub-index\nObjectType=0x7\nDataType=0x0005\nAccessType=ro\nDefaultValue=1\nPDOMapping=0\n\n\
+[1800sub1]\nParameterName=COB-ID\nObjectType=0x7\nDataType=0x0007\nAccessType=rw\nDefaultValue=$NODEID+0x180\nPDOMapping=0\n\n\
+[1A00]\nParameterName=TPDO0 mapping\nObjectType=0x9\nSubNumber=3\n\n\
+[1A00sub0]\nParameterName=Number of entries\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\nDefaultValue=2\nPDOMapping=0\n\n\
+[1A00sub1]\nParameterName=Entry 1\nObjectType=0x7\nDataType=0x0007\nAccessType=rw\nDefaultValue=0x20000010\nPDOMapping=0\n\n\
+[1A00sub2]\nParameterName=Entry 2\nObjectType=0x7\nDataType=0x0007\nAccessType=rw\nDefaultValue=0x20010008\nPDOMapping=0\n\n\
+[2000]\nParameterName=Pump\nObjectType=0x9\nSubNumber=2\n\n\
+[2000sub0]\nParameterName=Speed\nObjectType=0x7\nDataType=0x0006\nAccessType=ro\nDefaultValue=0\nPDOMapping=1\n\n\
+[2000sub1]\nParameterName=Unused\nObjectType=0x7\nDataType=0x0006\nAccessType=ro\nDefaultValue=0\nPDOMapping=1\n\n\
+[2001]\nParameterName=Temperature\nObjectType=0x7\nDataType=0x0002\nAccessType=ro\nDefaultValue=0\nPDOMapping=1\n";
+
+#[test]
+fn eds_gives_pdo_mappings_sdo_channels_and_names() {
+    let dir = std::env::temp_dir().join(format!("canopen-decode-eds-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("pump.eds");
+    std::fs::write(&path, PUMP_EDS).unwrap();
+    let arg = format!("3={}", path.display());
+    let input = "183#3412F6\n643#4001200000000000\n5C3#4F012000F6000000\n";
+    let o = run(&["--eds", &arg, "-"], Some(input));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("node 3 from"), "{err}");
+    assert!(err.contains("device type 00000191h (profile 401)"), "{err}");
+    assert!(err.contains("PDOs mapped: TPDO0 on 183h"), "{err}");
+    assert!(err.contains("SDO on 643h/5C3h"), "{err}");
+    let out = text(&o);
+    let lines: Vec<&str> = out.lines().collect();
+    assert!(
+        lines[0].ends_with("= [from the EDS] 2000h Pump: Speed 4660; 2001h Temperature -10"),
+        "{}",
+        lines[0]
+    );
+    assert!(
+        lines[1].contains("SDO request to node 3: initiate upload 2001h sub 0"),
+        "{}",
+        lines[1]
+    );
+    assert_eq!(transfers(&out), ["SDO upload 2001h:00 from node 3: F6"]);
+    // A file that is not there, or not an EDS, is a usage error.
+    let o = run(&["--eds", "3=/nonexistent/pump.eds", "-"], Some(input));
+    assert_eq!(o.status.code(), Some(2));
+    let o = run(&["--eds", "pump.eds", "-"], Some(input));
+    assert_eq!(o.status.code(), Some(2));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -18,6 +18,14 @@
 //! segment seq N` (JSON: `"command":"block segment"`, `seqno`, `last`,
 //! `segment_data`).
 //!
+//! `--eds NODE=FILE` (repeatable) reads a node's EDS or DCF (CiA 306, with
+//! `$NODEID` resolved): its PDO COB-IDs and mappings decode that node's PDOs
+//! (marked `[from the EDS]`), named with the file's object names; its 1200h
+//! adds its SDO channel when not the default; a device type (1000h) of
+//! profile 418 or 419 gives the node its role. PDO mappings and COB-IDs
+//! written or read by SDO in the log (1400h-1BFFh) apply to the PDOs that
+//! follow, and the transfer's line says so (`[TPDO1 of node 5 maps ...]`).
+//!
 //! The trace format is detected from its first telling line, or given with
 //! `--format`: `candump` (candump `-L` log lines), `candump-screen`
 //! (candump screen output; `candump-screen-delta` for `-t d` times),
@@ -281,12 +289,14 @@ struct Options {
     strict: bool,
     /// `--sdo NODE=RXID,TXID`: SDO channels besides the default ones.
     sdo_channels: Vec<SdoChannel>,
+    /// `--eds NODE=FILE`: device descriptions of nodes.
+    eds: Vec<(NodeId, String)>,
 }
 
 const USAGE: &str = "usage: canopen-decode [--json | --output words|json|csv] [--strict] [--format candump|candump-screen|candump-screen-delta|trc|asc|csv] \
 [--summary] [--summary-only] [--check] [--charger-node N] [--battery-node N] \
 [--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [--sdo NODE=RXID,TXID]... \
-[--bundled session] [FILE]";
+[--eds NODE=FILE]... [--bundled session] [FILE]";
 
 fn parse_node(v: Option<String>, what: &str) -> Result<NodeId, String> {
     let v = v.ok_or(format!("{what} needs a value"))?;
@@ -336,6 +346,7 @@ fn parse_args() -> Result<Options, String> {
         delta_times: false,
         strict: false,
         sdo_channels: Vec::new(),
+        eds: Vec::new(),
     };
     let mut capture = false;
     let mut args = std::env::args().skip(1);
@@ -375,6 +386,14 @@ candump-screen-delta, trc, asc, csv)"
             }
             s if s.starts_with("--pdo=") => opts.pdos.add(&s["--pdo=".len()..])?,
             "--no-default-pdos" => opts.pdos.defaults = false,
+            "--eds" => {
+                let v = args.next().ok_or("--eds needs NODE=FILE")?;
+                let (node, path) = v
+                    .split_once('=')
+                    .ok_or(format!("--eds: '{v}' is not NODE=FILE"))?;
+                let node = parse_node(Some(node.to_string()), "--eds")?;
+                opts.eds.push((node, path.to_string()));
+            }
             "--sdo" => {
                 let v = args.next().ok_or("--sdo needs NODE=RXID,TXID")?;
                 opts.sdo_channels.push(parse_sdo_channel(&v)?);
@@ -477,6 +496,9 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
     let mut text = String::new();
     let mut sdo = sdo::Tracker::default();
     let mut learned = pdo_learn::Learned::default();
+    for (node, path) in &opts.eds {
+        load_eds(*node, path, &mut roles, &mut sdo, &mut learned)?;
+    }
     for &channel in &opts.sdo_channels {
         sdo.add_channel(channel)
             .map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, format!("--sdo: {e}")))?;
@@ -679,6 +701,99 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
 }
 
 /// Writes the extra line of a finished SDO transfer.
+/// Reads the EDS or DCF of `node` (`--eds NODE=FILE`): its PDOs (COB-IDs
+/// and mappings, `$NODEID` resolved) decode that node's PDO frames, its
+/// server SDO parameter (1200h) adds the SDO channel when it is not the
+/// default, and its device type (1000h) of profile 418 or 419 gives the node
+/// its role unless one was given. Says what it took on stderr.
+fn load_eds(
+    node: NodeId,
+    path: &str,
+    roles: &mut Roles,
+    sdo: &mut sdo::Tracker,
+    learned: &mut pdo_learn::Learned,
+) -> io::Result<()> {
+    use canopen_codec::eds::{eval_int, parse_bytes};
+    use canopen_codec::pdo::PdoDirection;
+    let invalid = |e: String| io::Error::new(io::ErrorKind::InvalidInput, e);
+    let bytes = std::fs::read(path).map_err(|e| invalid(format!("--eds {path}: {e}")))?;
+    let eds = parse_bytes(&bytes).map_err(|e| invalid(format!("--eds {path}: {e}")))?;
+    let int = |index: u16, sub: u8| {
+        eds.entry(index, sub)
+            .and_then(|e| e.value())
+            .and_then(|v| eval_int(v, Some(node.raw())).ok())
+            .and_then(|v| u32::try_from(v).ok())
+    };
+    let mut said = Vec::new();
+    if let Some(device_type) = int(0x1000, 0) {
+        let (slot, role) = match device_type & 0xFFFF {
+            418 => (&mut roles.battery, "battery"),
+            419 => (&mut roles.charger, "charger"),
+            profile => {
+                said.push(format!(
+                    "device type {device_type:08X}h (profile {profile})"
+                ));
+                (&mut None, "")
+            }
+        };
+        if !role.is_empty() {
+            if slot.is_none() {
+                *slot = Some(node);
+            }
+            said.push(format!("device type {device_type:08X}h: the {role}"));
+        }
+    }
+    let profile = if roles.is_battery(node) {
+        Some(canopen_codec::cia418::BATTERY_MODULE_CATALOGUE)
+    } else if roles.is_charger(node) {
+        Some(canopen_codec::deltaq::CHARGER_CATALOGUE)
+    } else {
+        None
+    };
+    learned.name_objects(node, &eds, profile);
+    let mut mapped = Vec::new();
+    for d in eds.pdos(node) {
+        let tx = d.direction == PdoDirection::Transmit;
+        if let Some(id) =
+            learned.preset(node, tx, d.number, d.cob_id.map(|c| c.to_u32()), &d.entries)
+        {
+            mapped.push(format!(
+                "{}{} on {id:03X}h",
+                if tx { "TPDO" } else { "RPDO" },
+                d.number
+            ));
+        }
+    }
+    if !mapped.is_empty() {
+        said.push(format!("PDOs mapped: {}", mapped.join(", ")));
+    }
+    let ids = (int(0x1200, 1), int(0x1200, 2));
+    if let (Some(rx), Some(tx)) = ids {
+        let id = |raw: u32| u16::try_from(raw & 0x7FF).ok().and_then(CanId::standard);
+        if let (Some(request), Some(response)) = (id(rx), id(tx)) {
+            let channel = SdoChannel {
+                node,
+                request,
+                response,
+            };
+            if !is_default(channel) {
+                sdo.add_channel(channel)
+                    .map_err(|e| invalid(format!("--eds {path}: SDO channel: {e}")))?;
+                said.push(format!("SDO on {:03X}h/{:03X}h", rx & 0x7FF, tx & 0x7FF));
+            }
+        }
+    }
+    eprintln!(
+        "canopen-decode: node {node} from {path}: {}",
+        if said.is_empty() {
+            "nothing the decoder uses".to_string()
+        } else {
+            said.join("; ")
+        }
+    );
+    Ok(())
+}
+
 /// Writes the extra line of a finished SDO transfer; `pdo_note` says how it
 /// changed a PDO's configuration.
 fn transfer(

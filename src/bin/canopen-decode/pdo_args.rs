@@ -8,7 +8,7 @@ use canopen_codec::pdo::{Catalogue, MappingEntry, NamedFields, PdoMapping, MAX_E
 use canopen_codec::NodeId;
 use canopen_codec::{CanFrame, CanId, Message};
 
-use crate::pdo_learn::Learned;
+use crate::pdo_learn::{Learned, Origin};
 use crate::Roles;
 
 /// The objects of a node with no role: CiA 301 names nothing in a PDO, so
@@ -37,6 +37,8 @@ pub enum Source {
     BatteryDefault,
     /// Written or read by SDO earlier in the log.
     Learned,
+    /// The node's EDS or DCF (`--eds`).
+    Eds,
 }
 
 impl Source {
@@ -46,6 +48,7 @@ impl Source {
             Source::ChargerDefault => "charger default",
             Source::BatteryDefault => "battery default",
             Source::Learned => "from SDO in the log",
+            Source::Eds => "from the EDS",
         }
     }
 }
@@ -147,15 +150,21 @@ impl Mappings {
             return None;
         }
         let given = self.given.iter().find(|(g, _)| *g == id);
-        if let (None, Some((node, m))) = (given, learned.mapping(id)) {
-            let cat = if roles.is_battery(node) {
+        if let (None, Some((node, m, origin))) = (given, learned.mapping(id)) {
+            let cat = if let Some(c) = learned.catalogue(node) {
+                c
+            } else if roles.is_battery(node) {
                 BATTERY_MODULE_CATALOGUE
             } else if roles.is_charger(node) {
                 CHARGER_CATALOGUE
             } else {
                 NO_CATALOGUE
             };
-            return Some((Source::Learned, cat.decode(&m, frame.data())));
+            let source = match origin {
+                Origin::Eds => Source::Eds,
+                Origin::Log => Source::Learned,
+            };
+            return Some((source, cat.decode(&m, frame.data())));
         }
         let (source, catalogue, mapping) = match given {
             Some((_, m)) => {
@@ -163,7 +172,9 @@ impl Mappings {
                 // COB-ID belongs to: the battery's is CiA 418, any other
                 // node's is read as the Delta-Q charger's.
                 let node = classify_standard(id).node();
-                let cat = if node.is_some_and(|n| roles.is_battery(n)) {
+                let cat = if let Some(c) = node.and_then(|n| learned.catalogue(n)) {
+                    c
+                } else if node.is_some_and(|n| roles.is_battery(n)) {
                     BATTERY_MODULE_CATALOGUE
                 } else {
                     CHARGER_CATALOGUE

@@ -17,7 +17,10 @@
 
 use std::collections::HashMap;
 
-use canopen_codec::pdo::{MappingEntry, PdoMapping, MAX_ENTRIES};
+use canopen_codec::eds::{DataType, Eds};
+use canopen_codec::pdo::{
+    Catalogue, CatalogueEntry, Interpretation, MappingEntry, Marker, PdoMapping, MAX_ENTRIES,
+};
 use canopen_codec::NodeId;
 
 use crate::sdo::{End, Report};
@@ -36,12 +39,24 @@ struct Pdo {
 /// Which PDO: its node, transmit (true) or receive, its number from 0.
 type Key = (NodeId, bool, u16);
 
-/// The PDO configuration learned from the log.
+/// Where a PDO's configuration came from.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Origin {
+    /// An EDS or DCF given with `--eds`.
+    Eds,
+    /// SDO transfers in the log.
+    Log,
+}
+
+/// The PDO configuration learned from the log (and the `--eds` files).
 #[derive(Default)]
 pub struct Learned {
+    /// The objects of a node with an EDS: its own names first, then the
+    /// profile's catalogue for its role.
+    catalogues: HashMap<NodeId, Catalogue>,
     pdos: HashMap<Key, Pdo>,
-    /// Identifier -> the PDO whose mapping applies there.
-    by_id: HashMap<u16, (Key, PdoMapping)>,
+    /// Identifier -> the PDO whose mapping applies there, and the origin.
+    by_id: HashMap<u16, (Key, PdoMapping, Origin)>,
 }
 
 fn name((node, tx, n): Key) -> String {
@@ -56,9 +71,105 @@ fn predefined((node, tx, n): Key) -> Option<u16> {
 }
 
 impl Learned {
-    /// The mapping learned for frames on `id`, and the node whose PDO it is.
-    pub fn mapping(&self, id: u16) -> Option<(NodeId, PdoMapping)> {
-        self.by_id.get(&id).map(|((node, ..), m)| (*node, *m))
+    /// The mapping learned for frames on `id`, the node whose PDO it is,
+    /// and where the mapping came from.
+    pub fn mapping(&self, id: u16) -> Option<(NodeId, PdoMapping, Origin)> {
+        self.by_id
+            .get(&id)
+            .map(|((node, ..), m, o)| (*node, *m, *o))
+    }
+
+    /// The catalogue of `node`'s objects built from its EDS, if one was given.
+    pub fn catalogue(&self, node: NodeId) -> Option<Catalogue> {
+        self.catalogues.get(&node).copied()
+    }
+
+    /// Names `node`'s objects from its EDS (`--eds`): every variable of a
+    /// data type a PDO can carry gets the EDS's name and a plain integer or
+    /// text reading; `profile`'s tables (the CiA 418 or Delta-Q catalogue
+    /// for a node with a role) are searched first, for their units. The
+    /// tables live as long as the program (built once per `--eds`).
+    pub fn name_objects(&mut self, node: NodeId, eds: &Eds, profile: Option<Catalogue>) {
+        let mut own = Vec::new();
+        for (index, sub, name, data_type) in eds_variables(eds) {
+            let interpretation = match data_type {
+                DataType::Integer8
+                | DataType::Integer16
+                | DataType::Integer24
+                | DataType::Integer32
+                | DataType::Integer40
+                | DataType::Integer48
+                | DataType::Integer56
+                | DataType::Integer64 => Interpretation::Signed {
+                    frac_bits: 0,
+                    unit: None,
+                },
+                DataType::Boolean
+                | DataType::Unsigned8
+                | DataType::Unsigned16
+                | DataType::Unsigned24
+                | DataType::Unsigned32
+                | DataType::Unsigned40
+                | DataType::Unsigned48
+                | DataType::Unsigned56
+                | DataType::Unsigned64 => Interpretation::Unsigned {
+                    frac_bits: 0,
+                    unit: None,
+                    marker: Marker::None,
+                    max: None,
+                },
+                _ => continue,
+            };
+            // A PDO maps a BOOLEAN as 1 bit, the others at their size.
+            let bits = match data_type {
+                DataType::Boolean => 1,
+                t => match t.fixed_size().and_then(|n| u8::try_from(n * 8).ok()) {
+                    Some(b) => b,
+                    None => continue,
+                },
+            };
+            let name: &'static str = Box::leak(name.into_boxed_str());
+            let mut entry = CatalogueEntry::new(index, name, bits, interpretation);
+            entry.first_sub = sub;
+            entry.last_sub = sub;
+            own.push(entry);
+        }
+        let own: &'static [CatalogueEntry] = Box::leak(own.into_boxed_slice());
+        let mut tables: Vec<&'static [CatalogueEntry]> =
+            profile.map(|c| c.tables().to_vec()).unwrap_or_default();
+        tables.push(own);
+        let tables: &'static [&'static [CatalogueEntry]] = Box::leak(tables.into_boxed_slice());
+        self.catalogues
+            .insert(node, Catalogue::new("the node's EDS", tables));
+    }
+
+    /// A PDO as a device description gives it (`--eds`): its COB-ID
+    /// (`raw`, the Unsigned32 of sub-index 1) and its mapping entries.
+    /// Returns the identifier its mapping now applies to.
+    pub fn preset(
+        &mut self,
+        node: NodeId,
+        tx: bool,
+        number: u16,
+        cob_id: Option<u32>,
+        entries: &[MappingEntry],
+    ) -> Option<u16> {
+        let key: Key = (node, tx, number);
+        let pdo = self.pdos.entry(key).or_default();
+        pdo.cob_id = cob_id;
+        for (slot, e) in pdo.entries.iter_mut().zip(entries) {
+            *slot = Some(e.to_u32());
+        }
+        let mapping = PdoMapping::new(entries)
+            .ok()
+            .filter(|m| !m.entries().is_empty())?;
+        let id = self.id_of(key).ok()?;
+        self.deactivate(key);
+        if let Some(p) = self.pdos.get_mut(&key) {
+            p.active = Some((id, mapping));
+        }
+        self.by_id.insert(id, (key, mapping, Origin::Eds));
+        Some(id)
     }
 
     /// Takes a finished transfer; says how it changed a PDO, if it did.
@@ -178,7 +289,7 @@ impl Learned {
 
     fn deactivate(&mut self, key: Key) {
         if let Some((id, _)) = self.pdos.get(&key).and_then(|p| p.active) {
-            if self.by_id.get(&id).is_some_and(|(k, _)| *k == key) {
+            if self.by_id.get(&id).is_some_and(|(k, ..)| *k == key) {
                 self.by_id.remove(&id);
             }
         }
@@ -188,6 +299,26 @@ impl Learned {
         if let Some(p) = self.pdos.get_mut(&key) {
             p.active = Some((id, mapping));
         }
-        self.by_id.insert(id, (key, mapping));
+        self.by_id.insert(id, (key, mapping, Origin::Log));
     }
+}
+
+/// Every variable of an EDS with its name and data type: `(index, sub,
+/// name, type)`, the sub-objects of arrays and records named
+/// "object name: sub-object name".
+fn eds_variables(eds: &Eds) -> Vec<(u16, u8, String, DataType)> {
+    let mut out = Vec::new();
+    for o in eds.objects.values() {
+        if o.subs.is_empty() {
+            if let Some(t) = o.entry.data_type {
+                out.push((o.index, 0, o.entry.name.clone(), t));
+            }
+        }
+        for (&sub, e) in &o.subs {
+            if let Some(t) = e.data_type {
+                out.push((o.index, sub, format!("{}: {}", o.entry.name, e.name), t));
+            }
+        }
+    }
+    out
 }
