@@ -138,6 +138,7 @@
 //! 6010h temperature is decoded per CiA 418 (0.125 degC/bit, no offset):
 //! the capture README's DBC adds -40 degC, which the profile does not have.
 
+mod args;
 mod csv;
 mod json;
 mod pdo_args;
@@ -269,183 +270,41 @@ impl Roles {
     }
 }
 
-struct Options {
-    json: bool,
+pub struct Options {
+    pub json: bool,
     /// `--output csv`.
-    csv: bool,
+    pub csv: bool,
     /// `--summary`, `--summary-only`, `--check`.
-    summary: bool,
-    frames: bool,
-    check: bool,
-    roles: Roles,
-    pdos: pdo_args::Mappings,
-    file: Option<String>,
+    pub summary: bool,
+    pub frames: bool,
+    pub check: bool,
+    pub roles: Roles,
+    pub pdos: pdo_args::Mappings,
+    pub file: Option<String>,
     /// `--bundled session`.
-    bundled: Option<&'static str>,
+    pub bundled: Option<&'static str>,
     /// `--format`: the trace format (detected when absent) and `-t d` times.
-    format: Option<Format>,
-    delta_times: bool,
+    pub format: Option<Format>,
+    pub delta_times: bool,
     /// `--strict`: frames that deviate from CiA 301 are malformed.
-    strict: bool,
+    pub strict: bool,
     /// `--sdo NODE=RXID,TXID`: SDO channels besides the default ones.
-    sdo_channels: Vec<SdoChannel>,
+    pub sdo_channels: Vec<SdoChannel>,
     /// `--eds NODE=FILE`: device descriptions of nodes.
-    eds: Vec<(NodeId, String)>,
-}
-
-const USAGE: &str = "usage: canopen-decode [--json | --output words|json|csv] [--strict] [--format candump|candump-screen|candump-screen-delta|trc|asc|csv] \
-[--summary] [--summary-only] [--check] [--charger-node N] [--battery-node N] \
-[--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [--sdo NODE=RXID,TXID]... \
-[--eds NODE=FILE]... [--bundled session] [FILE]";
-
-fn parse_node(v: Option<String>, what: &str) -> Result<NodeId, String> {
-    let v = v.ok_or(format!("{what} needs a value"))?;
-    v.parse::<u8>()
-        .ok()
-        .and_then(NodeId::new)
-        .ok_or(format!("{what}: '{v}' is not a node id 1..=127"))
-}
-
-/// `NODE=RXID,TXID`: the server `NODE` (decimal) receives requests on RXID
-/// and answers on TXID (hex COB-IDs, as in its 1200h sub 1 and sub 2).
-fn parse_sdo_channel(v: &str) -> Result<SdoChannel, String> {
-    let bad = || format!("--sdo: '{v}' is not NODE=RXID,TXID (e.g. 65=241,1C1)");
-    let (node, ids) = v.split_once('=').ok_or_else(bad)?;
-    let (rx, tx) = ids.split_once(',').ok_or_else(bad)?;
-    let node = parse_node(Some(node.to_string()), "--sdo")?;
-    let id = |s: &str| -> Result<CanId, String> {
-        let digits = s.trim_start_matches("0x").trim_start_matches("0X");
-        let raw = u32::from_str_radix(digits, 16).map_err(|_| bad())?;
-        match u16::try_from(raw).ok().and_then(CanId::standard) {
-            Some(id) => Ok(id),
-            None => CanId::extended(raw).ok_or_else(bad),
-        }
-    };
-    Ok(SdoChannel {
-        node,
-        request: id(rx)?,
-        response: id(tx)?,
-    })
-}
-
-fn parse_args() -> Result<Options, String> {
-    let mut opts = Options {
-        json: false,
-        csv: false,
-        summary: false,
-        frames: true,
-        check: false,
-        roles: Roles::default(),
-        pdos: pdo_args::Mappings {
-            given: Vec::new(),
-            defaults: true,
-        },
-        file: None,
-        bundled: None,
-        format: None,
-        delta_times: false,
-        strict: false,
-        sdo_channels: Vec::new(),
-        eds: Vec::new(),
-    };
-    let mut capture = false;
-    let mut args = std::env::args().skip(1);
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "--json" => opts.json = true,
-            "--output" => match args.next().as_deref() {
-                Some("words") => (opts.json, opts.csv) = (false, false),
-                Some("json") => (opts.json, opts.csv) = (true, false),
-                Some("csv") => (opts.json, opts.csv) = (false, true),
-                other => {
-                    return Err(format!(
-                        "--output takes words, json or csv, not {}",
-                        other.unwrap_or("nothing")
-                    ))
-                }
-            },
-            "--strict" => opts.strict = true,
-            "--summary" => opts.summary = true,
-            "--summary-only" => (opts.summary, opts.frames) = (true, false),
-            "--check" => (opts.summary, opts.check) = (true, true),
-            "--format" => {
-                let v = args.next().ok_or("--format needs a format name")?;
-                if v == "candump-screen-delta" {
-                    opts.format = Some(Format::CandumpScreen);
-                    opts.delta_times = true;
-                } else {
-                    opts.format = Some(Format::from_name(&v).ok_or(format!(
-                        "--format: unknown format '{v}' (candump, candump-screen, \
-candump-screen-delta, trc, asc, csv)"
-                    ))?);
-                }
-            }
-            "--pdo" => {
-                let v = args.next().ok_or("--pdo needs COBID=INDEX:SUB:BITS,...")?;
-                opts.pdos.add(&v)?;
-            }
-            s if s.starts_with("--pdo=") => opts.pdos.add(&s["--pdo=".len()..])?,
-            "--no-default-pdos" => opts.pdos.defaults = false,
-            "--eds" => {
-                let v = args.next().ok_or("--eds needs NODE=FILE")?;
-                let (node, path) = v
-                    .split_once('=')
-                    .ok_or(format!("--eds: '{v}' is not NODE=FILE"))?;
-                let node = parse_node(Some(node.to_string()), "--eds")?;
-                opts.eds.push((node, path.to_string()));
-            }
-            "--sdo" => {
-                let v = args.next().ok_or("--sdo needs NODE=RXID,TXID")?;
-                opts.sdo_channels.push(parse_sdo_channel(&v)?);
-            }
-            "--bundled" => {
-                opts.bundled = Some(match args.next().as_deref() {
-                    Some("session") => "session",
-                    other => {
-                        return Err(format!(
-                            "--bundled takes session, not {}",
-                            other.unwrap_or("nothing")
-                        ))
-                    }
-                })
-            }
-            "--pdo-capture-mapping" => capture = true,
-            "--charger-node" => {
-                opts.roles.charger = Some(parse_node(args.next(), "--charger-node")?);
-            }
-            "--battery-node" => {
-                opts.roles.battery = Some(parse_node(args.next(), "--battery-node")?);
-            }
-            "-h" | "--help" => return Err(String::new()),
-            s if s.starts_with('-') && s != "-" => return Err(format!("unknown option {s}")),
-            _ if opts.file.is_some() => return Err("more than one FILE".into()),
-            _ => opts.file = Some(a),
-        }
-    }
-    if capture {
-        opts.pdos.add_capture()?;
-        // The capture's nodes: the Delta-Q charger 10, the battery module 1.
-        opts.roles.charger = opts.roles.charger.or(NodeId::new(10));
-        opts.roles.battery = opts.roles.battery.or(NodeId::new(1));
-    }
-    Ok(opts)
+    pub eds: Vec<(NodeId, String)>,
 }
 
 fn main() -> ExitCode {
-    let mut opts = match parse_args() {
+    use clap::{CommandFactory, Parser};
+    // Usage errors exit 2 (clap's code too), help and version 0.
+    let mut opts = match args::Cli::parse().options() {
         Ok(o) => o,
         Err(e) => {
-            if !e.is_empty() {
-                eprintln!("canopen-decode: {e}");
-            }
-            eprintln!("{USAGE}");
+            let mut cmd = args::Cli::command();
+            eprintln!("canopen-decode: {e}\n\n{}", cmd.render_usage());
             return ExitCode::from(2);
         }
     };
-    if opts.bundled.is_some() && opts.file.is_some() {
-        eprintln!("canopen-decode: give a FILE or --bundled, not both\n{USAGE}");
-        return ExitCode::from(2);
-    }
     let input: Box<dyn BufRead> = match (opts.bundled, opts.file.as_deref()) {
         (Some(_), _) => {
             opts.roles.demo();
