@@ -94,7 +94,7 @@ pub use crc::{crc16, crc16_update};
 pub use data::{ExpeditedData, InitiatePayload, InlineData, Segment, SegmentData};
 pub use observer::{
     BreakReason, ChannelError, Direction, Observed, Observer, ObserverConfig, ObserverEvent,
-    SdoChannel, Side, Transfer, TransferKind,
+    SdoChannel, Side, Transfer, TransferKind, OBSERVER_EVENT_CAPACITY, OBSERVER_EXTRA_CHANNELS,
 };
 pub use server::{AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_TIMEOUT};
 pub use wire::{

@@ -1,91 +1,5 @@
-//! A passive SDO observer: it follows every transfer on the SDO channels of
-//! a bus from the frames of both sides (CiA 301 section 7.2.4.3, SDO
-//! protocols) and reports each one as events, without ever sending.
-//!
-//! Fed every frame of a trace with its timestamp, [`Observer`] watches the
-//! default SDO channel of every node (requests on 600h + node, responses on
-//! 580h + node) and any channel added with [`Observer::add_channel`]. It
-//! reports each expedited, segmented and block transfer, upload and
-//! download, as [`ObserverEvent`]s:
-//!
-//! - [`ObserverEvent::Started`] at the client's initiate frame;
-//! - [`ObserverEvent::Data`] for each piece of the value, in order, with its
-//!   offset (collect or hash them without a heap);
-//! - [`ObserverEvent::RuleBroken`] at a frame that breaks a rule;
-//! - exactly one end: [`ObserverEvent::Completed`] (bytes seen against the
-//!   indicated size, the CRC checked for a block transfer),
-//!   [`ObserverEvent::Aborted`] (the code, by the client or the server) or
-//!   [`ObserverEvent::BrokenOff`] (a new initiate, a frame the protocol does
-//!   not allow that no abort followed, an acknowledgement the observer
-//!   cannot follow, a timeout, the end of the trace).
-//!
-//! **One set of rules.** The observer takes each frame through the same
-//! transition rules as [`Client`](super::Client) and
-//! [`Server`](super::Server): the segment rules (toggle bit, indicated size)
-//! and the sub-block rules of block transfer (which frame is a segment,
-//! which sequence number comes next, what the acknowledgement must say, the
-//! end frame's unused bytes and CRC) are the crate's one implementation,
-//! so the observer's reading of a transfer is the receiving machine's.
-//!
-//! **A frame that breaks a rule** is reported as
-//! [`ObserverEvent::RuleBroken`] with the abort code a strict peer answers
-//! it with, and does not end the transfer at once:
-//!
-//! - after a rule the transfer cannot be followed past (a repeated toggle
-//!   bit, a command out of phase, a block size or sequence number out of
-//!   range, a response for another object) the observer waits for the
-//!   abort: the transfer ends as [`ObserverEvent::Aborted`] with the peer's
-//!   code and the one expected, or, at any other frame on the channel, the
-//!   timeout or the end of the trace, as [`BreakReason::Violation`];
-//! - after a size or CRC rule (more or fewer bytes than indicated, a CRC
-//!   that does not match) the observer goes on as the peers do (lenient, as
-//!   a log reader must be: real devices accept such transfers): an abort
-//!   ends it as [`ObserverEvent::Aborted`] with the code expected, and a
-//!   transfer the peers finish is [`ObserverEvent::Completed`] (a segmented
-//!   upload, which nobody confirms, at the next frame on the channel).
-//!
-//! **Timing.** A transfer with no frame for [`ObserverConfig::timeout`]
-//! ends as [`BreakReason::Timeout`] at the next
-//! [`Machine::handle_timeout`]; the default, 2.5 times the SDO default
-//! timeout of 2000 ms, leaves the peers time to send their own 05040000h
-//! abort first. Timestamps that go backwards are taken as they come
-//! (nothing expires early, nothing panics).
-//!
-//! **Back-pressure.** Events go into a queue of [`EVENT_CAPACITY`]; when it
-//! is full the oldest is dropped and counted
-//! ([`Machine::events_dropped`]), and the transfers go on by their rules
-//! whether or not anybody reads them. One frame makes at most four events
-//! (a broken-off transfer, and a new expedited one started, delivered and
-//! completed); drain after every frame.
-//!
-//! ```
-//! use canopen_codec::machine::Machine;
-//! use canopen_codec::sdo::{Observer, ObserverEvent, Observed};
-//! use canopen_codec::{CanFrame, Timestamp};
-//!
-//! let mut obs = Observer::new(Default::default());
-//! // Node 5: read 1008h by a segmented upload of "DQ 12".
-//! let frames = [
-//!     (0x605, &[0x40, 0x08, 0x10, 0x00, 0, 0, 0, 0][..]),
-//!     (0x585, &[0x41, 0x08, 0x10, 0x00, 5, 0, 0, 0][..]),
-//!     (0x605, &[0x60, 0, 0, 0, 0, 0, 0, 0][..]),
-//!     (0x585, &[0x05, b'D', b'Q', b' ', b'1', b'2', 0, 0][..]),
-//! ];
-//! let mut value = Vec::new();
-//! for (i, (id, data)) in frames.iter().enumerate() {
-//!     let frame = CanFrame::standard(*id, data).unwrap();
-//!     let seen = obs.observe(Timestamp::from_millis(i as u64), &frame);
-//!     assert!(matches!(seen, Observed::Request { .. } | Observed::Response { .. }));
-//!     while let Some(event) = obs.poll_event() {
-//!         match event {
-//!             ObserverEvent::Data { data, .. } => value.extend_from_slice(data.as_slice()),
-//!             ObserverEvent::Completed { bytes, .. } => assert_eq!(bytes, 5),
-//!             _ => {}
-//!         }
-//!     }
-//! }
-//! assert_eq!(value, b"DQ 12");
-//! ```
+//! The passive SDO observer ([`Observer`]): its types and its channel
+//! table; the transitions are in `observer_rules.rs`.
 
 use core::time::Duration;
 
@@ -102,11 +16,11 @@ use crate::queue::EventQueue;
 use crate::time::Timestamp;
 
 /// How many events the observer keeps before dropping the oldest.
-pub const EVENT_CAPACITY: usize = 32;
+pub const OBSERVER_EVENT_CAPACITY: usize = 32;
 
 /// Channels besides the default ones an [`Observer`] holds unless told
 /// otherwise ([`Observer::with_extra_channels`]).
-pub const DEFAULT_EXTRA_CHANNELS: usize = 8;
+pub const OBSERVER_EXTRA_CHANNELS: usize = 8;
 
 /// Nodes with a default SDO channel (1..=127).
 const NODES: usize = 127;
@@ -248,7 +162,7 @@ pub enum ObserverEvent {
     },
     /// A frame broke a rule of the transfer: the side `by` should answer
     /// with an abort of `code` (the transfer stays open until that abort
-    /// or the next frame; see the module docs).
+    /// or the next frame; see [`Observer`]).
     RuleBroken {
         /// The channel of the transfer.
         channel: SdoChannel,
@@ -409,21 +323,108 @@ struct Slot {
     open: Option<Open>,
 }
 
-/// The passive SDO observer; see the [module documentation](self).
+///  A passive SDO observer: it follows every transfer on the SDO channels of
+///  a bus from the frames of both sides (CiA 301 section 7.2.4.3, SDO
+///  protocols) and reports each one as events, without ever sending.
+///
+///  Fed every frame of a trace with its timestamp, [`Observer`] watches the
+///  default SDO channel of every node (requests on 600h + node, responses on
+///  580h + node) and any channel added with [`Observer::add_channel`]. It
+///  reports each expedited, segmented and block transfer, upload and
+///  download, as [`ObserverEvent`]s:
+///
+///  - [`ObserverEvent::Started`] at the client's initiate frame;
+///  - [`ObserverEvent::Data`] for each piece of the value, in order, with its
+///    offset (collect or hash them without a heap);
+///  - [`ObserverEvent::RuleBroken`] at a frame that breaks a rule;
+///  - exactly one end: [`ObserverEvent::Completed`] (bytes seen against the
+///    indicated size, the CRC checked for a block transfer),
+///    [`ObserverEvent::Aborted`] (the code, by the client or the server) or
+///    [`ObserverEvent::BrokenOff`] (a new initiate, a frame the protocol does
+///    not allow that no abort followed, an acknowledgement the observer
+///    cannot follow, a timeout, the end of the trace).
+///
+///  **One set of rules.** The observer takes each frame through the same
+///  transition rules as [`Client`](super::Client) and
+///  [`Server`](super::Server): the segment rules (toggle bit, indicated size)
+///  and the sub-block rules of block transfer (which frame is a segment,
+///  which sequence number comes next, what the acknowledgement must say, the
+///  end frame's unused bytes and CRC) are the crate's one implementation,
+///  so the observer's reading of a transfer is the receiving machine's.
+///
+///  **A frame that breaks a rule** is reported as
+///  [`ObserverEvent::RuleBroken`] with the abort code a strict peer answers
+///  it with, and does not end the transfer at once:
+///
+///  - after a rule the transfer cannot be followed past (a repeated toggle
+///    bit, a command out of phase, a block size or sequence number out of
+///    range, a response for another object) the observer waits for the
+///    abort: the transfer ends as [`ObserverEvent::Aborted`] with the peer's
+///    code and the one expected, or, at any other frame on the channel, the
+///    timeout or the end of the trace, as [`BreakReason::Violation`];
+///  - after a size or CRC rule (more or fewer bytes than indicated, a CRC
+///    that does not match) the observer goes on as the peers do (lenient, as
+///    a log reader must be: real devices accept such transfers): an abort
+///    ends it as [`ObserverEvent::Aborted`] with the code expected, and a
+///    transfer the peers finish is [`ObserverEvent::Completed`] (a segmented
+///    upload, which nobody confirms, at the next frame on the channel).
+///
+///  **Timing.** A transfer with no frame for [`ObserverConfig::timeout`]
+///  ends as [`BreakReason::Timeout`] at the next
+///  [`Machine::handle_timeout`]; the default, 2.5 times the SDO default
+///  timeout of 2000 ms, leaves the peers time to send their own 05040000h
+///  abort first. Timestamps that go backwards are taken as they come
+///  (nothing expires early, nothing panics).
+///
+///  **Back-pressure.** Events go into a queue of [`OBSERVER_EVENT_CAPACITY`]; when it
+///  is full the oldest is dropped and counted
+///  ([`Machine::events_dropped`]), and the transfers go on by their rules
+///  whether or not anybody reads them. One frame makes at most four events
+///  (a broken-off transfer, and a new expedited one started, delivered and
+///  completed); drain after every frame.
+///
+///  ```
+///  use canopen_codec::machine::Machine;
+///  use canopen_codec::sdo::{Observer, ObserverEvent, Observed};
+///  use canopen_codec::{CanFrame, Timestamp};
+///
+///  let mut obs = Observer::new(Default::default());
+///  // Node 5: read 1008h by a segmented upload of "DQ 12".
+///  let frames = [
+///      (0x605, &[0x40, 0x08, 0x10, 0x00, 0, 0, 0, 0][..]),
+///      (0x585, &[0x41, 0x08, 0x10, 0x00, 5, 0, 0, 0][..]),
+///      (0x605, &[0x60, 0, 0, 0, 0, 0, 0, 0][..]),
+///      (0x585, &[0x05, b'D', b'Q', b' ', b'1', b'2', 0, 0][..]),
+///  ];
+///  let mut value = Vec::new();
+///  for (i, (id, data)) in frames.iter().enumerate() {
+///      let frame = CanFrame::standard(*id, data).unwrap();
+///      let seen = obs.observe(Timestamp::from_millis(i as u64), &frame);
+///      assert!(matches!(seen, Observed::Request { .. } | Observed::Response { .. }));
+///      while let Some(event) = obs.poll_event() {
+///          match event {
+///              ObserverEvent::Data { data, .. } => value.extend_from_slice(data.as_slice()),
+///              ObserverEvent::Completed { bytes, .. } => assert_eq!(bytes, 5),
+///              _ => {}
+///          }
+///      }
+///  }
+///  assert_eq!(value, b"DQ 12");
+///  ```
 ///
 /// `EXTRA` is the number of channels besides the default ones that
 /// [`Observer::add_channel`] can add. Implements [`Machine`]:
 /// [`Machine::handle_frame`] is [`Observer::observe`] without its answer,
 /// [`Machine::poll_transmit`] is always `None`.
 #[derive(Debug, Clone)]
-pub struct Observer<const EXTRA: usize = DEFAULT_EXTRA_CHANNELS> {
+pub struct Observer<const EXTRA: usize = OBSERVER_EXTRA_CHANNELS> {
     config: ConfigParts,
     defaults: [Option<Open>; NODES],
     extra: [Option<Slot>; EXTRA],
     /// No open transfer's deadline is before this (a lower bound; exact
     /// after every [`Machine::handle_timeout`]).
     earliest: Option<Timestamp>,
-    events: EventQueue<ObserverEvent, EVENT_CAPACITY>,
+    events: EventQueue<ObserverEvent, OBSERVER_EVENT_CAPACITY>,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -441,7 +442,7 @@ const FILLER: ObserverEvent = ObserverEvent::Data {
 
 impl Observer {
     /// An observer with no transfer open and room for
-    /// [`DEFAULT_EXTRA_CHANNELS`] channels besides the default ones.
+    /// [`OBSERVER_EXTRA_CHANNELS`] channels besides the default ones.
     #[must_use]
     pub fn new(config: ObserverConfig) -> Self {
         Observer::with_extra_channels(config)

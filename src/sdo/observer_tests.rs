@@ -639,7 +639,7 @@ fn the_end_of_a_trace_reports_every_open_transfer_once_even_beyond_the_queue() {
         obs.observe(Timestamp::ZERO, &f);
     }
     // 127 started events into a queue of 32: the oldest are dropped.
-    assert_eq!(obs.events_dropped(), 127 - EVENT_CAPACITY as u64);
+    assert_eq!(obs.events_dropped(), 127 - OBSERVER_EVENT_CAPACITY as u64);
     assert_eq!(obs.open_transfers(), 127);
     let mut broken = 0;
     let mut started = 0;
@@ -653,7 +653,7 @@ fn the_end_of_a_trace_reports_every_open_transfer_once_even_beyond_the_queue() {
             other => panic!("{other:?}"),
         }
     }
-    assert_eq!((broken, started), (127, EVENT_CAPACITY));
+    assert_eq!((broken, started), (127, OBSERVER_EVENT_CAPACITY));
     assert_eq!(obs.open_transfers(), 0);
 }
 
