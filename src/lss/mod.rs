@@ -18,12 +18,19 @@
 //! ```
 
 mod display;
+mod master;
+mod slave;
 mod wire;
+
+pub use master::{LssMaster, LssMasterError, LssMasterEvent, LssService};
+pub use slave::{LssSlave, LssSlaveConfig, LssSlaveEvent, LssState, NODE_ID_UNCONFIGURED};
 
 pub use wire::{
     Fastscan, IdentifyPart, LssAddress, LssErrorCode, LssField, LssInquiry, LssMessage, LssMode,
     LssRequest, LssResponse, LssStatus,
 };
 
+#[cfg(test)]
+mod slave_tests;
 #[cfg(test)]
 mod wire_tests;
