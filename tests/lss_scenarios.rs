@@ -63,7 +63,9 @@ fn fastscan_two_unconfigured_modules_and_assign_5_and_6() {
     );
     assert!(!sim.machine(a).device().is_running());
 
-    for (node, serial, module) in [(5u8, 1u32, b), (6, 2, a)] {
+    // Node 5 step by step: fastscan, configure node-ID, switch to waiting.
+    {
+        let (node, serial, module) = (5u8, 1u32, b);
         sim.with(m, |x, now| x.fastscan(now).unwrap());
         let end = later(&sim, 1500);
         sim.run_until(end);
@@ -97,6 +99,25 @@ fn fastscan_two_unconfigured_modules_and_assign_5_and_6() {
             "boot-up"
         );
     }
+    // Node 6 in one command.
+    let six = NodeId::new(6).unwrap();
+    sim.with(m, |x, now| x.fastscan_assign(now, six).unwrap());
+    let end = later(&sim, 1500);
+    sim.run_until(end);
+    assert_eq!(
+        master_events(&mut sim, m),
+        [
+            LssMasterEvent::FastscanFound(address(2)),
+            LssMasterEvent::NodeIdConfigured(LssStatus::OK)
+        ]
+    );
+    assert_eq!(sim.machine(a).device().node(), six);
+    let bootup = sim.frames_on(0x706);
+    assert_eq!(
+        bootup.first().map(|(_, d)| d.clone()),
+        Some(vec![0]),
+        "boot-up"
+    );
     // Both run, each under its own node-ID, heartbeating; nobody is left.
     sim.inject(common::frame(0x000, "01 00"));
     let end = later(&sim, 2500);

@@ -22,6 +22,7 @@ use libfuzzer_sys::fuzz_target;
 #[derive(Debug, Arbitrary)]
 enum Op {
     Fastscan,
+    FastscanAssign(u8),
     Global(bool),
     Selective(bool),
     Configure(u8),
@@ -130,6 +131,15 @@ fuzz_target!(|ops: Vec<Op>| {
                     assert!(!bus.searching);
                     bus.searching = true;
                     bus.tainted = false;
+                }
+            }
+            Op::FastscanAssign(raw) => {
+                if let Some(node) = NodeId::new(raw) {
+                    if bus.master.fastscan_assign(now, node).is_ok() {
+                        assert!(!bus.searching);
+                        bus.searching = true;
+                        bus.tainted = false;
+                    }
                 }
             }
             Op::Global(c) => bus.master.switch_state_global(

@@ -135,6 +135,10 @@ pub struct LssMaster {
     deadline: Option<Timestamp>,
     tx: Queue<CanFrame, 8>,
     events: EventQueue<LssMasterEvent, 8>,
+    /// [`LssMaster::fastscan_assign`]: the node-ID for the slave found.
+    assign: Option<NodeId>,
+    /// Switch to waiting state after the running configure node-ID succeeds.
+    release: bool,
 }
 
 impl LssMaster {
@@ -147,6 +151,8 @@ impl LssMaster {
             deadline: None,
             tx: Queue::new(CanFrame::from_parts(CanId::Standard(0), [0; 8], 0)),
             events: EventQueue::new(LssMasterEvent::FastscanNotFound),
+            assign: None,
+            release: false,
         }
     }
 
@@ -160,6 +166,8 @@ impl LssMaster {
     pub fn cancel(&mut self) {
         self.op = Op::Idle;
         self.deadline = None;
+        self.assign = None;
+        self.release = false;
     }
 
     fn send(&mut self, request: LssRequest) {
@@ -276,10 +284,25 @@ impl LssMaster {
         Ok(())
     }
 
+    /// A fastscan that, when it finds a slave, gives it `node` and
+    /// switches it back to waiting state (where a non-configured slave
+    /// resets its communication and boots up as `node`). Events:
+    /// [`LssMasterEvent::FastscanFound`] (or `FastscanNotFound`), then
+    /// [`LssMasterEvent::NodeIdConfigured`] (or `NoResponse`); the switch
+    /// to waiting state is sent only after a successful configure.
+    pub fn fastscan_assign(&mut self, now: Timestamp, node: NodeId) -> Result<(), LssMasterError> {
+        self.fastscan(now)?;
+        self.assign = Some(node);
+        Ok(())
+    }
+
     fn finish(&mut self, event: LssMasterEvent) {
         self.op = Op::Idle;
         self.deadline = None;
         self.events.push(event);
+        if !matches!(event, LssMasterEvent::FastscanFound(_)) {
+            self.assign = None;
+        }
     }
 
     fn response(&mut self, response: LssResponse) {
@@ -294,6 +317,9 @@ impl LssMaster {
                 LssMasterEvent::SwitchedSelective
             }
             (LssService::ConfigureNodeId, LssResponse::ConfigureNodeId(s)) => {
+                if core::mem::take(&mut self.release) && s.is_ok() {
+                    self.send(LssRequest::SwitchStateGlobal(LssMode::Waiting));
+                }
                 LssMasterEvent::NodeIdConfigured(s)
             }
             (LssService::ConfigureBitTiming, LssResponse::ConfigureBitTiming(s)) => {
@@ -339,7 +365,16 @@ impl LssMaster {
                 return self.finish(LssMasterEvent::FastscanNotFound)
             }
             Phase::Confirm => match LssField::from_index(sub.index() + 1) {
-                None => return self.finish(LssMasterEvent::FastscanFound(scan.found)),
+                None => {
+                    self.finish(LssMasterEvent::FastscanFound(scan.found));
+                    if let Some(node) = self.assign.take() {
+                        self.op = Op::Wait(LssService::ConfigureNodeId);
+                        self.deadline = Some(now.add_duration(self.timeout));
+                        self.release = true;
+                        self.send(LssRequest::ConfigureNodeId(node.raw()));
+                    }
+                    return;
+                }
                 Some(field) => {
                     scan.sub = field;
                     (31, field)
@@ -381,7 +416,10 @@ impl Machine for LssMaster {
         }
         match self.op {
             Op::Idle => self.deadline = None,
-            Op::Wait(service) => self.finish(LssMasterEvent::NoResponse(service)),
+            Op::Wait(service) => {
+                self.release = false;
+                self.finish(LssMasterEvent::NoResponse(service));
+            }
             Op::Scan(scan) => self.step(now, scan),
         }
     }

@@ -1,29 +1,4 @@
-//! The LSS frames (CiA 305, "Layer setting services and protocol",
-//! section 4 "LSS protocol descriptions"): every frame is 8 bytes, byte 0
-//! the command specifier (cs), bytes 1..=7 the service's data, unused bytes
-//! reserved (sent as 0).
-//!
-//! | cs | master → slave (7E5h) | slave → master (7E4h) |
-//! |----|-----------------------|-----------------------|
-//! | 04h | switch state global, byte 1 mode (0 waiting, 1 configuration) | — |
-//! | 11h | configure node-ID, byte 1 node-ID | error code, specific error |
-//! | 13h | configure bit timing, byte 1 table selector, byte 2 table index | error code, specific error |
-//! | 15h | activate bit timing, bytes 1-2 switch delay (ms) | — |
-//! | 17h | store configuration | error code, specific error |
-//! | 40h-43h | switch state selective: vendor-ID, product code, revision, serial (u32) | — |
-//! | 44h | — | switch state selective response |
-//! | 46h-4Bh | identify remote slave: vendor-ID, product code, revision low/high, serial low/high (u32) | — |
-//! | 4Ch | identify non-configured remote slave | — |
-//! | 4Fh | — | identify slave (also the fastscan answer) |
-//! | 50h | — | identify non-configured slave |
-//! | 51h | fastscan: bytes 1-4 IDNumber, byte 5 BitChecked, byte 6 LSSSub, byte 7 LSSNext | — |
-//! | 5Ah-5Dh | inquire vendor-ID, product code, revision, serial | the value (u32) |
-//! | 5Eh | inquire node-ID | byte 1 node-ID |
-//!
-//! Decoding is total and exact: a frame that is not 8 bytes long, carries a
-//! command specifier this table does not list, or has a reserved byte that
-//! is not zero decodes to `Other(payload)` with its bytes kept, so
-//! `encode(decode(x)) == x` for every frame.
+//! The LSS frame codec: see the [module docs](crate::lss) for the frames.
 
 use byteorder::{ByteOrder, LittleEndian};
 
@@ -407,7 +382,7 @@ fn u32_at(rest: &[u8; 7]) -> u32 {
 
 impl LssRequest {
     /// Decodes a 7E5h payload (never fails for 0..=8 bytes: see the
-    /// [module docs](self)).
+    /// [module docs](crate::lss)).
     ///
     /// ```
     /// use canopen_codec::lss::{LssField, LssRequest};
