@@ -1355,6 +1355,15 @@ fn lss_services_in_words_json_csv_and_summary() {
         (&"node_id".into(), &255.into())
     );
     assert_eq!(rows[12]["service"], "unknown");
+    // A short LSS frame with a listed command specifier: read, flagged.
+    let o = run(&["--json"], Some("(2.0) can0 7E5#0401\n"));
+    let v: Value = serde_json::from_str(text(&o).trim()).unwrap();
+    assert_eq!(v["service"], "switch_state_global");
+    assert_eq!(v["mode"], 1);
+    assert!(v["deviation"]
+        .as_str()
+        .unwrap()
+        .starts_with("2 bytes where"));
     let o = run(&["--output", "csv"], Some(log));
     let csv = text(&o);
     assert!(
