@@ -61,7 +61,8 @@ impl fmt::Display for Deviation {
 impl Message {
     /// Decodes like [`Message::decode`], but a frame of a fixed-layout
     /// object with the wrong length is read as far as it goes and the
-    /// deviation returned:
+    /// deviation returned (the only frames `Message::decode` accepts that
+    /// this reads differently are the LSS frames it keeps raw, below):
     ///
     /// - NMT with 1 byte (the node byte read as 0, all nodes), EMCY with
     ///   fewer than 8 bytes (missing bytes read as 0);

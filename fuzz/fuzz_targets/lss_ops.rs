@@ -11,8 +11,8 @@
 
 use arbitrary::Arbitrary;
 use canopen_codec::lss::{
-    LssAddress, LssErrorCode, LssInquiry, LssMaster, LssMasterEvent, LssMode, LssRequest,
-    LssSlave, LssSlaveConfig, LssState, LssStatus, LssField,
+    LssAddress, LssErrorCode, LssField, LssInquiry, LssMaster, LssMasterEvent, LssMode, LssRequest,
+    LssSlave, LssSlaveConfig, LssState, LssStatus,
 };
 use canopen_codec::machine::Machine;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
@@ -38,8 +38,18 @@ enum Op {
     Advance { micros: u16 },
 }
 
-const A: LssAddress = LssAddress { vendor: 0x29A, product: 0x418, revision: 1, serial: 0x8000_0001 };
-const B: LssAddress = LssAddress { vendor: 0x29A, product: 0x418, revision: 1, serial: 0x0000_0007 };
+const A: LssAddress = LssAddress {
+    vendor: 0x29A,
+    product: 0x418,
+    revision: 1,
+    serial: 0x8000_0001,
+};
+const B: LssAddress = LssAddress {
+    vendor: 0x29A,
+    product: 0x418,
+    revision: 1,
+    serial: 0x0000_0007,
+};
 
 struct Bus {
     now: Timestamp,
@@ -144,10 +154,16 @@ fuzz_target!(|ops: Vec<Op>| {
             }
             Op::Global(c) => bus.master.switch_state_global(
                 now,
-                if c { LssMode::Configuration } else { LssMode::Waiting },
+                if c {
+                    LssMode::Configuration
+                } else {
+                    LssMode::Waiting
+                },
             ),
             Op::Selective(a) => {
-                let _ = bus.master.switch_state_selective(now, if a { A } else { B });
+                let _ = bus
+                    .master
+                    .switch_state_selective(now, if a { A } else { B });
             }
             Op::Configure(raw) => {
                 let _ = bus.master.configure_node_id(now, NodeId::new(raw));
@@ -156,7 +172,8 @@ fuzz_target!(|ops: Vec<Op>| {
                 let _ = bus.master.store_configuration(now);
             }
             Op::Inquire(w) => {
-                let what = LssField::from_index(w % 5).map_or(LssInquiry::NodeId, LssInquiry::Address);
+                let what =
+                    LssField::from_index(w % 5).map_or(LssInquiry::NodeId, LssInquiry::Address);
                 let _ = bus.master.inquire(now, what);
             }
             Op::BitTiming(t, i) => {
@@ -178,7 +195,10 @@ fuzz_target!(|ops: Vec<Op>| {
                 bus.to_slaves(&frame(0x7E5, &[0x51, a, b, c, d, bit, sub, next], 8));
             }
             Op::AnswerStore { which, code } => {
-                let status = LssStatus { code: LssErrorCode::from(code), specific: 0 };
+                let status = LssStatus {
+                    code: LssErrorCode::from(code),
+                    specific: 0,
+                };
                 let _ = bus.slaves[usize::from(which)].answer_store(status);
             }
             Op::Reset { which } => {
@@ -197,7 +217,9 @@ fuzz_target!(|ops: Vec<Op>| {
     }
     // Run the master's timers out: a running search ends exactly once.
     for _ in 0..200 {
-        let Some(t) = bus.master.poll_timeout() else { break };
+        let Some(t) = bus.master.poll_timeout() else {
+            break;
+        };
         bus.now = t;
         bus.master.handle_timeout(t);
         bus.settle();
