@@ -632,6 +632,7 @@ fn sdo_sample_transfers_in_json() {
         serde_json::json!({
             "t": t.parse::<f64>().unwrap(), "kind": "sdo_transfer", "node": 2, "role": null, "direction": dir,
             "index": index, "sub": sub, "status": "complete", "indicated_size": null,
+            "block": false, "crc_checked": false,
             "size_indicated": true, "size_mismatch": false, "truncated": false,
             "unit": null, "meaning": null, "value": null, "name": null,
         })
@@ -645,13 +646,13 @@ fn sdo_sample_transfers_in_json() {
     let want = [
         with(
             base("1757100000.001350", "upload", 0x1018, 1),
-            serde_json::json!({"size": 4, "bytes": "04000000", "name": "identity vendor-ID",
+            serde_json::json!({"size": 4, "indicated_size": 4, "bytes": "04000000", "name": "identity vendor-ID",
                 "value": 4, "meaning": "00000004h",
                 "text": "SDO upload 1018h:01 from node 2: 04 00 00 00 (identity vendor-ID: 00000004h)"}),
         ),
         with(
             base("1757100000.101350", "download", 0x1017, 0),
-            serde_json::json!({"size": 2, "bytes": "a00f", "name": "producer heartbeat time",
+            serde_json::json!({"size": 2, "indicated_size": 2, "bytes": "a00f", "name": "producer heartbeat time",
                 "value": 4000, "unit": "ms", "meaning": "4000 ms",
                 "text": "SDO download 1017h:00 to node 2: A0 0F (producer heartbeat time: 4000 ms)"}),
         ),
@@ -763,8 +764,10 @@ fn sdo_stray_segments_end_nothing() {
     assert_eq!(
         transfers(&text(&o)),
         [
-            "SDO download 2000h:00 to node 2 incomplete: unexpected server frame (upload segment) \
-          (0 bytes transferred of 13 indicated)"
+            "SDO download 2000h:00 to node 2 incomplete: the server's upload segment t=1, 5 bytes: \
+             69 6E 73 20 21, last breaks CiA 301 (the client should abort with 05040001h \
+             Client/server command specifier not valid or unknown), and no abort followed \
+             (0 bytes transferred of 13 indicated)"
         ]
     );
 }
@@ -807,8 +810,9 @@ fn sdo_toggle_error_is_reported_once() {
     assert_eq!(
         transfers(&text(&o)),
         [
-            "SDO upload 1008h:00 from node 2 incomplete: upload segment with toggle 0, expected 1 \
-          (7 bytes transferred of 26 indicated)"
+            "SDO upload 1008h:00 from node 2 incomplete: the server's upload segment t=0, 7 bytes: \
+             64 65 20 2D 20 4D 65 breaks CiA 301 (the client should abort with 05030000h Toggle \
+             bit not alternated), and no abort followed (7 bytes transferred of 26 indicated)"
         ]
     );
     // A client request with the wrong toggle, a download ack with the wrong
@@ -821,10 +825,12 @@ fn sdo_toggle_error_is_reported_once() {
     assert_eq!(
         transfers(&text(&run(&["-"], Some(&input)))),
         [
-            "SDO upload 1008h:00 from node 2 incomplete: upload segment request with toggle 0, \
-             expected 1 (7 bytes transferred of 26 indicated)",
-            "SDO download 2000h:00 to node 2 incomplete: download acknowledgement with toggle 1, \
-             expected 0 (7 bytes transferred of 13 indicated)",
+            "SDO upload 1008h:00 from node 2 incomplete: the client's upload segment request t=0 \
+             breaks CiA 301 (the server should abort with 05030000h Toggle bit not alternated), \
+             and no abort followed (7 bytes transferred of 26 indicated)",
+            "SDO download 2000h:00 to node 2 incomplete: the server's download segment ack t=1 \
+             breaks CiA 301 (the client should abort with 05030000h Toggle bit not alternated), \
+             and no abort followed (7 bytes transferred of 13 indicated)",
             "SDO upload 1008h:00 from node 2 aborted by the client: 05040000h SDO protocol timed out",
         ]
     );
@@ -882,8 +888,8 @@ fn sdo_size_mismatch_truncation_and_log_end_are_reported() {
 }
 
 #[test]
-fn sdo_block_transfers_are_skipped_not_misread() {
-    // V17 and V18 (block download and upload), then V1.
+fn sdo_block_transfers_are_reassembled_and_their_segments_named() {
+    // V17 and V18 (block download and upload, CRC on both), then V1.
     let input = "\
 602#C60020001E000000\n582#A40020007F000000\n602#014120726561 6C6C\n602#027920726561 6C6C\n\
 602#03792 06C6F6E6720\n602#0473747269 6E672E\n602#852E2E0000000000\n582#A2057F0000000000\n\
@@ -895,10 +901,46 @@ fn sdo_block_transfers_are_skipped_not_misread() {
     let input = input.replace(' ', "");
     let o = run(&["-"], Some(&input));
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = text(&o);
     assert_eq!(
-        transfers(&text(&o)),
-        ["SDO upload 1018h:01 from node 2: 04 00 00 00 (identity vendor-ID: 00000004h)"]
+        transfers(&out),
+        [
+            "SDO block download 2000h:00 to node 2: 30 bytes 41 20 72 65 61 6C 6C 79 20 72 65 61 \
+             6C 6C 79 20 6C 6F 6E 67 20 73 74 72 69 6E 67 2E 2E 2E [CRC checked]",
+            "SDO block upload 1008h:00 from node 2: 26 bytes \"Tiny Node - Mega Domains !\" \
+             (manufacturer device name) [CRC checked]",
+            "SDO upload 1018h:01 from node 2: 04 00 00 00 (identity vendor-ID: 00000004h)"
+        ]
     );
+    // Sub-block segments are named as such, not read as commands.
+    let lines: Vec<&str> = out.lines().collect();
+    assert!(
+        lines[2].ends_with("SDO block segment seq 1 to node 2: 41 20 72 65 61 6C 6C"),
+        "{}",
+        lines[2]
+    );
+    assert!(
+        lines[6].ends_with("SDO block segment seq 5, last to node 2: 2E 2E 00 00 00 00 00"),
+        "{}",
+        lines[6]
+    );
+    assert!(
+        lines[14].ends_with("SDO block segment seq 1 from node 2: 54 69 6E 79 20 4E 6F"),
+        "{}",
+        lines[14]
+    );
+    assert_eq!(out.matches("block segment").count(), 9);
+    let v = json_lines(&run(&["--json", "-"], Some(&input)));
+    assert_eq!(v[2]["command"], "block segment");
+    assert_eq!(v[2]["seqno"], 1);
+    assert_eq!(v[2]["last"], false);
+    assert_eq!(v[6]["seqno"], 5);
+    assert_eq!(v[6]["last"], true);
+    assert_eq!(v[6]["segment_data"], "2e2e0000000000");
+    let block: Vec<&Value> = v.iter().filter(|x| x["kind"] == "sdo_transfer").collect();
+    assert_eq!(block[0]["block"], true);
+    assert_eq!(block[0]["crc_checked"], true);
+    assert_eq!(block[1]["size"], 26);
 }
 
 #[test]
@@ -1371,4 +1413,54 @@ fn lss_services_in_words_json_csv_and_summary() {
             .any(|l| l.ends_with(",lss,,,LSS slave: identify slave,,")),
         "{csv}"
     );
+}
+
+#[test]
+fn sdo_channels_on_other_cob_ids_are_declared_with_sdo() {
+    // An SDO server on 241h/1C1h (node 65): an expedited upload of 1008h,
+    // then a block upload cut off by the end of the log.
+    let input = "241#4008100000000000\n1C1#4F08100041000000\n\
+241#A40810007F000000\n1C1#C60810001A000000\n241#A300000000000000\n1C1#0154696E79204E6F\n";
+    let o = run(&["--sdo", "65=241,1C1", "-"], Some(input));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = text(&o);
+    assert!(
+        out.contains("SDO request to node 65: initiate upload 1008h sub 0"),
+        "{out}"
+    );
+    assert!(
+        out.contains("SDO block segment seq 1 from node 65: 54 69 6E 79 20 4E 6F"),
+        "{out}"
+    );
+    assert_eq!(
+        transfers(&out),
+        [
+            "SDO upload 1008h:00 from node 65: 1 bytes \"A\" (manufacturer device name)",
+            "SDO block upload 1008h:00 from node 65 incomplete: the log ends \
+             (7 bytes transferred of 26 indicated)",
+        ]
+    );
+    // The open transfer is reported once, in JSON too.
+    let v = json_transfers(&run(
+        &["--json", "--sdo", "65=0x241,0x1C1", "-"],
+        Some(input),
+    ));
+    assert_eq!(v.len(), 2);
+    assert_eq!(v[1]["status"], "incomplete");
+    assert_eq!(v[1]["block"], true);
+    // Undeclared, the same frames are PDOs.
+    let out = text(&run(&["-"], Some(input)));
+    assert!(transfers(&out).is_empty());
+    assert!(out.contains("RPDO"), "{out}");
+    // A malformed declaration is a usage error.
+    for bad in [
+        "65=241",
+        "x=241,1C1",
+        "65=241,241",
+        "65=zz,1C1",
+        "200=241,1C1",
+    ] {
+        let o = run(&["--sdo", bad, "-"], Some(input));
+        assert_eq!(o.status.code(), Some(2), "--sdo {bad}");
+    }
 }

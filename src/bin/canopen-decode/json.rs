@@ -118,9 +118,18 @@ pub fn line(
     );
     key(out, "data");
     string(out, &hex(l.frame.data()));
-    match m {
-        Ok(msg) => fields(out, msg, roles, guard_reply),
-        Err(e) => {
+    match (m, &notes.block_segment) {
+        (_, Some(seg)) => {
+            key(out, "text");
+            string(out, &seg.to_string());
+            key(out, "command");
+            string(out, "block segment");
+            let _ = write!(out, ",\"seqno\":{},\"last\":{}", seg.seqno, seg.last);
+            key(out, "segment_data");
+            string(out, &hex(seg.data.as_slice()));
+        }
+        (Ok(msg), None) => fields(out, msg, roles, guard_reply),
+        (Err(e), None) => {
             key(out, "error");
             string(out, &e.to_string());
         }
@@ -502,6 +511,11 @@ pub fn transfer(out: &mut String, r: &Report, roles: &Roles) {
     }
     key(out, "direction");
     string(out, r.direction.name());
+    let _ = write!(
+        out,
+        ",\"block\":{},\"crc_checked\":{}",
+        r.block, r.crc_checked
+    );
     let _ = write!(out, ",\"index\":{},\"sub\":{}", r.index, r.sub);
     key(out, "status");
     string(

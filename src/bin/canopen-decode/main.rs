@@ -5,8 +5,18 @@
 //!
 //! ```text
 //! canopen-decode [--json] [--format F] [--charger-node N] [--battery-node N]
-//!     [--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [FILE]
+//!     [--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping]
+//!     [--sdo NODE=RXID,TXID]... [FILE]
 //! ```
+//!
+//! SDO transfers are followed by the library's passive observer
+//! (`canopen_codec::sdo::Observer`) on the default channel of every node
+//! and on each channel `--sdo NODE=RXID,TXID` declares (node in decimal,
+//! the COB-IDs the server receives on and answers on in hex, as in its
+//! 1200h sub 1 and 2: `--sdo 65=241,1C1`). Block transfers are reassembled
+//! like segmented ones; their sub-block segments print as `SDO block
+//! segment seq N` (JSON: `"command":"block segment"`, `seqno`, `last`,
+//! `segment_data`).
 //!
 //! The trace format is detected from its first telling line, or given with
 //! `--format`: `candump` (candump `-L` log lines), `candump-screen`
@@ -132,13 +142,51 @@ use std::io::{self, BufRead, BufWriter, IsTerminal, Write};
 use std::process::ExitCode;
 
 use canopen_codec::candump::LogLine;
-use canopen_codec::cob_id::classify;
+use canopen_codec::sdo::{Observed, SdoChannel, Side as SdoSide};
 use canopen_codec::trace::{Format, LineParser, Record};
-use canopen_codec::{Message, NodeId};
+use canopen_codec::{CanId, Message, NodeId};
 
 const SESSION: &str = include_str!("../../../tests/data/virtual-session.log");
 const SESSION_NAME: &str =
     "tests/data/virtual-session.log (bundled session of the virtual charger and battery module)";
+
+/// A block transfer's sub-block segment (CiA 301 SDO block download and
+/// upload): byte 0 is a sequence number, not a command specifier.
+#[derive(Clone, Copy, Debug)]
+pub struct BlockSegment {
+    /// The server's node.
+    pub node: NodeId,
+    /// The sender of the data.
+    pub from: SdoSide,
+    pub seqno: u8,
+    pub last: bool,
+    pub data: canopen_codec::sdo::SegmentData,
+}
+
+impl std::fmt::Display for BlockSegment {
+    /// `SDO block segment seq 3 to node 2: 41 20 72 65 61 6C 6C`
+    /// (`seq 5, last`; `from node 2` when the server sends).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "SDO block segment seq {}", self.seqno)?;
+        if self.last {
+            f.write_str(", last")?;
+        }
+        let to = match self.from {
+            SdoSide::Client => "to",
+            SdoSide::Server => "from",
+        };
+        write!(f, " {to} node {}:", self.node)?;
+        for b in self.data.as_slice() {
+            write!(f, " {b:02X}")?;
+        }
+        Ok(())
+    }
+}
+
+/// The default SDO channel of its node (Message::decode names those).
+fn is_default(channel: SdoChannel) -> bool {
+    channel == SdoChannel::default_for(channel.node)
+}
 
 /// What the decoder knows about a line besides its message.
 #[derive(Clone, Copy, Default)]
@@ -147,6 +195,8 @@ pub struct Notes {
     pub guard_reply: bool,
     /// How the frame deviates from CiA 301 (read anyway).
     pub deviation: Option<canopen_codec::lenient::Deviation>,
+    /// The frame is a block transfer's sub-block segment.
+    pub block_segment: Option<BlockSegment>,
 }
 
 /// Which node is which, for naming Delta-Q codes and roles. A node has a
@@ -228,11 +278,14 @@ struct Options {
     delta_times: bool,
     /// `--strict`: frames that deviate from CiA 301 are malformed.
     strict: bool,
+    /// `--sdo NODE=RXID,TXID`: SDO channels besides the default ones.
+    sdo_channels: Vec<SdoChannel>,
 }
 
 const USAGE: &str = "usage: canopen-decode [--json | --output words|json|csv] [--strict] [--format candump|candump-screen|candump-screen-delta|trc|asc|csv] \
 [--summary] [--summary-only] [--check] [--charger-node N] [--battery-node N] \
-[--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [--bundled session] [FILE]";
+[--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [--sdo NODE=RXID,TXID]... \
+[--bundled session] [FILE]";
 
 fn parse_node(v: Option<String>, what: &str) -> Result<NodeId, String> {
     let v = v.ok_or(format!("{what} needs a value"))?;
@@ -240,6 +293,28 @@ fn parse_node(v: Option<String>, what: &str) -> Result<NodeId, String> {
         .ok()
         .and_then(NodeId::new)
         .ok_or(format!("{what}: '{v}' is not a node id 1..=127"))
+}
+
+/// `NODE=RXID,TXID`: the server `NODE` (decimal) receives requests on RXID
+/// and answers on TXID (hex COB-IDs, as in its 1200h sub 1 and sub 2).
+fn parse_sdo_channel(v: &str) -> Result<SdoChannel, String> {
+    let bad = || format!("--sdo: '{v}' is not NODE=RXID,TXID (e.g. 65=241,1C1)");
+    let (node, ids) = v.split_once('=').ok_or_else(bad)?;
+    let (rx, tx) = ids.split_once(',').ok_or_else(bad)?;
+    let node = parse_node(Some(node.to_string()), "--sdo")?;
+    let id = |s: &str| -> Result<CanId, String> {
+        let digits = s.trim_start_matches("0x").trim_start_matches("0X");
+        let raw = u32::from_str_radix(digits, 16).map_err(|_| bad())?;
+        match u16::try_from(raw).ok().and_then(CanId::standard) {
+            Some(id) => Ok(id),
+            None => CanId::extended(raw).ok_or_else(bad),
+        }
+    };
+    Ok(SdoChannel {
+        node,
+        request: id(rx)?,
+        response: id(tx)?,
+    })
 }
 
 fn parse_args() -> Result<Options, String> {
@@ -259,6 +334,7 @@ fn parse_args() -> Result<Options, String> {
         format: None,
         delta_times: false,
         strict: false,
+        sdo_channels: Vec::new(),
     };
     let mut capture = false;
     let mut args = std::env::args().skip(1);
@@ -298,6 +374,10 @@ candump-screen-delta, trc, asc, csv)"
             }
             s if s.starts_with("--pdo=") => opts.pdos.add(&s["--pdo=".len()..])?,
             "--no-default-pdos" => opts.pdos.defaults = false,
+            "--sdo" => {
+                let v = args.next().ok_or("--sdo needs NODE=RXID,TXID")?;
+                opts.sdo_channels.push(parse_sdo_channel(&v)?);
+            }
             "--bundled" => {
                 opts.bundled = Some(match args.next().as_deref() {
                     Some("session") => "session",
@@ -395,6 +475,10 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
     let mut bad = 0;
     let mut text = String::new();
     let mut sdo = sdo::Tracker::default();
+    for &channel in &opts.sdo_channels {
+        sdo.add_channel(channel)
+            .map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, format!("--sdo: {e}")))?;
+    }
     let mut reader = opts.format.map_or_else(LineParser::auto, LineParser::new);
     if opts.csv {
         writeln!(out, "{}", csv::HEADER)?;
@@ -432,6 +516,9 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
                 continue;
             }
         };
+        // The SDO observer first: a frame on a declared SDO channel is SDO,
+        // and a block transfer's sub-block segment is no command.
+        let seen = sdo.handle(parsed.timestamp, &parsed.frame);
         let (decoded, deviation) = if opts.strict {
             (Message::decode(&parsed.frame), None)
         } else {
@@ -440,7 +527,39 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
                 Err(e) => (Err(e), None),
             }
         };
-        if let Err(e) = &decoded {
+        let mut block_segment = None;
+        let decoded = match seen {
+            Observed::Request { channel, request } if !is_default(channel) => {
+                Ok(Message::SdoRequest {
+                    node: channel.node,
+                    sdo: request,
+                })
+            }
+            Observed::Response { channel, response } if !is_default(channel) => {
+                Ok(Message::SdoResponse {
+                    node: channel.node,
+                    sdo: response,
+                })
+            }
+            Observed::BlockSegment {
+                channel,
+                from,
+                seqno,
+                last,
+                data,
+            } => {
+                block_segment = Some(BlockSegment {
+                    node: channel.node,
+                    from,
+                    seqno,
+                    last,
+                    data,
+                });
+                decoded
+            }
+            _ => decoded,
+        };
+        if let (Err(e), None) = (&decoded, block_segment) {
             eprintln!("line {lineno}: frame {} does not decode: {e}", parsed.frame);
             bad += 1;
         }
@@ -465,6 +584,7 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
         let notes = Notes {
             guard_reply,
             deviation,
+            block_segment,
         };
         if let Ok(msg) = &decoded {
             summary.frame(
@@ -507,37 +627,31 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
             }
             writeln!(out, "{text}")?;
         }
-        let kind = classify(parsed.frame.id());
-        let Some(report) = sdo.handle(
-            parsed.timestamp,
-            kind,
-            parsed.frame.data().first().copied(),
-            &decoded,
-        ) else {
-            continue;
-        };
-        if opts.summary {
-            summary.transfer(&report);
-        }
-        let learned = roles.learn(&report);
-        // CSV rows are frames only.
-        if !opts.frames || opts.csv {
-            continue;
-        }
-        transfer(&mut out, &report, opts.json, &roles)?;
-        if let Some(role) = learned {
-            let what = if opts.json {
-                format!(
-                    "{{\"kind\":\"role\",\"node\":{},\"role\":\"{role}\"}}",
-                    report.node
-                )
-            } else {
-                format!(
-                    "node {} is the {role} (its device type, 1000h, says so)",
-                    report.node
-                )
-            };
-            writeln!(out, "{what}")?;
+        let reports: Vec<sdo::Report> = sdo.reports().collect();
+        for report in reports {
+            if opts.summary {
+                summary.transfer(&report);
+            }
+            let learned = roles.learn(&report);
+            // CSV rows are frames only.
+            if !opts.frames || opts.csv {
+                continue;
+            }
+            transfer(&mut out, &report, opts.json, &roles)?;
+            if let Some(role) = learned {
+                let what = if opts.json {
+                    format!(
+                        "{{\"kind\":\"role\",\"node\":{},\"role\":\"{role}\"}}",
+                        report.node
+                    )
+                } else {
+                    format!(
+                        "node {} is the {role} (its device type, 1000h, says so)",
+                        report.node
+                    )
+                };
+                writeln!(out, "{what}")?;
+            }
         }
     }
     for report in sdo.finish() {
