@@ -61,6 +61,7 @@ pub mod error;
 pub mod frame;
 pub mod heartbeat;
 pub mod lenient;
+pub mod lss;
 pub mod machine;
 pub mod message;
 pub mod nmt;

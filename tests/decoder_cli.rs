@@ -1343,6 +1343,83 @@ fn summary_of_the_real_startup_capture() {
     assert!(out.contains("  open problems at the end: yes"));
 }
 
+/// LSS (CiA 305) services in words, JSON fields, CSV text and the summary.
+#[test]
+fn lss_services_in_words_json_csv_and_summary() {
+    let log = "(1.000) can0 7E5#5100000000800000\n(1.001) can0 7E4#4F00000000000000\n\
+               (1.010) can0 7E5#51785634121F0000\n(1.020) can0 7E5#409A020000000000\n\
+               (1.030) can0 7E5#1105000000000000\n(1.031) can0 7E4#1100000000000000\n\
+               (1.040) can0 7E5#1700000000000000\n(1.041) can0 7E4#1702000000000000\n\
+               (1.050) can0 7E5#5E00000000000000\n(1.051) can0 7E4#5EFF000000000000\n\
+               (1.060) can0 7E5#0400000000000000\n(1.061) can0 705#00\n\
+               (1.070) can0 7E5#9901020304050607\n";
+    let o = run(&["--summary"], Some(log));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = text(&o);
+    for want in [
+        "LSS fastscan id 00000000 bit 128 sub 0 next 0",
+        "LSS slave: identify slave",
+        "LSS fastscan id 12345678 bit 31 sub 0 next 0",
+        "LSS master: switch state selective vendor 0000029Ah",
+        "LSS master: configure node-ID 5",
+        "LSS slave: configure node-ID ok",
+        "LSS master: store configuration",
+        "LSS slave: store configuration error 2 (storage media access error)",
+        "LSS master: inquire node-ID",
+        "LSS slave: node-ID 255",
+        "LSS master: switch state global waiting",
+        "LSS master: unknown [99 01 02 03 04 05 06 07]",
+        "LSS: 12 frames, 1 fastscans, node-IDs configured: 5",
+    ] {
+        assert!(out.contains(want), "{want:?} missing in:\n{out}");
+    }
+    let o = run(&["--json"], Some(log));
+    let rows: Vec<Value> = text(&o)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let scan = &rows[2];
+    assert_eq!(scan["kind"], "lss");
+    assert_eq!(scan["direction"], "master_to_slave");
+    assert_eq!(scan["service"], "fastscan");
+    assert_eq!(scan["id_number"], 0x1234_5678);
+    assert_eq!(scan["bit_checked"], 31);
+    assert_eq!(
+        (&scan["lss_sub"], &scan["lss_next"]),
+        (&0.into(), &0.into())
+    );
+    assert_eq!(rows[3]["service"], "switch_state_selective");
+    assert_eq!(
+        (&rows[3]["field"], &rows[3]["value"]),
+        (&"vendor".into(), &0x29A.into())
+    );
+    assert_eq!(rows[5]["service"], "configure_node_id_response");
+    assert_eq!(rows[5]["error_code"], 0);
+    assert_eq!(rows[7]["error_code"], 2);
+    assert_eq!(rows[9]["direction"], "slave_to_master");
+    assert_eq!(
+        (&rows[9]["field"], &rows[9]["value"]),
+        (&"node_id".into(), &255.into())
+    );
+    assert_eq!(rows[12]["service"], "unknown");
+    // A short LSS frame with a listed command specifier: read, flagged.
+    let o = run(&["--json"], Some("(2.0) can0 7E5#0401\n"));
+    let v: Value = serde_json::from_str(text(&o).trim()).unwrap();
+    assert_eq!(v["service"], "switch_state_global");
+    assert_eq!(v["mode"], 1);
+    assert!(v["deviation"]
+        .as_str()
+        .unwrap()
+        .starts_with("2 bytes where"));
+    let o = run(&["--output", "csv"], Some(log));
+    let csv = text(&o);
+    assert!(
+        csv.lines()
+            .any(|l| l.ends_with(",lss,,,LSS slave: identify slave,,")),
+        "{csv}"
+    );
+}
+
 #[test]
 fn sdo_channels_on_other_cob_ids_are_declared_with_sdo() {
     // An SDO server on 241h/1C1h (node 65): an expedited upload of 1008h,

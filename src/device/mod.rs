@@ -51,6 +51,13 @@
 //! - **Back-pressure**: the event queue keeps the latest 16 events and
 //!   counts what it drops ([`Machine::events_dropped`]); nothing else
 //!   depends on it.
+//! - **LSS** (CiA 305, optional: [`Device::with_lss`]): the device's
+//!   [`LssSlave`] sees every frame from [`Device::boot`] on. A device whose
+//!   LSS node-ID is not configured (255) does not boot up: it stays silent
+//!   but for LSS until a master configures a node-ID and switches it back
+//!   to waiting state; it then performs a reset communication and boots up
+//!   under that node-ID. A configured node-ID that differs from the active
+//!   one takes effect at the next NMT reset (communication or node).
 //! - Total: no frame, timestamp or call order panics.
 //!
 //! # Communication objects ([`CommObjects`])
@@ -91,6 +98,7 @@ use crate::cob_id::{NodeId, EMCY_BASE};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::{CanFrame, CanId};
 use crate::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatProducer};
+use crate::lss::{LssSlave, LssSlaveEvent};
 use crate::machine::Machine;
 use crate::nmt::{NmtSlave, NmtSlaveEvent, NmtState, ResetKind};
 use crate::od::index::{CONSUMER_HEARTBEAT_TIME, PRODUCER_HEARTBEAT_TIME};
@@ -140,6 +148,11 @@ pub struct Device<A, E: Copy> {
     transmit: Queue<CanFrame, 16>,
     frames_dropped: u64,
     events: EventQueue<E, EVENT_CAPACITY>,
+    /// The optional LSS slave (CiA 305).
+    lss: Option<LssSlave>,
+    /// [`Device::boot`] was called (a device waiting for its LSS node-ID
+    /// is powered but not running).
+    powered: bool,
 }
 
 impl<A, E> Device<A, E>
@@ -172,7 +185,55 @@ where
             transmit: Queue::new(CanFrame::EMPTY),
             frames_dropped: 0,
             events: EventQueue::new(E::from(DeviceEvent::Reset { node: true })),
+            lss: None,
+            powered: false,
         }
+    }
+
+    /// A device that also carries an LSS slave (CiA 305). When the slave
+    /// has a node-ID it replaces `config.node`; when it has none (255),
+    /// the device waits for one before it boots up (see the module docs).
+    ///
+    /// ```
+    /// # #[cfg(feature = "alloc")] {
+    /// use canopen_codec::device::{Device, DeviceConfig, DeviceEvent};
+    /// use canopen_codec::lss::{LssAddress, LssSlave, LssSlaveConfig};
+    /// use canopen_codec::machine::Machine;
+    /// use canopen_codec::od::MemoryDictionary;
+    /// use canopen_codec::{CanFrame, NodeId, Timestamp};
+    /// let lss = LssSlave::new(LssSlaveConfig::new(LssAddress::default(), None));
+    /// let config = DeviceConfig::new(NodeId::MAX);
+    /// let mut dev: Device<MemoryDictionary, DeviceEvent> =
+    ///     Device::with_lss(config, MemoryDictionary::new(), lss);
+    /// let t = Timestamp::ZERO;
+    /// dev.boot(t, &mut ());
+    /// assert_eq!(dev.poll_transmit(), None, "no boot-up without a node-ID");
+    /// for data in [[0x04, 1, 0, 0, 0, 0, 0, 0], [0x11, 5, 0, 0, 0, 0, 0, 0], [0x04, 0, 0, 0, 0, 0, 0, 0]] {
+    ///     dev.handle_frame(t, &CanFrame::standard(0x7E5, &data).unwrap());
+    /// }
+    /// assert_eq!(dev.poll_transmit().unwrap().to_string(), "705#00");
+    /// assert_eq!(dev.poll_transmit().unwrap().to_string(), "7E4#1100000000000000");
+    /// assert_eq!(dev.node(), NodeId::new(5).unwrap());
+    /// # }
+    /// ```
+    pub fn with_lss(mut config: DeviceConfig, app: A, lss: LssSlave) -> Self {
+        if let Some(node) = lss.node_id() {
+            config.node = node;
+        }
+        let mut device = Self::new(config, app);
+        device.lss = Some(lss);
+        device
+    }
+
+    /// The LSS slave, if the device has one.
+    #[must_use]
+    pub const fn lss(&self) -> Option<&LssSlave> {
+        self.lss.as_ref()
+    }
+
+    /// The LSS slave, to answer a store request.
+    pub fn lss_mut(&mut self) -> Option<&mut LssSlave> {
+        self.lss.as_mut()
     }
 
     // ----- getters ---------------------------------------------------------
@@ -251,6 +312,11 @@ where
         // The application objects as they are now are the power-on values
         // reset node restores.
         self.power_on = self.objects().clone();
+        self.powered = true;
+        if self.lss.as_ref().is_some_and(|l| l.node_id().is_none()) {
+            // No node-ID: silent but for LSS until one is configured.
+            return;
+        }
         self.restart(now, ResetKind::Node);
         self.drain_nmt(now, profile);
     }
@@ -379,6 +445,12 @@ where
         frame: &CanFrame,
         profile: &mut P,
     ) {
+        if self.powered {
+            if let Some(lss) = self.lss.as_mut() {
+                lss.handle_frame(now, frame);
+                self.drain_lss(now, profile);
+            }
+        }
         if !self.nmt.is_running() {
             return;
         }
@@ -425,6 +497,7 @@ where
         self.heartbeat
             .poll_transmit()
             .or_else(|| self.transmit.pop())
+            .or_else(|| self.lss.as_mut().and_then(LssSlave::poll_transmit))
             .or_else(|| self.server.poll_transmit())
             .or_else(|| profile.poll_transmit())
             .or_else(|| self.tpdos.poll_transmit())
@@ -493,9 +566,30 @@ where
         acted
     }
 
+    /// Hands the LSS slave's events on; a not-configured node that got a
+    /// node-ID resets its communication and boots up under it.
+    fn drain_lss<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+        while let Some(event) = self.lss.as_mut().and_then(LssSlave::poll_event) {
+            self.emit(now, DeviceEvent::Lss(event), profile);
+            if event == LssSlaveEvent::ResetCommunication {
+                self.restart(now, ResetKind::Communication);
+                self.emit(now, DeviceEvent::Reset { node: false }, profile);
+                self.drain_nmt(now, profile);
+            }
+        }
+    }
+
     /// Boot or reset: restores the objects `kind` says, boot-up message,
     /// pre-operational.
     fn restart(&mut self, now: Timestamp, kind: ResetKind) {
+        // The LSS node-ID configured since takes effect (CiA 305).
+        if let Some(node) = self.lss.as_mut().and_then(LssSlave::reset_communication) {
+            if node != self.config.node || !self.nmt.is_running() {
+                renumber_pdos(&mut self.config.pdos, self.config.node, node);
+                self.config.node = node;
+                self.nmt = NmtSlave::new(node);
+            }
+        }
         // A running transfer ends silently; a download is aborted in the
         // dictionary before the application objects are kept.
         self.server.cancel();
@@ -628,6 +722,33 @@ where
                 }
             }
             self.refresh_tpdos(now);
+        }
+    }
+}
+
+/// Moves the PDO COB-IDs that are the predefined connection set's for
+/// node `old` (CiA 301 section 7.3.5: 180h/200h + 100h × n + node-ID) to
+/// node `new`; COB-IDs set otherwise stay.
+fn renumber_pdos(pdos: &mut PdoConfig, old: NodeId, new: NodeId) {
+    for dir in [PdoDirection::Receive, PdoDirection::Transmit] {
+        let base: u32 = match dir {
+            PdoDirection::Receive => 0x200,
+            PdoDirection::Transmit => 0x180,
+        };
+        for n in 0..4u8 {
+            let Some(pdo) = crate::cob_id::PdoNumber::new(n) else {
+                continue;
+            };
+            let Some(slot) = pdos.get_mut(dir, pdo) else {
+                continue;
+            };
+            let default = base + 0x100 * u32::from(n);
+            let cob = slot.comm.cob_id;
+            if !cob.is_extended() && cob.id_bits() == default + u32::from(old.raw()) {
+                let flags = cob.to_u32() & !0x1FFF_FFFF;
+                slot.comm.cob_id =
+                    crate::pdo::PdoCobId::from_u32(flags | (default + u32::from(new.raw())));
+            }
         }
     }
 }

@@ -6,6 +6,7 @@ use crate::cob_id::PdoNumber;
 use crate::emcy::{Emergency, ErrorRegister};
 use crate::frame::CanFrame;
 use crate::heartbeat::HeartbeatEvent;
+use crate::lss::LssSlaveEvent;
 use crate::nmt::NmtState;
 use crate::pdo::RpdoError;
 use crate::sdo::{AbortCode, AbortOrigin};
@@ -62,6 +63,11 @@ pub enum DeviceEvent {
     },
     /// The heartbeat consumer (1016h) reported something.
     Heartbeat(HeartbeatEvent),
+    /// The device's LSS slave ([`Device::with_lss`]) reported something
+    /// (a store request is answered with
+    /// [`LssSlave::answer_store`](crate::lss::LssSlave::answer_store) on
+    /// [`Device::lss_mut`]).
+    Lss(LssSlaveEvent),
 }
 
 /// What a profile adds to the device core. Every method has a default that
