@@ -19,8 +19,8 @@ for arg in "$@"; do
 done
 
 TARGET=thumbv7em-none-eabihf
-rustup target add "$TARGET" >/dev/null 2>&1
-rustup component add llvm-tools >/dev/null 2>&1
+rustup target add "$TARGET" >/dev/null 2>&1 || { echo "rustup target add $TARGET failed" >&2; exit 1; }
+rustup component add llvm-tools >/dev/null 2>&1 || { echo "rustup component add llvm-tools failed" >&2; exit 1; }
 BIN_DIR=$(echo "$(rustc --print sysroot)"/lib/rustlib/*/bin)
 SIZE="$BIN_DIR/llvm-size"
 NM="$BIN_DIR/llvm-nm"
