@@ -643,9 +643,10 @@ where
     }
 
     fn apply_heartbeat_period(&mut self, now: Timestamp) {
-        let period = Duration::from_millis(u64::from(self.comm().heartbeat_ms));
-        if period != self.heartbeat.period() {
-            self.heartbeat.set_period(now, period);
+        let ms = u64::from(self.comm().heartbeat_ms);
+        // Compared in microseconds: no 64-bit division on a 32-bit target.
+        if ms * 1000 != self.heartbeat.period_us() {
+            self.heartbeat.set_period(now, Duration::from_millis(ms));
         }
     }
 
