@@ -1593,3 +1593,58 @@ fn eds_gives_pdo_mappings_sdo_channels_and_names() {
     assert_eq!(o.status.code(), Some(2));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn the_line_cache_never_changes_the_output() {
+    // Every output of every log we have, with and without the cache that
+    // repeats the text of a frame equal to the last on its identifier; the
+    // PDO-remapping log changes mappings midway (the cache is cleared).
+    let remap = "285#2A3412\n605#2F011A0000000000\n585#60011A0000000000\n\
+605#23011A0108000060\n585#60011A0100000000\n605#2F011A0001000000\n585#60011A0000000000\n\
+285#2A3412\n285#2A3412\n701#7F\n701#05\n701#05\n";
+    let dir = std::env::temp_dir().join(format!("canopen-decode-cache-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let remap_path = dir.join("remap.log");
+    std::fs::write(&remap_path, remap).unwrap();
+    let mut logs = vec![
+        "tests/data/virtual-session.log".to_string(),
+        SDO_SAMPLE.to_string(),
+        remap_path.display().to_string(),
+    ];
+    logs.extend(capture(common::captures::STARTUP));
+    logs.extend(capture(common::captures::CHARGING));
+    for log in &logs {
+        for output in ["words", "json", "csv"] {
+            let args = [
+                "--charger-node",
+                "10",
+                "--battery-node",
+                "1",
+                "--summary",
+                "--output",
+                output,
+            ];
+            let mut with: Vec<&str> = args.to_vec();
+            with.push(log);
+            let mut without = with.clone();
+            without.insert(0, "--no-cache");
+            let (a, b) = (run(&with, None), run(&without, None));
+            assert_eq!(a.status.code(), b.status.code(), "{log} {output}");
+            assert!(
+                a.stdout == b.stdout,
+                "{log} {output}: the cached output differs"
+            );
+        }
+    }
+    // The remapped PDO changed its text after the remap, though the frame
+    // is the same.
+    let out = text(&run(&[remap_path.to_str().unwrap()], None));
+    let pdo: Vec<&str> = out.lines().filter(|l| l.contains("  285  ")).collect();
+    assert_eq!(pdo.len(), 3);
+    assert!(!pdo[0].contains("from SDO"), "{}", pdo[0]);
+    assert!(
+        pdo[1].contains("from SDO") && pdo[2].contains("from SDO"),
+        "{pdo:?}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -421,6 +421,8 @@ pub struct Observer<const EXTRA: usize = OBSERVER_EXTRA_CHANNELS> {
     config: ConfigParts,
     defaults: [Option<Open>; NODES],
     extra: [Option<Slot>; EXTRA],
+    /// Slots of `extra` in use (they fill from the front).
+    extra_used: usize,
     /// No open transfer's deadline is before this (a lower bound; exact
     /// after every [`Machine::handle_timeout`]).
     earliest: Option<Timestamp>,
@@ -461,6 +463,7 @@ impl<const EXTRA: usize> Observer<EXTRA> {
             config: ConfigParts { config, timeout_us },
             defaults: [None; NODES],
             extra: [None; EXTRA],
+            extra_used: 0,
             earliest: None,
             events: EventQueue::new(FILLER),
         }
@@ -493,6 +496,7 @@ impl<const EXTRA: usize> Observer<EXTRA> {
             channel,
             open: None,
         });
+        self.extra_used += 1;
         Ok(())
     }
 
@@ -530,7 +534,8 @@ impl<const EXTRA: usize> Observer<EXTRA> {
     /// The channel a frame identifier belongs to, the side that sent it,
     /// and the channel's open transfer.
     fn route(&mut self, id: CanId) -> Option<(SdoChannel, Side, &mut Option<Open>)> {
-        for slot in self.extra.iter_mut().flatten() {
+        let extra = self.extra.get_mut(..self.extra_used).unwrap_or(&mut []);
+        for slot in extra.iter_mut().flatten() {
             if id == slot.channel.request {
                 return Some((slot.channel, Side::Client, &mut slot.open));
             }

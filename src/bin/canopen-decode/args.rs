@@ -92,6 +92,10 @@ pub struct Cli {
     /// A node's EDS or DCF.
     #[arg(long, value_name = "NODE=FILE", value_parser = parse_eds)]
     eds: Vec<(NodeId, String)>,
+    /// Format every line anew instead of repeating the text of an equal
+    /// frame (the output is the same; for checking that).
+    #[arg(long, hide = true)]
+    no_cache: bool,
     /// Decode bundled data instead of a FILE.
     #[arg(long, value_enum, conflicts_with = "file")]
     bundled: Option<Bundled>,
@@ -184,6 +188,7 @@ impl Cli {
             strict: self.strict,
             sdo_channels: self.sdo,
             eds: self.eds,
+            no_cache: self.no_cache,
         })
     }
 }

@@ -41,8 +41,16 @@ fn field(out: &mut String, field: &str) {
     }
 }
 
-/// One row.
-pub fn line(
+/// The `time` column.
+pub fn time(out: &mut String, timestamp: Option<canopen_codec::Timestamp>) {
+    if let Some(t) = timestamp {
+        let _ = write!(out, "{t}");
+    }
+}
+
+/// The columns after `time` (the same for the same frame while roles and
+/// mappings stay).
+pub fn rest(
     out: &mut String,
     l: &LogLine<'_>,
     m: &Result<Message, DecodeError>,
@@ -50,9 +58,6 @@ pub fn line(
     fields: Option<&(Source, NamedFields)>,
     notes: &Notes,
 ) {
-    if let Some(t) = l.timestamp {
-        let _ = write!(out, "{t}");
-    }
     let kind = classify(l.frame.id());
     let _ = write!(
         out,

@@ -76,8 +76,20 @@ pub fn kind_name(kind: CobKind) -> &'static str {
         CobKind::Unknown => "unknown",
     }
 }
+/// `{"t":..`: the start of a frame's object.
+pub fn time(out: &mut String, timestamp: Option<canopen_codec::Timestamp>) {
+    out.push_str("{\"t\":");
+    match timestamp {
+        Some(t) => {
+            let _ = write!(out, "{t}");
+        }
+        None => out.push_str("null"),
+    }
+}
 
-pub fn line(
+/// The rest of a frame's object after `"t"` (the same for the same frame
+/// while roles and mappings stay).
+pub fn rest(
     out: &mut String,
     l: &LogLine<'_>,
     m: &Result<Message, DecodeError>,
@@ -87,13 +99,6 @@ pub fn line(
 ) {
     let guard_reply = notes.guard_reply;
     let kind = classify(l.frame.id());
-    out.push_str("{\"t\":");
-    match l.timestamp {
-        Some(t) => {
-            let _ = write!(out, "{t}");
-        }
-        None => out.push_str("null"),
-    }
     let _ = write!(out, ",\"id\":{}", l.frame.id().raw());
     key(out, "kind");
     string(out, kind_name(kind));

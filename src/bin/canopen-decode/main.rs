@@ -141,6 +141,7 @@
 mod args;
 mod csv;
 mod json;
+mod line_cache;
 mod pdo_args;
 mod pdo_learn;
 mod sdo;
@@ -292,6 +293,8 @@ pub struct Options {
     pub sdo_channels: Vec<SdoChannel>,
     /// `--eds NODE=FILE`: device descriptions of nodes.
     pub eds: Vec<(NodeId, String)>,
+    /// `--no-cache`: format every line anew (for checking the line cache).
+    pub no_cache: bool,
 }
 
 fn main() -> ExitCode {
@@ -355,6 +358,7 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
     let mut text = String::new();
     let mut sdo = sdo::Tracker::default();
     let mut learned = pdo_learn::Learned::default();
+    let mut cache = line_cache::LineCache::new(!opts.no_cache);
     for (node, path) in &opts.eds {
         load_eds(*node, path, &mut roles, &mut sdo, &mut learned)?;
     }
@@ -446,10 +450,6 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
             eprintln!("line {lineno}: frame {} does not decode: {e}", parsed.frame);
             bad += 1;
         }
-        let fields = decoded
-            .as_ref()
-            .ok()
-            .and_then(|m| opts.pdos.fields(&parsed.frame, m, &roles, &learned));
         // A reply on 700h + node after a remote request there is a guarding
         // reply, whatever its toggle.
         let guard_reply = match &decoded {
@@ -481,34 +481,47 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
         if opts.frames {
             text.clear();
             if opts.csv {
-                csv::line(
-                    &mut text,
-                    &parsed,
-                    &decoded,
-                    &roles,
-                    fields.as_ref(),
-                    &notes,
-                );
+                csv::time(&mut text, parsed.timestamp);
             } else if opts.json {
-                json::line(
-                    &mut text,
-                    &parsed,
-                    &decoded,
-                    &roles,
-                    fields.as_ref(),
-                    &notes,
-                );
+                json::time(&mut text, parsed.timestamp);
             } else {
-                words::line(
-                    &mut text,
-                    &parsed,
-                    &decoded,
-                    &roles,
-                    fields.as_ref(),
-                    &notes,
-                );
+                words::time(&mut text, parsed.timestamp);
             }
-            writeln!(out, "{text}")?;
+            // The text after the time depends on the frame alone for these
+            // (and on the roles and mappings, which clear the cache).
+            let cacheable = !guard_reply
+                && block_segment.is_none()
+                && matches!(
+                    decoded,
+                    Ok(Message::Tpdo { .. }
+                        | Message::Rpdo { .. }
+                        | Message::Heartbeat { .. }
+                        | Message::Emcy { .. }
+                        | Message::Nmt(_)
+                        | Message::Sync(_)
+                        | Message::Time(_)
+                        | Message::Unknown(_))
+                );
+            if !(cacheable && cache.get(&parsed.frame, &mut text)) {
+                let start = text.len();
+                let fields = decoded
+                    .as_ref()
+                    .ok()
+                    .and_then(|m| opts.pdos.fields(&parsed.frame, m, &roles, &learned));
+                let args = (&parsed, &decoded, &roles, fields.as_ref(), &notes);
+                if opts.csv {
+                    csv::rest(&mut text, args.0, args.1, args.2, args.3, args.4);
+                } else if opts.json {
+                    json::rest(&mut text, args.0, args.1, args.2, args.3, args.4);
+                } else {
+                    words::rest(&mut text, args.0, args.1, args.2, args.3, args.4);
+                }
+                if cacheable {
+                    cache.put(&parsed.frame, text.get(start..).unwrap_or(""));
+                }
+            }
+            text.push('\n');
+            out.write_all(text.as_bytes())?;
         }
         let reports: Vec<sdo::Report> = sdo.reports().collect();
         for report in reports {
@@ -517,6 +530,9 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
             }
             let role_learned = roles.learn(&report);
             let pdo_note = learned.transfer(&report);
+            if role_learned.is_some() || pdo_note.is_some() {
+                cache.clear();
+            }
             // CSV rows are frames only.
             if !opts.frames || opts.csv {
                 continue;

@@ -37,8 +37,42 @@ impl std::fmt::Display for Text<'_> {
     }
 }
 
-/// `1756955653.612992  08A  charger  EMCY node 10: 8130h ..., Delta-Q E-0-3-2 heartbeat lost`
-pub fn line(
+/// The time column of a frame's line, `1756955653.612992` in
+/// `1756955653.612992  08A  charger  EMCY node 10: 8130h ..., Delta-Q E-0-3-2 heartbeat lost`.
+pub fn time(out: &mut String, timestamp: Option<canopen_codec::Timestamp>) {
+    // The columns are spelled by hand: this is the hot path of the program.
+    match timestamp {
+        Some(t) => {
+            // Seconds right-aligned in 10 columns (more when they need
+            // more), then 6 digits of micros: one buffer, one push.
+            let (secs, micros) = (t.as_micros() / 1_000_000, t.as_micros() % 1_000_000);
+            let mut buf = [b' '; 27];
+            let mut i = 20;
+            let mut v = secs;
+            loop {
+                i -= 1;
+                buf[i] = b'0' + (v % 10) as u8;
+                v /= 10;
+                if v == 0 || i == 0 {
+                    break;
+                }
+            }
+            buf[20] = b'.';
+            let mut v = micros;
+            for d in buf[21..].iter_mut().rev() {
+                *d = b'0' + (v % 10) as u8;
+                v /= 10;
+            }
+            let start = i.min(10);
+            out.push_str(std::str::from_utf8(&buf[start..]).unwrap_or(""));
+        }
+        None => out.push_str("                -"),
+    }
+}
+
+/// Everything after the time column: identifier, role and message (the
+/// same for the same frame while roles and mappings stay).
+pub fn rest(
     out: &mut String,
     l: &LogLine<'_>,
     m: &Result<Message, DecodeError>,
@@ -46,35 +80,6 @@ pub fn line(
     fields: Option<&(Source, NamedFields)>,
     notes: &crate::Notes,
 ) {
-    // The columns are spelled by hand: this is the hot path of the program.
-    match l.timestamp {
-        Some(t) => {
-            // Seconds right-aligned in 10 columns, then 6 digits of micros.
-            let (secs, micros) = (t.as_micros() / 1_000_000, t.as_micros() % 1_000_000);
-            let mut digits = [b' '; 20];
-            let mut i = digits.len();
-            let mut v = secs;
-            loop {
-                i -= 1;
-                digits[i] = b'0' + (v % 10) as u8;
-                v /= 10;
-                if v == 0 || i == 0 {
-                    break;
-                }
-            }
-            let start = i.min(digits.len() - 10);
-            out.push_str(std::str::from_utf8(&digits[start..]).unwrap_or(""));
-            out.push('.');
-            let mut frac = [b'0'; 6];
-            let mut v = micros;
-            for d in frac.iter_mut().rev() {
-                *d = b'0' + (v % 10) as u8;
-                v /= 10;
-            }
-            out.push_str(std::str::from_utf8(&frac).unwrap_or(""));
-        }
-        None => out.push_str("                -"),
-    }
     let id = l.frame.id();
     let (raw, width) = match id {
         canopen_codec::CanId::Standard(r) => (u32::from(r), 3),
