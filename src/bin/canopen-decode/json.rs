@@ -34,31 +34,39 @@ fn hex(bytes: &[u8]) -> String {
 }
 
 /// Appends `s` as a JSON string: the runs that need no escape are copied
-/// whole (the usual case: the whole string).
+/// whole (the usual case: the whole string). The bytes that need one (`"`,
+/// `\` and the controls below 20h) are ASCII, so the scan is by byte.
 pub fn string(out: &mut String, s: &str) {
     out.push('"');
     let mut rest = s;
-    while let Some(at) = rest.find(|c: char| c == '"' || c == '\\' || (c as u32) < 0x20) {
-        out.push_str(&rest[..at]);
-        let c = rest[at..].chars().next().unwrap_or(' ');
-        match c {
-            '"' => out.push_str("\\\""),
-            '\\' => out.push_str("\\\\"),
-            c => {
+    while let Some(at) = rest
+        .bytes()
+        .position(|b| b == b'"' || b == b'\\' || b < 0x20)
+    {
+        let (clean, tail) = rest.split_at(at);
+        out.push_str(clean);
+        let mut chars = tail.chars();
+        match chars.next() {
+            Some('"') => out.push_str("\\\""),
+            Some('\\') => out.push_str("\\\\"),
+            Some(c) => {
                 let _ = write!(out, "\\u{:04x}", c as u32);
             }
+            None => {}
         }
-        rest = &rest[at + c.len_utf8()..];
+        rest = chars.as_str();
     }
     out.push_str(rest);
     out.push('"');
 }
 
-/// Appends `,"key":` to `out`.
+/// Appends `,"key":` to `out`; `k` is one of the program's own key names,
+/// which need no escape.
 pub fn key(out: &mut String, k: &str) {
-    out.push(',');
-    string(out, k);
-    out.push(':');
+    debug_assert!(!k.bytes().any(|b| b == b'"' || b == b'\\' || b < 0x20));
+    out.push_str(",\"");
+    out.push_str(k);
+    out.push_str("\":");
 }
 
 pub fn kind_name(kind: CobKind) -> &'static str {
@@ -80,9 +88,7 @@ pub fn kind_name(kind: CobKind) -> &'static str {
 pub fn time(out: &mut String, timestamp: Option<canopen_codec::Timestamp>) {
     out.push_str("{\"t\":");
     match timestamp {
-        Some(t) => {
-            let _ = write!(out, "{t}");
-        }
+        Some(t) => crate::words::seconds(out, t, 0),
         None => out.push_str("null"),
     }
 }
