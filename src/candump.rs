@@ -68,6 +68,76 @@ pub struct LogLine<'a> {
 /// assert!(parse_line("701#R").unwrap().frame.is_remote());
 /// ```
 pub fn parse_line(line: &str) -> Result<LogLine<'_>, CandumpError> {
+    if let Some(parsed) = parse_usual(line) {
+        return Ok(parsed);
+    }
+    parse_general(line)
+}
+
+/// The line candump `-L` writes, `(1700000000.123456) can0 18A#7413454E`,
+/// read in one pass over its bytes; `None` for anything else (then the
+/// general reader decides, so both give the same answer for every line).
+fn parse_usual(line: &str) -> Option<LogLine<'_>> {
+    let bytes = line.as_bytes();
+    let (b'(', mut rest) = bytes.split_first().map(|(b, r)| (*b, r))? else {
+        return None;
+    };
+    // Seconds (at most 19 digits: no overflow), '.', 1..=6 digits, ')'.
+    let mut secs: u64 = 0;
+    let mut n = 0;
+    while let [d @ b'0'..=b'9', tail @ ..] = rest {
+        if n == 19 {
+            return None;
+        }
+        secs = secs * 10 + u64::from(d - b'0');
+        rest = tail;
+        n += 1;
+    }
+    let [b'.', tail @ ..] = rest else {
+        return None;
+    };
+    rest = tail;
+    let (mut micros, mut places) = (0u64, 0);
+    while let [d @ b'0'..=b'9', tail @ ..] = rest {
+        if places == 6 {
+            return None;
+        }
+        micros = micros * 10 + u64::from(d - b'0');
+        rest = tail;
+        places += 1;
+    }
+    let [b')', b' ', tail @ ..] = rest else {
+        return None;
+    };
+    if n == 0 || places == 0 {
+        return None;
+    }
+    for _ in places..6 {
+        micros *= 10;
+    }
+    let us = secs.checked_mul(1_000_000)?.checked_add(micros)?;
+    // The interface: printable ASCII up to one space, no '#'.
+    let iface_start = bytes.len() - tail.len();
+    let iface_len = tail.iter().position(|&b| b == b' ')?;
+    let iface = tail.get(..iface_len)?;
+    if iface.is_empty() || !iface.iter().all(|&b| b.is_ascii_graphic() && b != b'#') {
+        return None;
+    }
+    let frame_start = iface_start + iface_len + 1;
+    let frame_text = line.get(frame_start..)?;
+    if frame_text.is_empty() || !frame_text.bytes().all(|b| b.is_ascii_graphic()) {
+        return None;
+    }
+    let frame = parse_frame(frame_text).ok()?;
+    Some(LogLine {
+        timestamp: Some(Timestamp::from_micros(us)),
+        interface: line.get(iface_start..iface_start + iface_len),
+        frame,
+    })
+}
+
+/// Any line: whitespace-separated fields.
+fn parse_general(line: &str) -> Result<LogLine<'_>, CandumpError> {
     let mut fields = line.split_ascii_whitespace();
     let mut field = fields.next().ok_or(CandumpError::Empty)?;
     let mut timestamp = None;
@@ -208,6 +278,62 @@ impl fmt::Display for LogLineDisplay<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The one-pass reader of the usual line gives what the general reader
+    /// gives, for the usual line and every near miss of it.
+    #[test]
+    fn the_usual_line_reads_as_the_general_reader_reads_it() {
+        use std::string::{String, ToString};
+        use std::vec::Vec;
+        let base = "(1756955653.612992) can0 18A#7413454E70000000";
+        let mut lines: Vec<String> = std::vec![base.to_string()];
+        let alphabet = [
+            ' ', '\t', '(', ')', '.', '#', '0', '9', 'A', 'f', 'R', 'x', '\u{e9}',
+        ];
+        for i in 0..=base.len() {
+            for c in alphabet {
+                let mut replaced = base.to_string();
+                if i < base.len() && base.is_char_boundary(i) && base.is_char_boundary(i + 1) {
+                    replaced.replace_range(i..i + 1, c.encode_utf8(&mut [0; 4]));
+                    lines.push(replaced);
+                }
+                let mut inserted = base.to_string();
+                inserted.insert(i, c);
+                lines.push(inserted);
+            }
+            lines.push(base[..i].to_string());
+            lines.push(base[i..].to_string());
+        }
+        lines.extend(
+            [
+                "(1.5) c 123#",
+                "(1.) can0 123#00",
+                "(.5) can0 123#00",
+                "(18446744073709.551615) can0 123#00",
+                "(18446744073710.000000) can0 123#00",
+                "(99999999999999999999.1) can0 123#00",
+                "(1.1234567) can0 123#00",
+                "(1.000001) can0 12345678#0011",
+                "(1.000001) can0 123#R",
+                "(1.000001) can0 123#R8",
+                "(1.000001) can0 123##01",
+                "(1.000001)  can0 123#00",
+                "(1.000001) can0  123#00",
+                "(1.000001) can0 123#00 ",
+                "(1.000001) can0 123#00 x",
+            ]
+            .map(str::to_string),
+        );
+        for line in &lines {
+            let usual = parse_usual(line);
+            let general = parse_general(line);
+            if let Some(u) = usual {
+                assert_eq!(Ok(u), general, "{line:?}");
+            }
+            assert_eq!(parse_line(line), general, "{line:?}");
+        }
+        assert!(parse_usual(base).is_some());
+    }
 
     #[test]
     fn forms() {
