@@ -265,6 +265,11 @@ impl Reader<'_> {
     fn b(&self, i: usize) -> u8 {
         self.raw.bytes.get(i).copied().unwrap_or(0)
     }
+    /// All 8 bytes as one little-endian word (zero past the length).
+    #[inline]
+    fn word(&self) -> u64 {
+        u64::from_le_bytes(self.raw.bytes)
+    }
     #[inline]
     fn u16(&self, i: usize) -> u16 {
         u16::from_le_bytes([self.b(i), self.b(i + 1)])
@@ -288,18 +293,16 @@ impl Reader<'_> {
             (true, true) => {
                 let len = 4 - usize::from((cmd >> 2) & 0x03);
                 self.need(4 + len)?;
-                let data = self.raw.bytes.get(4..4 + len).unwrap_or(&[]);
                 Ok(InitiatePayload::Expedited {
-                    data: ExpeditedData::new(data).unwrap_or_default(),
+                    data: ExpeditedData::from_le_word(self.word() >> 32, len),
                     size_indicated: true,
                 })
             }
             (true, false) => {
                 self.need(4)?;
                 let end = usize::from(self.raw.len).min(8);
-                let data = self.raw.bytes.get(4..end).unwrap_or(&[]);
                 Ok(InitiatePayload::Expedited {
-                    data: ExpeditedData::new(data).unwrap_or_default(),
+                    data: ExpeditedData::from_le_word(self.word() >> 32, end.saturating_sub(4)),
                     size_indicated: false,
                 })
             }
@@ -323,8 +326,7 @@ impl Reader<'_> {
         Ok(Segment {
             toggle: cmd & 0x10 != 0,
             last: cmd & 0x01 != 0,
-            data: SegmentData::new(self.raw.bytes.get(1..1 + len).unwrap_or(&[]))
-                .unwrap_or_default(),
+            data: SegmentData::from_le_word(self.word() >> 8, len),
         })
     }
     #[inline]
@@ -429,7 +431,7 @@ impl Writer {
 }
 
 impl ClientCommand {
-    #[inline]
+    #[inline(always)]
     fn decode_raw(raw: &RawSdo) -> Result<Self, DecodeError> {
         let r = Reader { raw };
         r.need(1)?;
@@ -563,7 +565,7 @@ impl ClientCommand {
 }
 
 impl ServerCommand {
-    #[inline]
+    #[inline(always)]
     fn decode_raw(raw: &RawSdo) -> Result<Self, DecodeError> {
         let r = Reader { raw };
         r.need(1)?;
@@ -726,6 +728,13 @@ macro_rules! sdo_frame {
             /// Decodes a frame's data straight from its 8-byte buffer (no copy).
             #[inline]
             pub fn decode_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
+                Self::decode_frame_inline(frame)
+            }
+
+            /// [`Self::decode_frame`], always inlined: `Message::decode`
+            /// builds its result in place through it.
+            #[inline(always)]
+            pub(crate) fn decode_frame_inline(frame: &CanFrame) -> Result<Self, DecodeError> {
                 let raw = RawSdo {
                     len: frame.dlc().min(8),
                     bytes: frame.padded_data(),
