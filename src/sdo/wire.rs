@@ -226,6 +226,14 @@ impl RawSdo {
         bytes: [0; 8],
     };
 
+    #[inline(always)]
+    fn of_frame(frame: &CanFrame) -> Self {
+        RawSdo {
+            len: frame.dlc().min(8),
+            bytes: frame.padded_data(),
+        }
+    }
+
     #[inline]
     fn from_slice(data: &[u8]) -> Result<Self, DecodeError> {
         if data.len() > 8 {
@@ -735,10 +743,7 @@ macro_rules! sdo_frame {
             /// builds its result in place through it.
             #[inline(always)]
             pub(crate) fn decode_frame_inline(frame: &CanFrame) -> Result<Self, DecodeError> {
-                let raw = RawSdo {
-                    len: frame.dlc().min(8),
-                    bytes: frame.padded_data(),
-                };
+                let raw = RawSdo::of_frame(frame);
                 Ok($name {
                     command: <$cmd>::decode_raw(&raw)?,
                     raw,
@@ -800,6 +805,86 @@ sdo_frame!(
     SdoResponse,
     ServerCommand
 );
+
+// The segment commands alone, for `Message::decode`'s out-of-line hot
+// arms: the same checks and result as `decode_frame` for a frame whose
+// byte 0 has that command specifier (one result shape per function, so the
+// result is stored straight, not assembled on the stack).
+impl SdoResponse {
+    /// `decode_frame` of a frame with scs = 0 (upload segment).
+    #[inline(always)]
+    pub(crate) fn decode_upload_segment_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
+        let raw = RawSdo::of_frame(frame);
+        let len = segment_len(&raw)?;
+        Ok(SdoResponse {
+            command: ServerCommand::UploadSegment(segment_of(&raw, len)),
+            raw,
+        })
+    }
+}
+
+impl SdoRequest {
+    /// `decode_frame` of a frame with ccs = 0 (download segment).
+    #[inline(always)]
+    pub(crate) fn decode_download_segment_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
+        let raw = RawSdo::of_frame(frame);
+        let len = segment_len(&raw)?;
+        Ok(SdoRequest {
+            command: ClientCommand::DownloadSegment(segment_of(&raw, len)),
+            raw,
+        })
+    }
+
+    /// `decode_frame` of a frame with ccs = 3 (upload segment request).
+    #[inline(always)]
+    pub(crate) fn decode_upload_segment_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
+        let raw = RawSdo::of_frame(frame);
+        let [cmd, ..] = raw.bytes;
+        if raw.len == 0 {
+            return Err(truncated(1, 0));
+        }
+        Ok(SdoRequest {
+            command: ClientCommand::UploadSegment {
+                toggle: cmd & 0x10 != 0,
+            },
+            raw,
+        })
+    }
+}
+
+#[inline(always)]
+fn truncated(need: usize, got: u8) -> DecodeError {
+    DecodeError::Truncated {
+        need,
+        got: usize::from(got),
+    }
+}
+
+/// `need(1)` then `Reader::segment`'s check: the segment's data length.
+#[inline(always)]
+fn segment_len(raw: &RawSdo) -> Result<usize, DecodeError> {
+    let [cmd, ..] = raw.bytes;
+    if raw.len == 0 {
+        return Err(truncated(1, 0));
+    }
+    let len = 7 - usize::from((cmd >> 1) & 0x07);
+    if usize::from(raw.len) < 1 + len {
+        return Err(truncated(1 + len, raw.len));
+    }
+    Ok(len)
+}
+
+/// The segment of a checked frame (`len` from [`segment_len`]): built in
+/// one straight line, no intermediate `Result` assembled on the stack.
+#[inline(always)]
+fn segment_of(raw: &RawSdo, len: usize) -> Segment {
+    let [cmd, ..] = raw.bytes;
+    Segment {
+        toggle: cmd & 0x10 != 0,
+        last: cmd & 0x01 != 0,
+        data: SegmentData::from_le_word(u64::from_le_bytes(raw.bytes) >> 8, len),
+    }
+}
 
 /// Reads the little-endian u32 abort code of an abort frame, if present.
 #[must_use]
