@@ -62,7 +62,7 @@ impl<const N: usize> InlineData<N> {
     /// zero, as [`InlineData::new`] leaves them. No copy loop or jump: a
     /// shift, a mask and one store (the SDO segment and expedited paths).
     #[inline]
-    pub(crate) const fn from_le_word(word: u64, len: usize) -> Self {
+    pub(crate) fn from_le_word(word: u64, len: usize) -> Self {
         let len = if len > N { N } else { len };
         let mask = if len >= 8 {
             u64::MAX
@@ -71,10 +71,9 @@ impl<const N: usize> InlineData<N> {
         };
         let all = (word & mask).to_le_bytes();
         let mut bytes = [0u8; N];
-        let mut i = 0;
-        while i < N && i < 8 {
-            bytes[i] = all[i];
-            i += 1;
+        let n = if N < 8 { N } else { 8 };
+        if let (Some(d), Some(s)) = (bytes.get_mut(..n), all.get(..n)) {
+            d.copy_from_slice(s);
         }
         InlineData {
             len: len as u8,

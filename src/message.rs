@@ -191,18 +191,20 @@ impl Message {
     /// 0x580 + node, scs = 0: an upload segment.
     #[inline(never)]
     fn decode_sdo_upload_segment(node: NodeId, frame: &CanFrame) -> Result<Message, DecodeError> {
+        let len = SdoResponse::check_upload_segment(frame)?;
         Ok(Message::SdoResponse {
             node,
-            sdo: SdoResponse::decode_upload_segment_frame(frame)?,
+            sdo: SdoResponse::upload_segment(frame, len),
         })
     }
 
     /// 0x600 + node, ccs = 0: a download segment.
     #[inline(never)]
     fn decode_sdo_download_segment(node: NodeId, frame: &CanFrame) -> Result<Message, DecodeError> {
+        let len = SdoRequest::check_download_segment(frame)?;
         Ok(Message::SdoRequest {
             node,
-            sdo: SdoRequest::decode_download_segment_frame(frame)?,
+            sdo: SdoRequest::download_segment(frame, len),
         })
     }
 
@@ -212,9 +214,10 @@ impl Message {
         node: NodeId,
         frame: &CanFrame,
     ) -> Result<Message, DecodeError> {
+        SdoRequest::check_upload_segment(frame)?;
         Ok(Message::SdoRequest {
             node,
-            sdo: SdoRequest::decode_upload_segment_frame(frame)?,
+            sdo: SdoRequest::upload_segment(frame),
         })
     }
 

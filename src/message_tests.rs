@@ -171,3 +171,29 @@ fn kind_and_node() {
     assert_eq!(m.node(), Some(n(10)));
     assert_eq!(Message::decode(&f(0x080, &[])).unwrap().node(), None);
 }
+
+/// The out-of-line SDO segment decoders give exactly what the general SDO
+/// decoders give, for every command byte and length, on both directions.
+#[test]
+fn sdo_fast_paths_match_the_general_decoders() {
+    use crate::sdo::{SdoRequest, SdoResponse};
+    let node = NodeId::new(5).unwrap();
+    for cmd in 0..=255u8 {
+        for len in 0..=8usize {
+            let data = [cmd, 0xA1, 0xB2, 0xC3, 0xD4, 0xE5, 0xF6, 0x17];
+            let data = &data[..len];
+            let resp = f(0x585, data);
+            let want = SdoResponse::decode(data).map(|sdo| Message::SdoResponse { node, sdo });
+            assert_eq!(Message::decode(&resp), want, "response {resp}");
+            let req = f(0x605, data);
+            let want = SdoRequest::decode(data).map(|sdo| Message::SdoRequest { node, sdo });
+            assert_eq!(Message::decode(&req), want, "request {req}");
+            if let Ok(m) = Message::decode(&req) {
+                assert_eq!(m.encode(), req);
+            }
+            if let Ok(m) = Message::decode(&resp) {
+                assert_eq!(m.encode(), resp);
+            }
+        }
+    }
+}

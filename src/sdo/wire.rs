@@ -808,47 +808,64 @@ sdo_frame!(
 
 // The segment commands alone, for `Message::decode`'s out-of-line hot
 // arms: the same checks and result as `decode_frame` for a frame whose
-// byte 0 has that command specifier (one result shape per function, so the
-// result is stored straight, not assembled on the stack).
+// byte 0 has that command specifier. Check and build are apart (the check
+// returns only a length; the build cannot fail), so the caller stores the
+// whole message straight instead of moving a `Result` through the stack.
 impl SdoResponse {
-    /// `decode_frame` of a frame with scs = 0 (upload segment).
+    /// The check of `decode_frame` for scs = 0: the segment's length.
     #[inline(always)]
-    pub(crate) fn decode_upload_segment_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
+    pub(crate) fn check_upload_segment(frame: &CanFrame) -> Result<usize, DecodeError> {
+        segment_len(&RawSdo::of_frame(frame))
+    }
+
+    /// `decode_frame` for scs = 0, after [`Self::check_upload_segment`].
+    #[inline(always)]
+    pub(crate) fn upload_segment(frame: &CanFrame, len: usize) -> Self {
         let raw = RawSdo::of_frame(frame);
-        let len = segment_len(&raw)?;
-        Ok(SdoResponse {
+        SdoResponse {
             command: ServerCommand::UploadSegment(segment_of(&raw, len)),
             raw,
-        })
+        }
     }
 }
 
 impl SdoRequest {
-    /// `decode_frame` of a frame with ccs = 0 (download segment).
+    /// The check of `decode_frame` for ccs = 0: the segment's length.
     #[inline(always)]
-    pub(crate) fn decode_download_segment_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
-        let raw = RawSdo::of_frame(frame);
-        let len = segment_len(&raw)?;
-        Ok(SdoRequest {
-            command: ClientCommand::DownloadSegment(segment_of(&raw, len)),
-            raw,
-        })
+    pub(crate) fn check_download_segment(frame: &CanFrame) -> Result<usize, DecodeError> {
+        segment_len(&RawSdo::of_frame(frame))
     }
 
-    /// `decode_frame` of a frame with ccs = 3 (upload segment request).
+    /// `decode_frame` for ccs = 0, after [`Self::check_download_segment`].
     #[inline(always)]
-    pub(crate) fn decode_upload_segment_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
+    pub(crate) fn download_segment(frame: &CanFrame, len: usize) -> Self {
         let raw = RawSdo::of_frame(frame);
-        let [cmd, ..] = raw.bytes;
-        if raw.len == 0 {
+        SdoRequest {
+            command: ClientCommand::DownloadSegment(segment_of(&raw, len)),
+            raw,
+        }
+    }
+
+    /// The check of `decode_frame` for ccs = 3 (upload segment request).
+    #[inline(always)]
+    pub(crate) fn check_upload_segment(frame: &CanFrame) -> Result<(), DecodeError> {
+        if frame.dlc() == 0 {
             return Err(truncated(1, 0));
         }
-        Ok(SdoRequest {
+        Ok(())
+    }
+
+    /// `decode_frame` for ccs = 3, after [`Self::check_upload_segment`].
+    #[inline(always)]
+    pub(crate) fn upload_segment(frame: &CanFrame) -> Self {
+        let raw = RawSdo::of_frame(frame);
+        let [cmd, ..] = raw.bytes;
+        SdoRequest {
             command: ClientCommand::UploadSegment {
                 toggle: cmd & 0x10 != 0,
             },
             raw,
-        })
+        }
     }
 }
 
