@@ -139,9 +139,19 @@ impl Message {
         // rather than a jump table: a mixed stream predicts them better
         // than one indirect jump.
         if function == 14 {
+            // A data frame here: its DLC is its data length.
+            let [b0, ..] = frame.padded_data();
+            if frame.dlc() != 1 {
+                return Err(Heartbeat::decode(frame.data()).err().unwrap_or(
+                    DecodeError::Truncated {
+                        need: 1,
+                        got: usize::from(frame.dlc()),
+                    },
+                ));
+            }
             return Ok(Message::Heartbeat {
                 node,
-                heartbeat: Heartbeat::decode(frame.data())?,
+                heartbeat: Heartbeat::from_byte(b0),
             });
         }
         if function.wrapping_sub(3) < 8 {

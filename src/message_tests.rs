@@ -197,3 +197,25 @@ fn sdo_fast_paths_match_the_general_decoders() {
         }
     }
 }
+
+/// The heartbeat arm gives what `Heartbeat::decode` gives, for every byte
+/// and length; every 7-bit state reads back to its bits.
+#[test]
+fn heartbeat_arm_matches_heartbeat_decode() {
+    let node = NodeId::new(5).unwrap();
+    for b in 0..=255u8 {
+        for len in 0..=8usize {
+            let data = [b, 1, 2, 3, 4, 5, 6, 7];
+            let data = &data[..len];
+            let want =
+                Heartbeat::decode(data).map(|heartbeat| Message::Heartbeat { node, heartbeat });
+            assert_eq!(Message::decode(&f(0x705, data)), want, "{b:02X} x {len}");
+        }
+        assert_eq!(NmtState::from_bits(b).bits(), b & 0x7F);
+    }
+    assert_eq!(NmtState::from_bits(0x85), NmtState::Operational);
+    assert_eq!(NmtState::from_bits(0x04), NmtState::Stopped);
+    assert_eq!(NmtState::from_bits(0xFF), NmtState::PreOperational);
+    assert_eq!(NmtState::from_bits(0x80), NmtState::BootUp);
+    assert_eq!(NmtState::from_bits(0x7E), NmtState::Unknown(0x7E));
+}
