@@ -188,6 +188,8 @@ fn sdo_fast_paths_match_the_general_decoders() {
             let req = f(0x605, data);
             let want = SdoRequest::decode(data).map(|sdo| Message::SdoRequest { node, sdo });
             assert_eq!(Message::decode(&req), want, "request {req}");
+            assert_eq!(SdoRequest::decode_frame(&req), SdoRequest::decode(data));
+            assert_eq!(SdoResponse::decode_frame(&resp), SdoResponse::decode(data));
             if let Ok(m) = Message::decode(&req) {
                 assert_eq!(m.encode(), req);
             }

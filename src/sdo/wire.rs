@@ -736,7 +736,7 @@ macro_rules! sdo_frame {
             /// Decodes a frame's data straight from its 8-byte buffer (no copy).
             #[inline]
             pub fn decode_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
-                Self::decode_frame_inline(frame)
+                Self::decode_frame_fast(frame)
             }
 
             /// [`Self::decode_frame`], always inlined: `Message::decode`
@@ -829,7 +829,40 @@ impl SdoResponse {
     }
 }
 
+impl SdoResponse {
+    /// `decode_frame`: the segment command by its own straight path, the
+    /// rest by the general decoder (the client's per-frame decode).
+    #[inline]
+    fn decode_frame_fast(frame: &CanFrame) -> Result<Self, DecodeError> {
+        let [b0, ..] = frame.padded_data();
+        if b0 >> 5 == 0 {
+            let len = Self::check_upload_segment(frame)?;
+            Ok(Self::upload_segment(frame, len))
+        } else {
+            Self::decode_frame_inline(frame)
+        }
+    }
+}
+
 impl SdoRequest {
+    /// `decode_frame`: the segment commands by their own straight paths,
+    /// the rest by the general decoder (the server's per-frame decode).
+    #[inline]
+    fn decode_frame_fast(frame: &CanFrame) -> Result<Self, DecodeError> {
+        let [b0, ..] = frame.padded_data();
+        match b0 >> 5 {
+            0 => {
+                let len = Self::check_download_segment(frame)?;
+                Ok(Self::download_segment(frame, len))
+            }
+            3 => {
+                Self::check_upload_segment(frame)?;
+                Ok(Self::upload_segment(frame))
+            }
+            _ => Self::decode_frame_inline(frame),
+        }
+    }
+
     /// The check of `decode_frame` for ccs = 0: the segment's length.
     #[inline(always)]
     pub(crate) fn check_download_segment(frame: &CanFrame) -> Result<usize, DecodeError> {
