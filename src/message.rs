@@ -120,7 +120,7 @@ impl Message {
     ///     other => panic!("{other:?}"),
     /// }
     /// ```
-    #[inline]
+    #[inline(always)]
     pub fn decode(frame: &CanFrame) -> Result<Message, DecodeError> {
         // The hot path: an 11-bit data frame of a node. One compare for
         // "11-bit data frame", one jump on the function code, payloads

@@ -5,7 +5,12 @@
 //! `cargo bench` in benches/peers. Criterion times one pass over each
 //! stream per crate; at the end a table gives ns per frame (criterion's
 //! median over the stream's frame count) and the ratio to the copy
-//! baseline. Short runs while iterating:
+//! baseline. Each result is left in place and its address handed to
+//! `black_box` (`black_box(&result)`): passing the value itself would copy
+//! it out in 16-byte loads right after the decoder's stores, a
+//! store-forwarding stall that measures the harness, not the decoder, and
+//! weighs on each crate by how its compiler happened to split the stores.
+//! Short runs while iterating:
 //! `cargo bench -- --warm-up-time 1 --measurement-time 2`.
 
 use std::hint::black_box;
@@ -35,35 +40,35 @@ fn bench_stream(c: &mut Criterion, name: &str, s: &Stream) {
     g.bench_function("copy", |b| {
         b.iter(|| {
             for f in &s.ours {
-                black_box(peers::copy(black_box(f)));
+                black_box(&peers::copy(black_box(f)));
             }
         })
     });
     g.bench_function("canopen-codec", |b| {
         b.iter(|| {
             for f in &s.ours {
-                let _ = black_box(peers::ours(black_box(f)));
+                black_box(&peers::ours(black_box(f)));
             }
         })
     });
     g.bench_function("canopen-rs", |b| {
         b.iter(|| {
             for f in &s.canopen_rs {
-                let _ = black_box(peers::canopen_rs(black_box(f)));
+                black_box(&peers::canopen_rs(black_box(f)));
             }
         })
     });
     g.bench_function("zencan-common", |b| {
         b.iter(|| {
             for f in &s.zencan {
-                let _ = black_box(peers::zencan(black_box(f)));
+                black_box(&peers::zencan(black_box(f)));
             }
         })
     });
     g.bench_function("oze-canopen", |b| {
         b.iter(|| {
             for f in &s.oze {
-                let _ = black_box(peers::oze(black_box(f)));
+                black_box(&peers::oze(black_box(f)));
             }
         })
     });
