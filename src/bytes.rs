@@ -65,6 +65,32 @@ impl InlineData<8> {
     }
 }
 
+impl<const N: usize> InlineData<N> {
+    /// `len` bytes (at most `N`) of a little-endian word: byte `i` of the
+    /// data is bits `8 i .. 8 i + 8` of `word`. Bytes past `len` come out
+    /// zero, as [`InlineData::new`] leaves them. No copy loop or jump: a
+    /// shift, a mask and one store (the SDO segment and expedited paths).
+    #[inline]
+    pub(crate) fn from_le_word(word: u64, len: usize) -> Self {
+        let len = if len > N { N } else { len };
+        let mask = if len >= 8 {
+            u64::MAX
+        } else {
+            (1u64 << (8 * len)) - 1
+        };
+        let all = (word & mask).to_le_bytes();
+        let mut bytes = [0u8; N];
+        let n = if N < 8 { N } else { 8 };
+        if let (Some(d), Some(s)) = (bytes.get_mut(..n), all.get(..n)) {
+            d.copy_from_slice(s);
+        }
+        InlineData {
+            len: len as u8,
+            bytes,
+        }
+    }
+}
+
 impl InlineData<4> {
     /// One byte.
     #[must_use]

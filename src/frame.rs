@@ -103,19 +103,36 @@ pub enum FrameError {
 /// assert_eq!(f.data(), &[0x7F]);
 /// assert!(!f.is_remote());
 /// ```
+///
+/// It is 16 bytes: the identifier, its format and the remote flag share one
+/// `u32` (an 11-bit data frame is exactly the values `0..=0x7FF`, one
+/// compare on the decode path), then the length and the 8 inline bytes.
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
 pub struct CanFrame {
-    id: CanId,
-    remote: bool,
+    /// Identifier bits 0..=28, [`EXTENDED_FLAG`], [`REMOTE_FLAG`].
+    word: u32,
     len: u8,
     data: [u8; MAX_DATA_LEN],
+}
+
+/// Set in [`CanFrame::word`] for a 29-bit identifier.
+const EXTENDED_FLAG: u32 = 1 << 31;
+/// Set in [`CanFrame::word`] for a remote frame.
+const REMOTE_FLAG: u32 = 1 << 30;
+
+/// The identifier word of `id` (no flags but the format).
+#[inline]
+const fn id_word(id: CanId) -> u32 {
+    match id {
+        CanId::Standard(raw) => raw as u32,
+        CanId::Extended(raw) => (raw & MAX_EXTENDED_ID) | EXTENDED_FLAG,
+    }
 }
 
 impl CanFrame {
     /// An empty data frame on identifier 0 (a placeholder value).
     pub const EMPTY: CanFrame = CanFrame {
-        id: CanId::Standard(0),
-        remote: false,
+        word: 0,
         len: 0,
         data: [0; MAX_DATA_LEN],
     };
@@ -130,8 +147,7 @@ impl CanFrame {
         let mut buf = [0u8; MAX_DATA_LEN];
         crate::bytes::copy_short(&mut buf, data);
         Ok(CanFrame {
-            id,
-            remote: false,
+            word: id_word(id),
             len: data.len() as u8,
             data: buf,
         })
@@ -159,8 +175,7 @@ impl CanFrame {
             i += 1;
         }
         CanFrame {
-            id,
-            remote: false,
+            word: id_word(id),
             len,
             data,
         }
@@ -175,8 +190,7 @@ impl CanFrame {
             });
         }
         Ok(CanFrame {
-            id,
-            remote: true,
+            word: id_word(id) | REMOTE_FLAG,
             len: dlc,
             data: [0; MAX_DATA_LEN],
         })
@@ -186,14 +200,30 @@ impl CanFrame {
     #[must_use]
     #[inline]
     pub const fn id(&self) -> CanId {
-        self.id
+        if self.word & EXTENDED_FLAG != 0 {
+            CanId::Extended(self.word & MAX_EXTENDED_ID)
+        } else {
+            CanId::Standard((self.word & MAX_EXTENDED_ID) as u16)
+        }
+    }
+
+    /// The 11-bit identifier of a data frame; `None` for a remote frame or
+    /// a 29-bit identifier. One compare: the decode path's entry test.
+    #[must_use]
+    #[inline]
+    pub(crate) const fn standard_data_id(&self) -> Option<u16> {
+        if self.word <= MAX_STANDARD_ID as u32 {
+            Some(self.word as u16)
+        } else {
+            None
+        }
     }
 
     /// True for a remote (RTR) frame.
     #[must_use]
     #[inline]
     pub const fn is_remote(&self) -> bool {
-        self.remote
+        self.word & REMOTE_FLAG != 0
     }
 
     /// The data length code: the number of data bytes, or for a remote frame
@@ -208,7 +238,7 @@ impl CanFrame {
     #[must_use]
     #[inline]
     pub fn data(&self) -> &[u8] {
-        if self.remote {
+        if self.is_remote() {
             &[]
         } else {
             self.data.get(..usize::from(self.len)).unwrap_or(&[])
@@ -246,8 +276,8 @@ impl fmt::Debug for CanFrame {
 /// or `701#R1` (remote, DLC 1).
 impl fmt::Display for CanFrame {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}#", self.id)?;
-        if self.remote {
+        write!(f, "{}#", self.id())?;
+        if self.is_remote() {
             f.write_str("R")?;
             if self.len > 0 {
                 write!(f, "{}", self.len)?;
@@ -430,6 +460,30 @@ mod tests {
         assert_eq!(format!("{r}"), "701#R1");
         let e = CanFrame::new(CanId::Extended(0x18FF_0001), &[1]).unwrap();
         assert_eq!(format!("{e}"), "18FF0001#01");
+    }
+
+    #[test]
+    fn sixteen_bytes_and_flags_kept_apart() {
+        assert_eq!(core::mem::size_of::<CanFrame>(), 16);
+        let e = CanFrame::new(CanId::Extended(0x7FF), &[1]).unwrap();
+        assert_eq!(e.id(), CanId::Extended(0x7FF));
+        assert!(!e.is_remote());
+        assert_eq!(e.standard_data_id(), None);
+        let r = CanFrame::remote(CanId::Extended(MAX_EXTENDED_ID), 8).unwrap();
+        assert_eq!(
+            (r.id(), r.is_remote()),
+            (CanId::Extended(MAX_EXTENDED_ID), true)
+        );
+        let s = CanFrame::remote(CanId::Standard(0x7FF), 0).unwrap();
+        assert_eq!((s.id(), s.is_remote()), (CanId::Standard(0x7FF), true));
+        assert_eq!(s.standard_data_id(), None);
+        let d = CanFrame::standard(0x7FF, &[]).unwrap();
+        assert_eq!(d.standard_data_id(), Some(0x7FF));
+        assert_ne!(d, s);
+        assert_ne!(
+            CanFrame::standard(0x7FF, &[]).unwrap(),
+            CanFrame::new(CanId::Extended(0x7FF), &[]).unwrap()
+        );
     }
 
     #[test]

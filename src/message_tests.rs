@@ -170,3 +170,53 @@ fn kind_and_node() {
     assert_eq!(m.node(), Some(n(10)));
     assert_eq!(Message::decode(&f(0x080, &[])).unwrap().node(), None);
 }
+
+/// The out-of-line SDO segment decoders give exactly what the general SDO
+/// decoders give, for every command byte and length, on both directions.
+#[test]
+fn sdo_fast_paths_match_the_general_decoders() {
+    use crate::sdo::{SdoRequest, SdoResponse};
+    let node = NodeId::new(5).unwrap();
+    for cmd in 0..=255u8 {
+        for len in 0..=8usize {
+            let data = [cmd, 0xA1, 0xB2, 0xC3, 0xD4, 0xE5, 0xF6, 0x17];
+            let data = &data[..len];
+            let resp = f(0x585, data);
+            let want = SdoResponse::decode(data).map(|sdo| Message::SdoResponse { node, sdo });
+            assert_eq!(Message::decode(&resp), want, "response {resp}");
+            let req = f(0x605, data);
+            let want = SdoRequest::decode(data).map(|sdo| Message::SdoRequest { node, sdo });
+            assert_eq!(Message::decode(&req), want, "request {req}");
+            assert_eq!(SdoRequest::decode_frame(&req), SdoRequest::decode(data));
+            assert_eq!(SdoResponse::decode_frame(&resp), SdoResponse::decode(data));
+            if let Ok(m) = Message::decode(&req) {
+                assert_eq!(m.encode(), req);
+            }
+            if let Ok(m) = Message::decode(&resp) {
+                assert_eq!(m.encode(), resp);
+            }
+        }
+    }
+}
+
+/// The heartbeat arm gives what `Heartbeat::decode` gives, for every byte
+/// and length; every 7-bit state reads back to its bits.
+#[test]
+fn heartbeat_arm_matches_heartbeat_decode() {
+    let node = NodeId::new(5).unwrap();
+    for b in 0..=255u8 {
+        for len in 0..=8usize {
+            let data = [b, 1, 2, 3, 4, 5, 6, 7];
+            let data = &data[..len];
+            let want =
+                Heartbeat::decode(data).map(|heartbeat| Message::Heartbeat { node, heartbeat });
+            assert_eq!(Message::decode(&f(0x705, data)), want, "{b:02X} x {len}");
+        }
+        assert_eq!(NmtState::from_bits(b).bits(), b & 0x7F);
+    }
+    assert_eq!(NmtState::from_bits(0x85), NmtState::Operational);
+    assert_eq!(NmtState::from_bits(0x04), NmtState::Stopped);
+    assert_eq!(NmtState::from_bits(0xFF), NmtState::PreOperational);
+    assert_eq!(NmtState::from_bits(0x80), NmtState::BootUp);
+    assert_eq!(NmtState::from_bits(0x7E), NmtState::Unknown(0x7E));
+}

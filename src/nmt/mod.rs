@@ -181,7 +181,18 @@ impl NmtState {
     #[must_use]
     #[inline]
     pub const fn from_bits(raw: u8) -> Self {
-        match raw & 0x7F {
+        // One table load, no compare chain (the heartbeat decode path).
+        let i = (raw & 0x7F) as usize;
+        if i < STATES.len() {
+            STATES[i]
+        } else {
+            NmtState::Unknown(raw & 0x7F)
+        }
+    }
+
+    /// [`NmtState::from_bits`] by matching (builds the table).
+    const fn matched(bits: u8) -> Self {
+        match bits {
             0x00 => NmtState::BootUp,
             0x04 => NmtState::Stopped,
             0x05 => NmtState::Operational,
@@ -203,6 +214,17 @@ impl NmtState {
         }
     }
 }
+
+/// Every 7-bit state value decoded.
+const STATES: [NmtState; 128] = {
+    let mut t = [NmtState::BootUp; 128];
+    let mut i = 0;
+    while i < 128 {
+        t[i] = NmtState::matched(i as u8);
+        i += 1;
+    }
+    t
+};
 
 impl fmt::Display for NmtState {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

@@ -226,6 +226,14 @@ impl RawSdo {
         bytes: [0; 8],
     };
 
+    #[inline(always)]
+    fn of_frame(frame: &CanFrame) -> Self {
+        RawSdo {
+            len: frame.dlc().min(8),
+            bytes: frame.padded_data(),
+        }
+    }
+
     #[inline]
     fn from_slice(data: &[u8]) -> Result<Self, DecodeError> {
         if data.len() > 8 {
@@ -265,6 +273,11 @@ impl Reader<'_> {
     fn b(&self, i: usize) -> u8 {
         self.raw.bytes.get(i).copied().unwrap_or(0)
     }
+    /// All 8 bytes as one little-endian word (zero past the length).
+    #[inline]
+    fn word(&self) -> u64 {
+        u64::from_le_bytes(self.raw.bytes)
+    }
     #[inline]
     fn u16(&self, i: usize) -> u16 {
         u16::from_le_bytes([self.b(i), self.b(i + 1)])
@@ -288,18 +301,16 @@ impl Reader<'_> {
             (true, true) => {
                 let len = 4 - usize::from((cmd >> 2) & 0x03);
                 self.need(4 + len)?;
-                let data = self.raw.bytes.get(4..4 + len).unwrap_or(&[]);
                 Ok(InitiatePayload::Expedited {
-                    data: ExpeditedData::new(data).unwrap_or_default(),
+                    data: ExpeditedData::from_le_word(self.word() >> 32, len),
                     size_indicated: true,
                 })
             }
             (true, false) => {
                 self.need(4)?;
                 let end = usize::from(self.raw.len).min(8);
-                let data = self.raw.bytes.get(4..end).unwrap_or(&[]);
                 Ok(InitiatePayload::Expedited {
-                    data: ExpeditedData::new(data).unwrap_or_default(),
+                    data: ExpeditedData::from_le_word(self.word() >> 32, end.saturating_sub(4)),
                     size_indicated: false,
                 })
             }
@@ -323,8 +334,7 @@ impl Reader<'_> {
         Ok(Segment {
             toggle: cmd & 0x10 != 0,
             last: cmd & 0x01 != 0,
-            data: SegmentData::new(self.raw.bytes.get(1..1 + len).unwrap_or(&[]))
-                .unwrap_or_default(),
+            data: SegmentData::from_le_word(self.word() >> 8, len),
         })
     }
     #[inline]
@@ -429,7 +439,7 @@ impl Writer {
 }
 
 impl ClientCommand {
-    #[inline]
+    #[inline(always)]
     fn decode_raw(raw: &RawSdo) -> Result<Self, DecodeError> {
         let r = Reader { raw };
         r.need(1)?;
@@ -563,7 +573,7 @@ impl ClientCommand {
 }
 
 impl ServerCommand {
-    #[inline]
+    #[inline(always)]
     fn decode_raw(raw: &RawSdo) -> Result<Self, DecodeError> {
         let r = Reader { raw };
         r.need(1)?;
@@ -726,10 +736,14 @@ macro_rules! sdo_frame {
             /// Decodes a frame's data straight from its 8-byte buffer (no copy).
             #[inline]
             pub fn decode_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
-                let raw = RawSdo {
-                    len: frame.dlc().min(8),
-                    bytes: frame.padded_data(),
-                };
+                Self::decode_frame_fast(frame)
+            }
+
+            /// [`Self::decode_frame`], always inlined: `Message::decode`
+            /// builds its result in place through it.
+            #[inline(always)]
+            pub(crate) fn decode_frame_inline(frame: &CanFrame) -> Result<Self, DecodeError> {
+                let raw = RawSdo::of_frame(frame);
                 Ok($name {
                     command: <$cmd>::decode_raw(&raw)?,
                     raw,
@@ -791,6 +805,136 @@ sdo_frame!(
     SdoResponse,
     ServerCommand
 );
+
+// The segment commands alone, for `Message::decode`'s out-of-line hot
+// arms: the same checks and result as `decode_frame` for a frame whose
+// byte 0 has that command specifier. Check and build are apart (the check
+// returns only a length; the build cannot fail), so the caller stores the
+// whole message straight instead of moving a `Result` through the stack.
+impl SdoResponse {
+    /// The check of `decode_frame` for scs = 0: the segment's length.
+    #[inline(always)]
+    pub(crate) fn check_upload_segment(frame: &CanFrame) -> Result<usize, DecodeError> {
+        segment_len(&RawSdo::of_frame(frame))
+    }
+
+    /// `decode_frame` for scs = 0, after [`Self::check_upload_segment`].
+    #[inline(always)]
+    pub(crate) fn upload_segment(frame: &CanFrame, len: usize) -> Self {
+        let raw = RawSdo::of_frame(frame);
+        SdoResponse {
+            command: ServerCommand::UploadSegment(segment_of(&raw, len)),
+            raw,
+        }
+    }
+}
+
+impl SdoResponse {
+    /// `decode_frame`: the segment command by its own straight path, the
+    /// rest by the general decoder (the client's per-frame decode).
+    #[inline]
+    fn decode_frame_fast(frame: &CanFrame) -> Result<Self, DecodeError> {
+        let [b0, ..] = frame.padded_data();
+        if b0 >> 5 == 0 {
+            let len = Self::check_upload_segment(frame)?;
+            Ok(Self::upload_segment(frame, len))
+        } else {
+            Self::decode_frame_inline(frame)
+        }
+    }
+}
+
+impl SdoRequest {
+    /// `decode_frame`: the segment commands by their own straight paths,
+    /// the rest by the general decoder (the server's per-frame decode).
+    #[inline]
+    fn decode_frame_fast(frame: &CanFrame) -> Result<Self, DecodeError> {
+        let [b0, ..] = frame.padded_data();
+        match b0 >> 5 {
+            0 => {
+                let len = Self::check_download_segment(frame)?;
+                Ok(Self::download_segment(frame, len))
+            }
+            3 => {
+                Self::check_upload_segment(frame)?;
+                Ok(Self::upload_segment(frame))
+            }
+            _ => Self::decode_frame_inline(frame),
+        }
+    }
+
+    /// The check of `decode_frame` for ccs = 0: the segment's length.
+    #[inline(always)]
+    pub(crate) fn check_download_segment(frame: &CanFrame) -> Result<usize, DecodeError> {
+        segment_len(&RawSdo::of_frame(frame))
+    }
+
+    /// `decode_frame` for ccs = 0, after [`Self::check_download_segment`].
+    #[inline(always)]
+    pub(crate) fn download_segment(frame: &CanFrame, len: usize) -> Self {
+        let raw = RawSdo::of_frame(frame);
+        SdoRequest {
+            command: ClientCommand::DownloadSegment(segment_of(&raw, len)),
+            raw,
+        }
+    }
+
+    /// The check of `decode_frame` for ccs = 3 (upload segment request).
+    #[inline(always)]
+    pub(crate) fn check_upload_segment(frame: &CanFrame) -> Result<(), DecodeError> {
+        if frame.dlc() == 0 {
+            return Err(truncated(1, 0));
+        }
+        Ok(())
+    }
+
+    /// `decode_frame` for ccs = 3, after [`Self::check_upload_segment`].
+    #[inline(always)]
+    pub(crate) fn upload_segment(frame: &CanFrame) -> Self {
+        let raw = RawSdo::of_frame(frame);
+        let [cmd, ..] = raw.bytes;
+        SdoRequest {
+            command: ClientCommand::UploadSegment {
+                toggle: cmd & 0x10 != 0,
+            },
+            raw,
+        }
+    }
+}
+
+#[inline(always)]
+fn truncated(need: usize, got: u8) -> DecodeError {
+    DecodeError::Truncated {
+        need,
+        got: usize::from(got),
+    }
+}
+
+/// `need(1)` then `Reader::segment`'s check: the segment's data length.
+#[inline(always)]
+fn segment_len(raw: &RawSdo) -> Result<usize, DecodeError> {
+    let [cmd, ..] = raw.bytes;
+    if raw.len == 0 {
+        return Err(truncated(1, 0));
+    }
+    let len = 7 - usize::from((cmd >> 1) & 0x07);
+    if usize::from(raw.len) < 1 + len {
+        return Err(truncated(1 + len, raw.len));
+    }
+    Ok(len)
+}
+
+/// The segment of a checked frame (`len` from [`segment_len`]): built in
+/// one straight line, no intermediate `Result` assembled on the stack.
+#[inline(always)]
+fn segment_of(raw: &RawSdo, len: usize) -> Segment {
+    let [cmd, ..] = raw.bytes;
+    Segment {
+        toggle: cmd & 0x10 != 0,
+        last: cmd & 0x01 != 0,
+        data: SegmentData::from_le_word(u64::from_le_bytes(raw.bytes) >> 8, len),
+    }
+}
 
 /// Reads the little-endian u32 abort code of an abort frame, if present.
 #[must_use]
