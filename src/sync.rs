@@ -57,3 +57,7 @@ mod tests {
         assert_eq!(len, 0);
     }
 }
+
+#[path = "sync_machines.rs"]
+mod machines;
+pub use machines::{valid_counter_overflow, SyncCobId, SyncConsumer, SyncEvent, SyncProducer};

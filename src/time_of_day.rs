@@ -116,3 +116,7 @@ mod tests {
         assert_eq!(TimeOfDay::from_unix_millis(0), None);
     }
 }
+
+#[path = "time_machines.rs"]
+mod machines;
+pub use machines::{TimeCobId, TimeConsumer, TimeEvent, TimeProducer};
