@@ -145,14 +145,24 @@ impl SyncProducer {
             return None;
         }
         Some(SyncProducer {
-            id: CanId::Standard(SYNC),
             period_us: u64::try_from(period.as_micros()).unwrap_or(u64::MAX),
             overflow,
+            ..Self::idle()
+        })
+    }
+
+    /// A producer on 080h with no period and no counter, not started.
+    #[must_use]
+    pub const fn idle() -> Self {
+        SyncProducer {
+            id: CanId::Standard(SYNC),
+            period_us: 0,
+            overflow: 0,
             counter: 1,
             running: false,
             timers: Timers::new(),
             out: Queue::new(CanFrame::EMPTY),
-        })
+        }
     }
 
     /// The SYNC identifier (1005h).

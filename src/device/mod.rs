@@ -48,6 +48,25 @@
 //!   every 1017h period; an SDO write to 1017h changes the period at once.
 //!   Heartbeats of the nodes in 1016h are supervised; their events are
 //!   reported as [`DeviceEvent::Heartbeat`] whether or not events are read.
+//! - **Node guarding** (CiA 301 node guarding and life guarding, 100Ch
+//!   and 100Dh): remote requests on 700h + node are answered in every NMT
+//!   state once booted, the toggle starting at 0 after boot and every
+//!   reset. While 1017h is non-zero the device produces heartbeats and does
+//!   not answer them (CiA 301: heartbeat and node guarding are exclusive;
+//!   the default 1017h of 1000 ms means no guarding). Life guarding starts
+//!   with the first request when 100Ch and 100Dh are non-zero; its events
+//!   are [`DeviceEvent::LifeGuarding`].
+//! - **SYNC**: with the generate bit of 1005h and a non-zero 1006h the
+//!   device sends SYNC every 1006h µs in pre-operational and operational
+//!   (not in stopped), the counter of 1019h restarting at 1 whenever the
+//!   producer (re)starts. SYNC frames on 1005h's identifier, received or
+//!   the device's own, run the synchronous TPDOs (in operational). Counter
+//!   skips and synchronous RPDOs received outside the 1007h window are
+//!   [`DeviceEvent::Sync`] (a SYNC itself is no event).
+//! - **TIME**: with the consume bit of 1012h every TIME received is a
+//!   [`DeviceEvent::Time`]; with the produce bit [`Device::send_time`]
+//!   sends one (pre-operational and operational).
+//! - All these objects are restored by both resets.
 //! - **Back-pressure**: the event queue keeps the latest 16 events and
 //!   counts what it drops ([`Machine::events_dropped`]); nothing else
 //!   depends on it.
@@ -60,7 +79,13 @@
 //! | 1000h | device type | U32 | const |
 //! | 1001h | error register | U8 | ro |
 //! | 1003h | pre-defined error field: sub 0 the number of entries (rw; only 0 may be written, which clears the history, else 06090030h), sub 1-10 the entries, newest first (ro; an empty entry reads 08000024h) | ARRAY of U32 | |
+//! | 1005h | COB-ID SYNC: bit 30 generate, bits 0-10 (or 0-28 with bit 29) the identifier (rw; moving the identifier while generating, or an invalid one, is 06090030h) | U32 | rw |
+//! | 1006h | communication cycle period, µs (0: no SYNC produced) | U32 | rw |
+//! | 1007h | synchronous window length, µs (0: no window) | U32 | rw |
 //! | 1008h | manufacturer device name | VISIBLE_STRING | const |
+//! | 100Ch | guard time, ms | U16 | rw |
+//! | 100Dh | life time factor | U8 | rw |
+//! | 1012h | COB-ID TIME: bit 31 consume, bit 30 produce (an invalid identifier is 06090030h) | U32 | rw |
 //! | 1016h | consumer heartbeat time: sub 0 the number of entries (const), sub 1..n node (bits 23-16) and time in ms (bits 15-0) (rw; an enabled entry for a node another entry watches is 06040043h) | ARRAY of U32 | (only with entries) |
 //! | 1017h | producer heartbeat time, ms | U16 | rw |
 //! | 1018h | identity: sub 0 = 4 (ro), vendor-ID, product code, revision, serial number | RECORD of U32 | ro |
@@ -77,6 +102,7 @@ mod config;
 mod descriptions;
 mod objects;
 mod profile;
+mod services;
 
 pub use config::DeviceConfig;
 #[cfg(feature = "alloc")]
@@ -140,6 +166,8 @@ pub struct Device<A, E: Copy> {
     transmit: Queue<CanFrame, 16>,
     frames_dropped: u64,
     events: EventQueue<E, EVENT_CAPACITY>,
+    /// Node guarding, SYNC and TIME (services.rs).
+    services: services::Services,
 }
 
 impl<A, E> Device<A, E>
@@ -172,6 +200,7 @@ where
             transmit: Queue::new(CanFrame::EMPTY),
             frames_dropped: 0,
             events: EventQueue::new(E::from(DeviceEvent::Reset { node: true })),
+            services: services::Services::new(config.node),
         }
     }
 
@@ -269,6 +298,7 @@ where
         f(&mut self.server.od_mut().inner.comm);
         self.apply_heartbeat_period(now);
         self.apply_consumers(now);
+        self.apply_services(now);
         self.refresh_tpdos(now);
     }
 
@@ -392,10 +422,8 @@ where
             self.server.handle_frame(now, frame);
             self.drain_server(now, profile);
         }
-        if self.nmt.state() == NmtState::Operational {
-            self.refresh_tpdos(now);
-            self.tpdos.handle_frame(now, frame);
-        }
+        // Guarding requests, SYNC (which runs the synchronous TPDOs) and TIME.
+        self.services_frame(now, frame, profile);
         self.rpdos.handle_frame(now, frame);
         self.drain_rpdos(now, profile);
         profile.on_frame(self, now, frame);
@@ -410,6 +438,7 @@ where
         self.heartbeat.handle_timeout(now);
         self.consumer.handle_timeout(now);
         self.drain_consumer(now, profile);
+        self.services_timeout(now, profile);
         self.server.handle_timeout(now);
         self.drain_server(now, profile);
         profile.on_timeout(self, now);
@@ -424,6 +453,7 @@ where
     pub fn poll_transmit_with<P: Profile<A, E>>(&mut self, profile: &mut P) -> Option<CanFrame> {
         self.heartbeat
             .poll_transmit()
+            .or_else(|| self.services.guarding.poll_transmit())
             .or_else(|| self.transmit.pop())
             .or_else(|| self.server.poll_transmit())
             .or_else(|| profile.poll_transmit())
@@ -439,6 +469,7 @@ where
         [
             self.heartbeat.poll_timeout(),
             self.consumer.poll_timeout(),
+            self.services.poll_timeout(),
             self.server.poll_timeout(),
             profile.poll_timeout(),
             self.tpdos.poll_timeout(),
@@ -519,6 +550,7 @@ where
         self.tpdos.reset();
         self.reconfigure_pdos(now);
         self.nmt.boot(now);
+        self.reset_services(now);
     }
 
     /// The core's part of entering `to`.
@@ -528,6 +560,7 @@ where
             self.server.cancel();
         }
         self.heartbeat.set_state(now, to);
+        self.services_entered(now, to);
         self.gate_pdos(now);
     }
 
@@ -582,8 +615,12 @@ where
             match event {
                 ServerEvent::Downloaded { index, sub, .. } => {
                     match index {
-                        PRODUCER_HEARTBEAT_TIME => self.apply_heartbeat_period(now),
+                        PRODUCER_HEARTBEAT_TIME => {
+                            self.apply_heartbeat_period(now);
+                            self.apply_services(now);
+                        }
                         CONSUMER_HEARTBEAT_TIME => self.apply_consumers(now),
+                        0x1005..=0x1019 => self.apply_services(now),
                         _ if PdoDirection::from_index(index).is_some() => {
                             self.reconfigure_pdos(now);
                         }
@@ -619,7 +656,11 @@ where
             };
             let pdo = rpdo.pdo;
             match result {
-                Ok(_) => self.emit(now, DeviceEvent::RpdoReceived { pdo }, profile),
+                Ok(_) => {
+                    self.note_rpdo(now, pdo);
+                    self.drain_services(now, profile);
+                    self.emit(now, DeviceEvent::RpdoReceived { pdo }, profile);
+                }
                 Err(error) => {
                     if let Some(emcy) = profile.rpdo_emergency(self.error_register(), &error) {
                         self.send_emergency(&emcy);
