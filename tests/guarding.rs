@@ -234,7 +234,7 @@ fn slave_reports_life_guarding_when_the_master_stops() {
 
 #[test]
 fn heartbeat_and_guarding_are_exclusive() {
-    let (mut sim, s, m) = bus(DeviceConfig {
+    let (mut sim, s, _m) = bus(DeviceConfig {
         heartbeat: Duration::from_millis(250),
         ..slave_config()
     });
