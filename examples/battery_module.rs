@@ -349,6 +349,9 @@ fn describe(e: &BatteryEvent) -> Option<String> {
             format!("event: SDO transfer of {index:04X}h sub {sub:02X}h aborted {by}: {code}")
         }
         BatteryEvent::Heartbeat(h) => format!("event: heartbeat supervision: {h:?}"),
+        BatteryEvent::LifeGuarding(g) => format!("event: life guarding: {g:?}"),
+        BatteryEvent::Sync(s) => format!("event: SYNC: {s:?}"),
+        BatteryEvent::Time(t) => format!("event: TIME: {t:?}"),
         _ => return None,
     };
     Some(words)
