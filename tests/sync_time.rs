@@ -293,3 +293,49 @@ fn sync_production_switched_over_sdo() {
     // Every SDO write was answered (2 x 1005h, 1006h).
     assert_eq!(sim.frames_on(0x588).len(), 3);
 }
+
+/// What the producers send decodes, and reads in words as the decoder
+/// prints it: SYNC with its counter, TIME with its day and milliseconds,
+/// the guarding request and reply.
+#[test]
+fn produced_frames_decode_in_words() {
+    use canopen_codec::guarding::{GuardingMaster, GuardingSlave};
+    use canopen_codec::nmt::NmtState;
+    use canopen_codec::Message;
+    let words = |f: &CanFrame| {
+        let m = Message::decode(f).unwrap();
+        assert_eq!(m.encode(), *f);
+        m.to_string()
+    };
+    let mut sync = SyncProducer::new(Duration::from_millis(1), 240).unwrap();
+    sync.start(Timestamp::ZERO);
+    let mut seen = Vec::new();
+    drive_timers(&mut sync, ms(241), |_, f| seen.push(words(&f)));
+    assert_eq!(seen[0], "SYNC counter 1");
+    assert_eq!(seen[239], "SYNC counter 240");
+    assert_eq!(seen[240], "SYNC counter 1");
+    let mut time = TimeProducer::new(TimeCobId::DEFAULT.with_produce(true));
+    assert!(time.send_time(ms(0), TimeOfDay::new(12 * 3_600_000, 2).unwrap()));
+    assert_eq!(
+        words(&time.poll_transmit().unwrap()),
+        "TIME day 2 since 1984-01-01, 43200000 ms after midnight"
+    );
+    let mut master = GuardingMaster::new(node(5), Duration::from_millis(100), 3);
+    master.start(ms(0));
+    let request = master.poll_transmit().unwrap();
+    assert_eq!(words(&request), "node guarding request node 5, DLC 1");
+    let mut slave = GuardingSlave::new(node(5));
+    slave.set_state(NmtState::Operational);
+    slave.handle_frame(ms(0), &request);
+    slave.handle_frame(ms(1), &request);
+    // Without the request beside it, a reply with toggle 0 reads as a
+    // heartbeat (the decoder program pairs them); toggle 1 is a reply.
+    assert_eq!(
+        words(&slave.poll_transmit().unwrap()),
+        "heartbeat node 5: operational"
+    );
+    assert_eq!(
+        words(&slave.poll_transmit().unwrap()),
+        "node guarding reply node 5: operational, toggle 1"
+    );
+}
