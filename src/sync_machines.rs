@@ -313,8 +313,19 @@ pub enum SyncEvent {
     },
 }
 
-/// Receives SYNC: see the [module docs](self) for the counter check and
-/// the window.
+/// Receives SYNC on its identifier (1005h) and reports each
+/// ([`SyncEvent::Received`]), a counter that does not follow the previous
+/// one when 1019h is set ([`SyncEvent::CounterSkipped`]), and synchronous
+/// PDOs outside the window.
+///
+/// **The window** (1007h): CiA 301 says synchronous PDOs are sent and
+/// received within the synchronous window length after the SYNC. The
+/// consumer reads it as: a synchronous PDO noted with
+/// [`note_synchronous_pdo`](Self::note_synchronous_pdo) later than window
+/// length after the last SYNC (or before any SYNC) is outside it and is
+/// reported as [`SyncEvent::OutsideWindow`]; a window length of 0 means no
+/// window. (The device core sends its synchronous TPDOs at the SYNC, inside
+/// the window by construction, and notes its synchronous RPDOs.)
 ///
 /// ```
 /// use canopen_codec::machine::Machine;
