@@ -128,7 +128,7 @@ pub struct SyncProducer {
     counter: u8,
     running: bool,
     timers: Timers<1>,
-    out: Queue<CanFrame, 4>,
+    out: Queue<CanFrame, 2>,
 }
 
 /// The producer's one timer: the next SYNC.
@@ -350,7 +350,7 @@ pub struct SyncConsumer {
     window_us: u64,
     last_sync: Option<Timestamp>,
     last_counter: Option<u8>,
-    events: EventQueue<SyncEvent, 8>,
+    events: EventQueue<SyncEvent, 4>,
 }
 
 impl Default for SyncConsumer {

@@ -38,7 +38,6 @@ pub(super) struct Services {
     pub(super) guarding: GuardingSlave,
     pub(super) sync_producer: SyncProducer,
     pub(super) sync_consumer: SyncConsumer,
-    pub(super) time_producer: TimeProducer,
     pub(super) time_consumer: TimeConsumer,
     applied: Option<Applied>,
 }
@@ -49,7 +48,6 @@ impl Services {
             guarding: GuardingSlave::new(node),
             sync_producer: SyncProducer::idle(),
             sync_consumer: SyncConsumer::new(),
-            time_producer: TimeProducer::new(TimeCobId::DEFAULT),
             time_consumer: TimeConsumer::new(TimeCobId::DEFAULT),
             applied: None,
         }
@@ -99,10 +97,11 @@ where
     /// Sends TIME with `time` (1012h produce bit; pre-operational and
     /// operational). False when nothing was sent.
     pub fn send_time(&mut self, now: Timestamp, time: TimeOfDay) -> bool {
-        if !self.nmt.sdo_allowed() || !self.services.time_producer.send_time(now, time) {
+        let mut producer = TimeProducer::new(self.comm().time_cob_id);
+        if !self.nmt.sdo_allowed() || !producer.send_time(now, time) {
             return false;
         }
-        while let Some(frame) = self.services.time_producer.poll_transmit() {
+        while let Some(frame) = producer.poll_transmit() {
             self.send(frame);
         }
         true
@@ -154,7 +153,6 @@ where
                 .sync_producer
                 .set_counter_overflow(want.sync_counter_overflow);
         }
-        s.time_producer.set_cob_id(want.time_cob_id);
         s.time_consumer.set_cob_id(want.time_cob_id);
         if changed(|a| u64::from(a.cycle_period_us) << 32 | u64::from(a.sync_cob_id.raw())) {
             s.sync_producer
