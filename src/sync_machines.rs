@@ -7,8 +7,8 @@
 //! - [`SyncProducer`] sends a SYNC every communication cycle period. With
 //!   a counter overflow value of 2..=240 every SYNC carries a counter that
 //!   runs 1, 2, ..., overflow, 1, ...; with 0 the SYNC has no data. Values
-//!   1 and 241..=255 are reserved (CiA 301 7.5.2.38 "Synchronous counter
-//!   overflow value") and refused.
+//!   1 and 241..=255 are reserved (CiA 301 section 7.5.2 "Object dictionary
+//!   entries", object 1019h "Synchronous counter overflow value") and refused.
 //! - [`SyncConsumer`] recognises SYNC frames on its identifier and
 //!   reports each ([`SyncEvent::Received`]), a counter that does not follow
 //!   the previous one ([`SyncEvent::CounterSkipped`]), and synchronous PDOs

@@ -5,6 +5,7 @@
 //! own synchronous TPDOs from it, a consumer reports skipped counters and
 //! synchronous PDOs outside the window, and TIME goes from a producing
 //! device to a consuming one.
+#![cfg(feature = "alloc")]
 
 mod common;
 

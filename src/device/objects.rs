@@ -296,8 +296,9 @@ impl CommObjects {
             (PRODUCER_HEARTBEAT_TIME, 0, &[a, b]) => self.heartbeat_ms = u16::from_le_bytes([a, b]),
             (COB_ID_SYNC, 0, &[a, b, c, d]) => {
                 let new = SyncCobId::from_raw(u32::from_le_bytes([a, b, c, d]));
-                // CiA 301 7.5.2.5: the identifier may not change while the
-                // device generates SYNC; and it must be a valid one.
+                // CiA 301 section 7.5.2, object 1005h: the identifier may
+                // not change while the device generates SYNC, and it must
+                // be a valid one.
                 let moved = new.raw() & 0x3FFF_FFFF != self.sync_cob_id.raw() & 0x3FFF_FFFF;
                 if new.id().is_none() || (moved && self.sync_cob_id.generates() && new.generates())
                 {
@@ -320,8 +321,8 @@ impl CommObjects {
                 }
                 self.time_cob_id = new;
             }
-            // CiA 301 7.5.2.38: written only while 1006h is 0; 1 and
-            // 241..=255 are reserved.
+            // CiA 301 section 7.5.2, object 1019h: written only while
+            // 1006h is 0; 1 and 241..=255 are reserved.
             (SYNCHRONOUS_COUNTER_OVERFLOW, 0, _) if self.cycle_period_us != 0 => {
                 return Err(AbortCode::DataCannotBeStoredDeviceState)
             }
