@@ -23,6 +23,7 @@ mod bus;
 #[path = "support/node.rs"]
 mod node;
 
+use std::collections::VecDeque;
 use std::process::ExitCode;
 use std::time::Duration;
 
@@ -33,6 +34,7 @@ use canopen_codec::cia418::{
     PackedStringObject, StateOfCharge, Temperature,
 };
 use canopen_codec::eds;
+use canopen_codec::lss::{LssAddress, LssSlave, LssSlaveConfig, LssSlaveEvent, LssStatus};
 use canopen_codec::machine::Machine;
 use canopen_codec::sdo::AbortOrigin;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
@@ -42,7 +44,11 @@ const USAGE: &str = "usage: battery_module [OPTIONS]
 A virtual CiA 418 battery module: candump lines in on stdin, the frames it
 sends out on stdout, its events on stderr.
 
-  --node-id N            node id 1..=127 (default 1)
+  --node-id N            node id 1..=127 (default 1); 255 = not configured
+                         (with --lss: silent until an LSS master gives it one)
+  --lss                  carry an LSS slave (CiA 305) whose LSS address is the
+                         --identity; a store configuration request is answered
+                         ok (kept in memory only)
   --serial S             6030h battery serial number (packed string, <= 10 chars)
   --battery-id S         6031h battery ID (packed string, <= 20 chars)
   --battery-type B       6020h sub 1: hex (0x10, 10h) or a name: flooded,
@@ -88,6 +94,8 @@ struct Options {
     linger: Duration,
     interface: String,
     print_eds: bool,
+    lss: bool,
+    unconfigured: bool,
 }
 
 fn hex_u32(s: &str) -> Result<u32, String> {
@@ -149,6 +157,8 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
         linger: Duration::from_millis(2000),
         interface: "can0".to_string(),
         print_eds: false,
+        lss: false,
+        unconfigured: false,
     };
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -165,8 +175,13 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
         };
         match a.as_str() {
             "-h" | "--help" => return Ok(None),
+            "--lss" => o.lss = true,
             "--node-id" => {
                 let v = value()?;
+                o.unconfigured = v == "255";
+                if o.unconfigured {
+                    continue;
+                }
                 o.config.node = v
                     .parse()
                     .ok()
@@ -247,6 +262,9 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
             other => return Err(format!("unknown option '{other}'")),
         }
     }
+    if o.unconfigured && !o.lss {
+        return Err("--node-id 255 (not configured) needs --lss".to_string());
+    }
     Ok(Some(o))
 }
 
@@ -290,12 +308,29 @@ impl Simulation {
 struct BatteryDevice {
     module: BatteryModule,
     sim: Option<Simulation>,
+    events: VecDeque<BatteryEvent>,
+}
+
+impl BatteryDevice {
+    /// Takes the module's events; an LSS store request is answered at once
+    /// (the configuration is kept in memory only).
+    fn take_events(&mut self) {
+        while let Some(e) = self.module.poll_event() {
+            if let BatteryEvent::Lss(LssSlaveEvent::StoreRequested { .. }) = e {
+                if let Some(lss) = self.module.device_mut().lss_mut() {
+                    let _ = lss.answer_store(LssStatus::OK);
+                }
+            }
+            self.events.push_back(e);
+        }
+    }
 }
 
 impl Machine for BatteryDevice {
     type Event = BatteryEvent;
     fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
         self.module.handle_frame(now, frame);
+        self.take_events();
     }
     fn handle_timeout(&mut self, now: Timestamp) {
         if let Some(sim) = self.sim.as_mut().filter(|s| now.has_reached(s.next)) {
@@ -314,7 +349,8 @@ impl Machine for BatteryDevice {
         }
     }
     fn poll_event(&mut self) -> Option<BatteryEvent> {
-        self.module.poll_event()
+        self.take_events();
+        self.events.pop_front()
     }
     fn events_dropped(&self) -> u64 {
         self.module.events_dropped()
@@ -349,6 +385,23 @@ fn describe(e: &BatteryEvent) -> Option<String> {
             format!("event: SDO transfer of {index:04X}h sub {sub:02X}h aborted {by}: {code}")
         }
         BatteryEvent::Heartbeat(h) => format!("event: heartbeat supervision: {h:?}"),
+        BatteryEvent::Lss(e) => match e {
+            LssSlaveEvent::StateChanged(state) => format!("event: LSS {state:?} state"),
+            LssSlaveEvent::NodeIdConfigured(Some(n)) => {
+                format!("event: LSS node-ID {n} configured (active after reset communication)")
+            }
+            LssSlaveEvent::NodeIdConfigured(None) => {
+                "event: LSS node-ID 255 (not configured) configured".to_string()
+            }
+            LssSlaveEvent::StoreRequested { node_id, .. } => format!(
+                "event: LSS store configuration (node-ID {}): ok",
+                node_id.map_or(255, NodeId::raw)
+            ),
+            LssSlaveEvent::ResetCommunication => {
+                "event: LSS reset communication under the new node-ID".to_string()
+            }
+            other => format!("event: LSS {other:?}"),
+        },
         BatteryEvent::LifeGuarding(g) => format!("event: life guarding: {g:?}"),
         BatteryEvent::Sync(s) => format!("event: SYNC: {s:?}"),
         BatteryEvent::Time(t) => format!("event: TIME: {t:?}"),
@@ -379,7 +432,19 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let mut module = BatteryModule::new(o.config);
+    let mut module = if o.lss {
+        let i = o.config.identity;
+        let address = LssAddress {
+            vendor: i.vendor_id,
+            product: i.product_code,
+            revision: i.revision_number,
+            serial: i.serial_number,
+        };
+        let node = (!o.unconfigured).then_some(o.config.node);
+        BatteryModule::with_lss(o.config, LssSlave::new(LssSlaveConfig::new(address, node)))
+    } else {
+        BatteryModule::new(o.config)
+    };
     for (object, text) in [
         (PackedStringObject::BatterySerialNumber, &o.serial),
         (PackedStringObject::BatteryId, &o.battery_id),
@@ -397,12 +462,26 @@ fn main() -> ExitCode {
         return ExitCode::SUCCESS;
     }
     let bus = PipeBus::stdin(&o.interface);
-    let (mut runner, boot) = Runner::new(bus, BatteryDevice { module, sim: None }, describe);
+    let (mut runner, boot) = Runner::new(
+        bus,
+        BatteryDevice {
+            module,
+            sim: None,
+            events: VecDeque::new(),
+        },
+        describe,
+    );
     let module = &mut runner.device.module;
     module.update(boot, |obj| set_objects(obj, &o));
+    let node = if o.unconfigured {
+        "255 (not configured, waiting for LSS)".to_string()
+    } else {
+        o.config.node.to_string()
+    };
     eprintln!(
-        "battery_module: node {}, device type {:08X}h, heartbeat {} ms, TPDOs {}",
-        o.config.node,
+        "battery_module: node {}{}, device type {:08X}h, heartbeat {} ms, TPDOs {}",
+        node,
+        if o.lss { " with LSS" } else { "" },
         o.config.device_type.raw(),
         o.config.heartbeat.as_millis(),
         if o.config.enable_tpdos {

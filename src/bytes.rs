@@ -3,9 +3,18 @@
 /// Copies `min(dst.len(), src.len())` bytes. CAN payloads are at most 8
 /// bytes: a copy of a constant length compiles to a few moves, where a
 /// dynamic-length copy (or a byte loop, which LLVM turns into one) is a call
-/// to `memcpy`. This keeps the decode and encode paths call-free.
+/// to `memcpy`. This keeps the decode and encode paths call-free on 64-bit
+/// hosts; on smaller targets, where the nine-way switch inlined at every
+/// use costs more flash than the call costs time, it is one `memcpy`.
 #[inline]
 pub(crate) fn copy_short(dst: &mut [u8], src: &[u8]) {
+    if cfg!(not(target_pointer_width = "64")) {
+        let n = dst.len().min(src.len());
+        if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
+            d.copy_from_slice(s);
+        }
+        return;
+    }
     #[inline(always)]
     fn fixed<const K: usize>(dst: &mut [u8], src: &[u8]) {
         if let (Some(d), Some(s)) = (dst.get_mut(..K), src.get(..K)) {

@@ -259,7 +259,7 @@ impl fmt::Display for Message {
             Message::NodeGuardRequest { node, dlc } => {
                 write!(f, "node guarding request node {node}, DLC {dlc}")
             }
-            Message::Lss { direction, payload } => write!(f, "LSS {direction:?}: {payload}"),
+            Message::Lss(lss) => lss.fmt(f),
             Message::Unknown(frame) => write!(f, "unknown {frame}"),
         }
     }

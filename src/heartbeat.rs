@@ -86,6 +86,13 @@ impl HeartbeatProducer {
         Duration::from_micros(self.period_us)
     }
 
+    /// The period in microseconds (whole milliseconds): what
+    /// [`period`](Self::period) gives without the 64-bit division that
+    /// building a `Duration` costs on a 32-bit target.
+    pub(crate) const fn period_us(&self) -> u64 {
+        self.period_us
+    }
+
     fn frame(&self, state: NmtState) -> CanFrame {
         let id = CanId::Standard(NMT_ERROR_CONTROL_BASE + u16::from(self.node.raw()));
         CanFrame::from_parts(id, [Heartbeat::new(state).encode(), 0, 0, 0, 0, 0, 0, 0], 1)

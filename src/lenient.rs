@@ -11,6 +11,7 @@ use core::fmt;
 use crate::cob_id::{classify, CobKind};
 use crate::error::DecodeError;
 use crate::frame::CanFrame;
+use crate::lss::{LssMessage, LssRequest, LssResponse};
 use crate::message::Message;
 
 /// How a frame deviates from the layout CiA 301 gives its object.
@@ -31,6 +32,12 @@ pub enum Deviation {
         /// Bytes the frame has.
         got: usize,
     },
+    /// Reserved bytes (from byte `from` on) that are not zero; they were
+    /// read as zero (LSS, CiA 305).
+    ReservedNotZero {
+        /// The first reserved byte.
+        from: usize,
+    },
 }
 
 impl fmt::Display for Deviation {
@@ -44,6 +51,9 @@ impl fmt::Display for Deviation {
                 f,
                 "{got} bytes where CiA 301 has at most {max} (the extra ones ignored)"
             ),
+            Deviation::ReservedNotZero { from } => {
+                write!(f, "reserved bytes {from}..=7 not zero (read as 0, CiA 305)")
+            }
         }
     }
 }
@@ -51,13 +61,18 @@ impl fmt::Display for Deviation {
 impl Message {
     /// Decodes like [`Message::decode`], but a frame of a fixed-layout
     /// object with the wrong length is read as far as it goes and the
-    /// deviation returned:
+    /// deviation returned (the only frames `Message::decode` accepts that
+    /// this reads differently are the LSS frames it keeps raw, below):
     ///
     /// - NMT with 1 byte (the node byte read as 0, all nodes), EMCY with
     ///   fewer than 8 bytes (missing bytes read as 0);
     /// - TIME with more than 6 bytes, SYNC with more than 1, NMT with more
     ///   than 2, EMCY with more than 8 (impossible on classic CAN) and
     ///   heartbeat with more than 1 (extra bytes ignored).
+    ///
+    /// - LSS (CiA 305) with a listed command specifier but fewer than 8
+    ///   bytes (missing bytes read as 0) or reserved bytes that are not
+    ///   zero (read as 0), which [`Message::decode`] keeps raw.
     ///
     /// An empty NMT, TIME or heartbeat frame, SDO frames (which have their
     /// own leniency) and remote frames where none are defined stay errors.
@@ -73,6 +88,7 @@ impl Message {
     /// ```
     pub fn decode_lenient(frame: &CanFrame) -> Result<(Message, Option<Deviation>), DecodeError> {
         let err = match Message::decode(frame) {
+            Ok(Message::Lss(lss)) => return Ok(lss_lenient(frame, lss)),
             Ok(m) => return Ok((m, None)),
             Err(e) => e,
         };
@@ -101,6 +117,53 @@ impl Message {
         let msg = Message::decode(&repaired).map_err(|_| err)?;
         Ok((msg, Some(deviation)))
     }
+}
+
+/// An LSS frame kept raw that becomes a listed service once padded to 8
+/// bytes or once its trailing reserved bytes are read as 0.
+fn lss_lenient(frame: &CanFrame, lss: LssMessage) -> (Message, Option<Deviation>) {
+    let raw = matches!(
+        lss,
+        LssMessage::Request(LssRequest::Other(_)) | LssMessage::Response(LssResponse::Other(_))
+    );
+    let data = frame.data();
+    if !raw || data.is_empty() {
+        return (Message::Lss(lss), None);
+    }
+    let typed = |bytes: &[u8]| {
+        LssMessage::decode(lss.direction(), bytes).ok().filter(|m| {
+            !matches!(
+                m,
+                LssMessage::Request(LssRequest::Other(_))
+                    | LssMessage::Response(LssResponse::Other(_))
+            )
+        })
+    };
+    let mut bytes = [0u8; 8];
+    crate::bytes::copy_short(&mut bytes, data);
+    if data.len() < 8 {
+        return match typed(&bytes) {
+            Some(m) => (
+                Message::Lss(m),
+                Some(Deviation::Short {
+                    need: 8,
+                    got: data.len(),
+                }),
+            ),
+            None => (Message::Lss(lss), None),
+        };
+    }
+    // The fewest trailing bytes read as 0 that make it a listed service.
+    for from in (1..8usize).rev() {
+        let mut masked = bytes;
+        for b in masked.iter_mut().skip(from) {
+            *b = 0;
+        }
+        if let Some(m) = typed(&masked) {
+            return (Message::Lss(m), Some(Deviation::ReservedNotZero { from }));
+        }
+    }
+    (Message::Lss(lss), None)
 }
 
 #[cfg(test)]
@@ -177,5 +240,56 @@ mod tests {
             Deviation::Short { need: 8, got: 3 }.to_string(),
             "3 bytes where CiA 301 has 8 (the missing ones read as 0)"
         );
+    }
+
+    #[test]
+    fn lss_short_and_reserved_set_frames() {
+        let rows: [(CanFrame, Option<Deviation>, &str); 6] = [
+            (
+                f(0x7E5, &[0x04, 0x01]),
+                Some(Deviation::Short { need: 8, got: 2 }),
+                "LSS master: switch state global configuration",
+            ),
+            (
+                f(0x7E4, &[0x4F]),
+                Some(Deviation::Short { need: 8, got: 1 }),
+                "LSS slave: identify slave",
+            ),
+            (
+                f(0x7E5, &[0x11, 0x05, 0, 0, 0, 0, 0, 0xAA]),
+                Some(Deviation::ReservedNotZero { from: 7 }),
+                "LSS master: configure node-ID 5",
+            ),
+            (
+                f(0x7E4, &[0x5E, 0x05, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF]),
+                Some(Deviation::ReservedNotZero { from: 2 }),
+                "LSS slave: node-ID 5",
+            ),
+            // Unlisted, or listed and strict: as Message::decode reads them.
+            (
+                f(0x7E5, &[0x99, 1, 2, 3, 4, 5, 6, 7]),
+                None,
+                "LSS master: unknown",
+            ),
+            (
+                f(0x7E5, &[0x51, 1, 2, 3, 4, 5, 6, 7]),
+                None,
+                "LSS fastscan id 04030201 bit 5 sub 6 next 7",
+            ),
+        ];
+        for (frame, want, text) in rows {
+            let (msg, got) = Message::decode_lenient(&frame).unwrap();
+            assert_eq!(got, want, "{frame}");
+            assert!(msg.to_string().starts_with(text), "{frame}: {msg}");
+            if want.is_none() {
+                assert_eq!(Message::decode(&frame).unwrap(), msg);
+            }
+        }
+        assert_eq!(
+            Deviation::ReservedNotZero { from: 2 }.to_string(),
+            "reserved bytes 2..=7 not zero (read as 0, CiA 305)"
+        );
+        let empty = f(0x7E5, &[]);
+        assert_eq!(Message::decode_lenient(&empty).unwrap().1, None);
     }
 }

@@ -62,6 +62,7 @@ pub mod frame;
 pub mod guarding;
 pub mod heartbeat;
 pub mod lenient;
+pub mod lss;
 pub mod machine;
 pub mod message;
 pub mod nmt;

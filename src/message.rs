@@ -7,10 +7,11 @@
 //! identical frame ([`Message::encode`]).
 
 use crate::bytes::Payload;
-use crate::cob_id::{classify, CobKind, LssDirection, NodeId, PdoNumber};
+use crate::cob_id::{classify, CobKind, NodeId, PdoNumber};
 use crate::emcy::Emergency;
 use crate::error::DecodeError;
 use crate::frame::{CanFrame, CanId};
+use crate::lss::LssMessage;
 use crate::nmt::{Heartbeat, NmtCommand};
 use crate::sdo::{SdoRequest, SdoResponse};
 use crate::sync::Sync;
@@ -88,13 +89,9 @@ pub enum Message {
         /// The requested data length (1 by CiA 301; kept as received).
         dlc: u8,
     },
-    /// 0x7E4 / 0x7E5: layer setting services (raw payload).
-    Lss {
-        /// Which way the frame travels.
-        direction: LssDirection,
-        /// 0..=8 payload bytes.
-        payload: Payload,
-    },
+    /// 0x7E4 / 0x7E5: layer setting services (CiA 305), typed; the
+    /// direction is the variant of [`LssMessage`].
+    Lss(LssMessage),
     /// Outside the predefined connection set (including every 29-bit frame),
     /// or a remote frame on an unassigned identifier: the frame itself.
     Unknown(CanFrame),
@@ -201,10 +198,7 @@ impl Message {
             CobKind::Nmt => Message::Nmt(NmtCommand::decode(data)?),
             CobKind::Sync => Message::Sync(Sync::decode(data)?),
             CobKind::Time => Message::Time(TimeOfDay::decode(data)?),
-            CobKind::Lss(direction) => Message::Lss {
-                direction,
-                payload: Payload::from_frame(frame),
-            },
+            CobKind::Lss(direction) => Message::Lss(LssMessage::decode(direction, data)?),
             CobKind::Unknown => Message::Unknown(*frame),
         })
     }
@@ -243,7 +237,7 @@ impl Message {
             Message::Heartbeat { node, .. } | Message::NodeGuardRequest { node, .. } => {
                 CobKind::NmtErrorControl(node)
             }
-            Message::Lss { direction, .. } => CobKind::Lss(direction),
+            Message::Lss(lss) => CobKind::Lss(lss.direction()),
             Message::Unknown(f) => classify(f.id()),
         }
     }
@@ -274,9 +268,10 @@ impl Message {
             }
             Message::Emcy { emcy, .. } => put(&mut buf, &emcy.encode()),
             Message::Time(t) => put(&mut buf, &t.encode()),
-            Message::Tpdo { payload, .. }
-            | Message::Rpdo { payload, .. }
-            | Message::Lss { payload, .. } => put(&mut buf, payload.as_slice()),
+            Message::Tpdo { payload, .. } | Message::Rpdo { payload, .. } => {
+                put(&mut buf, payload.as_slice())
+            }
+            Message::Lss(lss) => lss.encode(&mut buf),
             Message::SdoRequest { sdo, .. } => {
                 let (b, n) = sdo.encode();
                 buf = b;

@@ -126,10 +126,9 @@ fn others() {
     ));
     assert!(matches!(
         round_trip(f(0x7E5, &[0x04, 1, 0, 0, 0, 0, 0, 0])),
-        Message::Lss {
-            direction: LssDirection::MasterToSlave,
-            ..
-        }
+        Message::Lss(crate::lss::LssMessage::Request(
+            crate::lss::LssRequest::SwitchStateGlobal(crate::lss::LssMode::Configuration)
+        ))
     ));
     let ext = CanFrame::new(CanId::Extended(0x18A), &[1, 2]).unwrap();
     assert_eq!(round_trip(ext), Message::Unknown(ext));

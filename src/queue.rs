@@ -76,7 +76,8 @@ impl<T: Copy, const N: usize> EventQueue<T, N> {
     }
 
     /// Appends `event`; when full, the oldest event is dropped and counted.
-    #[inline]
+    #[cfg_attr(target_pointer_width = "64", inline)]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub(crate) fn push(&mut self, event: T) {
         if self.queue.room() == 0 {
             let _ = self.queue.pop();

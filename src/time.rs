@@ -73,7 +73,8 @@ impl Timestamp {
     /// once, for ever; this way a far-ahead timestamp expires it once, as
     /// the state-machine contract says.
     #[must_use]
-    #[inline]
+    #[cfg_attr(target_pointer_width = "64", inline)]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub(crate) const fn deadline_after(self, us: u64) -> Option<Timestamp> {
         let at = self.add_micros(us);
         if at.0 > self.0 {
@@ -154,7 +155,8 @@ impl<const N: usize> Timers<N> {
     }
 
     /// Arms (`Some`) or stops (`None`) timer `slot`.
-    #[inline]
+    #[cfg_attr(target_pointer_width = "64", inline)]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn set(&mut self, slot: usize, deadline: Option<Timestamp>) {
         if let Some(d) = self.deadlines.get_mut(slot) {
             *d = deadline;
@@ -188,7 +190,8 @@ impl<const N: usize> Timers<N> {
 
     /// The earliest armed deadline.
     #[must_use]
-    #[inline]
+    #[cfg_attr(target_pointer_width = "64", inline)]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn next(&self) -> Option<Timestamp> {
         self.deadlines.iter().flatten().min().copied()
     }

@@ -523,7 +523,7 @@ fn default_mappings_apply_without_pdo() {
 #[test]
 fn bad_pdo_values_exit_2() {
     for (args, why) in [
-        (&["--pdo"][..], "--pdo needs"),
+        (&["--pdo"][..], "a value is required for '--pdo"),
         (&["--pdo", "18A"], "expected COBID=INDEX:SUB:BITS"),
         (&["--pdo", "18A="], "is not INDEX:SUB:BITS"),
         (&["--pdo", "18A=2002:0"], "is not INDEX:SUB:BITS"),
@@ -561,7 +561,11 @@ fn bad_pdo_values_exit_2() {
         assert_eq!(o.status.code(), Some(2), "{args:?}");
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(err.contains(why), "{args:?}: {err}");
-        assert!(err.contains("usage: canopen-decode"), "{err}");
+        // clap's errors point to --help; the program's own show the usage.
+        assert!(
+            err.contains("Usage: canopen-decode") || err.contains("try '--help'"),
+            "{err}"
+        );
     }
 }
 
@@ -632,6 +636,7 @@ fn sdo_sample_transfers_in_json() {
         serde_json::json!({
             "t": t.parse::<f64>().unwrap(), "kind": "sdo_transfer", "node": 2, "role": null, "direction": dir,
             "index": index, "sub": sub, "status": "complete", "indicated_size": null,
+            "block": false, "crc_checked": false,
             "size_indicated": true, "size_mismatch": false, "truncated": false,
             "unit": null, "meaning": null, "value": null, "name": null,
         })
@@ -645,13 +650,13 @@ fn sdo_sample_transfers_in_json() {
     let want = [
         with(
             base("1757100000.001350", "upload", 0x1018, 1),
-            serde_json::json!({"size": 4, "bytes": "04000000", "name": "identity vendor-ID",
+            serde_json::json!({"size": 4, "indicated_size": 4, "bytes": "04000000", "name": "identity vendor-ID",
                 "value": 4, "meaning": "00000004h",
                 "text": "SDO upload 1018h:01 from node 2: 04 00 00 00 (identity vendor-ID: 00000004h)"}),
         ),
         with(
             base("1757100000.101350", "download", 0x1017, 0),
-            serde_json::json!({"size": 2, "bytes": "a00f", "name": "producer heartbeat time",
+            serde_json::json!({"size": 2, "indicated_size": 2, "bytes": "a00f", "name": "producer heartbeat time",
                 "value": 4000, "unit": "ms", "meaning": "4000 ms",
                 "text": "SDO download 1017h:00 to node 2: A0 0F (producer heartbeat time: 4000 ms)"}),
         ),
@@ -714,7 +719,8 @@ fn sdo_objects_named_by_role() {
             "SDO upload 1001h:00 from node 10: 81 (error register: generic, manufacturer)",
             "SDO upload 1003h:01 from node 10: 00 90 80 01 (pre-defined error field: 9000h external error, \
              information 0180h, Delta-Q E-0-0-1 battery high voltage (threshold from the algorithm))",
-            "SDO download 1400h:01 to node 4: 04 02 00 80 (RPDO0 communication: COB-ID: 204h, invalid)",
+            "SDO download 1400h:01 to node 4: 04 02 00 80 (RPDO0 communication: COB-ID: 204h, invalid) \
+             [RPDO0 of node 4 is not valid (COB-ID bit 31 set)]",
             "SDO download 1016h:02 to node 4: F0 00 01 00 (consumer heartbeat time: node 1, 240 ms)",
             "SDO upload 1A00h:01 from node 1: 10 00 01 60 (TPDO0 mapping: entry 1: 6001h:00/16 charger status)",
             "SDO upload 6030h:01 from node 1: 41 42 43 44 (battery serial number: \"ABCD\")",
@@ -763,8 +769,10 @@ fn sdo_stray_segments_end_nothing() {
     assert_eq!(
         transfers(&text(&o)),
         [
-            "SDO download 2000h:00 to node 2 incomplete: unexpected server frame (upload segment) \
-          (0 bytes transferred of 13 indicated)"
+            "SDO download 2000h:00 to node 2 incomplete: the server's upload segment t=1, 5 bytes: \
+             69 6E 73 20 21, last breaks CiA 301 (the client should abort with 05040001h \
+             Client/server command specifier not valid or unknown), and no abort followed \
+             (0 bytes transferred of 13 indicated)"
         ]
     );
 }
@@ -807,8 +815,9 @@ fn sdo_toggle_error_is_reported_once() {
     assert_eq!(
         transfers(&text(&o)),
         [
-            "SDO upload 1008h:00 from node 2 incomplete: upload segment with toggle 0, expected 1 \
-          (7 bytes transferred of 26 indicated)"
+            "SDO upload 1008h:00 from node 2 incomplete: the server's upload segment t=0, 7 bytes: \
+             64 65 20 2D 20 4D 65 breaks CiA 301 (the client should abort with 05030000h Toggle \
+             bit not alternated), and no abort followed (7 bytes transferred of 26 indicated)"
         ]
     );
     // A client request with the wrong toggle, a download ack with the wrong
@@ -821,10 +830,12 @@ fn sdo_toggle_error_is_reported_once() {
     assert_eq!(
         transfers(&text(&run(&["-"], Some(&input)))),
         [
-            "SDO upload 1008h:00 from node 2 incomplete: upload segment request with toggle 0, \
-             expected 1 (7 bytes transferred of 26 indicated)",
-            "SDO download 2000h:00 to node 2 incomplete: download acknowledgement with toggle 1, \
-             expected 0 (7 bytes transferred of 13 indicated)",
+            "SDO upload 1008h:00 from node 2 incomplete: the client's upload segment request t=0 \
+             breaks CiA 301 (the server should abort with 05030000h Toggle bit not alternated), \
+             and no abort followed (7 bytes transferred of 26 indicated)",
+            "SDO download 2000h:00 to node 2 incomplete: the server's download segment ack t=1 \
+             breaks CiA 301 (the client should abort with 05030000h Toggle bit not alternated), \
+             and no abort followed (7 bytes transferred of 13 indicated)",
             "SDO upload 1008h:00 from node 2 aborted by the client: 05040000h SDO protocol timed out",
         ]
     );
@@ -882,8 +893,8 @@ fn sdo_size_mismatch_truncation_and_log_end_are_reported() {
 }
 
 #[test]
-fn sdo_block_transfers_are_skipped_not_misread() {
-    // V17 and V18 (block download and upload), then V1.
+fn sdo_block_transfers_are_reassembled_and_their_segments_named() {
+    // V17 and V18 (block download and upload, CRC on both), then V1.
     let input = "\
 602#C60020001E000000\n582#A40020007F000000\n602#014120726561 6C6C\n602#027920726561 6C6C\n\
 602#03792 06C6F6E6720\n602#0473747269 6E672E\n602#852E2E0000000000\n582#A2057F0000000000\n\
@@ -895,10 +906,46 @@ fn sdo_block_transfers_are_skipped_not_misread() {
     let input = input.replace(' ', "");
     let o = run(&["-"], Some(&input));
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = text(&o);
     assert_eq!(
-        transfers(&text(&o)),
-        ["SDO upload 1018h:01 from node 2: 04 00 00 00 (identity vendor-ID: 00000004h)"]
+        transfers(&out),
+        [
+            "SDO block download 2000h:00 to node 2: 30 bytes 41 20 72 65 61 6C 6C 79 20 72 65 61 \
+             6C 6C 79 20 6C 6F 6E 67 20 73 74 72 69 6E 67 2E 2E 2E [CRC checked]",
+            "SDO block upload 1008h:00 from node 2: 26 bytes \"Tiny Node - Mega Domains !\" \
+             (manufacturer device name) [CRC checked]",
+            "SDO upload 1018h:01 from node 2: 04 00 00 00 (identity vendor-ID: 00000004h)"
+        ]
     );
+    // Sub-block segments are named as such, not read as commands.
+    let lines: Vec<&str> = out.lines().collect();
+    assert!(
+        lines[2].ends_with("SDO block segment seq 1 to node 2: 41 20 72 65 61 6C 6C"),
+        "{}",
+        lines[2]
+    );
+    assert!(
+        lines[6].ends_with("SDO block segment seq 5, last to node 2: 2E 2E 00 00 00 00 00"),
+        "{}",
+        lines[6]
+    );
+    assert!(
+        lines[14].ends_with("SDO block segment seq 1 from node 2: 54 69 6E 79 20 4E 6F"),
+        "{}",
+        lines[14]
+    );
+    assert_eq!(out.matches("block segment").count(), 9);
+    let v = json_lines(&run(&["--json", "-"], Some(&input)));
+    assert_eq!(v[2]["command"], "block segment");
+    assert_eq!(v[2]["seqno"], 1);
+    assert_eq!(v[2]["last"], false);
+    assert_eq!(v[6]["seqno"], 5);
+    assert_eq!(v[6]["last"], true);
+    assert_eq!(v[6]["segment_data"], "2e2e0000000000");
+    let block: Vec<&Value> = v.iter().filter(|x| x["kind"] == "sdo_transfer").collect();
+    assert_eq!(block[0]["block"], true);
+    assert_eq!(block[0]["crc_checked"], true);
+    assert_eq!(block[1]["size"], 26);
 }
 
 #[test]
@@ -1294,4 +1341,255 @@ fn summary_of_the_real_startup_capture() {
         .expect("E-0-3-0");
     assert!(e032 < e030, "{out}");
     assert!(out.contains("  open problems at the end: yes"));
+}
+
+/// LSS (CiA 305) services in words, JSON fields, CSV text and the summary.
+#[test]
+fn lss_services_in_words_json_csv_and_summary() {
+    let log = "(1.000) can0 7E5#5100000000800000\n(1.001) can0 7E4#4F00000000000000\n\
+               (1.010) can0 7E5#51785634121F0000\n(1.020) can0 7E5#409A020000000000\n\
+               (1.030) can0 7E5#1105000000000000\n(1.031) can0 7E4#1100000000000000\n\
+               (1.040) can0 7E5#1700000000000000\n(1.041) can0 7E4#1702000000000000\n\
+               (1.050) can0 7E5#5E00000000000000\n(1.051) can0 7E4#5EFF000000000000\n\
+               (1.060) can0 7E5#0400000000000000\n(1.061) can0 705#00\n\
+               (1.070) can0 7E5#9901020304050607\n";
+    let o = run(&["--summary"], Some(log));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = text(&o);
+    for want in [
+        "LSS fastscan id 00000000 bit 128 sub 0 next 0",
+        "LSS slave: identify slave",
+        "LSS fastscan id 12345678 bit 31 sub 0 next 0",
+        "LSS master: switch state selective vendor 0000029Ah",
+        "LSS master: configure node-ID 5",
+        "LSS slave: configure node-ID ok",
+        "LSS master: store configuration",
+        "LSS slave: store configuration error 2 (storage media access error)",
+        "LSS master: inquire node-ID",
+        "LSS slave: node-ID 255",
+        "LSS master: switch state global waiting",
+        "LSS master: unknown [99 01 02 03 04 05 06 07]",
+        "LSS: 12 frames, 1 fastscans, node-IDs configured: 5",
+    ] {
+        assert!(out.contains(want), "{want:?} missing in:\n{out}");
+    }
+    let o = run(&["--json"], Some(log));
+    let rows: Vec<Value> = text(&o)
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let scan = &rows[2];
+    assert_eq!(scan["kind"], "lss");
+    assert_eq!(scan["direction"], "master_to_slave");
+    assert_eq!(scan["service"], "fastscan");
+    assert_eq!(scan["id_number"], 0x1234_5678);
+    assert_eq!(scan["bit_checked"], 31);
+    assert_eq!(
+        (&scan["lss_sub"], &scan["lss_next"]),
+        (&0.into(), &0.into())
+    );
+    assert_eq!(rows[3]["service"], "switch_state_selective");
+    assert_eq!(
+        (&rows[3]["field"], &rows[3]["value"]),
+        (&"vendor".into(), &0x29A.into())
+    );
+    assert_eq!(rows[5]["service"], "configure_node_id_response");
+    assert_eq!(rows[5]["error_code"], 0);
+    assert_eq!(rows[7]["error_code"], 2);
+    assert_eq!(rows[9]["direction"], "slave_to_master");
+    assert_eq!(
+        (&rows[9]["field"], &rows[9]["value"]),
+        (&"node_id".into(), &255.into())
+    );
+    assert_eq!(rows[12]["service"], "unknown");
+    // A short LSS frame with a listed command specifier: read, flagged.
+    let o = run(&["--json"], Some("(2.0) can0 7E5#0401\n"));
+    let v: Value = serde_json::from_str(text(&o).trim()).unwrap();
+    assert_eq!(v["service"], "switch_state_global");
+    assert_eq!(v["mode"], 1);
+    assert!(v["deviation"]
+        .as_str()
+        .unwrap()
+        .starts_with("2 bytes where"));
+    let o = run(&["--output", "csv"], Some(log));
+    let csv = text(&o);
+    assert!(
+        csv.lines()
+            .any(|l| l.ends_with(",lss,,,LSS slave: identify slave,,")),
+        "{csv}"
+    );
+}
+
+#[test]
+fn sdo_channels_on_other_cob_ids_are_declared_with_sdo() {
+    // An SDO server on 241h/1C1h (node 65): an expedited upload of 1008h,
+    // then a block upload cut off by the end of the log.
+    let input = "241#4008100000000000\n1C1#4F08100041000000\n\
+241#A40810007F000000\n1C1#C60810001A000000\n241#A300000000000000\n1C1#0154696E79204E6F\n";
+    let o = run(&["--sdo", "65=241,1C1", "-"], Some(input));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = text(&o);
+    assert!(
+        out.contains("SDO request to node 65: initiate upload 1008h sub 0"),
+        "{out}"
+    );
+    assert!(
+        out.contains("SDO block segment seq 1 from node 65: 54 69 6E 79 20 4E 6F"),
+        "{out}"
+    );
+    assert_eq!(
+        transfers(&out),
+        [
+            "SDO upload 1008h:00 from node 65: 1 bytes \"A\" (manufacturer device name)",
+            "SDO block upload 1008h:00 from node 65 incomplete: the log ends \
+             (7 bytes transferred of 26 indicated)",
+        ]
+    );
+    // The open transfer is reported once, in JSON too.
+    let v = json_transfers(&run(
+        &["--json", "--sdo", "65=0x241,0x1C1", "-"],
+        Some(input),
+    ));
+    assert_eq!(v.len(), 2);
+    assert_eq!(v[1]["status"], "incomplete");
+    assert_eq!(v[1]["block"], true);
+    // Undeclared, the same frames are PDOs.
+    let out = text(&run(&["-"], Some(input)));
+    assert!(transfers(&out).is_empty());
+    assert!(out.contains("RPDO"), "{out}");
+    // A malformed declaration is a usage error.
+    for bad in [
+        "65=241",
+        "x=241,1C1",
+        "65=241,241",
+        "65=zz,1C1",
+        "200=241,1C1",
+    ] {
+        let o = run(&["--sdo", bad, "-"], Some(input));
+        assert_eq!(o.status.code(), Some(2), "--sdo {bad}");
+    }
+}
+
+#[test]
+fn pdo_mappings_written_by_sdo_apply_to_the_pdos_that_follow() {
+    // Node 5 (no role): TPDO 1 (1801h/1A01h) remapped by the CiA 301
+    // procedure (0 entries, the entries, then their number), then moved to
+    // 2A5h; its frames decode by the mapping from then on.
+    let input = "\
+285#1122334455\n\
+605#2F011A0000000000\n585#60011A0000000000\n\
+605#23011A0108000060\n585#60011A0100000000\n\
+605#23011A0210001060\n585#60011A0200000000\n\
+605#2F011A0002000000\n585#60011A0000000000\n\
+285#2A3412\n\
+605#23011801A5020000\n585#6001180100000000\n\
+2A5#2B7856\n";
+    let o = run(&["-"], Some(input));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = text(&o);
+    let lines: Vec<&str> = out.lines().collect();
+    // Before the remap the frame is raw.
+    assert!(
+        lines[0].ends_with("TPDO1 node 5: 11 22 33 44 55"),
+        "{}",
+        lines[0]
+    );
+    let remap = lines
+        .iter()
+        .find(|l| l.contains("SDO download 1A01h:00") && l.contains("02"))
+        .unwrap();
+    assert!(
+        remap.ends_with(
+            "[TPDO1 of node 5 maps 6000h:00/8, 6010h:00/16; applied to the frames on 285h that follow]"
+        ),
+        "{remap}"
+    );
+    let pdo = lines
+        .iter()
+        .find(|l| l.contains("  285  ") && l.contains("2A 34 12"))
+        .unwrap();
+    assert!(pdo.contains("[from SDO in the log]"), "{pdo}");
+    assert!(
+        pdo.contains("6000h unknown object: raw 2Ah")
+            && pdo.contains("6010h unknown object: raw 1234h"),
+        "{pdo}"
+    );
+    let moved = lines
+        .iter()
+        .find(|l| l.contains("SDO download 1801h:01"))
+        .unwrap();
+    assert!(
+        moved.ends_with("[TPDO1 of node 5 now on 2A5h; its mapping applies there]"),
+        "{moved}"
+    );
+    let last = lines.last().unwrap();
+    assert!(last.contains("[from SDO in the log]"), "{last}");
+    // In JSON the transfer carries the note and the PDO its fields.
+    let v = json_lines(&run(&["--json", "-"], Some(input)));
+    let notes: Vec<&str> = v.iter().filter_map(|x| x["pdo_config"].as_str()).collect();
+    assert_eq!(notes.len(), 3, "{notes:?}");
+    assert_eq!(notes[0], "TPDO1 of node 5: mapping cleared (0 entries)");
+    assert!(notes[1].starts_with("TPDO1 of node 5 maps"), "{}", notes[1]);
+    let fields = v.last().unwrap()["fields"].as_array().unwrap().len();
+    assert_eq!(fields, 2);
+}
+
+/// A small device description of our own, for `--eds`: a pump controller
+/// (CiA 401 device type) whose TPDO0 carries its speed (2000h sub 0,
+/// UNSIGNED16) and temperature (2001h, INTEGER8), and whose SDO server is
+/// not on the default COB-IDs: 640h/5C0h + $NODEID (643h/5C3h for node 3).
+const PUMP_EDS: &str = "[FileInfo]\nFileName=pump.eds\n\n[DeviceInfo]\nVendorName=Us\nProductName=Pump\n\n\
+[MandatoryObjects]\nSupportedObjects=1\n1=0x1000\n\n\
+[1000]\nParameterName=Device type\nObjectType=0x7\nDataType=0x0007\nAccessType=ro\nDefaultValue=0x00000191\nPDOMapping=0\n\n\
+[OptionalObjects]\nSupportedObjects=4\n1=0x1200\n2=0x1800\n3=0x1A00\n4=0x2000\n\n\
+[1200]\nParameterName=Server SDO parameter\nObjectType=0x9\nSubNumber=3\n\n\
+[1200sub0]\nParameterName=Highest sub-index\nObjectType=0x7\nDataType=0x0005\nAccessType=ro\nDefaultValue=2\nPDOMapping=0\n\n\
+[1200sub1]\nParameterName=COB-ID client to server\nObjectType=0x7\nDataType=0x0007\nAccessType=ro\nDefaultValue=$NODEID+0x640\nPDOMapping=0\n\n\
+[1200sub2]\nParameterName=COB-ID server to client\nObjectType=0x7\nDataType=0x0007\nAccessType=ro\nDefaultValue=$NODEID+0x5C0\nPDOMapping=0\n\n\
+[1800]\nParameterName=TPDO0 communication\nObjectType=0x9\nSubNumber=2\n\n\
+[1800sub0]\nParameterName=Highest sub-index\nObjectType=0x7\nDataType=0x0005\nAccessType=ro\nDefaultValue=1\nPDOMapping=0\n\n\
+[1800sub1]\nParameterName=COB-ID\nObjectType=0x7\nDataType=0x0007\nAccessType=rw\nDefaultValue=$NODEID+0x180\nPDOMapping=0\n\n\
+[1A00]\nParameterName=TPDO0 mapping\nObjectType=0x9\nSubNumber=3\n\n\
+[1A00sub0]\nParameterName=Number of entries\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\nDefaultValue=2\nPDOMapping=0\n\n\
+[1A00sub1]\nParameterName=Entry 1\nObjectType=0x7\nDataType=0x0007\nAccessType=rw\nDefaultValue=0x20000010\nPDOMapping=0\n\n\
+[1A00sub2]\nParameterName=Entry 2\nObjectType=0x7\nDataType=0x0007\nAccessType=rw\nDefaultValue=0x20010008\nPDOMapping=0\n\n\
+[2000]\nParameterName=Pump\nObjectType=0x9\nSubNumber=2\n\n\
+[2000sub0]\nParameterName=Speed\nObjectType=0x7\nDataType=0x0006\nAccessType=ro\nDefaultValue=0\nPDOMapping=1\n\n\
+[2000sub1]\nParameterName=Unused\nObjectType=0x7\nDataType=0x0006\nAccessType=ro\nDefaultValue=0\nPDOMapping=1\n\n\
+[2001]\nParameterName=Temperature\nObjectType=0x7\nDataType=0x0002\nAccessType=ro\nDefaultValue=0\nPDOMapping=1\n";
+
+#[test]
+fn eds_gives_pdo_mappings_sdo_channels_and_names() {
+    let dir = std::env::temp_dir().join(format!("canopen-decode-eds-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("pump.eds");
+    std::fs::write(&path, PUMP_EDS).unwrap();
+    let arg = format!("3={}", path.display());
+    let input = "183#3412F6\n643#4001200000000000\n5C3#4F012000F6000000\n";
+    let o = run(&["--eds", &arg, "-"], Some(input));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("node 3 from"), "{err}");
+    assert!(err.contains("device type 00000191h (profile 401)"), "{err}");
+    assert!(err.contains("PDOs mapped: TPDO0 on 183h"), "{err}");
+    assert!(err.contains("SDO on 643h/5C3h"), "{err}");
+    let out = text(&o);
+    let lines: Vec<&str> = out.lines().collect();
+    assert!(
+        lines[0].ends_with("= [from the EDS] 2000h Pump: Speed 4660; 2001h Temperature -10"),
+        "{}",
+        lines[0]
+    );
+    assert!(
+        lines[1].contains("SDO request to node 3: initiate upload 2001h sub 0"),
+        "{}",
+        lines[1]
+    );
+    assert_eq!(transfers(&out), ["SDO upload 2001h:00 from node 3: F6"]);
+    // A file that is not there, or not an EDS, is a usage error.
+    let o = run(&["--eds", "3=/nonexistent/pump.eds", "-"], Some(input));
+    assert_eq!(o.status.code(), Some(2));
+    let o = run(&["--eds", "pump.eds", "-"], Some(input));
+    assert_eq!(o.status.code(), Some(2));
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -15,6 +15,7 @@
 use canopen_codec::bytes::Payload;
 use canopen_codec::cob_id::{classify, LssDirection};
 use canopen_codec::emcy::{Emergency, ErrorCode, ErrorRegister};
+use canopen_codec::lss::LssMessage;
 use canopen_codec::nmt::{Heartbeat, NmtCommand};
 use canopen_codec::sdo::{
     AbortCode, ClientBlockDownload, ClientBlockUpload, ClientCommand, ExpeditedData,
@@ -380,7 +381,11 @@ fn plain_message() -> impl Strategy<Value = Message> {
             ],
             payload()
         )
-            .prop_map(|(direction, payload)| Message::Lss { direction, payload }),
+            .prop_map(|(direction, payload)| {
+                Message::Lss(
+                    LssMessage::decode(direction, payload.as_slice()).expect("0..=8 bytes decode"),
+                )
+            }),
     ]
 }
 

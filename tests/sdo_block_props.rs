@@ -20,6 +20,7 @@ use canopen_codec::sdo::{
     AbortCode, AbortOrigin, Client, ClientConfig, ClientEvent, Server, ServerConfig, ServerEvent,
 };
 use canopen_codec::NodeId;
+use common::observe;
 use common::sdo::{uploaded, CLIENT, SERVER};
 use common::sim::Sim;
 use proptest::prelude::*;
@@ -219,6 +220,22 @@ fn run(r: &Run) {
             .count();
         assert!(aborts <= 1, "{from} sent {aborts} aborts");
     }
+    // The observer, fed the same frames, reports what both sides saw.
+    let both = matches!(
+        c,
+        ClientEvent::Uploaded { .. } | ClientEvent::Downloaded { .. }
+    ) && matches!(
+        s,
+        ServerEvent::Uploaded { .. } | ServerEvent::Downloaded { .. }
+    );
+    let seen = observe::replay(&sim, r.latency_us);
+    observe::check_one_transfer(
+        &seen,
+        (INDEX, SUB),
+        &r.value,
+        both,
+        &observe::aborts_on_the_bus(&sim, CLIENT),
+    );
     if r.faults.is_empty() {
         assert!(matches!(
             c,

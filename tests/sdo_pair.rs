@@ -5,8 +5,10 @@
 mod common;
 
 use canopen_codec::od::{Access, MemoryDictionary};
+use canopen_codec::sdo::ObserverEvent;
 use canopen_codec::sdo::{ClientEvent, ServerEvent};
 use canopen_codec::Timestamp;
+use common::observe;
 use common::sdo::{SdoPair, CLIENT};
 use proptest::prelude::*;
 
@@ -61,6 +63,18 @@ fn write_then_read(index: u16, sub: u8, value: &[u8], latency_us: u64) -> SdoPai
             len: value.len()
         }]
     );
+    // The observer, fed the same frames, saw both transfers complete with
+    // every byte.
+    let seen = observe::replay(&p.sim, latency_us);
+    let ends = seen.ends((index, sub));
+    assert_eq!(ends.len(), 2, "{ends:?}");
+    for end in ends {
+        assert!(
+            matches!(end, ObserverEvent::Completed { bytes, .. } if bytes == value.len()),
+            "{end:?}"
+        );
+    }
+    assert_eq!(seen.value((index, sub)), value);
     p
 }
 
@@ -156,6 +170,14 @@ fn check_drop(len: usize, upload: bool, k: usize, latency_us: u64) {
     // Nothing is pending afterwards, and it took the timeout to get there.
     assert!(!p.client().is_busy() && !p.server().is_busy());
     assert!(p.now() >= Timestamp::from_millis(2000));
+    // The observer, fed the same frames, ends the transfer once: with the
+    // timeout abort that was on the bus, or broken off when the dropped
+    // frame was what it needed to see.
+    let seen = observe::replay(&p.sim, latency_us);
+    let aborts = observe::aborts_on_the_bus(&p.sim, CLIENT);
+    let object = (index, 0);
+    let expected: &[u8] = if upload { &value } else { &[0xEE; 256][..len] };
+    observe::check_one_transfer(&seen, object, expected, false, &aborts);
     // Every abort on the wire carries the transfer's index and the timeout code.
     for s in p.log() {
         if s.frame.data().first() == Some(&0x80) {

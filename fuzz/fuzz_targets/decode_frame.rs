@@ -16,6 +16,7 @@
 use core::fmt::{self, Write};
 
 use canopen_codec::cob_id::classify;
+use canopen_codec::lss::{LssMessage, LssRequest, LssResponse};
 use canopen_codec::{CanFrame, CanId, Message};
 use libfuzzer_sys::fuzz_target;
 
@@ -66,9 +67,21 @@ fuzz_target!(|bytes: &[u8]| {
             let _ = write!(Sink, "{err} {err:?}");
         }
     }
-    // The lenient reading agrees with the strict one where that succeeds,
-    // and otherwise says how the frame deviates (or fails the same way).
+    // The lenient reading agrees with the strict one where that succeeds
+    // (but for an LSS frame kept raw, which it may read as its service
+    // with a deviation), and otherwise says how the frame deviates (or
+    // fails the same way).
     match (Message::decode(&frame), Message::decode_lenient(&frame)) {
+        (
+            Ok(Message::Lss(
+                LssMessage::Request(LssRequest::Other(_))
+                | LssMessage::Response(LssResponse::Other(_)),
+            )),
+            Ok((msg, Some(_))),
+        ) => {
+            assert_eq!(msg.kind(), classify(frame.id()), "{frame}");
+            assert!(matches!(msg, Message::Lss(_)), "{frame}");
+        }
         (Ok(strict), lenient) => assert_eq!(lenient, Ok((strict, None))),
         (Err(err), Ok((msg, deviation))) => {
             assert!(deviation.is_some(), "{frame}: read leniently without a deviation");

@@ -219,6 +219,31 @@ impl BatteryModule {
         }
     }
 
+    /// A module that also carries an LSS slave (CiA 305): with a slave
+    /// that has no node-ID (255) the module stays silent after
+    /// [`boot`](Self::boot) until an LSS master configures one (see
+    /// [`Device::with_lss`]). Its 1018h identity should be the slave's LSS
+    /// address.
+    #[must_use]
+    pub fn with_lss(config: BatteryModuleConfig, lss: crate::lss::LssSlave) -> Self {
+        BatteryModule {
+            config,
+            device: Device::with_lss(config.device_config(), BatteryObjects::new(), lss),
+            profile: ModuleProfile::default(),
+        }
+    }
+
+    /// The device core (node-ID, LSS slave, NMT state).
+    #[must_use]
+    pub const fn device(&self) -> &Device<BatteryObjects, BatteryEvent> {
+        &self.device
+    }
+
+    /// The device core, mutably (to answer an LSS store request).
+    pub fn device_mut(&mut self) -> &mut Device<BatteryObjects, BatteryEvent> {
+        &mut self.device
+    }
+
     // ----- getters ---------------------------------------------------------
 
     /// The configuration.

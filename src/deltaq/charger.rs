@@ -61,7 +61,7 @@ use core::time::Duration;
 
 use super::charger_objects::ChargerObjects;
 use super::{charger_default_pdo, device_type};
-use super::{emergency_reaction, timeouts, DeltaQCode, OperatingMode, Reaction};
+use super::{emergency_reaction, timeouts, DeltaQCode, OperatingMode, Reaction, ALARMS_AND_FAULTS};
 use crate::bytes::InlineData;
 use crate::cia419::{PdoPair, CHARGER_DEVICE_TYPE, PDO_PAIRS};
 use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
@@ -257,6 +257,27 @@ fn default_pdos(config: &ChargerConfig) -> PdoConfig {
 
 type ChargerDevice = Device<ChargerObjects, ChargerEvent>;
 
+/// A Delta-Q code with the EEC its row of [`ALARMS_AND_FAULTS`] gives
+/// (generic, 1000h, for a code without a row).
+#[derive(Debug, Clone, Copy)]
+struct Alarm(DeltaQCode, ErrorCode);
+
+impl Alarm {
+    /// Looks `code` up; meant for `const` contexts, so that firmware
+    /// carries the EEC and not the table with its labels and descriptions.
+    const fn of(code: DeltaQCode) -> Self {
+        let mut i = 0;
+        while i < ALARMS_AND_FAULTS.len() {
+            let row = &ALARMS_AND_FAULTS[i];
+            if row.code.raw() == code.raw() {
+                return Alarm(code, row.eec);
+            }
+            i += 1;
+        }
+        Alarm(code, ErrorCode::GENERIC)
+    }
+}
+
 /// SDO (server and client) runs in pre-operational and operational only
 /// (CiA 301).
 fn sdo_allowed(device: &ChargerDevice) -> bool {
@@ -368,9 +389,9 @@ impl ChargerProfile {
     }
 
     /// Raises a Delta-Q alarm: EMCY with the code in the manufacturer
-    /// bytes, 1001h generic bit, 1003h entry.
-    fn raise(device: &mut ChargerDevice, code: DeltaQCode) {
-        let eec = code.entry().map_or(ErrorCode::GENERIC, |e| e.eec);
+    /// bytes, 1001h generic bit, 1003h entry. `alarm` is an [`Alarm`]
+    /// looked up at compile time.
+    fn raise(device: &mut ChargerDevice, Alarm(code, eec): Alarm) {
         device.raise_error(
             ErrorRegister::GENERIC,
             code.to_emergency(eec, ErrorRegister::empty()),
@@ -389,7 +410,10 @@ impl ChargerProfile {
                     if matches!(self.link, Link::DeviceType | Link::CobId(..)) {
                         self.link = Link::Failed;
                         device.push_event(ChargerEvent::ConfigurationFailed { index, sub, code });
-                        Self::raise(device, DeltaQCode::BATTERY_MODULE_COMMUNICATION);
+                        Self::raise(
+                            device,
+                            const { Alarm::of(DeltaQCode::BATTERY_MODULE_COMMUNICATION) },
+                        );
                     }
                 }
                 _ => {}
@@ -434,7 +458,7 @@ impl ChargerProfile {
 
     fn battery_lost(&mut self, device: &mut ChargerDevice, now: Timestamp) {
         device.push_event(ChargerEvent::BatteryLost);
-        Self::raise(device, DeltaQCode::HEARTBEAT_LOST);
+        Self::raise(device, const { Alarm::of(DeltaQCode::HEARTBEAT_LOST) });
         let _ = self.client.abort(now, AbortCode::GeneralError);
         while self.client.poll_event().is_some() {}
         self.forget_pairing(device, now);
@@ -483,7 +507,7 @@ impl ChargerProfile {
                 if value & 0xFFFF != 418 {
                     self.link = Link::Failed;
                     device.push_event(ChargerEvent::NotABatteryModule { device_type: value });
-                    Self::raise(device, DeltaQCode::CAN_CONFIGURATION);
+                    Self::raise(device, const { Alarm::of(DeltaQCode::CAN_CONFIGURATION) });
                     return;
                 }
                 self.next_pair(device, now, 0, value);
@@ -629,5 +653,29 @@ impl Profile<ChargerObjects, ChargerEvent> for ChargerProfile {
         let code = error.emcy_code()?;
         let register = register | ErrorRegister::GENERIC | ErrorRegister::COMMUNICATION;
         Some(DeltaQCode::INVALID_PDO_LENGTH.to_emergency(code, register))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn alarms_carry_the_eec_of_their_table_row() {
+        for code in [
+            DeltaQCode::BATTERY_MODULE_COMMUNICATION,
+            DeltaQCode::HEARTBEAT_LOST,
+            DeltaQCode::CAN_CONFIGURATION,
+        ] {
+            let Alarm(c, eec) = Alarm::of(code);
+            assert_eq!(c, code);
+            assert_eq!(Some(eec), code.entry().map(|e| e.eec), "{code}");
+        }
+        // E-0-3-2 is 8130h (heartbeat error), as the real capture shows.
+        assert_eq!(Alarm::of(DeltaQCode::HEARTBEAT_LOST).1, ErrorCode(0x8130));
+        // A code without a row: the generic EEC.
+        let unlisted = DeltaQCode::alarm(0, 5).unwrap();
+        assert_eq!(unlisted.entry(), None);
+        assert_eq!(Alarm::of(unlisted).1, ErrorCode::GENERIC);
     }
 }

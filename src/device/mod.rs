@@ -48,28 +48,28 @@
 //!   every 1017h period; an SDO write to 1017h changes the period at once.
 //!   Heartbeats of the nodes in 1016h are supervised; their events are
 //!   reported as [`DeviceEvent::Heartbeat`] whether or not events are read.
-//! - **Node guarding** (CiA 301 node guarding and life guarding, 100Ch
-//!   and 100Dh): remote requests on 700h + node are answered in every NMT
-//!   state once booted, the toggle starting at 0 after boot and every
-//!   reset. While 1017h is non-zero the device produces heartbeats and does
-//!   not answer them (CiA 301: heartbeat and node guarding are exclusive;
-//!   the default 1017h of 1000 ms means no guarding). Life guarding starts
-//!   with the first request when 100Ch and 100Dh are non-zero; its events
-//!   are [`DeviceEvent::LifeGuarding`].
-//! - **SYNC**: with the generate bit of 1005h and a non-zero 1006h the
-//!   device sends SYNC every 1006h µs in pre-operational and operational
-//!   (not in stopped), the counter of 1019h restarting at 1 whenever the
-//!   producer (re)starts. SYNC frames on 1005h's identifier, received or
-//!   the device's own, run the synchronous TPDOs (in operational). Counter
-//!   skips and synchronous RPDOs received outside the 1007h window are
-//!   [`DeviceEvent::Sync`] (a SYNC itself is no event).
-//! - **TIME**: with the consume bit of 1012h every TIME received is a
-//!   [`DeviceEvent::Time`]; with the produce bit [`Device::send_time`]
-//!   sends one (pre-operational and operational).
-//! - All these objects are restored by both resets.
+//! - **Node guarding** ([`GuardingSlave`](crate::guarding::GuardingSlave),
+//!   100Ch, 100Dh): requests are answered in every state once booted, the
+//!   toggle from 0 after every reset, but not while 1017h is non-zero (CiA
+//!   301: heartbeat and guarding are exclusive; the default 1000 ms means no
+//!   guarding); life guarding is [`DeviceEvent::LifeGuarding`]. **SYNC**:
+//!   with 1005h's generate bit and a non-zero 1006h the device sends SYNC
+//!   (counter of 1019h) in pre-operational and operational; SYNC on 1005h's
+//!   identifier, received or its own, runs the synchronous TPDOs; counter
+//!   skips and synchronous RPDOs outside the 1007h window are
+//!   [`DeviceEvent::Sync`]. **TIME** follows 1012h's bits
+//!   ([`DeviceEvent::Time`], [`Device::send_time`]). Both resets restore
+//!   these objects.
 //! - **Back-pressure**: the event queue keeps the latest 16 events and
 //!   counts what it drops ([`Machine::events_dropped`]); nothing else
 //!   depends on it.
+//! - **LSS** (CiA 305, optional: [`Device::with_lss`]): the device's
+//!   [`LssSlave`] sees every frame from [`Device::boot`] on. A device whose
+//!   LSS node-ID is not configured (255) does not boot up: it stays silent
+//!   but for LSS until a master configures a node-ID and switches it back
+//!   to waiting state; it then performs a reset communication and boots up
+//!   under that node-ID. A configured node-ID that differs from the active
+//!   one takes effect at the next NMT reset (communication or node).
 //! - Total: no frame, timestamp or call order panics.
 //!
 //! # Communication objects ([`CommObjects`])
@@ -89,6 +89,7 @@
 //! | 1016h | consumer heartbeat time: sub 0 the number of entries (const), sub 1..n node (bits 23-16) and time in ms (bits 15-0) (rw; an enabled entry for a node another entry watches is 06040043h) | ARRAY of U32 | (only with entries) |
 //! | 1017h | producer heartbeat time, ms | U16 | rw |
 //! | 1018h | identity: sub 0 = 4 (ro), vendor-ID, product code, revision, serial number | RECORD of U32 | ro |
+//! | 1019h | synchronous counter overflow value: 0 or 2..=240 (1 and 241..=255 are 06090030h; while 1006h is non-zero 08000022h) | U8 | rw |
 //! | 1200h | SDO server parameter: sub 0 = 2, 600h + node, 580h + node | RECORD of U32 | ro |
 //!
 //! Objects the table does not name are passed to the application's
@@ -117,6 +118,7 @@ use crate::cob_id::{NodeId, EMCY_BASE};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::{CanFrame, CanId};
 use crate::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatProducer};
+use crate::lss::{LssSlave, LssSlaveEvent};
 use crate::machine::Machine;
 use crate::nmt::{NmtSlave, NmtSlaveEvent, NmtState, ResetKind};
 use crate::od::index::{CONSUMER_HEARTBEAT_TIME, PRODUCER_HEARTBEAT_TIME};
@@ -166,6 +168,11 @@ pub struct Device<A, E: Copy> {
     transmit: Queue<CanFrame, 16>,
     frames_dropped: u64,
     events: EventQueue<E, EVENT_CAPACITY>,
+    /// The optional LSS slave (CiA 305).
+    lss: Option<LssSlave>,
+    /// [`Device::boot`] was called (a device waiting for its LSS node-ID
+    /// is powered but not running).
+    powered: bool,
     /// Node guarding, SYNC and TIME (services.rs).
     services: services::Services,
 }
@@ -200,8 +207,56 @@ where
             transmit: Queue::new(CanFrame::EMPTY),
             frames_dropped: 0,
             events: EventQueue::new(E::from(DeviceEvent::Reset { node: true })),
+            lss: None,
+            powered: false,
             services: services::Services::new(config.node),
         }
+    }
+
+    /// A device that also carries an LSS slave (CiA 305). When the slave
+    /// has a node-ID it replaces `config.node`; when it has none (255),
+    /// the device waits for one before it boots up (see the module docs).
+    ///
+    /// ```
+    /// # #[cfg(feature = "alloc")] {
+    /// use canopen_codec::device::{Device, DeviceConfig, DeviceEvent};
+    /// use canopen_codec::lss::{LssAddress, LssSlave, LssSlaveConfig};
+    /// use canopen_codec::machine::Machine;
+    /// use canopen_codec::od::MemoryDictionary;
+    /// use canopen_codec::{CanFrame, NodeId, Timestamp};
+    /// let lss = LssSlave::new(LssSlaveConfig::new(LssAddress::default(), None));
+    /// let config = DeviceConfig::new(NodeId::MAX);
+    /// let mut dev: Device<MemoryDictionary, DeviceEvent> =
+    ///     Device::with_lss(config, MemoryDictionary::new(), lss);
+    /// let t = Timestamp::ZERO;
+    /// dev.boot(t, &mut ());
+    /// assert_eq!(dev.poll_transmit(), None, "no boot-up without a node-ID");
+    /// for data in [[0x04, 1, 0, 0, 0, 0, 0, 0], [0x11, 5, 0, 0, 0, 0, 0, 0], [0x04, 0, 0, 0, 0, 0, 0, 0]] {
+    ///     dev.handle_frame(t, &CanFrame::standard(0x7E5, &data).unwrap());
+    /// }
+    /// assert_eq!(dev.poll_transmit().unwrap().to_string(), "705#00");
+    /// assert_eq!(dev.poll_transmit().unwrap().to_string(), "7E4#1100000000000000");
+    /// assert_eq!(dev.node(), NodeId::new(5).unwrap());
+    /// # }
+    /// ```
+    pub fn with_lss(mut config: DeviceConfig, app: A, lss: LssSlave) -> Self {
+        if let Some(node) = lss.node_id() {
+            config.node = node;
+        }
+        let mut device = Self::new(config, app);
+        device.lss = Some(lss);
+        device
+    }
+
+    /// The LSS slave, if the device has one.
+    #[must_use]
+    pub const fn lss(&self) -> Option<&LssSlave> {
+        self.lss.as_ref()
+    }
+
+    /// The LSS slave, to answer a store request.
+    pub fn lss_mut(&mut self) -> Option<&mut LssSlave> {
+        self.lss.as_mut()
     }
 
     // ----- getters ---------------------------------------------------------
@@ -280,6 +335,11 @@ where
         // The application objects as they are now are the power-on values
         // reset node restores.
         self.power_on = self.objects().clone();
+        self.powered = true;
+        if self.lss.as_ref().is_some_and(|l| l.node_id().is_none()) {
+            // No node-ID: silent but for LSS until one is configured.
+            return;
+        }
         self.restart(now, ResetKind::Node);
         self.drain_nmt(now, profile);
     }
@@ -409,6 +469,12 @@ where
         frame: &CanFrame,
         profile: &mut P,
     ) {
+        if self.powered {
+            if let Some(lss) = self.lss.as_mut() {
+                lss.handle_frame(now, frame);
+                self.drain_lss(now, profile);
+            }
+        }
         if !self.nmt.is_running() {
             return;
         }
@@ -455,6 +521,7 @@ where
             .poll_transmit()
             .or_else(|| self.services.guarding.poll_transmit())
             .or_else(|| self.transmit.pop())
+            .or_else(|| self.lss.as_mut().and_then(LssSlave::poll_transmit))
             .or_else(|| self.server.poll_transmit())
             .or_else(|| profile.poll_transmit())
             .or_else(|| self.tpdos.poll_transmit())
@@ -524,9 +591,30 @@ where
         acted
     }
 
+    /// Hands the LSS slave's events on; a not-configured node that got a
+    /// node-ID resets its communication and boots up under it.
+    fn drain_lss<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+        while let Some(event) = self.lss.as_mut().and_then(LssSlave::poll_event) {
+            self.emit(now, DeviceEvent::Lss(event), profile);
+            if event == LssSlaveEvent::ResetCommunication {
+                self.restart(now, ResetKind::Communication);
+                self.emit(now, DeviceEvent::Reset { node: false }, profile);
+                self.drain_nmt(now, profile);
+            }
+        }
+    }
+
     /// Boot or reset: restores the objects `kind` says, boot-up message,
     /// pre-operational.
     fn restart(&mut self, now: Timestamp, kind: ResetKind) {
+        // The LSS node-ID configured since takes effect (CiA 305).
+        if let Some(node) = self.lss.as_mut().and_then(LssSlave::reset_communication) {
+            if node != self.config.node || !self.nmt.is_running() {
+                renumber_pdos(&mut self.config.pdos, self.config.node, node);
+                self.config.node = node;
+                self.nmt = NmtSlave::new(node);
+            }
+        }
         // A running transfer ends silently; a download is aborted in the
         // dictionary before the application objects are kept.
         self.server.cancel();
@@ -582,9 +670,10 @@ where
     }
 
     fn apply_heartbeat_period(&mut self, now: Timestamp) {
-        let period = Duration::from_millis(u64::from(self.comm().heartbeat_ms));
-        if period != self.heartbeat.period() {
-            self.heartbeat.set_period(now, period);
+        let ms = u64::from(self.comm().heartbeat_ms);
+        // Compared in microseconds: no 64-bit division on a 32-bit target.
+        if ms * 1000 != self.heartbeat.period_us() {
+            self.heartbeat.set_period(now, Duration::from_millis(ms));
         }
     }
 
@@ -615,17 +704,15 @@ where
             match event {
                 ServerEvent::Downloaded { index, sub, .. } => {
                     match index {
-                        PRODUCER_HEARTBEAT_TIME => {
-                            self.apply_heartbeat_period(now);
-                            self.apply_services(now);
-                        }
+                        PRODUCER_HEARTBEAT_TIME => self.apply_heartbeat_period(now),
                         CONSUMER_HEARTBEAT_TIME => self.apply_consumers(now),
-                        0x1005..=0x1019 => self.apply_services(now),
                         _ if PdoDirection::from_index(index).is_some() => {
                             self.reconfigure_pdos(now);
                         }
                         _ => {}
                     }
+                    // 100Ch, 100Dh, 1005h-1007h, 1012h, 1019h; 1017h too.
+                    self.apply_services(now);
                     self.refresh_tpdos(now);
                     self.emit(now, DeviceEvent::ObjectWritten { index, sub }, profile);
                 }
@@ -657,8 +744,7 @@ where
             let pdo = rpdo.pdo;
             match result {
                 Ok(_) => {
-                    self.note_rpdo(now, pdo);
-                    self.drain_services(now, profile);
+                    self.note_rpdo(now, pdo, profile);
                     self.emit(now, DeviceEvent::RpdoReceived { pdo }, profile);
                 }
                 Err(error) => {
@@ -669,6 +755,33 @@ where
                 }
             }
             self.refresh_tpdos(now);
+        }
+    }
+}
+
+/// Moves the PDO COB-IDs that are the predefined connection set's for
+/// node `old` (CiA 301 section 7.3.5: 180h/200h + 100h × n + node-ID) to
+/// node `new`; COB-IDs set otherwise stay.
+fn renumber_pdos(pdos: &mut PdoConfig, old: NodeId, new: NodeId) {
+    for dir in [PdoDirection::Receive, PdoDirection::Transmit] {
+        let base: u32 = match dir {
+            PdoDirection::Receive => 0x200,
+            PdoDirection::Transmit => 0x180,
+        };
+        for n in 0..4u8 {
+            let Some(pdo) = crate::cob_id::PdoNumber::new(n) else {
+                continue;
+            };
+            let Some(slot) = pdos.get_mut(dir, pdo) else {
+                continue;
+            };
+            let default = base + 0x100 * u32::from(n);
+            let cob = slot.comm.cob_id;
+            if !cob.is_extended() && cob.id_bits() == default + u32::from(old.raw()) {
+                let flags = cob.to_u32() & !0x1FFF_FFFF;
+                slot.comm.cob_id =
+                    crate::pdo::PdoCobId::from_u32(flags | (default + u32::from(new.raw())));
+            }
         }
     }
 }

@@ -165,10 +165,17 @@ impl CommObjects {
 
     /// Records an entry in 1003h: newest first, at most 10 (the oldest falls off).
     pub fn push_error(&mut self, entry: ErrorFieldEntry) {
-        self.history.rotate_right(1);
-        if let Some(first) = self.history.first_mut() {
+        // A fresh array rather than `rotate_right`: two plain copies, where
+        // the rotation brings a 1.5 KB `memmove` into a firmware image.
+        let mut history = [0; ERROR_HISTORY_LEN];
+        if let (Some((first, rest)), Some(kept)) = (
+            history.split_first_mut(),
+            self.history.get(..ERROR_HISTORY_LEN - 1),
+        ) {
             *first = entry.to_u32();
+            rest.copy_from_slice(kept);
         }
+        self.history = history;
         self.history_len = (self.history_len + 1).min(ERROR_HISTORY_LEN as u8);
     }
 

@@ -7,6 +7,7 @@ use crate::emcy::{Emergency, ErrorRegister};
 use crate::frame::CanFrame;
 use crate::guarding::SlaveGuardingEvent;
 use crate::heartbeat::HeartbeatEvent;
+use crate::lss::LssSlaveEvent;
 use crate::nmt::NmtState;
 use crate::pdo::RpdoError;
 use crate::sdo::{AbortCode, AbortOrigin};
@@ -65,6 +66,11 @@ pub enum DeviceEvent {
     },
     /// The heartbeat consumer (1016h) reported something.
     Heartbeat(HeartbeatEvent),
+    /// The device's LSS slave ([`Device::with_lss`]) reported something
+    /// (a store request is answered with
+    /// [`LssSlave::answer_store`](crate::lss::LssSlave::answer_store) on
+    /// [`Device::lss_mut`]).
+    Lss(LssSlaveEvent),
     /// Life guarding (100Ch, 100Dh): the master stopped guarding, or
     /// resumed.
     LifeGuarding(SlaveGuardingEvent),

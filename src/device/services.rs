@@ -222,7 +222,12 @@ where
     }
 
     /// A synchronous RPDO was received: outside the window it is an event.
-    pub(super) fn note_rpdo(&mut self, now: Timestamp, pdo: PdoNumber) {
+    pub(super) fn note_rpdo<P: Profile<A, E>>(
+        &mut self,
+        now: Timestamp,
+        pdo: PdoNumber,
+        profile: &mut P,
+    ) {
         let synchronous = self
             .server
             .od()
@@ -237,6 +242,7 @@ where
         if synchronous {
             let _ = self.services.sync_consumer.note_synchronous_pdo(now);
         }
+        self.drain_services(now, profile);
     }
 
     /// The services' events into the device's queue.

@@ -118,6 +118,17 @@ pub const ALL_ABORT_CODES: [AbortCode; 31] = [
     AbortCode::NoDataAvailable,
 ];
 
+/// The values of [`ALL_ABORT_CODES`], in the same (ascending) order.
+const ABORT_VALUES: [u32; 31] = {
+    let mut values = [0; 31];
+    let mut i = 0;
+    while i < values.len() {
+        values[i] = ALL_ABORT_CODES[i].to_u32();
+        i += 1;
+    }
+    values
+};
+
 impl AbortCode {
     /// The 32-bit value as sent on the wire (little-endian in bytes 4-7).
     #[must_use]
@@ -161,39 +172,61 @@ impl AbortCode {
     /// From the 32-bit value; unlisted values become [`AbortCode::Other`].
     #[must_use]
     pub const fn from_u32(raw: u32) -> Self {
-        match raw {
-            0x05030000 => AbortCode::ToggleBitNotAlternated,
-            0x05040000 => AbortCode::SdoProtocolTimedOut,
-            0x05040001 => AbortCode::InvalidCommandSpecifier,
-            0x05040002 => AbortCode::InvalidBlockSize,
-            0x05040003 => AbortCode::InvalidSequenceNumber,
-            0x05040004 => AbortCode::CrcError,
-            0x05040005 => AbortCode::OutOfMemory,
-            0x06010000 => AbortCode::UnsupportedAccess,
-            0x06010001 => AbortCode::ReadOfWriteOnlyObject,
-            0x06010002 => AbortCode::WriteOfReadOnlyObject,
-            0x06020000 => AbortCode::ObjectDoesNotExist,
-            0x06040041 => AbortCode::ObjectCannotBeMapped,
-            0x06040042 => AbortCode::PdoLengthExceeded,
-            0x06040043 => AbortCode::GeneralParameterIncompatibility,
-            0x06040047 => AbortCode::GeneralInternalIncompatibility,
-            0x06060000 => AbortCode::HardwareError,
-            0x06070010 => AbortCode::DataTypeLengthMismatch,
-            0x06070012 => AbortCode::DataTypeLengthTooHigh,
-            0x06070013 => AbortCode::DataTypeLengthTooLow,
-            0x06090011 => AbortCode::SubIndexDoesNotExist,
-            0x06090030 => AbortCode::InvalidValue,
-            0x06090031 => AbortCode::ValueTooHigh,
-            0x06090032 => AbortCode::ValueTooLow,
-            0x06090036 => AbortCode::MaxLessThanMin,
-            0x060A0023 => AbortCode::ResourceNotAvailable,
-            0x08000000 => AbortCode::GeneralError,
-            0x08000020 => AbortCode::DataCannotBeStored,
-            0x08000021 => AbortCode::DataCannotBeStoredLocalControl,
-            0x08000022 => AbortCode::DataCannotBeStoredDeviceState,
-            0x08000023 => AbortCode::ObjectDictionaryGenerationFailed,
-            0x08000024 => AbortCode::NoDataAvailable,
-            other => AbortCode::Other(other),
+        // A binary search of the sorted values: a few compares and one
+        // table, where a 31-arm match is a decision tree at every use.
+        let (mut lo, mut hi) = (0, ABORT_VALUES.len());
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            let value = ABORT_VALUES[mid];
+            if value == raw {
+                return Self::named(mid);
+            }
+            if value < raw {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        AbortCode::Other(raw)
+    }
+
+    /// The named code at `i` of [`ALL_ABORT_CODES`] (the variants are
+    /// declared in that order, so this compiles to the index itself).
+    const fn named(i: usize) -> Self {
+        match i {
+            0 => AbortCode::ToggleBitNotAlternated,
+            1 => AbortCode::SdoProtocolTimedOut,
+            2 => AbortCode::InvalidCommandSpecifier,
+            3 => AbortCode::InvalidBlockSize,
+            4 => AbortCode::InvalidSequenceNumber,
+            5 => AbortCode::CrcError,
+            6 => AbortCode::OutOfMemory,
+            7 => AbortCode::UnsupportedAccess,
+            8 => AbortCode::ReadOfWriteOnlyObject,
+            9 => AbortCode::WriteOfReadOnlyObject,
+            10 => AbortCode::ObjectDoesNotExist,
+            11 => AbortCode::ObjectCannotBeMapped,
+            12 => AbortCode::PdoLengthExceeded,
+            13 => AbortCode::GeneralParameterIncompatibility,
+            14 => AbortCode::GeneralInternalIncompatibility,
+            15 => AbortCode::HardwareError,
+            16 => AbortCode::DataTypeLengthMismatch,
+            17 => AbortCode::DataTypeLengthTooHigh,
+            18 => AbortCode::DataTypeLengthTooLow,
+            19 => AbortCode::SubIndexDoesNotExist,
+            20 => AbortCode::InvalidValue,
+            21 => AbortCode::ValueTooHigh,
+            22 => AbortCode::ValueTooLow,
+            23 => AbortCode::MaxLessThanMin,
+            24 => AbortCode::ResourceNotAvailable,
+            25 => AbortCode::GeneralError,
+            26 => AbortCode::DataCannotBeStored,
+            27 => AbortCode::DataCannotBeStoredLocalControl,
+            28 => AbortCode::DataCannotBeStoredDeviceState,
+            29 => AbortCode::ObjectDictionaryGenerationFailed,
+            30 => AbortCode::NoDataAvailable,
+            // Not reached: from_u32 passes an index of ABORT_VALUES.
+            _ => AbortCode::Other(0),
         }
     }
 
@@ -303,6 +336,26 @@ mod tests {
         }
         for (i, c) in ALL_ABORT_CODES.iter().enumerate() {
             assert_eq!(*c, rows[i].1);
+        }
+    }
+
+    #[test]
+    fn values_ascend_and_neighbours_are_other() {
+        // The binary search in from_u32 relies on the order.
+        assert!(ABORT_VALUES.windows(2).all(|w| w[0] < w[1]));
+        for (i, code) in ALL_ABORT_CODES.iter().enumerate() {
+            assert_eq!(AbortCode::named(i), *code);
+        }
+        for raw in ABORT_VALUES {
+            for n in [raw.wrapping_sub(1), raw.wrapping_add(1)] {
+                let listed = ABORT_VALUES.contains(&n);
+                assert_eq!(
+                    AbortCode::from(n) == AbortCode::Other(n),
+                    !listed,
+                    "{n:08X}"
+                );
+                assert_eq!(AbortCode::from(n).to_u32(), n);
+            }
         }
     }
 

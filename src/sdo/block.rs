@@ -28,6 +28,11 @@ pub(crate) const MAX_BLOCK_SIZE: u8 = 127;
 /// Data bytes per segment.
 const SEGMENT: usize = 7;
 
+/// Byte 0 of an abort frame; in the sub-block phase every other frame from
+/// the sender of the data is a segment (sequence number 0 with c = 1 is not
+/// a segment).
+const ABORT: u8 = 0x80;
+
 /// Checks a block size from the peer: 05040002h unless it is 1..=127.
 pub(crate) const fn check_block_size(blksize: u8) -> Result<u8, AbortCode> {
     if blksize >= 1 && blksize <= MAX_BLOCK_SIZE {
@@ -255,6 +260,33 @@ impl Receiver {
             .is_some_and(|f| self.expected == 1 && f.as_slice() == bytes)
     }
 
+    /// Takes a frame from the sender of the data while sub-blocks are being
+    /// received: `None` when it is not a segment but a command for the
+    /// normal path (an abort, byte 0 80h, or any frame once the last
+    /// segment is in: the end frame comes next); otherwise what
+    /// [`Receiver::on_segment`] makes of it (a duplicate of the frame that
+    /// completed the last sub-block is ignored).
+    pub(crate) fn take(&mut self, bytes: &[u8]) -> Option<Result<Step, AbortCode>> {
+        if self.is_duplicate(bytes) {
+            return Some(Ok(Step::default()));
+        }
+        if self.is_done() || bytes.first() == Some(&ABORT) {
+            return None;
+        }
+        Some(self.on_segment(bytes))
+    }
+
+    /// Sets the block size announced from now on (an observer follows the
+    /// size each acknowledgement gives).
+    pub(crate) fn set_block_size(&mut self, blksize: u8) {
+        self.blksize = blksize;
+    }
+
+    /// Whether the CRC is checked at the end.
+    pub(crate) const fn crc_on(&self) -> bool {
+        self.crc_on
+    }
+
     /// Takes one sub-block segment (the whole frame data).
     ///
     /// Sequence number 0 or above the block size is 05040003h. A duplicate
@@ -328,6 +360,21 @@ impl Receiver {
     /// a total above / below the indicated size 06070012h / 06070013h; a
     /// CRC mismatch (CRC in use) 05040004h.
     pub(crate) fn on_end(&mut self, unused: u8, crc: u16) -> Result<Ended, AbortCode> {
+        match self.on_end_lenient(unused, crc)? {
+            (ended, None) => Ok(ended),
+            (_, Some(code)) => Err(code),
+        }
+    }
+
+    /// The rules of [`Receiver::on_end`], for an observer: the end frames
+    /// that cannot be read (05040001h) are errors; the size and CRC rules
+    /// give the transfer as it ended and the code they call for, since a
+    /// peer may accept it anyway.
+    pub(crate) fn on_end_lenient(
+        &mut self,
+        unused: u8,
+        crc: u16,
+    ) -> Result<(Ended, Option<AbortCode>), AbortCode> {
         let Some(held) = self.held else {
             return Err(AbortCode::InvalidCommandSpecifier);
         };
@@ -339,19 +386,18 @@ impl Receiver {
             return Err(AbortCode::InvalidCommandSpecifier);
         };
         let total = self.received.saturating_add(data.len());
-        match self.size {
-            Some(s) if total > s => return Err(AbortCode::DataTypeLengthTooHigh),
-            Some(s) if total < s => return Err(AbortCode::DataTypeLengthTooLow),
-            _ => {}
-        }
-        if self.crc_on && crc16_update(self.crc, data) != crc {
-            return Err(AbortCode::CrcError);
-        }
-        Ok(Ended {
+        let broken = match self.size {
+            Some(s) if total > s => Some(AbortCode::DataTypeLengthTooHigh),
+            Some(s) if total < s => Some(AbortCode::DataTypeLengthTooLow),
+            _ if self.crc_on && crc16_update(self.crc, data) != crc => Some(AbortCode::CrcError),
+            _ => None,
+        };
+        let ended = Ended {
             write: (!data.is_empty())
                 .then(|| (self.received, SegmentData::new(data).unwrap_or_default())),
             total,
-        })
+        };
+        Ok((ended, broken))
     }
 }
 

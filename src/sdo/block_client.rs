@@ -13,10 +13,6 @@ use super::{AbortCode, Client, ClientCommand, ClientError, ClientEvent, ServerCo
 use crate::frame::CanFrame;
 use crate::time::Timestamp;
 
-/// Byte 0 of an abort frame; in the sub-block phase every other frame is a
-/// segment (sequence number 0 with c = 1 is not a segment).
-const ABORT: u8 = 0x80;
-
 impl<D: AsRef<[u8]>> Client<D> {
     /// Starts reading `index`/`sub` from the server by block upload (CiA
     /// 301 section 7.2.4.3, SDO block upload), asking for sub-blocks of
@@ -81,14 +77,11 @@ impl<D: AsRef<[u8]>> Client<D> {
             return false;
         };
         let (index, sub) = (*index, *sub);
-        if rx.is_duplicate(bytes) {
-            return true;
-        }
-        if rx.is_done() || bytes.first() == Some(&ABORT) {
-            return false;
-        }
         let blksize = rx.block_size();
-        match rx.on_segment(bytes) {
+        let Some(result) = rx.take(bytes) else {
+            return false;
+        };
+        match result {
             Err(code) => self.abort_object(index, sub, code),
             Ok(step) => {
                 if let Some((offset, data)) = step.write {

@@ -11,10 +11,6 @@ use super::{AbortCode, ObjectDictionary, Server, ServerCommand, ServerEvent, Sta
 use crate::frame::CanFrame;
 use crate::time::Timestamp;
 
-/// Byte 0 of an abort frame; in the sub-block phase every other frame is a
-/// segment (sequence number 0 with c = 1 is not a segment).
-const ABORT: u8 = 0x80;
-
 impl<D: ObjectDictionary> Server<D> {
     /// A block download's sub-block segment: handled here (true), or a
     /// command for the normal path (false).
@@ -28,13 +24,9 @@ impl<D: ObjectDictionary> Server<D> {
         else {
             return false;
         };
-        if rx.is_duplicate(bytes) {
-            return true;
-        }
-        if rx.is_done() || bytes.first() == Some(&ABORT) {
+        let Some(result) = rx.take(bytes) else {
             return false;
-        }
-        let result = rx.on_segment(bytes);
+        };
         self.state = State::BlockDownloading {
             index,
             sub,

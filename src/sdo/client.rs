@@ -63,6 +63,7 @@ use core::time::Duration;
 use super::abort::AbortCode;
 use super::block::{Receiver, Sender, MAX_BLOCK_SIZE};
 use super::data::{InitiatePayload, Segment, SegmentData};
+use super::segmented::{check_toggle, Segments};
 use super::server::{AbortOrigin, DEFAULT_TIMEOUT};
 use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
@@ -194,9 +195,7 @@ enum State<D> {
     Uploading {
         index: u16,
         sub: u8,
-        size: Option<usize>,
-        received: usize,
-        toggle: bool,
+        rx: Segments,
     },
     DownloadInitiated {
         index: u16,
@@ -475,14 +474,11 @@ impl<D: AsRef<[u8]>> Client<D> {
                 });
             }
             InitiatePayload::Segmented { size } => {
-                self.send(ClientCommand::UploadSegment { toggle: false });
-                self.state = State::Uploading {
-                    index,
-                    sub,
-                    size: size.map(|s| usize::try_from(s).unwrap_or(usize::MAX)),
-                    received: 0,
-                    toggle: false,
-                };
+                let rx = Segments::new(size.map(|s| usize::try_from(s).unwrap_or(usize::MAX)));
+                self.send(ClientCommand::UploadSegment {
+                    toggle: rx.toggle(),
+                });
+                self.state = State::Uploading { index, sub, rx };
                 self.arm(now);
             }
         }
@@ -492,52 +488,35 @@ impl<D: AsRef<[u8]>> Client<D> {
         &mut self,
         now: Timestamp,
         (index, sub): (u16, u8),
-        size: Option<usize>,
-        received: usize,
-        toggle: bool,
+        mut rx: Segments,
         cmd: ServerCommand,
     ) {
-        let ServerCommand::UploadSegment(Segment {
-            toggle: t,
-            last,
-            data,
-        }) = cmd
-        else {
+        let ServerCommand::UploadSegment(segment) = cmd else {
             return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
         };
-        if t != toggle {
-            return self.abort_object(index, sub, AbortCode::ToggleBitNotAlternated);
-        }
-        let total = received + data.len();
-        if size.is_some_and(|s| total > s) {
-            return self.abort_object(index, sub, AbortCode::DataTypeLengthTooHigh);
-        }
-        if last && size.is_some_and(|s| total < s) {
-            return self.abort_object(index, sub, AbortCode::DataTypeLengthTooLow);
-        }
-        if !data.is_empty() {
+        let placed = match rx.on_segment(&segment) {
+            Ok(placed) => placed,
+            Err(code) => return self.abort_object(index, sub, code),
+        };
+        if !segment.data.is_empty() {
             self.emit(ClientEvent::UploadData {
                 index,
                 sub,
-                offset: received,
-                data,
+                offset: placed.offset,
+                data: segment.data,
             });
         }
-        if last {
+        if segment.last {
             return self.finish(ClientEvent::Uploaded {
                 index,
                 sub,
-                len: total,
+                len: placed.total,
             });
         }
-        self.send(ClientCommand::UploadSegment { toggle: !toggle });
-        self.state = State::Uploading {
-            index,
-            sub,
-            size,
-            received: total,
-            toggle: !toggle,
-        };
+        self.send(ClientCommand::UploadSegment {
+            toggle: rx.toggle(),
+        });
+        self.state = State::Uploading { index, sub, rx };
         self.arm(now);
     }
 
@@ -603,8 +582,8 @@ impl<D: AsRef<[u8]>> Client<D> {
         let ServerCommand::DownloadSegment { toggle: t } = cmd else {
             return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
         };
-        if t != toggle {
-            return self.abort_object(index, sub, AbortCode::ToggleBitNotAlternated);
+        if let Err(code) = check_toggle(t, toggle) {
+            return self.abort_object(index, sub, code);
         }
         let len = data.as_ref().len();
         if sent >= len {
@@ -645,14 +624,8 @@ impl<D: AsRef<[u8]>> Machine for Client<D> {
             State::UploadInitiated { index, sub } => {
                 self.on_upload_initiated(now, index, sub, response.command);
             }
-            State::Uploading {
-                index,
-                sub,
-                size,
-                received,
-                toggle,
-            } => {
-                self.on_upload_segment(now, (index, sub), size, received, toggle, response.command)
+            State::Uploading { index, sub, rx } => {
+                self.on_upload_segment(now, (index, sub), rx, response.command)
             }
             State::DownloadInitiated {
                 index,

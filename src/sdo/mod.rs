@@ -80,6 +80,9 @@ mod client;
 mod collect;
 mod crc;
 mod data;
+mod observer;
+mod observer_rules;
+mod segmented;
 mod server;
 mod wire;
 
@@ -89,6 +92,10 @@ pub use client::{Client, ClientConfig, ClientError, ClientEvent};
 pub use collect::{Collected, UploadBuffer};
 pub use crc::{crc16, crc16_update};
 pub use data::{ExpeditedData, InitiatePayload, InlineData, Segment, SegmentData};
+pub use observer::{
+    BreakReason, ChannelError, Direction, Observed, Observer, ObserverConfig, ObserverEvent,
+    SdoChannel, Side, Transfer, TransferKind, OBSERVER_EVENT_CAPACITY, OBSERVER_EXTRA_CHANNELS,
+};
 pub use server::{AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_TIMEOUT};
 pub use wire::{
     abort_code_of, ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoRequest, SdoResponse,

@@ -61,6 +61,7 @@ use core::time::Duration;
 use super::abort::AbortCode;
 use super::block::{Receiver, Sender, MAX_BLOCK_SIZE};
 use super::data::{ExpeditedData, InitiatePayload, Segment, SegmentData};
+use super::segmented::{check_toggle, Segments};
 use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
@@ -184,9 +185,7 @@ enum State {
     Downloading {
         index: u16,
         sub: u8,
-        offset: usize,
-        size: Option<usize>,
-        toggle: bool,
+        rx: Segments,
         info: ObjectInfo,
     },
     /// Block upload: initiate answered, waiting for the start command.
@@ -507,8 +506,8 @@ impl<D: ObjectDictionary> Server<D> {
         else {
             return self.abort_local(AbortCode::InvalidCommandSpecifier);
         };
-        if toggle != expected {
-            return self.abort_local(AbortCode::ToggleBitNotAlternated);
+        if let Err(code) = check_toggle(toggle, expected) {
+            return self.abort_local(code);
         }
         let mut buf = [0u8; 7];
         let want = len.saturating_sub(offset).min(7);
@@ -591,9 +590,7 @@ impl<D: ObjectDictionary> Server<D> {
                 self.state = State::Downloading {
                     index,
                     sub,
-                    offset: 0,
-                    size,
-                    toggle: false,
+                    rx: Segments::new(size),
                     info,
                 };
                 self.arm(now);
@@ -605,44 +602,35 @@ impl<D: ObjectDictionary> Server<D> {
         let State::Downloading {
             index,
             sub,
-            offset,
-            size,
-            toggle,
+            mut rx,
             info,
         } = self.state
         else {
             return self.abort_local(AbortCode::InvalidCommandSpecifier);
         };
-        if seg.toggle != toggle {
-            return self.abort_local(AbortCode::ToggleBitNotAlternated);
-        }
-        let data = seg.data.as_slice();
-        let end = offset + data.len();
-        let too_long = size.is_some_and(|s| end > s)
-            || matches!(
-                info.check_download_len(end),
-                Err(AbortCode::DataTypeLengthTooHigh)
-            );
-        if too_long {
+        let placed = match rx.on_segment(seg) {
+            Ok(placed) => placed,
+            Err(code) => return self.abort_local(code),
+        };
+        let end = placed.total;
+        if let Err(AbortCode::DataTypeLengthTooHigh) = info.check_download_len(end) {
             return self.abort_local(AbortCode::DataTypeLengthTooHigh);
         }
-        if let Err(code) = self.od.write(index, sub, offset, data) {
+        if let Err(code) = self
+            .od
+            .write(index, sub, placed.offset, seg.data.as_slice())
+        {
             return self.abort_local(code);
         }
         if !seg.last {
-            self.send(ServerCommand::DownloadSegment { toggle });
+            self.send(ServerCommand::DownloadSegment { toggle: seg.toggle });
             self.state = State::Downloading {
                 index,
                 sub,
-                offset: end,
-                size,
-                toggle: !toggle,
+                rx,
                 info,
             };
             return self.arm(now);
-        }
-        if size.is_some_and(|s| end < s) {
-            return self.abort_local(AbortCode::DataTypeLengthTooLow);
         }
         if let Err(code) = info
             .check_download_len(end)
@@ -650,7 +638,7 @@ impl<D: ObjectDictionary> Server<D> {
         {
             return self.abort_local(code);
         }
-        self.send(ServerCommand::DownloadSegment { toggle });
+        self.send(ServerCommand::DownloadSegment { toggle: seg.toggle });
         self.finish(ServerEvent::Downloaded {
             index,
             sub,

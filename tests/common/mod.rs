@@ -4,6 +4,8 @@
 pub mod captures;
 pub mod devices;
 #[cfg(feature = "alloc")]
+pub mod observe;
+#[cfg(feature = "alloc")]
 pub mod sdo;
 pub mod sim;
 

@@ -11,19 +11,29 @@ Part D: our client's block transfers against python-canopen's server, which
         has no block support: it answers a block download with abort
         05040001h and every block upload with a normal upload (the CiA 301
         protocol switch), which our client follows.
+Part E: so that block transfer is shown both ways on the same pipe, our
+        client against our server: the script relays the candump lines
+        between the two programs, checks both sides' results, and has the
+        decoder program (canopen-decode, whose SDO reading is the library's
+        passive observer) read the recorded exchange: it must report every
+        transfer complete, with the bytes and the CRC checked.
 
 The two talk through a python-can bus class, PipeBus, that exchanges candump
 log lines with the example's stdin/stdout. Every case checks the value or
 abort code python-canopen reports and the one our side reports.
 
-usage: sdo_interop.py PATH/TO/sdo_node
+usage: sdo_interop.py PATH/TO/sdo_node [PATH/TO/canopen-decode]
 """
 
+import json
+import subprocess
 import sys
+import tempfile
+import threading
 import time
 
 import canopen
-from pipebus import PipeBus
+from pipebus import LINE, PipeBus
 from canopen.objectdictionary import ODVariable, ObjectDictionary
 from canopen.objectdictionary.datatypes import DOMAIN, UNSIGNED32
 
@@ -212,12 +222,102 @@ def part_d(exe):
         net.disconnect()
 
 
+def part_e(exe, decoder):
+    """our client -> our server, block transfer both ways, through one relay
+    that records the exchange; then the decoder reads the recording."""
+    ops = []
+    for i, size in enumerate(BLOCK_SIZES):
+        v = value(size, i + 23).hex().upper()
+        ops += [f"bwrite:2000:{i:X}:{v}", f"bread:2000:{i:X}"]
+    start = time.time()
+    log = []
+    lock = threading.Lock()
+    server = subprocess.Popen([exe, "--server", "--node-id", str(NODE)], stdin=subprocess.PIPE,
+                              stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True, bufsize=1)
+    client = subprocess.Popen([exe, "--client", "--node-id", str(NODE)] + ops, stdin=subprocess.PIPE,
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, bufsize=1)
+
+    def put(dst, ident, data):
+        with lock:
+            line = f"({start + len(log) * 0.0001:.6f}) pipe {ident}#{data}"
+            log.append(line)
+            try:
+                dst.stdin.write(line + "\n")
+                dst.stdin.flush()
+            except (BrokenPipeError, ValueError):
+                pass
+
+    def relay(src, dst):
+        for line in src.stdout:
+            m = LINE.match(line.strip())
+            if m:
+                put(dst, m.group(1).upper(), m.group(2).upper())
+
+    results = []
+
+    def collect():
+        for line in client.stderr:
+            if line.startswith("RESULT"):
+                results.append(line.rstrip("\n"))
+
+    threads = [threading.Thread(target=relay, args=(client, server), daemon=True),
+               threading.Thread(target=relay, args=(server, client), daemon=True),
+               threading.Thread(target=collect, daemon=True)]
+    for t in threads:
+        t.start()
+    put(client, "080", "")  # "ready": our client starts on the first line
+    end = time.time() + 60
+    while time.time() < end and len(results) < len(ops):
+        time.sleep(0.01)
+    for p in (client, server):
+        try:
+            p.stdin.close()
+        except OSError:
+            pass
+        try:
+            p.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            p.kill()
+    check("E our client finished every operation against our server", len(results) == len(ops),
+          f"{results}")
+    for i, size in enumerate(BLOCK_SIZES):
+        v = value(size, i + 23).hex().upper()
+        w, r = (results[2 * i:2 * i + 2] + ["", ""])[:2]
+        check(f"E our block write of {size} bytes to our server: '{w}'",
+              w == f"RESULT write 2000:{i:02X} ok len {size}")
+        check(f"E our block read of {size} bytes back from our server: '{r[:60]}'",
+              r == f"RESULT read 2000:{i:02X} ok {v}")
+    if decoder is None:
+        print("E decoder not given: the recorded exchange is not decoded")
+        return
+    with tempfile.NamedTemporaryFile("w", suffix=".log", delete=False) as f:
+        f.write("\n".join(log) + "\n")
+        path = f.name
+    out = subprocess.run([decoder, "--json", path], capture_output=True, text=True, timeout=60)
+    check("E the decoder read the recorded exchange", out.returncode == 0, out.stderr[-500:])
+    transfers = [t for t in map(json.loads, out.stdout.splitlines()) if t.get("kind") == "sdo_transfer"]
+    check(f"E the decoder reports {len(ops)} transfers", len(transfers) == len(ops), f"{len(transfers)}")
+    segments = sum(1 for l in out.stdout.splitlines() if '"command":"block segment"' in l)
+    check(f"E the decoder names {segments} block segments", segments >= 2 * sum(
+        max(1, (n + 6) // 7) for n in BLOCK_SIZES))
+    for i, size in enumerate(BLOCK_SIZES):
+        v = value(size, i + 23).hex()
+        for t, direction in zip(transfers[2 * i:2 * i + 2], ["download", "upload"]):
+            check(f"E decoded block {direction} of {size} bytes: complete, CRC checked, same bytes",
+                  t.get("status") == "complete" and t.get("block") is True
+                  and t.get("crc_checked") is True and t.get("direction") == direction
+                  and t.get("size") == size and t.get("bytes") == v,
+                  f"{ {k: t.get(k) for k in ('status', 'block', 'crc_checked', 'size', 'direction')} }")
+
+
 def main():
     exe = sys.argv[1]
+    decoder = sys.argv[2] if len(sys.argv) > 2 else None
     part_a(exe)
     part_b(exe)
     part_c(exe)
     part_d(exe)
+    part_e(exe, decoder)
     print(f"{cases} interop cases, {len(failures)} failed")
     sys.exit(1 if failures else 0)
 

@@ -73,7 +73,7 @@ pub fn line(
     field(out, roles.role(kind.node()).unwrap_or(""));
     out.push(',');
     let mut text = String::new();
-    if m.is_ok() {
+    if m.is_ok() || notes.block_segment.is_some() {
         crate::words::message(
             &mut text,
             l,
@@ -92,7 +92,7 @@ pub fn line(
         field(out, &d.to_string());
     }
     out.push(',');
-    if let Err(e) = m {
+    if let (Err(e), None) = (m, notes.block_segment) {
         field(out, &e.to_string());
     }
 }

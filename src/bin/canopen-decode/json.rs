@@ -12,6 +12,7 @@ use std::fmt::Write;
 
 use canopen_codec::candump::LogLine;
 use canopen_codec::cob_id::{classify, CobKind};
+use canopen_codec::lss::{LssInquiry, LssMessage, LssRequest, LssResponse};
 use canopen_codec::pdo::{FieldValue, NamedFields};
 use canopen_codec::sdo::{ClientCommand, InitiatePayload, ServerCommand};
 use canopen_codec::{DecodeError, Message};
@@ -54,7 +55,7 @@ pub fn string(out: &mut String, s: &str) {
 }
 
 /// Appends `,"key":` to `out`.
-fn key(out: &mut String, k: &str) {
+pub fn key(out: &mut String, k: &str) {
     out.push(',');
     string(out, k);
     out.push(':');
@@ -117,9 +118,18 @@ pub fn line(
     );
     key(out, "data");
     string(out, &hex(l.frame.data()));
-    match m {
-        Ok(msg) => fields(out, msg, roles, guard_reply),
-        Err(e) => {
+    match (m, &notes.block_segment) {
+        (_, Some(seg)) => {
+            key(out, "text");
+            string(out, &seg.to_string());
+            key(out, "command");
+            string(out, "block segment");
+            let _ = write!(out, ",\"seqno\":{},\"last\":{}", seg.seqno, seg.last);
+            key(out, "segment_data");
+            string(out, &hex(seg.data.as_slice()));
+        }
+        (Ok(msg), None) => fields(out, msg, roles, guard_reply),
+        (Err(e), None) => {
             key(out, "error");
             string(out, &e.to_string());
         }
@@ -245,15 +255,116 @@ fn fields(out: &mut String, msg: &Message, roles: &Roles, guard_reply: bool) {
         Message::NodeGuardRequest { dlc, .. } => {
             let _ = write!(out, ",\"guard_request\":true,\"requested_dlc\":{dlc}");
         }
-        Message::Lss { direction, payload } => {
-            key(out, "direction");
-            string(out, &format!("{direction:?}"));
-            key(out, "payload");
-            string(out, &hex(payload.as_slice()));
-        }
+        Message::Lss(lss) => lss_fields(out, lss),
         Message::Unknown(_) => {}
         // A kind of message added later: its text is enough.
         _ => {}
+    }
+}
+
+/// `direction` (`master_to_slave` / `slave_to_master`), `service` (a snake
+/// case name, `unknown` for a frame kept raw) and the service's values.
+fn lss_fields(out: &mut String, lss: &LssMessage) {
+    let num = |out: &mut String, k: &str, v: u64| {
+        key(out, k);
+        let _ = write!(out, "{v}");
+    };
+    key(out, "direction");
+    string(
+        out,
+        match lss {
+            LssMessage::Request(_) => "master_to_slave",
+            LssMessage::Response(_) => "slave_to_master",
+        },
+    );
+    key(out, "service");
+    match lss {
+        LssMessage::Request(r) => match *r {
+            LssRequest::SwitchStateGlobal(mode) => {
+                string(out, "switch_state_global");
+                num(out, "mode", u8::from(mode).into());
+            }
+            LssRequest::SwitchStateSelective(field, v) => {
+                string(out, "switch_state_selective");
+                key(out, "field");
+                string(out, field.name());
+                num(out, "value", v.into());
+            }
+            LssRequest::ConfigureNodeId(id) => {
+                string(out, "configure_node_id");
+                num(out, "node_id", id.into());
+            }
+            LssRequest::ConfigureBitTiming { table, index } => {
+                string(out, "configure_bit_timing");
+                num(out, "table", table.into());
+                num(out, "index", index.into());
+            }
+            LssRequest::ActivateBitTiming { delay_ms } => {
+                string(out, "activate_bit_timing");
+                num(out, "delay_ms", delay_ms.into());
+            }
+            LssRequest::StoreConfiguration => string(out, "store_configuration"),
+            LssRequest::Inquire(what) => {
+                string(out, "inquire");
+                key(out, "field");
+                string(
+                    out,
+                    match what {
+                        LssInquiry::Address(f) => f.name(),
+                        LssInquiry::NodeId => "node_id",
+                    },
+                );
+            }
+            LssRequest::IdentifyRemoteSlave(part, v) => {
+                string(out, "identify_remote_slave");
+                key(out, "field");
+                string(out, &part.name().replace(' ', "_"));
+                num(out, "value", v.into());
+            }
+            LssRequest::IdentifyNonConfigured => {
+                string(out, "identify_non_configured_remote_slave");
+            }
+            LssRequest::Fastscan(f) => {
+                string(out, "fastscan");
+                num(out, "id_number", f.id_number.into());
+                num(out, "bit_checked", f.bit_checked.into());
+                num(out, "lss_sub", f.sub.into());
+                num(out, "lss_next", f.next.into());
+            }
+            _ => string(out, "unknown"),
+        },
+        LssMessage::Response(r) => match *r {
+            LssResponse::SwitchStateSelective => string(out, "switch_state_selective_response"),
+            LssResponse::ConfigureNodeId(s)
+            | LssResponse::ConfigureBitTiming(s)
+            | LssResponse::StoreConfiguration(s) => {
+                string(
+                    out,
+                    match r {
+                        LssResponse::ConfigureNodeId(_) => "configure_node_id_response",
+                        LssResponse::ConfigureBitTiming(_) => "configure_bit_timing_response",
+                        _ => "store_configuration_response",
+                    },
+                );
+                num(out, "error_code", u8::from(s.code).into());
+                num(out, "specific_error", s.specific.into());
+            }
+            LssResponse::Address(field, v) => {
+                string(out, "inquire_response");
+                key(out, "field");
+                string(out, field.name());
+                num(out, "value", v.into());
+            }
+            LssResponse::NodeId(id) => {
+                string(out, "inquire_response");
+                key(out, "field");
+                string(out, "node_id");
+                num(out, "value", id.into());
+            }
+            LssResponse::IdentifySlave => string(out, "identify_slave"),
+            LssResponse::IdentifyNonConfigured => string(out, "identify_non_configured_slave"),
+            _ => string(out, "unknown"),
+        },
     }
 }
 
@@ -400,6 +511,11 @@ pub fn transfer(out: &mut String, r: &Report, roles: &Roles) {
     }
     key(out, "direction");
     string(out, r.direction.name());
+    let _ = write!(
+        out,
+        ",\"block\":{},\"crc_checked\":{}",
+        r.block, r.crc_checked
+    );
     let _ = write!(out, ",\"index\":{},\"sub\":{}", r.index, r.sub);
     key(out, "status");
     string(

@@ -5,8 +5,26 @@
 //!
 //! ```text
 //! canopen-decode [--json] [--format F] [--charger-node N] [--battery-node N]
-//!     [--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [FILE]
+//!     [--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping]
+//!     [--sdo NODE=RXID,TXID]... [FILE]
 //! ```
+//!
+//! SDO transfers are followed by the library's passive observer
+//! (`canopen_codec::sdo::Observer`) on the default channel of every node
+//! and on each channel `--sdo NODE=RXID,TXID` declares (node in decimal,
+//! the COB-IDs the server receives on and answers on in hex, as in its
+//! 1200h sub 1 and 2: `--sdo 65=241,1C1`). Block transfers are reassembled
+//! like segmented ones; their sub-block segments print as `SDO block
+//! segment seq N` (JSON: `"command":"block segment"`, `seqno`, `last`,
+//! `segment_data`).
+//!
+//! `--eds NODE=FILE` (repeatable) reads a node's EDS or DCF (CiA 306, with
+//! `$NODEID` resolved): its PDO COB-IDs and mappings decode that node's PDOs
+//! (marked `[from the EDS]`), named with the file's object names; its 1200h
+//! adds its SDO channel when not the default; a device type (1000h) of
+//! profile 418 or 419 gives the node its role. PDO mappings and COB-IDs
+//! written or read by SDO in the log (1400h-1BFFh) apply to the PDOs that
+//! follow, and the transfer's line says so (`[TPDO1 of node 5 maps ...]`).
 //!
 //! The trace format is detected from its first telling line, or given with
 //! `--format`: `candump` (candump `-L` log lines), `candump-screen`
@@ -120,9 +138,11 @@
 //! 6010h temperature is decoded per CiA 418 (0.125 degC/bit, no offset):
 //! the capture README's DBC adds -40 degC, which the profile does not have.
 
+mod args;
 mod csv;
 mod json;
 mod pdo_args;
+mod pdo_learn;
 mod sdo;
 mod sdo_value;
 mod summary;
@@ -132,13 +152,51 @@ use std::io::{self, BufRead, BufWriter, IsTerminal, Write};
 use std::process::ExitCode;
 
 use canopen_codec::candump::LogLine;
-use canopen_codec::cob_id::classify;
+use canopen_codec::sdo::{Observed, SdoChannel, Side as SdoSide};
 use canopen_codec::trace::{Format, LineParser, Record};
-use canopen_codec::{Message, NodeId};
+use canopen_codec::{CanId, Message, NodeId};
 
 const SESSION: &str = include_str!("../../../tests/data/virtual-session.log");
 const SESSION_NAME: &str =
     "tests/data/virtual-session.log (bundled session of the virtual charger and battery module)";
+
+/// A block transfer's sub-block segment (CiA 301 SDO block download and
+/// upload): byte 0 is a sequence number, not a command specifier.
+#[derive(Clone, Copy, Debug)]
+pub struct BlockSegment {
+    /// The server's node.
+    pub node: NodeId,
+    /// The sender of the data.
+    pub from: SdoSide,
+    pub seqno: u8,
+    pub last: bool,
+    pub data: canopen_codec::sdo::SegmentData,
+}
+
+impl std::fmt::Display for BlockSegment {
+    /// `SDO block segment seq 3 to node 2: 41 20 72 65 61 6C 6C`
+    /// (`seq 5, last`; `from node 2` when the server sends).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "SDO block segment seq {}", self.seqno)?;
+        if self.last {
+            f.write_str(", last")?;
+        }
+        let to = match self.from {
+            SdoSide::Client => "to",
+            SdoSide::Server => "from",
+        };
+        write!(f, " {to} node {}:", self.node)?;
+        for b in self.data.as_slice() {
+            write!(f, " {b:02X}")?;
+        }
+        Ok(())
+    }
+}
+
+/// The default SDO channel of its node (Message::decode names those).
+fn is_default(channel: SdoChannel) -> bool {
+    channel == SdoChannel::default_for(channel.node)
+}
 
 /// What the decoder knows about a line besides its message.
 #[derive(Clone, Copy, Default)]
@@ -147,6 +205,8 @@ pub struct Notes {
     pub guard_reply: bool,
     /// How the frame deviates from CiA 301 (read anyway).
     pub deviation: Option<canopen_codec::lenient::Deviation>,
+    /// The frame is a block transfer's sub-block segment.
+    pub block_segment: Option<BlockSegment>,
 }
 
 /// Which node is which, for naming Delta-Q codes and roles. A node has a
@@ -210,142 +270,41 @@ impl Roles {
     }
 }
 
-struct Options {
-    json: bool,
+pub struct Options {
+    pub json: bool,
     /// `--output csv`.
-    csv: bool,
+    pub csv: bool,
     /// `--summary`, `--summary-only`, `--check`.
-    summary: bool,
-    frames: bool,
-    check: bool,
-    roles: Roles,
-    pdos: pdo_args::Mappings,
-    file: Option<String>,
+    pub summary: bool,
+    pub frames: bool,
+    pub check: bool,
+    pub roles: Roles,
+    pub pdos: pdo_args::Mappings,
+    pub file: Option<String>,
     /// `--bundled session`.
-    bundled: Option<&'static str>,
+    pub bundled: Option<&'static str>,
     /// `--format`: the trace format (detected when absent) and `-t d` times.
-    format: Option<Format>,
-    delta_times: bool,
+    pub format: Option<Format>,
+    pub delta_times: bool,
     /// `--strict`: frames that deviate from CiA 301 are malformed.
-    strict: bool,
-}
-
-const USAGE: &str = "usage: canopen-decode [--json | --output words|json|csv] [--strict] [--format candump|candump-screen|candump-screen-delta|trc|asc|csv] \
-[--summary] [--summary-only] [--check] [--charger-node N] [--battery-node N] \
-[--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping] [--bundled session] [FILE]";
-
-fn parse_node(v: Option<String>, what: &str) -> Result<NodeId, String> {
-    let v = v.ok_or(format!("{what} needs a value"))?;
-    v.parse::<u8>()
-        .ok()
-        .and_then(NodeId::new)
-        .ok_or(format!("{what}: '{v}' is not a node id 1..=127"))
-}
-
-fn parse_args() -> Result<Options, String> {
-    let mut opts = Options {
-        json: false,
-        csv: false,
-        summary: false,
-        frames: true,
-        check: false,
-        roles: Roles::default(),
-        pdos: pdo_args::Mappings {
-            given: Vec::new(),
-            defaults: true,
-        },
-        file: None,
-        bundled: None,
-        format: None,
-        delta_times: false,
-        strict: false,
-    };
-    let mut capture = false;
-    let mut args = std::env::args().skip(1);
-    while let Some(a) = args.next() {
-        match a.as_str() {
-            "--json" => opts.json = true,
-            "--output" => match args.next().as_deref() {
-                Some("words") => (opts.json, opts.csv) = (false, false),
-                Some("json") => (opts.json, opts.csv) = (true, false),
-                Some("csv") => (opts.json, opts.csv) = (false, true),
-                other => {
-                    return Err(format!(
-                        "--output takes words, json or csv, not {}",
-                        other.unwrap_or("nothing")
-                    ))
-                }
-            },
-            "--strict" => opts.strict = true,
-            "--summary" => opts.summary = true,
-            "--summary-only" => (opts.summary, opts.frames) = (true, false),
-            "--check" => (opts.summary, opts.check) = (true, true),
-            "--format" => {
-                let v = args.next().ok_or("--format needs a format name")?;
-                if v == "candump-screen-delta" {
-                    opts.format = Some(Format::CandumpScreen);
-                    opts.delta_times = true;
-                } else {
-                    opts.format = Some(Format::from_name(&v).ok_or(format!(
-                        "--format: unknown format '{v}' (candump, candump-screen, \
-candump-screen-delta, trc, asc, csv)"
-                    ))?);
-                }
-            }
-            "--pdo" => {
-                let v = args.next().ok_or("--pdo needs COBID=INDEX:SUB:BITS,...")?;
-                opts.pdos.add(&v)?;
-            }
-            s if s.starts_with("--pdo=") => opts.pdos.add(&s["--pdo=".len()..])?,
-            "--no-default-pdos" => opts.pdos.defaults = false,
-            "--bundled" => {
-                opts.bundled = Some(match args.next().as_deref() {
-                    Some("session") => "session",
-                    other => {
-                        return Err(format!(
-                            "--bundled takes session, not {}",
-                            other.unwrap_or("nothing")
-                        ))
-                    }
-                })
-            }
-            "--pdo-capture-mapping" => capture = true,
-            "--charger-node" => {
-                opts.roles.charger = Some(parse_node(args.next(), "--charger-node")?);
-            }
-            "--battery-node" => {
-                opts.roles.battery = Some(parse_node(args.next(), "--battery-node")?);
-            }
-            "-h" | "--help" => return Err(String::new()),
-            s if s.starts_with('-') && s != "-" => return Err(format!("unknown option {s}")),
-            _ if opts.file.is_some() => return Err("more than one FILE".into()),
-            _ => opts.file = Some(a),
-        }
-    }
-    if capture {
-        opts.pdos.add_capture()?;
-        // The capture's nodes: the Delta-Q charger 10, the battery module 1.
-        opts.roles.charger = opts.roles.charger.or(NodeId::new(10));
-        opts.roles.battery = opts.roles.battery.or(NodeId::new(1));
-    }
-    Ok(opts)
+    pub strict: bool,
+    /// `--sdo NODE=RXID,TXID`: SDO channels besides the default ones.
+    pub sdo_channels: Vec<SdoChannel>,
+    /// `--eds NODE=FILE`: device descriptions of nodes.
+    pub eds: Vec<(NodeId, String)>,
 }
 
 fn main() -> ExitCode {
-    let mut opts = match parse_args() {
+    use clap::{CommandFactory, Parser};
+    // Usage errors exit 2 (clap's code too), help and version 0.
+    let mut opts = match args::Cli::parse().options() {
         Ok(o) => o,
         Err(e) => {
-            if !e.is_empty() {
-                eprintln!("canopen-decode: {e}");
-            }
-            eprintln!("{USAGE}");
+            let mut cmd = args::Cli::command();
+            eprintln!("canopen-decode: {e}\n\n{}", cmd.render_usage());
             return ExitCode::from(2);
         }
     };
-    if opts.bundled.is_some() && opts.file.is_some() {
-        eprintln!("canopen-decode: give a FILE or --bundled, not both\n{USAGE}");
-        return ExitCode::from(2);
-    }
     let input: Box<dyn BufRead> = match (opts.bundled, opts.file.as_deref()) {
         (Some(_), _) => {
             opts.roles.demo();
@@ -395,6 +354,14 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
     let mut bad = 0;
     let mut text = String::new();
     let mut sdo = sdo::Tracker::default();
+    let mut learned = pdo_learn::Learned::default();
+    for (node, path) in &opts.eds {
+        load_eds(*node, path, &mut roles, &mut sdo, &mut learned)?;
+    }
+    for &channel in &opts.sdo_channels {
+        sdo.add_channel(channel)
+            .map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, format!("--sdo: {e}")))?;
+    }
     let mut reader = opts.format.map_or_else(LineParser::auto, LineParser::new);
     if opts.csv {
         writeln!(out, "{}", csv::HEADER)?;
@@ -432,6 +399,9 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
                 continue;
             }
         };
+        // The SDO observer first: a frame on a declared SDO channel is SDO,
+        // and a block transfer's sub-block segment is no command.
+        let seen = sdo.handle(parsed.timestamp, &parsed.frame);
         let (decoded, deviation) = if opts.strict {
             (Message::decode(&parsed.frame), None)
         } else {
@@ -440,14 +410,46 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
                 Err(e) => (Err(e), None),
             }
         };
-        if let Err(e) = &decoded {
+        let mut block_segment = None;
+        let decoded = match seen {
+            Observed::Request { channel, request } if !is_default(channel) => {
+                Ok(Message::SdoRequest {
+                    node: channel.node,
+                    sdo: request,
+                })
+            }
+            Observed::Response { channel, response } if !is_default(channel) => {
+                Ok(Message::SdoResponse {
+                    node: channel.node,
+                    sdo: response,
+                })
+            }
+            Observed::BlockSegment {
+                channel,
+                from,
+                seqno,
+                last,
+                data,
+            } => {
+                block_segment = Some(BlockSegment {
+                    node: channel.node,
+                    from,
+                    seqno,
+                    last,
+                    data,
+                });
+                decoded
+            }
+            _ => decoded,
+        };
+        if let (Err(e), None) = (&decoded, block_segment) {
             eprintln!("line {lineno}: frame {} does not decode: {e}", parsed.frame);
             bad += 1;
         }
         let fields = decoded
             .as_ref()
             .ok()
-            .and_then(|m| opts.pdos.fields(&parsed.frame, m, &roles));
+            .and_then(|m| opts.pdos.fields(&parsed.frame, m, &roles, &learned));
         // A reply on 700h + node after a remote request there is a guarding
         // reply, whatever its toggle.
         let guard_reply = match &decoded {
@@ -465,6 +467,7 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
         let notes = Notes {
             guard_reply,
             deviation,
+            block_segment,
         };
         if let Ok(msg) = &decoded {
             summary.frame(
@@ -507,43 +510,38 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
             }
             writeln!(out, "{text}")?;
         }
-        let kind = classify(parsed.frame.id());
-        let Some(report) = sdo.handle(
-            parsed.timestamp,
-            kind,
-            parsed.frame.data().first().copied(),
-            &decoded,
-        ) else {
-            continue;
-        };
-        if opts.summary {
-            summary.transfer(&report);
-        }
-        let learned = roles.learn(&report);
-        // CSV rows are frames only.
-        if !opts.frames || opts.csv {
-            continue;
-        }
-        transfer(&mut out, &report, opts.json, &roles)?;
-        if let Some(role) = learned {
-            let what = if opts.json {
-                format!(
-                    "{{\"kind\":\"role\",\"node\":{},\"role\":\"{role}\"}}",
-                    report.node
-                )
-            } else {
-                format!(
-                    "node {} is the {role} (its device type, 1000h, says so)",
-                    report.node
-                )
-            };
-            writeln!(out, "{what}")?;
+        let reports: Vec<sdo::Report> = sdo.reports().collect();
+        for report in reports {
+            if opts.summary {
+                summary.transfer(&report);
+            }
+            let role_learned = roles.learn(&report);
+            let pdo_note = learned.transfer(&report);
+            // CSV rows are frames only.
+            if !opts.frames || opts.csv {
+                continue;
+            }
+            transfer(&mut out, &report, opts.json, &roles, pdo_note.as_deref())?;
+            if let Some(role) = role_learned {
+                let what = if opts.json {
+                    format!(
+                        "{{\"kind\":\"role\",\"node\":{},\"role\":\"{role}\"}}",
+                        report.node
+                    )
+                } else {
+                    format!(
+                        "node {} is the {role} (its device type, 1000h, says so)",
+                        report.node
+                    )
+                };
+                writeln!(out, "{what}")?;
+            }
         }
     }
     for report in sdo.finish() {
         summary.transfer(&report);
         if opts.frames && !opts.csv {
-            transfer(&mut out, &report, opts.json, &roles)?;
+            transfer(&mut out, &report, opts.json, &roles, None)?;
         }
     }
     let mut open = false;
@@ -562,17 +560,125 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
 }
 
 /// Writes the extra line of a finished SDO transfer.
+/// Reads the EDS or DCF of `node` (`--eds NODE=FILE`): its PDOs (COB-IDs
+/// and mappings, `$NODEID` resolved) decode that node's PDO frames, its
+/// server SDO parameter (1200h) adds the SDO channel when it is not the
+/// default, and its device type (1000h) of profile 418 or 419 gives the node
+/// its role unless one was given. Says what it took on stderr.
+fn load_eds(
+    node: NodeId,
+    path: &str,
+    roles: &mut Roles,
+    sdo: &mut sdo::Tracker,
+    learned: &mut pdo_learn::Learned,
+) -> io::Result<()> {
+    use canopen_codec::eds::{eval_int, parse_bytes};
+    use canopen_codec::pdo::PdoDirection;
+    let invalid = |e: String| io::Error::new(io::ErrorKind::InvalidInput, e);
+    let bytes = std::fs::read(path).map_err(|e| invalid(format!("--eds {path}: {e}")))?;
+    let eds = parse_bytes(&bytes).map_err(|e| invalid(format!("--eds {path}: {e}")))?;
+    let int = |index: u16, sub: u8| {
+        eds.entry(index, sub)
+            .and_then(|e| e.value())
+            .and_then(|v| eval_int(v, Some(node.raw())).ok())
+            .and_then(|v| u32::try_from(v).ok())
+    };
+    let mut said = Vec::new();
+    if let Some(device_type) = int(0x1000, 0) {
+        let (slot, role) = match device_type & 0xFFFF {
+            418 => (&mut roles.battery, "battery"),
+            419 => (&mut roles.charger, "charger"),
+            profile => {
+                said.push(format!(
+                    "device type {device_type:08X}h (profile {profile})"
+                ));
+                (&mut None, "")
+            }
+        };
+        if !role.is_empty() {
+            if slot.is_none() {
+                *slot = Some(node);
+            }
+            said.push(format!("device type {device_type:08X}h: the {role}"));
+        }
+    }
+    let profile = if roles.is_battery(node) {
+        Some(canopen_codec::cia418::BATTERY_MODULE_CATALOGUE)
+    } else if roles.is_charger(node) {
+        Some(canopen_codec::deltaq::CHARGER_CATALOGUE)
+    } else {
+        None
+    };
+    learned.name_objects(node, &eds, profile);
+    let mut mapped = Vec::new();
+    for d in eds.pdos(node) {
+        let tx = d.direction == PdoDirection::Transmit;
+        if let Some(id) =
+            learned.preset(node, tx, d.number, d.cob_id.map(|c| c.to_u32()), &d.entries)
+        {
+            mapped.push(format!(
+                "{}{} on {id:03X}h",
+                if tx { "TPDO" } else { "RPDO" },
+                d.number
+            ));
+        }
+    }
+    if !mapped.is_empty() {
+        said.push(format!("PDOs mapped: {}", mapped.join(", ")));
+    }
+    let ids = (int(0x1200, 1), int(0x1200, 2));
+    if let (Some(rx), Some(tx)) = ids {
+        let id = |raw: u32| u16::try_from(raw & 0x7FF).ok().and_then(CanId::standard);
+        if let (Some(request), Some(response)) = (id(rx), id(tx)) {
+            let channel = SdoChannel {
+                node,
+                request,
+                response,
+            };
+            if !is_default(channel) {
+                sdo.add_channel(channel)
+                    .map_err(|e| invalid(format!("--eds {path}: SDO channel: {e}")))?;
+                said.push(format!("SDO on {:03X}h/{:03X}h", rx & 0x7FF, tx & 0x7FF));
+            }
+        }
+    }
+    eprintln!(
+        "canopen-decode: node {node} from {path}: {}",
+        if said.is_empty() {
+            "nothing the decoder uses".to_string()
+        } else {
+            said.join("; ")
+        }
+    );
+    Ok(())
+}
+
+/// Writes the extra line of a finished SDO transfer; `pdo_note` says how it
+/// changed a PDO's configuration.
 fn transfer(
     out: &mut impl Write,
     report: &sdo::Report,
     json: bool,
     roles: &Roles,
+    pdo_note: Option<&str>,
 ) -> io::Result<()> {
     let mut text = String::new();
     if json {
         json::transfer(&mut text, report, roles);
+        if let (Some(note), Some(body)) = (pdo_note, text.strip_suffix('}')) {
+            let mut with = body.to_string();
+            json::key(&mut with, "pdo_config");
+            json::string(&mut with, note);
+            with.push('}');
+            text = with;
+        }
     } else {
         words::transfer(&mut text, report, roles);
+        if let Some(note) = pdo_note {
+            text.push_str(" [");
+            text.push_str(note);
+            text.push(']');
+        }
     }
     writeln!(out, "{text}")
 }

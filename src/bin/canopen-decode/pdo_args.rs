@@ -4,11 +4,16 @@
 use canopen_codec::cia418::BATTERY_MODULE_CATALOGUE;
 use canopen_codec::cob_id::classify_standard;
 use canopen_codec::deltaq::{default_mapping_for_cob_id, CHARGER_CATALOGUE};
-use canopen_codec::pdo::{MappingEntry, NamedFields, PdoMapping, MAX_ENTRIES};
+use canopen_codec::pdo::{Catalogue, MappingEntry, NamedFields, PdoMapping, MAX_ENTRIES};
 use canopen_codec::NodeId;
 use canopen_codec::{CanFrame, CanId, Message};
 
+use crate::pdo_learn::{Learned, Origin};
 use crate::Roles;
+
+/// The objects of a node with no role: CiA 301 names nothing in a PDO, so
+/// fields print as index, sub-index and raw value.
+const NO_CATALOGUE: Catalogue = Catalogue::new("a device without a known profile", &[]);
 
 /// The mapping of the real capture, from tests/data/CAPTURES.md, in
 /// `--pdo` syntax. Unnamed padding uses CiA 301 dummy entries (0005h
@@ -30,6 +35,10 @@ pub enum Source {
     ChargerDefault,
     /// The CiA 418 default for the battery node's COB-IDs.
     BatteryDefault,
+    /// Written or read by SDO earlier in the log.
+    Learned,
+    /// The node's EDS or DCF (`--eds`).
+    Eds,
 }
 
 impl Source {
@@ -38,6 +47,8 @@ impl Source {
             Source::Given => "given",
             Source::ChargerDefault => "charger default",
             Source::BatteryDefault => "battery default",
+            Source::Learned => "from SDO in the log",
+            Source::Eds => "from the EDS",
         }
     }
 }
@@ -125,6 +136,7 @@ impl Mappings {
         frame: &CanFrame,
         msg: &Message,
         roles: &Roles,
+        learned: &Learned,
     ) -> Option<(Source, NamedFields)> {
         let CanId::Standard(id) = frame.id() else {
             return None;
@@ -137,13 +149,32 @@ impl Mappings {
         {
             return None;
         }
-        let (source, catalogue, mapping) = match self.given.iter().find(|(g, _)| *g == id) {
+        let given = self.given.iter().find(|(g, _)| *g == id);
+        if let (None, Some((node, m, origin))) = (given, learned.mapping(id)) {
+            let cat = if let Some(c) = learned.catalogue(node) {
+                c
+            } else if roles.is_battery(node) {
+                BATTERY_MODULE_CATALOGUE
+            } else if roles.is_charger(node) {
+                CHARGER_CATALOGUE
+            } else {
+                NO_CATALOGUE
+            };
+            let source = match origin {
+                Origin::Eds => Source::Eds,
+                Origin::Log => Source::Learned,
+            };
+            return Some((source, cat.decode(&m, frame.data())));
+        }
+        let (source, catalogue, mapping) = match given {
             Some((_, m)) => {
                 // A mapping names objects of the dictionary of the node the
                 // COB-ID belongs to: the battery's is CiA 418, any other
                 // node's is read as the Delta-Q charger's.
                 let node = classify_standard(id).node();
-                let cat = if node.is_some_and(|n| roles.is_battery(n)) {
+                let cat = if let Some(c) = node.and_then(|n| learned.catalogue(n)) {
+                    c
+                } else if node.is_some_and(|n| roles.is_battery(n)) {
                     BATTERY_MODULE_CATALOGUE
                 } else {
                     CHARGER_CATALOGUE

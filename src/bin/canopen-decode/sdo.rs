@@ -1,27 +1,35 @@
-//! SDO transfer reassembly for the decoder: one transfer per SDO channel
-//! (server node; requests on 0x600 + node, responses on 0x580 + node).
+//! SDO transfer reassembly for the decoder, on the library's passive
+//! [`Observer`]: the observer follows every transfer (expedited, segmented,
+//! block; upload and download) on the default SDO channel of every node and
+//! on the channels `--sdo` declares, by the same rules as the library's
+//! client and server; this module collects each transfer's bytes and turns
+//! its end into a [`Report`].
 //!
-//! The library's codec is stateless; the state of each transfer lives here.
-//! A transfer ends in an expedited response or acknowledgement, the last
-//! segment (upload) or the acknowledgement of the last segment (download),
-//! or an abort from either side; then [`Tracker::handle`] returns a
-//! [`Report`]. A transfer broken off by a new initiate, a wrong toggle bit or
-//! a frame that does not fit is reported once as [`End::Incomplete`]; so is
-//! one still open when the log ends ([`Tracker::finish`]). Frames that belong
-//! to no transfer (a stray segment) are left to the per-frame line.
-//!
-//! Block transfers are followed (so their data frames are not misread as
-//! segments) but not reassembled: only an abort of one is reported.
+//! A transfer ends complete, aborted (by either side), or incomplete: broken
+//! off by a new initiate, by a frame that breaks a rule of CiA 301 with no
+//! abort after it, by an acknowledgement the frames on the bus do not make,
+//! by silence longer than [`TIMEOUT`], or by the end of the log
+//! ([`Tracker::finish`]). Each is reported once.
 
-use canopen_codec::cob_id::CobKind;
+use std::collections::HashMap;
+use std::fmt::Write;
+use std::time::Duration;
+
+use canopen_codec::machine::Machine;
 use canopen_codec::sdo::{
-    AbortCode, ClientBlockDownload, ClientBlockUpload, ClientCommand, InitiatePayload,
-    ServerBlockDownload, ServerCommand,
+    self, AbortCode, BreakReason, ChannelError, Observed, Observer, ObserverConfig, ObserverEvent,
+    SdoChannel, Transfer, TransferKind,
 };
-use canopen_codec::{DecodeError, Message, NodeId, Timestamp};
+use canopen_codec::{CanFrame, NodeId, Timestamp};
 
 /// At most this many bytes of one transfer are kept; the rest are counted.
 pub const MAX_BYTES: usize = 64 * 1024;
+
+/// A transfer with no frame for this long is reported incomplete.
+pub const TIMEOUT: Duration = Duration::from_secs(5);
+
+/// Channels `--sdo` can declare.
+pub const EXTRA_CHANNELS: usize = 32;
 
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Direction {
@@ -62,6 +70,15 @@ impl Side {
     }
 }
 
+impl From<sdo::Side> for Side {
+    fn from(s: sdo::Side) -> Self {
+        match s {
+            sdo::Side::Client => Side::Client,
+            sdo::Side::Server => Side::Server,
+        }
+    }
+}
+
 /// How a transfer ended.
 #[derive(Clone, PartialEq, Eq, Debug)]
 pub enum End {
@@ -78,16 +95,23 @@ pub struct Report {
     pub t: Option<Timestamp>,
     pub node: NodeId,
     pub direction: Direction,
+    /// A block transfer.
+    pub block: bool,
     pub index: u16,
     pub sub: u8,
     /// The data, at most [`MAX_BYTES`].
     pub bytes: Vec<u8>,
     /// Bytes transferred (more than `bytes.len()` when truncated).
     pub total: usize,
-    /// The size the initiate frame indicated (segmented, s = 1).
+    /// The size the initiate frames indicated.
     pub indicated: Option<u32>,
     /// False for an expedited transfer with s = 0 ("up to 4 bytes").
     pub size_indicated: bool,
+    /// A block transfer's CRC was checked and matched.
+    pub crc_checked: bool,
+    /// A rule of CiA 301 the transfer broke and went on past (the peer
+    /// accepted it), in words.
+    pub broken: Option<String>,
     pub end: End,
 }
 
@@ -101,458 +125,266 @@ impl Report {
         self.indicated
             .filter(|&n| usize::try_from(n) != Ok(self.total))
     }
-}
 
-#[derive(Clone, Copy, Debug)]
-enum Phase {
-    /// Initiate sent, waiting for the server's initiate response;
-    /// `expedited` for a download whose data came in the initiate.
-    Initiated { expedited: bool },
-    /// Segmented upload: the next segment carries `toggle`.
-    UploadSegments { toggle: bool },
-    /// Segmented download: the next segment carries `toggle`; `pending` is
-    /// the c bit of a segment sent but not yet acknowledged.
-    DownloadSegments { toggle: bool, pending: Option<bool> },
-    /// Block transfer, not reassembled: data frames are skipped until the
-    /// end command or an abort.
-    Block,
-}
-
-#[derive(Debug)]
-struct Transfer {
-    direction: Direction,
-    index: u16,
-    sub: u8,
-    phase: Phase,
-    bytes: Vec<u8>,
-    total: usize,
-    indicated: Option<u32>,
-    size_indicated: bool,
-    last_t: Option<Timestamp>,
-}
-
-impl Transfer {
-    fn new(direction: Direction, index: u16, sub: u8, phase: Phase) -> Self {
-        Transfer {
-            direction,
-            index,
-            sub,
-            phase,
-            bytes: Vec::new(),
-            total: 0,
-            indicated: None,
-            size_indicated: true,
-            last_t: None,
+    /// `upload` / `block download` ...
+    pub fn protocol(&self) -> String {
+        if self.block {
+            format!("block {}", self.direction.name())
+        } else {
+            self.direction.name().to_string()
         }
     }
+}
 
+/// What is collected of a transfer open on a channel.
+#[derive(Default)]
+struct Collect {
+    bytes: Vec<u8>,
+    total: usize,
+    last_t: Option<Timestamp>,
+    /// The frame that broke a rule, in words, and the abort it called for.
+    broken: Option<String>,
+}
+
+impl Collect {
     fn append(&mut self, data: &[u8]) {
         let room = MAX_BYTES.saturating_sub(self.bytes.len());
         self.bytes
             .extend_from_slice(data.get(..room.min(data.len())).unwrap_or_default());
         self.total = self.total.saturating_add(data.len());
     }
-
-    fn report(self, node: NodeId, t: Option<Timestamp>, end: End) -> Report {
-        Report {
-            t,
-            node,
-            direction: self.direction,
-            index: self.index,
-            sub: self.sub,
-            bytes: self.bytes,
-            total: self.total,
-            indicated: self.indicated,
-            size_indicated: self.size_indicated,
-            end,
-        }
-    }
 }
 
-/// The open transfer of each SDO channel (node 1..=127).
+/// The observer and the bytes of every open transfer.
 pub struct Tracker {
-    channels: Vec<Option<Transfer>>,
+    observer: Observer<EXTRA_CHANNELS>,
+    open: HashMap<SdoChannel, Collect>,
+    reports: Vec<Report>,
+    /// The frame just taken, for the words of a rule it breaks.
+    last_seen: Observed,
 }
 
 impl Default for Tracker {
     fn default() -> Self {
         Tracker {
-            channels: (0..128).map(|_| None).collect(),
+            observer: Observer::with_extra_channels(ObserverConfig {
+                default_channels: true,
+                timeout: Some(TIMEOUT),
+            }),
+            open: HashMap::new(),
+            reports: Vec::new(),
+            last_seen: Observed::Other,
         }
     }
 }
 
-/// What one SDO frame is, for the tracker.
-enum Frame<'a> {
-    Client(&'a ClientCommand),
-    Server(&'a ServerCommand),
-    Malformed(Side),
-}
-
-fn bit(b: bool) -> u8 {
-    u8::from(b)
+/// `initiate upload`, `block download`, ... for "new ..." reasons.
+fn initiate_name(t: &Transfer) -> &'static str {
+    let block = matches!(t.kind, Some(TransferKind::Block { .. }));
+    match (t.direction, block) {
+        (sdo::Direction::Upload, false) => "initiate upload",
+        (sdo::Direction::Download, false) => "initiate download",
+        (sdo::Direction::Upload, true) => "block upload",
+        (sdo::Direction::Download, true) => "block download",
+    }
 }
 
 impl Tracker {
-    /// Feeds one decoded frame; returns the transfer it ended, if any.
-    /// `first` is the frame's first data byte.
-    pub fn handle(
-        &mut self,
-        t: Option<Timestamp>,
-        kind: CobKind,
-        first: Option<u8>,
-        msg: &Result<Message, DecodeError>,
-    ) -> Option<Report> {
-        let (node, frame) = match (kind, msg) {
-            (_, Ok(Message::SdoRequest { node, sdo })) => (*node, Frame::Client(&sdo.command)),
-            (_, Ok(Message::SdoResponse { node, sdo })) => (*node, Frame::Server(&sdo.command)),
-            (CobKind::SdoRx(node), Err(_)) => (node, Frame::Malformed(Side::Client)),
-            (CobKind::SdoTx(node), Err(_)) => (node, Frame::Malformed(Side::Server)),
-            _ => return None,
+    /// Watches one more SDO channel (`--sdo`).
+    pub fn add_channel(&mut self, channel: SdoChannel) -> Result<(), ChannelError> {
+        self.observer.add_channel(channel)
+    }
+
+    /// Feeds one frame of the log: what the frame is on its SDO channel.
+    pub fn handle(&mut self, t: Option<Timestamp>, frame: &CanFrame) -> Observed {
+        let now = t.unwrap_or(Timestamp::ZERO);
+        if t.is_some() {
+            self.observer.handle_timeout(now);
+            self.drain(t);
+        }
+        let seen = self.observer.observe(now, frame);
+        let channel = match seen {
+            Observed::Other => return seen,
+            Observed::Request { channel, .. }
+            | Observed::Response { channel, .. }
+            | Observed::BlockSegment { channel, .. }
+            | Observed::Malformed { channel, .. } => channel,
+            _ => return seen,
         };
-        let slot = self.channels.get_mut(usize::from(node.raw()))?;
-        let current = slot.take();
-        let (next, report) = step(current, node, t, first, frame);
-        *slot = next.map(|mut tr| {
-            tr.last_t = t;
-            tr
-        });
-        report
+        self.last_seen = seen;
+        if let Some(c) = self.open.get_mut(&channel) {
+            c.last_t = t;
+        }
+        self.drain(t);
+        seen
+    }
+
+    /// The frame just taken, in words.
+    fn last_words(&self) -> String {
+        match &self.last_seen {
+            Observed::Request { request, .. } => format!("the client's {}", request.command),
+            Observed::Response { response, .. } => format!("the server's {}", response.command),
+            Observed::BlockSegment { seqno, .. } => format!("block segment seq {seqno}"),
+            _ => "a frame".to_string(),
+        }
+    }
+
+    /// The transfers ended by the frames handed in since the last call.
+    pub fn reports(&mut self) -> std::vec::Drain<'_, Report> {
+        self.reports.drain(..)
+    }
+
+    fn drain(&mut self, t: Option<Timestamp>) {
+        let mut pending_new: Option<Report> = None;
+        while let Some(e) = self.observer.poll_event() {
+            self.event(e, t, &mut pending_new);
+        }
+        if let Some(r) = pending_new {
+            self.reports.push(r);
+        }
+    }
+
+    fn event(&mut self, e: ObserverEvent, t: Option<Timestamp>, pending_new: &mut Option<Report>) {
+        match e {
+            ObserverEvent::Started(transfer) => {
+                if let Some(mut r) = pending_new.take() {
+                    r.end = End::Incomplete(format!(
+                        "new {} {:04X}h:{:02X}",
+                        initiate_name(&transfer),
+                        transfer.index,
+                        transfer.sub
+                    ));
+                    self.reports.push(r);
+                }
+                self.open.insert(
+                    transfer.channel,
+                    Collect {
+                        last_t: t,
+                        ..Collect::default()
+                    },
+                );
+            }
+            ObserverEvent::Data { channel, data, .. } => {
+                let c = self.open.entry(channel).or_default();
+                c.append(data.as_slice());
+                c.last_t = t;
+            }
+            ObserverEvent::RuleBroken { channel, code, by } => {
+                let what = self.last_words();
+                let c = self.open.entry(channel).or_default();
+                c.broken = Some(format!(
+                    "{what} breaks CiA 301 (the {} should abort with {code})",
+                    Side::from(by).name()
+                ));
+            }
+            ObserverEvent::Completed {
+                transfer,
+                crc_checked,
+                ..
+            } => {
+                let r = self.report(transfer, t, End::Complete, crc_checked);
+                self.reports.push(r);
+            }
+            ObserverEvent::Aborted {
+                transfer, code, by, ..
+            } => {
+                let end = End::Aborted {
+                    code,
+                    by: by.into(),
+                };
+                let r = self.report(transfer, t, end, false);
+                self.reports.push(r);
+            }
+            ObserverEvent::BrokenOff {
+                transfer, reason, ..
+            } => {
+                let broken = self
+                    .open
+                    .get_mut(&transfer.channel)
+                    .and_then(|c| c.broken.take());
+                let why = match reason {
+                    // Named after the initiate that follows (same frame).
+                    BreakReason::NewInitiate => String::new(),
+                    BreakReason::Violation { code, by } => broken.map_or_else(
+                        || {
+                            format!(
+                                "the {} should have aborted with {code}",
+                                Side::from(by).name()
+                            )
+                        },
+                        |b| format!("{b}, and no abort followed"),
+                    ),
+                    BreakReason::AckMismatch { expected, got } => format!(
+                        "acknowledgement of sequence number {got} where the segments on the bus \
+                         make {expected} (the bytes from here on cannot be placed)"
+                    ),
+                    BreakReason::Timeout => {
+                        let mut s = String::new();
+                        let _ = write!(s, "no frame for {} s", TIMEOUT.as_secs());
+                        s
+                    }
+                    BreakReason::EndOfTrace => "the log ends".to_string(),
+                    _ => "broken off".to_string(),
+                };
+                let at = if matches!(reason, BreakReason::EndOfTrace | BreakReason::Timeout) {
+                    self.open.get(&transfer.channel).and_then(|c| c.last_t)
+                } else {
+                    t
+                };
+                let r = self.report(transfer, at, End::Incomplete(why), false);
+                if reason == BreakReason::NewInitiate {
+                    if let Some(p) = pending_new.replace(r) {
+                        self.reports.push(p);
+                    }
+                } else {
+                    self.reports.push(r);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn report(&mut self, tr: Transfer, t: Option<Timestamp>, end: End, crc: bool) -> Report {
+        let mut c = self.open.remove(&tr.channel).unwrap_or_default();
+        let broken = if end == End::Complete {
+            c.broken.take()
+        } else {
+            None
+        };
+        Report {
+            t,
+            node: tr.channel.node,
+            direction: match tr.direction {
+                sdo::Direction::Upload => Direction::Upload,
+                sdo::Direction::Download => Direction::Download,
+            },
+            block: matches!(tr.kind, Some(TransferKind::Block { .. })),
+            index: tr.index,
+            sub: tr.sub,
+            bytes: c.bytes,
+            total: c.total,
+            indicated: tr.indicated,
+            size_indicated: !matches!(
+                tr.kind,
+                Some(TransferKind::Expedited {
+                    size_indicated: false
+                })
+            ),
+            crc_checked: crc,
+            broken,
+            end,
+        }
     }
 
     /// Reports every transfer still open at the end of the log.
     pub fn finish(&mut self) -> Vec<Report> {
-        let mut out = Vec::new();
-        for (n, slot) in self.channels.iter_mut().enumerate() {
-            let Some(tr) = slot.take() else { continue };
-            let Some(node) = u8::try_from(n).ok().and_then(NodeId::new) else {
-                continue;
-            };
-            if matches!(tr.phase, Phase::Block) {
-                continue;
-            }
-            let t = tr.last_t;
-            out.push(tr.report(node, t, End::Incomplete("the log ends".into())));
+        let mut pending_new = None;
+        while let Some(e) = self.observer.end_of_trace() {
+            self.event(e, None, &mut pending_new);
         }
-        out
-    }
-}
-
-/// One transition: the transfer after the frame, and the report if the
-/// frame ended one.
-fn step(
-    current: Option<Transfer>,
-    node: NodeId,
-    t: Option<Timestamp>,
-    first: Option<u8>,
-    frame: Frame<'_>,
-) -> (Option<Transfer>, Option<Report>) {
-    let broken = |tr: Transfer, why: String| tr.report(node, t, End::Incomplete(why));
-    // A new initiate breaks off whatever was open.
-    let start = |current: Option<Transfer>, new: Transfer, what: &str| {
-        let report = current.map(|tr| {
-            let why = format!("new {what} {:04X}h:{:02X}", new.index, new.sub);
-            // Block transfers are not reported, only their aborts.
-            (!matches!(tr.phase, Phase::Block)).then(|| broken(tr, why))
-        });
-        (Some(new), report.flatten())
-    };
-    let Some(mut tr) = current else {
-        // No transfer open: only an initiate starts one.
-        return match frame {
-            Frame::Client(c) => match initiate(c) {
-                Some((new, what)) => start(None, new, what),
-                None => (None, None),
-            },
-            _ => (None, None),
-        };
-    };
-
-    if let Phase::Block = tr.phase {
-        return block(tr, node, t, first, frame);
-    }
-    match frame {
-        Frame::Client(c) => {
-            if let Some((new, what)) = initiate(c) {
-                return start(Some(tr), new, what);
-            }
-            match (c, tr.phase) {
-                (ClientCommand::Abort { code, .. }, _) => {
-                    let end = End::Aborted {
-                        code: *code,
-                        by: Side::Client,
-                    };
-                    (None, Some(tr.report(node, t, end)))
-                }
-                (
-                    ClientCommand::UploadSegment { toggle },
-                    Phase::UploadSegments { toggle: want },
-                ) if tr.direction == Direction::Upload => {
-                    if *toggle == want {
-                        (Some(tr), None)
-                    } else {
-                        let why = format!(
-                            "upload segment request with toggle {}, expected {}",
-                            bit(*toggle),
-                            bit(want)
-                        );
-                        (None, Some(broken(tr, why)))
-                    }
-                }
-                (
-                    ClientCommand::DownloadSegment(s),
-                    Phase::DownloadSegments {
-                        toggle,
-                        pending: None,
-                    },
-                ) => {
-                    if s.toggle != toggle {
-                        let why = format!(
-                            "download segment with toggle {}, expected {}",
-                            bit(s.toggle),
-                            bit(toggle)
-                        );
-                        return (None, Some(broken(tr, why)));
-                    }
-                    tr.append(s.data.as_slice());
-                    tr.phase = Phase::DownloadSegments {
-                        toggle,
-                        pending: Some(s.last),
-                    };
-                    (Some(tr), None)
-                }
-                (c, _) => {
-                    let why = format!("unexpected client frame ({})", client_name(c));
-                    (None, Some(broken(tr, why)))
-                }
-            }
+        if let Some(r) = pending_new {
+            self.reports.push(r);
         }
-        Frame::Server(s) => match (s, tr.phase) {
-            (ServerCommand::Abort { code, .. }, _) => {
-                let end = End::Aborted {
-                    code: *code,
-                    by: Side::Server,
-                };
-                (None, Some(tr.report(node, t, end)))
-            }
-            (
-                ServerCommand::InitiateUpload {
-                    index,
-                    sub,
-                    payload,
-                },
-                Phase::Initiated { .. },
-            ) if tr.direction == Direction::Upload => {
-                if (*index, *sub) != (tr.index, tr.sub) {
-                    let why = format!("the response names {index:04X}h:{sub:02X}");
-                    return (None, Some(broken(tr, why)));
-                }
-                match payload {
-                    InitiatePayload::Expedited {
-                        data,
-                        size_indicated,
-                    } => {
-                        tr.append(data.as_slice());
-                        tr.size_indicated = *size_indicated;
-                        (None, Some(tr.report(node, t, End::Complete)))
-                    }
-                    InitiatePayload::Segmented { size } => {
-                        tr.indicated = *size;
-                        tr.phase = Phase::UploadSegments { toggle: false };
-                        (Some(tr), None)
-                    }
-                }
-            }
-            (ServerCommand::InitiateDownload { index, sub }, Phase::Initiated { expedited })
-                if tr.direction == Direction::Download =>
-            {
-                if (*index, *sub) != (tr.index, tr.sub) {
-                    let why = format!("the response names {index:04X}h:{sub:02X}");
-                    return (None, Some(broken(tr, why)));
-                }
-                if expedited {
-                    return (None, Some(tr.report(node, t, End::Complete)));
-                }
-                tr.phase = Phase::DownloadSegments {
-                    toggle: false,
-                    pending: None,
-                };
-                (Some(tr), None)
-            }
-            (ServerCommand::UploadSegment(seg), Phase::UploadSegments { toggle }) => {
-                if seg.toggle != toggle {
-                    let why = format!(
-                        "upload segment with toggle {}, expected {}",
-                        bit(seg.toggle),
-                        bit(toggle)
-                    );
-                    return (None, Some(broken(tr, why)));
-                }
-                tr.append(seg.data.as_slice());
-                if seg.last {
-                    return (None, Some(tr.report(node, t, End::Complete)));
-                }
-                tr.phase = Phase::UploadSegments { toggle: !toggle };
-                (Some(tr), None)
-            }
-            (
-                ServerCommand::DownloadSegment { toggle: ack },
-                Phase::DownloadSegments {
-                    toggle,
-                    pending: Some(last),
-                },
-            ) => {
-                if *ack != toggle {
-                    let why = format!(
-                        "download acknowledgement with toggle {}, expected {}",
-                        bit(*ack),
-                        bit(toggle)
-                    );
-                    return (None, Some(broken(tr, why)));
-                }
-                if last {
-                    return (None, Some(tr.report(node, t, End::Complete)));
-                }
-                tr.phase = Phase::DownloadSegments {
-                    toggle: !toggle,
-                    pending: None,
-                };
-                (Some(tr), None)
-            }
-            (s, _) => {
-                let why = format!("unexpected server frame ({})", server_name(s));
-                (None, Some(broken(tr, why)))
-            }
-        },
-        Frame::Malformed(side) => {
-            let why = format!("malformed {} frame", side.name());
-            (None, Some(broken(tr, why)))
-        }
-    }
-}
-
-/// A client frame that starts a transfer: the transfer and its words.
-fn initiate(c: &ClientCommand) -> Option<(Transfer, &'static str)> {
-    match *c {
-        ClientCommand::InitiateUpload { index, sub } => Some((
-            Transfer::new(
-                Direction::Upload,
-                index,
-                sub,
-                Phase::Initiated { expedited: false },
-            ),
-            "initiate upload",
-        )),
-        ClientCommand::InitiateDownload {
-            index,
-            sub,
-            payload,
-        } => {
-            let mut tr = Transfer::new(
-                Direction::Download,
-                index,
-                sub,
-                Phase::Initiated { expedited: false },
-            );
-            match payload {
-                InitiatePayload::Expedited {
-                    data,
-                    size_indicated,
-                } => {
-                    tr.append(data.as_slice());
-                    tr.size_indicated = size_indicated;
-                    tr.phase = Phase::Initiated { expedited: true };
-                }
-                InitiatePayload::Segmented { size } => tr.indicated = size,
-            }
-            Some((tr, "initiate download"))
-        }
-        ClientCommand::BlockUpload(ClientBlockUpload::Initiate { index, sub, .. }) => Some((
-            Transfer::new(Direction::Upload, index, sub, Phase::Block),
-            "block upload",
-        )),
-        ClientCommand::BlockDownload(ClientBlockDownload::Initiate { index, sub, .. }) => Some((
-            Transfer::new(Direction::Download, index, sub, Phase::Block),
-            "block download",
-        )),
-        _ => None,
-    }
-}
-
-/// A frame during a block transfer. The side that sends the data sends
-/// frames the stateless codec cannot tell from commands (sequence number 5
-/// with the last bit, 85h, reads as an abort), so from that side only a
-/// frame whose first byte is exactly 80h counts as an abort; from the other
-/// side its end command and aborts are looked at.
-fn block(
-    tr: Transfer,
-    node: NodeId,
-    t: Option<Timestamp>,
-    first: Option<u8>,
-    frame: Frame<'_>,
-) -> (Option<Transfer>, Option<Report>) {
-    let aborted = |tr: Transfer, code: AbortCode, by| tr.report(node, t, End::Aborted { code, by });
-    let data_side = matches!(
-        (tr.direction, &frame),
-        (Direction::Download, Frame::Client(_))
-            | (Direction::Upload, Frame::Server(_))
-            | (_, Frame::Malformed(_))
-    );
-    if data_side && first != Some(0x80) {
-        return (Some(tr), None);
-    }
-    match (tr.direction, frame) {
-        (_, Frame::Client(ClientCommand::Abort { code, .. })) => {
-            (None, Some(aborted(tr, *code, Side::Client)))
-        }
-        (_, Frame::Server(ServerCommand::Abort { code, .. })) => {
-            (None, Some(aborted(tr, *code, Side::Server)))
-        }
-        (Direction::Upload, Frame::Client(ClientCommand::BlockUpload(ClientBlockUpload::End))) => {
-            (None, None)
-        }
-        (
-            Direction::Download,
-            Frame::Server(ServerCommand::BlockDownload(ServerBlockDownload::End)),
-        ) => (None, None),
-        // A new initiate from the client while it is not sending data.
-        (Direction::Upload, Frame::Client(c)) => match initiate(c) {
-            Some((new, _)) => (Some(new), None),
-            None => (Some(tr), None),
-        },
-        // The server answering something other than a block download:
-        // the block transfer is over (its end was not seen).
-        (Direction::Download, Frame::Server(s))
-            if !matches!(s, ServerCommand::BlockDownload(_)) =>
-        {
-            (None, None)
-        }
-        _ => (Some(tr), None),
-    }
-}
-
-fn client_name(c: &ClientCommand) -> &'static str {
-    match c {
-        ClientCommand::DownloadSegment(_) => "download segment",
-        ClientCommand::InitiateDownload { .. } => "initiate download",
-        ClientCommand::InitiateUpload { .. } => "initiate upload",
-        ClientCommand::UploadSegment { .. } => "upload segment request",
-        ClientCommand::Abort { .. } => "abort",
-        ClientCommand::BlockUpload(_) => "block upload",
-        ClientCommand::BlockDownload(_) => "block download",
-        ClientCommand::Unknown(_) => "invalid command specifier",
-    }
-}
-
-fn server_name(s: &ServerCommand) -> &'static str {
-    match s {
-        ServerCommand::UploadSegment(_) => "upload segment",
-        ServerCommand::DownloadSegment { .. } => "download acknowledgement",
-        ServerCommand::InitiateUpload { .. } => "initiate upload response",
-        ServerCommand::InitiateDownload { .. } => "initiate download response",
-        ServerCommand::Abort { .. } => "abort",
-        ServerCommand::BlockDownload(_) => "block download",
-        ServerCommand::BlockUpload(_) => "block upload",
-        ServerCommand::Unknown(_) => "invalid command specifier",
+        self.reports.drain(..).collect()
     }
 }

@@ -9,7 +9,9 @@
 //! log"), boot-ups and whether an NMT reset preceded them, EMCYs with their
 //! names (Delta-Q labels on a charger) and whether an error reset cleared
 //! them, SDO transfers (count, aborts with object and code), node-guarding
-//! requests and replies. Per PDO COB-ID: frames and rate. `--check` makes
+//! requests and replies. Per PDO COB-ID: frames and rate. LSS (CiA 305):
+//! frames, fastscans started, and the node-IDs a slave accepted by
+//! configure node-ID. `--check` makes
 //! the program exit 3 when a problem is still open at the end: a node
 //! silent until the end, or an EMCY not cleared.
 
@@ -17,6 +19,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write;
 
 use canopen_codec::deltaq::DeltaQCode;
+use canopen_codec::lss::{Fastscan, LssMessage, LssRequest, LssResponse};
 use canopen_codec::nmt::{NmtCommandSpecifier, NmtState, NmtTarget};
 use canopen_codec::{Message, NodeId, Timestamp};
 
@@ -60,6 +63,17 @@ pub struct Summary {
     pdos: BTreeMap<u32, (u64, Timestamp, Timestamp)>,
     first: Option<Timestamp>,
     last: Option<Timestamp>,
+    lss: Lss,
+}
+
+/// LSS traffic: frames, fastscans (reset steps) and accepted node-IDs.
+#[derive(Default)]
+struct Lss {
+    frames: u64,
+    fastscans: u64,
+    /// The node-ID of the last configure node-ID request.
+    asked: Option<u8>,
+    configured: Vec<u8>,
 }
 
 /// A time as the log gives it.
@@ -154,6 +168,26 @@ impl Summary {
                     n.emcys.push((t, text, false));
                 } else {
                     n.emcys_more += 1;
+                }
+            }
+            Message::Lss(lss) => {
+                let l = &mut self.lss;
+                l.frames += 1;
+                match lss {
+                    LssMessage::Request(LssRequest::Fastscan(f))
+                        if f.bit_checked == Fastscan::RESET =>
+                    {
+                        l.fastscans += 1;
+                    }
+                    LssMessage::Request(LssRequest::ConfigureNodeId(raw)) => l.asked = Some(raw),
+                    LssMessage::Response(LssResponse::ConfigureNodeId(st)) if st.is_ok() => {
+                        if let Some(raw) = l.asked.take() {
+                            if l.configured.len() < LISTED {
+                                l.configured.push(raw);
+                            }
+                        }
+                    }
+                    _ => {}
                 }
             }
             Message::Tpdo { .. } | Message::Rpdo { .. } => {
@@ -290,7 +324,15 @@ impl Summary {
                 if i > 0 { "," } else { "" }
             );
         }
-        let _ = write!(out, "],\"open_problems\":{open}}}");
+        let configured: Vec<String> = self.lss.configured.iter().map(u8::to_string).collect();
+        let _ = write!(
+            out,
+            "],\"lss\":{{\"frames\":{},\"fastscans\":{},\"node_ids_configured\":[{}]}}",
+            self.lss.frames,
+            self.lss.fastscans,
+            configured.join(",")
+        );
+        let _ = write!(out, ",\"open_problems\":{open}}}");
         open
     }
 
@@ -388,6 +430,20 @@ impl Summary {
                 "-".into()
             };
             let _ = writeln!(out, "  PDO {id:03X}h: {count} frames, {rate}");
+        }
+        if self.lss.frames > 0 {
+            let configured: Vec<String> = self.lss.configured.iter().map(u8::to_string).collect();
+            let _ = writeln!(
+                out,
+                "  LSS: {} frames, {} fastscans, node-IDs configured: {}",
+                self.lss.frames,
+                self.lss.fastscans,
+                if configured.is_empty() {
+                    "none".to_string()
+                } else {
+                    configured.join(", ")
+                }
+            );
         }
         let _ = writeln!(
             out,

@@ -107,6 +107,10 @@ pub fn message(
     notes: &crate::Notes,
 ) {
     let guard_reply = notes.guard_reply;
+    if let Some(seg) = &notes.block_segment {
+        let _ = write!(out, "{seg}");
+        return;
+    }
     match m {
         Ok(msg) => {
             let _ = write!(out, "{}", Text { msg, guard_reply });
@@ -196,7 +200,7 @@ fn hex_spaced(bytes: &[u8]) -> String {
 pub fn sentence(r: &Report, d: &Described) -> String {
     let mut s = format!(
         "SDO {} {:04X}h:{:02X} {} node {}",
-        r.direction.name(),
+        r.protocol(),
         r.index,
         r.sub,
         r.direction.preposition(),
@@ -267,6 +271,12 @@ pub fn sentence(r: &Report, d: &Described) -> String {
     }
     if !r.size_indicated {
         s.push_str(" [size not indicated]");
+    }
+    if r.crc_checked {
+        s.push_str(" [CRC checked]");
+    }
+    if let (Some(b), None) = (&r.broken, r.size_mismatch()) {
+        let _ = write!(s, " [{b}; accepted]");
     }
     s
 }

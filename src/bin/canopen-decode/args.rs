@@ -1,0 +1,189 @@
+//! The command line, parsed with clap (derive): what each option means is
+//! in the module docs of `main.rs` and in `--help`.
+
+use clap::{Parser, ValueEnum};
+
+use canopen_codec::sdo::SdoChannel;
+use canopen_codec::trace::Format;
+use canopen_codec::{CanId, NodeId};
+
+use crate::pdo_args;
+use crate::{Options, Roles};
+
+/// Output forms.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Output {
+    /// One line of words per frame.
+    Words,
+    /// One JSON object per frame.
+    Json,
+    /// One CSV row per frame.
+    Csv,
+}
+
+/// Trace formats (detected from the content when not given).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FormatArg {
+    /// candump -L log lines.
+    Candump,
+    /// candump screen output (any -t form but -t d).
+    CandumpScreen,
+    /// candump screen output with -t d (delta) times.
+    CandumpScreenDelta,
+    /// PCAN-View .trc, versions 1.0 to 2.1.
+    Trc,
+    /// Vector ASC.
+    Asc,
+    /// python-can CSV.
+    Csv,
+}
+
+/// What the bundled data can be.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Bundled {
+    /// The recorded session of the crate's virtual charger and battery module.
+    Session,
+}
+
+/// Decodes a CAN trace of a CANopen bus: every frame in words, JSON or CSV,
+/// SDO transfers reassembled, and a bus-health summary.
+#[derive(Parser, Debug)]
+#[command(name = "canopen-decode", version)]
+pub struct Cli {
+    /// The same as --output json.
+    #[arg(long)]
+    json: bool,
+    /// words (default), json or csv.
+    #[arg(long, value_enum)]
+    output: Option<Output>,
+    /// Treat frames that deviate from CiA 301 as malformed.
+    #[arg(long)]
+    strict: bool,
+    /// The trace format (detected from the content when not given).
+    #[arg(long, value_enum)]
+    format: Option<FormatArg>,
+    /// Print the bus-health summary after the frames.
+    #[arg(long)]
+    summary: bool,
+    /// Print only the summary.
+    #[arg(long)]
+    summary_only: bool,
+    /// Print the summary; exit 3 when a problem is open at the end.
+    #[arg(long)]
+    check: bool,
+    /// The Delta-Q charger's node id.
+    #[arg(long, value_name = "N", value_parser = parse_node)]
+    charger_node: Option<NodeId>,
+    /// The CiA 418 battery module's node id.
+    #[arg(long, value_name = "N", value_parser = parse_node)]
+    battery_node: Option<NodeId>,
+    /// The mapping of the PDO on COBID (hex), entries in mapping order.
+    #[arg(long, value_name = "COBID=INDEX:SUB:BITS,...")]
+    pdo: Vec<String>,
+    /// Do not apply the charger's and battery module's default PDOs.
+    #[arg(long)]
+    no_default_pdos: bool,
+    /// The mapping of the real Delta-Q captures (implies --no-default-pdos).
+    #[arg(long)]
+    pdo_capture_mapping: bool,
+    /// An SDO server on other COB-IDs: NODE (decimal), RXID and TXID (hex).
+    #[arg(long, value_name = "NODE=RXID,TXID", value_parser = parse_sdo_channel)]
+    sdo: Vec<SdoChannel>,
+    /// A node's EDS or DCF.
+    #[arg(long, value_name = "NODE=FILE", value_parser = parse_eds)]
+    eds: Vec<(NodeId, String)>,
+    /// Decode bundled data instead of a FILE.
+    #[arg(long, value_enum, conflicts_with = "file")]
+    bundled: Option<Bundled>,
+    /// The trace ('-' for stdin; none: stdin, or the bundled session on a terminal).
+    file: Option<String>,
+}
+
+fn parse_node(v: &str) -> Result<NodeId, String> {
+    v.parse::<u8>()
+        .ok()
+        .and_then(NodeId::new)
+        .ok_or(format!("'{v}' is not a node id 1..=127"))
+}
+
+/// `NODE=RXID,TXID`: the server `NODE` (decimal) receives requests on RXID
+/// and answers on TXID (hex COB-IDs, as in its 1200h sub 1 and sub 2).
+fn parse_sdo_channel(v: &str) -> Result<SdoChannel, String> {
+    let bad = || format!("'{v}' is not NODE=RXID,TXID (e.g. 65=241,1C1)");
+    let (node, ids) = v.split_once('=').ok_or_else(bad)?;
+    let (rx, tx) = ids.split_once(',').ok_or_else(bad)?;
+    let node = parse_node(node)?;
+    let id = |s: &str| -> Result<CanId, String> {
+        let digits = s.trim_start_matches("0x").trim_start_matches("0X");
+        let raw = u32::from_str_radix(digits, 16).map_err(|_| bad())?;
+        match u16::try_from(raw).ok().and_then(CanId::standard) {
+            Some(id) => Ok(id),
+            None => CanId::extended(raw).ok_or_else(bad),
+        }
+    };
+    Ok(SdoChannel {
+        node,
+        request: id(rx)?,
+        response: id(tx)?,
+    })
+}
+
+/// `NODE=FILE`.
+fn parse_eds(v: &str) -> Result<(NodeId, String), String> {
+    let (node, path) = v.split_once('=').ok_or(format!("'{v}' is not NODE=FILE"))?;
+    Ok((parse_node(node)?, path.to_string()))
+}
+
+impl Cli {
+    /// The options the program runs with; errors that need more than one
+    /// argument (a COB-ID given twice) are found here.
+    pub fn options(self) -> Result<Options, String> {
+        let output = match (self.output, self.json) {
+            (Some(o), _) => o,
+            (None, true) => Output::Json,
+            (None, false) => Output::Words,
+        };
+        let mut pdos = pdo_args::Mappings {
+            given: Vec::new(),
+            defaults: !self.no_default_pdos,
+        };
+        for p in &self.pdo {
+            pdos.add(p)?;
+        }
+        let mut roles = Roles {
+            charger: self.charger_node,
+            battery: self.battery_node,
+        };
+        if self.pdo_capture_mapping {
+            pdos.add_capture()?;
+            // The capture's nodes: the Delta-Q charger 10, the battery module 1.
+            roles.charger = roles.charger.or(NodeId::new(10));
+            roles.battery = roles.battery.or(NodeId::new(1));
+        }
+        let (format, delta_times) = match self.format {
+            None => (None, false),
+            Some(FormatArg::Candump) => (Some(Format::CandumpLog), false),
+            Some(FormatArg::CandumpScreen) => (Some(Format::CandumpScreen), false),
+            Some(FormatArg::CandumpScreenDelta) => (Some(Format::CandumpScreen), true),
+            Some(FormatArg::Trc) => (Some(Format::PcanTrc), false),
+            Some(FormatArg::Asc) => (Some(Format::VectorAsc), false),
+            Some(FormatArg::Csv) => (Some(Format::PythonCanCsv), false),
+        };
+        Ok(Options {
+            json: output == Output::Json,
+            csv: output == Output::Csv,
+            summary: self.summary || self.summary_only || self.check,
+            frames: !self.summary_only,
+            check: self.check,
+            roles,
+            pdos,
+            file: self.file,
+            bundled: self.bundled.map(|Bundled::Session| "session"),
+            format,
+            delta_times,
+            strict: self.strict,
+            sdo_channels: self.sdo,
+            eds: self.eds,
+        })
+    }
+}

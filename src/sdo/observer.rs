@@ -1,0 +1,703 @@
+//! The passive SDO observer ([`Observer`]): its types and its channel
+//! table; the transitions are in `observer_rules.rs`.
+
+use core::time::Duration;
+
+use super::abort::AbortCode;
+use super::data::SegmentData;
+use super::observer_rules::Open;
+use super::server::DEFAULT_TIMEOUT;
+use super::wire::{SdoRequest, SdoResponse};
+use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
+use crate::error::DecodeError;
+use crate::frame::{CanFrame, CanId};
+use crate::machine::Machine;
+use crate::queue::EventQueue;
+use crate::time::Timestamp;
+
+/// How many events the observer keeps before dropping the oldest.
+pub const OBSERVER_EVENT_CAPACITY: usize = 32;
+
+/// Channels besides the default ones an [`Observer`] holds unless told
+/// otherwise ([`Observer::with_extra_channels`]).
+pub const OBSERVER_EXTRA_CHANNELS: usize = 8;
+
+/// Nodes with a default SDO channel (1..=127).
+const NODES: usize = 127;
+
+/// One SDO channel: the COB-ID the client sends on and the one the server
+/// answers on, and the node the server is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SdoChannel {
+    /// The node whose server the channel reaches.
+    pub node: NodeId,
+    /// Client to server (the server's receive SDO): 600h + node by default.
+    pub request: CanId,
+    /// Server to client (the server's transmit SDO): 580h + node by default.
+    pub response: CanId,
+}
+
+impl SdoChannel {
+    /// The default SDO channel of `node` (CiA 301 pre-defined connection
+    /// set): requests on 600h + node, responses on 580h + node.
+    #[must_use]
+    pub const fn default_for(node: NodeId) -> Self {
+        let n = node.raw() as u16;
+        SdoChannel {
+            node,
+            request: CanId::Standard(SDO_RX_BASE + n),
+            response: CanId::Standard(SDO_TX_BASE + n),
+        }
+    }
+}
+
+/// Which way the value goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Direction {
+    /// Server to client (a read).
+    Upload,
+    /// Client to server (a write).
+    Download,
+}
+
+/// Which end of a channel sent a frame, or aborted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Side {
+    /// The SDO client.
+    Client,
+    /// The SDO server.
+    Server,
+}
+
+impl Side {
+    /// The other end.
+    #[must_use]
+    pub const fn other(self) -> Self {
+        match self {
+            Side::Client => Side::Server,
+            Side::Server => Side::Client,
+        }
+    }
+}
+
+/// The protocol a transfer uses, once known (an upload learns it from the
+/// server's answer).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum TransferKind {
+    /// The value travels in the initiate frame; `size_indicated` is the s
+    /// bit (without it the value is "up to 4 bytes": every data byte).
+    Expedited {
+        /// The s bit.
+        size_indicated: bool,
+    },
+    /// Segments of up to 7 bytes, each answered.
+    Segmented,
+    /// Block transfer; `crc` when both sides announced CRC support.
+    Block {
+        /// The CRC is checked at the end.
+        crc: bool,
+    },
+}
+
+/// What is known of a transfer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Transfer {
+    /// The channel it runs on.
+    pub channel: SdoChannel,
+    /// Upload or download.
+    pub direction: Direction,
+    /// Object index.
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// The protocol; `None` for an upload the server has not answered yet.
+    pub kind: Option<TransferKind>,
+    /// The size the initiate frames indicated, if they did.
+    pub indicated: Option<u32>,
+}
+
+/// Why a transfer ended without completing or being aborted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum BreakReason {
+    /// The client began another transfer on the channel.
+    NewInitiate,
+    /// A frame broke a rule (`code` is the abort a strict peer answers with,
+    /// `by` the side that should have sent it) and no abort followed.
+    Violation {
+        /// The abort code the rule calls for.
+        code: AbortCode,
+        /// The side that should have aborted.
+        by: Side,
+    },
+    /// The receiver of the data acknowledged another sequence number than
+    /// the segments on the bus make (the observer missed or saw frames the
+    /// receiver did not): the bytes from here on cannot be placed.
+    AckMismatch {
+        /// The sequence number the segments seen make.
+        expected: u8,
+        /// The one acknowledged.
+        got: u8,
+    },
+    /// No frame of the transfer for [`ObserverConfig::timeout`].
+    Timeout,
+    /// [`Observer::end_of_trace`]: the trace ended with the transfer open.
+    EndOfTrace,
+}
+
+/// What the observer reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum ObserverEvent {
+    /// A client initiated a transfer.
+    Started(Transfer),
+    /// A piece of the value, in order: `data` at `offset`.
+    Data {
+        /// The channel of the transfer.
+        channel: SdoChannel,
+        /// Offset of `data` in the value.
+        offset: usize,
+        /// 1..=7 bytes.
+        data: SegmentData,
+    },
+    /// A frame broke a rule of the transfer: the side `by` should answer
+    /// with an abort of `code` (the transfer stays open until that abort
+    /// or the next frame; see [`Observer`]).
+    RuleBroken {
+        /// The channel of the transfer.
+        channel: SdoChannel,
+        /// The abort code the rule calls for.
+        code: AbortCode,
+        /// The side that should abort.
+        by: Side,
+    },
+    /// The transfer completed: both sides confirmed it.
+    Completed {
+        /// The transfer, as finally known.
+        transfer: Transfer,
+        /// Bytes delivered in [`ObserverEvent::Data`].
+        bytes: usize,
+        /// A block transfer's CRC was checked and matched.
+        crc_checked: bool,
+    },
+    /// An abort frame ended the transfer.
+    Aborted {
+        /// The transfer, as known when it ended.
+        transfer: Transfer,
+        /// Bytes delivered before it.
+        bytes: usize,
+        /// The code in the abort frame.
+        code: AbortCode,
+        /// Who sent the abort.
+        by: Side,
+        /// The code the observer expected, when it saw a rule broken first.
+        expected: Option<AbortCode>,
+    },
+    /// The transfer ended otherwise.
+    BrokenOff {
+        /// The transfer, as known when it ended.
+        transfer: Transfer,
+        /// Bytes delivered before it.
+        bytes: usize,
+        /// Why.
+        reason: BreakReason,
+    },
+}
+
+impl ObserverEvent {
+    /// True for the events that end a transfer.
+    #[must_use]
+    pub const fn is_terminal(&self) -> bool {
+        matches!(
+            self,
+            ObserverEvent::Completed { .. }
+                | ObserverEvent::Aborted { .. }
+                | ObserverEvent::BrokenOff { .. }
+        )
+    }
+
+    /// The channel the event is about.
+    #[must_use]
+    pub const fn channel(&self) -> SdoChannel {
+        match self {
+            ObserverEvent::Started(t)
+            | ObserverEvent::Completed { transfer: t, .. }
+            | ObserverEvent::Aborted { transfer: t, .. }
+            | ObserverEvent::BrokenOff { transfer: t, .. } => t.channel,
+            ObserverEvent::Data { channel, .. } | ObserverEvent::RuleBroken { channel, .. } => {
+                *channel
+            }
+        }
+    }
+}
+
+/// What one frame is, in the context of its channel ([`Observer::observe`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum Observed {
+    /// Not on a watched SDO channel (or a remote frame).
+    Other,
+    /// A client-to-server command.
+    Request {
+        /// The channel.
+        channel: SdoChannel,
+        /// The decoded frame.
+        request: SdoRequest,
+    },
+    /// A server-to-client command.
+    Response {
+        /// The channel.
+        channel: SdoChannel,
+        /// The decoded frame.
+        response: SdoResponse,
+    },
+    /// A sub-block segment of a block transfer (byte 0 is the sequence
+    /// number and the last flag, not a command specifier).
+    BlockSegment {
+        /// The channel.
+        channel: SdoChannel,
+        /// The sender of the data.
+        from: Side,
+        /// Sequence number (bits 6-0 of byte 0).
+        seqno: u8,
+        /// The last flag c (bit 7 of byte 0).
+        last: bool,
+        /// The data bytes (1..=7).
+        data: SegmentData,
+    },
+    /// A frame on a watched channel that does not decode as an SDO command;
+    /// transfers ignore it, as the client and server do.
+    Malformed {
+        /// The channel.
+        channel: SdoChannel,
+        /// Its sender.
+        from: Side,
+        /// Why it does not decode.
+        error: DecodeError,
+    },
+}
+
+/// How the observer works.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ObserverConfig {
+    /// Watch the default channel of every node 1..=127.
+    pub default_channels: bool,
+    /// A transfer with no frame for this long is broken off; `None`: never
+    /// (only a new initiate, an abort or the end of the trace end it).
+    pub timeout: Option<Duration>,
+}
+
+impl Default for ObserverConfig {
+    fn default() -> Self {
+        ObserverConfig {
+            default_channels: true,
+            timeout: Some(Duration::from_millis(
+                DEFAULT_TIMEOUT.as_millis() as u64 * 5 / 2,
+            )),
+        }
+    }
+}
+
+/// Why [`Observer::add_channel`] refused.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ChannelError {
+    /// Every extra channel slot is taken.
+    #[error("no room for another SDO channel (at most {capacity})")]
+    Full {
+        /// The number of extra channels the observer holds.
+        capacity: usize,
+    },
+    /// The request and response COB-IDs are the same.
+    #[error("an SDO channel needs two COB-IDs, got {0:?} twice")]
+    SameId(CanId),
+    /// One of the COB-IDs is already watched as part of another channel.
+    #[error("COB-ID {0:?} already belongs to an SDO channel")]
+    Taken(CanId),
+}
+
+/// One watched channel and the transfer open on it.
+#[derive(Debug, Clone, Copy)]
+struct Slot {
+    channel: SdoChannel,
+    open: Option<Open>,
+}
+
+///  A passive SDO observer: it follows every transfer on the SDO channels of
+///  a bus from the frames of both sides (CiA 301 section 7.2.4.3, SDO
+///  protocols) and reports each one as events, without ever sending.
+///
+///  Fed every frame of a trace with its timestamp, [`Observer`] watches the
+///  default SDO channel of every node (requests on 600h + node, responses on
+///  580h + node) and any channel added with [`Observer::add_channel`]. It
+///  reports each expedited, segmented and block transfer, upload and
+///  download, as [`ObserverEvent`]s:
+///
+///  - [`ObserverEvent::Started`] at the client's initiate frame;
+///  - [`ObserverEvent::Data`] for each piece of the value, in order, with its
+///    offset (collect or hash them without a heap);
+///  - [`ObserverEvent::RuleBroken`] at a frame that breaks a rule;
+///  - exactly one end: [`ObserverEvent::Completed`] (bytes seen against the
+///    indicated size, the CRC checked for a block transfer),
+///    [`ObserverEvent::Aborted`] (the code, by the client or the server) or
+///    [`ObserverEvent::BrokenOff`] (a new initiate, a frame the protocol does
+///    not allow that no abort followed, an acknowledgement the observer
+///    cannot follow, a timeout, the end of the trace).
+///
+///  **One set of rules.** The observer takes each frame through the same
+///  transition rules as [`Client`](super::Client) and
+///  [`Server`](super::Server): the segment rules (toggle bit, indicated size)
+///  and the sub-block rules of block transfer (which frame is a segment,
+///  which sequence number comes next, what the acknowledgement must say, the
+///  end frame's unused bytes and CRC) are the crate's one implementation,
+///  so the observer's reading of a transfer is the receiving machine's.
+///
+///  **A frame that breaks a rule** is reported as
+///  [`ObserverEvent::RuleBroken`] with the abort code a strict peer answers
+///  it with, and does not end the transfer at once:
+///
+///  - after a rule the transfer cannot be followed past (a repeated toggle
+///    bit, a command out of phase, a block size or sequence number out of
+///    range, a response for another object) the observer waits for the
+///    abort: the transfer ends as [`ObserverEvent::Aborted`] with the peer's
+///    code and the one expected, or, at any other frame on the channel, the
+///    timeout or the end of the trace, as [`BreakReason::Violation`];
+///  - after a size or CRC rule (more or fewer bytes than indicated, a CRC
+///    that does not match) the observer goes on as the peers do (lenient, as
+///    a log reader must be: real devices accept such transfers): an abort
+///    ends it as [`ObserverEvent::Aborted`] with the code expected, and a
+///    transfer the peers finish is [`ObserverEvent::Completed`] (a segmented
+///    upload, which nobody confirms, at the next frame on the channel).
+///
+///  **Timing.** A transfer with no frame for [`ObserverConfig::timeout`]
+///  ends as [`BreakReason::Timeout`] at the next
+///  [`Machine::handle_timeout`]; the default, 2.5 times the SDO default
+///  timeout of 2000 ms, leaves the peers time to send their own 05040000h
+///  abort first. Timestamps that go backwards are taken as they come
+///  (nothing expires early, nothing panics).
+///
+///  **Back-pressure.** Events go into a queue of [`OBSERVER_EVENT_CAPACITY`]; when it
+///  is full the oldest is dropped and counted
+///  ([`Machine::events_dropped`]), and the transfers go on by their rules
+///  whether or not anybody reads them. One frame makes at most four events
+///  (a broken-off transfer, and a new expedited one started, delivered and
+///  completed); drain after every frame.
+///
+///  ```
+///  use canopen_codec::machine::Machine;
+///  use canopen_codec::sdo::{Observer, ObserverEvent, Observed};
+///  use canopen_codec::{CanFrame, Timestamp};
+///
+///  let mut obs = Observer::new(Default::default());
+///  // Node 5: read 1008h by a segmented upload of "DQ 12".
+///  let frames = [
+///      (0x605, &[0x40, 0x08, 0x10, 0x00, 0, 0, 0, 0][..]),
+///      (0x585, &[0x41, 0x08, 0x10, 0x00, 5, 0, 0, 0][..]),
+///      (0x605, &[0x60, 0, 0, 0, 0, 0, 0, 0][..]),
+///      (0x585, &[0x05, b'D', b'Q', b' ', b'1', b'2', 0, 0][..]),
+///  ];
+///  let mut value = Vec::new();
+///  for (i, (id, data)) in frames.iter().enumerate() {
+///      let frame = CanFrame::standard(*id, data).unwrap();
+///      let seen = obs.observe(Timestamp::from_millis(i as u64), &frame);
+///      assert!(matches!(seen, Observed::Request { .. } | Observed::Response { .. }));
+///      while let Some(event) = obs.poll_event() {
+///          match event {
+///              ObserverEvent::Data { data, .. } => value.extend_from_slice(data.as_slice()),
+///              ObserverEvent::Completed { bytes, .. } => assert_eq!(bytes, 5),
+///              _ => {}
+///          }
+///      }
+///  }
+///  assert_eq!(value, b"DQ 12");
+///  ```
+///
+/// `EXTRA` is the number of channels besides the default ones that
+/// [`Observer::add_channel`] can add. Implements [`Machine`]:
+/// [`Machine::handle_frame`] is [`Observer::observe`] without its answer,
+/// [`Machine::poll_transmit`] is always `None`.
+#[derive(Debug, Clone)]
+pub struct Observer<const EXTRA: usize = OBSERVER_EXTRA_CHANNELS> {
+    config: ConfigParts,
+    defaults: [Option<Open>; NODES],
+    extra: [Option<Slot>; EXTRA],
+    /// No open transfer's deadline is before this (a lower bound; exact
+    /// after every [`Machine::handle_timeout`]).
+    earliest: Option<Timestamp>,
+    events: EventQueue<ObserverEvent, OBSERVER_EVENT_CAPACITY>,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct ConfigParts {
+    config: ObserverConfig,
+    timeout_us: Option<u64>,
+}
+
+/// A filler for the event queue's free slots (never returned).
+const FILLER: ObserverEvent = ObserverEvent::Data {
+    channel: SdoChannel::default_for(NodeId::MIN),
+    offset: 0,
+    data: SegmentData::EMPTY,
+};
+
+impl Observer {
+    /// An observer with no transfer open and room for
+    /// [`OBSERVER_EXTRA_CHANNELS`] channels besides the default ones.
+    #[must_use]
+    pub fn new(config: ObserverConfig) -> Self {
+        Observer::with_extra_channels(config)
+    }
+}
+
+impl<const EXTRA: usize> Observer<EXTRA> {
+    /// An observer with no transfer open and room for `EXTRA` channels
+    /// besides the default ones (`Observer::<32>::with_extra_channels(..)`).
+    #[must_use]
+    pub fn with_extra_channels(config: ObserverConfig) -> Self {
+        let timeout_us = config
+            .timeout
+            .map(|d| u64::try_from(d.as_micros()).unwrap_or(u64::MAX));
+        Observer {
+            config: ConfigParts { config, timeout_us },
+            defaults: [None; NODES],
+            extra: [None; EXTRA],
+            earliest: None,
+            events: EventQueue::new(FILLER),
+        }
+    }
+
+    /// The configuration.
+    #[must_use]
+    pub const fn config(&self) -> &ObserverConfig {
+        &self.config.config
+    }
+
+    /// Watches one more channel (an SDO server on other COB-IDs than the
+    /// default, or a second server of a node). Frames on its identifiers
+    /// count for it even when they are another node's default channel.
+    pub fn add_channel(&mut self, channel: SdoChannel) -> Result<(), ChannelError> {
+        if channel.request == channel.response {
+            return Err(ChannelError::SameId(channel.request));
+        }
+        for slot in self.extra.iter().flatten() {
+            for id in [channel.request, channel.response] {
+                if id == slot.channel.request || id == slot.channel.response {
+                    return Err(ChannelError::Taken(id));
+                }
+            }
+        }
+        let Some(free) = self.extra.iter_mut().find(|s| s.is_none()) else {
+            return Err(ChannelError::Full { capacity: EXTRA });
+        };
+        *free = Some(Slot {
+            channel,
+            open: None,
+        });
+        Ok(())
+    }
+
+    /// The transfer open on `channel`, if any.
+    #[must_use]
+    pub fn open_transfer(&self, channel: SdoChannel) -> Option<Transfer> {
+        self.slots()
+            .find(|(c, _)| *c == channel)
+            .and_then(|(_, open)| open.map(|o| o.transfer()))
+    }
+
+    /// The number of transfers open now.
+    #[must_use]
+    pub fn open_transfers(&self) -> usize {
+        self.slots().filter(|(_, open)| open.is_some()).count()
+    }
+
+    fn slots(&self) -> impl Iterator<Item = (SdoChannel, &Option<Open>)> + '_ {
+        let defaults = self
+            .defaults
+            .iter()
+            .enumerate()
+            .filter(|_| self.config.config.default_channels)
+            .filter_map(|(i, open)| {
+                let node = u8::try_from(i + 1).ok().and_then(NodeId::new)?;
+                Some((SdoChannel::default_for(node), open))
+            });
+        self.extra
+            .iter()
+            .flatten()
+            .map(|s| (s.channel, &s.open))
+            .chain(defaults)
+    }
+
+    /// The channel a frame identifier belongs to, the side that sent it,
+    /// and the channel's open transfer.
+    fn route(&mut self, id: CanId) -> Option<(SdoChannel, Side, &mut Option<Open>)> {
+        for slot in self.extra.iter_mut().flatten() {
+            if id == slot.channel.request {
+                return Some((slot.channel, Side::Client, &mut slot.open));
+            }
+            if id == slot.channel.response {
+                return Some((slot.channel, Side::Server, &mut slot.open));
+            }
+        }
+        if !self.config.config.default_channels {
+            return None;
+        }
+        let CanId::Standard(raw) = id else {
+            return None;
+        };
+        let (side, n) = match raw {
+            0x601..=0x67F => (Side::Client, raw - SDO_RX_BASE),
+            0x581..=0x5FF => (Side::Server, raw - SDO_TX_BASE),
+            _ => return None,
+        };
+        let node = u8::try_from(n).ok().and_then(NodeId::new)?;
+        let open = self.defaults.get_mut(usize::from(n).checked_sub(1)?)?;
+        Some((SdoChannel::default_for(node), side, open))
+    }
+
+    /// Takes one frame of the trace at `now`: follows the transfer on its
+    /// channel (queueing events) and says what the frame is there. Frames
+    /// on other identifiers and remote frames are [`Observed::Other`].
+    pub fn observe(&mut self, now: Timestamp, frame: &CanFrame) -> Observed {
+        if frame.is_remote() {
+            return Observed::Other;
+        }
+        let timeout = self.config.timeout_us;
+        let Some((channel, from, open)) = self.route(frame.id()) else {
+            return Observed::Other;
+        };
+        let mut out = Sink::default();
+        let seen = super::observer_rules::step(open, channel, from, frame, &mut out);
+        let deadline = match (open.as_mut(), timeout) {
+            (Some(o), Some(us)) => {
+                let d = now.add_micros(us);
+                o.deadline = Some(d);
+                Some(d)
+            }
+            (Some(o), None) => {
+                o.deadline = None;
+                None
+            }
+            _ => None,
+        };
+        for event in out.events() {
+            self.events.push(event);
+        }
+        if let Some(d) = deadline {
+            self.earliest = Some(self.earliest.map_or(d, |e| e.min(d)));
+        }
+        seen
+    }
+
+    /// Ends one transfer still open at the end of the trace (after handing
+    /// out the queued events first): call until `None`. Each open transfer
+    /// ends once, as [`BreakReason::EndOfTrace`]; none is lost to a full
+    /// queue.
+    pub fn end_of_trace(&mut self) -> Option<ObserverEvent> {
+        if let Some(event) = self.events.pop() {
+            return Some(event);
+        }
+        let defaults = self.config.config.default_channels;
+        let extra = self
+            .extra
+            .iter_mut()
+            .flatten()
+            .map(|s| &mut s.open)
+            .find(|o| o.is_some());
+        let open = match extra {
+            Some(open) => open,
+            None if defaults => self.defaults.iter_mut().find(|o| o.is_some())?,
+            None => return None,
+        };
+        open.take().map(|o| o.ended(BreakReason::EndOfTrace))
+    }
+
+    fn expire(&mut self, now: Timestamp) {
+        let mut earliest: Option<Timestamp> = None;
+        let events = &mut self.events;
+        let opens = self
+            .extra
+            .iter_mut()
+            .flatten()
+            .map(|s| &mut s.open)
+            .chain(self.defaults.iter_mut());
+        for open in opens {
+            let Some(deadline) = open.as_ref().and_then(|o| o.deadline) else {
+                continue;
+            };
+            if now.has_reached(deadline) {
+                if let Some(o) = open.take() {
+                    events.push(o.ended(BreakReason::Timeout));
+                }
+            } else {
+                earliest = Some(earliest.map_or(deadline, |e| e.min(deadline)));
+            }
+        }
+        self.earliest = earliest;
+    }
+}
+
+impl<const EXTRA: usize> Default for Observer<EXTRA> {
+    fn default() -> Self {
+        Observer::with_extra_channels(ObserverConfig::default())
+    }
+}
+
+/// The events one frame makes (at most four: a transfer broken off, and a
+/// new one started, delivering, and completed or breaking a rule).
+#[derive(Default)]
+pub(super) struct Sink {
+    events: [Option<ObserverEvent>; 4],
+    len: usize,
+}
+
+impl Sink {
+    pub(super) fn push(&mut self, event: ObserverEvent) {
+        if let Some(slot) = self.events.get_mut(self.len) {
+            *slot = Some(event);
+            self.len += 1;
+        }
+    }
+
+    fn events(self) -> impl Iterator<Item = ObserverEvent> {
+        self.events.into_iter().flatten()
+    }
+}
+
+impl<const EXTRA: usize> Machine for Observer<EXTRA> {
+    type Event = ObserverEvent;
+
+    /// [`Observer::observe`], its answer dropped.
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        let _ = self.observe(now, frame);
+    }
+
+    /// Breaks off every transfer with no frame for the timeout.
+    fn handle_timeout(&mut self, now: Timestamp) {
+        if self.earliest.is_some_and(|e| now.has_reached(e)) {
+            self.expire(now);
+        }
+    }
+
+    /// Always `None`: the observer never sends.
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        None
+    }
+
+    /// When the next open transfer may time out (possibly earlier than any
+    /// does: an extra [`Machine::handle_timeout`] is harmless).
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        self.earliest
+    }
+
+    fn poll_event(&mut self) -> Option<ObserverEvent> {
+        self.events.pop()
+    }
+
+    fn events_dropped(&self) -> u64 {
+        self.events.dropped()
+    }
+}
+
+#[cfg(test)]
+#[path = "observer_tests.rs"]
+mod tests;

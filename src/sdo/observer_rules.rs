@@ -1,0 +1,744 @@
+//! The observer's transitions: one open transfer and what each frame of its
+//! channel does to it. The rules themselves are the client's and the
+//! server's (`super::segmented`, `super::block`); this file only says which
+//! side applies which rule when (see [`super::observer`]).
+
+use super::abort::AbortCode;
+use super::block::{check_block_size, Receiver};
+use super::data::{InitiatePayload, Segment, SegmentData};
+use super::observer::{
+    BreakReason, Direction, Observed, ObserverEvent, SdoChannel, Side, Sink, Transfer, TransferKind,
+};
+use super::segmented::{check_toggle, Segments};
+use super::wire::{
+    ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoRequest, SdoResponse,
+    ServerBlockDownload, ServerBlockUpload, ServerCommand,
+};
+use crate::bytes::Payload;
+use crate::frame::CanFrame;
+use crate::time::Timestamp;
+
+/// Where an open transfer stands: what the next frame may be.
+#[derive(Debug, Clone, Copy)]
+enum Phase {
+    /// Initiate upload sent; the server's answer is due.
+    UploadInitiated,
+    /// Segmented upload: the client's segment request is due.
+    UploadRequestDue(Segments),
+    /// Segmented upload: the server's segment is due.
+    UploadSegmentDue(Segments),
+    /// Initiate download sent (the value in it when `expedited`).
+    DownloadInitiated { expedited: bool },
+    /// Segmented download: the client's segment is due.
+    DownloadSegmentDue(Segments),
+    /// Segmented download: the server's acknowledgement of the segment
+    /// with `toggle` (the last one when `last`) is due.
+    DownloadAckDue {
+        rx: Segments,
+        toggle: bool,
+        last: bool,
+    },
+    /// Block upload initiate sent with this block size and CRC support.
+    BlockUploadInitiated { blksize: u8, crc: bool },
+    /// Block upload answered; the client's start command is due.
+    BlockUploadStartDue(Receiver),
+    /// Block download initiate sent (its frame kept to spot its repeat).
+    BlockDownloadInitiated {
+        crc: bool,
+        size: Option<usize>,
+        frame: Payload,
+    },
+    /// Sub-blocks: the sender of the data sends segments, the receiver
+    /// acknowledges `ack` when one is due; after the last segment the end
+    /// frame.
+    SubBlocks { rx: Receiver, ack: Option<u8> },
+    /// The end frame was taken; the receiver's confirmation is due (a
+    /// repeat of the end frame meanwhile is ignored, as the receiver,
+    /// done with the transfer, ignores it).
+    EndAckDue { crc_checked: bool, end: Payload },
+    /// A segmented upload's last segment broke a size rule: the client's
+    /// abort may follow; any other frame (or the end) completes it.
+    Accepted,
+    /// A frame broke a rule: the abort `by` that side is due. Until it
+    /// comes, frames of a block's data sender are still segments.
+    Violated {
+        code: AbortCode,
+        by: Side,
+        segments_from: Option<Side>,
+    },
+}
+
+/// The transfer open on one channel.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Open {
+    transfer: Transfer,
+    bytes: usize,
+    phase: Phase,
+    /// A rule just broken, to report.
+    broken: Option<(AbortCode, Side)>,
+    /// The first rule broken that the transfer went on past (sizes, CRC).
+    flagged: Option<AbortCode>,
+    /// When it is broken off for silence.
+    pub(super) deadline: Option<Timestamp>,
+}
+
+impl Open {
+    /// What is known of the transfer.
+    pub(super) const fn transfer(&self) -> Transfer {
+        self.transfer
+    }
+
+    /// The end event when `reason` ends the transfer, or a frame that is not
+    /// the abort it waits for: a transfer waiting for the abort a rule
+    /// called for ends as that violation, one that a peer accepted past a
+    /// rule completes.
+    pub(super) fn ended(self, reason: BreakReason) -> ObserverEvent {
+        if let Phase::Accepted = self.phase {
+            return self.completed(false);
+        }
+        self.broken_off(reason)
+    }
+
+    /// The end event for `reason` (a transfer waiting for the abort a rule
+    /// called for ends as that violation whatever the reason).
+    fn broken_off(self, reason: BreakReason) -> ObserverEvent {
+        let reason = match self.phase {
+            Phase::Violated { code, by, .. } => BreakReason::Violation { code, by },
+            _ => reason,
+        };
+        ObserverEvent::BrokenOff {
+            transfer: self.transfer,
+            bytes: self.bytes,
+            reason,
+        }
+    }
+
+    fn aborted(self, code: AbortCode, by: Side) -> ObserverEvent {
+        let expected = match self.phase {
+            Phase::Violated { code, .. } => Some(code),
+            _ => self.flagged,
+        };
+        ObserverEvent::Aborted {
+            transfer: self.transfer,
+            bytes: self.bytes,
+            code,
+            by,
+            expected,
+        }
+    }
+
+    fn completed(self, crc_checked: bool) -> ObserverEvent {
+        ObserverEvent::Completed {
+            transfer: self.transfer,
+            bytes: self.bytes,
+            crc_checked,
+        }
+    }
+
+    /// A frame that repeats one the receiver of the data recognises as a
+    /// repeat: the block upload initiate response before the first segment
+    /// (the client's block receiver knows it), the end frame after it was
+    /// taken.
+    fn is_repeat(&self, from: Side, bytes: &[u8]) -> bool {
+        if from != self.data_sender() {
+            return false;
+        }
+        match &self.phase {
+            Phase::BlockUploadStartDue(rx) => rx.is_duplicate(bytes),
+            Phase::EndAckDue { end, .. } => end.as_slice() == bytes,
+            _ => false,
+        }
+    }
+
+    /// The side that sends the value.
+    const fn data_sender(&self) -> Side {
+        match self.transfer.direction {
+            Direction::Upload => Side::Server,
+            Direction::Download => Side::Client,
+        }
+    }
+
+    fn deliver(&mut self, offset: usize, data: SegmentData, out: &mut Sink) {
+        if data.is_empty() {
+            return;
+        }
+        self.bytes = self.bytes.saturating_add(data.len());
+        out.push(ObserverEvent::Data {
+            channel: self.transfer.channel,
+            offset,
+            data,
+        });
+    }
+
+    /// A rule the transfer can be followed past (the indicated size, the
+    /// CRC) is broken: `by` should abort with `code`, and if it does not,
+    /// the transfer goes on as the peers run it.
+    fn flag(&mut self, code: AbortCode, by: Side) {
+        self.broken = Some((code, by));
+        self.flagged = self.flagged.or(Some(code));
+    }
+
+    /// Takes a segment of a segmented transfer as the receiver of the data
+    /// (`by`) would: a wrong toggle bit ends the reading of it, a size rule
+    /// broken is flagged and the segment taken.
+    fn segment(&mut self, rx: &mut Segments, seg: &Segment, by: Side) -> Option<usize> {
+        match rx.check(seg) {
+            Ok(()) => {}
+            Err(AbortCode::ToggleBitNotAlternated) => {
+                self.violate(AbortCode::ToggleBitNotAlternated, by);
+                return None;
+            }
+            Err(code) => self.flag(code, by),
+        }
+        Some(rx.accept(seg).offset)
+    }
+
+    /// `code` is due from `by`: the next frame should be its abort.
+    fn violate(&mut self, code: AbortCode, by: Side) {
+        let segments_from = match self.phase {
+            Phase::SubBlocks { .. } => Some(self.data_sender()),
+            _ => None,
+        };
+        self.phase = Phase::Violated {
+            code,
+            by,
+            segments_from,
+        };
+        self.broken = Some((code, by));
+    }
+}
+
+/// How a frame ended a transfer.
+enum End {
+    /// Both sides confirmed it (a block transfer's CRC checked or not).
+    Completed(bool),
+    /// The observer cannot follow it further.
+    Broken(BreakReason),
+}
+
+/// One command, whoever sent it.
+enum Command {
+    Client(ClientCommand),
+    Server(ServerCommand),
+}
+
+/// Takes one frame from `from` on `channel` with the transfer `open` there.
+pub(super) fn step(
+    open: &mut Option<Open>,
+    channel: SdoChannel,
+    from: Side,
+    frame: &CanFrame,
+    out: &mut Sink,
+) -> Observed {
+    let seen = take(open, channel, from, frame, out);
+    if let Some((code, by)) = open.as_mut().and_then(|o| o.broken.take()) {
+        out.push(ObserverEvent::RuleBroken { channel, code, by });
+    }
+    seen
+}
+
+fn take(
+    open: &mut Option<Open>,
+    channel: SdoChannel,
+    from: Side,
+    frame: &CanFrame,
+    out: &mut Sink,
+) -> Observed {
+    let bytes = frame.data();
+    if let Some(seen) = block_segment(open, channel, from, bytes, out) {
+        return seen;
+    }
+    let repeat = open.as_ref().is_some_and(|o| o.is_repeat(from, bytes));
+    let (command, seen) = match from {
+        Side::Client => match SdoRequest::decode_frame(frame) {
+            Ok(request) => (
+                Command::Client(request.command),
+                Observed::Request { channel, request },
+            ),
+            Err(error) => {
+                return Observed::Malformed {
+                    channel,
+                    from,
+                    error,
+                }
+            }
+        },
+        Side::Server => match SdoResponse::decode_frame(frame) {
+            Ok(response) => (
+                Command::Server(response.command),
+                Observed::Response { channel, response },
+            ),
+            Err(error) => {
+                return Observed::Malformed {
+                    channel,
+                    from,
+                    error,
+                }
+            }
+        },
+    };
+    if repeat {
+        return seen;
+    }
+    let abort = match command {
+        Command::Client(ClientCommand::Abort { code, .. })
+        | Command::Server(ServerCommand::Abort { code, .. }) => Some(code),
+        _ => None,
+    };
+    if let Some(code) = abort {
+        if let Some(o) = open.take() {
+            out.push(o.aborted(code, from));
+        }
+        return seen;
+    }
+    if let Some(o) = open.take_if(|o| matches!(o.phase, Phase::Violated { .. } | Phase::Accepted)) {
+        out.push(o.ended(BreakReason::NewInitiate));
+    }
+    if let Command::Client(c) = &command {
+        if let Some((transfer, phase)) = initiate(channel, c, bytes) {
+            if let Some(o) = open.take() {
+                out.push(o.ended(BreakReason::NewInitiate));
+            }
+            out.push(ObserverEvent::Started(transfer));
+            let mut o = Open {
+                transfer,
+                bytes: 0,
+                phase,
+                broken: None,
+                flagged: None,
+                deadline: None,
+            };
+            if let ClientCommand::InitiateDownload {
+                payload: InitiatePayload::Expedited { data, .. },
+                ..
+            } = c
+            {
+                o.deliver(
+                    0,
+                    SegmentData::new(data.as_slice()).unwrap_or_default(),
+                    out,
+                );
+            }
+            if let ClientCommand::BlockUpload(ClientBlockUpload::Initiate { blksize, .. }) = c {
+                if let Err(code) = check_block_size(*blksize) {
+                    o.violate(code, Side::Server);
+                }
+            }
+            *open = Some(o);
+            return seen;
+        }
+    }
+    let Some(o) = open.as_mut() else {
+        // No transfer: a stray frame (the trace began in the middle of one,
+        // or it follows an abort).
+        return seen;
+    };
+    let done = match command {
+        Command::Client(c) => client(o, c, bytes, out),
+        Command::Server(s) => server(o, s, bytes, out),
+    };
+    if let Some(end) = done {
+        if let Some(o) = open.take() {
+            out.push(match end {
+                End::Completed(crc_checked) => o.completed(crc_checked),
+                End::Broken(reason) => o.ended(reason),
+            });
+        }
+    }
+    seen
+}
+
+/// A sub-block segment from the sender of the data, taken by the
+/// receiver's rule; `None` when the frame is a command.
+fn block_segment(
+    open: &mut Option<Open>,
+    channel: SdoChannel,
+    from: Side,
+    bytes: &[u8],
+    out: &mut Sink,
+) -> Option<Observed> {
+    let o = open.as_mut()?;
+    let sender = o.data_sender();
+    let taken = match &mut o.phase {
+        Phase::SubBlocks { rx, ack } if from == sender => {
+            let result = rx.take(bytes)?;
+            match result {
+                Ok(step) => {
+                    if let Some(a) = step.ack {
+                        *ack = Some(a);
+                    }
+                    if let Some((offset, data)) = step.write {
+                        o.deliver(offset, data, out);
+                    }
+                }
+                Err(code) => o.violate(code, sender.other()),
+            }
+            true
+        }
+        Phase::Violated {
+            segments_from: Some(side),
+            ..
+        } if *side == from => bytes.first() != Some(&0x80),
+        _ => false,
+    };
+    let [b0, data @ ..] = bytes else {
+        return taken.then_some(Observed::BlockSegment {
+            channel,
+            from,
+            seqno: 0,
+            last: false,
+            data: SegmentData::EMPTY,
+        });
+    };
+    taken.then(|| Observed::BlockSegment {
+        channel,
+        from,
+        seqno: b0 & 0x7F,
+        last: b0 & 0x80 != 0,
+        data: SegmentData::new(data.get(..data.len().min(7)).unwrap_or(&[])).unwrap_or_default(),
+    })
+}
+
+/// A client frame that begins a transfer: what is known of it and its
+/// first phase.
+fn initiate(channel: SdoChannel, c: &ClientCommand, bytes: &[u8]) -> Option<(Transfer, Phase)> {
+    let transfer = |direction, index, sub, kind, indicated| Transfer {
+        channel,
+        direction,
+        index,
+        sub,
+        kind,
+        indicated,
+    };
+    Some(match *c {
+        ClientCommand::InitiateUpload { index, sub } => (
+            transfer(Direction::Upload, index, sub, None, None),
+            Phase::UploadInitiated,
+        ),
+        ClientCommand::InitiateDownload {
+            index,
+            sub,
+            payload,
+        } => match payload {
+            InitiatePayload::Expedited {
+                data,
+                size_indicated,
+            } => (
+                transfer(
+                    Direction::Download,
+                    index,
+                    sub,
+                    Some(TransferKind::Expedited { size_indicated }),
+                    size_indicated
+                        .then(|| u32::try_from(data.len()).ok())
+                        .flatten(),
+                ),
+                Phase::DownloadInitiated { expedited: true },
+            ),
+            InitiatePayload::Segmented { size } => (
+                transfer(
+                    Direction::Download,
+                    index,
+                    sub,
+                    Some(TransferKind::Segmented),
+                    size,
+                ),
+                Phase::DownloadInitiated { expedited: false },
+            ),
+        },
+        ClientCommand::BlockUpload(ClientBlockUpload::Initiate {
+            index,
+            sub,
+            crc,
+            blksize,
+            ..
+        }) => (
+            transfer(
+                Direction::Upload,
+                index,
+                sub,
+                Some(TransferKind::Block { crc }),
+                None,
+            ),
+            Phase::BlockUploadInitiated { blksize, crc },
+        ),
+        ClientCommand::BlockDownload(ClientBlockDownload::Initiate {
+            index,
+            sub,
+            crc,
+            size,
+        }) => (
+            transfer(
+                Direction::Download,
+                index,
+                sub,
+                Some(TransferKind::Block { crc }),
+                size,
+            ),
+            Phase::BlockDownloadInitiated {
+                crc,
+                size: size.map(|s| usize::try_from(s).unwrap_or(usize::MAX)),
+                frame: Payload::new(bytes).unwrap_or_default(),
+            },
+        ),
+        _ => return None,
+    })
+}
+
+/// Takes a client command (not an initiate, not an abort); `Some` when it
+/// ended the transfer.
+fn client(o: &mut Open, c: ClientCommand, bytes: &[u8], out: &mut Sink) -> Option<End> {
+    let upload = o.transfer.direction == Direction::Upload;
+    match (c, o.phase) {
+        (ClientCommand::UploadSegment { toggle }, Phase::UploadRequestDue(rx)) => {
+            match check_toggle(toggle, rx.toggle()) {
+                Ok(()) => o.phase = Phase::UploadSegmentDue(rx),
+                Err(code) => o.violate(code, Side::Server),
+            }
+        }
+        (ClientCommand::UploadSegment { .. }, Phase::UploadSegmentDue(_)) => {
+            o.violate(AbortCode::ToggleBitNotAlternated, Side::Server);
+        }
+        (ClientCommand::DownloadSegment(seg), Phase::DownloadSegmentDue(mut rx)) => {
+            download_segment(o, &mut rx, &seg, out);
+        }
+        (ClientCommand::BlockUpload(ClientBlockUpload::Start), Phase::BlockUploadStartDue(rx)) => {
+            o.phase = Phase::SubBlocks { rx, ack: None };
+        }
+        (ClientCommand::BlockUpload(ClientBlockUpload::Ack { ackseq, blksize }), _) if upload => {
+            return ack(o, ackseq, blksize, Side::Client);
+        }
+        (
+            ClientCommand::BlockUpload(ClientBlockUpload::End),
+            Phase::EndAckDue { crc_checked, .. },
+        ) if upload => {
+            return Some(End::Completed(crc_checked));
+        }
+        (ClientCommand::BlockDownload(ClientBlockDownload::End { unused, crc }), _) if !upload => {
+            end(o, (unused, crc), bytes, Side::Server, out);
+        }
+        _ => o.violate(AbortCode::InvalidCommandSpecifier, Side::Server),
+    }
+    None
+}
+
+/// Placed as the server places it; the abort it would send is due when
+/// the segment breaks a rule.
+fn download_segment(o: &mut Open, rx: &mut Segments, seg: &Segment, out: &mut Sink) {
+    if let Some(offset) = o.segment(rx, seg, Side::Server) {
+        o.phase = Phase::DownloadAckDue {
+            rx: *rx,
+            toggle: seg.toggle,
+            last: seg.last,
+        };
+        o.deliver(offset, seg.data, out);
+    }
+}
+
+/// The receiver of the data acknowledged a sub-block (`from` is that
+/// side): it must name the sequence number the segments made, and give a
+/// valid next block size unless the last segment is in.
+fn ack(o: &mut Open, ackseq: u8, blksize: u8, from: Side) -> Option<End> {
+    let Phase::SubBlocks { mut rx, ack } = o.phase else {
+        o.violate(AbortCode::InvalidCommandSpecifier, from.other());
+        return None;
+    };
+    match ack {
+        // Repeated or unasked: the sender's business; the receiver's
+        // reading of the segments stands.
+        None => {}
+        Some(expected) if expected != ackseq => {
+            return Some(End::Broken(BreakReason::AckMismatch {
+                expected,
+                got: ackseq,
+            }));
+        }
+        Some(_) if rx.is_done() => o.phase = Phase::SubBlocks { rx, ack: None },
+        Some(_) => match check_block_size(blksize) {
+            Ok(b) => {
+                rx.set_block_size(b);
+                o.phase = Phase::SubBlocks { rx, ack: None };
+            }
+            Err(code) => o.violate(code, from.other()),
+        },
+    }
+    None
+}
+
+/// The sender's end frame; `checker` is the receiver of the data.
+fn end(o: &mut Open, (unused, crc): (u8, u16), bytes: &[u8], checker: Side, out: &mut Sink) {
+    let Phase::SubBlocks { mut rx, .. } = o.phase else {
+        return o.violate(AbortCode::InvalidCommandSpecifier, checker);
+    };
+    if !rx.is_done() {
+        return o.violate(AbortCode::InvalidCommandSpecifier, checker);
+    }
+    match rx.on_end_lenient(unused, crc) {
+        Ok((ended, broken)) => {
+            if let Some(code) = broken {
+                o.flag(code, checker);
+            }
+            if let Some((offset, data)) = ended.write {
+                o.deliver(offset, data, out);
+            }
+            o.phase = Phase::EndAckDue {
+                crc_checked: rx.crc_on() && broken != Some(AbortCode::CrcError),
+                end: Payload::new(bytes).unwrap_or_default(),
+            };
+        }
+        Err(code) => o.violate(code, checker),
+    }
+}
+
+/// Takes a server command (not an abort); `Some` when it ended the
+/// transfer.
+fn server(o: &mut Open, s: ServerCommand, bytes: &[u8], out: &mut Sink) -> Option<End> {
+    let upload = o.transfer.direction == Direction::Upload;
+    let (index, sub) = (o.transfer.index, o.transfer.sub);
+    let names_other = |ri: u16, rs: u8| (ri, rs) != (index, sub);
+    match (s, o.phase) {
+        (
+            ServerCommand::InitiateUpload {
+                index: ri,
+                sub: rs,
+                payload,
+            },
+            Phase::UploadInitiated | Phase::BlockUploadInitiated { .. },
+        ) => {
+            if names_other(ri, rs) {
+                o.violate(AbortCode::GeneralParameterIncompatibility, Side::Client);
+                return None;
+            }
+            match payload {
+                InitiatePayload::Expedited {
+                    data,
+                    size_indicated,
+                } => {
+                    o.transfer.kind = Some(TransferKind::Expedited { size_indicated });
+                    o.transfer.indicated = size_indicated
+                        .then(|| u32::try_from(data.len()).ok())
+                        .flatten();
+                    o.deliver(
+                        0,
+                        SegmentData::new(data.as_slice()).unwrap_or_default(),
+                        out,
+                    );
+                    return Some(End::Completed(false));
+                }
+                InitiatePayload::Segmented { size } => {
+                    o.transfer.kind = Some(TransferKind::Segmented);
+                    o.transfer.indicated = size;
+                    o.phase = Phase::UploadRequestDue(Segments::new(
+                        size.map(|s| usize::try_from(s).unwrap_or(usize::MAX)),
+                    ));
+                }
+            }
+        }
+        (
+            ServerCommand::InitiateDownload { index: ri, sub: rs },
+            Phase::DownloadInitiated { expedited },
+        ) => {
+            if names_other(ri, rs) {
+                o.violate(AbortCode::GeneralParameterIncompatibility, Side::Client);
+                return None;
+            }
+            if expedited {
+                return Some(End::Completed(false));
+            }
+            let size = o
+                .transfer
+                .indicated
+                .map(|s| usize::try_from(s).unwrap_or(usize::MAX));
+            o.phase = Phase::DownloadSegmentDue(Segments::new(size));
+        }
+        (ServerCommand::UploadSegment(seg), Phase::UploadSegmentDue(mut rx)) => {
+            if let Some(offset) = o.segment(&mut rx, &seg, Side::Client) {
+                o.deliver(offset, seg.data, out);
+                if seg.last && o.flagged.is_some() {
+                    o.phase = Phase::Accepted;
+                } else if seg.last {
+                    return Some(End::Completed(false));
+                } else {
+                    o.phase = Phase::UploadRequestDue(rx);
+                }
+            }
+        }
+        (
+            ServerCommand::DownloadSegment { toggle },
+            Phase::DownloadAckDue {
+                rx,
+                toggle: t,
+                last,
+            },
+        ) => match check_toggle(toggle, t) {
+            Ok(()) if last => return Some(End::Completed(false)),
+            Ok(()) => o.phase = Phase::DownloadSegmentDue(rx),
+            Err(code) => o.violate(code, Side::Client),
+        },
+        (
+            ServerCommand::BlockDownload(ServerBlockDownload::Initiate {
+                index: ri,
+                sub: rs,
+                crc,
+                blksize,
+            }),
+            Phase::BlockDownloadInitiated {
+                crc: client_crc,
+                size,
+                frame,
+            },
+        ) => {
+            if names_other(ri, rs) {
+                o.violate(AbortCode::GeneralParameterIncompatibility, Side::Client);
+                return None;
+            }
+            let crc = crc && client_crc;
+            o.transfer.kind = Some(TransferKind::Block { crc });
+            match check_block_size(blksize) {
+                Ok(b) => {
+                    let rx = Receiver::new(b, size, crc).after(frame.as_slice());
+                    o.phase = Phase::SubBlocks { rx, ack: None };
+                }
+                Err(code) => o.violate(code, Side::Client),
+            }
+        }
+        (ServerCommand::BlockDownload(ServerBlockDownload::Ack { ackseq, blksize }), _)
+            if !upload =>
+        {
+            return ack(o, ackseq, blksize, Side::Server);
+        }
+        (
+            ServerCommand::BlockDownload(ServerBlockDownload::End),
+            Phase::EndAckDue { crc_checked, .. },
+        ) if !upload => {
+            return Some(End::Completed(crc_checked));
+        }
+        (
+            ServerCommand::BlockUpload(ServerBlockUpload::Initiate {
+                index: ri,
+                sub: rs,
+                crc,
+                size,
+            }),
+            Phase::BlockUploadInitiated {
+                blksize,
+                crc: client_crc,
+            },
+        ) => {
+            if names_other(ri, rs) {
+                o.violate(AbortCode::GeneralParameterIncompatibility, Side::Client);
+                return None;
+            }
+            let crc = crc && client_crc;
+            o.transfer.kind = Some(TransferKind::Block { crc });
+            o.transfer.indicated = size;
+            let size = size.map(|s| usize::try_from(s).unwrap_or(usize::MAX));
+            o.phase = Phase::BlockUploadStartDue(Receiver::new(blksize, size, crc).after(bytes));
+        }
+        (ServerCommand::BlockUpload(ServerBlockUpload::End { unused, crc }), _) if upload => {
+            end(o, (unused, crc), bytes, Side::Client, out);
+        }
+        _ => o.violate(AbortCode::InvalidCommandSpecifier, Side::Client),
+    }
+    None
+}
