@@ -94,7 +94,7 @@ pub struct GuardingSlave {
     lost: bool,
     timers: Timers<1>,
     out: Queue<CanFrame, 2>,
-    events: EventQueue<SlaveGuardingEvent, 4>,
+    events: EventQueue<SlaveGuardingEvent, 2>,
 }
 
 /// The slave's one timer: the end of the node life time.

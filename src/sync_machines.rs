@@ -325,7 +325,8 @@ pub enum SyncEvent {
 /// length after the last SYNC (or before any SYNC) is outside it and is
 /// reported as [`SyncEvent::OutsideWindow`]; a window length of 0 means no
 /// window. (The device core sends its synchronous TPDOs at the SYNC, inside
-/// the window by construction, and notes its synchronous RPDOs.)
+/// the window by construction, and notes its synchronous RPDOs.) The queue
+/// keeps the latest 2 events: read them after every frame.
 ///
 /// ```
 /// use canopen_codec::machine::Machine;
@@ -336,8 +337,8 @@ pub enum SyncEvent {
 /// c.set_counter_overflow(4);
 /// c.set_window(Duration::from_micros(500));
 /// c.handle_frame(Timestamp::ZERO, &CanFrame::standard(0x080, &[1]).unwrap());
-/// c.handle_frame(Timestamp::from_millis(1), &CanFrame::standard(0x080, &[3]).unwrap());
 /// assert_eq!(c.poll_event(), Some(SyncEvent::Received { counter: Some(1) }));
+/// c.handle_frame(Timestamp::from_millis(1), &CanFrame::standard(0x080, &[3]).unwrap());
 /// assert_eq!(c.poll_event(), Some(SyncEvent::Received { counter: Some(3) }));
 /// assert_eq!(c.poll_event(), Some(SyncEvent::CounterSkipped { expected: 2, got: 3 }));
 /// assert!(c.note_synchronous_pdo(Timestamp::from_micros(1_400)));
@@ -350,7 +351,7 @@ pub struct SyncConsumer {
     window_us: u64,
     last_sync: Option<Timestamp>,
     last_counter: Option<u8>,
-    events: EventQueue<SyncEvent, 4>,
+    events: EventQueue<SyncEvent, 2>,
 }
 
 impl Default for SyncConsumer {

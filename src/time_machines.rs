@@ -214,7 +214,7 @@ pub enum TimeEvent {
 pub struct TimeConsumer {
     cob_id: TimeCobId,
     last: Option<TimeOfDay>,
-    events: EventQueue<TimeEvent, 4>,
+    events: EventQueue<TimeEvent, 2>,
 }
 
 impl TimeConsumer {
