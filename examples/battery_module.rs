@@ -402,6 +402,9 @@ fn describe(e: &BatteryEvent) -> Option<String> {
             }
             other => format!("event: LSS {other:?}"),
         },
+        BatteryEvent::LifeGuarding(g) => format!("event: life guarding: {g:?}"),
+        BatteryEvent::Sync(s) => format!("event: SYNC: {s:?}"),
+        BatteryEvent::Time(t) => format!("event: TIME: {t:?}"),
         _ => return None,
     };
     Some(words)

@@ -59,6 +59,7 @@ pub mod eds;
 pub mod emcy;
 pub mod error;
 pub mod frame;
+pub mod guarding;
 pub mod heartbeat;
 pub mod lenient;
 pub mod lss;

@@ -1,4 +1,7 @@
-//! SYNC (identifier 0x080), CiA 301: no data, or one counter byte.
+//! SYNC (identifier 0x080), CiA 301: no data, or one counter byte; the
+//! SYNC producer and consumer with 1005h COB-ID SYNC ([`SyncCobId`]), 1006h
+//! communication cycle period, 1007h synchronous window length and 1019h
+//! synchronous counter overflow value ([`SyncProducer`], [`SyncConsumer`]).
 
 use crate::error::DecodeError;
 
@@ -57,3 +60,7 @@ mod tests {
         assert_eq!(len, 0);
     }
 }
+
+#[path = "sync_machines.rs"]
+mod machines;
+pub use machines::{valid_counter_overflow, SyncCobId, SyncConsumer, SyncEvent, SyncProducer};

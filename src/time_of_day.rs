@@ -1,6 +1,7 @@
 //! TIME (identifier 0x100), CiA 301: a TIME_OF_DAY value, 6 bytes:
 //! bits 0-27 milliseconds after midnight, bits 28-31 reserved, then a u16 of
-//! days since 1984-01-01.
+//! days since 1984-01-01. The TIME producer and consumer follow 1012h
+//! COB-ID TIME ([`TimeCobId`], [`TimeProducer`], [`TimeConsumer`]).
 
 use byteorder::{ByteOrder, LittleEndian};
 
@@ -116,3 +117,7 @@ mod tests {
         assert_eq!(TimeOfDay::from_unix_millis(0), None);
     }
 }
+
+#[path = "time_machines.rs"]
+mod machines;
+pub use machines::{TimeCobId, TimeConsumer, TimeEvent, TimeProducer};

@@ -8,7 +8,9 @@ use crate::cob_id::NodeId;
 use crate::heartbeat::ConsumerEntry;
 use crate::pdo::PdoConfig;
 use crate::sdo::{ServerConfig, DEFAULT_TIMEOUT};
+use crate::sync::SyncCobId;
 use crate::time::millis_u16;
+use crate::time_of_day::TimeCobId;
 
 /// How a [`Device`](super::Device) is set up: the power-on values of its communication
 /// objects (restored by the NMT resets) and its policies.
@@ -37,11 +39,29 @@ pub struct DeviceConfig {
     pub pdos: PdoConfig,
     /// How an EMCY is recorded in 1003h.
     pub error_field: ErrorFieldFormat,
+    /// 100Ch guard time (whole milliseconds, saturating at 65535).
+    pub guard_time: Duration,
+    /// 100Dh life time factor (0: no life guarding).
+    pub life_time_factor: u8,
+    /// 1005h COB-ID SYNC (the generate bit makes the device the SYNC
+    /// producer).
+    pub sync_cob_id: SyncCobId,
+    /// 1006h communication cycle period (whole µs, saturating at u32::MAX).
+    pub cycle_period: Duration,
+    /// 1007h synchronous window length (whole µs; zero: no window).
+    pub sync_window: Duration,
+    /// 1019h synchronous counter overflow value (0 or 2..=240; a reserved
+    /// value counts as 0).
+    pub sync_counter_overflow: u8,
+    /// 1012h COB-ID TIME.
+    pub time_cob_id: TimeCobId,
 }
 
 impl DeviceConfig {
     /// Node `node`: device type 0, no name, heartbeat 1000 ms, no consumer
-    /// entries, SDO timeout 2000 ms, no PDOs, standard 1003h entries.
+    /// entries, SDO timeout 2000 ms, no PDOs, standard 1003h entries, guard
+    /// time and life time factor 0, SYNC 080h consumed (no cycle, window or
+    /// counter), TIME 100h neither produced nor consumed.
     #[must_use]
     pub const fn new(node: NodeId) -> Self {
         DeviceConfig {
@@ -59,6 +79,13 @@ impl DeviceConfig {
             sdo_timeout: DEFAULT_TIMEOUT,
             pdos: PdoConfig::new(),
             error_field: ErrorFieldFormat::LittleEndianInfo,
+            guard_time: Duration::ZERO,
+            life_time_factor: 0,
+            sync_cob_id: SyncCobId::DEFAULT,
+            cycle_period: Duration::ZERO,
+            sync_window: Duration::ZERO,
+            sync_counter_overflow: 0,
+            time_cob_id: TimeCobId::DEFAULT,
         }
     }
 
@@ -80,6 +107,18 @@ impl DeviceConfig {
         comm.device_name = self.device_name;
         comm.identity = self.identity;
         comm.heartbeat_ms = millis_u16(self.heartbeat);
+        comm.guard_time_ms = millis_u16(self.guard_time);
+        comm.life_time_factor = self.life_time_factor;
+        comm.sync_cob_id = self.sync_cob_id;
+        comm.cycle_period_us = micros_u32(self.cycle_period);
+        comm.sync_window_us = micros_u32(self.sync_window);
+        comm.sync_counter_overflow =
+            if crate::sync::valid_counter_overflow(self.sync_counter_overflow) {
+                self.sync_counter_overflow
+            } else {
+                0
+            };
+        comm.time_cob_id = self.time_cob_id;
         comm.set_consumers(
             self.consumers
                 .get(..usize::from(self.consumer_slots))
@@ -94,4 +133,10 @@ impl DeviceConfig {
             ..ServerConfig::for_node(self.node)
         }
     }
+}
+
+/// A duration as whole microseconds for a 32-bit object (1006h, 1007h),
+/// saturating at `u32::MAX`.
+fn micros_u32(d: Duration) -> u32 {
+    u32::try_from(d.as_micros()).unwrap_or(u32::MAX)
 }

@@ -45,8 +45,8 @@ const PDO_MAPPING: &[SubDescription] = &[
 ];
 
 /// The CiA 301 communication objects of the device core
-/// ([`CommObjects`](super::CommObjects): 1000h, 1001h, 1003h, 1008h, 1016h,
-/// 1017h, 1018h, 1200h) and the PDO communication and mapping parameters
+/// ([`CommObjects`](super::CommObjects): 1000h, 1001h, 1003h, 1005h-1008h,
+/// 100Ch, 100Dh, 1012h, 1016h-1019h, 1200h) and the PDO communication and mapping parameters
 /// (1400h-1BFFh), with the object and sub-object names of CiA 301
 /// ("CANopen application layer and communication profile", section 7.5.2
 /// "Object dictionary entries": 7.5.2.1 device type to 7.5.2.38 TPDO
@@ -66,7 +66,13 @@ pub const COMM_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
             sub(1, 254, "Standard error field", U32),
         ],
     ),
+    ObjectDescription::var(0x1005, "COB-ID SYNC message", U32),
+    ObjectDescription::var(0x1006, "Communication cycle period", U32),
+    ObjectDescription::var(0x1007, "Synchronous window length", U32),
     ObjectDescription::var(0x1008, "Manufacturer device name", DataType::VisibleString),
+    ObjectDescription::var(0x100C, "Guard time", U16),
+    ObjectDescription::var(0x100D, "Life time factor", U8),
+    ObjectDescription::var(0x1012, "COB-ID time stamp object", U32),
     ObjectDescription::with_subs(
         0x1016,
         0x1016,
@@ -88,6 +94,7 @@ pub const COMM_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
             sub(4, 4, "Serial number", U32),
         ],
     ),
+    ObjectDescription::var(0x1019, "Synchronous counter overflow value", U8),
     ObjectDescription::with_subs(
         0x1200,
         0x1200,

@@ -48,6 +48,18 @@
 //!   every 1017h period; an SDO write to 1017h changes the period at once.
 //!   Heartbeats of the nodes in 1016h are supervised; their events are
 //!   reported as [`DeviceEvent::Heartbeat`] whether or not events are read.
+//! - **Node guarding** ([`GuardingSlave`](crate::guarding::GuardingSlave),
+//!   100Ch, 100Dh): requests are answered in every state once booted, the
+//!   toggle from 0 after every reset, but not while 1017h is non-zero (CiA
+//!   301: heartbeat and guarding are exclusive; the default 1000 ms means no
+//!   guarding); life guarding is [`DeviceEvent::LifeGuarding`]. **SYNC**:
+//!   with 1005h's generate bit and a non-zero 1006h the device sends SYNC
+//!   (counter of 1019h) in pre-operational and operational; SYNC on 1005h's
+//!   identifier, received or its own, runs the synchronous TPDOs; counter
+//!   skips and synchronous RPDOs outside the 1007h window are
+//!   [`DeviceEvent::Sync`]. **TIME** follows 1012h's bits
+//!   ([`DeviceEvent::Time`], [`Device::send_time`]). Both resets restore
+//!   these objects.
 //! - **Back-pressure**: the event queue keeps the latest 16 events and
 //!   counts what it drops ([`Machine::events_dropped`]); nothing else
 //!   depends on it.
@@ -67,10 +79,17 @@
 //! | 1000h | device type | U32 | const |
 //! | 1001h | error register | U8 | ro |
 //! | 1003h | pre-defined error field: sub 0 the number of entries (rw; only 0 may be written, which clears the history, else 06090030h), sub 1-10 the entries, newest first (ro; an empty entry reads 08000024h) | ARRAY of U32 | |
+//! | 1005h | COB-ID SYNC: bit 30 generate, bits 0-10 (or 0-28 with bit 29) the identifier (rw; moving the identifier while generating, or an invalid one, is 06090030h) | U32 | rw |
+//! | 1006h | communication cycle period, µs (0: no SYNC produced) | U32 | rw |
+//! | 1007h | synchronous window length, µs (0: no window) | U32 | rw |
 //! | 1008h | manufacturer device name | VISIBLE_STRING | const |
+//! | 100Ch | guard time, ms | U16 | rw |
+//! | 100Dh | life time factor | U8 | rw |
+//! | 1012h | COB-ID TIME: bit 31 consume, bit 30 produce (an invalid identifier is 06090030h) | U32 | rw |
 //! | 1016h | consumer heartbeat time: sub 0 the number of entries (const), sub 1..n node (bits 23-16) and time in ms (bits 15-0) (rw; an enabled entry for a node another entry watches is 06040043h) | ARRAY of U32 | (only with entries) |
 //! | 1017h | producer heartbeat time, ms | U16 | rw |
 //! | 1018h | identity: sub 0 = 4 (ro), vendor-ID, product code, revision, serial number | RECORD of U32 | ro |
+//! | 1019h | synchronous counter overflow value: 0 or 2..=240 (1 and 241..=255 are 06090030h; while 1006h is non-zero 08000022h) | U8 | rw |
 //! | 1200h | SDO server parameter: sub 0 = 2, 600h + node, 580h + node | RECORD of U32 | ro |
 //!
 //! Objects the table does not name are passed to the application's
@@ -84,6 +103,7 @@ mod config;
 mod descriptions;
 mod objects;
 mod profile;
+mod services;
 
 pub use config::DeviceConfig;
 #[cfg(feature = "alloc")]
@@ -153,6 +173,8 @@ pub struct Device<A, E: Copy> {
     /// [`Device::boot`] was called (a device waiting for its LSS node-ID
     /// is powered but not running).
     powered: bool,
+    /// Node guarding, SYNC and TIME (services.rs).
+    services: services::Services,
 }
 
 impl<A, E> Device<A, E>
@@ -187,6 +209,7 @@ where
             events: EventQueue::new(E::from(DeviceEvent::Reset { node: true })),
             lss: None,
             powered: false,
+            services: services::Services::new(config.node),
         }
     }
 
@@ -335,6 +358,7 @@ where
         f(&mut self.server.od_mut().inner.comm);
         self.apply_heartbeat_period(now);
         self.apply_consumers(now);
+        self.apply_services(now);
         self.refresh_tpdos(now);
     }
 
@@ -464,10 +488,8 @@ where
             self.server.handle_frame(now, frame);
             self.drain_server(now, profile);
         }
-        if self.nmt.state() == NmtState::Operational {
-            self.refresh_tpdos(now);
-            self.tpdos.handle_frame(now, frame);
-        }
+        // Guarding requests, SYNC (which runs the synchronous TPDOs) and TIME.
+        self.services_frame(now, frame, profile);
         self.rpdos.handle_frame(now, frame);
         self.drain_rpdos(now, profile);
         profile.on_frame(self, now, frame);
@@ -482,6 +504,7 @@ where
         self.heartbeat.handle_timeout(now);
         self.consumer.handle_timeout(now);
         self.drain_consumer(now, profile);
+        self.services_timeout(now, profile);
         self.server.handle_timeout(now);
         self.drain_server(now, profile);
         profile.on_timeout(self, now);
@@ -496,6 +519,7 @@ where
     pub fn poll_transmit_with<P: Profile<A, E>>(&mut self, profile: &mut P) -> Option<CanFrame> {
         self.heartbeat
             .poll_transmit()
+            .or_else(|| self.services.guarding.poll_transmit())
             .or_else(|| self.transmit.pop())
             .or_else(|| self.lss.as_mut().and_then(LssSlave::poll_transmit))
             .or_else(|| self.server.poll_transmit())
@@ -512,6 +536,7 @@ where
         [
             self.heartbeat.poll_timeout(),
             self.consumer.poll_timeout(),
+            self.services.poll_timeout(),
             self.server.poll_timeout(),
             profile.poll_timeout(),
             self.tpdos.poll_timeout(),
@@ -613,6 +638,7 @@ where
         self.tpdos.reset();
         self.reconfigure_pdos(now);
         self.nmt.boot(now);
+        self.reset_services(now);
     }
 
     /// The core's part of entering `to`.
@@ -622,6 +648,7 @@ where
             self.server.cancel();
         }
         self.heartbeat.set_state(now, to);
+        self.services_entered(now, to);
         self.gate_pdos(now);
     }
 
@@ -684,6 +711,8 @@ where
                         }
                         _ => {}
                     }
+                    // 100Ch, 100Dh, 1005h-1007h, 1012h, 1019h; 1017h too.
+                    self.apply_services(now);
                     self.refresh_tpdos(now);
                     self.emit(now, DeviceEvent::ObjectWritten { index, sub }, profile);
                 }
@@ -714,7 +743,10 @@ where
             };
             let pdo = rpdo.pdo;
             match result {
-                Ok(_) => self.emit(now, DeviceEvent::RpdoReceived { pdo }, profile),
+                Ok(_) => {
+                    self.note_rpdo(now, pdo, profile);
+                    self.emit(now, DeviceEvent::RpdoReceived { pdo }, profile);
+                }
                 Err(error) => {
                     if let Some(emcy) = profile.rpdo_emergency(self.error_register(), &error) {
                         self.send_emergency(&emcy);

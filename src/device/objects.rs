@@ -11,11 +11,15 @@ use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::emcy::{Emergency, ErrorFieldEntry, ErrorRegister};
 use crate::heartbeat::ConsumerEntry;
 use crate::od::index::{
-    CONSUMER_HEARTBEAT_TIME, DEVICE_TYPE, ERROR_REGISTER, IDENTITY, MANUFACTURER_DEVICE_NAME,
+    COB_ID_SYNC, COB_ID_TIME, COMMUNICATION_CYCLE_PERIOD, CONSUMER_HEARTBEAT_TIME, DEVICE_TYPE,
+    ERROR_REGISTER, GUARD_TIME, IDENTITY, LIFE_TIME_FACTOR, MANUFACTURER_DEVICE_NAME,
     PRE_DEFINED_ERROR_FIELD, PRODUCER_HEARTBEAT_TIME, SDO_SERVER_PARAMETER,
+    SYNCHRONOUS_COUNTER_OVERFLOW, SYNCHRONOUS_WINDOW_LENGTH,
 };
 use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
 use crate::sdo::AbortCode;
+use crate::sync::{valid_counter_overflow, SyncCobId};
+use crate::time_of_day::TimeCobId;
 
 /// Entries the error history (1003h) keeps.
 pub const ERROR_HISTORY_LEN: usize = 10;
@@ -106,6 +110,20 @@ pub struct CommObjects {
     pub heartbeat_ms: u16,
     /// 1018h.
     pub identity: Identity,
+    /// 1005h COB-ID SYNC.
+    pub sync_cob_id: SyncCobId,
+    /// 1006h communication cycle period, µs.
+    pub cycle_period_us: u32,
+    /// 1007h synchronous window length, µs.
+    pub sync_window_us: u32,
+    /// 100Ch guard time, ms.
+    pub guard_time_ms: u16,
+    /// 100Dh life time factor.
+    pub life_time_factor: u8,
+    /// 1012h COB-ID TIME.
+    pub time_cob_id: TimeCobId,
+    /// 1019h synchronous counter overflow value.
+    pub sync_counter_overflow: u8,
     pending: WriteBuffer,
 }
 
@@ -128,6 +146,13 @@ impl CommObjects {
             consumer_slots: 0,
             heartbeat_ms: 0,
             identity: Identity::ZERO,
+            sync_cob_id: SyncCobId::DEFAULT,
+            cycle_period_us: 0,
+            sync_window_us: 0,
+            guard_time_ms: 0,
+            life_time_factor: 0,
+            time_cob_id: TimeCobId::DEFAULT,
+            sync_counter_overflow: 0,
             pending: WriteBuffer::new(),
         }
     }
@@ -199,7 +224,14 @@ impl CommObjects {
             | MANUFACTURER_DEVICE_NAME
             | PRODUCER_HEARTBEAT_TIME
             | IDENTITY
-            | SDO_SERVER_PARAMETER => true,
+            | SDO_SERVER_PARAMETER
+            | COB_ID_SYNC
+            | COMMUNICATION_CYCLE_PERIOD
+            | SYNCHRONOUS_WINDOW_LENGTH
+            | GUARD_TIME
+            | LIFE_TIME_FACTOR
+            | COB_ID_TIME
+            | SYNCHRONOUS_COUNTER_OVERFLOW => true,
             _ => false,
         }
     }
@@ -230,6 +262,13 @@ impl CommObjects {
                 Some(v) => (Ro, Value::u32(v)),
                 None => return Err(AbortCode::SubIndexDoesNotExist),
             },
+            (COB_ID_SYNC, 0) => (Rw, Value::u32(self.sync_cob_id.raw())),
+            (COMMUNICATION_CYCLE_PERIOD, 0) => (Rw, Value::u32(self.cycle_period_us)),
+            (SYNCHRONOUS_WINDOW_LENGTH, 0) => (Rw, Value::u32(self.sync_window_us)),
+            (GUARD_TIME, 0) => (Rw, Value::u16(self.guard_time_ms)),
+            (LIFE_TIME_FACTOR, 0) => (Rw, Value::u8(self.life_time_factor)),
+            (COB_ID_TIME, 0) => (Rw, Value::u32(self.time_cob_id.raw())),
+            (SYNCHRONOUS_COUNTER_OVERFLOW, 0) => (Rw, Value::u8(self.sync_counter_overflow)),
             (SDO_SERVER_PARAMETER, 0) => (Ro, Value::u8(2)),
             (SDO_SERVER_PARAMETER, 1) => (Ro, Value::u32(u32::from(SDO_RX_BASE) + node)),
             (SDO_SERVER_PARAMETER, 2) => (Ro, Value::u32(u32::from(SDO_TX_BASE) + node)),
@@ -262,6 +301,42 @@ impl CommObjects {
                 }
             }
             (PRODUCER_HEARTBEAT_TIME, 0, &[a, b]) => self.heartbeat_ms = u16::from_le_bytes([a, b]),
+            (COB_ID_SYNC, 0, &[a, b, c, d]) => {
+                let new = SyncCobId::from_raw(u32::from_le_bytes([a, b, c, d]));
+                // CiA 301 section 7.5.2, object 1005h: the identifier may
+                // not change while the device generates SYNC, and it must
+                // be a valid one.
+                let moved = new.raw() & 0x3FFF_FFFF != self.sync_cob_id.raw() & 0x3FFF_FFFF;
+                if new.id().is_none() || (moved && self.sync_cob_id.generates() && new.generates())
+                {
+                    return Err(AbortCode::InvalidValue);
+                }
+                self.sync_cob_id = new;
+            }
+            (COMMUNICATION_CYCLE_PERIOD, 0, &[a, b, c, d]) => {
+                self.cycle_period_us = u32::from_le_bytes([a, b, c, d]);
+            }
+            (SYNCHRONOUS_WINDOW_LENGTH, 0, &[a, b, c, d]) => {
+                self.sync_window_us = u32::from_le_bytes([a, b, c, d]);
+            }
+            (GUARD_TIME, 0, &[a, b]) => self.guard_time_ms = u16::from_le_bytes([a, b]),
+            (LIFE_TIME_FACTOR, 0, &[v]) => self.life_time_factor = v,
+            (COB_ID_TIME, 0, &[a, b, c, d]) => {
+                let new = TimeCobId::from_raw(u32::from_le_bytes([a, b, c, d]));
+                if new.id().is_none() {
+                    return Err(AbortCode::InvalidValue);
+                }
+                self.time_cob_id = new;
+            }
+            // CiA 301 section 7.5.2, object 1019h: written only while
+            // 1006h is 0; 1 and 241..=255 are reserved.
+            (SYNCHRONOUS_COUNTER_OVERFLOW, 0, _) if self.cycle_period_us != 0 => {
+                return Err(AbortCode::DataCannotBeStoredDeviceState)
+            }
+            (SYNCHRONOUS_COUNTER_OVERFLOW, 0, &[v]) if valid_counter_overflow(v) => {
+                self.sync_counter_overflow = v;
+            }
+            (SYNCHRONOUS_COUNTER_OVERFLOW, 0, _) => return Err(AbortCode::InvalidValue),
             _ => return Err(AbortCode::WriteOfReadOnlyObject),
         }
         Ok(())

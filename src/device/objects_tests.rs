@@ -48,7 +48,13 @@ fn every_row_of_the_table() {
         (0x1000, 0, Const, &[0xA2, 0x01, 0x04, 0x00]),
         (0x1001, 0, Ro, &[0]),
         (0x1003, 0, Rw, &[0]),
+        (0x1005, 0, Rw, &[0x80, 0, 0, 0]),
+        (0x1006, 0, Rw, &[0, 0, 0, 0]),
+        (0x1007, 0, Rw, &[0, 0, 0, 0]),
         (0x1008, 0, Const, b"node five"),
+        (0x100C, 0, Rw, &[0, 0]),
+        (0x100D, 0, Rw, &[0]),
+        (0x1012, 0, Rw, &[0x00, 0x01, 0, 0]),
         (0x1016, 0, Const, &[2]),
         (0x1016, 1, Rw, &[0xD0, 0x07, 0x01, 0x00]),
         (0x1016, 2, Rw, &[0, 0, 0, 0]),
@@ -58,6 +64,7 @@ fn every_row_of_the_table() {
         (0x1018, 2, Ro, &[2, 0, 0, 0]),
         (0x1018, 3, Ro, &[3, 0, 0, 0]),
         (0x1018, 4, Ro, &[4, 0, 0, 0]),
+        (0x1019, 0, Rw, &[0]),
         (0x1200, 0, Ro, &[2]),
         (0x1200, 1, Ro, &[0x05, 0x06, 0, 0]),
         (0x1200, 2, Ro, &[0x85, 0x05, 0, 0]),
@@ -96,7 +103,7 @@ fn every_row_of_the_table() {
             "{index:04X}h:{sub}"
         );
     }
-    assert_eq!(c.info(0x1005, 0), Err(AbortCode::ObjectDoesNotExist));
+    assert_eq!(c.info(0x1010, 0), Err(AbortCode::ObjectDoesNotExist));
     c.set_consumers(&[]);
     assert_eq!(c.info(0x1016, 0), Err(AbortCode::ObjectDoesNotExist));
 }
@@ -248,4 +255,67 @@ fn hostile_reads_and_writes_never_panic() {
             let _ = c.finish_write(index, sub, usize::MAX);
         }
     }
+}
+
+/// 100Ch, 100Dh, 1005h, 1006h, 1007h, 1012h and 1019h: what may be written.
+#[test]
+fn guarding_sync_and_time_objects() {
+    let mut c = comm();
+    assert_eq!(write(&mut c, 0x100C, 0, &[0xF4, 0x01]), Ok(()));
+    assert_eq!(write(&mut c, 0x100D, 0, &[3]), Ok(()));
+    assert_eq!((c.guard_time_ms, c.life_time_factor), (500, 3));
+    assert_eq!(
+        write(&mut c, 0x100D, 0, &[3, 0]),
+        Err(AbortCode::DataTypeLengthTooHigh)
+    );
+    // 1019h: 0 and 2..=240 while 1006h is 0; 1 and 241..=255 reserved.
+    for v in 0..=255u8 {
+        let want = if v == 0 || (2..=240).contains(&v) {
+            Ok(())
+        } else {
+            Err(AbortCode::InvalidValue)
+        };
+        assert_eq!(write(&mut c, 0x1019, 0, &[v]), want, "1019h = {v}");
+    }
+    assert_eq!(write(&mut c, 0x1019, 0, &[10]), Ok(()));
+    assert_eq!(write(&mut c, 0x1006, 0, &10_000u32.to_le_bytes()), Ok(()));
+    assert_eq!(
+        write(&mut c, 0x1019, 0, &[5]),
+        Err(AbortCode::DataCannotBeStoredDeviceState)
+    );
+    assert_eq!((c.cycle_period_us, c.sync_counter_overflow), (10_000, 10));
+    assert_eq!(write(&mut c, 0x1007, 0, &2_000u32.to_le_bytes()), Ok(()));
+    assert_eq!(c.sync_window_us, 2_000);
+    // 1005h: the generate bit; the identifier cannot move while generating.
+    assert_eq!(
+        write(&mut c, 0x1005, 0, &0x4000_0080u32.to_le_bytes()),
+        Ok(())
+    );
+    assert!(c.sync_cob_id.generates());
+    assert_eq!(
+        write(&mut c, 0x1005, 0, &0x4000_0081u32.to_le_bytes()),
+        Err(AbortCode::InvalidValue)
+    );
+    assert_eq!(
+        write(&mut c, 0x1005, 0, &0x0000_0081u32.to_le_bytes()),
+        Ok(())
+    );
+    assert_eq!(
+        write(&mut c, 0x1005, 0, &0x4000_0081u32.to_le_bytes()),
+        Ok(())
+    );
+    assert_eq!(
+        write(&mut c, 0x1005, 0, &0x0000_0800u32.to_le_bytes()),
+        Err(AbortCode::InvalidValue)
+    );
+    // 1012h: consume and produce bits, a valid identifier.
+    assert_eq!(
+        write(&mut c, 0x1012, 0, &0xC000_0100u32.to_le_bytes()),
+        Ok(())
+    );
+    assert!(c.time_cob_id.consumes() && c.time_cob_id.produces());
+    assert_eq!(
+        write(&mut c, 0x1012, 0, &0x0000_1000u32.to_le_bytes()),
+        Err(AbortCode::InvalidValue)
+    );
 }

@@ -5,12 +5,15 @@ use super::Device;
 use crate::cob_id::PdoNumber;
 use crate::emcy::{Emergency, ErrorRegister};
 use crate::frame::CanFrame;
+use crate::guarding::SlaveGuardingEvent;
 use crate::heartbeat::HeartbeatEvent;
 use crate::lss::LssSlaveEvent;
 use crate::nmt::NmtState;
 use crate::pdo::RpdoError;
 use crate::sdo::{AbortCode, AbortOrigin};
+use crate::sync::SyncEvent;
 use crate::time::Timestamp;
+use crate::time_of_day::TimeEvent;
 
 /// What the device core reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -68,6 +71,14 @@ pub enum DeviceEvent {
     /// [`LssSlave::answer_store`](crate::lss::LssSlave::answer_store) on
     /// [`Device::lss_mut`]).
     Lss(LssSlaveEvent),
+    /// Life guarding (100Ch, 100Dh): the master stopped guarding, or
+    /// resumed.
+    LifeGuarding(SlaveGuardingEvent),
+    /// The SYNC consumer: a counter skip (1019h) or a synchronous RPDO
+    /// outside the window (1007h). A SYNC itself is not reported.
+    Sync(SyncEvent),
+    /// TIME received (1012h consume bit).
+    Time(TimeEvent),
 }
 
 /// What a profile adds to the device core. Every method has a default that

@@ -26,12 +26,21 @@ pub const COB_ID_SYNC: u16 = 0x1005;
 /// 1006h communication cycle period, U32 rw, in µs (CiA 301): the SYNC
 /// interval; 0 disables SYNC production.
 pub const COMMUNICATION_CYCLE_PERIOD: u16 = 0x1006;
+/// 1007h synchronous window length, U32 rw, in µs (CiA 301): synchronous
+/// PDOs are sent and received within this time after the SYNC; 0: no window.
+pub const SYNCHRONOUS_WINDOW_LENGTH: u16 = 0x1007;
 /// 1008h manufacturer device name, VISIBLE_STRING const (CiA 301).
 pub const MANUFACTURER_DEVICE_NAME: u16 = 0x1008;
 /// 1009h manufacturer hardware version, VISIBLE_STRING const (CiA 301).
 pub const MANUFACTURER_HARDWARE_VERSION: u16 = 0x1009;
 /// 100Ah manufacturer software version, VISIBLE_STRING const (CiA 301).
 pub const MANUFACTURER_SOFTWARE_VERSION: u16 = 0x100A;
+/// 100Ch guard time, U16 rw, in ms (CiA 301): the node-guarding period the
+/// slave expects; with 100Dh it gives the node life time.
+pub const GUARD_TIME: u16 = 0x100C;
+/// 100Dh life time factor, U8 rw (CiA 301): node life time = guard time x
+/// life time factor; 0 disables life guarding.
+pub const LIFE_TIME_FACTOR: u16 = 0x100D;
 /// 1010h store parameters, ARRAY of U32 (CiA 301): writing the signature
 /// "save" (6576_6173h) to a sub-index stores that group of parameters.
 pub const STORE_PARAMETERS: u16 = 0x1010;
@@ -56,6 +65,10 @@ pub const PRODUCER_HEARTBEAT_TIME: u16 = 0x1017;
 /// 1018h identity object, RECORD of U32 ro (CiA 301): sub 1 vendor id,
 /// sub 2 product code, sub 3 revision number, sub 4 serial number.
 pub const IDENTITY: u16 = 0x1018;
+/// 1019h synchronous counter overflow value, U8 rw (CiA 301): 0 SYNC
+/// without counter, 2..=240 the highest counter value, 1 and 241..=255
+/// reserved; written only while 1006h is 0.
+pub const SYNCHRONOUS_COUNTER_OVERFLOW: u16 = 0x1019;
 /// 1029h error behaviour, ARRAY of U8 (CiA 301): the NMT state a device
 /// enters on a communication error.
 pub const ERROR_BEHAVIOUR: u16 = 0x1029;
@@ -88,15 +101,18 @@ mod tests {
 
     #[test]
     fn cia301_indexes() {
-        let rows: [(u16, u16); 25] = [
+        let rows: [(u16, u16); 29] = [
             (DEVICE_TYPE, 0x1000),
             (ERROR_REGISTER, 0x1001),
             (PRE_DEFINED_ERROR_FIELD, 0x1003),
             (COB_ID_SYNC, 0x1005),
             (COMMUNICATION_CYCLE_PERIOD, 0x1006),
+            (SYNCHRONOUS_WINDOW_LENGTH, 0x1007),
             (MANUFACTURER_DEVICE_NAME, 0x1008),
             (MANUFACTURER_HARDWARE_VERSION, 0x1009),
             (MANUFACTURER_SOFTWARE_VERSION, 0x100A),
+            (GUARD_TIME, 0x100C),
+            (LIFE_TIME_FACTOR, 0x100D),
             (STORE_PARAMETERS, 0x1010),
             (RESTORE_DEFAULT_PARAMETERS, 0x1011),
             (COB_ID_TIME, 0x1012),
@@ -105,6 +121,7 @@ mod tests {
             (CONSUMER_HEARTBEAT_TIME, 0x1016),
             (PRODUCER_HEARTBEAT_TIME, 0x1017),
             (IDENTITY, 0x1018),
+            (SYNCHRONOUS_COUNTER_OVERFLOW, 0x1019),
             (ERROR_BEHAVIOUR, 0x1029),
             (SDO_SERVER_PARAMETER, 0x1200),
             (SDO_CLIENT_PARAMETER, 0x1280),

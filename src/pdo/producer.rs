@@ -218,7 +218,7 @@ impl TpdoProducer {
     }
 
     /// A SYNC was received: synchronous types send here.
-    fn handle_sync(&mut self, now: Timestamp) {
+    pub(crate) fn handle_sync(&mut self, now: Timestamp) {
         let Some(comm) = self.comm.filter(|_| self.is_active()) else {
             return;
         };

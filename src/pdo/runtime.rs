@@ -78,6 +78,15 @@ impl TpdoSet {
         }
     }
 
+    /// A SYNC recognised by the caller (the device core's SYNC consumer on
+    /// 1005h's identifier, or its own SYNC producer): the synchronous TPDOs
+    /// send here, whatever identifier their producers listen to.
+    pub fn handle_sync(&mut self, now: Timestamp) {
+        for p in &mut self.producers {
+            p.handle_sync(now);
+        }
+    }
+
     /// Stops and forgets every producer (a reset).
     pub fn reset(&mut self) {
         *self = Self::new();

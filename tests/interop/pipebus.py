@@ -5,6 +5,7 @@ by the interop scripts in this directory."""
 import queue
 import re
 import subprocess
+import sys
 import threading
 import time
 
@@ -23,6 +24,8 @@ class PipeBus(can.BusABC):
         self.rx = queue.Queue()
         self.stderr_lines = []
         self.seen = []  # (time, id, data) of every frame from the node
+        self.sent = []  # (time, line) of every frame to the node
+        self._send_lock = threading.Lock()  # periodic tasks send from threads
         threading.Thread(target=self._read_stdout, daemon=True).start()
         threading.Thread(target=self._read_stderr, daemon=True).start()
         super().__init__(channel="pipe", **kwargs)
@@ -45,9 +48,15 @@ class PipeBus(can.BusABC):
             self.stderr_lines.append(line.rstrip("\n"))
 
     def send(self, msg, timeout=None):
-        line = f"({time.time():.6f}) pipe {msg.arbitration_id:03X}#{bytes(msg.data).hex().upper()}\n"
-        self.proc.stdin.write(line)
-        self.proc.stdin.flush()
+        if msg.is_remote_frame:
+            # A remote request (e.g. node guarding): candump's `ID#R`.
+            line = f"({time.time():.6f}) pipe {msg.arbitration_id:03X}#R\n"
+        else:
+            line = f"({time.time():.6f}) pipe {msg.arbitration_id:03X}#{bytes(msg.data).hex().upper()}\n"
+        with self._send_lock:
+            self.sent.append((time.time(), line.split(" ", 2)[-1].strip()))
+            self.proc.stdin.write(line)
+            self.proc.stdin.flush()
 
     def _recv_internal(self, timeout):
         try:

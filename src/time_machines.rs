@@ -1,0 +1,283 @@
+//! The TIME producer and consumer (CiA 301 "CANopen application layer and
+//! communication profile", section 7.2.6 "Time stamp object") and 1012h
+//! COB-ID TIME ([`TimeCobId`]): bit 31 "consume", bit 30 "produce", bit 29
+//! the frame format, bits 28-0 the identifier (default 100h).
+//!
+//! CiA 301 defines no period for TIME: [`TimeProducer::send_time`] is a
+//! command, sent only while 1012h has the produce bit.
+//! [`TimeConsumer`] reports every TIME received while 1012h has the
+//! consume bit ([`TimeEvent::Received`]), with the local time it arrived.
+
+use core::convert::Infallible;
+
+use super::TimeOfDay;
+use crate::cob_id::TIME;
+use crate::frame::{CanFrame, CanId};
+use crate::machine::Machine;
+use crate::queue::{EventQueue, Queue};
+use crate::time::Timestamp;
+
+/// The value of 1012h COB-ID TIME.
+///
+/// ```
+/// use canopen_codec::time_of_day::TimeCobId;
+/// use canopen_codec::CanId;
+/// let c = TimeCobId::from_raw(0x8000_0100);
+/// assert!(c.consumes() && !c.produces());
+/// assert_eq!(c.id(), Some(CanId::Standard(0x100)));
+/// assert_eq!(TimeCobId::DEFAULT.with_produce(true).raw(), 0x4000_0100);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct TimeCobId(u32);
+
+impl TimeCobId {
+    /// Bit 31: the device consumes TIME.
+    pub const CONSUME: u32 = 0x8000_0000;
+    /// Bit 30: the device produces TIME.
+    pub const PRODUCE: u32 = 0x4000_0000;
+    /// Bit 29: 29-bit identifier.
+    pub const EXTENDED: u32 = 0x2000_0000;
+    /// 100h, neither consumer nor producer.
+    pub const DEFAULT: TimeCobId = TimeCobId(TIME as u32);
+
+    /// From the Unsigned32 of 1012h.
+    #[must_use]
+    pub const fn from_raw(raw: u32) -> Self {
+        TimeCobId(raw)
+    }
+
+    /// The Unsigned32.
+    #[must_use]
+    pub const fn raw(self) -> u32 {
+        self.0
+    }
+
+    /// True when the device consumes TIME.
+    #[must_use]
+    pub const fn consumes(self) -> bool {
+        self.0 & Self::CONSUME != 0
+    }
+
+    /// True when the device produces TIME.
+    #[must_use]
+    pub const fn produces(self) -> bool {
+        self.0 & Self::PRODUCE != 0
+    }
+
+    /// The same with the consume bit set or cleared.
+    #[must_use]
+    pub const fn with_consume(self, on: bool) -> Self {
+        TimeCobId(if on {
+            self.0 | Self::CONSUME
+        } else {
+            self.0 & !Self::CONSUME
+        })
+    }
+
+    /// The same with the produce bit set or cleared.
+    #[must_use]
+    pub const fn with_produce(self, on: bool) -> Self {
+        TimeCobId(if on {
+            self.0 | Self::PRODUCE
+        } else {
+            self.0 & !Self::PRODUCE
+        })
+    }
+
+    /// The identifier (`None` when an 11-bit one is above 7FFh).
+    #[must_use]
+    pub const fn id(self) -> Option<CanId> {
+        if self.0 & Self::EXTENDED != 0 {
+            CanId::extended(self.0 & 0x1FFF_FFFF)
+        } else if self.0 & 0x1FFF_F800 == 0 {
+            CanId::standard((self.0 & 0x7FF) as u16)
+        } else {
+            None
+        }
+    }
+}
+
+impl Default for TimeCobId {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
+}
+
+/// Sends TIME on command while 1012h has the produce bit.
+///
+/// ```
+/// use canopen_codec::machine::Machine;
+/// use canopen_codec::time_of_day::{TimeCobId, TimeOfDay, TimeProducer};
+/// use canopen_codec::Timestamp;
+/// let mut p = TimeProducer::new(TimeCobId::DEFAULT.with_produce(true));
+/// assert!(p.send_time(Timestamp::ZERO, TimeOfDay::new(12 * 3_600_000, 2).unwrap()));
+/// assert_eq!(p.poll_transmit().unwrap().to_string(), "100#002E93020200");
+/// ```
+#[derive(Debug, Clone)]
+pub struct TimeProducer {
+    cob_id: TimeCobId,
+    out: Queue<CanFrame, 2>,
+}
+
+impl TimeProducer {
+    /// A producer configured by `cob_id`.
+    #[must_use]
+    pub const fn new(cob_id: TimeCobId) -> Self {
+        TimeProducer {
+            cob_id,
+            out: Queue::new(CanFrame::EMPTY),
+        }
+    }
+
+    /// 1012h written.
+    pub fn set_cob_id(&mut self, cob_id: TimeCobId) {
+        self.cob_id = cob_id;
+    }
+
+    /// 1012h.
+    #[must_use]
+    pub const fn cob_id(&self) -> TimeCobId {
+        self.cob_id
+    }
+
+    /// Queues a TIME frame with `time`; false when 1012h has no produce bit
+    /// or no valid identifier.
+    pub fn send_time(&mut self, now: Timestamp, time: TimeOfDay) -> bool {
+        let _ = now;
+        let Some(id) = self.cob_id.id().filter(|_| self.cob_id.produces()) else {
+            return false;
+        };
+        let Ok(frame) = CanFrame::new(id, &time.encode()) else {
+            return false;
+        };
+        if !self.out.push(frame) {
+            let _ = self.out.pop();
+            let _ = self.out.push(frame);
+        }
+        true
+    }
+}
+
+impl Machine for TimeProducer {
+    type Event = Infallible;
+
+    /// The producer takes no input frames.
+    fn handle_frame(&mut self, _now: Timestamp, _frame: &CanFrame) {}
+
+    /// The producer has no timers.
+    fn handle_timeout(&mut self, _now: Timestamp) {}
+
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        self.out.pop()
+    }
+
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        None
+    }
+
+    fn poll_event(&mut self) -> Option<Infallible> {
+        None
+    }
+
+    fn events_dropped(&self) -> u64 {
+        0
+    }
+}
+
+/// What the TIME consumer reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum TimeEvent {
+    /// A TIME frame arrived.
+    Received {
+        /// The time of day it carries.
+        time: TimeOfDay,
+        /// The local time it arrived.
+        at: Timestamp,
+    },
+}
+
+/// Receives TIME while 1012h has the consume bit; frames of another length
+/// than 6 bytes are ignored.
+///
+/// ```
+/// use canopen_codec::machine::Machine;
+/// use canopen_codec::time_of_day::{TimeCobId, TimeConsumer, TimeEvent};
+/// use canopen_codec::{CanFrame, Timestamp};
+/// let mut c = TimeConsumer::new(TimeCobId::DEFAULT.with_consume(true));
+/// let f = CanFrame::standard(0x100, &[0x00, 0x2E, 0x93, 0x02, 0x02, 0x00]).unwrap();
+/// c.handle_frame(Timestamp::from_millis(7), &f);
+/// let Some(TimeEvent::Received { time, at }) = c.poll_event() else { panic!() };
+/// assert_eq!((time.millis, time.days, at.as_millis()), (43_200_000, 2, 7));
+/// ```
+#[derive(Debug, Clone)]
+pub struct TimeConsumer {
+    cob_id: TimeCobId,
+    last: Option<TimeOfDay>,
+    events: EventQueue<TimeEvent, 2>,
+}
+
+impl TimeConsumer {
+    /// A consumer configured by `cob_id`.
+    #[must_use]
+    pub const fn new(cob_id: TimeCobId) -> Self {
+        TimeConsumer {
+            cob_id,
+            last: None,
+            events: EventQueue::new(TimeEvent::Received {
+                time: TimeOfDay {
+                    millis: 0,
+                    days: 0,
+                    reserved: 0,
+                },
+                at: Timestamp::ZERO,
+            }),
+        }
+    }
+
+    /// 1012h written.
+    pub fn set_cob_id(&mut self, cob_id: TimeCobId) {
+        self.cob_id = cob_id;
+    }
+
+    /// The last time of day received.
+    #[must_use]
+    pub const fn last(&self) -> Option<TimeOfDay> {
+        self.last
+    }
+}
+
+impl Machine for TimeConsumer {
+    type Event = TimeEvent;
+
+    /// TIME frames on 1012h's identifier while consuming.
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        if !self.cob_id.consumes() || frame.is_remote() || Some(frame.id()) != self.cob_id.id() {
+            return;
+        }
+        if let Ok(time) = TimeOfDay::decode(frame.data()) {
+            self.last = Some(time);
+            self.events.push(TimeEvent::Received { time, at: now });
+        }
+    }
+
+    /// The consumer has no timers.
+    fn handle_timeout(&mut self, _now: Timestamp) {}
+
+    /// The consumer sends nothing.
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        None
+    }
+
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        None
+    }
+
+    fn poll_event(&mut self) -> Option<TimeEvent> {
+        self.events.pop()
+    }
+
+    fn events_dropped(&self) -> u64 {
+        self.events.dropped()
+    }
+}
