@@ -253,7 +253,7 @@ impl CanFrame {
     }
 }
 
-fn check_id(id: CanId) -> Result<(), FrameError> {
+pub(crate) fn check_id(id: CanId) -> Result<(), FrameError> {
     match id {
         CanId::Standard(raw) if raw > MAX_STANDARD_ID => Err(FrameError::IdOutOfRange {
             raw: u32::from(raw),

@@ -265,6 +265,8 @@ pub struct Client<D = &'static [u8]> {
     config: ClientConfig,
     /// `config.timeout` in microseconds, computed once.
     timeout_us: u64,
+    /// The identifier it sends on is valid (checked once, not per frame).
+    sends: bool,
     state: State<D>,
     timers: Timers<1>,
     /// One frame: every call produces at most one (see the module docs).
@@ -278,6 +280,7 @@ impl<D: AsRef<[u8]>> Client<D> {
         Client {
             config,
             timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
+            sends: crate::frame::check_id(config.request_id).is_ok(),
             state: State::Idle,
             timers: Timers::new(),
             transmit: EventQueue::new(CanFrame::EMPTY),
@@ -394,7 +397,9 @@ impl<D: AsRef<[u8]>> Client<D> {
 
     fn send(&mut self, command: ClientCommand) {
         let (bytes, len) = SdoRequest::new(command).encode();
-        if let Ok(frame) = CanFrame::new(self.config.request_id, bytes.get(..len).unwrap_or(&[])) {
+        if self.sends {
+            // `len` is at most 8 and the identifier was checked in `new`.
+            let frame = CanFrame::from_parts(self.config.request_id, bytes, len as u8);
             // At most one frame per call: a drained queue always has room.
             self.transmit.push(frame);
         }

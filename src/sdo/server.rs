@@ -245,6 +245,8 @@ pub struct Server<D> {
     config: ServerConfig,
     /// `config.timeout` in microseconds, computed once.
     timeout_us: u64,
+    /// The identifier it sends on is valid (checked once, not per frame).
+    sends: bool,
     od: D,
     state: State,
     timers: Timers<1>,
@@ -259,6 +261,7 @@ impl<D: ObjectDictionary> Server<D> {
         Server {
             config,
             timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
+            sends: crate::frame::check_id(config.response_id).is_ok(),
             od,
             state: State::Idle,
             timers: Timers::new(),
@@ -343,8 +346,9 @@ impl<D: ObjectDictionary> Server<D> {
 
     fn send(&mut self, command: ServerCommand) {
         let (bytes, len) = SdoResponse::new(command).encode();
-        let frame = CanFrame::new(self.config.response_id, bytes.get(..len).unwrap_or(&[]));
-        if let Ok(frame) = frame {
+        if self.sends {
+            // `len` is at most 8 and the identifier was checked in `new`.
+            let frame = CanFrame::from_parts(self.config.response_id, bytes, len as u8);
             // At most one frame per call: a drained queue always has room.
             self.transmit.push(frame);
         }
