@@ -23,16 +23,6 @@ use crate::sdo_value::Value;
 use crate::words::{deltaq, described, sentence};
 use crate::Roles;
 
-fn hex(bytes: &[u8]) -> String {
-    const DIGITS: &[u8; 16] = b"0123456789abcdef";
-    let mut s = String::with_capacity(2 * bytes.len());
-    for b in bytes {
-        s.push(char::from(DIGITS[usize::from(b >> 4)]));
-        s.push(char::from(DIGITS[usize::from(b & 0x0F)]));
-    }
-    s
-}
-
 /// Appends `s` as a JSON string: the runs that need no escape are copied
 /// whole (the usual case: the whole string). The bytes that need one (`"`,
 /// `\` and the controls below 20h) are ASCII, so the scan is by byte.
@@ -57,6 +47,50 @@ pub fn string(out: &mut String, s: &str) {
         rest = chars.as_str();
     }
     out.push_str(rest);
+    out.push('"');
+}
+
+/// Appends `value`'s `Display` as a JSON string, escaped as it is written
+/// (no temporary `String`).
+pub fn display(out: &mut String, value: &impl std::fmt::Display) {
+    struct Escaping<'a>(&'a mut String);
+    impl std::fmt::Write for Escaping<'_> {
+        fn write_str(&mut self, s: &str) -> std::fmt::Result {
+            let mut rest = s;
+            while let Some(at) = rest
+                .bytes()
+                .position(|b| b == b'"' || b == b'\\' || b < 0x20)
+            {
+                let (clean, tail) = rest.split_at(at);
+                self.0.push_str(clean);
+                let mut chars = tail.chars();
+                match chars.next() {
+                    Some('"') => self.0.push_str("\\\""),
+                    Some('\\') => self.0.push_str("\\\\"),
+                    Some(c) => {
+                        let _ = write!(self.0, "\\u{:04x}", c as u32);
+                    }
+                    None => {}
+                }
+                rest = chars.as_str();
+            }
+            self.0.push_str(rest);
+            Ok(())
+        }
+    }
+    out.push('"');
+    let _ = write!(Escaping(out), "{value}");
+    out.push('"');
+}
+
+/// Appends `bytes` as a JSON string of lower-case hex digits.
+pub fn hex_string(out: &mut String, bytes: &[u8]) {
+    const DIGITS: &[u8; 16] = b"0123456789abcdef";
+    out.push('"');
+    for b in bytes {
+        out.push(char::from(DIGITS[usize::from(b >> 4)]));
+        out.push(char::from(DIGITS[usize::from(b & 0x0F)]));
+    }
     out.push('"');
 }
 
@@ -128,21 +162,21 @@ pub fn rest(
         l.frame.dlc()
     );
     key(out, "data");
-    string(out, &hex(l.frame.data()));
+    hex_string(out, l.frame.data());
     match (m, &notes.block_segment) {
         (_, Some(seg)) => {
             key(out, "text");
-            string(out, &seg.to_string());
+            display(out, &seg);
             key(out, "command");
             string(out, "block segment");
             let _ = write!(out, ",\"seqno\":{},\"last\":{}", seg.seqno, seg.last);
             key(out, "segment_data");
-            string(out, &hex(seg.data.as_slice()));
+            hex_string(out, seg.data.as_slice());
         }
         (Ok(msg), None) => fields(out, msg, roles, guard_reply),
         (Err(e), None) => {
             key(out, "error");
-            string(out, &e.to_string());
+            display(out, &e);
         }
     }
     if let Some((source, fields)) = pdo {
@@ -150,7 +184,7 @@ pub fn rest(
     }
     if let Some(d) = notes.deviation {
         key(out, "deviation");
-        string(out, &d.to_string());
+        display(out, &d);
     }
     out.push('}');
 }
@@ -184,7 +218,7 @@ fn pdo_fields(out: &mut String, source: Source, fields: &NamedFields) {
                 let _ = write!(out, "{value}");
             }
             v @ (FieldValue::Flags(_) | FieldValue::Formatted(_) | FieldValue::Chars(_)) => {
-                string(out, &v.to_string())
+                display(out, &v)
             }
             _ => out.push_str("null"),
         }
@@ -193,7 +227,7 @@ fn pdo_fields(out: &mut String, source: Source, fields: &NamedFields) {
             string(out, unit.symbol());
         }
         key(out, "text");
-        string(out, &f.to_string());
+        display(out, &f);
         out.push('}');
     }
     out.push(']');
@@ -201,14 +235,14 @@ fn pdo_fields(out: &mut String, source: Source, fields: &NamedFields) {
 
 fn fields(out: &mut String, msg: &Message, roles: &Roles, guard_reply: bool) {
     key(out, "text");
-    string(out, &crate::words::Text { msg, guard_reply }.to_string());
+    display(out, &crate::words::Text { msg, guard_reply });
     if guard_reply {
         out.push_str(",\"guard_reply\":true");
     }
     match msg {
         Message::Nmt(c) => {
             key(out, "command");
-            string(out, &c.command.to_string());
+            display(out, &c.command);
             let _ = write!(out, ",\"target\":{}", u8::from(c.target));
         }
         Message::Sync(s) => match s.counter {
@@ -226,7 +260,7 @@ fn fields(out: &mut String, msg: &Message, roles: &Roles, guard_reply: bool) {
             string(out, emcy.code.name());
             let _ = write!(out, ",\"register\":{}", emcy.register.bits());
             key(out, "mfr");
-            string(out, &hex(&emcy.manufacturer));
+            hex_string(out, &emcy.manufacturer);
             key(out, "deltaq");
             match deltaq(msg, roles) {
                 Some((label, description)) => {
@@ -242,7 +276,7 @@ fn fields(out: &mut String, msg: &Message, roles: &Roles, guard_reply: bool) {
         Message::Tpdo { pdo, payload, .. } | Message::Rpdo { pdo, payload, .. } => {
             let _ = write!(out, ",\"pdo\":{}", pdo.raw());
             key(out, "payload");
-            string(out, &hex(payload.as_slice()));
+            hex_string(out, payload.as_slice());
         }
         Message::TpdoRequest { pdo, dlc, .. } => {
             let _ = write!(
@@ -255,7 +289,7 @@ fn fields(out: &mut String, msg: &Message, roles: &Roles, guard_reply: bool) {
         Message::SdoResponse { sdo, .. } => server(out, &sdo.command),
         Message::Heartbeat { heartbeat, .. } => {
             key(out, "state");
-            string(out, &heartbeat.state.to_string());
+            display(out, &heartbeat.state);
             let _ = write!(
                 out,
                 ",\"state_raw\":{},\"toggle\":{}",
@@ -396,7 +430,7 @@ fn initiate(out: &mut String, p: &InitiatePayload) {
                 ",\"expedited\":true,\"size_indicated\":{size_indicated}"
             );
             key(out, "bytes");
-            string(out, &hex(data.as_slice()));
+            hex_string(out, data.as_slice());
         }
         InitiatePayload::Segmented { size } => {
             out.push_str(",\"expedited\":false,\"size\":");
@@ -422,7 +456,7 @@ fn segment(out: &mut String, command: &str, s: &canopen_codec::sdo::Segment) {
     string(out, command);
     let _ = write!(out, ",\"toggle\":{},\"last\":{}", s.toggle, s.last);
     key(out, "bytes");
-    string(out, &hex(s.data.as_slice()));
+    hex_string(out, s.data.as_slice());
 }
 
 fn client(out: &mut String, c: &ClientCommand) {
@@ -552,7 +586,7 @@ pub fn transfer(out: &mut String, r: &Report, roles: &Roles) {
         r.truncated()
     );
     key(out, "bytes");
-    string(out, &hex(&r.bytes));
+    hex_string(out, &r.bytes);
     key(out, "name");
     match &d.name {
         Some(n) => string(out, n),
