@@ -152,6 +152,21 @@ pub enum CobKind {
     Unknown,
 }
 
+/// The CAN identifier a COB-ID entry names (CiA 301 section 7.5.2, the
+/// COB-ID objects 1005h, 1012h, 14xxh/18xxh ...: bit 29 set, a 29-bit
+/// identifier in bits 28-0; clear, an 11-bit one in bits 10-0). `None` for
+/// an 11-bit entry with bits 28-11 set (no identifier). Bits 31 and 30 are
+/// the object's own flags and are not looked at.
+pub(crate) const fn can_id_of_cob_word(word: u32) -> Option<CanId> {
+    if word & (1 << 29) != 0 {
+        Some(CanId::Extended(word & 0x1FFF_FFFF))
+    } else if word & 0x1FFF_F800 != 0 {
+        None
+    } else {
+        Some(CanId::Standard((word & 0x7FF) as u16))
+    }
+}
+
 /// COB-ID base of NMT.
 pub const NMT: u16 = 0x000;
 /// COB-ID of SYNC (and base of EMCY).

@@ -87,13 +87,7 @@ impl TimeCobId {
     /// The identifier (`None` when an 11-bit one is above 7FFh).
     #[must_use]
     pub const fn id(self) -> Option<CanId> {
-        if self.0 & Self::EXTENDED != 0 {
-            CanId::extended(self.0 & 0x1FFF_FFFF)
-        } else if self.0 & 0x1FFF_F800 == 0 {
-            CanId::standard((self.0 & 0x7FF) as u16)
-        } else {
-            None
-        }
+        crate::cob_id::can_id_of_cob_word(self.0)
     }
 }
 

@@ -130,13 +130,7 @@ impl PdoCobId {
     /// 28-11 (not a representable identifier).
     #[must_use]
     pub const fn can_id(self) -> Option<CanId> {
-        if self.is_extended() {
-            Some(CanId::Extended(self.0 & 0x1FFF_FFFF))
-        } else if self.0 & 0x1FFF_F800 != 0 {
-            None
-        } else {
-            Some(CanId::Standard((self.0 & 0x7FF) as u16))
-        }
+        crate::cob_id::can_id_of_cob_word(self.0)
     }
 
     /// The same COB-ID with bit 31 set (`valid == false`) or cleared.

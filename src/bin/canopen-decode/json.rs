@@ -23,61 +23,48 @@ use crate::sdo_value::Value;
 use crate::words::{deltaq, described, sentence};
 use crate::Roles;
 
-/// Appends `s` as a JSON string: the runs that need no escape are copied
-/// whole (the usual case: the whole string). The bytes that need one (`"`,
-/// `\` and the controls below 20h) are ASCII, so the scan is by byte.
-pub fn string(out: &mut String, s: &str) {
-    out.push('"');
-    let mut rest = s;
-    while let Some(at) = rest
-        .bytes()
-        .position(|b| b == b'"' || b == b'\\' || b < 0x20)
-    {
-        let (clean, tail) = rest.split_at(at);
-        out.push_str(clean);
-        let mut chars = tail.chars();
-        match chars.next() {
-            Some('"') => out.push_str("\\\""),
-            Some('\\') => out.push_str("\\\\"),
-            Some(c) => {
-                let _ = write!(out, "\\u{:04x}", c as u32);
+/// Writes JSON-escaped text into a `String`: the runs that need no escape
+/// are copied whole (the usual case: the whole string). The bytes that need
+/// one (`"`, `\` and the controls below 20h) are ASCII, so the scan is by
+/// byte.
+struct Escaping<'a>(&'a mut String);
+
+impl std::fmt::Write for Escaping<'_> {
+    fn write_str(&mut self, s: &str) -> std::fmt::Result {
+        let mut rest = s;
+        while let Some(at) = rest
+            .bytes()
+            .position(|b| b == b'"' || b == b'\\' || b < 0x20)
+        {
+            let (clean, tail) = rest.split_at(at);
+            self.0.push_str(clean);
+            let mut chars = tail.chars();
+            match chars.next() {
+                Some('"') => self.0.push_str("\\\""),
+                Some('\\') => self.0.push_str("\\\\"),
+                Some(c) => {
+                    let _ = write!(self.0, "\\u{:04x}", c as u32);
+                }
+                None => {}
             }
-            None => {}
+            rest = chars.as_str();
         }
-        rest = chars.as_str();
+        self.0.push_str(rest);
+        Ok(())
     }
-    out.push_str(rest);
+}
+
+/// Appends `s` as a JSON string.
+pub fn string(out: &mut String, s: &str) {
+    use std::fmt::Write as _;
+    out.push('"');
+    let _ = Escaping(out).write_str(s);
     out.push('"');
 }
 
 /// Appends `value`'s `Display` as a JSON string, escaped as it is written
 /// (no temporary `String`).
 pub fn display(out: &mut String, value: &impl std::fmt::Display) {
-    struct Escaping<'a>(&'a mut String);
-    impl std::fmt::Write for Escaping<'_> {
-        fn write_str(&mut self, s: &str) -> std::fmt::Result {
-            let mut rest = s;
-            while let Some(at) = rest
-                .bytes()
-                .position(|b| b == b'"' || b == b'\\' || b < 0x20)
-            {
-                let (clean, tail) = rest.split_at(at);
-                self.0.push_str(clean);
-                let mut chars = tail.chars();
-                match chars.next() {
-                    Some('"') => self.0.push_str("\\\""),
-                    Some('\\') => self.0.push_str("\\\\"),
-                    Some(c) => {
-                        let _ = write!(self.0, "\\u{:04x}", c as u32);
-                    }
-                    None => {}
-                }
-                rest = chars.as_str();
-            }
-            self.0.push_str(rest);
-            Ok(())
-        }
-    }
     out.push('"');
     let _ = write!(Escaping(out), "{value}");
     out.push('"');

@@ -258,16 +258,24 @@ impl Roles {
         let [a, b, ..] = report.bytes[..] else {
             return None;
         };
-        let (slot, name) = match u16::from_le_bytes([a, b]) {
+        let (name, given) = self.give_by_profile(report.node, u16::from_le_bytes([a, b]))?;
+        given.then_some(name)
+    }
+
+    /// The role a device type's profile (bits 0-15 of 1000h) names, 418 a
+    /// battery module and 419 a charger, given to `node` unless another
+    /// node has it already: the role's name and whether it was given.
+    fn give_by_profile(&mut self, node: NodeId, profile: u16) -> Option<(&'static str, bool)> {
+        let (slot, name) = match profile {
             418 => (&mut self.battery, "battery"),
             419 => (&mut self.charger, "charger"),
             _ => return None,
         };
-        if slot.is_some() {
-            return None;
+        let given = slot.is_none();
+        if given {
+            *slot = Some(node);
         }
-        *slot = Some(report.node);
-        Some(name)
+        Some((name, given))
     }
 }
 
@@ -601,22 +609,11 @@ fn load_eds(
     };
     let mut said = Vec::new();
     if let Some(device_type) = int(0x1000, 0) {
-        let (slot, role) = match device_type & 0xFFFF {
-            418 => (&mut roles.battery, "battery"),
-            419 => (&mut roles.charger, "charger"),
-            profile => {
-                said.push(format!(
-                    "device type {device_type:08X}h (profile {profile})"
-                ));
-                (&mut None, "")
-            }
-        };
-        if !role.is_empty() {
-            if slot.is_none() {
-                *slot = Some(node);
-            }
-            said.push(format!("device type {device_type:08X}h: the {role}"));
-        }
+        let profile = (device_type & 0xFFFF) as u16;
+        said.push(match roles.give_by_profile(node, profile) {
+            Some((role, _)) => format!("device type {device_type:08X}h: the {role}"),
+            None => format!("device type {device_type:08X}h (profile {profile})"),
+        });
     }
     let profile = if roles.is_battery(node) {
         Some(canopen_codec::cia418::BATTERY_MODULE_CATALOGUE)
