@@ -225,6 +225,7 @@ impl BatteryModule {
     /// [`Device::with_lss`]). Its 1018h identity should be the slave's LSS
     /// address.
     #[must_use]
+    #[cfg(feature = "lss")]
     pub fn with_lss(config: BatteryModuleConfig, lss: crate::lss::LssSlave) -> Self {
         BatteryModule {
             config,

@@ -118,6 +118,7 @@ use crate::cob_id::{NodeId, EMCY_BASE};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::{CanFrame, CanId};
 use crate::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatProducer};
+#[cfg(feature = "lss")]
 use crate::lss::{LssSlave, LssSlaveEvent};
 use crate::machine::Machine;
 use crate::nmt::{NmtSlave, NmtSlaveEvent, NmtState, ResetKind};
@@ -169,9 +170,11 @@ pub struct Device<A, E: Copy> {
     frames_dropped: u64,
     events: EventQueue<E, EVENT_CAPACITY>,
     /// The optional LSS slave (CiA 305).
+    #[cfg(feature = "lss")]
     lss: Option<LssSlave>,
     /// [`Device::boot`] was called (a device waiting for its LSS node-ID
     /// is powered but not running).
+    #[cfg(feature = "lss")]
     powered: bool,
     /// Node guarding, SYNC and TIME (services.rs).
     services: services::Services,
@@ -207,13 +210,15 @@ where
             transmit: Queue::new(CanFrame::EMPTY),
             frames_dropped: 0,
             events: EventQueue::new(E::from(DeviceEvent::Reset { node: true })),
+            #[cfg(feature = "lss")]
             lss: None,
+            #[cfg(feature = "lss")]
             powered: false,
             services: services::Services::new(config.node),
         }
     }
 
-    /// A device that also carries an LSS slave (CiA 305). When the slave
+    /// A device that also carries an LSS slave (CiA 305; feature `lss`). When the slave
     /// has a node-ID it replaces `config.node`; when it has none (255),
     /// the device waits for one before it boots up (see the module docs).
     ///
@@ -239,6 +244,7 @@ where
     /// assert_eq!(dev.node(), NodeId::new(5).unwrap());
     /// # }
     /// ```
+    #[cfg(feature = "lss")]
     pub fn with_lss(mut config: DeviceConfig, app: A, lss: LssSlave) -> Self {
         if let Some(node) = lss.node_id() {
             config.node = node;
@@ -249,12 +255,14 @@ where
     }
 
     /// The LSS slave, if the device has one.
+    #[cfg(feature = "lss")]
     #[must_use]
     pub const fn lss(&self) -> Option<&LssSlave> {
         self.lss.as_ref()
     }
 
     /// The LSS slave, to answer a store request.
+    #[cfg(feature = "lss")]
     pub fn lss_mut(&mut self) -> Option<&mut LssSlave> {
         self.lss.as_mut()
     }
@@ -335,10 +343,13 @@ where
         // The application objects as they are now are the power-on values
         // reset node restores.
         self.power_on = self.objects().clone();
-        self.powered = true;
-        if self.lss.as_ref().is_some_and(|l| l.node_id().is_none()) {
-            // No node-ID: silent but for LSS until one is configured.
-            return;
+        #[cfg(feature = "lss")]
+        {
+            self.powered = true;
+            if self.lss.as_ref().is_some_and(|l| l.node_id().is_none()) {
+                // No node-ID: silent but for LSS until one is configured.
+                return;
+            }
         }
         self.restart(now, ResetKind::Node);
         self.drain_nmt(now, profile);
@@ -469,6 +480,7 @@ where
         frame: &CanFrame,
         profile: &mut P,
     ) {
+        #[cfg(feature = "lss")]
         if self.powered {
             if let Some(lss) = self.lss.as_mut() {
                 lss.handle_frame(now, frame);
@@ -517,11 +529,13 @@ where
     /// The next frame to send (order in the module docs).
     #[must_use]
     pub fn poll_transmit_with<P: Profile<A, E>>(&mut self, profile: &mut P) -> Option<CanFrame> {
-        self.heartbeat
-            .poll_transmit()
-            .or_else(|| self.services.guarding.poll_transmit())
-            .or_else(|| self.transmit.pop())
-            .or_else(|| self.lss.as_mut().and_then(LssSlave::poll_transmit))
+        let frame = self.heartbeat.poll_transmit();
+        #[cfg(feature = "guarding")]
+        let frame = frame.or_else(|| self.services.guarding.poll_transmit());
+        let frame = frame.or_else(|| self.transmit.pop());
+        #[cfg(feature = "lss")]
+        let frame = frame.or_else(|| self.lss.as_mut().and_then(LssSlave::poll_transmit));
+        frame
             .or_else(|| self.server.poll_transmit())
             .or_else(|| profile.poll_transmit())
             .or_else(|| self.tpdos.poll_transmit())
@@ -536,7 +550,10 @@ where
         [
             self.heartbeat.poll_timeout(),
             self.consumer.poll_timeout(),
-            self.services.poll_timeout(),
+            #[cfg(feature = "guarding")]
+            self.services.guarding.poll_timeout(),
+            #[cfg(feature = "sync-time")]
+            self.services.sync_producer.poll_timeout(),
             self.server.poll_timeout(),
             profile.poll_timeout(),
             self.tpdos.poll_timeout(),
@@ -593,6 +610,7 @@ where
 
     /// Hands the LSS slave's events on; a not-configured node that got a
     /// node-ID resets its communication and boots up under it.
+    #[cfg(feature = "lss")]
     fn drain_lss<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
         while let Some(event) = self.lss.as_mut().and_then(LssSlave::poll_event) {
             self.emit(now, DeviceEvent::Lss(event), profile);
@@ -608,6 +626,7 @@ where
     /// pre-operational.
     fn restart(&mut self, now: Timestamp, kind: ResetKind) {
         // The LSS node-ID configured since takes effect (CiA 305).
+        #[cfg(feature = "lss")]
         if let Some(node) = self.lss.as_mut().and_then(LssSlave::reset_communication) {
             if node != self.config.node || !self.nmt.is_running() {
                 renumber_pdos(&mut self.config.pdos, self.config.node, node);
@@ -762,6 +781,7 @@ where
 /// Moves the PDO COB-IDs that are the predefined connection set's for
 /// node `old` (CiA 301 section 7.3.5: 180h/200h + 100h × n + node-ID) to
 /// node `new`; COB-IDs set otherwise stay.
+#[cfg(feature = "lss")]
 fn renumber_pdos(pdos: &mut PdoConfig, old: NodeId, new: NodeId) {
     for dir in [PdoDirection::Receive, PdoDirection::Transmit] {
         let base: u32 = match dir {

@@ -226,12 +226,12 @@ impl CommObjects {
             | IDENTITY
             | SDO_SERVER_PARAMETER
             | COB_ID_SYNC
-            | COMMUNICATION_CYCLE_PERIOD
             | SYNCHRONOUS_WINDOW_LENGTH
-            | GUARD_TIME
-            | LIFE_TIME_FACTOR
-            | COB_ID_TIME
             | SYNCHRONOUS_COUNTER_OVERFLOW => true,
+            // The SYNC producer's period and TIME (feature `sync-time`).
+            COMMUNICATION_CYCLE_PERIOD | COB_ID_TIME => cfg!(feature = "sync-time"),
+            // Node guarding (feature `guarding`).
+            GUARD_TIME | LIFE_TIME_FACTOR => cfg!(feature = "guarding"),
             _ => false,
         }
     }
@@ -263,10 +263,14 @@ impl CommObjects {
                 None => return Err(AbortCode::SubIndexDoesNotExist),
             },
             (COB_ID_SYNC, 0) => (Rw, Value::u32(self.sync_cob_id.raw())),
+            #[cfg(feature = "sync-time")]
             (COMMUNICATION_CYCLE_PERIOD, 0) => (Rw, Value::u32(self.cycle_period_us)),
             (SYNCHRONOUS_WINDOW_LENGTH, 0) => (Rw, Value::u32(self.sync_window_us)),
+            #[cfg(feature = "guarding")]
             (GUARD_TIME, 0) => (Rw, Value::u16(self.guard_time_ms)),
+            #[cfg(feature = "guarding")]
             (LIFE_TIME_FACTOR, 0) => (Rw, Value::u8(self.life_time_factor)),
+            #[cfg(feature = "sync-time")]
             (COB_ID_TIME, 0) => (Rw, Value::u32(self.time_cob_id.raw())),
             (SYNCHRONOUS_COUNTER_OVERFLOW, 0) => (Rw, Value::u8(self.sync_counter_overflow)),
             (SDO_SERVER_PARAMETER, 0) => (Ro, Value::u8(2)),
@@ -311,16 +315,25 @@ impl CommObjects {
                 {
                     return Err(AbortCode::InvalidValue);
                 }
+                // Without the SYNC producer (feature `sync-time`) the
+                // device cannot generate SYNC: the generate bit is refused.
+                if new.generates() && !cfg!(feature = "sync-time") {
+                    return Err(AbortCode::InvalidValue);
+                }
                 self.sync_cob_id = new;
             }
+            #[cfg(feature = "sync-time")]
             (COMMUNICATION_CYCLE_PERIOD, 0, &[a, b, c, d]) => {
                 self.cycle_period_us = u32::from_le_bytes([a, b, c, d]);
             }
             (SYNCHRONOUS_WINDOW_LENGTH, 0, &[a, b, c, d]) => {
                 self.sync_window_us = u32::from_le_bytes([a, b, c, d]);
             }
+            #[cfg(feature = "guarding")]
             (GUARD_TIME, 0, &[a, b]) => self.guard_time_ms = u16::from_le_bytes([a, b]),
+            #[cfg(feature = "guarding")]
             (LIFE_TIME_FACTOR, 0, &[v]) => self.life_time_factor = v,
+            #[cfg(feature = "sync-time")]
             (COB_ID_TIME, 0, &[a, b, c, d]) => {
                 let new = TimeCobId::from_raw(u32::from_le_bytes([a, b, c, d]));
                 if new.id().is_none() {

@@ -5,14 +5,17 @@ use super::Device;
 use crate::cob_id::PdoNumber;
 use crate::emcy::{Emergency, ErrorRegister};
 use crate::frame::CanFrame;
+#[cfg(feature = "guarding")]
 use crate::guarding::SlaveGuardingEvent;
 use crate::heartbeat::HeartbeatEvent;
+#[cfg(feature = "lss")]
 use crate::lss::LssSlaveEvent;
 use crate::nmt::NmtState;
 use crate::pdo::RpdoError;
 use crate::sdo::{AbortCode, AbortOrigin};
 use crate::sync::SyncEvent;
 use crate::time::Timestamp;
+#[cfg(feature = "sync-time")]
 use crate::time_of_day::TimeEvent;
 
 /// What the device core reports.
@@ -69,15 +72,18 @@ pub enum DeviceEvent {
     /// The device's LSS slave ([`Device::with_lss`]) reported something
     /// (a store request is answered with
     /// [`LssSlave::answer_store`](crate::lss::LssSlave::answer_store) on
-    /// [`Device::lss_mut`]).
+    /// [`Device::lss_mut`]). Feature `lss`.
+    #[cfg(feature = "lss")]
     Lss(LssSlaveEvent),
     /// Life guarding (100Ch, 100Dh): the master stopped guarding, or
-    /// resumed.
+    /// resumed. Feature `guarding`.
+    #[cfg(feature = "guarding")]
     LifeGuarding(SlaveGuardingEvent),
     /// The SYNC consumer: a counter skip (1019h) or a synchronous RPDO
     /// outside the window (1007h). A SYNC itself is not reported.
     Sync(SyncEvent),
-    /// TIME received (1012h consume bit).
+    /// TIME received (1012h consume bit). Feature `sync-time`.
+    #[cfg(feature = "sync-time")]
     Time(TimeEvent),
 }
 

@@ -1,6 +1,7 @@
 //! The device core's error control besides the heartbeat and its SYNC and
-//! TIME services: node guarding with life guarding (100Ch, 100Dh), the SYNC
-//! producer and consumer (1005h, 1006h, 1007h, 1019h) and TIME (1012h).
+//! TIME services: node guarding with life guarding (100Ch, 100Dh; feature
+//! `guarding`), the SYNC consumer (1005h, 1007h, 1019h), the SYNC producer
+//! (1005h's generate bit, 1006h) and TIME (1012h) (feature `sync-time`).
 //!
 //! What they do is in the [device core docs](super).
 
@@ -8,13 +9,17 @@ use core::time::Duration;
 
 use super::{Device, DeviceEvent, Profile};
 use crate::frame::CanFrame;
+#[cfg(feature = "guarding")]
 use crate::guarding::GuardingSlave;
 use crate::machine::Machine;
 use crate::nmt::NmtState;
 use crate::od::ObjectDictionary;
 use crate::pdo::{PdoDirection, TransmissionType};
-use crate::sync::{SyncCobId, SyncConsumer, SyncEvent, SyncProducer};
+use crate::sync::{SyncCobId, SyncConsumer, SyncEvent};
+#[cfg(feature = "sync-time")]
+use crate::sync::SyncProducer;
 use crate::time::Timestamp;
+#[cfg(feature = "sync-time")]
 use crate::time_of_day::{TimeCobId, TimeConsumer, TimeOfDay, TimeProducer};
 use crate::{cob_id::NodeId, PdoNumber};
 
@@ -22,46 +27,48 @@ use crate::{cob_id::NodeId, PdoNumber};
 /// unrelated write does not restart a timer).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Applied {
+    #[cfg(feature = "guarding")]
     guard_time_ms: u16,
+    #[cfg(feature = "guarding")]
     life_time_factor: u8,
+    #[cfg(feature = "guarding")]
     heartbeat_active: bool,
     sync_cob_id: SyncCobId,
+    #[cfg(feature = "sync-time")]
     cycle_period_us: u32,
     sync_window_us: u32,
     sync_counter_overflow: u8,
+    #[cfg(feature = "sync-time")]
     time_cob_id: TimeCobId,
 }
 
 /// The services' machines.
 #[derive(Debug, Clone)]
 pub(super) struct Services {
+    #[cfg(feature = "guarding")]
     pub(super) guarding: GuardingSlave,
+    #[cfg(feature = "sync-time")]
     pub(super) sync_producer: SyncProducer,
     pub(super) sync_consumer: SyncConsumer,
+    #[cfg(feature = "sync-time")]
     pub(super) time_consumer: TimeConsumer,
     applied: Option<Applied>,
 }
 
 impl Services {
     pub(super) fn new(node: NodeId) -> Self {
+        #[cfg(not(feature = "guarding"))]
+        let _ = node;
         Services {
+            #[cfg(feature = "guarding")]
             guarding: GuardingSlave::new(node),
+            #[cfg(feature = "sync-time")]
             sync_producer: SyncProducer::idle(),
             sync_consumer: SyncConsumer::new(),
+            #[cfg(feature = "sync-time")]
             time_consumer: TimeConsumer::new(TimeCobId::DEFAULT),
             applied: None,
         }
-    }
-
-    /// The earliest deadline of the services.
-    pub(super) fn poll_timeout(&self) -> Option<Timestamp> {
-        [
-            self.guarding.poll_timeout(),
-            self.sync_producer.poll_timeout(),
-        ]
-        .into_iter()
-        .flatten()
-        .min()
     }
 }
 
@@ -70,7 +77,8 @@ where
     A: ObjectDictionary + Clone,
     E: Copy + From<DeviceEvent>,
 {
-    /// Node guarding (the slave side), for its state.
+    /// Node guarding (the slave side), for its state (feature `guarding`).
+    #[cfg(feature = "guarding")]
     #[must_use]
     pub const fn guarding(&self) -> &GuardingSlave {
         &self.services.guarding
@@ -82,20 +90,24 @@ where
         &self.services.sync_consumer
     }
 
-    /// The SYNC producer (runs with 1005h's generate bit and 1006h).
+    /// The SYNC producer (runs with 1005h's generate bit and 1006h;
+    /// feature `sync-time`).
+    #[cfg(feature = "sync-time")]
     #[must_use]
     pub const fn sync_producer(&self) -> &SyncProducer {
         &self.services.sync_producer
     }
 
-    /// The last TIME received (1012h consume bit).
+    /// The last TIME received (1012h consume bit; feature `sync-time`).
+    #[cfg(feature = "sync-time")]
     #[must_use]
     pub const fn last_time(&self) -> Option<TimeOfDay> {
         self.services.time_consumer.last()
     }
 
     /// Sends TIME with `time` (1012h produce bit; pre-operational and
-    /// operational). False when nothing was sent.
+    /// operational; feature `sync-time`). False when nothing was sent.
+    #[cfg(feature = "sync-time")]
     pub fn send_time(&mut self, now: Timestamp, time: TimeOfDay) -> bool {
         let mut producer = TimeProducer::new(self.comm().time_cob_id);
         if !self.nmt.sdo_allowed() || !producer.send_time(now, time) {
@@ -119,28 +131,37 @@ where
     pub(super) fn apply_services(&mut self, now: Timestamp) {
         let comm = self.comm();
         let want = Applied {
+            #[cfg(feature = "guarding")]
             guard_time_ms: comm.guard_time_ms,
+            #[cfg(feature = "guarding")]
             life_time_factor: comm.life_time_factor,
+            #[cfg(feature = "guarding")]
             heartbeat_active: comm.heartbeat_ms != 0,
             sync_cob_id: comm.sync_cob_id,
+            #[cfg(feature = "sync-time")]
             cycle_period_us: comm.cycle_period_us,
             sync_window_us: comm.sync_window_us,
             sync_counter_overflow: comm.sync_counter_overflow,
+            #[cfg(feature = "sync-time")]
             time_cob_id: comm.time_cob_id,
         };
         let old = self.services.applied.replace(want);
         let changed = |f: fn(&Applied) -> u64| old.as_ref().map(f) != Some(f(&want));
         let s = &mut self.services;
-        if changed(|a| u64::from(a.guard_time_ms) << 8 | u64::from(a.life_time_factor)) {
-            s.guarding.set_life_guarding(
-                now,
-                Duration::from_millis(u64::from(want.guard_time_ms)),
-                want.life_time_factor,
-            );
+        #[cfg(feature = "guarding")]
+        {
+            if changed(|a| u64::from(a.guard_time_ms) << 8 | u64::from(a.life_time_factor)) {
+                s.guarding.set_life_guarding(
+                    now,
+                    Duration::from_millis(u64::from(want.guard_time_ms)),
+                    want.life_time_factor,
+                );
+            }
+            s.guarding.set_heartbeat_active(now, want.heartbeat_active);
         }
-        s.guarding.set_heartbeat_active(now, want.heartbeat_active);
         if let Some(id) = want.sync_cob_id.id() {
             s.sync_consumer.set_id(id);
+            #[cfg(feature = "sync-time")]
             s.sync_producer.set_id(id);
         }
         s.sync_consumer
@@ -149,20 +170,27 @@ where
             let _ = s
                 .sync_consumer
                 .set_counter_overflow(want.sync_counter_overflow);
+            #[cfg(feature = "sync-time")]
             let _ = s
                 .sync_producer
                 .set_counter_overflow(want.sync_counter_overflow);
         }
-        s.time_consumer.set_cob_id(want.time_cob_id);
-        if changed(|a| u64::from(a.cycle_period_us) << 32 | u64::from(a.sync_cob_id.raw())) {
-            s.sync_producer
-                .set_period(now, Duration::from_micros(u64::from(want.cycle_period_us)));
-            s.sync_producer.stop();
-            self.run_sync_producer(now);
+        #[cfg(feature = "sync-time")]
+        {
+            s.time_consumer.set_cob_id(want.time_cob_id);
+            if changed(|a| u64::from(a.cycle_period_us) << 32 | u64::from(a.sync_cob_id.raw())) {
+                s.sync_producer
+                    .set_period(now, Duration::from_micros(u64::from(want.cycle_period_us)));
+                s.sync_producer.stop();
+                self.run_sync_producer(now);
+            }
         }
+        #[cfg(not(any(feature = "guarding", feature = "sync-time")))]
+        let _ = now;
     }
 
     /// Starts or stops the SYNC producer as 1005h, 1006h and the NMT state say.
+    #[cfg(feature = "sync-time")]
     fn run_sync_producer(&mut self, now: Timestamp) {
         let comm = self.comm();
         let wanted = comm.sync_cob_id.generates()
@@ -179,8 +207,11 @@ where
 
     /// The services' part of entering `to`.
     pub(super) fn services_entered(&mut self, now: Timestamp, to: NmtState) {
+        #[cfg(feature = "guarding")]
         self.services.guarding.set_state(to);
+        #[cfg(feature = "sync-time")]
         self.run_sync_producer(now);
+        let _ = (now, to);
     }
 
     /// A received frame: guarding requests, SYNC, TIME.
@@ -190,9 +221,11 @@ where
         frame: &CanFrame,
         profile: &mut P,
     ) {
+        #[cfg(feature = "guarding")]
         self.services.guarding.handle_frame(now, frame);
         if self.nmt.sdo_allowed() {
             self.take_sync(now, frame, profile);
+            #[cfg(feature = "sync-time")]
             self.services.time_consumer.handle_frame(now, frame);
         }
         self.drain_services(now, profile);
@@ -212,11 +245,15 @@ where
 
     /// Time has passed: life guarding, the SYNC producer.
     pub(super) fn services_timeout<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+        #[cfg(feature = "guarding")]
         self.services.guarding.handle_timeout(now);
-        self.services.sync_producer.handle_timeout(now);
-        while let Some(frame) = self.services.sync_producer.poll_transmit() {
-            self.send(frame);
-            self.take_sync(now, &frame, profile);
+        #[cfg(feature = "sync-time")]
+        {
+            self.services.sync_producer.handle_timeout(now);
+            while let Some(frame) = self.services.sync_producer.poll_transmit() {
+                self.send(frame);
+                self.take_sync(now, &frame, profile);
+            }
         }
         self.drain_services(now, profile);
     }
@@ -247,6 +284,7 @@ where
 
     /// The services' events into the device's queue.
     pub(super) fn drain_services<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+        #[cfg(feature = "guarding")]
         while let Some(e) = self.services.guarding.poll_event() {
             self.emit(now, DeviceEvent::LifeGuarding(e), profile);
         }
@@ -255,6 +293,7 @@ where
                 self.emit(now, DeviceEvent::Sync(e), profile);
             }
         }
+        #[cfg(feature = "sync-time")]
         while let Some(e) = self.services.time_consumer.poll_event() {
             self.emit(now, DeviceEvent::Time(e), profile);
         }
