@@ -116,6 +116,7 @@ impl Sender {
     }
 
     /// Bytes in the whole value.
+    #[cfg_attr(not(feature = "sdo-block"), allow(dead_code))]
     pub(crate) const fn len(&self) -> usize {
         self.len
     }
@@ -401,10 +402,11 @@ impl Receiver {
     }
 }
 
-#[cfg(test)]
+// Both drive the server's block transfer too (feature `sdo-block`).
+#[cfg(all(test, feature = "sdo-block"))]
 #[path = "block_tests.rs"]
 mod tests;
 
-#[cfg(test)]
+#[cfg(all(test, feature = "sdo-block"))]
 #[path = "block_abort_tests.rs"]
 mod abort_tests;

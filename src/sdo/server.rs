@@ -59,7 +59,9 @@
 use core::time::Duration;
 
 use super::abort::AbortCode;
-use super::block::{Receiver, Sender, MAX_BLOCK_SIZE};
+use super::block::MAX_BLOCK_SIZE;
+#[cfg(feature = "sdo-block")]
+use super::block::{Receiver, Sender};
 use super::data::{ExpeditedData, InitiatePayload, Segment, SegmentData};
 use super::segmented::{check_toggle, Segments};
 use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
@@ -189,6 +191,7 @@ enum State {
         info: ObjectInfo,
     },
     /// Block upload: initiate answered, waiting for the start command.
+    #[cfg(feature = "sdo-block")]
     BlockUploadInitiated {
         index: u16,
         sub: u8,
@@ -198,18 +201,21 @@ enum State {
     },
     /// Block upload: sub-blocks are being sent (segments are made when
     /// polled) and acknowledged.
+    #[cfg(feature = "sdo-block")]
     BlockUploading {
         index: u16,
         sub: u8,
         tx: Sender,
     },
     /// Block upload: the end frame is out.
+    #[cfg(feature = "sdo-block")]
     BlockUploadEnding {
         index: u16,
         sub: u8,
         len: usize,
     },
     /// Block download: receiving sub-blocks, then the end frame.
+    #[cfg(feature = "sdo-block")]
     BlockDownloading {
         index: u16,
         sub: u8,
@@ -326,9 +332,11 @@ impl<D: ObjectDictionary> Server<D> {
     fn object(&self) -> (u16, u8) {
         match self.state {
             State::Idle => (0, 0),
-            State::Uploading { index, sub, .. }
-            | State::Downloading { index, sub, .. }
-            | State::BlockUploadInitiated { index, sub, .. }
+            State::Uploading { index, sub, .. } | State::Downloading { index, sub, .. } => {
+                (index, sub)
+            }
+            #[cfg(feature = "sdo-block")]
+            State::BlockUploadInitiated { index, sub, .. }
             | State::BlockUploading { index, sub, .. }
             | State::BlockUploadEnding { index, sub, .. }
             | State::BlockDownloading { index, sub, .. } => (index, sub),
@@ -338,10 +346,14 @@ impl<D: ObjectDictionary> Server<D> {
     /// True while a download (segmented or block) has written to the
     /// dictionary or may write to it.
     const fn is_writing(&self) -> bool {
-        matches!(
+        #[cfg(feature = "sdo-block")]
+        let writing = matches!(
             self.state,
             State::Downloading { .. } | State::BlockDownloading { .. }
-        )
+        );
+        #[cfg(not(feature = "sdo-block"))]
+        let writing = matches!(self.state, State::Downloading { .. });
+        writing
     }
 
     fn send(&mut self, command: ServerCommand) {
@@ -718,5 +730,9 @@ impl<D: ObjectDictionary> Machine for Server<D> {
     }
 }
 
+#[cfg(feature = "sdo-block")]
 #[path = "block_server.rs"]
+mod block;
+#[cfg(not(feature = "sdo-block"))]
+#[path = "block_server_off.rs"]
 mod block;
