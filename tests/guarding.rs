@@ -5,7 +5,7 @@
 //! and heartbeat and guarding being exclusive (CiA 301 "CANopen application
 //! layer and communication profile", section 7.2.8.3.2 "Error control
 //! protocols").
-#![cfg(feature = "alloc")]
+#![cfg(all(feature = "alloc", feature = "guarding"))]
 
 mod common;
 

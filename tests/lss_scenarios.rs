@@ -2,6 +2,7 @@
 //! bus: an LSS master fastscans two battery modules that left production
 //! without a node-ID, one after the other, gives them node-IDs 5 and 6,
 //! and they boot up under them.
+#![cfg(feature = "lss")]
 
 mod common;
 

@@ -5,7 +5,7 @@
 //! own synchronous TPDOs from it, a consumer reports skipped counters and
 //! synchronous PDOs outside the window, and TIME goes from a producing
 //! device to a consuming one.
-#![cfg(feature = "alloc")]
+#![cfg(all(feature = "alloc", feature = "sync-time"))]
 
 mod common;
 

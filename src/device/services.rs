@@ -15,9 +15,9 @@ use crate::machine::Machine;
 use crate::nmt::NmtState;
 use crate::od::ObjectDictionary;
 use crate::pdo::{PdoDirection, TransmissionType};
-use crate::sync::{SyncCobId, SyncConsumer, SyncEvent};
 #[cfg(feature = "sync-time")]
 use crate::sync::SyncProducer;
+use crate::sync::{SyncCobId, SyncConsumer, SyncEvent};
 use crate::time::Timestamp;
 #[cfg(feature = "sync-time")]
 use crate::time_of_day::{TimeCobId, TimeConsumer, TimeOfDay, TimeProducer};
