@@ -50,11 +50,6 @@ impl<T: Copy, const N: usize> Queue<T, N> {
         item
     }
 
-    /// Free slots.
-    #[inline]
-    pub(crate) const fn room(&self) -> usize {
-        N - self.len
-    }
 }
 
 /// The event queue of a state machine: up to `N` events; pushing onto a
@@ -76,14 +71,18 @@ impl<T: Copy, const N: usize> EventQueue<T, N> {
     }
 
     /// Appends `event`; when full, the oldest event is dropped and counted.
-    #[cfg_attr(target_pointer_width = "64", inline)]
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    ///
+    /// The index arithmetic is [`claim_evicting`], which does not depend
+    /// on `T`: one copy of it serves every event type, and each type's
+    /// `push` is only the store (on 32-bit targets it stays out of line,
+    /// where its copies per event type cost flash; hosts inline it).
+    #[inline]
     pub(crate) fn push(&mut self, event: T) {
-        if self.queue.room() == 0 {
-            let _ = self.queue.pop();
-            self.dropped = self.dropped.saturating_add(1);
+        let q = &mut self.queue;
+        let slot = claim_evicting(&mut q.head, &mut q.len, N, &mut self.dropped);
+        if let Some(item) = q.items.get_mut(slot) {
+            *item = event;
         }
-        let _ = self.queue.push(event);
     }
 
     /// The oldest event.
@@ -97,6 +96,27 @@ impl<T: Copy, const N: usize> EventQueue<T, N> {
     pub(crate) const fn dropped(&self) -> u64 {
         self.dropped
     }
+}
+
+/// The slot an [`EventQueue`] of capacity `cap` stores its next event in,
+/// with `head` and `len` updated for it: when full, the oldest slot is
+/// given up and counted in `dropped`. Capacity 0 returns an index past
+/// the end (nothing is stored) and counts the event as dropped.
+#[cfg_attr(target_pointer_width = "64", inline)]
+#[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+fn claim_evicting(head: &mut usize, len: &mut usize, cap: usize, dropped: &mut u64) -> usize {
+    if cap == 0 {
+        *dropped = dropped.saturating_add(1);
+        return usize::MAX;
+    }
+    if *len >= cap {
+        *head = (*head + 1) % cap;
+        *len = cap - 1;
+        *dropped = dropped.saturating_add(1);
+    }
+    let slot = (*head + *len) % cap;
+    *len += 1;
+    slot
 }
 
 #[cfg(test)]
@@ -114,7 +134,7 @@ mod tests {
             (q.pop(), q.pop(), q.pop(), q.pop()),
             (Some(2), Some(3), Some(4), None)
         );
-        assert_eq!(q.room(), 3);
+        assert_eq!(q.len, 0);
         assert!(q.push(5));
         assert_eq!(q.pop(), Some(5));
         assert_eq!(q.pop(), None);
@@ -132,5 +152,19 @@ mod tests {
         assert_eq!((q.pop(), q.pop(), q.pop()), (Some(3), Some(4), None));
         q.push(5);
         assert_eq!((q.pop(), q.dropped()), (Some(5), 2));
+        // Wrapping around many times keeps the newest two, in order.
+        for v in 6..=40 {
+            q.push(v);
+        }
+        assert_eq!((q.pop(), q.pop(), q.pop()), (Some(39), Some(40), None));
+        assert_eq!(q.dropped(), 2 + 33);
+    }
+
+    #[test]
+    fn event_queue_of_capacity_zero_drops_everything() {
+        let mut q: EventQueue<u8, 0> = EventQueue::new(0);
+        q.push(1);
+        q.push(2);
+        assert_eq!((q.pop(), q.dropped()), (None, 2));
     }
 }
