@@ -49,7 +49,6 @@ impl<T: Copy, const N: usize> Queue<T, N> {
         self.len -= 1;
         item
     }
-
 }
 
 /// The event queue of a state machine: up to `N` events; pushing onto a

@@ -1,0 +1,104 @@
+//! The device core's LSS slave (CiA 305 "Layer setting services and
+//! protocol"; feature `lss`): what it does is in the [device core
+//! docs](super).
+
+use super::{Device, DeviceConfig, DeviceEvent, Profile};
+use crate::cob_id::NodeId;
+use crate::lss::{LssSlave, LssSlaveEvent};
+use crate::machine::Machine;
+use crate::nmt::ResetKind;
+use crate::od::ObjectDictionary;
+use crate::pdo::{PdoConfig, PdoDirection};
+use crate::time::Timestamp;
+
+impl<A, E> Device<A, E>
+where
+    A: ObjectDictionary + Clone,
+    E: Copy + From<DeviceEvent>,
+{
+    /// A device that also carries an LSS slave (CiA 305; feature `lss`). When the slave
+    /// has a node-ID it replaces `config.node`; when it has none (255),
+    /// the device waits for one before it boots up (see the module docs).
+    ///
+    /// ```
+    /// # #[cfg(feature = "alloc")] {
+    /// use canopen_codec::device::{Device, DeviceConfig, DeviceEvent};
+    /// use canopen_codec::lss::{LssAddress, LssSlave, LssSlaveConfig};
+    /// use canopen_codec::machine::Machine;
+    /// use canopen_codec::od::MemoryDictionary;
+    /// use canopen_codec::{CanFrame, NodeId, Timestamp};
+    /// let lss = LssSlave::new(LssSlaveConfig::new(LssAddress::default(), None));
+    /// let config = DeviceConfig::new(NodeId::MAX);
+    /// let mut dev: Device<MemoryDictionary, DeviceEvent> =
+    ///     Device::with_lss(config, MemoryDictionary::new(), lss);
+    /// let t = Timestamp::ZERO;
+    /// dev.boot(t, &mut ());
+    /// assert_eq!(dev.poll_transmit(), None, "no boot-up without a node-ID");
+    /// for data in [[0x04, 1, 0, 0, 0, 0, 0, 0], [0x11, 5, 0, 0, 0, 0, 0, 0], [0x04, 0, 0, 0, 0, 0, 0, 0]] {
+    ///     dev.handle_frame(t, &CanFrame::standard(0x7E5, &data).unwrap());
+    /// }
+    /// assert_eq!(dev.poll_transmit().unwrap().to_string(), "705#00");
+    /// assert_eq!(dev.poll_transmit().unwrap().to_string(), "7E4#1100000000000000");
+    /// assert_eq!(dev.node(), NodeId::new(5).unwrap());
+    /// # }
+    /// ```
+    pub fn with_lss(mut config: DeviceConfig, app: A, lss: LssSlave) -> Self {
+        if let Some(node) = lss.node_id() {
+            config.node = node;
+        }
+        let mut device = Self::new(config, app);
+        device.lss = Some(lss);
+        device
+    }
+
+    /// The LSS slave, if the device has one.
+    #[must_use]
+    pub const fn lss(&self) -> Option<&LssSlave> {
+        self.lss.as_ref()
+    }
+
+    /// The LSS slave, to answer a store request.
+    pub fn lss_mut(&mut self) -> Option<&mut LssSlave> {
+        self.lss.as_mut()
+    }
+
+    /// Hands the LSS slave's events on; a not-configured node that got a
+    /// node-ID resets its communication and boots up under it.
+    pub(super) fn drain_lss<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+        while let Some(event) = self.lss.as_mut().and_then(LssSlave::poll_event) {
+            self.emit(now, DeviceEvent::Lss(event), profile);
+            if event == LssSlaveEvent::ResetCommunication {
+                self.restart(now, ResetKind::Communication);
+                self.emit(now, DeviceEvent::Reset { node: false }, profile);
+                self.drain_nmt(now, profile);
+            }
+        }
+    }
+}
+
+/// Moves the PDO COB-IDs that are the predefined connection set's for
+/// node `old` (CiA 301 section 7.3.5: 180h/200h + 100h × n + node-ID) to
+/// node `new`; COB-IDs set otherwise stay.
+pub(super) fn renumber_pdos(pdos: &mut PdoConfig, old: NodeId, new: NodeId) {
+    for dir in [PdoDirection::Receive, PdoDirection::Transmit] {
+        let base: u32 = match dir {
+            PdoDirection::Receive => 0x200,
+            PdoDirection::Transmit => 0x180,
+        };
+        for n in 0..4u8 {
+            let Some(pdo) = crate::cob_id::PdoNumber::new(n) else {
+                continue;
+            };
+            let Some(slot) = pdos.get_mut(dir, pdo) else {
+                continue;
+            };
+            let default = base + 0x100 * u32::from(n);
+            let cob = slot.comm.cob_id;
+            if !cob.is_extended() && cob.id_bits() == default + u32::from(old.raw()) {
+                let flags = cob.to_u32() & !0x1FFF_FFFF;
+                slot.comm.cob_id =
+                    crate::pdo::PdoCobId::from_u32(flags | (default + u32::from(new.raw())));
+            }
+        }
+    }
+}
