@@ -49,6 +49,7 @@ use super::{
 use crate::cob_id::NodeId;
 use crate::device::{
     machine_on_device, CommObjects, Device, DeviceConfig, DeviceEvent, Identity, Profile,
+    DEFAULT_QUEUE_CAPACITY,
 };
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 
@@ -129,10 +130,10 @@ struct ModuleProfile {
     temperature_fault: bool,
 }
 
-impl Profile<BatteryObjects, BatteryEvent> for ModuleProfile {
+impl<const Q: usize> Profile<BatteryObjects, BatteryEvent, Q> for ModuleProfile {
     fn on_event(
         &mut self,
-        _device: &mut Device<BatteryObjects, BatteryEvent>,
+        _device: &mut Device<BatteryObjects, BatteryEvent, Q>,
         _now: Timestamp,
         event: &DeviceEvent,
     ) {
@@ -162,10 +163,14 @@ impl Profile<BatteryObjects, BatteryEvent> for ModuleProfile {
 /// assert_eq!(m.poll_transmit().unwrap().to_string(), "181#C80001");
 /// assert_eq!(m.poll_timeout(), Some(Timestamp::from_millis(200)));
 /// ```
+///
+/// `Q` is the capacity of its event queue and of its queue of frames to
+/// send ([`Device`]'s; default [`DEFAULT_QUEUE_CAPACITY`]):
+/// [`BatteryModule::with_queue_capacity`] makes a module with another one.
 #[derive(Debug)]
-pub struct BatteryModule {
+pub struct BatteryModule<const Q: usize = DEFAULT_QUEUE_CAPACITY> {
     config: BatteryModuleConfig,
-    device: Device<BatteryObjects, BatteryEvent>,
+    device: Device<BatteryObjects, BatteryEvent, Q>,
     profile: ModuleProfile,
 }
 
@@ -209,14 +214,11 @@ macro_rules! setters {
 }
 
 impl BatteryModule {
-    /// A module with `config`, not yet booted (call [`boot`](Self::boot)).
+    /// A module with `config`, not yet booted (call [`boot`](Self::boot)),
+    /// with the default queue capacity.
     #[must_use]
     pub fn new(config: BatteryModuleConfig) -> Self {
-        BatteryModule {
-            config,
-            device: Device::new(config.device_config(), BatteryObjects::new()),
-            profile: ModuleProfile::default(),
-        }
+        Self::with_queue_capacity(config)
     }
 
     /// A module that also carries an LSS slave (CiA 305): with a slave
@@ -233,15 +235,38 @@ impl BatteryModule {
             profile: ModuleProfile::default(),
         }
     }
+}
+
+impl<const Q: usize> BatteryModule<Q> {
+    /// A module with `config` whose queues hold `Q` events and `Q` frames
+    /// (the firmware's `BatteryModule::<4>::with_queue_capacity`), not yet
+    /// booted.
+    ///
+    /// ```
+    /// use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig};
+    /// use canopen_codec::machine::Machine;
+    /// use canopen_codec::{NodeId, Timestamp};
+    /// let mut m = BatteryModule::<4>::with_queue_capacity(BatteryModuleConfig::new(NodeId::MIN));
+    /// m.boot(Timestamp::ZERO);
+    /// assert_eq!(m.poll_transmit().unwrap().to_string(), "701#00");
+    /// ```
+    #[must_use]
+    pub fn with_queue_capacity(config: BatteryModuleConfig) -> Self {
+        BatteryModule {
+            config,
+            device: Device::new(config.device_config(), BatteryObjects::new()),
+            profile: ModuleProfile::default(),
+        }
+    }
 
     /// The device core (node-ID, LSS slave, NMT state).
     #[must_use]
-    pub const fn device(&self) -> &Device<BatteryObjects, BatteryEvent> {
+    pub const fn device(&self) -> &Device<BatteryObjects, BatteryEvent, Q> {
         &self.device
     }
 
     /// The device core, mutably (to answer an LSS store request).
-    pub fn device_mut(&mut self) -> &mut Device<BatteryObjects, BatteryEvent> {
+    pub fn device_mut(&mut self) -> &mut Device<BatteryObjects, BatteryEvent, Q> {
         &mut self.device
     }
 

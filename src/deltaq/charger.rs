@@ -67,6 +67,7 @@ use crate::cia419::{PdoPair, CHARGER_DEVICE_TYPE, PDO_PAIRS};
 use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
 use crate::device::{
     machine_on_device, Device, DeviceConfig, DeviceEvent, ErrorFieldFormat, Profile,
+    DEFAULT_QUEUE_CAPACITY,
 };
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::{CanFrame, CanId};
@@ -255,7 +256,7 @@ fn default_pdos(config: &ChargerConfig) -> PdoConfig {
     pdos
 }
 
-type ChargerDevice = Device<ChargerObjects, ChargerEvent>;
+type ChargerDevice<const Q: usize> = Device<ChargerObjects, ChargerEvent, Q>;
 
 /// A Delta-Q code with the EEC its row of [`ALARMS_AND_FAULTS`] gives
 /// (generic, 1000h, for a code without a row).
@@ -280,7 +281,7 @@ impl Alarm {
 
 /// SDO (server and client) runs in pre-operational and operational only
 /// (CiA 301).
-fn sdo_allowed(device: &ChargerDevice) -> bool {
+fn sdo_allowed<const Q: usize>(device: &ChargerDevice<Q>) -> bool {
     matches!(
         device.nmt_state(),
         NmtState::PreOperational | NmtState::Operational
@@ -313,18 +314,42 @@ struct ChargerProfile {
 /// c.handle_frame(Timestamp::from_millis(10), &CanFrame::standard(0x701, &[0x05]).unwrap());
 /// assert_eq!(c.poll_transmit().unwrap().to_string(), "601#4000100000000000");
 /// ```
+///
+/// `Q` is the capacity of its event queue and of its queue of frames to
+/// send ([`Device`]'s; default [`DEFAULT_QUEUE_CAPACITY`]):
+/// [`Charger::with_queue_capacity`] makes a charger with another one.
 #[derive(Debug)]
-pub struct Charger {
-    device: ChargerDevice,
+pub struct Charger<const Q: usize = DEFAULT_QUEUE_CAPACITY> {
+    device: ChargerDevice<Q>,
     profile: ChargerProfile,
 }
 
 machine_on_device!(Charger, ChargerObjects, ChargerEvent);
 
 impl Charger {
-    /// A charger with `config`, not yet booted.
+    /// A charger with `config`, not yet booted, with the default queue
+    /// capacity.
     #[must_use]
     pub fn new(config: ChargerConfig) -> Self {
+        Self::with_queue_capacity(config)
+    }
+}
+
+impl<const Q: usize> Charger<Q> {
+    /// A charger with `config` whose queues hold `Q` events and `Q` frames
+    /// (the firmware's `Charger::<4>::with_queue_capacity`), not yet booted.
+    ///
+    /// ```
+    /// use canopen_codec::deltaq::{Charger, ChargerConfig};
+    /// use canopen_codec::machine::Machine;
+    /// use canopen_codec::{NodeId, Timestamp};
+    /// let config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
+    /// let mut c = Charger::<4>::with_queue_capacity(config);
+    /// c.boot(Timestamp::ZERO);
+    /// assert_eq!(c.poll_transmit().unwrap().to_string(), "70A#00");
+    /// ```
+    #[must_use]
+    pub fn with_queue_capacity(config: ChargerConfig) -> Self {
         Charger {
             device: Device::new(config.device_config(), ChargerObjects::new()),
             profile: ChargerProfile::new(config),
@@ -382,7 +407,7 @@ impl ChargerProfile {
     }
 
     /// Boot or NMT reset: no transfer, no pairing.
-    fn restart(&mut self, device: &mut ChargerDevice, now: Timestamp) {
+    fn restart<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
         self.client = Self::client(&self.config);
         self.link = Link::Absent;
         device.set_tpdos_enabled(now, false);
@@ -391,7 +416,7 @@ impl ChargerProfile {
     /// Raises a Delta-Q alarm: EMCY with the code in the manufacturer
     /// bytes, 1001h generic bit, 1003h entry. `alarm` is an [`Alarm`]
     /// looked up at compile time.
-    fn raise(device: &mut ChargerDevice, Alarm(code, eec): Alarm) {
+    fn raise<const Q: usize>(device: &mut ChargerDevice<Q>, Alarm(code, eec): Alarm) {
         device.raise_error(
             ErrorRegister::GENERIC,
             code.to_emergency(eec, ErrorRegister::empty()),
@@ -399,7 +424,7 @@ impl ChargerProfile {
     }
 
     /// Moves the client's frames into the device's queue and handles its events.
-    fn drain_client(&mut self, device: &mut ChargerDevice, now: Timestamp) {
+    fn drain_client<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
         while let Some(e) = self.client.poll_event() {
             match e {
                 ClientEvent::UploadData { offset, data, .. } => self.on_upload_data(offset, data),
@@ -421,9 +446,9 @@ impl ChargerProfile {
         }
     }
 
-    fn battery_found(
+    fn battery_found<const Q: usize>(
         &mut self,
-        device: &mut ChargerDevice,
+        device: &mut ChargerDevice<Q>,
         now: Timestamp,
         state: NmtState,
         again: bool,
@@ -456,7 +481,7 @@ impl ChargerProfile {
         }
     }
 
-    fn battery_lost(&mut self, device: &mut ChargerDevice, now: Timestamp) {
+    fn battery_lost<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
         device.push_event(ChargerEvent::BatteryLost);
         Self::raise(device, const { Alarm::of(DeltaQCode::HEARTBEAT_LOST) });
         let _ = self.client.abort(now, AbortCode::GeneralError);
@@ -465,7 +490,7 @@ impl ChargerProfile {
     }
 
     /// Back to the not-valid default COB-IDs (when configuring them).
-    fn forget_pairing(&mut self, device: &mut ChargerDevice, now: Timestamp) {
+    fn forget_pairing<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
         if self.config.configure_cob_ids {
             let defaults = default_pdos(&self.config);
             device.update_pdos(now, |c| *c = defaults);
@@ -474,7 +499,7 @@ impl ChargerProfile {
         device.set_tpdos_enabled(now, false);
     }
 
-    fn configured(&mut self, device: &mut ChargerDevice, now: Timestamp) {
+    fn configured<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
         let config = device.pdo_config();
         let mask = |dir| {
             PDO_NUMBERS
@@ -500,7 +525,7 @@ impl ChargerProfile {
         }
     }
 
-    fn on_uploaded(&mut self, device: &mut ChargerDevice, now: Timestamp) {
+    fn on_uploaded<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
         let value = u32::from_le_bytes(self.upload_value);
         match self.link {
             Link::DeviceType => {
@@ -530,7 +555,13 @@ impl ChargerProfile {
     }
 
     /// Starts reading the next pair the device type declares, or finishes.
-    fn next_pair(&mut self, device: &mut ChargerDevice, now: Timestamp, from: usize, dt: u32) {
+    fn next_pair<const Q: usize>(
+        &mut self,
+        device: &mut ChargerDevice<Q>,
+        now: Timestamp,
+        from: usize,
+        dt: u32,
+    ) {
         let config = device.pdo_config();
         let next = PAIRS.iter().enumerate().skip(from).find(|(_, p)| {
             p.is_declared(dt) && config.get(p.charger_direction, p.charger_pdo).is_some()
@@ -554,7 +585,7 @@ impl ChargerProfile {
     }
 }
 
-impl Profile<ChargerObjects, ChargerEvent> for ChargerProfile {
+impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q> for ChargerProfile {
     /// The battery module's heartbeat events are reported as
     /// [`ChargerEvent::BatteryFound`] / [`ChargerEvent::BatteryLost`].
     fn keep_event(&self, event: &DeviceEvent) -> bool {
@@ -565,7 +596,7 @@ impl Profile<ChargerObjects, ChargerEvent> for ChargerProfile {
         ) if *n == battery)
     }
 
-    fn on_event(&mut self, device: &mut ChargerDevice, now: Timestamp, event: &DeviceEvent) {
+    fn on_event(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp, event: &DeviceEvent) {
         let battery = self.config.battery;
         match *event {
             DeviceEvent::Reset { .. } => {
@@ -609,7 +640,7 @@ impl Profile<ChargerObjects, ChargerEvent> for ChargerProfile {
         }
     }
 
-    fn on_frame(&mut self, device: &mut ChargerDevice, now: Timestamp, frame: &CanFrame) {
+    fn on_frame(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp, frame: &CanFrame) {
         let battery = self.config.battery;
         if frame.id() == CanId::Standard(EMCY_BASE + u16::from(battery.raw())) {
             if let Ok(emcy) = Emergency::decode(frame.data()) {
@@ -633,7 +664,7 @@ impl Profile<ChargerObjects, ChargerEvent> for ChargerProfile {
         }
     }
 
-    fn on_timeout(&mut self, device: &mut ChargerDevice, now: Timestamp) {
+    fn on_timeout(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
         self.client.handle_timeout(now);
         self.drain_client(device, now);
     }

@@ -11,7 +11,7 @@ use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDirection};
 use crate::time::Timestamp;
 
-impl<A, E> Device<A, E>
+impl<A, E, const Q: usize> Device<A, E, Q>
 where
     A: ObjectDictionary + Clone,
     E: Copy + From<DeviceEvent>,
@@ -64,7 +64,7 @@ where
 
     /// Hands the LSS slave's events on; a not-configured node that got a
     /// node-ID resets its communication and boots up under it.
-    pub(super) fn drain_lss<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+    pub(super) fn drain_lss<P: Profile<A, E, Q>>(&mut self, now: Timestamp, profile: &mut P) {
         while let Some(event) = self.lss.as_mut().and_then(LssSlave::poll_event) {
             self.emit(now, DeviceEvent::Lss(event), profile);
             if event == LssSlaveEvent::ResetCommunication {

@@ -143,8 +143,9 @@ use crate::time::Timestamp;
 /// objects, application objects.
 pub type Dictionary<A> = PdoDictionary<DeviceObjects<A>>;
 
-/// Events a device keeps.
-const EVENT_CAPACITY: usize = 16;
+/// The capacity of a device's event queue and of its queue of frames to
+/// send, unless its type says otherwise (the `Q` of [`Device`]).
+pub const DEFAULT_QUEUE_CAPACITY: usize = 16;
 
 /// The CiA 301 device core. See the [module docs](self).
 ///
@@ -163,8 +164,14 @@ const EVENT_CAPACITY: usize = 16;
 /// assert_eq!(dev.poll_transmit().unwrap().to_string(), "583#4B171000E8030000");
 /// # }
 /// ```
+///
+/// `Q` is the capacity of the event queue and of the queue of frames to
+/// send (default [`DEFAULT_QUEUE_CAPACITY`]): a node that drains both after
+/// every call, as the contract says, can make it small (the firmware uses
+/// 4); what happens when one is full is the back-pressure rule in the
+/// module docs.
 #[derive(Debug)]
-pub struct Device<A, E: Copy> {
+pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY> {
     config: DeviceConfig,
     nmt: NmtSlave,
     heartbeat: HeartbeatProducer,
@@ -176,9 +183,9 @@ pub struct Device<A, E: Copy> {
     tpdos_enabled: bool,
     /// The application objects at boot (restored by reset node).
     power_on: A,
-    transmit: Queue<CanFrame, 16>,
+    transmit: Queue<CanFrame, Q>,
     frames_dropped: u64,
-    events: EventQueue<E, EVENT_CAPACITY>,
+    events: EventQueue<E, Q>,
     /// The optional LSS slave (CiA 305).
     #[cfg(feature = "lss")]
     lss: Option<LssSlave>,
@@ -190,7 +197,7 @@ pub struct Device<A, E: Copy> {
     services: services::Services,
 }
 
-impl<A, E> Device<A, E>
+impl<A, E, const Q: usize> Device<A, E, Q>
 where
     A: ObjectDictionary + Clone,
     E: Copy + From<DeviceEvent>,
@@ -300,7 +307,7 @@ where
 
     /// Boots the device (power-on): boot-up message, pre-operational. The
     /// profile sees the state change (use `&mut ()` for a plain device).
-    pub fn boot<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+    pub fn boot<P: Profile<A, E, Q>>(&mut self, now: Timestamp, profile: &mut P) {
         // The application objects as they are now are the power-on values
         // reset node restores.
         self.power_on = self.objects().clone();
@@ -356,7 +363,7 @@ where
 
     /// Enters `state` by the device's own decision (e.g. a charger that
     /// starts itself), as an NMT command would.
-    pub fn set_nmt_state<P: Profile<A, E>>(
+    pub fn set_nmt_state<P: Profile<A, E, Q>>(
         &mut self,
         now: Timestamp,
         state: NmtState,
@@ -435,7 +442,8 @@ where
 
     /// Feeds a received frame: NMT, heartbeats of 1016h's nodes, SYNC, this
     /// node's SDO requests and RPDOs, then the profile's frames.
-    pub fn handle_frame_with<P: Profile<A, E>>(
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    pub fn handle_frame_with<P: Profile<A, E, Q>>(
         &mut self,
         now: Timestamp,
         frame: &CanFrame,
@@ -470,7 +478,7 @@ where
 
     /// Tells the device time has passed: heartbeat, supervision, SDO
     /// timeout, the profile's timers, TPDO timers.
-    pub fn handle_timeout_with<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+    pub fn handle_timeout_with<P: Profile<A, E, Q>>(&mut self, now: Timestamp, profile: &mut P) {
         if !self.nmt.is_running() {
             return;
         }
@@ -489,7 +497,7 @@ where
 
     /// The next frame to send (order in the module docs).
     #[must_use]
-    pub fn poll_transmit_with<P: Profile<A, E>>(&mut self, profile: &mut P) -> Option<CanFrame> {
+    pub fn poll_transmit_with<P: Profile<A, E, Q>>(&mut self, profile: &mut P) -> Option<CanFrame> {
         let frame = self.heartbeat.poll_transmit();
         #[cfg(feature = "guarding")]
         let frame = frame.or_else(|| self.services.guarding.poll_transmit());
@@ -504,7 +512,7 @@ where
 
     /// The earliest deadline of the core's and the profile's timers.
     #[must_use]
-    pub fn poll_timeout_with<P: Profile<A, E>>(&self, profile: &P) -> Option<Timestamp> {
+    pub fn poll_timeout_with<P: Profile<A, E, Q>>(&self, profile: &P) -> Option<Timestamp> {
         if !self.nmt.is_running() {
             return None;
         }
@@ -538,7 +546,7 @@ where
 
     // ----- internals -------------------------------------------------------
 
-    fn emit<P: Profile<A, E>>(&mut self, now: Timestamp, event: DeviceEvent, profile: &mut P) {
+    fn emit<P: Profile<A, E, Q>>(&mut self, now: Timestamp, event: DeviceEvent, profile: &mut P) {
         if profile.keep_event(&event) {
             self.events.push(E::from(event));
         }
@@ -547,7 +555,7 @@ where
 
     /// Handles the NMT slave's events; true when the frame was an NMT
     /// command that changed something (it is not for anyone else here).
-    fn drain_nmt<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) -> bool {
+    fn drain_nmt<P: Profile<A, E, Q>>(&mut self, now: Timestamp, profile: &mut P) -> bool {
         let mut acted = false;
         while let Some(event) = self.nmt.poll_event() {
             acted = true;
@@ -658,14 +666,14 @@ where
         }
     }
 
-    fn drain_consumer<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+    fn drain_consumer<P: Profile<A, E, Q>>(&mut self, now: Timestamp, profile: &mut P) {
         while let Some(e) = self.consumer.poll_event() {
             self.emit(now, DeviceEvent::Heartbeat(e), profile);
         }
     }
 
     /// Hands the SDO server's events on and puts written objects into effect.
-    fn drain_server<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+    fn drain_server<P: Profile<A, E, Q>>(&mut self, now: Timestamp, profile: &mut P) {
         while let Some(event) = self.server.poll_event() {
             match event {
                 ServerEvent::Downloaded { index, sub, .. } => {
@@ -702,7 +710,7 @@ where
         }
     }
 
-    fn drain_rpdos<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+    fn drain_rpdos<P: Profile<A, E, Q>>(&mut self, now: Timestamp, profile: &mut P) {
         while let Some(rpdo) = self.rpdos.poll_event() {
             let Some(result) = RpdoReceiver::apply(&rpdo, self.server.od_mut()) else {
                 continue;
@@ -725,7 +733,7 @@ where
     }
 }
 
-impl<A: ObjectDictionary + Clone> Machine for Device<A, DeviceEvent> {
+impl<A: ObjectDictionary + Clone, const Q: usize> Machine for Device<A, DeviceEvent, Q> {
     type Event = DeviceEvent;
 
     fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {

@@ -88,8 +88,9 @@ pub enum DeviceEvent {
 }
 
 /// What a profile adds to the device core. Every method has a default that
-/// does nothing, so `()` is the profile of a plain CiA 301 device.
-pub trait Profile<A, E: Copy> {
+/// does nothing, so `()` is the profile of a plain CiA 301 device. `Q` is
+/// the device's queue capacity (see [`Device`]).
+pub trait Profile<A, E: Copy, const Q: usize = { super::DEFAULT_QUEUE_CAPACITY }> {
     /// Whether a core event goes to the application's queue (default: all;
     /// a profile that reports an event in its own words drops it here).
     fn keep_event(&self, event: &DeviceEvent) -> bool {
@@ -102,17 +103,17 @@ pub trait Profile<A, E: Copy> {
     /// [`Device::set_nmt_state`](super::Device::set_nmt_state), which reports
     /// its state change through this method again: a profile must not
     /// change the state on every state change (that would never end).
-    fn on_event(&mut self, device: &mut Device<A, E>, now: Timestamp, event: &DeviceEvent) {
+    fn on_event(&mut self, device: &mut Device<A, E, Q>, now: Timestamp, event: &DeviceEvent) {
         let _ = (device, now, event);
     }
 
     /// Every received frame while the device runs, after the core.
-    fn on_frame(&mut self, device: &mut Device<A, E>, now: Timestamp, frame: &CanFrame) {
+    fn on_frame(&mut self, device: &mut Device<A, E, Q>, now: Timestamp, frame: &CanFrame) {
         let _ = (device, now, frame);
     }
 
     /// Time has passed (after the core's own timers).
-    fn on_timeout(&mut self, device: &mut Device<A, E>, now: Timestamp) {
+    fn on_timeout(&mut self, device: &mut Device<A, E, Q>, now: Timestamp) {
         let _ = (device, now);
     }
 
@@ -139,15 +140,16 @@ pub trait Profile<A, E: Copy> {
     }
 }
 
-impl<A, E: Copy> Profile<A, E> for () {}
+impl<A, E: Copy, const Q: usize> Profile<A, E, Q> for () {}
 
 /// Implements [`Machine`] for a profile type that holds its core in
 /// `self.device` and its [`Profile`] in `self.profile`, and `Deref` to the
-/// core (read-only: its getters).
+/// core (read-only: its getters). `$name` takes the device's queue
+/// capacity `Q` as its one const parameter.
 macro_rules! machine_on_device {
-    ($ty:ty, $objects:ty, $event:ty) => {
-        impl core::ops::Deref for $ty {
-            type Target = $crate::device::Device<$objects, $event>;
+    ($name:ident, $objects:ty, $event:ty) => {
+        impl<const Q: usize> core::ops::Deref for $name<Q> {
+            type Target = $crate::device::Device<$objects, $event, Q>;
 
             /// The device core, for its getters (objects, communication
             /// objects, PDO configuration, NMT state, error register, ...).
@@ -156,7 +158,7 @@ macro_rules! machine_on_device {
             }
         }
 
-        impl $crate::machine::Machine for $ty {
+        impl<const Q: usize> $crate::machine::Machine for $name<Q> {
             type Event = $event;
 
             fn handle_frame(&mut self, now: $crate::Timestamp, frame: &$crate::CanFrame) {

@@ -72,7 +72,7 @@ impl Services {
     }
 }
 
-impl<A, E> Device<A, E>
+impl<A, E, const Q: usize> Device<A, E, Q>
 where
     A: ObjectDictionary + Clone,
     E: Copy + From<DeviceEvent>,
@@ -215,7 +215,7 @@ where
     }
 
     /// A received frame: guarding requests, SYNC, TIME.
-    pub(super) fn services_frame<P: Profile<A, E>>(
+    pub(super) fn services_frame<P: Profile<A, E, Q>>(
         &mut self,
         now: Timestamp,
         frame: &CanFrame,
@@ -233,7 +233,12 @@ where
 
     /// A SYNC frame (received or the device's own) on 1005h's identifier
     /// runs the synchronous TPDOs.
-    fn take_sync<P: Profile<A, E>>(&mut self, now: Timestamp, frame: &CanFrame, profile: &mut P) {
+    fn take_sync<P: Profile<A, E, Q>>(
+        &mut self,
+        now: Timestamp,
+        frame: &CanFrame,
+        profile: &mut P,
+    ) {
         if self.services.sync_consumer.accept(now, frame)
             && self.nmt.state() == NmtState::Operational
         {
@@ -244,7 +249,11 @@ where
     }
 
     /// Time has passed: life guarding, the SYNC producer.
-    pub(super) fn services_timeout<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+    pub(super) fn services_timeout<P: Profile<A, E, Q>>(
+        &mut self,
+        now: Timestamp,
+        profile: &mut P,
+    ) {
         #[cfg(feature = "guarding")]
         self.services.guarding.handle_timeout(now);
         #[cfg(feature = "sync-time")]
@@ -259,7 +268,7 @@ where
     }
 
     /// A synchronous RPDO was received: outside the window it is an event.
-    pub(super) fn note_rpdo<P: Profile<A, E>>(
+    pub(super) fn note_rpdo<P: Profile<A, E, Q>>(
         &mut self,
         now: Timestamp,
         pdo: PdoNumber,
@@ -283,7 +292,7 @@ where
     }
 
     /// The services' events into the device's queue.
-    pub(super) fn drain_services<P: Profile<A, E>>(&mut self, now: Timestamp, profile: &mut P) {
+    pub(super) fn drain_services<P: Profile<A, E, Q>>(&mut self, now: Timestamp, profile: &mut P) {
         #[cfg(feature = "guarding")]
         while let Some(e) = self.services.guarding.poll_event() {
             self.emit(now, DeviceEvent::LifeGuarding(e), profile);

@@ -29,17 +29,23 @@ const SENSOR_SOC: usize = 0x4001_2408;
 /// Sensor block: bit 0 ready to charge; bit 8 temperature sensor fault.
 const SENSOR_STATUS: usize = 0x4001_240C;
 
+/// Events and frames the module's queues hold: the loop below drains both
+/// after every call, so a few are enough (a full queue drops its oldest
+/// entry and counts it; the protocol does not depend on it).
+const QUEUE_CAPACITY: usize = 4;
+
 /// The module's whole state (in .bss; its size is the RAM the node needs).
 #[no_mangle]
-static mut BATTERY_MODULE_STATE: MaybeUninit<BatteryModule> = MaybeUninit::uninit();
+static mut BATTERY_MODULE_STATE: MaybeUninit<BatteryModule<QUEUE_CAPACITY>> = MaybeUninit::uninit();
 
 #[entry]
 fn main() -> ! {
     let config = BatteryModuleConfig::new(NodeId::MIN);
     // SAFETY: `main` runs once and is the only code that touches the
     // static; the reference is the only one ever made.
-    let module: &mut BatteryModule =
-        unsafe { (*addr_of_mut!(BATTERY_MODULE_STATE)).write(BatteryModule::new(config)) };
+    let module: &mut BatteryModule<QUEUE_CAPACITY> = unsafe {
+        (*addr_of_mut!(BATTERY_MODULE_STATE)).write(BatteryModule::with_queue_capacity(config))
+    };
     let mut can = Can;
     let mut clock = Clock::default();
     let _ = module.set_text(PackedStringObject::BatterySerialNumber, "FW-0001");

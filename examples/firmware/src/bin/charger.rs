@@ -35,17 +35,22 @@ const CHARGER_NODE: NodeId = match NodeId::new(10) {
     None => NodeId::MIN,
 };
 
+/// Events and frames the charger's queues hold: the loop below drains both
+/// after every call, so a few are enough (a full queue drops its oldest
+/// entry and counts it; the protocol does not depend on it).
+const QUEUE_CAPACITY: usize = 4;
+
 /// The charger's whole state (in .bss; its size is the RAM the node needs).
 #[no_mangle]
-static mut CHARGER_STATE: MaybeUninit<Charger> = MaybeUninit::uninit();
+static mut CHARGER_STATE: MaybeUninit<Charger<QUEUE_CAPACITY>> = MaybeUninit::uninit();
 
 #[entry]
 fn main() -> ! {
     let config = ChargerConfig::new(CHARGER_NODE, NodeId::MIN);
     // SAFETY: `main` runs once and is the only code that touches the
     // static; the reference is the only one ever made.
-    let charger: &mut Charger =
-        unsafe { (*addr_of_mut!(CHARGER_STATE)).write(Charger::new(config)) };
+    let charger: &mut Charger<QUEUE_CAPACITY> =
+        unsafe { (*addr_of_mut!(CHARGER_STATE)).write(Charger::with_queue_capacity(config)) };
     let mut can = Can;
     let mut clock = Clock::default();
     charger.boot(clock.now());
