@@ -9,7 +9,8 @@
 //! crate's state-machine contract: [`BatteryModule::boot`] once at
 //! power-on, then `handle_frame` / `handle_timeout`, and drain
 //! `poll_transmit` after every call. Events ([`BatteryEvent`]) are
-//! informational: the queue keeps the latest 16 and counts what it drops,
+//! informational: the queue keeps the latest `Q` (default 16) and counts
+//! what it drops,
 //! so an application that never reads them still has a working module.
 //!
 //! # Behaviour and choices

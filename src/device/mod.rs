@@ -60,8 +60,9 @@
 //!   [`DeviceEvent::Sync`]. **TIME** follows 1012h's bits
 //!   ([`DeviceEvent::Time`], [`Device::send_time`]). Both resets restore
 //!   these objects.
-//! - **Back-pressure**: the event queue keeps the latest 16 events and
-//!   counts what it drops ([`Machine::events_dropped`]); nothing else
+//! - **Back-pressure**: the event queue keeps the latest `Q` events
+//!   (default 16; a full frame queue drops its oldest frame the same way,
+//!   [`Device::frames_dropped`]) and counts what it drops ([`Machine::events_dropped`]); nothing else
 //!   depends on it.
 //! - **LSS** (CiA 305, optional: [`Device::with_lss`]): the device's
 //!   [`LssSlave`] sees every frame from [`Device::boot`] on. A device whose
