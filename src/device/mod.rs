@@ -513,6 +513,7 @@ where
 
     /// The earliest deadline of the core's and the profile's timers.
     #[must_use]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn poll_timeout_with<P: Profile<A, E, Q>>(&self, profile: &P) -> Option<Timestamp> {
         if !self.nmt.is_running() {
             return None;
