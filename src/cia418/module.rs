@@ -49,7 +49,7 @@ use super::{
 };
 use crate::cob_id::NodeId;
 use crate::device::{
-    machine_on_device, CommObjects, Device, DeviceConfig, DeviceEvent, Identity, Profile,
+    machine_on_device, CommObjects, Device, DeviceConfig, DeviceEvent, Identity, PowerOn, Profile,
     DEFAULT_QUEUE_CAPACITY,
 };
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
@@ -131,10 +131,12 @@ struct ModuleProfile {
     temperature_fault: bool,
 }
 
-impl<const Q: usize> Profile<BatteryObjects, BatteryEvent, Q> for ModuleProfile {
+impl<const Q: usize> Profile<BatteryObjects, BatteryEvent, Q, BatteryModuleConfig>
+    for ModuleProfile
+{
     fn on_event(
         &mut self,
-        _device: &mut Device<BatteryObjects, BatteryEvent, Q>,
+        _device: &mut Device<BatteryObjects, BatteryEvent, Q, BatteryModuleConfig>,
         _now: Timestamp,
         event: &DeviceEvent,
     ) {
@@ -170,12 +172,30 @@ impl<const Q: usize> Profile<BatteryObjects, BatteryEvent, Q> for ModuleProfile 
 /// [`BatteryModule::with_queue_capacity`] makes a module with another one.
 #[derive(Debug)]
 pub struct BatteryModule<const Q: usize = DEFAULT_QUEUE_CAPACITY> {
-    config: BatteryModuleConfig,
-    device: Device<BatteryObjects, BatteryEvent, Q>,
+    /// The core keeps the module's configuration and rebuilds its
+    /// [`DeviceConfig`] from it at boot and at every reset.
+    device: Device<BatteryObjects, BatteryEvent, Q, BatteryModuleConfig>,
     profile: ModuleProfile,
 }
 
-machine_on_device!(BatteryModule, BatteryObjects, BatteryEvent);
+machine_on_device!(
+    BatteryModule,
+    BatteryObjects,
+    BatteryEvent,
+    BatteryModuleConfig
+);
+
+/// The module's [`DeviceConfig`] is made from its configuration (CiA 418
+/// default PDOs for its node-ID, so they follow an LSS node-ID change).
+impl PowerOn for BatteryModuleConfig {
+    fn power_on_config(&self) -> DeviceConfig {
+        self.device_config()
+    }
+
+    fn set_node(&mut self, node: NodeId) {
+        self.node = node;
+    }
+}
 
 /// The CiA 418 default PDO set of a module with `config`.
 fn default_pdo_config(config: &BatteryModuleConfig) -> PdoConfig {
@@ -231,8 +251,7 @@ impl BatteryModule {
     #[cfg(feature = "lss")]
     pub fn with_lss(config: BatteryModuleConfig, lss: crate::lss::LssSlave) -> Self {
         BatteryModule {
-            config,
-            device: Device::with_lss(config.device_config(), BatteryObjects::new(), lss),
+            device: Device::with_lss(config, BatteryObjects::new(), lss),
             profile: ModuleProfile::default(),
         }
     }
@@ -254,29 +273,31 @@ impl<const Q: usize> BatteryModule<Q> {
     #[must_use]
     pub fn with_queue_capacity(config: BatteryModuleConfig) -> Self {
         BatteryModule {
-            config,
-            device: Device::new(config.device_config(), BatteryObjects::new()),
+            device: Device::new(config, BatteryObjects::new()),
             profile: ModuleProfile::default(),
         }
     }
 
     /// The device core (node-ID, LSS slave, NMT state).
     #[must_use]
-    pub const fn device(&self) -> &Device<BatteryObjects, BatteryEvent, Q> {
+    pub const fn device(&self) -> &Device<BatteryObjects, BatteryEvent, Q, BatteryModuleConfig> {
         &self.device
     }
 
     /// The device core, mutably (to answer an LSS store request).
-    pub fn device_mut(&mut self) -> &mut Device<BatteryObjects, BatteryEvent, Q> {
+    pub fn device_mut(
+        &mut self,
+    ) -> &mut Device<BatteryObjects, BatteryEvent, Q, BatteryModuleConfig> {
         &mut self.device
     }
 
     // ----- getters ---------------------------------------------------------
 
-    /// The configuration.
+    /// The configuration (its node-ID the active one, after an LSS
+    /// change).
     #[must_use]
     pub const fn config(&self) -> &BatteryModuleConfig {
-        &self.config
+        self.device.power_on()
     }
 
     /// True while the temperature sensor fault is set.

@@ -66,7 +66,7 @@ use crate::bytes::InlineData;
 use crate::cia419::{PdoPair, CHARGER_DEVICE_TYPE, PDO_PAIRS};
 use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
 use crate::device::{
-    machine_on_device, Device, DeviceConfig, DeviceEvent, ErrorFieldFormat, Profile,
+    machine_on_device, Device, DeviceConfig, DeviceEvent, ErrorFieldFormat, PowerOn, Profile,
     DEFAULT_QUEUE_CAPACITY,
 };
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
@@ -256,7 +256,19 @@ fn default_pdos(config: &ChargerConfig) -> PdoConfig {
     pdos
 }
 
-type ChargerDevice<const Q: usize> = Device<ChargerObjects, ChargerEvent, Q>;
+type ChargerDevice<const Q: usize> = Device<ChargerObjects, ChargerEvent, Q, ChargerConfig>;
+
+/// The charger's [`DeviceConfig`] is made from its configuration at boot
+/// and at every reset (the core keeps no second copy).
+impl PowerOn for ChargerConfig {
+    fn power_on_config(&self) -> DeviceConfig {
+        self.device_config()
+    }
+
+    fn set_node(&mut self, node: NodeId) {
+        self.node = node;
+    }
+}
 
 /// A Delta-Q code with the EEC its row of [`ALARMS_AND_FAULTS`] gives
 /// (generic, 1000h, for a code without a row).
@@ -324,7 +336,7 @@ pub struct Charger<const Q: usize = DEFAULT_QUEUE_CAPACITY> {
     profile: ChargerProfile,
 }
 
-machine_on_device!(Charger, ChargerObjects, ChargerEvent);
+machine_on_device!(Charger, ChargerObjects, ChargerEvent, ChargerConfig);
 
 impl Charger {
     /// A charger with `config`, not yet booted, with the default queue
@@ -351,7 +363,7 @@ impl<const Q: usize> Charger<Q> {
     #[must_use]
     pub fn with_queue_capacity(config: ChargerConfig) -> Self {
         Charger {
-            device: Device::new(config.device_config(), ChargerObjects::new()),
+            device: Device::new(config, ChargerObjects::new()),
             profile: ChargerProfile::new(config),
         }
     }
@@ -585,7 +597,7 @@ impl ChargerProfile {
     }
 }
 
-impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q> for ChargerProfile {
+impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerConfig> for ChargerProfile {
     /// The battery module's heartbeat events are reported as
     /// [`ChargerEvent::BatteryFound`] / [`ChargerEvent::BatteryLost`].
     fn keep_event(&self, event: &DeviceEvent) -> bool {

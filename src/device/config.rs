@@ -135,6 +135,47 @@ impl DeviceConfig {
     }
 }
 
+/// Where a [`Device`](super::Device) gets the configuration its NMT resets
+/// restore: a stored [`DeviceConfig`] (the default), or a smaller value it
+/// is rebuilt from at boot and at every reset (a profile's own
+/// configuration: `BatteryModuleConfig`, `ChargerConfig`), so that the
+/// device does not keep a second copy of it.
+pub trait PowerOn {
+    /// The power-on configuration.
+    fn power_on_config(&self) -> DeviceConfig;
+
+    /// The node-ID becomes `node` before the device is built (an LSS slave
+    /// that has one, [`Device::with_lss`](super::Device::with_lss)).
+    fn set_node(&mut self, node: NodeId);
+
+    /// The node-ID becomes `node` at a reset (CiA 305: the LSS node-ID
+    /// configured since takes effect), with the PDO COB-IDs that follow it.
+    /// The default is [`set_node`](Self::set_node), right for a
+    /// configuration whose PDO COB-IDs are made from its node-ID.
+    #[cfg(feature = "lss")]
+    fn move_node(&mut self, node: NodeId) {
+        self.set_node(node);
+    }
+}
+
+impl PowerOn for DeviceConfig {
+    fn power_on_config(&self) -> DeviceConfig {
+        *self
+    }
+
+    fn set_node(&mut self, node: NodeId) {
+        self.node = node;
+    }
+
+    /// The PDO COB-IDs of the predefined connection set for the old
+    /// node-ID move to the new one; COB-IDs set otherwise stay.
+    #[cfg(feature = "lss")]
+    fn move_node(&mut self, node: NodeId) {
+        super::lss::renumber_pdos(&mut self.pdos, self.node, node);
+        self.node = node;
+    }
+}
+
 /// A duration as whole microseconds for a 32-bit object (1006h, 1007h),
 /// saturating at `u32::MAX`.
 fn micros_u32(d: Duration) -> u32 {

@@ -2,7 +2,7 @@
 //! protocol"; feature `lss`): what it does is in the [device core
 //! docs](super).
 
-use super::{Device, DeviceConfig, DeviceEvent, Profile};
+use super::{Device, DeviceEvent, PowerOn, Profile};
 use crate::cob_id::NodeId;
 use crate::lss::{LssSlave, LssSlaveEvent};
 use crate::machine::Machine;
@@ -11,10 +11,11 @@ use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDirection};
 use crate::time::Timestamp;
 
-impl<A, E, const Q: usize> Device<A, E, Q>
+impl<A, E, const Q: usize, C> Device<A, E, Q, C>
 where
     A: ObjectDictionary + Clone,
     E: Copy + From<DeviceEvent>,
+    C: PowerOn,
 {
     /// A device that also carries an LSS slave (CiA 305; feature `lss`). When the slave
     /// has a node-ID it replaces `config.node`; when it has none (255),
@@ -42,9 +43,9 @@ where
     /// assert_eq!(dev.node(), NodeId::new(5).unwrap());
     /// # }
     /// ```
-    pub fn with_lss(mut config: DeviceConfig, app: A, lss: LssSlave) -> Self {
+    pub fn with_lss(mut config: C, app: A, lss: LssSlave) -> Self {
         if let Some(node) = lss.node_id() {
-            config.node = node;
+            config.set_node(node);
         }
         let mut device = Self::new(config, app);
         device.lss = Some(lss);
@@ -64,7 +65,7 @@ where
 
     /// Hands the LSS slave's events on; a not-configured node that got a
     /// node-ID resets its communication and boots up under it.
-    pub(super) fn drain_lss<P: Profile<A, E, Q>>(&mut self, now: Timestamp, profile: &mut P) {
+    pub(super) fn drain_lss<P: Profile<A, E, Q, C>>(&mut self, now: Timestamp, profile: &mut P) {
         while let Some(event) = self.lss.as_mut().and_then(LssSlave::poll_event) {
             self.emit(now, DeviceEvent::Lss(event), profile);
             if event == LssSlaveEvent::ResetCommunication {

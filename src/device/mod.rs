@@ -116,7 +116,7 @@ mod objects;
 mod profile;
 mod services;
 
-pub use config::DeviceConfig;
+pub use config::{DeviceConfig, PowerOn};
 #[cfg(feature = "alloc")]
 pub use descriptions::COMM_OBJECT_DESCRIPTIONS;
 pub use objects::{
@@ -170,10 +170,16 @@ pub const DEFAULT_QUEUE_CAPACITY: usize = 16;
 /// send (default [`DEFAULT_QUEUE_CAPACITY`]): a node that drains both after
 /// every call, as the contract says, can make it small (the firmware uses
 /// 4); what happens when one is full is the back-pressure rule in the
-/// module docs.
+/// module docs. `C` is what the power-on configuration is made from
+/// ([`PowerOn`]; default: the stored [`DeviceConfig`]).
 #[derive(Debug)]
-pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY> {
-    config: DeviceConfig,
+pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY, C = DeviceConfig> {
+    /// Where the power-on configuration comes from.
+    config: C,
+    /// The active node-ID (the configuration's).
+    node: NodeId,
+    /// How an EMCY is recorded in 1003h (the configuration's).
+    error_field: ErrorFieldFormat,
     nmt: NmtSlave,
     heartbeat: HeartbeatProducer,
     consumer: HeartbeatConsumer<MAX_CONSUMERS>,
@@ -198,29 +204,42 @@ pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY> {
     services: services::Services,
 }
 
-impl<A, E, const Q: usize> Device<A, E, Q>
+impl<A, E: Copy, const Q: usize> Device<A, E, Q> {
+    /// The configuration.
+    #[must_use]
+    pub const fn config(&self) -> &DeviceConfig {
+        &self.config
+    }
+}
+
+impl<A, E, const Q: usize, C> Device<A, E, Q, C>
 where
     A: ObjectDictionary + Clone,
     E: Copy + From<DeviceEvent>,
+    C: PowerOn,
 {
-    /// A device with `config` over the application objects `app`, not yet
+    /// A device with `config` (a [`DeviceConfig`], or what one is rebuilt
+    /// from: [`PowerOn`]) over the application objects `app`, not yet
     /// booted.
-    pub fn new(config: DeviceConfig, app: A) -> Self {
+    pub fn new(config: C, app: A) -> Self {
+        let c = config.power_on_config();
         let od = PdoDictionary::new(
-            config.pdos,
+            c.pdos,
             DeviceObjects {
-                comm: config.comm_objects(),
+                comm: c.comm_objects(),
                 app: app.clone(),
             },
         );
-        let mut heartbeat = HeartbeatProducer::new(config.node, config.heartbeat);
-        heartbeat.send_on_change = config.heartbeat_on_change;
+        let mut heartbeat = HeartbeatProducer::new(c.node, c.heartbeat);
+        heartbeat.send_on_change = c.heartbeat_on_change;
         Device {
             config,
-            nmt: NmtSlave::new(config.node),
+            node: c.node,
+            error_field: c.error_field,
+            nmt: NmtSlave::new(c.node),
             heartbeat,
             consumer: HeartbeatConsumer::new(),
-            server: Server::new(config.server_config(), od),
+            server: Server::new(c.server_config(), od),
             tpdos: TpdoSet::new(),
             rpdos: RpdoReceiver::new(),
             tpdos_enabled: true,
@@ -232,22 +251,22 @@ where
             lss: None,
             #[cfg(feature = "lss")]
             powered: false,
-            services: services::Services::new(config.node),
+            services: services::Services::new(c.node),
         }
     }
 
     // ----- getters ---------------------------------------------------------
 
-    /// The configuration.
+    /// What the power-on configuration is made from (see [`PowerOn`]).
     #[must_use]
-    pub const fn config(&self) -> &DeviceConfig {
+    pub const fn power_on(&self) -> &C {
         &self.config
     }
 
     /// The node id.
     #[must_use]
     pub const fn node(&self) -> NodeId {
-        self.config.node
+        self.node
     }
 
     /// The NMT state ([`NmtState::BootUp`] until [`boot`](Self::boot)).
@@ -308,7 +327,7 @@ where
 
     /// Boots the device (power-on): boot-up message, pre-operational. The
     /// profile sees the state change (use `&mut ()` for a plain device).
-    pub fn boot<P: Profile<A, E, Q>>(&mut self, now: Timestamp, profile: &mut P) {
+    pub fn boot<P: Profile<A, E, Q, C>>(&mut self, now: Timestamp, profile: &mut P) {
         // The application objects as they are now are the power-on values
         // reset node restores.
         self.power_on = self.objects().clone();
@@ -364,7 +383,7 @@ where
 
     /// Enters `state` by the device's own decision (e.g. a charger that
     /// starts itself), as an NMT command would.
-    pub fn set_nmt_state<P: Profile<A, E, Q>>(
+    pub fn set_nmt_state<P: Profile<A, E, Q, C>>(
         &mut self,
         now: Timestamp,
         state: NmtState,
@@ -381,7 +400,7 @@ where
     pub fn raise_error(&mut self, bits: ErrorRegister, mut emcy: Emergency) {
         let comm = &mut self.server.od_mut().inner.comm;
         comm.error_register |= bits | ErrorRegister::GENERIC;
-        comm.push_error(self.config.error_field.entry(&emcy));
+        comm.push_error(self.error_field.entry(&emcy));
         emcy.register = comm.error_register;
         self.send_emergency(&emcy);
     }
@@ -413,7 +432,7 @@ where
         if !self.nmt.sdo_allowed() {
             return;
         }
-        let id = CanId::Standard(EMCY_BASE + u16::from(self.config.node.raw()));
+        let id = CanId::Standard(EMCY_BASE + u16::from(self.node.raw()));
         if let Ok(frame) = CanFrame::new(id, &emcy.encode()) {
             self.send(frame);
         }
@@ -444,7 +463,7 @@ where
     /// Feeds a received frame: NMT, heartbeats of 1016h's nodes, SYNC, this
     /// node's SDO requests and RPDOs, then the profile's frames.
     #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-    pub fn handle_frame_with<P: Profile<A, E, Q>>(
+    pub fn handle_frame_with<P: Profile<A, E, Q, C>>(
         &mut self,
         now: Timestamp,
         frame: &CanFrame,
@@ -479,7 +498,7 @@ where
 
     /// Tells the device time has passed: heartbeat, supervision, SDO
     /// timeout, the profile's timers, TPDO timers.
-    pub fn handle_timeout_with<P: Profile<A, E, Q>>(&mut self, now: Timestamp, profile: &mut P) {
+    pub fn handle_timeout_with<P: Profile<A, E, Q, C>>(&mut self, now: Timestamp, profile: &mut P) {
         if !self.nmt.is_running() {
             return;
         }
@@ -498,7 +517,10 @@ where
 
     /// The next frame to send (order in the module docs).
     #[must_use]
-    pub fn poll_transmit_with<P: Profile<A, E, Q>>(&mut self, profile: &mut P) -> Option<CanFrame> {
+    pub fn poll_transmit_with<P: Profile<A, E, Q, C>>(
+        &mut self,
+        profile: &mut P,
+    ) -> Option<CanFrame> {
         let frame = self.heartbeat.poll_transmit();
         #[cfg(feature = "guarding")]
         let frame = frame.or_else(|| self.services.guarding.poll_transmit());
@@ -514,7 +536,7 @@ where
     /// The earliest deadline of the core's and the profile's timers.
     #[must_use]
     #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-    pub fn poll_timeout_with<P: Profile<A, E, Q>>(&self, profile: &P) -> Option<Timestamp> {
+    pub fn poll_timeout_with<P: Profile<A, E, Q, C>>(&self, profile: &P) -> Option<Timestamp> {
         if !self.nmt.is_running() {
             return None;
         }
@@ -548,7 +570,12 @@ where
 
     // ----- internals -------------------------------------------------------
 
-    fn emit<P: Profile<A, E, Q>>(&mut self, now: Timestamp, event: DeviceEvent, profile: &mut P) {
+    fn emit<P: Profile<A, E, Q, C>>(
+        &mut self,
+        now: Timestamp,
+        event: DeviceEvent,
+        profile: &mut P,
+    ) {
         if profile.keep_event(&event) {
             self.events.push(E::from(event));
         }
@@ -557,7 +584,7 @@ where
 
     /// Handles the NMT slave's events; true when the frame was an NMT
     /// command that changed something (it is not for anyone else here).
-    fn drain_nmt<P: Profile<A, E, Q>>(&mut self, now: Timestamp, profile: &mut P) -> bool {
+    fn drain_nmt<P: Profile<A, E, Q, C>>(&mut self, now: Timestamp, profile: &mut P) -> bool {
         let mut acted = false;
         while let Some(event) = self.nmt.poll_event() {
             acted = true;
@@ -585,9 +612,9 @@ where
         // The LSS node-ID configured since takes effect (CiA 305).
         #[cfg(feature = "lss")]
         if let Some(node) = self.lss.as_mut().and_then(LssSlave::reset_communication) {
-            if node != self.config.node || !self.nmt.is_running() {
-                lss::renumber_pdos(&mut self.config.pdos, self.config.node, node);
-                self.config.node = node;
+            if node != self.node || !self.nmt.is_running() {
+                self.config.move_node(node);
+                self.node = node;
                 self.nmt = NmtSlave::new(node);
             }
         }
@@ -598,16 +625,17 @@ where
             ResetKind::Node => self.power_on.clone(),
             ResetKind::Communication => self.objects().clone(),
         };
+        let c = self.config.power_on_config();
         let od = PdoDictionary::new(
-            self.config.pdos,
+            c.pdos,
             DeviceObjects {
-                comm: self.config.comm_objects(),
+                comm: c.comm_objects(),
                 app,
             },
         );
-        self.server = Server::new(self.config.server_config(), od);
-        self.heartbeat = HeartbeatProducer::new(self.config.node, self.config.heartbeat);
-        self.heartbeat.send_on_change = self.config.heartbeat_on_change;
+        self.server = Server::new(c.server_config(), od);
+        self.heartbeat = HeartbeatProducer::new(self.node, c.heartbeat);
+        self.heartbeat.send_on_change = c.heartbeat_on_change;
         self.heartbeat.boot(now);
         self.consumer = HeartbeatConsumer::new();
         self.apply_consumers(now);
@@ -668,14 +696,14 @@ where
         }
     }
 
-    fn drain_consumer<P: Profile<A, E, Q>>(&mut self, now: Timestamp, profile: &mut P) {
+    fn drain_consumer<P: Profile<A, E, Q, C>>(&mut self, now: Timestamp, profile: &mut P) {
         while let Some(e) = self.consumer.poll_event() {
             self.emit(now, DeviceEvent::Heartbeat(e), profile);
         }
     }
 
     /// Hands the SDO server's events on and puts written objects into effect.
-    fn drain_server<P: Profile<A, E, Q>>(&mut self, now: Timestamp, profile: &mut P) {
+    fn drain_server<P: Profile<A, E, Q, C>>(&mut self, now: Timestamp, profile: &mut P) {
         while let Some(event) = self.server.poll_event() {
             match event {
                 ServerEvent::Downloaded { index, sub, .. } => {
@@ -712,7 +740,7 @@ where
         }
     }
 
-    fn drain_rpdos<P: Profile<A, E, Q>>(&mut self, now: Timestamp, profile: &mut P) {
+    fn drain_rpdos<P: Profile<A, E, Q, C>>(&mut self, now: Timestamp, profile: &mut P) {
         while let Some(rpdo) = self.rpdos.poll_event() {
             let Some(result) = RpdoReceiver::apply(&rpdo, self.server.od_mut()) else {
                 continue;
@@ -735,7 +763,9 @@ where
     }
 }
 
-impl<A: ObjectDictionary + Clone, const Q: usize> Machine for Device<A, DeviceEvent, Q> {
+impl<A: ObjectDictionary + Clone, const Q: usize, C: PowerOn> Machine
+    for Device<A, DeviceEvent, Q, C>
+{
     type Event = DeviceEvent;
 
     fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {

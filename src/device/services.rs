@@ -7,7 +7,7 @@
 
 use core::time::Duration;
 
-use super::{Device, DeviceEvent, Profile};
+use super::{Device, DeviceEvent, PowerOn, Profile};
 use crate::frame::CanFrame;
 #[cfg(feature = "guarding")]
 use crate::guarding::GuardingSlave;
@@ -72,10 +72,11 @@ impl Services {
     }
 }
 
-impl<A, E, const Q: usize> Device<A, E, Q>
+impl<A, E, const Q: usize, C> Device<A, E, Q, C>
 where
     A: ObjectDictionary + Clone,
     E: Copy + From<DeviceEvent>,
+    C: PowerOn,
 {
     /// Node guarding (the slave side), for its state (feature `guarding`).
     #[cfg(feature = "guarding")]
@@ -122,7 +123,7 @@ where
     /// Boot or reset: the services start over from the restored objects
     /// (toggle 0, life guarding waiting for the first request, SYNC counter 1).
     pub(super) fn reset_services(&mut self, now: Timestamp) {
-        self.services = Services::new(self.config.node);
+        self.services = Services::new(self.node);
         self.apply_services(now);
         self.services_entered(now, NmtState::PreOperational);
     }
@@ -215,7 +216,7 @@ where
     }
 
     /// A received frame: guarding requests, SYNC, TIME.
-    pub(super) fn services_frame<P: Profile<A, E, Q>>(
+    pub(super) fn services_frame<P: Profile<A, E, Q, C>>(
         &mut self,
         now: Timestamp,
         frame: &CanFrame,
@@ -233,7 +234,7 @@ where
 
     /// A SYNC frame (received or the device's own) on 1005h's identifier
     /// runs the synchronous TPDOs.
-    fn take_sync<P: Profile<A, E, Q>>(
+    fn take_sync<P: Profile<A, E, Q, C>>(
         &mut self,
         now: Timestamp,
         frame: &CanFrame,
@@ -249,7 +250,7 @@ where
     }
 
     /// Time has passed: life guarding, the SYNC producer.
-    pub(super) fn services_timeout<P: Profile<A, E, Q>>(
+    pub(super) fn services_timeout<P: Profile<A, E, Q, C>>(
         &mut self,
         now: Timestamp,
         profile: &mut P,
@@ -268,7 +269,7 @@ where
     }
 
     /// A synchronous RPDO was received: outside the window it is an event.
-    pub(super) fn note_rpdo<P: Profile<A, E, Q>>(
+    pub(super) fn note_rpdo<P: Profile<A, E, Q, C>>(
         &mut self,
         now: Timestamp,
         pdo: PdoNumber,
@@ -292,7 +293,11 @@ where
     }
 
     /// The services' events into the device's queue.
-    pub(super) fn drain_services<P: Profile<A, E, Q>>(&mut self, now: Timestamp, profile: &mut P) {
+    pub(super) fn drain_services<P: Profile<A, E, Q, C>>(
+        &mut self,
+        now: Timestamp,
+        profile: &mut P,
+    ) {
         #[cfg(feature = "guarding")]
         while let Some(e) = self.services.guarding.poll_event() {
             self.emit(now, DeviceEvent::LifeGuarding(e), profile);
