@@ -185,3 +185,29 @@ fn configured_module_changes_node_id_at_reset_communication() {
     let f = sim.frames_on(0x70C);
     assert_eq!(f.first().map(|(_, d)| d.clone()), Some(vec![0]));
 }
+
+/// A module whose LSS slave already has a node-ID (5) boots up under it,
+/// and its CiA 418 default PDOs are the predefined connection set's for
+/// node 5 (TPDO 0 on 185h, RPDO 0 on 205h), whatever node its
+/// configuration was made for: the module's DeviceConfig is rebuilt from
+/// its configuration, which follows the LSS node-ID (CiA 301 section
+/// 7.3.5, predefined connection set).
+#[test]
+fn a_module_with_a_stored_lss_node_id_uses_its_pdo_cob_ids() {
+    use canopen_codec::cob_id::PdoNumber;
+    use canopen_codec::machine::Machine;
+    use canopen_codec::pdo::PdoDirection;
+    let five = NodeId::new(5).unwrap();
+    let lss = LssSlave::new(LssSlaveConfig::new(address(7), Some(five)));
+    let mut m = BatteryModule::with_lss(BatteryModuleConfig::new(NodeId::MIN), lss);
+    m.boot(Timestamp::ZERO);
+    assert_eq!(m.poll_transmit().unwrap().to_string(), "705#00");
+    assert_eq!((m.node(), m.config().node), (five, five));
+    let cob = |dir| {
+        m.pdo_config()
+            .get(dir, PdoNumber::new(0).unwrap())
+            .map(|slot| slot.comm.cob_id.id_bits())
+    };
+    assert_eq!(cob(PdoDirection::Transmit), Some(0x185));
+    assert_eq!(cob(PdoDirection::Receive), Some(0x205));
+}
