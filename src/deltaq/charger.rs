@@ -303,7 +303,12 @@ fn sdo_allowed<const Q: usize>(device: &ChargerDevice<Q>) -> bool {
 /// The charger's behaviour on top of the core.
 #[derive(Debug)]
 struct ChargerProfile {
-    config: ChargerConfig,
+    /// What the profile needs of the [`ChargerConfig`] (the core keeps the
+    /// whole of it, [`Device::power_on`]).
+    battery: NodeId,
+    mode: OperatingMode,
+    configure_cob_ids: bool,
+    self_start: bool,
     client: Client<&'static [u8]>,
     link: Link,
     /// The value of the upload in progress (1000h or a COB-ID: 4 bytes).
@@ -373,7 +378,7 @@ impl<const Q: usize> Charger<Q> {
     /// The configuration.
     #[must_use]
     pub const fn config(&self) -> &ChargerConfig {
-        &self.profile.config
+        self.device.power_on()
     }
 
     /// True once the PDO pairing is done and the module is present.
@@ -394,7 +399,7 @@ impl<const Q: usize> Charger<Q> {
     pub fn boot(&mut self, now: Timestamp) {
         self.profile.restart(&mut self.device, now);
         self.device.boot(now, &mut self.profile);
-        if self.profile.config.self_start {
+        if self.profile.self_start {
             self.device
                 .set_nmt_state(now, NmtState::Operational, &mut self.profile);
         }
@@ -404,7 +409,10 @@ impl<const Q: usize> Charger<Q> {
 impl ChargerProfile {
     fn new(config: ChargerConfig) -> Self {
         ChargerProfile {
-            config,
+            battery: config.battery,
+            mode: config.mode,
+            configure_cob_ids: config.configure_cob_ids,
+            self_start: config.self_start,
             client: Self::client(&config),
             link: Link::Absent,
             upload_value: [0; 4],
@@ -420,7 +428,7 @@ impl ChargerProfile {
 
     /// Boot or NMT reset: no transfer, no pairing.
     fn restart<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
-        self.client = Self::client(&self.config);
+        self.client = Client::new(*self.client.config());
         self.link = Link::Absent;
         device.set_tpdos_enabled(now, false);
     }
@@ -473,7 +481,7 @@ impl ChargerProfile {
             self.forget_pairing(device, now);
         }
         device.push_event(ChargerEvent::BatteryFound { state });
-        if !self.config.configure_cob_ids {
+        if !self.configure_cob_ids {
             self.link = Link::Ready;
             self.configured(device, now);
         } else if sdo_allowed(device) {
@@ -486,7 +494,7 @@ impl ChargerProfile {
     /// Reads the module's 1000h with a fresh client: a transfer of an
     /// earlier attempt (a module that rebooted meanwhile) ends silently.
     fn start_configuration(&mut self, now: Timestamp) {
-        self.client = Self::client(&self.config);
+        self.client = Client::new(*self.client.config());
         self.link = Link::DeviceType;
         if self.client.start_upload(now, DEVICE_TYPE, 0).is_err() {
             self.link = Link::Failed;
@@ -503,8 +511,8 @@ impl ChargerProfile {
 
     /// Back to the not-valid default COB-IDs (when configuring them).
     fn forget_pairing<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
-        if self.config.configure_cob_ids {
-            let defaults = default_pdos(&self.config);
+        if self.configure_cob_ids {
+            let defaults = default_pdos(device.power_on());
             device.update_pdos(now, |c| *c = defaults);
         }
         self.link = Link::Absent;
@@ -601,7 +609,7 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerConfig> for
     /// The battery module's heartbeat events are reported as
     /// [`ChargerEvent::BatteryFound`] / [`ChargerEvent::BatteryLost`].
     fn keep_event(&self, event: &DeviceEvent) -> bool {
-        let battery = self.config.battery;
+        let battery = self.battery;
         !matches!(event, DeviceEvent::Heartbeat(
             HeartbeatEvent::BootUp(n) | HeartbeatEvent::Lost(n)
             | HeartbeatEvent::Restored { node: n, .. } | HeartbeatEvent::StateChanged { node: n, .. }
@@ -609,12 +617,12 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerConfig> for
     }
 
     fn on_event(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp, event: &DeviceEvent) {
-        let battery = self.config.battery;
+        let battery = self.battery;
         match *event {
             DeviceEvent::Reset { .. } => {
                 self.restart(device, now);
                 // The core has restored the device (pre-operational).
-                if self.config.self_start {
+                if self.self_start {
                     device.set_nmt_state(now, NmtState::Operational, self);
                 }
             }
@@ -625,7 +633,7 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerConfig> for
                 // No SDO in stopped: a configuration in progress ends
                 // without a frame and is redone when SDO is allowed again.
                 if matches!(self.link, Link::DeviceType | Link::CobId(..)) {
-                    self.client = Self::client(&self.config);
+                    self.client = Client::new(*self.client.config());
                     self.link = Link::Pending;
                 }
             }
@@ -653,10 +661,10 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerConfig> for
     }
 
     fn on_frame(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp, frame: &CanFrame) {
-        let battery = self.config.battery;
+        let battery = self.battery;
         if frame.id() == CanId::Standard(EMCY_BASE + u16::from(battery.raw())) {
             if let Ok(emcy) = Emergency::decode(frame.data()) {
-                let reaction = emergency_reaction(self.config.mode, &emcy);
+                let reaction = emergency_reaction(self.mode, &emcy);
                 device.push_event(ChargerEvent::BatteryEmcy { emcy, reaction });
             }
             return;
