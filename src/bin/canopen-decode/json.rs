@@ -106,10 +106,14 @@ pub fn kind_name(kind: CobKind) -> &'static str {
     }
 }
 /// `{"t":..`: the start of a frame's object.
-pub fn time(out: &mut String, timestamp: Option<canopen_codec::Timestamp>) {
+pub fn time(
+    out: &mut String,
+    column: &mut crate::time_column::TimeColumn,
+    timestamp: Option<canopen_codec::Timestamp>,
+) {
     out.push_str("{\"t\":");
     match timestamp {
-        Some(t) => crate::words::seconds(out, t, 0),
+        Some(t) => column.write(out, t),
         None => out.push_str("null"),
     }
 }

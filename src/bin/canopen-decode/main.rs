@@ -38,8 +38,9 @@
 //! decodes the bundled session of the crate's own virtual charger and
 //! battery module (`tests/data/virtual-session.log`: normal start,
 //! heartbeat loss with E-0-3-2, recovery) so a new user sees it work.
-//! Malformed lines (and frames that do not fit their CANopen object) are
-//! reported on stderr with their line number; the run goes on. Exit status:
+//! Malformed lines (and frames that do not fit their CANopen object, lines
+//! that are not UTF-8 text and lines longer than 64 KiB) are reported on
+//! stderr with their line number; the run goes on. Exit status:
 //! 0 all lines good, 1 some line bad, 2 usage or I/O error (a malformed
 //! `--pdo` included).
 //!
@@ -142,14 +143,16 @@ mod args;
 mod csv;
 mod json;
 mod line_cache;
+mod line_reader;
 mod pdo_args;
 mod pdo_learn;
 mod sdo;
 mod sdo_value;
 mod summary;
+mod time_column;
 mod words;
 
-use std::io::{self, BufRead, BufWriter, IsTerminal, Write};
+use std::io::{self, IsTerminal, Read, Write};
 use std::process::ExitCode;
 
 use canopen_codec::candump::LogLine;
@@ -316,7 +319,7 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let input: Box<dyn BufRead> = match (opts.bundled, opts.file.as_deref()) {
+    let input: Box<dyn Read> = match (opts.bundled, opts.file.as_deref()) {
         (Some(_), _) => {
             opts.roles.demo();
             eprintln!("canopen-decode: decoding {SESSION_NAME}");
@@ -324,7 +327,7 @@ fn main() -> ExitCode {
         }
         (None, Some("-")) => Box::new(io::stdin().lock()),
         (None, Some(path)) => match std::fs::File::open(path) {
-            Ok(f) => Box::new(io::BufReader::new(f)),
+            Ok(f) => Box::new(f),
             Err(e) => {
                 eprintln!("canopen-decode: {path}: {e}");
                 return ExitCode::from(2);
@@ -357,13 +360,17 @@ fn main() -> ExitCode {
 
 /// Decodes every line; returns the number of bad lines and whether the
 /// summary found a problem still open at the end.
-fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
+fn run(input: Box<dyn Read>, opts: &Options) -> io::Result<(usize, bool)> {
     let mut roles = opts.roles;
     let mut summary = summary::Summary::default();
     let stdout = io::stdout();
-    let mut out = BufWriter::new(stdout.lock());
+    let mut out = stdout.lock();
     let mut bad = 0;
-    let mut text = String::new();
+    // The output not written yet: lines are appended here and written in
+    // blocks of about `PAGE` bytes (one write per block, no copy per line).
+    const PAGE: usize = 64 * 1024;
+    let mut text = String::with_capacity(2 * PAGE);
+    let mut times = time_column::TimeColumn::new(if opts.json || opts.csv { 0 } else { 10 });
     let mut sdo = sdo::Tracker::default();
     let mut learned = pdo_learn::Learned::default();
     let mut cache = line_cache::LineCache::new(!opts.no_cache);
@@ -376,209 +383,219 @@ fn run(input: Box<dyn BufRead>, opts: &Options) -> io::Result<(usize, bool)> {
     }
     let mut reader = opts.format.map_or_else(LineParser::auto, LineParser::new);
     if opts.csv {
-        writeln!(out, "{}", csv::HEADER)?;
+        text.push_str(csv::HEADER);
+        text.push('\n');
     }
     // Nodes with a node-guarding request not answered yet.
     let mut guarding = [false; 128];
     if opts.delta_times {
         reader = reader.with_delta_times();
     }
-    let mut input = input;
-    let mut line = String::new();
+    let mut lines = line_reader::LineReader::new(input);
     let mut lineno = 0usize;
-    loop {
-        // One buffer for every line (no allocation per line).
-        line.clear();
-        if input.read_line(&mut line)? == 0 {
-            break;
-        }
-        lineno += 1;
-        let line = line.trim_end_matches(['\n', '\r']);
-        let parsed = match reader.parse(line) {
-            Ok(Record::Frame(f)) => LogLine {
-                timestamp: f.timestamp,
-                interface: f.channel,
-                frame: f.frame,
-            },
-            Ok(Record::Unsupported(what)) => {
-                eprintln!("line {lineno}: {what:?} not decoded: {line}");
-                continue;
-            }
-            Ok(_) => continue,
-            Err(e) => {
-                eprintln!("line {lineno}: {e}: {line}");
-                bad += 1;
-                continue;
-            }
-        };
-        // The SDO observer first: a frame on a declared SDO channel is SDO,
-        // and a block transfer's sub-block segment is no command.
-        let seen = sdo.handle(parsed.timestamp, &parsed.frame);
-        let (decoded, deviation) = if opts.strict {
-            (Message::decode(&parsed.frame), None)
-        } else {
-            match Message::decode_lenient(&parsed.frame) {
-                Ok((m, d)) => (Ok(m), d),
-                Err(e) => (Err(e), None),
-            }
-        };
-        let mut block_segment = None;
-        let decoded = match seen {
-            Observed::Request { channel, request } if !is_default(channel) => {
-                Ok(Message::SdoRequest {
-                    node: channel.node,
-                    sdo: request,
-                })
-            }
-            Observed::Response { channel, response } if !is_default(channel) => {
-                Ok(Message::SdoResponse {
-                    node: channel.node,
-                    sdo: response,
-                })
-            }
-            Observed::BlockSegment {
-                channel,
-                from,
-                seqno,
-                last,
-                data,
-            } => {
-                block_segment = Some(BlockSegment {
-                    node: channel.node,
+    while let Some(block) = lines.next_block()? {
+        for piece in block {
+            lineno += 1;
+            let line = match piece {
+                line_reader::Piece::Line(line) => line,
+                line_reader::Piece::NotUtf8 => {
+                    eprintln!("line {lineno}: not UTF-8 text");
+                    bad += 1;
+                    continue;
+                }
+                line_reader::Piece::TooLong => {
+                    eprintln!("line {lineno}: longer than {} bytes", line_reader::MAX_LINE);
+                    bad += 1;
+                    continue;
+                }
+            };
+            let parsed = match reader.parse(line) {
+                Ok(Record::Frame(f)) => LogLine {
+                    timestamp: f.timestamp,
+                    interface: f.channel,
+                    frame: f.frame,
+                },
+                Ok(Record::Unsupported(what)) => {
+                    eprintln!("line {lineno}: {what:?} not decoded: {line}");
+                    continue;
+                }
+                Ok(_) => continue,
+                Err(e) => {
+                    eprintln!("line {lineno}: {e}: {line}");
+                    bad += 1;
+                    continue;
+                }
+            };
+            // The SDO observer first: a frame on a declared SDO channel is SDO,
+            // and a block transfer's sub-block segment is no command.
+            let seen = sdo.handle(parsed.timestamp, &parsed.frame);
+            let (decoded, deviation) = if opts.strict {
+                (Message::decode(&parsed.frame), None)
+            } else {
+                match Message::decode_lenient(&parsed.frame) {
+                    Ok((m, d)) => (Ok(m), d),
+                    Err(e) => (Err(e), None),
+                }
+            };
+            let mut block_segment = None;
+            let decoded = match seen {
+                Observed::Request { channel, request } if !is_default(channel) => {
+                    Ok(Message::SdoRequest {
+                        node: channel.node,
+                        sdo: request,
+                    })
+                }
+                Observed::Response { channel, response } if !is_default(channel) => {
+                    Ok(Message::SdoResponse {
+                        node: channel.node,
+                        sdo: response,
+                    })
+                }
+                Observed::BlockSegment {
+                    channel,
                     from,
                     seqno,
                     last,
                     data,
-                });
-                decoded
-            }
-            _ => decoded,
-        };
-        if let (Err(e), None) = (&decoded, block_segment) {
-            eprintln!("line {lineno}: frame {} does not decode: {e}", parsed.frame);
-            bad += 1;
-        }
-        // A reply on 700h + node after a remote request there is a guarding
-        // reply, whatever its toggle.
-        let guard_reply = match &decoded {
-            Ok(Message::NodeGuardRequest { node, .. }) => {
-                if let Some(g) = guarding.get_mut(usize::from(node.raw())) {
-                    *g = true;
+                } => {
+                    block_segment = Some(BlockSegment {
+                        node: channel.node,
+                        from,
+                        seqno,
+                        last,
+                        data,
+                    });
+                    decoded
                 }
-                false
+                _ => decoded,
+            };
+            if let (Err(e), None) = (&decoded, block_segment) {
+                eprintln!("line {lineno}: frame {} does not decode: {e}", parsed.frame);
+                bad += 1;
             }
-            Ok(Message::Heartbeat { node, .. }) => guarding
-                .get_mut(usize::from(node.raw()))
-                .is_some_and(std::mem::take),
-            _ => false,
-        };
-        let notes = Notes {
-            guard_reply,
-            deviation,
-            block_segment,
-        };
-        if let Ok(msg) = &decoded {
-            summary.frame(
-                parsed.timestamp,
-                parsed.frame.id().raw(),
-                msg,
+            // A reply on 700h + node after a remote request there is a guarding
+            // reply, whatever its toggle.
+            let guard_reply = match &decoded {
+                Ok(Message::NodeGuardRequest { node, .. }) => {
+                    if let Some(g) = guarding.get_mut(usize::from(node.raw())) {
+                        *g = true;
+                    }
+                    false
+                }
+                Ok(Message::Heartbeat { node, .. }) => guarding
+                    .get_mut(usize::from(node.raw()))
+                    .is_some_and(std::mem::take),
+                _ => false,
+            };
+            let notes = Notes {
                 guard_reply,
-                &roles,
-            );
-        }
-        if opts.frames {
-            text.clear();
-            if opts.csv {
-                csv::time(&mut text, parsed.timestamp);
-            } else if opts.json {
-                json::time(&mut text, parsed.timestamp);
-            } else {
-                words::time(&mut text, parsed.timestamp);
-            }
-            // The text after the time depends on the frame alone for these
-            // (and on the roles and mappings, which clear the cache).
-            let cacheable = !guard_reply
-                && block_segment.is_none()
-                && matches!(
-                    decoded,
-                    Ok(Message::Tpdo { .. }
-                        | Message::Rpdo { .. }
-                        | Message::Heartbeat { .. }
-                        | Message::Emcy { .. }
-                        | Message::Nmt(_)
-                        | Message::Sync(_)
-                        | Message::Time(_)
-                        | Message::Unknown(_))
+                deviation,
+                block_segment,
+            };
+            if let (true, Ok(msg)) = (opts.summary, &decoded) {
+                summary.frame(
+                    parsed.timestamp,
+                    parsed.frame.id().raw(),
+                    msg,
+                    guard_reply,
+                    &roles,
                 );
-            if !(cacheable && cache.get(&parsed.frame, &mut text)) {
-                let start = text.len();
-                let fields = decoded
-                    .as_ref()
-                    .ok()
-                    .and_then(|m| opts.pdos.fields(&parsed.frame, m, &roles, &learned));
-                let args = (&parsed, &decoded, &roles, fields.as_ref(), &notes);
+            }
+            if opts.frames {
                 if opts.csv {
-                    csv::rest(&mut text, args.0, args.1, args.2, args.3, args.4);
+                    csv::time(&mut text, &mut times, parsed.timestamp);
                 } else if opts.json {
-                    json::rest(&mut text, args.0, args.1, args.2, args.3, args.4);
+                    json::time(&mut text, &mut times, parsed.timestamp);
                 } else {
-                    words::rest(&mut text, args.0, args.1, args.2, args.3, args.4);
+                    words::time(&mut text, &mut times, parsed.timestamp);
                 }
-                if cacheable {
-                    cache.put(&parsed.frame, text.get(start..).unwrap_or(""));
+                // The text after the time depends on the frame alone for these
+                // (and on the roles and mappings, which clear the cache).
+                let cacheable = !guard_reply
+                    && block_segment.is_none()
+                    && matches!(
+                        decoded,
+                        Ok(Message::Tpdo { .. }
+                            | Message::Rpdo { .. }
+                            | Message::Heartbeat { .. }
+                            | Message::Emcy { .. }
+                            | Message::Nmt(_)
+                            | Message::Sync(_)
+                            | Message::Time(_)
+                            | Message::Unknown(_))
+                    );
+                if !(cacheable && cache.get(&parsed.frame, &mut text)) {
+                    let start = text.len();
+                    let fields = decoded
+                        .as_ref()
+                        .ok()
+                        .and_then(|m| opts.pdos.fields(&parsed.frame, m, &roles, &learned));
+                    let args = (&parsed, &decoded, &roles, fields.as_ref(), &notes);
+                    if opts.csv {
+                        csv::rest(&mut text, args.0, args.1, args.2, args.3, args.4);
+                    } else if opts.json {
+                        json::rest(&mut text, args.0, args.1, args.2, args.3, args.4);
+                    } else {
+                        words::rest(&mut text, args.0, args.1, args.2, args.3, args.4);
+                    }
+                    if cacheable {
+                        cache.put(&parsed.frame, text.get(start..).unwrap_or(""));
+                    }
+                }
+                text.push('\n');
+            }
+            for report in sdo.reports() {
+                if opts.summary {
+                    summary.transfer(&report);
+                }
+                let role_learned = roles.learn(&report);
+                let pdo_note = learned.transfer(&report);
+                if role_learned.is_some() || pdo_note.is_some() {
+                    cache.clear();
+                }
+                // CSV rows are frames only.
+                if !opts.frames || opts.csv {
+                    continue;
+                }
+                transfer(&mut text, &report, opts.json, &roles, pdo_note.as_deref());
+                if let Some(role) = role_learned {
+                    let what = if opts.json {
+                        format!(
+                            "{{\"kind\":\"role\",\"node\":{},\"role\":\"{role}\"}}",
+                            report.node
+                        )
+                    } else {
+                        format!(
+                            "node {} is the {role} (its device type, 1000h, says so)",
+                            report.node
+                        )
+                    };
+                    text.push_str(&what);
+                    text.push('\n');
                 }
             }
-            text.push('\n');
-            out.write_all(text.as_bytes())?;
-        }
-        let reports: Vec<sdo::Report> = sdo.reports().collect();
-        for report in reports {
-            if opts.summary {
-                summary.transfer(&report);
-            }
-            let role_learned = roles.learn(&report);
-            let pdo_note = learned.transfer(&report);
-            if role_learned.is_some() || pdo_note.is_some() {
-                cache.clear();
-            }
-            // CSV rows are frames only.
-            if !opts.frames || opts.csv {
-                continue;
-            }
-            transfer(&mut out, &report, opts.json, &roles, pdo_note.as_deref())?;
-            if let Some(role) = role_learned {
-                let what = if opts.json {
-                    format!(
-                        "{{\"kind\":\"role\",\"node\":{},\"role\":\"{role}\"}}",
-                        report.node
-                    )
-                } else {
-                    format!(
-                        "node {} is the {role} (its device type, 1000h, says so)",
-                        report.node
-                    )
-                };
-                writeln!(out, "{what}")?;
+            if text.len() >= PAGE {
+                out.write_all(text.as_bytes())?;
+                text.clear();
             }
         }
     }
     for report in sdo.finish() {
         summary.transfer(&report);
         if opts.frames && !opts.csv {
-            transfer(&mut out, &report, opts.json, &roles, None)?;
+            transfer(&mut text, &report, opts.json, &roles, None);
         }
     }
     let mut open = false;
     if opts.summary {
-        text.clear();
         if opts.json {
             open = summary.json(&mut text, &roles);
-            writeln!(out, "{text}")?;
+            text.push('\n');
         } else {
             open = summary.words(&mut text, &roles);
-            write!(out, "{text}")?;
         }
     }
+    out.write_all(text.as_bytes())?;
     out.flush()?;
     Ok((bad, open))
 }
@@ -669,12 +686,12 @@ fn load_eds(
 /// Writes the extra line of a finished SDO transfer; `pdo_note` says how it
 /// changed a PDO's configuration.
 fn transfer(
-    out: &mut impl Write,
+    out: &mut String,
     report: &sdo::Report,
     json: bool,
     roles: &Roles,
     pdo_note: Option<&str>,
-) -> io::Result<()> {
+) {
     let mut text = String::new();
     if json {
         json::transfer(&mut text, report, roles);
@@ -693,5 +710,6 @@ fn transfer(
             text.push(']');
         }
     }
-    writeln!(out, "{text}")
+    out.push_str(&text);
+    out.push('\n');
 }
