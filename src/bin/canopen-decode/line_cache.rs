@@ -21,17 +21,9 @@ const WAYS: usize = 4;
 /// One frame and its text.
 #[derive(Default, Clone)]
 struct Entry {
-    used: bool,
-    remote: bool,
-    data: [u8; 8],
-    len: u8,
+    /// `None`: unused.
+    frame: Option<CanFrame>,
     text: String,
-}
-
-impl Entry {
-    fn is(&self, remote: bool, data: &[u8]) -> bool {
-        self.used && self.remote == remote && self.data.get(..usize::from(self.len)) == Some(data)
-    }
 }
 
 /// The last [`WAYS`] cacheable frames per standard identifier, most
@@ -67,12 +59,10 @@ impl LineCache {
 
     /// Appends the cached text of `frame` to `out`; false when there is none.
     pub fn get(&mut self, frame: &CanFrame, out: &mut String) -> bool {
-        let remote = frame.is_remote();
-        let data = frame.data();
         let Some(ways) = self.slot(frame) else {
             return false;
         };
-        let Some(k) = ways.iter().position(|e| e.is(remote, data)) else {
+        let Some(k) = ways.iter().position(|e| e.frame.as_ref() == Some(frame)) else {
             return false;
         };
         // Most recently used first.
@@ -86,19 +76,12 @@ impl LineCache {
     /// Keeps `text` as the text of `frame`, in place of the least recently
     /// used frame of its identifier.
     pub fn put(&mut self, frame: &CanFrame, text: &str) {
-        let remote = frame.is_remote();
-        let data = frame.data();
         let Some(ways) = self.slot(frame) else {
             return;
         };
         ways.rotate_right(1);
         let e = &mut ways[0];
-        e.used = true;
-        e.remote = remote;
-        e.len = u8::try_from(data.len()).unwrap_or(0);
-        if let Some(dst) = e.data.get_mut(..data.len()) {
-            dst.copy_from_slice(data);
-        }
+        e.frame = Some(*frame);
         e.text.clear();
         e.text.push_str(text);
     }
@@ -106,7 +89,7 @@ impl LineCache {
     /// Forgets every text (a role or a PDO mapping changed).
     pub fn clear(&mut self) {
         for e in self.slots.iter_mut().flatten() {
-            e.used = false;
+            e.frame = None;
         }
     }
 }

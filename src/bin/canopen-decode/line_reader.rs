@@ -184,7 +184,13 @@ impl<'a> Iterator for Block<'a> {
                 }
             }
         }
-        let (line, text) = self.text.split_once('\n').unwrap_or((self.text, ""));
+        let (line, text) = match memchr::memchr(b'\n', self.text.as_bytes()) {
+            Some(i) => (
+                self.text.get(..i).unwrap_or(""),
+                self.text.get(i + 1..).unwrap_or(""),
+            ),
+            None => (self.text, ""),
+        };
         self.text = text;
         if line.len() > MAX_LINE {
             return Some(Piece::TooLong);

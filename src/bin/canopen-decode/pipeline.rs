@@ -341,7 +341,12 @@ pub fn run(input: impl Read, out: &mut impl Write, opts: &Options) -> io::Result
                 }
                 text.push('\n');
             }
-            for report in sdo.reports() {
+            for report in sdo
+                .has_reports()
+                .then(|| sdo.reports())
+                .into_iter()
+                .flatten()
+            {
                 if opts.summary {
                     summary.transfer(&report);
                 }

@@ -7,6 +7,24 @@ use std::fmt::Write;
 
 use canopen_codec::Timestamp;
 
+/// `"000102...9899"`: the two digits of every number below 100.
+const PAIRS: &str = {
+    const BYTES: [u8; 200] = {
+        let mut b = [0u8; 200];
+        let mut i = 0;
+        while i < 100 {
+            b[2 * i] = b'0' + (i / 10) as u8;
+            b[2 * i + 1] = b'0' + (i % 10) as u8;
+            i += 1;
+        }
+        b
+    };
+    match std::str::from_utf8(&BYTES) {
+        Ok(s) => s,
+        Err(_) => panic!("digits are ASCII"),
+    }
+};
+
 /// Writes `secs.micros` (6 digits of micros) with the seconds right-aligned
 /// in `width` columns (more when they need more), as `Timestamp`'s
 /// `Display` writes it when `width` is 0.
@@ -38,18 +56,12 @@ impl TimeColumn {
             self.secs = Some(secs);
         }
         out.push_str(&self.head);
-        // Below 1 000 000, so every quotient below is one decimal digit
-        // (constant divisors: no division instruction).
-        let m = micros as u32;
-        for digit in [
-            m / 100_000,
-            m / 10_000 % 10,
-            m / 1_000 % 10,
-            m / 100 % 10,
-            m / 10 % 10,
-            m % 10,
-        ] {
-            out.push(char::from(b'0' + digit as u8));
+        // Three pairs of digits from one table (constant divisors: no
+        // division).
+        let m = micros as usize;
+        for pair in [m / 10_000, m / 100 % 100, m % 100] {
+            let at = 2 * pair;
+            out.push_str(PAIRS.get(at..at + 2).unwrap_or("00"));
         }
     }
 }
