@@ -36,30 +36,40 @@ fi
 echo "log: $log, $(wc -l <"$log") lines"
 cargo build --quiet --release --features cli --bin canopen-decode
 bin=target/release/canopen-decode
+RUNS=${RUNS:-3}
+# Wall time of RUNS runs (output to /dev/null): the best and the worst,
+# with the best's lines/s; then the CPU time (user + system, which a busy
+# machine inflates less than wall time) and the largest resident set of
+# one more run.
 measure() {
     local name=$1
     shift
-    local start end
-    start=$(date +%s.%N)
-    "$@" >/dev/null
-    end=$(date +%s.%N)
-    awk -v n="$name" -v s="$start" -v e="$end" -v l="$LINES" \
-        'BEGIN { t = e - s; printf "%-28s %7.3f s  %6.2f M lines/s\n", n, t, l / t / 1e6 }'
+    local best="" worst="" start end t i
+    for ((i = 0; i < RUNS; i++)); do
+        start=$(date +%s.%N)
+        "$@" >/dev/null
+        end=$(date +%s.%N)
+        t=$(awk -v s="$start" -v e="$end" 'BEGIN { printf "%.3f", e - s }')
+        best=$(awk -v a="${best:-$t}" -v b="$t" 'BEGIN { print (b < a) ? b : a }')
+        worst=$(awk -v a="${worst:-$t}" -v b="$t" 'BEGIN { print (b > a) ? b : a }')
+    done
+    local rss="-"
+    if command -v /usr/bin/time >/dev/null; then
+        /usr/bin/time -o target/decoder-bench/rss -f "%M %U %S" "$@" >/dev/null 2>&1
+        read -r rss user sys < <(tail -n 1 target/decoder-bench/rss)
+    fi
+    awk -v n="$name" -v b="$best" -v w="$worst" -v l="$LINES" -v r="$rss" -v k="$RUNS" \
+        -v c="$(awk -v u="${user:-0}" -v s="${sys:-0}" 'BEGIN { print u + s }')" \
+        'BEGIN { printf "%-30s %6.2f M lines/s  best %.3f s, worst %.3f s of %d; CPU %.2f s; max resident %s KB\n", n, l / b / 1e6, b, w, k, c, r }'
 }
 roles=(--charger-node 10 --battery-node 1)
 measure "canopen-decode (words)" "$bin" "${roles[@]}" "$log"
 measure "canopen-decode --json" "$bin" "${roles[@]}" --json "$log"
 measure "canopen-decode --output csv" "$bin" "${roles[@]}" --output csv "$log"
+measure "canopen-decode --summary" "$bin" "${roles[@]}" --summary "$log"
 measure "canopen-decode --summary-only" "$bin" "${roles[@]}" --summary-only "$log"
-if command -v /usr/bin/time >/dev/null; then
-    /usr/bin/time -f "canopen-decode --summary-only: max resident %M KB" \
-        "$bin" "${roles[@]}" --summary-only "$log" >/dev/null
-fi
 if command -v canopen-lens >/dev/null; then
     measure "canopen-lens (summary)" canopen-lens "$log" --no-color
-    if command -v /usr/bin/time >/dev/null; then
-        /usr/bin/time -f "canopen-lens: max resident %M KB" canopen-lens "$log" --no-color >/dev/null
-    fi
 else
     echo "canopen-lens is not installed (pip install canopen-lens): no side-by-side figure"
 fi

@@ -79,10 +79,52 @@ pub fn parse_line(line: &str) -> Result<LogLine<'_>, CandumpError> {
 /// general reader decides, so both give the same answer for every line).
 fn parse_usual(line: &str) -> Option<LogLine<'_>> {
     let bytes = line.as_bytes();
-    let (b'(', mut rest) = bytes.split_first().map(|(b, r)| (*b, r))? else {
+    let [b'(', rest @ ..] = bytes else {
         return None;
     };
+    let (us, tail) = usual_time(rest)?;
+    // The interface: printable ASCII up to one space, no '#'.
+    let iface_start = bytes.len() - tail.len();
+    let iface_len = tail.iter().position(|&b| b == b' ')?;
+    let iface = tail.get(..iface_len)?;
+    if iface.is_empty() || !iface.iter().all(|&b| b.is_ascii_graphic() && b != b'#') {
+        return None;
+    }
+    let frame_text = tail.get(iface_len + 1..)?;
+    let frame = match usual_frame(frame_text) {
+        Some(frame) => frame,
+        None => {
+            if frame_text.is_empty() || !frame_text.iter().all(u8::is_ascii_graphic) {
+                return None;
+            }
+            parse_frame(line.get(iface_start + iface_len + 1..)?).ok()?
+        }
+    };
+    Some(LogLine {
+        timestamp: Some(Timestamp::from_micros(us)),
+        interface: line.get(iface_start..iface_start + iface_len),
+        frame,
+    })
+}
+
+/// `secs.micros) ` after the `(`: the time in microseconds and the text
+/// after the space. candump's own shape (10 digits, 6 digits) is read
+/// eight digits at a time; any other is read digit by digit.
+fn usual_time(rest: &[u8]) -> Option<(u64, &[u8])> {
+    if let Some((&[a, b, s @ .., b'.', m0, m1, m2, m3, m4, m5, b')', b' '], tail)) =
+        rest.split_first_chunk::<19>()
+    {
+        if let (Some(lead), Some(secs), Some(micros)) = (
+            two_digits(a, b),
+            eight_digits(s),
+            eight_digits([b'0', b'0', m0, m1, m2, m3, m4, m5]),
+        ) {
+            // At most 9 999 999 999 999 999: no overflow.
+            return Some(((lead * 100_000_000 + secs) * 1_000_000 + micros, tail));
+        }
+    }
     // Seconds (at most 19 digits: no overflow), '.', 1..=6 digits, ')'.
+    let mut rest = rest;
     let mut secs: u64 = 0;
     let mut n = 0;
     while let [d @ b'0'..=b'9', tail @ ..] = rest {
@@ -116,24 +158,85 @@ fn parse_usual(line: &str) -> Option<LogLine<'_>> {
         micros *= 10;
     }
     let us = secs.checked_mul(1_000_000)?.checked_add(micros)?;
-    // The interface: printable ASCII up to one space, no '#'.
-    let iface_start = bytes.len() - tail.len();
-    let iface_len = tail.iter().position(|&b| b == b' ')?;
-    let iface = tail.get(..iface_len)?;
-    if iface.is_empty() || !iface.iter().all(|&b| b.is_ascii_graphic() && b != b'#') {
+    Some((us, tail))
+}
+
+/// Two ASCII digits as a number.
+fn two_digits(a: u8, b: u8) -> Option<u64> {
+    let (a, b) = (a.wrapping_sub(b'0'), b.wrapping_sub(b'0'));
+    (a < 10 && b < 10).then(|| u64::from(a * 10 + b))
+}
+
+/// Eight ASCII digits, most significant first, as a number (all eight
+/// checked and combined in a few word operations); `None` unless every
+/// byte is a digit.
+fn eight_digits(digits: [u8; 8]) -> Option<u64> {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    // Each byte minus '0'. A byte below '0' borrows, but it then has its
+    // high nibble set itself, so the check below still refuses it.
+    let d = u64::from_le_bytes(digits).wrapping_sub(0x30 * ONES);
+    // A byte is a digit when it and it plus 6 both stay below 10h.
+    if (d | d.wrapping_add(6 * ONES)) & (0xF0 * ONES) != 0 {
         return None;
     }
-    let frame_start = iface_start + iface_len + 1;
-    let frame_text = line.get(frame_start..)?;
-    if frame_text.is_empty() || !frame_text.bytes().all(|b| b.is_ascii_graphic()) {
+    // Pairs, then fours, then all eight (the first byte is the most
+    // significant digit).
+    let d = (d * 10 + (d >> 8)) & 0x00FF_00FF_00FF_00FF;
+    let d = (d * 100 + (d >> 16)) & 0x0000_FFFF_0000_FFFF;
+    Some((d * 10_000 + (d >> 32)) & 0xFFFF_FFFF)
+}
+
+/// Hex digit values by byte (`0xFF`: not a hex digit).
+const HEX: [u8; 256] = {
+    let mut table = [0xFF; 256];
+    let mut b = 0;
+    while b < 256 {
+        table[b] = match b as u8 {
+            d @ b'0'..=b'9' => d - b'0',
+            d @ b'a'..=b'f' => d - b'a' + 10,
+            d @ b'A'..=b'F' => d - b'A' + 10,
+            _ => 0xFF,
+        };
+        b += 1;
+    }
+    table
+};
+
+/// The usual frame field, an 11-bit identifier in 3 hex digits and up to 8
+/// data bytes (`18A#7413454E`); `None` for anything else (then
+/// [`parse_frame`] decides).
+fn usual_frame(text: &[u8]) -> Option<CanFrame> {
+    let &[h0, h1, h2, b'#', ref data @ ..] = text else {
+        return None;
+    };
+    let (h0, h1, h2) = (
+        HEX[usize::from(h0)],
+        HEX[usize::from(h1)],
+        HEX[usize::from(h2)],
+    );
+    if (h0 | h1 | h2) > 0xF || data.len() % 2 != 0 || data.len() > 16 {
         return None;
     }
-    let frame = parse_frame(frame_text).ok()?;
-    Some(LogLine {
-        timestamp: Some(Timestamp::from_micros(us)),
-        interface: line.get(iface_start..iface_start + iface_len),
-        frame,
-    })
+    let id = u16::from(h0) << 8 | u16::from(h1) << 4 | u16::from(h2);
+    if id > MAX_STANDARD_ID {
+        return None;
+    }
+    let mut buf = [0u8; 8];
+    for (dst, pair) in buf.iter_mut().zip(data.chunks_exact(2)) {
+        let [hi, lo] = *pair else {
+            return None;
+        };
+        let (hi, lo) = (HEX[usize::from(hi)], HEX[usize::from(lo)]);
+        if (hi | lo) > 0xF {
+            return None;
+        }
+        *dst = hi << 4 | lo;
+    }
+    Some(CanFrame::from_parts(
+        CanId::Standard(id),
+        buf,
+        (data.len() / 2) as u8,
+    ))
 }
 
 /// Any line: whitespace-separated fields.
@@ -333,6 +436,66 @@ mod tests {
             assert_eq!(parse_line(line), general, "{line:?}");
         }
         assert!(parse_usual(base).is_some());
+    }
+
+    /// The word-at-a-time digit reader equals reading digit by digit, for
+    /// every byte at every place.
+    #[test]
+    fn eight_digits_is_digit_by_digit() {
+        let naive = |d: [u8; 8]| {
+            d.iter().try_fold(0u64, |acc, &b| {
+                b.is_ascii_digit().then(|| acc * 10 + u64::from(b - b'0'))
+            })
+        };
+        for base in [*b"12345678", *b"00000000", *b"99999999", *b"90817263"] {
+            assert_eq!(eight_digits(base), naive(base));
+            for place in 0..8 {
+                for byte in 0..=255u8 {
+                    let mut d = base;
+                    d[place] = byte;
+                    assert_eq!(eight_digits(d), naive(d), "{d:?}");
+                }
+            }
+        }
+        for a in 0..=255u8 {
+            for b in 0..=255u8 {
+                let d = [a, b, b'0', b'1', b'2', b'3', b'4', b'5'];
+                assert_eq!(eight_digits(d), naive(d), "{d:?}");
+                assert_eq!(
+                    two_digits(a, b),
+                    naive([b'0', b'0', b'0', b'0', b'0', b'0', a, b])
+                );
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// Lines near the usual shape read the same by the fast reader and
+        /// by the general one.
+        #[test]
+        fn usual_shapes_read_as_the_general_reader_reads_them(
+            line in "\\([0-9]{0,12}\\.?[0-9]{0,7}\\)? ?[a-z0-9#]{0,5} [0-9A-Fa-fxR#]{0,20}"
+        ) {
+            let general = parse_general(&line);
+            if let Some(u) = parse_usual(&line) {
+                proptest::prop_assert_eq!(Ok(u), general);
+            }
+            proptest::prop_assert_eq!(parse_line(&line), general);
+        }
+
+        /// candump's own shape, with any hex digits and lengths: the fast
+        /// reader takes every well-formed one and agrees on all.
+        #[test]
+        fn candump_shape_reads_as_the_general_reader_reads_it(
+            line in "\\([0-9]{10}\\.[0-9]{6}\\) can[0-9] [0-9A-Fa-f]{3}#[0-9A-Fa-f]{0,18}"
+        ) {
+            let general = parse_general(&line);
+            let usual = parse_usual(&line);
+            proptest::prop_assert_eq!(usual.is_some(), general.is_ok());
+            if let Some(u) = usual {
+                proptest::prop_assert_eq!(Ok(u), general);
+            }
+        }
     }
 
     #[test]

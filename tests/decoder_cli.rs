@@ -160,6 +160,36 @@ fn bad_lines_are_reported_and_skipped() {
     assert!(lines[3].contains("unknown 7FF#"));
 }
 
+/// A line that is not UTF-8 or longer than 64 KiB is one bad line: the
+/// run reports it with its number and goes on.
+#[test]
+fn lines_not_text_or_too_long_are_bad_lines() {
+    let mut input = b"(1.000000) can0 701#05\n(1.5) can0 \xFF\xFE701#05\n".to_vec();
+    input.extend(std::iter::repeat_n(b'x', 70_000));
+    input.extend(b"\r\n(2.000000) can0 701#7F\r\n(3.000000) can0 701#05");
+    let dir = std::env::temp_dir().join(format!("canopen-decode-bytes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bad.log");
+    std::fs::write(&path, &input).unwrap();
+    let o = run(&[path.to_str().unwrap()], None);
+    std::fs::remove_dir_all(&dir).ok();
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8(o.stderr.clone()).unwrap();
+    assert!(err.contains("line 2: not UTF-8 text"), "{err}");
+    assert!(err.contains("line 3: longer than 65536 bytes"), "{err}");
+    assert!(err.contains("2 bad line(s)"), "{err}");
+    let out = text(&o);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 3, "{out}");
+    assert!(lines[0].contains("heartbeat node 1: operational"), "{out}");
+    assert!(lines[1].starts_with("         2.000000"), "{out}");
+    assert!(
+        lines[1].contains("heartbeat node 1: pre-operational"),
+        "{out}"
+    );
+    assert!(lines[2].contains("heartbeat node 1: operational"), "{out}");
+}
+
 #[test]
 fn usage_errors() {
     assert_eq!(run(&["--charger-node", "0"], None).status.code(), Some(2));

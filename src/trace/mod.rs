@@ -258,8 +258,12 @@ impl LineParser {
 
     /// Parses the next line.
     pub fn parse<'a>(&mut self, line: &'a str) -> Result<Record<'a>, TraceError> {
-        let line = line.trim_end_matches(['\r', '\n']);
-        if line.trim().is_empty() {
+        let line = if matches!(line.as_bytes().last(), Some(b'\r' | b'\n')) {
+            line.trim_end_matches(['\r', '\n'])
+        } else {
+            line
+        };
+        if trim(line).is_empty() {
             return Ok(Record::Meta);
         }
         let format = match self.format {
@@ -280,10 +284,19 @@ impl LineParser {
     }
 }
 
+/// `line.trim()`, answered from the two end bytes for the usual line (this
+/// is the decoder's hot path).
+fn trim(line: &str) -> &str {
+    match line.as_bytes() {
+        [first, .., last] if first.is_ascii_graphic() && last.is_ascii_graphic() => line,
+        _ => line.trim(),
+    }
+}
+
 /// A candump `-L` line, with the direction flag python-can's writer (and
 /// candump `-x`) appends (`R`, `T`) accepted.
 fn candump_log(line: &str) -> Result<Record<'_>, TraceError> {
-    let t = line.trim();
+    let t = trim(line);
     // Only the last two bytes decide (this is the decoder's hot path).
     let (body, direction) = if let Some(b) = t.strip_suffix(" R") {
         (b, Some(Direction::Rx))

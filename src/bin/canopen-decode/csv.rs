@@ -42,9 +42,13 @@ fn field(out: &mut String, field: &str) {
 }
 
 /// The `time` column.
-pub fn time(out: &mut String, timestamp: Option<canopen_codec::Timestamp>) {
+pub fn time(
+    out: &mut String,
+    column: &mut crate::time_column::TimeColumn,
+    timestamp: Option<canopen_codec::Timestamp>,
+) {
     if let Some(t) = timestamp {
-        let _ = write!(out, "{t}");
+        column.write(out, t);
     }
 }
 

@@ -1,4 +1,6 @@
-//! One JSON object per frame (hand-written: no serde in a no_std crate's tools).
+//! One JSON object per frame, written by hand into the output line (the
+//! text after `"t"` is what the line cache keeps and repeats; serde_json
+//! writes the rarer objects, a finished SDO transfer here and the summary).
 //!
 //! Keys: `t` (seconds or null), `id`, `kind` (nmt, sync, time, emcy, tpdo,
 //! rpdo, sdo_rx, sdo_tx, heartbeat, lss, unknown), `node` (or null), `role`,
@@ -106,10 +108,14 @@ pub fn kind_name(kind: CobKind) -> &'static str {
     }
 }
 /// `{"t":..`: the start of a frame's object.
-pub fn time(out: &mut String, timestamp: Option<canopen_codec::Timestamp>) {
+pub fn time(
+    out: &mut String,
+    column: &mut crate::time_column::TimeColumn,
+    timestamp: Option<canopen_codec::Timestamp>,
+) {
     out.push_str("{\"t\":");
     match timestamp {
-        Some(t) => crate::words::seconds(out, t, 0),
+        Some(t) => column.write(out, t),
         None => out.push_str("null"),
     }
 }
@@ -524,94 +530,152 @@ fn server(out: &mut String, c: &ServerCommand) {
 /// "meaning":..,"text":..}`, with `"abort":{"code":..,"meaning":..,"by":..}`
 /// or `"incomplete":"why"` where the transfer did not complete. `value`,
 /// `unit` and `meaning` are null unless it completed.
-pub fn transfer(out: &mut String, r: &Report, roles: &Roles) {
+pub fn transfer(out: &mut String, r: &Report, roles: &Roles, pdo_config: Option<&str>) {
     let d = described(r, roles);
-    out.push_str("{\"t\":");
-    match r.t {
-        Some(t) => {
-            let _ = write!(out, "{t}");
-        }
-        None => out.push_str("null"),
-    }
-    key(out, "kind");
-    string(out, "sdo_transfer");
-    let _ = write!(out, ",\"node\":{}", r.node);
-    key(out, "role");
-    match roles.role(Some(r.node)) {
-        Some(role) => string(out, role),
-        None => out.push_str("null"),
-    }
-    key(out, "direction");
-    string(out, r.direction.name());
-    let _ = write!(
-        out,
-        ",\"block\":{},\"crc_checked\":{}",
-        r.block, r.crc_checked
-    );
-    let _ = write!(out, ",\"index\":{},\"sub\":{}", r.index, r.sub);
-    key(out, "status");
-    string(
-        out,
-        match r.end {
+    let complete = r.end == End::Complete;
+    let line = shapes::Transfer {
+        t: r.t.map(Secs),
+        kind: "sdo_transfer",
+        node: r.node.raw(),
+        role: roles.role(Some(r.node)),
+        direction: r.direction.name(),
+        block: r.block,
+        crc_checked: r.crc_checked,
+        index: r.index,
+        sub: r.sub,
+        status: match r.end {
             End::Complete => "complete",
             End::Aborted { .. } => "aborted",
             End::Incomplete(_) => "incomplete",
         },
-    );
-    let _ = write!(out, ",\"size\":{},\"indicated_size\":", r.total);
-    match r.indicated {
-        Some(n) => {
-            let _ = write!(out, "{n}");
-        }
-        None => out.push_str("null"),
-    }
-    let _ = write!(
-        out,
-        ",\"size_indicated\":{},\"size_mismatch\":{},\"truncated\":{}",
-        r.size_indicated,
-        r.size_mismatch().is_some(),
-        r.truncated()
-    );
-    key(out, "bytes");
-    hex_string(out, &r.bytes);
-    key(out, "name");
-    match &d.name {
-        Some(n) => string(out, n),
-        None => out.push_str("null"),
-    }
-    let complete = r.end == End::Complete;
-    key(out, "value");
-    match &d.value {
-        Value::Number(n) if complete => out.push_str(n),
-        Value::Text(s) if complete => string(out, s),
-        _ => out.push_str("null"),
-    }
-    key(out, "unit");
-    match d.unit {
-        Some(u) if complete => string(out, u),
-        _ => out.push_str("null"),
-    }
-    key(out, "meaning");
-    match &d.meaning {
-        Some(m) if complete => string(out, m),
-        _ => out.push_str("null"),
-    }
-    match &r.end {
-        End::Complete => {}
-        End::Aborted { code, by } => {
-            let _ = write!(out, ",\"abort\":{{\"code\":{}", code.to_u32());
-            key(out, "meaning");
-            string(out, code.description());
-            key(out, "by");
-            string(out, by.name());
+        size: r.total,
+        indicated_size: r.indicated,
+        size_indicated: r.size_indicated,
+        size_mismatch: r.size_mismatch().is_some(),
+        truncated: r.truncated(),
+        bytes: shapes::HexBytes(&r.bytes),
+        name: d.name.as_deref(),
+        value: match &d.value {
+            Value::Number(n) if complete => shapes::Value::Number(n),
+            Value::Text(s) if complete => shapes::Value::Text(s),
+            _ => shapes::Value::Null,
+        },
+        unit: d.unit.filter(|_| complete),
+        meaning: d.meaning.as_deref().filter(|_| complete),
+        abort: match &r.end {
+            End::Aborted { code, by } => Some(shapes::Abort {
+                code: code.to_u32(),
+                meaning: code.description(),
+                by: by.name(),
+            }),
+            _ => None,
+        },
+        incomplete: match &r.end {
+            End::Incomplete(why) => Some(why.as_str()),
+            _ => None,
+        },
+        text: sentence(r, &d),
+        pdo_config,
+    };
+    match serde_json::to_string(&line) {
+        Ok(text) => out.push_str(&text),
+        Err(e) => {
+            out.push_str("{\"kind\":\"sdo_transfer\",\"error\":");
+            display(out, &e);
             out.push('}');
         }
-        End::Incomplete(why) => {
-            key(out, "incomplete");
-            string(out, why);
+    }
+}
+
+/// A time as the log gives it, a JSON number with its 6 decimals
+/// (`1756955653.612992`) exactly as the frame lines write it.
+pub struct Secs(pub canopen_codec::Timestamp);
+
+impl serde::Serialize for Secs {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        serde_json::value::RawValue::from_string(self.0.to_string())
+            .map_err(serde::ser::Error::custom)?
+            .serialize(s)
+    }
+}
+
+/// The shapes of the objects serde_json writes, their fields in key order.
+mod shapes {
+    use serde::Serialize;
+
+    use super::Secs;
+
+    /// See [`super::transfer`].
+    #[derive(Serialize)]
+    pub struct Transfer<'a> {
+        pub t: Option<Secs>,
+        pub kind: &'static str,
+        pub node: u8,
+        pub role: Option<&'static str>,
+        pub direction: &'static str,
+        pub block: bool,
+        pub crc_checked: bool,
+        pub index: u16,
+        pub sub: u8,
+        pub status: &'static str,
+        pub size: usize,
+        pub indicated_size: Option<u32>,
+        pub size_indicated: bool,
+        pub size_mismatch: bool,
+        pub truncated: bool,
+        pub bytes: HexBytes<'a>,
+        pub name: Option<&'a str>,
+        pub value: Value<'a>,
+        pub unit: Option<&'static str>,
+        pub meaning: Option<&'a str>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        pub abort: Option<Abort>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        pub incomplete: Option<&'a str>,
+        pub text: String,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        pub pdo_config: Option<&'a str>,
+    }
+
+    #[derive(Serialize)]
+    pub struct Abort {
+        pub code: u32,
+        pub meaning: &'static str,
+        pub by: &'static str,
+    }
+
+    /// Bytes as a string of lower-case hex digits.
+    pub struct HexBytes<'a>(pub &'a [u8]);
+
+    impl Serialize for HexBytes<'_> {
+        fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            let mut text = String::with_capacity(2 * self.0.len());
+            for b in self.0 {
+                text.push_str(&format!("{b:02x}"));
+            }
+            s.serialize_str(&text)
         }
     }
-    key(out, "text");
-    string(out, &sentence(r, &d));
-    out.push('}');
+
+    /// A transfer's value: an exact number (written as its literal), text,
+    /// or null.
+    pub enum Value<'a> {
+        Number(&'a str),
+        Text(&'a str),
+        Null,
+    }
+
+    impl Serialize for Value<'_> {
+        fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+            match self {
+                // A literal that is no JSON number is written as a string.
+                Value::Number(n) => match serde_json::value::RawValue::from_string(n.to_string()) {
+                    Ok(raw) => raw.serialize(s),
+                    Err(_) => s.serialize_str(n),
+                },
+                Value::Text(t) => s.serialize_str(t),
+                Value::Null => s.serialize_none(),
+            }
+        }
+    }
 }

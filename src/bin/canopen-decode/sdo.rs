@@ -234,6 +234,11 @@ impl Tracker {
         self.reports.drain(..)
     }
 
+    /// True when [`Tracker::reports`] has something.
+    pub fn has_reports(&self) -> bool {
+        !self.reports.is_empty()
+    }
+
     fn drain(&mut self, t: Option<Timestamp>) {
         let mut pending_new: Option<Report> = None;
         while let Some(e) = self.observer.poll_event() {

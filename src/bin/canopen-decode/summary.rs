@@ -239,100 +239,89 @@ impl Summary {
         format!("+{}.{:03} s", us / 1_000_000, us % 1_000_000 / 1000)
     }
 
-    /// The summary as one JSON object (`"kind":"summary"`); true when a
-    /// problem is still open.
+    /// The summary as one JSON object (`"kind":"summary"`, written by
+    /// serde_json from the [`json`] shapes); true when a problem is still
+    /// open.
     pub fn json(&mut self, out: &mut String, roles: &Roles) -> bool {
-        use crate::json::string;
         let open = self.finish();
-        out.push_str("{\"kind\":\"summary\",\"nodes\":[");
-        for (i, (id, n)) in self.nodes.iter().enumerate() {
-            if i > 0 {
-                out.push(',');
-            }
-            let _ = write!(out, "{{\"node\":{id},\"role\":");
-            match roles.role(NodeId::new(*id)) {
-                Some(r) => string(out, r),
-                None => out.push_str("null"),
-            }
-            let _ = write!(
-                out,
-                ",\"heartbeats\":{},\"period_ms\":{},\"largest_gap_ms\":{}",
-                n.heartbeats,
-                period(&n.gaps).map_or("null".into(), |p| (p / 1000).to_string()),
-                n.largest_gap / 1000
-            );
-            out.push_str(",\"states\":[");
-            for (j, (t, st)) in n.transitions.iter().enumerate() {
-                let _ = write!(
-                    out,
-                    "{}{{\"t\":{t},\"state\":",
-                    if j > 0 { "," } else { "" }
-                );
-                string(out, &st.to_string());
+        let nodes = self
+            .nodes
+            .iter()
+            .map(|(id, n)| json::Node {
+                node: *id,
+                role: roles.role(NodeId::new(*id)),
+                heartbeats: n.heartbeats,
+                period_ms: period(&n.gaps).map(|p| p / 1000),
+                largest_gap_ms: n.largest_gap / 1000,
+                states: n
+                    .transitions
+                    .iter()
+                    .map(|(t, st)| json::State {
+                        t: json::Secs(*t),
+                        state: st.to_string(),
+                    })
+                    .collect(),
+                boot_ups: n
+                    .boot_ups
+                    .iter()
+                    .map(|(t, after)| json::BootUp {
+                        t: json::Secs(*t),
+                        after: *after,
+                    })
+                    .collect(),
+                silences: n
+                    .silences
+                    .iter()
+                    .map(|(from, to)| json::Silence {
+                        from: json::Secs(*from),
+                        to: to.map(json::Secs),
+                    })
+                    .collect(),
+                emcys: n
+                    .emcys
+                    .iter()
+                    .map(|(t, text, cleared)| json::Emcy {
+                        t: json::Secs(*t),
+                        text,
+                        cleared: *cleared,
+                    })
+                    .collect(),
+                sdo_transfers: n.sdo_transfers,
+                sdo_aborts: &n.sdo_aborts,
+                guard_requests: n.guard_requests,
+                guard_replies: n.guard_replies,
+            })
+            .collect();
+        let pdos = self
+            .pdos
+            .iter()
+            .map(|(id, (frames, first, last))| json::Pdo {
+                cob_id: *id,
+                frames: *frames,
+                first: json::Secs(*first),
+                last: json::Secs(*last),
+            })
+            .collect();
+        let summary = json::Summary {
+            kind: "summary",
+            nodes,
+            pdos,
+            lss: json::Lss {
+                frames: self.lss.frames,
+                fastscans: self.lss.fastscans,
+                node_ids_configured: &self.lss.configured,
+            },
+            open_problems: open,
+        };
+        match serde_json::to_string(&summary) {
+            Ok(text) => out.push_str(&text),
+            // Only a time that is no JSON number could fail, and none is.
+            Err(e) => {
+                let _ = write!(out, "{{\"kind\":\"summary\",\"error\":");
+                crate::json::display(out, &e);
                 out.push('}');
             }
-            out.push_str("],\"boot_ups\":[");
-            for (j, (t, after)) in n.boot_ups.iter().enumerate() {
-                let _ = write!(
-                    out,
-                    "{}{{\"t\":{t},\"after\":",
-                    if j > 0 { "," } else { "" }
-                );
-                match after {
-                    Some(a) => string(out, a),
-                    None => out.push_str("null"),
-                }
-                out.push('}');
-            }
-            out.push_str("],\"silences\":[");
-            for (j, (from, to)) in n.silences.iter().enumerate() {
-                let to = to.map_or("null".into(), |t| t.to_string());
-                let _ = write!(
-                    out,
-                    "{}{{\"from\":{from},\"to\":{to}}}",
-                    if j > 0 { "," } else { "" }
-                );
-            }
-            out.push_str("],\"emcys\":[");
-            for (j, (t, text, cleared)) in n.emcys.iter().enumerate() {
-                let _ = write!(out, "{}{{\"t\":{t},\"text\":", if j > 0 { "," } else { "" });
-                string(out, text);
-                let _ = write!(out, ",\"cleared\":{cleared}}}");
-            }
-            let _ = write!(
-                out,
-                "],\"sdo_transfers\":{},\"sdo_aborts\":[",
-                n.sdo_transfers
-            );
-            for (j, a) in n.sdo_aborts.iter().enumerate() {
-                if j > 0 {
-                    out.push(',');
-                }
-                string(out, a);
-            }
-            let _ = write!(
-                out,
-                "],\"guard_requests\":{},\"guard_replies\":{}}}",
-                n.guard_requests, n.guard_replies
-            );
         }
-        out.push_str("],\"pdos\":[");
-        for (i, (id, (count, first, last))) in self.pdos.iter().enumerate() {
-            let _ = write!(
-                out,
-                "{}{{\"cob_id\":{id},\"frames\":{count},\"first\":{first},\"last\":{last}}}",
-                if i > 0 { "," } else { "" }
-            );
-        }
-        let configured: Vec<String> = self.lss.configured.iter().map(u8::to_string).collect();
-        let _ = write!(
-            out,
-            "],\"lss\":{{\"frames\":{},\"fastscans\":{},\"node_ids_configured\":[{}]}}",
-            self.lss.frames,
-            self.lss.fastscans,
-            configured.join(",")
-        );
-        let _ = write!(out, ",\"open_problems\":{open}}}");
         open
     }
 
@@ -462,4 +451,77 @@ fn period(gaps: &[u64]) -> Option<u64> {
     let mut g = gaps.to_vec();
     g.sort_unstable();
     g.get(g.len() / 2).copied()
+}
+
+/// The JSON summary's shapes, in the order of their keys.
+mod json {
+    use serde::Serialize;
+
+    pub use crate::json::Secs;
+
+    #[derive(Serialize)]
+    pub struct Summary<'a> {
+        pub kind: &'static str,
+        pub nodes: Vec<Node<'a>>,
+        pub pdos: Vec<Pdo>,
+        pub lss: Lss<'a>,
+        pub open_problems: bool,
+    }
+
+    #[derive(Serialize)]
+    pub struct Node<'a> {
+        pub node: u8,
+        pub role: Option<&'static str>,
+        pub heartbeats: u64,
+        pub period_ms: Option<u64>,
+        pub largest_gap_ms: u64,
+        pub states: Vec<State>,
+        pub boot_ups: Vec<BootUp>,
+        pub silences: Vec<Silence>,
+        pub emcys: Vec<Emcy<'a>>,
+        pub sdo_transfers: u64,
+        pub sdo_aborts: &'a [String],
+        pub guard_requests: u64,
+        pub guard_replies: u64,
+    }
+
+    #[derive(Serialize)]
+    pub struct State {
+        pub t: Secs,
+        pub state: String,
+    }
+
+    #[derive(Serialize)]
+    pub struct BootUp {
+        pub t: Secs,
+        pub after: Option<&'static str>,
+    }
+
+    #[derive(Serialize)]
+    pub struct Silence {
+        pub from: Secs,
+        pub to: Option<Secs>,
+    }
+
+    #[derive(Serialize)]
+    pub struct Emcy<'a> {
+        pub t: Secs,
+        pub text: &'a str,
+        pub cleared: bool,
+    }
+
+    #[derive(Serialize)]
+    pub struct Pdo {
+        pub cob_id: u32,
+        pub frames: u64,
+        pub first: Secs,
+        pub last: Secs,
+    }
+
+    #[derive(Serialize)]
+    pub struct Lss<'a> {
+        pub frames: u64,
+        pub fastscans: u64,
+        pub node_ids_configured: &'a [u8],
+    }
 }

@@ -39,42 +39,15 @@ impl std::fmt::Display for Text<'_> {
 
 /// The time column of a frame's line, `1756955653.612992` in
 /// `1756955653.612992  08A  charger  EMCY node 10: 8130h ..., Delta-Q E-0-3-2 heartbeat lost`.
-pub fn time(out: &mut String, timestamp: Option<canopen_codec::Timestamp>) {
-    // The columns are spelled by hand: this is the hot path of the program.
+pub fn time(
+    out: &mut String,
+    column: &mut crate::time_column::TimeColumn,
+    timestamp: Option<canopen_codec::Timestamp>,
+) {
     match timestamp {
-        Some(t) => seconds(out, t, 10),
+        Some(t) => column.write(out, t),
         None => out.push_str("                -"),
     }
-}
-
-/// `secs.micros` (6 digits of micros) with the seconds right-aligned in
-/// `width` columns (more when they need more): one buffer, one push; as
-/// `Timestamp`'s `Display` writes it when `width` is 0.
-pub fn seconds(out: &mut String, t: canopen_codec::Timestamp, width: usize) {
-    let (secs, micros) = (t.as_micros() / 1_000_000, t.as_micros() % 1_000_000);
-    let mut buf = [b' '; 27];
-    let mut i = 20;
-    let mut v = secs;
-    loop {
-        i -= 1;
-        if let Some(d) = buf.get_mut(i) {
-            *d = b'0' + (v % 10) as u8;
-        }
-        v /= 10;
-        if v == 0 || i == 0 {
-            break;
-        }
-    }
-    if let Some(dot) = buf.get_mut(20) {
-        *dot = b'.';
-    }
-    let mut v = micros;
-    for d in buf.iter_mut().skip(21).rev() {
-        *d = b'0' + (v % 10) as u8;
-        v /= 10;
-    }
-    let start = i.min(20usize.saturating_sub(width));
-    out.push_str(std::str::from_utf8(buf.get(start..).unwrap_or(&[])).unwrap_or(""));
 }
 
 /// Everything after the time column: identifier, role and message (the

@@ -1,0 +1,510 @@
+//! The decoder's pipeline: trace lines in, decoded lines out (words, JSON
+//! or CSV), with the SDO observer, the roles, the PDO mappings learned and
+//! the summary carried from line to line.
+
+use std::io::{self, Read, Write};
+
+use canopen_codec::candump::LogLine;
+use canopen_codec::sdo::{Observed, SdoChannel, Side as SdoSide};
+use canopen_codec::trace::{Format, LineParser, Record};
+use canopen_codec::{CanId, Message, NodeId};
+
+use crate::{
+    csv, json, line_cache, line_reader, pdo_args, pdo_learn, sdo, summary, time_column, words,
+};
+
+/// A block transfer's sub-block segment (CiA 301 SDO block download and
+/// upload): byte 0 is a sequence number, not a command specifier.
+#[derive(Clone, Copy, Debug)]
+pub struct BlockSegment {
+    /// The server's node.
+    pub node: NodeId,
+    /// The sender of the data.
+    pub from: SdoSide,
+    pub seqno: u8,
+    pub last: bool,
+    pub data: canopen_codec::sdo::SegmentData,
+}
+
+impl std::fmt::Display for BlockSegment {
+    /// `SDO block segment seq 3 to node 2: 41 20 72 65 61 6C 6C`
+    /// (`seq 5, last`; `from node 2` when the server sends).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "SDO block segment seq {}", self.seqno)?;
+        if self.last {
+            f.write_str(", last")?;
+        }
+        let to = match self.from {
+            SdoSide::Client => "to",
+            SdoSide::Server => "from",
+        };
+        write!(f, " {to} node {}:", self.node)?;
+        for b in self.data.as_slice() {
+            write!(f, " {b:02X}")?;
+        }
+        Ok(())
+    }
+}
+
+/// The default SDO channel of its node (Message::decode names those).
+fn is_default(channel: SdoChannel) -> bool {
+    channel == SdoChannel::default_for(channel.node)
+}
+
+/// What the decoder knows about a line besides its message.
+#[derive(Clone, Copy, Default)]
+pub struct Notes {
+    /// The frame answers a node-guarding request.
+    pub guard_reply: bool,
+    /// How the frame deviates from CiA 301 (read anyway).
+    pub deviation: Option<canopen_codec::lenient::Deviation>,
+    /// The frame is a block transfer's sub-block segment.
+    pub block_segment: Option<BlockSegment>,
+}
+
+/// Which node is which, for naming Delta-Q codes and roles. A node has a
+/// role only from evidence: `--charger-node` / `--battery-node`, or its
+/// device type (1000h) read by SDO in the log naming profile 419 (a
+/// charger) or 418 (a battery module).
+#[derive(Clone, Copy, Default)]
+pub struct Roles {
+    pub charger: Option<NodeId>,
+    pub battery: Option<NodeId>,
+}
+
+impl Roles {
+    pub fn role(&self, node: Option<NodeId>) -> Option<&'static str> {
+        match node {
+            Some(n) if Some(n) == self.charger => Some("charger"),
+            Some(n) if Some(n) == self.battery => Some("battery"),
+            _ => None,
+        }
+    }
+
+    /// The bundled session's nodes (charger 10, battery module 1) unless given.
+    pub fn demo(&mut self) {
+        self.charger = self.charger.or(NodeId::new(10));
+        self.battery = self.battery.or(NodeId::new(1));
+    }
+
+    /// True when `node` is the charger.
+    pub fn is_charger(&self, node: NodeId) -> bool {
+        self.charger == Some(node)
+    }
+
+    /// True when `node` is the battery module (and not also the charger).
+    pub fn is_battery(&self, node: NodeId) -> bool {
+        self.battery == Some(node) && self.charger != Some(node)
+    }
+
+    /// Learns a role from a completed upload of 1000h (device type): the
+    /// profile number in bits 0-15, 418 a battery module, 419 a charger.
+    /// Roles given on the command line or learned before are kept.
+    fn learn(&mut self, report: &sdo::Report) -> Option<&'static str> {
+        if (report.index, report.sub) != (0x1000, 0)
+            || !matches!(report.end, sdo::End::Complete)
+            || !matches!(report.direction, sdo::Direction::Upload)
+        {
+            return None;
+        }
+        let [a, b, ..] = report.bytes[..] else {
+            return None;
+        };
+        let (name, given) = self.give_by_profile(report.node, u16::from_le_bytes([a, b]))?;
+        given.then_some(name)
+    }
+
+    /// The role a device type's profile (bits 0-15 of 1000h) names, 418 a
+    /// battery module and 419 a charger, given to `node` unless another
+    /// node has it already: the role's name and whether it was given.
+    fn give_by_profile(&mut self, node: NodeId, profile: u16) -> Option<(&'static str, bool)> {
+        let (slot, name) = match profile {
+            418 => (&mut self.battery, "battery"),
+            419 => (&mut self.charger, "charger"),
+            _ => return None,
+        };
+        let given = slot.is_none();
+        if given {
+            *slot = Some(node);
+        }
+        Some((name, given))
+    }
+}
+
+pub struct Options {
+    pub json: bool,
+    /// `--output csv`.
+    pub csv: bool,
+    /// `--summary`, `--summary-only`, `--check`.
+    pub summary: bool,
+    pub frames: bool,
+    pub check: bool,
+    pub roles: Roles,
+    pub pdos: pdo_args::Mappings,
+    pub file: Option<String>,
+    /// `--bundled session`.
+    pub bundled: Option<&'static str>,
+    /// `--format`: the trace format (detected when absent) and `-t d` times.
+    pub format: Option<Format>,
+    pub delta_times: bool,
+    /// `--strict`: frames that deviate from CiA 301 are malformed.
+    pub strict: bool,
+    /// `--sdo NODE=RXID,TXID`: SDO channels besides the default ones.
+    pub sdo_channels: Vec<SdoChannel>,
+    /// `--eds NODE=FILE`: device descriptions of nodes.
+    pub eds: Vec<(NodeId, String)>,
+    /// `--no-cache`: format every line anew (for checking the line cache).
+    pub no_cache: bool,
+}
+
+/// Decodes every line; returns the number of bad lines and whether the
+/// summary found a problem still open at the end.
+pub fn run(input: impl Read, out: &mut impl Write, opts: &Options) -> io::Result<(usize, bool)> {
+    let mut roles = opts.roles;
+    let mut summary = summary::Summary::default();
+    let mut bad = 0;
+    // The output not written yet: lines are appended here and written in
+    // blocks of about `PAGE` bytes (one write per block, no copy per line).
+    const PAGE: usize = 64 * 1024;
+    let mut text = String::with_capacity(2 * PAGE);
+    let mut times = time_column::TimeColumn::new(if opts.json || opts.csv { 0 } else { 10 });
+    let mut sdo = sdo::Tracker::default();
+    let mut learned = pdo_learn::Learned::default();
+    let mut cache = line_cache::LineCache::new(!opts.no_cache);
+    for (node, path) in &opts.eds {
+        load_eds(*node, path, &mut roles, &mut sdo, &mut learned)?;
+    }
+    for &channel in &opts.sdo_channels {
+        sdo.add_channel(channel)
+            .map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, format!("--sdo: {e}")))?;
+    }
+    let mut reader = opts.format.map_or_else(LineParser::auto, LineParser::new);
+    if opts.csv {
+        text.push_str(csv::HEADER);
+        text.push('\n');
+    }
+    // Nodes with a node-guarding request not answered yet.
+    let mut guarding = [false; 128];
+    if opts.delta_times {
+        reader = reader.with_delta_times();
+    }
+    let mut lines = line_reader::LineReader::new(input);
+    let mut lineno = 0usize;
+    while let Some(block) = lines.next_block()? {
+        for piece in block {
+            lineno += 1;
+            let line = match piece {
+                line_reader::Piece::Line(line) => line,
+                line_reader::Piece::NotUtf8 => {
+                    eprintln!("line {lineno}: not UTF-8 text");
+                    bad += 1;
+                    continue;
+                }
+                line_reader::Piece::TooLong => {
+                    eprintln!("line {lineno}: longer than {} bytes", line_reader::MAX_LINE);
+                    bad += 1;
+                    continue;
+                }
+            };
+            let parsed = match reader.parse(line) {
+                Ok(Record::Frame(f)) => LogLine {
+                    timestamp: f.timestamp,
+                    interface: f.channel,
+                    frame: f.frame,
+                },
+                Ok(Record::Unsupported(what)) => {
+                    eprintln!("line {lineno}: {what:?} not decoded: {line}");
+                    continue;
+                }
+                Ok(_) => continue,
+                Err(e) => {
+                    eprintln!("line {lineno}: {e}: {line}");
+                    bad += 1;
+                    continue;
+                }
+            };
+            // The SDO observer first: a frame on a declared SDO channel is SDO,
+            // and a block transfer's sub-block segment is no command.
+            let seen = sdo.handle(parsed.timestamp, &parsed.frame);
+            let (decoded, deviation) = if opts.strict {
+                (Message::decode(&parsed.frame), None)
+            } else {
+                match Message::decode_lenient(&parsed.frame) {
+                    Ok((m, d)) => (Ok(m), d),
+                    Err(e) => (Err(e), None),
+                }
+            };
+            let mut block_segment = None;
+            let decoded = match seen {
+                Observed::Request { channel, request } if !is_default(channel) => {
+                    Ok(Message::SdoRequest {
+                        node: channel.node,
+                        sdo: request,
+                    })
+                }
+                Observed::Response { channel, response } if !is_default(channel) => {
+                    Ok(Message::SdoResponse {
+                        node: channel.node,
+                        sdo: response,
+                    })
+                }
+                Observed::BlockSegment {
+                    channel,
+                    from,
+                    seqno,
+                    last,
+                    data,
+                } => {
+                    block_segment = Some(BlockSegment {
+                        node: channel.node,
+                        from,
+                        seqno,
+                        last,
+                        data,
+                    });
+                    decoded
+                }
+                _ => decoded,
+            };
+            if let (Err(e), None) = (&decoded, block_segment) {
+                eprintln!("line {lineno}: frame {} does not decode: {e}", parsed.frame);
+                bad += 1;
+            }
+            // A reply on 700h + node after a remote request there is a guarding
+            // reply, whatever its toggle.
+            let guard_reply = match &decoded {
+                Ok(Message::NodeGuardRequest { node, .. }) => {
+                    if let Some(g) = guarding.get_mut(usize::from(node.raw())) {
+                        *g = true;
+                    }
+                    false
+                }
+                Ok(Message::Heartbeat { node, .. }) => guarding
+                    .get_mut(usize::from(node.raw()))
+                    .is_some_and(std::mem::take),
+                _ => false,
+            };
+            let notes = Notes {
+                guard_reply,
+                deviation,
+                block_segment,
+            };
+            if let (true, Ok(msg)) = (opts.summary, &decoded) {
+                summary.frame(
+                    parsed.timestamp,
+                    parsed.frame.id().raw(),
+                    msg,
+                    guard_reply,
+                    &roles,
+                );
+            }
+            if opts.frames {
+                if opts.csv {
+                    csv::time(&mut text, &mut times, parsed.timestamp);
+                } else if opts.json {
+                    json::time(&mut text, &mut times, parsed.timestamp);
+                } else {
+                    words::time(&mut text, &mut times, parsed.timestamp);
+                }
+                // The text after the time depends on the frame alone for these
+                // (and on the roles and mappings, which clear the cache).
+                let cacheable = !guard_reply
+                    && block_segment.is_none()
+                    && matches!(
+                        decoded,
+                        Ok(Message::Tpdo { .. }
+                            | Message::Rpdo { .. }
+                            | Message::Heartbeat { .. }
+                            | Message::Emcy { .. }
+                            | Message::Nmt(_)
+                            | Message::Sync(_)
+                            | Message::Time(_)
+                            | Message::Unknown(_))
+                    );
+                if !(cacheable && cache.get(&parsed.frame, &mut text)) {
+                    let start = text.len();
+                    let fields = decoded
+                        .as_ref()
+                        .ok()
+                        .and_then(|m| opts.pdos.fields(&parsed.frame, m, &roles, &learned));
+                    let args = (&parsed, &decoded, &roles, fields.as_ref(), &notes);
+                    if opts.csv {
+                        csv::rest(&mut text, args.0, args.1, args.2, args.3, args.4);
+                    } else if opts.json {
+                        json::rest(&mut text, args.0, args.1, args.2, args.3, args.4);
+                    } else {
+                        words::rest(&mut text, args.0, args.1, args.2, args.3, args.4);
+                    }
+                    if cacheable {
+                        cache.put(&parsed.frame, text.get(start..).unwrap_or(""));
+                    }
+                }
+                text.push('\n');
+            }
+            for report in sdo
+                .has_reports()
+                .then(|| sdo.reports())
+                .into_iter()
+                .flatten()
+            {
+                if opts.summary {
+                    summary.transfer(&report);
+                }
+                let role_learned = roles.learn(&report);
+                let pdo_note = learned.transfer(&report);
+                if role_learned.is_some() || pdo_note.is_some() {
+                    cache.clear();
+                }
+                // CSV rows are frames only.
+                if !opts.frames || opts.csv {
+                    continue;
+                }
+                transfer(&mut text, &report, opts.json, &roles, pdo_note.as_deref());
+                if let Some(role) = role_learned {
+                    let what = if opts.json {
+                        format!(
+                            "{{\"kind\":\"role\",\"node\":{},\"role\":\"{role}\"}}",
+                            report.node
+                        )
+                    } else {
+                        format!(
+                            "node {} is the {role} (its device type, 1000h, says so)",
+                            report.node
+                        )
+                    };
+                    text.push_str(&what);
+                    text.push('\n');
+                }
+            }
+            if text.len() >= PAGE {
+                out.write_all(text.as_bytes())?;
+                text.clear();
+            }
+        }
+    }
+    for report in sdo.finish() {
+        summary.transfer(&report);
+        if opts.frames && !opts.csv {
+            transfer(&mut text, &report, opts.json, &roles, None);
+        }
+    }
+    let mut open = false;
+    if opts.summary {
+        if opts.json {
+            open = summary.json(&mut text, &roles);
+            text.push('\n');
+        } else {
+            open = summary.words(&mut text, &roles);
+        }
+    }
+    out.write_all(text.as_bytes())?;
+    out.flush()?;
+    Ok((bad, open))
+}
+
+/// Writes the extra line of a finished SDO transfer.
+/// Reads the EDS or DCF of `node` (`--eds NODE=FILE`): its PDOs (COB-IDs
+/// and mappings, `$NODEID` resolved) decode that node's PDO frames, its
+/// server SDO parameter (1200h) adds the SDO channel when it is not the
+/// default, and its device type (1000h) of profile 418 or 419 gives the node
+/// its role unless one was given. Says what it took on stderr.
+fn load_eds(
+    node: NodeId,
+    path: &str,
+    roles: &mut Roles,
+    sdo: &mut sdo::Tracker,
+    learned: &mut pdo_learn::Learned,
+) -> io::Result<()> {
+    use canopen_codec::eds::{eval_int, parse_bytes};
+    use canopen_codec::pdo::PdoDirection;
+    let invalid = |e: String| io::Error::new(io::ErrorKind::InvalidInput, e);
+    let bytes = std::fs::read(path).map_err(|e| invalid(format!("--eds {path}: {e}")))?;
+    let eds = parse_bytes(&bytes).map_err(|e| invalid(format!("--eds {path}: {e}")))?;
+    let int = |index: u16, sub: u8| {
+        eds.entry(index, sub)
+            .and_then(|e| e.value())
+            .and_then(|v| eval_int(v, Some(node.raw())).ok())
+            .and_then(|v| u32::try_from(v).ok())
+    };
+    let mut said = Vec::new();
+    if let Some(device_type) = int(0x1000, 0) {
+        let profile = (device_type & 0xFFFF) as u16;
+        said.push(match roles.give_by_profile(node, profile) {
+            Some((role, _)) => format!("device type {device_type:08X}h: the {role}"),
+            None => format!("device type {device_type:08X}h (profile {profile})"),
+        });
+    }
+    let profile = if roles.is_battery(node) {
+        Some(canopen_codec::cia418::BATTERY_MODULE_CATALOGUE)
+    } else if roles.is_charger(node) {
+        Some(canopen_codec::deltaq::CHARGER_CATALOGUE)
+    } else {
+        None
+    };
+    learned.name_objects(node, &eds, profile);
+    let mut mapped = Vec::new();
+    for d in eds.pdos(node) {
+        let tx = d.direction == PdoDirection::Transmit;
+        if let Some(id) =
+            learned.preset(node, tx, d.number, d.cob_id.map(|c| c.to_u32()), &d.entries)
+        {
+            mapped.push(format!(
+                "{}{} on {id:03X}h",
+                if tx { "TPDO" } else { "RPDO" },
+                d.number
+            ));
+        }
+    }
+    if !mapped.is_empty() {
+        said.push(format!("PDOs mapped: {}", mapped.join(", ")));
+    }
+    let ids = (int(0x1200, 1), int(0x1200, 2));
+    if let (Some(rx), Some(tx)) = ids {
+        let id = |raw: u32| u16::try_from(raw & 0x7FF).ok().and_then(CanId::standard);
+        if let (Some(request), Some(response)) = (id(rx), id(tx)) {
+            let channel = SdoChannel {
+                node,
+                request,
+                response,
+            };
+            if !is_default(channel) {
+                sdo.add_channel(channel)
+                    .map_err(|e| invalid(format!("--eds {path}: SDO channel: {e}")))?;
+                said.push(format!("SDO on {:03X}h/{:03X}h", rx & 0x7FF, tx & 0x7FF));
+            }
+        }
+    }
+    eprintln!(
+        "canopen-decode: node {node} from {path}: {}",
+        if said.is_empty() {
+            "nothing the decoder uses".to_string()
+        } else {
+            said.join("; ")
+        }
+    );
+    Ok(())
+}
+
+/// Writes the extra line of a finished SDO transfer; `pdo_note` says how it
+/// changed a PDO's configuration.
+fn transfer(
+    out: &mut String,
+    report: &sdo::Report,
+    json: bool,
+    roles: &Roles,
+    pdo_note: Option<&str>,
+) {
+    let mut text = String::new();
+    if json {
+        json::transfer(&mut text, report, roles, pdo_note);
+    } else {
+        words::transfer(&mut text, report, roles);
+        if let Some(note) = pdo_note {
+            text.push_str(" [");
+            text.push_str(note);
+            text.push(']');
+        }
+    }
+    out.push_str(&text);
+    out.push('\n');
+}
