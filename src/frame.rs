@@ -129,7 +129,27 @@ const fn id_word(id: CanId) -> u32 {
     }
 }
 
+/// The identifier word every data frame on `id` has (see
+/// [`CanFrame::word`]), or `u32::MAX`, which no frame has, for an
+/// identifier out of range: the state machines' one-compare entry test.
+#[inline]
+pub(crate) const fn data_frame_word(id: CanId) -> u32 {
+    match id {
+        CanId::Standard(raw) if raw <= MAX_STANDARD_ID => raw as u32,
+        CanId::Extended(raw) if raw <= MAX_EXTENDED_ID => raw | EXTENDED_FLAG,
+        _ => u32::MAX,
+    }
+}
+
 impl CanFrame {
+    /// The identifier word: bits 0..=28, the extended and the remote flag.
+    /// Equal to [`data_frame_word`] of an identifier exactly when the frame
+    /// is a data frame on that identifier.
+    #[inline]
+    pub(crate) const fn word(&self) -> u32 {
+        self.word
+    }
+
     /// An empty data frame on identifier 0 (a placeholder value).
     pub const EMPTY: CanFrame = CanFrame {
         word: 0,

@@ -265,6 +265,9 @@ pub struct Client<D = &'static [u8]> {
     config: ClientConfig,
     /// `config.timeout` in microseconds, computed once.
     timeout_us: u64,
+    /// The identifier word of a data frame on `config.response_id`
+    /// (`u32::MAX`, matching no frame, when it is out of range).
+    response_word: u32,
     /// The identifier it sends on is valid (checked once, not per frame).
     sends: bool,
     state: State<D>,
@@ -280,6 +283,7 @@ impl<D: AsRef<[u8]>> Client<D> {
         Client {
             config,
             timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
+            response_word: crate::frame::data_frame_word(config.response_id),
             sends: crate::frame::check_id(config.request_id).is_ok(),
             state: State::Idle,
             timers: Timers::new(),
@@ -397,9 +401,17 @@ impl<D: AsRef<[u8]>> Client<D> {
 
     fn send(&mut self, command: ClientCommand) {
         let (bytes, len) = SdoRequest::new(command).encode();
+        // `len` is at most 8.
+        self.send_bytes(bytes, len as u8);
+    }
+
+    /// Queues a request made by hand (the segment paths): the same frame
+    /// as [`Self::send`] of its command.
+    #[inline]
+    fn send_bytes(&mut self, bytes: [u8; 8], len: u8) {
         if self.sends {
-            // `len` is at most 8 and the identifier was checked in `new`.
-            let frame = CanFrame::from_parts(self.config.request_id, bytes, len as u8);
+            // The identifier was checked in `new`.
+            let frame = CanFrame::from_parts(self.config.request_id, bytes, len);
             // At most one frame per call: a drained queue always has room.
             self.transmit.push(frame);
         }
@@ -489,20 +501,20 @@ impl<D: AsRef<[u8]>> Client<D> {
         }
     }
 
-    fn on_upload_segment(
-        &mut self,
-        now: Timestamp,
-        (index, sub): (u16, u8),
-        mut rx: Segments,
-        cmd: ServerCommand,
-    ) {
-        let ServerCommand::UploadSegment(segment) = cmd else {
-            return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+    /// An upload segment (scs = 0) while uploading: checked by the segment
+    /// rules, delivered, and the next one requested. The receive cursor is
+    /// updated in place (no copy of the state per segment); the request is
+    /// made as [`Self::send`] of `ClientCommand::UploadSegment` would.
+    fn upload_segment(&mut self, now: Timestamp, segment: &Segment) {
+        let State::Uploading { index, sub, rx } = &mut self.state else {
+            return;
         };
-        let placed = match rx.on_segment(&segment) {
+        let (index, sub) = (*index, *sub);
+        let placed = match rx.on_segment(segment) {
             Ok(placed) => placed,
             Err(code) => return self.abort_object(index, sub, code),
         };
+        let toggle = rx.toggle();
         if !segment.data.is_empty() {
             self.emit(ClientEvent::UploadData {
                 index,
@@ -518,10 +530,7 @@ impl<D: AsRef<[u8]>> Client<D> {
                 len: placed.total,
             });
         }
-        self.send(ClientCommand::UploadSegment {
-            toggle: rx.toggle(),
-        });
-        self.state = State::Uploading { index, sub, rx };
+        self.send_bytes([0x60 | u8::from(toggle) << 4, 0, 0, 0, 0, 0, 0, 0], 8);
         self.arm(now);
     }
 
@@ -544,58 +553,71 @@ impl<D: AsRef<[u8]>> Client<D> {
         if expedited {
             return self.finish(ClientEvent::Downloaded { index, sub, len });
         }
-        self.send_segment(now, index, sub, data, 0, false);
+        self.send_segment(now, index, sub, data);
     }
 
-    fn send_segment(
-        &mut self,
-        now: Timestamp,
-        index: u16,
-        sub: u8,
-        data: D,
-        from: usize,
-        toggle: bool,
-    ) {
-        let bytes = data.as_ref();
-        let chunk = bytes.get(from..).unwrap_or(&[]);
-        let chunk = chunk.get(..chunk.len().min(7)).unwrap_or(&[]);
-        let sent = from + chunk.len();
-        self.send(ClientCommand::DownloadSegment(Segment {
-            toggle,
-            last: sent >= bytes.len(),
-            data: SegmentData::new(chunk).unwrap_or_default(),
-        }));
+    /// The first download segment, after the initiate was confirmed.
+    fn send_segment(&mut self, now: Timestamp, index: u16, sub: u8, data: D) {
+        let (bytes, sent) = segment_frame(data.as_ref(), 0, false);
+        self.send_bytes(bytes, 8);
         self.state = State::Downloading {
             index,
             sub,
             data,
             sent,
-            toggle,
+            toggle: false,
         };
         self.arm(now);
     }
 
-    fn on_download_ack(
-        &mut self,
-        now: Timestamp,
-        (index, sub): (u16, u8),
-        data: D,
-        sent: usize,
-        toggle: bool,
-        cmd: ServerCommand,
-    ) {
-        let ServerCommand::DownloadSegment { toggle: t } = cmd else {
-            return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+    /// A download segment acknowledgement (scs = 1, toggle `t`) while
+    /// downloading: the toggle checked, then the next segment (made as
+    /// [`Self::send`] of `ClientCommand::DownloadSegment` would) or the end.
+    /// The cursor is updated in place (no copy of the state per segment).
+    fn download_ack(&mut self, now: Timestamp, t: bool) {
+        let State::Downloading {
+            index,
+            sub,
+            data,
+            sent,
+            toggle,
+        } = &mut self.state
+        else {
+            return;
         };
-        if let Err(code) = check_toggle(t, toggle) {
+        let (index, sub) = (*index, *sub);
+        if let Err(code) = check_toggle(t, *toggle) {
             return self.abort_object(index, sub, code);
         }
-        let len = data.as_ref().len();
-        if sent >= len {
+        let value = data.as_ref();
+        let len = value.len();
+        if *sent >= len {
             return self.finish(ClientEvent::Downloaded { index, sub, len });
         }
-        self.send_segment(now, index, sub, data, sent, !toggle);
+        *toggle = !*toggle;
+        let (bytes, next) = segment_frame(value, *sent, *toggle);
+        *sent = next;
+        self.send_bytes(bytes, 8);
+        self.arm(now);
     }
+}
+
+/// The download segment frame of `value` from `from` with toggle `toggle`
+/// (as [`SdoRequest::encode`] of `ClientCommand::DownloadSegment` makes
+/// it: DLC 8, unused bytes zero) and the offset after it.
+#[inline]
+fn segment_frame(value: &[u8], from: usize, toggle: bool) -> ([u8; 8], usize) {
+    let rest = value.get(from..).unwrap_or(&[]);
+    let chunk = rest.get(..rest.len().min(7)).unwrap_or(&[]);
+    let n = chunk.len();
+    let sent = from.saturating_add(n);
+    let mut bytes = [0u8; 8];
+    let [b0, data @ ..] = &mut bytes;
+    crate::bytes::copy_short(data, chunk);
+    // n is at most 7: the 3-bit count of unused bytes is 7 - n.
+    let unused = 7u8.saturating_sub(n as u8);
+    *b0 = u8::from(toggle) << 4 | unused << 1 | u8::from(sent >= value.len());
+    (bytes, sent)
 }
 
 impl<D: AsRef<[u8]>> Machine for Client<D> {
@@ -612,7 +634,30 @@ impl<D: AsRef<[u8]>> Machine for Client<D> {
     /// Feeds a received frame. Frames on other identifiers, remote frames
     /// and frames too short for their command are ignored.
     fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        if frame.id() != self.config.response_id || frame.is_remote() || !self.is_busy() {
+        // A data frame on the response identifier: one compare.
+        if frame.word() != self.response_word {
+            return;
+        }
+        // The segment (or acknowledgement) of a running segmented transfer
+        // first, by its own straight path: the same decode, rules and
+        // answer as the general path below gives it.
+        let [b0, ..] = frame.padded_data();
+        match (&self.state, b0 >> 5) {
+            (State::Uploading { .. }, 0) => {
+                if let Ok(len) = SdoResponse::check_upload_segment(frame) {
+                    self.upload_segment(now, &super::wire::segment_of_frame(frame, len));
+                }
+                return;
+            }
+            (State::Downloading { .. }, 1) => {
+                if frame.dlc() != 0 {
+                    self.download_ack(now, b0 & 0x10 != 0);
+                }
+                return;
+            }
+            _ => {}
+        }
+        if !self.is_busy() {
             return;
         }
         if self.block_segment(now, frame.data()) {
@@ -629,8 +674,9 @@ impl<D: AsRef<[u8]>> Machine for Client<D> {
             State::UploadInitiated { index, sub } => {
                 self.on_upload_initiated(now, index, sub, response.command);
             }
-            State::Uploading { index, sub, rx } => {
-                self.on_upload_segment(now, (index, sub), rx, response.command)
+            // The segment itself took the path above.
+            State::Uploading { index, sub, .. } | State::Downloading { index, sub, .. } => {
+                self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
             }
             State::DownloadInitiated {
                 index,
@@ -638,13 +684,6 @@ impl<D: AsRef<[u8]>> Machine for Client<D> {
                 data,
                 expedited,
             } => self.on_download_initiated(now, index, sub, data, expedited, response.command),
-            State::Downloading {
-                index,
-                sub,
-                data,
-                sent,
-                toggle,
-            } => self.on_download_ack(now, (index, sub), data, sent, toggle, response.command),
             state => self.on_block_response(now, state, response.command, frame.data()),
         }
     }

@@ -60,7 +60,7 @@ use core::time::Duration;
 
 use super::abort::AbortCode;
 use super::block::{Receiver, Sender, MAX_BLOCK_SIZE};
-use super::data::{ExpeditedData, InitiatePayload, Segment, SegmentData};
+use super::data::{ExpeditedData, InitiatePayload, Segment};
 use super::segmented::{check_toggle, Segments};
 use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
@@ -245,6 +245,9 @@ pub struct Server<D> {
     config: ServerConfig,
     /// `config.timeout` in microseconds, computed once.
     timeout_us: u64,
+    /// The identifier word of a data frame on `config.request_id`
+    /// (`u32::MAX`, matching no frame, when it is out of range).
+    request_word: u32,
     /// The identifier it sends on is valid (checked once, not per frame).
     sends: bool,
     od: D,
@@ -261,6 +264,7 @@ impl<D: ObjectDictionary> Server<D> {
         Server {
             config,
             timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
+            request_word: crate::frame::data_frame_word(config.request_id),
             sends: crate::frame::check_id(config.response_id).is_ok(),
             od,
             state: State::Idle,
@@ -346,9 +350,17 @@ impl<D: ObjectDictionary> Server<D> {
 
     fn send(&mut self, command: ServerCommand) {
         let (bytes, len) = SdoResponse::new(command).encode();
+        // `len` is at most 8.
+        self.send_bytes(bytes, len as u8);
+    }
+
+    /// Queues a response made by hand (the segment paths): the same frame
+    /// as [`Self::send`] of its command.
+    #[inline]
+    fn send_bytes(&mut self, bytes: [u8; 8], len: u8) {
         if self.sends {
-            // `len` is at most 8 and the identifier was checked in `new`.
-            let frame = CanFrame::from_parts(self.config.response_id, bytes, len as u8);
+            // The identifier was checked in `new`.
+            let frame = CanFrame::from_parts(self.config.response_id, bytes, len);
             // At most one frame per call: a drained queue always has room.
             self.transmit.push(frame);
         }
@@ -499,6 +511,11 @@ impl<D: ObjectDictionary> Server<D> {
         self.arm(now);
     }
 
+    /// An upload segment request (ccs = 3, toggle `toggle`): the next
+    /// segment, read from the dictionary at the transfer's offset. The
+    /// frame is made in place, as [`Self::send`] of
+    /// `ServerCommand::UploadSegment` would make it, and only the offset and
+    /// toggle of the state change (no copy of the state per segment).
     fn upload_segment(&mut self, now: Timestamp, toggle: bool) {
         let State::Uploading {
             index,
@@ -513,9 +530,11 @@ impl<D: ObjectDictionary> Server<D> {
         if let Err(code) = check_toggle(toggle, expected) {
             return self.abort_local(code);
         }
-        let mut buf = [0u8; 7];
+        // Byte 0 the command, bytes 1..=7 the data, the rest zero.
+        let mut bytes = [0u8; 8];
         let want = len.saturating_sub(offset).min(7);
-        let n = match self.read_full(index, sub, offset, buf.get_mut(..want).unwrap_or(&mut [])) {
+        let [_, data @ ..] = &mut bytes;
+        let n = match self.read_full(index, sub, offset, data.get_mut(..want).unwrap_or(&mut [])) {
             Ok(n) => n,
             Err(code) => return self.abort_local(code),
         };
@@ -523,25 +542,26 @@ impl<D: ObjectDictionary> Server<D> {
             // The dictionary ran dry before the size it announced.
             return self.abort_local(AbortCode::GeneralError);
         }
-        let offset = offset + n;
+        let offset = offset.saturating_add(n);
         let last = offset >= len;
-        self.send(ServerCommand::UploadSegment(Segment {
-            toggle,
-            last,
-            data: SegmentData::new(buf.get(..n).unwrap_or(&[])).unwrap_or_default(),
-        }));
+        // n is at most 7: the 3-bit count of unused bytes is 7 - n.
+        let unused = 7u8.saturating_sub(n as u8);
+        let [b0, ..] = &mut bytes;
+        *b0 = u8::from(toggle) << 4 | unused << 1 | u8::from(last);
+        self.send_bytes(bytes, 8);
         if last {
-            self.finish(ServerEvent::Uploaded { index, sub, len });
-        } else {
-            self.state = State::Uploading {
-                index,
-                sub,
-                offset,
-                len,
-                toggle: !toggle,
-            };
-            self.arm(now);
+            return self.finish(ServerEvent::Uploaded { index, sub, len });
         }
+        if let State::Uploading {
+            offset: at,
+            toggle: next,
+            ..
+        } = &mut self.state
+        {
+            *at = offset;
+            *next = !toggle;
+        }
+        self.arm(now);
     }
 
     fn initiate_download(&mut self, now: Timestamp, index: u16, sub: u8, payload: InitiatePayload) {
@@ -602,16 +622,21 @@ impl<D: ObjectDictionary> Server<D> {
         }
     }
 
+    /// A download segment: checked by the segment rules and the object's
+    /// size rule, written, acknowledged. The receive cursor is updated in
+    /// place (no copy of the state per segment); the acknowledgement is
+    /// made as [`Self::send`] of `ServerCommand::DownloadSegment` would.
     fn download_segment(&mut self, now: Timestamp, seg: &Segment) {
         let State::Downloading {
             index,
             sub,
-            mut rx,
+            rx,
             info,
-        } = self.state
+        } = &mut self.state
         else {
             return self.abort_local(AbortCode::InvalidCommandSpecifier);
         };
+        let (index, sub, info) = (*index, *sub, *info);
         let placed = match rx.on_segment(seg) {
             Ok(placed) => placed,
             Err(code) => return self.abort_local(code),
@@ -626,14 +651,9 @@ impl<D: ObjectDictionary> Server<D> {
         {
             return self.abort_local(code);
         }
+        let ack = [0x20 | u8::from(seg.toggle) << 4, 0, 0, 0, 0, 0, 0, 0];
         if !seg.last {
-            self.send(ServerCommand::DownloadSegment { toggle: seg.toggle });
-            self.state = State::Downloading {
-                index,
-                sub,
-                rx,
-                info,
-            };
+            self.send_bytes(ack, 8);
             return self.arm(now);
         }
         if let Err(code) = info
@@ -642,7 +662,7 @@ impl<D: ObjectDictionary> Server<D> {
         {
             return self.abort_local(code);
         }
-        self.send(ServerCommand::DownloadSegment { toggle: seg.toggle });
+        self.send_bytes(ack, 8);
         self.finish(ServerEvent::Downloaded {
             index,
             sub,
@@ -665,8 +685,28 @@ impl<D: ObjectDictionary> Machine for Server<D> {
     /// Feeds a received frame. Frames on other identifiers, remote frames
     /// and frames too short for their command are ignored.
     fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        if frame.id() != self.config.request_id || frame.is_remote() {
+        // A data frame on the request identifier: one compare.
+        if frame.word() != self.request_word {
             return;
+        }
+        // The segment of a running segmented transfer first, by its own
+        // straight path: the same decode, rules and answer as the general
+        // path below gives it.
+        let [b0, ..] = frame.padded_data();
+        match (&self.state, b0 >> 5) {
+            (State::Uploading { .. }, 3) => {
+                if SdoRequest::check_upload_segment(frame).is_ok() {
+                    self.upload_segment(now, b0 & 0x10 != 0);
+                }
+                return;
+            }
+            (State::Downloading { .. }, 0) => {
+                if let Ok(len) = SdoRequest::check_download_segment(frame) {
+                    self.download_segment(now, &super::wire::segment_of_frame(frame, len));
+                }
+                return;
+            }
+            _ => {}
         }
         if self.block_segment(now, frame.data()) {
             return;
