@@ -600,6 +600,41 @@ impl<D: AsRef<[u8]>> Client<D> {
         self.send_bytes(bytes, 8);
         self.arm(now);
     }
+
+    /// Every response but the segment (or acknowledgement) of a running
+    /// segmented transfer (out of line: the per-segment path stays small).
+    #[inline(never)]
+    fn handle_response(&mut self, now: Timestamp, frame: &CanFrame) {
+        if !self.is_busy() {
+            return;
+        }
+        if self.block_segment(now, frame.data()) {
+            return;
+        }
+        let Ok(response) = SdoResponse::decode_frame(frame) else {
+            return;
+        };
+        if let ServerCommand::Abort { code, .. } = response.command {
+            return self.aborted_by_peer(code);
+        }
+        match core::mem::replace(&mut self.state, State::Idle) {
+            State::Idle => {}
+            State::UploadInitiated { index, sub } => {
+                self.on_upload_initiated(now, index, sub, response.command);
+            }
+            // The segment itself took the path above.
+            State::Uploading { index, sub, .. } | State::Downloading { index, sub, .. } => {
+                self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+            }
+            State::DownloadInitiated {
+                index,
+                sub,
+                data,
+                expedited,
+            } => self.on_download_initiated(now, index, sub, data, expedited, response.command),
+            state => self.on_block_response(now, state, response.command, frame.data()),
+        }
+    }
 }
 
 /// The download segment frame of `value` from `from` with toggle `toggle`
@@ -647,44 +682,13 @@ impl<D: AsRef<[u8]>> Machine for Client<D> {
                 if let Ok(len) = SdoResponse::check_upload_segment(frame) {
                     self.upload_segment(now, &super::wire::segment_of_frame(frame, len));
                 }
-                return;
             }
             (State::Downloading { .. }, 1) => {
                 if frame.dlc() != 0 {
                     self.download_ack(now, b0 & 0x10 != 0);
                 }
-                return;
             }
-            _ => {}
-        }
-        if !self.is_busy() {
-            return;
-        }
-        if self.block_segment(now, frame.data()) {
-            return;
-        }
-        let Ok(response) = SdoResponse::decode_frame(frame) else {
-            return;
-        };
-        if let ServerCommand::Abort { code, .. } = response.command {
-            return self.aborted_by_peer(code);
-        }
-        match core::mem::replace(&mut self.state, State::Idle) {
-            State::Idle => {}
-            State::UploadInitiated { index, sub } => {
-                self.on_upload_initiated(now, index, sub, response.command);
-            }
-            // The segment itself took the path above.
-            State::Uploading { index, sub, .. } | State::Downloading { index, sub, .. } => {
-                self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
-            }
-            State::DownloadInitiated {
-                index,
-                sub,
-                data,
-                expedited,
-            } => self.on_download_initiated(now, index, sub, data, expedited, response.command),
-            state => self.on_block_response(now, state, response.command, frame.data()),
+            _ => self.handle_response(now, frame),
         }
     }
 

@@ -439,7 +439,9 @@ impl<D: ObjectDictionary> Server<D> {
             .set(REQUEST_TIMEOUT, Some(now.add_micros(self.timeout_us)));
     }
 
-    /// Reads up to `buf.len()` bytes at `offset`, looping over short reads.
+    /// Reads up to `buf.len()` bytes at `offset`, looping over short reads
+    /// (nothing is read into an empty `buf`).
+    #[inline]
     fn read_full(
         &mut self,
         index: u16,
@@ -447,14 +449,18 @@ impl<D: ObjectDictionary> Server<D> {
         offset: usize,
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let mut got = 0;
-        while let Some(rest) = buf.get_mut(got..) {
-            if rest.is_empty() {
+        if buf.is_empty() {
+            return Ok(0);
+        }
+        let mut got = self.od.read(index, sub, offset, buf)?.min(buf.len());
+        // A short read: ask for the rest until the dictionary has no more.
+        while got < buf.len() {
+            let Some(rest) = buf.get_mut(got..) else {
                 break;
-            }
+            };
             let n = self
                 .od
-                .read(index, sub, offset + got, rest)?
+                .read(index, sub, offset.saturating_add(got), rest)?
                 .min(rest.len());
             if n == 0 {
                 break;
@@ -516,6 +522,7 @@ impl<D: ObjectDictionary> Server<D> {
     /// frame is made in place, as [`Self::send`] of
     /// `ServerCommand::UploadSegment` would make it, and only the offset and
     /// toggle of the state change (no copy of the state per segment).
+    #[inline]
     fn upload_segment(&mut self, now: Timestamp, toggle: bool) {
         let State::Uploading {
             index,
@@ -669,6 +676,40 @@ impl<D: ObjectDictionary> Server<D> {
             len: end,
         });
     }
+
+    /// Every request but the segment of a running segmented transfer
+    /// (out of line: the per-segment path stays small).
+    #[inline(never)]
+    fn handle_request(&mut self, now: Timestamp, frame: &CanFrame) {
+        if self.block_segment(now, frame.data()) {
+            return;
+        }
+        let Ok(request) = SdoRequest::decode_frame(frame) else {
+            return;
+        };
+        match request.command {
+            ClientCommand::InitiateUpload { index, sub } => {
+                self.supersede();
+                self.initiate_upload(now, index, sub);
+            }
+            ClientCommand::InitiateDownload {
+                index,
+                sub,
+                payload,
+            } => {
+                self.supersede();
+                self.initiate_download(now, index, sub, payload);
+            }
+            ClientCommand::UploadSegment { toggle } => self.upload_segment(now, toggle),
+            ClientCommand::DownloadSegment(seg) => self.download_segment(now, &seg),
+            ClientCommand::Abort { code, .. } => self.abort_by_peer(code),
+            ClientCommand::BlockUpload(b) => self.on_block_upload(now, b),
+            ClientCommand::BlockDownload(b) => self.on_block_download(now, b, frame.data()),
+            ClientCommand::Unknown(_) => {
+                self.abort_local(AbortCode::InvalidCommandSpecifier);
+            }
+        }
+    }
 }
 
 impl<D: ObjectDictionary> Machine for Server<D> {
@@ -698,43 +739,13 @@ impl<D: ObjectDictionary> Machine for Server<D> {
                 if SdoRequest::check_upload_segment(frame).is_ok() {
                     self.upload_segment(now, b0 & 0x10 != 0);
                 }
-                return;
             }
             (State::Downloading { .. }, 0) => {
                 if let Ok(len) = SdoRequest::check_download_segment(frame) {
                     self.download_segment(now, &super::wire::segment_of_frame(frame, len));
                 }
-                return;
             }
-            _ => {}
-        }
-        if self.block_segment(now, frame.data()) {
-            return;
-        }
-        let Ok(request) = SdoRequest::decode_frame(frame) else {
-            return;
-        };
-        match request.command {
-            ClientCommand::InitiateUpload { index, sub } => {
-                self.supersede();
-                self.initiate_upload(now, index, sub);
-            }
-            ClientCommand::InitiateDownload {
-                index,
-                sub,
-                payload,
-            } => {
-                self.supersede();
-                self.initiate_download(now, index, sub, payload);
-            }
-            ClientCommand::UploadSegment { toggle } => self.upload_segment(now, toggle),
-            ClientCommand::DownloadSegment(seg) => self.download_segment(now, &seg),
-            ClientCommand::Abort { code, .. } => self.abort_by_peer(code),
-            ClientCommand::BlockUpload(b) => self.on_block_upload(now, b),
-            ClientCommand::BlockDownload(b) => self.on_block_download(now, b, frame.data()),
-            ClientCommand::Unknown(_) => {
-                self.abort_local(AbortCode::InvalidCommandSpecifier);
-            }
+            _ => self.handle_request(now, frame),
         }
     }
 
