@@ -69,7 +69,7 @@ use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
-use crate::queue::EventQueue;
+use crate::queue::{EventQueue, FrameSlot};
 use crate::time::{Timers, Timestamp};
 
 /// How many events the client keeps before dropping the oldest. One input
@@ -273,7 +273,7 @@ pub struct Client<D = &'static [u8]> {
     state: State<D>,
     timers: Timers<1>,
     /// One frame: every call produces at most one (see the module docs).
-    transmit: EventQueue<CanFrame, 1>,
+    transmit: FrameSlot,
     events: EventQueue<ClientEvent, EVENT_CAPACITY>,
 }
 
@@ -287,7 +287,7 @@ impl<D: AsRef<[u8]>> Client<D> {
             sends: crate::frame::check_id(config.request_id).is_ok(),
             state: State::Idle,
             timers: Timers::new(),
-            transmit: EventQueue::new(CanFrame::EMPTY),
+            transmit: FrameSlot::new(),
             events: EventQueue::new(ClientEvent::Uploaded {
                 index: 0,
                 sub: 0,
@@ -643,16 +643,26 @@ impl<D: AsRef<[u8]>> Client<D> {
 #[inline]
 fn segment_frame(value: &[u8], from: usize, toggle: bool) -> ([u8; 8], usize) {
     let rest = value.get(from..).unwrap_or(&[]);
-    let chunk = rest.get(..rest.len().min(7)).unwrap_or(&[]);
-    let n = chunk.len();
+    // A full segment (every one but the last) as one word, built in
+    // registers from two overlapping loads: no byte-wise copy for the
+    // frame to be read back from.
+    let (data, n) = match rest {
+        [a, b, c, d, e, f, g, ..] => {
+            let lo = u32::from_le_bytes([*a, *b, *c, *d]);
+            let hi = u32::from_le_bytes([*d, *e, *f, *g]);
+            (u64::from(lo) | u64::from(hi) << 24, 7)
+        }
+        short => {
+            let mut word = [0u8; 8];
+            crate::bytes::copy_short(&mut word, short);
+            (u64::from_le_bytes(word), short.len())
+        }
+    };
     let sent = from.saturating_add(n);
-    let mut bytes = [0u8; 8];
-    let [b0, data @ ..] = &mut bytes;
-    crate::bytes::copy_short(data, chunk);
     // n is at most 7: the 3-bit count of unused bytes is 7 - n.
     let unused = 7u8.saturating_sub(n as u8);
-    *b0 = u8::from(toggle) << 4 | unused << 1 | u8::from(sent >= value.len());
-    (bytes, sent)
+    let b0 = u8::from(toggle) << 4 | unused << 1 | u8::from(sent >= value.len());
+    ((data << 8 | u64::from(b0)).to_le_bytes(), sent)
 }
 
 impl<D: AsRef<[u8]>> Machine for Client<D> {

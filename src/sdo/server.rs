@@ -67,7 +67,7 @@ use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::od::{ObjectDictionary, ObjectInfo, SizeRule};
-use crate::queue::EventQueue;
+use crate::queue::{EventQueue, FrameSlot};
 use crate::time::{Timers, Timestamp};
 
 /// How many events the server keeps before dropping the oldest. One request
@@ -254,7 +254,7 @@ pub struct Server<D> {
     state: State,
     timers: Timers<1>,
     /// One frame: every call produces at most one (see the module docs).
-    transmit: EventQueue<CanFrame, 1>,
+    transmit: FrameSlot,
     events: EventQueue<ServerEvent, EVENT_CAPACITY>,
 }
 
@@ -269,7 +269,7 @@ impl<D: ObjectDictionary> Server<D> {
             od,
             state: State::Idle,
             timers: Timers::new(),
-            transmit: EventQueue::new(CanFrame::EMPTY),
+            transmit: FrameSlot::new(),
             events: EventQueue::new(ServerEvent::Uploaded {
                 index: 0,
                 sub: 0,
@@ -537,10 +537,8 @@ impl<D: ObjectDictionary> Server<D> {
         if let Err(code) = check_toggle(toggle, expected) {
             return self.abort_local(code);
         }
-        // Byte 0 the command, bytes 1..=7 the data, the rest zero.
-        let mut bytes = [0u8; 8];
+        let mut data = [0u8; 7];
         let want = len.saturating_sub(offset).min(7);
-        let [_, data @ ..] = &mut bytes;
         let n = match self.read_full(index, sub, offset, data.get_mut(..want).unwrap_or(&mut [])) {
             Ok(n) => n,
             Err(code) => return self.abort_local(code),
@@ -553,9 +551,15 @@ impl<D: ObjectDictionary> Server<D> {
         let last = offset >= len;
         // n is at most 7: the 3-bit count of unused bytes is 7 - n.
         let unused = 7u8.saturating_sub(n as u8);
-        let [b0, ..] = &mut bytes;
-        *b0 = u8::from(toggle) << 4 | unused << 1 | u8::from(last);
-        self.send_bytes(bytes, 8);
+        let b0 = u8::from(toggle) << 4 | unused << 1 | u8::from(last);
+        // Byte 0 the command, bytes 1..=7 the data (zero past n): one word
+        // from two overlapping loads of the 7 bytes, which read back what
+        // a 7-byte copy stored without a stall on a wider load.
+        let [a, b, c, d, e, f, g] = data;
+        let lo = u32::from_le_bytes([a, b, c, d]);
+        let hi = u32::from_le_bytes([d, e, f, g]);
+        let word = (u64::from(lo) | u64::from(hi) << 24) << 8 | u64::from(b0);
+        self.send_bytes(word.to_le_bytes(), 8);
         if last {
             return self.finish(ServerEvent::Uploaded { index, sub, len });
         }
