@@ -464,12 +464,13 @@ impl PdoMapping {
         // `extract_bits(payload, offset, bits)`, without recomputing the
         // offset). The walk also gives the length needed: `byte_len()`
         // without a second pass over the entries.
-        let mut word = [0u8; 8];
-        copy_short(&mut word, payload);
-        let mut rest = u64::from_le_bytes(word);
+        let mut rest = le_word(payload);
         let mut raws = [0u64; MAX_ENTRIES];
         let mut at = 0u32;
-        for (raw, e) in raws.iter_mut().zip(self.entries()) {
+        // All eight slots, not just the mapped ones: a mapping's slots past
+        // its count are empty (0 bits: a zero field, nothing shifted, no
+        // length), so the walk is straight-line code with no bound to test.
+        for (raw, e) in raws.iter_mut().zip(self.slots()) {
             *raw = rest & low_mask(e.bits);
             rest = rest.checked_shr(u32::from(e.bits)).unwrap_or(0);
             at += u32::from(e.bits);
@@ -486,6 +487,31 @@ impl PdoMapping {
             raws,
             longer: payload.len() > need,
         })
+    }
+}
+
+/// The first 8 bytes of `payload` as a little-endian word, zero past its
+/// end, without a byte-wise copy: 4..=8 bytes (every PDO worth unpacking)
+/// are two overlapping loads.
+#[inline]
+fn le_word(payload: &[u8]) -> u64 {
+    match *payload {
+        [a, b, c, d, e, f, g, h, ..] => u64::from_le_bytes([a, b, c, d, e, f, g, h]),
+        [a, b, c, d, ..] => {
+            let n = payload.len();
+            let lo = u32::from_le_bytes([a, b, c, d]);
+            let hi = match payload.get(n.saturating_sub(4)..) {
+                Some(&[e, f, g, h]) => u32::from_le_bytes([e, f, g, h]),
+                _ => 0,
+            };
+            // Bytes n-4..n at their place; the overlap repeats bytes of `lo`.
+            u64::from(lo) | u64::from(hi) << (8 * (n - 4))
+        }
+        _ => {
+            let mut word = [0u8; 8];
+            copy_short(&mut word, payload);
+            u64::from_le_bytes(word)
+        }
     }
 }
 
