@@ -5,6 +5,9 @@
 //! sends about half the frames: no request per segment).
 //!
 //! cargo bench --bench sdo
+//!
+//! The 1000-byte pair is `common/sdo_pair.rs`, shared with the `sdo_count`
+//! harness that callgrind counts instructions per segment with.
 
 use std::hint::black_box;
 use std::time::Duration;
