@@ -464,17 +464,18 @@ impl PdoMapping {
         // `extract_bits(payload, offset, bits)`, without recomputing the
         // offset). The walk also gives the length needed: `byte_len()`
         // without a second pass over the entries.
-        let mut rest = le_word(payload);
+        //
+        // The walk is straight-line code over a fixed number of slots, four
+        // (most PDOs map at most four objects) or all eight: a mapping's
+        // slots past its count are empty (0 bits: a zero field, nothing
+        // shifted, no length), so walking them changes nothing.
+        let word = le_word(payload);
         let mut raws = [0u64; MAX_ENTRIES];
-        let mut at = 0u32;
-        // All eight slots, not just the mapped ones: a mapping's slots past
-        // its count are empty (0 bits: a zero field, nothing shifted, no
-        // length), so the walk is straight-line code with no bound to test.
-        for (raw, e) in raws.iter_mut().zip(self.slots()) {
-            *raw = rest & low_mask(e.bits);
-            rest = rest.checked_shr(u32::from(e.bits)).unwrap_or(0);
-            at += u32::from(e.bits);
-        }
+        let at = if self.len() <= 4 {
+            walk(word, raws.iter_mut().take(4), self.slots())
+        } else {
+            walk(word, raws.iter_mut(), self.slots())
+        };
         let need = at.div_ceil(8) as usize;
         if payload.len() < need {
             return Err(UnpackError::TooShort {
@@ -488,6 +489,24 @@ impl PdoMapping {
             longer: payload.len() > need,
         })
     }
+}
+
+/// Splits `word` into the fields of `slots`, one per slot of `raws` (as
+/// many as `raws` yields), from bit 0 up; returns the bits taken.
+#[inline(always)]
+fn walk<'r>(
+    word: u64,
+    raws: impl Iterator<Item = &'r mut u64>,
+    slots: &[MappingEntry; MAX_ENTRIES],
+) -> u32 {
+    let mut rest = word;
+    let mut at = 0u32;
+    for (raw, e) in raws.zip(slots) {
+        *raw = rest & low_mask(e.bits);
+        rest = rest.checked_shr(u32::from(e.bits)).unwrap_or(0);
+        at += u32::from(e.bits);
+    }
+    at
 }
 
 /// The first 8 bytes of `payload` as a little-endian word, zero past its
