@@ -5,6 +5,9 @@
 //! sends about half the frames: no request per segment).
 //!
 //! cargo bench --bench sdo
+//!
+//! The 1000-byte pair is `common/sdo_pair.rs`, shared with the `sdo_count`
+//! harness that callgrind counts instructions per segment with.
 
 use std::hint::black_box;
 use std::time::Duration;
@@ -15,83 +18,10 @@ use canopen_codec::sdo::{AbortCode, Client, ClientConfig, ClientEvent, Server, S
 use canopen_codec::{NodeId, Timestamp};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
-const LEN: usize = 1000;
-const SEGMENTS: u64 = LEN.div_ceil(7) as u64;
+#[path = "common/sdo_pair.rs"]
+mod sdo_pair;
 
-/// One 1000-byte domain at 2000h:00 in a fixed buffer.
-struct FixedOd {
-    value: [u8; LEN],
-    len: usize,
-}
-
-impl ObjectDictionary for FixedOd {
-    fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-        if (index, sub) != (0x2000, 0) {
-            return Err(AbortCode::ObjectDoesNotExist);
-        }
-        Ok(ObjectInfo {
-            access: Access::ReadWrite,
-            len: self.len,
-            size: SizeRule::Variable { max: LEN },
-            pdo_mappable: false,
-        })
-    }
-    fn read(&mut self, _: u16, _: u8, offset: usize, buf: &mut [u8]) -> Result<usize, AbortCode> {
-        let src = self.value.get(offset..self.len).unwrap_or(&[]);
-        let n = src.len().min(buf.len());
-        buf[..n].copy_from_slice(&src[..n]);
-        Ok(n)
-    }
-    fn write(&mut self, _: u16, _: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
-        let dst = self
-            .value
-            .get_mut(offset..offset + data.len())
-            .ok_or(AbortCode::DataTypeLengthTooHigh)?;
-        dst.copy_from_slice(data);
-        Ok(())
-    }
-    fn finish_write(&mut self, _: u16, _: u8, len: usize) -> Result<(), AbortCode> {
-        self.len = len;
-        Ok(())
-    }
-}
-
-type Pair = (Client<&'static [u8]>, Server<FixedOd>);
-
-fn pair() -> Pair {
-    let node = NodeId::new(1).unwrap();
-    (
-        Client::new(ClientConfig::for_server(node)),
-        Server::new(
-            ServerConfig::for_node(node),
-            FixedOd {
-                value: [0x5A; LEN],
-                len: LEN,
-            },
-        ),
-    )
-}
-
-/// Runs the started transfer to its end; returns the bytes uploaded.
-fn run((client, server): &mut Pair) -> usize {
-    let now = Timestamp::ZERO;
-    let mut got = 0;
-    while let Some(req) = client.poll_transmit() {
-        server.handle_frame(now, &req);
-        while server.poll_event().is_some() {}
-        if let Some(resp) = server.poll_transmit() {
-            client.handle_frame(now, &resp);
-        }
-        while let Some(e) = client.poll_event() {
-            if let ClientEvent::UploadData { data, .. } = e {
-                got += black_box(data.as_slice()).len();
-            }
-        }
-    }
-    got
-}
-
-static DATA: [u8; LEN] = [0xA5; LEN];
+use sdo_pair::{download, pair, upload, LEN, SEGMENTS};
 
 const BIG: usize = 64 * 1024;
 static BIG_DATA: [u8; BIG] = [0xA5; BIG];
@@ -235,18 +165,11 @@ fn bench(c: &mut Criterion) {
     g.throughput(Throughput::Elements(SEGMENTS));
     g.bench_function("upload", |b| {
         let mut p = pair();
-        b.iter(|| {
-            p.0.start_upload(Timestamp::ZERO, 0x2000, 0).unwrap();
-            assert_eq!(run(&mut p), LEN);
-        })
+        b.iter(|| upload(&mut p))
     });
     g.bench_function("download", |b| {
         let mut p = pair();
-        b.iter(|| {
-            p.0.start_download(Timestamp::ZERO, 0x2000, 0, &DATA[..])
-                .unwrap();
-            run(&mut p);
-        })
+        b.iter(|| download(&mut p))
     });
     g.finish();
 }

@@ -107,12 +107,52 @@ pub enum FrameError {
 /// It is 16 bytes: the identifier, its format and the remote flag share one
 /// `u32` (an 11-bit data frame is exactly the values `0..=0x7FF`, one
 /// compare on the decode path), then the length and the 8 inline bytes.
+/// The length is one of nine values, so `Option<CanFrame>` is 16 bytes
+/// too (returned in registers by `poll_transmit`).
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
 pub struct CanFrame {
     /// Identifier bits 0..=28, [`EXTENDED_FLAG`], [`REMOTE_FLAG`].
     word: u32,
-    len: u8,
+    len: Dlc,
     data: [u8; MAX_DATA_LEN],
+}
+
+/// A data length code 0..=8 (for a remote frame the length requested).
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u8)]
+enum Dlc {
+    D0 = 0,
+    D1 = 1,
+    D2 = 2,
+    D3 = 3,
+    D4 = 4,
+    D5 = 5,
+    D6 = 6,
+    D7 = 7,
+    D8 = 8,
+}
+
+impl Dlc {
+    /// `len`, or 8 for anything longer.
+    #[inline]
+    const fn clamped(len: usize) -> Dlc {
+        match len {
+            0 => Dlc::D0,
+            1 => Dlc::D1,
+            2 => Dlc::D2,
+            3 => Dlc::D3,
+            4 => Dlc::D4,
+            5 => Dlc::D5,
+            6 => Dlc::D6,
+            7 => Dlc::D7,
+            _ => Dlc::D8,
+        }
+    }
+
+    #[inline]
+    const fn get(self) -> u8 {
+        self as u8
+    }
 }
 
 /// Set in [`CanFrame::word`] for a 29-bit identifier.
@@ -129,11 +169,42 @@ const fn id_word(id: CanId) -> u32 {
     }
 }
 
+/// The identifier word every data frame on `id` has (see
+/// [`CanFrame::word`]), or `u32::MAX`, which no frame has, for an
+/// identifier out of range: the state machines' one-compare entry test.
+#[inline]
+pub(crate) const fn data_frame_word(id: CanId) -> u32 {
+    match id {
+        CanId::Standard(raw) if raw <= MAX_STANDARD_ID => raw as u32,
+        CanId::Extended(raw) if raw <= MAX_EXTENDED_ID => raw | EXTENDED_FLAG,
+        _ => u32::MAX,
+    }
+}
+
 impl CanFrame {
+    /// The identifier word: bits 0..=28, the extended and the remote flag.
+    /// Equal to [`data_frame_word`] of an identifier exactly when the frame
+    /// is a data frame on that identifier.
+    #[inline]
+    pub(crate) const fn word(&self) -> u32 {
+        self.word
+    }
+
+    /// A copy made field by field (see `queue::FrameSlot` for why).
+    #[inline(always)]
+    pub(crate) const fn copy_fields(&self) -> CanFrame {
+        let [a, b, c, d, e, f, g, h] = self.data;
+        CanFrame {
+            word: self.word,
+            len: self.len,
+            data: u64::from_le_bytes([a, b, c, d, e, f, g, h]).to_le_bytes(),
+        }
+    }
+
     /// An empty data frame on identifier 0 (a placeholder value).
     pub const EMPTY: CanFrame = CanFrame {
         word: 0,
-        len: 0,
+        len: Dlc::D0,
         data: [0; MAX_DATA_LEN],
     };
 
@@ -148,7 +219,7 @@ impl CanFrame {
         crate::bytes::copy_short(&mut buf, data);
         Ok(CanFrame {
             word: id_word(id),
-            len: data.len() as u8,
+            len: Dlc::clamped(data.len()),
             data: buf,
         })
     }
@@ -166,10 +237,10 @@ impl CanFrame {
     /// valid `len`; used on hot encode paths.
     #[inline]
     pub(crate) const fn from_parts(id: CanId, data: [u8; 8], len: u8) -> Self {
-        let len = if len as usize > MAX_DATA_LEN { 8 } else { len };
+        let len = Dlc::clamped(len as usize);
         // Zero the tail so equality is on the meaningful bytes only.
         let mut data = data;
-        let mut i = len as usize;
+        let mut i = len.get() as usize;
         while i < MAX_DATA_LEN {
             data[i] = 0;
             i += 1;
@@ -191,7 +262,7 @@ impl CanFrame {
         }
         Ok(CanFrame {
             word: id_word(id) | REMOTE_FLAG,
-            len: dlc,
+            len: Dlc::clamped(dlc as usize),
             data: [0; MAX_DATA_LEN],
         })
     }
@@ -231,7 +302,7 @@ impl CanFrame {
     #[must_use]
     #[inline]
     pub const fn dlc(&self) -> u8 {
-        self.len
+        self.len.get()
     }
 
     /// The data bytes (empty for a remote frame).
@@ -241,7 +312,7 @@ impl CanFrame {
         if self.is_remote() {
             &[]
         } else {
-            self.data.get(..usize::from(self.len)).unwrap_or(&[])
+            self.data.get(..usize::from(self.len.get())).unwrap_or(&[])
         }
     }
 
@@ -279,8 +350,8 @@ impl fmt::Display for CanFrame {
         write!(f, "{}#", self.id())?;
         if self.is_remote() {
             f.write_str("R")?;
-            if self.len > 0 {
-                write!(f, "{}", self.len)?;
+            if self.len.get() > 0 {
+                write!(f, "{}", self.len.get())?;
             }
             return Ok(());
         }
@@ -484,6 +555,38 @@ mod tests {
             CanFrame::standard(0x7FF, &[]).unwrap(),
             CanFrame::new(CanId::Extended(0x7FF), &[]).unwrap()
         );
+    }
+
+    #[test]
+    fn data_frame_word_matches_data_frames_only() {
+        let std = CanFrame::standard(0x601, &[0x40]).unwrap();
+        let ext = CanFrame::new(CanId::Extended(0x601), &[0x40]).unwrap();
+        let rtr = CanFrame::remote(CanId::Standard(0x601), 0).unwrap();
+        let w = data_frame_word(CanId::Standard(0x601));
+        assert_eq!(
+            (std.word() == w, ext.word() == w, rtr.word() == w),
+            (true, false, false)
+        );
+        assert_eq!(ext.word(), data_frame_word(CanId::Extended(0x601)));
+        // Out of range: a word no frame has.
+        assert_eq!(data_frame_word(CanId::Standard(0x800)), u32::MAX);
+        assert_eq!(data_frame_word(CanId::Extended(1 << 29)), u32::MAX);
+        let top = CanFrame::remote(CanId::Extended(MAX_EXTENDED_ID), 8).unwrap();
+        assert_ne!(top.word(), u32::MAX);
+    }
+
+    #[test]
+    fn sixteen_bytes_with_or_without_option() {
+        assert_eq!(core::mem::size_of::<CanFrame>(), 16);
+        assert_eq!(core::mem::size_of::<Option<CanFrame>>(), 16);
+        let f = CanFrame::from_parts(CanId::Standard(1), [9; 8], 200);
+        assert_eq!((f.dlc(), f.copy_fields()), (8, f));
+        for len in 0..=8u8 {
+            assert_eq!(
+                CanFrame::from_parts(CanId::Standard(1), [9; 8], len).dlc(),
+                len
+            );
+        }
     }
 
     #[test]

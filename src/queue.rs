@@ -1,6 +1,9 @@
 //! Fixed-capacity FIFOs for the state machines' outputs (no allocation):
 //! [`Queue`] refuses when full (frames), [`EventQueue`] drops the oldest and
-//! counts (events: the back-pressure rule of [`crate::machine`]).
+//! counts (events: the back-pressure rule of [`crate::machine`]);
+//! [`FrameSlot`] holds the one frame of a machine that makes one per call.
+
+use crate::frame::CanFrame;
 
 /// Up to `N` items, first in first out; `push` fails when full. Slots hold a
 /// filler value when empty, so push and pop are plain copies (no `Option`
@@ -118,6 +121,59 @@ fn claim_evicting(head: &mut usize, len: &mut usize, cap: usize, dropped: &mut u
     slot
 }
 
+/// The transmit queue of a machine that makes at most one frame per call
+/// (the SDO client and server): one frame; pushing onto a full slot drops
+/// the older frame and counts it, as [`EventQueue`] does.
+///
+/// The frame is stored and taken out field by field: a frame made in
+/// registers is written with several narrow stores, and copying it out as
+/// one 16-byte block would read them back with one wide load, which the
+/// processor cannot forward from the pending stores (a stall on every
+/// frame of a transfer).
+#[derive(Debug, Clone)]
+pub(crate) struct FrameSlot {
+    frame: CanFrame,
+    full: bool,
+    dropped: u64,
+}
+
+impl FrameSlot {
+    /// An empty slot.
+    pub(crate) const fn new() -> Self {
+        FrameSlot {
+            frame: CanFrame::EMPTY,
+            full: false,
+            dropped: 0,
+        }
+    }
+
+    /// Queues `frame`; an unsent older frame is dropped and counted.
+    #[inline]
+    pub(crate) fn push(&mut self, frame: CanFrame) {
+        if self.full {
+            self.dropped = self.dropped.saturating_add(1);
+        }
+        self.frame = frame;
+        self.full = true;
+    }
+
+    /// The queued frame.
+    #[inline]
+    pub(crate) fn pop(&mut self) -> Option<CanFrame> {
+        if !self.full {
+            return None;
+        }
+        self.full = false;
+        Some(self.frame.copy_fields())
+    }
+
+    /// Frames dropped so far.
+    #[inline]
+    pub(crate) const fn dropped(&self) -> u64 {
+        self.dropped
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -165,5 +221,18 @@ mod tests {
         q.push(1);
         q.push(2);
         assert_eq!((q.pop(), q.dropped()), (None, 2));
+    }
+
+    #[test]
+    fn frame_slot_keeps_the_newest_and_counts() {
+        let a = CanFrame::standard(0x601, &[0x40, 0x00, 0x20]).unwrap();
+        let b = CanFrame::standard(0x601, &[0x60]).unwrap();
+        let mut q = FrameSlot::new();
+        assert_eq!(q.pop(), None);
+        q.push(a);
+        assert_eq!((q.pop(), q.pop(), q.dropped()), (Some(a), None, 0));
+        q.push(a);
+        q.push(b);
+        assert_eq!((q.pop(), q.pop(), q.dropped()), (Some(b), None, 1));
     }
 }

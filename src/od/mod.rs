@@ -123,9 +123,8 @@ impl ObjectInfo {
 pub fn read_at(value: &[u8], offset: usize, buf: &mut [u8]) -> usize {
     let src = value.get(offset..).unwrap_or(&[]);
     let n = src.len().min(buf.len());
-    if let (Some(d), Some(s)) = (buf.get_mut(..n), src.get(..n)) {
-        d.copy_from_slice(s);
-    }
+    // SDO reads are 1..=7 bytes: a fixed-length copy, not a memcpy call.
+    crate::bytes::copy_short(buf, src);
     n
 }
 

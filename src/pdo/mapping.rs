@@ -293,6 +293,13 @@ impl PdoMapping {
         self.entries.get(..usize::from(self.count)).unwrap_or(&[])
     }
 
+    /// All eight entry slots: the entries, then empty ones (0 bits), which
+    /// every constructor leaves past the count.
+    #[inline]
+    pub(crate) const fn slots(&self) -> &[MappingEntry; MAX_ENTRIES] {
+        &self.entries
+    }
+
     /// Number of entries (sub-index 0).
     #[must_use]
     pub const fn len(&self) -> usize {

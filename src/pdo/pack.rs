@@ -464,16 +464,18 @@ impl PdoMapping {
         // `extract_bits(payload, offset, bits)`, without recomputing the
         // offset). The walk also gives the length needed: `byte_len()`
         // without a second pass over the entries.
-        let mut word = [0u8; 8];
-        copy_short(&mut word, payload);
-        let mut rest = u64::from_le_bytes(word);
+        //
+        // The walk is straight-line code over a fixed number of slots, four
+        // (most PDOs map at most four objects) or all eight: a mapping's
+        // slots past its count are empty (0 bits: a zero field, nothing
+        // shifted, no length), so walking them changes nothing.
+        let word = le_word(payload);
         let mut raws = [0u64; MAX_ENTRIES];
-        let mut at = 0u32;
-        for (raw, e) in raws.iter_mut().zip(self.entries()) {
-            *raw = rest & low_mask(e.bits);
-            rest = rest.checked_shr(u32::from(e.bits)).unwrap_or(0);
-            at += u32::from(e.bits);
-        }
+        let at = if self.len() <= 4 {
+            walk(word, raws.iter_mut().take(4), self.slots())
+        } else {
+            walk(word, raws.iter_mut(), self.slots())
+        };
         let need = at.div_ceil(8) as usize;
         if payload.len() < need {
             return Err(UnpackError::TooShort {
@@ -486,6 +488,49 @@ impl PdoMapping {
             raws,
             longer: payload.len() > need,
         })
+    }
+}
+
+/// Splits `word` into the fields of `slots`, one per slot of `raws` (as
+/// many as `raws` yields), from bit 0 up; returns the bits taken.
+#[inline(always)]
+fn walk<'r>(
+    word: u64,
+    raws: impl Iterator<Item = &'r mut u64>,
+    slots: &[MappingEntry; MAX_ENTRIES],
+) -> u32 {
+    let mut rest = word;
+    let mut at = 0u32;
+    for (raw, e) in raws.zip(slots) {
+        *raw = rest & low_mask(e.bits);
+        rest = rest.checked_shr(u32::from(e.bits)).unwrap_or(0);
+        at += u32::from(e.bits);
+    }
+    at
+}
+
+/// The first 8 bytes of `payload` as a little-endian word, zero past its
+/// end, without a byte-wise copy: 4..=8 bytes (every PDO worth unpacking)
+/// are two overlapping loads.
+#[inline]
+fn le_word(payload: &[u8]) -> u64 {
+    match *payload {
+        [a, b, c, d, e, f, g, h, ..] => u64::from_le_bytes([a, b, c, d, e, f, g, h]),
+        [a, b, c, d, ..] => {
+            let n = payload.len();
+            let lo = u32::from_le_bytes([a, b, c, d]);
+            let hi = match payload.get(n.saturating_sub(4)..) {
+                Some(&[e, f, g, h]) => u32::from_le_bytes([e, f, g, h]),
+                _ => 0,
+            };
+            // Bytes n-4..n at their place; the overlap repeats bytes of `lo`.
+            u64::from(lo) | u64::from(hi) << (8 * (n - 4))
+        }
+        _ => {
+            let mut word = [0u8; 8];
+            copy_short(&mut word, payload);
+            u64::from_le_bytes(word)
+        }
     }
 }
 

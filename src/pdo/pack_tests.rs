@@ -385,3 +385,36 @@ fn agrees_with_mapping_helpers() {
         }
     }
 }
+
+#[test]
+fn le_word_of_every_length_is_the_zero_padded_word() {
+    let bytes = [0x11u8, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77, 0x88, 0x99];
+    for n in 0..=bytes.len() {
+        let mut padded = [0u8; 8];
+        for (d, s) in padded.iter_mut().zip(&bytes[..n]) {
+            *d = *s;
+        }
+        assert_eq!(
+            super::le_word(&bytes[..n]),
+            u64::from_le_bytes(padded),
+            "{n} bytes"
+        );
+    }
+}
+
+#[test]
+fn slots_past_the_count_are_empty() {
+    for count in 0..=8 {
+        let m = mapping(&[8, 8, 8, 8, 8, 8, 8, 8][..count]);
+        assert!(
+            m.slots()[count..].iter().all(|e| e.bits == 0),
+            "{count} entries"
+        );
+        let mut raw = [0u32; MAX_ENTRIES];
+        for (r, e) in raw.iter_mut().zip(m.entries()) {
+            *r = e.to_u32();
+        }
+        let back = PdoMapping::from_u32s(&raw[..count]).unwrap();
+        assert!(back.slots()[count..].iter().all(|e| e.bits == 0));
+    }
+}

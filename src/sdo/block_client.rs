@@ -106,6 +106,7 @@ impl<D: AsRef<[u8]>> Client<D> {
 
     /// The next segment of the running block download's sub-block, if one
     /// is due (see the module docs: one segment per poll).
+    #[inline(never)]
     pub(super) fn next_block_segment(&mut self) -> Option<CanFrame> {
         let State::BlockDownloading { data, tx, .. } = &mut self.state else {
             return None;

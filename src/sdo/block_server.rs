@@ -68,6 +68,7 @@ impl<D: ObjectDictionary> Server<D> {
     /// The next segment of the running block upload's sub-block, read from
     /// the dictionary at its offset; a failed or short read ends the
     /// transfer with the dictionary's code (short: 08000000h) instead.
+    #[inline(never)]
     pub(super) fn next_block_segment(&mut self) -> Option<CanFrame> {
         let State::BlockUploading { index, sub, tx } = &self.state else {
             return None;

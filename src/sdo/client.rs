@@ -69,7 +69,7 @@ use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
-use crate::queue::EventQueue;
+use crate::queue::{EventQueue, FrameSlot};
 use crate::time::{Timers, Timestamp};
 
 /// How many events the client keeps before dropping the oldest. One input
@@ -265,12 +265,15 @@ pub struct Client<D = &'static [u8]> {
     config: ClientConfig,
     /// `config.timeout` in microseconds, computed once.
     timeout_us: u64,
+    /// The identifier word of a data frame on `config.response_id`
+    /// (`u32::MAX`, matching no frame, when it is out of range).
+    response_word: u32,
     /// The identifier it sends on is valid (checked once, not per frame).
     sends: bool,
     state: State<D>,
     timers: Timers<1>,
     /// One frame: every call produces at most one (see the module docs).
-    transmit: EventQueue<CanFrame, 1>,
+    transmit: FrameSlot,
     events: EventQueue<ClientEvent, EVENT_CAPACITY>,
 }
 
@@ -280,10 +283,11 @@ impl<D: AsRef<[u8]>> Client<D> {
         Client {
             config,
             timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
+            response_word: crate::frame::data_frame_word(config.response_id),
             sends: crate::frame::check_id(config.request_id).is_ok(),
             state: State::Idle,
             timers: Timers::new(),
-            transmit: EventQueue::new(CanFrame::EMPTY),
+            transmit: FrameSlot::new(),
             events: EventQueue::new(ClientEvent::Uploaded {
                 index: 0,
                 sub: 0,
@@ -397,9 +401,17 @@ impl<D: AsRef<[u8]>> Client<D> {
 
     fn send(&mut self, command: ClientCommand) {
         let (bytes, len) = SdoRequest::new(command).encode();
+        // `len` is at most 8.
+        self.send_bytes(bytes, len as u8);
+    }
+
+    /// Queues a request made by hand (the segment paths): the same frame
+    /// as [`Self::send`] of its command.
+    #[inline]
+    fn send_bytes(&mut self, bytes: [u8; 8], len: u8) {
         if self.sends {
-            // `len` is at most 8 and the identifier was checked in `new`.
-            let frame = CanFrame::from_parts(self.config.request_id, bytes, len as u8);
+            // The identifier was checked in `new`.
+            let frame = CanFrame::from_parts(self.config.request_id, bytes, len);
             // At most one frame per call: a drained queue always has room.
             self.transmit.push(frame);
         }
@@ -489,20 +501,20 @@ impl<D: AsRef<[u8]>> Client<D> {
         }
     }
 
-    fn on_upload_segment(
-        &mut self,
-        now: Timestamp,
-        (index, sub): (u16, u8),
-        mut rx: Segments,
-        cmd: ServerCommand,
-    ) {
-        let ServerCommand::UploadSegment(segment) = cmd else {
-            return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+    /// An upload segment (scs = 0) while uploading: checked by the segment
+    /// rules, delivered, and the next one requested. The receive cursor is
+    /// updated in place (no copy of the state per segment); the request is
+    /// made as [`Self::send`] of `ClientCommand::UploadSegment` would.
+    fn upload_segment(&mut self, now: Timestamp, segment: &Segment) {
+        let State::Uploading { index, sub, rx } = &mut self.state else {
+            return;
         };
-        let placed = match rx.on_segment(&segment) {
+        let (index, sub) = (*index, *sub);
+        let placed = match rx.on_segment(segment) {
             Ok(placed) => placed,
             Err(code) => return self.abort_object(index, sub, code),
         };
+        let toggle = rx.toggle();
         if !segment.data.is_empty() {
             self.emit(ClientEvent::UploadData {
                 index,
@@ -518,10 +530,7 @@ impl<D: AsRef<[u8]>> Client<D> {
                 len: placed.total,
             });
         }
-        self.send(ClientCommand::UploadSegment {
-            toggle: rx.toggle(),
-        });
-        self.state = State::Uploading { index, sub, rx };
+        self.send_bytes([0x60 | u8::from(toggle) << 4, 0, 0, 0, 0, 0, 0, 0], 8);
         self.arm(now);
     }
 
@@ -544,75 +553,59 @@ impl<D: AsRef<[u8]>> Client<D> {
         if expedited {
             return self.finish(ClientEvent::Downloaded { index, sub, len });
         }
-        self.send_segment(now, index, sub, data, 0, false);
+        self.send_segment(now, index, sub, data);
     }
 
-    fn send_segment(
-        &mut self,
-        now: Timestamp,
-        index: u16,
-        sub: u8,
-        data: D,
-        from: usize,
-        toggle: bool,
-    ) {
-        let bytes = data.as_ref();
-        let chunk = bytes.get(from..).unwrap_or(&[]);
-        let chunk = chunk.get(..chunk.len().min(7)).unwrap_or(&[]);
-        let sent = from + chunk.len();
-        self.send(ClientCommand::DownloadSegment(Segment {
-            toggle,
-            last: sent >= bytes.len(),
-            data: SegmentData::new(chunk).unwrap_or_default(),
-        }));
+    /// The first download segment, after the initiate was confirmed.
+    fn send_segment(&mut self, now: Timestamp, index: u16, sub: u8, data: D) {
+        let (bytes, sent) = segment_frame(data.as_ref(), 0, false);
+        self.send_bytes(bytes, 8);
         self.state = State::Downloading {
             index,
             sub,
             data,
             sent,
-            toggle,
+            toggle: false,
         };
         self.arm(now);
     }
 
-    fn on_download_ack(
-        &mut self,
-        now: Timestamp,
-        (index, sub): (u16, u8),
-        data: D,
-        sent: usize,
-        toggle: bool,
-        cmd: ServerCommand,
-    ) {
-        let ServerCommand::DownloadSegment { toggle: t } = cmd else {
-            return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+    /// A download segment acknowledgement (scs = 1, toggle `t`) while
+    /// downloading: the toggle checked, then the next segment (made as
+    /// [`Self::send`] of `ClientCommand::DownloadSegment` would) or the end.
+    /// The cursor is updated in place (no copy of the state per segment).
+    fn download_ack(&mut self, now: Timestamp, t: bool) {
+        let State::Downloading {
+            index,
+            sub,
+            data,
+            sent,
+            toggle,
+        } = &mut self.state
+        else {
+            return;
         };
-        if let Err(code) = check_toggle(t, toggle) {
+        let (index, sub) = (*index, *sub);
+        if let Err(code) = check_toggle(t, *toggle) {
             return self.abort_object(index, sub, code);
         }
-        let len = data.as_ref().len();
-        if sent >= len {
+        let value = data.as_ref();
+        let len = value.len();
+        if *sent >= len {
             return self.finish(ClientEvent::Downloaded { index, sub, len });
         }
-        self.send_segment(now, index, sub, data, sent, !toggle);
-    }
-}
-
-impl<D: AsRef<[u8]>> Machine for Client<D> {
-    type Event = ClientEvent;
-
-    /// Tells the client time has passed; expires a stalled transfer with
-    /// abort 05040000h.
-    fn handle_timeout(&mut self, now: Timestamp) {
-        if self.timers.expire(RESPONSE_TIMEOUT, now) {
-            self.abort_local(AbortCode::SdoProtocolTimedOut);
-        }
+        *toggle = !*toggle;
+        let (bytes, next) = segment_frame(value, *sent, *toggle);
+        *sent = next;
+        self.send_bytes(bytes, 8);
+        self.arm(now);
     }
 
-    /// Feeds a received frame. Frames on other identifiers, remote frames
-    /// and frames too short for their command are ignored.
-    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        if frame.id() != self.config.response_id || frame.is_remote() || !self.is_busy() {
+    /// Every response but the segment (or acknowledgement) of a running
+    /// segmented transfer (out of line: the per-segment path stays small).
+    #[inline(never)]
+    fn handle_response(&mut self, now: Timestamp, frame: &CanFrame) {
+        if !self.is_busy() {
             return;
         }
         if self.block_segment(now, frame.data()) {
@@ -629,8 +622,9 @@ impl<D: AsRef<[u8]>> Machine for Client<D> {
             State::UploadInitiated { index, sub } => {
                 self.on_upload_initiated(now, index, sub, response.command);
             }
-            State::Uploading { index, sub, rx } => {
-                self.on_upload_segment(now, (index, sub), rx, response.command)
+            // The segment itself took the path above.
+            State::Uploading { index, sub, .. } | State::Downloading { index, sub, .. } => {
+                self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
             }
             State::DownloadInitiated {
                 index,
@@ -638,14 +632,73 @@ impl<D: AsRef<[u8]>> Machine for Client<D> {
                 data,
                 expedited,
             } => self.on_download_initiated(now, index, sub, data, expedited, response.command),
-            State::Downloading {
-                index,
-                sub,
-                data,
-                sent,
-                toggle,
-            } => self.on_download_ack(now, (index, sub), data, sent, toggle, response.command),
             state => self.on_block_response(now, state, response.command, frame.data()),
+        }
+    }
+}
+
+/// The download segment frame of `value` from `from` with toggle `toggle`
+/// (as [`SdoRequest::encode`] of `ClientCommand::DownloadSegment` makes
+/// it: DLC 8, unused bytes zero) and the offset after it.
+#[inline]
+fn segment_frame(value: &[u8], from: usize, toggle: bool) -> ([u8; 8], usize) {
+    let rest = value.get(from..).unwrap_or(&[]);
+    // A full segment (every one but the last) as one word, built in
+    // registers from two overlapping loads: no byte-wise copy for the
+    // frame to be read back from.
+    let (data, n) = match rest {
+        [a, b, c, d, e, f, g, ..] => {
+            let lo = u32::from_le_bytes([*a, *b, *c, *d]);
+            let hi = u32::from_le_bytes([*d, *e, *f, *g]);
+            (u64::from(lo) | u64::from(hi) << 24, 7)
+        }
+        short => {
+            let mut word = [0u8; 8];
+            crate::bytes::copy_short(&mut word, short);
+            (u64::from_le_bytes(word), short.len())
+        }
+    };
+    let sent = from.saturating_add(n);
+    // n is at most 7: the 3-bit count of unused bytes is 7 - n.
+    let unused = 7u8.saturating_sub(n as u8);
+    let b0 = u8::from(toggle) << 4 | unused << 1 | u8::from(sent >= value.len());
+    ((data << 8 | u64::from(b0)).to_le_bytes(), sent)
+}
+
+impl<D: AsRef<[u8]>> Machine for Client<D> {
+    type Event = ClientEvent;
+
+    /// Tells the client time has passed; expires a stalled transfer with
+    /// abort 05040000h.
+    fn handle_timeout(&mut self, now: Timestamp) {
+        if self.timers.expire(RESPONSE_TIMEOUT, now) {
+            self.abort_local(AbortCode::SdoProtocolTimedOut);
+        }
+    }
+
+    /// Feeds a received frame. Frames on other identifiers, remote frames
+    /// and frames too short for their command are ignored.
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        // A data frame on the response identifier: one compare.
+        if frame.word() != self.response_word {
+            return;
+        }
+        // The segment (or acknowledgement) of a running segmented transfer
+        // first, by its own straight path: the same decode, rules and
+        // answer as the general path below gives it.
+        let [b0, ..] = frame.padded_data();
+        match (&self.state, b0 >> 5) {
+            (State::Uploading { .. }, 0) => {
+                if let Ok(len) = SdoResponse::check_upload_segment(frame) {
+                    self.upload_segment(now, &super::wire::segment_of_frame(frame, len));
+                }
+            }
+            (State::Downloading { .. }, 1) => {
+                if frame.dlc() != 0 {
+                    self.download_ack(now, b0 & 0x10 != 0);
+                }
+            }
+            _ => self.handle_response(now, frame),
         }
     }
 

@@ -77,12 +77,14 @@ impl Segments {
     /// segment may not leave it short (06070013h). On success the toggle
     /// alternates and the segment's place in the value is returned; on an
     /// error nothing changes.
+    #[inline]
     pub(crate) fn on_segment(&mut self, segment: &Segment) -> Result<Placed, AbortCode> {
         self.check(segment)?;
         Ok(self.accept(segment))
     }
 
     /// The rules of [`Segments::on_segment`], without taking the segment.
+    #[inline]
     pub(crate) fn check(&self, segment: &Segment) -> Result<(), AbortCode> {
         check_toggle(segment.toggle, self.toggle)?;
         let total = self.received.saturating_add(segment.data.len());
@@ -97,6 +99,7 @@ impl Segments {
 
     /// Takes a segment whatever the rules say (an observer following a
     /// peer that accepted it): the toggle alternates, the bytes count.
+    #[inline]
     pub(crate) fn accept(&mut self, segment: &Segment) -> Placed {
         let offset = self.received;
         let total = offset.saturating_add(segment.data.len());

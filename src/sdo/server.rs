@@ -62,14 +62,14 @@ use super::abort::AbortCode;
 use super::block::MAX_BLOCK_SIZE;
 #[cfg(feature = "sdo-block")]
 use super::block::{Receiver, Sender};
-use super::data::{ExpeditedData, InitiatePayload, Segment, SegmentData};
+use super::data::{ExpeditedData, InitiatePayload, Segment};
 use super::segmented::{check_toggle, Segments};
 use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::od::{ObjectDictionary, ObjectInfo, SizeRule};
-use crate::queue::EventQueue;
+use crate::queue::{EventQueue, FrameSlot};
 use crate::time::{Timers, Timestamp};
 
 /// How many events the server keeps before dropping the oldest. One request
@@ -251,13 +251,16 @@ pub struct Server<D> {
     config: ServerConfig,
     /// `config.timeout` in microseconds, computed once.
     timeout_us: u64,
+    /// The identifier word of a data frame on `config.request_id`
+    /// (`u32::MAX`, matching no frame, when it is out of range).
+    request_word: u32,
     /// The identifier it sends on is valid (checked once, not per frame).
     sends: bool,
     od: D,
     state: State,
     timers: Timers<1>,
     /// One frame: every call produces at most one (see the module docs).
-    transmit: EventQueue<CanFrame, 1>,
+    transmit: FrameSlot,
     events: EventQueue<ServerEvent, EVENT_CAPACITY>,
 }
 
@@ -267,11 +270,12 @@ impl<D: ObjectDictionary> Server<D> {
         Server {
             config,
             timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
+            request_word: crate::frame::data_frame_word(config.request_id),
             sends: crate::frame::check_id(config.response_id).is_ok(),
             od,
             state: State::Idle,
             timers: Timers::new(),
-            transmit: EventQueue::new(CanFrame::EMPTY),
+            transmit: FrameSlot::new(),
             events: EventQueue::new(ServerEvent::Uploaded {
                 index: 0,
                 sub: 0,
@@ -358,9 +362,17 @@ impl<D: ObjectDictionary> Server<D> {
 
     fn send(&mut self, command: ServerCommand) {
         let (bytes, len) = SdoResponse::new(command).encode();
+        // `len` is at most 8.
+        self.send_bytes(bytes, len as u8);
+    }
+
+    /// Queues a response made by hand (the segment paths): the same frame
+    /// as [`Self::send`] of its command.
+    #[inline]
+    fn send_bytes(&mut self, bytes: [u8; 8], len: u8) {
         if self.sends {
-            // `len` is at most 8 and the identifier was checked in `new`.
-            let frame = CanFrame::from_parts(self.config.response_id, bytes, len as u8);
+            // The identifier was checked in `new`.
+            let frame = CanFrame::from_parts(self.config.response_id, bytes, len);
             // At most one frame per call: a drained queue always has room.
             self.transmit.push(frame);
         }
@@ -439,7 +451,9 @@ impl<D: ObjectDictionary> Server<D> {
             .set(REQUEST_TIMEOUT, Some(now.add_micros(self.timeout_us)));
     }
 
-    /// Reads up to `buf.len()` bytes at `offset`, looping over short reads.
+    /// Reads up to `buf.len()` bytes at `offset`, looping over short reads
+    /// (nothing is read into an empty `buf`).
+    #[inline]
     fn read_full(
         &mut self,
         index: u16,
@@ -447,14 +461,18 @@ impl<D: ObjectDictionary> Server<D> {
         offset: usize,
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let mut got = 0;
-        while let Some(rest) = buf.get_mut(got..) {
-            if rest.is_empty() {
+        if buf.is_empty() {
+            return Ok(0);
+        }
+        let mut got = self.od.read(index, sub, offset, buf)?.min(buf.len());
+        // A short read: ask for the rest until the dictionary has no more.
+        while got < buf.len() {
+            let Some(rest) = buf.get_mut(got..) else {
                 break;
-            }
+            };
             let n = self
                 .od
-                .read(index, sub, offset + got, rest)?
+                .read(index, sub, offset.saturating_add(got), rest)?
                 .min(rest.len());
             if n == 0 {
                 break;
@@ -511,6 +529,12 @@ impl<D: ObjectDictionary> Server<D> {
         self.arm(now);
     }
 
+    /// An upload segment request (ccs = 3, toggle `toggle`): the next
+    /// segment, read from the dictionary at the transfer's offset. The
+    /// frame is made in place, as [`Self::send`] of
+    /// `ServerCommand::UploadSegment` would make it, and only the offset and
+    /// toggle of the state change (no copy of the state per segment).
+    #[inline]
     fn upload_segment(&mut self, now: Timestamp, toggle: bool) {
         let State::Uploading {
             index,
@@ -525,9 +549,9 @@ impl<D: ObjectDictionary> Server<D> {
         if let Err(code) = check_toggle(toggle, expected) {
             return self.abort_local(code);
         }
-        let mut buf = [0u8; 7];
+        let mut data = [0u8; 7];
         let want = len.saturating_sub(offset).min(7);
-        let n = match self.read_full(index, sub, offset, buf.get_mut(..want).unwrap_or(&mut [])) {
+        let n = match self.read_full(index, sub, offset, data.get_mut(..want).unwrap_or(&mut [])) {
             Ok(n) => n,
             Err(code) => return self.abort_local(code),
         };
@@ -535,25 +559,32 @@ impl<D: ObjectDictionary> Server<D> {
             // The dictionary ran dry before the size it announced.
             return self.abort_local(AbortCode::GeneralError);
         }
-        let offset = offset + n;
+        let offset = offset.saturating_add(n);
         let last = offset >= len;
-        self.send(ServerCommand::UploadSegment(Segment {
-            toggle,
-            last,
-            data: SegmentData::new(buf.get(..n).unwrap_or(&[])).unwrap_or_default(),
-        }));
+        // n is at most 7: the 3-bit count of unused bytes is 7 - n.
+        let unused = 7u8.saturating_sub(n as u8);
+        let b0 = u8::from(toggle) << 4 | unused << 1 | u8::from(last);
+        // Byte 0 the command, bytes 1..=7 the data (zero past n): one word
+        // from two overlapping loads of the 7 bytes, which read back what
+        // a 7-byte copy stored without a stall on a wider load.
+        let [a, b, c, d, e, f, g] = data;
+        let lo = u32::from_le_bytes([a, b, c, d]);
+        let hi = u32::from_le_bytes([d, e, f, g]);
+        let word = (u64::from(lo) | u64::from(hi) << 24) << 8 | u64::from(b0);
+        self.send_bytes(word.to_le_bytes(), 8);
         if last {
-            self.finish(ServerEvent::Uploaded { index, sub, len });
-        } else {
-            self.state = State::Uploading {
-                index,
-                sub,
-                offset,
-                len,
-                toggle: !toggle,
-            };
-            self.arm(now);
+            return self.finish(ServerEvent::Uploaded { index, sub, len });
         }
+        if let State::Uploading {
+            offset: at,
+            toggle: next,
+            ..
+        } = &mut self.state
+        {
+            *at = offset;
+            *next = !toggle;
+        }
+        self.arm(now);
     }
 
     fn initiate_download(&mut self, now: Timestamp, index: u16, sub: u8, payload: InitiatePayload) {
@@ -614,16 +645,21 @@ impl<D: ObjectDictionary> Server<D> {
         }
     }
 
+    /// A download segment: checked by the segment rules and the object's
+    /// size rule, written, acknowledged. The receive cursor is updated in
+    /// place (no copy of the state per segment); the acknowledgement is
+    /// made as [`Self::send`] of `ServerCommand::DownloadSegment` would.
     fn download_segment(&mut self, now: Timestamp, seg: &Segment) {
         let State::Downloading {
             index,
             sub,
-            mut rx,
+            rx,
             info,
-        } = self.state
+        } = &mut self.state
         else {
             return self.abort_local(AbortCode::InvalidCommandSpecifier);
         };
+        let (index, sub, info) = (*index, *sub, *info);
         let placed = match rx.on_segment(seg) {
             Ok(placed) => placed,
             Err(code) => return self.abort_local(code),
@@ -638,14 +674,9 @@ impl<D: ObjectDictionary> Server<D> {
         {
             return self.abort_local(code);
         }
+        let ack = [0x20 | u8::from(seg.toggle) << 4, 0, 0, 0, 0, 0, 0, 0];
         if !seg.last {
-            self.send(ServerCommand::DownloadSegment { toggle: seg.toggle });
-            self.state = State::Downloading {
-                index,
-                sub,
-                rx,
-                info,
-            };
+            self.send_bytes(ack, 8);
             return self.arm(now);
         }
         if let Err(code) = info
@@ -654,32 +685,18 @@ impl<D: ObjectDictionary> Server<D> {
         {
             return self.abort_local(code);
         }
-        self.send(ServerCommand::DownloadSegment { toggle: seg.toggle });
+        self.send_bytes(ack, 8);
         self.finish(ServerEvent::Downloaded {
             index,
             sub,
             len: end,
         });
     }
-}
 
-impl<D: ObjectDictionary> Machine for Server<D> {
-    type Event = ServerEvent;
-
-    /// Tells the server time has passed; expires a stalled transfer with
-    /// abort 05040000h.
-    fn handle_timeout(&mut self, now: Timestamp) {
-        if self.timers.expire(REQUEST_TIMEOUT, now) {
-            self.abort_local(AbortCode::SdoProtocolTimedOut);
-        }
-    }
-
-    /// Feeds a received frame. Frames on other identifiers, remote frames
-    /// and frames too short for their command are ignored.
-    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        if frame.id() != self.config.request_id || frame.is_remote() {
-            return;
-        }
+    /// Every request but the segment of a running segmented transfer
+    /// (out of line: the per-segment path stays small).
+    #[inline(never)]
+    fn handle_request(&mut self, now: Timestamp, frame: &CanFrame) {
         if self.block_segment(now, frame.data()) {
             return;
         }
@@ -707,6 +724,44 @@ impl<D: ObjectDictionary> Machine for Server<D> {
             ClientCommand::Unknown(_) => {
                 self.abort_local(AbortCode::InvalidCommandSpecifier);
             }
+        }
+    }
+}
+
+impl<D: ObjectDictionary> Machine for Server<D> {
+    type Event = ServerEvent;
+
+    /// Tells the server time has passed; expires a stalled transfer with
+    /// abort 05040000h.
+    fn handle_timeout(&mut self, now: Timestamp) {
+        if self.timers.expire(REQUEST_TIMEOUT, now) {
+            self.abort_local(AbortCode::SdoProtocolTimedOut);
+        }
+    }
+
+    /// Feeds a received frame. Frames on other identifiers, remote frames
+    /// and frames too short for their command are ignored.
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        // A data frame on the request identifier: one compare.
+        if frame.word() != self.request_word {
+            return;
+        }
+        // The segment of a running segmented transfer first, by its own
+        // straight path: the same decode, rules and answer as the general
+        // path below gives it.
+        let [b0, ..] = frame.padded_data();
+        match (&self.state, b0 >> 5) {
+            (State::Uploading { .. }, 3) => {
+                if SdoRequest::check_upload_segment(frame).is_ok() {
+                    self.upload_segment(now, b0 & 0x10 != 0);
+                }
+            }
+            (State::Downloading { .. }, 0) => {
+                if let Ok(len) = SdoRequest::check_download_segment(frame) {
+                    self.download_segment(now, &super::wire::segment_of_frame(frame, len));
+                }
+            }
+            _ => self.handle_request(now, frame),
         }
     }
 

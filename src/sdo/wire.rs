@@ -936,6 +936,13 @@ fn segment_of(raw: &RawSdo, len: usize) -> Segment {
     }
 }
 
+/// The segment of a frame checked by `check_download_segment` or
+/// `check_upload_segment` (`len` is what that returned).
+#[inline(always)]
+pub(crate) fn segment_of_frame(frame: &CanFrame, len: usize) -> Segment {
+    segment_of(&RawSdo::of_frame(frame), len)
+}
+
 /// Reads the little-endian u32 abort code of an abort frame, if present.
 #[must_use]
 pub fn abort_code_of(data: &[u8]) -> Option<AbortCode> {
