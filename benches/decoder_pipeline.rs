@@ -48,6 +48,10 @@ mod time_column;
 mod words;
 pub use pipeline::*;
 
+// Where the real captures are (the tests' own locator).
+#[path = "../tests/common/captures.rs"]
+mod captures;
+
 use std::collections::HashSet;
 use std::hint::black_box;
 use std::io;
@@ -58,20 +62,12 @@ use canopen_codec::Message;
 use clap::Parser;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
-const CAPTURES: [&str; 2] = ["deltaq-icl1500-startup.log", "deltaq-icl1500-charging.log"];
+const CAPTURES: [&str; 2] = [captures::STARTUP, captures::CHARGING];
 const LINES: usize = 100_000;
 
 /// The log: the captures (or our session) repeated to [`LINES`] lines.
 fn log() -> String {
-    let dir = std::env::var_os("CANOPEN_SHARED_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| {
-            Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("..")
-                .join("shared")
-        })
-        .join("spec")
-        .join("captures");
+    let dir = captures::dir();
     let mut paths: Vec<PathBuf> = CAPTURES.iter().map(|n| dir.join(n)).collect();
     if !paths.iter().all(|p| p.is_file()) {
         eprintln!(

@@ -13,57 +13,20 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use canopen_codec::machine::Machine;
-use canopen_codec::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
-use canopen_codec::sdo::{AbortCode, Client, ClientConfig, ClientEvent, Server, ServerConfig};
+use canopen_codec::sdo::{Client, ClientConfig, ClientEvent, Server, ServerConfig};
 use canopen_codec::{NodeId, Timestamp};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
 #[path = "common/sdo_pair.rs"]
 mod sdo_pair;
 
-use sdo_pair::{download, pair, upload, LEN, SEGMENTS};
+use sdo_pair::{download, pair, upload, DomainOd, LEN, SEGMENTS};
 
 const BIG: usize = 64 * 1024;
 static BIG_DATA: [u8; BIG] = [0xA5; BIG];
 
 /// One domain at 2000h:00 of up to 64 KiB (allocated once, before the loop).
-struct BigOd {
-    value: Vec<u8>,
-    len: usize,
-}
-
-impl ObjectDictionary for BigOd {
-    fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-        if (index, sub) != (0x2000, 0) {
-            return Err(AbortCode::ObjectDoesNotExist);
-        }
-        Ok(ObjectInfo {
-            access: Access::ReadWrite,
-            len: self.len,
-            size: SizeRule::Variable { max: BIG },
-            pdo_mappable: false,
-        })
-    }
-    fn read(&mut self, _: u16, _: u8, offset: usize, buf: &mut [u8]) -> Result<usize, AbortCode> {
-        Ok(canopen_codec::od::read_at(
-            self.value.get(..self.len).unwrap_or(&[]),
-            offset,
-            buf,
-        ))
-    }
-    fn write(&mut self, _: u16, _: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
-        let dst = self
-            .value
-            .get_mut(offset..offset + data.len())
-            .ok_or(AbortCode::DataTypeLengthTooHigh)?;
-        dst.copy_from_slice(data);
-        Ok(())
-    }
-    fn finish_write(&mut self, _: u16, _: u8, len: usize) -> Result<(), AbortCode> {
-        self.len = len;
-        Ok(())
-    }
-}
+type BigOd = DomainOd<Vec<u8>>;
 
 type BigPair = (Client<&'static [u8]>, Server<BigOd>);
 
@@ -73,10 +36,7 @@ fn big_pair(len: usize) -> BigPair {
         Client::new(ClientConfig::for_server(node)),
         Server::new(
             ServerConfig::for_node(node),
-            BigOd {
-                value: vec![0x5A; BIG],
-                len,
-            },
+            DomainOd::new(vec![0x5A; BIG], len),
         ),
     )
 }
