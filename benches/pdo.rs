@@ -15,9 +15,11 @@
 
 use std::hint::black_box;
 
-use canopen_codec::deltaq::{BatteryVoltageLegacy, ChargingCurrent, ExtendedChargeStatus};
 use canopen_codec::pdo::{MappingEntry, PdoMapping, Value};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+
+#[path = "common/tpdo3.rs"]
+mod tpdo3;
 
 const WIDTHS: [u8; 8] = [4, 12, 1, 7, 16, 3, 13, 8];
 
@@ -27,33 +29,6 @@ fn mapping_8x8() -> PdoMapping {
         *e = MappingEntry::new(0x2000, i as u8 + 1, bits);
     }
     PdoMapping::new(&entries).expect("64-bit mapping")
-}
-
-fn deltaq_tpdo3() -> PdoMapping {
-    PdoMapping::new(&[
-        MappingEntry::new(0x2002, 0, 16),
-        MappingEntry::new(0x2100, 0, 16),
-        MappingEntry::new(0x2006, 0, 16),
-    ])
-    .expect("TPDO 3 mapping")
-}
-
-/// The charger TPDO 3 as three typed values (`None`: "no value").
-fn decode_tpdo3(
-    m: &PdoMapping,
-    payload: &[u8],
-) -> Option<(
-    Option<ChargingCurrent>,
-    Option<BatteryVoltageLegacy>,
-    ExtendedChargeStatus,
-)> {
-    let u = m.unpack(payload).ok()?;
-    let raw16 = |i| u.raw(i).and_then(|r| u16::try_from(r).ok());
-    Some((
-        ChargingCurrent::from_raw(raw16(0)?),
-        BatteryVoltageLegacy::from_raw(raw16(1)?),
-        ExtendedChargeStatus::from_u16(raw16(2)?),
-    ))
 }
 
 fn pdo(c: &mut Criterion) {
@@ -69,9 +44,9 @@ fn pdo(c: &mut Criterion) {
         Value::Unsigned(0xFF),
     ];
     let packed = m8.pack(&values).expect("values fit");
-    let tpdo3 = deltaq_tpdo3();
-    let frame = [0x74u8, 0x13, 0x45, 0x4E, 0x70, 0x00];
-    assert!(decode_tpdo3(&tpdo3, &frame).is_some());
+    let tpdo3 = tpdo3::mapping();
+    let frame = tpdo3::FRAME;
+    assert!(tpdo3::decode(&tpdo3, &frame).is_some());
 
     let mut g = c.benchmark_group("pdo");
     g.throughput(Throughput::Elements(1));
@@ -92,7 +67,7 @@ fn pdo(c: &mut Criterion) {
         })
     });
     g.bench_function("deltaq_tpdo3_typed", |b| {
-        b.iter(|| black_box(decode_tpdo3(black_box(&tpdo3), black_box(&frame))))
+        b.iter(|| black_box(tpdo3::decode(black_box(&tpdo3), black_box(&frame))))
     });
     g.finish();
 }
