@@ -124,7 +124,12 @@ fn pipeline(c: &mut Criterion) {
         let opts = options(extra);
         g.bench_function(name, |b| {
             b.iter(|| {
-                let r = run(black_box(log.as_bytes()), &mut io::sink(), &opts);
+                let r = run(
+                    black_box(log.as_bytes()),
+                    &mut io::sink(),
+                    &mut io::sink(),
+                    &opts,
+                );
                 black_box(r.expect("the pipeline runs"))
             })
         });

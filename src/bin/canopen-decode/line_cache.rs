@@ -35,14 +35,11 @@ pub struct LineCache {
 }
 
 impl LineCache {
-    /// A cache, or one that never hits when `enabled` is false.
+    /// A cache, or one that never hits when `enabled` is false. Its table
+    /// is made by the first frame kept.
     pub fn new(enabled: bool) -> Self {
         LineCache {
-            slots: if enabled {
-                vec![Default::default(); 2048]
-            } else {
-                Vec::new()
-            },
+            slots: Vec::new(),
             enabled,
         }
     }
@@ -54,6 +51,9 @@ impl LineCache {
         let CanId::Standard(id) = frame.id() else {
             return None;
         };
+        if self.slots.is_empty() {
+            self.slots.resize_with(2048, Default::default);
+        }
         self.slots.get_mut(usize::from(id))
     }
 

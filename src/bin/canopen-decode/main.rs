@@ -195,9 +195,9 @@ fn main() -> ExitCode {
         }
         (None, None) => Box::new(io::stdin().lock()),
     };
-    let stdout = io::stdout();
-    let mut out = stdout.lock();
-    match run(input, &mut out, &opts) {
+    let (stdout, stderr) = (io::stdout(), io::stderr());
+    let (mut out, mut diag) = (stdout.lock(), stderr.lock());
+    match run(input, &mut out, &mut diag, &opts) {
         Ok((_, true)) if opts.check => {
             eprintln!("canopen-decode: problems open at the end of the log (--check)");
             ExitCode::from(3)

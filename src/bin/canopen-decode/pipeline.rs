@@ -157,9 +157,16 @@ pub struct Options {
     pub no_cache: bool,
 }
 
-/// Decodes every line; returns the number of bad lines and whether the
-/// summary found a problem still open at the end.
-pub fn run(input: impl Read, out: &mut impl Write, opts: &Options) -> io::Result<(usize, bool)> {
+/// Decodes every line of `input` into `out`, with what is wrong with a
+/// line (and what `--eds` took) on `diag` (stderr in the program); returns
+/// the number of bad lines and whether the summary found a problem still
+/// open at the end.
+pub fn run(
+    input: impl Read,
+    out: &mut impl Write,
+    diag: &mut impl Write,
+    opts: &Options,
+) -> io::Result<(usize, bool)> {
     let mut roles = opts.roles;
     let mut summary = summary::Summary::default();
     let mut bad = 0;
@@ -172,7 +179,7 @@ pub fn run(input: impl Read, out: &mut impl Write, opts: &Options) -> io::Result
     let mut learned = pdo_learn::Learned::default();
     let mut cache = line_cache::LineCache::new(!opts.no_cache);
     for (node, path) in &opts.eds {
-        load_eds(*node, path, &mut roles, &mut sdo, &mut learned)?;
+        load_eds(*node, path, &mut roles, &mut sdo, &mut learned, diag)?;
     }
     for &channel in &opts.sdo_channels {
         sdo.add_channel(channel)
@@ -196,12 +203,16 @@ pub fn run(input: impl Read, out: &mut impl Write, opts: &Options) -> io::Result
             let line = match piece {
                 line_reader::Piece::Line(line) => line,
                 line_reader::Piece::NotUtf8 => {
-                    eprintln!("line {lineno}: not UTF-8 text");
+                    let _ = writeln!(diag, "line {lineno}: not UTF-8 text");
                     bad += 1;
                     continue;
                 }
                 line_reader::Piece::TooLong => {
-                    eprintln!("line {lineno}: longer than {} bytes", line_reader::MAX_LINE);
+                    let _ = writeln!(
+                        diag,
+                        "line {lineno}: longer than {} bytes",
+                        line_reader::MAX_LINE
+                    );
                     bad += 1;
                     continue;
                 }
@@ -213,12 +224,12 @@ pub fn run(input: impl Read, out: &mut impl Write, opts: &Options) -> io::Result
                     frame: f.frame,
                 },
                 Ok(Record::Unsupported(what)) => {
-                    eprintln!("line {lineno}: {what:?} not decoded: {line}");
+                    let _ = writeln!(diag, "line {lineno}: {what:?} not decoded: {line}");
                     continue;
                 }
                 Ok(_) => continue,
                 Err(e) => {
-                    eprintln!("line {lineno}: {e}: {line}");
+                    let _ = writeln!(diag, "line {lineno}: {e}: {line}");
                     bad += 1;
                     continue;
                 }
@@ -267,7 +278,11 @@ pub fn run(input: impl Read, out: &mut impl Write, opts: &Options) -> io::Result
                 _ => decoded,
             };
             if let (Err(e), None) = (&decoded, block_segment) {
-                eprintln!("line {lineno}: frame {} does not decode: {e}", parsed.frame);
+                let _ = writeln!(
+                    diag,
+                    "line {lineno}: frame {} does not decode: {e}",
+                    parsed.frame
+                );
                 bad += 1;
             }
             // A reply on 700h + node after a remote request there is a guarding
@@ -402,18 +417,18 @@ pub fn run(input: impl Read, out: &mut impl Write, opts: &Options) -> io::Result
     Ok((bad, open))
 }
 
-/// Writes the extra line of a finished SDO transfer.
 /// Reads the EDS or DCF of `node` (`--eds NODE=FILE`): its PDOs (COB-IDs
 /// and mappings, `$NODEID` resolved) decode that node's PDO frames, its
 /// server SDO parameter (1200h) adds the SDO channel when it is not the
 /// default, and its device type (1000h) of profile 418 or 419 gives the node
-/// its role unless one was given. Says what it took on stderr.
+/// its role unless one was given. Says what it took on `diag`.
 fn load_eds(
     node: NodeId,
     path: &str,
     roles: &mut Roles,
     sdo: &mut sdo::Tracker,
     learned: &mut pdo_learn::Learned,
+    diag: &mut impl Write,
 ) -> io::Result<()> {
     use canopen_codec::eds::{eval_int, parse_bytes};
     use canopen_codec::pdo::PdoDirection;
@@ -474,7 +489,8 @@ fn load_eds(
             }
         }
     }
-    eprintln!(
+    let _ = writeln!(
+        diag,
         "canopen-decode: node {node} from {path}: {}",
         if said.is_empty() {
             "nothing the decoder uses".to_string()
