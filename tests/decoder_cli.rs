@@ -190,6 +190,32 @@ fn lines_not_text_or_too_long_are_bad_lines() {
     assert!(lines[2].contains("heartbeat node 1: operational"), "{out}");
 }
 
+/// Heartbeats whose period is near the largest time a trace can give
+/// (three periods do not fit in 64 bits of microseconds): the summary
+/// still reads them (found by the `decoder_run` fuzz target).
+#[test]
+fn summary_of_heartbeats_days_apart_at_the_end_of_time() {
+    let input = "(1.000000) can0 701#05\n(7000000000000.000000) can0 701#05\n\
+                 (14000000000000.000000) can0 701#05\n(18000000000000.000000) can0 701#05\n\
+                 (18446744073709.551615) can0 701#05\n";
+    for (output, expect) in [
+        (
+            "words",
+            "heartbeats: 5, period 6999999999999000 ms, largest gap 7000000000000000 ms",
+        ),
+        ("json", "\"heartbeats\":5,\"period_ms\":6999999999999000"),
+    ] {
+        let o = run(&["--summary-only", "--output", output, "-"], Some(input));
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(text(&o).contains(expect), "{}", text(&o));
+    }
+}
+
 #[test]
 fn usage_errors() {
     assert_eq!(run(&["--charger-node", "0"], None).status.code(), Some(2));

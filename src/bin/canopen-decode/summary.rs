@@ -128,7 +128,7 @@ impl Summary {
                             n.period = period(&n.gaps);
                         }
                         if let Some(p) = n.period {
-                            if gap > 3 * p && n.silences.len() < LISTED {
+                            if gap > p.saturating_mul(3) && n.silences.len() < LISTED {
                                 n.silences.push((prev, Some(t)));
                             }
                         }
@@ -223,7 +223,7 @@ impl Summary {
         let mut open = false;
         for n in self.nodes.values_mut() {
             if let (Some(last), Some(p)) = (n.last_heartbeat, period(&n.gaps)) {
-                if end.saturating_micros_since(last) > 3 * p {
+                if end.saturating_micros_since(last) > p.saturating_mul(3) {
                     n.silences.push((last, None));
                     open = true;
                 }
