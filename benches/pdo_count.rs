@@ -12,7 +12,6 @@
 
 use std::hint::black_box;
 
-use canopen_codec::deltaq::{BatteryVoltageLegacy, ChargingCurrent, ExtendedChargeStatus};
 use canopen_codec::pdo::PdoMapping;
 
 #[path = "common/tpdo3.rs"]
@@ -20,14 +19,7 @@ mod tpdo3;
 
 /// The `pdo` bench's decode, out of line so callgrind can count it alone.
 #[inline(never)]
-fn decode_tpdo3(
-    m: &PdoMapping,
-    payload: &[u8],
-) -> Option<(
-    Option<ChargingCurrent>,
-    Option<BatteryVoltageLegacy>,
-    ExtendedChargeStatus,
-)> {
+fn decode_tpdo3(m: &PdoMapping, payload: &[u8]) -> Option<tpdo3::Values> {
     tpdo3::decode(m, payload)
 }
 

@@ -18,16 +18,16 @@ pub fn mapping() -> PdoMapping {
 /// A TPDO 3 payload (every field has a value).
 pub const FRAME: [u8; 6] = [0x74, 0x13, 0x45, 0x4E, 0x70, 0x00];
 
-/// The TPDO 3 as three typed values (`None`: "no value").
-#[inline]
-pub fn decode(
-    m: &PdoMapping,
-    payload: &[u8],
-) -> Option<(
+/// The TPDO 3's three typed values (`None`: "no value").
+pub type Values = (
     Option<ChargingCurrent>,
     Option<BatteryVoltageLegacy>,
     ExtendedChargeStatus,
-)> {
+);
+
+/// The TPDO 3 as its typed values.
+#[inline]
+pub fn decode(m: &PdoMapping, payload: &[u8]) -> Option<Values> {
     let u = m.unpack(payload).ok()?;
     let raw16 = |i| u.raw(i).and_then(|r| u16::try_from(r).ok());
     Some((

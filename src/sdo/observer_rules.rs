@@ -249,33 +249,29 @@ fn take(
         return seen;
     }
     let repeat = open.as_ref().is_some_and(|o| o.is_repeat(from, bytes));
-    let (command, seen) = match from {
-        Side::Client => match SdoRequest::decode_frame(frame) {
-            Ok(request) => (
+    let decoded = match from {
+        Side::Client => SdoRequest::decode_frame(frame).map(|request| {
+            (
                 Command::Client(request.command),
                 Observed::Request { channel, request },
-            ),
-            Err(error) => {
-                return Observed::Malformed {
-                    channel,
-                    from,
-                    error,
-                }
-            }
-        },
-        Side::Server => match SdoResponse::decode_frame(frame) {
-            Ok(response) => (
+            )
+        }),
+        Side::Server => SdoResponse::decode_frame(frame).map(|response| {
+            (
                 Command::Server(response.command),
                 Observed::Response { channel, response },
-            ),
-            Err(error) => {
-                return Observed::Malformed {
-                    channel,
-                    from,
-                    error,
-                }
+            )
+        }),
+    };
+    let (command, seen) = match decoded {
+        Ok(both) => both,
+        Err(error) => {
+            return Observed::Malformed {
+                channel,
+                from,
+                error,
             }
-        },
+        }
     };
     if repeat {
         return seen;

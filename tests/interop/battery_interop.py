@@ -21,7 +21,7 @@ import sys
 import time
 
 import canopen
-from pipebus import PipeBus
+from pipebus import Cases, PipeBus
 from canopen.objectdictionary import ODArray, ODRecord, ODVariable, ObjectDictionary
 from canopen.objectdictionary.datatypes import (
     INTEGER16, UNSIGNED8, UNSIGNED16, UNSIGNED32, VISIBLE_STRING)
@@ -121,24 +121,9 @@ def unpack(words):
     return data.rstrip(b"\0").decode("ascii")
 
 
-failures = []
-cases = 0
-
-
-def check(name, ok, detail=""):
-    global cases
-    cases += 1
-    print(f"{'ok  ' if ok else 'FAIL'} {name}{(': ' + str(detail)) if detail and not ok else ''}")
-    if not ok:
-        failures.append(name)
-
-
-def guarded(name, fn):
-    """Runs one case; an exception is a failure of that case."""
-    try:
-        fn()
-    except Exception as e:  # noqa: BLE001 - every error is a failed case
-        check(name, False, f"{type(e).__name__}: {e}")
+CASES = Cases()
+check = CASES.check
+guarded = CASES.guarded
 
 
 def main():
@@ -152,8 +137,7 @@ def main():
         run(bus, node)
     finally:
         net.disconnect()
-    print(f"{cases} interop cases, {len(failures)} failed")
-    sys.exit(1 if failures else 0)
+    CASES.finish()
 
 
 def run(bus, node):

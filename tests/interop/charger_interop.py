@@ -21,21 +21,13 @@ import time
 import canopen
 from canopen.objectdictionary import ODRecord, ODVariable, ObjectDictionary
 from canopen.objectdictionary.datatypes import UNSIGNED8, UNSIGNED16, UNSIGNED32
-from pipebus import PipeBus
+from pipebus import Cases, PipeBus
 
 CHARGER = 10
 BATTERY = 1
 
-failures = []
-cases = 0
-
-
-def check(name, ok, detail=""):
-    global cases
-    cases += 1
-    print(f"{'ok  ' if ok else 'FAIL'} {name}{(': ' + str(detail)) if detail and not ok else ''}")
-    if not ok:
-        failures.append(name)
+CASES = Cases()
+check = CASES.check
 
 
 def var(name, index, sub, dtype, access, default):
@@ -170,8 +162,7 @@ def main():
     check("the charger reported the loss and the recovery in words",
           any("heartbeat lost" in l for l in events) and
           sum("configured" in l for l in events) == 2, events)
-    print(f"{cases} interop cases, {len(failures)} failed")
-    sys.exit(1 if failures else 0)
+    CASES.finish()
 
 
 if __name__ == "__main__":

@@ -29,29 +29,14 @@ import time
 import canopen
 from canopen.objectdictionary import ObjectDictionary, ODVariable
 from canopen.objectdictionary.datatypes import UNSIGNED8, UNSIGNED16
-from pipebus import PipeBus
+from pipebus import Cases, PipeBus
 
 NODE = 7
 GUARD_S = 0.1
 
-failures = []
-cases = 0
-
-
-def check(name, ok, detail=""):
-    global cases
-    cases += 1
-    print(f"{'ok  ' if ok else 'FAIL'} {name}{(': ' + str(detail)) if detail and not ok else ''}")
-    if not ok:
-        failures.append(name)
-
-
-def guarded(name, fn):
-    """Runs one case; an exception is a failure of that case."""
-    try:
-        fn()
-    except Exception as e:  # noqa: BLE001 - every error is a failed case
-        check(name, False, f"{type(e).__name__}: {e}")
+CASES = Cases()
+check = CASES.check
+guarded = CASES.guarded
 
 
 def var(name, index, data_type):
@@ -103,8 +88,7 @@ def main():
         run(bus, node)
     finally:
         net.disconnect()
-    print(f"{cases} interop cases, {len(failures)} failed")
-    sys.exit(1 if failures else 0)
+    CASES.finish()
 
 
 def run(bus, node):

@@ -20,7 +20,7 @@ import time
 
 import canopen
 from canopen import lss
-from pipebus import PipeBus
+from pipebus import Cases, PipeBus
 
 IDENTITY = (0x0000029A, 0x00000418, 0x00010000, 0x00000007)
 NEW_NODE = 5
@@ -32,24 +32,9 @@ ARGS = [
     "--linger-ms", "0",
 ]
 
-failures = []
-cases = 0
-
-
-def check(name, ok, detail=""):
-    global cases
-    cases += 1
-    print(f"{'ok  ' if ok else 'FAIL'} {name}{(': ' + str(detail)) if detail and not ok else ''}")
-    if not ok:
-        failures.append(name)
-
-
-def guarded(name, fn):
-    """Runs one case; an exception is a failure of that case."""
-    try:
-        fn()
-    except Exception as e:  # noqa: BLE001 - every error is a failed case
-        check(name, False, f"{type(e).__name__}: {e}")
+CASES = Cases()
+check = CASES.check
+guarded = CASES.guarded
 
 
 def succeeds(fn):
@@ -74,8 +59,7 @@ def main():
         run(bus, net)
     finally:
         net.disconnect()
-    print(f"{cases} interop cases, {len(failures)} failed")
-    sys.exit(1 if failures else 0)
+    CASES.finish()
 
 
 def run(bus, net):

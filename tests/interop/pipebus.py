@@ -1,6 +1,7 @@
 """PipeBus: a python-can bus whose other end is a child process speaking
-candump log lines on its stdin/stdout (the crate's example programs). Shared
-by the interop scripts in this directory."""
+candump log lines on its stdin/stdout (the crate's example programs), and
+Cases, the counted cases of one run. Shared by the interop scripts in this
+directory."""
 
 import queue
 import re
@@ -78,3 +79,29 @@ class PipeBus(can.BusABC):
     def lines(self, prefix):
         """The child's stderr lines that start with `prefix`."""
         return [l for l in self.stderr_lines if l.startswith(prefix)]
+
+
+class Cases:
+    """The cases of one interop run: each `check` prints ok or FAIL and is
+    counted; `finish` prints the count and exits 1 when any failed."""
+
+    def __init__(self):
+        self.cases = 0
+        self.failures = []
+
+    def check(self, name, ok, detail=""):
+        self.cases += 1
+        print(f"{'ok  ' if ok else 'FAIL'} {name}{(': ' + str(detail)) if detail and not ok else ''}")
+        if not ok:
+            self.failures.append(name)
+
+    def guarded(self, name, fn):
+        """Runs one case; an exception is a failure of that case."""
+        try:
+            fn()
+        except Exception as e:  # noqa: BLE001 - every error is a failed case
+            self.check(name, False, f"{type(e).__name__}: {e}")
+
+    def finish(self):
+        print(f"{self.cases} interop cases, {len(self.failures)} failed")
+        sys.exit(1 if self.failures else 0)
