@@ -27,7 +27,7 @@ use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::nmt::{Heartbeat, NmtState};
 use crate::queue::{EventQueue, Queue};
-use crate::time::{Timers, Timestamp};
+use crate::time::{MaybeTimestamp, Timers, Timestamp};
 
 /// Sends this node's boot-up message and heartbeats.
 ///
@@ -53,7 +53,8 @@ pub struct HeartbeatProducer {
     timers: Timers<1>,
     /// Send at once when the state changes (CANopenNode); default false.
     pub send_on_change: bool,
-    out: Queue<CanFrame, 2>,
+    /// The heartbeat bytes (states) to send, as frames when polled.
+    out: Queue<u8, 2>,
 }
 
 /// The producer's one timer: the next heartbeat.
@@ -70,7 +71,7 @@ impl HeartbeatProducer {
             state: NmtState::BootUp,
             timers: Timers::new(),
             send_on_change: false,
-            out: Queue::new(CanFrame::EMPTY),
+            out: Queue::new(0),
         }
     }
 
@@ -93,9 +94,9 @@ impl HeartbeatProducer {
         self.period_us
     }
 
-    fn frame(&self, state: NmtState) -> CanFrame {
+    fn frame(&self, byte: u8) -> CanFrame {
         let id = CanId::Standard(NMT_ERROR_CONTROL_BASE + u16::from(self.node.raw()));
-        CanFrame::from_parts(id, [Heartbeat::new(state).encode(), 0, 0, 0, 0, 0, 0, 0], 1)
+        CanFrame::from_parts(id, [byte, 0, 0, 0, 0, 0, 0, 0], 1)
     }
 
     fn arm(&mut self, now: Timestamp) {
@@ -106,17 +107,18 @@ impl HeartbeatProducer {
 
     /// Queues a frame; a full queue (the caller did not drain
     /// `poll_transmit`) keeps the newest: a heartbeat carries the state now.
-    fn send(&mut self, frame: CanFrame) {
-        if !self.out.push(frame) {
+    fn send(&mut self, state: NmtState) {
+        let byte = Heartbeat::new(state).encode();
+        if !self.out.push(byte) {
             let _ = self.out.pop();
-            let _ = self.out.push(frame);
+            let _ = self.out.push(byte);
         }
     }
 
     /// (Re)boots: sends the boot-up message and enters pre-operational; the
     /// first heartbeat follows one period later.
     pub fn boot(&mut self, now: Timestamp) {
-        self.send(self.frame(NmtState::BootUp));
+        self.send(NmtState::BootUp);
         self.state = NmtState::PreOperational;
         self.arm(now);
     }
@@ -126,7 +128,7 @@ impl HeartbeatProducer {
         let changed = state != self.state;
         self.state = state;
         if changed && self.send_on_change && self.period_us > 0 {
-            self.send(self.frame(state));
+            self.send(state);
             self.arm(now);
         }
     }
@@ -163,7 +165,7 @@ impl Machine for HeartbeatProducer {
             return;
         };
         if self.timers.expire(NEXT_HEARTBEAT, now) {
-            self.send(self.frame(self.state));
+            self.send(self.state);
             match due.deadline_after(self.period_us) {
                 Some(next) if !now.has_reached(next) => {
                     self.timers.set(NEXT_HEARTBEAT, Some(next));
@@ -174,7 +176,7 @@ impl Machine for HeartbeatProducer {
     }
 
     fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.out.pop()
+        self.out.pop().map(|byte| self.frame(byte))
     }
 
     /// When the next heartbeat is due.
@@ -267,7 +269,7 @@ pub enum HeartbeatEvent {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Watch {
     entry: ConsumerEntry,
-    deadline: Option<Timestamp>,
+    deadline: MaybeTimestamp,
     state: Option<NmtState>,
     lost: bool,
 }
@@ -277,7 +279,7 @@ const IDLE: Watch = Watch {
         node: 0,
         time_ms: 0,
     },
-    deadline: None,
+    deadline: MaybeTimestamp::NONE,
     state: None,
     lost: false,
 };
@@ -397,7 +399,7 @@ impl<const N: usize> Machine for HeartbeatConsumer<N> {
         else {
             return;
         };
-        w.deadline = Some(now.add_millis(u64::from(w.entry.time_ms)));
+        w.deadline = MaybeTimestamp::new(Some(now.add_millis(u64::from(w.entry.time_ms))));
         let previous = w.state.replace(hb.state);
         let was_lost = core::mem::replace(&mut w.lost, false);
         let event = if hb.is_boot_up() {
@@ -424,11 +426,13 @@ impl<const N: usize> Machine for HeartbeatConsumer<N> {
     /// Reports `Lost` for every node whose time has run out.
     fn handle_timeout(&mut self, now: Timestamp) {
         for w in &mut self.watches {
-            let Some(deadline) = w.deadline else { continue };
+            let Some(deadline) = w.deadline.get() else {
+                continue;
+            };
             if !now.has_reached(deadline) {
                 continue;
             }
-            w.deadline = None;
+            w.deadline = MaybeTimestamp::NONE;
             w.lost = true;
             if let Some(node) = NodeId::new(w.entry.node) {
                 self.events.push(HeartbeatEvent::Lost(node));
@@ -443,7 +447,7 @@ impl<const N: usize> Machine for HeartbeatConsumer<N> {
 
     /// The earliest deadline.
     fn poll_timeout(&self) -> Option<Timestamp> {
-        self.watches.iter().filter_map(|w| w.deadline).min()
+        self.watches.iter().filter_map(|w| w.deadline.get()).min()
     }
 
     fn poll_event(&mut self) -> Option<HeartbeatEvent> {

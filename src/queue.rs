@@ -7,17 +7,22 @@ use crate::frame::CanFrame;
 
 /// Up to `N` items, first in first out; `push` fails when full. Slots hold a
 /// filler value when empty, so push and pop are plain copies (no `Option`
-/// tags to test and rewrite on the hot path).
+/// tags to test and rewrite on the hot path). `N` is at most 255: the
+/// indexes are bytes (a queue's state is its items and two bytes).
 #[derive(Debug, Clone)]
 pub(crate) struct Queue<T: Copy, const N: usize> {
     items: [T; N],
-    head: usize,
-    len: usize,
+    head: u8,
+    len: u8,
 }
 
 impl<T: Copy, const N: usize> Queue<T, N> {
+    /// Refuses, at compile time, a capacity the byte indexes cannot count.
+    const CAPACITY_FITS: () = assert!(N <= u8::MAX as usize, "queue capacity over 255");
+
     /// An empty queue whose free slots hold `filler` (never returned).
     pub(crate) const fn new(filler: T) -> Self {
+        let () = Self::CAPACITY_FITS;
         Queue {
             items: [filler; N],
             head: 0,
@@ -29,28 +34,23 @@ impl<T: Copy, const N: usize> Queue<T, N> {
     #[must_use]
     #[inline]
     pub(crate) fn push(&mut self, item: T) -> bool {
-        if self.len >= N {
+        let Some(slot) = claim(self.head, &mut self.len, N) else {
             return false;
-        }
-        match self.items.get_mut((self.head + self.len) % N) {
-            Some(slot) => {
-                *slot = item;
-                self.len += 1;
+        };
+        match self.items.get_mut(slot) {
+            Some(s) => {
+                *s = item;
                 true
             }
             None => false,
         }
     }
 
+    /// The oldest item.
     #[inline]
     pub(crate) fn pop(&mut self) -> Option<T> {
-        if self.len == 0 {
-            return None;
-        }
-        let item = self.items.get(self.head).copied();
-        self.head = (self.head + 1) % N;
-        self.len -= 1;
-        item
+        let slot = take(&mut self.head, &mut self.len, N)?;
+        self.items.get(slot).copied()
     }
 }
 
@@ -60,7 +60,9 @@ impl<T: Copy, const N: usize> Queue<T, N> {
 #[derive(Debug, Clone)]
 pub(crate) struct EventQueue<T: Copy, const N: usize> {
     queue: Queue<T, N>,
-    dropped: u64,
+    /// Saturating; 32 bits (a 64-bit counter would give the queue an
+    /// alignment of 8 on 32-bit targets, and padding with it).
+    dropped: u32,
 }
 
 impl<T: Copy, const N: usize> EventQueue<T, N> {
@@ -93,11 +95,41 @@ impl<T: Copy, const N: usize> EventQueue<T, N> {
         self.queue.pop()
     }
 
-    /// Events dropped so far.
+    /// Events dropped so far (saturating at `u32::MAX`).
     #[inline]
     pub(crate) const fn dropped(&self) -> u64 {
-        self.dropped
+        self.dropped as u64
     }
+}
+
+/// The slot a [`Queue`] of capacity `cap` stores its next item in, with
+/// `len` counted for it; none when full. Like [`claim_evicting`] and
+/// [`take`], independent of the item type: one copy serves every queue on
+/// 32-bit targets.
+#[cfg_attr(target_pointer_width = "64", inline)]
+#[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+fn claim(head: u8, len: &mut u8, cap: usize) -> Option<usize> {
+    let n = usize::from(*len);
+    if n >= cap {
+        return None;
+    }
+    *len += 1;
+    Some((usize::from(head) + n) % cap)
+}
+
+/// The slot of a [`Queue`]'s oldest item, with `head` and `len` moved past
+/// it; none when empty.
+#[cfg_attr(target_pointer_width = "64", inline)]
+#[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+fn take(head: &mut u8, len: &mut u8, cap: usize) -> Option<usize> {
+    if *len == 0 || cap == 0 {
+        return None;
+    }
+    let slot = usize::from(*head);
+    // Both below 256: `cap` is at most 255 (`Queue::CAPACITY_FITS`).
+    *head = ((slot + 1) % cap) as u8;
+    *len -= 1;
+    Some(slot)
 }
 
 /// The slot an [`EventQueue`] of capacity `cap` stores its next event in,
@@ -106,17 +138,18 @@ impl<T: Copy, const N: usize> EventQueue<T, N> {
 /// the end (nothing is stored) and counts the event as dropped.
 #[cfg_attr(target_pointer_width = "64", inline)]
 #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-fn claim_evicting(head: &mut usize, len: &mut usize, cap: usize, dropped: &mut u64) -> usize {
+fn claim_evicting(head: &mut u8, len: &mut u8, cap: usize, dropped: &mut u32) -> usize {
     if cap == 0 {
         *dropped = dropped.saturating_add(1);
         return usize::MAX;
     }
-    if *len >= cap {
-        *head = (*head + 1) % cap;
-        *len = cap - 1;
+    if usize::from(*len) >= cap {
+        // Both below 256: `cap` is at most 255 (`Queue::CAPACITY_FITS`).
+        *head = ((usize::from(*head) + 1) % cap) as u8;
+        *len -= 1;
         *dropped = dropped.saturating_add(1);
     }
-    let slot = (*head + *len) % cap;
+    let slot = (usize::from(*head) + usize::from(*len)) % cap;
     *len += 1;
     slot
 }
@@ -134,7 +167,8 @@ fn claim_evicting(head: &mut usize, len: &mut usize, cap: usize, dropped: &mut u
 pub(crate) struct FrameSlot {
     frame: CanFrame,
     full: bool,
-    dropped: u64,
+    /// Saturating, as [`EventQueue`]'s.
+    dropped: u32,
 }
 
 impl FrameSlot {
@@ -167,10 +201,10 @@ impl FrameSlot {
         Some(self.frame.copy_fields())
     }
 
-    /// Frames dropped so far.
+    /// Frames dropped so far (saturating at `u32::MAX`).
     #[inline]
     pub(crate) const fn dropped(&self) -> u64 {
-        self.dropped
+        self.dropped as u64
     }
 }
 
@@ -221,6 +255,43 @@ mod tests {
         q.push(1);
         q.push(2);
         assert_eq!((q.pop(), q.dropped()), (None, 2));
+    }
+
+    #[test]
+    fn byte_indexes_serve_the_largest_capacity() {
+        let mut q: Queue<u16, 255> = Queue::new(0);
+        for round in 0..3u16 {
+            for v in 0..255 {
+                assert!(q.push(round * 1000 + v));
+            }
+            assert!(!q.push(9999));
+            for v in 0..255 {
+                assert_eq!(q.pop(), Some(round * 1000 + v));
+            }
+            assert_eq!(q.pop(), None);
+        }
+        let mut e: EventQueue<u16, 255> = EventQueue::new(0);
+        for v in 0..600 {
+            e.push(v);
+        }
+        assert_eq!((e.pop(), e.dropped()), (Some(600 - 255), 600 - 255));
+        let mut none: Queue<u8, 0> = Queue::new(0);
+        assert_eq!((none.push(1), none.pop()), (false, None));
+    }
+
+    #[test]
+    fn drop_counters_saturate() {
+        let mut e: EventQueue<u8, 1> = EventQueue::new(0);
+        e.dropped = u32::MAX - 1;
+        e.push(1);
+        e.push(2);
+        e.push(3);
+        assert_eq!((e.pop(), e.dropped()), (Some(3), u64::from(u32::MAX)));
+        let mut f = FrameSlot::new();
+        f.dropped = u32::MAX;
+        f.push(CanFrame::EMPTY);
+        f.push(CanFrame::EMPTY);
+        assert_eq!(f.dropped(), u64::from(u32::MAX));
     }
 
     #[test]

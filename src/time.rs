@@ -136,7 +136,7 @@ impl fmt::Display for Timestamp {
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Timers<const N: usize> {
-    deadlines: [Option<Timestamp>; N],
+    deadlines: [MaybeTimestamp; N],
 }
 
 impl<const N: usize> Default for Timers<N> {
@@ -150,16 +150,18 @@ impl<const N: usize> Timers<N> {
     #[must_use]
     pub const fn new() -> Self {
         Timers {
-            deadlines: [None; N],
+            deadlines: [MaybeTimestamp::NONE; N],
         }
     }
 
-    /// Arms (`Some`) or stops (`None`) timer `slot`.
+    /// Arms (`Some`) or stops (`None`) timer `slot`. A deadline at
+    /// [`Timestamp::MAX`] stops it: the end of the clock is never reached
+    /// (the table keeps a deadline in 8 bytes, `u64::MAX` meaning none).
     #[cfg_attr(target_pointer_width = "64", inline)]
     #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn set(&mut self, slot: usize, deadline: Option<Timestamp>) {
         if let Some(d) = self.deadlines.get_mut(slot) {
-            *d = deadline;
+            *d = MaybeTimestamp::new(deadline);
         }
     }
 
@@ -167,7 +169,7 @@ impl<const N: usize> Timers<N> {
     #[must_use]
     #[inline]
     pub fn get(&self, slot: usize) -> Option<Timestamp> {
-        self.deadlines.get(slot).copied().flatten()
+        self.deadlines.get(slot).and_then(|d| d.get())
     }
 
     /// True (and the timer stopped) when timer `slot` is armed and `now`
@@ -175,8 +177,10 @@ impl<const N: usize> Timers<N> {
     #[inline]
     pub fn expire(&mut self, slot: usize, now: Timestamp) -> bool {
         match self.deadlines.get_mut(slot) {
-            Some(d) if d.is_some_and(|at| now.has_reached(at)) => {
-                *d = None;
+            // A stopped timer holds u64::MAX, which `now` reaches only when
+            // it is u64::MAX itself: excluded by the first test.
+            Some(d) if d.0 != u64::MAX && now.0 >= d.0 => {
+                *d = MaybeTimestamp::NONE;
                 true
             }
             _ => false,
@@ -185,7 +189,7 @@ impl<const N: usize> Timers<N> {
 
     /// Stops every timer.
     pub fn clear(&mut self) {
-        self.deadlines = [None; N];
+        self.deadlines = [MaybeTimestamp::NONE; N];
     }
 
     /// The earliest armed deadline.
@@ -193,7 +197,49 @@ impl<const N: usize> Timers<N> {
     #[cfg_attr(target_pointer_width = "64", inline)]
     #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn next(&self) -> Option<Timestamp> {
-        self.deadlines.iter().flatten().min().copied()
+        // Stopped timers hold u64::MAX, so the plain minimum is the answer.
+        let earliest = self.deadlines.iter().fold(u64::MAX, |m, d| m.min(d.0));
+        MaybeTimestamp(earliest).get()
+    }
+}
+
+/// An optional [`Timestamp`] in 8 bytes (an `Option<Timestamp>` takes 16
+/// with its alignment on a 32-bit target): `u64::MAX` means none, so
+/// [`Timestamp::MAX`] itself is kept as none. For the timer tables and the
+/// "last seen" instants of the machines, where the end of the clock is
+/// never a real instant.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) struct MaybeTimestamp(u64);
+
+impl MaybeTimestamp {
+    /// None.
+    pub(crate) const NONE: MaybeTimestamp = MaybeTimestamp(u64::MAX);
+
+    /// `t` kept (a `Some(Timestamp::MAX)` becomes none).
+    #[must_use]
+    #[inline]
+    pub(crate) const fn new(t: Option<Timestamp>) -> Self {
+        match t {
+            Some(t) => MaybeTimestamp(t.0),
+            None => Self::NONE,
+        }
+    }
+
+    /// The instant, if any.
+    #[must_use]
+    #[inline]
+    pub(crate) const fn get(self) -> Option<Timestamp> {
+        if self.0 == u64::MAX {
+            None
+        } else {
+            Some(Timestamp(self.0))
+        }
+    }
+}
+
+impl Default for MaybeTimestamp {
+    fn default() -> Self {
+        Self::NONE
     }
 }
 
@@ -223,6 +269,41 @@ mod tests {
         assert_eq!(Timestamp::ZERO.add_duration(Duration::MAX), Timestamp::MAX);
         assert!(Timestamp::from_millis(2).has_reached(Timestamp::from_millis(2)));
         assert!(!Timestamp::from_millis(1).has_reached(Timestamp::from_millis(2)));
+    }
+
+    #[test]
+    fn timers_keep_deadlines_in_eight_bytes() {
+        assert_eq!(core::mem::size_of::<Timers<2>>(), 16);
+        let mut t: Timers<3> = Timers::new();
+        assert_eq!(t.next(), None);
+        t.set(0, Some(Timestamp::ZERO));
+        t.set(2, Some(Timestamp::from_micros(u64::MAX - 1)));
+        assert_eq!(t.next(), Some(Timestamp::ZERO));
+        assert_eq!(t.get(2), Some(Timestamp::from_micros(u64::MAX - 1)));
+        assert!(t.expire(0, Timestamp::ZERO));
+        assert_eq!(t.next(), Some(Timestamp::from_micros(u64::MAX - 1)));
+        assert!(!t.expire(2, Timestamp::from_micros(u64::MAX - 2)));
+        assert!(t.expire(2, Timestamp::MAX));
+        assert_eq!((t.get(2), t.next()), (None, None));
+        // The end of the clock is no deadline: it stops the timer.
+        t.set(1, Some(Timestamp::MAX));
+        assert_eq!((t.get(1), t.next()), (None, None));
+        assert!(!t.expire(1, Timestamp::MAX));
+        // Out-of-range slots are ignored.
+        t.set(3, Some(Timestamp::ZERO));
+        assert_eq!((t.get(3), t.next()), (None, None));
+        assert!(!t.expire(3, Timestamp::MAX));
+    }
+
+    #[test]
+    fn maybe_timestamp_round_trips_all_but_the_end_of_the_clock() {
+        for us in [0, 1, 1_756_955_646_068_614, u64::MAX - 1] {
+            let t = Some(Timestamp::from_micros(us));
+            assert_eq!(MaybeTimestamp::new(t).get(), t);
+        }
+        assert_eq!(MaybeTimestamp::new(None).get(), None);
+        assert_eq!(MaybeTimestamp::new(Some(Timestamp::MAX)).get(), None);
+        assert_eq!(MaybeTimestamp::default(), MaybeTimestamp::NONE);
     }
 
     #[test]
