@@ -225,6 +225,18 @@ impl MaybeTimestamp {
         }
     }
 
+    /// The earlier of `self` and `t` (none is later than any instant).
+    #[must_use]
+    #[inline]
+    pub(crate) fn earlier(self, t: Option<Timestamp>) -> Self {
+        let t = Self::new(t);
+        if t.0 < self.0 {
+            t
+        } else {
+            self
+        }
+    }
+
     /// The instant, if any.
     #[must_use]
     #[inline]
@@ -304,6 +316,11 @@ mod tests {
         assert_eq!(MaybeTimestamp::new(None).get(), None);
         assert_eq!(MaybeTimestamp::new(Some(Timestamp::MAX)).get(), None);
         assert_eq!(MaybeTimestamp::default(), MaybeTimestamp::NONE);
+        let five = Some(Timestamp::from_micros(5));
+        let m = MaybeTimestamp::NONE.earlier(None).earlier(five);
+        assert_eq!(m.earlier(Some(Timestamp::from_micros(9))).get(), five);
+        assert_eq!(m.earlier(None).earlier(Some(Timestamp::MAX)).get(), five);
+        assert_eq!(m.earlier(Some(Timestamp::ZERO)).get(), Some(Timestamp::ZERO));
     }
 
     #[test]

@@ -138,7 +138,7 @@ use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
 use crate::queue::{EventQueue, Queue};
 use crate::sdo::{Server, ServerEvent};
-use crate::time::Timestamp;
+use crate::time::{MaybeTimestamp, Timestamp};
 
 /// The dictionary the SDO server serves: PDO objects, communication
 /// objects, application objects.
@@ -222,24 +222,19 @@ where
     /// from: [`PowerOn`]) over the application objects `app`, not yet
     /// booted.
     pub fn new(config: C, app: A) -> Self {
-        let c = config.power_on_config();
-        let od = PdoDictionary::new(
-            c.pdos,
-            DeviceObjects {
-                comm: c.comm_objects(),
-                app: app.clone(),
-            },
-        );
-        let mut heartbeat = HeartbeatProducer::new(c.node, c.heartbeat);
-        heartbeat.send_on_change = c.heartbeat_on_change;
+        let (node, error_field) = {
+            let c = config.power_on_config();
+            (c.node, c.error_field)
+        };
+        let (server, heartbeat) = Self::power_on_parts(&config, node, app.clone());
         Device {
             config,
-            node: c.node,
-            error_field: c.error_field,
-            nmt: NmtSlave::new(c.node),
+            node,
+            error_field,
+            nmt: NmtSlave::new(node),
             heartbeat,
             consumer: HeartbeatConsumer::new(),
-            server: Server::new(c.server_config(), od),
+            server,
             tpdos: TpdoSet::new(),
             rpdos: RpdoReceiver::new(),
             tpdos_enabled: true,
@@ -251,8 +246,32 @@ where
             lss: None,
             #[cfg(feature = "lss")]
             powered: false,
-            services: services::Services::new(c.node),
+            services: services::Services::new(node),
         }
+    }
+
+    /// The SDO server over the power-on dictionary (the PDO and
+    /// communication objects of `config`'s power-on configuration, the
+    /// application objects `app`) and the heartbeat producer of `node`:
+    /// what [`new`](Self::new) and every reset build (one copy of the code).
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    fn power_on_parts(
+        config: &C,
+        node: NodeId,
+        app: A,
+    ) -> (Server<Dictionary<A>>, HeartbeatProducer) {
+        let c = config.power_on_config();
+        let server_config = c.server_config();
+        let mut heartbeat = HeartbeatProducer::new(node, c.heartbeat);
+        heartbeat.send_on_change = c.heartbeat_on_change;
+        let od = PdoDictionary::new(
+            c.pdos,
+            DeviceObjects {
+                comm: c.comm_objects(),
+                app,
+            },
+        );
+        (Server::new(server_config, od), heartbeat)
     }
 
     // ----- getters ---------------------------------------------------------
@@ -540,7 +559,9 @@ where
         if !self.nmt.is_running() {
             return None;
         }
-        [
+        // The minimum of the deadlines as 8-byte values (none is u64::MAX):
+        // no `Option` comparisons to compile for each pair.
+        let earliest = [
             self.heartbeat.poll_timeout(),
             self.consumer.poll_timeout(),
             #[cfg(feature = "guarding")]
@@ -552,8 +573,8 @@ where
             self.tpdos.poll_timeout(),
         ]
         .into_iter()
-        .flatten()
-        .min()
+        .fold(MaybeTimestamp::NONE, MaybeTimestamp::earlier);
+        earliest.get()
     }
 
     /// The next event.
@@ -625,17 +646,7 @@ where
             ResetKind::Node => self.power_on.clone(),
             ResetKind::Communication => self.objects().clone(),
         };
-        let c = self.config.power_on_config();
-        let od = PdoDictionary::new(
-            c.pdos,
-            DeviceObjects {
-                comm: c.comm_objects(),
-                app,
-            },
-        );
-        self.server = Server::new(c.server_config(), od);
-        self.heartbeat = HeartbeatProducer::new(self.node, c.heartbeat);
-        self.heartbeat.send_on_change = c.heartbeat_on_change;
+        (self.server, self.heartbeat) = Self::power_on_parts(&self.config, self.node, app);
         self.heartbeat.boot(now);
         self.consumer = HeartbeatConsumer::new();
         self.apply_consumers(now);
