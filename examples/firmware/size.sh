@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the footprint firmware (examples/firmware: the battery module and
-# the charger for thumbv7em-none-eabihf, opt-level "s", LTO, panic=abort),
+# the charger for thumbv7em-none-eabihf, opt-level "z", LTO, panic=abort),
 # prints each binary's sections and the size of the node's state (its
 # static, from the symbol table), and fails when a node is more than 10%
 # over the figures recorded in budget.txt.

@@ -18,6 +18,8 @@ use core::ptr::{read_volatile, write_volatile};
 use canopen_codec::machine::Machine;
 use canopen_codec::{CanFrame, CanId, Timestamp};
 
+pub mod mem;
+
 /// Base address of the CAN mailbox block.
 const CAN_BASE: usize = 0x4000_6400;
 /// Receive mailbox: status (bit 0: a frame is waiting; write 1 to release).
