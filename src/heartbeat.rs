@@ -447,7 +447,10 @@ impl<const N: usize> Machine for HeartbeatConsumer<N> {
 
     /// The earliest deadline.
     fn poll_timeout(&self) -> Option<Timestamp> {
-        self.watches.iter().filter_map(|w| w.deadline.get()).min()
+        self.watches
+            .iter()
+            .fold(MaybeTimestamp::NONE, |m, w| m.earlier(w.deadline.get()))
+            .get()
     }
 
     fn poll_event(&mut self) -> Option<HeartbeatEvent> {

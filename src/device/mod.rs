@@ -561,19 +561,16 @@ where
         }
         // The minimum of the deadlines as 8-byte values (none is u64::MAX):
         // no `Option` comparisons to compile for each pair.
-        let earliest = [
-            self.heartbeat.poll_timeout(),
-            self.consumer.poll_timeout(),
-            #[cfg(feature = "guarding")]
-            self.services.guarding.poll_timeout(),
-            #[cfg(feature = "sync-time")]
-            self.services.sync_producer.poll_timeout(),
-            self.server.poll_timeout(),
-            profile.poll_timeout(),
-            self.tpdos.poll_timeout(),
-        ]
-        .into_iter()
-        .fold(MaybeTimestamp::NONE, MaybeTimestamp::earlier);
+        let earliest = MaybeTimestamp::new(self.heartbeat.poll_timeout())
+            .earlier(self.consumer.poll_timeout());
+        #[cfg(feature = "guarding")]
+        let earliest = earliest.earlier(self.services.guarding.poll_timeout());
+        #[cfg(feature = "sync-time")]
+        let earliest = earliest.earlier(self.services.sync_producer.poll_timeout());
+        let earliest = earliest
+            .earlier(self.server.poll_timeout())
+            .earlier(profile.poll_timeout())
+            .earlier(self.tpdos.poll_timeout());
         earliest.get()
     }
 
