@@ -139,7 +139,7 @@ impl SyncProducer {
             return None;
         }
         Some(SyncProducer {
-            period_us: u64::try_from(period.as_micros()).unwrap_or(u64::MAX),
+            period_us: crate::time::micros_of(period),
             overflow,
             ..Self::idle()
         })
@@ -199,7 +199,7 @@ impl SyncProducer {
     /// A new period (1006h written); a running producer restarts its cycle
     /// from `now`.
     pub fn set_period(&mut self, now: Timestamp, period: Duration) {
-        self.period_us = u64::try_from(period.as_micros()).unwrap_or(u64::MAX);
+        self.period_us = crate::time::micros_of(period);
         if self.running {
             self.timers
                 .set(NEXT_SYNC, now.deadline_after(self.period_us));
@@ -397,7 +397,7 @@ impl SyncConsumer {
     /// The synchronous window length (1007h, whole µs, saturating at
     /// `u32::MAX`, the largest 1007h; zero: no window).
     pub fn set_window(&mut self, window: Duration) {
-        self.window_us = u32::try_from(window.as_micros()).unwrap_or(u32::MAX);
+        self.window_us = u32::try_from(crate::time::micros_of(window)).unwrap_or(u32::MAX);
     }
 
     /// Forgets the last SYNC (a reset).

@@ -87,7 +87,7 @@ impl Timestamp {
     /// `self + d`, saturating at [`Timestamp::MAX`] (sub-microsecond parts are dropped).
     #[must_use]
     pub fn add_duration(self, d: Duration) -> Self {
-        let us = u64::try_from(d.as_micros()).unwrap_or(u64::MAX);
+        let us = micros_of(d);
         self.add_micros(us)
     }
 
@@ -260,11 +260,32 @@ impl Default for MaybeTimestamp {
     }
 }
 
+/// `d` in whole microseconds, saturating at `u64::MAX`: what
+/// `u64::try_from(d.as_micros())` gives, without the 128-bit arithmetic
+/// that costs code on a 32-bit target.
+#[must_use]
+#[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+pub(crate) fn micros_of(d: Duration) -> u64 {
+    d.as_secs()
+        .saturating_mul(1_000_000)
+        .saturating_add(u64::from(d.subsec_micros()))
+}
+
+/// `d` in whole milliseconds, saturating at `u64::MAX` (as
+/// [`micros_of`], for `as_millis`).
+#[must_use]
+#[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+pub(crate) fn millis_of(d: Duration) -> u64 {
+    d.as_secs()
+        .saturating_mul(1000)
+        .saturating_add(u64::from(d.subsec_millis()))
+}
+
 /// A duration as whole milliseconds for a 16-bit object (1017h, 1016h,
 /// event timers), saturating at 65535 ms.
 #[must_use]
 pub fn millis_u16(d: Duration) -> u16 {
-    u16::try_from(d.as_millis()).unwrap_or(u16::MAX)
+    u16::try_from(millis_of(d)).unwrap_or(u16::MAX)
 }
 
 #[cfg(test)]
@@ -339,6 +360,32 @@ mod tests {
             m.earlier(Some(Timestamp::ZERO)).get(),
             Some(Timestamp::ZERO)
         );
+    }
+
+    #[test]
+    fn duration_conversions_agree_with_the_128_bit_ones() {
+        let secs = [0, 1, 59, 4_294, 18_446_744_073_709, 18_446_744_073_710, u64::MAX];
+        let nanos = [0, 1, 999, 1_000, 999_999, 1_000_000, 551_615_999, 999_999_999];
+        for s in secs {
+            for n in nanos {
+                let d = Duration::new(s, n);
+                let us = u64::try_from(d.as_micros()).unwrap_or(u64::MAX);
+                let ms = u64::try_from(d.as_millis()).unwrap_or(u64::MAX);
+                assert_eq!((micros_of(d), millis_of(d)), (us, ms), "{d:?}");
+            }
+        }
+        assert_eq!(millis_u16(Duration::from_millis(65_535)), 65_535);
+        assert_eq!(millis_u16(Duration::from_micros(65_535_999)), 65_535);
+        assert_eq!(millis_u16(Duration::from_millis(65_536)), u16::MAX);
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn duration_conversions_agree_everywhere(s in proptest::num::u64::ANY, n in 0u32..1_000_000_000) {
+            let d = Duration::new(s, n);
+            proptest::prop_assert_eq!(micros_of(d), u64::try_from(d.as_micros()).unwrap_or(u64::MAX));
+            proptest::prop_assert_eq!(millis_of(d), u64::try_from(d.as_millis()).unwrap_or(u64::MAX));
+        }
     }
 
     #[test]
