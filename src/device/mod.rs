@@ -180,7 +180,9 @@ pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY, C = Devic
     node: NodeId,
     /// How an EMCY is recorded in 1003h (the configuration's).
     error_field: ErrorFieldFormat,
-    nmt: NmtSlave,
+    /// The NMT slave; its events are drained after every call that makes
+    /// one (at most one per call), so two slots are enough.
+    nmt: NmtSlave<2>,
     heartbeat: HeartbeatProducer,
     consumer: HeartbeatConsumer<MAX_CONSUMERS>,
     server: Server<Dictionary<A>>,
@@ -231,7 +233,7 @@ where
             config,
             node,
             error_field,
-            nmt: NmtSlave::new(node),
+            nmt: NmtSlave::with_event_capacity(node),
             heartbeat,
             consumer: HeartbeatConsumer::new(),
             server,
@@ -633,7 +635,7 @@ where
             if node != self.node || !self.nmt.is_running() {
                 self.config.move_node(node);
                 self.node = node;
-                self.nmt = NmtSlave::new(node);
+                self.nmt = NmtSlave::with_event_capacity(node);
             }
         }
         // A running transfer ends silently; a download is aborted in the
