@@ -77,7 +77,7 @@ use crate::nmt::NmtState;
 use crate::od::index::DEVICE_TYPE;
 use crate::pdo::{PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoSlot, RpdoError};
 use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent};
-use crate::time::{millis_u16, Timestamp};
+use crate::time::{millis_of, millis_u16, Timestamp};
 
 /// How the charger is set up.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -131,19 +131,82 @@ impl ChargerConfig {
         }
     }
 
-    /// The device core's configuration for this charger.
+    /// The device core's configuration for this charger (times in the
+    /// whole milliseconds its objects and the core keep, see
+    /// [`ChargerPowerOn`]).
     #[must_use]
     pub fn device_config(&self) -> DeviceConfig {
-        DeviceConfig {
-            device_type: CHARGER_DEVICE_TYPE,
-            device_name: self.device_name,
-            heartbeat: self.heartbeat,
-            sdo_timeout: self.sdo_timeout,
-            pdos: default_pdos(self),
-            error_field: ErrorFieldFormat::SwappedInfo,
-            ..DeviceConfig::new(self.node)
+        ChargerPowerOn::from(*self).power_on_config()
+    }
+}
+
+/// A [`ChargerConfig`] as the charger keeps it to rebuild its power-on
+/// configuration at boot and at every reset ([`PowerOn`]): the same
+/// settings with the times in whole milliseconds, the unit of the objects
+/// they become (1017h, 1016h and the TPDO event timers are Unsigned16 of
+/// milliseconds, saturating at 65 535 ms; the SDO timeout saturates at
+/// `u32::MAX` ms): 32 bytes on a 32-bit target instead of the 128 of a
+/// `ChargerConfig` with its `Duration`s.
+///
+/// ```
+/// use canopen_codec::deltaq::{ChargerConfig, ChargerPowerOn};
+/// use canopen_codec::NodeId;
+/// use core::time::Duration;
+/// let mut config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
+/// config.heartbeat = Duration::from_micros(1_500_700);
+/// let kept = ChargerPowerOn::from(config);
+/// assert_eq!(kept.config().heartbeat, Duration::from_millis(1500));
+/// assert_eq!(kept.config().tpdo_periods, config.tpdo_periods);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ChargerPowerOn {
+    node: NodeId,
+    battery: NodeId,
+    mode: OperatingMode,
+    configure_cob_ids: bool,
+    self_start: bool,
+    heartbeat_ms: u16,
+    battery_timeout_ms: u16,
+    tpdo_periods_ms: [u16; 4],
+    sdo_timeout_ms: u32,
+    device_name: &'static str,
+}
+
+impl From<ChargerConfig> for ChargerPowerOn {
+    fn from(c: ChargerConfig) -> Self {
+        ChargerPowerOn {
+            node: c.node,
+            battery: c.battery,
+            mode: c.mode,
+            configure_cob_ids: c.configure_cob_ids,
+            self_start: c.self_start,
+            heartbeat_ms: millis_u16(c.heartbeat),
+            battery_timeout_ms: millis_u16(c.battery_timeout),
+            tpdo_periods_ms: c.tpdo_periods.map(millis_u16),
+            sdo_timeout_ms: u32::try_from(millis_of(c.sdo_timeout)).unwrap_or(u32::MAX),
+            device_name: c.device_name,
         }
-        .with_consumers(&[ConsumerEntry::new(self.battery, self.battery_timeout)])
+    }
+}
+
+impl ChargerPowerOn {
+    /// The configuration kept, as a [`ChargerConfig`] (times in whole
+    /// milliseconds).
+    #[must_use]
+    pub fn config(&self) -> ChargerConfig {
+        let ms = |v: u16| Duration::from_millis(u64::from(v));
+        ChargerConfig {
+            node: self.node,
+            battery: self.battery,
+            mode: self.mode,
+            configure_cob_ids: self.configure_cob_ids,
+            self_start: self.self_start,
+            heartbeat: ms(self.heartbeat_ms),
+            battery_timeout: ms(self.battery_timeout_ms),
+            tpdo_periods: self.tpdo_periods_ms.map(ms),
+            sdo_timeout: Duration::from_millis(u64::from(self.sdo_timeout_ms)),
+            device_name: self.device_name,
+        }
     }
 }
 
@@ -231,7 +294,7 @@ const PDO_NUMBERS: [PdoNumber; 4] = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2
 
 /// The charger's default PDO set: its published mappings, with COB-IDs
 /// not valid until configured (or valid defaults without configuration).
-fn default_pdos(config: &ChargerConfig) -> PdoConfig {
+fn default_pdos(config: &ChargerPowerOn) -> PdoConfig {
     let mut pdos = PdoConfig::new();
     for dir in [PdoDirection::Transmit, PdoDirection::Receive] {
         for n in PDO_NUMBERS {
@@ -241,9 +304,10 @@ fn default_pdos(config: &ChargerConfig) -> PdoConfig {
                 PdoCobId::from_u32(d.cob_id(config.node)).with_valid(!config.configure_cob_ids);
             let period = match dir {
                 PdoDirection::Transmit => config
-                    .tpdo_periods
+                    .tpdo_periods_ms
                     .get(usize::from(n.raw()))
-                    .map_or(0, |p| millis_u16(*p)),
+                    .copied()
+                    .unwrap_or(0),
                 PdoDirection::Receive => 0,
             };
             pdos.insert(
@@ -256,13 +320,25 @@ fn default_pdos(config: &ChargerConfig) -> PdoConfig {
     pdos
 }
 
-type ChargerDevice<const Q: usize> = Device<ChargerObjects, ChargerEvent, Q, ChargerConfig>;
+type ChargerDevice<const Q: usize> = Device<ChargerObjects, ChargerEvent, Q, ChargerPowerOn>;
 
 /// The charger's [`DeviceConfig`] is made from its configuration at boot
 /// and at every reset (the core keeps no second copy).
-impl PowerOn for ChargerConfig {
+impl PowerOn for ChargerPowerOn {
     fn power_on_config(&self) -> DeviceConfig {
-        self.device_config()
+        DeviceConfig {
+            device_type: CHARGER_DEVICE_TYPE,
+            device_name: self.device_name,
+            heartbeat: Duration::from_millis(u64::from(self.heartbeat_ms)),
+            sdo_timeout: Duration::from_millis(u64::from(self.sdo_timeout_ms)),
+            pdos: default_pdos(self),
+            error_field: ErrorFieldFormat::SwappedInfo,
+            ..DeviceConfig::new(self.node)
+        }
+        .with_consumers(&[ConsumerEntry {
+            node: self.battery.raw(),
+            time_ms: self.battery_timeout_ms,
+        }])
     }
 
     fn set_node(&mut self, node: NodeId) {
@@ -341,7 +417,7 @@ pub struct Charger<const Q: usize = DEFAULT_QUEUE_CAPACITY> {
     profile: ChargerProfile,
 }
 
-machine_on_device!(Charger, ChargerObjects, ChargerEvent, ChargerConfig);
+machine_on_device!(Charger, ChargerObjects, ChargerEvent, ChargerPowerOn);
 
 impl Charger {
     /// A charger with `config`, not yet booted, with the default queue
@@ -368,17 +444,18 @@ impl<const Q: usize> Charger<Q> {
     #[must_use]
     pub fn with_queue_capacity(config: ChargerConfig) -> Self {
         Charger {
-            device: Device::new(config, ChargerObjects::new()),
+            device: Device::new(ChargerPowerOn::from(config), ChargerObjects::new()),
             profile: ChargerProfile::new(config),
         }
     }
 
     // ----- getters -----------------------------------------------------------
 
-    /// The configuration.
+    /// The configuration (times in the whole milliseconds the charger
+    /// keeps, [`ChargerPowerOn`]).
     #[must_use]
-    pub const fn config(&self) -> &ChargerConfig {
-        self.device.power_on()
+    pub fn config(&self) -> ChargerConfig {
+        self.device.power_on().config()
     }
 
     /// True once the PDO pairing is done and the module is present.
@@ -605,7 +682,7 @@ impl ChargerProfile {
     }
 }
 
-impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerConfig> for ChargerProfile {
+impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn> for ChargerProfile {
     /// The battery module's heartbeat events are reported as
     /// [`ChargerEvent::BatteryFound`] / [`ChargerEvent::BatteryLost`].
     fn keep_event(&self, event: &DeviceEvent) -> bool {

@@ -148,7 +148,7 @@ pub use catalogue::{
     ALGORITHM_REQUEST_FORMAT, CHARGER_CATALOGUE, DELTAQ_OBJECTS, DERATE_REASONS_FLAGS,
     DISPLAYED_ERROR_FORMAT, EXTENDED_CHARGE_STATUS_FLAGS, EXTERNAL_OVERRIDE_FLAGS,
 };
-pub use charger::{Charger, ChargerConfig, ChargerEvent};
+pub use charger::{Charger, ChargerConfig, ChargerEvent, ChargerPowerOn};
 pub use charger_objects::ChargerObjects;
 pub use codes::{AlarmFaultEntry, DeltaQCode, ALARMS_AND_FAULTS};
 #[cfg(feature = "alloc")]
