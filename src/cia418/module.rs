@@ -59,7 +59,7 @@ use crate::pdo::{
     TransmissionType, MAX_ENTRIES,
 };
 use crate::sdo::DEFAULT_TIMEOUT;
-use crate::time::Timestamp;
+use crate::time::{millis_of, millis_u16, Timestamp};
 
 /// How a [`BatteryModule`] is set up.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -100,17 +100,69 @@ impl BatteryModuleConfig {
         }
     }
 
-    /// The device core's configuration for this module.
+    /// The device core's configuration for this module (times in the
+    /// whole milliseconds the module keeps, see [`BatteryModulePowerOn`]).
     #[must_use]
     pub fn device_config(&self) -> DeviceConfig {
-        DeviceConfig {
-            device_type: self.device_type.raw(),
+        BatteryModulePowerOn::from(*self).power_on_config()
+    }
+}
+
+/// A [`BatteryModuleConfig`] as the module keeps it to rebuild its
+/// power-on configuration at boot and at every reset ([`PowerOn`]): the
+/// same settings with the heartbeat in the whole milliseconds of 1017h
+/// (saturating at 65 535 ms) and the SDO timeout in whole milliseconds
+/// (saturating at `u32::MAX` ms): 36 bytes on a 32-bit target instead of
+/// the 64 of a `BatteryModuleConfig` with its `Duration`s.
+///
+/// ```
+/// use canopen_codec::cia418::{BatteryModuleConfig, BatteryModulePowerOn};
+/// use canopen_codec::NodeId;
+/// use core::time::Duration;
+/// let mut config = BatteryModuleConfig::new(NodeId::MIN);
+/// config.sdo_timeout = Duration::from_micros(2_500_900);
+/// let kept = BatteryModulePowerOn::from(config);
+/// assert_eq!(kept.config().sdo_timeout, Duration::from_millis(2500));
+/// assert_eq!(kept.config().heartbeat, config.heartbeat);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BatteryModulePowerOn {
+    node: NodeId,
+    enable_tpdos: bool,
+    heartbeat_ms: u16,
+    device_type: DeviceType,
+    sdo_timeout_ms: u32,
+    device_name: &'static str,
+    identity: Identity,
+}
+
+impl From<BatteryModuleConfig> for BatteryModulePowerOn {
+    fn from(c: BatteryModuleConfig) -> Self {
+        BatteryModulePowerOn {
+            node: c.node,
+            enable_tpdos: c.enable_tpdos,
+            heartbeat_ms: millis_u16(c.heartbeat),
+            device_type: c.device_type,
+            sdo_timeout_ms: u32::try_from(millis_of(c.sdo_timeout)).unwrap_or(u32::MAX),
+            device_name: c.device_name,
+            identity: c.identity,
+        }
+    }
+}
+
+impl BatteryModulePowerOn {
+    /// The configuration kept, as a [`BatteryModuleConfig`] (times in
+    /// whole milliseconds).
+    #[must_use]
+    pub fn config(&self) -> BatteryModuleConfig {
+        BatteryModuleConfig {
+            node: self.node,
+            device_type: self.device_type,
             device_name: self.device_name,
             identity: self.identity,
-            heartbeat: self.heartbeat,
-            sdo_timeout: self.sdo_timeout,
-            pdos: default_pdo_config(self),
-            ..DeviceConfig::new(self.node)
+            heartbeat: Duration::from_millis(u64::from(self.heartbeat_ms)),
+            enable_tpdos: self.enable_tpdos,
+            sdo_timeout: Duration::from_millis(u64::from(self.sdo_timeout_ms)),
         }
     }
 }
@@ -131,12 +183,12 @@ struct ModuleProfile {
     temperature_fault: bool,
 }
 
-impl<const Q: usize> Profile<BatteryObjects, BatteryEvent, Q, BatteryModuleConfig>
+impl<const Q: usize> Profile<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn>
     for ModuleProfile
 {
     fn on_event(
         &mut self,
-        _device: &mut Device<BatteryObjects, BatteryEvent, Q, BatteryModuleConfig>,
+        _device: &mut Device<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn>,
         _now: Timestamp,
         event: &DeviceEvent,
     ) {
@@ -174,7 +226,7 @@ impl<const Q: usize> Profile<BatteryObjects, BatteryEvent, Q, BatteryModuleConfi
 pub struct BatteryModule<const Q: usize = DEFAULT_QUEUE_CAPACITY> {
     /// The core keeps the module's configuration and rebuilds its
     /// [`DeviceConfig`] from it at boot and at every reset.
-    device: Device<BatteryObjects, BatteryEvent, Q, BatteryModuleConfig>,
+    device: Device<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn>,
     profile: ModuleProfile,
 }
 
@@ -182,14 +234,22 @@ machine_on_device!(
     BatteryModule,
     BatteryObjects,
     BatteryEvent,
-    BatteryModuleConfig
+    BatteryModulePowerOn
 );
 
 /// The module's [`DeviceConfig`] is made from its configuration (CiA 418
 /// default PDOs for its node-ID, so they follow an LSS node-ID change).
-impl PowerOn for BatteryModuleConfig {
+impl PowerOn for BatteryModulePowerOn {
     fn power_on_config(&self) -> DeviceConfig {
-        self.device_config()
+        DeviceConfig {
+            device_type: self.device_type.raw(),
+            device_name: self.device_name,
+            identity: self.identity,
+            heartbeat: Duration::from_millis(u64::from(self.heartbeat_ms)),
+            sdo_timeout: Duration::from_millis(u64::from(self.sdo_timeout_ms)),
+            pdos: default_pdo_config(self),
+            ..DeviceConfig::new(self.node)
+        }
     }
 
     fn set_node(&mut self, node: NodeId) {
@@ -198,7 +258,7 @@ impl PowerOn for BatteryModuleConfig {
 }
 
 /// The CiA 418 default PDO set of a module with `config`.
-fn default_pdo_config(config: &BatteryModuleConfig) -> PdoConfig {
+fn default_pdo_config(config: &BatteryModulePowerOn) -> PdoConfig {
     let mut pdos = PdoConfig::new();
     for d in DEFAULT_PDOS
         .iter()
@@ -251,7 +311,11 @@ impl BatteryModule {
     #[cfg(feature = "lss")]
     pub fn with_lss(config: BatteryModuleConfig, lss: crate::lss::LssSlave) -> Self {
         BatteryModule {
-            device: Device::with_lss(config, BatteryObjects::new(), lss),
+            device: Device::with_lss(
+                BatteryModulePowerOn::from(config),
+                BatteryObjects::new(),
+                lss,
+            ),
             profile: ModuleProfile::default(),
         }
     }
@@ -273,21 +337,21 @@ impl<const Q: usize> BatteryModule<Q> {
     #[must_use]
     pub fn with_queue_capacity(config: BatteryModuleConfig) -> Self {
         BatteryModule {
-            device: Device::new(config, BatteryObjects::new()),
+            device: Device::new(BatteryModulePowerOn::from(config), BatteryObjects::new()),
             profile: ModuleProfile::default(),
         }
     }
 
     /// The device core (node-ID, LSS slave, NMT state).
     #[must_use]
-    pub const fn device(&self) -> &Device<BatteryObjects, BatteryEvent, Q, BatteryModuleConfig> {
+    pub const fn device(&self) -> &Device<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn> {
         &self.device
     }
 
     /// The device core, mutably (to answer an LSS store request).
     pub fn device_mut(
         &mut self,
-    ) -> &mut Device<BatteryObjects, BatteryEvent, Q, BatteryModuleConfig> {
+    ) -> &mut Device<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn> {
         &mut self.device
     }
 
@@ -296,8 +360,8 @@ impl<const Q: usize> BatteryModule<Q> {
     /// The configuration (its node-ID the active one, after an LSS
     /// change).
     #[must_use]
-    pub const fn config(&self) -> &BatteryModuleConfig {
-        self.device.power_on()
+    pub fn config(&self) -> BatteryModuleConfig {
+        self.device.power_on().config()
     }
 
     /// True while the temperature sensor fault is set.
