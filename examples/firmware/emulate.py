@@ -212,6 +212,7 @@ class Firmware:
         self.last_mmio = self.start
         self.failure = None
         self.yields = 0
+        self.boot_stack = None  # the stack mark when the main loop starts
 
     # ---- peripherals -------------------------------------------------
     def _block(self, _uc, address, size, _data):
@@ -285,6 +286,8 @@ class Firmware:
         self.last_mmio = time.monotonic()
         reg = offset
         if reg == RX_STATUS:
+            if self.boot_stack is None:
+                self._repaint_after_boot(uc)
             if self.frame_start is not None:
                 self.per_frame.append(self.executed - self.frame_start)
                 self.frame_start = None
@@ -305,6 +308,14 @@ class Firmware:
         if reg in (TX_ID, TX_DLC, TX_DATA_LO, TX_DATA_HI):
             return self.tx[(reg - TX_ID) // 4]
         return 0
+
+    def _repaint_after_boot(self, uc):
+        """At the main loop's first receive poll: the boot's mark, then the
+        paint renewed below the live stack, so the exit mark tells the main
+        loop's own depth apart (nothing below SP is live: no interrupts)."""
+        self.boot_stack = self.stack_high_water()
+        sp = uc.reg_read(UC_ARM_REG_SP) & ~3
+        uc.mem_write(self.stack_floor, PAINT.to_bytes(4, "little") * ((sp - self.stack_floor) // 4))
 
     def _can_write(self, _uc, offset, _size, value, _data):
         reg = offset
@@ -392,13 +403,15 @@ class Firmware:
 
     def summary(self):
         pc = self.uc.reg_read(UC_ARM_REG_PC)
-        stack = self.stack_high_water()
+        running = self.stack_high_water()
+        stack = max(running, self.boot_stack or 0)
         statics = self.stack_floor - self.ram_base  # .data + .bss
         state = self.sizes.get(STATE_SYMBOL[self.node], 0)
         lines = [
             f"emulate: {self.node}: {self.frames_in} frames in, {self.frames_out} out "
             f"in {self.elapsed:.2f} s, {self.executed} instructions",
-            f"emulate: stack high-water mark {stack} bytes; .data+.bss {statics} bytes "
+            f"emulate: stack high-water mark {stack} bytes (boot {self.boot_stack}, "
+            f"main loop {running}); .data+.bss {statics} bytes "
             f"(node state {state}); RAM used {statics + stack} of {self.ram_len} "
             f"({'fits' if statics + stack <= self.ram_len else 'DOES NOT FIT'})",
         ]
@@ -406,6 +419,8 @@ class Firmware:
             lines.append(f"emulate: instructions per received frame: mean "
                          f"{sum(self.per_frame) // len(self.per_frame)}, "
                          f"max {max(self.per_frame)} ({len(self.per_frame)} frames)")
+        if self.yields:
+            lines.append(f"emulate: YIELD stepped over {self.yields} times")
         if self.node == "charger":
             lines.append(f"emulate: OUTPUT_STOP writes: {len(self.stop_writes)}"
                          f" (last {self.stop_writes[-1]})" if self.stop_writes else
