@@ -44,13 +44,21 @@ const QUEUE_CAPACITY: usize = 4;
 #[no_mangle]
 static mut CHARGER_STATE: MaybeUninit<Charger<QUEUE_CAPACITY>> = MaybeUninit::uninit();
 
+/// Builds the charger into its static. Not inlined: the temporaries of
+/// the construction live in this function's stack frame, which is gone
+/// when the loop in `main` runs (inlined, they stayed on the stack for
+/// good).
+#[inline(never)]
+fn init() -> &'static mut Charger<QUEUE_CAPACITY> {
+    let config = ChargerConfig::new(CHARGER_NODE, NodeId::MIN);
+    // SAFETY: `init` runs once, from `main`, and is the only code that
+    // touches the static; the reference is the only one ever made.
+    unsafe { (*addr_of_mut!(CHARGER_STATE)).write(Charger::with_queue_capacity(config)) }
+}
+
 #[entry]
 fn main() -> ! {
-    let config = ChargerConfig::new(CHARGER_NODE, NodeId::MIN);
-    // SAFETY: `main` runs once and is the only code that touches the
-    // static; the reference is the only one ever made.
-    let charger: &mut Charger<QUEUE_CAPACITY> =
-        unsafe { (*addr_of_mut!(CHARGER_STATE)).write(Charger::with_queue_capacity(config)) };
+    let charger = init();
     let mut can = Can;
     let mut clock = Clock::default();
     charger.boot(clock.now());
