@@ -446,13 +446,14 @@ class Firmware:
         pc = self.uc.reg_read(UC_ARM_REG_PC)
         running = self.stack_high_water()
         stack = max(running, self.boot_stack or 0)
+        phases = (f"boot {self.boot_stack}, main loop {running}" if self.boot_stack is not None
+                  else "in boot: the main loop never polled the mailbox")
         statics = self.stack_floor - self.ram_base  # .data + .bss
         state = self.sizes.get(STATE_SYMBOL[self.node], 0)
         lines = [
             f"emulate: {self.node}: {self.frames_in} frames in, {self.frames_out} out "
             f"in {self.elapsed:.2f} s, {self.executed} instructions",
-            f"emulate: stack high-water mark {stack} bytes (boot {self.boot_stack}, "
-            f"main loop {running}); .data+.bss {statics} bytes "
+            f"emulate: stack high-water mark {stack} bytes ({phases}); .data+.bss {statics} bytes "
             f"(node state {state}); RAM used {statics + stack} of {self.ram_len} "
             f"({'fits' if statics + stack <= self.ram_len else 'DOES NOT FIT'})",
         ]

@@ -112,13 +112,15 @@ def left_out(node, bus, who):
               code == 0x05040001, code and hex(code))
     guarded(f"{who} block download", block_download)
 
-    # LSS inquire node-ID and switch state global (CiA 305): no answer 7E4h.
-    t = time.time()
-    bus.send(can.Message(arbitration_id=0x7E5, data=bytes([0x5E] + [0] * 7),
-                                 is_extended_id=False))
-    time.sleep(0.3)
-    check(f"{who}: LSS inquire node-ID (lss not in this build) unanswered",
-          not frames(bus, 0x7E4, t))
+    def lss():
+        # LSS inquire node-ID (CiA 305): no answer on 7E4h.
+        t = time.time()
+        bus.send(can.Message(arbitration_id=0x7E5, data=bytes([0x5E] + [0] * 7),
+                             is_extended_id=False))
+        time.sleep(0.3)
+        check(f"{who}: LSS inquire node-ID (lss not in this build) unanswered",
+              not frames(bus, 0x7E4, t))
+    guarded(f"{who} LSS", lss)
 
 
 def battery(emulate, elf, report):
@@ -130,14 +132,18 @@ def battery(emulate, elf, report):
     node.sdo.RESPONSE_TIMEOUT = 2.0
     try:
         battery_cases(bus, net, node)
+    except BrokenPipeError:
+        check("the emulator ran until stdin closed", False, "it exited early")
     finally:
         net.disconnect()
     return summary(bus, "battery_module")
 
 
 def battery_cases(bus, net, node):
-    check("battery: boot-up message 701#00",
-          wait_until(lambda: (0x701, b"\x00") in [(i, d) for _, i, d in bus.seen], 5), bus.seen[:3])
+    booted = wait_until(lambda: (0x701, b"\x00") in [(i, d) for _, i, d in bus.seen], 5)
+    check("battery: boot-up message 701#00", booted, bus.seen[:3])
+    if not booted:
+        return  # the emulator's summary below says why
     t0 = time.time()
     wait_until(lambda: len(heartbeats(bus, BATTERY, t0)) >= 3, 3.5)
     beats = heartbeats(bus, BATTERY, t0)
@@ -287,6 +293,8 @@ def charger(emulate, elf, report):
     node.sdo.RESPONSE_TIMEOUT = 2.0
     try:
         charger_cases(bus, net, battery_node, node, reads)
+    except BrokenPipeError:
+        check("the emulator ran until stdin closed", False, "it exited early")
     finally:
         battery_node.nmt.stop_heartbeat()
         net.disconnect()
@@ -294,7 +302,10 @@ def charger(emulate, elf, report):
 
 
 def charger_cases(bus, net, battery_node, node, reads):
-    check("charger: boot-up 70A#00", wait_until(lambda: frames(bus, 0x700 + CHARGER, 0), 3))
+    booted = wait_until(lambda: frames(bus, 0x700 + CHARGER, 0), 5)
+    check("charger: boot-up 70A#00", booted)
+    if not booted:
+        return  # the emulator's summary below says why
     net.send_message(0x700 + BATTERY, [0x00])
     battery_node.nmt.state = "OPERATIONAL"
     battery_node.nmt.start_heartbeat(200)

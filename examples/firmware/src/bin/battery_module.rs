@@ -1,9 +1,11 @@
 //! A CiA 418 battery module at node 1 as Cortex-M4 firmware: the crate's
 //! `cia418::BatteryModule` driven by the `machine::Machine` contract loop
 //! from the CAN mailbox and the timer of `canopen_codec_firmware`, with
-//! its measurements read from sensor registers. Built only to prove the
-//! footprint (`bash examples/firmware/size.sh`); the module's state lives
-//! in the static `BATTERY_MODULE_STATE`, whose size the symbol table gives.
+//! its measurements read from sensor registers. Built to prove the
+//! footprint (`bash examples/firmware/size.sh`) and run on an emulated
+//! Cortex-M4 against python-canopen (`examples/firmware/emulate.py`, which
+//! also measures the stack); the module's state lives in the static
+//! `BATTERY_MODULE_STATE`, whose size the symbol table gives.
 
 #![no_std]
 #![no_main]

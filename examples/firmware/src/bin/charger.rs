@@ -2,9 +2,11 @@
 //! Cortex-M4 firmware: the crate's `deltaq::Charger` driven by the
 //! `machine::Machine` contract loop from the CAN mailbox and the timer of
 //! `canopen_codec_firmware`, with its measurements read from sensor
-//! registers. Built only to prove the footprint
-//! (`bash examples/firmware/size.sh`); the charger's state lives in the
-//! static `CHARGER_STATE`, whose size the symbol table gives.
+//! registers. Built to prove the footprint (`bash examples/firmware/size.sh`)
+//! and run on an emulated Cortex-M4 against python-canopen
+//! (`examples/firmware/emulate.py`, which also measures the stack); the
+//! charger's state lives in the static `CHARGER_STATE`, whose size the
+//! symbol table gives.
 
 #![no_std]
 #![no_main]
