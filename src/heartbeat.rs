@@ -144,9 +144,7 @@ impl HeartbeatProducer {
 /// `d` truncated to whole milliseconds, in microseconds (1016h and 1017h
 /// count milliseconds).
 fn whole_millis_us(d: Duration) -> u64 {
-    u64::try_from(d.as_millis())
-        .unwrap_or(u64::MAX)
-        .saturating_mul(1000)
+    crate::time::millis_of(d).saturating_mul(1000)
 }
 
 impl Machine for HeartbeatProducer {
@@ -447,7 +445,10 @@ impl<const N: usize> Machine for HeartbeatConsumer<N> {
 
     /// The earliest deadline.
     fn poll_timeout(&self) -> Option<Timestamp> {
-        self.watches.iter().filter_map(|w| w.deadline.get()).min()
+        self.watches
+            .iter()
+            .fold(MaybeTimestamp::NONE, |m, w| m.earlier(w.deadline.get()))
+            .get()
     }
 
     fn poll_event(&mut self) -> Option<HeartbeatEvent> {

@@ -27,7 +27,7 @@ use crate::cob_id::SYNC;
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::{EventQueue, Queue};
-use crate::time::{Timers, Timestamp};
+use crate::time::{MaybeTimestamp, Timers, Timestamp};
 
 /// True for a valid 1019h value: 0 (no counter) or 2..=240.
 #[must_use]
@@ -139,7 +139,7 @@ impl SyncProducer {
             return None;
         }
         Some(SyncProducer {
-            period_us: u64::try_from(period.as_micros()).unwrap_or(u64::MAX),
+            period_us: crate::time::micros_of(period),
             overflow,
             ..Self::idle()
         })
@@ -199,7 +199,7 @@ impl SyncProducer {
     /// A new period (1006h written); a running producer restarts its cycle
     /// from `now`.
     pub fn set_period(&mut self, now: Timestamp, period: Duration) {
-        self.period_us = u64::try_from(period.as_micros()).unwrap_or(u64::MAX);
+        self.period_us = crate::time::micros_of(period);
         if self.running {
             self.timers
                 .set(NEXT_SYNC, now.deadline_after(self.period_us));
@@ -302,8 +302,11 @@ pub enum SyncEvent {
     /// A synchronous PDO after the synchronous window (1007h) had closed,
     /// or before any SYNC.
     OutsideWindow {
-        /// Microseconds since the last SYNC (`u64::MAX` before any SYNC).
-        since_sync_us: u64,
+        /// Microseconds since the last SYNC, saturating at `u32::MAX`
+        /// (about 71 minutes; the window, 1007h, is an Unsigned32 of µs,
+        /// so a saturated value is outside any window), and `u32::MAX`
+        /// before any SYNC.
+        since_sync_us: u32,
     },
 }
 
@@ -342,8 +345,9 @@ pub enum SyncEvent {
 pub struct SyncConsumer {
     id: CanId,
     overflow: u8,
-    window_us: u64,
-    last_sync: Option<Timestamp>,
+    /// 1007h (µs).
+    window_us: u32,
+    last_sync: MaybeTimestamp,
     last_counter: Option<u8>,
     events: EventQueue<SyncEvent, 2>,
 }
@@ -362,7 +366,7 @@ impl SyncConsumer {
             id: CanId::Standard(SYNC),
             overflow: 0,
             window_us: 0,
-            last_sync: None,
+            last_sync: MaybeTimestamp::NONE,
             last_counter: None,
             events: EventQueue::new(SyncEvent::Received { counter: None }),
         }
@@ -390,21 +394,22 @@ impl SyncConsumer {
         true
     }
 
-    /// The synchronous window length (1007h, whole µs; zero: no window).
+    /// The synchronous window length (1007h, whole µs, saturating at
+    /// `u32::MAX`, the largest 1007h; zero: no window).
     pub fn set_window(&mut self, window: Duration) {
-        self.window_us = u64::try_from(window.as_micros()).unwrap_or(u64::MAX);
+        self.window_us = u32::try_from(crate::time::micros_of(window)).unwrap_or(u32::MAX);
     }
 
     /// Forgets the last SYNC (a reset).
     pub fn reset(&mut self) {
-        self.last_sync = None;
+        self.last_sync = MaybeTimestamp::NONE;
         self.last_counter = None;
     }
 
     /// When the last SYNC arrived.
     #[must_use]
     pub const fn last_sync(&self) -> Option<Timestamp> {
-        self.last_sync
+        self.last_sync.get()
     }
 
     /// True when `now` is within the window after the last SYNC (always
@@ -414,7 +419,8 @@ impl SyncConsumer {
         self.window_us == 0
             || self
                 .last_sync
-                .is_some_and(|at| now.saturating_micros_since(at) <= self.window_us)
+                .get()
+                .is_some_and(|at| now.saturating_micros_since(at) <= u64::from(self.window_us))
     }
 
     /// A synchronous PDO is sent or received at `now`: true when within
@@ -424,9 +430,9 @@ impl SyncConsumer {
         if self.within_window(now) {
             return true;
         }
-        let since_sync_us = self
-            .last_sync
-            .map_or(u64::MAX, |at| now.saturating_micros_since(at));
+        let since_sync_us = self.last_sync.get().map_or(u32::MAX, |at| {
+            u32::try_from(now.saturating_micros_since(at)).unwrap_or(u32::MAX)
+        });
         self.events.push(SyncEvent::OutsideWindow { since_sync_us });
         false
     }
@@ -441,7 +447,7 @@ impl SyncConsumer {
         let Ok(sync) = Sync::decode(frame.data()) else {
             return false;
         };
-        self.last_sync = Some(now);
+        self.last_sync = MaybeTimestamp::new(Some(now));
         self.events.push(SyncEvent::Received {
             counter: sync.counter,
         });

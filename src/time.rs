@@ -66,28 +66,28 @@ impl Timestamp {
         self.add_micros(ms.saturating_mul(1000))
     }
 
-    /// The deadline of a timer that runs `us` from `self` (saturating at
-    /// [`Timestamp::MAX`]), or `None` when that is not later than `self`
-    /// (`us` zero, or `self` already [`Timestamp::MAX`]). A periodic timer
-    /// re-armed at the end of the clock would otherwise be due again at
-    /// once, for ever; this way a far-ahead timestamp expires it once, as
-    /// the state-machine contract says.
+    /// The deadline of a timer that runs `us` from `self`, or `None` when
+    /// that is not before the end of the clock ([`Timestamp::MAX`]) or not
+    /// later than `self` (`us` zero). A periodic timer re-armed at the end
+    /// of the clock would otherwise be due again at once, for ever (and a
+    /// timer table keeps a deadline at the end as the microsecond before
+    /// it, see [`Timers::set`]); this way a far-ahead timestamp expires it
+    /// once, as the state-machine contract says, and a period that would
+    /// end past the clock does not start.
     #[must_use]
     #[cfg_attr(target_pointer_width = "64", inline)]
     #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub(crate) const fn deadline_after(self, us: u64) -> Option<Timestamp> {
-        let at = self.add_micros(us);
-        if at.0 > self.0 {
-            Some(at)
-        } else {
-            None
+        match self.0.checked_add(us) {
+            Some(at) if at > self.0 && at != u64::MAX => Some(Timestamp(at)),
+            _ => None,
         }
     }
 
     /// `self + d`, saturating at [`Timestamp::MAX`] (sub-microsecond parts are dropped).
     #[must_use]
     pub fn add_duration(self, d: Duration) -> Self {
-        let us = u64::try_from(d.as_micros()).unwrap_or(u64::MAX);
+        let us = micros_of(d);
         self.add_micros(us)
     }
 
@@ -154,9 +154,10 @@ impl<const N: usize> Timers<N> {
         }
     }
 
-    /// Arms (`Some`) or stops (`None`) timer `slot`. A deadline at
-    /// [`Timestamp::MAX`] stops it: the end of the clock is never reached
-    /// (the table keeps a deadline in 8 bytes, `u64::MAX` meaning none).
+    /// Arms (`Some`) or stops (`None`) timer `slot`. The table keeps a
+    /// deadline in 8 bytes (`u64::MAX` meaning none), so a deadline at
+    /// [`Timestamp::MAX`] is kept one microsecond earlier: it still expires
+    /// once at the end of the clock, as every running timer does.
     #[cfg_attr(target_pointer_width = "64", inline)]
     #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn set(&mut self, slot: usize, deadline: Option<Timestamp>) {
@@ -205,9 +206,10 @@ impl<const N: usize> Timers<N> {
 
 /// An optional [`Timestamp`] in 8 bytes (an `Option<Timestamp>` takes 16
 /// with its alignment on a 32-bit target): `u64::MAX` means none, so
-/// [`Timestamp::MAX`] itself is kept as none. For the timer tables and the
-/// "last seen" instants of the machines, where the end of the clock is
-/// never a real instant.
+/// [`Timestamp::MAX`] itself is kept as the microsecond before it. For the
+/// timer tables and the "last seen" instants of the machines: a deadline
+/// at the end of the clock still expires there (a microsecond early), and
+/// an instant seen at the end of the clock is still an instant.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub(crate) struct MaybeTimestamp(u64);
 
@@ -215,11 +217,13 @@ impl MaybeTimestamp {
     /// None.
     pub(crate) const NONE: MaybeTimestamp = MaybeTimestamp(u64::MAX);
 
-    /// `t` kept (a `Some(Timestamp::MAX)` becomes none).
+    /// `t` kept (`Timestamp::MAX` as the microsecond before it).
     #[must_use]
-    #[inline]
+    #[cfg_attr(target_pointer_width = "64", inline)]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub(crate) const fn new(t: Option<Timestamp>) -> Self {
         match t {
+            Some(Timestamp(u64::MAX)) => MaybeTimestamp(u64::MAX - 1),
             Some(t) => MaybeTimestamp(t.0),
             None => Self::NONE,
         }
@@ -227,7 +231,8 @@ impl MaybeTimestamp {
 
     /// The earlier of `self` and `t` (none is later than any instant).
     #[must_use]
-    #[inline]
+    #[cfg_attr(target_pointer_width = "64", inline)]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub(crate) fn earlier(self, t: Option<Timestamp>) -> Self {
         let t = Self::new(t);
         if t.0 < self.0 {
@@ -255,11 +260,32 @@ impl Default for MaybeTimestamp {
     }
 }
 
+/// `d` in whole microseconds, saturating at `u64::MAX`: what
+/// `u64::try_from(d.as_micros())` gives, without the 128-bit arithmetic
+/// that costs code on a 32-bit target.
+#[must_use]
+#[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+pub(crate) fn micros_of(d: Duration) -> u64 {
+    d.as_secs()
+        .saturating_mul(1_000_000)
+        .saturating_add(u64::from(d.subsec_micros()))
+}
+
+/// `d` in whole milliseconds, saturating at `u64::MAX` (as
+/// [`micros_of`], for `as_millis`).
+#[must_use]
+#[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+pub(crate) fn millis_of(d: Duration) -> u64 {
+    d.as_secs()
+        .saturating_mul(1000)
+        .saturating_add(u64::from(d.subsec_millis()))
+}
+
 /// A duration as whole milliseconds for a 16-bit object (1017h, 1016h,
 /// event timers), saturating at 65535 ms.
 #[must_use]
 pub fn millis_u16(d: Duration) -> u16 {
-    u16::try_from(d.as_millis()).unwrap_or(u16::MAX)
+    u16::try_from(millis_of(d)).unwrap_or(u16::MAX)
 }
 
 #[cfg(test)]
@@ -297,10 +323,15 @@ mod tests {
         assert!(!t.expire(2, Timestamp::from_micros(u64::MAX - 2)));
         assert!(t.expire(2, Timestamp::MAX));
         assert_eq!((t.get(2), t.next()), (None, None));
-        // The end of the clock is no deadline: it stops the timer.
+        // A deadline at the end of the clock is kept a microsecond earlier:
+        // it expires once, at the end of the clock at the latest.
+        let last = Some(Timestamp::from_micros(u64::MAX - 1));
         t.set(1, Some(Timestamp::MAX));
-        assert_eq!((t.get(1), t.next()), (None, None));
+        assert_eq!((t.get(1), t.next()), (last, last));
+        assert!(!t.expire(1, Timestamp::from_micros(u64::MAX - 2)));
+        assert!(t.expire(1, Timestamp::MAX));
         assert!(!t.expire(1, Timestamp::MAX));
+        assert_eq!(t.next(), None);
         // Out-of-range slots are ignored.
         t.set(3, Some(Timestamp::ZERO));
         assert_eq!((t.get(3), t.next()), (None, None));
@@ -308,19 +339,70 @@ mod tests {
     }
 
     #[test]
-    fn maybe_timestamp_round_trips_all_but_the_end_of_the_clock() {
+    fn maybe_timestamp_keeps_all_but_the_last_microsecond() {
         for us in [0, 1, 1_756_955_646_068_614, u64::MAX - 1] {
             let t = Some(Timestamp::from_micros(us));
             assert_eq!(MaybeTimestamp::new(t).get(), t);
         }
         assert_eq!(MaybeTimestamp::new(None).get(), None);
-        assert_eq!(MaybeTimestamp::new(Some(Timestamp::MAX)).get(), None);
+        assert_eq!(
+            MaybeTimestamp::new(Some(Timestamp::MAX)).get(),
+            Some(Timestamp::from_micros(u64::MAX - 1))
+        );
         assert_eq!(MaybeTimestamp::default(), MaybeTimestamp::NONE);
         let five = Some(Timestamp::from_micros(5));
         let m = MaybeTimestamp::NONE.earlier(None).earlier(five);
         assert_eq!(m.earlier(Some(Timestamp::from_micros(9))).get(), five);
         assert_eq!(m.earlier(None).earlier(Some(Timestamp::MAX)).get(), five);
-        assert_eq!(m.earlier(Some(Timestamp::ZERO)).get(), Some(Timestamp::ZERO));
+        let max = MaybeTimestamp::NONE.earlier(Some(Timestamp::MAX));
+        assert_eq!(max.get(), Some(Timestamp::from_micros(u64::MAX - 1)));
+        assert_eq!(
+            m.earlier(Some(Timestamp::ZERO)).get(),
+            Some(Timestamp::ZERO)
+        );
+    }
+
+    #[test]
+    fn duration_conversions_agree_with_the_128_bit_ones() {
+        let secs = [
+            0,
+            1,
+            59,
+            4_294,
+            18_446_744_073_709,
+            18_446_744_073_710,
+            u64::MAX,
+        ];
+        let nanos = [
+            0,
+            1,
+            999,
+            1_000,
+            999_999,
+            1_000_000,
+            551_615_999,
+            999_999_999,
+        ];
+        for s in secs {
+            for n in nanos {
+                let d = Duration::new(s, n);
+                let us = u64::try_from(d.as_micros()).unwrap_or(u64::MAX);
+                let ms = u64::try_from(d.as_millis()).unwrap_or(u64::MAX);
+                assert_eq!((micros_of(d), millis_of(d)), (us, ms), "{d:?}");
+            }
+        }
+        assert_eq!(millis_u16(Duration::from_millis(65_535)), 65_535);
+        assert_eq!(millis_u16(Duration::from_micros(65_535_999)), 65_535);
+        assert_eq!(millis_u16(Duration::from_millis(65_536)), u16::MAX);
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn duration_conversions_agree_everywhere(s in proptest::num::u64::ANY, n in 0u32..1_000_000_000) {
+            let d = Duration::new(s, n);
+            proptest::prop_assert_eq!(micros_of(d), u64::try_from(d.as_micros()).unwrap_or(u64::MAX));
+            proptest::prop_assert_eq!(millis_of(d), u64::try_from(d.as_millis()).unwrap_or(u64::MAX));
+        }
     }
 
     #[test]

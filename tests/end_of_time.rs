@@ -39,12 +39,28 @@ fn heartbeat_producer_fires_once_at_max() {
     p.boot(Timestamp::MAX);
     assert_eq!(drain(&mut p), 1);
     settles(&mut p);
-    // Just before the end: the last heartbeat is due at MAX, once.
+    // Just before the end: the next heartbeat would fall at or past the end
+    // of the clock, so none is due (a period that ends past the clock does
+    // not start).
     let mut p = HeartbeatProducer::new(NodeId::new(5).unwrap(), Duration::from_millis(1000));
     p.boot(Timestamp::from_micros(u64::MAX - 10));
     let _ = drain(&mut p);
-    assert_eq!(p.poll_timeout(), Some(Timestamp::MAX));
+    assert_eq!(p.poll_timeout(), None);
     settles(&mut p);
+    // One period before the end: due once, at MAX - 1, and at MAX - 1 too
+    // no later heartbeat is due (a deadline at the end of the clock would
+    // be kept as MAX - 1 and be due again at once).
+    let mut p = HeartbeatProducer::new(NodeId::new(5).unwrap(), Duration::from_millis(1));
+    p.boot(Timestamp::from_micros(u64::MAX - 1001));
+    let _ = drain(&mut p);
+    assert_eq!(p.poll_timeout(), Some(Timestamp::from_micros(u64::MAX - 1)));
+    let mut q = p.clone();
+    settles(&mut p);
+    let last = Timestamp::from_micros(u64::MAX - 1);
+    q.handle_timeout(last);
+    assert_eq!(drain(&mut q), 1);
+    let runs = drive_timers(&mut q, last, |_, _| {});
+    assert_eq!((runs, q.poll_timeout()), (0, None));
 }
 
 #[test]

@@ -223,9 +223,25 @@ fn synchronous_rpdo_outside_the_window() {
     assert_eq!(
         c.poll_event(),
         Some(SyncEvent::OutsideWindow {
-            since_sync_us: u64::MAX
+            since_sync_us: u32::MAX
         })
     );
+    // The largest window (1007h = FFFFFFFFh µs) is kept whole, the elapsed
+    // time is compared unsaturated, and only the reported value saturates.
+    let sync = CanFrame::standard(0x080, &[]).unwrap();
+    let us = Timestamp::from_micros;
+    c.set_window(Duration::from_secs(1 << 40));
+    assert!(c.accept(us(0), &sync));
+    assert_eq!(c.poll_event(), Some(SyncEvent::Received { counter: None }));
+    assert!(c.note_synchronous_pdo(us(u64::from(u32::MAX))));
+    assert!(!c.note_synchronous_pdo(us(u64::from(u32::MAX) + 1)));
+    assert_eq!(
+        c.poll_event(),
+        Some(SyncEvent::OutsideWindow {
+            since_sync_us: u32::MAX
+        })
+    );
+    assert_eq!(c.last_sync(), Some(us(0)));
 }
 
 #[test]

@@ -179,5 +179,5 @@ impl PowerOn for DeviceConfig {
 /// A duration as whole microseconds for a 32-bit object (1006h, 1007h),
 /// saturating at `u32::MAX`.
 fn micros_u32(d: Duration) -> u32 {
-    u32::try_from(d.as_micros()).unwrap_or(u32::MAX)
+    u32::try_from(crate::time::micros_of(d)).unwrap_or(u32::MAX)
 }

@@ -180,7 +180,9 @@ pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY, C = Devic
     node: NodeId,
     /// How an EMCY is recorded in 1003h (the configuration's).
     error_field: ErrorFieldFormat,
-    nmt: NmtSlave,
+    /// The NMT slave; its events are drained after every call that makes
+    /// one (at most one per call), so two slots are enough.
+    nmt: NmtSlave<2>,
     heartbeat: HeartbeatProducer,
     consumer: HeartbeatConsumer<MAX_CONSUMERS>,
     server: Server<Dictionary<A>>,
@@ -231,7 +233,7 @@ where
             config,
             node,
             error_field,
-            nmt: NmtSlave::new(node),
+            nmt: NmtSlave::with_event_capacity(node),
             heartbeat,
             consumer: HeartbeatConsumer::new(),
             server,
@@ -561,19 +563,16 @@ where
         }
         // The minimum of the deadlines as 8-byte values (none is u64::MAX):
         // no `Option` comparisons to compile for each pair.
-        let earliest = [
-            self.heartbeat.poll_timeout(),
-            self.consumer.poll_timeout(),
-            #[cfg(feature = "guarding")]
-            self.services.guarding.poll_timeout(),
-            #[cfg(feature = "sync-time")]
-            self.services.sync_producer.poll_timeout(),
-            self.server.poll_timeout(),
-            profile.poll_timeout(),
-            self.tpdos.poll_timeout(),
-        ]
-        .into_iter()
-        .fold(MaybeTimestamp::NONE, MaybeTimestamp::earlier);
+        let earliest = MaybeTimestamp::new(self.heartbeat.poll_timeout())
+            .earlier(self.consumer.poll_timeout());
+        #[cfg(feature = "guarding")]
+        let earliest = earliest.earlier(self.services.guarding.poll_timeout());
+        #[cfg(feature = "sync-time")]
+        let earliest = earliest.earlier(self.services.sync_producer.poll_timeout());
+        let earliest = earliest
+            .earlier(self.server.poll_timeout())
+            .earlier(profile.poll_timeout())
+            .earlier(self.tpdos.poll_timeout());
         earliest.get()
     }
 
@@ -636,7 +635,7 @@ where
             if node != self.node || !self.nmt.is_running() {
                 self.config.move_node(node);
                 self.node = node;
-                self.nmt = NmtSlave::new(node);
+                self.nmt = NmtSlave::with_event_capacity(node);
             }
         }
         // A running transfer ends silently; a download is aborted in the

@@ -181,9 +181,13 @@ impl NmtState {
     #[must_use]
     #[inline]
     pub const fn from_bits(raw: u8) -> Self {
-        // One table load, no compare chain (the heartbeat decode path).
+        // Hosts: one table load, no compare chain (the heartbeat decode
+        // path). 32-bit targets: four compares instead of a 256-byte table
+        // in flash.
         let i = (raw & 0x7F) as usize;
-        if i < STATES.len() {
+        if cfg!(not(target_pointer_width = "64")) {
+            Self::matched(raw & 0x7F)
+        } else if i < STATES.len() {
             STATES[i]
         } else {
             NmtState::Unknown(raw & 0x7F)
@@ -311,6 +315,17 @@ impl Heartbeat {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn state_table_is_the_match() {
+        for raw in 0..=u8::MAX {
+            assert_eq!(
+                NmtState::from_bits(raw),
+                NmtState::matched(raw & 0x7F),
+                "{raw:#04x}"
+            );
+        }
+    }
 
     #[test]
     fn public_vectors_n1_n2_n3() {

@@ -68,19 +68,33 @@ pub enum NmtSlaveEvent {
 /// assert_eq!(nmt.poll_event(), Some(NmtSlaveEvent::StateChanged {
 ///     from: NmtState::PreOperational, to: NmtState::Operational }));
 /// ```
+///
+/// The slave reports at most one event per call. Its queue keeps the latest
+/// `E` (default 8) for an owner that does not drain it after every call; an
+/// owner that does can make it small ([`NmtSlave::with_event_capacity`]:
+/// the device core uses 2).
 #[derive(Debug, Clone)]
-pub struct NmtSlave {
+pub struct NmtSlave<const E: usize = 8> {
     node: NodeId,
     state: NmtState,
     /// The state a reset left (reported as the `from` of the boot after it).
     before_reset: Option<NmtState>,
-    events: EventQueue<NmtSlaveEvent, 8>,
+    events: EventQueue<NmtSlaveEvent, E>,
 }
 
 impl NmtSlave {
-    /// A node that has not booted yet ([`NmtState::BootUp`]: initialising).
+    /// A node that has not booted yet ([`NmtState::BootUp`]: initialising),
+    /// keeping the latest 8 events.
     #[must_use]
     pub const fn new(node: NodeId) -> Self {
+        Self::with_event_capacity(node)
+    }
+}
+
+impl<const E: usize> NmtSlave<E> {
+    /// As [`NmtSlave::new`], keeping the latest `E` events.
+    #[must_use]
+    pub const fn with_event_capacity(node: NodeId) -> Self {
         NmtSlave {
             node,
             state: NmtState::BootUp,
@@ -147,7 +161,7 @@ impl NmtSlave {
     }
 }
 
-impl Machine for NmtSlave {
+impl<const E: usize> Machine for NmtSlave<E> {
     type Event = NmtSlaveEvent;
 
     /// Obeys an NMT module-control command addressed to this node.
@@ -255,5 +269,30 @@ mod tests {
         s.handle_frame(t, &CanFrame::standard(0x001, &[0x01, 10]).unwrap());
         assert_eq!((s.state(), drain(&mut s)), (Pre, Vec::new()));
         assert!(s.sdo_allowed());
+    }
+
+    proptest::proptest! {
+        /// At most one event per call, whatever the call and the frame:
+        /// what lets the device core keep two slots.
+        #[test]
+        fn one_event_per_call_at_most(
+            calls in proptest::collection::vec((0u8..4, proptest::num::u8::ANY, 0u8..12, 0u8..4), 0..64)
+        ) {
+            let states = [NmtState::PreOperational, NmtState::Operational, NmtState::Stopped, NmtState::BootUp];
+            let cs = [0x01, 0x02, 0x80, 0x81, 0x82, 0x00, 0x55];
+            let mut s: NmtSlave<2> = NmtSlave::with_event_capacity(NodeId::new(10).unwrap());
+            let t = Timestamp::ZERO;
+            for (kind, byte, node, state) in calls {
+                match kind {
+                    0 => s.boot(t),
+                    1 => s.set_state(t, states[usize::from(state)]),
+                    _ => s.handle_frame(t, &nmt(cs[usize::from(byte) % cs.len()], node)),
+                }
+                let first = s.poll_event();
+                proptest::prop_assert_eq!(s.poll_event(), None);
+                proptest::prop_assert_eq!(s.events_dropped(), 0);
+                let _ = first;
+            }
+        }
     }
 }
