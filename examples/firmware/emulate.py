@@ -15,10 +15,12 @@ into the FLASH and RAM regions that memory.x beside this file gives, the
 initial SP and the reset vector come from the vector table, and the
 firmware boots through cortex-m-rt's reset handler (.data copied, .bss
 zeroed, the FPU enabled through CPACR in the system control space, which
-is mapped as plain memory).
+is mapped as plain memory: unicorn's Cortex-M4 runs floating-point
+instructions whether or not CPACR enables them, and the firmware has none).
 
-The peripherals of the firmware (src/lib.rs and src/bin/*.rs) are mapped
-with unicorn's MMIO callbacks on their pages only, no instruction hook:
+The peripherals of the firmware (src/lib.rs and src/bin/*.rs) are served
+by unicorn's MMIO callbacks on their three pages only (no per-instruction
+hook):
 
 - CAN mailbox at 4000_6400h: a frame read from stdin is put into the
   receive mailbox once the firmware has released the previous one
@@ -47,16 +49,25 @@ spin a host core.
 
 Stack measurement: before reset the RAM between the end of .bss
 (`_stack_end`) and the top of the stack (`_stack_start`) is painted with a
-pattern word; at exit the lowest word that no longer holds it gives the
-stack's high-water mark. Basic blocks are counted (the instructions in each
-block counted once, from its Thumb encodings) to give the instructions run
-per received frame: from the read of RX_STATUS that delivers a frame to the
-next read of RX_STATUS (handling, transmission and the rest of that loop
-turn), and per turn of the main loop without one. The block hook halves
-the emulator's speed (about 5 million instructions a second instead of
-12 here, some 1600 SDO requests a second); --no-count leaves it out. --profile N prints the N functions (by
-symbol, innermost only) that ran the most instructions after boot, with
-their share and instructions per loop turn.
+pattern word; the lowest word that no longer holds it gives the stack's
+high-water mark. It is taken twice: when the main loop first polls the
+receive mailbox (the boot's mark; the paint is then renewed below the live
+SP, there being no interrupts) and at exit (the main loop's mark); the
+larger is the firmware's.
+
+Instructions: a basic-block hook adds up each block's instructions
+(counted once per block from its Thumb encodings) to give the instructions
+run per received frame (from the read of RX_STATUS that delivers a frame
+to the next read of RX_STATUS: handling, transmission and the rest of that
+loop turn) and per loop turn without a frame. The hook halves the
+emulator's speed (about 5 million instructions a second instead of 12 on
+a CI machine, some 1600 SDO requests a second); --no-count leaves it
+out. --profile N prints the N functions (by symbol, innermost only) that
+ran the most instructions after boot, with their share and instructions
+per loop turn.
+
+unicorn stops at YIELD (the hint `core::hint::spin_loop` emits) as an
+invalid instruction; the emulator steps over it as the hardware would.
 
 On stdin EOF the emulator stops once the receive mailbox is empty, prints a
 summary to stderr (frames in and out, stack high-water mark, RAM use,
@@ -481,7 +492,7 @@ def main():
     ap.add_argument("elf")
     ap.add_argument("--stack-report", metavar="FILE",
                     help="append a `node stack_bytes` line to FILE at exit")
-    ap.add_argument("--interface", default="can0", help="interface name in the output lines")
+    ap.add_argument("--interface", metavar="NAME", default="can0", help="interface name in the output lines")
     ap.add_argument("--no-count", action="store_true",
                     help="do not count instructions (the block hook costs about half the speed)")
     ap.add_argument("--profile", metavar="N", type=int,
