@@ -6,7 +6,9 @@ and independent CANopen implementation, as the peer on the same candump
 pipe the host examples use (PipeBus).
 
 Battery module: boot-up and the heartbeat period (1000 ms, then 500 ms
-after an expedited and a segmented download of 1017h), SDO uploads of
+after an expedited and a segmented download of 1017h), SDO downloads of
+the writable profile objects (6052h-6054h, expedited and segmented), SDO
+uploads of
 1000h, 1008h (segmented), 1018h, 6030h (packed string) and of the
 measurements the emulator's sensor registers give, TPDO 1 in
 operational with those values (the 2nd TPDO absent, as device type
@@ -184,6 +186,21 @@ def battery_cases(bus, net, node):
         p = period([ts for ts, _ in heartbeats(bus, BATTERY, t)])
         check("battery: heartbeat then about every 500 ms", p is not None and 0.4 <= p <= 0.6, p)
     guarded("battery 1017h", heartbeat_time)
+
+    def profile_download():
+        node.sdo.download(0x6053, 0, (1234).to_bytes(2, "little"))
+        expedited = node.sdo.upload(0x6053, 0)
+        node.sdo.download(0x6052, 0, (4321).to_bytes(2, "little"), force_segment=True)
+        node.sdo.download(0x6054, 1, (600).to_bytes(2, "little"), force_segment=True)
+        node.sdo.download(0x6054, 2, (9000).to_bytes(2, "little"))
+        check("battery: profile objects written, expedited and segmented: 6053h 1234 Ah, "
+              "6052h 4321 Ah, 6054h 600 min / day 9000",
+              (expedited, node.sdo.upload(0x6052, 0), node.sdo.upload(0x6054, 1),
+               node.sdo.upload(0x6054, 2))
+              == tuple(v.to_bytes(2, "little") for v in (1234, 4321, 600, 9000)))
+        check("battery: 6060h (read-only, a measurement) refused with 06010002h",
+              aborted(lambda: node.sdo.download(0x6060, 0, b"\0\0\0\0")) == 0x06010002)
+    guarded("battery profile download", profile_download)
 
     def tpdo_config():
         node.tpdo.read()
