@@ -59,6 +59,13 @@ class PipeBus(can.BusABC):
             self.proc.stdin.write(line)
             self.proc.stdin.flush()
 
+    def command(self, line):
+        """Writes one non-frame line to the child (e.g. the firmware
+        emulator's `#sensor status 0x101`), in order with the frames."""
+        with self._send_lock:
+            self.proc.stdin.write(line.rstrip("\n") + "\n")
+            self.proc.stdin.flush()
+
     def _recv_internal(self, timeout):
         try:
             return self.rx.get(timeout=timeout), False

@@ -15,69 +15,64 @@
 
 use core::ptr::{read_volatile, write_volatile};
 
-/// Copies `n` bytes from `src` to `dest` (the C `memcpy`).
+/// Copies `n` bytes forwards, one at a time. Every public routine below
+/// calls these private loops, never `memcpy` and the others by name: the
+/// compiler reads a call of a function named `memcpy` as its own memcpy
+/// and lowers it to `__aeabi_memcpy`, so `__aeabi_memcpy` calling
+/// `memcpy` became a jump to itself (the firmware hung at its first copy).
 ///
 /// # Safety
 ///
-/// As C's: `src` readable and `dest` writable for `n` bytes, the two not
-/// overlapping.
-#[no_mangle]
-pub unsafe extern "C" fn memcpy(dest: *mut u8, src: *const u8, n: usize) -> *mut u8 {
+/// `src` readable and `dest` writable for `n` bytes; `dest` at or below
+/// `src` when they overlap.
+#[inline(never)]
+unsafe fn copy_forward(dest: *mut u8, src: *const u8, n: usize) {
     let mut i = 0;
     while i < n {
         // SAFETY: `i < n`, within both buffers by the caller's contract.
         unsafe { write_volatile(dest.add(i), read_volatile(src.add(i))) };
         i += 1;
     }
-    dest
 }
 
-/// Copies `n` bytes from `src` to `dest`, which may overlap (the C
-/// `memmove`).
+/// Copies `n` bytes backwards (an overlapping tail is read before it is
+/// written).
 ///
 /// # Safety
 ///
-/// As C's: `src` readable and `dest` writable for `n` bytes.
-#[no_mangle]
-pub unsafe extern "C" fn memmove(dest: *mut u8, src: *const u8, n: usize) -> *mut u8 {
-    if (dest as usize) <= (src as usize) {
-        // SAFETY: forwards is right when `dest` is at or below `src`.
-        return unsafe { memcpy(dest, src, n) };
-    }
+/// `src` readable and `dest` writable for `n` bytes.
+#[inline(never)]
+unsafe fn copy_backward(dest: *mut u8, src: *const u8, n: usize) {
     let mut i = n;
     while i > 0 {
         i -= 1;
-        // SAFETY: `i < n`, within both buffers by the caller's contract;
-        // backwards, so an overlapping tail is read before it is written.
+        // SAFETY: `i < n`, within both buffers by the caller's contract.
         unsafe { write_volatile(dest.add(i), read_volatile(src.add(i))) };
     }
-    dest
 }
 
-/// Sets `n` bytes at `dest` to `c` (the C `memset`).
+/// Sets `n` bytes at `dest` to `c`.
 ///
 /// # Safety
 ///
-/// As C's: `dest` writable for `n` bytes.
-#[no_mangle]
-pub unsafe extern "C" fn memset(dest: *mut u8, c: i32, n: usize) -> *mut u8 {
+/// `dest` writable for `n` bytes.
+#[inline(never)]
+unsafe fn fill(dest: *mut u8, c: u8, n: usize) {
     let mut i = 0;
     while i < n {
-        // SAFETY: `i < n`, within the buffer by the caller's contract. The
-        // byte is C's `(unsigned char)c`.
-        unsafe { write_volatile(dest.add(i), c as u8) };
+        // SAFETY: `i < n`, within the buffer by the caller's contract.
+        unsafe { write_volatile(dest.add(i), c) };
         i += 1;
     }
-    dest
 }
 
-/// Compares `n` bytes (the C `memcmp`).
+/// Compares `n` bytes: the difference of the first unequal pair, or 0.
 ///
 /// # Safety
 ///
-/// As C's: both readable for `n` bytes.
-#[no_mangle]
-pub unsafe extern "C" fn memcmp(a: *const u8, b: *const u8, n: usize) -> i32 {
+/// Both readable for `n` bytes.
+#[inline(never)]
+unsafe fn compare(a: *const u8, b: *const u8, n: usize) -> i32 {
     let mut i = 0;
     while i < n {
         // SAFETY: `i < n`, within both buffers by the caller's contract.
@@ -90,6 +85,73 @@ pub unsafe extern "C" fn memcmp(a: *const u8, b: *const u8, n: usize) -> i32 {
     0
 }
 
+/// Copies `n` bytes from `src` to `dest` (the C `memcpy`).
+///
+/// # Safety
+///
+/// As C's: `src` readable and `dest` writable for `n` bytes, the two not
+/// overlapping.
+#[no_mangle]
+pub unsafe extern "C" fn memcpy(dest: *mut u8, src: *const u8, n: usize) -> *mut u8 {
+    // SAFETY: the caller's contract is the loop's.
+    unsafe { copy_forward(dest, src, n) };
+    dest
+}
+
+/// Copies `n` bytes from `src` to `dest`, which may overlap (the C
+/// `memmove`).
+///
+/// # Safety
+///
+/// As C's: `src` readable and `dest` writable for `n` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn memmove(dest: *mut u8, src: *const u8, n: usize) -> *mut u8 {
+    // SAFETY: the caller's contract.
+    unsafe { move_bytes(dest, src, n) };
+    dest
+}
+
+/// Copies `n` bytes that may overlap: forwards when `dest` is at or below
+/// `src`, backwards otherwise.
+///
+/// # Safety
+///
+/// `src` readable and `dest` writable for `n` bytes.
+unsafe fn move_bytes(dest: *mut u8, src: *const u8, n: usize) {
+    // SAFETY: the caller's contract, in the direction that reads an
+    // overlapping part before writing it.
+    unsafe {
+        if (dest as usize) <= (src as usize) {
+            copy_forward(dest, src, n);
+        } else {
+            copy_backward(dest, src, n);
+        }
+    }
+}
+
+/// Sets `n` bytes at `dest` to `c` (the C `memset`).
+///
+/// # Safety
+///
+/// As C's: `dest` writable for `n` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn memset(dest: *mut u8, c: i32, n: usize) -> *mut u8 {
+    // SAFETY: the caller's contract. The byte is C's `(unsigned char)c`.
+    unsafe { fill(dest, c as u8, n) };
+    dest
+}
+
+/// Compares `n` bytes (the C `memcmp`).
+///
+/// # Safety
+///
+/// As C's: both readable for `n` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn memcmp(a: *const u8, b: *const u8, n: usize) -> i32 {
+    // SAFETY: the same contract.
+    unsafe { compare(a, b, n) }
+}
+
 /// `bcmp`, which the compiler calls for equality-only comparisons.
 ///
 /// # Safety
@@ -98,7 +160,7 @@ pub unsafe extern "C" fn memcmp(a: *const u8, b: *const u8, n: usize) -> i32 {
 #[no_mangle]
 pub unsafe extern "C" fn bcmp(a: *const u8, b: *const u8, n: usize) -> i32 {
     // SAFETY: the same contract.
-    unsafe { memcmp(a, b, n) }
+    unsafe { compare(a, b, n) }
 }
 
 /// The ARM EABI's names for the same routines (the `4`/`8` forms promise
@@ -120,16 +182,16 @@ macro_rules! aeabi {
 }
 
 aeabi! {
-    __aeabi_memcpy(d: *mut u8, s: *const u8, n: usize) => memcpy(d, s, n);
-    __aeabi_memcpy4(d: *mut u8, s: *const u8, n: usize) => memcpy(d, s, n);
-    __aeabi_memcpy8(d: *mut u8, s: *const u8, n: usize) => memcpy(d, s, n);
-    __aeabi_memmove(d: *mut u8, s: *const u8, n: usize) => memmove(d, s, n);
-    __aeabi_memmove4(d: *mut u8, s: *const u8, n: usize) => memmove(d, s, n);
-    __aeabi_memmove8(d: *mut u8, s: *const u8, n: usize) => memmove(d, s, n);
-    __aeabi_memset(d: *mut u8, n: usize, c: i32) => memset(d, c, n);
-    __aeabi_memset4(d: *mut u8, n: usize, c: i32) => memset(d, c, n);
-    __aeabi_memset8(d: *mut u8, n: usize, c: i32) => memset(d, c, n);
-    __aeabi_memclr(d: *mut u8, n: usize) => memset(d, 0, n);
-    __aeabi_memclr4(d: *mut u8, n: usize) => memset(d, 0, n);
-    __aeabi_memclr8(d: *mut u8, n: usize) => memset(d, 0, n);
+    __aeabi_memcpy(d: *mut u8, s: *const u8, n: usize) => copy_forward(d, s, n);
+    __aeabi_memcpy4(d: *mut u8, s: *const u8, n: usize) => copy_forward(d, s, n);
+    __aeabi_memcpy8(d: *mut u8, s: *const u8, n: usize) => copy_forward(d, s, n);
+    __aeabi_memmove(d: *mut u8, s: *const u8, n: usize) => move_bytes(d, s, n);
+    __aeabi_memmove4(d: *mut u8, s: *const u8, n: usize) => move_bytes(d, s, n);
+    __aeabi_memmove8(d: *mut u8, s: *const u8, n: usize) => move_bytes(d, s, n);
+    __aeabi_memset(d: *mut u8, n: usize, c: i32) => fill(d, c as u8, n);
+    __aeabi_memset4(d: *mut u8, n: usize, c: i32) => fill(d, c as u8, n);
+    __aeabi_memset8(d: *mut u8, n: usize, c: i32) => fill(d, c as u8, n);
+    __aeabi_memclr(d: *mut u8, n: usize) => fill(d, 0, n);
+    __aeabi_memclr4(d: *mut u8, n: usize) => fill(d, 0, n);
+    __aeabi_memclr8(d: *mut u8, n: usize) => fill(d, 0, n);
 }

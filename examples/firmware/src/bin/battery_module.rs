@@ -1,9 +1,11 @@
 //! A CiA 418 battery module at node 1 as Cortex-M4 firmware: the crate's
 //! `cia418::BatteryModule` driven by the `machine::Machine` contract loop
 //! from the CAN mailbox and the timer of `canopen_codec_firmware`, with
-//! its measurements read from sensor registers. Built only to prove the
-//! footprint (`bash examples/firmware/size.sh`); the module's state lives
-//! in the static `BATTERY_MODULE_STATE`, whose size the symbol table gives.
+//! its measurements read from sensor registers. Built to prove the
+//! footprint (`bash examples/firmware/size.sh`) and run on an emulated
+//! Cortex-M4 against python-canopen (`examples/firmware/emulate.py`, which
+//! also measures the stack); the module's state lives in the static
+//! `BATTERY_MODULE_STATE`, whose size the symbol table gives.
 
 #![no_std]
 #![no_main]
@@ -38,14 +40,23 @@ const QUEUE_CAPACITY: usize = 4;
 #[no_mangle]
 static mut BATTERY_MODULE_STATE: MaybeUninit<BatteryModule<QUEUE_CAPACITY>> = MaybeUninit::uninit();
 
+/// Builds the module into its static. Not inlined: the temporaries of
+/// the construction live in this function's stack frame, which is gone
+/// when the loop in `main` runs (inlined, they stayed on the stack for
+/// good).
+#[inline(never)]
+fn init() -> &'static mut BatteryModule<QUEUE_CAPACITY> {
+    let config = BatteryModuleConfig::new(NodeId::MIN);
+    // SAFETY: `init` runs once, from `main`, and is the only code that
+    // touches the static; the reference is the only one ever made.
+    unsafe {
+        (*addr_of_mut!(BATTERY_MODULE_STATE)).write(BatteryModule::with_queue_capacity(config))
+    }
+}
+
 #[entry]
 fn main() -> ! {
-    let config = BatteryModuleConfig::new(NodeId::MIN);
-    // SAFETY: `main` runs once and is the only code that touches the
-    // static; the reference is the only one ever made.
-    let module: &mut BatteryModule<QUEUE_CAPACITY> = unsafe {
-        (*addr_of_mut!(BATTERY_MODULE_STATE)).write(BatteryModule::with_queue_capacity(config))
-    };
+    let module = init();
     let mut can = Can;
     let mut clock = Clock::default();
     let _ = module.set_text(PackedStringObject::BatterySerialNumber, "FW-0001");
