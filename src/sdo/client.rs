@@ -61,11 +61,14 @@
 use core::time::Duration;
 
 use super::abort::AbortCode;
-use super::block::{Receiver, Sender, MAX_BLOCK_SIZE};
+use super::block::MAX_BLOCK_SIZE;
+#[cfg(feature = "sdo-block")]
+use super::block::{Receiver, Sender};
 use super::data::{InitiatePayload, Segment, SegmentData};
 use super::segmented::{check_toggle, Segments};
 use super::server::{AbortOrigin, DEFAULT_TIMEOUT};
-use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
+use super::wire::{SdoResponse, ServerCommand};
+use super::words;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
@@ -146,6 +149,11 @@ pub enum ClientError {
         /// The length asked for.
         len: usize,
     },
+    /// Block transfer is not built in (the crate's feature `sdo-block` is
+    /// off): [`Client::start_block_upload`] and
+    /// [`Client::start_block_download`] refuse to start, nothing is sent.
+    #[error("SDO block transfer is not built in (feature sdo-block)")]
+    BlockUnsupported,
 }
 
 /// Identifiers and timeout of one SDO client channel.
@@ -212,6 +220,7 @@ enum State<D> {
         toggle: bool,
     },
     /// Block download: the initiate request is out.
+    #[cfg(feature = "sdo-block")]
     BlockDownloadInitiated {
         index: u16,
         sub: u8,
@@ -219,6 +228,7 @@ enum State<D> {
     },
     /// Block download: sub-blocks are being sent (segments are made when
     /// polled) and acknowledged.
+    #[cfg(feature = "sdo-block")]
     BlockDownloading {
         index: u16,
         sub: u8,
@@ -226,17 +236,20 @@ enum State<D> {
         tx: Sender,
     },
     /// Block download: the end frame is out.
+    #[cfg(feature = "sdo-block")]
     BlockDownloadEnding {
         index: u16,
         sub: u8,
         len: usize,
     },
     /// Block upload: the initiate request is out.
+    #[cfg(feature = "sdo-block")]
     BlockUploadInitiated {
         index: u16,
         sub: u8,
     },
     /// Block upload: receiving sub-blocks, then the end frame.
+    #[cfg(feature = "sdo-block")]
     BlockUploading {
         index: u16,
         sub: u8,
@@ -316,8 +329,9 @@ impl<D: AsRef<[u8]>> Client<D> {
             State::UploadInitiated { index, sub }
             | State::Uploading { index, sub, .. }
             | State::DownloadInitiated { index, sub, .. }
-            | State::Downloading { index, sub, .. }
-            | State::BlockDownloadInitiated { index, sub, .. }
+            | State::Downloading { index, sub, .. } => Some((index, sub)),
+            #[cfg(feature = "sdo-block")]
+            State::BlockDownloadInitiated { index, sub, .. }
             | State::BlockDownloading { index, sub, .. }
             | State::BlockDownloadEnding { index, sub, .. }
             | State::BlockUploadInitiated { index, sub }
@@ -337,7 +351,7 @@ impl<D: AsRef<[u8]>> Client<D> {
     /// Starts reading `index`/`sub` from the server.
     pub fn start_upload(&mut self, now: Timestamp, index: u16, sub: u8) -> Result<(), ClientError> {
         self.check_idle()?;
-        self.send(ClientCommand::InitiateUpload { index, sub });
+        self.send(words::mux(0x40, index, sub, 0));
         self.state = State::UploadInitiated { index, sub };
         self.arm(now);
         Ok(())
@@ -356,14 +370,15 @@ impl<D: AsRef<[u8]>> Client<D> {
         let Ok(size) = u32::try_from(bytes.len()) else {
             return Err(ClientError::TooLong { len: bytes.len() });
         };
-        let payload = InitiatePayload::expedited(bytes)
-            .unwrap_or(InitiatePayload::Segmented { size: Some(size) });
-        let expedited = matches!(payload, InitiatePayload::Expedited { .. });
-        self.send(ClientCommand::InitiateDownload {
-            index,
-            sub,
-            payload,
-        });
+        let expedited = matches!(bytes.len(), 1..=4);
+        let word = match *bytes {
+            [a] => words::expedited(1, index, sub, u32::from(a), 1),
+            [a, b] => words::expedited(1, index, sub, u32::from_le_bytes([a, b, 0, 0]), 2),
+            [a, b, c] => words::expedited(1, index, sub, u32::from_le_bytes([a, b, c, 0]), 3),
+            [a, b, c, d] => words::expedited(1, index, sub, u32::from_le_bytes([a, b, c, d]), 4),
+            _ => words::segmented(1, index, sub, size),
+        };
+        self.send(word);
         self.state = State::DownloadInitiated {
             index,
             sub,
@@ -399,14 +414,15 @@ impl<D: AsRef<[u8]>> Client<D> {
             .set(RESPONSE_TIMEOUT, Some(now.add_micros(self.timeout_us)));
     }
 
-    fn send(&mut self, command: ClientCommand) {
-        let (bytes, len) = SdoRequest::new(command).encode();
-        // `len` is at most 8.
-        self.send_bytes(bytes, len as u8);
+    /// Queues the request whose 8 data bytes are the little-endian `word`
+    /// (made by `super::words`: the frame `SdoRequest::new` of its command
+    /// encodes to, without the general encoder).
+    fn send(&mut self, word: u64) {
+        self.send_bytes(word.to_le_bytes(), 8);
     }
 
     /// Queues a request made by hand (the segment paths): the same frame
-    /// as [`Self::send`] of its command.
+    /// as `SdoRequest::new` of its command encodes to.
     #[inline]
     fn send_bytes(&mut self, bytes: [u8; 8], len: u8) {
         if self.sends {
@@ -433,7 +449,7 @@ impl<D: AsRef<[u8]>> Client<D> {
     }
 
     fn abort_object(&mut self, index: u16, sub: u8, code: AbortCode) {
-        self.send(ClientCommand::Abort { index, sub, code });
+        self.send(words::abort(index, sub, code));
         self.finish(ClientEvent::Aborted {
             index,
             sub,
@@ -492,9 +508,8 @@ impl<D: AsRef<[u8]>> Client<D> {
             }
             InitiatePayload::Segmented { size } => {
                 let rx = Segments::new(size.map(|s| usize::try_from(s).unwrap_or(usize::MAX)));
-                self.send(ClientCommand::UploadSegment {
-                    toggle: rx.toggle(),
-                });
+                // The first upload segment request (ccs = 3).
+                self.send(0x60 | u64::from(rx.toggle()) << 4);
                 self.state = State::Uploading { index, sub, rx };
                 self.arm(now);
             }
@@ -504,7 +519,7 @@ impl<D: AsRef<[u8]>> Client<D> {
     /// An upload segment (scs = 0) while uploading: checked by the segment
     /// rules, delivered, and the next one requested. The receive cursor is
     /// updated in place (no copy of the state per segment); the request is
-    /// made as [`Self::send`] of `ClientCommand::UploadSegment` would.
+    /// made as `SdoRequest::new` of `ClientCommand::UploadSegment` encodes it.
     fn upload_segment(&mut self, now: Timestamp, segment: &Segment) {
         let State::Uploading { index, sub, rx } = &mut self.state else {
             return;
@@ -572,7 +587,7 @@ impl<D: AsRef<[u8]>> Client<D> {
 
     /// A download segment acknowledgement (scs = 1, toggle `t`) while
     /// downloading: the toggle checked, then the next segment (made as
-    /// [`Self::send`] of `ClientCommand::DownloadSegment` would) or the end.
+    /// `SdoRequest::new` of `ClientCommand::DownloadSegment` encodes it) or the end.
     /// The cursor is updated in place (no copy of the state per segment).
     fn download_ack(&mut self, now: Timestamp, t: bool) {
         let State::Downloading {
@@ -611,7 +626,9 @@ impl<D: AsRef<[u8]>> Client<D> {
         if self.block_segment(now, frame.data()) {
             return;
         }
-        let Ok(response) = SdoResponse::decode_frame(frame) else {
+        // The general decoder alone: the segment path of `decode_frame` is
+        // `handle_frame`'s own.
+        let Ok(response) = SdoResponse::decode_frame_inline(frame) else {
             return;
         };
         if let ServerCommand::Abort { code, .. } = response.command {
@@ -632,13 +649,14 @@ impl<D: AsRef<[u8]>> Client<D> {
                 data,
                 expedited,
             } => self.on_download_initiated(now, index, sub, data, expedited, response.command),
+            #[cfg(feature = "sdo-block")]
             state => self.on_block_response(now, state, response.command, frame.data()),
         }
     }
 }
 
 /// The download segment frame of `value` from `from` with toggle `toggle`
-/// (as [`SdoRequest::encode`] of `ClientCommand::DownloadSegment` makes
+/// (as [`SdoRequest::encode`](super::SdoRequest::encode) of `ClientCommand::DownloadSegment` makes
 /// it: DLC 8, unused bytes zero) and the offset after it.
 #[inline]
 fn segment_frame(value: &[u8], from: usize, toggle: bool) -> ([u8; 8], usize) {
@@ -722,5 +740,9 @@ impl<D: AsRef<[u8]>> Machine for Client<D> {
     }
 }
 
+#[cfg(feature = "sdo-block")]
 #[path = "block_client.rs"]
+mod block;
+#[cfg(not(feature = "sdo-block"))]
+#[path = "block_client_off.rs"]
 mod block;

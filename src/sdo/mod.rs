@@ -85,6 +85,7 @@ mod observer_rules;
 mod segmented;
 mod server;
 mod wire;
+mod words;
 
 pub use abort::{AbortCode, ALL_ABORT_CODES};
 pub use client::{Client, ClientConfig, ClientError, ClientEvent};

@@ -62,9 +62,10 @@ use super::abort::AbortCode;
 use super::block::MAX_BLOCK_SIZE;
 #[cfg(feature = "sdo-block")]
 use super::block::{Receiver, Sender};
-use super::data::{ExpeditedData, InitiatePayload, Segment};
+use super::data::{InitiatePayload, Segment};
 use super::segmented::{check_toggle, Segments};
-use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
+use super::wire::{ClientCommand, SdoRequest};
+use super::words;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
@@ -360,14 +361,15 @@ impl<D: ObjectDictionary> Server<D> {
         writing
     }
 
-    fn send(&mut self, command: ServerCommand) {
-        let (bytes, len) = SdoResponse::new(command).encode();
-        // `len` is at most 8.
-        self.send_bytes(bytes, len as u8);
+    /// Queues the response whose 8 data bytes are the little-endian
+    /// `word` (made by `super::words`: the frame `SdoResponse::new` of its
+    /// command encodes to, without the general encoder).
+    fn send(&mut self, word: u64) {
+        self.send_bytes(word.to_le_bytes(), 8);
     }
 
     /// Queues a response made by hand (the segment paths): the same frame
-    /// as [`Self::send`] of its command.
+    /// as `SdoResponse::new` of its command encodes to.
     #[inline]
     fn send_bytes(&mut self, bytes: [u8; 8], len: u8) {
         if self.sends {
@@ -400,7 +402,7 @@ impl<D: ObjectDictionary> Server<D> {
             let (index, sub) = self.object();
             self.od.abort_write(index, sub);
         }
-        self.send(ServerCommand::Abort { index, sub, code });
+        self.send(words::abort(index, sub, code));
         self.finish(ServerEvent::Aborted {
             index,
             sub,
@@ -500,25 +502,16 @@ impl<D: ObjectDictionary> Server<D> {
             if n == 0 {
                 return self.abort_object(index, sub, AbortCode::NoDataAvailable);
             }
-            let data = ExpeditedData::new(buf.get(..n).unwrap_or(&[])).unwrap_or_default();
-            self.send(ServerCommand::InitiateUpload {
-                index,
-                sub,
-                payload: InitiatePayload::Expedited {
-                    data,
-                    size_indicated: true,
-                },
-            });
+            // The bytes past `n` zero, as the frame has them.
+            let mask = u32::MAX.checked_shr(32 - 8 * n.min(4) as u32).unwrap_or(0);
+            let data = u32::from_le_bytes(buf) & mask;
+            self.send(words::expedited(2, index, sub, data, n));
             return self.finish(ServerEvent::Uploaded { index, sub, len: n });
         }
         let Ok(size) = u32::try_from(info.len) else {
             return self.abort_object(index, sub, AbortCode::OutOfMemory);
         };
-        self.send(ServerCommand::InitiateUpload {
-            index,
-            sub,
-            payload: InitiatePayload::Segmented { size: Some(size) },
-        });
+        self.send(words::segmented(2, index, sub, size));
         self.state = State::Uploading {
             index,
             sub,
@@ -531,7 +524,7 @@ impl<D: ObjectDictionary> Server<D> {
 
     /// An upload segment request (ccs = 3, toggle `toggle`): the next
     /// segment, read from the dictionary at the transfer's offset. The
-    /// frame is made in place, as [`Self::send`] of
+    /// frame is made in place, as `SdoResponse::new` of
     /// `ServerCommand::UploadSegment` would make it, and only the offset and
     /// toggle of the state change (no copy of the state per segment).
     #[inline]
@@ -623,7 +616,7 @@ impl<D: ObjectDictionary> Server<D> {
                     self.od.abort_write(index, sub);
                     return self.abort_object(index, sub, code);
                 }
-                self.send(ServerCommand::InitiateDownload { index, sub });
+                self.send(words::mux(0x60, index, sub, 0));
                 self.finish(ServerEvent::Downloaded { index, sub, len });
             }
             InitiatePayload::Segmented { size } => {
@@ -633,7 +626,7 @@ impl<D: ObjectDictionary> Server<D> {
                         return self.abort_object(index, sub, code);
                     }
                 }
-                self.send(ServerCommand::InitiateDownload { index, sub });
+                self.send(words::mux(0x60, index, sub, 0));
                 self.state = State::Downloading {
                     index,
                     sub,
@@ -648,7 +641,7 @@ impl<D: ObjectDictionary> Server<D> {
     /// A download segment: checked by the segment rules and the object's
     /// size rule, written, acknowledged. The receive cursor is updated in
     /// place (no copy of the state per segment); the acknowledgement is
-    /// made as [`Self::send`] of `ServerCommand::DownloadSegment` would.
+    /// made as `SdoResponse::new` of `ServerCommand::DownloadSegment` encodes it.
     fn download_segment(&mut self, now: Timestamp, seg: &Segment) {
         let State::Downloading {
             index,
@@ -700,7 +693,9 @@ impl<D: ObjectDictionary> Server<D> {
         if self.block_segment(now, frame.data()) {
             return;
         }
-        let Ok(request) = SdoRequest::decode_frame(frame) else {
+        // The general decoder alone: the segment paths of `decode_frame`
+        // are `handle_frame`'s own.
+        let Ok(request) = SdoRequest::decode_frame_inline(frame) else {
             return;
         };
         match request.command {
