@@ -137,7 +137,7 @@ use crate::od::index::{CONSUMER_HEARTBEAT_TIME, PRODUCER_HEARTBEAT_TIME};
 use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
 use crate::queue::{EventQueue, Queue};
-use crate::sdo::{Server, ServerEvent};
+use crate::sdo::{Server, ServerEvent, EVENTS_PER_CALL};
 use crate::time::Timestamp;
 
 /// The dictionary the SDO server serves: PDO objects, communication
@@ -183,7 +183,8 @@ pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY, C = Devic
     nmt: NmtSlave,
     heartbeat: HeartbeatProducer,
     consumer: HeartbeatConsumer<MAX_CONSUMERS>,
-    server: Server<Dictionary<A>>,
+    /// Its events are read after every call: the capacity one call needs.
+    server: Server<Dictionary<A>, EVENTS_PER_CALL>,
     tpdos: TpdoSet,
     rpdos: RpdoReceiver,
     /// The profile allows TPDOs (besides NMT operational).
@@ -239,7 +240,7 @@ where
             nmt: NmtSlave::new(c.node),
             heartbeat,
             consumer: HeartbeatConsumer::new(),
-            server: Server::new(c.server_config(), od),
+            server: Server::with_event_capacity(c.server_config(), od),
             tpdos: TpdoSet::new(),
             rpdos: RpdoReceiver::new(),
             tpdos_enabled: true,
@@ -633,7 +634,7 @@ where
                 app,
             },
         );
-        self.server = Server::new(c.server_config(), od);
+        self.server = Server::with_event_capacity(c.server_config(), od);
         self.heartbeat = HeartbeatProducer::new(self.node, c.heartbeat);
         self.heartbeat.send_on_change = c.heartbeat_on_change;
         self.heartbeat.boot(now);

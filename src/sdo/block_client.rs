@@ -12,7 +12,7 @@ use super::{AbortCode, Client, ClientError, ClientEvent, ServerCommand, State};
 use crate::frame::CanFrame;
 use crate::time::Timestamp;
 
-impl<D: AsRef<[u8]>> Client<D> {
+impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// Starts reading `index`/`sub` from the server by block upload (CiA
     /// 301 section 7.2.4.3, SDO block upload), asking for sub-blocks of
     /// [`ClientConfig::block_size`](super::ClientConfig::block_size)

@@ -8,7 +8,7 @@ use super::{Client, ClientError};
 use crate::frame::CanFrame;
 use crate::time::Timestamp;
 
-impl<D: AsRef<[u8]>> Client<D> {
+impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// Would start a block upload of `index`/`sub` (CiA 301 section
     /// 7.2.4.3); built without the feature `sdo-block`, it refuses with
     /// [`ClientError::BlockUnsupported`] and sends nothing (use

@@ -10,7 +10,7 @@ use super::{AbortCode, ObjectDictionary, Server, ServerEvent, State};
 use crate::frame::CanFrame;
 use crate::time::Timestamp;
 
-impl<D: ObjectDictionary> Server<D> {
+impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// A block download's sub-block segment: handled here (true), or a
     /// command for the normal path (false).
     pub(super) fn block_segment(&mut self, now: Timestamp, bytes: &[u8]) -> bool {

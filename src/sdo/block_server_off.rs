@@ -11,7 +11,7 @@ use super::{AbortCode, ObjectDictionary, Server};
 use crate::frame::CanFrame;
 use crate::time::Timestamp;
 
-impl<D: ObjectDictionary> Server<D> {
+impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// No block download runs: every frame is a command for the normal path.
     pub(super) fn block_segment(&mut self, _now: Timestamp, _bytes: &[u8]) -> bool {
         false

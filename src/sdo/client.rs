@@ -12,8 +12,10 @@
 //! sub-block, `poll_transmit` yields one segment per call, made from the
 //! data when polled (the block rules: see the [`sdo`](super) module docs).
 //!
-//! - **Events** go to a queue of four; when it is full the oldest event is
-//!   dropped and counted ([`Machine::events_dropped`]). Transfers run by
+//! - **Events** go to a queue of `EVENTS` (four by default; one call
+//!   leaves at most [`EVENTS_PER_CALL`](super::EVENTS_PER_CALL)); when it
+//!   is full the oldest event is dropped and counted
+//!   ([`Machine::events_dropped`]). Transfers run by
 //!   their own rules whether or not events are read; a transfer's terminal
 //!   event is pushed last, so it is the newest event kept until the next
 //!   transfer reports.
@@ -66,7 +68,7 @@ use super::block::MAX_BLOCK_SIZE;
 use super::block::{Receiver, Sender};
 use super::data::{InitiatePayload, Segment, SegmentData};
 use super::segmented::{check_toggle, Segments};
-use super::server::{AbortOrigin, DEFAULT_TIMEOUT};
+use super::server::{AbortOrigin, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT};
 use super::wire::{SdoResponse, ServerCommand};
 use super::words;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
@@ -74,10 +76,6 @@ use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::{EventQueue, FrameSlot};
 use crate::time::{Timers, Timestamp};
-
-/// How many events the client keeps before dropping the oldest. One input
-/// reports at most two (the last upload piece and `Uploaded`).
-const EVENT_CAPACITY: usize = 4;
 
 /// The client's one timer: the response timeout of the running transfer.
 const RESPONSE_TIMEOUT: usize = 0;
@@ -273,8 +271,12 @@ enum State<D> {
 /// client.handle_frame(Timestamp::from_millis(3), &ack);
 /// assert_eq!(client.poll_event(), Some(ClientEvent::Downloaded { index: 0x1017, sub: 0, len: 2 }));
 /// ```
+///
+/// `EVENTS` is the capacity of the event queue (default
+/// [`DEFAULT_EVENT_CAPACITY`](super::DEFAULT_EVENT_CAPACITY);
+/// [`Client::with_event_capacity`] makes one with another).
 #[derive(Debug)]
-pub struct Client<D = &'static [u8]> {
+pub struct Client<D = &'static [u8], const EVENTS: usize = DEFAULT_EVENT_CAPACITY> {
     config: ClientConfig,
     /// `config.timeout` in microseconds, computed once.
     timeout_us: u64,
@@ -287,12 +289,31 @@ pub struct Client<D = &'static [u8]> {
     timers: Timers<1>,
     /// One frame: every call produces at most one (see the module docs).
     transmit: FrameSlot,
-    events: EventQueue<ClientEvent, EVENT_CAPACITY>,
+    events: EventQueue<ClientEvent, EVENTS>,
 }
 
 impl<D: AsRef<[u8]>> Client<D> {
-    /// An idle client on `config`'s identifiers.
+    /// An idle client on `config`'s identifiers, with an event queue of
+    /// [`DEFAULT_EVENT_CAPACITY`](super::DEFAULT_EVENT_CAPACITY).
     pub fn new(config: ClientConfig) -> Self {
+        Self::with_event_capacity(config)
+    }
+}
+
+impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
+    /// An idle client on `config`'s identifiers, with an event queue of
+    /// `EVENTS` (1 or more; [`EVENTS_PER_CALL`](super::EVENTS_PER_CALL) for
+    /// a caller that reads every event after every call and command).
+    ///
+    /// ```
+    /// use canopen_codec::sdo::{Client, ClientConfig, EVENTS_PER_CALL};
+    /// use canopen_codec::NodeId;
+    ///
+    /// let config = ClientConfig::for_server(NodeId::new(2).unwrap());
+    /// let client: Client<&[u8], EVENTS_PER_CALL> = Client::with_event_capacity(config);
+    /// assert!(!client.is_busy());
+    /// ```
+    pub fn with_event_capacity(config: ClientConfig) -> Self {
         Client {
             config,
             timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
@@ -683,7 +704,7 @@ fn segment_frame(value: &[u8], from: usize, toggle: bool) -> ([u8; 8], usize) {
     ((data << 8 | u64::from(b0)).to_le_bytes(), sent)
 }
 
-impl<D: AsRef<[u8]>> Machine for Client<D> {
+impl<D: AsRef<[u8]>, const EVENTS: usize> Machine for Client<D, EVENTS> {
     type Event = ClientEvent;
 
     /// Tells the client time has passed; expires a stalled transfer with

@@ -97,11 +97,16 @@ pub use observer::{
     BreakReason, ChannelError, Direction, Observed, Observer, ObserverConfig, ObserverEvent,
     SdoChannel, Side, Transfer, TransferKind, OBSERVER_EVENT_CAPACITY, OBSERVER_EXTRA_CHANNELS,
 };
-pub use server::{AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_TIMEOUT};
+pub use server::{
+    AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT,
+    EVENTS_PER_CALL,
+};
 pub use wire::{
     abort_code_of, ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoRequest, SdoResponse,
     ServerBlockDownload, ServerBlockUpload, ServerCommand,
 };
 
+#[cfg(test)]
+mod capacity_tests;
 #[cfg(test)]
 mod machine_tests;

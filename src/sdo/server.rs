@@ -8,8 +8,9 @@
 //! commands. After every `handle_*` call, send what
 //! [`Machine::poll_transmit`] returns.
 //!
-//! - **Events** go to a queue of four; when it is full the oldest event is
-//!   dropped and counted ([`Machine::events_dropped`]). Requests are served
+//! - **Events** go to a queue of `EVENTS` (four by default; one call
+//!   leaves at most [`EVENTS_PER_CALL`]); when it is full the oldest event
+//!   is dropped and counted ([`Machine::events_dropped`]). Requests are served
 //!   whether or not events are read; a transfer's terminal event is pushed
 //!   last, so it is the newest event kept until the next transfer reports.
 //! - **Frames**: every call queues at most one frame (one response or abort
@@ -69,13 +70,26 @@ use super::words;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
-use crate::od::{ObjectDictionary, ObjectInfo, SizeRule};
+use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
 use crate::queue::{EventQueue, FrameSlot};
 use crate::time::{Timers, Timestamp};
 
-/// How many events the server keeps before dropping the oldest. One request
-/// reports at most two (a superseded transfer and the new one's end).
-const EVENT_CAPACITY: usize = 4;
+/// How many events [`Server::new`] keeps before dropping the oldest (room
+/// for a caller that drains less often than the contract asks; a caller
+/// that drains after every call needs [`EVENTS_PER_CALL`], see
+/// [`Server::with_event_capacity`]).
+pub const DEFAULT_EVENT_CAPACITY: usize = 4;
+
+/// The most events one call of the SDO [`Server`] or [`Client`](super::Client)
+/// leaves to be read, so the event capacity a caller needs that reads them
+/// all after every `handle_*` call and every command: the server reports a
+/// superseded transfer and the new request's end, the client an upload's
+/// last piece and `Uploaded`. A call that starts while a server's block
+/// upload ended in `poll_transmit` (one event, unread) finds the server
+/// idle, so it adds at most one. The tests drive both machines with this
+/// capacity beside the default one on random input: the same events, none
+/// dropped.
+pub const EVENTS_PER_CALL: usize = 2;
 
 /// The server's one timer: the timeout for the client's next frame.
 const REQUEST_TIMEOUT: usize = 0;
@@ -189,7 +203,9 @@ enum State {
         index: u16,
         sub: u8,
         rx: Segments,
-        info: ObjectInfo,
+        /// The object's size rule (all of its `ObjectInfo` the segments
+        /// need: 8 bytes instead of 16).
+        size: SizeRule,
     },
     /// Block upload: initiate answered, waiting for the start command.
     #[cfg(feature = "sdo-block")]
@@ -247,8 +263,12 @@ enum State {
 /// assert_eq!(server.poll_event(), Some(ServerEvent::Uploaded { index: 0x1017, sub: 0, len: 2 }));
 /// # }
 /// ```
+///
+/// `EVENTS` is the capacity of the event queue (default
+/// [`DEFAULT_EVENT_CAPACITY`]; [`Server::with_event_capacity`] makes one
+/// with another).
 #[derive(Debug)]
-pub struct Server<D> {
+pub struct Server<D, const EVENTS: usize = DEFAULT_EVENT_CAPACITY> {
     config: ServerConfig,
     /// `config.timeout` in microseconds, computed once.
     timeout_us: u64,
@@ -262,12 +282,42 @@ pub struct Server<D> {
     timers: Timers<1>,
     /// One frame: every call produces at most one (see the module docs).
     transmit: FrameSlot,
-    events: EventQueue<ServerEvent, EVENT_CAPACITY>,
+    events: EventQueue<ServerEvent, EVENTS>,
+}
+
+/// An object with size rule `size`, for its `check_download_len`.
+#[inline]
+const fn size_info(size: SizeRule) -> ObjectInfo {
+    ObjectInfo {
+        size,
+        ..ObjectInfo::fixed(Access::ReadWrite, 0)
+    }
 }
 
 impl<D: ObjectDictionary> Server<D> {
-    /// A server on `config`'s identifiers serving `od`.
+    /// A server on `config`'s identifiers serving `od`, with an event queue
+    /// of [`DEFAULT_EVENT_CAPACITY`].
     pub fn new(config: ServerConfig, od: D) -> Self {
+        Self::with_event_capacity(config, od)
+    }
+}
+
+impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
+    /// A server on `config`'s identifiers serving `od`, with an event queue
+    /// of `EVENTS` (1 or more; [`EVENTS_PER_CALL`] for a caller that reads
+    /// every event after every call, as a device does).
+    ///
+    /// ```
+    /// use canopen_codec::device::CommObjects;
+    /// use canopen_codec::sdo::{Server, ServerConfig, EVENTS_PER_CALL};
+    /// use canopen_codec::NodeId;
+    ///
+    /// let node = NodeId::new(1).unwrap();
+    /// let server: Server<_, EVENTS_PER_CALL> =
+    ///     Server::with_event_capacity(ServerConfig::for_node(node), CommObjects::new(node));
+    /// assert!(!server.is_busy());
+    /// ```
+    pub fn with_event_capacity(config: ServerConfig, od: D) -> Self {
         Server {
             config,
             timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
@@ -631,7 +681,7 @@ impl<D: ObjectDictionary> Server<D> {
                     index,
                     sub,
                     rx: Segments::new(size),
-                    info,
+                    size: info.size,
                 };
                 self.arm(now);
             }
@@ -647,12 +697,13 @@ impl<D: ObjectDictionary> Server<D> {
             index,
             sub,
             rx,
-            info,
+            size,
         } = &mut self.state
         else {
             return self.abort_local(AbortCode::InvalidCommandSpecifier);
         };
-        let (index, sub, info) = (*index, *sub, *info);
+        let (index, sub) = (*index, *sub);
+        let info = size_info(*size);
         let placed = match rx.on_segment(seg) {
             Ok(placed) => placed,
             Err(code) => return self.abort_local(code),
@@ -723,7 +774,7 @@ impl<D: ObjectDictionary> Server<D> {
     }
 }
 
-impl<D: ObjectDictionary> Machine for Server<D> {
+impl<D: ObjectDictionary, const EVENTS: usize> Machine for Server<D, EVENTS> {
     type Event = ServerEvent;
 
     /// Tells the server time has passed; expires a stalled transfer with
