@@ -7,7 +7,9 @@
 //! (call order and back-pressure rule: see [`crate::machine`]). Its commands
 //! are [`Client::start_upload`], [`Client::start_download`],
 //! [`Client::start_block_upload`], [`Client::start_block_download`] and
-//! [`Client::abort`]; after each of them and after every `handle_*` call,
+//! [`Client::abort`] (the two block commands need the feature `sdo-block`;
+//! without it they return [`ClientError::BlockUnsupported`]); after each of
+//! them and after every `handle_*` call,
 //! send what [`Machine::poll_transmit`] returns. During a block download's
 //! sub-block, `poll_transmit` yields one segment per call, made from the
 //! data when polled (the block rules: see the [`sdo`](super) module docs).
