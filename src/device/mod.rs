@@ -137,7 +137,7 @@ use crate::od::index::{CONSUMER_HEARTBEAT_TIME, PRODUCER_HEARTBEAT_TIME};
 use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
 use crate::queue::{EventQueue, Queue};
-use crate::sdo::{Server, ServerEvent};
+use crate::sdo::{Server, ServerEvent, EVENTS_PER_CALL};
 use crate::time::{MaybeTimestamp, Timestamp};
 
 /// The dictionary the SDO server serves: PDO objects, communication
@@ -185,7 +185,8 @@ pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY, C = Devic
     nmt: NmtSlave<2>,
     heartbeat: HeartbeatProducer,
     consumer: HeartbeatConsumer<MAX_CONSUMERS>,
-    server: Server<Dictionary<A>>,
+    /// Its events are read after every call: the capacity one call needs.
+    server: Server<Dictionary<A>, EVENTS_PER_CALL>,
     tpdos: TpdoSet,
     rpdos: RpdoReceiver,
     /// The profile allows TPDOs (besides NMT operational).
@@ -261,7 +262,7 @@ where
         config: &C,
         node: NodeId,
         app: A,
-    ) -> (Server<Dictionary<A>>, HeartbeatProducer) {
+    ) -> (Server<Dictionary<A>, EVENTS_PER_CALL>, HeartbeatProducer) {
         let c = config.power_on_config();
         let server_config = c.server_config();
         let mut heartbeat = HeartbeatProducer::new(node, c.heartbeat);
@@ -273,7 +274,7 @@ where
                 app,
             },
         );
-        (Server::new(server_config, od), heartbeat)
+        (Server::with_event_capacity(server_config, od), heartbeat)
     }
 
     // ----- getters ---------------------------------------------------------
