@@ -2,7 +2,7 @@
 //! TPDO's payload from the mapped objects' current values, and writing a
 //! received RPDO's fields into the mapped objects.
 
-use super::mapping::{extract_bits, insert_bits, PdoMapping};
+use super::mapping::{extract_bits, insert_bits, MappingEntry, PdoMapping};
 use crate::bytes::Payload;
 use crate::emcy::ErrorCode;
 use crate::od::ObjectDictionary;
@@ -51,23 +51,40 @@ pub fn read_mapped<D: ObjectDictionary + ?Sized>(
     mapping: &PdoMapping,
     od: &mut D,
 ) -> Result<Payload, AbortCode> {
+    read_entries(mapping.entries(), od)
+}
+
+/// [`read_mapped`] over the entries of a valid mapping.
+pub(crate) fn read_entries<D: ObjectDictionary + ?Sized>(
+    entries: &[MappingEntry],
+    od: &mut D,
+) -> Result<Payload, AbortCode> {
     let mut payload = [0u8; 8];
-    for (entry, offset) in mapping.entries().iter().zip(mapping.offsets()) {
-        if entry.is_dummy() {
-            continue;
+    let mut offset = 0u32;
+    for entry in entries {
+        let bits = u32::from(entry.bits);
+        if !entry.is_dummy() {
+            let mut buf = [0u8; 8];
+            let len = field_len(bits);
+            let n = od.read(
+                entry.index,
+                entry.sub,
+                0,
+                buf.get_mut(..len).unwrap_or(&mut []),
+            )?;
+            let value = u64::from_le_bytes(buf) & low_bytes_mask(n);
+            insert_bits(&mut payload, offset, bits, value);
         }
-        let mut buf = [0u8; 8];
-        let len = usize::from(entry.bits).div_ceil(8).min(8);
-        let n = od.read(
-            entry.index,
-            entry.sub,
-            0,
-            buf.get_mut(..len).unwrap_or(&mut []),
-        )?;
-        let value = u64::from_le_bytes(buf) & low_bytes_mask(n);
-        insert_bits(&mut payload, offset, u32::from(entry.bits), value);
+        offset += bits;
     }
-    Ok(Payload::new(payload.get(..mapping.byte_len()).unwrap_or(&[])).unwrap_or_default())
+    let len = field_len(offset);
+    Ok(Payload::from_le_word(u64::from_le_bytes(payload), len))
+}
+
+/// The bytes `bits` (at most 64) take: rounded up, at most 8.
+#[inline]
+fn field_len(bits: u32) -> usize {
+    (bits.div_ceil(8) as usize).min(8)
 }
 
 fn low_bytes_mask(n: usize) -> u64 {
@@ -88,19 +105,33 @@ pub fn write_mapped<D: ObjectDictionary + ?Sized>(
     payload: &[u8],
     od: &mut D,
 ) -> Result<bool, RpdoError> {
-    let need = mapping.byte_len();
+    write_entries(mapping.entries(), payload, od)
+}
+
+/// [`write_mapped`] over the entries of a valid mapping.
+pub(crate) fn write_entries<D: ObjectDictionary + ?Sized>(
+    entries: &[MappingEntry],
+    payload: &[u8],
+    od: &mut D,
+) -> Result<bool, RpdoError> {
+    let total: u32 = entries.iter().map(|e| u32::from(e.bits)).sum();
+    let need = field_len(total);
     if payload.len() < need {
         return Err(RpdoError::TooShort {
             need,
             got: payload.len(),
         });
     }
-    for (entry, offset) in mapping.entries().iter().zip(mapping.offsets()) {
+    let mut offset = 0u32;
+    for entry in entries {
+        let bits = u32::from(entry.bits);
+        let at = offset;
+        offset += bits;
         if entry.is_dummy() {
             continue;
         }
-        let value = extract_bits(payload, offset, u32::from(entry.bits));
-        let len = usize::from(entry.bits).div_ceil(8).min(8);
+        let value = extract_bits(payload, at, bits);
+        let len = field_len(bits);
         let bytes = value.to_le_bytes();
         let data = bytes.get(..len).unwrap_or(&[]);
         let refused = |code| RpdoError::Refused {

@@ -28,19 +28,15 @@ use core::convert::Infallible;
 use super::comm::{PdoCommParams, TransmissionType};
 use crate::bytes::Payload;
 use crate::cob_id::SYNC;
-use crate::frame::{CanFrame, CanId};
+use crate::frame::{data_frame_word, CanFrame, CanId};
 use crate::machine::Machine;
-use crate::time::{Timers, Timestamp};
+use crate::time::Timestamp;
 
-/// The producer's timers.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[repr(usize)]
-enum Timer {
-    /// The event timer (1800h sub 5) of an event-driven TPDO.
-    Event,
-    /// A transmission deferred to the end of the inhibit time (1800h sub 3).
-    InhibitEnd,
-}
+/// A deadline kept in 8 bytes: microseconds, 0 for none. No deadline of a
+/// producer is at 0: the event timer runs out strictly after the send
+/// that starts it, and the end of an inhibit time (100 µs at least) after
+/// the send that starts it.
+const NO_DEADLINE: u64 = 0;
 
 /// Produces one TPDO. See the module docs.
 ///
@@ -59,16 +55,28 @@ enum Timer {
 /// ```
 #[derive(Debug, Clone)]
 pub struct TpdoProducer {
+    /// When the last frame was sent (valid once `sent`), in microseconds.
+    last_sent: u64,
+    /// The one timer, in microseconds ([`NO_DEADLINE`] when stopped): the
+    /// end of the inhibit time when `deferred`, else the event timer. A
+    /// deferred send re-arms the event timer, so an event timer running
+    /// out inside the inhibit time is covered by it: one timer is enough.
+    deadline: u64,
     comm: Option<PdoCommParams>,
-    operational: bool,
+    /// The SYNC identifier as a data frame's identifier word.
+    sync_word: u32,
+    /// What the next frame carries: the latest payload (a PDO carries the
+    /// latest value; an undrained frame is not sent twice).
     payload: Payload,
-    last_sent: Option<Timestamp>,
-    timers: Timers<2>,
+    sync_count: u8,
+    operational: bool,
+    sent: bool,
+    /// A frame is due (drained by `poll_transmit`).
+    due: bool,
+    /// The deadline is the end of the inhibit time: send there.
+    deferred: bool,
     /// Type 0: an event happened; send at the next SYNC.
     sync_event: bool,
-    sync_count: u8,
-    sync_id: CanId,
-    out: Option<CanFrame>,
 }
 
 impl Default for TpdoProducer {
@@ -78,25 +86,27 @@ impl Default for TpdoProducer {
 }
 
 impl TpdoProducer {
-    /// An unconfigured, non-operational producer with an empty payload.
+    /// Not configured, not operational, empty payload.
     #[must_use]
     pub const fn new() -> Self {
         TpdoProducer {
+            last_sent: 0,
+            deadline: NO_DEADLINE,
             comm: None,
-            operational: false,
+            sync_word: SYNC as u32,
             payload: Payload::EMPTY,
-            last_sent: None,
-            timers: Timers::new(),
-            sync_event: false,
             sync_count: 0,
-            sync_id: CanId::Standard(SYNC),
-            out: None,
+            operational: false,
+            sent: false,
+            due: false,
+            deferred: false,
+            sync_event: false,
         }
     }
 
     /// The SYNC identifier the producer listens to (default 080h).
     pub fn set_sync_id(&mut self, id: CanId) {
-        self.sync_id = id;
+        self.sync_word = data_frame_word(id);
     }
 
     /// The communication parameters, once configured.
@@ -105,13 +115,22 @@ impl TpdoProducer {
         self.comm.as_ref()
     }
 
+    /// The parameters of a producer that may send: configured, valid and
+    /// operational.
+    #[inline]
+    fn active(&self) -> Option<PdoCommParams> {
+        match self.comm {
+            Some(c) if self.operational && c.cob_id.is_valid() && c.cob_id.can_id().is_some() => {
+                Some(c)
+            }
+            _ => None,
+        }
+    }
+
     /// True when frames may be sent: configured, valid and operational.
     #[must_use]
     pub fn is_active(&self) -> bool {
-        self.operational
-            && self
-                .comm
-                .is_some_and(|c| c.cob_id.is_valid() && c.cob_id.can_id().is_some())
+        self.active().is_some()
     }
 
     /// Sets the communication parameters (a new COB-ID takes effect at once).
@@ -146,17 +165,17 @@ impl TpdoProducer {
     }
 
     fn stop(&mut self) {
-        self.timers.clear();
+        self.deadline = NO_DEADLINE;
+        self.deferred = false;
         self.sync_event = false;
-        self.out = None;
+        self.due = false;
     }
 
     /// The payload to send. For an event-driven TPDO a changed payload is
     /// an event (sent now, or at the end of the inhibit time).
     pub fn set_payload(&mut self, now: Timestamp, payload: Payload) {
-        let changed = payload != self.payload;
-        self.payload = payload;
-        if changed {
+        if payload != self.payload {
+            self.payload = payload;
             self.trigger(now);
         }
     }
@@ -177,49 +196,36 @@ impl TpdoProducer {
         }
     }
 
-    fn inhibit_end(&self, comm: &PdoCommParams) -> Option<Timestamp> {
-        let last = self.last_sent?;
-        let end = last.add_micros(comm.inhibit_time_us());
-        (comm.inhibit_time_us() > 0).then_some(end)
-    }
-
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     fn send_or_defer(&mut self, now: Timestamp, comm: PdoCommParams) {
-        match self.inhibit_end(&comm) {
-            Some(end) if !now.has_reached(end) => {
-                self.timers.set(Timer::InhibitEnd as usize, Some(end));
-                // The deferred send re-arms the event timer; an expiry inside
-                // the inhibit time is covered by it.
-                if self
-                    .timers
-                    .get(Timer::Event as usize)
-                    .is_some_and(|at| at <= end)
-                {
-                    self.timers.set(Timer::Event as usize, None);
-                }
-            }
-            _ => self.send(now, comm),
+        let inhibit = comm.inhibit_time_us();
+        let end = Timestamp::from_micros(self.last_sent).add_micros(inhibit);
+        if self.sent && inhibit > 0 && !now.has_reached(end) {
+            self.deadline = end.as_micros();
+            self.deferred = true;
+        } else {
+            self.send(now, comm);
         }
     }
 
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     fn send(&mut self, now: Timestamp, comm: PdoCommParams) {
-        let Some(id) = comm.cob_id.can_id() else {
-            return;
-        };
-        self.out = CanFrame::new(id, self.payload.as_slice()).ok();
-        self.last_sent = Some(now);
-        self.timers.set(Timer::InhibitEnd as usize, None);
+        self.due = true;
+        self.sent = true;
+        self.last_sent = now.as_micros();
+        self.deferred = false;
         // No event timer (0), or none later than the end of the clock.
         let event = if comm.transmission_type.is_event_driven() {
             now.deadline_after(u64::from(comm.event_timer_ms).saturating_mul(1000))
         } else {
             None
         };
-        self.timers.set(Timer::Event as usize, event);
+        self.deadline = event.map_or(NO_DEADLINE, Timestamp::as_micros);
     }
 
     /// A SYNC was received: synchronous types send here.
     pub(crate) fn handle_sync(&mut self, now: Timestamp) {
-        let Some(comm) = self.comm.filter(|_| self.is_active()) else {
+        let Some(comm) = self.active() else {
             return;
         };
         match comm.transmission_type {
@@ -245,36 +251,44 @@ impl Machine for TpdoProducer {
     /// A SYNC frame (the producer's SYNC identifier, not remote): the
     /// synchronous transmission types send here. Other frames are ignored.
     fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        if frame.id() == self.sync_id && !frame.is_remote() {
+        if frame.word() == self.sync_word {
             self.handle_sync(now);
         }
     }
 
     /// The event timer and a deferred transmission fire here.
     fn handle_timeout(&mut self, now: Timestamp) {
-        let Some(comm) = self.comm.filter(|_| self.is_active()) else {
+        let Some(comm) = self.active() else {
             return;
         };
-        if self.timers.expire(Timer::InhibitEnd as usize, now) {
-            return self.send(now, comm);
+        if self.deadline == NO_DEADLINE || !now.has_reached(Timestamp::from_micros(self.deadline)) {
+            return;
         }
-        if self.timers.expire(Timer::Event as usize, now) {
+        self.deadline = NO_DEADLINE;
+        if self.deferred {
+            self.send(now, comm);
+        } else {
             self.send_or_defer(now, comm);
         }
     }
 
-    /// The frame to send, if one is due. A newer transmission replaces an
-    /// undrained one (a PDO carries the latest value).
+    /// The frame to send, if one is due, with the latest payload. A newer
+    /// transmission replaces an undrained one (a PDO carries the latest
+    /// value).
     fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.out.take()
+        if !core::mem::take(&mut self.due) {
+            return None;
+        }
+        let id = self.comm?.cob_id.can_id()?;
+        CanFrame::new(id, self.payload.as_slice()).ok()
     }
 
     /// The earlier of the event timer and the end of the inhibit time.
     fn poll_timeout(&self) -> Option<Timestamp> {
-        if !self.is_active() {
+        if self.deadline == NO_DEADLINE || !self.is_active() {
             return None;
         }
-        self.timers.next()
+        Some(Timestamp::from_micros(self.deadline))
     }
 
     fn poll_event(&mut self) -> Option<Infallible> {
