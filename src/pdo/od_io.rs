@@ -51,14 +51,16 @@ pub fn read_mapped<D: ObjectDictionary + ?Sized>(
     mapping: &PdoMapping,
     od: &mut D,
 ) -> Result<Payload, AbortCode> {
-    read_entries(mapping.entries(), od)
+    let (word, len) = read_entries(mapping.entries(), od)?;
+    Ok(Payload::from_le_word(word, usize::from(len)))
 }
 
-/// [`read_mapped`] over the entries of a valid mapping.
+/// [`read_mapped`] over the entries of a valid mapping: the payload as a
+/// little-endian word and its length in bytes.
 pub(crate) fn read_entries<D: ObjectDictionary + ?Sized>(
     entries: &[MappingEntry],
     od: &mut D,
-) -> Result<Payload, AbortCode> {
+) -> Result<(u64, u8), AbortCode> {
     let mut payload = [0u8; 8];
     let mut offset = 0u32;
     for entry in entries {
@@ -77,8 +79,7 @@ pub(crate) fn read_entries<D: ObjectDictionary + ?Sized>(
         }
         offset += bits;
     }
-    let len = field_len(offset);
-    Ok(Payload::from_le_word(u64::from_le_bytes(payload), len))
+    Ok((u64::from_le_bytes(payload), field_len(offset) as u8))
 }
 
 /// The bytes `bits` (at most 64) take: rounded up, at most 8.

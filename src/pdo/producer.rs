@@ -25,9 +25,9 @@
 
 use core::convert::Infallible;
 
-use super::comm::{PdoCommParams, TransmissionType};
+use super::comm::PdoCommParams;
 use crate::bytes::Payload;
-use crate::cob_id::SYNC;
+use crate::cob_id::{can_id_of_cob_word, SYNC};
 use crate::frame::{data_frame_word, CanFrame, CanId};
 use crate::machine::Machine;
 use crate::time::Timestamp;
@@ -37,6 +37,22 @@ use crate::time::Timestamp;
 /// that starts it, and the end of an inhibit time (100 µs at least) after
 /// the send that starts it.
 const NO_DEADLINE: u64 = 0;
+
+/// The COB-ID kept for a TPDO that may not send (not configured, not
+/// valid, or bits 28-11 set on an 11-bit COB-ID): not valid itself, so
+/// no COB-ID the producer sends on.
+const NO_ID: u32 = u32::MAX;
+
+/// Bits of [`TpdoProducer::flags`].
+const OPERATIONAL: u8 = 1 << 0;
+/// `last_sent` holds a transmission.
+const SENT: u8 = 1 << 1;
+/// A frame is due (drained by `poll_transmit`).
+const DUE: u8 = 1 << 2;
+/// The deadline is the end of the inhibit time: send there.
+const DEFERRED: u8 = 1 << 3;
+/// Type 0: an event happened; send at the next SYNC.
+const SYNC_EVENT: u8 = 1 << 4;
 
 /// Produces one TPDO. See the module docs.
 ///
@@ -55,28 +71,28 @@ const NO_DEADLINE: u64 = 0;
 /// ```
 #[derive(Debug, Clone)]
 pub struct TpdoProducer {
-    /// When the last frame was sent (valid once `sent`), in microseconds.
+    /// When the last frame was sent (once `SENT`), in microseconds.
     last_sent: u64,
     /// The one timer, in microseconds ([`NO_DEADLINE`] when stopped): the
-    /// end of the inhibit time when `deferred`, else the event timer. A
+    /// end of the inhibit time when `DEFERRED`, else the event timer. A
     /// deferred send re-arms the event timer, so an event timer running
     /// out inside the inhibit time is covered by it: one timer is enough.
     deadline: u64,
-    comm: Option<PdoCommParams>,
+    /// What the next frame carries, little-endian: the latest payload (a
+    /// PDO carries the latest value; an undrained frame is not sent twice).
+    payload: u64,
+    /// Of the communication parameters, what the producer uses: the
+    /// COB-ID ([`NO_ID`] when it may not send), the transmission type, the
+    /// inhibit time and the event timer.
+    cob_id: u32,
     /// The SYNC identifier as a data frame's identifier word.
     sync_word: u32,
-    /// What the next frame carries: the latest payload (a PDO carries the
-    /// latest value; an undrained frame is not sent twice).
-    payload: Payload,
+    inhibit_time_100us: u16,
+    event_timer_ms: u16,
+    transmission_type: u8,
+    payload_len: u8,
     sync_count: u8,
-    operational: bool,
-    sent: bool,
-    /// A frame is due (drained by `poll_transmit`).
-    due: bool,
-    /// The deadline is the end of the inhibit time: send there.
-    deferred: bool,
-    /// Type 0: an event happened; send at the next SYNC.
-    sync_event: bool,
+    flags: u8,
 }
 
 impl Default for TpdoProducer {
@@ -92,15 +108,15 @@ impl TpdoProducer {
         TpdoProducer {
             last_sent: 0,
             deadline: NO_DEADLINE,
-            comm: None,
+            payload: 0,
+            cob_id: NO_ID,
             sync_word: SYNC as u32,
-            payload: Payload::EMPTY,
+            inhibit_time_100us: 0,
+            event_timer_ms: 0,
+            transmission_type: 0,
+            payload_len: 0,
             sync_count: 0,
-            operational: false,
-            sent: false,
-            due: false,
-            deferred: false,
-            sync_event: false,
+            flags: 0,
         }
     }
 
@@ -109,47 +125,53 @@ impl TpdoProducer {
         self.sync_word = data_frame_word(id);
     }
 
-    /// The communication parameters, once configured.
-    #[must_use]
-    pub const fn comm(&self) -> Option<&PdoCommParams> {
-        self.comm.as_ref()
+    #[inline]
+    fn has(&self, flag: u8) -> bool {
+        self.flags & flag != 0
     }
 
-    /// The parameters of a producer that may send: configured, valid and
-    /// operational.
     #[inline]
-    fn active(&self) -> Option<PdoCommParams> {
-        match self.comm {
-            Some(c) if self.operational && c.cob_id.is_valid() && c.cob_id.can_id().is_some() => {
-                Some(c)
-            }
-            _ => None,
+    fn set_flag(&mut self, flag: u8, on: bool) {
+        if on {
+            self.flags |= flag;
+        } else {
+            self.flags &= !flag;
         }
     }
 
     /// True when frames may be sent: configured, valid and operational.
     #[must_use]
+    #[inline]
     pub fn is_active(&self) -> bool {
-        self.active().is_some()
+        self.has(OPERATIONAL) && self.cob_id != NO_ID
     }
 
-    /// Sets the communication parameters (a new COB-ID takes effect at once).
+    /// Sets the communication parameters (a new COB-ID takes effect at
+    /// once; the same parameters again change nothing).
     pub fn configure(&mut self, now: Timestamp, comm: PdoCommParams) {
         let was_active = self.is_active();
-        self.comm = Some(comm);
+        let cob = comm.cob_id;
+        self.cob_id = if cob.is_valid() && cob.can_id().is_some() {
+            cob.to_u32()
+        } else {
+            NO_ID
+        };
+        self.transmission_type = comm.transmission_type.to_u8();
+        self.inhibit_time_100us = comm.inhibit_time_100us;
+        self.event_timer_ms = comm.event_timer_ms;
         self.became(now, was_active);
     }
 
     /// Forgets the configuration: nothing is sent until `configure` again.
     pub fn unconfigure(&mut self) {
-        self.comm = None;
+        self.cob_id = NO_ID;
         self.stop();
     }
 
     /// Tells the producer whether the node is NMT operational.
     pub fn set_operational(&mut self, now: Timestamp, operational: bool) {
         let was_active = self.is_active();
-        self.operational = operational;
+        self.set_flag(OPERATIONAL, operational);
         self.became(now, was_active);
     }
 
@@ -166,16 +188,27 @@ impl TpdoProducer {
 
     fn stop(&mut self) {
         self.deadline = NO_DEADLINE;
-        self.deferred = false;
-        self.sync_event = false;
-        self.due = false;
+        self.flags &= OPERATIONAL | SENT;
     }
 
     /// The payload to send. For an event-driven TPDO a changed payload is
     /// an event (sent now, or at the end of the inhibit time).
     pub fn set_payload(&mut self, now: Timestamp, payload: Payload) {
-        if payload != self.payload {
-            self.payload = payload;
+        let word = payload
+            .as_slice()
+            .iter()
+            .rev()
+            .fold(0u64, |w, &b| w << 8 | u64::from(b));
+        self.set_payload_word(now, word, payload.len() as u8);
+    }
+
+    /// [`Self::set_payload`] with the payload as `len` little-endian bytes
+    /// of `word` (bytes past `len` zero).
+    #[inline]
+    pub(crate) fn set_payload_word(&mut self, now: Timestamp, word: u64, len: u8) {
+        if word != self.payload || len != self.payload_len {
+            self.payload = word;
+            self.payload_len = len;
             self.trigger(now);
         }
     }
@@ -187,36 +220,39 @@ impl TpdoProducer {
         }
     }
 
+    /// Types 254 and 255 (event-driven); 241-253 are never configured.
+    #[inline]
+    fn is_event_driven(&self) -> bool {
+        self.transmission_type > 240
+    }
+
     fn request(&mut self, now: Timestamp) {
-        let Some(comm) = self.comm else { return };
-        match comm.transmission_type {
-            TransmissionType::SynchronousAcyclic => self.sync_event = true,
-            TransmissionType::SynchronousCyclic(_) => {}
-            _ => self.send_or_defer(now, comm),
+        match self.transmission_type {
+            0 => self.flags |= SYNC_EVENT,
+            1..=240 => {}
+            _ => self.send_or_defer(now),
         }
     }
 
     #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-    fn send_or_defer(&mut self, now: Timestamp, comm: PdoCommParams) {
-        let inhibit = comm.inhibit_time_us();
+    fn send_or_defer(&mut self, now: Timestamp) {
+        let inhibit = u64::from(self.inhibit_time_100us) * 100;
         let end = Timestamp::from_micros(self.last_sent).add_micros(inhibit);
-        if self.sent && inhibit > 0 && !now.has_reached(end) {
+        if self.has(SENT) && inhibit > 0 && !now.has_reached(end) {
             self.deadline = end.as_micros();
-            self.deferred = true;
+            self.flags |= DEFERRED;
         } else {
-            self.send(now, comm);
+            self.send(now);
         }
     }
 
     #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-    fn send(&mut self, now: Timestamp, comm: PdoCommParams) {
-        self.due = true;
-        self.sent = true;
+    fn send(&mut self, now: Timestamp) {
+        self.flags = (self.flags | DUE | SENT) & !DEFERRED;
         self.last_sent = now.as_micros();
-        self.deferred = false;
         // No event timer (0), or none later than the end of the clock.
-        let event = if comm.transmission_type.is_event_driven() {
-            now.deadline_after(u64::from(comm.event_timer_ms).saturating_mul(1000))
+        let event = if self.is_event_driven() {
+            now.deadline_after(u64::from(self.event_timer_ms) * 1000)
         } else {
             None
         };
@@ -225,19 +261,19 @@ impl TpdoProducer {
 
     /// A SYNC was received: synchronous types send here.
     pub(crate) fn handle_sync(&mut self, now: Timestamp) {
-        let Some(comm) = self.active() else {
+        if !self.is_active() {
             return;
-        };
-        match comm.transmission_type {
-            TransmissionType::SynchronousAcyclic if self.sync_event => {
-                self.sync_event = false;
-                self.send(now, comm);
+        }
+        match self.transmission_type {
+            0 if self.has(SYNC_EVENT) => {
+                self.flags &= !SYNC_EVENT;
+                self.send(now);
             }
-            TransmissionType::SynchronousCyclic(n) => {
+            n @ 1..=240 => {
                 self.sync_count = self.sync_count.saturating_add(1);
                 if self.sync_count >= n {
                     self.sync_count = 0;
-                    self.send(now, comm);
+                    self.send(now);
                 }
             }
             _ => {}
@@ -258,17 +294,17 @@ impl Machine for TpdoProducer {
 
     /// The event timer and a deferred transmission fire here.
     fn handle_timeout(&mut self, now: Timestamp) {
-        let Some(comm) = self.active() else {
-            return;
-        };
-        if self.deadline == NO_DEADLINE || !now.has_reached(Timestamp::from_micros(self.deadline)) {
+        if !self.is_active()
+            || self.deadline == NO_DEADLINE
+            || !now.has_reached(Timestamp::from_micros(self.deadline))
+        {
             return;
         }
         self.deadline = NO_DEADLINE;
-        if self.deferred {
-            self.send(now, comm);
+        if self.has(DEFERRED) {
+            self.send(now);
         } else {
-            self.send_or_defer(now, comm);
+            self.send_or_defer(now);
         }
     }
 
@@ -276,11 +312,16 @@ impl Machine for TpdoProducer {
     /// transmission replaces an undrained one (a PDO carries the latest
     /// value).
     fn poll_transmit(&mut self) -> Option<CanFrame> {
-        if !core::mem::take(&mut self.due) {
+        if !self.has(DUE) {
             return None;
         }
-        let id = self.comm?.cob_id.can_id()?;
-        CanFrame::new(id, self.payload.as_slice()).ok()
+        self.flags &= !DUE;
+        let id = can_id_of_cob_word(self.cob_id)?;
+        Some(CanFrame::from_parts(
+            id,
+            self.payload.to_le_bytes(),
+            self.payload_len,
+        ))
     }
 
     /// The earlier of the event timer and the end of the inhibit time.

@@ -1,7 +1,7 @@
 use std::vec::Vec;
 
 use super::*;
-use crate::pdo::PdoCobId;
+use crate::pdo::{PdoCobId, TransmissionType};
 
 fn ms(n: u64) -> Timestamp {
     Timestamp::from_millis(n)

@@ -47,10 +47,10 @@ impl TpdoSet {
     /// change of 1800h-1803h.
     pub fn reconfigure(&mut self, now: Timestamp, config: &PdoConfig) {
         for (slot, producer) in config.tpdos().iter().zip(self.producers.iter_mut()) {
-            match slot.as_ref().map(|s| s.comm) {
-                Some(comm) if producer.comm() != Some(&comm) => producer.configure(now, comm),
-                None if producer.comm().is_some() => producer.unconfigure(),
-                _ => {}
+            // Both are no-ops for a producer configured so already.
+            match slot {
+                Some(s) => producer.configure(now, s.comm),
+                None => producer.unconfigure(),
             }
         }
     }
@@ -68,8 +68,8 @@ impl TpdoSet {
             let Some(slot) = slot.as_ref().filter(|s| s.is_valid()) else {
                 continue;
             };
-            if let Ok(payload) = read_entries(slot.mapped(), &mut pdos.inner) {
-                producer.set_payload(now, payload);
+            if let Ok((word, len)) = read_entries(slot.mapped(), &mut pdos.inner) {
+                producer.set_payload_word(now, word, len);
             }
         }
     }
