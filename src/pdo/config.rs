@@ -200,7 +200,7 @@ impl<D: ObjectDictionary> PdoDictionary<D> {
     }
 
     /// Applies a complete write of `data` to a PDO object, or refuses it
-    /// (and changes nothing).
+    /// (and changes nothing: the rules are checked before any change).
     #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     fn apply(
         &mut self,
@@ -209,23 +209,19 @@ impl<D: ObjectDictionary> PdoDictionary<D> {
         sub: u8,
         data: &[u8],
     ) -> Result<(), AbortCode> {
-        let Some(Some(stored)) = self.config.slots.get(pos) else {
+        let Some(Some(slot)) = self.config.slots.get_mut(pos) else {
             return Err(AbortCode::ObjectDoesNotExist);
         };
-        let mut slot = *stored;
         if is_mapping {
-            apply_mapping(&mut slot, sub, data, &self.inner)?;
+            apply_mapping(slot, sub, data, &self.inner)
         } else {
-            apply_comm(&mut slot, sub, data)?;
+            apply_comm(slot, sub, data)
         }
-        if let Some(Some(s)) = self.config.slots.get_mut(pos) {
-            *s = slot;
-        }
-        Ok(())
     }
 }
 
-/// The rules for a write to mapping sub-index `sub` (see the module docs).
+/// The rules for a write to mapping sub-index `sub` (see the module docs);
+/// `slot` changes only when the write is accepted.
 fn apply_mapping<D: ObjectDictionary + ?Sized>(
     slot: &mut PdoSlot,
     sub: u8,
@@ -279,11 +275,12 @@ fn apply_mapping<D: ObjectDictionary + ?Sized>(
     Ok(())
 }
 
-/// The rules for a write to communication sub-index `sub`.
+/// The rules for a write to communication sub-index `sub`; `slot` changes
+/// only when the write is accepted.
 fn apply_comm(slot: &mut PdoSlot, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
     let old = slot.comm;
-    slot.comm.decode_sub(sub, data)?;
-    let new = slot.comm;
+    let mut new = old;
+    new.decode_sub(sub, data)?;
     let refused = match sub {
         1 => {
             (new.cob_id.is_valid() && new.cob_id.can_id().is_none())
@@ -297,6 +294,7 @@ fn apply_comm(slot: &mut PdoSlot, sub: u8, data: &[u8]) -> Result<(), AbortCode>
     if refused {
         return Err(AbortCode::InvalidValue);
     }
+    slot.comm = new;
     Ok(())
 }
 

@@ -2,7 +2,7 @@
 //! TPDO's payload from the mapped objects' current values, and writing a
 //! received RPDO's fields into the mapped objects.
 
-use super::mapping::{extract_bits, insert_bits, MappingEntry, PdoMapping};
+use super::mapping::{extract_bits, MappingEntry, PdoMapping};
 use crate::bytes::Payload;
 use crate::emcy::ErrorCode;
 use crate::od::ObjectDictionary;
@@ -61,39 +61,37 @@ pub(crate) fn read_entries<D: ObjectDictionary + ?Sized>(
     entries: &[MappingEntry],
     od: &mut D,
 ) -> Result<(u64, u8), AbortCode> {
-    let mut payload = [0u8; 8];
+    let mut payload = 0u64;
     let mut offset = 0u32;
     for entry in entries {
         let bits = u32::from(entry.bits);
-        if !entry.is_dummy() {
+        if !entry.is_dummy() && offset < 64 {
             let mut buf = [0u8; 8];
-            let len = field_len(bits);
             let n = od.read(
                 entry.index,
                 entry.sub,
                 0,
-                buf.get_mut(..len).unwrap_or(&mut []),
+                buf.get_mut(..field_len(bits)).unwrap_or(&mut []),
             )?;
-            let value = u64::from_le_bytes(buf) & low_bytes_mask(n);
-            insert_bits(&mut payload, offset, bits, value);
+            // The low `bits` bits of what the dictionary gave (`n` bytes);
+            // the fields do not overlap, so an or places each.
+            let keep = bits.min(8 * n.min(8) as u32);
+            let mask = if keep >= 64 {
+                u64::MAX
+            } else {
+                (1 << keep) - 1
+            };
+            payload |= (u64::from_le_bytes(buf) & mask) << offset;
         }
         offset += bits;
     }
-    Ok((u64::from_le_bytes(payload), field_len(offset) as u8))
+    Ok((payload, field_len(offset) as u8))
 }
 
 /// The bytes `bits` (at most 64) take: rounded up, at most 8.
 #[inline]
 fn field_len(bits: u32) -> usize {
     (bits.div_ceil(8) as usize).min(8)
-}
-
-fn low_bytes_mask(n: usize) -> u64 {
-    if n >= 8 {
-        u64::MAX
-    } else {
-        (1u64 << (8 * n)) - 1
-    }
 }
 
 /// Writes a received RPDO's fields into the mapped objects. A payload

@@ -18,8 +18,6 @@ use crate::machine::Machine;
 use crate::od::ObjectDictionary;
 use crate::time::Timestamp;
 
-const PDO_NUMBERS: [PdoNumber; 4] = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3];
-
 /// TPDO 0..3 of a device, one [`TpdoProducer`] each. SYNC frames reach
 /// every producer through [`Machine::handle_frame`].
 #[derive(Debug, Clone)]
@@ -245,10 +243,11 @@ impl Machine for RpdoReceiver {
         }
         // A remote frame's word has the remote flag: it matches no RPDO.
         let word = frame.word();
-        let Some(pdo) = PDO_NUMBERS
-            .into_iter()
-            .zip(self.ids)
-            .find_map(|(n, id)| (id == word).then_some(n))
+        let Some(pdo) = self
+            .ids
+            .iter()
+            .position(|&id| id == word)
+            .and_then(|n| PdoNumber::new(n as u8))
         else {
             return;
         };
@@ -286,6 +285,9 @@ mod tests {
     use super::*;
     use crate::frame::CanId;
     use crate::pdo::{PdoCobId, PdoCommParams, PdoMapping, PdoSlot};
+
+    const PDO_NUMBERS: [PdoNumber; 4] =
+        [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3];
 
     fn receiver(cob_ids: [u32; 4]) -> RpdoReceiver {
         let mut config = PdoConfig::new();
