@@ -19,9 +19,14 @@
 //! It implements [`Machine`], the crate's state-machine contract: SYNC
 //! arrives as a frame through `handle_frame` (identifier 080h unless
 //! [`TpdoProducer::set_sync_id`] says otherwise, CiA 301 object 1005h), the
-//! event timer and the end of the inhibit time are its two timers. It
-//! reports no events. A timestamp that goes backwards never panics;
-//! deadlines are simply not reached.
+//! event timer and the end of the inhibit time are its deadlines (one at a
+//! time: a deferred send restarts the event timer). It reports no events.
+//! A timestamp that goes backwards never panics; deadlines are simply not
+//! reached.
+//!
+//! A frame carries the payload as it is when the frame is taken
+//! ([`Machine::poll_transmit`]): a change between the transmission and the
+//! poll is in the frame (and, as every change, an event for the next one).
 
 use core::convert::Infallible;
 
