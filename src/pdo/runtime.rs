@@ -174,7 +174,8 @@ pub struct RpdoReceiver {
     /// Each RPDO's COB-ID as a data frame's identifier word, `u32::MAX`
     /// (which no frame has) when not valid.
     ids: [u32; 4],
-    dropped: u64,
+    /// Events replaced undrained (saturating; a device never lets one be).
+    dropped: u32,
     event: Option<RpdoFrame>,
     enabled: bool,
 }
@@ -276,7 +277,7 @@ impl Machine for RpdoReceiver {
     }
 
     fn events_dropped(&self) -> u64 {
-        self.dropped
+        u64::from(self.dropped)
     }
 }
 
