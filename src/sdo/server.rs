@@ -746,10 +746,10 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         }
         // The general decoder alone: the segment paths of `decode_frame`
         // are `handle_frame`'s own.
-        let Ok(request) = SdoRequest::decode_frame_inline(frame) else {
+        let Ok(command) = ClientCommand::of_frame(frame) else {
             return;
         };
-        match request.command {
+        match command {
             ClientCommand::InitiateUpload { index, sub } => {
                 self.supersede();
                 self.initiate_upload(now, index, sub);
