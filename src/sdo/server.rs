@@ -762,8 +762,13 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                 self.supersede();
                 self.initiate_download(now, index, sub, payload);
             }
-            ClientCommand::UploadSegment { toggle } => self.upload_segment(now, toggle),
-            ClientCommand::DownloadSegment(seg) => self.download_segment(now, &seg),
+            // A segment of the running segmented transfer took
+            // `handle_frame`'s own path; any other segment request does not
+            // fit the state (what `upload_segment` / `download_segment`
+            // would answer).
+            ClientCommand::UploadSegment { .. } | ClientCommand::DownloadSegment(_) => {
+                self.abort_local(AbortCode::InvalidCommandSpecifier);
+            }
             ClientCommand::Abort { code, .. } => self.abort_by_peer(code),
             ClientCommand::BlockUpload(b) => self.on_block_upload(now, b),
             ClientCommand::BlockDownload(b) => self.on_block_download(now, b, frame.data()),
