@@ -121,6 +121,12 @@ fn server_bad_command_specifier() {
         "8000000001000405",
         server_abort(0, 0, AbortCode::InvalidCommandSpecifier),
     );
+    // An upload segment request while a segmented download of 2001h runs.
+    assert_server_abort(
+        &["2101200008000000", "6000000000000000"],
+        "8001200001000405",
+        server_abort(0x2001, 0, AbortCode::InvalidCommandSpecifier),
+    );
 }
 
 #[test]

@@ -651,16 +651,16 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         }
         // The general decoder alone: the segment path of `decode_frame` is
         // `handle_frame`'s own.
-        let Ok(response) = SdoResponse::decode_frame_inline(frame) else {
+        let Ok(command) = ServerCommand::of_frame(frame) else {
             return;
         };
-        if let ServerCommand::Abort { code, .. } = response.command {
+        if let ServerCommand::Abort { code, .. } = command {
             return self.aborted_by_peer(code);
         }
         match core::mem::replace(&mut self.state, State::Idle) {
             State::Idle => {}
             State::UploadInitiated { index, sub } => {
-                self.on_upload_initiated(now, index, sub, response.command);
+                self.on_upload_initiated(now, index, sub, command);
             }
             // The segment itself took the path above.
             State::Uploading { index, sub, .. } | State::Downloading { index, sub, .. } => {
@@ -671,9 +671,9 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                 sub,
                 data,
                 expedited,
-            } => self.on_download_initiated(now, index, sub, data, expedited, response.command),
+            } => self.on_download_initiated(now, index, sub, data, expedited, command),
             #[cfg(feature = "sdo-block")]
-            state => self.on_block_response(now, state, response.command, frame.data()),
+            state => self.on_block_response(now, state, command, frame.data()),
         }
     }
 }

@@ -64,7 +64,7 @@ use super::block::MAX_BLOCK_SIZE;
 #[cfg(feature = "sdo-block")]
 use super::block::{Receiver, Sender};
 use super::data::{InitiatePayload, Segment};
-use super::segmented::{check_toggle, Segments};
+use super::segmented::Segments;
 use super::wire::{ClientCommand, SdoRequest};
 use super::words;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
@@ -503,133 +503,6 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             .set(REQUEST_TIMEOUT, Some(now.add_micros(self.timeout_us)));
     }
 
-    /// Reads up to `buf.len()` bytes at `offset`, looping over short reads
-    /// (nothing is read into an empty `buf`).
-    #[inline]
-    fn read_full(
-        &mut self,
-        index: u16,
-        sub: u8,
-        offset: usize,
-        buf: &mut [u8],
-    ) -> Result<usize, AbortCode> {
-        if buf.is_empty() {
-            return Ok(0);
-        }
-        let mut got = self.od.read(index, sub, offset, buf)?.min(buf.len());
-        // A short read: ask for the rest until the dictionary has no more.
-        while got < buf.len() {
-            let Some(rest) = buf.get_mut(got..) else {
-                break;
-            };
-            let n = self
-                .od
-                .read(index, sub, offset.saturating_add(got), rest)?
-                .min(rest.len());
-            if n == 0 {
-                break;
-            }
-            got += n;
-        }
-        Ok(got)
-    }
-
-    pub(super) fn initiate_upload(&mut self, now: Timestamp, index: u16, sub: u8) {
-        let info = match self.od.info(index, sub) {
-            Ok(info) => info,
-            Err(code) => return self.abort_object(index, sub, code),
-        };
-        if !info.access.is_readable() {
-            return self.abort_object(index, sub, AbortCode::ReadOfWriteOnlyObject);
-        }
-        if (1..=4).contains(&info.len) {
-            let mut buf = [0u8; 4];
-            let want = buf.get_mut(..info.len).unwrap_or(&mut []);
-            let n = match self.read_full(index, sub, 0, want) {
-                Ok(n) => n,
-                Err(code) => return self.abort_object(index, sub, code),
-            };
-            if n == 0 {
-                return self.abort_object(index, sub, AbortCode::NoDataAvailable);
-            }
-            // The bytes past `n` zero, as the frame has them.
-            let mask = u32::MAX.checked_shr(32 - 8 * n.min(4) as u32).unwrap_or(0);
-            let data = u32::from_le_bytes(buf) & mask;
-            self.send(words::expedited(2, index, sub, data, n));
-            return self.finish(ServerEvent::Uploaded { index, sub, len: n });
-        }
-        let Ok(size) = u32::try_from(info.len) else {
-            return self.abort_object(index, sub, AbortCode::OutOfMemory);
-        };
-        self.send(words::segmented(2, index, sub, size));
-        self.state = State::Uploading {
-            index,
-            sub,
-            offset: 0,
-            len: info.len,
-            toggle: false,
-        };
-        self.arm(now);
-    }
-
-    /// An upload segment request (ccs = 3, toggle `toggle`): the next
-    /// segment, read from the dictionary at the transfer's offset. The
-    /// frame is made in place, as `SdoResponse::new` of
-    /// `ServerCommand::UploadSegment` would make it, and only the offset and
-    /// toggle of the state change (no copy of the state per segment).
-    #[inline]
-    fn upload_segment(&mut self, now: Timestamp, toggle: bool) {
-        let State::Uploading {
-            index,
-            sub,
-            offset,
-            len,
-            toggle: expected,
-        } = self.state
-        else {
-            return self.abort_local(AbortCode::InvalidCommandSpecifier);
-        };
-        if let Err(code) = check_toggle(toggle, expected) {
-            return self.abort_local(code);
-        }
-        let mut data = [0u8; 7];
-        let want = len.saturating_sub(offset).min(7);
-        let n = match self.read_full(index, sub, offset, data.get_mut(..want).unwrap_or(&mut [])) {
-            Ok(n) => n,
-            Err(code) => return self.abort_local(code),
-        };
-        if n < want {
-            // The dictionary ran dry before the size it announced.
-            return self.abort_local(AbortCode::GeneralError);
-        }
-        let offset = offset.saturating_add(n);
-        let last = offset >= len;
-        // n is at most 7: the 3-bit count of unused bytes is 7 - n.
-        let unused = 7u8.saturating_sub(n as u8);
-        let b0 = u8::from(toggle) << 4 | unused << 1 | u8::from(last);
-        // Byte 0 the command, bytes 1..=7 the data (zero past n): one word
-        // from two overlapping loads of the 7 bytes, which read back what
-        // a 7-byte copy stored without a stall on a wider load.
-        let [a, b, c, d, e, f, g] = data;
-        let lo = u32::from_le_bytes([a, b, c, d]);
-        let hi = u32::from_le_bytes([d, e, f, g]);
-        let word = (u64::from(lo) | u64::from(hi) << 24) << 8 | u64::from(b0);
-        self.send_bytes(word.to_le_bytes(), 8);
-        if last {
-            return self.finish(ServerEvent::Uploaded { index, sub, len });
-        }
-        if let State::Uploading {
-            offset: at,
-            toggle: next,
-            ..
-        } = &mut self.state
-        {
-            *at = offset;
-            *next = !toggle;
-        }
-        self.arm(now);
-    }
-
     fn initiate_download(&mut self, now: Timestamp, index: u16, sub: u8, payload: InitiatePayload) {
         let info = match self.od.info(index, sub) {
             Ok(info) => info,
@@ -692,6 +565,8 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// size rule, written, acknowledged. The receive cursor is updated in
     /// place (no copy of the state per segment); the acknowledgement is
     /// made as `SdoResponse::new` of `ServerCommand::DownloadSegment` encodes it.
+    /// Out of line (see `upload_segment`).
+    #[inline(never)]
     fn download_segment(&mut self, now: Timestamp, seg: &Segment) {
         let State::Downloading {
             index,
@@ -746,10 +621,10 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         }
         // The general decoder alone: the segment paths of `decode_frame`
         // are `handle_frame`'s own.
-        let Ok(request) = SdoRequest::decode_frame_inline(frame) else {
+        let Ok(command) = ClientCommand::of_frame(frame) else {
             return;
         };
-        match request.command {
+        match command {
             ClientCommand::InitiateUpload { index, sub } => {
                 self.supersede();
                 self.initiate_upload(now, index, sub);
@@ -762,8 +637,13 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                 self.supersede();
                 self.initiate_download(now, index, sub, payload);
             }
-            ClientCommand::UploadSegment { toggle } => self.upload_segment(now, toggle),
-            ClientCommand::DownloadSegment(seg) => self.download_segment(now, &seg),
+            // A segment of the running segmented transfer took
+            // `handle_frame`'s own path; any other segment request does not
+            // fit the state (what `upload_segment` / `download_segment`
+            // would answer).
+            ClientCommand::UploadSegment { .. } | ClientCommand::DownloadSegment(_) => {
+                self.abort_local(AbortCode::InvalidCommandSpecifier);
+            }
             ClientCommand::Abort { code, .. } => self.abort_by_peer(code),
             ClientCommand::BlockUpload(b) => self.on_block_upload(now, b),
             ClientCommand::BlockDownload(b) => self.on_block_download(now, b, frame.data()),
@@ -830,6 +710,9 @@ impl<D: ObjectDictionary, const EVENTS: usize> Machine for Server<D, EVENTS> {
         self.events.dropped()
     }
 }
+
+#[path = "server_upload.rs"]
+mod upload;
 
 #[cfg(feature = "sdo-block")]
 #[path = "block_server.rs"]

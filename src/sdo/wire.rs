@@ -439,6 +439,13 @@ impl Writer {
 }
 
 impl ClientCommand {
+    /// The command of a frame, as `SdoRequest::decode_frame` decodes it
+    /// (the general decoder alone, without the frame's bytes kept).
+    #[inline(always)]
+    pub(crate) fn of_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
+        Self::decode_raw(&RawSdo::of_frame(frame))
+    }
+
     #[inline(always)]
     fn decode_raw(raw: &RawSdo) -> Result<Self, DecodeError> {
         let r = Reader { raw };
@@ -573,6 +580,13 @@ impl ClientCommand {
 }
 
 impl ServerCommand {
+    /// The command of a frame, as `SdoResponse::decode_frame` decodes it
+    /// (the general decoder alone, without the frame's bytes kept).
+    #[inline(always)]
+    pub(crate) fn of_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
+        Self::decode_raw(&RawSdo::of_frame(frame))
+    }
+
     #[inline(always)]
     fn decode_raw(raw: &RawSdo) -> Result<Self, DecodeError> {
         let r = Reader { raw };
