@@ -116,7 +116,7 @@ mod objects;
 mod profile;
 mod services;
 
-pub use config::{DeviceConfig, PowerOn};
+pub use config::{DeviceConfig, Policies, PowerOn};
 #[cfg(feature = "alloc")]
 pub use descriptions::COMM_OBJECT_DESCRIPTIONS;
 pub use objects::{
@@ -137,7 +137,7 @@ use crate::od::index::{CONSUMER_HEARTBEAT_TIME, PRODUCER_HEARTBEAT_TIME};
 use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
 use crate::queue::{EventQueue, Queue};
-use crate::sdo::{Server, ServerEvent};
+use crate::sdo::{Server, ServerConfig, ServerEvent};
 use crate::time::{MaybeTimestamp, Timestamp};
 
 /// The dictionary the SDO server serves: PDO objects, communication
@@ -223,20 +223,24 @@ where
     /// A device with `config` (a [`DeviceConfig`], or what one is rebuilt
     /// from: [`PowerOn`]) over the application objects `app`, not yet
     /// booted.
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn new(config: C, app: A) -> Self {
-        let (node, error_field) = {
-            let c = config.power_on_config();
-            (c.node, c.error_field)
-        };
-        let (server, heartbeat) = Self::power_on_parts(&config, node, app.clone());
-        Device {
+        let node = config.node();
+        let dictionary = PdoDictionary::new(
+            PdoConfig::new(),
+            DeviceObjects {
+                comm: CommObjects::new(node),
+                app: app.clone(),
+            },
+        );
+        let mut device = Device {
             config,
             node,
-            error_field,
+            error_field: ErrorFieldFormat::LittleEndianInfo,
             nmt: NmtSlave::with_event_capacity(node),
-            heartbeat,
+            heartbeat: HeartbeatProducer::new(node, Duration::ZERO),
             consumer: HeartbeatConsumer::new(),
-            server,
+            server: Server::new(ServerConfig::for_node(node), dictionary),
             tpdos: TpdoSet::new(),
             rpdos: RpdoReceiver::new(),
             tpdos_enabled: true,
@@ -249,31 +253,25 @@ where
             #[cfg(feature = "lss")]
             powered: false,
             services: services::Services::new(node),
-        }
+        };
+        device.load_power_on();
+        device
     }
 
-    /// The SDO server over the power-on dictionary (the PDO and
-    /// communication objects of `config`'s power-on configuration, the
-    /// application objects `app`) and the heartbeat producer of `node`:
-    /// what [`new`](Self::new) and every reset build (one copy of the code).
+    /// Writes the power-on values of the communication objects and the PDO
+    /// configuration into the dictionary in place ([`PowerOn::restore`]),
+    /// and starts the SDO server and the heartbeat producer over on them:
+    /// what [`new`](Self::new) and every reset do (one copy of the code, no
+    /// second dictionary or server built and moved).
     #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-    fn power_on_parts(
-        config: &C,
-        node: NodeId,
-        app: A,
-    ) -> (Server<Dictionary<A>>, HeartbeatProducer) {
-        let c = config.power_on_config();
-        let server_config = c.server_config();
-        let mut heartbeat = HeartbeatProducer::new(node, c.heartbeat);
-        heartbeat.send_on_change = c.heartbeat_on_change;
-        let od = PdoDictionary::new(
-            c.pdos,
-            DeviceObjects {
-                comm: c.comm_objects(),
-                app,
-            },
-        );
-        (Server::new(server_config, od), heartbeat)
+    fn load_power_on(&mut self) {
+        let od = self.server.od_mut();
+        let policies = self.config.restore(&mut od.inner.comm, &mut od.config);
+        let period = Duration::from_millis(u64::from(od.inner.comm.heartbeat_ms));
+        self.error_field = policies.error_field;
+        self.server.restart(policies.server_config(self.node));
+        self.heartbeat = HeartbeatProducer::new(self.node, period);
+        self.heartbeat.send_on_change = policies.heartbeat_on_change;
     }
 
     // ----- getters ---------------------------------------------------------
@@ -641,11 +639,10 @@ where
         // A running transfer ends silently; a download is aborted in the
         // dictionary before the application objects are kept.
         self.server.cancel();
-        let app = match kind {
-            ResetKind::Node => self.power_on.clone(),
-            ResetKind::Communication => self.objects().clone(),
-        };
-        (self.server, self.heartbeat) = Self::power_on_parts(&self.config, self.node, app);
+        if kind == ResetKind::Node {
+            self.server.od_mut().inner.app.clone_from(&self.power_on);
+        }
+        self.load_power_on();
         self.heartbeat.boot(now);
         self.consumer = HeartbeatConsumer::new();
         self.apply_consumers(now);
