@@ -136,7 +136,7 @@ use crate::nmt::{NmtSlave, NmtSlaveEvent, NmtState, ResetKind};
 use crate::od::index::{CONSUMER_HEARTBEAT_TIME, PRODUCER_HEARTBEAT_TIME};
 use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
-use crate::queue::{EventQueue, Queue};
+use crate::queue::EventQueue;
 use crate::sdo::{Server, ServerConfig, ServerEvent};
 use crate::time::{MaybeTimestamp, Timestamp};
 
@@ -184,7 +184,9 @@ pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY, C = Devic
     /// one (at most one per call), so two slots are enough.
     nmt: NmtSlave<2>,
     heartbeat: HeartbeatProducer,
-    consumer: HeartbeatConsumer<MAX_CONSUMERS>,
+    /// The heartbeat consumer; drained after every call, so one event
+    /// per entry is enough.
+    consumer: HeartbeatConsumer<MAX_CONSUMERS, MAX_CONSUMERS>,
     server: Server<Dictionary<A>>,
     tpdos: TpdoSet,
     rpdos: RpdoReceiver,
@@ -192,8 +194,9 @@ pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY, C = Devic
     tpdos_enabled: bool,
     /// The application objects at boot (restored by reset node).
     power_on: A,
-    transmit: Queue<CanFrame, Q>,
-    frames_dropped: u64,
+    /// The profile's frames and EMCYs: a full queue drops its oldest
+    /// frame and counts it ([`frames_dropped`](Self::frames_dropped)).
+    transmit: EventQueue<CanFrame, Q>,
     events: EventQueue<E, Q>,
     /// The optional LSS slave (CiA 305).
     #[cfg(feature = "lss")]
@@ -245,8 +248,7 @@ where
             rpdos: RpdoReceiver::new(),
             tpdos_enabled: true,
             power_on: app,
-            transmit: Queue::new(CanFrame::EMPTY),
-            frames_dropped: 0,
+            transmit: EventQueue::new(CanFrame::EMPTY),
             events: EventQueue::new(E::from(DeviceEvent::Reset { node: true })),
             #[cfg(feature = "lss")]
             lss: None,
@@ -332,14 +334,15 @@ where
 
     /// The heartbeat consumer (1016h), for its nodes' states.
     #[must_use]
-    pub const fn heartbeat_consumer(&self) -> &HeartbeatConsumer<MAX_CONSUMERS> {
+    pub const fn heartbeat_consumer(&self) -> &HeartbeatConsumer<MAX_CONSUMERS, MAX_CONSUMERS> {
         &self.consumer
     }
 
-    /// Frames dropped because `poll_transmit` was not drained (oldest first).
+    /// Frames dropped because `poll_transmit` was not drained (oldest
+    /// first; saturating at `u32::MAX`).
     #[must_use]
     pub const fn frames_dropped(&self) -> u64 {
-        self.frames_dropped
+        self.transmit.dropped()
     }
 
     // ----- commands --------------------------------------------------------
@@ -460,11 +463,7 @@ where
     /// Queues a frame of the profile's (sent after EMCYs, before SDO
     /// responses).
     pub fn send(&mut self, frame: CanFrame) {
-        if !self.transmit.push(frame) {
-            let _ = self.transmit.pop();
-            let _ = self.transmit.push(frame);
-            self.frames_dropped = self.frames_dropped.saturating_add(1);
-        }
+        self.transmit.push(frame);
     }
 
     /// Queues an event of the profile's.
