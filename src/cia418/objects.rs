@@ -283,7 +283,7 @@ impl BatteryObjects {
                 return Err(AbortCode::SubIndexDoesNotExist);
             }
             let bytes = self.scalar(row).to_le_bytes();
-            let value = Value::new(bytes.get(..usize::from(object.width)).unwrap_or(&[]));
+            let value = Value::new(bytes.get(..usize::from(object.width).min(4)).unwrap_or(&[]));
             return Ok((object.access, value.unwrap_or_default(), object.mappable));
         }
         let found = match (index, sub) {

@@ -106,7 +106,7 @@ impl ChargerObjects {
             Access::ReadOnly
         };
         let bytes = self.value(field).to_le_bytes();
-        let value = Bytes::new(bytes.get(..usize::from(object.width)).unwrap_or(&[]));
+        let value = Bytes::new(bytes.get(..usize::from(object.width).min(4)).unwrap_or(&[]));
         Ok((access, true, value.unwrap_or_default()))
     }
 
