@@ -226,7 +226,6 @@ where
     /// A device with `config` (a [`DeviceConfig`], or what one is rebuilt
     /// from: [`PowerOn`]) over the application objects `app`, not yet
     /// booted.
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn new(config: C, app: A) -> Self {
         let node = config.node();
         let dictionary = PdoDictionary::new(
