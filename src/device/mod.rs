@@ -538,16 +538,29 @@ where
         &mut self,
         profile: &mut P,
     ) -> Option<CanFrame> {
-        let frame = self.heartbeat.poll_transmit();
+        // Early returns rather than an `or_else` chain: one frame copy
+        // each, not one per link of the chain.
+        if let Some(frame) = self.heartbeat.poll_transmit() {
+            return Some(frame);
+        }
         #[cfg(feature = "guarding")]
-        let frame = frame.or_else(|| self.services.guarding.poll_transmit());
-        let frame = frame.or_else(|| self.transmit.pop());
+        if let Some(frame) = self.services.guarding.poll_transmit() {
+            return Some(frame);
+        }
+        if let Some(frame) = self.transmit.pop() {
+            return Some(frame);
+        }
         #[cfg(feature = "lss")]
-        let frame = frame.or_else(|| self.lss.as_mut().and_then(LssSlave::poll_transmit));
-        frame
-            .or_else(|| self.server.poll_transmit())
-            .or_else(|| profile.poll_transmit())
-            .or_else(|| self.tpdos.poll_transmit())
+        if let Some(frame) = self.lss.as_mut().and_then(LssSlave::poll_transmit) {
+            return Some(frame);
+        }
+        if let Some(frame) = self.server.poll_transmit() {
+            return Some(frame);
+        }
+        if let Some(frame) = profile.poll_transmit() {
+            return Some(frame);
+        }
+        self.tpdos.poll_transmit()
     }
 
     /// The earliest deadline of the core's and the profile's timers.
