@@ -266,7 +266,7 @@ impl PowerOn for BatteryModulePowerOn {
 /// Writes the CiA 418 default PDO set of a module with `config` into
 /// `pdos` (every slot).
 fn default_pdo_config(config: &BatteryModulePowerOn, pdos: &mut PdoConfig) {
-    *pdos = PdoConfig::new();
+    pdos.clear();
     for d in DEFAULT_PDOS
         .iter()
         .filter(|d| d.is_present(config.device_type))

@@ -296,7 +296,7 @@ const PDO_NUMBERS: [PdoNumber; 4] = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2
 /// published mappings, with COB-IDs not valid until configured (or valid
 /// defaults without configuration).
 fn default_pdos(config: &ChargerPowerOn, pdos: &mut PdoConfig) {
-    *pdos = PdoConfig::new();
+    pdos.clear();
     for dir in [PdoDirection::Transmit, PdoDirection::Receive] {
         for n in PDO_NUMBERS {
             let d = charger_default_pdo(dir, n);
