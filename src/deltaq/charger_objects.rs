@@ -316,6 +316,26 @@ mod tests {
         assert_eq!(o.external_override, 0xA1);
         assert_eq!(o.voltage_request_q8, 0xB2A1);
         assert_eq!(o.extended_status, 0);
+        let w16 = 0xB2A1;
+        let w32 = 0xD4C3_B2A1;
+        assert_eq!(
+            (
+                o.charging_current,
+                o.battery_voltage_q8,
+                o.ah_returned,
+                o.current_requested
+            ),
+            (w16, w16, w16, w16)
+        );
+        assert_eq!((o.algorithm_request, o.voltage_request), (w32, w32));
+        assert_eq!(
+            (o.battery_soc, o.charger_status, o.charger_soc),
+            (0xA1, 0, 0xFF)
+        );
+        assert_eq!(
+            (o.displayed_error, o.battery_voltage_q10, o.ac_voltage),
+            (0, 0xFFFF, 0xFFFF)
+        );
         // 2FFAh: sub 0 constant, subs 1 and 2 take and drop a byte.
         assert_eq!(o.info(0x2FFA, 0).unwrap().access, Access::Const);
         o.write(0x2FFA, 1, 0, &[7]).unwrap();
