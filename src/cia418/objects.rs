@@ -107,7 +107,7 @@ type Value = InlineData<4>;
 /// assert_eq!(buf, [0xC8, 0x00]); // 200 * 0.125 degC
 /// assert!(od.info(0x6010, 0).unwrap().pdo_mappable);
 /// ```
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct BatteryObjects {
     /// 6000h battery status.
     pub battery_status: BatteryStatus,

@@ -12,7 +12,7 @@ use crate::sdo::AbortCode;
 /// The charger's object values. Fields are the application's to read and
 /// write; SDO access goes through [`ObjectDictionary`] with the access
 /// rights of each object.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ChargerObjects {
     /// 6000h battery status (written by the BMS).
     pub battery_status: u8,
