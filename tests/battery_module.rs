@@ -442,6 +442,36 @@ fn charger_rpdo_writes_6001h_only_while_operational() {
     assert_eq!(b.upload(0x6001, 0), Ok(vec![0x01]));
 }
 
+/// Back-to-back RPDOs, delivered before anyone reads the module's events:
+/// the device drains its RPDO receiver after every frame, so each one is
+/// applied and reported, none lost (the receiver holds one event: a frame
+/// is at most one RPDO).
+#[test]
+fn back_to_back_rpdos_are_each_applied() {
+    let mut b = Bench::with(BatteryModuleConfig {
+        device_type: DeviceType::cia418(DeviceType::RPDO_2ND),
+        ..node1()
+    });
+    b.send(0x000, &[0x01, 0x01]);
+    b.events();
+    b.sim.inject(CanFrame::standard(0x201, &[0x01]).unwrap());
+    b.sim
+        .inject(CanFrame::standard(0x301, &[0x00, 0x34, 0x12]).unwrap());
+    b.sim.inject(CanFrame::standard(0x201, &[0x01]).unwrap());
+    b.sim
+        .inject(CanFrame::standard(0x301, &[0x01, 0x10, 0x02]).unwrap());
+    let now = b.now();
+    b.sim.run_until(now);
+    let pdos = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P0, PdoNumber::P1];
+    assert_eq!(
+        b.events(),
+        pdos.map(|pdo| BatteryEvent::RpdoReceived { pdo }).to_vec()
+    );
+    assert_eq!(b.m().events_dropped(), 0);
+    assert_eq!(b.m().charger_status(), ChargerStatus::ENABLED);
+    assert_eq!(b.m().ah_returned_during_last_charge().raw(), 0x0210);
+}
+
 #[test]
 fn short_rpdo_raises_emcy_8210h() {
     let mut b = Bench::with(BatteryModuleConfig {

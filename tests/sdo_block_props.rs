@@ -11,7 +11,7 @@
 //! takes it runs one sub-block ahead; a later loss then makes it resend the
 //! wrong segments. The CRC is what catches that (05040004h); without it the
 //! protocol cannot, whoever implements it. Without CRC the faults are drops.
-#![cfg(feature = "alloc")]
+#![cfg(all(feature = "alloc", feature = "sdo-block"))]
 
 mod common;
 

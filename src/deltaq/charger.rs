@@ -76,7 +76,7 @@ use crate::machine::Machine;
 use crate::nmt::NmtState;
 use crate::od::index::DEVICE_TYPE;
 use crate::pdo::{PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoSlot, RpdoError};
-use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent};
+use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent, EVENTS_PER_CALL};
 use crate::time::{millis_of, millis_u16, Timestamp};
 
 /// How the charger is set up.
@@ -390,7 +390,7 @@ struct ChargerProfile {
     mode: OperatingMode,
     configure_cob_ids: bool,
     self_start: bool,
-    client: Client<&'static [u8]>,
+    client: Client<&'static [u8], EVENTS_PER_CALL>,
     link: Link,
     /// The value of the upload in progress (1000h or a COB-ID: 4 bytes).
     upload_value: [u8; 4],
@@ -501,8 +501,8 @@ impl ChargerProfile {
         }
     }
 
-    fn client(config: &ChargerConfig) -> Client<&'static [u8]> {
-        Client::new(ClientConfig {
+    fn client(config: &ChargerConfig) -> Client<&'static [u8], EVENTS_PER_CALL> {
+        Client::with_event_capacity(ClientConfig {
             timeout: config.sdo_timeout,
             ..ClientConfig::for_server(config.battery)
         })
@@ -510,7 +510,7 @@ impl ChargerProfile {
 
     /// Boot or NMT reset: no transfer, no pairing.
     fn restart<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
-        self.client = Client::new(*self.client.config());
+        self.client = Client::with_event_capacity(*self.client.config());
         self.link = Link::Absent;
         device.set_tpdos_enabled(now, false);
     }
@@ -576,7 +576,7 @@ impl ChargerProfile {
     /// Reads the module's 1000h with a fresh client: a transfer of an
     /// earlier attempt (a module that rebooted meanwhile) ends silently.
     fn start_configuration(&mut self, now: Timestamp) {
-        self.client = Client::new(*self.client.config());
+        self.client = Client::with_event_capacity(*self.client.config());
         self.link = Link::DeviceType;
         if self.client.start_upload(now, DEVICE_TYPE, 0).is_err() {
             self.link = Link::Failed;
@@ -715,7 +715,7 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn> fo
                 // No SDO in stopped: a configuration in progress ends
                 // without a frame and is redone when SDO is allowed again.
                 if matches!(self.link, Link::DeviceType | Link::CobId(..)) {
-                    self.client = Client::new(*self.client.config());
+                    self.client = Client::with_event_capacity(*self.client.config());
                     self.link = Link::Pending;
                 }
             }

@@ -137,7 +137,7 @@ use crate::od::index::{CONSUMER_HEARTBEAT_TIME, PRODUCER_HEARTBEAT_TIME};
 use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
 use crate::queue::EventQueue;
-use crate::sdo::{Server, ServerConfig, ServerEvent};
+use crate::sdo::{Server, ServerConfig, ServerEvent, EVENTS_PER_CALL};
 use crate::time::{MaybeTimestamp, Timestamp};
 
 /// The dictionary the SDO server serves: PDO objects, communication
@@ -187,7 +187,8 @@ pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY, C = Devic
     /// The heartbeat consumer; drained after every call, so one event
     /// per entry is enough.
     consumer: HeartbeatConsumer<MAX_CONSUMERS, MAX_CONSUMERS>,
-    server: Server<Dictionary<A>>,
+    /// Its events are read after every call: the capacity one call needs.
+    server: Server<Dictionary<A>, EVENTS_PER_CALL>,
     tpdos: TpdoSet,
     rpdos: RpdoReceiver,
     /// The profile allows TPDOs (besides NMT operational).
@@ -242,7 +243,7 @@ where
             nmt: NmtSlave::with_event_capacity(node),
             heartbeat: HeartbeatProducer::new(node, Duration::ZERO),
             consumer: HeartbeatConsumer::new(),
-            server: Server::new(ServerConfig::for_node(node), dictionary),
+            server: Server::with_event_capacity(ServerConfig::for_node(node), dictionary),
             tpdos: TpdoSet::new(),
             rpdos: RpdoReceiver::new(),
             tpdos_enabled: true,

@@ -45,17 +45,34 @@ impl PdoDirection {
     /// 1A00h-1A03h belongs to, and whether it is the mapping object.
     #[must_use]
     pub const fn from_index(index: u16) -> Option<(PdoDirection, PdoNumber, bool)> {
-        let dir = match index & 0xFC00 {
-            RPDO_COMMUNICATION => PdoDirection::Receive,
-            TPDO_COMMUNICATION => PdoDirection::Transmit,
-            _ => return None,
+        let Some((slot, is_mapping)) = slot_of_index(index) else {
+            return None;
         };
-        let is_mapping = index & 0x0200 != 0;
-        match PdoNumber::new((index & 0x01FF) as u8) {
-            Some(n) if index & 0x01FC == 0 => Some((dir, n, is_mapping)),
-            _ => None,
+        let dir = if slot >= 4 {
+            PdoDirection::Transmit
+        } else {
+            PdoDirection::Receive
+        };
+        match PdoNumber::new((slot & 3) as u8) {
+            Some(n) => Some((dir, n, is_mapping)),
+            None => None,
         }
     }
+}
+
+/// The position of a PDO object's PDO in a [`crate::pdo::PdoConfig`]
+/// (RPDO 0-3 are 0-3, TPDO 0-3 are 4-7) and whether `index` is its mapping
+/// object; `None` for any index but 1400h-1403h / 1600h-1603h /
+/// 1800h-1803h / 1A00h-1A03h. A mask and two compares.
+#[inline]
+pub(crate) const fn slot_of_index(index: u16) -> Option<(usize, bool)> {
+    let base = index & !0x0203;
+    if base != RPDO_COMMUNICATION && base != TPDO_COMMUNICATION {
+        return None;
+    }
+    // Bit 11 is set in 18xxh/1Axxh (transmit): slot 4 and up.
+    let slot = ((index >> 9) & 4) | (index & 3);
+    Some((slot as usize, index & 0x0200 != 0))
 }
 
 /// A PDO COB-ID entry (sub-index 1): the identifier plus three flags.
@@ -278,15 +295,22 @@ impl PdoCommParams {
     /// The little-endian bytes of sub-index `sub` (0..=5), `None` beyond.
     #[must_use]
     pub fn encode_sub(&self, sub: u8) -> Option<SubValue> {
-        match sub {
-            0 => SubValue::new(&[Self::HIGHEST_SUB]),
-            1 => SubValue::new(&self.cob_id.to_u32().to_le_bytes()),
-            2 => SubValue::new(&[self.transmission_type.to_u8()]),
-            3 => SubValue::new(&self.inhibit_time_100us.to_le_bytes()),
-            4 => SubValue::new(&[self.reserved]),
-            5 => SubValue::new(&self.event_timer_ms.to_le_bytes()),
-            _ => None,
-        }
+        let (word, len) = self.sub_word(sub)?;
+        Some(SubValue::from_le_word(u64::from(word), len))
+    }
+
+    /// Sub-index `sub` (0..=5) as an unsigned value and its size in bytes.
+    pub(crate) fn sub_word(&self, sub: u8) -> Option<(u32, usize)> {
+        let word = match sub {
+            0 => u32::from(Self::HIGHEST_SUB),
+            1 => self.cob_id.to_u32(),
+            2 => u32::from(self.transmission_type.to_u8()),
+            3 => u32::from(self.inhibit_time_100us),
+            4 => u32::from(self.reserved),
+            5 => u32::from(self.event_timer_ms),
+            _ => return None,
+        };
+        Some((word, Self::sub_len(sub)?))
     }
 
     /// The size in bytes of sub-index `sub`.
@@ -306,23 +330,33 @@ impl PdoCommParams {
     /// 0 06010002h (read-only), a bad transmission type 06090030h.
     pub fn decode_sub(&mut self, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
         let len = Self::sub_len(sub).ok_or(AbortCode::SubIndexDoesNotExist)?;
-        if data.len() > len {
-            return Err(AbortCode::DataTypeLengthTooHigh);
-        }
-        if data.len() < len {
-            return Err(AbortCode::DataTypeLengthTooLow);
-        }
-        match *data {
-            [_] if sub == 0 => return Err(AbortCode::WriteOfReadOnlyObject),
-            [a, b, c, d] => self.cob_id = PdoCobId::from_u32(u32::from_le_bytes([a, b, c, d])),
-            [t] if sub == 2 => self.transmission_type = TransmissionType::from_u8(t)?,
-            [a, b] if sub == 3 => self.inhibit_time_100us = u16::from_le_bytes([a, b]),
-            [r] => self.reserved = r,
-            [a, b] => self.event_timer_ms = u16::from_le_bytes([a, b]),
-            _ => return Err(AbortCode::GeneralError),
+        let word = le_word(data, len)?;
+        // Each value is `len` bytes wide: the casts below keep all of it.
+        match sub {
+            1 => self.cob_id = PdoCobId::from_u32(word),
+            2 => self.transmission_type = TransmissionType::from_u8(word as u8)?,
+            3 => self.inhibit_time_100us = word as u16,
+            4 => self.reserved = word as u8,
+            5 => self.event_timer_ms = word as u16,
+            _ => return Err(AbortCode::WriteOfReadOnlyObject),
         }
         Ok(())
     }
+}
+
+/// The value of exactly `len` (at most 4) little-endian bytes: a longer
+/// `data` is 06070012h, a shorter one 06070013h.
+pub(crate) fn le_word(data: &[u8], len: usize) -> Result<u32, AbortCode> {
+    if data.len() > len {
+        return Err(AbortCode::DataTypeLengthTooHigh);
+    }
+    if data.len() < len {
+        return Err(AbortCode::DataTypeLengthTooLow);
+    }
+    Ok(data
+        .iter()
+        .rev()
+        .fold(0u32, |word, &b| word << 8 | u32::from(b)))
 }
 
 #[cfg(test)]

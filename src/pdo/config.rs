@@ -34,8 +34,9 @@
 //! Values are applied only when the whole download is accepted
 //! ([`ObjectDictionary::finish_write`]); a refused write changes nothing.
 
-use super::comm::{PdoCommParams, PdoDirection};
-use super::mapping::{MappingEntry, MappingError, PdoMapping, MAX_ENTRIES};
+use super::comm::{le_word, slot_of_index, PdoCommParams, PdoDirection};
+use super::mapping::{MappingEntry, MappingError, PdoMapping, MAX_BITS, MAX_ENTRIES};
+use crate::bytes::InlineData;
 use crate::cob_id::PdoNumber;
 use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
 use crate::sdo::AbortCode;
@@ -69,8 +70,14 @@ impl PdoSlot {
     /// is only accepted when its entries form a valid mapping.
     #[must_use]
     pub fn mapping(&self) -> PdoMapping {
-        PdoMapping::new(self.entries.get(..usize::from(self.count)).unwrap_or(&[]))
-            .unwrap_or(PdoMapping::EMPTY)
+        PdoMapping::new(self.mapped()).unwrap_or(PdoMapping::EMPTY)
+    }
+
+    /// The counted entries (a valid mapping, see [`Self::mapping`]),
+    /// without building a [`PdoMapping`]: the run-time paths.
+    #[inline]
+    pub(crate) fn mapped(&self) -> &[MappingEntry] {
+        self.entries.get(..usize::from(self.count)).unwrap_or(&[])
     }
 
     /// Mapping sub-index 0.
@@ -95,18 +102,25 @@ impl PdoSlot {
 /// The PDO configuration of a device: up to 4 RPDOs and 4 TPDOs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub struct PdoConfig {
-    rpdo: [Option<PdoSlot>; 4],
-    tpdo: [Option<PdoSlot>; 4],
+    /// RPDO 0-3, then TPDO 0-3 (the order of `slot_of_index`).
+    slots: [Option<PdoSlot>; 8],
+}
+
+/// The position of PDO `n` of `dir` in [`PdoConfig`]'s slots.
+#[inline]
+const fn position(dir: PdoDirection, n: PdoNumber) -> usize {
+    let base = match dir {
+        PdoDirection::Receive => 0,
+        PdoDirection::Transmit => 4,
+    };
+    base + n.raw() as usize
 }
 
 impl PdoConfig {
     /// A device without PDOs.
     #[must_use]
     pub const fn new() -> Self {
-        PdoConfig {
-            rpdo: [None; 4],
-            tpdo: [None; 4],
-        }
+        PdoConfig { slots: [None; 8] }
     }
 
     /// Removes every PDO (what [`new`](Self::new) gives), in place: no
@@ -123,14 +137,14 @@ impl PdoConfig {
     /// assert_eq!(pdos, PdoConfig::new());
     /// ```
     pub fn clear(&mut self) {
-        for slot in self.rpdo.iter_mut().chain(self.tpdo.iter_mut()) {
+        for slot in &mut self.slots {
             *slot = None;
         }
     }
 
     /// Adds (or replaces) a PDO.
     pub fn insert(&mut self, dir: PdoDirection, n: PdoNumber, slot: PdoSlot) -> &mut Self {
-        if let Some(s) = self.slots_mut(dir).get_mut(usize::from(n.raw())) {
+        if let Some(s) = self.slots.get_mut(position(dir, n)) {
             *s = Some(slot);
         }
         self
@@ -138,27 +152,27 @@ impl PdoConfig {
 
     /// A PDO's configuration, if the device has it.
     #[must_use]
+    #[inline]
     pub fn get(&self, dir: PdoDirection, n: PdoNumber) -> Option<&PdoSlot> {
-        self.slots(dir).get(usize::from(n.raw()))?.as_ref()
+        self.slots.get(position(dir, n))?.as_ref()
     }
 
     /// The same, mutably (the application's own changes; no rules applied).
+    #[inline]
     pub fn get_mut(&mut self, dir: PdoDirection, n: PdoNumber) -> Option<&mut PdoSlot> {
-        self.slots_mut(dir).get_mut(usize::from(n.raw()))?.as_mut()
+        self.slots.get_mut(position(dir, n))?.as_mut()
     }
 
-    fn slots(&self, dir: PdoDirection) -> &[Option<PdoSlot>; 4] {
-        match dir {
-            PdoDirection::Receive => &self.rpdo,
-            PdoDirection::Transmit => &self.tpdo,
-        }
+    /// TPDO 0-3.
+    #[inline]
+    pub(crate) fn tpdos(&self) -> &[Option<PdoSlot>] {
+        self.slots.get(4..).unwrap_or(&[])
     }
 
-    fn slots_mut(&mut self, dir: PdoDirection) -> &mut [Option<PdoSlot>; 4] {
-        match dir {
-            PdoDirection::Receive => &mut self.rpdo,
-            PdoDirection::Transmit => &mut self.tpdo,
-        }
+    /// RPDO 0-3.
+    #[inline]
+    pub(crate) fn rpdos(&self) -> &[Option<PdoSlot>] {
+        self.slots.get(..4).unwrap_or(&[])
     }
 }
 
@@ -173,6 +187,16 @@ pub struct PdoDictionary<D> {
     pending: WriteBuffer,
 }
 
+/// Where an index leads: to the application's dictionary, to a PDO the
+/// device lacks (06020000h), or to one of its PDO objects.
+enum Target {
+    Inner,
+    Missing,
+    /// The PDO's position in the configuration, and whether the index is
+    /// its mapping object.
+    Pdo(usize, bool),
+}
+
 impl<D: ObjectDictionary> PdoDictionary<D> {
     /// Layers `config` over `inner`.
     pub const fn new(config: PdoConfig, inner: D) -> Self {
@@ -183,116 +207,122 @@ impl<D: ObjectDictionary> PdoDictionary<D> {
         }
     }
 
-    fn pdo_object(&self, index: u16) -> Option<(PdoDirection, PdoNumber, bool, &PdoSlot)> {
-        let (dir, n, is_mapping) = PdoDirection::from_index(index)?;
-        Some((dir, n, is_mapping, self.config.get(dir, n)?))
+    #[inline]
+    fn target(&self, index: u16) -> Target {
+        match slot_of_index(index) {
+            None => Target::Inner,
+            Some((pos, is_mapping)) => match self.config.slots.get(pos) {
+                Some(Some(_)) => Target::Pdo(pos, is_mapping),
+                _ => Target::Missing,
+            },
+        }
     }
 
-    /// Applies a complete write of `data` to a PDO object, or refuses it.
-    fn apply(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
-        let (dir, n, is_mapping) =
-            PdoDirection::from_index(index).ok_or(AbortCode::ObjectDoesNotExist)?;
-        let slot = *self
-            .config
-            .get(dir, n)
-            .ok_or(AbortCode::ObjectDoesNotExist)?;
-        let new = if is_mapping {
-            self.apply_mapping(slot, sub, data)?
-        } else {
-            apply_comm(slot, sub, data)?
+    /// Applies a complete write of `data` to a PDO object, or refuses it
+    /// (and changes nothing: the rules are checked before any change).
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    fn apply(
+        &mut self,
+        pos: usize,
+        is_mapping: bool,
+        sub: u8,
+        data: &[u8],
+    ) -> Result<(), AbortCode> {
+        let Some(Some(slot)) = self.config.slots.get_mut(pos) else {
+            return Err(AbortCode::ObjectDoesNotExist);
         };
-        if let Some(s) = self.config.get_mut(dir, n) {
-            *s = new;
+        if is_mapping {
+            apply_mapping(slot, sub, data, &self.inner)
+        } else {
+            apply_comm(slot, sub, data)
         }
-        Ok(())
     }
+}
 
-    fn apply_mapping(&self, mut slot: PdoSlot, sub: u8, data: &[u8]) -> Result<PdoSlot, AbortCode> {
-        if sub as usize > MAX_ENTRIES {
-            return Err(AbortCode::SubIndexDoesNotExist);
-        }
-        let want = if sub == 0 { 1 } else { 4 };
-        check_len(data, want)?;
-        if slot.is_valid() {
-            return Err(AbortCode::UnsupportedAccess);
-        }
-        if sub == 0 {
-            let count = data.first().copied().unwrap_or(0);
-            if count == 0 {
-                slot.count = 0;
-                return Ok(slot);
-            }
-            if slot.count != 0 {
-                return Err(AbortCode::UnsupportedAccess);
-            }
-            if usize::from(count) > MAX_ENTRIES {
-                return Err(AbortCode::PdoLengthExceeded);
-            }
-            let entries = slot.entries.get(..usize::from(count)).unwrap_or(&[]);
-            if let Some(e) = entries.iter().find(|e| e.is_empty() || e.bits == 0) {
+/// The rules for a write to mapping sub-index `sub` (see the module docs);
+/// `slot` changes only when the write is accepted.
+fn apply_mapping<D: ObjectDictionary + ?Sized>(
+    slot: &mut PdoSlot,
+    sub: u8,
+    data: &[u8],
+    od: &D,
+) -> Result<(), AbortCode> {
+    if usize::from(sub) > MAX_ENTRIES {
+        return Err(AbortCode::SubIndexDoesNotExist);
+    }
+    let raw = le_word(data, if sub == 0 { 1 } else { 4 })?;
+    if slot.is_valid() {
+        return Err(AbortCode::UnsupportedAccess);
+    }
+    if sub == 0 && raw == 0 {
+        slot.count = 0;
+        return Ok(());
+    }
+    // Every change goes through sub 0 = 0.
+    if slot.count != 0 {
+        return Err(AbortCode::UnsupportedAccess);
+    }
+    if sub == 0 {
+        let count = raw as usize;
+        let entries = slot
+            .entries
+            .get(..count)
+            .ok_or(AbortCode::PdoLengthExceeded)?;
+        let mut bits = 0u32;
+        for e in entries {
+            if e.bits == 0 {
                 return Err(MappingError::EmptyEntry { entry: *e }.abort_code());
             }
-            let mapping = PdoMapping::new(entries).map_err(MappingError::abort_code)?;
-            mapping
-                .check(&self.inner)
-                .map_err(MappingError::abort_code)?;
-            slot.count = count;
-            return Ok(slot);
+            bits += u32::from(e.bits);
         }
-        if slot.count != 0 {
-            return Err(AbortCode::UnsupportedAccess);
+        if bits > MAX_BITS {
+            return Err(AbortCode::PdoLengthExceeded);
         }
-        let raw = match *data {
-            [a, b, c, d] => u32::from_le_bytes([a, b, c, d]),
-            _ => return Err(AbortCode::DataTypeLengthTooLow),
-        };
-        let entry = MappingEntry::from_u32(raw);
-        if !entry.is_empty() {
-            entry.check(&self.inner).map_err(MappingError::abort_code)?;
+        for e in entries {
+            e.check(od)?;
         }
-        if let Some(e) = slot.entries.get_mut(usize::from(sub) - 1) {
-            *e = entry;
-        }
-        Ok(slot)
+        slot.count = raw as u8;
+        return Ok(());
     }
+    let entry = MappingEntry::from_u32(raw);
+    if !entry.is_empty() {
+        entry.check(od)?;
+    }
+    if let Some(e) = slot.entries.get_mut(usize::from(sub) - 1) {
+        *e = entry;
+    }
+    Ok(())
 }
 
-fn check_len(data: &[u8], want: usize) -> Result<(), AbortCode> {
-    match data.len() {
-        n if n > want => Err(AbortCode::DataTypeLengthTooHigh),
-        n if n < want => Err(AbortCode::DataTypeLengthTooLow),
-        _ => Ok(()),
-    }
-}
-
-fn apply_comm(mut slot: PdoSlot, sub: u8, data: &[u8]) -> Result<PdoSlot, AbortCode> {
+/// The rules for a write to communication sub-index `sub`; `slot` changes
+/// only when the write is accepted.
+fn apply_comm(slot: &mut PdoSlot, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
     let old = slot.comm;
-    slot.comm.decode_sub(sub, data)?;
-    match sub {
+    let mut new = old;
+    new.decode_sub(sub, data)?;
+    let refused = match sub {
         1 => {
-            let new = slot.comm.cob_id;
-            if new.is_valid() && new.can_id().is_none() {
-                return Err(AbortCode::InvalidValue);
-            }
-            if old.cob_id.is_valid() && new.is_valid() && !old.cob_id.same_identifier(new) {
-                return Err(AbortCode::InvalidValue);
-            }
+            (new.cob_id.is_valid() && new.cob_id.can_id().is_none())
+                || (old.cob_id.is_valid()
+                    && new.cob_id.is_valid()
+                    && !old.cob_id.same_identifier(new.cob_id))
         }
-        3 if old.cob_id.is_valid() && slot.comm.inhibit_time_100us != old.inhibit_time_100us => {
-            return Err(AbortCode::InvalidValue);
-        }
-        _ => {}
+        3 => old.cob_id.is_valid() && new.inhibit_time_100us != old.inhibit_time_100us,
+        _ => false,
+    };
+    if refused {
+        return Err(AbortCode::InvalidValue);
     }
-    Ok(slot)
+    slot.comm = new;
+    Ok(())
 }
 
 impl<D: ObjectDictionary> ObjectDictionary for PdoDictionary<D> {
     fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-        let Some((_, _, is_mapping, _)) = self.pdo_object(index) else {
-            if PdoDirection::from_index(index).is_some() {
-                return Err(AbortCode::ObjectDoesNotExist);
-            }
-            return self.inner.info(index, sub);
+        let is_mapping = match self.target(index) {
+            Target::Inner => return self.inner.info(index, sub),
+            Target::Missing => return Err(AbortCode::ObjectDoesNotExist),
+            Target::Pdo(_, is_mapping) => is_mapping,
         };
         let len = if is_mapping {
             match sub {
@@ -323,51 +353,55 @@ impl<D: ObjectDictionary> ObjectDictionary for PdoDictionary<D> {
         offset: usize,
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let Some((_, _, is_mapping, slot)) = self.pdo_object(index) else {
-            if PdoDirection::from_index(index).is_some() {
-                return Err(AbortCode::ObjectDoesNotExist);
-            }
-            return self.inner.read(index, sub, offset, buf);
+        let (pos, is_mapping) = match self.target(index) {
+            Target::Inner => return self.inner.read(index, sub, offset, buf),
+            Target::Missing => return Err(AbortCode::ObjectDoesNotExist),
+            Target::Pdo(pos, is_mapping) => (pos, is_mapping),
         };
-        let value: crate::bytes::InlineData<4> = if is_mapping {
+        let Some(Some(slot)) = self.config.slots.get(pos) else {
+            return Err(AbortCode::ObjectDoesNotExist);
+        };
+        let value = if is_mapping {
             match sub {
-                0 => crate::bytes::InlineData::new(&[slot.count]),
-                s => slot
-                    .entry(s)
-                    .and_then(|e| crate::bytes::InlineData::new(&e.to_u32().to_le_bytes())),
+                0 => Some((u32::from(slot.count), 1)),
+                s => slot.entry(s).map(|e| (e.to_u32(), 4)),
             }
         } else {
-            slot.comm.encode_sub(sub)
-        }
-        .ok_or(AbortCode::SubIndexDoesNotExist)?;
+            slot.comm.sub_word(sub)
+        };
+        let (word, len) = value.ok_or(AbortCode::SubIndexDoesNotExist)?;
+        let value = InlineData::<4>::from_le_word(u64::from(word), len);
         Ok(crate::od::read_at(value.as_slice(), offset, buf))
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
-        if self.pdo_object(index).is_none() {
-            if PdoDirection::from_index(index).is_some() {
-                return Err(AbortCode::ObjectDoesNotExist);
-            }
-            return self.inner.write(index, sub, offset, data);
+        match self.target(index) {
+            Target::Inner => self.inner.write(index, sub, offset, data),
+            Target::Missing => Err(AbortCode::ObjectDoesNotExist),
+            // PDO objects are at most 4 bytes: buffer until finish_write.
+            Target::Pdo(..) => self.pending.write(index, sub, offset, data),
         }
-        // PDO objects are at most 4 bytes: buffer until finish_write.
-        self.pending.write(index, sub, offset, data)
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        if self.pdo_object(index).is_none() {
+        let Target::Pdo(pos, is_mapping) = self.target(index) else {
             return self.inner.finish_write(index, sub, len);
-        }
+        };
         let mut pending = self.pending;
         self.pending.clear();
         let data = pending.take(index, sub);
-        self.apply(index, sub, data.get(..len.min(data.len())).unwrap_or(&[]))
+        self.apply(
+            pos,
+            is_mapping,
+            sub,
+            data.get(..len.min(data.len())).unwrap_or(&[]),
+        )
     }
 
     fn abort_write(&mut self, index: u16, sub: u8) {
-        if self.pdo_object(index).is_none() {
-            return self.inner.abort_write(index, sub);
+        match self.target(index) {
+            Target::Pdo(..) => self.pending.clear(),
+            _ => self.inner.abort_write(index, sub),
         }
-        self.pending.clear();
     }
 }

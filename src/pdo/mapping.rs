@@ -92,6 +92,7 @@ impl MappingEntry {
     /// PDO-mappable and hold at least `bits` bits. Dummy entries must name a
     /// standard data type of exactly `bits` bits. The empty entry is
     /// [`MappingError::EmptyEntry`].
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn check<D: ObjectDictionary + ?Sized>(self, od: &D) -> Result<(), MappingError> {
         if self.is_empty() || self.bits == 0 {
             return Err(MappingError::EmptyEntry { entry: self });

@@ -2,7 +2,7 @@
 //! TPDO's payload from the mapped objects' current values, and writing a
 //! received RPDO's fields into the mapped objects.
 
-use super::mapping::{extract_bits, insert_bits, PdoMapping};
+use super::mapping::{extract_bits, MappingEntry, PdoMapping};
 use crate::bytes::Payload;
 use crate::emcy::ErrorCode;
 use crate::od::ObjectDictionary;
@@ -51,31 +51,50 @@ pub fn read_mapped<D: ObjectDictionary + ?Sized>(
     mapping: &PdoMapping,
     od: &mut D,
 ) -> Result<Payload, AbortCode> {
-    let mut payload = [0u8; 8];
-    for (entry, offset) in mapping.entries().iter().zip(mapping.offsets()) {
-        if entry.is_dummy() {
-            continue;
-        }
-        let mut buf = [0u8; 8];
-        let len = usize::from(entry.bits).div_ceil(8).min(8);
-        let n = od.read(
-            entry.index,
-            entry.sub,
-            0,
-            buf.get_mut(..len).unwrap_or(&mut []),
-        )?;
-        let value = u64::from_le_bytes(buf) & low_bytes_mask(n);
-        insert_bits(&mut payload, offset, u32::from(entry.bits), value);
-    }
-    Ok(Payload::new(payload.get(..mapping.byte_len()).unwrap_or(&[])).unwrap_or_default())
+    let (word, len) = read_entries(mapping.entries(), od)?;
+    Ok(Payload::from_le_word(word, usize::from(len)))
 }
 
-fn low_bytes_mask(n: usize) -> u64 {
-    if n >= 8 {
-        u64::MAX
-    } else {
-        (1u64 << (8 * n)) - 1
+/// [`read_mapped`] over the entries of a valid mapping: the payload as a
+/// little-endian word and its length in bytes.
+pub(crate) fn read_entries<D: ObjectDictionary + ?Sized>(
+    entries: &[MappingEntry],
+    od: &mut D,
+) -> Result<(u64, u8), AbortCode> {
+    let mut payload = 0u64;
+    let mut offset = 0u32;
+    for entry in entries {
+        let bits = u32::from(entry.bits);
+        if !entry.is_dummy() && offset < 64 {
+            let mut buf = [0u8; 8];
+            let n = od.read(
+                entry.index,
+                entry.sub,
+                0,
+                buf.get_mut(..field_len(bits)).unwrap_or(&mut []),
+            )?;
+            // The low `bits` bits of what the dictionary gave (`n` bytes);
+            // the fields do not overlap, so an or places each.
+            let keep = bits.min(8 * n.min(8) as u32);
+            let mask = if keep >= 64 {
+                u64::MAX
+            } else {
+                (1 << keep) - 1
+            };
+            payload |= (u64::from_le_bytes(buf) & mask) << offset;
+        }
+        offset += bits;
     }
+    Ok((payload, field_len(offset) as u8))
+}
+
+/// The bytes `bits` take, rounded up (at most 8 in a valid mapping; a
+/// longer slice request is refused by `get`).
+#[inline]
+fn field_len(bits: u32) -> usize {
+    // Not div_ceil: its overflow-safe form costs 48 bytes on Cortex-M,
+    // and `bits` (a sum of at most eight u8 widths) is far from overflow.
+    (bits as usize + 7) >> 3
 }
 
 /// Writes a received RPDO's fields into the mapped objects. A payload
@@ -88,19 +107,33 @@ pub fn write_mapped<D: ObjectDictionary + ?Sized>(
     payload: &[u8],
     od: &mut D,
 ) -> Result<bool, RpdoError> {
-    let need = mapping.byte_len();
+    write_entries(mapping.entries(), payload, od)
+}
+
+/// [`write_mapped`] over the entries of a valid mapping.
+pub(crate) fn write_entries<D: ObjectDictionary + ?Sized>(
+    entries: &[MappingEntry],
+    payload: &[u8],
+    od: &mut D,
+) -> Result<bool, RpdoError> {
+    let total: u32 = entries.iter().map(|e| u32::from(e.bits)).sum();
+    let need = field_len(total);
     if payload.len() < need {
         return Err(RpdoError::TooShort {
             need,
             got: payload.len(),
         });
     }
-    for (entry, offset) in mapping.entries().iter().zip(mapping.offsets()) {
+    let mut offset = 0u32;
+    for entry in entries {
+        let bits = u32::from(entry.bits);
+        let at = offset;
+        offset += bits;
         if entry.is_dummy() {
             continue;
         }
-        let value = extract_bits(payload, offset, u32::from(entry.bits));
-        let len = usize::from(entry.bits).div_ceil(8).min(8);
+        let value = extract_bits(payload, at, bits);
+        let len = field_len(bits);
         let bytes = value.to_le_bytes();
         let data = bytes.get(..len).unwrap_or(&[]);
         let refused = |code| RpdoError::Refused {

@@ -19,28 +19,45 @@
 //! It implements [`Machine`], the crate's state-machine contract: SYNC
 //! arrives as a frame through `handle_frame` (identifier 080h unless
 //! [`TpdoProducer::set_sync_id`] says otherwise, CiA 301 object 1005h), the
-//! event timer and the end of the inhibit time are its two timers. It
-//! reports no events. A timestamp that goes backwards never panics;
-//! deadlines are simply not reached.
+//! event timer and the end of the inhibit time are its deadlines (one at a
+//! time: a deferred send restarts the event timer). It reports no events.
+//! A timestamp that goes backwards never panics; deadlines are simply not
+//! reached.
+//!
+//! A frame carries the payload as it is when the frame is taken
+//! ([`Machine::poll_transmit`]): a change between the transmission and the
+//! poll is in the frame (and, as every change, an event for the next one).
 
 use core::convert::Infallible;
 
-use super::comm::{PdoCommParams, TransmissionType};
+use super::comm::PdoCommParams;
 use crate::bytes::Payload;
-use crate::cob_id::SYNC;
-use crate::frame::{CanFrame, CanId};
+use crate::cob_id::{can_id_of_cob_word, SYNC};
+use crate::frame::{data_frame_word, CanFrame, CanId};
 use crate::machine::Machine;
-use crate::time::{Timers, Timestamp};
+use crate::time::Timestamp;
 
-/// The producer's timers.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[repr(usize)]
-enum Timer {
-    /// The event timer (1800h sub 5) of an event-driven TPDO.
-    Event,
-    /// A transmission deferred to the end of the inhibit time (1800h sub 3).
-    InhibitEnd,
-}
+/// A deadline kept in 8 bytes: microseconds, 0 for none. No deadline of a
+/// producer is at 0: the event timer runs out strictly after the send
+/// that starts it, and the end of an inhibit time (100 µs at least) after
+/// the send that starts it.
+const NO_DEADLINE: u64 = 0;
+
+/// The COB-ID kept for a TPDO that may not send (not configured, not
+/// valid, or bits 28-11 set on an 11-bit COB-ID): not valid itself, so
+/// no COB-ID the producer sends on.
+const NO_ID: u32 = u32::MAX;
+
+/// Bits of [`TpdoProducer::flags`].
+const OPERATIONAL: u8 = 1 << 0;
+/// `last_sent` holds a transmission.
+const SENT: u8 = 1 << 1;
+/// A frame is due (drained by `poll_transmit`).
+const DUE: u8 = 1 << 2;
+/// The deadline is the end of the inhibit time: send there.
+const DEFERRED: u8 = 1 << 3;
+/// Type 0: an event happened; send at the next SYNC.
+const SYNC_EVENT: u8 = 1 << 4;
 
 /// Produces one TPDO. See the module docs.
 ///
@@ -59,16 +76,28 @@ enum Timer {
 /// ```
 #[derive(Debug, Clone)]
 pub struct TpdoProducer {
-    comm: Option<PdoCommParams>,
-    operational: bool,
-    payload: Payload,
-    last_sent: Option<Timestamp>,
-    timers: Timers<2>,
-    /// Type 0: an event happened; send at the next SYNC.
-    sync_event: bool,
+    /// When the last frame was sent (once `SENT`), in microseconds.
+    last_sent: u64,
+    /// The one timer, in microseconds ([`NO_DEADLINE`] when stopped): the
+    /// end of the inhibit time when `DEFERRED`, else the event timer. A
+    /// deferred send re-arms the event timer, so an event timer running
+    /// out inside the inhibit time is covered by it: one timer is enough.
+    deadline: u64,
+    /// What the next frame carries, little-endian: the latest payload (a
+    /// PDO carries the latest value; an undrained frame is not sent twice).
+    payload: u64,
+    /// Of the communication parameters, what the producer uses: the
+    /// COB-ID ([`NO_ID`] when it may not send), the transmission type, the
+    /// inhibit time and the event timer.
+    cob_id: u32,
+    /// The SYNC identifier as a data frame's identifier word.
+    sync_word: u32,
+    inhibit_time_100us: u16,
+    event_timer_ms: u16,
+    transmission_type: u8,
+    payload_len: u8,
     sync_count: u8,
-    sync_id: CanId,
-    out: Option<CanFrame>,
+    flags: u8,
 }
 
 impl Default for TpdoProducer {
@@ -78,59 +107,76 @@ impl Default for TpdoProducer {
 }
 
 impl TpdoProducer {
-    /// An unconfigured, non-operational producer with an empty payload.
+    /// Not configured, not operational, empty payload.
     #[must_use]
     pub const fn new() -> Self {
         TpdoProducer {
-            comm: None,
-            operational: false,
-            payload: Payload::EMPTY,
-            last_sent: None,
-            timers: Timers::new(),
-            sync_event: false,
+            last_sent: 0,
+            deadline: NO_DEADLINE,
+            payload: 0,
+            cob_id: NO_ID,
+            sync_word: SYNC as u32,
+            inhibit_time_100us: 0,
+            event_timer_ms: 0,
+            transmission_type: 0,
+            payload_len: 0,
             sync_count: 0,
-            sync_id: CanId::Standard(SYNC),
-            out: None,
+            flags: 0,
         }
     }
 
     /// The SYNC identifier the producer listens to (default 080h).
     pub fn set_sync_id(&mut self, id: CanId) {
-        self.sync_id = id;
+        self.sync_word = data_frame_word(id);
     }
 
-    /// The communication parameters, once configured.
-    #[must_use]
-    pub const fn comm(&self) -> Option<&PdoCommParams> {
-        self.comm.as_ref()
+    #[inline]
+    fn has(&self, flag: u8) -> bool {
+        self.flags & flag != 0
+    }
+
+    #[inline]
+    fn set_flag(&mut self, flag: u8, on: bool) {
+        if on {
+            self.flags |= flag;
+        } else {
+            self.flags &= !flag;
+        }
     }
 
     /// True when frames may be sent: configured, valid and operational.
     #[must_use]
+    #[inline]
     pub fn is_active(&self) -> bool {
-        self.operational
-            && self
-                .comm
-                .is_some_and(|c| c.cob_id.is_valid() && c.cob_id.can_id().is_some())
+        self.has(OPERATIONAL) && self.cob_id != NO_ID
     }
 
-    /// Sets the communication parameters (a new COB-ID takes effect at once).
+    /// Sets the communication parameters (a new COB-ID takes effect at
+    /// once; the same parameters again change nothing).
     pub fn configure(&mut self, now: Timestamp, comm: PdoCommParams) {
         let was_active = self.is_active();
-        self.comm = Some(comm);
+        let cob = comm.cob_id;
+        self.cob_id = if cob.is_valid() && cob.can_id().is_some() {
+            cob.to_u32()
+        } else {
+            NO_ID
+        };
+        self.transmission_type = comm.transmission_type.to_u8();
+        self.inhibit_time_100us = comm.inhibit_time_100us;
+        self.event_timer_ms = comm.event_timer_ms;
         self.became(now, was_active);
     }
 
     /// Forgets the configuration: nothing is sent until `configure` again.
     pub fn unconfigure(&mut self) {
-        self.comm = None;
+        self.cob_id = NO_ID;
         self.stop();
     }
 
     /// Tells the producer whether the node is NMT operational.
     pub fn set_operational(&mut self, now: Timestamp, operational: bool) {
         let was_active = self.is_active();
-        self.operational = operational;
+        self.set_flag(OPERATIONAL, operational);
         self.became(now, was_active);
     }
 
@@ -146,17 +192,28 @@ impl TpdoProducer {
     }
 
     fn stop(&mut self) {
-        self.timers.clear();
-        self.sync_event = false;
-        self.out = None;
+        self.deadline = NO_DEADLINE;
+        self.flags &= OPERATIONAL | SENT;
     }
 
     /// The payload to send. For an event-driven TPDO a changed payload is
     /// an event (sent now, or at the end of the inhibit time).
     pub fn set_payload(&mut self, now: Timestamp, payload: Payload) {
-        let changed = payload != self.payload;
-        self.payload = payload;
-        if changed {
+        let word = payload
+            .as_slice()
+            .iter()
+            .rev()
+            .fold(0u64, |w, &b| w << 8 | u64::from(b));
+        self.set_payload_word(now, word, payload.len() as u8);
+    }
+
+    /// [`Self::set_payload`] with the payload as `len` little-endian bytes
+    /// of `word` (bytes past `len` zero).
+    #[inline]
+    pub(crate) fn set_payload_word(&mut self, now: Timestamp, word: u64, len: u8) {
+        if word != self.payload || len != self.payload_len {
+            self.payload = word;
+            self.payload_len = len;
             self.trigger(now);
         }
     }
@@ -168,70 +225,60 @@ impl TpdoProducer {
         }
     }
 
+    /// Types 254 and 255 (event-driven); 241-253 are never configured.
+    #[inline]
+    fn is_event_driven(&self) -> bool {
+        self.transmission_type > 240
+    }
+
     fn request(&mut self, now: Timestamp) {
-        let Some(comm) = self.comm else { return };
-        match comm.transmission_type {
-            TransmissionType::SynchronousAcyclic => self.sync_event = true,
-            TransmissionType::SynchronousCyclic(_) => {}
-            _ => self.send_or_defer(now, comm),
+        match self.transmission_type {
+            0 => self.flags |= SYNC_EVENT,
+            1..=240 => {}
+            _ => self.send_or_defer(now),
         }
     }
 
-    fn inhibit_end(&self, comm: &PdoCommParams) -> Option<Timestamp> {
-        let last = self.last_sent?;
-        let end = last.add_micros(comm.inhibit_time_us());
-        (comm.inhibit_time_us() > 0).then_some(end)
-    }
-
-    fn send_or_defer(&mut self, now: Timestamp, comm: PdoCommParams) {
-        match self.inhibit_end(&comm) {
-            Some(end) if !now.has_reached(end) => {
-                self.timers.set(Timer::InhibitEnd as usize, Some(end));
-                // The deferred send re-arms the event timer; an expiry inside
-                // the inhibit time is covered by it.
-                if self
-                    .timers
-                    .get(Timer::Event as usize)
-                    .is_some_and(|at| at <= end)
-                {
-                    self.timers.set(Timer::Event as usize, None);
-                }
-            }
-            _ => self.send(now, comm),
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    fn send_or_defer(&mut self, now: Timestamp) {
+        let inhibit = u64::from(self.inhibit_time_100us) * 100;
+        let end = Timestamp::from_micros(self.last_sent).add_micros(inhibit);
+        if self.has(SENT) && inhibit > 0 && !now.has_reached(end) {
+            self.deadline = end.as_micros();
+            self.flags |= DEFERRED;
+        } else {
+            self.send(now);
         }
     }
 
-    fn send(&mut self, now: Timestamp, comm: PdoCommParams) {
-        let Some(id) = comm.cob_id.can_id() else {
-            return;
-        };
-        self.out = CanFrame::new(id, self.payload.as_slice()).ok();
-        self.last_sent = Some(now);
-        self.timers.set(Timer::InhibitEnd as usize, None);
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    fn send(&mut self, now: Timestamp) {
+        self.flags = (self.flags | DUE | SENT) & !DEFERRED;
+        self.last_sent = now.as_micros();
         // No event timer (0), or none later than the end of the clock.
-        let event = if comm.transmission_type.is_event_driven() {
-            now.deadline_after(u64::from(comm.event_timer_ms).saturating_mul(1000))
+        let event = if self.is_event_driven() {
+            now.deadline_after(u64::from(self.event_timer_ms) * 1000)
         } else {
             None
         };
-        self.timers.set(Timer::Event as usize, event);
+        self.deadline = event.map_or(NO_DEADLINE, Timestamp::as_micros);
     }
 
     /// A SYNC was received: synchronous types send here.
     pub(crate) fn handle_sync(&mut self, now: Timestamp) {
-        let Some(comm) = self.comm.filter(|_| self.is_active()) else {
+        if !self.is_active() {
             return;
-        };
-        match comm.transmission_type {
-            TransmissionType::SynchronousAcyclic if self.sync_event => {
-                self.sync_event = false;
-                self.send(now, comm);
+        }
+        match self.transmission_type {
+            0 if self.has(SYNC_EVENT) => {
+                self.flags &= !SYNC_EVENT;
+                self.send(now);
             }
-            TransmissionType::SynchronousCyclic(n) => {
+            n @ 1..=240 => {
                 self.sync_count = self.sync_count.saturating_add(1);
                 if self.sync_count >= n {
                     self.sync_count = 0;
-                    self.send(now, comm);
+                    self.send(now);
                 }
             }
             _ => {}
@@ -245,36 +292,49 @@ impl Machine for TpdoProducer {
     /// A SYNC frame (the producer's SYNC identifier, not remote): the
     /// synchronous transmission types send here. Other frames are ignored.
     fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        if frame.id() == self.sync_id && !frame.is_remote() {
+        if frame.word() == self.sync_word {
             self.handle_sync(now);
         }
     }
 
     /// The event timer and a deferred transmission fire here.
     fn handle_timeout(&mut self, now: Timestamp) {
-        let Some(comm) = self.comm.filter(|_| self.is_active()) else {
+        if !self.is_active()
+            || self.deadline == NO_DEADLINE
+            || !now.has_reached(Timestamp::from_micros(self.deadline))
+        {
             return;
-        };
-        if self.timers.expire(Timer::InhibitEnd as usize, now) {
-            return self.send(now, comm);
         }
-        if self.timers.expire(Timer::Event as usize, now) {
-            self.send_or_defer(now, comm);
+        self.deadline = NO_DEADLINE;
+        if self.has(DEFERRED) {
+            self.send(now);
+        } else {
+            self.send_or_defer(now);
         }
     }
 
-    /// The frame to send, if one is due. A newer transmission replaces an
-    /// undrained one (a PDO carries the latest value).
+    /// The frame to send, if one is due, with the latest payload. A newer
+    /// transmission replaces an undrained one (a PDO carries the latest
+    /// value).
     fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.out.take()
+        if !self.has(DUE) {
+            return None;
+        }
+        self.flags &= !DUE;
+        let id = can_id_of_cob_word(self.cob_id)?;
+        Some(CanFrame::from_parts(
+            id,
+            self.payload.to_le_bytes(),
+            self.payload_len,
+        ))
     }
 
     /// The earlier of the event timer and the end of the inhibit time.
     fn poll_timeout(&self) -> Option<Timestamp> {
-        if !self.is_active() {
+        if self.deadline == NO_DEADLINE || !self.is_active() {
             return None;
         }
-        self.timers.next()
+        Some(Timestamp::from_micros(self.deadline))
     }
 
     fn poll_event(&mut self) -> Option<Infallible> {

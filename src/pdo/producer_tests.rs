@@ -1,7 +1,7 @@
 use std::vec::Vec;
 
 use super::*;
-use crate::pdo::PdoCobId;
+use crate::pdo::{PdoCobId, TransmissionType};
 
 fn ms(n: u64) -> Timestamp {
     Timestamp::from_millis(n)
@@ -192,4 +192,18 @@ fn time_going_backwards_is_harmless() {
         None,
         "no event timer after the end of time"
     );
+}
+
+#[test]
+fn an_undrained_frame_carries_the_latest_payload() {
+    let mut p = TpdoProducer::new();
+    p.set_payload(ms(0), payload(&[1]));
+    p.configure(ms(0), charger_tpdo0());
+    p.set_operational(ms(0), true);
+    // Sent at 0 with [1]; before it is drained the payload changes: one
+    // frame, with the new value, and the event timer from the last send.
+    p.set_payload(ms(3), payload(&[2]));
+    assert_eq!(p.poll_transmit().map(|f| f.data().to_vec()), Some(vec![2]));
+    assert_eq!(p.poll_transmit(), None);
+    assert_eq!(p.poll_timeout(), Some(ms(203)));
 }

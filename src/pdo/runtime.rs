@@ -9,18 +9,14 @@ use core::convert::Infallible;
 
 use super::comm::PdoDirection;
 use super::config::{PdoConfig, PdoDictionary};
-use super::mapping::PdoMapping;
-use super::od_io::{read_mapped, write_mapped, RpdoError};
+use super::od_io::{read_entries, write_entries, RpdoError};
 use super::producer::TpdoProducer;
 use crate::bytes::Payload;
 use crate::cob_id::PdoNumber;
-use crate::frame::{CanFrame, CanId};
+use crate::frame::{data_frame_word, CanFrame};
 use crate::machine::Machine;
 use crate::od::ObjectDictionary;
-use crate::queue::EventQueue;
 use crate::time::Timestamp;
-
-const PDO_NUMBERS: [PdoNumber; 4] = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3];
 
 /// TPDO 0..3 of a device, one [`TpdoProducer`] each. SYNC frames reach
 /// every producer through [`Machine::handle_frame`].
@@ -48,25 +44,30 @@ impl TpdoSet {
     /// TPDO the configuration lacks is unconfigured). Call it after every
     /// change of 1800h-1803h.
     pub fn reconfigure(&mut self, now: Timestamp, config: &PdoConfig) {
-        for (pdo, producer) in PDO_NUMBERS.into_iter().zip(self.producers.iter_mut()) {
-            match config.get(PdoDirection::Transmit, pdo).map(|s| s.comm) {
-                Some(comm) if producer.comm() != Some(&comm) => producer.configure(now, comm),
-                None if producer.comm().is_some() => producer.unconfigure(),
-                _ => {}
+        for (slot, producer) in config.tpdos().iter().zip(self.producers.iter_mut()) {
+            // Both are no-ops for a producer configured so already.
+            match slot {
+                Some(s) => producer.configure(now, s.comm),
+                None => producer.unconfigure(),
             }
         }
     }
 
-    /// Reads every TPDO's payload from the mapped objects; a changed payload
-    /// is an event for its producer.
+    /// Reads every valid TPDO's payload from the mapped objects; a changed
+    /// payload is an event for its producer. A TPDO whose COB-ID is not
+    /// valid sends nothing and is not read: the refresh before the
+    /// [`reconfigure`](Self::reconfigure) that follows its becoming valid
+    /// reads it (the device core refreshes first whenever the PDO
+    /// configuration changes). Runs after every input of a device: a
+    /// mapping is trusted as the configuration keeps it (valid), not
+    /// checked again.
     pub fn refresh<D: ObjectDictionary>(&mut self, now: Timestamp, pdos: &mut PdoDictionary<D>) {
-        for (pdo, producer) in PDO_NUMBERS.into_iter().zip(self.producers.iter_mut()) {
-            let Some(slot) = pdos.config.get(PdoDirection::Transmit, pdo) else {
+        for (slot, producer) in pdos.config.tpdos().iter().zip(self.producers.iter_mut()) {
+            let Some(slot) = slot.as_ref().filter(|s| s.is_valid()) else {
                 continue;
             };
-            let mapping = slot.mapping();
-            if let Ok(payload) = read_mapped(&mapping, &mut pdos.inner) {
-                producer.set_payload(now, payload);
+            if let Ok((word, len)) = read_entries(slot.mapped(), &mut pdos.inner) {
+                producer.set_payload_word(now, word, len);
             }
         }
     }
@@ -148,6 +149,11 @@ pub struct RpdoFrame {
 /// [`RpdoReceiver::apply`]. Remote frames are ignored; when two RPDOs share
 /// a COB-ID (a misconfiguration) the lower number wins.
 ///
+/// A frame is at most one RPDO, so the receiver holds one event: drain it
+/// ([`Machine::poll_event`]) after every `handle_frame`, as the device core
+/// does. An undrained event is replaced by the next one and counted in
+/// [`Machine::events_dropped`].
+///
 /// ```
 /// use canopen_codec::machine::Machine;
 /// use canopen_codec::pdo::{PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoMapping, PdoSlot, RpdoReceiver};
@@ -161,13 +167,21 @@ pub struct RpdoFrame {
 /// rx.handle_frame(Timestamp::ZERO, &CanFrame::standard(0x20A, &[1, 2]).unwrap());
 /// let got = rx.poll_event().unwrap();
 /// assert_eq!((got.pdo, got.data.as_slice()), (PdoNumber::P0, &[1u8, 2][..]));
+/// assert_eq!(rx.poll_event(), None);
 /// ```
 #[derive(Debug, Clone)]
 pub struct RpdoReceiver {
-    ids: [Option<CanId>; 4],
+    /// Each RPDO's COB-ID as a data frame's identifier word, `u32::MAX`
+    /// (which no frame has) when not valid.
+    ids: [u32; 4],
+    /// Events replaced undrained (saturating; a device never lets one be).
+    dropped: u32,
+    event: Option<RpdoFrame>,
     enabled: bool,
-    events: EventQueue<RpdoFrame, 4>,
 }
+
+/// The identifier word of no frame.
+const NO_ID: u32 = u32::MAX;
 
 impl Default for RpdoReceiver {
     fn default() -> Self {
@@ -180,23 +194,22 @@ impl RpdoReceiver {
     #[must_use]
     pub const fn new() -> Self {
         RpdoReceiver {
-            ids: [None; 4],
+            ids: [NO_ID; 4],
+            dropped: 0,
+            event: None,
             enabled: false,
-            events: EventQueue::new(RpdoFrame {
-                pdo: PdoNumber::P0,
-                data: Payload::EMPTY,
-            }),
         }
     }
 
     /// Takes the COB-IDs of the valid RPDOs from `config`. Call it after
     /// every change of 1400h-1403h.
     pub fn reconfigure(&mut self, config: &PdoConfig) {
-        for (pdo, id) in PDO_NUMBERS.into_iter().zip(self.ids.iter_mut()) {
-            *id = config
-                .get(PdoDirection::Receive, pdo)
+        for (slot, id) in config.rpdos().iter().zip(self.ids.iter_mut()) {
+            *id = slot
+                .as_ref()
                 .filter(|s| s.is_valid())
-                .and_then(|s| s.comm.cob_id.can_id());
+                .and_then(|s| s.comm.cob_id.can_id())
+                .map_or(NO_ID, data_frame_word);
         }
     }
 
@@ -206,16 +219,16 @@ impl RpdoReceiver {
     }
 
     /// Writes a received RPDO's fields into the mapped objects
-    /// ([`write_mapped`]) with the mapping `config` has for it now; `Ok(true)`
-    /// when the frame is longer than the mapping. `None` when the RPDO is
-    /// no longer configured.
+    /// ([`write_mapped`](super::write_mapped)) with the mapping `config`
+    /// has for it now; `Ok(true)` when the frame is longer than the
+    /// mapping. `None` when the RPDO is no longer configured.
     pub fn apply<D: ObjectDictionary>(
         rpdo: &RpdoFrame,
         pdos: &mut PdoDictionary<D>,
     ) -> Option<Result<bool, RpdoError>> {
-        let mapping: PdoMapping = pdos.config.get(PdoDirection::Receive, rpdo.pdo)?.mapping();
-        Some(write_mapped(
-            &mapping,
+        let slot = pdos.config.get(PdoDirection::Receive, rpdo.pdo)?;
+        Some(write_entries(
+            slot.mapped(),
             rpdo.data.as_slice(),
             &mut pdos.inner,
         ))
@@ -226,20 +239,26 @@ impl Machine for RpdoReceiver {
     type Event = RpdoFrame;
 
     fn handle_frame(&mut self, _now: Timestamp, frame: &CanFrame) {
-        if !self.enabled || frame.is_remote() {
+        if !self.enabled {
             return;
         }
-        let id = Some(frame.id());
-        let Some(pdo) = PDO_NUMBERS
-            .into_iter()
-            .zip(self.ids)
-            .find_map(|(n, cob)| (cob == id).then_some(n))
+        // A remote frame's word has the remote flag: it matches no RPDO.
+        let word = frame.word();
+        let Some(pdo) = self
+            .ids
+            .iter()
+            .position(|&id| id == word)
+            .and_then(|n| PdoNumber::new(n as u8))
         else {
             return;
         };
-        if let Some(data) = Payload::new(frame.data()) {
-            self.events.push(RpdoFrame { pdo, data });
+        if self.event.is_some() {
+            self.dropped = self.dropped.saturating_add(1);
         }
+        self.event = Some(RpdoFrame {
+            pdo,
+            data: Payload::from_frame(frame),
+        });
     }
 
     /// The receiver has no timers.
@@ -254,10 +273,83 @@ impl Machine for RpdoReceiver {
     }
 
     fn poll_event(&mut self) -> Option<RpdoFrame> {
-        self.events.pop()
+        self.event.take()
     }
 
     fn events_dropped(&self) -> u64 {
-        self.events.dropped()
+        u64::from(self.dropped)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frame::CanId;
+    use crate::pdo::{PdoCobId, PdoCommParams, PdoMapping, PdoSlot};
+
+    const PDO_NUMBERS: [PdoNumber; 4] =
+        [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3];
+
+    fn receiver(cob_ids: [u32; 4]) -> RpdoReceiver {
+        let mut config = PdoConfig::new();
+        for (n, raw) in PDO_NUMBERS.into_iter().zip(cob_ids) {
+            let comm = PdoCommParams::event_driven(PdoCobId::from_u32(raw), 0);
+            config.insert(
+                PdoDirection::Receive,
+                n,
+                PdoSlot::new(comm, &PdoMapping::EMPTY),
+            );
+        }
+        let mut rx = RpdoReceiver::new();
+        rx.reconfigure(&config);
+        rx.set_enabled(true);
+        rx
+    }
+
+    /// The device drains the receiver after every frame; one event slot is
+    /// enough because no frame is more than one RPDO: every identifier,
+    /// data or remote, 11 or 29 bits, with two RPDOs sharing a COB-ID,
+    /// one not valid and one extended, gives at most one event, and
+    /// nothing is ever dropped.
+    #[test]
+    fn a_frame_is_at_most_one_rpdo() {
+        let mut rx = receiver([0x201, 0x201, 0x8000_0301, 0x2000_0401]);
+        let mut seen = 0;
+        let ids = (0..=0x7FFu32)
+            .map(|id| CanId::Standard(id as u16))
+            .chain([0x201, 0x301, 0x401, 0x1FFF_FFFF].map(CanId::Extended));
+        for id in ids {
+            for frame in [
+                CanFrame::new(id, &[id.raw() as u8]),
+                CanFrame::remote(id, 1),
+            ] {
+                rx.handle_frame(Timestamp::ZERO, &frame.unwrap());
+                if let Some(e) = rx.poll_event() {
+                    seen += 1;
+                    let want = match id {
+                        CanId::Standard(0x201) => PdoNumber::P0,
+                        CanId::Extended(0x401) => PdoNumber::P3,
+                        other => panic!("event for {other}"),
+                    };
+                    assert_eq!((e.pdo, e.data.as_slice()), (want, &[id.raw() as u8][..]));
+                }
+                assert_eq!(rx.poll_event(), None, "{id}: a second event");
+            }
+        }
+        assert_eq!((seen, rx.events_dropped()), (2, 0));
+    }
+
+    /// Undrained, the newest frame is kept and the older one counted.
+    #[test]
+    fn an_undrained_event_is_replaced_and_counted() {
+        let mut rx = receiver([0x201, 0x202, 0x8000_0000, 0x8000_0000]);
+        rx.handle_frame(Timestamp::ZERO, &CanFrame::standard(0x201, &[1]).unwrap());
+        rx.handle_frame(Timestamp::ZERO, &CanFrame::standard(0x202, &[2]).unwrap());
+        let e = rx.poll_event().unwrap();
+        assert_eq!((e.pdo, e.data.as_slice()), (PdoNumber::P1, &[2u8][..]));
+        assert_eq!((rx.poll_event(), rx.events_dropped()), (None, 1));
+        rx.set_enabled(false);
+        rx.handle_frame(Timestamp::ZERO, &CanFrame::standard(0x201, &[1]).unwrap());
+        assert_eq!(rx.poll_event(), None, "disabled");
     }
 }

@@ -118,54 +118,91 @@ pub const ALL_ABORT_CODES: [AbortCode; 31] = [
     AbortCode::NoDataAvailable,
 ];
 
-/// The values of [`ALL_ABORT_CODES`], in the same (ascending) order.
-const ABORT_VALUES: [u32; 31] = {
-    let mut values = [0; 31];
-    let mut i = 0;
-    while i < values.len() {
-        values[i] = ALL_ABORT_CODES[i].to_u32();
-        i += 1;
-    }
-    values
-};
+/// The values of [`ALL_ABORT_CODES`], in the same (ascending) order: the
+/// one table both conversions use (`to_u32` by the code's place, `from_u32`
+/// by binary search), in flash.
+const ABORT_VALUES: [u32; 31] = [
+    0x05030000, // ToggleBitNotAlternated
+    0x05040000, // SdoProtocolTimedOut
+    0x05040001, // InvalidCommandSpecifier
+    0x05040002, // InvalidBlockSize
+    0x05040003, // InvalidSequenceNumber
+    0x05040004, // CrcError
+    0x05040005, // OutOfMemory
+    0x06010000, // UnsupportedAccess
+    0x06010001, // ReadOfWriteOnlyObject
+    0x06010002, // WriteOfReadOnlyObject
+    0x06020000, // ObjectDoesNotExist
+    0x06040041, // ObjectCannotBeMapped
+    0x06040042, // PdoLengthExceeded
+    0x06040043, // GeneralParameterIncompatibility
+    0x06040047, // GeneralInternalIncompatibility
+    0x06060000, // HardwareError
+    0x06070010, // DataTypeLengthMismatch
+    0x06070012, // DataTypeLengthTooHigh
+    0x06070013, // DataTypeLengthTooLow
+    0x06090011, // SubIndexDoesNotExist
+    0x06090030, // InvalidValue
+    0x06090031, // ValueTooHigh
+    0x06090032, // ValueTooLow
+    0x06090036, // MaxLessThanMin
+    0x060A0023, // ResourceNotAvailable
+    0x08000000, // GeneralError
+    0x08000020, // DataCannotBeStored
+    0x08000021, // DataCannotBeStoredLocalControl
+    0x08000022, // DataCannotBeStoredDeviceState
+    0x08000023, // ObjectDictionaryGenerationFailed
+    0x08000024, // NoDataAvailable
+];
 
 impl AbortCode {
     /// The 32-bit value as sent on the wire (little-endian in bytes 4-7).
     #[must_use]
     pub const fn to_u32(self) -> u32 {
         match self {
-            AbortCode::ToggleBitNotAlternated => 0x05030000,
-            AbortCode::SdoProtocolTimedOut => 0x05040000,
-            AbortCode::InvalidCommandSpecifier => 0x05040001,
-            AbortCode::InvalidBlockSize => 0x05040002,
-            AbortCode::InvalidSequenceNumber => 0x05040003,
-            AbortCode::CrcError => 0x05040004,
-            AbortCode::OutOfMemory => 0x05040005,
-            AbortCode::UnsupportedAccess => 0x06010000,
-            AbortCode::ReadOfWriteOnlyObject => 0x06010001,
-            AbortCode::WriteOfReadOnlyObject => 0x06010002,
-            AbortCode::ObjectDoesNotExist => 0x06020000,
-            AbortCode::ObjectCannotBeMapped => 0x06040041,
-            AbortCode::PdoLengthExceeded => 0x06040042,
-            AbortCode::GeneralParameterIncompatibility => 0x06040043,
-            AbortCode::GeneralInternalIncompatibility => 0x06040047,
-            AbortCode::HardwareError => 0x06060000,
-            AbortCode::DataTypeLengthMismatch => 0x06070010,
-            AbortCode::DataTypeLengthTooHigh => 0x06070012,
-            AbortCode::DataTypeLengthTooLow => 0x06070013,
-            AbortCode::SubIndexDoesNotExist => 0x06090011,
-            AbortCode::InvalidValue => 0x06090030,
-            AbortCode::ValueTooHigh => 0x06090031,
-            AbortCode::ValueTooLow => 0x06090032,
-            AbortCode::MaxLessThanMin => 0x06090036,
-            AbortCode::ResourceNotAvailable => 0x060A0023,
-            AbortCode::GeneralError => 0x08000000,
-            AbortCode::DataCannotBeStored => 0x08000020,
-            AbortCode::DataCannotBeStoredLocalControl => 0x08000021,
-            AbortCode::DataCannotBeStoredDeviceState => 0x08000022,
-            AbortCode::ObjectDictionaryGenerationFailed => 0x08000023,
-            AbortCode::NoDataAvailable => 0x08000024,
             AbortCode::Other(raw) => raw,
+            // A load from the table, not a decision tree at every use.
+            named => ABORT_VALUES[named.position()],
+        }
+    }
+
+    /// The place of a named code in [`ALL_ABORT_CODES`] (the variants are
+    /// declared in that order, so this compiles to the discriminant);
+    /// `Other` gives 0 (not used: `to_u32` reads its value).
+    const fn position(self) -> usize {
+        match self {
+            AbortCode::ToggleBitNotAlternated => 0,
+            AbortCode::SdoProtocolTimedOut => 1,
+            AbortCode::InvalidCommandSpecifier => 2,
+            AbortCode::InvalidBlockSize => 3,
+            AbortCode::InvalidSequenceNumber => 4,
+            AbortCode::CrcError => 5,
+            AbortCode::OutOfMemory => 6,
+            AbortCode::UnsupportedAccess => 7,
+            AbortCode::ReadOfWriteOnlyObject => 8,
+            AbortCode::WriteOfReadOnlyObject => 9,
+            AbortCode::ObjectDoesNotExist => 10,
+            AbortCode::ObjectCannotBeMapped => 11,
+            AbortCode::PdoLengthExceeded => 12,
+            AbortCode::GeneralParameterIncompatibility => 13,
+            AbortCode::GeneralInternalIncompatibility => 14,
+            AbortCode::HardwareError => 15,
+            AbortCode::DataTypeLengthMismatch => 16,
+            AbortCode::DataTypeLengthTooHigh => 17,
+            AbortCode::DataTypeLengthTooLow => 18,
+            AbortCode::SubIndexDoesNotExist => 19,
+            AbortCode::InvalidValue => 20,
+            AbortCode::ValueTooHigh => 21,
+            AbortCode::ValueTooLow => 22,
+            AbortCode::MaxLessThanMin => 23,
+            AbortCode::ResourceNotAvailable => 24,
+            AbortCode::GeneralError => 25,
+            AbortCode::DataCannotBeStored => 26,
+            AbortCode::DataCannotBeStoredLocalControl => 27,
+            AbortCode::DataCannotBeStoredDeviceState => 28,
+            AbortCode::ObjectDictionaryGenerationFailed => 29,
+            AbortCode::NoDataAvailable => 30,
+            AbortCode::Other(_) => 0,
         }
     }
 
@@ -345,6 +382,7 @@ mod tests {
         assert!(ABORT_VALUES.windows(2).all(|w| w[0] < w[1]));
         for (i, code) in ALL_ABORT_CODES.iter().enumerate() {
             assert_eq!(AbortCode::named(i), *code);
+            assert_eq!(code.position(), i);
         }
         for raw in ABORT_VALUES {
             for n in [raw.wrapping_sub(1), raw.wrapping_add(1)] {

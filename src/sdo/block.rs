@@ -42,6 +42,7 @@ pub(crate) const fn check_block_size(blksize: u8) -> Result<u8, AbortCode> {
     }
 }
 
+#[cfg(feature = "sdo-block")]
 /// A configured block size brought into 1..=127.
 pub(crate) const fn clamp_block_size(blksize: u8) -> u8 {
     if blksize == 0 {
@@ -53,6 +54,7 @@ pub(crate) const fn clamp_block_size(blksize: u8) -> u8 {
     }
 }
 
+#[cfg(feature = "sdo-block")]
 /// Segments of a value of `len` bytes (an empty value is one segment).
 const fn segments_of(len: usize) -> usize {
     let n = len.div_ceil(SEGMENT);
@@ -63,6 +65,7 @@ const fn segments_of(len: usize) -> usize {
     }
 }
 
+#[cfg(feature = "sdo-block")]
 /// The next segment a [`Sender`] wants to send.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Planned {
@@ -72,6 +75,7 @@ pub(crate) struct Planned {
     pub len: usize,
 }
 
+#[cfg(feature = "sdo-block")]
 /// What an acknowledgement means to the sender.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Acked {
@@ -86,6 +90,7 @@ pub(crate) enum Acked {
     },
 }
 
+#[cfg(feature = "sdo-block")]
 /// The sending side of the sub-block phase.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Sender {
@@ -101,6 +106,7 @@ pub(crate) struct Sender {
     crc_upto: usize,
 }
 
+#[cfg(feature = "sdo-block")]
 impl Sender {
     /// A sender of `len` bytes with the receiver's first block size.
     pub(crate) const fn new(len: usize, blksize: u8, crc_on: bool) -> Self {
@@ -116,7 +122,6 @@ impl Sender {
     }
 
     /// Bytes in the whole value.
-    #[cfg_attr(not(feature = "sdo-block"), allow(dead_code))]
     pub(crate) const fn len(&self) -> usize {
         self.len
     }
@@ -243,6 +248,7 @@ impl Receiver {
         self
     }
 
+    #[cfg(feature = "sdo-block")]
     /// The block size this receiver announces.
     pub(crate) const fn block_size(&self) -> u8 {
         self.blksize
@@ -353,6 +359,7 @@ impl Receiver {
         Ok(step)
     }
 
+    #[cfg(feature = "sdo-block")]
     /// Takes the end frame: `unused` bytes of the held last segment carry
     /// no data, `crc` is the sender's CRC.
     ///

@@ -6,14 +6,13 @@
 //! (`super::super::block`).
 
 use super::super::block::{check_block_size, clamp_block_size, Acked, Receiver, Sender};
-use super::super::wire::{
-    ClientBlockDownload, ClientBlockUpload, ServerBlockDownload, ServerBlockUpload,
-};
-use super::{AbortCode, Client, ClientCommand, ClientError, ClientEvent, ServerCommand, State};
+use super::super::wire::{ServerBlockDownload, ServerBlockUpload};
+use super::super::words;
+use super::{AbortCode, Client, ClientError, ClientEvent, ServerCommand, State};
 use crate::frame::CanFrame;
 use crate::time::Timestamp;
 
-impl<D: AsRef<[u8]>> Client<D> {
+impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// Starts reading `index`/`sub` from the server by block upload (CiA
     /// 301 section 7.2.4.3, SDO block upload), asking for sub-blocks of
     /// [`ClientConfig::block_size`](super::ClientConfig::block_size)
@@ -29,13 +28,11 @@ impl<D: AsRef<[u8]>> Client<D> {
         sub: u8,
     ) -> Result<(), ClientError> {
         self.check_idle()?;
-        self.send(ClientCommand::BlockUpload(ClientBlockUpload::Initiate {
-            index,
-            sub,
-            crc: self.config.crc,
-            blksize: clamp_block_size(self.config.block_size),
-            pst: self.config.block_threshold,
-        }));
+        // Initiate (cs = 0): CRC support, block size, threshold.
+        let b0 = 0xA0 | u8::from(self.config.crc) << 2;
+        let blksize = clamp_block_size(self.config.block_size);
+        let tail = u32::from_le_bytes([blksize, self.config.block_threshold, 0, 0]);
+        self.send(words::mux(b0, index, sub, tail));
         self.state = State::BlockUploadInitiated { index, sub };
         self.arm(now);
         Ok(())
@@ -57,14 +54,9 @@ impl<D: AsRef<[u8]>> Client<D> {
         let Ok(size) = u32::try_from(len) else {
             return Err(ClientError::TooLong { len });
         };
-        self.send(ClientCommand::BlockDownload(
-            ClientBlockDownload::Initiate {
-                index,
-                sub,
-                crc: self.config.crc,
-                size: Some(size),
-            },
-        ));
+        // Initiate (cs = 0) with CRC support and the size indicated.
+        let b0 = 0xC2 | u8::from(self.config.crc) << 2;
+        self.send(words::mux(b0, index, sub, size));
         self.state = State::BlockDownloadInitiated { index, sub, data };
         self.arm(now);
         Ok(())
@@ -93,10 +85,7 @@ impl<D: AsRef<[u8]>> Client<D> {
                     });
                 }
                 if let Some(ackseq) = step.ack {
-                    self.send(ClientCommand::BlockUpload(ClientBlockUpload::Ack {
-                        ackseq,
-                        blksize,
-                    }));
+                    self.send(words::block_ack(ackseq, blksize));
                 }
                 self.arm(now);
             }
@@ -184,10 +173,7 @@ impl<D: AsRef<[u8]>> Client<D> {
                         self.arm(now);
                     }
                     Ok(Acked::Done { unused, crc }) => {
-                        self.send(ClientCommand::BlockDownload(ClientBlockDownload::End {
-                            unused,
-                            crc,
-                        }));
+                        self.send(words::block_end(unused, crc));
                         self.state = State::BlockDownloadEnding {
                             index,
                             sub,
@@ -219,7 +205,8 @@ impl<D: AsRef<[u8]>> Client<D> {
                     }
                     let size = size.map(|s| usize::try_from(s).unwrap_or(usize::MAX));
                     let blksize = clamp_block_size(self.config.block_size);
-                    self.send(ClientCommand::BlockUpload(ClientBlockUpload::Start));
+                    // Start the upload (cs = 3).
+                    self.send(0xA3);
                     self.state = State::BlockUploading {
                         index,
                         sub,
@@ -250,7 +237,8 @@ impl<D: AsRef<[u8]>> Client<D> {
                                 data,
                             });
                         }
-                        self.send(ClientCommand::BlockUpload(ClientBlockUpload::End));
+                        // End acknowledged (cs = 1).
+                        self.send(0xA1);
                         self.finish(ClientEvent::Uploaded {
                             index,
                             sub,

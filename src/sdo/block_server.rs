@@ -4,14 +4,13 @@
 //! rules themselves are shared with the client (`super::super::block`).
 
 use super::super::block::{check_block_size, Acked, Receiver, Sender};
-use super::super::wire::{
-    ClientBlockDownload, ClientBlockUpload, ServerBlockDownload, ServerBlockUpload,
-};
-use super::{AbortCode, ObjectDictionary, Server, ServerCommand, ServerEvent, State};
+use super::super::wire::{ClientBlockDownload, ClientBlockUpload};
+use super::super::words;
+use super::{AbortCode, ObjectDictionary, Server, ServerEvent, State};
 use crate::frame::CanFrame;
 use crate::time::Timestamp;
 
-impl<D: ObjectDictionary> Server<D> {
+impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// A block download's sub-block segment: handled here (true), or a
     /// command for the normal path (false).
     pub(super) fn block_segment(&mut self, now: Timestamp, bytes: &[u8]) -> bool {
@@ -56,10 +55,7 @@ impl<D: ObjectDictionary> Server<D> {
             }
         }
         if let Some(ackseq) = step.ack {
-            self.send(ServerCommand::BlockDownload(ServerBlockDownload::Ack {
-                ackseq,
-                blksize: rx.block_size(),
-            }));
+            self.send(words::block_ack(ackseq, rx.block_size()));
         }
         self.arm(now);
         true
@@ -138,10 +134,7 @@ impl<D: ObjectDictionary> Server<D> {
                     self.arm(now);
                 }
                 Ok(Acked::Done { unused, crc }) => {
-                    self.send(ServerCommand::BlockUpload(ServerBlockUpload::End {
-                        unused,
-                        crc,
-                    }));
+                    self.send(words::block_end(unused, crc));
                     let len = tx.len();
                     self.state = State::BlockUploadEnding { index, sub, len };
                     self.arm(now);
@@ -179,12 +172,9 @@ impl<D: ObjectDictionary> Server<D> {
         let Ok(size) = u32::try_from(info.len) else {
             return self.abort_object(index, sub, AbortCode::OutOfMemory);
         };
-        self.send(ServerCommand::BlockUpload(ServerBlockUpload::Initiate {
-            index,
-            sub,
-            crc: self.config.crc,
-            size: Some(size),
-        }));
+        // Initiate response (ss = 0) with the size indicated.
+        let b0 = 0xC2 | u8::from(self.config.crc) << 2;
+        self.send(words::mux(b0, index, sub, size));
         self.state = State::BlockUploadInitiated {
             index,
             sub,
@@ -236,7 +226,8 @@ impl<D: ObjectDictionary> Server<D> {
                 {
                     return self.abort_local(code);
                 }
-                self.send(ServerCommand::BlockDownload(ServerBlockDownload::End));
+                // End acknowledged (ss = 1).
+                self.send(0xA1);
                 self.finish(ServerEvent::Downloaded {
                     index,
                     sub,
@@ -269,14 +260,9 @@ impl<D: ObjectDictionary> Server<D> {
             }
         }
         let blksize = super::super::block::clamp_block_size(self.config.block_size);
-        self.send(ServerCommand::BlockDownload(
-            ServerBlockDownload::Initiate {
-                index,
-                sub,
-                crc: self.config.crc,
-                blksize,
-            },
-        ));
+        // Initiate response (ss = 0) with the block size.
+        let b0 = 0xA0 | u8::from(self.config.crc) << 2;
+        self.send(words::mux(b0, index, sub, u32::from(blksize)));
         self.state = State::BlockDownloading {
             index,
             sub,

@@ -11,7 +11,7 @@ use super::{AbortCode, ObjectDictionary, Server};
 use crate::frame::CanFrame;
 use crate::time::Timestamp;
 
-impl<D: ObjectDictionary> Server<D> {
+impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// No block download runs: every frame is a command for the normal path.
     pub(super) fn block_segment(&mut self, _now: Timestamp, _bytes: &[u8]) -> bool {
         false
@@ -84,7 +84,7 @@ mod tests {
             [0xC6, 0x17, 0x10, 0x00, 0x02, 0, 0, 0],
             [0xA4, 0x17, 0x10, 0x00, 0x7F, 0x00, 0, 0],
         ] {
-            assert_eq!(request(&mut s, data), refused.clone().ok());
+            assert_eq!(request(&mut s, data), refused.ok());
             assert_eq!(s.poll_transmit(), None);
             assert_eq!(s.poll_event(), Some(aborted));
             assert_eq!(s.poll_event(), None);

@@ -7,13 +7,17 @@
 //! (call order and back-pressure rule: see [`crate::machine`]). Its commands
 //! are [`Client::start_upload`], [`Client::start_download`],
 //! [`Client::start_block_upload`], [`Client::start_block_download`] and
-//! [`Client::abort`]; after each of them and after every `handle_*` call,
+//! [`Client::abort`] (the two block commands need the feature `sdo-block`;
+//! without it they return [`ClientError::BlockUnsupported`]); after each of
+//! them and after every `handle_*` call,
 //! send what [`Machine::poll_transmit`] returns. During a block download's
 //! sub-block, `poll_transmit` yields one segment per call, made from the
 //! data when polled (the block rules: see the [`sdo`](super) module docs).
 //!
-//! - **Events** go to a queue of four; when it is full the oldest event is
-//!   dropped and counted ([`Machine::events_dropped`]). Transfers run by
+//! - **Events** go to a queue of `EVENTS` (four by default; one call
+//!   leaves at most [`EVENTS_PER_CALL`](super::EVENTS_PER_CALL)); when it
+//!   is full the oldest event is dropped and counted
+//!   ([`Machine::events_dropped`]). Transfers run by
 //!   their own rules whether or not events are read; a transfer's terminal
 //!   event is pushed last, so it is the newest event kept until the next
 //!   transfer reports.
@@ -61,20 +65,19 @@
 use core::time::Duration;
 
 use super::abort::AbortCode;
-use super::block::{Receiver, Sender, MAX_BLOCK_SIZE};
+use super::block::MAX_BLOCK_SIZE;
+#[cfg(feature = "sdo-block")]
+use super::block::{Receiver, Sender};
 use super::data::{InitiatePayload, Segment, SegmentData};
 use super::segmented::{check_toggle, Segments};
-use super::server::{AbortOrigin, DEFAULT_TIMEOUT};
-use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
+use super::server::{AbortOrigin, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT};
+use super::wire::{SdoResponse, ServerCommand};
+use super::words;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::{EventQueue, FrameSlot};
 use crate::time::{Timers, Timestamp};
-
-/// How many events the client keeps before dropping the oldest. One input
-/// reports at most two (the last upload piece and `Uploaded`).
-const EVENT_CAPACITY: usize = 4;
 
 /// The client's one timer: the response timeout of the running transfer.
 const RESPONSE_TIMEOUT: usize = 0;
@@ -146,6 +149,11 @@ pub enum ClientError {
         /// The length asked for.
         len: usize,
     },
+    /// Block transfer is not built in (the crate's feature `sdo-block` is
+    /// off): [`Client::start_block_upload`] and
+    /// [`Client::start_block_download`] refuse to start, nothing is sent.
+    #[error("SDO block transfer is not built in (feature sdo-block)")]
+    BlockUnsupported,
 }
 
 /// Identifiers and timeout of one SDO client channel.
@@ -212,6 +220,7 @@ enum State<D> {
         toggle: bool,
     },
     /// Block download: the initiate request is out.
+    #[cfg(feature = "sdo-block")]
     BlockDownloadInitiated {
         index: u16,
         sub: u8,
@@ -219,6 +228,7 @@ enum State<D> {
     },
     /// Block download: sub-blocks are being sent (segments are made when
     /// polled) and acknowledged.
+    #[cfg(feature = "sdo-block")]
     BlockDownloading {
         index: u16,
         sub: u8,
@@ -226,17 +236,20 @@ enum State<D> {
         tx: Sender,
     },
     /// Block download: the end frame is out.
+    #[cfg(feature = "sdo-block")]
     BlockDownloadEnding {
         index: u16,
         sub: u8,
         len: usize,
     },
     /// Block upload: the initiate request is out.
+    #[cfg(feature = "sdo-block")]
     BlockUploadInitiated {
         index: u16,
         sub: u8,
     },
     /// Block upload: receiving sub-blocks, then the end frame.
+    #[cfg(feature = "sdo-block")]
     BlockUploading {
         index: u16,
         sub: u8,
@@ -260,8 +273,12 @@ enum State<D> {
 /// client.handle_frame(Timestamp::from_millis(3), &ack);
 /// assert_eq!(client.poll_event(), Some(ClientEvent::Downloaded { index: 0x1017, sub: 0, len: 2 }));
 /// ```
+///
+/// `EVENTS` is the capacity of the event queue (default
+/// [`DEFAULT_EVENT_CAPACITY`](super::DEFAULT_EVENT_CAPACITY);
+/// [`Client::with_event_capacity`] makes one with another).
 #[derive(Debug)]
-pub struct Client<D = &'static [u8]> {
+pub struct Client<D = &'static [u8], const EVENTS: usize = DEFAULT_EVENT_CAPACITY> {
     config: ClientConfig,
     /// `config.timeout` in microseconds, computed once.
     timeout_us: u64,
@@ -274,12 +291,31 @@ pub struct Client<D = &'static [u8]> {
     timers: Timers<1>,
     /// One frame: every call produces at most one (see the module docs).
     transmit: FrameSlot,
-    events: EventQueue<ClientEvent, EVENT_CAPACITY>,
+    events: EventQueue<ClientEvent, EVENTS>,
 }
 
 impl<D: AsRef<[u8]>> Client<D> {
-    /// An idle client on `config`'s identifiers.
+    /// An idle client on `config`'s identifiers, with an event queue of
+    /// [`DEFAULT_EVENT_CAPACITY`](super::DEFAULT_EVENT_CAPACITY).
     pub fn new(config: ClientConfig) -> Self {
+        Self::with_event_capacity(config)
+    }
+}
+
+impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
+    /// An idle client on `config`'s identifiers, with an event queue of
+    /// `EVENTS` (1 or more; [`EVENTS_PER_CALL`](super::EVENTS_PER_CALL) for
+    /// a caller that reads every event after every call and command).
+    ///
+    /// ```
+    /// use canopen_codec::sdo::{Client, ClientConfig, EVENTS_PER_CALL};
+    /// use canopen_codec::NodeId;
+    ///
+    /// let config = ClientConfig::for_server(NodeId::new(2).unwrap());
+    /// let client: Client<&[u8], EVENTS_PER_CALL> = Client::with_event_capacity(config);
+    /// assert!(!client.is_busy());
+    /// ```
+    pub fn with_event_capacity(config: ClientConfig) -> Self {
         Client {
             config,
             timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
@@ -316,8 +352,9 @@ impl<D: AsRef<[u8]>> Client<D> {
             State::UploadInitiated { index, sub }
             | State::Uploading { index, sub, .. }
             | State::DownloadInitiated { index, sub, .. }
-            | State::Downloading { index, sub, .. }
-            | State::BlockDownloadInitiated { index, sub, .. }
+            | State::Downloading { index, sub, .. } => Some((index, sub)),
+            #[cfg(feature = "sdo-block")]
+            State::BlockDownloadInitiated { index, sub, .. }
             | State::BlockDownloading { index, sub, .. }
             | State::BlockDownloadEnding { index, sub, .. }
             | State::BlockUploadInitiated { index, sub }
@@ -337,7 +374,7 @@ impl<D: AsRef<[u8]>> Client<D> {
     /// Starts reading `index`/`sub` from the server.
     pub fn start_upload(&mut self, now: Timestamp, index: u16, sub: u8) -> Result<(), ClientError> {
         self.check_idle()?;
-        self.send(ClientCommand::InitiateUpload { index, sub });
+        self.send(words::mux(0x40, index, sub, 0));
         self.state = State::UploadInitiated { index, sub };
         self.arm(now);
         Ok(())
@@ -356,14 +393,15 @@ impl<D: AsRef<[u8]>> Client<D> {
         let Ok(size) = u32::try_from(bytes.len()) else {
             return Err(ClientError::TooLong { len: bytes.len() });
         };
-        let payload = InitiatePayload::expedited(bytes)
-            .unwrap_or(InitiatePayload::Segmented { size: Some(size) });
-        let expedited = matches!(payload, InitiatePayload::Expedited { .. });
-        self.send(ClientCommand::InitiateDownload {
-            index,
-            sub,
-            payload,
-        });
+        let expedited = matches!(bytes.len(), 1..=4);
+        let word = match *bytes {
+            [a] => words::expedited(1, index, sub, u32::from(a), 1),
+            [a, b] => words::expedited(1, index, sub, u32::from_le_bytes([a, b, 0, 0]), 2),
+            [a, b, c] => words::expedited(1, index, sub, u32::from_le_bytes([a, b, c, 0]), 3),
+            [a, b, c, d] => words::expedited(1, index, sub, u32::from_le_bytes([a, b, c, d]), 4),
+            _ => words::segmented(1, index, sub, size),
+        };
+        self.send(word);
         self.state = State::DownloadInitiated {
             index,
             sub,
@@ -399,14 +437,15 @@ impl<D: AsRef<[u8]>> Client<D> {
             .set(RESPONSE_TIMEOUT, Some(now.add_micros(self.timeout_us)));
     }
 
-    fn send(&mut self, command: ClientCommand) {
-        let (bytes, len) = SdoRequest::new(command).encode();
-        // `len` is at most 8.
-        self.send_bytes(bytes, len as u8);
+    /// Queues the request whose 8 data bytes are the little-endian `word`
+    /// (made by `super::words`: the frame `SdoRequest::new` of its command
+    /// encodes to, without the general encoder).
+    fn send(&mut self, word: u64) {
+        self.send_bytes(word.to_le_bytes(), 8);
     }
 
     /// Queues a request made by hand (the segment paths): the same frame
-    /// as [`Self::send`] of its command.
+    /// as `SdoRequest::new` of its command encodes to.
     #[inline]
     fn send_bytes(&mut self, bytes: [u8; 8], len: u8) {
         if self.sends {
@@ -433,7 +472,7 @@ impl<D: AsRef<[u8]>> Client<D> {
     }
 
     fn abort_object(&mut self, index: u16, sub: u8, code: AbortCode) {
-        self.send(ClientCommand::Abort { index, sub, code });
+        self.send(words::abort(index, sub, code));
         self.finish(ClientEvent::Aborted {
             index,
             sub,
@@ -492,9 +531,8 @@ impl<D: AsRef<[u8]>> Client<D> {
             }
             InitiatePayload::Segmented { size } => {
                 let rx = Segments::new(size.map(|s| usize::try_from(s).unwrap_or(usize::MAX)));
-                self.send(ClientCommand::UploadSegment {
-                    toggle: rx.toggle(),
-                });
+                // The first upload segment request (ccs = 3).
+                self.send(0x60 | u64::from(rx.toggle()) << 4);
                 self.state = State::Uploading { index, sub, rx };
                 self.arm(now);
             }
@@ -504,7 +542,7 @@ impl<D: AsRef<[u8]>> Client<D> {
     /// An upload segment (scs = 0) while uploading: checked by the segment
     /// rules, delivered, and the next one requested. The receive cursor is
     /// updated in place (no copy of the state per segment); the request is
-    /// made as [`Self::send`] of `ClientCommand::UploadSegment` would.
+    /// made as `SdoRequest::new` of `ClientCommand::UploadSegment` encodes it.
     fn upload_segment(&mut self, now: Timestamp, segment: &Segment) {
         let State::Uploading { index, sub, rx } = &mut self.state else {
             return;
@@ -572,7 +610,7 @@ impl<D: AsRef<[u8]>> Client<D> {
 
     /// A download segment acknowledgement (scs = 1, toggle `t`) while
     /// downloading: the toggle checked, then the next segment (made as
-    /// [`Self::send`] of `ClientCommand::DownloadSegment` would) or the end.
+    /// `SdoRequest::new` of `ClientCommand::DownloadSegment` encodes it) or the end.
     /// The cursor is updated in place (no copy of the state per segment).
     fn download_ack(&mut self, now: Timestamp, t: bool) {
         let State::Downloading {
@@ -611,7 +649,9 @@ impl<D: AsRef<[u8]>> Client<D> {
         if self.block_segment(now, frame.data()) {
             return;
         }
-        let Ok(response) = SdoResponse::decode_frame(frame) else {
+        // The general decoder alone: the segment path of `decode_frame` is
+        // `handle_frame`'s own.
+        let Ok(response) = SdoResponse::decode_frame_inline(frame) else {
             return;
         };
         if let ServerCommand::Abort { code, .. } = response.command {
@@ -632,13 +672,14 @@ impl<D: AsRef<[u8]>> Client<D> {
                 data,
                 expedited,
             } => self.on_download_initiated(now, index, sub, data, expedited, response.command),
+            #[cfg(feature = "sdo-block")]
             state => self.on_block_response(now, state, response.command, frame.data()),
         }
     }
 }
 
 /// The download segment frame of `value` from `from` with toggle `toggle`
-/// (as [`SdoRequest::encode`] of `ClientCommand::DownloadSegment` makes
+/// (as [`SdoRequest::encode`](super::SdoRequest::encode) of `ClientCommand::DownloadSegment` makes
 /// it: DLC 8, unused bytes zero) and the offset after it.
 #[inline]
 fn segment_frame(value: &[u8], from: usize, toggle: bool) -> ([u8; 8], usize) {
@@ -665,7 +706,7 @@ fn segment_frame(value: &[u8], from: usize, toggle: bool) -> ([u8; 8], usize) {
     ((data << 8 | u64::from(b0)).to_le_bytes(), sent)
 }
 
-impl<D: AsRef<[u8]>> Machine for Client<D> {
+impl<D: AsRef<[u8]>, const EVENTS: usize> Machine for Client<D, EVENTS> {
     type Event = ClientEvent;
 
     /// Tells the client time has passed; expires a stalled transfer with
@@ -722,5 +763,9 @@ impl<D: AsRef<[u8]>> Machine for Client<D> {
     }
 }
 
+#[cfg(feature = "sdo-block")]
 #[path = "block_client.rs"]
+mod block;
+#[cfg(not(feature = "sdo-block"))]
+#[path = "block_client_off.rs"]
 mod block;

@@ -6,6 +6,7 @@
 //!
 //! # Block transfer (CiA 301 section 7.2.4.3, SDO protocols)
 //!
+//! With the crate's feature `sdo-block` (default on),
 //! [`Client::start_block_download`] and [`Client::start_block_upload`] move a
 //! value in sub-blocks of 1..=127 segments of 7 bytes, numbered from 1; the
 //! receiver of the data chooses the block size ([`ClientConfig::block_size`]
@@ -16,7 +17,10 @@
 //! segment and the CRC ([`crc16`]: CRC-16/CCITT, polynomial 1021h, initial
 //! value 0, over all data bytes), used only when both sides announced CRC
 //! support. The server answers a block upload of at most the client's
-//! protocol switch threshold bytes with a normal upload.
+//! protocol switch threshold bytes with a normal upload. Without the
+//! feature the server refuses a block initiate (05040001h) and the client
+//! refuses to start one ([`ClientError::BlockUnsupported`]); the
+//! [`Observer`] follows block transfers either way.
 //!
 //! **One frame per poll, nothing buffered**: a block sender makes each
 //! segment when [`Machine::poll_transmit`](crate::machine::Machine::poll_transmit)
@@ -85,6 +89,7 @@ mod observer_rules;
 mod segmented;
 mod server;
 mod wire;
+mod words;
 
 pub use abort::{AbortCode, ALL_ABORT_CODES};
 pub use client::{Client, ClientConfig, ClientError, ClientEvent};
@@ -96,11 +101,16 @@ pub use observer::{
     BreakReason, ChannelError, Direction, Observed, Observer, ObserverConfig, ObserverEvent,
     SdoChannel, Side, Transfer, TransferKind, OBSERVER_EVENT_CAPACITY, OBSERVER_EXTRA_CHANNELS,
 };
-pub use server::{AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_TIMEOUT};
+pub use server::{
+    AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT,
+    EVENTS_PER_CALL,
+};
 pub use wire::{
     abort_code_of, ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoRequest, SdoResponse,
     ServerBlockDownload, ServerBlockUpload, ServerCommand,
 };
 
+#[cfg(test)]
+mod capacity_tests;
 #[cfg(test)]
 mod machine_tests;

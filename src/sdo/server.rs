@@ -8,8 +8,9 @@
 //! commands. After every `handle_*` call, send what
 //! [`Machine::poll_transmit`] returns.
 //!
-//! - **Events** go to a queue of four; when it is full the oldest event is
-//!   dropped and counted ([`Machine::events_dropped`]). Requests are served
+//! - **Events** go to a queue of `EVENTS` (four by default; one call
+//!   leaves at most [`EVENTS_PER_CALL`]); when it is full the oldest event
+//!   is dropped and counted ([`Machine::events_dropped`]). Requests are served
 //!   whether or not events are read; a transfer's terminal event is pushed
 //!   last, so it is the newest event kept until the next transfer reports.
 //! - **Frames**: every call queues at most one frame (one response or abort
@@ -62,19 +63,33 @@ use super::abort::AbortCode;
 use super::block::MAX_BLOCK_SIZE;
 #[cfg(feature = "sdo-block")]
 use super::block::{Receiver, Sender};
-use super::data::{ExpeditedData, InitiatePayload, Segment};
+use super::data::{InitiatePayload, Segment};
 use super::segmented::{check_toggle, Segments};
-use super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
+use super::wire::{ClientCommand, SdoRequest};
+use super::words;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
-use crate::od::{ObjectDictionary, ObjectInfo, SizeRule};
+use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
 use crate::queue::{EventQueue, FrameSlot};
 use crate::time::{Timers, Timestamp};
 
-/// How many events the server keeps before dropping the oldest. One request
-/// reports at most two (a superseded transfer and the new one's end).
-const EVENT_CAPACITY: usize = 4;
+/// How many events [`Server::new`] keeps before dropping the oldest (room
+/// for a caller that drains less often than the contract asks; a caller
+/// that drains after every call needs [`EVENTS_PER_CALL`], see
+/// [`Server::with_event_capacity`]).
+pub const DEFAULT_EVENT_CAPACITY: usize = 4;
+
+/// The most events one call of the SDO [`Server`] or [`Client`](super::Client)
+/// leaves to be read, so the event capacity a caller needs that reads them
+/// all after every `handle_*` call and every command: the server reports a
+/// superseded transfer and the new request's end, the client an upload's
+/// last piece and `Uploaded`. A call that starts while a server's block
+/// upload ended in `poll_transmit` (one event, unread) finds the server
+/// idle, so it adds at most one. The tests drive both machines with this
+/// capacity beside the default one on random input: the same events, none
+/// dropped.
+pub const EVENTS_PER_CALL: usize = 2;
 
 /// The server's one timer: the timeout for the client's next frame.
 const REQUEST_TIMEOUT: usize = 0;
@@ -188,7 +203,9 @@ enum State {
         index: u16,
         sub: u8,
         rx: Segments,
-        info: ObjectInfo,
+        /// The object's size rule (all of its `ObjectInfo` the segments
+        /// need: 8 bytes instead of 16).
+        size: SizeRule,
     },
     /// Block upload: initiate answered, waiting for the start command.
     #[cfg(feature = "sdo-block")]
@@ -246,8 +263,12 @@ enum State {
 /// assert_eq!(server.poll_event(), Some(ServerEvent::Uploaded { index: 0x1017, sub: 0, len: 2 }));
 /// # }
 /// ```
+///
+/// `EVENTS` is the capacity of the event queue (default
+/// [`DEFAULT_EVENT_CAPACITY`]; [`Server::with_event_capacity`] makes one
+/// with another).
 #[derive(Debug)]
-pub struct Server<D> {
+pub struct Server<D, const EVENTS: usize = DEFAULT_EVENT_CAPACITY> {
     config: ServerConfig,
     /// `config.timeout` in microseconds, computed once.
     timeout_us: u64,
@@ -261,12 +282,42 @@ pub struct Server<D> {
     timers: Timers<1>,
     /// One frame: every call produces at most one (see the module docs).
     transmit: FrameSlot,
-    events: EventQueue<ServerEvent, EVENT_CAPACITY>,
+    events: EventQueue<ServerEvent, EVENTS>,
+}
+
+/// An object with size rule `size`, for its `check_download_len`.
+#[inline]
+const fn size_info(size: SizeRule) -> ObjectInfo {
+    ObjectInfo {
+        size,
+        ..ObjectInfo::fixed(Access::ReadWrite, 0)
+    }
 }
 
 impl<D: ObjectDictionary> Server<D> {
-    /// A server on `config`'s identifiers serving `od`.
+    /// A server on `config`'s identifiers serving `od`, with an event queue
+    /// of [`DEFAULT_EVENT_CAPACITY`].
     pub fn new(config: ServerConfig, od: D) -> Self {
+        Self::with_event_capacity(config, od)
+    }
+}
+
+impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
+    /// A server on `config`'s identifiers serving `od`, with an event queue
+    /// of `EVENTS` (1 or more; [`EVENTS_PER_CALL`] for a caller that reads
+    /// every event after every call, as a device does).
+    ///
+    /// ```
+    /// use canopen_codec::device::CommObjects;
+    /// use canopen_codec::sdo::{Server, ServerConfig, EVENTS_PER_CALL};
+    /// use canopen_codec::NodeId;
+    ///
+    /// let node = NodeId::new(1).unwrap();
+    /// let server: Server<_, EVENTS_PER_CALL> =
+    ///     Server::with_event_capacity(ServerConfig::for_node(node), CommObjects::new(node));
+    /// assert!(!server.is_busy());
+    /// ```
+    pub fn with_event_capacity(config: ServerConfig, od: D) -> Self {
         Server {
             config,
             timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
@@ -380,14 +431,15 @@ impl<D: ObjectDictionary> Server<D> {
         writing
     }
 
-    fn send(&mut self, command: ServerCommand) {
-        let (bytes, len) = SdoResponse::new(command).encode();
-        // `len` is at most 8.
-        self.send_bytes(bytes, len as u8);
+    /// Queues the response whose 8 data bytes are the little-endian
+    /// `word` (made by `super::words`: the frame `SdoResponse::new` of its
+    /// command encodes to, without the general encoder).
+    fn send(&mut self, word: u64) {
+        self.send_bytes(word.to_le_bytes(), 8);
     }
 
     /// Queues a response made by hand (the segment paths): the same frame
-    /// as [`Self::send`] of its command.
+    /// as `SdoResponse::new` of its command encodes to.
     #[inline]
     fn send_bytes(&mut self, bytes: [u8; 8], len: u8) {
         if self.sends {
@@ -420,7 +472,7 @@ impl<D: ObjectDictionary> Server<D> {
             let (index, sub) = self.object();
             self.od.abort_write(index, sub);
         }
-        self.send(ServerCommand::Abort { index, sub, code });
+        self.send(words::abort(index, sub, code));
         self.finish(ServerEvent::Aborted {
             index,
             sub,
@@ -520,25 +572,16 @@ impl<D: ObjectDictionary> Server<D> {
             if n == 0 {
                 return self.abort_object(index, sub, AbortCode::NoDataAvailable);
             }
-            let data = ExpeditedData::new(buf.get(..n).unwrap_or(&[])).unwrap_or_default();
-            self.send(ServerCommand::InitiateUpload {
-                index,
-                sub,
-                payload: InitiatePayload::Expedited {
-                    data,
-                    size_indicated: true,
-                },
-            });
+            // The bytes past `n` zero, as the frame has them.
+            let mask = u32::MAX.checked_shr(32 - 8 * n.min(4) as u32).unwrap_or(0);
+            let data = u32::from_le_bytes(buf) & mask;
+            self.send(words::expedited(2, index, sub, data, n));
             return self.finish(ServerEvent::Uploaded { index, sub, len: n });
         }
         let Ok(size) = u32::try_from(info.len) else {
             return self.abort_object(index, sub, AbortCode::OutOfMemory);
         };
-        self.send(ServerCommand::InitiateUpload {
-            index,
-            sub,
-            payload: InitiatePayload::Segmented { size: Some(size) },
-        });
+        self.send(words::segmented(2, index, sub, size));
         self.state = State::Uploading {
             index,
             sub,
@@ -551,7 +594,7 @@ impl<D: ObjectDictionary> Server<D> {
 
     /// An upload segment request (ccs = 3, toggle `toggle`): the next
     /// segment, read from the dictionary at the transfer's offset. The
-    /// frame is made in place, as [`Self::send`] of
+    /// frame is made in place, as `SdoResponse::new` of
     /// `ServerCommand::UploadSegment` would make it, and only the offset and
     /// toggle of the state change (no copy of the state per segment).
     #[inline]
@@ -643,7 +686,7 @@ impl<D: ObjectDictionary> Server<D> {
                     self.od.abort_write(index, sub);
                     return self.abort_object(index, sub, code);
                 }
-                self.send(ServerCommand::InitiateDownload { index, sub });
+                self.send(words::mux(0x60, index, sub, 0));
                 self.finish(ServerEvent::Downloaded { index, sub, len });
             }
             InitiatePayload::Segmented { size } => {
@@ -653,12 +696,12 @@ impl<D: ObjectDictionary> Server<D> {
                         return self.abort_object(index, sub, code);
                     }
                 }
-                self.send(ServerCommand::InitiateDownload { index, sub });
+                self.send(words::mux(0x60, index, sub, 0));
                 self.state = State::Downloading {
                     index,
                     sub,
                     rx: Segments::new(size),
-                    info,
+                    size: info.size,
                 };
                 self.arm(now);
             }
@@ -668,18 +711,19 @@ impl<D: ObjectDictionary> Server<D> {
     /// A download segment: checked by the segment rules and the object's
     /// size rule, written, acknowledged. The receive cursor is updated in
     /// place (no copy of the state per segment); the acknowledgement is
-    /// made as [`Self::send`] of `ServerCommand::DownloadSegment` would.
+    /// made as `SdoResponse::new` of `ServerCommand::DownloadSegment` encodes it.
     fn download_segment(&mut self, now: Timestamp, seg: &Segment) {
         let State::Downloading {
             index,
             sub,
             rx,
-            info,
+            size,
         } = &mut self.state
         else {
             return self.abort_local(AbortCode::InvalidCommandSpecifier);
         };
-        let (index, sub, info) = (*index, *sub, *info);
+        let (index, sub) = (*index, *sub);
+        let info = size_info(*size);
         let placed = match rx.on_segment(seg) {
             Ok(placed) => placed,
             Err(code) => return self.abort_local(code),
@@ -720,7 +764,9 @@ impl<D: ObjectDictionary> Server<D> {
         if self.block_segment(now, frame.data()) {
             return;
         }
-        let Ok(request) = SdoRequest::decode_frame(frame) else {
+        // The general decoder alone: the segment paths of `decode_frame`
+        // are `handle_frame`'s own.
+        let Ok(request) = SdoRequest::decode_frame_inline(frame) else {
             return;
         };
         match request.command {
@@ -748,7 +794,7 @@ impl<D: ObjectDictionary> Server<D> {
     }
 }
 
-impl<D: ObjectDictionary> Machine for Server<D> {
+impl<D: ObjectDictionary, const EVENTS: usize> Machine for Server<D, EVENTS> {
     type Event = ServerEvent;
 
     /// Tells the server time has passed; expires a stalled transfer with
