@@ -312,7 +312,11 @@ impl CanFrame {
         if self.is_remote() {
             &[]
         } else {
-            self.data.get(..usize::from(self.len.get())).unwrap_or(&[])
+            // The length is at most 8: the `min` lets the compiler drop
+            // the fallback at every use.
+            self.data
+                .get(..usize::from(self.len.get()).min(MAX_DATA_LEN))
+                .unwrap_or(&[])
         }
     }
 

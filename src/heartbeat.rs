@@ -287,7 +287,9 @@ const IDLE: Watch = Watch {
 /// Every heartbeat of a watched node refreshes its deadline, whether or not
 /// the application reads the events (the back-pressure rule of
 /// [`crate::machine`]): a node that beats within its time is never reported
-/// lost. The queue keeps the latest 8 events.
+/// lost. The queue keeps the latest `E` events (default 8; a call makes at
+/// most one per watched node, so an owner that drains it after every call,
+/// as the device core does, needs no more than `N`).
 ///
 /// ```
 /// use canopen_codec::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent};
@@ -303,18 +305,18 @@ const IDLE: Watch = Watch {
 /// assert_eq!(c.poll_event(), Some(HeartbeatEvent::Lost(node)));
 /// ```
 #[derive(Debug, Clone)]
-pub struct HeartbeatConsumer<const N: usize> {
+pub struct HeartbeatConsumer<const N: usize, const E: usize = 8> {
     watches: [Watch; N],
-    events: EventQueue<HeartbeatEvent, 8>,
+    events: EventQueue<HeartbeatEvent, E>,
 }
 
-impl<const N: usize> Default for HeartbeatConsumer<N> {
+impl<const N: usize, const E: usize> Default for HeartbeatConsumer<N, E> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<const N: usize> HeartbeatConsumer<N> {
+impl<const N: usize, const E: usize> HeartbeatConsumer<N, E> {
     /// No node watched.
     #[must_use]
     pub const fn new() -> Self {
@@ -373,7 +375,7 @@ impl<const N: usize> HeartbeatConsumer<N> {
     }
 }
 
-impl<const N: usize> Machine for HeartbeatConsumer<N> {
+impl<const N: usize, const E: usize> Machine for HeartbeatConsumer<N, E> {
     type Event = HeartbeatEvent;
 
     /// Feeds a received frame; only heartbeats of watched nodes matter.

@@ -49,8 +49,8 @@ use super::{
 };
 use crate::cob_id::NodeId;
 use crate::device::{
-    machine_on_device, CommObjects, Device, DeviceConfig, DeviceEvent, Identity, PowerOn, Profile,
-    DEFAULT_QUEUE_CAPACITY,
+    machine_on_device, CommObjects, Device, DeviceConfig, DeviceEvent, ErrorFieldFormat, Identity,
+    Policies, PowerOn, Profile, DEFAULT_QUEUE_CAPACITY,
 };
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 
@@ -240,15 +240,21 @@ machine_on_device!(
 /// The module's [`DeviceConfig`] is made from its configuration (CiA 418
 /// default PDOs for its node-ID, so they follow an LSS node-ID change).
 impl PowerOn for BatteryModulePowerOn {
-    fn power_on_config(&self) -> DeviceConfig {
-        DeviceConfig {
-            device_type: self.device_type.raw(),
-            device_name: self.device_name,
-            identity: self.identity,
-            heartbeat: Duration::from_millis(u64::from(self.heartbeat_ms)),
+    fn node(&self) -> NodeId {
+        self.node
+    }
+
+    fn restore(&self, comm: &mut CommObjects, pdos: &mut PdoConfig) -> Policies {
+        *comm = CommObjects::new(self.node);
+        comm.device_type = self.device_type.raw();
+        comm.device_name = self.device_name;
+        comm.identity = self.identity;
+        comm.heartbeat_ms = self.heartbeat_ms;
+        default_pdo_config(self, pdos);
+        Policies {
+            heartbeat_on_change: false,
             sdo_timeout: Duration::from_millis(u64::from(self.sdo_timeout_ms)),
-            pdos: default_pdo_config(self),
-            ..DeviceConfig::new(self.node)
+            error_field: ErrorFieldFormat::LittleEndianInfo,
         }
     }
 
@@ -257,9 +263,10 @@ impl PowerOn for BatteryModulePowerOn {
     }
 }
 
-/// The CiA 418 default PDO set of a module with `config`.
-fn default_pdo_config(config: &BatteryModulePowerOn) -> PdoConfig {
-    let mut pdos = PdoConfig::new();
+/// Writes the CiA 418 default PDO set of a module with `config` into
+/// `pdos` (every slot).
+fn default_pdo_config(config: &BatteryModulePowerOn, pdos: &mut PdoConfig) {
+    pdos.clear();
     for d in DEFAULT_PDOS
         .iter()
         .filter(|d| d.is_present(config.device_type))
@@ -280,7 +287,6 @@ fn default_pdo_config(config: &BatteryModulePowerOn) -> PdoConfig {
         }
         pdos.insert(d.direction, d.number, PdoSlot::new(comm, &mapping));
     }
-    pdos
 }
 
 macro_rules! setters {

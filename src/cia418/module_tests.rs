@@ -29,7 +29,8 @@ fn nothing_happens_before_boot() {
 #[test]
 fn default_pdo_set_follows_the_device_type() {
     let mut config = BatteryModuleConfig::default();
-    let pdos = default_pdo_config(&BatteryModulePowerOn::from(config));
+    let mut pdos = PdoConfig::new();
+    default_pdo_config(&BatteryModulePowerOn::from(config), &mut pdos);
     assert!(pdos
         .get(PdoDirection::Transmit, PdoNumber::P0)
         .unwrap()
@@ -41,7 +42,8 @@ fn default_pdo_set_follows_the_device_type() {
         .is_valid());
     config.enable_tpdos = false;
     config.device_type = DeviceType::cia418(DeviceType::TPDO_2ND | DeviceType::RPDO_3RD);
-    let pdos = default_pdo_config(&BatteryModulePowerOn::from(config));
+    let mut pdos = PdoConfig::new();
+    default_pdo_config(&BatteryModulePowerOn::from(config), &mut pdos);
     let t1 = pdos.get(PdoDirection::Transmit, PdoNumber::P1).unwrap();
     assert_eq!(t1.comm.cob_id.to_u32(), 0x8000_0281);
     assert_eq!(t1.count(), 3);

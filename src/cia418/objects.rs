@@ -107,7 +107,7 @@ type Value = InlineData<4>;
 /// assert_eq!(buf, [0xC8, 0x00]); // 200 * 0.125 degC
 /// assert!(od.info(0x6010, 0).unwrap().pdo_mappable);
 /// ```
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct BatteryObjects {
     /// 6000h battery status.
     pub battery_status: BatteryStatus,
@@ -141,6 +141,46 @@ pub struct BatteryObjects {
     packed: [PackedValue; 4],
     pending: WriteBuffer,
 }
+
+/// One single-value object (sub 0 only) of [`SCALARS`].
+#[derive(Debug, Clone, Copy)]
+struct Scalar {
+    index: u16,
+    /// Bytes: 1, 2 or 4.
+    width: u8,
+    access: Access,
+    mappable: bool,
+}
+
+const fn scalar(index: u16, width: u8, access: Access, mappable: bool) -> Scalar {
+    Scalar {
+        index,
+        width,
+        access,
+        mappable,
+    }
+}
+
+/// The single-value objects in the order of `BatteryObjects::scalar`'s
+/// rows: one table for their access, length and mappability instead of a
+/// `match` arm each.
+const SCALARS: [Scalar; 12] = {
+    use Access::{ReadOnly as Ro, ReadWrite as Rw};
+    [
+        scalar(BATTERY_STATUS, 1, Ro, true),
+        scalar(CHARGER_STATUS, 1, Rw, true),
+        scalar(TEMPERATURE, 2, Ro, true),
+        scalar(CUMULATIVE_TOTAL_AH_CHARGE, 4, Ro, false),
+        scalar(AH_EXPENDED_SINCE_LAST_CHARGE, 2, Ro, false),
+        scalar(AH_RETURNED_DURING_LAST_CHARGE, 2, Rw, true),
+        scalar(AH_SINCE_LAST_EQUALIZATION, 2, Rw, false),
+        scalar(BATTERY_VOLTAGE, 4, Ro, true),
+        scalar(CHARGE_CURRENT_REQUESTED, 2, Ro, true),
+        scalar(CHARGER_STATE_OF_CHARGE, 1, Rw, true),
+        scalar(BATTERY_STATE_OF_CHARGE, 1, Ro, true),
+        scalar(WATER_LEVEL_STATUS, 1, Ro, false),
+    ]
+};
 
 fn packed_slot(object: PackedStringObject) -> usize {
     match object {
@@ -238,34 +278,19 @@ impl BatteryObjects {
     /// Access, current value and PDO-mappability of every object.
     fn entry(&self, index: u16, sub: u8) -> Result<(Access, Value, bool), AbortCode> {
         use Access::{ReadOnly as Ro, ReadWrite as Rw};
+        if let Some((row, object)) = SCALARS.iter().enumerate().find(|(_, o)| o.index == index) {
+            if sub != 0 {
+                return Err(AbortCode::SubIndexDoesNotExist);
+            }
+            let bytes = self.scalar(row).to_le_bytes();
+            let value = Value::new(bytes.get(..usize::from(object.width).min(4)).unwrap_or(&[]));
+            return Ok((object.access, value.unwrap_or_default(), object.mappable));
+        }
         let found = match (index, sub) {
-            (BATTERY_STATUS, 0) => (Ro, Value::le_u8(self.battery_status.bits()), true),
-            (CHARGER_STATUS, 0) => (Rw, Value::le_u8(self.charger_status.bits()), true),
-            (TEMPERATURE, 0) => (Ro, Value::le_u16(self.temperature.raw() as u16), true),
             (BATTERY_PARAMETERS, s) if s <= BatteryParameters::HIGHEST_SUB_INDEX => {
                 let bytes = self.battery_parameters.encode_sub(s).unwrap_or_default();
                 (Ro, Value::new(bytes.as_slice()).unwrap_or_default(), false)
             }
-            (CUMULATIVE_TOTAL_AH_CHARGE, 0) => (
-                Ro,
-                Value::le_u32(self.cumulative_total_ah_charge.raw()),
-                false,
-            ),
-            (AH_EXPENDED_SINCE_LAST_CHARGE, 0) => (
-                Ro,
-                Value::le_u16(self.ah_expended_since_last_charge.raw()),
-                false,
-            ),
-            (AH_RETURNED_DURING_LAST_CHARGE, 0) => (
-                Rw,
-                Value::le_u16(self.ah_returned_during_last_charge.raw()),
-                true,
-            ),
-            (AH_SINCE_LAST_EQUALIZATION, 0) => (
-                Rw,
-                Value::le_u16(self.ah_since_last_equalization.raw()),
-                false,
-            ),
             (DATE_OF_LAST_EQUALIZATION, 0) => (
                 Ro,
                 Value::le_u8(EqualizationDate::NUMBER_OF_ELEMENTS),
@@ -281,17 +306,6 @@ impl BatteryObjects {
                 Value::le_u16(self.date_of_last_equalization.days),
                 false,
             ),
-            (BATTERY_VOLTAGE, 0) => (Ro, Value::le_u32(self.battery_voltage.raw()), true),
-            (CHARGE_CURRENT_REQUESTED, 0) => {
-                (Ro, Value::le_u16(self.charge_current_requested.raw()), true)
-            }
-            (CHARGER_STATE_OF_CHARGE, 0) => {
-                (Rw, Value::le_u8(self.charger_state_of_charge.raw()), true)
-            }
-            (BATTERY_STATE_OF_CHARGE, 0) => {
-                (Ro, Value::le_u8(self.battery_state_of_charge.raw()), true)
-            }
-            (WATER_LEVEL_STATUS, 0) => (Ro, Value::le_u8(self.water_level.bits()), false),
             (i, s) => {
                 let Some(object) = PackedStringObject::from_index(i) else {
                     return Err(if Self::has_object(i) {
@@ -314,6 +328,24 @@ impl BatteryObjects {
             }
         };
         Ok(found)
+    }
+
+    /// The value of the object in row `row` of [`SCALARS`].
+    fn scalar(&self, row: usize) -> u32 {
+        match row {
+            0 => self.battery_status.bits().into(),
+            1 => self.charger_status.bits().into(),
+            2 => u32::from(self.temperature.raw() as u16),
+            3 => self.cumulative_total_ah_charge.raw(),
+            4 => self.ah_expended_since_last_charge.raw().into(),
+            5 => self.ah_returned_during_last_charge.raw().into(),
+            6 => self.ah_since_last_equalization.raw().into(),
+            7 => self.battery_voltage.raw(),
+            8 => self.charge_current_requested.raw().into(),
+            9 => self.charger_state_of_charge.raw().into(),
+            10 => self.battery_state_of_charge.raw().into(),
+            _ => self.water_level.bits().into(),
+        }
     }
 
     /// Applies a complete, length-checked write.

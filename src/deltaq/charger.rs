@@ -66,8 +66,8 @@ use crate::bytes::InlineData;
 use crate::cia419::{PdoPair, CHARGER_DEVICE_TYPE, PDO_PAIRS};
 use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
 use crate::device::{
-    machine_on_device, Device, DeviceConfig, DeviceEvent, ErrorFieldFormat, PowerOn, Profile,
-    DEFAULT_QUEUE_CAPACITY,
+    machine_on_device, CommObjects, Device, DeviceConfig, DeviceEvent, ErrorFieldFormat, Policies,
+    PowerOn, Profile, DEFAULT_QUEUE_CAPACITY,
 };
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::{CanFrame, CanId};
@@ -292,10 +292,11 @@ const PAIRS: [PdoPair; 7] = {
 
 const PDO_NUMBERS: [PdoNumber; 4] = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3];
 
-/// The charger's default PDO set: its published mappings, with COB-IDs
-/// not valid until configured (or valid defaults without configuration).
-fn default_pdos(config: &ChargerPowerOn) -> PdoConfig {
-    let mut pdos = PdoConfig::new();
+/// Writes the charger's default PDO set into `pdos` (every slot): its
+/// published mappings, with COB-IDs not valid until configured (or valid
+/// defaults without configuration).
+fn default_pdos(config: &ChargerPowerOn, pdos: &mut PdoConfig) {
+    pdos.clear();
     for dir in [PdoDirection::Transmit, PdoDirection::Receive] {
         for n in PDO_NUMBERS {
             let d = charger_default_pdo(dir, n);
@@ -317,7 +318,6 @@ fn default_pdos(config: &ChargerPowerOn) -> PdoConfig {
             );
         }
     }
-    pdos
 }
 
 type ChargerDevice<const Q: usize> = Device<ChargerObjects, ChargerEvent, Q, ChargerPowerOn>;
@@ -325,20 +325,25 @@ type ChargerDevice<const Q: usize> = Device<ChargerObjects, ChargerEvent, Q, Cha
 /// The charger's [`DeviceConfig`] is made from its configuration at boot
 /// and at every reset (the core keeps no second copy).
 impl PowerOn for ChargerPowerOn {
-    fn power_on_config(&self) -> DeviceConfig {
-        DeviceConfig {
-            device_type: CHARGER_DEVICE_TYPE,
-            device_name: self.device_name,
-            heartbeat: Duration::from_millis(u64::from(self.heartbeat_ms)),
-            sdo_timeout: Duration::from_millis(u64::from(self.sdo_timeout_ms)),
-            pdos: default_pdos(self),
-            error_field: ErrorFieldFormat::SwappedInfo,
-            ..DeviceConfig::new(self.node)
-        }
-        .with_consumers(&[ConsumerEntry {
+    fn node(&self) -> NodeId {
+        self.node
+    }
+
+    fn restore(&self, comm: &mut CommObjects, pdos: &mut PdoConfig) -> Policies {
+        *comm = CommObjects::new(self.node);
+        comm.device_type = CHARGER_DEVICE_TYPE;
+        comm.device_name = self.device_name;
+        comm.heartbeat_ms = self.heartbeat_ms;
+        comm.set_consumers(&[ConsumerEntry {
             node: self.battery.raw(),
             time_ms: self.battery_timeout_ms,
-        }])
+        }]);
+        default_pdos(self, pdos);
+        Policies {
+            heartbeat_on_change: false,
+            sdo_timeout: Duration::from_millis(u64::from(self.sdo_timeout_ms)),
+            error_field: ErrorFieldFormat::SwappedInfo,
+        }
     }
 
     fn set_node(&mut self, node: NodeId) {
@@ -589,8 +594,8 @@ impl ChargerProfile {
     /// Back to the not-valid default COB-IDs (when configuring them).
     fn forget_pairing<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
         if self.configure_cob_ids {
-            let defaults = default_pdos(device.power_on());
-            device.update_pdos(now, |c| *c = defaults);
+            let power_on = *device.power_on();
+            device.update_pdos(now, |c| default_pdos(&power_on, c));
         }
         self.link = Link::Absent;
         device.set_tpdos_enabled(now, false);

@@ -12,7 +12,7 @@ use crate::sdo::AbortCode;
 /// The charger's object values. Fields are the application's to read and
 /// write; SDO access goes through [`ObjectDictionary`] with the access
 /// rights of each object.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ChargerObjects {
     /// 6000h battery status (written by the BMS).
     pub battery_status: u8,
@@ -89,73 +89,138 @@ impl ChargerObjects {
     /// Value, access and mappability of a (non-string) object, as up to 4
     /// little-endian bytes.
     fn scalar(&self, index: u16, sub: u8) -> Result<(Access, bool, Bytes), AbortCode> {
-        use Access::{Const, ReadOnly as Ro, ReadWrite as Rw};
-        let b1 = |v: u8| Bytes::new(&[v]).unwrap_or_default();
-        let b2 = |v: u16| Bytes::new(&v.to_le_bytes()).unwrap_or_default();
-        let b4 = |v: u32| Bytes::new(&v.to_le_bytes()).unwrap_or_default();
-        let one = |s: u8, a, m, v: Bytes| {
-            if sub == s {
-                Ok((a, m, v))
-            } else {
-                Err(AbortCode::SubIndexDoesNotExist)
-            }
-        };
-        match index {
-            0x6000 => one(0, Rw, true, b1(self.battery_status)),
-            0x6001 => one(0, Ro, true, b1(self.charger_status)),
-            0x6010 => one(0, Rw, true, b2(self.temperature as u16)),
-            0x6052 => one(0, Rw, true, b2(self.ah_returned)),
-            0x6060 => one(0, Rw, true, b4(self.battery_voltage)),
-            0x6070 => one(0, Rw, true, b2(self.current_requested)),
-            0x6080 => one(0, Ro, true, b1(self.charger_soc)),
-            0x6081 => one(0, Rw, true, b1(self.battery_soc)),
-            0x2002 => one(0, Rw, true, b2(self.charging_current)),
-            0x2006 => one(0, Ro, true, b2(self.extended_status)),
-            0x2060 => one(0, Ro, true, b4(self.displayed_error)),
-            0x2100 => one(0, Ro, true, b2(self.battery_voltage_q10)),
-            0x2101 => one(0, Rw, true, b2(self.battery_voltage_q8)),
-            0x2200 => one(0, Ro, true, b2(self.ac_voltage)),
-            0x2241 => one(0, Rw, true, b4(self.algorithm_request)),
-            0x2271 => one(0, Rw, true, b4(self.voltage_request)),
-            0x2276 => one(0, Rw, true, b2(self.voltage_request_q8)),
-            0x4201 => one(0, Rw, true, b1(self.external_override)),
-            0x2FFA => match sub {
-                0 => Ok((Const, false, b1(2))),
-                1 | 2 => Ok((Rw, true, b1(0))),
+        if index == PADDING {
+            return match sub {
+                0 => Ok((Access::Const, false, Bytes::le_u8(2))),
+                1 | 2 => Ok((Access::ReadWrite, true, Bytes::le_u8(0))),
                 _ => Err(AbortCode::SubIndexDoesNotExist),
-            },
-            _ => Err(AbortCode::ObjectDoesNotExist),
+            };
+        }
+        let (field, object) = find(index).ok_or(AbortCode::ObjectDoesNotExist)?;
+        if sub != 0 {
+            return Err(AbortCode::SubIndexDoesNotExist);
+        }
+        let access = if object.writable {
+            Access::ReadWrite
+        } else {
+            Access::ReadOnly
+        };
+        let bytes = self.value(field).to_le_bytes();
+        let value = Bytes::new(bytes.get(..usize::from(object.width).min(4)).unwrap_or(&[]));
+        Ok((access, true, value.unwrap_or_default()))
+    }
+
+    /// The value of the object in row `field` of [`OBJECTS`].
+    fn value(&self, field: usize) -> u32 {
+        match field {
+            0 => self.battery_status.into(),
+            1 => self.charger_status.into(),
+            2 => u32::from(self.temperature as u16),
+            3 => self.ah_returned.into(),
+            4 => self.battery_voltage,
+            5 => self.current_requested.into(),
+            6 => self.charger_soc.into(),
+            7 => self.battery_soc.into(),
+            8 => self.charging_current.into(),
+            9 => self.extended_status.into(),
+            10 => self.displayed_error,
+            11 => self.battery_voltage_q10.into(),
+            12 => self.battery_voltage_q8.into(),
+            13 => self.ac_voltage.into(),
+            14 => self.algorithm_request,
+            15 => self.voltage_request,
+            16 => self.voltage_request_q8.into(),
+            _ => self.external_override.into(),
         }
     }
 
+    /// Writes a writable object: a value of the object's width (a short
+    /// one counts as 0; an 8-bit object takes the first byte).
     fn store(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
-        let u8v = || data.first().copied().unwrap_or(0);
-        let u16v = || match *data {
-            [a, b] => u16::from_le_bytes([a, b]),
-            _ => 0,
-        };
-        let u32v = || match *data {
-            [a, b, c, d] => u32::from_le_bytes([a, b, c, d]),
-            _ => 0,
-        };
-        match (index, sub) {
-            (0x6000, 0) => self.battery_status = u8v(),
-            (0x6010, 0) => self.temperature = u16v() as i16,
-            (0x6052, 0) => self.ah_returned = u16v(),
-            (0x6060, 0) => self.battery_voltage = u32v(),
-            (0x6070, 0) => self.current_requested = u16v(),
-            (0x6081, 0) => self.battery_soc = u8v(),
-            (0x2002, 0) => self.charging_current = u16v(),
-            (0x2101, 0) => self.battery_voltage_q8 = u16v(),
-            (0x2241, 0) => self.algorithm_request = u32v(),
-            (0x2271, 0) => self.voltage_request = u32v(),
-            (0x2276, 0) => self.voltage_request_q8 = u16v(),
-            (0x4201, 0) => self.external_override = u8v(),
-            (0x2FFA, 1 | 2) => {}
+        if index == PADDING && matches!(sub, 1 | 2) {
+            return Ok(());
+        }
+        let (field, object) = match find(index) {
+            Some(found) if sub == 0 && found.1.writable => found,
             _ => return Err(AbortCode::WriteOfReadOnlyObject),
+        };
+        let v = match (object.width, data) {
+            (1, [a, ..]) => u32::from(*a),
+            (2, &[a, b]) => u32::from(u16::from_le_bytes([a, b])),
+            (4, &[a, b, c, d]) => u32::from_le_bytes([a, b, c, d]),
+            _ => 0,
+        };
+        // Truncations to the object's width (the value has no more bytes).
+        match field {
+            0 => self.battery_status = v as u8,
+            2 => self.temperature = v as u16 as i16,
+            3 => self.ah_returned = v as u16,
+            4 => self.battery_voltage = v,
+            5 => self.current_requested = v as u16,
+            7 => self.battery_soc = v as u8,
+            8 => self.charging_current = v as u16,
+            12 => self.battery_voltage_q8 = v as u16,
+            14 => self.algorithm_request = v,
+            15 => self.voltage_request = v,
+            16 => self.voltage_request_q8 = v as u16,
+            _ => self.external_override = v as u8,
         }
         Ok(())
     }
+}
+
+/// 2FFAh: the padding objects of the Delta-Q PDO mappings (sub 0 = 2, two
+/// writable dummy bytes).
+const PADDING: u16 = 0x2FFA;
+
+/// One object of [`OBJECTS`] (sub 0 only, PDO-mappable).
+#[derive(Debug, Clone, Copy)]
+struct Object {
+    index: u16,
+    /// Bytes: 1, 2 or 4.
+    width: u8,
+    writable: bool,
+}
+
+const fn object(index: u16, width: u8, writable: bool) -> Object {
+    Object {
+        index,
+        width,
+        writable,
+    }
+}
+
+/// The charger's objects besides 2FFAh, in the order of
+/// [`ChargerObjects::value`]'s rows: one table for SDO info, reads and
+/// writes (the field code is two dense `match`es on the row).
+const OBJECTS: [Object; 18] = [
+    object(0x6000, 1, true),
+    object(0x6001, 1, false),
+    object(0x6010, 2, true),
+    object(0x6052, 2, true),
+    object(0x6060, 4, true),
+    object(0x6070, 2, true),
+    object(0x6080, 1, false),
+    object(0x6081, 1, true),
+    object(0x2002, 2, true),
+    object(0x2006, 2, false),
+    object(0x2060, 4, false),
+    object(0x2100, 2, false),
+    object(0x2101, 2, true),
+    object(0x2200, 2, false),
+    object(0x2241, 4, true),
+    object(0x2271, 4, true),
+    object(0x2276, 2, true),
+    object(0x4201, 1, true),
+];
+
+/// The row of `index` in [`OBJECTS`].
+fn find(index: u16) -> Option<(usize, Object)> {
+    OBJECTS
+        .iter()
+        .enumerate()
+        .find(|(_, o)| o.index == index)
+        .map(|(row, o)| (row, *o))
 }
 
 type Bytes = crate::bytes::InlineData<4>;
@@ -198,6 +263,94 @@ impl ObjectDictionary for ChargerObjects {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every object's access, length and field: written (if writable)
+    /// and read back through the dictionary, the field changed with it.
+    #[test]
+    fn every_object_writes_and_reads_its_own_field() {
+        use Access::{ReadOnly as Ro, ReadWrite as Rw};
+        let expected: [(u16, Access, usize); 18] = [
+            (0x6000, Rw, 1),
+            (0x6001, Ro, 1),
+            (0x6010, Rw, 2),
+            (0x6052, Rw, 2),
+            (0x6060, Rw, 4),
+            (0x6070, Rw, 2),
+            (0x6080, Ro, 1),
+            (0x6081, Rw, 1),
+            (0x2002, Rw, 2),
+            (0x2006, Ro, 2),
+            (0x2060, Ro, 4),
+            (0x2100, Ro, 2),
+            (0x2101, Rw, 2),
+            (0x2200, Ro, 2),
+            (0x2241, Rw, 4),
+            (0x2271, Rw, 4),
+            (0x2276, Rw, 2),
+            (0x4201, Rw, 1),
+        ];
+        let mut o = ChargerObjects::new();
+        for (index, access, len) in expected {
+            let info = o.info(index, 0).unwrap();
+            assert_eq!(
+                (info.access, info.len, info.pdo_mappable),
+                (access, len, true)
+            );
+            let value = [0xA1, 0xB2, 0xC3, 0xD4];
+            let data = &value[..len];
+            o.write(index, 0, 0, data).unwrap();
+            let result = o.finish_write(index, 0, len);
+            let mut buf = [0u8; 4];
+            assert_eq!(o.read(index, 0, 0, &mut buf), Ok(len));
+            if access == Rw {
+                assert_eq!(result, Ok(()), "{index:04X}h");
+                assert_eq!(&buf[..len], data, "{index:04X}h");
+            } else {
+                assert_eq!(result, Err(AbortCode::WriteOfReadOnlyObject));
+                assert_ne!(&buf[..len], data, "{index:04X}h");
+            }
+        }
+        assert_eq!(o.battery_status, 0xA1);
+        assert_eq!(o.temperature, 0xB2A1_u16 as i16);
+        assert_eq!(o.battery_voltage, 0xD4C3_B2A1);
+        assert_eq!(o.external_override, 0xA1);
+        assert_eq!(o.voltage_request_q8, 0xB2A1);
+        assert_eq!(o.extended_status, 0);
+        let w16 = 0xB2A1;
+        let w32 = 0xD4C3_B2A1;
+        assert_eq!(
+            (
+                o.charging_current,
+                o.battery_voltage_q8,
+                o.ah_returned,
+                o.current_requested
+            ),
+            (w16, w16, w16, w16)
+        );
+        assert_eq!((o.algorithm_request, o.voltage_request), (w32, w32));
+        assert_eq!(
+            (o.battery_soc, o.charger_status, o.charger_soc),
+            (0xA1, 0, 0xFF)
+        );
+        assert_eq!(
+            (o.displayed_error, o.battery_voltage_q10, o.ac_voltage),
+            (0, 0xFFFF, 0xFFFF)
+        );
+        // 2FFAh: sub 0 constant, subs 1 and 2 take and drop a byte.
+        assert_eq!(o.info(0x2FFA, 0).unwrap().access, Access::Const);
+        o.write(0x2FFA, 1, 0, &[7]).unwrap();
+        assert_eq!(o.finish_write(0x2FFA, 1, 1), Ok(()));
+        o.write(0x2FFA, 0, 0, &[3]).unwrap();
+        assert_eq!(
+            o.finish_write(0x2FFA, 0, 1),
+            Err(AbortCode::WriteOfReadOnlyObject)
+        );
+        assert_eq!(o.info(0x6000, 1), Err(AbortCode::SubIndexDoesNotExist));
+        assert_eq!(
+            o.finish_write(0x6000, 1, 1),
+            Err(AbortCode::WriteOfReadOnlyObject)
+        );
+    }
 
     #[test]
     fn objects_and_access() {

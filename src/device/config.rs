@@ -101,8 +101,11 @@ impl DeviceConfig {
         self
     }
 
-    pub(super) fn comm_objects(&self) -> CommObjects {
-        let mut comm = CommObjects::new(self.node);
+    /// The communication objects and policies of this configuration
+    /// (its PDO configuration is [`pdos`](Self::pdos)): what
+    /// [`PowerOn::restore`] writes.
+    fn restore_into(&self, comm: &mut CommObjects) -> Policies {
+        *comm = CommObjects::new(self.node);
         comm.device_type = self.device_type;
         comm.device_name = self.device_name;
         comm.identity = self.identity;
@@ -124,13 +127,59 @@ impl DeviceConfig {
                 .get(..usize::from(self.consumer_slots))
                 .unwrap_or(&[]),
         );
-        comm
+        Policies {
+            heartbeat_on_change: self.heartbeat_on_change,
+            sdo_timeout: self.sdo_timeout,
+            error_field: self.error_field,
+        }
     }
 
-    pub(super) fn server_config(&self) -> ServerConfig {
+    /// The configuration whose [`PowerOn::restore`] writes `comm`, `pdos`
+    /// and `policies` (times in the units of the objects).
+    #[must_use]
+    pub fn from_objects(comm: &CommObjects, pdos: &PdoConfig, policies: Policies) -> Self {
+        let consumers = comm.consumers();
+        DeviceConfig {
+            device_type: comm.device_type,
+            device_name: comm.device_name,
+            identity: comm.identity,
+            heartbeat: Duration::from_millis(u64::from(comm.heartbeat_ms)),
+            heartbeat_on_change: policies.heartbeat_on_change,
+            sdo_timeout: policies.sdo_timeout,
+            pdos: *pdos,
+            error_field: policies.error_field,
+            guard_time: Duration::from_millis(u64::from(comm.guard_time_ms)),
+            life_time_factor: comm.life_time_factor,
+            sync_cob_id: comm.sync_cob_id,
+            cycle_period: Duration::from_micros(u64::from(comm.cycle_period_us)),
+            sync_window: Duration::from_micros(u64::from(comm.sync_window_us)),
+            sync_counter_overflow: comm.sync_counter_overflow,
+            time_cob_id: comm.time_cob_id,
+            ..DeviceConfig::new(comm.node())
+        }
+        .with_consumers(consumers)
+    }
+}
+
+/// The settings of a [`Device`](super::Device) that are not objects, as
+/// [`PowerOn::restore`] gives them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Policies {
+    /// Send a heartbeat at once when the NMT state changes
+    /// ([`DeviceConfig::heartbeat_on_change`]).
+    pub heartbeat_on_change: bool,
+    /// SDO server timeout.
+    pub sdo_timeout: Duration,
+    /// How an EMCY is recorded in 1003h.
+    pub error_field: ErrorFieldFormat,
+}
+
+impl Policies {
+    /// The server of `node` with these policies.
+    pub(super) fn server_config(&self, node: NodeId) -> ServerConfig {
         ServerConfig {
             timeout: self.sdo_timeout,
-            ..ServerConfig::for_node(self.node)
+            ..ServerConfig::for_node(node)
         }
     }
 }
@@ -138,11 +187,39 @@ impl DeviceConfig {
 /// Where a [`Device`](super::Device) gets the configuration its NMT resets
 /// restore: a stored [`DeviceConfig`] (the default), or a smaller value it
 /// is rebuilt from at boot and at every reset (a profile's own
-/// configuration: `BatteryModuleConfig`, `ChargerConfig`), so that the
-/// device does not keep a second copy of it.
+/// configuration: `BatteryModulePowerOn`, `ChargerPowerOn`), so that the
+/// device does not keep a second copy of it. The values are written into
+/// the device's dictionary in place ([`restore`](Self::restore)): no
+/// configuration is built and copied at boot or at a reset.
+///
+/// ```
+/// use canopen_codec::device::{CommObjects, DeviceConfig, PowerOn};
+/// use canopen_codec::pdo::PdoConfig;
+/// use canopen_codec::NodeId;
+/// let config = DeviceConfig { device_type: 0x0001_0191, ..DeviceConfig::new(NodeId::MIN) };
+/// let (mut comm, mut pdos) = (CommObjects::new(NodeId::MAX), PdoConfig::new());
+/// let policies = config.restore(&mut comm, &mut pdos);
+/// assert_eq!((comm.node(), comm.device_type, comm.heartbeat_ms), (NodeId::MIN, 0x0001_0191, 1000));
+/// assert_eq!(policies.sdo_timeout, config.sdo_timeout);
+/// assert_eq!(config.power_on_config(), config);
+/// ```
 pub trait PowerOn {
-    /// The power-on configuration.
-    fn power_on_config(&self) -> DeviceConfig;
+    /// The node-ID.
+    fn node(&self) -> NodeId;
+
+    /// Writes the power-on values of the communication objects into `comm`
+    /// (all of them: 1001h and 1003h empty, the node-ID
+    /// [`node`](Self::node)'s) and the PDO configuration into `pdos`, and
+    /// gives the device's other settings.
+    fn restore(&self, comm: &mut CommObjects, pdos: &mut PdoConfig) -> Policies;
+
+    /// The power-on configuration as a [`DeviceConfig`] (made by
+    /// [`restore`](Self::restore); times in the units of the objects).
+    fn power_on_config(&self) -> DeviceConfig {
+        let (mut comm, mut pdos) = (CommObjects::new(self.node()), PdoConfig::new());
+        let policies = self.restore(&mut comm, &mut pdos);
+        DeviceConfig::from_objects(&comm, &pdos, policies)
+    }
 
     /// The node-ID becomes `node` before the device is built (an LSS slave
     /// that has one, [`Device::with_lss`](super::Device::with_lss)).
@@ -159,6 +236,15 @@ pub trait PowerOn {
 }
 
 impl PowerOn for DeviceConfig {
+    fn node(&self) -> NodeId {
+        self.node
+    }
+
+    fn restore(&self, comm: &mut CommObjects, pdos: &mut PdoConfig) -> Policies {
+        *pdos = self.pdos;
+        self.restore_into(comm)
+    }
+
     fn power_on_config(&self) -> DeviceConfig {
         *self
     }

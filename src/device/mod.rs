@@ -116,7 +116,7 @@ mod objects;
 mod profile;
 mod services;
 
-pub use config::{DeviceConfig, PowerOn};
+pub use config::{DeviceConfig, Policies, PowerOn};
 #[cfg(feature = "alloc")]
 pub use descriptions::COMM_OBJECT_DESCRIPTIONS;
 pub use objects::{
@@ -136,8 +136,8 @@ use crate::nmt::{NmtSlave, NmtSlaveEvent, NmtState, ResetKind};
 use crate::od::index::{CONSUMER_HEARTBEAT_TIME, PRODUCER_HEARTBEAT_TIME};
 use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
-use crate::queue::{EventQueue, Queue};
-use crate::sdo::{Server, ServerEvent, EVENTS_PER_CALL};
+use crate::queue::EventQueue;
+use crate::sdo::{Server, ServerConfig, ServerEvent, EVENTS_PER_CALL};
 use crate::time::{MaybeTimestamp, Timestamp};
 
 /// The dictionary the SDO server serves: PDO objects, communication
@@ -184,7 +184,9 @@ pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY, C = Devic
     /// one (at most one per call), so two slots are enough.
     nmt: NmtSlave<2>,
     heartbeat: HeartbeatProducer,
-    consumer: HeartbeatConsumer<MAX_CONSUMERS>,
+    /// The heartbeat consumer; drained after every call, so one event
+    /// per entry is enough.
+    consumer: HeartbeatConsumer<MAX_CONSUMERS, MAX_CONSUMERS>,
     /// Its events are read after every call: the capacity one call needs.
     server: Server<Dictionary<A>, EVENTS_PER_CALL>,
     tpdos: TpdoSet,
@@ -193,8 +195,9 @@ pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY, C = Devic
     tpdos_enabled: bool,
     /// The application objects at boot (restored by reset node).
     power_on: A,
-    transmit: Queue<CanFrame, Q>,
-    frames_dropped: u64,
+    /// The profile's frames and EMCYs: a full queue drops its oldest
+    /// frame and counts it ([`frames_dropped`](Self::frames_dropped)).
+    transmit: EventQueue<CanFrame, Q>,
     events: EventQueue<E, Q>,
     /// The optional LSS slave (CiA 305).
     #[cfg(feature = "lss")]
@@ -225,56 +228,52 @@ where
     /// from: [`PowerOn`]) over the application objects `app`, not yet
     /// booted.
     pub fn new(config: C, app: A) -> Self {
-        let (node, error_field) = {
-            let c = config.power_on_config();
-            (c.node, c.error_field)
-        };
-        let (server, heartbeat) = Self::power_on_parts(&config, node, app.clone());
-        Device {
+        let node = config.node();
+        let dictionary = PdoDictionary::new(
+            PdoConfig::new(),
+            DeviceObjects {
+                comm: CommObjects::new(node),
+                app: app.clone(),
+            },
+        );
+        let mut device = Device {
             config,
             node,
-            error_field,
+            error_field: ErrorFieldFormat::LittleEndianInfo,
             nmt: NmtSlave::with_event_capacity(node),
-            heartbeat,
+            heartbeat: HeartbeatProducer::new(node, Duration::ZERO),
             consumer: HeartbeatConsumer::new(),
-            server,
+            server: Server::with_event_capacity(ServerConfig::for_node(node), dictionary),
             tpdos: TpdoSet::new(),
             rpdos: RpdoReceiver::new(),
             tpdos_enabled: true,
             power_on: app,
-            transmit: Queue::new(CanFrame::EMPTY),
-            frames_dropped: 0,
+            transmit: EventQueue::new(CanFrame::EMPTY),
             events: EventQueue::new(E::from(DeviceEvent::Reset { node: true })),
             #[cfg(feature = "lss")]
             lss: None,
             #[cfg(feature = "lss")]
             powered: false,
             services: services::Services::new(node),
-        }
+        };
+        device.load_power_on();
+        device
     }
 
-    /// The SDO server over the power-on dictionary (the PDO and
-    /// communication objects of `config`'s power-on configuration, the
-    /// application objects `app`) and the heartbeat producer of `node`:
-    /// what [`new`](Self::new) and every reset build (one copy of the code).
+    /// Writes the power-on values of the communication objects and the PDO
+    /// configuration into the dictionary in place ([`PowerOn::restore`]),
+    /// and starts the SDO server and the heartbeat producer over on them:
+    /// what [`new`](Self::new) and every reset do (one copy of the code, no
+    /// second dictionary or server built and moved).
     #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-    fn power_on_parts(
-        config: &C,
-        node: NodeId,
-        app: A,
-    ) -> (Server<Dictionary<A>, EVENTS_PER_CALL>, HeartbeatProducer) {
-        let c = config.power_on_config();
-        let server_config = c.server_config();
-        let mut heartbeat = HeartbeatProducer::new(node, c.heartbeat);
-        heartbeat.send_on_change = c.heartbeat_on_change;
-        let od = PdoDictionary::new(
-            c.pdos,
-            DeviceObjects {
-                comm: c.comm_objects(),
-                app,
-            },
-        );
-        (Server::with_event_capacity(server_config, od), heartbeat)
+    fn load_power_on(&mut self) {
+        let od = self.server.od_mut();
+        let policies = self.config.restore(&mut od.inner.comm, &mut od.config);
+        let period = Duration::from_millis(u64::from(od.inner.comm.heartbeat_ms));
+        self.error_field = policies.error_field;
+        self.server.restart(policies.server_config(self.node));
+        self.heartbeat = HeartbeatProducer::new(self.node, period);
+        self.heartbeat.send_on_change = policies.heartbeat_on_change;
     }
 
     // ----- getters ---------------------------------------------------------
@@ -335,14 +334,15 @@ where
 
     /// The heartbeat consumer (1016h), for its nodes' states.
     #[must_use]
-    pub const fn heartbeat_consumer(&self) -> &HeartbeatConsumer<MAX_CONSUMERS> {
+    pub const fn heartbeat_consumer(&self) -> &HeartbeatConsumer<MAX_CONSUMERS, MAX_CONSUMERS> {
         &self.consumer
     }
 
-    /// Frames dropped because `poll_transmit` was not drained (oldest first).
+    /// Frames dropped because `poll_transmit` was not drained (oldest
+    /// first; saturating at `u32::MAX`).
     #[must_use]
     pub const fn frames_dropped(&self) -> u64 {
-        self.frames_dropped
+        self.transmit.dropped()
     }
 
     // ----- commands --------------------------------------------------------
@@ -463,11 +463,7 @@ where
     /// Queues a frame of the profile's (sent after EMCYs, before SDO
     /// responses).
     pub fn send(&mut self, frame: CanFrame) {
-        if !self.transmit.push(frame) {
-            let _ = self.transmit.pop();
-            let _ = self.transmit.push(frame);
-            self.frames_dropped = self.frames_dropped.saturating_add(1);
-        }
+        self.transmit.push(frame);
     }
 
     /// Queues an event of the profile's.
@@ -543,16 +539,29 @@ where
         &mut self,
         profile: &mut P,
     ) -> Option<CanFrame> {
-        let frame = self.heartbeat.poll_transmit();
+        // Early returns rather than an `or_else` chain: one frame copy
+        // each, not one per link of the chain.
+        if let Some(frame) = self.heartbeat.poll_transmit() {
+            return Some(frame);
+        }
         #[cfg(feature = "guarding")]
-        let frame = frame.or_else(|| self.services.guarding.poll_transmit());
-        let frame = frame.or_else(|| self.transmit.pop());
+        if let Some(frame) = self.services.guarding.poll_transmit() {
+            return Some(frame);
+        }
+        if let Some(frame) = self.transmit.pop() {
+            return Some(frame);
+        }
         #[cfg(feature = "lss")]
-        let frame = frame.or_else(|| self.lss.as_mut().and_then(LssSlave::poll_transmit));
-        frame
-            .or_else(|| self.server.poll_transmit())
-            .or_else(|| profile.poll_transmit())
-            .or_else(|| self.tpdos.poll_transmit())
+        if let Some(frame) = self.lss.as_mut().and_then(LssSlave::poll_transmit) {
+            return Some(frame);
+        }
+        if let Some(frame) = self.server.poll_transmit() {
+            return Some(frame);
+        }
+        if let Some(frame) = profile.poll_transmit() {
+            return Some(frame);
+        }
+        self.tpdos.poll_transmit()
     }
 
     /// The earliest deadline of the core's and the profile's timers.
@@ -642,11 +651,10 @@ where
         // A running transfer ends silently; a download is aborted in the
         // dictionary before the application objects are kept.
         self.server.cancel();
-        let app = match kind {
-            ResetKind::Node => self.power_on.clone(),
-            ResetKind::Communication => self.objects().clone(),
-        };
-        (self.server, self.heartbeat) = Self::power_on_parts(&self.config, self.node, app);
+        if kind == ResetKind::Node {
+            self.server.od_mut().inner.app.clone_from(&self.power_on);
+        }
+        self.load_power_on();
         self.heartbeat.boot(now);
         self.consumer = HeartbeatConsumer::new();
         self.apply_consumers(now);

@@ -182,8 +182,10 @@ impl CommObjects {
     /// The error history (1003h sub 1..), newest first.
     #[must_use]
     pub fn errors(&self) -> &[u32] {
+        // The `min`s (the lengths never exceed the arrays) let the
+        // compiler drop the fallbacks.
         self.history
-            .get(..usize::from(self.history_len))
+            .get(..usize::from(self.history_len).min(ERROR_HISTORY_LEN))
             .unwrap_or(&[])
     }
 
@@ -209,7 +211,7 @@ impl CommObjects {
     #[must_use]
     pub fn consumers(&self) -> &[ConsumerEntry] {
         self.consumers
-            .get(..usize::from(self.consumer_slots))
+            .get(..usize::from(self.consumer_slots).min(MAX_CONSUMERS))
             .unwrap_or(&[])
     }
 

@@ -73,7 +73,7 @@ impl WriteBuffer {
         let key = self.key.take();
         let len = core::mem::take(&mut self.len);
         if key == Some((index, sub)) {
-            self.bytes.get(..len).unwrap_or(&[])
+            self.bytes.get(..len.min(self.bytes.len())).unwrap_or(&[])
         } else {
             &[]
         }

@@ -123,6 +123,25 @@ impl PdoConfig {
         PdoConfig { slots: [None; 8] }
     }
 
+    /// Removes every PDO (what [`new`](Self::new) gives), in place: no
+    /// empty configuration built in a temporary and copied (a device's NMT
+    /// reset restores its PDOs into the live one).
+    ///
+    /// ```
+    /// use canopen_codec::pdo::{PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoMapping, PdoSlot};
+    /// use canopen_codec::PdoNumber;
+    /// let mut pdos = PdoConfig::new();
+    /// let comm = PdoCommParams::event_driven(PdoCobId::from_u32(0x181), 100);
+    /// pdos.insert(PdoDirection::Transmit, PdoNumber::P0, PdoSlot::new(comm, &PdoMapping::EMPTY));
+    /// pdos.clear();
+    /// assert_eq!(pdos, PdoConfig::new());
+    /// ```
+    pub fn clear(&mut self) {
+        for slot in &mut self.slots {
+            *slot = None;
+        }
+    }
+
     /// Adds (or replaces) a PDO.
     pub fn insert(&mut self, dir: PdoDirection, n: PdoNumber, slot: PdoSlot) -> &mut Self {
         if let Some(s) = self.slots.get_mut(position(dir, n)) {

@@ -335,6 +335,26 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         }
     }
 
+    /// Starts over on `config` with the dictionary it has: what
+    /// [`new`](Self::new) would give (no transfer, frame or event; a
+    /// running download is aborted in the dictionary, as
+    /// [`cancel`](Self::cancel) does), without building a second server
+    /// (a device's NMT reset).
+    pub fn restart(&mut self, config: ServerConfig) {
+        self.cancel();
+        self.config = config;
+        self.timeout_us = u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX);
+        self.request_word = crate::frame::data_frame_word(config.request_id);
+        self.sends = crate::frame::check_id(config.response_id).is_ok();
+        self.timers = Timers::new();
+        self.transmit = FrameSlot::new();
+        self.events = EventQueue::new(ServerEvent::Uploaded {
+            index: 0,
+            sub: 0,
+            len: 0,
+        });
+    }
+
     /// The configuration.
     #[must_use]
     pub const fn config(&self) -> &ServerConfig {
