@@ -83,10 +83,10 @@ def wait_until(pred, seconds):
     return pred()
 
 
-def main():
-    exe = sys.argv[1]
-    bus = PipeBus([exe, "--node-id", str(CHARGER), "--battery-node", str(BATTERY),
-                   "--current", "19.5", "--voltage", "48", "--linger-ms", "0"])
+def charger_network(bus):
+    """python-canopen on `bus`: the battery module as a LocalNode (its SDO
+    reads recorded) and the charger as a remote node. Also used by
+    firmware_interop.py. Returns (network, battery, charger, reads)."""
     net = canopen.Network(bus)
     net.connect()
     battery = canopen.LocalNode(BATTERY, battery_od())
@@ -95,6 +95,14 @@ def main():
     battery.add_read_callback(lambda index, subindex, od: reads.append((index, subindex)))
     charger = net.add_node(CHARGER, charger_od())
     charger.sdo.RESPONSE_TIMEOUT = 2.0
+    return net, battery, charger, reads
+
+
+def main():
+    exe = sys.argv[1]
+    bus = PipeBus([exe, "--node-id", str(CHARGER), "--battery-node", str(BATTERY),
+                   "--current", "19.5", "--voltage", "48", "--linger-ms", "0"])
+    net, battery, charger, reads = charger_network(bus)
     try:
         check("the charger boots (70A#00)", wait_until(lambda: frames(bus, 0x700 + CHARGER, 0), 3))
         # The battery module boots and sends its heartbeat.

@@ -41,7 +41,7 @@ from pipebus import Cases, PipeBus
 
 import battery_interop
 import charger_interop
-from charger_interop import battery_od, charger_od, frames, wait_until
+from charger_interop import charger_network, frames, wait_until
 
 BATTERY = 1
 CHARGER = 10
@@ -300,14 +300,7 @@ def battery_cases(bus, net, node):
 def charger(emulate, elf, report):
     cmd = [sys.executable, emulate, elf] + (["--stack-report", report] if report else [])
     bus = PipeBus(cmd)
-    net = canopen.Network(bus)
-    net.connect()
-    battery_node = canopen.LocalNode(BATTERY, battery_od())
-    net.add_node(battery_node)
-    reads = []
-    battery_node.add_read_callback(lambda index, subindex, od: reads.append((index, subindex)))
-    node = net.add_node(CHARGER, charger_od())
-    node.sdo.RESPONSE_TIMEOUT = 2.0
+    net, battery_node, node, reads = charger_network(bus)
     try:
         charger_cases(bus, net, battery_node, node, reads)
     except BrokenPipeError:
