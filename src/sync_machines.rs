@@ -397,7 +397,7 @@ impl SyncConsumer {
     /// The synchronous window length (1007h, whole µs, saturating at
     /// `u32::MAX`, the largest 1007h; zero: no window).
     pub fn set_window(&mut self, window: Duration) {
-        self.window_us = u32::try_from(crate::time::micros_of(window)).unwrap_or(u32::MAX);
+        self.window_us = crate::time::micros_u32(window);
     }
 
     /// Forgets the last SYNC (a reset).

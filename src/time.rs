@@ -281,6 +281,20 @@ pub(crate) fn millis_of(d: Duration) -> u64 {
         .saturating_add(u64::from(d.subsec_millis()))
 }
 
+/// A duration as whole microseconds for a 32-bit object (1006h, 1007h),
+/// saturating at `u32::MAX`.
+#[must_use]
+pub(crate) fn micros_u32(d: Duration) -> u32 {
+    u32::try_from(micros_of(d)).unwrap_or(u32::MAX)
+}
+
+/// A duration as whole milliseconds in 32 bits (an SDO timeout kept for
+/// resets), saturating at `u32::MAX`.
+#[must_use]
+pub(crate) fn millis_u32(d: Duration) -> u32 {
+    u32::try_from(millis_of(d)).unwrap_or(u32::MAX)
+}
+
 /// A duration as whole milliseconds for a 16-bit object (1017h, 1016h,
 /// event timers), saturating at 65535 ms.
 #[must_use]
@@ -394,6 +408,14 @@ mod tests {
         assert_eq!(millis_u16(Duration::from_millis(65_535)), 65_535);
         assert_eq!(millis_u16(Duration::from_micros(65_535_999)), 65_535);
         assert_eq!(millis_u16(Duration::from_millis(65_536)), u16::MAX);
+        assert_eq!(
+            micros_u32(Duration::from_micros(u64::from(u32::MAX))),
+            u32::MAX
+        );
+        assert_eq!(micros_u32(Duration::from_micros(7)), 7);
+        assert_eq!(micros_u32(Duration::from_secs(1 << 40)), u32::MAX);
+        assert_eq!(millis_u32(Duration::from_micros(2_500_900)), 2_500);
+        assert_eq!(millis_u32(Duration::MAX), u32::MAX);
     }
 
     proptest::proptest! {

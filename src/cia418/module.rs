@@ -59,7 +59,7 @@ use crate::pdo::{
     TransmissionType, MAX_ENTRIES,
 };
 use crate::sdo::DEFAULT_TIMEOUT;
-use crate::time::{millis_of, millis_u16, Timestamp};
+use crate::time::{millis_u16, millis_u32, Timestamp};
 
 /// How a [`BatteryModule`] is set up.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -143,7 +143,7 @@ impl From<BatteryModuleConfig> for BatteryModulePowerOn {
             enable_tpdos: c.enable_tpdos,
             heartbeat_ms: millis_u16(c.heartbeat),
             device_type: c.device_type,
-            sdo_timeout_ms: u32::try_from(millis_of(c.sdo_timeout)).unwrap_or(u32::MAX),
+            sdo_timeout_ms: millis_u32(c.sdo_timeout),
             device_name: c.device_name,
             identity: c.identity,
         }

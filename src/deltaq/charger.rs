@@ -77,7 +77,7 @@ use crate::nmt::NmtState;
 use crate::od::index::DEVICE_TYPE;
 use crate::pdo::{PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoSlot, RpdoError};
 use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent, EVENTS_PER_CALL};
-use crate::time::{millis_of, millis_u16, Timestamp};
+use crate::time::{millis_u16, millis_u32, Timestamp};
 
 /// How the charger is set up.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -183,7 +183,7 @@ impl From<ChargerConfig> for ChargerPowerOn {
             heartbeat_ms: millis_u16(c.heartbeat),
             battery_timeout_ms: millis_u16(c.battery_timeout),
             tpdo_periods_ms: c.tpdo_periods.map(millis_u16),
-            sdo_timeout_ms: u32::try_from(millis_of(c.sdo_timeout)).unwrap_or(u32::MAX),
+            sdo_timeout_ms: millis_u32(c.sdo_timeout),
             device_name: c.device_name,
         }
     }

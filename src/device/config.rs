@@ -9,7 +9,7 @@ use crate::heartbeat::ConsumerEntry;
 use crate::pdo::PdoConfig;
 use crate::sdo::{ServerConfig, DEFAULT_TIMEOUT};
 use crate::sync::SyncCobId;
-use crate::time::millis_u16;
+use crate::time::{micros_u32, millis_u16};
 use crate::time_of_day::TimeCobId;
 
 /// How a [`Device`](super::Device) is set up: the power-on values of its communication
@@ -260,10 +260,4 @@ impl PowerOn for DeviceConfig {
         super::lss::renumber_pdos(&mut self.pdos, self.node, node);
         self.node = node;
     }
-}
-
-/// A duration as whole microseconds for a 32-bit object (1006h, 1007h),
-/// saturating at `u32::MAX`.
-fn micros_u32(d: Duration) -> u32 {
-    u32::try_from(crate::time::micros_of(d)).unwrap_or(u32::MAX)
 }
