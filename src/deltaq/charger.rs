@@ -60,7 +60,7 @@
 use core::time::Duration;
 
 use super::charger_objects::ChargerObjects;
-use super::{charger_default_pdo, device_type};
+use super::{device_type, CHARGER_DEFAULT_PDOS};
 use super::{emergency_reaction, timeouts, DeltaQCode, OperatingMode, Reaction, ALARMS_AND_FAULTS};
 use crate::bytes::InlineData;
 use crate::cia419::{PdoPair, CHARGER_DEVICE_TYPE, PDO_PAIRS};
@@ -293,30 +293,28 @@ const PAIRS: [PdoPair; 7] = {
 const PDO_NUMBERS: [PdoNumber; 4] = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3];
 
 /// Writes the charger's default PDO set into `pdos` (every slot): its
-/// published mappings, with COB-IDs not valid until configured (or valid
-/// defaults without configuration).
+/// published mappings ([`CHARGER_DEFAULT_PDOS`], one loop over the table;
+/// RPDO 3 has none and no slot), with COB-IDs not valid until configured
+/// (or valid defaults without configuration) and the configured TPDO
+/// periods.
 fn default_pdos(config: &ChargerPowerOn, pdos: &mut PdoConfig) {
     pdos.clear();
-    for dir in [PdoDirection::Transmit, PdoDirection::Receive] {
-        for n in PDO_NUMBERS {
-            let d = charger_default_pdo(dir, n);
-            let Some(mapping) = d.mapping() else { continue };
-            let cob =
-                PdoCobId::from_u32(d.cob_id(config.node)).with_valid(!config.configure_cob_ids);
-            let period = match dir {
-                PdoDirection::Transmit => config
-                    .tpdo_periods_ms
-                    .get(usize::from(n.raw()))
-                    .copied()
-                    .unwrap_or(0),
-                PdoDirection::Receive => 0,
-            };
-            pdos.insert(
-                dir,
-                n,
-                PdoSlot::new(PdoCommParams::event_driven(cob, period), &mapping),
-            );
-        }
+    for d in &CHARGER_DEFAULT_PDOS {
+        let Some(mapping) = d.mapping() else { continue };
+        let cob = PdoCobId::from_u32(d.cob_id(config.node)).with_valid(!config.configure_cob_ids);
+        let period = match d.direction {
+            PdoDirection::Transmit => config
+                .tpdo_periods_ms
+                .get(usize::from(d.number.raw()))
+                .copied()
+                .unwrap_or(0),
+            PdoDirection::Receive => 0,
+        };
+        pdos.insert(
+            d.direction,
+            d.number,
+            PdoSlot::new(PdoCommParams::event_driven(cob, period), &mapping),
+        );
     }
 }
 
@@ -510,7 +508,7 @@ impl ChargerProfile {
 
     /// Boot or NMT reset: no transfer, no pairing.
     fn restart<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
-        self.client = Client::with_event_capacity(*self.client.config());
+        self.client.reset();
         self.link = Link::Absent;
         device.set_tpdos_enabled(now, false);
     }
@@ -576,7 +574,7 @@ impl ChargerProfile {
     /// Reads the module's 1000h with a fresh client: a transfer of an
     /// earlier attempt (a module that rebooted meanwhile) ends silently.
     fn start_configuration(&mut self, now: Timestamp) {
-        self.client = Client::with_event_capacity(*self.client.config());
+        self.client.reset();
         self.link = Link::DeviceType;
         if self.client.start_upload(now, DEVICE_TYPE, 0).is_err() {
             self.link = Link::Failed;
@@ -715,7 +713,7 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn> fo
                 // No SDO in stopped: a configuration in progress ends
                 // without a frame and is redone when SDO is allowed again.
                 if matches!(self.link, Link::DeviceType | Link::CobId(..)) {
-                    self.client = Client::with_event_capacity(*self.client.config());
+                    self.client.reset();
                     self.link = Link::Pending;
                 }
             }
