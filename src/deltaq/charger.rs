@@ -290,8 +290,6 @@ const PAIRS: [PdoPair; 7] = {
     [a, b, c, d, e, f, tpdo3]
 };
 
-const PDO_NUMBERS: [PdoNumber; 4] = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3];
-
 /// Writes the charger's default PDO set into `pdos` (every slot): its
 /// published mappings ([`CHARGER_DEFAULT_PDOS`], one loop over the table;
 /// RPDO 3 has none and no slot), with COB-IDs not valid until configured
@@ -553,10 +551,10 @@ impl ChargerProfile {
         state: NmtState,
         again: bool,
     ) {
-        if !again && self.link != Link::Absent {
+        if !again && !matches!(self.link, Link::Absent) {
             return;
         }
-        if again && self.link != Link::Absent && self.link != Link::Failed {
+        if again && !matches!(self.link, Link::Absent | Link::Failed) {
             // A boot-up while configured: the module reset its PDOs; redo it.
             self.forget_pairing(device, now);
         }
@@ -601,13 +599,13 @@ impl ChargerProfile {
 
     fn configured<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
         let config = device.pdo_config();
-        let mask = |dir| {
-            PDO_NUMBERS
-                .iter()
-                .filter(|n| config.get(dir, **n).is_some_and(PdoSlot::is_valid))
-                .fold(0u8, |m, n| m | 1 << n.raw())
+        // Bit n: PDO n is there and valid (the slots are PDO 0..3 in order).
+        let mask = |slots: &[Option<PdoSlot>]| {
+            slots.iter().rev().fold(0u8, |m, slot| {
+                m << 1 | u8::from(slot.as_ref().is_some_and(PdoSlot::is_valid))
+            })
         };
-        let (tpdos, rpdos) = (mask(PdoDirection::Transmit), mask(PdoDirection::Receive));
+        let (tpdos, rpdos) = (mask(config.tpdos()), mask(config.rpdos()));
         device.push_event(ChargerEvent::Configured { tpdos, rpdos });
         device.clear_error(ErrorRegister::GENERIC);
         device.set_tpdos_enabled(now, true);
@@ -720,7 +718,7 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn> fo
             DeviceEvent::NmtStateChanged {
                 to: NmtState::PreOperational | NmtState::Operational,
                 ..
-            } if self.link == Link::Pending => self.start_configuration(now),
+            } if matches!(self.link, Link::Pending) => self.start_configuration(now),
             DeviceEvent::Heartbeat(e) => match e {
                 HeartbeatEvent::Lost(n) if n == battery => self.battery_lost(device, now),
                 HeartbeatEvent::BootUp(n) if n == battery => {
@@ -730,7 +728,7 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn> fo
                     self.battery_found(device, now, state, true);
                 }
                 HeartbeatEvent::StateChanged { node, state }
-                    if node == battery && self.link == Link::Absent =>
+                    if node == battery && matches!(self.link, Link::Absent) =>
                 {
                     self.battery_found(device, now, state, false);
                 }
@@ -750,7 +748,7 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn> fo
             return;
         }
         // The first heartbeat starts monitoring without an event.
-        if self.link == Link::Absent {
+        if matches!(self.link, Link::Absent) {
             let consumer = device.heartbeat_consumer();
             if let Some(state) = consumer.state(battery) {
                 if consumer.is_alive(battery) {
