@@ -506,7 +506,7 @@ impl ChargerProfile {
 
     /// Boot or NMT reset: no transfer, no pairing.
     fn restart<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
-        self.client.reset();
+        self.client = Client::with_event_capacity(*self.client.config());
         self.link = Link::Absent;
         device.set_tpdos_enabled(now, false);
     }
@@ -572,7 +572,7 @@ impl ChargerProfile {
     /// Reads the module's 1000h with a fresh client: a transfer of an
     /// earlier attempt (a module that rebooted meanwhile) ends silently.
     fn start_configuration(&mut self, now: Timestamp) {
-        self.client.reset();
+        self.client = Client::with_event_capacity(*self.client.config());
         self.link = Link::DeviceType;
         if self.client.start_upload(now, DEVICE_TYPE, 0).is_err() {
             self.link = Link::Failed;
@@ -711,7 +711,7 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn> fo
                 // No SDO in stopped: a configuration in progress ends
                 // without a frame and is redone when SDO is allowed again.
                 if matches!(self.link, Link::DeviceType | Link::CobId(..)) {
-                    self.client.reset();
+                    self.client = Client::with_event_capacity(*self.client.config());
                     self.link = Link::Pending;
                 }
             }

@@ -351,37 +351,6 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         }
     }
 
-    /// Ends the running transfer silently (no abort frame, no event) and
-    /// forgets the queued frame, the events and the drop counters: the
-    /// client is as [`with_event_capacity`](Self::with_event_capacity) of
-    /// the same configuration made it, without working the configuration
-    /// out again (for a node that restarts its client, e.g. on an NMT
-    /// reset, where CiA 301 sends no abort).
-    ///
-    /// ```
-    /// use canopen_codec::machine::Machine;
-    /// use canopen_codec::sdo::{Client, ClientConfig};
-    /// use canopen_codec::{NodeId, Timestamp};
-    ///
-    /// let mut client: Client = Client::new(ClientConfig::for_server(NodeId::new(2).unwrap()));
-    /// client.start_upload(Timestamp::ZERO, 0x1000, 0).unwrap();
-    /// client.reset();
-    /// assert!(!client.is_busy());
-    /// assert_eq!(client.poll_transmit(), None);
-    /// assert_eq!(client.poll_timeout(), None);
-    /// assert_eq!(client.poll_event(), None);
-    /// ```
-    pub fn reset(&mut self) {
-        self.state = State::Idle;
-        self.timers = Timers::new();
-        self.transmit = FrameSlot::new();
-        self.events = EventQueue::new(ClientEvent::Uploaded {
-            index: 0,
-            sub: 0,
-            len: 0,
-        });
-    }
-
     /// The configuration.
     #[must_use]
     pub const fn config(&self) -> &ClientConfig {
