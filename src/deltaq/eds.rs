@@ -7,6 +7,7 @@ use crate::device::COMM_OBJECT_DESCRIPTIONS;
 use crate::eds::{DataType, DeviceHeader, Eds, ObjectDescription, ObjectType, SubDescription};
 
 use super::index;
+#[cfg(feature = "heartbeat-consumer")]
 use super::Charger;
 
 const U8: DataType = DataType::Unsigned8;
@@ -77,6 +78,7 @@ pub const DELTAQ_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
 /// assert_eq!(eds.name(0x2002, 0), Some("Charging Current"));
 /// assert!(eds.objects.contains_key(&0x1016));
 /// ```
+#[cfg(feature = "heartbeat-consumer")]
 #[must_use]
 pub fn charger_eds(charger: &Charger) -> Eds {
     let mut od = charger.dictionary().clone();
