@@ -2,9 +2,13 @@
 //! Delta-Q names of its manufacturer objects, the CiA 418 and CiA 301
 //! names of the others, and the charger's own dictionary.
 
-use crate::cia418::CIA418_OBJECT_DESCRIPTIONS;
-use crate::device::COMM_OBJECT_DESCRIPTIONS;
-use crate::eds::{DataType, DeviceHeader, Eds, ObjectDescription, ObjectType, SubDescription};
+use crate::eds::{DataType, ObjectDescription, ObjectType, SubDescription};
+#[cfg(feature = "heartbeat-consumer")]
+use crate::{
+    cia418::CIA418_OBJECT_DESCRIPTIONS,
+    device::COMM_OBJECT_DESCRIPTIONS,
+    eds::{DeviceHeader, Eds},
+};
 
 use super::index;
 #[cfg(feature = "heartbeat-consumer")]
