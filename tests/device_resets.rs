@@ -5,9 +5,11 @@
 //! message and drop the PDO pairing / configuration changes.
 
 use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig, Temperature};
+#[cfg(feature = "heartbeat-consumer")]
 use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
 use canopen_codec::device::DeviceEvent;
 use canopen_codec::machine::Machine;
+#[cfg(feature = "heartbeat-consumer")]
 use canopen_codec::nmt::NmtState;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 
@@ -25,6 +27,7 @@ fn sent(m: &mut impl Machine) -> Vec<String> {
         .collect()
 }
 
+#[cfg(feature = "heartbeat-consumer")]
 fn charger() -> Charger {
     Charger::new(ChargerConfig::new(
         NodeId::new(10).unwrap(),
@@ -35,6 +38,7 @@ fn charger() -> Charger {
 /// The bug this pins: the charger rebuilt its whole dictionary from its
 /// config on reset communication (application values lost) and reported no
 /// reset.
+#[cfg(feature = "heartbeat-consumer")]
 #[test]
 fn charger_reset_communication_keeps_application_values_and_reports_it() {
     let mut c = charger();
@@ -80,6 +84,7 @@ fn charger_reset_communication_keeps_application_values_and_reports_it() {
     );
 }
 
+#[cfg(feature = "heartbeat-consumer")]
 #[test]
 fn charger_reset_node_restores_application_values_from_boot() {
     let mut c = charger();
