@@ -34,7 +34,7 @@
 //! Values are applied only when the whole download is accepted
 //! ([`ObjectDictionary::finish_write`]); a refused write changes nothing.
 
-use super::comm::{le_word, slot_of_index, PdoCommParams, PdoDirection};
+use super::comm::{le_word, PdoCommParams, PdoDirection};
 use super::mapping::{MappingEntry, MappingError, PdoMapping, MAX_BITS, MAX_ENTRIES};
 use crate::bytes::InlineData;
 use crate::cob_id::PdoNumber;
@@ -99,31 +99,69 @@ impl PdoSlot {
     }
 }
 
-/// The PDO configuration of a device: up to 4 RPDOs and 4 TPDOs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub struct PdoConfig {
-    /// RPDO 0-3, then TPDO 0-3 (the order of `slot_of_index`).
-    slots: [Option<PdoSlot>; 8],
+/// The PDO configuration of a device: `R` RPDOs and `T` TPDOs (at most 4
+/// each, the PDO numbers [`PdoNumber`] has; default 4 and 4). A PDO
+/// number the device does not have has no slot: [`get`](Self::get) gives
+/// `None`, [`insert`](Self::insert) ignores it, and over SDO its objects
+/// do not exist (CiA 301: the PDO objects exist for the PDOs a device has).
+///
+/// ```
+/// use canopen_codec::pdo::{PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoMapping, PdoSlot};
+/// use canopen_codec::PdoNumber;
+/// // 3 TPDOs and 3 RPDOs (a CiA 418 battery module).
+/// let mut pdos = PdoConfig::<3, 3>::empty();
+/// let comm = PdoCommParams::event_driven(PdoCobId::from_u32(0x184), 100);
+/// pdos.insert(PdoDirection::Transmit, PdoNumber::P2, PdoSlot::new(comm, &PdoMapping::EMPTY));
+/// pdos.insert(PdoDirection::Transmit, PdoNumber::P3, PdoSlot::new(comm, &PdoMapping::EMPTY));
+/// assert!(pdos.get(PdoDirection::Transmit, PdoNumber::P2).is_some());
+/// assert_eq!(pdos.get(PdoDirection::Transmit, PdoNumber::P3), None); // no TPDO 3
+/// assert_eq!(PdoConfig::<3, 3>::count(PdoDirection::Receive), 3);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct PdoConfig<const T: usize = 4, const R: usize = 4> {
+    /// RPDO 0..R.
+    rpdos: [Option<PdoSlot>; R],
+    /// TPDO 0..T.
+    tpdos: [Option<PdoSlot>; T],
 }
 
-/// The position of PDO `n` of `dir` in [`PdoConfig`]'s slots.
-#[inline]
-const fn position(dir: PdoDirection, n: PdoNumber) -> usize {
-    let base = match dir {
-        PdoDirection::Receive => 0,
-        PdoDirection::Transmit => 4,
-    };
-    base + n.raw() as usize
+impl Default for PdoConfig {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
 impl PdoConfig {
-    /// A device without PDOs.
+    /// A device without PDOs, with room for 4 TPDOs and 4 RPDOs (other
+    /// counts: [`empty`](Self::empty)).
     #[must_use]
     pub const fn new() -> Self {
-        PdoConfig { slots: [None; 8] }
+        Self::empty()
+    }
+}
+
+impl<const T: usize, const R: usize> PdoConfig<T, R> {
+    /// A device without PDOs, with room for `T` TPDOs and `R` RPDOs. Counts
+    /// above 4 do not compile (no PDO number has the slots past 4).
+    #[must_use]
+    pub const fn empty() -> Self {
+        const { assert!(T <= 4 && R <= 4, "at most 4 TPDOs and 4 RPDOs") };
+        PdoConfig {
+            rpdos: [None; R],
+            tpdos: [None; T],
+        }
     }
 
-    /// Removes every PDO (what [`new`](Self::new) gives), in place: no
+    /// How many PDOs of `dir` the configuration has room for (`T` or `R`).
+    #[must_use]
+    pub const fn count(dir: PdoDirection) -> usize {
+        match dir {
+            PdoDirection::Receive => R,
+            PdoDirection::Transmit => T,
+        }
+    }
+
+    /// Removes every PDO (what [`empty`](Self::empty) gives), in place: no
     /// empty configuration built in a temporary and copied (a device's NMT
     /// reset restores its PDOs into the live one).
     ///
@@ -137,14 +175,36 @@ impl PdoConfig {
     /// assert_eq!(pdos, PdoConfig::new());
     /// ```
     pub fn clear(&mut self) {
-        for slot in &mut self.slots {
+        for slot in self.rpdos.iter_mut().chain(&mut self.tpdos) {
             *slot = None;
         }
     }
 
-    /// Adds (or replaces) a PDO.
+    /// Copies the PDOs of `other` this configuration has room for, and
+    /// removes the others (a configuration of other counts restored into
+    /// this one).
+    pub fn copy_from<const T2: usize, const R2: usize>(&mut self, other: &PdoConfig<T2, R2>) {
+        self.clear();
+        for (d, s) in self.rpdos.iter_mut().zip(&other.rpdos) {
+            *d = *s;
+        }
+        for (d, s) in self.tpdos.iter_mut().zip(&other.tpdos) {
+            *d = *s;
+        }
+    }
+
+    #[inline]
+    fn slots_mut(&mut self, dir: PdoDirection) -> &mut [Option<PdoSlot>] {
+        match dir {
+            PdoDirection::Receive => &mut self.rpdos,
+            PdoDirection::Transmit => &mut self.tpdos,
+        }
+    }
+
+    /// Adds (or replaces) a PDO; a number the configuration has no room
+    /// for is ignored.
     pub fn insert(&mut self, dir: PdoDirection, n: PdoNumber, slot: PdoSlot) -> &mut Self {
-        if let Some(s) = self.slots.get_mut(position(dir, n)) {
+        if let Some(s) = self.slots_mut(dir).get_mut(usize::from(n.raw())) {
             *s = Some(slot);
         }
         self
@@ -152,36 +212,40 @@ impl PdoConfig {
 
     /// A PDO's configuration, if the device has it.
     #[must_use]
-    #[inline]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn get(&self, dir: PdoDirection, n: PdoNumber) -> Option<&PdoSlot> {
-        self.slots.get(position(dir, n))?.as_ref()
+        let slots: &[Option<PdoSlot>] = match dir {
+            PdoDirection::Receive => &self.rpdos,
+            PdoDirection::Transmit => &self.tpdos,
+        };
+        slots.get(usize::from(n.raw()))?.as_ref()
     }
 
     /// The same, mutably (the application's own changes; no rules applied).
-    #[inline]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn get_mut(&mut self, dir: PdoDirection, n: PdoNumber) -> Option<&mut PdoSlot> {
-        self.slots.get_mut(position(dir, n))?.as_mut()
+        self.slots_mut(dir).get_mut(usize::from(n.raw()))?.as_mut()
     }
 
-    /// TPDO 0-3.
+    /// TPDO 0..T.
     #[inline]
-    pub(crate) fn tpdos(&self) -> &[Option<PdoSlot>] {
-        self.slots.get(4..).unwrap_or(&[])
+    pub(crate) fn tpdos(&self) -> &[Option<PdoSlot>; T] {
+        &self.tpdos
     }
 
-    /// RPDO 0-3.
+    /// RPDO 0..R.
     #[inline]
-    pub(crate) fn rpdos(&self) -> &[Option<PdoSlot>] {
-        self.slots.get(..4).unwrap_or(&[])
+    pub(crate) fn rpdos(&self) -> &[Option<PdoSlot>; R] {
+        &self.rpdos
     }
 }
 
 /// An [`ObjectDictionary`] serving the PDO objects from a [`PdoConfig`] with
 /// the reconfiguration rules, and everything else from `D`.
 #[derive(Debug, Clone)]
-pub struct PdoDictionary<D> {
+pub struct PdoDictionary<D, const T: usize = 4, const R: usize = 4> {
     /// The PDO configuration.
-    pub config: PdoConfig,
+    pub config: PdoConfig<T, R>,
     /// The application's dictionary (all other objects).
     pub inner: D,
     pending: WriteBuffer,
@@ -192,14 +256,13 @@ pub struct PdoDictionary<D> {
 enum Target {
     Inner,
     Missing,
-    /// The PDO's position in the configuration, and whether the index is
-    /// its mapping object.
-    Pdo(usize, bool),
+    /// The PDO, and whether the index is its mapping object.
+    Pdo(PdoDirection, PdoNumber, bool),
 }
 
-impl<D: ObjectDictionary> PdoDictionary<D> {
+impl<D: ObjectDictionary, const T: usize, const R: usize> PdoDictionary<D, T, R> {
     /// Layers `config` over `inner`.
-    pub const fn new(config: PdoConfig, inner: D) -> Self {
+    pub const fn new(config: PdoConfig<T, R>, inner: D) -> Self {
         PdoDictionary {
             config,
             inner,
@@ -209,11 +272,11 @@ impl<D: ObjectDictionary> PdoDictionary<D> {
 
     #[inline]
     fn target(&self, index: u16) -> Target {
-        match slot_of_index(index) {
+        match PdoDirection::from_index(index) {
             None => Target::Inner,
-            Some((pos, is_mapping)) => match self.config.slots.get(pos) {
-                Some(Some(_)) => Target::Pdo(pos, is_mapping),
-                _ => Target::Missing,
+            Some((dir, n, is_mapping)) => match self.config.get(dir, n) {
+                Some(_) => Target::Pdo(dir, n, is_mapping),
+                None => Target::Missing,
             },
         }
     }
@@ -223,12 +286,13 @@ impl<D: ObjectDictionary> PdoDictionary<D> {
     #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     fn apply(
         &mut self,
-        pos: usize,
+        dir: PdoDirection,
+        n: PdoNumber,
         is_mapping: bool,
         sub: u8,
         data: &[u8],
     ) -> Result<(), AbortCode> {
-        let Some(Some(slot)) = self.config.slots.get_mut(pos) else {
+        let Some(slot) = self.config.get_mut(dir, n) else {
             return Err(AbortCode::ObjectDoesNotExist);
         };
         if is_mapping {
@@ -317,12 +381,14 @@ fn apply_comm(slot: &mut PdoSlot, sub: u8, data: &[u8]) -> Result<(), AbortCode>
     Ok(())
 }
 
-impl<D: ObjectDictionary> ObjectDictionary for PdoDictionary<D> {
+impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
+    for PdoDictionary<D, T, R>
+{
     fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
         let is_mapping = match self.target(index) {
             Target::Inner => return self.inner.info(index, sub),
             Target::Missing => return Err(AbortCode::ObjectDoesNotExist),
-            Target::Pdo(_, is_mapping) => is_mapping,
+            Target::Pdo(_, _, is_mapping) => is_mapping,
         };
         let len = if is_mapping {
             match sub {
@@ -353,12 +419,12 @@ impl<D: ObjectDictionary> ObjectDictionary for PdoDictionary<D> {
         offset: usize,
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let (pos, is_mapping) = match self.target(index) {
+        let (dir, n, is_mapping) = match self.target(index) {
             Target::Inner => return self.inner.read(index, sub, offset, buf),
             Target::Missing => return Err(AbortCode::ObjectDoesNotExist),
-            Target::Pdo(pos, is_mapping) => (pos, is_mapping),
+            Target::Pdo(dir, n, is_mapping) => (dir, n, is_mapping),
         };
-        let Some(Some(slot)) = self.config.slots.get(pos) else {
+        let Some(slot) = self.config.get(dir, n) else {
             return Err(AbortCode::ObjectDoesNotExist);
         };
         let value = if is_mapping {
@@ -384,14 +450,15 @@ impl<D: ObjectDictionary> ObjectDictionary for PdoDictionary<D> {
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let Target::Pdo(pos, is_mapping) = self.target(index) else {
+        let Target::Pdo(dir, n, is_mapping) = self.target(index) else {
             return self.inner.finish_write(index, sub, len);
         };
         let mut pending = self.pending;
         self.pending.clear();
         let data = pending.take(index, sub);
         self.apply(
-            pos,
+            dir,
+            n,
             is_mapping,
             sub,
             data.get(..len.min(data.len())).unwrap_or(&[]),
