@@ -36,7 +36,6 @@
 
 use super::comm::{le_word, PdoCommParams, PdoDirection};
 use super::mapping::{MappingEntry, MappingError, PdoMapping, MAX_BITS, MAX_ENTRIES};
-use crate::bytes::InlineData;
 use crate::cob_id::PdoNumber;
 use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
 use crate::sdo::AbortCode;
@@ -222,7 +221,7 @@ impl<const T: usize, const R: usize> PdoConfig<T, R> {
     }
 
     /// The same, mutably (the application's own changes; no rules applied).
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    #[inline]
     pub fn get_mut(&mut self, dir: PdoDirection, n: PdoNumber) -> Option<&mut PdoSlot> {
         self.slots_mut(dir).get_mut(usize::from(n.raw()))?.as_mut()
     }
@@ -251,15 +250,6 @@ pub struct PdoDictionary<D, const T: usize = 4, const R: usize = 4> {
     pending: WriteBuffer,
 }
 
-/// Where an index leads: to the application's dictionary, to a PDO the
-/// device lacks (06020000h), or to one of its PDO objects.
-enum Target {
-    Inner,
-    Missing,
-    /// The PDO, and whether the index is its mapping object.
-    Pdo(PdoDirection, PdoNumber, bool),
-}
-
 impl<D: ObjectDictionary, const T: usize, const R: usize> PdoDictionary<D, T, R> {
     /// Layers `config` over `inner`.
     pub const fn new(config: PdoConfig<T, R>, inner: D) -> Self {
@@ -270,36 +260,16 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> PdoDictionary<D, T, R>
         }
     }
 
+    /// The PDO whose object `index` is and whether it is the mapping
+    /// object; `None` for an index of the application's dictionary, 06020000h
+    /// for the objects of a PDO the device does not have.
     #[inline]
-    fn target(&self, index: u16) -> Target {
-        match PdoDirection::from_index(index) {
-            None => Target::Inner,
-            Some((dir, n, is_mapping)) => match self.config.get(dir, n) {
-                Some(_) => Target::Pdo(dir, n, is_mapping),
-                None => Target::Missing,
-            },
-        }
-    }
-
-    /// Applies a complete write of `data` to a PDO object, or refuses it
-    /// (and changes nothing: the rules are checked before any change).
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-    fn apply(
-        &mut self,
-        dir: PdoDirection,
-        n: PdoNumber,
-        is_mapping: bool,
-        sub: u8,
-        data: &[u8],
-    ) -> Result<(), AbortCode> {
-        let Some(slot) = self.config.get_mut(dir, n) else {
-            return Err(AbortCode::ObjectDoesNotExist);
-        };
-        if is_mapping {
-            apply_mapping(slot, sub, data, &self.inner)
-        } else {
-            apply_comm(slot, sub, data)
-        }
+    fn pdo(&self, index: u16) -> Option<Result<(&PdoSlot, bool), AbortCode>> {
+        let (dir, n, is_mapping) = PdoDirection::from_index(index)?;
+        Some(match self.config.get(dir, n) {
+            Some(slot) => Ok((slot, is_mapping)),
+            None => Err(AbortCode::ObjectDoesNotExist),
+        })
     }
 }
 
@@ -385,10 +355,9 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
     for PdoDictionary<D, T, R>
 {
     fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-        let is_mapping = match self.target(index) {
-            Target::Inner => return self.inner.info(index, sub),
-            Target::Missing => return Err(AbortCode::ObjectDoesNotExist),
-            Target::Pdo(_, _, is_mapping) => is_mapping,
+        let is_mapping = match self.pdo(index) {
+            None => return self.inner.info(index, sub),
+            Some(pdo) => pdo?.1,
         };
         let len = if is_mapping {
             match sub {
@@ -419,13 +388,9 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
         offset: usize,
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let (dir, n, is_mapping) = match self.target(index) {
-            Target::Inner => return self.inner.read(index, sub, offset, buf),
-            Target::Missing => return Err(AbortCode::ObjectDoesNotExist),
-            Target::Pdo(dir, n, is_mapping) => (dir, n, is_mapping),
-        };
-        let Some(slot) = self.config.get(dir, n) else {
-            return Err(AbortCode::ObjectDoesNotExist);
+        let (slot, is_mapping) = match self.pdo(index) {
+            None => return self.inner.read(index, sub, offset, buf),
+            Some(pdo) => pdo?,
         };
         let value = if is_mapping {
             match sub {
@@ -436,39 +401,46 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
             slot.comm.sub_word(sub)
         };
         let (word, len) = value.ok_or(AbortCode::SubIndexDoesNotExist)?;
-        let value = InlineData::<4>::from_le_word(u64::from(word), len);
-        Ok(crate::od::read_at(value.as_slice(), offset, buf))
+        let bytes = word.to_le_bytes();
+        let value = bytes.get(..len).unwrap_or(&bytes);
+        Ok(crate::od::read_at(value, offset, buf))
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
-        match self.target(index) {
-            Target::Inner => self.inner.write(index, sub, offset, data),
-            Target::Missing => Err(AbortCode::ObjectDoesNotExist),
-            // PDO objects are at most 4 bytes: buffer until finish_write.
-            Target::Pdo(..) => self.pending.write(index, sub, offset, data),
+        match self.pdo(index) {
+            None => self.inner.write(index, sub, offset, data),
+            Some(pdo) => {
+                pdo?;
+                // PDO objects are at most 4 bytes: buffer until finish_write.
+                self.pending.write(index, sub, offset, data)
+            }
         }
     }
 
+    /// Applies the buffered write to a PDO object, or refuses it (and
+    /// changes nothing: the rules are checked before any change).
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let Target::Pdo(dir, n, is_mapping) = self.target(index) else {
+        let Some((dir, n, is_mapping)) = PdoDirection::from_index(index) else {
             return self.inner.finish_write(index, sub, len);
         };
-        let mut pending = self.pending;
-        self.pending.clear();
-        let data = pending.take(index, sub);
-        self.apply(
-            dir,
-            n,
-            is_mapping,
-            sub,
-            data.get(..len.min(data.len())).unwrap_or(&[]),
-        )
+        let data = self.pending.take(index, sub);
+        let data = data.get(..len.min(data.len())).unwrap_or(&[]);
+        let slot = self
+            .config
+            .get_mut(dir, n)
+            .ok_or(AbortCode::ObjectDoesNotExist)?;
+        if is_mapping {
+            apply_mapping(slot, sub, data, &self.inner)
+        } else {
+            apply_comm(slot, sub, data)
+        }
     }
 
     fn abort_write(&mut self, index: u16, sub: u8) {
-        match self.target(index) {
-            Target::Pdo(..) => self.pending.clear(),
-            _ => self.inner.abort_write(index, sub),
+        if PdoDirection::from_index(index).is_some() {
+            self.pending.clear();
+        } else {
+            self.inner.abort_write(index, sub);
         }
     }
 }
