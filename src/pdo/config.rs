@@ -331,23 +331,27 @@ fn apply_mapping<D: ObjectDictionary + ?Sized>(
 /// The rules for a write to communication sub-index `sub`; `slot` changes
 /// only when the write is accepted.
 fn apply_comm(slot: &mut PdoSlot, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
-    let old = slot.comm;
-    let mut new = old;
-    new.decode_sub(sub, data)?;
+    // Decoded in place (a refused value changes nothing: decode_sub stores
+    // only what it accepts), the two fields the rules compare put back
+    // when the write is refused: no copy of the parameters kept.
+    let comm = &mut slot.comm;
+    let (old_cob, old_inhibit) = (comm.cob_id, comm.inhibit_time_100us);
+    comm.decode_sub(sub, data)?;
+    let new_cob = comm.cob_id;
     let refused = match sub {
         1 => {
-            (new.cob_id.is_valid() && new.cob_id.can_id().is_none())
-                || (old.cob_id.is_valid()
-                    && new.cob_id.is_valid()
-                    && !old.cob_id.same_identifier(new.cob_id))
+            new_cob.is_valid()
+                && (new_cob.can_id().is_none()
+                    || (old_cob.is_valid() && !old_cob.same_identifier(new_cob)))
         }
-        3 => old.cob_id.is_valid() && new.inhibit_time_100us != old.inhibit_time_100us,
+        3 => old_cob.is_valid() && comm.inhibit_time_100us != old_inhibit,
         _ => false,
     };
     if refused {
+        comm.cob_id = old_cob;
+        comm.inhibit_time_100us = old_inhibit;
         return Err(AbortCode::InvalidValue);
     }
-    slot.comm = new;
     Ok(())
 }
 
