@@ -313,14 +313,14 @@ fn apply_mapping<D: ObjectDictionary + ?Sized>(
             return Err(AbortCode::PdoLengthExceeded);
         }
         for e in entries {
-            e.check(od)?;
+            e.check_abort(od)?;
         }
         slot.count = raw as u8;
         return Ok(());
     }
     let entry = MappingEntry::from_u32(raw);
     if !entry.is_empty() {
-        entry.check(od)?;
+        entry.check_abort(od)?;
     }
     if let Some(e) = slot.entries.get_mut(usize::from(sub) - 1) {
         *e = entry;
