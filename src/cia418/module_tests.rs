@@ -129,3 +129,29 @@ fn a_fourth_pdo_has_no_room() {
         );
     }
 }
+
+/// Over SDO: an upload of 1802h:01 (the 3rd TPDO's COB-ID) is answered,
+/// one of 1803h:01 or 1A03h:00 is aborted with 06020000h.
+#[test]
+fn sdo_sees_three_tpdos() {
+    let mut m = BatteryModule::new(BatteryModuleConfig {
+        device_type: DeviceType::cia418(0xF_0000),
+        ..BatteryModuleConfig::default()
+    });
+    m.boot(Timestamp::ZERO);
+    drain(&mut m);
+    let mut upload = |index: u16, sub: u8| {
+        let [lo, hi] = index.to_le_bytes();
+        let req = CanFrame::standard(0x601, &[0x40, lo, hi, sub, 0, 0, 0, 0]).unwrap();
+        m.handle_frame(Timestamp::ZERO, &req);
+        drain(&mut m)
+            .iter()
+            .map(|f| std::format!("{f}"))
+            .collect::<std::vec::Vec<_>>()
+    };
+    assert_eq!(upload(0x1802, 1), ["581#4302180181030000"]);
+    assert_eq!(upload(0x1803, 1), ["581#8003180100000206"]);
+    assert_eq!(upload(0x1A03, 0), ["581#80031A0000000206"]);
+    assert_eq!(upload(0x1402, 1), ["581#4302140101040000"]);
+    assert_eq!(upload(0x1403, 1), ["581#8003140100000206"]);
+}

@@ -172,7 +172,9 @@ pub const DEFAULT_QUEUE_CAPACITY: usize = 16;
 /// every call, as the contract says, can make it small (the firmware uses
 /// 4); what happens when one is full is the back-pressure rule in the
 /// module docs. `C` is what the power-on configuration is made from
-/// ([`PowerOn`]; default: the stored [`DeviceConfig`]).
+/// ([`PowerOn`]; default: the stored [`DeviceConfig`]). `T` and `R` are
+/// its numbers of TPDOs and RPDOs (at most 4 each, default 4 and 4;
+/// [`PdoConfig`]): the objects of a PDO past them do not exist.
 #[derive(Debug)]
 pub struct Device<
     A,

@@ -89,8 +89,8 @@ pub enum DeviceEvent {
 
 /// What a profile adds to the device core. Every method has a default that
 /// does nothing, so `()` is the profile of a plain CiA 301 device. `Q` is
-/// the device's queue capacity and `C` where its power-on configuration
-/// comes from (see [`Device`]).
+/// the device's queue capacity, `C` where its power-on configuration
+/// comes from, `T` and `R` its TPDO and RPDO counts (see [`Device`]).
 pub trait Profile<
     A,
     E: Copy,

@@ -9,7 +9,10 @@
 //!
 //! [`PdoDictionary`] wraps the application's dictionary `D`: it serves the
 //! PDO objects from its [`PdoConfig`] and passes every other index to `D`
-//! (which also says which objects are PDO-mappable, and how long).
+//! (which also says which objects are PDO-mappable, and how long). The
+//! configuration has room for `T` TPDOs and `R` RPDOs ([`PdoConfig`]): the
+//! objects of a PDO past them, or of one it has room for but does not
+//! have, do not exist (06020000h).
 //!
 //! # Rules and abort codes
 //!
@@ -446,5 +449,90 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
         } else {
             self.inner.abort_write(index, sub);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pdo::PdoCobId;
+
+    fn slot(id: u32) -> PdoSlot {
+        PdoSlot::new(
+            PdoCommParams::event_driven(PdoCobId::from_u32(id), 0),
+            &PdoMapping::EMPTY,
+        )
+    }
+
+    const NUMBERS: [PdoNumber; 4] = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3];
+    const DIRECTIONS: [PdoDirection; 2] = [PdoDirection::Receive, PdoDirection::Transmit];
+
+    /// Every PDO number in both directions against counts 2 + 1 (and 0 + 0):
+    /// room below the count, none at or above it, nothing panics, and the
+    /// two directions never share a slot.
+    #[test]
+    fn room_follows_the_counts() {
+        let mut pdos = PdoConfig::<2, 1>::empty();
+        assert_eq!(
+            (
+                PdoConfig::<2, 1>::count(PdoDirection::Transmit),
+                PdoConfig::<2, 1>::count(PdoDirection::Receive)
+            ),
+            (2, 1)
+        );
+        for dir in DIRECTIONS {
+            for n in NUMBERS {
+                let id =
+                    0x100 * u32::from(n.raw()) + if dir == PdoDirection::Receive { 1 } else { 2 };
+                pdos.insert(dir, n, slot(id));
+            }
+        }
+        for dir in DIRECTIONS {
+            for n in NUMBERS {
+                let room = usize::from(n.raw()) < PdoConfig::<2, 1>::count(dir);
+                let got = pdos.get(dir, n).map(|s| s.comm.cob_id.to_u32());
+                let id =
+                    0x100 * u32::from(n.raw()) + if dir == PdoDirection::Receive { 1 } else { 2 };
+                assert_eq!(got, room.then_some(id), "{dir:?} {n}");
+                assert_eq!(pdos.get_mut(dir, n).is_some(), room);
+            }
+        }
+        let mut none = PdoConfig::<0, 0>::empty();
+        for dir in DIRECTIONS {
+            for n in NUMBERS {
+                none.insert(dir, n, slot(0x181));
+                assert_eq!(none.get(dir, n), None);
+            }
+        }
+    }
+
+    /// A configuration copied into one of other counts keeps the PDOs both
+    /// have room for and loses the others; copied back, the lost ones stay
+    /// lost.
+    #[test]
+    fn copy_between_counts() {
+        let mut full = PdoConfig::new();
+        for dir in DIRECTIONS {
+            for n in NUMBERS {
+                full.insert(dir, n, slot(0x180 + u32::from(n.raw())));
+            }
+        }
+        let mut small = PdoConfig::<3, 2>::empty();
+        small.insert(PdoDirection::Transmit, PdoNumber::P0, slot(0x555));
+        small.copy_from(&full);
+        assert_eq!(
+            small.get(PdoDirection::Transmit, PdoNumber::P0),
+            full.get(PdoDirection::Transmit, PdoNumber::P0)
+        );
+        assert!(small.get(PdoDirection::Transmit, PdoNumber::P2).is_some());
+        assert!(small.get(PdoDirection::Receive, PdoNumber::P2).is_none());
+        let mut back = PdoConfig::new();
+        back.copy_from(&full);
+        back.copy_from(&small);
+        assert!(back.get(PdoDirection::Transmit, PdoNumber::P3).is_none());
+        assert!(back.get(PdoDirection::Receive, PdoNumber::P1).is_some());
+        assert!(back.get(PdoDirection::Receive, PdoNumber::P2).is_none());
+        back.clear();
+        assert_eq!(back, PdoConfig::new());
     }
 }
