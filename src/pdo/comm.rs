@@ -61,6 +61,15 @@ impl PdoDirection {
     }
 }
 
+/// Whether `index` is a PDO object, 1400h-1403h / 1600h-1603h /
+/// 1800h-1803h / 1A00h-1A03h (`PdoDirection::from_index(index).is_some()`,
+/// without working out which).
+#[inline]
+pub(crate) const fn is_pdo_index(index: u16) -> bool {
+    let base = index & !0x0203;
+    base == RPDO_COMMUNICATION || base == TPDO_COMMUNICATION
+}
+
 /// A PDO COB-ID entry (sub-index 1): the identifier plus three flags.
 /// Every u32 is accepted and kept bit for bit.
 ///
@@ -357,6 +366,10 @@ mod tests {
         assert_eq!(Transmit.comm_index(PdoNumber::P2), 0x1802);
         assert_eq!(Transmit.mapping_index(PdoNumber::P1), 0x1A01);
         for index in 0..=0xFFFFu16 {
+            assert_eq!(
+                is_pdo_index(index),
+                PdoDirection::from_index(index).is_some()
+            );
             match PdoDirection::from_index(index) {
                 Some((d, n, m)) => {
                     let back = if m {

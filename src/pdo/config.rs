@@ -444,7 +444,7 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
     }
 
     fn abort_write(&mut self, index: u16, sub: u8) {
-        if PdoDirection::from_index(index).is_some() {
+        if super::comm::is_pdo_index(index) {
             self.pending.clear();
         } else {
             self.inner.abort_write(index, sub);
