@@ -251,6 +251,8 @@ fn cob_id_rules() {
         write(&mut p, 0x1800, 1, &u32le(0x182)),
         Err(AbortCode::InvalidValue)
     );
+    // A refused COB-ID changes nothing.
+    assert_eq!(tpdo0(&p).comm.cob_id, PdoCobId::from_u32(0x181));
     // The same identifier, RTR flag changed: allowed.
     assert_eq!(write(&mut p, 0x1800, 1, &u32le(0x4000_0181)), Ok(()));
     // Disable, change, enable.
@@ -263,6 +265,8 @@ fn cob_id_rules() {
         write(&mut p, 0x1801, 1, &u32le(0x0000_1281)),
         Err(AbortCode::InvalidValue)
     );
+    let tpdo1 = p.od().config.get(PdoDirection::Transmit, PdoNumber::P1);
+    assert_ne!(tpdo1.unwrap().comm.cob_id.to_u32(), 0x1281);
     // Wrong length.
     assert_eq!(
         write(&mut p, 0x1800, 1, &[0x81, 0x01]),

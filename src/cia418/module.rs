@@ -177,21 +177,21 @@ impl Default for BatteryModuleConfig {
 /// What a [`BatteryModule`] reports: the device core's events.
 pub type BatteryEvent = DeviceEvent;
 
+/// The module's core: 3 TPDOs and 3 RPDOs, the ones CiA 418 v1.0.1 (6.2.5)
+/// gives a battery module ([`DEFAULT_PDOS`]); 1403h/1803h do not exist.
+type ModuleDevice<const Q: usize> =
+    Device<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn, 3, 3>;
+
 /// The module's own state besides the core.
 #[derive(Debug, Clone, Copy, Default)]
 struct ModuleProfile {
     temperature_fault: bool,
 }
 
-impl<const Q: usize> Profile<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn>
+impl<const Q: usize> Profile<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn, 3, 3>
     for ModuleProfile
 {
-    fn on_event(
-        &mut self,
-        _device: &mut Device<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn>,
-        _now: Timestamp,
-        event: &DeviceEvent,
-    ) {
+    fn on_event(&mut self, _device: &mut ModuleDevice<Q>, _now: Timestamp, event: &DeviceEvent) {
         if let DeviceEvent::Reset { .. } = event {
             // The reset restored 1001h: the fault is no longer signalled.
             self.temperature_fault = false;
@@ -226,7 +226,7 @@ impl<const Q: usize> Profile<BatteryObjects, BatteryEvent, Q, BatteryModulePower
 pub struct BatteryModule<const Q: usize = DEFAULT_QUEUE_CAPACITY> {
     /// The core keeps the module's configuration and rebuilds its
     /// [`DeviceConfig`] from it at boot and at every reset.
-    device: Device<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn>,
+    device: ModuleDevice<Q>,
     profile: ModuleProfile,
 }
 
@@ -234,7 +234,9 @@ machine_on_device!(
     BatteryModule,
     BatteryObjects,
     BatteryEvent,
-    BatteryModulePowerOn
+    BatteryModulePowerOn,
+    3,
+    3
 );
 
 /// The module's [`DeviceConfig`] is made from its configuration (CiA 418
@@ -244,7 +246,11 @@ impl PowerOn for BatteryModulePowerOn {
         self.node
     }
 
-    fn restore(&self, comm: &mut CommObjects, pdos: &mut PdoConfig) -> Policies {
+    fn restore<const T: usize, const R: usize>(
+        &self,
+        comm: &mut CommObjects,
+        pdos: &mut PdoConfig<T, R>,
+    ) -> Policies {
         *comm = CommObjects::new(self.node);
         comm.device_type = self.device_type.raw();
         comm.device_name = self.device_name;
@@ -265,7 +271,10 @@ impl PowerOn for BatteryModulePowerOn {
 
 /// Writes the CiA 418 default PDO set of a module with `config` into
 /// `pdos` (every slot).
-fn default_pdo_config(config: &BatteryModulePowerOn, pdos: &mut PdoConfig) {
+fn default_pdo_config<const T: usize, const R: usize>(
+    config: &BatteryModulePowerOn,
+    pdos: &mut PdoConfig<T, R>,
+) {
     pdos.clear();
     for d in DEFAULT_PDOS
         .iter()
@@ -350,14 +359,12 @@ impl<const Q: usize> BatteryModule<Q> {
 
     /// The device core (node-ID, LSS slave, NMT state).
     #[must_use]
-    pub const fn device(&self) -> &Device<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn> {
+    pub const fn device(&self) -> &ModuleDevice<Q> {
         &self.device
     }
 
     /// The device core, mutably (to answer an LSS store request).
-    pub fn device_mut(
-        &mut self,
-    ) -> &mut Device<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn> {
+    pub fn device_mut(&mut self) -> &mut ModuleDevice<Q> {
         &mut self.device
     }
 
@@ -421,7 +428,7 @@ impl<const Q: usize> BatteryModule<Q> {
     }
 
     /// Changes the PDO configuration in `f` (no SDO rules applied).
-    pub fn update_pdos(&mut self, now: Timestamp, f: impl FnOnce(&mut PdoConfig)) {
+    pub fn update_pdos(&mut self, now: Timestamp, f: impl FnOnce(&mut PdoConfig<3, 3>)) {
         self.device.update_pdos(now, f);
     }
 

@@ -92,3 +92,66 @@ fn a_full_event_queue_drops_the_oldest() {
     assert_eq!(subs, (4..20).collect::<std::vec::Vec<u8>>());
     assert_eq!(m.events_dropped(), 4);
 }
+
+/// The module's PDO configuration has room for its 3 TPDOs and 3 RPDOs
+/// only: a fourth given by the application is ignored, and its objects stay
+/// absent over SDO (06020000h) while the third's are served.
+#[test]
+fn a_fourth_pdo_has_no_room() {
+    use crate::od::ObjectDictionary;
+    use crate::pdo::{PdoCobId, PdoCommParams, PdoMapping, PdoSlot};
+    let mut m = BatteryModule::new(BatteryModuleConfig {
+        device_type: DeviceType::cia418(0xF_0000),
+        ..BatteryModuleConfig::default()
+    });
+    m.boot(Timestamp::ZERO);
+    let slot = PdoSlot::new(
+        PdoCommParams::event_driven(PdoCobId::standard(0x481), 0),
+        &PdoMapping::EMPTY,
+    );
+    m.update_pdos(Timestamp::ZERO, |c| {
+        for dir in [PdoDirection::Transmit, PdoDirection::Receive] {
+            c.insert(dir, PdoNumber::P3, slot);
+            c.insert(dir, PdoNumber::P2, slot);
+        }
+    });
+    let mut od = m.dictionary().clone();
+    for dir in [PdoDirection::Transmit, PdoDirection::Receive] {
+        assert_eq!(m.pdo_config().get(dir, PdoNumber::P2), Some(&slot));
+        assert_eq!(m.pdo_config().get(dir, PdoNumber::P3), None);
+        let mut buf = [0u8; 4];
+        let (third, fourth) = (dir.comm_index(PdoNumber::P2), dir.comm_index(PdoNumber::P3));
+        assert_eq!(od.read(third, 1, 0, &mut buf), Ok(4));
+        assert_eq!(buf, [0x81, 0x04, 0, 0]);
+        assert_eq!(
+            od.read(fourth, 1, 0, &mut buf),
+            Err(crate::sdo::AbortCode::ObjectDoesNotExist)
+        );
+    }
+}
+
+/// Over SDO: an upload of 1802h:01 (the 3rd TPDO's COB-ID) is answered,
+/// one of 1803h:01 or 1A03h:00 is aborted with 06020000h.
+#[test]
+fn sdo_sees_three_tpdos() {
+    let mut m = BatteryModule::new(BatteryModuleConfig {
+        device_type: DeviceType::cia418(0xF_0000),
+        ..BatteryModuleConfig::default()
+    });
+    m.boot(Timestamp::ZERO);
+    drain(&mut m);
+    let mut upload = |index: u16, sub: u8| {
+        let [lo, hi] = index.to_le_bytes();
+        let req = CanFrame::standard(0x601, &[0x40, lo, hi, sub, 0, 0, 0, 0]).unwrap();
+        m.handle_frame(Timestamp::ZERO, &req);
+        drain(&mut m)
+            .iter()
+            .map(|f| std::format!("{f}"))
+            .collect::<std::vec::Vec<_>>()
+    };
+    assert_eq!(upload(0x1802, 1), ["581#4302180181030000"]);
+    assert_eq!(upload(0x1803, 1), ["581#8003180100000206"]);
+    assert_eq!(upload(0x1A03, 0), ["581#80031A0000000206"]);
+    assert_eq!(upload(0x1402, 1), ["581#4302140101040000"]);
+    assert_eq!(upload(0x1403, 1), ["581#8003140100000206"]);
+}

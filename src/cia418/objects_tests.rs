@@ -9,7 +9,7 @@ use crate::cia418::{
 use crate::device::{Dictionary, Identity};
 use crate::NodeId;
 
-type Od = Dictionary<BatteryObjects>;
+type Od = Dictionary<BatteryObjects, 3, 3>;
 
 fn module_od(node: u8, name: &'static str, f: impl FnOnce(&mut BatteryModuleConfig)) -> Od {
     let mut config = BatteryModuleConfig::new(NodeId::new(node).unwrap());
@@ -329,5 +329,44 @@ fn hostile_reads_and_writes_never_panic() {
             let _ = od.write(index, sub, 0, &[0; 9]);
             let _ = od.finish_write(index, sub, usize::MAX);
         }
+    }
+}
+
+/// The module has 3 RPDOs and 3 TPDOs (CiA 418 v1.0.1, 6.2.5): with every
+/// optional PDO of the device type on, 1402h/1602h/1802h/1A02h are served
+/// and the fourth PDO's objects do not exist (CiA 301: PDO objects exist
+/// for the PDOs a device has), for info, read and write alike; a module
+/// without the optional PDOs lacks 1401h-1402h / 1801h-1802h the same way.
+#[test]
+fn the_fourth_pdo_does_not_exist() {
+    let all =
+        DeviceType::RPDO_2ND | DeviceType::RPDO_3RD | DeviceType::TPDO_2ND | DeviceType::TPDO_3RD;
+    let mut od = module_od(1, "BMS", |c| c.device_type = DeviceType::cia418(all));
+    for index in [0x1402u16, 0x1602, 0x1802, 0x1A02] {
+        assert!(read(&mut od, index, 0).is_ok(), "{index:04X}h present");
+        assert!(read(&mut od, index, 1).is_ok(), "{index:04X}h:1 present");
+    }
+    let mut buf = [0u8; 4];
+    for index in [0x1403u16, 0x1603, 0x1803, 0x1A03] {
+        for sub in [0u8, 1, 2, 8] {
+            let gone = Err(AbortCode::ObjectDoesNotExist);
+            assert_eq!(od.info(index, sub).map(|_| ()), gone, "{index:04X}h:{sub}");
+            assert_eq!(od.read(index, sub, 0, &mut buf).map(|_| ()), gone);
+            assert_eq!(od.write(index, sub, 0, &[0, 0, 0, 0x80]), gone);
+            assert_eq!(od.finish_write(index, sub, 4), gone);
+        }
+    }
+    // 1404h and up are not PDO objects at all: the application's (absent).
+    assert_eq!(
+        od.info(0x1404, 0).map(|_| ()),
+        Err(AbortCode::ObjectDoesNotExist)
+    );
+    let mut od = self::od();
+    assert!(read(&mut od, 0x1400, 1).is_ok() && read(&mut od, 0x1A00, 1).is_ok());
+    for index in [0x1401u16, 0x1602, 0x1801, 0x1A02] {
+        assert_eq!(
+            od.info(index, 0).map(|_| ()),
+            Err(AbortCode::ObjectDoesNotExist)
+        );
     }
 }

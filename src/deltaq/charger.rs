@@ -295,7 +295,10 @@ const PAIRS: [PdoPair; 7] = {
 /// RPDO 3 has none and no slot), with COB-IDs not valid until configured
 /// (or valid defaults without configuration) and the configured TPDO
 /// periods.
-fn default_pdos(config: &ChargerPowerOn, pdos: &mut PdoConfig) {
+fn default_pdos<const T: usize, const R: usize>(
+    config: &ChargerPowerOn,
+    pdos: &mut PdoConfig<T, R>,
+) {
     pdos.clear();
     for d in &CHARGER_DEFAULT_PDOS {
         let Some(mapping) = d.mapping() else { continue };
@@ -316,7 +319,8 @@ fn default_pdos(config: &ChargerPowerOn, pdos: &mut PdoConfig) {
     }
 }
 
-type ChargerDevice<const Q: usize> = Device<ChargerObjects, ChargerEvent, Q, ChargerPowerOn>;
+/// The charger's core: TPDO 0-3 and RPDO 0-2 (`charger_default_pdo`; no RPDO 3 is published).
+type ChargerDevice<const Q: usize> = Device<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4, 3>;
 
 /// The charger's [`DeviceConfig`] is made from its configuration at boot
 /// and at every reset (the core keeps no second copy).
@@ -325,7 +329,11 @@ impl PowerOn for ChargerPowerOn {
         self.node
     }
 
-    fn restore(&self, comm: &mut CommObjects, pdos: &mut PdoConfig) -> Policies {
+    fn restore<const T: usize, const R: usize>(
+        &self,
+        comm: &mut CommObjects,
+        pdos: &mut PdoConfig<T, R>,
+    ) -> Policies {
         *comm = CommObjects::new(self.node);
         comm.device_type = CHARGER_DEVICE_TYPE;
         comm.device_name = self.device_name;
@@ -419,7 +427,7 @@ pub struct Charger<const Q: usize = DEFAULT_QUEUE_CAPACITY> {
     profile: ChargerProfile,
 }
 
-machine_on_device!(Charger, ChargerObjects, ChargerEvent, ChargerPowerOn);
+machine_on_device!(Charger, ChargerObjects, ChargerEvent, ChargerPowerOn, 4, 3);
 
 impl Charger {
     /// A charger with `config`, not yet booted, with the default queue
@@ -684,7 +692,9 @@ impl ChargerProfile {
     }
 }
 
-impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn> for ChargerProfile {
+impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4, 3>
+    for ChargerProfile
+{
     /// The battery module's heartbeat events are reported as
     /// [`ChargerEvent::BatteryFound`] / [`ChargerEvent::BatteryLost`].
     fn keep_event(&self, event: &DeviceEvent) -> bool {

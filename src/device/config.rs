@@ -224,7 +224,11 @@ pub trait PowerOn {
     /// (all of them: 1001h and 1003h empty, the node-ID
     /// [`node`](Self::node)'s) and the PDO configuration into `pdos`, and
     /// gives the device's other settings.
-    fn restore(&self, comm: &mut CommObjects, pdos: &mut PdoConfig) -> Policies;
+    fn restore<const T: usize, const R: usize>(
+        &self,
+        comm: &mut CommObjects,
+        pdos: &mut PdoConfig<T, R>,
+    ) -> Policies;
 
     /// The power-on configuration as a [`DeviceConfig`] (made by
     /// [`restore`](Self::restore); times in the units of the objects).
@@ -253,8 +257,12 @@ impl PowerOn for DeviceConfig {
         self.node
     }
 
-    fn restore(&self, comm: &mut CommObjects, pdos: &mut PdoConfig) -> Policies {
-        *pdos = self.pdos;
+    fn restore<const T: usize, const R: usize>(
+        &self,
+        comm: &mut CommObjects,
+        pdos: &mut PdoConfig<T, R>,
+    ) -> Policies {
+        pdos.copy_from(&self.pdos);
         self.restore_into(comm)
     }
 

@@ -11,7 +11,7 @@ use crate::machine::Machine;
 use crate::od::ObjectDictionary;
 use crate::time::Timestamp;
 
-impl<A, E, const Q: usize, C> Device<A, E, Q, C>
+impl<A, E, const Q: usize, C, const T: usize, const R: usize> Device<A, E, Q, C, T, R>
 where
     A: ObjectDictionary + Clone,
     E: Copy + From<DeviceEvent>,
@@ -48,7 +48,7 @@ where
     }
 
     /// Reports the consumer's events.
-    pub(super) fn drain_consumer<P: Profile<A, E, Q, C>>(
+    pub(super) fn drain_consumer<P: Profile<A, E, Q, C, T, R>>(
         &mut self,
         now: Timestamp,
         profile: &mut P,

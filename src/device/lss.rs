@@ -11,7 +11,7 @@ use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDirection};
 use crate::time::Timestamp;
 
-impl<A, E, const Q: usize, C> Device<A, E, Q, C>
+impl<A, E, const Q: usize, C, const T: usize, const R: usize> Device<A, E, Q, C, T, R>
 where
     A: ObjectDictionary + Clone,
     E: Copy + From<DeviceEvent>,
@@ -65,7 +65,11 @@ where
 
     /// Hands the LSS slave's events on; a not-configured node that got a
     /// node-ID resets its communication and boots up under it.
-    pub(super) fn drain_lss<P: Profile<A, E, Q, C>>(&mut self, now: Timestamp, profile: &mut P) {
+    pub(super) fn drain_lss<P: Profile<A, E, Q, C, T, R>>(
+        &mut self,
+        now: Timestamp,
+        profile: &mut P,
+    ) {
         while let Some(event) = self.lss.as_mut().and_then(LssSlave::poll_event) {
             self.emit(now, DeviceEvent::Lss(event), profile);
             if event == LssSlaveEvent::ResetCommunication {

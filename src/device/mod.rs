@@ -151,7 +151,8 @@ use crate::time::{MaybeTimestamp, Timestamp};
 
 /// The dictionary the SDO server serves: PDO objects, communication
 /// objects, application objects.
-pub type Dictionary<A> = PdoDictionary<DeviceObjects<A>>;
+pub type Dictionary<A, const T: usize = 4, const R: usize = 4> =
+    PdoDictionary<DeviceObjects<A>, T, R>;
 
 /// The capacity of a device's event queue and of its queue of frames to
 /// send, unless its type says otherwise (the `Q` of [`Device`]).
@@ -180,9 +181,18 @@ pub const DEFAULT_QUEUE_CAPACITY: usize = 16;
 /// every call, as the contract says, can make it small (the firmware uses
 /// 4); what happens when one is full is the back-pressure rule in the
 /// module docs. `C` is what the power-on configuration is made from
-/// ([`PowerOn`]; default: the stored [`DeviceConfig`]).
+/// ([`PowerOn`]; default: the stored [`DeviceConfig`]). `T` and `R` are
+/// its numbers of TPDOs and RPDOs (at most 4 each, default 4 and 4;
+/// [`PdoConfig`]): the objects of a PDO past them do not exist.
 #[derive(Debug)]
-pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY, C = DeviceConfig> {
+pub struct Device<
+    A,
+    E: Copy,
+    const Q: usize = DEFAULT_QUEUE_CAPACITY,
+    C = DeviceConfig,
+    const T: usize = 4,
+    const R: usize = 4,
+> {
     /// Where the power-on configuration comes from.
     config: C,
     /// The active node-ID (the configuration's).
@@ -198,9 +208,9 @@ pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY, C = Devic
     #[cfg(feature = "heartbeat-consumer")]
     consumer: HeartbeatConsumer<MAX_CONSUMERS, MAX_CONSUMERS>,
     /// Its events are read after every call: the capacity one call needs.
-    server: Server<Dictionary<A>, EVENTS_PER_CALL>,
-    tpdos: TpdoSet,
-    rpdos: RpdoReceiver,
+    server: Server<Dictionary<A, T, R>, EVENTS_PER_CALL>,
+    tpdos: TpdoSet<T>,
+    rpdos: RpdoReceiver<R>,
     /// The profile allows TPDOs (besides NMT operational).
     tpdos_enabled: bool,
     /// The application objects at boot (restored by reset node).
@@ -220,7 +230,9 @@ pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY, C = Devic
     services: services::Services,
 }
 
-impl<A, E: Copy, const Q: usize> Device<A, E, Q> {
+impl<A, E: Copy, const Q: usize, const T: usize, const R: usize>
+    Device<A, E, Q, DeviceConfig, T, R>
+{
     /// The configuration.
     #[must_use]
     pub const fn config(&self) -> &DeviceConfig {
@@ -228,7 +240,7 @@ impl<A, E: Copy, const Q: usize> Device<A, E, Q> {
     }
 }
 
-impl<A, E, const Q: usize, C> Device<A, E, Q, C>
+impl<A, E, const Q: usize, C, const T: usize, const R: usize> Device<A, E, Q, C, T, R>
 where
     A: ObjectDictionary + Clone,
     E: Copy + From<DeviceEvent>,
@@ -240,7 +252,7 @@ where
     pub fn new(config: C, app: A) -> Self {
         let node = config.node();
         let dictionary = PdoDictionary::new(
-            PdoConfig::new(),
+            PdoConfig::empty(),
             DeviceObjects {
                 comm: CommObjects::new(node),
                 app: app.clone(),
@@ -255,8 +267,8 @@ where
             #[cfg(feature = "heartbeat-consumer")]
             consumer: HeartbeatConsumer::new(),
             server: Server::with_event_capacity(ServerConfig::for_node(node), dictionary),
-            tpdos: TpdoSet::new(),
-            rpdos: RpdoReceiver::new(),
+            tpdos: TpdoSet::empty(),
+            rpdos: RpdoReceiver::empty(),
             tpdos_enabled: true,
             power_on: app,
             transmit: EventQueue::new(CanFrame::EMPTY),
@@ -315,7 +327,7 @@ where
 
     /// The whole dictionary the SDO server serves.
     #[must_use]
-    pub const fn dictionary(&self) -> &Dictionary<A> {
+    pub const fn dictionary(&self) -> &Dictionary<A, T, R> {
         self.server.od()
     }
 
@@ -333,7 +345,7 @@ where
 
     /// The PDO configuration (1400h-1A03h) as the SDO server sees it.
     #[must_use]
-    pub const fn pdo_config(&self) -> &PdoConfig {
+    pub const fn pdo_config(&self) -> &PdoConfig<T, R> {
         &self.server.od().config
     }
 
@@ -354,7 +366,7 @@ where
 
     /// Boots the device (power-on): boot-up message, pre-operational. The
     /// profile sees the state change (use `&mut ()` for a plain device).
-    pub fn boot<P: Profile<A, E, Q, C>>(&mut self, now: Timestamp, profile: &mut P) {
+    pub fn boot<P: Profile<A, E, Q, C, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
         // The application objects as they are now are the power-on values
         // reset node restores.
         self.power_on = self.objects().clone();
@@ -391,7 +403,7 @@ where
 
     /// Changes the PDO configuration in `f` (no SDO rules applied) and puts
     /// it into effect.
-    pub fn update_pdos(&mut self, now: Timestamp, f: impl FnOnce(&mut PdoConfig)) {
+    pub fn update_pdos(&mut self, now: Timestamp, f: impl FnOnce(&mut PdoConfig<T, R>)) {
         f(&mut self.server.od_mut().config);
         self.reconfigure_pdos(now);
     }
@@ -411,7 +423,7 @@ where
 
     /// Enters `state` by the device's own decision (e.g. a charger that
     /// starts itself), as an NMT command would.
-    pub fn set_nmt_state<P: Profile<A, E, Q, C>>(
+    pub fn set_nmt_state<P: Profile<A, E, Q, C, T, R>>(
         &mut self,
         now: Timestamp,
         state: NmtState,
@@ -487,7 +499,7 @@ where
     /// Feeds a received frame: NMT, heartbeats of 1016h's nodes, SYNC, this
     /// node's SDO requests and RPDOs, then the profile's frames.
     #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-    pub fn handle_frame_with<P: Profile<A, E, Q, C>>(
+    pub fn handle_frame_with<P: Profile<A, E, Q, C, T, R>>(
         &mut self,
         now: Timestamp,
         frame: &CanFrame,
@@ -525,7 +537,11 @@ where
 
     /// Tells the device time has passed: heartbeat, supervision, SDO
     /// timeout, the profile's timers, TPDO timers.
-    pub fn handle_timeout_with<P: Profile<A, E, Q, C>>(&mut self, now: Timestamp, profile: &mut P) {
+    pub fn handle_timeout_with<P: Profile<A, E, Q, C, T, R>>(
+        &mut self,
+        now: Timestamp,
+        profile: &mut P,
+    ) {
         if !self.nmt.is_running() {
             return;
         }
@@ -547,7 +563,7 @@ where
 
     /// The next frame to send (order in the module docs).
     #[must_use]
-    pub fn poll_transmit_with<P: Profile<A, E, Q, C>>(
+    pub fn poll_transmit_with<P: Profile<A, E, Q, C, T, R>>(
         &mut self,
         profile: &mut P,
     ) -> Option<CanFrame> {
@@ -579,7 +595,10 @@ where
     /// The earliest deadline of the core's and the profile's timers.
     #[must_use]
     #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-    pub fn poll_timeout_with<P: Profile<A, E, Q, C>>(&self, profile: &P) -> Option<Timestamp> {
+    pub fn poll_timeout_with<P: Profile<A, E, Q, C, T, R>>(
+        &self,
+        profile: &P,
+    ) -> Option<Timestamp> {
         if !self.nmt.is_running() {
             return None;
         }
@@ -613,7 +632,7 @@ where
 
     // ----- internals -------------------------------------------------------
 
-    fn emit<P: Profile<A, E, Q, C>>(
+    fn emit<P: Profile<A, E, Q, C, T, R>>(
         &mut self,
         now: Timestamp,
         event: DeviceEvent,
@@ -627,7 +646,7 @@ where
 
     /// Handles the NMT slave's events; true when the frame was an NMT
     /// command that changed something (it is not for anyone else here).
-    fn drain_nmt<P: Profile<A, E, Q, C>>(&mut self, now: Timestamp, profile: &mut P) -> bool {
+    fn drain_nmt<P: Profile<A, E, Q, C, T, R>>(&mut self, now: Timestamp, profile: &mut P) -> bool {
         let mut acted = false;
         while let Some(event) = self.nmt.poll_event() {
             acted = true;
@@ -714,7 +733,7 @@ where
     }
 
     /// Hands the SDO server's events on and puts written objects into effect.
-    fn drain_server<P: Profile<A, E, Q, C>>(&mut self, now: Timestamp, profile: &mut P) {
+    fn drain_server<P: Profile<A, E, Q, C, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
         while let Some(event) = self.server.poll_event() {
             match event {
                 ServerEvent::Downloaded { index, sub, .. } => {
@@ -752,7 +771,7 @@ where
         }
     }
 
-    fn drain_rpdos<P: Profile<A, E, Q, C>>(&mut self, now: Timestamp, profile: &mut P) {
+    fn drain_rpdos<P: Profile<A, E, Q, C, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
         while let Some(rpdo) = self.rpdos.poll_event() {
             let Some(result) = RpdoReceiver::apply(&rpdo, self.server.od_mut()) else {
                 continue;
@@ -775,8 +794,8 @@ where
     }
 }
 
-impl<A: ObjectDictionary + Clone, const Q: usize, C: PowerOn> Machine
-    for Device<A, DeviceEvent, Q, C>
+impl<A: ObjectDictionary + Clone, const Q: usize, C: PowerOn, const T: usize, const R: usize>
+    Machine for Device<A, DeviceEvent, Q, C, T, R>
 {
     type Event = DeviceEvent;
 

@@ -92,13 +92,15 @@ pub enum DeviceEvent {
 
 /// What a profile adds to the device core. Every method has a default that
 /// does nothing, so `()` is the profile of a plain CiA 301 device. `Q` is
-/// the device's queue capacity and `C` where its power-on configuration
-/// comes from (see [`Device`]).
+/// the device's queue capacity, `C` where its power-on configuration
+/// comes from, `T` and `R` its TPDO and RPDO counts (see [`Device`]).
 pub trait Profile<
     A,
     E: Copy,
     const Q: usize = { super::DEFAULT_QUEUE_CAPACITY },
     C = super::DeviceConfig,
+    const T: usize = 4,
+    const R: usize = 4,
 >
 {
     /// Whether a core event goes to the application's queue (default: all;
@@ -113,17 +115,27 @@ pub trait Profile<
     /// [`Device::set_nmt_state`](super::Device::set_nmt_state), which reports
     /// its state change through this method again: a profile must not
     /// change the state on every state change (that would never end).
-    fn on_event(&mut self, device: &mut Device<A, E, Q, C>, now: Timestamp, event: &DeviceEvent) {
+    fn on_event(
+        &mut self,
+        device: &mut Device<A, E, Q, C, T, R>,
+        now: Timestamp,
+        event: &DeviceEvent,
+    ) {
         let _ = (device, now, event);
     }
 
     /// Every received frame while the device runs, after the core.
-    fn on_frame(&mut self, device: &mut Device<A, E, Q, C>, now: Timestamp, frame: &CanFrame) {
+    fn on_frame(
+        &mut self,
+        device: &mut Device<A, E, Q, C, T, R>,
+        now: Timestamp,
+        frame: &CanFrame,
+    ) {
         let _ = (device, now, frame);
     }
 
     /// Time has passed (after the core's own timers).
-    fn on_timeout(&mut self, device: &mut Device<A, E, Q, C>, now: Timestamp) {
+    fn on_timeout(&mut self, device: &mut Device<A, E, Q, C, T, R>, now: Timestamp) {
         let _ = (device, now);
     }
 
@@ -150,16 +162,19 @@ pub trait Profile<
     }
 }
 
-impl<A, E: Copy, const Q: usize, C> Profile<A, E, Q, C> for () {}
+impl<A, E: Copy, const Q: usize, C, const T: usize, const R: usize> Profile<A, E, Q, C, T, R>
+    for ()
+{
+}
 
 /// Implements [`Machine`] for a profile type that holds its core in
 /// `self.device` and its [`Profile`] in `self.profile`, and `Deref` to the
 /// core (read-only: its getters). `$name` takes the device's queue
 /// capacity `Q` as its one const parameter.
 macro_rules! machine_on_device {
-    ($name:ident, $objects:ty, $event:ty, $config:ty) => {
+    ($name:ident, $objects:ty, $event:ty, $config:ty, $tpdos:expr, $rpdos:expr) => {
         impl<const Q: usize> core::ops::Deref for $name<Q> {
-            type Target = $crate::device::Device<$objects, $event, Q, $config>;
+            type Target = $crate::device::Device<$objects, $event, Q, $config, $tpdos, $rpdos>;
 
             /// The device core, for its getters (objects, communication
             /// objects, PDO configuration, NMT state, error register, ...).

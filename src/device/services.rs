@@ -72,7 +72,7 @@ impl Services {
     }
 }
 
-impl<A, E, const Q: usize, C> Device<A, E, Q, C>
+impl<A, E, const Q: usize, C, const T: usize, const R: usize> Device<A, E, Q, C, T, R>
 where
     A: ObjectDictionary + Clone,
     E: Copy + From<DeviceEvent>,
@@ -216,7 +216,7 @@ where
     }
 
     /// A received frame: guarding requests, SYNC, TIME.
-    pub(super) fn services_frame<P: Profile<A, E, Q, C>>(
+    pub(super) fn services_frame<P: Profile<A, E, Q, C, T, R>>(
         &mut self,
         now: Timestamp,
         frame: &CanFrame,
@@ -234,7 +234,7 @@ where
 
     /// A SYNC frame (received or the device's own) on 1005h's identifier
     /// runs the synchronous TPDOs.
-    fn take_sync<P: Profile<A, E, Q, C>>(
+    fn take_sync<P: Profile<A, E, Q, C, T, R>>(
         &mut self,
         now: Timestamp,
         frame: &CanFrame,
@@ -250,7 +250,7 @@ where
     }
 
     /// Time has passed: life guarding, the SYNC producer.
-    pub(super) fn services_timeout<P: Profile<A, E, Q, C>>(
+    pub(super) fn services_timeout<P: Profile<A, E, Q, C, T, R>>(
         &mut self,
         now: Timestamp,
         profile: &mut P,
@@ -269,7 +269,7 @@ where
     }
 
     /// A synchronous RPDO was received: outside the window it is an event.
-    pub(super) fn note_rpdo<P: Profile<A, E, Q, C>>(
+    pub(super) fn note_rpdo<P: Profile<A, E, Q, C, T, R>>(
         &mut self,
         now: Timestamp,
         pdo: PdoNumber,
@@ -293,7 +293,7 @@ where
     }
 
     /// The services' events into the device's queue.
-    pub(super) fn drain_services<P: Profile<A, E, Q, C>>(
+    pub(super) fn drain_services<P: Profile<A, E, Q, C, T, R>>(
         &mut self,
         now: Timestamp,
         profile: &mut P,

@@ -45,34 +45,29 @@ impl PdoDirection {
     /// 1A00h-1A03h belongs to, and whether it is the mapping object.
     #[must_use]
     pub const fn from_index(index: u16) -> Option<(PdoDirection, PdoNumber, bool)> {
-        let Some((slot, is_mapping)) = slot_of_index(index) else {
-            return None;
-        };
-        let dir = if slot >= 4 {
+        // A mask and two compares.
+        let base = index & !0x0203;
+        let dir = if base == RPDO_COMMUNICATION {
+            PdoDirection::Receive
+        } else if base == TPDO_COMMUNICATION {
             PdoDirection::Transmit
         } else {
-            PdoDirection::Receive
+            return None;
         };
-        match PdoNumber::new((slot & 3) as u8) {
-            Some(n) => Some((dir, n, is_mapping)),
+        match PdoNumber::new((index & 3) as u8) {
+            Some(n) => Some((dir, n, index & 0x0200 != 0)),
             None => None,
         }
     }
 }
 
-/// The position of a PDO object's PDO in a [`crate::pdo::PdoConfig`]
-/// (RPDO 0-3 are 0-3, TPDO 0-3 are 4-7) and whether `index` is its mapping
-/// object; `None` for any index but 1400h-1403h / 1600h-1603h /
-/// 1800h-1803h / 1A00h-1A03h. A mask and two compares.
+/// Whether `index` is a PDO object, 1400h-1403h / 1600h-1603h /
+/// 1800h-1803h / 1A00h-1A03h (`PdoDirection::from_index(index).is_some()`,
+/// without working out which).
 #[inline]
-pub(crate) const fn slot_of_index(index: u16) -> Option<(usize, bool)> {
+pub(crate) const fn is_pdo_index(index: u16) -> bool {
     let base = index & !0x0203;
-    if base != RPDO_COMMUNICATION && base != TPDO_COMMUNICATION {
-        return None;
-    }
-    // Bit 11 is set in 18xxh/1Axxh (transmit): slot 4 and up.
-    let slot = ((index >> 9) & 4) | (index & 3);
-    Some((slot as usize, index & 0x0200 != 0))
+    base == RPDO_COMMUNICATION || base == TPDO_COMMUNICATION
 }
 
 /// A PDO COB-ID entry (sub-index 1): the identifier plus three flags.
@@ -371,6 +366,10 @@ mod tests {
         assert_eq!(Transmit.comm_index(PdoNumber::P2), 0x1802);
         assert_eq!(Transmit.mapping_index(PdoNumber::P1), 0x1A01);
         for index in 0..=0xFFFFu16 {
+            assert_eq!(
+                is_pdo_index(index),
+                PdoDirection::from_index(index).is_some()
+            );
             match PdoDirection::from_index(index) {
                 Some((d, n, m)) => {
                     let back = if m {

@@ -9,7 +9,10 @@
 //!
 //! [`PdoDictionary`] wraps the application's dictionary `D`: it serves the
 //! PDO objects from its [`PdoConfig`] and passes every other index to `D`
-//! (which also says which objects are PDO-mappable, and how long).
+//! (which also says which objects are PDO-mappable, and how long). The
+//! configuration has room for `T` TPDOs and `R` RPDOs ([`PdoConfig`]): the
+//! objects of a PDO past them, or of one it has room for but does not
+//! have, do not exist (06020000h).
 //!
 //! # Rules and abort codes
 //!
@@ -34,9 +37,8 @@
 //! Values are applied only when the whole download is accepted
 //! ([`ObjectDictionary::finish_write`]); a refused write changes nothing.
 
-use super::comm::{le_word, slot_of_index, PdoCommParams, PdoDirection};
+use super::comm::{le_word, PdoCommParams, PdoDirection};
 use super::mapping::{MappingEntry, MappingError, PdoMapping, MAX_BITS, MAX_ENTRIES};
-use crate::bytes::InlineData;
 use crate::cob_id::PdoNumber;
 use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
 use crate::sdo::AbortCode;
@@ -99,31 +101,69 @@ impl PdoSlot {
     }
 }
 
-/// The PDO configuration of a device: up to 4 RPDOs and 4 TPDOs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub struct PdoConfig {
-    /// RPDO 0-3, then TPDO 0-3 (the order of `slot_of_index`).
-    slots: [Option<PdoSlot>; 8],
+/// The PDO configuration of a device: `R` RPDOs and `T` TPDOs (at most 4
+/// each, the PDO numbers [`PdoNumber`] has; default 4 and 4). A PDO
+/// number the device does not have has no slot: [`get`](Self::get) gives
+/// `None`, [`insert`](Self::insert) ignores it, and over SDO its objects
+/// do not exist (CiA 301: the PDO objects exist for the PDOs a device has).
+///
+/// ```
+/// use canopen_codec::pdo::{PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoMapping, PdoSlot};
+/// use canopen_codec::PdoNumber;
+/// // 3 TPDOs and 3 RPDOs (a CiA 418 battery module).
+/// let mut pdos = PdoConfig::<3, 3>::empty();
+/// let comm = PdoCommParams::event_driven(PdoCobId::from_u32(0x184), 100);
+/// pdos.insert(PdoDirection::Transmit, PdoNumber::P2, PdoSlot::new(comm, &PdoMapping::EMPTY));
+/// pdos.insert(PdoDirection::Transmit, PdoNumber::P3, PdoSlot::new(comm, &PdoMapping::EMPTY));
+/// assert!(pdos.get(PdoDirection::Transmit, PdoNumber::P2).is_some());
+/// assert_eq!(pdos.get(PdoDirection::Transmit, PdoNumber::P3), None); // no TPDO 3
+/// assert_eq!(PdoConfig::<3, 3>::count(PdoDirection::Receive), 3);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct PdoConfig<const T: usize = 4, const R: usize = 4> {
+    /// RPDO 0..R.
+    rpdos: [Option<PdoSlot>; R],
+    /// TPDO 0..T.
+    tpdos: [Option<PdoSlot>; T],
 }
 
-/// The position of PDO `n` of `dir` in [`PdoConfig`]'s slots.
-#[inline]
-const fn position(dir: PdoDirection, n: PdoNumber) -> usize {
-    let base = match dir {
-        PdoDirection::Receive => 0,
-        PdoDirection::Transmit => 4,
-    };
-    base + n.raw() as usize
+impl Default for PdoConfig {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
 impl PdoConfig {
-    /// A device without PDOs.
+    /// A device without PDOs, with room for 4 TPDOs and 4 RPDOs (other
+    /// counts: [`empty`](Self::empty)).
     #[must_use]
     pub const fn new() -> Self {
-        PdoConfig { slots: [None; 8] }
+        Self::empty()
+    }
+}
+
+impl<const T: usize, const R: usize> PdoConfig<T, R> {
+    /// A device without PDOs, with room for `T` TPDOs and `R` RPDOs. Counts
+    /// above 4 do not compile (no PDO number has the slots past 4).
+    #[must_use]
+    pub const fn empty() -> Self {
+        const { assert!(T <= 4 && R <= 4, "at most 4 TPDOs and 4 RPDOs") };
+        PdoConfig {
+            rpdos: [None; R],
+            tpdos: [None; T],
+        }
     }
 
-    /// Removes every PDO (what [`new`](Self::new) gives), in place: no
+    /// How many PDOs of `dir` the configuration has room for (`T` or `R`).
+    #[must_use]
+    pub const fn count(dir: PdoDirection) -> usize {
+        match dir {
+            PdoDirection::Receive => R,
+            PdoDirection::Transmit => T,
+        }
+    }
+
+    /// Removes every PDO (what [`empty`](Self::empty) gives), in place: no
     /// empty configuration built in a temporary and copied (a device's NMT
     /// reset restores its PDOs into the live one).
     ///
@@ -137,14 +177,36 @@ impl PdoConfig {
     /// assert_eq!(pdos, PdoConfig::new());
     /// ```
     pub fn clear(&mut self) {
-        for slot in &mut self.slots {
+        for slot in self.rpdos.iter_mut().chain(&mut self.tpdos) {
             *slot = None;
         }
     }
 
-    /// Adds (or replaces) a PDO.
+    /// Copies the PDOs of `other` this configuration has room for, and
+    /// removes the others (a configuration of other counts restored into
+    /// this one).
+    pub fn copy_from<const T2: usize, const R2: usize>(&mut self, other: &PdoConfig<T2, R2>) {
+        self.clear();
+        for (d, s) in self.rpdos.iter_mut().zip(&other.rpdos) {
+            *d = *s;
+        }
+        for (d, s) in self.tpdos.iter_mut().zip(&other.tpdos) {
+            *d = *s;
+        }
+    }
+
+    #[inline]
+    fn slots_mut(&mut self, dir: PdoDirection) -> &mut [Option<PdoSlot>] {
+        match dir {
+            PdoDirection::Receive => &mut self.rpdos,
+            PdoDirection::Transmit => &mut self.tpdos,
+        }
+    }
+
+    /// Adds (or replaces) a PDO; a number the configuration has no room
+    /// for is ignored.
     pub fn insert(&mut self, dir: PdoDirection, n: PdoNumber, slot: PdoSlot) -> &mut Self {
-        if let Some(s) = self.slots.get_mut(position(dir, n)) {
+        if let Some(s) = self.slots_mut(dir).get_mut(usize::from(n.raw())) {
             *s = Some(slot);
         }
         self
@@ -152,54 +214,48 @@ impl PdoConfig {
 
     /// A PDO's configuration, if the device has it.
     #[must_use]
-    #[inline]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn get(&self, dir: PdoDirection, n: PdoNumber) -> Option<&PdoSlot> {
-        self.slots.get(position(dir, n))?.as_ref()
+        let slots: &[Option<PdoSlot>] = match dir {
+            PdoDirection::Receive => &self.rpdos,
+            PdoDirection::Transmit => &self.tpdos,
+        };
+        slots.get(usize::from(n.raw()))?.as_ref()
     }
 
     /// The same, mutably (the application's own changes; no rules applied).
     #[inline]
     pub fn get_mut(&mut self, dir: PdoDirection, n: PdoNumber) -> Option<&mut PdoSlot> {
-        self.slots.get_mut(position(dir, n))?.as_mut()
+        self.slots_mut(dir).get_mut(usize::from(n.raw()))?.as_mut()
     }
 
-    /// TPDO 0-3.
+    /// TPDO 0..T.
     #[inline]
-    pub(crate) fn tpdos(&self) -> &[Option<PdoSlot>] {
-        self.slots.get(4..).unwrap_or(&[])
+    pub(crate) fn tpdos(&self) -> &[Option<PdoSlot>; T] {
+        &self.tpdos
     }
 
-    /// RPDO 0-3.
+    /// RPDO 0..R.
     #[inline]
-    pub(crate) fn rpdos(&self) -> &[Option<PdoSlot>] {
-        self.slots.get(..4).unwrap_or(&[])
+    pub(crate) fn rpdos(&self) -> &[Option<PdoSlot>; R] {
+        &self.rpdos
     }
 }
 
 /// An [`ObjectDictionary`] serving the PDO objects from a [`PdoConfig`] with
 /// the reconfiguration rules, and everything else from `D`.
 #[derive(Debug, Clone)]
-pub struct PdoDictionary<D> {
+pub struct PdoDictionary<D, const T: usize = 4, const R: usize = 4> {
     /// The PDO configuration.
-    pub config: PdoConfig,
+    pub config: PdoConfig<T, R>,
     /// The application's dictionary (all other objects).
     pub inner: D,
     pending: WriteBuffer,
 }
 
-/// Where an index leads: to the application's dictionary, to a PDO the
-/// device lacks (06020000h), or to one of its PDO objects.
-enum Target {
-    Inner,
-    Missing,
-    /// The PDO's position in the configuration, and whether the index is
-    /// its mapping object.
-    Pdo(usize, bool),
-}
-
-impl<D: ObjectDictionary> PdoDictionary<D> {
+impl<D: ObjectDictionary, const T: usize, const R: usize> PdoDictionary<D, T, R> {
     /// Layers `config` over `inner`.
-    pub const fn new(config: PdoConfig, inner: D) -> Self {
+    pub const fn new(config: PdoConfig<T, R>, inner: D) -> Self {
         PdoDictionary {
             config,
             inner,
@@ -207,35 +263,16 @@ impl<D: ObjectDictionary> PdoDictionary<D> {
         }
     }
 
+    /// The PDO whose object `index` is and whether it is the mapping
+    /// object; `None` for an index of the application's dictionary, 06020000h
+    /// for the objects of a PDO the device does not have.
     #[inline]
-    fn target(&self, index: u16) -> Target {
-        match slot_of_index(index) {
-            None => Target::Inner,
-            Some((pos, is_mapping)) => match self.config.slots.get(pos) {
-                Some(Some(_)) => Target::Pdo(pos, is_mapping),
-                _ => Target::Missing,
-            },
-        }
-    }
-
-    /// Applies a complete write of `data` to a PDO object, or refuses it
-    /// (and changes nothing: the rules are checked before any change).
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-    fn apply(
-        &mut self,
-        pos: usize,
-        is_mapping: bool,
-        sub: u8,
-        data: &[u8],
-    ) -> Result<(), AbortCode> {
-        let Some(Some(slot)) = self.config.slots.get_mut(pos) else {
-            return Err(AbortCode::ObjectDoesNotExist);
-        };
-        if is_mapping {
-            apply_mapping(slot, sub, data, &self.inner)
-        } else {
-            apply_comm(slot, sub, data)
-        }
+    fn pdo(&self, index: u16) -> Option<Result<(&PdoSlot, bool), AbortCode>> {
+        let (dir, n, is_mapping) = PdoDirection::from_index(index)?;
+        Some(match self.config.get(dir, n) {
+            Some(slot) => Ok((slot, is_mapping)),
+            None => Err(AbortCode::ObjectDoesNotExist),
+        })
     }
 }
 
@@ -279,14 +316,14 @@ fn apply_mapping<D: ObjectDictionary + ?Sized>(
             return Err(AbortCode::PdoLengthExceeded);
         }
         for e in entries {
-            e.check(od)?;
+            e.check_abort(od)?;
         }
         slot.count = raw as u8;
         return Ok(());
     }
     let entry = MappingEntry::from_u32(raw);
     if !entry.is_empty() {
-        entry.check(od)?;
+        entry.check_abort(od)?;
     }
     if let Some(e) = slot.entries.get_mut(usize::from(sub) - 1) {
         *e = entry;
@@ -297,32 +334,37 @@ fn apply_mapping<D: ObjectDictionary + ?Sized>(
 /// The rules for a write to communication sub-index `sub`; `slot` changes
 /// only when the write is accepted.
 fn apply_comm(slot: &mut PdoSlot, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
-    let old = slot.comm;
-    let mut new = old;
-    new.decode_sub(sub, data)?;
+    // Decoded in place (a refused value changes nothing: decode_sub stores
+    // only what it accepts), the two fields the rules compare put back
+    // when the write is refused: no copy of the parameters kept.
+    let comm = &mut slot.comm;
+    let (old_cob, old_inhibit) = (comm.cob_id, comm.inhibit_time_100us);
+    comm.decode_sub(sub, data)?;
+    let new_cob = comm.cob_id;
     let refused = match sub {
         1 => {
-            (new.cob_id.is_valid() && new.cob_id.can_id().is_none())
-                || (old.cob_id.is_valid()
-                    && new.cob_id.is_valid()
-                    && !old.cob_id.same_identifier(new.cob_id))
+            new_cob.is_valid()
+                && (new_cob.can_id().is_none()
+                    || (old_cob.is_valid() && !old_cob.same_identifier(new_cob)))
         }
-        3 => old.cob_id.is_valid() && new.inhibit_time_100us != old.inhibit_time_100us,
+        3 => old_cob.is_valid() && comm.inhibit_time_100us != old_inhibit,
         _ => false,
     };
     if refused {
+        comm.cob_id = old_cob;
+        comm.inhibit_time_100us = old_inhibit;
         return Err(AbortCode::InvalidValue);
     }
-    slot.comm = new;
     Ok(())
 }
 
-impl<D: ObjectDictionary> ObjectDictionary for PdoDictionary<D> {
+impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
+    for PdoDictionary<D, T, R>
+{
     fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-        let is_mapping = match self.target(index) {
-            Target::Inner => return self.inner.info(index, sub),
-            Target::Missing => return Err(AbortCode::ObjectDoesNotExist),
-            Target::Pdo(_, is_mapping) => is_mapping,
+        let is_mapping = match self.pdo(index) {
+            None => return self.inner.info(index, sub),
+            Some(pdo) => pdo?.1,
         };
         let len = if is_mapping {
             match sub {
@@ -353,13 +395,9 @@ impl<D: ObjectDictionary> ObjectDictionary for PdoDictionary<D> {
         offset: usize,
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let (pos, is_mapping) = match self.target(index) {
-            Target::Inner => return self.inner.read(index, sub, offset, buf),
-            Target::Missing => return Err(AbortCode::ObjectDoesNotExist),
-            Target::Pdo(pos, is_mapping) => (pos, is_mapping),
-        };
-        let Some(Some(slot)) = self.config.slots.get(pos) else {
-            return Err(AbortCode::ObjectDoesNotExist);
+        let (slot, is_mapping) = match self.pdo(index) {
+            None => return self.inner.read(index, sub, offset, buf),
+            Some(pdo) => pdo?,
         };
         let value = if is_mapping {
             match sub {
@@ -370,38 +408,131 @@ impl<D: ObjectDictionary> ObjectDictionary for PdoDictionary<D> {
             slot.comm.sub_word(sub)
         };
         let (word, len) = value.ok_or(AbortCode::SubIndexDoesNotExist)?;
-        let value = InlineData::<4>::from_le_word(u64::from(word), len);
-        Ok(crate::od::read_at(value.as_slice(), offset, buf))
+        let bytes = word.to_le_bytes();
+        let value = bytes.get(..len).unwrap_or(&bytes);
+        Ok(crate::od::read_at(value, offset, buf))
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
-        match self.target(index) {
-            Target::Inner => self.inner.write(index, sub, offset, data),
-            Target::Missing => Err(AbortCode::ObjectDoesNotExist),
-            // PDO objects are at most 4 bytes: buffer until finish_write.
-            Target::Pdo(..) => self.pending.write(index, sub, offset, data),
+        match self.pdo(index) {
+            None => self.inner.write(index, sub, offset, data),
+            Some(pdo) => {
+                pdo?;
+                // PDO objects are at most 4 bytes: buffer until finish_write.
+                self.pending.write(index, sub, offset, data)
+            }
         }
     }
 
+    /// Applies the buffered write to a PDO object, or refuses it (and
+    /// changes nothing: the rules are checked before any change).
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let Target::Pdo(pos, is_mapping) = self.target(index) else {
+        let Some((dir, n, is_mapping)) = PdoDirection::from_index(index) else {
             return self.inner.finish_write(index, sub, len);
         };
-        let mut pending = self.pending;
-        self.pending.clear();
-        let data = pending.take(index, sub);
-        self.apply(
-            pos,
-            is_mapping,
-            sub,
-            data.get(..len.min(data.len())).unwrap_or(&[]),
-        )
+        let data = self.pending.take(index, sub);
+        let data = data.get(..len.min(data.len())).unwrap_or(&[]);
+        let slot = self
+            .config
+            .get_mut(dir, n)
+            .ok_or(AbortCode::ObjectDoesNotExist)?;
+        if is_mapping {
+            apply_mapping(slot, sub, data, &self.inner)
+        } else {
+            apply_comm(slot, sub, data)
+        }
     }
 
     fn abort_write(&mut self, index: u16, sub: u8) {
-        match self.target(index) {
-            Target::Pdo(..) => self.pending.clear(),
-            _ => self.inner.abort_write(index, sub),
+        if super::comm::is_pdo_index(index) {
+            self.pending.clear();
+        } else {
+            self.inner.abort_write(index, sub);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pdo::PdoCobId;
+
+    fn slot(id: u32) -> PdoSlot {
+        PdoSlot::new(
+            PdoCommParams::event_driven(PdoCobId::from_u32(id), 0),
+            &PdoMapping::EMPTY,
+        )
+    }
+
+    const NUMBERS: [PdoNumber; 4] = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3];
+    const DIRECTIONS: [PdoDirection; 2] = [PdoDirection::Receive, PdoDirection::Transmit];
+
+    /// Every PDO number in both directions against counts 2 + 1 (and 0 + 0):
+    /// room below the count, none at or above it, nothing panics, and the
+    /// two directions never share a slot.
+    #[test]
+    fn room_follows_the_counts() {
+        let mut pdos = PdoConfig::<2, 1>::empty();
+        assert_eq!(
+            (
+                PdoConfig::<2, 1>::count(PdoDirection::Transmit),
+                PdoConfig::<2, 1>::count(PdoDirection::Receive)
+            ),
+            (2, 1)
+        );
+        for dir in DIRECTIONS {
+            for n in NUMBERS {
+                let id =
+                    0x100 * u32::from(n.raw()) + if dir == PdoDirection::Receive { 1 } else { 2 };
+                pdos.insert(dir, n, slot(id));
+            }
+        }
+        for dir in DIRECTIONS {
+            for n in NUMBERS {
+                let room = usize::from(n.raw()) < PdoConfig::<2, 1>::count(dir);
+                let got = pdos.get(dir, n).map(|s| s.comm.cob_id.to_u32());
+                let id =
+                    0x100 * u32::from(n.raw()) + if dir == PdoDirection::Receive { 1 } else { 2 };
+                assert_eq!(got, room.then_some(id), "{dir:?} {n}");
+                assert_eq!(pdos.get_mut(dir, n).is_some(), room);
+            }
+        }
+        let mut none = PdoConfig::<0, 0>::empty();
+        for dir in DIRECTIONS {
+            for n in NUMBERS {
+                none.insert(dir, n, slot(0x181));
+                assert_eq!(none.get(dir, n), None);
+            }
+        }
+    }
+
+    /// A configuration copied into one of other counts keeps the PDOs both
+    /// have room for and loses the others; copied back, the lost ones stay
+    /// lost.
+    #[test]
+    fn copy_between_counts() {
+        let mut full = PdoConfig::new();
+        for dir in DIRECTIONS {
+            for n in NUMBERS {
+                full.insert(dir, n, slot(0x180 + u32::from(n.raw())));
+            }
+        }
+        let mut small = PdoConfig::<3, 2>::empty();
+        small.insert(PdoDirection::Transmit, PdoNumber::P0, slot(0x555));
+        small.copy_from(&full);
+        assert_eq!(
+            small.get(PdoDirection::Transmit, PdoNumber::P0),
+            full.get(PdoDirection::Transmit, PdoNumber::P0)
+        );
+        assert!(small.get(PdoDirection::Transmit, PdoNumber::P2).is_some());
+        assert!(small.get(PdoDirection::Receive, PdoNumber::P2).is_none());
+        let mut back = PdoConfig::new();
+        back.copy_from(&full);
+        back.copy_from(&small);
+        assert!(back.get(PdoDirection::Transmit, PdoNumber::P3).is_none());
+        assert!(back.get(PdoDirection::Receive, PdoNumber::P1).is_some());
+        assert!(back.get(PdoDirection::Receive, PdoNumber::P2).is_none());
+        back.clear();
+        assert_eq!(back, PdoConfig::new());
     }
 }

@@ -122,6 +122,28 @@ impl MappingEntry {
         }
         Ok(())
     }
+
+    /// [`check`](Self::check) as the abort code an SDO server answers with
+    /// (`check(od).map_err(MappingError::abort_code)`), without building
+    /// the [`MappingError`]: the device's mapping writes.
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    pub(crate) fn check_abort<D: ObjectDictionary + ?Sized>(self, od: &D) -> Result<(), AbortCode> {
+        if self.is_empty() || self.bits == 0 {
+            return Err(AbortCode::InvalidValue);
+        }
+        let fits = if self.is_dummy() {
+            Self::dummy_type_bits(self.index) == Some(self.bits)
+        } else {
+            // The dictionary's codes are the answer as they are.
+            let info = od.info(self.index, self.sub)?;
+            info.pdo_mappable && u32::from(self.bits) <= (info.len as u32).saturating_mul(8)
+        };
+        if fits {
+            Ok(())
+        } else {
+            Err(AbortCode::ObjectCannotBeMapped)
+        }
+    }
 }
 
 impl fmt::Display for MappingEntry {

@@ -142,3 +142,28 @@ fn bit_helpers() {
     assert_eq!(sign_extend(0b100, 3), -4);
     assert_eq!(sign_extend(0x7F, 8), 127);
 }
+
+/// The device's mapping writes answer with `check_abort`: the same code as
+/// `check` gives through `abort_code`, for every entry kind (objects
+/// present, missing, with a missing sub-index, a dictionary error, not
+/// mappable, too long; dummy entries of every index 0..=0x20, exact or
+/// not; the empty entry and zero bits).
+#[test]
+fn check_abort_is_check_as_an_abort_code() {
+    let objects = [0x6010u16, 0x6000, 0x1008, 0x6020, 0x7000, 0x5000];
+    let dummies = 0..=0x20u16;
+    let mut seen = 0;
+    for index in objects.into_iter().chain(dummies) {
+        for sub in [0u8, 1, 9] {
+            for bits in [0u8, 1, 8, 16, 17, 32, 64, 65, 255] {
+                let e = MappingEntry::new(index, sub, bits);
+                let want = e.check(&Od).map_err(MappingError::abort_code);
+                assert_eq!(e.check_abort(&Od), want, "{e}");
+                seen += usize::from(want.is_ok());
+            }
+        }
+    }
+    assert!(seen > 10, "some entries are accepted ({seen})");
+    let empty = MappingEntry::from_u32(0);
+    assert_eq!(empty.check_abort(&Od), Err(AbortCode::InvalidValue));
+}

@@ -1,4 +1,4 @@
-//! The PDO side of a device at run time: its four TPDO producers kept in
+//! The PDO side of a device at run time: its TPDO producers kept in
 //! step with the PDO configuration and the object values ([`TpdoSet`]),
 //! and the reception of its RPDOs ([`RpdoReceiver`]). Both implement
 //! [`Machine`]; the device that owns the object dictionary reads the mapped
@@ -18,11 +18,11 @@ use crate::machine::Machine;
 use crate::od::ObjectDictionary;
 use crate::time::Timestamp;
 
-/// TPDO 0..3 of a device, one [`TpdoProducer`] each. SYNC frames reach
-/// every producer through [`Machine::handle_frame`].
+/// TPDO 0..T of a device (default 4), one [`TpdoProducer`] each. SYNC
+/// frames reach every producer through [`Machine::handle_frame`].
 #[derive(Debug, Clone)]
-pub struct TpdoSet {
-    producers: [TpdoProducer; 4],
+pub struct TpdoSet<const T: usize = 4> {
+    producers: [TpdoProducer; T],
 }
 
 impl Default for TpdoSet {
@@ -32,18 +32,26 @@ impl Default for TpdoSet {
 }
 
 impl TpdoSet {
-    /// Four unconfigured producers.
+    /// Four unconfigured producers (other counts: [`empty`](Self::empty)).
     #[must_use]
     pub const fn new() -> Self {
+        Self::empty()
+    }
+}
+
+impl<const T: usize> TpdoSet<T> {
+    /// `T` unconfigured producers.
+    #[must_use]
+    pub const fn empty() -> Self {
         TpdoSet {
-            producers: [const { TpdoProducer::new() }; 4],
+            producers: [const { TpdoProducer::new() }; T],
         }
     }
 
     /// Gives each producer its TPDO's current communication parameters (a
     /// TPDO the configuration lacks is unconfigured). Call it after every
     /// change of 1800h-1803h.
-    pub fn reconfigure(&mut self, now: Timestamp, config: &PdoConfig) {
+    pub fn reconfigure<const R: usize>(&mut self, now: Timestamp, config: &PdoConfig<T, R>) {
         for (slot, producer) in config.tpdos().iter().zip(self.producers.iter_mut()) {
             // Both are no-ops for a producer configured so already.
             match slot {
@@ -61,7 +69,11 @@ impl TpdoSet {
     /// configuration changes). Runs after every input of a device: a
     /// mapping is trusted as the configuration keeps it (valid), not
     /// checked again.
-    pub fn refresh<D: ObjectDictionary>(&mut self, now: Timestamp, pdos: &mut PdoDictionary<D>) {
+    pub fn refresh<D: ObjectDictionary, const R: usize>(
+        &mut self,
+        now: Timestamp,
+        pdos: &mut PdoDictionary<D, T, R>,
+    ) {
         for (slot, producer) in pdos.config.tpdos().iter().zip(self.producers.iter_mut()) {
             let Some(slot) = slot.as_ref().filter(|s| s.is_valid()) else {
                 continue;
@@ -90,11 +102,14 @@ impl TpdoSet {
 
     /// Stops and forgets every producer (a reset).
     pub fn reset(&mut self) {
-        *self = Self::new();
+        // One producer at a time: no image of the whole set in flash.
+        for p in &mut self.producers {
+            *p = TpdoProducer::new();
+        }
     }
 }
 
-impl Machine for TpdoSet {
+impl<const T: usize> Machine for TpdoSet<T> {
     type Event = Infallible;
 
     /// SYNC frames drive the synchronous TPDOs; others are ignored.
@@ -143,7 +158,7 @@ pub struct RpdoFrame {
     pub data: Payload,
 }
 
-/// Receives RPDO 0..3 of a device: recognises frames on the valid RPDO
+/// Receives RPDO 0..R of a device (default 4): recognises frames on the valid RPDO
 /// COB-IDs while enabled (NMT operational, CiA 301) and reports each as an
 /// [`RpdoFrame`] event; the owner of the object dictionary writes it with
 /// [`RpdoReceiver::apply`]. Remote frames are ignored; when two RPDOs share
@@ -170,10 +185,10 @@ pub struct RpdoFrame {
 /// assert_eq!(rx.poll_event(), None);
 /// ```
 #[derive(Debug, Clone)]
-pub struct RpdoReceiver {
+pub struct RpdoReceiver<const R: usize = 4> {
     /// Each RPDO's COB-ID as a data frame's identifier word, `u32::MAX`
     /// (which no frame has) when not valid.
-    ids: [u32; 4],
+    ids: [u32; R],
     /// Events replaced undrained (saturating; a device never lets one be).
     dropped: u32,
     event: Option<RpdoFrame>,
@@ -190,11 +205,20 @@ impl Default for RpdoReceiver {
 }
 
 impl RpdoReceiver {
-    /// No RPDO configured, disabled.
+    /// Four RPDOs, none configured, disabled (other counts:
+    /// [`empty`](Self::empty)).
     #[must_use]
     pub const fn new() -> Self {
+        Self::empty()
+    }
+}
+
+impl<const R: usize> RpdoReceiver<R> {
+    /// `R` RPDOs, none configured, disabled.
+    #[must_use]
+    pub const fn empty() -> Self {
         RpdoReceiver {
-            ids: [NO_ID; 4],
+            ids: [NO_ID; R],
             dropped: 0,
             event: None,
             enabled: false,
@@ -203,7 +227,7 @@ impl RpdoReceiver {
 
     /// Takes the COB-IDs of the valid RPDOs from `config`. Call it after
     /// every change of 1400h-1403h.
-    pub fn reconfigure(&mut self, config: &PdoConfig) {
+    pub fn reconfigure<const T: usize>(&mut self, config: &PdoConfig<T, R>) {
         for (slot, id) in config.rpdos().iter().zip(self.ids.iter_mut()) {
             *id = slot
                 .as_ref()
@@ -222,9 +246,9 @@ impl RpdoReceiver {
     /// ([`write_mapped`](super::write_mapped)) with the mapping `config`
     /// has for it now; `Ok(true)` when the frame is longer than the
     /// mapping. `None` when the RPDO is no longer configured.
-    pub fn apply<D: ObjectDictionary>(
+    pub fn apply<D: ObjectDictionary, const T: usize>(
         rpdo: &RpdoFrame,
-        pdos: &mut PdoDictionary<D>,
+        pdos: &mut PdoDictionary<D, T, R>,
     ) -> Option<Result<bool, RpdoError>> {
         let slot = pdos.config.get(PdoDirection::Receive, rpdo.pdo)?;
         Some(write_entries(
@@ -235,7 +259,7 @@ impl RpdoReceiver {
     }
 }
 
-impl Machine for RpdoReceiver {
+impl<const R: usize> Machine for RpdoReceiver<R> {
     type Event = RpdoFrame;
 
     fn handle_frame(&mut self, _now: Timestamp, frame: &CanFrame) {
