@@ -149,7 +149,7 @@ pub use catalogue::{
     DISPLAYED_ERROR_FORMAT, EXTENDED_CHARGE_STATUS_FLAGS, EXTERNAL_OVERRIDE_FLAGS,
 };
 pub use charger::{Charger, ChargerConfig, ChargerEvent, ChargerPowerOn};
-pub use charger_objects::ChargerObjects;
+pub use charger_objects::{ChargerObjects, ChargerPowerOnValues};
 pub use codes::{AlarmFaultEntry, DeltaQCode, ALARMS_AND_FAULTS};
 #[cfg(feature = "alloc")]
 pub use eds::{charger_eds, DELTAQ_OBJECT_DESCRIPTIONS};

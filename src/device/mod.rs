@@ -23,10 +23,17 @@
 //!
 //! - **NMT** ([`NmtSlave`]): nothing is handled before [`Device::boot`].
 //!   Boot and every reset send the boot-up message and enter
-//!   pre-operational. **Reset node** (81h) restores every object to its
+//!   pre-operational. **Reset node** (81h) restores every parameter to its
 //!   power-on value: the communication objects and the PDO configuration
-//!   to the [`DeviceConfig`], the application objects to their values at
-//!   [`Device::boot`] (what the application set before booting). **Reset communication** (82h) restores only
+//!   to the [`DeviceConfig`], the application's parameters to their values
+//!   at [`Device::boot`] (what the application set before booting; what
+//!   they are is the dictionary's [`PowerOnValues`]: every object an SDO
+//!   download or an RPDO can change, the `rw` ones, for the profiles; every
+//!   object for [`MemoryDictionary`](crate::od::MemoryDictionary)). The
+//!   application's `ro` objects (its measurements and identity) keep the
+//!   value it last set: CiA 301 7.3.2.2.1 restores the parameters of the
+//!   profile areas, and a boot-time reading restored would be published
+//!   (SDO, TPDOs) until the application's next update. **Reset communication** (82h) restores only
 //!   the communication objects (1000h-1FFFh, PDO configuration included)
 //!   and keeps the application objects. Both drop a running SDO transfer
 //!   silently, restart the heartbeat and are reported as
@@ -115,6 +122,7 @@ mod lss;
 mod objects;
 mod profile;
 mod services;
+mod snapshot;
 
 pub use config::{DeviceConfig, Policies, PowerOn};
 #[cfg(feature = "alloc")]
@@ -124,6 +132,7 @@ pub use objects::{
 };
 pub(crate) use profile::machine_on_device;
 pub use profile::{DeviceEvent, Profile};
+pub use snapshot::PowerOnValues;
 
 use crate::cob_id::{NodeId, EMCY_BASE};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
@@ -173,7 +182,12 @@ pub const DEFAULT_QUEUE_CAPACITY: usize = 16;
 /// module docs. `C` is what the power-on configuration is made from
 /// ([`PowerOn`]; default: the stored [`DeviceConfig`]).
 #[derive(Debug)]
-pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY, C = DeviceConfig> {
+pub struct Device<
+    A: PowerOnValues,
+    E: Copy,
+    const Q: usize = DEFAULT_QUEUE_CAPACITY,
+    C = DeviceConfig,
+> {
     /// Where the power-on configuration comes from.
     config: C,
     /// The active node-ID (the configuration's).
@@ -193,8 +207,9 @@ pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY, C = Devic
     rpdos: RpdoReceiver,
     /// The profile allows TPDOs (besides NMT operational).
     tpdos_enabled: bool,
-    /// The application objects at boot (restored by reset node).
-    power_on: A,
+    /// The application's power-on values, taken at boot (restored by
+    /// reset node).
+    power_on: A::Snapshot,
     /// The profile's frames and EMCYs: a full queue drops its oldest
     /// frame and counts it ([`frames_dropped`](Self::frames_dropped)).
     transmit: EventQueue<CanFrame, Q>,
@@ -210,7 +225,7 @@ pub struct Device<A, E: Copy, const Q: usize = DEFAULT_QUEUE_CAPACITY, C = Devic
     services: services::Services,
 }
 
-impl<A, E: Copy, const Q: usize> Device<A, E, Q> {
+impl<A: PowerOnValues, E: Copy, const Q: usize> Device<A, E, Q> {
     /// The configuration.
     #[must_use]
     pub const fn config(&self) -> &DeviceConfig {
@@ -220,7 +235,7 @@ impl<A, E: Copy, const Q: usize> Device<A, E, Q> {
 
 impl<A, E, const Q: usize, C> Device<A, E, Q, C>
 where
-    A: ObjectDictionary + Clone,
+    A: ObjectDictionary + PowerOnValues,
     E: Copy + From<DeviceEvent>,
     C: PowerOn,
 {
@@ -233,9 +248,10 @@ where
             PdoConfig::new(),
             DeviceObjects {
                 comm: CommObjects::new(node),
-                app: app.clone(),
+                app,
             },
         );
+        let power_on = dictionary.inner.app.snapshot();
         let mut device = Device {
             config,
             node,
@@ -247,7 +263,7 @@ where
             tpdos: TpdoSet::new(),
             rpdos: RpdoReceiver::new(),
             tpdos_enabled: true,
-            power_on: app,
+            power_on,
             transmit: EventQueue::new(CanFrame::EMPTY),
             events: EventQueue::new(E::from(DeviceEvent::Reset { node: true })),
             #[cfg(feature = "lss")]
@@ -350,9 +366,9 @@ where
     /// Boots the device (power-on): boot-up message, pre-operational. The
     /// profile sees the state change (use `&mut ()` for a plain device).
     pub fn boot<P: Profile<A, E, Q, C>>(&mut self, now: Timestamp, profile: &mut P) {
-        // The application objects as they are now are the power-on values
-        // reset node restores.
-        self.power_on = self.objects().clone();
+        // The application's parameters as they are now are the power-on
+        // values reset node restores.
+        self.power_on = self.objects().snapshot();
         #[cfg(feature = "lss")]
         {
             self.powered = true;
@@ -652,7 +668,7 @@ where
         // dictionary before the application objects are kept.
         self.server.cancel();
         if kind == ResetKind::Node {
-            self.server.od_mut().inner.app.clone_from(&self.power_on);
+            self.server.od_mut().inner.app.restore(&self.power_on);
         }
         self.load_power_on();
         self.heartbeat.boot(now);
@@ -782,7 +798,7 @@ where
     }
 }
 
-impl<A: ObjectDictionary + Clone, const Q: usize, C: PowerOn> Machine
+impl<A: ObjectDictionary + PowerOnValues, const Q: usize, C: PowerOn> Machine
     for Device<A, DeviceEvent, Q, C>
 {
     type Event = DeviceEvent;

@@ -33,7 +33,8 @@ pub enum DeviceEvent {
     /// and the boot-up message is queued, before the state change to
     /// pre-operational.
     Reset {
-        /// `true` for reset node (81h: every object restored), `false` for
+        /// `true` for reset node (81h: the communication objects and the
+        /// application's [`PowerOnValues`](super::PowerOnValues) restored), `false` for
         /// reset communication (82h: the communication objects restored).
         node: bool,
     },
@@ -92,7 +93,7 @@ pub enum DeviceEvent {
 /// the device's queue capacity and `C` where its power-on configuration
 /// comes from (see [`Device`]).
 pub trait Profile<
-    A,
+    A: super::PowerOnValues,
     E: Copy,
     const Q: usize = { super::DEFAULT_QUEUE_CAPACITY },
     C = super::DeviceConfig,
@@ -147,7 +148,7 @@ pub trait Profile<
     }
 }
 
-impl<A, E: Copy, const Q: usize, C> Profile<A, E, Q, C> for () {}
+impl<A: super::PowerOnValues, E: Copy, const Q: usize, C> Profile<A, E, Q, C> for () {}
 
 /// Implements [`Machine`] for a profile type that holds its core in
 /// `self.device` and its [`Profile`] in `self.profile`, and `Deref` to the
