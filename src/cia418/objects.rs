@@ -115,11 +115,23 @@ type Value = InlineData<4>;
 /// assert!(od.info(0x6010, 0).unwrap().pdo_mappable);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+// `repr(C)`, the `rw` objects first in [`BatteryPowerOnValues`]' order:
+// the snapshot is the struct's first 10 bytes, copied as words rather
+// than field by field.
+#[repr(C)]
 pub struct BatteryObjects {
-    /// 6000h battery status.
-    pub battery_status: BatteryStatus,
+    /// 6054h date of last equalization (rw).
+    pub date_of_last_equalization: EqualizationDate,
+    /// 6052h Ah returned during last charge (rw).
+    pub ah_returned_during_last_charge: EighthAmpHours,
+    /// 6053h Ah since last equalization (rw).
+    pub ah_since_last_equalization: EighthAmpHours,
     /// 6001h charger status (written by the charger).
     pub charger_status: ChargerStatus,
+    /// 6080h charger state of charge (written by the charger; default FFh).
+    pub charger_state_of_charge: StateOfCharge,
+    /// 6000h battery status.
+    pub battery_status: BatteryStatus,
     /// 6010h temperature.
     pub temperature: Temperature,
     /// 6020h battery parameters.
@@ -128,18 +140,10 @@ pub struct BatteryObjects {
     pub cumulative_total_ah_charge: AmpHours,
     /// 6051h Ah expended since last charge.
     pub ah_expended_since_last_charge: EighthAmpHours,
-    /// 6052h Ah returned during last charge (rw).
-    pub ah_returned_during_last_charge: EighthAmpHours,
-    /// 6053h Ah since last equalization (rw).
-    pub ah_since_last_equalization: EighthAmpHours,
-    /// 6054h date of last equalization (rw).
-    pub date_of_last_equalization: EqualizationDate,
     /// 6060h battery voltage.
     pub battery_voltage: BatteryVoltage,
     /// 6070h charge current requested.
     pub charge_current_requested: ChargeCurrentRequested,
-    /// 6080h charger state of charge (written by the charger; default FFh).
-    pub charger_state_of_charge: StateOfCharge,
     /// 6081h battery state of charge (default FFh, invalid).
     pub battery_state_of_charge: StateOfCharge,
     /// 6090h water level status.
@@ -410,11 +414,12 @@ impl BatteryObjects {
 /// assert_eq!(od.temperature, Temperature::from_celsius(30).unwrap());
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(C)]
 pub struct BatteryPowerOnValues {
-    charger_status: ChargerStatus,
+    date_of_last_equalization: EqualizationDate,
     ah_returned_during_last_charge: EighthAmpHours,
     ah_since_last_equalization: EighthAmpHours,
-    date_of_last_equalization: EqualizationDate,
+    charger_status: ChargerStatus,
     charger_state_of_charge: StateOfCharge,
 }
 

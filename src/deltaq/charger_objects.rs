@@ -21,43 +21,47 @@ use crate::sdo::AbortCode;
 /// write; SDO access goes through [`ObjectDictionary`] with the access
 /// rights of each object.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+// `repr(C)`, the writable objects first in [`ChargerPowerOnValues`]'s
+// order: the snapshot is the struct's first 27 bytes, copied as words
+// rather than field by field.
+#[repr(C)]
 pub struct ChargerObjects {
-    /// 6000h battery status (written by the BMS).
-    pub battery_status: u8,
-    /// 6001h charger status (bit 0: able to charge).
-    pub charger_status: u8,
+    /// 6060h battery voltage (1/1024 V).
+    pub battery_voltage: u32,
+    /// 2241h active algorithm request (FFFFFFFFh none).
+    pub algorithm_request: u32,
+    /// 2271h voltage request (Q10 V, FFFFFFFFh none).
+    pub voltage_request: u32,
     /// 6010h battery temperature (0.125 degC).
     pub temperature: i16,
     /// 6052h Ah returned (Delta-Q: Q3 Ah, FFFFh no value).
     pub ah_returned: u16,
-    /// 6060h battery voltage (1/1024 V).
-    pub battery_voltage: u32,
     /// 6070h charge current requested (1/16 A).
     pub current_requested: u16,
-    /// 6080h charger state of charge (%; FFh invalid).
-    pub charger_soc: u8,
-    /// 6081h battery state of charge (%; FFh invalid).
-    pub battery_soc: u8,
     /// 2002h charging current (Q8 A).
     pub charging_current: u16,
+    /// 2101h battery voltage (Q8 V).
+    pub battery_voltage_q8: u16,
+    /// 2276h voltage request (Q8 V, FFFFh none).
+    pub voltage_request_q8: u16,
+    /// 6000h battery status (written by the BMS).
+    pub battery_status: u8,
+    /// 6081h battery state of charge (%; FFh invalid).
+    pub battery_soc: u8,
+    /// 4201h external override.
+    pub external_override: u8,
+    /// 6001h charger status (bit 0: able to charge).
+    pub charger_status: u8,
+    /// 6080h charger state of charge (%; FFh invalid).
+    pub charger_soc: u8,
     /// 2006h extended charge status.
     pub extended_status: u16,
     /// 2060h current displayed error (a 1003h-style entry; 0 none).
     pub displayed_error: u32,
     /// 2100h battery voltage, legacy (Q10 V).
     pub battery_voltage_q10: u16,
-    /// 2101h battery voltage (Q8 V).
-    pub battery_voltage_q8: u16,
     /// 2200h AC voltage (Q4 V).
     pub ac_voltage: u16,
-    /// 2241h active algorithm request (FFFFFFFFh none).
-    pub algorithm_request: u32,
-    /// 2271h voltage request (Q10 V, FFFFFFFFh none).
-    pub voltage_request: u32,
-    /// 2276h voltage request (Q8 V, FFFFh none).
-    pub voltage_request_q8: u16,
-    /// 4201h external override.
-    pub external_override: u8,
     pending: WriteBuffer,
 }
 
@@ -197,6 +201,7 @@ impl ChargerObjects {
 /// assert_eq!((od.battery_soc, od.ac_voltage), (0xFF, 230 * 16));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(C)]
 pub struct ChargerPowerOnValues {
     battery_voltage: u32,
     algorithm_request: u32,

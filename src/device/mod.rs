@@ -244,6 +244,7 @@ where
     /// booted.
     pub fn new(config: C, app: A) -> Self {
         let node = config.node();
+        let power_on = app.snapshot();
         let dictionary = PdoDictionary::new(
             PdoConfig::new(),
             DeviceObjects {
@@ -251,7 +252,6 @@ where
                 app,
             },
         );
-        let power_on = dictionary.inner.app.snapshot();
         let mut device = Device {
             config,
             node,
