@@ -319,3 +319,46 @@ fn battery_module_resets_the_same_way() {
         );
     }
 }
+
+/// The row tables above are every writable object of each dictionary
+/// (2FFAh, the charger's padding, stores nothing): an object made
+/// writable later without a row (and a place in the power-on values)
+/// fails here.
+#[test]
+fn the_rw_tables_are_every_writable_object() {
+    use canopen_codec::cia418::{BatteryObjects, BATTERY_OBJECT_INDEXES};
+    use canopen_codec::deltaq::ChargerObjects;
+    use canopen_codec::od::ObjectDictionary;
+    let battery = BatteryObjects::new();
+    let mut writable = Vec::new();
+    for index in BATTERY_OBJECT_INDEXES {
+        for sub in 0..=u8::MAX {
+            if battery
+                .info(index, sub)
+                .is_ok_and(|i| i.access.is_writable())
+            {
+                writable.push((index, sub));
+            }
+        }
+    }
+    let rows: Vec<(u16, u8)> = BATTERY_RW.iter().map(|r| (r.0, r.1)).collect();
+    assert_eq!(writable, rows);
+
+    let charger = ChargerObjects::new();
+    let mut writable = Vec::new();
+    for index in 0x1000..=u16::MAX {
+        for sub in 0..=2 {
+            if index != 0x2FFA
+                && charger
+                    .info(index, sub)
+                    .is_ok_and(|i| i.access.is_writable())
+            {
+                writable.push(index);
+            }
+        }
+    }
+    writable.sort_unstable();
+    let mut rows: Vec<u16> = CHARGER_RW.iter().map(|r| r.0).collect();
+    rows.sort_unstable();
+    assert_eq!(writable, rows);
+}
