@@ -29,7 +29,7 @@
 //!   at [`Device::boot`] (what the application set before booting; what
 //!   they are is the dictionary's [`PowerOnValues`]: every object an SDO
 //!   download or an RPDO can change, the `rw` ones, for the profiles; every
-//!   object for [`MemoryDictionary`](crate::od::MemoryDictionary)). The
+//!   object for `od::MemoryDictionary`). The
 //!   application's `ro` objects (its measurements and identity) keep the
 //!   value it last set: CiA 301 7.3.2.2.1 restores the parameters of the
 //!   profile areas, and a boot-time reading restored would be published
@@ -174,6 +174,9 @@ pub const DEFAULT_QUEUE_CAPACITY: usize = 16;
 /// assert_eq!(dev.poll_transmit().unwrap().to_string(), "583#4B171000E8030000");
 /// # }
 /// ```
+///
+/// `A` is the application's dictionary; what reset node restores of it is
+/// its [`PowerOnValues`] (taken at [`boot`](Self::boot)).
 ///
 /// `Q` is the capacity of the event queue and of the queue of frames to
 /// send (default [`DEFAULT_QUEUE_CAPACITY`]): a node that drains both after

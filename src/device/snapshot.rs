@@ -7,7 +7,7 @@
 //! application's measurements and identity are not parameters. So a dictionary says what its power-on
 //! values are: a profile keeps its `rw` objects (what an SDO download or an
 //! RPDO can change), a generic dictionary such as
-//! [`MemoryDictionary`](crate::od::MemoryDictionary) a copy of itself.
+//! `od::MemoryDictionary` a copy of itself.
 //!
 //! [`Device::boot`]: super::Device::boot
 
