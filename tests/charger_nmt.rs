@@ -4,6 +4,7 @@
 //! specification rev 2.0", section 4.5.5) survives a module that reboots
 //! in the middle of it and refuses a module that is not one (E-0-4-2).
 //! Driven directly through the public API, frame by frame.
+#![cfg(feature = "heartbeat-consumer")]
 
 use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
 use canopen_codec::machine::Machine;

@@ -4,6 +4,7 @@
 //! battery module on one simulated bus (0.5 ms latency) with a simulated
 //! clock from zero; the test plays the NMT master. Each scenario asserts the
 //! exact frames and times on the bus.
+#![cfg(feature = "heartbeat-consumer")]
 
 mod common;
 

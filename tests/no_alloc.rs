@@ -549,6 +549,7 @@ const CASES: &[Case] = &[
             black_box(ExtendedChargeStatus::from_u16(black_box(raw)).to_u16());
         }
     }),
+    #[cfg(feature = "heartbeat-consumer")]
     (
         "charger and battery module: boot, configuration, NMT start, PDOs, loss",
         |_| {

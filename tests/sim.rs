@@ -8,7 +8,9 @@ mod common;
 use std::collections::VecDeque;
 use std::time::Duration;
 
+#[cfg(feature = "heartbeat-consumer")]
 use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig};
+#[cfg(feature = "heartbeat-consumer")]
 use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
 use canopen_codec::heartbeat::{
     ConsumerEntry, HeartbeatConsumer, HeartbeatEvent, HeartbeatProducer,
@@ -16,6 +18,7 @@ use canopen_codec::heartbeat::{
 use canopen_codec::machine::Machine;
 use canopen_codec::nmt::NmtState;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
+#[cfg(feature = "heartbeat-consumer")]
 use common::devices::{boot_all, charger_bus};
 use common::frame;
 use common::sim::{Handle, Sim, TEST};
@@ -364,6 +367,7 @@ fn undrained_consumer_events_change_no_protocol_behaviour() {
 /// The charger and the battery module for 8 s: configuration, NMT start,
 /// a communication reset of the module at 3 s, the module unplugged at
 /// 5 s. Events of the two are drained or not as asked.
+#[cfg(feature = "heartbeat-consumer")]
 fn device_session(drain_charger: bool, drain_battery: bool) -> Session {
     let charger = Charger::new(ChargerConfig::new(
         NodeId::new(10).unwrap(),
@@ -389,6 +393,7 @@ fn device_session(drain_charger: bool, drain_battery: bool) -> Session {
     }
 }
 
+#[cfg(feature = "heartbeat-consumer")]
 struct Session {
     sim: Sim,
     charger: Handle<Charger>,
@@ -399,6 +404,7 @@ struct Session {
 
 /// An undrained machine kept the newest of the events a drained one
 /// reported (the oldest were dropped), and reported them nowhere else.
+#[cfg(feature = "heartbeat-consumer")]
 fn kept_newest<E: PartialEq + std::fmt::Debug>(all: &[E], kept: &[E]) {
     assert!(
         !kept.is_empty() && kept.len() < all.len(),
@@ -409,6 +415,7 @@ fn kept_newest<E: PartialEq + std::fmt::Debug>(all: &[E], kept: &[E]) {
     assert_eq!(kept, &all[all.len() - kept.len()..]);
 }
 
+#[cfg(feature = "heartbeat-consumer")]
 #[test]
 fn undrained_device_events_change_no_protocol_behaviour() {
     let Session {

@@ -5,6 +5,7 @@
 //! recovery (a module boots again at 9 s). This test regenerates the session
 //! and compares it with the file, so the file is real output; run with
 //! `REGENERATE_SESSION=1` to rewrite it after a deliberate change.
+#![cfg(feature = "heartbeat-consumer")]
 
 mod common;
 

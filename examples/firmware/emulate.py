@@ -18,7 +18,7 @@ zeroed, the FPU enabled through CPACR in the system control space, which
 is mapped as plain memory: unicorn's Cortex-M4 runs floating-point
 instructions whether or not CPACR enables them, and the firmware has none).
 
-The peripherals of the firmware (src/lib.rs and src/bin/*.rs) are served
+The peripherals of the firmware (src/lib.rs and the nodes' */src/main.rs) are served
 by unicorn's MMIO callbacks on their three pages only (no per-instruction
 hook):
 

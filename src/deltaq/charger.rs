@@ -419,6 +419,7 @@ struct ChargerProfile {
 /// `Q` is the capacity of its event queue and of its queue of frames to
 /// send ([`Device`]'s; default [`DEFAULT_QUEUE_CAPACITY`]):
 /// [`Charger::with_queue_capacity`] makes a charger with another one.
+/// Feature `heartbeat-consumer` (the battery module's supervision).
 #[derive(Debug)]
 pub struct Charger<const Q: usize = DEFAULT_QUEUE_CAPACITY> {
     device: ChargerDevice<Q>,

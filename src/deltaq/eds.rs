@@ -2,11 +2,16 @@
 //! Delta-Q names of its manufacturer objects, the CiA 418 and CiA 301
 //! names of the others, and the charger's own dictionary.
 
-use crate::cia418::CIA418_OBJECT_DESCRIPTIONS;
-use crate::device::COMM_OBJECT_DESCRIPTIONS;
-use crate::eds::{DataType, DeviceHeader, Eds, ObjectDescription, ObjectType, SubDescription};
+use crate::eds::{DataType, ObjectDescription, ObjectType, SubDescription};
+#[cfg(feature = "heartbeat-consumer")]
+use crate::{
+    cia418::CIA418_OBJECT_DESCRIPTIONS,
+    device::COMM_OBJECT_DESCRIPTIONS,
+    eds::{DeviceHeader, Eds},
+};
 
 use super::index;
+#[cfg(feature = "heartbeat-consumer")]
 use super::Charger;
 
 const U8: DataType = DataType::Unsigned8;
@@ -77,6 +82,7 @@ pub const DELTAQ_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
 /// assert_eq!(eds.name(0x2002, 0), Some("Charging Current"));
 /// assert!(eds.objects.contains_key(&0x1016));
 /// ```
+#[cfg(feature = "heartbeat-consumer")]
 #[must_use]
 pub fn charger_eds(charger: &Charger) -> Eds {
     let mut od = charger.dictionary().clone();

@@ -134,6 +134,9 @@
 //! ```
 
 mod catalogue;
+// The charger supervises its battery module with the device core's
+// heartbeat consumer (feature `heartbeat-consumer`).
+#[cfg(feature = "heartbeat-consumer")]
 mod charger;
 mod charger_objects;
 mod codes;
@@ -148,11 +151,14 @@ pub use catalogue::{
     ALGORITHM_REQUEST_FORMAT, CHARGER_CATALOGUE, DELTAQ_OBJECTS, DERATE_REASONS_FLAGS,
     DISPLAYED_ERROR_FORMAT, EXTENDED_CHARGE_STATUS_FLAGS, EXTERNAL_OVERRIDE_FLAGS,
 };
+#[cfg(feature = "heartbeat-consumer")]
 pub use charger::{Charger, ChargerConfig, ChargerEvent, ChargerPowerOn};
 pub use charger_objects::{ChargerObjects, ChargerPowerOnValues};
 pub use codes::{AlarmFaultEntry, DeltaQCode, ALARMS_AND_FAULTS};
+#[cfg(all(feature = "alloc", feature = "heartbeat-consumer"))]
+pub use eds::charger_eds;
 #[cfg(feature = "alloc")]
-pub use eds::{charger_eds, DELTAQ_OBJECT_DESCRIPTIONS};
+pub use eds::DELTAQ_OBJECT_DESCRIPTIONS;
 pub use objects::{
     AcVoltage, AlgorithmRequest, BatteryVoltage, BatteryVoltageLegacy, ChargeIndication,
     ChargeStatusFlags, ChargeType, ChargerAhReturned, ChargingCurrent, DerateReasons,

@@ -3,8 +3,11 @@
 
 use core::time::Duration;
 
-use super::objects::{CommObjects, ErrorFieldFormat, Identity, MAX_CONSUMERS};
+#[cfg(feature = "heartbeat-consumer")]
+use super::objects::MAX_CONSUMERS;
+use super::objects::{CommObjects, ErrorFieldFormat, Identity};
 use crate::cob_id::NodeId;
+#[cfg(feature = "heartbeat-consumer")]
 use crate::heartbeat::ConsumerEntry;
 use crate::pdo::PdoConfig;
 use crate::sdo::{ServerConfig, DEFAULT_TIMEOUT};
@@ -29,9 +32,13 @@ pub struct DeviceConfig {
     /// Send a heartbeat at once when the NMT state changes (CANopenNode's
     /// behaviour) rather than at the next period (the Delta-Q charger's).
     pub heartbeat_on_change: bool,
-    /// 1016h entries: the first `consumer_slots` are the sub-indexes.
+    /// 1016h entries: the first `consumer_slots` are the sub-indexes
+    /// (feature `heartbeat-consumer`).
+    #[cfg(feature = "heartbeat-consumer")]
     pub consumers: [ConsumerEntry; MAX_CONSUMERS],
-    /// 1016h sub 0 (0: the device has no 1016h).
+    /// 1016h sub 0 (0: the device has no 1016h; feature
+    /// `heartbeat-consumer`).
+    #[cfg(feature = "heartbeat-consumer")]
     pub consumer_slots: u8,
     /// SDO server timeout.
     pub sdo_timeout: Duration,
@@ -71,10 +78,12 @@ impl DeviceConfig {
             identity: Identity::ZERO,
             heartbeat: Duration::from_millis(1000),
             heartbeat_on_change: false,
+            #[cfg(feature = "heartbeat-consumer")]
             consumers: [ConsumerEntry {
                 node: 0,
                 time_ms: 0,
             }; MAX_CONSUMERS],
+            #[cfg(feature = "heartbeat-consumer")]
             consumer_slots: 0,
             sdo_timeout: DEFAULT_TIMEOUT,
             pdos: PdoConfig::new(),
@@ -89,7 +98,9 @@ impl DeviceConfig {
         }
     }
 
-    /// The same with 1016h holding `entries` (at most [`MAX_CONSUMERS`]).
+    /// The same with 1016h holding `entries` (at most [`MAX_CONSUMERS`];
+    /// feature `heartbeat-consumer`).
+    #[cfg(feature = "heartbeat-consumer")]
     #[must_use]
     pub fn with_consumers(mut self, entries: &[ConsumerEntry]) -> Self {
         let mut n = 0u8;
@@ -122,6 +133,7 @@ impl DeviceConfig {
                 0
             };
         comm.time_cob_id = self.time_cob_id;
+        #[cfg(feature = "heartbeat-consumer")]
         comm.set_consumers(
             self.consumers
                 .get(..usize::from(self.consumer_slots))
@@ -138,8 +150,7 @@ impl DeviceConfig {
     /// and `policies` (times in the units of the objects).
     #[must_use]
     pub fn from_objects(comm: &CommObjects, pdos: &PdoConfig, policies: Policies) -> Self {
-        let consumers = comm.consumers();
-        DeviceConfig {
+        let config = DeviceConfig {
             device_type: comm.device_type,
             device_name: comm.device_name,
             identity: comm.identity,
@@ -156,8 +167,10 @@ impl DeviceConfig {
             sync_counter_overflow: comm.sync_counter_overflow,
             time_cob_id: comm.time_cob_id,
             ..DeviceConfig::new(comm.node())
-        }
-        .with_consumers(consumers)
+        };
+        #[cfg(feature = "heartbeat-consumer")]
+        let config = config.with_consumers(comm.consumers());
+        config
     }
 }
 

@@ -54,7 +54,8 @@
 //! - **Heartbeat**: the boot-up message at boot and resets, then the state
 //!   every 1017h period; an SDO write to 1017h changes the period at once.
 //!   Heartbeats of the nodes in 1016h are supervised; their events are
-//!   reported as [`DeviceEvent::Heartbeat`] whether or not events are read.
+//!   reported as [`DeviceEvent::Heartbeat`] whether or not events are read
+//!   (feature `heartbeat-consumer`).
 //! - **Node guarding** ([`GuardingSlave`](crate::guarding::GuardingSlave),
 //!   100Ch, 100Dh): requests are answered in every state once booted, the
 //!   toggle from 0 after every reset, but not while 1017h is non-zero (CiA
@@ -84,8 +85,10 @@
 //!
 //! `lss` (the LSS slave), `guarding` (100Ch, 100Dh), `sync-time` (the SYNC
 //! producer, 1006h, TIME, 1012h; without it 1005h's generate bit is refused
-//! with 06090030h; the SYNC consumer is always there) and `sdo-block` (the
-//! server's block transfer; without it 05040001h). An object of a service
+//! with 06090030h; the SYNC consumer is always there), `sdo-block` (the
+//! server's block transfer; without it 05040001h) and `heartbeat-consumer`
+//! (1016h and the supervision of other nodes' heartbeats; without it
+//! another node's heartbeat changes nothing). An object of a service
 //! left out does not exist (06020000h). Costs: the README's "Firmware".
 //!
 //! # Communication objects ([`CommObjects`])
@@ -102,7 +105,7 @@
 //! | 100Ch | guard time, ms | U16 | rw |
 //! | 100Dh | life time factor | U8 | rw |
 //! | 1012h | COB-ID TIME: bit 31 consume, bit 30 produce (an invalid identifier is 06090030h) | U32 | rw |
-//! | 1016h | consumer heartbeat time: sub 0 the number of entries (const), sub 1..n node (bits 23-16) and time in ms (bits 15-0) (rw; an enabled entry for a node another entry watches is 06040043h) | ARRAY of U32 | (only with entries) |
+//! | 1016h | consumer heartbeat time: sub 0 the number of entries (const), sub 1..n node (bits 23-16) and time in ms (bits 15-0) (rw; an enabled entry for a node another entry watches is 06040043h) | ARRAY of U32 | (only with entries; feature `heartbeat-consumer`) |
 //! | 1017h | producer heartbeat time, ms | U16 | rw |
 //! | 1018h | identity: sub 0 = 4 (ro), vendor-ID, product code, revision, serial number | RECORD of U32 | ro |
 //! | 1019h | synchronous counter overflow value: 0 or 2..=240 (1 and 241..=255 are 06090030h; while 1006h is non-zero 08000022h) | U8 | rw |
@@ -115,6 +118,8 @@
 use core::time::Duration;
 
 mod config;
+#[cfg(feature = "heartbeat-consumer")]
+mod consumer;
 #[cfg(feature = "alloc")]
 mod descriptions;
 #[cfg(feature = "lss")]
@@ -127,9 +132,9 @@ mod snapshot;
 pub use config::{DeviceConfig, Policies, PowerOn};
 #[cfg(feature = "alloc")]
 pub use descriptions::COMM_OBJECT_DESCRIPTIONS;
-pub use objects::{
-    CommObjects, DeviceObjects, ErrorFieldFormat, Identity, ERROR_HISTORY_LEN, MAX_CONSUMERS,
-};
+#[cfg(feature = "heartbeat-consumer")]
+pub use objects::MAX_CONSUMERS;
+pub use objects::{CommObjects, DeviceObjects, ErrorFieldFormat, Identity, ERROR_HISTORY_LEN};
 pub(crate) use profile::machine_on_device;
 pub use profile::{DeviceEvent, Profile};
 pub use snapshot::PowerOnValues;
@@ -137,12 +142,16 @@ pub use snapshot::PowerOnValues;
 use crate::cob_id::{NodeId, EMCY_BASE};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::{CanFrame, CanId};
-use crate::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatProducer};
+#[cfg(feature = "heartbeat-consumer")]
+use crate::heartbeat::HeartbeatConsumer;
+use crate::heartbeat::HeartbeatProducer;
 #[cfg(feature = "lss")]
 use crate::lss::LssSlave;
 use crate::machine::Machine;
 use crate::nmt::{NmtSlave, NmtSlaveEvent, NmtState, ResetKind};
-use crate::od::index::{CONSUMER_HEARTBEAT_TIME, PRODUCER_HEARTBEAT_TIME};
+#[cfg(feature = "heartbeat-consumer")]
+use crate::od::index::CONSUMER_HEARTBEAT_TIME;
+use crate::od::index::PRODUCER_HEARTBEAT_TIME;
 use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
 use crate::queue::EventQueue;
@@ -201,8 +210,9 @@ pub struct Device<
     /// one (at most one per call), so two slots are enough.
     nmt: NmtSlave<2>,
     heartbeat: HeartbeatProducer,
-    /// The heartbeat consumer; drained after every call, so one event
-    /// per entry is enough.
+    /// The heartbeat consumer (consumer.rs); drained after every call, so
+    /// one event per entry is enough.
+    #[cfg(feature = "heartbeat-consumer")]
     consumer: HeartbeatConsumer<MAX_CONSUMERS, MAX_CONSUMERS>,
     /// Its events are read after every call: the capacity one call needs.
     server: Server<Dictionary<A>, EVENTS_PER_CALL>,
@@ -261,6 +271,7 @@ where
             error_field: ErrorFieldFormat::LittleEndianInfo,
             nmt: NmtSlave::with_event_capacity(node),
             heartbeat: HeartbeatProducer::new(node, Duration::ZERO),
+            #[cfg(feature = "heartbeat-consumer")]
             consumer: HeartbeatConsumer::new(),
             server: Server::with_event_capacity(ServerConfig::for_node(node), dictionary),
             tpdos: TpdoSet::new(),
@@ -351,12 +362,6 @@ where
         self.comm().error_register
     }
 
-    /// The heartbeat consumer (1016h), for its nodes' states.
-    #[must_use]
-    pub const fn heartbeat_consumer(&self) -> &HeartbeatConsumer<MAX_CONSUMERS, MAX_CONSUMERS> {
-        &self.consumer
-    }
-
     /// Frames dropped because `poll_transmit` was not drained (oldest
     /// first; saturating at `u32::MAX`).
     #[must_use]
@@ -397,6 +402,7 @@ where
     pub fn update_comm(&mut self, now: Timestamp, f: impl FnOnce(&mut CommObjects)) {
         f(&mut self.server.od_mut().inner.comm);
         self.apply_heartbeat_period(now);
+        #[cfg(feature = "heartbeat-consumer")]
         self.apply_consumers(now);
         self.apply_services(now);
         self.refresh_tpdos(now);
@@ -520,8 +526,11 @@ where
         if self.drain_nmt(now, profile) {
             return;
         }
-        self.consumer.handle_frame(now, frame);
-        self.drain_consumer(now, profile);
+        #[cfg(feature = "heartbeat-consumer")]
+        {
+            self.consumer.handle_frame(now, frame);
+            self.drain_consumer(now, profile);
+        }
         if self.nmt.sdo_allowed() {
             self.server.handle_frame(now, frame);
             self.drain_server(now, profile);
@@ -540,8 +549,11 @@ where
             return;
         }
         self.heartbeat.handle_timeout(now);
-        self.consumer.handle_timeout(now);
-        self.drain_consumer(now, profile);
+        #[cfg(feature = "heartbeat-consumer")]
+        {
+            self.consumer.handle_timeout(now);
+            self.drain_consumer(now, profile);
+        }
         self.services_timeout(now, profile);
         self.server.handle_timeout(now);
         self.drain_server(now, profile);
@@ -592,8 +604,9 @@ where
         }
         // The minimum of the deadlines as 8-byte values (none is u64::MAX):
         // no `Option` comparisons to compile for each pair.
-        let earliest = MaybeTimestamp::new(self.heartbeat.poll_timeout())
-            .earlier(self.consumer.poll_timeout());
+        let earliest = MaybeTimestamp::new(self.heartbeat.poll_timeout());
+        #[cfg(feature = "heartbeat-consumer")]
+        let earliest = earliest.earlier(self.consumer.poll_timeout());
         #[cfg(feature = "guarding")]
         let earliest = earliest.earlier(self.services.guarding.poll_timeout());
         #[cfg(feature = "sync-time")]
@@ -675,8 +688,8 @@ where
         }
         self.load_power_on();
         self.heartbeat.boot(now);
-        self.consumer = HeartbeatConsumer::new();
-        self.apply_consumers(now);
+        #[cfg(feature = "heartbeat-consumer")]
+        self.reset_consumer(now);
         self.tpdos.reset();
         self.reconfigure_pdos(now);
         self.nmt.boot(now);
@@ -719,27 +732,6 @@ where
         }
     }
 
-    fn apply_consumers(&mut self, now: Timestamp) {
-        let entries = self.server.od().inner.comm.consumers();
-        let wanted = |slot: usize| entries.get(slot).copied().unwrap_or_default();
-        // Changed slots are freed first, so a node that moves to another
-        // sub-index is not refused as a duplicate of its old one.
-        for slot in 0..MAX_CONSUMERS {
-            if self.consumer.entry(slot) != Some(wanted(slot)) {
-                let _ = self.consumer.set_entry(now, slot, ConsumerEntry::default());
-            }
-        }
-        for slot in 0..MAX_CONSUMERS {
-            let _ = self.consumer.set_entry(now, slot, wanted(slot));
-        }
-    }
-
-    fn drain_consumer<P: Profile<A, E, Q, C>>(&mut self, now: Timestamp, profile: &mut P) {
-        while let Some(e) = self.consumer.poll_event() {
-            self.emit(now, DeviceEvent::Heartbeat(e), profile);
-        }
-    }
-
     /// Hands the SDO server's events on and puts written objects into effect.
     fn drain_server<P: Profile<A, E, Q, C>>(&mut self, now: Timestamp, profile: &mut P) {
         while let Some(event) = self.server.poll_event() {
@@ -747,6 +739,7 @@ where
                 ServerEvent::Downloaded { index, sub, .. } => {
                     match index {
                         PRODUCER_HEARTBEAT_TIME => self.apply_heartbeat_period(now),
+                        #[cfg(feature = "heartbeat-consumer")]
                         CONSUMER_HEARTBEAT_TIME => self.apply_consumers(now),
                         _ if PdoDirection::from_index(index).is_some() => {
                             self.reconfigure_pdos(now);

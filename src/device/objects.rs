@@ -9,12 +9,15 @@
 use crate::bytes::InlineData;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::emcy::{Emergency, ErrorFieldEntry, ErrorRegister};
+#[cfg(feature = "heartbeat-consumer")]
 use crate::heartbeat::ConsumerEntry;
+#[cfg(feature = "heartbeat-consumer")]
+use crate::od::index::CONSUMER_HEARTBEAT_TIME;
 use crate::od::index::{
-    COB_ID_SYNC, COB_ID_TIME, COMMUNICATION_CYCLE_PERIOD, CONSUMER_HEARTBEAT_TIME, DEVICE_TYPE,
-    ERROR_REGISTER, GUARD_TIME, IDENTITY, LIFE_TIME_FACTOR, MANUFACTURER_DEVICE_NAME,
-    PRE_DEFINED_ERROR_FIELD, PRODUCER_HEARTBEAT_TIME, SDO_SERVER_PARAMETER,
-    SYNCHRONOUS_COUNTER_OVERFLOW, SYNCHRONOUS_WINDOW_LENGTH,
+    COB_ID_SYNC, COB_ID_TIME, COMMUNICATION_CYCLE_PERIOD, DEVICE_TYPE, ERROR_REGISTER, GUARD_TIME,
+    IDENTITY, LIFE_TIME_FACTOR, MANUFACTURER_DEVICE_NAME, PRE_DEFINED_ERROR_FIELD,
+    PRODUCER_HEARTBEAT_TIME, SDO_SERVER_PARAMETER, SYNCHRONOUS_COUNTER_OVERFLOW,
+    SYNCHRONOUS_WINDOW_LENGTH,
 };
 use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
 use crate::sdo::AbortCode;
@@ -23,7 +26,9 @@ use crate::time_of_day::TimeCobId;
 
 /// Entries the error history (1003h) keeps.
 pub const ERROR_HISTORY_LEN: usize = 10;
-/// Heartbeat consumer entries (1016h sub-indexes) a device can have.
+/// Heartbeat consumer entries (1016h sub-indexes) a device can have
+/// (feature `heartbeat-consumer`).
+#[cfg(feature = "heartbeat-consumer")]
 pub const MAX_CONSUMERS: usize = 4;
 
 /// 1018h identity object: sub 1-4 (CiA 301).
@@ -104,7 +109,10 @@ pub struct CommObjects {
     history_len: u8,
     /// 1008h.
     pub device_name: &'static str,
+    /// 1016h (feature `heartbeat-consumer`).
+    #[cfg(feature = "heartbeat-consumer")]
     consumers: [ConsumerEntry; MAX_CONSUMERS],
+    #[cfg(feature = "heartbeat-consumer")]
     consumer_slots: u8,
     /// 1017h, ms.
     pub heartbeat_ms: u16,
@@ -139,10 +147,12 @@ impl CommObjects {
             history: [0; ERROR_HISTORY_LEN],
             history_len: 0,
             device_name: "",
+            #[cfg(feature = "heartbeat-consumer")]
             consumers: [ConsumerEntry {
                 node: 0,
                 time_ms: 0,
             }; MAX_CONSUMERS],
+            #[cfg(feature = "heartbeat-consumer")]
             consumer_slots: 0,
             heartbeat_ms: 0,
             identity: Identity::ZERO,
@@ -197,6 +207,8 @@ impl CommObjects {
 
     /// Sets the 1016h entries: sub 0 becomes `entries.len()` (at most
     /// [`MAX_CONSUMERS`]; extra entries are ignored). No entries: no 1016h.
+    /// Feature `heartbeat-consumer` (without it there is no 1016h).
+    #[cfg(feature = "heartbeat-consumer")]
     pub fn set_consumers(&mut self, entries: &[ConsumerEntry]) {
         self.consumers = [ConsumerEntry::default(); MAX_CONSUMERS];
         let mut n = 0u8;
@@ -207,7 +219,8 @@ impl CommObjects {
         self.consumer_slots = n;
     }
 
-    /// The 1016h entries (sub 1..=sub 0).
+    /// The 1016h entries (sub 1..=sub 0). Feature `heartbeat-consumer`.
+    #[cfg(feature = "heartbeat-consumer")]
     #[must_use]
     pub fn consumers(&self) -> &[ConsumerEntry] {
         self.consumers
@@ -219,6 +232,8 @@ impl CommObjects {
     #[must_use]
     pub const fn has_object(&self, index: u16) -> bool {
         match index {
+            // The heartbeat consumer (feature `heartbeat-consumer`).
+            #[cfg(feature = "heartbeat-consumer")]
             CONSUMER_HEARTBEAT_TIME => self.consumer_slots > 0,
             DEVICE_TYPE
             | ERROR_REGISTER
@@ -250,9 +265,11 @@ impl CommObjects {
                 Some(e) => (Ro, Value::u32(*e)),
                 None => (Ro, Value::NoData),
             },
+            #[cfg(feature = "heartbeat-consumer")]
             (CONSUMER_HEARTBEAT_TIME, 0) if self.consumer_slots > 0 => {
                 (Const, Value::u8(self.consumer_slots))
             }
+            #[cfg(feature = "heartbeat-consumer")]
             (CONSUMER_HEARTBEAT_TIME, s) if s > 0 => match self.consumers().get(usize::from(s) - 1)
             {
                 Some(e) => (Rw, Value::u32(e.to_u32())),
@@ -289,6 +306,7 @@ impl CommObjects {
         match (index, sub, data) {
             (PRE_DEFINED_ERROR_FIELD, 0, &[0]) => self.clear_errors(),
             (PRE_DEFINED_ERROR_FIELD, 0, _) => return Err(AbortCode::InvalidValue),
+            #[cfg(feature = "heartbeat-consumer")]
             (CONSUMER_HEARTBEAT_TIME, s, &[a, b, c, d]) if s > 0 => {
                 let entry = ConsumerEntry::from_u32(u32::from_le_bytes([a, b, c, d]));
                 let slot = usize::from(s) - 1;

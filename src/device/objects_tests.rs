@@ -12,6 +12,7 @@ fn comm() -> CommObjects {
         revision_number: 3,
         serial_number: 4,
     };
+    #[cfg(feature = "heartbeat-consumer")]
     c.set_consumers(&[
         ConsumerEntry {
             node: 1,
@@ -75,8 +76,10 @@ fn every_row_of_the_table() {
         // An object of a service left out does not exist.
         let of_sync_time = matches!(index, 0x1006 | 0x1012);
         let of_guarding = matches!(index, 0x100C | 0x100D);
+        let of_consumer = index == 0x1016;
         let present = (cfg!(feature = "sync-time") || !of_sync_time)
-            && (cfg!(feature = "guarding") || !of_guarding);
+            && (cfg!(feature = "guarding") || !of_guarding)
+            && (cfg!(feature = "heartbeat-consumer") || !of_consumer);
         if !present {
             assert_eq!(
                 c.info(index, sub),
@@ -116,15 +119,20 @@ fn every_row_of_the_table() {
         (0x1008, 1),
         (0x1003, 11),
     ] {
-        assert_eq!(
-            c.info(index, sub),
-            Err(AbortCode::SubIndexDoesNotExist),
-            "{index:04X}h:{sub}"
-        );
+        // Without the heartbeat consumer 1016h is not there at all.
+        let want = if index == 0x1016 && !cfg!(feature = "heartbeat-consumer") {
+            AbortCode::ObjectDoesNotExist
+        } else {
+            AbortCode::SubIndexDoesNotExist
+        };
+        assert_eq!(c.info(index, sub), Err(want), "{index:04X}h:{sub}");
     }
     assert_eq!(c.info(0x1010, 0), Err(AbortCode::ObjectDoesNotExist));
-    c.set_consumers(&[]);
-    assert_eq!(c.info(0x1016, 0), Err(AbortCode::ObjectDoesNotExist));
+    #[cfg(feature = "heartbeat-consumer")]
+    {
+        c.set_consumers(&[]);
+        assert_eq!(c.info(0x1016, 0), Err(AbortCode::ObjectDoesNotExist));
+    }
 }
 
 #[test]
@@ -169,30 +177,33 @@ fn writes_and_their_checks() {
         Err(AbortCode::DataTypeLengthTooHigh)
     );
     // 1016h sub 2 watching node 1 as well: refused (CiA 301: one entry per node).
-    assert_eq!(
-        write(&mut c, 0x1016, 2, &0x0001_0064u32.to_le_bytes()),
-        Err(AbortCode::GeneralParameterIncompatibility)
-    );
-    assert_eq!(
-        write(&mut c, 0x1016, 2, &0x0002_0064u32.to_le_bytes()),
-        Ok(())
-    );
-    assert_eq!(
-        c.consumers()[1],
-        ConsumerEntry {
-            node: 2,
-            time_ms: 100
-        }
-    );
-    // A disabled duplicate is fine.
-    assert_eq!(
-        write(&mut c, 0x1016, 2, &0x0001_0000u32.to_le_bytes()),
-        Ok(())
-    );
-    assert_eq!(
-        write(&mut c, 0x1016, 0, &[2]),
-        Err(AbortCode::WriteOfReadOnlyObject)
-    );
+    #[cfg(feature = "heartbeat-consumer")]
+    {
+        assert_eq!(
+            write(&mut c, 0x1016, 2, &0x0001_0064u32.to_le_bytes()),
+            Err(AbortCode::GeneralParameterIncompatibility)
+        );
+        assert_eq!(
+            write(&mut c, 0x1016, 2, &0x0002_0064u32.to_le_bytes()),
+            Ok(())
+        );
+        assert_eq!(
+            c.consumers()[1],
+            ConsumerEntry {
+                node: 2,
+                time_ms: 100
+            }
+        );
+        // A disabled duplicate is fine.
+        assert_eq!(
+            write(&mut c, 0x1016, 2, &0x0001_0000u32.to_le_bytes()),
+            Ok(())
+        );
+        assert_eq!(
+            write(&mut c, 0x1016, 0, &[2]),
+            Err(AbortCode::WriteOfReadOnlyObject)
+        );
+    }
     // An aborted write changes nothing.
     c.write(0x1017, 0, 0, &[0x10]).unwrap();
     c.abort_write(0x1017, 0);
@@ -374,4 +385,28 @@ fn guarding_sync_and_time_objects() {
         write(&mut c, 0x1012, 0, &0x0000_1000u32.to_le_bytes()),
         Err(AbortCode::InvalidValue)
     );
+}
+
+/// Without the heartbeat consumer (feature `heartbeat-consumer`) 1016h
+/// does not exist: every sub-index is 06020000h to read, to write and to
+/// ask about, as for any absent object.
+#[cfg(not(feature = "heartbeat-consumer"))]
+#[test]
+fn no_1016h_without_the_heartbeat_consumer() {
+    let mut c = comm();
+    assert!(!c.has_object(0x1016));
+    for sub in [0u8, 1, 2, 127, 0xFF] {
+        assert_eq!(c.info(0x1016, sub), Err(AbortCode::ObjectDoesNotExist));
+        assert_eq!(
+            read(&mut c, 0x1016, sub),
+            Err(AbortCode::ObjectDoesNotExist)
+        );
+        let entry = 0x0001_07D0u32.to_le_bytes();
+        assert_eq!(
+            write(&mut c, 0x1016, sub, &entry),
+            Err(AbortCode::ObjectDoesNotExist)
+        );
+    }
+    // The producer's 1017h is still there.
+    assert_eq!(read(&mut c, 0x1017, 0), Ok(std::vec![0xE8, 0x03]));
 }

@@ -7,6 +7,7 @@ use crate::emcy::{Emergency, ErrorRegister};
 use crate::frame::CanFrame;
 #[cfg(feature = "guarding")]
 use crate::guarding::SlaveGuardingEvent;
+#[cfg(feature = "heartbeat-consumer")]
 use crate::heartbeat::HeartbeatEvent;
 #[cfg(feature = "lss")]
 use crate::lss::LssSlaveEvent;
@@ -68,7 +69,9 @@ pub enum DeviceEvent {
         /// Who aborted.
         origin: AbortOrigin,
     },
-    /// The heartbeat consumer (1016h) reported something.
+    /// The heartbeat consumer (1016h) reported something. Feature
+    /// `heartbeat-consumer`.
+    #[cfg(feature = "heartbeat-consumer")]
     Heartbeat(HeartbeatEvent),
     /// The device's LSS slave ([`Device::with_lss`]) reported something
     /// (a store request is answered with

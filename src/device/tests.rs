@@ -1,5 +1,6 @@
 use super::*;
 use crate::cob_id::PdoNumber;
+#[cfg(feature = "heartbeat-consumer")]
 use crate::heartbeat::{ConsumerEntry, HeartbeatEvent};
 use crate::od::{Access, ObjectInfo};
 use crate::pdo::RpdoError;
@@ -68,7 +69,8 @@ fn frame(id: u16, data: &[u8]) -> CanFrame {
     CanFrame::standard(id, data).unwrap()
 }
 
-/// TPDO 0 on 184h and RPDO 0 on 204h, both mapping 2000h (8 bits).
+/// TPDO 0 on 184h and RPDO 0 on 204h, both mapping 2000h (8 bits); node 1
+/// watched for 1000 ms (1016h, feature `heartbeat-consumer`).
 fn config() -> DeviceConfig {
     let mapping = PdoMapping::new(&[MappingEntry::new(0x2000, 0, 8)]).unwrap();
     let mut pdos = PdoConfig::new();
@@ -88,16 +90,18 @@ fn config() -> DeviceConfig {
             &mapping,
         ),
     );
-    DeviceConfig {
+    let config = DeviceConfig {
         device_type: 0x1234,
         device_name: "dev",
         pdos,
         ..DeviceConfig::new(node())
-    }
-    .with_consumers(&[ConsumerEntry::new(
+    };
+    #[cfg(feature = "heartbeat-consumer")]
+    let config = config.with_consumers(&[ConsumerEntry::new(
         NodeId::new(1).unwrap(),
         Duration::from_millis(1000),
-    )])
+    )]);
+    config
 }
 
 fn booted() -> Dev {
@@ -276,11 +280,13 @@ fn undrained_events_change_nothing() {
     // The boot state change and 200 object writes, 16 kept.
     assert_eq!(undrained.events_dropped(), 201 - 16);
     assert_eq!(drained.events_dropped(), 0);
+    #[cfg(feature = "heartbeat-consumer")]
     assert!(undrained
         .heartbeat_consumer()
         .is_alive(NodeId::new(1).unwrap()));
     let kept = events(&mut undrained);
     assert_eq!(kept.len(), 16);
+    #[cfg(feature = "heartbeat-consumer")]
     assert!(!kept
         .iter()
         .any(|e| matches!(e, DeviceEvent::Heartbeat(HeartbeatEvent::Lost(_)))));
@@ -313,6 +319,7 @@ fn clearing_the_generic_bit_keeps_it_while_other_errors_remain() {
 /// node 3 watches nodes 2 and 3 and no longer node 1. Failed before the
 /// fix: sub 1 was refused as a duplicate of the old sub 2 and kept
 /// watching node 1, so node 2's silence went unnoticed there.
+#[cfg(feature = "heartbeat-consumer")]
 #[test]
 fn consumer_entries_follow_1016h_whatever_the_order() {
     let n = |id| NodeId::new(id).unwrap();
@@ -394,13 +401,13 @@ fn a_dropped_download_is_aborted_in_the_dictionary() {
     }
 }
 
-/// 1016h and 1003h over SDO, end to end (CiA 301): a consumer entry takes
-/// effect at once (supervision of the new node from its first heartbeat),
-/// an enabled entry for a node another sub-index watches is refused with
-/// 06040043h and changes nothing, writing 0 to 1003h sub 0 clears the
-/// history and any other value is refused with 06090030h.
+/// 1016h over SDO, end to end (CiA 301): a consumer entry takes effect at
+/// once (supervision of the new node from its first heartbeat), an enabled
+/// entry for a node another sub-index watches is refused with 06040043h
+/// and changes nothing.
+#[cfg(feature = "heartbeat-consumer")]
 #[test]
-fn sdo_writes_of_1016h_and_1003h() {
+fn sdo_writes_of_1016h() {
     let n = |id| NodeId::new(id).unwrap();
     let entry = |id| ConsumerEntry::new(n(id), Duration::from_millis(1000));
     let mut d = Dev::new(config().with_consumers(&[entry(1), entry(2)]), App(7));
@@ -437,7 +444,14 @@ fn sdo_writes_of_1016h_and_1003h() {
         events(&mut d),
         [DeviceEvent::Heartbeat(HeartbeatEvent::Lost(n(3)))]
     );
+}
 
+/// 1003h over SDO, end to end (CiA 301): writing 0 to sub 0 clears the
+/// history and any other value is refused with 06090030h.
+#[test]
+fn sdo_writes_of_1003h() {
+    let mut d = booted();
+    let _ = sent(&mut d);
     d.raise_error(ErrorRegister::CURRENT, Emergency::default());
     d.raise_error(ErrorRegister::CURRENT, Emergency::default());
     let _ = sent(&mut d);
@@ -489,4 +503,62 @@ fn reset_node_restores_every_object_of_a_memory_dictionary() {
             Some(&[if restored { 3 } else { 4 }, 0][..])
         );
     }
+}
+
+/// Without the heartbeat consumer (feature `heartbeat-consumer`) the
+/// device has no 1016h: an SDO upload or download of it is aborted with
+/// 06020000h, as for any absent object.
+#[cfg(not(feature = "heartbeat-consumer"))]
+#[test]
+fn no_1016h_over_sdo_without_the_heartbeat_consumer() {
+    let mut d = booted();
+    let _ = (sent(&mut d), events(&mut d));
+    // Upload of sub 0 and sub 1, expedited download of sub 1 (node 1, 2000 ms).
+    for request in [
+        [0x40, 0x16, 0x10, 0, 0, 0, 0, 0],
+        [0x40, 0x16, 0x10, 1, 0, 0, 0, 0],
+        [0x23, 0x16, 0x10, 1, 0xD0, 0x07, 1, 0],
+    ] {
+        d.handle_frame(ms(1), &frame(0x604, &request));
+        let [_, lo, hi, sub, ..] = request;
+        let abort = std::format!("584#80{lo:02X}{hi:02X}{sub:02X}00000206");
+        assert_eq!(sent(&mut d), [abort]);
+    }
+    // The aborts are the only events; 1017h is still served.
+    let evs = events(&mut d);
+    assert_eq!(evs.len(), 3, "{evs:?}");
+    assert!(evs
+        .iter()
+        .all(|e| matches!(e, DeviceEvent::SdoAborted { index: 0x1016, .. })));
+    d.handle_frame(ms(2), &frame(0x604, &[0x40, 0x17, 0x10, 0, 0, 0, 0, 0]));
+    assert_eq!(sent(&mut d), ["584#4B171000E8030000"]);
+}
+
+/// Without the heartbeat consumer another node's heartbeats, boot-up and
+/// silence change nothing: the same frames, deadlines and (no) events as a
+/// device that never saw them.
+#[cfg(not(feature = "heartbeat-consumer"))]
+#[test]
+fn other_heartbeats_change_nothing_without_the_heartbeat_consumer() {
+    let mut fed = booted();
+    let mut quiet = booted();
+    let _ = (events(&mut fed), events(&mut quiet));
+    let _ = (sent(&mut fed), sent(&mut quiet));
+    for (i, data) in [[0x00u8], [0x05], [0x7F], [0x05]].iter().enumerate() {
+        let now = ms(i as u64 * 300);
+        fed.handle_frame(now, &frame(0x701, data));
+        fed.handle_frame(now, &frame(0x702, data));
+        for d in [&mut fed, &mut quiet] {
+            d.handle_timeout(now);
+        }
+        assert_eq!(sent(&mut fed), sent(&mut quiet), "step {i}");
+        assert_eq!(fed.poll_timeout(), quiet.poll_timeout(), "step {i}");
+    }
+    // Long silence: no loss is reported.
+    for d in [&mut fed, &mut quiet] {
+        d.handle_timeout(ms(10_000));
+    }
+    assert_eq!(sent(&mut fed), sent(&mut quiet));
+    assert_eq!(events(&mut fed), []);
+    assert_eq!(fed.poll_timeout(), Some(ms(11_000)));
 }

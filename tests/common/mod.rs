@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod captures;
+#[cfg(feature = "heartbeat-consumer")]
 pub mod devices;
 #[cfg(feature = "alloc")]
 pub mod observe;

@@ -27,7 +27,9 @@ The firmware is built without the optional services (the cargo features
 lss, guarding, sync-time, sdo-block are off): their cases are not run (a
 "skip ... not in this build" line each) and instead their objects must be
 refused with 06020000h, an SDO block transfer with 05040001h, and LSS and
-node guarding requests must go unanswered.
+node guarding requests must go unanswered. The battery module is built
+without heartbeat-consumer too (the charger needs it): its 1016h is
+refused with 06020000h.
 
 usage: firmware_interop.py EMULATE_PY BATTERY_ELF CHARGER_ELF [--stack-report FILE]
 """
@@ -284,6 +286,18 @@ def battery_cases(bus, net, node):
     guarded("battery NMT", nmt)
 
     left_out(node, bus, "battery")
+
+    def no_consumer():
+        # The module's firmware leaves the heartbeat consumer out (only the
+        # charger consumes a heartbeat in CiA 418): no 1016h.
+        entry = (0x0001_07D0).to_bytes(4, "little")  # node 1, 2000 ms
+        codes = (aborted(lambda: node.sdo.upload(0x1016, 0)),
+                 aborted(lambda: node.sdo.upload(0x1016, 1)),
+                 aborted(lambda: node.sdo.download(0x1016, 1, entry)))
+        check("battery: 1016h (heartbeat-consumer not in the module's build) refused with "
+              "06020000h: upload of sub 0 and 1, download of sub 1",
+              codes == (0x06020000,) * 3, [c and hex(c) for c in codes])
+    guarded("battery 1016h", no_consumer)
 
     def guarding_rtr():
         node.sdo.download(0x1017, 0, b"\x00\x00")  # heartbeat off: no 701h at all
