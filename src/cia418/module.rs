@@ -22,9 +22,14 @@
 //!
 //! - **Objects**: 1000h is profile 418 with the optional-PDO bits of
 //!   [`BatteryModuleConfig::device_type`]; the application objects
-//!   6000h-6090h are [`BatteryObjects`]. Reset node (81h) restores them to
-//!   their values at [`BatteryModule::boot`]; reset communication (82h)
-//!   keeps them.
+//!   6000h-6090h are [`BatteryObjects`]. Reset node (81h) restores the
+//!   `rw` ones (6001h, 6052h, 6053h, 6054h, 6080h: what the charger
+//!   writes) to their values at [`BatteryModule::boot`]
+//!   ([`BatteryPowerOnValues`](super::BatteryPowerOnValues)); the `ro` ones
+//!   are the module's measurements and identity, not parameters (CiA 301
+//!   7.3.2.2.1 restores the profile area's parameters), and keep the value
+//!   the application last set, so no stale boot-time reading is published
+//!   until its next update. Reset communication (82h) keeps them all.
 //! - **TPDOs**: the CiA 418 default set ([`DEFAULT_PDOS`]) for the PDOs the
 //!   device type declares. CiA 418 v1.0.1 (6.2.5) makes the TPDO COB-IDs
 //!   "not valid" (bit 31) by default; with

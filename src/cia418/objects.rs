@@ -32,6 +32,12 @@
 //! accepts 0..=100 and FFh (invalid), anything else is 06090031h (value too
 //! high); 6054h sub 1 (minutes since midnight) accepts 0..=1439, anything
 //! else is 06090031h.
+//!
+//! NMT reset node sets the `rw` objects (6001h, 6052h, 6053h, 6054h, 6080h:
+//! what the charger writes by SDO or RPDO, the parameters) back to their
+//! values at boot ([`BatteryPowerOnValues`]); the `ro` objects are the
+//! application's measurements and identity and keep the value it last set
+//! (a boot-time reading restored would be published until its next update).
 
 use super::{AmpHours, EighthAmpHours};
 use super::{
@@ -44,6 +50,7 @@ use super::{
     DATE_OF_LAST_EQUALIZATION, TEMPERATURE, VEHICLE_ID, VEHICLE_SERIAL_NUMBER, WATER_LEVEL_STATUS,
 };
 use crate::bytes::InlineData;
+use crate::device::PowerOnValues;
 use crate::od::{Access, ObjectDictionary, ObjectInfo, WriteBuffer};
 use crate::sdo::AbortCode;
 
@@ -108,11 +115,23 @@ type Value = InlineData<4>;
 /// assert!(od.info(0x6010, 0).unwrap().pdo_mappable);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+// `repr(C)`, the `rw` objects first in [`BatteryPowerOnValues`]' order:
+// the snapshot is the struct's first 10 bytes, copied as words rather
+// than field by field.
+#[repr(C)]
 pub struct BatteryObjects {
-    /// 6000h battery status.
-    pub battery_status: BatteryStatus,
+    /// 6054h date of last equalization (rw).
+    pub date_of_last_equalization: EqualizationDate,
+    /// 6052h Ah returned during last charge (rw).
+    pub ah_returned_during_last_charge: EighthAmpHours,
+    /// 6053h Ah since last equalization (rw).
+    pub ah_since_last_equalization: EighthAmpHours,
     /// 6001h charger status (written by the charger).
     pub charger_status: ChargerStatus,
+    /// 6080h charger state of charge (written by the charger; default FFh).
+    pub charger_state_of_charge: StateOfCharge,
+    /// 6000h battery status.
+    pub battery_status: BatteryStatus,
     /// 6010h temperature.
     pub temperature: Temperature,
     /// 6020h battery parameters.
@@ -121,18 +140,10 @@ pub struct BatteryObjects {
     pub cumulative_total_ah_charge: AmpHours,
     /// 6051h Ah expended since last charge.
     pub ah_expended_since_last_charge: EighthAmpHours,
-    /// 6052h Ah returned during last charge (rw).
-    pub ah_returned_during_last_charge: EighthAmpHours,
-    /// 6053h Ah since last equalization (rw).
-    pub ah_since_last_equalization: EighthAmpHours,
-    /// 6054h date of last equalization (rw).
-    pub date_of_last_equalization: EqualizationDate,
     /// 6060h battery voltage.
     pub battery_voltage: BatteryVoltage,
     /// 6070h charge current requested.
     pub charge_current_requested: ChargeCurrentRequested,
-    /// 6080h charger state of charge (written by the charger; default FFh).
-    pub charger_state_of_charge: StateOfCharge,
     /// 6081h battery state of charge (default FFh, invalid).
     pub battery_state_of_charge: StateOfCharge,
     /// 6090h water level status.
@@ -380,6 +391,57 @@ impl BatteryObjects {
             _ => return Err(AbortCode::WriteOfReadOnlyObject),
         }
         Ok(())
+    }
+}
+
+/// What NMT reset node restores of [`BatteryObjects`]: its `rw` objects
+/// (6001h, 6052h, 6053h, 6054h, 6080h: what the charger writes by SDO or
+/// RPDO) as they were at boot. The `ro` objects are not in it: they are
+/// the module's measurements and identity, not parameters (CiA 301
+/// 7.3.2.2.1: reset node restores the parameters of the profile areas),
+/// and keep what the application last set, so no stale boot-time reading
+/// is published until its next update.
+///
+/// ```
+/// use canopen_codec::cia418::{BatteryObjects, StateOfCharge, Temperature};
+/// use canopen_codec::device::PowerOnValues;
+/// let mut od = BatteryObjects::new();
+/// let at_boot = od.snapshot();
+/// od.charger_state_of_charge = StateOfCharge::from_raw(80); // written by the charger
+/// od.temperature = Temperature::from_celsius(30).unwrap(); // measured
+/// od.restore(&at_boot); // reset node
+/// assert_eq!(od.charger_state_of_charge, StateOfCharge::INVALID);
+/// assert_eq!(od.temperature, Temperature::from_celsius(30).unwrap());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(C)]
+pub struct BatteryPowerOnValues {
+    date_of_last_equalization: EqualizationDate,
+    ah_returned_during_last_charge: EighthAmpHours,
+    ah_since_last_equalization: EighthAmpHours,
+    charger_status: ChargerStatus,
+    charger_state_of_charge: StateOfCharge,
+}
+
+impl PowerOnValues for BatteryObjects {
+    type Snapshot = BatteryPowerOnValues;
+
+    fn snapshot(&self) -> BatteryPowerOnValues {
+        BatteryPowerOnValues {
+            charger_status: self.charger_status,
+            ah_returned_during_last_charge: self.ah_returned_during_last_charge,
+            ah_since_last_equalization: self.ah_since_last_equalization,
+            date_of_last_equalization: self.date_of_last_equalization,
+            charger_state_of_charge: self.charger_state_of_charge,
+        }
+    }
+
+    fn restore(&mut self, snapshot: &BatteryPowerOnValues) {
+        self.charger_status = snapshot.charger_status;
+        self.ah_returned_during_last_charge = snapshot.ah_returned_during_last_charge;
+        self.ah_since_last_equalization = snapshot.ah_since_last_equalization;
+        self.date_of_last_equalization = snapshot.date_of_last_equalization;
+        self.charger_state_of_charge = snapshot.charger_state_of_charge;
     }
 }
 

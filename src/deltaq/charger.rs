@@ -53,7 +53,10 @@
 //! - **SDO server** for the charger's own objects ([`ChargerObjects`]) and
 //!   the core's communication objects, including the 1003h error history
 //!   (last 10, newest first).
-//! - **NMT resets** are the core's: reset node restores every object,
+//! - **NMT resets** are the core's: reset node restores the communication
+//!   objects and the writable [`ChargerObjects`] (the read-only ones, the
+//!   charger's own readings, keep their last value:
+//!   [`ChargerPowerOnValues`](super::ChargerPowerOnValues)),
 //!   reset communication only the communication objects; both forget the
 //!   pairing and are reported as [`DeviceEvent::Reset`].
 

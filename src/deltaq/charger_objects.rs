@@ -5,7 +5,15 @@
 //! 2200h, 2241h, 2271h, 2276h, 4201h, and the 2FFAh padding objects its
 //! PDO mappings use). Fixed storage, no allocation. The communication
 //! objects (1000h-1FFFh) are the device core's ([`crate::device`]).
+//!
+//! NMT reset node sets the writable objects (what the battery module's
+//! TPDOs and an SDO client write: the parameters) back to their values at
+//! boot ([`ChargerPowerOnValues`]); the read-only ones (6001h, 6080h,
+//! 2006h, 2060h, 2100h, 2200h) are the charger's own readings and state
+//! and keep the value the application last set (a boot-time value restored
+//! would be published until its next update).
 
+use crate::device::PowerOnValues;
 use crate::od::{Access, ObjectDictionary, ObjectInfo, WriteBuffer};
 use crate::sdo::AbortCode;
 
@@ -13,43 +21,47 @@ use crate::sdo::AbortCode;
 /// write; SDO access goes through [`ObjectDictionary`] with the access
 /// rights of each object.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+// `repr(C)`, the writable objects first in [`ChargerPowerOnValues`]'s
+// order: the snapshot is the struct's first 27 bytes, copied as words
+// rather than field by field.
+#[repr(C)]
 pub struct ChargerObjects {
-    /// 6000h battery status (written by the BMS).
-    pub battery_status: u8,
-    /// 6001h charger status (bit 0: able to charge).
-    pub charger_status: u8,
+    /// 6060h battery voltage (1/1024 V).
+    pub battery_voltage: u32,
+    /// 2241h active algorithm request (FFFFFFFFh none).
+    pub algorithm_request: u32,
+    /// 2271h voltage request (Q10 V, FFFFFFFFh none).
+    pub voltage_request: u32,
     /// 6010h battery temperature (0.125 degC).
     pub temperature: i16,
     /// 6052h Ah returned (Delta-Q: Q3 Ah, FFFFh no value).
     pub ah_returned: u16,
-    /// 6060h battery voltage (1/1024 V).
-    pub battery_voltage: u32,
     /// 6070h charge current requested (1/16 A).
     pub current_requested: u16,
-    /// 6080h charger state of charge (%; FFh invalid).
-    pub charger_soc: u8,
-    /// 6081h battery state of charge (%; FFh invalid).
-    pub battery_soc: u8,
     /// 2002h charging current (Q8 A).
     pub charging_current: u16,
+    /// 2101h battery voltage (Q8 V).
+    pub battery_voltage_q8: u16,
+    /// 2276h voltage request (Q8 V, FFFFh none).
+    pub voltage_request_q8: u16,
+    /// 6000h battery status (written by the BMS).
+    pub battery_status: u8,
+    /// 6081h battery state of charge (%; FFh invalid).
+    pub battery_soc: u8,
+    /// 4201h external override.
+    pub external_override: u8,
+    /// 6001h charger status (bit 0: able to charge).
+    pub charger_status: u8,
+    /// 6080h charger state of charge (%; FFh invalid).
+    pub charger_soc: u8,
     /// 2006h extended charge status.
     pub extended_status: u16,
     /// 2060h current displayed error (a 1003h-style entry; 0 none).
     pub displayed_error: u32,
     /// 2100h battery voltage, legacy (Q10 V).
     pub battery_voltage_q10: u16,
-    /// 2101h battery voltage (Q8 V).
-    pub battery_voltage_q8: u16,
     /// 2200h AC voltage (Q4 V).
     pub ac_voltage: u16,
-    /// 2241h active algorithm request (FFFFFFFFh none).
-    pub algorithm_request: u32,
-    /// 2271h voltage request (Q10 V, FFFFFFFFh none).
-    pub voltage_request: u32,
-    /// 2276h voltage request (Q8 V, FFFFh none).
-    pub voltage_request_q8: u16,
-    /// 4201h external override.
-    pub external_override: u8,
     pending: WriteBuffer,
 }
 
@@ -166,6 +178,78 @@ impl ChargerObjects {
             _ => self.external_override = v as u8,
         }
         Ok(())
+    }
+}
+
+/// What NMT reset node restores of [`ChargerObjects`]: its writable
+/// objects (6000h, 6010h, 6052h, 6060h, 6070h, 6081h, 2002h, 2101h, 2241h,
+/// 2271h, 2276h, 4201h; 2FFAh stores nothing) as they were at boot. The
+/// read-only objects (6001h, 6080h, 2006h, 2060h, 2100h, 2200h) are the
+/// charger's own readings and state, not parameters (CiA 301 7.3.2.2.1:
+/// reset node restores the parameters of the profile areas): they keep
+/// what the application last set, so no stale boot-time value is published
+/// until its next update.
+///
+/// ```
+/// use canopen_codec::deltaq::ChargerObjects;
+/// use canopen_codec::device::PowerOnValues;
+/// let mut od = ChargerObjects::new();
+/// let at_boot = od.snapshot();
+/// od.battery_soc = 80; // written by the battery module's TPDO
+/// od.ac_voltage = 230 * 16; // measured
+/// od.restore(&at_boot); // reset node
+/// assert_eq!((od.battery_soc, od.ac_voltage), (0xFF, 230 * 16));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(C)]
+pub struct ChargerPowerOnValues {
+    battery_voltage: u32,
+    algorithm_request: u32,
+    voltage_request: u32,
+    temperature: i16,
+    ah_returned: u16,
+    current_requested: u16,
+    charging_current: u16,
+    battery_voltage_q8: u16,
+    voltage_request_q8: u16,
+    battery_status: u8,
+    battery_soc: u8,
+    external_override: u8,
+}
+
+impl PowerOnValues for ChargerObjects {
+    type Snapshot = ChargerPowerOnValues;
+
+    fn snapshot(&self) -> ChargerPowerOnValues {
+        ChargerPowerOnValues {
+            battery_voltage: self.battery_voltage,
+            algorithm_request: self.algorithm_request,
+            voltage_request: self.voltage_request,
+            temperature: self.temperature,
+            ah_returned: self.ah_returned,
+            current_requested: self.current_requested,
+            charging_current: self.charging_current,
+            battery_voltage_q8: self.battery_voltage_q8,
+            voltage_request_q8: self.voltage_request_q8,
+            battery_status: self.battery_status,
+            battery_soc: self.battery_soc,
+            external_override: self.external_override,
+        }
+    }
+
+    fn restore(&mut self, snapshot: &ChargerPowerOnValues) {
+        self.battery_voltage = snapshot.battery_voltage;
+        self.algorithm_request = snapshot.algorithm_request;
+        self.voltage_request = snapshot.voltage_request;
+        self.temperature = snapshot.temperature;
+        self.ah_returned = snapshot.ah_returned;
+        self.current_requested = snapshot.current_requested;
+        self.charging_current = snapshot.charging_current;
+        self.battery_voltage_q8 = snapshot.battery_voltage_q8;
+        self.voltage_request_q8 = snapshot.voltage_request_q8;
+        self.battery_status = snapshot.battery_status;
+        self.battery_soc = snapshot.battery_soc;
+        self.external_override = snapshot.external_override;
     }
 }
 

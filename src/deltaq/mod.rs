@@ -153,7 +153,7 @@ pub use catalogue::{
 };
 #[cfg(feature = "heartbeat-consumer")]
 pub use charger::{Charger, ChargerConfig, ChargerEvent, ChargerPowerOn};
-pub use charger_objects::ChargerObjects;
+pub use charger_objects::{ChargerObjects, ChargerPowerOnValues};
 pub use codes::{AlarmFaultEntry, DeltaQCode, ALARMS_AND_FAULTS};
 #[cfg(all(feature = "alloc", feature = "heartbeat-consumer"))]
 pub use eds::charger_eds;

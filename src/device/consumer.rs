@@ -5,7 +5,7 @@
 //!
 //! What it does is in the [device core docs](super).
 
-use super::{Device, DeviceEvent, PowerOn, Profile, MAX_CONSUMERS};
+use super::{Device, DeviceEvent, PowerOn, PowerOnValues, Profile, MAX_CONSUMERS};
 use crate::heartbeat::{ConsumerEntry, HeartbeatConsumer};
 use crate::machine::Machine;
 use crate::od::ObjectDictionary;
@@ -13,7 +13,7 @@ use crate::time::Timestamp;
 
 impl<A, E, const Q: usize, C, const T: usize, const R: usize> Device<A, E, Q, C, T, R>
 where
-    A: ObjectDictionary + Clone,
+    A: ObjectDictionary + PowerOnValues,
     E: Copy + From<DeviceEvent>,
     C: PowerOn,
 {

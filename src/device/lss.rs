@@ -2,7 +2,7 @@
 //! protocol"; feature `lss`): what it does is in the [device core
 //! docs](super).
 
-use super::{Device, DeviceEvent, PowerOn, Profile};
+use super::{Device, DeviceEvent, PowerOn, PowerOnValues, Profile};
 use crate::cob_id::NodeId;
 use crate::lss::{LssSlave, LssSlaveEvent};
 use crate::machine::Machine;
@@ -13,7 +13,7 @@ use crate::time::Timestamp;
 
 impl<A, E, const Q: usize, C, const T: usize, const R: usize> Device<A, E, Q, C, T, R>
 where
-    A: ObjectDictionary + Clone,
+    A: ObjectDictionary + PowerOnValues,
     E: Copy + From<DeviceEvent>,
     C: PowerOn,
 {

@@ -23,10 +23,17 @@
 //!
 //! - **NMT** ([`NmtSlave`]): nothing is handled before [`Device::boot`].
 //!   Boot and every reset send the boot-up message and enter
-//!   pre-operational. **Reset node** (81h) restores every object to its
+//!   pre-operational. **Reset node** (81h) restores every parameter to its
 //!   power-on value: the communication objects and the PDO configuration
-//!   to the [`DeviceConfig`], the application objects to their values at
-//!   [`Device::boot`] (what the application set before booting). **Reset communication** (82h) restores only
+//!   to the [`DeviceConfig`], the application's parameters to their values
+//!   at [`Device::boot`] (what the application set before booting; what
+//!   they are is the dictionary's [`PowerOnValues`]: every object an SDO
+//!   download or an RPDO can change, the `rw` ones, for the profiles; every
+//!   object for `od::MemoryDictionary`). The
+//!   application's `ro` objects (its measurements and identity) keep the
+//!   value it last set: CiA 301 7.3.2.2.1 restores the parameters of the
+//!   profile areas, and a boot-time reading restored would be published
+//!   (SDO, TPDOs) until the application's next update. **Reset communication** (82h) restores only
 //!   the communication objects (1000h-1FFFh, PDO configuration included)
 //!   and keeps the application objects. Both drop a running SDO transfer
 //!   silently, restart the heartbeat and are reported as
@@ -120,6 +127,7 @@ mod lss;
 mod objects;
 mod profile;
 mod services;
+mod snapshot;
 
 pub use config::{DeviceConfig, Policies, PowerOn};
 #[cfg(feature = "alloc")]
@@ -129,6 +137,7 @@ pub use objects::MAX_CONSUMERS;
 pub use objects::{CommObjects, DeviceObjects, ErrorFieldFormat, Identity, ERROR_HISTORY_LEN};
 pub(crate) use profile::machine_on_device;
 pub use profile::{DeviceEvent, Profile};
+pub use snapshot::PowerOnValues;
 
 use crate::cob_id::{NodeId, EMCY_BASE};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
@@ -176,6 +185,9 @@ pub const DEFAULT_QUEUE_CAPACITY: usize = 16;
 /// # }
 /// ```
 ///
+/// `A` is the application's dictionary; what reset node restores of it is
+/// its [`PowerOnValues`] (taken at [`boot`](Self::boot)).
+///
 /// `Q` is the capacity of the event queue and of the queue of frames to
 /// send (default [`DEFAULT_QUEUE_CAPACITY`]): a node that drains both after
 /// every call, as the contract says, can make it small (the firmware uses
@@ -186,7 +198,7 @@ pub const DEFAULT_QUEUE_CAPACITY: usize = 16;
 /// [`PdoConfig`]): the objects of a PDO past them do not exist.
 #[derive(Debug)]
 pub struct Device<
-    A,
+    A: PowerOnValues,
     E: Copy,
     const Q: usize = DEFAULT_QUEUE_CAPACITY,
     C = DeviceConfig,
@@ -213,8 +225,9 @@ pub struct Device<
     rpdos: RpdoReceiver<R>,
     /// The profile allows TPDOs (besides NMT operational).
     tpdos_enabled: bool,
-    /// The application objects at boot (restored by reset node).
-    power_on: A,
+    /// The application's power-on values, taken at boot (restored by
+    /// reset node).
+    power_on: A::Snapshot,
     /// The profile's frames and EMCYs: a full queue drops its oldest
     /// frame and counts it ([`frames_dropped`](Self::frames_dropped)).
     transmit: EventQueue<CanFrame, Q>,
@@ -230,7 +243,7 @@ pub struct Device<
     services: services::Services,
 }
 
-impl<A, E: Copy, const Q: usize, const T: usize, const R: usize>
+impl<A: PowerOnValues, E: Copy, const Q: usize, const T: usize, const R: usize>
     Device<A, E, Q, DeviceConfig, T, R>
 {
     /// The configuration.
@@ -242,7 +255,7 @@ impl<A, E: Copy, const Q: usize, const T: usize, const R: usize>
 
 impl<A, E, const Q: usize, C, const T: usize, const R: usize> Device<A, E, Q, C, T, R>
 where
-    A: ObjectDictionary + Clone,
+    A: ObjectDictionary + PowerOnValues,
     E: Copy + From<DeviceEvent>,
     C: PowerOn,
 {
@@ -251,11 +264,12 @@ where
     /// booted.
     pub fn new(config: C, app: A) -> Self {
         let node = config.node();
+        let power_on = app.snapshot();
         let dictionary = PdoDictionary::new(
             PdoConfig::empty(),
             DeviceObjects {
                 comm: CommObjects::new(node),
-                app: app.clone(),
+                app,
             },
         );
         let mut device = Device {
@@ -270,7 +284,7 @@ where
             tpdos: TpdoSet::empty(),
             rpdos: RpdoReceiver::empty(),
             tpdos_enabled: true,
-            power_on: app,
+            power_on,
             transmit: EventQueue::new(CanFrame::EMPTY),
             events: EventQueue::new(E::from(DeviceEvent::Reset { node: true })),
             #[cfg(feature = "lss")]
@@ -367,9 +381,9 @@ where
     /// Boots the device (power-on): boot-up message, pre-operational. The
     /// profile sees the state change (use `&mut ()` for a plain device).
     pub fn boot<P: Profile<A, E, Q, C, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
-        // The application objects as they are now are the power-on values
-        // reset node restores.
-        self.power_on = self.objects().clone();
+        // The application's parameters as they are now are the power-on
+        // values reset node restores.
+        self.power_on = self.objects().snapshot();
         #[cfg(feature = "lss")]
         {
             self.powered = true;
@@ -684,7 +698,7 @@ where
         // dictionary before the application objects are kept.
         self.server.cancel();
         if kind == ResetKind::Node {
-            self.server.od_mut().inner.app.clone_from(&self.power_on);
+            self.server.od_mut().inner.app.restore(&self.power_on);
         }
         self.load_power_on();
         self.heartbeat.boot(now);
@@ -794,8 +808,13 @@ where
     }
 }
 
-impl<A: ObjectDictionary + Clone, const Q: usize, C: PowerOn, const T: usize, const R: usize>
-    Machine for Device<A, DeviceEvent, Q, C, T, R>
+impl<
+        A: ObjectDictionary + PowerOnValues,
+        const Q: usize,
+        C: PowerOn,
+        const T: usize,
+        const R: usize,
+    > Machine for Device<A, DeviceEvent, Q, C, T, R>
 {
     type Event = DeviceEvent;
 

@@ -34,7 +34,8 @@ pub enum DeviceEvent {
     /// and the boot-up message is queued, before the state change to
     /// pre-operational.
     Reset {
-        /// `true` for reset node (81h: every object restored), `false` for
+        /// `true` for reset node (81h: the communication objects and the
+        /// application's [`PowerOnValues`](super::PowerOnValues) restored), `false` for
         /// reset communication (82h: the communication objects restored).
         node: bool,
     },
@@ -95,7 +96,7 @@ pub enum DeviceEvent {
 /// the device's queue capacity, `C` where its power-on configuration
 /// comes from, `T` and `R` its TPDO and RPDO counts (see [`Device`]).
 pub trait Profile<
-    A,
+    A: super::PowerOnValues,
     E: Copy,
     const Q: usize = { super::DEFAULT_QUEUE_CAPACITY },
     C = super::DeviceConfig,
@@ -162,8 +163,8 @@ pub trait Profile<
     }
 }
 
-impl<A, E: Copy, const Q: usize, C, const T: usize, const R: usize> Profile<A, E, Q, C, T, R>
-    for ()
+impl<A: super::PowerOnValues, E: Copy, const Q: usize, C, const T: usize, const R: usize>
+    Profile<A, E, Q, C, T, R> for ()
 {
 }
 

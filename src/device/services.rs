@@ -7,7 +7,7 @@
 
 use core::time::Duration;
 
-use super::{Device, DeviceEvent, PowerOn, Profile};
+use super::{Device, DeviceEvent, PowerOn, PowerOnValues, Profile};
 use crate::frame::CanFrame;
 #[cfg(feature = "guarding")]
 use crate::guarding::GuardingSlave;
@@ -74,7 +74,7 @@ impl Services {
 
 impl<A, E, const Q: usize, C, const T: usize, const R: usize> Device<A, E, Q, C, T, R>
 where
-    A: ObjectDictionary + Clone,
+    A: ObjectDictionary + PowerOnValues,
     E: Copy + From<DeviceEvent>,
     C: PowerOn,
 {

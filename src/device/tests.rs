@@ -44,6 +44,17 @@ impl ObjectDictionary for App {
     }
 }
 
+/// Its one object is a parameter: a full copy.
+impl PowerOnValues for App {
+    type Snapshot = u8;
+    fn snapshot(&self) -> u8 {
+        self.0
+    }
+    fn restore(&mut self, snapshot: &u8) {
+        self.0 = *snapshot;
+    }
+}
+
 type Dev = Device<App, DeviceEvent>;
 
 fn node() -> NodeId {
@@ -454,6 +465,44 @@ fn sdo_writes_of_1003h() {
         !d.error_register().is_empty(),
         "clearing the history leaves 1001h alone"
     );
+}
+
+/// The generic path: a [`MemoryDictionary`](crate::od::MemoryDictionary)'s
+/// power-on values are all of it, so reset node rolls back what the bus
+/// wrote (rw) and what the application changed after boot (ro, and an
+/// object it added) alike; reset communication keeps them.
+#[cfg(feature = "alloc")]
+#[test]
+fn reset_node_restores_every_object_of_a_memory_dictionary() {
+    use crate::od::{Access, MemoryDictionary};
+    for (cs, restored) in [(0x81u8, true), (0x82, false)] {
+        let mut od = MemoryDictionary::new();
+        od.insert(0x2000, 0, Access::ReadWrite, &[1]);
+        od.insert(0x2001, 0, Access::ReadOnly, &[2, 0]);
+        let mut d: Device<MemoryDictionary, DeviceEvent> =
+            Device::new(DeviceConfig::new(node()), od);
+        d.update(ms(0), |o| {
+            o.set(0x2001, 0, &[3, 0]);
+        });
+        d.boot(ms(0), &mut ());
+        let at_boot = d.objects().clone();
+        d.handle_frame(ms(1), &frame(0x604, &[0x2F, 0x00, 0x20, 0, 9, 0, 0, 0]));
+        d.update(ms(2), |o| {
+            o.set(0x2001, 0, &[4, 0]);
+            o.insert(0x2002, 0, Access::ReadOnly, &[5]);
+        });
+        let _ = sent(&mut d);
+        assert_eq!(d.objects().get(0x2000, 0), Some(&[9][..]), "written by SDO");
+        let changed = d.objects().clone();
+        d.handle_frame(ms(3), &frame(0x000, &[cs, 4]));
+        assert_eq!(sent(&mut d), ["704#00"], "{cs:02X}h");
+        let want = if restored { &at_boot } else { &changed };
+        assert_eq!(d.objects(), want, "{cs:02X}h");
+        assert_eq!(
+            d.objects().get(0x2001, 0),
+            Some(&[if restored { 3 } else { 4 }, 0][..])
+        );
+    }
 }
 
 /// Without the heartbeat consumer (feature `heartbeat-consumer`) the

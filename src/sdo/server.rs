@@ -269,20 +269,43 @@ enum State {
 /// with another).
 #[derive(Debug)]
 pub struct Server<D, const EVENTS: usize = DEFAULT_EVENT_CAPACITY> {
-    config: ServerConfig,
-    /// `config.timeout` in microseconds, computed once.
+    config: Channel,
+    /// The configuration's timeout in microseconds, computed once (the
+    /// one copy of it the server keeps).
     timeout_us: u64,
     /// The identifier word of a data frame on `config.request_id`
     /// (`u32::MAX`, matching no frame, when it is out of range).
     request_word: u32,
-    /// The identifier it sends on is valid (checked once, not per frame).
-    sends: bool,
     od: D,
     state: State,
     timers: Timers<1>,
     /// One frame: every call produces at most one (see the module docs).
     transmit: FrameSlot,
     events: EventQueue<ServerEvent, EVENTS>,
+}
+
+/// What a server keeps of its [`ServerConfig`] besides the timeout (held
+/// once, in microseconds, not also as a 16-byte `Duration`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Channel {
+    request_id: CanId,
+    response_id: CanId,
+    block_size: u8,
+    crc: bool,
+    /// The identifier it sends on is valid (checked once, not per frame).
+    sends: bool,
+}
+
+impl Channel {
+    fn new(config: &ServerConfig) -> Self {
+        Channel {
+            request_id: config.request_id,
+            response_id: config.response_id,
+            block_size: config.block_size,
+            crc: config.crc,
+            sends: crate::frame::check_id(config.response_id).is_ok(),
+        }
+    }
 }
 
 /// An object with size rule `size`, for its `check_download_len`.
@@ -319,10 +342,9 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// ```
     pub fn with_event_capacity(config: ServerConfig, od: D) -> Self {
         Server {
-            config,
+            config: Channel::new(&config),
             timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
             request_word: crate::frame::data_frame_word(config.request_id),
-            sends: crate::frame::check_id(config.response_id).is_ok(),
             od,
             state: State::Idle,
             timers: Timers::new(),
@@ -342,10 +364,9 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// (a device's NMT reset).
     pub fn restart(&mut self, config: ServerConfig) {
         self.cancel();
-        self.config = config;
+        self.config = Channel::new(&config);
         self.timeout_us = u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX);
         self.request_word = crate::frame::data_frame_word(config.request_id);
-        self.sends = crate::frame::check_id(config.response_id).is_ok();
         self.timers = Timers::new();
         self.transmit = FrameSlot::new();
         self.events = EventQueue::new(ServerEvent::Uploaded {
@@ -355,10 +376,32 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         });
     }
 
-    /// The configuration.
+    /// The configuration, its timeout as the server keeps and runs it: in
+    /// whole microseconds (what is finer is not kept).
+    ///
+    /// ```
+    /// use canopen_codec::device::CommObjects;
+    /// use canopen_codec::sdo::{Server, ServerConfig};
+    /// use canopen_codec::NodeId;
+    /// use core::time::Duration;
+    ///
+    /// let node = NodeId::new(1).unwrap();
+    /// let config = ServerConfig { timeout: Duration::from_millis(250), ..ServerConfig::for_node(node) };
+    /// let mut server = Server::new(config, CommObjects::new(node));
+    /// assert_eq!(server.config(), config);
+    /// let fine = ServerConfig { timeout: Duration::from_nanos(1_500), ..config };
+    /// server.restart(fine);
+    /// assert_eq!(server.config().timeout, Duration::from_micros(1));
+    /// ```
     #[must_use]
-    pub const fn config(&self) -> &ServerConfig {
-        &self.config
+    pub const fn config(&self) -> ServerConfig {
+        ServerConfig {
+            request_id: self.config.request_id,
+            response_id: self.config.response_id,
+            timeout: Duration::from_micros(self.timeout_us),
+            block_size: self.config.block_size,
+            crc: self.config.crc,
+        }
     }
 
     /// The dictionary.
@@ -442,7 +485,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// as `SdoResponse::new` of its command encodes to.
     #[inline]
     fn send_bytes(&mut self, bytes: [u8; 8], len: u8) {
-        if self.sends {
+        if self.config.sends {
             // The identifier was checked in `new`.
             let frame = CanFrame::from_parts(self.config.response_id, bytes, len);
             // At most one frame per call: a drained queue always has room.
