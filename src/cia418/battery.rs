@@ -528,14 +528,26 @@ impl BatteryParameterValue {
     /// The little-endian bytes (1 for U8 subs, 2 for U16 subs).
     #[must_use]
     pub fn encode(self) -> InlineData<2> {
-        let (bytes, len) = match self {
-            Self::HighestSubIndex(v) => ([v, 0], 1),
-            Self::BatteryType(t) => ([t.to_u8(), 0], 1),
-            Self::AhCapacity(v) | Self::MaxChargeCurrent(v) | Self::NumberOfCells(v) => {
-                (v.to_le_bytes(), 2)
-            }
-        };
-        InlineData::new(bytes.get(..len).unwrap_or(&bytes)).unwrap_or_default()
+        let (word, len) = self.word();
+        let bytes = word.to_le_bytes();
+        InlineData::new(bytes.get(..usize::from(len)).unwrap_or(&bytes)).unwrap_or_default()
+    }
+
+    /// The value as a number and its length in bytes (1 for U8 subs, 2 for
+    /// U16 subs): what [`encode`](Self::encode) writes little-endian.
+    ///
+    /// ```
+    /// use canopen_codec::cia418::BatteryParameterValue;
+    /// assert_eq!(BatteryParameterValue::AhCapacity(600).word(), (600, 2));
+    /// assert_eq!(BatteryParameterValue::HighestSubIndex(4).word(), (4, 1));
+    /// ```
+    #[must_use]
+    pub const fn word(self) -> (u16, u8) {
+        match self {
+            Self::HighestSubIndex(v) => (v as u16, 1),
+            Self::BatteryType(t) => (t.to_u8() as u16, 1),
+            Self::AhCapacity(v) | Self::MaxChargeCurrent(v) | Self::NumberOfCells(v) => (v, 2),
+        }
     }
 }
 
