@@ -315,9 +315,8 @@ impl BatteryObjects {
             (BATTERY_PARAMETERS, s) => {
                 let (word, len) = self
                     .battery_parameters
-                    .get(s)
-                    .ok_or(AbortCode::SubIndexDoesNotExist)?
-                    .word();
+                    .sub_word(s)
+                    .ok_or(AbortCode::SubIndexDoesNotExist)?;
                 (Ro, u32::from(word), len)
             }
             (DATE_OF_LAST_EQUALIZATION, 0) => (Ro, EqualizationDate::NUMBER_OF_ELEMENTS.into(), 1),
