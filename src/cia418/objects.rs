@@ -334,11 +334,11 @@ impl BatteryObjects {
                         AbortCode::ObjectDoesNotExist
                     });
                 };
+                // By reference: a copy is the whole array on the stack.
                 let v = self
                     .packed
                     .get(packed_slot(object))
-                    .copied()
-                    .unwrap_or(PackedValue::EMPTY);
+                    .unwrap_or(&PackedValue::EMPTY);
                 if s == 0 {
                     (Ro, v.count.into(), 1)
                 } else {
