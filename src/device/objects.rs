@@ -478,19 +478,6 @@ pub struct DeviceObjects<A> {
     pub app: A,
 }
 
-impl<A: ObjectDictionary> DeviceObjects<A> {
-    fn target(&mut self, index: u16) -> &mut dyn ObjectDictionary
-    where
-        A: Sized,
-    {
-        if self.comm.has_object(index) {
-            &mut self.comm
-        } else {
-            &mut self.app
-        }
-    }
-}
-
 impl<A: ObjectDictionary> ObjectDictionary for DeviceObjects<A> {
     fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
         if self.comm.has_object(index) {
@@ -507,19 +494,35 @@ impl<A: ObjectDictionary> ObjectDictionary for DeviceObjects<A> {
         offset: usize,
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        self.target(index).read(index, sub, offset, buf)
+        if self.comm.has_object(index) {
+            self.comm.read(index, sub, offset, buf)
+        } else {
+            self.app.read(index, sub, offset, buf)
+        }
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
-        self.target(index).write(index, sub, offset, data)
+        if self.comm.has_object(index) {
+            self.comm.write(index, sub, offset, data)
+        } else {
+            self.app.write(index, sub, offset, data)
+        }
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        self.target(index).finish_write(index, sub, len)
+        if self.comm.has_object(index) {
+            self.comm.finish_write(index, sub, len)
+        } else {
+            self.app.finish_write(index, sub, len)
+        }
     }
 
     fn abort_write(&mut self, index: u16, sub: u8) {
-        self.target(index).abort_write(index, sub);
+        if self.comm.has_object(index) {
+            self.comm.abort_write(index, sub);
+        } else {
+            self.app.abort_write(index, sub);
+        }
     }
 }
 
