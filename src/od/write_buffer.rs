@@ -260,4 +260,49 @@ mod tests {
         );
         assert_eq!(w.take(1, 0), &[] as &[u8], "always empty afterwards");
     }
+
+    #[test]
+    fn word_of_a_fixed_size_value() {
+        use crate::od::Access::{ReadOnly, ReadWrite};
+        let mut w = WriteBuffer::new();
+        for (data, size, len, want) in [
+            (&[1u8, 2, 3, 4][..], 4usize, 4usize, Ok(0x0403_0201)),
+            (&[0xFF][..], 1, 1, Ok(0xFF)),
+            (&[1, 2][..], 2, 2, Ok(0x0201)),
+            // The declared length cuts what was written.
+            (&[1, 2, 3][..], 2, 2, Ok(0x0201)),
+            (&[1, 2, 3][..], 2, 3, Err(AbortCode::DataTypeLengthTooHigh)),
+            (&[1][..], 2, 1, Err(AbortCode::DataTypeLengthTooLow)),
+            (&[][..], 1, 0, Err(AbortCode::DataTypeLengthTooLow)),
+        ] {
+            w.write(1, 0, 0, data).unwrap();
+            assert_eq!(
+                w.finish_word(Ok((ReadWrite, size)), 1, 0, len),
+                want,
+                "{data:?}"
+            );
+            assert_eq!(w.take(1, 0), &[] as &[u8], "always empty afterwards");
+        }
+        // A shorter value after a longer one: no old bytes past it.
+        w.write(1, 0, 0, &[9, 9, 9, 9]).unwrap();
+        w.write(1, 0, 0, &[7]).unwrap();
+        assert_eq!(w.finish_word(Ok((ReadWrite, 1)), 1, 0, 1), Ok(7));
+        w.write(1, 0, 0, &[1, 2]).unwrap();
+        assert_eq!(
+            w.finish_word(Ok((ReadOnly, 2)), 1, 0, 2),
+            Err(AbortCode::WriteOfReadOnlyObject)
+        );
+        w.write(1, 0, 0, &[1, 2]).unwrap();
+        assert_eq!(
+            w.finish_word(Err(AbortCode::ObjectDoesNotExist), 1, 0, 2),
+            Err(AbortCode::ObjectDoesNotExist)
+        );
+        // Another object's bytes are not this one's value.
+        w.write(2, 0, 0, &[1, 2]).unwrap();
+        assert_eq!(
+            w.finish_word(Ok((ReadWrite, 2)), 1, 0, 2),
+            Err(AbortCode::DataTypeLengthTooLow)
+        );
+        assert_eq!(core::mem::size_of::<WriteBuffer>(), 8);
+    }
 }
