@@ -60,8 +60,7 @@ use crate::device::{
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 
 use crate::pdo::{
-    MappingEntry, PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoMapping, PdoSlot,
-    TransmissionType, MAX_ENTRIES,
+    DefaultPdo, PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoSlot, TransmissionType,
 };
 use crate::sdo::DEFAULT_TIMEOUT;
 use crate::time::{millis_u16, millis_u32, Timestamp};
@@ -274,32 +273,48 @@ impl PowerOn for BatteryModulePowerOn {
     }
 }
 
+/// The communication parameters of a row of [`DEFAULT_PDOS`] for a module
+/// with `config`: its COB-ID for the node (a TPDO's made valid with
+/// `enable_tpdos`), event-driven with its event timer and transmission type.
+const fn default_comm(d: &DefaultPdo, node: NodeId, enable_tpdos: bool) -> PdoCommParams {
+    let mut cob_id = PdoCobId::from_u32(d.cob_id(node));
+    if matches!(d.direction, PdoDirection::Transmit) && enable_tpdos {
+        cob_id = cob_id.with_valid(true);
+    }
+    let mut comm = PdoCommParams::event_driven(cob_id, d.event_timer_ms);
+    if let Ok(tt) = TransmissionType::from_u8(d.transmission_type) {
+        comm.transmission_type = tt;
+    }
+    comm
+}
+
+// Every row of the table maps validly (what `PdoSlot::from_table` needs):
+// checked when the crate compiles, not at every reset.
+const _: () = {
+    let mut i = 0;
+    while i < DEFAULT_PDOS.len() {
+        assert!(
+            PdoSlot::table_mapping_valid(DEFAULT_PDOS[i].entries),
+            "a CiA 418 default PDO maps invalidly"
+        );
+        i += 1;
+    }
+};
+
 /// Writes the CiA 418 default PDO set of a module with `config` into
-/// `pdos` (every slot).
+/// `pdos` (every slot), in place: one pass over the table, each present
+/// PDO's slot written from its row (no mapping built and copied).
 fn default_pdo_config<const T: usize, const R: usize>(
     config: &BatteryModulePowerOn,
     pdos: &mut PdoConfig<T, R>,
 ) {
     pdos.clear();
-    for d in DEFAULT_PDOS
-        .iter()
-        .filter(|d| d.is_present(config.device_type))
-    {
-        let mut entries = [MappingEntry::default(); MAX_ENTRIES];
-        for (e, &(index, sub, bits)) in entries.iter_mut().zip(d.entries) {
-            *e = MappingEntry::new(index, sub, bits);
+    for d in &DEFAULT_PDOS {
+        if !d.is_present(config.device_type) {
+            continue;
         }
-        let mapping = PdoMapping::new(entries.get(..d.entries.len()).unwrap_or(&[]))
-            .unwrap_or(PdoMapping::EMPTY);
-        let mut cob_id = PdoCobId::from_u32(d.cob_id(config.node));
-        if d.direction == PdoDirection::Transmit && config.enable_tpdos {
-            cob_id = cob_id.with_valid(true);
-        }
-        let mut comm = PdoCommParams::event_driven(cob_id, d.event_timer_ms);
-        if let Ok(tt) = TransmissionType::from_u8(d.transmission_type) {
-            comm.transmission_type = tt;
-        }
-        pdos.insert(d.direction, d.number, PdoSlot::new(comm, &mapping));
+        let comm = default_comm(d, config.node, config.enable_tpdos);
+        pdos.insert(d.direction, d.number, PdoSlot::from_table(comm, d.entries));
     }
 }
 
