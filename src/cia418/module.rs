@@ -44,6 +44,7 @@
 //!   other bit is left) and sends the error reset 0000h.
 //! - Total: no frame, timestamp or call order panics.
 
+use core::mem::MaybeUninit;
 use core::time::Duration;
 
 use super::objects::BatteryObjects;
@@ -375,6 +376,30 @@ impl<const Q: usize> BatteryModule<Q> {
             device: Device::new(BatteryModulePowerOn::from(config), BatteryObjects::new()),
             profile: ModuleProfile::default(),
         }
+    }
+
+    /// [`with_queue_capacity`](Self::with_queue_capacity) built in `slot`
+    /// (a firmware's static): the module is written there and its power-on
+    /// values are loaded in place ([`Device::new_in`]), not built elsewhere
+    /// and moved.
+    ///
+    /// ```
+    /// use core::mem::MaybeUninit;
+    /// use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig};
+    /// use canopen_codec::machine::Machine;
+    /// use canopen_codec::{NodeId, Timestamp};
+    /// let mut slot = MaybeUninit::<BatteryModule<4>>::uninit();
+    /// let m = BatteryModule::new_in(&mut slot, BatteryModuleConfig::new(NodeId::MIN));
+    /// m.boot(Timestamp::ZERO);
+    /// assert_eq!(m.poll_transmit().unwrap().to_string(), "701#00");
+    /// ```
+    pub fn new_in(slot: &mut MaybeUninit<Self>, config: BatteryModuleConfig) -> &mut Self {
+        let module = slot.write(BatteryModule {
+            device: Device::blank(BatteryModulePowerOn::from(config), BatteryObjects::new()),
+            profile: ModuleProfile::default(),
+        });
+        module.device.load_power_on();
+        module
     }
 
     /// The device core (node-ID, LSS slave, NMT state).
