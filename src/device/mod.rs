@@ -306,7 +306,7 @@ where
             node,
             error_field: ErrorFieldFormat::LittleEndianInfo,
             nmt: NmtSlave::with_event_capacity(node),
-            heartbeat: HeartbeatProducer::new(node, Duration::ZERO),
+            heartbeat: HeartbeatProducer::with_period_ms(node, 0),
             #[cfg(feature = "heartbeat-consumer")]
             consumer: HeartbeatConsumer::new(),
             server: Server::unconfigured(PdoDictionary::new(
@@ -339,10 +339,10 @@ where
     pub(crate) fn load_power_on(&mut self) {
         let od = self.server.od_mut();
         let policies = self.config.restore(&mut od.inner.comm, &mut od.config);
-        let period = Duration::from_millis(u64::from(od.inner.comm.heartbeat_ms));
+        let period_ms = od.inner.comm.heartbeat_ms;
         self.error_field = policies.error_field;
         self.server.restart(policies.server_config(self.node));
-        self.heartbeat = HeartbeatProducer::new(self.node, period);
+        self.heartbeat = HeartbeatProducer::with_period_ms(self.node, period_ms);
         self.heartbeat.send_on_change = policies.heartbeat_on_change;
     }
 
