@@ -357,10 +357,9 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         }
     }
 
-    /// A server over `od` with no channel yet: it serves no frame and
-    /// sends nothing until [`restart`](Self::restart) gives it its
-    /// configuration. Made of constants only (a device's construction,
-    /// whose reset path configures the server in place).
+    /// A server over `od` with no channel yet (constants only): it serves
+    /// and sends nothing until [`restart`](Self::restart) configures it (a
+    /// device's construction, whose reset path does).
     pub(crate) const fn unconfigured(od: D) -> Self {
         Server {
             config: Channel {
