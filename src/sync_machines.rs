@@ -323,7 +323,11 @@ pub enum SyncEvent {
 /// reported as [`SyncEvent::OutsideWindow`]; a window length of 0 means no
 /// window. (The device core sends its synchronous TPDOs at the SYNC, inside
 /// the window by construction, and notes its synchronous RPDOs.) The queue
-/// keeps the latest 2 events: read them after every frame.
+/// keeps the latest `E` events (default 2, what one SYNC frame can make:
+/// [`SyncEvent::Received`] and [`SyncEvent::CounterSkipped`]): read them
+/// after every frame. (The device core, which reads them after every call
+/// and does not report `Received`, takes its SYNC frames without queueing
+/// `Received`, so one slot is its exact bound.)
 ///
 /// ```
 /// use canopen_codec::machine::Machine;
@@ -342,14 +346,14 @@ pub enum SyncEvent {
 /// assert!(!c.note_synchronous_pdo(Timestamp::from_micros(1_600)));
 /// ```
 #[derive(Debug, Clone)]
-pub struct SyncConsumer {
+pub struct SyncConsumer<const E: usize = 2> {
     id: CanId,
     overflow: u8,
     /// 1007h (µs).
     window_us: u32,
     last_sync: MaybeTimestamp,
     last_counter: Option<u8>,
-    events: EventQueue<SyncEvent, 2>,
+    events: EventQueue<SyncEvent, E>,
 }
 
 impl Default for SyncConsumer {
@@ -362,6 +366,21 @@ impl SyncConsumer {
     /// A consumer on 080h, no counter check, no window.
     #[must_use]
     pub const fn new() -> Self {
+        Self::with_event_capacity()
+    }
+}
+
+impl<const E: usize> SyncConsumer<E> {
+    /// A consumer on 080h, no counter check, no window, whose queue keeps
+    /// the latest `E` events.
+    ///
+    /// ```
+    /// use canopen_codec::sync::SyncConsumer;
+    /// let c = SyncConsumer::<1>::with_event_capacity();
+    /// assert_eq!(c.last_sync(), None);
+    /// ```
+    #[must_use]
+    pub const fn with_event_capacity() -> Self {
         SyncConsumer {
             id: CanId::Standard(SYNC),
             overflow: 0,
@@ -441,6 +460,17 @@ impl SyncConsumer {
     /// or 1 bytes); true when it was one. The device core calls this to
     /// run its synchronous TPDOs, from the bus and from its own producer.
     pub fn accept(&mut self, now: Timestamp, frame: &CanFrame) -> bool {
+        self.take(now, frame, true)
+    }
+
+    /// [`accept`](Self::accept) without queueing [`SyncEvent::Received`]
+    /// (the device core, which does not report it): at most one event
+    /// (a skipped counter) per frame.
+    pub(crate) fn accept_quietly(&mut self, now: Timestamp, frame: &CanFrame) -> bool {
+        self.take(now, frame, false)
+    }
+
+    fn take(&mut self, now: Timestamp, frame: &CanFrame, report_received: bool) -> bool {
         if frame.is_remote() || frame.id() != self.id {
             return false;
         }
@@ -448,9 +478,11 @@ impl SyncConsumer {
             return false;
         };
         self.last_sync = MaybeTimestamp::new(Some(now));
-        self.events.push(SyncEvent::Received {
-            counter: sync.counter,
-        });
+        if report_received {
+            self.events.push(SyncEvent::Received {
+                counter: sync.counter,
+            });
+        }
         if let (Some(got), true) = (sync.counter, self.overflow != 0) {
             if let Some(previous) = self.last_counter {
                 let expected = if previous >= self.overflow {
@@ -469,7 +501,7 @@ impl SyncConsumer {
     }
 }
 
-impl Machine for SyncConsumer {
+impl<const E: usize> Machine for SyncConsumer<E> {
     type Event = SyncEvent;
 
     /// SYNC frames on the consumer's identifier; others are ignored.

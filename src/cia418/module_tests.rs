@@ -30,7 +30,11 @@ fn nothing_happens_before_boot() {
 fn default_pdo_set_follows_the_device_type() {
     let mut config = BatteryModuleConfig::default();
     let mut pdos = PdoConfig::new();
-    default_pdo_config(&BatteryModulePowerOn::from(config), &mut pdos);
+    default_pdo_config(
+        &BatteryModulePowerOn::from(config),
+        config.device_type,
+        &mut pdos,
+    );
     assert!(pdos
         .get(PdoDirection::Transmit, PdoNumber::P0)
         .unwrap()
@@ -43,7 +47,11 @@ fn default_pdo_set_follows_the_device_type() {
     config.enable_tpdos = false;
     config.device_type = DeviceType::cia418(DeviceType::TPDO_2ND | DeviceType::RPDO_3RD);
     let mut pdos = PdoConfig::new();
-    default_pdo_config(&BatteryModulePowerOn::from(config), &mut pdos);
+    default_pdo_config(
+        &BatteryModulePowerOn::from(config),
+        config.device_type,
+        &mut pdos,
+    );
     let t1 = pdos.get(PdoDirection::Transmit, PdoNumber::P1).unwrap();
     assert_eq!(t1.comm.cob_id.to_u32(), 0x8000_0281);
     assert_eq!(t1.count(), 3);
