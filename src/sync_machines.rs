@@ -24,7 +24,7 @@ use core::time::Duration;
 
 use super::Sync;
 use crate::cob_id::SYNC;
-use crate::frame::{CanFrame, CanId};
+use crate::frame::{data_frame_word, CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::{EventQueue, Queue};
 use crate::time::{MaybeTimestamp, Timers, Timestamp};
@@ -347,7 +347,10 @@ pub enum SyncEvent {
 /// ```
 #[derive(Debug, Clone)]
 pub struct SyncConsumer<const E: usize = 2> {
-    id: CanId,
+    /// The identifier as the word of a data frame on it
+    /// (`frame::data_frame_word`; `u32::MAX`, which no frame has, for one
+    /// out of range): 4 bytes, not the 8 of a `CanId`, and one compare.
+    id_word: u32,
     overflow: u8,
     /// 1007h (µs).
     window_us: u32,
@@ -382,7 +385,7 @@ impl<const E: usize> SyncConsumer<E> {
     #[must_use]
     pub const fn with_event_capacity() -> Self {
         SyncConsumer {
-            id: CanId::Standard(SYNC),
+            id_word: data_frame_word(CanId::Standard(SYNC)),
             overflow: 0,
             window_us: 0,
             last_sync: MaybeTimestamp::NONE,
@@ -391,15 +394,33 @@ impl<const E: usize> SyncConsumer<E> {
         }
     }
 
-    /// The SYNC identifier (1005h).
+    /// The SYNC identifier (1005h). One out of range (which no frame has)
+    /// leaves the consumer listening to nothing.
     pub fn set_id(&mut self, id: CanId) {
-        self.id = id;
+        self.id_word = data_frame_word(id);
     }
 
-    /// The identifier listened to.
+    /// The identifier listened to; none after an identifier out of range
+    /// was set.
+    ///
+    /// ```
+    /// use canopen_codec::sync::SyncConsumer;
+    /// use canopen_codec::CanId;
+    /// let mut c = SyncConsumer::new();
+    /// assert_eq!(c.id(), Some(CanId::Standard(0x080)));
+    /// c.set_id(CanId::Extended(0x1000_0080));
+    /// assert_eq!(c.id(), Some(CanId::Extended(0x1000_0080)));
+    /// c.set_id(CanId::Standard(0x800));
+    /// assert_eq!(c.id(), None);
+    /// ```
     #[must_use]
-    pub const fn id(&self) -> CanId {
-        self.id
+    pub fn id(&self) -> Option<CanId> {
+        const EXTENDED: u32 = 1 << 31;
+        match self.id_word {
+            u32::MAX => None,
+            w if w & EXTENDED != 0 => Some(CanId::Extended(w & !EXTENDED)),
+            w => u16::try_from(w).ok().map(CanId::Standard),
+        }
     }
 
     /// The counter overflow value (1019h) the producer uses: 0 no counter
@@ -411,6 +432,12 @@ impl<const E: usize> SyncConsumer<E> {
         self.overflow = overflow;
         self.last_counter = None;
         true
+    }
+
+    /// The counter overflow value (1019h) checked: 0 none.
+    #[must_use]
+    pub const fn counter_overflow(&self) -> u8 {
+        self.overflow
     }
 
     /// The synchronous window length (1007h, whole µs, saturating at
@@ -471,7 +498,9 @@ impl<const E: usize> SyncConsumer<E> {
     }
 
     fn take(&mut self, now: Timestamp, frame: &CanFrame, report_received: bool) -> bool {
-        if frame.is_remote() || frame.id() != self.id {
+        // A remote frame's word has the remote flag: it matches no data
+        // frame's.
+        if frame.word() != self.id_word {
             return false;
         }
         let Ok(sync) = Sync::decode(frame.data()) else {

@@ -203,21 +203,15 @@ pub type BatteryEvent = DeviceEvent;
 type ModuleDevice<const Q: usize> =
     Device<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn, 3, 3>;
 
-/// The module's own state besides the core.
+/// The module's own behaviour besides the core; no state of its own: the
+/// temperature sensor fault is 1001h's device-profile bit (CiA 418 v1.0.1,
+/// 6.2.2), which both resets clear with 1001h.
 #[derive(Debug, Clone, Copy, Default)]
-struct ModuleProfile {
-    temperature_fault: bool,
-}
+struct ModuleProfile;
 
 impl<const Q: usize> Profile<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn, 3, 3>
     for ModuleProfile
 {
-    fn on_event(&mut self, _device: &mut ModuleDevice<Q>, _now: Timestamp, event: &DeviceEvent) {
-        if let DeviceEvent::Reset { .. } = event {
-            // The reset restored 1001h: the fault is no longer signalled.
-            self.temperature_fault = false;
-        }
-    }
 }
 
 /// A CiA 418 battery module. See the module docs for the behaviour. It
@@ -354,7 +348,7 @@ impl BatteryModule {
                 BatteryObjects::new(),
                 lss,
             ),
-            profile: ModuleProfile::default(),
+            profile: ModuleProfile,
         };
         module.write_constants(&config);
         module
@@ -378,7 +372,7 @@ impl<const Q: usize> BatteryModule<Q> {
     pub fn with_queue_capacity(config: BatteryModuleConfig) -> Self {
         let mut module = BatteryModule {
             device: Device::new(BatteryModulePowerOn::from(config), BatteryObjects::new()),
-            profile: ModuleProfile::default(),
+            profile: ModuleProfile,
         };
         module.write_constants(&config);
         module
@@ -418,10 +412,15 @@ impl<const Q: usize> BatteryModule<Q> {
         self.device.power_on().config(self.device.comm())
     }
 
-    /// True while the temperature sensor fault is set.
+    /// True while the temperature sensor fault is set: 1001h's
+    /// device-profile bit (CiA 418 v1.0.1, 6.2.2), which
+    /// [`set_temperature_sensor_fault`](Self::set_temperature_sensor_fault)
+    /// sets and clears and both resets clear.
     #[must_use]
-    pub const fn temperature_sensor_fault(&self) -> bool {
-        self.profile.temperature_fault
+    pub fn temperature_sensor_fault(&self) -> bool {
+        self.device
+            .error_register()
+            .contains(ErrorRegister::DEVICE_PROFILE)
     }
 
     /// 6001h charger status, as the charger last wrote it.
@@ -514,10 +513,9 @@ impl<const Q: usize> BatteryModule<Q> {
     /// clears them (bit 0 only if no other bit is left) and sends the error
     /// reset 0000h. Repeating the current state does nothing.
     pub fn set_temperature_sensor_fault(&mut self, now: Timestamp, fault: bool) {
-        if fault == self.profile.temperature_fault {
+        if fault == self.temperature_sensor_fault() {
             return;
         }
-        self.profile.temperature_fault = fault;
         if fault {
             self.device.raise_error(
                 ErrorRegister::DEVICE_PROFILE,

@@ -62,6 +62,9 @@ pub(super) struct Services {
     pub(super) sync_consumer: SyncConsumer<1>,
     #[cfg(feature = "sync-time")]
     pub(super) time_consumer: TimeConsumer,
+    /// With neither `guarding` nor `sync-time` the one value compared,
+    /// 1019h, is the SYNC consumer's own (a valid 1019h is always taken).
+    #[cfg(any(feature = "guarding", feature = "sync-time"))]
     applied: Option<Applied>,
 }
 
@@ -77,6 +80,7 @@ impl Services {
             sync_consumer: SyncConsumer::with_event_capacity(),
             #[cfg(feature = "sync-time")]
             time_consumer: TimeConsumer::new(TimeCobId::DEFAULT),
+            #[cfg(any(feature = "guarding", feature = "sync-time"))]
             applied: None,
         }
     }
@@ -158,7 +162,12 @@ where
         };
         let comm_sync_id = comm.sync_cob_id.id();
         let sync_window_us = comm.sync_window_us;
+        #[cfg(any(feature = "guarding", feature = "sync-time"))]
         let old = self.services.applied.replace(want);
+        #[cfg(not(any(feature = "guarding", feature = "sync-time")))]
+        let old = Some(Applied {
+            sync_counter_overflow: self.services.sync_consumer.counter_overflow(),
+        });
         let changed = |f: fn(&Applied) -> u64| old.as_ref().map(f) != Some(f(&want));
         let s = &mut self.services;
         #[cfg(feature = "guarding")]
