@@ -24,7 +24,7 @@ use core::time::Duration;
 
 use super::Sync;
 use crate::cob_id::SYNC;
-use crate::frame::{CanFrame, CanId};
+use crate::frame::{data_frame_word, CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::{EventQueue, Queue};
 use crate::time::{MaybeTimestamp, Timers, Timestamp};
@@ -323,7 +323,11 @@ pub enum SyncEvent {
 /// reported as [`SyncEvent::OutsideWindow`]; a window length of 0 means no
 /// window. (The device core sends its synchronous TPDOs at the SYNC, inside
 /// the window by construction, and notes its synchronous RPDOs.) The queue
-/// keeps the latest 2 events: read them after every frame.
+/// keeps the latest `E` events (default 2, what one SYNC frame can make:
+/// [`SyncEvent::Received`] and [`SyncEvent::CounterSkipped`]): read them
+/// after every frame. (The device core, which reads them after every call
+/// and does not report `Received`, takes its SYNC frames without queueing
+/// `Received`, so one slot is its exact bound.)
 ///
 /// ```
 /// use canopen_codec::machine::Machine;
@@ -342,14 +346,17 @@ pub enum SyncEvent {
 /// assert!(!c.note_synchronous_pdo(Timestamp::from_micros(1_600)));
 /// ```
 #[derive(Debug, Clone)]
-pub struct SyncConsumer {
-    id: CanId,
+pub struct SyncConsumer<const E: usize = 2> {
+    /// The identifier as the word of a data frame on it
+    /// (`frame::data_frame_word`; `u32::MAX`, which no frame has, for one
+    /// out of range): 4 bytes, not the 8 of a `CanId`, and one compare.
+    id_word: u32,
     overflow: u8,
     /// 1007h (µs).
     window_us: u32,
     last_sync: MaybeTimestamp,
     last_counter: Option<u8>,
-    events: EventQueue<SyncEvent, 2>,
+    events: EventQueue<SyncEvent, E>,
 }
 
 impl Default for SyncConsumer {
@@ -362,8 +369,23 @@ impl SyncConsumer {
     /// A consumer on 080h, no counter check, no window.
     #[must_use]
     pub const fn new() -> Self {
+        Self::with_event_capacity()
+    }
+}
+
+impl<const E: usize> SyncConsumer<E> {
+    /// A consumer on 080h, no counter check, no window, whose queue keeps
+    /// the latest `E` events.
+    ///
+    /// ```
+    /// use canopen_codec::sync::SyncConsumer;
+    /// let c = SyncConsumer::<1>::with_event_capacity();
+    /// assert_eq!(c.last_sync(), None);
+    /// ```
+    #[must_use]
+    pub const fn with_event_capacity() -> Self {
         SyncConsumer {
-            id: CanId::Standard(SYNC),
+            id_word: data_frame_word(CanId::Standard(SYNC)),
             overflow: 0,
             window_us: 0,
             last_sync: MaybeTimestamp::NONE,
@@ -372,15 +394,33 @@ impl SyncConsumer {
         }
     }
 
-    /// The SYNC identifier (1005h).
+    /// The SYNC identifier (1005h). One out of range (which no frame has)
+    /// leaves the consumer listening to nothing.
     pub fn set_id(&mut self, id: CanId) {
-        self.id = id;
+        self.id_word = data_frame_word(id);
     }
 
-    /// The identifier listened to.
+    /// The identifier listened to; none after an identifier out of range
+    /// was set.
+    ///
+    /// ```
+    /// use canopen_codec::sync::SyncConsumer;
+    /// use canopen_codec::CanId;
+    /// let mut c = SyncConsumer::new();
+    /// assert_eq!(c.id(), Some(CanId::Standard(0x080)));
+    /// c.set_id(CanId::Extended(0x1000_0080));
+    /// assert_eq!(c.id(), Some(CanId::Extended(0x1000_0080)));
+    /// c.set_id(CanId::Standard(0x800));
+    /// assert_eq!(c.id(), None);
+    /// ```
     #[must_use]
-    pub const fn id(&self) -> CanId {
-        self.id
+    pub fn id(&self) -> Option<CanId> {
+        const EXTENDED: u32 = 1 << 31;
+        match self.id_word {
+            u32::MAX => None,
+            w if w & EXTENDED != 0 => Some(CanId::Extended(w & !EXTENDED)),
+            w => u16::try_from(w).ok().map(CanId::Standard),
+        }
     }
 
     /// The counter overflow value (1019h) the producer uses: 0 no counter
@@ -392,6 +432,12 @@ impl SyncConsumer {
         self.overflow = overflow;
         self.last_counter = None;
         true
+    }
+
+    /// The counter overflow value (1019h) checked: 0 none.
+    #[must_use]
+    pub const fn counter_overflow(&self) -> u8 {
+        self.overflow
     }
 
     /// The synchronous window length (1007h, whole µs, saturating at
@@ -441,16 +487,31 @@ impl SyncConsumer {
     /// or 1 bytes); true when it was one. The device core calls this to
     /// run its synchronous TPDOs, from the bus and from its own producer.
     pub fn accept(&mut self, now: Timestamp, frame: &CanFrame) -> bool {
-        if frame.is_remote() || frame.id() != self.id {
+        self.take(now, frame, true)
+    }
+
+    /// [`accept`](Self::accept) without queueing [`SyncEvent::Received`]
+    /// (the device core, which does not report it): at most one event
+    /// (a skipped counter) per frame.
+    pub(crate) fn accept_quietly(&mut self, now: Timestamp, frame: &CanFrame) -> bool {
+        self.take(now, frame, false)
+    }
+
+    fn take(&mut self, now: Timestamp, frame: &CanFrame, report_received: bool) -> bool {
+        // A remote frame's word has the remote flag: it matches no data
+        // frame's.
+        if frame.word() != self.id_word {
             return false;
         }
         let Ok(sync) = Sync::decode(frame.data()) else {
             return false;
         };
         self.last_sync = MaybeTimestamp::new(Some(now));
-        self.events.push(SyncEvent::Received {
-            counter: sync.counter,
-        });
+        if report_received {
+            self.events.push(SyncEvent::Received {
+                counter: sync.counter,
+            });
+        }
         if let (Some(got), true) = (sync.counter, self.overflow != 0) {
             if let Some(previous) = self.last_counter {
                 let expected = if previous >= self.overflow {
@@ -469,7 +530,7 @@ impl SyncConsumer {
     }
 }
 
-impl Machine for SyncConsumer {
+impl<const E: usize> Machine for SyncConsumer<E> {
     type Event = SyncEvent;
 
     /// SYNC frames on the consumer's identifier; others are ignored.

@@ -210,7 +210,12 @@ impl<const N: usize> Timers<N> {
 /// timer tables and the "last seen" instants of the machines: a deadline
 /// at the end of the clock still expires there (a microsecond early), and
 /// an instant seen at the end of the clock is still an instant.
+///
+/// Aligned to 4 bytes, not the 8 of a `u64` on 32-bit targets (a 32-bit
+/// core loads it as two words either way): a machine that keeps one and
+/// otherwise has 4-byte fields is not padded to a multiple of 8.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(C, packed(4))]
 pub(crate) struct MaybeTimestamp(u64);
 
 impl MaybeTimestamp {

@@ -109,36 +109,54 @@ impl BatteryModuleConfig {
     /// whole milliseconds the module keeps, see [`BatteryModulePowerOn`]).
     #[must_use]
     pub fn device_config(&self) -> DeviceConfig {
-        BatteryModulePowerOn::from(*self).power_on_config()
+        let (mut comm, mut pdos) = (CommObjects::new(self.node), PdoConfig::new());
+        self.write_constants(&mut comm);
+        let policies = BatteryModulePowerOn::from(*self).restore(&mut comm, &mut pdos);
+        DeviceConfig::from_objects(&comm, &pdos, policies)
+    }
+
+    /// Writes 1000h, 1008h and 1018h into `comm`.
+    fn write_constants(&self, comm: &mut CommObjects) {
+        comm.device_type = self.device_type.raw();
+        comm.device_name = self.device_name;
+        comm.identity = self.identity;
     }
 }
 
-/// A [`BatteryModuleConfig`] as the module keeps it to rebuild its
+/// The part of a [`BatteryModuleConfig`] the module keeps to rebuild its
 /// power-on configuration at boot and at every reset ([`PowerOn`]): the
-/// same settings with the heartbeat in the whole milliseconds of 1017h
-/// (saturating at 65 535 ms) and the SDO timeout in whole milliseconds
-/// (saturating at `u32::MAX` ms): 36 bytes on a 32-bit target instead of
-/// the 64 of a `BatteryModuleConfig` with its `Duration`s.
+/// settings an SDO client can change, with the heartbeat in the whole
+/// milliseconds of 1017h (saturating at 65 535 ms) and the SDO timeout in
+/// whole milliseconds (saturating at `u32::MAX` ms): 8 bytes on a 32-bit
+/// target. 1000h device type, 1008h device name and 1018h identity are
+/// `const` / `ro` objects nothing on the bus can change: the module writes
+/// them into its communication objects once, when it is made, and every
+/// reset keeps what they hold ([`PowerOn::restore`] reads them out before
+/// it restores the others; the CiA 418 default PDO set follows the 1000h
+/// it finds). So the whole configuration is these settings over the live
+/// objects: [`config`](Self::config) takes them.
+/// ([`PowerOn::power_on_config`] of this alone sees 1000h, 1008h and 1018h
+/// empty; [`BatteryModuleConfig::device_config`] is the module's.)
 ///
 /// ```
-/// use canopen_codec::cia418::{BatteryModuleConfig, BatteryModulePowerOn};
+/// use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig, BatteryModulePowerOn};
 /// use canopen_codec::NodeId;
 /// use core::time::Duration;
 /// let mut config = BatteryModuleConfig::new(NodeId::MIN);
 /// config.sdo_timeout = Duration::from_micros(2_500_900);
-/// let kept = BatteryModulePowerOn::from(config);
-/// assert_eq!(kept.config().sdo_timeout, Duration::from_millis(2500));
-/// assert_eq!(kept.config().heartbeat, config.heartbeat);
+/// let module = BatteryModule::new(config);
+/// let kept = module.device().power_on();
+/// assert_eq!(kept.config(module.comm()).sdo_timeout, Duration::from_millis(2500));
+/// assert_eq!(kept.config(module.comm()).heartbeat, config.heartbeat);
+/// assert_eq!(kept.config(module.comm()).device_name, config.device_name);
+/// assert_eq!(*kept, BatteryModulePowerOn::from(config));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct BatteryModulePowerOn {
     node: NodeId,
     enable_tpdos: bool,
     heartbeat_ms: u16,
-    device_type: DeviceType,
     sdo_timeout_ms: u32,
-    device_name: &'static str,
-    identity: Identity,
 }
 
 impl From<BatteryModuleConfig> for BatteryModulePowerOn {
@@ -147,24 +165,22 @@ impl From<BatteryModuleConfig> for BatteryModulePowerOn {
             node: c.node,
             enable_tpdos: c.enable_tpdos,
             heartbeat_ms: millis_u16(c.heartbeat),
-            device_type: c.device_type,
             sdo_timeout_ms: millis_u32(c.sdo_timeout),
-            device_name: c.device_name,
-            identity: c.identity,
         }
     }
 }
 
 impl BatteryModulePowerOn {
-    /// The configuration kept, as a [`BatteryModuleConfig`] (times in
-    /// whole milliseconds).
+    /// The configuration: the settings kept (times in whole milliseconds)
+    /// with 1000h, 1008h and 1018h as `comm` (the module's live objects,
+    /// [`BatteryModule::comm`](Device::comm)) holds them.
     #[must_use]
-    pub fn config(&self) -> BatteryModuleConfig {
+    pub fn config(&self, comm: &CommObjects) -> BatteryModuleConfig {
         BatteryModuleConfig {
             node: self.node,
-            device_type: self.device_type,
-            device_name: self.device_name,
-            identity: self.identity,
+            device_type: DeviceType::from_raw(comm.device_type),
+            device_name: comm.device_name,
+            identity: comm.identity,
             heartbeat: Duration::from_millis(u64::from(self.heartbeat_ms)),
             enable_tpdos: self.enable_tpdos,
             sdo_timeout: Duration::from_millis(u64::from(self.sdo_timeout_ms)),
@@ -187,21 +203,15 @@ pub type BatteryEvent = DeviceEvent;
 type ModuleDevice<const Q: usize> =
     Device<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn, 3, 3>;
 
-/// The module's own state besides the core.
+/// The module's own behaviour besides the core; no state of its own: the
+/// temperature sensor fault is 1001h's device-profile bit (CiA 418 v1.0.1,
+/// 6.2.2), which both resets clear with 1001h.
 #[derive(Debug, Clone, Copy, Default)]
-struct ModuleProfile {
-    temperature_fault: bool,
-}
+struct ModuleProfile;
 
 impl<const Q: usize> Profile<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn, 3, 3>
     for ModuleProfile
 {
-    fn on_event(&mut self, _device: &mut ModuleDevice<Q>, _now: Timestamp, event: &DeviceEvent) {
-        if let DeviceEvent::Reset { .. } = event {
-            // The reset restored 1001h: the fault is no longer signalled.
-            self.temperature_fault = false;
-        }
-    }
 }
 
 /// A CiA 418 battery module. See the module docs for the behaviour. It
@@ -256,12 +266,16 @@ impl PowerOn for BatteryModulePowerOn {
         comm: &mut CommObjects,
         pdos: &mut PdoConfig<T, R>,
     ) -> Policies {
+        // 1000h, 1008h and 1018h are written once, when the module is
+        // made, and kept (const / ro: nothing on the bus changes them).
+        let (device_type, device_name, identity) =
+            (comm.device_type, comm.device_name, comm.identity);
         *comm = CommObjects::new(self.node);
-        comm.device_type = self.device_type.raw();
-        comm.device_name = self.device_name;
-        comm.identity = self.identity;
+        comm.device_type = device_type;
+        comm.device_name = device_name;
+        comm.identity = identity;
         comm.heartbeat_ms = self.heartbeat_ms;
-        default_pdo_config(self, pdos);
+        default_pdo_config(self, DeviceType::from_raw(device_type), pdos);
         Policies {
             heartbeat_on_change: false,
             sdo_timeout: Duration::from_millis(u64::from(self.sdo_timeout_ms)),
@@ -302,16 +316,17 @@ const _: () = {
     }
 };
 
-/// Writes the CiA 418 default PDO set of a module with `config` into
-/// `pdos` (every slot), in place: one pass over the table, each present
+/// Writes the CiA 418 default PDO set of a module with `config` and
+/// `device_type` (its 1000h) into `pdos` (every slot), in place: one pass over the table, each present
 /// PDO's slot written from its row (no mapping built and copied).
 fn default_pdo_config<const T: usize, const R: usize>(
     config: &BatteryModulePowerOn,
+    device_type: DeviceType,
     pdos: &mut PdoConfig<T, R>,
 ) {
     pdos.clear();
     for d in &DEFAULT_PDOS {
-        if !d.is_present(config.device_type) {
+        if !d.is_present(device_type) {
             continue;
         }
         let comm = default_comm(d, config.node, config.enable_tpdos);
@@ -346,14 +361,16 @@ impl BatteryModule {
     #[must_use]
     #[cfg(feature = "lss")]
     pub fn with_lss(config: BatteryModuleConfig, lss: crate::lss::LssSlave) -> Self {
-        BatteryModule {
+        let mut module = BatteryModule {
             device: Device::with_lss(
                 BatteryModulePowerOn::from(config),
                 BatteryObjects::new(),
                 lss,
             ),
-            profile: ModuleProfile::default(),
-        }
+            profile: ModuleProfile,
+        };
+        module.write_constants(&config);
+        module
     }
 }
 
@@ -372,10 +389,26 @@ impl<const Q: usize> BatteryModule<Q> {
     /// ```
     #[must_use]
     pub fn with_queue_capacity(config: BatteryModuleConfig) -> Self {
-        BatteryModule {
+        let mut module = BatteryModule {
             device: Device::new(BatteryModulePowerOn::from(config), BatteryObjects::new()),
-            profile: ModuleProfile::default(),
-        }
+            profile: ModuleProfile,
+        };
+        module.write_constants(&config);
+        module
+    }
+
+    /// Writes 1000h, 1008h and 1018h of `config` into the communication
+    /// objects, once, when the module is made (every reset keeps them,
+    /// [`BatteryModulePowerOn`]), with the default PDO set that follows
+    /// 1000h. Not inlined: one copy for both constructors.
+    #[inline(never)]
+    fn write_constants(&mut self, config: &BatteryModuleConfig) {
+        let kept = *self.device.power_on();
+        self.device
+            .update_comm(Timestamp::ZERO, |comm| config.write_constants(comm));
+        self.device.update_pdos(Timestamp::ZERO, |pdos| {
+            default_pdo_config(&kept, config.device_type, pdos);
+        });
     }
 
     /// [`with_queue_capacity`](Self::with_queue_capacity) built in `slot`
@@ -396,9 +429,10 @@ impl<const Q: usize> BatteryModule<Q> {
     pub fn new_in(slot: &mut MaybeUninit<Self>, config: BatteryModuleConfig) -> &mut Self {
         let module = slot.write(BatteryModule {
             device: Device::blank(BatteryModulePowerOn::from(config), BatteryObjects::new()),
-            profile: ModuleProfile::default(),
+            profile: ModuleProfile,
         });
         module.device.load_power_on();
+        module.write_constants(&config);
         module
     }
 
@@ -419,13 +453,18 @@ impl<const Q: usize> BatteryModule<Q> {
     /// change).
     #[must_use]
     pub fn config(&self) -> BatteryModuleConfig {
-        self.device.power_on().config()
+        self.device.power_on().config(self.device.comm())
     }
 
-    /// True while the temperature sensor fault is set.
+    /// True while the temperature sensor fault is set: 1001h's
+    /// device-profile bit (CiA 418 v1.0.1, 6.2.2), which
+    /// [`set_temperature_sensor_fault`](Self::set_temperature_sensor_fault)
+    /// sets and clears and both resets clear.
     #[must_use]
-    pub const fn temperature_sensor_fault(&self) -> bool {
-        self.profile.temperature_fault
+    pub fn temperature_sensor_fault(&self) -> bool {
+        self.device
+            .error_register()
+            .contains(ErrorRegister::DEVICE_PROFILE)
     }
 
     /// 6001h charger status, as the charger last wrote it.
@@ -518,10 +557,9 @@ impl<const Q: usize> BatteryModule<Q> {
     /// clears them (bit 0 only if no other bit is left) and sends the error
     /// reset 0000h. Repeating the current state does nothing.
     pub fn set_temperature_sensor_fault(&mut self, now: Timestamp, fault: bool) {
-        if fault == self.profile.temperature_fault {
+        if fault == self.temperature_sensor_fault() {
             return;
         }
-        self.profile.temperature_fault = fault;
         if fault {
             self.device.raise_error(
                 ErrorRegister::DEVICE_PROFILE,

@@ -30,7 +30,11 @@ fn nothing_happens_before_boot() {
 fn default_pdo_set_follows_the_device_type() {
     let mut config = BatteryModuleConfig::default();
     let mut pdos = PdoConfig::new();
-    default_pdo_config(&BatteryModulePowerOn::from(config), &mut pdos);
+    default_pdo_config(
+        &BatteryModulePowerOn::from(config),
+        config.device_type,
+        &mut pdos,
+    );
     assert!(pdos
         .get(PdoDirection::Transmit, PdoNumber::P0)
         .unwrap()
@@ -43,7 +47,11 @@ fn default_pdo_set_follows_the_device_type() {
     config.enable_tpdos = false;
     config.device_type = DeviceType::cia418(DeviceType::TPDO_2ND | DeviceType::RPDO_3RD);
     let mut pdos = PdoConfig::new();
-    default_pdo_config(&BatteryModulePowerOn::from(config), &mut pdos);
+    default_pdo_config(
+        &BatteryModulePowerOn::from(config),
+        config.device_type,
+        &mut pdos,
+    );
     let t1 = pdos.get(PdoDirection::Transmit, PdoNumber::P1).unwrap();
     assert_eq!(t1.comm.cob_id.to_u32(), 0x8000_0281);
     assert_eq!(t1.count(), 3);
@@ -162,6 +170,12 @@ fn new_in_builds_what_new_builds() {
         device_type: DeviceType::cia418(
             DeviceType::RPDO_2ND | DeviceType::RPDO_3RD | DeviceType::TPDO_3RD,
         ),
+        device_name: "BM-5",
+        identity: crate::device::Identity {
+            vendor_id: 7,
+            serial_number: 42,
+            ..crate::device::Identity::ZERO
+        },
         ..BatteryModuleConfig::new(NodeId::new(5).unwrap())
     };
     let mut slot = MaybeUninit::<BatteryModule<4>>::uninit();
@@ -169,6 +183,12 @@ fn new_in_builds_what_new_builds() {
     let mut built = BatteryModule::<4>::with_queue_capacity(config);
     assert_eq!(built_in.config(), built.config());
     assert_eq!(built_in.comm(), built.comm());
+    // 1000h, 1008h and 1018h are the configuration's in both.
+    assert_eq!(
+        (built_in.comm().device_type, built_in.comm().device_name),
+        (config.device_type.raw(), "BM-5")
+    );
+    assert_eq!(built_in.comm().identity, config.identity);
     assert_eq!(built_in.pdo_config(), built.pdo_config());
     assert_eq!(built_in.poll_timeout(), None);
     for m in [&mut *built_in, &mut built] {

@@ -213,7 +213,10 @@ pub struct Device<
     /// How an EMCY is recorded in 1003h (the configuration's).
     error_field: ErrorFieldFormat,
     /// The NMT slave; its events are drained after every call that makes
-    /// one (at most one per call), so two slots are enough.
+    /// one. Two slots are exact: a command makes one event; a reset's
+    /// state change is still queued while the profile sees the reset, and
+    /// a profile that then starts itself (`set_nmt_state`, the Delta-Q
+    /// charger) queues a second (tests/device_event_capacity.rs).
     nmt: NmtSlave<2>,
     heartbeat: HeartbeatProducer,
     /// The heartbeat consumer (consumer.rs); drained after every call, so

@@ -16,15 +16,21 @@ use crate::nmt::NmtState;
 use crate::od::ObjectDictionary;
 use crate::pdo::{PdoDirection, TransmissionType};
 #[cfg(feature = "sync-time")]
+use crate::sync::SyncCobId;
+use crate::sync::SyncConsumer;
+#[cfg(doc)]
+use crate::sync::SyncEvent;
+#[cfg(feature = "sync-time")]
 use crate::sync::SyncProducer;
-use crate::sync::{SyncCobId, SyncConsumer, SyncEvent};
 use crate::time::Timestamp;
 #[cfg(feature = "sync-time")]
 use crate::time_of_day::{TimeCobId, TimeConsumer, TimeOfDay, TimeProducer};
 use crate::{cob_id::NodeId, PdoNumber};
 
 /// The values the services were last configured with (so that an
-/// unrelated write does not restart a timer).
+/// unrelated write does not restart a timer or the SYNC counter check):
+/// only those compared (1005h's identifier and 1007h are put into effect
+/// on every write; 1005h is kept for the SYNC producer's period test).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Applied {
     #[cfg(feature = "guarding")]
@@ -33,10 +39,10 @@ struct Applied {
     life_time_factor: u8,
     #[cfg(feature = "guarding")]
     heartbeat_active: bool,
+    #[cfg(feature = "sync-time")]
     sync_cob_id: SyncCobId,
     #[cfg(feature = "sync-time")]
     cycle_period_us: u32,
-    sync_window_us: u32,
     sync_counter_overflow: u8,
     #[cfg(feature = "sync-time")]
     time_cob_id: TimeCobId,
@@ -49,9 +55,16 @@ pub(super) struct Services {
     pub(super) guarding: GuardingSlave,
     #[cfg(feature = "sync-time")]
     pub(super) sync_producer: SyncProducer,
-    pub(super) sync_consumer: SyncConsumer,
+    /// Its events are read after every call; SYNC frames are taken
+    /// without queueing [`SyncEvent::Received`] (not reported), so one
+    /// call makes at most one (a skipped counter from a SYNC, or a
+    /// synchronous RPDO outside the window): one slot is exact.
+    pub(super) sync_consumer: SyncConsumer<1>,
     #[cfg(feature = "sync-time")]
     pub(super) time_consumer: TimeConsumer,
+    /// With neither `guarding` nor `sync-time` the one value compared,
+    /// 1019h, is the SYNC consumer's own (a valid 1019h is always taken).
+    #[cfg(any(feature = "guarding", feature = "sync-time"))]
     applied: Option<Applied>,
 }
 
@@ -64,9 +77,10 @@ impl Services {
             guarding: GuardingSlave::new(node),
             #[cfg(feature = "sync-time")]
             sync_producer: SyncProducer::idle(),
-            sync_consumer: SyncConsumer::new(),
+            sync_consumer: SyncConsumer::with_event_capacity(),
             #[cfg(feature = "sync-time")]
             time_consumer: TimeConsumer::new(TimeCobId::DEFAULT),
+            #[cfg(any(feature = "guarding", feature = "sync-time"))]
             applied: None,
         }
     }
@@ -87,7 +101,7 @@ where
 
     /// The SYNC consumer (1005h's identifier, 1007h, 1019h).
     #[must_use]
-    pub const fn sync_consumer(&self) -> &SyncConsumer {
+    pub const fn sync_consumer(&self) -> &SyncConsumer<1> {
         &self.services.sync_consumer
     }
 
@@ -138,15 +152,22 @@ where
             life_time_factor: comm.life_time_factor,
             #[cfg(feature = "guarding")]
             heartbeat_active: comm.heartbeat_ms != 0,
+            #[cfg(feature = "sync-time")]
             sync_cob_id: comm.sync_cob_id,
             #[cfg(feature = "sync-time")]
             cycle_period_us: comm.cycle_period_us,
-            sync_window_us: comm.sync_window_us,
             sync_counter_overflow: comm.sync_counter_overflow,
             #[cfg(feature = "sync-time")]
             time_cob_id: comm.time_cob_id,
         };
+        let comm_sync_id = comm.sync_cob_id.id();
+        let sync_window_us = comm.sync_window_us;
+        #[cfg(any(feature = "guarding", feature = "sync-time"))]
         let old = self.services.applied.replace(want);
+        #[cfg(not(any(feature = "guarding", feature = "sync-time")))]
+        let old = Some(Applied {
+            sync_counter_overflow: self.services.sync_consumer.counter_overflow(),
+        });
         let changed = |f: fn(&Applied) -> u64| old.as_ref().map(f) != Some(f(&want));
         let s = &mut self.services;
         #[cfg(feature = "guarding")]
@@ -160,13 +181,13 @@ where
             }
             s.guarding.set_heartbeat_active(now, want.heartbeat_active);
         }
-        if let Some(id) = want.sync_cob_id.id() {
+        if let Some(id) = comm_sync_id {
             s.sync_consumer.set_id(id);
             #[cfg(feature = "sync-time")]
             s.sync_producer.set_id(id);
         }
         s.sync_consumer
-            .set_window(Duration::from_micros(u64::from(want.sync_window_us)));
+            .set_window(Duration::from_micros(u64::from(sync_window_us)));
         if changed(|a| u64::from(a.sync_counter_overflow)) {
             let _ = s
                 .sync_consumer
@@ -240,7 +261,7 @@ where
         frame: &CanFrame,
         profile: &mut P,
     ) {
-        if self.services.sync_consumer.accept(now, frame)
+        if self.services.sync_consumer.accept_quietly(now, frame)
             && self.nmt.state() == NmtState::Operational
         {
             self.refresh_tpdos(now);
@@ -302,10 +323,9 @@ where
         while let Some(e) = self.services.guarding.poll_event() {
             self.emit(now, DeviceEvent::LifeGuarding(e), profile);
         }
+        // No `Received` among them (SYNC frames are taken quietly).
         while let Some(e) = self.services.sync_consumer.poll_event() {
-            if !matches!(e, SyncEvent::Received { .. }) {
-                self.emit(now, DeviceEvent::Sync(e), profile);
-            }
+            self.emit(now, DeviceEvent::Sync(e), profile);
         }
         #[cfg(feature = "sync-time")]
         while let Some(e) = self.services.time_consumer.poll_event() {

@@ -31,10 +31,19 @@ const SENSOR_SOC: usize = 0x4001_2408;
 /// Sensor block: bit 0 ready to charge; bit 8 temperature sensor fault.
 const SENSOR_STATUS: usize = 0x4001_240C;
 
-/// Events and frames the module's queues hold: the loop below drains both
-/// after every call, so a few are enough (a full queue drops its oldest
-/// entry and counts it; the protocol does not depend on it).
-const QUEUE_CAPACITY: usize = 4;
+/// Events and frames the module's queues hold. Two frames are exact, not
+/// lossy: the frame queue holds only EMCYs here (the boot-up message,
+/// heartbeats, SDO responses and TPDOs have slots of their own; this build
+/// has no SYNC or TIME producer), and between two drains (`run_once` below
+/// empties `poll_transmit`) one turn of the loop queues at most two:
+/// `set_temperature_sensor_fault` one (EMCY 5010h or its reset 0000h, only
+/// when the fault changes), `handle_frame` one (EMCY 8210h for an RPDO of
+/// the wrong length: a frame matches one RPDO; NMT, SDO and resets queue
+/// none), `handle_timeout` none (the crate's test
+/// `tests/module_queue_capacity.rs` drives that worst case). Events are
+/// informational: a full event queue drops its oldest and counts it (the
+/// back-pressure rule).
+const QUEUE_CAPACITY: usize = 2;
 
 /// The module's whole state (in .bss; its size is the RAM the node needs).
 #[no_mangle]

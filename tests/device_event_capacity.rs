@@ -1,0 +1,91 @@
+//! The device core's internal event queues are sized to the largest burst
+//! one call can make (the core drains each machine after every call): the
+//! NMT slave's 2 (a reset's state change, then the one a profile that
+//! starts itself on the reset makes) and the SYNC consumer's 1 (a SYNC
+//! frame is taken without its `Received` event, so only a skipped counter
+//! is queued). Each test drives that burst and fails if a slot is missing.
+
+use canopen_codec::cia418::BatteryObjects;
+use canopen_codec::device::{Device, DeviceConfig, DeviceEvent, Profile};
+use canopen_codec::machine::Machine;
+use canopen_codec::nmt::NmtState;
+use canopen_codec::sync::SyncEvent;
+use canopen_codec::{CanFrame, NodeId, Timestamp};
+
+type Core = Device<BatteryObjects, DeviceEvent>;
+
+/// A profile that enters operational by itself after every reset (as the
+/// Delta-Q charger does).
+struct SelfStart;
+
+impl Profile<BatteryObjects, DeviceEvent> for SelfStart {
+    fn on_event(&mut self, device: &mut Core, now: Timestamp, event: &DeviceEvent) {
+        if let DeviceEvent::Reset { .. } = event {
+            device.set_nmt_state(now, NmtState::Operational, self);
+        }
+    }
+}
+
+fn nmt(cs: u8) -> CanFrame {
+    CanFrame::standard(0x000, &[cs, 0x05]).unwrap()
+}
+
+fn events(dev: &mut Core) -> Vec<DeviceEvent> {
+    core::iter::from_fn(|| dev.next_event()).collect()
+}
+
+#[test]
+fn a_reset_with_a_self_start_reports_both_state_changes() {
+    let node = NodeId::new(5).unwrap();
+    let mut dev = Core::new(DeviceConfig::new(node), BatteryObjects::new());
+    let mut profile = SelfStart;
+    dev.boot(Timestamp::ZERO, &mut profile);
+    dev.handle_frame_with(Timestamp::ZERO, &nmt(0x01), &mut profile);
+    let _ = events(&mut dev);
+    // Reset node from operational: the reset's own change (operational to
+    // pre-operational) is still queued in the NMT slave when the profile
+    // starts the device again: two events at once.
+    dev.handle_frame_with(Timestamp::from_millis(1), &nmt(0x81), &mut profile);
+    assert_eq!(
+        events(&mut dev),
+        [
+            DeviceEvent::Reset { node: true },
+            DeviceEvent::NmtStateChanged {
+                from: NmtState::Operational,
+                to: NmtState::PreOperational,
+            },
+            DeviceEvent::NmtStateChanged {
+                from: NmtState::PreOperational,
+                to: NmtState::Operational,
+            },
+        ]
+    );
+    assert_eq!(dev.nmt_state(), NmtState::Operational);
+    assert_eq!(dev.dropped_events(), 0);
+}
+
+#[test]
+fn a_skipped_sync_counter_is_reported_and_nothing_is_dropped() {
+    let mut config = DeviceConfig::new(NodeId::new(5).unwrap());
+    config.sync_counter_overflow = 4;
+    let mut dev = Core::new(config, BatteryObjects::new());
+    dev.boot(Timestamp::ZERO, &mut ());
+    let _ = events(&mut dev);
+    for (ms, counter) in [(1, 1), (2, 3), (3, 4), (4, 1)] {
+        let sync = CanFrame::standard(0x080, &[counter]).unwrap();
+        dev.handle_frame(Timestamp::from_millis(ms), &sync);
+    }
+    assert_eq!(
+        events(&mut dev),
+        [DeviceEvent::Sync(SyncEvent::CounterSkipped {
+            expected: 2,
+            got: 3
+        })]
+    );
+    assert_eq!(
+        dev.sync_consumer().last_sync(),
+        Some(Timestamp::from_millis(4))
+    );
+    // Every SYNC and the skip went through a one-slot queue: none evicted.
+    assert_eq!(dev.sync_consumer().events_dropped(), 0);
+}
