@@ -369,7 +369,7 @@ impl BatteryModule {
             ),
             profile: ModuleProfile,
         };
-        module.write_constants(&config);
+        module.load(&config);
         module
     }
 }
@@ -390,25 +390,22 @@ impl<const Q: usize> BatteryModule<Q> {
     #[must_use]
     pub fn with_queue_capacity(config: BatteryModuleConfig) -> Self {
         let mut module = BatteryModule {
-            device: Device::new(BatteryModulePowerOn::from(config), BatteryObjects::new()),
+            device: Device::blank(BatteryModulePowerOn::from(config), BatteryObjects::new()),
             profile: ModuleProfile,
         };
-        module.write_constants(&config);
+        module.load(&config);
         module
     }
 
     /// Writes 1000h, 1008h and 1018h of `config` into the communication
     /// objects, once, when the module is made (every reset keeps them,
-    /// [`BatteryModulePowerOn`]), with the default PDO set that follows
-    /// 1000h. Not inlined: one copy for both constructors.
+    /// [`BatteryModulePowerOn`]), then loads the power-on values, whose
+    /// default PDO set follows that 1000h. Not inlined: one copy for every
+    /// constructor.
     #[inline(never)]
-    fn write_constants(&mut self, config: &BatteryModuleConfig) {
-        let kept = *self.device.power_on();
-        self.device
-            .update_comm(Timestamp::ZERO, |comm| config.write_constants(comm));
-        self.device.update_pdos(Timestamp::ZERO, |pdos| {
-            default_pdo_config(&kept, config.device_type, pdos);
-        });
+    fn load(&mut self, config: &BatteryModuleConfig) {
+        config.write_constants(self.device.comm_before_power_on());
+        self.device.load_power_on();
     }
 
     /// [`with_queue_capacity`](Self::with_queue_capacity) built in `slot`
@@ -431,8 +428,7 @@ impl<const Q: usize> BatteryModule<Q> {
             device: Device::blank(BatteryModulePowerOn::from(config), BatteryObjects::new()),
             profile: ModuleProfile,
         });
-        module.device.load_power_on();
-        module.write_constants(&config);
+        module.load(&config);
         module
     }
 

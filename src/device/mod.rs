@@ -333,6 +333,14 @@ where
         }
     }
 
+    /// The communication objects as they are, nothing put into effect: for
+    /// a profile's constructor that writes its constants (1000h, 1008h,
+    /// 1018h) into the blank before [`load_power_on`](Self::load_power_on)
+    /// reads them.
+    pub(crate) fn comm_before_power_on(&mut self) -> &mut CommObjects {
+        &mut self.server.od_mut().inner.comm
+    }
+
     /// Writes the power-on values of the communication objects and the PDO
     /// configuration into the dictionary in place ([`PowerOn::restore`]),
     /// and starts the SDO server and the heartbeat producer over on them:
