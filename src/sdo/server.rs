@@ -63,9 +63,11 @@ use super::abort::AbortCode;
 use super::block::MAX_BLOCK_SIZE;
 #[cfg(feature = "sdo-block")]
 use super::block::{Receiver, Sender};
-use super::data::{InitiatePayload, Segment};
+use super::data::Segment;
 use super::segmented::Segments;
-use super::wire::{ClientCommand, SdoRequest};
+#[cfg(feature = "sdo-block")]
+use super::wire::ClientCommand;
+use super::wire::SdoRequest;
 use super::words;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
@@ -566,7 +568,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             .set(REQUEST_TIMEOUT, Some(now.add_micros(self.timeout_us)));
     }
 
-    fn initiate_download(&mut self, now: Timestamp, index: u16, sub: u8, payload: InitiatePayload) {
+    fn initiate_download(&mut self, now: Timestamp, index: u16, sub: u8, payload: Download) {
         let info = match self.od.info(index, sub) {
             Ok(info) => info,
             Err(code) => return self.abort_object(index, sub, code),
@@ -575,24 +577,25 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             return self.abort_object(index, sub, AbortCode::WriteOfReadOnlyObject);
         }
         match payload {
-            InitiatePayload::Expedited {
+            Download::Expedited {
                 data,
+                len: carried,
                 size_indicated,
             } => {
-                let bytes = data.as_slice();
                 // Size not indicated: "up to 4 bytes", the object decides.
                 let len = match (size_indicated, info.size) {
-                    (false, SizeRule::Fixed(n)) if n <= bytes.len() => n,
+                    (false, SizeRule::Fixed(n)) if n <= carried => n,
                     // A fixed object longer than the frame can carry: the
                     // length cannot match, and is not known to be short.
                     (false, SizeRule::Fixed(_)) => {
                         return self.abort_object(index, sub, AbortCode::DataTypeLengthMismatch);
                     }
-                    _ => bytes.len(),
+                    _ => carried,
                 };
                 if let Err(code) = info.check_download_len(len) {
                     return self.abort_object(index, sub, code);
                 }
+                let bytes = data.to_le_bytes();
                 let bytes = bytes.get(..len).unwrap_or(&[]);
                 let result = self
                     .od
@@ -605,7 +608,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                 self.send(words::mux(0x60, index, sub, 0));
                 self.finish(ServerEvent::Downloaded { index, sub, len });
             }
-            InitiatePayload::Segmented { size } => {
+            Download::Segmented { size } => {
                 let size = size.map(|s| usize::try_from(s).unwrap_or(usize::MAX));
                 if let Some(size) = size {
                     if let Err(code) = info.check_download_len(size) {
@@ -676,23 +679,23 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     }
 
     /// Every request but the segment of a running segmented transfer
-    /// (out of line: the per-segment path stays small).
+    /// (out of line: the per-segment path stays small), decoded by the
+    /// server's own decoder (`server_wire`): what the general decoder
+    /// gives, without the fields the server does not use.
     #[inline(never)]
     fn handle_request(&mut self, now: Timestamp, frame: &CanFrame) {
         if self.block_segment(now, frame.data()) {
             return;
         }
-        // The general decoder alone: the segment paths of `decode_frame`
-        // are `handle_frame`'s own.
-        let Ok(command) = ClientCommand::of_frame(frame) else {
+        let Some(request) = server_wire::request(frame) else {
             return;
         };
-        match command {
-            ClientCommand::InitiateUpload { index, sub } => {
+        match request {
+            Request::InitiateUpload { index, sub } => {
                 self.supersede();
                 self.initiate_upload(now, index, sub);
             }
-            ClientCommand::InitiateDownload {
+            Request::InitiateDownload {
                 index,
                 sub,
                 payload,
@@ -700,20 +703,33 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                 self.supersede();
                 self.initiate_download(now, index, sub, payload);
             }
+            Request::Abort(code) => self.abort_by_peer(code),
+            Request::BlockInitiate { index, sub } => self.on_block_initiate(now, frame, index, sub),
+            Request::Block => self.on_block_command(now, frame),
             // A segment of the running segmented transfer took
             // `handle_frame`'s own path; any other segment request does not
             // fit the state (what `upload_segment` / `download_segment`
-            // would answer).
-            ClientCommand::UploadSegment { .. } | ClientCommand::DownloadSegment(_) => {
-                self.abort_local(AbortCode::InvalidCommandSpecifier);
-            }
-            ClientCommand::Abort { code, .. } => self.abort_by_peer(code),
-            ClientCommand::BlockUpload(b) => self.on_block_upload(now, b),
-            ClientCommand::BlockDownload(b) => self.on_block_download(now, b, frame.data()),
-            ClientCommand::Unknown(_) => {
-                self.abort_local(AbortCode::InvalidCommandSpecifier);
-            }
+            // would answer), and ccs = 7 is not a command.
+            Request::Invalid => self.abort_local(AbortCode::InvalidCommandSpecifier),
         }
+    }
+
+    /// A block command with block transfer on: the general decoder's
+    /// command for the block code (the frame decodes: `server_wire::request`
+    /// checked its length as that decoder does).
+    #[cfg(feature = "sdo-block")]
+    fn on_block_command(&mut self, now: Timestamp, frame: &CanFrame) {
+        match ClientCommand::of_frame(frame) {
+            Ok(ClientCommand::BlockUpload(b)) => self.on_block_upload(now, b),
+            Ok(ClientCommand::BlockDownload(b)) => self.on_block_download(now, b, frame.data()),
+            _ => {}
+        }
+    }
+
+    /// A block initiate with block transfer on (see `on_block_command`).
+    #[cfg(feature = "sdo-block")]
+    fn on_block_initiate(&mut self, now: Timestamp, frame: &CanFrame, _index: u16, _sub: u8) {
+        self.on_block_command(now, frame);
     }
 }
 
@@ -776,6 +792,10 @@ impl<D: ObjectDictionary, const EVENTS: usize> Machine for Server<D, EVENTS> {
 
 #[path = "server_upload.rs"]
 mod upload;
+
+#[path = "server_wire.rs"]
+mod server_wire;
+use server_wire::{Download, Request};
 
 #[cfg(feature = "sdo-block")]
 #[path = "block_server.rs"]

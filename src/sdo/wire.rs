@@ -441,6 +441,7 @@ impl Writer {
 impl ClientCommand {
     /// The command of a frame, as `SdoRequest::decode_frame` decodes it
     /// (the general decoder alone, without the frame's bytes kept).
+    #[cfg(any(test, feature = "sdo-block"))]
     #[inline(always)]
     pub(crate) fn of_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
         Self::decode_raw(&RawSdo::of_frame(frame))
