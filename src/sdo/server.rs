@@ -63,7 +63,6 @@ use super::abort::AbortCode;
 use super::block::MAX_BLOCK_SIZE;
 #[cfg(feature = "sdo-block")]
 use super::block::{Receiver, Sender};
-use super::data::Segment;
 use super::segmented::Segments;
 #[cfg(feature = "sdo-block")]
 use super::wire::ClientCommand;
@@ -568,13 +567,38 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             .set(REQUEST_TIMEOUT, Some(now.add_micros(self.timeout_us)));
     }
 
-    fn initiate_download(&mut self, now: Timestamp, index: u16, sub: u8, payload: Download) {
-        let info = match self.od.info(index, sub) {
-            Ok(info) => info,
-            Err(code) => return self.abort_object(index, sub, code),
+    /// A new transfer of `index`/`sub` (an upload when `download` is
+    /// `None`): the running one superseded, the object looked up, and every
+    /// failure answered by one abort frame for the object (one call site of
+    /// the abort for both initiate paths).
+    fn initiate(&mut self, now: Timestamp, index: u16, sub: u8, download: Option<Download>) {
+        self.supersede();
+        let result = match self.od.info(index, sub) {
+            Ok(info) => match download {
+                None => self.initiate_upload(now, index, sub, info),
+                Some(payload) => self.initiate_download(now, index, sub, info, payload),
+            },
+            Err(code) => Err(code),
         };
+        if let Err(code) = result {
+            self.abort_object(index, sub, code);
+        }
+    }
+
+    /// An initiate download of the object `info` describes: an expedited
+    /// one written and answered, a segmented one answered and started. An
+    /// error is the abort code to answer with (nothing changed, nothing
+    /// left written).
+    fn initiate_download(
+        &mut self,
+        now: Timestamp,
+        index: u16,
+        sub: u8,
+        info: ObjectInfo,
+        payload: Download,
+    ) -> Result<(), AbortCode> {
         if !info.access.is_writable() {
-            return self.abort_object(index, sub, AbortCode::WriteOfReadOnlyObject);
+            return Err(AbortCode::WriteOfReadOnlyObject);
         }
         match payload {
             Download::Expedited {
@@ -587,33 +611,27 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                     (false, SizeRule::Fixed(n)) if n <= carried => n,
                     // A fixed object longer than the frame can carry: the
                     // length cannot match, and is not known to be short.
-                    (false, SizeRule::Fixed(_)) => {
-                        return self.abort_object(index, sub, AbortCode::DataTypeLengthMismatch);
-                    }
+                    (false, SizeRule::Fixed(_)) => return Err(AbortCode::DataTypeLengthMismatch),
                     _ => carried,
                 };
-                if let Err(code) = info.check_download_len(len) {
-                    return self.abort_object(index, sub, code);
-                }
+                info.check_download_len(len)?;
                 let bytes = data.to_le_bytes();
                 let bytes = bytes.get(..len).unwrap_or(&[]);
                 let result = self
                     .od
                     .write(index, sub, 0, bytes)
                     .and_then(|()| self.od.finish_write(index, sub, len));
-                if let Err(code) = result {
+                if result.is_err() {
                     self.od.abort_write(index, sub);
-                    return self.abort_object(index, sub, code);
                 }
+                result?;
                 self.send(words::mux(0x60, index, sub, 0));
                 self.finish(ServerEvent::Downloaded { index, sub, len });
             }
             Download::Segmented { size } => {
                 let size = size.map(|s| usize::try_from(s).unwrap_or(usize::MAX));
                 if let Some(size) = size {
-                    if let Err(code) = info.check_download_len(size) {
-                        return self.abort_object(index, sub, code);
-                    }
+                    info.check_download_len(size)?;
                 }
                 self.send(words::mux(0x60, index, sub, 0));
                 self.state = State::Downloading {
@@ -625,15 +643,19 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                 self.arm(now);
             }
         }
+        Ok(())
     }
 
-    /// A download segment: checked by the segment rules and the object's
-    /// size rule, written, acknowledged. The receive cursor is updated in
-    /// place (no copy of the state per segment); the acknowledgement is
-    /// made as `SdoResponse::new` of `ServerCommand::DownloadSegment` encodes it.
-    /// Out of line (see `upload_segment`).
+    /// A download segment, the frame's `bytes` with `len` data bytes (as
+    /// `SdoRequest::check_download_segment` found): checked by the segment
+    /// rules and the object's size rule, written straight from the frame,
+    /// acknowledged. The receive cursor is updated in place (no copy of the
+    /// state per segment, no `Segment` made of the frame); the
+    /// acknowledgement is made as `SdoResponse::new` of
+    /// `ServerCommand::DownloadSegment` encodes it. Out of line (see
+    /// `upload_segment`).
     #[inline(never)]
-    fn download_segment(&mut self, now: Timestamp, seg: &Segment) {
+    fn download_segment(&mut self, now: Timestamp, bytes: [u8; 8], len: usize) {
         let State::Downloading {
             index,
             sub,
@@ -645,7 +667,10 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         };
         let (index, sub) = (*index, *sub);
         let info = size_info(*size);
-        let placed = match rx.on_segment(seg) {
+        let [b0, data @ ..] = bytes;
+        let toggle = b0 & 0x10 != 0;
+        let last = b0 & 0x01 != 0;
+        let placed = match rx.on_parts(toggle, last, len) {
             Ok(placed) => placed,
             Err(code) => return self.abort_local(code),
         };
@@ -653,14 +678,12 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         if let Err(AbortCode::DataTypeLengthTooHigh) = info.check_download_len(end) {
             return self.abort_local(AbortCode::DataTypeLengthTooHigh);
         }
-        if let Err(code) = self
-            .od
-            .write(index, sub, placed.offset, seg.data.as_slice())
-        {
+        let data = data.get(..len).unwrap_or(&[]);
+        if let Err(code) = self.od.write(index, sub, placed.offset, data) {
             return self.abort_local(code);
         }
-        let ack = [0x20 | u8::from(seg.toggle) << 4, 0, 0, 0, 0, 0, 0, 0];
-        if !seg.last {
+        let ack = [0x20 | u8::from(toggle) << 4, 0, 0, 0, 0, 0, 0, 0];
+        if !last {
             self.send_bytes(ack, 8);
             return self.arm(now);
         }
@@ -691,18 +714,12 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             return;
         };
         match request {
-            Request::InitiateUpload { index, sub } => {
-                self.supersede();
-                self.initiate_upload(now, index, sub);
-            }
+            Request::InitiateUpload { index, sub } => self.initiate(now, index, sub, None),
             Request::InitiateDownload {
                 index,
                 sub,
                 payload,
-            } => {
-                self.supersede();
-                self.initiate_download(now, index, sub, payload);
-            }
+            } => self.initiate(now, index, sub, Some(payload)),
             Request::Abort(code) => self.abort_by_peer(code),
             Request::BlockInitiate { index, sub } => self.on_block_initiate(now, frame, index, sub),
             Request::Block => self.on_block_command(now, frame),
@@ -763,7 +780,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Machine for Server<D, EVENTS> {
             }
             (State::Downloading { .. }, 0) => {
                 if let Ok(len) = SdoRequest::check_download_segment(frame) {
-                    self.download_segment(now, &super::wire::segment_of_frame(frame, len));
+                    self.download_segment(now, frame.padded_data(), len);
                 }
             }
             _ => self.handle_request(now, frame),
