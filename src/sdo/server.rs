@@ -71,7 +71,7 @@ use super::words;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
-use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
+use crate::od::{ObjectDictionary, ObjectInfo, SizeRule};
 use crate::queue::{EventQueue, FrameSlot};
 use crate::time::{Timers, Timestamp};
 
@@ -309,15 +309,6 @@ impl Channel {
     }
 }
 
-/// An object with size rule `size`, for its `check_download_len`.
-#[inline]
-const fn size_info(size: SizeRule) -> ObjectInfo {
-    ObjectInfo {
-        size,
-        ..ObjectInfo::fixed(Access::ReadWrite, 0)
-    }
-}
-
 impl<D: ObjectDictionary> Server<D> {
     /// A server on `config`'s identifiers serving `od`, with an event queue
     /// of [`DEFAULT_EVENT_CAPACITY`].
@@ -512,12 +503,9 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     }
 
     fn abort_object(&mut self, index: u16, sub: u8, code: AbortCode) {
-        if self.is_writing() {
-            let (index, sub) = self.object();
-            self.od.abort_write(index, sub);
-        }
+        self.cancel();
         self.send(words::abort(index, sub, code));
-        self.finish(ServerEvent::Aborted {
+        self.emit(ServerEvent::Aborted {
             index,
             sub,
             code,
@@ -526,39 +514,32 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     }
 
     fn abort_by_peer(&mut self, code: AbortCode) {
-        if !self.is_busy() {
-            return;
-        }
-        let (index, sub) = self.object();
-        if self.is_writing() {
-            self.od.abort_write(index, sub);
-        }
         // CiA 301 code 0 is not a code; report it as a general error.
         let code = match code {
             AbortCode::Other(0) => AbortCode::GeneralError,
             c => c,
         };
-        self.finish(ServerEvent::Aborted {
-            index,
-            sub,
-            code,
-            origin: AbortOrigin::Peer,
-        });
+        self.end_transfer(code, AbortOrigin::Peer);
     }
 
     fn supersede(&mut self) {
+        self.end_transfer(AbortCode::GeneralError, AbortOrigin::Superseded);
+    }
+
+    /// Ends the running transfer without a frame (the peer aborted it, or
+    /// a new request replaced it): the dictionary's `abort_write` for a
+    /// download, one Aborted event. Does nothing while idle.
+    fn end_transfer(&mut self, code: AbortCode, origin: AbortOrigin) {
         if !self.is_busy() {
             return;
         }
         let (index, sub) = self.object();
-        if self.is_writing() {
-            self.od.abort_write(index, sub);
-        }
-        self.finish(ServerEvent::Aborted {
+        self.cancel();
+        self.emit(ServerEvent::Aborted {
             index,
             sub,
-            code: AbortCode::GeneralError,
-            origin: AbortOrigin::Superseded,
+            code,
+            origin,
         });
     }
 
@@ -600,21 +581,29 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         if !info.access.is_writable() {
             return Err(AbortCode::WriteOfReadOnlyObject);
         }
-        match payload {
+        // The length to check against the size rule (one check for both
+        // forms): the expedited value's, or the indicated size.
+        let len = match payload {
+            // Size not indicated: "up to 4 bytes", the object decides.
             Download::Expedited {
-                data,
                 len: carried,
-                size_indicated,
-            } => {
-                // Size not indicated: "up to 4 bytes", the object decides.
-                let len = match (size_indicated, info.size) {
-                    (false, SizeRule::Fixed(n)) if n <= carried => n,
-                    // A fixed object longer than the frame can carry: the
-                    // length cannot match, and is not known to be short.
-                    (false, SizeRule::Fixed(_)) => return Err(AbortCode::DataTypeLengthMismatch),
-                    _ => carried,
-                };
-                info.check_download_len(len)?;
+                size_indicated: false,
+                ..
+            } => match info.size {
+                SizeRule::Fixed(n) if n <= carried => Some(n),
+                // A fixed object longer than the frame can carry: the
+                // length cannot match, and is not known to be short.
+                SizeRule::Fixed(_) => return Err(AbortCode::DataTypeLengthMismatch),
+                SizeRule::Variable { .. } => Some(carried),
+            },
+            Download::Expedited { len, .. } => Some(len),
+            Download::Segmented { size } => size.map(|s| usize::try_from(s).unwrap_or(usize::MAX)),
+        };
+        if let Some(len) = len {
+            info.check_download_len(len)?;
+        }
+        match (payload, len) {
+            (Download::Expedited { data, .. }, Some(len)) => {
                 let bytes = data.to_le_bytes();
                 let bytes = bytes.get(..len).unwrap_or(&[]);
                 let result = self
@@ -628,11 +617,8 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                 self.send(words::mux(0x60, index, sub, 0));
                 self.finish(ServerEvent::Downloaded { index, sub, len });
             }
-            Download::Segmented { size } => {
-                let size = size.map(|s| usize::try_from(s).unwrap_or(usize::MAX));
-                if let Some(size) = size {
-                    info.check_download_len(size)?;
-                }
+            // Segmented (an expedited download always has its length).
+            (_, size) => {
                 self.send(words::mux(0x60, index, sub, 0));
                 self.state = State::Downloading {
                     index,
@@ -666,7 +652,13 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             return self.abort_local(AbortCode::InvalidCommandSpecifier);
         };
         let (index, sub) = (*index, *sub);
-        let info = size_info(*size);
+        // The size rule's bound, and whether it is also the least length
+        // (`ObjectInfo::check_download_len` in two halves: too long after
+        // every segment, too short after the last).
+        let (bound, exact) = match *size {
+            SizeRule::Fixed(n) => (n, true),
+            SizeRule::Variable { max } => (max, false),
+        };
         let [b0, data @ ..] = bytes;
         let toggle = b0 & 0x10 != 0;
         let last = b0 & 0x01 != 0;
@@ -675,7 +667,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             Err(code) => return self.abort_local(code),
         };
         let end = placed.total;
-        if let Err(AbortCode::DataTypeLengthTooHigh) = info.check_download_len(end) {
+        if end > bound {
             return self.abort_local(AbortCode::DataTypeLengthTooHigh);
         }
         let data = data.get(..len).unwrap_or(&[]);
@@ -687,10 +679,10 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             self.send_bytes(ack, 8);
             return self.arm(now);
         }
-        if let Err(code) = info
-            .check_download_len(end)
-            .and_then(|()| self.od.finish_write(index, sub, end))
-        {
+        if exact && end < bound {
+            return self.abort_local(AbortCode::DataTypeLengthTooLow);
+        }
+        if let Err(code) = self.od.finish_write(index, sub, end) {
             return self.abort_local(code);
         }
         self.send_bytes(ack, 8);
