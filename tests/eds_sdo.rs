@@ -23,6 +23,7 @@ fn pair() -> SdoPair {
     SdoPair::new(10, eds.dictionary(NodeId::new(10).unwrap()).unwrap())
 }
 
+#[cfg(feature = "sdo-client-segmented")]
 fn upload(p: &mut SdoPair, index: u16, sub: u8) -> Vec<u8> {
     p.clear_events();
     p.with_client(|c, now| c.start_upload(now, index, sub))
@@ -39,6 +40,7 @@ fn download(p: &mut SdoPair, index: u16, sub: u8, value: &[u8]) -> ClientEvent {
     p.client_events().pop().unwrap()
 }
 
+#[cfg(feature = "sdo-client-segmented")]
 #[test]
 fn serves_values_with_node_id_resolved() {
     let mut p = pair();

@@ -419,10 +419,17 @@ const CASES: &[Case] = &[
                 },
             );
             let t = Timestamp::ZERO;
-            client.start_download(t, 0x2000, 0, &SDO_VALUE[..]).unwrap();
-            sdo_round(&mut client, &mut server);
-            client.start_upload(t, 0x2000, 0).unwrap();
-            sdo_round(&mut client, &mut server);
+            let started = client.start_download(t, 0x2000, 0, &SDO_VALUE[..]);
+            if cfg!(feature = "sdo-client-segmented") {
+                started.unwrap();
+                sdo_round(&mut client, &mut server);
+                client.start_upload(t, 0x2000, 0).unwrap();
+                sdo_round(&mut client, &mut server);
+            } else {
+                // Without feature `sdo-client-segmented`: expedited only.
+                assert_eq!(started, Err(ClientError::SegmentedUnsupported { len: 100 }));
+                assert_eq!(client.poll_transmit(), None);
+            }
             client
                 .start_download(t, 0x2000, 0, &SDO_VALUE[..3])
                 .unwrap();

@@ -318,6 +318,7 @@ fn transmission_type_inhibit_time_and_sub0() {
     );
 }
 
+#[cfg(feature = "sdo-client-segmented")]
 #[test]
 fn pdo_objects_read_back() {
     let mut p = pair();

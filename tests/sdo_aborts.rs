@@ -369,6 +369,7 @@ fn assert_client_abort(
     );
 }
 
+#[cfg(feature = "sdo-client-segmented")]
 #[test]
 fn client_timeout_restarts_on_every_frame() {
     let mut c = client();
@@ -391,6 +392,7 @@ fn client_timeout_restarts_on_every_frame() {
     assert_eq!(c.poll_event(), None);
 }
 
+#[cfg(feature = "sdo-client-segmented")]
 #[test]
 fn client_bad_command_specifier() {
     // A download ack while uploading.
@@ -416,6 +418,7 @@ fn client_bad_command_specifier() {
     );
 }
 
+#[cfg(feature = "sdo-client-segmented")]
 #[test]
 fn client_toggle_errors() {
     assert_client_abort(
@@ -432,6 +435,7 @@ fn client_toggle_errors() {
     );
 }
 
+#[cfg(feature = "sdo-client-segmented")]
 #[test]
 fn client_more_and_less_data_than_indicated() {
     assert_client_abort(
@@ -532,6 +536,7 @@ fn client_ignores_short_foreign_and_remote_frames() {
     }
 }
 
+#[cfg(feature = "sdo-client-segmented")]
 #[test]
 fn time_going_backwards_never_panics_or_expires() {
     let mut c = client();
@@ -557,6 +562,7 @@ fn time_going_backwards_never_panics_or_expires() {
     assert!(s.is_busy());
 }
 
+#[cfg(feature = "sdo-client-segmented")]
 #[test]
 fn undrained_events_never_stall_a_transfer() {
     // A client whose events are never drained goes on taking responses:

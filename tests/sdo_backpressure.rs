@@ -8,7 +8,7 @@
 //! Its own small bus (not `tests/common`): one client, one server, a
 //! simulated clock from zero, per-frame latencies, in-order delivery per
 //! direction.
-#![cfg(feature = "alloc")]
+#![cfg(all(feature = "alloc", feature = "sdo-client-segmented"))]
 
 use std::collections::VecDeque;
 

@@ -1,6 +1,6 @@
 //! Client and server on one simulated bus (`common::sdo::SdoPair`): whole
 //! transfers, random values, latencies and dropped frames.
-#![cfg(feature = "alloc")]
+#![cfg(all(feature = "alloc", feature = "sdo-client-segmented"))]
 
 mod common;
 

@@ -4,7 +4,7 @@
 //! machine's identifier, and segments too short for their command, are
 //! ignored at every step of an upload and a download (no frame, no event,
 //! the transfer goes on), and the value arrives intact.
-#![cfg(feature = "alloc")]
+#![cfg(all(feature = "alloc", feature = "sdo-client-segmented"))]
 
 use canopen_codec::machine::Machine;
 use canopen_codec::od::{Access, MemoryDictionary};

@@ -270,6 +270,7 @@ fn client_v4_expedited_download() {
     );
 }
 
+#[cfg(feature = "sdo-client-segmented")]
 #[test]
 fn client_v8_segmented_upload() {
     let mut c = client(2);
@@ -307,6 +308,7 @@ fn client_v8_segmented_upload() {
     assert_eq!(value, TINY);
 }
 
+#[cfg(feature = "sdo-client-segmented")]
 #[test]
 fn client_v9_lenient_too_much_data_is_aborted() {
     let mut c = client(2);
@@ -328,6 +330,7 @@ fn client_v9_lenient_too_much_data_is_aborted() {
     );
 }
 
+#[cfg(feature = "sdo-client-segmented")]
 #[test]
 fn client_v10_lenient_bogus_size_is_aborted() {
     let mut c = client(2);
@@ -354,6 +357,7 @@ fn client_v10_lenient_bogus_size_is_aborted() {
     assert_eq!(ev.iter().filter(|e| e.is_terminal()).count(), 1);
 }
 
+#[cfg(feature = "sdo-client-segmented")]
 #[test]
 fn client_v11_v13_segmented_downloads() {
     let mut c = client(2);

@@ -63,7 +63,7 @@
 use core::time::Duration;
 
 use super::charger_objects::ChargerObjects;
-use super::{charger_default_pdo, device_type};
+use super::{device_type, CHARGER_DEFAULT_PDOS};
 use super::{emergency_reaction, timeouts, DeltaQCode, OperatingMode, Reaction, ALARMS_AND_FAULTS};
 use crate::bytes::InlineData;
 use crate::cia419::{PdoPair, CHARGER_DEVICE_TYPE, PDO_PAIRS};
@@ -293,36 +293,32 @@ const PAIRS: [PdoPair; 7] = {
     [a, b, c, d, e, f, tpdo3]
 };
 
-const PDO_NUMBERS: [PdoNumber; 4] = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3];
-
 /// Writes the charger's default PDO set into `pdos` (every slot): its
-/// published mappings, with COB-IDs not valid until configured (or valid
-/// defaults without configuration).
+/// published mappings ([`CHARGER_DEFAULT_PDOS`], one loop over the table;
+/// RPDO 3 has none and no slot), with COB-IDs not valid until configured
+/// (or valid defaults without configuration) and the configured TPDO
+/// periods.
 fn default_pdos<const T: usize, const R: usize>(
     config: &ChargerPowerOn,
     pdos: &mut PdoConfig<T, R>,
 ) {
     pdos.clear();
-    for dir in [PdoDirection::Transmit, PdoDirection::Receive] {
-        for n in PDO_NUMBERS {
-            let d = charger_default_pdo(dir, n);
-            let Some(mapping) = d.mapping() else { continue };
-            let cob =
-                PdoCobId::from_u32(d.cob_id(config.node)).with_valid(!config.configure_cob_ids);
-            let period = match dir {
-                PdoDirection::Transmit => config
-                    .tpdo_periods_ms
-                    .get(usize::from(n.raw()))
-                    .copied()
-                    .unwrap_or(0),
-                PdoDirection::Receive => 0,
-            };
-            pdos.insert(
-                dir,
-                n,
-                PdoSlot::new(PdoCommParams::event_driven(cob, period), &mapping),
-            );
-        }
+    for d in &CHARGER_DEFAULT_PDOS {
+        let Some(mapping) = d.mapping() else { continue };
+        let cob = PdoCobId::from_u32(d.cob_id(config.node)).with_valid(!config.configure_cob_ids);
+        let period = match d.direction {
+            PdoDirection::Transmit => config
+                .tpdo_periods_ms
+                .get(usize::from(d.number.raw()))
+                .copied()
+                .unwrap_or(0),
+            PdoDirection::Receive => 0,
+        };
+        pdos.insert(
+            d.direction,
+            d.number,
+            PdoSlot::new(PdoCommParams::event_driven(cob, period), &mapping),
+        );
     }
 }
 
@@ -567,10 +563,10 @@ impl ChargerProfile {
         state: NmtState,
         again: bool,
     ) {
-        if !again && self.link != Link::Absent {
+        if !again && !matches!(self.link, Link::Absent) {
             return;
         }
-        if again && self.link != Link::Absent && self.link != Link::Failed {
+        if again && !matches!(self.link, Link::Absent | Link::Failed) {
             // A boot-up while configured: the module reset its PDOs; redo it.
             self.forget_pairing(device, now);
         }
@@ -615,13 +611,13 @@ impl ChargerProfile {
 
     fn configured<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
         let config = device.pdo_config();
-        let mask = |dir| {
-            PDO_NUMBERS
-                .iter()
-                .filter(|n| config.get(dir, **n).is_some_and(PdoSlot::is_valid))
-                .fold(0u8, |m, n| m | 1 << n.raw())
+        // Bit n: PDO n is there and valid (the slots are PDO 0..3 in order).
+        let mask = |slots: &[Option<PdoSlot>]| {
+            slots.iter().rev().fold(0u8, |m, slot| {
+                m << 1 | u8::from(slot.as_ref().is_some_and(PdoSlot::is_valid))
+            })
         };
-        let (tpdos, rpdos) = (mask(PdoDirection::Transmit), mask(PdoDirection::Receive));
+        let (tpdos, rpdos) = (mask(config.tpdos()), mask(config.rpdos()));
         device.push_event(ChargerEvent::Configured { tpdos, rpdos });
         device.clear_error(ErrorRegister::GENERIC);
         device.set_tpdos_enabled(now, true);
@@ -736,7 +732,7 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4,
             DeviceEvent::NmtStateChanged {
                 to: NmtState::PreOperational | NmtState::Operational,
                 ..
-            } if self.link == Link::Pending => self.start_configuration(now),
+            } if matches!(self.link, Link::Pending) => self.start_configuration(now),
             DeviceEvent::Heartbeat(e) => match e {
                 HeartbeatEvent::Lost(n) if n == battery => self.battery_lost(device, now),
                 HeartbeatEvent::BootUp(n) if n == battery => {
@@ -746,7 +742,7 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4,
                     self.battery_found(device, now, state, true);
                 }
                 HeartbeatEvent::StateChanged { node, state }
-                    if node == battery && self.link == Link::Absent =>
+                    if node == battery && matches!(self.link, Link::Absent) =>
                 {
                     self.battery_found(device, now, state, false);
                 }
@@ -766,7 +762,7 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4,
             return;
         }
         // The first heartbeat starts monitoring without an event.
-        if self.link == Link::Absent {
+        if matches!(self.link, Link::Absent) {
             let consumer = device.heartbeat_consumer();
             if let Some(state) = consumer.state(battery) {
                 if consumer.is_alive(battery) {

@@ -1,6 +1,13 @@
 //! The SDO client for one server: expedited and segmented uploads and
 //! downloads as a time-driven sans-IO state machine.
 //!
+//! Segmented transfer needs the feature `sdo-client-segmented` (default
+//! on; `sdo-block` implies it). Without it the client does expedited
+//! transfers only (values of 1..=4 bytes): [`Client::start_download`] of
+//! any other length returns [`ClientError::SegmentedUnsupported`] and
+//! sends nothing, and a server that answers an upload initiate segmented
+//! gets abort 05040001h (one [`ClientEvent::Aborted`], origin local).
+//!
 //! # Driving it
 //!
 //! The client implements [`Machine`], the crate's state-machine contract
@@ -47,7 +54,7 @@
 //!
 //! - Values of 1..=4 bytes are downloaded expedited with the size indicated;
 //!   empty and longer values segmented with the size indicated (an empty value
-//!   is one empty last segment).
+//!   is one empty last segment; without `sdo-client-segmented`, refused).
 //! - Every transfer ends in exactly one terminal event: `Uploaded`,
 //!   `Downloaded` or `Aborted`. Failures detected here send exactly one abort
 //!   frame with the transfer's index and sub-index: timeout 05040000h, wrong
@@ -68,10 +75,11 @@ use super::abort::AbortCode;
 use super::block::MAX_BLOCK_SIZE;
 #[cfg(feature = "sdo-block")]
 use super::block::{Receiver, Sender};
-use super::data::{InitiatePayload, Segment, SegmentData};
-use super::segmented::{check_toggle, Segments};
+use super::data::{InitiatePayload, SegmentData};
+#[cfg(feature = "sdo-client-segmented")]
+use super::segmented::Segments;
 use super::server::{AbortOrigin, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT};
-use super::wire::{SdoResponse, ServerCommand};
+use super::wire::ServerCommand;
 use super::words;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
@@ -154,6 +162,15 @@ pub enum ClientError {
     /// [`Client::start_block_download`] refuse to start, nothing is sent.
     #[error("SDO block transfer is not built in (feature sdo-block)")]
     BlockUnsupported,
+    /// Segmented transfer is not built in (the crate's feature
+    /// `sdo-client-segmented` is off): [`Client::start_download`] of a
+    /// value that is not 1..=4 bytes (empty or longer: no expedited
+    /// download carries it) refuses to start, nothing is sent.
+    #[error("SDO download of {len} bytes needs segmented transfer, not built in (feature sdo-client-segmented)")]
+    SegmentedUnsupported {
+        /// The length asked for.
+        len: usize,
+    },
 }
 
 /// Identifiers and timeout of one SDO client channel.
@@ -200,6 +217,7 @@ enum State<D> {
         index: u16,
         sub: u8,
     },
+    #[cfg(feature = "sdo-client-segmented")]
     Uploading {
         index: u16,
         sub: u8,
@@ -211,6 +229,7 @@ enum State<D> {
         data: D,
         expedited: bool,
     },
+    #[cfg(feature = "sdo-client-segmented")]
     Downloading {
         index: u16,
         sub: u8,
@@ -349,10 +368,13 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     pub const fn current(&self) -> Option<(u16, u8)> {
         match self.state {
             State::Idle => None,
-            State::UploadInitiated { index, sub }
-            | State::Uploading { index, sub, .. }
-            | State::DownloadInitiated { index, sub, .. }
-            | State::Downloading { index, sub, .. } => Some((index, sub)),
+            State::UploadInitiated { index, sub } | State::DownloadInitiated { index, sub, .. } => {
+                Some((index, sub))
+            }
+            #[cfg(feature = "sdo-client-segmented")]
+            State::Uploading { index, sub, .. } | State::Downloading { index, sub, .. } => {
+                Some((index, sub))
+            }
             #[cfg(feature = "sdo-block")]
             State::BlockDownloadInitiated { index, sub, .. }
             | State::BlockDownloading { index, sub, .. }
@@ -399,7 +421,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
             [a, b] => words::expedited(1, index, sub, u32::from_le_bytes([a, b, 0, 0]), 2),
             [a, b, c] => words::expedited(1, index, sub, u32::from_le_bytes([a, b, c, 0]), 3),
             [a, b, c, d] => words::expedited(1, index, sub, u32::from_le_bytes([a, b, c, d]), 4),
-            _ => words::segmented(1, index, sub, size),
+            _ => Self::segmented_initiate(index, sub, size)?,
         };
         self.send(word);
         self.state = State::DownloadInitiated {
@@ -529,47 +551,8 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                     len: data.len(),
                 });
             }
-            InitiatePayload::Segmented { size } => {
-                let rx = Segments::new(size.map(|s| usize::try_from(s).unwrap_or(usize::MAX)));
-                // The first upload segment request (ccs = 3).
-                self.send(0x60 | u64::from(rx.toggle()) << 4);
-                self.state = State::Uploading { index, sub, rx };
-                self.arm(now);
-            }
+            InitiatePayload::Segmented { size } => self.segmented_upload(now, index, sub, size),
         }
-    }
-
-    /// An upload segment (scs = 0) while uploading: checked by the segment
-    /// rules, delivered, and the next one requested. The receive cursor is
-    /// updated in place (no copy of the state per segment); the request is
-    /// made as `SdoRequest::new` of `ClientCommand::UploadSegment` encodes it.
-    fn upload_segment(&mut self, now: Timestamp, segment: &Segment) {
-        let State::Uploading { index, sub, rx } = &mut self.state else {
-            return;
-        };
-        let (index, sub) = (*index, *sub);
-        let placed = match rx.on_segment(segment) {
-            Ok(placed) => placed,
-            Err(code) => return self.abort_object(index, sub, code),
-        };
-        let toggle = rx.toggle();
-        if !segment.data.is_empty() {
-            self.emit(ClientEvent::UploadData {
-                index,
-                sub,
-                offset: placed.offset,
-                data: segment.data,
-            });
-        }
-        if segment.last {
-            return self.finish(ClientEvent::Uploaded {
-                index,
-                sub,
-                len: placed.total,
-            });
-        }
-        self.send_bytes([0x60 | u8::from(toggle) << 4, 0, 0, 0, 0, 0, 0, 0], 8);
-        self.arm(now);
     }
 
     fn on_download_initiated(
@@ -587,56 +570,14 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         if (ri, rs) != (index, sub) {
             return self.abort_object(index, sub, AbortCode::GeneralParameterIncompatibility);
         }
+        #[cfg(feature = "sdo-client-segmented")]
+        if !expedited {
+            return self.send_segment(now, index, sub, data);
+        }
+        // Without segmented transfer every download is expedited.
+        let _ = (now, expedited);
         let len = data.as_ref().len();
-        if expedited {
-            return self.finish(ClientEvent::Downloaded { index, sub, len });
-        }
-        self.send_segment(now, index, sub, data);
-    }
-
-    /// The first download segment, after the initiate was confirmed.
-    fn send_segment(&mut self, now: Timestamp, index: u16, sub: u8, data: D) {
-        let (bytes, sent) = segment_frame(data.as_ref(), 0, false);
-        self.send_bytes(bytes, 8);
-        self.state = State::Downloading {
-            index,
-            sub,
-            data,
-            sent,
-            toggle: false,
-        };
-        self.arm(now);
-    }
-
-    /// A download segment acknowledgement (scs = 1, toggle `t`) while
-    /// downloading: the toggle checked, then the next segment (made as
-    /// `SdoRequest::new` of `ClientCommand::DownloadSegment` encodes it) or the end.
-    /// The cursor is updated in place (no copy of the state per segment).
-    fn download_ack(&mut self, now: Timestamp, t: bool) {
-        let State::Downloading {
-            index,
-            sub,
-            data,
-            sent,
-            toggle,
-        } = &mut self.state
-        else {
-            return;
-        };
-        let (index, sub) = (*index, *sub);
-        if let Err(code) = check_toggle(t, *toggle) {
-            return self.abort_object(index, sub, code);
-        }
-        let value = data.as_ref();
-        let len = value.len();
-        if *sent >= len {
-            return self.finish(ClientEvent::Downloaded { index, sub, len });
-        }
-        *toggle = !*toggle;
-        let (bytes, next) = segment_frame(value, *sent, *toggle);
-        *sent = next;
-        self.send_bytes(bytes, 8);
-        self.arm(now);
+        self.finish(ClientEvent::Downloaded { index, sub, len })
     }
 
     /// Every response but the segment (or acknowledgement) of a running
@@ -651,7 +592,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         }
         // The general decoder alone: the segment path of `decode_frame` is
         // `handle_frame`'s own.
-        let Ok(command) = ServerCommand::of_frame(frame) else {
+        let Ok(command) = Self::decode_response(frame) else {
             return;
         };
         if let ServerCommand::Abort { code, .. } = command {
@@ -663,6 +604,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                 self.on_upload_initiated(now, index, sub, command);
             }
             // The segment itself took the path above.
+            #[cfg(feature = "sdo-client-segmented")]
             State::Uploading { index, sub, .. } | State::Downloading { index, sub, .. } => {
                 self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
             }
@@ -676,34 +618,6 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
             state => self.on_block_response(now, state, command, frame.data()),
         }
     }
-}
-
-/// The download segment frame of `value` from `from` with toggle `toggle`
-/// (as [`SdoRequest::encode`](super::SdoRequest::encode) of `ClientCommand::DownloadSegment` makes
-/// it: DLC 8, unused bytes zero) and the offset after it.
-#[inline]
-fn segment_frame(value: &[u8], from: usize, toggle: bool) -> ([u8; 8], usize) {
-    let rest = value.get(from..).unwrap_or(&[]);
-    // A full segment (every one but the last) as one word, built in
-    // registers from two overlapping loads: no byte-wise copy for the
-    // frame to be read back from.
-    let (data, n) = match rest {
-        [a, b, c, d, e, f, g, ..] => {
-            let lo = u32::from_le_bytes([*a, *b, *c, *d]);
-            let hi = u32::from_le_bytes([*d, *e, *f, *g]);
-            (u64::from(lo) | u64::from(hi) << 24, 7)
-        }
-        short => {
-            let mut word = [0u8; 8];
-            crate::bytes::copy_short(&mut word, short);
-            (u64::from_le_bytes(word), short.len())
-        }
-    };
-    let sent = from.saturating_add(n);
-    // n is at most 7: the 3-bit count of unused bytes is 7 - n.
-    let unused = 7u8.saturating_sub(n as u8);
-    let b0 = u8::from(toggle) << 4 | unused << 1 | u8::from(sent >= value.len());
-    ((data << 8 | u64::from(b0)).to_le_bytes(), sent)
 }
 
 impl<D: AsRef<[u8]>, const EVENTS: usize> Machine for Client<D, EVENTS> {
@@ -728,18 +642,8 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Machine for Client<D, EVENTS> {
         // first, by its own straight path: the same decode, rules and
         // answer as the general path below gives it.
         let [b0, ..] = frame.padded_data();
-        match (&self.state, b0 >> 5) {
-            (State::Uploading { .. }, 0) => {
-                if let Ok(len) = SdoResponse::check_upload_segment(frame) {
-                    self.upload_segment(now, &super::wire::segment_of_frame(frame, len));
-                }
-            }
-            (State::Downloading { .. }, 1) => {
-                if frame.dlc() != 0 {
-                    self.download_ack(now, b0 & 0x10 != 0);
-                }
-            }
-            _ => self.handle_response(now, frame),
+        if !self.segment_response(now, frame, b0) {
+            self.handle_response(now, frame);
         }
     }
 
@@ -769,3 +673,10 @@ mod block;
 #[cfg(not(feature = "sdo-block"))]
 #[path = "block_client_off.rs"]
 mod block;
+
+#[cfg(feature = "sdo-client-segmented")]
+#[path = "client_segmented.rs"]
+mod segmented;
+#[cfg(not(feature = "sdo-client-segmented"))]
+#[path = "client_segmented_off.rs"]
+mod segmented;

@@ -4,6 +4,11 @@
 //! segmented and block transfers; both implement the state-machine contract
 //! of [`crate::machine`].
 //!
+//! The client's segmented transfers need the feature
+//! `sdo-client-segmented` (default on; without it the client does
+//! expedited transfers only, see [`Client`]'s module docs on
+//! [`ClientError::SegmentedUnsupported`]); the server always has them.
+//!
 //! # Block transfer (CiA 301 section 7.2.4.3, SDO protocols)
 //!
 //! With the crate's feature `sdo-block` (default on),

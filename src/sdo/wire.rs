@@ -582,7 +582,9 @@ impl ClientCommand {
 
 impl ServerCommand {
     /// The command of a frame, as `SdoResponse::decode_frame` decodes it
-    /// (the general decoder alone, without the frame's bytes kept).
+    /// (the general decoder alone, without the frame's bytes kept): the
+    /// client's, with segmented transfer.
+    #[cfg(any(test, feature = "sdo-client-segmented"))]
     #[inline(always)]
     pub(crate) fn of_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
         Self::decode_raw(&RawSdo::of_frame(frame))
@@ -820,6 +822,11 @@ sdo_frame!(
     SdoResponse,
     ServerCommand
 );
+
+// The expedited client's decoder (feature `sdo-client-segmented` off).
+#[cfg(not(feature = "sdo-client-segmented"))]
+#[path = "wire_expedited.rs"]
+mod expedited;
 
 // The segment commands alone, for `Message::decode`'s out-of-line hot
 // arms: the same checks and result as `decode_frame` for a frame whose
