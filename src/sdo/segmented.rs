@@ -89,7 +89,9 @@ impl Segments {
     /// the total may not exceed the indicated size (06070012h), and a last
     /// segment may not leave it short (06070013h). On success the toggle
     /// alternates and the segment's place in the value is returned; on an
-    /// error nothing changes.
+    /// error nothing changes. (The client's upload; the server's download
+    /// takes [`Segments::on_parts`].)
+    #[cfg(any(test, feature = "sdo-client-segmented"))]
     #[inline]
     pub(crate) fn on_segment(&mut self, segment: &Segment) -> Result<Placed, AbortCode> {
         self.on_parts(segment.toggle, segment.last, segment.data.len())

@@ -959,7 +959,9 @@ fn segment_of(raw: &RawSdo, len: usize) -> Segment {
 }
 
 /// The segment of a frame checked by `check_download_segment` or
-/// `check_upload_segment` (`len` is what that returned).
+/// `check_upload_segment` (`len` is what that returned): the client's
+/// upload segment (the server reads its download segments from the frame).
+#[cfg(feature = "sdo-client-segmented")]
 #[inline(always)]
 pub(crate) fn segment_of_frame(frame: &CanFrame, len: usize) -> Segment {
     segment_of(&RawSdo::of_frame(frame), len)
