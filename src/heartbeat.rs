@@ -75,6 +75,21 @@ impl HeartbeatProducer {
         }
     }
 
+    /// A producer for `node` with a period of `ms` milliseconds (1017h as
+    /// it is kept; zero = no heartbeats): [`new`](Self::new) without the
+    /// `Duration` (a device's reset path, from its 1017h value).
+    #[must_use]
+    pub(crate) const fn with_period_ms(node: NodeId, ms: u16) -> Self {
+        HeartbeatProducer {
+            node,
+            period_us: ms as u64 * 1000,
+            state: NmtState::BootUp,
+            timers: Timers::new(),
+            send_on_change: false,
+            out: Queue::new(0),
+        }
+    }
+
     /// The state reported.
     #[must_use]
     pub const fn state(&self) -> NmtState {

@@ -364,7 +364,9 @@ impl BatteryType {
     /// ignored.
     #[must_use]
     pub const fn to_u8(self) -> u8 {
-        let (chemistry, sub) = match self {
+        // The codes as constants (not a `Chemistry` then its `code`: a
+        // second switch).
+        let (code, sub) = match self {
             Self::LeadAcid { kind, reserved } => {
                 let bits = match kind {
                     LeadAcid::Flooded { gravity, plate } => {
@@ -387,14 +389,17 @@ impl BatteryType {
                         }
                     }
                 };
-                (Chemistry::LeadAcid, bits | (reserved & 0b0100))
+                (
+                    const { Chemistry::LeadAcid.code() },
+                    bits | (reserved & 0b0100),
+                )
             }
             Self::NickelCadmium {
                 cell,
                 plate,
                 reserved,
             } => (
-                Chemistry::NickelCadmium,
+                const { Chemistry::NickelCadmium.code() },
                 (if matches!(cell, NickelCadmiumCell::Sealed) {
                     W
                 } else {
@@ -406,7 +411,7 @@ impl BatteryType {
                 }) | (reserved & 0b0110),
             ),
             Self::SilverOxide { couple, reserved } => (
-                Chemistry::SilverOxide,
+                const { Chemistry::SilverOxide.code() },
                 (match couple {
                     SilverOxide::AgZn => 0b00,
                     SilverOxide::AgCd => 0b01,
@@ -414,21 +419,28 @@ impl BatteryType {
                     SilverOxide::Unused => 0b11,
                 }) | (reserved & 0b1100),
             ),
-            Self::NickelZinc { reserved } => (Chemistry::NickelZinc, reserved),
-            Self::NickelIron { reserved } => (Chemistry::NickelIron, reserved),
-            Self::NickelHydrogen { reserved } => (Chemistry::NickelHydrogen, reserved),
-            Self::NickelMetalHydride { reserved } => (Chemistry::NickelMetalHydride, reserved),
-            Self::ZincAlkalineManganeseDioxide { reserved } => {
-                (Chemistry::ZincAlkalineManganeseDioxide, reserved)
+            Self::NickelZinc { reserved } => (const { Chemistry::NickelZinc.code() }, reserved),
+            Self::NickelIron { reserved } => (const { Chemistry::NickelIron.code() }, reserved),
+            Self::NickelHydrogen { reserved } => {
+                (const { Chemistry::NickelHydrogen.code() }, reserved)
             }
-            Self::LithiumIon { reserved } => (Chemistry::LithiumIon, reserved),
-            Self::ZincBromine { reserved } => (Chemistry::ZincBromine, reserved),
-            Self::MetalAir { reserved } => (Chemistry::MetalAir, reserved),
-            Self::LithiumIronSulfide { reserved } => (Chemistry::LithiumIronSulfide, reserved),
-            Self::SodiumBeta { reserved } => (Chemistry::SodiumBeta, reserved),
+            Self::NickelMetalHydride { reserved } => {
+                (const { Chemistry::NickelMetalHydride.code() }, reserved)
+            }
+            Self::ZincAlkalineManganeseDioxide { reserved } => (
+                const { Chemistry::ZincAlkalineManganeseDioxide.code() },
+                reserved,
+            ),
+            Self::LithiumIon { reserved } => (const { Chemistry::LithiumIon.code() }, reserved),
+            Self::ZincBromine { reserved } => (const { Chemistry::ZincBromine.code() }, reserved),
+            Self::MetalAir { reserved } => (const { Chemistry::MetalAir.code() }, reserved),
+            Self::LithiumIronSulfide { reserved } => {
+                (const { Chemistry::LithiumIronSulfide.code() }, reserved)
+            }
+            Self::SodiumBeta { reserved } => (const { Chemistry::SodiumBeta.code() }, reserved),
             Self::Unknown(raw) => return raw,
         };
-        chemistry.code() << 4 | (sub & 0x0F)
+        code << 4 | (sub & 0x0F)
     }
 
     /// The chemistry nibble.
@@ -528,14 +540,26 @@ impl BatteryParameterValue {
     /// The little-endian bytes (1 for U8 subs, 2 for U16 subs).
     #[must_use]
     pub fn encode(self) -> InlineData<2> {
-        let (bytes, len) = match self {
-            Self::HighestSubIndex(v) => ([v, 0], 1),
-            Self::BatteryType(t) => ([t.to_u8(), 0], 1),
-            Self::AhCapacity(v) | Self::MaxChargeCurrent(v) | Self::NumberOfCells(v) => {
-                (v.to_le_bytes(), 2)
-            }
-        };
-        InlineData::new(bytes.get(..len).unwrap_or(&bytes)).unwrap_or_default()
+        let (word, len) = self.word();
+        let bytes = word.to_le_bytes();
+        InlineData::new(bytes.get(..usize::from(len)).unwrap_or(&bytes)).unwrap_or_default()
+    }
+
+    /// The value as a number and its length in bytes (1 for U8 subs, 2 for
+    /// U16 subs): what [`encode`](Self::encode) writes little-endian.
+    ///
+    /// ```
+    /// use canopen_codec::cia418::BatteryParameterValue;
+    /// assert_eq!(BatteryParameterValue::AhCapacity(600).word(), (600, 2));
+    /// assert_eq!(BatteryParameterValue::HighestSubIndex(4).word(), (4, 1));
+    /// ```
+    #[must_use]
+    pub const fn word(self) -> (u16, u8) {
+        match self {
+            Self::HighestSubIndex(v) => (v as u16, 1),
+            Self::BatteryType(t) => (t.to_u8() as u16, 1),
+            Self::AhCapacity(v) | Self::MaxChargeCurrent(v) | Self::NumberOfCells(v) => (v, 2),
+        }
     }
 }
 
@@ -622,6 +646,29 @@ impl BatteryParameters {
     pub fn decode_sub(&mut self, sub: u8, data: &[u8]) -> Result<(), ObjectError> {
         self.set(BatteryParameterValue::decode(sub, data)?);
         Ok(())
+    }
+
+    /// The value of sub-index `sub` as a number and its length in bytes
+    /// (what [`BatteryParameterValue::word`] gives for [`get`](Self::get)),
+    /// `None` for an unknown sub.
+    ///
+    /// ```
+    /// use canopen_codec::cia418::BatteryParameters;
+    /// let p = BatteryParameters { ah_capacity: 600, ..Default::default() };
+    /// assert_eq!(p.sub_word(2), Some((600, 2)));
+    /// assert_eq!(p.sub_word(0), Some((4, 1)));
+    /// assert_eq!(p.sub_word(5), None);
+    /// ```
+    #[must_use]
+    pub const fn sub_word(&self, sub: u8) -> Option<(u16, u8)> {
+        Some(match sub {
+            0 => (Self::HIGHEST_SUB_INDEX as u16, 1),
+            Self::SUB_BATTERY_TYPE => (self.battery_type.to_u8() as u16, 1),
+            Self::SUB_AH_CAPACITY => (self.ah_capacity, 2),
+            Self::SUB_MAX_CHARGE_CURRENT => (self.max_charge_current, 2),
+            Self::SUB_NUMBER_OF_CELLS => (self.number_of_cells, 2),
+            _ => return None,
+        })
     }
 
     /// The little-endian bytes of sub-index `sub`, `None` for an unknown sub.

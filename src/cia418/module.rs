@@ -44,6 +44,7 @@
 //!   other bit is left) and sends the error reset 0000h.
 //! - Total: no frame, timestamp or call order panics.
 
+use core::mem::MaybeUninit;
 use core::time::Duration;
 
 use super::objects::BatteryObjects;
@@ -60,8 +61,7 @@ use crate::device::{
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 
 use crate::pdo::{
-    MappingEntry, PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoMapping, PdoSlot,
-    TransmissionType, MAX_ENTRIES,
+    DefaultPdo, PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoSlot, TransmissionType,
 };
 use crate::sdo::DEFAULT_TIMEOUT;
 use crate::time::{millis_u16, millis_u32, Timestamp};
@@ -274,32 +274,48 @@ impl PowerOn for BatteryModulePowerOn {
     }
 }
 
+/// The communication parameters of a row of [`DEFAULT_PDOS`] for a module
+/// with `config`: its COB-ID for the node (a TPDO's made valid with
+/// `enable_tpdos`), event-driven with its event timer and transmission type.
+const fn default_comm(d: &DefaultPdo, node: NodeId, enable_tpdos: bool) -> PdoCommParams {
+    let mut cob_id = PdoCobId::from_u32(d.cob_id(node));
+    if matches!(d.direction, PdoDirection::Transmit) && enable_tpdos {
+        cob_id = cob_id.with_valid(true);
+    }
+    let mut comm = PdoCommParams::event_driven(cob_id, d.event_timer_ms);
+    if let Ok(tt) = TransmissionType::from_u8(d.transmission_type) {
+        comm.transmission_type = tt;
+    }
+    comm
+}
+
+// Every row of the table maps validly (what `PdoSlot::from_table` needs):
+// checked when the crate compiles, not at every reset.
+const _: () = {
+    let mut i = 0;
+    while i < DEFAULT_PDOS.len() {
+        assert!(
+            PdoSlot::table_mapping_valid(DEFAULT_PDOS[i].entries),
+            "a CiA 418 default PDO maps invalidly"
+        );
+        i += 1;
+    }
+};
+
 /// Writes the CiA 418 default PDO set of a module with `config` into
-/// `pdos` (every slot).
+/// `pdos` (every slot), in place: one pass over the table, each present
+/// PDO's slot written from its row (no mapping built and copied).
 fn default_pdo_config<const T: usize, const R: usize>(
     config: &BatteryModulePowerOn,
     pdos: &mut PdoConfig<T, R>,
 ) {
     pdos.clear();
-    for d in DEFAULT_PDOS
-        .iter()
-        .filter(|d| d.is_present(config.device_type))
-    {
-        let mut entries = [MappingEntry::default(); MAX_ENTRIES];
-        for (e, &(index, sub, bits)) in entries.iter_mut().zip(d.entries) {
-            *e = MappingEntry::new(index, sub, bits);
+    for d in &DEFAULT_PDOS {
+        if !d.is_present(config.device_type) {
+            continue;
         }
-        let mapping = PdoMapping::new(entries.get(..d.entries.len()).unwrap_or(&[]))
-            .unwrap_or(PdoMapping::EMPTY);
-        let mut cob_id = PdoCobId::from_u32(d.cob_id(config.node));
-        if d.direction == PdoDirection::Transmit && config.enable_tpdos {
-            cob_id = cob_id.with_valid(true);
-        }
-        let mut comm = PdoCommParams::event_driven(cob_id, d.event_timer_ms);
-        if let Ok(tt) = TransmissionType::from_u8(d.transmission_type) {
-            comm.transmission_type = tt;
-        }
-        pdos.insert(d.direction, d.number, PdoSlot::new(comm, &mapping));
+        let comm = default_comm(d, config.node, config.enable_tpdos);
+        pdos.insert(d.direction, d.number, PdoSlot::from_table(comm, d.entries));
     }
 }
 
@@ -360,6 +376,30 @@ impl<const Q: usize> BatteryModule<Q> {
             device: Device::new(BatteryModulePowerOn::from(config), BatteryObjects::new()),
             profile: ModuleProfile::default(),
         }
+    }
+
+    /// [`with_queue_capacity`](Self::with_queue_capacity) built in `slot`
+    /// (a firmware's static): the module is written there and its power-on
+    /// values are loaded in place ([`Device::new_in`]), not built elsewhere
+    /// and moved.
+    ///
+    /// ```
+    /// use core::mem::MaybeUninit;
+    /// use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig};
+    /// use canopen_codec::machine::Machine;
+    /// use canopen_codec::{NodeId, Timestamp};
+    /// let mut slot = MaybeUninit::<BatteryModule<4>>::uninit();
+    /// let m = BatteryModule::new_in(&mut slot, BatteryModuleConfig::new(NodeId::MIN));
+    /// m.boot(Timestamp::ZERO);
+    /// assert_eq!(m.poll_transmit().unwrap().to_string(), "701#00");
+    /// ```
+    pub fn new_in(slot: &mut MaybeUninit<Self>, config: BatteryModuleConfig) -> &mut Self {
+        let module = slot.write(BatteryModule {
+            device: Device::blank(BatteryModulePowerOn::from(config), BatteryObjects::new()),
+            profile: ModuleProfile::default(),
+        });
+        module.device.load_power_on();
+        module
     }
 
     /// The device core (node-ID, LSS slave, NMT state).

@@ -155,3 +155,40 @@ fn sdo_sees_three_tpdos() {
     assert_eq!(upload(0x1402, 1), ["581#4302140101040000"]);
     assert_eq!(upload(0x1403, 1), ["581#8003140100000206"]);
 }
+
+#[test]
+fn new_in_builds_what_new_builds() {
+    let config = BatteryModuleConfig {
+        device_type: DeviceType::cia418(
+            DeviceType::RPDO_2ND | DeviceType::RPDO_3RD | DeviceType::TPDO_3RD,
+        ),
+        ..BatteryModuleConfig::new(NodeId::new(5).unwrap())
+    };
+    let mut slot = MaybeUninit::<BatteryModule<4>>::uninit();
+    let built_in = BatteryModule::new_in(&mut slot, config);
+    let mut built = BatteryModule::<4>::with_queue_capacity(config);
+    assert_eq!(built_in.config(), built.config());
+    assert_eq!(built_in.comm(), built.comm());
+    assert_eq!(built_in.pdo_config(), built.pdo_config());
+    assert_eq!(built_in.poll_timeout(), None);
+    for m in [&mut *built_in, &mut built] {
+        m.boot(Timestamp::ZERO);
+        m.handle_frame(
+            Timestamp::ZERO,
+            &CanFrame::standard(0x000, &[0x01, 0x05]).unwrap(),
+        );
+    }
+    let frames = |m: &mut BatteryModule<4>| {
+        core::iter::from_fn(|| m.poll_transmit()).collect::<std::vec::Vec<_>>()
+    };
+    let expected = frames(&mut built);
+    assert_eq!(
+        expected
+            .first()
+            .map(std::string::ToString::to_string)
+            .as_deref(),
+        Some("705#00")
+    );
+    assert_eq!(frames(built_in), expected);
+    assert_eq!(built_in.poll_timeout(), built.poll_timeout());
+}

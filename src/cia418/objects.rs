@@ -49,9 +49,8 @@ use super::{
     CHARGER_STATUS, CHARGE_CURRENT_REQUESTED, CUMULATIVE_TOTAL_AH_CHARGE,
     DATE_OF_LAST_EQUALIZATION, TEMPERATURE, VEHICLE_ID, VEHICLE_SERIAL_NUMBER, WATER_LEVEL_STATUS,
 };
-use crate::bytes::InlineData;
 use crate::device::PowerOnValues;
-use crate::od::{Access, ObjectDictionary, ObjectInfo, WriteBuffer};
+use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
 use crate::sdo::AbortCode;
 
 /// Every index [`BatteryObjects`] serves.
@@ -98,7 +97,16 @@ impl PackedValue {
     }
 }
 
-type Value = InlineData<4>;
+/// One sub-object as [`BatteryObjects::entry`] finds it.
+#[derive(Debug, Clone, Copy)]
+struct Entry {
+    access: Access,
+    /// The value, little-endian: its first `len` bytes.
+    word: u32,
+    /// Bytes: 1, 2 or 4.
+    len: u8,
+    mappable: bool,
+}
 
 /// The values of a CiA 418 battery module's objects (see the module docs
 /// for the table). The application sets the fields it measures; the
@@ -286,37 +294,38 @@ impl BatteryObjects {
         BATTERY_OBJECT_INDEXES.contains(&index)
     }
 
-    /// Access, current value and PDO-mappability of every object.
-    fn entry(&self, index: u16, sub: u8) -> Result<(Access, Value, bool), AbortCode> {
+    /// Access, current value (a little-endian word of `len` bytes, 1, 2
+    /// or 4) and PDO-mappability of every object: the one lookup
+    /// [`info`](ObjectDictionary::info), [`read`](ObjectDictionary::read)
+    /// and the writes share.
+    fn entry(&self, index: u16, sub: u8) -> Result<Entry, AbortCode> {
         use Access::{ReadOnly as Ro, ReadWrite as Rw};
         if let Some((row, object)) = SCALARS.iter().enumerate().find(|(_, o)| o.index == index) {
             if sub != 0 {
                 return Err(AbortCode::SubIndexDoesNotExist);
             }
-            let bytes = self.scalar(row).to_le_bytes();
-            let value = Value::new(bytes.get(..usize::from(object.width).min(4)).unwrap_or(&[]));
-            return Ok((object.access, value.unwrap_or_default(), object.mappable));
+            return Ok(Entry {
+                access: object.access,
+                word: self.scalar(row),
+                len: object.width,
+                mappable: object.mappable,
+            });
         }
-        let found = match (index, sub) {
-            (BATTERY_PARAMETERS, s) if s <= BatteryParameters::HIGHEST_SUB_INDEX => {
-                let bytes = self.battery_parameters.encode_sub(s).unwrap_or_default();
-                (Ro, Value::new(bytes.as_slice()).unwrap_or_default(), false)
+        let (access, word, len) = match (index, sub) {
+            (BATTERY_PARAMETERS, s) => {
+                let (word, len) = self
+                    .battery_parameters
+                    .sub_word(s)
+                    .ok_or(AbortCode::SubIndexDoesNotExist)?;
+                (Ro, u32::from(word), len)
             }
-            (DATE_OF_LAST_EQUALIZATION, 0) => (
-                Ro,
-                Value::le_u8(EqualizationDate::NUMBER_OF_ELEMENTS),
-                false,
-            ),
-            (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_MINUTES) => (
-                Rw,
-                Value::le_u16(self.date_of_last_equalization.minutes),
-                false,
-            ),
-            (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_DAYS) => (
-                Rw,
-                Value::le_u16(self.date_of_last_equalization.days),
-                false,
-            ),
+            (DATE_OF_LAST_EQUALIZATION, 0) => (Ro, EqualizationDate::NUMBER_OF_ELEMENTS.into(), 1),
+            (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_MINUTES) => {
+                (Rw, self.date_of_last_equalization.minutes.into(), 2)
+            }
+            (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_DAYS) => {
+                (Rw, self.date_of_last_equalization.days.into(), 2)
+            }
             (i, s) => {
                 let Some(object) = PackedStringObject::from_index(i) else {
                     return Err(if Self::has_object(i) {
@@ -325,20 +334,24 @@ impl BatteryObjects {
                         AbortCode::ObjectDoesNotExist
                     });
                 };
+                // By reference: a copy is the whole array on the stack.
                 let v = self
                     .packed
                     .get(packed_slot(object))
-                    .copied()
-                    .unwrap_or(PackedValue::EMPTY);
+                    .unwrap_or(&PackedValue::EMPTY);
                 if s == 0 {
-                    (Ro, Value::le_u8(v.count), false)
+                    (Ro, v.count.into(), 1)
                 } else {
-                    let word = v.word(s).ok_or(AbortCode::SubIndexDoesNotExist)?;
-                    (Ro, Value::le_u32(word), false)
+                    (Ro, v.word(s).ok_or(AbortCode::SubIndexDoesNotExist)?, 4)
                 }
             }
         };
-        Ok(found)
+        Ok(Entry {
+            access,
+            word,
+            len,
+            mappable: false,
+        })
     }
 
     /// The value of the object in row `row` of [`SCALARS`].
@@ -359,29 +372,29 @@ impl BatteryObjects {
         }
     }
 
-    /// Applies a complete, length-checked write.
-    fn apply(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
-        match (index, sub, data) {
-            (CHARGER_STATUS, 0, &[a]) => self.charger_status = ChargerStatus::from_bits_retain(a),
-            (AH_RETURNED_DURING_LAST_CHARGE, 0, &[a, b]) => {
-                self.ah_returned_during_last_charge =
-                    EighthAmpHours::from_raw(u16::from_le_bytes([a, b]));
+    /// Applies a complete, length-checked write of `word` (the value's
+    /// little-endian bytes, its length the object's).
+    fn apply(&mut self, index: u16, sub: u8, word: u32) -> Result<(), AbortCode> {
+        let [a, b, ..] = word.to_le_bytes();
+        let half = u16::from_le_bytes([a, b]);
+        match (index, sub) {
+            (CHARGER_STATUS, 0) => self.charger_status = ChargerStatus::from_bits_retain(a),
+            (AH_RETURNED_DURING_LAST_CHARGE, 0) => {
+                self.ah_returned_during_last_charge = EighthAmpHours::from_raw(half);
             }
-            (AH_SINCE_LAST_EQUALIZATION, 0, &[a, b]) => {
-                self.ah_since_last_equalization =
-                    EighthAmpHours::from_raw(u16::from_le_bytes([a, b]));
+            (AH_SINCE_LAST_EQUALIZATION, 0) => {
+                self.ah_since_last_equalization = EighthAmpHours::from_raw(half);
             }
-            (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_MINUTES, &[a, b]) => {
-                let minutes = u16::from_le_bytes([a, b]);
-                if minutes >= 1440 {
+            (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_MINUTES) => {
+                if half >= 1440 {
                     return Err(AbortCode::ValueTooHigh);
                 }
-                self.date_of_last_equalization.minutes = minutes;
+                self.date_of_last_equalization.minutes = half;
             }
-            (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_DAYS, &[a, b]) => {
-                self.date_of_last_equalization.days = u16::from_le_bytes([a, b]);
+            (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_DAYS) => {
+                self.date_of_last_equalization.days = half;
             }
-            (CHARGER_STATE_OF_CHARGE, 0, &[a]) => {
+            (CHARGER_STATE_OF_CHARGE, 0) => {
                 let soc = StateOfCharge::from_raw(a);
                 if soc.is_out_of_range() {
                     return Err(AbortCode::ValueTooHigh);
@@ -447,9 +460,14 @@ impl PowerOnValues for BatteryObjects {
 
 impl ObjectDictionary for BatteryObjects {
     fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-        let (access, value, mappable) = self.entry(index, sub)?;
-        let info = ObjectInfo::fixed(access, value.len());
-        Ok(if mappable { info.mappable() } else { info })
+        let e = self.entry(index, sub)?;
+        let len = usize::from(e.len);
+        Ok(ObjectInfo {
+            access: e.access,
+            len,
+            size: SizeRule::Fixed(len),
+            pdo_mappable: e.mappable,
+        })
     }
 
     fn read(
@@ -459,19 +477,24 @@ impl ObjectDictionary for BatteryObjects {
         offset: usize,
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let value = self.entry(index, sub)?.1;
-        Ok(crate::od::read_at(value.as_slice(), offset, buf))
+        let e = self.entry(index, sub)?;
+        let bytes = e.word.to_le_bytes();
+        let value = bytes.get(..usize::from(e.len)).unwrap_or(&bytes);
+        Ok(crate::od::read_at(value, offset, buf))
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
-        let info = self.info(index, sub)?;
-        self.pending.write_to(&info, index, sub, offset, data)
+        let access = self.entry(index, sub)?.access;
+        self.pending
+            .write_to(&ObjectInfo::fixed(access, 0), index, sub, offset, data)
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let info = self.info(index, sub);
-        let value = self.pending.finish(info, index, sub, len)?;
-        self.apply(index, sub, value.as_slice())
+        let object = self
+            .entry(index, sub)
+            .map(|e| (e.access, usize::from(e.len)));
+        let word = self.pending.finish_word(object, index, sub, len)?;
+        self.apply(index, sub, word)
     }
 
     fn abort_write(&mut self, _: u16, _: u8) {

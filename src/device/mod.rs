@@ -115,6 +115,7 @@
 //! dictionary, which may add communication objects of its own; the PDO
 //! objects (1400h-1A03h) are served by [`PdoDictionary`] above both.
 
+use core::mem::MaybeUninit;
 use core::time::Duration;
 
 mod config;
@@ -155,7 +156,7 @@ use crate::od::index::PRODUCER_HEARTBEAT_TIME;
 use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
 use crate::queue::EventQueue;
-use crate::sdo::{Server, ServerConfig, ServerEvent, EVENTS_PER_CALL};
+use crate::sdo::{Server, ServerEvent, EVENTS_PER_CALL};
 use crate::time::{MaybeTimestamp, Timestamp};
 
 /// The dictionary the SDO server serves: PDO objects, communication
@@ -263,24 +264,58 @@ where
     /// from: [`PowerOn`]) over the application objects `app`, not yet
     /// booted.
     pub fn new(config: C, app: A) -> Self {
+        let mut device = Self::blank(config, app);
+        device.load_power_on();
+        device
+    }
+
+    /// [`new`](Self::new) built in `slot` (e.g. a firmware's static): the
+    /// blank device is written there and its power-on values are loaded in
+    /// place, so the whole device is not built elsewhere and moved.
+    ///
+    /// ```
+    /// # #[cfg(feature = "alloc")] {
+    /// use core::mem::MaybeUninit;
+    /// use canopen_codec::device::{Device, DeviceConfig, DeviceEvent};
+    /// use canopen_codec::od::MemoryDictionary;
+    /// use canopen_codec::NodeId;
+    /// let mut slot = MaybeUninit::uninit();
+    /// let config = DeviceConfig::new(NodeId::new(3).unwrap());
+    /// let dev: &mut Device<MemoryDictionary, DeviceEvent> =
+    ///     Device::new_in(&mut slot, config, MemoryDictionary::new());
+    /// assert_eq!((dev.node().raw(), dev.comm().heartbeat_ms), (3, 1000));
+    /// # }
+    /// ```
+    pub fn new_in(slot: &mut MaybeUninit<Self>, config: C, app: A) -> &mut Self {
+        let device = slot.write(Self::blank(config, app));
+        device.load_power_on();
+        device
+    }
+
+    /// The device before its power-on values are loaded: constants where
+    /// [`load_power_on`](Self::load_power_on) writes the values (the
+    /// communication objects, the PDO configuration, the SDO server's
+    /// channel, the heartbeat), so that their code exists once, in the
+    /// reset path.
+    #[inline]
+    pub(crate) fn blank(config: C, app: A) -> Self {
         let node = config.node();
         let power_on = app.snapshot();
-        let dictionary = PdoDictionary::new(
-            PdoConfig::empty(),
-            DeviceObjects {
-                comm: CommObjects::new(node),
-                app,
-            },
-        );
-        let mut device = Device {
+        Device {
             config,
             node,
             error_field: ErrorFieldFormat::LittleEndianInfo,
             nmt: NmtSlave::with_event_capacity(node),
-            heartbeat: HeartbeatProducer::new(node, Duration::ZERO),
+            heartbeat: HeartbeatProducer::with_period_ms(node, 0),
             #[cfg(feature = "heartbeat-consumer")]
             consumer: HeartbeatConsumer::new(),
-            server: Server::with_event_capacity(ServerConfig::for_node(node), dictionary),
+            server: Server::unconfigured(PdoDictionary::new(
+                PdoConfig::empty(),
+                DeviceObjects {
+                    comm: CommObjects::new(node),
+                    app,
+                },
+            )),
             tpdos: TpdoSet::empty(),
             rpdos: RpdoReceiver::empty(),
             tpdos_enabled: true,
@@ -292,9 +327,7 @@ where
             #[cfg(feature = "lss")]
             powered: false,
             services: services::Services::new(node),
-        };
-        device.load_power_on();
-        device
+        }
     }
 
     /// Writes the power-on values of the communication objects and the PDO
@@ -303,13 +336,13 @@ where
     /// what [`new`](Self::new) and every reset do (one copy of the code, no
     /// second dictionary or server built and moved).
     #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-    fn load_power_on(&mut self) {
+    pub(crate) fn load_power_on(&mut self) {
         let od = self.server.od_mut();
         let policies = self.config.restore(&mut od.inner.comm, &mut od.config);
-        let period = Duration::from_millis(u64::from(od.inner.comm.heartbeat_ms));
+        let period_ms = od.inner.comm.heartbeat_ms;
         self.error_field = policies.error_field;
         self.server.restart(policies.server_config(self.node));
-        self.heartbeat = HeartbeatProducer::new(self.node, period);
+        self.heartbeat = HeartbeatProducer::with_period_ms(self.node, period_ms);
         self.heartbeat.send_on_change = policies.heartbeat_on_change;
     }
 

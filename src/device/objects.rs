@@ -6,7 +6,6 @@
 //! Objects the table does not name are passed to the application's
 //! dictionary, which may add communication objects of its own.
 
-use crate::bytes::InlineData;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::emcy::{Emergency, ErrorFieldEntry, ErrorRegister};
 #[cfg(feature = "heartbeat-consumer")]
@@ -253,11 +252,20 @@ impl CommObjects {
         }
     }
 
-    /// Access and value (up to 4 bytes) of every object but 1008h.
-    fn scalar(&self, index: u16, sub: u8) -> Result<(Access, Value), AbortCode> {
+    /// Access, length and value of every object: the one lookup
+    /// [`info`](ObjectDictionary::info), [`read`](ObjectDictionary::read)
+    /// and the writes share.
+    fn entry(&self, index: u16, sub: u8) -> Result<Entry, AbortCode> {
         use Access::{Const, ReadOnly as Ro, ReadWrite as Rw};
         let node = u32::from(self.node.raw());
-        let found = match (index, sub) {
+        let (access, value) = match (index, sub) {
+            (MANUFACTURER_DEVICE_NAME, 0) => {
+                return Ok(Entry {
+                    access: Const,
+                    len: self.device_name.len(),
+                    value: Value::Name,
+                })
+            }
             (DEVICE_TYPE, 0) => (Const, Value::u32(self.device_type)),
             (ERROR_REGISTER, 0) => (Ro, Value::u8(self.error_register.bits())),
             (PRE_DEFINED_ERROR_FIELD, 0) => (Rw, Value::u8(self.history_len)),
@@ -298,17 +306,22 @@ impl CommObjects {
             (i, _) if self.has_object(i) => return Err(AbortCode::SubIndexDoesNotExist),
             _ => return Err(AbortCode::ObjectDoesNotExist),
         };
-        Ok(found)
+        let len = match value {
+            Value::Word(_, len) => usize::from(len),
+            _ => 4,
+        };
+        Ok(Entry { access, len, value })
     }
 
-    /// Applies a complete, length-checked write.
-    fn apply(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
-        match (index, sub, data) {
-            (PRE_DEFINED_ERROR_FIELD, 0, &[0]) => self.clear_errors(),
-            (PRE_DEFINED_ERROR_FIELD, 0, _) => return Err(AbortCode::InvalidValue),
+    /// Applies a complete, length-checked write of `word` (the value's
+    /// little-endian bytes, its length the object's).
+    fn apply(&mut self, index: u16, sub: u8, word: u32) -> Result<(), AbortCode> {
+        match (index, sub) {
+            (PRE_DEFINED_ERROR_FIELD, 0) if word == 0 => self.clear_errors(),
+            (PRE_DEFINED_ERROR_FIELD, 0) => return Err(AbortCode::InvalidValue),
             #[cfg(feature = "heartbeat-consumer")]
-            (CONSUMER_HEARTBEAT_TIME, s, &[a, b, c, d]) if s > 0 => {
-                let entry = ConsumerEntry::from_u32(u32::from_le_bytes([a, b, c, d]));
+            (CONSUMER_HEARTBEAT_TIME, s) if s > 0 => {
+                let entry = ConsumerEntry::from_u32(word);
                 let slot = usize::from(s) - 1;
                 let duplicate = entry.is_enabled()
                     && self
@@ -324,9 +337,9 @@ impl CommObjects {
                     _ => return Err(AbortCode::SubIndexDoesNotExist),
                 }
             }
-            (PRODUCER_HEARTBEAT_TIME, 0, &[a, b]) => self.heartbeat_ms = u16::from_le_bytes([a, b]),
-            (COB_ID_SYNC, 0, &[a, b, c, d]) => {
-                let new = SyncCobId::from_raw(u32::from_le_bytes([a, b, c, d]));
+            (PRODUCER_HEARTBEAT_TIME, 0) => self.heartbeat_ms = word as u16,
+            (COB_ID_SYNC, 0) => {
+                let new = SyncCobId::from_raw(word);
                 // CiA 301 section 7.5.2, object 1005h: the identifier may
                 // not change while the device generates SYNC, and it must
                 // be a valid one.
@@ -343,19 +356,15 @@ impl CommObjects {
                 self.sync_cob_id = new;
             }
             #[cfg(feature = "sync-time")]
-            (COMMUNICATION_CYCLE_PERIOD, 0, &[a, b, c, d]) => {
-                self.cycle_period_us = u32::from_le_bytes([a, b, c, d]);
-            }
-            (SYNCHRONOUS_WINDOW_LENGTH, 0, &[a, b, c, d]) => {
-                self.sync_window_us = u32::from_le_bytes([a, b, c, d]);
-            }
+            (COMMUNICATION_CYCLE_PERIOD, 0) => self.cycle_period_us = word,
+            (SYNCHRONOUS_WINDOW_LENGTH, 0) => self.sync_window_us = word,
             #[cfg(feature = "guarding")]
-            (GUARD_TIME, 0, &[a, b]) => self.guard_time_ms = u16::from_le_bytes([a, b]),
+            (GUARD_TIME, 0) => self.guard_time_ms = word as u16,
             #[cfg(feature = "guarding")]
-            (LIFE_TIME_FACTOR, 0, &[v]) => self.life_time_factor = v,
+            (LIFE_TIME_FACTOR, 0) => self.life_time_factor = word as u8,
             #[cfg(feature = "sync-time")]
-            (COB_ID_TIME, 0, &[a, b, c, d]) => {
-                let new = TimeCobId::from_raw(u32::from_le_bytes([a, b, c, d]));
+            (COB_ID_TIME, 0) => {
+                let new = TimeCobId::from_raw(word);
                 if new.id().is_none() {
                     return Err(AbortCode::InvalidValue);
                 }
@@ -363,63 +372,64 @@ impl CommObjects {
             }
             // CiA 301 section 7.5.2, object 1019h: written only while
             // 1006h is 0; 1 and 241..=255 are reserved.
-            (SYNCHRONOUS_COUNTER_OVERFLOW, 0, _) if self.cycle_period_us != 0 => {
+            (SYNCHRONOUS_COUNTER_OVERFLOW, 0) if self.cycle_period_us != 0 => {
                 return Err(AbortCode::DataCannotBeStoredDeviceState)
             }
-            (SYNCHRONOUS_COUNTER_OVERFLOW, 0, &[v]) if valid_counter_overflow(v) => {
-                self.sync_counter_overflow = v;
+            (SYNCHRONOUS_COUNTER_OVERFLOW, 0) if valid_counter_overflow(word as u8) => {
+                self.sync_counter_overflow = word as u8;
             }
-            (SYNCHRONOUS_COUNTER_OVERFLOW, 0, _) => return Err(AbortCode::InvalidValue),
+            (SYNCHRONOUS_COUNTER_OVERFLOW, 0) => return Err(AbortCode::InvalidValue),
             _ => return Err(AbortCode::WriteOfReadOnlyObject),
         }
         Ok(())
     }
 }
 
-/// A value of up to 4 bytes, or an error-history entry beyond the history
-/// (4 bytes long, read as 08000024h "no data available").
+/// One sub-object as [`CommObjects::entry`] finds it.
+#[derive(Debug, Clone, Copy)]
+struct Entry {
+    access: Access,
+    /// Length of the value in bytes.
+    len: usize,
+    value: Value,
+}
+
+/// A value of up to 4 bytes (a little-endian word and its length), an
+/// error-history entry beyond the history (4 bytes long, read as 08000024h
+/// "no data available"), or the device name (1008h).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Value {
-    Bytes(InlineData<4>),
+    Word(u32, u8),
     NoData,
+    Name,
 }
 
 impl Value {
     const fn u8(v: u8) -> Self {
-        Value::Bytes(InlineData::le_u8(v))
+        Value::Word(v as u32, 1)
     }
 
     const fn u16(v: u16) -> Self {
-        Value::Bytes(InlineData::le_u16(v))
+        Value::Word(v as u32, 2)
     }
 
     const fn u32(v: u32) -> Self {
-        Value::Bytes(InlineData::le_u32(v))
-    }
-
-    const fn len(self) -> usize {
-        match self {
-            Value::Bytes(b) => b.len(),
-            Value::NoData => 4,
-        }
+        Value::Word(v, 4)
     }
 }
 
 impl ObjectDictionary for CommObjects {
     fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-        if index == MANUFACTURER_DEVICE_NAME {
-            return match sub {
-                0 => Ok(ObjectInfo {
-                    access: Access::Const,
-                    len: self.device_name.len(),
-                    size: SizeRule::Variable { max: 0 },
-                    pdo_mappable: false,
-                }),
-                _ => Err(AbortCode::SubIndexDoesNotExist),
-            };
-        }
-        let (access, value) = self.scalar(index, sub)?;
-        Ok(ObjectInfo::fixed(access, value.len()))
+        let e = self.entry(index, sub)?;
+        Ok(ObjectInfo {
+            access: e.access,
+            len: e.len,
+            size: match e.value {
+                Value::Name => SizeRule::Variable { max: 0 },
+                _ => SizeRule::Fixed(e.len),
+            },
+            pdo_mappable: false,
+        })
     }
 
     fn read(
@@ -429,31 +439,28 @@ impl ObjectDictionary for CommObjects {
         offset: usize,
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let value;
-        let src: &[u8] = if index == MANUFACTURER_DEVICE_NAME {
-            if sub != 0 {
-                return Err(AbortCode::SubIndexDoesNotExist);
+        let bytes;
+        let src: &[u8] = match self.entry(index, sub)?.value {
+            Value::Word(word, len) => {
+                bytes = word.to_le_bytes();
+                bytes.get(..usize::from(len)).unwrap_or(&bytes)
             }
-            self.device_name.as_bytes()
-        } else {
-            value = match self.scalar(index, sub)?.1 {
-                Value::Bytes(b) => b,
-                Value::NoData => return Err(AbortCode::NoDataAvailable),
-            };
-            value.as_slice()
+            Value::NoData => return Err(AbortCode::NoDataAvailable),
+            Value::Name => self.device_name.as_bytes(),
         };
         Ok(crate::od::read_at(src, offset, buf))
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
-        let info = self.info(index, sub)?;
-        self.pending.write_to(&info, index, sub, offset, data)
+        let access = self.entry(index, sub)?.access;
+        self.pending
+            .write_to(&ObjectInfo::fixed(access, 0), index, sub, offset, data)
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let info = self.info(index, sub);
-        let value = self.pending.finish(info, index, sub, len)?;
-        self.apply(index, sub, value.as_slice())
+        let object = self.entry(index, sub).map(|e| (e.access, e.len));
+        let word = self.pending.finish_word(object, index, sub, len)?;
+        self.apply(index, sub, word)
     }
 
     fn abort_write(&mut self, _: u16, _: u8) {
@@ -469,19 +476,6 @@ pub struct DeviceObjects<A> {
     pub comm: CommObjects,
     /// The application (profile) objects.
     pub app: A,
-}
-
-impl<A: ObjectDictionary> DeviceObjects<A> {
-    fn target(&mut self, index: u16) -> &mut dyn ObjectDictionary
-    where
-        A: Sized,
-    {
-        if self.comm.has_object(index) {
-            &mut self.comm
-        } else {
-            &mut self.app
-        }
-    }
 }
 
 impl<A: ObjectDictionary> ObjectDictionary for DeviceObjects<A> {
@@ -500,19 +494,35 @@ impl<A: ObjectDictionary> ObjectDictionary for DeviceObjects<A> {
         offset: usize,
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        self.target(index).read(index, sub, offset, buf)
+        if self.comm.has_object(index) {
+            self.comm.read(index, sub, offset, buf)
+        } else {
+            self.app.read(index, sub, offset, buf)
+        }
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
-        self.target(index).write(index, sub, offset, data)
+        if self.comm.has_object(index) {
+            self.comm.write(index, sub, offset, data)
+        } else {
+            self.app.write(index, sub, offset, data)
+        }
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        self.target(index).finish_write(index, sub, len)
+        if self.comm.has_object(index) {
+            self.comm.finish_write(index, sub, len)
+        } else {
+            self.app.finish_write(index, sub, len)
+        }
     }
 
     fn abort_write(&mut self, index: u16, sub: u8) {
-        self.target(index).abort_write(index, sub);
+        if self.comm.has_object(index) {
+            self.comm.abort_write(index, sub);
+        } else {
+            self.app.abort_write(index, sub);
+        }
     }
 }
 

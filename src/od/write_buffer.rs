@@ -3,7 +3,7 @@
 //! applied whole at [`finish_write`](super::ObjectDictionary::finish_write)
 //! and a refused or aborted download changes nothing.
 
-use super::ObjectInfo;
+use super::{Access, ObjectInfo};
 use crate::bytes::InlineData;
 use crate::sdo::AbortCode;
 
@@ -19,11 +19,25 @@ use crate::sdo::AbortCode;
 /// assert_eq!(w.take(0x1017, 0), &[] as &[u8], "taken once");
 /// assert_eq!(w.write(0x1017, 0, 0, &[0; 5]), Err(AbortCode::DataTypeLengthTooHigh));
 /// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct WriteBuffer {
-    key: Option<(u16, u8)>,
+    // 8 bytes: the object, the count and the bytes, no `Option` or
+    // `usize` (a buffer sits in each dictionary layer's state).
+    index: u16,
+    sub: u8,
+    /// Bytes written, [`NONE`] when no value is in progress.
+    len: u8,
     bytes: [u8; 4],
-    len: usize,
+}
+
+/// [`WriteBuffer::len`] when no value is in progress: past any length, so
+/// a continuation never fits.
+const NONE: u8 = u8::MAX;
+
+impl Default for WriteBuffer {
+    fn default() -> Self {
+        Self::new()
+    }
 }
 
 impl WriteBuffer {
@@ -31,9 +45,10 @@ impl WriteBuffer {
     #[must_use]
     pub const fn new() -> Self {
         WriteBuffer {
-            key: None,
+            index: 0,
+            sub: 0,
+            len: NONE,
             bytes: [0; 4],
-            len: 0,
         }
     }
 
@@ -49,15 +64,21 @@ impl WriteBuffer {
         data: &[u8],
     ) -> Result<(), AbortCode> {
         if offset == 0 {
-            *self = Self::new();
-            self.key = Some((index, sub));
+            *self = WriteBuffer {
+                index,
+                sub,
+                len: 0,
+                bytes: [0; 4],
+            };
         }
-        let end = self.len.saturating_add(data.len());
-        let fits = self.key == Some((index, sub)) && offset == self.len && end <= self.bytes.len();
-        match self.bytes.get_mut(self.len..end) {
+        // No value in progress: `len` is past the bytes, nothing fits.
+        let len = usize::from(self.len);
+        let end = len.saturating_add(data.len());
+        let fits = self.index == index && self.sub == sub && offset == len;
+        match self.bytes.get_mut(len..end) {
             Some(dst) if fits => {
                 dst.copy_from_slice(data);
-                self.len = end;
+                self.len = end as u8;
                 Ok(())
             }
             _ => {
@@ -67,16 +88,22 @@ impl WriteBuffer {
         }
     }
 
+    /// How many bytes were written for `index`/`sub` (0 for another
+    /// object), and forgets them; they stay in `bytes`, zero past them.
+    fn take_len(&mut self, index: u16, sub: u8) -> usize {
+        let len = core::mem::replace(&mut self.len, NONE);
+        if self.index == index && self.sub == sub && len <= 4 {
+            usize::from(len)
+        } else {
+            0
+        }
+    }
+
     /// The bytes written for `index`/`sub` (empty for another object), and
     /// forgets them.
     pub fn take(&mut self, index: u16, sub: u8) -> &[u8] {
-        let key = self.key.take();
-        let len = core::mem::take(&mut self.len);
-        if key == Some((index, sub)) {
-            self.bytes.get(..len.min(self.bytes.len())).unwrap_or(&[])
-        } else {
-            &[]
-        }
+        let len = self.take_len(index, sub);
+        self.bytes.get(..len).unwrap_or(&[])
     }
 
     /// [`write`](Self::write) to an object described by `info`: refused
@@ -116,6 +143,48 @@ impl WriteBuffer {
         }
         info.check_download_len(value.len())?;
         Ok(value)
+    }
+
+    /// [`finish`](Self::finish) for an object of a fixed size, given as
+    /// its access and size (the dictionary's answer for it): the value as a
+    /// little-endian word (bytes past the value zero), so the dictionary
+    /// applies it without a slice or an [`InlineData`]. The buffer is empty
+    /// afterwards, whatever the outcome.
+    ///
+    /// ```
+    /// use canopen_codec::od::{Access, WriteBuffer};
+    /// use canopen_codec::sdo::AbortCode;
+    /// let mut w = WriteBuffer::new();
+    /// w.write(0x1017, 0, 0, &[0xE8, 0x03]).unwrap();
+    /// assert_eq!(w.finish_word(Ok((Access::ReadWrite, 2)), 0x1017, 0, 2), Ok(1000));
+    /// w.write(0x1017, 0, 0, &[0xE8]).unwrap();
+    /// assert_eq!(
+    ///     w.finish_word(Ok((Access::ReadWrite, 2)), 0x1017, 0, 1),
+    ///     Err(AbortCode::DataTypeLengthTooLow)
+    /// );
+    /// ```
+    pub fn finish_word(
+        &mut self,
+        object: Result<(Access, usize), AbortCode>,
+        index: u16,
+        sub: u8,
+        len: usize,
+    ) -> Result<u32, AbortCode> {
+        let n = len.min(self.take_len(index, sub));
+        let (access, size) = object?;
+        if !access.is_writable() {
+            return Err(AbortCode::WriteOfReadOnlyObject);
+        }
+        if n > size {
+            return Err(AbortCode::DataTypeLengthTooHigh);
+        }
+        if n < size {
+            return Err(AbortCode::DataTypeLengthTooLow);
+        }
+        // The bytes past `len` were zeroed when the value started; a
+        // declared length shorter than what was written cuts the rest.
+        let mask = u32::MAX.checked_shr(32 - 8 * n as u32).unwrap_or(0);
+        Ok(u32::from_le_bytes(self.bytes) & mask)
     }
 
     /// Forgets the value in progress (an aborted download).
@@ -190,5 +259,50 @@ mod tests {
             Err(AbortCode::DataTypeLengthTooLow)
         );
         assert_eq!(w.take(1, 0), &[] as &[u8], "always empty afterwards");
+    }
+
+    #[test]
+    fn word_of_a_fixed_size_value() {
+        use crate::od::Access::{ReadOnly, ReadWrite};
+        let mut w = WriteBuffer::new();
+        for (data, size, len, want) in [
+            (&[1u8, 2, 3, 4][..], 4usize, 4usize, Ok(0x0403_0201)),
+            (&[0xFF][..], 1, 1, Ok(0xFF)),
+            (&[1, 2][..], 2, 2, Ok(0x0201)),
+            // The declared length cuts what was written.
+            (&[1, 2, 3][..], 2, 2, Ok(0x0201)),
+            (&[1, 2, 3][..], 2, 3, Err(AbortCode::DataTypeLengthTooHigh)),
+            (&[1][..], 2, 1, Err(AbortCode::DataTypeLengthTooLow)),
+            (&[][..], 1, 0, Err(AbortCode::DataTypeLengthTooLow)),
+        ] {
+            w.write(1, 0, 0, data).unwrap();
+            assert_eq!(
+                w.finish_word(Ok((ReadWrite, size)), 1, 0, len),
+                want,
+                "{data:?}"
+            );
+            assert_eq!(w.take(1, 0), &[] as &[u8], "always empty afterwards");
+        }
+        // A shorter value after a longer one: no old bytes past it.
+        w.write(1, 0, 0, &[9, 9, 9, 9]).unwrap();
+        w.write(1, 0, 0, &[7]).unwrap();
+        assert_eq!(w.finish_word(Ok((ReadWrite, 1)), 1, 0, 1), Ok(7));
+        w.write(1, 0, 0, &[1, 2]).unwrap();
+        assert_eq!(
+            w.finish_word(Ok((ReadOnly, 2)), 1, 0, 2),
+            Err(AbortCode::WriteOfReadOnlyObject)
+        );
+        w.write(1, 0, 0, &[1, 2]).unwrap();
+        assert_eq!(
+            w.finish_word(Err(AbortCode::ObjectDoesNotExist), 1, 0, 2),
+            Err(AbortCode::ObjectDoesNotExist)
+        );
+        // Another object's bytes are not this one's value.
+        w.write(2, 0, 0, &[1, 2]).unwrap();
+        assert_eq!(
+            w.finish_word(Ok((ReadWrite, 2)), 1, 0, 2),
+            Err(AbortCode::DataTypeLengthTooLow)
+        );
+        assert_eq!(core::mem::size_of::<WriteBuffer>(), 8);
     }
 }

@@ -68,6 +68,48 @@ impl PdoSlot {
         }
     }
 
+    /// A slot with these parameters and the mapping `entries` of a
+    /// profile's default table ([`DefaultPdo::entries`](super::DefaultPdo::entries):
+    /// index, sub-index, bits; the first [`MAX_ENTRIES`]), written straight
+    /// into the slot without a [`PdoMapping`] built and checked first (a
+    /// device's reset writes its default PDOs in place). The entries must
+    /// form a valid mapping, which the profile checks for its whole table at
+    /// compile time with [`table_mapping_valid`](Self::table_mapping_valid).
+    #[must_use]
+    pub(crate) const fn from_table(comm: PdoCommParams, entries: &[(u16, u8, u8)]) -> Self {
+        let mut slot = PdoSlot {
+            comm,
+            entries: [MappingEntry::new(0, 0, 0); MAX_ENTRIES],
+            count: 0,
+        };
+        while (slot.count as usize) < entries.len() && (slot.count as usize) < MAX_ENTRIES {
+            let (index, sub, bits) = entries[slot.count as usize];
+            slot.entries[slot.count as usize] = MappingEntry::new(index, sub, bits);
+            slot.count += 1;
+        }
+        slot
+    }
+
+    /// True when `entries` (index, sub-index, bits) form a valid mapping:
+    /// the rules of [`PdoMapping::new`], in a `const fn` (a profile's check
+    /// of its default table for [`from_table`](Self::from_table)).
+    #[must_use]
+    pub(crate) const fn table_mapping_valid(entries: &[(u16, u8, u8)]) -> bool {
+        if entries.len() > MAX_ENTRIES {
+            return false;
+        }
+        let (mut i, mut total) = (0, 0u32);
+        while i < entries.len() {
+            let (_, _, bits) = entries[i];
+            if bits == 0 {
+                return false;
+            }
+            total += bits as u32;
+            i += 1;
+        }
+        total <= MAX_BITS
+    }
+
     /// The active mapping (the first `count` entries). Always valid: a count
     /// is only accepted when its entries form a valid mapping.
     #[must_use]

@@ -349,6 +349,33 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         }
     }
 
+    /// A server over `od` with no channel yet (constants only): it serves
+    /// and sends nothing until [`restart`](Self::restart) configures it (a
+    /// device's construction, whose reset path does).
+    pub(crate) const fn unconfigured(od: D) -> Self {
+        Server {
+            config: Channel {
+                request_id: CanId::Standard(0),
+                response_id: CanId::Standard(0),
+                block_size: MAX_BLOCK_SIZE,
+                crc: true,
+                sends: false,
+            },
+            timeout_us: 0,
+            // No frame has this word (see `data_frame_word`).
+            request_word: u32::MAX,
+            od,
+            state: State::Idle,
+            timers: Timers::new(),
+            transmit: FrameSlot::new(),
+            events: EventQueue::new(ServerEvent::Uploaded {
+                index: 0,
+                sub: 0,
+                len: 0,
+            }),
+        }
+    }
+
     /// Starts over on `config` with the dictionary it has: what
     /// [`new`](Self::new) would give (no transfer, frame or event; a
     /// running download is aborted in the dictionary, as

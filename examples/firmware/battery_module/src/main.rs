@@ -40,18 +40,17 @@ const QUEUE_CAPACITY: usize = 4;
 #[no_mangle]
 static mut BATTERY_MODULE_STATE: MaybeUninit<BatteryModule<QUEUE_CAPACITY>> = MaybeUninit::uninit();
 
-/// Builds the module into its static. Not inlined: the temporaries of
-/// the construction live in this function's stack frame, which is gone
-/// when the loop in `main` runs (inlined, they stayed on the stack for
-/// good).
+/// Builds the module in its static (`BatteryModule::new_in`: the module is
+/// written there and its power-on values loaded in place, not built on the
+/// stack and copied in). Not inlined: the temporaries of the construction
+/// live in this function's stack frame, which is gone when the loop in
+/// `main` runs (inlined, they stayed on the stack for good).
 #[inline(never)]
 fn init() -> &'static mut BatteryModule<QUEUE_CAPACITY> {
     let config = BatteryModuleConfig::new(NodeId::MIN);
     // SAFETY: `init` runs once, from `main`, and is the only code that
     // touches the static; the reference is the only one ever made.
-    unsafe {
-        (*addr_of_mut!(BATTERY_MODULE_STATE)).write(BatteryModule::with_queue_capacity(config))
-    }
+    BatteryModule::new_in(unsafe { &mut *addr_of_mut!(BATTERY_MODULE_STATE) }, config)
 }
 
 #[entry]
