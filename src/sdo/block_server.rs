@@ -167,7 +167,11 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             return self.abort_object(index, sub, AbortCode::ReadOfWriteOnlyObject);
         }
         if pst != 0 && info.len <= usize::from(pst) {
-            return self.initiate_upload(now, index, sub);
+            // The info read above (the protocol switch: a normal upload).
+            if let Err(code) = self.initiate_upload(now, index, sub, info) {
+                self.abort_object(index, sub, code);
+            }
+            return;
         }
         let Ok(size) = u32::try_from(info.len) else {
             return self.abort_object(index, sub, AbortCode::OutOfMemory);

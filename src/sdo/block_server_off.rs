@@ -6,7 +6,6 @@
 //! transfer (superseded) and is refused for its own object; any other block
 //! command aborts the running transfer, as an unknown command does.
 
-use super::super::wire::{ClientBlockDownload, ClientBlockUpload};
 use super::{AbortCode, ObjectDictionary, Server};
 use crate::frame::CanFrame;
 use crate::time::Timestamp;
@@ -22,23 +21,20 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         None
     }
 
-    pub(super) fn on_block_upload(&mut self, _now: Timestamp, cmd: ClientBlockUpload) {
-        match cmd {
-            ClientBlockUpload::Initiate { index, sub, .. } => self.refuse_block(index, sub),
-            _ => self.abort_local(AbortCode::InvalidCommandSpecifier),
-        }
-    }
-
-    pub(super) fn on_block_download(
+    /// A block initiate: superseding and refused for its own object.
+    pub(super) fn on_block_initiate(
         &mut self,
         _now: Timestamp,
-        cmd: ClientBlockDownload,
-        _frame: &[u8],
+        _frame: &CanFrame,
+        index: u16,
+        sub: u8,
     ) {
-        match cmd {
-            ClientBlockDownload::Initiate { index, sub, .. } => self.refuse_block(index, sub),
-            _ => self.abort_local(AbortCode::InvalidCommandSpecifier),
-        }
+        self.refuse_block(index, sub);
+    }
+
+    /// Any other block command: an unknown command.
+    pub(super) fn on_block_command(&mut self, _now: Timestamp, _frame: &CanFrame) {
+        self.abort_local(AbortCode::InvalidCommandSpecifier);
     }
 
     fn refuse_block(&mut self, index: u16, sub: u8) {

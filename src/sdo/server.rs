@@ -63,14 +63,15 @@ use super::abort::AbortCode;
 use super::block::MAX_BLOCK_SIZE;
 #[cfg(feature = "sdo-block")]
 use super::block::{Receiver, Sender};
-use super::data::{InitiatePayload, Segment};
 use super::segmented::Segments;
-use super::wire::{ClientCommand, SdoRequest};
+#[cfg(feature = "sdo-block")]
+use super::wire::ClientCommand;
+use super::wire::SdoRequest;
 use super::words;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
-use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
+use crate::od::{ObjectDictionary, ObjectInfo, SizeRule};
 use crate::queue::{EventQueue, FrameSlot};
 use crate::time::{Timers, Timestamp};
 
@@ -308,15 +309,6 @@ impl Channel {
     }
 }
 
-/// An object with size rule `size`, for its `check_download_len`.
-#[inline]
-const fn size_info(size: SizeRule) -> ObjectInfo {
-    ObjectInfo {
-        size,
-        ..ObjectInfo::fixed(Access::ReadWrite, 0)
-    }
-}
-
 impl<D: ObjectDictionary> Server<D> {
     /// A server on `config`'s identifiers serving `od`, with an event queue
     /// of [`DEFAULT_EVENT_CAPACITY`].
@@ -538,12 +530,9 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     }
 
     fn abort_object(&mut self, index: u16, sub: u8, code: AbortCode) {
-        if self.is_writing() {
-            let (index, sub) = self.object();
-            self.od.abort_write(index, sub);
-        }
+        self.cancel();
         self.send(words::abort(index, sub, code));
-        self.finish(ServerEvent::Aborted {
+        self.emit(ServerEvent::Aborted {
             index,
             sub,
             code,
@@ -552,39 +541,32 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     }
 
     fn abort_by_peer(&mut self, code: AbortCode) {
-        if !self.is_busy() {
-            return;
-        }
-        let (index, sub) = self.object();
-        if self.is_writing() {
-            self.od.abort_write(index, sub);
-        }
         // CiA 301 code 0 is not a code; report it as a general error.
         let code = match code {
             AbortCode::Other(0) => AbortCode::GeneralError,
             c => c,
         };
-        self.finish(ServerEvent::Aborted {
-            index,
-            sub,
-            code,
-            origin: AbortOrigin::Peer,
-        });
+        self.end_transfer(code, AbortOrigin::Peer);
     }
 
     fn supersede(&mut self) {
+        self.end_transfer(AbortCode::GeneralError, AbortOrigin::Superseded);
+    }
+
+    /// Ends the running transfer without a frame (the peer aborted it, or
+    /// a new request replaced it): the dictionary's `abort_write` for a
+    /// download, one Aborted event. Does nothing while idle.
+    fn end_transfer(&mut self, code: AbortCode, origin: AbortOrigin) {
         if !self.is_busy() {
             return;
         }
         let (index, sub) = self.object();
-        if self.is_writing() {
-            self.od.abort_write(index, sub);
-        }
-        self.finish(ServerEvent::Aborted {
+        self.cancel();
+        self.emit(ServerEvent::Aborted {
             index,
             sub,
-            code: AbortCode::GeneralError,
-            origin: AbortOrigin::Superseded,
+            code,
+            origin,
         });
     }
 
@@ -593,154 +575,70 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             .set(REQUEST_TIMEOUT, Some(now.add_micros(self.timeout_us)));
     }
 
-    fn initiate_download(&mut self, now: Timestamp, index: u16, sub: u8, payload: InitiatePayload) {
-        let info = match self.od.info(index, sub) {
-            Ok(info) => info,
-            Err(code) => return self.abort_object(index, sub, code),
+    /// A new transfer of `index`/`sub` (an upload when `download` is
+    /// `None`): the running one superseded, the object looked up, and every
+    /// failure answered by one abort frame for the object (one call site of
+    /// the abort for both initiate paths).
+    fn initiate(&mut self, now: Timestamp, index: u16, sub: u8, download: Option<Download>) {
+        self.supersede();
+        let result = match self.od.info(index, sub) {
+            Ok(info) => match download {
+                None => self.initiate_upload(now, index, sub, info),
+                Some(payload) => self.initiate_download(now, index, sub, info, payload),
+            },
+            Err(code) => Err(code),
         };
-        if !info.access.is_writable() {
-            return self.abort_object(index, sub, AbortCode::WriteOfReadOnlyObject);
+        if let Err(code) = result {
+            self.abort_object(index, sub, code);
         }
-        match payload {
-            InitiatePayload::Expedited {
-                data,
-                size_indicated,
-            } => {
-                let bytes = data.as_slice();
-                // Size not indicated: "up to 4 bytes", the object decides.
-                let len = match (size_indicated, info.size) {
-                    (false, SizeRule::Fixed(n)) if n <= bytes.len() => n,
-                    // A fixed object longer than the frame can carry: the
-                    // length cannot match, and is not known to be short.
-                    (false, SizeRule::Fixed(_)) => {
-                        return self.abort_object(index, sub, AbortCode::DataTypeLengthMismatch);
-                    }
-                    _ => bytes.len(),
-                };
-                if let Err(code) = info.check_download_len(len) {
-                    return self.abort_object(index, sub, code);
-                }
-                let bytes = bytes.get(..len).unwrap_or(&[]);
-                let result = self
-                    .od
-                    .write(index, sub, 0, bytes)
-                    .and_then(|()| self.od.finish_write(index, sub, len));
-                if let Err(code) = result {
-                    self.od.abort_write(index, sub);
-                    return self.abort_object(index, sub, code);
-                }
-                self.send(words::mux(0x60, index, sub, 0));
-                self.finish(ServerEvent::Downloaded { index, sub, len });
-            }
-            InitiatePayload::Segmented { size } => {
-                let size = size.map(|s| usize::try_from(s).unwrap_or(usize::MAX));
-                if let Some(size) = size {
-                    if let Err(code) = info.check_download_len(size) {
-                        return self.abort_object(index, sub, code);
-                    }
-                }
-                self.send(words::mux(0x60, index, sub, 0));
-                self.state = State::Downloading {
-                    index,
-                    sub,
-                    rx: Segments::new(size),
-                    size: info.size,
-                };
-                self.arm(now);
-            }
-        }
-    }
-
-    /// A download segment: checked by the segment rules and the object's
-    /// size rule, written, acknowledged. The receive cursor is updated in
-    /// place (no copy of the state per segment); the acknowledgement is
-    /// made as `SdoResponse::new` of `ServerCommand::DownloadSegment` encodes it.
-    /// Out of line (see `upload_segment`).
-    #[inline(never)]
-    fn download_segment(&mut self, now: Timestamp, seg: &Segment) {
-        let State::Downloading {
-            index,
-            sub,
-            rx,
-            size,
-        } = &mut self.state
-        else {
-            return self.abort_local(AbortCode::InvalidCommandSpecifier);
-        };
-        let (index, sub) = (*index, *sub);
-        let info = size_info(*size);
-        let placed = match rx.on_segment(seg) {
-            Ok(placed) => placed,
-            Err(code) => return self.abort_local(code),
-        };
-        let end = placed.total;
-        if let Err(AbortCode::DataTypeLengthTooHigh) = info.check_download_len(end) {
-            return self.abort_local(AbortCode::DataTypeLengthTooHigh);
-        }
-        if let Err(code) = self
-            .od
-            .write(index, sub, placed.offset, seg.data.as_slice())
-        {
-            return self.abort_local(code);
-        }
-        let ack = [0x20 | u8::from(seg.toggle) << 4, 0, 0, 0, 0, 0, 0, 0];
-        if !seg.last {
-            self.send_bytes(ack, 8);
-            return self.arm(now);
-        }
-        if let Err(code) = info
-            .check_download_len(end)
-            .and_then(|()| self.od.finish_write(index, sub, end))
-        {
-            return self.abort_local(code);
-        }
-        self.send_bytes(ack, 8);
-        self.finish(ServerEvent::Downloaded {
-            index,
-            sub,
-            len: end,
-        });
     }
 
     /// Every request but the segment of a running segmented transfer
-    /// (out of line: the per-segment path stays small).
+    /// (out of line: the per-segment path stays small), decoded by the
+    /// server's own decoder (`server_wire`): what the general decoder
+    /// gives, without the fields the server does not use.
     #[inline(never)]
     fn handle_request(&mut self, now: Timestamp, frame: &CanFrame) {
         if self.block_segment(now, frame.data()) {
             return;
         }
-        // The general decoder alone: the segment paths of `decode_frame`
-        // are `handle_frame`'s own.
-        let Ok(command) = ClientCommand::of_frame(frame) else {
+        let Some(request) = server_wire::request(frame) else {
             return;
         };
-        match command {
-            ClientCommand::InitiateUpload { index, sub } => {
-                self.supersede();
-                self.initiate_upload(now, index, sub);
-            }
-            ClientCommand::InitiateDownload {
+        match request {
+            Request::InitiateUpload { index, sub } => self.initiate(now, index, sub, None),
+            Request::InitiateDownload {
                 index,
                 sub,
                 payload,
-            } => {
-                self.supersede();
-                self.initiate_download(now, index, sub, payload);
-            }
+            } => self.initiate(now, index, sub, Some(payload)),
+            Request::Abort(code) => self.abort_by_peer(code),
+            Request::BlockInitiate { index, sub } => self.on_block_initiate(now, frame, index, sub),
+            Request::Block => self.on_block_command(now, frame),
             // A segment of the running segmented transfer took
             // `handle_frame`'s own path; any other segment request does not
             // fit the state (what `upload_segment` / `download_segment`
-            // would answer).
-            ClientCommand::UploadSegment { .. } | ClientCommand::DownloadSegment(_) => {
-                self.abort_local(AbortCode::InvalidCommandSpecifier);
-            }
-            ClientCommand::Abort { code, .. } => self.abort_by_peer(code),
-            ClientCommand::BlockUpload(b) => self.on_block_upload(now, b),
-            ClientCommand::BlockDownload(b) => self.on_block_download(now, b, frame.data()),
-            ClientCommand::Unknown(_) => {
-                self.abort_local(AbortCode::InvalidCommandSpecifier);
-            }
+            // would answer), and ccs = 7 is not a command.
+            Request::Invalid => self.abort_local(AbortCode::InvalidCommandSpecifier),
         }
+    }
+
+    /// A block command with block transfer on: the general decoder's
+    /// command for the block code (the frame decodes: `server_wire::request`
+    /// checked its length as that decoder does).
+    #[cfg(feature = "sdo-block")]
+    fn on_block_command(&mut self, now: Timestamp, frame: &CanFrame) {
+        match ClientCommand::of_frame(frame) {
+            Ok(ClientCommand::BlockUpload(b)) => self.on_block_upload(now, b),
+            Ok(ClientCommand::BlockDownload(b)) => self.on_block_download(now, b, frame.data()),
+            _ => {}
+        }
+    }
+
+    /// A block initiate with block transfer on (see `on_block_command`).
+    #[cfg(feature = "sdo-block")]
+    fn on_block_initiate(&mut self, now: Timestamp, frame: &CanFrame, _index: u16, _sub: u8) {
+        self.on_block_command(now, frame);
     }
 }
 
@@ -774,7 +672,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Machine for Server<D, EVENTS> {
             }
             (State::Downloading { .. }, 0) => {
                 if let Ok(len) = SdoRequest::check_download_segment(frame) {
-                    self.download_segment(now, &super::wire::segment_of_frame(frame, len));
+                    self.download_segment(now, frame.padded_data(), len);
                 }
             }
             _ => self.handle_request(now, frame),
@@ -803,6 +701,13 @@ impl<D: ObjectDictionary, const EVENTS: usize> Machine for Server<D, EVENTS> {
 
 #[path = "server_upload.rs"]
 mod upload;
+
+#[path = "server_download.rs"]
+mod download;
+
+#[path = "server_wire.rs"]
+mod server_wire;
+use server_wire::{Download, Request};
 
 #[cfg(feature = "sdo-block")]
 #[path = "block_server.rs"]

@@ -5,7 +5,7 @@
 
 use super::super::segmented::check_toggle;
 use super::super::words;
-use super::{AbortCode, ObjectDictionary, Server, ServerEvent, State};
+use super::{AbortCode, ObjectDictionary, ObjectInfo, Server, ServerEvent, State};
 use crate::time::Timestamp;
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
@@ -40,33 +40,34 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         Ok(got)
     }
 
-    pub(super) fn initiate_upload(&mut self, now: Timestamp, index: u16, sub: u8) {
-        let info = match self.od.info(index, sub) {
-            Ok(info) => info,
-            Err(code) => return self.abort_object(index, sub, code),
-        };
+    /// An initiate upload of the object `info` describes: 1..=4 bytes
+    /// answered expedited, any other length started segmented. An error is
+    /// the abort code to answer with.
+    pub(super) fn initiate_upload(
+        &mut self,
+        now: Timestamp,
+        index: u16,
+        sub: u8,
+        info: ObjectInfo,
+    ) -> Result<(), AbortCode> {
         if !info.access.is_readable() {
-            return self.abort_object(index, sub, AbortCode::ReadOfWriteOnlyObject);
+            return Err(AbortCode::ReadOfWriteOnlyObject);
         }
         if (1..=4).contains(&info.len) {
             let mut buf = [0u8; 4];
             let want = buf.get_mut(..info.len).unwrap_or(&mut []);
-            let n = match self.read_full(index, sub, 0, want) {
-                Ok(n) => n,
-                Err(code) => return self.abort_object(index, sub, code),
-            };
+            let n = self.read_full(index, sub, 0, want)?;
             if n == 0 {
-                return self.abort_object(index, sub, AbortCode::NoDataAvailable);
+                return Err(AbortCode::NoDataAvailable);
             }
             // The bytes past `n` zero, as the frame has them.
             let mask = u32::MAX.checked_shr(32 - 8 * n.min(4) as u32).unwrap_or(0);
             let data = u32::from_le_bytes(buf) & mask;
             self.send(words::expedited(2, index, sub, data, n));
-            return self.finish(ServerEvent::Uploaded { index, sub, len: n });
+            self.finish(ServerEvent::Uploaded { index, sub, len: n });
+            return Ok(());
         }
-        let Ok(size) = u32::try_from(info.len) else {
-            return self.abort_object(index, sub, AbortCode::OutOfMemory);
-        };
+        let size = u32::try_from(info.len).map_err(|_| AbortCode::OutOfMemory)?;
         self.send(words::segmented(2, index, sub, size));
         self.state = State::Uploading {
             index,
@@ -76,6 +77,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             toggle: false,
         };
         self.arm(now);
+        Ok(())
     }
 
     /// An upload segment request (ccs = 3, toggle `toggle`): the next
@@ -103,7 +105,10 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         if let Err(code) = check_toggle(toggle, expected) {
             return self.abort_local(code);
         }
-        let mut data = [0u8; 7];
+        // The frame made in place: byte 0 the command, the data read
+        // straight into bytes 1..=7 (zero past n: n < want aborts below).
+        let mut frame = [0u8; 8];
+        let [command, data @ ..] = &mut frame;
         let want = len.saturating_sub(offset).min(7);
         let n = match self.read_full(index, sub, offset, data.get_mut(..want).unwrap_or(&mut [])) {
             Ok(n) => n,
@@ -115,17 +120,8 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         }
         let offset = offset.saturating_add(n);
         let last = offset >= len;
-        // n is at most 7: the 3-bit count of unused bytes is 7 - n.
-        let unused = 7u8.saturating_sub(n as u8);
-        let b0 = u8::from(toggle) << 4 | unused << 1 | u8::from(last);
-        // Byte 0 the command, bytes 1..=7 the data (zero past n): one word
-        // from two overlapping loads of the 7 bytes, which read back what
-        // a 7-byte copy stored without a stall on a wider load.
-        let [a, b, c, d, e, f, g] = data;
-        let lo = u32::from_le_bytes([a, b, c, d]);
-        let hi = u32::from_le_bytes([d, e, f, g]);
-        let word = (u64::from(lo) | u64::from(hi) << 24) << 8 | u64::from(b0);
-        self.send_bytes(word.to_le_bytes(), 8);
+        *command = words::upload_segment(toggle, n, last);
+        self.send_bytes(frame, 8);
         if last {
             return self.finish(ServerEvent::Uploaded { index, sub, len });
         }

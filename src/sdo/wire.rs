@@ -441,6 +441,7 @@ impl Writer {
 impl ClientCommand {
     /// The command of a frame, as `SdoRequest::decode_frame` decodes it
     /// (the general decoder alone, without the frame's bytes kept).
+    #[cfg(any(test, feature = "sdo-block"))]
     #[inline(always)]
     pub(crate) fn of_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
         Self::decode_raw(&RawSdo::of_frame(frame))
@@ -958,7 +959,9 @@ fn segment_of(raw: &RawSdo, len: usize) -> Segment {
 }
 
 /// The segment of a frame checked by `check_download_segment` or
-/// `check_upload_segment` (`len` is what that returned).
+/// `check_upload_segment` (`len` is what that returned): the client's
+/// upload segment (the server reads its download segments from the frame).
+#[cfg(feature = "sdo-client-segmented")]
 #[inline(always)]
 pub(crate) fn segment_of_frame(frame: &CanFrame, len: usize) -> Segment {
     segment_of(&RawSdo::of_frame(frame), len)

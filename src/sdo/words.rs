@@ -41,6 +41,16 @@ pub(crate) const fn segmented(specifier: u8, index: u16, sub: u8, size: u32) -> 
     mux(specifier << 5 | 0x01, index, sub, size)
 }
 
+/// Byte 0 of an upload segment response (scs = 0) with toggle `toggle`,
+/// `n` (0..=7) data bytes and the c bit `last`.
+#[inline(always)]
+#[must_use]
+pub(crate) const fn upload_segment(toggle: bool, n: usize, last: bool) -> u8 {
+    // n is at most 7: the 3-bit count of unused bytes is 7 - n.
+    let unused = 7 - if n > 7 { 7 } else { n } as u8;
+    (toggle as u8) << 4 | unused << 1 | last as u8
+}
+
 /// A block acknowledgement (`b0` A2h, both directions): `ackseq`, then
 /// the next block size.
 #[cfg(feature = "sdo-block")]
@@ -62,7 +72,9 @@ pub(crate) const fn block_end(unused: u8, crc: u16) -> u64 {
 #[cfg(test)]
 mod tests {
     use super::super::wire::{ClientCommand, SdoRequest, SdoResponse, ServerCommand};
-    use super::super::{AbortCode, ExpeditedData, InitiatePayload, ALL_ABORT_CODES};
+    use super::super::{
+        AbortCode, ExpeditedData, InitiatePayload, Segment, SegmentData, ALL_ABORT_CODES,
+    };
     use super::*;
 
     fn request(command: ClientCommand) -> u64 {
@@ -145,6 +157,20 @@ mod tests {
                     })
                 );
             }
+        }
+        for (toggle, last, data) in [
+            (false, false, &[1u8, 2, 3, 4, 5, 6, 7][..]),
+            (true, true, &[9][..]),
+            (false, true, &[][..]),
+            (true, false, &[1, 2, 3][..]),
+        ] {
+            let segment = ServerCommand::UploadSegment(Segment {
+                toggle,
+                last,
+                data: SegmentData::new(data).unwrap(),
+            });
+            let [b0, ..] = SdoResponse::new(segment).encode().0;
+            assert_eq!(upload_segment(toggle, data.len(), last), b0);
         }
         assert_eq!(
             0x60,
