@@ -346,10 +346,13 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
             state: State::Idle,
             timers: Timers::new(),
             transmit: FrameSlot::new(),
-            events: EventQueue::new(ClientEvent::Uploaded {
+            // The filler (never returned) as zero bytes: cleared with the
+            // rest of the state.
+            events: EventQueue::new(ClientEvent::UploadData {
                 index: 0,
                 sub: 0,
-                len: 0,
+                offset: 0,
+                data: SegmentData::EMPTY,
             }),
         }
     }
