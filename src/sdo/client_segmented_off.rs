@@ -18,6 +18,15 @@
 //!   parameter does not match") would only fit a response with a size
 //!   above 4, and CiA 301 lets a server answer segmented without a size or
 //!   for a short value too, so one code for every case.
+//! - One response path: the client's own decoder of the responses an
+//!   expedited client can get (`wire_expedited.rs`: initiate upload
+//!   response expedited or segmented, initiate download response, abort,
+//!   every other command only checked for its length), then one match of
+//!   the response against the running transfer. One call leaves at most
+//!   two events (an expedited upload's data, then `Uploaded`):
+//!   [`EVENTS_PER_CALL`](super::super::EVENTS_PER_CALL) is the capacity
+//!   for a caller that reads every event after every call (the tests prove
+//!   the bound on every response).
 
 use super::super::abort::AbortCode;
 use super::super::data::SegmentData;
@@ -48,7 +57,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// among it, is a command that does not fit (05040001h, see the
     /// module docs). At most two events: the bound of
     /// [`EVENTS_PER_CALL`](super::super::EVENTS_PER_CALL).
-    #[inline(never)]
+    #[inline]
     pub(super) fn response(&mut self, now: Timestamp, frame: &CanFrame) {
         let _ = now;
         let (index, sub, upload, written) = match &self.state {
