@@ -372,21 +372,31 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// The object of the running transfer.
     #[must_use]
     pub const fn current(&self) -> Option<(u16, u8)> {
+        if self.is_busy() {
+            Some(self.object())
+        } else {
+            None
+        }
+    }
+
+    /// The object of the running transfer, (0, 0) when idle: the one match
+    /// over the states.
+    const fn object(&self) -> (u16, u8) {
         match self.state {
-            State::Idle => None,
+            State::Idle => (0, 0),
             State::UploadInitiated { index, sub } | State::DownloadInitiated { index, sub, .. } => {
-                Some((index, sub))
+                (index, sub)
             }
             #[cfg(feature = "sdo-client-segmented")]
             State::Uploading { index, sub, .. } | State::Downloading { index, sub, .. } => {
-                Some((index, sub))
+                (index, sub)
             }
             #[cfg(feature = "sdo-block")]
             State::BlockDownloadInitiated { index, sub, .. }
             | State::BlockDownloading { index, sub, .. }
             | State::BlockDownloadEnding { index, sub, .. }
             | State::BlockUploadInitiated { index, sub }
-            | State::BlockUploading { index, sub, .. } => Some((index, sub)),
+            | State::BlockUploading { index, sub, .. } => (index, sub),
         }
     }
 
@@ -497,7 +507,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     }
 
     fn abort_local(&mut self, code: AbortCode) {
-        let (index, sub) = self.current().unwrap_or((0, 0));
+        let (index, sub) = self.object();
         self.abort_object(index, sub, code);
     }
 

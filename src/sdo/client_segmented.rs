@@ -153,7 +153,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// The server aborted: the transfer ends with its code (0 reported as
     /// 08000000h), nothing is sent back.
     fn aborted_by_peer(&mut self, code: AbortCode) {
-        let (index, sub) = self.current().unwrap_or((0, 0));
+        let (index, sub) = self.object();
         let code = match code {
             AbortCode::Other(0) => AbortCode::GeneralError,
             c => c,
