@@ -73,10 +73,6 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         let mux = u32::from(index) | u32::from(sub) << 16;
         let code = match response {
             Response::Abort(code) => {
-                let code = match code {
-                    AbortCode::Other(0) => AbortCode::GeneralError,
-                    c => c,
-                };
                 return self.finish(ClientEvent::Aborted {
                     index,
                     sub,

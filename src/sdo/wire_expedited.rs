@@ -28,7 +28,8 @@ pub(super) enum Response {
     Segmented { mux: u32 },
     /// scs = 3.
     Downloaded { mux: u32 },
-    /// scs = 4: the server's abort code (its multiplexer is not used).
+    /// scs = 4: the server's abort code as the client reports it (0, no
+    /// code, as 08000000h; the multiplexer is not used).
     Abort(AbortCode),
     /// Any other command (scs 0, 1, 5, 6, 7): none fits an expedited
     /// transfer.
@@ -96,7 +97,10 @@ pub(super) fn response(frame: &CanFrame) -> Option<Response> {
         },
         2 => Response::Segmented { mux },
         3 => Response::Downloaded { mux },
-        4 => Response::Abort(AbortCode::from_u32(tail)),
+        4 => Response::Abort(AbortCode::from_u32(match tail {
+            0 => AbortCode::GeneralError.to_u32(),
+            code => code,
+        })),
         _ => Response::Invalid,
     })
 }
@@ -132,6 +136,10 @@ mod tests {
             ServerCommand::InitiateDownload { index, sub } => Response::Downloaded {
                 mux: mux(index, sub),
             },
+            ServerCommand::Abort {
+                code: AbortCode::Other(0),
+                ..
+            } => Response::Abort(AbortCode::GeneralError),
             ServerCommand::Abort { code, .. } => Response::Abort(code),
             _ => Response::Invalid,
         })
@@ -234,6 +242,11 @@ mod tests {
             Some(Response::Abort(AbortCode::SdoProtocolTimedOut))
         );
         assert_eq!(response(&frame(&[0x80, 0, 0, 0, 0x00, 0x00, 0x04])), None);
+        // No code: reported as 08000000h.
+        assert_eq!(
+            response(&frame(&[0x80, 0x08, 0x10, 0, 0, 0, 0, 0])),
+            Some(Response::Abort(AbortCode::GeneralError))
+        );
         assert_eq!(response(&frame(&[0x20])), Some(Response::Invalid));
         assert_eq!(response(&frame(&[0x00, 1, 2])), None);
         assert_eq!(response(&frame(&[])), None);
