@@ -60,6 +60,7 @@
 //!   reset communication only the communication objects; both forget the
 //!   pairing and are reported as [`DeviceEvent::Reset`].
 
+use core::mem::MaybeUninit;
 use core::time::Duration;
 
 use super::charger_objects::ChargerObjects;
@@ -293,19 +294,35 @@ const PAIRS: [PdoPair; 7] = {
     [a, b, c, d, e, f, tpdo3]
 };
 
-/// Writes the charger's default PDO set into `pdos` (every slot): its
-/// published mappings ([`CHARGER_DEFAULT_PDOS`], one loop over the table;
-/// RPDO 3 has none and no slot), with COB-IDs not valid until configured
-/// (or valid defaults without configuration) and the configured TPDO
-/// periods.
+// Every row of the table maps validly (what `PdoSlot::from_table` needs):
+// checked when the crate compiles, not at every reset.
+const _: () = {
+    let mut i = 0;
+    while i < CHARGER_DEFAULT_PDOS.len() {
+        assert!(
+            PdoSlot::table_mapping_valid(CHARGER_DEFAULT_PDOS[i].entries),
+            "a Delta-Q default PDO maps invalidly"
+        );
+        i += 1;
+    }
+};
+
+/// Writes the charger's default PDO set into `pdos` (every slot), in
+/// place: one pass over [`CHARGER_DEFAULT_PDOS`], each published PDO's
+/// slot written from its row (RPDO 3 has no entries and no slot), with
+/// COB-IDs not valid until configured (or valid defaults without
+/// configuration) and the configured TPDO periods.
 fn default_pdos<const T: usize, const R: usize>(
     config: &ChargerPowerOn,
     pdos: &mut PdoConfig<T, R>,
 ) {
     pdos.clear();
+    let valid = !config.configure_cob_ids;
     for d in &CHARGER_DEFAULT_PDOS {
-        let Some(mapping) = d.mapping() else { continue };
-        let cob = PdoCobId::from_u32(d.cob_id(config.node)).with_valid(!config.configure_cob_ids);
+        if d.entries.is_empty() {
+            continue;
+        }
+        let cob = PdoCobId::from_u32(d.cob_id(config.node)).with_valid(valid);
         let period = match d.direction {
             PdoDirection::Transmit => config
                 .tpdo_periods_ms
@@ -314,11 +331,8 @@ fn default_pdos<const T: usize, const R: usize>(
                 .unwrap_or(0),
             PdoDirection::Receive => 0,
         };
-        pdos.insert(
-            d.direction,
-            d.number,
-            PdoSlot::new(PdoCommParams::event_driven(cob, period), &mapping),
-        );
+        let comm = PdoCommParams::event_driven(cob, period);
+        pdos.insert(d.direction, d.number, PdoSlot::from_table(comm, d.entries));
     }
 }
 
@@ -456,10 +470,46 @@ impl<const Q: usize> Charger<Q> {
     /// ```
     #[must_use]
     pub fn with_queue_capacity(config: ChargerConfig) -> Self {
+        let mut charger = Self::blank(config);
+        charger.load();
+        charger
+    }
+
+    /// [`with_queue_capacity`](Self::with_queue_capacity) built in `slot`
+    /// (a firmware's static): the charger is written there and its
+    /// power-on values are loaded in place, not built elsewhere and moved.
+    ///
+    /// ```
+    /// use core::mem::MaybeUninit;
+    /// use canopen_codec::deltaq::{Charger, ChargerConfig};
+    /// use canopen_codec::machine::Machine;
+    /// use canopen_codec::{NodeId, Timestamp};
+    /// let mut slot = MaybeUninit::<Charger<4>>::uninit();
+    /// let config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
+    /// let c = Charger::new_in(&mut slot, config);
+    /// c.boot(Timestamp::ZERO);
+    /// assert_eq!(c.poll_transmit().unwrap().to_string(), "70A#00");
+    /// ```
+    pub fn new_in(slot: &mut MaybeUninit<Self>, config: ChargerConfig) -> &mut Self {
+        let charger = slot.write(Self::blank(config));
+        charger.load();
+        charger
+    }
+
+    /// The charger before its power-on values are loaded (the device's
+    /// blank of constants).
+    fn blank(config: ChargerConfig) -> Self {
         Charger {
-            device: Device::new(ChargerPowerOn::from(config), ChargerObjects::new()),
+            device: Device::blank(ChargerPowerOn::from(config), ChargerObjects::new()),
             profile: ChargerProfile::new(config),
         }
+    }
+
+    /// Loads the power-on values into the blank: one copy for every
+    /// constructor.
+    #[inline(never)]
+    fn load(&mut self) {
+        self.device.load_power_on();
     }
 
     // ----- getters -----------------------------------------------------------
@@ -800,25 +850,5 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4,
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn alarms_carry_the_eec_of_their_table_row() {
-        for code in [
-            DeltaQCode::BATTERY_MODULE_COMMUNICATION,
-            DeltaQCode::HEARTBEAT_LOST,
-            DeltaQCode::CAN_CONFIGURATION,
-        ] {
-            let Alarm(c, eec) = Alarm::of(code);
-            assert_eq!(c, code);
-            assert_eq!(Some(eec), code.entry().map(|e| e.eec), "{code}");
-        }
-        // E-0-3-2 is 8130h (heartbeat error), as the real capture shows.
-        assert_eq!(Alarm::of(DeltaQCode::HEARTBEAT_LOST).1, ErrorCode(0x8130));
-        // A code without a row: the generic EEC.
-        let unlisted = DeltaQCode::alarm(0, 5).unwrap();
-        assert_eq!(unlisted.entry(), None);
-        assert_eq!(Alarm::of(unlisted).1, ErrorCode::GENERIC);
-    }
-}
+#[path = "charger_tests.rs"]
+mod tests;

@@ -46,16 +46,17 @@ const QUEUE_CAPACITY: usize = 4;
 #[no_mangle]
 static mut CHARGER_STATE: MaybeUninit<Charger<QUEUE_CAPACITY>> = MaybeUninit::uninit();
 
-/// Builds the charger into its static. Not inlined: the temporaries of
-/// the construction live in this function's stack frame, which is gone
-/// when the loop in `main` runs (inlined, they stayed on the stack for
-/// good).
+/// Builds the charger in its static (`Charger::new_in`: the charger is
+/// written there and its power-on values are loaded in place, not built
+/// on the stack and moved). Not inlined: the temporaries of the
+/// construction live in this function's stack frame, which is gone when
+/// the loop in `main` runs (inlined, they stayed on the stack for good).
 #[inline(never)]
 fn init() -> &'static mut Charger<QUEUE_CAPACITY> {
     let config = ChargerConfig::new(CHARGER_NODE, NodeId::MIN);
     // SAFETY: `init` runs once, from `main`, and is the only code that
     // touches the static; the reference is the only one ever made.
-    unsafe { (*addr_of_mut!(CHARGER_STATE)).write(Charger::with_queue_capacity(config)) }
+    Charger::new_in(unsafe { &mut *addr_of_mut!(CHARGER_STATE) }, config)
 }
 
 #[entry]

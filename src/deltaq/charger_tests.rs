@@ -1,0 +1,117 @@
+//! Unit tests of the charger session (charger.rs).
+
+use super::*;
+use crate::frame::CanFrame;
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+#[test]
+fn alarms_carry_the_eec_of_their_table_row() {
+    for code in [
+        DeltaQCode::BATTERY_MODULE_COMMUNICATION,
+        DeltaQCode::HEARTBEAT_LOST,
+        DeltaQCode::CAN_CONFIGURATION,
+    ] {
+        let Alarm(c, eec) = Alarm::of(code);
+        assert_eq!(c, code);
+        assert_eq!(Some(eec), code.entry().map(|e| e.eec), "{code}");
+    }
+    // E-0-3-2 is 8130h (heartbeat error), as the real capture shows.
+    assert_eq!(Alarm::of(DeltaQCode::HEARTBEAT_LOST).1, ErrorCode(0x8130));
+    // A code without a row: the generic EEC.
+    let unlisted = DeltaQCode::alarm(0, 5).unwrap();
+    assert_eq!(unlisted.entry(), None);
+    assert_eq!(Alarm::of(unlisted).1, ErrorCode::GENERIC);
+}
+
+/// Everything a charger sends and reports from boot through a whole
+/// configuration (1000h of a module with every optional PDO, every COB-ID
+/// read), the module's loss and its return.
+fn transcript(c: &mut Charger<4>) -> Vec<String> {
+    let mut out = Vec::new();
+    let drain = |c: &mut Charger<4>, out: &mut Vec<String>| {
+        while let Some(f) = c.poll_transmit() {
+            out.push(f.to_string());
+        }
+        while let Some(e) = c.poll_event() {
+            out.push(std::format!("{e:?}"));
+        }
+        out.push(std::format!("timeout {:?}", c.poll_timeout()));
+    };
+    let ms = Timestamp::from_millis;
+    let frame = |id: u16, data: &[u8]| CanFrame::standard(id, data).unwrap();
+    c.boot(ms(0));
+    drain(c, &mut out);
+    c.handle_frame(ms(1), &frame(0x000, &[0x01, 0x0C]));
+    drain(c, &mut out);
+    c.handle_frame(ms(2), &frame(0x701, &[0x05]));
+    drain(c, &mut out);
+    // 1000h: profile 418 with RPDO 1/2, TPDO 1/2 and Delta-Q's bit 20.
+    let device_type = 418u32 | 0x1F << 16;
+    let [a, b, c2, d] = device_type.to_le_bytes();
+    c.handle_frame(ms(3), &frame(0x581, &[0x43, 0x00, 0x10, 0, a, b, c2, d]));
+    drain(c, &mut out);
+    let mut at = 4;
+    for _ in 0..8 {
+        let Some(request) = out.iter().rev().find(|l| l.starts_with("601#40")).cloned() else {
+            break;
+        };
+        let bytes: Vec<u8> = (0..8)
+            .map(|i| u8::from_str_radix(&request[4 + 2 * i..6 + 2 * i], 16).unwrap())
+            .collect();
+        let cob = 0x180u32 + u32::from(at as u8);
+        let [w, x, y, z] = cob.to_le_bytes();
+        c.handle_frame(
+            ms(at),
+            &frame(0x581, &[0x43, bytes[1], bytes[2], bytes[3], w, x, y, z]),
+        );
+        at += 1;
+        drain(c, &mut out);
+        if c.is_configured() {
+            break;
+        }
+    }
+    for t in [250, 1_000] {
+        c.handle_timeout(ms(t));
+        drain(c, &mut out);
+    }
+    // The module is lost, then heard again.
+    c.handle_timeout(ms(5_000));
+    drain(c, &mut out);
+    c.handle_frame(ms(5_001), &frame(0x701, &[0x00]));
+    drain(c, &mut out);
+    out
+}
+
+#[test]
+fn new_in_builds_what_new_builds() {
+    let mut config = ChargerConfig::new(NodeId::new(12).unwrap(), NodeId::MIN);
+    config.device_name = "DQ-12";
+    config.tpdo_periods = [150, 250, 350, 1200].map(core::time::Duration::from_millis);
+    let mut slot = MaybeUninit::<Charger<4>>::uninit();
+    let built_in = Charger::new_in(&mut slot, config);
+    let mut built = Charger::<4>::with_queue_capacity(config);
+    assert_eq!(built_in.config(), built.config());
+    assert_eq!(built_in.comm(), built.comm());
+    assert_eq!(built_in.comm().device_name, "DQ-12");
+    assert_eq!(built_in.comm().heartbeat_ms, 1000);
+    assert_eq!(built_in.pdo_config(), built.pdo_config());
+    assert_eq!(built_in.objects(), built.objects());
+    assert_eq!(built_in.nmt_state(), built.nmt_state());
+    assert_eq!(built_in.poll_timeout(), built.poll_timeout());
+    let expected = transcript(&mut built);
+    assert_eq!(expected.first().map(String::as_str), Some("70C#00"));
+    for seen in [
+        "Configured { tpdos: 15, rpdos: 7 }",
+        "70C#05",
+        "BatteryLost",
+    ] {
+        assert!(expected.iter().any(|l| l == seen), "{seen}: {expected:?}");
+    }
+    // The TPDOs run on the paired COB-IDs.
+    assert!(
+        expected.iter().any(|l| l.starts_with("184#")),
+        "{expected:?}"
+    );
+    assert_eq!(transcript(built_in), expected);
+}
