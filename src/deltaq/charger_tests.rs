@@ -51,21 +51,19 @@ fn transcript(c: &mut Charger<4>) -> Vec<String> {
     let [a, b, c2, d] = device_type.to_le_bytes();
     c.handle_frame(ms(3), &frame(0x581, &[0x43, 0x00, 0x10, 0, a, b, c2, d]));
     drain(c, &mut out);
-    let mut at = 4;
-    for _ in 0..8 {
+    for at in 4..12u16 {
         let Some(request) = out.iter().rev().find(|l| l.starts_with("601#40")).cloned() else {
             break;
         };
         let bytes: Vec<u8> = (0..8)
             .map(|i| u8::from_str_radix(&request[4 + 2 * i..6 + 2 * i], 16).unwrap())
             .collect();
-        let cob = 0x180u32 + u32::from(at as u8);
+        let cob = 0x180 + u32::from(at);
         let [w, x, y, z] = cob.to_le_bytes();
         c.handle_frame(
-            ms(at),
+            ms(u64::from(at)),
             &frame(0x581, &[0x43, bytes[1], bytes[2], bytes[3], w, x, y, z]),
         );
-        at += 1;
         drain(c, &mut out);
         if c.is_configured() {
             break;
