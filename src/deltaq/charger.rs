@@ -566,9 +566,16 @@ impl ChargerProfile {
         })
     }
 
+    /// A fresh client of the same configuration: a transfer in progress
+    /// ends silently. Not inlined: one copy for its three callers.
+    #[inline(never)]
+    fn fresh_client(&mut self) {
+        self.client = Client::with_event_capacity(*self.client.config());
+    }
+
     /// Boot or NMT reset: no transfer, no pairing.
     fn restart<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
-        self.client = Client::with_event_capacity(*self.client.config());
+        self.fresh_client();
         self.link = Link::Absent;
         device.set_tpdos_enabled(now, false);
     }
@@ -606,17 +613,15 @@ impl ChargerProfile {
         }
     }
 
+    /// The module heard: first heard (the callers check [`Link::Absent`]),
+    /// booted or back after a loss.
     fn battery_found<const Q: usize>(
         &mut self,
         device: &mut ChargerDevice<Q>,
         now: Timestamp,
         state: NmtState,
-        again: bool,
     ) {
-        if !again && !matches!(self.link, Link::Absent) {
-            return;
-        }
-        if again && !matches!(self.link, Link::Absent | Link::Failed) {
+        if !matches!(self.link, Link::Absent | Link::Failed) {
             // A boot-up while configured: the module reset its PDOs; redo it.
             self.forget_pairing(device, now);
         }
@@ -634,7 +639,7 @@ impl ChargerProfile {
     /// Reads the module's 1000h with a fresh client: a transfer of an
     /// earlier attempt (a module that rebooted meanwhile) ends silently.
     fn start_configuration(&mut self, now: Timestamp) {
-        self.client = Client::with_event_capacity(*self.client.config());
+        self.fresh_client();
         self.link = Link::DeviceType;
         if self.client.start_upload(now, DEVICE_TYPE, 0).is_err() {
             self.link = Link::Failed;
@@ -775,7 +780,7 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4,
                 // No SDO in stopped: a configuration in progress ends
                 // without a frame and is redone when SDO is allowed again.
                 if matches!(self.link, Link::DeviceType | Link::CobId(..)) {
-                    self.client = Client::with_event_capacity(*self.client.config());
+                    self.fresh_client();
                     self.link = Link::Pending;
                 }
             }
@@ -786,15 +791,15 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4,
             DeviceEvent::Heartbeat(e) => match e {
                 HeartbeatEvent::Lost(n) if n == battery => self.battery_lost(device, now),
                 HeartbeatEvent::BootUp(n) if n == battery => {
-                    self.battery_found(device, now, NmtState::BootUp, true);
+                    self.battery_found(device, now, NmtState::BootUp);
                 }
                 HeartbeatEvent::Restored { node, state } if node == battery => {
-                    self.battery_found(device, now, state, true);
+                    self.battery_found(device, now, state);
                 }
                 HeartbeatEvent::StateChanged { node, state }
                     if node == battery && matches!(self.link, Link::Absent) =>
                 {
-                    self.battery_found(device, now, state, false);
+                    self.battery_found(device, now, state);
                 }
                 _ => {}
             },
@@ -816,7 +821,7 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4,
             let consumer = device.heartbeat_consumer();
             if let Some(state) = consumer.state(battery) {
                 if consumer.is_alive(battery) {
-                    self.battery_found(device, now, state, false);
+                    self.battery_found(device, now, state);
                 }
             }
         }
