@@ -140,7 +140,10 @@ impl ChargerConfig {
     /// [`ChargerPowerOn`]).
     #[must_use]
     pub fn device_config(&self) -> DeviceConfig {
-        ChargerPowerOn::from(*self).power_on_config()
+        DeviceConfig {
+            device_name: self.device_name,
+            ..ChargerPowerOn::from(*self).power_on_config()
+        }
     }
 }
 
@@ -149,18 +152,25 @@ impl ChargerConfig {
 /// settings with the times in whole milliseconds, the unit of the objects
 /// they become (1017h, 1016h and the TPDO event timers are Unsigned16 of
 /// milliseconds, saturating at 65 535 ms; the SDO timeout saturates at
-/// `u32::MAX` ms): 32 bytes on a 32-bit target instead of the 128 of a
-/// `ChargerConfig` with its `Duration`s.
+/// `u32::MAX` ms): 24 bytes on a 32-bit target instead of the 128 of a
+/// `ChargerConfig` with its `Duration`s. 1008h, the device name, is not
+/// kept here: the charger writes it once into its communication objects
+/// when it is made, and every reset keeps it there (a `const` object:
+/// nothing on the bus changes it).
 ///
 /// ```
 /// use canopen_codec::deltaq::{ChargerConfig, ChargerPowerOn};
+/// use canopen_codec::device::CommObjects;
 /// use canopen_codec::NodeId;
 /// use core::time::Duration;
 /// let mut config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
 /// config.heartbeat = Duration::from_micros(1_500_700);
 /// let kept = ChargerPowerOn::from(config);
-/// assert_eq!(kept.config().heartbeat, Duration::from_millis(1500));
-/// assert_eq!(kept.config().tpdo_periods, config.tpdo_periods);
+/// let mut comm = CommObjects::new(config.node);
+/// comm.device_name = "DQ";
+/// assert_eq!(kept.config(&comm).heartbeat, Duration::from_millis(1500));
+/// assert_eq!(kept.config(&comm).tpdo_periods, config.tpdo_periods);
+/// assert_eq!(kept.config(&comm).device_name, "DQ");
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ChargerPowerOn {
@@ -173,7 +183,6 @@ pub struct ChargerPowerOn {
     battery_timeout_ms: u16,
     tpdo_periods_ms: [u16; 4],
     sdo_timeout_ms: u32,
-    device_name: &'static str,
 }
 
 impl From<ChargerConfig> for ChargerPowerOn {
@@ -188,16 +197,16 @@ impl From<ChargerConfig> for ChargerPowerOn {
             battery_timeout_ms: millis_u16(c.battery_timeout),
             tpdo_periods_ms: c.tpdo_periods.map(millis_u16),
             sdo_timeout_ms: millis_u32(c.sdo_timeout),
-            device_name: c.device_name,
         }
     }
 }
 
 impl ChargerPowerOn {
     /// The configuration kept, as a [`ChargerConfig`] (times in whole
-    /// milliseconds).
+    /// milliseconds), with the device name (1008h) of the charger's
+    /// communication objects `comm`.
     #[must_use]
-    pub fn config(&self) -> ChargerConfig {
+    pub fn config(&self, comm: &CommObjects) -> ChargerConfig {
         let ms = |v: u16| Duration::from_millis(u64::from(v));
         ChargerConfig {
             node: self.node,
@@ -209,7 +218,7 @@ impl ChargerPowerOn {
             battery_timeout: ms(self.battery_timeout_ms),
             tpdo_periods: self.tpdo_periods_ms.map(ms),
             sdo_timeout: Duration::from_millis(u64::from(self.sdo_timeout_ms)),
-            device_name: self.device_name,
+            device_name: comm.device_name,
         }
     }
 }
@@ -351,9 +360,11 @@ impl PowerOn for ChargerPowerOn {
         comm: &mut CommObjects,
         pdos: &mut PdoConfig<T, R>,
     ) -> Policies {
+        // 1008h is written once, when the charger is made, and kept.
+        let device_name = comm.device_name;
         *comm = CommObjects::new(self.node);
         comm.device_type = CHARGER_DEVICE_TYPE;
-        comm.device_name = self.device_name;
+        comm.device_name = device_name;
         comm.heartbeat_ms = self.heartbeat_ms;
         comm.set_consumers(&[ConsumerEntry {
             node: self.battery.raw(),
@@ -471,7 +482,7 @@ impl<const Q: usize> Charger<Q> {
     #[must_use]
     pub fn with_queue_capacity(config: ChargerConfig) -> Self {
         let mut charger = Self::blank(config);
-        charger.load();
+        charger.load(config.device_name);
         charger
     }
 
@@ -492,7 +503,7 @@ impl<const Q: usize> Charger<Q> {
     /// ```
     pub fn new_in(slot: &mut MaybeUninit<Self>, config: ChargerConfig) -> &mut Self {
         let charger = slot.write(Self::blank(config));
-        charger.load();
+        charger.load(config.device_name);
         charger
     }
 
@@ -505,10 +516,12 @@ impl<const Q: usize> Charger<Q> {
         }
     }
 
-    /// Loads the power-on values into the blank: one copy for every
-    /// constructor.
+    /// Writes 1008h `device_name` into the blank's communication objects,
+    /// once (every reset keeps it, [`ChargerPowerOn`]), then loads the
+    /// power-on values: one copy for every constructor.
     #[inline(never)]
-    fn load(&mut self) {
+    fn load(&mut self, device_name: &'static str) {
+        self.device.comm_before_power_on().device_name = device_name;
         self.device.load_power_on();
     }
 
@@ -518,7 +531,7 @@ impl<const Q: usize> Charger<Q> {
     /// keeps, [`ChargerPowerOn`]).
     #[must_use]
     pub fn config(&self) -> ChargerConfig {
-        self.device.power_on().config()
+        self.device.power_on().config(self.device.comm())
     }
 
     /// True once the PDO pairing is done and the module is present.
@@ -727,10 +740,13 @@ impl ChargerProfile {
         from: usize,
         dt: u32,
     ) {
-        let config = device.pdo_config();
-        let next = PAIRS.iter().enumerate().skip(from).find(|(_, p)| {
-            p.is_declared(dt) && config.get(p.charger_direction, p.charger_pdo).is_some()
-        });
+        // Every charger PDO of `PAIRS` has its slot (`default_pdos` writes
+        // all seven at every reset and none is ever removed).
+        let next = PAIRS
+            .iter()
+            .enumerate()
+            .skip(from)
+            .find(|(_, p)| p.is_declared(dt));
         match next {
             Some((i, p)) => {
                 self.link = Link::CobId(i, dt);
@@ -788,21 +804,29 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4,
                 to: NmtState::PreOperational | NmtState::Operational,
                 ..
             } if matches!(self.link, Link::Pending) => self.start_configuration(now),
-            DeviceEvent::Heartbeat(e) => match e {
-                HeartbeatEvent::Lost(n) if n == battery => self.battery_lost(device, now),
-                HeartbeatEvent::BootUp(n) if n == battery => {
-                    self.battery_found(device, now, NmtState::BootUp);
-                }
-                HeartbeatEvent::Restored { node, state } if node == battery => {
+            DeviceEvent::Heartbeat(e) => {
+                // The module found: booted, back, or first heard with a
+                // state change (the first heartbeat is `on_frame`'s).
+                let (node, state) = match e {
+                    HeartbeatEvent::Lost(n) => {
+                        if n == battery {
+                            self.battery_lost(device, now);
+                        }
+                        return;
+                    }
+                    HeartbeatEvent::BootUp(n) => (n, NmtState::BootUp),
+                    HeartbeatEvent::Restored { node, state } => (node, state),
+                    HeartbeatEvent::StateChanged { node, state }
+                        if matches!(self.link, Link::Absent) =>
+                    {
+                        (node, state)
+                    }
+                    HeartbeatEvent::StateChanged { .. } => return,
+                };
+                if node == battery {
                     self.battery_found(device, now, state);
                 }
-                HeartbeatEvent::StateChanged { node, state }
-                    if node == battery && matches!(self.link, Link::Absent) =>
-                {
-                    self.battery_found(device, now, state);
-                }
-                _ => {}
-            },
+            }
             _ => {}
         }
     }

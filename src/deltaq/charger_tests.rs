@@ -113,3 +113,22 @@ fn new_in_builds_what_new_builds() {
     );
     assert_eq!(transcript(built_in), expected);
 }
+
+#[test]
+fn the_device_name_is_written_once_and_kept_by_both_resets() {
+    let mut config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
+    config.device_name = "DQ-10";
+    let mut c = Charger::<4>::with_queue_capacity(config);
+    assert_eq!(c.config(), ChargerPowerOn::from(config).config(c.comm()));
+    c.boot(Timestamp::ZERO);
+    for (at, cs) in [(1, 0x81), (2, 0x82)] {
+        c.handle_frame(
+            Timestamp::from_millis(at),
+            &CanFrame::standard(0x000, &[cs, 0x0A]).unwrap(),
+        );
+        assert_eq!(c.comm().device_name, "DQ-10");
+        assert_eq!(c.config().device_name, "DQ-10");
+    }
+    // The core's configuration has it too.
+    assert_eq!(config.device_config().device_name, "DQ-10");
+}
