@@ -81,7 +81,7 @@ use crate::nmt::NmtState;
 use crate::od::index::DEVICE_TYPE;
 use crate::pdo::{PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoSlot, RpdoError};
 use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent, EVENTS_PER_CALL};
-use crate::time::{millis_u16, millis_u32, Timestamp};
+use crate::time::Timestamp;
 
 /// How the charger is set up.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -185,18 +185,30 @@ pub struct ChargerPowerOn {
     sdo_timeout_ms: u32,
 }
 
+/// `d` in whole milliseconds, saturating (the arithmetic of the crate's
+/// `time::millis_u16`, which the tests compare), inlined: a configuration
+/// known when the code is compiled (the firmware's) becomes constants, no
+/// conversion code.
+#[inline(always)]
+fn whole_ms(d: Duration) -> u64 {
+    d.as_secs()
+        .saturating_mul(1000)
+        .saturating_add(u64::from(d.subsec_millis()))
+}
+
 impl From<ChargerConfig> for ChargerPowerOn {
     fn from(c: ChargerConfig) -> Self {
+        let ms16 = |d: Duration| u16::try_from(whole_ms(d)).unwrap_or(u16::MAX);
         ChargerPowerOn {
             node: c.node,
             battery: c.battery,
             mode: c.mode,
             configure_cob_ids: c.configure_cob_ids,
             self_start: c.self_start,
-            heartbeat_ms: millis_u16(c.heartbeat),
-            battery_timeout_ms: millis_u16(c.battery_timeout),
-            tpdo_periods_ms: c.tpdo_periods.map(millis_u16),
-            sdo_timeout_ms: millis_u32(c.sdo_timeout),
+            heartbeat_ms: ms16(c.heartbeat),
+            battery_timeout_ms: ms16(c.battery_timeout),
+            tpdo_periods_ms: c.tpdo_periods.map(ms16),
+            sdo_timeout_ms: u32::try_from(whole_ms(c.sdo_timeout)).unwrap_or(u32::MAX),
         }
     }
 }

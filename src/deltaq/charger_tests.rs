@@ -132,3 +132,36 @@ fn the_device_name_is_written_once_and_kept_by_both_resets() {
     // The core's configuration has it too.
     assert_eq!(config.device_config().device_name, "DQ-10");
 }
+
+#[test]
+fn the_kept_times_are_the_crates_whole_milliseconds() {
+    use crate::time::{millis_u16, millis_u32};
+    use core::time::Duration;
+    for d in [
+        Duration::ZERO,
+        Duration::from_micros(999),
+        Duration::from_micros(1_500_700),
+        Duration::from_millis(65_535),
+        Duration::from_millis(65_536),
+        Duration::from_millis(u64::from(u32::MAX) + 1),
+        Duration::MAX,
+    ] {
+        let mut config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
+        config.heartbeat = d;
+        config.battery_timeout = d;
+        config.tpdo_periods = [d; 4];
+        config.sdo_timeout = d;
+        let kept = ChargerPowerOn::from(config);
+        let ms = millis_u16(d);
+        assert_eq!(
+            (
+                kept.heartbeat_ms,
+                kept.battery_timeout_ms,
+                kept.tpdo_periods_ms
+            ),
+            (ms, ms, [ms; 4]),
+            "{d:?}"
+        );
+        assert_eq!(kept.sdo_timeout_ms, millis_u32(d), "{d:?}");
+    }
+}
