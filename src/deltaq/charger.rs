@@ -199,6 +199,7 @@ fn whole_ms(d: Duration) -> u64 {
 impl From<ChargerConfig> for ChargerPowerOn {
     fn from(c: ChargerConfig) -> Self {
         let ms16 = |d: Duration| u16::try_from(whole_ms(d)).unwrap_or(u16::MAX);
+        let [p0, p1, p2, p3] = c.tpdo_periods;
         ChargerPowerOn {
             node: c.node,
             battery: c.battery,
@@ -207,7 +208,8 @@ impl From<ChargerConfig> for ChargerPowerOn {
             self_start: c.self_start,
             heartbeat_ms: ms16(c.heartbeat),
             battery_timeout_ms: ms16(c.battery_timeout),
-            tpdo_periods_ms: c.tpdo_periods.map(ms16),
+            // Element by element, not a loop: constants fold.
+            tpdo_periods_ms: [ms16(p0), ms16(p1), ms16(p2), ms16(p3)],
             sdo_timeout_ms: u32::try_from(whole_ms(c.sdo_timeout)).unwrap_or(u32::MAX),
         }
     }
