@@ -295,8 +295,8 @@ impl<const Q: usize> Charger<Q> {
     /// blank of constants).
     fn blank(config: ChargerConfig) -> Self {
         Charger {
-            device: Device::blank(ChargerPowerOn::from(config), ChargerObjects::new()),
             profile: ChargerProfile::new(config),
+            device: Device::blank(ChargerPowerOn::from(config), ChargerObjects::new()),
         }
     }
 
