@@ -7,7 +7,7 @@ use core::time::Duration;
 
 use super::super::{timeouts, OperatingMode, CHARGER_DEFAULT_PDOS};
 use crate::cia419::CHARGER_DEVICE_TYPE;
-use crate::cob_id::NodeId;
+use crate::cob_id::{NodeId, PdoNumber};
 use crate::device::{CommObjects, DeviceConfig, ErrorFieldFormat, Policies, PowerOn};
 use crate::heartbeat::ConsumerEntry;
 use crate::pdo::{PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoSlot};
@@ -166,35 +166,71 @@ impl ChargerPowerOn {
     }
 }
 
-// Every row of the table maps validly (what `PdoSlot::from_table` needs):
-// checked when the crate compiles, not at every reset.
-const _: () = {
-    let mut i = 0;
+/// What a reset needs of one published row of [`CHARGER_DEFAULT_PDOS`]
+/// (its direction, number, COB-ID base and mapping), 12 bytes instead of
+/// the row's 32 on a 32-bit target.
+#[derive(Clone, Copy)]
+struct DefaultSlot {
+    direction: PdoDirection,
+    number: PdoNumber,
+    cob_id_base: u16,
+    entries: &'static [(u16, u8, u8)],
+}
+
+/// The rows of [`CHARGER_DEFAULT_PDOS`] that have a mapping (all but RPDO
+/// 3), in order, made when the crate compiles; every one maps validly
+/// (what `PdoSlot::from_table` needs) and has an 11-bit COB-ID base,
+/// checked here too, not at every reset.
+const DEFAULT_SLOTS: [DefaultSlot; 7] = {
+    let mut slots = [DefaultSlot {
+        direction: PdoDirection::Receive,
+        number: PdoNumber::P0,
+        cob_id_base: 0,
+        entries: &[],
+    }; 7];
+    let (mut i, mut n) = (0, 0);
     while i < CHARGER_DEFAULT_PDOS.len() {
+        let d = &CHARGER_DEFAULT_PDOS[i];
         assert!(
-            PdoSlot::table_mapping_valid(CHARGER_DEFAULT_PDOS[i].entries),
+            PdoSlot::table_mapping_valid(d.entries),
             "a Delta-Q default PDO maps invalidly"
         );
+        assert!(
+            d.cob_id_base <= 0x780,
+            "a Delta-Q default COB-ID base is not 11-bit"
+        );
+        if !d.entries.is_empty() {
+            slots[n] = DefaultSlot {
+                direction: d.direction,
+                number: d.number,
+                cob_id_base: d.cob_id_base as u16,
+                entries: d.entries,
+            };
+            n += 1;
+        }
         i += 1;
     }
+    assert!(
+        n == slots.len(),
+        "the Delta-Q default PDOs are not 7 with a mapping"
+    );
+    slots
 };
 
 /// Writes the charger's default PDO set into `pdos` (every slot), in
-/// place: one pass over [`CHARGER_DEFAULT_PDOS`], each published PDO's
-/// slot written from its row (RPDO 3 has no entries and no slot), with
-/// COB-IDs not valid until configured (or valid defaults without
-/// configuration) and the configured TPDO periods.
+/// place: one pass over [`DEFAULT_SLOTS`] (the published rows of
+/// [`CHARGER_DEFAULT_PDOS`]; RPDO 3 has no mapping and no slot), each slot
+/// written from its row, with COB-IDs not valid until configured (or
+/// valid defaults without configuration) and the configured TPDO periods.
 pub(super) fn default_pdos<const T: usize, const R: usize>(
     config: &ChargerPowerOn,
     pdos: &mut PdoConfig<T, R>,
 ) {
     pdos.clear();
     let valid = !config.configure_cob_ids;
-    for d in &CHARGER_DEFAULT_PDOS {
-        if d.entries.is_empty() {
-            continue;
-        }
-        let cob = PdoCobId::from_u32(d.cob_id(config.node)).with_valid(valid);
+    for d in &DEFAULT_SLOTS {
+        let cob = PdoCobId::from_u32(u32::from(d.cob_id_base) + u32::from(config.node.raw()))
+            .with_valid(valid);
         let period = match d.direction {
             PdoDirection::Transmit => config
                 .tpdo_periods_ms

@@ -165,3 +165,37 @@ fn the_kept_times_are_the_crates_whole_milliseconds() {
         assert_eq!(kept.sdo_timeout_ms, millis_u32(d), "{d:?}");
     }
 }
+
+/// The default PDO set a reset writes is every published row of the
+/// Delta-Q table, as `PdoSlot::new` makes it from the row's mapping (the
+/// compact table is the rows'), with the configured periods; RPDO 3 has
+/// none.
+#[test]
+fn the_default_pdos_are_the_tables_rows() {
+    use crate::deltaq::CHARGER_DEFAULT_PDOS;
+    use crate::pdo::{PdoCommParams, PdoConfig};
+    for configure_cob_ids in [true, false] {
+        let mut config = ChargerConfig::new(NodeId::new(12).unwrap(), NodeId::MIN);
+        config.configure_cob_ids = configure_cob_ids;
+        config.tpdo_periods = [150, 250, 350, 1200].map(core::time::Duration::from_millis);
+        let kept = ChargerPowerOn::from(config);
+        let mut pdos = PdoConfig::<4, 4>::new();
+        config::default_pdos(&kept, &mut pdos);
+        for d in &CHARGER_DEFAULT_PDOS {
+            let want = d.mapping().map(|mapping| {
+                let cob = PdoCobId::from_u32(d.cob_id(config.node)).with_valid(!configure_cob_ids);
+                let period = match d.direction {
+                    PdoDirection::Transmit => kept.tpdo_periods_ms[usize::from(d.number.raw())],
+                    PdoDirection::Receive => 0,
+                };
+                PdoSlot::new(PdoCommParams::event_driven(cob, period), &mapping)
+            });
+            assert_eq!(pdos.get(d.direction, d.number), want.as_ref(), "{d:?}");
+        }
+        assert_eq!(
+            pdos.get(PdoDirection::Receive, PdoNumber::P3),
+            None,
+            "RPDO 3 is not published"
+        );
+    }
+}
