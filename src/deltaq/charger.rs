@@ -526,13 +526,9 @@ impl ChargerProfile {
     ) {
         // Every charger PDO of `PAIRS` has its slot (`default_pdos` writes
         // all seven at every reset and none is ever removed).
-        let next = PAIRS
-            .iter()
-            .enumerate()
-            .skip(from)
-            .find(|(_, p)| p.is_declared(dt));
-        match next {
-            Some((i, p)) => {
+        let mut i = from;
+        while let Some(p) = PAIRS.get(i) {
+            if p.is_declared(dt) {
                 self.link = Link::CobId(i, dt);
                 if self
                     .client
@@ -541,12 +537,12 @@ impl ChargerProfile {
                 {
                     self.link = Link::Failed;
                 }
+                return;
             }
-            None => {
-                self.link = Link::Ready;
-                self.configured(device, now);
-            }
+            i += 1;
         }
+        self.link = Link::Ready;
+        self.configured(device, now);
     }
 }
 
