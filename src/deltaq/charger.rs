@@ -302,8 +302,8 @@ impl<const Q: usize> Charger<Q> {
 
     /// Writes 1008h `device_name` into the blank's communication objects,
     /// once (every reset keeps it, [`ChargerPowerOn`]), then loads the
-    /// power-on values: one copy for every constructor.
-    #[inline(never)]
+    /// power-on values (`Device::load_power_on`, not inlined on the
+    /// target: one copy for every constructor).
     fn load(&mut self, device_name: &'static str) {
         self.device.comm_before_power_on().device_name = device_name;
         self.device.load_power_on();
