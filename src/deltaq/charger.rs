@@ -60,158 +60,29 @@
 //!   reset communication only the communication objects; both forget the
 //!   pairing and are reported as [`DeviceEvent::Reset`].
 
-use core::time::Duration;
+use core::mem::MaybeUninit;
 
 use super::charger_objects::ChargerObjects;
-use super::{device_type, CHARGER_DEFAULT_PDOS};
-use super::{emergency_reaction, timeouts, DeltaQCode, OperatingMode, Reaction, ALARMS_AND_FAULTS};
+use super::device_type;
+use super::{emergency_reaction, DeltaQCode, OperatingMode, Reaction, ALARMS_AND_FAULTS};
 use crate::bytes::InlineData;
-use crate::cia419::{PdoPair, CHARGER_DEVICE_TYPE, PDO_PAIRS};
+use crate::cia419::{PdoPair, PDO_PAIRS};
 use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
-use crate::device::{
-    machine_on_device, CommObjects, Device, DeviceConfig, DeviceEvent, ErrorFieldFormat, Policies,
-    PowerOn, Profile, DEFAULT_QUEUE_CAPACITY,
-};
+use crate::device::{machine_on_device, Device, DeviceEvent, Profile, DEFAULT_QUEUE_CAPACITY};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::{CanFrame, CanId};
-use crate::heartbeat::{ConsumerEntry, HeartbeatEvent};
+use crate::heartbeat::HeartbeatEvent;
 use crate::machine::Machine;
 use crate::nmt::NmtState;
 use crate::od::index::DEVICE_TYPE;
-use crate::pdo::{PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoSlot, RpdoError};
+use crate::pdo::{PdoCobId, PdoDirection, PdoSlot, RpdoError};
 use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent, EVENTS_PER_CALL};
-use crate::time::{millis_u16, millis_u32, Timestamp};
+use crate::time::Timestamp;
 
-/// How the charger is set up.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ChargerConfig {
-    /// The charger's node id (Delta-Q default 10).
-    pub node: NodeId,
-    /// The battery module's node id (default 1).
-    pub battery: NodeId,
-    /// Operating mode: decides the reaction to the module's EMCYs.
-    pub mode: OperatingMode,
-    /// Read the module's PDO COB-IDs and pair the charger's PDOs with them.
-    pub configure_cob_ids: bool,
-    /// Enter operational after boot without waiting for an NMT start.
-    pub self_start: bool,
-    /// Heartbeat producer period (1017h).
-    pub heartbeat: Duration,
-    /// Heartbeat consumer time for the battery module (1016h).
-    pub battery_timeout: Duration,
-    /// Event timers of TPDO 0..3.
-    pub tpdo_periods: [Duration; 4],
-    /// SDO timeout of the configuration client and of the server.
-    pub sdo_timeout: Duration,
-    /// 1008h.
-    pub device_name: &'static str,
-}
-
-impl ChargerConfig {
-    /// Delta-Q defaults for charger `node` and battery module `battery`
-    /// (Delta-Q IC Series CANopen interface specification rev 2.0, sections
-    /// 4.3.1, 4.5.1, 4.5.2 and 4.6.1: heartbeat 1000 ms, consumer 2000 ms,
-    /// SDO 2000 ms, TPDO 0-2 every 200 ms and TPDO 3 every 1000 ms).
-    #[must_use]
-    pub const fn new(node: NodeId, battery: NodeId) -> Self {
-        let fast = Duration::from_millis(timeouts::CHARGER_TPDO_0_2_PERIOD_MS);
-        ChargerConfig {
-            node,
-            battery,
-            mode: OperatingMode::Local,
-            configure_cob_ids: true,
-            self_start: false,
-            heartbeat: Duration::from_millis(timeouts::HEARTBEAT_PRODUCER_MS),
-            battery_timeout: Duration::from_millis(timeouts::HEARTBEAT_CONSUMER_MS),
-            tpdo_periods: [
-                fast,
-                fast,
-                fast,
-                Duration::from_millis(timeouts::CHARGER_TPDO_3_PERIOD_MS),
-            ],
-            sdo_timeout: Duration::from_millis(timeouts::SDO_MS),
-            device_name: "canopen-codec charger",
-        }
-    }
-
-    /// The device core's configuration for this charger (times in the
-    /// whole milliseconds its objects and the core keep, see
-    /// [`ChargerPowerOn`]).
-    #[must_use]
-    pub fn device_config(&self) -> DeviceConfig {
-        ChargerPowerOn::from(*self).power_on_config()
-    }
-}
-
-/// A [`ChargerConfig`] as the charger keeps it to rebuild its power-on
-/// configuration at boot and at every reset ([`PowerOn`]): the same
-/// settings with the times in whole milliseconds, the unit of the objects
-/// they become (1017h, 1016h and the TPDO event timers are Unsigned16 of
-/// milliseconds, saturating at 65 535 ms; the SDO timeout saturates at
-/// `u32::MAX` ms): 32 bytes on a 32-bit target instead of the 128 of a
-/// `ChargerConfig` with its `Duration`s.
-///
-/// ```
-/// use canopen_codec::deltaq::{ChargerConfig, ChargerPowerOn};
-/// use canopen_codec::NodeId;
-/// use core::time::Duration;
-/// let mut config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
-/// config.heartbeat = Duration::from_micros(1_500_700);
-/// let kept = ChargerPowerOn::from(config);
-/// assert_eq!(kept.config().heartbeat, Duration::from_millis(1500));
-/// assert_eq!(kept.config().tpdo_periods, config.tpdo_periods);
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ChargerPowerOn {
-    node: NodeId,
-    battery: NodeId,
-    mode: OperatingMode,
-    configure_cob_ids: bool,
-    self_start: bool,
-    heartbeat_ms: u16,
-    battery_timeout_ms: u16,
-    tpdo_periods_ms: [u16; 4],
-    sdo_timeout_ms: u32,
-    device_name: &'static str,
-}
-
-impl From<ChargerConfig> for ChargerPowerOn {
-    fn from(c: ChargerConfig) -> Self {
-        ChargerPowerOn {
-            node: c.node,
-            battery: c.battery,
-            mode: c.mode,
-            configure_cob_ids: c.configure_cob_ids,
-            self_start: c.self_start,
-            heartbeat_ms: millis_u16(c.heartbeat),
-            battery_timeout_ms: millis_u16(c.battery_timeout),
-            tpdo_periods_ms: c.tpdo_periods.map(millis_u16),
-            sdo_timeout_ms: millis_u32(c.sdo_timeout),
-            device_name: c.device_name,
-        }
-    }
-}
-
-impl ChargerPowerOn {
-    /// The configuration kept, as a [`ChargerConfig`] (times in whole
-    /// milliseconds).
-    #[must_use]
-    pub fn config(&self) -> ChargerConfig {
-        let ms = |v: u16| Duration::from_millis(u64::from(v));
-        ChargerConfig {
-            node: self.node,
-            battery: self.battery,
-            mode: self.mode,
-            configure_cob_ids: self.configure_cob_ids,
-            self_start: self.self_start,
-            heartbeat: ms(self.heartbeat_ms),
-            battery_timeout: ms(self.battery_timeout_ms),
-            tpdo_periods: self.tpdo_periods_ms.map(ms),
-            sdo_timeout: Duration::from_millis(u64::from(self.sdo_timeout_ms)),
-            device_name: self.device_name,
-        }
-    }
-}
+#[path = "charger_config.rs"]
+mod config;
+use config::default_pdos;
+pub use config::{ChargerConfig, ChargerPowerOn};
 
 /// What the charger reports.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -293,70 +164,8 @@ const PAIRS: [PdoPair; 7] = {
     [a, b, c, d, e, f, tpdo3]
 };
 
-/// Writes the charger's default PDO set into `pdos` (every slot): its
-/// published mappings ([`CHARGER_DEFAULT_PDOS`], one loop over the table;
-/// RPDO 3 has none and no slot), with COB-IDs not valid until configured
-/// (or valid defaults without configuration) and the configured TPDO
-/// periods.
-fn default_pdos<const T: usize, const R: usize>(
-    config: &ChargerPowerOn,
-    pdos: &mut PdoConfig<T, R>,
-) {
-    pdos.clear();
-    for d in &CHARGER_DEFAULT_PDOS {
-        let Some(mapping) = d.mapping() else { continue };
-        let cob = PdoCobId::from_u32(d.cob_id(config.node)).with_valid(!config.configure_cob_ids);
-        let period = match d.direction {
-            PdoDirection::Transmit => config
-                .tpdo_periods_ms
-                .get(usize::from(d.number.raw()))
-                .copied()
-                .unwrap_or(0),
-            PdoDirection::Receive => 0,
-        };
-        pdos.insert(
-            d.direction,
-            d.number,
-            PdoSlot::new(PdoCommParams::event_driven(cob, period), &mapping),
-        );
-    }
-}
-
 /// The charger's core: TPDO 0-3 and RPDO 0-2 (`charger_default_pdo`; no RPDO 3 is published).
 type ChargerDevice<const Q: usize> = Device<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4, 3>;
-
-/// The charger's [`DeviceConfig`] is made from its configuration at boot
-/// and at every reset (the core keeps no second copy).
-impl PowerOn for ChargerPowerOn {
-    fn node(&self) -> NodeId {
-        self.node
-    }
-
-    fn restore<const T: usize, const R: usize>(
-        &self,
-        comm: &mut CommObjects,
-        pdos: &mut PdoConfig<T, R>,
-    ) -> Policies {
-        *comm = CommObjects::new(self.node);
-        comm.device_type = CHARGER_DEVICE_TYPE;
-        comm.device_name = self.device_name;
-        comm.heartbeat_ms = self.heartbeat_ms;
-        comm.set_consumers(&[ConsumerEntry {
-            node: self.battery.raw(),
-            time_ms: self.battery_timeout_ms,
-        }]);
-        default_pdos(self, pdos);
-        Policies {
-            heartbeat_on_change: false,
-            sdo_timeout: Duration::from_millis(u64::from(self.sdo_timeout_ms)),
-            error_field: ErrorFieldFormat::SwappedInfo,
-        }
-    }
-
-    fn set_node(&mut self, node: NodeId) {
-        self.node = node;
-    }
-}
 
 /// A Delta-Q code with the EEC its row of [`ALARMS_AND_FAULTS`] gives
 /// (generic, 1000h, for a code without a row).
@@ -456,10 +265,48 @@ impl<const Q: usize> Charger<Q> {
     /// ```
     #[must_use]
     pub fn with_queue_capacity(config: ChargerConfig) -> Self {
+        let mut charger = Self::blank(config);
+        charger.load(config.device_name);
+        charger
+    }
+
+    /// [`with_queue_capacity`](Self::with_queue_capacity) built in `slot`
+    /// (a firmware's static): the charger is written there and its
+    /// power-on values are loaded in place, not built elsewhere and moved.
+    ///
+    /// ```
+    /// use core::mem::MaybeUninit;
+    /// use canopen_codec::deltaq::{Charger, ChargerConfig};
+    /// use canopen_codec::machine::Machine;
+    /// use canopen_codec::{NodeId, Timestamp};
+    /// let mut slot = MaybeUninit::<Charger<4>>::uninit();
+    /// let config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
+    /// let c = Charger::new_in(&mut slot, config);
+    /// c.boot(Timestamp::ZERO);
+    /// assert_eq!(c.poll_transmit().unwrap().to_string(), "70A#00");
+    /// ```
+    pub fn new_in(slot: &mut MaybeUninit<Self>, config: ChargerConfig) -> &mut Self {
+        let charger = slot.write(Self::blank(config));
+        charger.load(config.device_name);
+        charger
+    }
+
+    /// The charger before its power-on values are loaded (the device's
+    /// blank of constants).
+    fn blank(config: ChargerConfig) -> Self {
         Charger {
-            device: Device::new(ChargerPowerOn::from(config), ChargerObjects::new()),
             profile: ChargerProfile::new(config),
+            device: Device::blank(ChargerPowerOn::from(config), ChargerObjects::new()),
         }
+    }
+
+    /// Writes 1008h `device_name` into the blank's communication objects,
+    /// once (every reset keeps it, [`ChargerPowerOn`]), then loads the
+    /// power-on values (`Device::load_power_on`, not inlined on the
+    /// target: one copy for every constructor).
+    fn load(&mut self, device_name: &'static str) {
+        self.device.comm_before_power_on().device_name = device_name;
+        self.device.load_power_on();
     }
 
     // ----- getters -----------------------------------------------------------
@@ -468,7 +315,7 @@ impl<const Q: usize> Charger<Q> {
     /// keeps, [`ChargerPowerOn`]).
     #[must_use]
     pub fn config(&self) -> ChargerConfig {
-        self.device.power_on().config()
+        self.device.power_on().config(self.device.comm())
     }
 
     /// True once the PDO pairing is done and the module is present.
@@ -516,9 +363,16 @@ impl ChargerProfile {
         })
     }
 
+    /// A fresh client of the same configuration: a transfer in progress
+    /// ends silently. Not inlined: one copy for its three callers.
+    #[inline(never)]
+    fn fresh_client(&mut self) {
+        self.client = Client::with_event_capacity(*self.client.config());
+    }
+
     /// Boot or NMT reset: no transfer, no pairing.
     fn restart<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
-        self.client = Client::with_event_capacity(*self.client.config());
+        self.fresh_client();
         self.link = Link::Absent;
         device.set_tpdos_enabled(now, false);
     }
@@ -556,17 +410,15 @@ impl ChargerProfile {
         }
     }
 
+    /// The module heard: first heard (the callers check [`Link::Absent`]),
+    /// booted or back after a loss.
     fn battery_found<const Q: usize>(
         &mut self,
         device: &mut ChargerDevice<Q>,
         now: Timestamp,
         state: NmtState,
-        again: bool,
     ) {
-        if !again && !matches!(self.link, Link::Absent) {
-            return;
-        }
-        if again && !matches!(self.link, Link::Absent | Link::Failed) {
+        if !matches!(self.link, Link::Absent | Link::Failed) {
             // A boot-up while configured: the module reset its PDOs; redo it.
             self.forget_pairing(device, now);
         }
@@ -584,7 +436,7 @@ impl ChargerProfile {
     /// Reads the module's 1000h with a fresh client: a transfer of an
     /// earlier attempt (a module that rebooted meanwhile) ends silently.
     fn start_configuration(&mut self, now: Timestamp) {
-        self.client = Client::with_event_capacity(*self.client.config());
+        self.fresh_client();
         self.link = Link::DeviceType;
         if self.client.start_upload(now, DEVICE_TYPE, 0).is_err() {
             self.link = Link::Failed;
@@ -672,12 +524,11 @@ impl ChargerProfile {
         from: usize,
         dt: u32,
     ) {
-        let config = device.pdo_config();
-        let next = PAIRS.iter().enumerate().skip(from).find(|(_, p)| {
-            p.is_declared(dt) && config.get(p.charger_direction, p.charger_pdo).is_some()
-        });
-        match next {
-            Some((i, p)) => {
+        // Every charger PDO of `PAIRS` has its slot (`default_pdos` writes
+        // all seven at every reset and none is ever removed).
+        let mut i = from;
+        while let Some(p) = PAIRS.get(i) {
+            if p.is_declared(dt) {
                 self.link = Link::CobId(i, dt);
                 if self
                     .client
@@ -686,12 +537,12 @@ impl ChargerProfile {
                 {
                     self.link = Link::Failed;
                 }
+                return;
             }
-            None => {
-                self.link = Link::Ready;
-                self.configured(device, now);
-            }
+            i += 1;
         }
+        self.link = Link::Ready;
+        self.configured(device, now);
     }
 }
 
@@ -725,7 +576,7 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4,
                 // No SDO in stopped: a configuration in progress ends
                 // without a frame and is redone when SDO is allowed again.
                 if matches!(self.link, Link::DeviceType | Link::CobId(..)) {
-                    self.client = Client::with_event_capacity(*self.client.config());
+                    self.fresh_client();
                     self.link = Link::Pending;
                 }
             }
@@ -733,21 +584,29 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4,
                 to: NmtState::PreOperational | NmtState::Operational,
                 ..
             } if matches!(self.link, Link::Pending) => self.start_configuration(now),
-            DeviceEvent::Heartbeat(e) => match e {
-                HeartbeatEvent::Lost(n) if n == battery => self.battery_lost(device, now),
-                HeartbeatEvent::BootUp(n) if n == battery => {
-                    self.battery_found(device, now, NmtState::BootUp, true);
+            DeviceEvent::Heartbeat(e) => {
+                // The module found: booted, back, or first heard with a
+                // state change (the first heartbeat is `on_frame`'s).
+                let (node, state) = match e {
+                    HeartbeatEvent::Lost(n) => {
+                        if n == battery {
+                            self.battery_lost(device, now);
+                        }
+                        return;
+                    }
+                    HeartbeatEvent::BootUp(n) => (n, NmtState::BootUp),
+                    HeartbeatEvent::Restored { node, state } => (node, state),
+                    HeartbeatEvent::StateChanged { node, state }
+                        if matches!(self.link, Link::Absent) =>
+                    {
+                        (node, state)
+                    }
+                    HeartbeatEvent::StateChanged { .. } => return,
+                };
+                if node == battery {
+                    self.battery_found(device, now, state);
                 }
-                HeartbeatEvent::Restored { node, state } if node == battery => {
-                    self.battery_found(device, now, state, true);
-                }
-                HeartbeatEvent::StateChanged { node, state }
-                    if node == battery && matches!(self.link, Link::Absent) =>
-                {
-                    self.battery_found(device, now, state, false);
-                }
-                _ => {}
-            },
+            }
             _ => {}
         }
     }
@@ -766,7 +625,7 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4,
             let consumer = device.heartbeat_consumer();
             if let Some(state) = consumer.state(battery) {
                 if consumer.is_alive(battery) {
-                    self.battery_found(device, now, state, false);
+                    self.battery_found(device, now, state);
                 }
             }
         }
@@ -800,25 +659,5 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4,
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn alarms_carry_the_eec_of_their_table_row() {
-        for code in [
-            DeltaQCode::BATTERY_MODULE_COMMUNICATION,
-            DeltaQCode::HEARTBEAT_LOST,
-            DeltaQCode::CAN_CONFIGURATION,
-        ] {
-            let Alarm(c, eec) = Alarm::of(code);
-            assert_eq!(c, code);
-            assert_eq!(Some(eec), code.entry().map(|e| e.eec), "{code}");
-        }
-        // E-0-3-2 is 8130h (heartbeat error), as the real capture shows.
-        assert_eq!(Alarm::of(DeltaQCode::HEARTBEAT_LOST).1, ErrorCode(0x8130));
-        // A code without a row: the generic EEC.
-        let unlisted = DeltaQCode::alarm(0, 5).unwrap();
-        assert_eq!(unlisted.entry(), None);
-        assert_eq!(Alarm::of(unlisted).1, ErrorCode::GENERIC);
-    }
-}
+#[path = "charger_tests.rs"]
+mod tests;

@@ -17,7 +17,7 @@ use core::ptr::addr_of_mut;
 use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
 use canopen_codec::machine::Machine;
 use canopen_codec::NodeId;
-use canopen_codec_firmware::{read_register, run_once, write_register, Can, Clock};
+use canopen_codec_firmware::{read_register, write_register, Can, Clock};
 use cortex_m_rt::entry;
 
 /// Sensor block: output current in 1/256 A.
@@ -37,25 +37,52 @@ const CHARGER_NODE: NodeId = match NodeId::new(10) {
     None => NodeId::MIN,
 };
 
-/// Events and frames the charger's queues hold: the loop below drains both
-/// after every call, so a few are enough (a full queue drops its oldest
-/// entry and counts it; the protocol does not depend on it).
-const QUEUE_CAPACITY: usize = 4;
+/// Events and frames the charger's queues hold. Two are exact, not lossy,
+/// because the loop below makes one call a turn (`handle_frame` or
+/// `handle_timeout`; `update` queues neither) and drains both queues after
+/// it:
+///
+/// - Frames: the queue holds only EMCYs (the boot-up message, heartbeats,
+///   SDO server responses, the SDO client's requests and TPDOs have slots of
+///   their own; this build has no SYNC, TIME or guarding). A call queues at
+///   most two: `handle_frame` one EMCY of the profile (E-0-4-2 for a 1000h
+///   that is not 418, E-0-3-0 for an abort, or the error reset when the
+///   pairing is done: one SDO answer ends one step) and one of the core
+///   (8210h for an RPDO of the wrong length: a frame matches one RPDO), both
+///   only for an RPDO the master set to the module's SDO response
+///   identifier 581h and a short answer; NMT commands, heartbeats, the
+///   module's EMCYs and SDO requests queue none. `handle_timeout` one: the
+///   battery module's loss (E-0-3-2, and its SDO transfer ends silently) or
+///   else the client's timeout (E-0-3-0).
+/// - Events: a call reports at most two with the firmware's 1016h (one
+///   consumer, the battery module): NMT reset (the reset, then the state
+///   change); an RPDO and the heartbeat or SDO answer on the same
+///   identifier; a timeout's loss of the module (or the client's timeout)
+///   and the SDO server's own timeout. A 1016h a master extends by SDO to
+///   four nodes can lose four at once: events are informational, a full
+///   queue drops its oldest and counts it (the back-pressure rule), and the
+///   one event acted on below, the module's EMCY, is the last its call
+///   reports, so it is never the one dropped.
+///
+/// The crate's test `tests/charger_queue_capacity.rs` drives both worst
+/// cases and fails with one slot fewer.
+const QUEUE_CAPACITY: usize = 2;
 
 /// The charger's whole state (in .bss; its size is the RAM the node needs).
 #[no_mangle]
 static mut CHARGER_STATE: MaybeUninit<Charger<QUEUE_CAPACITY>> = MaybeUninit::uninit();
 
-/// Builds the charger into its static. Not inlined: the temporaries of
-/// the construction live in this function's stack frame, which is gone
-/// when the loop in `main` runs (inlined, they stayed on the stack for
-/// good).
+/// Builds the charger in its static (`Charger::new_in`: the charger is
+/// written there and its power-on values are loaded in place, not built
+/// on the stack and moved). Not inlined: the temporaries of the
+/// construction live in this function's stack frame, which is gone when
+/// the loop in `main` runs (inlined, they stayed on the stack for good).
 #[inline(never)]
 fn init() -> &'static mut Charger<QUEUE_CAPACITY> {
     let config = ChargerConfig::new(CHARGER_NODE, NodeId::MIN);
     // SAFETY: `init` runs once, from `main`, and is the only code that
     // touches the static; the reference is the only one ever made.
-    unsafe { (*addr_of_mut!(CHARGER_STATE)).write(Charger::with_queue_capacity(config)) }
+    Charger::new_in(unsafe { &mut *addr_of_mut!(CHARGER_STATE) }, config)
 }
 
 #[entry]
@@ -72,7 +99,18 @@ fn main() -> ! {
             o.ac_voltage = read_register(SENSOR_AC_VOLTAGE) as u16;
             o.charger_status = read_register(SENSOR_STATUS) as u8;
         });
-        run_once(charger, &mut can, now);
+        // The contract loop (`machine::Machine`), one call a turn and the
+        // queues drained after it ([`QUEUE_CAPACITY`]): the due timers
+        // first (then their deadlines are ahead, so the next turn takes
+        // the received frame: neither starves the other).
+        if charger.poll_timeout().is_some_and(|due| due <= now) {
+            charger.handle_timeout(now);
+        } else if let Some(frame) = can.receive() {
+            charger.handle_frame(now, &frame);
+        }
+        while let Some(frame) = charger.poll_transmit() {
+            can.transmit(&frame);
+        }
         while let Some(event) = charger.poll_event() {
             if let ChargerEvent::BatteryEmcy { reaction, .. } = event {
                 // The Delta-Q policy's answer to the module's EMCY.

@@ -1,0 +1,201 @@
+//! Unit tests of the charger session (charger.rs).
+
+use super::*;
+use crate::frame::CanFrame;
+use std::string::{String, ToString};
+use std::vec::Vec;
+
+#[test]
+fn alarms_carry_the_eec_of_their_table_row() {
+    for code in [
+        DeltaQCode::BATTERY_MODULE_COMMUNICATION,
+        DeltaQCode::HEARTBEAT_LOST,
+        DeltaQCode::CAN_CONFIGURATION,
+    ] {
+        let Alarm(c, eec) = Alarm::of(code);
+        assert_eq!(c, code);
+        assert_eq!(Some(eec), code.entry().map(|e| e.eec), "{code}");
+    }
+    // E-0-3-2 is 8130h (heartbeat error), as the real capture shows.
+    assert_eq!(Alarm::of(DeltaQCode::HEARTBEAT_LOST).1, ErrorCode(0x8130));
+    // A code without a row: the generic EEC.
+    let unlisted = DeltaQCode::alarm(0, 5).unwrap();
+    assert_eq!(unlisted.entry(), None);
+    assert_eq!(Alarm::of(unlisted).1, ErrorCode::GENERIC);
+}
+
+/// Everything a charger sends and reports from boot through a whole
+/// configuration (1000h of a module with every optional PDO, every COB-ID
+/// read), the module's loss and its return.
+fn transcript(c: &mut Charger<4>) -> Vec<String> {
+    let mut out = Vec::new();
+    let drain = |c: &mut Charger<4>, out: &mut Vec<String>| {
+        while let Some(f) = c.poll_transmit() {
+            out.push(f.to_string());
+        }
+        while let Some(e) = c.poll_event() {
+            out.push(std::format!("{e:?}"));
+        }
+        out.push(std::format!("timeout {:?}", c.poll_timeout()));
+    };
+    let ms = Timestamp::from_millis;
+    let frame = |id: u16, data: &[u8]| CanFrame::standard(id, data).unwrap();
+    c.boot(ms(0));
+    drain(c, &mut out);
+    c.handle_frame(ms(1), &frame(0x000, &[0x01, 0x0C]));
+    drain(c, &mut out);
+    c.handle_frame(ms(2), &frame(0x701, &[0x05]));
+    drain(c, &mut out);
+    // 1000h: profile 418 with RPDO 1/2, TPDO 1/2 and Delta-Q's bit 20.
+    let device_type = 418u32 | 0x1F << 16;
+    let [a, b, c2, d] = device_type.to_le_bytes();
+    c.handle_frame(ms(3), &frame(0x581, &[0x43, 0x00, 0x10, 0, a, b, c2, d]));
+    drain(c, &mut out);
+    for at in 4..12u16 {
+        let Some(request) = out.iter().rev().find(|l| l.starts_with("601#40")).cloned() else {
+            break;
+        };
+        let bytes: Vec<u8> = (0..8)
+            .map(|i| u8::from_str_radix(&request[4 + 2 * i..6 + 2 * i], 16).unwrap())
+            .collect();
+        let cob = 0x180 + u32::from(at);
+        let [w, x, y, z] = cob.to_le_bytes();
+        c.handle_frame(
+            ms(u64::from(at)),
+            &frame(0x581, &[0x43, bytes[1], bytes[2], bytes[3], w, x, y, z]),
+        );
+        drain(c, &mut out);
+        if c.is_configured() {
+            break;
+        }
+    }
+    for t in [250, 1_000] {
+        c.handle_timeout(ms(t));
+        drain(c, &mut out);
+    }
+    // The module is lost, then heard again.
+    c.handle_timeout(ms(5_000));
+    drain(c, &mut out);
+    c.handle_frame(ms(5_001), &frame(0x701, &[0x00]));
+    drain(c, &mut out);
+    out
+}
+
+#[test]
+fn new_in_builds_what_new_builds() {
+    let mut config = ChargerConfig::new(NodeId::new(12).unwrap(), NodeId::MIN);
+    config.device_name = "DQ-12";
+    config.tpdo_periods = [150, 250, 350, 1200].map(core::time::Duration::from_millis);
+    let mut slot = MaybeUninit::<Charger<4>>::uninit();
+    let built_in = Charger::new_in(&mut slot, config);
+    let mut built = Charger::<4>::with_queue_capacity(config);
+    assert_eq!(built_in.config(), built.config());
+    assert_eq!(built_in.comm(), built.comm());
+    assert_eq!(built_in.comm().device_name, "DQ-12");
+    assert_eq!(built_in.comm().heartbeat_ms, 1000);
+    assert_eq!(built_in.pdo_config(), built.pdo_config());
+    assert_eq!(built_in.objects(), built.objects());
+    assert_eq!(built_in.nmt_state(), built.nmt_state());
+    assert_eq!(built_in.poll_timeout(), built.poll_timeout());
+    let expected = transcript(&mut built);
+    assert_eq!(expected.first().map(String::as_str), Some("70C#00"));
+    for seen in [
+        "Configured { tpdos: 15, rpdos: 7 }",
+        "70C#05",
+        "BatteryLost",
+    ] {
+        assert!(expected.iter().any(|l| l == seen), "{seen}: {expected:?}");
+    }
+    // The TPDOs run on the paired COB-IDs.
+    assert!(
+        expected.iter().any(|l| l.starts_with("184#")),
+        "{expected:?}"
+    );
+    assert_eq!(transcript(built_in), expected);
+}
+
+#[test]
+fn the_device_name_is_written_once_and_kept_by_both_resets() {
+    let mut config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
+    config.device_name = "DQ-10";
+    let mut c = Charger::<4>::with_queue_capacity(config);
+    assert_eq!(c.config(), ChargerPowerOn::from(config).config(c.comm()));
+    c.boot(Timestamp::ZERO);
+    for (at, cs) in [(1, 0x81), (2, 0x82)] {
+        c.handle_frame(
+            Timestamp::from_millis(at),
+            &CanFrame::standard(0x000, &[cs, 0x0A]).unwrap(),
+        );
+        assert_eq!(c.comm().device_name, "DQ-10");
+        assert_eq!(c.config().device_name, "DQ-10");
+    }
+    // The core's configuration has it too.
+    assert_eq!(config.device_config().device_name, "DQ-10");
+}
+
+#[test]
+fn the_kept_times_are_the_crates_whole_milliseconds() {
+    use crate::time::{millis_u16, millis_u32};
+    use core::time::Duration;
+    for d in [
+        Duration::ZERO,
+        Duration::from_micros(999),
+        Duration::from_micros(1_500_700),
+        Duration::from_millis(65_535),
+        Duration::from_millis(65_536),
+        Duration::from_millis(u64::from(u32::MAX) + 1),
+        Duration::MAX,
+    ] {
+        let mut config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
+        config.heartbeat = d;
+        config.battery_timeout = d;
+        config.tpdo_periods = [d; 4];
+        config.sdo_timeout = d;
+        let kept = ChargerPowerOn::from(config);
+        let ms = millis_u16(d);
+        assert_eq!(
+            (
+                kept.heartbeat_ms,
+                kept.battery_timeout_ms,
+                kept.tpdo_periods_ms
+            ),
+            (ms, ms, [ms; 4]),
+            "{d:?}"
+        );
+        assert_eq!(kept.sdo_timeout_ms, millis_u32(d), "{d:?}");
+    }
+}
+
+/// The default PDO set a reset writes is every published row of the
+/// Delta-Q table, as `PdoSlot::new` makes it from the row's mapping (the
+/// compact table is the rows'), with the configured periods; RPDO 3 has
+/// none.
+#[test]
+fn the_default_pdos_are_the_tables_rows() {
+    use crate::deltaq::CHARGER_DEFAULT_PDOS;
+    use crate::pdo::{PdoCommParams, PdoConfig};
+    for configure_cob_ids in [true, false] {
+        let mut config = ChargerConfig::new(NodeId::new(12).unwrap(), NodeId::MIN);
+        config.configure_cob_ids = configure_cob_ids;
+        config.tpdo_periods = [150, 250, 350, 1200].map(core::time::Duration::from_millis);
+        let kept = ChargerPowerOn::from(config);
+        let mut pdos = PdoConfig::<4, 4>::new();
+        config::default_pdos(&kept, &mut pdos);
+        for d in &CHARGER_DEFAULT_PDOS {
+            let want = d.mapping().map(|mapping| {
+                let cob = PdoCobId::from_u32(d.cob_id(config.node)).with_valid(!configure_cob_ids);
+                let period = match d.direction {
+                    PdoDirection::Transmit => kept.tpdo_periods_ms[usize::from(d.number.raw())],
+                    PdoDirection::Receive => 0,
+                };
+                PdoSlot::new(PdoCommParams::event_driven(cob, period), &mapping)
+            });
+            assert_eq!(pdos.get(d.direction, d.number), want.as_ref(), "{d:?}");
+        }
+        assert_eq!(
+            pdos.get(PdoDirection::Receive, PdoNumber::P3),
+            None,
+            "RPDO 3 is not published"
+        );
+    }
+}
