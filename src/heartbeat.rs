@@ -302,9 +302,11 @@ const IDLE: Watch = Watch {
 /// Every heartbeat of a watched node refreshes its deadline, whether or not
 /// the application reads the events (the back-pressure rule of
 /// [`crate::machine`]): a node that beats within its time is never reported
-/// lost. The queue keeps the latest `E` events (default 8; a call makes at
-/// most one per watched node, so an owner that drains it after every call,
-/// as the device core does, needs no more than `N`).
+/// lost. The queue keeps the latest `E` events (default 8). A frame makes
+/// at most one event (it feeds the watch of its node only) and a timeout
+/// call at most one per watched node, so an owner that drains it after
+/// every call needs no more than `N`; the device core keeps none (`E` = 0:
+/// it takes each event as it is made).
 ///
 /// ```
 /// use canopen_codec::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent};
@@ -383,41 +385,46 @@ impl<const N: usize, const E: usize> HeartbeatConsumer<N, E> {
             .is_some_and(|w| w.state.is_some() && !w.lost)
     }
 
-    fn watch(&self, node: NodeId) -> Option<&Watch> {
-        self.watches
-            .iter()
-            .find(|w| w.entry.is_enabled() && w.entry.node == node.raw())
+    /// Puts `entries` (1016h sub 1.. in order; slots past them are
+    /// disabled) into effect: a changed slot, or every slot with `restart`,
+    /// waits for its node's next heartbeat; the others run on. No
+    /// duplicate check (a device's 1016h refuses them): of two enabled
+    /// slots for one node, only the first is ever fed, so the second
+    /// never starts and reports nothing.
+    #[cfg(feature = "heartbeat-consumer")]
+    pub(crate) fn load_entries(&mut self, entries: &[ConsumerEntry], restart: bool) {
+        let mut entries = entries.iter();
+        for w in &mut self.watches {
+            let entry = entries.next().copied().unwrap_or_default();
+            if restart || w.entry != entry {
+                *w = Watch { entry, ..IDLE };
+            }
+        }
     }
-}
 
-impl<const N: usize, const E: usize> Machine for HeartbeatConsumer<N, E> {
-    type Event = HeartbeatEvent;
-
-    /// Feeds a received frame; only heartbeats of watched nodes matter.
-    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+    /// What a received frame makes: at most one event, as a heartbeat
+    /// feeds only the watch of its node (the first enabled one).
+    pub(crate) fn take_frame(
+        &mut self,
+        now: Timestamp,
+        frame: &CanFrame,
+    ) -> Option<HeartbeatEvent> {
         let CanId::Standard(raw) = frame.id() else {
-            return;
+            return None;
         };
         if frame.is_remote() || raw & 0x780 != NMT_ERROR_CONTROL_BASE {
-            return;
+            return None;
         }
-        let Some(node) = NodeId::new((raw & 0x7F) as u8) else {
-            return;
-        };
-        let Ok(hb) = Heartbeat::decode(frame.data()) else {
-            return;
-        };
-        let Some(w) = self
+        let node = NodeId::new((raw & 0x7F) as u8)?;
+        let hb = Heartbeat::decode(frame.data()).ok()?;
+        let w = self
             .watches
             .iter_mut()
-            .find(|w| w.entry.is_enabled() && w.entry.node == node.raw())
-        else {
-            return;
-        };
+            .find(|w| w.entry.is_enabled() && w.entry.node == node.raw())?;
         w.deadline = MaybeTimestamp::new(Some(now.add_millis(u64::from(w.entry.time_ms))));
         let previous = w.state.replace(hb.state);
         let was_lost = core::mem::replace(&mut w.lost, false);
-        let event = if hb.is_boot_up() {
+        if hb.is_boot_up() {
             Some(HeartbeatEvent::BootUp(node))
         } else if was_lost {
             Some(HeartbeatEvent::Restored {
@@ -432,14 +439,13 @@ impl<const N: usize, const E: usize> Machine for HeartbeatConsumer<N, E> {
                 }),
                 _ => None,
             }
-        };
-        if let Some(e) = event {
-            self.events.push(e);
         }
     }
 
-    /// Reports `Lost` for every node whose time has run out.
-    fn handle_timeout(&mut self, now: Timestamp) {
+    /// The first node (in slot order) whose time has run out at `now`, its
+    /// watch marked lost and its deadline stopped: called until none, it
+    /// reports each silence once, in slot order.
+    pub(crate) fn expire_one(&mut self, now: Timestamp) -> Option<NodeId> {
         for w in &mut self.watches {
             let Some(deadline) = w.deadline.get() else {
                 continue;
@@ -449,9 +455,35 @@ impl<const N: usize, const E: usize> Machine for HeartbeatConsumer<N, E> {
             }
             w.deadline = MaybeTimestamp::NONE;
             w.lost = true;
+            // Always a node: only an enabled entry's watch is armed.
             if let Some(node) = NodeId::new(w.entry.node) {
-                self.events.push(HeartbeatEvent::Lost(node));
+                return Some(node);
             }
+        }
+        None
+    }
+
+    fn watch(&self, node: NodeId) -> Option<&Watch> {
+        self.watches
+            .iter()
+            .find(|w| w.entry.is_enabled() && w.entry.node == node.raw())
+    }
+}
+
+impl<const N: usize, const E: usize> Machine for HeartbeatConsumer<N, E> {
+    type Event = HeartbeatEvent;
+
+    /// Feeds a received frame; only heartbeats of watched nodes matter.
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        if let Some(e) = self.take_frame(now, frame) {
+            self.events.push(e);
+        }
+    }
+
+    /// Reports `Lost` for every node whose time has run out.
+    fn handle_timeout(&mut self, now: Timestamp) {
+        while let Some(node) = self.expire_one(now) {
+            self.events.push(HeartbeatEvent::Lost(node));
         }
     }
 

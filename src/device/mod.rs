@@ -219,10 +219,10 @@ pub struct Device<
     /// charger) queues a second (tests/device_event_capacity.rs).
     nmt: NmtSlave<2>,
     heartbeat: HeartbeatProducer,
-    /// The heartbeat consumer (consumer.rs); drained after every call, so
-    /// one event per entry is enough.
+    /// The heartbeat consumer (consumer.rs): its events are reported as
+    /// they are made, so it keeps none.
     #[cfg(feature = "heartbeat-consumer")]
-    consumer: HeartbeatConsumer<MAX_CONSUMERS, MAX_CONSUMERS>,
+    consumer: consumer::DeviceConsumer,
     /// Its events are read after every call: the capacity one call needs.
     server: Server<Dictionary<A, T, R>, EVENTS_PER_CALL>,
     tpdos: TpdoSet<T>,
@@ -454,7 +454,7 @@ where
         f(&mut self.server.od_mut().inner.comm);
         self.apply_heartbeat_period(now);
         #[cfg(feature = "heartbeat-consumer")]
-        self.apply_consumers(now);
+        self.apply_consumers();
         self.apply_services(now);
         self.refresh_tpdos(now);
     }
@@ -578,10 +578,7 @@ where
             return;
         }
         #[cfg(feature = "heartbeat-consumer")]
-        {
-            self.consumer.handle_frame(now, frame);
-            self.drain_consumer(now, profile);
-        }
+        self.consumer_frame(now, frame, profile);
         if self.nmt.sdo_allowed() {
             self.server.handle_frame(now, frame);
             self.drain_server(now, profile);
@@ -605,10 +602,7 @@ where
         }
         self.heartbeat.handle_timeout(now);
         #[cfg(feature = "heartbeat-consumer")]
-        {
-            self.consumer.handle_timeout(now);
-            self.drain_consumer(now, profile);
-        }
+        self.consumer_timeout(now, profile);
         self.services_timeout(now, profile);
         self.server.handle_timeout(now);
         self.drain_server(now, profile);
@@ -747,7 +741,7 @@ where
         self.load_power_on();
         self.heartbeat.boot(now);
         #[cfg(feature = "heartbeat-consumer")]
-        self.reset_consumer(now);
+        self.reset_consumer();
         self.tpdos.reset();
         self.reconfigure_pdos(now);
         self.nmt.boot(now);
@@ -798,7 +792,7 @@ where
                     match index {
                         PRODUCER_HEARTBEAT_TIME => self.apply_heartbeat_period(now),
                         #[cfg(feature = "heartbeat-consumer")]
-                        CONSUMER_HEARTBEAT_TIME => self.apply_consumers(now),
+                        CONSUMER_HEARTBEAT_TIME => self.apply_consumers(),
                         _ if PdoDirection::from_index(index).is_some() => {
                             self.reconfigure_pdos(now);
                         }
