@@ -109,6 +109,12 @@ impl HeartbeatProducer {
         self.period_us
     }
 
+    /// When the next heartbeat is due ([`Machine::poll_timeout`] as the
+    /// timer keeps it, for the device's minimum of deadlines).
+    pub(crate) fn deadline(&self) -> MaybeTimestamp {
+        self.timers.earliest()
+    }
+
     fn frame(&self, byte: u8) -> CanFrame {
         let id = CanId::Standard(NMT_ERROR_CONTROL_BASE + u16::from(self.node.raw()));
         CanFrame::from_parts(id, [byte, 0, 0, 0, 0, 0, 0, 0], 1)
@@ -421,7 +427,9 @@ impl<const N: usize, const E: usize> HeartbeatConsumer<N, E> {
             .watches
             .iter_mut()
             .find(|w| w.entry.is_enabled() && w.entry.node == node.raw())?;
-        w.deadline = MaybeTimestamp::new(Some(now.add_millis(u64::from(w.entry.time_ms))));
+        // At most 65 535 000 µs: no overflow, no saturating multiply.
+        let time_us = u64::from(w.entry.time_ms) * 1000;
+        w.deadline = MaybeTimestamp::new(Some(now.add_micros(time_us)));
         let previous = w.state.replace(hb.state);
         let was_lost = core::mem::replace(&mut w.lost, false);
         if hb.is_boot_up() {
@@ -463,6 +471,14 @@ impl<const N: usize, const E: usize> HeartbeatConsumer<N, E> {
         None
     }
 
+    /// The earliest deadline ([`Machine::poll_timeout`] as the watches
+    /// keep it, for the device's minimum of deadlines).
+    pub(crate) fn deadline(&self) -> MaybeTimestamp {
+        self.watches
+            .iter()
+            .fold(MaybeTimestamp::NONE, |m, w| m.min(w.deadline))
+    }
+
     fn watch(&self, node: NodeId) -> Option<&Watch> {
         self.watches
             .iter()
@@ -494,10 +510,7 @@ impl<const N: usize, const E: usize> Machine for HeartbeatConsumer<N, E> {
 
     /// The earliest deadline.
     fn poll_timeout(&self) -> Option<Timestamp> {
-        self.watches
-            .iter()
-            .fold(MaybeTimestamp::NONE, |m, w| m.earlier(w.deadline.get()))
-            .get()
+        self.deadline().get()
     }
 
     fn poll_event(&mut self) -> Option<HeartbeatEvent> {

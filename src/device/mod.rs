@@ -157,7 +157,7 @@ use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
 use crate::queue::EventQueue;
 use crate::sdo::{Server, ServerEvent, EVENTS_PER_CALL};
-use crate::time::{MaybeTimestamp, Timestamp};
+use crate::time::Timestamp;
 
 /// The dictionary the SDO server serves: PDO objects, communication
 /// objects, application objects.
@@ -656,9 +656,9 @@ where
         }
         // The minimum of the deadlines as 8-byte values (none is u64::MAX):
         // no `Option` comparisons to compile for each pair.
-        let earliest = MaybeTimestamp::new(self.heartbeat.poll_timeout());
+        let earliest = self.heartbeat.deadline();
         #[cfg(feature = "heartbeat-consumer")]
-        let earliest = earliest.earlier(self.consumer.poll_timeout());
+        let earliest = earliest.min(self.consumer.deadline());
         #[cfg(feature = "guarding")]
         let earliest = earliest.earlier(self.services.guarding.poll_timeout());
         #[cfg(feature = "sync-time")]
@@ -666,7 +666,7 @@ where
         let earliest = earliest
             .earlier(self.server.poll_timeout())
             .earlier(profile.poll_timeout())
-            .earlier(self.tpdos.poll_timeout());
+            .min(self.tpdos.deadline());
         earliest.get()
     }
 
