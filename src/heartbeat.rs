@@ -160,6 +160,13 @@ impl HeartbeatProducer {
         self.period_us = whole_millis_us(period);
         self.arm(now);
     }
+
+    /// [`set_period`](Self::set_period) with 1017h's milliseconds (a
+    /// device's 1017h written): no `Duration`, no saturating arithmetic.
+    pub(crate) fn set_period_ms(&mut self, now: Timestamp, ms: u16) {
+        self.period_us = u64::from(ms) * 1000;
+        self.arm(now);
+    }
 }
 
 /// `d` truncated to whole milliseconds, in microseconds (1016h and 1017h
@@ -183,15 +190,16 @@ impl Machine for HeartbeatProducer {
         let Some(due) = self.timers.get(NEXT_HEARTBEAT) else {
             return;
         };
-        if self.timers.expire(NEXT_HEARTBEAT, now) {
-            self.send(self.state);
-            match due.deadline_after(self.period_us) {
-                Some(next) if !now.has_reached(next) => {
-                    self.timers.set(NEXT_HEARTBEAT, Some(next));
-                }
-                _ => self.arm(now),
-            }
+        if !now.has_reached(due) {
+            return;
         }
+        self.send(self.state);
+        // One timer write: the next deadline, or none at the end of the clock.
+        let next = match due.deadline_after(self.period_us) {
+            Some(next) if !now.has_reached(next) => Some(next),
+            _ => now.deadline_after(self.period_us),
+        };
+        self.timers.set(NEXT_HEARTBEAT, next);
     }
 
     fn poll_transmit(&mut self) -> Option<CanFrame> {

@@ -326,3 +326,25 @@ fn consumer_events_per_call() {
     let all = [4, 3, 2, 1].map(|node| HeartbeatEvent::Lost(n(node)));
     assert_eq!((events(&mut m), m.events_dropped()), (all.to_vec(), 0));
 }
+
+/// 1017h's milliseconds as the device writes them: the same period and
+/// timer as `set_period` with the `Duration`; zero stops the heartbeat; at
+/// the end of the clock the one due heartbeat is sent, and no later one.
+#[test]
+fn producer_period_in_milliseconds() {
+    let mut a = HeartbeatProducer::new(n(3), Duration::from_millis(100));
+    let mut b = a.clone();
+    a.set_period(ms(10), Duration::from_millis(65_535));
+    b.set_period_ms(ms(10), u16::MAX);
+    assert_eq!(
+        (a.period(), a.poll_timeout()),
+        (b.period(), b.poll_timeout())
+    );
+    assert_eq!(b.poll_timeout(), Some(ms(65_545)));
+    b.set_period_ms(ms(20), 0);
+    assert_eq!((b.period(), b.poll_timeout()), (Duration::ZERO, None));
+    b.set_period_ms(Timestamp::from_micros(u64::MAX - 1_500), 1);
+    b.handle_timeout(Timestamp::MAX);
+    assert_eq!(b.poll_transmit(), Some(hb(3, 0x00)));
+    assert_eq!((b.poll_transmit(), b.poll_timeout()), (None, None));
+}

@@ -116,7 +116,6 @@
 //! objects (1400h-1A03h) are served by [`PdoDictionary`] above both.
 
 use core::mem::MaybeUninit;
-use core::time::Duration;
 
 mod config;
 #[cfg(feature = "heartbeat-consumer")]
@@ -777,10 +776,10 @@ where
     }
 
     fn apply_heartbeat_period(&mut self, now: Timestamp) {
-        let ms = u64::from(self.comm().heartbeat_ms);
+        let ms = self.comm().heartbeat_ms;
         // Compared in microseconds: no 64-bit division on a 32-bit target.
-        if ms * 1000 != self.heartbeat.period_us() {
-            self.heartbeat.set_period(now, Duration::from_millis(ms));
+        if u64::from(ms) * 1000 != self.heartbeat.period_us() {
+            self.heartbeat.set_period_ms(now, ms);
         }
     }
 
