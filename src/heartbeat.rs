@@ -430,7 +430,11 @@ impl<const N: usize, const E: usize> HeartbeatConsumer<N, E> {
             return None;
         }
         let node = NodeId::new((raw & 0x7F) as u8)?;
-        let hb = Heartbeat::decode(frame.data()).ok()?;
+        // What `Heartbeat::decode` accepts (one byte), without its error.
+        let [byte] = *frame.data() else {
+            return None;
+        };
+        let hb = Heartbeat::from_byte(byte);
         let w = self
             .watches
             .iter_mut()
