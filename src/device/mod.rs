@@ -823,9 +823,10 @@ where
     }
 
     fn drain_rpdos<P: Profile<A, E, Q, C, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
-        while let Some(rpdo) = self.rpdos.poll_event() {
+        // One frame is at most one RPDO (the receiver's one event slot).
+        if let Some(rpdo) = self.rpdos.poll_event() {
             let Some(result) = RpdoReceiver::apply(&rpdo, self.server.od_mut()) else {
-                continue;
+                return;
             };
             let pdo = rpdo.pdo;
             match result {
