@@ -301,6 +301,14 @@ struct Watch {
     lost: bool,
 }
 
+impl Watch {
+    /// The entry is enabled and names `node` (a node id is never 0 or past
+    /// 127, so the node test is [`ConsumerEntry::is_enabled`]'s too).
+    const fn watches(&self, node: NodeId) -> bool {
+        self.entry.node == node.raw() && self.entry.time_ms != 0
+    }
+}
+
 const IDLE: Watch = Watch {
     entry: ConsumerEntry {
         node: 0,
@@ -435,10 +443,7 @@ impl<const N: usize, const E: usize> HeartbeatConsumer<N, E> {
             return None;
         };
         let hb = Heartbeat::from_byte(byte);
-        let w = self
-            .watches
-            .iter_mut()
-            .find(|w| w.entry.is_enabled() && w.entry.node == node.raw())?;
+        let w = self.watches.iter_mut().find(|w| w.watches(node))?;
         // At most 65 535 000 µs: no overflow, no saturating multiply.
         let time_us = u64::from(w.entry.time_ms) * 1000;
         w.deadline = MaybeTimestamp::new(Some(now.add_micros(time_us)));
@@ -492,9 +497,7 @@ impl<const N: usize, const E: usize> HeartbeatConsumer<N, E> {
     }
 
     fn watch(&self, node: NodeId) -> Option<&Watch> {
-        self.watches
-            .iter()
-            .find(|w| w.entry.is_enabled() && w.entry.node == node.raw())
+        self.watches.iter().find(|w| w.watches(node))
     }
 }
 
