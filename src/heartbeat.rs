@@ -194,12 +194,13 @@ impl Machine for HeartbeatProducer {
             return;
         }
         self.send(self.state);
-        // One timer write: the next deadline, or none at the end of the clock.
-        let next = match due.deadline_after(self.period_us) {
-            Some(next) if !now.has_reached(next) => Some(next),
-            _ => now.deadline_after(self.period_us),
+        // From the due time while that keeps the next one ahead of `now`,
+        // else from `now`; none at the end of the clock.
+        let from = match due.deadline_after(self.period_us) {
+            Some(next) if !now.has_reached(next) => due,
+            _ => now,
         };
-        self.timers.set(NEXT_HEARTBEAT, next);
+        self.arm(from);
     }
 
     fn poll_transmit(&mut self) -> Option<CanFrame> {
