@@ -55,7 +55,8 @@ impl Timestamp {
 
     /// `self + us`, saturating at [`Timestamp::MAX`].
     #[must_use]
-    #[inline]
+    #[cfg_attr(target_pointer_width = "64", inline)]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub const fn add_micros(self, us: u64) -> Self {
         Timestamp(self.0.saturating_add(us))
     }
