@@ -47,7 +47,9 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         Err(ClientError::BlockUnsupported)
     }
 
-    /// No block upload runs: every frame is a response for the normal path.
+    /// No block upload runs: every frame is a response for the normal path
+    /// (the general response path's; the expedited client has its own).
+    #[cfg(feature = "sdo-client-segmented")]
     pub(super) fn block_segment(&mut self, _now: Timestamp, _bytes: &[u8]) -> bool {
         false
     }

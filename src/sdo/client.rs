@@ -75,10 +75,11 @@ use super::abort::AbortCode;
 use super::block::MAX_BLOCK_SIZE;
 #[cfg(feature = "sdo-block")]
 use super::block::{Receiver, Sender};
-use super::data::{InitiatePayload, SegmentData};
+use super::data::SegmentData;
 #[cfg(feature = "sdo-client-segmented")]
 use super::segmented::Segments;
 use super::server::{AbortOrigin, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT};
+#[cfg(feature = "sdo-block")]
 use super::wire::ServerCommand;
 use super::words;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
@@ -227,6 +228,8 @@ enum State<D> {
         index: u16,
         sub: u8,
         data: D,
+        /// Without `sdo-client-segmented` every download is expedited.
+        #[cfg(feature = "sdo-client-segmented")]
         expedited: bool,
     },
     #[cfg(feature = "sdo-client-segmented")]
@@ -337,16 +340,19 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     pub fn with_event_capacity(config: ClientConfig) -> Self {
         Client {
             config,
-            timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
+            timeout_us: crate::time::micros_of(config.timeout),
             response_word: crate::frame::data_frame_word(config.response_id),
             sends: crate::frame::check_id(config.request_id).is_ok(),
             state: State::Idle,
             timers: Timers::new(),
             transmit: FrameSlot::new(),
-            events: EventQueue::new(ClientEvent::Uploaded {
+            // The filler (never returned) as zero bytes: cleared with the
+            // rest of the state.
+            events: EventQueue::new(ClientEvent::UploadData {
                 index: 0,
                 sub: 0,
-                len: 0,
+                offset: 0,
+                data: SegmentData::EMPTY,
             }),
         }
     }
@@ -366,21 +372,31 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// The object of the running transfer.
     #[must_use]
     pub const fn current(&self) -> Option<(u16, u8)> {
+        if self.is_busy() {
+            Some(self.object())
+        } else {
+            None
+        }
+    }
+
+    /// The object of the running transfer, (0, 0) when idle: the one match
+    /// over the states.
+    const fn object(&self) -> (u16, u8) {
         match self.state {
-            State::Idle => None,
+            State::Idle => (0, 0),
             State::UploadInitiated { index, sub } | State::DownloadInitiated { index, sub, .. } => {
-                Some((index, sub))
+                (index, sub)
             }
             #[cfg(feature = "sdo-client-segmented")]
             State::Uploading { index, sub, .. } | State::Downloading { index, sub, .. } => {
-                Some((index, sub))
+                (index, sub)
             }
             #[cfg(feature = "sdo-block")]
             State::BlockDownloadInitiated { index, sub, .. }
             | State::BlockDownloading { index, sub, .. }
             | State::BlockDownloadEnding { index, sub, .. }
             | State::BlockUploadInitiated { index, sub }
-            | State::BlockUploading { index, sub, .. } => Some((index, sub)),
+            | State::BlockUploading { index, sub, .. } => (index, sub),
         }
     }
 
@@ -415,6 +431,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         let Ok(size) = u32::try_from(bytes.len()) else {
             return Err(ClientError::TooLong { len: bytes.len() });
         };
+        #[cfg(feature = "sdo-client-segmented")]
         let expedited = matches!(bytes.len(), 1..=4);
         let word = match *bytes {
             [a] => words::expedited(1, index, sub, u32::from(a), 1),
@@ -428,6 +445,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
             index,
             sub,
             data,
+            #[cfg(feature = "sdo-client-segmented")]
             expedited,
         };
         self.arm(now);
@@ -489,7 +507,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     }
 
     fn abort_local(&mut self, code: AbortCode) {
-        let (index, sub) = self.current().unwrap_or((0, 0));
+        let (index, sub) = self.object();
         self.abort_object(index, sub, code);
     }
 
@@ -501,122 +519,6 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
             code,
             origin: AbortOrigin::Local,
         });
-    }
-
-    fn aborted_by_peer(&mut self, code: AbortCode) {
-        let (index, sub) = self.current().unwrap_or((0, 0));
-        let code = match code {
-            AbortCode::Other(0) => AbortCode::GeneralError,
-            c => c,
-        };
-        self.finish(ClientEvent::Aborted {
-            index,
-            sub,
-            code,
-            origin: AbortOrigin::Peer,
-        });
-    }
-
-    pub(super) fn on_upload_initiated(
-        &mut self,
-        now: Timestamp,
-        index: u16,
-        sub: u8,
-        cmd: ServerCommand,
-    ) {
-        let ServerCommand::InitiateUpload {
-            index: ri,
-            sub: rs,
-            payload,
-        } = cmd
-        else {
-            return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
-        };
-        if (ri, rs) != (index, sub) {
-            return self.abort_object(index, sub, AbortCode::GeneralParameterIncompatibility);
-        }
-        match payload {
-            InitiatePayload::Expedited { data, .. } => {
-                if !data.is_empty() {
-                    self.emit(ClientEvent::UploadData {
-                        index,
-                        sub,
-                        offset: 0,
-                        data: SegmentData::new(data.as_slice()).unwrap_or_default(),
-                    });
-                }
-                self.finish(ClientEvent::Uploaded {
-                    index,
-                    sub,
-                    len: data.len(),
-                });
-            }
-            InitiatePayload::Segmented { size } => self.segmented_upload(now, index, sub, size),
-        }
-    }
-
-    fn on_download_initiated(
-        &mut self,
-        now: Timestamp,
-        index: u16,
-        sub: u8,
-        data: D,
-        expedited: bool,
-        cmd: ServerCommand,
-    ) {
-        let ServerCommand::InitiateDownload { index: ri, sub: rs } = cmd else {
-            return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
-        };
-        if (ri, rs) != (index, sub) {
-            return self.abort_object(index, sub, AbortCode::GeneralParameterIncompatibility);
-        }
-        #[cfg(feature = "sdo-client-segmented")]
-        if !expedited {
-            return self.send_segment(now, index, sub, data);
-        }
-        // Without segmented transfer every download is expedited.
-        let _ = (now, expedited);
-        let len = data.as_ref().len();
-        self.finish(ClientEvent::Downloaded { index, sub, len })
-    }
-
-    /// Every response but the segment (or acknowledgement) of a running
-    /// segmented transfer (out of line: the per-segment path stays small).
-    #[inline(never)]
-    fn handle_response(&mut self, now: Timestamp, frame: &CanFrame) {
-        if !self.is_busy() {
-            return;
-        }
-        if self.block_segment(now, frame.data()) {
-            return;
-        }
-        // The general decoder alone: the segment path of `decode_frame` is
-        // `handle_frame`'s own.
-        let Ok(command) = Self::decode_response(frame) else {
-            return;
-        };
-        if let ServerCommand::Abort { code, .. } = command {
-            return self.aborted_by_peer(code);
-        }
-        match core::mem::replace(&mut self.state, State::Idle) {
-            State::Idle => {}
-            State::UploadInitiated { index, sub } => {
-                self.on_upload_initiated(now, index, sub, command);
-            }
-            // The segment itself took the path above.
-            #[cfg(feature = "sdo-client-segmented")]
-            State::Uploading { index, sub, .. } | State::Downloading { index, sub, .. } => {
-                self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
-            }
-            State::DownloadInitiated {
-                index,
-                sub,
-                data,
-                expedited,
-            } => self.on_download_initiated(now, index, sub, data, expedited, command),
-            #[cfg(feature = "sdo-block")]
-            state => self.on_block_response(now, state, command, frame.data()),
-        }
     }
 }
 
@@ -638,13 +540,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Machine for Client<D, EVENTS> {
         if frame.word() != self.response_word {
             return;
         }
-        // The segment (or acknowledgement) of a running segmented transfer
-        // first, by its own straight path: the same decode, rules and
-        // answer as the general path below gives it.
-        let [b0, ..] = frame.padded_data();
-        if !self.segment_response(now, frame, b0) {
-            self.handle_response(now, frame);
-        }
+        self.response(now, frame);
     }
 
     /// The queued frame, else the next segment of a block download's

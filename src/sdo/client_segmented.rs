@@ -1,17 +1,20 @@
 //! Segmented upload and download of [`Client`] (CiA 301 section 7.2.4.3,
 //! SDO protocols: segmented SDO download and upload), feature
 //! `sdo-client-segmented`: the segments after a non-expedited initiate,
-//! their toggle and size checks, and the per-segment straight path of
-//! [`Machine::handle_frame`](crate::machine::Machine::handle_frame).
+//! their toggle and size checks, the per-segment straight path of
+//! [`Machine::handle_frame`](crate::machine::Machine::handle_frame), and
+//! the general response path (every response by the general decoder
+//! `ServerCommand::of_frame`, the block responses included).
 
-use super::super::data::Segment;
+use super::super::abort::AbortCode;
+use super::super::data::{InitiatePayload, Segment, SegmentData};
 use super::super::segmented::{check_toggle, Segments};
+use super::super::server::AbortOrigin;
 use super::super::wire::{SdoResponse, ServerCommand};
 use super::super::words;
 use super::{Client, ClientEvent, State};
 use crate::frame::CanFrame;
 use crate::time::Timestamp;
-use crate::DecodeError;
 
 impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// The initiate request of a download of `size` bytes other than 1..=4
@@ -28,31 +31,30 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
 
     /// The server answered the upload initiate with the size (or without
     /// it): the first upload segment request (ccs = 3).
-    pub(super) fn segmented_upload(
-        &mut self,
-        now: Timestamp,
-        index: u16,
-        sub: u8,
-        size: Option<u32>,
-    ) {
+    fn segmented_upload(&mut self, now: Timestamp, index: u16, sub: u8, size: Option<u32>) {
         let rx = Segments::new(size.map(|s| usize::try_from(s).unwrap_or(usize::MAX)));
         self.send(0x60 | u64::from(rx.toggle()) << 4);
         self.state = State::Uploading { index, sub, rx };
         self.arm(now);
     }
 
-    /// A response for the general path: every command by the general
-    /// decoder.
+    /// A data frame on the response identifier: the segment (or
+    /// acknowledgement) of a running segmented transfer first, by its own
+    /// straight path (the same decode, rules and answer as the general
+    /// path gives it), every other response by the general path.
     #[inline(always)]
-    pub(super) fn decode_response(frame: &CanFrame) -> Result<ServerCommand, DecodeError> {
-        ServerCommand::of_frame(frame)
+    pub(super) fn response(&mut self, now: Timestamp, frame: &CanFrame) {
+        let [b0, ..] = frame.padded_data();
+        if !self.segment_response(now, frame, b0) {
+            self.handle_response(now, frame);
+        }
     }
 
     /// The segment (or acknowledgement) of a running segmented transfer,
     /// by its own straight path: the same decode, rules and answer as the
     /// general path gives it. False for every other frame.
     #[inline]
-    pub(super) fn segment_response(&mut self, now: Timestamp, frame: &CanFrame, b0: u8) -> bool {
+    fn segment_response(&mut self, now: Timestamp, frame: &CanFrame, b0: u8) -> bool {
         match (&self.state, b0 >> 5) {
             (State::Uploading { .. }, 0) => {
                 if let Ok(len) = SdoResponse::check_upload_segment(frame) {
@@ -104,7 +106,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     }
 
     /// The first download segment, after the initiate was confirmed.
-    pub(super) fn send_segment(&mut self, now: Timestamp, index: u16, sub: u8, data: D) {
+    fn send_segment(&mut self, now: Timestamp, index: u16, sub: u8, data: D) {
         let (bytes, sent) = segment_frame(data.as_ref(), 0, false);
         self.send_bytes(bytes, 8);
         self.state = State::Downloading {
@@ -146,6 +148,120 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         *sent = next;
         self.send_bytes(bytes, 8);
         self.arm(now);
+    }
+
+    /// The server aborted: the transfer ends with its code (0 reported as
+    /// 08000000h), nothing is sent back.
+    fn aborted_by_peer(&mut self, code: AbortCode) {
+        let (index, sub) = self.object();
+        let code = match code {
+            AbortCode::Other(0) => AbortCode::GeneralError,
+            c => c,
+        };
+        self.finish(ClientEvent::Aborted {
+            index,
+            sub,
+            code,
+            origin: AbortOrigin::Peer,
+        });
+    }
+
+    pub(super) fn on_upload_initiated(
+        &mut self,
+        now: Timestamp,
+        index: u16,
+        sub: u8,
+        cmd: ServerCommand,
+    ) {
+        let ServerCommand::InitiateUpload {
+            index: ri,
+            sub: rs,
+            payload,
+        } = cmd
+        else {
+            return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+        };
+        if (ri, rs) != (index, sub) {
+            return self.abort_object(index, sub, AbortCode::GeneralParameterIncompatibility);
+        }
+        match payload {
+            InitiatePayload::Expedited { data, .. } => {
+                if !data.is_empty() {
+                    self.emit(ClientEvent::UploadData {
+                        index,
+                        sub,
+                        offset: 0,
+                        data: SegmentData::new(data.as_slice()).unwrap_or_default(),
+                    });
+                }
+                self.finish(ClientEvent::Uploaded {
+                    index,
+                    sub,
+                    len: data.len(),
+                });
+            }
+            InitiatePayload::Segmented { size } => self.segmented_upload(now, index, sub, size),
+        }
+    }
+
+    fn on_download_initiated(
+        &mut self,
+        now: Timestamp,
+        index: u16,
+        sub: u8,
+        data: D,
+        expedited: bool,
+        cmd: ServerCommand,
+    ) {
+        let ServerCommand::InitiateDownload { index: ri, sub: rs } = cmd else {
+            return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+        };
+        if (ri, rs) != (index, sub) {
+            return self.abort_object(index, sub, AbortCode::GeneralParameterIncompatibility);
+        }
+        if !expedited {
+            return self.send_segment(now, index, sub, data);
+        }
+        let len = data.as_ref().len();
+        self.finish(ClientEvent::Downloaded { index, sub, len })
+    }
+
+    /// Every response but the segment (or acknowledgement) of a running
+    /// segmented transfer (out of line: the per-segment path stays small).
+    #[inline(never)]
+    fn handle_response(&mut self, now: Timestamp, frame: &CanFrame) {
+        if !self.is_busy() {
+            return;
+        }
+        if self.block_segment(now, frame.data()) {
+            return;
+        }
+        // The general decoder alone: the segment path of `decode_frame` is
+        // `handle_frame`'s own.
+        let Ok(command) = ServerCommand::of_frame(frame) else {
+            return;
+        };
+        if let ServerCommand::Abort { code, .. } = command {
+            return self.aborted_by_peer(code);
+        }
+        match core::mem::replace(&mut self.state, State::Idle) {
+            State::Idle => {}
+            State::UploadInitiated { index, sub } => {
+                self.on_upload_initiated(now, index, sub, command);
+            }
+            // The segment itself took the path above.
+            State::Uploading { index, sub, .. } | State::Downloading { index, sub, .. } => {
+                self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+            }
+            State::DownloadInitiated {
+                index,
+                sub,
+                data,
+                expedited,
+            } => self.on_download_initiated(now, index, sub, data, expedited, command),
+            #[cfg(feature = "sdo-block")]
+            state => self.on_block_response(now, state, command, frame.data()),
+        }
     }
 }
 

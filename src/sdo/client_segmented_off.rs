@@ -18,13 +18,23 @@
 //!   parameter does not match") would only fit a response with a size
 //!   above 4, and CiA 301 lets a server answer segmented without a size or
 //!   for a short value too, so one code for every case.
+//! - One response path: the client's own decoder of the responses an
+//!   expedited client can get (`wire_expedited.rs`: initiate upload
+//!   response expedited or segmented, initiate download response, abort,
+//!   every other command only checked for its length), then one match of
+//!   the response against the running transfer. One call leaves at most
+//!   two events (an expedited upload's data, then `Uploaded`):
+//!   [`EVENTS_PER_CALL`](super::super::EVENTS_PER_CALL) is the capacity
+//!   for a caller that reads every event after every call (the tests prove
+//!   the bound on every response).
 
 use super::super::abort::AbortCode;
-use super::super::wire::ServerCommand;
-use super::{Client, ClientError};
+use super::super::data::SegmentData;
+use super::super::server::AbortOrigin;
+use super::{Client, ClientError, ClientEvent, State};
 use crate::frame::CanFrame;
 use crate::time::Timestamp;
-use crate::DecodeError;
+use wire::Response;
 
 impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// A download of `size` bytes other than 1..=4 needs segmented
@@ -37,34 +47,75 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         })
     }
 
-    /// The server answered the upload initiate segmented: aborted with
-    /// 05040001h (see the module docs).
-    pub(super) fn segmented_upload(
-        &mut self,
-        now: Timestamp,
-        index: u16,
-        sub: u8,
-        size: Option<u32>,
-    ) {
-        let _ = (now, size);
-        self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
-    }
-
-    /// A response for the general path: the commands this client takes
-    /// decoded, the others only checked for their length (see
-    /// `ServerCommand::of_frame_expedited`).
-    #[inline(always)]
-    pub(super) fn decode_response(frame: &CanFrame) -> Result<ServerCommand, DecodeError> {
-        ServerCommand::of_frame_expedited(frame)
-    }
-
-    /// No segmented transfer runs: every frame takes the general path.
+    /// A data frame on the response identifier, the one response path:
+    /// decoded by the expedited decoder, then one match of the response
+    /// against the running transfer. An abort ends the transfer with the
+    /// server's code (0 as 08000000h); the initiate response the transfer
+    /// waits for ends it (an expedited upload with its data first, then
+    /// `Uploaded`; a download with `Downloaded`), unless it is for another
+    /// object (06040043h); everything else, a segmented upload response
+    /// among it, is a command that does not fit (05040001h, see the
+    /// module docs). At most two events: the bound of
+    /// [`EVENTS_PER_CALL`](super::super::EVENTS_PER_CALL).
     #[inline]
-    pub(super) fn segment_response(&mut self, now: Timestamp, frame: &CanFrame, b0: u8) -> bool {
-        let _ = (now, frame, b0);
-        false
+    pub(super) fn response(&mut self, now: Timestamp, frame: &CanFrame) {
+        let _ = now;
+        let (index, sub, upload, written) = match &self.state {
+            State::Idle => return,
+            State::UploadInitiated { index, sub } => (*index, *sub, true, 0),
+            State::DownloadInitiated {
+                index, sub, data, ..
+            } => (*index, *sub, false, data.as_ref().len()),
+        };
+        let Some(response) = wire::response(frame) else {
+            return;
+        };
+        let mux = u32::from(index) | u32::from(sub) << 16;
+        let code = match response {
+            Response::Abort(code) => {
+                return self.finish(ClientEvent::Aborted {
+                    index,
+                    sub,
+                    code,
+                    origin: AbortOrigin::Peer,
+                });
+            }
+            Response::Expedited { mux: m, .. } | Response::Segmented { mux: m }
+                if upload && m != mux =>
+            {
+                AbortCode::GeneralParameterIncompatibility
+            }
+            Response::Downloaded { mux: m } if !upload && m != mux => {
+                AbortCode::GeneralParameterIncompatibility
+            }
+            Response::Expedited { data, len, .. } if upload => {
+                if len != 0 {
+                    self.emit(ClientEvent::UploadData {
+                        index,
+                        sub,
+                        offset: 0,
+                        data: SegmentData::from_le_word(u64::from(data), len),
+                    });
+                }
+                return self.finish(ClientEvent::Uploaded { index, sub, len });
+            }
+            Response::Downloaded { .. } if !upload => {
+                return self.finish(ClientEvent::Downloaded {
+                    index,
+                    sub,
+                    len: written,
+                });
+            }
+            // A segmented upload response, a response of the other
+            // initiate, a segment or a block command.
+            _ => AbortCode::InvalidCommandSpecifier,
+        };
+        self.abort_object(index, sub, code);
     }
 }
+
+#[path = "wire_expedited.rs"]
+mod wire;
 
 #[cfg(test)]
 #[path = "client_segmented_off_tests.rs"]

@@ -118,36 +118,6 @@ fn expedited_uploads_still_run() {
     assert_eq!(sent(&mut c), None);
 }
 
-/// The expedited client's decoder against the general one, for every byte
-/// 0 and length (the other bytes set): the same commands for scs 2, 3 and
-/// 4, `Unknown` for the others, and an error exactly where the general
-/// decoder gives one (a frame too short for its command stays ignored).
-#[test]
-fn expedited_decoder_agrees_with_the_general_one() {
-    use crate::sdo::ServerCommand;
-    let mut checked = 0;
-    for cmd in 0..=u8::MAX {
-        for len in 0..=8 {
-            let bytes = [cmd, 0x08, 0x10, 0x02, 0x11, 0x22, 0x33, 0x44];
-            let frame = CanFrame::standard(0x582, &bytes[..len]).unwrap();
-            let general = ServerCommand::of_frame(&frame);
-            let expedited = ServerCommand::of_frame_expedited(&frame);
-            match cmd >> 5 {
-                2..=4 => assert_eq!(expedited, general, "{cmd:02X} / {len}"),
-                // The client drops any error: whether there is one counts.
-                _ => assert_eq!(
-                    expedited.ok(),
-                    general.ok().map(|_| ServerCommand::Unknown(cmd)),
-                    "{cmd:02X} / {len}"
-                ),
-            }
-            checked += usize::from(general.is_err());
-        }
-    }
-    // Both kinds of outcome were compared.
-    assert!(checked > 100 && checked < 256 * 9 - 100, "{checked}");
-}
-
 /// A segment of a server that goes on after the initiate was refused, or
 /// one too short for its command while the upload initiate is out: the
 /// first aborts the transfer as a command that does not fit (05040001h),
@@ -176,4 +146,178 @@ fn other_commands_while_initiating() {
             ..
         })
     ));
+}
+
+/// The bound of the event queue: one call leaves at most
+/// [`EVENTS_PER_CALL`](crate::sdo::EVENTS_PER_CALL) events (the capacity
+/// the charger gives its client). Every response (each byte 0 at every
+/// length, for the transfer's object) to an upload and to a download
+/// initiate, then the timeout: never more, none dropped by a queue of
+/// that capacity, and the expedited upload with data makes exactly that
+/// many, so a queue of one fewer drops one.
+#[test]
+fn one_call_leaves_at_most_events_per_call() {
+    use crate::sdo::EVENTS_PER_CALL;
+    let config = ClientConfig::for_server(NodeId::new(2).unwrap());
+    let mut most = 0;
+    for b0 in 0..=u8::MAX {
+        for len in 0..=8 {
+            for upload in [true, false] {
+                let mut c: Client<&'static [u8], EVENTS_PER_CALL> =
+                    Client::with_event_capacity(config);
+                if upload {
+                    c.start_upload(Timestamp::ZERO, 0x1008, 0).unwrap();
+                } else {
+                    c.start_download(Timestamp::ZERO, 0x1008, 0, &[1, 2])
+                        .unwrap();
+                }
+                while c.poll_transmit().is_some() {}
+                let bytes = [b0, 0x08, 0x10, 0x00, 0x11, 0x22, 0x33, 0x44];
+                let later = Timestamp::from_millis(1);
+                c.handle_frame(later, &response(&bytes[..len]));
+                let mut events = 0;
+                while c.poll_event().is_some() {
+                    events += 1;
+                }
+                assert!(events <= EVENTS_PER_CALL, "{b0:02X} / {len}: {events}");
+                most = most.max(events);
+                // The timeout of a transfer the frame left running.
+                c.handle_timeout(Timestamp::from_millis(5000));
+                assert!(core::iter::from_fn(|| c.poll_event()).count() <= EVENTS_PER_CALL);
+                assert_eq!(c.events_dropped(), 0, "{b0:02X} / {len}");
+                assert!(!c.is_busy());
+            }
+        }
+    }
+    assert_eq!(most, EVENTS_PER_CALL);
+    let mut small: Client<&'static [u8], 1> = Client::with_event_capacity(config);
+    small.start_upload(Timestamp::ZERO, 0x1000, 0).unwrap();
+    small.handle_frame(
+        Timestamp::from_millis(1),
+        &response(&[0x43, 0x00, 0x10, 0x00, 0xA2, 0x01, 0x00, 0x00]),
+    );
+    assert_eq!(small.events_dropped(), 1);
+}
+
+/// The response path's outcomes for the transfer's object and another
+/// one: the initiate response it waits for ends it, the other initiate
+/// response (or a segment) is aborted 05040001h, an initiate response for
+/// another object 06040043h, and the server's abort ends it with the
+/// server's code (0 as 08000000h), nothing sent back.
+#[test]
+fn responses_against_the_running_transfer() {
+    let local = |code| {
+        Some(ClientEvent::Aborted {
+            index: 0x1008,
+            sub: 0,
+            code,
+            origin: AbortOrigin::Local,
+        })
+    };
+    let peer = |code| {
+        Some(ClientEvent::Aborted {
+            index: 0x1008,
+            sub: 0,
+            code,
+            origin: AbortOrigin::Peer,
+        })
+    };
+    let cases: [(bool, [u8; 8], Option<ClientEvent>, bool); 9] = [
+        (
+            false,
+            [0x60, 0x08, 0x10, 0x00, 0, 0, 0, 0],
+            Some(ClientEvent::Downloaded {
+                index: 0x1008,
+                sub: 0,
+                len: 2,
+            }),
+            false,
+        ),
+        (
+            false,
+            [0x60, 0x08, 0x10, 0x01, 0, 0, 0, 0],
+            local(AbortCode::GeneralParameterIncompatibility),
+            true,
+        ),
+        (
+            false,
+            [0x4F, 0x08, 0x10, 0x00, 1, 0, 0, 0],
+            local(AbortCode::InvalidCommandSpecifier),
+            true,
+        ),
+        (
+            true,
+            [0x60, 0x08, 0x10, 0x00, 0, 0, 0, 0],
+            local(AbortCode::InvalidCommandSpecifier),
+            true,
+        ),
+        (
+            true,
+            [0x4F, 0x09, 0x10, 0x00, 1, 0, 0, 0],
+            local(AbortCode::GeneralParameterIncompatibility),
+            true,
+        ),
+        // A segmented answer for another object: the object first.
+        (
+            true,
+            [0x41, 0x08, 0x11, 0x00, 20, 0, 0, 0],
+            local(AbortCode::GeneralParameterIncompatibility),
+            true,
+        ),
+        (
+            true,
+            [0x20, 0x08, 0x10, 0x00, 0, 0, 0, 0],
+            local(AbortCode::InvalidCommandSpecifier),
+            true,
+        ),
+        (
+            true,
+            [0x80, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x06],
+            peer(AbortCode::ObjectDoesNotExist),
+            false,
+        ),
+        (
+            false,
+            [0x80, 0x08, 0x10, 0x00, 0, 0, 0, 0],
+            peer(AbortCode::GeneralError),
+            false,
+        ),
+    ];
+    for (upload, answer, event, aborts) in cases {
+        let mut c = client();
+        if upload {
+            c.start_upload(Timestamp::ZERO, 0x1008, 0).unwrap();
+        } else {
+            c.start_download(Timestamp::ZERO, 0x1008, 0, &[1, 2])
+                .unwrap();
+        }
+        let _ = sent(&mut c);
+        c.handle_frame(Timestamp::from_millis(1), &response(&answer));
+        assert_eq!(c.poll_event(), event, "{answer:02X?}");
+        assert_eq!(c.poll_event(), None);
+        let abort = sent(&mut c);
+        assert_eq!(abort.is_some(), aborts, "{answer:02X?}");
+        if let (Some(frame), Some(ClientEvent::Aborted { code, .. })) = (abort, event) {
+            let mut expected = vec![0x80, 0x08, 0x10, 0x00];
+            expected.extend_from_slice(&code.to_u32().to_le_bytes());
+            assert_eq!(frame, expected);
+        }
+        assert!(!c.is_busy());
+        assert_eq!(c.poll_timeout(), None);
+    }
+}
+
+/// Frames while idle are ignored, aborts among them.
+#[test]
+fn idle_ignores_every_response() {
+    let mut c = client();
+    for answer in [
+        [0x80, 0x08, 0x10, 0x00, 0, 0, 0, 0],
+        [0x43, 0x08, 0x10, 0x00, 1, 2, 3, 4],
+        [0x60, 0x08, 0x10, 0x00, 0, 0, 0, 0],
+    ] {
+        c.handle_frame(Timestamp::from_millis(1), &response(&answer));
+        assert_eq!(sent(&mut c), None);
+        assert_eq!(c.poll_event(), None);
+    }
 }

@@ -823,11 +823,6 @@ sdo_frame!(
     ServerCommand
 );
 
-// The expedited client's decoder (feature `sdo-client-segmented` off).
-#[cfg(not(feature = "sdo-client-segmented"))]
-#[path = "wire_expedited.rs"]
-mod expedited;
-
 // The segment commands alone, for `Message::decode`'s out-of-line hot
 // arms: the same checks and result as `decode_frame` for a frame whose
 // byte 0 has that command specifier. Check and build are apart (the check
