@@ -109,6 +109,12 @@ impl HeartbeatProducer {
         self.period_us
     }
 
+    /// When the next heartbeat is due ([`Machine::poll_timeout`] as the
+    /// timer keeps it, for the device's minimum of deadlines).
+    pub(crate) fn deadline(&self) -> MaybeTimestamp {
+        self.timers.earliest()
+    }
+
     fn frame(&self, byte: u8) -> CanFrame {
         let id = CanId::Standard(NMT_ERROR_CONTROL_BASE + u16::from(self.node.raw()));
         CanFrame::from_parts(id, [byte, 0, 0, 0, 0, 0, 0, 0], 1)
@@ -154,6 +160,13 @@ impl HeartbeatProducer {
         self.period_us = whole_millis_us(period);
         self.arm(now);
     }
+
+    /// [`set_period`](Self::set_period) with 1017h's milliseconds (a
+    /// device's 1017h written): no `Duration`, no saturating arithmetic.
+    pub(crate) fn set_period_ms(&mut self, now: Timestamp, ms: u16) {
+        self.period_us = u64::from(ms) * 1000;
+        self.arm(now);
+    }
 }
 
 /// `d` truncated to whole milliseconds, in microseconds (1016h and 1017h
@@ -177,15 +190,17 @@ impl Machine for HeartbeatProducer {
         let Some(due) = self.timers.get(NEXT_HEARTBEAT) else {
             return;
         };
-        if self.timers.expire(NEXT_HEARTBEAT, now) {
-            self.send(self.state);
-            match due.deadline_after(self.period_us) {
-                Some(next) if !now.has_reached(next) => {
-                    self.timers.set(NEXT_HEARTBEAT, Some(next));
-                }
-                _ => self.arm(now),
-            }
+        if !now.has_reached(due) {
+            return;
         }
+        self.send(self.state);
+        // From the due time while that keeps the next one ahead of `now`,
+        // else from `now`; none at the end of the clock.
+        let from = match due.deadline_after(self.period_us) {
+            Some(next) if !now.has_reached(next) => due,
+            _ => now,
+        };
+        self.arm(from);
     }
 
     fn poll_transmit(&mut self) -> Option<CanFrame> {
@@ -287,6 +302,14 @@ struct Watch {
     lost: bool,
 }
 
+impl Watch {
+    /// The entry is enabled and names `node` (a node id is never 0 or past
+    /// 127, so the node test is [`ConsumerEntry::is_enabled`]'s too).
+    const fn watches(&self, node: NodeId) -> bool {
+        self.entry.node == node.raw() && self.entry.time_ms != 0
+    }
+}
+
 const IDLE: Watch = Watch {
     entry: ConsumerEntry {
         node: 0,
@@ -302,9 +325,11 @@ const IDLE: Watch = Watch {
 /// Every heartbeat of a watched node refreshes its deadline, whether or not
 /// the application reads the events (the back-pressure rule of
 /// [`crate::machine`]): a node that beats within its time is never reported
-/// lost. The queue keeps the latest `E` events (default 8; a call makes at
-/// most one per watched node, so an owner that drains it after every call,
-/// as the device core does, needs no more than `N`).
+/// lost. The queue keeps the latest `E` events (default 8). A frame makes
+/// at most one event (it feeds the watch of its node only) and a timeout
+/// call at most one per watched node, so an owner that drains it after
+/// every call needs no more than `N`; the device core keeps none (`E` = 0:
+/// it takes each event as it is made).
 ///
 /// ```
 /// use canopen_codec::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent};
@@ -383,41 +408,49 @@ impl<const N: usize, const E: usize> HeartbeatConsumer<N, E> {
             .is_some_and(|w| w.state.is_some() && !w.lost)
     }
 
-    fn watch(&self, node: NodeId) -> Option<&Watch> {
-        self.watches
-            .iter()
-            .find(|w| w.entry.is_enabled() && w.entry.node == node.raw())
+    /// Puts `entries` (1016h sub 1.. in order; slots past them are
+    /// disabled) into effect: a changed slot, or every slot with `restart`,
+    /// waits for its node's next heartbeat; the others run on. No
+    /// duplicate check (a device's 1016h refuses them): of two enabled
+    /// slots for one node, only the first is ever fed, so the second
+    /// never starts and reports nothing.
+    #[cfg(feature = "heartbeat-consumer")]
+    pub(crate) fn load_entries(&mut self, entries: &[ConsumerEntry], restart: bool) {
+        let mut entries = entries.iter();
+        for w in &mut self.watches {
+            let entry = entries.next().copied().unwrap_or_default();
+            if restart || w.entry != entry {
+                *w = Watch { entry, ..IDLE };
+            }
+        }
     }
-}
 
-impl<const N: usize, const E: usize> Machine for HeartbeatConsumer<N, E> {
-    type Event = HeartbeatEvent;
-
-    /// Feeds a received frame; only heartbeats of watched nodes matter.
-    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+    /// What a received frame makes: at most one event, as a heartbeat
+    /// feeds only the watch of its node (the first enabled one).
+    pub(crate) fn take_frame(
+        &mut self,
+        now: Timestamp,
+        frame: &CanFrame,
+    ) -> Option<HeartbeatEvent> {
         let CanId::Standard(raw) = frame.id() else {
-            return;
+            return None;
         };
         if frame.is_remote() || raw & 0x780 != NMT_ERROR_CONTROL_BASE {
-            return;
+            return None;
         }
-        let Some(node) = NodeId::new((raw & 0x7F) as u8) else {
-            return;
+        let node = NodeId::new((raw & 0x7F) as u8)?;
+        // What `Heartbeat::decode` accepts (one byte), without its error.
+        let [byte] = *frame.data() else {
+            return None;
         };
-        let Ok(hb) = Heartbeat::decode(frame.data()) else {
-            return;
-        };
-        let Some(w) = self
-            .watches
-            .iter_mut()
-            .find(|w| w.entry.is_enabled() && w.entry.node == node.raw())
-        else {
-            return;
-        };
-        w.deadline = MaybeTimestamp::new(Some(now.add_millis(u64::from(w.entry.time_ms))));
+        let hb = Heartbeat::from_byte(byte);
+        let w = self.watches.iter_mut().find(|w| w.watches(node))?;
+        // At most 65 535 000 µs: no overflow, no saturating multiply.
+        let time_us = u64::from(w.entry.time_ms) * 1000;
+        w.deadline = MaybeTimestamp::new(Some(now.add_micros(time_us)));
         let previous = w.state.replace(hb.state);
         let was_lost = core::mem::replace(&mut w.lost, false);
-        let event = if hb.is_boot_up() {
+        if hb.is_boot_up() {
             Some(HeartbeatEvent::BootUp(node))
         } else if was_lost {
             Some(HeartbeatEvent::Restored {
@@ -432,14 +465,13 @@ impl<const N: usize, const E: usize> Machine for HeartbeatConsumer<N, E> {
                 }),
                 _ => None,
             }
-        };
-        if let Some(e) = event {
-            self.events.push(e);
         }
     }
 
-    /// Reports `Lost` for every node whose time has run out.
-    fn handle_timeout(&mut self, now: Timestamp) {
+    /// The first node (in slot order) whose time has run out at `now`, its
+    /// watch marked lost and its deadline stopped: called until none, it
+    /// reports each silence once, in slot order.
+    pub(crate) fn expire_one(&mut self, now: Timestamp) -> Option<NodeId> {
         for w in &mut self.watches {
             let Some(deadline) = w.deadline.get() else {
                 continue;
@@ -449,9 +481,41 @@ impl<const N: usize, const E: usize> Machine for HeartbeatConsumer<N, E> {
             }
             w.deadline = MaybeTimestamp::NONE;
             w.lost = true;
+            // Always a node: only an enabled entry's watch is armed.
             if let Some(node) = NodeId::new(w.entry.node) {
-                self.events.push(HeartbeatEvent::Lost(node));
+                return Some(node);
             }
+        }
+        None
+    }
+
+    /// The earliest deadline ([`Machine::poll_timeout`] as the watches
+    /// keep it, for the device's minimum of deadlines).
+    pub(crate) fn deadline(&self) -> MaybeTimestamp {
+        self.watches
+            .iter()
+            .fold(MaybeTimestamp::NONE, |m, w| m.min(w.deadline))
+    }
+
+    fn watch(&self, node: NodeId) -> Option<&Watch> {
+        self.watches.iter().find(|w| w.watches(node))
+    }
+}
+
+impl<const N: usize, const E: usize> Machine for HeartbeatConsumer<N, E> {
+    type Event = HeartbeatEvent;
+
+    /// Feeds a received frame; only heartbeats of watched nodes matter.
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        if let Some(e) = self.take_frame(now, frame) {
+            self.events.push(e);
+        }
+    }
+
+    /// Reports `Lost` for every node whose time has run out.
+    fn handle_timeout(&mut self, now: Timestamp) {
+        while let Some(node) = self.expire_one(now) {
+            self.events.push(HeartbeatEvent::Lost(node));
         }
     }
 
@@ -462,10 +526,7 @@ impl<const N: usize, const E: usize> Machine for HeartbeatConsumer<N, E> {
 
     /// The earliest deadline.
     fn poll_timeout(&self) -> Option<Timestamp> {
-        self.watches
-            .iter()
-            .fold(MaybeTimestamp::NONE, |m, w| m.earlier(w.deadline.get()))
-            .get()
+        self.deadline().get()
     }
 
     fn poll_event(&mut self) -> Option<HeartbeatEvent> {

@@ -55,7 +55,8 @@ impl Timestamp {
 
     /// `self + us`, saturating at [`Timestamp::MAX`].
     #[must_use]
-    #[inline]
+    #[cfg_attr(target_pointer_width = "64", inline)]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub const fn add_micros(self, us: u64) -> Self {
         Timestamp(self.0.saturating_add(us))
     }
@@ -175,7 +176,8 @@ impl<const N: usize> Timers<N> {
 
     /// True (and the timer stopped) when timer `slot` is armed and `now`
     /// has reached its deadline.
-    #[inline]
+    #[cfg_attr(target_pointer_width = "64", inline)]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn expire(&mut self, slot: usize, now: Timestamp) -> bool {
         match self.deadlines.get_mut(slot) {
             // A stopped timer holds u64::MAX, which `now` reaches only when
@@ -198,9 +200,18 @@ impl<const N: usize> Timers<N> {
     #[cfg_attr(target_pointer_width = "64", inline)]
     #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn next(&self) -> Option<Timestamp> {
+        self.earliest().get()
+    }
+
+    /// The earliest armed deadline, kept as the table keeps it (for an
+    /// owner that takes the minimum of several machines' deadlines).
+    #[must_use]
+    #[inline]
+    pub(crate) fn earliest(&self) -> MaybeTimestamp {
         // Stopped timers hold u64::MAX, so the plain minimum is the answer.
-        let earliest = self.deadlines.iter().fold(u64::MAX, |m, d| m.min(d.0));
-        MaybeTimestamp(earliest).get()
+        self.deadlines
+            .iter()
+            .fold(MaybeTimestamp::NONE, |m, d| m.min(*d))
     }
 }
 
@@ -242,6 +253,18 @@ impl MaybeTimestamp {
         let t = Self::new(t);
         if t.0 < self.0 {
             t
+        } else {
+            self
+        }
+    }
+
+    /// The earlier of `self` and `other` (none is later than any instant):
+    /// one 64-bit comparison, as none is `u64::MAX`.
+    #[must_use]
+    #[inline]
+    pub(crate) const fn min(self, other: MaybeTimestamp) -> Self {
+        if other.0 < self.0 {
+            other
         } else {
             self
         }
@@ -336,6 +359,7 @@ mod tests {
         t.set(0, Some(Timestamp::ZERO));
         t.set(2, Some(Timestamp::from_micros(u64::MAX - 1)));
         assert_eq!(t.next(), Some(Timestamp::ZERO));
+        assert_eq!(t.earliest(), MaybeTimestamp(0));
         assert_eq!(t.get(2), Some(Timestamp::from_micros(u64::MAX - 1)));
         assert!(t.expire(0, Timestamp::ZERO));
         assert_eq!(t.next(), Some(Timestamp::from_micros(u64::MAX - 1)));
@@ -369,6 +393,10 @@ mod tests {
             Some(Timestamp::from_micros(u64::MAX - 1))
         );
         assert_eq!(MaybeTimestamp::default(), MaybeTimestamp::NONE);
+        let (one, two) = (MaybeTimestamp(1), MaybeTimestamp(2));
+        assert_eq!((one.min(two), two.min(one)), (one, one));
+        assert_eq!(MaybeTimestamp::NONE.min(two).min(MaybeTimestamp::NONE), two);
+        assert_eq!(MaybeTimestamp::NONE.min(MaybeTimestamp::NONE).get(), None);
         let five = Some(Timestamp::from_micros(5));
         let m = MaybeTimestamp::NONE.earlier(None).earlier(five);
         assert_eq!(m.earlier(Some(Timestamp::from_micros(9))).get(), five);

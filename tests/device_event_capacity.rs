@@ -4,6 +4,7 @@
 //! starts itself on the reset makes) and the SYNC consumer's 1 (a SYNC
 //! frame is taken without its `Received` event, so only a skipped counter
 //! is queued). Each test drives that burst and fails if a slot is missing.
+//! The heartbeat consumer keeps none: its events are reported as made.
 
 use canopen_codec::cia418::BatteryObjects;
 use canopen_codec::device::{Device, DeviceConfig, DeviceEvent, Profile};
@@ -88,4 +89,37 @@ fn a_skipped_sync_counter_is_reported_and_nothing_is_dropped() {
     );
     // Every SYNC and the skip went through a one-slot queue: none evicted.
     assert_eq!(dev.sync_consumer().events_dropped(), 0);
+}
+
+/// The device's heartbeat consumer keeps no events (feature
+/// `heartbeat-consumer`): four nodes whose time runs out at once are four
+/// `Lost` events of one timeout call, in 1016h's order, none dropped, and a
+/// heartbeat's event is reported by the call that received it.
+#[cfg(feature = "heartbeat-consumer")]
+#[test]
+fn four_nodes_lost_at_once_are_four_events_in_order() {
+    use canopen_codec::heartbeat::{ConsumerEntry, HeartbeatEvent};
+    use core::time::Duration;
+    let n = |id| NodeId::new(id).unwrap();
+    let nodes = [7, 3, 9, 2];
+    let entries = nodes.map(|id| ConsumerEntry::new(n(id), Duration::from_millis(100)));
+    let config = DeviceConfig::new(n(5)).with_consumers(&entries);
+    let mut dev = Core::new(config, BatteryObjects::new());
+    dev.boot(Timestamp::ZERO, &mut ());
+    let _ = events(&mut dev);
+    for id in nodes {
+        let boot_up = CanFrame::standard(0x700 + u16::from(id), &[0x00]).unwrap();
+        dev.handle_frame(Timestamp::from_millis(1), &boot_up);
+        assert_eq!(
+            events(&mut dev),
+            [DeviceEvent::Heartbeat(HeartbeatEvent::BootUp(n(id)))]
+        );
+    }
+    dev.handle_timeout(Timestamp::from_millis(500));
+    let lost = nodes.map(|id| DeviceEvent::Heartbeat(HeartbeatEvent::Lost(n(id))));
+    assert_eq!(events(&mut dev), lost);
+    assert_eq!(dev.dropped_events(), 0);
+    assert!(nodes
+        .iter()
+        .all(|id| !dev.heartbeat_consumer().is_alive(n(*id))));
 }

@@ -3,13 +3,21 @@
 //! their events reported as [`DeviceEvent::Heartbeat`]. Without the
 //! feature the device has no 1016h and watches no other node.
 //!
+//! The consumer keeps no events of its own here (its queue has no slot):
+//! a frame makes at most one, which is reported at once, and a timeout
+//! call reports the nodes whose time ran out one by one, in slot order.
+//!
 //! What it does is in the [device core docs](super).
 
 use super::{Device, DeviceEvent, PowerOn, PowerOnValues, Profile, MAX_CONSUMERS};
-use crate::heartbeat::{ConsumerEntry, HeartbeatConsumer};
-use crate::machine::Machine;
+use crate::frame::CanFrame;
+use crate::heartbeat::{HeartbeatConsumer, HeartbeatEvent};
 use crate::od::ObjectDictionary;
 use crate::time::Timestamp;
+
+/// The device's consumer: one watch per 1016h entry, no event slot (see
+/// the module docs).
+pub(super) type DeviceConsumer = HeartbeatConsumer<MAX_CONSUMERS, 0>;
 
 impl<A, E, const Q: usize, C, const T: usize, const R: usize> Device<A, E, Q, C, T, R>
 where
@@ -18,43 +26,50 @@ where
     C: PowerOn,
 {
     /// The heartbeat consumer (1016h), for its nodes' states (feature
-    /// `heartbeat-consumer`).
+    /// `heartbeat-consumer`). Its events are the device's
+    /// ([`DeviceEvent::Heartbeat`]); it keeps none itself.
     #[must_use]
-    pub const fn heartbeat_consumer(&self) -> &HeartbeatConsumer<MAX_CONSUMERS, MAX_CONSUMERS> {
+    pub const fn heartbeat_consumer(&self) -> &HeartbeatConsumer<MAX_CONSUMERS, 0> {
         &self.consumer
     }
 
     /// Boot or reset: the supervision starts over from the restored 1016h.
-    pub(super) fn reset_consumer(&mut self, now: Timestamp) {
-        self.consumer = HeartbeatConsumer::new();
-        self.apply_consumers(now);
+    pub(super) fn reset_consumer(&mut self) {
+        let entries = self.server.od().inner.comm.consumers();
+        self.consumer.load_entries(entries, true);
     }
 
     /// Puts 1016h's entries into effect: changed entries restart their
     /// supervision, the others run on.
-    pub(super) fn apply_consumers(&mut self, now: Timestamp) {
+    pub(super) fn apply_consumers(&mut self) {
         let entries = self.server.od().inner.comm.consumers();
-        let wanted = |slot: usize| entries.get(slot).copied().unwrap_or_default();
-        // Changed slots are freed first, so a node that moves to another
-        // sub-index is not refused as a duplicate of its old one.
-        for slot in 0..MAX_CONSUMERS {
-            if self.consumer.entry(slot) != Some(wanted(slot)) {
-                let _ = self.consumer.set_entry(now, slot, ConsumerEntry::default());
-            }
-        }
-        for slot in 0..MAX_CONSUMERS {
-            let _ = self.consumer.set_entry(now, slot, wanted(slot));
+        self.consumer.load_entries(entries, false);
+    }
+
+    /// Feeds a received frame to the consumer and reports its event.
+    pub(super) fn consumer_frame<P: Profile<A, E, Q, C, T, R>>(
+        &mut self,
+        now: Timestamp,
+        frame: &CanFrame,
+        profile: &mut P,
+    ) {
+        if let Some(e) = self.consumer.take_frame(now, frame) {
+            self.emit(now, DeviceEvent::Heartbeat(e), profile);
         }
     }
 
-    /// Reports the consumer's events.
-    pub(super) fn drain_consumer<P: Profile<A, E, Q, C, T, R>>(
+    /// Reports every node whose time has run out.
+    pub(super) fn consumer_timeout<P: Profile<A, E, Q, C, T, R>>(
         &mut self,
         now: Timestamp,
         profile: &mut P,
     ) {
-        while let Some(e) = self.consumer.poll_event() {
-            self.emit(now, DeviceEvent::Heartbeat(e), profile);
+        while let Some(node) = self.consumer.expire_one(now) {
+            self.emit(
+                now,
+                DeviceEvent::Heartbeat(HeartbeatEvent::Lost(node)),
+                profile,
+            );
         }
     }
 }

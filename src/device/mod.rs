@@ -116,7 +116,6 @@
 //! objects (1400h-1A03h) are served by [`PdoDictionary`] above both.
 
 use core::mem::MaybeUninit;
-use core::time::Duration;
 
 mod config;
 #[cfg(feature = "heartbeat-consumer")]
@@ -157,7 +156,7 @@ use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
 use crate::queue::EventQueue;
 use crate::sdo::{Server, ServerEvent, EVENTS_PER_CALL};
-use crate::time::{MaybeTimestamp, Timestamp};
+use crate::time::Timestamp;
 
 /// The dictionary the SDO server serves: PDO objects, communication
 /// objects, application objects.
@@ -219,10 +218,10 @@ pub struct Device<
     /// charger) queues a second (tests/device_event_capacity.rs).
     nmt: NmtSlave<2>,
     heartbeat: HeartbeatProducer,
-    /// The heartbeat consumer (consumer.rs); drained after every call, so
-    /// one event per entry is enough.
+    /// The heartbeat consumer (consumer.rs): its events are reported as
+    /// they are made, so it keeps none.
     #[cfg(feature = "heartbeat-consumer")]
-    consumer: HeartbeatConsumer<MAX_CONSUMERS, MAX_CONSUMERS>,
+    consumer: consumer::DeviceConsumer,
     /// Its events are read after every call: the capacity one call needs.
     server: Server<Dictionary<A, T, R>, EVENTS_PER_CALL>,
     tpdos: TpdoSet<T>,
@@ -454,7 +453,7 @@ where
         f(&mut self.server.od_mut().inner.comm);
         self.apply_heartbeat_period(now);
         #[cfg(feature = "heartbeat-consumer")]
-        self.apply_consumers(now);
+        self.apply_consumers();
         self.apply_services(now);
         self.refresh_tpdos(now);
     }
@@ -578,10 +577,7 @@ where
             return;
         }
         #[cfg(feature = "heartbeat-consumer")]
-        {
-            self.consumer.handle_frame(now, frame);
-            self.drain_consumer(now, profile);
-        }
+        self.consumer_frame(now, frame, profile);
         if self.nmt.sdo_allowed() {
             self.server.handle_frame(now, frame);
             self.drain_server(now, profile);
@@ -605,10 +601,7 @@ where
         }
         self.heartbeat.handle_timeout(now);
         #[cfg(feature = "heartbeat-consumer")]
-        {
-            self.consumer.handle_timeout(now);
-            self.drain_consumer(now, profile);
-        }
+        self.consumer_timeout(now, profile);
         self.services_timeout(now, profile);
         self.server.handle_timeout(now);
         self.drain_server(now, profile);
@@ -662,9 +655,9 @@ where
         }
         // The minimum of the deadlines as 8-byte values (none is u64::MAX):
         // no `Option` comparisons to compile for each pair.
-        let earliest = MaybeTimestamp::new(self.heartbeat.poll_timeout());
+        let earliest = self.heartbeat.deadline();
         #[cfg(feature = "heartbeat-consumer")]
-        let earliest = earliest.earlier(self.consumer.poll_timeout());
+        let earliest = earliest.min(self.consumer.deadline());
         #[cfg(feature = "guarding")]
         let earliest = earliest.earlier(self.services.guarding.poll_timeout());
         #[cfg(feature = "sync-time")]
@@ -672,7 +665,7 @@ where
         let earliest = earliest
             .earlier(self.server.poll_timeout())
             .earlier(profile.poll_timeout())
-            .earlier(self.tpdos.poll_timeout());
+            .min(self.tpdos.deadline());
         earliest.get()
     }
 
@@ -747,7 +740,7 @@ where
         self.load_power_on();
         self.heartbeat.boot(now);
         #[cfg(feature = "heartbeat-consumer")]
-        self.reset_consumer(now);
+        self.reset_consumer();
         self.tpdos.reset();
         self.reconfigure_pdos(now);
         self.nmt.boot(now);
@@ -783,10 +776,10 @@ where
     }
 
     fn apply_heartbeat_period(&mut self, now: Timestamp) {
-        let ms = u64::from(self.comm().heartbeat_ms);
+        let ms = self.comm().heartbeat_ms;
         // Compared in microseconds: no 64-bit division on a 32-bit target.
-        if ms * 1000 != self.heartbeat.period_us() {
-            self.heartbeat.set_period(now, Duration::from_millis(ms));
+        if u64::from(ms) * 1000 != self.heartbeat.period_us() {
+            self.heartbeat.set_period_ms(now, ms);
         }
     }
 
@@ -798,7 +791,7 @@ where
                     match index {
                         PRODUCER_HEARTBEAT_TIME => self.apply_heartbeat_period(now),
                         #[cfg(feature = "heartbeat-consumer")]
-                        CONSUMER_HEARTBEAT_TIME => self.apply_consumers(now),
+                        CONSUMER_HEARTBEAT_TIME => self.apply_consumers(),
                         _ if PdoDirection::from_index(index).is_some() => {
                             self.reconfigure_pdos(now);
                         }
@@ -830,9 +823,10 @@ where
     }
 
     fn drain_rpdos<P: Profile<A, E, Q, C, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
-        while let Some(rpdo) = self.rpdos.poll_event() {
+        // One frame is at most one RPDO (the receiver's one event slot).
+        if let Some(rpdo) = self.rpdos.poll_event() {
             let Some(result) = RpdoReceiver::apply(&rpdo, self.server.od_mut()) else {
-                continue;
+                return;
             };
             let pdo = rpdo.pdo;
             match result {

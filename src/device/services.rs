@@ -246,7 +246,7 @@ where
         #[cfg(feature = "guarding")]
         self.services.guarding.handle_frame(now, frame);
         if self.nmt.sdo_allowed() {
-            self.take_sync(now, frame, profile);
+            self.take_sync(now, frame);
             #[cfg(feature = "sync-time")]
             self.services.time_consumer.handle_frame(now, frame);
         }
@@ -254,20 +254,15 @@ where
     }
 
     /// A SYNC frame (received or the device's own) on 1005h's identifier
-    /// runs the synchronous TPDOs.
-    fn take_sync<P: Profile<A, E, Q, C, T, R>>(
-        &mut self,
-        now: Timestamp,
-        frame: &CanFrame,
-        profile: &mut P,
-    ) {
+    /// runs the synchronous TPDOs; its event (a skipped counter, the SYNC
+    /// consumer's one slot) is the caller's to drain.
+    fn take_sync(&mut self, now: Timestamp, frame: &CanFrame) {
         if self.services.sync_consumer.accept_quietly(now, frame)
             && self.nmt.state() == NmtState::Operational
         {
             self.refresh_tpdos(now);
             self.tpdos.handle_sync(now);
         }
-        self.drain_services(now, profile);
     }
 
     /// Time has passed: life guarding, the SYNC producer.
@@ -283,7 +278,9 @@ where
             self.services.sync_producer.handle_timeout(now);
             while let Some(frame) = self.services.sync_producer.poll_transmit() {
                 self.send(frame);
-                self.take_sync(now, &frame, profile);
+                self.take_sync(now, &frame);
+                // The SYNC consumer's one event slot, drained per SYNC.
+                self.drain_services(now, profile);
             }
         }
         self.drain_services(now, profile);

@@ -6,6 +6,8 @@ use crate::od::{Access, ObjectInfo};
 use crate::pdo::RpdoError;
 use crate::pdo::{MappingEntry, PdoCobId, PdoCommParams, PdoMapping, PdoSlot};
 use crate::sdo::AbortCode;
+#[cfg(feature = "heartbeat-consumer")]
+use core::time::Duration;
 use std::string::{String, ToString};
 use std::vec::Vec;
 

@@ -16,7 +16,7 @@ use crate::cob_id::PdoNumber;
 use crate::frame::{data_frame_word, CanFrame};
 use crate::machine::Machine;
 use crate::od::ObjectDictionary;
-use crate::time::Timestamp;
+use crate::time::{MaybeTimestamp, Timestamp};
 
 /// TPDO 0..T of a device (default 4), one [`TpdoProducer`] each. SYNC
 /// frames reach every producer through [`Machine::handle_frame`].
@@ -46,6 +46,14 @@ impl<const T: usize> TpdoSet<T> {
         TpdoSet {
             producers: [const { TpdoProducer::new() }; T],
         }
+    }
+
+    /// The earliest TPDO deadline ([`Machine::poll_timeout`] as a
+    /// [`MaybeTimestamp`], for the device's minimum of deadlines).
+    pub(crate) fn deadline(&self) -> MaybeTimestamp {
+        self.producers
+            .iter()
+            .fold(MaybeTimestamp::NONE, |m, p| m.earlier(p.poll_timeout()))
     }
 
     /// Gives each producer its TPDO's current communication parameters (a
@@ -375,5 +383,38 @@ mod tests {
         rx.set_enabled(false);
         rx.handle_frame(Timestamp::ZERO, &CanFrame::standard(0x201, &[1]).unwrap());
         assert_eq!(rx.poll_event(), None, "disabled");
+    }
+}
+
+#[cfg(test)]
+mod deadline_tests {
+    use super::*;
+    use crate::pdo::{PdoCobId, PdoCommParams, PdoMapping, PdoSlot};
+
+    /// The device's minimum of deadlines takes the set's as a
+    /// `MaybeTimestamp`: the same as `poll_timeout`, none or the earliest
+    /// event timer.
+    #[test]
+    fn the_deadline_is_poll_timeout() {
+        let mut set: TpdoSet<4> = TpdoSet::empty();
+        assert_eq!((set.deadline().get(), set.poll_timeout()), (None, None));
+        let mut config: PdoConfig<4, 4> = PdoConfig::new();
+        for (n, ms) in [(PdoNumber::P0, 300), (PdoNumber::P2, 200)] {
+            let comm = PdoCommParams::event_driven(PdoCobId::from_u32(0x180 + ms), ms as u16);
+            config.insert(
+                PdoDirection::Transmit,
+                n,
+                PdoSlot::new(comm, &PdoMapping::EMPTY),
+            );
+        }
+        set.reconfigure(Timestamp::ZERO, &config);
+        set.set_operational(Timestamp::ZERO, true);
+        let earliest = Some(Timestamp::from_millis(200));
+        assert_eq!(
+            (set.deadline().get(), set.poll_timeout()),
+            (earliest, earliest)
+        );
+        set.set_operational(Timestamp::ZERO, false);
+        assert_eq!((set.deadline().get(), set.poll_timeout()), (None, None));
     }
 }
