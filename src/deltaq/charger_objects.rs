@@ -14,7 +14,7 @@
 //! would be published until its next update).
 
 use crate::device::PowerOnValues;
-use crate::od::{Access, ObjectDictionary, ObjectInfo, WriteBuffer};
+use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
 use crate::sdo::AbortCode;
 
 /// The charger's object values. Fields are the application's to read and
@@ -98,17 +98,24 @@ impl ChargerObjects {
         }
     }
 
-    /// Value, access and mappability of a (non-string) object, as up to 4
-    /// little-endian bytes.
-    fn scalar(&self, index: u16, sub: u8) -> Result<(Access, bool, Bytes), AbortCode> {
+    /// Access, current value (a little-endian word of `len` bytes, 1, 2
+    /// or 4), PDO-mappability and field row of every object: the one
+    /// lookup [`info`](ObjectDictionary::info),
+    /// [`read`](ObjectDictionary::read) and
+    /// [`finish_write`](ObjectDictionary::finish_write) share.
+    fn entry(&self, index: u16, sub: u8) -> Result<Entry, AbortCode> {
         if index == PADDING {
             return match sub {
-                0 => Ok((Access::Const, false, Bytes::le_u8(2))),
-                1 | 2 => Ok((Access::ReadWrite, true, Bytes::le_u8(0))),
+                0 => Ok(Entry::new(Access::Const, 2, 1, false, NO_FIELD)),
+                1 | 2 => Ok(Entry::new(Access::ReadWrite, 0, 1, true, NO_FIELD)),
                 _ => Err(AbortCode::SubIndexDoesNotExist),
             };
         }
-        let (field, object) = find(index).ok_or(AbortCode::ObjectDoesNotExist)?;
+        let (row, object) = OBJECTS
+            .iter()
+            .enumerate()
+            .find(|(_, o)| o.index == index)
+            .ok_or(AbortCode::ObjectDoesNotExist)?;
         if sub != 0 {
             return Err(AbortCode::SubIndexDoesNotExist);
         }
@@ -117,9 +124,8 @@ impl ChargerObjects {
         } else {
             Access::ReadOnly
         };
-        let bytes = self.value(field).to_le_bytes();
-        let value = Bytes::new(bytes.get(..usize::from(object.width).min(4)).unwrap_or(&[]));
-        Ok((access, true, value.unwrap_or_default()))
+        let word = self.value(row);
+        Ok(Entry::new(access, word, object.width, true, row as u8))
     }
 
     /// The value of the object in row `field` of [`OBJECTS`].
@@ -146,40 +152,57 @@ impl ChargerObjects {
         }
     }
 
-    /// Writes a writable object: a value of the object's width (a short
-    /// one counts as 0; an 8-bit object takes the first byte).
-    fn store(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
-        if index == PADDING && matches!(sub, 1 | 2) {
-            return Ok(());
-        }
-        let (field, object) = match find(index) {
-            Some(found) if sub == 0 && found.1.writable => found,
-            _ => return Err(AbortCode::WriteOfReadOnlyObject),
-        };
-        let v = match (object.width, data) {
-            (1, [a, ..]) => u32::from(*a),
-            (2, &[a, b]) => u32::from(u16::from_le_bytes([a, b])),
-            (4, &[a, b, c, d]) => u32::from_le_bytes([a, b, c, d]),
-            _ => 0,
-        };
+    /// Stores a complete, length-checked write of `word` (the value's
+    /// little-endian bytes, its length the object's) in the field of row
+    /// `field`; the read-only rows never get here, 2FFAh ([`NO_FIELD`])
+    /// stores nothing.
+    fn apply(&mut self, field: u8, word: u32) {
         // Truncations to the object's width (the value has no more bytes).
         match field {
-            0 => self.battery_status = v as u8,
-            2 => self.temperature = v as u16 as i16,
-            3 => self.ah_returned = v as u16,
-            4 => self.battery_voltage = v,
-            5 => self.current_requested = v as u16,
-            7 => self.battery_soc = v as u8,
-            8 => self.charging_current = v as u16,
-            12 => self.battery_voltage_q8 = v as u16,
-            14 => self.algorithm_request = v,
-            15 => self.voltage_request = v,
-            16 => self.voltage_request_q8 = v as u16,
-            _ => self.external_override = v as u8,
+            0 => self.battery_status = word as u8,
+            2 => self.temperature = word as u16 as i16,
+            3 => self.ah_returned = word as u16,
+            4 => self.battery_voltage = word,
+            5 => self.current_requested = word as u16,
+            7 => self.battery_soc = word as u8,
+            8 => self.charging_current = word as u16,
+            12 => self.battery_voltage_q8 = word as u16,
+            14 => self.algorithm_request = word,
+            15 => self.voltage_request = word,
+            16 => self.voltage_request_q8 = word as u16,
+            17 => self.external_override = word as u8,
+            _ => {}
         }
-        Ok(())
     }
 }
+
+/// One sub-object as [`ChargerObjects::entry`] finds it.
+#[derive(Debug, Clone, Copy)]
+struct Entry {
+    access: Access,
+    /// The value, little-endian: its first `len` bytes.
+    word: u32,
+    /// Bytes: 1, 2 or 4.
+    len: u8,
+    mappable: bool,
+    /// The row of [`OBJECTS`], [`NO_FIELD`] for 2FFAh.
+    field: u8,
+}
+
+impl Entry {
+    const fn new(access: Access, word: u32, len: u8, mappable: bool, field: u8) -> Self {
+        Entry {
+            access,
+            word,
+            len,
+            mappable,
+            field,
+        }
+    }
+}
+
+/// [`Entry::field`] of the 2FFAh padding objects: no field.
+const NO_FIELD: u8 = u8::MAX;
 
 /// What NMT reset node restores of [`ChargerObjects`]: its writable
 /// objects (6000h, 6010h, 6052h, 6060h, 6070h, 6081h, 2002h, 2101h, 2241h,
@@ -298,23 +321,16 @@ const OBJECTS: [Object; 18] = [
     object(0x4201, 1, true),
 ];
 
-/// The row of `index` in [`OBJECTS`].
-fn find(index: u16) -> Option<(usize, Object)> {
-    OBJECTS
-        .iter()
-        .enumerate()
-        .find(|(_, o)| o.index == index)
-        .map(|(row, o)| (row, *o))
-}
-
-type Bytes = crate::bytes::InlineData<4>;
-
 impl ObjectDictionary for ChargerObjects {
     fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-        let (access, mappable, value) = self.scalar(index, sub)?;
-        let mut info = ObjectInfo::fixed(access, value.len());
-        info.pdo_mappable = mappable;
-        Ok(info)
+        let e = self.entry(index, sub)?;
+        let len = usize::from(e.len);
+        Ok(ObjectInfo {
+            access: e.access,
+            len,
+            size: SizeRule::Fixed(len),
+            pdo_mappable: e.mappable,
+        })
     }
 
     fn read(
@@ -324,19 +340,25 @@ impl ObjectDictionary for ChargerObjects {
         offset: usize,
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let (_, _, value) = self.scalar(index, sub)?;
-        Ok(crate::od::read_at(value.as_slice(), offset, buf))
+        let e = self.entry(index, sub)?;
+        let bytes = e.word.to_le_bytes();
+        let value = bytes.get(..usize::from(e.len)).unwrap_or(&bytes);
+        Ok(crate::od::read_at(value, offset, buf))
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
+        // Checked whole at `finish_write` (access, length), as the values
+        // are applied whole there.
         self.pending.write(index, sub, offset, data)
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let mut pending = self.pending;
-        self.pending.clear();
-        let data = pending.take(index, sub);
-        self.store(index, sub, data.get(..len.min(data.len())).unwrap_or(&[]))
+        let entry = self.entry(index, sub);
+        let field = entry.map_or(NO_FIELD, |e| e.field);
+        let object = entry.map(|e| (e.access, usize::from(e.len)));
+        let word = self.pending.finish_word(object, index, sub, len)?;
+        self.apply(field, word);
+        Ok(())
     }
 
     fn abort_write(&mut self, _: u16, _: u8) {
@@ -430,9 +452,12 @@ mod tests {
             Err(AbortCode::WriteOfReadOnlyObject)
         );
         assert_eq!(o.info(0x6000, 1), Err(AbortCode::SubIndexDoesNotExist));
+        // A write of a missing sub-object is refused with the code `info`
+        // gives it.
+        o.write(0x6000, 1, 0, &[1]).unwrap();
         assert_eq!(
             o.finish_write(0x6000, 1, 1),
-            Err(AbortCode::WriteOfReadOnlyObject)
+            Err(AbortCode::SubIndexDoesNotExist)
         );
     }
 
