@@ -37,7 +37,7 @@
 //! Values are applied only when the whole download is accepted
 //! ([`ObjectDictionary::finish_write`]); a refused write changes nothing.
 
-use super::comm::{le_word, PdoCommParams, PdoDirection};
+use super::comm::{PdoCobId, PdoCommParams, PdoDirection, TransmissionType};
 use super::mapping::{MappingEntry, MappingError, PdoMapping, MAX_BITS, MAX_ENTRIES};
 use crate::cob_id::PdoNumber;
 use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
@@ -305,31 +305,42 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> PdoDictionary<D, T, R>
         }
     }
 
-    /// The PDO whose object `index` is and whether it is the mapping
-    /// object; `None` for an index of the application's dictionary, 06020000h
-    /// for the objects of a PDO the device does not have.
-    #[inline]
-    fn pdo(&self, index: u16) -> Option<Result<(&PdoSlot, bool), AbortCode>> {
+    /// Access, value (a little-endian word) and length of PDO object
+    /// `index`/`sub`: the one lookup `info`, `read`, `write` and
+    /// `finish_write` share. `None` for an index of the application's
+    /// dictionary; 06020000h for the objects of a PDO the device does not
+    /// have, 06090011h for a sub-index the object does not have.
+    fn entry(&self, index: u16, sub: u8) -> Option<Result<(Access, u32, usize), AbortCode>> {
         let (dir, n, is_mapping) = PdoDirection::from_index(index)?;
-        Some(match self.config.get(dir, n) {
-            Some(slot) => Ok((slot, is_mapping)),
-            None => Err(AbortCode::ObjectDoesNotExist),
+        let Some(slot) = self.config.get(dir, n) else {
+            return Some(Err(AbortCode::ObjectDoesNotExist));
+        };
+        let value = match (is_mapping, sub) {
+            (true, 0) => Some((u32::from(slot.count), 1)),
+            (true, s) => slot.entry(s).map(|e| (e.to_u32(), 4)),
+            (false, s) => slot.comm.sub_word(s),
+        };
+        let access = if !is_mapping && sub == 0 {
+            Access::ReadOnly
+        } else {
+            Access::ReadWrite
+        };
+        Some(match value {
+            Some((word, len)) => Ok((access, word, len)),
+            None => Err(AbortCode::SubIndexDoesNotExist),
         })
     }
 }
 
-/// The rules for a write to mapping sub-index `sub` (see the module docs);
-/// `slot` changes only when the write is accepted.
+/// The rules for a write of `raw` (its length checked) to mapping
+/// sub-index `sub` (0..=8) (see the module docs); `slot` changes only
+/// when the write is accepted.
 fn apply_mapping<D: ObjectDictionary + ?Sized>(
     slot: &mut PdoSlot,
     sub: u8,
-    data: &[u8],
+    raw: u32,
     od: &D,
 ) -> Result<(), AbortCode> {
-    if usize::from(sub) > MAX_ENTRIES {
-        return Err(AbortCode::SubIndexDoesNotExist);
-    }
-    let raw = le_word(data, if sub == 0 { 1 } else { 4 })?;
     if slot.is_valid() {
         return Err(AbortCode::UnsupportedAccess);
     }
@@ -373,29 +384,34 @@ fn apply_mapping<D: ObjectDictionary + ?Sized>(
     Ok(())
 }
 
-/// The rules for a write to communication sub-index `sub`; `slot` changes
-/// only when the write is accepted.
-fn apply_comm(slot: &mut PdoSlot, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
-    // Decoded in place (a refused value changes nothing: decode_sub stores
-    // only what it accepts), the two fields the rules compare put back
-    // when the write is refused: no copy of the parameters kept.
+/// The rules for a write of `word` (its length checked) to communication
+/// sub-index `sub` (1..=5; 0 is read-only); `slot` changes only when the
+/// write is accepted.
+fn apply_comm(slot: &mut PdoSlot, sub: u8, word: u32) -> Result<(), AbortCode> {
     let comm = &mut slot.comm;
-    let (old_cob, old_inhibit) = (comm.cob_id, comm.inhibit_time_100us);
-    comm.decode_sub(sub, data)?;
-    let new_cob = comm.cob_id;
-    let refused = match sub {
+    let old_cob = comm.cob_id;
+    // Each value is its sub-index's width: the casts keep all of it.
+    match sub {
         1 => {
-            new_cob.is_valid()
+            let new_cob = PdoCobId::from_u32(word);
+            if new_cob.is_valid()
                 && (new_cob.can_id().is_none()
                     || (old_cob.is_valid() && !old_cob.same_identifier(new_cob)))
+            {
+                return Err(AbortCode::InvalidValue);
+            }
+            comm.cob_id = new_cob;
         }
-        3 => old_cob.is_valid() && comm.inhibit_time_100us != old_inhibit,
-        _ => false,
-    };
-    if refused {
-        comm.cob_id = old_cob;
-        comm.inhibit_time_100us = old_inhibit;
-        return Err(AbortCode::InvalidValue);
+        2 => comm.transmission_type = TransmissionType::from_u8(word as u8)?,
+        3 => {
+            if old_cob.is_valid() && word as u16 != comm.inhibit_time_100us {
+                return Err(AbortCode::InvalidValue);
+            }
+            comm.inhibit_time_100us = word as u16;
+        }
+        4 => comm.reserved = word as u8,
+        5 => comm.event_timer_ms = word as u16,
+        _ => return Err(AbortCode::WriteOfReadOnlyObject),
     }
     Ok(())
 }
@@ -404,24 +420,10 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
     for PdoDictionary<D, T, R>
 {
     fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-        let is_mapping = match self.pdo(index) {
-            None => return self.inner.info(index, sub),
-            Some(pdo) => pdo?.1,
+        let Some(object) = self.entry(index, sub) else {
+            return self.inner.info(index, sub);
         };
-        let len = if is_mapping {
-            match sub {
-                0 => 1,
-                1..=8 => 4,
-                _ => return Err(AbortCode::SubIndexDoesNotExist),
-            }
-        } else {
-            PdoCommParams::sub_len(sub).ok_or(AbortCode::SubIndexDoesNotExist)?
-        };
-        let access = if !is_mapping && sub == 0 {
-            Access::ReadOnly
-        } else {
-            Access::ReadWrite
-        };
+        let (access, _, len) = object?;
         Ok(ObjectInfo {
             access,
             len,
@@ -437,51 +439,45 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
         offset: usize,
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let (slot, is_mapping) = match self.pdo(index) {
-            None => return self.inner.read(index, sub, offset, buf),
-            Some(pdo) => pdo?,
+        let Some(object) = self.entry(index, sub) else {
+            return self.inner.read(index, sub, offset, buf);
         };
-        let value = if is_mapping {
-            match sub {
-                0 => Some((u32::from(slot.count), 1)),
-                s => slot.entry(s).map(|e| (e.to_u32(), 4)),
-            }
-        } else {
-            slot.comm.sub_word(sub)
-        };
-        let (word, len) = value.ok_or(AbortCode::SubIndexDoesNotExist)?;
+        let (_, word, len) = object?;
         let bytes = word.to_le_bytes();
         let value = bytes.get(..len).unwrap_or(&bytes);
         Ok(crate::od::read_at(value, offset, buf))
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
-        match self.pdo(index) {
-            None => self.inner.write(index, sub, offset, data),
-            Some(pdo) => {
-                pdo?;
-                // PDO objects are at most 4 bytes: buffer until finish_write.
-                self.pending.write(index, sub, offset, data)
-            }
-        }
+        let Some(object) = self.entry(index, sub) else {
+            return self.inner.write(index, sub, offset, data);
+        };
+        object?;
+        // PDO objects are at most 4 bytes: buffered until finish_write,
+        // which checks them whole.
+        self.pending.write(index, sub, offset, data)
     }
 
     /// Applies the buffered write to a PDO object, or refuses it (and
     /// changes nothing: the rules are checked before any change).
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let Some((dir, n, is_mapping)) = PdoDirection::from_index(index) else {
+        let Some(object) = self.entry(index, sub) else {
             return self.inner.finish_write(index, sub, len);
         };
-        let data = self.pending.take(index, sub);
-        let data = data.get(..len.min(data.len())).unwrap_or(&[]);
+        let object = object.map(|(access, _, len)| (access, len));
+        let word = self.pending.finish_word(object, index, sub, len)?;
+        // The object exists: `entry` found its PDO.
+        let Some((dir, n, is_mapping)) = PdoDirection::from_index(index) else {
+            return Err(AbortCode::ObjectDoesNotExist);
+        };
         let slot = self
             .config
             .get_mut(dir, n)
             .ok_or(AbortCode::ObjectDoesNotExist)?;
         if is_mapping {
-            apply_mapping(slot, sub, data, &self.inner)
+            apply_mapping(slot, sub, word, &self.inner)
         } else {
-            apply_comm(slot, sub, data)
+            apply_comm(slot, sub, word)
         }
     }
 
@@ -497,7 +493,6 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pdo::PdoCobId;
 
     fn slot(id: u32) -> PdoSlot {
         PdoSlot::new(
