@@ -258,57 +258,62 @@ impl CommObjects {
     fn entry(&self, index: u16, sub: u8) -> Result<Entry, AbortCode> {
         use Access::{Const, ReadOnly as Ro, ReadWrite as Rw};
         let node = u32::from(self.node.raw());
-        let (access, value) = match (index, sub) {
-            (MANUFACTURER_DEVICE_NAME, 0) => {
-                return Ok(Entry {
-                    access: Const,
-                    len: self.device_name.len(),
-                    value: Value::Name,
-                })
+        // The single-value objects first, by index alone (one dense
+        // switch), their one sub-index checked once.
+        let single = match index {
+            DEVICE_TYPE => Some((Const, Value::u32(self.device_type))),
+            ERROR_REGISTER => Some((Ro, Value::u8(self.error_register.bits()))),
+            MANUFACTURER_DEVICE_NAME => Some((Const, Value::Name)),
+            PRODUCER_HEARTBEAT_TIME => Some((Rw, Value::u16(self.heartbeat_ms))),
+            COB_ID_SYNC => Some((Rw, Value::u32(self.sync_cob_id.raw()))),
+            #[cfg(feature = "sync-time")]
+            COMMUNICATION_CYCLE_PERIOD => Some((Rw, Value::u32(self.cycle_period_us))),
+            SYNCHRONOUS_WINDOW_LENGTH => Some((Rw, Value::u32(self.sync_window_us))),
+            #[cfg(feature = "guarding")]
+            GUARD_TIME => Some((Rw, Value::u16(self.guard_time_ms))),
+            #[cfg(feature = "guarding")]
+            LIFE_TIME_FACTOR => Some((Rw, Value::u8(self.life_time_factor))),
+            #[cfg(feature = "sync-time")]
+            COB_ID_TIME => Some((Rw, Value::u32(self.time_cob_id.raw()))),
+            SYNCHRONOUS_COUNTER_OVERFLOW => Some((Rw, Value::u8(self.sync_counter_overflow))),
+            _ => None,
+        };
+        let (access, value) = match (single, index, sub) {
+            (Some(object), _, 0) => object,
+            (Some(_), _, _) => return Err(AbortCode::SubIndexDoesNotExist),
+            (None, PRE_DEFINED_ERROR_FIELD, 0) => (Rw, Value::u8(self.history_len)),
+            (None, PRE_DEFINED_ERROR_FIELD, 1..=10) => {
+                match self.errors().get(usize::from(sub) - 1) {
+                    Some(e) => (Ro, Value::u32(*e)),
+                    None => (Ro, Value::NoData),
+                }
             }
-            (DEVICE_TYPE, 0) => (Const, Value::u32(self.device_type)),
-            (ERROR_REGISTER, 0) => (Ro, Value::u8(self.error_register.bits())),
-            (PRE_DEFINED_ERROR_FIELD, 0) => (Rw, Value::u8(self.history_len)),
-            (PRE_DEFINED_ERROR_FIELD, 1..=10) => match self.errors().get(usize::from(sub) - 1) {
-                Some(e) => (Ro, Value::u32(*e)),
-                None => (Ro, Value::NoData),
-            },
             #[cfg(feature = "heartbeat-consumer")]
-            (CONSUMER_HEARTBEAT_TIME, 0) if self.consumer_slots > 0 => {
+            (None, CONSUMER_HEARTBEAT_TIME, 0) if self.consumer_slots > 0 => {
                 (Const, Value::u8(self.consumer_slots))
             }
             #[cfg(feature = "heartbeat-consumer")]
-            (CONSUMER_HEARTBEAT_TIME, s) if s > 0 => match self.consumers().get(usize::from(s) - 1)
-            {
-                Some(e) => (Rw, Value::u32(e.to_u32())),
-                None => return Err(AbortCode::SubIndexDoesNotExist),
-            },
-            (PRODUCER_HEARTBEAT_TIME, 0) => (Rw, Value::u16(self.heartbeat_ms)),
-            (IDENTITY, 0) => (Ro, Value::u8(Identity::HIGHEST_SUB_INDEX)),
-            (IDENTITY, s) => match self.identity.sub(s) {
+            (None, CONSUMER_HEARTBEAT_TIME, s) if s > 0 => {
+                match self.consumers().get(usize::from(s) - 1) {
+                    Some(e) => (Rw, Value::u32(e.to_u32())),
+                    None => return Err(AbortCode::SubIndexDoesNotExist),
+                }
+            }
+            (None, IDENTITY, 0) => (Ro, Value::u8(Identity::HIGHEST_SUB_INDEX)),
+            (None, IDENTITY, s) => match self.identity.sub(s) {
                 Some(v) => (Ro, Value::u32(v)),
                 None => return Err(AbortCode::SubIndexDoesNotExist),
             },
-            (COB_ID_SYNC, 0) => (Rw, Value::u32(self.sync_cob_id.raw())),
-            #[cfg(feature = "sync-time")]
-            (COMMUNICATION_CYCLE_PERIOD, 0) => (Rw, Value::u32(self.cycle_period_us)),
-            (SYNCHRONOUS_WINDOW_LENGTH, 0) => (Rw, Value::u32(self.sync_window_us)),
-            #[cfg(feature = "guarding")]
-            (GUARD_TIME, 0) => (Rw, Value::u16(self.guard_time_ms)),
-            #[cfg(feature = "guarding")]
-            (LIFE_TIME_FACTOR, 0) => (Rw, Value::u8(self.life_time_factor)),
-            #[cfg(feature = "sync-time")]
-            (COB_ID_TIME, 0) => (Rw, Value::u32(self.time_cob_id.raw())),
-            (SYNCHRONOUS_COUNTER_OVERFLOW, 0) => (Rw, Value::u8(self.sync_counter_overflow)),
-            (SDO_SERVER_PARAMETER, 0) => (Ro, Value::u8(2)),
-            (SDO_SERVER_PARAMETER, 1) => (Ro, Value::u32(u32::from(SDO_RX_BASE) + node)),
-            (SDO_SERVER_PARAMETER, 2) => (Ro, Value::u32(u32::from(SDO_TX_BASE) + node)),
-            (i, _) if self.has_object(i) => return Err(AbortCode::SubIndexDoesNotExist),
+            (None, SDO_SERVER_PARAMETER, 0) => (Ro, Value::u8(2)),
+            (None, SDO_SERVER_PARAMETER, 1) => (Ro, Value::u32(u32::from(SDO_RX_BASE) + node)),
+            (None, SDO_SERVER_PARAMETER, 2) => (Ro, Value::u32(u32::from(SDO_TX_BASE) + node)),
+            (None, i, _) if self.has_object(i) => return Err(AbortCode::SubIndexDoesNotExist),
             _ => return Err(AbortCode::ObjectDoesNotExist),
         };
         let len = match value {
             Value::Word(_, len) => usize::from(len),
-            _ => 4,
+            Value::Name => self.device_name.len(),
+            Value::NoData => 4,
         };
         Ok(Entry { access, len, value })
     }
