@@ -353,11 +353,16 @@ impl ObjectDictionary for ChargerObjects {
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let entry = self.entry(index, sub);
-        let field = entry.map_or(NO_FIELD, |e| e.field);
-        let object = entry.map(|e| (e.access, usize::from(e.len)));
-        let word = self.pending.finish_word(object, index, sub, len)?;
-        self.apply(field, word);
+        let e = match self.entry(index, sub) {
+            Ok(e) => e,
+            Err(code) => {
+                self.pending.clear();
+                return Err(code);
+            }
+        };
+        let size = usize::from(e.len);
+        let word = self.pending.finish_fixed(e.access, size, index, sub, len)?;
+        self.apply(e.field, word);
         Ok(())
     }
 

@@ -463,8 +463,16 @@ impl ObjectDictionary for CommObjects {
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let object = self.entry(index, sub).map(|e| (e.access, e.len));
-        let word = self.pending.finish_word(object, index, sub, len)?;
+        let e = match self.entry(index, sub) {
+            Ok(e) => e,
+            Err(code) => {
+                self.pending.clear();
+                return Err(code);
+            }
+        };
+        let word = self
+            .pending
+            .finish_fixed(e.access, e.len, index, sub, len)?;
         self.apply(index, sub, word)
     }
 

@@ -464,8 +464,14 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
         let Some(object) = self.entry(index, sub) else {
             return self.inner.finish_write(index, sub, len);
         };
-        let object = object.map(|(access, _, len)| (access, len));
-        let word = self.pending.finish_word(object, index, sub, len)?;
+        let (access, _, size) = match object {
+            Ok(object) => object,
+            Err(code) => {
+                self.pending.clear();
+                return Err(code);
+            }
+        };
+        let word = self.pending.finish_fixed(access, size, index, sub, len)?;
         // The object exists: `entry` found its PDO.
         let Some((dir, n, is_mapping)) = PdoDirection::from_index(index) else {
             return Err(AbortCode::ObjectDoesNotExist);
