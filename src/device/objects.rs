@@ -319,15 +319,18 @@ impl CommObjects {
     }
 
     /// Applies a complete, length-checked write of `word` (the value's
-    /// little-endian bytes, its length the object's).
+    /// little-endian bytes, its length the object's) to a writable
+    /// sub-object (as [`entry`](Self::entry) found it: each writable
+    /// object has one writable sub-index, 0, but 1016h, whose sub-index
+    /// `sub` names its entry), so the index alone picks the rule.
     fn apply(&mut self, index: u16, sub: u8, word: u32) -> Result<(), AbortCode> {
-        match (index, sub) {
-            (PRE_DEFINED_ERROR_FIELD, 0) if word == 0 => self.clear_errors(),
-            (PRE_DEFINED_ERROR_FIELD, 0) => return Err(AbortCode::InvalidValue),
+        match index {
+            PRE_DEFINED_ERROR_FIELD if word == 0 => self.clear_errors(),
+            PRE_DEFINED_ERROR_FIELD => return Err(AbortCode::InvalidValue),
             #[cfg(feature = "heartbeat-consumer")]
-            (CONSUMER_HEARTBEAT_TIME, s) if s > 0 => {
+            CONSUMER_HEARTBEAT_TIME => {
                 let entry = ConsumerEntry::from_u32(word);
-                let slot = usize::from(s) - 1;
+                let slot = usize::from(sub).wrapping_sub(1);
                 let duplicate = entry.is_enabled()
                     && self
                         .consumers()
@@ -342,8 +345,8 @@ impl CommObjects {
                     _ => return Err(AbortCode::SubIndexDoesNotExist),
                 }
             }
-            (PRODUCER_HEARTBEAT_TIME, 0) => self.heartbeat_ms = word as u16,
-            (COB_ID_SYNC, 0) => {
+            PRODUCER_HEARTBEAT_TIME => self.heartbeat_ms = word as u16,
+            COB_ID_SYNC => {
                 let new = SyncCobId::from_raw(word);
                 // CiA 301 section 7.5.2, object 1005h: the identifier may
                 // not change while the device generates SYNC, and it must
@@ -361,14 +364,14 @@ impl CommObjects {
                 self.sync_cob_id = new;
             }
             #[cfg(feature = "sync-time")]
-            (COMMUNICATION_CYCLE_PERIOD, 0) => self.cycle_period_us = word,
-            (SYNCHRONOUS_WINDOW_LENGTH, 0) => self.sync_window_us = word,
+            COMMUNICATION_CYCLE_PERIOD => self.cycle_period_us = word,
+            SYNCHRONOUS_WINDOW_LENGTH => self.sync_window_us = word,
             #[cfg(feature = "guarding")]
-            (GUARD_TIME, 0) => self.guard_time_ms = word as u16,
+            GUARD_TIME => self.guard_time_ms = word as u16,
             #[cfg(feature = "guarding")]
-            (LIFE_TIME_FACTOR, 0) => self.life_time_factor = word as u8,
+            LIFE_TIME_FACTOR => self.life_time_factor = word as u8,
             #[cfg(feature = "sync-time")]
-            (COB_ID_TIME, 0) => {
+            COB_ID_TIME => {
                 let new = TimeCobId::from_raw(word);
                 if new.id().is_none() {
                     return Err(AbortCode::InvalidValue);
@@ -377,13 +380,13 @@ impl CommObjects {
             }
             // CiA 301 section 7.5.2, object 1019h: written only while
             // 1006h is 0; 1 and 241..=255 are reserved.
-            (SYNCHRONOUS_COUNTER_OVERFLOW, 0) if self.cycle_period_us != 0 => {
+            SYNCHRONOUS_COUNTER_OVERFLOW if self.cycle_period_us != 0 => {
                 return Err(AbortCode::DataCannotBeStoredDeviceState)
             }
-            (SYNCHRONOUS_COUNTER_OVERFLOW, 0) if valid_counter_overflow(word as u8) => {
+            SYNCHRONOUS_COUNTER_OVERFLOW if valid_counter_overflow(word as u8) => {
                 self.sync_counter_overflow = word as u8;
             }
-            (SYNCHRONOUS_COUNTER_OVERFLOW, 0) => return Err(AbortCode::InvalidValue),
+            SYNCHRONOUS_COUNTER_OVERFLOW => return Err(AbortCode::InvalidValue),
             _ => return Err(AbortCode::WriteOfReadOnlyObject),
         }
         Ok(())
