@@ -130,25 +130,35 @@ impl ChargerObjects {
 
     /// The value of the object in row `field` of [`OBJECTS`].
     fn value(&self, field: usize) -> u32 {
+        match self.field(field) {
+            Field::U8(v) => u32::from(*v),
+            Field::U16(v) => u32::from(*v),
+            Field::I16(v) => u32::from(*v as u16),
+            Field::U32(v) => *v,
+        }
+    }
+
+    /// The field of row `field` of [`OBJECTS`].
+    fn field(&self, field: usize) -> Field<'_> {
         match field {
-            0 => self.battery_status.into(),
-            1 => self.charger_status.into(),
-            2 => u32::from(self.temperature as u16),
-            3 => self.ah_returned.into(),
-            4 => self.battery_voltage,
-            5 => self.current_requested.into(),
-            6 => self.charger_soc.into(),
-            7 => self.battery_soc.into(),
-            8 => self.charging_current.into(),
-            9 => self.extended_status.into(),
-            10 => self.displayed_error,
-            11 => self.battery_voltage_q10.into(),
-            12 => self.battery_voltage_q8.into(),
-            13 => self.ac_voltage.into(),
-            14 => self.algorithm_request,
-            15 => self.voltage_request,
-            16 => self.voltage_request_q8.into(),
-            _ => self.external_override.into(),
+            0 => Field::U8(&self.battery_status),
+            1 => Field::U8(&self.charger_status),
+            2 => Field::I16(&self.temperature),
+            3 => Field::U16(&self.ah_returned),
+            4 => Field::U32(&self.battery_voltage),
+            5 => Field::U16(&self.current_requested),
+            6 => Field::U8(&self.charger_soc),
+            7 => Field::U8(&self.battery_soc),
+            8 => Field::U16(&self.charging_current),
+            9 => Field::U16(&self.extended_status),
+            10 => Field::U32(&self.displayed_error),
+            11 => Field::U16(&self.battery_voltage_q10),
+            12 => Field::U16(&self.battery_voltage_q8),
+            13 => Field::U16(&self.ac_voltage),
+            14 => Field::U32(&self.algorithm_request),
+            15 => Field::U32(&self.voltage_request),
+            16 => Field::U16(&self.voltage_request_q8),
+            _ => Field::U8(&self.external_override),
         }
     }
 
@@ -174,6 +184,14 @@ impl ChargerObjects {
             _ => {}
         }
     }
+}
+
+/// A field of [`ChargerObjects`] by its type.
+enum Field<'a> {
+    U8(&'a u8),
+    U16(&'a u16),
+    I16(&'a i16),
+    U32(&'a u32),
 }
 
 /// One sub-object as [`ChargerObjects::entry`] finds it.
