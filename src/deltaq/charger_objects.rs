@@ -484,6 +484,141 @@ mod tests {
         );
     }
 
+    /// Every refusal through the dictionary, object by object: a missing
+    /// object (06020000h) or sub-index (06090011h), a read-only object
+    /// (06010002h), a value longer (06070012h) or shorter (06070013h) than
+    /// the object; a refused write changes nothing and leaves nothing
+    /// buffered for the next one.
+    #[test]
+    fn every_refusal_has_its_code_and_changes_nothing() {
+        // The values (the buffer keeps the bytes of the last value).
+        let values = |o: &ChargerObjects| {
+            let mut o = *o;
+            o.pending.clear();
+            o
+        };
+        let mut o = ChargerObjects::new();
+        let before = values(&o);
+        let rows: [u16; 18] = [
+            0x6000, 0x6001, 0x6010, 0x6052, 0x6060, 0x6070, 0x6080, 0x6081, 0x2002, 0x2006, 0x2060,
+            0x2100, 0x2101, 0x2200, 0x2241, 0x2271, 0x2276, 0x4201,
+        ];
+        let finish = |o: &mut ChargerObjects, index: u16, sub: u8, data: &[u8]| {
+            o.write(index, sub, 0, data)
+                .and_then(|()| o.finish_write(index, sub, data.len()))
+        };
+        for index in rows {
+            let info = o.info(index, 0).unwrap();
+            let len = info.len;
+            let long = [0x5Au8; 5];
+            if info.access.is_writable() {
+                assert_eq!(
+                    finish(&mut o, index, 0, &long[..len + 1]),
+                    Err(AbortCode::DataTypeLengthTooHigh),
+                    "{index:04X}h"
+                );
+                if len > 1 {
+                    assert_eq!(
+                        finish(&mut o, index, 0, &long[..len - 1]),
+                        Err(AbortCode::DataTypeLengthTooLow),
+                        "{index:04X}h"
+                    );
+                }
+                // A declared length shorter than the bytes written.
+                o.write(index, 0, 0, &long[..len]).unwrap();
+                assert_eq!(
+                    o.finish_write(index, 0, len.saturating_sub(1)),
+                    Err(AbortCode::DataTypeLengthTooLow),
+                    "{index:04X}h"
+                );
+            } else {
+                assert_eq!(
+                    finish(&mut o, index, 0, &long[..len]),
+                    Err(AbortCode::WriteOfReadOnlyObject),
+                    "{index:04X}h"
+                );
+            }
+            for sub in [1u8, 2, 0xFF] {
+                assert_eq!(o.info(index, sub), Err(AbortCode::SubIndexDoesNotExist));
+                assert_eq!(
+                    o.read(index, sub, 0, &mut [0; 4]),
+                    Err(AbortCode::SubIndexDoesNotExist)
+                );
+                assert_eq!(
+                    finish(&mut o, index, sub, &long[..len]),
+                    Err(AbortCode::SubIndexDoesNotExist)
+                );
+            }
+            // Nothing left buffered: a finish without a write takes no bytes.
+            if info.access.is_writable() {
+                assert_eq!(
+                    o.finish_write(index, 0, len),
+                    Err(AbortCode::DataTypeLengthTooLow),
+                    "{index:04X}h"
+                );
+            }
+        }
+        assert_eq!(values(&o), before, "a refused write changes nothing");
+        for index in [0x1000u16, 0x2000, 0x2FF9, 0x2FFB, 0x6002, 0x6090, 0xFFFF] {
+            assert_eq!(o.info(index, 0), Err(AbortCode::ObjectDoesNotExist));
+            assert_eq!(
+                o.read(index, 0, 0, &mut [0; 4]),
+                Err(AbortCode::ObjectDoesNotExist)
+            );
+            assert_eq!(
+                finish(&mut o, index, 0, &[1]),
+                Err(AbortCode::ObjectDoesNotExist)
+            );
+        }
+        // 2FFAh: sub 0 = 2 (constant, not mappable), subs 1 and 2 one
+        // writable byte each that reads 0, sub 3 missing.
+        let info = o.info(PADDING, 0).unwrap();
+        assert_eq!(
+            (info.access, info.len, info.pdo_mappable),
+            (Access::Const, 1, false)
+        );
+        let mut buf = [0u8; 1];
+        assert_eq!(o.read(PADDING, 0, 0, &mut buf), Ok(1));
+        assert_eq!(buf, [2]);
+        for sub in [1u8, 2] {
+            let info = o.info(PADDING, sub).unwrap();
+            assert_eq!(
+                (info.access, info.len, info.pdo_mappable),
+                (Access::ReadWrite, 1, true)
+            );
+            assert_eq!(finish(&mut o, PADDING, sub, &[9]), Ok(()));
+            assert_eq!(o.read(PADDING, sub, 0, &mut buf), Ok(1));
+            assert_eq!(buf, [0], "2FFAh:{sub} stores nothing");
+            assert_eq!(
+                finish(&mut o, PADDING, sub, &[9, 9]),
+                Err(AbortCode::DataTypeLengthTooHigh)
+            );
+        }
+        assert_eq!(
+            finish(&mut o, PADDING, 0, &[2]),
+            Err(AbortCode::WriteOfReadOnlyObject)
+        );
+        assert_eq!(o.info(PADDING, 3), Err(AbortCode::SubIndexDoesNotExist));
+        assert_eq!(values(&o), before, "2FFAh stores nothing");
+        // A value in two pieces, and an aborted one.
+        o.write(0x2241, 0, 0, &[1, 2]).unwrap();
+        o.write(0x2241, 0, 2, &[3, 4]).unwrap();
+        assert_eq!(o.finish_write(0x2241, 0, 4), Ok(()));
+        assert_eq!(o.algorithm_request, 0x0403_0201);
+        o.write(0x2241, 0, 0, &[9, 9, 9, 9]).unwrap();
+        o.abort_write(0x2241, 0);
+        assert_eq!(
+            o.finish_write(0x2241, 0, 4),
+            Err(AbortCode::DataTypeLengthTooLow)
+        );
+        assert_eq!(o.algorithm_request, 0x0403_0201);
+        let mut buf = [0u8; 4];
+        assert_eq!(o.read(0x2241, 0, 1, &mut buf), Ok(3));
+        assert_eq!(buf[..3], [2, 3, 4]);
+        assert_eq!(o.read(0x2241, 0, 4, &mut buf), Ok(0));
+        assert_eq!(o.read(0x2241, 0, usize::MAX, &mut buf), Ok(0));
+    }
+
     #[test]
     fn objects_and_access() {
         let mut o = ChargerObjects::new();
