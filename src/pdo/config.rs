@@ -507,6 +507,153 @@ mod tests {
         )
     }
 
+    /// One mappable, writable 16-bit object, 2000h sub 0.
+    struct One(u16);
+
+    impl ObjectDictionary for One {
+        fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
+            match (index, sub) {
+                (0x2000, 0) => Ok(ObjectInfo::fixed(Access::ReadWrite, 2).mappable()),
+                (0x2000, _) => Err(AbortCode::SubIndexDoesNotExist),
+                _ => Err(AbortCode::ObjectDoesNotExist),
+            }
+        }
+        fn read(
+            &mut self,
+            index: u16,
+            sub: u8,
+            offset: usize,
+            buf: &mut [u8],
+        ) -> Result<usize, AbortCode> {
+            self.info(index, sub)?;
+            Ok(crate::od::read_at(&self.0.to_le_bytes(), offset, buf))
+        }
+        fn write(&mut self, index: u16, sub: u8, _: usize, _: &[u8]) -> Result<(), AbortCode> {
+            self.info(index, sub).map(|_| ())
+        }
+    }
+
+    /// The PDO objects through the dictionary itself (no SDO server in
+    /// between): every sub-index's access, length and value, and every
+    /// refusal's code; a refused write changes nothing and leaves nothing
+    /// buffered.
+    #[test]
+    fn pdo_objects_through_the_dictionary() {
+        use Access::{ReadOnly as Ro, ReadWrite as Rw};
+        let mut config = PdoConfig::<1, 1>::empty();
+        let mapping = PdoMapping::new(&[MappingEntry::new(0x2000, 0, 16)]).unwrap();
+        let comm = PdoCommParams::event_driven(PdoCobId::from_u32(0x8000_0181), 100);
+        config.insert(
+            PdoDirection::Transmit,
+            PdoNumber::P0,
+            PdoSlot::new(comm, &mapping),
+        );
+        let mut od = PdoDictionary::new(config, One(7));
+        let mut buf = [0u8; 4];
+        let rows: [(u16, u8, Access, &[u8]); 8] = [
+            (0x1800, 0, Ro, &[5]),
+            (0x1800, 1, Rw, &[0x81, 0x01, 0, 0x80]),
+            (0x1800, 2, Rw, &[255]),
+            (0x1800, 3, Rw, &[0, 0]),
+            (0x1800, 4, Rw, &[0]),
+            (0x1800, 5, Rw, &[100, 0]),
+            (0x1A00, 0, Rw, &[1]),
+            (0x1A00, 1, Rw, &[0x10, 0x00, 0x00, 0x20]),
+        ];
+        for (index, sub, access, value) in rows {
+            let info = od.info(index, sub).unwrap();
+            assert_eq!(
+                (info.access, info.len, info.pdo_mappable),
+                (access, value.len(), false)
+            );
+            assert_eq!(od.read(index, sub, 0, &mut buf), Ok(value.len()));
+            assert_eq!(&buf[..value.len()], value, "{index:04X}h:{sub}");
+        }
+        assert_eq!(
+            od.read(0x1A00, 2, 0, &mut buf),
+            Ok(4),
+            "an uncounted entry reads"
+        );
+        let before = od.config;
+        let finish = |od: &mut PdoDictionary<One, 1, 1>, index: u16, sub: u8, data: &[u8]| {
+            od.write(index, sub, 0, data)
+                .and_then(|()| od.finish_write(index, sub, data.len()))
+        };
+        let refused: [(u16, u8, &[u8], AbortCode); 13] = [
+            (0x1800, 0, &[5], AbortCode::WriteOfReadOnlyObject),
+            (0x1800, 1, &[0x81, 0x01, 0], AbortCode::DataTypeLengthTooLow),
+            (0x1800, 3, &[1, 0, 0], AbortCode::DataTypeLengthTooHigh),
+            (0x1800, 2, &[241], AbortCode::InvalidValue),
+            (0x1800, 2, &[253], AbortCode::InvalidValue),
+            // A valid 11-bit COB-ID with bits 28-11 set.
+            (0x1800, 1, &[0x81, 0x09, 0, 0], AbortCode::InvalidValue),
+            (0x1800, 6, &[0], AbortCode::SubIndexDoesNotExist),
+            (0x1A00, 9, &[0; 4], AbortCode::SubIndexDoesNotExist),
+            (0x1A00, 0, &[0, 0], AbortCode::DataTypeLengthTooHigh),
+            // Sub 0 is 1: entries change only while it is 0.
+            (0x1A00, 1, &[0x10, 0, 0, 0x20], AbortCode::UnsupportedAccess),
+            (0x1A00, 0, &[2], AbortCode::UnsupportedAccess),
+            // No TPDO 2, no RPDO 1 at all.
+            (0x1801, 1, &[0; 4], AbortCode::ObjectDoesNotExist),
+            (0x1400, 1, &[0; 4], AbortCode::ObjectDoesNotExist),
+        ];
+        for (index, sub, data, code) in refused {
+            assert_eq!(
+                finish(&mut od, index, sub, data),
+                Err(code),
+                "{index:04X}h:{sub} {data:?}"
+            );
+            assert_eq!(od.config, before, "{index:04X}h:{sub}: nothing changed");
+        }
+        // Through sub 0 = 0: an entry of a missing object or sub-index,
+        // or one too long for its object, is refused with its code.
+        assert_eq!(finish(&mut od, 0x1A00, 0, &[0]), Ok(()));
+        for (entry, code) in [
+            (0x2100_0010u32, AbortCode::ObjectDoesNotExist),
+            (0x2000_0110, AbortCode::SubIndexDoesNotExist),
+            (0x2000_0020, AbortCode::ObjectCannotBeMapped),
+        ] {
+            assert_eq!(finish(&mut od, 0x1A00, 1, &entry.to_le_bytes()), Err(code));
+        }
+        assert_eq!(
+            finish(&mut od, 0x1A00, 1, &0x2000_0008u32.to_le_bytes()),
+            Ok(())
+        );
+        assert_eq!(finish(&mut od, 0x1A00, 0, &[1]), Ok(()));
+        // A valid PDO: its inhibit time and identifier are fixed.
+        assert_eq!(finish(&mut od, 0x1800, 1, &[0x81, 0x01, 0, 0]), Ok(()));
+        assert_eq!(
+            finish(&mut od, 0x1800, 3, &[1, 0]),
+            Err(AbortCode::InvalidValue)
+        );
+        assert_eq!(
+            finish(&mut od, 0x1800, 1, &[0x82, 0x01, 0, 0]),
+            Err(AbortCode::InvalidValue)
+        );
+        assert_eq!(
+            finish(&mut od, 0x1A00, 0, &[0]),
+            Err(AbortCode::UnsupportedAccess)
+        );
+        assert_eq!(finish(&mut od, 0x1800, 5, &[0xE8, 0x03]), Ok(()));
+        let slot = od
+            .config
+            .get(PdoDirection::Transmit, PdoNumber::P0)
+            .unwrap();
+        assert_eq!(slot.comm.event_timer_ms, 1000);
+        assert!(slot.is_valid());
+        assert_eq!(slot.mapped(), &[MappingEntry::new(0x2000, 0, 8)]);
+        // An aborted value leaves nothing for the next finish.
+        od.write(0x1800, 5, 0, &[1, 0]).unwrap();
+        od.abort_write(0x1800, 5);
+        assert_eq!(
+            od.finish_write(0x1800, 5, 2),
+            Err(AbortCode::DataTypeLengthTooLow)
+        );
+        // Other indexes are the inner dictionary's.
+        assert_eq!(od.read(0x2000, 0, 0, &mut buf), Ok(2));
+        assert_eq!(od.info(0x2001, 0), Err(AbortCode::ObjectDoesNotExist));
+    }
+
     const NUMBERS: [PdoNumber; 4] = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3];
     const DIRECTIONS: [PdoDirection; 2] = [PdoDirection::Receive, PdoDirection::Transmit];
 
