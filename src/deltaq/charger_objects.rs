@@ -167,23 +167,37 @@ impl ChargerObjects {
     /// `field`; the read-only rows never get here, 2FFAh ([`NO_FIELD`])
     /// stores nothing.
     fn apply(&mut self, field: u8, word: u32) {
+        let field = match field {
+            0 => FieldMut::U8(&mut self.battery_status),
+            2 => FieldMut::I16(&mut self.temperature),
+            3 => FieldMut::U16(&mut self.ah_returned),
+            4 => FieldMut::U32(&mut self.battery_voltage),
+            5 => FieldMut::U16(&mut self.current_requested),
+            7 => FieldMut::U8(&mut self.battery_soc),
+            8 => FieldMut::U16(&mut self.charging_current),
+            12 => FieldMut::U16(&mut self.battery_voltage_q8),
+            14 => FieldMut::U32(&mut self.algorithm_request),
+            15 => FieldMut::U32(&mut self.voltage_request),
+            16 => FieldMut::U16(&mut self.voltage_request_q8),
+            17 => FieldMut::U8(&mut self.external_override),
+            _ => return,
+        };
         // Truncations to the object's width (the value has no more bytes).
         match field {
-            0 => self.battery_status = word as u8,
-            2 => self.temperature = word as u16 as i16,
-            3 => self.ah_returned = word as u16,
-            4 => self.battery_voltage = word,
-            5 => self.current_requested = word as u16,
-            7 => self.battery_soc = word as u8,
-            8 => self.charging_current = word as u16,
-            12 => self.battery_voltage_q8 = word as u16,
-            14 => self.algorithm_request = word,
-            15 => self.voltage_request = word,
-            16 => self.voltage_request_q8 = word as u16,
-            17 => self.external_override = word as u8,
-            _ => {}
+            FieldMut::U8(f) => *f = word as u8,
+            FieldMut::U16(f) => *f = word as u16,
+            FieldMut::I16(f) => *f = word as u16 as i16,
+            FieldMut::U32(f) => *f = word,
         }
     }
+}
+
+/// A writable field of [`ChargerObjects`] by its type.
+enum FieldMut<'a> {
+    U8(&'a mut u8),
+    U16(&'a mut u16),
+    I16(&'a mut i16),
+    U32(&'a mut u32),
 }
 
 /// A field of [`ChargerObjects`] by its type.
