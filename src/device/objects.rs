@@ -351,14 +351,16 @@ impl CommObjects {
                 // CiA 301 section 7.5.2, object 1005h: the identifier may
                 // not change while the device generates SYNC, and it must
                 // be a valid one.
-                let moved = new.raw() & 0x3FFF_FFFF != self.sync_cob_id.raw() & 0x3FFF_FFFF;
-                if new.id().is_none() || (moved && self.sync_cob_id.generates() && new.generates())
-                {
-                    return Err(AbortCode::InvalidValue);
-                }
                 // Without the SYNC producer (feature `sync-time`) the
-                // device cannot generate SYNC: the generate bit is refused.
-                if new.generates() && !cfg!(feature = "sync-time") {
+                // device cannot generate SYNC: the generate bit is refused
+                // (which refuses a move while generating too).
+                let refused = if cfg!(feature = "sync-time") {
+                    let moved = new.raw() & 0x3FFF_FFFF != self.sync_cob_id.raw() & 0x3FFF_FFFF;
+                    moved && self.sync_cob_id.generates() && new.generates()
+                } else {
+                    new.generates()
+                };
+                if new.id().is_none() || refused {
                     return Err(AbortCode::InvalidValue);
                 }
                 self.sync_cob_id = new;
