@@ -324,6 +324,9 @@ impl CommObjects {
     /// object has one writable sub-index, 0, but 1016h, whose sub-index
     /// `sub` names its entry), so the index alone picks the rule.
     fn apply(&mut self, index: u16, sub: u8, word: u32) -> Result<(), AbortCode> {
+        // Only 1016h's entries are told apart by their sub-index.
+        #[cfg(not(feature = "heartbeat-consumer"))]
+        let _ = sub;
         match index {
             PRE_DEFINED_ERROR_FIELD if word == 0 => self.clear_errors(),
             PRE_DEFINED_ERROR_FIELD => return Err(AbortCode::InvalidValue),
