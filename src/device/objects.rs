@@ -465,9 +465,11 @@ impl ObjectDictionary for CommObjects {
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
-        let access = self.entry(index, sub)?.access;
-        self.pending
-            .write_to(&ObjectInfo::fixed(access, 0), index, sub, offset, data)
+        if !self.entry(index, sub)?.access.is_writable() {
+            self.pending.clear();
+            return Err(AbortCode::WriteOfReadOnlyObject);
+        }
+        self.pending.write(index, sub, offset, data)
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
