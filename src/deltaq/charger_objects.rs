@@ -330,8 +330,9 @@ const fn object(index: u16, width: u8, writable: bool) -> Object {
 }
 
 /// The charger's objects besides 2FFAh, in the order of
-/// [`ChargerObjects::value`]'s rows: one table for SDO info, reads and
-/// writes (the field code is two dense `match`es on the row).
+/// the rows of `ChargerObjects::field` and `ChargerObjects::apply`: one
+/// table for SDO info, reads and writes (the field code is two dense
+/// `match`es on the row, each arm a reference to the field).
 const OBJECTS: [Object; 18] = [
     object(0x6000, 1, true),
     object(0x6001, 1, false),
