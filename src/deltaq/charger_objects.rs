@@ -119,11 +119,7 @@ impl ChargerObjects {
         if sub != 0 {
             return Err(AbortCode::SubIndexDoesNotExist);
         }
-        let access = if object.writable {
-            Access::ReadWrite
-        } else {
-            Access::ReadOnly
-        };
+        let access = object.access;
         let word = self.value(row);
         Ok(Entry::new(access, word, object.width, true, row as u8))
     }
@@ -318,14 +314,19 @@ struct Object {
     index: u16,
     /// Bytes: 1, 2 or 4.
     width: u8,
-    writable: bool,
+    access: Access,
 }
 
 const fn object(index: u16, width: u8, writable: bool) -> Object {
+    let access = if writable {
+        Access::ReadWrite
+    } else {
+        Access::ReadOnly
+    };
     Object {
         index,
         width,
-        writable,
+        access,
     }
 }
 
