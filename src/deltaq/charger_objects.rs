@@ -14,7 +14,7 @@
 //! would be published until its next update).
 
 use crate::device::PowerOnValues;
-use crate::od::{Access, ObjectDictionary, ObjectInfo, WriteBuffer};
+use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
 use crate::sdo::AbortCode;
 
 /// The charger's object values. Fields are the application's to read and
@@ -98,88 +98,139 @@ impl ChargerObjects {
         }
     }
 
-    /// Value, access and mappability of a (non-string) object, as up to 4
-    /// little-endian bytes.
-    fn scalar(&self, index: u16, sub: u8) -> Result<(Access, bool, Bytes), AbortCode> {
+    /// Access, current value (a little-endian word of `len` bytes, 1, 2
+    /// or 4), PDO-mappability and field row of every object: the one
+    /// lookup [`info`](ObjectDictionary::info),
+    /// [`read`](ObjectDictionary::read) and
+    /// [`finish_write`](ObjectDictionary::finish_write) share.
+    fn entry(&self, index: u16, sub: u8) -> Result<Entry, AbortCode> {
         if index == PADDING {
             return match sub {
-                0 => Ok((Access::Const, false, Bytes::le_u8(2))),
-                1 | 2 => Ok((Access::ReadWrite, true, Bytes::le_u8(0))),
+                0 => Ok(Entry::new(Access::Const, 2, 1, false, NO_FIELD)),
+                1 | 2 => Ok(Entry::new(Access::ReadWrite, 0, 1, true, NO_FIELD)),
                 _ => Err(AbortCode::SubIndexDoesNotExist),
             };
         }
-        let (field, object) = find(index).ok_or(AbortCode::ObjectDoesNotExist)?;
+        let (row, object) = OBJECTS
+            .iter()
+            .enumerate()
+            .find(|(_, o)| o.index == index)
+            .ok_or(AbortCode::ObjectDoesNotExist)?;
         if sub != 0 {
             return Err(AbortCode::SubIndexDoesNotExist);
         }
-        let access = if object.writable {
-            Access::ReadWrite
-        } else {
-            Access::ReadOnly
-        };
-        let bytes = self.value(field).to_le_bytes();
-        let value = Bytes::new(bytes.get(..usize::from(object.width).min(4)).unwrap_or(&[]));
-        Ok((access, true, value.unwrap_or_default()))
+        let access = object.access;
+        let word = self.value(row);
+        Ok(Entry::new(access, word, object.width, true, row as u8))
     }
 
     /// The value of the object in row `field` of [`OBJECTS`].
     fn value(&self, field: usize) -> u32 {
-        match field {
-            0 => self.battery_status.into(),
-            1 => self.charger_status.into(),
-            2 => u32::from(self.temperature as u16),
-            3 => self.ah_returned.into(),
-            4 => self.battery_voltage,
-            5 => self.current_requested.into(),
-            6 => self.charger_soc.into(),
-            7 => self.battery_soc.into(),
-            8 => self.charging_current.into(),
-            9 => self.extended_status.into(),
-            10 => self.displayed_error,
-            11 => self.battery_voltage_q10.into(),
-            12 => self.battery_voltage_q8.into(),
-            13 => self.ac_voltage.into(),
-            14 => self.algorithm_request,
-            15 => self.voltage_request,
-            16 => self.voltage_request_q8.into(),
-            _ => self.external_override.into(),
+        match self.field(field) {
+            Field::U8(v) => u32::from(*v),
+            Field::U16(v) => u32::from(*v),
+            Field::I16(v) => u32::from(*v as u16),
+            Field::U32(v) => *v,
         }
     }
 
-    /// Writes a writable object: a value of the object's width (a short
-    /// one counts as 0; an 8-bit object takes the first byte).
-    fn store(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
-        if index == PADDING && matches!(sub, 1 | 2) {
-            return Ok(());
+    /// The field of row `field` of [`OBJECTS`].
+    fn field(&self, field: usize) -> Field<'_> {
+        match field {
+            0 => Field::U8(&self.battery_status),
+            1 => Field::U8(&self.charger_status),
+            2 => Field::I16(&self.temperature),
+            3 => Field::U16(&self.ah_returned),
+            4 => Field::U32(&self.battery_voltage),
+            5 => Field::U16(&self.current_requested),
+            6 => Field::U8(&self.charger_soc),
+            7 => Field::U8(&self.battery_soc),
+            8 => Field::U16(&self.charging_current),
+            9 => Field::U16(&self.extended_status),
+            10 => Field::U32(&self.displayed_error),
+            11 => Field::U16(&self.battery_voltage_q10),
+            12 => Field::U16(&self.battery_voltage_q8),
+            13 => Field::U16(&self.ac_voltage),
+            14 => Field::U32(&self.algorithm_request),
+            15 => Field::U32(&self.voltage_request),
+            16 => Field::U16(&self.voltage_request_q8),
+            _ => Field::U8(&self.external_override),
         }
-        let (field, object) = match find(index) {
-            Some(found) if sub == 0 && found.1.writable => found,
-            _ => return Err(AbortCode::WriteOfReadOnlyObject),
-        };
-        let v = match (object.width, data) {
-            (1, [a, ..]) => u32::from(*a),
-            (2, &[a, b]) => u32::from(u16::from_le_bytes([a, b])),
-            (4, &[a, b, c, d]) => u32::from_le_bytes([a, b, c, d]),
-            _ => 0,
+    }
+
+    /// Stores a complete, length-checked write of `word` (the value's
+    /// little-endian bytes, its length the object's) in the field of row
+    /// `field`; the read-only rows never get here, 2FFAh ([`NO_FIELD`])
+    /// stores nothing.
+    fn apply(&mut self, field: u8, word: u32) {
+        let field = match field {
+            0 => FieldMut::U8(&mut self.battery_status),
+            2 => FieldMut::I16(&mut self.temperature),
+            3 => FieldMut::U16(&mut self.ah_returned),
+            4 => FieldMut::U32(&mut self.battery_voltage),
+            5 => FieldMut::U16(&mut self.current_requested),
+            7 => FieldMut::U8(&mut self.battery_soc),
+            8 => FieldMut::U16(&mut self.charging_current),
+            12 => FieldMut::U16(&mut self.battery_voltage_q8),
+            14 => FieldMut::U32(&mut self.algorithm_request),
+            15 => FieldMut::U32(&mut self.voltage_request),
+            16 => FieldMut::U16(&mut self.voltage_request_q8),
+            17 => FieldMut::U8(&mut self.external_override),
+            _ => return,
         };
         // Truncations to the object's width (the value has no more bytes).
         match field {
-            0 => self.battery_status = v as u8,
-            2 => self.temperature = v as u16 as i16,
-            3 => self.ah_returned = v as u16,
-            4 => self.battery_voltage = v,
-            5 => self.current_requested = v as u16,
-            7 => self.battery_soc = v as u8,
-            8 => self.charging_current = v as u16,
-            12 => self.battery_voltage_q8 = v as u16,
-            14 => self.algorithm_request = v,
-            15 => self.voltage_request = v,
-            16 => self.voltage_request_q8 = v as u16,
-            _ => self.external_override = v as u8,
+            FieldMut::U8(f) => *f = word as u8,
+            FieldMut::U16(f) => *f = word as u16,
+            FieldMut::I16(f) => *f = word as u16 as i16,
+            FieldMut::U32(f) => *f = word,
         }
-        Ok(())
     }
 }
+
+/// A writable field of [`ChargerObjects`] by its type.
+enum FieldMut<'a> {
+    U8(&'a mut u8),
+    U16(&'a mut u16),
+    I16(&'a mut i16),
+    U32(&'a mut u32),
+}
+
+/// A field of [`ChargerObjects`] by its type.
+enum Field<'a> {
+    U8(&'a u8),
+    U16(&'a u16),
+    I16(&'a i16),
+    U32(&'a u32),
+}
+
+/// One sub-object as [`ChargerObjects::entry`] finds it.
+#[derive(Debug, Clone, Copy)]
+struct Entry {
+    access: Access,
+    /// The value, little-endian: its first `len` bytes.
+    word: u32,
+    /// Bytes: 1, 2 or 4.
+    len: u8,
+    mappable: bool,
+    /// The row of [`OBJECTS`], [`NO_FIELD`] for 2FFAh.
+    field: u8,
+}
+
+impl Entry {
+    const fn new(access: Access, word: u32, len: u8, mappable: bool, field: u8) -> Self {
+        Entry {
+            access,
+            word,
+            len,
+            mappable,
+            field,
+        }
+    }
+}
+
+/// [`Entry::field`] of the 2FFAh padding objects: no field.
+const NO_FIELD: u8 = u8::MAX;
 
 /// What NMT reset node restores of [`ChargerObjects`]: its writable
 /// objects (6000h, 6010h, 6052h, 6060h, 6070h, 6081h, 2002h, 2101h, 2241h,
@@ -263,20 +314,26 @@ struct Object {
     index: u16,
     /// Bytes: 1, 2 or 4.
     width: u8,
-    writable: bool,
+    access: Access,
 }
 
 const fn object(index: u16, width: u8, writable: bool) -> Object {
+    let access = if writable {
+        Access::ReadWrite
+    } else {
+        Access::ReadOnly
+    };
     Object {
         index,
         width,
-        writable,
+        access,
     }
 }
 
 /// The charger's objects besides 2FFAh, in the order of
-/// [`ChargerObjects::value`]'s rows: one table for SDO info, reads and
-/// writes (the field code is two dense `match`es on the row).
+/// the rows of `ChargerObjects::field` and `ChargerObjects::apply`: one
+/// table for SDO info, reads and writes (the field code is two dense
+/// `match`es on the row, each arm a reference to the field).
 const OBJECTS: [Object; 18] = [
     object(0x6000, 1, true),
     object(0x6001, 1, false),
@@ -298,23 +355,16 @@ const OBJECTS: [Object; 18] = [
     object(0x4201, 1, true),
 ];
 
-/// The row of `index` in [`OBJECTS`].
-fn find(index: u16) -> Option<(usize, Object)> {
-    OBJECTS
-        .iter()
-        .enumerate()
-        .find(|(_, o)| o.index == index)
-        .map(|(row, o)| (row, *o))
-}
-
-type Bytes = crate::bytes::InlineData<4>;
-
 impl ObjectDictionary for ChargerObjects {
     fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-        let (access, mappable, value) = self.scalar(index, sub)?;
-        let mut info = ObjectInfo::fixed(access, value.len());
-        info.pdo_mappable = mappable;
-        Ok(info)
+        let e = self.entry(index, sub)?;
+        let len = usize::from(e.len);
+        Ok(ObjectInfo {
+            access: e.access,
+            len,
+            size: SizeRule::Fixed(len),
+            pdo_mappable: e.mappable,
+        })
     }
 
     fn read(
@@ -324,19 +374,30 @@ impl ObjectDictionary for ChargerObjects {
         offset: usize,
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let (_, _, value) = self.scalar(index, sub)?;
-        Ok(crate::od::read_at(value.as_slice(), offset, buf))
+        let e = self.entry(index, sub)?;
+        let bytes = e.word.to_le_bytes();
+        let value = bytes.get(..usize::from(e.len)).unwrap_or(&bytes);
+        Ok(crate::od::read_at(value, offset, buf))
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
+        // Checked whole at `finish_write` (access, length), as the values
+        // are applied whole there.
         self.pending.write(index, sub, offset, data)
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let mut pending = self.pending;
-        self.pending.clear();
-        let data = pending.take(index, sub);
-        self.store(index, sub, data.get(..len.min(data.len())).unwrap_or(&[]))
+        let e = match self.entry(index, sub) {
+            Ok(e) => e,
+            Err(code) => {
+                self.pending.clear();
+                return Err(code);
+            }
+        };
+        let size = usize::from(e.len);
+        let word = self.pending.finish_fixed(e.access, size, index, sub, len)?;
+        self.apply(e.field, word);
+        Ok(())
     }
 
     fn abort_write(&mut self, _: u16, _: u8) {
@@ -430,10 +491,148 @@ mod tests {
             Err(AbortCode::WriteOfReadOnlyObject)
         );
         assert_eq!(o.info(0x6000, 1), Err(AbortCode::SubIndexDoesNotExist));
+        // A write of a missing sub-object is refused with the code `info`
+        // gives it.
+        o.write(0x6000, 1, 0, &[1]).unwrap();
         assert_eq!(
             o.finish_write(0x6000, 1, 1),
+            Err(AbortCode::SubIndexDoesNotExist)
+        );
+    }
+
+    /// Every refusal through the dictionary, object by object: a missing
+    /// object (06020000h) or sub-index (06090011h), a read-only object
+    /// (06010002h), a value longer (06070012h) or shorter (06070013h) than
+    /// the object; a refused write changes nothing and leaves nothing
+    /// buffered for the next one.
+    #[test]
+    fn every_refusal_has_its_code_and_changes_nothing() {
+        // The values (the buffer keeps the bytes of the last value).
+        let values = |o: &ChargerObjects| {
+            let mut o = *o;
+            o.pending.clear();
+            o
+        };
+        let mut o = ChargerObjects::new();
+        let before = values(&o);
+        let rows: [u16; 18] = [
+            0x6000, 0x6001, 0x6010, 0x6052, 0x6060, 0x6070, 0x6080, 0x6081, 0x2002, 0x2006, 0x2060,
+            0x2100, 0x2101, 0x2200, 0x2241, 0x2271, 0x2276, 0x4201,
+        ];
+        let finish = |o: &mut ChargerObjects, index: u16, sub: u8, data: &[u8]| {
+            o.write(index, sub, 0, data)
+                .and_then(|()| o.finish_write(index, sub, data.len()))
+        };
+        for index in rows {
+            let info = o.info(index, 0).unwrap();
+            let len = info.len;
+            let long = [0x5Au8; 5];
+            if info.access.is_writable() {
+                assert_eq!(
+                    finish(&mut o, index, 0, &long[..len + 1]),
+                    Err(AbortCode::DataTypeLengthTooHigh),
+                    "{index:04X}h"
+                );
+                if len > 1 {
+                    assert_eq!(
+                        finish(&mut o, index, 0, &long[..len - 1]),
+                        Err(AbortCode::DataTypeLengthTooLow),
+                        "{index:04X}h"
+                    );
+                }
+                // A declared length shorter than the bytes written.
+                o.write(index, 0, 0, &long[..len]).unwrap();
+                assert_eq!(
+                    o.finish_write(index, 0, len.saturating_sub(1)),
+                    Err(AbortCode::DataTypeLengthTooLow),
+                    "{index:04X}h"
+                );
+            } else {
+                assert_eq!(
+                    finish(&mut o, index, 0, &long[..len]),
+                    Err(AbortCode::WriteOfReadOnlyObject),
+                    "{index:04X}h"
+                );
+            }
+            for sub in [1u8, 2, 0xFF] {
+                assert_eq!(o.info(index, sub), Err(AbortCode::SubIndexDoesNotExist));
+                assert_eq!(
+                    o.read(index, sub, 0, &mut [0; 4]),
+                    Err(AbortCode::SubIndexDoesNotExist)
+                );
+                assert_eq!(
+                    finish(&mut o, index, sub, &long[..len]),
+                    Err(AbortCode::SubIndexDoesNotExist)
+                );
+            }
+            // Nothing left buffered: a finish without a write takes no bytes.
+            if info.access.is_writable() {
+                assert_eq!(
+                    o.finish_write(index, 0, len),
+                    Err(AbortCode::DataTypeLengthTooLow),
+                    "{index:04X}h"
+                );
+            }
+        }
+        assert_eq!(values(&o), before, "a refused write changes nothing");
+        for index in [0x1000u16, 0x2000, 0x2FF9, 0x2FFB, 0x6002, 0x6090, 0xFFFF] {
+            assert_eq!(o.info(index, 0), Err(AbortCode::ObjectDoesNotExist));
+            assert_eq!(
+                o.read(index, 0, 0, &mut [0; 4]),
+                Err(AbortCode::ObjectDoesNotExist)
+            );
+            assert_eq!(
+                finish(&mut o, index, 0, &[1]),
+                Err(AbortCode::ObjectDoesNotExist)
+            );
+        }
+        // 2FFAh: sub 0 = 2 (constant, not mappable), subs 1 and 2 one
+        // writable byte each that reads 0, sub 3 missing.
+        let info = o.info(PADDING, 0).unwrap();
+        assert_eq!(
+            (info.access, info.len, info.pdo_mappable),
+            (Access::Const, 1, false)
+        );
+        let mut buf = [0u8; 1];
+        assert_eq!(o.read(PADDING, 0, 0, &mut buf), Ok(1));
+        assert_eq!(buf, [2]);
+        for sub in [1u8, 2] {
+            let info = o.info(PADDING, sub).unwrap();
+            assert_eq!(
+                (info.access, info.len, info.pdo_mappable),
+                (Access::ReadWrite, 1, true)
+            );
+            assert_eq!(finish(&mut o, PADDING, sub, &[9]), Ok(()));
+            assert_eq!(o.read(PADDING, sub, 0, &mut buf), Ok(1));
+            assert_eq!(buf, [0], "2FFAh:{sub} stores nothing");
+            assert_eq!(
+                finish(&mut o, PADDING, sub, &[9, 9]),
+                Err(AbortCode::DataTypeLengthTooHigh)
+            );
+        }
+        assert_eq!(
+            finish(&mut o, PADDING, 0, &[2]),
             Err(AbortCode::WriteOfReadOnlyObject)
         );
+        assert_eq!(o.info(PADDING, 3), Err(AbortCode::SubIndexDoesNotExist));
+        assert_eq!(values(&o), before, "2FFAh stores nothing");
+        // A value in two pieces, and an aborted one.
+        o.write(0x2241, 0, 0, &[1, 2]).unwrap();
+        o.write(0x2241, 0, 2, &[3, 4]).unwrap();
+        assert_eq!(o.finish_write(0x2241, 0, 4), Ok(()));
+        assert_eq!(o.algorithm_request, 0x0403_0201);
+        o.write(0x2241, 0, 0, &[9, 9, 9, 9]).unwrap();
+        o.abort_write(0x2241, 0);
+        assert_eq!(
+            o.finish_write(0x2241, 0, 4),
+            Err(AbortCode::DataTypeLengthTooLow)
+        );
+        assert_eq!(o.algorithm_request, 0x0403_0201);
+        let mut buf = [0u8; 4];
+        assert_eq!(o.read(0x2241, 0, 1, &mut buf), Ok(3));
+        assert_eq!(buf[..3], [2, 3, 4]);
+        assert_eq!(o.read(0x2241, 0, 4, &mut buf), Ok(0));
+        assert_eq!(o.read(0x2241, 0, usize::MAX, &mut buf), Ok(0));
     }
 
     #[test]

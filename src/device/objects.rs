@@ -258,71 +258,82 @@ impl CommObjects {
     fn entry(&self, index: u16, sub: u8) -> Result<Entry, AbortCode> {
         use Access::{Const, ReadOnly as Ro, ReadWrite as Rw};
         let node = u32::from(self.node.raw());
-        let (access, value) = match (index, sub) {
-            (MANUFACTURER_DEVICE_NAME, 0) => {
-                return Ok(Entry {
-                    access: Const,
-                    len: self.device_name.len(),
-                    value: Value::Name,
-                })
+        // The single-value objects first, by index alone (one dense
+        // switch), their one sub-index checked once.
+        let single = match index {
+            DEVICE_TYPE => Some((Const, Value::u32(self.device_type))),
+            ERROR_REGISTER => Some((Ro, Value::u8(self.error_register.bits()))),
+            MANUFACTURER_DEVICE_NAME => Some((Const, Value::Name)),
+            PRODUCER_HEARTBEAT_TIME => Some((Rw, Value::u16(self.heartbeat_ms))),
+            COB_ID_SYNC => Some((Rw, Value::u32(self.sync_cob_id.raw()))),
+            #[cfg(feature = "sync-time")]
+            COMMUNICATION_CYCLE_PERIOD => Some((Rw, Value::u32(self.cycle_period_us))),
+            SYNCHRONOUS_WINDOW_LENGTH => Some((Rw, Value::u32(self.sync_window_us))),
+            #[cfg(feature = "guarding")]
+            GUARD_TIME => Some((Rw, Value::u16(self.guard_time_ms))),
+            #[cfg(feature = "guarding")]
+            LIFE_TIME_FACTOR => Some((Rw, Value::u8(self.life_time_factor))),
+            #[cfg(feature = "sync-time")]
+            COB_ID_TIME => Some((Rw, Value::u32(self.time_cob_id.raw()))),
+            SYNCHRONOUS_COUNTER_OVERFLOW => Some((Rw, Value::u8(self.sync_counter_overflow))),
+            _ => None,
+        };
+        let (access, value) = match (single, index, sub) {
+            (Some(object), _, 0) => object,
+            (Some(_), _, _) => return Err(AbortCode::SubIndexDoesNotExist),
+            (None, PRE_DEFINED_ERROR_FIELD, 0) => (Rw, Value::u8(self.history_len)),
+            (None, PRE_DEFINED_ERROR_FIELD, 1..=10) => {
+                match self.errors().get(usize::from(sub) - 1) {
+                    Some(e) => (Ro, Value::u32(*e)),
+                    None => (Ro, Value::NoData),
+                }
             }
-            (DEVICE_TYPE, 0) => (Const, Value::u32(self.device_type)),
-            (ERROR_REGISTER, 0) => (Ro, Value::u8(self.error_register.bits())),
-            (PRE_DEFINED_ERROR_FIELD, 0) => (Rw, Value::u8(self.history_len)),
-            (PRE_DEFINED_ERROR_FIELD, 1..=10) => match self.errors().get(usize::from(sub) - 1) {
-                Some(e) => (Ro, Value::u32(*e)),
-                None => (Ro, Value::NoData),
-            },
             #[cfg(feature = "heartbeat-consumer")]
-            (CONSUMER_HEARTBEAT_TIME, 0) if self.consumer_slots > 0 => {
+            (None, CONSUMER_HEARTBEAT_TIME, 0) if self.consumer_slots > 0 => {
                 (Const, Value::u8(self.consumer_slots))
             }
             #[cfg(feature = "heartbeat-consumer")]
-            (CONSUMER_HEARTBEAT_TIME, s) if s > 0 => match self.consumers().get(usize::from(s) - 1)
-            {
-                Some(e) => (Rw, Value::u32(e.to_u32())),
-                None => return Err(AbortCode::SubIndexDoesNotExist),
-            },
-            (PRODUCER_HEARTBEAT_TIME, 0) => (Rw, Value::u16(self.heartbeat_ms)),
-            (IDENTITY, 0) => (Ro, Value::u8(Identity::HIGHEST_SUB_INDEX)),
-            (IDENTITY, s) => match self.identity.sub(s) {
+            (None, CONSUMER_HEARTBEAT_TIME, s) if s > 0 => {
+                match self.consumers().get(usize::from(s) - 1) {
+                    Some(e) => (Rw, Value::u32(e.to_u32())),
+                    None => return Err(AbortCode::SubIndexDoesNotExist),
+                }
+            }
+            (None, IDENTITY, 0) => (Ro, Value::u8(Identity::HIGHEST_SUB_INDEX)),
+            (None, IDENTITY, s) => match self.identity.sub(s) {
                 Some(v) => (Ro, Value::u32(v)),
                 None => return Err(AbortCode::SubIndexDoesNotExist),
             },
-            (COB_ID_SYNC, 0) => (Rw, Value::u32(self.sync_cob_id.raw())),
-            #[cfg(feature = "sync-time")]
-            (COMMUNICATION_CYCLE_PERIOD, 0) => (Rw, Value::u32(self.cycle_period_us)),
-            (SYNCHRONOUS_WINDOW_LENGTH, 0) => (Rw, Value::u32(self.sync_window_us)),
-            #[cfg(feature = "guarding")]
-            (GUARD_TIME, 0) => (Rw, Value::u16(self.guard_time_ms)),
-            #[cfg(feature = "guarding")]
-            (LIFE_TIME_FACTOR, 0) => (Rw, Value::u8(self.life_time_factor)),
-            #[cfg(feature = "sync-time")]
-            (COB_ID_TIME, 0) => (Rw, Value::u32(self.time_cob_id.raw())),
-            (SYNCHRONOUS_COUNTER_OVERFLOW, 0) => (Rw, Value::u8(self.sync_counter_overflow)),
-            (SDO_SERVER_PARAMETER, 0) => (Ro, Value::u8(2)),
-            (SDO_SERVER_PARAMETER, 1) => (Ro, Value::u32(u32::from(SDO_RX_BASE) + node)),
-            (SDO_SERVER_PARAMETER, 2) => (Ro, Value::u32(u32::from(SDO_TX_BASE) + node)),
-            (i, _) if self.has_object(i) => return Err(AbortCode::SubIndexDoesNotExist),
+            (None, SDO_SERVER_PARAMETER, 0) => (Ro, Value::u8(2)),
+            (None, SDO_SERVER_PARAMETER, 1) => (Ro, Value::u32(u32::from(SDO_RX_BASE) + node)),
+            (None, SDO_SERVER_PARAMETER, 2) => (Ro, Value::u32(u32::from(SDO_TX_BASE) + node)),
+            (None, i, _) if self.has_object(i) => return Err(AbortCode::SubIndexDoesNotExist),
             _ => return Err(AbortCode::ObjectDoesNotExist),
         };
         let len = match value {
             Value::Word(_, len) => usize::from(len),
-            _ => 4,
+            Value::Name => self.device_name.len(),
+            Value::NoData => 4,
         };
         Ok(Entry { access, len, value })
     }
 
     /// Applies a complete, length-checked write of `word` (the value's
-    /// little-endian bytes, its length the object's).
+    /// little-endian bytes, its length the object's) to a writable
+    /// sub-object (as [`entry`](Self::entry) found it: each writable
+    /// object has one writable sub-index, 0, but 1016h, whose sub-index
+    /// `sub` names its entry), so the index alone picks the rule.
     fn apply(&mut self, index: u16, sub: u8, word: u32) -> Result<(), AbortCode> {
-        match (index, sub) {
-            (PRE_DEFINED_ERROR_FIELD, 0) if word == 0 => self.clear_errors(),
-            (PRE_DEFINED_ERROR_FIELD, 0) => return Err(AbortCode::InvalidValue),
+        // Only 1016h's entries are told apart by their sub-index.
+        #[cfg(not(feature = "heartbeat-consumer"))]
+        let _ = sub;
+        match index {
+            PRE_DEFINED_ERROR_FIELD if word == 0 => self.clear_errors(),
+            PRE_DEFINED_ERROR_FIELD => return Err(AbortCode::InvalidValue),
             #[cfg(feature = "heartbeat-consumer")]
-            (CONSUMER_HEARTBEAT_TIME, s) if s > 0 => {
+            CONSUMER_HEARTBEAT_TIME => {
                 let entry = ConsumerEntry::from_u32(word);
-                let slot = usize::from(s) - 1;
+                let slot = usize::from(sub).wrapping_sub(1);
                 let duplicate = entry.is_enabled()
                     && self
                         .consumers()
@@ -337,33 +348,35 @@ impl CommObjects {
                     _ => return Err(AbortCode::SubIndexDoesNotExist),
                 }
             }
-            (PRODUCER_HEARTBEAT_TIME, 0) => self.heartbeat_ms = word as u16,
-            (COB_ID_SYNC, 0) => {
+            PRODUCER_HEARTBEAT_TIME => self.heartbeat_ms = word as u16,
+            COB_ID_SYNC => {
                 let new = SyncCobId::from_raw(word);
                 // CiA 301 section 7.5.2, object 1005h: the identifier may
                 // not change while the device generates SYNC, and it must
                 // be a valid one.
-                let moved = new.raw() & 0x3FFF_FFFF != self.sync_cob_id.raw() & 0x3FFF_FFFF;
-                if new.id().is_none() || (moved && self.sync_cob_id.generates() && new.generates())
-                {
-                    return Err(AbortCode::InvalidValue);
-                }
                 // Without the SYNC producer (feature `sync-time`) the
-                // device cannot generate SYNC: the generate bit is refused.
-                if new.generates() && !cfg!(feature = "sync-time") {
+                // device cannot generate SYNC: the generate bit is refused
+                // (which refuses a move while generating too).
+                let refused = if cfg!(feature = "sync-time") {
+                    let moved = new.raw() & 0x3FFF_FFFF != self.sync_cob_id.raw() & 0x3FFF_FFFF;
+                    moved && self.sync_cob_id.generates() && new.generates()
+                } else {
+                    new.generates()
+                };
+                if new.id().is_none() || refused {
                     return Err(AbortCode::InvalidValue);
                 }
                 self.sync_cob_id = new;
             }
             #[cfg(feature = "sync-time")]
-            (COMMUNICATION_CYCLE_PERIOD, 0) => self.cycle_period_us = word,
-            (SYNCHRONOUS_WINDOW_LENGTH, 0) => self.sync_window_us = word,
+            COMMUNICATION_CYCLE_PERIOD => self.cycle_period_us = word,
+            SYNCHRONOUS_WINDOW_LENGTH => self.sync_window_us = word,
             #[cfg(feature = "guarding")]
-            (GUARD_TIME, 0) => self.guard_time_ms = word as u16,
+            GUARD_TIME => self.guard_time_ms = word as u16,
             #[cfg(feature = "guarding")]
-            (LIFE_TIME_FACTOR, 0) => self.life_time_factor = word as u8,
+            LIFE_TIME_FACTOR => self.life_time_factor = word as u8,
             #[cfg(feature = "sync-time")]
-            (COB_ID_TIME, 0) => {
+            COB_ID_TIME => {
                 let new = TimeCobId::from_raw(word);
                 if new.id().is_none() {
                     return Err(AbortCode::InvalidValue);
@@ -372,13 +385,13 @@ impl CommObjects {
             }
             // CiA 301 section 7.5.2, object 1019h: written only while
             // 1006h is 0; 1 and 241..=255 are reserved.
-            (SYNCHRONOUS_COUNTER_OVERFLOW, 0) if self.cycle_period_us != 0 => {
+            SYNCHRONOUS_COUNTER_OVERFLOW if self.cycle_period_us != 0 => {
                 return Err(AbortCode::DataCannotBeStoredDeviceState)
             }
-            (SYNCHRONOUS_COUNTER_OVERFLOW, 0) if valid_counter_overflow(word as u8) => {
+            SYNCHRONOUS_COUNTER_OVERFLOW if valid_counter_overflow(word as u8) => {
                 self.sync_counter_overflow = word as u8;
             }
-            (SYNCHRONOUS_COUNTER_OVERFLOW, 0) => return Err(AbortCode::InvalidValue),
+            SYNCHRONOUS_COUNTER_OVERFLOW => return Err(AbortCode::InvalidValue),
             _ => return Err(AbortCode::WriteOfReadOnlyObject),
         }
         Ok(())
@@ -452,14 +465,24 @@ impl ObjectDictionary for CommObjects {
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
-        let access = self.entry(index, sub)?.access;
-        self.pending
-            .write_to(&ObjectInfo::fixed(access, 0), index, sub, offset, data)
+        if !self.entry(index, sub)?.access.is_writable() {
+            self.pending.clear();
+            return Err(AbortCode::WriteOfReadOnlyObject);
+        }
+        self.pending.write(index, sub, offset, data)
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let object = self.entry(index, sub).map(|e| (e.access, e.len));
-        let word = self.pending.finish_word(object, index, sub, len)?;
+        let e = match self.entry(index, sub) {
+            Ok(e) => e,
+            Err(code) => {
+                self.pending.clear();
+                return Err(code);
+            }
+        };
+        let word = self
+            .pending
+            .finish_fixed(e.access, e.len, index, sub, len)?;
         self.apply(index, sub, word)
     }
 

@@ -170,8 +170,40 @@ impl WriteBuffer {
         sub: u8,
         len: usize,
     ) -> Result<u32, AbortCode> {
+        match object {
+            Ok((access, size)) => self.finish_fixed(access, size, index, sub, len),
+            Err(code) => {
+                self.clear();
+                Err(code)
+            }
+        }
+    }
+
+    /// [`finish_word`](Self::finish_word) for an object the dictionary
+    /// found: its access and size, as plain values (no `Result` to build
+    /// and take apart).
+    ///
+    /// ```
+    /// use canopen_codec::od::{Access, WriteBuffer};
+    /// use canopen_codec::sdo::AbortCode;
+    /// let mut w = WriteBuffer::new();
+    /// w.write(0x6000, 0, 0, &[7]).unwrap();
+    /// assert_eq!(w.finish_fixed(Access::ReadWrite, 1, 0x6000, 0, 1), Ok(7));
+    /// w.write(0x6001, 0, 0, &[7]).unwrap();
+    /// assert_eq!(
+    ///     w.finish_fixed(Access::ReadOnly, 1, 0x6001, 0, 1),
+    ///     Err(AbortCode::WriteOfReadOnlyObject)
+    /// );
+    /// ```
+    pub fn finish_fixed(
+        &mut self,
+        access: Access,
+        size: usize,
+        index: u16,
+        sub: u8,
+        len: usize,
+    ) -> Result<u32, AbortCode> {
         let n = len.min(self.take_len(index, sub));
-        let (access, size) = object?;
         if !access.is_writable() {
             return Err(AbortCode::WriteOfReadOnlyObject);
         }

@@ -37,7 +37,7 @@
 //! Values are applied only when the whole download is accepted
 //! ([`ObjectDictionary::finish_write`]); a refused write changes nothing.
 
-use super::comm::{le_word, PdoCommParams, PdoDirection};
+use super::comm::{PdoCobId, PdoCommParams, PdoDirection, TransmissionType};
 use super::mapping::{MappingEntry, MappingError, PdoMapping, MAX_BITS, MAX_ENTRIES};
 use crate::cob_id::PdoNumber;
 use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
@@ -266,7 +266,7 @@ impl<const T: usize, const R: usize> PdoConfig<T, R> {
     }
 
     /// The same, mutably (the application's own changes; no rules applied).
-    #[inline]
+    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn get_mut(&mut self, dir: PdoDirection, n: PdoNumber) -> Option<&mut PdoSlot> {
         self.slots_mut(dir).get_mut(usize::from(n.raw()))?.as_mut()
     }
@@ -305,31 +305,42 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> PdoDictionary<D, T, R>
         }
     }
 
-    /// The PDO whose object `index` is and whether it is the mapping
-    /// object; `None` for an index of the application's dictionary, 06020000h
-    /// for the objects of a PDO the device does not have.
-    #[inline]
-    fn pdo(&self, index: u16) -> Option<Result<(&PdoSlot, bool), AbortCode>> {
+    /// Access, value (a little-endian word) and length of PDO object
+    /// `index`/`sub`: the one lookup `info`, `read`, `write` and
+    /// `finish_write` share. `None` for an index of the application's
+    /// dictionary; 06020000h for the objects of a PDO the device does not
+    /// have, 06090011h for a sub-index the object does not have.
+    fn entry(&self, index: u16, sub: u8) -> Option<Result<(Access, u32, usize), AbortCode>> {
         let (dir, n, is_mapping) = PdoDirection::from_index(index)?;
-        Some(match self.config.get(dir, n) {
-            Some(slot) => Ok((slot, is_mapping)),
-            None => Err(AbortCode::ObjectDoesNotExist),
+        let Some(slot) = self.config.get(dir, n) else {
+            return Some(Err(AbortCode::ObjectDoesNotExist));
+        };
+        let value = match (is_mapping, sub) {
+            (true, 0) => Some((u32::from(slot.count), 1)),
+            (true, s) => slot.entry(s).map(|e| (e.to_u32(), 4)),
+            (false, s) => slot.comm.sub_word(s),
+        };
+        let access = if !is_mapping && sub == 0 {
+            Access::ReadOnly
+        } else {
+            Access::ReadWrite
+        };
+        Some(match value {
+            Some((word, len)) => Ok((access, word, len)),
+            None => Err(AbortCode::SubIndexDoesNotExist),
         })
     }
 }
 
-/// The rules for a write to mapping sub-index `sub` (see the module docs);
-/// `slot` changes only when the write is accepted.
+/// The rules for a write of `raw` (its length checked) to mapping
+/// sub-index `sub` (0..=8) (see the module docs); `slot` changes only
+/// when the write is accepted.
 fn apply_mapping<D: ObjectDictionary + ?Sized>(
     slot: &mut PdoSlot,
     sub: u8,
-    data: &[u8],
+    raw: u32,
     od: &D,
 ) -> Result<(), AbortCode> {
-    if usize::from(sub) > MAX_ENTRIES {
-        return Err(AbortCode::SubIndexDoesNotExist);
-    }
-    let raw = le_word(data, if sub == 0 { 1 } else { 4 })?;
     if slot.is_valid() {
         return Err(AbortCode::UnsupportedAccess);
     }
@@ -373,29 +384,34 @@ fn apply_mapping<D: ObjectDictionary + ?Sized>(
     Ok(())
 }
 
-/// The rules for a write to communication sub-index `sub`; `slot` changes
-/// only when the write is accepted.
-fn apply_comm(slot: &mut PdoSlot, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
-    // Decoded in place (a refused value changes nothing: decode_sub stores
-    // only what it accepts), the two fields the rules compare put back
-    // when the write is refused: no copy of the parameters kept.
+/// The rules for a write of `word` (its length checked) to communication
+/// sub-index `sub` (1..=5; 0 is read-only); `slot` changes only when the
+/// write is accepted.
+fn apply_comm(slot: &mut PdoSlot, sub: u8, word: u32) -> Result<(), AbortCode> {
     let comm = &mut slot.comm;
-    let (old_cob, old_inhibit) = (comm.cob_id, comm.inhibit_time_100us);
-    comm.decode_sub(sub, data)?;
-    let new_cob = comm.cob_id;
-    let refused = match sub {
+    let old_cob = comm.cob_id;
+    // Each value is its sub-index's width: the casts keep all of it.
+    match sub {
         1 => {
-            new_cob.is_valid()
+            let new_cob = PdoCobId::from_u32(word);
+            if new_cob.is_valid()
                 && (new_cob.can_id().is_none()
                     || (old_cob.is_valid() && !old_cob.same_identifier(new_cob)))
+            {
+                return Err(AbortCode::InvalidValue);
+            }
+            comm.cob_id = new_cob;
         }
-        3 => old_cob.is_valid() && comm.inhibit_time_100us != old_inhibit,
-        _ => false,
-    };
-    if refused {
-        comm.cob_id = old_cob;
-        comm.inhibit_time_100us = old_inhibit;
-        return Err(AbortCode::InvalidValue);
+        2 => comm.transmission_type = TransmissionType::from_u8(word as u8)?,
+        3 => {
+            if old_cob.is_valid() && word as u16 != comm.inhibit_time_100us {
+                return Err(AbortCode::InvalidValue);
+            }
+            comm.inhibit_time_100us = word as u16;
+        }
+        4 => comm.reserved = word as u8,
+        5 => comm.event_timer_ms = word as u16,
+        _ => return Err(AbortCode::WriteOfReadOnlyObject),
     }
     Ok(())
 }
@@ -404,24 +420,10 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
     for PdoDictionary<D, T, R>
 {
     fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-        let is_mapping = match self.pdo(index) {
-            None => return self.inner.info(index, sub),
-            Some(pdo) => pdo?.1,
+        let Some(object) = self.entry(index, sub) else {
+            return self.inner.info(index, sub);
         };
-        let len = if is_mapping {
-            match sub {
-                0 => 1,
-                1..=8 => 4,
-                _ => return Err(AbortCode::SubIndexDoesNotExist),
-            }
-        } else {
-            PdoCommParams::sub_len(sub).ok_or(AbortCode::SubIndexDoesNotExist)?
-        };
-        let access = if !is_mapping && sub == 0 {
-            Access::ReadOnly
-        } else {
-            Access::ReadWrite
-        };
+        let (access, _, len) = object?;
         Ok(ObjectInfo {
             access,
             len,
@@ -437,51 +439,51 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
         offset: usize,
         buf: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let (slot, is_mapping) = match self.pdo(index) {
-            None => return self.inner.read(index, sub, offset, buf),
-            Some(pdo) => pdo?,
+        let Some(object) = self.entry(index, sub) else {
+            return self.inner.read(index, sub, offset, buf);
         };
-        let value = if is_mapping {
-            match sub {
-                0 => Some((u32::from(slot.count), 1)),
-                s => slot.entry(s).map(|e| (e.to_u32(), 4)),
-            }
-        } else {
-            slot.comm.sub_word(sub)
-        };
-        let (word, len) = value.ok_or(AbortCode::SubIndexDoesNotExist)?;
+        let (_, word, len) = object?;
         let bytes = word.to_le_bytes();
         let value = bytes.get(..len).unwrap_or(&bytes);
         Ok(crate::od::read_at(value, offset, buf))
     }
 
     fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
-        match self.pdo(index) {
-            None => self.inner.write(index, sub, offset, data),
-            Some(pdo) => {
-                pdo?;
-                // PDO objects are at most 4 bytes: buffer until finish_write.
-                self.pending.write(index, sub, offset, data)
-            }
-        }
+        let Some(object) = self.entry(index, sub) else {
+            return self.inner.write(index, sub, offset, data);
+        };
+        object?;
+        // PDO objects are at most 4 bytes: buffered until finish_write,
+        // which checks them whole.
+        self.pending.write(index, sub, offset, data)
     }
 
     /// Applies the buffered write to a PDO object, or refuses it (and
     /// changes nothing: the rules are checked before any change).
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let Some((dir, n, is_mapping)) = PdoDirection::from_index(index) else {
+        let Some(object) = self.entry(index, sub) else {
             return self.inner.finish_write(index, sub, len);
         };
-        let data = self.pending.take(index, sub);
-        let data = data.get(..len.min(data.len())).unwrap_or(&[]);
+        let (access, _, size) = match object {
+            Ok(object) => object,
+            Err(code) => {
+                self.pending.clear();
+                return Err(code);
+            }
+        };
+        let word = self.pending.finish_fixed(access, size, index, sub, len)?;
+        // The object exists: `entry` found its PDO.
+        let Some((dir, n, is_mapping)) = PdoDirection::from_index(index) else {
+            return Err(AbortCode::ObjectDoesNotExist);
+        };
         let slot = self
             .config
             .get_mut(dir, n)
             .ok_or(AbortCode::ObjectDoesNotExist)?;
         if is_mapping {
-            apply_mapping(slot, sub, data, &self.inner)
+            apply_mapping(slot, sub, word, &self.inner)
         } else {
-            apply_comm(slot, sub, data)
+            apply_comm(slot, sub, word)
         }
     }
 
@@ -497,13 +499,159 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pdo::PdoCobId;
 
     fn slot(id: u32) -> PdoSlot {
         PdoSlot::new(
             PdoCommParams::event_driven(PdoCobId::from_u32(id), 0),
             &PdoMapping::EMPTY,
         )
+    }
+
+    /// One mappable, writable 16-bit object, 2000h sub 0.
+    struct One(u16);
+
+    impl ObjectDictionary for One {
+        fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
+            match (index, sub) {
+                (0x2000, 0) => Ok(ObjectInfo::fixed(Access::ReadWrite, 2).mappable()),
+                (0x2000, _) => Err(AbortCode::SubIndexDoesNotExist),
+                _ => Err(AbortCode::ObjectDoesNotExist),
+            }
+        }
+        fn read(
+            &mut self,
+            index: u16,
+            sub: u8,
+            offset: usize,
+            buf: &mut [u8],
+        ) -> Result<usize, AbortCode> {
+            self.info(index, sub)?;
+            Ok(crate::od::read_at(&self.0.to_le_bytes(), offset, buf))
+        }
+        fn write(&mut self, index: u16, sub: u8, _: usize, _: &[u8]) -> Result<(), AbortCode> {
+            self.info(index, sub).map(|_| ())
+        }
+    }
+
+    /// The PDO objects through the dictionary itself (no SDO server in
+    /// between): every sub-index's access, length and value, and every
+    /// refusal's code; a refused write changes nothing and leaves nothing
+    /// buffered.
+    #[test]
+    fn pdo_objects_through_the_dictionary() {
+        use Access::{ReadOnly as Ro, ReadWrite as Rw};
+        let mut config = PdoConfig::<1, 1>::empty();
+        let mapping = PdoMapping::new(&[MappingEntry::new(0x2000, 0, 16)]).unwrap();
+        let comm = PdoCommParams::event_driven(PdoCobId::from_u32(0x8000_0181), 100);
+        config.insert(
+            PdoDirection::Transmit,
+            PdoNumber::P0,
+            PdoSlot::new(comm, &mapping),
+        );
+        let mut od = PdoDictionary::new(config, One(7));
+        let mut buf = [0u8; 4];
+        let rows: [(u16, u8, Access, &[u8]); 8] = [
+            (0x1800, 0, Ro, &[5]),
+            (0x1800, 1, Rw, &[0x81, 0x01, 0, 0x80]),
+            (0x1800, 2, Rw, &[255]),
+            (0x1800, 3, Rw, &[0, 0]),
+            (0x1800, 4, Rw, &[0]),
+            (0x1800, 5, Rw, &[100, 0]),
+            (0x1A00, 0, Rw, &[1]),
+            (0x1A00, 1, Rw, &[0x10, 0x00, 0x00, 0x20]),
+        ];
+        for (index, sub, access, value) in rows {
+            let info = od.info(index, sub).unwrap();
+            assert_eq!(
+                (info.access, info.len, info.pdo_mappable),
+                (access, value.len(), false)
+            );
+            assert_eq!(od.read(index, sub, 0, &mut buf), Ok(value.len()));
+            assert_eq!(&buf[..value.len()], value, "{index:04X}h:{sub}");
+        }
+        assert_eq!(
+            od.read(0x1A00, 2, 0, &mut buf),
+            Ok(4),
+            "an uncounted entry reads"
+        );
+        let before = od.config;
+        let finish = |od: &mut PdoDictionary<One, 1, 1>, index: u16, sub: u8, data: &[u8]| {
+            od.write(index, sub, 0, data)
+                .and_then(|()| od.finish_write(index, sub, data.len()))
+        };
+        let refused: [(u16, u8, &[u8], AbortCode); 13] = [
+            (0x1800, 0, &[5], AbortCode::WriteOfReadOnlyObject),
+            (0x1800, 1, &[0x81, 0x01, 0], AbortCode::DataTypeLengthTooLow),
+            (0x1800, 3, &[1, 0, 0], AbortCode::DataTypeLengthTooHigh),
+            (0x1800, 2, &[241], AbortCode::InvalidValue),
+            (0x1800, 2, &[253], AbortCode::InvalidValue),
+            // A valid 11-bit COB-ID with bits 28-11 set.
+            (0x1800, 1, &[0x81, 0x09, 0, 0], AbortCode::InvalidValue),
+            (0x1800, 6, &[0], AbortCode::SubIndexDoesNotExist),
+            (0x1A00, 9, &[0; 4], AbortCode::SubIndexDoesNotExist),
+            (0x1A00, 0, &[0, 0], AbortCode::DataTypeLengthTooHigh),
+            // Sub 0 is 1: entries change only while it is 0.
+            (0x1A00, 1, &[0x10, 0, 0, 0x20], AbortCode::UnsupportedAccess),
+            (0x1A00, 0, &[2], AbortCode::UnsupportedAccess),
+            // No TPDO 2, no RPDO 1 at all.
+            (0x1801, 1, &[0; 4], AbortCode::ObjectDoesNotExist),
+            (0x1400, 1, &[0; 4], AbortCode::ObjectDoesNotExist),
+        ];
+        for (index, sub, data, code) in refused {
+            assert_eq!(
+                finish(&mut od, index, sub, data),
+                Err(code),
+                "{index:04X}h:{sub} {data:?}"
+            );
+            assert_eq!(od.config, before, "{index:04X}h:{sub}: nothing changed");
+        }
+        // Through sub 0 = 0: an entry of a missing object or sub-index,
+        // or one too long for its object, is refused with its code.
+        assert_eq!(finish(&mut od, 0x1A00, 0, &[0]), Ok(()));
+        for (entry, code) in [
+            (0x2100_0010u32, AbortCode::ObjectDoesNotExist),
+            (0x2000_0110, AbortCode::SubIndexDoesNotExist),
+            (0x2000_0020, AbortCode::ObjectCannotBeMapped),
+        ] {
+            assert_eq!(finish(&mut od, 0x1A00, 1, &entry.to_le_bytes()), Err(code));
+        }
+        assert_eq!(
+            finish(&mut od, 0x1A00, 1, &0x2000_0008u32.to_le_bytes()),
+            Ok(())
+        );
+        assert_eq!(finish(&mut od, 0x1A00, 0, &[1]), Ok(()));
+        // A valid PDO: its inhibit time and identifier are fixed.
+        assert_eq!(finish(&mut od, 0x1800, 1, &[0x81, 0x01, 0, 0]), Ok(()));
+        assert_eq!(
+            finish(&mut od, 0x1800, 3, &[1, 0]),
+            Err(AbortCode::InvalidValue)
+        );
+        assert_eq!(
+            finish(&mut od, 0x1800, 1, &[0x82, 0x01, 0, 0]),
+            Err(AbortCode::InvalidValue)
+        );
+        assert_eq!(
+            finish(&mut od, 0x1A00, 0, &[0]),
+            Err(AbortCode::UnsupportedAccess)
+        );
+        assert_eq!(finish(&mut od, 0x1800, 5, &[0xE8, 0x03]), Ok(()));
+        let slot = od
+            .config
+            .get(PdoDirection::Transmit, PdoNumber::P0)
+            .unwrap();
+        assert_eq!(slot.comm.event_timer_ms, 1000);
+        assert!(slot.is_valid());
+        assert_eq!(slot.mapped(), &[MappingEntry::new(0x2000, 0, 8)]);
+        // An aborted value leaves nothing for the next finish.
+        od.write(0x1800, 5, 0, &[1, 0]).unwrap();
+        od.abort_write(0x1800, 5);
+        assert_eq!(
+            od.finish_write(0x1800, 5, 2),
+            Err(AbortCode::DataTypeLengthTooLow)
+        );
+        // Other indexes are the inner dictionary's.
+        assert_eq!(od.read(0x2000, 0, 0, &mut buf), Ok(2));
+        assert_eq!(od.info(0x2001, 0), Err(AbortCode::ObjectDoesNotExist));
     }
 
     const NUMBERS: [PdoNumber; 4] = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3];

@@ -136,14 +136,16 @@ pub(crate) fn write_entries<D: ObjectDictionary + ?Sized>(
         let len = field_len(bits);
         let bytes = value.to_le_bytes();
         let data = bytes.get(..len).unwrap_or(&[]);
-        let refused = |code| RpdoError::Refused {
-            index: entry.index,
-            sub: entry.sub,
-            code,
-        };
-        od.write(entry.index, entry.sub, 0, data).map_err(refused)?;
-        od.finish_write(entry.index, entry.sub, len)
-            .map_err(refused)?;
+        let written = od
+            .write(entry.index, entry.sub, 0, data)
+            .and_then(|()| od.finish_write(entry.index, entry.sub, len));
+        if let Err(code) = written {
+            return Err(RpdoError::Refused {
+                index: entry.index,
+                sub: entry.sub,
+                code,
+            });
+        }
     }
     Ok(payload.len() > need)
 }
