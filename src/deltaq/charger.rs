@@ -367,7 +367,7 @@ impl ChargerProfile {
     /// ends silently. Not inlined: one copy for its three callers.
     #[inline(never)]
     fn fresh_client(&mut self) {
-        self.client = Client::with_event_capacity(*self.client.config());
+        self.client.reset();
     }
 
     /// Boot or NMT reset: no transfer, no pairing.
