@@ -489,16 +489,15 @@ impl ChargerProfile {
 
     fn on_uploaded<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
         let value = u32::from_le_bytes(self.upload_value);
-        match self.link {
-            Link::DeviceType => {
-                if value & 0xFFFF != 418 {
-                    self.link = Link::Failed;
-                    device.push_event(ChargerEvent::NotABatteryModule { device_type: value });
-                    Self::raise(device, const { Alarm::of(DeltaQCode::CAN_CONFIGURATION) });
-                    return;
-                }
-                self.next_pair(device, now, 0, value);
+        // One call of `next_pair`: the pair to look from and the device type.
+        let (from, device_type) = match self.link {
+            Link::DeviceType if value & 0xFFFF != 418 => {
+                self.link = Link::Failed;
+                device.push_event(ChargerEvent::NotABatteryModule { device_type: value });
+                Self::raise(device, const { Alarm::of(DeltaQCode::CAN_CONFIGURATION) });
+                return;
             }
+            Link::DeviceType => (0, value),
             Link::CobId(i, device_type) => {
                 if let Some(p) = PAIRS.get(i) {
                     let module = PdoCobId::from_u32(value);
@@ -510,10 +509,11 @@ impl ChargerProfile {
                         }
                     });
                 }
-                self.next_pair(device, now, i + 1, device_type);
+                (i + 1, device_type)
             }
-            _ => {}
-        }
+            _ => return,
+        };
+        self.next_pair(device, now, from, device_type);
     }
 
     /// Starts reading the next pair the device type declares, or finishes.
