@@ -70,7 +70,7 @@ use crate::cia419::{PdoPair, PDO_PAIRS};
 use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
 use crate::device::{machine_on_device, Device, DeviceEvent, Profile, DEFAULT_QUEUE_CAPACITY};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
-use crate::frame::{CanFrame, CanId};
+use crate::frame::CanFrame;
 use crate::heartbeat::HeartbeatEvent;
 use crate::machine::Machine;
 use crate::nmt::NmtState;
@@ -613,7 +613,9 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4,
 
     fn on_frame(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp, frame: &CanFrame) {
         let battery = self.battery;
-        if frame.id() == CanId::Standard(EMCY_BASE + u16::from(battery.raw())) {
+        // A data frame on the module's EMCY identifier: one compare (a
+        // remote frame there carries no EMCY either).
+        if frame.word() == u32::from(EMCY_BASE + u16::from(battery.raw())) {
             if let Ok(emcy) = Emergency::decode(frame.data()) {
                 let reaction = emergency_reaction(self.mode, &emcy);
                 device.push_event(ChargerEvent::BatteryEmcy { emcy, reaction });
