@@ -424,7 +424,6 @@ impl ChargerProfile {
         }
         device.push_event(ChargerEvent::BatteryFound { state });
         if !self.configure_cob_ids {
-            self.link = Link::Ready;
             self.configured(device, now);
         } else if sdo_allowed(device) {
             self.start_configuration(now);
@@ -461,7 +460,10 @@ impl ChargerProfile {
         device.set_tpdos_enabled(now, false);
     }
 
+    /// Configured ([`Link::Ready`]): reported, the error cleared, the TPDOs
+    /// on.
     fn configured<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
+        self.link = Link::Ready;
         let config = device.pdo_config();
         // Bit n: PDO n is there and valid (the slots are PDO 0..3 in order).
         let mask = |slots: &[Option<PdoSlot>]| {
@@ -541,7 +543,6 @@ impl ChargerProfile {
             }
             i += 1;
         }
-        self.link = Link::Ready;
         self.configured(device, now);
     }
 }
