@@ -70,7 +70,7 @@ use crate::cia419::{PdoPair, PDO_PAIRS};
 use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
 use crate::device::{machine_on_device, Device, DeviceEvent, Profile, DEFAULT_QUEUE_CAPACITY};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
-use crate::frame::{CanFrame, CanId};
+use crate::frame::CanFrame;
 use crate::heartbeat::HeartbeatEvent;
 use crate::machine::Machine;
 use crate::nmt::NmtState;
@@ -367,7 +367,7 @@ impl ChargerProfile {
     /// ends silently. Not inlined: one copy for its three callers.
     #[inline(never)]
     fn fresh_client(&mut self) {
-        self.client = Client::with_event_capacity(*self.client.config());
+        self.client.reset();
     }
 
     /// Boot or NMT reset: no transfer, no pairing.
@@ -424,7 +424,6 @@ impl ChargerProfile {
         }
         device.push_event(ChargerEvent::BatteryFound { state });
         if !self.configure_cob_ids {
-            self.link = Link::Ready;
             self.configured(device, now);
         } else if sdo_allowed(device) {
             self.start_configuration(now);
@@ -461,7 +460,10 @@ impl ChargerProfile {
         device.set_tpdos_enabled(now, false);
     }
 
+    /// Configured ([`Link::Ready`]): reported, the error cleared, the TPDOs
+    /// on.
     fn configured<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
+        self.link = Link::Ready;
         let config = device.pdo_config();
         // Bit n: PDO n is there and valid (the slots are PDO 0..3 in order).
         let mask = |slots: &[Option<PdoSlot>]| {
@@ -489,16 +491,15 @@ impl ChargerProfile {
 
     fn on_uploaded<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
         let value = u32::from_le_bytes(self.upload_value);
-        match self.link {
-            Link::DeviceType => {
-                if value & 0xFFFF != 418 {
-                    self.link = Link::Failed;
-                    device.push_event(ChargerEvent::NotABatteryModule { device_type: value });
-                    Self::raise(device, const { Alarm::of(DeltaQCode::CAN_CONFIGURATION) });
-                    return;
-                }
-                self.next_pair(device, now, 0, value);
+        // One call of `next_pair`: the pair to look from and the device type.
+        let (from, device_type) = match self.link {
+            Link::DeviceType if value & 0xFFFF != 418 => {
+                self.link = Link::Failed;
+                device.push_event(ChargerEvent::NotABatteryModule { device_type: value });
+                Self::raise(device, const { Alarm::of(DeltaQCode::CAN_CONFIGURATION) });
+                return;
             }
+            Link::DeviceType => (0, value),
             Link::CobId(i, device_type) => {
                 if let Some(p) = PAIRS.get(i) {
                     let module = PdoCobId::from_u32(value);
@@ -510,10 +511,11 @@ impl ChargerProfile {
                         }
                     });
                 }
-                self.next_pair(device, now, i + 1, device_type);
+                (i + 1, device_type)
             }
-            _ => {}
-        }
+            _ => return,
+        };
+        self.next_pair(device, now, from, device_type);
     }
 
     /// Starts reading the next pair the device type declares, or finishes.
@@ -541,7 +543,6 @@ impl ChargerProfile {
             }
             i += 1;
         }
-        self.link = Link::Ready;
         self.configured(device, now);
     }
 }
@@ -613,7 +614,9 @@ impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4,
 
     fn on_frame(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp, frame: &CanFrame) {
         let battery = self.battery;
-        if frame.id() == CanId::Standard(EMCY_BASE + u16::from(battery.raw())) {
+        // A data frame on the module's EMCY identifier: one compare (a
+        // remote frame there carries no EMCY either).
+        if frame.word() == u32::from(EMCY_BASE + u16::from(battery.raw())) {
             if let Ok(emcy) = Emergency::decode(frame.data()) {
                 let reaction = emergency_reaction(self.mode, &emcy);
                 device.push_event(ChargerEvent::BatteryEmcy { emcy, reaction });

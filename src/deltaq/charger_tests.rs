@@ -1,7 +1,7 @@
 //! Unit tests of the charger session (charger.rs).
 
 use super::*;
-use crate::frame::CanFrame;
+use crate::frame::{CanFrame, CanId};
 use std::string::{String, ToString};
 use std::vec::Vec;
 
@@ -198,4 +198,35 @@ fn the_default_pdos_are_the_tables_rows() {
             "RPDO 3 is not published"
         );
     }
+}
+
+/// The module's EMCY is a data frame on 080h + its node: a remote frame
+/// or an extended frame on that identifier reports nothing.
+#[test]
+fn only_a_data_frame_on_the_modules_emcy_identifier_is_its_emcy() {
+    let config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::new(1).unwrap());
+    let mut c = Charger::<4>::with_queue_capacity(config);
+    let ms = Timestamp::from_millis;
+    c.boot(ms(0));
+    let emcy = [0x10, 0x50, 0x21, 0, 0, 0, 0, 0];
+    let ignored = [
+        CanFrame::remote(CanId::Standard(0x081), 8).unwrap(),
+        CanFrame::new(CanId::Extended(0x081), &emcy).unwrap(),
+        CanFrame::standard(0x082, &emcy).unwrap(),
+    ];
+    for frame in ignored {
+        c.handle_frame(ms(1), &frame);
+        while let Some(e) = c.poll_event() {
+            assert!(!matches!(e, ChargerEvent::BatteryEmcy { .. }), "{frame:?}");
+        }
+    }
+    c.handle_frame(ms(2), &CanFrame::standard(0x081, &emcy).unwrap());
+    let mut reported = 0;
+    while let Some(e) = c.poll_event() {
+        if let ChargerEvent::BatteryEmcy { emcy, .. } = e {
+            assert_eq!(emcy.code, ErrorCode(0x5010));
+            reported += 1;
+        }
+    }
+    assert_eq!(reported, 1);
 }

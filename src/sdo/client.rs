@@ -346,15 +346,50 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
             state: State::Idle,
             timers: Timers::new(),
             transmit: FrameSlot::new(),
-            // The filler (never returned) as zero bytes: cleared with the
-            // rest of the state.
-            events: EventQueue::new(ClientEvent::UploadData {
-                index: 0,
-                sub: 0,
-                offset: 0,
-                data: SegmentData::EMPTY,
-            }),
+            events: Self::no_events(),
         }
+    }
+
+    /// An empty event queue; the filler (never returned) as zero bytes:
+    /// cleared with the rest of the state.
+    const fn no_events() -> EventQueue<ClientEvent, EVENTS> {
+        EventQueue::new(ClientEvent::UploadData {
+            index: 0,
+            sub: 0,
+            offset: 0,
+            data: SegmentData::EMPTY,
+        })
+    }
+
+    /// Starts over on the same configuration: a running transfer ends
+    /// silently (no abort frame, no event), and the queued frame, the
+    /// events and the drop counters are cleared, as
+    /// [`with_event_capacity`](Self::with_event_capacity) of
+    /// [`config`](Self::config) would make the client, without building a
+    /// second one (a node's NMT reset).
+    ///
+    /// ```
+    /// use canopen_codec::machine::Machine;
+    /// use canopen_codec::sdo::{Client, ClientConfig};
+    /// use canopen_codec::{NodeId, Timestamp};
+    ///
+    /// let mut client: Client = Client::new(ClientConfig::for_server(NodeId::new(2).unwrap()));
+    /// client.start_upload(Timestamp::ZERO, 0x1000, 0).unwrap();
+    /// // Not drained: the timeout's abort replaces the request, then a
+    /// // second request replaces the abort.
+    /// client.handle_timeout(Timestamp::from_millis(5000));
+    /// client.start_upload(Timestamp::from_millis(5000), 0x1018, 1).unwrap();
+    /// assert_eq!(client.frames_dropped(), 2);
+    /// client.reset();
+    /// assert!(!client.is_busy());
+    /// assert_eq!((client.poll_transmit(), client.poll_timeout()), (None, None));
+    /// assert_eq!((client.poll_event(), client.frames_dropped()), (None, 0));
+    /// ```
+    pub fn reset(&mut self) {
+        self.state = State::Idle;
+        self.timers = Timers::new();
+        self.transmit = FrameSlot::new();
+        self.events = Self::no_events();
     }
 
     /// The configuration.

@@ -357,8 +357,9 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             config: Channel {
                 request_id: CanId::Standard(0),
                 response_id: CanId::Standard(0),
-                block_size: MAX_BLOCK_SIZE,
-                crc: true,
+                // Zero bytes (`restart` sets the channel before any use).
+                block_size: 0,
+                crc: false,
                 sends: false,
             },
             timeout_us: 0,
