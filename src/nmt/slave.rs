@@ -20,7 +20,7 @@
 //! producer's); the state change is then reported from the state before
 //! the reset to pre-operational. The slave sends no frames and arms no timers.
 
-use super::{NmtCommand, NmtCommandSpecifier, NmtState};
+use super::{NmtCommandSpecifier, NmtState};
 use crate::cob_id::{NodeId, NMT};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
@@ -211,11 +211,16 @@ impl NmtCore {
         if !self.is_running() || frame.is_remote() || frame.id() != CanId::Standard(NMT) {
             return None;
         }
-        let cmd = NmtCommand::decode(frame.data()).ok()?;
-        if !cmd.target.addresses(self.node) {
+        // The two bytes of `NmtCommand` read here directly: a command is
+        // for this node when its node byte is 0 (all) or the node-ID (an
+        // invalid node byte, 128..=255, is neither).
+        let &[cs, target] = frame.data() else {
+            return None;
+        };
+        if target != 0 && target != self.node.raw() {
             return None;
         }
-        match cmd.command {
+        match NmtCommandSpecifier::from(cs) {
             NmtCommandSpecifier::Start => self.set_state(NmtState::Operational),
             NmtCommandSpecifier::Stop => self.set_state(NmtState::Stopped),
             NmtCommandSpecifier::EnterPreOperational => self.set_state(NmtState::PreOperational),
@@ -292,8 +297,10 @@ mod tests {
             (0x02, 10, Stopped),
             (0x01, 10, Op),
             (0x80, 0, Pre),
-            (0x01, 11, Pre), // another node
-            (0x55, 10, Pre), // unknown specifier
+            (0x01, 11, Pre),   // another node
+            (0x02, 0x8A, Pre), // not a node-ID (10 + 80h)
+            (0x02, 0xFF, Pre), // not a node-ID
+            (0x55, 10, Pre),   // unknown specifier
         ];
         for (cs, node, want) in rows {
             s.handle_frame(t, &nmt(cs, node));
