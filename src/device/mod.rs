@@ -214,12 +214,12 @@ pub struct Device<
     /// The NMT slave without a queue: each call returns the one event it
     /// makes, handled at once ([`nmt_event`](Self::nmt_event)).
     nmt: NmtCore,
-    /// The state change of the boot after a reset, held while the profile
-    /// sees the reset: reported after it, or before a state change the
-    /// profile makes then (`set_nmt_state`, the Delta-Q charger starts
-    /// itself), so the order is that of the NMT slave's own queue
-    /// (tests/device_event_capacity.rs).
-    nmt_boot: Option<NmtSlaveEvent>,
+    /// The state the boot after a reset changes from (to pre-operational),
+    /// held while the profile sees the reset: reported after it, or before
+    /// a state change the profile makes then (`set_nmt_state`, the Delta-Q
+    /// charger starts itself), so the order is that of the NMT slave's own
+    /// queue (tests/device_event_capacity.rs).
+    nmt_boot: Option<NmtState>,
     heartbeat: HeartbeatProducer,
     /// The heartbeat consumer (consumer.rs): its events are reported as
     /// they are made, so it keeps none.
@@ -728,8 +728,9 @@ where
 
     /// Reports the held state change of the boot after a reset, if any.
     fn report_nmt_boot<P: Profile<A, E, Q, C, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
-        if let Some(event) = self.nmt_boot.take() {
-            self.nmt_event(now, event, profile);
+        if let Some(from) = self.nmt_boot.take() {
+            let to = NmtState::PreOperational;
+            self.nmt_event(now, NmtSlaveEvent::StateChanged { from, to }, profile);
         }
     }
 

@@ -129,7 +129,10 @@ impl<const E: usize> NmtSlave<E> {
     /// state the reset left (none when that was pre-operational).
     pub fn boot(&mut self, now: Timestamp) {
         let _ = now;
-        let event = self.core.boot();
+        let event = self.core.boot().map(|from| NmtSlaveEvent::StateChanged {
+            from,
+            to: NmtState::PreOperational,
+        });
         self.queue(event);
     }
 
@@ -185,14 +188,12 @@ impl NmtCore {
         matches!(self.state, NmtState::PreOperational | NmtState::Operational)
     }
 
-    /// As [`NmtSlave::boot`]; returns the state change.
-    pub(crate) fn boot(&mut self) -> Option<NmtSlaveEvent> {
+    /// As [`NmtSlave::boot`]; returns the state the change to
+    /// pre-operational is from (none when there is no change).
+    pub(crate) fn boot(&mut self) -> Option<NmtState> {
         let from = self.before_reset.take().unwrap_or(self.state);
         self.state = NmtState::PreOperational;
-        (from != NmtState::PreOperational).then_some(NmtSlaveEvent::StateChanged {
-            from,
-            to: NmtState::PreOperational,
-        })
+        (from != NmtState::PreOperational).then_some(from)
     }
 
     /// As [`NmtSlave::set_state`]; returns the state change.
@@ -374,7 +375,7 @@ mod tests {
                 let made = match kind {
                     0 => {
                         s.boot(t);
-                        core.boot()
+                        core.boot().map(|from| NmtSlaveEvent::StateChanged { from, to: NmtState::PreOperational })
                     }
                     1 => {
                         let to = states[usize::from(state)];
