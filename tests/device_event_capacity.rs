@@ -1,10 +1,11 @@
 //! The device core's internal event queues are sized to the largest burst
 //! one call can make (the core drains each machine after every call): the
-//! NMT slave's 2 (a reset's state change, then the one a profile that
-//! starts itself on the reset makes) and the SYNC consumer's 1 (a SYNC
-//! frame is taken without its `Received` event, so only a skipped counter
-//! is queued). Each test drives that burst and fails if a slot is missing.
-//! The heartbeat consumer keeps none: its events are reported as made.
+//! SYNC consumer's 1 (a SYNC frame is taken without its `Received` event,
+//! so only a skipped counter is queued). Each test drives that burst and
+//! fails if a slot is missing or an event comes out of order. The NMT
+//! slave and the heartbeat consumer keep none: their events are reported
+//! as made (the NMT slave's boot after a reset is held while the profile
+//! sees the reset, and reported before a state change the profile makes).
 
 use canopen_codec::cia418::BatteryObjects;
 use canopen_codec::device::{Device, DeviceConfig, DeviceEvent, Profile};
@@ -44,8 +45,8 @@ fn a_reset_with_a_self_start_reports_both_state_changes() {
     dev.handle_frame_with(Timestamp::ZERO, &nmt(0x01), &mut profile);
     let _ = events(&mut dev);
     // Reset node from operational: the reset's own change (operational to
-    // pre-operational) is still queued in the NMT slave when the profile
-    // starts the device again: two events at once.
+    // pre-operational) is still held when the profile starts the device
+    // again: it is reported first.
     dev.handle_frame_with(Timestamp::from_millis(1), &nmt(0x81), &mut profile);
     assert_eq!(
         events(&mut dev),

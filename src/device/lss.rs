@@ -6,7 +6,7 @@ use super::{Device, DeviceEvent, PowerOn, PowerOnValues, Profile};
 use crate::cob_id::NodeId;
 use crate::lss::{LssSlave, LssSlaveEvent};
 use crate::machine::Machine;
-use crate::nmt::ResetKind;
+use crate::nmt::{NmtSlaveEvent, ResetKind};
 use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDirection};
 use crate::time::Timestamp;
@@ -73,9 +73,8 @@ where
         while let Some(event) = self.lss.as_mut().and_then(LssSlave::poll_event) {
             self.emit(now, DeviceEvent::Lss(event), profile);
             if event == LssSlaveEvent::ResetCommunication {
-                self.restart(now, ResetKind::Communication);
-                self.emit(now, DeviceEvent::Reset { node: false }, profile);
-                self.drain_nmt(now, profile);
+                let reset = NmtSlaveEvent::Reset(ResetKind::Communication);
+                self.nmt_event(now, reset, profile);
             }
         }
     }

@@ -148,7 +148,7 @@ use crate::heartbeat::HeartbeatProducer;
 #[cfg(feature = "lss")]
 use crate::lss::LssSlave;
 use crate::machine::Machine;
-use crate::nmt::{NmtSlave, NmtSlaveEvent, NmtState, ResetKind};
+use crate::nmt::{NmtCore, NmtSlaveEvent, NmtState, ResetKind};
 #[cfg(feature = "heartbeat-consumer")]
 use crate::od::index::CONSUMER_HEARTBEAT_TIME;
 use crate::od::index::PRODUCER_HEARTBEAT_TIME;
@@ -211,12 +211,15 @@ pub struct Device<
     node: NodeId,
     /// How an EMCY is recorded in 1003h (the configuration's).
     error_field: ErrorFieldFormat,
-    /// The NMT slave; its events are drained after every call that makes
-    /// one. Two slots are exact: a command makes one event; a reset's
-    /// state change is still queued while the profile sees the reset, and
-    /// a profile that then starts itself (`set_nmt_state`, the Delta-Q
-    /// charger) queues a second (tests/device_event_capacity.rs).
-    nmt: NmtSlave<2>,
+    /// The NMT slave without a queue: each call returns the one event it
+    /// makes, handled at once ([`nmt_event`](Self::nmt_event)).
+    nmt: NmtCore,
+    /// The state the boot after a reset changes from (to pre-operational),
+    /// held while the profile sees the reset: reported after it, or before
+    /// a state change the profile makes then (`set_nmt_state`, the Delta-Q
+    /// charger starts itself), so the order is that of the NMT slave's own
+    /// queue (tests/device_event_capacity.rs).
+    nmt_boot: Option<NmtState>,
     heartbeat: HeartbeatProducer,
     /// The heartbeat consumer (consumer.rs): its events are reported as
     /// they are made, so it keeps none.
@@ -307,7 +310,8 @@ where
             config,
             node,
             error_field: ErrorFieldFormat::LittleEndianInfo,
-            nmt: NmtSlave::with_event_capacity(node),
+            nmt: NmtCore::new(node),
+            nmt_boot: None,
             heartbeat: HeartbeatProducer::with_period_ms(node, 0),
             #[cfg(feature = "heartbeat-consumer")]
             consumer: HeartbeatConsumer::new(),
@@ -436,7 +440,7 @@ where
             }
         }
         self.restart(now, ResetKind::Node);
-        self.drain_nmt(now, profile);
+        self.report_nmt_boot(now, profile);
     }
 
     /// Changes application objects in `f`; mapped values that changed are
@@ -487,8 +491,10 @@ where
         profile: &mut P,
     ) {
         if self.nmt.is_running() && !matches!(state, NmtState::BootUp) {
-            self.nmt.set_state(now, state);
-            self.drain_nmt(now, profile);
+            self.report_nmt_boot(now, profile);
+            if let Some(event) = self.nmt.set_state(state) {
+                self.nmt_event(now, event, profile);
+            }
         }
     }
 
@@ -572,8 +578,9 @@ where
         if !self.nmt.is_running() {
             return;
         }
-        self.nmt.handle_frame(now, frame);
-        if self.drain_nmt(now, profile) {
+        if let Some(event) = self.nmt.take_frame(frame) {
+            // An NMT command that changed something: not for anyone else.
+            self.nmt_event(now, event, profile);
             return;
         }
         #[cfg(feature = "heartbeat-consumer")]
@@ -695,28 +702,36 @@ where
         profile.on_event(self, now, &event);
     }
 
-    /// Handles the NMT slave's events; true when the frame was an NMT
-    /// command that changed something (it is not for anyone else here).
-    fn drain_nmt<P: Profile<A, E, Q, C, T, R>>(&mut self, now: Timestamp, profile: &mut P) -> bool {
-        let mut acted = false;
-        while let Some(event) = self.nmt.poll_event() {
-            acted = true;
-            match event {
-                NmtSlaveEvent::Reset(kind) => {
-                    // Restored first, so the profile sees the device as the
-                    // reset left it (pre-operational, running) and may act
-                    // on it, e.g. start itself; the state change follows.
-                    self.restart(now, kind);
-                    let node = kind == ResetKind::Node;
-                    self.emit(now, DeviceEvent::Reset { node }, profile);
-                }
-                NmtSlaveEvent::StateChanged { from, to } => {
-                    self.entered(now, to);
-                    self.emit(now, DeviceEvent::NmtStateChanged { from, to }, profile);
-                }
+    /// Handles an event of the NMT slave. A reset restores the device
+    /// first, so the profile sees it as the reset left it (pre-operational,
+    /// running) and may act on it, e.g. start itself; the boot's state
+    /// change follows ([`report_nmt_boot`](Self::report_nmt_boot)).
+    pub(super) fn nmt_event<P: Profile<A, E, Q, C, T, R>>(
+        &mut self,
+        now: Timestamp,
+        event: NmtSlaveEvent,
+        profile: &mut P,
+    ) {
+        match event {
+            NmtSlaveEvent::Reset(kind) => {
+                self.restart(now, kind);
+                let node = kind == ResetKind::Node;
+                self.emit(now, DeviceEvent::Reset { node }, profile);
+                self.report_nmt_boot(now, profile);
+            }
+            NmtSlaveEvent::StateChanged { from, to } => {
+                self.entered(now, to);
+                self.emit(now, DeviceEvent::NmtStateChanged { from, to }, profile);
             }
         }
-        acted
+    }
+
+    /// Reports the held state change of the boot after a reset, if any.
+    fn report_nmt_boot<P: Profile<A, E, Q, C, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
+        if let Some(from) = self.nmt_boot.take() {
+            let to = NmtState::PreOperational;
+            self.nmt_event(now, NmtSlaveEvent::StateChanged { from, to }, profile);
+        }
     }
 
     /// Boot or reset: restores the objects `kind` says, boot-up message,
@@ -728,7 +743,7 @@ where
             if node != self.node || !self.nmt.is_running() {
                 self.config.move_node(node);
                 self.node = node;
-                self.nmt = NmtSlave::with_event_capacity(node);
+                self.nmt = NmtCore::new(node);
             }
         }
         // A running transfer ends silently; a download is aborted in the
@@ -743,7 +758,7 @@ where
         self.reset_consumer();
         self.tpdos.reset();
         self.reconfigure_pdos(now);
-        self.nmt.boot(now);
+        self.nmt_boot = self.nmt.boot();
         self.reset_services(now);
     }
 

@@ -16,6 +16,7 @@ use crate::cob_id::NodeId;
 use crate::error::{exact_len, DecodeError};
 
 mod slave;
+pub(crate) use slave::NmtCore;
 pub use slave::{NmtSlave, NmtSlaveEvent, ResetKind};
 
 /// NMT command specifier (byte 0 of an NMT frame).

@@ -20,7 +20,7 @@
 //! producer's); the state change is then reported from the state before
 //! the reset to pre-operational. The slave sends no frames and arms no timers.
 
-use super::{NmtCommand, NmtCommandSpecifier, NmtState};
+use super::{NmtCommandSpecifier, NmtState};
 use crate::cob_id::{NodeId, NMT};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
@@ -71,14 +71,12 @@ pub enum NmtSlaveEvent {
 ///
 /// The slave reports at most one event per call. Its queue keeps the latest
 /// `E` (default 8) for an owner that does not drain it after every call; an
-/// owner that does can make it small ([`NmtSlave::with_event_capacity`]:
-/// the device core uses 2).
+/// owner that does can make it small ([`NmtSlave::with_event_capacity`]).
+/// The device core keeps no queue: it handles each event as the call
+/// that makes it returns it.
 #[derive(Debug, Clone)]
 pub struct NmtSlave<const E: usize = 8> {
-    node: NodeId,
-    state: NmtState,
-    /// The state a reset left (reported as the `from` of the boot after it).
-    before_reset: Option<NmtState>,
+    core: NmtCore,
     events: EventQueue<NmtSlaveEvent, E>,
 }
 
@@ -96,9 +94,7 @@ impl<const E: usize> NmtSlave<E> {
     #[must_use]
     pub const fn with_event_capacity(node: NodeId) -> Self {
         NmtSlave {
-            node,
-            state: NmtState::BootUp,
-            before_reset: None,
+            core: NmtCore::new(node),
             events: EventQueue::new(NmtSlaveEvent::Reset(ResetKind::Node)),
         }
     }
@@ -106,26 +102,26 @@ impl<const E: usize> NmtSlave<E> {
     /// The node id.
     #[must_use]
     pub const fn node(&self) -> NodeId {
-        self.node
+        self.core.node
     }
 
     /// The current state.
     #[must_use]
     pub const fn state(&self) -> NmtState {
-        self.state
+        self.core.state
     }
 
     /// True once booted and not initialising after a reset.
     #[must_use]
     pub const fn is_running(&self) -> bool {
-        !matches!(self.state, NmtState::BootUp)
+        self.core.is_running()
     }
 
     /// True in pre-operational and operational, where SDO and EMCY are
     /// served (CiA 301: not in stopped).
     #[must_use]
     pub const fn sdo_allowed(&self) -> bool {
-        matches!(self.state, NmtState::PreOperational | NmtState::Operational)
+        self.core.sdo_allowed()
     }
 
     /// Initialisation finished (power-on or after a reset): enters
@@ -133,31 +129,112 @@ impl<const E: usize> NmtSlave<E> {
     /// state the reset left (none when that was pre-operational).
     pub fn boot(&mut self, now: Timestamp) {
         let _ = now;
-        let from = self.before_reset.take().unwrap_or(self.state);
-        self.state = NmtState::PreOperational;
-        if from != NmtState::PreOperational {
-            self.events.push(NmtSlaveEvent::StateChanged {
-                from,
-                to: NmtState::PreOperational,
-            });
-        }
+        let event = self.core.boot().map(|from| NmtSlaveEvent::StateChanged {
+            from,
+            to: NmtState::PreOperational,
+        });
+        self.queue(event);
     }
 
     /// Enters `to` by the node's own decision (e.g. a device that starts
     /// itself); reported like a commanded change.
     pub fn set_state(&mut self, now: Timestamp, to: NmtState) {
         let _ = now;
-        let from = self.state;
-        if from != to {
-            self.state = to;
-            self.events.push(NmtSlaveEvent::StateChanged { from, to });
+        let event = self.core.set_state(to);
+        self.queue(event);
+    }
+
+    fn queue(&mut self, event: Option<NmtSlaveEvent>) {
+        if let Some(event) = event {
+            self.events.push(event);
+        }
+    }
+}
+
+/// The NMT slave without its event queue, for an owner that handles each
+/// event as it is made (the device core): every call returns the one
+/// event it makes, if any (the return type is the proof that a call makes
+/// at most one). [`NmtSlave`] is this plus the queue of a [`Machine`].
+#[derive(Debug, Clone)]
+pub(crate) struct NmtCore {
+    node: NodeId,
+    state: NmtState,
+    /// The state a reset left (reported as the `from` of the boot after it).
+    before_reset: Option<NmtState>,
+}
+
+impl NmtCore {
+    /// A node that has not booted yet.
+    pub(crate) const fn new(node: NodeId) -> Self {
+        NmtCore {
+            node,
+            state: NmtState::BootUp,
+            before_reset: None,
         }
     }
 
-    fn reset(&mut self, kind: ResetKind) {
+    /// The current state.
+    pub(crate) const fn state(&self) -> NmtState {
+        self.state
+    }
+
+    /// As [`NmtSlave::is_running`].
+    pub(crate) const fn is_running(&self) -> bool {
+        !matches!(self.state, NmtState::BootUp)
+    }
+
+    /// As [`NmtSlave::sdo_allowed`].
+    pub(crate) const fn sdo_allowed(&self) -> bool {
+        matches!(self.state, NmtState::PreOperational | NmtState::Operational)
+    }
+
+    /// As [`NmtSlave::boot`]; returns the state the change to
+    /// pre-operational is from (none when there is no change).
+    pub(crate) fn boot(&mut self) -> Option<NmtState> {
+        let from = self.before_reset.take().unwrap_or(self.state);
+        self.state = NmtState::PreOperational;
+        (from != NmtState::PreOperational).then_some(from)
+    }
+
+    /// As [`NmtSlave::set_state`]; returns the state change.
+    pub(crate) fn set_state(&mut self, to: NmtState) -> Option<NmtSlaveEvent> {
+        let from = self.state;
+        if from == to {
+            return None;
+        }
+        self.state = to;
+        Some(NmtSlaveEvent::StateChanged { from, to })
+    }
+
+    /// As [`Machine::handle_frame`] on [`NmtSlave`]: obeys an NMT
+    /// module-control command addressed to this node; returns what it did.
+    pub(crate) fn take_frame(&mut self, frame: &CanFrame) -> Option<NmtSlaveEvent> {
+        if !self.is_running() || frame.is_remote() || frame.id() != CanId::Standard(NMT) {
+            return None;
+        }
+        // The two bytes of `NmtCommand` read here directly: a command is
+        // for this node when its node byte is 0 (all) or the node-ID (an
+        // invalid node byte, 128..=255, is neither).
+        let &[cs, target] = frame.data() else {
+            return None;
+        };
+        if target != 0 && target != self.node.raw() {
+            return None;
+        }
+        match NmtCommandSpecifier::from(cs) {
+            NmtCommandSpecifier::Start => self.set_state(NmtState::Operational),
+            NmtCommandSpecifier::Stop => self.set_state(NmtState::Stopped),
+            NmtCommandSpecifier::EnterPreOperational => self.set_state(NmtState::PreOperational),
+            NmtCommandSpecifier::ResetNode => Some(self.reset(ResetKind::Node)),
+            NmtCommandSpecifier::ResetCommunication => Some(self.reset(ResetKind::Communication)),
+            NmtCommandSpecifier::Unknown(_) => None,
+        }
+    }
+
+    fn reset(&mut self, kind: ResetKind) -> NmtSlaveEvent {
         self.before_reset = Some(self.state);
         self.state = NmtState::BootUp;
-        self.events.push(NmtSlaveEvent::Reset(kind));
+        NmtSlaveEvent::Reset(kind)
     }
 }
 
@@ -166,25 +243,9 @@ impl<const E: usize> Machine for NmtSlave<E> {
 
     /// Obeys an NMT module-control command addressed to this node.
     fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        if !self.is_running() || frame.is_remote() || frame.id() != CanId::Standard(NMT) {
-            return;
-        }
-        let Ok(cmd) = NmtCommand::decode(frame.data()) else {
-            return;
-        };
-        if !cmd.target.addresses(self.node) {
-            return;
-        }
-        match cmd.command {
-            NmtCommandSpecifier::Start => self.set_state(now, NmtState::Operational),
-            NmtCommandSpecifier::Stop => self.set_state(now, NmtState::Stopped),
-            NmtCommandSpecifier::EnterPreOperational => {
-                self.set_state(now, NmtState::PreOperational);
-            }
-            NmtCommandSpecifier::ResetNode => self.reset(ResetKind::Node),
-            NmtCommandSpecifier::ResetCommunication => self.reset(ResetKind::Communication),
-            NmtCommandSpecifier::Unknown(_) => {}
-        }
+        let _ = now;
+        let event = self.core.take_frame(frame);
+        self.queue(event);
     }
 
     /// The slave has no timers.
@@ -237,8 +298,10 @@ mod tests {
             (0x02, 10, Stopped),
             (0x01, 10, Op),
             (0x80, 0, Pre),
-            (0x01, 11, Pre), // another node
-            (0x55, 10, Pre), // unknown specifier
+            (0x01, 11, Pre),   // another node
+            (0x02, 0x8A, Pre), // not a node-ID (10 + 80h)
+            (0x02, 0xFF, Pre), // not a node-ID
+            (0x55, 10, Pre),   // unknown specifier
         ];
         for (cs, node, want) in rows {
             s.handle_frame(t, &nmt(cs, node));
@@ -292,6 +355,45 @@ mod tests {
                 proptest::prop_assert_eq!(s.poll_event(), None);
                 proptest::prop_assert_eq!(s.events_dropped(), 0);
                 let _ = first;
+            }
+        }
+
+        /// The queue-less core makes, call for call, the event the slave
+        /// queues: the device core (which uses it) reports what a
+        /// standalone slave would.
+        #[test]
+        fn core_returns_what_the_slave_queues(
+            calls in proptest::collection::vec((0u8..4, proptest::num::u8::ANY, 0u8..12, 0u8..4), 0..64)
+        ) {
+            let states = [NmtState::PreOperational, NmtState::Operational, NmtState::Stopped, NmtState::BootUp];
+            let cs = [0x01, 0x02, 0x80, 0x81, 0x82, 0x00, 0x55];
+            let node = NodeId::new(10).unwrap();
+            let mut s = NmtSlave::new(node);
+            let mut core = NmtCore::new(node);
+            let t = Timestamp::ZERO;
+            for (kind, byte, target, state) in calls {
+                let made = match kind {
+                    0 => {
+                        s.boot(t);
+                        core.boot().map(|from| NmtSlaveEvent::StateChanged { from, to: NmtState::PreOperational })
+                    }
+                    1 => {
+                        let to = states[usize::from(state)];
+                        s.set_state(t, to);
+                        core.set_state(to)
+                    }
+                    _ => {
+                        let frame = nmt(cs[usize::from(byte) % cs.len()], target);
+                        s.handle_frame(t, &frame);
+                        core.take_frame(&frame)
+                    }
+                };
+                proptest::prop_assert_eq!(s.poll_event(), made);
+                proptest::prop_assert_eq!(s.poll_event(), None);
+                proptest::prop_assert_eq!(
+                    (s.state(), s.is_running(), s.sdo_allowed()),
+                    (core.state(), core.is_running(), core.sdo_allowed())
+                );
             }
         }
     }
