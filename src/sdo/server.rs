@@ -579,17 +579,42 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// `None`): the running one superseded, the object looked up, and every
     /// failure answered by one abort frame for the object (one call site of
     /// the abort for both initiate paths).
+    ///
+    /// Both paths give the response to send and the transfer's end (an
+    /// expedited transfer) or `None` (a segmented one, its state set): one
+    /// call site of the response, the event and the timer. The server is
+    /// idle here (superseded), so an expedited transfer's end is its event
+    /// alone.
     fn initiate(&mut self, now: Timestamp, index: u16, sub: u8, download: Option<Download>) {
         self.supersede();
         let result = match self.od.info(index, sub) {
             Ok(info) => match download {
-                None => self.initiate_upload(now, index, sub, info),
-                Some(payload) => self.initiate_download(now, index, sub, info, payload),
+                None => self.initiate_upload(index, sub, info),
+                Some(payload) => self.initiate_download(index, sub, info, payload),
             },
             Err(code) => Err(code),
         };
-        if let Err(code) = result {
-            self.abort_object(index, sub, code);
+        self.answer_initiate(now, index, sub, result);
+    }
+
+    /// Answers an initiate of `index`/`sub` (the server idle) with what
+    /// `initiate_upload` / `initiate_download` gave (see `initiate`).
+    fn answer_initiate(
+        &mut self,
+        now: Timestamp,
+        index: u16,
+        sub: u8,
+        result: Result<(u64, Option<ServerEvent>), AbortCode>,
+    ) {
+        match result {
+            Ok((response, end)) => {
+                self.send(response);
+                match end {
+                    Some(event) => self.emit(event),
+                    None => self.arm(now),
+                }
+            }
+            Err(code) => self.abort_object(index, sub, code),
         }
     }
 

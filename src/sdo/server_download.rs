@@ -12,17 +12,16 @@ use crate::time::Timestamp;
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// An initiate download of the object `info` describes: an expedited
-    /// one written and answered, a segmented one answered and started. An
-    /// error is the abort code to answer with (nothing changed, nothing
-    /// left written).
+    /// one written (the response and the `Downloaded` event), a segmented
+    /// one started (the response; the state set). An error is the abort
+    /// code to answer with (nothing changed, nothing left written).
     pub(super) fn initiate_download(
         &mut self,
-        now: Timestamp,
         index: u16,
         sub: u8,
         info: ObjectInfo,
         payload: Download,
-    ) -> Result<(), AbortCode> {
+    ) -> Result<(u64, Option<ServerEvent>), AbortCode> {
         if !info.access.is_writable() {
             return Err(AbortCode::WriteOfReadOnlyObject);
         }
@@ -47,6 +46,8 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         if let Some(len) = len {
             info.check_download_len(len)?;
         }
+        // The response of both forms.
+        let response = words::mux(0x60, index, sub, 0);
         match (payload, len) {
             (Download::Expedited { data, .. }, Some(len)) => {
                 let bytes = data.to_le_bytes();
@@ -59,22 +60,19 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                     self.od.abort_write(index, sub);
                 }
                 result?;
-                self.send(words::mux(0x60, index, sub, 0));
-                self.finish(ServerEvent::Downloaded { index, sub, len });
+                Ok((response, Some(ServerEvent::Downloaded { index, sub, len })))
             }
             // Segmented (an expedited download always has its length).
             (_, size) => {
-                self.send(words::mux(0x60, index, sub, 0));
                 self.state = State::Downloading {
                     index,
                     sub,
                     rx: Segments::new(size),
                     size: info.size,
                 };
-                self.arm(now);
+                Ok((response, None))
             }
         }
-        Ok(())
     }
 
     /// A download segment, the frame's `bytes` with `len` data bytes (as

@@ -41,15 +41,15 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     }
 
     /// An initiate upload of the object `info` describes: 1..=4 bytes
-    /// answered expedited, any other length started segmented. An error is
-    /// the abort code to answer with.
+    /// answered expedited (the response and the `Uploaded` event), any
+    /// other length started segmented (the response; the state set). An
+    /// error is the abort code to answer with.
     pub(super) fn initiate_upload(
         &mut self,
-        now: Timestamp,
         index: u16,
         sub: u8,
         info: ObjectInfo,
-    ) -> Result<(), AbortCode> {
+    ) -> Result<(u64, Option<ServerEvent>), AbortCode> {
         if !info.access.is_readable() {
             return Err(AbortCode::ReadOfWriteOnlyObject);
         }
@@ -63,12 +63,12 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             // The bytes past `n` zero, as the frame has them.
             let mask = u32::MAX.checked_shr(32 - 8 * n.min(4) as u32).unwrap_or(0);
             let data = u32::from_le_bytes(buf) & mask;
-            self.send(words::expedited(2, index, sub, data, n));
-            self.finish(ServerEvent::Uploaded { index, sub, len: n });
-            return Ok(());
+            return Ok((
+                words::expedited(2, index, sub, data, n),
+                Some(ServerEvent::Uploaded { index, sub, len: n }),
+            ));
         }
         let size = u32::try_from(info.len).map_err(|_| AbortCode::OutOfMemory)?;
-        self.send(words::segmented(2, index, sub, size));
         self.state = State::Uploading {
             index,
             sub,
@@ -76,8 +76,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             len: info.len,
             toggle: false,
         };
-        self.arm(now);
-        Ok(())
+        Ok((words::segmented(2, index, sub, size), None))
     }
 
     /// An upload segment request (ccs = 3, toggle `toggle`): the next
