@@ -82,6 +82,9 @@ pub struct TpdoProducer {
     /// end of the inhibit time when `DEFERRED`, else the event timer. A
     /// deferred send re-arms the event timer, so an event timer running
     /// out inside the inhibit time is covered by it: one timer is enough.
+    /// Only set while active (every send follows an `is_active` check,
+    /// and every way out of active stops it), so the timer paths need no
+    /// check of their own.
     deadline: u64,
     /// What the next frame carries, little-endian: the latest payload (a
     /// PDO carries the latest value; an undrained frame is not sent twice).
@@ -299,10 +302,8 @@ impl Machine for TpdoProducer {
 
     /// The event timer and a deferred transmission fire here.
     fn handle_timeout(&mut self, now: Timestamp) {
-        if !self.is_active()
-            || self.deadline == NO_DEADLINE
-            || !now.has_reached(Timestamp::from_micros(self.deadline))
-        {
+        // A deadline is only set while active (see `deadline`).
+        if self.deadline == NO_DEADLINE || !now.has_reached(Timestamp::from_micros(self.deadline)) {
             return;
         }
         self.deadline = NO_DEADLINE;
@@ -331,7 +332,8 @@ impl Machine for TpdoProducer {
 
     /// The earlier of the event timer and the end of the inhibit time.
     fn poll_timeout(&self) -> Option<Timestamp> {
-        if self.deadline == NO_DEADLINE || !self.is_active() {
+        // A deadline is only set while active (see `deadline`).
+        if self.deadline == NO_DEADLINE {
             return None;
         }
         Some(Timestamp::from_micros(self.deadline))
