@@ -95,6 +95,10 @@ pub const EVENTS_PER_CALL: usize = 2;
 /// The server's one timer: the timeout for the client's next frame.
 const REQUEST_TIMEOUT: usize = 0;
 
+/// What an initiate path gives (see `Server::initiate`): the response's
+/// byte 0 and bytes 4..=7 and the transfer's end, or the abort code.
+type Initiated = Result<(u8, u32, Option<ServerEvent>), AbortCode>;
+
 /// The default SDO timeout: 2000 ms, Delta-Q's recommendation.
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_millis(2000);
 
@@ -580,11 +584,10 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// failure answered by one abort frame for the object (one call site of
     /// the abort for both initiate paths).
     ///
-    /// Both paths give the response to send and the transfer's end (an
-    /// expedited transfer) or `None` (a segmented one, its state set): one
-    /// call site of the response, the event and the timer. The server is
-    /// idle here (superseded), so an expedited transfer's end is its event
-    /// alone.
+    /// Both paths give the response's byte 0 and bytes 4..=7, and the
+    /// transfer's end (an expedited transfer) or `None` (a segmented one,
+    /// its state set): one call site of the response, the event and the
+    /// timer.
     fn initiate(&mut self, now: Timestamp, index: u16, sub: u8, download: Option<Download>) {
         self.supersede();
         let result = match self.od.info(index, sub) {
@@ -597,24 +600,29 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         self.answer_initiate(now, index, sub, result);
     }
 
-    /// Answers an initiate of `index`/`sub` (the server idle) with what
-    /// `initiate_upload` / `initiate_download` gave (see `initiate`).
-    fn answer_initiate(
-        &mut self,
-        now: Timestamp,
-        index: u16,
-        sub: u8,
-        result: Result<(u64, Option<ServerEvent>), AbortCode>,
-    ) {
-        match result {
-            Ok((response, end)) => {
-                self.send(response);
-                match end {
-                    Some(event) => self.emit(event),
-                    None => self.arm(now),
-                }
-            }
-            Err(code) => self.abort_object(index, sub, code),
+    /// Answers an initiate of `index`/`sub` with what `initiate_upload` /
+    /// `initiate_download` gave (see `initiate`); an error with the abort
+    /// frame and event `abort_object` makes. The server is idle here (the
+    /// running transfer superseded, a failed path leaves no state), so
+    /// the end of a transfer is its event alone.
+    fn answer_initiate(&mut self, now: Timestamp, index: u16, sub: u8, result: Initiated) {
+        let (b0, tail, end) = match result {
+            Ok(answer) => answer,
+            Err(code) => (
+                0x80,
+                code.to_u32(),
+                Some(ServerEvent::Aborted {
+                    index,
+                    sub,
+                    code,
+                    origin: AbortOrigin::Local,
+                }),
+            ),
+        };
+        self.send(words::mux(b0, index, sub, tail));
+        match end {
+            Some(event) => self.emit(event),
+            None => self.arm(now),
         }
     }
 

@@ -5,9 +5,10 @@
 //! rule and written from the frame, one per request.
 
 use super::super::segmented::Segments;
-use super::super::words;
 use super::server_wire::Download;
-use super::{AbortCode, ObjectDictionary, ObjectInfo, Server, ServerEvent, SizeRule, State};
+use super::{
+    AbortCode, Initiated, ObjectDictionary, ObjectInfo, Server, ServerEvent, SizeRule, State,
+};
 use crate::time::Timestamp;
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
@@ -21,7 +22,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         sub: u8,
         info: ObjectInfo,
         payload: Download,
-    ) -> Result<(u64, Option<ServerEvent>), AbortCode> {
+    ) -> Initiated {
         if !info.access.is_writable() {
             return Err(AbortCode::WriteOfReadOnlyObject);
         }
@@ -46,9 +47,8 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         if let Some(len) = len {
             info.check_download_len(len)?;
         }
-        // The response of both forms.
-        let response = words::mux(0x60, index, sub, 0);
         match (payload, len) {
+            // Both answered with scs = 3 (byte 60h) and bytes 4..=7 zero.
             (Download::Expedited { data, .. }, Some(len)) => {
                 let bytes = data.to_le_bytes();
                 let bytes = bytes.get(..len).unwrap_or(&[]);
@@ -60,7 +60,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                     self.od.abort_write(index, sub);
                 }
                 result?;
-                Ok((response, Some(ServerEvent::Downloaded { index, sub, len })))
+                Ok((0x60, 0, Some(ServerEvent::Downloaded { index, sub, len })))
             }
             // Segmented (an expedited download always has its length).
             (_, size) => {
@@ -70,7 +70,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                     rx: Segments::new(size),
                     size: info.size,
                 };
-                Ok((response, None))
+                Ok((0x60, 0, None))
             }
         }
     }

@@ -5,7 +5,7 @@
 
 use super::super::segmented::check_toggle;
 use super::super::words;
-use super::{AbortCode, ObjectDictionary, ObjectInfo, Server, ServerEvent, State};
+use super::{AbortCode, Initiated, ObjectDictionary, ObjectInfo, Server, ServerEvent, State};
 use crate::time::Timestamp;
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
@@ -44,12 +44,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// answered expedited (the response and the `Uploaded` event), any
     /// other length started segmented (the response; the state set). An
     /// error is the abort code to answer with.
-    pub(super) fn initiate_upload(
-        &mut self,
-        index: u16,
-        sub: u8,
-        info: ObjectInfo,
-    ) -> Result<(u64, Option<ServerEvent>), AbortCode> {
+    pub(super) fn initiate_upload(&mut self, index: u16, sub: u8, info: ObjectInfo) -> Initiated {
         if !info.access.is_readable() {
             return Err(AbortCode::ReadOfWriteOnlyObject);
         }
@@ -64,7 +59,8 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             let mask = u32::MAX.checked_shr(32 - 8 * n.min(4) as u32).unwrap_or(0);
             let data = u32::from_le_bytes(buf) & mask;
             return Ok((
-                words::expedited(2, index, sub, data, n),
+                words::expedited_b0(2, n),
+                data,
                 Some(ServerEvent::Uploaded { index, sub, len: n }),
             ));
         }
@@ -76,7 +72,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             len: info.len,
             toggle: false,
         };
-        Ok((words::segmented(2, index, sub, size), None))
+        Ok((words::segmented_b0(2), size, None))
     }
 
     /// An upload segment request (ccs = 3, toggle `toggle`): the next
