@@ -92,7 +92,8 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             size,
         } = &mut self.state
         else {
-            return self.abort_local(AbortCode::InvalidCommandSpecifier);
+            // Not reached: `handle_frame` calls it in this state only.
+            return;
         };
         let (index, sub) = (*index, *sub);
         // The size rule's bound, and whether it is also the least length

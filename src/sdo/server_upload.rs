@@ -95,7 +95,8 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             toggle: expected,
         } = self.state
         else {
-            return self.abort_local(AbortCode::InvalidCommandSpecifier);
+            // Not reached: `handle_frame` calls it in this state only.
+            return;
         };
         if let Err(code) = check_toggle(toggle, expected) {
             return self.abort_local(code);
