@@ -638,22 +638,26 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         let Some(request) = server_wire::request(frame) else {
             return;
         };
-        match request {
-            Request::InitiateUpload { index, sub } => self.initiate(now, index, sub, None),
+        // One call site of `initiate` for both directions.
+        let (index, sub, download) = match request {
+            Request::InitiateUpload { index, sub } => (index, sub, None),
             Request::InitiateDownload {
                 index,
                 sub,
                 payload,
-            } => self.initiate(now, index, sub, Some(payload)),
-            Request::Abort(code) => self.abort_by_peer(code),
-            Request::BlockInitiate { index, sub } => self.on_block_initiate(now, frame, index, sub),
-            Request::Block => self.on_block_command(now, frame),
+            } => (index, sub, Some(payload)),
+            Request::Abort(code) => return self.abort_by_peer(code),
+            Request::BlockInitiate { index, sub } => {
+                return self.on_block_initiate(now, frame, index, sub)
+            }
+            Request::Block => return self.on_block_command(now, frame),
             // A segment of the running segmented transfer took
             // `handle_frame`'s own path; any other segment request does not
             // fit the state (what `upload_segment` / `download_segment`
             // would answer), and ccs = 7 is not a command.
-            Request::Invalid => self.abort_local(AbortCode::InvalidCommandSpecifier),
-        }
+            Request::Invalid => return self.abort_local(AbortCode::InvalidCommandSpecifier),
+        };
+        self.initiate(now, index, sub, download);
     }
 
     /// A block command with block transfer on: the general decoder's
