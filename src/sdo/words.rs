@@ -41,14 +41,16 @@ pub(crate) const fn expedited_b0(specifier: u8, n: usize) -> u8 {
 }
 
 /// A segmented initiate with the size indicated (specifier as for
-/// [`expedited`]).
+/// [`expedited`]): the segmented client's request (the server sends
+/// [`segmented_b0`] with the size itself).
+#[cfg(any(test, feature = "sdo-client-segmented"))]
 #[inline(always)]
 #[must_use]
 pub(crate) const fn segmented(specifier: u8, index: u16, sub: u8, size: u32) -> u64 {
     mux(segmented_b0(specifier), index, sub, size)
 }
 
-/// Byte 0 of [`segmented`].
+/// Byte 0 of `segmented` (the server's segmented upload response).
 #[inline(always)]
 #[must_use]
 pub(crate) const fn segmented_b0(specifier: u8) -> u8 {
