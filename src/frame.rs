@@ -237,6 +237,14 @@ impl CanFrame {
     /// valid `len`; used on hot encode paths.
     #[inline]
     pub(crate) const fn from_parts(id: CanId, data: [u8; 8], len: u8) -> Self {
+        Self::from_word_parts(id_word(id), data, len)
+    }
+
+    /// [`from_parts`](Self::from_parts) of the data frame whose
+    /// identifier word is `word` ([`data_frame_word`] of an identifier in
+    /// range: a caller that keeps the word rather than the identifier).
+    #[inline]
+    pub(crate) const fn from_word_parts(word: u32, data: [u8; 8], len: u8) -> Self {
         let len = Dlc::clamped(len as usize);
         // Zero the tail so equality is on the meaningful bytes only.
         let mut data = data;
@@ -245,11 +253,7 @@ impl CanFrame {
             data[i] = 0;
             i += 1;
         }
-        CanFrame {
-            word: id_word(id),
-            len,
-            data,
-        }
+        CanFrame { word, len, data }
     }
 
     /// A remote (RTR) frame asking for `dlc` bytes. Fails when `dlc > 8`.

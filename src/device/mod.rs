@@ -591,8 +591,7 @@ where
         }
         // Guarding requests, SYNC (which runs the synchronous TPDOs) and TIME.
         self.services_frame(now, frame, profile);
-        self.rpdos.handle_frame(now, frame);
-        self.drain_rpdos(now, profile);
+        self.drain_rpdos(now, frame, profile);
         profile.on_frame(self, now, frame);
     }
 
@@ -837,13 +836,20 @@ where
         }
     }
 
-    fn drain_rpdos<P: Profile<A, E, Q, C, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
-        // One frame is at most one RPDO (the receiver's one event slot).
-        if let Some(rpdo) = self.rpdos.poll_event() {
-            let Some(result) = RpdoReceiver::apply(&rpdo, self.server.od_mut()) else {
+    /// The RPDO `frame` is on, if any, written into the mapped objects at
+    /// once (what the receiver's `handle_frame` and `poll_event` would
+    /// give, without its event slot: a frame is at most one RPDO).
+    fn drain_rpdos<P: Profile<A, E, Q, C, T, R>>(
+        &mut self,
+        now: Timestamp,
+        frame: &CanFrame,
+        profile: &mut P,
+    ) {
+        if let Some(pdo) = self.rpdos.rpdo_of(frame) {
+            let Some(result) = RpdoReceiver::apply_data(pdo, frame.data(), self.server.od_mut())
+            else {
                 return;
             };
-            let pdo = rpdo.pdo;
             match result {
                 Ok(_) => {
                     self.note_rpdo(now, pdo, profile);

@@ -32,7 +32,7 @@ use core::convert::Infallible;
 
 use super::comm::PdoCommParams;
 use crate::bytes::Payload;
-use crate::cob_id::{can_id_of_cob_word, SYNC};
+use crate::cob_id::SYNC;
 use crate::frame::{data_frame_word, CanFrame, CanId};
 use crate::machine::Machine;
 use crate::time::Timestamp;
@@ -43,9 +43,9 @@ use crate::time::Timestamp;
 /// the send that starts it.
 const NO_DEADLINE: u64 = 0;
 
-/// The COB-ID kept for a TPDO that may not send (not configured, not
-/// valid, or bits 28-11 set on an 11-bit COB-ID): not valid itself, so
-/// no COB-ID the producer sends on.
+/// The identifier word kept for a TPDO that may not send (not
+/// configured, not valid, or bits 28-11 set on an 11-bit COB-ID): the
+/// word of no data frame (see `data_frame_word`).
 const NO_ID: u32 = u32::MAX;
 
 /// Bits of [`TpdoProducer::flags`].
@@ -82,14 +82,18 @@ pub struct TpdoProducer {
     /// end of the inhibit time when `DEFERRED`, else the event timer. A
     /// deferred send re-arms the event timer, so an event timer running
     /// out inside the inhibit time is covered by it: one timer is enough.
+    /// Only set while active (every send follows an `is_active` check,
+    /// and every way out of active stops it), so the timer paths need no
+    /// check of their own.
     deadline: u64,
     /// What the next frame carries, little-endian: the latest payload (a
     /// PDO carries the latest value; an undrained frame is not sent twice).
     payload: u64,
     /// Of the communication parameters, what the producer uses: the
-    /// COB-ID ([`NO_ID`] when it may not send), the transmission type, the
-    /// inhibit time and the event timer.
-    cob_id: u32,
+    /// COB-ID's identifier as the word of its data frames ([`NO_ID`] when
+    /// it may not send: a frame is made from it without a conversion),
+    /// the transmission type, the inhibit time and the event timer.
+    frame_word: u32,
     /// The SYNC identifier as a data frame's identifier word.
     sync_word: u32,
     inhibit_time_100us: u16,
@@ -114,7 +118,7 @@ impl TpdoProducer {
             last_sent: 0,
             deadline: NO_DEADLINE,
             payload: 0,
-            cob_id: NO_ID,
+            frame_word: NO_ID,
             sync_word: SYNC as u32,
             inhibit_time_100us: 0,
             event_timer_ms: 0,
@@ -148,7 +152,7 @@ impl TpdoProducer {
     #[must_use]
     #[inline]
     pub fn is_active(&self) -> bool {
-        self.has(OPERATIONAL) && self.cob_id != NO_ID
+        self.has(OPERATIONAL) && self.frame_word != NO_ID
     }
 
     /// Sets the communication parameters (a new COB-ID takes effect at
@@ -156,10 +160,9 @@ impl TpdoProducer {
     pub fn configure(&mut self, now: Timestamp, comm: PdoCommParams) {
         let was_active = self.is_active();
         let cob = comm.cob_id;
-        self.cob_id = if cob.is_valid() && cob.can_id().is_some() {
-            cob.to_u32()
-        } else {
-            NO_ID
+        self.frame_word = match cob.can_id() {
+            Some(id) if cob.is_valid() => data_frame_word(id),
+            _ => NO_ID,
         };
         self.transmission_type = comm.transmission_type.to_u8();
         self.inhibit_time_100us = comm.inhibit_time_100us;
@@ -169,7 +172,7 @@ impl TpdoProducer {
 
     /// Forgets the configuration: nothing is sent until `configure` again.
     pub fn unconfigure(&mut self) {
-        self.cob_id = NO_ID;
+        self.frame_word = NO_ID;
         self.stop();
     }
 
@@ -299,10 +302,8 @@ impl Machine for TpdoProducer {
 
     /// The event timer and a deferred transmission fire here.
     fn handle_timeout(&mut self, now: Timestamp) {
-        if !self.is_active()
-            || self.deadline == NO_DEADLINE
-            || !now.has_reached(Timestamp::from_micros(self.deadline))
-        {
+        // A deadline is only set while active (see `deadline`).
+        if self.deadline == NO_DEADLINE || !now.has_reached(Timestamp::from_micros(self.deadline)) {
             return;
         }
         self.deadline = NO_DEADLINE;
@@ -321,9 +322,13 @@ impl Machine for TpdoProducer {
             return None;
         }
         self.flags &= !DUE;
-        let id = can_id_of_cob_word(self.cob_id)?;
-        Some(CanFrame::from_parts(
-            id,
+        // DUE implies active (a send is), so the word is a frame's; the
+        // check costs a compare.
+        if self.frame_word == NO_ID {
+            return None;
+        }
+        Some(CanFrame::from_word_parts(
+            self.frame_word,
             self.payload.to_le_bytes(),
             self.payload_len,
         ))
@@ -331,7 +336,8 @@ impl Machine for TpdoProducer {
 
     /// The earlier of the event timer and the end of the inhibit time.
     fn poll_timeout(&self) -> Option<Timestamp> {
-        if self.deadline == NO_DEADLINE || !self.is_active() {
+        // A deadline is only set while active (see `deadline`).
+        if self.deadline == NO_DEADLINE {
             return None;
         }
         Some(Timestamp::from_micros(self.deadline))

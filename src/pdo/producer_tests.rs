@@ -207,3 +207,54 @@ fn an_undrained_frame_carries_the_latest_payload() {
     assert_eq!(p.poll_transmit(), None);
     assert_eq!(p.poll_timeout(), Some(ms(203)));
 }
+
+/// The timer paths trust that a deadline is only set while active: over
+/// a pseudo-random mix of every input (configure valid / not valid /
+/// synchronous, unconfigure, operational on and off, payloads, triggers,
+/// SYNC, timeouts), an inactive producer never has a deadline nor sends.
+#[test]
+fn no_deadline_or_frame_while_inactive() {
+    let mut p = TpdoProducer::new();
+    let mut seed = 0x2545_F491_u32;
+    let mut now = 0u64;
+    let sync = CanFrame::standard(0x080, &[]).unwrap();
+    for step in 0..20_000 {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        now += u64::from(seed % 300);
+        let t = ms(now);
+        match seed >> 28 {
+            0 => p.configure(t, charger_tpdo0()),
+            1 => p.configure(t, charger_tpdo0().clone_with_cob(0x8000_018A)),
+            2 => p.configure(
+                t,
+                PdoCommParams {
+                    transmission_type: TransmissionType::from_u8((seed >> 8) as u8 % 3).unwrap(),
+                    inhibit_time_100us: 50,
+                    ..charger_tpdo0()
+                },
+            ),
+            3 => p.unconfigure(),
+            4 | 5 => p.set_operational(t, seed & 0x100 != 0),
+            6 | 7 => p.set_payload(t, payload(&[(seed >> 8) as u8])),
+            8 => p.trigger(t),
+            9 | 10 => p.handle_frame(t, &sync),
+            _ => p.handle_timeout(t),
+        }
+        if !p.is_active() {
+            assert_eq!(
+                p.poll_timeout(),
+                None,
+                "step {step}: a deadline while inactive"
+            );
+            p.handle_timeout(ms(now + 1_000_000));
+            assert_eq!(
+                p.poll_transmit(),
+                None,
+                "step {step}: a frame while inactive"
+            );
+        }
+        let _ = p.poll_transmit();
+    }
+}

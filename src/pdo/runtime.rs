@@ -258,12 +258,35 @@ impl<const R: usize> RpdoReceiver<R> {
         rpdo: &RpdoFrame,
         pdos: &mut PdoDictionary<D, T, R>,
     ) -> Option<Result<bool, RpdoError>> {
-        let slot = pdos.config.get(PdoDirection::Receive, rpdo.pdo)?;
-        Some(write_entries(
-            slot.mapped(),
-            rpdo.data.as_slice(),
-            &mut pdos.inner,
-        ))
+        Self::apply_data(rpdo.pdo, rpdo.data.as_slice(), pdos)
+    }
+
+    /// [`apply`](Self::apply) of RPDO `pdo`'s `data` (the device core's
+    /// path: straight from the frame, no [`RpdoFrame`] made).
+    #[inline]
+    pub(crate) fn apply_data<D: ObjectDictionary, const T: usize>(
+        pdo: PdoNumber,
+        data: &[u8],
+        pdos: &mut PdoDictionary<D, T, R>,
+    ) -> Option<Result<bool, RpdoError>> {
+        let slot = pdos.config.get(PdoDirection::Receive, pdo)?;
+        Some(write_entries(slot.mapped(), data, &mut pdos.inner))
+    }
+
+    /// The RPDO `frame` is on while enabled, if any: what `handle_frame`
+    /// and `poll_event` report, without the event slot (the device core
+    /// applies it at once).
+    #[inline]
+    pub(crate) fn rpdo_of(&self, frame: &CanFrame) -> Option<PdoNumber> {
+        if !self.enabled {
+            return None;
+        }
+        // A remote frame's word has the remote flag: it matches no RPDO.
+        let word = frame.word();
+        self.ids
+            .iter()
+            .position(|&id| id == word)
+            .and_then(|n| PdoNumber::new(n as u8))
     }
 }
 
@@ -271,17 +294,7 @@ impl<const R: usize> Machine for RpdoReceiver<R> {
     type Event = RpdoFrame;
 
     fn handle_frame(&mut self, _now: Timestamp, frame: &CanFrame) {
-        if !self.enabled {
-            return;
-        }
-        // A remote frame's word has the remote flag: it matches no RPDO.
-        let word = frame.word();
-        let Some(pdo) = self
-            .ids
-            .iter()
-            .position(|&id| id == word)
-            .and_then(|n| PdoNumber::new(n as u8))
-        else {
+        let Some(pdo) = self.rpdo_of(frame) else {
             return;
         };
         if self.event.is_some() {

@@ -168,10 +168,8 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         }
         if pst != 0 && info.len <= usize::from(pst) {
             // The info read above (the protocol switch: a normal upload).
-            if let Err(code) = self.initiate_upload(now, index, sub, info) {
-                self.abort_object(index, sub, code);
-            }
-            return;
+            let result = self.initiate_upload(index, sub, info);
+            return self.answer_initiate(now, index, sub, result);
         }
         let Ok(size) = u32::try_from(info.len) else {
             return self.abort_object(index, sub, AbortCode::OutOfMemory);

@@ -95,6 +95,10 @@ pub const EVENTS_PER_CALL: usize = 2;
 /// The server's one timer: the timeout for the client's next frame.
 const REQUEST_TIMEOUT: usize = 0;
 
+/// What an initiate path gives (see `Server::initiate`): the response's
+/// byte 0 and bytes 4..=7 and the transfer's end, or the abort code.
+type Initiated = Result<(u8, u32, Option<ServerEvent>), AbortCode>;
+
 /// The default SDO timeout: 2000 ms, Delta-Q's recommendation.
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_millis(2000);
 
@@ -580,17 +584,46 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// `None`): the running one superseded, the object looked up, and every
     /// failure answered by one abort frame for the object (one call site of
     /// the abort for both initiate paths).
+    ///
+    /// Both paths give the response's byte 0 and bytes 4..=7, and the
+    /// transfer's end (an expedited transfer) or `None` (a segmented one,
+    /// its state set): one call site of the response, the event and the
+    /// timer.
     fn initiate(&mut self, now: Timestamp, index: u16, sub: u8, download: Option<Download>) {
         self.supersede();
         let result = match self.od.info(index, sub) {
             Ok(info) => match download {
-                None => self.initiate_upload(now, index, sub, info),
-                Some(payload) => self.initiate_download(now, index, sub, info, payload),
+                None => self.initiate_upload(index, sub, info),
+                Some(payload) => self.initiate_download(index, sub, info, payload),
             },
             Err(code) => Err(code),
         };
-        if let Err(code) = result {
-            self.abort_object(index, sub, code);
+        self.answer_initiate(now, index, sub, result);
+    }
+
+    /// Answers an initiate of `index`/`sub` with what `initiate_upload` /
+    /// `initiate_download` gave (see `initiate`); an error with the abort
+    /// frame and event `abort_object` makes. The server is idle here (the
+    /// running transfer superseded, a failed path leaves no state), so
+    /// the end of a transfer is its event alone.
+    fn answer_initiate(&mut self, now: Timestamp, index: u16, sub: u8, result: Initiated) {
+        let (b0, tail, end) = match result {
+            Ok(answer) => answer,
+            Err(code) => (
+                0x80,
+                code.to_u32(),
+                Some(ServerEvent::Aborted {
+                    index,
+                    sub,
+                    code,
+                    origin: AbortOrigin::Local,
+                }),
+            ),
+        };
+        self.send(words::mux(b0, index, sub, tail));
+        match end {
+            Some(event) => self.emit(event),
+            None => self.arm(now),
         }
     }
 
@@ -606,22 +639,26 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         let Some(request) = server_wire::request(frame) else {
             return;
         };
-        match request {
-            Request::InitiateUpload { index, sub } => self.initiate(now, index, sub, None),
+        // One call site of `initiate` for both directions.
+        let (index, sub, download) = match request {
+            Request::InitiateUpload { index, sub } => (index, sub, None),
             Request::InitiateDownload {
                 index,
                 sub,
                 payload,
-            } => self.initiate(now, index, sub, Some(payload)),
-            Request::Abort(code) => self.abort_by_peer(code),
-            Request::BlockInitiate { index, sub } => self.on_block_initiate(now, frame, index, sub),
-            Request::Block => self.on_block_command(now, frame),
+            } => (index, sub, Some(payload)),
+            Request::Abort(code) => return self.abort_by_peer(code),
+            Request::BlockInitiate { index, sub } => {
+                return self.on_block_initiate(now, frame, index, sub)
+            }
+            Request::Block => return self.on_block_command(now, frame),
             // A segment of the running segmented transfer took
             // `handle_frame`'s own path; any other segment request does not
             // fit the state (what `upload_segment` / `download_segment`
             // would answer), and ccs = 7 is not a command.
-            Request::Invalid => self.abort_local(AbortCode::InvalidCommandSpecifier),
-        }
+            Request::Invalid => return self.abort_local(AbortCode::InvalidCommandSpecifier),
+        };
+        self.initiate(now, index, sub, download);
     }
 
     /// A block command with block transfer on: the general decoder's

@@ -5,24 +5,24 @@
 //! rule and written from the frame, one per request.
 
 use super::super::segmented::Segments;
-use super::super::words;
 use super::server_wire::Download;
-use super::{AbortCode, ObjectDictionary, ObjectInfo, Server, ServerEvent, SizeRule, State};
+use super::{
+    AbortCode, Initiated, ObjectDictionary, ObjectInfo, Server, ServerEvent, SizeRule, State,
+};
 use crate::time::Timestamp;
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// An initiate download of the object `info` describes: an expedited
-    /// one written and answered, a segmented one answered and started. An
-    /// error is the abort code to answer with (nothing changed, nothing
-    /// left written).
+    /// one written (the response and the `Downloaded` event), a segmented
+    /// one started (the response; the state set). An error is the abort
+    /// code to answer with (nothing changed, nothing left written).
     pub(super) fn initiate_download(
         &mut self,
-        now: Timestamp,
         index: u16,
         sub: u8,
         info: ObjectInfo,
         payload: Download,
-    ) -> Result<(), AbortCode> {
+    ) -> Initiated {
         if !info.access.is_writable() {
             return Err(AbortCode::WriteOfReadOnlyObject);
         }
@@ -48,6 +48,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             info.check_download_len(len)?;
         }
         match (payload, len) {
+            // Both answered with scs = 3 (byte 60h) and bytes 4..=7 zero.
             (Download::Expedited { data, .. }, Some(len)) => {
                 let bytes = data.to_le_bytes();
                 let bytes = bytes.get(..len).unwrap_or(&[]);
@@ -59,22 +60,19 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                     self.od.abort_write(index, sub);
                 }
                 result?;
-                self.send(words::mux(0x60, index, sub, 0));
-                self.finish(ServerEvent::Downloaded { index, sub, len });
+                Ok((0x60, 0, Some(ServerEvent::Downloaded { index, sub, len })))
             }
             // Segmented (an expedited download always has its length).
             (_, size) => {
-                self.send(words::mux(0x60, index, sub, 0));
                 self.state = State::Downloading {
                     index,
                     sub,
                     rx: Segments::new(size),
                     size: info.size,
                 };
-                self.arm(now);
+                Ok((0x60, 0, None))
             }
         }
-        Ok(())
     }
 
     /// A download segment, the frame's `bytes` with `len` data bytes (as
@@ -94,7 +92,8 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             size,
         } = &mut self.state
         else {
-            return self.abort_local(AbortCode::InvalidCommandSpecifier);
+            // Not reached: `handle_frame` calls it in this state only.
+            return;
         };
         let (index, sub) = (*index, *sub);
         // The size rule's bound, and whether it is also the least length

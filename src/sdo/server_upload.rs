@@ -5,7 +5,7 @@
 
 use super::super::segmented::check_toggle;
 use super::super::words;
-use super::{AbortCode, ObjectDictionary, ObjectInfo, Server, ServerEvent, State};
+use super::{AbortCode, Initiated, ObjectDictionary, ObjectInfo, Server, ServerEvent, State};
 use crate::time::Timestamp;
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
@@ -41,15 +41,10 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     }
 
     /// An initiate upload of the object `info` describes: 1..=4 bytes
-    /// answered expedited, any other length started segmented. An error is
-    /// the abort code to answer with.
-    pub(super) fn initiate_upload(
-        &mut self,
-        now: Timestamp,
-        index: u16,
-        sub: u8,
-        info: ObjectInfo,
-    ) -> Result<(), AbortCode> {
+    /// answered expedited (the response and the `Uploaded` event), any
+    /// other length started segmented (the response; the state set). An
+    /// error is the abort code to answer with.
+    pub(super) fn initiate_upload(&mut self, index: u16, sub: u8, info: ObjectInfo) -> Initiated {
         if !info.access.is_readable() {
             return Err(AbortCode::ReadOfWriteOnlyObject);
         }
@@ -63,12 +58,13 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             // The bytes past `n` zero, as the frame has them.
             let mask = u32::MAX.checked_shr(32 - 8 * n.min(4) as u32).unwrap_or(0);
             let data = u32::from_le_bytes(buf) & mask;
-            self.send(words::expedited(2, index, sub, data, n));
-            self.finish(ServerEvent::Uploaded { index, sub, len: n });
-            return Ok(());
+            return Ok((
+                words::expedited_b0(2, n),
+                data,
+                Some(ServerEvent::Uploaded { index, sub, len: n }),
+            ));
         }
         let size = u32::try_from(info.len).map_err(|_| AbortCode::OutOfMemory)?;
-        self.send(words::segmented(2, index, sub, size));
         self.state = State::Uploading {
             index,
             sub,
@@ -76,8 +72,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             len: info.len,
             toggle: false,
         };
-        self.arm(now);
-        Ok(())
+        Ok((words::segmented_b0(2), size, None))
     }
 
     /// An upload segment request (ccs = 3, toggle `toggle`): the next
@@ -100,7 +95,8 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             toggle: expected,
         } = self.state
         else {
-            return self.abort_local(AbortCode::InvalidCommandSpecifier);
+            // Not reached: `handle_frame` calls it in this state only.
+            return;
         };
         if let Err(code) = check_toggle(toggle, expected) {
             return self.abort_local(code);

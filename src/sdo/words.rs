@@ -29,16 +29,32 @@ pub(crate) const fn abort(index: u16, sub: u8, code: AbortCode) -> u64 {
 #[inline(always)]
 #[must_use]
 pub(crate) const fn expedited(specifier: u8, index: u16, sub: u8, data: u32, n: usize) -> u64 {
+    mux(expedited_b0(specifier, n), index, sub, data)
+}
+
+/// Byte 0 of [`expedited`].
+#[inline(always)]
+#[must_use]
+pub(crate) const fn expedited_b0(specifier: u8, n: usize) -> u8 {
     let unused = (4 - if n > 4 { 4 } else { n }) as u8;
-    mux(specifier << 5 | unused << 2 | 0x03, index, sub, data)
+    specifier << 5 | unused << 2 | 0x03
 }
 
 /// A segmented initiate with the size indicated (specifier as for
-/// [`expedited`]).
+/// [`expedited`]): the segmented client's request (the server sends
+/// [`segmented_b0`] with the size itself).
+#[cfg(any(test, feature = "sdo-client-segmented"))]
 #[inline(always)]
 #[must_use]
 pub(crate) const fn segmented(specifier: u8, index: u16, sub: u8, size: u32) -> u64 {
-    mux(specifier << 5 | 0x01, index, sub, size)
+    mux(segmented_b0(specifier), index, sub, size)
+}
+
+/// Byte 0 of `segmented` (the server's segmented upload response).
+#[inline(always)]
+#[must_use]
+pub(crate) const fn segmented_b0(specifier: u8) -> u8 {
+    specifier << 5 | 0x01
 }
 
 /// Byte 0 of an upload segment response (scs = 0) with toggle `toggle`,
