@@ -376,8 +376,8 @@ impl BatteryModule {
 
 impl<const Q: usize> BatteryModule<Q> {
     /// A module with `config` whose queues hold `Q` events and `Q` frames
-    /// (the firmware's `BatteryModule::<4>::with_queue_capacity`), not yet
-    /// booted.
+    /// (e.g. `BatteryModule::<4>::with_queue_capacity`; the firmware
+    /// builds its module, 2 deep, in place with `new_in`), not yet booted.
     ///
     /// ```
     /// use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig};

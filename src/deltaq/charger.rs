@@ -252,7 +252,8 @@ impl Charger {
 
 impl<const Q: usize> Charger<Q> {
     /// A charger with `config` whose queues hold `Q` events and `Q` frames
-    /// (the firmware's `Charger::<4>::with_queue_capacity`), not yet booted.
+    /// (e.g. `Charger::<4>::with_queue_capacity`; the firmware builds its
+    /// charger, 2 deep, in place with `new_in`), not yet booted.
     ///
     /// ```
     /// use canopen_codec::deltaq::{Charger, ChargerConfig};
