@@ -11,6 +11,7 @@
 //! shorter than its command needs decodes to `None` (the tests compare
 //! every byte 0 at every length with `ServerCommand::of_frame`).
 
+use super::super::super::words;
 use super::super::super::AbortCode;
 use crate::frame::CanFrame;
 
@@ -41,16 +42,8 @@ pub(super) enum Response {
 #[inline(always)]
 const fn needed(b0: u8) -> u8 {
     match b0 >> 5 {
-        // A segment: byte 0 and 7 - n data bytes.
-        0 => 8 - ((b0 >> 1) & 0x07),
-        // Expedited with the size indicated: the multiplexer and 4 - n
-        // bytes; segmented with the size: the whole frame; otherwise the
-        // multiplexer.
-        2 => match b0 & 0x03 {
-            0x03 => 8 - ((b0 >> 2) & 0x03),
-            0x01 => 8,
-            _ => 4,
-        },
+        0 => words::segment_needed(b0),
+        2 => words::initiate_needed(b0),
         3 => 4,
         4 => 8,
         // Block download: initiate (blksize in byte 4), ack (ackseq,

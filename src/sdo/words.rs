@@ -69,6 +69,26 @@ pub(crate) const fn upload_segment(toggle: bool, n: usize, last: bool) -> u8 {
 
 /// A block acknowledgement (`b0` A2h, both directions): `ackseq`, then
 /// the next block size.
+/// The bytes a frame needs for the segment command byte `b0` (server or
+/// client): byte 0 and 7 - n data bytes.
+#[inline(always)]
+pub(crate) const fn segment_needed(b0: u8) -> u8 {
+    8 - ((b0 >> 1) & 0x07)
+}
+
+/// The bytes a frame needs for the initiate command byte `b0` (upload
+/// response or download request): expedited with the size indicated the
+/// multiplexer and 4 - n bytes; segmented with the size the whole frame;
+/// otherwise the multiplexer.
+#[inline(always)]
+pub(crate) const fn initiate_needed(b0: u8) -> u8 {
+    match b0 & 0x03 {
+        0x03 => 8 - ((b0 >> 2) & 0x03),
+        0x01 => 8,
+        _ => 4,
+    }
+}
+
 #[cfg(feature = "sdo-block")]
 #[inline(always)]
 #[must_use]
