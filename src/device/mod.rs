@@ -21,7 +21,7 @@
 //!
 //! # Behaviour (CiA 301)
 //!
-//! - **NMT** ([`NmtSlave`]): nothing is handled before [`Device::boot`].
+//! - **NMT** ([`NmtSlave`](crate::nmt::NmtSlave)): nothing is handled before [`Device::boot`].
 //!   Boot and every reset send the boot-up message and enter
 //!   pre-operational. **Reset node** (81h) restores every parameter to its
 //!   power-on value: the communication objects and the PDO configuration
