@@ -337,20 +337,9 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// assert!(!server.is_busy());
     /// ```
     pub fn with_event_capacity(config: ServerConfig, od: D) -> Self {
-        Server {
-            config: Channel::new(&config),
-            timeout_us: u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX),
-            request_word: crate::frame::data_frame_word(config.request_id),
-            od,
-            state: State::Idle,
-            timers: Timers::new(),
-            transmit: FrameSlot::new(),
-            events: EventQueue::new(ServerEvent::Uploaded {
-                index: 0,
-                sub: 0,
-                len: 0,
-            }),
-        }
+        let mut server = Self::unconfigured(od);
+        server.restart(config);
+        server
     }
 
     /// A server over `od` with no channel yet (constants only): it serves
