@@ -191,27 +191,25 @@ impl Message {
     fn decode_sdo_response(node: NodeId, frame: &CanFrame) -> Result<Message, DecodeError> {
         Ok(Message::SdoResponse {
             node,
-            sdo: SdoResponse::decode_frame_inline(frame)?,
+            sdo: SdoResponse::decode_frame(frame)?,
         })
     }
 
     /// 0x580 + node, scs = 0: an upload segment.
     #[inline(never)]
     fn decode_sdo_upload_segment(node: NodeId, frame: &CanFrame) -> Result<Message, DecodeError> {
-        let len = SdoResponse::check_upload_segment(frame)?;
         Ok(Message::SdoResponse {
             node,
-            sdo: SdoResponse::upload_segment(frame, len),
+            sdo: SdoResponse::decode_frame(frame)?,
         })
     }
 
     /// 0x600 + node, ccs = 0: a download segment.
     #[inline(never)]
     fn decode_sdo_download_segment(node: NodeId, frame: &CanFrame) -> Result<Message, DecodeError> {
-        let len = SdoRequest::check_download_segment(frame)?;
         Ok(Message::SdoRequest {
             node,
-            sdo: SdoRequest::download_segment(frame, len),
+            sdo: SdoRequest::decode_frame(frame)?,
         })
     }
 
@@ -221,10 +219,9 @@ impl Message {
         node: NodeId,
         frame: &CanFrame,
     ) -> Result<Message, DecodeError> {
-        SdoRequest::check_upload_segment(frame)?;
         Ok(Message::SdoRequest {
             node,
-            sdo: SdoRequest::upload_segment(frame),
+            sdo: SdoRequest::decode_frame(frame)?,
         })
     }
 
@@ -233,7 +230,7 @@ impl Message {
     fn decode_sdo_request(node: NodeId, frame: &CanFrame) -> Result<Message, DecodeError> {
         Ok(Message::SdoRequest {
             node,
-            sdo: SdoRequest::decode_frame_inline(frame)?,
+            sdo: SdoRequest::decode_frame(frame)?,
         })
     }
 

@@ -1,5 +1,18 @@
 //! Service data objects (SDO), CiA 301: abort codes and the frame codec.
 //!
+//! # Where to look
+//!
+//! - `wire`: the one SDO wire layer, the checked view [`SdoFrame`] and the
+//!   typed commands [`ClientCommand`] / [`ServerCommand`] (and their block
+//!   families) with `parse` and `emit`; [`needed`], the one length rule.
+//!   Everything below reads and writes frames through it.
+//! - `rules`: the segment rules (toggle, indicated size) and the block
+//!   rules (sub-blocks, sequence numbers, CRC), shared by the client, the
+//!   server and the observer.
+//! - `client`, `server`, `observer`: the state machines.
+//! - [`AbortCode`], [`crc16`], the data carriers and, with `alloc`,
+//!   `UploadBuffer`.
+//!
 //! [`Client`] and [`Server`] are the sans-IO state machines for expedited,
 //! segmented and block transfers; both implement the state-machine contract
 //! of [`crate::machine`].
@@ -83,18 +96,15 @@
 //! and ignored (see above).
 
 mod abort;
-mod block;
 mod client;
 #[cfg(feature = "alloc")]
 mod collect;
 mod crc;
 mod data;
 mod observer;
-mod observer_rules;
-mod segmented;
+mod rules;
 mod server;
 mod wire;
-mod words;
 
 pub use abort::{AbortCode, ALL_ABORT_CODES};
 pub use client::{Client, ClientConfig, ClientError, ClientEvent};
@@ -104,15 +114,16 @@ pub use crc::{crc16, crc16_update};
 pub use data::{ExpeditedData, InitiatePayload, InlineData, Segment, SegmentData};
 pub use observer::{
     BreakReason, ChannelError, Direction, Observed, Observer, ObserverConfig, ObserverEvent,
-    SdoChannel, Side, Transfer, TransferKind, OBSERVER_EVENT_CAPACITY, OBSERVER_EXTRA_CHANNELS,
+    SdoChannel, Transfer, TransferKind, OBSERVER_EVENT_CAPACITY, OBSERVER_EXTRA_CHANNELS,
 };
 pub use server::{
     AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT,
     EVENTS_PER_CALL,
 };
 pub use wire::{
-    abort_code_of, ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoRequest, SdoResponse,
-    ServerBlockDownload, ServerBlockUpload, ServerCommand,
+    abort_code_of, needed, BlockSegment, ClientBlockDownload, ClientBlockUpload, ClientCommand,
+    SdoFrame, SdoRequest, SdoResponse, ServerBlockDownload, ServerBlockUpload, ServerCommand,
+    Side,
 };
 
 #[cfg(test)]

@@ -5,7 +5,7 @@
 use std::string::String;
 use std::vec::Vec;
 
-use super::super::*;
+use crate::sdo::*;
 use super::tests::*;
 use crate::machine::Machine;
 use crate::time::Timestamp;

@@ -60,14 +60,12 @@
 use core::time::Duration;
 
 use super::abort::AbortCode;
-use super::block::MAX_BLOCK_SIZE;
+use super::data::InitiatePayload;
+use super::rules::block::MAX_BLOCK_SIZE;
 #[cfg(feature = "sdo-block")]
-use super::block::{Receiver, Sender};
-use super::segmented::Segments;
-#[cfg(feature = "sdo-block")]
-use super::wire::ClientCommand;
-use super::wire::SdoRequest;
-use super::words;
+use super::rules::block::{Receiver, Sender};
+use super::rules::segmented::Segments;
+use super::wire::{ClientCommand, SdoFrame, ServerCommand};
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
@@ -95,9 +93,9 @@ pub const EVENTS_PER_CALL: usize = 2;
 /// The server's one timer: the timeout for the client's next frame.
 const REQUEST_TIMEOUT: usize = 0;
 
-/// What an initiate path gives (see `Server::initiate`): the response's
-/// byte 0 and bytes 4..=7 and the transfer's end, or the abort code.
-type Initiated = Result<(u8, u32, Option<ServerEvent>), AbortCode>;
+/// What an initiate path gives (see `Server::initiate`): the response and
+/// the transfer's end, or the abort code.
+type Initiated = Result<(ServerCommand, Option<ServerEvent>), AbortCode>;
 
 /// The default SDO timeout: 2000 ms, Delta-Q's recommendation.
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_millis(2000);
@@ -487,20 +485,12 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         writing
     }
 
-    /// Queues the response whose 8 data bytes are the little-endian
-    /// `word` (made by `super::words`: the frame `SdoResponse::new` of its
-    /// command encodes to, without the general encoder).
-    fn send(&mut self, word: u64) {
-        self.send_bytes(word.to_le_bytes(), 8);
-    }
-
-    /// Queues a response made by hand (the segment paths): the same frame
-    /// as `SdoResponse::new` of its command encodes to.
-    #[inline]
-    fn send_bytes(&mut self, bytes: [u8; 8], len: u8) {
+    /// Queues `command` as a frame of 8 bytes on the response identifier
+    /// (every byte the command leaves undefined zero).
+    fn send(&mut self, command: ServerCommand) {
         if self.config.sends {
             // The identifier was checked in `new`.
-            let frame = CanFrame::from_parts(self.config.response_id, bytes, len);
+            let frame = CanFrame::from_parts(self.config.response_id, command.to_bytes(), 8);
             // At most one frame per call: a drained queue always has room.
             self.transmit.push(frame);
         }
@@ -525,7 +515,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
 
     fn abort_object(&mut self, index: u16, sub: u8, code: AbortCode) {
         self.cancel();
-        self.send(words::abort(index, sub, code));
+        self.send(ServerCommand::Abort { index, sub, code });
         self.emit(ServerEvent::Aborted {
             index,
             sub,
@@ -574,11 +564,16 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// failure answered by one abort frame for the object (one call site of
     /// the abort for both initiate paths).
     ///
-    /// Both paths give the response's byte 0 and bytes 4..=7, and the
-    /// transfer's end (an expedited transfer) or `None` (a segmented one,
+    /// Both paths give the response and the transfer's end (an expedited transfer) or `None` (a segmented one,
     /// its state set): one call site of the response, the event and the
     /// timer.
-    fn initiate(&mut self, now: Timestamp, index: u16, sub: u8, download: Option<Download>) {
+    fn initiate(
+        &mut self,
+        now: Timestamp,
+        index: u16,
+        sub: u8,
+        download: Option<InitiatePayload>,
+    ) {
         self.supersede();
         let result = match self.od.info(index, sub) {
             Ok(info) => match download {
@@ -596,11 +591,10 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// running transfer superseded, a failed path leaves no state), so
     /// the end of a transfer is its event alone.
     fn answer_initiate(&mut self, now: Timestamp, index: u16, sub: u8, result: Initiated) {
-        let (b0, tail, end) = match result {
+        let (response, end) = match result {
             Ok(answer) => answer,
             Err(code) => (
-                0x80,
-                code.to_u32(),
+                ServerCommand::Abort { index, sub, code },
                 Some(ServerEvent::Aborted {
                     index,
                     sub,
@@ -609,63 +603,79 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                 }),
             ),
         };
-        self.send(words::mux(b0, index, sub, tail));
+        self.send(response);
         match end {
             Some(event) => self.emit(event),
             None => self.arm(now),
         }
     }
 
-    /// Every request but the segment of a running segmented transfer
-    /// (out of line: the per-segment path stays small), decoded by the
-    /// server's own decoder (`server_wire`): what the general decoder
-    /// gives, without the fields the server does not use.
+    /// A data frame on the request identifier: a block download's
+    /// sub-block segment goes to the block rules; every other frame is
+    /// read by the wire layer ([`ClientCommand::parse`]; frames too short
+    /// for their command are ignored) and matched against the running
+    /// transfer. The segment of a running segmented transfer updates the
+    /// state in place.
     #[inline(never)]
     fn handle_request(&mut self, now: Timestamp, frame: &CanFrame) {
+        #[cfg(feature = "sdo-block")]
         if self.block_segment(now, frame.data()) {
             return;
         }
-        let Some(request) = server_wire::request(frame) else {
+        let Ok(request) = SdoFrame::of_frame(frame).and_then(|f| ClientCommand::parse(&f)) else {
             return;
         };
         // One call site of `initiate` for both directions.
-        let (index, sub, download) = match request {
-            Request::InitiateUpload { index, sub } => (index, sub, None),
-            Request::InitiateDownload {
-                index,
-                sub,
-                payload,
-            } => (index, sub, Some(payload)),
-            Request::Abort(code) => return self.abort_by_peer(code),
-            Request::BlockInitiate { index, sub } => {
-                return self.on_block_initiate(now, frame, index, sub)
+        let (index, sub, download) = match (&self.state, request) {
+            (State::Uploading { .. }, ClientCommand::UploadSegment { toggle }) => {
+                return self.upload_segment(now, toggle);
             }
-            Request::Block => return self.on_block_command(now, frame),
-            // A segment of the running segmented transfer took
-            // `handle_frame`'s own path; any other segment request does not
-            // fit the state (what `upload_segment` / `download_segment`
-            // would answer), and ccs = 7 is not a command.
-            Request::Invalid => return self.abort_local(AbortCode::InvalidCommandSpecifier),
+            (State::Downloading { .. }, ClientCommand::DownloadSegment(segment)) => {
+                return self.download_segment(now, &segment);
+            }
+            (_, ClientCommand::InitiateUpload { index, sub }) => (index, sub, None),
+            (
+                _,
+                ClientCommand::InitiateDownload {
+                    index,
+                    sub,
+                    payload,
+                },
+            ) => (index, sub, Some(payload)),
+            (_, ClientCommand::Abort { code, .. }) => return self.abort_by_peer(code),
+            #[cfg(feature = "sdo-block")]
+            (_, ClientCommand::BlockUpload(b)) => return self.on_block_upload(now, b),
+            #[cfg(feature = "sdo-block")]
+            (_, ClientCommand::BlockDownload(b)) => {
+                return self.on_block_download(now, b, frame.data())
+            }
+            // CiA 301 section 7.2.4.3 makes block transfer optional: a
+            // server without it answers a block request like any command it
+            // does not know, 05040001h. A block initiate is a new request:
+            // it ends the running transfer (superseded) and is refused for
+            // its own object; any other block command aborts the running
+            // transfer, as an unknown command does.
+            #[cfg(not(feature = "sdo-block"))]
+            (
+                _,
+                ClientCommand::BlockUpload(crate::sdo::ClientBlockUpload::Initiate {
+                    index, sub, ..
+                })
+                | ClientCommand::BlockDownload(crate::sdo::ClientBlockDownload::Initiate {
+                    index,
+                    sub,
+                    ..
+                }),
+            ) => {
+                self.supersede();
+                return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+            }
+            // A segment request outside the transfer it belongs to, ccs =
+            // 7 (not a command), and without `sdo-block` any block command
+            // but an initiate: the command does not fit.
+            _ => return self.abort_local(AbortCode::InvalidCommandSpecifier),
         };
         self.initiate(now, index, sub, download);
-    }
-
-    /// A block command with block transfer on: the general decoder's
-    /// command for the block code (the frame decodes: `server_wire::request`
-    /// checked its length as that decoder does).
-    #[cfg(feature = "sdo-block")]
-    fn on_block_command(&mut self, now: Timestamp, frame: &CanFrame) {
-        match ClientCommand::of_frame(frame) {
-            Ok(ClientCommand::BlockUpload(b)) => self.on_block_upload(now, b),
-            Ok(ClientCommand::BlockDownload(b)) => self.on_block_download(now, b, frame.data()),
-            _ => {}
-        }
-    }
-
-    /// A block initiate with block transfer on (see `on_block_command`).
-    #[cfg(feature = "sdo-block")]
-    fn on_block_initiate(&mut self, now: Timestamp, frame: &CanFrame, _index: u16, _sub: u8) {
-        self.on_block_command(now, frame);
     }
 }
 
@@ -687,29 +697,16 @@ impl<D: ObjectDictionary, const EVENTS: usize> Machine for Server<D, EVENTS> {
         if frame.word() != self.request_word {
             return;
         }
-        // The segment of a running segmented transfer first, by its own
-        // straight path: the same decode, rules and answer as the general
-        // path below gives it.
-        let [b0, ..] = frame.padded_data();
-        match (&self.state, b0 >> 5) {
-            (State::Uploading { .. }, 3) => {
-                if SdoRequest::check_upload_segment(frame).is_ok() {
-                    self.upload_segment(now, b0 & 0x10 != 0);
-                }
-            }
-            (State::Downloading { .. }, 0) => {
-                if let Ok(len) = SdoRequest::check_download_segment(frame) {
-                    self.download_segment(now, frame.padded_data(), len);
-                }
-            }
-            _ => self.handle_request(now, frame),
-        }
+        self.handle_request(now, frame);
     }
 
     /// The queued frame, else the next segment of a block upload's
     /// sub-block, read from the dictionary now (or the abort if that fails).
     fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.transmit.pop().or_else(|| self.next_block_segment())
+        let queued = self.transmit.pop();
+        #[cfg(feature = "sdo-block")]
+        let queued = queued.or_else(|| self.next_block_segment());
+        queued
     }
 
     /// The timeout of the running transfer (`None` when idle).
@@ -726,19 +723,10 @@ impl<D: ObjectDictionary, const EVENTS: usize> Machine for Server<D, EVENTS> {
     }
 }
 
-#[path = "server_upload.rs"]
+#[cfg(feature = "sdo-block")]
+mod block;
+mod download;
 mod upload;
 
-#[path = "server_download.rs"]
-mod download;
-
-#[path = "server_wire.rs"]
-mod server_wire;
-use server_wire::{Download, Request};
-
-#[cfg(feature = "sdo-block")]
-#[path = "block_server.rs"]
-mod block;
-#[cfg(not(feature = "sdo-block"))]
-#[path = "block_server_off.rs"]
-mod block;
+#[cfg(all(test, not(feature = "sdo-block")))]
+mod without_block_tests;

@@ -12,8 +12,8 @@
 //!   06070012h, and a last segment (c = 1) that leaves the total below it
 //!   is 06070013h.
 
-use super::abort::AbortCode;
-use super::data::Segment;
+use crate::sdo::abort::AbortCode;
+use crate::sdo::data::Segment;
 
 /// The toggle rule for a request or acknowledgement: it must carry the
 /// toggle bit of the segment it belongs to (05030000h otherwise).
@@ -89,44 +89,19 @@ impl Segments {
     /// the total may not exceed the indicated size (06070012h), and a last
     /// segment may not leave it short (06070013h). On success the toggle
     /// alternates and the segment's place in the value is returned; on an
-    /// error nothing changes. (The client's upload; the server's download
-    /// takes [`Segments::on_parts`].)
-    #[cfg(any(test, feature = "sdo-client-segmented"))]
+    /// error nothing changes.
     #[inline]
     pub(crate) fn on_segment(&mut self, segment: &Segment) -> Result<Placed, AbortCode> {
-        self.on_parts(segment.toggle, segment.last, segment.data.len())
-    }
-
-    /// [`Segments::on_segment`] of a segment given by its t and c bits and
-    /// its data length (the server's download: read from the frame, no
-    /// `Segment` made).
-    #[inline]
-    pub(crate) fn on_parts(
-        &mut self,
-        toggle: bool,
-        last: bool,
-        len: usize,
-    ) -> Result<Placed, AbortCode> {
-        self.check_parts(toggle, last, len)?;
-        let offset = self.received;
-        let total = offset.saturating_add(len);
-        self.received = total;
-        self.toggle = !self.toggle;
-        Ok(Placed { offset, total })
+        self.check(segment)?;
+        Ok(self.accept(segment))
     }
 
     /// The rules of [`Segments::on_segment`], without taking the segment.
     #[inline]
     pub(crate) fn check(&self, segment: &Segment) -> Result<(), AbortCode> {
-        self.check_parts(segment.toggle, segment.last, segment.data.len())
-    }
-
-    #[inline]
-    const fn check_parts(&self, toggle: bool, last: bool, len: usize) -> Result<(), AbortCode> {
-        if let Err(code) = check_toggle(toggle, self.toggle) {
-            return Err(code);
-        }
-        let total = self.received.saturating_add(len);
+        check_toggle(segment.toggle, self.toggle)?;
+        let last = segment.last;
+        let total = self.received.saturating_add(segment.data.len());
         if self.indicated && total > self.size {
             return Err(AbortCode::DataTypeLengthTooHigh);
         }

@@ -477,3 +477,362 @@ fn every_one_and_two_byte_frame_is_total() {
         }
     }
 }
+
+// ---------------------------------------------------------------------
+// The one layer: the length rule, parse / emit round trips, and the frames
+// the machines send as byte literals.
+
+/// Every byte 0 at every length, both sides: a frame parses exactly when
+/// it has the bytes [`needed`] gives, and the error names that length.
+#[test]
+fn the_length_rule_decides_every_frame() {
+    for b0 in 0..=255u8 {
+        for len in 1..=8usize {
+            let bytes = [b0, 0x17, 0x10, 0x02, 0xA1, 0xB2, 0xC3, 0xD4];
+            let frame = SdoFrame::new_checked(&bytes[..len]).unwrap();
+            for side in [Side::Client, Side::Server] {
+                let need = needed(side, b0);
+                let parsed = match side {
+                    Side::Client => ClientCommand::parse(&frame).map(|_| ()),
+                    Side::Server => ServerCommand::parse(&frame).map(|_| ()),
+                };
+                if len >= need {
+                    assert_eq!(parsed, Ok(()), "{side:?} {b0:#04x} len {len}");
+                } else {
+                    assert_eq!(
+                        parsed,
+                        Err(DecodeError::Truncated { need, got: len }),
+                        "{side:?} {b0:#04x} len {len}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// The checked view: 1..=8 bytes, accessors zero past the length.
+#[test]
+fn the_view_is_checked() {
+    assert_eq!(
+        SdoFrame::new_checked(&[]),
+        Err(DecodeError::Truncated { need: 1, got: 0 })
+    );
+    assert_eq!(
+        SdoFrame::new_checked(&[0; 9]),
+        Err(DecodeError::TooLong { max: 8, got: 9 })
+    );
+    let f = SdoFrame::new_checked(&[0x2B, 0x17, 0x10, 0x00, 0xE8]).unwrap();
+    assert_eq!((f.len(), f.command(), f.specifier()), (5, 0x2B, 1));
+    assert_eq!((f.index(), f.sub(), f.u32_at_4()), (0x1017, 0, 0xE8));
+    assert_eq!((f.byte(4), f.byte(5), f.byte(100)), (0xE8, 0, 0));
+    assert_eq!(f.as_bytes(), &[0x2B, 0x17, 0x10, 0x00, 0xE8]);
+    let empty = crate::frame::CanFrame::standard(0x601, &[]).unwrap();
+    assert!(SdoFrame::of_frame(&empty).is_err());
+}
+
+/// The frames the client and the server send, as byte literals: what
+/// `to_bytes` makes of each command (DLC 8, undefined bytes zero).
+#[test]
+fn machine_frames_as_byte_literals() {
+    let c = |cmd: ClientCommand| cmd.to_bytes();
+    let s = |cmd: ServerCommand| cmd.to_bytes();
+    let (index, sub) = (0x2000, 0x7F);
+    assert_eq!(
+        c(ClientCommand::InitiateUpload { index, sub }),
+        [0x40, 0x00, 0x20, 0x7F, 0, 0, 0, 0]
+    );
+    assert_eq!(
+        s(ServerCommand::InitiateDownload { index, sub }),
+        [0x60, 0x00, 0x20, 0x7F, 0, 0, 0, 0]
+    );
+    let code = AbortCode::SdoProtocolTimedOut;
+    assert_eq!(
+        c(ClientCommand::Abort { index, sub, code }),
+        [0x80, 0x00, 0x20, 0x7F, 0x00, 0x00, 0x04, 0x05]
+    );
+    assert_eq!(
+        s(ServerCommand::Abort { index, sub, code }),
+        [0x80, 0x00, 0x20, 0x7F, 0x00, 0x00, 0x04, 0x05]
+    );
+    for (data, b0) in [
+        (&[0xA1][..], 0x0F),
+        (&[0xA1, 0xB2][..], 0x0B),
+        (&[0xA1, 0xB2, 0xC3][..], 0x07),
+        (&[0xA1, 0xB2, 0xC3, 0xD4][..], 0x03),
+    ] {
+        let payload = exp(data);
+        let mut want = [0x20 | b0, 0x00, 0x20, 0x7F, 0, 0, 0, 0];
+        want[4..4 + data.len()].copy_from_slice(data);
+        let request = ClientCommand::InitiateDownload {
+            index,
+            sub,
+            payload,
+        };
+        assert_eq!(c(request), want);
+        want[0] = 0x40 | b0;
+        let response = ServerCommand::InitiateUpload {
+            index,
+            sub,
+            payload,
+        };
+        assert_eq!(s(response), want);
+    }
+    let payload = InitiatePayload::Segmented {
+        size: Some(0x0102_0304),
+    };
+    assert_eq!(
+        c(ClientCommand::InitiateDownload {
+            index,
+            sub,
+            payload
+        }),
+        [0x21, 0x00, 0x20, 0x7F, 0x04, 0x03, 0x02, 0x01]
+    );
+    assert_eq!(
+        s(ServerCommand::InitiateUpload {
+            index,
+            sub,
+            payload
+        }),
+        [0x41, 0x00, 0x20, 0x7F, 0x04, 0x03, 0x02, 0x01]
+    );
+    assert_eq!(
+        s(ServerCommand::UploadSegment(seg(true, true, &[9]))),
+        [0x1D, 9, 0, 0, 0, 0, 0, 0]
+    );
+    assert_eq!(
+        c(ClientCommand::DownloadSegment(seg(false, false, &[1, 2, 3, 4, 5, 6, 7]))),
+        [0x00, 1, 2, 3, 4, 5, 6, 7]
+    );
+    assert_eq!(
+        c(ClientCommand::DownloadSegment(seg(false, true, &[]))),
+        [0x0F, 0, 0, 0, 0, 0, 0, 0]
+    );
+    assert_eq!(
+        c(ClientCommand::UploadSegment { toggle: true }),
+        [0x70, 0, 0, 0, 0, 0, 0, 0]
+    );
+    assert_eq!(
+        s(ServerCommand::DownloadSegment { toggle: true }),
+        [0x30, 0, 0, 0, 0, 0, 0, 0]
+    );
+    // Block transfer.
+    assert_eq!(
+        c(ClientCommand::BlockUpload(ClientBlockUpload::Initiate {
+            index,
+            sub,
+            crc: true,
+            blksize: 127,
+            pst: 4
+        })),
+        [0xA4, 0x00, 0x20, 0x7F, 127, 4, 0, 0]
+    );
+    assert_eq!(
+        s(ServerCommand::BlockDownload(ServerBlockDownload::Initiate {
+            index,
+            sub,
+            crc: true,
+            blksize: 127
+        })),
+        [0xA4, 0x00, 0x20, 0x7F, 127, 0, 0, 0]
+    );
+    assert_eq!(
+        c(ClientCommand::BlockDownload(ClientBlockDownload::Initiate {
+            index,
+            sub,
+            crc: true,
+            size: Some(7)
+        })),
+        [0xC6, 0x00, 0x20, 0x7F, 7, 0, 0, 0]
+    );
+    assert_eq!(
+        s(ServerCommand::BlockUpload(ServerBlockUpload::Initiate {
+            index,
+            sub,
+            crc: false,
+            size: Some(7)
+        })),
+        [0xC2, 0x00, 0x20, 0x7F, 7, 0, 0, 0]
+    );
+    assert_eq!(
+        c(ClientCommand::BlockUpload(ClientBlockUpload::Ack {
+            ackseq: 5,
+            blksize: 127
+        })),
+        [0xA2, 5, 127, 0, 0, 0, 0, 0]
+    );
+    assert_eq!(
+        s(ServerCommand::BlockDownload(ServerBlockDownload::Ack {
+            ackseq: 5,
+            blksize: 127
+        })),
+        [0xA2, 5, 127, 0, 0, 0, 0, 0]
+    );
+    assert_eq!(
+        c(ClientCommand::BlockDownload(ClientBlockDownload::End {
+            unused: 3,
+            crc: 0x1234
+        })),
+        [0xCD, 0x34, 0x12, 0, 0, 0, 0, 0]
+    );
+    assert_eq!(
+        s(ServerCommand::BlockUpload(ServerBlockUpload::End {
+            unused: 3,
+            crc: 0x1234
+        })),
+        [0xCD, 0x34, 0x12, 0, 0, 0, 0, 0]
+    );
+    assert_eq!(
+        c(ClientCommand::BlockUpload(ClientBlockUpload::Start)),
+        [0xA3, 0, 0, 0, 0, 0, 0, 0]
+    );
+    assert_eq!(
+        c(ClientCommand::BlockUpload(ClientBlockUpload::End)),
+        [0xA1, 0, 0, 0, 0, 0, 0, 0]
+    );
+    assert_eq!(
+        s(ServerCommand::BlockDownload(ServerBlockDownload::End)),
+        [0xA1, 0, 0, 0, 0, 0, 0, 0]
+    );
+}
+
+/// What the server and the expedited client read of a few requests and
+/// responses by hand (the vectors of their former own decoders).
+#[test]
+fn requests_and_responses_by_hand() {
+    let request = |data: &[u8]| SdoFrame::new_checked(data).and_then(|f| ClientCommand::parse(&f));
+    let response =
+        |data: &[u8]| SdoFrame::new_checked(data).and_then(|f| ServerCommand::parse(&f));
+    assert_eq!(
+        request(&[0x2B, 0x17, 0x10, 0x00, 0xE8, 0x03, 0, 0]),
+        Ok(ClientCommand::InitiateDownload {
+            index: 0x1017,
+            sub: 0,
+            payload: exp(&[0xE8, 0x03])
+        })
+    );
+    // Expedited with 2 data bytes indicated but only 1 present.
+    assert!(request(&[0x2B, 0x17, 0x10, 0x00, 0xE8]).is_err());
+    assert_eq!(
+        request(&[0x80, 0, 0, 0, 0x00, 0x00, 0x04, 0x05]),
+        Ok(ClientCommand::Abort {
+            index: 0,
+            sub: 0,
+            code: AbortCode::SdoProtocolTimedOut
+        })
+    );
+    assert!(request(&[0x80, 0, 0, 0, 0x00, 0x00, 0x04]).is_err());
+    assert_eq!(request(&[0xE0]), Ok(ClientCommand::Unknown(0xE0)));
+    assert_eq!(
+        response(&[0x4B, 0x17, 0x10, 0x00, 0xE8, 0x03, 0xAA, 0xBB]),
+        Ok(ServerCommand::InitiateUpload {
+            index: 0x1017,
+            sub: 0,
+            payload: exp(&[0xE8, 0x03])
+        })
+    );
+    // Expedited without the size: every byte the frame carries.
+    assert_eq!(
+        response(&[0x42, 0x00, 0x10, 0x01, 0x91]),
+        Ok(ServerCommand::InitiateUpload {
+            index: 0x1000,
+            sub: 1,
+            payload: InitiatePayload::Expedited {
+                data: ExpeditedData::new(&[0x91]).unwrap(),
+                size_indicated: false
+            }
+        })
+    );
+    // Segmented with the size but without it in the frame.
+    assert!(response(&[0x41, 0x08, 0x10, 0x00]).is_err());
+    assert_eq!(
+        response(&[0x60, 0x00, 0x20, 0x7F]),
+        Ok(ServerCommand::InitiateDownload {
+            index: 0x2000,
+            sub: 0x7F
+        })
+    );
+    assert_eq!(
+        response(&[0x20]),
+        Ok(ServerCommand::DownloadSegment { toggle: false })
+    );
+    assert!(response(&[0x00, 1, 2]).is_err());
+}
+
+/// A block sub-block segment: sequence number and c bit in byte 0, every
+/// byte after it data.
+#[test]
+fn block_segments() {
+    let f = SdoFrame::new_checked(&[0x85, 1, 2, 3, 4, 5, 6, 7]).unwrap();
+    let seg = BlockSegment::parse(&f);
+    assert_eq!((seg.seqno, seg.last), (5, true));
+    assert_eq!(seg.data.as_slice(), &[1, 2, 3, 4, 5, 6, 7]);
+    let mut buf = [0u8; 8];
+    assert_eq!(seg.emit(&mut buf), 8);
+    assert_eq!(buf, [0x85, 1, 2, 3, 4, 5, 6, 7]);
+}
+
+mod props {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn frame_bytes() -> impl Strategy<Value = ([u8; 8], usize)> {
+        (any::<[u8; 8]>(), 0..=8usize)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 4096, failure_persistence: None, ..ProptestConfig::default() })]
+
+        /// `emit(parse(x)) == x` for every input that parses, both sides:
+        /// emitted over the frame's own bytes, the command gives them back.
+        #[test]
+        fn emit_over_the_frame_gives_it_back((bytes, len) in frame_bytes()) {
+            let data = &bytes[..len];
+            if let Ok(frame) = SdoFrame::new_checked(data) {
+                if let Ok(cmd) = ClientCommand::parse(&frame) {
+                    let mut buf = bytes;
+                    prop_assert!(cmd.emit(&mut buf) <= len);
+                    prop_assert_eq!(buf, bytes);
+                    let (b, n) = SdoRequest::parse(frame).unwrap().encode();
+                    prop_assert_eq!(&b[..n], data);
+                }
+                if let Ok(cmd) = ServerCommand::parse(&frame) {
+                    let mut buf = bytes;
+                    prop_assert!(cmd.emit(&mut buf) <= len);
+                    prop_assert_eq!(buf, bytes);
+                    let (b, n) = SdoResponse::parse(frame).unwrap().encode();
+                    prop_assert_eq!(&b[..n], data);
+                }
+                let seg = BlockSegment::parse(&frame);
+                let mut buf = bytes;
+                prop_assert_eq!(seg.emit(&mut buf), len);
+                prop_assert_eq!(buf, bytes);
+            }
+        }
+
+        /// `parse(emit(c)) == c`: a command that parsed, emitted onto zero
+        /// bytes (as the machines send it), parses to the same command,
+        /// and its length is `buffer_len`, which the length rule accepts.
+        #[test]
+        fn parse_of_emit_is_the_command((bytes, len) in frame_bytes()) {
+            if let Ok(frame) = SdoFrame::new_checked(&bytes[..len]) {
+                if let Ok(cmd) = ClientCommand::parse(&frame) {
+                    let mut buf = [0u8; 8];
+                    let n = cmd.emit(&mut buf);
+                    prop_assert_eq!(n, cmd.buffer_len());
+                    prop_assert!(n >= needed(Side::Client, buf[0]));
+                    let again = SdoFrame::new_checked(&buf[..n]).unwrap();
+                    prop_assert_eq!(ClientCommand::parse(&again), Ok(cmd));
+                }
+                if let Ok(cmd) = ServerCommand::parse(&frame) {
+                    let mut buf = [0u8; 8];
+                    let n = cmd.emit(&mut buf);
+                    prop_assert_eq!(n, cmd.buffer_len());
+                    prop_assert!(n >= needed(Side::Server, buf[0]));
+                    let again = SdoFrame::new_checked(&buf[..n]).unwrap();
+                    prop_assert_eq!(ServerCommand::parse(&again), Ok(cmd));
+                }
+            }
+        }
+    }
+}

@@ -5,9 +5,12 @@ use core::time::Duration;
 
 use super::abort::AbortCode;
 use super::data::SegmentData;
-use super::observer_rules::Open;
 use super::server::DEFAULT_TIMEOUT;
+pub use super::wire::Side;
 use super::wire::{SdoRequest, SdoResponse};
+use transfer::Open;
+
+mod transfer;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::error::DecodeError;
 use crate::frame::{CanFrame, CanId};
@@ -58,26 +61,6 @@ pub enum Direction {
     Upload,
     /// Client to server (a write).
     Download,
-}
-
-/// Which end of a channel sent a frame, or aborted.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Side {
-    /// The SDO client.
-    Client,
-    /// The SDO server.
-    Server,
-}
-
-impl Side {
-    /// The other end.
-    #[must_use]
-    pub const fn other(self) -> Self {
-        match self {
-            Side::Client => Side::Server,
-            Side::Server => Side::Client,
-        }
-    }
 }
 
 /// The protocol a transfer uses, once known (an upload learns it from the
@@ -571,7 +554,7 @@ impl<const EXTRA: usize> Observer<EXTRA> {
             return Observed::Other;
         };
         let mut out = Sink::default();
-        let seen = super::observer_rules::step(open, channel, from, frame, &mut out);
+        let seen = transfer::step(open, channel, from, frame, &mut out);
         let deadline = match (open.as_mut(), timeout) {
             (Some(o), Some(us)) => {
                 let d = now.add_micros(us);
@@ -704,5 +687,4 @@ impl<const EXTRA: usize> Machine for Observer<EXTRA> {
 }
 
 #[cfg(test)]
-#[path = "observer_tests.rs"]
 mod tests;

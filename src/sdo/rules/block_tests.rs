@@ -6,7 +6,7 @@
 use std::string::String;
 use std::vec::Vec;
 
-use super::super::*;
+use crate::sdo::*;
 use super::{Acked, Planned, Receiver, Sender, Step};
 use crate::frame::CanFrame;
 use crate::machine::Machine;

@@ -3,46 +3,39 @@
 //! the responses the block states accept, and the lazily made segments of
 //! a block download.
 //! The sub-block rules themselves are shared with the server
-//! (`super::super::block`).
+//! (`crate::sdo::rules::block`).
 
-use super::super::block::{check_block_size, clamp_block_size, Acked, Receiver, Sender};
-use super::super::wire::{ServerBlockDownload, ServerBlockUpload};
-use super::super::words;
-use super::{AbortCode, Client, ClientError, ClientEvent, ServerCommand, State};
+use super::{AbortCode, Client, ClientCommand, ClientError, ClientEvent, ServerCommand, State};
 use crate::frame::CanFrame;
+use crate::sdo::rules::block::{check_block_size, clamp_block_size, Acked, Receiver, Sender};
+use crate::sdo::wire::{
+    ClientBlockDownload, ClientBlockUpload, ServerBlockDownload, ServerBlockUpload,
+};
 use crate::time::Timestamp;
 
 impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
-    /// Starts reading `index`/`sub` from the server by block upload (CiA
-    /// 301 section 7.2.4.3, SDO block upload), asking for sub-blocks of
-    /// [`ClientConfig::block_size`](super::ClientConfig::block_size)
-    /// segments, with CRC if [`ClientConfig::crc`](super::ClientConfig::crc)
-    /// and the protocol switch threshold
-    /// [`ClientConfig::block_threshold`](super::ClientConfig::block_threshold).
-    /// The value arrives as [`ClientEvent::UploadData`] pieces, as in a
-    /// segmented upload, then [`ClientEvent::Uploaded`].
-    pub fn start_block_upload(
+    /// [`Client::start_block_upload`] with block transfer built in.
+    pub(super) fn begin_block_upload(
         &mut self,
         now: Timestamp,
         index: u16,
         sub: u8,
     ) -> Result<(), ClientError> {
         self.check_idle()?;
-        // Initiate (cs = 0): CRC support, block size, threshold.
-        let b0 = 0xA0 | u8::from(self.config.crc) << 2;
-        let blksize = clamp_block_size(self.config.block_size);
-        let tail = u32::from_le_bytes([blksize, self.config.block_threshold, 0, 0]);
-        self.send(words::mux(b0, index, sub, tail));
+        self.send(ClientCommand::BlockUpload(ClientBlockUpload::Initiate {
+            index,
+            sub,
+            crc: self.config.crc,
+            blksize: clamp_block_size(self.config.block_size),
+            pst: self.config.block_threshold,
+        }));
         self.state = State::BlockUploadInitiated { index, sub };
         self.arm(now);
         Ok(())
     }
 
-    /// Starts writing `data` to `index`/`sub` by block download (CiA 301
-    /// section 7.2.4.3, SDO block download), with the size indicated and CRC if
-    /// [`ClientConfig::crc`](super::ClientConfig::crc); the server chooses
-    /// the block size. Values of any length, 0 included, go by block.
-    pub fn start_block_download(
+    /// [`Client::start_block_download`] with block transfer built in.
+    pub(super) fn begin_block_download(
         &mut self,
         now: Timestamp,
         index: u16,
@@ -54,9 +47,12 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         let Ok(size) = u32::try_from(len) else {
             return Err(ClientError::TooLong { len });
         };
-        // Initiate (cs = 0) with CRC support and the size indicated.
-        let b0 = 0xC2 | u8::from(self.config.crc) << 2;
-        self.send(words::mux(b0, index, sub, size));
+        self.send(ClientCommand::BlockDownload(ClientBlockDownload::Initiate {
+            index,
+            sub,
+            crc: self.config.crc,
+            size: Some(size),
+        }));
         self.state = State::BlockDownloadInitiated { index, sub, data };
         self.arm(now);
         Ok(())
@@ -64,13 +60,13 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
 
     /// A block upload's sub-block segment: handled here (true), or a
     /// command for the normal path (false).
-    pub(super) fn block_segment(&mut self, now: Timestamp, bytes: &[u8]) -> bool {
+    pub(super) fn block_segment(&mut self, now: Timestamp, frame: &CanFrame) -> bool {
         let State::BlockUploading { index, sub, rx } = &mut self.state else {
             return false;
         };
         let (index, sub) = (*index, *sub);
         let blksize = rx.block_size();
-        let Some(result) = rx.take(bytes) else {
+        let Some(result) = rx.take(frame.data()) else {
             return false;
         };
         match result {
@@ -85,7 +81,10 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                     });
                 }
                 if let Some(ackseq) = step.ack {
-                    self.send(words::block_ack(ackseq, blksize));
+                    self.send(ClientCommand::BlockUpload(ClientBlockUpload::Ack {
+                        ackseq,
+                        blksize,
+                    }));
                 }
                 self.arm(now);
             }
@@ -173,7 +172,10 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                         self.arm(now);
                     }
                     Ok(Acked::Done { unused, crc }) => {
-                        self.send(words::block_end(unused, crc));
+                        self.send(ClientCommand::BlockDownload(ClientBlockDownload::End {
+                            unused,
+                            crc,
+                        }));
                         self.state = State::BlockDownloadEnding {
                             index,
                             sub,
@@ -205,8 +207,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                     }
                     let size = size.map(|s| usize::try_from(s).unwrap_or(usize::MAX));
                     let blksize = clamp_block_size(self.config.block_size);
-                    // Start the upload (cs = 3).
-                    self.send(0xA3);
+                    self.send(ClientCommand::BlockUpload(ClientBlockUpload::Start));
                     self.state = State::BlockUploading {
                         index,
                         sub,
@@ -237,8 +238,8 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                                 data,
                             });
                         }
-                        // End acknowledged (cs = 1).
-                        self.send(0xA1);
+                        // End acknowledged.
+                        self.send(ClientCommand::BlockUpload(ClientBlockUpload::End));
                         self.finish(ClientEvent::Uploaded {
                             index,
                             sub,

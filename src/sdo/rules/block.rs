@@ -17,10 +17,11 @@
 //!   passes every in-order segment on at once except the one with c = 1,
 //!   which it holds until the end frame says how many of its bytes are data.
 
-use super::abort::AbortCode;
-use super::crc::crc16_update;
-use super::data::SegmentData;
 use crate::bytes::Payload;
+use crate::sdo::abort::AbortCode;
+use crate::sdo::crc::crc16_update;
+use crate::sdo::data::SegmentData;
+use crate::sdo::wire::{BlockSegment, SdoFrame};
 
 /// The largest block size, CiA 301: 1..=127 segments per sub-block.
 pub(crate) const MAX_BLOCK_SIZE: u8 = 127;
@@ -151,15 +152,13 @@ impl Sender {
             self.crc_upto += 1;
         }
         self.generated = self.generated.saturating_add(1);
-        let last = index + 1 >= segments_of(self.len);
+        let segment = BlockSegment {
+            seqno: self.generated,
+            last: index + 1 >= segments_of(self.len),
+            data: SegmentData::new(data).unwrap_or_default(),
+        };
         let mut frame = [0u8; 8];
-        let (head, body) = frame.split_at_mut(1);
-        if let Some(b0) = head.first_mut() {
-            *b0 = self.generated | u8::from(last) << 7;
-        }
-        if let Some(dst) = body.get_mut(..data.len()) {
-            dst.copy_from_slice(data);
-        }
+        segment.emit(&mut frame);
         frame
     }
 
@@ -305,11 +304,14 @@ impl Receiver {
     /// without c shorter than 8 bytes is ignored (its data is not all
     /// there). More data than indicated is 06070012h.
     pub(crate) fn on_segment(&mut self, bytes: &[u8]) -> Result<Step, AbortCode> {
-        let [b0, data @ ..] = bytes else {
+        let Ok(frame) = SdoFrame::new_checked(bytes) else {
             return Ok(Step::default());
         };
-        let seq = b0 & 0x7F;
-        let last = b0 & 0x80 != 0;
+        let BlockSegment {
+            seqno: seq,
+            last,
+            data: seg,
+        } = BlockSegment::parse(&frame);
         if seq == 0 || seq > self.blksize {
             return Err(AbortCode::InvalidSequenceNumber);
         }
@@ -329,8 +331,7 @@ impl Receiver {
                 ack: Some(ackseq),
             });
         }
-        let data = data.get(..data.len().min(SEGMENT)).unwrap_or(&[]);
-        let seg = SegmentData::new(data).unwrap_or_default();
+        let data = seg.as_slice();
         let mut step = Step::default();
         if last {
             self.held = Some(seg);

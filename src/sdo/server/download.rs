@@ -4,11 +4,12 @@
 //! once; the segments checked by the segment rules and the object's size
 //! rule and written from the frame, one per request.
 
-use super::super::segmented::Segments;
-use super::server_wire::Download;
 use super::{
-    AbortCode, Initiated, ObjectDictionary, ObjectInfo, Server, ServerEvent, SizeRule, State,
+    AbortCode, Initiated, InitiatePayload, ObjectDictionary, ObjectInfo, Server, ServerCommand,
+    ServerEvent, SizeRule, State,
 };
+use crate::sdo::data::Segment;
+use crate::sdo::rules::segmented::Segments;
 use crate::time::Timestamp;
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
@@ -21,7 +22,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         index: u16,
         sub: u8,
         info: ObjectInfo,
-        payload: Download,
+        payload: InitiatePayload,
     ) -> Initiated {
         if !info.access.is_writable() {
             return Err(AbortCode::WriteOfReadOnlyObject);
@@ -30,28 +31,29 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         // forms): the expedited value's, or the indicated size.
         let len = match payload {
             // Size not indicated: "up to 4 bytes", the object decides.
-            Download::Expedited {
-                len: carried,
+            InitiatePayload::Expedited {
+                data,
                 size_indicated: false,
-                ..
             } => match info.size {
-                SizeRule::Fixed(n) if n <= carried => Some(n),
+                SizeRule::Fixed(n) if n <= data.len() => Some(n),
                 // A fixed object longer than the frame can carry: the
                 // length cannot match, and is not known to be short.
                 SizeRule::Fixed(_) => return Err(AbortCode::DataTypeLengthMismatch),
-                SizeRule::Variable { .. } => Some(carried),
+                SizeRule::Variable { .. } => Some(data.len()),
             },
-            Download::Expedited { len, .. } => Some(len),
-            Download::Segmented { size } => size.map(|s| usize::try_from(s).unwrap_or(usize::MAX)),
+            InitiatePayload::Expedited { data, .. } => Some(data.len()),
+            InitiatePayload::Segmented { size } => {
+                size.map(|s| usize::try_from(s).unwrap_or(usize::MAX))
+            }
         };
         if let Some(len) = len {
             info.check_download_len(len)?;
         }
+        // Both forms are answered with the initiate download response.
+        let response = ServerCommand::InitiateDownload { index, sub };
         match (payload, len) {
-            // Both answered with scs = 3 (byte 60h) and bytes 4..=7 zero.
-            (Download::Expedited { data, .. }, Some(len)) => {
-                let bytes = data.to_le_bytes();
-                let bytes = bytes.get(..len).unwrap_or(&[]);
+            (InitiatePayload::Expedited { data, .. }, Some(len)) => {
+                let bytes = data.as_slice().get(..len).unwrap_or(&[]);
                 let result = self
                     .od
                     .write(index, sub, 0, bytes)
@@ -60,7 +62,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                     self.od.abort_write(index, sub);
                 }
                 result?;
-                Ok((0x60, 0, Some(ServerEvent::Downloaded { index, sub, len })))
+                Ok((response, Some(ServerEvent::Downloaded { index, sub, len })))
             }
             // Segmented (an expedited download always has its length).
             (_, size) => {
@@ -70,21 +72,15 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                     rx: Segments::new(size),
                     size: info.size,
                 };
-                Ok((0x60, 0, None))
+                Ok((response, None))
             }
         }
     }
 
-    /// A download segment, the frame's `bytes` with `len` data bytes (as
-    /// `SdoRequest::check_download_segment` found): checked by the segment
-    /// rules and the object's size rule, written straight from the frame,
-    /// acknowledged. The receive cursor is updated in place (no copy of the
-    /// state per segment, no `Segment` made of the frame); the
-    /// acknowledgement is made as `SdoResponse::new` of
-    /// `ServerCommand::DownloadSegment` encodes it. Out of line (see
-    /// `upload_segment`).
-    #[inline(never)]
-    pub(super) fn download_segment(&mut self, now: Timestamp, bytes: [u8; 8], len: usize) {
+    /// A download segment: checked by the segment rules and the object's
+    /// size rule, written to the dictionary, acknowledged. The receive
+    /// cursor is updated in place (no copy of the state per segment).
+    pub(super) fn download_segment(&mut self, now: Timestamp, segment: &Segment) {
         let State::Downloading {
             index,
             sub,
@@ -103,10 +99,9 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             SizeRule::Fixed(n) => (n, true),
             SizeRule::Variable { max } => (max, false),
         };
-        let [b0, data @ ..] = bytes;
-        let toggle = b0 & 0x10 != 0;
-        let last = b0 & 0x01 != 0;
-        let placed = match rx.on_parts(toggle, last, len) {
+        let Segment { toggle, last, data } = segment;
+        let (toggle, last) = (*toggle, *last);
+        let placed = match rx.on_segment(segment) {
             Ok(placed) => placed,
             Err(code) => return self.abort_local(code),
         };
@@ -114,13 +109,12 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         if end > bound {
             return self.abort_local(AbortCode::DataTypeLengthTooHigh);
         }
-        let data = data.get(..len).unwrap_or(&[]);
-        if let Err(code) = self.od.write(index, sub, placed.offset, data) {
+        if let Err(code) = self.od.write(index, sub, placed.offset, data.as_slice()) {
             return self.abort_local(code);
         }
-        let ack = [0x20 | u8::from(toggle) << 4, 0, 0, 0, 0, 0, 0, 0];
+        let ack = ServerCommand::DownloadSegment { toggle };
         if !last {
-            self.send_bytes(ack, 8);
+            self.send(ack);
             return self.arm(now);
         }
         if exact && end < bound {
@@ -129,7 +123,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         if let Err(code) = self.od.finish_write(index, sub, end) {
             return self.abort_local(code);
         }
-        self.send_bytes(ack, 8);
+        self.send(ack);
         self.finish(ServerEvent::Downloaded {
             index,
             sub,

@@ -72,16 +72,14 @@
 use core::time::Duration;
 
 use super::abort::AbortCode;
-use super::block::MAX_BLOCK_SIZE;
+use super::data::{ExpeditedData, InitiatePayload, SegmentData};
+use super::rules::block::MAX_BLOCK_SIZE;
 #[cfg(feature = "sdo-block")]
-use super::block::{Receiver, Sender};
-use super::data::SegmentData;
+use super::rules::block::{Receiver, Sender};
 #[cfg(feature = "sdo-client-segmented")]
-use super::segmented::Segments;
+use super::rules::segmented::Segments;
 use super::server::{AbortOrigin, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT};
-#[cfg(feature = "sdo-block")]
-use super::wire::ServerCommand;
-use super::words;
+use super::wire::{ClientCommand, SdoFrame, ServerCommand};
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
@@ -447,7 +445,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// Starts reading `index`/`sub` from the server.
     pub fn start_upload(&mut self, now: Timestamp, index: u16, sub: u8) -> Result<(), ClientError> {
         self.check_idle()?;
-        self.send(words::mux(0x40, index, sub, 0));
+        self.send(ClientCommand::InitiateUpload { index, sub });
         self.state = State::UploadInitiated { index, sub };
         self.arm(now);
         Ok(())
@@ -466,16 +464,28 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         let Ok(size) = u32::try_from(bytes.len()) else {
             return Err(ClientError::TooLong { len: bytes.len() });
         };
-        #[cfg(feature = "sdo-client-segmented")]
+        // CiA 301: 1..=4 bytes go expedited with the size indicated; an
+        // empty value (the n field cannot say 0 bytes) and longer ones
+        // segmented, with the size.
         let expedited = matches!(bytes.len(), 1..=4);
-        let word = match *bytes {
-            [a] => words::expedited(1, index, sub, u32::from(a), 1),
-            [a, b] => words::expedited(1, index, sub, u32::from_le_bytes([a, b, 0, 0]), 2),
-            [a, b, c] => words::expedited(1, index, sub, u32::from_le_bytes([a, b, c, 0]), 3),
-            [a, b, c, d] => words::expedited(1, index, sub, u32::from_le_bytes([a, b, c, d]), 4),
-            _ => Self::segmented_initiate(index, sub, size)?,
+        let payload = match ExpeditedData::new(bytes) {
+            Some(data) if expedited => InitiatePayload::Expedited {
+                data,
+                size_indicated: true,
+            },
+            #[cfg(feature = "sdo-client-segmented")]
+            _ => InitiatePayload::Segmented { size: Some(size) },
+            #[cfg(not(feature = "sdo-client-segmented"))]
+            _ => {
+                let _ = size;
+                return Err(ClientError::SegmentedUnsupported { len: bytes.len() });
+            }
         };
-        self.send(word);
+        self.send(ClientCommand::InitiateDownload {
+            index,
+            sub,
+            payload,
+        });
         self.state = State::DownloadInitiated {
             index,
             sub,
@@ -485,6 +495,68 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         };
         self.arm(now);
         Ok(())
+    }
+
+    /// Starts reading `index`/`sub` from the server by block upload (CiA
+    /// 301 section 7.2.4.3, SDO block upload), asking for sub-blocks of
+    /// [`ClientConfig::block_size`] segments, with CRC if
+    /// [`ClientConfig::crc`] and the protocol switch threshold
+    /// [`ClientConfig::block_threshold`]. The value arrives as
+    /// [`ClientEvent::UploadData`] pieces, as in a segmented upload, then
+    /// [`ClientEvent::Uploaded`].
+    ///
+    /// Without the feature `sdo-block` it refuses with
+    /// [`ClientError::BlockUnsupported`] and sends nothing (use
+    /// [`Client::start_upload`]).
+    ///
+    /// ```
+    /// use canopen_codec::sdo::{Client, ClientConfig, ClientError};
+    /// use canopen_codec::{NodeId, Timestamp};
+    ///
+    /// let mut client: Client = Client::new(ClientConfig::for_server(NodeId::new(2).unwrap()));
+    /// let started = client.start_block_upload(Timestamp::ZERO, 0x1008, 0);
+    /// # #[cfg(not(feature = "sdo-block"))]
+    /// assert_eq!(started, Err(ClientError::BlockUnsupported));
+    /// # #[cfg(feature = "sdo-block")]
+    /// assert_eq!(started, Ok(()));
+    /// ```
+    pub fn start_block_upload(
+        &mut self,
+        now: Timestamp,
+        index: u16,
+        sub: u8,
+    ) -> Result<(), ClientError> {
+        #[cfg(feature = "sdo-block")]
+        return self.begin_block_upload(now, index, sub);
+        #[cfg(not(feature = "sdo-block"))]
+        {
+            let _ = (now, index, sub);
+            Err(ClientError::BlockUnsupported)
+        }
+    }
+
+    /// Starts writing `data` to `index`/`sub` by block download (CiA 301
+    /// section 7.2.4.3, SDO block download), with the size indicated and
+    /// CRC if [`ClientConfig::crc`]; the server chooses the block size.
+    /// Values of any length, 0 included, go by block.
+    ///
+    /// Without the feature `sdo-block` it refuses with
+    /// [`ClientError::BlockUnsupported`], sends nothing and drops `data`
+    /// (use [`Client::start_download`]).
+    pub fn start_block_download(
+        &mut self,
+        now: Timestamp,
+        index: u16,
+        sub: u8,
+        data: D,
+    ) -> Result<(), ClientError> {
+        #[cfg(feature = "sdo-block")]
+        return self.begin_block_download(now, index, sub, data);
+        #[cfg(not(feature = "sdo-block"))]
+        {
+            let _ = (now, index, sub, data);
+            Err(ClientError::BlockUnsupported)
+        }
     }
 
     /// Aborts the running transfer with `code`: sends the abort frame and
@@ -512,20 +584,12 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
             .set(RESPONSE_TIMEOUT, Some(now.add_micros(self.timeout_us)));
     }
 
-    /// Queues the request whose 8 data bytes are the little-endian `word`
-    /// (made by `super::words`: the frame `SdoRequest::new` of its command
-    /// encodes to, without the general encoder).
-    fn send(&mut self, word: u64) {
-        self.send_bytes(word.to_le_bytes(), 8);
-    }
-
-    /// Queues a request made by hand (the segment paths): the same frame
-    /// as `SdoRequest::new` of its command encodes to.
-    #[inline]
-    fn send_bytes(&mut self, bytes: [u8; 8], len: u8) {
+    /// Queues `command` as a frame of 8 bytes on the request identifier
+    /// (every byte the command leaves undefined zero).
+    fn send(&mut self, command: ClientCommand) {
         if self.sends {
             // The identifier was checked in `new`.
-            let frame = CanFrame::from_parts(self.config.request_id, bytes, len);
+            let frame = CanFrame::from_parts(self.config.request_id, command.to_bytes(), 8);
             // At most one frame per call: a drained queue always has room.
             self.transmit.push(frame);
         }
@@ -547,7 +611,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     }
 
     fn abort_object(&mut self, index: u16, sub: u8, code: AbortCode) {
-        self.send(words::abort(index, sub, code));
+        self.send(ClientCommand::Abort { index, sub, code });
         self.finish(ClientEvent::Aborted {
             index,
             sub,
@@ -581,7 +645,10 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Machine for Client<D, EVENTS> {
     /// The queued frame, else the next segment of a block download's
     /// sub-block, made now from the data at its offset.
     fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.transmit.pop().or_else(|| self.next_block_segment())
+        let queued = self.transmit.pop();
+        #[cfg(feature = "sdo-block")]
+        let queued = queued.or_else(|| self.next_block_segment());
+        queued
     }
 
     /// The response deadline of the running transfer (`None` when idle).
@@ -599,15 +666,13 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Machine for Client<D, EVENTS> {
 }
 
 #[cfg(feature = "sdo-block")]
-#[path = "block_client.rs"]
 mod block;
-#[cfg(not(feature = "sdo-block"))]
-#[path = "block_client_off.rs"]
-mod block;
-
+mod response;
 #[cfg(feature = "sdo-client-segmented")]
-#[path = "client_segmented.rs"]
 mod segmented;
-#[cfg(not(feature = "sdo-client-segmented"))]
-#[path = "client_segmented_off.rs"]
-mod segmented;
+
+#[cfg(all(test, not(feature = "sdo-client-segmented")))]
+mod expedited_only_tests;
+
+#[cfg(all(test, not(feature = "sdo-block")))]
+mod without_block_tests;

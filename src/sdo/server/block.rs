@@ -1,12 +1,13 @@
 //! Block download and block upload of [`Server`] (CiA 301 section
 //! 7.2.4.3, SDO protocols: SDO block download and upload): the requests
 //! the block states accept and the lazily read segments of a block upload. The sub-block
-//! rules themselves are shared with the client (`super::super::block`).
+//! rules themselves are shared with the client (`crate::sdo::rules::block`).
 
-use super::super::block::{check_block_size, Acked, Receiver, Sender};
-use super::super::wire::{ClientBlockDownload, ClientBlockUpload};
-use super::super::words;
-use super::{AbortCode, ObjectDictionary, Server, ServerEvent, State};
+use super::{AbortCode, ObjectDictionary, Server, ServerCommand, ServerEvent, State};
+use crate::sdo::rules::block::{check_block_size, clamp_block_size, Acked, Receiver, Sender};
+use crate::sdo::wire::{
+    ClientBlockDownload, ClientBlockUpload, ServerBlockDownload, ServerBlockUpload,
+};
 use crate::frame::CanFrame;
 use crate::time::Timestamp;
 
@@ -55,7 +56,10 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             }
         }
         if let Some(ackseq) = step.ack {
-            self.send(words::block_ack(ackseq, rx.block_size()));
+            self.send(ServerCommand::BlockDownload(ServerBlockDownload::Ack {
+                ackseq,
+                blksize: rx.block_size(),
+            }));
         }
         self.arm(now);
         true
@@ -134,7 +138,10 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                     self.arm(now);
                 }
                 Ok(Acked::Done { unused, crc }) => {
-                    self.send(words::block_end(unused, crc));
+                    self.send(ServerCommand::BlockUpload(ServerBlockUpload::End {
+                        unused,
+                        crc,
+                    }));
                     let len = tx.len();
                     self.state = State::BlockUploadEnding { index, sub, len };
                     self.arm(now);
@@ -174,9 +181,12 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         let Ok(size) = u32::try_from(info.len) else {
             return self.abort_object(index, sub, AbortCode::OutOfMemory);
         };
-        // Initiate response (ss = 0) with the size indicated.
-        let b0 = 0xC2 | u8::from(self.config.crc) << 2;
-        self.send(words::mux(b0, index, sub, size));
+        self.send(ServerCommand::BlockUpload(ServerBlockUpload::Initiate {
+            index,
+            sub,
+            crc: self.config.crc,
+            size: Some(size),
+        }));
         self.state = State::BlockUploadInitiated {
             index,
             sub,
@@ -228,8 +238,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                 {
                     return self.abort_local(code);
                 }
-                // End acknowledged (ss = 1).
-                self.send(0xA1);
+                self.send(ServerCommand::BlockDownload(ServerBlockDownload::End));
                 self.finish(ServerEvent::Downloaded {
                     index,
                     sub,
@@ -261,10 +270,13 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                 return self.abort_object(index, sub, code);
             }
         }
-        let blksize = super::super::block::clamp_block_size(self.config.block_size);
-        // Initiate response (ss = 0) with the block size.
-        let b0 = 0xA0 | u8::from(self.config.crc) << 2;
-        self.send(words::mux(b0, index, sub, u32::from(blksize)));
+        let blksize = clamp_block_size(self.config.block_size);
+        self.send(ServerCommand::BlockDownload(ServerBlockDownload::Initiate {
+            index,
+            sub,
+            crc: self.config.crc,
+            blksize,
+        }));
         self.state = State::BlockDownloading {
             index,
             sub,

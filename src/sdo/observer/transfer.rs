@@ -1,16 +1,16 @@
 //! The observer's transitions: one open transfer and what each frame of its
 //! channel does to it. The rules themselves are the client's and the
-//! server's (`super::segmented`, `super::block`); this file only says which
-//! side applies which rule when (see [`super::observer`]).
+//! server's (`crate::sdo::rules`); this file only says which side applies
+//! which rule when (see [`super`]).
 
-use super::abort::AbortCode;
-use super::block::{check_block_size, Receiver};
-use super::data::{InitiatePayload, Segment, SegmentData};
-use super::observer::{
+use super::{
     BreakReason, Direction, Observed, ObserverEvent, SdoChannel, Side, Sink, Transfer, TransferKind,
 };
-use super::segmented::{check_toggle, Segments};
-use super::wire::{
+use crate::sdo::abort::AbortCode;
+use crate::sdo::data::{InitiatePayload, Segment, SegmentData};
+use crate::sdo::rules::block::{check_block_size, Receiver};
+use crate::sdo::rules::segmented::{check_toggle, Segments};
+use crate::sdo::wire::{
     ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoRequest, SdoResponse,
     ServerBlockDownload, ServerBlockUpload, ServerCommand,
 };

@@ -3,9 +3,12 @@
 //! answered from the dictionary and the segments read from it at the
 //! transfer's offset, one per request.
 
-use super::super::segmented::check_toggle;
-use super::super::words;
-use super::{AbortCode, Initiated, ObjectDictionary, ObjectInfo, Server, ServerEvent, State};
+use super::{
+    AbortCode, Initiated, InitiatePayload, ObjectDictionary, ObjectInfo, Server, ServerCommand,
+    ServerEvent, State,
+};
+use crate::sdo::data::{ExpeditedData, Segment, SegmentData};
+use crate::sdo::rules::segmented::check_toggle;
 use crate::time::Timestamp;
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
@@ -55,14 +58,16 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             if n == 0 {
                 return Err(AbortCode::NoDataAvailable);
             }
-            // The bytes past `n` zero, as the frame has them.
-            let mask = u32::MAX.checked_shr(32 - 8 * n.min(4) as u32).unwrap_or(0);
-            let data = u32::from_le_bytes(buf) & mask;
-            return Ok((
-                words::expedited_b0(2, n),
-                data,
-                Some(ServerEvent::Uploaded { index, sub, len: n }),
-            ));
+            let data = ExpeditedData::new(buf.get(..n).unwrap_or(&[])).unwrap_or_default();
+            let response = ServerCommand::InitiateUpload {
+                index,
+                sub,
+                payload: InitiatePayload::Expedited {
+                    data,
+                    size_indicated: true,
+                },
+            };
+            return Ok((response, Some(ServerEvent::Uploaded { index, sub, len: n })));
         }
         let size = u32::try_from(info.len).map_err(|_| AbortCode::OutOfMemory)?;
         self.state = State::Uploading {
@@ -72,20 +77,17 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             len: info.len,
             toggle: false,
         };
-        Ok((words::segmented_b0(2), size, None))
+        let response = ServerCommand::InitiateUpload {
+            index,
+            sub,
+            payload: InitiatePayload::Segmented { size: Some(size) },
+        };
+        Ok((response, None))
     }
 
     /// An upload segment request (ccs = 3, toggle `toggle`): the next
-    /// segment, read from the dictionary at the transfer's offset. The
-    /// frame is made in place, as `SdoResponse::new` of
-    /// `ServerCommand::UploadSegment` would make it, and only the offset and
-    /// toggle of the state change (no copy of the state per segment).
-    ///
-    /// Out of line, as `download_segment`: inlined into `handle_frame`, their
-    /// only caller, both segmented transfers took 4-6 % more instructions
-    /// per segment (callgrind, benches/sdo_count.rs) and the firmware's
-    /// flash was about the same.
-    #[inline(never)]
+    /// segment, read from the dictionary at the transfer's offset; only
+    /// the offset and toggle of the state change.
     pub(super) fn upload_segment(&mut self, now: Timestamp, toggle: bool) {
         let State::Uploading {
             index,
@@ -101,10 +103,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         if let Err(code) = check_toggle(toggle, expected) {
             return self.abort_local(code);
         }
-        // The frame made in place: byte 0 the command, the data read
-        // straight into bytes 1..=7 (zero past n: n < want aborts below).
-        let mut frame = [0u8; 8];
-        let [command, data @ ..] = &mut frame;
+        let mut data = [0u8; 7];
         let want = len.saturating_sub(offset).min(7);
         let n = match self.read_full(index, sub, offset, data.get_mut(..want).unwrap_or(&mut [])) {
             Ok(n) => n,
@@ -116,8 +115,11 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         }
         let offset = offset.saturating_add(n);
         let last = offset >= len;
-        *command = words::upload_segment(toggle, n, last);
-        self.send_bytes(frame, 8);
+        self.send(ServerCommand::UploadSegment(Segment {
+            toggle,
+            last,
+            data: SegmentData::new(data.get(..n).unwrap_or(&[])).unwrap_or_default(),
+        }));
         if last {
             return self.finish(ServerEvent::Uploaded { index, sub, len });
         }

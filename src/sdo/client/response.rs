@@ -1,0 +1,166 @@
+//! The client's one response path (CiA 301 section 7.2.4.3, SDO
+//! protocols): every data frame on the response identifier is read by the
+//! wire layer ([`ServerCommand::parse`]) and matched against the running
+//! transfer. Without the feature `sdo-client-segmented` the segmented
+//! arms are not built: a segmented answer to an upload initiate is a
+//! command this client does not take (05040001h, the same code a server
+//! without `sdo-block` gives a block initiate; 06070010h would only fit a
+//! response with a size above 4, and CiA 301 lets a server answer
+//! segmented without a size or for a short value too, so one code for
+//! every case). Without `sdo-block` no block state can be entered.
+//!
+//! One call leaves at most two events (an expedited upload's data, then
+//! `Uploaded`): [`EVENTS_PER_CALL`](crate::sdo::EVENTS_PER_CALL).
+
+use super::{AbortCode, Client, ClientEvent, SdoFrame, SegmentData, ServerCommand, State};
+use crate::frame::CanFrame;
+use crate::sdo::data::InitiatePayload;
+use crate::sdo::server::AbortOrigin;
+use crate::time::Timestamp;
+
+impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
+    /// A data frame on the response identifier. Frames too short for
+    /// their command (and any frame while idle) are ignored; an abort ends
+    /// the transfer with the server's code; a segment of the running
+    /// segmented transfer goes to its rules with the state updated in
+    /// place; every other response is matched against the state taken out.
+    #[inline(never)]
+    pub(super) fn response(&mut self, now: Timestamp, frame: &CanFrame) {
+        if !self.is_busy() {
+            return;
+        }
+        #[cfg(feature = "sdo-block")]
+        if self.block_segment(now, frame) {
+            return;
+        }
+        let Ok(command) = SdoFrame::of_frame(frame).and_then(|f| ServerCommand::parse(&f)) else {
+            return;
+        };
+        match (&self.state, command) {
+            (_, ServerCommand::Abort { code, .. }) => return self.aborted_by_peer(code),
+            #[cfg(feature = "sdo-client-segmented")]
+            (State::Uploading { .. }, ServerCommand::UploadSegment(segment)) => {
+                return self.upload_segment(now, &segment);
+            }
+            #[cfg(feature = "sdo-client-segmented")]
+            (State::Downloading { .. }, ServerCommand::DownloadSegment { toggle }) => {
+                return self.download_ack(now, toggle);
+            }
+            _ => {}
+        }
+        match core::mem::replace(&mut self.state, State::Idle) {
+            State::Idle => {}
+            State::UploadInitiated { index, sub } => {
+                self.on_upload_initiated(now, index, sub, command);
+            }
+            // Any response but the segment (or acknowledgement) taken above.
+            #[cfg(feature = "sdo-client-segmented")]
+            State::Uploading { index, sub, .. } | State::Downloading { index, sub, .. } => {
+                self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+            }
+            State::DownloadInitiated {
+                index,
+                sub,
+                data,
+                #[cfg(feature = "sdo-client-segmented")]
+                expedited,
+            } => {
+                #[cfg(not(feature = "sdo-client-segmented"))]
+                let expedited = true;
+                self.on_download_initiated(now, index, sub, data, expedited, command);
+            }
+            #[cfg(feature = "sdo-block")]
+            state => self.on_block_response(now, state, command, frame.data()),
+        }
+    }
+
+    /// The server aborted: the transfer ends with its code (0 reported as
+    /// 08000000h), nothing is sent back.
+    fn aborted_by_peer(&mut self, code: AbortCode) {
+        let (index, sub) = self.object();
+        let code = match code {
+            AbortCode::Other(0) => AbortCode::GeneralError,
+            c => c,
+        };
+        self.finish(ClientEvent::Aborted {
+            index,
+            sub,
+            code,
+            origin: AbortOrigin::Peer,
+        });
+    }
+
+    /// The answer to an upload initiate (or a block upload's protocol
+    /// switch): expedited data ends the transfer; a segmented answer starts
+    /// the segments (without `sdo-client-segmented`, 05040001h).
+    pub(super) fn on_upload_initiated(
+        &mut self,
+        now: Timestamp,
+        index: u16,
+        sub: u8,
+        cmd: ServerCommand,
+    ) {
+        let ServerCommand::InitiateUpload {
+            index: ri,
+            sub: rs,
+            payload,
+        } = cmd
+        else {
+            return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+        };
+        if (ri, rs) != (index, sub) {
+            return self.abort_object(index, sub, AbortCode::GeneralParameterIncompatibility);
+        }
+        match payload {
+            InitiatePayload::Expedited { data, .. } => {
+                if !data.is_empty() {
+                    self.emit(ClientEvent::UploadData {
+                        index,
+                        sub,
+                        offset: 0,
+                        data: SegmentData::new(data.as_slice()).unwrap_or_default(),
+                    });
+                }
+                self.finish(ClientEvent::Uploaded {
+                    index,
+                    sub,
+                    len: data.len(),
+                });
+            }
+            #[cfg(feature = "sdo-client-segmented")]
+            InitiatePayload::Segmented { size } => self.segmented_upload(now, index, sub, size),
+            #[cfg(not(feature = "sdo-client-segmented"))]
+            InitiatePayload::Segmented { .. } => {
+                let _ = now;
+                self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+            }
+        }
+    }
+
+    /// The answer to a download initiate: an expedited download is done; a
+    /// segmented one sends its first segment.
+    fn on_download_initiated(
+        &mut self,
+        now: Timestamp,
+        index: u16,
+        sub: u8,
+        data: D,
+        expedited: bool,
+        cmd: ServerCommand,
+    ) {
+        let ServerCommand::InitiateDownload { index: ri, sub: rs } = cmd else {
+            return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
+        };
+        if (ri, rs) != (index, sub) {
+            return self.abort_object(index, sub, AbortCode::GeneralParameterIncompatibility);
+        }
+        #[cfg(feature = "sdo-client-segmented")]
+        if !expedited {
+            return self.send_segment(now, index, sub, data);
+        }
+        #[cfg(not(feature = "sdo-client-segmented"))]
+        let _ = (now, expedited);
+        let len = data.as_ref().len();
+        self.finish(ClientEvent::Downloaded { index, sub, len })
+    }
+}

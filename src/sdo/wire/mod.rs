@@ -1,0 +1,626 @@
+//! The SDO wire layer, CiA 301 section 7.2.4.3 (SDO protocols): the one
+//! place where the 8 data bytes of an SDO frame are read and written.
+//!
+//! - [`SdoFrame`] is the checked view: 1..=8 data bytes, read through
+//!   accessors that cannot index out of bounds (bytes past the frame's
+//!   length read as zero).
+//! - [`ClientCommand`] (requests, client to server on 0x600 + node) and
+//!   [`ServerCommand`] (responses, server to client on 0x580 + node), with
+//!   their block families [`ClientBlockUpload`], [`ClientBlockDownload`],
+//!   [`ServerBlockDownload`] and [`ServerBlockUpload`], are the typed
+//!   representation: `parse(&SdoFrame)` reads one, `emit(&mut [u8; 8])`
+//!   writes one and returns the length it needs, `buffer_len` is that
+//!   length. Every user (client, server, observer, `Message::decode`, the
+//!   decoder program, the firmware nodes) goes through them.
+//! - [`needed`] is the one length rule: how many bytes each command
+//!   needs, by the side that sends it.
+//! - [`SdoRequest`] and [`SdoResponse`] pair a command with the frame's
+//!   bytes so that bytes the command leaves undefined (reserved bits,
+//!   padding after the n field, garbage in unused expedited bytes, a DLC
+//!   below 8) survive a decode/encode round trip.
+//!
+//! **Short frames**: a frame shorter than 8 bytes decodes when every byte its
+//! command needs is present (python-canopen sends DLC 5 expedited responses);
+//! otherwise it is [`DecodeError::Truncated`] with the length the command
+//! needs.
+//!
+//! **Block transfer sub-block segments** carry no command specifier (byte 0 is
+//! a sequence number). A stateless decoder cannot tell them apart, so they
+//! decode as whatever specifier their bits spell; a block-transfer state
+//! machine reads them as [`BlockSegment`]s (see [`SdoRequest::bytes`] /
+//! [`SdoResponse::bytes`] for the bytes themselves).
+
+use byteorder::{ByteOrder, LittleEndian};
+
+use super::abort::AbortCode;
+use super::data::{ExpeditedData, InitiatePayload, Segment, SegmentData};
+use crate::error::DecodeError;
+use crate::frame::CanFrame;
+
+mod request;
+mod response;
+
+pub use request::{ClientBlockDownload, ClientBlockUpload, ClientCommand};
+pub use response::{ServerBlockDownload, ServerBlockUpload, ServerCommand};
+
+/// Which end of an SDO channel sent a frame, or aborted.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Side {
+    /// The SDO client.
+    Client,
+    /// The SDO server.
+    Server,
+}
+
+impl Side {
+    /// The other end.
+    #[must_use]
+    pub const fn other(self) -> Self {
+        match self {
+            Side::Client => Side::Server,
+            Side::Server => Side::Client,
+        }
+    }
+}
+
+/// The data bytes of one SDO frame, checked to be 1..=8 (CiA 301: every
+/// SDO frame starts with its command byte). The bytes are held padded to
+/// 8 with zeros, so every accessor reads a byte that exists; whether a
+/// command has all the bytes it needs is [`needed`]'s rule, checked by
+/// `parse`.
+///
+/// ```
+/// use canopen_codec::sdo::{ClientCommand, SdoFrame};
+/// let frame = SdoFrame::new_checked(&[0x40, 0x18, 0x10, 0x01]).unwrap();
+/// assert_eq!((frame.specifier(), frame.index(), frame.sub()), (2, 0x1018, 1));
+/// assert_eq!(
+///     ClientCommand::parse(&frame),
+///     Ok(ClientCommand::InitiateUpload { index: 0x1018, sub: 1 })
+/// );
+/// assert!(SdoFrame::new_checked(&[]).is_err());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SdoFrame {
+    bytes: [u8; 8],
+    len: u8,
+}
+
+impl SdoFrame {
+    /// Eight zero bytes: the frame a command is emitted onto when no
+    /// received frame's bytes are to be kept.
+    pub(crate) const ZERO: SdoFrame = SdoFrame {
+        bytes: [0; 8],
+        len: 8,
+    };
+
+    /// The view of `data`: [`DecodeError::TooLong`] above 8 bytes,
+    /// [`DecodeError::Truncated`] when empty.
+    pub fn new_checked(data: &[u8]) -> Result<Self, DecodeError> {
+        if data.len() > 8 {
+            return Err(DecodeError::TooLong {
+                max: 8,
+                got: data.len(),
+            });
+        }
+        let mut bytes = [0u8; 8];
+        crate::bytes::copy_short(&mut bytes, data);
+        Self::padded(bytes, data.len() as u8)
+    }
+
+    /// The view of a CAN frame's data (its zero-padded buffer, no copy
+    /// loop): [`DecodeError::Truncated`] for DLC 0.
+    #[inline]
+    pub fn of_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
+        Self::padded(frame.padded_data(), frame.dlc().min(8))
+    }
+
+    #[inline]
+    fn padded(bytes: [u8; 8], len: u8) -> Result<Self, DecodeError> {
+        if len == 0 {
+            return Err(DecodeError::Truncated { need: 1, got: 0 });
+        }
+        Ok(SdoFrame { bytes, len })
+    }
+
+    /// The number of data bytes (1..=8).
+    #[must_use]
+    #[inline]
+    pub const fn len(&self) -> usize {
+        self.len as usize
+    }
+
+    /// Never true: a checked frame has its command byte.
+    #[must_use]
+    pub const fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The data bytes.
+    #[must_use]
+    pub fn as_bytes(&self) -> &[u8] {
+        self.bytes.get(..self.len()).unwrap_or(&[])
+    }
+
+    /// Byte 0, the command byte.
+    #[must_use]
+    #[inline]
+    pub const fn command(&self) -> u8 {
+        let [b0, ..] = self.bytes;
+        b0
+    }
+
+    /// The command specifier: bits 7..=5 of byte 0 (ccs of a request, scs
+    /// of a response).
+    #[must_use]
+    #[inline]
+    pub const fn specifier(&self) -> u8 {
+        self.command() >> 5
+    }
+
+    /// Byte `i` (0..=7), zero past the frame's length and past byte 7.
+    #[must_use]
+    #[inline]
+    pub const fn byte(&self, i: usize) -> u8 {
+        if i < 8 {
+            self.bytes[i]
+        } else {
+            0
+        }
+    }
+
+    /// The multiplexer's index: bytes 1..=2, little-endian.
+    #[must_use]
+    #[inline]
+    pub const fn index(&self) -> u16 {
+        let [_, lo, hi, ..] = self.bytes;
+        u16::from_le_bytes([lo, hi])
+    }
+
+    /// The multiplexer's sub-index: byte 3.
+    #[must_use]
+    #[inline]
+    pub const fn sub(&self) -> u8 {
+        let [_, _, _, sub, ..] = self.bytes;
+        sub
+    }
+
+    /// The CRC of a block end frame: bytes 1..=2, little-endian (where
+    /// other commands have the index).
+    #[must_use]
+    #[inline]
+    pub const fn block_crc(&self) -> u16 {
+        self.index()
+    }
+
+    /// Bytes 4..=7 as a little-endian `u32` (an abort code, an indicated
+    /// size, expedited data).
+    #[must_use]
+    #[inline]
+    pub const fn u32_at_4(&self) -> u32 {
+        let [.., a, b, c, d] = self.bytes;
+        u32::from_le_bytes([a, b, c, d])
+    }
+
+    /// All 8 bytes as one little-endian word (zero past the length).
+    #[inline]
+    const fn word(&self) -> u64 {
+        u64::from_le_bytes(self.bytes)
+    }
+
+    /// `Ok` when the frame has `need` bytes, else the `Truncated` error.
+    #[inline]
+    pub fn check_len(&self, need: usize) -> Result<(), DecodeError> {
+        if self.len() < need {
+            Err(DecodeError::Truncated {
+                need,
+                got: self.len(),
+            })
+        } else {
+            Ok(())
+        }
+    }
+
+    /// A segment (request ccs = 0, response scs = 0): toggle bit 4, c bit 0,
+    /// 7 - n data bytes after byte 0 (n in bits 3..=1).
+    #[inline]
+    fn segment(&self) -> Segment {
+        let b0 = self.command();
+        Segment {
+            toggle: b0 & 0x10 != 0,
+            last: b0 & 0x01 != 0,
+            data: SegmentData::from_le_word(self.word() >> 8, segment_data_len(b0)),
+        }
+    }
+
+    /// The payload of an initiate (download request, upload response):
+    /// e (bit 1) and s (bit 0) choose expedited data or the segmented size.
+    #[inline]
+    fn initiate_payload(&self) -> InitiatePayload {
+        let b0 = self.command();
+        match (b0 & 0x02 != 0, b0 & 0x01 != 0) {
+            (true, true) => InitiatePayload::Expedited {
+                data: ExpeditedData::from_le_word(self.word() >> 32, expedited_len(b0)),
+                size_indicated: true,
+            },
+            // Size not indicated: every data byte the frame carried.
+            (true, false) => InitiatePayload::Expedited {
+                data: ExpeditedData::from_le_word(self.word() >> 32, self.len().saturating_sub(4)),
+                size_indicated: false,
+            },
+            (false, true) => InitiatePayload::Segmented {
+                size: Some(self.u32_at_4()),
+            },
+            (false, false) => InitiatePayload::Segmented { size: None },
+        }
+    }
+
+    /// The indicated size (bytes 4..=7) of a block initiate when its s bit
+    /// (bit 1) is set.
+    #[inline]
+    fn block_size_field(&self) -> Option<u32> {
+        if self.command() & 0x02 != 0 {
+            Some(self.u32_at_4())
+        } else {
+            None
+        }
+    }
+}
+
+/// Data bytes of a segment with command byte `b0`: 7 - n.
+#[inline]
+const fn segment_data_len(b0: u8) -> usize {
+    7 - ((b0 >> 1) & 0x07) as usize
+}
+
+/// Data bytes of an expedited initiate with the size indicated: 4 - n
+/// (n in bits 3..=2).
+#[inline]
+const fn expedited_len(b0: u8) -> usize {
+    4 - ((b0 >> 2) & 0x03) as usize
+}
+
+/// The bytes an initiate (download request, upload response) needs: the
+/// multiplexer and, expedited with the size indicated, its 4 - n data
+/// bytes; segmented with the size indicated, the whole frame.
+#[inline]
+const fn initiate_needs(b0: u8) -> usize {
+    match b0 & 0x03 {
+        0x03 => 4 + expedited_len(b0),
+        0x01 => 8,
+        _ => 4,
+    }
+}
+
+/// The one length rule of SDO frames (CiA 301 section 7.2.4.3): the bytes
+/// the command of byte 0 `b0` needs, sent by `from`. A shorter frame does
+/// not decode ([`DecodeError::Truncated`]).
+///
+/// | specifier | request (client) | response (server) |
+/// |---|---|---|
+/// | 0 | segment: 1 + 7 - n | segment: 1 + 7 - n |
+/// | 1 | initiate download: see below | segment acknowledged: 1 |
+/// | 2 | initiate upload: 4 | initiate upload: see below |
+/// | 3 | upload segment request: 1 | initiate download: 4 |
+/// | 4 | abort: 8 | abort: 8 |
+/// | 5 | block upload: initiate 6, ack 3, start / end 1 | block download: initiate 5, ack 3, end 1 |
+/// | 6 | block download: initiate 4 (8 with the size), end 3 | block upload: the same |
+/// | 7 | 1 | 1 |
+///
+/// An initiate needs the multiplexer (4 bytes), expedited with the size
+/// indicated its 4 - n data bytes too, segmented with the size all 8.
+#[must_use]
+#[inline]
+pub const fn needed(from: Side, b0: u8) -> usize {
+    match (from, b0 >> 5) {
+        (_, 0) => 1 + segment_data_len(b0),
+        (Side::Client, 1) | (Side::Server, 2) => initiate_needs(b0),
+        (Side::Client, 2) | (Side::Server, 3) => 4,
+        (_, 4) => 8,
+        (_, 5) => match (from, b0 & 0x03) {
+            (Side::Client, 0) => 6,
+            (Side::Server, 0) => 5,
+            (_, 2) => 3,
+            _ => 1,
+        },
+        (_, 6) => match b0 & 0x03 {
+            0x02 => 8,
+            0x00 => 4,
+            _ => 3,
+        },
+        _ => 1,
+    }
+}
+
+/// Writes the bits of byte 0 selected by `mask` (the others keep what
+/// `buf` holds: reserved bits of a decoded frame survive).
+#[inline]
+fn put_command(buf: &mut [u8; 8], mask: u8, value: u8) {
+    let [b0, ..] = buf;
+    *b0 = (*b0 & !mask) | (value & mask);
+}
+
+/// Writes the multiplexer (bytes 1..=3).
+#[inline]
+fn put_mux(buf: &mut [u8; 8], index: u16, sub: u8) {
+    let [_, lo, hi, s, ..] = buf;
+    [*lo, *hi] = index.to_le_bytes();
+    *s = sub;
+}
+
+/// Writes bytes 4..=7, little-endian.
+#[inline]
+fn put_u32(buf: &mut [u8; 8], value: u32) {
+    let [.., a, b, c, d] = buf;
+    [*a, *b, *c, *d] = value.to_le_bytes();
+}
+
+/// Writes `src` from byte `at` (as far as the frame reaches).
+#[inline]
+fn put_data(buf: &mut [u8; 8], at: usize, src: &[u8]) {
+    if let Some(dst) = buf.get_mut(at..) {
+        crate::bytes::copy_short(dst, src);
+    }
+}
+
+/// Emits an initiate of command specifier `specifier` (1 download
+/// request, 2 upload response); returns the length it needs.
+#[inline]
+fn emit_initiate(
+    buf: &mut [u8; 8],
+    specifier: u8,
+    index: u16,
+    sub: u8,
+    payload: &InitiatePayload,
+) -> usize {
+    put_mux(buf, index, sub);
+    match payload {
+        InitiatePayload::Expedited {
+            data,
+            size_indicated: true,
+        } => {
+            let n = (4 - data.len().min(4)) as u8;
+            put_command(buf, 0xEF, specifier << 5 | n << 2 | 0x03);
+            put_data(buf, 4, data.as_slice());
+            4 + data.len()
+        }
+        InitiatePayload::Expedited {
+            data,
+            size_indicated: false,
+        } => {
+            put_command(buf, 0xE3, specifier << 5 | 0x02);
+            put_data(buf, 4, data.as_slice());
+            4 + data.len()
+        }
+        InitiatePayload::Segmented { size: Some(size) } => {
+            put_command(buf, 0xE3, specifier << 5 | 0x01);
+            put_u32(buf, *size);
+            8
+        }
+        InitiatePayload::Segmented { size: None } => {
+            put_command(buf, 0xE3, specifier << 5);
+            4
+        }
+    }
+}
+
+/// Emits a segment of command specifier `specifier` (0 both ways).
+#[inline]
+fn emit_segment(buf: &mut [u8; 8], specifier: u8, seg: &Segment) -> usize {
+    let n = (7 - seg.data.len().min(7)) as u8;
+    put_command(
+        buf,
+        0xFF,
+        specifier << 5 | u8::from(seg.toggle) << 4 | n << 1 | u8::from(seg.last),
+    );
+    put_data(buf, 1, seg.data.as_slice());
+    1 + seg.data.len()
+}
+
+/// Emits an abort (specifier 4 both ways).
+#[inline]
+fn emit_abort(buf: &mut [u8; 8], index: u16, sub: u8, code: AbortCode) -> usize {
+    put_command(buf, 0xE0, 0x80);
+    put_mux(buf, index, sub);
+    put_u32(buf, code.to_u32());
+    8
+}
+
+/// Emits the initiate that announces a block's data (client block
+/// download, server block upload; cs/ss = 0 of specifier 6).
+#[inline]
+fn emit_block_data_initiate(
+    buf: &mut [u8; 8],
+    index: u16,
+    sub: u8,
+    crc: bool,
+    size: Option<u32>,
+) -> usize {
+    put_command(
+        buf,
+        0xE7,
+        0xC0 | u8::from(crc) << 2 | u8::from(size.is_some()) << 1,
+    );
+    put_mux(buf, index, sub);
+    match size {
+        Some(size) => {
+            put_u32(buf, size);
+            8
+        }
+        None => 4,
+    }
+}
+
+/// Emits the end frame of a block's data (specifier 6, cs/ss = 1): the
+/// unused bytes of the last segment and the CRC.
+#[inline]
+fn emit_block_end(buf: &mut [u8; 8], unused: u8, crc: u16) -> usize {
+    put_command(buf, 0xFD, 0xC1 | (unused & 0x07) << 2);
+    put_data(buf, 1, &crc.to_le_bytes());
+    3
+}
+
+/// Emits a block acknowledgement (specifier 5, cs/ss = 2): the last
+/// sequence number received in order and the next block size.
+#[inline]
+fn emit_block_ack(buf: &mut [u8; 8], ackseq: u8, blksize: u8) -> usize {
+    put_command(buf, 0xE3, 0xA2);
+    put_data(buf, 1, &[ackseq, blksize]);
+    3
+}
+
+/// One segment of a block transfer's sub-block (CiA 301 section 7.2.4.3,
+/// SDO block download / upload): no command specifier, byte 0 is the
+/// sequence number (bits 6..=0) and the c bit (bit 7, no more segments),
+/// bytes 1..=7 the data. Its data length is not in the frame: every
+/// segment carries 7 bytes, the last one's unused bytes are in the end
+/// frame, so `data` holds every byte after byte 0.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct BlockSegment {
+    /// Sequence number in the sub-block (1..=127 on a valid frame).
+    pub seqno: u8,
+    /// The c bit: the last segment of the value.
+    pub last: bool,
+    /// The bytes after byte 0 (0..=7; 7 in a complete segment).
+    pub data: SegmentData,
+}
+
+impl BlockSegment {
+    /// Reads a sub-block segment (every checked frame is one).
+    #[must_use]
+    #[inline]
+    pub fn parse(frame: &SdoFrame) -> Self {
+        let b0 = frame.command();
+        BlockSegment {
+            seqno: b0 & 0x7F,
+            last: b0 & 0x80 != 0,
+            data: SegmentData::from_le_word(frame.word() >> 8, frame.len().saturating_sub(1)),
+        }
+    }
+
+    /// Writes the segment into `buf`; returns its length (1 + data).
+    #[inline]
+    pub fn emit(&self, buf: &mut [u8; 8]) -> usize {
+        put_command(buf, 0xFF, (self.seqno & 0x7F) | u8::from(self.last) << 7);
+        put_data(buf, 1, self.data.as_slice());
+        self.buffer_len()
+    }
+
+    /// The bytes the segment takes: byte 0 and its data.
+    #[must_use]
+    pub const fn buffer_len(&self) -> usize {
+        1 + self.data.len()
+    }
+}
+
+macro_rules! sdo_frame {
+    ($(#[$doc:meta])* $name:ident, $cmd:ty) => {
+        $(#[$doc])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub struct $name {
+            /// The typed command.
+            pub command: $cmd,
+            frame: SdoFrame,
+        }
+
+        impl $name {
+            /// A frame carrying `command`, with reserved bytes zero and DLC 8.
+            #[must_use]
+            #[inline]
+            pub const fn new(command: $cmd) -> Self {
+                $name {
+                    command,
+                    frame: SdoFrame::ZERO,
+                }
+            }
+
+            /// Decodes an SDO frame's data (0..=8 bytes).
+            pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
+                Self::parse(SdoFrame::new_checked(data)?)
+            }
+
+            /// Decodes a frame's data straight from its 8-byte buffer (no copy).
+            #[inline]
+            pub fn decode_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
+                Self::parse(SdoFrame::of_frame(frame)?)
+            }
+
+            /// The command of `frame`, with its bytes kept.
+            #[inline]
+            pub fn parse(frame: SdoFrame) -> Result<Self, DecodeError> {
+                Ok($name {
+                    command: <$cmd>::parse(&frame)?,
+                    frame,
+                })
+            }
+
+            /// The data bytes and length. Bytes the command does not define
+            /// come from the decoded frame (zero for [`Self::new`]); the length
+            /// is the decoded frame's, raised to what the command needs.
+            #[must_use]
+            #[inline]
+            pub fn encode(&self) -> ([u8; 8], usize) {
+                let mut bytes = self.frame.bytes;
+                let need = self.command.emit(&mut bytes);
+                let len = self.frame.len().max(need).min(8);
+                for b in bytes.iter_mut().skip(len) {
+                    *b = 0;
+                }
+                (bytes, len)
+            }
+
+            /// The frame's bytes as decoded (for reinterpreting block
+            /// sub-block segments); for [`Self::new`], 8 zero bytes.
+            #[must_use]
+            pub fn bytes(&self) -> &[u8] {
+                self.frame.as_bytes()
+            }
+        }
+
+        impl From<$cmd> for $name {
+            fn from(command: $cmd) -> Self {
+                Self::new(command)
+            }
+        }
+    };
+}
+
+sdo_frame!(
+    /// A client-to-server SDO frame (0x600 + node).
+    ///
+    /// ```
+    /// use canopen_codec::sdo::{ClientCommand, SdoRequest};
+    /// // [V1] upload 1018h sub 1.
+    /// let req = SdoRequest::decode(&[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]).unwrap();
+    /// assert_eq!(req.command, ClientCommand::InitiateUpload { index: 0x1018, sub: 1 });
+    /// assert_eq!(SdoRequest::new(req.command).encode(), ([0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0], 8));
+    /// ```
+    SdoRequest,
+    ClientCommand
+);
+
+sdo_frame!(
+    /// A server-to-client SDO frame (0x580 + node).
+    ///
+    /// ```
+    /// use canopen_codec::sdo::{InitiatePayload, SdoResponse, ServerCommand};
+    /// // [V1b] python-canopen's DLC 5 expedited response: 1 byte, FEh.
+    /// let resp = SdoResponse::decode(&[0x4F, 0x00, 0x14, 0x02, 0xFE]).unwrap();
+    /// let ServerCommand::InitiateUpload { index, sub, payload } = resp.command else { panic!() };
+    /// assert_eq!((index, sub), (0x1400, 2));
+    /// let InitiatePayload::Expedited { data, size_indicated } = payload else { panic!() };
+    /// assert_eq!((data.as_slice(), size_indicated), (&[0xFE][..], true));
+    /// assert_eq!(resp.encode(), ([0x4F, 0x00, 0x14, 0x02, 0xFE, 0, 0, 0], 5));
+    /// ```
+    SdoResponse,
+    ServerCommand
+);
+
+/// Reads the little-endian u32 abort code of an abort frame, if present.
+#[must_use]
+pub fn abort_code_of(data: &[u8]) -> Option<AbortCode> {
+    let bytes = data.get(4..8)?;
+    Some(AbortCode::from(LittleEndian::read_u32(bytes)))
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,244 @@
+//! Requests, client to server (CiA 301 section 7.2.4.3, SDO protocols):
+//! [`ClientCommand`] and its block families, read from and written to the
+//! frame in one place.
+
+use super::{
+    emit_abort, emit_block_ack, emit_block_data_initiate, emit_block_end, emit_initiate,
+    emit_segment, needed, put_command, put_data, put_mux, Side, SdoFrame,
+};
+use crate::error::DecodeError;
+use crate::sdo::abort::AbortCode;
+use crate::sdo::data::{InitiatePayload, Segment};
+
+/// Block upload commands a client sends (ccs = 5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ClientBlockUpload {
+    /// cs = 0: initiate, with the client's CRC support, block size and
+    /// protocol switch threshold.
+    Initiate {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// cc: client supports CRC.
+        crc: bool,
+        /// Segments per block, 1..=127 (kept as received).
+        blksize: u8,
+        /// Protocol switch threshold (0: no switch).
+        pst: u8,
+    },
+    /// cs = 3: start the upload.
+    Start,
+    /// cs = 2: acknowledge a sub-block.
+    Ack {
+        /// Last sequence number received correctly.
+        ackseq: u8,
+        /// Size of the next block.
+        blksize: u8,
+    },
+    /// cs = 1: end of the transfer acknowledged.
+    End,
+}
+
+/// Block download commands a client sends (ccs = 6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ClientBlockDownload {
+    /// cs = 0: initiate, with CRC support and the size when indicated.
+    Initiate {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// cc: client supports CRC.
+        crc: bool,
+        /// Total size when s = 1.
+        size: Option<u32>,
+    },
+    /// cs = 1: end, with the unused bytes of the last segment and the CRC.
+    End {
+        /// n: bytes of the last segment that carry no data (0..=7).
+        unused: u8,
+        /// CRC-16/XMODEM of the whole value (0 when CRC is not in use).
+        crc: u16,
+    },
+}
+
+/// A client-to-server SDO command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ClientCommand {
+    /// ccs = 0: a download segment.
+    DownloadSegment(Segment),
+    /// ccs = 1: initiate a download (write) of `index`/`sub`.
+    InitiateDownload {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// Expedited data or the segmented size.
+        payload: InitiatePayload,
+    },
+    /// ccs = 2: initiate an upload (read) of `index`/`sub`.
+    InitiateUpload {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+    },
+    /// ccs = 3: request the next upload segment.
+    UploadSegment {
+        /// The t bit.
+        toggle: bool,
+    },
+    /// ccs = 4: abort the transfer.
+    Abort {
+        /// Object index of the transfer.
+        index: u16,
+        /// Sub-index of the transfer.
+        sub: u8,
+        /// Why.
+        code: AbortCode,
+    },
+    /// ccs = 5: block upload.
+    BlockUpload(ClientBlockUpload),
+    /// ccs = 6: block download.
+    BlockDownload(ClientBlockDownload),
+    /// ccs = 7 (not defined by CiA 301): byte 0 as received. A server answers
+    /// it with abort 05040001h.
+    Unknown(u8),
+}
+
+impl ClientCommand {
+    /// Reads the request in `frame`: [`DecodeError::Truncated`] when the
+    /// frame is shorter than its command needs ([`needed`]); every byte 0
+    /// decodes (ccs = 7 as [`ClientCommand::Unknown`]).
+    #[inline]
+    pub fn parse(frame: &SdoFrame) -> Result<Self, DecodeError> {
+        let b0 = frame.command();
+        frame.check_len(needed(Side::Client, b0))?;
+        let (index, sub) = (frame.index(), frame.sub());
+        let crc = b0 & 0x04 != 0;
+        Ok(match b0 >> 5 {
+            0 => ClientCommand::DownloadSegment(frame.segment()),
+            1 => ClientCommand::InitiateDownload {
+                index,
+                sub,
+                payload: frame.initiate_payload(),
+            },
+            2 => ClientCommand::InitiateUpload { index, sub },
+            3 => ClientCommand::UploadSegment {
+                toggle: b0 & 0x10 != 0,
+            },
+            4 => ClientCommand::Abort {
+                index,
+                sub,
+                code: AbortCode::from(frame.u32_at_4()),
+            },
+            5 => ClientCommand::BlockUpload(match b0 & 0x03 {
+                0 => ClientBlockUpload::Initiate {
+                    index,
+                    sub,
+                    crc,
+                    blksize: frame.byte(4),
+                    pst: frame.byte(5),
+                },
+                1 => ClientBlockUpload::End,
+                2 => ClientBlockUpload::Ack {
+                    ackseq: frame.byte(1),
+                    blksize: frame.byte(2),
+                },
+                _ => ClientBlockUpload::Start,
+            }),
+            6 => ClientCommand::BlockDownload(if b0 & 0x01 == 0 {
+                ClientBlockDownload::Initiate {
+                    index,
+                    sub,
+                    crc,
+                    size: frame.block_size_field(),
+                }
+            } else {
+                ClientBlockDownload::End {
+                    unused: (b0 >> 2) & 0x07,
+                    crc: frame.block_crc(),
+                }
+            }),
+            _ => ClientCommand::Unknown(b0),
+        })
+    }
+
+    /// Writes the request into `buf` and returns the bytes it needs. Bits
+    /// and bytes the command leaves undefined keep what `buf` holds (zero
+    /// for a fresh buffer; a decoded frame's reserved bits survive).
+    pub fn emit(&self, buf: &mut [u8; 8]) -> usize {
+        match self {
+            ClientCommand::DownloadSegment(seg) => emit_segment(buf, 0, seg),
+            ClientCommand::InitiateDownload {
+                index,
+                sub,
+                payload,
+            } => emit_initiate(buf, 1, *index, *sub, payload),
+            ClientCommand::InitiateUpload { index, sub } => {
+                put_command(buf, 0xE0, 0x40);
+                put_mux(buf, *index, *sub);
+                4
+            }
+            ClientCommand::UploadSegment { toggle } => {
+                put_command(buf, 0xF0, 0x60 | u8::from(*toggle) << 4);
+                1
+            }
+            ClientCommand::Abort { index, sub, code } => emit_abort(buf, *index, *sub, *code),
+            ClientCommand::BlockUpload(b) => match b {
+                ClientBlockUpload::Initiate {
+                    index,
+                    sub,
+                    crc,
+                    blksize,
+                    pst,
+                } => {
+                    put_command(buf, 0xE7, 0xA0 | u8::from(*crc) << 2);
+                    put_mux(buf, *index, *sub);
+                    put_data(buf, 4, &[*blksize, *pst]);
+                    6
+                }
+                ClientBlockUpload::End => {
+                    put_command(buf, 0xE3, 0xA1);
+                    1
+                }
+                ClientBlockUpload::Ack { ackseq, blksize } => {
+                    emit_block_ack(buf, *ackseq, *blksize)
+                }
+                ClientBlockUpload::Start => {
+                    put_command(buf, 0xE3, 0xA3);
+                    1
+                }
+            },
+            ClientCommand::BlockDownload(b) => match b {
+                ClientBlockDownload::Initiate {
+                    index,
+                    sub,
+                    crc,
+                    size,
+                } => emit_block_data_initiate(buf, *index, *sub, *crc, *size),
+                ClientBlockDownload::End { unused, crc } => emit_block_end(buf, *unused, *crc),
+            },
+            ClientCommand::Unknown(b) => {
+                put_command(buf, 0xFF, *b);
+                1
+            }
+        }
+    }
+
+    /// The bytes the request needs (what [`Self::emit`] returns).
+    #[must_use]
+    pub fn buffer_len(&self) -> usize {
+        self.emit(&mut [0; 8])
+    }
+
+    /// The request as the 8 bytes a machine sends (DLC 8, every byte the
+    /// command leaves undefined zero).
+    #[must_use]
+    pub fn to_bytes(&self) -> [u8; 8] {
+        let mut buf = [0u8; 8];
+        self.emit(&mut buf);
+        buf
+    }
+}

@@ -1,0 +1,234 @@
+//! Responses, server to client (CiA 301 section 7.2.4.3, SDO protocols):
+//! [`ServerCommand`] and its block families, read from and written to the
+//! frame in one place.
+
+use super::{
+    emit_abort, emit_block_ack, emit_block_data_initiate, emit_block_end, emit_initiate,
+    emit_segment, needed, put_command, put_data, put_mux, Side, SdoFrame,
+};
+use crate::error::DecodeError;
+use crate::sdo::abort::AbortCode;
+use crate::sdo::data::{InitiatePayload, Segment};
+
+/// Block download responses a server sends (scs = 5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ServerBlockDownload {
+    /// ss = 0: initiate response.
+    Initiate {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// sc: server supports CRC.
+        crc: bool,
+        /// Segments per block.
+        blksize: u8,
+    },
+    /// ss = 2: sub-block acknowledged.
+    Ack {
+        /// Last sequence number received correctly.
+        ackseq: u8,
+        /// Size of the next block.
+        blksize: u8,
+    },
+    /// ss = 1: end acknowledged.
+    End,
+}
+
+/// Block upload responses a server sends (scs = 6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ServerBlockUpload {
+    /// ss = 0: initiate response, with CRC support and size when indicated.
+    Initiate {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// sc: server supports CRC.
+        crc: bool,
+        /// Total size when s = 1.
+        size: Option<u32>,
+    },
+    /// ss = 1: end, with the unused bytes of the last segment and the CRC.
+    End {
+        /// n: bytes of the last segment that carry no data (0..=7).
+        unused: u8,
+        /// CRC-16/XMODEM of the whole value.
+        crc: u16,
+    },
+}
+
+/// A server-to-client SDO command.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ServerCommand {
+    /// scs = 0: an upload segment.
+    UploadSegment(Segment),
+    /// scs = 1: a download segment acknowledged.
+    DownloadSegment {
+        /// The t bit (echoes the segment's).
+        toggle: bool,
+    },
+    /// scs = 2: the upload is initiated, with expedited data or the size.
+    InitiateUpload {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+        /// Expedited data or the segmented size.
+        payload: InitiatePayload,
+    },
+    /// scs = 3: the download is initiated (or, expedited, done).
+    InitiateDownload {
+        /// Object index.
+        index: u16,
+        /// Sub-index.
+        sub: u8,
+    },
+    /// scs = 4: abort the transfer.
+    Abort {
+        /// Object index of the transfer.
+        index: u16,
+        /// Sub-index of the transfer.
+        sub: u8,
+        /// Why.
+        code: AbortCode,
+    },
+    /// scs = 5: block download response.
+    BlockDownload(ServerBlockDownload),
+    /// scs = 6: block upload response.
+    BlockUpload(ServerBlockUpload),
+    /// scs = 7, or scs = 5 with ss = 3 (not defined by CiA 301): byte 0 as
+    /// received.
+    Unknown(u8),
+}
+
+impl ServerCommand {
+    /// Reads the response in `frame`: [`DecodeError::Truncated`] when the
+    /// frame is shorter than its command needs ([`needed`]); every byte 0
+    /// decodes (scs = 7, and scs = 5 with ss = 3, as
+    /// [`ServerCommand::Unknown`]).
+    #[inline]
+    pub fn parse(frame: &SdoFrame) -> Result<Self, DecodeError> {
+        let b0 = frame.command();
+        frame.check_len(needed(Side::Server, b0))?;
+        let (index, sub) = (frame.index(), frame.sub());
+        let crc = b0 & 0x04 != 0;
+        Ok(match b0 >> 5 {
+            0 => ServerCommand::UploadSegment(frame.segment()),
+            1 => ServerCommand::DownloadSegment {
+                toggle: b0 & 0x10 != 0,
+            },
+            2 => ServerCommand::InitiateUpload {
+                index,
+                sub,
+                payload: frame.initiate_payload(),
+            },
+            3 => ServerCommand::InitiateDownload { index, sub },
+            4 => ServerCommand::Abort {
+                index,
+                sub,
+                code: AbortCode::from(frame.u32_at_4()),
+            },
+            5 => match b0 & 0x03 {
+                0 => ServerCommand::BlockDownload(ServerBlockDownload::Initiate {
+                    index,
+                    sub,
+                    crc,
+                    blksize: frame.byte(4),
+                }),
+                1 => ServerCommand::BlockDownload(ServerBlockDownload::End),
+                2 => ServerCommand::BlockDownload(ServerBlockDownload::Ack {
+                    ackseq: frame.byte(1),
+                    blksize: frame.byte(2),
+                }),
+                _ => ServerCommand::Unknown(b0),
+            },
+            6 => ServerCommand::BlockUpload(if b0 & 0x01 == 0 {
+                ServerBlockUpload::Initiate {
+                    index,
+                    sub,
+                    crc,
+                    size: frame.block_size_field(),
+                }
+            } else {
+                ServerBlockUpload::End {
+                    unused: (b0 >> 2) & 0x07,
+                    crc: frame.block_crc(),
+                }
+            }),
+            _ => ServerCommand::Unknown(b0),
+        })
+    }
+
+    /// Writes the response into `buf` and returns the bytes it needs. Bits
+    /// and bytes the command leaves undefined keep what `buf` holds (zero
+    /// for a fresh buffer; a decoded frame's reserved bits survive).
+    pub fn emit(&self, buf: &mut [u8; 8]) -> usize {
+        match self {
+            ServerCommand::UploadSegment(seg) => emit_segment(buf, 0, seg),
+            ServerCommand::DownloadSegment { toggle } => {
+                put_command(buf, 0xF0, 0x20 | u8::from(*toggle) << 4);
+                1
+            }
+            ServerCommand::InitiateUpload {
+                index,
+                sub,
+                payload,
+            } => emit_initiate(buf, 2, *index, *sub, payload),
+            ServerCommand::InitiateDownload { index, sub } => {
+                put_command(buf, 0xE0, 0x60);
+                put_mux(buf, *index, *sub);
+                4
+            }
+            ServerCommand::Abort { index, sub, code } => emit_abort(buf, *index, *sub, *code),
+            ServerCommand::BlockDownload(b) => match b {
+                ServerBlockDownload::Initiate {
+                    index,
+                    sub,
+                    crc,
+                    blksize,
+                } => {
+                    put_command(buf, 0xE7, 0xA0 | u8::from(*crc) << 2);
+                    put_mux(buf, *index, *sub);
+                    put_data(buf, 4, &[*blksize]);
+                    5
+                }
+                ServerBlockDownload::End => {
+                    put_command(buf, 0xE3, 0xA1);
+                    1
+                }
+                ServerBlockDownload::Ack { ackseq, blksize } => {
+                    emit_block_ack(buf, *ackseq, *blksize)
+                }
+            },
+            ServerCommand::BlockUpload(b) => match b {
+                ServerBlockUpload::Initiate {
+                    index,
+                    sub,
+                    crc,
+                    size,
+                } => emit_block_data_initiate(buf, *index, *sub, *crc, *size),
+                ServerBlockUpload::End { unused, crc } => emit_block_end(buf, *unused, *crc),
+            },
+            ServerCommand::Unknown(b) => {
+                put_command(buf, 0xFF, *b);
+                1
+            }
+        }
+    }
+
+    /// The bytes the response needs (what [`Self::emit`] returns).
+    #[must_use]
+    pub fn buffer_len(&self) -> usize {
+        self.emit(&mut [0; 8])
+    }
+
+    /// The response as the 8 bytes a machine sends (DLC 8, every byte the
+    /// command leaves undefined zero).
+    #[must_use]
+    pub fn to_bytes(&self) -> [u8; 8] {
+        let mut buf = [0u8; 8];
+        self.emit(&mut buf);
+        buf
+    }
+}
