@@ -36,14 +36,16 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         let Ok(command) = SdoFrame::of_frame(frame).and_then(|f| ServerCommand::parse(&f)) else {
             return;
         };
-        match (&self.state, command) {
-            (_, ServerCommand::Abort { code, .. }) => return self.aborted_by_peer(code),
+        match command {
+            ServerCommand::Abort { code, .. } => return self.aborted_by_peer(code),
             #[cfg(feature = "sdo-client-segmented")]
-            (State::Uploading { .. }, ServerCommand::UploadSegment(segment)) => {
+            ServerCommand::UploadSegment(segment) if matches!(self.state, State::Uploading { .. }) => {
                 return self.upload_segment(now, &segment);
             }
             #[cfg(feature = "sdo-client-segmented")]
-            (State::Downloading { .. }, ServerCommand::DownloadSegment { toggle }) => {
+            ServerCommand::DownloadSegment { toggle }
+                if matches!(self.state, State::Downloading { .. }) =>
+            {
                 return self.download_ack(now, toggle);
             }
             _ => {}

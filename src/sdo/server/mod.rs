@@ -487,6 +487,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
 
     /// Queues `command` as a frame of 8 bytes on the response identifier
     /// (every byte the command leaves undefined zero).
+    #[inline(always)]
     fn send(&mut self, command: ServerCommand) {
         if self.config.sends {
             // The identifier was checked in `new`.
@@ -626,27 +627,26 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             return;
         };
         // One call site of `initiate` for both directions.
-        let (index, sub, download) = match (&self.state, request) {
-            (State::Uploading { .. }, ClientCommand::UploadSegment { toggle }) => {
+        let (index, sub, download) = match request {
+            ClientCommand::UploadSegment { toggle } if matches!(self.state, State::Uploading { .. }) => {
                 return self.upload_segment(now, toggle);
             }
-            (State::Downloading { .. }, ClientCommand::DownloadSegment(segment)) => {
+            ClientCommand::DownloadSegment(segment)
+                if matches!(self.state, State::Downloading { .. }) =>
+            {
                 return self.download_segment(now, &segment);
             }
-            (_, ClientCommand::InitiateUpload { index, sub }) => (index, sub, None),
-            (
-                _,
-                ClientCommand::InitiateDownload {
-                    index,
-                    sub,
-                    payload,
-                },
-            ) => (index, sub, Some(payload)),
-            (_, ClientCommand::Abort { code, .. }) => return self.abort_by_peer(code),
+            ClientCommand::InitiateUpload { index, sub } => (index, sub, None),
+            ClientCommand::InitiateDownload {
+                index,
+                sub,
+                payload,
+            } => (index, sub, Some(payload)),
+            ClientCommand::Abort { code, .. } => return self.abort_by_peer(code),
             #[cfg(feature = "sdo-block")]
-            (_, ClientCommand::BlockUpload(b)) => return self.on_block_upload(now, b),
+            ClientCommand::BlockUpload(b) => return self.on_block_upload(now, b),
             #[cfg(feature = "sdo-block")]
-            (_, ClientCommand::BlockDownload(b)) => {
+            ClientCommand::BlockDownload(b) => {
                 return self.on_block_download(now, b, frame.data())
             }
             // CiA 301 section 7.2.4.3 makes block transfer optional: a
@@ -656,17 +656,14 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             // its own object; any other block command aborts the running
             // transfer, as an unknown command does.
             #[cfg(not(feature = "sdo-block"))]
-            (
-                _,
-                ClientCommand::BlockUpload(crate::sdo::ClientBlockUpload::Initiate {
-                    index, sub, ..
-                })
-                | ClientCommand::BlockDownload(crate::sdo::ClientBlockDownload::Initiate {
-                    index,
-                    sub,
-                    ..
-                }),
-            ) => {
+            ClientCommand::BlockUpload(crate::sdo::ClientBlockUpload::Initiate {
+                index, sub, ..
+            })
+            | ClientCommand::BlockDownload(crate::sdo::ClientBlockDownload::Initiate {
+                index,
+                sub,
+                ..
+            }) => {
                 self.supersede();
                 return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
             }
