@@ -586,7 +586,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
 
     /// Queues `command` as a frame of 8 bytes on the request identifier
     /// (every byte the command leaves undefined zero).
-    #[inline(always)]
+    #[inline]
     fn send(&mut self, command: ClientCommand) {
         if self.sends {
             // The identifier was checked in `new`.

@@ -24,6 +24,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// the transfer with the server's code; a segment of the running
     /// segmented transfer goes to its rules with the state updated in
     /// place; every other response is matched against the state taken out.
+    /// Out of line: a device routing its frames stays one loop.
     #[inline(never)]
     pub(super) fn response(&mut self, now: Timestamp, frame: &CanFrame) {
         if !self.is_busy() {

@@ -487,7 +487,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
 
     /// Queues `command` as a frame of 8 bytes on the response identifier
     /// (every byte the command leaves undefined zero).
-    #[inline(always)]
+    #[inline]
     fn send(&mut self, command: ServerCommand) {
         if self.config.sends {
             // The identifier was checked in `new`.
@@ -616,7 +616,8 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// read by the wire layer ([`ClientCommand::parse`]; frames too short
     /// for their command are ignored) and matched against the running
     /// transfer. The segment of a running segmented transfer updates the
-    /// state in place.
+    /// state in place. Out of line: a device routing its frames stays one
+    /// loop.
     #[inline(never)]
     fn handle_request(&mut self, now: Timestamp, frame: &CanFrame) {
         #[cfg(feature = "sdo-block")]
