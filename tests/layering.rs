@@ -142,7 +142,7 @@ fn cia301_layers_never_name_a_profile() {
     assert!(checked >= 40, "only {checked} CiA 301 files found");
     for must in [
         "frame.rs",
-        "sdo/server.rs",
+        "sdo/server/mod.rs",
         "pdo/defaults.rs",
         "pdo/catalogue/mod.rs",
     ] {
@@ -161,7 +161,7 @@ fn which_files_are_layers() {
         "display.rs",
         "pdo/defaults.rs",
         "pdo/catalogue/tests.rs",
-        "sdo/server.rs",
+        "sdo/server/mod.rs",
         "od/index.rs",
     ] {
         assert!(is_cia301_layer(Path::new(layer)), "{layer}");

@@ -122,8 +122,7 @@ pub use server::{
 };
 pub use wire::{
     abort_code_of, needed, BlockSegment, ClientBlockDownload, ClientBlockUpload, ClientCommand,
-    SdoFrame, SdoRequest, SdoResponse, ServerBlockDownload, ServerBlockUpload, ServerCommand,
-    Side,
+    SdoFrame, SdoRequest, SdoResponse, ServerBlockDownload, ServerBlockUpload, ServerCommand, Side,
 };
 
 #[cfg(test)]

@@ -47,12 +47,14 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         let Ok(size) = u32::try_from(len) else {
             return Err(ClientError::TooLong { len });
         };
-        self.send(ClientCommand::BlockDownload(ClientBlockDownload::Initiate {
-            index,
-            sub,
-            crc: self.config.crc,
-            size: Some(size),
-        }));
+        self.send(ClientCommand::BlockDownload(
+            ClientBlockDownload::Initiate {
+                index,
+                sub,
+                crc: self.config.crc,
+                size: Some(size),
+            },
+        ));
         self.state = State::BlockDownloadInitiated { index, sub, data };
         self.arm(now);
         Ok(())

@@ -302,9 +302,9 @@ pub struct Client<D = &'static [u8], const EVENTS: usize = DEFAULT_EVENT_CAPACIT
     config: ClientConfig,
     /// `config.timeout` in microseconds, computed once.
     timeout_us: u64,
-    /// The identifier word of a data frame on `config.response_id`
+    /// What `CanFrame::word` gives for a data frame on `config.response_id`
     /// (`u32::MAX`, matching no frame, when it is out of range).
-    response_word: u32,
+    response_filter: u32,
     /// The identifier it sends on is valid (checked once, not per frame).
     sends: bool,
     state: State<D>,
@@ -339,7 +339,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         Client {
             config,
             timeout_us: crate::time::micros_of(config.timeout),
-            response_word: crate::frame::data_frame_word(config.response_id),
+            response_filter: crate::frame::data_frame_word(config.response_id),
             sends: crate::frame::check_id(config.request_id).is_ok(),
             state: State::Idle,
             timers: Timers::new(),
@@ -637,7 +637,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Machine for Client<D, EVENTS> {
     /// and frames too short for their command are ignored.
     fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
         // A data frame on the response identifier: one compare.
-        if frame.word() != self.response_word {
+        if frame.word() != self.response_filter {
             return;
         }
         self.response(now, frame);

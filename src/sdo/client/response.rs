@@ -40,7 +40,9 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         match command {
             ServerCommand::Abort { code, .. } => return self.aborted_by_peer(code),
             #[cfg(feature = "sdo-client-segmented")]
-            ServerCommand::UploadSegment(segment) if matches!(self.state, State::Uploading { .. }) => {
+            ServerCommand::UploadSegment(segment)
+                if matches!(self.state, State::Uploading { .. }) =>
+            {
                 return self.upload_segment(now, &segment);
             }
             #[cfg(feature = "sdo-client-segmented")]

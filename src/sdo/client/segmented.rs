@@ -11,7 +11,13 @@ use crate::time::Timestamp;
 impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// The server answered the upload initiate with the size (or without
     /// it): the first upload segment request (ccs = 3).
-    pub(super) fn segmented_upload(&mut self, now: Timestamp, index: u16, sub: u8, size: Option<u32>) {
+    pub(super) fn segmented_upload(
+        &mut self,
+        now: Timestamp,
+        index: u16,
+        sub: u8,
+        size: Option<u32>,
+    ) {
         let rx = Segments::new(size.map(|s| usize::try_from(s).unwrap_or(usize::MAX)));
         self.send(ClientCommand::UploadSegment {
             toggle: rx.toggle(),
@@ -95,7 +101,6 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         self.send(ClientCommand::DownloadSegment(segment));
         self.arm(now);
     }
-
 }
 
 /// The download segment of `value` from `from` with toggle `toggle`

@@ -6,16 +6,17 @@
 use super::{
     BreakReason, Direction, Observed, ObserverEvent, SdoChannel, Side, Sink, Transfer, TransferKind,
 };
+use crate::bytes::Payload;
+use crate::frame::CanFrame;
 use crate::sdo::abort::AbortCode;
 use crate::sdo::data::{InitiatePayload, Segment, SegmentData};
+use crate::sdo::rules::block::is_abort;
 use crate::sdo::rules::block::{check_block_size, Receiver};
 use crate::sdo::rules::segmented::{check_toggle, Segments};
 use crate::sdo::wire::{
-    ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoRequest, SdoResponse,
-    ServerBlockDownload, ServerBlockUpload, ServerCommand,
+    BlockSegment, ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoFrame, SdoRequest,
+    SdoResponse, ServerBlockDownload, ServerBlockUpload, ServerCommand,
 };
-use crate::bytes::Payload;
-use crate::frame::CanFrame;
 use crate::time::Timestamp;
 
 /// Where an open transfer stands: what the next frame may be.
@@ -374,24 +375,26 @@ fn block_segment(
         Phase::Violated {
             segments_from: Some(side),
             ..
-        } if *side == from => bytes.first() != Some(&0x80),
+        } if *side == from => !is_abort(bytes),
         _ => false,
     };
-    let [b0, data @ ..] = bytes else {
-        return taken.then_some(Observed::BlockSegment {
-            channel,
-            from,
+    if !taken {
+        return None;
+    }
+    let segment = match SdoFrame::new_checked(bytes) {
+        Ok(frame) => BlockSegment::parse(&frame),
+        Err(_) => BlockSegment {
             seqno: 0,
             last: false,
             data: SegmentData::EMPTY,
-        });
+        },
     };
-    taken.then(|| Observed::BlockSegment {
+    Some(Observed::BlockSegment {
         channel,
         from,
-        seqno: b0 & 0x7F,
-        last: b0 & 0x80 != 0,
-        data: SegmentData::new(data.get(..data.len().min(7)).unwrap_or(&[])).unwrap_or_default(),
+        seqno: segment.seqno,
+        last: segment.last,
+        data: segment.data,
     })
 }
 

@@ -29,10 +29,12 @@ pub(crate) const MAX_BLOCK_SIZE: u8 = 127;
 /// Data bytes per segment.
 const SEGMENT: usize = 7;
 
-/// Byte 0 of an abort frame; in the sub-block phase every other frame from
-/// the sender of the data is a segment (sequence number 0 with c = 1 is not
-/// a segment).
-const ABORT: u8 = 0x80;
+/// True for an abort frame (byte 0 80h): in the sub-block phase every
+/// other frame from the sender of the data is a segment (sequence number 0
+/// with c = 1 is not a segment).
+pub(crate) fn is_abort(bytes: &[u8]) -> bool {
+    SdoFrame::new_checked(bytes).is_ok_and(|frame| frame.command() == 0x80)
+}
 
 /// Checks a block size from the peer: 05040002h unless it is 1..=127.
 pub(crate) const fn check_block_size(blksize: u8) -> Result<u8, AbortCode> {
@@ -276,7 +278,7 @@ impl Receiver {
         if self.is_duplicate(bytes) {
             return Some(Ok(Step::default()));
         }
-        if self.is_done() || bytes.first() == Some(&ABORT) {
+        if self.is_done() || is_abort(bytes) {
             return None;
         }
         Some(self.on_segment(bytes))

@@ -5,9 +5,9 @@
 use std::string::String;
 use std::vec::Vec;
 
-use crate::sdo::*;
 use super::tests::*;
 use crate::machine::Machine;
+use crate::sdo::*;
 use crate::time::Timestamp;
 
 #[test]

@@ -6,11 +6,11 @@
 use std::string::String;
 use std::vec::Vec;
 
-use crate::sdo::*;
 use super::{Acked, Planned, Receiver, Sender, Step};
 use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
+use crate::sdo::*;
 use crate::time::Timestamp;
 use crate::NodeId;
 

@@ -4,11 +4,11 @@
 //! rules themselves are shared with the client (`crate::sdo::rules::block`).
 
 use super::{AbortCode, ObjectDictionary, Server, ServerCommand, ServerEvent, State};
+use crate::frame::CanFrame;
 use crate::sdo::rules::block::{check_block_size, clamp_block_size, Acked, Receiver, Sender};
 use crate::sdo::wire::{
     ClientBlockDownload, ClientBlockUpload, ServerBlockDownload, ServerBlockUpload,
 };
-use crate::frame::CanFrame;
 use crate::time::Timestamp;
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
@@ -271,12 +271,14 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             }
         }
         let blksize = clamp_block_size(self.config.block_size);
-        self.send(ServerCommand::BlockDownload(ServerBlockDownload::Initiate {
-            index,
-            sub,
-            crc: self.config.crc,
-            blksize,
-        }));
+        self.send(ServerCommand::BlockDownload(
+            ServerBlockDownload::Initiate {
+                index,
+                sub,
+                crc: self.config.crc,
+                blksize,
+            },
+        ));
         self.state = State::BlockDownloading {
             index,
             sub,

@@ -5,7 +5,7 @@
 //! rule and written from the frame, one per request.
 
 use super::{
-    AbortCode, Initiated, InitiatePayload, ObjectDictionary, ObjectInfo, Server, ServerCommand,
+    AbortCode, InitiatePayload, Initiated, ObjectDictionary, ObjectInfo, Server, ServerCommand,
     ServerEvent, SizeRule, State,
 };
 use crate::sdo::data::Segment;

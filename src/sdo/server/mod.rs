@@ -276,9 +276,9 @@ pub struct Server<D, const EVENTS: usize = DEFAULT_EVENT_CAPACITY> {
     /// The configuration's timeout in microseconds, computed once (the
     /// one copy of it the server keeps).
     timeout_us: u64,
-    /// The identifier word of a data frame on `config.request_id`
+    /// What `CanFrame::word` gives for a data frame on `config.request_id`
     /// (`u32::MAX`, matching no frame, when it is out of range).
-    request_word: u32,
+    request_filter: u32,
     od: D,
     state: State,
     timers: Timers<1>,
@@ -354,8 +354,8 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                 sends: false,
             },
             timeout_us: 0,
-            // No frame has this word (see `data_frame_word`).
-            request_word: u32::MAX,
+            // No frame matches this (see `data_frame_word`).
+            request_filter: u32::MAX,
             od,
             state: State::Idle,
             timers: Timers::new(),
@@ -377,7 +377,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         self.cancel();
         self.config = Channel::new(&config);
         self.timeout_us = u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX);
-        self.request_word = crate::frame::data_frame_word(config.request_id);
+        self.request_filter = crate::frame::data_frame_word(config.request_id);
         self.timers = Timers::new();
         self.transmit = FrameSlot::new();
         self.events = EventQueue::new(ServerEvent::Uploaded {
@@ -568,13 +568,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// Both paths give the response and the transfer's end (an expedited transfer) or `None` (a segmented one,
     /// its state set): one call site of the response, the event and the
     /// timer.
-    fn initiate(
-        &mut self,
-        now: Timestamp,
-        index: u16,
-        sub: u8,
-        download: Option<InitiatePayload>,
-    ) {
+    fn initiate(&mut self, now: Timestamp, index: u16, sub: u8, download: Option<InitiatePayload>) {
         self.supersede();
         let result = match self.od.info(index, sub) {
             Ok(info) => match download {
@@ -629,7 +623,9 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         };
         // One call site of `initiate` for both directions.
         let (index, sub, download) = match request {
-            ClientCommand::UploadSegment { toggle } if matches!(self.state, State::Uploading { .. }) => {
+            ClientCommand::UploadSegment { toggle }
+                if matches!(self.state, State::Uploading { .. }) =>
+            {
                 return self.upload_segment(now, toggle);
             }
             ClientCommand::DownloadSegment(segment)
@@ -647,9 +643,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             #[cfg(feature = "sdo-block")]
             ClientCommand::BlockUpload(b) => return self.on_block_upload(now, b),
             #[cfg(feature = "sdo-block")]
-            ClientCommand::BlockDownload(b) => {
-                return self.on_block_download(now, b, frame.data())
-            }
+            ClientCommand::BlockDownload(b) => return self.on_block_download(now, b, frame.data()),
             // CiA 301 section 7.2.4.3 makes block transfer optional: a
             // server without it answers a block request like any command it
             // does not know, 05040001h. A block initiate is a new request:
@@ -658,7 +652,9 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             // transfer, as an unknown command does.
             #[cfg(not(feature = "sdo-block"))]
             ClientCommand::BlockUpload(crate::sdo::ClientBlockUpload::Initiate {
-                index, sub, ..
+                index,
+                sub,
+                ..
             })
             | ClientCommand::BlockDownload(crate::sdo::ClientBlockDownload::Initiate {
                 index,
@@ -692,7 +688,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Machine for Server<D, EVENTS> {
     /// and frames too short for their command are ignored.
     fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
         // A data frame on the request identifier: one compare.
-        if frame.word() != self.request_word {
+        if frame.word() != self.request_filter {
             return;
         }
         self.handle_request(now, frame);

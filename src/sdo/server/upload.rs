@@ -4,7 +4,7 @@
 //! transfer's offset, one per request.
 
 use super::{
-    AbortCode, Initiated, InitiatePayload, ObjectDictionary, ObjectInfo, Server, ServerCommand,
+    AbortCode, InitiatePayload, Initiated, ObjectDictionary, ObjectInfo, Server, ServerCommand,
     ServerEvent, State,
 };
 use crate::sdo::data::{ExpeditedData, Segment, SegmentData};

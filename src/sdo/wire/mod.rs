@@ -33,7 +33,7 @@
 use byteorder::{ByteOrder, LittleEndian};
 
 use super::abort::AbortCode;
-use super::data::{ExpeditedData, InitiatePayload, Segment, SegmentData};
+use super::data::{InitiatePayload, Segment, SegmentData};
 use crate::error::DecodeError;
 use crate::frame::CanFrame;
 
@@ -201,10 +201,14 @@ impl SdoFrame {
         u32::from_le_bytes([a, b, c, d])
     }
 
-    /// All 8 bytes as one little-endian word (zero past the length).
+    /// `len` data bytes from byte `at` (at most `N`; zero past the
+    /// frame's length).
     #[inline]
-    const fn word(&self) -> u64 {
-        u64::from_le_bytes(self.bytes)
+    fn data_at<const N: usize>(&self, at: u32, len: usize) -> crate::bytes::InlineData<N> {
+        let tail = u64::from_le_bytes(self.bytes)
+            .checked_shr(8 * at)
+            .unwrap_or(0);
+        crate::bytes::InlineData::from_le_word(tail, len)
     }
 
     /// `Ok` when the frame has `need` bytes, else the `Truncated` error.
@@ -228,7 +232,7 @@ impl SdoFrame {
         Segment {
             toggle: b0 & 0x10 != 0,
             last: b0 & 0x01 != 0,
-            data: SegmentData::from_le_word(self.word() >> 8, segment_data_len(b0)),
+            data: self.data_at(1, segment_data_len(b0)),
         }
     }
 
@@ -239,12 +243,12 @@ impl SdoFrame {
         let b0 = self.command();
         match (b0 & 0x02 != 0, b0 & 0x01 != 0) {
             (true, true) => InitiatePayload::Expedited {
-                data: ExpeditedData::from_le_word(self.word() >> 32, expedited_len(b0)),
+                data: self.data_at(4, expedited_len(b0)),
                 size_indicated: true,
             },
             // Size not indicated: every data byte the frame carried.
             (true, false) => InitiatePayload::Expedited {
-                data: ExpeditedData::from_le_word(self.word() >> 32, self.len().saturating_sub(4)),
+                data: self.data_at(4, self.len().saturating_sub(4)),
                 size_indicated: false,
             },
             (false, true) => InitiatePayload::Segmented {
@@ -493,7 +497,7 @@ impl BlockSegment {
         BlockSegment {
             seqno: b0 & 0x7F,
             last: b0 & 0x80 != 0,
-            data: SegmentData::from_le_word(frame.word() >> 8, frame.len().saturating_sub(1)),
+            data: frame.data_at(1, frame.len().saturating_sub(1)),
         }
     }
 

@@ -4,7 +4,7 @@
 
 use super::{
     emit_abort, emit_block_ack, emit_block_data_initiate, emit_block_end, emit_initiate,
-    emit_segment, needed, put_command, put_data, put_mux, Side, SdoFrame,
+    emit_segment, needed, put_command, put_data, put_mux, SdoFrame, Side,
 };
 use crate::error::DecodeError;
 use crate::sdo::abort::AbortCode;

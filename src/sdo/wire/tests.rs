@@ -5,6 +5,7 @@
 //! command specifier.
 
 use super::*;
+use crate::sdo::ExpeditedData;
 
 fn req(bytes: &[u8]) -> ClientCommand {
     let r = SdoRequest::decode(bytes).unwrap();
@@ -601,7 +602,11 @@ fn machine_frames_as_byte_literals() {
         [0x1D, 9, 0, 0, 0, 0, 0, 0]
     );
     assert_eq!(
-        c(ClientCommand::DownloadSegment(seg(false, false, &[1, 2, 3, 4, 5, 6, 7]))),
+        c(ClientCommand::DownloadSegment(seg(
+            false,
+            false,
+            &[1, 2, 3, 4, 5, 6, 7]
+        ))),
         [0x00, 1, 2, 3, 4, 5, 6, 7]
     );
     assert_eq!(
@@ -628,21 +633,25 @@ fn machine_frames_as_byte_literals() {
         [0xA4, 0x00, 0x20, 0x7F, 127, 4, 0, 0]
     );
     assert_eq!(
-        s(ServerCommand::BlockDownload(ServerBlockDownload::Initiate {
-            index,
-            sub,
-            crc: true,
-            blksize: 127
-        })),
+        s(ServerCommand::BlockDownload(
+            ServerBlockDownload::Initiate {
+                index,
+                sub,
+                crc: true,
+                blksize: 127
+            }
+        )),
         [0xA4, 0x00, 0x20, 0x7F, 127, 0, 0, 0]
     );
     assert_eq!(
-        c(ClientCommand::BlockDownload(ClientBlockDownload::Initiate {
-            index,
-            sub,
-            crc: true,
-            size: Some(7)
-        })),
+        c(ClientCommand::BlockDownload(
+            ClientBlockDownload::Initiate {
+                index,
+                sub,
+                crc: true,
+                size: Some(7)
+            }
+        )),
         [0xC6, 0x00, 0x20, 0x7F, 7, 0, 0, 0]
     );
     assert_eq!(
@@ -701,8 +710,7 @@ fn machine_frames_as_byte_literals() {
 #[test]
 fn requests_and_responses_by_hand() {
     let request = |data: &[u8]| SdoFrame::new_checked(data).and_then(|f| ClientCommand::parse(&f));
-    let response =
-        |data: &[u8]| SdoFrame::new_checked(data).and_then(|f| ServerCommand::parse(&f));
+    let response = |data: &[u8]| SdoFrame::new_checked(data).and_then(|f| ServerCommand::parse(&f));
     assert_eq!(
         request(&[0x2B, 0x17, 0x10, 0x00, 0xE8, 0x03, 0, 0]),
         Ok(ClientCommand::InitiateDownload {
