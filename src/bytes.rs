@@ -1,20 +1,11 @@
 //! Small inline byte carriers (no allocation).
 
-/// Copies `min(dst.len(), src.len())` bytes. CAN payloads are at most 8
-/// bytes: a copy of a constant length compiles to a few moves, where a
-/// dynamic-length copy (or a byte loop, which LLVM turns into one) is a call
-/// to `memcpy`. This keeps the decode and encode paths call-free on 64-bit
-/// hosts; on smaller targets, where the nine-way switch inlined at every
-/// use costs more flash than the call costs time, it is one `memcpy`.
+/// Copies the first `min(dst.len(), src.len())` bytes of a CAN payload
+/// (at most 8 in every caller). Each length of a classic CAN frame's data
+/// is its own fixed-size copy, so no caller pays for a general-purpose
+/// copy of an unknown length.
 #[inline]
-pub(crate) fn copy_short(dst: &mut [u8], src: &[u8]) {
-    if cfg!(not(target_pointer_width = "64")) {
-        let n = dst.len().min(src.len());
-        if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
-            d.copy_from_slice(s);
-        }
-        return;
-    }
+pub(crate) fn copy_payload(dst: &mut [u8], src: &[u8]) {
     #[inline(always)]
     fn fixed<const K: usize>(dst: &mut [u8], src: &[u8]) {
         if let (Some(d), Some(s)) = (dst.get_mut(..K), src.get(..K)) {
@@ -154,7 +145,7 @@ impl<const N: usize> InlineData<N> {
             return None;
         }
         let mut bytes = [0u8; N];
-        copy_short(&mut bytes, data);
+        copy_payload(&mut bytes, data);
         Some(InlineData {
             len: data.len() as u8,
             bytes,

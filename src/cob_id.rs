@@ -96,13 +96,6 @@ impl PdoNumber {
         self.0
     }
 
-    /// The PDO number of a PDO function code (`raw id >> 7`, 3..=10):
-    /// 0x180/0x200 are PDO 0, 0x280/0x300 PDO 1, and so on.
-    #[inline]
-    pub(crate) const fn from_function(function: u16) -> Self {
-        PdoNumber(((function.saturating_sub(3) / 2) & 3) as u8)
-    }
-
     /// The one-based number CiA 301 uses ("TPDO1" for `P0`).
     #[must_use]
     pub const fn cia_number(self) -> u8 {

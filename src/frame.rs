@@ -216,7 +216,7 @@ impl CanFrame {
             return Err(FrameError::TooLong { got: data.len() });
         }
         let mut buf = [0u8; MAX_DATA_LEN];
-        crate::bytes::copy_short(&mut buf, data);
+        crate::bytes::copy_payload(&mut buf, data);
         Ok(CanFrame {
             word: id_word(id),
             len: Dlc::clamped(data.len()),
@@ -279,18 +279,6 @@ impl CanFrame {
             CanId::Extended(self.word & MAX_EXTENDED_ID)
         } else {
             CanId::Standard((self.word & MAX_EXTENDED_ID) as u16)
-        }
-    }
-
-    /// The 11-bit identifier of a data frame; `None` for a remote frame or
-    /// a 29-bit identifier. One compare: the decode path's entry test.
-    #[must_use]
-    #[inline]
-    pub(crate) const fn standard_data_id(&self) -> Option<u16> {
-        if self.word <= MAX_STANDARD_ID as u32 {
-            Some(self.word as u16)
-        } else {
-            None
         }
     }
 
@@ -547,7 +535,6 @@ mod tests {
         let e = CanFrame::new(CanId::Extended(0x7FF), &[1]).unwrap();
         assert_eq!(e.id(), CanId::Extended(0x7FF));
         assert!(!e.is_remote());
-        assert_eq!(e.standard_data_id(), None);
         let r = CanFrame::remote(CanId::Extended(MAX_EXTENDED_ID), 8).unwrap();
         assert_eq!(
             (r.id(), r.is_remote()),
@@ -555,9 +542,8 @@ mod tests {
         );
         let s = CanFrame::remote(CanId::Standard(0x7FF), 0).unwrap();
         assert_eq!((s.id(), s.is_remote()), (CanId::Standard(0x7FF), true));
-        assert_eq!(s.standard_data_id(), None);
         let d = CanFrame::standard(0x7FF, &[]).unwrap();
-        assert_eq!(d.standard_data_id(), Some(0x7FF));
+        assert!(!d.is_remote());
         assert_ne!(d, s);
         assert_ne!(
             CanFrame::standard(0x7FF, &[]).unwrap(),

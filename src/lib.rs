@@ -47,21 +47,17 @@ extern crate std;
 extern crate std;
 
 pub mod bytes;
-pub mod candump;
 pub mod cia418;
 pub mod cia419;
+pub mod clock;
 pub mod cob_id;
 pub mod deltaq;
 pub mod device;
-pub mod display;
 #[cfg(feature = "alloc")]
 pub mod eds;
 pub mod emcy;
 pub mod error;
 pub mod frame;
-pub mod guarding;
-pub mod heartbeat;
-pub mod lenient;
 pub mod lss;
 pub mod machine;
 pub mod message;
@@ -72,14 +68,13 @@ mod queue;
 pub mod sdo;
 pub mod sync;
 pub mod time;
-pub mod time_of_day;
 pub mod trace;
 
+pub use clock::Timestamp;
 pub use cob_id::{CobKind, NodeId, PdoNumber};
 pub use error::DecodeError;
 pub use frame::{CanFrame, CanId, FrameError};
 pub use message::Message;
-pub use time::Timestamp;
 
 /// The README's examples, compiled and run as doc tests.
 #[cfg(doctest)]

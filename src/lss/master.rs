@@ -12,11 +12,11 @@
 
 use core::time::Duration;
 
+use crate::clock::Timestamp;
 use crate::cob_id::{NodeId, LSS_MASTER_TO_SLAVE, LSS_SLAVE_TO_MASTER};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
-use crate::queue::{EventQueue, Queue};
-use crate::time::Timestamp;
+use crate::queue::{EventQueue, FrameQueue};
 
 use super::slave::NODE_ID_UNCONFIGURED;
 use super::wire::{
@@ -133,7 +133,7 @@ pub struct LssMaster {
     timeout: Duration,
     op: Op,
     deadline: Option<Timestamp>,
-    tx: Queue<CanFrame, 8>,
+    tx: FrameQueue<8>,
     events: EventQueue<LssMasterEvent, 8>,
     /// [`LssMaster::fastscan_assign`]: the node-ID for the slave found.
     assign: Option<NodeId>,
@@ -149,7 +149,7 @@ impl LssMaster {
             timeout,
             op: Op::Idle,
             deadline: None,
-            tx: Queue::new(CanFrame::from_parts(CanId::Standard(0), [0; 8], 0)),
+            tx: FrameQueue::empty(),
             events: EventQueue::new(LssMasterEvent::FastscanNotFound),
             assign: None,
             release: false,
@@ -173,7 +173,7 @@ impl LssMaster {
     fn send(&mut self, request: LssRequest) {
         let mut buf = [0; 8];
         let n = request.encode(&mut buf);
-        let _ = self.tx.push(CanFrame::from_parts(
+        self.tx.push(CanFrame::from_parts(
             CanId::Standard(LSS_MASTER_TO_SLAVE),
             buf,
             n as u8,
@@ -438,5 +438,9 @@ impl Machine for LssMaster {
 
     fn events_dropped(&self) -> u64 {
         self.events.dropped()
+    }
+
+    fn frames_dropped(&self) -> u64 {
+        self.tx.dropped()
     }
 }

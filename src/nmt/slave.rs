@@ -21,11 +21,11 @@
 //! the reset to pre-operational. The slave sends no frames and arms no timers.
 
 use super::{NmtCommandSpecifier, NmtState};
+use crate::clock::Timestamp;
 use crate::cob_id::{NodeId, NMT};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::EventQueue;
-use crate::time::Timestamp;
 
 /// Which NMT reset the master commanded.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -266,6 +266,12 @@ impl<const E: usize> Machine for NmtSlave<E> {
 
     fn events_dropped(&self) -> u64 {
         self.events.dropped()
+    }
+
+    /// Always 0: the NMT slave sends nothing (its boot-up and heartbeats
+    /// are the heartbeat producer's).
+    fn frames_dropped(&self) -> u64 {
+        0
     }
 }
 

@@ -32,16 +32,21 @@ use core::convert::Infallible;
 
 use super::comm::PdoCommParams;
 use crate::bytes::Payload;
+use crate::clock::{timer_kind, Timers, Timestamp};
 use crate::cob_id::SYNC;
 use crate::frame::{data_frame_word, CanFrame, CanId};
 use crate::machine::Machine;
-use crate::time::Timestamp;
 
-/// A deadline kept in 8 bytes: microseconds, 0 for none. No deadline of a
-/// producer is at 0: the event timer runs out strictly after the send
-/// that starts it, and the end of an inhibit time (100 µs at least) after
-/// the send that starts it.
-const NO_DEADLINE: u64 = 0;
+timer_kind! {
+    /// The producer's one timer.
+    enum TpdoTimer {
+        /// The end of the inhibit time when a transmission is deferred,
+        /// else the event timer. A deferred send re-arms the event timer,
+        /// so an event timer running out inside the inhibit time is
+        /// covered by it: one timer is enough.
+        Next,
+    }
+}
 
 /// The identifier word kept for a TPDO that may not send (not
 /// configured, not valid, or bits 28-11 set on an 11-bit COB-ID): the
@@ -78,14 +83,12 @@ const SYNC_EVENT: u8 = 1 << 4;
 pub struct TpdoProducer {
     /// When the last frame was sent (once `SENT`), in microseconds.
     last_sent: u64,
-    /// The one timer, in microseconds ([`NO_DEADLINE`] when stopped): the
-    /// end of the inhibit time when `DEFERRED`, else the event timer. A
-    /// deferred send re-arms the event timer, so an event timer running
-    /// out inside the inhibit time is covered by it: one timer is enough.
-    /// Only set while active (every send follows an `is_active` check,
+    /// Only armed while active (every send follows an `is_active` check,
     /// and every way out of active stops it), so the timer paths need no
     /// check of their own.
-    deadline: u64,
+    timers: Timers<TpdoTimer, 1>,
+    /// Undrained frames replaced by a newer one (saturating).
+    dropped: u32,
     /// What the next frame carries, little-endian: the latest payload (a
     /// PDO carries the latest value; an undrained frame is not sent twice).
     payload: u64,
@@ -116,7 +119,8 @@ impl TpdoProducer {
     pub const fn new() -> Self {
         TpdoProducer {
             last_sent: 0,
-            deadline: NO_DEADLINE,
+            timers: Timers::new(),
+            dropped: 0,
             payload: 0,
             frame_word: NO_ID,
             sync_word: SYNC as u32,
@@ -195,7 +199,7 @@ impl TpdoProducer {
     }
 
     fn stop(&mut self) {
-        self.deadline = NO_DEADLINE;
+        self.timers.clear();
         self.flags &= OPERATIONAL | SENT;
     }
 
@@ -242,20 +246,22 @@ impl TpdoProducer {
         }
     }
 
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     fn send_or_defer(&mut self, now: Timestamp) {
         let inhibit = u64::from(self.inhibit_time_100us) * 100;
         let end = Timestamp::from_micros(self.last_sent).add_micros(inhibit);
         if self.has(SENT) && inhibit > 0 && !now.has_reached(end) {
-            self.deadline = end.as_micros();
+            self.timers.set(TpdoTimer::Next, Some(end));
             self.flags |= DEFERRED;
         } else {
             self.send(now);
         }
     }
 
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     fn send(&mut self, now: Timestamp) {
+        if self.has(DUE) {
+            // The caller did not drain: the newer frame replaces it.
+            self.dropped = self.dropped.saturating_add(1);
+        }
         self.flags = (self.flags | DUE | SENT) & !DEFERRED;
         self.last_sent = now.as_micros();
         // No event timer (0), or none later than the end of the clock.
@@ -264,7 +270,7 @@ impl TpdoProducer {
         } else {
             None
         };
-        self.deadline = event.map_or(NO_DEADLINE, Timestamp::as_micros);
+        self.timers.set(TpdoTimer::Next, event);
     }
 
     /// A SYNC was received: synchronous types send here.
@@ -302,11 +308,10 @@ impl Machine for TpdoProducer {
 
     /// The event timer and a deferred transmission fire here.
     fn handle_timeout(&mut self, now: Timestamp) {
-        // A deadline is only set while active (see `deadline`).
-        if self.deadline == NO_DEADLINE || !now.has_reached(Timestamp::from_micros(self.deadline)) {
+        // A deadline is only set while active (see `timers`).
+        if !self.timers.expire(TpdoTimer::Next, now) {
             return;
         }
-        self.deadline = NO_DEADLINE;
         if self.has(DEFERRED) {
             self.send(now);
         } else {
@@ -336,11 +341,7 @@ impl Machine for TpdoProducer {
 
     /// The earlier of the event timer and the end of the inhibit time.
     fn poll_timeout(&self) -> Option<Timestamp> {
-        // A deadline is only set while active (see `deadline`).
-        if self.deadline == NO_DEADLINE {
-            return None;
-        }
-        Some(Timestamp::from_micros(self.deadline))
+        self.timers.next()
     }
 
     fn poll_event(&mut self) -> Option<Infallible> {
@@ -349,6 +350,10 @@ impl Machine for TpdoProducer {
 
     fn events_dropped(&self) -> u64 {
         0
+    }
+
+    fn frames_dropped(&self) -> u64 {
+        u64::from(self.dropped)
     }
 }
 

@@ -7,8 +7,8 @@ use std::vec::Vec;
 
 use super::super::*;
 use super::tests::*;
+use crate::clock::Timestamp;
 use crate::machine::Machine;
-use crate::time::Timestamp;
 
 #[test]
 fn crc_mismatch_aborts_05040004() {

@@ -9,8 +9,8 @@ use super::super::block::{check_block_size, clamp_block_size, Acked, Receiver, S
 use super::super::wire::{ServerBlockDownload, ServerBlockUpload};
 use super::super::words;
 use super::{AbortCode, Client, ClientError, ClientEvent, ServerCommand, State};
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
-use crate::time::Timestamp;
 
 impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// Starts reading `index`/`sub` from the server by block upload (CiA

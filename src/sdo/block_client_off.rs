@@ -5,8 +5,8 @@
 //! entered, so every response takes the expedited and segmented paths.
 
 use super::{Client, ClientError};
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
-use crate::time::Timestamp;
 
 impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// Would start a block upload of `index`/`sub` (CiA 301 section

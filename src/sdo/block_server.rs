@@ -7,8 +7,8 @@ use super::super::block::{check_block_size, Acked, Receiver, Sender};
 use super::super::wire::{ClientBlockDownload, ClientBlockUpload};
 use super::super::words;
 use super::{AbortCode, ObjectDictionary, Server, ServerEvent, State};
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
-use crate::time::Timestamp;
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// A block download's sub-block segment: handled here (true), or a

@@ -7,8 +7,8 @@
 //! command aborts the running transfer, as an unknown command does.
 
 use super::{AbortCode, ObjectDictionary, Server};
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
-use crate::time::Timestamp;
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// No block download runs: every frame is a command for the normal path.

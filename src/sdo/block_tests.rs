@@ -8,10 +8,10 @@ use std::vec::Vec;
 
 use super::super::*;
 use super::{Acked, Planned, Receiver, Sender, Step};
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
-use crate::time::Timestamp;
 use crate::NodeId;
 
 const NODE: u8 = 2;

@@ -13,8 +13,8 @@ use super::super::server::AbortOrigin;
 use super::super::wire::{SdoResponse, ServerCommand};
 use super::super::words;
 use super::{Client, ClientEvent, State};
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
-use crate::time::Timestamp;
 
 impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// The initiate request of a download of `size` bytes other than 1..=4
@@ -283,7 +283,7 @@ fn segment_frame(value: &[u8], from: usize, toggle: bool) -> ([u8; 8], usize) {
         }
         short => {
             let mut word = [0u8; 8];
-            crate::bytes::copy_short(&mut word, short);
+            crate::bytes::copy_payload(&mut word, short);
             (u64::from_le_bytes(word), short.len())
         }
     };

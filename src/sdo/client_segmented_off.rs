@@ -32,8 +32,8 @@ use super::super::abort::AbortCode;
 use super::super::data::SegmentData;
 use super::super::server::AbortOrigin;
 use super::{Client, ClientError, ClientEvent, State};
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
-use crate::time::Timestamp;
 use wire::Response;
 
 impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {

@@ -8,12 +8,12 @@ use super::data::SegmentData;
 use super::observer_rules::Open;
 use super::server::DEFAULT_TIMEOUT;
 use super::wire::{SdoRequest, SdoResponse};
+use crate::clock::Timestamp;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::error::DecodeError;
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::EventQueue;
-use crate::time::Timestamp;
 
 /// How many events the observer keeps before dropping the oldest.
 pub const OBSERVER_EVENT_CAPACITY: usize = 32;
@@ -700,6 +700,11 @@ impl<const EXTRA: usize> Machine for Observer<EXTRA> {
 
     fn events_dropped(&self) -> u64 {
         self.events.dropped()
+    }
+
+    /// Always 0: the observer only listens.
+    fn frames_dropped(&self) -> u64 {
+        0
     }
 }
 

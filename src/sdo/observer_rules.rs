@@ -15,8 +15,8 @@ use super::wire::{
     ServerBlockDownload, ServerBlockUpload, ServerCommand,
 };
 use crate::bytes::Payload;
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
-use crate::time::Timestamp;
 
 /// Where an open transfer stands: what the next frame may be.
 #[derive(Debug, Clone, Copy)]

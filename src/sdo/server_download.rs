@@ -9,7 +9,7 @@ use super::server_wire::Download;
 use super::{
     AbortCode, Initiated, ObjectDictionary, ObjectInfo, Server, ServerEvent, SizeRule, State,
 };
-use crate::time::Timestamp;
+use crate::clock::Timestamp;
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// An initiate download of the object `info` describes: an expedited

@@ -6,7 +6,7 @@
 use super::super::segmented::check_toggle;
 use super::super::words;
 use super::{AbortCode, Initiated, ObjectDictionary, ObjectInfo, Server, ServerEvent, State};
-use crate::time::Timestamp;
+use crate::clock::Timestamp;
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// Reads up to `buf.len()` bytes at `offset`, looping over short reads

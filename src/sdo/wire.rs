@@ -243,7 +243,7 @@ impl RawSdo {
             });
         }
         let mut bytes = [0u8; 8];
-        crate::bytes::copy_short(&mut bytes, data);
+        crate::bytes::copy_payload(&mut bytes, data);
         Ok(RawSdo {
             len: data.len() as u8,
             bytes,
@@ -374,7 +374,7 @@ impl Writer {
     #[inline]
     fn put(&mut self, at: usize, src: &[u8]) {
         if let Some(dst) = self.raw.bytes.get_mut(at..) {
-            crate::bytes::copy_short(dst, src);
+            crate::bytes::copy_payload(dst, src);
         }
         self.need = self.need.max(at + src.len());
     }

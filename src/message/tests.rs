@@ -114,11 +114,11 @@ fn remote_frames() {
 fn others() {
     assert_eq!(
         round_trip(f(0x080, &[])),
-        Message::Sync(Sync { counter: None })
+        Message::Sync(SyncFrame { counter: None })
     );
     assert_eq!(
         round_trip(f(0x080, &[3])),
-        Message::Sync(Sync { counter: Some(3) })
+        Message::Sync(SyncFrame { counter: Some(3) })
     );
     assert!(matches!(
         round_trip(f(0x100, &[1, 2, 3, 4, 5, 6])),
