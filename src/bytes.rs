@@ -1,32 +1,12 @@
 //! Small inline byte carriers (no allocation).
 
 /// Copies the first `min(dst.len(), src.len())` bytes of a CAN payload
-/// (at most 8 in every caller). Each length of a classic CAN frame's data
-/// is its own fixed-size copy, so no caller pays for a general-purpose
-/// copy of an unknown length.
+/// (at most 8 in every caller).
 #[inline]
 pub(crate) fn copy_payload(dst: &mut [u8], src: &[u8]) {
-    #[inline(always)]
-    fn fixed<const K: usize>(dst: &mut [u8], src: &[u8]) {
-        if let (Some(d), Some(s)) = (dst.get_mut(..K), src.get(..K)) {
-            d.copy_from_slice(s);
-        }
-    }
-    match dst.len().min(src.len()) {
-        0 => {}
-        1 => fixed::<1>(dst, src),
-        2 => fixed::<2>(dst, src),
-        3 => fixed::<3>(dst, src),
-        4 => fixed::<4>(dst, src),
-        5 => fixed::<5>(dst, src),
-        6 => fixed::<6>(dst, src),
-        7 => fixed::<7>(dst, src),
-        8 => fixed::<8>(dst, src),
-        n => {
-            if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
-                d.copy_from_slice(s);
-            }
-        }
+    let n = dst.len().min(src.len());
+    if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
+        d.copy_from_slice(s);
     }
 }
 

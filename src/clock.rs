@@ -56,7 +56,7 @@ impl Timestamp {
 
     /// `self + us`, saturating at [`Timestamp::MAX`].
     #[must_use]
-    #[inline]
+    #[inline(never)]
     pub const fn add_micros(self, us: u64) -> Self {
         Timestamp(self.0.saturating_add(us))
     }
@@ -76,7 +76,7 @@ impl Timestamp {
     /// once, as the state-machine contract says, and a period that would
     /// end past the clock does not start.
     #[must_use]
-    #[inline]
+    #[inline(never)]
     pub(crate) const fn deadline_after(self, us: u64) -> Option<Timestamp> {
         match self.0.checked_add(us) {
             Some(at) if at > self.0 && at != u64::MAX => Some(Timestamp(at)),
@@ -190,7 +190,7 @@ impl<K: TimerKind, const N: usize> Timers<K, N> {
     /// [`Timestamp::MAX`] is kept one microsecond earlier (the end of the
     /// clock is the table's "none"): it still expires once at the end of
     /// the clock, as every running timer does.
-    #[inline]
+    #[inline(never)]
     pub fn set(&mut self, timer: K, deadline: Option<Timestamp>) {
         if let Some(d) = self.deadlines.get_mut(timer.index()) {
             *d = MaybeTimestamp::new(deadline);
@@ -206,7 +206,7 @@ impl<K: TimerKind, const N: usize> Timers<K, N> {
 
     /// True (and the timer stopped) when `timer` is armed and `now` has
     /// reached its deadline.
-    #[inline]
+    #[inline(never)]
     pub fn expire(&mut self, timer: K, now: Timestamp) -> bool {
         match self.deadlines.get_mut(timer.index()) {
             // A stopped timer holds u64::MAX, which `now` reaches only when
@@ -226,7 +226,7 @@ impl<K: TimerKind, const N: usize> Timers<K, N> {
 
     /// The earliest armed deadline.
     #[must_use]
-    #[inline]
+    #[inline(never)]
     pub fn next(&self) -> Option<Timestamp> {
         self.earliest().get()
     }
@@ -283,7 +283,7 @@ impl MaybeTimestamp {
 
     /// `t` kept (`Timestamp::MAX` as the microsecond before it).
     #[must_use]
-    #[inline]
+    #[inline(never)]
     pub(crate) const fn new(t: Option<Timestamp>) -> Self {
         match t {
             Some(Timestamp(u64::MAX)) => MaybeTimestamp(u64::MAX - 1),
@@ -294,7 +294,7 @@ impl MaybeTimestamp {
 
     /// The earlier of `self` and `t` (none is later than any instant).
     #[must_use]
-    #[inline]
+    #[inline(never)]
     pub(crate) fn earlier(self, t: Option<Timestamp>) -> Self {
         let t = Self::new(t);
         if t.0 < self.0 {
@@ -338,6 +338,7 @@ impl Default for MaybeTimestamp {
 /// `u64::try_from(d.as_micros())` gives, without the 128-bit arithmetic
 /// that costs code on a 32-bit target.
 #[must_use]
+#[inline(never)]
 pub(crate) fn micros_of(d: Duration) -> u64 {
     d.as_secs()
         .saturating_mul(1_000_000)
@@ -347,6 +348,7 @@ pub(crate) fn micros_of(d: Duration) -> u64 {
 /// `d` in whole milliseconds, saturating at `u64::MAX` (as
 /// [`micros_of`], for `as_millis`).
 #[must_use]
+#[inline(never)]
 pub(crate) fn millis_of(d: Duration) -> u64 {
     d.as_secs()
         .saturating_mul(1000)

@@ -107,7 +107,7 @@ impl<const N: usize> DropOldest<CanFrame, N> {
 
 /// The slot of a [`Queue`]'s oldest item, with `head` and `len` moved past
 /// it; none when empty.
-#[inline]
+#[inline(never)]
 fn take(head: &mut u8, len: &mut u8, cap: usize) -> Option<usize> {
     if *len == 0 || cap == 0 {
         return None;
@@ -123,7 +123,7 @@ fn take(head: &mut u8, len: &mut u8, cap: usize) -> Option<usize> {
 /// with `head` and `len` updated for it: when full, the oldest slot is
 /// given up and counted in `dropped`. Capacity 0 returns an index past
 /// the end (nothing is stored) and counts the event as dropped.
-#[inline]
+#[inline(never)]
 fn claim_evicting(head: &mut u8, len: &mut u8, cap: usize, dropped: &mut u32) -> usize {
     if cap == 0 {
         *dropped = dropped.saturating_add(1);

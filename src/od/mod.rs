@@ -119,6 +119,7 @@ impl ObjectInfo {
 /// assert_eq!(&buf[..2], b"ry");
 /// assert_eq!(canopen_codec::od::read_at(b"battery", usize::MAX, &mut buf), 0);
 /// ```
+#[inline(never)]
 pub fn read_at(value: &[u8], offset: usize, buf: &mut [u8]) -> usize {
     let src = value.get(offset..).unwrap_or(&[]);
     let n = src.len().min(buf.len());

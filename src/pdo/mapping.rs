@@ -92,6 +92,7 @@ impl MappingEntry {
     /// PDO-mappable and hold at least `bits` bits. Dummy entries must name a
     /// standard data type of exactly `bits` bits. The empty entry is
     /// [`MappingError::EmptyEntry`].
+    #[inline(never)]
     pub fn check<D: ObjectDictionary + ?Sized>(self, od: &D) -> Result<(), MappingError> {
         if self.is_empty() || self.bits == 0 {
             return Err(MappingError::EmptyEntry { entry: self });
@@ -125,6 +126,7 @@ impl MappingEntry {
     /// [`check`](Self::check) as the abort code an SDO server answers with
     /// (`check(od).map_err(MappingError::abort_code)`), without building
     /// the [`MappingError`]: the device's mapping writes.
+    #[inline(never)]
     pub(crate) fn check_abort<D: ObjectDictionary + ?Sized>(self, od: &D) -> Result<(), AbortCode> {
         if self.is_empty() || self.bits == 0 {
             return Err(AbortCode::InvalidValue);

@@ -246,6 +246,7 @@ impl TpdoProducer {
         }
     }
 
+    #[inline(never)]
     fn send_or_defer(&mut self, now: Timestamp) {
         let inhibit = u64::from(self.inhibit_time_100us) * 100;
         let end = Timestamp::from_micros(self.last_sent).add_micros(inhibit);
@@ -257,6 +258,7 @@ impl TpdoProducer {
         }
     }
 
+    #[inline(never)]
     fn send(&mut self, now: Timestamp) {
         if self.has(DUE) {
             // The caller did not drain: the newer frame replaces it.
