@@ -39,8 +39,8 @@ impl InlineData<8> {
 impl<const N: usize> InlineData<N> {
     /// `len` bytes (at most `N`) of a little-endian word: byte `i` of the
     /// data is bits `8 i .. 8 i + 8` of `word`. Bytes past `len` come out
-    /// zero, as [`InlineData::new`] leaves them. No copy loop or jump: a
-    /// shift, a mask and one store (the SDO segment and expedited paths).
+    /// zero, as [`InlineData::new`] leaves them (the SDO segment and
+    /// expedited paths).
     #[inline]
     pub(crate) fn from_le_word(word: u64, len: usize) -> Self {
         let len = if len > N { N } else { len };

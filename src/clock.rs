@@ -263,16 +263,14 @@ macro_rules! timer_kind {
 }
 pub(crate) use timer_kind;
 
-/// An optional [`Timestamp`] in 8 bytes (an `Option<Timestamp>` takes 16
-/// with its alignment on a 32-bit target): `u64::MAX` means none, so
+/// An optional [`Timestamp`], the one "none" of every timer: `u64::MAX` means none, so
 /// [`Timestamp::MAX`] itself is kept as the microsecond before it. For the
 /// timer tables and the "last seen" instants of the machines: a deadline
 /// at the end of the clock still expires there (a microsecond early), and
 /// an instant seen at the end of the clock is still an instant.
 ///
-/// Aligned to 4 bytes, not the 8 of a `u64` on 32-bit targets (a 32-bit
-/// core loads it as two words either way): a machine that keeps one and
-/// otherwise has 4-byte fields is not padded to a multiple of 8.
+/// Aligned to 4 bytes, so a machine's state that otherwise has 4-byte
+/// fields keeps that alignment.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[repr(C, packed(4))]
 pub(crate) struct MaybeTimestamp(u64);
@@ -335,8 +333,7 @@ impl Default for MaybeTimestamp {
 }
 
 /// `d` in whole microseconds, saturating at `u64::MAX`: what
-/// `u64::try_from(d.as_micros())` gives, without the 128-bit arithmetic
-/// that costs code on a 32-bit target.
+/// `u64::try_from(d.as_micros())` gives, in 64-bit arithmetic.
 #[must_use]
 #[inline(never)]
 pub(crate) fn micros_of(d: Duration) -> u64 {

@@ -105,10 +105,9 @@ pub enum FrameError {
 /// ```
 ///
 /// It is 16 bytes: the identifier, its format and the remote flag share one
-/// `u32` (an 11-bit data frame is exactly the values `0..=0x7FF`, one
-/// compare on the decode path), then the length and the 8 inline bytes.
-/// The length is one of nine values, so `Option<CanFrame>` is 16 bytes
-/// too (returned in registers by `poll_transmit`).
+/// `u32` (an 11-bit data frame is exactly the values `0..=0x7FF`), then
+/// the length and the 8 inline bytes. The length is one of nine values, so
+/// `Option<CanFrame>` is 16 bytes too.
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
 pub struct CanFrame {
     /// Identifier bits 0..=28, [`EXTENDED_FLAG`], [`REMOTE_FLAG`].

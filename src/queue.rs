@@ -48,8 +48,7 @@ impl<T: Copy, const N: usize> Queue<T, N> {
 #[derive(Debug, Clone)]
 pub(crate) struct DropOldest<T: Copy, const N: usize> {
     queue: Queue<T, N>,
-    /// Saturating; 32 bits (a 64-bit counter would give the queue an
-    /// alignment of 8 on 32-bit targets, and padding with it).
+    /// Saturating at `u32::MAX`, as the contract says.
     dropped: u32,
 }
 
@@ -65,9 +64,7 @@ impl<T: Copy, const N: usize> DropOldest<T, N> {
     /// Appends `event`; when full, the oldest event is dropped and counted.
     ///
     /// The index arithmetic is [`claim_evicting`], which does not depend
-    /// on `T`: one copy of it serves every event type, and each type's
-    /// `push` is only the store (on 32-bit targets it stays out of line,
-    /// where its copies per event type cost flash; hosts inline it).
+    /// on `T`: one routine serves every queue.
     #[inline]
     pub(crate) fn push(&mut self, event: T) {
         let q = &mut self.queue;
@@ -143,12 +140,6 @@ fn claim_evicting(head: &mut u8, len: &mut u8, cap: usize, dropped: &mut u32) ->
 /// The transmit queue of a machine that makes at most one frame per call
 /// (the SDO client and server): one frame; pushing onto a full slot drops
 /// the older frame and counts it, as [`EventQueue`] does.
-///
-/// The frame is stored and taken out field by field: a frame made in
-/// registers is written with several narrow stores, and copying it out as
-/// one 16-byte block would read them back with one wide load, which the
-/// processor cannot forward from the pending stores (a stall on every
-/// frame of a transfer).
 #[derive(Debug, Clone)]
 pub(crate) struct FrameSlot {
     frame: CanFrame,

@@ -178,9 +178,8 @@ impl HeartbeatProducer {
         Duration::from_micros(self.period_us)
     }
 
-    /// The period in microseconds (whole milliseconds): what
-    /// [`period`](Self::period) gives without the 64-bit division that
-    /// building a `Duration` costs on a 32-bit target.
+    /// The period in microseconds (whole milliseconds), as the device
+    /// core's timers count it.
     pub(crate) const fn period_us(&self) -> u64 {
         self.period_us
     }

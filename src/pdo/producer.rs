@@ -329,8 +329,8 @@ impl Machine for TpdoProducer {
             return None;
         }
         self.flags &= !DUE;
-        // DUE implies active (a send is), so the word is a frame's; the
-        // check costs a compare.
+        // DUE implies active (a send is), so the identifier is valid; a
+        // producer that may not send never sends.
         if self.frame_word == NO_ID {
             return None;
         }

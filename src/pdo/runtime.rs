@@ -110,7 +110,6 @@ impl<const T: usize> TpdoSet<T> {
 
     /// Stops and forgets every producer (a reset).
     pub fn reset(&mut self) {
-        // One producer at a time: no image of the whole set in flash.
         for p in &mut self.producers {
             *p = TpdoProducer::new();
         }

@@ -77,7 +77,7 @@ pub enum SyncEvent {
 pub struct SyncConsumer<const E: usize = 2> {
     /// The identifier as the word of a data frame on it
     /// (`frame::data_frame_word`; `u32::MAX`, which no frame has, for one
-    /// out of range): 4 bytes, not the 8 of a `CanId`, and one compare.
+    /// out of range): a received frame is on it when its word is this one.
     id_word: u32,
     overflow: u8,
     /// 1007h (µs).
