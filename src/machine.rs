@@ -94,6 +94,53 @@ pub trait Machine {
     fn frames_dropped(&self) -> u64;
 }
 
+/// The output half of a [`Machine`] impl, from the machine's queues: the
+/// one back-pressure rule of the [module docs](self) (`FrameQueue` and
+/// `EventQueue` drop the oldest item and count it), written once.
+/// `frames: none` / `events: none` for a machine that sends or reports
+/// nothing.
+macro_rules! queued_outputs {
+    (frames: none, events: $events:ident) => {
+        fn poll_transmit(&mut self) -> Option<$crate::frame::CanFrame> {
+            None
+        }
+        fn frames_dropped(&self) -> u64 {
+            0
+        }
+        $crate::machine::queued_outputs!(@events $events);
+    };
+    (frames: $frames:ident, events: none) => {
+        $crate::machine::queued_outputs!(@frames $frames);
+        fn poll_event(&mut self) -> Option<Self::Event> {
+            None
+        }
+        fn events_dropped(&self) -> u64 {
+            0
+        }
+    };
+    (frames: $frames:ident, events: $events:ident) => {
+        $crate::machine::queued_outputs!(@frames $frames);
+        $crate::machine::queued_outputs!(@events $events);
+    };
+    (@frames $frames:ident) => {
+        fn poll_transmit(&mut self) -> Option<$crate::frame::CanFrame> {
+            self.$frames.pop()
+        }
+        fn frames_dropped(&self) -> u64 {
+            self.$frames.dropped()
+        }
+    };
+    (@events $events:ident) => {
+        fn poll_event(&mut self) -> Option<Self::Event> {
+            self.$events.pop()
+        }
+        fn events_dropped(&self) -> u64 {
+            self.$events.dropped()
+        }
+    };
+}
+pub(crate) use queued_outputs;
+
 /// Runs every timer of `machine` that is due up to `until`, each at its
 /// own due time and in order, handing every frame sent to `send` with the
 /// time it was sent. Events are left in the machine's queue. Stops after

@@ -424,23 +424,9 @@ impl Machine for LssMaster {
         }
     }
 
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.tx.pop()
-    }
-
     fn poll_timeout(&self) -> Option<Timestamp> {
         self.deadline
     }
 
-    fn poll_event(&mut self) -> Option<LssMasterEvent> {
-        self.events.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
-
-    fn frames_dropped(&self) -> u64 {
-        self.tx.dropped()
-    }
+    crate::machine::queued_outputs!(frames: tx, events: events);
 }

@@ -390,23 +390,9 @@ impl Machine for LssSlave {
 
     fn handle_timeout(&mut self, _now: Timestamp) {}
 
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.tx.pop()
-    }
-
     fn poll_timeout(&self) -> Option<Timestamp> {
         None
     }
 
-    fn poll_event(&mut self) -> Option<LssSlaveEvent> {
-        self.events.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
-
-    fn frames_dropped(&self) -> u64 {
-        self.tx.dropped()
-    }
+    crate::machine::queued_outputs!(frames: tx, events: events);
 }

@@ -241,26 +241,12 @@ impl Machine for GuardingSlave {
         }
     }
 
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.out.pop()
-    }
-
     /// The end of the node life time, while life guarding runs.
     fn poll_timeout(&self) -> Option<Timestamp> {
         self.timers.next()
     }
 
-    fn poll_event(&mut self) -> Option<SlaveGuardingEvent> {
-        self.events.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
-
-    fn frames_dropped(&self) -> u64 {
-        self.out.dropped()
-    }
+    crate::machine::queued_outputs!(frames: out, events: events);
 }
 
 /// What the guarding master reports about its node.
@@ -529,26 +515,12 @@ impl Machine for GuardingMaster {
         }
     }
 
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.out.pop()
-    }
-
     /// When the next request is due.
     fn poll_timeout(&self) -> Option<Timestamp> {
         self.timers.next()
     }
 
-    fn poll_event(&mut self) -> Option<MasterGuardingEvent> {
-        self.events.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
-
-    fn frames_dropped(&self) -> u64 {
-        self.out.dropped()
-    }
+    crate::machine::queued_outputs!(frames: out, events: events);
 }
 
 #[cfg(test)]

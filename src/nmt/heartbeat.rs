@@ -596,28 +596,12 @@ impl<const N: usize, const E: usize> Machine for HeartbeatConsumer<N, E> {
         }
     }
 
-    /// The consumer sends nothing.
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        None
-    }
-
     /// The earliest deadline.
     fn poll_timeout(&self) -> Option<Timestamp> {
         self.deadline().get()
     }
 
-    fn poll_event(&mut self) -> Option<HeartbeatEvent> {
-        self.events.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
-
-    /// Always 0: the consumer sends nothing.
-    fn frames_dropped(&self) -> u64 {
-        0
-    }
+    crate::machine::queued_outputs!(frames: none, events: events);
 }
 
 #[cfg(test)]

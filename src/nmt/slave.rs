@@ -251,28 +251,11 @@ impl<const E: usize> Machine for NmtSlave<E> {
     /// The slave has no timers.
     fn handle_timeout(&mut self, _now: Timestamp) {}
 
-    /// The slave sends nothing (the heartbeat producer reports its state).
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        None
-    }
-
     fn poll_timeout(&self) -> Option<Timestamp> {
         None
     }
 
-    fn poll_event(&mut self) -> Option<NmtSlaveEvent> {
-        self.events.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
-
-    /// Always 0: the NMT slave sends nothing (its boot-up and heartbeats
-    /// are the heartbeat producer's).
-    fn frames_dropped(&self) -> u64 {
-        0
-    }
+    crate::machine::queued_outputs!(frames: none, events: events);
 }
 
 #[cfg(test)]

@@ -269,25 +269,9 @@ impl<const E: usize> Machine for SyncConsumer<E> {
     /// The consumer has no timers.
     fn handle_timeout(&mut self, _now: Timestamp) {}
 
-    /// The consumer sends nothing.
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        None
-    }
-
     fn poll_timeout(&self) -> Option<Timestamp> {
         None
     }
 
-    fn poll_event(&mut self) -> Option<SyncEvent> {
-        self.events.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
-
-    /// Always 0: the consumer sends nothing.
-    fn frames_dropped(&self) -> u64 {
-        0
-    }
+    crate::machine::queued_outputs!(frames: none, events: events);
 }

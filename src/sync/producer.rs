@@ -266,24 +266,10 @@ impl Machine for SyncProducer {
         self.timers.set(ProducerTimer::NextSync, next);
     }
 
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.out.pop()
-    }
-
     /// When the next SYNC is due.
     fn poll_timeout(&self) -> Option<Timestamp> {
         self.timers.next()
     }
 
-    fn poll_event(&mut self) -> Option<Infallible> {
-        None
-    }
-
-    fn events_dropped(&self) -> u64 {
-        0
-    }
-
-    fn frames_dropped(&self) -> u64 {
-        self.out.dropped()
-    }
+    crate::machine::queued_outputs!(frames: out, events: none);
 }

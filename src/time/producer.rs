@@ -158,23 +158,9 @@ impl Machine for TimeProducer {
     /// The producer has no timers.
     fn handle_timeout(&mut self, _now: Timestamp) {}
 
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.out.pop()
-    }
-
     fn poll_timeout(&self) -> Option<Timestamp> {
         None
     }
 
-    fn poll_event(&mut self) -> Option<Infallible> {
-        None
-    }
-
-    fn events_dropped(&self) -> u64 {
-        0
-    }
-
-    fn frames_dropped(&self) -> u64 {
-        self.out.dropped()
-    }
+    crate::machine::queued_outputs!(frames: out, events: none);
 }
