@@ -98,8 +98,16 @@ pub trait Machine {
 /// one back-pressure rule of the [module docs](self) (`FrameQueue` and
 /// `EventQueue` drop the oldest item and count it), written once.
 /// `frames: none` / `events: none` for a machine that sends or reports
-/// nothing.
+/// nothing; `events: none` alone for one that makes its frames itself.
 macro_rules! queued_outputs {
+    (events: none) => {
+        fn poll_event(&mut self) -> Option<Self::Event> {
+            None
+        }
+        fn events_dropped(&self) -> u64 {
+            0
+        }
+    };
     (frames: none, events: $events:ident) => {
         fn poll_transmit(&mut self) -> Option<$crate::frame::CanFrame> {
             None
@@ -111,12 +119,7 @@ macro_rules! queued_outputs {
     };
     (frames: $frames:ident, events: none) => {
         $crate::machine::queued_outputs!(@frames $frames);
-        fn poll_event(&mut self) -> Option<Self::Event> {
-            None
-        }
-        fn events_dropped(&self) -> u64 {
-            0
-        }
+        $crate::machine::queued_outputs!(events: none);
     };
     (frames: $frames:ident, events: $events:ident) => {
         $crate::machine::queued_outputs!(@frames $frames);

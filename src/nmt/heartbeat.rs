@@ -285,13 +285,7 @@ impl Machine for HeartbeatProducer {
         self.timers.next()
     }
 
-    fn poll_event(&mut self) -> Option<Infallible> {
-        None
-    }
-
-    fn events_dropped(&self) -> u64 {
-        0
-    }
+    crate::machine::queued_outputs!(events: none);
 
     fn frames_dropped(&self) -> u64 {
         self.out.dropped()

@@ -346,13 +346,7 @@ impl Machine for TpdoProducer {
         self.timers.next()
     }
 
-    fn poll_event(&mut self) -> Option<Infallible> {
-        None
-    }
-
-    fn events_dropped(&self) -> u64 {
-        0
-    }
+    crate::machine::queued_outputs!(events: none);
 
     fn frames_dropped(&self) -> u64 {
         u64::from(self.dropped)

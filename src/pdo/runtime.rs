@@ -147,13 +147,7 @@ impl<const T: usize> Machine for TpdoSet<T> {
             .min()
     }
 
-    fn poll_event(&mut self) -> Option<Infallible> {
-        None
-    }
-
-    fn events_dropped(&self) -> u64 {
-        0
-    }
+    crate::machine::queued_outputs!(events: none);
 
     fn frames_dropped(&self) -> u64 {
         self.producers
