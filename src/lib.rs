@@ -120,3 +120,8 @@ pub use message::Message;
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]
 pub struct ReadmeDoctests;
+
+/// The examples of docs/LIBRARY.md (LSS, EDS), compiled and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../docs/LIBRARY.md")]
+pub struct LibraryDoctests;
