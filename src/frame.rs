@@ -281,6 +281,18 @@ impl CanFrame {
         }
     }
 
+    /// The identifier of an 11-bit data frame; `None` for a remote frame or
+    /// a 29-bit identifier.
+    #[must_use]
+    #[inline]
+    pub(crate) const fn standard_data_id(&self) -> Option<u16> {
+        if self.word <= MAX_STANDARD_ID as u32 {
+            Some(self.word as u16)
+        } else {
+            None
+        }
+    }
+
     /// True for a remote (RTR) frame.
     #[must_use]
     #[inline]

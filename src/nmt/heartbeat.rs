@@ -24,7 +24,7 @@ use core::time::Duration;
 
 use crate::clock::{timer_kind, MaybeTimestamp, Timers, Timestamp};
 use crate::cob_id::{NodeId, NMT_ERROR_CONTROL_BASE};
-use crate::error::{exact_len, DecodeError};
+use crate::error::DecodeError;
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::nmt::NmtState;
@@ -72,14 +72,25 @@ impl Heartbeat {
     /// Decodes the single data byte.
     #[inline]
     pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
-        exact_len(data, 1)?;
-        let [b] = *data else {
-            return Err(DecodeError::Truncated {
-                need: 1,
-                got: data.len(),
-            });
-        };
-        Ok(Self::from_byte(b))
+        Self::of_data(data.len(), data.first().copied().unwrap_or(0))
+    }
+
+    /// Decodes the data of a frame (what [`decode`](Self::decode) gives
+    /// for its data bytes).
+    #[inline]
+    pub fn decode_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
+        let [b0, ..] = frame.padded_data();
+        Self::of_data(usize::from(frame.dlc()), b0)
+    }
+
+    /// A heartbeat is exactly one byte.
+    #[inline]
+    fn of_data(len: usize, b0: u8) -> Result<Self, DecodeError> {
+        match len {
+            1 => Ok(Self::from_byte(b0)),
+            0 => Err(DecodeError::Truncated { need: 1, got: 0 }),
+            got => Err(DecodeError::TooLong { max: 1, got }),
+        }
     }
 
     /// From the data byte.

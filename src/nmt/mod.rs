@@ -185,7 +185,13 @@ impl NmtState {
     #[must_use]
     #[inline]
     pub const fn from_bits(raw: u8) -> Self {
-        match raw & 0x7F {
+        STATES[(raw & 0x7F) as usize]
+    }
+
+    /// The state a 7-bit value names (CiA 301 section 7.2.8.3.2: 0
+    /// boot-up, 4 stopped, 5 operational, 127 pre-operational).
+    const fn named(bits: u8) -> Self {
+        match bits {
             0x00 => NmtState::BootUp,
             0x04 => NmtState::Stopped,
             0x05 => NmtState::Operational,
@@ -207,6 +213,17 @@ impl NmtState {
         }
     }
 }
+
+/// Every 7-bit state value decoded, so a heartbeat's state is one lookup.
+const STATES: [NmtState; 128] = {
+    let mut t = [NmtState::BootUp; 128];
+    let mut i = 0;
+    while i < 128 {
+        t[i] = NmtState::named(i as u8);
+        i += 1;
+    }
+    t
+};
 
 impl fmt::Display for NmtState {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
