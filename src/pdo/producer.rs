@@ -32,7 +32,7 @@ use core::convert::Infallible;
 
 use super::comm::PdoCommParams;
 use crate::bytes::Payload;
-use crate::clock::{timer_kind, Timers, Timestamp};
+use crate::clock::{timer_kind, MaybeTimestamp, Timers, Timestamp};
 use crate::cob_id::SYNC;
 use crate::frame::{data_frame_word, CanFrame, CanId};
 use crate::machine::Machine;
@@ -82,7 +82,7 @@ const SYNC_EVENT: u8 = 1 << 4;
 #[derive(Debug, Clone)]
 pub struct TpdoProducer {
     /// When the last frame was sent (once `SENT`), in microseconds.
-    last_sent: u64,
+    last_sent: MaybeTimestamp,
     /// Only armed while active (every send follows an `is_active` check,
     /// and every way out of active stops it), so the timer paths need no
     /// check of their own.
@@ -91,7 +91,7 @@ pub struct TpdoProducer {
     dropped: u32,
     /// What the next frame carries, little-endian: the latest payload (a
     /// PDO carries the latest value; an undrained frame is not sent twice).
-    payload: u64,
+    payload: [u8; 8],
     /// Of the communication parameters, what the producer uses: the
     /// COB-ID's identifier as the word of its data frames ([`NO_ID`] when
     /// it may not send: a frame is made from it without a conversion),
@@ -118,10 +118,10 @@ impl TpdoProducer {
     #[must_use]
     pub const fn new() -> Self {
         TpdoProducer {
-            last_sent: 0,
+            last_sent: MaybeTimestamp::NONE,
             timers: Timers::new(),
             dropped: 0,
-            payload: 0,
+            payload: [0; 8],
             frame_word: NO_ID,
             sync_word: SYNC as u32,
             inhibit_time_100us: 0,
@@ -218,8 +218,9 @@ impl TpdoProducer {
     /// of `word` (bytes past `len` zero).
     #[inline]
     pub(crate) fn set_payload_word(&mut self, now: Timestamp, word: u64, len: u8) {
-        if word != self.payload || len != self.payload_len {
-            self.payload = word;
+        let bytes = word.to_le_bytes();
+        if bytes != self.payload || len != self.payload_len {
+            self.payload = bytes;
             self.payload_len = len;
             self.trigger(now);
         }
@@ -249,7 +250,7 @@ impl TpdoProducer {
     #[inline(never)]
     fn send_or_defer(&mut self, now: Timestamp) {
         let inhibit = u64::from(self.inhibit_time_100us) * 100;
-        let end = Timestamp::from_micros(self.last_sent).add_micros(inhibit);
+        let end = self.last_sent.get().unwrap_or(Timestamp::ZERO).add_micros(inhibit);
         if self.has(SENT) && inhibit > 0 && !now.has_reached(end) {
             self.timers.set(TpdoTimer::Next, Some(end));
             self.flags |= DEFERRED;
@@ -265,7 +266,7 @@ impl TpdoProducer {
             self.dropped = self.dropped.saturating_add(1);
         }
         self.flags = (self.flags | DUE | SENT) & !DEFERRED;
-        self.last_sent = now.as_micros();
+        self.last_sent = MaybeTimestamp::new(Some(now));
         // No event timer (0), or none later than the end of the clock.
         let event = if self.is_event_driven() {
             now.deadline_after(u64::from(self.event_timer_ms) * 1000)
@@ -336,7 +337,7 @@ impl Machine for TpdoProducer {
         }
         Some(CanFrame::from_word_parts(
             self.frame_word,
-            self.payload.to_le_bytes(),
+            self.payload,
             self.payload_len,
         ))
     }
