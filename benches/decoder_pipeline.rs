@@ -57,7 +57,7 @@ use std::hint::black_box;
 use std::io;
 use std::path::{Path, PathBuf};
 
-use canopen_codec::candump::{parse_line, LogLine};
+use canopen_codec::trace::candump::{parse_line, LogLine};
 use canopen_codec::Message;
 use clap::Parser;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};

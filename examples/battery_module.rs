@@ -355,6 +355,9 @@ impl Machine for BatteryDevice {
     fn events_dropped(&self) -> u64 {
         self.module.events_dropped()
     }
+    fn frames_dropped(&self) -> u64 {
+        self.module.frames_dropped()
+    }
 }
 
 /// An event in words for stderr (every event is printed).

@@ -1,41 +1,12 @@
 //! Small inline byte carriers (no allocation).
 
-/// Copies `min(dst.len(), src.len())` bytes. CAN payloads are at most 8
-/// bytes: a copy of a constant length compiles to a few moves, where a
-/// dynamic-length copy (or a byte loop, which LLVM turns into one) is a call
-/// to `memcpy`. This keeps the decode and encode paths call-free on 64-bit
-/// hosts; on smaller targets, where the nine-way switch inlined at every
-/// use costs more flash than the call costs time, it is one `memcpy`.
+/// Copies the first `min(dst.len(), src.len())` bytes of a CAN payload
+/// (at most 8 in every caller).
 #[inline]
-pub(crate) fn copy_short(dst: &mut [u8], src: &[u8]) {
-    if cfg!(not(target_pointer_width = "64")) {
-        let n = dst.len().min(src.len());
-        if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
-            d.copy_from_slice(s);
-        }
-        return;
-    }
-    #[inline(always)]
-    fn fixed<const K: usize>(dst: &mut [u8], src: &[u8]) {
-        if let (Some(d), Some(s)) = (dst.get_mut(..K), src.get(..K)) {
-            d.copy_from_slice(s);
-        }
-    }
-    match dst.len().min(src.len()) {
-        0 => {}
-        1 => fixed::<1>(dst, src),
-        2 => fixed::<2>(dst, src),
-        3 => fixed::<3>(dst, src),
-        4 => fixed::<4>(dst, src),
-        5 => fixed::<5>(dst, src),
-        6 => fixed::<6>(dst, src),
-        7 => fixed::<7>(dst, src),
-        8 => fixed::<8>(dst, src),
-        n => {
-            if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
-                d.copy_from_slice(s);
-            }
-        }
+pub(crate) fn copy_payload(dst: &mut [u8], src: &[u8]) {
+    let n = dst.len().min(src.len());
+    if let (Some(d), Some(s)) = (dst.get_mut(..n), src.get(..n)) {
+        d.copy_from_slice(s);
     }
 }
 
@@ -68,8 +39,8 @@ impl InlineData<8> {
 impl<const N: usize> InlineData<N> {
     /// `len` bytes (at most `N`) of a little-endian word: byte `i` of the
     /// data is bits `8 i .. 8 i + 8` of `word`. Bytes past `len` come out
-    /// zero, as [`InlineData::new`] leaves them. No copy loop or jump: a
-    /// shift, a mask and one store (the SDO segment and expedited paths).
+    /// zero, as [`InlineData::new`] leaves them (the SDO segment and
+    /// expedited paths).
     #[inline]
     pub(crate) fn from_le_word(word: u64, len: usize) -> Self {
         let len = if len > N { N } else { len };
@@ -154,7 +125,7 @@ impl<const N: usize> InlineData<N> {
             return None;
         }
         let mut bytes = [0u8; N];
-        copy_short(&mut bytes, data);
+        copy_payload(&mut bytes, data);
         Some(InlineData {
             len: data.len() as u8,
             bytes,

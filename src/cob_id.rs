@@ -96,13 +96,6 @@ impl PdoNumber {
         self.0
     }
 
-    /// The PDO number of a PDO function code (`raw id >> 7`, 3..=10):
-    /// 0x180/0x200 are PDO 0, 0x280/0x300 PDO 1, and so on.
-    #[inline]
-    pub(crate) const fn from_function(function: u16) -> Self {
-        PdoNumber(((function.saturating_sub(3) / 2) & 3) as u8)
-    }
-
     /// The one-based number CiA 301 uses ("TPDO1" for `P0`).
     #[must_use]
     pub const fn cia_number(self) -> u8 {
@@ -214,28 +207,80 @@ pub fn classify(id: CanId) -> CobKind {
 #[must_use]
 #[inline]
 pub fn classify_standard(raw: u16) -> CobKind {
-    let function = raw & 0x780;
     let node = NodeId::new((raw & 0x7F) as u8);
-    match (function, node) {
-        (0x000, None) if raw == NMT => CobKind::Nmt,
-        (0x080, None) => CobKind::Sync,
-        (0x080, Some(n)) => CobKind::Emcy(n),
-        (0x100, None) => CobKind::Time,
-        (0x180, Some(n)) => CobKind::Tpdo(PdoNumber::P0, n),
-        (0x200, Some(n)) => CobKind::Rpdo(PdoNumber::P0, n),
-        (0x280, Some(n)) => CobKind::Tpdo(PdoNumber::P1, n),
-        (0x300, Some(n)) => CobKind::Rpdo(PdoNumber::P1, n),
-        (0x380, Some(n)) => CobKind::Tpdo(PdoNumber::P2, n),
-        (0x400, Some(n)) => CobKind::Rpdo(PdoNumber::P2, n),
-        (0x480, Some(n)) => CobKind::Tpdo(PdoNumber::P3, n),
-        (0x500, Some(n)) => CobKind::Rpdo(PdoNumber::P3, n),
-        (0x580, Some(n)) => CobKind::SdoTx(n),
-        (0x600, Some(n)) => CobKind::SdoRx(n),
-        (0x700, Some(n)) => CobKind::NmtErrorControl(n),
-        (0x780, _) if raw == LSS_SLAVE_TO_MASTER => CobKind::Lss(LssDirection::SlaveToMaster),
-        (0x780, _) if raw == LSS_MASTER_TO_SLAVE => CobKind::Lss(LssDirection::MasterToSlave),
+    match (function_of(raw), node) {
+        (Function::Nmt, None) if raw == NMT => CobKind::Nmt,
+        (Function::SyncOrEmcy, None) => CobKind::Sync,
+        (Function::SyncOrEmcy, Some(n)) => CobKind::Emcy(n),
+        (Function::Time, None) => CobKind::Time,
+        (Function::Tpdo(p), Some(n)) => CobKind::Tpdo(p, n),
+        (Function::Rpdo(p), Some(n)) => CobKind::Rpdo(p, n),
+        (Function::SdoTx, Some(n)) => CobKind::SdoTx(n),
+        (Function::SdoRx, Some(n)) => CobKind::SdoRx(n),
+        (Function::ErrorControl, Some(n)) => CobKind::NmtErrorControl(n),
+        (Function::Lss, _) if raw == LSS_SLAVE_TO_MASTER => {
+            CobKind::Lss(LssDirection::SlaveToMaster)
+        }
+        (Function::Lss, _) if raw == LSS_MASTER_TO_SLAVE => {
+            CobKind::Lss(LssDirection::MasterToSlave)
+        }
         _ => CobKind::Unknown,
     }
+}
+
+/// What the function code of an 11-bit identifier (bits 10-7) names in
+/// the predefined connection set (CiA 301 section 7.3.3): the one table
+/// behind [`classify`] and [`Message::decode`](crate::Message::decode).
+/// Which node (bits 6-0) an identifier belongs to, and whether 0 is
+/// allowed, is the caller's second step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Function {
+    /// 000h: NMT (node bits 0).
+    Nmt,
+    /// 080h: SYNC (node bits 0) or EMCY (a node).
+    SyncOrEmcy,
+    /// 100h: TIME (node bits 0).
+    Time,
+    /// A transmit PDO of a node.
+    Tpdo(PdoNumber),
+    /// A receive PDO of a node.
+    Rpdo(PdoNumber),
+    /// 580h: SDO server to client.
+    SdoTx,
+    /// 600h: SDO client to server.
+    SdoRx,
+    /// 700h: NMT error control.
+    ErrorControl,
+    /// 780h: LSS (7E4h, 7E5h).
+    Lss,
+    /// 680h: not assigned.
+    Unassigned,
+}
+
+/// [`Function`] of every function code.
+const FUNCTIONS: [Function; 16] = [
+    Function::Nmt,
+    Function::SyncOrEmcy,
+    Function::Time,
+    Function::Tpdo(PdoNumber::P0),
+    Function::Rpdo(PdoNumber::P0),
+    Function::Tpdo(PdoNumber::P1),
+    Function::Rpdo(PdoNumber::P1),
+    Function::Tpdo(PdoNumber::P2),
+    Function::Rpdo(PdoNumber::P2),
+    Function::Tpdo(PdoNumber::P3),
+    Function::Rpdo(PdoNumber::P3),
+    Function::SdoTx,
+    Function::SdoRx,
+    Function::Unassigned,
+    Function::ErrorControl,
+    Function::Lss,
+];
+
+/// The [`Function`] of an 11-bit identifier.
+#[inline]
+pub(crate) const fn function_of(raw: u16) -> Function {
+    FUNCTIONS[((raw >> 7) & 0xF) as usize]
 }
 
 impl CobKind {

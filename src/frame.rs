@@ -105,10 +105,9 @@ pub enum FrameError {
 /// ```
 ///
 /// It is 16 bytes: the identifier, its format and the remote flag share one
-/// `u32` (an 11-bit data frame is exactly the values `0..=0x7FF`, one
-/// compare on the decode path), then the length and the 8 inline bytes.
-/// The length is one of nine values, so `Option<CanFrame>` is 16 bytes
-/// too (returned in registers by `poll_transmit`).
+/// `u32` (an 11-bit data frame is exactly the values `0..=0x7FF`), then
+/// the length and the 8 inline bytes. The length is one of nine values, so
+/// `Option<CanFrame>` is 16 bytes too.
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
 pub struct CanFrame {
     /// Identifier bits 0..=28, [`EXTENDED_FLAG`], [`REMOTE_FLAG`].
@@ -216,7 +215,7 @@ impl CanFrame {
             return Err(FrameError::TooLong { got: data.len() });
         }
         let mut buf = [0u8; MAX_DATA_LEN];
-        crate::bytes::copy_short(&mut buf, data);
+        crate::bytes::copy_payload(&mut buf, data);
         Ok(CanFrame {
             word: id_word(id),
             len: Dlc::clamped(data.len()),
@@ -282,8 +281,8 @@ impl CanFrame {
         }
     }
 
-    /// The 11-bit identifier of a data frame; `None` for a remote frame or
-    /// a 29-bit identifier. One compare: the decode path's entry test.
+    /// The identifier of an 11-bit data frame; `None` for a remote frame or
+    /// a 29-bit identifier.
     #[must_use]
     #[inline]
     pub(crate) const fn standard_data_id(&self) -> Option<u16> {
@@ -547,7 +546,6 @@ mod tests {
         let e = CanFrame::new(CanId::Extended(0x7FF), &[1]).unwrap();
         assert_eq!(e.id(), CanId::Extended(0x7FF));
         assert!(!e.is_remote());
-        assert_eq!(e.standard_data_id(), None);
         let r = CanFrame::remote(CanId::Extended(MAX_EXTENDED_ID), 8).unwrap();
         assert_eq!(
             (r.id(), r.is_remote()),
@@ -555,9 +553,8 @@ mod tests {
         );
         let s = CanFrame::remote(CanId::Standard(0x7FF), 0).unwrap();
         assert_eq!((s.id(), s.is_remote()), (CanId::Standard(0x7FF), true));
-        assert_eq!(s.standard_data_id(), None);
         let d = CanFrame::standard(0x7FF, &[]).unwrap();
-        assert_eq!(d.standard_data_id(), Some(0x7FF));
+        assert!(!d.is_remote());
         assert_ne!(d, s);
         assert_ne!(
             CanFrame::standard(0x7FF, &[]).unwrap(),

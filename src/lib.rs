@@ -22,12 +22,51 @@
 //! assert_eq!(msg.encode(), frame); // exact round trip
 //! ```
 //!
+//! ## Where do I look for X
+//!
+//! | I want to ... | Look in |
+//! |---|---|
+//! | decode or encode any frame | [`Message`] ([`message`]); logs with deviations: [`message::lenient`]; words: [`message::display`] |
+//! | know which object an identifier is | [`cob_id`] ([`CobKind`], [`NodeId`], the predefined connection set) |
+//! | build or inspect a frame | [`frame`] ([`CanFrame`], [`CanId`]) |
+//! | drive any state machine | [`machine`] (the [`Machine`](machine::Machine) contract and back-pressure rule) |
+//! | give the machines time | [`clock`] ([`Timestamp`], the timer table) |
+//! | NMT commands, a node's state, heartbeat, node guarding | [`nmt`], [`nmt::heartbeat`], [`nmt::guarding`] |
+//! | emergencies and their codes | [`emcy`] |
+//! | SYNC and TIME | [`sync`] ([`sync::SyncFrame`], producer, consumer), [`time`] ([`time::TimeOfDay`], producer, consumer) |
+//! | read or write objects over SDO, or follow transfers on a bus | [`sdo`] (client, server, observer; the wire layer in [`sdo::ClientCommand`] / [`sdo::ServerCommand`]) |
+//! | PDO mapping, packing, producers and receivers | [`pdo`] |
+//! | layer setting services (CiA 305) | [`lss`] |
+//! | an object dictionary for a server or a device | [`od`] |
+//! | a whole CiA 301 device (NMT slave, heartbeat, EMCY, SDO server, PDOs) | [`device`] |
+//! | EDS and DCF files (CiA 306) | `eds` (feature `alloc`) |
+//! | read candump, PCAN, Vector ASC and CSV traces | [`trace`] ([`trace::candump`] for candump lines) |
+//! | the CiA 418 battery module | [`cia418`] |
+//! | CiA 419 charger objects | [`cia419`] |
+//! | the Delta-Q IC Series charger and its error codes | [`deltaq`] |
+//! | the common imports in one line | [`prelude`] |
+//!
+//! The CiA 301 modules never import the profiles (`cia418`, `cia419`,
+//! `deltaq`); the profiles build on them.
+//!
 //! ## Features
 //!
 //! - `std` (default): `std::error::Error` for the error types; implies `alloc`.
 //! - `alloc`: heap conveniences (none on the decode path).
 //! - `embedded-can`: conversions between [`CanFrame`] and any
 //!   `embedded_can::Frame` implementor.
+//! - Device services a firmware node can leave out (all default on; each
+//!   removes code inside the one engine that serves it, and what it
+//!   removes is refused on the bus with the CiA 301 abort code):
+//!   `lss` (the LSS slave in the device core), `guarding` (node and life
+//!   guarding in the device core), `sync-time` (the device's SYNC producer
+//!   and TIME), `sdo-block` (SDO block transfer in the client and the
+//!   server), `sdo-client-segmented` (segmented transfers in the SDO
+//!   client), `heartbeat-consumer` (1016h in the device core and the
+//!   Delta-Q charger). Their firmware cost is in `Cargo.toml` and
+//!   `docs/FIRMWARE.md`.
+//! - `cli`: the `canopen-decode` program (its dependencies never reach the
+//!   library).
 //!
 //! ## PDO numbering
 //!
@@ -47,41 +86,42 @@ extern crate std;
 extern crate std;
 
 pub mod bytes;
-pub mod candump;
 pub mod cia418;
 pub mod cia419;
+pub mod clock;
 pub mod cob_id;
 pub mod deltaq;
 pub mod device;
-pub mod display;
 #[cfg(feature = "alloc")]
 pub mod eds;
 pub mod emcy;
 pub mod error;
 pub mod frame;
-pub mod guarding;
-pub mod heartbeat;
-pub mod lenient;
 pub mod lss;
 pub mod machine;
 pub mod message;
 pub mod nmt;
 pub mod od;
 pub mod pdo;
+pub mod prelude;
 mod queue;
 pub mod sdo;
 pub mod sync;
 pub mod time;
-pub mod time_of_day;
 pub mod trace;
 
+pub use clock::Timestamp;
 pub use cob_id::{CobKind, NodeId, PdoNumber};
 pub use error::DecodeError;
 pub use frame::{CanFrame, CanId, FrameError};
 pub use message::Message;
-pub use time::Timestamp;
 
 /// The README's examples, compiled and run as doc tests.
 #[cfg(doctest)]
 #[doc = include_str!("../README.md")]
 pub struct ReadmeDoctests;
+
+/// The examples of docs/LIBRARY.md (LSS, EDS), compiled and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../docs/LIBRARY.md")]
+pub struct LibraryDoctests;

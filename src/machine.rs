@@ -19,15 +19,18 @@
 //!
 //! # Back-pressure
 //!
-//! **An undrained event queue never changes protocol behaviour.** Liveness
+//! **An undrained queue never changes protocol behaviour.** Liveness
 //! supervision, timers and transfers run by their own rules whether or not
-//! the application reads its events: a heartbeat always refreshes the
-//! consumer's deadline, an SDO transfer goes on or ends by its own rules,
-//! and no frame is held back or lost because events were not read. Every
-//! machine keeps a fixed number of events (no allocation); when its queue is
-//! full the **oldest** event is dropped and counted, the same way in every
-//! machine, and [`Machine::events_dropped`] tells how many were. The
-//! transmit queue is the caller's to drain after every call, as above.
+//! the application reads what the machine produced: a heartbeat always
+//! refreshes the consumer's deadline, an SDO transfer goes on or ends by
+//! its own rules. Every machine keeps a fixed number of frames to send and
+//! of events (no allocation), and one rule holds for both, the same in
+//! every machine: **when a queue is full, its oldest item is dropped and
+//! counted**, so the newest frame (the latest answer, the latest PDO
+//! value) and the newest event (a transfer's terminal event) are always
+//! kept. [`Machine::frames_dropped`] and [`Machine::events_dropped`] say
+//! how many were; each count saturates at `u32::MAX`. A caller that drains
+//! `poll_transmit` after every call, as above, never loses a frame.
 //!
 //! # Time
 //!
@@ -37,7 +40,7 @@
 //! timer once.
 //!
 //! ```
-//! use canopen_codec::heartbeat::HeartbeatProducer;
+//! use canopen_codec::nmt::heartbeat::HeartbeatProducer;
 //! use canopen_codec::machine::{drive_timers, Machine};
 //! use canopen_codec::{NodeId, Timestamp};
 //! use core::time::Duration;
@@ -49,8 +52,8 @@
 //! assert_eq!(sent, ["705#00", "705#7F", "705#7F"]);
 //! ```
 
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
-use crate::time::Timestamp;
 
 /// The contract of every sans-IO state machine in the crate. See the
 /// [module docs](self) for the call order and the back-pressure rule.
@@ -80,10 +83,66 @@ pub trait Machine {
     fn poll_event(&mut self) -> Option<Self::Event>;
 
     /// How many events were dropped because the event queue was full
-    /// (oldest first; saturates at `u64::MAX`).
+    /// (the oldest each time; saturates at `u32::MAX`).
     #[must_use]
     fn events_dropped(&self) -> u64;
+
+    /// How many frames were dropped because the transmit queue was full
+    /// (the oldest each time; saturates at `u32::MAX`). Zero for a caller
+    /// that drains [`poll_transmit`](Self::poll_transmit) after every call.
+    #[must_use]
+    fn frames_dropped(&self) -> u64;
 }
+
+/// The output half of a [`Machine`] impl, from the machine's queues: the
+/// one back-pressure rule of the [module docs](self) (`FrameQueue` and
+/// `EventQueue` drop the oldest item and count it), written once.
+/// `frames: none` / `events: none` for a machine that sends or reports
+/// nothing; `events: none` alone for one that makes its frames itself.
+macro_rules! queued_outputs {
+    (events: none) => {
+        fn poll_event(&mut self) -> Option<Self::Event> {
+            None
+        }
+        fn events_dropped(&self) -> u64 {
+            0
+        }
+    };
+    (frames: none, events: $events:ident) => {
+        fn poll_transmit(&mut self) -> Option<$crate::frame::CanFrame> {
+            None
+        }
+        fn frames_dropped(&self) -> u64 {
+            0
+        }
+        $crate::machine::queued_outputs!(@events $events);
+    };
+    (frames: $frames:ident, events: none) => {
+        $crate::machine::queued_outputs!(@frames $frames);
+        $crate::machine::queued_outputs!(events: none);
+    };
+    (frames: $frames:ident, events: $events:ident) => {
+        $crate::machine::queued_outputs!(@frames $frames);
+        $crate::machine::queued_outputs!(@events $events);
+    };
+    (@frames $frames:ident) => {
+        fn poll_transmit(&mut self) -> Option<$crate::frame::CanFrame> {
+            self.$frames.pop()
+        }
+        fn frames_dropped(&self) -> u64 {
+            self.$frames.dropped()
+        }
+    };
+    (@events $events:ident) => {
+        fn poll_event(&mut self) -> Option<Self::Event> {
+            self.$events.pop()
+        }
+        fn events_dropped(&self) -> u64 {
+            self.$events.dropped()
+        }
+    };
+}
+pub(crate) use queued_outputs;
 
 /// Runs every timer of `machine` that is due up to `until`, each at its
 /// own due time and in order, handing every frame sent to `send` with the

@@ -1,7 +1,11 @@
-//! Fixed-capacity FIFOs for the state machines' outputs (no allocation):
-//! [`Queue`] refuses when full (frames), [`EventQueue`] drops the oldest and
-//! counts (events: the back-pressure rule of [`crate::machine`]);
-//! [`FrameSlot`] holds the one frame of a machine that makes one per call.
+//! Fixed-capacity FIFOs for the state machines' outputs (no allocation).
+//!
+//! Every machine queues what it sends in a [`FrameQueue`] and what it
+//! reports in an [`EventQueue`]: both are [`DropOldest`], which, when full,
+//! drops the oldest item and counts it. That is the back-pressure rule of
+//! [`crate::machine`], written once, so it is the same in every machine.
+//! [`FrameSlot`] is the frame queue of a machine that makes at most one
+//! frame per call (the SDO client and server), with the same rule.
 
 use crate::frame::CanFrame;
 
@@ -30,22 +34,6 @@ impl<T: Copy, const N: usize> Queue<T, N> {
         }
     }
 
-    /// Appends; returns false (and drops nothing already queued) when full.
-    #[must_use]
-    #[inline]
-    pub(crate) fn push(&mut self, item: T) -> bool {
-        let Some(slot) = claim(self.head, &mut self.len, N) else {
-            return false;
-        };
-        match self.items.get_mut(slot) {
-            Some(s) => {
-                *s = item;
-                true
-            }
-            None => false,
-        }
-    }
-
     /// The oldest item.
     #[inline]
     pub(crate) fn pop(&mut self) -> Option<T> {
@@ -54,21 +42,20 @@ impl<T: Copy, const N: usize> Queue<T, N> {
     }
 }
 
-/// The event queue of a state machine: up to `N` events; pushing onto a
-/// full queue drops the oldest event and counts it, so the newest events
-/// (a transfer's terminal event among them) are always kept.
+/// Up to `N` items, first in first out; pushing onto a full queue drops
+/// the oldest item and counts it, so the newest (a transfer's terminal
+/// event, the latest answer) are always kept.
 #[derive(Debug, Clone)]
-pub(crate) struct EventQueue<T: Copy, const N: usize> {
+pub(crate) struct DropOldest<T: Copy, const N: usize> {
     queue: Queue<T, N>,
-    /// Saturating; 32 bits (a 64-bit counter would give the queue an
-    /// alignment of 8 on 32-bit targets, and padding with it).
+    /// Saturating at `u32::MAX`, as the contract says.
     dropped: u32,
 }
 
-impl<T: Copy, const N: usize> EventQueue<T, N> {
+impl<T: Copy, const N: usize> DropOldest<T, N> {
     /// An empty queue (`filler` is never returned).
     pub(crate) const fn new(filler: T) -> Self {
-        EventQueue {
+        DropOldest {
             queue: Queue::new(filler),
             dropped: 0,
         }
@@ -77,9 +64,7 @@ impl<T: Copy, const N: usize> EventQueue<T, N> {
     /// Appends `event`; when full, the oldest event is dropped and counted.
     ///
     /// The index arithmetic is [`claim_evicting`], which does not depend
-    /// on `T`: one copy of it serves every event type, and each type's
-    /// `push` is only the store (on 32-bit targets it stays out of line,
-    /// where its copies per event type cost flash; hosts inline it).
+    /// on `T`: one routine serves every queue.
     #[inline]
     pub(crate) fn push(&mut self, event: T) {
         let q = &mut self.queue;
@@ -102,25 +87,24 @@ impl<T: Copy, const N: usize> EventQueue<T, N> {
     }
 }
 
-/// The slot a [`Queue`] of capacity `cap` stores its next item in, with
-/// `len` counted for it; none when full. Like [`claim_evicting`] and
-/// [`take`], independent of the item type: one copy serves every queue on
-/// 32-bit targets.
-#[cfg_attr(target_pointer_width = "64", inline)]
-#[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-fn claim(head: u8, len: &mut u8, cap: usize) -> Option<usize> {
-    let n = usize::from(*len);
-    if n >= cap {
-        return None;
+/// A machine's events: the oldest dropped and counted when full.
+pub(crate) type EventQueue<T, const N: usize> = DropOldest<T, N>;
+
+/// A machine's frames to send: the oldest dropped and counted when full
+/// (a caller that drains [`Machine::poll_transmit`](crate::machine::Machine::poll_transmit)
+/// after every call never loses one).
+pub(crate) type FrameQueue<const N: usize> = DropOldest<CanFrame, N>;
+
+impl<const N: usize> DropOldest<CanFrame, N> {
+    /// An empty frame queue.
+    pub(crate) const fn empty() -> Self {
+        Self::new(CanFrame::EMPTY)
     }
-    *len += 1;
-    Some((usize::from(head) + n) % cap)
 }
 
 /// The slot of a [`Queue`]'s oldest item, with `head` and `len` moved past
 /// it; none when empty.
-#[cfg_attr(target_pointer_width = "64", inline)]
-#[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+#[inline(never)]
 fn take(head: &mut u8, len: &mut u8, cap: usize) -> Option<usize> {
     if *len == 0 || cap == 0 {
         return None;
@@ -136,8 +120,7 @@ fn take(head: &mut u8, len: &mut u8, cap: usize) -> Option<usize> {
 /// with `head` and `len` updated for it: when full, the oldest slot is
 /// given up and counted in `dropped`. Capacity 0 returns an index past
 /// the end (nothing is stored) and counts the event as dropped.
-#[cfg_attr(target_pointer_width = "64", inline)]
-#[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+#[inline(never)]
 fn claim_evicting(head: &mut u8, len: &mut u8, cap: usize, dropped: &mut u32) -> usize {
     if cap == 0 {
         *dropped = dropped.saturating_add(1);
@@ -157,12 +140,6 @@ fn claim_evicting(head: &mut u8, len: &mut u8, cap: usize, dropped: &mut u32) ->
 /// The transmit queue of a machine that makes at most one frame per call
 /// (the SDO client and server): one frame; pushing onto a full slot drops
 /// the older frame and counts it, as [`EventQueue`] does.
-///
-/// The frame is stored and taken out field by field: a frame made in
-/// registers is written with several narrow stores, and copying it out as
-/// one 16-byte block would read them back with one wide load, which the
-/// processor cannot forward from the pending stores (a stall on every
-/// frame of a transfer).
 #[derive(Debug, Clone)]
 pub(crate) struct FrameSlot {
     frame: CanFrame,
@@ -213,20 +190,21 @@ mod tests {
     use super::*;
 
     #[test]
-    fn fifo_and_capacity() {
-        let mut q: Queue<u8, 3> = Queue::new(0);
-        assert!(q.push(1) && q.push(2) && q.push(3));
-        assert!(!q.push(4));
-        assert_eq!(q.pop(), Some(1));
-        assert!(q.push(4));
+    fn fifo_order_below_capacity() {
+        let mut q: FrameQueue<3> = FrameQueue::empty();
+        let f = |b: u8| CanFrame::standard(0x100, &[b]).unwrap();
+        q.push(f(1));
+        q.push(f(2));
+        assert_eq!((q.pop(), q.pop(), q.pop()), (Some(f(1)), Some(f(2)), None));
+        q.push(f(3));
+        q.push(f(4));
+        q.push(f(5));
+        q.push(f(6));
+        assert_eq!(q.dropped(), 1);
         assert_eq!(
             (q.pop(), q.pop(), q.pop(), q.pop()),
-            (Some(2), Some(3), Some(4), None)
+            (Some(f(4)), Some(f(5)), Some(f(6)), None)
         );
-        assert_eq!(q.len, 0);
-        assert!(q.push(5));
-        assert_eq!(q.pop(), Some(5));
-        assert_eq!(q.pop(), None);
     }
 
     #[test]
@@ -259,12 +237,12 @@ mod tests {
 
     #[test]
     fn byte_indexes_serve_the_largest_capacity() {
-        let mut q: Queue<u16, 255> = Queue::new(0);
+        let mut q: DropOldest<u16, 255> = DropOldest::new(0);
         for round in 0..3u16 {
             for v in 0..255 {
-                assert!(q.push(round * 1000 + v));
+                q.push(round * 1000 + v);
             }
-            assert!(!q.push(9999));
+            assert_eq!(q.dropped(), 0);
             for v in 0..255 {
                 assert_eq!(q.pop(), Some(round * 1000 + v));
             }
@@ -275,8 +253,6 @@ mod tests {
             e.push(v);
         }
         assert_eq!((e.pop(), e.dropped()), (Some(600 - 255), 600 - 255));
-        let mut none: Queue<u8, 0> = Queue::new(0);
-        assert_eq!((none.push(1), none.pop()), (false, None));
     }
 
     #[test]

@@ -104,7 +104,7 @@ impl Bench {
         for f in self.send(0x601, &req) {
             if f.starts_with("581#") {
                 assert!(resp.is_none(), "one response per request");
-                let frame: CanFrame = canopen_codec::candump::parse_frame(&f).unwrap();
+                let frame: CanFrame = canopen_codec::trace::candump::parse_frame(&f).unwrap();
                 resp = Some(frame.padded_data());
             }
         }

@@ -99,7 +99,7 @@ fn a_skipped_sync_counter_is_reported_and_nothing_is_dropped() {
 #[cfg(feature = "heartbeat-consumer")]
 #[test]
 fn four_nodes_lost_at_once_are_four_events_in_order() {
-    use canopen_codec::heartbeat::{ConsumerEntry, HeartbeatEvent};
+    use canopen_codec::nmt::heartbeat::{ConsumerEntry, HeartbeatEvent};
     use core::time::Duration;
     let n = |id| NodeId::new(id).unwrap();
     let nodes = [7, 3, 9, 2];

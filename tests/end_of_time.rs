@@ -8,8 +8,8 @@
 use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig};
 #[cfg(feature = "heartbeat-consumer")]
 use canopen_codec::deltaq::{Charger, ChargerConfig};
-use canopen_codec::heartbeat::HeartbeatProducer;
 use canopen_codec::machine::{drive_timers, Machine};
+use canopen_codec::nmt::heartbeat::HeartbeatProducer;
 use canopen_codec::pdo::{PdoCobId, PdoCommParams, TpdoProducer};
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 use core::time::Duration;

@@ -12,7 +12,7 @@ mod common;
 use core::time::Duration;
 
 use canopen_codec::device::{Device, DeviceConfig, DeviceEvent};
-use canopen_codec::guarding::{GuardingMaster, MasterGuardingEvent, SlaveGuardingEvent};
+use canopen_codec::nmt::guarding::{GuardingMaster, MasterGuardingEvent, SlaveGuardingEvent};
 use canopen_codec::nmt::NmtState;
 use canopen_codec::od::MemoryDictionary;
 use canopen_codec::{CanFrame, NodeId, Timestamp};

@@ -6,11 +6,11 @@
 
 use core::time::Duration;
 
-use canopen_codec::guarding::{GuardingMaster, GuardingSlave, MasterGuardingEvent};
 use canopen_codec::machine::Machine;
+use canopen_codec::nmt::guarding::{GuardingMaster, GuardingSlave, MasterGuardingEvent};
 use canopen_codec::nmt::NmtState;
 use canopen_codec::sync::SyncCobId;
-use canopen_codec::time_of_day::TimeCobId;
+use canopen_codec::time::TimeCobId;
 use canopen_codec::{CanFrame, CanId, NodeId, Timestamp};
 use proptest::prelude::*;
 

@@ -2,8 +2,8 @@
 //! than its consumer time, at the moment the time runs out, and never a
 //! false one.
 
-use canopen_codec::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent};
 use canopen_codec::machine::Machine;
+use canopen_codec::nmt::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent};
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 use proptest::prelude::*;
 

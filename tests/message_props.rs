@@ -22,8 +22,8 @@ use canopen_codec::sdo::{
     InitiatePayload, SdoRequest, SdoResponse, Segment, SegmentData, ServerBlockDownload,
     ServerBlockUpload, ServerCommand,
 };
-use canopen_codec::sync::Sync;
-use canopen_codec::time_of_day::TimeOfDay;
+use canopen_codec::sync::SyncFrame;
+use canopen_codec::time::TimeOfDay;
 use canopen_codec::{CanFrame, CanId, Message, NodeId, PdoNumber};
 use proptest::prelude::*;
 use proptest::test_runner::Config as ProptestConfig;
@@ -351,7 +351,7 @@ fn plain_message() -> impl Strategy<Value = Message> {
                 },
             }
         ),
-        any::<Option<u8>>().prop_map(|counter| Message::Sync(Sync { counter })),
+        any::<Option<u8>>().prop_map(|counter| Message::Sync(SyncFrame { counter })),
         (0u32..=0x0FFF_FFFF, any::<u16>(), 0u8..=0x0F).prop_map(|(millis, days, reserved)| {
             Message::Time(TimeOfDay {
                 millis,

@@ -30,8 +30,8 @@ use canopen_codec::sdo::{
     ALL_ABORT_CODES,
 };
 use canopen_codec::sdo::{Client, ClientConfig, ClientError, Server, ServerConfig};
-use canopen_codec::sync::Sync;
-use canopen_codec::time_of_day::TimeOfDay;
+use canopen_codec::sync::SyncFrame;
+use canopen_codec::time::TimeOfDay;
 use canopen_codec::{cia418, deltaq};
 use canopen_codec::{CanFrame, CanId, Message, NodeId, Timestamp};
 use core::fmt::Write as _;
@@ -360,9 +360,9 @@ const CASES: &[Case] = &[
         }
         let _ = black_box(Heartbeat::decode(black_box(&[])));
     }),
-    ("Sync::decode / encode", |_| {
+    ("SyncFrame::decode / encode", |_| {
         for data in [&[][..], &[1], &[240], &[1, 2]] {
-            let _ = black_box(Sync::decode(black_box(data)).map(|s| s.encode()));
+            let _ = black_box(SyncFrame::decode(black_box(data)).map(|s| s.encode()));
         }
     }),
     ("TimeOfDay::decode / encode / unix", |_| {
@@ -504,7 +504,9 @@ const CASES: &[Case] = &[
             "bad",
             "18A#7413454E70000000",
         ] {
-            let _ = black_box(canopen_codec::candump::parse_line(black_box(line)).map(|l| l.frame));
+            let _ = black_box(
+                canopen_codec::trace::candump::parse_line(black_box(line)).map(|l| l.frame),
+            );
         }
     }),
     (

@@ -6,7 +6,6 @@
 
 mod common;
 
-use canopen_codec::candump::parse_line;
 use canopen_codec::cia418::{BatteryStatus, BATTERY_MODULE_CATALOGUE, BATTERY_STATUS_FLAGS};
 use canopen_codec::deltaq::{
     ChargeIndication, ChargeStatusFlags, ChargeType, DisplayedError, ExtendedChargeStatus,
@@ -16,6 +15,7 @@ use canopen_codec::deltaq::{
 use canopen_codec::pdo::{
     FieldValue, Fixed, Flags, Formatted, MappingEntry, NamedField, NamedFields, PdoMapping, Unit,
 };
+use canopen_codec::trace::candump::parse_line;
 use canopen_codec::{CanFrame, Message};
 
 /// tests/data/CAPTURES.md: (COB-ID, entries as (index, sub, bits)). The

@@ -12,10 +12,10 @@ use std::time::Duration;
 use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig};
 #[cfg(feature = "heartbeat-consumer")]
 use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
-use canopen_codec::heartbeat::{
+use canopen_codec::machine::Machine;
+use canopen_codec::nmt::heartbeat::{
     ConsumerEntry, HeartbeatConsumer, HeartbeatEvent, HeartbeatProducer,
 };
-use canopen_codec::machine::Machine;
 use canopen_codec::nmt::NmtState;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 #[cfg(feature = "heartbeat-consumer")]
@@ -87,6 +87,10 @@ impl Machine for Probe {
         self.heard.pop_front()
     }
     fn events_dropped(&self) -> u64 {
+        0
+    }
+
+    fn frames_dropped(&self) -> u64 {
         0
     }
 }

@@ -19,7 +19,7 @@ use canopen_codec::pdo::{
     TransmissionType,
 };
 use canopen_codec::sync::{SyncCobId, SyncConsumer, SyncEvent, SyncProducer};
-use canopen_codec::time_of_day::{TimeCobId, TimeConsumer, TimeEvent, TimeOfDay, TimeProducer};
+use canopen_codec::time::{TimeCobId, TimeConsumer, TimeEvent, TimeOfDay, TimeProducer};
 use canopen_codec::{CanFrame, NodeId, PdoNumber, Timestamp};
 use common::sim::Sim;
 
@@ -316,7 +316,7 @@ fn sync_production_switched_over_sdo() {
 /// the guarding request and reply.
 #[test]
 fn produced_frames_decode_in_words() {
-    use canopen_codec::guarding::{GuardingMaster, GuardingSlave};
+    use canopen_codec::nmt::guarding::{GuardingMaster, GuardingSlave};
     use canopen_codec::nmt::NmtState;
     use canopen_codec::Message;
     let words = |f: &CanFrame| {

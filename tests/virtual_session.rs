@@ -9,11 +9,11 @@
 
 mod common;
 
-use canopen_codec::candump::LogLineDisplay;
 use canopen_codec::cia418::{
     BatteryModule, BatteryModuleConfig, BatteryStatus, BatteryVoltage, StateOfCharge, Temperature,
 };
 use canopen_codec::deltaq::{Charger, ChargerConfig};
+use canopen_codec::trace::candump::LogLineDisplay;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 use common::devices::{boot_all, charger_bus};
 

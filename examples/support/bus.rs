@@ -7,7 +7,7 @@ use std::io::{BufRead, Write};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
 use std::time::{Duration, Instant};
 
-use canopen_codec::candump::{parse_line, LogLineDisplay};
+use canopen_codec::trace::candump::{parse_line, LogLineDisplay};
 use canopen_codec::{CanFrame, Timestamp};
 
 /// What the input gave.

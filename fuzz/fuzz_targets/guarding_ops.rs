@@ -11,7 +11,7 @@
 #![no_main]
 
 use arbitrary::Arbitrary;
-use canopen_codec::guarding::{
+use canopen_codec::nmt::guarding::{
     GuardingMaster, GuardingSlave, MasterGuardingEvent, SlaveGuardingEvent,
 };
 use canopen_codec::machine::Machine;

@@ -3,7 +3,7 @@
 //! read from a candump log line writes back to a line that reads the same.
 #![no_main]
 
-use canopen_codec::candump::{parse_line, LogLineDisplay};
+use canopen_codec::trace::candump::{parse_line, LogLineDisplay};
 use canopen_codec::trace::{Format, LineParser, Record};
 use canopen_codec::Timestamp;
 use libfuzzer_sys::fuzz_target;

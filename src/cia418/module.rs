@@ -60,11 +60,11 @@ use crate::device::{
 };
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 
+use crate::clock::{millis_u16, millis_u32, Timestamp};
 use crate::pdo::{
     DefaultPdo, PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoSlot, TransmissionType,
 };
 use crate::sdo::DEFAULT_TIMEOUT;
-use crate::time::{millis_u16, millis_u32, Timestamp};
 
 /// How a [`BatteryModule`] is set up.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -67,17 +67,17 @@ use super::device_type;
 use super::{emergency_reaction, DeltaQCode, OperatingMode, Reaction, ALARMS_AND_FAULTS};
 use crate::bytes::InlineData;
 use crate::cia419::{PdoPair, PDO_PAIRS};
+use crate::clock::Timestamp;
 use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
 use crate::device::{machine_on_device, Device, DeviceEvent, Profile, DEFAULT_QUEUE_CAPACITY};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::CanFrame;
-use crate::heartbeat::HeartbeatEvent;
 use crate::machine::Machine;
+use crate::nmt::heartbeat::HeartbeatEvent;
 use crate::nmt::NmtState;
 use crate::od::index::DEVICE_TYPE;
 use crate::pdo::{PdoCobId, PdoDirection, PdoSlot, RpdoError};
 use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent, EVENTS_PER_CALL};
-use crate::time::Timestamp;
 
 #[path = "charger_config.rs"]
 mod config;

@@ -9,7 +9,7 @@ use super::super::{timeouts, OperatingMode, CHARGER_DEFAULT_PDOS};
 use crate::cia419::CHARGER_DEVICE_TYPE;
 use crate::cob_id::{NodeId, PdoNumber};
 use crate::device::{CommObjects, DeviceConfig, ErrorFieldFormat, Policies, PowerOn};
-use crate::heartbeat::ConsumerEntry;
+use crate::nmt::heartbeat::ConsumerEntry;
 use crate::pdo::{PdoCobId, PdoCommParams, PdoConfig, PdoDirection, PdoSlot};
 
 /// How the charger is set up.

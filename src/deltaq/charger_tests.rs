@@ -135,7 +135,7 @@ fn the_device_name_is_written_once_and_kept_by_both_resets() {
 
 #[test]
 fn the_kept_times_are_the_crates_whole_milliseconds() {
-    use crate::time::{millis_u16, millis_u32};
+    use crate::clock::{millis_u16, millis_u32};
     use core::time::Duration;
     for d in [
         Duration::ZERO,

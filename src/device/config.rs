@@ -6,14 +6,14 @@ use core::time::Duration;
 #[cfg(feature = "heartbeat-consumer")]
 use super::objects::MAX_CONSUMERS;
 use super::objects::{CommObjects, ErrorFieldFormat, Identity};
+use crate::clock::{micros_u32, millis_u16};
 use crate::cob_id::NodeId;
 #[cfg(feature = "heartbeat-consumer")]
-use crate::heartbeat::ConsumerEntry;
+use crate::nmt::heartbeat::ConsumerEntry;
 use crate::pdo::PdoConfig;
 use crate::sdo::{ServerConfig, DEFAULT_TIMEOUT};
 use crate::sync::SyncCobId;
-use crate::time::{micros_u32, millis_u16};
-use crate::time_of_day::TimeCobId;
+use crate::time::TimeCobId;
 
 /// How a [`Device`](super::Device) is set up: the power-on values of its communication
 /// objects (restored by the NMT resets) and its policies.

@@ -10,10 +10,10 @@
 //! What it does is in the [device core docs](super).
 
 use super::{Device, DeviceEvent, PowerOn, PowerOnValues, Profile, MAX_CONSUMERS};
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
-use crate::heartbeat::{HeartbeatConsumer, HeartbeatEvent};
+use crate::nmt::heartbeat::{HeartbeatConsumer, HeartbeatEvent};
 use crate::od::ObjectDictionary;
-use crate::time::Timestamp;
 
 /// The device's consumer: one watch per 1016h entry, no event slot (see
 /// the module docs).

@@ -3,13 +3,13 @@
 //! docs](super).
 
 use super::{Device, DeviceEvent, PowerOn, PowerOnValues, Profile};
+use crate::clock::Timestamp;
 use crate::cob_id::NodeId;
 use crate::lss::{LssSlave, LssSlaveEvent};
 use crate::machine::Machine;
 use crate::nmt::{NmtSlaveEvent, ResetKind};
 use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDirection};
-use crate::time::Timestamp;
 
 impl<A, E, const Q: usize, C, const T: usize, const R: usize> Device<A, E, Q, C, T, R>
 where

@@ -56,7 +56,7 @@
 //!   Heartbeats of the nodes in 1016h are supervised; their events are
 //!   reported as [`DeviceEvent::Heartbeat`] whether or not events are read
 //!   (feature `heartbeat-consumer`).
-//! - **Node guarding** ([`GuardingSlave`](crate::guarding::GuardingSlave),
+//! - **Node guarding** ([`GuardingSlave`](crate::nmt::guarding::GuardingSlave),
 //!   100Ch, 100Dh): requests are answered in every state once booted, the
 //!   toggle from 0 after every reset, but not while 1017h is non-zero (CiA
 //!   301: heartbeat and guarding are exclusive; the default 1000 ms means no
@@ -139,15 +139,16 @@ pub(crate) use profile::machine_on_device;
 pub use profile::{DeviceEvent, Profile};
 pub use snapshot::PowerOnValues;
 
+use crate::clock::Timestamp;
 use crate::cob_id::{NodeId, EMCY_BASE};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::{CanFrame, CanId};
-#[cfg(feature = "heartbeat-consumer")]
-use crate::heartbeat::HeartbeatConsumer;
-use crate::heartbeat::HeartbeatProducer;
 #[cfg(feature = "lss")]
 use crate::lss::LssSlave;
 use crate::machine::Machine;
+#[cfg(feature = "heartbeat-consumer")]
+use crate::nmt::heartbeat::HeartbeatConsumer;
+use crate::nmt::heartbeat::HeartbeatProducer;
 use crate::nmt::{NmtCore, NmtSlaveEvent, NmtState, ResetKind};
 #[cfg(feature = "heartbeat-consumer")]
 use crate::od::index::CONSUMER_HEARTBEAT_TIME;
@@ -156,7 +157,6 @@ use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
 use crate::queue::EventQueue;
 use crate::sdo::{Server, ServerEvent, EVENTS_PER_CALL};
-use crate::time::Timestamp;
 
 /// The dictionary the SDO server serves: PDO objects, communication
 /// objects, application objects.
@@ -349,7 +349,6 @@ where
     /// and starts the SDO server and the heartbeat producer over on them:
     /// what [`new`](Self::new) and every reset do (one copy of the code, no
     /// second dictionary or server built and moved).
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub(crate) fn load_power_on(&mut self) {
         let od = self.server.od_mut();
         let policies = self.config.restore(&mut od.inner.comm, &mut od.config);
@@ -561,7 +560,6 @@ where
 
     /// Feeds a received frame: NMT, heartbeats of 1016h's nodes, SYNC, this
     /// node's SDO requests and RPDOs, then the profile's frames.
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn handle_frame_with<P: Profile<A, E, Q, C, T, R>>(
         &mut self,
         now: Timestamp,
@@ -651,7 +649,6 @@ where
 
     /// The earliest deadline of the core's and the profile's timers.
     #[must_use]
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
     pub fn poll_timeout_with<P: Profile<A, E, Q, C, T, R>>(
         &self,
         profile: &P,
@@ -899,6 +896,10 @@ impl<
 
     fn events_dropped(&self) -> u64 {
         self.dropped_events()
+    }
+
+    fn frames_dropped(&self) -> u64 {
+        self.transmit.dropped()
     }
 }
 

@@ -9,7 +9,7 @@
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::emcy::{Emergency, ErrorFieldEntry, ErrorRegister};
 #[cfg(feature = "heartbeat-consumer")]
-use crate::heartbeat::ConsumerEntry;
+use crate::nmt::heartbeat::ConsumerEntry;
 #[cfg(feature = "heartbeat-consumer")]
 use crate::od::index::CONSUMER_HEARTBEAT_TIME;
 use crate::od::index::{
@@ -21,7 +21,7 @@ use crate::od::index::{
 use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
 use crate::sdo::AbortCode;
 use crate::sync::{valid_counter_overflow, SyncCobId};
-use crate::time_of_day::TimeCobId;
+use crate::time::TimeCobId;
 
 /// Entries the error history (1003h) keeps.
 pub const ERROR_HISTORY_LEN: usize = 10;

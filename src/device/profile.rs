@@ -2,22 +2,22 @@
 //! to it ([`Profile`]).
 
 use super::Device;
+use crate::clock::Timestamp;
 use crate::cob_id::PdoNumber;
 use crate::emcy::{Emergency, ErrorRegister};
 use crate::frame::CanFrame;
-#[cfg(feature = "guarding")]
-use crate::guarding::SlaveGuardingEvent;
-#[cfg(feature = "heartbeat-consumer")]
-use crate::heartbeat::HeartbeatEvent;
 #[cfg(feature = "lss")]
 use crate::lss::LssSlaveEvent;
+#[cfg(feature = "guarding")]
+use crate::nmt::guarding::SlaveGuardingEvent;
+#[cfg(feature = "heartbeat-consumer")]
+use crate::nmt::heartbeat::HeartbeatEvent;
 use crate::nmt::NmtState;
 use crate::pdo::RpdoError;
 use crate::sdo::{AbortCode, AbortOrigin};
 use crate::sync::SyncEvent;
-use crate::time::Timestamp;
 #[cfg(feature = "sync-time")]
-use crate::time_of_day::TimeEvent;
+use crate::time::TimeEvent;
 
 /// What the device core reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -209,6 +209,10 @@ macro_rules! machine_on_device {
 
             fn events_dropped(&self) -> u64 {
                 self.device.dropped_events()
+            }
+
+            fn frames_dropped(&self) -> u64 {
+                self.device.frames_dropped()
             }
         }
     };

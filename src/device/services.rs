@@ -8,10 +8,11 @@
 use core::time::Duration;
 
 use super::{Device, DeviceEvent, PowerOn, PowerOnValues, Profile};
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
-#[cfg(feature = "guarding")]
-use crate::guarding::GuardingSlave;
 use crate::machine::Machine;
+#[cfg(feature = "guarding")]
+use crate::nmt::guarding::GuardingSlave;
 use crate::nmt::NmtState;
 use crate::od::ObjectDictionary;
 use crate::pdo::{PdoDirection, TransmissionType};
@@ -22,9 +23,8 @@ use crate::sync::SyncConsumer;
 use crate::sync::SyncEvent;
 #[cfg(feature = "sync-time")]
 use crate::sync::SyncProducer;
-use crate::time::Timestamp;
 #[cfg(feature = "sync-time")]
-use crate::time_of_day::{TimeCobId, TimeConsumer, TimeOfDay, TimeProducer};
+use crate::time::{TimeCobId, TimeConsumer, TimeOfDay, TimeProducer};
 use crate::{cob_id::NodeId, PdoNumber};
 
 /// The values the services were last configured with (so that an

@@ -1,7 +1,7 @@
 use super::*;
 use crate::cob_id::PdoNumber;
 #[cfg(feature = "heartbeat-consumer")]
-use crate::heartbeat::{ConsumerEntry, HeartbeatEvent};
+use crate::nmt::heartbeat::{ConsumerEntry, HeartbeatEvent};
 use crate::od::{Access, ObjectInfo};
 use crate::pdo::RpdoError;
 use crate::pdo::{MappingEntry, PdoCobId, PdoCommParams, PdoMapping, PdoSlot};

@@ -12,11 +12,11 @@
 
 use core::time::Duration;
 
+use crate::clock::{Timers, Timestamp};
 use crate::cob_id::{NodeId, LSS_MASTER_TO_SLAVE, LSS_SLAVE_TO_MASTER};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
-use crate::queue::{EventQueue, Queue};
-use crate::time::Timestamp;
+use crate::queue::{EventQueue, FrameQueue};
 
 use super::slave::NODE_ID_UNCONFIGURED;
 use super::wire::{
@@ -132,13 +132,21 @@ enum Op {
 pub struct LssMaster {
     timeout: Duration,
     op: Op,
-    deadline: Option<Timestamp>,
-    tx: Queue<CanFrame, 8>,
+    timers: Timers<MasterTimer, 1>,
+    tx: FrameQueue<8>,
     events: EventQueue<LssMasterEvent, 8>,
     /// [`LssMaster::fastscan_assign`]: the node-ID for the slave found.
     assign: Option<NodeId>,
     /// Switch to waiting state after the running configure node-ID succeeds.
     release: bool,
+}
+
+crate::clock::timer_kind! {
+    /// The master's one timer.
+    enum MasterTimer {
+        /// The end of the wait for an answer (or of a fastscan step).
+        Answer,
+    }
 }
 
 impl LssMaster {
@@ -148,8 +156,8 @@ impl LssMaster {
         Self {
             timeout,
             op: Op::Idle,
-            deadline: None,
-            tx: Queue::new(CanFrame::from_parts(CanId::Standard(0), [0; 8], 0)),
+            timers: Timers::new(),
+            tx: FrameQueue::empty(),
             events: EventQueue::new(LssMasterEvent::FastscanNotFound),
             assign: None,
             release: false,
@@ -165,7 +173,7 @@ impl LssMaster {
     /// Ends the running service without an event.
     pub fn cancel(&mut self) {
         self.op = Op::Idle;
-        self.deadline = None;
+        self.timers.clear();
         self.assign = None;
         self.release = false;
     }
@@ -173,7 +181,7 @@ impl LssMaster {
     fn send(&mut self, request: LssRequest) {
         let mut buf = [0; 8];
         let n = request.encode(&mut buf);
-        let _ = self.tx.push(CanFrame::from_parts(
+        self.tx.push(CanFrame::from_parts(
             CanId::Standard(LSS_MASTER_TO_SLAVE),
             buf,
             n as u8,
@@ -185,7 +193,8 @@ impl LssMaster {
             return Err(LssMasterError::Busy);
         }
         self.op = op;
-        self.deadline = Some(now.add_duration(self.timeout));
+        self.timers
+            .set(MasterTimer::Answer, Some(now.add_duration(self.timeout)));
         Ok(())
     }
 
@@ -298,7 +307,7 @@ impl LssMaster {
 
     fn finish(&mut self, event: LssMasterEvent) {
         self.op = Op::Idle;
-        self.deadline = None;
+        self.timers.clear();
         self.events.push(event);
         if !matches!(event, LssMasterEvent::FastscanFound(_)) {
             self.assign = None;
@@ -369,7 +378,8 @@ impl LssMaster {
                     self.finish(LssMasterEvent::FastscanFound(scan.found));
                     if let Some(node) = self.assign.take() {
                         self.op = Op::Wait(LssService::ConfigureNodeId);
-                        self.deadline = Some(now.add_duration(self.timeout));
+                        self.timers
+                            .set(MasterTimer::Answer, Some(now.add_duration(self.timeout)));
                         self.release = true;
                         self.send(LssRequest::ConfigureNodeId(node.raw()));
                     }
@@ -394,7 +404,8 @@ impl LssMaster {
             next: next.index(),
         }));
         self.op = Op::Scan(scan);
-        self.deadline = Some(now.add_duration(self.timeout));
+        self.timers
+            .set(MasterTimer::Answer, Some(now.add_duration(self.timeout)));
     }
 }
 
@@ -411,11 +422,11 @@ impl Machine for LssMaster {
     }
 
     fn handle_timeout(&mut self, now: Timestamp) {
-        if !self.deadline.is_some_and(|d| now.has_reached(d)) {
+        if !self.timers.expire(MasterTimer::Answer, now) {
             return;
         }
         match self.op {
-            Op::Idle => self.deadline = None,
+            Op::Idle => {}
             Op::Wait(service) => {
                 self.release = false;
                 self.finish(LssMasterEvent::NoResponse(service));
@@ -424,19 +435,9 @@ impl Machine for LssMaster {
         }
     }
 
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.tx.pop()
-    }
-
     fn poll_timeout(&self) -> Option<Timestamp> {
-        self.deadline
+        self.timers.next()
     }
 
-    fn poll_event(&mut self) -> Option<LssMasterEvent> {
-        self.events.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
+    crate::machine::queued_outputs!(frames: tx, events: events);
 }

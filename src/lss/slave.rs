@@ -12,11 +12,11 @@
 //! switched back to waiting state with a pending node-ID it asks for a reset
 //! communication itself ([`LssSlaveEvent::ResetCommunication`]).
 
+use crate::clock::Timestamp;
 use crate::cob_id::{NodeId, LSS_MASTER_TO_SLAVE, LSS_SLAVE_TO_MASTER};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
-use crate::queue::{EventQueue, Queue};
-use crate::time::Timestamp;
+use crate::queue::{EventQueue, FrameQueue};
 
 use super::wire::{
     Fastscan, IdentifyPart, LssAddress, LssErrorCode, LssField, LssInquiry, LssMode, LssRequest,
@@ -137,7 +137,7 @@ pub struct LssSlave {
     /// Fastscan: the address part compared next (`None` before a reset).
     scan_pos: Option<u8>,
     store_outstanding: bool,
-    tx: Queue<CanFrame, 4>,
+    tx: FrameQueue<4>,
     events: EventQueue<LssSlaveEvent, 8>,
 }
 
@@ -155,7 +155,7 @@ impl LssSlave {
             identify: 0,
             scan_pos: None,
             store_outstanding: false,
-            tx: Queue::new(CanFrame::from_parts(CanId::Standard(0), [0; 8], 0)),
+            tx: FrameQueue::empty(),
             events: EventQueue::new(LssSlaveEvent::ResetCommunication),
         }
     }
@@ -204,7 +204,7 @@ impl LssSlave {
     fn send(&mut self, response: LssResponse) {
         let mut buf = [0; 8];
         let n = response.encode(&mut buf);
-        let _ = self.tx.push(CanFrame::from_parts(
+        self.tx.push(CanFrame::from_parts(
             CanId::Standard(LSS_SLAVE_TO_MASTER),
             buf,
             n as u8,
@@ -390,19 +390,9 @@ impl Machine for LssSlave {
 
     fn handle_timeout(&mut self, _now: Timestamp) {}
 
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.tx.pop()
-    }
-
     fn poll_timeout(&self) -> Option<Timestamp> {
         None
     }
 
-    fn poll_event(&mut self) -> Option<LssSlaveEvent> {
-        self.events.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
+    crate::machine::queued_outputs!(frames: tx, events: events);
 }

@@ -6,10 +6,10 @@ use std::string::ToString;
 use std::vec::Vec;
 
 use super::*;
+use crate::clock::Timestamp;
 use crate::cob_id::NodeId;
 use crate::frame::CanFrame;
 use crate::machine::Machine;
-use crate::time::Timestamp;
 
 const A: LssAddress = LssAddress {
     vendor: 0x0000_029A,

@@ -561,6 +561,6 @@ fn put(buf: &mut [u8; 8], cs: u8, data: [u8; 7]) -> usize {
 }
 
 fn put_other(buf: &mut [u8; 8], p: &Payload) -> usize {
-    crate::bytes::copy_short(buf, p.as_slice());
+    crate::bytes::copy_payload(buf, p.as_slice());
     p.as_slice().len()
 }

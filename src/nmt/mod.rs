@@ -15,7 +15,10 @@ use core::fmt;
 use crate::cob_id::NodeId;
 use crate::error::{exact_len, DecodeError};
 
+pub mod guarding;
+pub mod heartbeat;
 mod slave;
+pub use heartbeat::Heartbeat;
 pub(crate) use slave::NmtCore;
 pub use slave::{NmtSlave, NmtSlaveEvent, ResetKind};
 
@@ -182,21 +185,12 @@ impl NmtState {
     #[must_use]
     #[inline]
     pub const fn from_bits(raw: u8) -> Self {
-        // Hosts: one table load, no compare chain (the heartbeat decode
-        // path). 32-bit targets: four compares instead of a 256-byte table
-        // in flash.
-        let i = (raw & 0x7F) as usize;
-        if cfg!(not(target_pointer_width = "64")) {
-            Self::matched(raw & 0x7F)
-        } else if i < STATES.len() {
-            STATES[i]
-        } else {
-            NmtState::Unknown(raw & 0x7F)
-        }
+        STATES[(raw & 0x7F) as usize]
     }
 
-    /// [`NmtState::from_bits`] by matching (builds the table).
-    const fn matched(bits: u8) -> Self {
+    /// The state a 7-bit value names (CiA 301 section 7.2.8.3.2: 0
+    /// boot-up, 4 stopped, 5 operational, 127 pre-operational).
+    const fn named(bits: u8) -> Self {
         match bits {
             0x00 => NmtState::BootUp,
             0x04 => NmtState::Stopped,
@@ -220,12 +214,12 @@ impl NmtState {
     }
 }
 
-/// Every 7-bit state value decoded.
+/// Every 7-bit state value decoded, so a heartbeat's state is one lookup.
 const STATES: [NmtState; 128] = {
     let mut t = [NmtState::BootUp; 128];
     let mut i = 0;
     while i < 128 {
-        t[i] = NmtState::matched(i as u8);
+        t[i] = NmtState::named(i as u8);
         i += 1;
     }
     t
@@ -243,88 +237,17 @@ impl fmt::Display for NmtState {
     }
 }
 
-/// A heartbeat, boot-up or node-guarding reply (the 1-byte frame on
-/// 0x700 + node). The wire cannot tell a heartbeat from a guarding reply
-/// except by the toggle bit, which heartbeats keep at 0.
-///
-/// ```
-/// use canopen_codec::nmt::{Heartbeat, NmtState};
-/// assert_eq!(Heartbeat::decode(&[0x7F]).unwrap().state, NmtState::PreOperational);
-/// let reply = Heartbeat::decode(&[0x85]).unwrap(); // guarding reply, toggle set
-/// assert!(reply.toggle);
-/// assert_eq!(reply.state, NmtState::Operational);
-/// assert_eq!(reply.encode(), 0x85);
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct Heartbeat {
-    /// The producer's NMT state.
-    pub state: NmtState,
-    /// Bit 7: the node-guarding toggle (always false in heartbeats).
-    pub toggle: bool,
-}
-
-impl Heartbeat {
-    /// A heartbeat (toggle clear) reporting `state`.
-    #[must_use]
-    pub const fn new(state: NmtState) -> Self {
-        Heartbeat {
-            state,
-            toggle: false,
-        }
-    }
-
-    /// The boot-up message.
-    pub const BOOT_UP: Heartbeat = Heartbeat::new(NmtState::BootUp);
-
-    /// True for the boot-up message (state 0).
-    #[must_use]
-    pub const fn is_boot_up(&self) -> bool {
-        matches!(self.state, NmtState::BootUp)
-    }
-
-    /// Decodes the single data byte.
-    #[inline]
-    pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
-        exact_len(data, 1)?;
-        let [b] = *data else {
-            return Err(DecodeError::Truncated {
-                need: 1,
-                got: data.len(),
-            });
-        };
-        Ok(Self::from_byte(b))
-    }
-
-    /// From the data byte.
-    #[must_use]
-    #[inline]
-    pub const fn from_byte(b: u8) -> Self {
-        Heartbeat {
-            state: NmtState::from_bits(b),
-            toggle: b & 0x80 != 0,
-        }
-    }
-
-    /// The data byte.
-    #[must_use]
-    #[inline]
-    pub const fn encode(&self) -> u8 {
-        self.state.bits() | if self.toggle { 0x80 } else { 0 }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn state_table_is_the_match() {
+    fn every_state_byte_decodes_and_reencodes() {
         for raw in 0..=u8::MAX {
-            assert_eq!(
-                NmtState::from_bits(raw),
-                NmtState::matched(raw & 0x7F),
-                "{raw:#04x}"
-            );
+            let state = NmtState::from_bits(raw);
+            assert_eq!(state.bits(), raw & 0x7F, "{raw:#04x}");
+            let named = matches!(raw & 0x7F, 0x00 | 0x04 | 0x05 | 0x7F);
+            assert_eq!(!matches!(state, NmtState::Unknown(_)), named, "{raw:#04x}");
         }
     }
 

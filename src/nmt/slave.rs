@@ -21,11 +21,11 @@
 //! the reset to pre-operational. The slave sends no frames and arms no timers.
 
 use super::{NmtCommandSpecifier, NmtState};
+use crate::clock::Timestamp;
 use crate::cob_id::{NodeId, NMT};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::EventQueue;
-use crate::time::Timestamp;
 
 /// Which NMT reset the master commanded.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -251,22 +251,11 @@ impl<const E: usize> Machine for NmtSlave<E> {
     /// The slave has no timers.
     fn handle_timeout(&mut self, _now: Timestamp) {}
 
-    /// The slave sends nothing (the heartbeat producer reports its state).
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        None
-    }
-
     fn poll_timeout(&self) -> Option<Timestamp> {
         None
     }
 
-    fn poll_event(&mut self) -> Option<NmtSlaveEvent> {
-        self.events.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
+    crate::machine::queued_outputs!(frames: none, events: events);
 }
 
 #[cfg(test)]

@@ -119,12 +119,12 @@ impl ObjectInfo {
 /// assert_eq!(&buf[..2], b"ry");
 /// assert_eq!(canopen_codec::od::read_at(b"battery", usize::MAX, &mut buf), 0);
 /// ```
-#[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+#[inline(never)]
 pub fn read_at(value: &[u8], offset: usize, buf: &mut [u8]) -> usize {
     let src = value.get(offset..).unwrap_or(&[]);
     let n = src.len().min(buf.len());
     // SDO reads are 1..=7 bytes: a fixed-length copy, not a memcpy call.
-    crate::bytes::copy_short(buf, src);
+    crate::bytes::copy_payload(buf, src);
     n
 }
 

@@ -256,7 +256,7 @@ impl<const T: usize, const R: usize> PdoConfig<T, R> {
 
     /// A PDO's configuration, if the device has it.
     #[must_use]
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    #[inline(never)]
     pub fn get(&self, dir: PdoDirection, n: PdoNumber) -> Option<&PdoSlot> {
         let slots: &[Option<PdoSlot>] = match dir {
             PdoDirection::Receive => &self.rpdos,
@@ -266,7 +266,7 @@ impl<const T: usize, const R: usize> PdoConfig<T, R> {
     }
 
     /// The same, mutably (the application's own changes; no rules applied).
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    #[inline(never)]
     pub fn get_mut(&mut self, dir: PdoDirection, n: PdoNumber) -> Option<&mut PdoSlot> {
         self.slots_mut(dir).get_mut(usize::from(n.raw()))?.as_mut()
     }

@@ -92,7 +92,7 @@ impl MappingEntry {
     /// PDO-mappable and hold at least `bits` bits. Dummy entries must name a
     /// standard data type of exactly `bits` bits. The empty entry is
     /// [`MappingError::EmptyEntry`].
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    #[inline(never)]
     pub fn check<D: ObjectDictionary + ?Sized>(self, od: &D) -> Result<(), MappingError> {
         if self.is_empty() || self.bits == 0 {
             return Err(MappingError::EmptyEntry { entry: self });
@@ -126,7 +126,7 @@ impl MappingEntry {
     /// [`check`](Self::check) as the abort code an SDO server answers with
     /// (`check(od).map_err(MappingError::abort_code)`), without building
     /// the [`MappingError`]: the device's mapping writes.
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    #[inline(never)]
     pub(crate) fn check_abort<D: ObjectDictionary + ?Sized>(self, od: &D) -> Result<(), AbortCode> {
         if self.is_empty() || self.bits == 0 {
             return Err(AbortCode::InvalidValue);
@@ -370,7 +370,7 @@ impl PdoMapping {
 #[must_use]
 pub fn extract_bits(payload: &[u8], offset: u32, bits: u32) -> u64 {
     let mut word = [0u8; 8];
-    crate::bytes::copy_short(&mut word, payload);
+    crate::bytes::copy_payload(&mut word, payload);
     let all = u64::from_le_bytes(word);
     let bits = bits.min(64);
     if offset >= 64 || bits == 0 {

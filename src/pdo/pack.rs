@@ -47,7 +47,7 @@
 
 use core::fmt;
 
-use crate::bytes::{copy_short, Payload};
+use crate::bytes::{copy_payload, Payload};
 use crate::emcy::ErrorCode;
 
 use super::mapping::{sign_extend, MappingEntry, PdoMapping, MAX_ENTRIES};
@@ -528,7 +528,7 @@ fn le_word(payload: &[u8]) -> u64 {
         }
         _ => {
             let mut word = [0u8; 8];
-            copy_short(&mut word, payload);
+            copy_payload(&mut word, payload);
             u64::from_le_bytes(word)
         }
     }

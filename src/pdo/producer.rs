@@ -32,16 +32,21 @@ use core::convert::Infallible;
 
 use super::comm::PdoCommParams;
 use crate::bytes::Payload;
+use crate::clock::{timer_kind, MaybeTimestamp, Timers, Timestamp};
 use crate::cob_id::SYNC;
 use crate::frame::{data_frame_word, CanFrame, CanId};
 use crate::machine::Machine;
-use crate::time::Timestamp;
 
-/// A deadline kept in 8 bytes: microseconds, 0 for none. No deadline of a
-/// producer is at 0: the event timer runs out strictly after the send
-/// that starts it, and the end of an inhibit time (100 µs at least) after
-/// the send that starts it.
-const NO_DEADLINE: u64 = 0;
+timer_kind! {
+    /// The producer's one timer.
+    enum TpdoTimer {
+        /// The end of the inhibit time when a transmission is deferred,
+        /// else the event timer. A deferred send re-arms the event timer,
+        /// so an event timer running out inside the inhibit time is
+        /// covered by it: one timer is enough.
+        Next,
+    }
+}
 
 /// The identifier word kept for a TPDO that may not send (not
 /// configured, not valid, or bits 28-11 set on an 11-bit COB-ID): the
@@ -77,18 +82,16 @@ const SYNC_EVENT: u8 = 1 << 4;
 #[derive(Debug, Clone)]
 pub struct TpdoProducer {
     /// When the last frame was sent (once `SENT`), in microseconds.
-    last_sent: u64,
-    /// The one timer, in microseconds ([`NO_DEADLINE`] when stopped): the
-    /// end of the inhibit time when `DEFERRED`, else the event timer. A
-    /// deferred send re-arms the event timer, so an event timer running
-    /// out inside the inhibit time is covered by it: one timer is enough.
-    /// Only set while active (every send follows an `is_active` check,
+    last_sent: MaybeTimestamp,
+    /// Only armed while active (every send follows an `is_active` check,
     /// and every way out of active stops it), so the timer paths need no
     /// check of their own.
-    deadline: u64,
+    timers: Timers<TpdoTimer, 1>,
+    /// Undrained frames replaced by a newer one (saturating).
+    dropped: u32,
     /// What the next frame carries, little-endian: the latest payload (a
     /// PDO carries the latest value; an undrained frame is not sent twice).
-    payload: u64,
+    payload: [u8; 8],
     /// Of the communication parameters, what the producer uses: the
     /// COB-ID's identifier as the word of its data frames ([`NO_ID`] when
     /// it may not send: a frame is made from it without a conversion),
@@ -115,9 +118,10 @@ impl TpdoProducer {
     #[must_use]
     pub const fn new() -> Self {
         TpdoProducer {
-            last_sent: 0,
-            deadline: NO_DEADLINE,
-            payload: 0,
+            last_sent: MaybeTimestamp::NONE,
+            timers: Timers::new(),
+            dropped: 0,
+            payload: [0; 8],
             frame_word: NO_ID,
             sync_word: SYNC as u32,
             inhibit_time_100us: 0,
@@ -195,7 +199,7 @@ impl TpdoProducer {
     }
 
     fn stop(&mut self) {
-        self.deadline = NO_DEADLINE;
+        self.timers.clear();
         self.flags &= OPERATIONAL | SENT;
     }
 
@@ -214,8 +218,9 @@ impl TpdoProducer {
     /// of `word` (bytes past `len` zero).
     #[inline]
     pub(crate) fn set_payload_word(&mut self, now: Timestamp, word: u64, len: u8) {
-        if word != self.payload || len != self.payload_len {
-            self.payload = word;
+        let bytes = word.to_le_bytes();
+        if bytes != self.payload || len != self.payload_len {
+            self.payload = bytes;
             self.payload_len = len;
             self.trigger(now);
         }
@@ -242,29 +247,37 @@ impl TpdoProducer {
         }
     }
 
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    #[inline(never)]
     fn send_or_defer(&mut self, now: Timestamp) {
         let inhibit = u64::from(self.inhibit_time_100us) * 100;
-        let end = Timestamp::from_micros(self.last_sent).add_micros(inhibit);
+        let end = self
+            .last_sent
+            .get()
+            .unwrap_or(Timestamp::ZERO)
+            .add_micros(inhibit);
         if self.has(SENT) && inhibit > 0 && !now.has_reached(end) {
-            self.deadline = end.as_micros();
+            self.timers.set(TpdoTimer::Next, Some(end));
             self.flags |= DEFERRED;
         } else {
             self.send(now);
         }
     }
 
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    #[inline(never)]
     fn send(&mut self, now: Timestamp) {
+        if self.has(DUE) {
+            // The caller did not drain: the newer frame replaces it.
+            self.dropped = self.dropped.saturating_add(1);
+        }
         self.flags = (self.flags | DUE | SENT) & !DEFERRED;
-        self.last_sent = now.as_micros();
+        self.last_sent = MaybeTimestamp::new(Some(now));
         // No event timer (0), or none later than the end of the clock.
         let event = if self.is_event_driven() {
             now.deadline_after(u64::from(self.event_timer_ms) * 1000)
         } else {
             None
         };
-        self.deadline = event.map_or(NO_DEADLINE, Timestamp::as_micros);
+        self.timers.set(TpdoTimer::Next, event);
     }
 
     /// A SYNC was received: synchronous types send here.
@@ -302,11 +315,10 @@ impl Machine for TpdoProducer {
 
     /// The event timer and a deferred transmission fire here.
     fn handle_timeout(&mut self, now: Timestamp) {
-        // A deadline is only set while active (see `deadline`).
-        if self.deadline == NO_DEADLINE || !now.has_reached(Timestamp::from_micros(self.deadline)) {
+        // A deadline is only set while active (see `timers`).
+        if !self.timers.expire(TpdoTimer::Next, now) {
             return;
         }
-        self.deadline = NO_DEADLINE;
         if self.has(DEFERRED) {
             self.send(now);
         } else {
@@ -322,33 +334,27 @@ impl Machine for TpdoProducer {
             return None;
         }
         self.flags &= !DUE;
-        // DUE implies active (a send is), so the word is a frame's; the
-        // check costs a compare.
+        // DUE implies active (a send is), so the identifier is valid; a
+        // producer that may not send never sends.
         if self.frame_word == NO_ID {
             return None;
         }
         Some(CanFrame::from_word_parts(
             self.frame_word,
-            self.payload.to_le_bytes(),
+            self.payload,
             self.payload_len,
         ))
     }
 
     /// The earlier of the event timer and the end of the inhibit time.
     fn poll_timeout(&self) -> Option<Timestamp> {
-        // A deadline is only set while active (see `deadline`).
-        if self.deadline == NO_DEADLINE {
-            return None;
-        }
-        Some(Timestamp::from_micros(self.deadline))
+        self.timers.next()
     }
 
-    fn poll_event(&mut self) -> Option<Infallible> {
-        None
-    }
+    crate::machine::queued_outputs!(events: none);
 
-    fn events_dropped(&self) -> u64 {
-        0
+    fn frames_dropped(&self) -> u64 {
+        u64::from(self.dropped)
     }
 }
 

@@ -16,12 +16,12 @@
 use super::comm::{PdoCobId, PdoDirection};
 use super::mapping::{PdoMapping, MAX_ENTRIES};
 use crate::bytes::InlineData;
+use crate::clock::Timestamp;
 use crate::cob_id::PdoNumber;
 use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::queue::EventQueue;
 use crate::sdo::{AbortCode, AbortOrigin, Client, ClientConfig, ClientError, ClientEvent};
-use crate::time::Timestamp;
 
 /// One SDO download of the procedure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -247,5 +247,9 @@ impl Machine for Reconfigurer {
 
     fn events_dropped(&self) -> u64 {
         self.outcomes.dropped()
+    }
+
+    fn frames_dropped(&self) -> u64 {
+        self.client.frames_dropped()
     }
 }

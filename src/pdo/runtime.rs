@@ -12,11 +12,11 @@ use super::config::{PdoConfig, PdoDictionary};
 use super::od_io::{read_entries, write_entries, RpdoError};
 use super::producer::TpdoProducer;
 use crate::bytes::Payload;
+use crate::clock::{MaybeTimestamp, Timestamp};
 use crate::cob_id::PdoNumber;
 use crate::frame::{data_frame_word, CanFrame};
 use crate::machine::Machine;
 use crate::od::ObjectDictionary;
-use crate::time::{MaybeTimestamp, Timestamp};
 
 /// TPDO 0..T of a device (default 4), one [`TpdoProducer`] each. SYNC
 /// frames reach every producer through [`Machine::handle_frame`].
@@ -110,7 +110,6 @@ impl<const T: usize> TpdoSet<T> {
 
     /// Stops and forgets every producer (a reset).
     pub fn reset(&mut self) {
-        // One producer at a time: no image of the whole set in flash.
         for p in &mut self.producers {
             *p = TpdoProducer::new();
         }
@@ -148,12 +147,12 @@ impl<const T: usize> Machine for TpdoSet<T> {
             .min()
     }
 
-    fn poll_event(&mut self) -> Option<Infallible> {
-        None
-    }
+    crate::machine::queued_outputs!(events: none);
 
-    fn events_dropped(&self) -> u64 {
-        0
+    fn frames_dropped(&self) -> u64 {
+        self.producers
+            .iter()
+            .fold(0, |n, p| n.saturating_add(p.frames_dropped()))
     }
 }
 
@@ -323,6 +322,11 @@ impl<const R: usize> Machine for RpdoReceiver<R> {
 
     fn events_dropped(&self) -> u64 {
         u64::from(self.dropped)
+    }
+
+    /// Always 0: the receiver sends nothing.
+    fn frames_dropped(&self) -> u64 {
+        0
     }
 }
 

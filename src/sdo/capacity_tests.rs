@@ -11,10 +11,10 @@ use std::vec::Vec;
 use proptest::prelude::*;
 
 use super::*;
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
-use crate::time::Timestamp;
 use crate::NodeId;
 
 /// 2000h 4 bytes, 2001h 20 bytes, 2002h up to 30 bytes (all read-write),

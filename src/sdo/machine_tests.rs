@@ -4,10 +4,10 @@
 //! newest frame and counts the one it drops. No allocation needed.
 
 use super::*;
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::od::{Access, ObjectDictionary, ObjectInfo};
-use crate::time::Timestamp;
 use crate::NodeId;
 
 const NODE: u8 = 1;

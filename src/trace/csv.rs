@@ -14,8 +14,8 @@
 
 use super::fields::{can_id, dec_u32, decimal_scaled, frame, hex_u32};
 use super::{Record, TraceError, TraceFrame, Unsupported};
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
-use crate::time::Timestamp;
 
 pub(super) fn parse(line: &str) -> Result<Record<'_>, TraceError> {
     let t = line.trim();

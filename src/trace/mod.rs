@@ -29,13 +29,14 @@
 //! ```
 
 mod asc;
+pub mod candump;
 mod csv;
 mod fields;
 mod screen;
 mod trc;
 
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
-use crate::time::Timestamp;
 
 /// The trace formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -190,7 +191,7 @@ pub enum TraceError {
     CanFd,
     /// The candump log line did not parse.
     #[error("{0}")]
-    Candump(crate::candump::CandumpError),
+    Candump(crate::trace::candump::CandumpError),
 }
 
 /// The format-specific state of a trace.
@@ -305,14 +306,16 @@ fn candump_log(line: &str) -> Result<Record<'_>, TraceError> {
     } else {
         (t, None)
     };
-    match crate::candump::parse_line(body) {
+    match crate::trace::candump::parse_line(body) {
         Ok(l) => Ok(Record::Frame(TraceFrame {
             timestamp: l.timestamp,
             channel: l.interface,
             direction,
             frame: l.frame,
         })),
-        Err(crate::candump::CandumpError::CanFd) => Ok(Record::Unsupported(Unsupported::CanFd)),
+        Err(crate::trace::candump::CandumpError::CanFd) => {
+            Ok(Record::Unsupported(Unsupported::CanFd))
+        }
         Err(e) => Err(TraceError::Candump(e)),
     }
 }

@@ -17,7 +17,7 @@
 
 use super::fields::{can_id, dec_u32, decimal_scaled, frame, hex_u32};
 use super::{Direction, Record, State, TraceError, TraceFrame, Unsupported};
-use crate::time::Timestamp;
+use crate::clock::Timestamp;
 
 /// True when the line has the `[n]` length field of screen output.
 pub(super) fn looks_like_frame(line: &str) -> bool {

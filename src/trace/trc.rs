@@ -21,7 +21,7 @@
 
 use super::fields::{can_id, dec_u32, decimal_scaled, frame, hex_u32};
 use super::{Direction, Record, State, TraceError, TraceFrame, Unsupported};
-use crate::time::Timestamp;
+use crate::clock::Timestamp;
 
 /// Days from 1899-12-30 (the `$STARTTIME` epoch) to 1970-01-01.
 const UNIX_EPOCH_DAY: u64 = 25_569;

@@ -10,6 +10,9 @@
 //! it out in 16-byte loads right after the decoder's stores, a
 //! store-forwarding stall that measures the harness, not the decoder, and
 //! weighs on each crate by how its compiler happened to split the stores.
+//! The `*_by_value` groups time the same streams with each result
+//! returned by value into `black_box` (`black_box(result)`), which is how a
+//! caller uses a decoder, stall and all.
 //! Short runs while iterating:
 //! `cargo bench -- --warm-up-time 1 --measurement-time 2`.
 
@@ -34,41 +37,52 @@ fn out_dir() -> PathBuf {
         .join("criterion")
 }
 
-fn bench_stream(c: &mut Criterion, name: &str, s: &Stream) {
+/// Hands a decoder's result to the optimiser's barrier: its address
+/// (`BY_VALUE` false, the result left in place) or the value itself.
+#[inline(always)]
+fn sink<const BY_VALUE: bool, T>(result: T) {
+    if BY_VALUE {
+        black_box(result);
+    } else {
+        black_box(&result);
+    }
+}
+
+fn bench_stream<const BY_VALUE: bool>(c: &mut Criterion, name: &str, s: &Stream) {
     let mut g = c.benchmark_group(name);
     g.throughput(Throughput::Elements(s.len() as u64));
     g.bench_function("copy", |b| {
         b.iter(|| {
             for f in &s.ours {
-                black_box(&peers::copy(black_box(f)));
+                sink::<BY_VALUE, _>(peers::copy(black_box(f)));
             }
         })
     });
     g.bench_function("canopen-codec", |b| {
         b.iter(|| {
             for f in &s.ours {
-                black_box(&peers::ours(black_box(f)));
+                sink::<BY_VALUE, _>(peers::ours(black_box(f)));
             }
         })
     });
     g.bench_function("canopen-rs", |b| {
         b.iter(|| {
             for f in &s.canopen_rs {
-                black_box(&peers::canopen_rs(black_box(f)));
+                sink::<BY_VALUE, _>(peers::canopen_rs(black_box(f)));
             }
         })
     });
     g.bench_function("zencan-common", |b| {
         b.iter(|| {
             for f in &s.zencan {
-                black_box(&peers::zencan(black_box(f)));
+                sink::<BY_VALUE, _>(peers::zencan(black_box(f)));
             }
         })
     });
     g.bench_function("oze-canopen", |b| {
         b.iter(|| {
             for f in &s.oze {
-                black_box(&peers::oze(black_box(f)));
+                sink::<BY_VALUE, _>(peers::oze(black_box(f)));
             }
         })
     });
@@ -119,17 +133,31 @@ fn main() {
             peers::captures_dir().display()
         );
     }
-    let rows: [(&str, &str, &Stream); 4] = [
+    let rows: [(&str, &str, &Stream); 7] = [
         ("mixed", "real capture, mixed", &streams.mixed),
         ("sdo_upload", "1000-byte SDO upload", &streams.sdo_upload),
         ("heartbeats", "heartbeats only", &streams.heartbeats),
+        ("mixed_by_value", "mixed, result by value", &streams.mixed),
+        (
+            "sdo_upload_by_value",
+            "SDO upload, result by value",
+            &streams.sdo_upload,
+        ),
+        (
+            "heartbeats_by_value",
+            "heartbeats, result by value",
+            &streams.heartbeats,
+        ),
         ("pdo_unpack", "decode + unpack PDOs", &streams.mixed),
     ];
     let mut c = Criterion::default()
         .output_directory(&out_dir())
         .configure_from_args();
     for (name, _, s) in &rows[..3] {
-        bench_stream(&mut c, name, s);
+        bench_stream::<false>(&mut c, name, s);
+    }
+    for (name, _, s) in &rows[3..6] {
+        bench_stream::<true>(&mut c, name, s);
     }
     bench_pdo(&mut c, &streams.mixed);
     c.final_summary();

@@ -119,7 +119,7 @@ pub fn captures_dir() -> PathBuf {
 
 fn parse_log(text: &str) -> Vec<CanFrame> {
     text.lines()
-        .filter_map(|l| canopen_codec::candump::parse_line(l).ok())
+        .filter_map(|l| canopen_codec::trace::candump::parse_line(l).ok())
         .map(|l| l.frame)
         .collect()
 }

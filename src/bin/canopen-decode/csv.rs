@@ -19,9 +19,9 @@
 
 use std::fmt::Write;
 
-use canopen_codec::candump::LogLine;
 use canopen_codec::cob_id::classify;
 use canopen_codec::pdo::NamedFields;
+use canopen_codec::trace::candump::LogLine;
 use canopen_codec::{DecodeError, Message};
 
 use crate::pdo_args::Source;

@@ -12,11 +12,11 @@
 
 use std::fmt::Write;
 
-use canopen_codec::candump::LogLine;
 use canopen_codec::cob_id::{classify, CobKind};
 use canopen_codec::lss::{LssInquiry, LssMessage, LssRequest, LssResponse};
 use canopen_codec::pdo::{FieldValue, NamedFields};
 use canopen_codec::sdo::{ClientCommand, InitiatePayload, ServerCommand};
+use canopen_codec::trace::candump::LogLine;
 use canopen_codec::{DecodeError, Message};
 
 use crate::pdo_args::Source;

@@ -4,8 +4,8 @@
 
 use std::io::{self, Read, Write};
 
-use canopen_codec::candump::LogLine;
 use canopen_codec::sdo::{Observed, SdoChannel, Side as SdoSide};
+use canopen_codec::trace::candump::LogLine;
 use canopen_codec::trace::{Format, LineParser, Record};
 use canopen_codec::{CanId, Message, NodeId};
 
@@ -57,7 +57,7 @@ pub struct Notes {
     /// The frame answers a node-guarding request.
     pub guard_reply: bool,
     /// How the frame deviates from CiA 301 (read anyway).
-    pub deviation: Option<canopen_codec::lenient::Deviation>,
+    pub deviation: Option<canopen_codec::message::lenient::Deviation>,
     /// The frame is a block transfer's sub-block segment.
     pub block_segment: Option<BlockSegment>,
 }

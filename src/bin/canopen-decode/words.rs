@@ -2,10 +2,10 @@
 
 use std::fmt::Write;
 
-use canopen_codec::candump::LogLine;
 use canopen_codec::cob_id::classify;
 use canopen_codec::deltaq::DeltaQCode;
 use canopen_codec::pdo::{FieldValue, NamedFields};
+use canopen_codec::trace::candump::LogLine;
 use canopen_codec::{DecodeError, Message, NodeId};
 
 use crate::pdo_args::Source;

@@ -6,12 +6,12 @@
 //! (`crate::sdo::rules::block`).
 
 use super::{AbortCode, Client, ClientCommand, ClientError, ClientEvent, ServerCommand, State};
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::sdo::rules::block::{check_block_size, clamp_block_size, Acked, Receiver, Sender};
 use crate::sdo::wire::{
     ClientBlockDownload, ClientBlockUpload, ServerBlockDownload, ServerBlockUpload,
 };
-use crate::time::Timestamp;
 
 impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// [`Client::start_block_upload`] with block transfer built in.

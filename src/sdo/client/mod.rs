@@ -80,14 +80,19 @@ use super::rules::block::{Receiver, Sender};
 use super::rules::segmented::Segments;
 use super::server::{AbortOrigin, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT};
 use super::wire::{ClientCommand, SdoFrame, ServerCommand};
+use crate::clock::{Timers, Timestamp};
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::{EventQueue, FrameSlot};
-use crate::time::{Timers, Timestamp};
 
-/// The client's one timer: the response timeout of the running transfer.
-const RESPONSE_TIMEOUT: usize = 0;
+crate::clock::timer_kind! {
+    /// The one timer.
+    enum ClientTimer {
+        /// The SDO timeout: the server's answer is due.
+        Response,
+    }
+}
 
 /// What the client reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -308,7 +313,7 @@ pub struct Client<D = &'static [u8], const EVENTS: usize = DEFAULT_EVENT_CAPACIT
     /// The identifier it sends on is valid (checked once, not per frame).
     sends: bool,
     state: State<D>,
-    timers: Timers<1>,
+    timers: Timers<ClientTimer, 1>,
     /// One frame: every call produces at most one (see the module docs).
     transmit: FrameSlot,
     events: EventQueue<ClientEvent, EVENTS>,
@@ -338,7 +343,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     pub fn with_event_capacity(config: ClientConfig) -> Self {
         Client {
             config,
-            timeout_us: crate::time::micros_of(config.timeout),
+            timeout_us: crate::clock::micros_of(config.timeout),
             response_filter: crate::frame::data_frame_word(config.response_id),
             sends: crate::frame::check_id(config.request_id).is_ok(),
             state: State::Idle,
@@ -581,7 +586,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
 
     fn arm(&mut self, now: Timestamp) {
         self.timers
-            .set(RESPONSE_TIMEOUT, Some(now.add_micros(self.timeout_us)));
+            .set(ClientTimer::Response, Some(now.add_micros(self.timeout_us)));
     }
 
     /// Queues `command` as a frame of 8 bytes on the request identifier
@@ -602,7 +607,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
 
     fn finish(&mut self, event: ClientEvent) {
         self.state = State::Idle;
-        self.timers.set(RESPONSE_TIMEOUT, None);
+        self.timers.set(ClientTimer::Response, None);
         self.emit(event);
     }
 
@@ -628,7 +633,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Machine for Client<D, EVENTS> {
     /// Tells the client time has passed; expires a stalled transfer with
     /// abort 05040000h.
     fn handle_timeout(&mut self, now: Timestamp) {
-        if self.timers.expire(RESPONSE_TIMEOUT, now) {
+        if self.timers.expire(ClientTimer::Response, now) {
             self.abort_local(AbortCode::SdoProtocolTimedOut);
         }
     }
@@ -657,13 +662,13 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Machine for Client<D, EVENTS> {
         self.timers.next()
     }
 
-    fn poll_event(&mut self) -> Option<ClientEvent> {
-        self.events.pop()
+    /// [`Client::frames_dropped`]: frames of the one-frame queue dropped
+    /// unsent.
+    fn frames_dropped(&self) -> u64 {
+        self.transmit.dropped()
     }
 
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
+    crate::machine::queued_outputs!(@events events);
 }
 
 #[cfg(feature = "sdo-block")]

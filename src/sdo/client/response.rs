@@ -13,10 +13,10 @@
 //! `Uploaded`): [`EVENTS_PER_CALL`](crate::sdo::EVENTS_PER_CALL).
 
 use super::{AbortCode, Client, ClientEvent, SdoFrame, SegmentData, ServerCommand, State};
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::sdo::data::InitiatePayload;
 use crate::sdo::server::AbortOrigin;
-use crate::time::Timestamp;
 
 impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// A data frame on the response identifier. Frames too short for

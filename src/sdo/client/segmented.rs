@@ -4,9 +4,9 @@
 //! their toggle and size checks (the rules in `crate::sdo::rules`).
 
 use super::{Client, ClientCommand, ClientEvent, State};
+use crate::clock::Timestamp;
 use crate::sdo::data::{Segment, SegmentData};
 use crate::sdo::rules::segmented::{check_toggle, Segments};
-use crate::time::Timestamp;
 
 impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// The server answered the upload initiate with the size (or without

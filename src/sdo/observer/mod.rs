@@ -1,5 +1,5 @@
 //! The passive SDO observer ([`Observer`]): its types and its channel
-//! table; the transitions are in `observer_rules.rs`.
+//! table; the transitions are in `transfer.rs`.
 
 use core::time::Duration;
 
@@ -8,15 +8,15 @@ use super::data::SegmentData;
 use super::server::DEFAULT_TIMEOUT;
 pub use super::wire::Side;
 use super::wire::{SdoRequest, SdoResponse};
-use transfer::Open;
-
-mod transfer;
+use crate::clock::Timestamp;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::error::DecodeError;
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::EventQueue;
-use crate::time::Timestamp;
+use transfer::Open;
+
+mod transfer;
 
 /// How many events the observer keeps before dropping the oldest.
 pub const OBSERVER_EVENT_CAPACITY: usize = 32;
@@ -666,24 +666,14 @@ impl<const EXTRA: usize> Machine for Observer<EXTRA> {
         }
     }
 
-    /// Always `None`: the observer never sends.
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        None
-    }
-
     /// When the next open transfer may time out (possibly earlier than any
     /// does: an extra [`Machine::handle_timeout`] is harmless).
     fn poll_timeout(&self) -> Option<Timestamp> {
         self.earliest
     }
 
-    fn poll_event(&mut self) -> Option<ObserverEvent> {
-        self.events.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
+    // The observer only listens: no frame to send, none dropped.
+    crate::machine::queued_outputs!(frames: none, events: events);
 }
 
 #[cfg(test)]

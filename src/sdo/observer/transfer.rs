@@ -7,6 +7,7 @@ use super::{
     BreakReason, Direction, Observed, ObserverEvent, SdoChannel, Side, Sink, Transfer, TransferKind,
 };
 use crate::bytes::Payload;
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::sdo::abort::AbortCode;
 use crate::sdo::data::{InitiatePayload, Segment, SegmentData};
@@ -17,7 +18,6 @@ use crate::sdo::wire::{
     BlockSegment, ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoFrame, SdoRequest,
     SdoResponse, ServerBlockDownload, ServerBlockUpload, ServerCommand,
 };
-use crate::time::Timestamp;
 
 /// Where an open transfer stands: what the next frame may be.
 #[derive(Debug, Clone, Copy)]

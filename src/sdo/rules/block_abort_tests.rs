@@ -6,9 +6,9 @@ use std::string::String;
 use std::vec::Vec;
 
 use super::tests::*;
+use crate::clock::Timestamp;
 use crate::machine::Machine;
 use crate::sdo::*;
-use crate::time::Timestamp;
 
 #[test]
 fn crc_mismatch_aborts_05040004() {

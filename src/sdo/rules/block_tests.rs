@@ -7,11 +7,11 @@ use std::string::String;
 use std::vec::Vec;
 
 use super::{Acked, Planned, Receiver, Sender, Step};
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
 use crate::sdo::*;
-use crate::time::Timestamp;
 use crate::NodeId;
 
 const NODE: u8 = 2;

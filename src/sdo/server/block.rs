@@ -4,12 +4,12 @@
 //! rules themselves are shared with the client (`crate::sdo::rules::block`).
 
 use super::{AbortCode, ObjectDictionary, Server, ServerCommand, ServerEvent, State};
+use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::sdo::rules::block::{check_block_size, clamp_block_size, Acked, Receiver, Sender};
 use crate::sdo::wire::{
     ClientBlockDownload, ClientBlockUpload, ServerBlockDownload, ServerBlockUpload,
 };
-use crate::time::Timestamp;
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// A block download's sub-block segment: handled here (true), or a

@@ -8,9 +8,9 @@ use super::{
     AbortCode, InitiatePayload, Initiated, ObjectDictionary, ObjectInfo, Server, ServerCommand,
     ServerEvent, SizeRule, State,
 };
+use crate::clock::Timestamp;
 use crate::sdo::data::Segment;
 use crate::sdo::rules::segmented::Segments;
-use crate::time::Timestamp;
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// An initiate download of the object `info` describes: an expedited

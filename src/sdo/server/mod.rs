@@ -66,12 +66,12 @@ use super::rules::block::MAX_BLOCK_SIZE;
 use super::rules::block::{Receiver, Sender};
 use super::rules::segmented::Segments;
 use super::wire::{ClientCommand, SdoFrame, ServerCommand};
+use crate::clock::{Timers, Timestamp};
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::od::{ObjectDictionary, ObjectInfo, SizeRule};
 use crate::queue::{EventQueue, FrameSlot};
-use crate::time::{Timers, Timestamp};
 
 /// How many events [`Server::new`] keeps before dropping the oldest (room
 /// for a caller that drains less often than the contract asks; a caller
@@ -90,8 +90,13 @@ pub const DEFAULT_EVENT_CAPACITY: usize = 4;
 /// dropped.
 pub const EVENTS_PER_CALL: usize = 2;
 
-/// The server's one timer: the timeout for the client's next frame.
-const REQUEST_TIMEOUT: usize = 0;
+crate::clock::timer_kind! {
+    /// The one timer.
+    enum ServerTimer {
+        /// The SDO timeout: the client's next request is due.
+        Request,
+    }
+}
 
 /// What an initiate path gives (see `Server::initiate`): the response and
 /// the transfer's end, or the abort code.
@@ -281,7 +286,7 @@ pub struct Server<D, const EVENTS: usize = DEFAULT_EVENT_CAPACITY> {
     request_filter: u32,
     od: D,
     state: State,
-    timers: Timers<1>,
+    timers: Timers<ServerTimer, 1>,
     /// One frame: every call produces at most one (see the module docs).
     transmit: FrameSlot,
     events: EventQueue<ServerEvent, EVENTS>,
@@ -446,7 +451,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             self.od.abort_write(index, sub);
         }
         self.state = State::Idle;
-        self.timers.set(REQUEST_TIMEOUT, None);
+        self.timers.set(ServerTimer::Request, None);
     }
 
     /// How many unsent frames were dropped because the caller did not
@@ -503,7 +508,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
 
     fn finish(&mut self, event: ServerEvent) {
         self.state = State::Idle;
-        self.timers.set(REQUEST_TIMEOUT, None);
+        self.timers.set(ServerTimer::Request, None);
         self.emit(event);
     }
 
@@ -557,7 +562,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
 
     fn arm(&mut self, now: Timestamp) {
         self.timers
-            .set(REQUEST_TIMEOUT, Some(now.add_micros(self.timeout_us)));
+            .set(ServerTimer::Request, Some(now.add_micros(self.timeout_us)));
     }
 
     /// A new transfer of `index`/`sub` (an upload when `download` is
@@ -679,7 +684,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Machine for Server<D, EVENTS> {
     /// Tells the server time has passed; expires a stalled transfer with
     /// abort 05040000h.
     fn handle_timeout(&mut self, now: Timestamp) {
-        if self.timers.expire(REQUEST_TIMEOUT, now) {
+        if self.timers.expire(ServerTimer::Request, now) {
             self.abort_local(AbortCode::SdoProtocolTimedOut);
         }
     }
@@ -708,13 +713,13 @@ impl<D: ObjectDictionary, const EVENTS: usize> Machine for Server<D, EVENTS> {
         self.timers.next()
     }
 
-    fn poll_event(&mut self) -> Option<ServerEvent> {
-        self.events.pop()
+    /// [`Server::frames_dropped`]: frames of the one-frame queue dropped
+    /// unsent.
+    fn frames_dropped(&self) -> u64 {
+        self.transmit.dropped()
     }
 
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
+    crate::machine::queued_outputs!(@events events);
 }
 
 #[cfg(feature = "sdo-block")]

@@ -7,9 +7,9 @@ use super::{
     AbortCode, InitiatePayload, Initiated, ObjectDictionary, ObjectInfo, Server, ServerCommand,
     ServerEvent, State,
 };
+use crate::clock::Timestamp;
 use crate::sdo::data::{ExpeditedData, Segment, SegmentData};
 use crate::sdo::rules::segmented::check_toggle;
-use crate::time::Timestamp;
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// Reads up to `buf.len()` bytes at `offset`, looping over short reads

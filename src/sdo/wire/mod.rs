@@ -103,7 +103,7 @@ impl SdoFrame {
             });
         }
         let mut bytes = [0u8; 8];
-        crate::bytes::copy_short(&mut bytes, data);
+        crate::bytes::copy_payload(&mut bytes, data);
         Self::padded(bytes, data.len() as u8)
     }
 
@@ -362,7 +362,7 @@ fn put_u32(buf: &mut [u8; 8], value: u32) {
 #[inline]
 fn put_data(buf: &mut [u8; 8], at: usize, src: &[u8]) {
     if let Some(dst) = buf.get_mut(at..) {
-        crate::bytes::copy_short(dst, src);
+        crate::bytes::copy_payload(dst, src);
     }
 }
 

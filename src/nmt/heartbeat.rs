@@ -22,17 +22,99 @@
 use core::convert::Infallible;
 use core::time::Duration;
 
+use crate::clock::{timer_kind, MaybeTimestamp, Timers, Timestamp};
 use crate::cob_id::{NodeId, NMT_ERROR_CONTROL_BASE};
+use crate::error::DecodeError;
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
-use crate::nmt::{Heartbeat, NmtState};
-use crate::queue::{EventQueue, Queue};
-use crate::time::{MaybeTimestamp, Timers, Timestamp};
+use crate::nmt::NmtState;
+use crate::queue::{DropOldest, EventQueue};
+
+/// A heartbeat, boot-up or node-guarding reply (the 1-byte frame on
+/// 0x700 + node). The wire cannot tell a heartbeat from a guarding reply
+/// except by the toggle bit, which heartbeats keep at 0.
+///
+/// ```
+/// use canopen_codec::nmt::{Heartbeat, NmtState};
+/// assert_eq!(Heartbeat::decode(&[0x7F]).unwrap().state, NmtState::PreOperational);
+/// let reply = Heartbeat::decode(&[0x85]).unwrap(); // guarding reply, toggle set
+/// assert!(reply.toggle);
+/// assert_eq!(reply.state, NmtState::Operational);
+/// assert_eq!(reply.encode(), 0x85);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Heartbeat {
+    /// The producer's NMT state.
+    pub state: NmtState,
+    /// Bit 7: the node-guarding toggle (always false in heartbeats).
+    pub toggle: bool,
+}
+
+impl Heartbeat {
+    /// A heartbeat (toggle clear) reporting `state`.
+    #[must_use]
+    pub const fn new(state: NmtState) -> Self {
+        Heartbeat {
+            state,
+            toggle: false,
+        }
+    }
+
+    /// The boot-up message.
+    pub const BOOT_UP: Heartbeat = Heartbeat::new(NmtState::BootUp);
+
+    /// True for the boot-up message (state 0).
+    #[must_use]
+    pub const fn is_boot_up(&self) -> bool {
+        matches!(self.state, NmtState::BootUp)
+    }
+
+    /// Decodes the single data byte.
+    #[inline]
+    pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
+        Self::of_data(data.len(), data.first().copied().unwrap_or(0))
+    }
+
+    /// Decodes the data of a frame (what [`decode`](Self::decode) gives
+    /// for its data bytes).
+    #[inline]
+    pub fn decode_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
+        let [b0, ..] = frame.padded_data();
+        Self::of_data(usize::from(frame.dlc()), b0)
+    }
+
+    /// A heartbeat is exactly one byte.
+    #[inline]
+    fn of_data(len: usize, b0: u8) -> Result<Self, DecodeError> {
+        match len {
+            1 => Ok(Self::from_byte(b0)),
+            0 => Err(DecodeError::Truncated { need: 1, got: 0 }),
+            got => Err(DecodeError::TooLong { max: 1, got }),
+        }
+    }
+
+    /// From the data byte.
+    #[must_use]
+    #[inline]
+    pub const fn from_byte(b: u8) -> Self {
+        Heartbeat {
+            state: NmtState::from_bits(b),
+            toggle: b & 0x80 != 0,
+        }
+    }
+
+    /// The data byte.
+    #[must_use]
+    #[inline]
+    pub const fn encode(&self) -> u8 {
+        self.state.bits() | if self.toggle { 0x80 } else { 0 }
+    }
+}
 
 /// Sends this node's boot-up message and heartbeats.
 ///
 /// ```
-/// use canopen_codec::heartbeat::HeartbeatProducer;
+/// use canopen_codec::nmt::heartbeat::HeartbeatProducer;
 /// use canopen_codec::machine::Machine;
 /// use canopen_codec::nmt::NmtState;
 /// use canopen_codec::{NodeId, Timestamp};
@@ -50,15 +132,20 @@ pub struct HeartbeatProducer {
     node: NodeId,
     period_us: u64,
     state: NmtState,
-    timers: Timers<1>,
+    timers: Timers<ProducerTimer, 1>,
     /// Send at once when the state changes (CANopenNode); default false.
     pub send_on_change: bool,
     /// The heartbeat bytes (states) to send, as frames when polled.
-    out: Queue<u8, 2>,
+    out: DropOldest<u8, 2>,
 }
 
-/// The producer's one timer: the next heartbeat.
-const NEXT_HEARTBEAT: usize = 0;
+timer_kind! {
+    /// The producer's one timer.
+    enum ProducerTimer {
+        /// The next heartbeat.
+        NextHeartbeat,
+    }
+}
 
 impl HeartbeatProducer {
     /// A producer for `node` with period `period` (1017h, whole
@@ -71,7 +158,7 @@ impl HeartbeatProducer {
             state: NmtState::BootUp,
             timers: Timers::new(),
             send_on_change: false,
-            out: Queue::new(0),
+            out: DropOldest::new(0),
         }
     }
 
@@ -86,7 +173,7 @@ impl HeartbeatProducer {
             state: NmtState::BootUp,
             timers: Timers::new(),
             send_on_change: false,
-            out: Queue::new(0),
+            out: DropOldest::new(0),
         }
     }
 
@@ -102,9 +189,8 @@ impl HeartbeatProducer {
         Duration::from_micros(self.period_us)
     }
 
-    /// The period in microseconds (whole milliseconds): what
-    /// [`period`](Self::period) gives without the 64-bit division that
-    /// building a `Duration` costs on a 32-bit target.
+    /// The period in microseconds (whole milliseconds), as the device
+    /// core's timers count it.
     pub(crate) const fn period_us(&self) -> u64 {
         self.period_us
     }
@@ -122,18 +208,16 @@ impl HeartbeatProducer {
 
     fn arm(&mut self, now: Timestamp) {
         // Zero period: no heartbeat; at the end of the clock: no later one.
-        self.timers
-            .set(NEXT_HEARTBEAT, now.deadline_after(self.period_us));
+        self.timers.set(
+            ProducerTimer::NextHeartbeat,
+            now.deadline_after(self.period_us),
+        );
     }
 
     /// Queues a frame; a full queue (the caller did not drain
-    /// `poll_transmit`) keeps the newest: a heartbeat carries the state now.
+    /// `poll_transmit`) drops its oldest: a heartbeat carries the state now.
     fn send(&mut self, state: NmtState) {
-        let byte = Heartbeat::new(state).encode();
-        if !self.out.push(byte) {
-            let _ = self.out.pop();
-            let _ = self.out.push(byte);
-        }
+        self.out.push(Heartbeat::new(state).encode());
     }
 
     /// (Re)boots: sends the boot-up message and enters pre-operational; the
@@ -172,7 +256,7 @@ impl HeartbeatProducer {
 /// `d` truncated to whole milliseconds, in microseconds (1016h and 1017h
 /// count milliseconds).
 fn whole_millis_us(d: Duration) -> u64 {
-    crate::time::millis_of(d).saturating_mul(1000)
+    crate::clock::millis_of(d).saturating_mul(1000)
 }
 
 impl Machine for HeartbeatProducer {
@@ -187,7 +271,7 @@ impl Machine for HeartbeatProducer {
     /// drift), or one period from `now` when the call is more than a period
     /// late.
     fn handle_timeout(&mut self, now: Timestamp) {
-        let Some(due) = self.timers.get(NEXT_HEARTBEAT) else {
+        let Some(due) = self.timers.get(ProducerTimer::NextHeartbeat) else {
             return;
         };
         if !now.has_reached(due) {
@@ -212,12 +296,10 @@ impl Machine for HeartbeatProducer {
         self.timers.next()
     }
 
-    fn poll_event(&mut self) -> Option<Infallible> {
-        None
-    }
+    crate::machine::queued_outputs!(events: none);
 
-    fn events_dropped(&self) -> u64 {
-        0
+    fn frames_dropped(&self) -> u64 {
+        self.out.dropped()
     }
 }
 
@@ -252,7 +334,7 @@ impl ConsumerEntry {
     pub fn new(node: NodeId, time: Duration) -> Self {
         ConsumerEntry {
             node: node.raw(),
-            time_ms: crate::time::millis_u16(time),
+            time_ms: crate::clock::millis_u16(time),
         }
     }
 
@@ -332,7 +414,7 @@ const IDLE: Watch = Watch {
 /// it takes each event as it is made).
 ///
 /// ```
-/// use canopen_codec::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent};
+/// use canopen_codec::nmt::heartbeat::{ConsumerEntry, HeartbeatConsumer, HeartbeatEvent};
 /// use canopen_codec::machine::Machine;
 /// use canopen_codec::{CanFrame, NodeId, Timestamp};
 /// use core::time::Duration;
@@ -519,23 +601,12 @@ impl<const N: usize, const E: usize> Machine for HeartbeatConsumer<N, E> {
         }
     }
 
-    /// The consumer sends nothing.
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        None
-    }
-
     /// The earliest deadline.
     fn poll_timeout(&self) -> Option<Timestamp> {
         self.deadline().get()
     }
 
-    fn poll_event(&mut self) -> Option<HeartbeatEvent> {
-        self.events.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
+    crate::machine::queued_outputs!(frames: none, events: events);
 }
 
 #[cfg(test)]

@@ -11,16 +11,16 @@
 use core::convert::Infallible;
 
 use super::TimeOfDay;
+use crate::clock::Timestamp;
 use crate::cob_id::TIME;
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
-use crate::queue::{EventQueue, Queue};
-use crate::time::Timestamp;
+use crate::queue::FrameQueue;
 
 /// The value of 1012h COB-ID TIME.
 ///
 /// ```
-/// use canopen_codec::time_of_day::TimeCobId;
+/// use canopen_codec::time::TimeCobId;
 /// use canopen_codec::CanId;
 /// let c = TimeCobId::from_raw(0x8000_0100);
 /// assert!(c.consumes() && !c.produces());
@@ -101,7 +101,7 @@ impl Default for TimeCobId {
 ///
 /// ```
 /// use canopen_codec::machine::Machine;
-/// use canopen_codec::time_of_day::{TimeCobId, TimeOfDay, TimeProducer};
+/// use canopen_codec::time::{TimeCobId, TimeOfDay, TimeProducer};
 /// use canopen_codec::Timestamp;
 /// let mut p = TimeProducer::new(TimeCobId::DEFAULT.with_produce(true));
 /// assert!(p.send_time(Timestamp::ZERO, TimeOfDay::new(12 * 3_600_000, 2).unwrap()));
@@ -110,7 +110,7 @@ impl Default for TimeCobId {
 #[derive(Debug, Clone)]
 pub struct TimeProducer {
     cob_id: TimeCobId,
-    out: Queue<CanFrame, 2>,
+    out: FrameQueue<2>,
 }
 
 impl TimeProducer {
@@ -119,7 +119,7 @@ impl TimeProducer {
     pub const fn new(cob_id: TimeCobId) -> Self {
         TimeProducer {
             cob_id,
-            out: Queue::new(CanFrame::EMPTY),
+            out: FrameQueue::empty(),
         }
     }
 
@@ -144,10 +144,7 @@ impl TimeProducer {
         let Ok(frame) = CanFrame::new(id, &time.encode()) else {
             return false;
         };
-        if !self.out.push(frame) {
-            let _ = self.out.pop();
-            let _ = self.out.push(frame);
-        }
+        self.out.push(frame);
         true
     }
 }
@@ -161,117 +158,9 @@ impl Machine for TimeProducer {
     /// The producer has no timers.
     fn handle_timeout(&mut self, _now: Timestamp) {}
 
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.out.pop()
-    }
-
     fn poll_timeout(&self) -> Option<Timestamp> {
         None
     }
 
-    fn poll_event(&mut self) -> Option<Infallible> {
-        None
-    }
-
-    fn events_dropped(&self) -> u64 {
-        0
-    }
-}
-
-/// What the TIME consumer reports.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[non_exhaustive]
-pub enum TimeEvent {
-    /// A TIME frame arrived.
-    Received {
-        /// The time of day it carries.
-        time: TimeOfDay,
-        /// The local time it arrived.
-        at: Timestamp,
-    },
-}
-
-/// Receives TIME while 1012h has the consume bit; frames of another length
-/// than 6 bytes are ignored.
-///
-/// ```
-/// use canopen_codec::machine::Machine;
-/// use canopen_codec::time_of_day::{TimeCobId, TimeConsumer, TimeEvent};
-/// use canopen_codec::{CanFrame, Timestamp};
-/// let mut c = TimeConsumer::new(TimeCobId::DEFAULT.with_consume(true));
-/// let f = CanFrame::standard(0x100, &[0x00, 0x2E, 0x93, 0x02, 0x02, 0x00]).unwrap();
-/// c.handle_frame(Timestamp::from_millis(7), &f);
-/// let Some(TimeEvent::Received { time, at }) = c.poll_event() else { panic!() };
-/// assert_eq!((time.millis, time.days, at.as_millis()), (43_200_000, 2, 7));
-/// ```
-#[derive(Debug, Clone)]
-pub struct TimeConsumer {
-    cob_id: TimeCobId,
-    last: Option<TimeOfDay>,
-    events: EventQueue<TimeEvent, 2>,
-}
-
-impl TimeConsumer {
-    /// A consumer configured by `cob_id`.
-    #[must_use]
-    pub const fn new(cob_id: TimeCobId) -> Self {
-        TimeConsumer {
-            cob_id,
-            last: None,
-            events: EventQueue::new(TimeEvent::Received {
-                time: TimeOfDay {
-                    millis: 0,
-                    days: 0,
-                    reserved: 0,
-                },
-                at: Timestamp::ZERO,
-            }),
-        }
-    }
-
-    /// 1012h written.
-    pub fn set_cob_id(&mut self, cob_id: TimeCobId) {
-        self.cob_id = cob_id;
-    }
-
-    /// The last time of day received.
-    #[must_use]
-    pub const fn last(&self) -> Option<TimeOfDay> {
-        self.last
-    }
-}
-
-impl Machine for TimeConsumer {
-    type Event = TimeEvent;
-
-    /// TIME frames on 1012h's identifier while consuming.
-    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        if !self.cob_id.consumes() || frame.is_remote() || Some(frame.id()) != self.cob_id.id() {
-            return;
-        }
-        if let Ok(time) = TimeOfDay::decode(frame.data()) {
-            self.last = Some(time);
-            self.events.push(TimeEvent::Received { time, at: now });
-        }
-    }
-
-    /// The consumer has no timers.
-    fn handle_timeout(&mut self, _now: Timestamp) {}
-
-    /// The consumer sends nothing.
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        None
-    }
-
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        None
-    }
-
-    fn poll_event(&mut self) -> Option<TimeEvent> {
-        self.events.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
+    crate::machine::queued_outputs!(frames: out, events: none);
 }

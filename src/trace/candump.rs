@@ -13,8 +13,8 @@
 
 use core::fmt;
 
+use crate::clock::Timestamp;
 use crate::frame::{CanFrame, CanId, MAX_EXTENDED_ID, MAX_STANDARD_ID};
-use crate::time::Timestamp;
 
 /// Why a candump line did not parse.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -60,7 +60,7 @@ pub struct LogLine<'a> {
 /// Parses one candump log line.
 ///
 /// ```
-/// use canopen_codec::candump::parse_line;
+/// use canopen_codec::trace::candump::parse_line;
 /// let l = parse_line("(1756955653.603308) can1 000#010A").unwrap();
 /// assert_eq!(l.timestamp.unwrap().as_micros(), 1_756_955_653_603_308);
 /// assert_eq!(l.interface, Some("can1"));
@@ -356,7 +356,7 @@ pub fn parse_frame(field: &str) -> Result<CanFrame, CandumpError> {
 /// Writes a frame as a candump log line: `(secs.micros) iface ID#DATA`.
 ///
 /// ```
-/// use canopen_codec::candump::LogLineDisplay;
+/// use canopen_codec::trace::candump::LogLineDisplay;
 /// use canopen_codec::{CanFrame, Timestamp};
 /// let f = CanFrame::standard(0x70A, &[0x05]).unwrap();
 /// let line = LogLineDisplay { timestamp: Timestamp::from_micros(1_500_000), interface: "can0", frame: &f };

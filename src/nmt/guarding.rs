@@ -30,12 +30,12 @@
 
 use core::time::Duration;
 
+use crate::clock::{timer_kind, Timers, Timestamp};
 use crate::cob_id::{NodeId, NMT_ERROR_CONTROL_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::nmt::{Heartbeat, NmtState};
-use crate::queue::{EventQueue, Queue};
-use crate::time::{Timers, Timestamp};
+use crate::queue::{EventQueue, FrameQueue};
 
 /// The error-control identifier of `node` (700h + node).
 const fn error_control_id(node: NodeId) -> CanId {
@@ -63,7 +63,7 @@ pub enum SlaveGuardingEvent {
 /// and supervises the master (life guarding). See the [module docs](self).
 ///
 /// ```
-/// use canopen_codec::guarding::{GuardingSlave, SlaveGuardingEvent};
+/// use canopen_codec::nmt::guarding::{GuardingSlave, SlaveGuardingEvent};
 /// use canopen_codec::machine::Machine;
 /// use canopen_codec::nmt::NmtState;
 /// use canopen_codec::{CanFrame, CanId, NodeId, Timestamp};
@@ -92,13 +92,18 @@ pub struct GuardingSlave {
     /// The time of the last request (life guarding runs once there is one).
     last_request: Option<Timestamp>,
     lost: bool,
-    timers: Timers<1>,
-    out: Queue<CanFrame, 2>,
+    timers: Timers<SlaveTimer, 1>,
+    out: FrameQueue<2>,
     events: EventQueue<SlaveGuardingEvent, 2>,
 }
 
-/// The slave's one timer: the end of the node life time.
-const LIFE_TIME: usize = 0;
+timer_kind! {
+    /// The slave's one timer: the end of the node life time.
+    enum SlaveTimer {
+        /// The end of the node life time.
+        LifeTime,
+    }
+}
 
 impl GuardingSlave {
     /// A slave for `node`: toggle 0, state boot-up, guard time and life
@@ -115,7 +120,7 @@ impl GuardingSlave {
             last_request: None,
             lost: false,
             timers: Timers::new(),
-            out: Queue::new(CanFrame::EMPTY),
+            out: FrameQueue::empty(),
             events: EventQueue::new(SlaveGuardingEvent::LifeGuardingLost),
         }
     }
@@ -167,7 +172,7 @@ impl GuardingSlave {
     /// life time factor (100Dh). Either zero stops life guarding; a running
     /// supervision restarts from `now`.
     pub fn set_life_guarding(&mut self, now: Timestamp, guard_time: Duration, factor: u8) {
-        self.guard_time_ms = crate::time::millis_u16(guard_time);
+        self.guard_time_ms = crate::clock::millis_u16(guard_time);
         self.life_time_factor = factor;
         if self.last_request.is_some() {
             self.last_request = Some(now);
@@ -195,7 +200,7 @@ impl GuardingSlave {
             }
             _ => None,
         };
-        self.timers.set(LIFE_TIME, deadline);
+        self.timers.set(SlaveTimer::LifeTime, deadline);
     }
 }
 
@@ -220,11 +225,7 @@ impl Machine for GuardingSlave {
             [reply.encode(), 0, 0, 0, 0, 0, 0, 0],
             1,
         );
-        if !self.out.push(frame) {
-            // The caller did not drain: the newest reply carries the state now.
-            let _ = self.out.pop();
-            let _ = self.out.push(frame);
-        }
+        self.out.push(frame);
         self.last_request = Some(now);
         if core::mem::replace(&mut self.lost, false) {
             self.events.push(SlaveGuardingEvent::LifeGuardingResumed);
@@ -234,14 +235,10 @@ impl Machine for GuardingSlave {
 
     /// Reports the life guarding event when the node life time has run out.
     fn handle_timeout(&mut self, now: Timestamp) {
-        if self.timers.expire(LIFE_TIME, now) {
+        if self.timers.expire(SlaveTimer::LifeTime, now) {
             self.lost = true;
             self.events.push(SlaveGuardingEvent::LifeGuardingLost);
         }
-    }
-
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.out.pop()
     }
 
     /// The end of the node life time, while life guarding runs.
@@ -249,13 +246,7 @@ impl Machine for GuardingSlave {
         self.timers.next()
     }
 
-    fn poll_event(&mut self) -> Option<SlaveGuardingEvent> {
-        self.events.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
+    crate::machine::queued_outputs!(frames: out, events: events);
 }
 
 /// What the guarding master reports about its node.
@@ -305,7 +296,7 @@ pub enum MasterGuardingEvent {
 /// outstanding (a heartbeat is not a reply).
 ///
 /// ```
-/// use canopen_codec::guarding::{GuardingMaster, MasterGuardingEvent};
+/// use canopen_codec::nmt::guarding::{GuardingMaster, MasterGuardingEvent};
 /// use canopen_codec::machine::Machine;
 /// use canopen_codec::{CanFrame, NodeId, Timestamp};
 /// use core::time::Duration;
@@ -336,13 +327,18 @@ pub struct GuardingMaster {
     lost: bool,
     state: Option<NmtState>,
     running: bool,
-    timers: Timers<1>,
-    out: Queue<CanFrame, 2>,
+    timers: Timers<MasterTimer, 1>,
+    out: FrameQueue<2>,
     events: EventQueue<MasterGuardingEvent, 8>,
 }
 
-/// The master's one timer: the next request.
-const NEXT_REQUEST: usize = 0;
+timer_kind! {
+    /// The master's one timer: the next request.
+    enum MasterTimer {
+        /// The next request.
+        NextRequest,
+    }
+}
 
 impl GuardingMaster {
     /// Guards `node` with guard time `guard_time` (whole milliseconds;
@@ -352,7 +348,7 @@ impl GuardingMaster {
     pub fn new(node: NodeId, guard_time: Duration, life_time_factor: u8) -> Self {
         GuardingMaster {
             node,
-            guard_time_us: u64::from(crate::time::millis_u16(guard_time)) * 1000,
+            guard_time_us: u64::from(crate::clock::millis_u16(guard_time)) * 1000,
             life_time_factor,
             expected_state: None,
             expected_toggle: None,
@@ -362,7 +358,7 @@ impl GuardingMaster {
             state: None,
             running: false,
             timers: Timers::new(),
-            out: Queue::new(CanFrame::EMPTY),
+            out: FrameQueue::empty(),
             events: EventQueue::new(MasterGuardingEvent::BootUp(NodeId::MIN)),
         }
     }
@@ -428,14 +424,13 @@ impl GuardingMaster {
             return;
         }
         if let Ok(frame) = CanFrame::remote(error_control_id(self.node), 1) {
-            if !self.out.push(frame) {
-                let _ = self.out.pop();
-                let _ = self.out.push(frame);
-            }
+            self.out.push(frame);
         }
         self.awaiting = true;
-        self.timers
-            .set(NEXT_REQUEST, now.deadline_after(self.guard_time_us));
+        self.timers.set(
+            MasterTimer::NextRequest,
+            now.deadline_after(self.guard_time_us),
+        );
     }
 
     fn reply(&mut self, reply: Heartbeat) {
@@ -497,10 +492,10 @@ impl Machine for GuardingMaster {
     /// Sends the next request; a request still unanswered is a miss, and
     /// `life time factor` misses in a row are [`MasterGuardingEvent::Lost`].
     fn handle_timeout(&mut self, now: Timestamp) {
-        let Some(due) = self.timers.get(NEXT_REQUEST) else {
+        let Some(due) = self.timers.get(MasterTimer::NextRequest) else {
             return;
         };
-        if !self.timers.expire(NEXT_REQUEST, now) {
+        if !self.timers.expire(MasterTimer::NextRequest, now) {
             return;
         }
         if self.awaiting {
@@ -520,22 +515,12 @@ impl Machine for GuardingMaster {
         }
     }
 
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.out.pop()
-    }
-
     /// When the next request is due.
     fn poll_timeout(&self) -> Option<Timestamp> {
         self.timers.next()
     }
 
-    fn poll_event(&mut self) -> Option<MasterGuardingEvent> {
-        self.events.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
+    crate::machine::queued_outputs!(frames: out, events: events);
 }
 
 #[cfg(test)]

@@ -13,7 +13,7 @@ pub const MS_PER_DAY: u32 = 86_400_000;
 /// A TIME_OF_DAY value. The 4 reserved bits are kept so frames round-trip.
 ///
 /// ```
-/// use canopen_codec::time_of_day::TimeOfDay;
+/// use canopen_codec::time::TimeOfDay;
 /// // 12:00:00.000 on 1984-01-03 (day 2).
 /// let t = TimeOfDay::new(12 * 3_600_000, 2).unwrap();
 /// let bytes = t.encode();
@@ -118,6 +118,7 @@ mod tests {
     }
 }
 
-#[path = "time_machines.rs"]
-mod machines;
-pub use machines::{TimeCobId, TimeConsumer, TimeEvent, TimeProducer};
+mod consumer;
+mod producer;
+pub use consumer::{TimeConsumer, TimeEvent};
+pub use producer::{TimeCobId, TimeProducer};

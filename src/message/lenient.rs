@@ -78,7 +78,7 @@ impl Message {
     /// own leniency) and remote frames where none are defined stay errors.
     ///
     /// ```
-    /// use canopen_codec::lenient::Deviation;
+    /// use canopen_codec::message::lenient::Deviation;
     /// use canopen_codec::{CanFrame, Message};
     /// let time = CanFrame::standard(0x100, &[0, 0, 0, 0, 0x10, 0x27, 0xAA, 0xBB]).unwrap();
     /// assert!(Message::decode(&time).is_err());
@@ -140,7 +140,7 @@ fn lss_lenient(frame: &CanFrame, lss: LssMessage) -> (Message, Option<Deviation>
         })
     };
     let mut bytes = [0u8; 8];
-    crate::bytes::copy_short(&mut bytes, data);
+    crate::bytes::copy_payload(&mut bytes, data);
     if data.len() < 8 {
         return match typed(&bytes) {
             Some(m) => (

@@ -114,11 +114,11 @@ fn remote_frames() {
 fn others() {
     assert_eq!(
         round_trip(f(0x080, &[])),
-        Message::Sync(Sync { counter: None })
+        Message::Sync(SyncFrame { counter: None })
     );
     assert_eq!(
         round_trip(f(0x080, &[3])),
-        Message::Sync(Sync { counter: Some(3) })
+        Message::Sync(SyncFrame { counter: Some(3) })
     );
     assert!(matches!(
         round_trip(f(0x100, &[1, 2, 3, 4, 5, 6])),
@@ -219,4 +219,71 @@ fn heartbeat_arm_matches_heartbeat_decode() {
     assert_eq!(NmtState::from_bits(0xFF), NmtState::PreOperational);
     assert_eq!(NmtState::from_bits(0x80), NmtState::BootUp);
     assert_eq!(NmtState::from_bits(0x7E), NmtState::Unknown(0x7E));
+}
+
+/// Any classic CAN frame: 11- or 29-bit, data or remote, 0..=8 bytes, with
+/// the identifiers of the predefined connection set well represented.
+fn any_frame() -> impl proptest::strategy::Strategy<Value = CanFrame> {
+    use proptest::prelude::*;
+    let standard = prop_oneof![
+        0u16..=0x7FF,
+        (0u16..16, 0u16..128).prop_map(|(f, n)| (f << 7) | n),
+        Just(0x7E4u16),
+        Just(0x7E5u16),
+    ];
+    (
+        standard,
+        0u32..=0x1FFF_FFFF,
+        any::<bool>(),
+        any::<bool>(),
+        proptest::collection::vec(any::<u8>(), 0..=8),
+    )
+        .prop_map(|(std_id, ext_id, extended, remote, data)| {
+            let id = if extended {
+                CanId::Extended(ext_id)
+            } else {
+                CanId::Standard(std_id)
+            };
+            if remote {
+                CanFrame::remote(id, data.len() as u8).unwrap()
+            } else {
+                CanFrame::new(id, &data).unwrap()
+            }
+        })
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::test_runner::Config {
+        cases: 4096,
+        failure_persistence: None,
+        ..proptest::test_runner::Config::default()
+    })]
+
+    /// The hot path of `Message::decode` (the objects of a node, straight
+    /// from the function code) gives what the full classification gives,
+    /// errors included, on every frame.
+    #[test]
+    fn decode_agrees_with_the_classification(frame in any_frame()) {
+        proptest::prop_assert_eq!(Message::decode(&frame), Message::decode_classified(&frame));
+    }
+}
+
+/// Every 11-bit identifier with every length, as data and as remote frame:
+/// the hot path and the full classification agree.
+#[test]
+fn decode_agrees_with_the_classification_on_every_identifier() {
+    for raw in 0..=0x7FFu16 {
+        for len in 0..=8u8 {
+            let bytes = [0x43, 0x00, 0x10, 0x00, 0x05, 0x7F, 0x81, 0xFF];
+            let data = CanFrame::standard(raw, &bytes[..usize::from(len)]).unwrap();
+            let remote = CanFrame::remote(CanId::Standard(raw), len).unwrap();
+            for frame in [data, remote] {
+                assert_eq!(
+                    Message::decode(&frame),
+                    Message::decode_classified(&frame),
+                    "{frame}"
+                );
+            }
+        }
+    }
 }

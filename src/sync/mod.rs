@@ -9,24 +9,24 @@ use crate::error::DecodeError;
 /// 1019h is set; any byte is kept as received).
 ///
 /// ```
-/// use canopen_codec::sync::Sync;
-/// assert_eq!(Sync::decode(&[]).unwrap(), Sync { counter: None });
-/// assert_eq!(Sync::decode(&[7]).unwrap().counter, Some(7));
-/// assert!(Sync::decode(&[1, 2]).is_err());
+/// use canopen_codec::sync::SyncFrame;
+/// assert_eq!(SyncFrame::decode(&[]).unwrap(), SyncFrame { counter: None });
+/// assert_eq!(SyncFrame::decode(&[7]).unwrap().counter, Some(7));
+/// assert!(SyncFrame::decode(&[1, 2]).is_err());
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub struct Sync {
+pub struct SyncFrame {
     /// The counter byte, if the frame carries one.
     pub counter: Option<u8>,
 }
 
-impl Sync {
+impl SyncFrame {
     /// Decodes 0 or 1 data bytes.
     #[inline]
     pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
         match *data {
-            [] => Ok(Sync { counter: None }),
-            [c] => Ok(Sync { counter: Some(c) }),
+            [] => Ok(SyncFrame { counter: None }),
+            [c] => Ok(SyncFrame { counter: Some(c) }),
             _ => Err(DecodeError::TooLong {
                 max: 1,
                 got: data.len(),
@@ -52,15 +52,16 @@ mod tests {
     #[test]
     fn round_trip() {
         for c in 0..=255u8 {
-            let s = Sync::decode(&[c]).unwrap();
+            let s = SyncFrame::decode(&[c]).unwrap();
             let (buf, len) = s.encode();
             assert_eq!(&buf[..len], &[c]);
         }
-        let (_, len) = Sync::default().encode();
+        let (_, len) = SyncFrame::default().encode();
         assert_eq!(len, 0);
     }
 }
 
-#[path = "sync_machines.rs"]
-mod machines;
-pub use machines::{valid_counter_overflow, SyncCobId, SyncConsumer, SyncEvent, SyncProducer};
+mod consumer;
+mod producer;
+pub use consumer::{SyncConsumer, SyncEvent};
+pub use producer::{valid_counter_overflow, SyncCobId, SyncProducer};

@@ -8,6 +8,7 @@
 //! stays at `u64::MAX`.
 
 use core::fmt;
+use core::marker::PhantomData;
 use core::time::Duration;
 
 /// An instant in microseconds on the caller's monotonic clock.
@@ -55,8 +56,7 @@ impl Timestamp {
 
     /// `self + us`, saturating at [`Timestamp::MAX`].
     #[must_use]
-    #[cfg_attr(target_pointer_width = "64", inline)]
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    #[inline(never)]
     pub const fn add_micros(self, us: u64) -> Self {
         Timestamp(self.0.saturating_add(us))
     }
@@ -76,8 +76,7 @@ impl Timestamp {
     /// once, as the state-machine contract says, and a period that would
     /// end past the clock does not start.
     #[must_use]
-    #[cfg_attr(target_pointer_width = "64", inline)]
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    #[inline(never)]
     pub(crate) const fn deadline_after(self, us: u64) -> Option<Timestamp> {
         match self.0.checked_add(us) {
             Some(at) if at > self.0 && at != u64::MAX => Some(Timestamp(at)),
@@ -119,67 +118,97 @@ impl fmt::Display for Timestamp {
     }
 }
 
-/// A machine's timers in one fixed table: slot `i` holds the deadline of
-/// timer `i` (each machine names its slots with a `#[repr(usize)]` enum),
-/// and [`Timers::next`] is the earliest, which is what the machine's
-/// `poll_timeout` returns. No allocation; out-of-range slots are ignored.
+/// The timers of one machine, named by the machine's own enum: each
+/// variant is a slot of its [`Timers`] table. Implement it with the
+/// variants numbered from 0 (`self as usize`) and `COUNT` their number;
+/// [`Timers::new`] refuses, at compile time, a table whose size is not
+/// `COUNT`.
 ///
 /// ```
-/// use canopen_codec::time::Timers;
+/// use canopen_codec::clock::{TimerKind, Timers};
 /// use canopen_codec::Timestamp;
-/// let mut t: Timers<2> = Timers::new();
-/// t.set(0, Some(Timestamp::from_millis(30)));
-/// t.set(1, Some(Timestamp::from_millis(10)));
+///
+/// #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// enum Timer {
+///     Request,
+///     Response,
+/// }
+/// impl TimerKind for Timer {
+///     const COUNT: usize = 2;
+///     fn index(self) -> usize {
+///         self as usize
+///     }
+/// }
+///
+/// let mut t: Timers<Timer, 2> = Timers::new();
+/// t.set(Timer::Request, Some(Timestamp::from_millis(30)));
+/// t.set(Timer::Response, Some(Timestamp::from_millis(10)));
 /// assert_eq!(t.next(), Some(Timestamp::from_millis(10)));
-/// assert!(!t.expire(0, Timestamp::from_millis(20)));
-/// assert!(t.expire(1, Timestamp::from_millis(20)));
+/// assert!(!t.expire(Timer::Request, Timestamp::from_millis(20)));
+/// assert!(t.expire(Timer::Response, Timestamp::from_millis(20)));
 /// assert_eq!(t.next(), Some(Timestamp::from_millis(30)));
 /// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct Timers<const N: usize> {
-    deadlines: [MaybeTimestamp; N],
+pub trait TimerKind: Copy {
+    /// How many timers the machine has: the size of its table.
+    const COUNT: usize;
+    /// The slot of this timer, below [`COUNT`](Self::COUNT).
+    fn index(self) -> usize;
 }
 
-impl<const N: usize> Default for Timers<N> {
+/// A machine's timers in one fixed table, indexed by its [`TimerKind`]
+/// enum: each slot holds one deadline or none, and [`Timers::next`] is the
+/// earliest, which is what the machine's `poll_timeout` returns. No
+/// allocation. "None" is one value for every machine (a stopped slot), so
+/// no machine keeps a deadline of its own in another form.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Timers<K, const N: usize> {
+    deadlines: [MaybeTimestamp; N],
+    kind: PhantomData<K>,
+}
+
+impl<K: TimerKind, const N: usize> Default for Timers<K, N> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<const N: usize> Timers<N> {
+impl<K: TimerKind, const N: usize> Timers<K, N> {
+    /// The table's size is the number of timers the enum names.
+    const SIZE_MATCHES: () = assert!(K::COUNT == N, "Timers<K, N>: N is not K::COUNT");
+
     /// Every timer stopped.
     #[must_use]
     pub const fn new() -> Self {
+        let () = Self::SIZE_MATCHES;
         Timers {
             deadlines: [MaybeTimestamp::NONE; N],
+            kind: PhantomData,
         }
     }
 
-    /// Arms (`Some`) or stops (`None`) timer `slot`. The table keeps a
-    /// deadline in 8 bytes (`u64::MAX` meaning none), so a deadline at
-    /// [`Timestamp::MAX`] is kept one microsecond earlier: it still expires
-    /// once at the end of the clock, as every running timer does.
-    #[cfg_attr(target_pointer_width = "64", inline)]
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-    pub fn set(&mut self, slot: usize, deadline: Option<Timestamp>) {
-        if let Some(d) = self.deadlines.get_mut(slot) {
+    /// Arms (`Some`) or stops (`None`) `timer`. A deadline at
+    /// [`Timestamp::MAX`] is kept one microsecond earlier (the end of the
+    /// clock is the table's "none"): it still expires once at the end of
+    /// the clock, as every running timer does.
+    #[inline(never)]
+    pub fn set(&mut self, timer: K, deadline: Option<Timestamp>) {
+        if let Some(d) = self.deadlines.get_mut(timer.index()) {
             *d = MaybeTimestamp::new(deadline);
         }
     }
 
-    /// The deadline of timer `slot`.
+    /// The deadline of `timer`.
     #[must_use]
     #[inline]
-    pub fn get(&self, slot: usize) -> Option<Timestamp> {
-        self.deadlines.get(slot).and_then(|d| d.get())
+    pub fn get(&self, timer: K) -> Option<Timestamp> {
+        self.deadlines.get(timer.index()).and_then(|d| d.get())
     }
 
-    /// True (and the timer stopped) when timer `slot` is armed and `now`
-    /// has reached its deadline.
-    #[cfg_attr(target_pointer_width = "64", inline)]
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
-    pub fn expire(&mut self, slot: usize, now: Timestamp) -> bool {
-        match self.deadlines.get_mut(slot) {
+    /// True (and the timer stopped) when `timer` is armed and `now` has
+    /// reached its deadline.
+    #[inline(never)]
+    pub fn expire(&mut self, timer: K, now: Timestamp) -> bool {
+        match self.deadlines.get_mut(timer.index()) {
             // A stopped timer holds u64::MAX, which `now` reaches only when
             // it is u64::MAX itself: excluded by the first test.
             Some(d) if d.0 != u64::MAX && now.0 >= d.0 => {
@@ -197,8 +226,7 @@ impl<const N: usize> Timers<N> {
 
     /// The earliest armed deadline.
     #[must_use]
-    #[cfg_attr(target_pointer_width = "64", inline)]
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    #[inline(never)]
     pub fn next(&self) -> Option<Timestamp> {
         self.earliest().get()
     }
@@ -215,16 +243,34 @@ impl<const N: usize> Timers<N> {
     }
 }
 
-/// An optional [`Timestamp`] in 8 bytes (an `Option<Timestamp>` takes 16
-/// with its alignment on a 32-bit target): `u64::MAX` means none, so
+/// Declares a machine's timer enum and its [`TimerKind`] (variants
+/// numbered from 0, `COUNT` their number).
+macro_rules! timer_kind {
+    ($(#[$meta:meta])* $vis:vis enum $name:ident { $($(#[$vmeta:meta])* $variant:ident),+ $(,)? }) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+        $vis enum $name {
+            $($(#[$vmeta])* $variant),+
+        }
+        impl $crate::clock::TimerKind for $name {
+            const COUNT: usize = [$(stringify!($variant)),+].len();
+            #[inline]
+            fn index(self) -> usize {
+                self as usize
+            }
+        }
+    };
+}
+pub(crate) use timer_kind;
+
+/// An optional [`Timestamp`], the one "none" of every timer: `u64::MAX` means none, so
 /// [`Timestamp::MAX`] itself is kept as the microsecond before it. For the
 /// timer tables and the "last seen" instants of the machines: a deadline
 /// at the end of the clock still expires there (a microsecond early), and
 /// an instant seen at the end of the clock is still an instant.
 ///
-/// Aligned to 4 bytes, not the 8 of a `u64` on 32-bit targets (a 32-bit
-/// core loads it as two words either way): a machine that keeps one and
-/// otherwise has 4-byte fields is not padded to a multiple of 8.
+/// Aligned to 4 bytes, so a machine's state that otherwise has 4-byte
+/// fields keeps that alignment.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[repr(C, packed(4))]
 pub(crate) struct MaybeTimestamp(u64);
@@ -235,8 +281,7 @@ impl MaybeTimestamp {
 
     /// `t` kept (`Timestamp::MAX` as the microsecond before it).
     #[must_use]
-    #[cfg_attr(target_pointer_width = "64", inline)]
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    #[inline(never)]
     pub(crate) const fn new(t: Option<Timestamp>) -> Self {
         match t {
             Some(Timestamp(u64::MAX)) => MaybeTimestamp(u64::MAX - 1),
@@ -247,8 +292,7 @@ impl MaybeTimestamp {
 
     /// The earlier of `self` and `t` (none is later than any instant).
     #[must_use]
-    #[cfg_attr(target_pointer_width = "64", inline)]
-    #[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+    #[inline(never)]
     pub(crate) fn earlier(self, t: Option<Timestamp>) -> Self {
         let t = Self::new(t);
         if t.0 < self.0 {
@@ -289,10 +333,9 @@ impl Default for MaybeTimestamp {
 }
 
 /// `d` in whole microseconds, saturating at `u64::MAX`: what
-/// `u64::try_from(d.as_micros())` gives, without the 128-bit arithmetic
-/// that costs code on a 32-bit target.
+/// `u64::try_from(d.as_micros())` gives, in 64-bit arithmetic.
 #[must_use]
-#[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+#[inline(never)]
 pub(crate) fn micros_of(d: Duration) -> u64 {
     d.as_secs()
         .saturating_mul(1_000_000)
@@ -302,7 +345,7 @@ pub(crate) fn micros_of(d: Duration) -> u64 {
 /// `d` in whole milliseconds, saturating at `u64::MAX` (as
 /// [`micros_of`], for `as_millis`).
 #[must_use]
-#[cfg_attr(not(target_pointer_width = "64"), inline(never))]
+#[inline(never)]
 pub(crate) fn millis_of(d: Duration) -> u64 {
     d.as_secs()
         .saturating_mul(1000)
@@ -351,34 +394,39 @@ mod tests {
         assert!(!Timestamp::from_millis(1).has_reached(Timestamp::from_millis(2)));
     }
 
+    timer_kind! {
+        enum Three { A, B, C }
+    }
+
     #[test]
     fn timers_keep_deadlines_in_eight_bytes() {
-        assert_eq!(core::mem::size_of::<Timers<2>>(), 16);
-        let mut t: Timers<3> = Timers::new();
+        use Three::{A, B, C};
+        assert_eq!(core::mem::size_of::<Timers<Three, 3>>(), 24);
+        let mut t: Timers<Three, 3> = Timers::new();
         assert_eq!(t.next(), None);
-        t.set(0, Some(Timestamp::ZERO));
-        t.set(2, Some(Timestamp::from_micros(u64::MAX - 1)));
+        t.set(A, Some(Timestamp::ZERO));
+        t.set(C, Some(Timestamp::from_micros(u64::MAX - 1)));
         assert_eq!(t.next(), Some(Timestamp::ZERO));
         assert_eq!(t.earliest(), MaybeTimestamp(0));
-        assert_eq!(t.get(2), Some(Timestamp::from_micros(u64::MAX - 1)));
-        assert!(t.expire(0, Timestamp::ZERO));
+        assert_eq!(t.get(C), Some(Timestamp::from_micros(u64::MAX - 1)));
+        assert!(t.expire(A, Timestamp::ZERO));
         assert_eq!(t.next(), Some(Timestamp::from_micros(u64::MAX - 1)));
-        assert!(!t.expire(2, Timestamp::from_micros(u64::MAX - 2)));
-        assert!(t.expire(2, Timestamp::MAX));
-        assert_eq!((t.get(2), t.next()), (None, None));
+        assert!(!t.expire(C, Timestamp::from_micros(u64::MAX - 2)));
+        assert!(t.expire(C, Timestamp::MAX));
+        assert_eq!((t.get(C), t.next()), (None, None));
         // A deadline at the end of the clock is kept a microsecond earlier:
         // it expires once, at the end of the clock at the latest.
         let last = Some(Timestamp::from_micros(u64::MAX - 1));
-        t.set(1, Some(Timestamp::MAX));
-        assert_eq!((t.get(1), t.next()), (last, last));
-        assert!(!t.expire(1, Timestamp::from_micros(u64::MAX - 2)));
-        assert!(t.expire(1, Timestamp::MAX));
-        assert!(!t.expire(1, Timestamp::MAX));
+        t.set(B, Some(Timestamp::MAX));
+        assert_eq!((t.get(B), t.next()), (last, last));
+        assert!(!t.expire(B, Timestamp::from_micros(u64::MAX - 2)));
+        assert!(t.expire(B, Timestamp::MAX));
+        assert!(!t.expire(B, Timestamp::MAX));
         assert_eq!(t.next(), None);
-        // Out-of-range slots are ignored.
-        t.set(3, Some(Timestamp::ZERO));
-        assert_eq!((t.get(3), t.next()), (None, None));
-        assert!(!t.expire(3, Timestamp::MAX));
+        t.set(A, Some(Timestamp::from_millis(5)));
+        t.clear();
+        assert_eq!(t.next(), None);
+        assert_eq!(<Three as TimerKind>::COUNT, 3);
     }
 
     #[test]
