@@ -53,29 +53,21 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
             }
             _ => {}
         }
-        match core::mem::replace(&mut self.state, State::Idle) {
+        let (index, sub) = self.object();
+        match &self.state {
             State::Idle => {}
-            State::UploadInitiated { index, sub } => {
-                self.on_upload_initiated(now, index, sub, command);
-            }
+            State::UploadInitiated { .. } => self.on_upload_initiated(now, index, sub, command),
             // Any response but the segment (or acknowledgement) taken above.
             #[cfg(feature = "sdo-client-segmented")]
-            State::Uploading { index, sub, .. } | State::Downloading { index, sub, .. } => {
+            State::Uploading { .. } | State::Downloading { .. } => {
                 self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
             }
-            State::DownloadInitiated {
-                index,
-                sub,
-                data,
-                #[cfg(feature = "sdo-client-segmented")]
-                expedited,
-            } => {
-                #[cfg(not(feature = "sdo-client-segmented"))]
-                let expedited = true;
-                self.on_download_initiated(now, index, sub, data, expedited, command);
-            }
+            State::DownloadInitiated { .. } => self.on_download_initiated(now, index, sub, command),
             #[cfg(feature = "sdo-block")]
-            state => self.on_block_response(now, state, command, frame.data()),
+            _ => {
+                let state = core::mem::replace(&mut self.state, State::Idle);
+                self.on_block_response(now, state, command, frame.data());
+            }
         }
     }
 
@@ -144,15 +136,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
 
     /// The answer to a download initiate: an expedited download is done; a
     /// segmented one sends its first segment.
-    fn on_download_initiated(
-        &mut self,
-        now: Timestamp,
-        index: u16,
-        sub: u8,
-        data: D,
-        expedited: bool,
-        cmd: ServerCommand,
-    ) {
+    fn on_download_initiated(&mut self, now: Timestamp, index: u16, sub: u8, cmd: ServerCommand) {
         let ServerCommand::InitiateDownload { index: ri, sub: rs } = cmd else {
             return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
         };
@@ -160,12 +144,23 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
             return self.abort_object(index, sub, AbortCode::GeneralParameterIncompatibility);
         }
         #[cfg(feature = "sdo-client-segmented")]
-        if !expedited {
-            return self.send_segment(now, index, sub, data);
+        if let State::DownloadInitiated {
+            expedited: false, ..
+        } = self.state
+        {
+            if let State::DownloadInitiated { data, .. } =
+                core::mem::replace(&mut self.state, State::Idle)
+            {
+                self.send_segment(now, index, sub, data);
+            }
+            return;
         }
         #[cfg(not(feature = "sdo-client-segmented"))]
-        let _ = (now, expedited);
-        let len = data.as_ref().len();
+        let _ = now;
+        let len = match &self.state {
+            State::DownloadInitiated { data, .. } => data.as_ref().len(),
+            _ => 0,
+        };
         self.finish(ClientEvent::Downloaded { index, sub, len })
     }
 }

@@ -494,9 +494,14 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     /// (every byte the command leaves undefined zero).
     #[inline]
     fn send(&mut self, command: ServerCommand) {
+        self.queue(command.to_bytes());
+    }
+
+    /// Queues the 8 data bytes of a frame on the response identifier.
+    fn queue(&mut self, bytes: [u8; 8]) {
         if self.config.sends {
             // The identifier was checked in `new`.
-            let frame = CanFrame::from_parts(self.config.response_id, command.to_bytes(), 8);
+            let frame = CanFrame::from_parts(self.config.response_id, bytes, 8);
             // At most one frame per call: a drained queue always has room.
             self.transmit.push(frame);
         }

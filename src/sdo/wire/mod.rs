@@ -203,7 +203,7 @@ impl SdoFrame {
 
     /// `len` data bytes from byte `at` (at most `N`; zero past the
     /// frame's length).
-    #[inline]
+    #[inline(always)]
     fn data_at<const N: usize>(&self, at: u32, len: usize) -> crate::bytes::InlineData<N> {
         let tail = u64::from_le_bytes(self.bytes)
             .checked_shr(8 * at)
@@ -241,20 +241,26 @@ impl SdoFrame {
     #[inline]
     fn initiate_payload(&self) -> InitiatePayload {
         let b0 = self.command();
-        match (b0 & 0x02 != 0, b0 & 0x01 != 0) {
-            (true, true) => InitiatePayload::Expedited {
-                data: self.data_at(4, expedited_len(b0)),
-                size_indicated: true,
-            },
-            // Size not indicated: every data byte the frame carried.
-            (true, false) => InitiatePayload::Expedited {
-                data: self.data_at(4, self.len().saturating_sub(4)),
-                size_indicated: false,
-            },
-            (false, true) => InitiatePayload::Segmented {
-                size: Some(self.u32_at_4()),
-            },
-            (false, false) => InitiatePayload::Segmented { size: None },
+        let size_indicated = b0 & 0x01 != 0;
+        if b0 & 0x02 != 0 {
+            // Without the size: every data byte the frame carried.
+            let len = if size_indicated {
+                expedited_len(b0)
+            } else {
+                self.len().saturating_sub(4)
+            };
+            InitiatePayload::Expedited {
+                data: self.data_at(4, len),
+                size_indicated,
+            }
+        } else {
+            InitiatePayload::Segmented {
+                size: if size_indicated {
+                    Some(self.u32_at_4())
+                } else {
+                    None
+                },
+            }
         }
     }
 
