@@ -250,7 +250,11 @@ impl TpdoProducer {
     #[inline(never)]
     fn send_or_defer(&mut self, now: Timestamp) {
         let inhibit = u64::from(self.inhibit_time_100us) * 100;
-        let end = self.last_sent.get().unwrap_or(Timestamp::ZERO).add_micros(inhibit);
+        let end = self
+            .last_sent
+            .get()
+            .unwrap_or(Timestamp::ZERO)
+            .add_micros(inhibit);
         if self.has(SENT) && inhibit > 0 && !now.has_reached(end) {
             self.timers.set(TpdoTimer::Next, Some(end));
             self.flags |= DEFERRED;
