@@ -482,7 +482,7 @@ impl ObjectDictionary for CommObjects {
         };
         let word = self
             .pending
-            .finish_fixed(e.access, e.len, index, sub, len)?;
+            .downloaded_value(e.access, e.len, index, sub, len)?;
         self.apply(index, sub, word)
     }
 
