@@ -33,7 +33,7 @@
 //! its "2nd RPDO" is `PdoNumber::P1` (Delta-Q's "RPDO 1").
 
 mod battery;
-mod catalogue;
+pub(crate) mod catalogue;
 mod date;
 mod device_type;
 #[cfg(feature = "alloc")]

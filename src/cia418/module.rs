@@ -5,13 +5,13 @@
 //!
 //! # Driving it
 //!
-//! [`BatteryModule`] implements [`Machine`](crate::machine::Machine), the
-//! crate's state-machine contract: [`BatteryModule::boot`] once at
-//! power-on, then `handle_frame` / `handle_timeout`, and drain
-//! `poll_transmit` after every call. Events ([`BatteryEvent`]) are
-//! informational: the queue keeps the latest `Q` (default 16) and counts
-//! what it drops,
-//! so an application that never reads them still has a working module.
+//! [`BatteryModule`] (a [`ProfiledDevice`]) implements
+//! [`Machine`](crate::machine::Machine), the crate's state-machine
+//! contract: `boot` once at power-on, then `handle_frame` /
+//! `handle_timeout`, and drain `poll_transmit` after every call. Events
+//! ([`BatteryEvent`]) are informational: the queue keeps the latest `Q`
+//! (default 16), dropping the oldest and counting what it drops, so an
+//! application that never reads them still has a working module.
 //!
 //! # Behaviour and choices
 //!
@@ -24,7 +24,7 @@
 //!   [`BatteryModuleConfig::device_type`]; the application objects
 //!   6000h-6090h are [`BatteryObjects`]. Reset node (81h) restores the
 //!   `rw` ones (6001h, 6052h, 6053h, 6054h, 6080h: what the charger
-//!   writes) to their values at [`BatteryModule::boot`]
+//!   writes) to their values at boot
 //!   ([`BatteryPowerOnValues`](super::BatteryPowerOnValues)); the `ro` ones
 //!   are the module's measurements and identity, not parameters (CiA 301
 //!   7.3.2.2.1 restores the profile area's parameters), and keep the value
@@ -46,7 +46,7 @@
 
 use core::time::Duration;
 
-use super::objects::{BatteryDictionary, BatteryObjects};
+use super::objects::BatteryDictionary;
 use super::{
     AmpHours, BatteryParameters, BatteryStatus, BatteryVoltage, ChargeCurrentRequested,
     ChargerStatus, DeviceType, EighthAmpHours, EqualizationDate, PackedStringError,
@@ -195,7 +195,7 @@ pub type BatteryEvent = DeviceEvent;
 pub type BatteryModuleDevice<const Q: usize> = Device<BatteryModuleProfile, Q, 3, 3>;
 
 /// The CiA 418 battery module's profile on the device core: its objects
-/// ([`BatteryObjects`]), its events and its configuration; no behaviour
+/// ([`BatteryObjects`](super::BatteryObjects)), its events and its configuration; no behaviour
 /// or state of its own besides the core's: the temperature sensor fault is
 /// 1001h's device-profile bit (CiA 418 v1.0.1, 6.2.2), which both resets
 /// clear with 1001h.
@@ -253,14 +253,6 @@ pub type BatteryModule<const Q: usize = DEFAULT_QUEUE_CAPACITY> =
 /// ([`BatteryModulePowerOn`]), the CiA 418 power-on objects, and 1000h,
 /// 1008h and 1018h written once.
 impl DeviceSetup<BatteryModuleProfile> for BatteryModuleConfig {
-    fn power_on(&self) -> BatteryModulePowerOn {
-        BatteryModulePowerOn::from(*self)
-    }
-
-    fn objects(&self) -> BatteryDictionary {
-        BatteryDictionary::new(BatteryObjects::new())
-    }
-
     fn profile(&self) -> BatteryModuleProfile {
         BatteryModuleProfile
     }
@@ -275,30 +267,19 @@ impl DeviceSetup<BatteryModuleProfile> for BatteryModuleConfig {
 /// The module's [`DeviceConfig`] is made from its configuration (CiA 418
 /// default PDOs for its node-ID, so they follow an LSS node-ID change).
 impl PowerOn for BatteryModulePowerOn {
-    fn node(&self) -> NodeId {
-        self.node
-    }
-
     fn restore<const T: usize, const R: usize>(
         &self,
         comm: &mut CommObjects,
         pdos: &mut PdoConfig<T, R>,
     ) -> Policies {
-        // 1000h, 1008h and 1018h are written once, when the module is
-        // made, and kept (const / ro: nothing on the bus changes them).
-        let (device_type, device_name, identity) =
-            (comm.device_type, comm.device_name, comm.identity);
-        *comm = CommObjects::new(self.node);
-        comm.device_type = device_type;
-        comm.device_name = device_name;
-        comm.identity = identity;
+        default_pdo_config(self, DeviceType::from_raw(comm.device_type), pdos);
+        comm.reset_keeping_constants(self.node);
         comm.heartbeat_ms = self.heartbeat_ms;
-        default_pdo_config(self, DeviceType::from_raw(device_type), pdos);
-        Policies {
-            heartbeat_on_change: false,
-            sdo_timeout: Duration::from_millis(u64::from(self.sdo_timeout_ms)),
-            error_field: ErrorFieldFormat::LittleEndianInfo,
-        }
+        Policies::of_profile(self.sdo_timeout_ms, ErrorFieldFormat::LittleEndianInfo)
+    }
+
+    fn node(&self) -> NodeId {
+        self.node
     }
 
     fn set_node(&mut self, node: NodeId) {

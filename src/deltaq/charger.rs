@@ -60,7 +60,7 @@
 //!   reset communication only the communication objects; both forget the
 //!   pairing and are reported as [`DeviceEvent::Reset`].
 
-use super::charger_objects::{ChargerDictionary, ChargerObjects};
+use super::charger_objects::ChargerDictionary;
 use super::device_type;
 use super::{emergency_reaction, DeltaQCode, OperatingMode, Reaction, ALARMS_AND_FAULTS};
 use crate::bytes::InlineData;
@@ -199,7 +199,7 @@ fn sdo_allowed<const Q: usize>(device: &ChargerDevice<Q>) -> bool {
 }
 
 /// The Delta-Q charger's profile on the device core: its objects
-/// ([`ChargerObjects`]), its events, its configuration and its behaviour
+/// ([`ChargerObjects`](super::ChargerObjects)), its events, its configuration and its behaviour
 /// on top of the core (see the module docs).
 #[derive(Debug)]
 pub struct ChargerProfile {
@@ -263,19 +263,12 @@ pub type Charger<const Q: usize = DEFAULT_QUEUE_CAPACITY> = ProfiledDevice<Charg
 /// ([`ChargerPowerOn`]), the Delta-Q power-on objects, its profile, and
 /// 1008h written once.
 impl DeviceSetup<ChargerProfile> for ChargerConfig {
-    fn power_on(&self) -> ChargerPowerOn {
-        ChargerPowerOn::from(*self)
-    }
-
-    fn objects(&self) -> ChargerDictionary {
-        ChargerDictionary::new(ChargerObjects::new())
-    }
-
     fn profile(&self) -> ChargerProfile {
         ChargerProfile::new(*self)
     }
 
     fn write_constants(&self, comm: &mut CommObjects) {
+        comm.device_type = crate::cia419::CHARGER_DEVICE_TYPE;
         comm.device_name = self.device_name;
     }
 }

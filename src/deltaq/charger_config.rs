@@ -70,6 +70,7 @@ impl ChargerConfig {
     #[must_use]
     pub fn device_config(&self) -> DeviceConfig {
         DeviceConfig {
+            device_type: CHARGER_DEVICE_TYPE,
             device_name: self.device_name,
             ..ChargerPowerOn::from(*self).power_on_config()
         }
@@ -247,8 +248,8 @@ pub(super) fn default_pdos<const T: usize, const R: usize>(
 /// The charger's [`DeviceConfig`] is made from its configuration at boot
 /// and at every reset (the core keeps no second copy).
 impl PowerOn for ChargerPowerOn {
-    fn node(&self) -> NodeId {
-        self.node
+    fn set_node(&mut self, node: NodeId) {
+        self.node = node;
     }
 
     fn restore<const T: usize, const R: usize>(
@@ -256,25 +257,17 @@ impl PowerOn for ChargerPowerOn {
         comm: &mut CommObjects,
         pdos: &mut PdoConfig<T, R>,
     ) -> Policies {
-        // 1008h is written once, when the charger is made, and kept.
-        let device_name = comm.device_name;
-        *comm = CommObjects::new(self.node);
-        comm.device_type = CHARGER_DEVICE_TYPE;
-        comm.device_name = device_name;
+        default_pdos(self, pdos);
+        comm.reset_keeping_constants(self.node);
         comm.heartbeat_ms = self.heartbeat_ms;
         comm.set_consumers(&[ConsumerEntry {
             node: self.battery.raw(),
             time_ms: self.battery_timeout_ms,
         }]);
-        default_pdos(self, pdos);
-        Policies {
-            heartbeat_on_change: false,
-            sdo_timeout: Duration::from_millis(u64::from(self.sdo_timeout_ms)),
-            error_field: ErrorFieldFormat::SwappedInfo,
-        }
+        Policies::of_profile(self.sdo_timeout_ms, ErrorFieldFormat::SwappedInfo)
     }
 
-    fn set_node(&mut self, node: NodeId) {
-        self.node = node;
+    fn node(&self) -> NodeId {
+        self.node
     }
 }

@@ -258,7 +258,7 @@ impl FixedObjects for ChargerObjects {
     }
 
     /// Stores the value in the field of the entry's row; 2FFAh
-    /// ([`NO_FIELD`]) stores nothing.
+    /// stores nothing.
     fn store(&mut self, entry: &FixedEntry, _: u16, _: u8, word: u32) {
         // Truncations to the object's width (the value has no more bytes).
         match self.writable_field(entry.slot) {

@@ -8,12 +8,18 @@
 //!
 //! # Driving it
 //!
-//! [`Device`] follows the crate's [state-machine contract](crate::machine):
-//! [`Device::boot`] once at power-on, then [`Device::handle_frame_with`] /
-//! [`Device::handle_timeout_with`] with the profile, and drain
-//! [`Device::poll_transmit_with`] after every call. `Device<A,
-//! DeviceEvent>` with no profile (`()`) implements [`Machine`] itself: a
-//! plain CiA 301 slave over any dictionary `A`.
+//! A device is named by one type, its [`DeviceSpec`] (application objects,
+//! events, power-on configuration), and its capacities (`Q`, `T`, `R`,
+//! with defaults). [`ProfiledDevice`] owns the core and a [`Profile`] and
+//! is the [`Machine`] of the crate's
+//! [state-machine contract](crate::machine): `boot` once at power-on, then
+//! `handle_frame` / `handle_timeout`, and drain `poll_transmit` after
+//! every call; the battery module and the charger are two of them. The
+//! core alone is driven the same way with the profile passed in
+//! ([`Device::boot`], [`Device::handle_frame_with`],
+//! [`Device::handle_timeout_with`], [`Device::poll_transmit_with`]);
+//! `Device<Cia301<A>>` with no profile (`()`) implements [`Machine`]
+//! itself: a plain CiA 301 slave over any dictionary `A`.
 //!
 //! `poll_transmit` order: heartbeat and boot-up, then EMCY and the
 //! profile's queued frames, then SDO responses, then the profile's own
@@ -68,10 +74,11 @@
 //!   [`DeviceEvent::Sync`]. **TIME** follows 1012h's bits
 //!   ([`DeviceEvent::Time`], [`Device::send_time`]). Both resets restore
 //!   these objects.
-//! - **Back-pressure**: the event queue keeps the latest `Q` events
-//!   (default 16; a full frame queue drops its oldest frame the same way,
-//!   [`Device::frames_dropped`]) and counts what it drops ([`Machine::events_dropped`]); nothing else
-//!   depends on it.
+//! - **Back-pressure** (the crate's one rule, [`crate::machine`]): the
+//!   event queue and the queue of frames to send keep the latest `Q` each
+//!   (default 16); when one is full its oldest item is dropped and counted
+//!   ([`Machine::events_dropped`], [`Machine::frames_dropped`], each
+//!   saturating at `u32::MAX`); nothing else depends on them.
 //! - **LSS** (CiA 305, optional: [`Device::with_lss`]): the device's
 //!   [`LssSlave`] sees every frame from [`Device::boot`] on. A device whose
 //!   LSS node-ID is not configured (255) does not boot up: it stays silent
@@ -233,7 +240,7 @@ pub struct Device<
     /// reset node).
     power_on: <S::Objects as PowerOnValues>::Snapshot,
     /// The profile's frames and EMCYs: a full queue drops its oldest
-    /// frame and counts it ([`frames_dropped`](Self::frames_dropped)).
+    /// frame and counts it ([`Machine::frames_dropped`]).
     transmit: EventQueue<CanFrame, Q>,
     events: EventQueue<S::Event, Q>,
     /// The optional LSS slave (CiA 305).

@@ -166,6 +166,21 @@ impl CommObjects {
         }
     }
 
+    /// Back to the objects of node `node` ([`new`](Self::new)) but for
+    /// 1000h device type, 1008h device name and 1018h identity, which
+    /// keep their values: `const` / `ro` objects nothing on the bus
+    /// changes, which a profile writes once, when its device is made
+    /// ([`DeviceSetup::write_constants`](super::DeviceSetup::write_constants)),
+    /// and every reset keeps.
+    pub fn reset_keeping_constants(&mut self, node: NodeId) {
+        let (device_type, device_name, identity) =
+            (self.device_type, self.device_name, self.identity);
+        *self = CommObjects::new(node);
+        self.device_type = device_type;
+        self.device_name = device_name;
+        self.identity = identity;
+    }
+
     /// The node id (1200h values).
     #[must_use]
     pub const fn node(&self) -> NodeId {

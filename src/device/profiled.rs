@@ -60,7 +60,10 @@ pub trait DeviceSpec {
 /// The spec of a plain CiA 301 device over the dictionary `A`, reporting
 /// `E` (default [`DeviceEvent`]), configured by `C` (default
 /// [`DeviceConfig`]); its profile adds nothing.
-pub struct Cia301<A, E = DeviceEvent, C = DeviceConfig>(PhantomData<fn() -> (A, E, C)>);
+pub struct Cia301<A, E = DeviceEvent, C = DeviceConfig>(PhantomData<SpecOf<A, E, C>>);
+
+/// What [`Cia301`] names, without owning any of it.
+type SpecOf<A, E, C> = fn() -> (A, E, C);
 
 impl<A, E, C> DeviceSpec for Cia301<A, E, C>
 where
@@ -74,16 +77,12 @@ where
 }
 
 /// How a [`ProfiledDevice`] is made from a profile's configuration (the
-/// battery module's, the charger's): its power-on configuration, its
-/// objects and its profile, and the constant objects written once.
-pub trait DeviceSetup<P: DeviceSpec> {
-    /// What the device keeps to rebuild its power-on configuration at boot
-    /// and at every reset.
-    fn power_on(&self) -> P::PowerOn;
-
-    /// The application objects before boot.
-    fn objects(&self) -> P::Objects;
-
+/// battery module's, the charger's): what the device keeps of it to
+/// rebuild its power-on configuration at boot and at every reset (its
+/// `Into` the [`PowerOn`]), its profile, and the constant objects written
+/// once; the application objects start at their `Default`, their
+/// power-on values.
+pub trait DeviceSetup<P: DeviceSpec>: Copy + Into<<P as DeviceSpec>::PowerOn> {
     /// The profile.
     fn profile(&self) -> P;
 
@@ -119,13 +118,19 @@ where
     pub fn from_parts(device: Device<P, Q, T, R>, profile: P) -> Self {
         ProfiledDevice { device, profile }
     }
+}
 
+impl<P, const Q: usize, const T: usize, const R: usize> ProfiledDevice<P, Q, T, R>
+where
+    P: DeviceSpec + Profile<P, Q, T, R>,
+    P::Objects: Default,
+{
     /// The device of `setup` whose queues hold `Q` events and `Q` frames
     /// (e.g. `BatteryModule::<4>::with_queue_capacity`), not yet booted.
     #[must_use]
     pub fn with_queue_capacity(setup: impl DeviceSetup<P>) -> Self {
         let mut made = ProfiledDevice {
-            device: Device::blank(setup.power_on(), setup.objects()),
+            device: Device::blank(setup.into(), P::Objects::default()),
             profile: setup.profile(),
         };
         made.load(&setup);
@@ -137,7 +142,7 @@ where
     /// place, not built elsewhere and moved.
     pub fn new_in(slot: &mut MaybeUninit<Self>, setup: impl DeviceSetup<P>) -> &mut Self {
         let made = slot.write(ProfiledDevice {
-            device: Device::blank(setup.power_on(), setup.objects()),
+            device: Device::blank(setup.into(), P::Objects::default()),
             profile: setup.profile(),
         });
         made.load(&setup);
@@ -198,6 +203,7 @@ where
 impl<P, const T: usize, const R: usize> ProfiledDevice<P, { super::DEFAULT_QUEUE_CAPACITY }, T, R>
 where
     P: DeviceSpec + Profile<P, { super::DEFAULT_QUEUE_CAPACITY }, T, R>,
+    P::Objects: Default,
 {
     /// The device of `setup` (a profile's configuration) with the default
     /// queue capacity, not yet booted (call [`boot`](Self::boot)).
@@ -215,7 +221,7 @@ where
     #[must_use]
     pub fn with_lss(setup: impl DeviceSetup<P>, lss: crate::lss::LssSlave) -> Self {
         let mut made = ProfiledDevice {
-            device: Device::with_lss(setup.power_on(), setup.objects(), lss),
+            device: Device::with_lss(setup.into(), P::Objects::default(), lss),
             profile: setup.profile(),
         };
         made.load(&setup);
