@@ -119,8 +119,7 @@ impl BatteryModuleConfig {
 /// power-on configuration at boot and at every reset ([`PowerOn`]): the
 /// settings an SDO client can change, with the heartbeat in the whole
 /// milliseconds of 1017h (saturating at 65 535 ms) and the SDO timeout in
-/// whole milliseconds (saturating at `u32::MAX` ms): 8 bytes on a 32-bit
-/// target. 1000h device type, 1008h device name and 1018h identity are
+/// whole milliseconds (saturating at `u32::MAX` ms). 1000h device type, 1008h device name and 1018h identity are
 /// `const` / `ro` objects nothing on the bus can change: the module writes
 /// them into its communication objects once, when it is made, and every
 /// reset keeps what they hold ([`PowerOn::restore`] reads them out before

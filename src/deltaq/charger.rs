@@ -309,7 +309,7 @@ impl ChargerProfile {
     }
 
     /// A fresh client of the same configuration: a transfer in progress
-    /// ends silently. Not inlined: one copy for its three callers.
+    /// ends silently.
     #[inline(never)]
     fn fresh_client(&mut self) {
         self.client.reset();

@@ -82,8 +82,7 @@ impl ChargerConfig {
 /// settings with the times in whole milliseconds, the unit of the objects
 /// they become (1017h, 1016h and the TPDO event timers are Unsigned16 of
 /// milliseconds, saturating at 65 535 ms; the SDO timeout saturates at
-/// `u32::MAX` ms): 24 bytes on a 32-bit target instead of the 128 of a
-/// `ChargerConfig` with its `Duration`s. 1008h, the device name, is not
+/// `u32::MAX` ms). 1008h, the device name, is not
 /// kept here: the charger writes it once into its communication objects
 /// when it is made, and every reset keeps it there (a `const` object:
 /// nothing on the bus changes it).
@@ -138,7 +137,6 @@ impl From<ChargerConfig> for ChargerPowerOn {
             self_start: c.self_start,
             heartbeat_ms: ms16(c.heartbeat),
             battery_timeout_ms: ms16(c.battery_timeout),
-            // Element by element, not a loop: constants fold.
             tpdo_periods_ms: [ms16(p0), ms16(p1), ms16(p2), ms16(p3)],
             sdo_timeout_ms: u32::try_from(whole_ms(c.sdo_timeout)).unwrap_or(u32::MAX),
         }

@@ -363,7 +363,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
     /// Writes the power-on values of the communication objects and the PDO
     /// configuration into the dictionary in place ([`PowerOn::restore`]),
     /// and starts the SDO server and the heartbeat producer over on them:
-    /// what [`new`](Self::new) and every reset do (one copy of the code, no
+    /// what [`new`](Self::new) and every reset do (the same path, no
     /// second dictionary or server built and moved).
     pub(crate) fn load_power_on(&mut self) {
         let od = self.server.od_mut();
@@ -627,8 +627,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         &mut self,
         profile: &mut P,
     ) -> Option<CanFrame> {
-        // Early returns rather than an `or_else` chain: one frame copy
-        // each, not one per link of the chain.
+        // The order of the module docs: the first source with a frame.
         if let Some(frame) = self.heartbeat.poll_transmit() {
             return Some(frame);
         }
@@ -658,8 +657,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         if !self.nmt.is_running() {
             return None;
         }
-        // The minimum of the deadlines as 8-byte values (none is u64::MAX):
-        // no `Option` comparisons to compile for each pair.
+        // The earliest of the deadlines (a stopped timer is none).
         let earliest = self.heartbeat.deadline();
         #[cfg(feature = "heartbeat-consumer")]
         let earliest = earliest.min(self.consumer.deadline());

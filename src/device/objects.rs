@@ -189,8 +189,8 @@ impl CommObjects {
 
     /// Records an entry in 1003h: newest first, at most 10 (the oldest falls off).
     pub fn push_error(&mut self, entry: ErrorFieldEntry) {
-        // A fresh array rather than `rotate_right`: two plain copies, where
-        // the rotation brings a 1.5 KB `memmove` into a firmware image.
+        // The newest entry first, the others shifted down one (CiA 301,
+        // 1003h: sub 1 is the newest error; the oldest falls off).
         let mut history = [0; ERROR_HISTORY_LEN];
         if let (Some((first, rest)), Some(kept)) = (
             history.split_first_mut(),
