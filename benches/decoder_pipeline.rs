@@ -164,7 +164,14 @@ fn json_object(c: &mut Criterion) {
     let write_ours = |out: &mut String| {
         for (l, (m, fields)) in lines.iter().zip(&decoded) {
             out.clear();
-            json::rest(out, l, m, &roles, fields.as_ref(), &notes);
+            let line = FrameLine {
+                log: l,
+                decoded: m,
+                roles: &roles,
+                fields: fields.as_ref(),
+                notes: &notes,
+            };
+            json::rest(out, &line);
             black_box(out.len());
         }
     };
@@ -173,7 +180,14 @@ fn json_object(c: &mut Criterion) {
         .zip(&decoded)
         .map(|(l, (m, fields))| {
             let mut text = String::from("{\"t\":0");
-            json::rest(&mut text, l, m, &roles, fields.as_ref(), &notes);
+            let line = FrameLine {
+                log: l,
+                decoded: m,
+                roles: &roles,
+                fields: fields.as_ref(),
+                notes: &notes,
+            };
+            json::rest(&mut text, &line);
             serde_json::from_str(&text).expect("our JSON parses")
         })
         .collect();

@@ -32,7 +32,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use bus::PipeBus;
-use canopen_codec::deltaq::{charger_eds, Charger, ChargerConfig, ChargerEvent, ChargerObjects};
+use canopen_codec::deltaq::{charger_eds, Charger, ChargerConfig, ChargerDictionary, ChargerEvent};
 use canopen_codec::deltaq::{OperatingMode, Reaction};
 use canopen_codec::device::DeviceEvent;
 use canopen_codec::eds;
@@ -186,7 +186,7 @@ fn main() -> ExitCode {
         }
     };
     let (current, voltage) = (o.current_a, o.voltage_v);
-    let set_objects = |obj: &mut ChargerObjects| {
+    let set_objects = |obj: &mut ChargerDictionary| {
         obj.charging_current = (current * 256.0).round() as u16;
         obj.battery_voltage_q8 = (voltage * 256.0).round() as u16;
         obj.battery_voltage_q10 = (voltage * 1024.0).round().min(65535.0) as u16;

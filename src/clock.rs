@@ -84,6 +84,19 @@ impl Timestamp {
         }
     }
 
+    /// The next due time of a periodic timer of `us` that was due at
+    /// `self` and ran at `now`: a period after the due time while that is
+    /// still ahead of `now` (a late call does not make the period drift),
+    /// else a period from `now` (a call more than a period late); none at
+    /// the end of the clock.
+    #[must_use]
+    pub(crate) const fn next_period(self, now: Timestamp, us: u64) -> Option<Timestamp> {
+        match self.deadline_after(us) {
+            Some(next) if next.0 > now.0 => Some(next),
+            _ => now.deadline_after(us),
+        }
+    }
+
     /// `self + d`, saturating at [`Timestamp::MAX`] (sub-microsecond parts are dropped).
     #[must_use]
     pub fn add_duration(self, d: Duration) -> Self {

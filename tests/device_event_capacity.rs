@@ -7,20 +7,21 @@
 //! as made (the NMT slave's boot after a reset is held while the profile
 //! sees the reset, and reported before a state change the profile makes).
 
-use canopen_codec::cia418::BatteryObjects;
-use canopen_codec::device::{Device, DeviceConfig, DeviceEvent, Profile};
+use canopen_codec::cia418::{BatteryDictionary, BatteryObjects};
+use canopen_codec::device::{Cia301, Device, DeviceConfig, DeviceEvent, Profile};
 use canopen_codec::machine::Machine;
 use canopen_codec::nmt::NmtState;
 use canopen_codec::sync::SyncEvent;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 
-type Core = Device<BatteryObjects, DeviceEvent>;
+type Spec = Cia301<BatteryDictionary>;
+type Core = Device<Spec>;
 
 /// A profile that enters operational by itself after every reset (as the
 /// Delta-Q charger does).
 struct SelfStart;
 
-impl Profile<BatteryObjects, DeviceEvent> for SelfStart {
+impl Profile<Spec> for SelfStart {
     fn on_event(&mut self, device: &mut Core, now: Timestamp, event: &DeviceEvent) {
         if let DeviceEvent::Reset { .. } = event {
             device.set_nmt_state(now, NmtState::Operational, self);
@@ -33,13 +34,16 @@ fn nmt(cs: u8) -> CanFrame {
 }
 
 fn events(dev: &mut Core) -> Vec<DeviceEvent> {
-    core::iter::from_fn(|| dev.next_event()).collect()
+    core::iter::from_fn(|| dev.poll_event()).collect()
 }
 
 #[test]
 fn a_reset_with_a_self_start_reports_both_state_changes() {
     let node = NodeId::new(5).unwrap();
-    let mut dev = Core::new(DeviceConfig::new(node), BatteryObjects::new());
+    let mut dev = Core::new(
+        DeviceConfig::new(node),
+        BatteryDictionary::new(BatteryObjects::new()),
+    );
     let mut profile = SelfStart;
     dev.boot(Timestamp::ZERO, &mut profile);
     dev.handle_frame_with(Timestamp::ZERO, &nmt(0x01), &mut profile);
@@ -63,14 +67,14 @@ fn a_reset_with_a_self_start_reports_both_state_changes() {
         ]
     );
     assert_eq!(dev.nmt_state(), NmtState::Operational);
-    assert_eq!(dev.dropped_events(), 0);
+    assert_eq!(dev.events_dropped(), 0);
 }
 
 #[test]
 fn a_skipped_sync_counter_is_reported_and_nothing_is_dropped() {
     let mut config = DeviceConfig::new(NodeId::new(5).unwrap());
     config.sync_counter_overflow = 4;
-    let mut dev = Core::new(config, BatteryObjects::new());
+    let mut dev = Core::new(config, BatteryDictionary::new(BatteryObjects::new()));
     dev.boot(Timestamp::ZERO, &mut ());
     let _ = events(&mut dev);
     for (ms, counter) in [(1, 1), (2, 3), (3, 4), (4, 1)] {
@@ -105,7 +109,7 @@ fn four_nodes_lost_at_once_are_four_events_in_order() {
     let nodes = [7, 3, 9, 2];
     let entries = nodes.map(|id| ConsumerEntry::new(n(id), Duration::from_millis(100)));
     let config = DeviceConfig::new(n(5)).with_consumers(&entries);
-    let mut dev = Core::new(config, BatteryObjects::new());
+    let mut dev = Core::new(config, BatteryDictionary::new(BatteryObjects::new()));
     dev.boot(Timestamp::ZERO, &mut ());
     let _ = events(&mut dev);
     for id in nodes {
@@ -119,7 +123,7 @@ fn four_nodes_lost_at_once_are_four_events_in_order() {
     dev.handle_timeout(Timestamp::from_millis(500));
     let lost = nodes.map(|id| DeviceEvent::Heartbeat(HeartbeatEvent::Lost(n(id))));
     assert_eq!(events(&mut dev), lost);
-    assert_eq!(dev.dropped_events(), 0);
+    assert_eq!(dev.events_dropped(), 0);
     assert!(nodes
         .iter()
         .all(|id| !dev.heartbeat_consumer().is_alive(n(*id))));

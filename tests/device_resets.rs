@@ -332,10 +332,12 @@ fn battery_module_resets_the_same_way() {
 /// fails here.
 #[test]
 fn the_rw_tables_are_every_writable_object() {
-    use canopen_codec::cia418::{BatteryObjects, BATTERY_OBJECT_INDEXES};
-    use canopen_codec::deltaq::ChargerObjects;
-    use canopen_codec::od::ObjectDictionary;
-    let battery = BatteryObjects::new();
+    use canopen_codec::cia418::{
+        BatteryObjects, BATTERY_OBJECT_INDEXES, BATTERY_PARAMETERS_RESTORED,
+    };
+    use canopen_codec::deltaq::{ChargerObjects, CHARGER_PARAMETERS_RESTORED};
+    use canopen_codec::od::{FixedDictionary, ObjectDictionary};
+    let battery = FixedDictionary::new(BatteryObjects::new());
     let mut writable = Vec::new();
     for index in BATTERY_OBJECT_INDEXES {
         for sub in 0..=u8::MAX {
@@ -349,8 +351,12 @@ fn the_rw_tables_are_every_writable_object() {
     }
     let rows: Vec<(u16, u8)> = BATTERY_RW.iter().map(|r| (r.0, r.1)).collect();
     assert_eq!(writable, rows);
+    // What reset node restores is every writable object.
+    let mut restored = BATTERY_PARAMETERS_RESTORED.to_vec();
+    restored.sort_unstable();
+    assert_eq!(writable, restored);
 
-    let charger = ChargerObjects::new();
+    let charger = FixedDictionary::new(ChargerObjects::new());
     let mut writable = Vec::new();
     for index in 0x1000..=u16::MAX {
         for sub in 0..=2 {
@@ -367,4 +373,7 @@ fn the_rw_tables_are_every_writable_object() {
     let mut rows: Vec<u16> = CHARGER_RW.iter().map(|r| r.0).collect();
     rows.sort_unstable();
     assert_eq!(writable, rows);
+    let mut restored: Vec<u16> = CHARGER_PARAMETERS_RESTORED.iter().map(|r| r.0).collect();
+    restored.sort_unstable();
+    assert_eq!(writable, restored);
 }

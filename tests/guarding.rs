@@ -11,14 +11,14 @@ mod common;
 
 use core::time::Duration;
 
-use canopen_codec::device::{Device, DeviceConfig, DeviceEvent};
+use canopen_codec::device::{Cia301, Device, DeviceConfig, DeviceEvent};
 use canopen_codec::nmt::guarding::{GuardingMaster, MasterGuardingEvent, SlaveGuardingEvent};
 use canopen_codec::nmt::NmtState;
 use canopen_codec::od::MemoryDictionary;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 use common::sim::{Handle, Sim};
 
-type Slave = Device<MemoryDictionary, DeviceEvent>;
+type Slave = Device<Cia301<MemoryDictionary>>;
 
 const SLAVE: &str = "Slave";
 const MASTER: &str = "Master";

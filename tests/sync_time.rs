@@ -11,7 +11,7 @@ mod common;
 
 use core::time::Duration;
 
-use canopen_codec::device::{Device, DeviceConfig, DeviceEvent};
+use canopen_codec::device::{Cia301, Device, DeviceConfig, DeviceEvent};
 use canopen_codec::machine::{drive_timers, Machine};
 use canopen_codec::od::{Access, MemoryDictionary};
 use canopen_codec::pdo::{
@@ -23,7 +23,7 @@ use canopen_codec::time::{TimeCobId, TimeConsumer, TimeEvent, TimeOfDay, TimePro
 use canopen_codec::{CanFrame, NodeId, PdoNumber, Timestamp};
 use common::sim::Sim;
 
-type Dev = Device<MemoryDictionary, DeviceEvent>;
+type Dev = Device<Cia301<MemoryDictionary>>;
 
 fn ms(v: u64) -> Timestamp {
     Timestamp::from_millis(v)

@@ -92,9 +92,10 @@ pub const BATTERY_TYPE_FORMAT: ValueFormat = ValueFormat {
     write: write_battery_type,
 };
 
-const A: Option<Unit> = Some(Unit::Ampere);
-const V: Option<Unit> = Some(Unit::Volt);
-const AH: Option<Unit> = Some(Unit::AmpereHour);
+/// The units of the catalogue rows, short (the Delta-Q catalogue uses them too).
+pub(crate) const A: Option<Unit> = Some(Unit::Ampere);
+pub(crate) const V: Option<Unit> = Some(Unit::Volt);
+pub(crate) const AH: Option<Unit> = Some(Unit::AmpereHour);
 const PCT: Option<Unit> = Some(Unit::Percent);
 
 /// The CiA 418 application objects 6000h-6090h (CiA 418 v1.0.1, 7.3.1-7.3.18):

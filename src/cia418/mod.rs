@@ -33,7 +33,7 @@
 //! its "2nd RPDO" is `PdoNumber::P1` (Delta-Q's "RPDO 1").
 
 mod battery;
-mod catalogue;
+pub(crate) mod catalogue;
 mod date;
 mod device_type;
 #[cfg(feature = "alloc")]
@@ -71,8 +71,14 @@ pub use date::{CalendarDateTime, DateError, EqualizationDate};
 pub use device_type::{DeviceType, PdoSet};
 #[cfg(feature = "alloc")]
 pub use eds::{battery_module_eds, CIA418_OBJECT_DESCRIPTIONS};
-pub use module::{BatteryEvent, BatteryModule, BatteryModuleConfig, BatteryModulePowerOn};
-pub use objects::{BatteryObjects, BatteryPowerOnValues, BATTERY_OBJECT_INDEXES};
+pub use module::{
+    BatteryEvent, BatteryModule, BatteryModuleConfig, BatteryModuleDevice, BatteryModulePowerOn,
+    BatteryModuleProfile,
+};
+pub use objects::{
+    BatteryDictionary, BatteryObjects, BatteryPowerOnValues, BATTERY_OBJECT_INDEXES,
+    BATTERY_PARAMETERS_RESTORED,
+};
 pub use packed::{PackedString, PackedStringError, PackedStringObject, PackedText};
 pub use pdo::{battery_default_mapping, DefaultPdo, PdoDirection, DEFAULT_PDOS};
 pub use status::{BatteryStatus, ChargerStatus, WaterLevelStatus};

@@ -5,13 +5,13 @@
 //!
 //! # Driving it
 //!
-//! [`BatteryModule`] implements [`Machine`](crate::machine::Machine), the
-//! crate's state-machine contract: [`BatteryModule::boot`] once at
-//! power-on, then `handle_frame` / `handle_timeout`, and drain
-//! `poll_transmit` after every call. Events ([`BatteryEvent`]) are
-//! informational: the queue keeps the latest `Q` (default 16) and counts
-//! what it drops,
-//! so an application that never reads them still has a working module.
+//! [`BatteryModule`] (a [`ProfiledDevice`]) implements
+//! [`Machine`](crate::machine::Machine), the crate's state-machine
+//! contract: `boot` once at power-on, then `handle_frame` /
+//! `handle_timeout`, and drain `poll_transmit` after every call. Events
+//! ([`BatteryEvent`]) are informational: the queue keeps the latest `Q`
+//! (default 16), dropping the oldest and counting what it drops, so an
+//! application that never reads them still has a working module.
 //!
 //! # Behaviour and choices
 //!
@@ -24,7 +24,7 @@
 //!   [`BatteryModuleConfig::device_type`]; the application objects
 //!   6000h-6090h are [`BatteryObjects`]. Reset node (81h) restores the
 //!   `rw` ones (6001h, 6052h, 6053h, 6054h, 6080h: what the charger
-//!   writes) to their values at [`BatteryModule::boot`]
+//!   writes) to their values at boot
 //!   ([`BatteryPowerOnValues`](super::BatteryPowerOnValues)); the `ro` ones
 //!   are the module's measurements and identity, not parameters (CiA 301
 //!   7.3.2.2.1 restores the profile area's parameters), and keep the value
@@ -44,10 +44,9 @@
 //!   other bit is left) and sends the error reset 0000h.
 //! - Total: no frame, timestamp or call order panics.
 
-use core::mem::MaybeUninit;
 use core::time::Duration;
 
-use super::objects::BatteryObjects;
+use super::objects::BatteryDictionary;
 use super::{
     AmpHours, BatteryParameters, BatteryStatus, BatteryVoltage, ChargeCurrentRequested,
     ChargerStatus, DeviceType, EighthAmpHours, EqualizationDate, PackedStringError,
@@ -55,8 +54,8 @@ use super::{
 };
 use crate::cob_id::NodeId;
 use crate::device::{
-    machine_on_device, CommObjects, Device, DeviceConfig, DeviceEvent, ErrorFieldFormat, Identity,
-    Policies, PowerOn, Profile, DEFAULT_QUEUE_CAPACITY,
+    CommObjects, Device, DeviceConfig, DeviceEvent, DeviceSetup, DeviceSpec, ErrorFieldFormat,
+    Identity, Policies, PowerOn, Profile, ProfiledDevice, DEFAULT_QUEUE_CAPACITY,
 };
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 
@@ -110,16 +109,9 @@ impl BatteryModuleConfig {
     #[must_use]
     pub fn device_config(&self) -> DeviceConfig {
         let (mut comm, mut pdos) = (CommObjects::new(self.node), PdoConfig::new());
-        self.write_constants(&mut comm);
+        DeviceSetup::write_constants(self, &mut comm);
         let policies = BatteryModulePowerOn::from(*self).restore(&mut comm, &mut pdos);
         DeviceConfig::from_objects(&comm, &pdos, policies)
-    }
-
-    /// Writes 1000h, 1008h and 1018h into `comm`.
-    fn write_constants(&self, comm: &mut CommObjects) {
-        comm.device_type = self.device_type.raw();
-        comm.device_name = self.device_name;
-        comm.identity = self.identity;
     }
 }
 
@@ -127,8 +119,7 @@ impl BatteryModuleConfig {
 /// power-on configuration at boot and at every reset ([`PowerOn`]): the
 /// settings an SDO client can change, with the heartbeat in the whole
 /// milliseconds of 1017h (saturating at 65 535 ms) and the SDO timeout in
-/// whole milliseconds (saturating at `u32::MAX` ms): 8 bytes on a 32-bit
-/// target. 1000h device type, 1008h device name and 1018h identity are
+/// whole milliseconds (saturating at `u32::MAX` ms). 1000h device type, 1008h device name and 1018h identity are
 /// `const` / `ro` objects nothing on the bus can change: the module writes
 /// them into its communication objects once, when it is made, and every
 /// reset keeps what they hold ([`PowerOn::restore`] reads them out before
@@ -200,24 +191,29 @@ pub type BatteryEvent = DeviceEvent;
 
 /// The module's core: 3 TPDOs and 3 RPDOs, the ones CiA 418 v1.0.1 (6.2.5)
 /// gives a battery module ([`DEFAULT_PDOS`]); 1403h/1803h do not exist.
-type ModuleDevice<const Q: usize> =
-    Device<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn, 3, 3>;
+pub type BatteryModuleDevice<const Q: usize> = Device<BatteryModuleProfile, Q, 3, 3>;
 
-/// The module's own behaviour besides the core; no state of its own: the
-/// temperature sensor fault is 1001h's device-profile bit (CiA 418 v1.0.1,
-/// 6.2.2), which both resets clear with 1001h.
+/// The CiA 418 battery module's profile on the device core: its objects
+/// ([`BatteryObjects`](super::BatteryObjects)), its events and its configuration; no behaviour
+/// or state of its own besides the core's: the temperature sensor fault is
+/// 1001h's device-profile bit (CiA 418 v1.0.1, 6.2.2), which both resets
+/// clear with 1001h.
 #[derive(Debug, Clone, Copy, Default)]
-struct ModuleProfile;
+pub struct BatteryModuleProfile;
 
-impl<const Q: usize> Profile<BatteryObjects, BatteryEvent, Q, BatteryModulePowerOn, 3, 3>
-    for ModuleProfile
-{
+impl DeviceSpec for BatteryModuleProfile {
+    type Objects = BatteryDictionary;
+    type Event = BatteryEvent;
+    type PowerOn = BatteryModulePowerOn;
 }
 
-/// A CiA 418 battery module. See the module docs for the behaviour. It
-/// dereferences to its [`Device`] core, whose getters give its objects
-/// (`objects()`, `comm()`, `pdo_config()`, `dictionary()`), `nmt_state()`
-/// and `error_register()`.
+impl<const Q: usize> Profile<BatteryModuleProfile, Q, 3, 3> for BatteryModuleProfile {}
+
+/// A CiA 418 battery module: [`BatteryModuleProfile`] on its device core.
+/// See the module docs for the behaviour. It implements
+/// [`Machine`](crate::machine::Machine) and dereferences to its [`Device`]
+/// core, whose getters give its objects (`objects()`, `comm()`,
+/// `pdo_config()`, `dictionary()`), `nmt_state()` and `error_register()`.
 ///
 /// ```
 /// use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig, BatteryStatus, Temperature};
@@ -235,52 +231,54 @@ impl<const Q: usize> Profile<BatteryObjects, BatteryEvent, Q, BatteryModulePower
 /// ```
 ///
 /// `Q` is the capacity of its event queue and of its queue of frames to
-/// send ([`Device`]'s; default [`DEFAULT_QUEUE_CAPACITY`]):
-/// [`BatteryModule::with_queue_capacity`] makes a module with another one.
-#[derive(Debug)]
-pub struct BatteryModule<const Q: usize = DEFAULT_QUEUE_CAPACITY> {
-    /// The core keeps the module's configuration and rebuilds its
-    /// [`DeviceConfig`] from it at boot and at every reset.
-    device: ModuleDevice<Q>,
-    profile: ModuleProfile,
-}
+/// send ([`Device`]'s; default [`DEFAULT_QUEUE_CAPACITY`]): e.g.
+/// `BatteryModule::<4>::new`; the firmware builds its module, 2 deep, in
+/// place with [`ProfiledDevice::new_in`]:
+///
+/// ```
+/// use core::mem::MaybeUninit;
+/// use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig};
+/// use canopen_codec::machine::Machine;
+/// use canopen_codec::{NodeId, Timestamp};
+/// let mut slot = MaybeUninit::<BatteryModule<4>>::uninit();
+/// let m = BatteryModule::new_in(&mut slot, BatteryModuleConfig::new(NodeId::MIN));
+/// m.boot(Timestamp::ZERO);
+/// assert_eq!(m.poll_transmit().unwrap().to_string(), "701#00");
+/// ```
+pub type BatteryModule<const Q: usize = DEFAULT_QUEUE_CAPACITY> =
+    ProfiledDevice<BatteryModuleProfile, Q, 3, 3>;
 
-machine_on_device!(
-    BatteryModule,
-    BatteryObjects,
-    BatteryEvent,
-    BatteryModulePowerOn,
-    3,
-    3
-);
+/// A module is made from its configuration: the settings it keeps
+/// ([`BatteryModulePowerOn`]), the CiA 418 power-on objects, and 1000h,
+/// 1008h and 1018h written once.
+impl DeviceSetup<BatteryModuleProfile> for BatteryModuleConfig {
+    fn profile(&self) -> BatteryModuleProfile {
+        BatteryModuleProfile
+    }
+
+    fn write_constants(&self, comm: &mut CommObjects) {
+        comm.device_type = self.device_type.raw();
+        comm.device_name = self.device_name;
+        comm.identity = self.identity;
+    }
+}
 
 /// The module's [`DeviceConfig`] is made from its configuration (CiA 418
 /// default PDOs for its node-ID, so they follow an LSS node-ID change).
 impl PowerOn for BatteryModulePowerOn {
-    fn node(&self) -> NodeId {
-        self.node
-    }
-
     fn restore<const T: usize, const R: usize>(
         &self,
         comm: &mut CommObjects,
         pdos: &mut PdoConfig<T, R>,
     ) -> Policies {
-        // 1000h, 1008h and 1018h are written once, when the module is
-        // made, and kept (const / ro: nothing on the bus changes them).
-        let (device_type, device_name, identity) =
-            (comm.device_type, comm.device_name, comm.identity);
-        *comm = CommObjects::new(self.node);
-        comm.device_type = device_type;
-        comm.device_name = device_name;
-        comm.identity = identity;
+        default_pdo_config(self, DeviceType::from_raw(comm.device_type), pdos);
+        comm.reset_keeping_constants(self.node);
         comm.heartbeat_ms = self.heartbeat_ms;
-        default_pdo_config(self, DeviceType::from_raw(device_type), pdos);
-        Policies {
-            heartbeat_on_change: false,
-            sdo_timeout: Duration::from_millis(u64::from(self.sdo_timeout_ms)),
-            error_field: ErrorFieldFormat::LittleEndianInfo,
-        }
+        Policies::of_profile(self.sdo_timeout_ms, ErrorFieldFormat::LittleEndianInfo)
+    }
+
+    fn node(&self) -> NodeId {
+        self.node
     }
 
     fn set_node(&mut self, node: NodeId) {
@@ -339,117 +337,20 @@ macro_rules! setters {
         $(
             $(#[$doc])*
             pub fn $name(&mut self, now: Timestamp, value: $ty) {
-                self.device.update(now, |o| o.$field = value);
+                self.update(now, |o| o.$field = value);
             }
         )*
     };
 }
 
-impl BatteryModule {
-    /// A module with `config`, not yet booted (call [`boot`](Self::boot)),
-    /// with the default queue capacity.
-    #[must_use]
-    pub fn new(config: BatteryModuleConfig) -> Self {
-        Self::with_queue_capacity(config)
-    }
-
-    /// A module that also carries an LSS slave (CiA 305): with a slave
-    /// that has no node-ID (255) the module stays silent after
-    /// [`boot`](Self::boot) until an LSS master configures one (see
-    /// [`Device::with_lss`]). Its 1018h identity should be the slave's LSS
-    /// address.
-    #[must_use]
-    #[cfg(feature = "lss")]
-    pub fn with_lss(config: BatteryModuleConfig, lss: crate::lss::LssSlave) -> Self {
-        let mut module = BatteryModule {
-            device: Device::with_lss(
-                BatteryModulePowerOn::from(config),
-                BatteryObjects::new(),
-                lss,
-            ),
-            profile: ModuleProfile,
-        };
-        module.load(&config);
-        module
-    }
-}
-
 impl<const Q: usize> BatteryModule<Q> {
-    /// A module with `config` whose queues hold `Q` events and `Q` frames
-    /// (e.g. `BatteryModule::<4>::with_queue_capacity`; the firmware
-    /// builds its module, 2 deep, in place with `new_in`), not yet booted.
-    ///
-    /// ```
-    /// use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig};
-    /// use canopen_codec::machine::Machine;
-    /// use canopen_codec::{NodeId, Timestamp};
-    /// let mut m = BatteryModule::<4>::with_queue_capacity(BatteryModuleConfig::new(NodeId::MIN));
-    /// m.boot(Timestamp::ZERO);
-    /// assert_eq!(m.poll_transmit().unwrap().to_string(), "701#00");
-    /// ```
-    #[must_use]
-    pub fn with_queue_capacity(config: BatteryModuleConfig) -> Self {
-        let mut module = BatteryModule {
-            device: Device::blank(BatteryModulePowerOn::from(config), BatteryObjects::new()),
-            profile: ModuleProfile,
-        };
-        module.load(&config);
-        module
-    }
-
-    /// Writes 1000h, 1008h and 1018h of `config` into the communication
-    /// objects, once, when the module is made (every reset keeps them,
-    /// [`BatteryModulePowerOn`]), then loads the power-on values, whose
-    /// default PDO set follows that 1000h. Not inlined: one copy for every
-    /// constructor.
-    #[inline(never)]
-    fn load(&mut self, config: &BatteryModuleConfig) {
-        config.write_constants(self.device.comm_before_power_on());
-        self.device.load_power_on();
-    }
-
-    /// [`with_queue_capacity`](Self::with_queue_capacity) built in `slot`
-    /// (a firmware's static): the module is written there and its power-on
-    /// values are loaded in place ([`Device::new_in`]), not built elsewhere
-    /// and moved.
-    ///
-    /// ```
-    /// use core::mem::MaybeUninit;
-    /// use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig};
-    /// use canopen_codec::machine::Machine;
-    /// use canopen_codec::{NodeId, Timestamp};
-    /// let mut slot = MaybeUninit::<BatteryModule<4>>::uninit();
-    /// let m = BatteryModule::new_in(&mut slot, BatteryModuleConfig::new(NodeId::MIN));
-    /// m.boot(Timestamp::ZERO);
-    /// assert_eq!(m.poll_transmit().unwrap().to_string(), "701#00");
-    /// ```
-    pub fn new_in(slot: &mut MaybeUninit<Self>, config: BatteryModuleConfig) -> &mut Self {
-        let module = slot.write(BatteryModule {
-            device: Device::blank(BatteryModulePowerOn::from(config), BatteryObjects::new()),
-            profile: ModuleProfile,
-        });
-        module.load(&config);
-        module
-    }
-
-    /// The device core (node-ID, LSS slave, NMT state).
-    #[must_use]
-    pub const fn device(&self) -> &ModuleDevice<Q> {
-        &self.device
-    }
-
-    /// The device core, mutably (to answer an LSS store request).
-    pub fn device_mut(&mut self) -> &mut ModuleDevice<Q> {
-        &mut self.device
-    }
-
     // ----- getters ---------------------------------------------------------
 
     /// The configuration (its node-ID the active one, after an LSS
     /// change).
     #[must_use]
     pub fn config(&self) -> BatteryModuleConfig {
-        self.device.power_on().config(self.device.comm())
+        self.power_on().config(self.comm())
     }
 
     /// True while the temperature sensor fault is set: 1001h's
@@ -458,59 +359,44 @@ impl<const Q: usize> BatteryModule<Q> {
     /// sets and clears and both resets clear.
     #[must_use]
     pub fn temperature_sensor_fault(&self) -> bool {
-        self.device
-            .error_register()
+        self.error_register()
             .contains(ErrorRegister::DEVICE_PROFILE)
     }
 
     /// 6001h charger status, as the charger last wrote it.
     #[must_use]
     pub const fn charger_status(&self) -> ChargerStatus {
-        self.device.objects().charger_status
+        self.device().objects().objects().charger_status
     }
 
     /// 6052h Ah returned during last charge.
     #[must_use]
     pub const fn ah_returned_during_last_charge(&self) -> EighthAmpHours {
-        self.device.objects().ah_returned_during_last_charge
+        self.device()
+            .objects()
+            .objects()
+            .ah_returned_during_last_charge
     }
 
     /// 6053h Ah since last equalization.
     #[must_use]
     pub const fn ah_since_last_equalization(&self) -> EighthAmpHours {
-        self.device.objects().ah_since_last_equalization
+        self.device().objects().objects().ah_since_last_equalization
     }
 
     /// 6054h date of last equalization.
     #[must_use]
     pub const fn date_of_last_equalization(&self) -> EqualizationDate {
-        self.device.objects().date_of_last_equalization
+        self.device().objects().objects().date_of_last_equalization
     }
 
     /// 6080h charger state of charge, as the charger last wrote it.
     #[must_use]
     pub const fn charger_state_of_charge(&self) -> StateOfCharge {
-        self.device.objects().charger_state_of_charge
+        self.device().objects().objects().charger_state_of_charge
     }
 
     // ----- application commands --------------------------------------------
-
-    /// Changes object values in `f`; mapped values that changed are events
-    /// for the event-driven TPDOs.
-    pub fn update(&mut self, now: Timestamp, f: impl FnOnce(&mut BatteryObjects)) {
-        self.device.update(now, f);
-    }
-
-    /// Changes communication objects in `f` (e.g. 1017h: the heartbeat is
-    /// re-armed).
-    pub fn update_comm(&mut self, now: Timestamp, f: impl FnOnce(&mut CommObjects)) {
-        self.device.update_comm(now, f);
-    }
-
-    /// Changes the PDO configuration in `f` (no SDO rules applied).
-    pub fn update_pdos(&mut self, now: Timestamp, f: impl FnOnce(&mut PdoConfig<3, 3>)) {
-        self.device.update_pdos(now, f);
-    }
 
     setters! {
         /// Sets 6000h battery status.
@@ -545,7 +431,7 @@ impl<const Q: usize> BatteryModule<Q> {
         object: PackedStringObject,
         text: &str,
     ) -> Result<(), PackedStringError> {
-        self.device.objects_mut().set_text(object, text)
+        self.device_mut().objects_mut().set_text(object, text)
     }
 
     /// Sets or clears the temperature sensor fault (CiA 418): on sets 1001h
@@ -557,7 +443,7 @@ impl<const Q: usize> BatteryModule<Q> {
             return;
         }
         if fault {
-            self.device.raise_error(
+            self.device_mut().raise_error(
                 ErrorRegister::DEVICE_PROFILE,
                 Emergency {
                     code: ErrorCode::TEMPERATURE_SENSOR_FAULT,
@@ -566,14 +452,9 @@ impl<const Q: usize> BatteryModule<Q> {
                 },
             );
         } else {
-            self.device.clear_error(ErrorRegister::DEVICE_PROFILE);
+            self.device_mut().clear_error(ErrorRegister::DEVICE_PROFILE);
         }
-        self.device.refresh_tpdos(now);
-    }
-
-    /// Boots the module (power-on): boot-up message, pre-operational.
-    pub fn boot(&mut self, now: Timestamp) {
-        self.device.boot(now, &mut self.profile);
+        self.device_mut().refresh_tpdos(now);
     }
 }
 

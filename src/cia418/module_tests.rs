@@ -1,6 +1,7 @@
 use super::*;
 use crate::machine::Machine;
 use crate::nmt::NmtState;
+use core::mem::MaybeUninit;
 
 use crate::{CanFrame, PdoNumber};
 
@@ -88,7 +89,7 @@ fn hostile_frames_and_times_never_panic() {
 fn a_full_event_queue_drops_the_oldest() {
     let mut m = module();
     for sub in 0..20u8 {
-        m.device
+        m.device_mut()
             .push_event(BatteryEvent::ObjectWritten { index: 0x6001, sub });
     }
     let subs: std::vec::Vec<u8> = core::iter::from_fn(|| m.poll_event())

@@ -1,7 +1,7 @@
 //! The application objects of a CiA 418 battery module as a fixed struct,
-//! no allocation: [`BatteryObjects`] implements
-//! [`ObjectDictionary`](crate::od::ObjectDictionary) for every application
-//! object 6000h-6090h of CiA 418 v1.0.1 (section 7.3). The communication
+//! no allocation: [`BatteryObjects`] declares every application object
+//! 6000h-6090h of CiA 418 v1.0.1 (section 7.3) for the crate's fixed-word
+//! dictionary ([`FixedDictionary`], which serves them by SDO). The communication
 //! objects (1000h, 1001h, 1003h, 1008h, 1017h, 1018h, 1200h) and the PDO
 //! objects (1400h-1A03h) are the device core's
 //! ([`crate::device::CommObjects`], [`PdoDictionary`](crate::pdo::PdoDictionary)).
@@ -25,8 +25,8 @@
 //! | 6090h | water level status | U8 | ro | |
 //!
 //! A missing object is 06020000h, a missing sub-index 06090011h, a write to
-//! a `ro`/`const` object 06010002h, a wrong length 06070012h/06070013h.
-//! Writes are applied whole at
+//! a `ro`/`const` object 06010002h, a wrong length 06070012h/06070013h
+//! ([`FixedDictionary`]'s rules). Writes are applied whole at
 //! [`finish_write`](crate::od::ObjectDictionary::finish_write). Two value
 //! checks (our choice; CiA 418 names the ranges but no abort code): 6080h
 //! accepts 0..=100 and FFh (invalid), anything else is 06090031h (value too
@@ -35,7 +35,7 @@
 //!
 //! NMT reset node sets the `rw` objects (6001h, 6052h, 6053h, 6054h, 6080h:
 //! what the charger writes by SDO or RPDO, the parameters) back to their
-//! values at boot ([`BatteryPowerOnValues`]); the `ro` objects are the
+//! values at boot ([`BATTERY_PARAMETERS_RESTORED`]); the `ro` objects are the
 //! application's measurements and identity and keep the value it last set
 //! (a boot-time reading restored would be published until its next update).
 
@@ -49,8 +49,7 @@ use super::{
     CHARGER_STATUS, CHARGE_CURRENT_REQUESTED, CUMULATIVE_TOTAL_AH_CHARGE,
     DATE_OF_LAST_EQUALIZATION, TEMPERATURE, VEHICLE_ID, VEHICLE_SERIAL_NUMBER, WATER_LEVEL_STATUS,
 };
-use crate::device::PowerOnValues;
-use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
+use crate::od::{Access, FixedDictionary, FixedEntry, FixedObject, FixedObjects};
 use crate::sdo::AbortCode;
 
 /// Every index [`BatteryObjects`] serves.
@@ -97,25 +96,14 @@ impl PackedValue {
     }
 }
 
-/// One sub-object as [`BatteryObjects::entry`] finds it.
-#[derive(Debug, Clone, Copy)]
-struct Entry {
-    access: Access,
-    /// The value, little-endian: its first `len` bytes.
-    word: u32,
-    /// Bytes: 1, 2 or 4.
-    len: u8,
-    mappable: bool,
-}
-
 /// The values of a CiA 418 battery module's objects (see the module docs
 /// for the table). The application sets the fields it measures; the
 /// charger writes the `rw` ones through SDO or RPDOs.
 ///
 /// ```
 /// use canopen_codec::cia418::{BatteryObjects, Temperature};
-/// use canopen_codec::od::ObjectDictionary;
-/// let mut od = BatteryObjects::new();
+/// use canopen_codec::od::{FixedDictionary, ObjectDictionary};
+/// let mut od = FixedDictionary::new(BatteryObjects::new());
 /// od.temperature = Temperature::from_celsius(25).unwrap();
 /// let mut buf = [0u8; 2];
 /// assert_eq!(od.read(0x6010, 0, 0, &mut buf), Ok(2));
@@ -123,10 +111,6 @@ struct Entry {
 /// assert!(od.info(0x6010, 0).unwrap().pdo_mappable);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-// `repr(C)`, the `rw` objects first in [`BatteryPowerOnValues`]' order:
-// the snapshot is the struct's first 10 bytes, copied as words rather
-// than field by field.
-#[repr(C)]
 pub struct BatteryObjects {
     /// 6054h date of last equalization (rw).
     pub date_of_last_equalization: EqualizationDate,
@@ -158,33 +142,13 @@ pub struct BatteryObjects {
     pub water_level: WaterLevelStatus,
     /// 6030h, 6031h, 6040h, 6041h in [`PackedStringObject::ALL`] order.
     packed: [PackedValue; 4],
-    pending: WriteBuffer,
-}
-
-/// One single-value object (sub 0 only) of [`SCALARS`].
-#[derive(Debug, Clone, Copy)]
-struct Scalar {
-    index: u16,
-    /// Bytes: 1, 2 or 4.
-    width: u8,
-    access: Access,
-    mappable: bool,
-}
-
-const fn scalar(index: u16, width: u8, access: Access, mappable: bool) -> Scalar {
-    Scalar {
-        index,
-        width,
-        access,
-        mappable,
-    }
 }
 
 /// The single-value objects in the order of `BatteryObjects::scalar`'s
-/// rows: one table for their access, length and mappability instead of a
-/// `match` arm each.
-const SCALARS: [Scalar; 12] = {
+/// rows: one table for their access, length and mappability.
+const SCALARS: [FixedObject; 12] = {
     use Access::{ReadOnly as Ro, ReadWrite as Rw};
+    let scalar = FixedObject::new;
     [
         scalar(BATTERY_STATUS, 1, Ro, true),
         scalar(CHARGER_STATUS, 1, Rw, true),
@@ -246,7 +210,6 @@ impl BatteryObjects {
             battery_state_of_charge: StateOfCharge::INVALID,
             water_level: WaterLevelStatus::empty(),
             packed: [PackedValue::EMPTY; 4],
-            pending: WriteBuffer::new(),
         }
     }
 
@@ -294,23 +257,28 @@ impl BatteryObjects {
         BATTERY_OBJECT_INDEXES.contains(&index)
     }
 
-    /// Access, current value (a little-endian word of `len` bytes, 1, 2
-    /// or 4) and PDO-mappability of every object: the one lookup
-    /// [`info`](ObjectDictionary::info), [`read`](ObjectDictionary::read)
-    /// and the writes share.
-    fn entry(&self, index: u16, sub: u8) -> Result<Entry, AbortCode> {
-        use Access::{ReadOnly as Ro, ReadWrite as Rw};
-        if let Some((row, object)) = SCALARS.iter().enumerate().find(|(_, o)| o.index == index) {
-            if sub != 0 {
-                return Err(AbortCode::SubIndexDoesNotExist);
-            }
-            return Ok(Entry {
-                access: object.access,
-                word: self.scalar(row),
-                len: object.width,
-                mappable: object.mappable,
-            });
+    /// The value of the object in row `row` of [`SCALARS`].
+    fn scalar(&self, row: usize) -> u32 {
+        match row {
+            0 => self.battery_status.bits().into(),
+            1 => self.charger_status.bits().into(),
+            2 => u32::from(self.temperature.raw() as u16),
+            3 => self.cumulative_total_ah_charge.raw(),
+            4 => self.ah_expended_since_last_charge.raw().into(),
+            5 => self.ah_returned_during_last_charge.raw().into(),
+            6 => self.ah_since_last_equalization.raw().into(),
+            7 => self.battery_voltage.raw(),
+            8 => self.charge_current_requested.raw().into(),
+            9 => self.charger_state_of_charge.raw().into(),
+            10 => self.battery_state_of_charge.raw().into(),
+            _ => self.water_level.bits().into(),
         }
+    }
+
+    /// The objects besides [`SCALARS`]: 6020h's record, 6054h's array and
+    /// the packed strings.
+    fn compound_entry(&self, index: u16, sub: u8) -> Result<FixedEntry, AbortCode> {
+        use Access::{ReadOnly as Ro, ReadWrite as Rw};
         let (access, word, len) = match (index, sub) {
             (BATTERY_PARAMETERS, s) => {
                 let (word, len) = self
@@ -334,7 +302,6 @@ impl BatteryObjects {
                         AbortCode::ObjectDoesNotExist
                     });
                 };
-                // By reference: a copy is the whole array on the stack.
                 let v = self
                     .packed
                     .get(packed_slot(object))
@@ -346,35 +313,70 @@ impl BatteryObjects {
                 }
             }
         };
-        Ok(Entry {
-            access,
-            word,
-            len,
-            mappable: false,
-        })
+        Ok(FixedEntry::new(access, word, len))
     }
+}
 
-    /// The value of the object in row `row` of [`SCALARS`].
-    fn scalar(&self, row: usize) -> u32 {
-        match row {
-            0 => self.battery_status.bits().into(),
-            1 => self.charger_status.bits().into(),
-            2 => u32::from(self.temperature.raw() as u16),
-            3 => self.cumulative_total_ah_charge.raw(),
-            4 => self.ah_expended_since_last_charge.raw().into(),
-            5 => self.ah_returned_during_last_charge.raw().into(),
-            6 => self.ah_since_last_equalization.raw().into(),
-            7 => self.battery_voltage.raw(),
-            8 => self.charge_current_requested.raw().into(),
-            9 => self.charger_state_of_charge.raw().into(),
-            10 => self.battery_state_of_charge.raw().into(),
-            _ => self.water_level.bits().into(),
+/// What NMT reset node restores of [`BatteryObjects`]: its `rw` objects
+/// (6001h, 6052h, 6053h, 6054h, 6080h: what the charger writes by SDO or
+/// RPDO) as they were at boot. The `ro` objects are not in it: they are
+/// the module's measurements and identity, not parameters (CiA 301
+/// 7.3.2.2.1: reset node restores the parameters of the profile areas),
+/// and keep what the application last set, so no stale boot-time reading
+/// is published until its next update.
+pub const BATTERY_PARAMETERS_RESTORED: [(u16, u8); 6] = [
+    (CHARGER_STATUS, 0),
+    (AH_RETURNED_DURING_LAST_CHARGE, 0),
+    (AH_SINCE_LAST_EQUALIZATION, 0),
+    (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_MINUTES),
+    (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_DAYS),
+    (CHARGER_STATE_OF_CHARGE, 0),
+];
+
+/// The values of [`BATTERY_PARAMETERS_RESTORED`] kept at boot, their bytes
+/// one after the other (1 + 2 + 2 + 2 + 2 + 1).
+///
+/// ```
+/// use canopen_codec::cia418::{BatteryObjects, StateOfCharge, Temperature};
+/// use canopen_codec::device::PowerOnValues;
+/// use canopen_codec::od::FixedDictionary;
+/// let mut od = FixedDictionary::new(BatteryObjects::new());
+/// let at_boot = od.snapshot();
+/// od.charger_state_of_charge = StateOfCharge::from_raw(80); // written by the charger
+/// od.temperature = Temperature::from_celsius(30).unwrap(); // measured
+/// od.restore(&at_boot); // reset node
+/// assert_eq!(od.charger_state_of_charge, StateOfCharge::INVALID);
+/// assert_eq!(od.temperature, Temperature::from_celsius(30).unwrap());
+/// ```
+pub type BatteryPowerOnValues = [u8; 10];
+
+impl FixedObjects for BatteryObjects {
+    type Parameters = BatteryPowerOnValues;
+    const PARAMETERS: &'static [(u16, u8)] = &BATTERY_PARAMETERS_RESTORED;
+
+    fn entry(&self, index: u16, sub: u8) -> Result<FixedEntry, AbortCode> {
+        match FixedObject::lookup(&SCALARS, index, sub, |row| self.scalar(row)) {
+            Some(entry) => entry,
+            None => self.compound_entry(index, sub),
         }
     }
 
-    /// Applies a complete, length-checked write of `word` (the value's
-    /// little-endian bytes, its length the object's).
-    fn apply(&mut self, index: u16, sub: u8, word: u32) -> Result<(), AbortCode> {
+    /// Two ranges (our choice; CiA 418 names them but no abort code):
+    /// 6080h 0..=100 or FFh (invalid), 6054h sub 1 (minutes since
+    /// midnight) 0..=1439; anything else is 06090031h (value too high).
+    fn check(&self, index: u16, sub: u8, word: u32) -> Result<(), AbortCode> {
+        let too_high = match (index, sub) {
+            (CHARGER_STATE_OF_CHARGE, _) => StateOfCharge::from_raw(word as u8).is_out_of_range(),
+            (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_MINUTES) => word >= 1440,
+            _ => false,
+        };
+        if too_high {
+            return Err(AbortCode::ValueTooHigh);
+        }
+        Ok(())
+    }
+
+    fn store(&mut self, _: &FixedEntry, index: u16, sub: u8, word: u32) {
         let [a, b, ..] = word.to_le_bytes();
         let half = u16::from_le_bytes([a, b]);
         match (index, sub) {
@@ -386,121 +388,21 @@ impl BatteryObjects {
                 self.ah_since_last_equalization = EighthAmpHours::from_raw(half);
             }
             (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_MINUTES) => {
-                if half >= 1440 {
-                    return Err(AbortCode::ValueTooHigh);
-                }
                 self.date_of_last_equalization.minutes = half;
             }
             (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_DAYS) => {
                 self.date_of_last_equalization.days = half;
             }
             (CHARGER_STATE_OF_CHARGE, 0) => {
-                let soc = StateOfCharge::from_raw(a);
-                if soc.is_out_of_range() {
-                    return Err(AbortCode::ValueTooHigh);
-                }
-                self.charger_state_of_charge = soc;
+                self.charger_state_of_charge = StateOfCharge::from_raw(a)
             }
-            _ => return Err(AbortCode::WriteOfReadOnlyObject),
-        }
-        Ok(())
-    }
-}
-
-/// What NMT reset node restores of [`BatteryObjects`]: its `rw` objects
-/// (6001h, 6052h, 6053h, 6054h, 6080h: what the charger writes by SDO or
-/// RPDO) as they were at boot. The `ro` objects are not in it: they are
-/// the module's measurements and identity, not parameters (CiA 301
-/// 7.3.2.2.1: reset node restores the parameters of the profile areas),
-/// and keep what the application last set, so no stale boot-time reading
-/// is published until its next update.
-///
-/// ```
-/// use canopen_codec::cia418::{BatteryObjects, StateOfCharge, Temperature};
-/// use canopen_codec::device::PowerOnValues;
-/// let mut od = BatteryObjects::new();
-/// let at_boot = od.snapshot();
-/// od.charger_state_of_charge = StateOfCharge::from_raw(80); // written by the charger
-/// od.temperature = Temperature::from_celsius(30).unwrap(); // measured
-/// od.restore(&at_boot); // reset node
-/// assert_eq!(od.charger_state_of_charge, StateOfCharge::INVALID);
-/// assert_eq!(od.temperature, Temperature::from_celsius(30).unwrap());
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[repr(C)]
-pub struct BatteryPowerOnValues {
-    date_of_last_equalization: EqualizationDate,
-    ah_returned_during_last_charge: EighthAmpHours,
-    ah_since_last_equalization: EighthAmpHours,
-    charger_status: ChargerStatus,
-    charger_state_of_charge: StateOfCharge,
-}
-
-impl PowerOnValues for BatteryObjects {
-    type Snapshot = BatteryPowerOnValues;
-
-    fn snapshot(&self) -> BatteryPowerOnValues {
-        BatteryPowerOnValues {
-            charger_status: self.charger_status,
-            ah_returned_during_last_charge: self.ah_returned_during_last_charge,
-            ah_since_last_equalization: self.ah_since_last_equalization,
-            date_of_last_equalization: self.date_of_last_equalization,
-            charger_state_of_charge: self.charger_state_of_charge,
+            _ => {}
         }
     }
-
-    fn restore(&mut self, snapshot: &BatteryPowerOnValues) {
-        self.charger_status = snapshot.charger_status;
-        self.ah_returned_during_last_charge = snapshot.ah_returned_during_last_charge;
-        self.ah_since_last_equalization = snapshot.ah_since_last_equalization;
-        self.date_of_last_equalization = snapshot.date_of_last_equalization;
-        self.charger_state_of_charge = snapshot.charger_state_of_charge;
-    }
 }
 
-impl ObjectDictionary for BatteryObjects {
-    fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-        let e = self.entry(index, sub)?;
-        let len = usize::from(e.len);
-        Ok(ObjectInfo {
-            access: e.access,
-            len,
-            size: SizeRule::Fixed(len),
-            pdo_mappable: e.mappable,
-        })
-    }
-
-    fn read(
-        &mut self,
-        index: u16,
-        sub: u8,
-        offset: usize,
-        buf: &mut [u8],
-    ) -> Result<usize, AbortCode> {
-        let e = self.entry(index, sub)?;
-        let bytes = e.word.to_le_bytes();
-        let value = bytes.get(..usize::from(e.len)).unwrap_or(&bytes);
-        Ok(crate::od::read_at(value, offset, buf))
-    }
-
-    fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
-        let access = self.entry(index, sub)?.access;
-        self.pending
-            .write_to(&ObjectInfo::fixed(access, 0), index, sub, offset, data)
-    }
-
-    fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let object = self
-            .entry(index, sub)
-            .map(|e| (e.access, usize::from(e.len)));
-        let word = self.pending.finish_word(object, index, sub, len)?;
-        self.apply(index, sub, word)
-    }
-
-    fn abort_write(&mut self, _: u16, _: u8) {
-        self.pending.clear();
-    }
-}
+/// The module's application dictionary as its device core serves it.
+pub type BatteryDictionary = FixedDictionary<BatteryObjects>;
 
 #[cfg(test)]
 #[path = "objects_tests.rs"]

@@ -7,9 +7,10 @@ use crate::cia418::{
     BatteryModule, BatteryModuleConfig, BatteryParameterValue, BatteryType, DeviceType,
 };
 use crate::device::{Dictionary, Identity};
+use crate::od::ObjectDictionary;
 use crate::NodeId;
 
-type Od = Dictionary<BatteryObjects, 3, 3>;
+type Od = Dictionary<BatteryDictionary, 3, 3>;
 
 fn module_od(node: u8, name: &'static str, f: impl FnOnce(&mut BatteryModuleConfig)) -> Od {
     let mut config = BatteryModuleConfig::new(NodeId::new(node).unwrap());
@@ -33,9 +34,11 @@ fn read(od: &mut Od, index: u16, sub: u8) -> Result<std::vec::Vec<u8>, AbortCode
 fn write(od: &mut Od, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
     let info = od.info(index, sub)?;
     if !info.access.is_writable() {
-        // What the SDO server checks before writing; the dictionary checks it too.
+        // What the SDO server checks before writing; the dictionary checks
+        // it too, when the value is complete.
+        od.write(index, sub, 0, data)?;
         assert_eq!(
-            od.write(index, sub, 0, data),
+            od.finish_write(index, sub, data.len()),
             Err(AbortCode::WriteOfReadOnlyObject)
         );
         return Err(AbortCode::WriteOfReadOnlyObject);

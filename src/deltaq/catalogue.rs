@@ -52,6 +52,7 @@
 //! assert_eq!(fields.as_slice()[0].to_string(), "2002h charging current 19.453125 A");
 //! ```
 
+use crate::cia418::catalogue::{A, AH, V};
 use core::fmt;
 
 use crate::cia418::CIA418_OBJECTS;
@@ -215,9 +216,6 @@ pub const ALGORITHM_REQUEST_FORMAT: ValueFormat = ValueFormat {
     write: write_algorithm,
 };
 
-const A: Option<Unit> = Some(Unit::Ampere);
-const V: Option<Unit> = Some(Unit::Volt);
-const AH: Option<Unit> = Some(Unit::AmpereHour);
 const NO_16: Marker = Marker::NoValue(0xFFFF);
 
 /// The Delta-Q charger's objects, including its reading of 6052h: 2002h

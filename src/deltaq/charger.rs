@@ -60,16 +60,17 @@
 //!   reset communication only the communication objects; both forget the
 //!   pairing and are reported as [`DeviceEvent::Reset`].
 
-use core::mem::MaybeUninit;
-
-use super::charger_objects::ChargerObjects;
+use super::charger_objects::ChargerDictionary;
 use super::device_type;
 use super::{emergency_reaction, DeltaQCode, OperatingMode, Reaction, ALARMS_AND_FAULTS};
 use crate::bytes::InlineData;
 use crate::cia419::{PdoPair, PDO_PAIRS};
 use crate::clock::Timestamp;
 use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
-use crate::device::{machine_on_device, Device, DeviceEvent, Profile, DEFAULT_QUEUE_CAPACITY};
+use crate::device::{
+    CommObjects, Device, DeviceEvent, DeviceSetup, DeviceSpec, Profile, ProfiledDevice,
+    DEFAULT_QUEUE_CAPACITY,
+};
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::CanFrame;
 use crate::machine::Machine;
@@ -165,7 +166,7 @@ const PAIRS: [PdoPair; 7] = {
 };
 
 /// The charger's core: TPDO 0-3 and RPDO 0-2 (`charger_default_pdo`; no RPDO 3 is published).
-type ChargerDevice<const Q: usize> = Device<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4, 3>;
+pub type ChargerDevice<const Q: usize> = Device<ChargerProfile, Q, 4, 3>;
 
 /// A Delta-Q code with the EEC its row of [`ALARMS_AND_FAULTS`] gives
 /// (generic, 1000h, for a code without a row).
@@ -197,9 +198,11 @@ fn sdo_allowed<const Q: usize>(device: &ChargerDevice<Q>) -> bool {
     )
 }
 
-/// The charger's behaviour on top of the core.
+/// The Delta-Q charger's profile on the device core: its objects
+/// ([`ChargerObjects`](super::ChargerObjects)), its events, its configuration and its behaviour
+/// on top of the core (see the module docs).
 #[derive(Debug)]
-struct ChargerProfile {
+pub struct ChargerProfile {
     /// What the profile needs of the [`ChargerConfig`] (the core keeps the
     /// whole of it, [`Device::power_on`]).
     battery: NodeId,
@@ -212,10 +215,17 @@ struct ChargerProfile {
     upload_value: [u8; 4],
 }
 
-/// The charger. See the module docs; it implements
-/// [`Machine`](crate::machine::Machine) and dereferences to its [`Device`]
-/// core, whose getters give its objects (`objects()`, `comm()` with 1001h
-/// and the 1003h history, `pdo_config()`) and `nmt_state()`.
+impl DeviceSpec for ChargerProfile {
+    type Objects = ChargerDictionary;
+    type Event = ChargerEvent;
+    type PowerOn = ChargerPowerOn;
+}
+
+/// The charger: [`ChargerProfile`] on its device core. See the module
+/// docs; it implements [`Machine`](crate::machine::Machine) and
+/// dereferences to its [`Device`] core, whose getters give its objects
+/// (`objects()`, `comm()` with 1001h and the 1003h history,
+/// `pdo_config()`) and `nmt_state()`.
 ///
 /// ```
 /// use canopen_codec::deltaq::{Charger, ChargerConfig};
@@ -230,117 +240,51 @@ struct ChargerProfile {
 /// ```
 ///
 /// `Q` is the capacity of its event queue and of its queue of frames to
-/// send ([`Device`]'s; default [`DEFAULT_QUEUE_CAPACITY`]):
-/// [`Charger::with_queue_capacity`] makes a charger with another one.
+/// send ([`Device`]'s; default [`DEFAULT_QUEUE_CAPACITY`]): e.g.
+/// `Charger::<4>::new`; the firmware builds its charger, 2 deep, in place
+/// with [`ProfiledDevice::new_in`]:
+///
+/// ```
+/// use core::mem::MaybeUninit;
+/// use canopen_codec::deltaq::{Charger, ChargerConfig};
+/// use canopen_codec::machine::Machine;
+/// use canopen_codec::{NodeId, Timestamp};
+/// let mut slot = MaybeUninit::<Charger<4>>::uninit();
+/// let config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
+/// let c = Charger::new_in(&mut slot, config);
+/// c.boot(Timestamp::ZERO);
+/// assert_eq!(c.poll_transmit().unwrap().to_string(), "70A#00");
+/// ```
+///
 /// Feature `heartbeat-consumer` (the battery module's supervision).
-#[derive(Debug)]
-pub struct Charger<const Q: usize = DEFAULT_QUEUE_CAPACITY> {
-    device: ChargerDevice<Q>,
-    profile: ChargerProfile,
-}
+pub type Charger<const Q: usize = DEFAULT_QUEUE_CAPACITY> = ProfiledDevice<ChargerProfile, Q, 4, 3>;
 
-machine_on_device!(Charger, ChargerObjects, ChargerEvent, ChargerPowerOn, 4, 3);
+/// A charger is made from its configuration: the settings it keeps
+/// ([`ChargerPowerOn`]), the Delta-Q power-on objects, its profile, and
+/// 1008h written once.
+impl DeviceSetup<ChargerProfile> for ChargerConfig {
+    fn profile(&self) -> ChargerProfile {
+        ChargerProfile::new(*self)
+    }
 
-impl Charger {
-    /// A charger with `config`, not yet booted, with the default queue
-    /// capacity.
-    #[must_use]
-    pub fn new(config: ChargerConfig) -> Self {
-        Self::with_queue_capacity(config)
+    fn write_constants(&self, comm: &mut CommObjects) {
+        comm.device_type = crate::cia419::CHARGER_DEVICE_TYPE;
+        comm.device_name = self.device_name;
     }
 }
 
 impl<const Q: usize> Charger<Q> {
-    /// A charger with `config` whose queues hold `Q` events and `Q` frames
-    /// (e.g. `Charger::<4>::with_queue_capacity`; the firmware builds its
-    /// charger, 2 deep, in place with `new_in`), not yet booted.
-    ///
-    /// ```
-    /// use canopen_codec::deltaq::{Charger, ChargerConfig};
-    /// use canopen_codec::machine::Machine;
-    /// use canopen_codec::{NodeId, Timestamp};
-    /// let config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
-    /// let mut c = Charger::<4>::with_queue_capacity(config);
-    /// c.boot(Timestamp::ZERO);
-    /// assert_eq!(c.poll_transmit().unwrap().to_string(), "70A#00");
-    /// ```
-    #[must_use]
-    pub fn with_queue_capacity(config: ChargerConfig) -> Self {
-        let mut charger = Self::blank(config);
-        charger.load(config.device_name);
-        charger
-    }
-
-    /// [`with_queue_capacity`](Self::with_queue_capacity) built in `slot`
-    /// (a firmware's static): the charger is written there and its
-    /// power-on values are loaded in place, not built elsewhere and moved.
-    ///
-    /// ```
-    /// use core::mem::MaybeUninit;
-    /// use canopen_codec::deltaq::{Charger, ChargerConfig};
-    /// use canopen_codec::machine::Machine;
-    /// use canopen_codec::{NodeId, Timestamp};
-    /// let mut slot = MaybeUninit::<Charger<4>>::uninit();
-    /// let config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
-    /// let c = Charger::new_in(&mut slot, config);
-    /// c.boot(Timestamp::ZERO);
-    /// assert_eq!(c.poll_transmit().unwrap().to_string(), "70A#00");
-    /// ```
-    pub fn new_in(slot: &mut MaybeUninit<Self>, config: ChargerConfig) -> &mut Self {
-        let charger = slot.write(Self::blank(config));
-        charger.load(config.device_name);
-        charger
-    }
-
-    /// The charger before its power-on values are loaded (the device's
-    /// blank of constants).
-    fn blank(config: ChargerConfig) -> Self {
-        Charger {
-            profile: ChargerProfile::new(config),
-            device: Device::blank(ChargerPowerOn::from(config), ChargerObjects::new()),
-        }
-    }
-
-    /// Writes 1008h `device_name` into the blank's communication objects,
-    /// once (every reset keeps it, [`ChargerPowerOn`]), then loads the
-    /// power-on values (`Device::load_power_on`, not inlined on the
-    /// target: one copy for every constructor).
-    fn load(&mut self, device_name: &'static str) {
-        self.device.comm_before_power_on().device_name = device_name;
-        self.device.load_power_on();
-    }
-
-    // ----- getters -----------------------------------------------------------
-
     /// The configuration (times in the whole milliseconds the charger
     /// keeps, [`ChargerPowerOn`]).
     #[must_use]
     pub fn config(&self) -> ChargerConfig {
-        self.device.power_on().config(self.device.comm())
+        self.power_on().config(self.comm())
     }
 
     /// True once the PDO pairing is done and the module is present.
     #[must_use]
     pub const fn is_configured(&self) -> bool {
-        matches!(self.profile.link, Link::Ready)
-    }
-
-    // ----- commands ----------------------------------------------------------
-
-    /// Changes objects (measurements, status) and refreshes the TPDOs.
-    pub fn update(&mut self, now: Timestamp, f: impl FnOnce(&mut ChargerObjects)) {
-        self.device.update(now, f);
-    }
-
-    /// Boots: boot-up message, default PDOs, pre-operational (or
-    /// operational with `self_start`).
-    pub fn boot(&mut self, now: Timestamp) {
-        self.profile.restart(&mut self.device, now);
-        self.device.boot(now, &mut self.profile);
-        if self.profile.self_start {
-            self.device
-                .set_nmt_state(now, NmtState::Operational, &mut self.profile);
-        }
+        matches!(self.profile().link, Link::Ready)
     }
 }
 
@@ -365,7 +309,7 @@ impl ChargerProfile {
     }
 
     /// A fresh client of the same configuration: a transfer in progress
-    /// ends silently. Not inlined: one copy for its three callers.
+    /// ends silently.
     #[inline(never)]
     fn fresh_client(&mut self) {
         self.client.reset();
@@ -548,9 +492,17 @@ impl ChargerProfile {
     }
 }
 
-impl<const Q: usize> Profile<ChargerObjects, ChargerEvent, Q, ChargerPowerOn, 4, 3>
-    for ChargerProfile
-{
+impl<const Q: usize> Profile<ChargerProfile, Q, 4, 3> for ChargerProfile {
+    /// Boots: boot-up message, default PDOs, pre-operational (or
+    /// operational with `self_start`).
+    fn boot(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
+        self.restart(device, now);
+        device.boot(now, self);
+        if self.self_start {
+            device.set_nmt_state(now, NmtState::Operational, self);
+        }
+    }
+
     /// The battery module's heartbeat events are reported as
     /// [`ChargerEvent::BatteryFound`] / [`ChargerEvent::BatteryLost`].
     fn keep_event(&self, event: &DeviceEvent) -> bool {

@@ -70,6 +70,7 @@ impl ChargerConfig {
     #[must_use]
     pub fn device_config(&self) -> DeviceConfig {
         DeviceConfig {
+            device_type: CHARGER_DEVICE_TYPE,
             device_name: self.device_name,
             ..ChargerPowerOn::from(*self).power_on_config()
         }
@@ -81,8 +82,7 @@ impl ChargerConfig {
 /// settings with the times in whole milliseconds, the unit of the objects
 /// they become (1017h, 1016h and the TPDO event timers are Unsigned16 of
 /// milliseconds, saturating at 65 535 ms; the SDO timeout saturates at
-/// `u32::MAX` ms): 24 bytes on a 32-bit target instead of the 128 of a
-/// `ChargerConfig` with its `Duration`s. 1008h, the device name, is not
+/// `u32::MAX` ms). 1008h, the device name, is not
 /// kept here: the charger writes it once into its communication objects
 /// when it is made, and every reset keeps it there (a `const` object:
 /// nothing on the bus changes it).
@@ -137,7 +137,6 @@ impl From<ChargerConfig> for ChargerPowerOn {
             self_start: c.self_start,
             heartbeat_ms: ms16(c.heartbeat),
             battery_timeout_ms: ms16(c.battery_timeout),
-            // Element by element, not a loop: constants fold.
             tpdo_periods_ms: [ms16(p0), ms16(p1), ms16(p2), ms16(p3)],
             sdo_timeout_ms: u32::try_from(whole_ms(c.sdo_timeout)).unwrap_or(u32::MAX),
         }
@@ -247,8 +246,8 @@ pub(super) fn default_pdos<const T: usize, const R: usize>(
 /// The charger's [`DeviceConfig`] is made from its configuration at boot
 /// and at every reset (the core keeps no second copy).
 impl PowerOn for ChargerPowerOn {
-    fn node(&self) -> NodeId {
-        self.node
+    fn set_node(&mut self, node: NodeId) {
+        self.node = node;
     }
 
     fn restore<const T: usize, const R: usize>(
@@ -256,25 +255,17 @@ impl PowerOn for ChargerPowerOn {
         comm: &mut CommObjects,
         pdos: &mut PdoConfig<T, R>,
     ) -> Policies {
-        // 1008h is written once, when the charger is made, and kept.
-        let device_name = comm.device_name;
-        *comm = CommObjects::new(self.node);
-        comm.device_type = CHARGER_DEVICE_TYPE;
-        comm.device_name = device_name;
+        default_pdos(self, pdos);
+        comm.reset_keeping_constants(self.node);
         comm.heartbeat_ms = self.heartbeat_ms;
         comm.set_consumers(&[ConsumerEntry {
             node: self.battery.raw(),
             time_ms: self.battery_timeout_ms,
         }]);
-        default_pdos(self, pdos);
-        Policies {
-            heartbeat_on_change: false,
-            sdo_timeout: Duration::from_millis(u64::from(self.sdo_timeout_ms)),
-            error_field: ErrorFieldFormat::SwappedInfo,
-        }
+        Policies::of_profile(self.sdo_timeout_ms, ErrorFieldFormat::SwappedInfo)
     }
 
-    fn set_node(&mut self, node: NodeId) {
-        self.node = node;
+    fn node(&self) -> NodeId {
+        self.node
     }
 }

@@ -3,67 +3,66 @@
 //! Delta-Q manufacturer objects (Delta-Q IC Series CANopen interface
 //! specification rev 2.0, section 5: 2002h, 2006h, 2060h, 2100h, 2101h,
 //! 2200h, 2241h, 2271h, 2276h, 4201h, and the 2FFAh padding objects its
-//! PDO mappings use). Fixed storage, no allocation. The communication
-//! objects (1000h-1FFFh) are the device core's ([`crate::device`]).
+//! PDO mappings use), declared for the crate's fixed-word dictionary
+//! ([`FixedDictionary`], which serves them by SDO). Fixed storage, no
+//! allocation. The communication objects (1000h-1FFFh) are the device
+//! core's ([`crate::device`]).
 //!
 //! NMT reset node sets the writable objects (what the battery module's
 //! TPDOs and an SDO client write: the parameters) back to their values at
-//! boot ([`ChargerPowerOnValues`]); the read-only ones (6001h, 6080h,
-//! 2006h, 2060h, 2100h, 2200h) are the charger's own readings and state
-//! and keep the value the application last set (a boot-time value restored
-//! would be published until its next update).
+//! boot ([`CHARGER_PARAMETERS_RESTORED`]); the read-only ones (6001h,
+//! 6080h, 2006h, 2060h, 2100h, 2200h) are the charger's own readings and
+//! state and keep the value the application last set (a boot-time value
+//! restored would be published until its next update).
 
-use crate::device::PowerOnValues;
-use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
+use crate::od::{Access, FixedDictionary, FixedEntry, FixedObject, FixedObjects};
 use crate::sdo::AbortCode;
 
 /// The charger's object values. Fields are the application's to read and
-/// write; SDO access goes through [`ObjectDictionary`] with the access
-/// rights of each object.
+/// write; SDO access goes through [`FixedDictionary`] with the access
+/// rights of each object ([`ChargerDictionary`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-// `repr(C)`, the writable objects first in [`ChargerPowerOnValues`]'s
-// order: the snapshot is the struct's first 27 bytes, copied as words
-// rather than field by field.
-#[repr(C)]
 pub struct ChargerObjects {
-    /// 6060h battery voltage (1/1024 V).
-    pub battery_voltage: u32,
-    /// 2241h active algorithm request (FFFFFFFFh none).
-    pub algorithm_request: u32,
-    /// 2271h voltage request (Q10 V, FFFFFFFFh none).
-    pub voltage_request: u32,
+    /// 6000h battery status (written by the BMS).
+    pub battery_status: u8,
+    /// 6001h charger status (bit 0: able to charge).
+    pub charger_status: u8,
     /// 6010h battery temperature (0.125 degC).
     pub temperature: i16,
     /// 6052h Ah returned (Delta-Q: Q3 Ah, FFFFh no value).
     pub ah_returned: u16,
+    /// 6060h battery voltage (1/1024 V).
+    pub battery_voltage: u32,
     /// 6070h charge current requested (1/16 A).
     pub current_requested: u16,
-    /// 2002h charging current (Q8 A).
-    pub charging_current: u16,
-    /// 2101h battery voltage (Q8 V).
-    pub battery_voltage_q8: u16,
-    /// 2276h voltage request (Q8 V, FFFFh none).
-    pub voltage_request_q8: u16,
-    /// 6000h battery status (written by the BMS).
-    pub battery_status: u8,
-    /// 6081h battery state of charge (%; FFh invalid).
-    pub battery_soc: u8,
-    /// 4201h external override.
-    pub external_override: u8,
-    /// 6001h charger status (bit 0: able to charge).
-    pub charger_status: u8,
     /// 6080h charger state of charge (%; FFh invalid).
     pub charger_soc: u8,
+    /// 6081h battery state of charge (%; FFh invalid).
+    pub battery_soc: u8,
+    /// 2002h charging current (Q8 A).
+    pub charging_current: u16,
     /// 2006h extended charge status.
     pub extended_status: u16,
     /// 2060h current displayed error (a 1003h-style entry; 0 none).
     pub displayed_error: u32,
     /// 2100h battery voltage, legacy (Q10 V).
     pub battery_voltage_q10: u16,
+    /// 2101h battery voltage (Q8 V).
+    pub battery_voltage_q8: u16,
     /// 2200h AC voltage (Q4 V).
     pub ac_voltage: u16,
-    pending: WriteBuffer,
+    /// 2241h active algorithm request (FFFFFFFFh none).
+    pub algorithm_request: u32,
+    /// 2271h voltage request (Q10 V, FFFFFFFFh none).
+    pub voltage_request: u32,
+    /// 2276h voltage request (Q8 V, FFFFh none).
+    pub voltage_request_q8: u16,
+    /// 4201h external override.
+    pub external_override: u8,
 }
+
+/// The charger's application dictionary as its device core serves it.
+pub type ChargerDictionary = FixedDictionary<ChargerObjects>;
 
 impl Default for ChargerObjects {
     fn default() -> Self {
@@ -94,320 +93,188 @@ impl ChargerObjects {
             voltage_request: 0xFFFF_FFFF,
             voltage_request_q8: 0xFFFF,
             external_override: 0,
-            pending: WriteBuffer::new(),
         }
     }
 
-    /// Access, current value (a little-endian word of `len` bytes, 1, 2
-    /// or 4), PDO-mappability and field row of every object: the one
-    /// lookup [`info`](ObjectDictionary::info),
-    /// [`read`](ObjectDictionary::read) and
-    /// [`finish_write`](ObjectDictionary::finish_write) share.
-    fn entry(&self, index: u16, sub: u8) -> Result<Entry, AbortCode> {
-        if index == PADDING {
-            return match sub {
-                0 => Ok(Entry::new(Access::Const, 2, 1, false, NO_FIELD)),
-                1 | 2 => Ok(Entry::new(Access::ReadWrite, 0, 1, true, NO_FIELD)),
-                _ => Err(AbortCode::SubIndexDoesNotExist),
-            };
-        }
-        let (row, object) = OBJECTS
-            .iter()
-            .enumerate()
-            .find(|(_, o)| o.index == index)
-            .ok_or(AbortCode::ObjectDoesNotExist)?;
-        if sub != 0 {
-            return Err(AbortCode::SubIndexDoesNotExist);
-        }
-        let access = object.access;
-        let word = self.value(row);
-        Ok(Entry::new(access, word, object.width, true, row as u8))
+    /// The field of writable row `row` of [`OBJECTS`]; `None` for the
+    /// read-only rows (SDO never stores there) and 2FFAh ([`NO_FIELD`]).
+    fn writable_field(&mut self, row: u8) -> Option<Field<'_>> {
+        Some(match row {
+            0 => Field::U8(&mut self.battery_status),
+            2 => Field::I16(&mut self.temperature),
+            3 => Field::U16(&mut self.ah_returned),
+            4 => Field::U32(&mut self.battery_voltage),
+            5 => Field::U16(&mut self.current_requested),
+            7 => Field::U8(&mut self.battery_soc),
+            8 => Field::U16(&mut self.charging_current),
+            12 => Field::U16(&mut self.battery_voltage_q8),
+            14 => Field::U32(&mut self.algorithm_request),
+            15 => Field::U32(&mut self.voltage_request),
+            16 => Field::U16(&mut self.voltage_request_q8),
+            17 => Field::U8(&mut self.external_override),
+            _ => return None,
+        })
     }
 
-    /// The value of the object in row `field` of [`OBJECTS`].
-    fn value(&self, field: usize) -> u32 {
-        match self.field(field) {
-            Field::U8(v) => u32::from(*v),
-            Field::U16(v) => u32::from(*v),
-            Field::I16(v) => u32::from(*v as u16),
-            Field::U32(v) => *v,
-        }
-    }
-
-    /// The field of row `field` of [`OBJECTS`].
-    fn field(&self, field: usize) -> Field<'_> {
-        match field {
-            0 => Field::U8(&self.battery_status),
-            1 => Field::U8(&self.charger_status),
-            2 => Field::I16(&self.temperature),
-            3 => Field::U16(&self.ah_returned),
-            4 => Field::U32(&self.battery_voltage),
-            5 => Field::U16(&self.current_requested),
-            6 => Field::U8(&self.charger_soc),
-            7 => Field::U8(&self.battery_soc),
-            8 => Field::U16(&self.charging_current),
-            9 => Field::U16(&self.extended_status),
-            10 => Field::U32(&self.displayed_error),
-            11 => Field::U16(&self.battery_voltage_q10),
-            12 => Field::U16(&self.battery_voltage_q8),
-            13 => Field::U16(&self.ac_voltage),
-            14 => Field::U32(&self.algorithm_request),
-            15 => Field::U32(&self.voltage_request),
-            16 => Field::U16(&self.voltage_request_q8),
-            _ => Field::U8(&self.external_override),
-        }
-    }
-
-    /// Stores a complete, length-checked write of `word` (the value's
-    /// little-endian bytes, its length the object's) in the field of row
-    /// `field`; the read-only rows never get here, 2FFAh ([`NO_FIELD`])
-    /// stores nothing.
-    fn apply(&mut self, field: u8, word: u32) {
-        let field = match field {
-            0 => FieldMut::U8(&mut self.battery_status),
-            2 => FieldMut::I16(&mut self.temperature),
-            3 => FieldMut::U16(&mut self.ah_returned),
-            4 => FieldMut::U32(&mut self.battery_voltage),
-            5 => FieldMut::U16(&mut self.current_requested),
-            7 => FieldMut::U8(&mut self.battery_soc),
-            8 => FieldMut::U16(&mut self.charging_current),
-            12 => FieldMut::U16(&mut self.battery_voltage_q8),
-            14 => FieldMut::U32(&mut self.algorithm_request),
-            15 => FieldMut::U32(&mut self.voltage_request),
-            16 => FieldMut::U16(&mut self.voltage_request_q8),
-            17 => FieldMut::U8(&mut self.external_override),
-            _ => return,
-        };
-        // Truncations to the object's width (the value has no more bytes).
-        match field {
-            FieldMut::U8(f) => *f = word as u8,
-            FieldMut::U16(f) => *f = word as u16,
-            FieldMut::I16(f) => *f = word as u16 as i16,
-            FieldMut::U32(f) => *f = word,
+    /// The value of row `row` of [`OBJECTS`].
+    fn value(&self, row: usize) -> u32 {
+        match row {
+            0 => self.battery_status.into(),
+            1 => self.charger_status.into(),
+            2 => u32::from(self.temperature as u16),
+            3 => self.ah_returned.into(),
+            4 => self.battery_voltage,
+            5 => self.current_requested.into(),
+            6 => self.charger_soc.into(),
+            7 => self.battery_soc.into(),
+            8 => self.charging_current.into(),
+            9 => self.extended_status.into(),
+            10 => self.displayed_error,
+            11 => self.battery_voltage_q10.into(),
+            12 => self.battery_voltage_q8.into(),
+            13 => self.ac_voltage.into(),
+            14 => self.algorithm_request,
+            15 => self.voltage_request,
+            16 => self.voltage_request_q8.into(),
+            _ => self.external_override.into(),
         }
     }
 }
 
 /// A writable field of [`ChargerObjects`] by its type.
-enum FieldMut<'a> {
+enum Field<'a> {
     U8(&'a mut u8),
     U16(&'a mut u16),
     I16(&'a mut i16),
     U32(&'a mut u32),
 }
 
-/// A field of [`ChargerObjects`] by its type.
-enum Field<'a> {
-    U8(&'a u8),
-    U16(&'a u16),
-    I16(&'a i16),
-    U32(&'a u32),
-}
+/// 2FFAh: the padding objects of the Delta-Q PDO mappings (sub 0 = 2, two
+/// writable dummy bytes that store nothing).
+const PADDING: u16 = 0x2FFA;
 
-/// One sub-object as [`ChargerObjects::entry`] finds it.
-#[derive(Debug, Clone, Copy)]
-struct Entry {
-    access: Access,
-    /// The value, little-endian: its first `len` bytes.
-    word: u32,
-    /// Bytes: 1, 2 or 4.
-    len: u8,
-    mappable: bool,
-    /// The row of [`OBJECTS`], [`NO_FIELD`] for 2FFAh.
-    field: u8,
-}
-
-impl Entry {
-    const fn new(access: Access, word: u32, len: u8, mappable: bool, field: u8) -> Self {
-        Entry {
-            access,
-            word,
-            len,
-            mappable,
-            field,
-        }
-    }
-}
-
-/// [`Entry::field`] of the 2FFAh padding objects: no field.
+/// [`FixedEntry::slot`] of the 2FFAh padding objects: no field.
 const NO_FIELD: u8 = u8::MAX;
+
+/// The charger's objects besides 2FFAh, in the order of the rows of
+/// `ChargerObjects::field`: one table for SDO info, reads, writes and what
+/// reset node restores (every one PDO-mappable).
+const OBJECTS: [FixedObject; 18] = {
+    use Access::{ReadOnly as Ro, ReadWrite as Rw};
+    const fn object(index: u16, width: u8, access: Access) -> FixedObject {
+        FixedObject::new(index, width, access, true)
+    }
+    [
+        object(0x6000, 1, Rw),
+        object(0x6001, 1, Ro),
+        object(0x6010, 2, Rw),
+        object(0x6052, 2, Rw),
+        object(0x6060, 4, Rw),
+        object(0x6070, 2, Rw),
+        object(0x6080, 1, Ro),
+        object(0x6081, 1, Rw),
+        object(0x2002, 2, Rw),
+        object(0x2006, 2, Ro),
+        object(0x2060, 4, Ro),
+        object(0x2100, 2, Ro),
+        object(0x2101, 2, Rw),
+        object(0x2200, 2, Ro),
+        object(0x2241, 4, Rw),
+        object(0x2271, 4, Rw),
+        object(0x2276, 2, Rw),
+        object(0x4201, 1, Rw),
+    ]
+};
+
+/// How many rows of [`OBJECTS`] are writable, and their bytes.
+const fn writable_rows() -> (usize, usize) {
+    let (mut i, mut n, mut bytes) = (0, 0, 0);
+    while i < OBJECTS.len() {
+        if OBJECTS[i].access.is_writable() {
+            n += 1;
+            bytes += OBJECTS[i].width as usize;
+        }
+        i += 1;
+    }
+    (n, bytes)
+}
 
 /// What NMT reset node restores of [`ChargerObjects`]: its writable
 /// objects (6000h, 6010h, 6052h, 6060h, 6070h, 6081h, 2002h, 2101h, 2241h,
-/// 2271h, 2276h, 4201h; 2FFAh stores nothing) as they were at boot. The
-/// read-only objects (6001h, 6080h, 2006h, 2060h, 2100h, 2200h) are the
-/// charger's own readings and state, not parameters (CiA 301 7.3.2.2.1:
-/// reset node restores the parameters of the profile areas): they keep
-/// what the application last set, so no stale boot-time value is published
-/// until its next update.
+/// 2271h, 2276h, 4201h; 2FFAh stores nothing), the writable rows of its
+/// table, as they were at boot. The read-only objects (6001h, 6080h,
+/// 2006h, 2060h, 2100h, 2200h) are the charger's own readings and state,
+/// not parameters (CiA 301 7.3.2.2.1: reset node restores the parameters
+/// of the profile areas): they keep what the application last set, so no
+/// stale boot-time value is published until its next update.
+pub const CHARGER_PARAMETERS_RESTORED: [(u16, u8); writable_rows().0] = {
+    let mut list = [(0u16, 0u8); writable_rows().0];
+    let (mut i, mut n) = (0, 0);
+    while i < OBJECTS.len() {
+        if OBJECTS[i].access.is_writable() {
+            list[n] = (OBJECTS[i].index, 0);
+            n += 1;
+        }
+        i += 1;
+    }
+    list
+};
+
+/// The values of [`CHARGER_PARAMETERS_RESTORED`] kept at boot, their bytes
+/// one after the other.
 ///
 /// ```
 /// use canopen_codec::deltaq::ChargerObjects;
 /// use canopen_codec::device::PowerOnValues;
-/// let mut od = ChargerObjects::new();
+/// use canopen_codec::od::FixedDictionary;
+/// let mut od = FixedDictionary::new(ChargerObjects::new());
 /// let at_boot = od.snapshot();
 /// od.battery_soc = 80; // written by the battery module's TPDO
 /// od.ac_voltage = 230 * 16; // measured
 /// od.restore(&at_boot); // reset node
 /// assert_eq!((od.battery_soc, od.ac_voltage), (0xFF, 230 * 16));
 /// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[repr(C)]
-pub struct ChargerPowerOnValues {
-    battery_voltage: u32,
-    algorithm_request: u32,
-    voltage_request: u32,
-    temperature: i16,
-    ah_returned: u16,
-    current_requested: u16,
-    charging_current: u16,
-    battery_voltage_q8: u16,
-    voltage_request_q8: u16,
-    battery_status: u8,
-    battery_soc: u8,
-    external_override: u8,
-}
+pub type ChargerPowerOnValues = [u8; writable_rows().1];
 
-impl PowerOnValues for ChargerObjects {
-    type Snapshot = ChargerPowerOnValues;
+impl FixedObjects for ChargerObjects {
+    type Parameters = ChargerPowerOnValues;
+    const PARAMETERS: &'static [(u16, u8)] = &CHARGER_PARAMETERS_RESTORED;
 
-    fn snapshot(&self) -> ChargerPowerOnValues {
-        ChargerPowerOnValues {
-            battery_voltage: self.battery_voltage,
-            algorithm_request: self.algorithm_request,
-            voltage_request: self.voltage_request,
-            temperature: self.temperature,
-            ah_returned: self.ah_returned,
-            current_requested: self.current_requested,
-            charging_current: self.charging_current,
-            battery_voltage_q8: self.battery_voltage_q8,
-            voltage_request_q8: self.voltage_request_q8,
-            battery_status: self.battery_status,
-            battery_soc: self.battery_soc,
-            external_override: self.external_override,
+    fn entry(&self, index: u16, sub: u8) -> Result<FixedEntry, AbortCode> {
+        if index == PADDING {
+            let (access, word) = match sub {
+                0 => (Access::Const, 2),
+                1 | 2 => (Access::ReadWrite, 0),
+                _ => return Err(AbortCode::SubIndexDoesNotExist),
+            };
+            return Ok(FixedEntry {
+                mappable: sub != 0,
+                slot: NO_FIELD,
+                ..FixedEntry::new(access, word, 1)
+            });
         }
+        FixedObject::lookup(&OBJECTS, index, sub, |row| self.value(row))
+            .unwrap_or(Err(AbortCode::ObjectDoesNotExist))
     }
 
-    fn restore(&mut self, snapshot: &ChargerPowerOnValues) {
-        self.battery_voltage = snapshot.battery_voltage;
-        self.algorithm_request = snapshot.algorithm_request;
-        self.voltage_request = snapshot.voltage_request;
-        self.temperature = snapshot.temperature;
-        self.ah_returned = snapshot.ah_returned;
-        self.current_requested = snapshot.current_requested;
-        self.charging_current = snapshot.charging_current;
-        self.battery_voltage_q8 = snapshot.battery_voltage_q8;
-        self.voltage_request_q8 = snapshot.voltage_request_q8;
-        self.battery_status = snapshot.battery_status;
-        self.battery_soc = snapshot.battery_soc;
-        self.external_override = snapshot.external_override;
-    }
-}
-
-/// 2FFAh: the padding objects of the Delta-Q PDO mappings (sub 0 = 2, two
-/// writable dummy bytes).
-const PADDING: u16 = 0x2FFA;
-
-/// One object of [`OBJECTS`] (sub 0 only, PDO-mappable).
-#[derive(Debug, Clone, Copy)]
-struct Object {
-    index: u16,
-    /// Bytes: 1, 2 or 4.
-    width: u8,
-    access: Access,
-}
-
-const fn object(index: u16, width: u8, writable: bool) -> Object {
-    let access = if writable {
-        Access::ReadWrite
-    } else {
-        Access::ReadOnly
-    };
-    Object {
-        index,
-        width,
-        access,
-    }
-}
-
-/// The charger's objects besides 2FFAh, in the order of
-/// the rows of `ChargerObjects::field` and `ChargerObjects::apply`: one
-/// table for SDO info, reads and writes (the field code is two dense
-/// `match`es on the row, each arm a reference to the field).
-const OBJECTS: [Object; 18] = [
-    object(0x6000, 1, true),
-    object(0x6001, 1, false),
-    object(0x6010, 2, true),
-    object(0x6052, 2, true),
-    object(0x6060, 4, true),
-    object(0x6070, 2, true),
-    object(0x6080, 1, false),
-    object(0x6081, 1, true),
-    object(0x2002, 2, true),
-    object(0x2006, 2, false),
-    object(0x2060, 4, false),
-    object(0x2100, 2, false),
-    object(0x2101, 2, true),
-    object(0x2200, 2, false),
-    object(0x2241, 4, true),
-    object(0x2271, 4, true),
-    object(0x2276, 2, true),
-    object(0x4201, 1, true),
-];
-
-impl ObjectDictionary for ChargerObjects {
-    fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-        let e = self.entry(index, sub)?;
-        let len = usize::from(e.len);
-        Ok(ObjectInfo {
-            access: e.access,
-            len,
-            size: SizeRule::Fixed(len),
-            pdo_mappable: e.mappable,
-        })
-    }
-
-    fn read(
-        &mut self,
-        index: u16,
-        sub: u8,
-        offset: usize,
-        buf: &mut [u8],
-    ) -> Result<usize, AbortCode> {
-        let e = self.entry(index, sub)?;
-        let bytes = e.word.to_le_bytes();
-        let value = bytes.get(..usize::from(e.len)).unwrap_or(&bytes);
-        Ok(crate::od::read_at(value, offset, buf))
-    }
-
-    fn write(&mut self, index: u16, sub: u8, offset: usize, data: &[u8]) -> Result<(), AbortCode> {
-        // Checked whole at `finish_write` (access, length), as the values
-        // are applied whole there.
-        self.pending.write(index, sub, offset, data)
-    }
-
-    fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let e = match self.entry(index, sub) {
-            Ok(e) => e,
-            Err(code) => {
-                self.pending.clear();
-                return Err(code);
-            }
-        };
-        let size = usize::from(e.len);
-        let word = self.pending.finish_fixed(e.access, size, index, sub, len)?;
-        self.apply(e.field, word);
-        Ok(())
-    }
-
-    fn abort_write(&mut self, _: u16, _: u8) {
-        self.pending.clear();
+    /// Stores the value in the field of the entry's row; 2FFAh
+    /// stores nothing.
+    fn store(&mut self, entry: &FixedEntry, _: u16, _: u8, word: u32) {
+        // Truncations to the object's width (the value has no more bytes).
+        match self.writable_field(entry.slot) {
+            Some(Field::U8(f)) => *f = word as u8,
+            Some(Field::U16(f)) => *f = word as u16,
+            Some(Field::I16(f)) => *f = word as u16 as i16,
+            Some(Field::U32(f)) => *f = word,
+            None => {}
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::od::ObjectDictionary;
 
     /// Every object's access, length and field: written (if writable)
     /// and read back through the dictionary, the field changed with it.
@@ -434,7 +301,7 @@ mod tests {
             (0x2276, Rw, 2),
             (0x4201, Rw, 1),
         ];
-        let mut o = ChargerObjects::new();
+        let mut o = FixedDictionary::new(ChargerObjects::new());
         for (index, access, len) in expected {
             let info = o.info(index, 0).unwrap();
             assert_eq!(
@@ -485,7 +352,7 @@ mod tests {
         assert_eq!(o.info(0x2FFA, 0).unwrap().access, Access::Const);
         o.write(0x2FFA, 1, 0, &[7]).unwrap();
         assert_eq!(o.finish_write(0x2FFA, 1, 1), Ok(()));
-        o.write(0x2FFA, 0, 0, &[3]).unwrap();
+        o.write(0x2FFA, 0, 0, &[3]).unwrap(); // checked when complete
         assert_eq!(
             o.finish_write(0x2FFA, 0, 1),
             Err(AbortCode::WriteOfReadOnlyObject)
@@ -507,19 +374,16 @@ mod tests {
     /// buffered for the next one.
     #[test]
     fn every_refusal_has_its_code_and_changes_nothing() {
-        // The values (the buffer keeps the bytes of the last value).
-        let values = |o: &ChargerObjects| {
-            let mut o = *o;
-            o.pending.clear();
-            o
-        };
-        let mut o = ChargerObjects::new();
+        // The values (the dictionary's buffer keeps the bytes of the last
+        // value).
+        let values = |o: &ChargerDictionary| *o.objects();
+        let mut o = FixedDictionary::new(ChargerObjects::new());
         let before = values(&o);
         let rows: [u16; 18] = [
             0x6000, 0x6001, 0x6010, 0x6052, 0x6060, 0x6070, 0x6080, 0x6081, 0x2002, 0x2006, 0x2060,
             0x2100, 0x2101, 0x2200, 0x2241, 0x2271, 0x2276, 0x4201,
         ];
-        let finish = |o: &mut ChargerObjects, index: u16, sub: u8, data: &[u8]| {
+        let finish = |o: &mut ChargerDictionary, index: u16, sub: u8, data: &[u8]| {
             o.write(index, sub, 0, data)
                 .and_then(|()| o.finish_write(index, sub, data.len()))
         };
@@ -637,7 +501,7 @@ mod tests {
 
     #[test]
     fn objects_and_access() {
-        let mut o = ChargerObjects::new();
+        let mut o = FixedDictionary::new(ChargerObjects::new());
         assert!(o.info(0x2002, 0).unwrap().pdo_mappable);
         assert!(o.info(0x2FFA, 1).unwrap().pdo_mappable);
         assert_eq!(o.info(0x6001, 0).unwrap().access, Access::ReadOnly);

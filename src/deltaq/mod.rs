@@ -152,8 +152,12 @@ pub use catalogue::{
     DISPLAYED_ERROR_FORMAT, EXTENDED_CHARGE_STATUS_FLAGS, EXTERNAL_OVERRIDE_FLAGS,
 };
 #[cfg(feature = "heartbeat-consumer")]
-pub use charger::{Charger, ChargerConfig, ChargerEvent, ChargerPowerOn};
-pub use charger_objects::{ChargerObjects, ChargerPowerOnValues};
+pub use charger::{
+    Charger, ChargerConfig, ChargerDevice, ChargerEvent, ChargerPowerOn, ChargerProfile,
+};
+pub use charger_objects::{
+    ChargerDictionary, ChargerObjects, ChargerPowerOnValues, CHARGER_PARAMETERS_RESTORED,
+};
 pub use codes::{AlarmFaultEntry, DeltaQCode, ALARMS_AND_FAULTS};
 #[cfg(all(feature = "alloc", feature = "heartbeat-consumer"))]
 pub use eds::charger_eds;

@@ -188,6 +188,18 @@ pub struct Policies {
 }
 
 impl Policies {
+    /// A profile's policies: the heartbeat at the next period after a
+    /// state change, the SDO server timeout in whole milliseconds, 1003h
+    /// entries as `error_field` says.
+    #[must_use]
+    pub const fn of_profile(sdo_timeout_ms: u32, error_field: ErrorFieldFormat) -> Self {
+        Policies {
+            heartbeat_on_change: false,
+            sdo_timeout: Duration::from_millis(sdo_timeout_ms as u64),
+            error_field,
+        }
+    }
+
     /// The server of `node` with these policies.
     pub(super) fn server_config(&self, node: NodeId) -> ServerConfig {
         ServerConfig {

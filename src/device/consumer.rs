@@ -9,22 +9,16 @@
 //!
 //! What it does is in the [device core docs](super).
 
-use super::{Device, DeviceEvent, PowerOn, PowerOnValues, Profile, MAX_CONSUMERS};
+use super::{Device, DeviceEvent, DeviceSpec, Profile, MAX_CONSUMERS};
 use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::nmt::heartbeat::{HeartbeatConsumer, HeartbeatEvent};
-use crate::od::ObjectDictionary;
 
 /// The device's consumer: one watch per 1016h entry, no event slot (see
 /// the module docs).
 pub(super) type DeviceConsumer = HeartbeatConsumer<MAX_CONSUMERS, 0>;
 
-impl<A, E, const Q: usize, C, const T: usize, const R: usize> Device<A, E, Q, C, T, R>
-where
-    A: ObjectDictionary + PowerOnValues,
-    E: Copy + From<DeviceEvent>,
-    C: PowerOn,
-{
+impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q, T, R> {
     /// The heartbeat consumer (1016h), for its nodes' states (feature
     /// `heartbeat-consumer`). Its events are the device's
     /// ([`DeviceEvent::Heartbeat`]); it keeps none itself.
@@ -47,7 +41,7 @@ where
     }
 
     /// Feeds a received frame to the consumer and reports its event.
-    pub(super) fn consumer_frame<P: Profile<A, E, Q, C, T, R>>(
+    pub(super) fn consumer_frame<P: Profile<S, Q, T, R>>(
         &mut self,
         now: Timestamp,
         frame: &CanFrame,
@@ -59,7 +53,7 @@ where
     }
 
     /// Reports every node whose time has run out.
-    pub(super) fn consumer_timeout<P: Profile<A, E, Q, C, T, R>>(
+    pub(super) fn consumer_timeout<P: Profile<S, Q, T, R>>(
         &mut self,
         now: Timestamp,
         profile: &mut P,

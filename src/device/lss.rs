@@ -2,35 +2,29 @@
 //! protocol"; feature `lss`): what it does is in the [device core
 //! docs](super).
 
-use super::{Device, DeviceEvent, PowerOn, PowerOnValues, Profile};
+use super::{Device, DeviceEvent, DeviceSpec, PowerOn, Profile};
 use crate::clock::Timestamp;
 use crate::cob_id::NodeId;
 use crate::lss::{LssSlave, LssSlaveEvent};
 use crate::machine::Machine;
 use crate::nmt::{NmtSlaveEvent, ResetKind};
-use crate::od::ObjectDictionary;
 use crate::pdo::{PdoConfig, PdoDirection};
 
-impl<A, E, const Q: usize, C, const T: usize, const R: usize> Device<A, E, Q, C, T, R>
-where
-    A: ObjectDictionary + PowerOnValues,
-    E: Copy + From<DeviceEvent>,
-    C: PowerOn,
-{
+impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q, T, R> {
     /// A device that also carries an LSS slave (CiA 305; feature `lss`). When the slave
     /// has a node-ID it replaces `config.node`; when it has none (255),
     /// the device waits for one before it boots up (see the module docs).
     ///
     /// ```
     /// # #[cfg(feature = "alloc")] {
-    /// use canopen_codec::device::{Device, DeviceConfig, DeviceEvent};
+    /// use canopen_codec::device::{Cia301, Device, DeviceConfig};
     /// use canopen_codec::lss::{LssAddress, LssSlave, LssSlaveConfig};
     /// use canopen_codec::machine::Machine;
     /// use canopen_codec::od::MemoryDictionary;
     /// use canopen_codec::{CanFrame, NodeId, Timestamp};
     /// let lss = LssSlave::new(LssSlaveConfig::new(LssAddress::default(), None));
     /// let config = DeviceConfig::new(NodeId::MAX);
-    /// let mut dev: Device<MemoryDictionary, DeviceEvent> =
+    /// let mut dev: Device<Cia301<MemoryDictionary>> =
     ///     Device::with_lss(config, MemoryDictionary::new(), lss);
     /// let t = Timestamp::ZERO;
     /// dev.boot(t, &mut ());
@@ -43,7 +37,7 @@ where
     /// assert_eq!(dev.node(), NodeId::new(5).unwrap());
     /// # }
     /// ```
-    pub fn with_lss(mut config: C, app: A, lss: LssSlave) -> Self {
+    pub fn with_lss(mut config: S::PowerOn, app: S::Objects, lss: LssSlave) -> Self {
         if let Some(node) = lss.node_id() {
             config.set_node(node);
         }
@@ -65,11 +59,7 @@ where
 
     /// Hands the LSS slave's events on; a not-configured node that got a
     /// node-ID resets its communication and boots up under it.
-    pub(super) fn drain_lss<P: Profile<A, E, Q, C, T, R>>(
-        &mut self,
-        now: Timestamp,
-        profile: &mut P,
-    ) {
+    pub(super) fn drain_lss<P: Profile<S, Q, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
         while let Some(event) = self.lss.as_mut().and_then(LssSlave::poll_event) {
             self.emit(now, DeviceEvent::Lss(event), profile);
             if event == LssSlaveEvent::ResetCommunication {

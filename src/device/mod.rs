@@ -8,12 +8,18 @@
 //!
 //! # Driving it
 //!
-//! [`Device`] follows the crate's [state-machine contract](crate::machine):
-//! [`Device::boot`] once at power-on, then [`Device::handle_frame_with`] /
-//! [`Device::handle_timeout_with`] with the profile, and drain
-//! [`Device::poll_transmit_with`] after every call. `Device<A,
-//! DeviceEvent>` with no profile (`()`) implements [`Machine`] itself: a
-//! plain CiA 301 slave over any dictionary `A`.
+//! A device is named by one type, its [`DeviceSpec`] (application objects,
+//! events, power-on configuration), and its capacities (`Q`, `T`, `R`,
+//! with defaults). [`ProfiledDevice`] owns the core and a [`Profile`] and
+//! is the [`Machine`] of the crate's
+//! [state-machine contract](crate::machine): `boot` once at power-on, then
+//! `handle_frame` / `handle_timeout`, and drain `poll_transmit` after
+//! every call; the battery module and the charger are two of them. The
+//! core alone is driven the same way with the profile passed in
+//! ([`Device::boot`], [`Device::handle_frame_with`],
+//! [`Device::handle_timeout_with`], [`Device::poll_transmit_with`]);
+//! `Device<Cia301<A>>` with no profile (`()`) implements [`Machine`]
+//! itself: a plain CiA 301 slave over any dictionary `A`.
 //!
 //! `poll_transmit` order: heartbeat and boot-up, then EMCY and the
 //! profile's queued frames, then SDO responses, then the profile's own
@@ -68,10 +74,11 @@
 //!   [`DeviceEvent::Sync`]. **TIME** follows 1012h's bits
 //!   ([`DeviceEvent::Time`], [`Device::send_time`]). Both resets restore
 //!   these objects.
-//! - **Back-pressure**: the event queue keeps the latest `Q` events
-//!   (default 16; a full frame queue drops its oldest frame the same way,
-//!   [`Device::frames_dropped`]) and counts what it drops ([`Machine::events_dropped`]); nothing else
-//!   depends on it.
+//! - **Back-pressure** (the crate's one rule, [`crate::machine`]): the
+//!   event queue and the queue of frames to send keep the latest `Q` each
+//!   (default 16); when one is full its oldest item is dropped and counted
+//!   ([`Machine::events_dropped`], [`Machine::frames_dropped`], each
+//!   saturating at `u32::MAX`); nothing else depends on them.
 //! - **LSS** (CiA 305, optional: [`Device::with_lss`]): the device's
 //!   [`LssSlave`] sees every frame from [`Device::boot`] on. A device whose
 //!   LSS node-ID is not configured (255) does not boot up: it stays silent
@@ -126,6 +133,7 @@ mod descriptions;
 mod lss;
 mod objects;
 mod profile;
+mod profiled;
 mod services;
 mod snapshot;
 
@@ -135,8 +143,8 @@ pub use descriptions::COMM_OBJECT_DESCRIPTIONS;
 #[cfg(feature = "heartbeat-consumer")]
 pub use objects::MAX_CONSUMERS;
 pub use objects::{CommObjects, DeviceObjects, ErrorFieldFormat, Identity, ERROR_HISTORY_LEN};
-pub(crate) use profile::machine_on_device;
 pub use profile::{DeviceEvent, Profile};
+pub use profiled::{Cia301, DeviceSetup, DeviceSpec, ProfiledDevice};
 pub use snapshot::PowerOnValues;
 
 use crate::clock::Timestamp;
@@ -153,7 +161,7 @@ use crate::nmt::{NmtCore, NmtSlaveEvent, NmtState, ResetKind};
 #[cfg(feature = "heartbeat-consumer")]
 use crate::od::index::CONSUMER_HEARTBEAT_TIME;
 use crate::od::index::PRODUCER_HEARTBEAT_TIME;
-use crate::od::ObjectDictionary;
+
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
 use crate::queue::EventQueue;
 use crate::sdo::{Server, ServerEvent, EVENTS_PER_CALL};
@@ -171,12 +179,12 @@ pub const DEFAULT_QUEUE_CAPACITY: usize = 16;
 ///
 /// ```
 /// # #[cfg(feature = "alloc")] {
-/// use canopen_codec::device::{Device, DeviceConfig, DeviceEvent};
+/// use canopen_codec::device::{Cia301, Device, DeviceConfig};
 /// use canopen_codec::machine::Machine;
 /// use canopen_codec::od::MemoryDictionary;
 /// use canopen_codec::{CanFrame, NodeId, Timestamp};
 /// let config = DeviceConfig::new(NodeId::new(3).unwrap());
-/// let mut dev: Device<MemoryDictionary, DeviceEvent> = Device::new(config, MemoryDictionary::new());
+/// let mut dev: Device<Cia301<MemoryDictionary>> = Device::new(config, MemoryDictionary::new());
 /// dev.boot(Timestamp::ZERO, &mut ());
 /// assert_eq!(dev.poll_transmit().unwrap().to_string(), "703#00");
 /// // An SDO upload of 1017h: 1000 ms.
@@ -196,17 +204,14 @@ pub const DEFAULT_QUEUE_CAPACITY: usize = 16;
 /// ([`PowerOn`]; default: the stored [`DeviceConfig`]). `T` and `R` are
 /// its numbers of TPDOs and RPDOs (at most 4 each, default 4 and 4;
 /// [`PdoConfig`]): the objects of a PDO past them do not exist.
-#[derive(Debug)]
 pub struct Device<
-    A: PowerOnValues,
-    E: Copy,
+    S: DeviceSpec,
     const Q: usize = DEFAULT_QUEUE_CAPACITY,
-    C = DeviceConfig,
     const T: usize = 4,
     const R: usize = 4,
 > {
     /// Where the power-on configuration comes from.
-    config: C,
+    config: S::PowerOn,
     /// The active node-ID (the configuration's).
     node: NodeId,
     /// How an EMCY is recorded in 1003h (the configuration's).
@@ -226,18 +231,18 @@ pub struct Device<
     #[cfg(feature = "heartbeat-consumer")]
     consumer: consumer::DeviceConsumer,
     /// Its events are read after every call: the capacity one call needs.
-    server: Server<Dictionary<A, T, R>, EVENTS_PER_CALL>,
+    server: Server<Dictionary<S::Objects, T, R>, EVENTS_PER_CALL>,
     tpdos: TpdoSet<T>,
     rpdos: RpdoReceiver<R>,
     /// The profile allows TPDOs (besides NMT operational).
     tpdos_enabled: bool,
     /// The application's power-on values, taken at boot (restored by
     /// reset node).
-    power_on: A::Snapshot,
+    power_on: <S::Objects as PowerOnValues>::Snapshot,
     /// The profile's frames and EMCYs: a full queue drops its oldest
-    /// frame and counts it ([`frames_dropped`](Self::frames_dropped)).
+    /// frame and counts it ([`Machine::frames_dropped`]).
     transmit: EventQueue<CanFrame, Q>,
-    events: EventQueue<E, Q>,
+    events: EventQueue<S::Event, Q>,
     /// The optional LSS slave (CiA 305).
     #[cfg(feature = "lss")]
     lss: Option<LssSlave>,
@@ -249,8 +254,24 @@ pub struct Device<
     services: services::Services,
 }
 
-impl<A: PowerOnValues, E: Copy, const Q: usize, const T: usize, const R: usize>
-    Device<A, E, Q, DeviceConfig, T, R>
+impl<S, const Q: usize, const T: usize, const R: usize> core::fmt::Debug for Device<S, Q, T, R>
+where
+    S: DeviceSpec,
+{
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Device")
+            .field("power_on", &self.config)
+            .field("node", &self.node)
+            .field("nmt_state", &self.nmt.state())
+            .field("comm", self.comm())
+            .field("objects", self.objects())
+            .finish_non_exhaustive()
+    }
+}
+
+impl<S, const Q: usize, const T: usize, const R: usize> Device<S, Q, T, R>
+where
+    S: DeviceSpec<PowerOn = DeviceConfig>,
 {
     /// The configuration.
     #[must_use]
@@ -259,16 +280,11 @@ impl<A: PowerOnValues, E: Copy, const Q: usize, const T: usize, const R: usize>
     }
 }
 
-impl<A, E, const Q: usize, C, const T: usize, const R: usize> Device<A, E, Q, C, T, R>
-where
-    A: ObjectDictionary + PowerOnValues,
-    E: Copy + From<DeviceEvent>,
-    C: PowerOn,
-{
+impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q, T, R> {
     /// A device with `config` (a [`DeviceConfig`], or what one is rebuilt
     /// from: [`PowerOn`]) over the application objects `app`, not yet
     /// booted.
-    pub fn new(config: C, app: A) -> Self {
+    pub fn new(config: S::PowerOn, app: S::Objects) -> Self {
         let mut device = Self::blank(config, app);
         device.load_power_on();
         device
@@ -281,17 +297,17 @@ where
     /// ```
     /// # #[cfg(feature = "alloc")] {
     /// use core::mem::MaybeUninit;
-    /// use canopen_codec::device::{Device, DeviceConfig, DeviceEvent};
+    /// use canopen_codec::device::{Cia301, Device, DeviceConfig};
     /// use canopen_codec::od::MemoryDictionary;
     /// use canopen_codec::NodeId;
     /// let mut slot = MaybeUninit::uninit();
     /// let config = DeviceConfig::new(NodeId::new(3).unwrap());
-    /// let dev: &mut Device<MemoryDictionary, DeviceEvent> =
+    /// let dev: &mut Device<Cia301<MemoryDictionary>> =
     ///     Device::new_in(&mut slot, config, MemoryDictionary::new());
     /// assert_eq!((dev.node().raw(), dev.comm().heartbeat_ms), (3, 1000));
     /// # }
     /// ```
-    pub fn new_in(slot: &mut MaybeUninit<Self>, config: C, app: A) -> &mut Self {
+    pub fn new_in(slot: &mut MaybeUninit<Self>, config: S::PowerOn, app: S::Objects) -> &mut Self {
         let device = slot.write(Self::blank(config, app));
         device.load_power_on();
         device
@@ -303,7 +319,7 @@ where
     /// channel, the heartbeat), so that their code exists once, in the
     /// reset path.
     #[inline]
-    pub(crate) fn blank(config: C, app: A) -> Self {
+    pub(crate) fn blank(config: S::PowerOn, app: S::Objects) -> Self {
         let node = config.node();
         let power_on = app.snapshot();
         Device {
@@ -327,7 +343,7 @@ where
             tpdos_enabled: true,
             power_on,
             transmit: EventQueue::new(CanFrame::EMPTY),
-            events: EventQueue::new(E::from(DeviceEvent::Reset { node: true })),
+            events: EventQueue::new(<S::Event>::from(DeviceEvent::Reset { node: true })),
             #[cfg(feature = "lss")]
             lss: None,
             #[cfg(feature = "lss")]
@@ -347,7 +363,7 @@ where
     /// Writes the power-on values of the communication objects and the PDO
     /// configuration into the dictionary in place ([`PowerOn::restore`]),
     /// and starts the SDO server and the heartbeat producer over on them:
-    /// what [`new`](Self::new) and every reset do (one copy of the code, no
+    /// what [`new`](Self::new) and every reset do (the same path, no
     /// second dictionary or server built and moved).
     pub(crate) fn load_power_on(&mut self) {
         let od = self.server.od_mut();
@@ -363,7 +379,7 @@ where
 
     /// What the power-on configuration is made from (see [`PowerOn`]).
     #[must_use]
-    pub const fn power_on(&self) -> &C {
+    pub const fn power_on(&self) -> &S::PowerOn {
         &self.config
     }
 
@@ -387,13 +403,13 @@ where
 
     /// The whole dictionary the SDO server serves.
     #[must_use]
-    pub const fn dictionary(&self) -> &Dictionary<A, T, R> {
+    pub const fn dictionary(&self) -> &Dictionary<S::Objects, T, R> {
         self.server.od()
     }
 
     /// The application objects.
     #[must_use]
-    pub const fn objects(&self) -> &A {
+    pub const fn objects(&self) -> &S::Objects {
         &self.server.od().inner.app
     }
 
@@ -415,18 +431,11 @@ where
         self.comm().error_register
     }
 
-    /// Frames dropped because `poll_transmit` was not drained (oldest
-    /// first; saturating at `u32::MAX`).
-    #[must_use]
-    pub const fn frames_dropped(&self) -> u64 {
-        self.transmit.dropped()
-    }
-
     // ----- commands --------------------------------------------------------
 
     /// Boots the device (power-on): boot-up message, pre-operational. The
     /// profile sees the state change (use `&mut ()` for a plain device).
-    pub fn boot<P: Profile<A, E, Q, C, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
+    pub fn boot<P: Profile<S, Q, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
         // The application's parameters as they are now are the power-on
         // values reset node restores.
         self.power_on = self.objects().snapshot();
@@ -444,7 +453,7 @@ where
 
     /// Changes application objects in `f`; mapped values that changed are
     /// events for the event-driven TPDOs.
-    pub fn update(&mut self, now: Timestamp, f: impl FnOnce(&mut A)) {
+    pub fn update(&mut self, now: Timestamp, f: impl FnOnce(&mut S::Objects)) {
         f(&mut self.server.od_mut().inner.app);
         self.refresh_tpdos(now);
     }
@@ -470,7 +479,7 @@ where
 
     /// Mutable access to the application objects without side effects
     /// (for the profile's own bookkeeping).
-    pub fn objects_mut(&mut self) -> &mut A {
+    pub fn objects_mut(&mut self) -> &mut S::Objects {
         &mut self.server.od_mut().inner.app
     }
 
@@ -483,7 +492,7 @@ where
 
     /// Enters `state` by the device's own decision (e.g. a charger that
     /// starts itself), as an NMT command would.
-    pub fn set_nmt_state<P: Profile<A, E, Q, C, T, R>>(
+    pub fn set_nmt_state<P: Profile<S, Q, T, R>>(
         &mut self,
         now: Timestamp,
         state: NmtState,
@@ -547,7 +556,7 @@ where
     }
 
     /// Queues an event of the profile's.
-    pub fn push_event(&mut self, event: E) {
+    pub fn push_event(&mut self, event: S::Event) {
         self.events.push(event);
     }
 
@@ -560,7 +569,7 @@ where
 
     /// Feeds a received frame: NMT, heartbeats of 1016h's nodes, SYNC, this
     /// node's SDO requests and RPDOs, then the profile's frames.
-    pub fn handle_frame_with<P: Profile<A, E, Q, C, T, R>>(
+    pub fn handle_frame_with<P: Profile<S, Q, T, R>>(
         &mut self,
         now: Timestamp,
         frame: &CanFrame,
@@ -595,11 +604,7 @@ where
 
     /// Tells the device time has passed: heartbeat, supervision, SDO
     /// timeout, the profile's timers, TPDO timers.
-    pub fn handle_timeout_with<P: Profile<A, E, Q, C, T, R>>(
-        &mut self,
-        now: Timestamp,
-        profile: &mut P,
-    ) {
+    pub fn handle_timeout_with<P: Profile<S, Q, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
         if !self.nmt.is_running() {
             return;
         }
@@ -618,12 +623,11 @@ where
 
     /// The next frame to send (order in the module docs).
     #[must_use]
-    pub fn poll_transmit_with<P: Profile<A, E, Q, C, T, R>>(
+    pub fn poll_transmit_with<P: Profile<S, Q, T, R>>(
         &mut self,
         profile: &mut P,
     ) -> Option<CanFrame> {
-        // Early returns rather than an `or_else` chain: one frame copy
-        // each, not one per link of the chain.
+        // The order of the module docs: the first source with a frame.
         if let Some(frame) = self.heartbeat.poll_transmit() {
             return Some(frame);
         }
@@ -649,15 +653,11 @@ where
 
     /// The earliest deadline of the core's and the profile's timers.
     #[must_use]
-    pub fn poll_timeout_with<P: Profile<A, E, Q, C, T, R>>(
-        &self,
-        profile: &P,
-    ) -> Option<Timestamp> {
+    pub fn poll_timeout_with<P: Profile<S, Q, T, R>>(&self, profile: &P) -> Option<Timestamp> {
         if !self.nmt.is_running() {
             return None;
         }
-        // The minimum of the deadlines as 8-byte values (none is u64::MAX):
-        // no `Option` comparisons to compile for each pair.
+        // The earliest of the deadlines (a stopped timer is none).
         let earliest = self.heartbeat.deadline();
         #[cfg(feature = "heartbeat-consumer")]
         let earliest = earliest.min(self.consumer.deadline());
@@ -672,28 +672,16 @@ where
         earliest.get()
     }
 
-    /// The next event.
-    #[must_use]
-    pub fn next_event(&mut self) -> Option<E> {
-        self.events.pop()
-    }
-
-    /// Events dropped because the queue was full.
-    #[must_use]
-    pub const fn dropped_events(&self) -> u64 {
-        self.events.dropped()
-    }
-
     // ----- internals -------------------------------------------------------
 
-    fn emit<P: Profile<A, E, Q, C, T, R>>(
+    fn emit<P: Profile<S, Q, T, R>>(
         &mut self,
         now: Timestamp,
         event: DeviceEvent,
         profile: &mut P,
     ) {
         if profile.keep_event(&event) {
-            self.events.push(E::from(event));
+            self.events.push(<S::Event>::from(event));
         }
         profile.on_event(self, now, &event);
     }
@@ -702,7 +690,7 @@ where
     /// first, so the profile sees it as the reset left it (pre-operational,
     /// running) and may act on it, e.g. start itself; the boot's state
     /// change follows ([`report_nmt_boot`](Self::report_nmt_boot)).
-    pub(super) fn nmt_event<P: Profile<A, E, Q, C, T, R>>(
+    pub(super) fn nmt_event<P: Profile<S, Q, T, R>>(
         &mut self,
         now: Timestamp,
         event: NmtSlaveEvent,
@@ -723,7 +711,7 @@ where
     }
 
     /// Reports the held state change of the boot after a reset, if any.
-    fn report_nmt_boot<P: Profile<A, E, Q, C, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
+    fn report_nmt_boot<P: Profile<S, Q, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
         if let Some(from) = self.nmt_boot.take() {
             let to = NmtState::PreOperational;
             self.nmt_event(now, NmtSlaveEvent::StateChanged { from, to }, profile);
@@ -795,7 +783,7 @@ where
     }
 
     /// Hands the SDO server's events on and puts written objects into effect.
-    fn drain_server<P: Profile<A, E, Q, C, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
+    fn drain_server<P: Profile<S, Q, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
         while let Some(event) = self.server.poll_event() {
             match event {
                 ServerEvent::Downloaded { index, sub, .. } => {
@@ -836,7 +824,7 @@ where
     /// The RPDO `frame` is on, if any, written into the mapped objects at
     /// once (what the receiver's `handle_frame` and `poll_event` would
     /// give, without its event slot: a frame is at most one RPDO).
-    fn drain_rpdos<P: Profile<A, E, Q, C, T, R>>(
+    fn drain_rpdos<P: Profile<S, Q, T, R>>(
         &mut self,
         now: Timestamp,
         frame: &CanFrame,
@@ -864,13 +852,10 @@ where
     }
 }
 
-impl<
-        A: ObjectDictionary + PowerOnValues,
-        const Q: usize,
-        C: PowerOn,
-        const T: usize,
-        const R: usize,
-    > Machine for Device<A, DeviceEvent, Q, C, T, R>
+/// A plain CiA 301 device (no profile, `()`) is a machine itself.
+impl<S, const Q: usize, const T: usize, const R: usize> Machine for Device<S, Q, T, R>
+where
+    S: DeviceSpec<Event = DeviceEvent>,
 {
     type Event = DeviceEvent;
 
@@ -891,11 +876,11 @@ impl<
     }
 
     fn poll_event(&mut self) -> Option<DeviceEvent> {
-        self.next_event()
+        self.events.pop()
     }
 
     fn events_dropped(&self) -> u64 {
-        self.dropped_events()
+        self.events.dropped()
     }
 
     fn frames_dropped(&self) -> u64 {

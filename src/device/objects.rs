@@ -166,6 +166,21 @@ impl CommObjects {
         }
     }
 
+    /// Back to the objects of node `node` ([`new`](Self::new)) but for
+    /// 1000h device type, 1008h device name and 1018h identity, which
+    /// keep their values: `const` / `ro` objects nothing on the bus
+    /// changes, which a profile writes once, when its device is made
+    /// ([`DeviceSetup::write_constants`](super::DeviceSetup::write_constants)),
+    /// and every reset keeps.
+    pub fn reset_keeping_constants(&mut self, node: NodeId) {
+        let (device_type, device_name, identity) =
+            (self.device_type, self.device_name, self.identity);
+        *self = CommObjects::new(node);
+        self.device_type = device_type;
+        self.device_name = device_name;
+        self.identity = identity;
+    }
+
     /// The node id (1200h values).
     #[must_use]
     pub const fn node(&self) -> NodeId {
@@ -174,8 +189,8 @@ impl CommObjects {
 
     /// Records an entry in 1003h: newest first, at most 10 (the oldest falls off).
     pub fn push_error(&mut self, entry: ErrorFieldEntry) {
-        // A fresh array rather than `rotate_right`: two plain copies, where
-        // the rotation brings a 1.5 KB `memmove` into a firmware image.
+        // The newest entry first, the others shifted down one (CiA 301,
+        // 1003h: sub 1 is the newest error; the oldest falls off).
         let mut history = [0; ERROR_HISTORY_LEN];
         if let (Some((first, rest)), Some(kept)) = (
             history.split_first_mut(),
@@ -482,7 +497,7 @@ impl ObjectDictionary for CommObjects {
         };
         let word = self
             .pending
-            .finish_fixed(e.access, e.len, index, sub, len)?;
+            .downloaded_value(e.access, e.len, index, sub, len)?;
         self.apply(index, sub, word)
     }
 

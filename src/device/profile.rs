@@ -1,7 +1,7 @@
 //! What the device core reports ([`DeviceEvent`]) and what a profile adds
 //! to it ([`Profile`]).
 
-use super::Device;
+use super::{Device, DeviceSpec};
 use crate::clock::Timestamp;
 use crate::cob_id::PdoNumber;
 use crate::emcy::{Emergency, ErrorRegister};
@@ -91,19 +91,28 @@ pub enum DeviceEvent {
     Time(TimeEvent),
 }
 
-/// What a profile adds to the device core. Every method has a default that
-/// does nothing, so `()` is the profile of a plain CiA 301 device. `Q` is
-/// the device's queue capacity, `C` where its power-on configuration
-/// comes from, `T` and `R` its TPDO and RPDO counts (see [`Device`]).
+/// What a profile adds to the device core of spec `S` (usually the
+/// profile itself, [`ProfiledDevice`](super::ProfiledDevice)). Every
+/// method has a default that does nothing more than the core, so `()` is
+/// the profile of a plain CiA 301 device. `Q` is the device's queue
+/// capacity, `T` and `R` its TPDO and RPDO counts (see [`Device`]).
 pub trait Profile<
-    A: super::PowerOnValues,
-    E: Copy,
+    S: DeviceSpec,
     const Q: usize = { super::DEFAULT_QUEUE_CAPACITY },
-    C = super::DeviceConfig,
     const T: usize = 4,
     const R: usize = 4,
 >
 {
+    /// Power-on ([`ProfiledDevice::boot`](super::ProfiledDevice::boot)):
+    /// the default boots the core ([`Device::boot`]); a profile that
+    /// starts itself does more here.
+    fn boot(&mut self, device: &mut Device<S, Q, T, R>, now: Timestamp)
+    where
+        Self: Sized,
+    {
+        device.boot(now, self);
+    }
+
     /// Whether a core event goes to the application's queue (default: all;
     /// a profile that reports an event in its own words drops it here).
     fn keep_event(&self, event: &DeviceEvent) -> bool {
@@ -116,27 +125,17 @@ pub trait Profile<
     /// [`Device::set_nmt_state`](super::Device::set_nmt_state), which reports
     /// its state change through this method again: a profile must not
     /// change the state on every state change (that would never end).
-    fn on_event(
-        &mut self,
-        device: &mut Device<A, E, Q, C, T, R>,
-        now: Timestamp,
-        event: &DeviceEvent,
-    ) {
+    fn on_event(&mut self, device: &mut Device<S, Q, T, R>, now: Timestamp, event: &DeviceEvent) {
         let _ = (device, now, event);
     }
 
     /// Every received frame while the device runs, after the core.
-    fn on_frame(
-        &mut self,
-        device: &mut Device<A, E, Q, C, T, R>,
-        now: Timestamp,
-        frame: &CanFrame,
-    ) {
+    fn on_frame(&mut self, device: &mut Device<S, Q, T, R>, now: Timestamp, frame: &CanFrame) {
         let _ = (device, now, frame);
     }
 
     /// Time has passed (after the core's own timers).
-    fn on_timeout(&mut self, device: &mut Device<A, E, Q, C, T, R>, now: Timestamp) {
+    fn on_timeout(&mut self, device: &mut Device<S, Q, T, R>, now: Timestamp) {
         let _ = (device, now);
     }
 
@@ -163,58 +162,4 @@ pub trait Profile<
     }
 }
 
-impl<A: super::PowerOnValues, E: Copy, const Q: usize, C, const T: usize, const R: usize>
-    Profile<A, E, Q, C, T, R> for ()
-{
-}
-
-/// Implements [`Machine`] for a profile type that holds its core in
-/// `self.device` and its [`Profile`] in `self.profile`, and `Deref` to the
-/// core (read-only: its getters). `$name` takes the device's queue
-/// capacity `Q` as its one const parameter.
-macro_rules! machine_on_device {
-    ($name:ident, $objects:ty, $event:ty, $config:ty, $tpdos:expr, $rpdos:expr) => {
-        impl<const Q: usize> core::ops::Deref for $name<Q> {
-            type Target = $crate::device::Device<$objects, $event, Q, $config, $tpdos, $rpdos>;
-
-            /// The device core, for its getters (objects, communication
-            /// objects, PDO configuration, NMT state, error register, ...).
-            fn deref(&self) -> &Self::Target {
-                &self.device
-            }
-        }
-
-        impl<const Q: usize> $crate::machine::Machine for $name<Q> {
-            type Event = $event;
-
-            fn handle_frame(&mut self, now: $crate::Timestamp, frame: &$crate::CanFrame) {
-                self.device.handle_frame_with(now, frame, &mut self.profile);
-            }
-
-            fn handle_timeout(&mut self, now: $crate::Timestamp) {
-                self.device.handle_timeout_with(now, &mut self.profile);
-            }
-
-            fn poll_transmit(&mut self) -> Option<$crate::CanFrame> {
-                self.device.poll_transmit_with(&mut self.profile)
-            }
-
-            fn poll_timeout(&self) -> Option<$crate::Timestamp> {
-                self.device.poll_timeout_with(&self.profile)
-            }
-
-            fn poll_event(&mut self) -> Option<$event> {
-                self.device.next_event()
-            }
-
-            fn events_dropped(&self) -> u64 {
-                self.device.dropped_events()
-            }
-
-            fn frames_dropped(&self) -> u64 {
-                self.device.frames_dropped()
-            }
-        }
-    };
-}
-pub(crate) use machine_on_device;
+impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Profile<S, Q, T, R> for () {}

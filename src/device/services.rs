@@ -7,14 +7,13 @@
 
 use core::time::Duration;
 
-use super::{Device, DeviceEvent, PowerOn, PowerOnValues, Profile};
+use super::{Device, DeviceEvent, DeviceSpec, Profile};
 use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::machine::Machine;
 #[cfg(feature = "guarding")]
 use crate::nmt::guarding::GuardingSlave;
 use crate::nmt::NmtState;
-use crate::od::ObjectDictionary;
 use crate::pdo::{PdoDirection, TransmissionType};
 #[cfg(feature = "sync-time")]
 use crate::sync::SyncCobId;
@@ -86,12 +85,7 @@ impl Services {
     }
 }
 
-impl<A, E, const Q: usize, C, const T: usize, const R: usize> Device<A, E, Q, C, T, R>
-where
-    A: ObjectDictionary + PowerOnValues,
-    E: Copy + From<DeviceEvent>,
-    C: PowerOn,
-{
+impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q, T, R> {
     /// Node guarding (the slave side), for its state (feature `guarding`).
     #[cfg(feature = "guarding")]
     #[must_use]
@@ -237,7 +231,7 @@ where
     }
 
     /// A received frame: guarding requests, SYNC, TIME.
-    pub(super) fn services_frame<P: Profile<A, E, Q, C, T, R>>(
+    pub(super) fn services_frame<P: Profile<S, Q, T, R>>(
         &mut self,
         now: Timestamp,
         frame: &CanFrame,
@@ -266,7 +260,7 @@ where
     }
 
     /// Time has passed: life guarding, the SYNC producer.
-    pub(super) fn services_timeout<P: Profile<A, E, Q, C, T, R>>(
+    pub(super) fn services_timeout<P: Profile<S, Q, T, R>>(
         &mut self,
         now: Timestamp,
         profile: &mut P,
@@ -287,7 +281,7 @@ where
     }
 
     /// A synchronous RPDO was received: outside the window it is an event.
-    pub(super) fn note_rpdo<P: Profile<A, E, Q, C, T, R>>(
+    pub(super) fn note_rpdo<P: Profile<S, Q, T, R>>(
         &mut self,
         now: Timestamp,
         pdo: PdoNumber,
@@ -311,7 +305,7 @@ where
     }
 
     /// The services' events into the device's queue.
-    pub(super) fn drain_services<P: Profile<A, E, Q, C, T, R>>(
+    pub(super) fn drain_services<P: Profile<S, Q, T, R>>(
         &mut self,
         now: Timestamp,
         profile: &mut P,

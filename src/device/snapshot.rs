@@ -72,6 +72,21 @@ pub trait PowerOnValues {
     fn restore(&mut self, snapshot: &Self::Snapshot);
 }
 
+/// A fixed-word dictionary (the profiles'): its
+/// [`FixedObjects::PARAMETERS`](crate::od::FixedObjects::PARAMETERS) are
+/// restored, as they were at boot.
+impl<O: crate::od::FixedObjects> PowerOnValues for crate::od::FixedDictionary<O> {
+    type Snapshot = O::Parameters;
+
+    fn snapshot(&self) -> O::Parameters {
+        self.parameters()
+    }
+
+    fn restore(&mut self, snapshot: &O::Parameters) {
+        self.restore_parameters(snapshot);
+    }
+}
+
 /// A generic dictionary: every object is restored (a full copy).
 #[cfg(feature = "alloc")]
 impl PowerOnValues for crate::od::MemoryDictionary {

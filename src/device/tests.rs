@@ -2,6 +2,7 @@ use super::*;
 use crate::cob_id::PdoNumber;
 #[cfg(feature = "heartbeat-consumer")]
 use crate::nmt::heartbeat::{ConsumerEntry, HeartbeatEvent};
+use crate::od::ObjectDictionary;
 use crate::od::{Access, ObjectInfo};
 use crate::pdo::RpdoError;
 use crate::pdo::{MappingEntry, PdoCobId, PdoCommParams, PdoMapping, PdoSlot};
@@ -57,7 +58,7 @@ impl PowerOnValues for App {
     }
 }
 
-type Dev = Device<App, DeviceEvent>;
+type Dev = Device<Cia301<App>>;
 
 fn node() -> NodeId {
     NodeId::new(4).unwrap()
@@ -355,8 +356,7 @@ fn a_dropped_download_is_aborted_in_the_dictionary() {
     for cs in [0x02u8, 0x82] {
         let mut od = MemoryDictionary::new();
         od.insert(0x2100, 0, Access::ReadWrite, &[0; 8]);
-        let mut d: Device<MemoryDictionary, DeviceEvent> =
-            Device::new(DeviceConfig::new(node()), od);
+        let mut d: Device<Cia301<MemoryDictionary>> = Device::new(DeviceConfig::new(node()), od);
         d.boot(ms(0), &mut ());
         let _ = sent(&mut d);
         // Segmented download of 8 bytes: initiate, first segment.
@@ -481,8 +481,7 @@ fn reset_node_restores_every_object_of_a_memory_dictionary() {
         let mut od = MemoryDictionary::new();
         od.insert(0x2000, 0, Access::ReadWrite, &[1]);
         od.insert(0x2001, 0, Access::ReadOnly, &[2, 0]);
-        let mut d: Device<MemoryDictionary, DeviceEvent> =
-            Device::new(DeviceConfig::new(node()), od);
+        let mut d: Device<Cia301<MemoryDictionary>> = Device::new(DeviceConfig::new(node()), od);
         d.update(ms(0), |o| {
             o.set(0x2001, 0, &[3, 0]);
         });

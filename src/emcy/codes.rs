@@ -63,7 +63,7 @@ impl ErrorClass {
 
 /// Which document names a code.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Profile {
+pub enum Document {
     /// CiA 301 (application layer).
     Cia301,
     /// CiA 401 (generic I/O), shipped by CANopenNode.
@@ -82,21 +82,21 @@ pub struct NamedCode {
     /// The name, lower case as in running text.
     pub name: &'static str,
     /// Where the name comes from.
-    pub profile: Profile,
+    pub document: Document,
 }
 
-const fn row(lo: u16, hi: u16, name: &'static str, profile: Profile) -> NamedCode {
+const fn row(lo: u16, hi: u16, name: &'static str, document: Document) -> NamedCode {
     NamedCode {
         lo,
         hi,
         name,
-        profile,
+        document,
     }
 }
 
-use Profile::{Cia301, Cia401, Cia418};
+use Document::{Cia301, Cia401, Cia418};
 
-/// Every named code and range, in the order of `emcy_codes.tsv` plus 5010h.
+/// Every named code and range, in the order of CiA 301's emergency error code table, then CiA 401's and CiA 418's.
 /// [`ErrorCode::name`] picks the narrowest range containing a code.
 pub const NAMED_CODES: &[NamedCode] = &[
     row(0x0000, 0x00FF, "error reset or no error", Cia301),
@@ -263,7 +263,10 @@ mod tests {
             "current, CANopen device output side"
         );
         assert_eq!(ErrorCode(0x2400).name(), "current");
-        assert_eq!(ErrorCode(0x5010).named().unwrap().profile, Profile::Cia418);
+        assert_eq!(
+            ErrorCode(0x5010).named().unwrap().document,
+            Document::Cia418
+        );
         assert_eq!(ErrorCode(0x5011).name(), "CANopen device hardware");
         assert_eq!(ErrorCode(0x8300).name(), "monitoring");
         assert_eq!(ErrorCode(0x0042).name(), "error reset or no error");

@@ -11,7 +11,7 @@
 
 mod codes;
 
-pub use codes::{ErrorClass, NamedCode, Profile, NAMED_CODES};
+pub use codes::{Document, ErrorClass, NamedCode, NAMED_CODES};
 
 use core::fmt;
 

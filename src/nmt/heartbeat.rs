@@ -265,7 +265,6 @@ impl Machine for HeartbeatProducer {
     /// The producer takes no input frames.
     fn handle_frame(&mut self, _now: Timestamp, _frame: &CanFrame) {}
 
-    /// Sends the heartbeat when its time has come.
     /// Sends the heartbeat when its time has come. The next one is due one
     /// period after the one just due (a late call does not make the period
     /// drift), or one period from `now` when the call is more than a period
@@ -278,13 +277,10 @@ impl Machine for HeartbeatProducer {
             return;
         }
         self.send(self.state);
-        // From the due time while that keeps the next one ahead of `now`,
-        // else from `now`; none at the end of the clock.
-        let from = match due.deadline_after(self.period_us) {
-            Some(next) if !now.has_reached(next) => due,
-            _ => now,
-        };
-        self.arm(from);
+        self.timers.set(
+            ProducerTimer::NextHeartbeat,
+            due.next_period(now, self.period_us),
+        );
     }
 
     fn poll_transmit(&mut self) -> Option<CanFrame> {

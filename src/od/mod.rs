@@ -18,10 +18,12 @@
 
 use crate::sdo::AbortCode;
 
+mod fixed;
 pub mod index;
 #[cfg(feature = "alloc")]
 mod memory;
 mod write_buffer;
+pub use fixed::{FixedDictionary, FixedEntry, FixedObject, FixedObjects};
 #[cfg(feature = "alloc")]
 pub use memory::MemoryDictionary;
 pub use write_buffer::WriteBuffer;

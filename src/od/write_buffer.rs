@@ -106,23 +106,6 @@ impl WriteBuffer {
         self.bytes.get(..len).unwrap_or(&[])
     }
 
-    /// [`write`](Self::write) to an object described by `info`: refused
-    /// with 06010002h when it is not writable.
-    pub fn write_to(
-        &mut self,
-        info: &ObjectInfo,
-        index: u16,
-        sub: u8,
-        offset: usize,
-        data: &[u8],
-    ) -> Result<(), AbortCode> {
-        if !info.access.is_writable() {
-            self.clear();
-            return Err(AbortCode::WriteOfReadOnlyObject);
-        }
-        self.write(index, sub, offset, data)
-    }
-
     /// The complete value of a download of `len` bytes to an object
     /// described by `info` (the dictionary's answer for it), checked against
     /// its access (06010002h) and size rule (06070012h / 06070013h). The
@@ -145,57 +128,30 @@ impl WriteBuffer {
         Ok(value)
     }
 
-    /// [`finish`](Self::finish) for an object of a fixed size, given as
-    /// its access and size (the dictionary's answer for it): the value as a
-    /// little-endian word (bytes past the value zero), so the dictionary
-    /// applies it without a slice or an [`InlineData`]. The buffer is empty
-    /// afterwards, whatever the outcome.
+    /// The complete value of a download of `len` bytes to a fixed-size
+    /// object of `size` bytes with `access` (what the dictionary says of
+    /// it), checked against that access (06010002h) and size (06070012h /
+    /// 06070013h): the value as a little-endian word, the bytes past it
+    /// zero. The buffer is empty afterwards, whatever the outcome.
     ///
     /// ```
     /// use canopen_codec::od::{Access, WriteBuffer};
     /// use canopen_codec::sdo::AbortCode;
     /// let mut w = WriteBuffer::new();
     /// w.write(0x1017, 0, 0, &[0xE8, 0x03]).unwrap();
-    /// assert_eq!(w.finish_word(Ok((Access::ReadWrite, 2)), 0x1017, 0, 2), Ok(1000));
+    /// assert_eq!(w.downloaded_value(Access::ReadWrite, 2, 0x1017, 0, 2), Ok(1000));
     /// w.write(0x1017, 0, 0, &[0xE8]).unwrap();
     /// assert_eq!(
-    ///     w.finish_word(Ok((Access::ReadWrite, 2)), 0x1017, 0, 1),
+    ///     w.downloaded_value(Access::ReadWrite, 2, 0x1017, 0, 1),
     ///     Err(AbortCode::DataTypeLengthTooLow)
     /// );
-    /// ```
-    pub fn finish_word(
-        &mut self,
-        object: Result<(Access, usize), AbortCode>,
-        index: u16,
-        sub: u8,
-        len: usize,
-    ) -> Result<u32, AbortCode> {
-        match object {
-            Ok((access, size)) => self.finish_fixed(access, size, index, sub, len),
-            Err(code) => {
-                self.clear();
-                Err(code)
-            }
-        }
-    }
-
-    /// [`finish_word`](Self::finish_word) for an object the dictionary
-    /// found: its access and size, as plain values (no `Result` to build
-    /// and take apart).
-    ///
-    /// ```
-    /// use canopen_codec::od::{Access, WriteBuffer};
-    /// use canopen_codec::sdo::AbortCode;
-    /// let mut w = WriteBuffer::new();
-    /// w.write(0x6000, 0, 0, &[7]).unwrap();
-    /// assert_eq!(w.finish_fixed(Access::ReadWrite, 1, 0x6000, 0, 1), Ok(7));
     /// w.write(0x6001, 0, 0, &[7]).unwrap();
     /// assert_eq!(
-    ///     w.finish_fixed(Access::ReadOnly, 1, 0x6001, 0, 1),
+    ///     w.downloaded_value(Access::ReadOnly, 1, 0x6001, 0, 1),
     ///     Err(AbortCode::WriteOfReadOnlyObject)
     /// );
     /// ```
-    pub fn finish_fixed(
+    pub fn downloaded_value(
         &mut self,
         access: Access,
         size: usize,
@@ -263,29 +219,25 @@ mod tests {
         let rw = ObjectInfo::fixed(Access::ReadWrite, 2);
         let ro = ObjectInfo::fixed(Access::ReadOnly, 2);
         let mut w = WriteBuffer::new();
-        assert_eq!(
-            w.write_to(&ro, 1, 0, 0, &[1]),
-            Err(AbortCode::WriteOfReadOnlyObject)
-        );
-        w.write_to(&rw, 1, 0, 0, &[1, 2]).unwrap();
+        w.write(1, 0, 0, &[1, 2]).unwrap();
         assert_eq!(w.finish(Ok(rw), 1, 0, 2).unwrap().as_slice(), &[1, 2]);
-        w.write_to(&rw, 1, 0, 0, &[1]).unwrap();
+        w.write(1, 0, 0, &[1]).unwrap();
         assert_eq!(
             w.finish(Ok(rw), 1, 0, 1),
             Err(AbortCode::DataTypeLengthTooLow)
         );
-        w.write_to(&rw, 1, 0, 0, &[1, 2]).unwrap();
+        w.write(1, 0, 0, &[1, 2]).unwrap();
         assert_eq!(
             w.finish(Ok(ro), 1, 0, 2),
             Err(AbortCode::WriteOfReadOnlyObject)
         );
-        w.write_to(&rw, 1, 0, 0, &[1, 2]).unwrap();
+        w.write(1, 0, 0, &[1, 2]).unwrap();
         assert_eq!(
             w.finish(Err(AbortCode::ObjectDoesNotExist), 1, 0, 2),
             Err(AbortCode::ObjectDoesNotExist)
         );
         // The declared length cuts what was written.
-        w.write_to(&rw, 1, 0, 0, &[1, 2]).unwrap();
+        w.write(1, 0, 0, &[1, 2]).unwrap();
         assert_eq!(
             w.finish(Ok(rw), 1, 0, 1),
             Err(AbortCode::DataTypeLengthTooLow)
@@ -309,7 +261,7 @@ mod tests {
         ] {
             w.write(1, 0, 0, data).unwrap();
             assert_eq!(
-                w.finish_word(Ok((ReadWrite, size)), 1, 0, len),
+                w.downloaded_value(ReadWrite, size, 1, 0, len),
                 want,
                 "{data:?}"
             );
@@ -318,21 +270,16 @@ mod tests {
         // A shorter value after a longer one: no old bytes past it.
         w.write(1, 0, 0, &[9, 9, 9, 9]).unwrap();
         w.write(1, 0, 0, &[7]).unwrap();
-        assert_eq!(w.finish_word(Ok((ReadWrite, 1)), 1, 0, 1), Ok(7));
+        assert_eq!(w.downloaded_value(ReadWrite, 1, 1, 0, 1), Ok(7));
         w.write(1, 0, 0, &[1, 2]).unwrap();
         assert_eq!(
-            w.finish_word(Ok((ReadOnly, 2)), 1, 0, 2),
+            w.downloaded_value(ReadOnly, 2, 1, 0, 2),
             Err(AbortCode::WriteOfReadOnlyObject)
-        );
-        w.write(1, 0, 0, &[1, 2]).unwrap();
-        assert_eq!(
-            w.finish_word(Err(AbortCode::ObjectDoesNotExist), 1, 0, 2),
-            Err(AbortCode::ObjectDoesNotExist)
         );
         // Another object's bytes are not this one's value.
         w.write(2, 0, 0, &[1, 2]).unwrap();
         assert_eq!(
-            w.finish_word(Ok((ReadWrite, 2)), 1, 0, 2),
+            w.downloaded_value(ReadWrite, 2, 1, 0, 2),
             Err(AbortCode::DataTypeLengthTooLow)
         );
         assert_eq!(core::mem::size_of::<WriteBuffer>(), 8);

@@ -471,7 +471,9 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
                 return Err(code);
             }
         };
-        let word = self.pending.finish_fixed(access, size, index, sub, len)?;
+        let word = self
+            .pending
+            .downloaded_value(access, size, index, sub, len)?;
         // The object exists: `entry` found its PDO.
         let Some((dir, n, is_mapping)) = PdoDirection::from_index(index) else {
             return Err(AbortCode::ObjectDoesNotExist);

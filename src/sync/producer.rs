@@ -259,11 +259,10 @@ impl Machine for SyncProducer {
             return;
         }
         self.send_sync(now);
-        let next = match due.deadline_after(self.period_us) {
-            Some(next) if !now.has_reached(next) => Some(next),
-            _ => now.deadline_after(self.period_us),
-        };
-        self.timers.set(ProducerTimer::NextSync, next);
+        self.timers.set(
+            ProducerTimer::NextSync,
+            due.next_period(now, self.period_us),
+        );
     }
 
     /// When the next SYNC is due.

@@ -67,21 +67,17 @@ impl TimeCobId {
     /// The same with the consume bit set or cleared.
     #[must_use]
     pub const fn with_consume(self, on: bool) -> Self {
-        TimeCobId(if on {
-            self.0 | Self::CONSUME
-        } else {
-            self.0 & !Self::CONSUME
-        })
+        self.with_bit(Self::CONSUME, on)
     }
 
     /// The same with the produce bit set or cleared.
     #[must_use]
     pub const fn with_produce(self, on: bool) -> Self {
-        TimeCobId(if on {
-            self.0 | Self::PRODUCE
-        } else {
-            self.0 & !Self::PRODUCE
-        })
+        self.with_bit(Self::PRODUCE, on)
+    }
+
+    const fn with_bit(self, bit: u32, on: bool) -> Self {
+        TimeCobId(if on { self.0 | bit } else { self.0 & !bit })
     }
 
     /// The identifier (`None` when an 11-bit one is above 7FFh).

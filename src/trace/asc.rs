@@ -21,7 +21,7 @@
 //! BitCount = ..`) is ignored.
 
 use super::fields::{can_id, dec_u32, decimal_scaled, frame, hex_u32};
-use super::{Direction, Record, State, TraceError, TraceFrame, Unsupported};
+use super::{Record, RxTx, State, TraceError, TraceFrame, Unsupported};
 use crate::clock::Timestamp;
 
 /// True when the line is an ASC frame line.
@@ -67,8 +67,8 @@ pub(super) fn parse<'a>(line: &'a str, state: &mut State) -> Result<Record<'a>, 
         return Ok(Record::Unsupported(Unsupported::ErrorFrame));
     }
     let direction = match tokens.next() {
-        Some("Rx") => Direction::Rx,
-        Some("Tx") => Direction::Tx,
+        Some("Rx") => RxTx::Rx,
+        Some("Tx") => RxTx::Tx,
         // `Statistic:`, `Status:` and other channel events.
         _ => return Ok(Record::Unsupported(Unsupported::Event)),
     };

@@ -124,30 +124,11 @@ fn usual_time(rest: &[u8]) -> Option<(u64, &[u8])> {
         }
     }
     // Seconds (at most 19 digits: no overflow), '.', 1..=6 digits, ')'.
-    let mut rest = rest;
-    let mut secs: u64 = 0;
-    let mut n = 0;
-    while let [d @ b'0'..=b'9', tail @ ..] = rest {
-        if n == 19 {
-            return None;
-        }
-        secs = secs * 10 + u64::from(d - b'0');
-        rest = tail;
-        n += 1;
-    }
-    let [b'.', tail @ ..] = rest else {
+    let (secs, n, rest) = leading_digits(rest, 19)?;
+    let [b'.', rest @ ..] = rest else {
         return None;
     };
-    rest = tail;
-    let (mut micros, mut places) = (0u64, 0);
-    while let [d @ b'0'..=b'9', tail @ ..] = rest {
-        if places == 6 {
-            return None;
-        }
-        micros = micros * 10 + u64::from(d - b'0');
-        rest = tail;
-        places += 1;
-    }
+    let (mut micros, places, rest) = leading_digits(rest, 6)?;
     let [b')', b' ', tail @ ..] = rest else {
         return None;
     };
@@ -159,6 +140,22 @@ fn usual_time(rest: &[u8]) -> Option<(u64, &[u8])> {
     }
     let us = secs.checked_mul(1_000_000)?.checked_add(micros)?;
     Some((us, tail))
+}
+
+/// The ASCII digits at the start of `rest` as a number, how many there
+/// are and what follows them; `None` for more than `max` (at most 19, so
+/// the number cannot overflow).
+fn leading_digits(rest: &[u8], max: usize) -> Option<(u64, usize, &[u8])> {
+    let (mut value, mut n, mut rest) = (0u64, 0, rest);
+    while let [d @ b'0'..=b'9', tail @ ..] = rest {
+        if n == max {
+            return None;
+        }
+        value = value * 10 + u64::from(d - b'0');
+        rest = tail;
+        n += 1;
+    }
+    Some((value, n, rest))
 }
 
 /// Two ASCII digits as a number.

@@ -116,7 +116,7 @@ impl Format {
 
 /// Whether the trace says a frame was received or transmitted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Direction {
+pub enum RxTx {
     /// Received (`Rx`).
     Rx,
     /// Transmitted by the logging node (`Tx`).
@@ -135,7 +135,7 @@ pub struct TraceFrame<'a> {
     /// The channel or interface (`can0`, `1`), if the line names one.
     pub channel: Option<&'a str>,
     /// Rx/Tx, if the line says.
-    pub direction: Option<Direction>,
+    pub direction: Option<RxTx>,
     /// The frame.
     pub frame: CanFrame,
 }
@@ -300,9 +300,9 @@ fn candump_log(line: &str) -> Result<Record<'_>, TraceError> {
     let t = trim(line);
     // Only the last two bytes decide (this is the decoder's hot path).
     let (body, direction) = if let Some(b) = t.strip_suffix(" R") {
-        (b, Some(Direction::Rx))
+        (b, Some(RxTx::Rx))
     } else if let Some(b) = t.strip_suffix(" T") {
-        (b, Some(Direction::Tx))
+        (b, Some(RxTx::Tx))
     } else {
         (t, None)
     };

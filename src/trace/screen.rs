@@ -16,7 +16,7 @@
 //! `[12]`). Text after the data bytes (`-a`'s ASCII column) is ignored.
 
 use super::fields::{can_id, dec_u32, decimal_scaled, frame, hex_u32};
-use super::{Direction, Record, State, TraceError, TraceFrame, Unsupported};
+use super::{Record, RxTx, State, TraceError, TraceFrame, Unsupported};
 use crate::clock::Timestamp;
 
 /// True when the line has the `[n]` length field of screen output.
@@ -47,8 +47,8 @@ pub(super) fn parse<'a>(line: &'a str, state: &mut State) -> Result<Record<'a>, 
     let mut direction = None;
     let mut id_text = tokens.next().ok_or(TraceError::MissingField)?;
     if let Some(d) = match id_text {
-        "RX" => Some(Direction::Rx),
-        "TX" => Some(Direction::Tx),
+        "RX" => Some(RxTx::Rx),
+        "TX" => Some(RxTx::Tx),
         _ => None,
     } {
         direction = Some(d);

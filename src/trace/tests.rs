@@ -20,8 +20,8 @@ fn run(p: &mut LineParser, lines: &[&str]) -> Vec<String> {
                 f.frame,
                 f.channel.unwrap_or("-"),
                 match f.direction {
-                    Some(Direction::Rx) => "Rx",
-                    Some(Direction::Tx) => "Tx",
+                    Some(RxTx::Rx) => "Rx",
+                    Some(RxTx::Tx) => "Tx",
                     None => "-",
                 }
             ),

@@ -20,7 +20,7 @@
 //! `RTR` in place of its data; type `Error` / `Warng` lines are bus events.
 
 use super::fields::{can_id, dec_u32, decimal_scaled, frame, hex_u32};
-use super::{Direction, Record, State, TraceError, TraceFrame, Unsupported};
+use super::{Record, RxTx, State, TraceError, TraceFrame, Unsupported};
 use crate::clock::Timestamp;
 
 /// Days from 1899-12-30 (the `$STARTTIME` epoch) to 1970-01-01.
@@ -64,8 +64,8 @@ pub(super) fn parse<'a>(line: &'a str, state: &mut State) -> Result<Record<'a>, 
     let mut direction = None;
     if minor >= 1 {
         direction = match tokens.next().ok_or(TraceError::MissingField)? {
-            "Rx" => Some(Direction::Rx),
-            "Tx" => Some(Direction::Tx),
+            "Rx" => Some(RxTx::Rx),
+            "Tx" => Some(RxTx::Tx),
             "Error" => return Ok(Record::Unsupported(Unsupported::ErrorFrame)),
             _ => return Ok(Record::Unsupported(Unsupported::Event)),
         };
@@ -126,8 +126,8 @@ fn parse_v2<'a>(
             b'I' => id_text = Some(value),
             b'd' => {
                 direction = match value {
-                    "Rx" => Some(Direction::Rx),
-                    "Tx" => Some(Direction::Tx),
+                    "Rx" => Some(RxTx::Rx),
+                    "Tx" => Some(RxTx::Tx),
                     _ => None,
                 }
             }

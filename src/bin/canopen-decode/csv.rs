@@ -20,12 +20,8 @@
 use std::fmt::Write;
 
 use canopen_codec::cob_id::classify;
-use canopen_codec::pdo::NamedFields;
-use canopen_codec::trace::candump::LogLine;
-use canopen_codec::{DecodeError, Message};
 
-use crate::pdo_args::Source;
-use crate::{Notes, Roles};
+use crate::Notes;
 
 /// The header row.
 pub const HEADER: &str = "time,id,extended,remote,dlc,data,kind,node,role,text,deviation,error";
@@ -54,14 +50,14 @@ pub fn time(
 
 /// The columns after `time` (the same for the same frame while roles and
 /// mappings stay).
-pub fn rest(
-    out: &mut String,
-    l: &LogLine<'_>,
-    m: &Result<Message, DecodeError>,
-    roles: &Roles,
-    fields: Option<&(Source, NamedFields)>,
-    notes: &Notes,
-) {
+pub fn rest(out: &mut String, line: &crate::FrameLine<'_>) {
+    let crate::FrameLine {
+        log: l,
+        decoded: m,
+        roles,
+        fields: _,
+        notes,
+    } = *line;
     let kind = classify(l.frame.id());
     let _ = write!(
         out,
@@ -83,15 +79,15 @@ pub fn rest(
     out.push(',');
     let mut text = String::new();
     if m.is_ok() || notes.block_segment.is_some() {
+        let notes = Notes {
+            deviation: None,
+            ..*notes
+        };
         crate::words::message(
             &mut text,
-            l,
-            m,
-            roles,
-            fields,
-            &Notes {
-                deviation: None,
-                ..*notes
+            &crate::FrameLine {
+                notes: &notes,
+                ..*line
             },
         );
     }

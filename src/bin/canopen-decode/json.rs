@@ -16,8 +16,7 @@ use canopen_codec::cob_id::{classify, CobKind};
 use canopen_codec::lss::{LssInquiry, LssMessage, LssRequest, LssResponse};
 use canopen_codec::pdo::{FieldValue, NamedFields};
 use canopen_codec::sdo::{ClientCommand, InitiatePayload, ServerCommand};
-use canopen_codec::trace::candump::LogLine;
-use canopen_codec::{DecodeError, Message};
+use canopen_codec::Message;
 
 use crate::pdo_args::Source;
 use crate::sdo::{End, Report};
@@ -122,14 +121,14 @@ pub fn time(
 
 /// The rest of a frame's object after `"t"` (the same for the same frame
 /// while roles and mappings stay).
-pub fn rest(
-    out: &mut String,
-    l: &LogLine<'_>,
-    m: &Result<Message, DecodeError>,
-    roles: &Roles,
-    pdo: Option<&(Source, NamedFields)>,
-    notes: &crate::Notes,
-) {
+pub fn rest(out: &mut String, line: &crate::FrameLine<'_>) {
+    let crate::FrameLine {
+        log: l,
+        decoded: m,
+        roles,
+        fields: pdo,
+        notes,
+    } = *line;
     let guard_reply = notes.guard_reply;
     let kind = classify(l.frame.id());
     let _ = write!(out, ",\"id\":{}", l.frame.id().raw());

@@ -51,6 +51,22 @@ fn is_default(channel: SdoChannel) -> bool {
     channel == SdoChannel::default_for(channel.node)
 }
 
+/// One frame's line as the output forms see it: the trace line, what it
+/// decoded to, the roles, its named PDO fields and the notes on it.
+#[derive(Clone, Copy)]
+pub struct FrameLine<'a> {
+    /// The line as read.
+    pub log: &'a canopen_codec::trace::candump::LogLine<'a>,
+    /// What the frame decoded to.
+    pub decoded: &'a Result<canopen_codec::Message, canopen_codec::DecodeError>,
+    /// Which node is which.
+    pub roles: &'a Roles,
+    /// The PDO's named fields, with where their mapping came from.
+    pub fields: Option<&'a (crate::pdo_args::Source, canopen_codec::pdo::NamedFields)>,
+    /// What the decoder knows besides the message.
+    pub notes: &'a Notes,
+}
+
 /// What the decoder knows about a line besides its message.
 #[derive(Clone, Copy, Default)]
 pub struct Notes {
@@ -342,13 +358,19 @@ pub fn run(
                         .as_ref()
                         .ok()
                         .and_then(|m| opts.pdos.fields(&parsed.frame, m, &roles, &learned));
-                    let args = (&parsed, &decoded, &roles, fields.as_ref(), &notes);
+                    let line = FrameLine {
+                        log: &parsed,
+                        decoded: &decoded,
+                        roles: &roles,
+                        fields: fields.as_ref(),
+                        notes: &notes,
+                    };
                     if opts.csv {
-                        csv::rest(&mut text, args.0, args.1, args.2, args.3, args.4);
+                        csv::rest(&mut text, &line);
                     } else if opts.json {
-                        json::rest(&mut text, args.0, args.1, args.2, args.3, args.4);
+                        json::rest(&mut text, &line);
                     } else {
-                        words::rest(&mut text, args.0, args.1, args.2, args.3, args.4);
+                        words::rest(&mut text, &line);
                     }
                     if cacheable {
                         cache.put(&parsed.frame, text.get(start..).unwrap_or(""));

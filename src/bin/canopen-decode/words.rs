@@ -5,8 +5,7 @@ use std::fmt::Write;
 use canopen_codec::cob_id::classify;
 use canopen_codec::deltaq::DeltaQCode;
 use canopen_codec::pdo::{FieldValue, NamedFields};
-use canopen_codec::trace::candump::LogLine;
-use canopen_codec::{DecodeError, Message, NodeId};
+use canopen_codec::{Message, NodeId};
 
 use crate::pdo_args::Source;
 use crate::sdo::{End, Report, Side};
@@ -52,14 +51,14 @@ pub fn time(
 
 /// Everything after the time column: identifier, role and message (the
 /// same for the same frame while roles and mappings stay).
-pub fn rest(
-    out: &mut String,
-    l: &LogLine<'_>,
-    m: &Result<Message, DecodeError>,
-    roles: &Roles,
-    fields: Option<&(Source, NamedFields)>,
-    notes: &crate::Notes,
-) {
+pub fn rest(out: &mut String, line: &crate::FrameLine<'_>) {
+    let crate::FrameLine {
+        log: l,
+        decoded: _m,
+        roles,
+        fields: _,
+        notes: _,
+    } = *line;
     let id = l.frame.id();
     let (raw, width) = match id {
         canopen_codec::CanId::Standard(r) => (u32::from(r), 3),
@@ -78,19 +77,19 @@ pub fn rest(
         out.push(' ');
     }
     out.push_str("  ");
-    message(out, l, m, roles, fields, notes);
+    message(out, line);
 }
 
 /// The message part of a line (after the time, identifier and role
 /// columns): what the CSV output's `text` column holds too.
-pub fn message(
-    out: &mut String,
-    l: &LogLine<'_>,
-    m: &Result<Message, DecodeError>,
-    roles: &Roles,
-    fields: Option<&(Source, NamedFields)>,
-    notes: &crate::Notes,
-) {
+pub fn message(out: &mut String, line: &crate::FrameLine<'_>) {
+    let crate::FrameLine {
+        log: l,
+        decoded: m,
+        roles,
+        fields,
+        notes,
+    } = *line;
     let guard_reply = notes.guard_reply;
     if let Some(seg) = &notes.block_segment {
         let _ = write!(out, "{seg}");
