@@ -386,29 +386,29 @@ fn emit_initiate(
     match payload {
         InitiatePayload::Expedited {
             data,
-            size_indicated: true,
+            size_indicated,
         } => {
+            // e = 1; with the size indicated (s = 1), n = 4 - length in
+            // bits 3..=2; without it, those bits are left as they are.
             let n = (4 - data.len().min(4)) as u8;
-            put_command(buf, 0xEF, specifier << 5 | n << 2 | 0x03);
+            let (mask, value) = if *size_indicated {
+                (0xEF, n << 2 | 0x03)
+            } else {
+                (0xE3, 0x02)
+            };
+            put_command(buf, mask, specifier << 5 | value);
             put_data(buf, 4, data.as_slice());
             4 + data.len()
         }
-        InitiatePayload::Expedited {
-            data,
-            size_indicated: false,
-        } => {
-            put_command(buf, 0xE3, specifier << 5 | 0x02);
-            put_data(buf, 4, data.as_slice());
-            4 + data.len()
-        }
-        InitiatePayload::Segmented { size: Some(size) } => {
-            put_command(buf, 0xE3, specifier << 5 | 0x01);
-            put_u32(buf, *size);
-            8
-        }
-        InitiatePayload::Segmented { size: None } => {
-            put_command(buf, 0xE3, specifier << 5);
-            4
+        InitiatePayload::Segmented { size } => {
+            put_command(buf, 0xE3, specifier << 5 | u8::from(size.is_some()));
+            match size {
+                Some(size) => {
+                    put_u32(buf, *size);
+                    8
+                }
+                None => 4,
+            }
         }
     }
 }
