@@ -125,6 +125,15 @@ pub use wire::{
     SdoFrame, SdoRequest, SdoResponse, ServerBlockDownload, ServerBlockUpload, ServerCommand, Side,
 };
 
+/// Queues an SDO frame of 8 data bytes on `id` (checked when the machine
+/// was configured) in a machine's one-frame transmit queue: CiA 301 SDO
+/// frames are always sent with all 8 bytes. At most one frame per call: a
+/// drained queue always has room. One copy for the client and the server.
+#[inline(never)]
+fn queue_frame(transmit: &mut crate::queue::FrameSlot, id: crate::frame::CanId, bytes: [u8; 8]) {
+    transmit.push(crate::frame::CanFrame::from_parts(id, bytes, 8));
+}
+
 #[cfg(test)]
 mod capacity_tests;
 #[cfg(test)]

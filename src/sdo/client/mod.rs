@@ -599,10 +599,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// Queues the 8 data bytes of a frame on the request identifier.
     fn queue(&mut self, bytes: [u8; 8]) {
         if self.sends {
-            // The identifier was checked in `new`.
-            let frame = CanFrame::from_parts(self.config.request_id, bytes, 8);
-            // At most one frame per call: a drained queue always has room.
-            self.transmit.push(frame);
+            super::queue_frame(&mut self.transmit, self.config.request_id, bytes);
         }
     }
 

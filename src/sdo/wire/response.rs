@@ -163,7 +163,9 @@ impl ServerCommand {
     /// Writes the response into `buf` and returns the bytes it needs. Bits
     /// and bytes the command leaves undefined keep what `buf` holds (zero
     /// for a fresh buffer; a decoded frame's reserved bits survive).
-    #[inline]
+    /// Inlined: where the command is known, only its own fields are
+    /// written.
+    #[inline(always)]
     pub fn emit(&self, buf: &mut [u8; 8]) -> usize {
         match self {
             ServerCommand::UploadSegment(seg) => emit_segment(buf, 0, seg),
@@ -227,7 +229,7 @@ impl ServerCommand {
     /// The response as the 8 bytes a machine sends (DLC 8, every byte the
     /// command leaves undefined zero).
     #[must_use]
-    #[inline]
+    #[inline(always)]
     pub fn to_bytes(&self) -> [u8; 8] {
         let mut buf = [0u8; 8];
         self.emit(&mut buf);
