@@ -363,45 +363,59 @@ mod tests {
         }
     }
 
-    #[test]
-    fn validation() {
-        assert_eq!(
-            CalendarDateTime::new(1983, 12, 31, 0, 0),
+    /// `(year, month, day, hour, minute)` and what `new` says of it.
+    type DateCase = ((u16, u8, u8, u8, u8), Result<(), DateError>);
+
+    const CASES: &[DateCase] = &[
+        (
+            (1983, 12, 31, 0, 0),
             Err(DateError::YearOutOfRange {
                 min: 1984,
                 max: 2163,
-                got: 1983
-            })
-        );
-        assert_eq!(
-            CalendarDateTime::new(2000, 13, 1, 0, 0),
-            Err(DateError::MonthOutOfRange { got: 13 })
-        );
-        assert_eq!(
-            CalendarDateTime::new(2000, 0, 1, 0, 0),
-            Err(DateError::MonthOutOfRange { got: 0 })
-        );
-        assert_eq!(
-            CalendarDateTime::new(2100, 2, 29, 0, 0),
-            Err(DateError::DayOutOfRange { max: 28, got: 29 })
-        );
-        assert!(CalendarDateTime::new(2000, 2, 29, 0, 0).is_ok());
-        assert_eq!(
-            CalendarDateTime::new(2001, 4, 31, 0, 0),
-            Err(DateError::DayOutOfRange { max: 30, got: 31 })
-        );
-        assert_eq!(
-            CalendarDateTime::new(2001, 4, 0, 0, 0),
-            Err(DateError::DayOutOfRange { max: 30, got: 0 })
-        );
-        assert_eq!(
-            CalendarDateTime::new(2001, 4, 1, 24, 0),
-            Err(DateError::HourOutOfRange { got: 24 })
-        );
-        assert_eq!(
-            CalendarDateTime::new(2001, 4, 1, 0, 60),
-            Err(DateError::MinuteOutOfRange { got: 60 })
-        );
+                got: 1983,
+            }),
+        ),
+        (
+            (2000, 13, 1, 0, 0),
+            Err(DateError::MonthOutOfRange { got: 13 }),
+        ),
+        (
+            (2000, 0, 1, 0, 0),
+            Err(DateError::MonthOutOfRange { got: 0 }),
+        ),
+        (
+            (2100, 2, 29, 0, 0),
+            Err(DateError::DayOutOfRange { max: 28, got: 29 }),
+        ),
+        ((2000, 2, 29, 0, 0), Ok(())),
+        (
+            (2001, 4, 31, 0, 0),
+            Err(DateError::DayOutOfRange { max: 30, got: 31 }),
+        ),
+        (
+            (2001, 4, 0, 0, 0),
+            Err(DateError::DayOutOfRange { max: 30, got: 0 }),
+        ),
+        (
+            (2001, 4, 1, 24, 0),
+            Err(DateError::HourOutOfRange { got: 24 }),
+        ),
+        (
+            (2001, 4, 1, 0, 60),
+            Err(DateError::MinuteOutOfRange { got: 60 }),
+        ),
+    ];
+
+    #[test]
+    fn validation() {
+        for &((year, month, day, hour, minute), want) in CASES {
+            let got = CalendarDateTime::new(year, month, day, hour, minute);
+            assert_eq!(
+                got.map(|_| ()),
+                want,
+                "{year}-{month}-{day} {hour}:{minute}"
+            );
+        }
         assert_eq!(
             EqualizationDate {
                 minutes: 1440,

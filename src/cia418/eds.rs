@@ -2,22 +2,10 @@
 //! names and data types of CiA 418 v1.0.1 and the module's own dictionary.
 
 use crate::device::COMM_OBJECT_DESCRIPTIONS;
-use crate::eds::{DataType, DeviceHeader, Eds, ObjectDescription, ObjectType, SubDescription};
+use crate::eds::DataType::{Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8};
+use crate::eds::{sub, DataType, DeviceHeader, Eds, ObjectDescription, ObjectType, SubDescription};
 
 use super::BatteryModule;
-
-const U8: DataType = DataType::Unsigned8;
-const U16: DataType = DataType::Unsigned16;
-const U32: DataType = DataType::Unsigned32;
-
-const fn sub(first: u8, last: u8, name: &'static str, data_type: DataType) -> SubDescription {
-    SubDescription {
-        first,
-        last,
-        name,
-        data_type,
-    }
-}
 
 /// A packed string (CiA 418 v1.0.1, 7.3.5-7.3.8): an ARRAY of up to five
 /// Unsigned32, four characters each.

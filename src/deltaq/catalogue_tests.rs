@@ -9,36 +9,105 @@ use proptest::prelude::*;
 
 use super::*;
 use crate::cia418::BATTERY_MODULE_CATALOGUE;
-use crate::pdo::{FieldValue, Fixed, MappingEntry, NamedField, PdoMapping};
+use crate::pdo::catalogue_test_support::{
+    assert_decode_total, assert_short_and_long_frames, assert_table_consistent, assert_words,
+    mapping, WordsCase,
+};
+use crate::pdo::{FieldValue, Fixed, MappingEntry, NamedField};
 
 fn one(cat: Catalogue, index: u16, sub: u8, bits: u8, raw: u64) -> NamedField {
     cat.interpret(MappingEntry::new(index, sub, bits), raw)
 }
 
-fn dq(index: u16, bits: u8, raw: u64) -> String {
-    one(CHARGER_CATALOGUE, index, 0, bits, raw).to_string()
+/// The Delta-Q objects in words: `(mapping entry, raw, words)`.
+const CASES: &[WordsCase] = &[
+    (0x2002_0010, 0x1374, "2002h charging current 19.453125 A"),
+    (0x2100_0010, 0xC800, "2100h battery voltage (legacy) 50 V"),
+    (0x2101_0010, 0x5200, "2101h battery voltage 82 V"),
+    (0x2200_0010, 0x07BA, "2200h AC voltage 123.625 V"),
+    (0x2271_0020, 0xE000, "2271h voltage request 56 V"),
+    (0x2276_0010, 0x5200, "2276h voltage request 82 V"),
+    (0x2275_0008, 12, "2275h cable resistance 12 mOhm"),
+    (
+        0x2002_0010,
+        0xFFFF,
+        "2002h charging current: no value (raw FFFFh)",
+    ),
+    (
+        0x2271_0020,
+        0xFFFF_FFFF,
+        "2271h voltage request: no value (raw FFFFFFFFh)",
+    ),
+    // Words.
+    (
+        0x2006_0010,
+        0x0070,
+        "2006h extended charge status: AC present, charger enabled, override external (BMS)",
+    ),
+    (
+        0x2006_0010,
+        0x1133,
+        "2006h extended charge status: fault active, alarm active, AC present, charger enabled, \
+         override internal, below 80 %, normal charge",
+    ),
+    (
+        0x2006_0010,
+        0xF8CC,
+        "2006h extended charge status: hardware shutdown, de-rating, override source 3, \
+         indication 8, charge type 15",
+    ),
+    (
+        0x2006_0010,
+        0x2600,
+        "2006h extended charge status: override internal, equalize, maintenance charge",
+    ),
+    (0x2008_0008, 0, "2008h derate reasons: none"),
+    (
+        0x2008_0008,
+        0x85,
+        "2008h derate reasons: AC voltage, temperature, other bits 80h",
+    ),
+    (0x4201_0008, 0x01, "4201h external override: equalize"),
+    (0x4201_0008, 0x00, "4201h external override: none"),
+    (0x2060_0020, 0, "2060h displayed error: none"),
+    (
+        0x2060_0020,
+        0x2080_8130,
+        "2060h displayed error: E-0-3-2 heartbeat lost (EEC 8130h)",
+    ),
+    (
+        0x2241_0020,
+        0x8000_000B,
+        "2241h algorithm request: algorithm 11 variant 0, store permanently",
+    ),
+    (
+        0x2241_0020,
+        0xFFFF_FFFF,
+        "2241h algorithm request: no value (raw FFFFFFFFh)",
+    ),
+    (0x2FFA_0108, 0, "2FFAh:01 padding (8 bits)"),
+    (0x2FFA_0208, 0, "2FFAh:02 padding (8 bits)"),
+    // The charger also knows the CiA 418 objects.
+    (0x6081_0008, 76, "6081h battery state of charge 76 %"),
+    (
+        0x6052_0010,
+        12,
+        "6052h Ah returned during last charge 1.5 Ah",
+    ),
+    (
+        0x2002_0008,
+        0x74,
+        "2002h charging current: raw 74h, mapped as 8 bits, object has 16",
+    ),
+];
+
+#[test]
+fn deltaq_objects_in_words() {
+    assert_words(CHARGER_CATALOGUE, CASES);
 }
 
 #[test]
 fn deltaq_scaled_objects() {
-    assert_eq!(dq(0x2002, 16, 0x1374), "2002h charging current 19.453125 A");
-    assert_eq!(
-        dq(0x2100, 16, 0xC800),
-        "2100h battery voltage (legacy) 50 V"
-    );
-    assert_eq!(dq(0x2101, 16, 0x5200), "2101h battery voltage 82 V");
-    assert_eq!(dq(0x2200, 16, 0x07BA), "2200h AC voltage 123.625 V");
-    assert_eq!(dq(0x2271, 32, 0xE000), "2271h voltage request 56 V");
-    assert_eq!(dq(0x2276, 16, 0x5200), "2276h voltage request 82 V");
-    assert_eq!(dq(0x2275, 8, 12), "2275h cable resistance 12 mOhm");
-    assert_eq!(
-        dq(0x2002, 16, 0xFFFF),
-        "2002h charging current: no value (raw FFFFh)"
-    );
-    assert_eq!(
-        dq(0x2271, 32, 0xFFFF_FFFF),
-        "2271h voltage request: no value (raw FFFFFFFFh)"
-    );
     let f = one(CHARGER_CATALOGUE, 0x2002, 0, 16, 0x1374);
     assert_eq!(format!("{f:.2}"), "2002h charging current 19.45 A");
     let g = one(CHARGER_CATALOGUE, 0x2101, 0, 16, 0x5200);
@@ -50,56 +119,6 @@ fn deltaq_scaled_objects() {
 }
 
 #[test]
-fn deltaq_words() {
-    assert_eq!(
-        dq(0x2006, 16, 0x0070),
-        "2006h extended charge status: AC present, charger enabled, override external (BMS)"
-    );
-    assert_eq!(
-        dq(0x2006, 16, 0x1133),
-        "2006h extended charge status: fault active, alarm active, AC present, charger enabled, \
-         override internal, below 80 %, normal charge"
-    );
-    assert_eq!(
-        dq(0x2006, 16, 0xF8CC),
-        "2006h extended charge status: hardware shutdown, de-rating, override source 3, \
-         indication 8, charge type 15"
-    );
-    assert_eq!(
-        dq(0x2006, 16, 0x2600),
-        "2006h extended charge status: override internal, equalize, maintenance charge"
-    );
-    assert_eq!(dq(0x2008, 8, 0), "2008h derate reasons: none");
-    assert_eq!(
-        dq(0x2008, 8, 0x85),
-        "2008h derate reasons: AC voltage, temperature, other bits 80h"
-    );
-    assert_eq!(dq(0x4201, 8, 0x01), "4201h external override: equalize");
-    assert_eq!(dq(0x4201, 8, 0x00), "4201h external override: none");
-    assert_eq!(dq(0x2060, 32, 0), "2060h displayed error: none");
-    assert_eq!(
-        dq(0x2060, 32, 0x2080_8130),
-        "2060h displayed error: E-0-3-2 heartbeat lost (EEC 8130h)"
-    );
-    assert_eq!(
-        dq(0x2241, 32, 0x8000_000B),
-        "2241h algorithm request: algorithm 11 variant 0, store permanently"
-    );
-    assert_eq!(
-        dq(0x2241, 32, 0xFFFF_FFFF),
-        "2241h algorithm request: no value (raw FFFFFFFFh)"
-    );
-    assert_eq!(
-        one(CHARGER_CATALOGUE, 0x2FFA, 1, 8, 0).to_string(),
-        "2FFAh:01 padding (8 bits)"
-    );
-    assert_eq!(
-        one(CHARGER_CATALOGUE, 0x2FFA, 2, 8, 0).to_string(),
-        "2FFAh:02 padding (8 bits)"
-    );
-}
-
-#[test]
 fn ah_returned_differs_between_devices() {
     let module = one(BATTERY_MODULE_CATALOGUE, 0x6052, 0, 16, 0xFFFF);
     assert_eq!(
@@ -108,11 +127,6 @@ fn ah_returned_differs_between_devices() {
     );
     let charger = one(CHARGER_CATALOGUE, 0x6052, 0, 16, 0xFFFF);
     assert_eq!(charger.value, FieldValue::NoValue);
-    let charger = one(CHARGER_CATALOGUE, 0x6052, 0, 16, 12);
-    assert_eq!(
-        charger.to_string(),
-        "6052h Ah returned during last charge 1.5 Ah"
-    );
 }
 
 #[test]
@@ -120,21 +134,12 @@ fn manufacturer_objects_belong_to_the_charger() {
     let f = one(BATTERY_MODULE_CATALOGUE, 0x2002, 0, 16, 0x1374);
     assert_eq!(f.value, FieldValue::Raw);
     assert_eq!(f.to_string(), "2002h unknown object: raw 1374h (16 bits)");
-    // The charger also knows the CiA 418 objects.
-    assert_eq!(
-        one(CHARGER_CATALOGUE, 0x6081, 0, 8, 76).to_string(),
-        "6081h battery state of charge 76 %"
-    );
 }
 
 #[test]
 fn widths_dummies_and_unknown_subs() {
     let f = one(CHARGER_CATALOGUE, 0x2002, 0, 8, 0x74);
     assert_eq!(f.value, FieldValue::WrongWidth { object_bits: 16 });
-    assert_eq!(
-        f.to_string(),
-        "2002h charging current: raw 74h, mapped as 8 bits, object has 16"
-    );
     let d = one(BATTERY_MODULE_CATALOGUE, 0x0006, 0, 16, 0xABCD);
     assert_eq!(d.value, FieldValue::Padding);
     assert_eq!(d.to_string(), "0006h padding (16 bits)");
@@ -156,38 +161,20 @@ fn widths_dummies_and_unknown_subs() {
     );
 }
 
-fn mapping(entries: &[(u16, u8, u8)]) -> PdoMapping {
-    let e: Vec<MappingEntry> = entries
-        .iter()
-        .map(|&(i, s, b)| MappingEntry::new(i, s, b))
-        .collect();
-    PdoMapping::new(&e).unwrap()
-}
-
 #[test]
 fn short_and_long_frames() {
-    let m = mapping(&[(0x6010, 0, 16), (0x6000, 0, 8), (0x6060, 0, 32)]);
-    let fields = BATTERY_MODULE_CATALOGUE.decode(&m, &[0x30, 0x02, 0x01, 0x00]);
-    assert_eq!(fields.len(), 3);
-    let s = fields.as_slice();
-    assert_eq!(s[0].value.number(), Some(Fixed::new(0x230, 3)));
-    assert_eq!(s[1].raw, 1);
-    assert_eq!(s[2].value, FieldValue::Missing);
-    assert_eq!(s[2].raw, 0);
-    assert_eq!(
-        s[2].to_string(),
-        "6060h battery voltage: missing (past the end of the frame)"
+    assert_short_and_long_frames(
+        (
+            BATTERY_MODULE_CATALOGUE,
+            [(0x6010, 0, 16), (0x6000, 0, 8), (0x6060, 0, 32)],
+            "6060h battery voltage: missing (past the end of the frame)",
+        ),
+        (
+            CHARGER_CATALOGUE,
+            (0x6001, 0, 8),
+            "6001h charger status: enabled",
+        ),
     );
-    assert_eq!(fields.unmapped_bytes(), 0);
-
-    let m = mapping(&[(0x6001, 0, 8)]);
-    let fields = CHARGER_CATALOGUE.decode(&m, &[1, 2, 3]);
-    assert_eq!(fields.unmapped_bytes(), 2);
-    assert_eq!(fields.to_string(), "6001h charger status: enabled");
-
-    let empty = CHARGER_CATALOGUE.decode(&PdoMapping::EMPTY, &[1]);
-    assert!(empty.is_empty());
-    assert_eq!(empty.to_string(), "");
 }
 
 #[test]
@@ -213,28 +200,13 @@ fn the_capture_tpdo2_in_words() {
 /// object there.
 #[test]
 fn catalogue_tables_are_consistent() {
-    for (i, a) in DELTAQ_OBJECTS.iter().enumerate() {
-        assert!(
-            a.first_sub <= a.last_sub && (1..=32).contains(&a.bits),
-            "{a:?}"
-        );
-        let overlap = |b: &&crate::pdo::CatalogueEntry| {
-            a.index == b.index && a.first_sub <= b.last_sub && b.first_sub <= a.last_sub
-        };
-        assert!(
-            !DELTAQ_OBJECTS[i + 1..].iter().any(|b| overlap(&b)),
-            "{a:?} overlaps"
-        );
-    }
-    for index in [
-        0x2002, 0x2006, 0x2008, 0x2060, 0x2100, 0x2101, 0x2200, 0x2241, 0x2271, 0x2276, 0x4201,
-        0x2FFA, 0x6052,
-    ] {
-        assert!(
-            DELTAQ_OBJECTS.iter().any(|e| e.index == index),
-            "{index:04X}h"
-        );
-    }
+    assert_table_consistent(
+        DELTAQ_OBJECTS,
+        &[
+            0x2002, 0x2006, 0x2008, 0x2060, 0x2100, 0x2101, 0x2200, 0x2241, 0x2271, 0x2276, 0x4201,
+            0x2FFA, 0x6052,
+        ],
+    );
 }
 
 /// The 2006h flag word says what [`ExtendedChargeStatus`] decodes, for
@@ -335,15 +307,12 @@ proptest! {
         payload in proptest::collection::vec(any::<u8>(), 0..=10),
         precision in proptest::option::of(0usize..25),
     ) {
-        let Ok(m) = PdoMapping::from_u32s(&raw_entries) else { return Ok(()) };
-        for cat in [BATTERY_MODULE_CATALOGUE, CHARGER_CATALOGUE] {
-            let fields = cat.decode(&m, &payload);
-            prop_assert_eq!(fields.len(), m.len());
-            let _ = match precision {
-                Some(p) => format!("{fields:.p$}"),
-                None => fields.to_string(),
-            };
-        }
+        assert_decode_total(
+            &[BATTERY_MODULE_CATALOGUE, CHARGER_CATALOGUE],
+            &raw_entries,
+            &payload,
+            precision,
+        )?;
     }
 
     /// Catalogue entries over their own widths, with realistic mappings.

@@ -2,7 +2,8 @@
 //! Delta-Q names of its manufacturer objects, the CiA 418 and CiA 301
 //! names of the others, and the charger's own dictionary.
 
-use crate::eds::{DataType, ObjectDescription, ObjectType, SubDescription};
+use crate::eds::DataType::{Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8};
+use crate::eds::{sub, ObjectDescription, ObjectType};
 #[cfg(feature = "heartbeat-consumer")]
 use crate::{
     cia418::CIA418_OBJECT_DESCRIPTIONS,
@@ -13,10 +14,6 @@ use crate::{
 use super::index;
 #[cfg(feature = "heartbeat-consumer")]
 use super::Charger;
-
-const U8: DataType = DataType::Unsigned8;
-const U16: DataType = DataType::Unsigned16;
-const U32: DataType = DataType::Unsigned32;
 
 /// The Delta-Q manufacturer objects the charger serves (2002h, 2006h,
 /// 2060h, 2100h, 2101h, 2200h, 2241h, 2271h, 2276h, 2FFAh, 4201h) with the
@@ -39,24 +36,9 @@ pub const DELTAQ_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
         "Zero-Filling",
         ObjectType::Array,
         &[
-            SubDescription {
-                first: 0,
-                last: 0,
-                name: "NrOfEntries",
-                data_type: U8,
-            },
-            SubDescription {
-                first: 1,
-                last: 1,
-                name: "ZeroRxFilling",
-                data_type: U8,
-            },
-            SubDescription {
-                first: 2,
-                last: 2,
-                name: "ZeroTxFilling",
-                data_type: U8,
-            },
+            sub(0, 0, "NrOfEntries", U8),
+            sub(1, 1, "ZeroRxFilling", U8),
+            sub(2, 2, "ZeroTxFilling", U8),
         ],
     ),
     ObjectDescription::var(index::EXTERNAL_OVERRIDE, "External Override", U8),

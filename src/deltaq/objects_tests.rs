@@ -36,49 +36,58 @@ fn capture_worked_example() {
     assert_eq!(format!("{ac}"), "123.625 V");
 }
 
-#[test]
-fn extended_charge_status_0x0070() {
-    let s = ExtendedChargeStatus::from_u16(0x0070);
-    assert_eq!(s.charge_type, ChargeType::None);
-    assert_eq!(s.indication, ChargeIndication::Inactive);
-    assert_eq!(s.override_source, OverrideSource::External);
-    assert!(s.flags.contains(ChargeStatusFlags::AC_PRESENT));
-    assert!(s.flags.contains(ChargeStatusFlags::CHARGER_ENABLED));
-    assert!(!s.flags.contains(ChargeStatusFlags::DERATING));
-    assert!(!s.flags.contains(ChargeStatusFlags::HW_SHUTDOWN));
-    assert!(!s.flags.contains(ChargeStatusFlags::ALARM_ACTIVE));
-    assert!(!s.flags.contains(ChargeStatusFlags::FAULT_ACTIVE));
-    assert_eq!(s.encode(), [0x70, 0x00]);
-}
+/// 2006h words and their fields; unknown values are kept.
+const EXTENDED_CHARGE_STATUS: &[(u16, ExtendedChargeStatus)] = &[
+    (
+        0x0070,
+        ExtendedChargeStatus {
+            charge_type: ChargeType::None,
+            indication: ChargeIndication::Inactive,
+            override_source: OverrideSource::External,
+            flags: ChargeStatusFlags::AC_PRESENT.union(ChargeStatusFlags::CHARGER_ENABLED),
+        },
+    ),
+    (
+        0x1423,
+        ExtendedChargeStatus {
+            charge_type: ChargeType::Normal,
+            indication: ChargeIndication::Complete,
+            override_source: OverrideSource::Internal,
+            flags: ChargeStatusFlags::CHARGER_ENABLED
+                .union(ChargeStatusFlags::ALARM_ACTIVE)
+                .union(ChargeStatusFlags::FAULT_ACTIVE),
+        },
+    ),
+    (
+        0x271C,
+        ExtendedChargeStatus {
+            charge_type: ChargeType::Maintenance,
+            indication: ChargeIndication::PowerSupplyMode,
+            override_source: OverrideSource::Internal,
+            flags: ChargeStatusFlags::AC_PRESENT
+                .union(ChargeStatusFlags::DERATING)
+                .union(ChargeStatusFlags::HW_SHUTDOWN),
+        },
+    ),
+    (
+        0xF8C0,
+        ExtendedChargeStatus {
+            charge_type: ChargeType::Other(15),
+            indication: ChargeIndication::Other(8),
+            override_source: OverrideSource::Other(3),
+            flags: ChargeStatusFlags::empty(),
+        },
+    ),
+];
 
 #[test]
 fn extended_charge_status_fields() {
-    let s = ExtendedChargeStatus::from_u16(0x1423);
-    assert_eq!(s.charge_type, ChargeType::Normal);
-    assert_eq!(s.indication, ChargeIndication::Complete);
-    assert_eq!(s.override_source, OverrideSource::Internal);
-    assert_eq!(
-        s.flags,
-        ChargeStatusFlags::CHARGER_ENABLED
-            | ChargeStatusFlags::ALARM_ACTIVE
-            | ChargeStatusFlags::FAULT_ACTIVE
-    );
-    let s = ExtendedChargeStatus::from_u16(0x271C);
-    assert_eq!(s.charge_type, ChargeType::Maintenance);
-    assert_eq!(s.indication, ChargeIndication::PowerSupplyMode);
-    assert_eq!(
-        s.flags,
-        ChargeStatusFlags::AC_PRESENT
-            | ChargeStatusFlags::DERATING
-            | ChargeStatusFlags::HW_SHUTDOWN
-    );
-    // Unknown values are kept.
-    let s = ExtendedChargeStatus::from_u16(0xF8C0);
-    assert_eq!(s.charge_type, ChargeType::Other(15));
-    assert_eq!(s.indication, ChargeIndication::Other(8));
-    assert_eq!(s.override_source, OverrideSource::Other(3));
-    assert_eq!(s.flags, ChargeStatusFlags::empty());
-    assert_eq!(s.to_u16(), 0xF8C0);
+    for &(raw, want) in EXTENDED_CHARGE_STATUS {
+        let s = ExtendedChargeStatus::from_u16(raw);
+        assert_eq!(s, want, "{raw:04X}h");
+        assert_eq!(s.to_u16(), raw, "{raw:04X}h");
+        assert_eq!(s.encode(), raw.to_le_bytes(), "{raw:04X}h");
+    }
     // Indications 1..=7 by name.
     let names = [
         ChargeIndication::Below80,

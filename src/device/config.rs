@@ -79,10 +79,7 @@ impl DeviceConfig {
             heartbeat: Duration::from_millis(1000),
             heartbeat_on_change: false,
             #[cfg(feature = "heartbeat-consumer")]
-            consumers: [ConsumerEntry {
-                node: 0,
-                time_ms: 0,
-            }; MAX_CONSUMERS],
+            consumers: [ConsumerEntry::DISABLED; MAX_CONSUMERS],
             #[cfg(feature = "heartbeat-consumer")]
             consumer_slots: 0,
             sdo_timeout: DEFAULT_TIMEOUT,

@@ -2,42 +2,27 @@
 //! (1000h-1FFFh), for describing a device as an EDS
 //! ([`Eds::describe`](crate::eds::Eds::describe)).
 
-use crate::eds::{DataType, ObjectDescription, ObjectType, SubDescription};
-
-const U8: DataType = DataType::Unsigned8;
-const U16: DataType = DataType::Unsigned16;
-const U32: DataType = DataType::Unsigned32;
-
-const fn sub(first: u8, last: u8, name: &'static str, data_type: DataType) -> SubDescription {
-    SubDescription {
-        first,
-        last,
-        name,
-        data_type,
-    }
-}
+use crate::eds::DataType::{Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8};
+use crate::eds::{sub, DataType, ObjectDescription, ObjectType, SubDescription};
 
 const HIGHEST: SubDescription = sub(0, 0, "Highest sub-index supported", U8);
 
-const PDO_COMM_RX: &[SubDescription] = &[
-    HIGHEST,
-    sub(1, 1, "COB-ID used by RPDO", U32),
-    sub(2, 2, "Transmission type", U8),
-    sub(3, 3, "Inhibit time", U16),
-    sub(4, 4, "Compatibility entry", U8),
-    sub(5, 5, "Event-timer", U16),
-    sub(6, 6, "SYNC start value", U8),
-];
+/// The sub-objects of an RPDO or a TPDO communication parameter (CiA 301,
+/// 7.5.2.35 and 7.5.2.37), sub-index 1 named `cob_id`.
+const fn pdo_comm(cob_id: &'static str) -> [SubDescription; 7] {
+    [
+        HIGHEST,
+        sub(1, 1, cob_id, U32),
+        sub(2, 2, "Transmission type", U8),
+        sub(3, 3, "Inhibit time", U16),
+        sub(4, 4, "Compatibility entry", U8),
+        sub(5, 5, "Event-timer", U16),
+        sub(6, 6, "SYNC start value", U8),
+    ]
+}
 
-const PDO_COMM_TX: &[SubDescription] = &[
-    HIGHEST,
-    sub(1, 1, "COB-ID used by TPDO", U32),
-    sub(2, 2, "Transmission type", U8),
-    sub(3, 3, "Inhibit time", U16),
-    sub(4, 4, "Compatibility entry", U8),
-    sub(5, 5, "Event-timer", U16),
-    sub(6, 6, "SYNC start value", U8),
-];
+const PDO_COMM_RX: &[SubDescription] = &pdo_comm("COB-ID used by RPDO");
+const PDO_COMM_TX: &[SubDescription] = &pdo_comm("COB-ID used by TPDO");
 
 const PDO_MAPPING: &[SubDescription] = &[
     sub(0, 0, "Number of mapped application objects in PDO", U8),

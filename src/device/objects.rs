@@ -147,10 +147,7 @@ impl CommObjects {
             history_len: 0,
             device_name: "",
             #[cfg(feature = "heartbeat-consumer")]
-            consumers: [ConsumerEntry {
-                node: 0,
-                time_ms: 0,
-            }; MAX_CONSUMERS],
+            consumers: [ConsumerEntry::DISABLED; MAX_CONSUMERS],
             #[cfg(feature = "heartbeat-consumer")]
             consumer_slots: 0,
             heartbeat_ms: 0,

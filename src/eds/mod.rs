@@ -42,6 +42,7 @@ mod types;
 mod value;
 mod write;
 
+pub(crate) use describe::sub;
 pub use describe::{Described, DeviceHeader, ObjectDescription, SubDescription};
 pub use dictionary::{DictionaryError, PdoDescription, MAX_VARIABLE_LEN};
 pub use parse::{parse, parse_bytes};

@@ -174,36 +174,47 @@ fn unlisted_short_and_nonzero_reserved_frames_are_kept_raw() {
     assert!(LssRequest::decode(&[0; 9]).is_err());
 }
 
+/// Frames in words: the direction, the data and what they say.
+const WORDS: &[(LssDirection, &[u8], &str)] = {
+    use LssDirection::{MasterToSlave as M, SlaveToMaster as S};
+    &[
+        (
+            M,
+            &[0x40, 0x9A, 0x02, 0, 0, 0, 0, 0],
+            "LSS master: switch state selective vendor 0000029Ah",
+        ),
+        (
+            M,
+            &[0x51, 0x78, 0x56, 0x34, 0x12, 31, 0, 0],
+            "LSS fastscan id 12345678 bit 31 sub 0 next 0",
+        ),
+        (S, &[0x4F, 0, 0, 0, 0, 0, 0, 0], "LSS slave: identify slave"),
+        (
+            M,
+            &[0x04, 1, 0, 0, 0, 0, 0, 0],
+            "LSS master: switch state global configuration",
+        ),
+        (
+            M,
+            &[0x11, 5, 0, 0, 0, 0, 0, 0],
+            "LSS master: configure node-ID 5",
+        ),
+        (
+            S,
+            &[0x11, 1, 0, 0, 0, 0, 0, 0],
+            "LSS slave: configure node-ID error 1 (refused)",
+        ),
+        (S, &[0x5E, 5, 0, 0, 0, 0, 0, 0], "LSS slave: node-ID 5"),
+        (M, &[0x99], "LSS master: unknown [99]"),
+    ]
+};
+
 #[test]
 fn words() {
-    let w = |d: LssDirection, b: &[u8]| LssMessage::decode(d, b).unwrap().to_string();
-    use LssDirection::{MasterToSlave as M, SlaveToMaster as S};
-    assert_eq!(
-        w(M, &[0x40, 0x9A, 0x02, 0, 0, 0, 0, 0]),
-        "LSS master: switch state selective vendor 0000029Ah"
-    );
-    assert_eq!(
-        w(M, &[0x51, 0x78, 0x56, 0x34, 0x12, 31, 0, 0]),
-        "LSS fastscan id 12345678 bit 31 sub 0 next 0"
-    );
-    assert_eq!(
-        w(S, &[0x4F, 0, 0, 0, 0, 0, 0, 0]),
-        "LSS slave: identify slave"
-    );
-    assert_eq!(
-        w(M, &[0x04, 1, 0, 0, 0, 0, 0, 0]),
-        "LSS master: switch state global configuration"
-    );
-    assert_eq!(
-        w(M, &[0x11, 5, 0, 0, 0, 0, 0, 0]),
-        "LSS master: configure node-ID 5"
-    );
-    assert_eq!(
-        w(S, &[0x11, 1, 0, 0, 0, 0, 0, 0]),
-        "LSS slave: configure node-ID error 1 (refused)"
-    );
-    assert_eq!(w(S, &[0x5E, 5, 0, 0, 0, 0, 0, 0]), "LSS slave: node-ID 5");
-    assert_eq!(w(M, &[0x99]), "LSS master: unknown [99]");
+    for &(direction, data, words) in WORDS {
+        let message = LssMessage::decode(direction, data).unwrap();
+        assert_eq!(message.to_string(), words, "{data:02X?}");
+    }
 }
 
 #[test]

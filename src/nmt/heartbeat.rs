@@ -309,6 +309,12 @@ pub struct ConsumerEntry {
 }
 
 impl ConsumerEntry {
+    /// The disabled entry (node 0, time 0): 1016h sub-index value 0.
+    pub const DISABLED: ConsumerEntry = ConsumerEntry {
+        node: 0,
+        time_ms: 0,
+    };
+
     /// From the Unsigned32 of a 1016h sub-index.
     #[must_use]
     pub const fn from_u32(raw: u32) -> Self {

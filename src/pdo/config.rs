@@ -40,7 +40,7 @@
 use super::comm::{PdoCobId, PdoCommParams, PdoDirection, TransmissionType};
 use super::mapping::{MappingEntry, MappingError, PdoMapping, MAX_BITS, MAX_ENTRIES};
 use crate::cob_id::PdoNumber;
-use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
+use crate::od::{Access, ObjectDictionary, ObjectInfo, WriteBuffer};
 use crate::sdo::AbortCode;
 
 /// One PDO's configuration: communication parameters and mapping entries
@@ -424,12 +424,7 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
             return self.inner.info(index, sub);
         };
         let (access, _, len) = object?;
-        Ok(ObjectInfo {
-            access,
-            len,
-            size: SizeRule::Fixed(len),
-            pdo_mappable: false,
-        })
+        Ok(ObjectInfo::fixed(access, len))
     }
 
     fn read(

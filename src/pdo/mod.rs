@@ -19,6 +19,8 @@ mod producer;
 mod reconfig;
 mod runtime;
 
+#[cfg(test)]
+pub(crate) use catalogue::test_support as catalogue_test_support;
 pub use catalogue::{
     Catalogue, CatalogueEntry, FieldValue, Fixed, FlagField, FlagWord, Flags, Formatted,
     Interpretation, Marker, NamedField, NamedFields, Unit, ValueFormat,

@@ -679,4 +679,6 @@ impl fmt::Display for NamedFields {
 }
 
 #[cfg(test)]
+pub(crate) mod test_support;
+#[cfg(test)]
 mod tests;

@@ -2,11 +2,13 @@
 //! formats, widths, dummies, short frames and totality, on a small table of
 //! its own (the profiles' tables are tested in their modules).
 
-use std::string::{String, ToString};
-use std::vec::Vec;
+use std::string::ToString;
 
 use proptest::prelude::*;
 
+use super::test_support::{
+    assert_decode_total, assert_short_and_long_frames, assert_words, WordsCase,
+};
 use super::*;
 
 #[test]
@@ -131,10 +133,6 @@ fn one(index: u16, sub: u8, bits: u8, raw: u64) -> NamedField {
     CAT.interpret(MappingEntry::new(index, sub, bits), raw)
 }
 
-fn words(index: u16, sub: u8, bits: u8, raw: u64) -> String {
-    one(index, sub, bits, raw).to_string()
-}
-
 #[test]
 fn lookup_first_table_first() {
     assert_eq!(CAT.name(), "test device");
@@ -147,24 +145,58 @@ fn lookup_first_table_first() {
     assert!(Catalogue::new("empty", &[]).lookup(0x2000, 0).is_none());
 }
 
+/// The test table's rows in words: `(mapping entry, raw, words)`.
+const CASES: &[WordsCase] = &[
+    (0x2000_0010, 0x1374, "2000h current 19.453125 A"),
+    (0x2000_0010, 0xFFFF, "2000h current: no value (raw FFFFh)"),
+    (0x2001_0008, 76, "2001h level 76 %"),
+    (0x2001_0008, 150, "2001h level 150 % (out of range)"),
+    (0x2001_0008, 0xFF, "2001h level: invalid (raw FFh)"),
+    (0x2002_0010, 0xFEC0, "2002h temperature -40 degC"),
+    (0x3000_0020, 7, "3000h counter 7"),
+    // Flag words.
+    (0x2003_0008, 0x00, "2003h status: off"),
+    (0x2003_0008, 0x07, "2003h status: on, hot, mode one"),
+    (
+        0x2003_0008,
+        0x8C,
+        "2003h status: off, mode 3, other bits 80h",
+    ),
+    (0x2007_0008, 0, "2007h alarms: none"),
+    (0x2007_0008, 0x11, "2007h alarms: alarm"),
+    (0x2007_0008, 0x04, "2007h alarms: other bits 04h"),
+    // Profile formats.
+    (0x2004_0008, 12, "2004h code: code 12"),
+    (0x2005_0120, 0x5454_4142, "2005h:01 name: \"BATT\""),
+    (
+        0x2005_0220,
+        0x2201_5C41,
+        "2005h:02 name: \"A\\x5C\\x01\\x22\"",
+    ),
+    // Widths, dummies and unknown objects.
+    (
+        0x2000_0008,
+        0x74,
+        "2000h current: raw 74h, mapped as 8 bits, object has 16",
+    ),
+    (0x0006_0010, 0xABCD, "0006h padding (16 bits)"),
+    (0x2006_0110, 0, "2006h:01 filler (16 bits)"),
+    (0x7000_0001, 1, "7000h unknown object: raw 1h (1 bits)"),
+];
+
+#[test]
+fn rows_in_words() {
+    assert_words(CAT, CASES);
+}
+
 #[test]
 fn scaled_markers_and_ranges() {
-    assert_eq!(words(0x2000, 0, 16, 0x1374), "2000h current 19.453125 A");
     assert_eq!(
         format!("{:.2}", one(0x2000, 0, 16, 0x1374)),
         "2000h current 19.45 A"
     );
-    assert_eq!(
-        words(0x2000, 0, 16, 0xFFFF),
-        "2000h current: no value (raw FFFFh)"
-    );
     assert_eq!(one(0x2000, 0, 16, 0xFFFF).value, FieldValue::NoValue);
-    assert_eq!(words(0x2001, 0, 8, 76), "2001h level 76 %");
-    assert_eq!(words(0x2001, 0, 8, 150), "2001h level 150 % (out of range)");
     assert_eq!(one(0x2001, 0, 8, 150).value.kind(), "out_of_range");
-    assert_eq!(words(0x2001, 0, 8, 0xFF), "2001h level: invalid (raw FFh)");
-    assert_eq!(words(0x2002, 0, 16, 0xFEC0), "2002h temperature -40 degC");
-    assert_eq!(words(0x3000, 0, 32, 7), "3000h counter 7");
     let f = one(0x2000, 0, 16, 0x1374);
     assert_eq!(f.value.unit(), Some(Unit::Ampere));
     assert_eq!(f.value.number(), Some(Fixed::new(0x1374, 8)));
@@ -173,15 +205,6 @@ fn scaled_markers_and_ranges() {
 
 #[test]
 fn flag_words() {
-    assert_eq!(words(0x2003, 0, 8, 0x00), "2003h status: off");
-    assert_eq!(words(0x2003, 0, 8, 0x07), "2003h status: on, hot, mode one");
-    assert_eq!(
-        words(0x2003, 0, 8, 0x8C),
-        "2003h status: off, mode 3, other bits 80h"
-    );
-    assert_eq!(words(0x2007, 0, 8, 0), "2007h alarms: none");
-    assert_eq!(words(0x2007, 0, 8, 0x11), "2007h alarms: alarm");
-    assert_eq!(words(0x2007, 0, 8, 0x04), "2007h alarms: other bits 04h");
     let FieldValue::Flags(flags) = one(0x2003, 0, 8, 0x03).value else {
         panic!("not flags")
     };
@@ -195,7 +218,6 @@ fn flag_words() {
 #[test]
 fn profile_formats() {
     let f = one(0x2004, 0, 8, 12);
-    assert_eq!(f.to_string(), "2004h code: code 12");
     assert_eq!(f.value.kind(), "code");
     assert_eq!(
         f.value,
@@ -205,60 +227,28 @@ fn profile_formats() {
         })
     );
     assert_eq!(one(0x2004, 0, 8, 0xFF).value, FieldValue::NoValue);
-    assert_eq!(words(0x2005, 1, 32, 0x5454_4142), "2005h:01 name: \"BATT\"");
-    assert_eq!(
-        words(0x2005, 2, 32, 0x2201_5C41),
-        "2005h:02 name: \"A\\x5C\\x01\\x22\""
-    );
 }
 
 #[test]
 fn widths_dummies_and_unknown_objects() {
-    let f = one(0x2000, 0, 8, 0x74);
-    assert_eq!(f.value, FieldValue::WrongWidth { object_bits: 16 });
     assert_eq!(
-        f.to_string(),
-        "2000h current: raw 74h, mapped as 8 bits, object has 16"
+        one(0x2000, 0, 8, 0x74).value,
+        FieldValue::WrongWidth { object_bits: 16 }
     );
-    let d = one(0x0006, 0, 16, 0xABCD);
-    assert_eq!(d.value, FieldValue::Padding);
-    assert_eq!(d.to_string(), "0006h padding (16 bits)");
-    assert_eq!(words(0x2006, 1, 16, 0), "2006h:01 filler (16 bits)");
-    let u = one(0x7000, 0, 1, 1);
-    assert_eq!(u.value, FieldValue::Raw);
-    assert_eq!(u.to_string(), "7000h unknown object: raw 1h (1 bits)");
-}
-
-fn mapping(entries: &[(u16, u8, u8)]) -> PdoMapping {
-    let e: Vec<MappingEntry> = entries
-        .iter()
-        .map(|&(i, s, b)| MappingEntry::new(i, s, b))
-        .collect();
-    PdoMapping::new(&e).unwrap()
+    assert_eq!(one(0x0006, 0, 16, 0xABCD).value, FieldValue::Padding);
+    assert_eq!(one(0x7000, 0, 1, 1).value, FieldValue::Raw);
 }
 
 #[test]
 fn short_and_long_frames() {
-    let m = mapping(&[(0x2002, 0, 16), (0x2003, 0, 8), (0x3000, 0, 32)]);
-    let fields = CAT.decode(&m, &[0x30, 0x02, 0x01, 0x00]);
-    assert_eq!(fields.len(), 3);
-    let s = fields.as_slice();
-    assert_eq!(s[0].value.number(), Some(Fixed::new(0x230, 3)));
-    assert_eq!(s[1].raw, 1);
-    assert_eq!(s[2].value, FieldValue::Missing);
-    assert_eq!(s[2].raw, 0);
-    assert_eq!(
-        s[2].to_string(),
-        "3000h counter: missing (past the end of the frame)"
+    assert_short_and_long_frames(
+        (
+            CAT,
+            [(0x2002, 0, 16), (0x2003, 0, 8), (0x3000, 0, 32)],
+            "3000h counter: missing (past the end of the frame)",
+        ),
+        (CAT, (0x2001, 0, 8), "2001h level 1 %"),
     );
-    assert_eq!(fields.unmapped_bytes(), 0);
-    let m = mapping(&[(0x2001, 0, 8)]);
-    let fields = CAT.decode(&m, &[1, 2, 3]);
-    assert_eq!(fields.unmapped_bytes(), 2);
-    assert_eq!(fields.to_string(), "2001h level 1 %");
-    let empty = CAT.decode(&PdoMapping::EMPTY, &[1]);
-    assert!(empty.is_empty());
-    assert_eq!(empty.to_string(), "");
 }
 
 proptest! {
@@ -272,13 +262,7 @@ proptest! {
         payload in proptest::collection::vec(any::<u8>(), 0..=10),
         precision in proptest::option::of(0usize..25),
     ) {
-        let Ok(m) = PdoMapping::from_u32s(&raw_entries) else { return Ok(()) };
-        let fields = CAT.decode(&m, &payload);
-        prop_assert_eq!(fields.len(), m.len());
-        let _ = match precision {
-            Some(p) => format!("{fields:.p$}"),
-            None => fields.to_string(),
-        };
+        assert_decode_total(&[CAT], &raw_entries, &payload, precision)?;
     }
 
     /// The exact and the rounded forms agree with f64 where f64 is exact.
