@@ -185,7 +185,16 @@ impl NmtState {
     #[must_use]
     #[inline]
     pub const fn from_bits(raw: u8) -> Self {
-        STATES[(raw & 0x7F) as usize]
+        // The four named values (0, 4, 5, 127) differ in their low three
+        // bits: one slot each in an eight-entry table, the other slots
+        // holding the unnamed values 1, 2, 3 and 6.
+        let bits = raw & 0x7F;
+        let slot = (bits & 7) as usize;
+        if SLOT_BITS[slot] == bits {
+            SLOT_STATES[slot]
+        } else {
+            NmtState::Unknown(bits)
+        }
     }
 
     /// The state a 7-bit value names (CiA 301 section 7.2.8.3.2: 0
@@ -214,12 +223,16 @@ impl NmtState {
     }
 }
 
-/// Every 7-bit state value decoded, so a heartbeat's state is one lookup.
-const STATES: [NmtState; 128] = {
-    let mut t = [NmtState::BootUp; 128];
+/// The value of each slot of [`NmtState::from_bits`]'s table: the named
+/// states where their low three bits put them, else the slot's number.
+const SLOT_BITS: [u8; 8] = [0x00, 1, 2, 3, 0x04, 0x05, 6, 0x7F];
+
+/// [`SLOT_BITS`] decoded.
+const SLOT_STATES: [NmtState; 8] = {
+    let mut t = [NmtState::BootUp; 8];
     let mut i = 0;
-    while i < 128 {
-        t[i] = NmtState::named(i as u8);
+    while i < 8 {
+        t[i] = NmtState::named(SLOT_BITS[i]);
         i += 1;
     }
     t
