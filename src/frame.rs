@@ -154,9 +154,9 @@ impl Dlc {
     }
 }
 
-/// Set in [`CanFrame::word`] for a 29-bit identifier.
+/// Set in [`CanFrame::identity`] for a 29-bit identifier.
 const EXTENDED_FLAG: u32 = 1 << 31;
-/// Set in [`CanFrame::word`] for a remote frame.
+/// Set in [`CanFrame::identity`] for a remote frame.
 const REMOTE_FLAG: u32 = 1 << 30;
 
 /// The identifier word of `id` (no flags but the format).
@@ -168,11 +168,11 @@ const fn id_word(id: CanId) -> u32 {
     }
 }
 
-/// The identifier word every data frame on `id` has (see
-/// [`CanFrame::word`]), or `u32::MAX`, which no frame has, for an
+/// The identity every data frame on `id` has (see
+/// [`CanFrame::identity`]), or `u32::MAX`, which no frame has, for an
 /// identifier out of range: the state machines' one-compare entry test.
 #[inline]
-pub(crate) const fn data_frame_word(id: CanId) -> u32 {
+pub(crate) const fn data_frame_identity(id: CanId) -> u32 {
     match id {
         CanId::Standard(raw) if raw <= MAX_STANDARD_ID => raw as u32,
         CanId::Extended(raw) if raw <= MAX_EXTENDED_ID => raw | EXTENDED_FLAG,
@@ -181,23 +181,13 @@ pub(crate) const fn data_frame_word(id: CanId) -> u32 {
 }
 
 impl CanFrame {
-    /// The identifier word: bits 0..=28, the extended and the remote flag.
-    /// Equal to [`data_frame_word`] of an identifier exactly when the frame
+    /// The frame's identity: identifier bits 0..=28, the extended and the
+    /// remote flag, in one word.
+    /// Equal to [`data_frame_identity`] of an identifier exactly when the frame
     /// is a data frame on that identifier.
     #[inline]
-    pub(crate) const fn word(&self) -> u32 {
+    pub(crate) const fn identity(&self) -> u32 {
         self.word
-    }
-
-    /// A copy made field by field (see `queue::FrameSlot` for why).
-    #[inline(always)]
-    pub(crate) const fn copy_fields(&self) -> CanFrame {
-        let [a, b, c, d, e, f, g, h] = self.data;
-        CanFrame {
-            word: self.word,
-            len: self.len,
-            data: u64::from_le_bytes([a, b, c, d, e, f, g, h]).to_le_bytes(),
-        }
     }
 
     /// An empty data frame on identifier 0 (a placeholder value).
@@ -236,14 +226,14 @@ impl CanFrame {
     /// valid `len`; used on hot encode paths.
     #[inline]
     pub(crate) const fn from_parts(id: CanId, data: [u8; 8], len: u8) -> Self {
-        Self::from_word_parts(id_word(id), data, len)
+        Self::from_identity(id_word(id), data, len)
     }
 
     /// [`from_parts`](Self::from_parts) of the data frame whose
-    /// identifier word is `word` ([`data_frame_word`] of an identifier in
-    /// range: a caller that keeps the word rather than the identifier).
+    /// identity is `identity` ([`data_frame_identity`] of an identifier in
+    /// range: a caller that keeps the identity rather than the identifier).
     #[inline]
-    pub(crate) const fn from_word_parts(word: u32, data: [u8; 8], len: u8) -> Self {
+    pub(crate) const fn from_identity(identity: u32, data: [u8; 8], len: u8) -> Self {
         let len = Dlc::clamped(len as usize);
         // Zero the tail so equality is on the meaningful bytes only.
         let mut data = data;
@@ -252,7 +242,11 @@ impl CanFrame {
             data[i] = 0;
             i += 1;
         }
-        CanFrame { word, len, data }
+        CanFrame {
+            word: identity,
+            len,
+            data,
+        }
     }
 
     /// A remote (RTR) frame asking for `dlc` bytes. Fails when `dlc > 8`.
@@ -563,21 +557,25 @@ mod tests {
     }
 
     #[test]
-    fn data_frame_word_matches_data_frames_only() {
+    fn data_frame_identity_matches_data_frames_only() {
         let std = CanFrame::standard(0x601, &[0x40]).unwrap();
         let ext = CanFrame::new(CanId::Extended(0x601), &[0x40]).unwrap();
         let rtr = CanFrame::remote(CanId::Standard(0x601), 0).unwrap();
-        let w = data_frame_word(CanId::Standard(0x601));
+        let w = data_frame_identity(CanId::Standard(0x601));
         assert_eq!(
-            (std.word() == w, ext.word() == w, rtr.word() == w),
+            (
+                std.identity() == w,
+                ext.identity() == w,
+                rtr.identity() == w
+            ),
             (true, false, false)
         );
-        assert_eq!(ext.word(), data_frame_word(CanId::Extended(0x601)));
+        assert_eq!(ext.identity(), data_frame_identity(CanId::Extended(0x601)));
         // Out of range: a word no frame has.
-        assert_eq!(data_frame_word(CanId::Standard(0x800)), u32::MAX);
-        assert_eq!(data_frame_word(CanId::Extended(1 << 29)), u32::MAX);
+        assert_eq!(data_frame_identity(CanId::Standard(0x800)), u32::MAX);
+        assert_eq!(data_frame_identity(CanId::Extended(1 << 29)), u32::MAX);
         let top = CanFrame::remote(CanId::Extended(MAX_EXTENDED_ID), 8).unwrap();
-        assert_ne!(top.word(), u32::MAX);
+        assert_ne!(top.identity(), u32::MAX);
     }
 
     #[test]
@@ -585,7 +583,7 @@ mod tests {
         assert_eq!(core::mem::size_of::<CanFrame>(), 16);
         assert_eq!(core::mem::size_of::<Option<CanFrame>>(), 16);
         let f = CanFrame::from_parts(CanId::Standard(1), [9; 8], 200);
-        assert_eq!((f.dlc(), f.copy_fields()), (8, f));
+        assert_eq!(f.dlc(), 8);
         for len in 0..=8u8 {
             assert_eq!(
                 CanFrame::from_parts(CanId::Standard(1), [9; 8], len).dlc(),

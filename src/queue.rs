@@ -175,7 +175,7 @@ impl FrameSlot {
             return None;
         }
         self.full = false;
-        Some(self.frame.copy_fields())
+        Some(self.frame)
     }
 
     /// Frames dropped so far (saturating at `u32::MAX`).

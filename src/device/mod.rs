@@ -889,5 +889,4 @@ where
 }
 
 #[cfg(test)]
-#[path = "tests.rs"]
 mod tests;

@@ -34,7 +34,7 @@ use super::comm::PdoCommParams;
 use crate::bytes::Payload;
 use crate::clock::{timer_kind, MaybeTimestamp, Timers, Timestamp};
 use crate::cob_id::SYNC;
-use crate::frame::{data_frame_word, CanFrame, CanId};
+use crate::frame::{data_frame_identity, CanFrame, CanId};
 use crate::machine::Machine;
 
 timer_kind! {
@@ -50,7 +50,7 @@ timer_kind! {
 
 /// The identifier word kept for a TPDO that may not send (not
 /// configured, not valid, or bits 28-11 set on an 11-bit COB-ID): the
-/// word of no data frame (see `data_frame_word`).
+/// word of no data frame (see `data_frame_identity`).
 const NO_ID: u32 = u32::MAX;
 
 /// Bits of [`TpdoProducer::flags`].
@@ -96,9 +96,9 @@ pub struct TpdoProducer {
     /// COB-ID's identifier as the word of its data frames ([`NO_ID`] when
     /// it may not send: a frame is made from it without a conversion),
     /// the transmission type, the inhibit time and the event timer.
-    frame_word: u32,
+    frame_identity: u32,
     /// The SYNC identifier as a data frame's identifier word.
-    sync_word: u32,
+    sync_identity: u32,
     inhibit_time_100us: u16,
     event_timer_ms: u16,
     transmission_type: u8,
@@ -122,8 +122,8 @@ impl TpdoProducer {
             timers: Timers::new(),
             dropped: 0,
             payload: [0; 8],
-            frame_word: NO_ID,
-            sync_word: SYNC as u32,
+            frame_identity: NO_ID,
+            sync_identity: SYNC as u32,
             inhibit_time_100us: 0,
             event_timer_ms: 0,
             transmission_type: 0,
@@ -135,7 +135,7 @@ impl TpdoProducer {
 
     /// The SYNC identifier the producer listens to (default 080h).
     pub fn set_sync_id(&mut self, id: CanId) {
-        self.sync_word = data_frame_word(id);
+        self.sync_identity = data_frame_identity(id);
     }
 
     #[inline]
@@ -156,7 +156,7 @@ impl TpdoProducer {
     #[must_use]
     #[inline]
     pub fn is_active(&self) -> bool {
-        self.has(OPERATIONAL) && self.frame_word != NO_ID
+        self.has(OPERATIONAL) && self.frame_identity != NO_ID
     }
 
     /// Sets the communication parameters (a new COB-ID takes effect at
@@ -164,8 +164,8 @@ impl TpdoProducer {
     pub fn configure(&mut self, now: Timestamp, comm: PdoCommParams) {
         let was_active = self.is_active();
         let cob = comm.cob_id;
-        self.frame_word = match cob.can_id() {
-            Some(id) if cob.is_valid() => data_frame_word(id),
+        self.frame_identity = match cob.can_id() {
+            Some(id) if cob.is_valid() => data_frame_identity(id),
             _ => NO_ID,
         };
         self.transmission_type = comm.transmission_type.to_u8();
@@ -176,7 +176,7 @@ impl TpdoProducer {
 
     /// Forgets the configuration: nothing is sent until `configure` again.
     pub fn unconfigure(&mut self) {
-        self.frame_word = NO_ID;
+        self.frame_identity = NO_ID;
         self.stop();
     }
 
@@ -308,7 +308,7 @@ impl Machine for TpdoProducer {
     /// A SYNC frame (the producer's SYNC identifier, not remote): the
     /// synchronous transmission types send here. Other frames are ignored.
     fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        if frame.word() == self.sync_word {
+        if frame.identity() == self.sync_identity {
             self.handle_sync(now);
         }
     }
@@ -336,11 +336,11 @@ impl Machine for TpdoProducer {
         self.flags &= !DUE;
         // DUE implies active (a send is), so the identifier is valid; a
         // producer that may not send never sends.
-        if self.frame_word == NO_ID {
+        if self.frame_identity == NO_ID {
             return None;
         }
-        Some(CanFrame::from_word_parts(
-            self.frame_word,
+        Some(CanFrame::from_identity(
+            self.frame_identity,
             self.payload,
             self.payload_len,
         ))

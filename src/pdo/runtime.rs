@@ -14,7 +14,7 @@ use super::producer::TpdoProducer;
 use crate::bytes::Payload;
 use crate::clock::{MaybeTimestamp, Timestamp};
 use crate::cob_id::PdoNumber;
-use crate::frame::{data_frame_word, CanFrame};
+use crate::frame::{data_frame_identity, CanFrame};
 use crate::machine::Machine;
 use crate::od::ObjectDictionary;
 
@@ -240,7 +240,7 @@ impl<const R: usize> RpdoReceiver<R> {
                 .as_ref()
                 .filter(|s| s.is_valid())
                 .and_then(|s| s.comm.cob_id.can_id())
-                .map_or(NO_ID, data_frame_word);
+                .map_or(NO_ID, data_frame_identity);
         }
     }
 
@@ -281,7 +281,7 @@ impl<const R: usize> RpdoReceiver<R> {
             return None;
         }
         // A remote frame's word has the remote flag: it matches no RPDO.
-        let word = frame.word();
+        let word = frame.identity();
         self.ids
             .iter()
             .position(|&id| id == word)

@@ -6,7 +6,7 @@ use core::time::Duration;
 use super::{valid_counter_overflow, SyncFrame};
 use crate::clock::{MaybeTimestamp, Timestamp};
 use crate::cob_id::SYNC;
-use crate::frame::{data_frame_word, CanFrame, CanId};
+use crate::frame::{data_frame_identity, CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::EventQueue;
 
@@ -76,9 +76,9 @@ pub enum SyncEvent {
 #[derive(Debug, Clone)]
 pub struct SyncConsumer<const E: usize = 2> {
     /// The identifier as the word of a data frame on it
-    /// (`frame::data_frame_word`; `u32::MAX`, which no frame has, for one
+    /// (`frame::data_frame_identity`; `u32::MAX`, which no frame has, for one
     /// out of range): a received frame is on it when its word is this one.
-    id_word: u32,
+    identity: u32,
     overflow: u8,
     /// 1007h (µs).
     window_us: u32,
@@ -113,7 +113,7 @@ impl<const E: usize> SyncConsumer<E> {
     #[must_use]
     pub const fn with_event_capacity() -> Self {
         SyncConsumer {
-            id_word: data_frame_word(CanId::Standard(SYNC)),
+            identity: data_frame_identity(CanId::Standard(SYNC)),
             overflow: 0,
             window_us: 0,
             last_sync: MaybeTimestamp::NONE,
@@ -125,7 +125,7 @@ impl<const E: usize> SyncConsumer<E> {
     /// The SYNC identifier (1005h). One out of range (which no frame has)
     /// leaves the consumer listening to nothing.
     pub fn set_id(&mut self, id: CanId) {
-        self.id_word = data_frame_word(id);
+        self.identity = data_frame_identity(id);
     }
 
     /// The identifier listened to; none after an identifier out of range
@@ -144,7 +144,7 @@ impl<const E: usize> SyncConsumer<E> {
     #[must_use]
     pub fn id(&self) -> Option<CanId> {
         const EXTENDED: u32 = 1 << 31;
-        match self.id_word {
+        match self.identity {
             u32::MAX => None,
             w if w & EXTENDED != 0 => Some(CanId::Extended(w & !EXTENDED)),
             w => u16::try_from(w).ok().map(CanId::Standard),
@@ -228,7 +228,7 @@ impl<const E: usize> SyncConsumer<E> {
     fn take(&mut self, now: Timestamp, frame: &CanFrame, report_received: bool) -> bool {
         // A remote frame's word has the remote flag: it matches no data
         // frame's.
-        if frame.word() != self.id_word {
+        if frame.identity() != self.identity {
             return false;
         }
         let Ok(sync) = SyncFrame::decode(frame.data()) else {

@@ -344,7 +344,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         Client {
             config,
             timeout_us: crate::clock::micros_of(config.timeout),
-            response_filter: crate::frame::data_frame_word(config.response_id),
+            response_filter: crate::frame::data_frame_identity(config.response_id),
             sends: crate::frame::check_id(config.request_id).is_ok(),
             state: State::Idle,
             timers: Timers::new(),
@@ -436,15 +436,6 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
             | State::BlockUploadInitiated { index, sub }
             | State::BlockUploading { index, sub, .. } => (index, sub),
         }
-    }
-
-    /// How many unsent frames were dropped because the caller did not
-    /// drain [`Machine::poll_transmit`] before the next call (the newest
-    /// frame is kept; see the module docs). Zero for a caller that follows
-    /// the contract. Saturates at `u64::MAX`.
-    #[must_use]
-    pub const fn frames_dropped(&self) -> u64 {
-        self.transmit.dropped()
     }
 
     /// Starts reading `index`/`sub` from the server.
@@ -644,7 +635,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Machine for Client<D, EVENTS> {
     /// and frames too short for their command are ignored.
     fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
         // A data frame on the response identifier: one compare.
-        if frame.word() != self.response_filter {
+        if frame.identity() != self.response_filter {
             return;
         }
         self.response(now, frame);

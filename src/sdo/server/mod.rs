@@ -359,7 +359,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                 sends: false,
             },
             timeout_us: 0,
-            // No frame matches this (see `data_frame_word`).
+            // No frame matches this (see `data_frame_identity`).
             request_filter: u32::MAX,
             od,
             state: State::Idle,
@@ -382,7 +382,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         self.cancel();
         self.config = Channel::new(&config);
         self.timeout_us = u64::try_from(config.timeout.as_micros()).unwrap_or(u64::MAX);
-        self.request_filter = crate::frame::data_frame_word(config.request_id);
+        self.request_filter = crate::frame::data_frame_identity(config.request_id);
         self.timers = Timers::new();
         self.transmit = FrameSlot::new();
         self.events = EventQueue::new(ServerEvent::Uploaded {
@@ -452,15 +452,6 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         }
         self.state = State::Idle;
         self.timers.set(ServerTimer::Request, None);
-    }
-
-    /// How many unsent frames were dropped because the caller did not
-    /// drain [`Machine::poll_transmit`] before the next call (the newest
-    /// frame is kept; see the module docs). Zero for a caller that follows
-    /// the contract. Saturates at `u64::MAX`.
-    #[must_use]
-    pub const fn frames_dropped(&self) -> u64 {
-        self.transmit.dropped()
     }
 
     fn object(&self) -> (u16, u8) {
@@ -696,7 +687,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Machine for Server<D, EVENTS> {
     /// and frames too short for their command are ignored.
     fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
         // A data frame on the request identifier: one compare.
-        if frame.word() != self.request_filter {
+        if frame.identity() != self.request_filter {
             return;
         }
         self.handle_request(now, frame);

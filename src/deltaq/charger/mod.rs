@@ -80,7 +80,6 @@ use crate::od::index::DEVICE_TYPE;
 use crate::pdo::{PdoCobId, PdoDirection, PdoSlot, RpdoError};
 use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent, EVENTS_PER_CALL};
 
-#[path = "charger_config.rs"]
 mod config;
 use config::default_pdos;
 pub use config::{ChargerConfig, ChargerPowerOn};
@@ -569,7 +568,7 @@ impl<const Q: usize> Profile<ChargerProfile, Q, 4, 3> for ChargerProfile {
         let battery = self.battery;
         // A data frame on the module's EMCY identifier: one compare (a
         // remote frame there carries no EMCY either).
-        if frame.word() == u32::from(EMCY_BASE + u16::from(battery.raw())) {
+        if frame.identity() == u32::from(EMCY_BASE + u16::from(battery.raw())) {
             if let Ok(emcy) = Emergency::decode(frame.data()) {
                 let reaction = emergency_reaction(self.mode, &emcy);
                 device.push_event(ChargerEvent::BatteryEmcy { emcy, reaction });
@@ -615,5 +614,4 @@ impl<const Q: usize> Profile<ChargerProfile, Q, 4, 3> for ChargerProfile {
 }
 
 #[cfg(test)]
-#[path = "charger_tests.rs"]
 mod tests;
