@@ -109,12 +109,12 @@ impl SdoFrame {
 
     /// The view of a CAN frame's data (its zero-padded buffer, no copy
     /// loop): [`DecodeError::Truncated`] for DLC 0.
-    #[inline]
+    #[inline(always)]
     pub fn of_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
         Self::padded(frame.padded_data(), frame.dlc().min(8))
     }
 
-    #[inline]
+    #[inline(always)]
     fn padded(bytes: [u8; 8], len: u8) -> Result<Self, DecodeError> {
         if len == 0 {
             return Err(DecodeError::Truncated { need: 1, got: 0 });
@@ -548,10 +548,16 @@ macro_rules! sdo_frame {
                 Self::parse(SdoFrame::new_checked(data)?)
             }
 
-            /// Decodes a frame's data straight from its 8-byte buffer (no copy).
-            #[inline]
+            /// Decodes a frame's data straight from its 8-byte buffer (no
+            /// copy); the segments of a transfer first, the rest by
+            /// [`parse`](Self::parse).
+            #[inline(always)]
             pub fn decode_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
-                Self::parse(SdoFrame::of_frame(frame)?)
+                let frame = SdoFrame::of_frame(frame)?;
+                match <$cmd>::parse_segment(&frame) {
+                    Some(command) => Ok($name { command, frame }),
+                    None => Self::parse(frame),
+                }
             }
 
             /// The command of `frame`, with its bytes kept.

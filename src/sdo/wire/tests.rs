@@ -780,6 +780,27 @@ fn block_segments() {
     assert_eq!(buf, [0x85, 1, 2, 3, 4, 5, 6, 7]);
 }
 
+/// The segment reading of `decode_frame` gives what `parse` gives, for
+/// every byte 0 at every length (the data bytes do not choose the command).
+#[test]
+fn segment_reading_agrees_with_parse() {
+    for b0 in 0..=u8::MAX {
+        for len in 1..=8usize {
+            let bytes = [b0, 0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77];
+            let frame = SdoFrame::new_checked(&bytes[..len]).unwrap();
+            if let Some(cmd) = ClientCommand::parse_segment(&frame) {
+                assert_eq!(Ok(cmd), ClientCommand::parse(&frame), "{b0:#04x} {len}");
+            }
+            if let Some(cmd) = ServerCommand::parse_segment(&frame) {
+                assert_eq!(Ok(cmd), ServerCommand::parse(&frame), "{b0:#04x} {len}");
+            }
+            let can = CanFrame::standard(0x581, &bytes[..len]).unwrap();
+            assert_eq!(SdoRequest::decode_frame(&can), SdoRequest::parse(frame));
+            assert_eq!(SdoResponse::decode_frame(&can), SdoResponse::parse(frame));
+        }
+    }
+}
+
 mod props {
     use super::*;
     use proptest::prelude::*;
@@ -815,6 +836,19 @@ mod props {
                 let mut buf = bytes;
                 prop_assert_eq!(seg.emit(&mut buf), len);
                 prop_assert_eq!(buf, bytes);
+            }
+        }
+
+        /// The segment reading agrees with `parse` on any bytes.
+        #[test]
+        fn segment_reading_agrees_on_any_bytes((bytes, len) in frame_bytes()) {
+            if let Ok(frame) = SdoFrame::new_checked(&bytes[..len]) {
+                if let Some(cmd) = ClientCommand::parse_segment(&frame) {
+                    prop_assert_eq!(Ok(cmd), ClientCommand::parse(&frame));
+                }
+                if let Some(cmd) = ServerCommand::parse_segment(&frame) {
+                    prop_assert_eq!(Ok(cmd), ServerCommand::parse(&frame));
+                }
             }
         }
 
