@@ -554,10 +554,13 @@ macro_rules! sdo_frame {
             #[inline(always)]
             pub fn decode_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
                 let frame = SdoFrame::of_frame(frame)?;
-                match <$cmd>::parse_segment(&frame) {
-                    Some(command) => Ok($name { command, frame }),
-                    None => Self::parse(frame),
+                if <$cmd>::is_segment(&frame) {
+                    return Ok($name {
+                        command: <$cmd>::parse_segment(&frame),
+                        frame,
+                    });
                 }
+                Self::parse(frame)
             }
 
             /// The command of `frame`, with its bytes kept.

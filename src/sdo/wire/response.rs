@@ -105,20 +105,30 @@ pub enum ServerCommand {
 impl ServerCommand {
     /// [`parse`](Self::parse) of the two commands that make nearly every
     /// response of a segmented transfer (an upload segment, a download
-    /// segment acknowledgement), read without the other commands' rules;
-    /// `None` for any other frame, which [`parse`](Self::parse) reads.
-    /// Both agree on every frame (the wire layer's tests).
+    /// segment acknowledgement), recognised without the other commands'
+    /// rules: any other frame is [`parse`](Self::parse)'s. Both agree on
+    /// every frame (the wire layer's tests).
     #[inline(always)]
-    pub(crate) fn parse_segment(frame: &SdoFrame) -> Option<Self> {
+    pub(crate) fn is_segment(frame: &SdoFrame) -> bool {
         let b0 = frame.command();
         match b0 >> 5 {
-            0 if frame.len() > segment_data_len(b0) => {
-                Some(ServerCommand::UploadSegment(frame.segment()))
-            }
-            1 => Some(ServerCommand::DownloadSegment {
+            0 => frame.len() > segment_data_len(b0),
+            1 => true,
+            _ => false,
+        }
+    }
+
+    /// The command of a frame [`is_segment`](Self::is_segment) accepts
+    /// (what [`parse`](Self::parse) gives for it).
+    #[inline(always)]
+    pub(crate) fn parse_segment(frame: &SdoFrame) -> Self {
+        let b0 = frame.command();
+        if b0 >> 5 == 0 {
+            ServerCommand::UploadSegment(frame.segment())
+        } else {
+            ServerCommand::DownloadSegment {
                 toggle: b0 & 0x10 != 0,
-            }),
-            _ => None,
+            }
         }
     }
 

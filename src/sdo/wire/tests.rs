@@ -788,10 +788,12 @@ fn segment_reading_agrees_with_parse() {
         for len in 1..=8usize {
             let bytes = [b0, 0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77];
             let frame = SdoFrame::new_checked(&bytes[..len]).unwrap();
-            if let Some(cmd) = ClientCommand::parse_segment(&frame) {
+            if ClientCommand::is_segment(&frame) {
+                let cmd = ClientCommand::parse_segment(&frame);
                 assert_eq!(Ok(cmd), ClientCommand::parse(&frame), "{b0:#04x} {len}");
             }
-            if let Some(cmd) = ServerCommand::parse_segment(&frame) {
+            if ServerCommand::is_segment(&frame) {
+                let cmd = ServerCommand::parse_segment(&frame);
                 assert_eq!(Ok(cmd), ServerCommand::parse(&frame), "{b0:#04x} {len}");
             }
             let can = CanFrame::standard(0x581, &bytes[..len]).unwrap();
@@ -843,11 +845,11 @@ mod props {
         #[test]
         fn segment_reading_agrees_on_any_bytes((bytes, len) in frame_bytes()) {
             if let Ok(frame) = SdoFrame::new_checked(&bytes[..len]) {
-                if let Some(cmd) = ClientCommand::parse_segment(&frame) {
-                    prop_assert_eq!(Ok(cmd), ClientCommand::parse(&frame));
+                if ClientCommand::is_segment(&frame) {
+                    prop_assert_eq!(Ok(ClientCommand::parse_segment(&frame)), ClientCommand::parse(&frame));
                 }
-                if let Some(cmd) = ServerCommand::parse_segment(&frame) {
-                    prop_assert_eq!(Ok(cmd), ServerCommand::parse(&frame));
+                if ServerCommand::is_segment(&frame) {
+                    prop_assert_eq!(Ok(ServerCommand::parse_segment(&frame)), ServerCommand::parse(&frame));
                 }
             }
         }
