@@ -13,7 +13,7 @@ use crate::error::DecodeError;
 use crate::frame::{CanFrame, CanId};
 use crate::lss::LssMessage;
 use crate::nmt::{Heartbeat, NmtCommand};
-use crate::sdo::{SdoRequest, SdoResponse};
+use crate::sdo::{SdoFrame, SdoRequest, SdoResponse};
 use crate::sync::SyncFrame;
 use crate::time::TimeOfDay;
 
@@ -152,8 +152,16 @@ impl Message {
             return Ok(Message::Rpdo { pdo, node, payload });
         }
         match function {
-            Function::SdoTx => Self::decode_sdo_response(node, frame),
-            Function::SdoRx => Self::decode_sdo_request(node, frame),
+            // A transfer's segments (nearly every SDO frame) in their own
+            // small functions, the other commands in theirs.
+            Function::SdoTx => match SdoFrame::of_frame(frame) {
+                Ok(sdo) if SdoResponse::is_segment(&sdo) => Self::sdo_response_segment(node, sdo),
+                _ => Self::decode_sdo_response(node, frame),
+            },
+            Function::SdoRx => match SdoFrame::of_frame(frame) {
+                Ok(sdo) if SdoRequest::is_segment(&sdo) => Self::sdo_request_segment(node, sdo),
+                _ => Self::decode_sdo_request(node, frame),
+            },
             Function::SyncOrEmcy => Ok(Message::Emcy {
                 node,
                 emcy: Emergency::decode(frame.data())?,
@@ -198,6 +206,24 @@ impl Message {
             CobKind::Time => Message::Time(TimeOfDay::decode(data)?),
             CobKind::Lss(direction) => Message::Lss(LssMessage::decode(direction, data)?),
             CobKind::Unknown => Message::Unknown(*frame),
+        })
+    }
+
+    /// 580h + node: one of a transfer's segments.
+    #[inline(never)]
+    fn sdo_response_segment(node: NodeId, sdo: SdoFrame) -> Result<Message, DecodeError> {
+        Ok(Message::SdoResponse {
+            node,
+            sdo: SdoResponse::segment(sdo),
+        })
+    }
+
+    /// 600h + node: one of a transfer's segments.
+    #[inline(never)]
+    fn sdo_request_segment(node: NodeId, sdo: SdoFrame) -> Result<Message, DecodeError> {
+        Ok(Message::SdoRequest {
+            node,
+            sdo: SdoRequest::segment(sdo),
         })
     }
 

@@ -555,12 +555,26 @@ macro_rules! sdo_frame {
             pub fn decode_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
                 let frame = SdoFrame::of_frame(frame)?;
                 if <$cmd>::is_segment(&frame) {
-                    return Ok($name {
-                        command: <$cmd>::parse_segment(&frame),
-                        frame,
-                    });
+                    return Ok(Self::segment(frame));
                 }
                 Self::parse(frame)
+            }
+
+            /// True when `frame` is one of a transfer's segments (what
+            /// [`segment`](Self::segment) reads).
+            #[inline(always)]
+            pub(crate) fn is_segment(frame: &SdoFrame) -> bool {
+                <$cmd>::is_segment(frame)
+            }
+
+            /// A frame [`is_segment`](Self::is_segment) accepts, read as
+            /// [`parse`](Self::parse) reads it.
+            #[inline(always)]
+            pub(crate) fn segment(frame: SdoFrame) -> Self {
+                $name {
+                    command: <$cmd>::parse_segment(&frame),
+                    frame,
+                }
             }
 
             /// The command of `frame`, with its bytes kept.
