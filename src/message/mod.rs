@@ -154,14 +154,22 @@ impl Message {
         match function {
             // A transfer's segments (nearly every SDO frame) in their own
             // small functions, the other commands in theirs.
-            Function::SdoTx => match SdoFrame::of_frame(frame) {
-                Ok(sdo) if SdoResponse::is_segment(&sdo) => Self::sdo_response_segment(node, sdo),
-                _ => Self::decode_sdo_response(node, frame),
-            },
-            Function::SdoRx => match SdoFrame::of_frame(frame) {
-                Ok(sdo) if SdoRequest::is_segment(&sdo) => Self::sdo_request_segment(node, sdo),
-                _ => Self::decode_sdo_request(node, frame),
-            },
+            Function::SdoTx => {
+                let sdo = SdoFrame::of_frame(frame)?;
+                if SdoResponse::is_segment(&sdo) {
+                    Self::sdo_response_segment(node, sdo)
+                } else {
+                    Self::decode_sdo_response(node, sdo)
+                }
+            }
+            Function::SdoRx => {
+                let sdo = SdoFrame::of_frame(frame)?;
+                if SdoRequest::is_segment(&sdo) {
+                    Self::sdo_request_segment(node, sdo)
+                } else {
+                    Self::decode_sdo_request(node, sdo)
+                }
+            }
             Function::SyncOrEmcy => Ok(Message::Emcy {
                 node,
                 emcy: Emergency::decode(frame.data())?,
@@ -195,8 +203,12 @@ impl Message {
                 node,
                 payload: Payload::from_frame(frame),
             },
-            CobKind::SdoRx(node) => return Self::decode_sdo_request(node, frame),
-            CobKind::SdoTx(node) => return Self::decode_sdo_response(node, frame),
+            CobKind::SdoRx(node) => {
+                return Self::decode_sdo_request(node, SdoFrame::of_frame(frame)?)
+            }
+            CobKind::SdoTx(node) => {
+                return Self::decode_sdo_response(node, SdoFrame::of_frame(frame)?)
+            }
             CobKind::Emcy(node) => Message::Emcy {
                 node,
                 emcy: Emergency::decode(data)?,
@@ -229,19 +241,19 @@ impl Message {
 
     /// 600h + node: an SDO request.
     #[inline(never)]
-    fn decode_sdo_request(node: NodeId, frame: &CanFrame) -> Result<Message, DecodeError> {
+    fn decode_sdo_request(node: NodeId, sdo: SdoFrame) -> Result<Message, DecodeError> {
         Ok(Message::SdoRequest {
             node,
-            sdo: SdoRequest::decode_frame(frame)?,
+            sdo: SdoRequest::parse(sdo)?,
         })
     }
 
     /// 580h + node: an SDO response.
     #[inline(never)]
-    fn decode_sdo_response(node: NodeId, frame: &CanFrame) -> Result<Message, DecodeError> {
+    fn decode_sdo_response(node: NodeId, sdo: SdoFrame) -> Result<Message, DecodeError> {
         Ok(Message::SdoResponse {
             node,
-            sdo: SdoResponse::decode_frame(frame)?,
+            sdo: SdoResponse::parse(sdo)?,
         })
     }
 

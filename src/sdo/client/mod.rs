@@ -655,8 +655,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Machine for Client<D, EVENTS> {
         self.timers.next()
     }
 
-    /// [`Client::frames_dropped`]: frames of the one-frame queue dropped
-    /// unsent.
+    /// Frames of the one-frame queue dropped unsent.
     fn frames_dropped(&self) -> u64 {
         self.transmit.dropped()
     }

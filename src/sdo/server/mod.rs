@@ -707,8 +707,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Machine for Server<D, EVENTS> {
         self.timers.next()
     }
 
-    /// [`Server::frames_dropped`]: frames of the one-frame queue dropped
-    /// unsent.
+    /// Frames of the one-frame queue dropped unsent.
     fn frames_dropped(&self) -> u64 {
         self.transmit.dropped()
     }
