@@ -171,3 +171,26 @@ impl<const N: usize> core::fmt::Debug for InlineData<N> {
         f.write_str("]")
     }
 }
+
+/// The two `From` conversions between a code or value type and the raw
+/// word the bus carries it in: `raw_word!(AbortCode: u32, AbortCode::from_u32,
+/// AbortCode::to_u32)` gives `From<u32> for AbortCode` and
+/// `From<AbortCode> for u32` through the type's own named conversions.
+macro_rules! raw_word {
+    ($ty:ident : $raw:ty, $from:expr, $to:expr) => {
+        impl From<$raw> for $ty {
+            #[inline]
+            fn from(raw: $raw) -> Self {
+                $from(raw)
+            }
+        }
+
+        impl From<$ty> for $raw {
+            #[inline]
+            fn from(value: $ty) -> $raw {
+                $to(value)
+            }
+        }
+    };
+}
+pub(crate) use raw_word;

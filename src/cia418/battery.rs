@@ -461,17 +461,7 @@ impl BatteryType {
     }
 }
 
-impl From<u8> for BatteryType {
-    fn from(raw: u8) -> Self {
-        Self::from_u8(raw)
-    }
-}
-
-impl From<BatteryType> for u8 {
-    fn from(t: BatteryType) -> u8 {
-        t.to_u8()
-    }
-}
+crate::bytes::raw_word!(BatteryType: u8, BatteryType::from_u8, BatteryType::to_u8);
 
 /// Why an object's sub-index value did not decode.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, thiserror::Error)]

@@ -189,17 +189,7 @@ impl DeviceType {
     }
 }
 
-impl From<u32> for DeviceType {
-    fn from(raw: u32) -> Self {
-        DeviceType(raw)
-    }
-}
-
-impl From<DeviceType> for u32 {
-    fn from(d: DeviceType) -> u32 {
-        d.0
-    }
-}
+crate::bytes::raw_word!(DeviceType: u32, DeviceType, |d: DeviceType| d.0);
 
 #[cfg(test)]
 mod tests {

@@ -251,17 +251,7 @@ impl Default for DeltaQCode {
     }
 }
 
-impl From<u16> for DeltaQCode {
-    fn from(raw: u16) -> Self {
-        Self::from_raw(raw)
-    }
-}
-
-impl From<DeltaQCode> for u16 {
-    fn from(c: DeltaQCode) -> u16 {
-        c.raw()
-    }
-}
+crate::bytes::raw_word!(DeltaQCode: u16, DeltaQCode::from_raw, DeltaQCode::raw);
 
 impl fmt::Display for DeltaQCode {
     /// The charger's label for alarm and fault numbers 0..=99, whether or not

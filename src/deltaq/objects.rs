@@ -395,17 +395,7 @@ impl ExtendedChargeStatus {
     }
 }
 
-impl From<u16> for ExtendedChargeStatus {
-    fn from(raw: u16) -> Self {
-        Self::from_u16(raw)
-    }
-}
-
-impl From<ExtendedChargeStatus> for u16 {
-    fn from(s: ExtendedChargeStatus) -> u16 {
-        s.to_u16()
-    }
-}
+crate::bytes::raw_word!(ExtendedChargeStatus: u16, ExtendedChargeStatus::from_u16, ExtendedChargeStatus::to_u16);
 
 bitflags::bitflags! {
     /// Derate reasons, object 2008h (U8). Unknown bits are kept

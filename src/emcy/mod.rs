@@ -58,17 +58,7 @@ impl ErrorCode {
     }
 }
 
-impl From<u16> for ErrorCode {
-    fn from(raw: u16) -> Self {
-        ErrorCode(raw)
-    }
-}
-
-impl From<ErrorCode> for u16 {
-    fn from(c: ErrorCode) -> u16 {
-        c.0
-    }
-}
+crate::bytes::raw_word!(ErrorCode: u16, ErrorCode, |c: ErrorCode| c.0);
 
 impl fmt::Display for ErrorCode {
     /// `8130h life guard error or heartbeat error`.

@@ -307,17 +307,7 @@ impl AbortCode {
     }
 }
 
-impl From<u32> for AbortCode {
-    fn from(raw: u32) -> Self {
-        Self::from_u32(raw)
-    }
-}
-
-impl From<AbortCode> for u32 {
-    fn from(code: AbortCode) -> u32 {
-        code.to_u32()
-    }
-}
+crate::bytes::raw_word!(AbortCode: u32, AbortCode::from_u32, AbortCode::to_u32);
 
 impl fmt::Display for AbortCode {
     /// `05040000h SDO protocol timed out`.

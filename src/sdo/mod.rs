@@ -134,6 +134,60 @@ fn queue_frame(transmit: &mut crate::queue::FrameSlot, id: crate::frame::CanId, 
     transmit.push(crate::frame::CanFrame::from_parts(id, bytes, 8));
 }
 
+/// The [`Machine`](crate::machine::Machine) of an SDO endpoint, the client
+/// or the server: frames on its one receive identifier (one compare against
+/// `$filter`, the data-frame identity of that identifier) go to `$receive`;
+/// the one timer `$timer` running out aborts the transfer with 05040000h
+/// (SDO protocol timed out, CiA 301 section 7.2.4.3.4); the one-frame queue
+/// comes first, then, with block transfer, the next segment of the running
+/// sub-block, made when the caller asks for it.
+macro_rules! sdo_endpoint_machine {
+    ($endpoint:ident<$d:ident: $bound:path>, $event:ty, $timer:expr, $filter:ident, $receive:ident) => {
+        impl<$d: $bound, const EVENTS: usize> Machine for $endpoint<$d, EVENTS> {
+            type Event = $event;
+
+            /// Tells the endpoint time has passed; expires a stalled
+            /// transfer with abort 05040000h.
+            fn handle_timeout(&mut self, now: Timestamp) {
+                if self.timers.expire($timer, now) {
+                    self.abort_local(AbortCode::SdoProtocolTimedOut);
+                }
+            }
+
+            /// Feeds a received frame. Frames on other identifiers, remote
+            /// frames and frames too short for their command are ignored.
+            fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+                if frame.identity() != self.$filter {
+                    return;
+                }
+                self.$receive(now, frame);
+            }
+
+            /// The queued frame, else the next segment of the running
+            /// block transfer's sub-block, made now.
+            fn poll_transmit(&mut self) -> Option<CanFrame> {
+                let queued = self.transmit.pop();
+                #[cfg(feature = "sdo-block")]
+                let queued = queued.or_else(|| self.next_block_segment());
+                queued
+            }
+
+            /// The deadline of the running transfer (`None` when idle).
+            fn poll_timeout(&self) -> Option<Timestamp> {
+                self.timers.next()
+            }
+
+            /// Frames of the one-frame queue dropped unsent.
+            fn frames_dropped(&self) -> u64 {
+                self.transmit.dropped()
+            }
+
+            crate::machine::queued_outputs!(@events events);
+        }
+    };
+}
+use sdo_endpoint_machine;
+
 #[cfg(test)]
 mod capacity_tests;
 #[cfg(test)]

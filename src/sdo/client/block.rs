@@ -22,16 +22,14 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         sub: u8,
     ) -> Result<(), ClientError> {
         self.check_idle()?;
-        self.send(ClientCommand::BlockUpload(ClientBlockUpload::Initiate {
+        let command = ClientCommand::BlockUpload(ClientBlockUpload::Initiate {
             index,
             sub,
             crc: self.config.crc,
             blksize: clamp_block_size(self.config.block_size),
             pst: self.config.block_threshold,
-        }));
-        self.state = State::BlockUploadInitiated { index, sub };
-        self.arm(now);
-        Ok(())
+        });
+        self.open(now, command, State::BlockUploadInitiated { index, sub })
     }
 
     /// [`Client::start_block_download`] with block transfer built in.
@@ -42,22 +40,18 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         sub: u8,
         data: D,
     ) -> Result<(), ClientError> {
-        self.check_idle()?;
-        let len = data.as_ref().len();
-        let Ok(size) = u32::try_from(len) else {
-            return Err(ClientError::TooLong { len });
-        };
-        self.send(ClientCommand::BlockDownload(
-            ClientBlockDownload::Initiate {
-                index,
-                sub,
-                crc: self.config.crc,
-                size: Some(size),
-            },
-        ));
-        self.state = State::BlockDownloadInitiated { index, sub, data };
-        self.arm(now);
-        Ok(())
+        let size = self.download_size(&data)?;
+        let command = ClientCommand::BlockDownload(ClientBlockDownload::Initiate {
+            index,
+            sub,
+            crc: self.config.crc,
+            size: Some(size),
+        });
+        self.open(
+            now,
+            command,
+            State::BlockDownloadInitiated { index, sub, data },
+        )
     }
 
     /// A block upload's sub-block segment: handled here (true), or a
@@ -75,12 +69,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
             Err(code) => self.abort_object(index, sub, code),
             Ok(step) => {
                 if let Some((offset, data)) = step.write {
-                    self.emit(ClientEvent::UploadData {
-                        index,
-                        sub,
-                        offset,
-                        data,
-                    });
+                    self.deliver(index, sub, offset, data);
                 }
                 if let Some(ackseq) = step.ack {
                     self.send(ClientCommand::BlockUpload(ClientBlockUpload::Ack {
@@ -233,12 +222,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                     Err(code) => self.abort_object(index, sub, code),
                     Ok(ended) => {
                         if let Some((offset, data)) = ended.write {
-                            self.emit(ClientEvent::UploadData {
-                                index,
-                                sub,
-                                offset,
-                                data,
-                            });
+                            self.deliver(index, sub, offset, data);
                         }
                         // End acknowledged.
                         self.send(ClientCommand::BlockUpload(ClientBlockUpload::End));

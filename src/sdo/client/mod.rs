@@ -441,10 +441,8 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// Starts reading `index`/`sub` from the server.
     pub fn start_upload(&mut self, now: Timestamp, index: u16, sub: u8) -> Result<(), ClientError> {
         self.check_idle()?;
-        self.send(ClientCommand::InitiateUpload { index, sub });
-        self.state = State::UploadInitiated { index, sub };
-        self.arm(now);
-        Ok(())
+        let command = ClientCommand::InitiateUpload { index, sub };
+        self.open(now, command, State::UploadInitiated { index, sub })
     }
 
     /// Starts writing `data` to `index`/`sub` on the server.
@@ -455,11 +453,8 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         sub: u8,
         data: D,
     ) -> Result<(), ClientError> {
-        self.check_idle()?;
+        let size = self.download_size(&data)?;
         let bytes = data.as_ref();
-        let Ok(size) = u32::try_from(bytes.len()) else {
-            return Err(ClientError::TooLong { len: bytes.len() });
-        };
         // CiA 301: 1..=4 bytes go expedited with the size indicated; an
         // empty value (the n field cannot say 0 bytes) and longer ones
         // segmented, with the size.
@@ -477,20 +472,19 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                 return Err(ClientError::SegmentedUnsupported { len: bytes.len() });
             }
         };
-        self.send(ClientCommand::InitiateDownload {
-            index,
-            sub,
-            payload,
-        });
-        self.state = State::DownloadInitiated {
+        let state = State::DownloadInitiated {
             index,
             sub,
             data,
             #[cfg(feature = "sdo-client-segmented")]
             expedited,
         };
-        self.arm(now);
-        Ok(())
+        let command = ClientCommand::InitiateDownload {
+            index,
+            sub,
+            payload,
+        };
+        self.open(now, command, state)
     }
 
     /// Starts reading `index`/`sub` from the server by block upload (CiA
@@ -575,6 +569,38 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         }
     }
 
+    /// The size of a value to write, once the client is idle: a value
+    /// longer than the 32-bit size CiA 301 can indicate is refused.
+    fn download_size(&self, data: &D) -> Result<u32, ClientError> {
+        self.check_idle()?;
+        let len = data.as_ref().len();
+        u32::try_from(len).map_err(|_| ClientError::TooLong { len })
+    }
+
+    /// Sends the command that opens a transfer and waits for the server's
+    /// answer in `state`.
+    fn open(
+        &mut self,
+        now: Timestamp,
+        command: ClientCommand,
+        state: State<D>,
+    ) -> Result<(), ClientError> {
+        self.send(command);
+        self.state = state;
+        self.arm(now);
+        Ok(())
+    }
+
+    /// Reports a piece of the value an upload reads, at its offset.
+    fn deliver(&mut self, index: u16, sub: u8, offset: usize, data: SegmentData) {
+        self.emit(ClientEvent::UploadData {
+            index,
+            sub,
+            offset,
+            data,
+        });
+    }
+
     fn arm(&mut self, now: Timestamp) {
         self.timers
             .set(ClientTimer::Response, Some(now.add_micros(self.timeout_us)));
@@ -620,48 +646,13 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     }
 }
 
-impl<D: AsRef<[u8]>, const EVENTS: usize> Machine for Client<D, EVENTS> {
-    type Event = ClientEvent;
-
-    /// Tells the client time has passed; expires a stalled transfer with
-    /// abort 05040000h.
-    fn handle_timeout(&mut self, now: Timestamp) {
-        if self.timers.expire(ClientTimer::Response, now) {
-            self.abort_local(AbortCode::SdoProtocolTimedOut);
-        }
-    }
-
-    /// Feeds a received frame. Frames on other identifiers, remote frames
-    /// and frames too short for their command are ignored.
-    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        // A data frame on the response identifier: one compare.
-        if frame.identity() != self.response_filter {
-            return;
-        }
-        self.response(now, frame);
-    }
-
-    /// The queued frame, else the next segment of a block download's
-    /// sub-block, made now from the data at its offset.
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        let queued = self.transmit.pop();
-        #[cfg(feature = "sdo-block")]
-        let queued = queued.or_else(|| self.next_block_segment());
-        queued
-    }
-
-    /// The response deadline of the running transfer (`None` when idle).
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        self.timers.next()
-    }
-
-    /// Frames of the one-frame queue dropped unsent.
-    fn frames_dropped(&self) -> u64 {
-        self.transmit.dropped()
-    }
-
-    crate::machine::queued_outputs!(@events events);
-}
+super::sdo_endpoint_machine!(
+    Client<D: AsRef<[u8]>>,
+    ClientEvent,
+    ClientTimer::Response,
+    response_filter,
+    response
+);
 
 #[cfg(feature = "sdo-block")]
 mod block;

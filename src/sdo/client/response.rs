@@ -111,12 +111,8 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         match payload {
             InitiatePayload::Expedited { data, .. } => {
                 if !data.is_empty() {
-                    self.emit(ClientEvent::UploadData {
-                        index,
-                        sub,
-                        offset: 0,
-                        data: SegmentData::new(data.as_slice()).unwrap_or_default(),
-                    });
+                    let piece = SegmentData::new(data.as_slice()).unwrap_or_default();
+                    self.deliver(index, sub, 0, piece);
                 }
                 self.finish(ClientEvent::Uploaded {
                     index,

@@ -40,12 +40,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         };
         let toggle = rx.toggle();
         if !segment.data.is_empty() {
-            self.emit(ClientEvent::UploadData {
-                index,
-                sub,
-                offset: placed.offset,
-                data: segment.data,
-            });
+            self.deliver(index, sub, placed.offset, segment.data);
         }
         if segment.last {
             return self.finish(ClientEvent::Uploaded {

@@ -672,48 +672,13 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     }
 }
 
-impl<D: ObjectDictionary, const EVENTS: usize> Machine for Server<D, EVENTS> {
-    type Event = ServerEvent;
-
-    /// Tells the server time has passed; expires a stalled transfer with
-    /// abort 05040000h.
-    fn handle_timeout(&mut self, now: Timestamp) {
-        if self.timers.expire(ServerTimer::Request, now) {
-            self.abort_local(AbortCode::SdoProtocolTimedOut);
-        }
-    }
-
-    /// Feeds a received frame. Frames on other identifiers, remote frames
-    /// and frames too short for their command are ignored.
-    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        // A data frame on the request identifier: one compare.
-        if frame.identity() != self.request_filter {
-            return;
-        }
-        self.handle_request(now, frame);
-    }
-
-    /// The queued frame, else the next segment of a block upload's
-    /// sub-block, read from the dictionary now (or the abort if that fails).
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        let queued = self.transmit.pop();
-        #[cfg(feature = "sdo-block")]
-        let queued = queued.or_else(|| self.next_block_segment());
-        queued
-    }
-
-    /// The timeout of the running transfer (`None` when idle).
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        self.timers.next()
-    }
-
-    /// Frames of the one-frame queue dropped unsent.
-    fn frames_dropped(&self) -> u64 {
-        self.transmit.dropped()
-    }
-
-    crate::machine::queued_outputs!(@events events);
-}
+super::sdo_endpoint_machine!(
+    Server<D: ObjectDictionary>,
+    ServerEvent,
+    ServerTimer::Request,
+    request_filter,
+    handle_request
+);
 
 #[cfg(feature = "sdo-block")]
 mod block;
