@@ -2,58 +2,24 @@ use super::*;
 use crate::cob_id::PdoNumber;
 #[cfg(feature = "heartbeat-consumer")]
 use crate::nmt::heartbeat::{ConsumerEntry, HeartbeatEvent};
-use crate::od::ObjectDictionary;
-use crate::od::{Access, ObjectInfo};
+use crate::od::fixture::Word;
 use crate::pdo::RpdoError;
 use crate::pdo::{MappingEntry, PdoCobId, PdoCommParams, PdoMapping, PdoSlot};
-use crate::sdo::AbortCode;
 #[cfg(feature = "heartbeat-consumer")]
 use core::time::Duration;
 use std::string::{String, ToString};
 use std::vec::Vec;
 
-/// One mappable, writable U8 object (2000h) of the application.
-#[derive(Debug, Clone, PartialEq)]
-struct App(u8);
-
-impl ObjectDictionary for App {
-    fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-        match (index, sub) {
-            (0x2000, 0) => Ok(ObjectInfo::fixed(Access::ReadWrite, 1).mappable()),
-            (0x2000, _) => Err(AbortCode::SubIndexDoesNotExist),
-            _ => Err(AbortCode::ObjectDoesNotExist),
-        }
-    }
-    fn read(
-        &mut self,
-        index: u16,
-        sub: u8,
-        offset: usize,
-        buf: &mut [u8],
-    ) -> Result<usize, AbortCode> {
-        self.info(index, sub)?;
-        match (offset, buf.first_mut()) {
-            (0, Some(b)) => {
-                *b = self.0;
-                Ok(1)
-            }
-            _ => Ok(0),
-        }
-    }
-    fn write(&mut self, index: u16, sub: u8, _: usize, data: &[u8]) -> Result<(), AbortCode> {
-        self.info(index, sub)?;
-        self.0 = data.first().copied().unwrap_or(0);
-        Ok(())
-    }
-}
+/// The application: one mappable, writable U8 object, 2000h:00.
+type App = Word<1>;
 
 /// Its one object is a parameter: a full copy.
 impl PowerOnValues for App {
-    type Snapshot = u8;
-    fn snapshot(&self) -> u8 {
+    type Snapshot = u32;
+    fn snapshot(&self) -> u32 {
         self.0
     }
-    fn restore(&mut self, snapshot: &u8) {
+    fn restore(&mut self, snapshot: &u32) {
         self.0 = *snapshot;
     }
 }
@@ -108,7 +74,7 @@ fn config() -> DeviceConfig {
 }
 
 fn booted() -> Dev {
-    let mut d = Dev::new(config(), App(7));
+    let mut d = Dev::new(config(), Word(7));
     d.boot(ms(0), &mut ());
     d
 }
@@ -130,7 +96,7 @@ fn sdo_write_u8(d: &mut Dev, now: Timestamp, index: u16, value: u8) {
 
 #[test]
 fn nothing_before_boot_then_boot_up_and_pre_operational() {
-    let mut d = Dev::new(config(), App(7));
+    let mut d = Dev::new(config(), Word(7));
     d.handle_frame(ms(0), &frame(0x000, &[0x01, 0x04]));
     d.handle_timeout(ms(5000));
     assert_eq!((sent(&mut d), d.poll_timeout()), (Vec::new(), None));
@@ -327,7 +293,7 @@ fn clearing_the_generic_bit_keeps_it_while_other_errors_remain() {
 fn consumer_entries_follow_1016h_whatever_the_order() {
     let n = |id| NodeId::new(id).unwrap();
     let entry = |id| ConsumerEntry::new(n(id), Duration::from_millis(1000));
-    let mut d = Dev::new(config().with_consumers(&[entry(1), entry(2)]), App(7));
+    let mut d = Dev::new(config().with_consumers(&[entry(1), entry(2)]), Word(7));
     d.boot(ms(0), &mut ());
     d.update_comm(ms(1), |c| c.set_consumers(&[entry(2), entry(3)]));
     let watched: Vec<_> = (0..2).map(|s| d.heartbeat_consumer().entry(s)).collect();
@@ -393,12 +359,8 @@ fn a_dropped_download_is_aborted_in_the_dictionary() {
             "{cs:02X}h"
         );
         let mut buf = [0u8; 8];
-        let _ = d
-            .dictionary()
-            .inner
-            .app
-            .clone()
-            .read(0x2100, 0, 0, &mut buf);
+        let mut app = d.dictionary().inner.app.clone();
+        let _ = crate::od::ObjectDictionary::read(&mut app, 0x2100, 0, 0, &mut buf);
         assert_eq!(buf, [1, 2, 3, 4, 5, 6, 7, 8], "{cs:02X}h");
     }
 }
@@ -412,7 +374,7 @@ fn a_dropped_download_is_aborted_in_the_dictionary() {
 fn sdo_writes_of_1016h() {
     let n = |id| NodeId::new(id).unwrap();
     let entry = |id| ConsumerEntry::new(n(id), Duration::from_millis(1000));
-    let mut d = Dev::new(config().with_consumers(&[entry(1), entry(2)]), App(7));
+    let mut d = Dev::new(config().with_consumers(&[entry(1), entry(2)]), Word(7));
     d.boot(ms(0), &mut ());
     let _ = sent(&mut d);
     // 1016h sub 1 = node 3, 500 ms (0003_01F4h).

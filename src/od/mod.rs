@@ -19,6 +19,8 @@
 use crate::sdo::AbortCode;
 
 mod fixed;
+#[cfg(test)]
+pub(crate) mod fixture;
 pub mod index;
 #[cfg(feature = "alloc")]
 mod memory;

@@ -504,32 +504,6 @@ mod tests {
         )
     }
 
-    /// One mappable, writable 16-bit object, 2000h sub 0.
-    struct One(u16);
-
-    impl ObjectDictionary for One {
-        fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {
-            match (index, sub) {
-                (0x2000, 0) => Ok(ObjectInfo::fixed(Access::ReadWrite, 2).mappable()),
-                (0x2000, _) => Err(AbortCode::SubIndexDoesNotExist),
-                _ => Err(AbortCode::ObjectDoesNotExist),
-            }
-        }
-        fn read(
-            &mut self,
-            index: u16,
-            sub: u8,
-            offset: usize,
-            buf: &mut [u8],
-        ) -> Result<usize, AbortCode> {
-            self.info(index, sub)?;
-            Ok(crate::od::read_at(&self.0.to_le_bytes(), offset, buf))
-        }
-        fn write(&mut self, index: u16, sub: u8, _: usize, _: &[u8]) -> Result<(), AbortCode> {
-            self.info(index, sub).map(|_| ())
-        }
-    }
-
     /// The PDO objects through the dictionary itself (no SDO server in
     /// between): every sub-index's access, length and value, and every
     /// refusal's code; a refused write changes nothing and leaves nothing
@@ -545,7 +519,7 @@ mod tests {
             PdoNumber::P0,
             PdoSlot::new(comm, &mapping),
         );
-        let mut od = PdoDictionary::new(config, One(7));
+        let mut od = PdoDictionary::new(config, crate::od::fixture::Word::<2>(7));
         let mut buf = [0u8; 4];
         let rows: [(u16, u8, Access, &[u8]); 8] = [
             (0x1800, 0, Ro, &[5]),
@@ -572,7 +546,7 @@ mod tests {
             "an uncounted entry reads"
         );
         let before = od.config;
-        let finish = |od: &mut PdoDictionary<One, 1, 1>, index: u16, sub: u8, data: &[u8]| {
+        let finish = |od: &mut PdoDictionary<crate::od::fixture::Word<2>, 1, 1>, index: u16, sub: u8, data: &[u8]| {
             od.write(index, sub, 0, data)
                 .and_then(|()| od.finish_write(index, sub, data.len()))
         };
