@@ -101,19 +101,10 @@ const PCT: Option<Unit> = Some(Unit::Percent);
 /// The CiA 418 application objects 6000h-6090h (CiA 418 v1.0.1, 7.3.1-7.3.18):
 /// name, size and scale of each. 6051h-6053h are 0.125 Ah per bit, 6060h
 /// 1/1024 V, 6070h 1/16 A; 6080h and 6081h are 0..100 % with 0xFF invalid.
+#[rustfmt::skip]
 pub const CIA418_OBJECTS: &[CatalogueEntry] = &[
-    CatalogueEntry::new(
-        0x6000,
-        "battery status",
-        8,
-        Interpretation::Flags(&BATTERY_STATUS_FLAGS),
-    ),
-    CatalogueEntry::new(
-        0x6001,
-        "charger status",
-        8,
-        Interpretation::Flags(&CHARGER_STATUS_FLAGS),
-    ),
+    CatalogueEntry::new(0x6000, "battery status", 8, Interpretation::Flags(&BATTERY_STATUS_FLAGS)),
+    CatalogueEntry::new(0x6001, "charger status", 8, Interpretation::Flags(&CHARGER_STATUS_FLAGS)),
     CatalogueEntry::new(
         0x6010,
         "temperature",
@@ -124,12 +115,7 @@ pub const CIA418_OBJECTS: &[CatalogueEntry] = &[
         },
     ),
     CatalogueEntry::scaled(0x6020, "battery parameters: highest sub-index", 8, 0, None),
-    CatalogueEntry::new(
-        0x6020,
-        "battery type",
-        8,
-        Interpretation::Formatted(&BATTERY_TYPE_FORMAT),
-    )
+    CatalogueEntry::new(0x6020, "battery type", 8, Interpretation::Formatted(&BATTERY_TYPE_FORMAT))
     .subs(1, 1),
     CatalogueEntry::scaled(0x6020, "Ah capacity", 16, 0, AH).subs(2, 2),
     CatalogueEntry::scaled(0x6020, "maximum charge current", 16, 0, A).subs(3, 3),
@@ -147,21 +133,9 @@ pub const CIA418_OBJECTS: &[CatalogueEntry] = &[
     CatalogueEntry::scaled(0x6052, "Ah returned during last charge", 16, 3, AH),
     CatalogueEntry::scaled(0x6053, "Ah since last equalization", 16, 3, AH),
     CatalogueEntry::scaled(0x6054, "date of last equalization: elements", 8, 0, None),
-    CatalogueEntry::scaled(
-        0x6054,
-        "last equalization, minutes since midnight",
-        16,
-        0,
-        Some(Unit::Minute),
-    )
+    CatalogueEntry::scaled(0x6054, "last equalization, minutes since midnight", 16, 0, Some(Unit::Minute))
     .subs(1, 1),
-    CatalogueEntry::scaled(
-        0x6054,
-        "last equalization, days since 1984-01-01",
-        16,
-        0,
-        Some(Unit::Day),
-    )
+    CatalogueEntry::scaled(0x6054, "last equalization, days since 1984-01-01", 16, 0, Some(Unit::Day))
     .subs(2, 2),
     CatalogueEntry::scaled(0x6060, "battery voltage", 32, 10, V),
     CatalogueEntry::scaled(0x6070, "charge current requested", 16, 4, A)
@@ -170,12 +144,7 @@ pub const CIA418_OBJECTS: &[CatalogueEntry] = &[
         .marked(Marker::Invalid(0xFF), Some(100)),
     CatalogueEntry::scaled(0x6081, "battery state of charge", 8, 0, PCT)
         .marked(Marker::Invalid(0xFF), Some(100)),
-    CatalogueEntry::new(
-        0x6090,
-        "water level status",
-        8,
-        Interpretation::Flags(&WATER_LEVEL_STATUS_FLAGS),
-    ),
+    CatalogueEntry::new(0x6090, "water level status", 8, Interpretation::Flags(&WATER_LEVEL_STATUS_FLAGS)),
 ];
 
 /// A CiA 418 battery module: [`CIA418_OBJECTS`] only.

@@ -223,46 +223,22 @@ const NO_16: Marker = Marker::NoValue(0xFFFF);
 /// 2271h U32 Q10 V, 2275h U8 mOhm, 2276h U16 Q8 V, 2FFAh sub 1-2 padding,
 /// 6052h U16 Q3 Ah; 0xFFFF (0xFFFF_FFFF for 32 bits) is "no value".
 /// [`CHARGER_CATALOGUE`] looks here first, then in [`CIA418_OBJECTS`].
+#[rustfmt::skip]
 pub const DELTAQ_OBJECTS: &[CatalogueEntry] = &[
     CatalogueEntry::scaled(0x2002, "charging current", 16, 8, A).marked(NO_16, None),
-    CatalogueEntry::new(
-        0x2006,
-        "extended charge status",
-        16,
-        Interpretation::Flags(&EXTENDED_CHARGE_STATUS_FLAGS),
-    ),
-    CatalogueEntry::new(
-        0x2008,
-        "derate reasons",
-        8,
-        Interpretation::Flags(&DERATE_REASONS_FLAGS),
-    ),
-    CatalogueEntry::new(
-        0x2060,
-        "displayed error",
-        32,
-        Interpretation::Formatted(&DISPLAYED_ERROR_FORMAT),
-    ),
+    CatalogueEntry::new(0x2006, "extended charge status", 16, Interpretation::Flags(&EXTENDED_CHARGE_STATUS_FLAGS)),
+    CatalogueEntry::new(0x2008, "derate reasons", 8, Interpretation::Flags(&DERATE_REASONS_FLAGS)),
+    CatalogueEntry::new(0x2060, "displayed error", 32, Interpretation::Formatted(&DISPLAYED_ERROR_FORMAT)),
     CatalogueEntry::scaled(0x2100, "battery voltage (legacy)", 16, 10, V).marked(NO_16, None),
     CatalogueEntry::scaled(0x2101, "battery voltage", 16, 8, V).marked(NO_16, None),
     CatalogueEntry::scaled(0x2200, "AC voltage", 16, 4, V).marked(NO_16, None),
-    CatalogueEntry::new(
-        0x2241,
-        "algorithm request",
-        32,
-        Interpretation::Formatted(&ALGORITHM_REQUEST_FORMAT),
-    ),
+    CatalogueEntry::new(0x2241, "algorithm request", 32, Interpretation::Formatted(&ALGORITHM_REQUEST_FORMAT)),
     CatalogueEntry::scaled(0x2271, "voltage request", 32, 10, V)
         .marked(Marker::NoValue(0xFFFF_FFFF), None),
     CatalogueEntry::scaled(0x2275, "cable resistance", 8, 0, Some(Unit::Milliohm)),
     CatalogueEntry::scaled(0x2276, "voltage request", 16, 8, V).marked(NO_16, None),
     CatalogueEntry::new(0x2FFA, "padding", 8, Interpretation::Padding).subs(1, 2),
-    CatalogueEntry::new(
-        0x4201,
-        "external override",
-        8,
-        Interpretation::Flags(&EXTERNAL_OVERRIDE_FLAGS),
-    ),
+    CatalogueEntry::new(0x4201, "external override", 8, Interpretation::Flags(&EXTERNAL_OVERRIDE_FLAGS)),
     // The charger's 6052h: Q3 Ah like CiA 418, but 0xFFFF is "no value".
     CatalogueEntry::scaled(0x6052, "Ah returned during last charge", 16, 3, AH).marked(NO_16, None),
 ];

@@ -10,8 +10,8 @@ use proptest::prelude::*;
 use super::*;
 use crate::cia418::BATTERY_MODULE_CATALOGUE;
 use crate::pdo::catalogue_test_support::{
-    assert_decode_total, assert_short_and_long_frames, assert_table_consistent, assert_words,
-    mapping, WordsCase,
+    assert_decode_total, assert_short_and_long_frames, assert_table_consistent, assert_vectors,
+    mapping,
 };
 use crate::pdo::{FieldValue, Fixed, MappingEntry, NamedField};
 
@@ -19,91 +19,9 @@ fn one(cat: Catalogue, index: u16, sub: u8, bits: u8, raw: u64) -> NamedField {
     cat.interpret(MappingEntry::new(index, sub, bits), raw)
 }
 
-/// The Delta-Q objects in words: `(mapping entry, raw, words)`.
-const CASES: &[WordsCase] = &[
-    (0x2002_0010, 0x1374, "2002h charging current 19.453125 A"),
-    (0x2100_0010, 0xC800, "2100h battery voltage (legacy) 50 V"),
-    (0x2101_0010, 0x5200, "2101h battery voltage 82 V"),
-    (0x2200_0010, 0x07BA, "2200h AC voltage 123.625 V"),
-    (0x2271_0020, 0xE000, "2271h voltage request 56 V"),
-    (0x2276_0010, 0x5200, "2276h voltage request 82 V"),
-    (0x2275_0008, 12, "2275h cable resistance 12 mOhm"),
-    (
-        0x2002_0010,
-        0xFFFF,
-        "2002h charging current: no value (raw FFFFh)",
-    ),
-    (
-        0x2271_0020,
-        0xFFFF_FFFF,
-        "2271h voltage request: no value (raw FFFFFFFFh)",
-    ),
-    // Words.
-    (
-        0x2006_0010,
-        0x0070,
-        "2006h extended charge status: AC present, charger enabled, override external (BMS)",
-    ),
-    (
-        0x2006_0010,
-        0x1133,
-        "2006h extended charge status: fault active, alarm active, AC present, charger enabled, \
-         override internal, below 80 %, normal charge",
-    ),
-    (
-        0x2006_0010,
-        0xF8CC,
-        "2006h extended charge status: hardware shutdown, de-rating, override source 3, \
-         indication 8, charge type 15",
-    ),
-    (
-        0x2006_0010,
-        0x2600,
-        "2006h extended charge status: override internal, equalize, maintenance charge",
-    ),
-    (0x2008_0008, 0, "2008h derate reasons: none"),
-    (
-        0x2008_0008,
-        0x85,
-        "2008h derate reasons: AC voltage, temperature, other bits 80h",
-    ),
-    (0x4201_0008, 0x01, "4201h external override: equalize"),
-    (0x4201_0008, 0x00, "4201h external override: none"),
-    (0x2060_0020, 0, "2060h displayed error: none"),
-    (
-        0x2060_0020,
-        0x2080_8130,
-        "2060h displayed error: E-0-3-2 heartbeat lost (EEC 8130h)",
-    ),
-    (
-        0x2241_0020,
-        0x8000_000B,
-        "2241h algorithm request: algorithm 11 variant 0, store permanently",
-    ),
-    (
-        0x2241_0020,
-        0xFFFF_FFFF,
-        "2241h algorithm request: no value (raw FFFFFFFFh)",
-    ),
-    (0x2FFA_0108, 0, "2FFAh:01 padding (8 bits)"),
-    (0x2FFA_0208, 0, "2FFAh:02 padding (8 bits)"),
-    // The charger also knows the CiA 418 objects.
-    (0x6081_0008, 76, "6081h battery state of charge 76 %"),
-    (
-        0x6052_0010,
-        12,
-        "6052h Ah returned during last charge 1.5 Ah",
-    ),
-    (
-        0x2002_0008,
-        0x74,
-        "2002h charging current: raw 74h, mapped as 8 bits, object has 16",
-    ),
-];
-
 #[test]
 fn deltaq_objects_in_words() {
-    assert_words(CHARGER_CATALOGUE, CASES);
+    assert_vectors(CHARGER_CATALOGUE, include_str!("catalogue_vectors.txt"));
 }
 
 #[test]

@@ -128,34 +128,17 @@ mod tests {
     use Reaction::{Continue, ShutDown, TemperatureSensorFault, TerminateCharging};
 
     /// (EEC, remote, local, local override, monitoring only).
+    #[rustfmt::skip]
     const TABLE: &[(u16, Reaction, Reaction, Reaction, Reaction)] = &[
         // Error reset / no error (00xxh).
         (0x0000, Continue, Continue, Continue, Continue),
         (0x0001, Continue, Continue, Continue, Continue),
         (0x00FF, Continue, Continue, Continue, Continue),
         // Temperature sensor fault, CiA 418.
-        (
-            0x5010,
-            TemperatureSensorFault,
-            TemperatureSensorFault,
-            TemperatureSensorFault,
-            Continue,
-        ),
+        (0x5010, TemperatureSensorFault, TemperatureSensorFault, TemperatureSensorFault, Continue),
         // Its neighbours are ordinary codes.
-        (
-            0x5000,
-            ShutDown,
-            TerminateCharging,
-            TerminateCharging,
-            Continue,
-        ),
-        (
-            0x5011,
-            ShutDown,
-            TerminateCharging,
-            TerminateCharging,
-            Continue,
-        ),
+        (0x5000, ShutDown, TerminateCharging, TerminateCharging, Continue),
+        (0x5011, ShutDown, TerminateCharging, TerminateCharging, Continue),
         // 8xxxh monitoring: local mode continues.
         (0x8000, ShutDown, Continue, Continue, Continue),
         (0x8110, ShutDown, Continue, Continue, Continue),
@@ -163,90 +146,18 @@ mod tests {
         (0x8210, ShutDown, Continue, Continue, Continue),
         (0x8FFF, ShutDown, Continue, Continue, Continue),
         // Everything else.
-        (
-            0x0100,
-            ShutDown,
-            TerminateCharging,
-            TerminateCharging,
-            Continue,
-        ),
-        (
-            0x1000,
-            ShutDown,
-            TerminateCharging,
-            TerminateCharging,
-            Continue,
-        ),
-        (
-            0x2310,
-            ShutDown,
-            TerminateCharging,
-            TerminateCharging,
-            Continue,
-        ),
-        (
-            0x3100,
-            ShutDown,
-            TerminateCharging,
-            TerminateCharging,
-            Continue,
-        ),
-        (
-            0x4210,
-            ShutDown,
-            TerminateCharging,
-            TerminateCharging,
-            Continue,
-        ),
-        (
-            0x6000,
-            ShutDown,
-            TerminateCharging,
-            TerminateCharging,
-            Continue,
-        ),
-        (
-            0x7FFF,
-            ShutDown,
-            TerminateCharging,
-            TerminateCharging,
-            Continue,
-        ),
-        (
-            0x9000,
-            ShutDown,
-            TerminateCharging,
-            TerminateCharging,
-            Continue,
-        ),
-        (
-            0xA000,
-            ShutDown,
-            TerminateCharging,
-            TerminateCharging,
-            Continue,
-        ),
-        (
-            0xF000,
-            ShutDown,
-            TerminateCharging,
-            TerminateCharging,
-            Continue,
-        ),
-        (
-            0xFF00,
-            ShutDown,
-            TerminateCharging,
-            TerminateCharging,
-            Continue,
-        ),
-        (
-            0xFFFF,
-            ShutDown,
-            TerminateCharging,
-            TerminateCharging,
-            Continue,
-        ),
+        (0x0100, ShutDown, TerminateCharging, TerminateCharging, Continue),
+        (0x1000, ShutDown, TerminateCharging, TerminateCharging, Continue),
+        (0x2310, ShutDown, TerminateCharging, TerminateCharging, Continue),
+        (0x3100, ShutDown, TerminateCharging, TerminateCharging, Continue),
+        (0x4210, ShutDown, TerminateCharging, TerminateCharging, Continue),
+        (0x6000, ShutDown, TerminateCharging, TerminateCharging, Continue),
+        (0x7FFF, ShutDown, TerminateCharging, TerminateCharging, Continue),
+        (0x9000, ShutDown, TerminateCharging, TerminateCharging, Continue),
+        (0xA000, ShutDown, TerminateCharging, TerminateCharging, Continue),
+        (0xF000, ShutDown, TerminateCharging, TerminateCharging, Continue),
+        (0xFF00, ShutDown, TerminateCharging, TerminateCharging, Continue),
+        (0xFFFF, ShutDown, TerminateCharging, TerminateCharging, Continue),
     ];
 
     #[test]

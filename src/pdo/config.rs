@@ -546,7 +546,10 @@ mod tests {
             "an uncounted entry reads"
         );
         let before = od.config;
-        let finish = |od: &mut PdoDictionary<crate::od::fixture::Word<2>, 1, 1>, index: u16, sub: u8, data: &[u8]| {
+        let finish = |od: &mut PdoDictionary<crate::od::fixture::Word<2>, 1, 1>,
+                      index: u16,
+                      sub: u8,
+                      data: &[u8]| {
             od.write(index, sub, 0, data)
                 .and_then(|()| od.finish_write(index, sub, data.len()))
         };

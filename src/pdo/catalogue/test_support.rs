@@ -22,6 +22,33 @@ pub(crate) fn assert_words(cat: Catalogue, cases: &[WordsCase]) {
     }
 }
 
+/// Every case of a vector file reads as its words in `cat`. A case is a
+/// line `IIII:SS/BITS RAW WORDS` (index and sub-index in hex, the mapped
+/// width in bits, the raw value in hex, then the words); `#` lines and
+/// blank lines are comments. A file without a case, or a line that is not
+/// one, fails the test.
+pub(crate) fn assert_vectors(cat: Catalogue, vectors: &'static str) {
+    let mut cases = 0;
+    for line in vectors.lines() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let (entry, rest) = line.split_once(' ').expect(line);
+        let (raw, words) = rest.trim_start().split_once(' ').expect(line);
+        let (mux, bits) = entry.split_once('/').expect(line);
+        let (index, sub) = mux.split_once(':').expect(line);
+        let index = u16::from_str_radix(index, 16).expect(line);
+        let sub = u8::from_str_radix(sub, 16).expect(line);
+        let bits: u8 = bits.parse().expect(line);
+        let raw = u64::from_str_radix(raw, 16).expect(line);
+        let entry = MappingEntry::new(index, sub, bits).to_u32();
+        assert_words(cat, &[(entry, raw, words.trim_start())]);
+        cases += 1;
+    }
+    assert!(cases > 0, "no case in the vector file");
+}
+
 /// A mapping of `(index, sub, bits)` entries.
 pub(crate) fn mapping(entries: &[(u16, u8, u8)]) -> PdoMapping {
     let e: Vec<MappingEntry> = entries

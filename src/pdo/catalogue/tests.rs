@@ -6,9 +6,7 @@ use std::string::ToString;
 
 use proptest::prelude::*;
 
-use super::test_support::{
-    assert_decode_total, assert_short_and_long_frames, assert_words, WordsCase,
-};
+use super::test_support::{assert_decode_total, assert_short_and_long_frames, assert_vectors};
 use super::*;
 
 #[test]
@@ -103,6 +101,7 @@ const CODE: ValueFormat = ValueFormat {
     write: write_code,
 };
 
+#[rustfmt::skip]
 const TABLE: &[CatalogueEntry] = &[
     CatalogueEntry::scaled(0x2000, "current", 16, 8, Some(Unit::Ampere))
         .marked(Marker::NoValue(0xFFFF), None),
@@ -123,6 +122,7 @@ const TABLE: &[CatalogueEntry] = &[
     CatalogueEntry::new(0x2006, "filler", 8, Interpretation::Padding).subs(1, 1),
     CatalogueEntry::new(0x2007, "alarms", 8, Interpretation::Flags(&QUIET)),
 ];
+#[rustfmt::skip]
 const SECOND: &[CatalogueEntry] = &[
     CatalogueEntry::scaled(0x2000, "shadowed", 16, 0, None),
     CatalogueEntry::scaled(0x3000, "counter", 32, 0, None),
@@ -145,48 +145,9 @@ fn lookup_first_table_first() {
     assert!(Catalogue::new("empty", &[]).lookup(0x2000, 0).is_none());
 }
 
-/// The test table's rows in words: `(mapping entry, raw, words)`.
-const CASES: &[WordsCase] = &[
-    (0x2000_0010, 0x1374, "2000h current 19.453125 A"),
-    (0x2000_0010, 0xFFFF, "2000h current: no value (raw FFFFh)"),
-    (0x2001_0008, 76, "2001h level 76 %"),
-    (0x2001_0008, 150, "2001h level 150 % (out of range)"),
-    (0x2001_0008, 0xFF, "2001h level: invalid (raw FFh)"),
-    (0x2002_0010, 0xFEC0, "2002h temperature -40 degC"),
-    (0x3000_0020, 7, "3000h counter 7"),
-    // Flag words.
-    (0x2003_0008, 0x00, "2003h status: off"),
-    (0x2003_0008, 0x07, "2003h status: on, hot, mode one"),
-    (
-        0x2003_0008,
-        0x8C,
-        "2003h status: off, mode 3, other bits 80h",
-    ),
-    (0x2007_0008, 0, "2007h alarms: none"),
-    (0x2007_0008, 0x11, "2007h alarms: alarm"),
-    (0x2007_0008, 0x04, "2007h alarms: other bits 04h"),
-    // Profile formats.
-    (0x2004_0008, 12, "2004h code: code 12"),
-    (0x2005_0120, 0x5454_4142, "2005h:01 name: \"BATT\""),
-    (
-        0x2005_0220,
-        0x2201_5C41,
-        "2005h:02 name: \"A\\x5C\\x01\\x22\"",
-    ),
-    // Widths, dummies and unknown objects.
-    (
-        0x2000_0008,
-        0x74,
-        "2000h current: raw 74h, mapped as 8 bits, object has 16",
-    ),
-    (0x0006_0010, 0xABCD, "0006h padding (16 bits)"),
-    (0x2006_0110, 0, "2006h:01 filler (16 bits)"),
-    (0x7000_0001, 1, "7000h unknown object: raw 1h (1 bits)"),
-];
-
 #[test]
 fn rows_in_words() {
-    assert_words(CAT, CASES);
+    assert_vectors(CAT, include_str!("vectors.txt"));
 }
 
 #[test]
