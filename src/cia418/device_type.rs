@@ -153,25 +153,23 @@ impl DeviceType {
     /// bit 16, `P2` for bit 17.
     #[must_use]
     pub const fn rpdos(self) -> PdoSet {
-        let mut s = PdoSet::EMPTY.with(PdoNumber::P0);
-        if self.has(Self::RPDO_2ND) {
-            s = s.with(PdoNumber::P1);
-        }
-        if self.has(Self::RPDO_3RD) {
-            s = s.with(PdoNumber::P2);
-        }
-        s
+        self.pdos(Self::RPDO_2ND, Self::RPDO_3RD)
     }
 
     /// The battery module's transmit PDOs: `P0` always (mandatory), `P1` for
     /// bit 18, `P2` for bit 19.
     #[must_use]
     pub const fn tpdos(self) -> PdoSet {
+        self.pdos(Self::TPDO_2ND, Self::TPDO_3RD)
+    }
+
+    /// `P0` (mandatory), `P1` if the bit `second` is set, `P2` if `third` is.
+    const fn pdos(self, second: u32, third: u32) -> PdoSet {
         let mut s = PdoSet::EMPTY.with(PdoNumber::P0);
-        if self.has(Self::TPDO_2ND) {
+        if self.has(second) {
             s = s.with(PdoNumber::P1);
         }
-        if self.has(Self::TPDO_3RD) {
+        if self.has(third) {
             s = s.with(PdoNumber::P2);
         }
         s

@@ -158,38 +158,26 @@ pub const BATTERY_STATE_OF_CHARGE: u16 = 0x6081;
 pub const WATER_LEVEL_STATUS: u16 = 0x6090;
 
 // ---------------------------------------------------------------------------
-// Little-endian helpers shared by the codecs (slice patterns, no indexing).
+// Little-endian helpers shared by the codecs (whole arrays, no indexing).
 // ---------------------------------------------------------------------------
 
+/// The bytes of a value of exactly `N` bytes.
+fn exact<const N: usize>(data: &[u8]) -> Result<[u8; N], DecodeError> {
+    exact_len(data, N)?;
+    <[u8; N]>::try_from(data).map_err(|_| DecodeError::Truncated {
+        need: N,
+        got: data.len(),
+    })
+}
+
 pub(crate) fn read_u8(data: &[u8]) -> Result<u8, DecodeError> {
-    exact_len(data, 1)?;
-    match *data {
-        [b] => Ok(b),
-        _ => Err(DecodeError::Truncated {
-            need: 1,
-            got: data.len(),
-        }),
-    }
+    exact(data).map(u8::from_le_bytes)
 }
 
 pub(crate) fn read_u16(data: &[u8]) -> Result<u16, DecodeError> {
-    exact_len(data, 2)?;
-    match *data {
-        [a, b] => Ok(u16::from_le_bytes([a, b])),
-        _ => Err(DecodeError::Truncated {
-            need: 2,
-            got: data.len(),
-        }),
-    }
+    exact(data).map(u16::from_le_bytes)
 }
 
 pub(crate) fn read_u32(data: &[u8]) -> Result<u32, DecodeError> {
-    exact_len(data, 4)?;
-    match *data {
-        [a, b, c, d] => Ok(u32::from_le_bytes([a, b, c, d])),
-        _ => Err(DecodeError::Truncated {
-            need: 4,
-            got: data.len(),
-        }),
-    }
+    exact(data).map(u32::from_le_bytes)
 }

@@ -91,20 +91,18 @@ impl DeltaQCode {
     /// The alarm "E-0-x-y", if `x` and `y` are decimal digits (`0..=9`).
     #[must_use]
     pub const fn alarm(x: u8, y: u8) -> Option<Self> {
-        if x <= 9 && y <= 9 {
-            Some(DeltaQCode::Alarm(x * 10 + y))
-        } else {
-            None
+        match two_digits(x, y) {
+            Some(n) => Some(DeltaQCode::Alarm(n)),
+            None => None,
         }
     }
 
     /// The fault "F-0-x-y", if `x` and `y` are decimal digits (`0..=9`).
     #[must_use]
     pub const fn fault(x: u8, y: u8) -> Option<Self> {
-        if x <= 9 && y <= 9 {
-            Some(DeltaQCode::Fault(x * 10 + y))
-        } else {
-            None
+        match two_digits(x, y) {
+            Some(n) => Some(DeltaQCode::Fault(n)),
+            None => None,
         }
     }
 
@@ -248,6 +246,16 @@ impl Default for DeltaQCode {
     /// [`DeltaQCode::NONE`].
     fn default() -> Self {
         DeltaQCode::NONE
+    }
+}
+
+/// The number `xy` of the label "E-0-x-y" / "F-0-x-y", if both are decimal
+/// digits.
+const fn two_digits(x: u8, y: u8) -> Option<u8> {
+    if x <= 9 && y <= 9 {
+        Some(x * 10 + y)
+    } else {
+        None
     }
 }
 

@@ -581,128 +581,38 @@ fn machine_frames_as_byte_literals() {
     let payload = InitiatePayload::Segmented {
         size: Some(0x0102_0304),
     };
-    assert_eq!(
-        c(ClientCommand::InitiateDownload {
-            index,
-            sub,
-            payload
-        }),
-        [0x21, 0x00, 0x20, 0x7F, 0x04, 0x03, 0x02, 0x01]
-    );
-    assert_eq!(
-        s(ServerCommand::InitiateUpload {
-            index,
-            sub,
-            payload
-        }),
-        [0x41, 0x00, 0x20, 0x7F, 0x04, 0x03, 0x02, 0x01]
-    );
-    assert_eq!(
-        s(ServerCommand::UploadSegment(seg(true, true, &[9]))),
-        [0x1D, 9, 0, 0, 0, 0, 0, 0]
-    );
-    assert_eq!(
-        c(ClientCommand::DownloadSegment(seg(
-            false,
-            false,
-            &[1, 2, 3, 4, 5, 6, 7]
-        ))),
-        [0x00, 1, 2, 3, 4, 5, 6, 7]
-    );
-    assert_eq!(
-        c(ClientCommand::DownloadSegment(seg(false, true, &[]))),
-        [0x0F, 0, 0, 0, 0, 0, 0, 0]
-    );
-    assert_eq!(
-        c(ClientCommand::UploadSegment { toggle: true }),
-        [0x70, 0, 0, 0, 0, 0, 0, 0]
-    );
-    assert_eq!(
-        s(ServerCommand::DownloadSegment { toggle: true }),
-        [0x30, 0, 0, 0, 0, 0, 0, 0]
-    );
-    // Block transfer.
-    assert_eq!(
-        c(ClientCommand::BlockUpload(ClientBlockUpload::Initiate {
-            index,
-            sub,
-            crc: true,
-            blksize: 127,
-            pst: 4
-        })),
-        [0xA4, 0x00, 0x20, 0x7F, 127, 4, 0, 0]
-    );
-    assert_eq!(
-        s(ServerCommand::BlockDownload(
-            ServerBlockDownload::Initiate {
-                index,
-                sub,
-                crc: true,
-                blksize: 127
-            }
-        )),
-        [0xA4, 0x00, 0x20, 0x7F, 127, 0, 0, 0]
-    );
-    assert_eq!(
-        c(ClientCommand::BlockDownload(
-            ClientBlockDownload::Initiate {
-                index,
-                sub,
-                crc: true,
-                size: Some(7)
-            }
-        )),
-        [0xC6, 0x00, 0x20, 0x7F, 7, 0, 0, 0]
-    );
-    assert_eq!(
-        s(ServerCommand::BlockUpload(ServerBlockUpload::Initiate {
-            index,
-            sub,
-            crc: false,
-            size: Some(7)
-        })),
-        [0xC2, 0x00, 0x20, 0x7F, 7, 0, 0, 0]
-    );
-    assert_eq!(
-        c(ClientCommand::BlockUpload(ClientBlockUpload::Ack {
-            ackseq: 5,
-            blksize: 127
-        })),
-        [0xA2, 5, 127, 0, 0, 0, 0, 0]
-    );
-    assert_eq!(
-        s(ServerCommand::BlockDownload(ServerBlockDownload::Ack {
-            ackseq: 5,
-            blksize: 127
-        })),
-        [0xA2, 5, 127, 0, 0, 0, 0, 0]
-    );
-    assert_eq!(
-        c(ClientCommand::BlockDownload(ClientBlockDownload::End {
-            unused: 3,
-            crc: 0x1234
-        })),
-        [0xCD, 0x34, 0x12, 0, 0, 0, 0, 0]
-    );
-    assert_eq!(
-        s(ServerCommand::BlockUpload(ServerBlockUpload::End {
-            unused: 3,
-            crc: 0x1234
-        })),
-        [0xCD, 0x34, 0x12, 0, 0, 0, 0, 0]
-    );
-    assert_eq!(
-        c(ClientCommand::BlockUpload(ClientBlockUpload::Start)),
-        [0xA3, 0, 0, 0, 0, 0, 0, 0]
-    );
-    assert_eq!(
-        c(ClientCommand::BlockUpload(ClientBlockUpload::End)),
-        [0xA1, 0, 0, 0, 0, 0, 0, 0]
-    );
-    assert_eq!(
-        s(ServerCommand::BlockDownload(ServerBlockDownload::End)),
-        [0xA1, 0, 0, 0, 0, 0, 0, 0]
-    );
+    #[rustfmt::skip]
+    let requests: &[(ClientCommand, [u8; 8])] = &[
+        (ClientCommand::InitiateDownload { index, sub, payload }, [0x21, 0x00, 0x20, 0x7F, 0x04, 0x03, 0x02, 0x01]),
+        (ClientCommand::DownloadSegment(seg(false, false, &[1, 2, 3, 4, 5, 6, 7])), [0x00, 1, 2, 3, 4, 5, 6, 7]),
+        (ClientCommand::DownloadSegment(seg(false, true, &[])), [0x0F, 0, 0, 0, 0, 0, 0, 0]),
+        (ClientCommand::UploadSegment { toggle: true }, [0x70, 0, 0, 0, 0, 0, 0, 0]),
+        // Block transfer.
+        (ClientCommand::BlockUpload(ClientBlockUpload::Initiate { index, sub, crc: true, blksize: 127, pst: 4 }), [0xA4, 0x00, 0x20, 0x7F, 127, 4, 0, 0]),
+        (ClientCommand::BlockDownload(ClientBlockDownload::Initiate { index, sub, crc: true, size: Some(7) }), [0xC6, 0x00, 0x20, 0x7F, 7, 0, 0, 0]),
+        (ClientCommand::BlockUpload(ClientBlockUpload::Ack { ackseq: 5, blksize: 127 }), [0xA2, 5, 127, 0, 0, 0, 0, 0]),
+        (ClientCommand::BlockDownload(ClientBlockDownload::End { unused: 3, crc: 0x1234 }), [0xCD, 0x34, 0x12, 0, 0, 0, 0, 0]),
+        (ClientCommand::BlockUpload(ClientBlockUpload::Start), [0xA3, 0, 0, 0, 0, 0, 0, 0]),
+        (ClientCommand::BlockUpload(ClientBlockUpload::End), [0xA1, 0, 0, 0, 0, 0, 0, 0]),
+    ];
+    #[rustfmt::skip]
+    let responses: &[(ServerCommand, [u8; 8])] = &[
+        (ServerCommand::InitiateUpload { index, sub, payload }, [0x41, 0x00, 0x20, 0x7F, 0x04, 0x03, 0x02, 0x01]),
+        (ServerCommand::UploadSegment(seg(true, true, &[9])), [0x1D, 9, 0, 0, 0, 0, 0, 0]),
+        (ServerCommand::DownloadSegment { toggle: true }, [0x30, 0, 0, 0, 0, 0, 0, 0]),
+        // Block transfer.
+        (ServerCommand::BlockDownload(ServerBlockDownload::Initiate { index, sub, crc: true, blksize: 127 }), [0xA4, 0x00, 0x20, 0x7F, 127, 0, 0, 0]),
+        (ServerCommand::BlockUpload(ServerBlockUpload::Initiate { index, sub, crc: false, size: Some(7) }), [0xC2, 0x00, 0x20, 0x7F, 7, 0, 0, 0]),
+        (ServerCommand::BlockDownload(ServerBlockDownload::Ack { ackseq: 5, blksize: 127 }), [0xA2, 5, 127, 0, 0, 0, 0, 0]),
+        (ServerCommand::BlockUpload(ServerBlockUpload::End { unused: 3, crc: 0x1234 }), [0xCD, 0x34, 0x12, 0, 0, 0, 0, 0]),
+        (ServerCommand::BlockDownload(ServerBlockDownload::End), [0xA1, 0, 0, 0, 0, 0, 0, 0]),
+    ];
+    for (command, bytes) in requests {
+        assert_eq!(c(*command), *bytes, "{command:?}");
+    }
+    for (command, bytes) in responses {
+        assert_eq!(s(*command), *bytes, "{command:?}");
+    }
 }
 
 /// What the server and the expedited client read of a few requests and
