@@ -320,13 +320,16 @@ impl CobKind {
     }
 }
 
+/// The node-ID a test names (it must be one, `1..=127`).
+#[cfg(test)]
+pub(crate) fn test_node(raw: u8) -> NodeId {
+    NodeId::new(raw).expect("a test's node-ID is 1..=127")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn n(raw: u8) -> NodeId {
-        NodeId::new(raw).unwrap()
-    }
+    use test_node as n;
 
     /// The default COB-ID table of "Delta-Q IC Series CANopen interface
     /// specification rev 2.0", section 4.3.2, row by row, for the charger

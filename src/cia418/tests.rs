@@ -1,7 +1,7 @@
 //! Table tests for the CiA 418 module: object indexes and default PDOs.
 
 use super::*;
-use crate::cob_id::{NodeId, PdoNumber};
+use crate::cob_id::PdoNumber;
 
 /// CiA 418 v1.0.1, 7.3.1-7.3.18: the index of every application object, row
 /// by row.
@@ -35,9 +35,7 @@ fn object_indexes() {
     assert_eq!(BATTERY_PAR_DATA_TYPE, 0x0080);
 }
 
-fn node(raw: u8) -> NodeId {
-    NodeId::new(raw).unwrap()
-}
+use crate::cob_id::test_node as node;
 
 type Row = (
     PdoDirection,

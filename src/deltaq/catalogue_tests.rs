@@ -10,8 +10,8 @@ use proptest::prelude::*;
 use super::*;
 use crate::cia418::BATTERY_MODULE_CATALOGUE;
 use crate::pdo::catalogue_test_support::{
-    assert_decode_total, assert_short_and_long_frames, assert_table_consistent, assert_vectors,
-    mapping,
+    any_pdo, assert_decode_total, assert_short_and_long_frames, assert_table_consistent,
+    assert_vectors, mapping,
 };
 use crate::pdo::{FieldValue, Fixed, MappingEntry, NamedField};
 
@@ -220,11 +220,7 @@ proptest! {
     /// Decoding is total and displays without panicking, for any mapping
     /// and any payload, in both catalogues.
     #[test]
-    fn decode_is_total(
-        raw_entries in proptest::collection::vec(any::<u32>(), 0..=8),
-        payload in proptest::collection::vec(any::<u8>(), 0..=10),
-        precision in proptest::option::of(0usize..25),
-    ) {
+    fn decode_is_total((raw_entries, payload, precision) in any_pdo()) {
         assert_decode_total(
             &[BATTERY_MODULE_CATALOGUE, CHARGER_CATALOGUE],
             &raw_entries,

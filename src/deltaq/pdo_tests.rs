@@ -11,9 +11,7 @@ use crate::emcy::ErrorCode;
 use crate::pdo::{MappingEntry, UnpackError, Value};
 use std::vec::Vec;
 
-fn n(raw: u8) -> NodeId {
-    NodeId::new(raw).unwrap()
-}
+use crate::cob_id::test_node as n;
 
 /// (direction, number, comm, mapping, COB-ID of node 0x0A, period, entries
 /// as Unsigned32, paired comm index)

@@ -7,9 +7,7 @@ fn f(id: u16, data: &[u8]) -> CanFrame {
     CanFrame::standard(id, data).unwrap()
 }
 
-fn n(raw: u8) -> NodeId {
-    NodeId::new(raw).unwrap()
-}
+use crate::cob_id::test_node as n;
 
 fn round_trip(frame: CanFrame) -> Message {
     let m = Message::decode(&frame).unwrap();

@@ -7,9 +7,7 @@ fn ms(n: u64) -> Timestamp {
     Timestamp::from_millis(n)
 }
 
-fn n(raw: u8) -> NodeId {
-    NodeId::new(raw).unwrap()
-}
+use crate::cob_id::test_node as n;
 
 fn hb(node: u8, state: u8) -> CanFrame {
     CanFrame::standard(0x700 + u16::from(node), &[state]).unwrap()

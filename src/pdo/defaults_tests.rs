@@ -5,9 +5,7 @@
 use super::*;
 use PdoDirection::{Receive, Transmit};
 
-fn n(raw: u8) -> NodeId {
-    NodeId::new(raw).unwrap()
-}
+use crate::cob_id::test_node as n;
 
 const TABLE: [DefaultPdo; 3] = [
     DefaultPdo {

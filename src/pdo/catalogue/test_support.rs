@@ -104,6 +104,16 @@ pub(crate) fn assert_short_and_long_frames(
     assert_eq!(empty.to_string(), "");
 }
 
+/// Any PDO a decoder may meet: up to 8 raw mapping entries, a payload of
+/// up to 10 bytes (longer than any classic frame) and a display precision.
+pub(crate) fn any_pdo() -> impl Strategy<Value = (Vec<u32>, Vec<u8>, Option<usize>)> {
+    (
+        proptest::collection::vec(any::<u32>(), 0..=8),
+        proptest::collection::vec(any::<u8>(), 0..=10),
+        proptest::option::of(0usize..25),
+    )
+}
+
 /// Decoding is total and displays without panicking, in every catalogue of
 /// `cats`, for any mapping the raw entries make and any payload.
 pub(crate) fn assert_decode_total(

@@ -6,7 +6,9 @@ use std::string::ToString;
 
 use proptest::prelude::*;
 
-use super::test_support::{assert_decode_total, assert_short_and_long_frames, assert_vectors};
+use super::test_support::{
+    any_pdo, assert_decode_total, assert_short_and_long_frames, assert_vectors,
+};
 use super::*;
 
 #[test]
@@ -218,11 +220,7 @@ proptest! {
     /// Decoding is total and displays without panicking, for any mapping
     /// and any payload.
     #[test]
-    fn decode_is_total(
-        raw_entries in proptest::collection::vec(any::<u32>(), 0..=8),
-        payload in proptest::collection::vec(any::<u8>(), 0..=10),
-        precision in proptest::option::of(0usize..25),
-    ) {
+    fn decode_is_total((raw_entries, payload, precision) in any_pdo()) {
         assert_decode_total(&[CAT], &raw_entries, &payload, precision)?;
     }
 
