@@ -6,20 +6,26 @@ use crate::bytes::Payload;
 use crate::cob_id::LssDirection;
 use std::string::ToString;
 
-fn req(bytes: [u8; 8], want: LssRequest) {
-    let got = LssRequest::decode(&bytes).unwrap();
-    assert_eq!(got, want, "{bytes:02X?}");
+/// `bytes` decode as `want` with `decode`, and `want` encodes (8 bytes,
+/// every byte written) as `bytes` with `encode`.
+fn round_trip<T: PartialEq + core::fmt::Debug, E: core::fmt::Debug>(
+    bytes: [u8; 8],
+    want: T,
+    decode: fn(&[u8]) -> Result<T, E>,
+    encode: fn(&T, &mut [u8; 8]) -> usize,
+) {
+    assert_eq!(decode(&bytes).unwrap(), want, "{bytes:02X?}");
     let mut buf = [0xAA; 8];
-    assert_eq!(want.encode(&mut buf), 8);
+    assert_eq!(encode(&want, &mut buf), 8);
     assert_eq!(buf, bytes);
 }
 
+fn req(bytes: [u8; 8], want: LssRequest) {
+    round_trip(bytes, want, LssRequest::decode, |r, buf| r.encode(buf));
+}
+
 fn resp(bytes: [u8; 8], want: LssResponse) {
-    let got = LssResponse::decode(&bytes).unwrap();
-    assert_eq!(got, want, "{bytes:02X?}");
-    let mut buf = [0xAA; 8];
-    assert_eq!(want.encode(&mut buf), 8);
-    assert_eq!(buf, bytes);
+    round_trip(bytes, want, LssResponse::decode, |r, buf| r.encode(buf));
 }
 
 #[test]

@@ -7,6 +7,17 @@ fn f(id: u16, data: &[u8]) -> CanFrame {
     CanFrame::standard(id, data).unwrap()
 }
 
+/// `check` for every first byte at every length 0..=8 (the other bytes a
+/// fixed filler), with the first byte beside the data.
+fn every_payload(mut check: impl FnMut(u8, &[u8])) {
+    for b0 in 0..=255u8 {
+        let data = [b0, 0xA1, 0xB2, 0xC3, 0xD4, 0xE5, 0xF6, 0x17];
+        for len in 0..=8 {
+            check(b0, &data[..len]);
+        }
+    }
+}
+
 use crate::cob_id::test_node as n;
 
 fn round_trip(frame: CanFrame) -> Message {
@@ -135,30 +146,24 @@ fn others() {
 
 #[test]
 fn malformed_known_objects_are_errors() {
-    assert_eq!(
-        Message::decode(&f(0x08A, &[0x30, 0x81])),
-        Err(DecodeError::Truncated { need: 8, got: 2 })
-    );
-    assert_eq!(
-        Message::decode(&f(0x000, &[1])),
-        Err(DecodeError::Truncated { need: 2, got: 1 })
-    );
-    assert_eq!(
-        Message::decode(&f(0x701, &[])),
-        Err(DecodeError::Truncated { need: 1, got: 0 })
-    );
-    assert_eq!(
-        Message::decode(&f(0x080, &[1, 2])),
-        Err(DecodeError::TooLong { max: 1, got: 2 })
-    );
-    assert_eq!(
-        Message::decode(&f(0x601, &[])),
-        Err(DecodeError::Truncated { need: 1, got: 0 })
-    );
-    assert_eq!(
-        Message::decode(&f(0x601, &[0x40, 0x00])),
-        Err(DecodeError::Truncated { need: 4, got: 2 })
-    );
+    // (identifier, data, the error): an EMCY, NMT, heartbeat, SYNC and SDO
+    // frame each shorter or longer than its object.
+    #[rustfmt::skip]
+    let cases: [(u16, &[u8], DecodeError); 6] = [
+        (0x08A, &[0x30, 0x81], DecodeError::Truncated { need: 8, got: 2 }),
+        (0x000, &[1], DecodeError::Truncated { need: 2, got: 1 }),
+        (0x701, &[], DecodeError::Truncated { need: 1, got: 0 }),
+        (0x080, &[1, 2], DecodeError::TooLong { max: 1, got: 2 }),
+        (0x601, &[], DecodeError::Truncated { need: 1, got: 0 }),
+        (0x601, &[0x40, 0x00], DecodeError::Truncated { need: 4, got: 2 }),
+    ];
+    for (id, data, error) in cases {
+        assert_eq!(
+            Message::decode(&f(id, data)),
+            Err(error),
+            "{id:03X}h {data:02X?}"
+        );
+    }
 }
 
 #[test]
@@ -174,44 +179,35 @@ fn kind_and_node() {
 #[test]
 fn sdo_fast_paths_match_the_general_decoders() {
     use crate::sdo::{SdoRequest, SdoResponse};
-    let node = NodeId::new(5).unwrap();
-    for cmd in 0..=255u8 {
-        for len in 0..=8usize {
-            let data = [cmd, 0xA1, 0xB2, 0xC3, 0xD4, 0xE5, 0xF6, 0x17];
-            let data = &data[..len];
-            let resp = f(0x585, data);
-            let want = SdoResponse::decode(data).map(|sdo| Message::SdoResponse { node, sdo });
-            assert_eq!(Message::decode(&resp), want, "response {resp}");
-            let req = f(0x605, data);
-            let want = SdoRequest::decode(data).map(|sdo| Message::SdoRequest { node, sdo });
-            assert_eq!(Message::decode(&req), want, "request {req}");
-            assert_eq!(SdoRequest::decode_frame(&req), SdoRequest::decode(data));
-            assert_eq!(SdoResponse::decode_frame(&resp), SdoResponse::decode(data));
-            if let Ok(m) = Message::decode(&req) {
-                assert_eq!(m.encode(), req);
-            }
-            if let Ok(m) = Message::decode(&resp) {
-                assert_eq!(m.encode(), resp);
-            }
+    let node = n(5);
+    every_payload(|_, data| {
+        let resp = f(0x585, data);
+        let want = SdoResponse::decode(data).map(|sdo| Message::SdoResponse { node, sdo });
+        assert_eq!(Message::decode(&resp), want, "response {resp}");
+        let req = f(0x605, data);
+        let want = SdoRequest::decode(data).map(|sdo| Message::SdoRequest { node, sdo });
+        assert_eq!(Message::decode(&req), want, "request {req}");
+        assert_eq!(SdoRequest::decode_frame(&req), SdoRequest::decode(data));
+        assert_eq!(SdoResponse::decode_frame(&resp), SdoResponse::decode(data));
+        if let Ok(m) = Message::decode(&req) {
+            assert_eq!(m.encode(), req);
         }
-    }
+        if let Ok(m) = Message::decode(&resp) {
+            assert_eq!(m.encode(), resp);
+        }
+    });
 }
 
 /// The heartbeat arm gives what `Heartbeat::decode` gives, for every byte
 /// and length; every 7-bit state reads back to its bits.
 #[test]
 fn heartbeat_arm_matches_heartbeat_decode() {
-    let node = NodeId::new(5).unwrap();
-    for b in 0..=255u8 {
-        for len in 0..=8usize {
-            let data = [b, 1, 2, 3, 4, 5, 6, 7];
-            let data = &data[..len];
-            let want =
-                Heartbeat::decode(data).map(|heartbeat| Message::Heartbeat { node, heartbeat });
-            assert_eq!(Message::decode(&f(0x705, data)), want, "{b:02X} x {len}");
-        }
+    let node = n(5);
+    every_payload(|b, data| {
+        let want = Heartbeat::decode(data).map(|heartbeat| Message::Heartbeat { node, heartbeat });
+        assert_eq!(Message::decode(&f(0x705, data)), want, "{data:02X?}");
         assert_eq!(NmtState::from_bits(b).bits(), b & 0x7F);
-    }
+    });
     assert_eq!(NmtState::from_bits(0x85), NmtState::Operational);
     assert_eq!(NmtState::from_bits(0x04), NmtState::Stopped);
     assert_eq!(NmtState::from_bits(0xFF), NmtState::PreOperational);
