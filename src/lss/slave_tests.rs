@@ -281,6 +281,17 @@ fn run_scan(m: &mut LssMaster, slaves: &mut [&mut LssSlave]) -> LssMasterEvent {
     result.expect("the search ended")
 }
 
+/// The slave in configuration gets node-ID `node`, is switched to waiting
+/// and resets communication: it has a node-ID and takes no part in the
+/// next Fastscan.
+fn configure_and_leave(slave: &mut LssSlave, node: u8) {
+    slave.handle_frame(Timestamp::ZERO, &req(LssRequest::ConfigureNodeId(node)));
+    let waiting = req(LssRequest::SwitchStateGlobal(LssMode::Waiting));
+    slave.handle_frame(Timestamp::ZERO, &waiting);
+    slave.reset_communication();
+    while slave.poll_transmit().is_some() {}
+}
+
 #[test]
 fn fastscan_finds_the_lowest_address_then_the_next() {
     let b = LssAddress {
@@ -297,25 +308,13 @@ fn fastscan_finds_the_lowest_address_then_the_next() {
     assert_eq!(s2.state(), LssState::Configuration);
     assert_eq!(s1.state(), LssState::Waiting);
     // s2 gets a node-ID; after switching to waiting it resets and is out.
-    s2.handle_frame(Timestamp::ZERO, &req(LssRequest::ConfigureNodeId(6)));
-    s2.handle_frame(
-        Timestamp::ZERO,
-        &req(LssRequest::SwitchStateGlobal(LssMode::Waiting)),
-    );
-    s2.reset_communication();
-    while s2.poll_transmit().is_some() {}
+    configure_and_leave(&mut s2, 6);
     assert_eq!(
         run_scan(&mut m, &mut [&mut s1, &mut s2]),
         LssMasterEvent::FastscanFound(A)
     );
     // Nobody left: not found, once.
-    s1.handle_frame(Timestamp::ZERO, &req(LssRequest::ConfigureNodeId(5)));
-    s1.handle_frame(
-        Timestamp::ZERO,
-        &req(LssRequest::SwitchStateGlobal(LssMode::Waiting)),
-    );
-    s1.reset_communication();
-    while s1.poll_transmit().is_some() {}
+    configure_and_leave(&mut s1, 5);
     assert_eq!(
         run_scan(&mut m, &mut [&mut s1, &mut s2]),
         LssMasterEvent::FastscanNotFound

@@ -132,6 +132,39 @@ fn op() -> impl Strategy<Value = Op> {
     ]
 }
 
+/// `ops` played on both machines side by side (frames on `function` plus
+/// the node, times, and what `start` does with a start), each step's
+/// events and frames compared by [`beside`].
+fn play<S, B, E>(
+    small: &mut S,
+    big: &mut B,
+    function: u16,
+    ops: Vec<Op>,
+    start: impl Fn(&mut S, &mut B, u8, Timestamp, u16),
+) where
+    S: Machine<Event = E>,
+    B: Machine<Event = E>,
+    E: PartialEq + core::fmt::Debug,
+{
+    let mut now = Timestamp::ZERO;
+    for op in ops {
+        match op {
+            Op::Frame(bytes) => {
+                let frame = CanFrame::standard(function + u16::from(NODE), &bytes).unwrap();
+                beside(small, big, |m| m.handle_frame(now, &frame));
+            }
+            Op::Later(ms) => {
+                now = now.add_micros(u64::from(ms) * 1000);
+                beside(small, big, |m| m.handle_timeout(now));
+            }
+            Op::Start(kind, index) => {
+                start(small, big, kind, now, index);
+                beside(small, big, |_| {});
+            }
+        }
+    }
+}
+
 /// Runs `small` (capacity [`EVENTS_PER_CALL`]) beside `big` (the default)
 /// on the same input: the same frames and events, at most
 /// `EVENTS_PER_CALL` read after each call, none dropped by `small`.
@@ -175,20 +208,7 @@ proptest! {
         let config = ServerConfig { block_size: 3, ..ServerConfig::for_node(node) };
         let mut small: Server<Od, EVENTS_PER_CALL> = Server::with_event_capacity(config, Od::new());
         let mut big = Server::new(config, Od::new());
-        let mut now = Timestamp::ZERO;
-        for op in ops {
-            match op {
-                Op::Frame(bytes) => {
-                    let frame = CanFrame::standard(0x600 + u16::from(NODE), &bytes).unwrap();
-                    beside(&mut small, &mut big, |m| m.handle_frame(now, &frame));
-                }
-                Op::Later(ms) => {
-                    now = now.add_micros(u64::from(ms) * 1000);
-                    beside(&mut small, &mut big, |m| m.handle_timeout(now));
-                }
-                Op::Start(..) => {}
-            }
-        }
+        play(&mut small, &mut big, 0x600, ops, |_, _, _, _, _| {});
     }
 
     #[test]
@@ -196,25 +216,10 @@ proptest! {
         let config = ClientConfig { block_size: 3, ..ClientConfig::for_server(NodeId::new(NODE).unwrap()) };
         let mut small: Client<&'static [u8], EVENTS_PER_CALL> = Client::with_event_capacity(config);
         let mut big: Client = Client::new(config);
-        let mut now = Timestamp::ZERO;
-        for op in ops {
-            match op {
-                Op::Frame(bytes) => {
-                    let frame = CanFrame::standard(0x580 + u16::from(NODE), &bytes).unwrap();
-                    beside(&mut small, &mut big, |m| m.handle_frame(now, &frame));
-                }
-                Op::Later(ms) => {
-                    now = now.add_micros(u64::from(ms) * 1000);
-                    beside(&mut small, &mut big, |m| m.handle_timeout(now));
-                }
-                Op::Start(kind, index) => {
-                    let start = |c: &mut dyn Starts| c.start(kind, now, index);
-                    let (a, b) = (start(&mut small), start(&mut big));
-                    assert_eq!(a, b);
-                    beside(&mut small, &mut big, |_| {});
-                }
-            }
-        }
+        play(&mut small, &mut big, 0x580, ops, |small, big, kind, now, index| {
+            let start = |c: &mut dyn Starts| c.start(kind, now, index);
+            assert_eq!(start(small), start(big));
+        });
     }
 }
 
