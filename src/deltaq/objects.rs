@@ -30,9 +30,27 @@ const fn from_milli(milli: u64, q: u32) -> u64 {
     ((milli << q) + 500) / 1000
 }
 
+/// The Delta-Q fixed-point objects: `scaled! { /// docs
+/// Name(raw type, bytes), q: fractional bits, volts | amps | amp_hours; ... }`,
+/// each with its unit's and milli-unit's accessors.
 macro_rules! scaled {
+    ($($(#[$doc:meta])* $name:ident($raw:ty, $bytes:literal), q: $q:literal, $unit:ident;)+) => {
+        $(scaled! { @unit $unit, $(#[$doc])* $name($raw, $bytes), q: $q })+
+    };
+    (@unit volts, $(#[$doc:meta])* $name:ident($raw:ty, $bytes:literal), q: $q:literal) => {
+        scaled! { @object $(#[$doc])* $name($raw, $bytes), q: $q, unit: "V",
+        milli: millivolts, from_milli: from_millivolts, milli_unit: "mV" }
+    };
+    (@unit amps, $(#[$doc:meta])* $name:ident($raw:ty, $bytes:literal), q: $q:literal) => {
+        scaled! { @object $(#[$doc])* $name($raw, $bytes), q: $q, unit: "A",
+        milli: milliamps, from_milli: from_milliamps, milli_unit: "mA" }
+    };
+    (@unit amp_hours, $(#[$doc:meta])* $name:ident($raw:ty, $bytes:literal), q: $q:literal) => {
+        scaled! { @object $(#[$doc])* $name($raw, $bytes), q: $q, unit: "Ah",
+        milli: milliamp_hours, from_milli: from_milliamp_hours, milli_unit: "mAh" }
+    };
     (
-        $(#[$doc:meta])*
+        @object $(#[$doc:meta])*
         $name:ident($raw:ty, $bytes:literal), q: $q:literal, unit: $unit:literal,
         milli: $milli:ident, from_milli: $from_milli:ident, milli_unit: $milli_unit:literal
     ) => {
@@ -132,11 +150,8 @@ macro_rules! scaled {
 scaled! {
     /// 2002h charging current: U16, Q8 A (1/256 A), 0..255.99 A. The BMS may
     /// write its own measured current here.
-    ChargingCurrent(u16, 2), q: 8, unit: "A",
-    milli: milliamps, from_milli: from_milliamps, milli_unit: "mA"
-}
+    ChargingCurrent(u16, 2), q: 8, amps;
 
-scaled! {
     /// 2100h battery voltage (legacy): U16, **Q10 V** (1/1024 V), 0..64 V.
     ///
     /// Erratum ("Delta-Q IC Series CANopen interface specification rev
@@ -147,43 +162,27 @@ scaled! {
     /// object list says. On a 48 V charger the range may be exceeded (read
     /// 2101h or 6060h instead); a saturated reading of 0xFFFF is
     /// indistinguishable from "no value" and decodes as `None`.
-    BatteryVoltageLegacy(u16, 2), q: 10, unit: "V",
-    milli: millivolts, from_milli: from_millivolts, milli_unit: "mV"
-}
+    BatteryVoltageLegacy(u16, 2), q: 10, volts;
 
-scaled! {
     /// 2101h battery voltage: U16, Q8 V (1/256 V), 0..255.99 V.
-    BatteryVoltage(u16, 2), q: 8, unit: "V",
-    milli: millivolts, from_milli: from_millivolts, milli_unit: "mV"
-}
+    BatteryVoltage(u16, 2), q: 8, volts;
 
-scaled! {
     /// 2200h AC voltage: U16, Q4 V rms (1/16 V).
-    AcVoltage(u16, 2), q: 4, unit: "V",
-    milli: millivolts, from_milli: from_millivolts, milli_unit: "mV"
-}
+    AcVoltage(u16, 2), q: 4, volts;
 
-scaled! {
     /// 2271h voltage request: U32, Q10 V (1/1024 V). Writable only while the
     /// BMS heartbeat is present; a limit in local mode, the set-point in
     /// remote mode.
-    VoltageRequest(u32, 4), q: 10, unit: "V",
-    milli: millivolts, from_milli: from_millivolts, milli_unit: "mV"
-}
+    VoltageRequest(u32, 4), q: 10, volts;
 
-scaled! {
     /// 2276h voltage request (16 bit): U16, Q8 V (1/256 V); same semantics as
     /// 2271h ([`VoltageRequest`]).
-    VoltageRequest16(u16, 2), q: 8, unit: "V",
-    milli: millivolts, from_milli: from_millivolts, milli_unit: "mV"
-}
+    VoltageRequest16(u16, 2), q: 8, volts;
 
-scaled! {
     /// 6052h Ah returned during the last charge, as the Delta-Q charger has
     /// it: U16, Q3 Ah (0.125 Ah, as CiA 418), default 0xFFFF = no value.
     /// The milli-unit accessors are exact (1 step = 125 mAh).
-    ChargerAhReturned(u16, 2), q: 3, unit: "Ah",
-    milli: milliamp_hours, from_milli: from_milliamp_hours, milli_unit: "mAh"
+    ChargerAhReturned(u16, 2), q: 3, amp_hours;
 }
 
 /// Extended charge status 2006h, bits 15-12: charge type.
