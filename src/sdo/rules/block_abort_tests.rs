@@ -64,13 +64,13 @@ fn crash_block_size_zero_in_initiate_response() {
     assert!(!c.is_busy());
     // And 128 from a client asking the server for a block upload.
     let mut s = server(Od::new(V18));
-    assert_eq!(
-        req(&mut s, "A4 08 10 00 80 00 00 00"),
-        ["80 08 10 00 02 00 04 05"]
-    );
-    assert_eq!(
-        req(&mut s, "A4 08 10 00 00 00 00 00"),
-        ["80 08 10 00 02 00 04 05"]
+    script(
+        &mut s,
+        req,
+        &[
+            ("A4 08 10 00 80 00 00 00", &["80 08 10 00 02 00 04 05"]),
+            ("A4 08 10 00 00 00 00 00", &["80 08 10 00 02 00 04 05"]),
+        ],
     );
     assert!(!s.is_busy());
 }
@@ -149,10 +149,13 @@ fn crash_end_frame_claiming_more_unused_bytes_than_there_are() {
     // of its bytes are data: 05040001h.
     let mut s = server(Od::new(b""));
     let _ = req(&mut s, "C2 00 20 00 00 00 00 00");
-    assert_eq!(req(&mut s, "81 41"), ["A2 01 7F 00 00 00 00 00"]);
-    assert_eq!(
-        req(&mut s, "C1 00 00 00 00 00 00 00"),
-        ["80 00 20 00 01 00 04 05"]
+    script(
+        &mut s,
+        req,
+        &[
+            ("81 41", &["A2 01 7F 00 00 00 00 00"]),
+            ("C1 00 00 00 00 00 00 00", &["80 00 20 00 01 00 04 05"]),
+        ],
     );
     // With the size indicated, 7 unused bytes leave too little data.
     let mut s = server(Od::new(b""));
@@ -168,29 +171,29 @@ fn crash_end_frame_claiming_more_unused_bytes_than_there_are() {
     c.start_block_upload(T0, 0x1008, 0).unwrap();
     let _ = sent(&mut c);
     let _ = resp(&mut c, "C4 08 10 00 00 00 00 00");
-    assert_eq!(resp(&mut c, "81 41"), ["A2 01 7F 00 00 00 00 00"]);
-    assert_eq!(
-        resp(&mut c, "C1 00 00 00 00 00 00 00"),
-        ["80 08 10 00 01 00 04 05"]
+    script(
+        &mut c,
+        resp,
+        &[
+            ("81 41", &["A2 01 7F 00 00 00 00 00"]),
+            ("C1 00 00 00 00 00 00 00", &["80 08 10 00 01 00 04 05"]),
+        ],
     );
 }
 
 #[test]
 fn crash_block_upload_of_an_empty_object() {
     let mut s = server(Od::new(b""));
-    assert_eq!(
-        req(&mut s, "A4 00 20 00 7F 00 00 00"),
-        ["C6 00 20 00 00 00 00 00"]
+    script(
+        &mut s,
+        req,
+        &[
+            ("A4 00 20 00 7F 00 00 00", &["C6 00 20 00 00 00 00 00"]),
+            ("A3 00 00 00 00 00 00 00", &["81 00 00 00 00 00 00 00"]),
+            ("A2 01 7F 00 00 00 00 00", &["DD 00 00 00 00 00 00 00"]),
+            ("A1 00 00 00 00 00 00 00", &[]),
+        ],
     );
-    assert_eq!(
-        req(&mut s, "A3 00 00 00 00 00 00 00"),
-        ["81 00 00 00 00 00 00 00"]
-    );
-    assert_eq!(
-        req(&mut s, "A2 01 7F 00 00 00 00 00"),
-        ["DD 00 00 00 00 00 00 00"]
-    );
-    assert_eq!(req(&mut s, "A1 00 00 00 00 00 00 00"), Vec::<String>::new());
     assert_eq!(
         events(&mut s),
         [ServerEvent::Uploaded {
@@ -202,17 +205,14 @@ fn crash_block_upload_of_an_empty_object() {
     let mut c = client();
     c.start_block_upload(T0, 0x2000, 0).unwrap();
     let _ = sent(&mut c);
-    assert_eq!(
-        resp(&mut c, "C6 00 20 00 00 00 00 00"),
-        ["A3 00 00 00 00 00 00 00"]
-    );
-    assert_eq!(
-        resp(&mut c, "81 00 00 00 00 00 00 00"),
-        ["A2 01 7F 00 00 00 00 00"]
-    );
-    assert_eq!(
-        resp(&mut c, "DD 00 00 00 00 00 00 00"),
-        ["A1 00 00 00 00 00 00 00"]
+    script(
+        &mut c,
+        resp,
+        &[
+            ("C6 00 20 00 00 00 00 00", &["A3 00 00 00 00 00 00 00"]),
+            ("81 00 00 00 00 00 00 00", &["A2 01 7F 00 00 00 00 00"]),
+            ("DD 00 00 00 00 00 00 00", &["A1 00 00 00 00 00 00 00"]),
+        ],
     );
     assert_eq!(
         events(&mut c),
@@ -226,13 +226,13 @@ fn crash_block_upload_of_an_empty_object() {
     let mut c = client();
     c.start_block_download(T0, 0x2000, 0, b"").unwrap();
     assert_eq!(sent(&mut c), ["C6 00 20 00 00 00 00 00"]);
-    assert_eq!(
-        resp(&mut c, "A4 00 20 00 7F 00 00 00"),
-        ["81 00 00 00 00 00 00 00"]
-    );
-    assert_eq!(
-        resp(&mut c, "A2 01 7F 00 00 00 00 00"),
-        ["DD 00 00 00 00 00 00 00"]
+    script(
+        &mut c,
+        resp,
+        &[
+            ("A4 00 20 00 7F 00 00 00", &["81 00 00 00 00 00 00 00"]),
+            ("A2 01 7F 00 00 00 00 00", &["DD 00 00 00 00 00 00 00"]),
+        ],
     );
 }
 
@@ -273,13 +273,13 @@ fn protocol_switch_threshold() {
     let mut c = client();
     c.start_block_upload(T0, 0x1008, 0).unwrap();
     let _ = sent(&mut c);
-    assert_eq!(
-        resp(&mut c, "41 08 10 00 02 00 00 00"),
-        ["60 00 00 00 00 00 00 00"]
-    );
-    assert_eq!(
-        resp(&mut c, "0B 4F 4B 00 00 00 00 00"),
-        Vec::<String>::new()
+    script(
+        &mut c,
+        resp,
+        &[
+            ("41 08 10 00 02 00 00 00", &["60 00 00 00 00 00 00 00"]),
+            ("0B 4F 4B 00 00 00 00 00", &[]),
+        ],
     );
     assert_eq!(
         events(&mut c).last(),

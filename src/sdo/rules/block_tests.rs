@@ -154,6 +154,18 @@ pub(super) fn resp<D: AsRef<[u8]>>(c: &mut Client<D>, hex: &str) -> Vec<String> 
     sent(c)
 }
 
+/// Each step's frame fed through `feed` (`req` or `resp`), and what the
+/// machine sends then compared with the step's frames.
+pub(super) fn script<M>(
+    m: &mut M,
+    feed: fn(&mut M, &str) -> Vec<String>,
+    steps: &[(&str, &[&str])],
+) {
+    for &(input, output) in steps {
+        assert_eq!(feed(m, input), output, "after {input}");
+    }
+}
+
 pub(super) const V17: &[u8] = b"A really really long string...";
 pub(super) const V17_SEGMENTS: [&str; 5] = [
     "01 41 20 72 65 61 6C 6C",
@@ -228,13 +240,13 @@ fn v17_block_download_client_side() {
     assert_eq!(sent(&mut c), ["C6 00 20 00 1E 00 00 00"]);
     // One segment per poll: the whole sub-block comes out of the drain.
     assert_eq!(resp(&mut c, "A4 00 20 00 7F 00 00 00"), V17_SEGMENTS);
-    assert_eq!(
-        resp(&mut c, "A2 05 7F 00 00 00 00 00"),
-        ["D5 45 69 00 00 00 00 00"]
-    );
-    assert_eq!(
-        resp(&mut c, "A1 00 00 00 00 00 00 00"),
-        Vec::<String>::new()
+    script(
+        &mut c,
+        resp,
+        &[
+            ("A2 05 7F 00 00 00 00 00", &["D5 45 69 00 00 00 00 00"]),
+            ("A1 00 00 00 00 00 00 00", &[]),
+        ],
     );
     assert_eq!(
         events(&mut c),
@@ -278,13 +290,13 @@ fn v17_block_download_server_side() {
 fn block_download_without_size_and_without_crc() {
     let mut s = server(Od::new(b""));
     // cc = 0, s = 0: no CRC, no size.
-    assert_eq!(
-        req(&mut s, "C0 00 20 00 00 00 00 00"),
-        ["A4 00 20 00 7F 00 00 00"]
-    );
-    assert_eq!(
-        req(&mut s, "81 41 42 43 00 00 00 00"),
-        ["A2 01 7F 00 00 00 00 00"]
+    script(
+        &mut s,
+        req,
+        &[
+            ("C0 00 20 00 00 00 00 00", &["A4 00 20 00 7F 00 00 00"]),
+            ("81 41 42 43 00 00 00 00", &["A2 01 7F 00 00 00 00 00"]),
+        ],
     );
     // CRC not in use: the CRC field is not checked.
     assert_eq!(
@@ -342,11 +354,14 @@ fn v18_block_upload_server_side() {
         ["C6 08 10 00 1A 00 00 00"]
     );
     assert_eq!(req(&mut s, "A3 00 00 00 00 00 00 00"), V18_SEGMENTS);
-    assert_eq!(
-        req(&mut s, "A2 04 7F 00 00 00 00 00"),
-        ["C9 40 E1 00 00 00 00 00"]
+    script(
+        &mut s,
+        req,
+        &[
+            ("A2 04 7F 00 00 00 00 00", &["C9 40 E1 00 00 00 00 00"]),
+            ("A1 00 00 00 00 00 00 00", &[]),
+        ],
     );
-    assert_eq!(req(&mut s, "A1 00 00 00 00 00 00 00"), Vec::<String>::new());
     assert_eq!(
         events(&mut s),
         [ServerEvent::Uploaded {
@@ -372,19 +387,16 @@ fn lost_segment_is_acknowledged_and_resent_download() {
         ["A2 01 03 00 00 00 00 00"]
     );
     // The client resends from segment 2, numbering from 1.
-    assert_eq!(req(&mut s, "01 79 20 72 65 61 6C 6C"), Vec::<String>::new());
-    assert_eq!(req(&mut s, "02 79 20 6C 6F 6E 67 20"), Vec::<String>::new());
-    assert_eq!(
-        req(&mut s, "03 73 74 72 69 6E 67 2E"),
-        ["A2 03 03 00 00 00 00 00"]
-    );
-    assert_eq!(
-        req(&mut s, "81 2E 2E 00 00 00 00 00"),
-        ["A2 01 03 00 00 00 00 00"]
-    );
-    assert_eq!(
-        req(&mut s, "D5 45 69 00 00 00 00 00"),
-        ["A1 00 00 00 00 00 00 00"]
+    script(
+        &mut s,
+        req,
+        &[
+            ("01 79 20 72 65 61 6C 6C", &[]),
+            ("02 79 20 6C 6F 6E 67 20", &[]),
+            ("03 73 74 72 69 6E 67 2E", &["A2 03 03 00 00 00 00 00"]),
+            ("81 2E 2E 00 00 00 00 00", &["A2 01 03 00 00 00 00 00"]),
+            ("D5 45 69 00 00 00 00 00", &["A1 00 00 00 00 00 00 00"]),
+        ],
     );
     assert_eq!(s.od().written(), V17);
 
@@ -393,21 +405,21 @@ fn lost_segment_is_acknowledged_and_resent_download() {
     c.start_block_download(T0, 0x2000, 0, V17).unwrap();
     let _ = sent(&mut c);
     assert_eq!(resp(&mut c, "A4 00 20 00 03 00 00 00"), &V17_SEGMENTS[..3]);
-    assert_eq!(
-        resp(&mut c, "A2 01 03 00 00 00 00 00"),
-        [
-            "01 79 20 72 65 61 6C 6C",
-            "02 79 20 6C 6F 6E 67 20",
-            "03 73 74 72 69 6E 67 2E"
-        ]
-    );
-    assert_eq!(
-        resp(&mut c, "A2 03 03 00 00 00 00 00"),
-        ["81 2E 2E 00 00 00 00 00"]
-    );
-    assert_eq!(
-        resp(&mut c, "A2 01 03 00 00 00 00 00"),
-        ["D5 45 69 00 00 00 00 00"]
+    script(
+        &mut c,
+        resp,
+        &[
+            (
+                "A2 01 03 00 00 00 00 00",
+                &[
+                    "01 79 20 72 65 61 6C 6C",
+                    "02 79 20 6C 6F 6E 67 20",
+                    "03 73 74 72 69 6E 67 2E",
+                ],
+            ),
+            ("A2 03 03 00 00 00 00 00", &["81 2E 2E 00 00 00 00 00"]),
+            ("A2 01 03 00 00 00 00 00", &["D5 45 69 00 00 00 00 00"]),
+        ],
     );
 }
 
@@ -424,16 +436,16 @@ fn lost_segment_is_acknowledged_and_resent_upload() {
     let mut s = server(Od::new(V18));
     let _ = req(&mut s, "A4 08 10 00 02 00 00 00");
     assert_eq!(req(&mut s, "A3 00 00 00 00 00 00 00"), &V18_SEGMENTS[..2]);
-    assert_eq!(
-        req(&mut s, "A2 01 02 00 00 00 00 00"),
-        ["01 64 65 20 2D 20 4D 65", "02 67 61 20 44 6F 6D 61"]
-    );
-    assert_eq!(
-        req(&mut s, "A2 02 02 00 00 00 00 00"),
-        ["81 69 6E 73 20 21 00 00"]
-    );
-    assert_eq!(
-        req(&mut s, "A2 01 02 00 00 00 00 00"),
-        ["C9 40 E1 00 00 00 00 00"]
+    script(
+        &mut s,
+        req,
+        &[
+            (
+                "A2 01 02 00 00 00 00 00",
+                &["01 64 65 20 2D 20 4D 65", "02 67 61 20 44 6F 6D 61"],
+            ),
+            ("A2 02 02 00 00 00 00 00", &["81 69 6E 73 20 21 00 00"]),
+            ("A2 01 02 00 00 00 00 00", &["C9 40 E1 00 00 00 00 00"]),
+        ],
     );
 }
