@@ -875,17 +875,11 @@ where
         self.poll_timeout_with(&())
     }
 
-    fn poll_event(&mut self) -> Option<DeviceEvent> {
-        self.events.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
-
     fn frames_dropped(&self) -> u64 {
         self.transmit.dropped()
     }
+
+    crate::machine::queued_outputs!(@events events);
 }
 
 #[cfg(test)]

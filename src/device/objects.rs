@@ -485,13 +485,7 @@ impl ObjectDictionary for CommObjects {
     }
 
     fn finish_write(&mut self, index: u16, sub: u8, len: usize) -> Result<(), AbortCode> {
-        let e = match self.entry(index, sub) {
-            Ok(e) => e,
-            Err(code) => {
-                self.pending.clear();
-                return Err(code);
-            }
-        };
+        let e = self.pending.unless_refused(self.entry(index, sub))?;
         let word = self
             .pending
             .downloaded_value(e.access, e.len, index, sub, len)?;

@@ -175,6 +175,16 @@ impl WriteBuffer {
         Ok(u32::from_le_bytes(self.bytes) & mask)
     }
 
+    /// `found`, what the dictionary says of the object a write goes to,
+    /// or its refusal with the buffered bytes dropped: a refused write
+    /// leaves nothing behind.
+    pub fn unless_refused<T>(&mut self, found: Result<T, AbortCode>) -> Result<T, AbortCode> {
+        if found.is_err() {
+            self.clear();
+        }
+        found
+    }
+
     /// Forgets the value in progress (an aborted download).
     pub fn clear(&mut self) {
         *self = Self::new();
@@ -210,6 +220,18 @@ mod tests {
         assert_eq!(w.take(1, 0), &[] as &[u8]);
         w.write(1, 0, 0, &[5]).unwrap();
         w.clear();
+        assert_eq!(w.take(1, 0), &[] as &[u8]);
+    }
+
+    /// A refusal of the object drops the buffered bytes; an answer keeps them.
+    #[test]
+    fn refused_objects_leave_nothing_behind() {
+        let mut w = WriteBuffer::new();
+        w.write(1, 0, 0, &[5, 6]).unwrap();
+        assert_eq!(w.unless_refused(Ok(3)), Ok(3));
+        assert_eq!(w.take(1, 0), &[5, 6]);
+        let refused: Result<u8, _> = Err(AbortCode::ObjectDoesNotExist);
+        assert_eq!(w.unless_refused(refused), refused);
         assert_eq!(w.take(1, 0), &[] as &[u8]);
     }
 

@@ -459,13 +459,7 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> ObjectDictionary
         let Some(object) = self.entry(index, sub) else {
             return self.inner.finish_write(index, sub, len);
         };
-        let (access, _, size) = match object {
-            Ok(object) => object,
-            Err(code) => {
-                self.pending.clear();
-                return Err(code);
-            }
-        };
+        let (access, _, size) = self.pending.unless_refused(object)?;
         let word = self
             .pending
             .downloaded_value(access, size, index, sub, len)?;

@@ -240,16 +240,10 @@ impl Machine for Reconfigurer {
         self.client.poll_timeout()
     }
 
-    /// The outcome of a run.
-    fn poll_event(&mut self) -> Option<ReconfigEvent> {
-        self.outcomes.pop()
-    }
-
-    fn events_dropped(&self) -> u64 {
-        self.outcomes.dropped()
-    }
-
     fn frames_dropped(&self) -> u64 {
         self.client.frames_dropped()
     }
+
+    // The events: the outcome of each run.
+    crate::machine::queued_outputs!(@events outcomes);
 }
