@@ -42,3 +42,37 @@ pub(crate) const fn exact_len(data: &[u8], n: usize) -> Result<(), DecodeError> 
         Ok(())
     }
 }
+
+/// For the crate's tests: `decode` reads a value of exactly `len` bytes.
+/// Every shorter input is [`DecodeError::Truncated`], every longer one (up
+/// to 8 bytes more) [`DecodeError::TooLong`], and `len` bytes are no
+/// length error.
+#[cfg(test)]
+pub(crate) fn assert_exact_length<T: core::fmt::Debug>(
+    decode: impl Fn(&[u8]) -> Result<T, DecodeError>,
+    len: usize,
+) {
+    use core::cmp::Ordering;
+    let data = [0u8; 24];
+    for got in 0..=len + 8 {
+        let result = decode(data.get(..got).expect("lengths up to 16 bytes"));
+        match got.cmp(&len) {
+            Ordering::Less => {
+                assert_eq!(
+                    result.err(),
+                    Some(DecodeError::Truncated { need: len, got })
+                );
+            }
+            Ordering::Greater => {
+                assert_eq!(result.err(), Some(DecodeError::TooLong { max: len, got }));
+            }
+            Ordering::Equal => assert!(
+                !matches!(
+                    result,
+                    Err(DecodeError::Truncated { .. } | DecodeError::TooLong { .. })
+                ),
+                "{len} bytes: {result:?}"
+            ),
+        }
+    }
+}

@@ -149,13 +149,7 @@ mod tests {
 
     #[test]
     fn status_lengths() {
-        assert_eq!(
-            BatteryStatus::decode(&[]),
-            Err(DecodeError::Truncated { need: 1, got: 0 })
-        );
-        assert_eq!(
-            ChargerStatus::decode(&[1, 2]),
-            Err(DecodeError::TooLong { max: 1, got: 2 })
-        );
+        crate::error::assert_exact_length(BatteryStatus::decode, 1);
+        crate::error::assert_exact_length(ChargerStatus::decode, 1);
     }
 }

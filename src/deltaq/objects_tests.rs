@@ -3,7 +3,6 @@
 use super::*;
 use crate::deltaq::{index, timeouts};
 use crate::emcy::ErrorCode;
-use crate::error::DecodeError;
 
 /// The capture's charger TPDO 0 `18A#7413454E70000000` and TPDO 2
 /// `38A#00000000BA07FF00` (the worked example of tests/data/CAPTURES.md).
@@ -341,30 +340,12 @@ fn bitflag_objects_keep_every_bit() {
 
 #[test]
 fn wrong_lengths_are_errors() {
-    assert_eq!(
-        ChargingCurrent::decode(&[0x74]),
-        Err(DecodeError::Truncated { need: 2, got: 1 })
-    );
-    assert_eq!(
-        BatteryVoltage::decode(&[0, 0, 0]),
-        Err(DecodeError::TooLong { max: 2, got: 3 })
-    );
-    assert_eq!(
-        VoltageRequest::decode(&[]),
-        Err(DecodeError::Truncated { need: 4, got: 0 })
-    );
-    assert_eq!(
-        ExtendedChargeStatus::decode(&[0x70]),
-        Err(DecodeError::Truncated { need: 2, got: 1 })
-    );
-    assert_eq!(
-        DisplayedError::decode(&[0; 5]),
-        Err(DecodeError::TooLong { max: 4, got: 5 })
-    );
-    assert_eq!(
-        AlgorithmRequest::decode(&[0; 2]),
-        Err(DecodeError::Truncated { need: 4, got: 2 })
-    );
+    crate::error::assert_exact_length(ChargingCurrent::decode, 2);
+    crate::error::assert_exact_length(BatteryVoltage::decode, 2);
+    crate::error::assert_exact_length(VoltageRequest::decode, 4);
+    crate::error::assert_exact_length(ExtendedChargeStatus::decode, 2);
+    crate::error::assert_exact_length(DisplayedError::decode, 4);
+    crate::error::assert_exact_length(AlgorithmRequest::decode, 4);
 }
 
 #[test]

@@ -233,18 +233,8 @@ mod tests {
 
     #[test]
     fn wrong_lengths_are_errors() {
-        assert_eq!(
-            Emergency::decode(&[0; 7]),
-            Err(DecodeError::Truncated { need: 8, got: 7 })
-        );
-        assert_eq!(
-            Emergency::decode(&[0; 9]),
-            Err(DecodeError::TooLong { max: 8, got: 9 })
-        );
-        assert_eq!(
-            ErrorFieldEntry::decode(&[0; 3]),
-            Err(DecodeError::Truncated { need: 4, got: 3 })
-        );
+        crate::error::assert_exact_length(Emergency::decode, 8);
+        crate::error::assert_exact_length(ErrorFieldEntry::decode, 4);
     }
 
     #[test]

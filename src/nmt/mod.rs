@@ -317,21 +317,7 @@ mod tests {
 
     #[test]
     fn lengths() {
-        assert_eq!(
-            NmtCommand::decode(&[1]),
-            Err(DecodeError::Truncated { need: 2, got: 1 })
-        );
-        assert_eq!(
-            NmtCommand::decode(&[1, 2, 3]),
-            Err(DecodeError::TooLong { max: 2, got: 3 })
-        );
-        assert_eq!(
-            Heartbeat::decode(&[]),
-            Err(DecodeError::Truncated { need: 1, got: 0 })
-        );
-        assert_eq!(
-            Heartbeat::decode(&[5, 0]),
-            Err(DecodeError::TooLong { max: 1, got: 2 })
-        );
+        crate::error::assert_exact_length(NmtCommand::decode, 2);
+        crate::error::assert_exact_length(Heartbeat::decode, 1);
     }
 }
