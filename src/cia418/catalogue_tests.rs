@@ -2,7 +2,7 @@
 //! in words (CiA 418 v1.0.1, 7.3.1-7.3.18), and the status flag words
 //! against the status types.
 
-use std::string::{String, ToString};
+use std::string::ToString;
 
 use super::*;
 use crate::pdo::catalogue_test_support::{assert_table_consistent, assert_vectors};
@@ -46,31 +46,38 @@ fn table_is_consistent_and_complete() {
 /// byte.
 #[test]
 fn status_words_agree_with_the_status_types() {
+    // (object, bit 0 as the status type reads it, its words set and clear)
+    let objects: [(u16, fn(u8) -> bool, &str, &str); 3] = [
+        (
+            0x6000,
+            |b| BatteryStatus::from_bits_retain(b).contains(BatteryStatus::READY_TO_CHARGE),
+            "ready to charge",
+            "not ready to charge",
+        ),
+        (
+            0x6001,
+            |b| ChargerStatus::from_bits_retain(b).contains(ChargerStatus::ENABLED),
+            "enabled",
+            "not enabled",
+        ),
+        (
+            0x6090,
+            |b| WaterLevelStatus::from_bits_retain(b).is_full(),
+            "full",
+            "low",
+        ),
+    ];
     for byte in 0..=255u8 {
         let rest = byte & !0x01;
-        let other = |s: &str| -> String {
-            if rest == 0 {
-                s.to_string()
+        for (index, bit0, set, clear) in objects {
+            let words = if bit0(byte) { set } else { clear };
+            let want = if rest == 0 {
+                words.to_string()
             } else {
-                format!("{s}, other bits {rest:02X}h")
-            }
-        };
-        let b = BatteryStatus::from_bits_retain(byte);
-        let want = other(if b.contains(BatteryStatus::READY_TO_CHARGE) {
-            "ready to charge"
-        } else {
-            "not ready to charge"
-        });
-        assert_eq!(one(0x6000, 0, 8, u64::from(byte)).value.to_string(), want);
-        let c = ChargerStatus::from_bits_retain(byte);
-        let want = other(if c.contains(ChargerStatus::ENABLED) {
-            "enabled"
-        } else {
-            "not enabled"
-        });
-        assert_eq!(one(0x6001, 0, 8, u64::from(byte)).value.to_string(), want);
-        let w = WaterLevelStatus::from_bits_retain(byte);
-        let want = other(if w.is_full() { "full" } else { "low" });
-        assert_eq!(one(0x6090, 0, 8, u64::from(byte)).value.to_string(), want);
+                format!("{words}, other bits {rest:02X}h")
+            };
+            let got = one(index, 0, 8, u64::from(byte)).value.to_string();
+            assert_eq!(got, want, "{index:04X}h {byte:02X}h");
+        }
     }
 }

@@ -172,45 +172,46 @@ fn flag_words_agree_with_the_typed_values() {
         let got = one(CHARGER_CATALOGUE, 0x2006, 0, 16, u64::from(raw));
         assert_eq!(got.value.to_string(), want.join(", "), "{raw:04X}h");
     }
-    for byte in 0..=255u8 {
-        let words = |names: &[(u8, &str)]| -> String {
-            let mut known = 0;
-            let mut v: Vec<String> = Vec::new();
-            for &(bit, name) in names {
-                known |= bit;
-                if byte & bit != 0 {
-                    v.push(name.into());
-                }
-            }
-            if byte & !known != 0 {
-                v.push(format!("other bits {:02X}h", byte & !known));
-            }
-            if v.is_empty() {
-                "none".into()
-            } else {
-                v.join(", ")
-            }
-        };
-        assert_eq!(
-            one(CHARGER_CATALOGUE, 0x2008, 0, 8, u64::from(byte))
-                .value
-                .to_string(),
-            words(&[
+    // The flag bytes: (object, its named bits).
+    let flag_bytes: [(u16, &[(u8, &str)]); 2] = [
+        (
+            0x2008,
+            &[
                 (DerateReasons::AC_VOLTAGE.bits(), "AC voltage"),
                 (DerateReasons::BATTERY_VOLTAGE.bits(), "battery voltage"),
                 (DerateReasons::TEMPERATURE.bits(), "temperature"),
                 (DerateReasons::AC_CURRENT_LIMIT.bits(), "AC current limit"),
-            ])
-        );
-        assert_eq!(
-            one(CHARGER_CATALOGUE, 0x4201, 0, 8, u64::from(byte))
-                .value
-                .to_string(),
-            words(&[
+            ],
+        ),
+        (
+            0x4201,
+            &[
                 (ExternalOverride::EQUALIZE.bits(), "equalize"),
                 (ExternalOverride::MAINTENANCE.bits(), "maintenance"),
-            ])
-        );
+            ],
+        ),
+    ];
+    for byte in 0..=255u8 {
+        for (index, names) in flag_bytes {
+            let mut known = 0;
+            let mut want: Vec<String> = Vec::new();
+            for &(bit, name) in names {
+                known |= bit;
+                if byte & bit != 0 {
+                    want.push(name.into());
+                }
+            }
+            if byte & !known != 0 {
+                want.push(format!("other bits {:02X}h", byte & !known));
+            }
+            let want = if want.is_empty() {
+                "none".into()
+            } else {
+                want.join(", ")
+            };
+            let got = one(CHARGER_CATALOGUE, index, 0, 8, u64::from(byte));
+            assert_eq!(got.value.to_string(), want, "{index:04X}h {byte:02X}h");
+        }
     }
 }
 
