@@ -359,30 +359,31 @@ mod tests {
 
     #[test]
     fn function_codes() {
-        assert_eq!(classify_standard(0x000), CobKind::Nmt);
-        assert_eq!(classify_standard(0x080), CobKind::Sync);
-        assert_eq!(classify_standard(0x081), CobKind::Emcy(n(1)));
-        assert_eq!(classify_standard(0x0FF), CobKind::Emcy(n(127)));
-        assert_eq!(classify_standard(0x100), CobKind::Time);
-        assert_eq!(classify_standard(0x101), CobKind::Unknown);
-        assert_eq!(classify_standard(0x001), CobKind::Unknown);
-        assert_eq!(classify_standard(0x180), CobKind::Unknown);
-        assert_eq!(classify_standard(0x5FF), CobKind::SdoTx(n(127)));
-        assert_eq!(classify_standard(0x67F), CobKind::SdoRx(n(127)));
-        assert_eq!(classify_standard(0x680), CobKind::Unknown);
-        assert_eq!(classify_standard(0x700), CobKind::Unknown);
-        assert_eq!(classify_standard(0x701), CobKind::NmtErrorControl(n(1)));
-        assert_eq!(classify_standard(0x77F), CobKind::NmtErrorControl(n(127)));
-        assert_eq!(
-            classify_standard(0x7E4),
-            CobKind::Lss(LssDirection::SlaveToMaster)
-        );
-        assert_eq!(
-            classify_standard(0x7E5),
-            CobKind::Lss(LssDirection::MasterToSlave)
-        );
-        assert_eq!(classify_standard(0x7E6), CobKind::Unknown);
-        assert_eq!(classify_standard(0x7FF), CobKind::Unknown);
+        // (identifier, what the predefined connection set makes of it)
+        #[rustfmt::skip]
+        let cases = [
+            (0x000, CobKind::Nmt),
+            (0x080, CobKind::Sync),
+            (0x081, CobKind::Emcy(n(1))),
+            (0x0FF, CobKind::Emcy(n(127))),
+            (0x100, CobKind::Time),
+            (0x101, CobKind::Unknown),
+            (0x001, CobKind::Unknown),
+            (0x180, CobKind::Unknown),
+            (0x5FF, CobKind::SdoTx(n(127))),
+            (0x67F, CobKind::SdoRx(n(127))),
+            (0x680, CobKind::Unknown),
+            (0x700, CobKind::Unknown),
+            (0x701, CobKind::NmtErrorControl(n(1))),
+            (0x77F, CobKind::NmtErrorControl(n(127))),
+            (0x7E4, CobKind::Lss(LssDirection::SlaveToMaster)),
+            (0x7E5, CobKind::Lss(LssDirection::MasterToSlave)),
+            (0x7E6, CobKind::Unknown),
+            (0x7FF, CobKind::Unknown),
+        ];
+        for (id, kind) in cases {
+            assert_eq!(classify_standard(id), kind, "{id:03X}h");
+        }
         assert_eq!(classify(CanId::Extended(0x181)), CobKind::Unknown);
     }
 

@@ -52,67 +52,14 @@ type Row = (
 /// by row, with literal values (COB-ID for node 1, then node 127).
 #[test]
 fn default_pdo_rows() {
+    #[rustfmt::skip]
     let rows: [Row; 6] = [
-        (
-            PdoDirection::Receive,
-            PdoNumber::P0,
-            0x1400,
-            0x1600,
-            0x201,
-            0,
-            &[(0x6001, 0, 8)],
-            None,
-        ),
-        (
-            PdoDirection::Receive,
-            PdoNumber::P1,
-            0x1401,
-            0x1601,
-            0x301,
-            0,
-            &[(0x6001, 0, 8), (0x6052, 0, 16)],
-            Some(1 << 16),
-        ),
-        (
-            PdoDirection::Receive,
-            PdoNumber::P2,
-            0x1402,
-            0x1602,
-            0x401,
-            0,
-            &[(0x6001, 0, 8), (0x6052, 0, 16), (0x6080, 0, 8)],
-            Some(1 << 17),
-        ),
-        (
-            PdoDirection::Transmit,
-            PdoNumber::P0,
-            0x1800,
-            0x1A00,
-            0x8000_0181,
-            200,
-            &[(0x6010, 0, 16), (0x6000, 0, 8)],
-            None,
-        ),
-        (
-            PdoDirection::Transmit,
-            PdoNumber::P1,
-            0x1801,
-            0x1A01,
-            0x8000_0281,
-            200,
-            &[(0x6010, 0, 16), (0x6000, 0, 8), (0x6060, 0, 32)],
-            Some(1 << 18),
-        ),
-        (
-            PdoDirection::Transmit,
-            PdoNumber::P2,
-            0x1802,
-            0x1A02,
-            0x8000_0381,
-            200,
-            &[(0x6070, 0, 16), (0x6081, 0, 8)],
-            Some(1 << 19),
-        ),
+        (PdoDirection::Receive, PdoNumber::P0, 0x1400, 0x1600, 0x201, 0, &[(0x6001, 0, 8)], None),
+        (PdoDirection::Receive, PdoNumber::P1, 0x1401, 0x1601, 0x301, 0, &[(0x6001, 0, 8), (0x6052, 0, 16)], Some(1 << 16)),
+        (PdoDirection::Receive, PdoNumber::P2, 0x1402, 0x1602, 0x401, 0, &[(0x6001, 0, 8), (0x6052, 0, 16), (0x6080, 0, 8)], Some(1 << 17)),
+        (PdoDirection::Transmit, PdoNumber::P0, 0x1800, 0x1A00, 0x8000_0181, 200, &[(0x6010, 0, 16), (0x6000, 0, 8)], None),
+        (PdoDirection::Transmit, PdoNumber::P1, 0x1801, 0x1A01, 0x8000_0281, 200, &[(0x6010, 0, 16), (0x6000, 0, 8), (0x6060, 0, 32)], Some(1 << 18)),
+        (PdoDirection::Transmit, PdoNumber::P2, 0x1802, 0x1A02, 0x8000_0381, 200, &[(0x6070, 0, 16), (0x6081, 0, 8)], Some(1 << 19)),
     ];
     for (pdo, (dir, number, comm, mapping, cob1, timer, entries, bit)) in
         DEFAULT_PDOS.iter().zip(rows)
