@@ -35,48 +35,33 @@ fn capture_worked_example() {
     assert_eq!(format!("{ac}"), "123.625 V");
 }
 
+/// A 2006h value by its fields.
+const fn status(
+    charge_type: ChargeType,
+    indication: ChargeIndication,
+    override_source: OverrideSource,
+    flags: u8,
+) -> ExtendedChargeStatus {
+    ExtendedChargeStatus {
+        charge_type,
+        indication,
+        override_source,
+        flags: ChargeStatusFlags::from_bits_retain(flags),
+    }
+}
+
+use ChargeStatusFlags as F;
+
 /// 2006h words and their fields; unknown values are kept.
+#[rustfmt::skip]
 const EXTENDED_CHARGE_STATUS: &[(u16, ExtendedChargeStatus)] = &[
-    (
-        0x0070,
-        ExtendedChargeStatus {
-            charge_type: ChargeType::None,
-            indication: ChargeIndication::Inactive,
-            override_source: OverrideSource::External,
-            flags: ChargeStatusFlags::AC_PRESENT.union(ChargeStatusFlags::CHARGER_ENABLED),
-        },
-    ),
-    (
-        0x1423,
-        ExtendedChargeStatus {
-            charge_type: ChargeType::Normal,
-            indication: ChargeIndication::Complete,
-            override_source: OverrideSource::Internal,
-            flags: ChargeStatusFlags::CHARGER_ENABLED
-                .union(ChargeStatusFlags::ALARM_ACTIVE)
-                .union(ChargeStatusFlags::FAULT_ACTIVE),
-        },
-    ),
-    (
-        0x271C,
-        ExtendedChargeStatus {
-            charge_type: ChargeType::Maintenance,
-            indication: ChargeIndication::PowerSupplyMode,
-            override_source: OverrideSource::Internal,
-            flags: ChargeStatusFlags::AC_PRESENT
-                .union(ChargeStatusFlags::DERATING)
-                .union(ChargeStatusFlags::HW_SHUTDOWN),
-        },
-    ),
-    (
-        0xF8C0,
-        ExtendedChargeStatus {
-            charge_type: ChargeType::Other(15),
-            indication: ChargeIndication::Other(8),
-            override_source: OverrideSource::Other(3),
-            flags: ChargeStatusFlags::empty(),
-        },
-    ),
+    (0x0070, status(ChargeType::None, ChargeIndication::Inactive, OverrideSource::External,
+        F::AC_PRESENT.bits() | F::CHARGER_ENABLED.bits())),
+    (0x1423, status(ChargeType::Normal, ChargeIndication::Complete, OverrideSource::Internal,
+        F::CHARGER_ENABLED.bits() | F::ALARM_ACTIVE.bits() | F::FAULT_ACTIVE.bits())),
+    (0x271C, status(ChargeType::Maintenance, ChargeIndication::PowerSupplyMode, OverrideSource::Internal,
+        F::AC_PRESENT.bits() | F::DERATING.bits() | F::HW_SHUTDOWN.bits())),
+    (0xF8C0, status(ChargeType::Other(15), ChargeIndication::Other(8), OverrideSource::Other(3), 0)),
 ];
 
 #[test]
