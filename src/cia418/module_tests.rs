@@ -13,6 +13,15 @@ fn drain(m: &mut BatteryModule) -> std::vec::Vec<CanFrame> {
     core::iter::from_fn(|| m.poll_transmit()).collect()
 }
 
+/// A module whose 1000h says it has the optional 2nd and 3rd RPDO and
+/// TPDO (bits 16-19, CiA 418 section 6.2.1).
+fn with_every_pdo() -> BatteryModule {
+    BatteryModule::new(BatteryModuleConfig {
+        device_type: DeviceType::cia418(0xF_0000),
+        ..BatteryModuleConfig::default()
+    })
+}
+
 #[test]
 fn nothing_happens_before_boot() {
     let mut m = module();
@@ -62,10 +71,7 @@ fn default_pdo_set_follows_the_device_type() {
 
 #[test]
 fn hostile_frames_and_times_never_panic() {
-    let mut m = BatteryModule::new(BatteryModuleConfig {
-        device_type: DeviceType::cia418(0xF_0000),
-        ..BatteryModuleConfig::default()
-    });
+    let mut m = with_every_pdo();
     m.boot(Timestamp::MAX);
     let ids = [
         0x000u16, 0x080, 0x081, 0x181, 0x201, 0x301, 0x401, 0x601, 0x701, 0x7FF,
@@ -109,10 +115,7 @@ fn a_full_event_queue_drops_the_oldest() {
 fn a_fourth_pdo_has_no_room() {
     use crate::od::ObjectDictionary;
     use crate::pdo::{PdoCobId, PdoCommParams, PdoMapping, PdoSlot};
-    let mut m = BatteryModule::new(BatteryModuleConfig {
-        device_type: DeviceType::cia418(0xF_0000),
-        ..BatteryModuleConfig::default()
-    });
+    let mut m = with_every_pdo();
     m.boot(Timestamp::ZERO);
     let slot = PdoSlot::new(
         PdoCommParams::event_driven(PdoCobId::standard(0x481), 0),
@@ -143,10 +146,7 @@ fn a_fourth_pdo_has_no_room() {
 /// one of 1803h:01 or 1A03h:00 is aborted with 06020000h.
 #[test]
 fn sdo_sees_three_tpdos() {
-    let mut m = BatteryModule::new(BatteryModuleConfig {
-        device_type: DeviceType::cia418(0xF_0000),
-        ..BatteryModuleConfig::default()
-    });
+    let mut m = with_every_pdo();
     m.boot(Timestamp::ZERO);
     drain(&mut m);
     let mut upload = |index: u16, sub: u8| {

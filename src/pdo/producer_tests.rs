@@ -39,6 +39,14 @@ fn charger_tpdo0() -> PdoCommParams {
     PdoCommParams::event_driven(PdoCobId::standard(0x18A), 200)
 }
 
+/// A producer configured with `comm` and operational at `at`.
+fn running(at: Timestamp, comm: PdoCommParams) -> TpdoProducer {
+    let mut p = TpdoProducer::new();
+    p.configure(at, comm);
+    p.set_operational(at, true);
+    p
+}
+
 #[test]
 fn nothing_before_configured_valid_and_operational() {
     let mut p = TpdoProducer::new();
@@ -91,11 +99,9 @@ fn event_timer_period() {
 
 #[test]
 fn events_restart_the_event_timer_and_respect_inhibit() {
-    let mut p = TpdoProducer::new();
     let mut comm = charger_tpdo0();
     comm.inhibit_time_100us = 500; // 50 ms
-    p.configure(ms(0), comm);
-    p.set_operational(ms(0), true);
+    let mut p = running(ms(0), comm);
     assert!(p.poll_transmit().is_some());
     // A change at 20 ms is inside the inhibit time: deferred to 50 ms.
     p.set_payload(ms(20), payload(&[2]));
@@ -116,19 +122,15 @@ fn events_restart_the_event_timer_and_respect_inhibit() {
 
 #[test]
 fn event_timer_inside_inhibit_is_deferred_not_lost() {
-    let mut p = TpdoProducer::new();
     let mut comm = PdoCommParams::event_driven(PdoCobId::standard(0x18A), 10);
     comm.inhibit_time_100us = 300; // 30 ms > the 10 ms event timer
-    p.configure(ms(0), comm);
-    p.set_operational(ms(0), true);
+    let mut p = running(ms(0), comm);
     assert_eq!(run(&mut p, 0, 100), vec![0, 30, 60, 90]);
 }
 
 #[test]
 fn disabling_stops_and_reenabling_resends() {
-    let mut p = TpdoProducer::new();
-    p.configure(ms(0), charger_tpdo0());
-    p.set_operational(ms(0), true);
+    let mut p = running(ms(0), charger_tpdo0());
     assert!(p.poll_transmit().is_some());
     p.configure(ms(50), charger_tpdo0().clone_with_cob(0x8000_018A));
     assert_eq!((p.poll_transmit(), p.poll_timeout()), (None, None));
@@ -143,11 +145,9 @@ fn disabling_stops_and_reenabling_resends() {
 
 #[test]
 fn synchronous_types() {
-    let mut p = TpdoProducer::new();
     let mut comm = charger_tpdo0();
     comm.transmission_type = TransmissionType::SynchronousCyclic(3);
-    p.configure(ms(0), comm);
-    p.set_operational(ms(0), true);
+    let mut p = running(ms(0), comm);
     assert_eq!((p.poll_transmit(), p.poll_timeout()), (None, None));
     let sync = CanFrame::standard(0x080, &[]).unwrap();
     let mut sent = Vec::new();
@@ -179,9 +179,7 @@ fn synchronous_types() {
 
 #[test]
 fn time_going_backwards_is_harmless() {
-    let mut p = TpdoProducer::new();
-    p.configure(ms(1000), charger_tpdo0());
-    p.set_operational(ms(1000), true);
+    let mut p = running(ms(1000), charger_tpdo0());
     assert!(p.poll_transmit().is_some());
     p.handle_timeout(ms(10));
     assert_eq!(p.poll_transmit(), None);
