@@ -31,6 +31,16 @@ fn read(od: &mut impl ObjectDictionary, index: u16, sub: u8) -> Result<Vec<u8>, 
     Ok(buf)
 }
 
+/// Writes a 32-bit value (little-endian) to `index`/`sub`.
+fn write_u32(
+    od: &mut impl ObjectDictionary,
+    index: u16,
+    sub: u8,
+    value: u32,
+) -> Result<(), AbortCode> {
+    write(od, index, sub, &value.to_le_bytes())
+}
+
 fn write(
     od: &mut impl ObjectDictionary,
     index: u16,
@@ -180,13 +190,10 @@ fn writes_and_their_checks() {
     #[cfg(feature = "heartbeat-consumer")]
     {
         assert_eq!(
-            write(&mut c, 0x1016, 2, &0x0001_0064u32.to_le_bytes()),
+            write_u32(&mut c, 0x1016, 2, 0x0001_0064),
             Err(AbortCode::GeneralParameterIncompatibility)
         );
-        assert_eq!(
-            write(&mut c, 0x1016, 2, &0x0002_0064u32.to_le_bytes()),
-            Ok(())
-        );
+        assert_eq!(write_u32(&mut c, 0x1016, 2, 0x0002_0064), Ok(()));
         assert_eq!(
             c.consumers()[1],
             ConsumerEntry {
@@ -195,10 +202,7 @@ fn writes_and_their_checks() {
             }
         );
         // A disabled duplicate is fine.
-        assert_eq!(
-            write(&mut c, 0x1016, 2, &0x0001_0000u32.to_le_bytes()),
-            Ok(())
-        );
+        assert_eq!(write_u32(&mut c, 0x1016, 2, 0x0001_0000), Ok(()));
         assert_eq!(
             write(&mut c, 0x1016, 0, &[2]),
             Err(AbortCode::WriteOfReadOnlyObject)
@@ -294,7 +298,7 @@ fn hostile_reads_and_writes_never_panic() {
 #[test]
 fn objects_of_the_services_left_out() {
     let mut c = comm();
-    let generate = write(&mut c, 0x1005, 0, &0x4000_0080u32.to_le_bytes());
+    let generate = write_u32(&mut c, 0x1005, 0, 0x4000_0080);
     let cycle = c.info(0x1006, 0);
     let time = c.info(0x1012, 0);
     if cfg!(feature = "sync-time") {
@@ -308,8 +312,8 @@ fn objects_of_the_services_left_out() {
         assert_eq!(cycle, Err(AbortCode::ObjectDoesNotExist));
         assert_eq!(time, Err(AbortCode::ObjectDoesNotExist));
         // The consumer's objects stay.
-        assert_eq!(write(&mut c, 0x1005, 0, &0x81u32.to_le_bytes()), Ok(()));
-        assert_eq!(write(&mut c, 0x1007, 0, &2_000u32.to_le_bytes()), Ok(()));
+        assert_eq!(write_u32(&mut c, 0x1005, 0, 0x81), Ok(()));
+        assert_eq!(write_u32(&mut c, 0x1007, 0, 2_000), Ok(()));
         assert_eq!(write(&mut c, 0x1019, 0, &[10]), Ok(()));
     }
     for index in [0x100C, 0x100D] {
@@ -345,44 +349,32 @@ fn guarding_sync_and_time_objects() {
         assert_eq!(write(&mut c, 0x1019, 0, &[v]), want, "1019h = {v}");
     }
     assert_eq!(write(&mut c, 0x1019, 0, &[10]), Ok(()));
-    assert_eq!(write(&mut c, 0x1006, 0, &10_000u32.to_le_bytes()), Ok(()));
+    assert_eq!(write_u32(&mut c, 0x1006, 0, 10_000), Ok(()));
     assert_eq!(
         write(&mut c, 0x1019, 0, &[5]),
         Err(AbortCode::DataCannotBeStoredDeviceState)
     );
     assert_eq!((c.cycle_period_us, c.sync_counter_overflow), (10_000, 10));
-    assert_eq!(write(&mut c, 0x1007, 0, &2_000u32.to_le_bytes()), Ok(()));
+    assert_eq!(write_u32(&mut c, 0x1007, 0, 2_000), Ok(()));
     assert_eq!(c.sync_window_us, 2_000);
     // 1005h: the generate bit; the identifier cannot move while generating.
-    assert_eq!(
-        write(&mut c, 0x1005, 0, &0x4000_0080u32.to_le_bytes()),
-        Ok(())
-    );
+    assert_eq!(write_u32(&mut c, 0x1005, 0, 0x4000_0080), Ok(()));
     assert!(c.sync_cob_id.generates());
     assert_eq!(
-        write(&mut c, 0x1005, 0, &0x4000_0081u32.to_le_bytes()),
+        write_u32(&mut c, 0x1005, 0, 0x4000_0081),
         Err(AbortCode::InvalidValue)
     );
+    assert_eq!(write_u32(&mut c, 0x1005, 0, 0x0000_0081), Ok(()));
+    assert_eq!(write_u32(&mut c, 0x1005, 0, 0x4000_0081), Ok(()));
     assert_eq!(
-        write(&mut c, 0x1005, 0, &0x0000_0081u32.to_le_bytes()),
-        Ok(())
-    );
-    assert_eq!(
-        write(&mut c, 0x1005, 0, &0x4000_0081u32.to_le_bytes()),
-        Ok(())
-    );
-    assert_eq!(
-        write(&mut c, 0x1005, 0, &0x0000_0800u32.to_le_bytes()),
+        write_u32(&mut c, 0x1005, 0, 0x0000_0800),
         Err(AbortCode::InvalidValue)
     );
     // 1012h: consume and produce bits, a valid identifier.
-    assert_eq!(
-        write(&mut c, 0x1012, 0, &0xC000_0100u32.to_le_bytes()),
-        Ok(())
-    );
+    assert_eq!(write_u32(&mut c, 0x1012, 0, 0xC000_0100), Ok(()));
     assert!(c.time_cob_id.consumes() && c.time_cob_id.produces());
     assert_eq!(
-        write(&mut c, 0x1012, 0, &0x0000_1000u32.to_le_bytes()),
+        write_u32(&mut c, 0x1012, 0, 0x0000_1000),
         Err(AbortCode::InvalidValue)
     );
 }
