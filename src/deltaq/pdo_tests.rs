@@ -8,7 +8,8 @@ use super::*;
 use crate::cia418::BATTERY_MODULE_CATALOGUE;
 use crate::deltaq::{index, BatteryVoltageLegacy, ChargingCurrent, ExtendedChargeStatus};
 use crate::emcy::ErrorCode;
-use crate::pdo::{MappingEntry, UnpackError, Value};
+use crate::pdo::catalogue_test_support::mapping;
+use crate::pdo::{MappingEntry, UnpackError};
 use std::vec::Vec;
 
 use crate::cob_id::test_node as n;
@@ -124,12 +125,11 @@ fn defaults_by_cob_id() {
 /// status. Bytes from the capture's `18A#7413454E70000000`.
 #[test]
 fn deltaq_tpdo3() {
-    let m = PdoMapping::new(&[
-        MappingEntry::new(index::CHARGING_CURRENT, 0, 16),
-        MappingEntry::new(index::BATTERY_VOLTAGE_LEGACY, 0, 16),
-        MappingEntry::new(index::EXTENDED_CHARGE_STATUS, 0, 16),
-    ])
-    .unwrap();
+    let m = mapping(&[
+        (index::CHARGING_CURRENT, 0, 16),
+        (index::BATTERY_VOLTAGE_LEGACY, 0, 16),
+        (index::EXTENDED_CHARGE_STATUS, 0, 16),
+    ]);
     let data = [0x74, 0x13, 0x45, 0x4E, 0x70, 0x00];
     let u = m.unpack(&data).unwrap();
     assert!(!u.longer_than_mapping());
@@ -171,21 +171,14 @@ fn deltaq_tpdo3() {
 fn deltaq_padding_object() {
     // 2002h/16, 2FFAh:01/8 padding, 2006h/16: the status is read after the
     // padding byte.
-    let m = PdoMapping::new(&[
-        MappingEntry::new(index::CHARGING_CURRENT, 0, 16),
-        MappingEntry::new(index::PADDING, 1, 8),
-        MappingEntry::new(index::EXTENDED_CHARGE_STATUS, 0, 16),
-    ])
-    .unwrap();
+    let m = mapping(&[
+        (index::CHARGING_CURRENT, 0, 16),
+        (index::PADDING, 1, 8),
+        (index::EXTENDED_CHARGE_STATUS, 0, 16),
+    ]);
     assert_eq!(m.byte_len(), 5);
     let u = m.unpack(&[0x74, 0x13, 0x00, 0x70, 0x00]).unwrap();
     assert_eq!(u.raws(), [0x1374, 0, 0x0070]);
-    let p = m
-        .pack(&[
-            Value::Unsigned(0x1374),
-            Value::Unsigned(0),
-            Value::Unsigned(0x0070),
-        ])
-        .unwrap();
+    let p = m.pack_raw(&[0x1374, 0, 0x0070]).unwrap();
     assert_eq!(p.as_slice(), [0x74, 0x13, 0x00, 0x70, 0x00]);
 }
