@@ -1,4 +1,6 @@
 use super::*;
+#[cfg(feature = "heartbeat-consumer")]
+use crate::cob_id::test_node as n;
 use crate::cob_id::PdoNumber;
 #[cfg(feature = "heartbeat-consumer")]
 use crate::nmt::heartbeat::{ConsumerEntry, HeartbeatEvent};
@@ -76,6 +78,31 @@ fn config() -> DeviceConfig {
 fn booted() -> Dev {
     let mut d = Dev::new(config(), Word(7));
     d.boot(ms(0), &mut ());
+    d
+}
+
+/// A consumer entry for `node` with a 1 s heartbeat time.
+#[cfg(feature = "heartbeat-consumer")]
+fn entry(node: u8) -> ConsumerEntry {
+    ConsumerEntry::new(n(node), Duration::from_millis(1000))
+}
+
+/// A booted device whose 1016h watches nodes 1 and 2 (1 s each).
+#[cfg(feature = "heartbeat-consumer")]
+fn watching_nodes_1_and_2() -> Dev {
+    let mut d = Dev::new(config().with_consumers(&[entry(1), entry(2)]), Word(7));
+    d.boot(ms(0), &mut ());
+    d
+}
+
+/// A booted device that has raised `errors` (an EMCY each, default
+/// fields), with everything it sent drained.
+fn with_errors(errors: &[ErrorRegister]) -> Dev {
+    let mut d = booted();
+    for &bits in errors {
+        d.raise_error(bits, Emergency::default());
+    }
+    let _ = sent(&mut d);
     d
 }
 
@@ -267,11 +294,7 @@ fn undrained_events_change_nothing() {
 /// the register became 04h (current, no generic bit).
 #[test]
 fn clearing_the_generic_bit_keeps_it_while_other_errors_remain() {
-    let mut d = booted();
-    let _ = sent(&mut d);
-    d.raise_error(ErrorRegister::CURRENT, Emergency::default());
-    d.raise_error(ErrorRegister::GENERIC, Emergency::default());
-    let _ = sent(&mut d);
+    let mut d = with_errors(&[ErrorRegister::CURRENT, ErrorRegister::GENERIC]);
     d.clear_error(ErrorRegister::GENERIC);
     assert_eq!(
         d.error_register(),
@@ -291,10 +314,7 @@ fn clearing_the_generic_bit_keeps_it_while_other_errors_remain() {
 #[cfg(feature = "heartbeat-consumer")]
 #[test]
 fn consumer_entries_follow_1016h_whatever_the_order() {
-    let n = |id| NodeId::new(id).unwrap();
-    let entry = |id| ConsumerEntry::new(n(id), Duration::from_millis(1000));
-    let mut d = Dev::new(config().with_consumers(&[entry(1), entry(2)]), Word(7));
-    d.boot(ms(0), &mut ());
+    let mut d = watching_nodes_1_and_2();
     d.update_comm(ms(1), |c| c.set_consumers(&[entry(2), entry(3)]));
     let watched: Vec<_> = (0..2).map(|s| d.heartbeat_consumer().entry(s)).collect();
     assert_eq!(watched, [Some(entry(2)), Some(entry(3))]);
@@ -372,10 +392,7 @@ fn a_dropped_download_is_aborted_in_the_dictionary() {
 #[cfg(feature = "heartbeat-consumer")]
 #[test]
 fn sdo_writes_of_1016h() {
-    let n = |id| NodeId::new(id).unwrap();
-    let entry = |id| ConsumerEntry::new(n(id), Duration::from_millis(1000));
-    let mut d = Dev::new(config().with_consumers(&[entry(1), entry(2)]), Word(7));
-    d.boot(ms(0), &mut ());
+    let mut d = watching_nodes_1_and_2();
     let _ = sent(&mut d);
     // 1016h sub 1 = node 3, 500 ms (0003_01F4h).
     d.handle_frame(
@@ -414,11 +431,7 @@ fn sdo_writes_of_1016h() {
 /// history and any other value is refused with 06090030h.
 #[test]
 fn sdo_writes_of_1003h() {
-    let mut d = booted();
-    let _ = sent(&mut d);
-    d.raise_error(ErrorRegister::CURRENT, Emergency::default());
-    d.raise_error(ErrorRegister::CURRENT, Emergency::default());
-    let _ = sent(&mut d);
+    let mut d = with_errors(&[ErrorRegister::CURRENT, ErrorRegister::CURRENT]);
     d.handle_frame(ms(600), &frame(0x604, &[0x2F, 0x03, 0x10, 0, 1, 0, 0, 0]));
     assert_eq!(sent(&mut d), ["584#8003100030000906"]);
     assert_eq!(d.comm().errors().len(), 2);
