@@ -132,13 +132,15 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                     Err(code) => return self.abort_object(index, sub, code),
                 };
                 let tx = Sender::new(data.as_ref().len(), blksize, crc && self.config.crc);
-                self.state = State::BlockDownloading {
-                    index,
-                    sub,
-                    data,
-                    tx,
-                };
-                self.arm(now);
+                self.wait(
+                    now,
+                    State::BlockDownloading {
+                        index,
+                        sub,
+                        data,
+                        tx,
+                    },
+                );
             }
             State::BlockDownloading {
                 index,
@@ -154,25 +156,29 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                 match tx.on_ack(ackseq, blksize) {
                     Err(code) => self.abort_object(index, sub, code),
                     Ok(Acked::More) => {
-                        self.state = State::BlockDownloading {
-                            index,
-                            sub,
-                            data,
-                            tx,
-                        };
-                        self.arm(now);
+                        self.wait(
+                            now,
+                            State::BlockDownloading {
+                                index,
+                                sub,
+                                data,
+                                tx,
+                            },
+                        );
                     }
                     Ok(Acked::Done { unused, crc }) => {
                         self.send(ClientCommand::BlockDownload(ClientBlockDownload::End {
                             unused,
                             crc,
                         }));
-                        self.state = State::BlockDownloadEnding {
-                            index,
-                            sub,
-                            len: data.as_ref().len(),
-                        };
-                        self.arm(now);
+                        self.wait(
+                            now,
+                            State::BlockDownloadEnding {
+                                index,
+                                sub,
+                                len: data.as_ref().len(),
+                            },
+                        );
                     }
                 }
             }
@@ -199,12 +205,14 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                     let size = size.map(|s| usize::try_from(s).unwrap_or(usize::MAX));
                     let blksize = clamp_block_size(self.config.block_size);
                     self.send(ClientCommand::BlockUpload(ClientBlockUpload::Start));
-                    self.state = State::BlockUploading {
-                        index,
-                        sub,
-                        rx: Receiver::new(blksize, size, crc && self.config.crc).after(frame),
-                    };
-                    self.arm(now);
+                    self.wait(
+                        now,
+                        State::BlockUploading {
+                            index,
+                            sub,
+                            rx: Receiver::new(blksize, size, crc && self.config.crc).after(frame),
+                        },
+                    );
                 }
                 // The protocol switch: a normal upload answers. Followed
                 // whatever threshold was offered (lenient: python-canopen's

@@ -586,9 +586,15 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         state: State<D>,
     ) -> Result<(), ClientError> {
         self.send(command);
+        self.wait(now, state);
+        Ok(())
+    }
+
+    /// Waits in `state` for the server's next answer (the SDO timeout
+    /// restarted).
+    fn wait(&mut self, now: Timestamp, state: State<D>) {
         self.state = state;
         self.arm(now);
-        Ok(())
     }
 
     /// Reports a piece of the value an upload reads, at its offset.

@@ -22,8 +22,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         self.send(ClientCommand::UploadSegment {
             toggle: rx.toggle(),
         });
-        self.state = State::Uploading { index, sub, rx };
-        self.arm(now);
+        self.wait(now, State::Uploading { index, sub, rx });
     }
 
     /// An upload segment (scs = 0) while uploading: checked by the segment
@@ -57,14 +56,16 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     pub(super) fn send_segment(&mut self, now: Timestamp, index: u16, sub: u8, data: D) {
         let (segment, sent) = segment_of(data.as_ref(), 0, false);
         self.send(ClientCommand::DownloadSegment(segment));
-        self.state = State::Downloading {
-            index,
-            sub,
-            data,
-            sent,
-            toggle: false,
-        };
-        self.arm(now);
+        self.wait(
+            now,
+            State::Downloading {
+                index,
+                sub,
+                data,
+                sent,
+                toggle: false,
+            },
+        );
     }
 
     /// A download segment acknowledgement (scs = 1, toggle `t`) while
