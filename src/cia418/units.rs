@@ -8,6 +8,17 @@ use crate::error::DecodeError;
 
 use super::{read_u16, read_u32, read_u8};
 
+/// `value` in steps of `step` when it is a whole number of them and at
+/// most `max` steps: the exact conversions from a fine unit to an object's
+/// raw value.
+const fn whole_steps(value: u64, step: u64, max: u64) -> Option<u64> {
+    if step == 0 || !value.is_multiple_of(step) || value / step > max {
+        None
+    } else {
+        Some(value / step)
+    }
+}
+
 /// 6010h temperature, Integer16, 0.125 degC per bit (CiA 418 section 7.3.3).
 ///
 /// ```
@@ -191,14 +202,10 @@ impl EighthAmpHours {
     /// `Some` if `mah` is a multiple of 125 mAh that fits 16 bits.
     #[must_use]
     pub const fn from_milliamp_hours(mah: u32) -> Option<Self> {
-        if !mah.is_multiple_of(Self::MILLIAMP_HOURS_PER_BIT) {
-            return None;
-        }
-        let raw = mah / Self::MILLIAMP_HOURS_PER_BIT;
-        if raw > u16::MAX as u32 {
-            None
-        } else {
-            Some(EighthAmpHours(raw as u16))
+        let per_bit = Self::MILLIAMP_HOURS_PER_BIT as u64;
+        match whole_steps(mah as u64, per_bit, u16::MAX as u64) {
+            Some(raw) => Some(EighthAmpHours(raw as u16)),
+            None => None,
         }
     }
 
@@ -281,14 +288,9 @@ impl BatteryVoltage {
     /// `Some` if `pv` is a whole number of 1/1024 V steps that fits 32 bits.
     #[must_use]
     pub const fn from_picovolts(pv: u64) -> Option<Self> {
-        if !pv.is_multiple_of(Self::PICOVOLTS_PER_BIT) {
-            return None;
-        }
-        let raw = pv / Self::PICOVOLTS_PER_BIT;
-        if raw > u32::MAX as u64 {
-            None
-        } else {
-            Some(BatteryVoltage(raw as u32))
+        match whole_steps(pv, Self::PICOVOLTS_PER_BIT, u32::MAX as u64) {
+            Some(raw) => Some(BatteryVoltage(raw as u32)),
+            None => None,
         }
     }
 
@@ -374,14 +376,10 @@ impl ChargeCurrentRequested {
     /// (at most 4095.875 A).
     #[must_use]
     pub const fn from_microamps(ua: u32) -> Option<Self> {
-        if !ua.is_multiple_of(Self::MICROAMPS_PER_BIT) {
-            return None;
-        }
-        let raw = ua / Self::MICROAMPS_PER_BIT;
-        if raw >= Self::INVALID.0 as u32 {
-            None
-        } else {
-            Some(ChargeCurrentRequested(raw as u16))
+        let below_invalid = Self::INVALID.0 as u64 - 1;
+        match whole_steps(ua as u64, Self::MICROAMPS_PER_BIT as u64, below_invalid) {
+            Some(raw) => Some(ChargeCurrentRequested(raw as u16)),
+            None => None,
         }
     }
 
