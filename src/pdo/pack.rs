@@ -394,22 +394,13 @@ impl PdoMapping {
     /// ```
     #[inline]
     pub fn pack(&self, values: &[Value]) -> Result<Payload, PackError> {
-        let entries = self.entries();
-        if values.len() != entries.len() {
-            return Err(PackError::CountMismatch {
-                entries: entries.len(),
-                values: values.len(),
-            });
-        }
-        let mut word = 0u64;
-        let mut at = 0u32;
-        for (i, (e, v)) in entries.iter().zip(values).enumerate() {
-            if !e.is_dummy() {
-                word |= v.to_raw(i, e.bits)?.checked_shl(at).unwrap_or(0);
+        self.pack_fields(values, |i, e, v| {
+            if e.is_dummy() {
+                Ok(0)
+            } else {
+                v.to_raw(i, e.bits)
             }
-            at += u32::from(e.bits);
-        }
-        Ok(payload(word, at))
+        })
     }
 
     /// Packs one raw field value per entry, verbatim (dummy entries
@@ -419,23 +410,37 @@ impl PdoMapping {
     /// number (a signed value is passed as its low bits).
     #[inline]
     pub fn pack_raw(&self, raws: &[u64]) -> Result<Payload, PackError> {
+        self.pack_fields(raws, |i, e, &raw| {
+            if raw & !low_mask(e.bits) == 0 {
+                Ok(raw)
+            } else {
+                Err(PackError::ValueTooWide {
+                    entry: i,
+                    bits: e.bits,
+                })
+            }
+        })
+    }
+
+    /// One item per entry, each made the entry's raw field by `field`
+    /// (given the entry's position) and placed at its bit offset.
+    #[inline]
+    fn pack_fields<T>(
+        &self,
+        items: &[T],
+        field: impl Fn(usize, &MappingEntry, &T) -> Result<u64, PackError>,
+    ) -> Result<Payload, PackError> {
         let entries = self.entries();
-        if raws.len() != entries.len() {
+        if items.len() != entries.len() {
             return Err(PackError::CountMismatch {
                 entries: entries.len(),
-                values: raws.len(),
+                values: items.len(),
             });
         }
         let mut word = 0u64;
         let mut at = 0u32;
-        for (i, (e, &raw)) in entries.iter().zip(raws).enumerate() {
-            if raw & !low_mask(e.bits) != 0 {
-                return Err(PackError::ValueTooWide {
-                    entry: i,
-                    bits: e.bits,
-                });
-            }
-            word |= raw.checked_shl(at).unwrap_or(0);
+        for (i, (e, item)) in entries.iter().zip(items).enumerate() {
+            word |= field(i, e, item)?.checked_shl(at).unwrap_or(0);
             at += u32::from(e.bits);
         }
         Ok(payload(word, at))
