@@ -154,7 +154,7 @@ pub(crate) fn write_entries<D: ObjectDictionary + ?Sized>(
 mod tests {
     use super::*;
     use crate::od::{Access, MemoryDictionary};
-    use crate::pdo::MappingEntry;
+    use crate::pdo::catalogue_test_support::mapping as entries;
 
     fn od() -> MemoryDictionary {
         let mut od = MemoryDictionary::new();
@@ -169,20 +169,11 @@ mod tests {
 
     #[test]
     fn tpdo_payload_from_objects() {
-        let m = PdoMapping::new(&[
-            MappingEntry::new(0x6010, 0, 16),
-            MappingEntry::new(0x6000, 0, 8),
-            MappingEntry::new(0x6060, 0, 32),
-        ])
-        .unwrap();
+        let m = entries(&[(0x6010, 0, 16), (0x6000, 0, 8), (0x6060, 0, 32)]);
         let p = read_mapped(&m, &mut od()).unwrap();
         assert_eq!(p.as_slice(), &[0xB0, 0xFF, 0x01, 0x00, 0xC8, 0x00, 0x00]);
         // A dummy entry is zero; a missing object is the dictionary's code.
-        let m = PdoMapping::new(&[
-            MappingEntry::new(0x0005, 0, 8),
-            MappingEntry::new(0x6000, 0, 8),
-        ])
-        .unwrap();
+        let m = entries(&[(0x0005, 0, 8), (0x6000, 0, 8)]);
         assert_eq!(
             read_mapped(&m, &mut od()).unwrap().as_slice(),
             &[0x00, 0x01]
@@ -197,12 +188,7 @@ mod tests {
     #[test]
     fn rpdo_fields_into_objects() {
         // CiA 418 3rd RPDO: 6001h/8, 6052h/16, 6080h/8.
-        let m = PdoMapping::new(&[
-            MappingEntry::new(0x6001, 0, 8),
-            MappingEntry::new(0x6052, 0, 16),
-            MappingEntry::new(0x6080, 0, 8),
-        ])
-        .unwrap();
+        let m = entries(&[(0x6001, 0, 8), (0x6052, 0, 16), (0x6080, 0, 8)]);
         let mut od = od();
         assert_eq!(
             write_mapped(&m, &[0x01, 0x34, 0x12, 0x50], &mut od),

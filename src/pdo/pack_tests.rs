@@ -4,6 +4,7 @@
 //! padding object are tested in the deltaq module.)
 
 use super::*;
+use crate::pdo::catalogue_test_support::mapping as entries;
 use crate::pdo::{extract_bits, insert_bits};
 use std::string::ToString;
 
@@ -184,12 +185,7 @@ fn longer_than_eight_bytes_is_decoded_and_flagged() {
 #[test]
 fn dummy_entries() {
     // UNSIGNED8 dummy (0005h/8) between two fields.
-    let m = PdoMapping::new(&[
-        MappingEntry::new(0x2000, 1, 4),
-        MappingEntry::new(0x0005, 0, 8),
-        MappingEntry::new(0x2000, 2, 16),
-    ])
-    .unwrap();
+    let m = entries(&[(0x2000, 1, 4), (0x0005, 0, 8), (0x2000, 2, 16)]);
     // The dummy's value is ignored, whatever it is.
     for dummy in [
         Value::Unsigned(0xAB),
