@@ -13,8 +13,8 @@
 use core::time::Duration;
 
 use crate::clock::{Timers, Timestamp};
-use crate::cob_id::{NodeId, LSS_MASTER_TO_SLAVE, LSS_SLAVE_TO_MASTER};
-use crate::frame::{CanFrame, CanId};
+use crate::cob_id::NodeId;
+use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::queue::{EventQueue, FrameQueue};
 
@@ -179,13 +179,7 @@ impl LssMaster {
     }
 
     fn send(&mut self, request: LssRequest) {
-        let mut buf = [0; 8];
-        let n = request.encode(&mut buf);
-        self.tx.push(CanFrame::from_parts(
-            CanId::Standard(LSS_MASTER_TO_SLAVE),
-            buf,
-            n as u8,
-        ));
+        self.tx.push(request.to_frame());
     }
 
     fn start(&mut self, now: Timestamp, op: Op) -> Result<(), LssMasterError> {
@@ -413,10 +407,7 @@ impl Machine for LssMaster {
     type Event = LssMasterEvent;
 
     fn handle_frame(&mut self, _now: Timestamp, frame: &CanFrame) {
-        if frame.id() != CanId::Standard(LSS_SLAVE_TO_MASTER) || frame.is_remote() {
-            return;
-        }
-        if let Ok(response) = LssResponse::decode(frame.data()) {
+        if let Some(response) = LssResponse::of_frame(frame) {
             self.response(response);
         }
     }

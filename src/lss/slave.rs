@@ -13,8 +13,8 @@
 //! communication itself ([`LssSlaveEvent::ResetCommunication`]).
 
 use crate::clock::Timestamp;
-use crate::cob_id::{NodeId, LSS_MASTER_TO_SLAVE, LSS_SLAVE_TO_MASTER};
-use crate::frame::{CanFrame, CanId};
+use crate::cob_id::NodeId;
+use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::queue::{EventQueue, FrameQueue};
 
@@ -202,13 +202,7 @@ impl LssSlave {
     }
 
     fn send(&mut self, response: LssResponse) {
-        let mut buf = [0; 8];
-        let n = response.encode(&mut buf);
-        self.tx.push(CanFrame::from_parts(
-            CanId::Standard(LSS_SLAVE_TO_MASTER),
-            buf,
-            n as u8,
-        ));
+        self.tx.push(response.to_frame());
     }
 
     fn enter(&mut self, state: LssState) {
@@ -380,10 +374,7 @@ impl Machine for LssSlave {
     type Event = LssSlaveEvent;
 
     fn handle_frame(&mut self, _now: Timestamp, frame: &CanFrame) {
-        if frame.id() != CanId::Standard(LSS_MASTER_TO_SLAVE) || frame.is_remote() {
-            return;
-        }
-        if let Ok(request) = LssRequest::decode(frame.data()) {
+        if let Some(request) = LssRequest::of_frame(frame) {
             self.request(request);
         }
     }

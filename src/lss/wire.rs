@@ -3,8 +3,9 @@
 use byteorder::{ByteOrder, LittleEndian};
 
 use crate::bytes::Payload;
-use crate::cob_id::LssDirection;
+use crate::cob_id::{LssDirection, LSS_MASTER_TO_SLAVE, LSS_SLAVE_TO_MASTER};
 use crate::error::DecodeError;
+use crate::frame::{CanFrame, CanId};
 
 /// One of the four parts of the 128-bit LSS address (object 1018h
 /// sub-indexes 1..=4, CiA 301 section 7.5.2.23 "Object 1018h: Identity
@@ -467,6 +468,58 @@ impl LssRequest {
         let n = self.encode(&mut buf);
         buf.first().copied().filter(|_| n > 0)
     }
+}
+
+impl LssRequest {
+    /// The request a frame carries: a data frame on 7E5h (master to slave)
+    /// whose payload decodes; `None` for any other frame.
+    ///
+    /// ```
+    /// use canopen_codec::lss::{LssMode, LssRequest};
+    /// use canopen_codec::CanFrame;
+    /// let f = CanFrame::standard(0x7E5, &[0x04, 1, 0, 0, 0, 0, 0, 0]).unwrap();
+    /// assert_eq!(LssRequest::of_frame(&f), Some(LssRequest::SwitchStateGlobal(LssMode::Configuration)));
+    /// let other = CanFrame::standard(0x7E4, &[0x04, 1, 0, 0, 0, 0, 0, 0]).unwrap();
+    /// assert_eq!(LssRequest::of_frame(&other), None);
+    /// ```
+    #[must_use]
+    pub fn of_frame(frame: &CanFrame) -> Option<Self> {
+        Self::decode(lss_payload(frame, LSS_MASTER_TO_SLAVE)?).ok()
+    }
+    /// The frame that carries the request: 7E5h, its bytes.
+    #[must_use]
+    pub fn to_frame(&self) -> CanFrame {
+        let mut buf = [0; 8];
+        let n = self.encode(&mut buf);
+        lss_frame(LSS_MASTER_TO_SLAVE, buf, n)
+    }
+}
+
+impl LssResponse {
+    /// The response a frame carries: a data frame on 7E4h (slave to
+    /// master) whose payload decodes; `None` for any other frame.
+    #[must_use]
+    pub fn of_frame(frame: &CanFrame) -> Option<Self> {
+        Self::decode(lss_payload(frame, LSS_SLAVE_TO_MASTER)?).ok()
+    }
+    /// The frame that carries the response: 7E4h, its bytes.
+    #[must_use]
+    pub fn to_frame(&self) -> CanFrame {
+        let mut buf = [0; 8];
+        let n = self.encode(&mut buf);
+        lss_frame(LSS_SLAVE_TO_MASTER, buf, n)
+    }
+}
+
+/// A data frame on the LSS identifier `id` with the first `len` bytes.
+fn lss_frame(id: u16, bytes: [u8; 8], len: usize) -> CanFrame {
+    CanFrame::from_parts(CanId::Standard(id), bytes, len as u8)
+}
+
+/// The payload of a data frame on the LSS identifier `id`; `None` for a
+/// remote frame or another identifier.
+fn lss_payload(frame: &CanFrame, id: u16) -> Option<&[u8]> {
+    (frame.id() == CanId::Standard(id) && !frame.is_remote()).then(|| frame.data())
 }
 
 impl LssResponse {
