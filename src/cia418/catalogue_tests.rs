@@ -46,8 +46,9 @@ fn table_is_consistent_and_complete() {
 /// byte.
 #[test]
 fn status_words_agree_with_the_status_types() {
-    // (object, bit 0 as the status type reads it, its words set and clear)
-    let objects: [(u16, fn(u8) -> bool, &str, &str); 3] = [
+    /// (object, bit 0 as the status type reads it, its words set and clear)
+    type Status = (u16, fn(u8) -> bool, &'static str, &'static str);
+    let objects: [Status; 3] = [
         (
             0x6000,
             |b| BatteryStatus::from_bits_retain(b).contains(BatteryStatus::READY_TO_CHARGE),

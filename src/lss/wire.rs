@@ -470,57 +470,40 @@ impl LssRequest {
     }
 }
 
-impl LssRequest {
-    /// The request a frame carries: a data frame on 7E5h (master to slave)
-    /// whose payload decodes; `None` for any other frame.
-    ///
-    /// ```
-    /// use canopen_codec::lss::{LssMode, LssRequest};
-    /// use canopen_codec::CanFrame;
-    /// let f = CanFrame::standard(0x7E5, &[0x04, 1, 0, 0, 0, 0, 0, 0]).unwrap();
-    /// assert_eq!(LssRequest::of_frame(&f), Some(LssRequest::SwitchStateGlobal(LssMode::Configuration)));
-    /// let other = CanFrame::standard(0x7E4, &[0x04, 1, 0, 0, 0, 0, 0, 0]).unwrap();
-    /// assert_eq!(LssRequest::of_frame(&other), None);
-    /// ```
-    #[must_use]
-    pub fn of_frame(frame: &CanFrame) -> Option<Self> {
-        Self::decode(lss_payload(frame, LSS_MASTER_TO_SLAVE)?).ok()
-    }
-    /// The frame that carries the request: 7E5h, its bytes.
-    #[must_use]
-    pub fn to_frame(&self) -> CanFrame {
-        let mut buf = [0; 8];
-        let n = self.encode(&mut buf);
-        lss_frame(LSS_MASTER_TO_SLAVE, buf, n)
-    }
+/// The frame methods of an LSS message type: the message a frame on its
+/// identifier carries, and the frame that carries a message.
+macro_rules! lss_frames {
+    ($ty:ident, $id:ident, $name:literal) => {
+        impl $ty {
+            #[doc = concat!("The ", $name, " a frame carries: a data frame on ")]
+            #[doc = concat!("its identifier whose payload decodes; `None` for any other frame.")]
+            #[must_use]
+            pub fn of_frame(frame: &CanFrame) -> Option<Self> {
+                let on_id = frame.id() == CanId::Standard($id) && !frame.is_remote();
+                on_id.then(|| Self::decode(frame.data()).ok()).flatten()
+            }
+
+            #[doc = concat!("The frame that carries the ", $name, ": its identifier, its bytes.")]
+            #[must_use]
+            pub fn to_frame(&self) -> CanFrame {
+                let mut buf = [0; 8];
+                let n = self.encode(&mut buf);
+                CanFrame::from_parts(CanId::Standard($id), buf, n as u8)
+            }
+        }
+    };
 }
 
-impl LssResponse {
-    /// The response a frame carries: a data frame on 7E4h (slave to
-    /// master) whose payload decodes; `None` for any other frame.
-    #[must_use]
-    pub fn of_frame(frame: &CanFrame) -> Option<Self> {
-        Self::decode(lss_payload(frame, LSS_SLAVE_TO_MASTER)?).ok()
-    }
-    /// The frame that carries the response: 7E4h, its bytes.
-    #[must_use]
-    pub fn to_frame(&self) -> CanFrame {
-        let mut buf = [0; 8];
-        let n = self.encode(&mut buf);
-        lss_frame(LSS_SLAVE_TO_MASTER, buf, n)
-    }
-}
-
-/// A data frame on the LSS identifier `id` with the first `len` bytes.
-fn lss_frame(id: u16, bytes: [u8; 8], len: usize) -> CanFrame {
-    CanFrame::from_parts(CanId::Standard(id), bytes, len as u8)
-}
-
-/// The payload of a data frame on the LSS identifier `id`; `None` for a
-/// remote frame or another identifier.
-fn lss_payload(frame: &CanFrame, id: u16) -> Option<&[u8]> {
-    (frame.id() == CanId::Standard(id) && !frame.is_remote()).then(|| frame.data())
-}
+lss_frames!(
+    LssRequest,
+    LSS_MASTER_TO_SLAVE,
+    "request (7E5h, master to slave)"
+);
+lss_frames!(
+    LssResponse,
+    LSS_SLAVE_TO_MASTER,
+    "response (7E4h, slave to master)"
+);
 
 impl LssResponse {
     /// Decodes a 7E4h payload (never fails for 0..=8 bytes).

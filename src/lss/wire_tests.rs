@@ -234,3 +234,23 @@ fn address_fields() {
     }
     assert_eq!(LssField::from_index(4), None);
 }
+
+/// A message travels in the frame of its direction: `to_frame` makes it,
+/// `of_frame` reads it back; the other direction's identifier and a remote
+/// frame give none.
+#[test]
+fn messages_in_their_frames() {
+    use crate::frame::{CanFrame, CanId};
+    let request = LssRequest::SwitchStateGlobal(LssMode::Configuration);
+    let frame = request.to_frame();
+    assert_eq!(frame.to_string(), "7E5#0401000000000000");
+    assert_eq!(LssRequest::of_frame(&frame), Some(request));
+    assert_eq!(LssResponse::of_frame(&frame), None);
+    let response = LssResponse::ConfigureNodeId(LssStatus::OK);
+    let frame = response.to_frame();
+    assert_eq!(frame.to_string(), "7E4#1100000000000000");
+    assert_eq!(LssResponse::of_frame(&frame), Some(response));
+    assert_eq!(LssRequest::of_frame(&frame), None);
+    let remote = CanFrame::remote(CanId::Standard(0x7E5), 8).unwrap();
+    assert_eq!(LssRequest::of_frame(&remote), None);
+}
