@@ -353,30 +353,34 @@ fn master_confirmed_services_and_timeouts() {
         }
         m.poll_event()
     };
-    m.switch_state_selective(t, A).unwrap();
-    assert_eq!(
-        exchange(&mut m, &mut s),
-        Some(LssMasterEvent::SwitchedSelective)
-    );
-    m.inquire(t, LssInquiry::Address(LssField::Serial)).unwrap();
-    assert_eq!(
-        exchange(&mut m, &mut s),
-        Some(LssMasterEvent::Address(LssField::Serial, A.serial))
-    );
-    m.inquire(t, LssInquiry::NodeId).unwrap();
-    assert_eq!(exchange(&mut m, &mut s), Some(LssMasterEvent::NodeId(None)));
-    m.configure_node_id(t, NodeId::new(5)).unwrap();
-    assert_eq!(
-        exchange(&mut m, &mut s),
-        Some(LssMasterEvent::NodeIdConfigured(LssStatus::OK))
-    );
-    m.configure_bit_timing(t, 0, 2).unwrap();
-    assert_eq!(
-        exchange(&mut m, &mut s),
-        Some(LssMasterEvent::BitTimingConfigured(LssStatus::new(
-            LssErrorCode::Refused
-        )))
-    );
+    // Each service against the slave and the event it ends in.
+    type Service = fn(&mut LssMaster, Timestamp) -> Result<(), LssMasterError>;
+    let services: [(Service, LssMasterEvent); 5] = [
+        (
+            |m, t| m.switch_state_selective(t, A),
+            LssMasterEvent::SwitchedSelective,
+        ),
+        (
+            |m, t| m.inquire(t, LssInquiry::Address(LssField::Serial)),
+            LssMasterEvent::Address(LssField::Serial, A.serial),
+        ),
+        (
+            |m, t| m.inquire(t, LssInquiry::NodeId),
+            LssMasterEvent::NodeId(None),
+        ),
+        (
+            |m, t| m.configure_node_id(t, NodeId::new(5)),
+            LssMasterEvent::NodeIdConfigured(LssStatus::OK),
+        ),
+        (
+            |m, t| m.configure_bit_timing(t, 0, 2),
+            LssMasterEvent::BitTimingConfigured(LssStatus::new(LssErrorCode::Refused)),
+        ),
+    ];
+    for (service, want) in services {
+        service(&mut m, t).unwrap();
+        assert_eq!(exchange(&mut m, &mut s), Some(want));
+    }
     m.store_configuration(t).unwrap();
     assert_eq!(exchange(&mut m, &mut s), None);
     assert!(s.answer_store(LssStatus::new(LssErrorCode::StorageAccess)));
