@@ -177,56 +177,58 @@ fn table_is_exactly_the_specification_rows() {
         .all(|e| e.in_1003h != (e.eec == ErrorCode::NO_ERROR)));
 }
 
+/// The F-0-0-6 erratum ("Delta-Q IC Series CANopen interface
+/// specification rev 2.0", section 4.4.1: the printed 1003h value has its
+/// words swapped) and the lenient reading, which fixes only values of that
+/// shape; encoding always gives the correct layout.
 #[test]
-fn f006_erratum() {
-    // The correct 1003h value.
-    assert_eq!(
-        DeltaQCode::from_error_field(0x06C0_5000),
-        (ErrorCode::DEVICE_HARDWARE, Fault(6))
-    );
-    // The document's printed value 0x500006C0 has its words swapped. Strictly
-    // it is EEC 06C0h with code 0050h (not a Delta-Q code).
-    assert_eq!(
-        DeltaQCode::from_error_field(0x5000_06C0),
-        (ErrorCode(0x06C0), Other(0x0050))
-    );
-    // The lenient decoder recognises it.
-    assert_eq!(
-        DeltaQCode::from_error_field_lenient(0x5000_06C0),
-        (ErrorCode::DEVICE_HARDWARE, Fault(6))
-    );
-    // Encoding always gives the correct layout.
+fn error_field_erratum_and_the_lenient_reading() {
+    type Reading = (ErrorCode, DeltaQCode);
+    // (1003h value, its strict reading where named, its lenient reading;
+    // `None` for the lenient: the strict one)
+    let cases: [(u32, Option<Reading>, Option<Reading>); 10] = [
+        // The correct 1003h value of F-0-0-6.
+        (
+            0x06C0_5000,
+            Some((ErrorCode::DEVICE_HARDWARE, Fault(6))),
+            None,
+        ),
+        // The document's printed value: strictly EEC 06C0h with code 0050h
+        // (not a Delta-Q code); the lenient reading recognises it.
+        (
+            0x5000_06C0,
+            Some((ErrorCode(0x06C0), Other(0x0050))),
+            Some((ErrorCode::DEVICE_HARDWARE, Fault(6))),
+        ),
+        // Word-swapped E-0-3-2 (EEC 8130h) is fixed too.
+        (0x8130_2080, None, Some((ErrorCode::HEARTBEAT, Alarm(32)))),
+        // Swapped, a table code, but the EEC does not match: strict.
+        (0x9000_06C0, None, None),
+        // Swapped reading not in the table: strict.
+        (0x5000_63C0, Some((ErrorCode(0x63C0), Other(0x0050))), None),
+        // Empty and foreign entries stay as they are.
+        (0, None, None),
+        (0xFFFF_FFFF, None, None),
+        (0x0000_8130, None, None),
+        (0x1234_5678, None, None),
+        (0x0580_9000, None, None),
+    ];
+    for (field, strict, lenient) in cases {
+        let read = DeltaQCode::from_error_field(field);
+        if let Some(want) = strict {
+            assert_eq!(read, want, "{field:#010x}");
+        }
+        let want = lenient.unwrap_or(read);
+        assert_eq!(
+            DeltaQCode::from_error_field_lenient(field),
+            want,
+            "{field:#010x}"
+        );
+    }
     assert_eq!(
         Fault(6).to_error_field(ErrorCode::DEVICE_HARDWARE),
         0x06C0_5000
     );
-}
-
-#[test]
-fn lenient_changes_only_erratum_shaped_values() {
-    // Word-swapped E-0-3-2 (EEC 8130h) is fixed too.
-    assert_eq!(
-        DeltaQCode::from_error_field_lenient(0x8130_2080),
-        (ErrorCode::HEARTBEAT, Alarm(32))
-    );
-    // Swapped reading is a table code but the EEC does not match: strict.
-    assert_eq!(
-        DeltaQCode::from_error_field_lenient(0x9000_06C0),
-        DeltaQCode::from_error_field(0x9000_06C0)
-    );
-    // Swapped reading not in the table: strict.
-    assert_eq!(
-        DeltaQCode::from_error_field_lenient(0x5000_63C0),
-        (ErrorCode(0x63C0), Other(0x0050))
-    );
-    // Empty entries and foreign entries stay as they are.
-    for v in [0u32, 0xFFFF_FFFF, 0x0000_8130, 0x1234_5678, 0x0580_9000] {
-        assert_eq!(
-            DeltaQCode::from_error_field_lenient(v),
-            DeltaQCode::from_error_field(v),
-            "{v:#010x}"
-        );
-    }
 }
 
 /// Two EMCY frames of the real startup capture (tests/data/CAPTURES.md).
