@@ -140,6 +140,8 @@
 //! the capture README's DBC adds -40 degC, which the profile does not have.
 
 mod args;
+mod calendar;
+mod comm_objects;
 mod csv;
 mod json;
 mod line_cache;

@@ -149,7 +149,7 @@ impl Summary {
             }
             Message::NodeGuardRequest { node, .. } => self.node(node).guard_requests += 1,
             Message::Emcy { node, emcy } => {
-                let charger = roles.is_charger(node);
+                let charger = roles.is_deltaq_charger(node);
                 let n = self.node(node);
                 if emcy.is_reset() {
                     for e in &mut n.emcys {

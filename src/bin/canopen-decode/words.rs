@@ -98,6 +98,14 @@ pub fn message(out: &mut String, line: &crate::FrameLine<'_>) {
     match m {
         Ok(msg) => {
             let _ = write!(out, "{}", Text { msg, guard_reply });
+            if let Message::Time(t) = msg {
+                match crate::calendar::time_frame(t) {
+                    Some(utc) => {
+                        let _ = write!(out, " = {utc}");
+                    }
+                    None => out.push_str(" (not a time of day: 86 400 000 ms or more)"),
+                }
+            }
             if let Some((label, description)) = deltaq(msg, roles) {
                 let _ = write!(out, ", Delta-Q {label} {description}");
             }
@@ -119,12 +127,13 @@ pub fn message(out: &mut String, line: &crate::FrameLine<'_>) {
     }
 }
 
-/// The Delta-Q label and description of a charger's EMCY, if it carries a code.
+/// The Delta-Q label and description of a Delta-Q charger's EMCY, if it
+/// carries a code (none without Delta-Q evidence: see [`Roles`]).
 pub fn deltaq(msg: &Message, roles: &Roles) -> Option<(String, &'static str)> {
     let Message::Emcy { node, emcy } = msg else {
         return None;
     };
-    if !roles.is_charger(*node) || emcy.is_reset() {
+    if !roles.is_deltaq_charger(*node) || emcy.is_reset() {
         return None;
     }
     let code = DeltaQCode::from_emergency(emcy);
@@ -155,6 +164,7 @@ fn pdo_fields(out: &mut String, source: Source, fields: &NamedFields) {
 /// The role of a node, for naming its objects.
 pub fn role(node: NodeId, roles: &Roles) -> Role {
     match roles.role(Some(node)) {
+        Some("charger") if roles.is_deltaq_charger(node) => Role::DeltaQCharger,
         Some("charger") => Role::Charger,
         Some("battery") => Role::Battery,
         _ => Role::Other,
@@ -168,6 +178,7 @@ pub fn described(r: &Report, roles: &Roles) -> Described {
         r.sub,
         &r.bytes,
         role(r.node, roles),
+        roles.deltaq.is_some(),
         r.size_indicated,
     )
 }
