@@ -268,3 +268,31 @@ fn time_frames_say_their_utc_date_and_time() {
     assert_eq!(v[0]["millis"], 43_200_000);
     assert_eq!(v[0]["utc"], "1984-01-03T12:00:00.000Z");
 }
+
+#[test]
+fn an_eds_with_delta_qs_vendor_id_is_delta_q_evidence() {
+    let dir = scratch("vendor");
+    let eds = |vendor: &str| {
+        format!(
+            "[DeviceInfo]\nVendorName=Someone\nVendorNumber={vendor}\n\n\
+             [MandatoryObjects]\nSupportedObjects=1\n1=0x1000\n\n\
+             [1000]\nParameterName=Device type\nObjectType=0x7\nDataType=0x0007\n\
+             AccessType=ro\nDefaultValue=0x000001A3\nPDOMapping=0\n"
+        )
+    };
+    let emcy = "08A#3081012080000000\n";
+    for (vendor, deltaq) in [("0x00000110", true), ("0x00000539", false)] {
+        let path = dir.join(format!("{vendor}.eds"));
+        std::fs::write(&path, eds(vendor)).unwrap();
+        let arg = format!("10={}", path.display());
+        let o = run(&["--eds", &arg, "-"], Some(emcy));
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains("device type 000001A3h: the charger"), "{err}");
+        assert_eq!(err.contains("vendor ID 00000110h: Delta-Q"), deltaq, "{err}");
+        let out = text(&o);
+        assert!(out.contains("08A  charger  EMCY node 10"), "{out}");
+        assert_eq!(out.contains("Delta-Q E-0-3-2 heartbeat lost"), deltaq, "{out}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
