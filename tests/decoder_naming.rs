@@ -86,7 +86,10 @@ fn delta_q_names_only_with_delta_q_evidence() {
         out.contains("node 10 is the charger (its device type, 1000h, says so)"),
         "{out}"
     );
-    let first = lines.iter().position(|l| l.contains("EMCY node 10")).unwrap();
+    let first = lines
+        .iter()
+        .position(|l| l.contains("EMCY node 10"))
+        .unwrap();
     assert!(
         !lines[first].contains("Delta-Q"),
         "a CiA 419 charger is no Delta-Q charger: {}",
@@ -101,7 +104,10 @@ fn delta_q_names_only_with_delta_q_evidence() {
         out.contains("node 10 is a Delta-Q device (its vendor ID, 1018h:01, is 00000110h)"),
         "{out}"
     );
-    let last = lines.iter().rposition(|l| l.contains("EMCY node 10")).unwrap();
+    let last = lines
+        .iter()
+        .rposition(|l| l.contains("EMCY node 10"))
+        .unwrap();
     assert!(
         lines[last].ends_with(", Delta-Q E-0-3-2 heartbeat lost"),
         "{}",
@@ -152,7 +158,10 @@ fn pdo_fields_of_a_node_without_a_role_are_unnamed() {
 
 #[test]
 fn csv_output_stays_one_csv() {
-    let o = run(&["--bundled", "session", "--output", "csv", "--summary"], None);
+    let o = run(
+        &["--bundled", "session", "--output", "csv", "--summary"],
+        None,
+    );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let out = text(&o);
     let mut rows = out.lines();
@@ -172,20 +181,37 @@ fn csv_output_stays_one_csv() {
     let file = dir.join("summary.txt");
     let path = file.display().to_string();
     let o = run(
-        &["--bundled", "session", "--output", "csv", "--summary-file", &path],
+        &[
+            "--bundled",
+            "session",
+            "--output",
+            "csv",
+            "--summary-file",
+            &path,
+        ],
         None,
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(!String::from_utf8_lossy(&o.stderr).contains("summary:"));
     assert_eq!(text(&o), out);
     let written = std::fs::read_to_string(&file).unwrap();
-    assert!(written.starts_with("summary:\n  node 1 (battery):"), "{written}");
+    assert!(
+        written.starts_with("summary:\n  node 1 (battery):"),
+        "{written}"
+    );
     let o = run(&["--bundled", "session", "--summary-file", &path], None);
     assert!(!text(&o).contains("summary:"));
-    assert!(std::fs::read_to_string(&file).unwrap().starts_with("summary:"));
+    assert!(std::fs::read_to_string(&file)
+        .unwrap()
+        .starts_with("summary:"));
     // A file that cannot be written is an I/O error.
     let o = run(
-        &["--bundled", "session", "--summary-file", "/nonexistent/dir/s.txt"],
+        &[
+            "--bundled",
+            "session",
+            "--summary-file",
+            "/nonexistent/dir/s.txt",
+        ],
         None,
     );
     assert_eq!(o.status.code(), Some(2));
@@ -289,10 +315,18 @@ fn an_eds_with_delta_qs_vendor_id_is_delta_q_evidence() {
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(err.contains("device type 000001A3h: the charger"), "{err}");
-        assert_eq!(err.contains("vendor ID 00000110h: Delta-Q"), deltaq, "{err}");
+        assert_eq!(
+            err.contains("vendor ID 00000110h: Delta-Q"),
+            deltaq,
+            "{err}"
+        );
         let out = text(&o);
         assert!(out.contains("08A  charger  EMCY node 10"), "{out}");
-        assert_eq!(out.contains("Delta-Q E-0-3-2 heartbeat lost"), deltaq, "{out}");
+        assert_eq!(
+            out.contains("Delta-Q E-0-3-2 heartbeat lost"),
+            deltaq,
+            "{out}"
+        );
     }
     std::fs::remove_dir_all(&dir).ok();
 }

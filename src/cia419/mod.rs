@@ -15,10 +15,8 @@ use crate::pdo::{Catalogue, PdoDirection};
 /// charge current requested, states of charge). No manufacturer objects:
 /// those need the manufacturer's evidence (see
 /// [`crate::deltaq::CHARGER_CATALOGUE`]).
-pub const CHARGER_CATALOGUE: Catalogue = Catalogue::new(
-    "CiA 419 battery charger",
-    &[crate::cia418::CIA418_OBJECTS],
-);
+pub const CHARGER_CATALOGUE: Catalogue =
+    Catalogue::new("CiA 419 battery charger", &[crate::cia418::CIA418_OBJECTS]);
 
 /// CiA 419 device type (1000h): profile 419 (01A3h), no additional bits.
 pub const CHARGER_DEVICE_TYPE: u32 = 419;

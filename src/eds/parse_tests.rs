@@ -399,13 +399,17 @@ fn values_it_cannot_serve_are_named_not_dropped_silently() {
                   [2001sub1]\nAccessType=rw\n\
                   [2002]\nDataType=7\nDefaultValue=1\n");
     assert_eq!(eds.unserved(), [(0x2000, 0), (0x2001, 1)]);
-    assert!(ok("[2002]\nDataType=7\nDefaultValue=1\n").unserved().is_empty());
+    assert!(ok("[2002]\nDataType=7\nDefaultValue=1\n")
+        .unserved()
+        .is_empty());
 }
 
 #[test]
 fn an_empty_parameter_value_of_a_number_falls_back_to_the_default() {
-    let eds = ok("[1017]\nDataType=6\nAccessType=rw\nDefaultValue=500\nParameterValue=\n\
-                  [1008]\nDataType=9\nAccessType=const\nDefaultValue=name\nParameterValue=\n");
+    let eds = ok(
+        "[1017]\nDataType=6\nAccessType=rw\nDefaultValue=500\nParameterValue=\n\
+                  [1008]\nDataType=9\nAccessType=const\nDefaultValue=name\nParameterValue=\n",
+    );
     let mut od = eds.dictionary(NODE).unwrap();
     let mut buf = [0; 4];
     assert_eq!(od.read(0x1017, 0, 0, &mut buf), Ok(2));

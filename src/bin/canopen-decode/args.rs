@@ -183,10 +183,7 @@ impl Cli {
         Ok(Options {
             json: output == Output::Json,
             csv: output == Output::Csv,
-            summary: self.summary
-                || self.summary_only
-                || self.check
-                || self.summary_file.is_some(),
+            summary: self.summary || self.summary_only || self.check || self.summary_file.is_some(),
             summary_file: self.summary_file,
             frames: !self.summary_only,
             check: self.check,

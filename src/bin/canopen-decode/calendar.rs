@@ -40,11 +40,7 @@ pub fn time_of_day(ms: u64) -> String {
 
 /// `2025-09-05T14:07:33.612Z`: the instant a TIME_OF_DAY names.
 pub fn utc(days: u16, ms: u32) -> String {
-    format!(
-        "{}T{}Z",
-        date(u64::from(days)),
-        time_of_day(u64::from(ms))
-    )
+    format!("{}T{}Z", date(u64::from(days)), time_of_day(u64::from(ms)))
 }
 
 /// The UTC instant a TIME frame names (`2025-08-31T14:07:33.612Z`), or

@@ -273,7 +273,11 @@ fn flash_status(v: u64) -> String {
 /// slaves, bit 4 reset all nodes on a mandatory slave's error, bit 5
 /// flying master, bit 6 stop all nodes on a mandatory slave's error.
 fn nmt_startup(v: u64) -> String {
-    let mut s = vec![if v & 1 != 0 { "NMT master" } else { "NMT slave" }];
+    let mut s = vec![if v & 1 != 0 {
+        "NMT master"
+    } else {
+        "NMT slave"
+    }];
     for (bit, what) in [
         (1, "starts all nodes"),
         (2, "does not enter operational by itself"),
@@ -298,7 +302,10 @@ fn days_since_1984(v: u64) -> String {
 }
 
 fn ms_after_midnight(v: u64) -> String {
-    format!("{v} ms after midnight ({})", crate::calendar::time_of_day(v))
+    format!(
+        "{v} ms after midnight ({})",
+        crate::calendar::time_of_day(v)
+    )
 }
 
 fn ms(v: u64) -> String {
@@ -433,14 +440,26 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
             ][usize::from(sub - 1)];
             num(name.into(), 4, hex32)
         }
-        (0x1019, 0) => num("synchronous counter overflow value".into(), 1, |v| match v {
-            0 => "0 (SYNC without counter)".into(),
-            2..=240 => format!("counter counts 1 to {v}"),
-            _ => format!("{v} (reserved)"),
-        }),
+        (0x1019, 0) => num(
+            "synchronous counter overflow value".into(),
+            1,
+            |v| match v {
+                0 => "0 (SYNC without counter)".into(),
+                2..=240 => format!("counter counts 1 to {v}"),
+                _ => format!("{v} (reserved)"),
+            },
+        ),
         (0x1020, 0) => highest("verify configuration"),
-        (0x1020, 1) => num("verify configuration: configuration date".into(), 4, days_since_1984),
-        (0x1020, 2) => num("verify configuration: configuration time".into(), 4, ms_after_midnight),
+        (0x1020, 1) => num(
+            "verify configuration: configuration date".into(),
+            4,
+            days_since_1984,
+        ),
+        (0x1020, 2) => num(
+            "verify configuration: configuration time".into(),
+            4,
+            ms_after_midnight,
+        ),
         (0x1021, 0) => bytes_only("store EDS".into()),
         (0x1022, 0) => num("store format".into(), 1, |v| match v {
             0 => "0 (ISO 10646, not compressed)".into(),
@@ -458,7 +477,11 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
         (0x1026, 1) => bytes_only("OS prompt: StdIn".into()),
         (0x1026, 2) => bytes_only("OS prompt: StdOut".into()),
         (0x1026, 3) => bytes_only("OS prompt: StdErr".into()),
-        (0x1027, 0) => num("module list: number of connected modules".into(), 1, decimal),
+        (0x1027, 0) => num(
+            "module list: number of connected modules".into(),
+            1,
+            decimal,
+        ),
         (0x1027, _) => num(format!("module list: module {sub}"), 2, decimal),
         (0x1028, 0) => highest("emergency consumer"),
         (0x1028, _) => unsigned(
@@ -555,18 +578,42 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
         (0x1F51, 0) => highest("program control"),
         (0x1F51, _) => num(format!("program control {sub}"), 1, program_control),
         (0x1F52, 0) => highest("verify application software"),
-        (0x1F52, 1) => num("verify application software: date".into(), 4, days_since_1984),
-        (0x1F52, 2) => num("verify application software: time".into(), 4, ms_after_midnight),
+        (0x1F52, 1) => num(
+            "verify application software: date".into(),
+            4,
+            days_since_1984,
+        ),
+        (0x1F52, 2) => num(
+            "verify application software: time".into(),
+            4,
+            ms_after_midnight,
+        ),
         (0x1F53, 0) => highest("expected application software date"),
-        (0x1F53, _) => num(format!("expected application software date of node {sub}"), 4, days_since_1984),
+        (0x1F53, _) => num(
+            format!("expected application software date of node {sub}"),
+            4,
+            days_since_1984,
+        ),
         (0x1F54, 0) => highest("expected application software time"),
-        (0x1F54, _) => num(format!("expected application software time of node {sub}"), 4, ms_after_midnight),
+        (0x1F54, _) => num(
+            format!("expected application software time of node {sub}"),
+            4,
+            ms_after_midnight,
+        ),
         (0x1F55, 0) => highest("expected software identification"),
-        (0x1F55, _) => num(format!("expected software identification of node {sub}"), 4, hex32),
+        (0x1F55, _) => num(
+            format!("expected software identification of node {sub}"),
+            4,
+            hex32,
+        ),
         (0x1F56, 0) => highest("program software identification"),
         (0x1F56, _) => num(format!("program software identification {sub}"), 4, hex32),
         (0x1F57, 0) => highest("flash status identification"),
-        (0x1F57, _) => num(format!("flash status identification {sub}"), 4, flash_status),
+        (0x1F57, _) => num(
+            format!("flash status identification {sub}"),
+            4,
+            flash_status,
+        ),
         (0x1F80, 0) => num("NMT start-up".into(), 4, nmt_startup),
         (0x1F81, 0) => highest("NMT slave assignment"),
         (0x1F81, _) => num(format!("NMT slave assignment of node {sub}"), 4, hex32),
@@ -583,8 +630,16 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
         (0x1F21, _) => num(format!("storage format {sub}"), 1, decimal),
         (0x1F22, _) => bytes_only(format!("concise DCF {sub}")),
         (0x1F25, _) => num(format!("configuration request {sub}"), 4, hex32),
-        (0x1F26, _) => num(format!("expected configuration date of node {sub}"), 4, days_since_1984),
-        (0x1F27, _) => num(format!("expected configuration time of node {sub}"), 4, ms_after_midnight),
+        (0x1F26, _) => num(
+            format!("expected configuration date of node {sub}"),
+            4,
+            days_since_1984,
+        ),
+        (0x1F27, _) => num(
+            format!("expected configuration time of node {sub}"),
+            4,
+            ms_after_midnight,
+        ),
         _ => bytes_only(format!(
             "{index:04X}h:{sub:02X}, reserved in the communication profile area"
         )),

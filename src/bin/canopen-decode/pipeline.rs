@@ -486,9 +486,8 @@ pub fn run(
     }
     match (&opts.summary_file, opts.csv) {
         (Some(path), _) => {
-            std::fs::write(path, report.as_bytes()).map_err(|e| {
-                io::Error::new(e.kind(), format!("--summary-file {path}: {e}"))
-            })?;
+            std::fs::write(path, report.as_bytes())
+                .map_err(|e| io::Error::new(e.kind(), format!("--summary-file {path}: {e}")))?;
         }
         (None, true) => diag.write_all(report.as_bytes())?,
         (None, false) => text.push_str(&report),
@@ -534,7 +533,9 @@ fn load_eds(
     }
     // The vendor ID: 1018h sub 1, else the file's VendorNumber.
     if let Some(vendor) = int(0x1018, 1).or(eds.device_info.vendor_number) {
-        if vendor == DELTAQ_VENDOR_ID && (roles.give_deltaq(node, vendor) || roles.deltaq == Some(node)) {
+        if vendor == DELTAQ_VENDOR_ID
+            && (roles.give_deltaq(node, vendor) || roles.deltaq == Some(node))
+        {
             said.push(format!("vendor ID {vendor:08X}h: Delta-Q"));
         }
     }
@@ -574,7 +575,10 @@ fn load_eds(
             ));
         }
     }
-    let valid = ids.0.zip(ids.1).filter(|(rx, tx)| (rx | tx) & (1 << 31) == 0);
+    let valid = ids
+        .0
+        .zip(ids.1)
+        .filter(|(rx, tx)| (rx | tx) & (1 << 31) == 0);
     if let Some((rx, tx)) = valid {
         let id = |raw: u32| u16::try_from(raw & 0x7FF).ok().and_then(CanId::standard);
         if let (Some(request), Some(response)) = (id(rx), id(tx)) {
