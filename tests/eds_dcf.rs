@@ -120,3 +120,25 @@ fn the_sdo_server_serves_them() {
         assert_eq!(p.uploaded(), want, "{index:04X}h:{sub:02X}");
     }
 }
+
+#[test]
+fn five_hundred_and_twelve_tpdos_are_served() {
+    // 1800h-19FFh, every TPDO's COB-ID: its own value in the dictionary.
+    let mut text = String::new();
+    for n in 0..512u32 {
+        let index = 0x1800 + n;
+        text.push_str(&format!(
+            "[{index:04X}]\nObjectType=0x9\nSubNumber=2\n\
+             [{index:04X}sub0]\nDataType=5\nAccessType=const\nDefaultValue=1\n\
+             [{index:04X}sub1]\nDataType=7\nAccessType=rw\nDefaultValue=0\nParameterValue=0x{:08X}\n",
+            0x8000_0000u32 + n
+        ));
+    }
+    let eds = canopen_codec::eds::parse(&text).unwrap();
+    let mut od = eds.dictionary(node()).unwrap();
+    assert_eq!(od.len(), 1024);
+    for n in 0..512u16 {
+        assert_eq!(u32_at(&mut od, 0x1800 + n, 1), 0x8000_0000 + u32::from(n));
+    }
+    assert_eq!(eds.pdos(node()).len(), 512);
+}
