@@ -536,8 +536,14 @@ fn server(out: &mut String, c: &ServerCommand) {
 /// "meaning":..,"text":..}`, with `"abort":{"code":..,"meaning":..,"by":..}`
 /// or `"incomplete":"why"` where the transfer did not complete. `value`,
 /// `unit` and `meaning` are null unless it completed.
-pub fn transfer(out: &mut String, r: &Report, roles: &Roles, pdo_config: Option<&str>) {
-    let d = described(r, roles);
+pub fn transfer(
+    out: &mut String,
+    r: &Report,
+    roles: &Roles,
+    eds: Option<canopen_codec::pdo::Catalogue>,
+    pdo_config: Option<&str>,
+) {
+    let d = described(r, roles, eds);
     let complete = r.end == End::Complete;
     let line = shapes::Transfer {
         t: r.t.map(Secs),

@@ -20,7 +20,8 @@
 //!
 //! `--eds NODE=FILE` (repeatable) reads a node's EDS or DCF (CiA 306, with
 //! `$NODEID` resolved): its PDO COB-IDs and mappings decode that node's PDOs
-//! (marked `[from the EDS]`), named with the file's object names; its 1200h
+//! (marked `[from the EDS]`), named with the file's object names (which
+//! name its SDO transfers' values too); its 1200h
 //! adds its SDO channel when not the default and valid (a COB-ID with bit
 //! 31 set adds none); a device type (1000h) of profile 418 or 419 gives the
 //! node its role, Delta-Q's vendor ID (1018h:01 or `VendorNumber`) makes it

@@ -441,7 +441,15 @@ pub fn run(
                 if !opts.frames || opts.csv {
                     continue;
                 }
-                transfer(&mut text, &report, opts.json, &roles, pdo_note.as_deref());
+                let eds = learned.catalogue(report.node);
+                transfer(
+                    &mut text,
+                    &report,
+                    opts.json,
+                    &roles,
+                    eds,
+                    pdo_note.as_deref(),
+                );
                 if let Some(said) = role_learned {
                     let what = if opts.json {
                         format!(
@@ -469,7 +477,8 @@ pub fn run(
     for report in sdo.finish() {
         summary.transfer(&report);
         if opts.frames && !opts.csv {
-            transfer(&mut text, &report, opts.json, &roles, None);
+            let eds = learned.catalogue(report.node);
+            transfer(&mut text, &report, opts.json, &roles, eds, None);
         }
     }
     let mut open = false;
@@ -606,20 +615,22 @@ fn load_eds(
     Ok(())
 }
 
-/// Writes the extra line of a finished SDO transfer; `pdo_note` says how it
+/// Writes the extra line of a finished SDO transfer (its objects named by
+/// the node's EDS catalogue `eds` where it has one); `pdo_note` says how it
 /// changed a PDO's configuration.
 fn transfer(
     out: &mut String,
     report: &sdo::Report,
     json: bool,
     roles: &Roles,
+    eds: Option<canopen_codec::pdo::Catalogue>,
     pdo_note: Option<&str>,
 ) {
     let mut text = String::new();
     if json {
-        json::transfer(&mut text, report, roles, pdo_note);
+        json::transfer(&mut text, report, roles, eds, pdo_note);
     } else {
-        words::transfer(&mut text, report, roles);
+        words::transfer(&mut text, report, roles, eds);
         if let Some(note) = pdo_note {
             text.push_str(" [");
             text.push_str(note);

@@ -111,22 +111,25 @@ pub fn unsigned(
 }
 
 /// Names and interprets `bytes` of `index`:`sub` on a node with `role`
-/// (`deltaq_on_bus`: a Delta-Q charger is known to be on the bus). `exact`
-/// is false for an expedited value with s = 0.
+/// (`deltaq_on_bus`: a Delta-Q charger is known to be on the bus; `eds`:
+/// the catalogue built from the node's EDS, its role's tables first, which
+/// then names the node's objects). `exact` is false for an expedited value
+/// with s = 0.
 pub fn describe(
     index: u16,
     sub: u8,
     bytes: &[u8],
     role: Role,
     deltaq_on_bus: bool,
+    eds: Option<Catalogue>,
     exact: bool,
 ) -> Described {
-    let catalogue = match role {
+    let catalogue = eds.unwrap_or(match role {
         Role::DeltaQCharger => DELTAQ_CATALOGUE,
         Role::Charger => CIA419_CATALOGUE,
         Role::Battery => BATTERY_MODULE_CATALOGUE,
         Role::Other => NO_CATALOGUE,
-    };
+    });
     let ctx = crate::comm_objects::Context {
         role,
         deltaq_on_bus,
@@ -148,7 +151,8 @@ fn profile(index: u16, sub: u8, bytes: &[u8], catalogue: Catalogue, exact: bool)
         };
     };
     let d = Described::named(def.name);
-    let raw = match uint(bytes, usize::from(def.bits / 8), exact) {
+    // A BOOLEAN (1 bit in a PDO) travels by SDO as one byte.
+    let raw = match uint(bytes, usize::from(def.bits.div_ceil(8)), exact) {
         Ok(raw) => raw,
         Err(e) => {
             return Described {

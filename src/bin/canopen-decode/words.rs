@@ -4,7 +4,7 @@ use std::fmt::Write;
 
 use canopen_codec::cob_id::classify;
 use canopen_codec::deltaq::DeltaQCode;
-use canopen_codec::pdo::{FieldValue, NamedFields};
+use canopen_codec::pdo::{Catalogue, FieldValue, NamedFields};
 use canopen_codec::{Message, NodeId};
 
 use crate::pdo_args::Source;
@@ -171,14 +171,16 @@ pub fn role(node: NodeId, roles: &Roles) -> Role {
     }
 }
 
-/// The name and meaning of a complete transfer's value.
-pub fn described(r: &Report, roles: &Roles) -> Described {
+/// The name and meaning of a complete transfer's value; `eds` is the
+/// catalogue built from the node's EDS (`--eds`), which names its objects.
+pub fn described(r: &Report, roles: &Roles, eds: Option<Catalogue>) -> Described {
     describe(
         r.index,
         r.sub,
         &r.bytes,
         role(r.node, roles),
         roles.deltaq.is_some(),
+        eds,
         r.size_indicated,
     )
 }
@@ -278,7 +280,7 @@ pub fn sentence(r: &Report, d: &Described) -> String {
 
 /// The extra line after the frame that ended a transfer, in the columns of
 /// the frame lines with `transfer` in the identifier column.
-pub fn transfer(out: &mut String, r: &Report, roles: &Roles) {
+pub fn transfer(out: &mut String, r: &Report, roles: &Roles, eds: Option<Catalogue>) {
     match r.t {
         Some(t) => {
             // Right-aligned in 17 columns, without a temporary string.
@@ -291,6 +293,6 @@ pub fn transfer(out: &mut String, r: &Report, roles: &Roles) {
         out,
         "  transfer  {:<7}  {}",
         roles.role(Some(r.node)).unwrap_or("-"),
-        sentence(r, &described(r, roles))
+        sentence(r, &described(r, roles, eds))
     );
 }
