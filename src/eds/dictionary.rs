@@ -98,7 +98,9 @@ impl Eds {
     /// data type, its PDO-mappable flag and its `ParameterValue` (DCF) or
     /// `DefaultValue` (see [`encode_value`]). DEFTYPE and DEFSTRUCT
     /// definitions, entries without a data type and entries of a data type
-    /// this crate has no encoding for ([`DataType::Other`]) are left out.
+    /// this crate has no encoding for ([`DataType::Other`]) are left out:
+    /// [`unserved`](Self::unserved) names the last two, so that a program
+    /// serving the file can refuse it rather than serve part of it.
     pub fn dictionary(&self, node: NodeId) -> Result<MemoryDictionary, DictionaryError> {
         let mut od = MemoryDictionary::new();
         for o in self.objects.values() {
