@@ -192,7 +192,11 @@ fn store_restore(v: u64, signature: u64, what: &str) -> String {
         s.push_str("saves autonomously");
     }
     if s.is_empty() {
-        s.push_str(&format!("does not {what} on command"));
+        // "saves" -> "does not save".
+        s.push_str(&format!(
+            "does not {} on command",
+            what.strip_suffix('s').unwrap_or(what)
+        ));
     }
     let rest = v & !if signature == SAVE { 3 } else { 1 };
     if rest != 0 {
@@ -655,5 +659,79 @@ fn expected(index: u16) -> &'static str {
         0x1F86 => "product code",
         0x1F87 => "revision number",
         _ => "serial number",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sdo_value::NO_CATALOGUE;
+
+    const CTX: Context = Context {
+        role: Role::Other,
+        deltaq_on_bus: false,
+        catalogue: NO_CATALOGUE,
+    };
+
+    fn meaning(index: u16, sub: u8, bytes: &[u8]) -> (String, String) {
+        let d = describe(index, sub, bytes, CTX, true).unwrap();
+        (d.name.unwrap(), d.meaning.unwrap_or_default())
+    }
+
+    #[test]
+    fn every_index_of_the_area_is_named() {
+        for index in 0x1000..=0x1FFFu16 {
+            for sub in [0u8, 1, 2, 0x7F, 0xFF] {
+                let d = describe(index, sub, &[0; 4], CTX, false).unwrap();
+                assert!(d.name.is_some(), "{index:04X}h:{sub:02X}");
+            }
+        }
+        assert!(describe(0x2000, 0, &[0], CTX, true).is_none());
+        assert!(describe(0x0FFF, 0, &[0], CTX, true).is_none());
+    }
+
+    #[test]
+    fn values_explained() {
+        assert_eq!(
+            meaning(0x1010, 2, &[3, 0, 0, 0]),
+            (
+                "store parameters: communication parameters".into(),
+                "saves on command, saves autonomously".into()
+            )
+        );
+        assert_eq!(
+            meaning(0x1011, 1, b"load").1,
+            "signature \"load\": restores now"
+        );
+        assert_eq!(
+            meaning(0x1011, 1, &[0, 0, 0, 0]).1,
+            "does not restore on command"
+        );
+        assert_eq!(
+            meaning(0x1012, 0, &[0x00, 0x01, 0x00, 0xC0]).1,
+            "100h, TIME consumer and producer"
+        );
+        assert_eq!(meaning(0x1014, 0, &[0x8A, 0, 0, 0x80]).1, "08Ah, invalid");
+        assert_eq!(meaning(0x1029, 2, &[2]).1, "stopped");
+        assert_eq!(meaning(0x1029, 1, &[200]).1, "manufacturer-specific");
+        assert_eq!(
+            meaning(0x1F80, 0, &[0x0F, 0, 0, 0]).1,
+            "NMT master, starts all nodes, does not enter operational by itself, \
+             does not start the slaves"
+        );
+        assert_eq!(
+            meaning(0x1F57, 1, &[0x00, 0x01, 0, 0]).1,
+            "not in progress, ok, manufacturer-specific 000001h"
+        );
+        assert_eq!(
+            meaning(0x1020, 1, &[2, 0, 0, 0]).1,
+            "2 days since 1984-01-01 (1984-01-03)"
+        );
+        assert_eq!(
+            meaning(0x1280, 3, &[5]).0,
+            "SDO client parameter 0: node-ID of the SDO server"
+        );
+        // A value of the wrong size says so instead of a meaning.
+        assert_eq!(meaning(0x100C, 0, &[1]).1, "1 bytes, the object has 2");
     }
 }
