@@ -72,7 +72,8 @@
 //!   charger, 418: battery module; reported on a line of its own). A charger
 //!   is a Delta-Q one only with Delta-Q evidence: `--charger-node`, an EDS
 //!   with Delta-Q's vendor ID, or 1018h:01 read in the log with Delta-Q's
-//!   vendor ID (00000110h; reported on a line of its own).
+//!   vendor ID (00000110h; reported on a line of its own; in JSON each
+//!   fact learned is `{"kind":"role","node","role","deltaq","text"}`).
 //!   `--pdo-capture-mapping` and the bundled session imply the Delta-Q
 //!   charger 10 and battery module 1. `--no-default-pdos` turns the
 //!   defaults off. A frame with no known mapping is printed raw, as before.
