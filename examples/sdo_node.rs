@@ -166,7 +166,22 @@ fn eds_dictionary(path: &str, node: NodeId) -> Result<MemoryDictionary, String> 
     for w in &eds.warnings {
         eprintln!("sdo_node: {path}: line {}: {:?}", w.line, w.kind);
     }
-    eds.dictionary(node).map_err(|e| format!("{path}: {e}"))
+    // The file is served whole or not at all: name what cannot be served.
+    let unserved = eds.unserved();
+    if !unserved.is_empty() {
+        let list: Vec<String> = unserved
+            .iter()
+            .map(|(i, s)| format!("{i:04X}h:{s:02X}"))
+            .collect();
+        return Err(format!(
+            "{path}: cannot serve {} object(s) whose data type this crate cannot encode: {}",
+            list.len(),
+            list.join(", ")
+        ));
+    }
+    let od = eds.dictionary(node).map_err(|e| format!("{path}: {e}"))?;
+    eprintln!("sdo_node: {path}: serving {} objects", od.len());
+    Ok(od)
 }
 
 fn run_server(node: NodeId, od: MemoryDictionary) -> ExitCode {

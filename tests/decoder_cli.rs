@@ -453,7 +453,9 @@ fn roles_only_from_evidence() {
         "{out}"
     );
     let o = run(&["--json"], Some(log));
-    assert!(text(&o).contains("{\"kind\":\"role\",\"node\":1,\"role\":\"battery\"}"));
+    assert!(
+        text(&o).contains("{\"kind\":\"role\",\"node\":1,\"role\":\"battery\",\"deltaq\":false,")
+    );
 }
 
 /// `--summary-only` on our recorded session: node 1's heartbeat silence

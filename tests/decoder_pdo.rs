@@ -433,7 +433,11 @@ fn eds_gives_pdo_mappings_sdo_channels_and_names() {
         "{}",
         lines[1]
     );
-    assert_eq!(transfers(&out), ["SDO upload 2001h:00 from node 3: F6"]);
+    // The EDS names the node's objects on the transfer lines too.
+    assert_eq!(
+        transfers(&out),
+        ["SDO upload 2001h:00 from node 3: F6 (Temperature: -10)"]
+    );
     // A file that is not there, or not an EDS, is a usage error.
     let o = run(&["--eds", "3=/nonexistent/pump.eds", "-"], Some(input));
     assert_eq!(o.status.code(), Some(2));

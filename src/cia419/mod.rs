@@ -6,7 +6,17 @@
 //! [`crate::deltaq::Charger`].
 
 use crate::cob_id::PdoNumber;
-use crate::pdo::PdoDirection;
+use crate::pdo::{Catalogue, PdoDirection};
+
+/// A CiA 419 battery charger's application objects for naming PDO fields
+/// and SDO values: the objects 6000h-6090h the charger shares with the
+/// battery module (CiA 419 uses the CiA 418 objects for the values the two
+/// exchange: battery status, charger status, temperature, battery voltage,
+/// charge current requested, states of charge). No manufacturer objects:
+/// those need the manufacturer's evidence (see
+/// [`crate::deltaq::CHARGER_CATALOGUE`]).
+pub const CHARGER_CATALOGUE: Catalogue =
+    Catalogue::new("CiA 419 battery charger", &[crate::cia418::CIA418_OBJECTS]);
 
 /// CiA 419 device type (1000h): profile 419 (01A3h), no additional bits.
 pub const CHARGER_DEVICE_TYPE: u32 = 419;

@@ -57,6 +57,12 @@ fn manufacturer_objects_belong_to_the_charger() {
 #[test]
 fn widths_dummies_and_unknown_subs() {
     let f = one(CHARGER_CATALOGUE, 0x2002, 0, 8, 0x74);
+    assert_eq!(f.value.kind(), "narrowed");
+    assert_eq!(
+        f.value.number().map(|v| v.to_string()),
+        Some("0.453125".into())
+    );
+    let f = one(CHARGER_CATALOGUE, 0x2002, 0, 32, 0x74);
     assert_eq!(f.value, FieldValue::WrongWidth { object_bits: 16 });
     let d = one(BATTERY_MODULE_CATALOGUE, 0x0006, 0, 16, 0xABCD);
     assert_eq!(d.value, FieldValue::Padding);

@@ -175,6 +175,13 @@ pub use pdo::{
 };
 pub use policy::{emcy_reaction, emergency_reaction, OperatingMode, Reaction};
 
+/// Delta-Q Technologies' CANopen vendor ID, the value of 1018h sub 1
+/// (identity object, vendor-ID) in its chargers, as Delta-Q's published
+/// object list (the IQ3K3 charger's EDS: `VendorNumber=0x00000110` and
+/// 1018h sub 1 `DefaultValue=0x00000110`) gives it. A log or EDS that shows
+/// this vendor ID is evidence that a node is a Delta-Q device.
+pub const VENDOR_ID: u32 = 0x0000_0110;
+
 /// Object dictionary indexes of the Delta-Q charger's manufacturer objects
 /// (Delta-Q's published object list), plus 6052h whose scaling the charger
 /// fixes.

@@ -98,7 +98,9 @@ impl Eds {
     /// data type, its PDO-mappable flag and its `ParameterValue` (DCF) or
     /// `DefaultValue` (see [`encode_value`]). DEFTYPE and DEFSTRUCT
     /// definitions, entries without a data type and entries of a data type
-    /// this crate has no encoding for ([`DataType::Other`]) are left out.
+    /// this crate has no encoding for ([`DataType::Other`]) are left out:
+    /// [`unserved`](Self::unserved) names the last two, so that a program
+    /// serving the file can refuse it rather than serve part of it.
     pub fn dictionary(&self, node: NodeId) -> Result<MemoryDictionary, DictionaryError> {
         let mut od = MemoryDictionary::new();
         for o in self.objects.values() {
@@ -110,6 +112,38 @@ impl Eds {
             }
         }
         Ok(od)
+    }
+
+    /// The values of the description that [`dictionary`](Self::dictionary)
+    /// cannot serve, by index and sub-index: entries of a data type this
+    /// crate has no encoding for ([`DataType::Other`]) and VAR entries
+    /// without a data type. A program that must serve the file whole
+    /// refuses it when this is not empty, naming them.
+    #[must_use]
+    pub fn unserved(&self) -> Vec<(u16, u8)> {
+        let mut out = Vec::new();
+        let mut check = |index: u16, sub: u8, e: &Entry| {
+            if matches!(e.object_type, ObjectType::DefType | ObjectType::DefStruct) {
+                return;
+            }
+            let served = match (e.data_type, e.object_type) {
+                (Some(DataType::Other(_)), _) => false,
+                (Some(_), _) | (None, ObjectType::Domain) => true,
+                (None, _) => false,
+            };
+            if !served {
+                out.push((index, sub));
+            }
+        };
+        for o in self.objects.values() {
+            if o.subs.is_empty() {
+                check(o.index, 0, &o.entry);
+            }
+            for (&sub, e) in &o.subs {
+                check(o.index, sub, e);
+            }
+        }
+        out
     }
 
     /// Every PDO whose communication parameter (1400h-15FFh receive,

@@ -187,11 +187,38 @@ pub struct Entry {
 
 impl Entry {
     /// The value a device starts with: `ParameterValue` if given (DCF),
-    /// else `DefaultValue`.
+    /// else `DefaultValue`. An empty `ParameterValue=` (common in DCFs:
+    /// a tool writes the key for every entry) gives no value for a number,
+    /// so it falls back to `DefaultValue` as python-canopen does; for a
+    /// string or domain an empty value is the empty string.
+    ///
+    /// ```
+    /// use canopen_codec::eds::{DataType, Entry};
+    /// let mut e = Entry::default();
+    /// e.data_type = Some(DataType::Unsigned16);
+    /// e.default_value = Some("500".into());
+    /// e.parameter_value = Some(" ".into());
+    /// assert_eq!(e.value(), Some("500"));
+    /// e.parameter_value = Some("1000".into());
+    /// assert_eq!(e.value(), Some("1000"));
+    /// e.data_type = Some(DataType::VisibleString);
+    /// e.parameter_value = Some("".into());
+    /// assert_eq!(e.value(), Some(""));
+    /// ```
     #[must_use]
     pub fn value(&self) -> Option<&str> {
+        let text_like = matches!(
+            self.data_type,
+            Some(
+                DataType::VisibleString
+                    | DataType::OctetString
+                    | DataType::UnicodeString
+                    | DataType::Domain
+            )
+        );
         self.parameter_value
             .as_deref()
+            .filter(|v| text_like || !v.trim().is_empty())
             .or(self.default_value.as_deref())
     }
 }

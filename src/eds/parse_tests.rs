@@ -392,6 +392,32 @@ fn dictionary_rejects_a_value_that_does_not_fit() {
 }
 
 #[test]
+fn values_it_cannot_serve_are_named_not_dropped_silently() {
+    let eds = ok("[2000]\nDataType=0x40\nDefaultValue=0\n\
+                  [2001]\nObjectType=0x9\nSubNumber=2\n\
+                  [2001sub0]\nDataType=5\nDefaultValue=1\n\
+                  [2001sub1]\nAccessType=rw\n\
+                  [2002]\nDataType=7\nDefaultValue=1\n");
+    assert_eq!(eds.unserved(), [(0x2000, 0), (0x2001, 1)]);
+    assert!(ok("[2002]\nDataType=7\nDefaultValue=1\n")
+        .unserved()
+        .is_empty());
+}
+
+#[test]
+fn an_empty_parameter_value_of_a_number_falls_back_to_the_default() {
+    let eds = ok(
+        "[1017]\nDataType=6\nAccessType=rw\nDefaultValue=500\nParameterValue=\n\
+                  [1008]\nDataType=9\nAccessType=const\nDefaultValue=name\nParameterValue=\n",
+    );
+    let mut od = eds.dictionary(NODE).unwrap();
+    let mut buf = [0; 4];
+    assert_eq!(od.read(0x1017, 0, 0, &mut buf), Ok(2));
+    assert_eq!(buf[..2], 500u16.to_le_bytes());
+    assert_eq!(od.info(0x1008, 0).unwrap().len, 0);
+}
+
+#[test]
 fn pdo_mapping_entries() {
     let eds = ok(
         "[1A00]\nObjectType=9\n[1A00sub0]\nDataType=5\nDefaultValue=2\n\

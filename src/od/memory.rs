@@ -84,6 +84,18 @@ impl MemoryDictionary {
         self
     }
 
+    /// The number of objects (index and sub-index pairs) it holds.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// True when it holds no object.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
     /// The current value.
     #[must_use]
     pub fn get(&self, index: u16, sub: u8) -> Option<&[u8]> {
@@ -192,7 +204,9 @@ mod tests {
     #[test]
     fn missing_object_vs_sub() {
         let mut od = MemoryDictionary::new();
+        assert!(od.is_empty());
         od.insert(0x1018, 1, Access::ReadOnly, &[4, 0, 0, 0]);
+        assert_eq!(od.len(), 1);
         assert_eq!(od.info(0x1018, 2), Err(AbortCode::SubIndexDoesNotExist));
         assert_eq!(od.info(0x1019, 0), Err(AbortCode::ObjectDoesNotExist));
     }

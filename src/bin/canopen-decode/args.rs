@@ -68,10 +68,14 @@ pub struct Cli {
     /// Print only the summary.
     #[arg(long)]
     summary_only: bool,
+    /// Write the summary to PATH (implies --summary). With --output csv and
+    /// no file the summary goes to stderr: the CSV stream stays one CSV.
+    #[arg(long, value_name = "PATH")]
+    summary_file: Option<String>,
     /// Print the summary; exit 3 when a problem is open at the end.
     #[arg(long)]
     check: bool,
-    /// The Delta-Q charger's node id.
+    /// The Delta-Q charger's node id (Delta-Q names and error labels).
     #[arg(long, value_name = "N", value_parser = parse_node)]
     charger_node: Option<NodeId>,
     /// The CiA 418 battery module's node id.
@@ -157,12 +161,15 @@ impl Cli {
         let mut roles = Roles {
             charger: self.charger_node,
             battery: self.battery_node,
+            // The option names the Delta-Q charger: that is the evidence.
+            deltaq: self.charger_node,
         };
         if self.pdo_capture_mapping {
             pdos.add_capture()?;
             // The capture's nodes: the Delta-Q charger 10, the battery module 1.
             roles.charger = roles.charger.or(NodeId::new(10));
             roles.battery = roles.battery.or(NodeId::new(1));
+            roles.deltaq = roles.deltaq.or(roles.charger);
         }
         let (format, delta_times) = match self.format {
             None => (None, false),
@@ -176,7 +183,8 @@ impl Cli {
         Ok(Options {
             json: output == Output::Json,
             csv: output == Output::Csv,
-            summary: self.summary || self.summary_only || self.check,
+            summary: self.summary || self.summary_only || self.check || self.summary_file.is_some(),
+            summary_file: self.summary_file,
             frames: !self.summary_only,
             check: self.check,
             roles,

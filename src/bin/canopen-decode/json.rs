@@ -206,7 +206,9 @@ fn pdo_fields(out: &mut String, source: Source, fields: &NamedFields) {
         key(out, "value");
         match &f.value {
             // The exact decimal form is a valid JSON number.
-            FieldValue::Scaled { value, .. } | FieldValue::OutOfRange { value, .. } => {
+            FieldValue::Scaled { value, .. }
+            | FieldValue::OutOfRange { value, .. }
+            | FieldValue::Narrowed { value, .. } => {
                 let _ = write!(out, "{value}");
             }
             v @ (FieldValue::Flags(_) | FieldValue::Formatted(_) | FieldValue::Chars(_)) => {
@@ -245,6 +247,11 @@ fn fields(out: &mut String, msg: &Message, roles: &Roles, guard_reply: bool) {
         },
         Message::Time(t) => {
             let _ = write!(out, ",\"days\":{},\"millis\":{}", t.days, t.millis);
+            key(out, "utc");
+            match crate::calendar::time_frame(t) {
+                Some(utc) => string(out, &utc),
+                None => out.push_str("null"),
+            }
         }
         Message::Emcy { emcy, .. } => {
             let _ = write!(out, ",\"code\":{}", emcy.code.raw());
@@ -529,8 +536,14 @@ fn server(out: &mut String, c: &ServerCommand) {
 /// "meaning":..,"text":..}`, with `"abort":{"code":..,"meaning":..,"by":..}`
 /// or `"incomplete":"why"` where the transfer did not complete. `value`,
 /// `unit` and `meaning` are null unless it completed.
-pub fn transfer(out: &mut String, r: &Report, roles: &Roles, pdo_config: Option<&str>) {
-    let d = described(r, roles);
+pub fn transfer(
+    out: &mut String,
+    r: &Report,
+    roles: &Roles,
+    eds: Option<canopen_codec::pdo::Catalogue>,
+    pdo_config: Option<&str>,
+) {
+    let d = described(r, roles, eds);
     let complete = r.end == End::Complete;
     let line = shapes::Transfer {
         t: r.t.map(Secs),

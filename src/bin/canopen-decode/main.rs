@@ -20,9 +20,12 @@
 //!
 //! `--eds NODE=FILE` (repeatable) reads a node's EDS or DCF (CiA 306, with
 //! `$NODEID` resolved): its PDO COB-IDs and mappings decode that node's PDOs
-//! (marked `[from the EDS]`), named with the file's object names; its 1200h
-//! adds its SDO channel when not the default; a device type (1000h) of
-//! profile 418 or 419 gives the node its role. PDO mappings and COB-IDs
+//! (marked `[from the EDS]`), named with the file's object names (which
+//! name its SDO transfers' values too); its 1200h
+//! adds its SDO channel when not the default and valid (a COB-ID with bit
+//! 31 set adds none); a device type (1000h) of profile 418 or 419 gives the
+//! node its role, Delta-Q's vendor ID (1018h:01 or `VendorNumber`) makes it
+//! a Delta-Q device. PDO mappings and COB-IDs
 //! written or read by SDO in the log (1400h-1BFFh) apply to the PDOs that
 //! follow, and the transfer's line says so (`[TPDO1 of node 5 maps ...]`).
 //!
@@ -53,17 +56,27 @@
 //!   the mapping of the PDO on identifier COBID: COBID, INDEX and SUB in hex
 //!   (`18A` or `0x18A`), BITS in decimal, entries in mapping order. Dummy
 //!   entries (index 1..1F, e.g. `6:0:16`) and 2FFAh are padding. The
-//!   objects are read from the dictionary of the node the COB-ID belongs to:
-//!   the battery node's is CiA 418, any other node's the Delta-Q charger's.
+//!   objects are named from the dictionary of the node the COB-ID belongs
+//!   to, as far as the evidence says whose it is: its EDS, else the battery
+//!   node's CiA 418, a Delta-Q charger's Delta-Q and CiA 418 objects, a
+//!   CiA 419 charger's CiA 418/419 objects; a node without a role or EDS
+//!   names nothing (`2002h unknown object: raw 1374h (16 bits)`). An entry
+//!   mapped with fewer bits than its object is read from those bits
+//!   (sign-extended for a signed object) and flagged `[deviates: mapped as
+//!   4 bits, object has 8]`.
 //! - Without `--pdo` for a COB-ID, the defaults apply to nodes with a role:
-//!   the Delta-Q charger's default PDOs on the charger's COB-IDs, the
+//!   the Delta-Q charger's default PDOs on a Delta-Q charger's COB-IDs, the
 //!   CiA 418 battery-module defaults on the battery module's. A node has a
-//!   role only from evidence: `--charger-node` / `--battery-node`, or its
-//!   1000h read by SDO in the log (profile 419: charger, 418: battery
-//!   module; reported on a line of its own). `--pdo-capture-mapping` and
-//!   the bundled session imply charger 10 and battery module 1.
-//!   `--no-default-pdos` turns them off. A frame with no known mapping is
-//!   printed raw, as before.
+//!   role only from evidence: `--charger-node` / `--battery-node`, its
+//!   EDS's 1000h, or its 1000h read by SDO in the log (profile 419:
+//!   charger, 418: battery module; reported on a line of its own). A charger
+//!   is a Delta-Q one only with Delta-Q evidence: `--charger-node`, an EDS
+//!   with Delta-Q's vendor ID, or 1018h:01 read in the log with Delta-Q's
+//!   vendor ID (00000110h; reported on a line of its own; in JSON each
+//!   fact learned is `{"kind":"role","node","role","deltaq","text"}`).
+//!   `--pdo-capture-mapping` and the bundled session imply the Delta-Q
+//!   charger 10 and battery module 1. `--no-default-pdos` turns the
+//!   defaults off. A frame with no known mapping is printed raw, as before.
 //! - `--pdo-capture-mapping` decodes the real Delta-Q captures (third-party
 //!   data, not in this repository; see tests/data/CAPTURES.md): it adds the
 //!   mapping of tests/data/CAPTURES.md (the integrator remapped that
@@ -119,15 +132,24 @@
 //!   an expedited value with s = 0 as `[size not indicated]`. At most 64 KiB
 //!   of a transfer are kept (`[truncated: ...]`, JSON `truncated`); the
 //!   count goes on.
-//! - The value is named and interpreted where the object is known: 1000h
-//!   (CiA 418 optional PDOs when its profile is 418), 1001h, 1003h (with the
-//!   Delta-Q code on the charger node), 1008h-100Ah strings, 1016h-1018h,
-//!   PDO communication and mapping objects 1400h-1BFFh (numbered from 0 as
-//!   the frame lines do: 1800h is TPDO0), and the profile objects of the
-//!   node's catalogue: Delta-Q then CiA 418 on the charger node, CiA 418 on
-//!   the battery node and on nodes with no role. Otherwise bytes only.
-//! - Block transfers are followed (so their data frames are not misread) but
-//!   not reassembled: only their aborts are reported.
+//! - The value is named and interpreted where the object is known: every
+//!   object of the CiA 301 communication profile area 1000h-1FFFh on any
+//!   node (1000h with the CiA 418 optional PDOs when its profile is 418,
+//!   1003h with the Delta-Q code on a Delta-Q charger, 100Ch/100Dh, 1005h,
+//!   1010h/1011h, 1029h, 1200h-12FFh, the PDO parameters 1400h-1BFFh
+//!   numbered from 0 as the frame lines do: 1800h is TPDO0, 1F50h-1F57h,
+//!   1F80h, ...; an unassigned index as reserved), and the profile objects
+//!   of the node's catalogue: Delta-Q then CiA 418 on a Delta-Q charger,
+//!   CiA 418/419 on a CiA 419 charger and on the battery node. A node with
+//!   no role gets no profile names: bytes only.
+//! - Block transfers are reassembled like segmented ones.
+//!
+//! TIME frames are shown with the UTC date and time they mean after the raw
+//! days and milliseconds (` = 1984-01-03T12:00:00.000Z`; JSON `utc`).
+//!
+//! `--summary` writes the summary after the frames; `--summary-file PATH`
+//! writes it to PATH; with `--output csv` and no file it goes to stderr,
+//! so the CSV stream stays one CSV.
 //!
 //! JSON: `{"t","kind":"sdo_transfer","node","role","direction":"upload"|
 //! "download","index","sub","status":"complete"|"aborted"|"incomplete",
@@ -140,6 +162,8 @@
 //! the capture README's DBC adds -40 degC, which the profile does not have.
 
 mod args;
+mod calendar;
+mod comm_objects;
 mod csv;
 mod json;
 mod line_cache;

@@ -2,6 +2,7 @@
 //! bundled capture's mapping (`--pdo-capture-mapping`) and the defaults.
 
 use canopen_codec::cia418::BATTERY_MODULE_CATALOGUE;
+use canopen_codec::cia419::CHARGER_CATALOGUE as CIA419_CATALOGUE;
 use canopen_codec::cob_id::classify_standard;
 use canopen_codec::deltaq::{default_mapping_for_cob_id, CHARGER_CATALOGUE};
 use canopen_codec::pdo::{Catalogue, MappingEntry, NamedFields, PdoMapping, MAX_ENTRIES};
@@ -13,7 +14,27 @@ use crate::Roles;
 
 /// The objects of a node with no role: CiA 301 names nothing in a PDO, so
 /// fields print as index, sub-index and raw value.
-const NO_CATALOGUE: Catalogue = Catalogue::new("a device without a known profile", &[]);
+use crate::sdo_value::NO_CATALOGUE;
+
+/// The catalogue whose names a PDO of `node` gets: its EDS's, else its
+/// role's (the Delta-Q charger's only with Delta-Q evidence, a CiA 419
+/// charger's the CiA 419 objects), else none (no name is guessed).
+fn catalogue_of(node: Option<NodeId>, roles: &Roles, learned: &Learned) -> Catalogue {
+    let Some(node) = node else {
+        return NO_CATALOGUE;
+    };
+    if let Some(c) = learned.catalogue(node) {
+        c
+    } else if roles.is_battery(node) {
+        BATTERY_MODULE_CATALOGUE
+    } else if roles.is_deltaq_charger(node) {
+        CHARGER_CATALOGUE
+    } else if roles.is_charger(node) {
+        CIA419_CATALOGUE
+    } else {
+        NO_CATALOGUE
+    }
+}
 
 /// The mapping of the real capture, from tests/data/CAPTURES.md, in
 /// `--pdo` syntax. Unnamed padding uses CiA 301 dummy entries (0005h
@@ -151,15 +172,7 @@ impl Mappings {
         }
         let given = self.given.iter().find(|(g, _)| *g == id);
         if let (None, Some((node, m, origin))) = (given, learned.mapping(id)) {
-            let cat = if let Some(c) = learned.catalogue(node) {
-                c
-            } else if roles.is_battery(node) {
-                BATTERY_MODULE_CATALOGUE
-            } else if roles.is_charger(node) {
-                CHARGER_CATALOGUE
-            } else {
-                NO_CATALOGUE
-            };
+            let cat = catalogue_of(Some(node), roles, learned);
             let source = match origin {
                 Origin::Eds => Source::Eds,
                 Origin::Log => Source::Learned,
@@ -169,23 +182,16 @@ impl Mappings {
         let (source, catalogue, mapping) = match given {
             Some((_, m)) => {
                 // A mapping names objects of the dictionary of the node the
-                // COB-ID belongs to: the battery's is CiA 418, any other
-                // node's is read as the Delta-Q charger's.
-                let node = classify_standard(id).node();
-                let cat = if let Some(c) = node.and_then(|n| learned.catalogue(n)) {
-                    c
-                } else if node.is_some_and(|n| roles.is_battery(n)) {
-                    BATTERY_MODULE_CATALOGUE
-                } else {
-                    CHARGER_CATALOGUE
-                };
+                // COB-ID belongs to, as far as the evidence says whose it is.
+                let cat = catalogue_of(classify_standard(id).node(), roles, learned);
                 (Source::Given, cat, *m)
             }
             None if self.defaults => {
-                // Defaults only for a node with a role.
+                // Defaults only for a node with a role; the charger's are
+                // Delta-Q's, so only for a Delta-Q charger.
                 let node = classify_standard(id).node()?;
                 let other = NodeId::new(node.raw() % 127 + 1)?;
-                let (charger, battery) = if roles.is_charger(node) {
+                let (charger, battery) = if roles.is_deltaq_charger(node) {
                     (node, other)
                 } else if roles.is_battery(node) {
                     (other, node)

@@ -79,14 +79,23 @@ pub struct Notes {
 }
 
 /// Which node is which, for naming Delta-Q codes and roles. A node has a
-/// role only from evidence: `--charger-node` / `--battery-node`, or its
-/// device type (1000h) read by SDO in the log naming profile 419 (a
-/// charger) or 418 (a battery module).
+/// role only from evidence: `--charger-node` / `--battery-node`, its device
+/// type (1000h) read by SDO in the log or given by its EDS naming profile
+/// 419 (a charger) or 418 (a battery module). A charger is a Delta-Q
+/// charger (Delta-Q object names, error labels and default PDOs) only with
+/// Delta-Q evidence: `--charger-node`, an EDS whose vendor ID (1018h:01 or
+/// `VendorNumber`) is Delta-Q's, or that vendor ID read by SDO in the log;
+/// otherwise it is a CiA 419 charger, named with the CiA 419 objects only.
 #[derive(Clone, Copy, Default)]
 pub struct Roles {
     pub charger: Option<NodeId>,
     pub battery: Option<NodeId>,
+    /// The node known to be a Delta-Q device.
+    pub deltaq: Option<NodeId>,
 }
+
+/// Delta-Q's vendor ID (1018h sub 1).
+const DELTAQ_VENDOR_ID: u32 = canopen_codec::deltaq::VENDOR_ID;
 
 impl Roles {
     pub fn role(&self, node: Option<NodeId>) -> Option<&'static str> {
@@ -97,15 +106,22 @@ impl Roles {
         }
     }
 
-    /// The bundled session's nodes (charger 10, battery module 1) unless given.
+    /// The bundled session's nodes (the Delta-Q charger 10, the battery
+    /// module 1) unless given.
     pub fn demo(&mut self) {
         self.charger = self.charger.or(NodeId::new(10));
         self.battery = self.battery.or(NodeId::new(1));
+        self.deltaq = self.deltaq.or(self.charger);
     }
 
-    /// True when `node` is the charger.
+    /// True when `node` is the charger (Delta-Q or CiA 419).
     pub fn is_charger(&self, node: NodeId) -> bool {
         self.charger == Some(node)
+    }
+
+    /// True when `node` is the charger and a Delta-Q one.
+    pub fn is_deltaq_charger(&self, node: NodeId) -> bool {
+        self.is_charger(node) && self.deltaq == Some(node)
     }
 
     /// True when `node` is the battery module (and not also the charger).
@@ -113,21 +129,47 @@ impl Roles {
         self.battery == Some(node) && self.charger != Some(node)
     }
 
-    /// Learns a role from a completed upload of 1000h (device type): the
-    /// profile number in bits 0-15, 418 a battery module, 419 a charger.
-    /// Roles given on the command line or learned before are kept.
-    fn learn(&mut self, report: &sdo::Report) -> Option<&'static str> {
-        if (report.index, report.sub) != (0x1000, 0)
-            || !matches!(report.end, sdo::End::Complete)
+    /// Learns from a completed upload: of 1000h (device type) a role, the
+    /// profile number in bits 0-15, 418 a battery module, 419 a charger; of
+    /// 1018h sub 1 (vendor ID) Delta-Q's, that the node is a Delta-Q
+    /// device (a charger, unless it has another role). Roles given on the
+    /// command line or learned before are kept. Returns what was learned,
+    /// in words.
+    fn learn(&mut self, report: &sdo::Report) -> Option<String> {
+        if !matches!(report.end, sdo::End::Complete)
             || !matches!(report.direction, sdo::Direction::Upload)
         {
             return None;
         }
-        let [a, b, ..] = report.bytes[..] else {
-            return None;
-        };
-        let (name, given) = self.give_by_profile(report.node, u16::from_le_bytes([a, b]))?;
-        given.then_some(name)
+        match (report.index, report.sub, &report.bytes[..]) {
+            (0x1000, 0, [a, b, ..]) => {
+                let (name, given) =
+                    self.give_by_profile(report.node, u16::from_le_bytes([*a, *b]))?;
+                given.then(|| format!("the {name} (its device type, 1000h, says so)"))
+            }
+            (0x1018, 1, [a, b, c, d]) => {
+                let vendor = u32::from_le_bytes([*a, *b, *c, *d]);
+                self.give_deltaq(report.node, vendor).then(|| {
+                    format!("a Delta-Q device (its vendor ID, 1018h:01, is {vendor:08X}h)")
+                })
+            }
+            _ => None,
+        }
+    }
+
+    /// Makes `node` the Delta-Q device when `vendor` is Delta-Q's vendor ID
+    /// and no other node is; it becomes the charger unless it has a role.
+    /// True when this changed anything.
+    fn give_deltaq(&mut self, node: NodeId, vendor: u32) -> bool {
+        if vendor != DELTAQ_VENDOR_ID || self.deltaq.is_some_and(|d| d != node) {
+            return false;
+        }
+        let before = (self.charger, self.deltaq);
+        self.deltaq = Some(node);
+        if self.charger.is_none() && self.battery != Some(node) {
+            self.charger = Some(node);
+        }
+        before != (self.charger, self.deltaq)
     }
 
     /// The role a device type's profile (bits 0-15 of 1000h) names, 418 a
@@ -151,8 +193,11 @@ pub struct Options {
     pub json: bool,
     /// `--output csv`.
     pub csv: bool,
-    /// `--summary`, `--summary-only`, `--check`.
+    /// `--summary`, `--summary-only`, `--check`, `--summary-file`.
     pub summary: bool,
+    /// `--summary-file PATH`: the summary goes there instead of stdout (or
+    /// stderr, where a CSV stream is on stdout).
+    pub summary_file: Option<String>,
     pub frames: bool,
     pub check: bool,
     pub roles: Roles,
@@ -396,18 +441,28 @@ pub fn run(
                 if !opts.frames || opts.csv {
                     continue;
                 }
-                transfer(&mut text, &report, opts.json, &roles, pdo_note.as_deref());
-                if let Some(role) = role_learned {
+                let eds = learned.catalogue(report.node);
+                transfer(
+                    &mut text,
+                    &report,
+                    opts.json,
+                    &roles,
+                    eds,
+                    pdo_note.as_deref(),
+                );
+                if let Some(said) = role_learned {
                     let what = if opts.json {
                         format!(
-                            "{{\"kind\":\"role\",\"node\":{},\"role\":\"{role}\"}}",
+                            "{{\"kind\":\"role\",\"node\":{},\"role\":{},\"deltaq\":{},\"text\":\"node {} is {said}\"}}",
+                            report.node,
+                            roles
+                                .role(Some(report.node))
+                                .map_or("null".to_string(), |r| format!("\"{r}\"")),
+                            roles.deltaq == Some(report.node),
                             report.node
                         )
                     } else {
-                        format!(
-                            "node {} is the {role} (its device type, 1000h, says so)",
-                            report.node
-                        )
+                        format!("node {} is {said}", report.node)
                     };
                     text.push_str(&what);
                     text.push('\n');
@@ -422,17 +477,29 @@ pub fn run(
     for report in sdo.finish() {
         summary.transfer(&report);
         if opts.frames && !opts.csv {
-            transfer(&mut text, &report, opts.json, &roles, None);
+            let eds = learned.catalogue(report.node);
+            transfer(&mut text, &report, opts.json, &roles, eds, None);
         }
     }
     let mut open = false;
+    // The summary follows the frames in words and JSON; it never enters a
+    // CSV stream (stderr then), and `--summary-file` takes it in any form.
+    let mut report = String::new();
     if opts.summary {
         if opts.json {
-            open = summary.json(&mut text, &roles);
-            text.push('\n');
+            open = summary.json(&mut report, &roles);
+            report.push('\n');
         } else {
-            open = summary.words(&mut text, &roles);
+            open = summary.words(&mut report, &roles);
         }
+    }
+    match (&opts.summary_file, opts.csv) {
+        (Some(path), _) => {
+            std::fs::write(path, report.as_bytes())
+                .map_err(|e| io::Error::new(e.kind(), format!("--summary-file {path}: {e}")))?;
+        }
+        (None, true) => diag.write_all(report.as_bytes())?,
+        (None, false) => text.push_str(&report),
     }
     out.write_all(text.as_bytes())?;
     out.flush()?;
@@ -442,8 +509,10 @@ pub fn run(
 /// Reads the EDS or DCF of `node` (`--eds NODE=FILE`): its PDOs (COB-IDs
 /// and mappings, `$NODEID` resolved) decode that node's PDO frames, its
 /// server SDO parameter (1200h) adds the SDO channel when it is not the
-/// default, and its device type (1000h) of profile 418 or 419 gives the node
-/// its role unless one was given. Says what it took on `diag`.
+/// default (not when either COB-ID has bit 31 set: not valid), its device
+/// type (1000h) of profile 418 or 419 gives the node its role unless one was
+/// given, and a Delta-Q vendor ID (1018h sub 1 or `VendorNumber`) makes it
+/// a Delta-Q device. Says what it took on `diag`.
 fn load_eds(
     node: NodeId,
     path: &str,
@@ -471,10 +540,20 @@ fn load_eds(
             None => format!("device type {device_type:08X}h (profile {profile})"),
         });
     }
+    // The vendor ID: 1018h sub 1, else the file's VendorNumber.
+    if let Some(vendor) = int(0x1018, 1).or(eds.device_info.vendor_number) {
+        if vendor == DELTAQ_VENDOR_ID
+            && (roles.give_deltaq(node, vendor) || roles.deltaq == Some(node))
+        {
+            said.push(format!("vendor ID {vendor:08X}h: Delta-Q"));
+        }
+    }
     let profile = if roles.is_battery(node) {
         Some(canopen_codec::cia418::BATTERY_MODULE_CATALOGUE)
-    } else if roles.is_charger(node) {
+    } else if roles.is_deltaq_charger(node) {
         Some(canopen_codec::deltaq::CHARGER_CATALOGUE)
+    } else if roles.is_charger(node) {
+        Some(canopen_codec::cia419::CHARGER_CATALOGUE)
     } else {
         None
     };
@@ -495,8 +574,21 @@ fn load_eds(
     if !mapped.is_empty() {
         said.push(format!("PDOs mapped: {}", mapped.join(", ")));
     }
+    // CiA 301, SDO server parameter (1200h): bit 31 of a COB-ID set means
+    // the SDO is not valid, so it adds no channel.
     let ids = (int(0x1200, 1), int(0x1200, 2));
     if let (Some(rx), Some(tx)) = ids {
+        if (rx | tx) & (1 << 31) != 0 {
+            said.push(format!(
+                "SDO server parameter 1200h not valid (COB-IDs {rx:08X}h/{tx:08X}h, bit 31 set): no channel"
+            ));
+        }
+    }
+    let valid = ids
+        .0
+        .zip(ids.1)
+        .filter(|(rx, tx)| (rx | tx) & (1 << 31) == 0);
+    if let Some((rx, tx)) = valid {
         let id = |raw: u32| u16::try_from(raw & 0x7FF).ok().and_then(CanId::standard);
         if let (Some(request), Some(response)) = (id(rx), id(tx)) {
             let channel = SdoChannel {
@@ -523,20 +615,22 @@ fn load_eds(
     Ok(())
 }
 
-/// Writes the extra line of a finished SDO transfer; `pdo_note` says how it
+/// Writes the extra line of a finished SDO transfer (its objects named by
+/// the node's EDS catalogue `eds` where it has one); `pdo_note` says how it
 /// changed a PDO's configuration.
 fn transfer(
     out: &mut String,
     report: &sdo::Report,
     json: bool,
     roles: &Roles,
+    eds: Option<canopen_codec::pdo::Catalogue>,
     pdo_note: Option<&str>,
 ) {
     let mut text = String::new();
     if json {
-        json::transfer(&mut text, report, roles, pdo_note);
+        json::transfer(&mut text, report, roles, eds, pdo_note);
     } else {
-        words::transfer(&mut text, report, roles);
+        words::transfer(&mut text, report, roles, eds);
         if let Some(note) = pdo_note {
             text.push_str(" [");
             text.push_str(note);

@@ -7,7 +7,7 @@
 //! transitions, the heartbeat period (median) and the largest gap, every
 //! silence longer than 3 periods (with its end, or "until the end of the
 //! log"), boot-ups and whether an NMT reset preceded them, EMCYs with their
-//! names (Delta-Q labels on a charger) and whether an error reset cleared
+//! names (Delta-Q labels on a Delta-Q charger) and whether an error reset cleared
 //! them, SDO transfers (count, aborts with object and code), node-guarding
 //! requests and replies. Per PDO COB-ID: frames and rate. LSS (CiA 305):
 //! frames, fastscans started, and the node-IDs a slave accepted by
@@ -149,7 +149,7 @@ impl Summary {
             }
             Message::NodeGuardRequest { node, .. } => self.node(node).guard_requests += 1,
             Message::Emcy { node, emcy } => {
-                let charger = roles.is_charger(node);
+                let charger = roles.is_deltaq_charger(node);
                 let n = self.node(node);
                 if emcy.is_reset() {
                     for e in &mut n.emcys {

@@ -4,7 +4,7 @@ use std::fmt::Write;
 
 use canopen_codec::cob_id::classify;
 use canopen_codec::deltaq::DeltaQCode;
-use canopen_codec::pdo::{FieldValue, NamedFields};
+use canopen_codec::pdo::{Catalogue, FieldValue, NamedFields};
 use canopen_codec::{Message, NodeId};
 
 use crate::pdo_args::Source;
@@ -98,6 +98,14 @@ pub fn message(out: &mut String, line: &crate::FrameLine<'_>) {
     match m {
         Ok(msg) => {
             let _ = write!(out, "{}", Text { msg, guard_reply });
+            if let Message::Time(t) = msg {
+                match crate::calendar::time_frame(t) {
+                    Some(utc) => {
+                        let _ = write!(out, " = {utc}");
+                    }
+                    None => out.push_str(" (not a time of day: 86 400 000 ms or more)"),
+                }
+            }
             if let Some((label, description)) = deltaq(msg, roles) {
                 let _ = write!(out, ", Delta-Q {label} {description}");
             }
@@ -119,12 +127,13 @@ pub fn message(out: &mut String, line: &crate::FrameLine<'_>) {
     }
 }
 
-/// The Delta-Q label and description of a charger's EMCY, if it carries a code.
+/// The Delta-Q label and description of a Delta-Q charger's EMCY, if it
+/// carries a code (none without Delta-Q evidence: see [`Roles`]).
 pub fn deltaq(msg: &Message, roles: &Roles) -> Option<(String, &'static str)> {
     let Message::Emcy { node, emcy } = msg else {
         return None;
     };
-    if !roles.is_charger(*node) || emcy.is_reset() {
+    if !roles.is_deltaq_charger(*node) || emcy.is_reset() {
         return None;
     }
     let code = DeltaQCode::from_emergency(emcy);
@@ -155,19 +164,23 @@ fn pdo_fields(out: &mut String, source: Source, fields: &NamedFields) {
 /// The role of a node, for naming its objects.
 pub fn role(node: NodeId, roles: &Roles) -> Role {
     match roles.role(Some(node)) {
+        Some("charger") if roles.is_deltaq_charger(node) => Role::DeltaQCharger,
         Some("charger") => Role::Charger,
         Some("battery") => Role::Battery,
         _ => Role::Other,
     }
 }
 
-/// The name and meaning of a complete transfer's value.
-pub fn described(r: &Report, roles: &Roles) -> Described {
+/// The name and meaning of a complete transfer's value; `eds` is the
+/// catalogue built from the node's EDS (`--eds`), which names its objects.
+pub fn described(r: &Report, roles: &Roles, eds: Option<Catalogue>) -> Described {
     describe(
         r.index,
         r.sub,
         &r.bytes,
         role(r.node, roles),
+        roles.deltaq.is_some(),
+        eds,
         r.size_indicated,
     )
 }
@@ -267,7 +280,7 @@ pub fn sentence(r: &Report, d: &Described) -> String {
 
 /// The extra line after the frame that ended a transfer, in the columns of
 /// the frame lines with `transfer` in the identifier column.
-pub fn transfer(out: &mut String, r: &Report, roles: &Roles) {
+pub fn transfer(out: &mut String, r: &Report, roles: &Roles, eds: Option<Catalogue>) {
     match r.t {
         Some(t) => {
             // Right-aligned in 17 columns, without a temporary string.
@@ -280,6 +293,6 @@ pub fn transfer(out: &mut String, r: &Report, roles: &Roles) {
         out,
         "  transfer  {:<7}  {}",
         roles.role(Some(r.node)).unwrap_or("-"),
-        sentence(r, &described(r, roles))
+        sentence(r, &described(r, roles, eds))
     );
 }

@@ -42,8 +42,11 @@
 //! - **Profile values** a table cannot describe (a code with a description,
 //!   a packed request word) are [`FieldValue::Formatted`], written by the
 //!   profile's [`ValueFormat`].
-//! - **Widths.** A field whose mapped length differs from the object's size
-//!   is not scaled: [`FieldValue::WrongWidth`]. Padding (CiA 301 dummy
+//! - **Widths.** A number mapped with fewer bits than its object (other
+//!   stacks do this: python-canopen maps an UNSIGNED8 as 4 bits) is read
+//!   leniently from the bits mapped, sign-extended for a signed object, and
+//!   flagged: [`FieldValue::Narrowed`]. Any other length than the object's
+//!   size is not read: [`FieldValue::WrongWidth`]. Padding (CiA 301 dummy
 //!   entries 0001h-001Fh, and objects catalogued as
 //!   [`Interpretation::Padding`]) is [`FieldValue::Padding`] at any width.
 //! - **Short frames.** A field that does not fit in the payload is
@@ -358,6 +361,30 @@ impl Catalogue {
         if def.interpretation == Interpretation::Padding {
             return named(def.name, FieldValue::Padding);
         }
+        if entry.bits < def.bits {
+            // Lenient in: the mapped bits are the low bits of the object.
+            let value = match def.interpretation {
+                Interpretation::Unsigned {
+                    frac_bits, unit, ..
+                } => i64::try_from(raw)
+                    .ok()
+                    .map(|v| (Fixed::new(v, frac_bits), unit)),
+                Interpretation::Signed { frac_bits, unit } => {
+                    Some((Fixed::new(sign_extend(raw, bits), frac_bits), unit))
+                }
+                _ => None,
+            };
+            if let Some((value, unit)) = value {
+                return named(
+                    def.name,
+                    FieldValue::Narrowed {
+                        value,
+                        unit,
+                        object_bits: def.bits,
+                    },
+                );
+            }
+        }
         if def.bits != entry.bits {
             return named(
                 def.name,
@@ -465,8 +492,20 @@ pub enum FieldValue {
     Padding,
     /// The field lies (partly) past the end of the payload.
     Missing,
-    /// The mapping gives the object a length other than its size; the raw
-    /// bits are kept in [`NamedField::raw`].
+    /// A number mapped with fewer bits than its object's size (a deviation
+    /// from CiA 301, which maps an object whole), read from the bits mapped:
+    /// the low bits of the object, sign-extended when it is signed.
+    Narrowed {
+        /// The value of the mapped bits.
+        value: Fixed,
+        /// The unit.
+        unit: Option<Unit>,
+        /// The object's size in bits.
+        object_bits: u8,
+    },
+    /// The mapping gives the object a length other than its size, and the
+    /// bits cannot be read as its value; the raw bits are kept in
+    /// [`NamedField::raw`].
     WrongWidth {
         /// The object's size in bits.
         object_bits: u8,
@@ -479,7 +518,7 @@ impl FieldValue {
     /// A short name of the variant, for machine output: `scaled`,
     /// `out_of_range`, `flags`, the [`ValueFormat::kind`] of a formatted
     /// value, `chars`, `invalid`, `no_value`, `padding`, `missing`,
-    /// `wrong_width`, `raw`.
+    /// `narrowed`, `wrong_width`, `raw`.
     #[must_use]
     pub const fn kind(&self) -> &'static str {
         match self {
@@ -492,25 +531,30 @@ impl FieldValue {
             FieldValue::NoValue => "no_value",
             FieldValue::Padding => "padding",
             FieldValue::Missing => "missing",
+            FieldValue::Narrowed { .. } => "narrowed",
             FieldValue::WrongWidth { .. } => "wrong_width",
             FieldValue::Raw => "raw",
         }
     }
 
-    /// The number, for scaled and out-of-range values.
+    /// The number, for scaled, out-of-range and narrowed values.
     #[must_use]
     pub const fn number(&self) -> Option<Fixed> {
         match self {
-            FieldValue::Scaled { value, .. } | FieldValue::OutOfRange { value, .. } => Some(*value),
+            FieldValue::Scaled { value, .. }
+            | FieldValue::OutOfRange { value, .. }
+            | FieldValue::Narrowed { value, .. } => Some(*value),
             _ => None,
         }
     }
 
-    /// The unit, for scaled and out-of-range values that have one.
+    /// The unit, for scaled, out-of-range and narrowed values that have one.
     #[must_use]
     pub const fn unit(&self) -> Option<Unit> {
         match self {
-            FieldValue::Scaled { unit, .. } | FieldValue::OutOfRange { unit, .. } => *unit,
+            FieldValue::Scaled { unit, .. }
+            | FieldValue::OutOfRange { unit, .. }
+            | FieldValue::Narrowed { unit, .. } => *unit,
             _ => None,
         }
     }
@@ -549,6 +593,17 @@ impl fmt::Display for FieldValue {
             FieldValue::NoValue => f.write_str("no value"),
             FieldValue::Padding => f.write_str("padding"),
             FieldValue::Missing => f.write_str("missing (past the end of the frame)"),
+            FieldValue::Narrowed {
+                value,
+                unit,
+                object_bits,
+            } => {
+                forward(f, value)?;
+                if let Some(u) = unit {
+                    write!(f, " {u}")?;
+                }
+                write!(f, " (narrowed: object has {object_bits} bits)")
+            }
             FieldValue::WrongWidth { object_bits } => {
                 write!(
                     f,
@@ -604,6 +659,22 @@ impl fmt::Display for NamedField {
             FieldValue::Padding => write!(f, " ({} bits)", e.bits),
             FieldValue::Invalid | FieldValue::NoValue => {
                 write!(f, ": {} (raw {:0digits$X}h)", self.value, self.raw)
+            }
+            FieldValue::Narrowed {
+                value,
+                unit,
+                object_bits,
+            } => {
+                f.write_str(" ")?;
+                forward(f, value)?;
+                if let Some(u) = unit {
+                    write!(f, " {u}")?;
+                }
+                write!(
+                    f,
+                    " [deviates: mapped as {} bits, object has {object_bits}]",
+                    e.bits
+                )
             }
             FieldValue::WrongWidth { object_bits } => write!(
                 f,

@@ -194,9 +194,29 @@ fn profile_formats() {
 
 #[test]
 fn widths_dummies_and_unknown_objects() {
+    // Fewer bits than the object: read leniently (python-canopen maps an
+    // UNSIGNED8 as 4 bits and reads 15, an INTEGER8 as 4 bits and -2).
     assert_eq!(
         one(0x2000, 0, 8, 0x74).value,
-        FieldValue::WrongWidth { object_bits: 16 }
+        FieldValue::Narrowed {
+            value: Fixed::new(0x74, 8),
+            unit: Some(Unit::Ampere),
+            object_bits: 16
+        }
+    );
+    assert_eq!(one(0x2000, 0, 8, 0x74).value.kind(), "narrowed");
+    assert_eq!(
+        one(0x2002, 0, 4, 0xE).value.number(),
+        Some(Fixed::new(-2, 3))
+    );
+    // More bits than the object, or a bit field cut short: not read.
+    assert_eq!(
+        one(0x2001, 0, 16, 0x74).value,
+        FieldValue::WrongWidth { object_bits: 8 }
+    );
+    assert_eq!(
+        one(0x2003, 0, 4, 1).value,
+        FieldValue::WrongWidth { object_bits: 8 }
     );
     assert_eq!(one(0x0006, 0, 16, 0xABCD).value, FieldValue::Padding);
     assert_eq!(one(0x7000, 0, 1, 1).value, FieldValue::Raw);

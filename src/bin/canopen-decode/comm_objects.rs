@@ -1,0 +1,737 @@
+//! The CiA 301 communication profile area (1000h-1FFFh) for the SDO
+//! transfer lines: every object named and its value explained (CiA 301,
+//! section 7.5.2 "Object descriptions"; program download 1F50h-1F5xh per
+//! CiA 302-3, the NMT start-up and master objects 1F80h-1F8Ah per CiA
+//! 302-2). An index of the area that neither document gives an object is
+//! named as reserved, so no transfer of the area goes unnamed.
+
+use canopen_codec::cia418::DeviceType;
+use canopen_codec::deltaq::{device_type, DeltaQCode};
+use canopen_codec::emcy::{ErrorCode, ErrorRegister};
+use canopen_codec::pdo::{Catalogue, MappingEntry};
+
+use crate::sdo_value::{unsigned, Described, Role, Value};
+
+/// What naming a value may rely on besides the object: the node's role and
+/// whether a Delta-Q charger is known to be on the bus (Delta-Q's reading
+/// of a battery module's 1000h bits 20 and 21 applies only then).
+#[derive(Clone, Copy, Debug)]
+pub struct Context {
+    pub role: Role,
+    pub deltaq_on_bus: bool,
+    /// The catalogue PDO mapping entries name objects with.
+    pub catalogue: Catalogue,
+}
+
+fn error_register(r: u8) -> String {
+    if r == 0 {
+        return "no error".into();
+    }
+    let names: Vec<String> = ErrorRegister::from_bits_retain(r)
+        .iter_names()
+        .map(|(n, _)| n.to_lowercase().replace('_', " "))
+        .collect();
+    names.join(", ")
+}
+
+fn device_type(v: u32, deltaq: bool) -> String {
+    let dt = DeviceType::from_raw(v);
+    match dt.profile_number() {
+        418 => {}
+        419 => {
+            return format!(
+                "CiA 419 battery charger, additional information {:04X}h",
+                dt.additional_info()
+            )
+        }
+        p => {
+            return format!(
+                "profile {p}, additional information {:04X}h",
+                dt.additional_info()
+            )
+        }
+    }
+    let list = |s: canopen_codec::cia418::PdoSet| {
+        s.iter()
+            .map(|p| p.to_string())
+            .collect::<Vec<_>>()
+            .join("/")
+    };
+    let rpdos = if deltaq {
+        device_type::module_rpdos(dt)
+    } else {
+        dt.rpdos()
+    };
+    let mut s = format!(
+        "CiA 418 battery module, RPDOs {}, TPDOs {}",
+        list(rpdos),
+        list(dt.tpdos())
+    );
+    let mut known = 0;
+    if deltaq {
+        known = device_type::RPDO_3 | device_type::DEPRECATED;
+        if device_type::deprecated(dt) {
+            s.push_str(", Delta-Q deprecated bit 21");
+        }
+    }
+    let other = dt.cia418_reserved_bits() & !known;
+    if other != 0 {
+        s.push_str(&format!(", reserved bits {other:08X}h"));
+    }
+    s
+}
+
+fn error_field(v: u32, role: Role) -> String {
+    let eec = ErrorCode::from(v as u16);
+    let mut s = format!("{eec}, information {:04X}h", v >> 16);
+    if role == Role::DeltaQCharger {
+        let (_, code) = DeltaQCode::from_error_field(v);
+        if code != DeltaQCode::NONE {
+            s.push_str(&format!(", Delta-Q {code}"));
+            if let Some(d) = code.description() {
+                s.push_str(&format!(" {d}"));
+            }
+        }
+    }
+    s
+}
+
+/// The identifier of a COB-ID entry (bit 29: a 29-bit identifier).
+fn identifier(v: u32) -> String {
+    if v & (1 << 29) != 0 {
+        format!("{:08X}h (29-bit)", v & 0x1FFF_FFFF)
+    } else {
+        format!("{:03X}h", v & 0x7FF)
+    }
+}
+
+/// A PDO, EMCY or SDO COB-ID: bit 31 set means not valid; for a PDO bit 30
+/// set means no remote frame allowed, for an SDO a dynamically assigned
+/// identifier (`bit30`).
+fn cob_id(v: u32, bit30: &str) -> String {
+    let mut s = identifier(v);
+    s.push_str(if v & (1 << 31) != 0 {
+        ", invalid"
+    } else {
+        ", valid"
+    });
+    if v & (1 << 30) != 0 {
+        s.push_str(", ");
+        s.push_str(bit30);
+    }
+    s
+}
+
+/// 1005h COB-ID SYNC: bit 30 set, the device produces SYNC.
+fn cob_id_sync(v: u32) -> String {
+    let mut s = identifier(v);
+    s.push_str(if v & (1 << 30) != 0 {
+        ", SYNC producer"
+    } else {
+        ", SYNC consumer"
+    });
+    s
+}
+
+/// 1012h COB-ID TIME: bit 31 consumes TIME, bit 30 produces it.
+fn cob_id_time(v: u32) -> String {
+    let mut s = identifier(v);
+    match (v & (1 << 31) != 0, v & (1 << 30) != 0) {
+        (true, true) => s.push_str(", TIME consumer and producer"),
+        (true, false) => s.push_str(", TIME consumer"),
+        (false, true) => s.push_str(", TIME producer"),
+        (false, false) => s.push_str(", neither consumes nor produces TIME"),
+    }
+    s
+}
+
+fn transmission_type(v: u64) -> String {
+    match v {
+        0 => "synchronous (acyclic)".into(),
+        1..=240 => format!("synchronous, every {v} SYNC"),
+        252 => "synchronous, RTR only".into(),
+        253 => "event-driven, RTR only".into(),
+        254 => "event-driven (manufacturer-specific)".into(),
+        255 => "event-driven (device profile)".into(),
+        _ => "reserved".into(),
+    }
+}
+
+/// A PDO mapping entry with the mapped object's name where the catalogue
+/// knows it.
+fn mapping_entry(v: u32, catalogue: Catalogue) -> String {
+    let (index, sub, bits) = ((v >> 16) as u16, (v >> 8) as u8, v as u8);
+    let mut s = format!("{index:04X}h:{sub:02X}/{bits}");
+    if v == 0 {
+        return "empty".into();
+    }
+    if MappingEntry::new(index, sub, bits).is_dummy() {
+        s.push_str(" padding");
+    } else if let Some(e) = catalogue.lookup(index, sub) {
+        s.push(' ');
+        s.push_str(e.name);
+    }
+    s
+}
+
+/// 1010h / 1011h: the signature a write carries ("save", "load"), or what
+/// a read says the device does.
+fn store_restore(v: u64, signature: u64, what: &str) -> String {
+    if v == signature {
+        let word = if signature == SAVE { "save" } else { "load" };
+        return format!("signature \"{word}\": {what} now");
+    }
+    let mut s = String::new();
+    if v & 1 != 0 {
+        s.push_str(&format!("{what} on command"));
+    }
+    if signature == SAVE && v & 2 != 0 {
+        if !s.is_empty() {
+            s.push_str(", ");
+        }
+        s.push_str("saves autonomously");
+    }
+    if s.is_empty() {
+        // "saves" -> "does not save".
+        s.push_str(&format!(
+            "does not {} on command",
+            what.strip_suffix('s').unwrap_or(what)
+        ));
+    }
+    let rest = v & !if signature == SAVE { 3 } else { 1 };
+    if rest != 0 {
+        s.push_str(&format!(", other bits {rest:08X}h"));
+    }
+    s
+}
+
+/// "save" in the byte order of the SDO wire, read as a little-endian U32.
+const SAVE: u64 = 0x6576_6173;
+/// "load".
+const LOAD: u64 = 0x6461_6F6C;
+
+/// Which group of parameters a 1010h / 1011h sub-index stands for.
+fn parameter_group(sub: u8) -> String {
+    match sub {
+        1 => "all parameters".into(),
+        2 => "communication parameters".into(),
+        3 => "application parameters".into(),
+        4..=0x7F => format!("manufacturer-specific parameters {sub}"),
+        _ => format!("reserved sub-index {sub}"),
+    }
+}
+
+/// 1029h: the state a communication or other error sends the device to.
+fn error_behaviour(v: u64) -> String {
+    match v {
+        0 => "pre-operational (if operational)".into(),
+        1 => "no change of state".into(),
+        2 => "stopped".into(),
+        3..=127 => "reserved".into(),
+        _ => "manufacturer-specific".into(),
+    }
+}
+
+/// 1F51h program control.
+fn program_control(v: u64) -> String {
+    match v {
+        0 => "stop program / program stopped".into(),
+        1 => "start program / program started".into(),
+        2 => "reset program".into(),
+        3 => "clear program / no program available".into(),
+        4..=0x7F => "reserved".into(),
+        _ => "manufacturer-specific".into(),
+    }
+}
+
+/// 1F57h flash status identification: bit 0 in progress, bits 1-7 status.
+fn flash_status(v: u64) -> String {
+    let status = match (v >> 1) & 0x7F {
+        0 => "ok",
+        1 => "no valid program",
+        2 => "data format unknown",
+        3 => "data format error or checksum error",
+        4 => "flash not cleared before write",
+        5 => "flash write error",
+        6 => "general address error",
+        7 => "flash secured (write access denied)",
+        63 => "unspecified error",
+        _ => "reserved status",
+    };
+    let mut s = format!(
+        "{}, {status}",
+        if v & 1 != 0 {
+            "in progress"
+        } else {
+            "not in progress"
+        }
+    );
+    if v >> 8 != 0 {
+        s.push_str(&format!(", manufacturer-specific {:06X}h", v >> 8));
+    }
+    s
+}
+
+/// 1F80h NMT start-up (CiA 302-2): bit 0 NMT master, bit 1 start all
+/// nodes, bit 2 do not enter operational by itself, bit 3 do not start the
+/// slaves, bit 4 reset all nodes on a mandatory slave's error, bit 5
+/// flying master, bit 6 stop all nodes on a mandatory slave's error.
+fn nmt_startup(v: u64) -> String {
+    let mut s = vec![if v & 1 != 0 {
+        "NMT master"
+    } else {
+        "NMT slave"
+    }];
+    for (bit, what) in [
+        (1, "starts all nodes"),
+        (2, "does not enter operational by itself"),
+        (3, "does not start the slaves"),
+        (4, "resets all nodes on a mandatory slave's error"),
+        (5, "flying master"),
+        (6, "stops all nodes on a mandatory slave's error"),
+    ] {
+        if v & (1 << bit) != 0 {
+            s.push(what);
+        }
+    }
+    let mut s = s.join(", ");
+    if v >> 7 != 0 {
+        s.push_str(&format!(", reserved bits {:08X}h", v & !0x7F));
+    }
+    s
+}
+
+fn days_since_1984(v: u64) -> String {
+    format!("{v} days since 1984-01-01 ({})", crate::calendar::date(v))
+}
+
+fn ms_after_midnight(v: u64) -> String {
+    format!(
+        "{v} ms after midnight ({})",
+        crate::calendar::time_of_day(v)
+    )
+}
+
+fn ms(v: u64) -> String {
+    format!("{v} ms")
+}
+
+fn us(v: u64) -> String {
+    format!("{v} us")
+}
+
+fn times_100us(v: u64) -> String {
+    format!("{} us", v * 100)
+}
+
+fn hex32(v: u64) -> String {
+    format!("{v:08X}h")
+}
+
+fn decimal(v: u64) -> String {
+    v.to_string()
+}
+
+/// Names and explains `bytes` of `index`:`sub` in the communication
+/// profile area; `None` outside it. `exact` is false for an expedited value
+/// with s = 0.
+pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) -> Option<Described> {
+    if !(0x1000..=0x1FFF).contains(&index) {
+        return None;
+    }
+    let num = |name: String, n: usize, meaning: fn(u64) -> String| {
+        unsigned(Described::named(name), bytes, n, exact, meaning)
+    };
+    let highest = |what: &str| num(format!("{what}: highest sub-index"), 1, decimal);
+    let text = |name: &str| {
+        let mut d = Described::named(name);
+        d.string = true;
+        d.value = Value::Text(String::from_utf8_lossy(bytes).into_owned());
+        d
+    };
+    let bytes_only = |name: String| Described::named(name);
+    let d = match (index, sub) {
+        (0x1000, 0) => unsigned(Described::named("device type"), bytes, 4, exact, |v| {
+            device_type(v as u32, ctx.deltaq_on_bus)
+        }),
+        (0x1001, 0) => unsigned(Described::named("error register"), bytes, 1, exact, |v| {
+            error_register(v as u8)
+        }),
+        (0x1002, 0) => num("manufacturer status register".into(), 4, hex32),
+        (0x1003, 0) => num("number of errors".into(), 1, decimal),
+        (0x1003, _) => unsigned(
+            Described::named("pre-defined error field"),
+            bytes,
+            4,
+            exact,
+            |v| error_field(v as u32, ctx.role),
+        ),
+        (0x1005, 0) => unsigned(Described::named("COB-ID SYNC"), bytes, 4, exact, |v| {
+            cob_id_sync(v as u32)
+        }),
+        (0x1006, 0) => num("communication cycle period".into(), 4, |v| match v {
+            0 => "0 us (no SYNC produced)".into(),
+            v => us(v),
+        }),
+        (0x1007, 0) => num("synchronous window length".into(), 4, |v| match v {
+            0 => "0 us (no window)".into(),
+            v => us(v),
+        }),
+        (0x1008, 0) => text("manufacturer device name"),
+        (0x1009, 0) => text("manufacturer hardware version"),
+        (0x100A, 0) => text("manufacturer software version"),
+        (0x100C, 0) => num("guard time".into(), 2, |v| match v {
+            0 => "0 ms (no node guarding)".into(),
+            v => ms(v),
+        }),
+        (0x100D, 0) => num("life time factor".into(), 1, |v| match v {
+            0 => "0 (no life guarding)".into(),
+            v => format!("node life time = {v} x guard time"),
+        }),
+        (0x1010, 0) => highest("store parameters"),
+        (0x1010, _) => unsigned(
+            Described::named(format!("store parameters: {}", parameter_group(sub))),
+            bytes,
+            4,
+            exact,
+            |v| store_restore(v, SAVE, "saves"),
+        ),
+        (0x1011, 0) => highest("restore default parameters"),
+        (0x1011, _) => unsigned(
+            Described::named(format!(
+                "restore default parameters: {}",
+                parameter_group(sub)
+            )),
+            bytes,
+            4,
+            exact,
+            |v| store_restore(v, LOAD, "restores"),
+        ),
+        (0x1012, 0) => unsigned(Described::named("COB-ID TIME"), bytes, 4, exact, |v| {
+            cob_id_time(v as u32)
+        }),
+        (0x1013, 0) => num("high resolution time stamp".into(), 4, us),
+        (0x1014, 0) => unsigned(Described::named("COB-ID EMCY"), bytes, 4, exact, |v| {
+            cob_id(v as u32, "reserved bit 30")
+        }),
+        (0x1015, 0) => num("inhibit time EMCY".into(), 2, times_100us),
+        (0x1016, 0) => highest("consumer heartbeat time"),
+        (0x1016, _) => num("consumer heartbeat time".into(), 4, |v| {
+            let (node, ms) = ((v >> 16) & 0xFF, v & 0xFFFF);
+            if node == 0 || ms == 0 {
+                format!("disabled (node {node}, {ms} ms)")
+            } else {
+                format!("node {node}, {ms} ms")
+            }
+        }),
+        (0x1017, 0) => {
+            let mut d = num("producer heartbeat time".into(), 2, |v| match v {
+                0 => "disabled".into(),
+                v => ms(v),
+            });
+            if d.value != Value::None {
+                d.unit = Some("ms");
+            }
+            d
+        }
+        (0x1018, 0) => highest("identity"),
+        (0x1018, 1..=4) => {
+            let name = [
+                "identity vendor-ID",
+                "identity product code",
+                "identity revision number",
+                "identity serial number",
+            ][usize::from(sub - 1)];
+            num(name.into(), 4, hex32)
+        }
+        (0x1019, 0) => num(
+            "synchronous counter overflow value".into(),
+            1,
+            |v| match v {
+                0 => "0 (SYNC without counter)".into(),
+                2..=240 => format!("counter counts 1 to {v}"),
+                _ => format!("{v} (reserved)"),
+            },
+        ),
+        (0x1020, 0) => highest("verify configuration"),
+        (0x1020, 1) => num(
+            "verify configuration: configuration date".into(),
+            4,
+            days_since_1984,
+        ),
+        (0x1020, 2) => num(
+            "verify configuration: configuration time".into(),
+            4,
+            ms_after_midnight,
+        ),
+        (0x1021, 0) => bytes_only("store EDS".into()),
+        (0x1022, 0) => num("store format".into(), 1, |v| match v {
+            0 => "0 (ISO 10646, not compressed)".into(),
+            1..=127 => format!("{v} (reserved)"),
+            v => format!("{v} (manufacturer-specific)"),
+        }),
+        (0x1023, 0) => highest("OS command"),
+        (0x1023, 1) => bytes_only("OS command: command".into()),
+        (0x1023, 2) => num("OS command: status".into(), 1, decimal),
+        (0x1023, 3) => bytes_only("OS command: reply".into()),
+        (0x1024, 0) => num("OS command mode".into(), 1, decimal),
+        (0x1025, 0) => highest("OS debugger interface"),
+        (0x1025, _) => bytes_only(format!("OS debugger interface: sub-index {sub}")),
+        (0x1026, 0) => highest("OS prompt"),
+        (0x1026, 1) => bytes_only("OS prompt: StdIn".into()),
+        (0x1026, 2) => bytes_only("OS prompt: StdOut".into()),
+        (0x1026, 3) => bytes_only("OS prompt: StdErr".into()),
+        (0x1027, 0) => num(
+            "module list: number of connected modules".into(),
+            1,
+            decimal,
+        ),
+        (0x1027, _) => num(format!("module list: module {sub}"), 2, decimal),
+        (0x1028, 0) => highest("emergency consumer"),
+        (0x1028, _) => unsigned(
+            Described::named(format!("emergency consumer: node {sub}")),
+            bytes,
+            4,
+            exact,
+            |v| cob_id(v as u32, "reserved bit 30"),
+        ),
+        (0x1029, 0) => highest("error behaviour"),
+        (0x1029, _) => {
+            let what = match sub {
+                1 => "communication error".to_string(),
+                _ => format!("error class {sub}"),
+            };
+            num(format!("error behaviour: {what}"), 1, error_behaviour)
+        }
+        (0x102A, 0) => num("NMT inhibit time".into(), 2, times_100us),
+        (0x1200..=0x12FF, _) => {
+            let client = index >= 0x1280;
+            let sdo = format!(
+                "SDO {} parameter {}",
+                if client { "client" } else { "server" },
+                index & 0x7F
+            );
+            match sub {
+                0 => highest(&sdo),
+                1 | 2 => unsigned(
+                    Described::named(format!(
+                        "{sdo}: COB-ID {}",
+                        if sub == 1 {
+                            "client to server"
+                        } else {
+                            "server to client"
+                        }
+                    )),
+                    bytes,
+                    4,
+                    exact,
+                    |v| cob_id(v as u32, "dynamically assigned"),
+                ),
+                3 => num(
+                    format!(
+                        "{sdo}: node-ID of the SDO {}",
+                        if client { "server" } else { "client" }
+                    ),
+                    1,
+                    decimal,
+                ),
+                _ => bytes_only(format!("{sdo}: sub-index {sub}")),
+            }
+        }
+        (0x1400..=0x15FF | 0x1800..=0x19FF, _) => {
+            let pdo = format!(
+                "{}{} communication",
+                if index < 0x1800 { "RPDO" } else { "TPDO" },
+                index & 0x1FF
+            );
+            match sub {
+                0 => highest(&pdo),
+                1 => unsigned(
+                    Described::named(format!("{pdo}: COB-ID")),
+                    bytes,
+                    4,
+                    exact,
+                    |v| cob_id(v as u32, "no RTR"),
+                ),
+                2 => num(format!("{pdo}: transmission type"), 1, transmission_type),
+                3 => num(format!("{pdo}: inhibit time"), 2, times_100us),
+                4 => num(format!("{pdo}: reserved (compatibility entry)"), 1, decimal),
+                5 => num(format!("{pdo}: event timer"), 2, ms),
+                6 => num(format!("{pdo}: SYNC start value"), 1, decimal),
+                _ => bytes_only(format!("{pdo}: sub-index {sub}")),
+            }
+        }
+        (0x1600..=0x17FF | 0x1A00..=0x1BFF, _) => {
+            let pdo = format!(
+                "{}{} mapping",
+                if index < 0x1A00 { "RPDO" } else { "TPDO" },
+                index & 0x1FF
+            );
+            match sub {
+                0 => num(format!("{pdo}: number of entries"), 1, decimal),
+                _ => unsigned(
+                    Described::named(format!("{pdo}: entry {sub}")),
+                    bytes,
+                    4,
+                    exact,
+                    |v| mapping_entry(v as u32, ctx.catalogue),
+                ),
+            }
+        }
+        (0x1F50, _) => bytes_only(format!("program data {sub}")),
+        (0x1F51, 0) => highest("program control"),
+        (0x1F51, _) => num(format!("program control {sub}"), 1, program_control),
+        (0x1F52, 0) => highest("verify application software"),
+        (0x1F52, 1) => num(
+            "verify application software: date".into(),
+            4,
+            days_since_1984,
+        ),
+        (0x1F52, 2) => num(
+            "verify application software: time".into(),
+            4,
+            ms_after_midnight,
+        ),
+        (0x1F53, 0) => highest("expected application software date"),
+        (0x1F53, _) => num(
+            format!("expected application software date of node {sub}"),
+            4,
+            days_since_1984,
+        ),
+        (0x1F54, 0) => highest("expected application software time"),
+        (0x1F54, _) => num(
+            format!("expected application software time of node {sub}"),
+            4,
+            ms_after_midnight,
+        ),
+        (0x1F55, 0) => highest("expected software identification"),
+        (0x1F55, _) => num(
+            format!("expected software identification of node {sub}"),
+            4,
+            hex32,
+        ),
+        (0x1F56, 0) => highest("program software identification"),
+        (0x1F56, _) => num(format!("program software identification {sub}"), 4, hex32),
+        (0x1F57, 0) => highest("flash status identification"),
+        (0x1F57, _) => num(
+            format!("flash status identification {sub}"),
+            4,
+            flash_status,
+        ),
+        (0x1F80, 0) => num("NMT start-up".into(), 4, nmt_startup),
+        (0x1F81, 0) => highest("NMT slave assignment"),
+        (0x1F81, _) => num(format!("NMT slave assignment of node {sub}"), 4, hex32),
+        (0x1F82, 0) => highest("request NMT"),
+        (0x1F82, _) => num(format!("request NMT of node {sub}"), 1, decimal),
+        (0x1F83, 0) => highest("request node guarding"),
+        (0x1F83, _) => num(format!("request node guarding of node {sub}"), 1, decimal),
+        (0x1F84..=0x1F88, 0) => highest(expected(index)),
+        (0x1F84..=0x1F88, _) => num(format!("{} of node {sub}", expected(index)), 4, hex32),
+        (0x1F89, 0) => num("boot time".into(), 4, ms),
+        (0x1F8A, 0) => highest("restore configuration"),
+        (0x1F8A, _) => num(format!("restore configuration of node {sub}"), 4, hex32),
+        (0x1F20, _) => bytes_only(format!("store DCF {sub}")),
+        (0x1F21, _) => num(format!("storage format {sub}"), 1, decimal),
+        (0x1F22, _) => bytes_only(format!("concise DCF {sub}")),
+        (0x1F25, _) => num(format!("configuration request {sub}"), 4, hex32),
+        (0x1F26, _) => num(
+            format!("expected configuration date of node {sub}"),
+            4,
+            days_since_1984,
+        ),
+        (0x1F27, _) => num(
+            format!("expected configuration time of node {sub}"),
+            4,
+            ms_after_midnight,
+        ),
+        _ => bytes_only(format!(
+            "{index:04X}h:{sub:02X}, reserved in the communication profile area"
+        )),
+    };
+    Some(d)
+}
+
+/// The names of the NMT master's expected identity objects 1F84h-1F88h.
+fn expected(index: u16) -> &'static str {
+    match index {
+        0x1F84 => "device type identification",
+        0x1F85 => "vendor identification",
+        0x1F86 => "product code",
+        0x1F87 => "revision number",
+        _ => "serial number",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sdo_value::NO_CATALOGUE;
+
+    const CTX: Context = Context {
+        role: Role::Other,
+        deltaq_on_bus: false,
+        catalogue: NO_CATALOGUE,
+    };
+
+    fn meaning(index: u16, sub: u8, bytes: &[u8]) -> (String, String) {
+        let d = describe(index, sub, bytes, CTX, true).unwrap();
+        (d.name.unwrap(), d.meaning.unwrap_or_default())
+    }
+
+    #[test]
+    fn every_index_of_the_area_is_named() {
+        for index in 0x1000..=0x1FFFu16 {
+            for sub in [0u8, 1, 2, 0x7F, 0xFF] {
+                let d = describe(index, sub, &[0; 4], CTX, false).unwrap();
+                assert!(d.name.is_some(), "{index:04X}h:{sub:02X}");
+            }
+        }
+        assert!(describe(0x2000, 0, &[0], CTX, true).is_none());
+        assert!(describe(0x0FFF, 0, &[0], CTX, true).is_none());
+    }
+
+    #[test]
+    fn values_explained() {
+        assert_eq!(
+            meaning(0x1010, 2, &[3, 0, 0, 0]),
+            (
+                "store parameters: communication parameters".into(),
+                "saves on command, saves autonomously".into()
+            )
+        );
+        assert_eq!(
+            meaning(0x1011, 1, b"load").1,
+            "signature \"load\": restores now"
+        );
+        assert_eq!(
+            meaning(0x1011, 1, &[0, 0, 0, 0]).1,
+            "does not restore on command"
+        );
+        assert_eq!(
+            meaning(0x1012, 0, &[0x00, 0x01, 0x00, 0xC0]).1,
+            "100h, TIME consumer and producer"
+        );
+        assert_eq!(meaning(0x1014, 0, &[0x8A, 0, 0, 0x80]).1, "08Ah, invalid");
+        assert_eq!(meaning(0x1029, 2, &[2]).1, "stopped");
+        assert_eq!(meaning(0x1029, 1, &[200]).1, "manufacturer-specific");
+        assert_eq!(
+            meaning(0x1F80, 0, &[0x0F, 0, 0, 0]).1,
+            "NMT master, starts all nodes, does not enter operational by itself, \
+             does not start the slaves"
+        );
+        assert_eq!(
+            meaning(0x1F57, 1, &[0x00, 0x01, 0, 0]).1,
+            "not in progress, ok, manufacturer-specific 000001h"
+        );
+        assert_eq!(
+            meaning(0x1020, 1, &[2, 0, 0, 0]).1,
+            "2 days since 1984-01-01 (1984-01-03)"
+        );
+        assert_eq!(
+            meaning(0x1280, 3, &[5]).0,
+            "SDO client parameter 0: node-ID of the SDO server"
+        );
+        // A value of the wrong size says so instead of a meaning.
+        assert_eq!(meaning(0x100C, 0, &[1]).1, "1 bytes, the object has 2");
+    }
+}
