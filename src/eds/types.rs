@@ -187,6 +187,22 @@ impl DataType {
         )
     }
 
+    /// True for the unsigned integer types (BOOLEAN is not one).
+    #[must_use]
+    pub const fn is_unsigned(self) -> bool {
+        matches!(
+            self,
+            DataType::Unsigned8
+                | DataType::Unsigned16
+                | DataType::Unsigned24
+                | DataType::Unsigned32
+                | DataType::Unsigned40
+                | DataType::Unsigned48
+                | DataType::Unsigned56
+                | DataType::Unsigned64
+        )
+    }
+
     /// True for VISIBLE_STRING, OCTET_STRING, UNICODE_STRING and DOMAIN,
     /// whose length varies.
     #[must_use]
@@ -267,6 +283,7 @@ impl AccessType {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::vec::Vec;
 
     #[test]
     fn data_type_codes_round_trip() {
@@ -276,6 +293,20 @@ mod tests {
         assert_eq!(DataType::from(0x17), DataType::Other(0x17));
         assert_eq!(DataType::from(0x10).fixed_size(), Some(3));
         assert_eq!(DataType::from(0x09).fixed_size(), None);
+    }
+
+    /// CiA 301 section 7.4.7: INTEGER8..64 are 0002h-0004h, 0010h, 0012h-0015h;
+    /// UNSIGNED8..64 are 0005h-0007h, 0016h, 0018h-001Bh.
+    #[test]
+    fn signed_and_unsigned_integer_codes() {
+        let signed: Vec<u16> = (0..=0x30u16)
+            .filter(|&c| DataType::from(c).is_signed())
+            .collect();
+        let unsigned: Vec<u16> = (0..=0x30u16)
+            .filter(|&c| DataType::from(c).is_unsigned())
+            .collect();
+        assert_eq!(signed, [0x02, 0x03, 0x04, 0x10, 0x12, 0x13, 0x14, 0x15]);
+        assert_eq!(unsigned, [0x05, 0x06, 0x07, 0x16, 0x18, 0x19, 0x1A, 0x1B]);
     }
 
     #[test]

@@ -92,33 +92,20 @@ impl Learned {
     pub fn name_objects(&mut self, node: NodeId, eds: &Eds, profile: Option<Catalogue>) {
         let mut own = Vec::new();
         for (index, sub, name, data_type) in eds_variables(eds) {
-            let interpretation = match data_type {
-                DataType::Integer8
-                | DataType::Integer16
-                | DataType::Integer24
-                | DataType::Integer32
-                | DataType::Integer40
-                | DataType::Integer48
-                | DataType::Integer56
-                | DataType::Integer64 => Interpretation::Signed {
+            let interpretation = if data_type.is_signed() {
+                Interpretation::Signed {
                     frac_bits: 0,
                     unit: None,
-                },
-                DataType::Boolean
-                | DataType::Unsigned8
-                | DataType::Unsigned16
-                | DataType::Unsigned24
-                | DataType::Unsigned32
-                | DataType::Unsigned40
-                | DataType::Unsigned48
-                | DataType::Unsigned56
-                | DataType::Unsigned64 => Interpretation::Unsigned {
+                }
+            } else if data_type.is_unsigned() || data_type == DataType::Boolean {
+                Interpretation::Unsigned {
                     frac_bits: 0,
                     unit: None,
                     marker: Marker::None,
                     max: None,
-                },
-                _ => continue,
+                }
+            } else {
+                continue;
             };
             // A PDO maps a BOOLEAN as 1 bit, the others at their size.
             let bits = match data_type {
