@@ -10,6 +10,10 @@
 
 #[path = "../../src/bin/canopen-decode/args.rs"]
 mod args;
+#[path = "../../src/bin/canopen-decode/calendar.rs"]
+mod calendar;
+#[path = "../../src/bin/canopen-decode/comm_objects.rs"]
+mod comm_objects;
 #[path = "../../src/bin/canopen-decode/csv.rs"]
 mod csv;
 #[path = "../../src/bin/canopen-decode/json.rs"]
