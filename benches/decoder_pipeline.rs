@@ -28,6 +28,8 @@ mod calendar;
 mod comm_objects;
 #[path = "../src/bin/canopen-decode/csv.rs"]
 mod csv;
+#[path = "../src/bin/canopen-decode/dbc.rs"]
+mod dbc;
 #[path = "../src/bin/canopen-decode/json.rs"]
 mod json;
 #[path = "../src/bin/canopen-decode/line_cache.rs"]
@@ -44,6 +46,8 @@ mod pipeline;
 mod sdo;
 #[path = "../src/bin/canopen-decode/sdo_value.rs"]
 mod sdo_value;
+#[path = "../src/bin/canopen-decode/signals.rs"]
+mod signals;
 #[path = "../src/bin/canopen-decode/summary.rs"]
 mod summary;
 #[path = "../src/bin/canopen-decode/time_column.rs"]

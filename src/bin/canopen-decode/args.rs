@@ -96,6 +96,13 @@ pub struct Cli {
     /// A node's EDS or DCF.
     #[arg(long, value_name = "NODE=FILE", value_parser = parse_eds)]
     eds: Vec<(NodeId, String)>,
+    /// Write the PDO fields as signals to PATH (CSV: one row per PDO frame,
+    /// a column per named field, `name [unit]`).
+    #[arg(long, value_name = "PATH")]
+    signals: Option<String>,
+    /// Write the PDO mappings in use to PATH as a DBC file.
+    #[arg(long, value_name = "PATH")]
+    dbc: Option<String>,
     /// Format every line anew instead of repeating the text of an equal
     /// frame (the output is the same; for checking that).
     #[arg(long, hide = true)]
@@ -197,6 +204,8 @@ impl Cli {
             sdo_channels: self.sdo,
             eds: self.eds,
             no_cache: self.no_cache,
+            signals: self.signals,
+            dbc: self.dbc,
         })
     }
 }

@@ -27,7 +27,7 @@ use crate::Notes;
 pub const HEADER: &str = "time,id,extended,remote,dlc,data,kind,node,role,text,deviation,error";
 
 /// Appends `field`, quoted when it needs to be.
-fn field(out: &mut String, field: &str) {
+pub fn field(out: &mut String, field: &str) {
     if field.contains([',', '"', '\n', '\r']) {
         out.push('"');
         out.push_str(&field.replace('"', "\"\""));

@@ -19,7 +19,7 @@ use crate::sdo_value::NO_CATALOGUE;
 /// The catalogue whose names a PDO of `node` gets: its EDS's, else its
 /// role's (the Delta-Q charger's only with Delta-Q evidence, a CiA 419
 /// charger's the CiA 419 objects), else none (no name is guessed).
-fn catalogue_of(node: Option<NodeId>, roles: &Roles, learned: &Learned) -> Catalogue {
+pub fn catalogue_of(node: Option<NodeId>, roles: &Roles, learned: &Learned) -> Catalogue {
     let Some(node) = node else {
         return NO_CATALOGUE;
     };
@@ -159,6 +159,20 @@ impl Mappings {
         roles: &Roles,
         learned: &Learned,
     ) -> Option<(Source, NamedFields)> {
+        let (source, catalogue, mapping) = self.mapping(frame, msg, roles, learned)?;
+        Some((source, catalogue.decode(&mapping, frame.data())))
+    }
+
+    /// The mapping that applies to a PDO (or unclassified data) frame, where
+    /// it came from and the catalogue that names its objects; the one place
+    /// that decides it (the frame outputs, `--signals` and `--dbc` use it).
+    pub fn mapping(
+        &self,
+        frame: &CanFrame,
+        msg: &Message,
+        roles: &Roles,
+        learned: &Learned,
+    ) -> Option<(Source, Catalogue, PdoMapping)> {
         let CanId::Standard(id) = frame.id() else {
             return None;
         };
@@ -177,14 +191,14 @@ impl Mappings {
                 Origin::Eds => Source::Eds,
                 Origin::Log => Source::Learned,
             };
-            return Some((source, cat.decode(&m, frame.data())));
+            return Some((source, cat, m));
         }
-        let (source, catalogue, mapping) = match given {
+        match given {
             Some((_, m)) => {
                 // A mapping names objects of the dictionary of the node the
                 // COB-ID belongs to, as far as the evidence says whose it is.
                 let cat = catalogue_of(classify_standard(id).node(), roles, learned);
-                (Source::Given, cat, *m)
+                Some((Source::Given, cat, *m))
             }
             None if self.defaults => {
                 // Defaults only for a node with a role; the charger's are
@@ -204,10 +218,9 @@ impl Mappings {
                 } else {
                     Source::ChargerDefault
                 };
-                (source, cat, m)
+                Some((source, cat, m))
             }
-            None => return None,
-        };
-        Some((source, catalogue.decode(&mapping, frame.data())))
+            None => None,
+        }
     }
 }

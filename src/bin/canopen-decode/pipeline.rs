@@ -10,7 +10,8 @@ use canopen_codec::trace::{Format, LineParser, Record};
 use canopen_codec::{CanId, Message, NodeId};
 
 use crate::{
-    csv, json, line_cache, line_reader, pdo_args, pdo_learn, sdo, summary, time_column, words,
+    csv, dbc, json, line_cache, line_reader, pdo_args, pdo_learn, sdo, signals, summary,
+    time_column, words,
 };
 
 /// A block transfer's sub-block segment (CiA 301 SDO block download and
@@ -216,6 +217,10 @@ pub struct Options {
     pub eds: Vec<(NodeId, String)>,
     /// `--no-cache`: format every line anew (for checking the line cache).
     pub no_cache: bool,
+    /// `--signals PATH`: the PDO fields as signals (CSV).
+    pub signals: Option<String>,
+    /// `--dbc PATH`: the PDO mappings in use as a DBC file.
+    pub dbc: Option<String>,
 }
 
 /// Decodes every line of `input` into `out`, with what is wrong with a
@@ -246,6 +251,12 @@ pub fn run(
         sdo.add_channel(channel)
             .map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, format!("--sdo: {e}")))?;
     }
+    let mut signals = opts
+        .signals
+        .as_deref()
+        .map(signals::Signals::create)
+        .transpose()?;
+    let mut dbc = opts.dbc.as_ref().map(|_| dbc::Dbc::default());
     let mut reader = opts.format.map_or_else(LineParser::auto, LineParser::new);
     if opts.csv {
         text.push_str(csv::HEADER);
@@ -373,6 +384,26 @@ pub fn run(
                     guard_reply,
                     &roles,
                 );
+            }
+            if signals.is_some() || dbc.is_some() {
+                let applied = decoded
+                    .as_ref()
+                    .ok()
+                    .and_then(|m| opts.pdos.mapping(&parsed.frame, m, &roles, &learned));
+                if let (Some((source, catalogue, mapping)), CanId::Standard(id)) =
+                    (applied, parsed.frame.id())
+                {
+                    if let Some(s) = signals.as_mut() {
+                        let fields = catalogue.decode(&mapping, parsed.frame.data());
+                        s.frame(parsed.timestamp, id, catalogue, &fields)?;
+                    }
+                    if let Some(note) = dbc
+                        .as_mut()
+                        .and_then(|d| d.frame(id, source, catalogue, mapping))
+                    {
+                        let _ = writeln!(diag, "{note}");
+                    }
+                }
             }
             if opts.frames {
                 if opts.csv {
@@ -503,6 +534,27 @@ pub fn run(
     }
     out.write_all(text.as_bytes())?;
     out.flush()?;
+    if let Some(s) = signals {
+        let (rows, columns) = s.finish()?;
+        let _ = writeln!(
+            diag,
+            "canopen-decode: --signals: {rows} row(s), {columns} signal(s)"
+        );
+    }
+    if let (Some(mut d), Some(path)) = (dbc, &opts.dbc) {
+        for (id, mapping) in &opts.pdos.given {
+            let catalogue = pdo_args::catalogue_of(
+                canopen_codec::cob_id::classify_standard(*id).node(),
+                &roles,
+                &learned,
+            );
+            d.given(*id, catalogue, *mapping);
+        }
+        let (messages, text) = d.text();
+        std::fs::write(path, text)
+            .map_err(|e| io::Error::new(e.kind(), format!("--dbc {path}: {e}")))?;
+        let _ = writeln!(diag, "canopen-decode: --dbc: {messages} message(s)");
+    }
     Ok((bad, open))
 }
 
