@@ -48,6 +48,9 @@ mod sdo;
 mod sdo_value;
 #[path = "../src/bin/canopen-decode/signals.rs"]
 mod signals;
+#[cfg(feature = "parquet")]
+#[path = "../src/bin/canopen-decode/signals_parquet.rs"]
+mod signals_parquet;
 #[path = "../src/bin/canopen-decode/summary.rs"]
 mod summary;
 #[path = "../src/bin/canopen-decode/time_column.rs"]

@@ -165,6 +165,9 @@ impl Cli {
         for p in &self.pdo {
             pdos.add(p)?;
         }
+        if let Some(path) = &self.signals {
+            crate::signals::check_path(path)?;
+        }
         let mut roles = Roles {
             charger: self.charger_node,
             battery: self.battery_node,

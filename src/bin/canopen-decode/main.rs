@@ -174,6 +174,8 @@ mod pdo_learn;
 mod sdo;
 mod sdo_value;
 mod signals;
+#[cfg(feature = "parquet")]
+mod signals_parquet;
 mod summary;
 mod time_column;
 mod words;

@@ -99,7 +99,7 @@ pub fn cell(out: &mut String, field: &NamedField) {
             let _ = write!(out, "{value}");
         }
         v @ (FieldValue::Flags(_) | FieldValue::Formatted(_) | FieldValue::Chars(_)) => {
-            crate::csv::field(out, &v.to_string());
+            let _ = write!(out, "{v}");
         }
         FieldValue::Raw | FieldValue::WrongWidth { .. } => {
             let _ = write!(out, "{}", field.raw);
@@ -109,11 +109,17 @@ pub fn cell(out: &mut String, field: &NamedField) {
 }
 
 /// One column.
-struct Column {
+pub struct Column {
     cob_id: u16,
     entry: MappingEntry,
     signal: Signal,
+    /// Every cell so far is a number (or empty): a DOUBLE column in Parquet.
+    pub numeric: bool,
 }
+
+/// Separates the cells of a row in the rows file: no cell holds it (values
+/// are numbers and words; `Chars` escapes control characters).
+pub const SEP: char = '\x1f';
 
 impl Column {
     /// The header without the COB-ID.
@@ -185,10 +191,17 @@ impl Signals {
                     cob_id,
                     entry: f.entry,
                     signal,
+                    numeric: true,
                 });
             }
             let mut text = String::new();
             cell(&mut text, f);
+            if let Some(c) = self.columns.get_mut(column) {
+                c.numeric &= !matches!(
+                    f.value,
+                    FieldValue::Flags(_) | FieldValue::Formatted(_) | FieldValue::Chars(_)
+                );
+            }
             self.cells.push((column, text));
         }
         self.cells.sort_by_key(|(c, _)| *c);
@@ -199,11 +212,11 @@ impl Signals {
         if let Some(t) = timestamp {
             self.times.write(&mut self.row, t);
         }
-        let _ = write!(self.row, ",{cob_id:03X}");
+        let _ = write!(self.row, "{SEP}{cob_id:03X}");
         let mut next = 0;
         for (column, text) in &self.cells {
             while next <= *column {
-                self.row.push(',');
+                self.row.push(SEP);
                 next += 1;
             }
             self.row.push_str(text);
@@ -215,7 +228,7 @@ impl Signals {
     }
 
     /// The headers of the signal columns, each unique.
-    fn headers(&self) -> Vec<String> {
+    pub fn headers(&self) -> Vec<String> {
         let plain: Vec<String> = self.columns.iter().map(Column::header).collect();
         let mut count: HashMap<&str, usize> = HashMap::new();
         for h in &plain {
@@ -234,44 +247,104 @@ impl Signals {
             .collect()
     }
 
-    /// Writes the file: the header, then the rows padded to every column.
-    /// Returns the number of rows and of signals.
-    pub fn finish(mut self) -> io::Result<(usize, usize)> {
+    /// The columns, in order.
+    pub fn columns(&self) -> &[Column] {
+        &self.columns
+    }
+
+    /// Calls `each` with every row's cells (time, COB-ID, then one per
+    /// signal, empty where the row has none), in order; then removes the
+    /// rows file. Returns the number of rows.
+    pub fn rows(&mut self, mut each: impl FnMut(&[&str]) -> io::Result<()>) -> io::Result<usize> {
         self.rows.flush().map_err(|e| at(&self.rows_path, e))?;
+        let rows = File::open(&self.rows_path).map_err(|e| at(&self.rows_path, e))?;
+        let total = self.columns.len();
+        let mut n = 0;
+        for line in BufReader::with_capacity(64 * 1024, rows).lines() {
+            let line = line.map_err(|e| at(&self.rows_path, e))?;
+            let changed = || {
+                at(
+                    &self.rows_path,
+                    io::Error::new(io::ErrorKind::InvalidData, "a row was changed"),
+                )
+            };
+            let (width, row) = line
+                .split_once('|')
+                .and_then(|(w, r)| Some((w.parse::<usize>().ok()?, r)))
+                .ok_or_else(changed)?;
+            let mut cells: Vec<&str> = row.split(SEP).collect();
+            if cells.len() != width + 2 || width > total {
+                return Err(changed());
+            }
+            cells.resize(total + 2, "");
+            each(&cells)?;
+            n += 1;
+        }
+        std::fs::remove_file(&self.rows_path).map_err(|e| at(&self.rows_path, e))?;
+        Ok(n)
+    }
+
+    /// Writes the output file (CSV, or Parquet for a `.parquet` path):
+    /// returns the number of rows and of signals.
+    pub fn finish(self) -> io::Result<(usize, usize)> {
+        if is_parquet(&self.path) {
+            #[cfg(feature = "parquet")]
+            return crate::signals_parquet::write(self);
+        }
+        self.finish_csv()
+    }
+
+    /// Writes the CSV: the header, then the rows padded to every column.
+    fn finish_csv(mut self) -> io::Result<(usize, usize)> {
         let mut header = String::from("time,cob_id");
         for h in self.headers() {
             header.push(',');
             crate::csv::field(&mut header, &h);
         }
         header.push('\n');
-        let out = File::create(&self.path).map_err(|e| at(&self.path, e))?;
+        let path = self.path.clone();
+        let out = File::create(&path).map_err(|e| at(&path, e))?;
         let mut out = BufWriter::with_capacity(64 * 1024, out);
-        out.write_all(header.as_bytes())
-            .map_err(|e| at(&self.path, e))?;
-        let rows = File::open(&self.rows_path).map_err(|e| at(&self.rows_path, e))?;
-        let total = self.columns.len();
-        let mut n = 0;
-        for line in BufReader::with_capacity(64 * 1024, rows).lines() {
-            let line = line.map_err(|e| at(&self.rows_path, e))?;
-            let (width, row) = line
-                .split_once('|')
-                .and_then(|(w, r)| Some((w.parse::<usize>().ok()?, r)))
-                .ok_or_else(|| {
-                    at(
-                        &self.rows_path,
-                        io::Error::new(io::ErrorKind::InvalidData, "a row was changed"),
-                    )
-                })?;
-            out.write_all(row.as_bytes())
-                .map_err(|e| at(&self.path, e))?;
-            for _ in width..total {
-                out.write_all(b",").map_err(|e| at(&self.path, e))?;
+        out.write_all(header.as_bytes()).map_err(|e| at(&path, e))?;
+        let mut line = String::new();
+        let n = self.rows(|cells| {
+            line.clear();
+            for (i, c) in cells.iter().enumerate() {
+                if i > 0 {
+                    line.push(',');
+                }
+                crate::csv::field(&mut line, c);
             }
-            out.write_all(b"\n").map_err(|e| at(&self.path, e))?;
-            n += 1;
-        }
-        out.flush().map_err(|e| at(&self.path, e))?;
-        std::fs::remove_file(&self.rows_path).map_err(|e| at(&self.rows_path, e))?;
-        Ok((n, total))
+            line.push('\n');
+            out.write_all(line.as_bytes()).map_err(|e| at(&path, e))
+        })?;
+        out.flush().map_err(|e| at(&path, e))?;
+        Ok((n, self.columns.len()))
     }
+
+    /// The output's path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+}
+
+/// True for a path the signals go to as Parquet.
+pub fn is_parquet(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("parquet"))
+}
+
+/// `--signals PATH`: an error for a Parquet path in a decoder built without
+/// the `parquet` feature (before the log is read).
+pub fn check_path(path: &str) -> Result<(), String> {
+    if is_parquet(Path::new(path)) && !cfg!(feature = "parquet") {
+        return Err(format!(
+            "--signals {path}: Parquet needs the decoder built with the `parquet` feature"
+        ));
+    }
+    Ok(())
+}
+
+pub fn at_path(path: &Path, e: impl std::fmt::Display) -> io::Error {
+    io::Error::other(format!("--signals {}: {e}", path.display()))
 }

@@ -1,0 +1,244 @@
+#!/usr/bin/env python3
+"""Signals and DBC interop: canopen-decode's --signals and --dbc outputs
+read by independent tools and compared with its own --json output.
+
+For the bundled session and each real capture given:
+- `--signals FILE.csv` read with Python's csv module: a row per PDO frame
+  with fields, in order; every signal cell equal to the JSON field's value
+  (numbers as numbers, words as words, the raw integer for an unnamed
+  object, empty for null);
+- `--dbc FILE.dbc` loaded with cantools: every PDO frame of the log decoded
+  by it (scaling on, choices off) gives, signal by signal, the JSON value
+  of a number and the JSON raw of a bit field or code;
+- with a decoder built with the `parquet` feature, `--signals FILE.parquet`
+  read with pyarrow and with DuckDB: the same cells, typed (DOUBLE for a
+  signal that is numbers only, VARCHAR otherwise, nulls for empty cells).
+
+usage: signals_interop.py PATH/TO/canopen-decode [CAPTURE.log...]
+A capture that is absent fails under CI (CI=true); elsewhere it is skipped
+with a message.
+"""
+
+import csv
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import cantools
+
+DECODER = sys.argv[1]
+CAPTURES = sys.argv[2:]
+FAILS = []
+
+
+def fail(what):
+    FAILS.append(what)
+    print("FAIL", what)
+
+
+def decode(args):
+    out = subprocess.run([DECODER, *args], capture_output=True, text=True, check=False)
+    if out.returncode != 0:
+        raise SystemExit(f"canopen-decode {args}: exit {out.returncode}: {out.stderr}")
+    return out
+
+
+def frames_of(args):
+    """The JSON frames with PDO fields, padding left out."""
+    lines = decode([*args, "--json"]).stdout.splitlines()
+    frames = []
+    for line in lines:
+        v = json.loads(line)
+        if isinstance(v.get("fields"), list):
+            v["fields"] = [f for f in v["fields"] if f["kind"] != "padding"]
+            frames.append(v)
+    return frames
+
+
+def want(field):
+    """The cell a JSON field gives: a float, a str, or None."""
+    value = field["value"]
+    if value is None:
+        if field["kind"] in ("raw", "wrong_width"):
+            return float(field["raw"])
+        return None
+    if isinstance(value, str):
+        return value
+    return float(value)
+
+
+def header_of(field, cob_id):
+    """The headers a field's column may have (unit absent in JSON for an
+    invalid value: then the header's unit is not checked)."""
+    if field["name"] == "unknown object":
+        base = f"{field['index']:04X}h:{field['sub']:02X} raw"
+    elif "unit" in field:
+        base = f"{field['name']} [{field['unit']}]"
+    else:
+        base = field["name"]
+    return base, f" ({cob_id:03X}h)"
+
+
+def column_of(headers, field, cob_id):
+    base, suffix = header_of(field, cob_id)
+    found = []
+    for i, h in enumerate(headers):
+        plain = h[: -len(suffix)] if h.endswith(suffix) else h
+        if plain == base or (
+            "unit" not in field and plain.startswith(base + " [") and plain.endswith("]")
+        ):
+            found.append(i)
+    own = [i for i in found if headers[i].endswith(suffix)]
+    if len(own) == 1:
+        return own[0]
+    if len(found) == 1:
+        return found[0]
+    raise SystemExit(f"no single column for {base} on {cob_id:03X}h in {headers}")
+
+
+def check_table(label, headers, rows, frames):
+    """rows: lists of cells (float, str or None), time and cob_id first."""
+    if len(rows) != len(frames):
+        fail(f"{label}: {len(rows)} rows, {len(frames)} PDO frames")
+        return 0
+    compared = 0
+    for row, frame in zip(rows, frames):
+        if f"{frame['id']:03X}" != row[1]:
+            fail(f"{label}: cob_id {row[1]} for frame {frame['id']:03X}")
+        t = frame.get("t")
+        if (t is None) != (row[0] is None) or (t is not None and abs(row[0] - t) > 1e-7):
+            fail(f"{label}: time {row[0]} for {t}")
+        filled = set()
+        for f in frame["fields"]:
+            c = column_of(headers, f, frame["id"])
+            filled.add(c)
+            if row[c] != want(f):
+                fail(f"{label}: {headers[c]} = {row[c]!r}, JSON {want(f)!r} at t={t}")
+            compared += 1
+        for c in range(2, len(headers)):
+            if c not in filled and row[c] is not None:
+                fail(f"{label}: {headers[c]} filled on a frame that does not map it")
+    return compared
+
+
+def check_csv(args, frames, tmp):
+    path = os.path.join(tmp, "signals.csv")
+    decode([*args, "--signals", path])
+    with open(path, newline="", encoding="utf-8") as f:
+        reader = csv.reader(f)
+        headers = next(reader)
+        rows = []
+        for r in reader:
+            if len(r) != len(headers):
+                fail(f"csv: a row of {len(r)} cells under {len(headers)} headers")
+            cells = [float(r[0]) if r[0] else None, r[1]]
+            for cell in r[2:]:
+                if cell == "":
+                    cells.append(None)
+                else:
+                    try:
+                        cells.append(float(cell))
+                    except ValueError:
+                        cells.append(cell)
+            rows.append(cells)
+    return check_table("csv", headers, rows, frames)
+
+
+def check_dbc(args, frames, tmp):
+    path = os.path.join(tmp, "signals.dbc")
+    decode([*args, "--dbc", path])
+    db = cantools.database.load_file(path)
+    compared = 0
+    for frame in frames:
+        msg = db.get_message_by_frame_id(frame["id"])
+        data = bytes.fromhex(frame["data"])
+        if len(data) < msg.length:
+            continue
+        got = msg.decode(data, decode_choices=False, scaling=True)
+        if len(msg.signals) != len(frame["fields"]):
+            fail(f"dbc: {msg.name} has {len(msg.signals)} signals, JSON {len(frame['fields'])}")
+            continue
+        for sg, f in zip(msg.signals, frame["fields"]):
+            value = got[sg.name]
+            expect = f["value"] if isinstance(f["value"], (int, float)) else f["raw"]
+            if float(value) != float(expect):
+                fail(f"dbc: {msg.name}.{sg.name} = {value}, JSON {expect}")
+            if isinstance(f["value"], (int, float)) and (sg.unit or "") != f.get("unit", ""):
+                fail(f"dbc: {msg.name}.{sg.name} unit {sg.unit!r}, JSON {f.get('unit')!r}")
+            compared += 1
+    return compared
+
+
+def parquet_supported():
+    out = subprocess.run(
+        [DECODER, "--bundled", "session", "--signals", os.devnull + ".parquet"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    return "feature" not in out.stderr
+
+
+def check_parquet(args, frames, tmp):
+    import duckdb
+    import pyarrow.parquet as pq
+
+    path = os.path.join(tmp, "signals.parquet")
+    decode([*args, "--signals", path])
+    table = pq.read_table(path)
+    headers = table.column_names
+    columns = [table.column(i).to_pylist() for i in range(len(headers))]
+    rows = [list(r) for r in zip(*columns)] if columns else []
+    for r in rows:
+        r[1] = f"{r[1]:03X}"
+        for i in range(2, len(r)):
+            if isinstance(r[i], (int, float)):
+                r[i] = float(r[i])
+    n = check_table("pyarrow", headers, rows, frames)
+    con = duckdb.connect()
+    result = con.execute(f"SELECT * FROM read_parquet('{path}')")
+    d_headers = [d[0] for d in result.description]
+    d_rows = []
+    for r in result.fetchall():
+        r = list(r)
+        r[1] = f"{r[1]:03X}"
+        for i in range(2, len(r)):
+            if isinstance(r[i], (int, float)):
+                r[i] = float(r[i])
+        d_rows.append(r)
+    n += check_table("duckdb", d_headers, d_rows, frames)
+    return n
+
+
+def main():
+    runs = [("bundled session", ["--bundled", "session"])]
+    for c in CAPTURES:
+        if not os.path.isfile(c):
+            if os.environ.get("CI") == "true":
+                fail(f"capture {c} is absent")
+            else:
+                print(f"skipped: capture {c} is absent")
+            continue
+        runs.append((os.path.basename(c), ["--pdo-capture-mapping", c]))
+    parquet = parquet_supported()
+    if not parquet:
+        print("note: the decoder was built without the parquet feature: Parquet not checked")
+    for label, args in runs:
+        frames = frames_of(args)
+        with tempfile.TemporaryDirectory() as tmp:
+            n_csv = check_csv(args, frames, tmp)
+            n_dbc = check_dbc(args, frames, tmp)
+            n_pq = check_parquet(args, frames, tmp) if parquet else 0
+        print(
+            f"{label}: {len(frames)} PDO frames; cells compared: csv {n_csv}, "
+            f"cantools {n_dbc}, parquet (pyarrow + duckdb) {n_pq}"
+        )
+    if FAILS:
+        print(f"{len(FAILS)} failure(s)")
+        sys.exit(1)
+    print("signals interop: all equal")
+
+
+main()
