@@ -97,7 +97,9 @@ pub struct Cli {
     #[arg(long, value_name = "NODE=FILE", value_parser = parse_eds)]
     eds: Vec<(NodeId, String)>,
     /// Write the PDO fields as signals to PATH (CSV: one row per PDO frame,
-    /// a column per named field, `name [unit]`).
+    /// a column per named field, `name [unit]`; PATH.parquet: Parquet, with
+    /// feature `parquet`). With several logs PATH is a folder holding one
+    /// dataset partitioned by log: PATH/log=NAME/part-0.csv or .parquet.
     #[arg(long, value_name = "PATH")]
     signals: Option<String>,
     /// Write the PDO mappings in use to PATH as a DBC file.
@@ -108,10 +110,12 @@ pub struct Cli {
     #[arg(long, hide = true)]
     no_cache: bool,
     /// Decode bundled data instead of a FILE.
-    #[arg(long, value_enum, conflicts_with = "file")]
+    #[arg(long, value_enum, conflicts_with = "files")]
     bundled: Option<Bundled>,
     /// The trace ('-' for stdin; none: stdin, or the bundled session on a terminal).
-    file: Option<String>,
+    /// Several logs are decoded one after the other, each on its own (with
+    /// --signals, into one dataset partitioned by log).
+    files: Vec<String>,
 }
 
 fn parse_node(v: &str) -> Result<NodeId, String> {
@@ -199,7 +203,8 @@ impl Cli {
             check: self.check,
             roles,
             pdos,
-            file: self.file,
+            file: self.files.first().cloned(),
+            more_files: self.files.get(1..).unwrap_or_default().to_vec(),
             bundled: self.bundled.map(|Bundled::Session| "session"),
             format,
             delta_times,

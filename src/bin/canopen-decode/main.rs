@@ -202,6 +202,9 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    if !opts.more_files.is_empty() {
+        return several_logs(opts);
+    }
     let input: Box<dyn Read> = match (opts.bundled, opts.file.as_deref()) {
         (Some(_), _) => {
             opts.roles.demo();
@@ -240,5 +243,87 @@ fn main() -> ExitCode {
             eprintln!("canopen-decode: {e}");
             ExitCode::from(2)
         }
+    }
+}
+
+/// Several logs: each decoded on its own, one after the other, its frames
+/// on stdout; with `--signals PATH` the signals of all of them form one
+/// dataset partitioned by log, hive style: `PATH/log=NAME/part-0.csv` (or
+/// `.parquet` when PATH ends in `.parquet`), NAME the log's file name
+/// without its extension, which Spark, DuckDB
+/// (`read_parquet('PATH/*/*.parquet', hive_partitioning = true)`) and
+/// Polars read as one table with a `log` column. The exit status is the
+/// worst of the runs.
+fn several_logs(opts: Options) -> ExitCode {
+    let mut files = vec![opts.file.clone().unwrap_or_default()];
+    files.extend(opts.more_files.iter().cloned());
+    let fail = |why: String| {
+        eprintln!("canopen-decode: {why}");
+        ExitCode::from(2)
+    };
+    if files.iter().any(|f| f == "-") {
+        return fail("'-' (stdin) cannot be one of several logs".into());
+    }
+    if opts.dbc.is_some() {
+        return fail("--dbc takes one log (the mappings of several may differ)".into());
+    }
+    // Each log's partition, its name unique and free of path separators.
+    let mut parts = Vec::new();
+    if let Some(dir) = &opts.signals {
+        let ext = if signals::is_parquet(std::path::Path::new(dir)) {
+            "parquet"
+        } else {
+            "csv"
+        };
+        for f in &files {
+            let stem = std::path::Path::new(f)
+                .file_stem()
+                .map(|s| s.to_string_lossy().replace(['/', '\\', '='], "_"))
+                .unwrap_or_default();
+            if stem.is_empty() || parts.iter().any(|(s, _)| *s == stem) {
+                return fail(format!(
+                    "--signals {dir}: two logs named '{stem}': a partition each is needed"
+                ));
+            }
+            let folder = std::path::Path::new(dir).join(format!("log={stem}"));
+            if let Err(e) = std::fs::create_dir_all(&folder) {
+                return fail(format!("--signals {}: {e}", folder.display()));
+            }
+            let part = folder.join(format!("part-0.{ext}"));
+            parts.push((stem, Some(part.display().to_string())));
+        }
+    } else {
+        parts = files.iter().map(|f| (f.clone(), None)).collect();
+    }
+    let (stdout, stderr) = (io::stdout(), io::stderr());
+    let (mut out, mut diag) = (stdout.lock(), stderr.lock());
+    let (mut bad, mut open) = (0, false);
+    for (file, (_, part)) in files.iter().zip(parts) {
+        let input = match std::fs::File::open(file) {
+            Ok(f) => f,
+            Err(e) => return fail(format!("{file}: {e}")),
+        };
+        let mut one = opts.clone();
+        one.file = Some(file.clone());
+        one.more_files.clear();
+        one.signals = part;
+        eprintln!("canopen-decode: {file}");
+        match run(input, &mut out, &mut diag, &one) {
+            Ok((b, o)) => {
+                bad += b;
+                open |= o;
+            }
+            Err(e) if e.kind() == io::ErrorKind::BrokenPipe => return ExitCode::SUCCESS,
+            Err(e) => return fail(e.to_string()),
+        }
+    }
+    if open && opts.check {
+        eprintln!("canopen-decode: problems open at the end of a log (--check)");
+        ExitCode::from(3)
+    } else if bad > 0 {
+        eprintln!("canopen-decode: {bad} bad line(s)");
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
     }
 }

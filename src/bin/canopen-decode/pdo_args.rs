@@ -75,6 +75,7 @@ impl Source {
 }
 
 /// The mappings the user gave, and whether the defaults apply.
+#[derive(Clone)]
 pub struct Mappings {
     pub given: Vec<(u16, PdoMapping)>,
     pub defaults: bool,

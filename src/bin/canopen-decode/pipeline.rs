@@ -190,6 +190,7 @@ impl Roles {
     }
 }
 
+#[derive(Clone)]
 pub struct Options {
     pub json: bool,
     /// `--output csv`.
@@ -204,6 +205,8 @@ pub struct Options {
     pub roles: Roles,
     pub pdos: pdo_args::Mappings,
     pub file: Option<String>,
+    /// The logs after the first (each decoded on its own).
+    pub more_files: Vec<String>,
     /// `--bundled session`.
     pub bundled: Option<&'static str>,
     /// `--format`: the trace format (detected when absent) and `-t d` times.
