@@ -12,7 +12,10 @@ For the bundled session and each real capture given:
   of a number and the JSON raw of a bit field or code;
 - with a decoder built with the `parquet` feature, `--signals FILE.parquet`
   read with pyarrow and with DuckDB: the same cells, typed (DOUBLE for a
-  signal that is numbers only, VARCHAR otherwise, nulls for empty cells).
+  signal that is numbers only, VARCHAR otherwise, nulls for empty cells);
+  and the captures given in one run (`--signals DIR.parquet LOG...`) as one
+  dataset partitioned by log, read by DuckDB as one table whose `log`
+  column tells each log's rows, equal to each log's own JSON.
 
 usage: signals_interop.py PATH/TO/canopen-decode [CAPTURE.log...]
 A capture that is absent fails under CI (CI=true); elsewhere it is skipped
@@ -212,6 +215,40 @@ def check_parquet(args, frames, tmp):
     return n
 
 
+def check_dataset(captures):
+    """All captures in one run: one dataset, one table in DuckDB."""
+    import duckdb
+
+    with tempfile.TemporaryDirectory() as tmp:
+        root = os.path.join(tmp, "fleet.parquet")
+        decode(["--pdo-capture-mapping", "--signals", root, *captures])
+        con = duckdb.connect()
+        result = con.execute(
+            f"SELECT * FROM read_parquet('{root}/*/*.parquet', hive_partitioning = true, "
+            "union_by_name = true) ORDER BY log, time"
+        )
+        headers = [d[0] for d in result.description]
+        all_rows = result.fetchall()
+        log = headers.index("log")
+        n = 0
+        for c in captures:
+            name = os.path.splitext(os.path.basename(c))[0]
+            frames = frames_of(["--pdo-capture-mapping", c])
+            frames.sort(key=lambda f: f["t"])
+            rows = []
+            for r in all_rows:
+                if r[log] != name:
+                    continue
+                r = [x for i, x in enumerate(r) if i != log]
+                r[1] = f"{r[1]:03X}"
+                for i in range(2, len(r)):
+                    if isinstance(r[i], (int, float)):
+                        r[i] = float(r[i])
+                rows.append(r)
+            n += check_table(f"dataset {name}", [h for h in headers if h != "log"], rows, frames)
+        print(f"dataset of {len(captures)} logs: {len(all_rows)} rows in one table, {n} cells compared")
+
+
 def main():
     runs = [("bundled session", ["--bundled", "session"])]
     for c in CAPTURES:
@@ -235,6 +272,9 @@ def main():
             f"{label}: {len(frames)} PDO frames; cells compared: csv {n_csv}, "
             f"cantools {n_dbc}, parquet (pyarrow + duckdb) {n_pq}"
         )
+    present = [c for c in CAPTURES if os.path.isfile(c)]
+    if parquet and len(present) > 1:
+        check_dataset(present)
     if FAILS:
         print(f"{len(FAILS)} failure(s)")
         sys.exit(1)
