@@ -200,3 +200,59 @@ fn unwritable_signals_path_is_an_error() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--signals"));
 }
+
+/// Several logs in one run: one dataset partitioned by log, each part the
+/// file a run on that log alone writes.
+#[test]
+fn several_logs_make_one_dataset_partitioned_by_log() {
+    let (Some(startup), Some(charging)) = (
+        capture(common::captures::STARTUP),
+        capture(common::captures::CHARGING),
+    ) else {
+        return;
+    };
+    let root = temp("fleet");
+    let root_arg = root.display().to_string();
+    let o = run(
+        &[
+            "--pdo-capture-mapping",
+            "--signals",
+            &root_arg,
+            &startup,
+            &charging,
+        ],
+        None,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for (log, name) in [
+        (&startup, "deltaq-icl1500-startup"),
+        (&charging, "deltaq-icl1500-charging"),
+    ] {
+        let part = root.join(format!("log={name}")).join("part-0.csv");
+        let alone = temp(&format!("{name}-alone.csv"));
+        let alone_arg = alone.display().to_string();
+        let one = run(
+            &["--pdo-capture-mapping", "--signals", &alone_arg, log],
+            None,
+        );
+        assert!(one.status.success());
+        assert_eq!(
+            std::fs::read_to_string(&part).unwrap(),
+            std::fs::read_to_string(&alone).unwrap(),
+            "{name}"
+        );
+    }
+    // Two logs of one name cannot share a partition.
+    let o = run(&["--signals", &root_arg, &startup, &startup], None);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+/// A Parquet path in a decoder built without the `parquet` feature is a
+/// usage error, before the log is read.
+#[cfg(not(feature = "parquet"))]
+#[test]
+fn parquet_needs_its_feature() {
+    let o = run(&["--bundled", "session", "--signals", "x.parquet"], None);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("`parquet` feature"));
+}

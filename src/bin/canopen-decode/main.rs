@@ -6,8 +6,13 @@
 //! ```text
 //! canopen-decode [--json] [--format F] [--charger-node N] [--battery-node N]
 //!     [--pdo COBID=INDEX:SUB:BITS,...]... [--no-default-pdos] [--pdo-capture-mapping]
-//!     [--sdo NODE=RXID,TXID]... [FILE]
+//!     [--sdo NODE=RXID,TXID]... [--signals PATH] [--dbc PATH] [FILE]...
 //! ```
+//!
+//! `--signals PATH` writes the PDO fields as signals (CSV, or Parquet for a
+//! `.parquet` path with feature `parquet`; several logs: one dataset
+//! partitioned by log), `--dbc PATH` the PDO mappings in use as a DBC
+//! (docs/DECODER.md, modules `signals`, `signals_parquet` and `dbc`).
 //!
 //! SDO transfers are followed by the library's passive observer
 //! (`canopen_codec::sdo::Observer`) on the default channel of every node
