@@ -256,3 +256,66 @@ fn parquet_needs_its_feature() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("`parquet` feature"));
 }
+
+/// `--signals FILE.parquet` read back with the parquet crate's reader: the
+/// same cells as the CSV of the same run (checked against `--json` above),
+/// typed, in more than one row group for a log longer than one group.
+#[cfg(feature = "parquet")]
+#[test]
+fn parquet_holds_the_csv_cells_typed_in_row_groups() {
+    use parquet::file::reader::{FileReader, SerializedFileReader};
+    use parquet::record::Field;
+    // The bundled session repeated with shifted times: more PDO rows than
+    // one row group holds.
+    let session = std::fs::read_to_string("tests/data/virtual-session.log").unwrap();
+    let mut long = String::new();
+    for copy in 0..1200u64 {
+        for line in session.lines() {
+            let (time, rest) = line[1..].split_once(')').unwrap();
+            let (secs, micros) = time.split_once('.').unwrap();
+            let secs: u64 = secs.parse().unwrap();
+            long.push_str(&format!("({}.{micros}){rest}\n", secs + 13 * copy));
+        }
+    }
+    let log = temp("long.log");
+    std::fs::write(&log, long).unwrap();
+    let log_arg = log.display().to_string();
+    let (csv, pq) = (temp("long.csv"), temp("long.parquet"));
+    for out in [&csv, &pq] {
+        let o = run(
+            &[
+                "--battery-node",
+                "1",
+                "--summary-only",
+                "--signals",
+                &out.display().to_string(),
+                &log_arg,
+            ],
+            None,
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let csv = std::fs::read_to_string(&csv).unwrap();
+    let mut csv_lines = csv.lines();
+    let header = csv_row(csv_lines.next().unwrap());
+    let reader = SerializedFileReader::try_from(std::fs::File::open(&pq).unwrap()).unwrap();
+    assert!(reader.metadata().num_row_groups() >= 2);
+    let mut n = 0;
+    for (row, line) in reader.get_row_iter(None).unwrap().zip(csv_lines) {
+        let row = row.unwrap();
+        let cells = csv_row(line);
+        for (i, ((name, field), cell)) in row.get_column_iter().zip(&cells).enumerate() {
+            assert_eq!(name, &header[i]);
+            match field {
+                Field::Null => assert_eq!(cell, ""),
+                Field::Int(id) if i == 1 => assert_eq!(format!("{id:03X}"), *cell),
+                Field::Double(v) => assert_eq!(*v, cell.parse::<f64>().unwrap(), "{name}"),
+                Field::Str(s) => assert_eq!(s, cell),
+                other => panic!("{name}: {other:?}"),
+            }
+        }
+        n += 1;
+    }
+    assert_eq!(n, csv.lines().count() - 1);
+    assert!(n > 65_536, "{n} rows");
+}
