@@ -225,27 +225,28 @@ def check_dataset(captures):
         con = duckdb.connect()
         result = con.execute(
             f"SELECT * FROM read_parquet('{root}/*/*.parquet', hive_partitioning = true, "
-            "union_by_name = true) ORDER BY log, time"
+            "union_by_name = true, file_row_number = true) ORDER BY log, file_row_number"
         )
         headers = [d[0] for d in result.description]
         all_rows = result.fetchall()
         log = headers.index("log")
+        number = headers.index("file_row_number")
         n = 0
         for c in captures:
             name = os.path.splitext(os.path.basename(c))[0]
             frames = frames_of(["--pdo-capture-mapping", c])
-            frames.sort(key=lambda f: f["t"])
             rows = []
             for r in all_rows:
                 if r[log] != name:
                     continue
-                r = [x for i, x in enumerate(r) if i != log]
+                r = [x for i, x in enumerate(r) if i not in (log, number)]
                 r[1] = f"{r[1]:03X}"
                 for i in range(2, len(r)):
                     if isinstance(r[i], (int, float)):
                         r[i] = float(r[i])
                 rows.append(r)
-            n += check_table(f"dataset {name}", [h for h in headers if h != "log"], rows, frames)
+            signal_headers = [h for h in headers if h not in ("log", "file_row_number")]
+            n += check_table(f"dataset {name}", signal_headers, rows, frames)
         print(f"dataset of {len(captures)} logs: {len(all_rows)} rows in one table, {n} cells compared")
 
 
