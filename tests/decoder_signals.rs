@@ -199,6 +199,14 @@ fn unwritable_signals_path_is_an_error() {
     );
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--signals"));
+    // A folder cannot be the output: the error comes at the end, and the
+    // rows file written meanwhile is removed.
+    let dir = temp("a-folder");
+    std::fs::create_dir_all(&dir).unwrap();
+    let arg = dir.display().to_string();
+    let o = run(&["--bundled", "session", "--signals", &arg], None);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!PathBuf::from(format!("{arg}.rows")).exists());
 }
 
 /// Several logs in one run: one dataset partitioned by log, each part the

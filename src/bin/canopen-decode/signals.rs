@@ -328,6 +328,14 @@ impl Signals {
     }
 }
 
+impl Drop for Signals {
+    /// A run that stops on an error leaves no rows file behind (after
+    /// [`Signals::rows`] it is gone already).
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.rows_path);
+    }
+}
+
 /// True for a path the signals go to as Parquet.
 pub fn is_parquet(path: &Path) -> bool {
     path.extension()
