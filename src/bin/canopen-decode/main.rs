@@ -170,6 +170,8 @@ mod line_cache;
 mod line_reader;
 mod pdo_args;
 mod pdo_learn;
+#[path = "../shared/pdo_syntax.rs"]
+mod pdo_syntax;
 mod sdo;
 mod sdo_value;
 mod summary;
