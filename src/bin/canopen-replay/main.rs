@@ -116,7 +116,8 @@ fn main() -> ExitCode {
         Ok(r) => r,
         Err(e) => return usage(&format!("{}: {e}", args.trace.display())),
     };
-    if rec.played.is_empty() {
+    let sent_by_played = |r: &recording::Recorded| matches!(recording::addressing(&r.frame), Some((n, false)) if play.contains(&n));
+    if !rec.played.iter().any(sent_by_played) {
         return usage("the recording has no frame of the --play nodes");
     }
     let mut link = match args.device.split_first() {
