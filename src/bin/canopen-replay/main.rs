@@ -92,7 +92,8 @@ fn main() -> ExitCode {
         Ok(p) => p,
         Err(e) => return usage(&e),
     };
-    if !(args.speed >= 0.0 && args.speed.is_finite()) || !(args.period_tolerance >= 0.0) {
+    let number = |v: f64| v.is_finite() && v >= 0.0;
+    if !number(args.speed) || !number(args.period_tolerance) {
         return usage("--speed and --period-tolerance must be numbers >= 0");
     }
     let mut pdos = Vec::new();
