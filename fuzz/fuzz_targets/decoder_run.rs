@@ -26,7 +26,7 @@ mod line_reader;
 mod pdo_args;
 #[path = "../../src/bin/canopen-decode/pdo_learn.rs"]
 mod pdo_learn;
-#[path = "../../src/bin/shared/pdo_syntax.rs"]
+#[path = "../../src/bin/common/pdo_syntax.rs"]
 mod pdo_syntax;
 #[path = "../../src/bin/canopen-decode/pipeline.rs"]
 mod pipeline;

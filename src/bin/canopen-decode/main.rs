@@ -170,7 +170,7 @@ mod line_cache;
 mod line_reader;
 mod pdo_args;
 mod pdo_learn;
-#[path = "../shared/pdo_syntax.rs"]
+#[path = "../common/pdo_syntax.rs"]
 mod pdo_syntax;
 mod sdo;
 mod sdo_value;

@@ -4,7 +4,7 @@
 
 mod diff;
 mod link;
-#[path = "../shared/pdo_syntax.rs"]
+#[path = "../common/pdo_syntax.rs"]
 mod pdo_syntax;
 mod player;
 mod recording;
