@@ -418,3 +418,90 @@ fn pdo_values(
         .collect();
     (fields, unfit)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use canopen_codec::CanFrame;
+
+    fn at(t_ms: u64, id: u16, data: &[u8]) -> Recorded {
+        Recorded {
+            t: t_ms * 1000,
+            frame: CanFrame::standard(id, data).unwrap(),
+        }
+    }
+
+    const TOL: Tolerances = Tolerances {
+        value: 0,
+        period: 0.1,
+        time: 100_000,
+    };
+
+    #[test]
+    fn emcys_are_named_with_their_delta_q_code() {
+        let lost = [0x30, 0x81, 0x01, 0x20, 0x80, 0, 0, 0];
+        assert_eq!(emcy_name(&lost), "EEC 8130h reg 01h E-0-3-2");
+        assert_eq!(emcy_name(&[0; 8]), "EEC 0000h reg 00h");
+        assert_eq!(emcy_name(&[1]), "EMCY of 1 bytes");
+    }
+
+    #[test]
+    fn states_rates_and_emcy_times_are_compared() {
+        let played = [at(0, 0x701, &[5]), at(100, 0x701, &[5])];
+        let lost = [0x30, 0x81, 0x01, 0x20, 0x80, 0, 0, 0];
+        let rec = [
+            at(0, 0x70A, &[0x7F]),
+            at(1000, 0x70A, &[5]),
+            at(2000, 0x70A, &[5]),
+            at(440, 0x08A, &lost),
+        ];
+        let r = side(&rec, &played);
+        assert_eq!(r.states[&10], vec![(1_000_000, 0x7F, 5)]);
+        assert_eq!(r.traffic[&0x70A].period, Some(1_000_000));
+        assert_eq!(r.emcys[&0x08A][0].after_cause, Some(340_000));
+        // The same device, its EMCY 150 ms late and its heartbeat at 500 ms.
+        let dev = [
+            at(0, 0x70A, &[0]),
+            at(500, 0x70A, &[0x7F]),
+            at(1000, 0x70A, &[5]),
+            at(1500, 0x70A, &[5]),
+            at(590, 0x08A, &lost),
+        ];
+        let mut dev_sorted = dev.to_vec();
+        dev_sorted.sort_by_key(|r| r.t);
+        let d = side(&dev_sorted, &played);
+        let kinds: Vec<&str> = compare(&r, &d, &rec, &dev_sorted, &[], &TOL)
+            .iter()
+            .map(|d| d.kind)
+            .collect();
+        assert_eq!(kinds, ["kinds", "period", "emcy time"]);
+        // Against itself, nothing differs.
+        assert!(compare(&r, &r, &rec, &rec, &[], &TOL).is_empty());
+    }
+
+    #[test]
+    fn pdo_fields_beyond_the_tolerance_are_named() {
+        let (_, mapping) = crate::pdo_syntax::parse_pdo("18A=2002:0:16,2101:0:16").unwrap();
+        let rec = [at(0, 0x18A, &[0x7C, 0x13, 0x45, 0x4E])];
+        let dev = [
+            at(10, 0x18A, &[0x7C, 0x13, 0x50, 0x4E]),
+            at(20, 0x18A, &[1]),
+        ];
+        let s = side(&rec, &[]);
+        let d = side(&dev, &[]);
+        let found = compare(&s, &d, &rec, &dev, &[(0x18A, mapping)], &TOL);
+        let words: Vec<&str> = found.iter().map(|d| d.words.as_str()).collect();
+        assert_eq!(
+            words,
+            [
+                "18Ah: 1 frames (the device's or the recording's) do not fit the mapping of 32 bits",
+                "18Ah field 2101h:00h: 1 frames beyond the tolerance, at most 11 raw units off",
+            ]
+        );
+        let loose = Tolerances { value: 11, ..TOL };
+        assert_eq!(
+            compare(&s, &d, &rec, &dev, &[(0x18A, mapping)], &loose).len(),
+            1
+        );
+    }
+}
