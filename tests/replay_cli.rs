@@ -381,3 +381,34 @@ fn a_device_that_cannot_run_or_dies_exits_3() {
         assert!(err.contains("canopen-replay:"), "{err}");
     }
 }
+
+#[test]
+fn a_long_tail_is_cut_at_the_limit_and_said_so() {
+    let Some(capture) = startup() else { return };
+    let charger = example("charger");
+    let started = std::time::Instant::now();
+    let (code, out, _) = replay(&[
+        &capture,
+        "--play",
+        "1",
+        "--speed",
+        "0",
+        "--tail-limit-ms",
+        "200",
+        "--",
+        &charger,
+        "--no-configure",
+        "--battery-timeout-ms",
+        "340",
+        "--linger-ms",
+        "0",
+    ]);
+    assert!(started.elapsed() < std::time::Duration::from_secs(3));
+    assert!(
+        out.contains("the recording's tail after the last played frame was cut at --tail-limit-ms"),
+        "{out}"
+    );
+    // The heartbeat loss comes 340 ms after the last played frame: cut off.
+    assert!(out.contains("E-0-3-2 at 60292.6 ms is missing"), "{out}");
+    assert_eq!(code, 4);
+}

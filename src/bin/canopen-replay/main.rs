@@ -52,6 +52,10 @@ struct Args {
     /// How long to wait for the device's SDO answer, in ms.
     #[arg(long, default_value_t = 1000)]
     sdo_timeout_ms: u64,
+    /// The longest to listen after the last played frame, in ms (the rest
+    /// of the recording, up to this).
+    #[arg(long, default_value_t = 60_000)]
+    tail_limit_ms: u64,
     /// A PDO mapping whose field values are compared: COBID=INDEX:SUB:BITS,...
     #[arg(long)]
     pdo: Vec<String>,
@@ -134,6 +138,7 @@ fn main() -> ExitCode {
     let options = player::Options {
         speed: args.speed,
         sdo_timeout: Duration::from_millis(args.sdo_timeout_ms),
+        tail_limit: Duration::from_millis(args.tail_limit_ms),
     };
     let played = match player::play(&rec, &mut link, &options) {
         Ok(p) => p,

@@ -21,6 +21,8 @@ pub struct Options {
     /// 0: as fast as the device answers.
     pub speed: f64,
     pub sdo_timeout: Duration,
+    /// The longest the replay listens after its last played frame.
+    pub tail_limit: Duration,
 }
 
 /// What the device did.
@@ -30,6 +32,8 @@ pub struct Played {
     pub after_end: usize,
     /// The device's boot-ups at its start, when the recording has none.
     pub boot_ups_at_start: Vec<u16>,
+    /// Whether the recording's tail was longer than `--tail-limit-ms`.
+    pub tail_cut: bool,
     /// SDO requests the device did not answer within the timeout.
     pub unanswered_sdo: Vec<(u64, u16)>,
 }
@@ -110,6 +114,7 @@ pub fn play(rec: &Recording, link: &mut Link, o: &Options) -> Result<Played, Str
         heard: Vec::new(),
         after_end: 0,
         boot_ups_at_start: Vec::new(),
+        tail_cut: false,
         unanswered_sdo: Vec::new(),
     };
     let first_t = rec.played.first().map_or(0, |p| p.t);
@@ -200,6 +205,8 @@ pub fn play(rec: &Recording, link: &mut Link, o: &Options) -> Result<Played, Str
     // The rest of the recording on the device's own clock.
     clock.playing = false;
     let tail = Duration::from_micros(rec.end.saturating_sub(clock.last_t));
+    out.tail_cut = tail > o.tail_limit;
+    let tail = tail.min(o.tail_limit);
     let until = Instant::now() + tail + Duration::from_millis(100);
     loop {
         let now = Instant::now();

@@ -26,6 +26,9 @@ impl Report<'_> {
             self.played.heard.len(),
             self.played.after_end
         );
+        if self.played.tail_cut {
+            out += "the recording's tail after the last played frame was cut at --tail-limit-ms\n";
+        }
         if !self.played.boot_ups_at_start.is_empty() {
             out += "the device's boot-up at its start is not compared (the recording begins after its node's boot)\n";
         }
@@ -115,6 +118,7 @@ impl Report<'_> {
             "heard": self.played.heard.len(),
             "after_end": self.played.after_end,
             "boot_ups_at_start": self.played.boot_ups_at_start,
+            "tail_cut": self.played.tail_cut,
             "recording": {"traffic": traffic(self.recording), "emcys": emcys(self.recording), "nmt": states(self.recording)},
             "device": {"traffic": traffic(self.device), "emcys": emcys(self.device), "nmt": states(self.device)},
             "unanswered_sdo": self.played.unanswered_sdo.iter().map(|(t, id)| json!({"t_ms": ms(*t), "cob_id": format!("{id:03X}")})).collect::<Vec<_>>(),
