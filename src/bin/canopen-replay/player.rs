@@ -138,8 +138,9 @@ pub fn play(rec: &Recording, link: &mut Link, o: &Options) -> Result<Played, Str
     };
     for (p, answer) in rec.played.iter().zip(&awaited) {
         if o.speed > 0.0 {
-            let due =
-                origin + Duration::from_secs_f64((p.t - first_t) as f64 / 1e6 / o.speed) + shift;
+            let due = origin
+                + Duration::from_secs_f64(p.t.saturating_sub(first_t) as f64 / 1e6 / o.speed)
+                + shift;
             loop {
                 let now = Instant::now();
                 if now >= due {
