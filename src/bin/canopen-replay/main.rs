@@ -160,6 +160,9 @@ fn main() -> ExitCode {
         if let Some(t) = device.traffic.get_mut(id) {
             t.kinds.remove("boot-up");
             t.count -= 1;
+            if t.count == 0 {
+                device.traffic.remove(id);
+            }
         }
     }
     let mut differences = diff::compare(
