@@ -17,7 +17,8 @@
 //! charger's own default COB-IDs, as the real capture does, instead of
 //! reading the module's), `--self-start` (enter operational after boot
 //! instead of waiting for an NMT start), `--heartbeat-ms` (1000),
-//! `--battery-timeout-ms` (2000), `--current A` and `--voltage V` (the
+//! `--battery-timeout-ms` (2000), `--tpdo-ms A,B,C,D` (the event timers
+//! of TPDO 0..3; 0 sends that TPDO on events only), `--current A` and `--voltage V` (the
 //! charger's 2002h / 2100h / 2101h measurements), `--linger-ms` (2000),
 //! `--interface NAME` (can0).
 //!
@@ -41,7 +42,7 @@ use node::Runner;
 
 const USAGE: &str = "usage: charger [--node-id N] [--battery-node N] [--mode local|remote|local-override|monitoring]
                [--no-configure] [--self-start] [--heartbeat-ms MS] [--battery-timeout-ms MS]
-               [--current A] [--voltage V] [--linger-ms MS] [--interface NAME]
+               [--tpdo-ms A,B,C,D] [--current A] [--voltage V] [--linger-ms MS] [--interface NAME]
                [--print-eds]
 --print-eds prints the charger's EDS (CiA 306) as configured by the other
 options on stdout and exits.";
@@ -104,6 +105,18 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
             }
             "--battery-timeout-ms" => {
                 o.config.battery_timeout = Duration::from_millis(u64::from(ms(value()?)?));
+            }
+            "--tpdo-ms" => {
+                let list = value()?;
+                let periods: Vec<u16> = list
+                    .split(',')
+                    .map(|v| v.trim().parse::<u16>())
+                    .collect::<Result<_, _>>()
+                    .map_err(|_| format!("--tpdo-ms: '{list}' is not four 0..=65535 ms values"))?;
+                let [a, b, c, d] = periods[..] else {
+                    return Err(format!("--tpdo-ms: '{list}' is not four values"));
+                };
+                o.config.tpdo_periods = [a, b, c, d].map(|ms| Duration::from_millis(u64::from(ms)));
             }
             "--current" => o.current_a = number(value()?)?,
             "--voltage" => o.voltage_v = number(value()?)?,

@@ -28,6 +28,8 @@ mod line_reader;
 mod pdo_args;
 #[path = "../../src/bin/canopen-decode/pdo_learn.rs"]
 mod pdo_learn;
+#[path = "../../src/bin/common/pdo_syntax.rs"]
+mod pdo_syntax;
 #[path = "../../src/bin/canopen-decode/pipeline.rs"]
 mod pipeline;
 #[path = "../../src/bin/canopen-decode/sdo.rs"]

@@ -176,6 +176,8 @@ mod line_cache;
 mod line_reader;
 mod pdo_args;
 mod pdo_learn;
+#[path = "../common/pdo_syntax.rs"]
+mod pdo_syntax;
 mod sdo;
 mod sdo_value;
 mod signals;

@@ -1,0 +1,137 @@
+//! The link to the device under test: candump log lines both ways, either
+//! over the pipes of a program the replay starts or over the replay's own
+//! stdin (what the device sends) and stdout (what the replay sends).
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError};
+use std::time::{Duration, Instant};
+
+use canopen_codec::trace::candump::{parse_line, LogLineDisplay};
+use canopen_codec::{CanFrame, Timestamp};
+
+/// A frame from the device: when it arrived and the time its line gives.
+pub struct Heard {
+    pub arrived: Instant,
+    pub stamp: Option<Timestamp>,
+    pub frame: CanFrame,
+}
+
+/// What waiting on the device gave.
+pub enum Next {
+    Frame(Heard),
+    Timeout,
+    /// The device closed its output.
+    Closed,
+}
+
+pub struct Link {
+    out: Box<dyn Write>,
+    lines: Receiver<Heard>,
+    child: Option<Child>,
+}
+
+fn reader(input: impl Read + Send + 'static) -> Receiver<Heard> {
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(input).lines() {
+            let Ok(line) = line else { break };
+            if line.trim().is_empty() {
+                continue;
+            }
+            match parse_line(&line) {
+                Ok(l) => {
+                    let heard = Heard {
+                        arrived: Instant::now(),
+                        stamp: l.timestamp,
+                        frame: l.frame,
+                    };
+                    if tx.send(heard).is_err() {
+                        break;
+                    }
+                }
+                Err(e) => eprintln!("canopen-replay: device line not read ({e}): {line}"),
+            }
+        }
+    });
+    rx
+}
+
+impl Link {
+    /// Starts `program` with `args` on a candump pipe.
+    pub fn spawn(program: &str, args: &[String]) -> Result<Link, String> {
+        let mut child = Command::new(program)
+            .args(args)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .spawn()
+            .map_err(|e| format!("cannot start '{program}': {e}"))?;
+        let (Some(stdin), Some(stdout)) = (child.stdin.take(), child.stdout.take()) else {
+            return Err(format!("'{program}' has no pipes"));
+        };
+        Ok(Link {
+            out: Box::new(stdin),
+            lines: reader(stdout),
+            child: Some(child),
+        })
+    }
+
+    /// The device on the replay's own stdin and stdout.
+    pub fn stdio() -> Link {
+        Link {
+            out: Box::new(std::io::stdout()),
+            lines: reader(std::io::stdin()),
+            child: None,
+        }
+    }
+
+    /// Sends one frame stamped `stamp`; false when the device is gone.
+    pub fn send(&mut self, frame: &CanFrame, stamp: Timestamp) -> bool {
+        let line = LogLineDisplay {
+            timestamp: stamp,
+            interface: "can0",
+            frame,
+        };
+        writeln!(self.out, "{line}")
+            .and_then(|()| self.out.flush())
+            .is_ok()
+    }
+
+    /// The next frame from the device, waiting at most `wait`.
+    pub fn next(&self, wait: Duration) -> Next {
+        match self.lines.recv_timeout(wait) {
+            Ok(h) => Next::Frame(h),
+            Err(RecvTimeoutError::Timeout) => Next::Timeout,
+            Err(RecvTimeoutError::Disconnected) => Next::Closed,
+        }
+    }
+
+    /// Whether a started program has exited, and how (`Some(Err)` when it
+    /// failed).
+    pub fn exited(&mut self) -> Option<Result<(), String>> {
+        let child = self.child.as_mut()?;
+        match child.try_wait() {
+            Ok(Some(status)) if status.success() => Some(Ok(())),
+            Ok(Some(status)) => Some(Err(format!("the device exited: {status}"))),
+            Ok(None) => None,
+            Err(e) => Some(Err(format!("the device cannot be watched: {e}"))),
+        }
+    }
+
+    /// Ends the link: closes the device's input, gives a started program
+    /// `grace` to exit, then stops it.
+    pub fn close(mut self, grace: Duration) {
+        drop(std::mem::replace(&mut self.out, Box::new(std::io::sink())));
+        if let Some(mut child) = self.child.take() {
+            let end = Instant::now() + grace;
+            while Instant::now() < end {
+                if let Ok(Some(_)) = child.try_wait() {
+                    return;
+                }
+                std::thread::sleep(Duration::from_millis(10));
+            }
+            let _ = child.kill();
+            let _ = child.wait();
+        }
+    }
+}

@@ -1,0 +1,133 @@
+//! The recording: every frame of a trace the decoder reads, with its time,
+//! and which side of the replay sent it.
+
+use std::collections::BTreeSet;
+
+use canopen_codec::trace::{LineParser, Record};
+use canopen_codec::{CanFrame, CanId};
+
+/// One recorded frame; `t` is microseconds since the recording's first frame.
+#[derive(Clone, Copy)]
+pub struct Recorded {
+    pub t: u64,
+    pub frame: CanFrame,
+}
+
+/// The recording split into what the replay sends and what it expects.
+pub struct Recording {
+    pub played: Vec<Recorded>,
+    pub expected: Vec<Recorded>,
+    /// The time of the recording's last frame.
+    pub end: u64,
+}
+
+/// The node a frame is addressed to or sent by, by the CiA 301
+/// pre-defined connection set (CiA 301 section 7.3.5): `(node, to_node)`.
+/// RPDOs (200h/300h/400h/500h + node), SDO requests (600h + node) and NMT
+/// commands are sent *to* a node; everything else is sent *by* the node
+/// its COB-ID carries. SYNC, TIME and broadcast NMT name no node.
+pub fn addressing(frame: &CanFrame) -> Option<(u8, bool)> {
+    let CanId::Standard(id) = frame.id() else {
+        return None;
+    };
+    let node = (id & 0x7F) as u8;
+    match id & 0x780 {
+        0x000 => frame
+            .data()
+            .get(1)
+            .copied()
+            .filter(|n| *n != 0)
+            .map(|n| (n, true)),
+        _ if node == 0 => None,
+        0x200 | 0x300 | 0x400 | 0x500 | 0x600 => Some((node, true)),
+        _ => Some((node, false)),
+    }
+}
+
+/// Whether the played side sent `frame`: a frame sent by a played node, or
+/// addressed to a node that is not played; SYNC, TIME and broadcast NMT go
+/// with the played side.
+pub fn is_played(frame: &CanFrame, play: &BTreeSet<u8>) -> bool {
+    match addressing(frame) {
+        None => true,
+        Some((node, to_node)) => play.contains(&node) != to_node,
+    }
+}
+
+/// Reads a trace (any format the decoder reads, detected per line).
+/// Unreadable lines are counted in the error only if nothing is left.
+pub fn read(text: &str, play: &BTreeSet<u8>) -> Result<Recording, String> {
+    let mut parser = LineParser::auto();
+    let mut frames = Vec::new();
+    let mut unreadable = 0usize;
+    let mut first = None;
+    for (n, line) in text.lines().enumerate() {
+        match parser.parse(line) {
+            Ok(Record::Frame(f)) => {
+                let Some(ts) = f.timestamp else {
+                    return Err(format!("line {}: a frame without a time", n + 1));
+                };
+                let us = ts.as_micros();
+                let base = *first.get_or_insert(us);
+                frames.push(Recorded {
+                    t: us.saturating_sub(base),
+                    frame: f.frame,
+                });
+            }
+            Ok(_) => {}
+            Err(_) => unreadable += 1,
+        }
+    }
+    if frames.is_empty() {
+        return Err(format!(
+            "the trace has no frames ({unreadable} unreadable lines)"
+        ));
+    }
+    if unreadable > 0 {
+        eprintln!("canopen-replay: {unreadable} unreadable lines skipped");
+    }
+    let end = frames.iter().map(|r| r.t).max().unwrap_or(0);
+    let (played, expected) = frames.into_iter().partition(|r| is_played(&r.frame, play));
+    Ok(Recording {
+        played,
+        expected,
+        end,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn f(id: u16, data: &[u8]) -> CanFrame {
+        CanFrame::standard(id, data).unwrap()
+    }
+
+    #[test]
+    fn sides_follow_the_predefined_connection_set() {
+        let battery: BTreeSet<u8> = [1].into();
+        assert!(is_played(&f(0x701, &[5]), &battery));
+        assert!(is_played(&f(0x20A, &[0; 8]), &battery));
+        assert!(is_played(&f(0x000, &[1, 10]), &battery));
+        assert!(!is_played(&f(0x18A, &[0; 8]), &battery));
+        assert!(!is_played(&f(0x08A, &[0; 8]), &battery));
+        assert!(!is_played(
+            &f(0x601, &[0x40, 0, 0x10, 0, 0, 0, 0, 0]),
+            &battery
+        ));
+        let charger: BTreeSet<u8> = [10].into();
+        assert!(!is_played(&f(0x000, &[1, 10]), &charger));
+        assert!(!is_played(&f(0x20A, &[0; 8]), &charger));
+        assert!(is_played(&f(0x080, &[]), &charger));
+    }
+
+    #[test]
+    fn times_are_relative_and_an_empty_trace_is_an_error() {
+        let text = "(100.5) can0 701#05\n(101.0) can0 18A#00\n";
+        let r = read(text, &[1].into()).unwrap();
+        assert_eq!(r.end, 500_000);
+        assert_eq!(r.played[0].t, 0);
+        assert_eq!(r.expected[0].t, 500_000);
+        assert!(read("nothing here\n", &[1].into()).is_err());
+    }
+}
