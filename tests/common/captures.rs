@@ -48,6 +48,15 @@ pub fn path(name: &str) -> Option<PathBuf> {
     shared_file(&format!("the real capture {name}"), dir().join(name))
 }
 
+/// The path of the real EDS file `name` (in `../shared/eds`, or in
+/// `$CANOPEN_EDS_DIR` when set); absent: see [`shared_file`].
+pub fn eds_path(name: &str) -> Option<PathBuf> {
+    let dir = std::env::var_os("CANOPEN_EDS_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| shared_dir().join("eds"));
+    shared_file(&format!("the real EDS file {name}"), dir.join(name))
+}
+
 /// The text of capture `name`, or `None` (with a note on stderr) when absent.
 pub fn text(name: &str) -> Option<String> {
     std::fs::read_to_string(path(name)?).ok()
