@@ -6,8 +6,9 @@
 //! checkout (or `$CANOPEN_EDS_DIR`); without it the test says so and passes.
 #![cfg(feature = "alloc")]
 
+mod common;
+
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use canopen_codec::eds::parse_bytes;
@@ -34,20 +35,6 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static ALLOCATOR: Counting = Counting;
 
-/// The EDS folder (its name split so the tracked text names no outside path).
-fn eds_dir() -> PathBuf {
-    match std::env::var_os("CANOPEN_EDS_DIR") {
-        Some(dir) => PathBuf::from(dir),
-        None => PathBuf::from(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../",
-            "sha",
-            "red",
-            "/eds"
-        )),
-    }
-}
-
 /// (peak bytes above the start, allocation calls) of parsing `bytes`.
 fn measure(bytes: &[u8]) -> (usize, usize) {
     let base = CURRENT.load(Ordering::Relaxed);
@@ -62,11 +49,10 @@ fn measure(bytes: &[u8]) -> (usize, usize) {
 
 #[test]
 fn allocation_is_proportional_to_the_file() {
-    let path = eds_dir().join("deltaq-iq3k3-charger.eds");
-    let Ok(one) = std::fs::read(&path) else {
-        eprintln!("skipped: {} is absent", path.display());
+    let Some(path) = common::captures::eds_path("deltaq-iq3k3-charger.eds") else {
         return;
     };
+    let one = std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     // The same objects again under indexes 8000h higher: twice the file.
     let text = String::from_utf8_lossy(&one).into_owned();
     let shifted: String = text

@@ -435,3 +435,30 @@ fn client_v16_timeout_abort_carries_the_multiplexer() {
     );
     assert_eq!(c.poll_timeout(), None);
 }
+
+/// CiA 301 section 7.2.4.3.13: the server says it will send a CRC (sc) only
+/// when the client asked for one (cc). python-canopen checks a CRC it is told
+/// of even when it did not ask, and the CRC of the end frame is then zero.
+#[test]
+fn server_block_upload_sets_sc_only_when_the_client_asked_for_crc() {
+    let mut od = MemoryDictionary::new();
+    od.insert(0x2000, 0, Access::ReadOnly, b"0123456789");
+    let mut s = server(2, od);
+    // ccs 5, cc 0, cs 0; blksize 127, pst 0: sc 0, s 1, size 10.
+    exchange(
+        &mut s,
+        2,
+        "A0 00 20 00 7F 00 00 00",
+        "C2 00 20 00 0A 00 00 00",
+    );
+    s.handle_frame(Timestamp::ZERO, &frame(0x602, "80 00 20 00 00 00 04 05"));
+    while s.poll_transmit().is_some() {}
+    while s.poll_event().is_some() {}
+    // ccs 5, cc 1, cs 0: sc 1.
+    exchange(
+        &mut s,
+        2,
+        "A4 00 20 00 7F 00 00 00",
+        "C6 00 20 00 0A 00 00 00",
+    );
+}

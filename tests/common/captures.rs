@@ -3,8 +3,8 @@
 //! mapping in tests/data/CAPTURES.md), so they are not in this repository:
 //! tests read them from the project's shared data folder beside the
 //! checkout (`../shared`, the `spec` / `captures` folder inside it), or from
-//! `$CANOPEN_SHARED_DIR` when set. When they are absent a test says so on
-//! stderr and passes without asserting.
+//! `$CANOPEN_SHARED_DIR` when set. When they are absent a test fails in CI
+//! (`CI=true`) and elsewhere says on stderr that it skipped.
 
 use std::path::{Path, PathBuf};
 
@@ -13,32 +13,48 @@ pub const STARTUP: &str = "deltaq-icl1500-startup.log";
 /// The charging capture: a steady charge at about 19.5 A.
 pub const CHARGING: &str = "deltaq-icl1500-charging.log";
 
-/// The folder the captures are in (it may not exist).
-pub fn dir() -> PathBuf {
-    let shared = std::env::var_os("CANOPEN_SHARED_DIR")
+/// The project's shared data folder beside the checkout, or
+/// `$CANOPEN_SHARED_DIR` when set (it may not exist).
+pub fn shared_dir() -> PathBuf {
+    std::env::var_os("CANOPEN_SHARED_DIR")
         .map(PathBuf::from)
-        // The folder beside the checkout; built from parts so the tracked
-        // text names no path outside the repository.
-        .unwrap_or_else(|| {
-            Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("..")
-                .join("shared")
-        });
-    shared.join("spec").join("captures")
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared"))
 }
 
-/// The path of capture `name`, or `None` (with a note on stderr) when absent.
-pub fn path(name: &str) -> Option<PathBuf> {
-    let p = dir().join(name);
-    if p.is_file() {
-        Some(p)
-    } else {
-        eprintln!(
-            "skipped: the real capture {name} is not at {} (set CANOPEN_SHARED_DIR)",
-            p.display()
-        );
-        None
+/// The folder the captures are in (it may not exist).
+pub fn dir() -> PathBuf {
+    shared_dir().join("spec/captures")
+}
+
+/// `path` when it is a file; otherwise, with `CI=true`, the test fails
+/// (nothing passes silently in CI), and outside CI it says on stderr that
+/// it skipped and gives `None`.
+pub fn shared_file(what: &str, path: PathBuf) -> Option<PathBuf> {
+    if path.is_file() {
+        return Some(path);
     }
+    let note = format!(
+        "{what} is not at {} (set CANOPEN_SHARED_DIR)",
+        path.display()
+    );
+    assert!(std::env::var("CI").as_deref() != Ok("true"), "{note}");
+    eprintln!("skipped: {note}");
+    None
+}
+
+/// The path of capture `name`, or `None` (with a note on stderr) when absent
+/// outside CI; in CI an absent capture fails the test.
+pub fn path(name: &str) -> Option<PathBuf> {
+    shared_file(&format!("the real capture {name}"), dir().join(name))
+}
+
+/// The path of the real EDS file `name` (in `../shared/eds`, or in
+/// `$CANOPEN_EDS_DIR` when set); absent: see [`shared_file`].
+pub fn eds_path(name: &str) -> Option<PathBuf> {
+    let dir = std::env::var_os("CANOPEN_EDS_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| shared_dir().join("eds"));
+    shared_file(&format!("the real EDS file {name}"), dir.join(name))
 }
 
 /// The text of capture `name`, or `None` (with a note on stderr) when absent.

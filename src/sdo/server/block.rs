@@ -184,7 +184,11 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         self.send(ServerCommand::BlockUpload(ServerBlockUpload::Initiate {
             index,
             sub,
-            crc: self.config.crc,
+            // CiA 301 section 7.2.4.3.13: sc says the server will send a CRC
+            // at the end. Set only when the client asked for one (cc): a
+            // client that did not ask may still check a CRC it is told of,
+            // and the end frame's CRC is then zero.
+            crc: crc && self.config.crc,
             size: Some(size),
         }));
         self.state = State::BlockUploadInitiated {
