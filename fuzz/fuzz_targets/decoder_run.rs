@@ -28,6 +28,8 @@ mod pdo_args;
 mod pdo_learn;
 #[path = "../../src/bin/canopen-decode/pipeline.rs"]
 mod pipeline;
+#[path = "../../src/bin/canopen-decode/report/mod.rs"]
+mod report;
 #[path = "../../src/bin/canopen-decode/sdo.rs"]
 mod sdo;
 #[path = "../../src/bin/canopen-decode/sdo_value.rs"]

@@ -170,6 +170,7 @@ mod line_cache;
 mod line_reader;
 mod pdo_args;
 mod pdo_learn;
+mod report;
 mod sdo;
 mod sdo_value;
 mod summary;
