@@ -32,6 +32,8 @@ mod pdo_learn;
 mod pdo_syntax;
 #[path = "../../src/bin/canopen-decode/pipeline.rs"]
 mod pipeline;
+#[path = "../../src/bin/canopen-decode/report/mod.rs"]
+mod report;
 #[path = "../../src/bin/canopen-decode/sdo.rs"]
 mod sdo;
 #[path = "../../src/bin/canopen-decode/sdo_value.rs"]

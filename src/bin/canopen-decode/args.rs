@@ -109,6 +109,11 @@ pub struct Cli {
     /// frame (the output is the same; for checking that).
     #[arg(long, hide = true)]
     no_cache: bool,
+    /// Write the session as one self-contained HTML page: the summary, a
+    /// timeline per node and a plot of every named PDO field. With it the
+    /// frames are printed only when --output or --json asks for them.
+    #[arg(long, value_name = "FILE.html")]
+    report: Option<String>,
     /// Decode bundled data instead of a FILE.
     #[arg(long, value_enum, conflicts_with = "files")]
     bundled: Option<Bundled>,
@@ -157,6 +162,8 @@ impl Cli {
     /// The options the program runs with; errors that need more than one
     /// argument (a COB-ID given twice) are found here.
     pub fn options(self) -> Result<Options, String> {
+        // With --report alone the page is the output: no frame lines.
+        let frames_asked = self.output.is_some() || self.json || self.report.is_none();
         let output = match (self.output, self.json) {
             (Some(o), _) => o,
             (None, true) => Output::Json,
@@ -199,7 +206,7 @@ impl Cli {
             csv: output == Output::Csv,
             summary: self.summary || self.summary_only || self.check || self.summary_file.is_some(),
             summary_file: self.summary_file,
-            frames: !self.summary_only,
+            frames: !self.summary_only && frames_asked,
             check: self.check,
             roles,
             pdos,
@@ -214,6 +221,7 @@ impl Cli {
             no_cache: self.no_cache,
             signals: self.signals,
             dbc: self.dbc,
+            report: self.report,
         })
     }
 }

@@ -178,6 +178,7 @@ mod pdo_args;
 mod pdo_learn;
 #[path = "../common/pdo_syntax.rs"]
 mod pdo_syntax;
+mod report;
 mod sdo;
 mod sdo_value;
 mod signals;

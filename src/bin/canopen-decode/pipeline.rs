@@ -10,8 +10,8 @@ use canopen_codec::trace::{Format, LineParser, Record};
 use canopen_codec::{CanId, Message, NodeId};
 
 use crate::{
-    csv, dbc, json, line_cache, line_reader, pdo_args, pdo_learn, sdo, signals, summary,
-    time_column, words,
+    csv, dbc, json, line_cache, line_reader, pdo_args, pdo_learn, report, sdo, signals,
+    summary, time_column, words,
 };
 
 /// A block transfer's sub-block segment (CiA 301 SDO block download and
@@ -224,6 +224,8 @@ pub struct Options {
     pub signals: Option<String>,
     /// `--dbc PATH`: the PDO mappings in use as a DBC file.
     pub dbc: Option<String>,
+    /// `--report FILE.html`: the session as an HTML page.
+    pub report: Option<String>,
 }
 
 /// Decodes every line of `input` into `out`, with what is wrong with a
@@ -238,6 +240,9 @@ pub fn run(
 ) -> io::Result<(usize, bool)> {
     let mut roles = opts.roles;
     let mut summary = summary::Summary::default();
+    // The report's page starts with the summary: collected for either.
+    let collect = opts.summary || opts.report.is_some();
+    let mut page = opts.report.as_ref().map(|_| report::Collector::default());
     let mut bad = 0;
     // The output not written yet: lines are appended here and written in
     // blocks of about `PAGE` bytes (one write per block, no copy per line).
@@ -379,7 +384,7 @@ pub fn run(
                 deviation,
                 block_segment,
             };
-            if let (true, Ok(msg)) = (opts.summary, &decoded) {
+            if let (true, Ok(msg)) = (collect, &decoded) {
                 summary.frame(
                     parsed.timestamp,
                     parsed.frame.id().raw(),
@@ -407,6 +412,22 @@ pub fn run(
                         let _ = writeln!(diag, "{note}");
                     }
                 }
+            }
+            if let (Some(page), Ok(msg)) = (page.as_mut(), &decoded) {
+                let fields = match msg {
+                    Message::Tpdo { .. } | Message::Rpdo { .. } => {
+                        opts.pdos.fields(&parsed.frame, msg, &roles, &learned)
+                    }
+                    _ => None,
+                };
+                page.frame(
+                    parsed.timestamp,
+                    parsed.frame.id().raw(),
+                    msg,
+                    fields.as_ref().map(|(_, f)| f),
+                    guard_reply,
+                    &roles,
+                );
             }
             if opts.frames {
                 if opts.csv {
@@ -463,8 +484,11 @@ pub fn run(
                 .into_iter()
                 .flatten()
             {
-                if opts.summary {
+                if collect {
                     summary.transfer(&report);
+                }
+                if let Some(page) = page.as_mut() {
+                    page_transfer(page, &report, &roles, &learned);
                 }
                 let role_learned = roles.learn(&report);
                 let pdo_note = learned.transfer(&report);
@@ -510,6 +534,9 @@ pub fn run(
     }
     for report in sdo.finish() {
         summary.transfer(&report);
+        if let Some(page) = page.as_mut() {
+            page_transfer(page, &report, &roles, &learned);
+        }
         if opts.frames && !opts.csv {
             let eds = learned.catalogue(report.node);
             transfer(&mut text, &report, opts.json, &roles, eds, None);
@@ -519,6 +546,19 @@ pub fn run(
     // The summary follows the frames in words and JSON; it never enters a
     // CSV stream (stderr then), and `--summary-file` takes it in any form.
     let mut report = String::new();
+    if let (Some(page), Some(path)) = (&page, &opts.report) {
+        let mut words = String::new();
+        open = summary.words(&mut words, &roles);
+        let silences = summary.silences();
+        let title = opts
+            .file
+            .as_deref()
+            .or(opts.bundled.map(|_| "the bundled session"))
+            .unwrap_or("stdin");
+        let html = page.page(title, &words, &silences, &roles);
+        std::fs::write(path, html.as_bytes())
+            .map_err(|e| io::Error::new(e.kind(), format!("--report {path}: {e}")))?;
+    }
     if opts.summary {
         if opts.json {
             open = summary.json(&mut report, &roles);
@@ -668,6 +708,18 @@ fn load_eds(
         }
     );
     Ok(())
+}
+
+/// A finished SDO transfer on the report's timeline, with its line in words.
+fn page_transfer(
+    page: &mut report::Collector,
+    report: &sdo::Report,
+    roles: &Roles,
+    learned: &pdo_learn::Learned,
+) {
+    let mut text = String::new();
+    words::transfer(&mut text, report, roles, learned.catalogue(report.node));
+    page.transfer(report, &text);
 }
 
 /// Writes the extra line of a finished SDO transfer (its objects named by

@@ -64,6 +64,8 @@ pub struct Summary {
     first: Option<Timestamp>,
     last: Option<Timestamp>,
     lss: Lss,
+    /// The silences until the end are closed ([`Summary::finish`]).
+    finished: bool,
 }
 
 /// LSS traffic: frames, fastscans (reset steps) and accepted node-IDs.
@@ -157,13 +159,7 @@ impl Summary {
                     }
                     return;
                 }
-                let mut text = emcy.code.to_string();
-                if charger {
-                    let code = DeltaQCode::from_emergency(&emcy);
-                    if let Some(d) = code.description() {
-                        let _ = write!(text, ", Delta-Q {code} {d}");
-                    }
-                }
+                let text = emcy_text(&emcy, charger);
                 if n.emcys.len() < LISTED {
                     n.emcys.push((t, text, false));
                 } else {
@@ -218,19 +214,33 @@ impl Summary {
 
     /// Closes open silences at the end of the log; true when a problem is
     /// still open (a node silent until the end, an EMCY not cleared).
+    /// Closing twice changes nothing.
     fn finish(&mut self) -> bool {
         let end = self.last.unwrap_or(Timestamp::ZERO);
         let mut open = false;
+        let first_time = !std::mem::replace(&mut self.finished, true);
         for n in self.nodes.values_mut() {
             if let (Some(last), Some(p)) = (n.last_heartbeat, period(&n.gaps)) {
                 if end.saturating_micros_since(last) > p.saturating_mul(3) {
-                    n.silences.push((last, None));
+                    if first_time {
+                        n.silences.push((last, None));
+                    }
                     open = true;
                 }
             }
             open |= n.emcys.iter().any(|e| !e.2);
         }
         open
+    }
+
+    /// Every node's heartbeat silences (node, from, to; to `None`: until
+    /// the end of the log), closed at the end of the log.
+    pub fn silences(&mut self) -> Vec<(u8, Timestamp, Option<Timestamp>)> {
+        self.finish();
+        self.nodes
+            .iter()
+            .flat_map(|(id, n)| n.silences.iter().map(|(a, b)| (*id, *a, *b)))
+            .collect()
     }
 
     /// Seconds from the first frame of the log to `t`.
@@ -441,6 +451,19 @@ impl Summary {
         );
         open
     }
+}
+
+/// An EMCY in words: its error code, and the Delta-Q code with its
+/// label on a Delta-Q charger.
+pub fn emcy_text(emcy: &canopen_codec::emcy::Emergency, deltaq_charger: bool) -> String {
+    let mut text = emcy.code.to_string();
+    if deltaq_charger {
+        let code = DeltaQCode::from_emergency(emcy);
+        if let Some(d) = code.description() {
+            let _ = write!(text, ", Delta-Q {code} {d}");
+        }
+    }
+    text
 }
 
 /// The median of the gaps (µs), once there are 3.

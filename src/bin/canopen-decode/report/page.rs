@@ -1,0 +1,207 @@
+//! The report page: the collected data as one JSON document inside the
+//! HTML, drawn by the page's own script (`page.js`) and styled by
+//! `page.css`, both inline, so the file opens anywhere with no network.
+
+use serde::Serialize;
+
+use canopen_codec::{NodeId, Timestamp};
+
+use super::{Collector, MarkKind};
+use crate::Roles;
+
+const SCRIPT: &str = include_str!("page.js");
+const STYLE: &str = include_str!("page.css");
+
+/// The page's data, in the shapes `page.js` reads.
+#[derive(Serialize)]
+struct Data<'a> {
+    title: &'a str,
+    /// The log's first time, as the log gives it (seconds).
+    start: String,
+    /// Seconds from the first to the last frame.
+    span: f64,
+    rows: Vec<Row<'a>>,
+    series: Vec<Series<'a>>,
+    /// Marks and silences to draw, in all (the page checks it drew them).
+    marks: usize,
+}
+
+#[derive(Serialize)]
+struct Row<'a> {
+    node: u8,
+    label: String,
+    /// [seconds, state] from then on.
+    states: Vec<(f64, &'a str)>,
+    states_not_drawn: u64,
+    /// [seconds, kind, text].
+    marks: Vec<(f64, &'static str, &'a str)>,
+    /// [from, to] in seconds; to `null`: until the end of the log.
+    silences: Vec<(f64, Option<f64>)>,
+    /// Marks of each kind counted but not drawn.
+    not_drawn: Vec<(&'static str, u64)>,
+}
+
+#[derive(Serialize)]
+struct Series<'a> {
+    label: String,
+    cob_id: u32,
+    index: u16,
+    sub: u8,
+    name: &'a str,
+    unit: Option<&'a str>,
+    /// A bit field or code drawn as its raw bits.
+    raw: bool,
+    samples: u64,
+    invalid: u64,
+    /// Every sample is drawn (none merged into a column).
+    exact: bool,
+    t: Vec<f64>,
+    v: Vec<f64>,
+    /// Times of samples without a value (the line breaks there).
+    gaps: Vec<f64>,
+}
+
+/// Seconds, rounded to the microsecond the logs carry.
+fn secs(us: u64) -> f64 {
+    us as f64 / 1e6
+}
+
+pub fn write(
+    c: &Collector,
+    title: &str,
+    summary: &str,
+    silences: &[(u8, Timestamp, Option<Timestamp>)],
+    roles: &Roles,
+) -> String {
+    let start = c.start.unwrap_or(Timestamp::ZERO);
+    let rel = |t: Timestamp| secs(t.saturating_micros_since(start));
+    let mut rows: Vec<Row<'_>> = c
+        .rows
+        .iter()
+        .map(|(node, r)| Row {
+            node: *node,
+            label: match (*node, roles.role(NodeId::new(*node))) {
+                (0, _) => "bus (NMT)".to_string(),
+                (n, Some(role)) => format!("node {n} ({role})"),
+                (n, None) => format!("node {n}"),
+            },
+            states: r
+                .states
+                .iter()
+                .map(|(t, s)| (secs(*t), s.as_str()))
+                .collect(),
+            states_not_drawn: r.states_not_drawn,
+            marks: r
+                .marks
+                .iter()
+                .map(|m| (secs(m.t), m.kind.name(), m.text.as_str()))
+                .collect(),
+            silences: Vec::new(),
+            not_drawn: r
+                .not_drawn
+                .iter()
+                .map(|(k, n): (&MarkKind, &u64)| (k.name(), *n))
+                .collect(),
+        })
+        .collect();
+    for &(node, from, to) in silences {
+        if let Some(row) = rows.iter_mut().find(|r| r.node == node) {
+            row.silences.push((rel(from), to.map(rel)));
+        }
+    }
+    let series: Vec<Series<'_>> = c
+        .fields
+        .values()
+        .map(|f| {
+            let points = f.series.points();
+            let unit = if f.raw { Some("raw") } else { f.unit };
+            Series {
+                label: format!(
+                    "{:03X}h {:04X}h{} {}{}",
+                    f.cob_id,
+                    f.index,
+                    if f.sub == 0 {
+                        String::new()
+                    } else {
+                        format!(":{:02X}", f.sub)
+                    },
+                    f.name,
+                    unit.map_or(String::new(), |u| format!(" [{u}]"))
+                ),
+                cob_id: f.cob_id,
+                index: f.index,
+                sub: f.sub,
+                name: f.name,
+                unit,
+                raw: f.raw,
+                samples: f.series.samples,
+                invalid: f.series.invalid,
+                exact: f.series.exact(),
+                t: points.iter().map(|p| secs(p.t)).collect(),
+                v: points.iter().map(|p| p.v).collect(),
+                gaps: f.series.gaps().iter().map(|&g| secs(g)).collect(),
+            }
+        })
+        .collect();
+    let marks = rows.iter().map(|r| r.marks.len() + r.silences.len()).sum();
+    let data = Data {
+        title,
+        start: start.to_string(),
+        span: secs(c.last),
+        rows,
+        series,
+        marks,
+    };
+    // serde_json writes no "</": nothing in the data can end the script
+    // element early, but a text may hold "</script>", so "</" is escaped.
+    let json = serde_json::to_string(&data)
+        .unwrap_or_else(|e| format!("{{\"error\":{:?}}}", e.to_string()))
+        .replace("</", "<\\/");
+    let mut html = String::with_capacity(json.len() + SCRIPT.len() + summary.len() + 4096);
+    html.push_str("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n");
+    html.push_str("<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n");
+    html.push_str("<title>canopen-decode report: ");
+    escape(&mut html, title);
+    html.push_str("</title>\n<style>\n");
+    html.push_str(STYLE);
+    html.push_str("</style>\n</head>\n<body>\n<header><h1>CANopen session report</h1><p>");
+    escape(&mut html, title);
+    html.push_str(" &middot; first frame at ");
+    escape(&mut html, &data.start);
+    html.push_str(&format!(
+        " s &middot; {:.3} s &middot; {} timeline rows &middot; {} signals</p></header>\n",
+        data.span,
+        data.rows.len(),
+        data.series.len()
+    ));
+    html.push_str("<section id=\"summary\"><h2>Bus summary</h2><pre>");
+    escape(&mut html, summary);
+    html.push_str("</pre></section>\n");
+    html.push_str(
+        "<section id=\"timeline\"><h2>Timeline</h2>\
+         <p class=\"help\">Wheel: zoom &middot; drag: pan &middot; double-click: whole log \
+         &middot; hover: details</p><div id=\"legend\"></div>\
+         <canvas id=\"timeline-canvas\"></canvas><p id=\"not-drawn\"></p></section>\n",
+    );
+    html.push_str("<section id=\"plots\"><h2>Signals</h2></section>\n");
+    html.push_str("<div id=\"tooltip\" hidden></div>\n<pre id=\"selftest\" hidden></pre>\n");
+    html.push_str("<script type=\"application/json\" id=\"report-data\">");
+    html.push_str(&json);
+    html.push_str("</script>\n<script>\n");
+    html.push_str(SCRIPT);
+    html.push_str("</script>\n</body>\n</html>\n");
+    html
+}
+
+/// Text into HTML.
+fn escape(out: &mut String, text: &str) {
+    for ch in text.chars() {
+        match ch {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            c => out.push(c),
+        }
+    }
+}

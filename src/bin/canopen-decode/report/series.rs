@@ -1,0 +1,224 @@
+//! One PDO field over time, decimated for drawing as it streams in: the
+//! log is cut into time buckets (columns) and each keeps the lowest and the
+//! highest sample it saw, with their times, so a plot drawn from the
+//! buckets shows every peak and trough a plot of all samples would, at
+//! most [`MAX_BUCKETS`] columns wide. Memory is bounded by the bucket
+//! count, not by the log's length: when the buckets overflow their width
+//! doubles and neighbours merge. The sample count and the samples without
+//! a value (the object's "invalid" marker) are counted, never dropped.
+
+/// At most this many buckets per series (two screen widths of columns): a
+/// series of fewer samples keeps every sample.
+pub const MAX_BUCKETS: usize = 2400;
+
+/// A sample: microseconds since the log's first frame, and the value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    pub t: u64,
+    pub v: f64,
+}
+
+/// One column of the plot: its lowest and highest sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Bucket {
+    /// The bucket's number: its start is `index * width`.
+    index: u64,
+    min: Sample,
+    max: Sample,
+}
+
+/// A field's samples, decimated.
+#[derive(Debug)]
+pub struct Series {
+    /// Microseconds per bucket (1: every distinct time its own bucket).
+    width: u64,
+    buckets: Vec<Bucket>,
+    /// Samples taken, values or not.
+    pub samples: u64,
+    /// Samples without a value (drawn as a gap).
+    pub invalid: u64,
+    /// Gaps (invalid samples) kept for drawing, as times.
+    gaps: Vec<u64>,
+}
+
+impl Default for Series {
+    fn default() -> Self {
+        Series {
+            width: 1,
+            buckets: Vec::new(),
+            samples: 0,
+            invalid: 0,
+            gaps: Vec::new(),
+        }
+    }
+}
+
+impl Series {
+    /// Adds a sample at `t` (µs since the log's start). A time before the
+    /// last bucket (an out-of-order log) joins the last bucket.
+    pub fn push(&mut self, t: u64, v: f64) {
+        if !v.is_finite() {
+            self.push_gap(t);
+            return;
+        }
+        self.samples += 1;
+        let s = Sample { t, v };
+        let index = t / self.width;
+        match self.buckets.last_mut() {
+            Some(b) if index <= b.index => {
+                if v < b.min.v {
+                    b.min = s;
+                }
+                if v > b.max.v {
+                    b.max = s;
+                }
+            }
+            _ => {
+                self.buckets.push(Bucket {
+                    index,
+                    min: s,
+                    max: s,
+                });
+                if self.buckets.len() > MAX_BUCKETS {
+                    self.widen();
+                }
+            }
+        }
+    }
+
+    /// A sample without a value at `t`: the line is broken there.
+    pub fn push_gap(&mut self, t: u64) {
+        self.samples += 1;
+        self.invalid += 1;
+        // One gap per bucket is all a drawing can show.
+        let index = t / self.width;
+        if self.gaps.last().is_none_or(|&g| g / self.width < index) {
+            self.gaps.push(t);
+            if self.gaps.len() > MAX_BUCKETS {
+                let w = self.width.saturating_mul(2);
+                self.gaps.dedup_by_key(|g| *g / w);
+            }
+        }
+    }
+
+    /// Doubles the bucket width until the buckets fit, merging neighbours.
+    fn widen(&mut self) {
+        while self.buckets.len() > MAX_BUCKETS {
+            self.width = self.width.saturating_mul(2);
+            let mut merged: Vec<Bucket> = Vec::with_capacity(self.buckets.len() / 2 + 1);
+            for b in self.buckets.drain(..) {
+                let index = b.min.t.min(b.max.t) / self.width;
+                match merged.last_mut() {
+                    Some(m) if index <= m.index => {
+                        if b.min.v < m.min.v {
+                            m.min = b.min;
+                        }
+                        if b.max.v > m.max.v {
+                            m.max = b.max;
+                        }
+                    }
+                    _ => merged.push(Bucket { index, ..b }),
+                }
+            }
+            self.buckets = merged;
+            let w = self.width;
+            self.gaps.dedup_by_key(|g| *g / w);
+        }
+    }
+
+    /// The points to draw, in time order: each bucket's lowest and highest
+    /// sample (one point when they are the same sample).
+    pub fn points(&self) -> Vec<Sample> {
+        let mut out = Vec::with_capacity(self.buckets.len() * 2);
+        for b in &self.buckets {
+            let (first, second) = if b.min.t <= b.max.t {
+                (b.min, b.max)
+            } else {
+                (b.max, b.min)
+            };
+            out.push(first);
+            if second != first {
+                out.push(second);
+            }
+        }
+        out
+    }
+
+    /// Times of the samples without a value (at most one per bucket).
+    pub fn gaps(&self) -> &[u64] {
+        &self.gaps
+    }
+
+    /// True when every sample is kept as it was (no bucket merged two).
+    pub fn exact(&self) -> bool {
+        self.width == 1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_short_series_keeps_every_sample() {
+        let mut s = Series::default();
+        for i in 0..100u64 {
+            s.push(i * 1000, i as f64);
+        }
+        assert!(s.exact());
+        let p = s.points();
+        assert_eq!(p.len(), 100);
+        assert_eq!(p[37], Sample { t: 37_000, v: 37.0 });
+    }
+
+    #[test]
+    fn a_long_series_is_bounded_and_keeps_its_extremes() {
+        let mut s = Series::default();
+        // One million samples of a slow ramp with one spike up and one down.
+        for i in 0..1_000_000u64 {
+            let v = match i {
+                123_457 => 1e6,
+                876_543 => -1e6,
+                _ => (i % 1000) as f64,
+            };
+            s.push(i * 100, v);
+        }
+        assert_eq!(s.samples, 1_000_000);
+        assert!(!s.exact());
+        let p = s.points();
+        assert!(p.len() <= 2 * MAX_BUCKETS, "{} points", p.len());
+        assert!(p.len() >= MAX_BUCKETS / 2, "{} points", p.len());
+        assert!(p.contains(&Sample {
+            t: 12_345_700,
+            v: 1e6
+        }));
+        assert!(p.contains(&Sample {
+            t: 87_654_300,
+            v: -1e6
+        }));
+        // In time order.
+        assert!(p.windows(2).all(|w| w[0].t <= w[1].t));
+        // Every bucket's range covers the ramp's full range (0..999).
+        let max = p
+            .iter()
+            .filter(|s| s.v < 1e5)
+            .map(|s| s.v)
+            .fold(0.0, f64::max);
+        assert_eq!(max, 999.0);
+    }
+
+    #[test]
+    fn out_of_order_and_invalid_samples_are_counted() {
+        let mut s = Series::default();
+        s.push(5000, 1.0);
+        s.push(1000, 7.0);
+        s.push(6000, f64::NAN);
+        s.push_gap(7000);
+        assert_eq!((s.samples, s.invalid), (4, 2));
+        assert_eq!(
+            s.points(),
+            vec![Sample { t: 1000, v: 7.0 }, Sample { t: 5000, v: 1.0 }]
+        );
+        assert_eq!(s.gaps(), &[6000, 7000]);
+    }
+}
