@@ -10,8 +10,8 @@ use canopen_codec::trace::{Format, LineParser, Record};
 use canopen_codec::{CanId, Message, NodeId};
 
 use crate::{
-    csv, dbc, json, line_cache, line_reader, pdo_args, pdo_learn, report, sdo, signals,
-    summary, time_column, words,
+    csv, dbc, json, line_cache, line_reader, pdo_args, pdo_learn, report, sdo, signals, summary,
+    time_column, words,
 };
 
 /// A block transfer's sub-block segment (CiA 301 SDO block download and

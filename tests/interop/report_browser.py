@@ -1,0 +1,124 @@
+#!/usr/bin/env python3
+"""canopen-decode --report checked in a real browser (headless Chromium).
+
+For each log: the decoder writes the report; Chromium opens it from a
+file (no network), runs its scripts and dumps the rendered DOM; the page's
+script publishes what it drew on <body data-*>. The test checks
+
+  * the page rendered (data-rendered="ok") with no script error
+    (data-errors="0", window.onerror counts them);
+  * it drew one plot per named PDO field, and that number equals the
+    distinct (COB-ID, index, sub-index) fields with a value that
+    `canopen-decode --json` gives for the same log (an independent path
+    through the decoder's JSON writer);
+  * it drew every timeline mark, and their number equals what `--json
+    --summary` shows: boot-ups, EMCYs (error resets included), NMT
+    commands, SDO transfers, node-guarding requests and heartbeat
+    silences;
+  * the page is self-contained: no http(s) address, no external script,
+    style sheet or image;
+
+and keeps a screenshot of each page in target/report-screenshots/ (a CI
+artifact).
+
+Usage: report_browser.py DECODER CHROMIUM OUTDIR [--bundled] [LOG ...]
+A LOG given as capture:PATH is decoded with --pdo-capture-mapping.
+"""
+import json
+import os
+import re
+import subprocess
+import sys
+
+# Fields that are plotted: every kind with a value or a value marker.
+NOT_PLOTTED = {"raw", "padding", "missing", "wrong_width", "chars"}
+
+
+def decoder_args(log):
+    if log == "bundled":
+        return ["--bundled", "session"]
+    if log.startswith("capture:"):
+        return ["--pdo-capture-mapping", log[len("capture:"):]]
+    return [log]
+
+
+def expected(decoder, log):
+    out = subprocess.run([decoder, *decoder_args(log), "--json", "--summary"],
+                         capture_output=True, text=True, check=False)
+    if out.returncode not in (0, 1):
+        sys.exit(f"{log}: canopen-decode --json exited {out.returncode}: {out.stderr}")
+    fields, marks = set(), 0
+    for line in out.stdout.splitlines():
+        o = json.loads(line)
+        kind = o.get("kind")
+        if kind in ("tpdo", "rpdo"):
+            for f in o.get("fields") or []:
+                if f["kind"] not in NOT_PLOTTED:
+                    fields.add((o["id"], f["index"], f["sub"]))
+        elif kind == "heartbeat":
+            if o.get("remote"):
+                marks += 1  # a node-guarding request
+            elif o.get("state") == "boot-up":
+                marks += 1
+        elif kind in ("emcy", "nmt", "sdo_transfer"):
+            marks += 1
+        elif kind == "summary":
+            marks += sum(len(n["silences"]) for n in o["nodes"])
+    return len(fields), marks
+
+
+def main():
+    if len(sys.argv) < 4:
+        sys.exit(__doc__)
+    decoder, chromium, outdir = sys.argv[1:4]
+    logs = ["bundled" if a == "--bundled" else a for a in sys.argv[4:]]
+    os.makedirs(outdir, exist_ok=True)
+    failures = 0
+    for i, log in enumerate(logs):
+        name = "bundled-session" if log == "bundled" else os.path.basename(log).rsplit(".", 1)[0]
+        html = os.path.abspath(os.path.join(outdir, f"{name}.html"))
+        png = os.path.abspath(os.path.join(outdir, f"{name}.png"))
+        run = subprocess.run([decoder, *decoder_args(log), "--report", html],
+                             capture_output=True, text=True, check=False)
+        if run.returncode not in (0, 1) or not os.path.isfile(html):
+            sys.exit(f"{log}: --report failed ({run.returncode}): {run.stderr}")
+        page = open(html, encoding="utf-8").read()
+        external = re.findall(r'https?://|<script[^>]+src=|<link[^>]+href=|<img[^>]+src=', page)
+        browser = [chromium, "--headless", "--no-sandbox", "--disable-gpu",
+                   "--hide-scrollbars", "--virtual-time-budget=5000",
+                   f"--user-data-dir={os.path.abspath(outdir)}/profile-{i}"]
+        dom = subprocess.run(browser + ["--dump-dom", "file://" + html],
+                             capture_output=True, text=True, timeout=120, check=False).stdout
+        subprocess.run(browser + ["--window-size=1280,1600", f"--screenshot={png}", "file://" + html],
+                       capture_output=True, text=True, timeout=120, check=False)
+        body = re.search(r"<body([^>]*)>", dom)
+        attrs = dict(re.findall(r'data-([a-z]+)="([^"]*)"', body.group(1))) if body else {}
+        data = json.loads(re.search(
+            r'<script type="application/json" id="report-data">(.*?)</script>', page, re.S
+        ).group(1).replace("<\\/", "</"))
+        want_series, want_marks = expected(decoder, log)
+        checks = [
+            ("rendered", attrs.get("rendered"), "ok"),
+            ("script errors", attrs.get("errors"), "0"),
+            ("plots drawn = fields in the data", attrs.get("series"), str(len(data["series"]))),
+            ("plots drawn = fields with a value in --json", attrs.get("series"), str(want_series)),
+            ("marks drawn = marks in the data", attrs.get("marks"), str(data["marks"])),
+            ("marks drawn = events in --json --summary", attrs.get("marks"), str(want_marks)),
+            ("timeline rows", attrs.get("rows"), str(len(data["rows"]))),
+            ("external references", len(external), 0),
+            ("screenshot written", os.path.isfile(png) and os.path.getsize(png) > 0, True),
+        ]
+        for what, got, want in checks:
+            ok = got == want
+            failures += not ok
+            print(f"{'ok  ' if ok else 'FAIL'} {name}: {what}: {got!r}" + ("" if ok else f", expected {want!r}"))
+        print(f"     {name}: {len(page)} bytes, {attrs.get('points')} points, screenshot {png}")
+    if not logs:
+        sys.exit("no log given")
+    if failures:
+        sys.exit(f"report browser test: {failures} check(s) failed")
+    print(f"report browser test: {len(logs)} report(s), all checks passed")
+
+
+if __name__ == "__main__":
+    main()
