@@ -713,3 +713,30 @@ fn csv_output_one_row_per_frame() {
     assert_eq!(last[11], "truncated: need 8 bytes, got 2");
     assert_eq!(run(&["--output", "xml"], None).status.code(), Some(2));
 }
+
+/// A PCAN-View 1.0 trace (no `;$FILEVERSION` line) is read as 1.0, as
+/// PEAK and python-can read it: every line a frame, exit 0.
+#[test]
+fn header_less_pcan_trace_is_read_as_1_0() {
+    let log =
+        "     1)      1841  070A  1  05\n     2)      1941  018A  8  7C 13 46 4E 70 00 00 00\n";
+    let o = run(&["--format", "trc", "-"], Some(log));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = text(&o);
+    assert_eq!(out.lines().count(), 2, "{out}");
+    assert!(out.contains("heartbeat node 10: operational"), "{out}");
+}
+
+/// A file of which no line is a frame is an error that names the format
+/// tried (here a 1.0 trace wrongly declared 1.1: every line an event).
+#[test]
+fn a_log_without_frames_exits_1_naming_the_format() {
+    let log = ";$FILEVERSION=1.1\n     1)      1841  070A  1  05\n";
+    let o = run(&["-"], Some(log));
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("none of the 2 line(s) is a CAN frame (read as trc"),
+        "{err}"
+    );
+}

@@ -225,7 +225,9 @@ impl LineParser {
         LineParser {
             format: Some(format),
             state: State {
-                trc_version: (1, 1),
+                // A file without `;$FILEVERSION` is 1.0 (PEAK's PCAN-View and
+                // python-can read it so).
+                trc_version: (1, 0),
                 ..State::default()
             },
         }
@@ -237,7 +239,9 @@ impl LineParser {
         LineParser {
             format: None,
             state: State {
-                trc_version: (1, 1),
+                // A file without `;$FILEVERSION` is 1.0 (PEAK's PCAN-View and
+                // python-can read it so).
+                trc_version: (1, 0),
                 ..State::default()
             },
         }

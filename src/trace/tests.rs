@@ -190,7 +190,8 @@ fn trc_1_0_to_1_3() {
             "{version}"
         );
     }
-    // PEAK's 1.1 example: 29-bit, remote, a warning line; no header: 1.1.
+    // PEAK's 1.1 example: 29-bit, remote, a warning line; with no header
+    // the lines show their direction column, so they are read as 1.1.
     let mut p = LineParser::new(Format::PcanTrc);
     assert_eq!(
         run(
@@ -211,6 +212,30 @@ fn trc_1_0_to_1_3() {
             "error BadDlc",
         ]
     );
+}
+
+/// A PCAN-View 1.0 trace has no `;$FILEVERSION` line: PEAK's own files
+/// and python-can read such a file as 1.0 (number, offset in ms, ID, DLC,
+/// data), and so does the detector.
+#[test]
+fn header_less_trc_is_1_0() {
+    let mut p = LineParser::auto();
+    assert_eq!(
+        run(
+            &mut p,
+            &[
+                "     1)      1841  0300  8  00 00 00 00 00 00 00 01",
+                "     2)      1842  18FF0001  2  AB CD",
+                "     3)      1845  0701  1  05",
+            ]
+        ),
+        [
+            "1841000 300#0000000000000001 - -",
+            "1842000 18FF0001#ABCD - -",
+            "1845000 701#05 - -",
+        ]
+    );
+    assert_eq!(p.format(), Some(Format::PcanTrc));
 }
 
 #[test]

@@ -1,6 +1,8 @@
 //! PCAN-View `.trc` files (PEAK-System's trace format), versions 1.0 to
 //! 1.3 and 2.0 to 2.1. Header and comment lines start with `;`; the
-//! `;$FILEVERSION=x.y` line tells the version (1.1 when absent), the
+//! `;$FILEVERSION=x.y` line tells the version (1.0 when absent, as PEAK's
+//! PCAN-View and python-can read such a file; a header-less line with an
+//! `Rx`/`Tx` column is read as the 1.1 line it is), the
 //! `;$STARTTIME=` line the start as days since 1899-12-30 (fractional), and
 //! in 2.x `;$COLUMNS=` the column order. Message lines:
 //!
@@ -56,7 +58,17 @@ pub(super) fn parse<'a>(line: &'a str, state: &mut State) -> Result<Record<'a>, 
         return Err(TraceError::MissingField);
     }
     let timestamp = offset_to_time(state, tokens.next().ok_or(TraceError::MissingField)?)?;
-    let minor = state.trc_version.1;
+    let mut minor = state.trc_version.1;
+    // A 1.1 line (a direction or a bus-event type after the time) in a
+    // file that does not say its version.
+    if minor == 0
+        && matches!(
+            t.split_whitespace().nth(2),
+            Some("Rx" | "Tx" | "Warng" | "Error")
+        )
+    {
+        minor = 1;
+    }
     let mut channel = None;
     if minor >= 2 {
         channel = tokens.next();

@@ -48,8 +48,9 @@
 //! heartbeat loss with E-0-3-2, recovery) so a new user sees it work.
 //! Malformed lines (and frames that do not fit their CANopen object, lines
 //! that are not UTF-8 text and lines longer than 64 KiB) are reported on
-//! stderr with their line number; the run goes on. Exit status:
-//! 0 all lines good, 1 some line bad, 2 usage or I/O error (a malformed
+//! stderr with their line number; the run goes on. A log of which no line
+//! is a frame is an error naming the format tried. Exit status:
+//! 0 all lines good, 1 some line bad or no frame at all, 2 usage or I/O error (a malformed
 //! `--pdo` included).
 //!
 //! ## PDO fields

@@ -277,6 +277,8 @@ pub fn run(
     }
     let mut lines = line_reader::LineReader::new(input);
     let mut lineno = 0usize;
+    // Frames read: a log of lines none of which is a frame is an error.
+    let mut frames = 0usize;
     while let Some(block) = lines.next_block()? {
         for piece in block {
             lineno += 1;
@@ -298,11 +300,14 @@ pub fn run(
                 }
             };
             let parsed = match reader.parse(line) {
-                Ok(Record::Frame(f)) => LogLine {
-                    timestamp: f.timestamp,
-                    interface: f.channel,
-                    frame: f.frame,
-                },
+                Ok(Record::Frame(f)) => {
+                    frames += 1;
+                    LogLine {
+                        timestamp: f.timestamp,
+                        interface: f.channel,
+                        frame: f.frame,
+                    }
+                }
                 Ok(Record::Unsupported(what)) => {
                     let _ = writeln!(diag, "line {lineno}: {what:?} not decoded: {line}");
                     continue;
@@ -597,6 +602,18 @@ pub fn run(
         std::fs::write(path, text)
             .map_err(|e| io::Error::new(e.kind(), format!("--dbc {path}: {e}")))?;
         let _ = writeln!(diag, "canopen-decode: --dbc: {messages} message(s)");
+    }
+    if frames == 0 && lineno > 0 {
+        let tried = reader
+            .format()
+            .map_or("no format detected".to_string(), |f| {
+                format!("read as {}", f.name())
+            });
+        let _ = writeln!(
+            diag,
+            "canopen-decode: none of the {lineno} line(s) is a CAN frame ({tried}; --format names one)"
+        );
+        bad = bad.max(1);
     }
     Ok((bad, open))
 }
