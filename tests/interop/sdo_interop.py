@@ -6,7 +6,8 @@ Part A: python-canopen's SDO client against our server (examples/sdo_node --serv
 Part B: our SDO client (examples/sdo_node --client) against python-canopen's
         SDO server (a LocalNode).
 Part C: python-canopen's SDO client against our server with block transfer
-        (block download, then block upload, with CRC).
+        (block download, then block upload with CRC, then block upload
+        without CRC: request_crc_support=False).
 Part D: our client's block transfers against python-canopen's server, which
         has no block support: it answers a block download with abort
         05040001h and every block upload with a normal upload (the CiA 301
@@ -177,12 +178,26 @@ def part_c(exe):
                 f.write(v)
             with node.sdo.open(0x2000, sub, "rb", block_transfer=True) as f:
                 back = f.read()
-            events = wait_for(bus, "EVENT", 2 * (i + 1))
-            ours = events[2 * i:2 * i + 2]
+            events = wait_for(bus, "EVENT", 3 * i + 2)
+            ours = events[3 * i:3 * i + 2]
             check(f"C python block-writes+block-reads {size} bytes",
                   back == v and ours == [f"EVENT downloaded 2000:{sub:02X} len {size}",
                                          f"EVENT uploaded 2000:{sub:02X} len {size}"],
                   f"got {len(back)} bytes, equal {back == v}, ours {ours}")
+            # A block upload without CRC: our server must not claim CRC
+            # support (sc) when the client did not ask for it (cc), or
+            # python-canopen checks a CRC that CiA 301 says is zero.
+            try:
+                with node.sdo.open(0x2000, sub, "rb", block_transfer=True,
+                                   request_crc_support=False) as f:
+                    plain = f.read()
+                why = ""
+            except Exception as e:  # noqa: BLE001 - the failure is the finding
+                plain, why = b"", repr(e)
+            events = wait_for(bus, "EVENT", 3 * i + 3)
+            check(f"C python block-reads {size} bytes without CRC (request_crc_support=False)",
+                  plain == v and events[3 * i + 2] == f"EVENT uploaded 2000:{sub:02X} len {size}",
+                  f"got {len(plain)} bytes, equal {plain == v} {why}")
     finally:
         net.disconnect()
 
