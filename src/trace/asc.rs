@@ -14,11 +14,17 @@
 //! End TriggerBlock
 //! ```
 //!
-//! The time is seconds since the start of the measurement; the channel is
-//! a number; an identifier ending in `x` is 29-bit; `base dec` means
-//! identifiers in decimal. `d` is a data frame (length, then the bytes),
-//! `r` a remote frame (length optional). Text after the data (`Length = ..
-//! BitCount = ..`) is ignored.
+//! The time is seconds since the start of the measurement, or with
+//! `timestamps relative` in the `base` line since the line before; the
+//! channel is a number; an identifier ending in `x` is 29-bit; `base dec`
+//! means identifiers in decimal. `d` is a data frame (length, then the
+//! bytes), `r` a remote frame (length optional). A classic frame's length
+//! 9 to 15 means 8 data bytes (CiA / ISO 11898-1: a DLC above 8 carries
+//! 8). Text after the data (the `Length = .. BitCount = .. ID = ..`
+//! trailer CANalyzer and CANoe write) is ignored. `Start of measurement`,
+//! `Log trigger event`, `Statistic:`, `Status:`, `ErrorFrame`, `CANFD` and
+//! system-variable (`SV:`) lines are events, not frames; any other line
+//! with a time that is not a frame is an error.
 
 use super::fields::{can_id, dec_u32, decimal_scaled, frame, hex_u32};
 use super::{Record, RxTx, State, TraceError, TraceFrame, Unsupported};
@@ -50,27 +56,44 @@ pub(super) fn parse<'a>(line: &'a str, state: &mut State) -> Result<Record<'a>, 
         // `Begin Triggerblock`, `End TriggerBlock`.
         if first == "base" {
             state.asc_decimal = tokens.next() == Some("dec");
+            if tokens.next() == Some("timestamps") {
+                state.asc_relative = tokens.next() == Some("relative");
+                state.asc_clock_us = 0;
+            }
         }
         return Ok(Record::Meta);
+    };
+    let us = if state.asc_relative {
+        state.asc_clock_us = state.asc_clock_us.saturating_add(us);
+        state.asc_clock_us
+    } else {
+        us
     };
     let second = tokens.next().ok_or(TraceError::MissingField)?;
     if second.eq_ignore_ascii_case("CANFD") {
         return Ok(Record::Unsupported(Unsupported::CanFd));
     }
     if dec_u32(second).is_none() {
-        // `Start of measurement`, `Log trigger event`, statistics.
-        return Ok(Record::Unsupported(Unsupported::Event));
+        // `Start of measurement`, `Log trigger event`, system variables.
+        return match second {
+            "Start" | "Log" | "SV:" | "Statistic:" | "Status:" => {
+                Ok(Record::Unsupported(Unsupported::Event))
+            }
+            _ => Err(TraceError::MissingField),
+        };
     }
     let channel = second;
     let id_text = tokens.next().ok_or(TraceError::MissingField)?;
     if id_text.eq_ignore_ascii_case("ErrorFrame") {
         return Ok(Record::Unsupported(Unsupported::ErrorFrame));
     }
+    if matches!(id_text, "Statistic:" | "Status:" | "SV:") {
+        return Ok(Record::Unsupported(Unsupported::Event));
+    }
     let direction = match tokens.next() {
         Some("Rx") => RxTx::Rx,
         Some("Tx") => RxTx::Tx,
-        // `Statistic:`, `Status:` and other channel events.
-        _ => return Ok(Record::Unsupported(Unsupported::Event)),
+        _ => return Err(TraceError::MissingField),
     };
     let (digits, extended) = match id_text.strip_suffix(['x', 'X']) {
         Some(d) => (d, true),
@@ -88,12 +111,20 @@ pub(super) fn parse<'a>(line: &'a str, state: &mut State) -> Result<Record<'a>, 
         Some("r") => true,
         _ => return Err(TraceError::MissingField),
     };
-    let dlc = match tokens.next() {
-        Some(d) => dec_u32(d)
-            .and_then(|d| u8::try_from(d).ok())
-            .ok_or(TraceError::BadDlc)?,
-        None if remote => 0,
-        None => return Err(TraceError::BadDlc),
+    let mut tokens = tokens.peekable();
+    let dlc = match tokens.peek().map(|d| dec_u32(d)) {
+        Some(Some(d)) => {
+            tokens.next();
+            // A classic frame's DLC 9-15 carries 8 bytes.
+            match d {
+                0..=8 => d as u8,
+                9..=15 => 8,
+                _ => return Err(TraceError::BadDlc),
+            }
+        }
+        // `r` alone, or followed by the trailer: no length given.
+        _ if remote => 0,
+        _ => return Err(TraceError::BadDlc),
     };
     let frame = frame(
         id,

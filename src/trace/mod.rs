@@ -205,6 +205,11 @@ struct State {
     trc_columns: [u8; 12],
     /// ASC: identifiers in decimal (`base dec`).
     asc_decimal: bool,
+    /// ASC: `timestamps relative`: each line's time is the time since the
+    /// line before.
+    asc_relative: bool,
+    /// ASC with relative times: the time so far.
+    asc_clock_us: u64,
     /// candump screen `-t d`: accumulate deltas.
     screen_delta: bool,
     /// candump screen `-t d`: the time so far.

@@ -92,9 +92,50 @@ fn asc_decimal_base_error_frames_fd_and_trailing_text() {
             "1900000 70A#R 1 Rx",
             "error BadId",
             "meta",
-            "error CanFd",
+            "2000000 18A#0000000000000000 1 Rx",
             "error BadDlc",
             "error BadId",
+        ]
+    );
+}
+
+/// The line kinds CANalyzer and CANoe write that python-can's own files
+/// lack: the `Length = .. BitCount = .. ID = ..` trailer (after data and
+/// after a remote frame without a length), DLC 9-15 on a classic frame (8
+/// bytes), `timestamps relative`, `Status:` and system-variable lines as
+/// events, and an unknown line with a time as an error.
+#[test]
+fn asc_canalyzer_line_kinds() {
+    let mut p = LineParser::new(Format::VectorAsc);
+    let lines = [
+        "base hex  timestamps relative",
+        "   0.100000 Start of measurement",
+        "   0.250000 1  18A             Rx   d 8 74 13 45 4E 70 00 00 00  Length = 244016 BitCount = 125 ID = 394",
+        "   0.010000 1  70A             Rx   r  Length = 0 BitCount = 0 ID = 1802",
+        "   0.010000 1  70A             Rx   r 1  Length = 0 BitCount = 0 ID = 1802",
+        "   0.040000 1  18A             Rx   d 15 01 02 03 04 05 06 07 08  Length = 244016",
+        "   0.100000 1  Status: chip status error active",
+        "   0.100000 SV: 1 0 1 ::Sys::Var = 1",
+        "   0.100000 Something unexpected",
+        "base hex  timestamps absolute",
+        "   2.000000 1  18A             Rx   d 1 05",
+        "   2.100000 1  18A             Xx   d 1 05",
+    ];
+    assert_eq!(
+        run(&mut p, &lines),
+        [
+            "meta",
+            "unsupported Event",
+            "350000 18A#7413454E70000000 1 Rx",
+            "360000 70A#R 1 Rx",
+            "370000 70A#R1 1 Rx",
+            "410000 18A#0102030405060708 1 Rx",
+            "unsupported Event",
+            "unsupported Event",
+            "error MissingField",
+            "meta",
+            "2000000 18A#05 1 Rx",
+            "error MissingField",
         ]
     );
 }
