@@ -134,6 +134,7 @@
 //! ```
 
 mod catalogue;
+pub mod charge;
 // The charger supervises its battery module with the device core's
 // heartbeat consumer (feature `heartbeat-consumer`).
 #[cfg(feature = "heartbeat-consumer")]
