@@ -1,9 +1,11 @@
 //! The Delta-Q charger's application objects: the CiA 418 objects a CiA
 //! 419 charger shares with the battery module (6000h-6081h) and the
 //! Delta-Q manufacturer objects (Delta-Q IC Series CANopen interface
-//! specification rev 2.0, section 5: 2002h, 2006h, 2060h, 2100h, 2101h,
-//! 2200h, 2241h, 2271h, 2276h, 4201h, and the 2FFAh padding objects its
-//! PDO mappings use), declared for the crate's fixed-word dictionary
+//! specification rev 2.0, section 5: 2002h, 2006h, 2008h, 2060h, 2100h,
+//! 2101h, 2200h, 2241h, 2271h, 2276h, 4201h, and the 2FFAh padding objects
+//! its PDO mappings use), and the two objects of the charge control the
+//! documents do not name (ours: 2250h Ah target, 2251h elapsed time; see
+//! [`charge`](super::charge)), declared for the crate's fixed-word dictionary
 //! ([`FixedDictionary`], which serves them by SDO). Fixed storage, no
 //! allocation. The communication objects (1000h-1FFFh) are the device
 //! core's ([`crate::device`]).
@@ -59,6 +61,14 @@ pub struct ChargerObjects {
     pub voltage_request_q8: u16,
     /// 4201h external override.
     pub external_override: u8,
+    /// 2008h derate reasons.
+    pub derate_reasons: u8,
+    /// 2250h Ah target (ours, Q3 Ah, FFFFh none; see
+    /// [`charge::AH_TARGET`](super::charge::AH_TARGET)).
+    pub ah_target: u16,
+    /// 2251h charge cycle elapsed time (ours, seconds; see
+    /// [`charge::ELAPSED_TIME`](super::charge::ELAPSED_TIME)).
+    pub elapsed_s: u32,
 }
 
 /// The charger's application dictionary as its device core serves it.
@@ -93,6 +103,9 @@ impl ChargerObjects {
             voltage_request: 0xFFFF_FFFF,
             voltage_request_q8: 0xFFFF,
             external_override: 0,
+            derate_reasons: 0,
+            ah_target: 0xFFFF,
+            elapsed_s: 0,
         }
     }
 
@@ -112,6 +125,7 @@ impl ChargerObjects {
             15 => Field::U32(&mut self.voltage_request),
             16 => Field::U16(&mut self.voltage_request_q8),
             17 => Field::U8(&mut self.external_override),
+            19 => Field::U16(&mut self.ah_target),
             _ => return None,
         })
     }
@@ -136,7 +150,10 @@ impl ChargerObjects {
             14 => self.algorithm_request,
             15 => self.voltage_request,
             16 => self.voltage_request_q8.into(),
-            _ => self.external_override.into(),
+            17 => self.external_override.into(),
+            18 => self.derate_reasons.into(),
+            19 => self.ah_target.into(),
+            _ => self.elapsed_s,
         }
     }
 }
@@ -159,7 +176,7 @@ const NO_FIELD: u8 = u8::MAX;
 /// The charger's objects besides 2FFAh, in the order of the rows of
 /// `ChargerObjects::field`: one table for SDO info, reads, writes and what
 /// reset node restores (every one PDO-mappable).
-const OBJECTS: [FixedObject; 18] = {
+const OBJECTS: [FixedObject; 21] = {
     use Access::{ReadOnly as Ro, ReadWrite as Rw};
     const fn object(index: u16, width: u8, access: Access) -> FixedObject {
         FixedObject::new(index, width, access, true)
@@ -183,6 +200,9 @@ const OBJECTS: [FixedObject; 18] = {
         object(0x2271, 4, Rw),
         object(0x2276, 2, Rw),
         object(0x4201, 1, Rw),
+        object(0x2008, 1, Ro),
+        object(0x2250, 2, Rw),
+        object(0x2251, 4, Ro),
     ]
 };
 
@@ -201,9 +221,9 @@ const fn writable_rows() -> (usize, usize) {
 
 /// What NMT reset node restores of [`ChargerObjects`]: its writable
 /// objects (6000h, 6010h, 6052h, 6060h, 6070h, 6081h, 2002h, 2101h, 2241h,
-/// 2271h, 2276h, 4201h; 2FFAh stores nothing), the writable rows of its
-/// table, as they were at boot. The read-only objects (6001h, 6080h,
-/// 2006h, 2060h, 2100h, 2200h) are the charger's own readings and state,
+/// 2271h, 2276h, 4201h, 2250h; 2FFAh stores nothing), the writable rows of
+/// its table, as they were at boot. The read-only objects (6001h, 6080h,
+/// 2006h, 2008h, 2060h, 2100h, 2200h, 2251h) are the charger's own readings and state,
 /// not parameters (CiA 301 7.3.2.2.1: reset node restores the parameters
 /// of the profile areas): they keep what the application last set, so no
 /// stale boot-time value is published until its next update.
@@ -281,7 +301,7 @@ mod tests {
     #[test]
     fn every_object_writes_and_reads_its_own_field() {
         use Access::{ReadOnly as Ro, ReadWrite as Rw};
-        let expected: [(u16, Access, usize); 18] = [
+        let expected: [(u16, Access, usize); 21] = [
             (0x6000, Rw, 1),
             (0x6001, Ro, 1),
             (0x6010, Rw, 2),
@@ -300,6 +320,9 @@ mod tests {
             (0x2271, Rw, 4),
             (0x2276, Rw, 2),
             (0x4201, Rw, 1),
+            (0x2008, Ro, 1),
+            (0x2250, Rw, 2),
+            (0x2251, Ro, 4),
         ];
         let mut o = FixedDictionary::new(ChargerObjects::new());
         for (index, access, len) in expected {

@@ -16,13 +16,14 @@ use super::index;
 use super::Charger;
 
 /// The Delta-Q manufacturer objects the charger serves (2002h, 2006h,
-/// 2060h, 2100h, 2101h, 2200h, 2241h, 2271h, 2276h, 2FFAh, 4201h) with the
+/// 2008h, 2060h, 2100h, 2101h, 2200h, 2241h, 2271h, 2276h, 2FFAh, 4201h) with the
 /// names and data types of the Delta-Q IC Series CANopen interface
 /// specification rev 2.0 (section 5, "Object dictionary"), spelled as
 /// Delta-Q's own EDS spells them.
 pub const DELTAQ_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
     ObjectDescription::var(index::CHARGING_CURRENT, "Charging Current", U16),
     ObjectDescription::var(index::EXTENDED_CHARGE_STATUS, "Extended Charge Status", U16),
+    ObjectDescription::var(index::DERATE_REASONS, "Derate Reasons", U8),
     ObjectDescription::var(index::DISPLAYED_ERROR, "Current Displayed Error/Fault", U32),
     ObjectDescription::var(index::BATTERY_VOLTAGE_LEGACY, "Battery Voltage UINT16", U16),
     ObjectDescription::var(index::BATTERY_VOLTAGE, "Battery Voltage Q8.8", U16),
@@ -44,6 +45,18 @@ pub const DELTAQ_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
     ObjectDescription::var(index::EXTERNAL_OVERRIDE, "External Override", U8),
 ];
 
+/// The charge control's two objects the Delta-Q documents do not name
+/// (ours: [`AH_TARGET`](super::charge::AH_TARGET) 2250h and
+/// [`ELAPSED_TIME`](super::charge::ELAPSED_TIME) 2251h).
+pub const CHARGE_CONTROL_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
+    ObjectDescription::var(super::charge::AH_TARGET, "Ah Target", U16),
+    ObjectDescription::var(
+        super::charge::ELAPSED_TIME,
+        "Charge Cycle Elapsed Time",
+        U32,
+    ),
+];
+
 /// The EDS (CiA 306, "Electronic data sheet specification for CANopen") of
 /// `charger` as it is configured now: every object of its SDO dictionary
 /// (`dictionary()`: the PDO objects, the CiA 301 communication
@@ -52,7 +65,8 @@ pub const DELTAQ_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
 /// value as `DefaultValue`, named and typed by CiA 301
 /// ([`COMM_OBJECT_DESCRIPTIONS`]), CiA 418 v1.0.1
 /// ([`CIA418_OBJECT_DESCRIPTIONS`]) and Delta-Q
-/// ([`DELTAQ_OBJECT_DESCRIPTIONS`]); `[DeviceInfo]` from 1008h and 1018h
+/// ([`DELTAQ_OBJECT_DESCRIPTIONS`]) and ours for the charge control
+/// ([`CHARGE_CONTROL_OBJECT_DESCRIPTIONS`]); `[DeviceInfo]` from 1008h and 1018h
 /// (see [`Eds::describe`]).
 ///
 /// ```
@@ -74,6 +88,7 @@ pub fn charger_eds(charger: &Charger) -> Eds {
             COMM_OBJECT_DESCRIPTIONS,
             CIA418_OBJECT_DESCRIPTIONS,
             DELTAQ_OBJECT_DESCRIPTIONS,
+            CHARGE_CONTROL_OBJECT_DESCRIPTIONS,
         ],
         &DeviceHeader {
             file_name: "charger.eds",

@@ -163,7 +163,7 @@ pub use codes::{AlarmFaultEntry, DeltaQCode, ALARMS_AND_FAULTS};
 #[cfg(all(feature = "alloc", feature = "heartbeat-consumer"))]
 pub use eds::charger_eds;
 #[cfg(feature = "alloc")]
-pub use eds::DELTAQ_OBJECT_DESCRIPTIONS;
+pub use eds::{CHARGE_CONTROL_OBJECT_DESCRIPTIONS, DELTAQ_OBJECT_DESCRIPTIONS};
 pub use objects::{
     AcVoltage, AlgorithmRequest, BatteryVoltage, BatteryVoltageLegacy, ChargeIndication,
     ChargeStatusFlags, ChargeType, ChargerAhReturned, ChargingCurrent, DerateReasons,

@@ -182,6 +182,12 @@ where
         &self.profile
     }
 
+    /// The core and the profile, both mutably (for a profile's own
+    /// inputs, e.g. the charger's power stage).
+    pub(crate) fn parts_mut(&mut self) -> (&mut Device<P, Q, T, R>, &mut P) {
+        (&mut self.device, &mut self.profile)
+    }
+
     /// Changes application objects in `f`; mapped values that changed are
     /// events for the event-driven TPDOs.
     pub fn update(&mut self, now: Timestamp, f: impl FnOnce(&mut P::Objects)) {

@@ -113,7 +113,8 @@
 //! use canopen_codec::Timestamp;
 //! use core::time::Duration;
 //!
-//! let mut c = ChargeControl::new(ChargeConfig::example_local());
+//! use canopen_codec::deltaq::OperatingMode;
+//! let mut c = ChargeControl::new(OperatingMode::Local, ChargeConfig::example());
 //! let t = Timestamp::ZERO;
 //! // AC on, a 48 V lead-acid pack on the output, no BMS on the bus.
 //! c.handle_power_stage(t, PowerStage { ac_present: true, voltage_mv: 48_000, ..PowerStage::OFF });
@@ -156,8 +157,6 @@ pub const ABSORPTION_MIN: Duration = Duration::from_secs(60);
 /// The configuration of [`ChargeControl`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ChargeConfig {
-    /// The operating mode (section 3.1).
-    pub mode: OperatingMode,
     /// The charger's algorithms (2241h selects among them by id).
     pub algorithms: &'static [ChargeAlgorithm],
     /// The permanent algorithm at power-on (None: E-0-2-0 until 2241h).
@@ -185,14 +184,13 @@ pub struct ChargeConfig {
 
 impl ChargeConfig {
     /// Our 1.5 kW, 48 V example charger (the ICL1500's class: up to 25 A,
-    /// 72 V) in local mode with [`EXAMPLE_ALGORITHMS`]: permanent
+    /// 72 V) with [`EXAMPLE_ALGORITHMS`]: permanent
     /// algorithm 1 (flooded lead acid), no-CAN algorithm 1, a 10 s CAN
     /// hold-off, 60 s rest, battery detected from 12 V, derating from 70 to
     /// 90 degC.
     #[must_use]
-    pub const fn example_local() -> Self {
+    pub const fn example() -> Self {
         ChargeConfig {
-            mode: OperatingMode::Local,
             algorithms: &EXAMPLE_ALGORITHMS,
             permanent_algorithm: Some(1),
             no_can_algorithm: Some(1),
@@ -205,13 +203,6 @@ impl ChargeConfig {
             derate_start_c: 70,
             derate_stop_c: 90,
         }
-    }
-
-    /// The same in `mode`.
-    #[must_use]
-    pub const fn in_mode(mut self, mode: OperatingMode) -> Self {
-        self.mode = mode;
-        self
     }
 
     /// The algorithm `id` of the table.
@@ -452,6 +443,7 @@ enum Latch {
 /// and counted).
 #[derive(Debug, Clone)]
 pub struct ChargeControl {
+    mode: OperatingMode,
     config: ChargeConfig,
     phase: ChargePhase,
     phase_since: Timestamp,
@@ -482,10 +474,12 @@ pub struct ChargeControl {
 const Q3_AH: u64 = 450_000_000_000;
 
 impl ChargeControl {
-    /// A charger at power-on: no AC, idle, the permanent algorithm active.
+    /// A charger in operating `mode` (section 3.1) at power-on: no AC,
+    /// idle, the permanent algorithm active.
     #[must_use]
-    pub const fn new(config: ChargeConfig) -> Self {
+    pub const fn new(mode: OperatingMode, config: ChargeConfig) -> Self {
         ChargeControl {
+            mode,
             config,
             phase: ChargePhase::Idle,
             phase_since: Timestamp::ZERO,
@@ -522,6 +516,12 @@ impl ChargeControl {
     #[must_use]
     pub const fn config(&self) -> &ChargeConfig {
         &self.config
+    }
+
+    /// The operating mode.
+    #[must_use]
+    pub const fn mode(&self) -> OperatingMode {
+        self.mode
     }
 
     /// The phase.
@@ -588,7 +588,7 @@ impl ChargeControl {
     /// in monitoring mode.
     pub fn request_algorithm(&mut self, now: Timestamp, request: Option<AlgorithmRequest>) {
         let Some(request) = request else { return };
-        if matches!(self.config.mode, OperatingMode::MonitoringOnly) {
+        if matches!(self.mode, OperatingMode::MonitoringOnly) {
             return;
         }
         self.integrate(now);
@@ -611,7 +611,7 @@ impl ChargeControl {
     /// mode decides; see the module docs).
     pub fn handle_battery_emcy(&mut self, now: Timestamp, emcy: &Emergency) {
         self.integrate(now);
-        match super::emergency_reaction(self.config.mode, emcy) {
+        match super::emergency_reaction(self.mode, emcy) {
             Reaction::Continue if emcy.code.0 >> 8 == 0 => {
                 // Error reset: the module's errors are gone.
                 self.temperature_fault = false;
@@ -690,7 +690,7 @@ impl ChargeControl {
                 (ChargeType::None, ChargeIndication::Inactive)
             }
         };
-        let external = self.external_limit || matches!(self.config.mode, OperatingMode::Remote);
+        let external = self.external_limit || matches!(self.mode, OperatingMode::Remote);
         let mut flags = ChargeStatusFlags::empty();
         flags.set(ChargeStatusFlags::CHARGER_ENABLED, self.set.enabled);
         flags.set(ChargeStatusFlags::AC_PRESENT, self.stage.ac_present);
@@ -794,7 +794,7 @@ impl ChargeControl {
 
     /// Applies every rule to the inputs as they stand.
     fn step(&mut self, now: Timestamp) {
-        let mode = self.config.mode;
+        let mode = self.mode;
         let listens = !matches!(mode, OperatingMode::MonitoringOnly) && !self.bus.bus_error;
         let bms = listens && self.bus.battery_present;
         let ready = bms && self.bus.battery_status & 1 != 0;
@@ -864,7 +864,7 @@ impl ChargeControl {
                     } else {
                         self.enter(now, P::Idle);
                     }
-                } else if matches!(self.config.mode, OperatingMode::MonitoringOnly) {
+                } else if matches!(self.mode, OperatingMode::MonitoringOnly) {
                     self.start(now, self.active);
                 } else {
                     let until = *self
@@ -891,7 +891,7 @@ impl ChargeControl {
         use ChargePhase as P;
         let Some(a) = self.algorithm() else { return };
         let in_phase = now.saturating_duration_since(self.phase_since);
-        let ask = if bms && matches!(self.config.mode, OperatingMode::LocalOverride) {
+        let ask = if bms && matches!(self.mode, OperatingMode::LocalOverride) {
             self.bus.external_override
         } else {
             ExternalOverride::empty()
@@ -937,14 +937,14 @@ impl ChargeControl {
     }
 
     fn update_alarms(&mut self, ready: bool, detected: bool) {
-        let threshold = match (self.config.mode, self.algorithm()) {
+        let threshold = match (self.mode, self.algorithm()) {
             (OperatingMode::Remote, _) | (_, None) => self.config.max_voltage_mv,
             (_, Some(a)) => a.high_voltage_mv,
         };
         let v = self.stage.voltage_mv;
         let high = v > threshold
             || (self.alarms.contains(ChargeAlarms::HIGH_VOLTAGE) && v > threshold - threshold / 50);
-        let local = !matches!(self.config.mode, OperatingMode::Remote);
+        let local = !matches!(self.mode, OperatingMode::Remote);
         let mut now = ChargeAlarms::empty();
         now.set(ChargeAlarms::HIGH_VOLTAGE, high);
         now.set(
@@ -984,7 +984,7 @@ impl ChargeControl {
         let own = (current, voltage);
         if bms && !matches!(self.phase, P::Remote) {
             voltage = voltage.min(self.bus.voltage_request_mv);
-            if matches!(self.config.mode, OperatingMode::LocalOverride)
+            if matches!(self.mode, OperatingMode::LocalOverride)
                 && self.bus.current_request != 0xFFFF
             {
                 current = current.min(u32::from(self.bus.current_request) * 125 / 2);

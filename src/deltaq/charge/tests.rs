@@ -31,7 +31,7 @@ fn bms(amps: u16) -> BusInputs {
 }
 
 fn control(mode: OperatingMode) -> ChargeControl {
-    ChargeControl::new(ChargeConfig::example_local().in_mode(mode))
+    ChargeControl::new(mode, ChargeConfig::example())
 }
 
 fn events(c: &mut ChargeControl) -> Vec<ChargeEvent> {
@@ -370,9 +370,9 @@ fn no_active_algorithm_raises_e_0_2_0() {
     // Section 4.4.1: E-0-2-0 active algorithm not set.
     let config = ChargeConfig {
         permanent_algorithm: None,
-        ..ChargeConfig::example_local()
+        ..ChargeConfig::example()
     };
-    let mut c = ChargeControl::new(config);
+    let mut c = ChargeControl::new(OperatingMode::Local, config);
     c.handle_bus(s(0), bms(0));
     c.handle_power_stage(s(0), pack(50, 0));
     assert_eq!(alarms_raised(&mut c), [DeltaQCode::Alarm(20)]);

@@ -5,6 +5,7 @@
 
 use core::time::Duration;
 
+use super::super::charge::ChargeConfig;
 use super::super::{timeouts, OperatingMode, CHARGER_DEFAULT_PDOS};
 use crate::cia419::CHARGER_DEVICE_TYPE;
 use crate::cob_id::{NodeId, PdoNumber};
@@ -19,8 +20,12 @@ pub struct ChargerConfig {
     pub node: NodeId,
     /// The battery module's node id (default 1).
     pub battery: NodeId,
-    /// Operating mode: decides the reaction to the module's EMCYs.
+    /// Operating mode (Delta-Q section 3.1): how the charge is controlled
+    /// ([`ChargeControl`](crate::deltaq::charge::ChargeControl)) and the
+    /// reaction to the module's EMCYs.
     pub mode: OperatingMode,
+    /// The charge control's algorithms, limits and timers.
+    pub charge: ChargeConfig,
     /// Read the module's PDO COB-IDs and pair the charger's PDOs with them.
     pub configure_cob_ids: bool,
     /// Enter operational after boot without waiting for an NMT start.
@@ -49,6 +54,7 @@ impl ChargerConfig {
             node,
             battery,
             mode: OperatingMode::Local,
+            charge: ChargeConfig::example(),
             configure_cob_ids: true,
             self_start: false,
             heartbeat: Duration::from_millis(timeouts::HEARTBEAT_PRODUCER_MS),
@@ -106,6 +112,7 @@ pub struct ChargerPowerOn {
     pub(super) node: NodeId,
     pub(super) battery: NodeId,
     pub(super) mode: OperatingMode,
+    pub(super) charge: ChargeConfig,
     pub(super) configure_cob_ids: bool,
     pub(super) self_start: bool,
     pub(super) heartbeat_ms: u16,
@@ -133,6 +140,7 @@ impl From<ChargerConfig> for ChargerPowerOn {
             node: c.node,
             battery: c.battery,
             mode: c.mode,
+            charge: c.charge,
             configure_cob_ids: c.configure_cob_ids,
             self_start: c.self_start,
             heartbeat_ms: ms16(c.heartbeat),
@@ -154,6 +162,7 @@ impl ChargerPowerOn {
             node: self.node,
             battery: self.battery,
             mode: self.mode,
+            charge: self.charge,
             configure_cob_ids: self.configure_cob_ids,
             self_start: self.self_start,
             heartbeat: ms(self.heartbeat_ms),

@@ -81,8 +81,11 @@ use crate::pdo::{PdoCobId, PdoDirection, PdoSlot, RpdoError};
 use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent, EVENTS_PER_CALL};
 
 mod config;
+mod control;
+use super::charge::{ChargeControl, ChargeEvent, PowerStage, SetPoints};
 use config::default_pdos;
 pub use config::{ChargerConfig, ChargerPowerOn};
+use control::ControlLink;
 
 /// What the charger reports.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -118,13 +121,17 @@ pub enum ChargerEvent {
         /// The module's 1000h.
         device_type: u32,
     },
-    /// The module sent an EMCY; `reaction` is the policy's answer.
+    /// The module sent an EMCY; `reaction` is the policy's answer (the
+    /// charge control acts on it).
     BatteryEmcy {
         /// The emergency.
         emcy: Emergency,
-        /// What the charger should do.
+        /// What the charger does.
         reaction: Reaction,
     },
+    /// The charge control changed phase or raised or cleared an alarm
+    /// (each alarm also goes out as a Delta-Q EMCY).
+    Charge(ChargeEvent),
 }
 
 impl From<DeviceEvent> for ChargerEvent {
@@ -212,6 +219,8 @@ pub struct ChargerProfile {
     link: Link,
     /// The value of the upload in progress (1000h or a COB-ID: 4 bytes).
     upload_value: [u8; 4],
+    /// The charge control and what it was last given.
+    charge: ControlLink,
 }
 
 impl DeviceSpec for ChargerProfile {
@@ -285,6 +294,38 @@ impl<const Q: usize> Charger<Q> {
     pub const fn is_configured(&self) -> bool {
         matches!(self.profile().link, Link::Ready)
     }
+
+    /// The charge control: its phase, status, set points and alarms
+    /// ([`crate::deltaq::charge`]).
+    #[must_use]
+    pub const fn charge_control(&self) -> &ChargeControl {
+        &self.profile().charge.control
+    }
+
+    /// The power stage's orders: what the application sets its output to.
+    #[must_use]
+    pub const fn set_points(&self) -> SetPoints {
+        self.profile().charge.control.set_points()
+    }
+
+    /// The power stage measured `stage` (AC, output voltage and current,
+    /// temperature): the charge control runs on it, and 2002h, 2100h and
+    /// 2101h report it. Call it at the application's measuring rate (the
+    /// Ah returned integrate the current between calls).
+    pub fn handle_power_stage(&mut self, now: Timestamp, stage: PowerStage) {
+        let (device, profile) = self.parts_mut();
+        profile.charge.control.handle_power_stage(now, stage);
+        let linked = profile.linked();
+        profile.charge.publish(device, now, linked);
+    }
+
+    /// The CAN controller reports a bus error (error passive or bus off:
+    /// `true`) or is back to error active (`false`): Delta-Q E-0-2-9.
+    pub fn set_bus_error(&mut self, now: Timestamp, error: bool) {
+        let (device, profile) = self.parts_mut();
+        profile.charge.bus_error = error;
+        profile.sync_charge(device, now, false);
+    }
 }
 
 impl ChargerProfile {
@@ -297,7 +338,26 @@ impl ChargerProfile {
             client: Self::client(&config),
             link: Link::Absent,
             upload_value: [0; 4],
+            charge: ControlLink::new(config.mode, config.charge),
         }
+    }
+
+    /// No heartbeat or configuration error of the charger's own is
+    /// pending (the error reset may go out when the charge alarms clear).
+    fn linked(&self) -> bool {
+        matches!(self.link, Link::Ready)
+    }
+
+    /// The charge control follows the objects and the supervision.
+    fn sync_charge<const Q: usize>(
+        &mut self,
+        device: &mut ChargerDevice<Q>,
+        now: Timestamp,
+        algorithm_written: bool,
+    ) {
+        let linked = self.linked();
+        self.charge
+            .sync(device, now, self.battery, algorithm_written, linked);
     }
 
     fn client(config: &ChargerConfig) -> Client<&'static [u8], EVENTS_PER_CALL> {
@@ -417,7 +477,9 @@ impl ChargerProfile {
         };
         let (tpdos, rpdos) = (mask(config.tpdos()), mask(config.rpdos()));
         device.push_event(ChargerEvent::Configured { tpdos, rpdos });
-        device.clear_error(ErrorRegister::GENERIC);
+        if self.charge.control.alarms().is_empty() {
+            device.clear_error(ErrorRegister::GENERIC);
+        }
         device.set_tpdos_enabled(now, true);
     }
 
@@ -496,6 +558,9 @@ impl<const Q: usize> Profile<ChargerProfile, Q, 4, 3> for ChargerProfile {
     /// operational with `self_start`).
     fn boot(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
         self.restart(device, now);
+        // The voltage requests start at the charger's maximum, and reset
+        // node restores them there.
+        self.charge.power_on_objects(device.objects_mut());
         device.boot(now, self);
         if self.self_start {
             device.set_nmt_state(now, NmtState::Operational, self);
@@ -513,6 +578,83 @@ impl<const Q: usize> Profile<ChargerProfile, Q, 4, 3> for ChargerProfile {
     }
 
     fn on_event(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp, event: &DeviceEvent) {
+        self.on_core_event(device, now, event);
+        let written = matches!(
+            event,
+            DeviceEvent::ObjectWritten {
+                index: super::index::ALGORITHM_REQUEST,
+                ..
+            }
+        );
+        self.sync_charge(device, now, written);
+    }
+
+    fn on_frame(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp, frame: &CanFrame) {
+        let battery = self.battery;
+        // A data frame on the module's EMCY identifier: one compare (a
+        // remote frame there carries no EMCY either).
+        if frame.identity() == u32::from(EMCY_BASE + u16::from(battery.raw())) {
+            if let Ok(emcy) = Emergency::decode(frame.data()) {
+                let reaction = emergency_reaction(self.mode, &emcy);
+                device.push_event(ChargerEvent::BatteryEmcy { emcy, reaction });
+                let linked = self.linked();
+                self.charge.battery_emcy(device, now, &emcy, linked);
+            }
+            return;
+        }
+        // The first heartbeat starts monitoring without an event.
+        if matches!(self.link, Link::Absent) {
+            let consumer = device.heartbeat_consumer();
+            if let Some(state) = consumer.state(battery) {
+                if consumer.is_alive(battery) {
+                    self.battery_found(device, now, state);
+                    self.sync_charge(device, now, false);
+                }
+            }
+        }
+        if sdo_allowed(device) {
+            self.client.handle_frame(now, frame);
+            self.drain_client(device, now);
+        }
+    }
+
+    fn on_timeout(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
+        self.client.handle_timeout(now);
+        self.drain_client(device, now);
+        self.charge.control.handle_timeout(now);
+        self.sync_charge(device, now, false);
+    }
+
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        self.client.poll_transmit()
+    }
+
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        let client = self.client.poll_timeout();
+        match (client, self.charge.control.poll_timeout()) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
+    /// Delta-Q's E-0-4-6 "invalid PDO length" with EEC 8210h (Delta-Q IC
+    /// Series CANopen interface specification rev 2.0, section 4.4.1) for a
+    /// short RPDO.
+    fn rpdo_emergency(&self, register: ErrorRegister, error: &RpdoError) -> Option<Emergency> {
+        let code = error.emcy_code()?;
+        let register = register | ErrorRegister::GENERIC | ErrorRegister::COMMUNICATION;
+        Some(DeltaQCode::INVALID_PDO_LENGTH.to_emergency(code, register))
+    }
+}
+
+impl ChargerProfile {
+    /// The core's events, for the pairing and the supervision.
+    fn on_core_event<const Q: usize>(
+        &mut self,
+        device: &mut ChargerDevice<Q>,
+        now: Timestamp,
+        event: &DeviceEvent,
+    ) {
         let battery = self.battery;
         match *event {
             DeviceEvent::Reset { .. } => {
@@ -562,54 +704,6 @@ impl<const Q: usize> Profile<ChargerProfile, Q, 4, 3> for ChargerProfile {
             }
             _ => {}
         }
-    }
-
-    fn on_frame(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp, frame: &CanFrame) {
-        let battery = self.battery;
-        // A data frame on the module's EMCY identifier: one compare (a
-        // remote frame there carries no EMCY either).
-        if frame.identity() == u32::from(EMCY_BASE + u16::from(battery.raw())) {
-            if let Ok(emcy) = Emergency::decode(frame.data()) {
-                let reaction = emergency_reaction(self.mode, &emcy);
-                device.push_event(ChargerEvent::BatteryEmcy { emcy, reaction });
-            }
-            return;
-        }
-        // The first heartbeat starts monitoring without an event.
-        if matches!(self.link, Link::Absent) {
-            let consumer = device.heartbeat_consumer();
-            if let Some(state) = consumer.state(battery) {
-                if consumer.is_alive(battery) {
-                    self.battery_found(device, now, state);
-                }
-            }
-        }
-        if sdo_allowed(device) {
-            self.client.handle_frame(now, frame);
-            self.drain_client(device, now);
-        }
-    }
-
-    fn on_timeout(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
-        self.client.handle_timeout(now);
-        self.drain_client(device, now);
-    }
-
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.client.poll_transmit()
-    }
-
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        self.client.poll_timeout()
-    }
-
-    /// Delta-Q's E-0-4-6 "invalid PDO length" with EEC 8210h (Delta-Q IC
-    /// Series CANopen interface specification rev 2.0, section 4.4.1) for a
-    /// short RPDO.
-    fn rpdo_emergency(&self, register: ErrorRegister, error: &RpdoError) -> Option<Emergency> {
-        let code = error.emcy_code()?;
-        let register = register | ErrorRegister::GENERIC | ErrorRegister::COMMUNICATION;
-        Some(DeltaQCode::INVALID_PDO_LENGTH.to_emergency(code, register))
     }
 }
 

@@ -1,0 +1,175 @@
+//! The charger's charge control on its device core: the objects the bus
+//! writes (6000h, 6070h, 2241h, 2271h / 2276h, 4201h, 2250h) and the
+//! module's supervision go into [`ChargeControl`]; its status goes back
+//! into the objects the TPDOs and the SDO server publish (2006h, 6001h bit
+//! 0, 2008h, 6052h, 6080h, 2251h), the power stage's measurements into
+//! 2002h, 2100h and 2101h, and its alarms onto the bus as Delta-Q EMCYs.
+//! The rules are [`crate::deltaq::charge`]'s.
+
+use super::{Alarm, ChargerDevice, ChargerEvent, ChargerProfile};
+use crate::clock::Timestamp;
+use crate::cob_id::NodeId;
+use crate::deltaq::charge::{BusInputs, ChargeAlarms, ChargeConfig, ChargeControl, ChargeEvent};
+use crate::deltaq::{
+    AlgorithmRequest, ChargerObjects, DeltaQCode, ExternalOverride, OperatingMode, VoltageRequest,
+    VoltageRequest16,
+};
+use crate::emcy::{Emergency, ErrorRegister};
+
+/// What the charger keeps to feed its [`ChargeControl`].
+#[derive(Debug, Clone)]
+pub(super) struct ControlLink {
+    pub(super) control: ChargeControl,
+    /// 2241h, 2271h and 2276h as last seen: what changed was written.
+    algorithm: u32,
+    request_q10: u32,
+    request_q8: u16,
+    /// The voltage request of the one written last, mV.
+    request_mv: u32,
+    pub(super) bus_error: bool,
+}
+
+/// The alarm's Delta-Q code with the EEC of its table row, looked up when
+/// the crate compiles.
+fn alarm(a: ChargeAlarms) -> Alarm {
+    const HIGH_VOLTAGE: Alarm = Alarm::of(DeltaQCode::Alarm(1));
+    const NOT_SET: Alarm = Alarm::of(DeltaQCode::Alarm(20));
+    const INCOMPATIBLE: Alarm = Alarm::of(DeltaQCode::Alarm(28));
+    const BUS_ERROR: Alarm = Alarm::of(DeltaQCode::CAN_BUS_COMMUNICATION);
+    const DISCONNECTED: Alarm = Alarm::of(DeltaQCode::BATTERY_DISCONNECTED);
+    if a == ChargeAlarms::HIGH_VOLTAGE {
+        HIGH_VOLTAGE
+    } else if a == ChargeAlarms::ALGORITHM_NOT_SET {
+        NOT_SET
+    } else if a == ChargeAlarms::INCOMPATIBLE_ALGORITHM {
+        INCOMPATIBLE
+    } else if a == ChargeAlarms::BUS_ERROR {
+        BUS_ERROR
+    } else {
+        DISCONNECTED
+    }
+}
+
+/// `milli` thousandths in `q` fractional bits, rounded, at most FFFEh
+/// (FFFFh is "no value").
+fn q16(milli: u32, q: u32) -> u16 {
+    let v = (u64::from(milli) << q).saturating_add(500) / 1000;
+    v.min(0xFFFE) as u16
+}
+
+impl ControlLink {
+    pub(super) const fn new(mode: OperatingMode, config: ChargeConfig) -> Self {
+        ControlLink {
+            control: ChargeControl::new(mode, config),
+            algorithm: AlgorithmRequest::NO_VALUE,
+            request_q10: u32::MAX,
+            request_q8: u16::MAX,
+            request_mv: config.max_voltage_mv,
+            bus_error: false,
+        }
+    }
+
+    /// At power-on the voltage requests hold the charger's maximum (the
+    /// issue's reading of Delta-Q's 2271h: the BMS lowers it).
+    pub(super) fn power_on_objects(&mut self, o: &mut ChargerObjects) {
+        let max = self.control.config().max_voltage_mv;
+        o.voltage_request = VoltageRequest::encode_raw(VoltageRequest::from_millivolts(max));
+        o.voltage_request_q8 = VoltageRequest16::encode_raw(VoltageRequest16::from_millivolts(max));
+        self.request_q10 = o.voltage_request;
+        self.request_q8 = o.voltage_request_q8;
+        self.request_mv = max;
+    }
+
+    /// Gives the control what the objects and the supervision say now;
+    /// `algorithm_written`: an SDO download to 2241h completed (a write of
+    /// the same value restarts the cycle too).
+    pub(super) fn sync<const Q: usize>(
+        &mut self,
+        device: &mut ChargerDevice<Q>,
+        now: Timestamp,
+        battery: NodeId,
+        algorithm_written: bool,
+        linked: bool,
+    ) {
+        let present = device.heartbeat_consumer().is_alive(battery);
+        let o: &ChargerObjects = device.objects();
+        let max = self.control.config().max_voltage_mv;
+        if o.voltage_request != self.request_q10 {
+            self.request_q10 = o.voltage_request;
+            self.request_mv =
+                VoltageRequest::from_raw(o.voltage_request).map_or(max, |v| v.millivolts());
+        }
+        if o.voltage_request_q8 != self.request_q8 {
+            self.request_q8 = o.voltage_request_q8;
+            self.request_mv =
+                VoltageRequest16::from_raw(o.voltage_request_q8).map_or(max, |v| v.millivolts());
+        }
+        let bus = BusInputs {
+            battery_present: present,
+            battery_status: o.battery_status,
+            current_request: o.current_requested,
+            voltage_request_mv: self.request_mv,
+            external_override: ExternalOverride::from_bits_retain(o.external_override),
+            ah_target: o.ah_target,
+            battery_soc: o.battery_soc,
+            bus_error: self.bus_error,
+        };
+        let algorithm = o.algorithm_request;
+        if bus != *self.control.bus() {
+            self.control.handle_bus(now, bus);
+        }
+        if algorithm_written || algorithm != self.algorithm {
+            self.algorithm = algorithm;
+            self.control
+                .request_algorithm(now, AlgorithmRequest::from_u32(algorithm));
+        }
+        self.publish(device, now, linked);
+    }
+
+    /// The module's EMCY.
+    pub(super) fn battery_emcy<const Q: usize>(
+        &mut self,
+        device: &mut ChargerDevice<Q>,
+        now: Timestamp,
+        emcy: &Emergency,
+        linked: bool,
+    ) {
+        self.control.handle_battery_emcy(now, emcy);
+        self.publish(device, now, linked);
+    }
+
+    /// Writes the status into the objects and sends the alarms; the error
+    /// reset EMCY goes out when the last alarm clears and the module is
+    /// `linked` (no heartbeat or configuration error of the charger's is
+    /// left).
+    pub(super) fn publish<const Q: usize>(
+        &mut self,
+        device: &mut ChargerDevice<Q>,
+        now: Timestamp,
+        linked: bool,
+    ) {
+        let status = self.control.status();
+        let stage = *self.control.power_stage();
+        device.update(now, |o| {
+            o.extended_status = status.extended.to_u16();
+            o.charger_status = o.charger_status & !1 | status.charger_status;
+            o.derate_reasons = status.derate.bits();
+            o.ah_returned = status.ah_returned;
+            o.charger_soc = status.charger_soc;
+            o.elapsed_s = u32::try_from(status.elapsed.as_secs()).unwrap_or(u32::MAX);
+            o.charging_current = q16(stage.current_ma, 8);
+            o.battery_voltage_q8 = q16(stage.voltage_mv, 8);
+            o.battery_voltage_q10 = q16(stage.voltage_mv, 10);
+        });
+        while let Some(e) = self.control.poll_event() {
+            if let ChargeEvent::Alarm { alarm: a, active } = e {
+                if active {
+                    ChargerProfile::raise(device, alarm(a));
+                } else if linked && self.control.alarms().is_empty() {
+                    device.clear_error(ErrorRegister::GENERIC);
+                }
+            }
+            device.push_event(ChargerEvent::Charge(e));
+        }
+    }
+}
