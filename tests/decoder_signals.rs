@@ -126,7 +126,7 @@ fn check(args: &[&str], name: &str) -> (Vec<String>, usize) {
 #[test]
 fn bundled_session_signals_equal_the_json_values() {
     let (header, rows) = check(&["--bundled", "session"], "session.csv");
-    assert_eq!(rows, 90);
+    assert_eq!(rows, 91);
     assert_eq!(
         header[2..],
         ["charger status", "temperature [degC]", "battery status"].map(String::from)

@@ -12,6 +12,7 @@ mod common;
 use canopen_codec::cia418::{
     BatteryModule, BatteryModuleConfig, BatteryStatus, BatteryVoltage, StateOfCharge, Temperature,
 };
+use canopen_codec::deltaq::charge::PowerStage;
 use canopen_codec::deltaq::{Charger, ChargerConfig};
 use canopen_codec::trace::candump::LogLineDisplay;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
@@ -40,14 +41,17 @@ fn session() -> String {
         NodeId::new(10).unwrap(),
         NodeId::new(1).unwrap(),
     ));
-    charger.update(ms(0), |o| {
-        o.charging_current = 19 * 256 + 128; // 19.5 A
-        o.battery_voltage_q10 = 49_152; // 48 V
-        o.extended_status = 0x1130; // normal charge, <80 %, charger enabled, AC present
-        o.charger_status = 0x01;
-    });
     let (mut bus, c, b) = charger_bus(charger, Some(battery(ms(0))));
     boot_all(&mut bus, c, b);
+    // The power stage: AC on, 19.5 A into a 48 V pack (local mode: the
+    // charge control starts bulk once the module says ready).
+    let stage = PowerStage {
+        ac_present: true,
+        voltage_mv: 48_000,
+        current_ma: 19_500,
+        temperature_c: 25,
+    };
+    bus.with(c, |m, now| m.handle_power_stage(now, stage));
     bus.run_until(ms(20));
     // The BMS starts every node.
     bus.inject(CanFrame::standard(0x000, &[0x01, 0x00]).unwrap());
