@@ -44,6 +44,8 @@
 //! | the CiA 418 battery module | [`cia418`] |
 //! | CiA 419 charger objects | [`cia419`] |
 //! | the Delta-Q IC Series charger and its error codes | [`deltaq`] |
+//! | the charger's own charge logic (modes, algorithms, set points, status) | [`deltaq::charge`] |
+//! | a battery pack, a power stage and whole charge sessions in simulated time | `sim` (feature `sim`) |
 //! | the common imports in one line | [`prelude`] |
 //!
 //! The CiA 301 modules never import the profiles (`cia418`, `cia419`,
@@ -65,6 +67,8 @@
 //!   client), `heartbeat-consumer` (1016h in the device core and the
 //!   Delta-Q charger). Their firmware cost is in `Cargo.toml` and
 //!   `docs/FIRMWARE.md`.
+//! - `sim` (default): models for simulation and whole charge sessions
+//!   (`sim`).
 //! - `cli`: the `canopen-decode` program (its dependencies never reach the
 //!   library).
 //!
@@ -106,6 +110,8 @@ pub mod pdo;
 pub mod prelude;
 mod queue;
 pub mod sdo;
+#[cfg(feature = "sim")]
+pub mod sim;
 pub mod sync;
 pub mod time;
 pub mod trace;

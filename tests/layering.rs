@@ -19,8 +19,9 @@ const PROFILES: [&str; 3] = ["cia418", "cia419", "deltaq"];
 
 /// Directories under `src/` that are profiles (allowed to name each other
 /// and everything below them).
-// `bin` holds the programs, which sit on top of every layer.
-const PROFILE_DIRS: [&str; 4] = ["cia418", "cia419", "deltaq", "bin"];
+// `bin` holds the programs and `sim` the simulation models and sessions,
+// which sit on top of every layer.
+const PROFILE_DIRS: [&str; 5] = ["cia418", "cia419", "deltaq", "sim", "bin"];
 
 /// Files under `src/` that are not a layer: the crate root declares every
 /// module, profiles included.
@@ -171,6 +172,7 @@ fn which_files_are_layers() {
         "cia418/pdo.rs",
         "cia419/charger.rs",
         "deltaq/catalogue.rs",
+        "sim/session.rs",
         "bin/canopen-decode/main.rs",
     ] {
         assert!(!is_cia301_layer(Path::new(not)), "{not}");

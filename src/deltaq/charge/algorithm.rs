@@ -145,11 +145,12 @@ impl ChargeAlgorithm {
 }
 
 /// Our example table for a 48 V system (the ICL1500's class: 1.5 kW, up to
-/// 25 A at 48 V): ids 1-2 lead acid (24 cells), 11 lithium ion (13 cells,
-/// the capture's 2241h example value 0x8000000B selects algorithm 11), 3
-/// and 12 the float algorithms of 1 and 11. Applications bring their own
+/// 25 A at 48 V): ids 1-2 lead acid (24 cells, 25 A and 12 A), 11 and 13
+/// lithium ion (13 cells, 25 A and 12 A; the document's 2241h example value
+/// 0x8000000B selects algorithm 11), 3 and 12 the float algorithms of 1
+/// and 11. Applications bring their own
 /// table ([`ChargeConfig::algorithms`](super::ChargeConfig::algorithms)).
-pub const EXAMPLE_ALGORITHMS: [ChargeAlgorithm; 5] = [
+pub const EXAMPLE_ALGORITHMS: [ChargeAlgorithm; 6] = [
     ChargeAlgorithm::lead_acid(1, "flooded lead acid 48 V, 25 A", 24, 25_000),
     ChargeAlgorithm::lead_acid(2, "flooded lead acid 48 V, 12 A", 24, 12_000),
     ChargeAlgorithm::float_of(
@@ -158,6 +159,7 @@ pub const EXAMPLE_ALGORITHMS: [ChargeAlgorithm; 5] = [
         &ChargeAlgorithm::lead_acid(1, "", 24, 25_000),
     ),
     ChargeAlgorithm::lithium_ion(11, "lithium ion 13s (48 V), 25 A", 13, 25_000),
+    ChargeAlgorithm::lithium_ion(13, "lithium ion 13s (48 V), 12 A", 13, 12_000),
     ChargeAlgorithm::float_of(
         12,
         "float, lithium ion 13s",

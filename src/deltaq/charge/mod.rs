@@ -782,13 +782,17 @@ impl ChargeControl {
             return;
         };
         self.active = Some(a.id);
-        self.delivered = 0;
-        self.cycle_start = Some(now);
         self.hold_off_until = None;
         let to = match a.kind {
             AlgorithmKind::Cycle => ChargePhase::Bulk,
             AlgorithmKind::Float => ChargePhase::Float,
         };
+        // A float algorithm completes the charge that ran: its Ah and
+        // time go on; a cycle (or a float from nothing) starts afresh.
+        if to == ChargePhase::Bulk || self.cycle_start.is_none() {
+            self.delivered = 0;
+            self.cycle_start = Some(now);
+        }
         self.enter(now, to);
     }
 

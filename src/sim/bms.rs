@@ -1,0 +1,157 @@
+//! A simple BMS policy for the simulated battery module: it asks for
+//! constant current, then for the current that holds the pack at its
+//! constant-voltage limit, and says "not ready" (6000h bit 0 clear) once
+//! that current has fallen to its end current. So the CV taper and the
+//! end of charge emerge from the loop of module, charger and pack.
+//!
+//! Ours (CiA 418 leaves the BMS's policy to the application): the CV limit
+//! per cell is 2.45 V for lead acid, 1.45 V for nickel chemistries and
+//! 4.15 V for lithium ion; the end current is a twentieth of the maximum;
+//! above 50 degC the module is not ready; after the end it asks again once
+//! the state of charge falls below 95 %.
+
+use super::{Pack, PackSpec};
+use crate::cia418::Chemistry;
+
+/// What the module asks of the charger.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BmsRequest {
+    /// 6000h bit 0: ready to be charged.
+    pub ready: bool,
+    /// 6070h: the current to charge with, A.
+    pub current_a: f64,
+}
+
+/// The BMS's settings and its one bit of state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BmsPolicy {
+    /// The most it asks for (6020h sub 3), A.
+    pub max_current_a: f64,
+    /// Its constant-voltage limit for the pack, V.
+    pub cv_volts: f64,
+    /// Below this the charge is over, A.
+    pub end_current_a: f64,
+    /// Above this the battery is not ready, degC.
+    pub max_temperature_c: f64,
+    /// After the end, it asks again below this state of charge.
+    pub resume_soc: f64,
+    /// An extra limit the application sets (a BMS reducing the current), A.
+    pub current_limit_a: Option<f64>,
+    /// The application holds the battery not ready (a BMS ending the charge).
+    pub hold: bool,
+    /// It ends the charge itself at the end current (remote mode); a BMS
+    /// that only monitors a local-mode charger (`false`) stays ready.
+    pub ends_charge: bool,
+    done: bool,
+}
+
+impl BmsPolicy {
+    /// The policy for `spec` asking at most `max_current_a`.
+    #[must_use]
+    pub fn for_pack(spec: &PackSpec, max_current_a: f64) -> Self {
+        let cell = match spec.chemistry {
+            Chemistry::LeadAcid => 2.45,
+            Chemistry::LithiumIon => 4.15,
+            _ => 1.45,
+        };
+        BmsPolicy {
+            max_current_a,
+            cv_volts: cell * f64::from(spec.cells),
+            end_current_a: max_current_a / 20.0,
+            max_temperature_c: 50.0,
+            resume_soc: 0.95,
+            current_limit_a: None,
+            hold: false,
+            ends_charge: true,
+            done: false,
+        }
+    }
+
+    /// True once the charge ended by the end current.
+    #[must_use]
+    pub const fn is_done(&self) -> bool {
+        self.done
+    }
+
+    /// What to ask for, given the pack now.
+    pub fn request(&mut self, pack: &Pack) -> BmsRequest {
+        if self.done && pack.soc() < self.resume_soc {
+            self.done = false;
+        }
+        let wanted = pack
+            .current_at(self.cv_volts)
+            .min(self.max_current_a)
+            .min(self.current_limit_a.unwrap_or(f64::MAX));
+        if !self.done && pack.current_at(self.cv_volts) < self.end_current_a {
+            self.done = true;
+        }
+        let over = self.done && self.ends_charge;
+        let ready = !over && !self.hold && pack.temperature_c() <= self.max_temperature_c;
+        BmsRequest {
+            ready,
+            current_a: if ready { wanted } else { 0.0 },
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn constant_current_then_the_holding_current_then_done() {
+        let spec = PackSpec::new(Chemistry::LeadAcid, 24, 100.0).unwrap();
+        let mut bms = BmsPolicy::for_pack(&spec, 25.0);
+        let mut pack = Pack::new(spec, 0.2);
+        let r = bms.request(&pack);
+        assert_eq!(
+            r,
+            BmsRequest {
+                ready: true,
+                current_a: 25.0
+            }
+        );
+        let mut tapered = false;
+        for _ in 0..20 * 3600 {
+            let r = bms.request(&pack);
+            if !r.ready {
+                break;
+            }
+            tapered |= r.current_a < 24.0;
+            pack.step(1.0, r.current_a);
+        }
+        assert!(tapered && bms.is_done());
+        assert!(pack.soc() > 0.97, "{}", pack.soc());
+        assert!(!bms.request(&pack).ready);
+        // Discharged below the resume level: ready again.
+        pack.step(3600.0, -10.0);
+        assert!(bms.request(&pack).ready);
+    }
+
+    #[test]
+    fn hold_limit_and_temperature() {
+        let spec = PackSpec::new(Chemistry::LithiumIon, 13, 50.0).unwrap();
+        let mut bms = BmsPolicy::for_pack(&spec, 25.0);
+        let pack = Pack::new(spec, 0.3);
+        bms.current_limit_a = Some(10.0);
+        assert_eq!(bms.request(&pack).current_a, 10.0);
+        bms.hold = true;
+        assert_eq!(
+            bms.request(&pack),
+            BmsRequest {
+                ready: false,
+                current_a: 0.0
+            }
+        );
+        bms.hold = false;
+        bms.max_temperature_c = 10.0;
+        assert!(!bms.request(&pack).ready);
+        // A monitoring BMS stays ready after the end current.
+        let mut full = Pack::new(spec, 1.0);
+        let mut monitor = BmsPolicy::for_pack(&spec, 25.0);
+        monitor.ends_charge = false;
+        assert!(monitor.request(&full).ready && monitor.is_done());
+        full.step(1.0, 0.0);
+        assert!(!BmsPolicy::for_pack(&spec, 25.0).request(&full).ready);
+    }
+}

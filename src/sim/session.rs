@@ -1,0 +1,484 @@
+//! A whole charge session in simulated time: the Delta-Q charger
+//! ([`Charger`], with its [`ChargeControl`](crate::deltaq::charge::ChargeControl))
+//! and the CiA 418 battery module ([`BatteryModule`]) on one simulated
+//! bus of the caller's clock, the pack and the power stage between them,
+//! and the BMS's SDO client for the writes a BMS makes (2241h, 2250h,
+//! 2271h, the charger's TPDO 3). Hours of charge run in milliseconds;
+//! the same inputs give the same log.
+//!
+//! Every frame on the bus is delivered to the other nodes at the time it
+//! is sent and kept in [`Session::log`]. The physics runs every
+//! [`SessionConfig::tick`]: the power stage follows the charger's set
+//! points, the pack takes its current, the charger gets the measurements
+//! and the module's objects (6000h, 6010h, 6060h, 6070h, 6081h) come from
+//! the pack and the [`BmsPolicy`].
+
+use alloc::vec::Vec;
+use core::time::Duration;
+
+use super::{BmsPolicy, Pack, PackSpec, PowerStageModel};
+use crate::cia418::{
+    BatteryModule, BatteryModuleConfig, BatteryStatus, BatteryVoltage, ChargeCurrentRequested,
+    Chemistry, DeviceType, StateOfCharge, Temperature,
+};
+use crate::clock::Timestamp;
+use crate::cob_id::NodeId;
+use crate::deltaq::charge::{ChargeEvent, ChargePhase};
+use crate::deltaq::{Charger, ChargerConfig, ChargerEvent, DeltaQCode, OperatingMode};
+use crate::emcy::{Emergency, ErrorCode};
+use crate::frame::CanFrame;
+use crate::machine::Machine;
+use crate::sdo::{Client, ClientConfig};
+
+/// The charger's node id (Delta-Q default).
+pub const CHARGER_NODE: NodeId = match NodeId::new(10) {
+    Some(n) => n,
+    None => NodeId::MIN,
+};
+
+/// The battery module's node id (CiA 418 default).
+pub const MODULE_NODE: NodeId = NodeId::MIN;
+
+/// How a session is set up.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SessionConfig {
+    /// The charger's configuration (node 10, battery node 1, its mode and
+    /// its charge control's algorithms).
+    pub charger: ChargerConfig,
+    /// The module's configuration (node 1, every optional PDO).
+    pub module: BatteryModuleConfig,
+    /// The pack.
+    pub pack: PackSpec,
+    /// State of charge at the start, 0..=1.
+    pub start_soc: f64,
+    /// The most the module asks for (6020h sub 3), A.
+    pub max_current_a: f64,
+    /// The physics step.
+    pub tick: Duration,
+    /// The module is on the CAN bus from the start.
+    pub module_on_can: bool,
+}
+
+impl SessionConfig {
+    /// A 48 V session in `mode`: 24 lead-acid cells (or 13 lithium-ion
+    /// ones) of `capacity_ah`, at `start_soc`, the module asking up to
+    /// 25 A, a 250 ms physics step. The charger's permanent and no-CAN
+    /// algorithm is the example table's for the chemistry (1 for lead
+    /// acid, 11 for lithium ion).
+    pub fn new(
+        mode: OperatingMode,
+        chemistry: Chemistry,
+        capacity_ah: f64,
+        start_soc: f64,
+    ) -> Result<Self, super::PackError> {
+        let (cells, algorithm) = match chemistry {
+            Chemistry::LithiumIon => (13, 11),
+            _ => (24, 1),
+        };
+        let pack = PackSpec::new(chemistry, cells, capacity_ah)?;
+        let mut charger = ChargerConfig::new(CHARGER_NODE, MODULE_NODE);
+        charger.mode = mode;
+        charger.charge.permanent_algorithm = Some(algorithm);
+        charger.charge.no_can_algorithm = Some(algorithm);
+        let mut module = BatteryModuleConfig::new(MODULE_NODE);
+        module.device_type = DeviceType::cia418(
+            DeviceType::RPDO_2ND
+                | DeviceType::RPDO_3RD
+                | DeviceType::TPDO_2ND
+                | DeviceType::TPDO_3RD,
+        );
+        module.device_name = "canopen-codec battery module";
+        Ok(SessionConfig {
+            charger,
+            module,
+            pack,
+            start_soc,
+            max_current_a: 25.0,
+            tick: Duration::from_millis(250),
+            module_on_can: true,
+        })
+    }
+}
+
+/// One frame on the bus.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Logged {
+    /// When it was sent.
+    pub at: Timestamp,
+    /// The frame.
+    pub frame: CanFrame,
+}
+
+/// Who sent a frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Node {
+    Charger,
+    Module,
+    Tool,
+    Outside,
+}
+
+/// The figures of a session.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SessionResult {
+    /// State of charge at the start and now, 0..=1.
+    pub start_soc: f64,
+    /// State of charge now.
+    pub end_soc: f64,
+    /// How long the session ran.
+    pub duration: Duration,
+    /// Every phase the charge control entered, with its time.
+    pub phases: Vec<(Timestamp, ChargePhase)>,
+    /// Charge and energy into the pack.
+    pub ah: f64,
+    /// Energy into the pack, Wh.
+    pub wh: f64,
+    /// The charger's Delta-Q alarms and faults, as its EMCYs sent them.
+    pub errors: Vec<(Timestamp, DeltaQCode)>,
+    /// The pack's highest temperature, degC.
+    pub max_pack_temperature_c: f64,
+}
+
+/// A charger and a battery module on a simulated bus (see the module docs).
+#[derive(Debug)]
+pub struct Session {
+    now: Timestamp,
+    next_tick: Timestamp,
+    tick: Duration,
+    charger: Charger,
+    module: BatteryModule,
+    tool: Client<Vec<u8>>,
+    /// The pack.
+    pub pack: Pack,
+    /// The power stage.
+    pub stage: PowerStageModel,
+    /// The module's charge policy.
+    pub bms: BmsPolicy,
+    module_on_can: bool,
+    /// Enable the charger's TPDO 3 (0x48A: 2002h, 2100h, 2006h) by SDO
+    /// once the charger is configured, as a monitoring BMS does.
+    pub enable_charger_tpdo3: bool,
+    pending_writes: Vec<(u16, u8, Vec<u8>)>,
+    log: Vec<Logged>,
+    phases: Vec<(Timestamp, ChargePhase)>,
+    start_soc: f64,
+    ah: f64,
+    wh: f64,
+    max_temperature: f64,
+}
+
+impl Session {
+    /// The two nodes of `config`, not yet booted: set the pack, the stage
+    /// and the BMS as the session begins, then [`start`](Self::start) it.
+    #[must_use]
+    pub fn new(config: &SessionConfig) -> Self {
+        let pack = Pack::new(config.pack, config.start_soc);
+        let mut bms = BmsPolicy::for_pack(&config.pack, config.max_current_a);
+        bms.ends_charge = matches!(config.charger.mode, OperatingMode::Remote);
+        let mut s = Session {
+            now: Timestamp::ZERO,
+            next_tick: Timestamp::ZERO,
+            tick: config.tick.max(Duration::from_millis(1)),
+            charger: Charger::new(config.charger),
+            module: BatteryModule::new(config.module),
+            tool: Client::new(ClientConfig::for_server(CHARGER_NODE)),
+            pack,
+            stage: PowerStageModel::new(f64::from(config.charger.charge.max_power_w)),
+            bms,
+            module_on_can: config.module_on_can,
+            enable_charger_tpdo3: true,
+            pending_writes: Vec::new(),
+            log: Vec::new(),
+            phases: Vec::from([(Timestamp::ZERO, ChargePhase::Idle)]),
+            start_soc: pack.soc(),
+            ah: 0.0,
+            wh: 0.0,
+            max_temperature: pack.temperature_c(),
+        };
+        let spec = config.pack;
+        let max_current = config.max_current_a;
+        s.module.update(Timestamp::ZERO, |o| {
+            o.battery_parameters.battery_type =
+                crate::cia418::BatteryType::from_u8(spec.chemistry.code() << 4);
+            o.battery_parameters.ah_capacity = spec.capacity_ah.round().clamp(0.0, 65535.0) as u16;
+            o.battery_parameters.max_charge_current =
+                max_current.round().clamp(0.0, 65535.0) as u16;
+            o.battery_parameters.number_of_cells = spec.cells;
+        });
+        s
+    }
+
+    /// Boots both nodes at time zero with the first measurements; the BMS
+    /// (the module's side) starts every node with NMT at 20 ms, as in the
+    /// real ICL1500 capture.
+    pub fn start(&mut self) {
+        self.charger.boot(Timestamp::ZERO);
+        self.module.boot(Timestamp::ZERO);
+        self.physics(0.0);
+        self.next_tick = Timestamp::ZERO.add_duration(self.tick);
+        self.run_until(Timestamp::from_millis(20));
+        if let Ok(start_all) = CanFrame::standard(0x000, &[0x01, 0x00]) {
+            self.inject(start_all);
+        }
+    }
+
+    /// The time now.
+    #[must_use]
+    pub const fn now(&self) -> Timestamp {
+        self.now
+    }
+
+    /// The charger.
+    #[must_use]
+    pub const fn charger(&self) -> &Charger {
+        &self.charger
+    }
+
+    /// The battery module.
+    #[must_use]
+    pub const fn module(&self) -> &BatteryModule {
+        &self.module
+    }
+
+    /// Every frame so far.
+    #[must_use]
+    pub fn log(&self) -> &[Logged] {
+        &self.log
+    }
+
+    /// The phase the charge control is in.
+    #[must_use]
+    pub fn phase(&self) -> ChargePhase {
+        self.charger.charge_control().phase()
+    }
+
+    /// Puts `frame` on the bus now (another node's: an NMT master's).
+    pub fn inject(&mut self, frame: CanFrame) {
+        self.deliver(Node::Outside, frame);
+        self.pump();
+    }
+
+    /// The module joins (`true`) or leaves the CAN bus: its frames stop
+    /// reaching anyone (its heartbeat is lost) and nothing reaches it.
+    pub fn set_module_on_can(&mut self, on: bool) {
+        self.module_on_can = on;
+    }
+
+    /// The charger's CAN controller reports a bus error, or is back.
+    pub fn set_bus_error(&mut self, error: bool) {
+        self.charger.set_bus_error(self.now, error);
+        self.pump();
+    }
+
+    /// AC on or off at the charger.
+    pub fn set_ac(&mut self, on: bool) {
+        self.stage.ac_present = on;
+        self.physics(0.0);
+        self.pump();
+    }
+
+    /// The battery's DC leads connected to the charger or not.
+    pub fn set_battery_connected(&mut self, on: bool) {
+        self.stage.battery_connected = on;
+        self.physics(0.0);
+        self.pump();
+    }
+
+    /// The BMS writes `value` to the charger's `index`/`sub` by SDO
+    /// (queued behind the writes before it).
+    pub fn write_charger(&mut self, index: u16, sub: u8, value: &[u8]) {
+        self.pending_writes.push((index, sub, value.to_vec()));
+        self.start_next_write();
+        self.pump();
+    }
+
+    fn start_next_write(&mut self) {
+        if !self.tool.is_busy() && !self.pending_writes.is_empty() {
+            let (index, sub, data) = self.pending_writes.remove(0);
+            let _ = self.tool.start_download(self.now, index, sub, data);
+        }
+    }
+
+    /// Runs until `end`.
+    pub fn run_until(&mut self, end: Timestamp) {
+        let mut same = 0u32;
+        loop {
+            self.pump();
+            let next = [
+                self.charger.poll_timeout(),
+                self.module.poll_timeout(),
+                self.tool.poll_timeout(),
+                Some(self.next_tick),
+            ]
+            .into_iter()
+            .flatten()
+            .min()
+            .unwrap_or(end);
+            if next > end {
+                self.now = end.max(self.now);
+                break;
+            }
+            // A deadline at or before now runs now; one that a machine
+            // keeps re-arming in the past cannot hold the clock.
+            let next = if next <= self.now {
+                same += 1;
+                if same > 64 {
+                    same = 0;
+                    self.now.add_micros(1)
+                } else {
+                    self.now
+                }
+            } else {
+                same = 0;
+                next
+            };
+            self.now = next;
+            self.charger.handle_timeout(next);
+            self.module.handle_timeout(next);
+            self.tool.handle_timeout(next);
+            while next.has_reached(self.next_tick) {
+                let dt = self.tick.as_secs_f64();
+                self.next_tick = self.next_tick.add_duration(self.tick);
+                self.physics(dt);
+            }
+            if next == end {
+                self.pump();
+                break;
+            }
+        }
+    }
+
+    /// Runs while `condition` holds, at most until `limit`, checking every
+    /// simulated second; returns whether it stopped on the condition.
+    pub fn run_while(
+        &mut self,
+        limit: Timestamp,
+        mut condition: impl FnMut(&Session) -> bool,
+    ) -> bool {
+        while self.now < limit {
+            if !condition(self) {
+                return true;
+            }
+            let step = self.now.add_millis(1000).min(limit);
+            self.run_until(step);
+        }
+        !condition(self)
+    }
+
+    /// The figures so far.
+    #[must_use]
+    pub fn result(&self) -> SessionResult {
+        let charger_emcy = 0x080 + u32::from(CHARGER_NODE.raw());
+        let errors = self
+            .log
+            .iter()
+            .filter(|l| l.frame.identity() == charger_emcy)
+            .filter_map(|l| {
+                let e = Emergency::decode(l.frame.data()).ok()?;
+                (e.code != ErrorCode::NO_ERROR).then(|| (l.at, DeltaQCode::from_emergency(&e)))
+            })
+            .collect();
+        SessionResult {
+            start_soc: self.start_soc,
+            end_soc: self.pack.soc(),
+            duration: self.now.saturating_duration_since(Timestamp::ZERO),
+            phases: self.phases.clone(),
+            ah: self.ah,
+            wh: self.wh,
+            errors,
+            max_pack_temperature_c: self.max_temperature,
+        }
+    }
+
+    /// One physics step of `dt` seconds (0: just the measurements).
+    fn physics(&mut self, dt: f64) {
+        let now = self.now;
+        let set = self.charger.set_points();
+        self.stage.step(dt, set, &self.pack);
+        let current = self.stage.current_a;
+        let volts = self.pack.terminal_voltage(current);
+        self.pack.step(dt, current);
+        self.ah += current * dt / 3600.0;
+        self.wh += current * volts * dt / 3600.0;
+        self.max_temperature = self.max_temperature.max(self.pack.temperature_c());
+        let measured = self.stage.measure(&self.pack);
+        self.charger.handle_power_stage(now, measured);
+        let request = self.bms.request(&self.pack);
+        let pack = self.pack;
+        self.module.update(now, |o| {
+            o.battery_status = if request.ready {
+                BatteryStatus::READY_TO_CHARGE
+            } else {
+                BatteryStatus::empty()
+            };
+            let mdeg = (pack.temperature_c() * 1000.0).round() as i32;
+            o.temperature = Temperature::from_millidegrees_c(mdeg).unwrap_or(o.temperature);
+            let pv = (pack.terminal_voltage(current).max(0.0) * 1e12) as u64;
+            o.battery_voltage = BatteryVoltage::from_picovolts(pv).unwrap_or(o.battery_voltage);
+            let ua = (request.current_a * 1e6).round() as u32;
+            o.charge_current_requested =
+                ChargeCurrentRequested::from_microamps(ua).unwrap_or(o.charge_current_requested);
+            let percent = (pack.soc() * 100.0).round() as u8;
+            o.battery_state_of_charge = StateOfCharge::new(percent).unwrap_or_default();
+        });
+    }
+
+    /// Delivers everything the nodes have to send, until nobody has more.
+    fn pump(&mut self) {
+        for _ in 0..10_000 {
+            let mut moved = false;
+            while let Some(f) = self.charger.poll_transmit() {
+                moved = true;
+                self.deliver(Node::Charger, f);
+            }
+            while let Some(f) = self.module.poll_transmit() {
+                moved = true;
+                if self.module_on_can {
+                    self.deliver(Node::Module, f);
+                }
+            }
+            while let Some(f) = self.tool.poll_transmit() {
+                moved = true;
+                self.deliver(Node::Tool, f);
+            }
+            self.drain_events();
+            if !moved {
+                break;
+            }
+        }
+    }
+
+    fn deliver(&mut self, from: Node, frame: CanFrame) {
+        let now = self.now;
+        self.log.push(Logged { at: now, frame });
+        if from != Node::Charger {
+            self.charger.handle_frame(now, &frame);
+        }
+        if from != Node::Module && self.module_on_can {
+            self.module.handle_frame(now, &frame);
+        }
+        if from != Node::Tool {
+            self.tool.handle_frame(now, &frame);
+        }
+    }
+
+    fn drain_events(&mut self) {
+        while let Some(e) = self.charger.poll_event() {
+            match e {
+                ChargerEvent::Charge(ChargeEvent::Phase { to, .. }) => {
+                    self.phases.push((self.now, to));
+                }
+                ChargerEvent::Configured { .. } if self.enable_charger_tpdo3 => {
+                    // 1803h sub 1: TPDO 3 valid on 48Ah + node.
+                    let cob = 0x480 + u32::from(CHARGER_NODE.raw());
+                    self.pending_writes
+                        .push((0x1803, 1, cob.to_le_bytes().to_vec()));
+                }
+                _ => {}
+            }
+        }
+        while self.module.poll_event().is_some() {}
+        while self.tool.poll_event().is_some() {}
+        self.start_next_write();
+    }
+}
