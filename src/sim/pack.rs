@@ -235,7 +235,7 @@ mod tests {
             let i = pack.current_at(cv).min(25.0);
             pack.step(1.0, i);
         }
-        assert!(first > 25.0);
+        assert!(first > 20.0, "{first}");
         assert!(pack.current_at(cv) < 1.0, "{}", pack.current_at(cv));
     }
 
