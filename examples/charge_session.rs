@@ -22,16 +22,12 @@ use std::time::Instant;
 use canopen_codec::cia418::Chemistry;
 use canopen_codec::deltaq::OperatingMode;
 use canopen_codec::sim::{Scenario, ScenarioOptions, Session};
-use canopen_codec::trace::candump::LogLineDisplay;
 use canopen_codec::Timestamp;
 
 const USAGE: &str =
     "usage: charge_session [--scenario NAME] [--mode local|remote|local-override|monitoring]
                       [--soc PERCENT] [--ah CAPACITY] [--chemistry lead-acid|lithium-ion]
                       [--log FILE] [--interface NAME] [--list]";
-
-/// The log's time base: 2026-01-01 00:00:00 UTC, so times read as dates.
-const EPOCH_US: u64 = 1_767_225_600_000_000;
 
 struct Options {
     scenario: Scenario,
@@ -93,13 +89,17 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
                 }
                 o.run.capacity_ah = ah;
             }
-            "--chemistry" => o.run.chemistry = match value()?.as_str() {
-                "lead-acid" => Chemistry::LeadAcid,
-                "lithium-ion" => Chemistry::LithiumIon,
-                other => return Err(format!(
+            "--chemistry" => {
+                o.run.chemistry = match value()?.as_str() {
+                    "lead-acid" => Chemistry::LeadAcid,
+                    "lithium-ion" => Chemistry::LithiumIon,
+                    other => {
+                        return Err(format!(
                     "--chemistry: '{other}' has no charge algorithm here (lead-acid, lithium-ion)"
-                )),
-            },
+                ))
+                    }
+                }
+            }
             "--log" => o.log = Some(value()?.clone()),
             "--interface" => o.interface = value()?.clone(),
             other => return Err(format!("unknown option '{other}'")),
@@ -110,12 +110,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
 
 fn write_log(path: &str, interface: &str, session: &Session) -> std::io::Result<()> {
     let mut out = std::io::BufWriter::new(std::fs::File::create(path)?);
-    for l in session.log() {
-        let line = LogLineDisplay {
-            timestamp: Timestamp::from_micros(EPOCH_US + l.at.as_micros()),
-            interface,
-            frame: &l.frame,
-        };
+    for line in session.candump(interface) {
         writeln!(out, "{line}")?;
     }
     out.flush()

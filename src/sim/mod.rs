@@ -36,4 +36,6 @@ pub use bms::{BmsPolicy, BmsRequest};
 pub use pack::{Pack, PackError, PackSpec};
 pub use power_stage::PowerStageModel;
 pub use scenario::{Scenario, ScenarioOptions};
-pub use session::{Logged, Session, SessionConfig, SessionResult, CHARGER_NODE, MODULE_NODE};
+pub use session::{
+    Logged, Session, SessionConfig, SessionResult, CHARGER_NODE, LOG_EPOCH, MODULE_NODE,
+};

@@ -100,6 +100,11 @@ impl SessionConfig {
     }
 }
 
+/// The wall-clock time a session's log starts at when written
+/// ([`Session::candump`]): 2026-01-01 00:00:00 UTC in microseconds, so the
+/// times read as dates.
+pub const LOG_EPOCH: Timestamp = Timestamp::from_micros(1_767_225_600_000_000);
+
 /// One frame on the bus.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Logged {
@@ -244,6 +249,21 @@ impl Session {
     #[must_use]
     pub fn log(&self) -> &[Logged] {
         &self.log
+    }
+
+    /// The log as candump log lines (`(seconds) INTERFACE ID#DATA`), times
+    /// from [`LOG_EPOCH`].
+    pub fn candump<'a>(
+        &'a self,
+        interface: &'a str,
+    ) -> impl Iterator<Item = crate::trace::candump::LogLineDisplay<'a>> + 'a {
+        self.log
+            .iter()
+            .map(move |l| crate::trace::candump::LogLineDisplay {
+                timestamp: Timestamp::from_micros(LOG_EPOCH.as_micros() + l.at.as_micros()),
+                interface,
+                frame: &l.frame,
+            })
     }
 
     /// The phase the charge control is in.
@@ -411,13 +431,15 @@ impl Session {
             } else {
                 BatteryStatus::empty()
             };
-            let mdeg = (pack.temperature_c() * 1000.0).round() as i32;
-            o.temperature = Temperature::from_millidegrees_c(mdeg).unwrap_or(o.temperature);
-            let pv = (pack.terminal_voltage(current).max(0.0) * 1e12) as u64;
-            o.battery_voltage = BatteryVoltage::from_picovolts(pv).unwrap_or(o.battery_voltage);
-            let ua = (request.current_a * 1e6).round() as u32;
-            o.charge_current_requested =
-                ChargeCurrentRequested::from_microamps(ua).unwrap_or(o.charge_current_requested);
+            // Each object's own step, rounded to the nearest.
+            let eighths = (pack.temperature_c() * 8.0)
+                .round()
+                .clamp(-32768.0, 32767.0);
+            o.temperature = Temperature::from_raw(eighths as i16);
+            let q10 = (pack.terminal_voltage(current).max(0.0) * 1024.0).round();
+            o.battery_voltage = BatteryVoltage::from_raw(q10.min(f64::from(u32::MAX)) as u32);
+            let sixteenths = (request.current_a * 16.0).round().clamp(0.0, 65534.0);
+            o.charge_current_requested = ChargeCurrentRequested::from_raw(sixteenths as u16);
             let percent = (pack.soc() * 100.0).round() as u8;
             o.battery_state_of_charge = StateOfCharge::new(percent).unwrap_or_default();
         });
