@@ -134,7 +134,7 @@ use super::{
     ChargeIndication, ChargeStatusFlags, ChargeType, DeltaQCode, DerateReasons,
     ExtendedChargeStatus, ExternalOverride, OperatingMode, OverrideSource, Reaction,
 };
-use crate::clock::Timestamp;
+use crate::clock::{micros_of, Timestamp};
 use crate::emcy::Emergency;
 use crate::queue::EventQueue;
 pub use algorithm::{AlgorithmKind, ChargeAlgorithm, EXAMPLE_ALGORITHMS};
@@ -460,18 +460,56 @@ pub struct ChargeControl {
     latch: Latch,
     temperature_fault: bool,
     last_step: Option<Timestamp>,
-    /// Charge delivered this cycle, mA x us.
-    delivered: u64,
-    cycle_start: Option<Timestamp>,
-    now: Timestamp,
+    /// A cycle started (its Ah and time are counted, and kept after it).
+    cycle: bool,
+    meter: CycleMeter,
     set: SetPoints,
     derate: DerateReasons,
     external_limit: bool,
     events: EventQueue<ChargeEvent, 4>,
 }
 
-/// mA x us in one Q3 Ah (1/8 Ah = 450 C = 450e9 mA us).
-const Q3_AH: u64 = 450_000_000_000;
+/// mA x ms in one Q3 Ah (1/8 Ah = 450 C).
+const Q3_MILLIAMP_MILLIS: u32 = 450_000_000;
+
+/// A cycle's Ah (Q3, as 6052h) and seconds, counted in 32-bit steps (a
+/// charger's controller divides 32-bit numbers in hardware, 64-bit ones
+/// in a library routine).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+struct CycleMeter {
+    q3: u32,
+    /// Charge below one Q3 step, mA x ms.
+    rest_mams: u32,
+    /// Time below one millisecond (for the charge), us.
+    rest_ms_us: u32,
+    seconds: u32,
+    /// Time below one second, us.
+    rest_s_us: u32,
+}
+
+impl CycleMeter {
+    /// `current_ma` flowed for `dt_us`. A gap over an hour between two
+    /// inputs counts as an hour, a current over 1 048 A as that much (a
+    /// clock jump or a wild reading cannot stall the count).
+    fn add(&mut self, current_ma: u32, dt_us: u64) {
+        let dt = dt_us.min(3_600_000_000) as u32;
+        let us = self.rest_s_us + dt;
+        self.seconds = self.seconds.saturating_add(us / 1_000_000);
+        self.rest_s_us = us % 1_000_000;
+        let us = self.rest_ms_us + dt;
+        let mut ms = us / 1000;
+        self.rest_ms_us = us % 1000;
+        let i = current_ma.min(1 << 20);
+        while ms > 0 {
+            // 2047 ms x 2^20 mA plus the rest stays below 2^32.
+            let chunk = ms.min(2047);
+            ms -= chunk;
+            let sum = self.rest_mams + i * chunk;
+            self.q3 = self.q3.saturating_add(sum / Q3_MILLIAMP_MILLIS);
+            self.rest_mams = sum % Q3_MILLIAMP_MILLIS;
+        }
+    }
+}
 
 impl ChargeControl {
     /// A charger in operating `mode` (section 3.1) at power-on: no AC,
@@ -495,9 +533,14 @@ impl ChargeControl {
             latch: Latch::None,
             temperature_fault: false,
             last_step: None,
-            delivered: 0,
-            cycle_start: None,
-            now: Timestamp::ZERO,
+            cycle: false,
+            meter: CycleMeter {
+                q3: 0,
+                rest_mams: 0,
+                rest_ms_us: 0,
+                seconds: 0,
+                rest_s_us: 0,
+            },
             set: SetPoints {
                 enabled: false,
                 current_ma: 0,
@@ -558,12 +601,6 @@ impl ChargeControl {
     #[must_use]
     pub const fn power_stage(&self) -> &PowerStage {
         &self.stage
-    }
-
-    /// Charge returned this cycle, in mA x us (6052h is this in Q3 Ah).
-    #[must_use]
-    pub const fn delivered_milliamp_micros(&self) -> u64 {
-        self.delivered
     }
 
     /// The power stage measured `stage`.
@@ -696,11 +733,7 @@ impl ChargeControl {
         flags.set(ChargeStatusFlags::AC_PRESENT, self.stage.ac_present);
         flags.set(ChargeStatusFlags::DERATING, !self.derate.is_empty());
         flags.set(ChargeStatusFlags::ALARM_ACTIVE, !self.alarms.is_empty());
-        let ah = self.delivered / Q3_AH;
-        let elapsed = match self.cycle_start {
-            Some(start) => self.now.saturating_duration_since(start),
-            None => Duration::ZERO,
-        };
+        let ah = self.meter.q3;
         ChargeStatus {
             extended: ExtendedChargeStatus {
                 charge_type,
@@ -715,13 +748,13 @@ impl ChargeControl {
             charger_status: u8::from(self.set.enabled),
             derate: self.derate,
             // FFFFh is "no value": a cycle that returned more shows FFFEh.
-            ah_returned: if self.cycle_start.is_some() || ah > 0 {
+            ah_returned: if self.cycle {
                 ah.min(0xFFFE) as u16
             } else {
                 0xFFFF
             },
             charger_soc: self.charger_soc(),
-            elapsed,
+            elapsed: Duration::from_secs(self.meter.seconds as u64),
         }
     }
 
@@ -748,14 +781,12 @@ impl ChargeControl {
     /// Adds the charge delivered since the last step.
     fn integrate(&mut self, now: Timestamp) {
         if let Some(last) = self.last_step {
-            let dt = now.saturating_micros_since(last);
-            if self.cycle_start.is_some() {
-                let add = u64::from(self.stage.current_ma).saturating_mul(dt);
-                self.delivered = self.delivered.saturating_add(add);
+            if self.cycle {
+                let dt = now.saturating_micros_since(last);
+                self.meter.add(self.stage.current_ma, dt);
             }
         }
         self.last_step = Some(now);
-        self.now = now;
     }
 
     /// The cycle ends (AC lost, battery unplugged, restart): idle, the
@@ -776,6 +807,12 @@ impl ChargeControl {
         }
     }
 
+    /// A new cycle's Ah and time from zero.
+    fn restart_meter(&mut self) {
+        self.cycle = true;
+        self.meter = CycleMeter::default();
+    }
+
     /// Starts a cycle with `id` (bulk, or float for a float algorithm).
     fn start(&mut self, now: Timestamp, id: Option<u16>) {
         let Some(a) = id.and_then(|id| self.config.algorithm(id)) else {
@@ -789,9 +826,8 @@ impl ChargeControl {
         };
         // A float algorithm completes the charge that ran: its Ah and
         // time go on; a cycle (or a float from nothing) starts afresh.
-        if to == ChargePhase::Bulk || self.cycle_start.is_none() {
-            self.delivered = 0;
-            self.cycle_start = Some(now);
+        if to == ChargePhase::Bulk || !self.cycle {
+            self.restart_meter();
         }
         self.enter(now, to);
     }
@@ -835,9 +871,8 @@ impl ChargeControl {
         } else {
             ChargePhase::Idle
         };
-        if to == ChargePhase::Remote && self.cycle_start.is_none() {
-            self.delivered = 0;
-            self.cycle_start = Some(now);
+        if to == ChargePhase::Remote && !self.cycle {
+            self.restart_meter();
         }
         self.enter(now, to);
     }
@@ -847,7 +882,7 @@ impl ChargeControl {
         if !detected {
             // No battery on the output: whatever ran is over.
             self.latch = Latch::None;
-            self.cycle_start = None;
+            self.cycle = false;
             self.end_cycle(now);
             return;
         }
@@ -894,14 +929,14 @@ impl ChargeControl {
     fn advance(&mut self, now: Timestamp, phase: ChargePhase, bms: bool) {
         use ChargePhase as P;
         let Some(a) = self.algorithm() else { return };
-        let in_phase = now.saturating_duration_since(self.phase_since);
+        let in_phase = now.saturating_micros_since(self.phase_since);
         let ask = if bms && matches!(self.mode, OperatingMode::LocalOverride) {
             self.bus.external_override
         } else {
             ExternalOverride::empty()
         };
         let target = self.bus.ah_target;
-        let target_reached = bms && target != 0xFFFF && self.delivered / Q3_AH >= u64::from(target);
+        let target_reached = bms && target != 0xFFFF && self.meter.q3 >= u32::from(target);
         let can_equalize = a.equalize_mv > 0 && ask.contains(ExternalOverride::EQUALIZE);
         let next = match phase {
             P::Bulk | P::Absorption if target_reached => P::Rest,
@@ -913,9 +948,9 @@ impl ChargeControl {
                 P::Absorption
             }
             P::Absorption
-                if in_phase >= ABSORPTION_MIN
+                if in_phase >= micros_of(ABSORPTION_MIN)
                     && (self.stage.current_ma <= a.termination_ma
-                        || in_phase >= a.absorption_max) =>
+                        || in_phase >= micros_of(a.absorption_max)) =>
             {
                 if can_equalize {
                     P::Equalize
@@ -923,8 +958,8 @@ impl ChargeControl {
                     P::Rest
                 }
             }
-            P::Equalize if in_phase >= a.equalize_time => P::Rest,
-            P::Rest if in_phase >= self.config.rest => {
+            P::Equalize if in_phase >= micros_of(a.equalize_time) => P::Rest,
+            P::Rest if in_phase >= micros_of(self.config.rest) => {
                 if a.float_mv > 0 {
                     P::Float
                 } else {
@@ -1002,19 +1037,23 @@ impl ChargeControl {
         let c = &self.config;
         let t = self.stage.temperature_c;
         if t > c.derate_start_c && current > 0 {
-            let span = i32::from(c.derate_stop_c) - i32::from(c.derate_start_c);
-            let left = (i32::from(c.derate_stop_c) - i32::from(t)).clamp(0, span.max(1));
-            current = (u64::from(current) * left as u64 / span.max(1) as u64) as u32;
+            // current x left / span in 32 bits (span at most 65 535).
+            let span = (i32::from(c.derate_stop_c) - i32::from(c.derate_start_c)).max(1) as u32;
+            let left = (i32::from(c.derate_stop_c) - i32::from(t)).clamp(0, span as i32) as u32;
+            current = current / span * left + current % span * left / span;
             derate |= DerateReasons::TEMPERATURE;
         }
         if self.temperature_fault && current > 0 {
             current /= 2;
             derate |= DerateReasons::TEMPERATURE;
         }
-        let v = self.stage.voltage_mv.max(voltage / 2).max(1);
-        let power_limit = u64::from(c.max_power_w) * 1_000_000 / u64::from(v);
-        if u64::from(current) > power_limit {
-            current = power_limit as u32;
+        // The power at the output's voltage: W x 10^6 / mV = mA, in 32 bits
+        // (the output at most 4 000 V).
+        let v = self.stage.voltage_mv.max(voltage / 2).clamp(1, 4_000_000);
+        let milli_watts = c.max_power_w.saturating_mul(1000);
+        let power_limit = (milli_watts / v).saturating_mul(1000) + milli_watts % v * 1000 / v;
+        if current > power_limit {
+            current = power_limit;
             derate |= DerateReasons::AC_CURRENT_LIMIT;
         }
         let stop = ChargeAlarms::HIGH_VOLTAGE | ChargeAlarms::BATTERY_DISCONNECTED;

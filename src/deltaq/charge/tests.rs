@@ -715,3 +715,21 @@ fn the_event_queue_drops_the_oldest_and_counts() {
     // Behaviour unchanged by the undrained queue.
     assert_eq!(c.phase(), ChargePhase::Remote);
 }
+
+#[test]
+fn the_meter_counts_in_32_bits_and_bounds_a_gap() {
+    let mut m = CycleMeter::default();
+    // 25 A for 1 ms steps over 36 s: 0.25 Ah = 2 in Q3, 36 s.
+    for _ in 0..36_000 {
+        m.add(25_000, 1000);
+    }
+    assert_eq!((m.q3, m.seconds), (2, 36));
+    // A gap of five hours counts as one.
+    let mut m = CycleMeter::default();
+    m.add(25_000, 5 * 3_600_000_000);
+    assert_eq!((m.q3, m.seconds), (200, 3600));
+    // The largest current and gap do not overflow.
+    m.add(u32::MAX, u64::MAX);
+    assert_eq!(m.seconds, 7200);
+    assert_eq!(m.q3, 200 + (1u64 << 20) as u32 * 3600 / 450_000);
+}

@@ -94,6 +94,7 @@ impl ChargerConfig {
 /// nothing on the bus changes it).
 ///
 /// ```
+/// use canopen_codec::deltaq::charge::ChargeConfig;
 /// use canopen_codec::deltaq::{ChargerConfig, ChargerPowerOn};
 /// use canopen_codec::device::CommObjects;
 /// use canopen_codec::NodeId;
@@ -103,16 +104,15 @@ impl ChargerConfig {
 /// let kept = ChargerPowerOn::from(config);
 /// let mut comm = CommObjects::new(config.node);
 /// comm.device_name = "DQ";
-/// assert_eq!(kept.config(&comm).heartbeat, Duration::from_millis(1500));
-/// assert_eq!(kept.config(&comm).tpdo_periods, config.tpdo_periods);
-/// assert_eq!(kept.config(&comm).device_name, "DQ");
+/// assert_eq!(kept.config(&comm, ChargeConfig::example()).heartbeat, Duration::from_millis(1500));
+/// assert_eq!(kept.config(&comm, ChargeConfig::example()).tpdo_periods, config.tpdo_periods);
+/// assert_eq!(kept.config(&comm, ChargeConfig::example()).device_name, "DQ");
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ChargerPowerOn {
     pub(super) node: NodeId,
     pub(super) battery: NodeId,
     pub(super) mode: OperatingMode,
-    pub(super) charge: ChargeConfig,
     pub(super) configure_cob_ids: bool,
     pub(super) self_start: bool,
     pub(super) heartbeat_ms: u16,
@@ -140,7 +140,6 @@ impl From<ChargerConfig> for ChargerPowerOn {
             node: c.node,
             battery: c.battery,
             mode: c.mode,
-            charge: c.charge,
             configure_cob_ids: c.configure_cob_ids,
             self_start: c.self_start,
             heartbeat_ms: ms16(c.heartbeat),
@@ -154,15 +153,17 @@ impl From<ChargerConfig> for ChargerPowerOn {
 impl ChargerPowerOn {
     /// The configuration kept, as a [`ChargerConfig`] (times in whole
     /// milliseconds), with the device name (1008h) of the charger's
-    /// communication objects `comm`.
+    /// communication objects `comm` and the charge control's `charge`
+    /// (which its [`ChargeControl`](crate::deltaq::charge::ChargeControl)
+    /// keeps: resets do not change it).
     #[must_use]
-    pub fn config(&self, comm: &CommObjects) -> ChargerConfig {
+    pub fn config(&self, comm: &CommObjects, charge: ChargeConfig) -> ChargerConfig {
         let ms = |v: u16| Duration::from_millis(u64::from(v));
         ChargerConfig {
             node: self.node,
             battery: self.battery,
             mode: self.mode,
-            charge: self.charge,
+            charge,
             configure_cob_ids: self.configure_cob_ids,
             self_start: self.self_start,
             heartbeat: ms(self.heartbeat_ms),

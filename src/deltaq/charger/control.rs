@@ -9,7 +9,7 @@
 use super::{Alarm, ChargerDevice, ChargerEvent, ChargerProfile};
 use crate::clock::Timestamp;
 use crate::cob_id::NodeId;
-use crate::deltaq::charge::{BusInputs, ChargeAlarms, ChargeConfig, ChargeControl, ChargeEvent};
+use crate::deltaq::charge::{BusInputs, ChargeAlarms, ChargeConfig, ChargeControl};
 use crate::deltaq::{
     AlgorithmRequest, ChargerObjects, DeltaQCode, ExternalOverride, OperatingMode, VoltageRequest,
     VoltageRequest16,
@@ -27,6 +27,8 @@ pub(super) struct ControlLink {
     /// The voltage request of the one written last, mV.
     request_mv: u32,
     pub(super) bus_error: bool,
+    /// The alarms whose EMCY has gone out.
+    announced: ChargeAlarms,
 }
 
 /// The alarm's Delta-Q code with the EEC of its table row, looked up when
@@ -50,11 +52,12 @@ fn alarm(a: ChargeAlarms) -> Alarm {
     }
 }
 
-/// `milli` thousandths in `q` fractional bits, rounded, at most FFFEh
-/// (FFFFh is "no value").
+/// `milli` thousandths in `q` (8 or 10) fractional bits, rounded, at
+/// most FFFEh (FFFFh is "no value"): `milli x 2^q / 1000` as `milli x
+/// 2^(q-3) / 125` in 32 bits.
 fn q16(milli: u32, q: u32) -> u16 {
-    let v = (u64::from(milli) << q).saturating_add(500) / 1000;
-    v.min(0xFFFE) as u16
+    let scaled = milli.min(4_000_000).saturating_mul(1 << (q - 3));
+    ((scaled + 62) / 125).min(0xFFFE) as u16
 }
 
 impl ControlLink {
@@ -66,6 +69,7 @@ impl ControlLink {
             request_q8: u16::MAX,
             request_mv: config.max_voltage_mv,
             bus_error: false,
+            announced: ChargeAlarms::empty(),
         }
     }
 
@@ -73,8 +77,9 @@ impl ControlLink {
     /// issue's reading of Delta-Q's 2271h: the BMS lowers it).
     pub(super) fn power_on_objects(&mut self, o: &mut ChargerObjects) {
         let max = self.control.config().max_voltage_mv;
-        o.voltage_request = VoltageRequest::encode_raw(VoltageRequest::from_millivolts(max));
-        o.voltage_request_q8 = VoltageRequest16::encode_raw(VoltageRequest16::from_millivolts(max));
+        // Q10 and Q8 in 32 bits, as `q16` (at most 4 000 V).
+        o.voltage_request = (max.min(4_000_000) * 128 + 62) / 125;
+        o.voltage_request_q8 = q16(max, 8);
         self.request_q10 = o.voltage_request;
         self.request_q8 = o.voltage_request_q8;
         self.request_mv = max;
@@ -138,9 +143,11 @@ impl ControlLink {
         self.publish(device, now, linked);
     }
 
-    /// Writes the status into the objects and sends the alarms; the error
-    /// reset EMCY goes out when the last alarm clears and the module is
-    /// `linked` (no heartbeat or configuration error of the charger's is
+    /// Writes the status into the objects and sends the alarms: one EMCY
+    /// a call (an alarm raised with others at once goes out on the next
+    /// call, so a call adds at most one frame to the charger's queue); the
+    /// error reset EMCY goes out when the last alarm clears and the module
+    /// is `linked` (no heartbeat or configuration error of the charger's is
     /// left).
     pub(super) fn publish<const Q: usize>(
         &mut self,
@@ -162,14 +169,16 @@ impl ControlLink {
             o.battery_voltage_q10 = q16(stage.voltage_mv, 10);
         });
         while let Some(e) = self.control.poll_event() {
-            if let ChargeEvent::Alarm { alarm: a, active } = e {
-                if active {
-                    ChargerProfile::raise(device, alarm(a));
-                } else if linked && self.control.alarms().is_empty() {
-                    device.clear_error(ErrorRegister::GENERIC);
-                }
-            }
             device.push_event(ChargerEvent::Charge(e));
+        }
+        let active = self.control.alarms();
+        let gone = !self.announced.difference(active).is_empty();
+        self.announced &= active;
+        if let Some(a) = active.difference(self.announced).iter().next() {
+            self.announced |= a;
+            ChargerProfile::raise(device, alarm(a));
+        } else if gone && active.is_empty() && linked {
+            device.clear_error(ErrorRegister::GENERIC);
         }
     }
 }

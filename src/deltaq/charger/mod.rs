@@ -286,7 +286,8 @@ impl<const Q: usize> Charger<Q> {
     /// keeps, [`ChargerPowerOn`]).
     #[must_use]
     pub fn config(&self) -> ChargerConfig {
-        self.power_on().config(self.comm())
+        let charge = *self.profile().charge.control.config();
+        self.power_on().config(self.comm(), charge)
     }
 
     /// True once the PDO pairing is done and the module is present.

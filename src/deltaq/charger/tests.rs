@@ -120,7 +120,10 @@ fn the_device_name_is_written_once_and_kept_by_both_resets() {
     let mut config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
     config.device_name = "DQ-10";
     let mut c = Charger::<4>::with_queue_capacity(config);
-    assert_eq!(c.config(), ChargerPowerOn::from(config).config(c.comm()));
+    assert_eq!(
+        c.config(),
+        ChargerPowerOn::from(config).config(c.comm(), config.charge)
+    );
     c.boot(Timestamp::ZERO);
     for (at, cs) in [(1, 0x81), (2, 0x82)] {
         c.handle_frame(

@@ -1,8 +1,9 @@
 //! A Delta-Q style CiA 419 charger at node 10 (battery module at node 1) as
 //! Cortex-M4 firmware: the crate's `deltaq::Charger` driven by the
 //! `machine::Machine` contract loop from the CAN mailbox and the timer of
-//! `canopen_codec_firmware`, with its measurements read from sensor
-//! registers. Built to prove the footprint (`bash examples/firmware/size.sh`)
+//! `canopen_codec_firmware`, with its power stage's measurements read from
+//! sensor registers into its charge control (`deltaq::charge`) and the
+//! set points it gives written to the output stage's registers. Built to prove the footprint (`bash examples/firmware/size.sh`)
 //! and run on an emulated Cortex-M4 against python-canopen
 //! (`examples/firmware/emulate.py`, which also measures the stack); the
 //! charger's state lives in the static `CHARGER_STATE`, whose size the
@@ -14,9 +15,10 @@
 use core::mem::MaybeUninit;
 use core::ptr::addr_of_mut;
 
+use canopen_codec::deltaq::charge::{ChargeAlgorithm, PowerStage};
 use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
 use canopen_codec::machine::Machine;
-use canopen_codec::NodeId;
+use canopen_codec::{NodeId, Timestamp};
 use canopen_codec_firmware::{read_register, write_register, Can, Clock};
 use cortex_m_rt::entry;
 
@@ -26,15 +28,26 @@ const SENSOR_CURRENT: usize = 0x4001_2400;
 const SENSOR_VOLTAGE: usize = 0x4001_2404;
 /// Sensor block: AC line voltage in 1/256 V.
 const SENSOR_AC_VOLTAGE: usize = 0x4001_2408;
-/// Sensor block: charger status bits.
-const SENSOR_STATUS: usize = 0x4001_240C;
 /// Output stage: write 1 to stop charging (the EMCY policy's reaction).
 const OUTPUT_STOP: usize = 0x4001_2410;
+/// Output stage: the current set point, mA (0: output off).
+const OUTPUT_CURRENT: usize = 0x4001_2414;
+/// Output stage: the voltage set point, mV (0: output off).
+const OUTPUT_VOLTAGE: usize = 0x4001_2418;
+/// The power stage is measured this often (microseconds).
+const MEASURE_US: u64 = 100_000;
 
 /// Node 10, the Delta-Q default.
 const CHARGER_NODE: NodeId = match NodeId::new(10) {
     Some(node) => node,
     None => NodeId::MIN,
+};
+
+/// The algorithms this charger has (2241h selects them): a 48 V flooded
+/// lead-acid cycle and its float algorithm.
+static ALGORITHMS: [ChargeAlgorithm; 2] = {
+    const CYCLE: ChargeAlgorithm = ChargeAlgorithm::lead_acid(1, "lead acid 48 V", 24, 25_000);
+    [CYCLE, ChargeAlgorithm::float_of(3, "float 48 V", &CYCLE)]
 };
 
 /// Events and frames the charger's queues hold. Two are exact, not lossy,
@@ -79,7 +92,8 @@ static mut CHARGER_STATE: MaybeUninit<Charger<QUEUE_CAPACITY>> = MaybeUninit::un
 /// the loop in `main` runs (inlined, they stayed on the stack for good).
 #[inline(never)]
 fn init() -> &'static mut Charger<QUEUE_CAPACITY> {
-    let config = ChargerConfig::new(CHARGER_NODE, NodeId::MIN);
+    let mut config = ChargerConfig::new(CHARGER_NODE, NodeId::MIN);
+    config.charge.algorithms = &ALGORITHMS;
     // SAFETY: `init` runs once, from `main`, and is the only code that
     // touches the static; the reference is the only one ever made.
     Charger::new_in(unsafe { &mut *addr_of_mut!(CHARGER_STATE) }, config)
@@ -91,22 +105,36 @@ fn main() -> ! {
     let mut can = Can;
     let mut clock = Clock::default();
     charger.boot(clock.now());
+    let mut measure_at = Timestamp::ZERO;
     loop {
         let now = clock.now();
         charger.update(now, |o| {
-            o.charging_current = read_register(SENSOR_CURRENT) as u16;
-            o.battery_voltage_q8 = read_register(SENSOR_VOLTAGE) as u16;
             o.ac_voltage = read_register(SENSOR_AC_VOLTAGE) as u16;
-            o.charger_status = read_register(SENSOR_STATUS) as u8;
         });
         // The contract loop (`machine::Machine`), one call a turn and the
         // queues drained after it ([`QUEUE_CAPACITY`]): the due timers
         // first (then their deadlines are ahead, so the next turn takes
-        // the received frame: neither starves the other).
+        // the received frame: neither starves the other); a turn with
+        // neither measures the power stage (every `MEASURE_US`), which
+        // adds at most one EMCY (a charge alarm) like the others.
         if charger.poll_timeout().is_some_and(|due| due <= now) {
             charger.handle_timeout(now);
         } else if let Some(frame) = can.receive() {
             charger.handle_frame(now, &frame);
+        } else if now >= measure_at {
+            measure_at = now.add_micros(MEASURE_US);
+            // Q8 (1/256) registers to milli-units.
+            let milli = |register| read_register(register).saturating_mul(125) / 32;
+            let stage = PowerStage {
+                ac_present: read_register(SENSOR_AC_VOLTAGE) != 0,
+                voltage_mv: milli(SENSOR_VOLTAGE),
+                current_ma: milli(SENSOR_CURRENT),
+                temperature_c: 25,
+            };
+            charger.handle_power_stage(now, stage);
+            let set = charger.set_points();
+            write_register(OUTPUT_CURRENT, set.current_ma);
+            write_register(OUTPUT_VOLTAGE, set.voltage_mv);
         }
         while let Some(frame) = charger.poll_transmit() {
             can.transmit(&frame);
