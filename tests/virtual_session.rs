@@ -37,7 +37,7 @@ fn battery(now: Timestamp) -> BatteryModule {
 }
 
 fn session() -> String {
-    let mut charger = Charger::new(ChargerConfig::new(
+    let charger = Charger::new(ChargerConfig::new(
         NodeId::new(10).unwrap(),
         NodeId::new(1).unwrap(),
     ));

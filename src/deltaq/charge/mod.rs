@@ -126,18 +126,25 @@
 //! ```
 
 pub mod algorithm;
+mod meter;
+mod types;
 
 use core::time::Duration;
 
 use super::AlgorithmRequest;
 use super::{
-    ChargeIndication, ChargeStatusFlags, ChargeType, DeltaQCode, DerateReasons,
-    ExtendedChargeStatus, ExternalOverride, OperatingMode, OverrideSource, Reaction,
+    ChargeIndication, ChargeStatusFlags, ChargeType, DerateReasons, ExtendedChargeStatus,
+    ExternalOverride, OperatingMode, OverrideSource, Reaction,
 };
 use crate::clock::{micros_of, Timestamp};
 use crate::emcy::Emergency;
 use crate::queue::EventQueue;
 pub use algorithm::{AlgorithmKind, ChargeAlgorithm, EXAMPLE_ALGORITHMS};
+use meter::CycleMeter;
+pub use types::{
+    BusInputs, ChargeAlarms, ChargeConfig, ChargeEvent, ChargePhase, ChargeStatus, PowerStage,
+    SetPoints,
+};
 
 /// 2250h, Ah target (U16, Q3 Ah as 6052h, FFFFh none), read-write,
 /// PDO-mappable. **Ours**: the Delta-Q document lists "setting an Ah target"
@@ -153,272 +160,6 @@ pub const ELAPSED_TIME: u16 = 0x2251;
 /// Absorption lasts at least this long before its end-current test (the
 /// power stage's current settles after the change from bulk). Ours.
 pub const ABSORPTION_MIN: Duration = Duration::from_secs(60);
-
-/// The configuration of [`ChargeControl`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ChargeConfig {
-    /// The charger's algorithms (2241h selects among them by id).
-    pub algorithms: &'static [ChargeAlgorithm],
-    /// The permanent algorithm at power-on (None: E-0-2-0 until 2241h).
-    pub permanent_algorithm: Option<u16>,
-    /// Local mode without CAN after the hold-off: this algorithm (None: the
-    /// active one).
-    pub no_can_algorithm: Option<u16>,
-    /// How long local mode waits for a BMS before charging on its own.
-    pub can_hold_off: Duration,
-    /// The rest (output off) between absorption and float or complete.
-    pub rest: Duration,
-    /// The charger's maximum output current, mA.
-    pub max_current_ma: u32,
-    /// The charger's maximum output voltage, mV; the voltage request starts here.
-    pub max_voltage_mv: u32,
-    /// The charger's maximum output power, W.
-    pub max_power_w: u32,
-    /// An output voltage at least this high means a battery is connected, mV.
-    pub battery_detect_mv: u32,
-    /// Charger temperature where derating starts, degC.
-    pub derate_start_c: i16,
-    /// Charger temperature where the current reaches zero, degC.
-    pub derate_stop_c: i16,
-}
-
-impl ChargeConfig {
-    /// Our 1.5 kW, 48 V example charger (the ICL1500's class: up to 25 A,
-    /// 72 V) with [`EXAMPLE_ALGORITHMS`]: permanent
-    /// algorithm 1 (flooded lead acid), no-CAN algorithm 1, a 10 s CAN
-    /// hold-off, 60 s rest, battery detected from 12 V, derating from 70 to
-    /// 90 degC.
-    #[must_use]
-    pub const fn example() -> Self {
-        ChargeConfig {
-            algorithms: &EXAMPLE_ALGORITHMS,
-            permanent_algorithm: Some(1),
-            no_can_algorithm: Some(1),
-            can_hold_off: Duration::from_secs(10),
-            rest: Duration::from_secs(60),
-            max_current_ma: 25_000,
-            max_voltage_mv: 72_000,
-            max_power_w: 1500,
-            battery_detect_mv: 12_000,
-            derate_start_c: 70,
-            derate_stop_c: 90,
-        }
-    }
-
-    /// The algorithm `id` of the table.
-    #[must_use]
-    pub fn algorithm(&self, id: u16) -> Option<&'static ChargeAlgorithm> {
-        self.algorithms.iter().find(|a| a.id == id)
-    }
-}
-
-/// What the power stage measures.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct PowerStage {
-    /// AC (mains) present.
-    pub ac_present: bool,
-    /// Output (battery) voltage, mV.
-    pub voltage_mv: u32,
-    /// Output current, mA.
-    pub current_ma: u32,
-    /// The charger's temperature, degC.
-    pub temperature_c: i16,
-}
-
-impl PowerStage {
-    /// No AC, nothing on the output, 25 degC.
-    pub const OFF: PowerStage = PowerStage {
-        ac_present: false,
-        voltage_mv: 0,
-        current_ma: 0,
-        temperature_c: 25,
-    };
-}
-
-/// What the bus says (the charger's objects and its supervision).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct BusInputs {
-    /// The battery module's heartbeat is present.
-    pub battery_present: bool,
-    /// 6000h battery status (bit 0: ready to charge).
-    pub battery_status: u8,
-    /// 6070h charge current requested (1/16 A; FFFFh invalid).
-    pub current_request: u16,
-    /// The voltage request of 2271h / 2276h (the one written last), mV.
-    pub voltage_request_mv: u32,
-    /// 4201h external override.
-    pub external_override: ExternalOverride,
-    /// The Ah target ([`AH_TARGET`], Q3 Ah; FFFFh none).
-    pub ah_target: u16,
-    /// 6081h battery state of charge (%; FFh invalid).
-    pub battery_soc: u8,
-    /// The CAN controller reports a bus error (error passive or bus off).
-    pub bus_error: bool,
-}
-
-impl BusInputs {
-    /// Nothing on the bus: no module, no request, the voltage request at
-    /// `max_voltage_mv`.
-    #[must_use]
-    pub const fn none(max_voltage_mv: u32) -> Self {
-        BusInputs {
-            battery_present: false,
-            battery_status: 0,
-            current_request: 0xFFFF,
-            voltage_request_mv: max_voltage_mv,
-            external_override: ExternalOverride::empty(),
-            ah_target: 0xFFFF,
-            battery_soc: 0xFF,
-            bus_error: false,
-        }
-    }
-}
-
-/// The power stage's orders.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct SetPoints {
-    /// Output on.
-    pub enabled: bool,
-    /// Current limit, mA (0 when off).
-    pub current_ma: u32,
-    /// Voltage limit, mV (0 when off).
-    pub voltage_mv: u32,
-}
-
-/// Where the charge stands.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum ChargePhase {
-    /// No charge: no AC, no battery, or (remote) a condition missing.
-    Idle,
-    /// Local mode: waiting the CAN hold-off for a BMS.
-    HoldOff,
-    /// Constant current.
-    Bulk,
-    /// Constant voltage; the current tapers.
-    Absorption,
-    /// Equalize (lead acid), at the algorithm's equalize voltage.
-    Equalize,
-    /// Output off between absorption and float or complete.
-    Rest,
-    /// Maintenance at the float voltage.
-    Float,
-    /// The cycle is complete; output off.
-    Complete,
-    /// Remote mode: delivering the BMS's request.
-    Remote,
-    /// The BMS (6000h) or a module EMCY ended the charge.
-    Terminated,
-}
-
-impl ChargePhase {
-    /// The phase in words.
-    #[must_use]
-    pub const fn name(self) -> &'static str {
-        match self {
-            ChargePhase::Idle => "idle",
-            ChargePhase::HoldOff => "CAN hold-off",
-            ChargePhase::Bulk => "bulk (constant current)",
-            ChargePhase::Absorption => "absorption (constant voltage)",
-            ChargePhase::Equalize => "equalize",
-            ChargePhase::Rest => "rest",
-            ChargePhase::Float => "float",
-            ChargePhase::Complete => "complete",
-            ChargePhase::Remote => "remote (BMS request)",
-            ChargePhase::Terminated => "terminated",
-        }
-    }
-
-    /// The phases in which the charger delivers current.
-    #[must_use]
-    pub const fn delivers(self) -> bool {
-        matches!(
-            self,
-            ChargePhase::Bulk
-                | ChargePhase::Absorption
-                | ChargePhase::Equalize
-                | ChargePhase::Float
-                | ChargePhase::Remote
-        )
-    }
-}
-
-impl core::fmt::Display for ChargePhase {
-    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        f.write_str(self.name())
-    }
-}
-
-bitflags::bitflags! {
-    /// The alarms [`ChargeControl`] raises (each a Delta-Q code).
-    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-    pub struct ChargeAlarms: u8 {
-        /// E-0-0-1 battery high voltage.
-        const HIGH_VOLTAGE = 1 << 0;
-        /// E-0-2-0 active algorithm not set.
-        const ALGORITHM_NOT_SET = 1 << 1;
-        /// E-0-2-8 incompatible algorithm.
-        const INCOMPATIBLE_ALGORITHM = 1 << 2;
-        /// E-0-2-9 CAN-bus communication error.
-        const BUS_ERROR = 1 << 3;
-        /// E-0-4-5 battery disconnected.
-        const BATTERY_DISCONNECTED = 1 << 4;
-    }
-}
-
-impl ChargeAlarms {
-    /// The Delta-Q code of a single alarm flag (section 4.4.1).
-    #[must_use]
-    pub fn code(self) -> DeltaQCode {
-        if self == ChargeAlarms::HIGH_VOLTAGE {
-            DeltaQCode::Alarm(1)
-        } else if self == ChargeAlarms::ALGORITHM_NOT_SET {
-            DeltaQCode::Alarm(20)
-        } else if self == ChargeAlarms::INCOMPATIBLE_ALGORITHM {
-            DeltaQCode::Alarm(28)
-        } else if self == ChargeAlarms::BUS_ERROR {
-            DeltaQCode::CAN_BUS_COMMUNICATION
-        } else {
-            DeltaQCode::BATTERY_DISCONNECTED
-        }
-    }
-}
-
-/// What [`ChargeControl`] reports.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[non_exhaustive]
-pub enum ChargeEvent {
-    /// The phase changed.
-    Phase {
-        /// Before.
-        from: ChargePhase,
-        /// Now.
-        to: ChargePhase,
-    },
-    /// An alarm was raised (`active`) or cleared.
-    Alarm {
-        /// The alarm (one flag).
-        alarm: ChargeAlarms,
-        /// Raised or cleared.
-        active: bool,
-    },
-}
-
-/// The status objects, as the charger reports them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ChargeStatus {
-    /// 2006h extended charge status.
-    pub extended: ExtendedChargeStatus,
-    /// 6001h charger status (bit 0: delivering, able to charge).
-    pub charger_status: u8,
-    /// 2008h derate reasons.
-    pub derate: DerateReasons,
-    /// 6052h Ah returned during this charge (Q3 Ah).
-    pub ah_returned: u16,
-    /// 6080h charger state of charge (%; FFh unknown).
-    pub charger_soc: u8,
-    /// Time since the cycle started ([`ELAPSED_TIME`]).
-    pub elapsed: Duration,
-}
 
 /// Why a charge was ended from outside.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -469,48 +210,6 @@ pub struct ChargeControl {
     events: EventQueue<ChargeEvent, 4>,
 }
 
-/// mA x ms in one Q3 Ah (1/8 Ah = 450 C).
-const Q3_MILLIAMP_MILLIS: u32 = 450_000_000;
-
-/// A cycle's Ah (Q3, as 6052h) and seconds, counted in 32-bit steps (a
-/// charger's controller divides 32-bit numbers in hardware, 64-bit ones
-/// in a library routine).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-struct CycleMeter {
-    q3: u32,
-    /// Charge below one Q3 step, mA x ms.
-    rest_mams: u32,
-    /// Time below one millisecond (for the charge), us.
-    rest_ms_us: u32,
-    seconds: u32,
-    /// Time below one second, us.
-    rest_s_us: u32,
-}
-
-impl CycleMeter {
-    /// `current_ma` flowed for `dt_us`. A gap over an hour between two
-    /// inputs counts as an hour, a current over 1 048 A as that much (a
-    /// clock jump or a wild reading cannot stall the count).
-    fn add(&mut self, current_ma: u32, dt_us: u64) {
-        let dt = dt_us.min(3_600_000_000) as u32;
-        let us = self.rest_s_us + dt;
-        self.seconds = self.seconds.saturating_add(us / 1_000_000);
-        self.rest_s_us = us % 1_000_000;
-        let us = self.rest_ms_us + dt;
-        let mut ms = us / 1000;
-        self.rest_ms_us = us % 1000;
-        let i = current_ma.min(1 << 20);
-        while ms > 0 {
-            // 2047 ms x 2^20 mA plus the rest stays below 2^32.
-            let chunk = ms.min(2047);
-            ms -= chunk;
-            let sum = self.rest_mams + i * chunk;
-            self.q3 = self.q3.saturating_add(sum / Q3_MILLIAMP_MILLIS);
-            self.rest_mams = sum % Q3_MILLIAMP_MILLIS;
-        }
-    }
-}
-
 impl ChargeControl {
     /// A charger in operating `mode` (section 3.1) at power-on: no AC,
     /// idle, the permanent algorithm active.
@@ -534,13 +233,7 @@ impl ChargeControl {
             temperature_fault: false,
             last_step: None,
             cycle: false,
-            meter: CycleMeter {
-                q3: 0,
-                rest_mams: 0,
-                rest_ms_us: 0,
-                seconds: 0,
-                rest_s_us: 0,
-            },
+            meter: CycleMeter::ZERO,
             set: SetPoints {
                 enabled: false,
                 current_ma: 0,
@@ -832,29 +525,35 @@ impl ChargeControl {
         self.enter(now, to);
     }
 
-    /// Applies every rule to the inputs as they stand.
+    /// Applies every rule to the inputs as they stand, until the phase
+    /// settles (a chain of zero-length phases runs through in one call, so
+    /// no timer is ever left at or before `now`).
     fn step(&mut self, now: Timestamp) {
         let mode = self.mode;
         let listens = !matches!(mode, OperatingMode::MonitoringOnly) && !self.bus.bus_error;
         let bms = listens && self.bus.battery_present;
         let ready = bms && self.bus.battery_status & 1 != 0;
         let detected = self.stage.voltage_mv >= self.config.battery_detect_mv;
-        self.update_alarms(ready, detected);
-
-        if !self.stage.ac_present {
-            if self.phase != ChargePhase::Idle && self.revert_on_ac_loss {
-                self.active = self.permanent;
-            }
-            self.latch = if matches!(self.latch, Latch::ShutDown) {
-                Latch::ShutDown
+        // A phase chain is at most bulk, absorption, equalize, rest, float.
+        for _ in 0..8 {
+            let before = self.phase;
+            self.update_alarms(now, ready, detected);
+            if !self.stage.ac_present {
+                if self.phase != ChargePhase::Idle && self.revert_on_ac_loss {
+                    self.active = self.permanent;
+                }
+                if !matches!(self.latch, Latch::ShutDown) {
+                    self.latch = Latch::None;
+                }
+                self.end_cycle(now);
+            } else if matches!(mode, OperatingMode::Remote) {
+                self.step_remote(now, ready);
             } else {
-                Latch::None
-            };
-            self.end_cycle(now);
-        } else if matches!(mode, OperatingMode::Remote) {
-            self.step_remote(now, ready);
-        } else {
-            self.step_local(now, bms, ready, detected);
+                self.step_local(now, bms, ready, detected);
+            }
+            if self.phase == before {
+                break;
+            }
         }
         self.was_ready = ready;
         self.update_set_points(bms);
@@ -909,10 +608,13 @@ impl ChargeControl {
                     let until = *self
                         .hold_off_until
                         .get_or_insert(now.add_duration(self.config.can_hold_off));
-                    if now.has_reached(until) {
-                        self.start(now, self.config.no_can_algorithm.or(self.active));
-                    } else {
+                    if !now.has_reached(until) {
                         self.enter(now, P::HoldOff);
+                    } else if self.no_can_algorithm().is_some() {
+                        self.start(now, self.no_can_algorithm());
+                    } else {
+                        // Nothing to charge with: E-0-2-0, no timer left.
+                        self.enter(now, P::Idle);
                     }
                 }
             }
@@ -975,7 +677,15 @@ impl ChargeControl {
         self.enter(now, next);
     }
 
-    fn update_alarms(&mut self, ready: bool, detected: bool) {
+    /// The algorithm local mode charges with without a BMS.
+    fn no_can_algorithm(&self) -> Option<u16> {
+        self.config
+            .no_can_algorithm
+            .or(self.active)
+            .filter(|id| self.config.algorithm(*id).is_some())
+    }
+
+    fn update_alarms(&mut self, at: Timestamp, ready: bool, detected: bool) {
         let threshold = match (self.mode, self.algorithm()) {
             (OperatingMode::Remote, _) | (_, None) => self.config.max_voltage_mv,
             (_, Some(a)) => a.high_voltage_mv,
@@ -986,10 +696,10 @@ impl ChargeControl {
         let local = !matches!(self.mode, OperatingMode::Remote);
         let mut now = ChargeAlarms::empty();
         now.set(ChargeAlarms::HIGH_VOLTAGE, high);
-        now.set(
-            ChargeAlarms::ALGORITHM_NOT_SET,
-            local && ready && self.active.is_none(),
-        );
+        let held_off = self.hold_off_until.is_some_and(|u| at.has_reached(u));
+        let nothing = (ready && self.active.is_none())
+            || (held_off && !ready && self.no_can_algorithm().is_none());
+        now.set(ChargeAlarms::ALGORITHM_NOT_SET, local && nothing);
         now.set(ChargeAlarms::INCOMPATIBLE_ALGORITHM, self.incompatible);
         now.set(ChargeAlarms::BUS_ERROR, self.bus.bus_error);
         now.set(

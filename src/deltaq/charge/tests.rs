@@ -3,6 +3,7 @@
 //! "ours" where the document is silent).
 
 use super::*;
+use crate::deltaq::DeltaQCode;
 use crate::emcy::{ErrorCode, ErrorRegister};
 use std::vec::Vec;
 
@@ -251,11 +252,12 @@ fn local_cycle_bulk_absorption_rest_float() {
 fn absorption_ends_at_its_safety_timer() {
     let mut c = control(OperatingMode::Local);
     c.handle_bus(s(0), bms(0));
+    // At the absorption voltage already: bulk and absorption in one call.
     c.handle_power_stage(s(0), pack(59, 25));
     c.handle_power_stage(s(1), pack(59, 20));
     assert_eq!(c.phase(), ChargePhase::Absorption);
-    assert_eq!(c.poll_timeout(), Some(s(1 + 4 * 3600)));
-    c.handle_timeout(s(1 + 4 * 3600));
+    assert_eq!(c.poll_timeout(), Some(s(4 * 3600)));
+    c.handle_timeout(s(4 * 3600));
     assert_eq!(c.phase(), ChargePhase::Rest);
 }
 
@@ -319,8 +321,24 @@ fn restart_via_2241h_begins_a_new_cycle() {
     c.handle_power_stage(s(3600), pack(59, 25));
     assert_eq!(c.phase(), ChargePhase::Absorption);
     assert!(c.status().ah_returned > 0);
+    let _ = events(&mut c);
     c.request_algorithm(s(3601), Some(AlgorithmRequest::new(1)));
-    assert_eq!(c.phase(), ChargePhase::Bulk);
+    // A new cycle: through bulk to absorption at once (the pack is there).
+    let phases: Vec<_> = events(&mut c)
+        .into_iter()
+        .filter_map(|e| match e {
+            ChargeEvent::Phase { to, .. } => Some(to),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(
+        phases,
+        [
+            ChargePhase::Idle,
+            ChargePhase::Bulk,
+            ChargePhase::Absorption
+        ]
+    );
     assert_eq!(c.status().ah_returned, 0);
     assert_eq!(c.status().elapsed, Duration::ZERO);
 }
@@ -732,4 +750,35 @@ fn the_meter_counts_in_32_bits_and_bounds_a_gap() {
     m.add(u32::MAX, u64::MAX);
     assert_eq!(m.seconds, 7200);
     assert_eq!(m.q3, 200 + (1u64 << 20) as u32 * 3600 / 450_000);
+}
+
+#[test]
+fn zero_length_phases_run_through_and_no_timer_is_left_behind() {
+    // Ours: a rest of zero goes straight on to float in the same call.
+    let config = ChargeConfig {
+        rest: Duration::ZERO,
+        ..ChargeConfig::example()
+    };
+    let mut c = ChargeControl::new(OperatingMode::Local, config);
+    c.handle_bus(s(0), bms(0));
+    c.handle_power_stage(s(0), pack(59, 25));
+    c.handle_power_stage(s(100), pack(59, 1));
+    assert_eq!(c.phase(), ChargePhase::Float);
+    assert_eq!(c.poll_timeout(), None);
+}
+
+#[test]
+fn no_algorithm_at_all_after_the_hold_off_is_e_0_2_0_and_idle() {
+    let config = ChargeConfig {
+        permanent_algorithm: None,
+        no_can_algorithm: None,
+        ..ChargeConfig::example()
+    };
+    let mut c = ChargeControl::new(OperatingMode::Local, config);
+    c.handle_power_stage(s(0), pack(50, 0));
+    assert_eq!(c.phase(), ChargePhase::HoldOff);
+    c.handle_timeout(s(10));
+    assert_eq!(c.phase(), ChargePhase::Idle);
+    assert_eq!(c.poll_timeout(), None);
+    assert_eq!(c.alarms(), ChargeAlarms::ALGORITHM_NOT_SET);
 }

@@ -1,0 +1,272 @@
+//! The charge control's configuration, inputs, outputs and events.
+
+use core::time::Duration;
+
+use super::algorithm::{ChargeAlgorithm, EXAMPLE_ALGORITHMS};
+use crate::deltaq::{DeltaQCode, DerateReasons, ExtendedChargeStatus, ExternalOverride};
+
+/// The configuration of [`ChargeControl`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ChargeConfig {
+    /// The charger's algorithms (2241h selects among them by id).
+    pub algorithms: &'static [ChargeAlgorithm],
+    /// The permanent algorithm at power-on (None: E-0-2-0 until 2241h).
+    pub permanent_algorithm: Option<u16>,
+    /// Local mode without CAN after the hold-off: this algorithm (None: the
+    /// active one).
+    pub no_can_algorithm: Option<u16>,
+    /// How long local mode waits for a BMS before charging on its own.
+    pub can_hold_off: Duration,
+    /// The rest (output off) between absorption and float or complete.
+    pub rest: Duration,
+    /// The charger's maximum output current, mA.
+    pub max_current_ma: u32,
+    /// The charger's maximum output voltage, mV; the voltage request starts here.
+    pub max_voltage_mv: u32,
+    /// The charger's maximum output power, W.
+    pub max_power_w: u32,
+    /// An output voltage at least this high means a battery is connected, mV.
+    pub battery_detect_mv: u32,
+    /// Charger temperature where derating starts, degC.
+    pub derate_start_c: i16,
+    /// Charger temperature where the current reaches zero, degC.
+    pub derate_stop_c: i16,
+}
+
+impl ChargeConfig {
+    /// Our 1.5 kW, 48 V example charger (the ICL1500's class: up to 25 A,
+    /// 72 V) with [`EXAMPLE_ALGORITHMS`]: permanent
+    /// algorithm 1 (flooded lead acid), no-CAN algorithm 1, a 10 s CAN
+    /// hold-off, 60 s rest, battery detected from 12 V, derating from 70 to
+    /// 90 degC.
+    #[must_use]
+    pub const fn example() -> Self {
+        ChargeConfig {
+            algorithms: &EXAMPLE_ALGORITHMS,
+            permanent_algorithm: Some(1),
+            no_can_algorithm: Some(1),
+            can_hold_off: Duration::from_secs(10),
+            rest: Duration::from_secs(60),
+            max_current_ma: 25_000,
+            max_voltage_mv: 72_000,
+            max_power_w: 1500,
+            battery_detect_mv: 12_000,
+            derate_start_c: 70,
+            derate_stop_c: 90,
+        }
+    }
+
+    /// The algorithm `id` of the table.
+    #[must_use]
+    pub fn algorithm(&self, id: u16) -> Option<&'static ChargeAlgorithm> {
+        self.algorithms.iter().find(|a| a.id == id)
+    }
+}
+
+/// What the power stage measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct PowerStage {
+    /// AC (mains) present.
+    pub ac_present: bool,
+    /// Output (battery) voltage, mV.
+    pub voltage_mv: u32,
+    /// Output current, mA.
+    pub current_ma: u32,
+    /// The charger's temperature, degC.
+    pub temperature_c: i16,
+}
+
+impl PowerStage {
+    /// No AC, nothing on the output, 25 degC.
+    pub const OFF: PowerStage = PowerStage {
+        ac_present: false,
+        voltage_mv: 0,
+        current_ma: 0,
+        temperature_c: 25,
+    };
+}
+
+/// What the bus says (the charger's objects and its supervision).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BusInputs {
+    /// The battery module's heartbeat is present.
+    pub battery_present: bool,
+    /// 6000h battery status (bit 0: ready to charge).
+    pub battery_status: u8,
+    /// 6070h charge current requested (1/16 A; FFFFh invalid).
+    pub current_request: u16,
+    /// The voltage request of 2271h / 2276h (the one written last), mV.
+    pub voltage_request_mv: u32,
+    /// 4201h external override.
+    pub external_override: ExternalOverride,
+    /// The Ah target ([`AH_TARGET`], Q3 Ah; FFFFh none).
+    pub ah_target: u16,
+    /// 6081h battery state of charge (%; FFh invalid).
+    pub battery_soc: u8,
+    /// The CAN controller reports a bus error (error passive or bus off).
+    pub bus_error: bool,
+}
+
+impl BusInputs {
+    /// Nothing on the bus: no module, no request, the voltage request at
+    /// `max_voltage_mv`.
+    #[must_use]
+    pub const fn none(max_voltage_mv: u32) -> Self {
+        BusInputs {
+            battery_present: false,
+            battery_status: 0,
+            current_request: 0xFFFF,
+            voltage_request_mv: max_voltage_mv,
+            external_override: ExternalOverride::empty(),
+            ah_target: 0xFFFF,
+            battery_soc: 0xFF,
+            bus_error: false,
+        }
+    }
+}
+
+/// The power stage's orders.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SetPoints {
+    /// Output on.
+    pub enabled: bool,
+    /// Current limit, mA (0 when off).
+    pub current_ma: u32,
+    /// Voltage limit, mV (0 when off).
+    pub voltage_mv: u32,
+}
+
+/// Where the charge stands.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ChargePhase {
+    /// No charge: no AC, no battery, or (remote) a condition missing.
+    Idle,
+    /// Local mode: waiting the CAN hold-off for a BMS.
+    HoldOff,
+    /// Constant current.
+    Bulk,
+    /// Constant voltage; the current tapers.
+    Absorption,
+    /// Equalize (lead acid), at the algorithm's equalize voltage.
+    Equalize,
+    /// Output off between absorption and float or complete.
+    Rest,
+    /// Maintenance at the float voltage.
+    Float,
+    /// The cycle is complete; output off.
+    Complete,
+    /// Remote mode: delivering the BMS's request.
+    Remote,
+    /// The BMS (6000h) or a module EMCY ended the charge.
+    Terminated,
+}
+
+impl ChargePhase {
+    /// The phase in words.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            ChargePhase::Idle => "idle",
+            ChargePhase::HoldOff => "CAN hold-off",
+            ChargePhase::Bulk => "bulk (constant current)",
+            ChargePhase::Absorption => "absorption (constant voltage)",
+            ChargePhase::Equalize => "equalize",
+            ChargePhase::Rest => "rest",
+            ChargePhase::Float => "float",
+            ChargePhase::Complete => "complete",
+            ChargePhase::Remote => "remote (BMS request)",
+            ChargePhase::Terminated => "terminated",
+        }
+    }
+
+    /// The phases in which the charger delivers current.
+    #[must_use]
+    pub const fn delivers(self) -> bool {
+        matches!(
+            self,
+            ChargePhase::Bulk
+                | ChargePhase::Absorption
+                | ChargePhase::Equalize
+                | ChargePhase::Float
+                | ChargePhase::Remote
+        )
+    }
+}
+
+impl core::fmt::Display for ChargePhase {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+bitflags::bitflags! {
+    /// The alarms [`ChargeControl`] raises (each a Delta-Q code).
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+    pub struct ChargeAlarms: u8 {
+        /// E-0-0-1 battery high voltage.
+        const HIGH_VOLTAGE = 1 << 0;
+        /// E-0-2-0 active algorithm not set.
+        const ALGORITHM_NOT_SET = 1 << 1;
+        /// E-0-2-8 incompatible algorithm.
+        const INCOMPATIBLE_ALGORITHM = 1 << 2;
+        /// E-0-2-9 CAN-bus communication error.
+        const BUS_ERROR = 1 << 3;
+        /// E-0-4-5 battery disconnected.
+        const BATTERY_DISCONNECTED = 1 << 4;
+    }
+}
+
+impl ChargeAlarms {
+    /// The Delta-Q code of a single alarm flag (section 4.4.1).
+    #[must_use]
+    pub fn code(self) -> DeltaQCode {
+        if self == ChargeAlarms::HIGH_VOLTAGE {
+            DeltaQCode::Alarm(1)
+        } else if self == ChargeAlarms::ALGORITHM_NOT_SET {
+            DeltaQCode::Alarm(20)
+        } else if self == ChargeAlarms::INCOMPATIBLE_ALGORITHM {
+            DeltaQCode::Alarm(28)
+        } else if self == ChargeAlarms::BUS_ERROR {
+            DeltaQCode::CAN_BUS_COMMUNICATION
+        } else {
+            DeltaQCode::BATTERY_DISCONNECTED
+        }
+    }
+}
+
+/// What [`ChargeControl`] reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum ChargeEvent {
+    /// The phase changed.
+    Phase {
+        /// Before.
+        from: ChargePhase,
+        /// Now.
+        to: ChargePhase,
+    },
+    /// An alarm was raised (`active`) or cleared.
+    Alarm {
+        /// The alarm (one flag).
+        alarm: ChargeAlarms,
+        /// Raised or cleared.
+        active: bool,
+    },
+}
+
+/// The status objects, as the charger reports them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ChargeStatus {
+    /// 2006h extended charge status.
+    pub extended: ExtendedChargeStatus,
+    /// 6001h charger status (bit 0: delivering, able to charge).
+    pub charger_status: u8,
+    /// 2008h derate reasons.
+    pub derate: DerateReasons,
+    /// 6052h Ah returned during this charge (Q3 Ah).
+    pub ah_returned: u16,
+    /// 6080h charger state of charge (%; FFh unknown).
+    pub charger_soc: u8,
+    /// Time since the cycle started ([`ELAPSED_TIME`]).
+    pub elapsed: Duration,
+}
