@@ -301,7 +301,10 @@ impl Tracker {
                 self.reports.push(r);
             }
             ObserverEvent::BrokenOff {
-                transfer, reason, ..
+                transfer,
+                reason,
+                pending,
+                ..
             } => {
                 let broken = self
                     .open
@@ -320,8 +323,30 @@ impl Tracker {
                         |b| format!("{b}, and no abort followed"),
                     ),
                     BreakReason::AckMismatch { expected, got } => format!(
-                        "acknowledgement of sequence number {got} where the segments on the bus \
-                         make {expected} (the bytes from here on cannot be placed)"
+                        "acknowledgement of sequence number {got} where the log holds segments \
+                         1 to {expected} of the sub-block (frames the receiver got are missing \
+                         from the log; the bytes from here on cannot be placed)"
+                    ),
+                    BreakReason::NoSubBlockBuffer { buffers } => format!(
+                        "a sub-block while all {buffers} sub-block buffers of the decoder hold \
+                         other block transfers (this one is not followed)"
+                    ),
+                    BreakReason::AckNotSeen {
+                        segments,
+                        trace_ended,
+                    } => format!(
+                        "{} with {segments} segment{} ({pending} bytes) that no block \
+                         acknowledgement confirmed (not counted)",
+                        if trace_ended {
+                            "the log ends".to_string()
+                        } else {
+                            format!("no frame for {} s", TIMEOUT.as_secs())
+                        },
+                        if segments == 1 { "" } else { "s" },
+                    ),
+                    BreakReason::MoreThanIndicated { indicated, sent } => format!(
+                        "the server sent {sent} bytes where it indicated {indicated} \
+                         (06070012h for the client; the first {indicated} counted)"
                     ),
                     BreakReason::Timeout => {
                         let mut s = String::new();
@@ -331,7 +356,10 @@ impl Tracker {
                     BreakReason::EndOfTrace => "the log ends".to_string(),
                     _ => "broken off".to_string(),
                 };
-                let at = if matches!(reason, BreakReason::EndOfTrace | BreakReason::Timeout) {
+                let at = if matches!(
+                    reason,
+                    BreakReason::EndOfTrace | BreakReason::Timeout | BreakReason::AckNotSeen { .. }
+                ) {
                     self.open.get(&transfer.channel).and_then(|c| c.last_t)
                 } else {
                     t
