@@ -115,6 +115,14 @@ fuzz_target!(|ops: Vec<Op>| {
             | ObserverEvent::BrokenOff { bytes, .. } => {
                 assert!(t.open, "ended twice");
                 assert_eq!(bytes, t.delivered);
+                // Segments held for an acknowledgement that never came
+                // were carried by frames too, and are not delivered.
+                if let ObserverEvent::Aborted { pending, .. }
+                | ObserverEvent::BrokenOff { pending, .. } = e
+                {
+                    assert!(t.block || pending == 0, "pending bytes outside a block transfer");
+                    assert!(bytes + pending <= t.carried, "more bytes held than carried");
+                }
                 t.open = false;
                 ended += 1;
             }

@@ -759,3 +759,7 @@ impl<const EXTRA: usize, const BUFFERS: usize> Machine for Observer<EXTRA, BUFFE
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+#[path = "block_ack_tests.rs"]
+mod block_ack_tests;
