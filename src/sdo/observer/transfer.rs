@@ -422,13 +422,15 @@ fn block_segment(
     let mut end = None;
     let taken = match &mut o.phase {
         Phase::SubBlocks(b) if from == sender => {
-            // Once the last segment is acknowledged the end frame is next;
-            // an abort is a command in any phase.
-            if b.rx.is_done() || is_abort(bytes) {
+            // An abort is a command in any phase; once the last segment is
+            // acknowledged the end frame is next (a repeat of the segment
+            // acknowledged last aside, which the receiver ignores).
+            let dup = b.dup.is_some_and(|d| d.as_slice() == bytes);
+            if is_abort(bytes) || (b.rx.is_done() && !dup) {
                 return None;
             }
             let blksize = b.rx.block_size();
-            if b.dup.is_some_and(|d| d.as_slice() == bytes) || bytes.is_empty() {
+            if dup || bytes.is_empty() {
                 // A repeat of the frame that ended the last sub-block (or
                 // no data at all): the receiver ignores it.
             } else if segment.seqno == 0 || segment.seqno > blksize {
