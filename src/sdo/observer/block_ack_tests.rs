@@ -256,6 +256,26 @@ fn a_duplicated_segment_is_held_once() {
 }
 
 #[test]
+fn a_repeat_of_the_last_segment_after_its_acknowledgement_is_ignored() {
+    // The receiver ignores a repeat of the segment it acknowledged last;
+    // after the last one it is not the end frame either.
+    let mut f = Frames::new();
+    for seq in 1..=56u8 {
+        f.put(segment(seq, usize::from(seq) - 1));
+    }
+    f.put(ack(56));
+    f.put(segment(56, 55));
+    f.put(END);
+    f.put(CONFIRM);
+    let read = feed(&mut Observer::new(ObserverConfig::default()), f.all(), true);
+    assert_eq!(read.value(), value());
+    assert!(matches!(
+        read.end(),
+        ObserverEvent::Completed { bytes: LEN, .. }
+    ));
+}
+
+#[test]
 fn segments_never_acknowledged_are_not_delivered() {
     let mut f = Frames::new();
     for seq in 1..=20u8 {

@@ -3,7 +3,7 @@
 //! server's (`crate::sdo::rules`); this file only says which side applies
 //! which rule when (see [`super`]).
 
-use super::sub_block::{self, Seen, SubBlock};
+use super::sub_block::SubBlock;
 use super::{
     BreakReason, Direction, Observed, ObserverEvent, SdoChannel, Side, Sink, Transfer, TransferKind,
 };
@@ -12,13 +12,16 @@ use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::sdo::abort::AbortCode;
 use crate::sdo::data::{InitiatePayload, Segment, SegmentData};
-use crate::sdo::rules::block::is_abort;
 use crate::sdo::rules::block::{check_block_size, Receiver};
 use crate::sdo::rules::segmented::{check_toggle, Segments};
 use crate::sdo::wire::{
-    BlockSegment, ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoFrame, SdoRequest,
-    SdoResponse, ServerBlockDownload, ServerBlockUpload, ServerCommand,
+    ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoRequest, SdoResponse,
+    ServerBlockDownload, ServerBlockUpload, ServerCommand,
 };
+use block_phase::{ack, block_segment, end, Blocks};
+
+#[path = "block_phase.rs"]
+mod block_phase;
 
 /// Where an open transfer stands: what the next frame may be.
 #[derive(Debug, Clone, Copy)]
@@ -68,33 +71,6 @@ enum Phase {
         by: Side,
         segments_from: Option<Side>,
     },
-}
-
-/// The sub-block phase of a block transfer, between acknowledgements.
-#[derive(Debug, Clone, Copy)]
-struct Blocks {
-    /// The receiver's reading of the value: what is committed, the CRC,
-    /// the block size, the held last segment.
-    rx: Receiver,
-    /// A repeat of this frame (the one that ended the last sub-block, or
-    /// the initiate frame) is a duplicate while no segment has come since.
-    dup: Option<Payload>,
-    /// The last segment seen in this sub-block.
-    recent: Option<Payload>,
-    /// The last acknowledgement: a repeat of it with no segment between
-    /// is ignored.
-    last_ack: Option<Payload>,
-}
-
-impl Blocks {
-    fn new(rx: Receiver) -> Self {
-        Blocks {
-            rx,
-            dup: rx.acked_frame(),
-            recent: None,
-            last_ack: None,
-        }
-    }
 }
 
 /// The transfer open on one channel.
@@ -399,80 +375,6 @@ fn take(
     seen
 }
 
-/// A sub-block segment from the sender of the data, held until the
-/// receiver acknowledges it; `None` when the frame is a command. The
-/// reason is given when the segment ends the transfer (no buffer free).
-fn block_segment(
-    open: &mut Option<Open>,
-    channel: SdoChannel,
-    from: Side,
-    bytes: &[u8],
-    pool: &mut [SubBlock],
-) -> Option<(Observed, Option<BreakReason>)> {
-    let o = open.as_mut()?;
-    let sender = o.data_sender();
-    let segment = match SdoFrame::new_checked(bytes) {
-        Ok(frame) => BlockSegment::parse(&frame),
-        Err(_) => BlockSegment {
-            seqno: 0,
-            last: false,
-            data: SegmentData::EMPTY,
-        },
-    };
-    let mut end = None;
-    let taken = match &mut o.phase {
-        Phase::SubBlocks(b) if from == sender => {
-            // An abort is a command in any phase; once the last segment is
-            // acknowledged the end frame is next (a repeat of the segment
-            // acknowledged last aside, which the receiver ignores).
-            let dup = b.dup.is_some_and(|d| d.as_slice() == bytes);
-            if is_abort(bytes) || (b.rx.is_done() && !dup) {
-                return None;
-            }
-            let blksize = b.rx.block_size();
-            if dup || bytes.is_empty() {
-                // A repeat of the frame that ended the last sub-block (or
-                // no data at all): the receiver ignores it.
-            } else if segment.seqno == 0 || segment.seqno > blksize {
-                o.violate(AbortCode::InvalidSequenceNumber, sender.other());
-            } else if !segment.last && segment.data.len() < 7 {
-                // Without c and shorter than 8 bytes: its data is not all
-                // there; the receiver ignores it.
-            } else if let Some(buffer) = sub_block::lend(pool, channel) {
-                buffer.hold(Seen {
-                    seqno: segment.seqno,
-                    last: segment.last,
-                    data: segment.data,
-                });
-                o.pending = (buffer.bytes(), buffer.segments());
-                b.dup = None;
-                b.recent = Payload::new(bytes);
-            } else {
-                end = Some(BreakReason::NoSubBlockBuffer {
-                    buffers: pool.len(),
-                });
-            }
-            true
-        }
-        Phase::Violated {
-            segments_from: Some(side),
-            ..
-        } if *side == from => !is_abort(bytes),
-        _ => false,
-    };
-    if !taken {
-        return None;
-    }
-    let seen = Observed::BlockSegment {
-        channel,
-        from,
-        seqno: segment.seqno,
-        last: segment.last,
-        data: segment.data,
-    };
-    Some((seen, end))
-}
-
 /// A client frame that begins a transfer: what is known of it and its
 /// first phase.
 fn initiate(channel: SdoChannel, c: &ClientCommand, bytes: &[u8]) -> Option<(Transfer, Phase)> {
@@ -612,98 +514,6 @@ fn download_segment(o: &mut Open, rx: &mut Segments, seg: &Segment, out: &mut Si
             last: seg.last,
         };
         o.deliver(offset, seg.data, out);
-    }
-}
-
-/// The receiver of the data (`from`) acknowledged a sub-block: segments
-/// 1..=`ackseq` are committed (delivered, in order), the others seen are
-/// forgotten (the sender resends them from sequence number 1); the block
-/// size must be valid unless the last segment is in.
-fn ack(
-    o: &mut Open,
-    (ackseq, blksize): (u8, u8),
-    bytes: &[u8],
-    from: Side,
-    pool: &mut [SubBlock],
-    out: &mut Sink,
-) -> Option<End> {
-    let Phase::SubBlocks(mut b) = o.phase else {
-        o.violate(AbortCode::InvalidCommandSpecifier, from.other());
-        return None;
-    };
-    let channel = o.transfer.channel;
-    let held = sub_block::held(pool, channel).copied();
-    sub_block::give_back(pool, channel);
-    o.pending = (0, 0);
-    let segments = held.map_or(0, |h| h.segments());
-    if segments == 0 && b.last_ack.is_some_and(|a| a.as_slice() == bytes) {
-        // The same acknowledgement again, nothing sent between: the
-        // sender's business; nothing more is confirmed.
-        return None;
-    }
-    let have = held.map_or(0, |h| h.contiguous());
-    if ackseq > have {
-        return Some(End::Broken(BreakReason::AckMismatch {
-            expected: have,
-            got: ackseq,
-        }));
-    }
-    for seqno in 1..=ackseq {
-        let Some((data, last)) = held.and_then(|h| h.segment(seqno)) else {
-            break;
-        };
-        match b.rx.commit(data, last) {
-            Ok(Some((offset, data))) => o.deliver(offset, data, out),
-            Ok(None) => {}
-            Err(code) => {
-                o.violate(code, from);
-                return None;
-            }
-        }
-    }
-    // The receiver ignores a repeat of the segment that completed the
-    // sub-block in order (the one acknowledged), not of one it dropped.
-    b.dup = b
-        .recent
-        .take()
-        .filter(|r| ackseq > 0 && r.as_slice().first().map(|b0| b0 & 0x7F) == Some(ackseq));
-    b.last_ack = Payload::new(bytes);
-    if b.rx.is_done() {
-        o.phase = Phase::SubBlocks(b);
-        return None;
-    }
-    match check_block_size(blksize) {
-        Ok(size) => {
-            b.rx.set_block_size(size);
-            o.phase = Phase::SubBlocks(b);
-        }
-        Err(code) => o.violate(code, from.other()),
-    }
-    None
-}
-
-/// The sender's end frame; `checker` is the receiver of the data.
-fn end(o: &mut Open, (unused, crc): (u8, u16), bytes: &[u8], checker: Side, out: &mut Sink) {
-    let Phase::SubBlocks(Blocks { mut rx, .. }) = o.phase else {
-        return o.violate(AbortCode::InvalidCommandSpecifier, checker);
-    };
-    if !rx.is_done() {
-        return o.violate(AbortCode::InvalidCommandSpecifier, checker);
-    }
-    match rx.on_end_lenient(unused, crc) {
-        Ok((ended, broken)) => {
-            if let Some(code) = broken {
-                o.flag(code, checker);
-            }
-            if let Some((offset, data)) = ended.write {
-                o.deliver(offset, data, out);
-            }
-            o.phase = Phase::EndAckDue {
-                crc_checked: rx.crc_on() && broken != Some(AbortCode::CrcError),
-                end: Payload::new(bytes).unwrap_or_default(),
-            };
-        }
-        Err(code) => o.violate(code, checker),
     }
 }
 
