@@ -335,8 +335,8 @@ impl Tracker {
                         segments,
                         trace_ended,
                     } => format!(
-                        "{} with {segments} segment{} ({pending} bytes) that no block \
-                         acknowledgement confirmed (not counted)",
+                        "{} before the block acknowledgement of {segments} segment{} \
+                         ({pending} bytes, not counted)",
                         if trace_ended {
                             "the log ends".to_string()
                         } else {
@@ -346,7 +346,7 @@ impl Tracker {
                     ),
                     BreakReason::MoreThanIndicated { indicated, sent } => format!(
                         "the server sent {sent} bytes where it indicated {indicated} \
-                         (06070012h for the client; the first {indicated} counted)"
+                         (the client should abort with 06070012h; {indicated} kept)"
                     ),
                     BreakReason::Timeout => {
                         let mut s = String::new();
@@ -364,7 +364,11 @@ impl Tracker {
                 } else {
                     t
                 };
-                let r = self.report(transfer, at, End::Incomplete(why), false);
+                let mut r = self.report(transfer, at, End::Incomplete(why), false);
+                if let BreakReason::MoreThanIndicated { sent, .. } = reason {
+                    // Transferred on the bus: more than the bytes kept.
+                    r.total = r.total.max(sent);
+                }
                 if reason == BreakReason::NewInitiate {
                     if let Some(p) = pending_new.replace(r) {
                         self.reports.push(p);
