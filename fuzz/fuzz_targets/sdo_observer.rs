@@ -77,7 +77,9 @@ fn bytes(shape: u8, a: u8, b: u8, d: [u8; 7]) -> [u8; 8] {
 
 fuzz_target!(|ops: Vec<Op>| {
     let chans = channels();
-    let mut obs: Observer = Observer::new(ObserverConfig {
+    // Two sub-block buffers for three channels: block transfers can run
+    // out of them (NoSubBlockBuffer) as well as complete.
+    let mut obs: Observer<8, 2> = Observer::with_capacity(ObserverConfig {
         default_channels: true,
         timeout: Some(Duration::from_millis(50)),
     });
