@@ -31,6 +31,11 @@ pub const TIMEOUT: Duration = Duration::from_secs(5);
 /// Channels `--sdo` can declare.
 pub const EXTRA_CHANNELS: usize = 32;
 
+/// Block transfers whose sub-blocks the decoder holds at once (889 bytes
+/// each; a sub-block holds one from its first segment to its
+/// acknowledgement): more than a bus runs side by side.
+pub const SUB_BLOCK_BUFFERS: usize = 16;
+
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Direction {
     Upload,
@@ -157,7 +162,7 @@ impl Collect {
 
 /// The observer and the bytes of every open transfer.
 pub struct Tracker {
-    observer: Observer<EXTRA_CHANNELS>,
+    observer: Observer<EXTRA_CHANNELS, SUB_BLOCK_BUFFERS>,
     open: HashMap<SdoChannel, Collect>,
     reports: Vec<Report>,
     /// The frame just taken, for the words of a rule it breaks.

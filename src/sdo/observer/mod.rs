@@ -607,8 +607,11 @@ impl<const EXTRA: usize, const BUFFERS: usize> Observer<EXTRA, BUFFERS> {
         let mut out = Sink {
             queue: &mut self.events,
         };
+        // Only a transfer in the sub-block phase holds a buffer: one that
+        // leaves it (or ends) gives it back.
+        let held = open.as_ref().is_some_and(Open::holds_segments);
         let seen = transfer::step(open, channel, from, frame, &mut self.buffers, &mut out);
-        if !open.as_ref().is_some_and(Open::holds_segments) {
+        if held && !open.as_ref().is_some_and(Open::holds_segments) {
             sub_block::give_back(&mut self.buffers, channel);
         }
         let deadline = match (open.as_mut(), timeout) {
