@@ -290,7 +290,8 @@ fn sdo_toggle_error_is_reported_once() {
 
 #[test]
 fn sdo_size_mismatch_truncation_and_log_end_are_reported() {
-    // V9: more data than indicated; V10: less; then a transfer the log cuts.
+    // V9: more data than indicated (ends the transfer; the bytes indicated
+    // are kept); V10: less; then a transfer the log cuts.
     let input = format!(
         "602#4008100000000000\n582#4108100004000000\n602#6000000000000000\n582#0554696E79200000\n\
 602#401B200000000000\n582#411B2000FEFDFCFB\n602#6000000000000000\n582#00B2012002911203\n\
@@ -301,8 +302,9 @@ fn sdo_size_mismatch_truncation_and_log_end_are_reported() {
     assert_eq!(
         transfers(&text(&o)),
         [
-            "SDO upload 1008h:00 from node 2: 5 bytes \"Tiny \" (manufacturer device name) \
-             [size mismatch: 4 bytes indicated, 5 transferred]",
+            "SDO upload 1008h:00 from node 2 incomplete: the server sent 5 bytes where it \
+             indicated 4 (the client should abort with 06070012h; 4 kept) \
+             (5 bytes transferred of 4 indicated)",
             "SDO upload 201Bh:00 from node 2: B2 01 20 02 91 12 03 19 \
              [size mismatch: 4227661310 bytes indicated, 8 transferred]",
             "SDO upload 1008h:00 from node 2 incomplete: the log ends (7 bytes transferred of 26 indicated)",
@@ -312,6 +314,9 @@ fn sdo_size_mismatch_truncation_and_log_end_are_reported() {
     assert_eq!(v[0]["size_mismatch"], true);
     assert_eq!(v[0]["indicated_size"], 4);
     assert_eq!(v[0]["size"], 5);
+    // Never more bytes than indicated: "Tiny" of "Tiny ".
+    assert_eq!(v[0]["status"], "incomplete");
+    assert_eq!(v[0]["bytes"], "54696e79");
     assert_eq!(v[2]["incomplete"], "the log ends");
     assert!(v[2]["t"].is_null()); // the log has no timestamps
 
@@ -461,8 +466,9 @@ fn sdo_channels_on_other_cob_ids_are_declared_with_sdo() {
         transfers(&out),
         [
             "SDO upload 1008h:00 from node 65: 1 bytes \"A\" (manufacturer device name)",
-            "SDO block upload 1008h:00 from node 65 incomplete: the log ends \
-             (7 bytes transferred of 26 indicated)",
+            "SDO block upload 1008h:00 from node 65 incomplete: the log ends before \
+             the block acknowledgement of 1 segment (7 bytes, not counted) \
+             (0 bytes transferred of 26 indicated)",
         ]
     );
     // The open transfer is reported once, in JSON too.

@@ -77,7 +77,9 @@ fn bytes(shape: u8, a: u8, b: u8, d: [u8; 7]) -> [u8; 8] {
 
 fuzz_target!(|ops: Vec<Op>| {
     let chans = channels();
-    let mut obs: Observer = Observer::new(ObserverConfig {
+    // Two sub-block buffers for three channels: block transfers can run
+    // out of them (NoSubBlockBuffer) as well as complete.
+    let mut obs: Observer<8, 2> = Observer::with_capacity(ObserverConfig {
         default_channels: true,
         timeout: Some(Duration::from_millis(50)),
     });
@@ -115,6 +117,14 @@ fuzz_target!(|ops: Vec<Op>| {
             | ObserverEvent::BrokenOff { bytes, .. } => {
                 assert!(t.open, "ended twice");
                 assert_eq!(bytes, t.delivered);
+                // Segments held for an acknowledgement that never came
+                // were carried by frames too, and are not delivered.
+                if let ObserverEvent::Aborted { pending, .. }
+                | ObserverEvent::BrokenOff { pending, .. } = e
+                {
+                    assert!(t.block || pending == 0, "pending bytes outside a block transfer");
+                    assert!(bytes + pending <= t.carried, "more bytes held than carried");
+                }
                 t.open = false;
                 ended += 1;
             }

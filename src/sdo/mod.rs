@@ -115,6 +115,7 @@ pub use data::{ExpeditedData, InitiatePayload, InlineData, Segment, SegmentData}
 pub use observer::{
     BreakReason, ChannelError, Direction, Observed, Observer, ObserverConfig, ObserverEvent,
     SdoChannel, Transfer, TransferKind, OBSERVER_EVENT_CAPACITY, OBSERVER_EXTRA_CHANNELS,
+    OBSERVER_SUB_BLOCK_BUFFERS, SUB_BLOCK_BYTES,
 };
 pub use server::{
     AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT,

@@ -83,6 +83,9 @@ pub fn replay(sim: &Sim, latency_us: u64) -> Observed {
         if sent.dropped {
             continue;
         }
+        // Replayed in send order: a delayed (reordered) frame would be
+        // out of place; tests that delay frames watch at the receiver.
+        assert_eq!(sent.delay_us, 0, "replay of a delayed frame");
         seen.repeated_frames |= sent.duplicated;
         let at = sent.at.add_micros(latency_us);
         for _ in 0..if sent.duplicated { 2 } else { 1 } {

@@ -21,7 +21,8 @@
 //! - **Faults**: frames are numbered from 0 in send order, injected ones
 //!   included; [`Sim::drop_nth`], [`Sim::drop_if`], [`Sim::duplicate_nth`],
 //!   [`Sim::duplicate_if`] (a predicate sees the sender, so faults can be
-//!   per direction).
+//!   per direction), [`Sim::delay_if`] (a frame arrives later than the
+//!   ones sent after it: reordered).
 //! - **Log**: every frame sent, with its number, send time, sender and fate
 //!   ([`Sim::log`], [`Sim::lines`], [`Sim::frames_on`]).
 //! - [`Sim::run_until`] runs every delivery and timer up to and including
@@ -73,6 +74,8 @@ pub struct Sent {
     pub dropped: bool,
     /// Delivered twice, one copy right after the other.
     pub duplicated: bool,
+    /// Microseconds it arrives after the latency (0: on time).
+    pub delay_us: u64,
 }
 
 /// A machine with its recorded events, behind `dyn Node`.
@@ -151,6 +154,7 @@ struct InFlight {
 enum FaultKind {
     Drop,
     Duplicate,
+    Delay(u64),
 }
 
 struct Fault {
@@ -323,6 +327,16 @@ impl Sim {
         });
     }
 
+    /// Delivers every frame for which `applies` is true `delay_us` after
+    /// the latency, behind the frames sent after it meanwhile (a frame
+    /// reordered); its copies, if duplicated, are delayed alike.
+    pub fn delay_if(&mut self, delay_us: u64, applies: impl FnMut(&Sent) -> bool + 'static) {
+        self.faults.push(Fault {
+            kind: FaultKind::Delay(delay_us),
+            applies: Box::new(applies),
+        });
+    }
+
     /// Puts a frame on the bus from the test (e.g. as the NMT master): it
     /// reaches every machine.
     pub fn inject(&mut self, frame: CanFrame) {
@@ -428,12 +442,14 @@ impl Sim {
             frame,
             dropped: false,
             duplicated: false,
+            delay_us: 0,
         };
         for fault in &mut self.faults {
             if (fault.applies)(&sent) {
                 match fault.kind {
                     FaultKind::Drop => sent.dropped = true,
                     FaultKind::Duplicate => sent.duplicated = true,
+                    FaultKind::Delay(us) => sent.delay_us = sent.delay_us.saturating_add(us),
                 }
             }
         }
@@ -445,7 +461,9 @@ impl Sim {
         };
         for _ in 0..copies {
             self.in_flight.push_back(InFlight {
-                arrives: self.now.add_micros(self.latency_us),
+                arrives: self
+                    .now
+                    .add_micros(self.latency_us.saturating_add(sent.delay_us)),
                 from,
                 frame,
             });

@@ -31,6 +31,11 @@ pub const TIMEOUT: Duration = Duration::from_secs(5);
 /// Channels `--sdo` can declare.
 pub const EXTRA_CHANNELS: usize = 32;
 
+/// Block transfers whose sub-blocks the decoder holds at once (889 bytes
+/// each; a sub-block holds one from its first segment to its
+/// acknowledgement): more than a bus runs side by side.
+pub const SUB_BLOCK_BUFFERS: usize = 16;
+
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Direction {
     Upload,
@@ -157,7 +162,7 @@ impl Collect {
 
 /// The observer and the bytes of every open transfer.
 pub struct Tracker {
-    observer: Observer<EXTRA_CHANNELS>,
+    observer: Observer<EXTRA_CHANNELS, SUB_BLOCK_BUFFERS>,
     open: HashMap<SdoChannel, Collect>,
     reports: Vec<Report>,
     /// The frame just taken, for the words of a rule it breaks.
@@ -301,7 +306,10 @@ impl Tracker {
                 self.reports.push(r);
             }
             ObserverEvent::BrokenOff {
-                transfer, reason, ..
+                transfer,
+                reason,
+                pending,
+                ..
             } => {
                 let broken = self
                     .open
@@ -320,8 +328,30 @@ impl Tracker {
                         |b| format!("{b}, and no abort followed"),
                     ),
                     BreakReason::AckMismatch { expected, got } => format!(
-                        "acknowledgement of sequence number {got} where the segments on the bus \
-                         make {expected} (the bytes from here on cannot be placed)"
+                        "acknowledgement of sequence number {got} where the log holds segments \
+                         1 to {expected} of the sub-block (frames the receiver got are missing \
+                         from the log; the bytes from here on cannot be placed)"
+                    ),
+                    BreakReason::NoSubBlockBuffer { buffers } => format!(
+                        "a sub-block while all {buffers} sub-block buffers of the decoder hold \
+                         other block transfers (this one is not followed)"
+                    ),
+                    BreakReason::AckNotSeen {
+                        segments,
+                        trace_ended,
+                    } => format!(
+                        "{} before the block acknowledgement of {segments} segment{} \
+                         ({pending} bytes, not counted)",
+                        if trace_ended {
+                            "the log ends".to_string()
+                        } else {
+                            format!("no frame for {} s", TIMEOUT.as_secs())
+                        },
+                        if segments == 1 { "" } else { "s" },
+                    ),
+                    BreakReason::MoreThanIndicated { indicated, sent } => format!(
+                        "the server sent {sent} bytes where it indicated {indicated} \
+                         (the client should abort with 06070012h; {indicated} kept)"
                     ),
                     BreakReason::Timeout => {
                         let mut s = String::new();
@@ -331,12 +361,19 @@ impl Tracker {
                     BreakReason::EndOfTrace => "the log ends".to_string(),
                     _ => "broken off".to_string(),
                 };
-                let at = if matches!(reason, BreakReason::EndOfTrace | BreakReason::Timeout) {
+                let at = if matches!(
+                    reason,
+                    BreakReason::EndOfTrace | BreakReason::Timeout | BreakReason::AckNotSeen { .. }
+                ) {
                     self.open.get(&transfer.channel).and_then(|c| c.last_t)
                 } else {
                     t
                 };
-                let r = self.report(transfer, at, End::Incomplete(why), false);
+                let mut r = self.report(transfer, at, End::Incomplete(why), false);
+                if let BreakReason::MoreThanIndicated { sent, .. } = reason {
+                    // Transferred on the bus: more than the bytes kept.
+                    r.total = r.total.max(sent);
+                }
                 if reason == BreakReason::NewInitiate {
                     if let Some(p) = pending_new.replace(r) {
                         self.reports.push(p);

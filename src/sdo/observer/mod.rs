@@ -14,16 +14,26 @@ use crate::error::DecodeError;
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::EventQueue;
+use sub_block::SubBlock;
+pub use sub_block::SUB_BLOCK_BYTES;
 use transfer::Open;
 
+mod sub_block;
 mod transfer;
 
-/// How many events the observer keeps before dropping the oldest.
-pub const OBSERVER_EVENT_CAPACITY: usize = 32;
+/// How many events the observer keeps before dropping the oldest: room for
+/// what one frame can make (a block acknowledgement of 127 segments makes
+/// 127 data events, and a rule broken and an end) and a few more.
+pub const OBSERVER_EVENT_CAPACITY: usize = 136;
 
 /// Channels besides the default ones an [`Observer`] holds unless told
 /// otherwise ([`Observer::with_extra_channels`]).
 pub const OBSERVER_EXTRA_CHANNELS: usize = 8;
+
+/// Sub-block buffers ([`SUB_BLOCK_BYTES`] each) an [`Observer`] shares
+/// among its block transfers unless told otherwise: this many sub-blocks
+/// can be in flight at once, on as many channels.
+pub const OBSERVER_SUB_BLOCK_BUFFERS: usize = 4;
 
 /// Nodes with a default SDO channel (1..=127).
 const NODES: usize = 127;
@@ -113,14 +123,42 @@ pub enum BreakReason {
         /// The side that should have aborted.
         by: Side,
     },
-    /// The receiver of the data acknowledged another sequence number than
-    /// the segments on the bus make (the observer missed or saw frames the
-    /// receiver did not): the bytes from here on cannot be placed.
+    /// The receiver of the data acknowledged segments the observer did
+    /// not see (it missed frames the receiver got): the bytes from here on
+    /// cannot be placed.
     AckMismatch {
-        /// The sequence number the segments seen make.
+        /// The segments seen without a gap from sequence number 1 (up to
+        /// the last one).
         expected: u8,
-        /// The one acknowledged.
+        /// The sequence number acknowledged.
         got: u8,
+    },
+    /// A block transfer's segments came with every sub-block buffer of
+    /// the observer lent to other transfers
+    /// ([`Observer::with_capacity`]): they cannot be held until their
+    /// acknowledgement, so the transfer is not followed.
+    NoSubBlockBuffer {
+        /// The observer's number of sub-block buffers.
+        buffers: usize,
+    },
+    /// The transfer stopped (timeout, end of the trace) with sub-block
+    /// segments seen that no acknowledgement confirmed: they are not
+    /// delivered (the event's `pending` counts their bytes).
+    AckNotSeen {
+        /// Segments held.
+        segments: u8,
+        /// The trace ended ([`Observer::end_of_trace`]); otherwise the
+        /// transfer timed out.
+        trace_ended: bool,
+    },
+    /// A segmented upload's server sent more bytes than it indicated in the
+    /// initiate response (06070012h for the client): the bytes up to the
+    /// indicated size were delivered, none beyond.
+    MoreThanIndicated {
+        /// The size indicated.
+        indicated: u32,
+        /// The bytes the segments made, the last one included.
+        sent: usize,
     },
     /// No frame of the transfer for [`ObserverConfig::timeout`].
     Timeout,
@@ -169,6 +207,9 @@ pub enum ObserverEvent {
         transfer: Transfer,
         /// Bytes delivered before it.
         bytes: usize,
+        /// Bytes of block segments seen but not acknowledged when it
+        /// ended: not delivered.
+        pending: usize,
         /// The code in the abort frame.
         code: AbortCode,
         /// Who sent the abort.
@@ -182,6 +223,9 @@ pub enum ObserverEvent {
         transfer: Transfer,
         /// Bytes delivered before it.
         bytes: usize,
+        /// Bytes of block segments seen but not acknowledged when it
+        /// ended: not delivered.
+        pending: usize,
         /// Why.
         reason: BreakReason,
     },
@@ -362,9 +406,11 @@ struct Slot {
 ///  **Back-pressure.** Events go into a queue of [`OBSERVER_EVENT_CAPACITY`]; when it
 ///  is full the oldest is dropped and counted
 ///  ([`Machine::events_dropped`]), and the transfers go on by their rules
-///  whether or not anybody reads them. One frame makes at most four events
-///  (a broken-off transfer, and a new expedited one started, delivered and
-///  completed); drain after every frame.
+///  whether or not anybody reads them. One frame makes at most 129 events
+///  (a block acknowledgement: the data of 127 segments, a rule broken and
+///  the end; or a broken-off transfer, and a new expedited one started,
+///  delivered and completed), fewer than the queue holds; drain after
+///  every frame.
 ///
 ///  ```
 ///  use canopen_codec::machine::Machine;
@@ -395,17 +441,34 @@ struct Slot {
 ///  assert_eq!(value, b"DQ 12");
 ///  ```
 ///
+/// **Block transfers** are delivered at the receiver's acknowledgements:
+/// the segments of a sub-block are held (in one of `BUFFERS` buffers of
+/// [`SUB_BLOCK_BYTES`] the observer's block transfers share) until the
+/// acknowledgement says how many of them the receiver took in order
+/// (ackseq); exactly those are delivered, and the sender's resending of
+/// the rest is read as the next sub-block (CiA 301 section 7.2.4.3, SDO
+/// block download and SDO block upload). An acknowledgement of segments
+/// the observer did not see is [`BreakReason::AckMismatch`]; segments with
+/// no buffer free, [`BreakReason::NoSubBlockBuffer`]; a transfer that
+/// stops before its acknowledgement, [`BreakReason::AckNotSeen`] (what was
+/// held is counted as `pending`, never delivered).
+///
 /// `EXTRA` is the number of channels besides the default ones that
 /// [`Observer::add_channel`] can add. Implements [`Machine`]:
 /// [`Machine::handle_frame`] is [`Observer::observe`] without its answer,
 /// [`Machine::poll_transmit`] is always `None`.
 #[derive(Debug, Clone)]
-pub struct Observer<const EXTRA: usize = OBSERVER_EXTRA_CHANNELS> {
+pub struct Observer<
+    const EXTRA: usize = OBSERVER_EXTRA_CHANNELS,
+    const BUFFERS: usize = OBSERVER_SUB_BLOCK_BUFFERS,
+> {
     config: ConfigParts,
     defaults: [Option<Open>; NODES],
     extra: [Option<Slot>; EXTRA],
     /// Slots of `extra` in use (they fill from the front).
     extra_used: usize,
+    /// The sub-block buffers, lent to one block transfer at a time.
+    buffers: [SubBlock; BUFFERS],
     /// No open transfer's deadline is before this (a lower bound; exact
     /// after every [`Machine::handle_timeout`]).
     earliest: Option<Timestamp>,
@@ -434,11 +497,20 @@ impl Observer {
     }
 }
 
-impl<const EXTRA: usize> Observer<EXTRA> {
+impl<const EXTRA: usize, const BUFFERS: usize> Observer<EXTRA, BUFFERS> {
     /// An observer with no transfer open and room for `EXTRA` channels
-    /// besides the default ones (`Observer::<32>::with_extra_channels(..)`).
+    /// besides the default ones (`Observer::<32>::with_extra_channels(..)`);
+    /// the same as [`Observer::with_capacity`].
     #[must_use]
     pub fn with_extra_channels(config: ObserverConfig) -> Self {
+        Self::with_capacity(config)
+    }
+
+    /// An observer with no transfer open, room for `EXTRA` channels besides
+    /// the default ones and `BUFFERS` sub-block buffers for block transfers
+    /// in flight at once (`Observer::<8, 16>::with_capacity(..)`).
+    #[must_use]
+    pub fn with_capacity(config: ObserverConfig) -> Self {
         let timeout_us = config
             .timeout
             .map(|d| u64::try_from(d.as_micros()).unwrap_or(u64::MAX));
@@ -447,6 +519,7 @@ impl<const EXTRA: usize> Observer<EXTRA> {
             defaults: [None; NODES],
             extra: [None; EXTRA],
             extra_used: 0,
+            buffers: [sub_block::FREE; BUFFERS],
             earliest: None,
             events: EventQueue::new(FILLER),
         }
@@ -514,34 +587,6 @@ impl<const EXTRA: usize> Observer<EXTRA> {
             .chain(defaults)
     }
 
-    /// The channel a frame identifier belongs to, the side that sent it,
-    /// and the channel's open transfer.
-    fn route(&mut self, id: CanId) -> Option<(SdoChannel, Side, &mut Option<Open>)> {
-        let extra = self.extra.get_mut(..self.extra_used).unwrap_or(&mut []);
-        for slot in extra.iter_mut().flatten() {
-            if id == slot.channel.request {
-                return Some((slot.channel, Side::Client, &mut slot.open));
-            }
-            if id == slot.channel.response {
-                return Some((slot.channel, Side::Server, &mut slot.open));
-            }
-        }
-        if !self.config.config.default_channels {
-            return None;
-        }
-        let CanId::Standard(raw) = id else {
-            return None;
-        };
-        let (side, n) = match raw {
-            0x601..=0x67F => (Side::Client, raw - SDO_RX_BASE),
-            0x581..=0x5FF => (Side::Server, raw - SDO_TX_BASE),
-            _ => return None,
-        };
-        let node = u8::try_from(n).ok().and_then(NodeId::new)?;
-        let open = self.defaults.get_mut(usize::from(n).checked_sub(1)?)?;
-        Some((SdoChannel::default_for(node), side, open))
-    }
-
     /// Takes one frame of the trace at `now`: follows the transfer on its
     /// channel (queueing events) and says what the frame is there. Frames
     /// on other identifiers and remote frames are [`Observed::Other`].
@@ -550,11 +595,25 @@ impl<const EXTRA: usize> Observer<EXTRA> {
             return Observed::Other;
         }
         let timeout = self.config.timeout_us;
-        let Some((channel, from, open)) = self.route(frame.id()) else {
+        let Some((channel, from, open)) = route(
+            &mut self.extra,
+            self.extra_used,
+            &mut self.defaults,
+            self.config.config.default_channels,
+            frame.id(),
+        ) else {
             return Observed::Other;
         };
-        let mut out = Sink::default();
-        let seen = transfer::step(open, channel, from, frame, &mut out);
+        let mut out = Sink {
+            queue: &mut self.events,
+        };
+        // Only a transfer in the sub-block phase holds a buffer: one that
+        // leaves it (or ends) gives it back.
+        let held = open.as_ref().is_some_and(Open::holds_segments);
+        let seen = transfer::step(open, channel, from, frame, &mut self.buffers, &mut out);
+        if held && !open.as_ref().is_some_and(Open::holds_segments) {
+            sub_block::give_back(&mut self.buffers, channel);
+        }
         let deadline = match (open.as_mut(), timeout) {
             (Some(o), Some(us)) => {
                 let d = now.add_micros(us);
@@ -567,9 +626,6 @@ impl<const EXTRA: usize> Observer<EXTRA> {
             }
             _ => None,
         };
-        for event in out.events() {
-            self.events.push(event);
-        }
         if let Some(d) = deadline {
             self.earliest = Some(self.earliest.map_or(d, |e| e.min(d)));
         }
@@ -596,7 +652,9 @@ impl<const EXTRA: usize> Observer<EXTRA> {
             None if defaults => self.defaults.iter_mut().find(|o| o.is_some())?,
             None => return None,
         };
-        open.take().map(|o| o.ended(BreakReason::EndOfTrace))
+        let o = open.take()?;
+        sub_block::give_back(&mut self.buffers, o.transfer().channel);
+        Some(o.ended(BreakReason::EndOfTrace))
     }
 
     fn expire(&mut self, now: Timestamp) {
@@ -614,6 +672,7 @@ impl<const EXTRA: usize> Observer<EXTRA> {
             };
             if now.has_reached(deadline) {
                 if let Some(o) = open.take() {
+                    sub_block::give_back(&mut self.buffers, o.transfer().channel);
                     events.push(o.ended(BreakReason::Timeout));
                 }
             } else {
@@ -624,34 +683,59 @@ impl<const EXTRA: usize> Observer<EXTRA> {
     }
 }
 
-impl<const EXTRA: usize> Default for Observer<EXTRA> {
-    fn default() -> Self {
-        Observer::with_extra_channels(ObserverConfig::default())
-    }
-}
-
-/// The events one frame makes (at most four: a transfer broken off, and a
-/// new one started, delivering, and completed or breaking a rule).
-#[derive(Default)]
-pub(super) struct Sink {
-    events: [Option<ObserverEvent>; 4],
-    len: usize,
-}
-
-impl Sink {
-    pub(super) fn push(&mut self, event: ObserverEvent) {
-        if let Some(slot) = self.events.get_mut(self.len) {
-            *slot = Some(event);
-            self.len += 1;
+/// The channel a frame identifier belongs to, the side that sent it, and
+/// the channel's open transfer.
+fn route<'a>(
+    extra: &'a mut [Option<Slot>],
+    extra_used: usize,
+    defaults: &'a mut [Option<Open>; NODES],
+    default_channels: bool,
+    id: CanId,
+) -> Option<(SdoChannel, Side, &'a mut Option<Open>)> {
+    let extra = extra.get_mut(..extra_used).unwrap_or(&mut []);
+    for slot in extra.iter_mut().flatten() {
+        if id == slot.channel.request {
+            return Some((slot.channel, Side::Client, &mut slot.open));
+        }
+        if id == slot.channel.response {
+            return Some((slot.channel, Side::Server, &mut slot.open));
         }
     }
+    if !default_channels {
+        return None;
+    }
+    let CanId::Standard(raw) = id else {
+        return None;
+    };
+    let (side, n) = match raw {
+        0x601..=0x67F => (Side::Client, raw - SDO_RX_BASE),
+        0x581..=0x5FF => (Side::Server, raw - SDO_TX_BASE),
+        _ => return None,
+    };
+    let node = u8::try_from(n).ok().and_then(NodeId::new)?;
+    let open = defaults.get_mut(usize::from(n).checked_sub(1)?)?;
+    Some((SdoChannel::default_for(node), side, open))
+}
 
-    fn events(self) -> impl Iterator<Item = ObserverEvent> {
-        self.events.into_iter().flatten()
+impl<const EXTRA: usize, const BUFFERS: usize> Default for Observer<EXTRA, BUFFERS> {
+    fn default() -> Self {
+        Observer::with_capacity(ObserverConfig::default())
     }
 }
 
-impl<const EXTRA: usize> Machine for Observer<EXTRA> {
+/// Where the transitions put the events one frame makes: the observer's
+/// queue.
+pub(super) struct Sink<'a> {
+    queue: &'a mut EventQueue<ObserverEvent, OBSERVER_EVENT_CAPACITY>,
+}
+
+impl Sink<'_> {
+    pub(super) fn push(&mut self, event: ObserverEvent) {
+        self.queue.push(event);
+    }
+}
+
+impl<const EXTRA: usize, const BUFFERS: usize> Machine for Observer<EXTRA, BUFFERS> {
     type Event = ObserverEvent;
 
     /// [`Observer::observe`], its answer dropped.
@@ -678,3 +762,7 @@ impl<const EXTRA: usize> Machine for Observer<EXTRA> {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+#[path = "block_ack_tests.rs"]
+mod block_ack_tests;

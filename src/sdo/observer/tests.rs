@@ -89,6 +89,16 @@ fn run(frames: &[(u16, &[u8])]) -> Seen {
     feed(&mut Observer::default(), frames)
 }
 
+/// [`run`], then the end of the trace.
+fn run_to_the_end(frames: &[(u16, &[u8])]) -> Seen {
+    let mut obs = Observer::default();
+    let mut seen = feed(&mut obs, frames);
+    while let Some(e) = obs.end_of_trace() {
+        seen.push(e);
+    }
+    seen
+}
+
 fn completed(seen: &Seen) -> (Transfer, usize, bool) {
     match seen.terminal() {
         [ObserverEvent::Completed {
@@ -247,7 +257,9 @@ fn a_repeated_toggle_waits_for_the_abort_it_calls_for() {
 
 #[test]
 fn sizes_and_objects_that_do_not_fit_are_rule_breaks() {
-    // More than the indicated 3 bytes: 06070012h is due from the client.
+    // More than the indicated 3 bytes (06070012h for the client): the
+    // first 3 are delivered, the transfer ends there naming both sizes,
+    // and the client's abort after it is a stray frame.
     let seen = run(&[
         (REQ, &[0x40, 0x08, 0x10, 0, 0, 0, 0, 0]),
         (RESP, &[0x41, 0x08, 0x10, 0, 3, 0, 0, 0]),
@@ -257,13 +269,38 @@ fn sizes_and_objects_that_do_not_fit_are_rule_breaks() {
     ]);
     assert!(matches!(
         seen.terminal(),
-        [ObserverEvent::Aborted {
-            code: AbortCode::DataTypeLengthTooHigh,
-            by: Side::Client,
-            expected: Some(AbortCode::DataTypeLengthTooHigh),
+        [ObserverEvent::BrokenOff {
+            reason: BreakReason::MoreThanIndicated {
+                indicated: 3,
+                sent: 7
+            },
+            bytes: 3,
+            pending: 0,
             ..
         }]
     ));
+    assert_eq!(seen.value(), [1, 2, 3]);
+    // The same past a first full segment: 7 + 7 of 10 indicated.
+    let seen = run(&[
+        (REQ, &[0x40, 0x08, 0x10, 0, 0, 0, 0, 0]),
+        (RESP, &[0x41, 0x08, 0x10, 0, 10, 0, 0, 0]),
+        (REQ, &[0x60, 0, 0, 0, 0, 0, 0, 0]),
+        (RESP, &[0x00, 1, 2, 3, 4, 5, 6, 7]),
+        (REQ, &[0x70, 0, 0, 0, 0, 0, 0, 0]),
+        (RESP, &[0x11, 8, 9, 10, 11, 12, 13, 14]),
+    ]);
+    assert!(matches!(
+        seen.terminal(),
+        [ObserverEvent::BrokenOff {
+            reason: BreakReason::MoreThanIndicated {
+                indicated: 10,
+                sent: 14
+            },
+            bytes: 10,
+            ..
+        }]
+    ));
+    assert_eq!(seen.value(), [1, 2, 3, 4, 5, 6, 7, 8, 9, 10]);
     // The answer names another object: 06040043h.
     let seen = run(&[
         (REQ, &[0x40, 0x08, 0x10, 0, 0, 0, 0, 0]),
@@ -294,6 +331,7 @@ fn a_new_initiate_breaks_off_the_open_transfer() {
             transfer: Transfer { index: 0x1008, .. },
             reason: BreakReason::NewInitiate,
             bytes: 0,
+            pending: 0,
         }
     ));
     assert!(matches!(ends[1], ObserverEvent::Completed { bytes: 1, .. }));
@@ -450,25 +488,52 @@ fn a_crc_mismatch_is_due_an_abort_05040004h() {
 }
 
 #[test]
-fn an_acknowledgement_the_segments_do_not_make_breaks_the_transfer_off() {
+fn an_acknowledgement_of_segments_not_seen_breaks_the_transfer_off() {
+    // Segment 2 is not in the trace, the receiver acknowledges 2.
     let seen = run(&[
-        (REQ, &[0xC6, 0x50, 0x1F, 1, 14, 0, 0, 0]),
-        (RESP, &[0xA4, 0x50, 0x1F, 1, 2, 0, 0, 0]),
+        (REQ, &[0xC6, 0x50, 0x1F, 1, 21, 0, 0, 0]),
+        (RESP, &[0xA4, 0x50, 0x1F, 1, 3, 0, 0, 0]),
         (REQ, &[0x01, 1, 2, 3, 4, 5, 6, 7]),
-        (REQ, &[0x82, 1, 2, 3, 4, 5, 6, 7]),
-        (RESP, &[0xA2, 0x01, 2, 0, 0, 0, 0, 0]),
+        (REQ, &[0x83, 15, 16, 17, 18, 19, 20, 21]),
+        (RESP, &[0xA2, 0x02, 3, 0, 0, 0, 0, 0]),
     ]);
     assert!(matches!(
         seen.terminal(),
         [ObserverEvent::BrokenOff {
             reason: BreakReason::AckMismatch {
-                expected: 2,
-                got: 1
+                expected: 1,
+                got: 2
             },
-            bytes: 7,
+            bytes: 0,
+            pending: 0,
             ..
         }]
     ));
+    assert_eq!(seen.value(), b"");
+}
+
+#[test]
+fn fewer_segments_acknowledged_than_seen_commit_only_those() {
+    // Both segments seen, the receiver takes only the first: 7 bytes are
+    // delivered at the ack, the last segment waits for its resending, and
+    // the trace ends before it.
+    let seen = run_to_the_end(&[
+        (REQ, &[0xC6, 0x50, 0x1F, 1, 14, 0, 0, 0]),
+        (RESP, &[0xA4, 0x50, 0x1F, 1, 2, 0, 0, 0]),
+        (REQ, &[0x01, 1, 2, 3, 4, 5, 6, 7]),
+        (REQ, &[0x82, 8, 9, 10, 11, 12, 13, 14]),
+        (RESP, &[0xA2, 0x01, 2, 0, 0, 0, 0, 0]),
+    ]);
+    assert!(matches!(
+        seen.terminal(),
+        [ObserverEvent::BrokenOff {
+            reason: BreakReason::EndOfTrace,
+            bytes: 7,
+            pending: 0,
+            ..
+        }]
+    ));
+    assert_eq!(seen.value(), [1, 2, 3, 4, 5, 6, 7]);
 }
 
 #[test]
@@ -507,8 +572,8 @@ fn crash_sequences_end_in_the_abort_they_call_for() {
         }]
     ));
     // Two negative acknowledgements in a row (ackseq 0 twice) of a segment
-    // that was on the bus: the receiver lost what the observer saw, so the
-    // observer cannot place what is resent.
+    // that was on the bus: the receiver took nothing either time, so
+    // nothing is delivered; then the abort.
     let seen = run(&[
         (REQ, &[0xC6, 0x50, 0x1F, 1, 3, 0, 0, 0]),
         (RESP, &[0xA4, 0x50, 0x1F, 1, 1, 0, 0, 0]),
@@ -516,17 +581,22 @@ fn crash_sequences_end_in_the_abort_they_call_for() {
         (RESP, &[0xA2, 0, 1, 0, 0, 0, 0, 0]),
         (REQ, &[0x81, 1, 2, 3, 0, 0, 0, 0]),
         (RESP, &[0xA2, 0, 1, 0, 0, 0, 0, 0]),
+        (REQ, &[0x81, 1, 2, 3, 0, 0, 0, 0]),
+        (REQ, &[0x80, 0x50, 0x1F, 1, 0, 0, 0x04, 0x05]),
     ]);
     assert!(matches!(
         seen.terminal(),
-        [ObserverEvent::BrokenOff {
-            reason: BreakReason::AckMismatch {
-                expected: 1,
-                got: 0
-            },
+        [ObserverEvent::Aborted {
+            code: AbortCode::SdoProtocolTimedOut,
+            by: Side::Client,
+            bytes: 0,
+            // The last segment's 7 data bytes (its end frame would say how
+            // many are the value's).
+            pending: 7,
             ..
         }]
     ));
+    assert_eq!(seen.value(), b"");
     // An abort in the middle of a sub-block.
     let seen = run(&[
         (REQ, &[0xC2, 0x50, 0x1F, 1, 21, 0, 0, 0]),
@@ -538,7 +608,9 @@ fn crash_sequences_end_in_the_abort_they_call_for() {
         seen.terminal(),
         [ObserverEvent::Aborted {
             by: Side::Client,
-            bytes: 7,
+            // Segment 1 was never acknowledged: held, not delivered.
+            bytes: 0,
+            pending: 7,
             expected: None,
             ..
         }]
@@ -634,26 +706,36 @@ fn silence_breaks_a_transfer_off_at_the_timeout() {
 #[test]
 fn the_end_of_a_trace_reports_every_open_transfer_once_even_beyond_the_queue() {
     let mut obs: Observer = Observer::default();
-    for n in 1..=127u16 {
-        let f = CanFrame::standard(0x600 + n, &[0x40, 0x08, 0x10, 0, 0, 0, 0, 0]).unwrap();
-        obs.observe(Timestamp::ZERO, &f);
+    for index in [0x08u8, 0x09] {
+        for n in 1..=127u16 {
+            let f = CanFrame::standard(0x600 + n, &[0x40, index, 0x10, 0, 0, 0, 0, 0]).unwrap();
+            obs.observe(Timestamp::ZERO, &f);
+        }
     }
-    // 127 started events into a queue of 32: the oldest are dropped.
-    assert_eq!(obs.events_dropped(), 127 - OBSERVER_EVENT_CAPACITY as u64);
+    // 127 started events, then 127 broken off and 127 started again, into
+    // a queue of 136: the oldest are dropped (the last ones are starts).
+    assert_eq!(
+        obs.events_dropped(),
+        3 * 127 - OBSERVER_EVENT_CAPACITY as u64
+    );
     assert_eq!(obs.open_transfers(), 127);
-    let mut broken = 0;
-    let mut started = 0;
+    let (mut broken, mut started, mut superseded) = (0, 0, 0);
     while let Some(e) = obs.end_of_trace() {
         match e {
             ObserverEvent::BrokenOff {
                 reason: BreakReason::EndOfTrace,
                 ..
             } => broken += 1,
+            ObserverEvent::BrokenOff {
+                reason: BreakReason::NewInitiate,
+                ..
+            } => superseded += 1,
             ObserverEvent::Started(_) => started += 1,
             other => panic!("{other:?}"),
         }
     }
-    assert_eq!((broken, started), (127, OBSERVER_EVENT_CAPACITY));
+    let kept = OBSERVER_EVENT_CAPACITY / 2;
+    assert_eq!((broken, started, superseded), (127, kept, kept));
     assert_eq!(obs.open_transfers(), 0);
 }
 
@@ -719,112 +801,5 @@ fn extra_channels_and_what_is_not_sdo() {
 }
 
 #[cfg(feature = "alloc")]
-mod pair {
-    //! The observer beside our own client and server: it reports what
-    //! they saw, for every transfer type.
-    use super::*;
-    use crate::od::{Access, MemoryDictionary};
-    use crate::sdo::{Client, ClientConfig, ClientEvent, Server, ServerConfig};
-    use alloc::vec::Vec;
-
-    fn exchange(
-        start: impl FnOnce(&mut Client<Vec<u8>>),
-        initial: &[u8],
-    ) -> (Vec<u8>, Vec<ObserverEvent>, Vec<ClientEvent>) {
-        let mut od = MemoryDictionary::new();
-        od.insert_variable(0x2E01, 1, Access::ReadWrite, initial, 4096);
-        let mut server = Server::new(ServerConfig::for_node(node()), od);
-        let mut client: Client<Vec<u8>> = Client::new(ClientConfig::for_server(node()));
-        let mut obs: Observer = Observer::default();
-        start(&mut client);
-        let mut events = Vec::new();
-        let mut client_events = Vec::new();
-        let mut value = Vec::new();
-        let now = Timestamp::ZERO;
-        for _ in 0..10_000 {
-            let mut moved = false;
-            let mut watch = |obs: &mut Observer, f: &CanFrame| {
-                obs.handle_frame(now, f);
-                while let Some(e) = obs.poll_event() {
-                    if let ObserverEvent::Data { offset, data, .. } = e {
-                        assert_eq!(offset, value.len());
-                        value.extend_from_slice(data.as_slice());
-                    }
-                    events.push(e);
-                }
-            };
-            while let Some(f) = client.poll_transmit() {
-                moved = true;
-                watch(&mut obs, &f);
-                server.handle_frame(now, &f);
-            }
-            while let Some(f) = server.poll_transmit() {
-                moved = true;
-                watch(&mut obs, &f);
-                client.handle_frame(now, &f);
-            }
-            while let Some(e) = client.poll_event() {
-                client_events.push(e);
-            }
-            if !moved {
-                break;
-            }
-            assert_eq!(obs.events_dropped(), 0);
-        }
-        (value, events, client_events)
-    }
-
-    #[test]
-    fn every_transfer_type_of_every_length() {
-        for len in [0usize, 1, 4, 5, 7, 8, 13, 14, 15, 100, 889, 890, 1000] {
-            let data: Vec<u8> = (0..len).map(|i| (i * 7 + len) as u8).collect();
-            let cases: [(&str, bool); 4] = [
-                ("upload", true),
-                ("download", false),
-                ("block upload", true),
-                ("block download", false),
-            ];
-            for (name, upload) in cases {
-                let d = data.clone();
-                let block = name.starts_with("block");
-                if block && !cfg!(feature = "sdo-block") {
-                    // The client refuses to start one (its own test).
-                    continue;
-                }
-                if !block && !matches!(len, 1..=4) && !cfg!(feature = "sdo-client-segmented") {
-                    // Segmented: the client refuses or aborts (its own tests).
-                    continue;
-                }
-                let (value, events, client_events) = exchange(
-                    |c| {
-                        let now = Timestamp::ZERO;
-                        match (upload, block) {
-                            (true, false) => c.start_upload(now, 0x2E01, 1).unwrap(),
-                            (false, false) => c.start_download(now, 0x2E01, 1, d).unwrap(),
-                            (true, true) => c.start_block_upload(now, 0x2E01, 1).unwrap(),
-                            (false, true) => c.start_block_download(now, 0x2E01, 1, d).unwrap(),
-                        }
-                    },
-                    if upload { &data } else { b"" },
-                );
-                assert_eq!(value, data, "{name} of {len} bytes");
-                let ends: Vec<_> = events.iter().filter(|e| e.is_terminal()).collect();
-                assert_eq!(ends.len(), 1, "{name} of {len}: {events:?}");
-                let ObserverEvent::Completed {
-                    bytes, transfer, ..
-                } = ends[0]
-                else {
-                    panic!("{name} of {len}: {ends:?}");
-                };
-                assert_eq!(*bytes, len);
-                assert!(client_events.iter().any(|e| matches!(e, ClientEvent::Uploaded { len: l, .. } | ClientEvent::Downloaded { len: l, .. } if *l == len)));
-                if block {
-                    assert!(matches!(
-                        transfer.kind,
-                        Some(TransferKind::Block { crc: true })
-                    ));
-                }
-            }
-        }
-    }
-}
+#[path = "pair_tests.rs"]
+mod pair;

@@ -3,6 +3,7 @@
 //! server's (`crate::sdo::rules`); this file only says which side applies
 //! which rule when (see [`super`]).
 
+use super::sub_block::SubBlock;
 use super::{
     BreakReason, Direction, Observed, ObserverEvent, SdoChannel, Side, Sink, Transfer, TransferKind,
 };
@@ -11,13 +12,16 @@ use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::sdo::abort::AbortCode;
 use crate::sdo::data::{InitiatePayload, Segment, SegmentData};
-use crate::sdo::rules::block::is_abort;
 use crate::sdo::rules::block::{check_block_size, Receiver};
 use crate::sdo::rules::segmented::{check_toggle, Segments};
 use crate::sdo::wire::{
-    BlockSegment, ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoFrame, SdoRequest,
-    SdoResponse, ServerBlockDownload, ServerBlockUpload, ServerCommand,
+    ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoRequest, SdoResponse,
+    ServerBlockDownload, ServerBlockUpload, ServerCommand,
 };
+use block_phase::{ack, block_segment, end, Blocks};
+
+#[path = "block_phase.rs"]
+mod block_phase;
 
 /// Where an open transfer stands: what the next frame may be.
 #[derive(Debug, Clone, Copy)]
@@ -49,10 +53,10 @@ enum Phase {
         size: Option<usize>,
         frame: Payload,
     },
-    /// Sub-blocks: the sender of the data sends segments, the receiver
-    /// acknowledges `ack` when one is due; after the last segment the end
-    /// frame.
-    SubBlocks { rx: Receiver, ack: Option<u8> },
+    /// Sub-blocks: the sender of the data sends segments (held in a
+    /// [`SubBlock`] of the pool), the receiver's acknowledgement commits
+    /// them; after the last segment is acknowledged, the end frame.
+    SubBlocks(Blocks),
     /// The end frame was taken; the receiver's confirmation is due (a
     /// repeat of the end frame meanwhile is ignored, as the receiver,
     /// done with the transfer, ignores it).
@@ -74,6 +78,9 @@ enum Phase {
 pub(crate) struct Open {
     transfer: Transfer,
     bytes: usize,
+    /// Bytes of the sub-block segments seen that no acknowledgement has
+    /// confirmed yet (not delivered), and how many segments.
+    pending: (usize, u8),
     phase: Phase,
     /// A rule just broken, to report.
     broken: Option<(AbortCode, Side)>,
@@ -103,13 +110,21 @@ impl Open {
     /// The end event for `reason` (a transfer waiting for the abort a rule
     /// called for ends as that violation whatever the reason).
     fn broken_off(self, reason: BreakReason) -> ObserverEvent {
-        let reason = match self.phase {
-            Phase::Violated { code, by, .. } => BreakReason::Violation { code, by },
+        let (pending, segments) = self.pending;
+        let reason = match (self.phase, reason) {
+            (Phase::Violated { code, by, .. }, _) => BreakReason::Violation { code, by },
+            (_, BreakReason::EndOfTrace | BreakReason::Timeout) if segments > 0 => {
+                BreakReason::AckNotSeen {
+                    segments,
+                    trace_ended: reason == BreakReason::EndOfTrace,
+                }
+            }
             _ => reason,
         };
         ObserverEvent::BrokenOff {
             transfer: self.transfer,
             bytes: self.bytes,
+            pending,
             reason,
         }
     }
@@ -122,6 +137,7 @@ impl Open {
         ObserverEvent::Aborted {
             transfer: self.transfer,
             bytes: self.bytes,
+            pending: self.pending.0,
             code,
             by,
             expected,
@@ -149,6 +165,12 @@ impl Open {
             Phase::EndAckDue { end, .. } => end.as_slice() == bytes,
             _ => false,
         }
+    }
+
+    /// True while the transfer may hold sub-block segments (a buffer of
+    /// the pool): in the sub-block phase.
+    pub(super) const fn holds_segments(&self) -> bool {
+        matches!(self.phase, Phase::SubBlocks(_))
     }
 
     /// The side that sends the value.
@@ -197,7 +219,7 @@ impl Open {
     /// `code` is due from `by`: the next frame should be its abort.
     fn violate(&mut self, code: AbortCode, by: Side) {
         let segments_from = match self.phase {
-            Phase::SubBlocks { .. } => Some(self.data_sender()),
+            Phase::SubBlocks(_) => Some(self.data_sender()),
             _ => None,
         };
         self.phase = Phase::Violated {
@@ -229,9 +251,10 @@ pub(super) fn step(
     channel: SdoChannel,
     from: Side,
     frame: &CanFrame,
+    pool: &mut [SubBlock],
     out: &mut Sink,
 ) -> Observed {
-    let seen = take(open, channel, from, frame, out);
+    let seen = take(open, channel, from, frame, pool, out);
     if let Some((code, by)) = open.as_mut().and_then(|o| o.broken.take()) {
         out.push(ObserverEvent::RuleBroken { channel, code, by });
     }
@@ -243,10 +266,16 @@ fn take(
     channel: SdoChannel,
     from: Side,
     frame: &CanFrame,
+    pool: &mut [SubBlock],
     out: &mut Sink,
 ) -> Observed {
     let bytes = frame.data();
-    if let Some(seen) = block_segment(open, channel, from, bytes, out) {
+    if let Some((seen, end)) = block_segment(open, channel, from, bytes, pool) {
+        if let Some(reason) = end {
+            if let Some(o) = open.take() {
+                out.push(o.ended(reason));
+            }
+        }
         return seen;
     }
     let repeat = open.as_ref().is_some_and(|o| o.is_repeat(from, bytes));
@@ -300,6 +329,7 @@ fn take(
             let mut o = Open {
                 transfer,
                 bytes: 0,
+                pending: (0, 0),
                 phase,
                 broken: None,
                 flagged: None,
@@ -331,8 +361,8 @@ fn take(
         return seen;
     };
     let done = match command {
-        Command::Client(c) => client(o, c, bytes, out),
-        Command::Server(s) => server(o, s, bytes, out),
+        Command::Client(c) => client(o, c, bytes, pool, out),
+        Command::Server(s) => server(o, s, bytes, pool, out),
     };
     if let Some(end) = done {
         if let Some(o) = open.take() {
@@ -343,59 +373,6 @@ fn take(
         }
     }
     seen
-}
-
-/// A sub-block segment from the sender of the data, taken by the
-/// receiver's rule; `None` when the frame is a command.
-fn block_segment(
-    open: &mut Option<Open>,
-    channel: SdoChannel,
-    from: Side,
-    bytes: &[u8],
-    out: &mut Sink,
-) -> Option<Observed> {
-    let o = open.as_mut()?;
-    let sender = o.data_sender();
-    let taken = match &mut o.phase {
-        Phase::SubBlocks { rx, ack } if from == sender => {
-            let result = rx.take(bytes)?;
-            match result {
-                Ok(step) => {
-                    if let Some(a) = step.ack {
-                        *ack = Some(a);
-                    }
-                    if let Some((offset, data)) = step.write {
-                        o.deliver(offset, data, out);
-                    }
-                }
-                Err(code) => o.violate(code, sender.other()),
-            }
-            true
-        }
-        Phase::Violated {
-            segments_from: Some(side),
-            ..
-        } if *side == from => !is_abort(bytes),
-        _ => false,
-    };
-    if !taken {
-        return None;
-    }
-    let segment = match SdoFrame::new_checked(bytes) {
-        Ok(frame) => BlockSegment::parse(&frame),
-        Err(_) => BlockSegment {
-            seqno: 0,
-            last: false,
-            data: SegmentData::EMPTY,
-        },
-    };
-    Some(Observed::BlockSegment {
-        channel,
-        from,
-        seqno: segment.seqno,
-        last: segment.last,
-        data: segment.data,
-    })
 }
 
 /// A client frame that begins a transfer: what is known of it and its
@@ -486,7 +463,13 @@ fn initiate(channel: SdoChannel, c: &ClientCommand, bytes: &[u8]) -> Option<(Tra
 
 /// Takes a client command (not an initiate, not an abort); `Some` when it
 /// ended the transfer.
-fn client(o: &mut Open, c: ClientCommand, bytes: &[u8], out: &mut Sink) -> Option<End> {
+fn client(
+    o: &mut Open,
+    c: ClientCommand,
+    bytes: &[u8],
+    pool: &mut [SubBlock],
+    out: &mut Sink,
+) -> Option<End> {
     let upload = o.transfer.direction == Direction::Upload;
     match (c, o.phase) {
         (ClientCommand::UploadSegment { toggle }, Phase::UploadRequestDue(rx)) => {
@@ -502,10 +485,10 @@ fn client(o: &mut Open, c: ClientCommand, bytes: &[u8], out: &mut Sink) -> Optio
             download_segment(o, &mut rx, &seg, out);
         }
         (ClientCommand::BlockUpload(ClientBlockUpload::Start), Phase::BlockUploadStartDue(rx)) => {
-            o.phase = Phase::SubBlocks { rx, ack: None };
+            o.phase = Phase::SubBlocks(Blocks::new(rx));
         }
         (ClientCommand::BlockUpload(ClientBlockUpload::Ack { ackseq, blksize }), _) if upload => {
-            return ack(o, ackseq, blksize, Side::Client);
+            return ack(o, (ackseq, blksize), bytes, Side::Client, pool, out);
         }
         (
             ClientCommand::BlockUpload(ClientBlockUpload::End),
@@ -534,64 +517,15 @@ fn download_segment(o: &mut Open, rx: &mut Segments, seg: &Segment, out: &mut Si
     }
 }
 
-/// The receiver of the data acknowledged a sub-block (`from` is that
-/// side): it must name the sequence number the segments made, and give a
-/// valid next block size unless the last segment is in.
-fn ack(o: &mut Open, ackseq: u8, blksize: u8, from: Side) -> Option<End> {
-    let Phase::SubBlocks { mut rx, ack } = o.phase else {
-        o.violate(AbortCode::InvalidCommandSpecifier, from.other());
-        return None;
-    };
-    match ack {
-        // Repeated or unasked: the sender's business; the receiver's
-        // reading of the segments stands.
-        None => {}
-        Some(expected) if expected != ackseq => {
-            return Some(End::Broken(BreakReason::AckMismatch {
-                expected,
-                got: ackseq,
-            }));
-        }
-        Some(_) if rx.is_done() => o.phase = Phase::SubBlocks { rx, ack: None },
-        Some(_) => match check_block_size(blksize) {
-            Ok(b) => {
-                rx.set_block_size(b);
-                o.phase = Phase::SubBlocks { rx, ack: None };
-            }
-            Err(code) => o.violate(code, from.other()),
-        },
-    }
-    None
-}
-
-/// The sender's end frame; `checker` is the receiver of the data.
-fn end(o: &mut Open, (unused, crc): (u8, u16), bytes: &[u8], checker: Side, out: &mut Sink) {
-    let Phase::SubBlocks { mut rx, .. } = o.phase else {
-        return o.violate(AbortCode::InvalidCommandSpecifier, checker);
-    };
-    if !rx.is_done() {
-        return o.violate(AbortCode::InvalidCommandSpecifier, checker);
-    }
-    match rx.on_end_lenient(unused, crc) {
-        Ok((ended, broken)) => {
-            if let Some(code) = broken {
-                o.flag(code, checker);
-            }
-            if let Some((offset, data)) = ended.write {
-                o.deliver(offset, data, out);
-            }
-            o.phase = Phase::EndAckDue {
-                crc_checked: rx.crc_on() && broken != Some(AbortCode::CrcError),
-                end: Payload::new(bytes).unwrap_or_default(),
-            };
-        }
-        Err(code) => o.violate(code, checker),
-    }
-}
-
 /// Takes a server command (not an abort); `Some` when it ended the
 /// transfer.
-fn server(o: &mut Open, s: ServerCommand, bytes: &[u8], out: &mut Sink) -> Option<End> {
+fn server(
+    o: &mut Open,
+    s: ServerCommand,
+    bytes: &[u8],
+    pool: &mut [SubBlock],
+    out: &mut Sink,
+) -> Option<End> {
     let upload = o.transfer.direction == Direction::Upload;
     let (index, sub) = (o.transfer.index, o.transfer.sub);
     let names_other = |ri: u16, rs: u8| (ri, rs) != (index, sub);
@@ -651,6 +585,9 @@ fn server(o: &mut Open, s: ServerCommand, bytes: &[u8], out: &mut Sink) -> Optio
             o.phase = Phase::DownloadSegmentDue(Segments::new(size));
         }
         (ServerCommand::UploadSegment(seg), Phase::UploadSegmentDue(mut rx)) => {
+            if rx.check(&seg) == Err(AbortCode::DataTypeLengthTooHigh) {
+                return Some(more_than_indicated(o, &seg, out));
+            }
             if let Some(offset) = o.segment(&mut rx, &seg, Side::Client) {
                 o.deliver(offset, seg.data, out);
                 if seg.last && o.flagged.is_some() {
@@ -696,7 +633,7 @@ fn server(o: &mut Open, s: ServerCommand, bytes: &[u8], out: &mut Sink) -> Optio
             match check_block_size(blksize) {
                 Ok(b) => {
                     let rx = Receiver::new(b, size, crc).after(frame.as_slice());
-                    o.phase = Phase::SubBlocks { rx, ack: None };
+                    o.phase = Phase::SubBlocks(Blocks::new(rx));
                 }
                 Err(code) => o.violate(code, Side::Client),
             }
@@ -704,7 +641,7 @@ fn server(o: &mut Open, s: ServerCommand, bytes: &[u8], out: &mut Sink) -> Optio
         (ServerCommand::BlockDownload(ServerBlockDownload::Ack { ackseq, blksize }), _)
             if !upload =>
         {
-            return ack(o, ackseq, blksize, Side::Server);
+            return ack(o, (ackseq, blksize), bytes, Side::Server, pool, out);
         }
         (
             ServerCommand::BlockDownload(ServerBlockDownload::End),
@@ -740,4 +677,19 @@ fn server(o: &mut Open, s: ServerCommand, bytes: &[u8], out: &mut Sink) -> Optio
         _ => o.violate(AbortCode::InvalidCommandSpecifier, Side::Client),
     }
     None
+}
+
+/// A segmented upload's segment takes the value past the size the server
+/// indicated (06070012h for the client): the bytes up to the indicated size
+/// are delivered, none beyond, and the transfer ends there.
+fn more_than_indicated(o: &mut Open, seg: &Segment, out: &mut Sink) -> End {
+    let indicated = o.transfer.indicated.unwrap_or(0);
+    let sent = o.bytes.saturating_add(seg.data.len());
+    let room = usize::try_from(indicated)
+        .unwrap_or(usize::MAX)
+        .saturating_sub(o.bytes);
+    if let Some(prefix) = seg.data.as_slice().get(..room.min(seg.data.len())) {
+        o.deliver(o.bytes, SegmentData::new(prefix).unwrap_or_default(), out);
+    }
+    End::Broken(BreakReason::MoreThanIndicated { indicated, sent })
 }

@@ -21,7 +21,9 @@ use crate::bytes::Payload;
 use crate::sdo::abort::AbortCode;
 use crate::sdo::crc::crc16_update;
 use crate::sdo::data::SegmentData;
-use crate::sdo::wire::{BlockSegment, SdoFrame};
+#[cfg(feature = "sdo-block")]
+use crate::sdo::wire::BlockSegment;
+use crate::sdo::wire::SdoFrame;
 
 /// The largest block size, CiA 301: 1..=127 segments per sub-block.
 pub(crate) const MAX_BLOCK_SIZE: u8 = 127;
@@ -190,6 +192,7 @@ impl Sender {
     }
 }
 
+#[cfg(feature = "sdo-block")]
 /// What one received segment asks the receiver's owner to do.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub(crate) struct Step {
@@ -249,10 +252,19 @@ impl Receiver {
         self
     }
 
-    #[cfg(feature = "sdo-block")]
     /// The block size this receiver announces.
     pub(crate) const fn block_size(&self) -> u8 {
         self.blksize
+    }
+
+    /// The frame a repeat of which is ignored as a duplicate while nothing
+    /// of the next sub-block has arrived.
+    pub(crate) const fn acked_frame(&self) -> Option<Payload> {
+        if self.expected == 1 {
+            self.acked_frame
+        } else {
+            None
+        }
     }
 
     /// True once the segment with c = 1 arrived in order and was
@@ -268,6 +280,7 @@ impl Receiver {
             .is_some_and(|f| self.expected == 1 && f.as_slice() == bytes)
     }
 
+    #[cfg(feature = "sdo-block")]
     /// Takes a frame from the sender of the data while sub-blocks are being
     /// received: `None` when it is not a segment but a command for the
     /// normal path (an abort, byte 0 80h, or any frame once the last
@@ -295,6 +308,7 @@ impl Receiver {
         self.crc_on
     }
 
+    #[cfg(feature = "sdo-block")]
     /// Takes one sub-block segment (the whole frame data).
     ///
     /// Sequence number 0 or above the block size is 05040003h. A duplicate
@@ -333,24 +347,13 @@ impl Receiver {
                 ack: Some(ackseq),
             });
         }
-        let data = seg.as_slice();
-        let mut step = Step::default();
-        if last {
-            self.held = Some(seg);
-        } else {
-            if data.len() < SEGMENT {
-                return Ok(Step::default());
-            }
-            let end = self.received.saturating_add(SEGMENT);
-            if self.size.is_some_and(|s| end > s) {
-                return Err(AbortCode::DataTypeLengthTooHigh);
-            }
-            if self.crc_on {
-                self.crc = crc16_update(self.crc, data);
-            }
-            step.write = Some((self.received, seg));
-            self.received = end;
+        if !last && seg.len() < SEGMENT {
+            return Ok(Step::default());
         }
+        let mut step = Step {
+            write: self.commit(seg, last)?,
+            ack: None,
+        };
         self.acked_frame = None;
         if ends_block {
             step.ack = Some(seq);
@@ -360,6 +363,36 @@ impl Receiver {
             self.expected = seq + 1;
         }
         Ok(step)
+    }
+
+    /// Takes one segment of the value in order, as confirmed (the
+    /// receiver's own in-order reading, or an acknowledgement an observer
+    /// saw): the one with c = 1 is held for the end frame; any other must
+    /// carry 7 bytes (a shorter one is 05040001h) and is passed on at its
+    /// offset, counted in the CRC. More data than indicated is 06070012h.
+    pub(crate) fn commit(
+        &mut self,
+        seg: SegmentData,
+        last: bool,
+    ) -> Result<Option<(usize, SegmentData)>, AbortCode> {
+        if last {
+            self.held = Some(seg);
+            return Ok(None);
+        }
+        let data = seg.as_slice();
+        if data.len() < SEGMENT {
+            return Err(AbortCode::InvalidCommandSpecifier);
+        }
+        let end = self.received.saturating_add(SEGMENT);
+        if self.size.is_some_and(|s| end > s) {
+            return Err(AbortCode::DataTypeLengthTooHigh);
+        }
+        if self.crc_on {
+            self.crc = crc16_update(self.crc, data);
+        }
+        let at = self.received;
+        self.received = end;
+        Ok(Some((at, seg)))
     }
 
     #[cfg(feature = "sdo-block")]
