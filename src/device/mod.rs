@@ -132,10 +132,14 @@ mod descriptions;
 #[cfg(feature = "lss")]
 mod lss;
 mod objects;
+#[cfg(feature = "store")]
+mod parameters;
 mod profile;
 mod profiled;
 mod services;
 mod snapshot;
+#[cfg(feature = "store")]
+pub mod store;
 
 pub use config::{DeviceConfig, Policies, PowerOn};
 #[cfg(feature = "alloc")]
@@ -146,6 +150,10 @@ pub use objects::{CommObjects, DeviceObjects, ErrorFieldFormat, Identity, ERROR_
 pub use profile::{DeviceEvent, Profile};
 pub use profiled::{Cia301, DeviceSetup, DeviceSpec, ProfiledDevice};
 pub use snapshot::PowerOnValues;
+#[cfg(feature = "store")]
+pub use store::{
+    ParameterGroup, ParameterStorage, RamStorage, RecordError, StorageError, StorageEvent,
+};
 
 use crate::clock::Timestamp;
 use crate::cob_id::{NodeId, EMCY_BASE};
@@ -161,6 +169,8 @@ use crate::nmt::{NmtCore, NmtSlaveEvent, NmtState, ResetKind};
 #[cfg(feature = "heartbeat-consumer")]
 use crate::od::index::CONSUMER_HEARTBEAT_TIME;
 use crate::od::index::PRODUCER_HEARTBEAT_TIME;
+#[cfg(feature = "store")]
+use crate::od::index::{RESTORE_DEFAULT_PARAMETERS, STORE_PARAMETERS};
 
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
 use crate::queue::EventQueue;
@@ -170,6 +180,13 @@ use crate::sdo::{Server, ServerEvent, EVENTS_PER_CALL};
 /// objects, application objects.
 pub type Dictionary<A, const T: usize = 4, const R: usize = 4> =
     PdoDictionary<DeviceObjects<A>, T, R>;
+
+/// What a restart gives back: what loading the stored records did
+/// (feature `store`; nothing without it).
+#[cfg(feature = "store")]
+type Restarted = parameters::StorageReport;
+#[cfg(not(feature = "store"))]
+type Restarted = ();
 
 /// The capacity of a device's event queue and of its queue of frames to
 /// send, unless its type says otherwise (the `Q` of [`Device`]).
@@ -252,6 +269,9 @@ pub struct Device<
     powered: bool,
     /// Node guarding, SYNC and TIME (services.rs).
     services: services::Services,
+    /// Where 1010h stores (parameters.rs; feature `store`).
+    #[cfg(feature = "store")]
+    storage: parameters::Storage,
 }
 
 impl<S, const Q: usize, const T: usize, const R: usize> core::fmt::Debug for Device<S, Q, T, R>
@@ -349,6 +369,8 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
             #[cfg(feature = "lss")]
             powered: false,
             services: services::Services::new(node),
+            #[cfg(feature = "store")]
+            storage: None,
         }
     }
 
@@ -373,6 +395,10 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         self.server.restart(policies.server_config(self.node));
         self.heartbeat = HeartbeatProducer::with_period_ms(self.node, period_ms);
         self.heartbeat.send_on_change = policies.heartbeat_on_change;
+        // The power-on values made the objects anew: 1010h/1011h's
+        // capability follows the storage.
+        #[cfg(feature = "store")]
+        self.mark_storable();
     }
 
     // ----- getters ---------------------------------------------------------
@@ -439,14 +465,31 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         // The application's parameters as they are now are the power-on
         // values reset node restores.
         self.power_on = self.objects().snapshot();
+        // The LSS configuration stored (CiA 305) is the slave's at power-on.
+        #[cfg(all(feature = "lss", feature = "store"))]
+        if let Some(event) = self.load_lss() {
+            self.emit(now, DeviceEvent::Storage(event), profile);
+        }
         #[cfg(feature = "lss")]
         {
             self.powered = true;
             if self.lss.as_ref().is_some_and(|l| l.node_id().is_none()) {
-                // No node-ID: silent but for LSS until one is configured.
+                // No node-ID: silent but for LSS until one is configured
+                // (then a reset communication starts it: the application
+                // parameters stored are loaded now).
+                #[cfg(feature = "store")]
+                if let Some(event) = self.load_group(store::ParameterGroup::Application) {
+                    self.emit(now, DeviceEvent::Storage(event), profile);
+                }
                 return;
             }
         }
+        #[cfg(feature = "store")]
+        {
+            let stored = self.restart(now, ResetKind::Node);
+            self.report_storage(now, stored, profile);
+        }
+        #[cfg(not(feature = "store"))]
         self.restart(now, ResetKind::Node);
         self.report_nmt_boot(now, profile);
     }
@@ -698,9 +741,14 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
     ) {
         match event {
             NmtSlaveEvent::Reset(kind) => {
+                #[cfg(feature = "store")]
+                let stored = self.restart(now, kind);
+                #[cfg(not(feature = "store"))]
                 self.restart(now, kind);
                 let node = kind == ResetKind::Node;
                 self.emit(now, DeviceEvent::Reset { node }, profile);
+                #[cfg(feature = "store")]
+                self.report_storage(now, stored, profile);
                 self.report_nmt_boot(now, profile);
             }
             NmtSlaveEvent::StateChanged { from, to } => {
@@ -718,9 +766,9 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         }
     }
 
-    /// Boot or reset: restores the objects `kind` says, boot-up message,
-    /// pre-operational.
-    fn restart(&mut self, now: Timestamp, kind: ResetKind) {
+    /// Boot or reset: restores the objects `kind` says (and loads what is
+    /// stored of them, feature `store`), boot-up message, pre-operational.
+    fn restart(&mut self, now: Timestamp, kind: ResetKind) -> Restarted {
         // The LSS node-ID configured since takes effect (CiA 305).
         #[cfg(feature = "lss")]
         if let Some(node) = self.lss.as_mut().and_then(LssSlave::reset_communication) {
@@ -737,6 +785,10 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
             self.server.od_mut().inner.app.restore(&self.power_on);
         }
         self.load_power_on();
+        #[cfg(feature = "store")]
+        let stored = self.load_stored(kind);
+        #[cfg(feature = "store")]
+        self.apply_heartbeat_period(now);
         self.heartbeat.boot(now);
         #[cfg(feature = "heartbeat-consumer")]
         self.reset_consumer();
@@ -744,6 +796,8 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         self.reconfigure_pdos(now);
         self.nmt_boot = self.nmt.boot();
         self.reset_services(now);
+        #[cfg(feature = "store")]
+        stored
     }
 
     /// The core's part of entering `to`.
@@ -789,6 +843,14 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
                 ServerEvent::Downloaded { index, sub, .. } => {
                     match index {
                         PRODUCER_HEARTBEAT_TIME => self.apply_heartbeat_period(now),
+                        // A "save" or "load" the dictionary accepted; a
+                        // storage that fails aborts it instead.
+                        #[cfg(feature = "store")]
+                        STORE_PARAMETERS | RESTORE_DEFAULT_PARAMETERS
+                            if self.store_command(now, index, sub, profile).is_err() =>
+                        {
+                            continue;
+                        }
                         #[cfg(feature = "heartbeat-consumer")]
                         CONSUMER_HEARTBEAT_TIME => self.apply_consumers(),
                         _ if PdoDirection::from_index(index).is_some() => {
