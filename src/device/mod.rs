@@ -86,6 +86,15 @@
 //!   to waiting state; it then performs a reset communication and boots up
 //!   under that node-ID. A configured node-ID that differs from the active
 //!   one takes effect at the next NMT reset (communication or node).
+//! - **Store and restore** (CiA 301 sections 7.5.2.13/7.5.2.14, feature
+//!   `store`, [`store`]): with a [`ParameterStorage`]
+//!   ([`Device::set_storage`]) "save" to 1010h stores the communication
+//!   and/or application parameters as a checked record, loaded at boot
+//!   and at every reset that restores them; "load" to 1011h erases it, so
+//!   the defaults come back at that reset. The LSS slave's store
+//!   configuration is stored and answered through the same storage.
+//!   Without a storage (the default) 1010h/1011h read 0 and refuse with
+//!   08000020h.
 //! - Total: no frame, timestamp or call order panics.
 //!
 //! # Services a node can leave out (Cargo features, default on)
@@ -95,8 +104,10 @@
 //! with 06090030h; the SYNC consumer is always there), `sdo-block` (the
 //! server's block transfer; without it 05040001h) and `heartbeat-consumer`
 //! (1016h and the supervision of other nodes' heartbeats; without it
-//! another node's heartbeat changes nothing). An object of a service
-//! left out does not exist (06020000h). Costs: the README's "Firmware".
+//! another node's heartbeat changes nothing), `store` (1010h, 1011h and
+//! the [`ParameterStorage`]; without it an LSS store request is the
+//! application's). An object of a service left out does not exist
+//! (06020000h). Costs: the README's "Firmware".
 //!
 //! # Communication objects ([`CommObjects`])
 //!
@@ -111,6 +122,8 @@
 //! | 1008h | manufacturer device name | VISIBLE_STRING | const |
 //! | 100Ch | guard time, ms | U16 | rw |
 //! | 100Dh | life time factor | U8 | rw |
+//! | 1010h | store parameters: sub 0 = 3 (const), sub 1 all, 2 communication, 3 application: reads the capability (1: on command; 0 without a storage), "save" (65766173h) stores, another value 08000020h; a failing storage 06060000h (feature `store`) | ARRAY of U32 | rw |
+//! | 1011h | restore default parameters: the same subs, "load" (64616F6Ch) erases the stored group, the defaults come back at the next reset that restores it | ARRAY of U32 | rw |
 //! | 1012h | COB-ID TIME: bit 31 consume, bit 30 produce (an invalid identifier is 06090030h) | U32 | rw |
 //! | 1016h | consumer heartbeat time: sub 0 the number of entries (const), sub 1..n node (bits 23-16) and time in ms (bits 15-0) (rw; an enabled entry for a node another entry watches is 06040043h) | ARRAY of U32 | (only with entries; feature `heartbeat-consumer`) |
 //! | 1017h | producer heartbeat time, ms | U16 | rw |
