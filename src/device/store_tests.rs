@@ -4,6 +4,7 @@
 
 use super::*;
 use crate::clock::Timestamp;
+use crate::cob_id::NodeId;
 use crate::device::{Cia301, Device, DeviceConfig, DeviceEvent, PowerOnValues};
 use crate::frame::CanFrame;
 use crate::machine::Machine;
