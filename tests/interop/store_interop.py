@@ -12,6 +12,10 @@ sections 7.5.2.13/7.5.2.14, between the virtual CiA 418 battery module
    and 1017h is the stored period. node.restore() ("load" to 1011h sub 1)
    changes nothing until the NMT reset node; after it the defaults are back.
 3. A third start with the same file has the defaults too.
+4. LSS (CiA 305) through the same storage: a module started without a
+   node-ID (--lss --node-id 255) is given node-ID 5 by python-canopen's LSS
+   master and stores it (store_configuration()); restarted on the same
+   file it boots up as node 5 by itself.
 
 The bus is tests/interop/pipebus.py's PipeBus; the object dictionary and
 the module's options are battery_interop.py's.
@@ -25,6 +29,7 @@ import tempfile
 import time
 
 import canopen
+from canopen import lss
 from battery_interop import ARGS, NODE, SOC, TEMPERATURE_RAW, VOLTAGE_RAW, dictionary
 from pipebus import Cases, PipeBus
 
@@ -177,6 +182,55 @@ def third(bus, node):
     guarded("third start", defaults)
 
 
+LSS_NODE = 5
+LSS_ARGS = ["--lss", "--node-id", "255", "--identity", "29A,418,10000,7",
+            "--heartbeat-ms", "100", "--linger-ms", "0"]
+
+
+def lss_session(exe, path, body):
+    """Runs the module without a node-ID on the storage `path`."""
+    bus = PipeBus([exe] + LSS_ARGS + ["--storage", path])
+    net = canopen.Network(bus)
+    net.connect()
+    net.lss.RESPONSE_TIMEOUT = 0.5
+    try:
+        body(bus, net)
+    finally:
+        net.disconnect()
+
+
+def lss_store(bus, net):
+    def configure_and_store():
+        time.sleep(0.3)
+        check("LSS: the module without a node-ID is silent", bus.seen == [], bus.seen[:3])
+        m = net.lss
+        m.send_switch_state_global(m.CONFIGURATION_STATE)
+        m.configure_node_id(LSS_NODE)
+        try:
+            m.store_configuration()
+            stored = True
+        except lss.LssError as e:
+            stored = str(e)
+        time.sleep(0.1)
+        check("LSS: store_configuration() answered with success through the storage",
+              stored is True and "event: storage: Stored(Lss)" in bus.stderr_lines,
+              (stored, bus.stderr_lines[-4:]))
+    guarded("LSS store", configure_and_store)
+
+
+def lss_restart(bus, net):
+    def boots_as_stored():
+        end = time.time() + 3
+        while time.time() < end and not any(i == 0x700 + LSS_NODE for _, i, _ in bus.seen):
+            time.sleep(0.02)
+        hb = [d for _, i, d in bus.seen if i == 0x700 + LSS_NODE]
+        check("LSS: restarted on the same file it boots up as node 5 (705#00) by itself",
+              bool(hb) and hb[0] == b"\x00"
+              and "event: storage: Loaded(Lss)" in bus.stderr_lines,
+              (hb[:2], bus.stderr_lines[:3]))
+    guarded("LSS restart", boots_as_stored)
+
+
 def main():
     exe = sys.argv[1]
     with tempfile.TemporaryDirectory() as tmp:
@@ -185,6 +239,9 @@ def main():
         check("the storage file exists after store()", os.path.exists(path))
         session(exe, path, second)
         session(exe, path, third)
+        path = os.path.join(tmp, "lss.storage")
+        lss_session(exe, path, lss_store)
+        lss_session(exe, path, lss_restart)
     CASES.finish()
 
 
