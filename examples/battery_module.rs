@@ -22,6 +22,8 @@
 mod bus;
 #[path = "support/node.rs"]
 mod node;
+#[path = "support/storage.rs"]
+mod storage;
 
 use std::collections::VecDeque;
 use std::process::ExitCode;
@@ -48,7 +50,9 @@ sends out on stdout, its events on stderr.
                          (with --lss: silent until an LSS master gives it one)
   --lss                  carry an LSS slave (CiA 305) whose LSS address is the
                          --identity; a store configuration request is answered
-                         ok (kept in memory only)
+                         ok (kept in memory only; with --storage, in FILE)
+  --storage FILE         keep what 1010h stores (1011h restores the defaults)
+                         in FILE, loaded again at the next start
   --serial S             6030h battery serial number (packed string, <= 10 chars)
   --battery-id S         6031h battery ID (packed string, <= 20 chars)
   --battery-type B       6020h sub 1: hex (0x10, 10h) or a name: flooded,
@@ -96,6 +100,7 @@ struct Options {
     print_eds: bool,
     lss: bool,
     unconfigured: bool,
+    storage: Option<String>,
 }
 
 fn hex_u32(s: &str) -> Result<u32, String> {
@@ -158,6 +163,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
         interface: "can0".to_string(),
         print_eds: false,
         lss: false,
+        storage: None,
         unconfigured: false,
     };
     let mut it = args.iter();
@@ -259,6 +265,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
                 o.linger = Duration::from_millis(ms);
             }
             "--interface" => o.interface = value()?.clone(),
+            "--storage" => o.storage = Some(value()?.clone()),
             other => return Err(format!("unknown option '{other}'")),
         }
     }
@@ -407,6 +414,7 @@ fn describe(e: &BatteryEvent) -> Option<String> {
         },
         BatteryEvent::LifeGuarding(g) => format!("event: life guarding: {g:?}"),
         BatteryEvent::Sync(s) => format!("event: SYNC: {s:?}"),
+        BatteryEvent::Storage(s) => format!("event: storage: {s:?}"),
         BatteryEvent::Time(t) => format!("event: TIME: {t:?}"),
         _ => return None,
     };
@@ -455,6 +463,15 @@ fn main() -> ExitCode {
         if let Some(text) = text {
             if let Err(e) = module.set_text(object, text) {
                 eprintln!("battery_module: {:04X}h: {e}", object.index());
+                return ExitCode::from(2);
+            }
+        }
+    }
+    if let Some(path) = &o.storage {
+        match storage::FileStorage::open_for_device(path) {
+            Ok(s) => module.device_mut().set_storage(s),
+            Err(e) => {
+                eprintln!("battery_module: {e}");
                 return ExitCode::from(2);
             }
         }

@@ -20,7 +20,9 @@
 //! `--battery-timeout-ms` (2000), `--tpdo-ms A,B,C,D` (the event timers
 //! of TPDO 0..3; 0 sends that TPDO on events only), `--current A` and `--voltage V` (the
 //! charger's 2002h / 2100h / 2101h measurements), `--linger-ms` (2000),
-//! `--interface NAME` (can0).
+//! `--interface NAME` (can0), `--storage FILE` (1010h "save" and 1011h
+//! "load" keep the parameters in FILE, loaded again at the next start with
+//! the same file: `examples/support/storage.rs`).
 //!
 //! Time: see `examples/support/node.rs` (shared with `battery_module`).
 
@@ -28,6 +30,8 @@
 mod bus;
 #[path = "support/node.rs"]
 mod node;
+#[path = "support/storage.rs"]
+mod storage;
 
 use std::process::ExitCode;
 use std::time::Duration;
@@ -43,7 +47,8 @@ use node::Runner;
 const USAGE: &str = "usage: charger [--node-id N] [--battery-node N] [--mode local|remote|local-override|monitoring]
                [--no-configure] [--self-start] [--heartbeat-ms MS] [--battery-timeout-ms MS]
                [--tpdo-ms A,B,C,D] [--current A] [--voltage V] [--linger-ms MS] [--interface NAME]
-               [--print-eds]
+               [--print-eds] [--storage FILE]
+--storage FILE keeps what 1010h stores (restored at the next start).
 --print-eds prints the charger's EDS (CiA 306) as configured by the other
 options on stdout and exits.";
 
@@ -54,6 +59,7 @@ struct Options {
     linger: Duration,
     interface: String,
     print_eds: bool,
+    storage: Option<String>,
 }
 
 fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
@@ -72,6 +78,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
         linger: Duration::from_millis(2000),
         interface: "can0".into(),
         print_eds: false,
+        storage: None,
     };
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -122,6 +129,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
             "--voltage" => o.voltage_v = number(value()?)?,
             "--linger-ms" => o.linger = Duration::from_millis(u64::from(ms(value()?)?)),
             "--interface" => o.interface = value()?.clone(),
+            "--storage" => o.storage = Some(value()?.clone()),
             other => return Err(format!("unknown option '{other}'")),
         }
     }
@@ -176,6 +184,7 @@ fn describe(e: &ChargerEvent) -> Option<String> {
         ChargerEvent::Device(DeviceEvent::ObjectWritten { index, sub }) => {
             format!("event: SDO download to {index:04X}h sub {sub:02X}h")
         }
+        ChargerEvent::Device(DeviceEvent::Storage(s)) => format!("event: storage: {s:?}"),
         ChargerEvent::Device(DeviceEvent::SdoAborted {
             index, sub, code, ..
         }) => format!("event: SDO transfer of {index:04X}h sub {sub:02X}h aborted: {code}"),
@@ -211,11 +220,17 @@ fn main() -> ExitCode {
         print!("{}", eds::write(&charger_eds(&charger)));
         return ExitCode::SUCCESS;
     }
-    let (mut runner, boot) = Runner::new(
-        PipeBus::stdin(&o.interface),
-        Charger::new(o.config),
-        describe,
-    );
+    let mut charger = Charger::new(o.config);
+    if let Some(path) = &o.storage {
+        match storage::FileStorage::open_for_device(path) {
+            Ok(s) => charger.device_mut().set_storage(s),
+            Err(e) => {
+                eprintln!("charger: {e}");
+                return ExitCode::from(2);
+            }
+        }
+    }
+    let (mut runner, boot) = Runner::new(PipeBus::stdin(&o.interface), charger, describe);
     eprintln!(
         "charger: node {}, battery node {}, mode {}, COB-ID configuration {}",
         o.config.node,

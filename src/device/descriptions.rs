@@ -31,7 +31,7 @@ const PDO_MAPPING: &[SubDescription] = &[
 
 /// The CiA 301 communication objects of the device core
 /// ([`CommObjects`](super::CommObjects): 1000h, 1001h, 1003h, 1005h-1008h,
-/// 100Ch, 100Dh, 1012h, 1016h-1019h, 1200h) and the PDO communication and mapping parameters
+/// 100Ch, 100Dh, 1010h and 1011h (feature `store`), 1012h, 1016h-1019h, 1200h) and the PDO communication and mapping parameters
 /// (1400h-1BFFh), with the object and sub-object names of CiA 301
 /// ("CANopen application layer and communication profile", section 7.5.2
 /// "Object dictionary entries": 7.5.2.1 device type to 7.5.2.38 TPDO
@@ -57,6 +57,30 @@ pub const COMM_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
     ObjectDescription::var(0x1008, "Manufacturer device name", DataType::VisibleString),
     ObjectDescription::var(0x100C, "Guard time", U16),
     ObjectDescription::var(0x100D, "Life time factor", U8),
+    ObjectDescription::with_subs(
+        0x1010,
+        0x1010,
+        "Store parameters",
+        ObjectType::Array,
+        &[
+            HIGHEST,
+            sub(1, 1, "Save all parameters", U32),
+            sub(2, 2, "Save communication parameters", U32),
+            sub(3, 3, "Save application parameters", U32),
+        ],
+    ),
+    ObjectDescription::with_subs(
+        0x1011,
+        0x1011,
+        "Restore default parameters",
+        ObjectType::Array,
+        &[
+            HIGHEST,
+            sub(1, 1, "Restore all default parameters", U32),
+            sub(2, 2, "Restore communication default parameters", U32),
+            sub(3, 3, "Restore application default parameters", U32),
+        ],
+    ),
     ObjectDescription::var(0x1012, "COB-ID time stamp object", U32),
     ObjectDescription::with_subs(
         0x1016,

@@ -62,6 +62,14 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
     pub(super) fn drain_lss<P: Profile<S, Q, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
         while let Some(event) = self.lss.as_mut().and_then(LssSlave::poll_event) {
             self.emit(now, DeviceEvent::Lss(event), profile);
+            #[cfg(feature = "store")]
+            if let LssSlaveEvent::StoreRequested {
+                node_id,
+                bit_timing,
+            } = event
+            {
+                self.store_lss(now, node_id, bit_timing, profile);
+            }
             if event == LssSlaveEvent::ResetCommunication {
                 let reset = NmtSlaveEvent::Reset(ResetKind::Communication);
                 self.nmt_event(now, reset, profile);

@@ -86,6 +86,15 @@
 //!   to waiting state; it then performs a reset communication and boots up
 //!   under that node-ID. A configured node-ID that differs from the active
 //!   one takes effect at the next NMT reset (communication or node).
+//! - **Store and restore** (CiA 301 sections 7.5.2.13/7.5.2.14, feature
+//!   `store`, [`store`]): with a [`ParameterStorage`]
+//!   ([`Device::set_storage`]) "save" to 1010h stores the communication
+//!   and/or application parameters as a checked record, loaded at boot
+//!   and at every reset that restores them; "load" to 1011h erases it, so
+//!   the defaults come back at that reset. The LSS slave's store
+//!   configuration is stored and answered through the same storage.
+//!   Without a storage (the default) 1010h/1011h read 0 and refuse with
+//!   08000020h.
 //! - Total: no frame, timestamp or call order panics.
 //!
 //! # Services a node can leave out (Cargo features, default on)
@@ -95,8 +104,10 @@
 //! with 06090030h; the SYNC consumer is always there), `sdo-block` (the
 //! server's block transfer; without it 05040001h) and `heartbeat-consumer`
 //! (1016h and the supervision of other nodes' heartbeats; without it
-//! another node's heartbeat changes nothing). An object of a service
-//! left out does not exist (06020000h). Costs: the README's "Firmware".
+//! another node's heartbeat changes nothing), `store` (1010h, 1011h and
+//! the [`ParameterStorage`]; without it an LSS store request is the
+//! application's). An object of a service left out does not exist
+//! (06020000h). Costs: the README's "Firmware".
 //!
 //! # Communication objects ([`CommObjects`])
 //!
@@ -111,6 +122,8 @@
 //! | 1008h | manufacturer device name | VISIBLE_STRING | const |
 //! | 100Ch | guard time, ms | U16 | rw |
 //! | 100Dh | life time factor | U8 | rw |
+//! | 1010h | store parameters: sub 0 = 3 (const), sub 1 all, 2 communication, 3 application: reads the capability (1: on command; 0 without a storage), "save" (65766173h) stores, another value 08000020h; a failing storage 06060000h (feature `store`) | ARRAY of U32 | rw |
+//! | 1011h | restore default parameters: the same subs, "load" (64616F6Ch) erases the stored group, the defaults come back at the next reset that restores it | ARRAY of U32 | rw |
 //! | 1012h | COB-ID TIME: bit 31 consume, bit 30 produce (an invalid identifier is 06090030h) | U32 | rw |
 //! | 1016h | consumer heartbeat time: sub 0 the number of entries (const), sub 1..n node (bits 23-16) and time in ms (bits 15-0) (rw; an enabled entry for a node another entry watches is 06040043h) | ARRAY of U32 | (only with entries; feature `heartbeat-consumer`) |
 //! | 1017h | producer heartbeat time, ms | U16 | rw |
@@ -132,10 +145,14 @@ mod descriptions;
 #[cfg(feature = "lss")]
 mod lss;
 mod objects;
+#[cfg(feature = "store")]
+mod parameters;
 mod profile;
 mod profiled;
 mod services;
 mod snapshot;
+#[cfg(feature = "store")]
+pub mod store;
 
 pub use config::{DeviceConfig, Policies, PowerOn};
 #[cfg(feature = "alloc")]
@@ -146,6 +163,10 @@ pub use objects::{CommObjects, DeviceObjects, ErrorFieldFormat, Identity, ERROR_
 pub use profile::{DeviceEvent, Profile};
 pub use profiled::{Cia301, DeviceSetup, DeviceSpec, ProfiledDevice};
 pub use snapshot::PowerOnValues;
+#[cfg(feature = "store")]
+pub use store::{
+    ParameterGroup, ParameterStorage, RamStorage, RecordError, StorageError, StorageEvent,
+};
 
 use crate::clock::Timestamp;
 use crate::cob_id::{NodeId, EMCY_BASE};
@@ -161,6 +182,8 @@ use crate::nmt::{NmtCore, NmtSlaveEvent, NmtState, ResetKind};
 #[cfg(feature = "heartbeat-consumer")]
 use crate::od::index::CONSUMER_HEARTBEAT_TIME;
 use crate::od::index::PRODUCER_HEARTBEAT_TIME;
+#[cfg(feature = "store")]
+use crate::od::index::{RESTORE_DEFAULT_PARAMETERS, STORE_PARAMETERS};
 
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
 use crate::queue::EventQueue;
@@ -170,6 +193,13 @@ use crate::sdo::{Server, ServerEvent, EVENTS_PER_CALL};
 /// objects, application objects.
 pub type Dictionary<A, const T: usize = 4, const R: usize = 4> =
     PdoDictionary<DeviceObjects<A>, T, R>;
+
+/// What a restart gives back: what loading the stored records did
+/// (feature `store`; nothing without it).
+#[cfg(feature = "store")]
+type Restarted = parameters::StorageReport;
+#[cfg(not(feature = "store"))]
+type Restarted = ();
 
 /// The capacity of a device's event queue and of its queue of frames to
 /// send, unless its type says otherwise (the `Q` of [`Device`]).
@@ -252,6 +282,9 @@ pub struct Device<
     powered: bool,
     /// Node guarding, SYNC and TIME (services.rs).
     services: services::Services,
+    /// Where 1010h stores (parameters.rs; feature `store`).
+    #[cfg(feature = "store")]
+    storage: parameters::Storage,
 }
 
 impl<S, const Q: usize, const T: usize, const R: usize> core::fmt::Debug for Device<S, Q, T, R>
@@ -349,6 +382,8 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
             #[cfg(feature = "lss")]
             powered: false,
             services: services::Services::new(node),
+            #[cfg(feature = "store")]
+            storage: None,
         }
     }
 
@@ -373,6 +408,10 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         self.server.restart(policies.server_config(self.node));
         self.heartbeat = HeartbeatProducer::with_period_ms(self.node, period_ms);
         self.heartbeat.send_on_change = policies.heartbeat_on_change;
+        // The power-on values made the objects anew: 1010h/1011h's
+        // capability follows the storage.
+        #[cfg(feature = "store")]
+        self.mark_storable();
     }
 
     // ----- getters ---------------------------------------------------------
@@ -439,14 +478,31 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         // The application's parameters as they are now are the power-on
         // values reset node restores.
         self.power_on = self.objects().snapshot();
+        // The LSS configuration stored (CiA 305) is the slave's at power-on.
+        #[cfg(all(feature = "lss", feature = "store"))]
+        if let Some(event) = self.load_lss() {
+            self.emit(now, DeviceEvent::Storage(event), profile);
+        }
         #[cfg(feature = "lss")]
         {
             self.powered = true;
             if self.lss.as_ref().is_some_and(|l| l.node_id().is_none()) {
-                // No node-ID: silent but for LSS until one is configured.
+                // No node-ID: silent but for LSS until one is configured
+                // (then a reset communication starts it: the application
+                // parameters stored are loaded now).
+                #[cfg(feature = "store")]
+                if let Some(event) = self.load_group(store::ParameterGroup::Application) {
+                    self.emit(now, DeviceEvent::Storage(event), profile);
+                }
                 return;
             }
         }
+        #[cfg(feature = "store")]
+        {
+            let stored = self.restart(now, ResetKind::Node);
+            self.report_storage(now, stored, profile);
+        }
+        #[cfg(not(feature = "store"))]
         self.restart(now, ResetKind::Node);
         self.report_nmt_boot(now, profile);
     }
@@ -698,9 +754,14 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
     ) {
         match event {
             NmtSlaveEvent::Reset(kind) => {
+                #[cfg(feature = "store")]
+                let stored = self.restart(now, kind);
+                #[cfg(not(feature = "store"))]
                 self.restart(now, kind);
                 let node = kind == ResetKind::Node;
                 self.emit(now, DeviceEvent::Reset { node }, profile);
+                #[cfg(feature = "store")]
+                self.report_storage(now, stored, profile);
                 self.report_nmt_boot(now, profile);
             }
             NmtSlaveEvent::StateChanged { from, to } => {
@@ -718,9 +779,9 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         }
     }
 
-    /// Boot or reset: restores the objects `kind` says, boot-up message,
-    /// pre-operational.
-    fn restart(&mut self, now: Timestamp, kind: ResetKind) {
+    /// Boot or reset: restores the objects `kind` says (and loads what is
+    /// stored of them, feature `store`), boot-up message, pre-operational.
+    fn restart(&mut self, now: Timestamp, kind: ResetKind) -> Restarted {
         // The LSS node-ID configured since takes effect (CiA 305).
         #[cfg(feature = "lss")]
         if let Some(node) = self.lss.as_mut().and_then(LssSlave::reset_communication) {
@@ -737,6 +798,10 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
             self.server.od_mut().inner.app.restore(&self.power_on);
         }
         self.load_power_on();
+        #[cfg(feature = "store")]
+        let stored = self.load_stored(kind);
+        #[cfg(feature = "store")]
+        self.apply_heartbeat_period(now);
         self.heartbeat.boot(now);
         #[cfg(feature = "heartbeat-consumer")]
         self.reset_consumer();
@@ -744,6 +809,8 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         self.reconfigure_pdos(now);
         self.nmt_boot = self.nmt.boot();
         self.reset_services(now);
+        #[cfg(feature = "store")]
+        stored
     }
 
     /// The core's part of entering `to`.
@@ -789,6 +856,14 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
                 ServerEvent::Downloaded { index, sub, .. } => {
                     match index {
                         PRODUCER_HEARTBEAT_TIME => self.apply_heartbeat_period(now),
+                        // A "save" or "load" the dictionary accepted; a
+                        // storage that fails aborts it instead.
+                        #[cfg(feature = "store")]
+                        STORE_PARAMETERS | RESTORE_DEFAULT_PARAMETERS
+                            if self.store_command(now, index, sub, profile).is_err() =>
+                        {
+                            continue;
+                        }
                         #[cfg(feature = "heartbeat-consumer")]
                         CONSUMER_HEARTBEAT_TIME => self.apply_consumers(),
                         _ if PdoDirection::from_index(index).is_some() => {

@@ -18,6 +18,8 @@ use crate::od::index::{
     PRODUCER_HEARTBEAT_TIME, SDO_SERVER_PARAMETER, SYNCHRONOUS_COUNTER_OVERFLOW,
     SYNCHRONOUS_WINDOW_LENGTH,
 };
+#[cfg(feature = "store")]
+use crate::od::index::{RESTORE_DEFAULT_PARAMETERS, STORE_PARAMETERS};
 use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
 use crate::sdo::AbortCode;
 use crate::sync::{valid_counter_overflow, SyncCobId};
@@ -131,6 +133,10 @@ pub struct CommObjects {
     pub time_cob_id: TimeCobId,
     /// 1019h synchronous counter overflow value.
     pub sync_counter_overflow: u8,
+    /// 1010h/1011h: bit 0 the communication group can be stored, bit 1 the
+    /// application group (feature `store`).
+    #[cfg(feature = "store")]
+    storable: u8,
     pending: WriteBuffer,
 }
 
@@ -159,6 +165,8 @@ impl CommObjects {
             life_time_factor: 0,
             time_cob_id: TimeCobId::DEFAULT,
             sync_counter_overflow: 0,
+            #[cfg(feature = "store")]
+            storable: 0,
             pending: WriteBuffer::new(),
         }
     }
@@ -239,6 +247,32 @@ impl CommObjects {
             .unwrap_or(&[])
     }
 
+    /// Which groups 1010h/1011h store and restore (the device's storage;
+    /// feature `store`).
+    #[cfg(feature = "store")]
+    pub(super) fn set_storable(&mut self, communication: bool, application: bool) {
+        self.storable = u8::from(communication) | u8::from(application) << 1;
+    }
+
+    /// The capability word of 1010h/1011h sub `sub` (1 all, 2
+    /// communication, 3 application): [`ON_COMMAND`](super::store::ON_COMMAND)
+    /// when the device stores that group on command, else 0.
+    #[cfg(feature = "store")]
+    #[must_use]
+    pub const fn store_capability(&self, sub: u8) -> u32 {
+        let group = match sub {
+            1 => 0b11,
+            2 => 0b01,
+            3 => 0b10,
+            _ => 0,
+        };
+        if self.storable & group != 0 {
+            super::store::ON_COMMAND
+        } else {
+            0
+        }
+    }
+
     /// True if the index is one of these objects.
     #[must_use]
     pub const fn has_object(&self, index: u16) -> bool {
@@ -256,6 +290,9 @@ impl CommObjects {
             | COB_ID_SYNC
             | SYNCHRONOUS_WINDOW_LENGTH
             | SYNCHRONOUS_COUNTER_OVERFLOW => true,
+            // Store and restore (feature `store`).
+            #[cfg(feature = "store")]
+            STORE_PARAMETERS | RESTORE_DEFAULT_PARAMETERS => true,
             // The SYNC producer's period and TIME (feature `sync-time`).
             COMMUNICATION_CYCLE_PERIOD | COB_ID_TIME => cfg!(feature = "sync-time"),
             // Node guarding (feature `guarding`).
@@ -311,6 +348,14 @@ impl CommObjects {
                     None => return Err(AbortCode::SubIndexDoesNotExist),
                 }
             }
+            // CiA 301 sections 7.5.2.13/7.5.2.14: sub 0 the highest sub,
+            // subs 1-3 the capability words.
+            #[cfg(feature = "store")]
+            (None, STORE_PARAMETERS | RESTORE_DEFAULT_PARAMETERS, 0) => (Const, Value::u8(3)),
+            #[cfg(feature = "store")]
+            (None, STORE_PARAMETERS | RESTORE_DEFAULT_PARAMETERS, 1..=3) => {
+                (Rw, Value::u32(self.store_capability(sub)))
+            }
             (None, IDENTITY, 0) => (Ro, Value::u8(Identity::HIGHEST_SUB_INDEX)),
             (None, IDENTITY, s) => match self.identity.sub(s) {
                 Some(v) => (Ro, Value::u32(v)),
@@ -336,8 +381,9 @@ impl CommObjects {
     /// object has one writable sub-index, 0, but 1016h, whose sub-index
     /// `sub` names its entry), so the index alone picks the rule.
     fn apply(&mut self, index: u16, sub: u8, word: u32) -> Result<(), AbortCode> {
-        // Only 1016h's entries are told apart by their sub-index.
-        #[cfg(not(feature = "heartbeat-consumer"))]
+        // Only 1016h's entries (and 1010h/1011h's groups) are told apart
+        // by their sub-index.
+        #[cfg(not(any(feature = "heartbeat-consumer", feature = "store")))]
         let _ = sub;
         match index {
             PRE_DEFINED_ERROR_FIELD if word == 0 => self.clear_errors(),
@@ -358,6 +404,20 @@ impl CommObjects {
                 match self.consumers.get_mut(slot) {
                     Some(e) if slot < usize::from(self.consumer_slots) => *e = entry,
                     _ => return Err(AbortCode::SubIndexDoesNotExist),
+                }
+            }
+            // CiA 301 sections 7.5.2.13/7.5.2.14: only the signature is
+            // accepted, for a group the device stores; the device core
+            // stores or erases it (DeviceEvent::ObjectWritten's path).
+            #[cfg(feature = "store")]
+            STORE_PARAMETERS | RESTORE_DEFAULT_PARAMETERS => {
+                let signature = if index == STORE_PARAMETERS {
+                    super::store::SAVE_SIGNATURE
+                } else {
+                    super::store::LOAD_SIGNATURE
+                };
+                if word != signature || self.store_capability(sub) == 0 {
+                    return Err(AbortCode::DataCannotBeStored);
                 }
             }
             PRODUCER_HEARTBEAT_TIME => self.heartbeat_ms = word as u16,

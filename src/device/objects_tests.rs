@@ -137,7 +137,14 @@ fn every_row_of_the_table() {
         };
         assert_eq!(c.info(index, sub), Err(want), "{index:04X}h:{sub}");
     }
-    assert_eq!(c.info(0x1010, 0), Err(AbortCode::ObjectDoesNotExist));
+    // 1010h/1011h (feature `store`): sub 0 = 3, subs 1-3; nothing above.
+    if cfg!(feature = "store") {
+        assert_eq!(c.info(0x1010, 4), Err(AbortCode::SubIndexDoesNotExist));
+        assert_eq!(c.info(0x1011, 4), Err(AbortCode::SubIndexDoesNotExist));
+    } else {
+        assert_eq!(c.info(0x1010, 0), Err(AbortCode::ObjectDoesNotExist));
+    }
+    assert_eq!(c.info(0x1013, 0), Err(AbortCode::ObjectDoesNotExist));
     #[cfg(feature = "heartbeat-consumer")]
     {
         c.set_consumers(&[]);

@@ -89,6 +89,11 @@ pub enum DeviceEvent {
     /// TIME received (1012h consume bit). Feature `sync-time`.
     #[cfg(feature = "sync-time")]
     Time(TimeEvent),
+    /// Store and restore (1010h, 1011h, the LSS store configuration): a
+    /// record stored, erased, loaded or ignored, a storage that failed.
+    /// Feature `store`.
+    #[cfg(feature = "store")]
+    Storage(crate::device::StorageEvent),
 }
 
 /// What a profile adds to the device core of spec `S` (usually the

@@ -70,6 +70,30 @@ pub trait PowerOnValues {
     /// Sets the values of `snapshot` back (reset node); whatever the
     /// snapshot does not hold stays as it is.
     fn restore(&mut self, snapshot: &Self::Snapshot);
+
+    /// The snapshot's bytes as 1010h stores them (CiA 301 section
+    /// 7.5.2.13, the application parameters; feature `store`); `None`
+    /// (the default): the parameters cannot be stored, and 1010h/1011h
+    /// sub 3 read 0.
+    #[cfg(feature = "store")]
+    fn parameter_bytes(snapshot: &Self::Snapshot) -> Option<&[u8]> {
+        let _ = snapshot;
+        None
+    }
+
+    /// The same bytes, to load a stored record into (feature `store`).
+    #[cfg(feature = "store")]
+    fn parameter_bytes_mut(snapshot: &mut Self::Snapshot) -> Option<&mut [u8]> {
+        let _ = snapshot;
+        None
+    }
+
+    /// A word that tells this dictionary's parameter layout from another's:
+    /// a stored record of another layout is ignored (feature `store`).
+    #[cfg(feature = "store")]
+    fn parameter_layout() -> u32 {
+        0
+    }
 }
 
 /// A fixed-word dictionary (the profiles'): its
@@ -84,6 +108,28 @@ impl<O: crate::od::FixedObjects> PowerOnValues for crate::od::FixedDictionary<O>
 
     fn restore(&mut self, snapshot: &O::Parameters) {
         self.restore_parameters(snapshot);
+    }
+
+    #[cfg(feature = "store")]
+    fn parameter_bytes(snapshot: &O::Parameters) -> Option<&[u8]> {
+        Some(snapshot.as_ref())
+    }
+
+    #[cfg(feature = "store")]
+    fn parameter_bytes_mut(snapshot: &mut O::Parameters) -> Option<&mut [u8]> {
+        Some(snapshot.as_mut())
+    }
+
+    /// The CRC-16 of the parameters' index and sub-index bytes, and their
+    /// total length above it.
+    #[cfg(feature = "store")]
+    fn parameter_layout() -> u32 {
+        let crc = O::PARAMETERS.iter().fold(0, |crc, &(index, sub)| {
+            let [lo, hi] = index.to_le_bytes();
+            crate::sdo::crc16_update(crc, &[lo, hi, sub])
+        });
+        let len = core::mem::size_of::<O::Parameters>() as u32;
+        u32::from(crc) | len << 16
     }
 }
 

@@ -191,6 +191,15 @@ impl LssSlave {
         self.active
     }
 
+    /// At power-on, the configuration an earlier store configuration
+    /// saved (CiA 305): `node_id` becomes the active and pending node-ID,
+    /// `bit_timing` the pending bit timing.
+    pub fn load_stored(&mut self, node_id: Option<NodeId>, bit_timing: Option<(u8, u8)>) {
+        self.active = node_id;
+        self.pending = node_id;
+        self.bit_timing = bit_timing;
+    }
+
     /// Answers an outstanding [`LssSlaveEvent::StoreRequested`]; returns
     /// false (and sends nothing) when no store is outstanding.
     pub fn answer_store(&mut self, status: LssStatus) -> bool {

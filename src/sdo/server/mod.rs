@@ -441,6 +441,18 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         !matches!(self.state, State::Idle)
     }
 
+    /// Turns the answer to the download that just completed (the one its
+    /// [`ServerEvent::Downloaded`] reported, not sent yet) into an abort of
+    /// `index`/`sub` with `code`: for a device whose write takes effect
+    /// after the dictionary accepted it (1010h, store parameters, CiA 301
+    /// section 7.5.2.13: a storage that fails is 06060000h). Does nothing
+    /// while a transfer runs.
+    pub fn refuse_completed_download(&mut self, index: u16, sub: u8, code: AbortCode) {
+        if matches!(self.state, State::Idle) && self.transmit.pop().is_some() {
+            self.send(ServerCommand::Abort { index, sub, code });
+        }
+    }
+
     /// Ends the running transfer without a frame or an event, as the
     /// owner's NMT state requires (CiA 301: no SDO in stopped; a reset
     /// drops it); for a download the dictionary's `abort_write` is called.
