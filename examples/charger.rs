@@ -20,7 +20,9 @@
 //! `--battery-timeout-ms` (2000), `--tpdo-ms A,B,C,D` (the event timers
 //! of TPDO 0..3; 0 sends that TPDO on events only), `--current A` and `--voltage V` (the
 //! charger's 2002h / 2100h / 2101h measurements), `--linger-ms` (2000),
-//! `--interface NAME` (can0).
+//! `--interface NAME` (can0), `--program-store DIR_OR_FILE` (takes CiA
+//! 302-3 program downloads into 1F50h sub 1 and writes the image there;
+//! feature `program-download`).
 //!
 //! Time: see `examples/support/node.rs` (shared with `battery_module`).
 
@@ -28,12 +30,17 @@
 mod bus;
 #[path = "support/node.rs"]
 mod node;
+#[cfg(feature = "program-download")]
+#[path = "support/program_store.rs"]
+mod program_store;
 
 use std::process::ExitCode;
 use std::time::Duration;
 
 use bus::PipeBus;
-use canopen_codec::deltaq::{charger_eds, Charger, ChargerConfig, ChargerDictionary, ChargerEvent};
+use canopen_codec::deltaq::{
+    charger_eds, Charger, ChargerAppDictionary, ChargerConfig, ChargerEvent,
+};
 use canopen_codec::deltaq::{OperatingMode, Reaction};
 use canopen_codec::device::DeviceEvent;
 use canopen_codec::eds;
@@ -43,7 +50,9 @@ use node::Runner;
 const USAGE: &str = "usage: charger [--node-id N] [--battery-node N] [--mode local|remote|local-override|monitoring]
                [--no-configure] [--self-start] [--heartbeat-ms MS] [--battery-timeout-ms MS]
                [--tpdo-ms A,B,C,D] [--current A] [--voltage V] [--linger-ms MS] [--interface NAME]
-               [--print-eds]
+               [--program-store DIR_OR_FILE] [--print-eds]
+--program-store takes program downloads (CiA 302-3: 1F50h sub 1, 1F51h,
+1F56h, 1F57h) into DIR_OR_FILE (a directory gets program-1.bin).
 --print-eds prints the charger's EDS (CiA 306) as configured by the other
 options on stdout and exits.";
 
@@ -54,6 +63,7 @@ struct Options {
     linger: Duration,
     interface: String,
     print_eds: bool,
+    program_store: Option<std::path::PathBuf>,
 }
 
 fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
@@ -72,6 +82,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
         linger: Duration::from_millis(2000),
         interface: "can0".into(),
         print_eds: false,
+        program_store: None,
     };
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -100,6 +111,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
             "--no-configure" => o.config.configure_cob_ids = false,
             "--self-start" => o.config.self_start = true,
             "--print-eds" => o.print_eds = true,
+            "--program-store" => o.program_store = Some(value()?.into()),
             "--heartbeat-ms" => {
                 o.config.heartbeat = Duration::from_millis(u64::from(ms(value()?)?))
             }
@@ -199,7 +211,7 @@ fn main() -> ExitCode {
         }
     };
     let (current, voltage) = (o.current_a, o.voltage_v);
-    let set_objects = |obj: &mut ChargerDictionary| {
+    let set_objects = |obj: &mut ChargerAppDictionary| {
         obj.charging_current = (current * 256.0).round() as u16;
         obj.battery_voltage_q8 = (voltage * 256.0).round() as u16;
         obj.battery_voltage_q10 = (voltage * 1024.0).round().min(65535.0) as u16;
@@ -211,11 +223,25 @@ fn main() -> ExitCode {
         print!("{}", eds::write(&charger_eds(&charger)));
         return ExitCode::SUCCESS;
     }
-    let (mut runner, boot) = Runner::new(
-        PipeBus::stdin(&o.interface),
-        Charger::new(o.config),
-        describe,
-    );
+    #[allow(unused_mut)]
+    let mut charger = Charger::new(o.config);
+    if let Some(path) = &o.program_store {
+        #[cfg(feature = "program-download")]
+        {
+            let store = program_store::FileProgramStore::new(path);
+            eprintln!("charger: program download into {}", store.path().display());
+            charger.set_program_store(Box::leak(Box::new(store)));
+        }
+        #[cfg(not(feature = "program-download"))]
+        {
+            eprintln!(
+                "charger: --program-store {} needs feature program-download",
+                path.display()
+            );
+            return ExitCode::from(2);
+        }
+    }
+    let (mut runner, boot) = Runner::new(PipeBus::stdin(&o.interface), charger, describe);
     eprintln!(
         "charger: node {}, battery node {}, mode {}, COB-ID configuration {}",
         o.config.node,
