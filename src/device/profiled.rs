@@ -184,6 +184,7 @@ where
 
     /// The core and the profile, both mutably (for a profile's own
     /// inputs, e.g. the charger's power stage).
+    #[cfg(feature = "heartbeat-consumer")]
     pub(crate) fn parts_mut(&mut self) -> (&mut Device<P, Q, T, R>, &mut P) {
         (&mut self.device, &mut self.profile)
     }

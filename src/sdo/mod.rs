@@ -102,6 +102,7 @@ mod collect;
 mod crc;
 mod data;
 mod observer;
+mod program_download;
 mod rules;
 mod server;
 mod wire;
@@ -115,6 +116,9 @@ pub use data::{ExpeditedData, InitiatePayload, InlineData, Segment, SegmentData}
 pub use observer::{
     BreakReason, ChannelError, Direction, Observed, Observer, ObserverConfig, ObserverEvent,
     SdoChannel, Transfer, TransferKind, OBSERVER_EVENT_CAPACITY, OBSERVER_EXTRA_CHANNELS,
+};
+pub use program_download::{
+    ProgramDownload, ProgramDownloadConfig, ProgramDownloadError, ProgramDownloadEvent, ProgramStep,
 };
 pub use server::{
     AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT,
