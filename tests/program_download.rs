@@ -200,7 +200,7 @@ fn a_store_that_fails_is_in_1f57h_and_the_master_reports_it() {
     let program = sim.machine(c).objects();
     assert_eq!(
         (program.state(), program.software_id()),
-        (ProgramState::Stopped, None)
+        (ProgramState::NoProgram, None)
     );
     assert!(!flash.lock().unwrap().started);
     // The charger aborted the download with 08000020h on its SDO channel.

@@ -11,7 +11,7 @@
 //! | object | type | what |
 //! |---|---|---|
 //! | 1F50h sub 1 | DOMAIN, wo | program data: the image, downloaded segmented or by block |
-//! | 1F51h sub 1 | U8, rw | program control: write a [`ProgramCommand`], read the [`ProgramState`] |
+//! | 1F51h sub 1 | U8, rw | program control: write a [`ProgramCommand`] (0 stop, 1 start, 2 reset, 3 clear), read the [`ProgramState`] (0 stopped, 1 started, 3 no program available) |
 //! | 1F56h sub 1 | U32, ro | program software identification (here the store's ident of the image, e.g. its CRC-32) |
 //! | 1F57h sub 1 | U32, ro | flash status identification ([`FlashStatus`]) |
 //!
@@ -227,18 +227,18 @@ impl ProgramCommand {
     }
 }
 
-/// The 1F51h program state (the value read).
+/// The 1F51h program state (the value read; CiA 302-3 gives each value a
+/// command and a state: 0 stop / stopped, 1 start / started, 3 clear / no
+/// program available).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ProgramState {
     /// 0: program stopped.
     Stopped,
     /// 1: program started.
     Started,
-    /// 2: program stopping.
-    Stopping,
-    /// 3: program starting.
-    Starting,
-    /// Any other value.
+    /// 3: no program available (stopped, nothing valid in flash).
+    NoProgram,
+    /// Any other value (2, the reset command, is no state).
     Unknown(u8),
 }
 
@@ -247,8 +247,7 @@ impl From<u8> for ProgramState {
         match raw {
             0 => ProgramState::Stopped,
             1 => ProgramState::Started,
-            2 => ProgramState::Stopping,
-            3 => ProgramState::Starting,
+            3 => ProgramState::NoProgram,
             other => ProgramState::Unknown(other),
         }
     }
@@ -259,8 +258,7 @@ impl From<ProgramState> for u8 {
         match s {
             ProgramState::Stopped => 0,
             ProgramState::Started => 1,
-            ProgramState::Stopping => 2,
-            ProgramState::Starting => 3,
+            ProgramState::NoProgram => 3,
             ProgramState::Unknown(raw) => raw,
         }
     }
@@ -273,8 +271,7 @@ impl ProgramState {
         match self {
             ProgramState::Stopped => "program stopped",
             ProgramState::Started => "program started",
-            ProgramState::Stopping => "program stopping",
-            ProgramState::Starting => "program starting",
+            ProgramState::NoProgram => "no program available",
             ProgramState::Unknown(_) => "unknown program state",
         }
     }

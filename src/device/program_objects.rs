@@ -9,9 +9,10 @@
 //!
 //! **Choices** (CiA 302-3 leaves them to the device):
 //!
-//! - 1F51h commands act at once (the store is synchronous), so a read of
-//!   1F51h gives 0 (stopped) or 1 (started), never "stopping" or
-//!   "starting".
+//! - 1F51h commands act at once (the store is synchronous): a read gives
+//!   1 (started), 0 (stopped with a valid program) or 3 (stopped, no
+//!   program available: none at power-on, cleared, or a download that
+//!   failed or is in progress).
 //! - Start (1) and reset (2) need a valid program (one the store had at
 //!   power-on, or a download that finished): without one they are aborted
 //!   with 08000022h and 1F57h says "no valid program" (1). Clear (3) is
@@ -173,10 +174,14 @@ impl<A> ProgramObjects<A> {
         self.store.is_some()
     }
 
-    /// 1F51h: the program's state.
+    /// 1F51h: the program's state (stopped without a valid program is
+    /// [`ProgramState::NoProgram`]).
     #[must_use]
     pub const fn state(&self) -> ProgramState {
-        self.state
+        match (self.state, self.software_id) {
+            (ProgramState::Stopped, None) => ProgramState::NoProgram,
+            (state, _) => state,
+        }
     }
 
     /// 1F56h: the software identification of the valid program, if any.
@@ -306,7 +311,7 @@ impl<A: ObjectDictionary> ObjectDictionary for ProgramObjects<A> {
         }
         let word: u32 = match (index, sub) {
             (_, 0) => 1,
-            (PROGRAM_CONTROL, _) => u8::from(self.state).into(),
+            (PROGRAM_CONTROL, _) => u8::from(self.state()).into(),
             (PROGRAM_SOFTWARE_IDENTIFICATION, _) => self.software_id.unwrap_or(0),
             _ => self.status.raw(),
         };

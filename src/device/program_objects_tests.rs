@@ -145,8 +145,8 @@ fn objects_and_sub_indices() {
     );
     // The application's objects are still there.
     assert_eq!(read_u32(&mut od, 0x2000, 0), Ok(7));
-    // No program at power-on: stopped, "no valid program".
-    assert_eq!(read_u32(&mut od, 0x1F51, 1), Ok(0));
+    // No program at power-on: "no program available", "no valid program".
+    assert_eq!(read_u32(&mut od, 0x1F51, 1), Ok(3));
     assert_eq!(read_u32(&mut od, 0x1F56, 1), Ok(0));
     assert_eq!(read_u32(&mut od, 0x1F57, 1), Ok(1 << 1));
 }
@@ -183,6 +183,8 @@ fn the_whole_sequence() {
     assert_eq!(command(&mut od, 4), Err(AbortCode::InvalidValue));
     command(&mut od, 0).unwrap();
     assert_eq!(read_u32(&mut od, 0x1F51, 1), Ok(0));
+    command(&mut od, 3).unwrap();
+    assert_eq!(read_u32(&mut od, 0x1F51, 1), Ok(3));
 }
 
 #[test]
@@ -193,7 +195,7 @@ fn start_without_a_program_is_refused() {
         Err(AbortCode::DataCannotBeStoredDeviceState)
     );
     assert_eq!(od.status().error(), Some(FlashError::NoValidProgram));
-    assert_eq!(od.state(), ProgramState::Stopped);
+    assert_eq!(od.state(), ProgramState::NoProgram);
     download(&mut od, b"ok").unwrap();
     command(&mut od, 3).unwrap();
     assert_eq!(od.software_id(), None);

@@ -66,8 +66,9 @@ def main():
             check("the charger boots (70A#00)",
                   wait_until(lambda: any(i == 0x700 + CHARGER for _, i, _ in bus.seen), 3))
             check("1F51h:00 = 1 program", charger.sdo.upload(0x1F51, 0) == b"\x01")
+            check("no program at start: 1F51h:01 reads 3 (no program available)",
+                  charger.sdo.upload(0x1F51, 1) == b"\x03")
             charger.sdo.download(0x1F51, 1, b"\x00")
-            check("stopped: 1F51h:01 reads 0", charger.sdo.upload(0x1F51, 1) == b"\x00")
             charger.sdo.download(0x1F51, 1, b"\x03")
             check("cleared: 1F57h:01 = 0 (no error)", u32(charger, 0x1F57) == 0)
             t0 = time.time()
@@ -83,6 +84,7 @@ def main():
             ident = u32(charger, 0x1F56)
             check("1F56h:01 = the image's CRC-32", ident == zlib.crc32(image),
                   f"{ident:08X}h vs {zlib.crc32(image):08X}h")
+            check("downloaded, stopped: 1F51h:01 reads 0", charger.sdo.upload(0x1F51, 1) == b"\x00")
             charger.sdo.download(0x1F51, 1, b"\x01")
             check("started: 1F51h:01 reads 1", charger.sdo.upload(0x1F51, 1) == b"\x01")
             try:
