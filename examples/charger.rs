@@ -22,7 +22,9 @@
 //! charger's 2002h / 2100h / 2101h measurements), `--linger-ms` (2000),
 //! `--interface NAME` (can0), `--storage FILE` (1010h "save" and 1011h
 //! "load" keep the parameters in FILE, loaded again at the next start with
-//! the same file: `examples/support/storage.rs`).
+//! the same file: `examples/support/storage.rs`), `--program-store
+//! DIR_OR_FILE` (takes CiA 302-3 program downloads into 1F50h sub 1 and
+//! writes the image there; feature `program-download`).
 //!
 //! Time: see `examples/support/node.rs` (shared with `battery_module`).
 
@@ -32,12 +34,17 @@ mod bus;
 mod node;
 #[path = "support/storage.rs"]
 mod storage;
+#[cfg(feature = "program-download")]
+#[path = "support/program_store.rs"]
+mod program_store;
 
 use std::process::ExitCode;
 use std::time::Duration;
 
 use bus::PipeBus;
-use canopen_codec::deltaq::{charger_eds, Charger, ChargerConfig, ChargerDictionary, ChargerEvent};
+use canopen_codec::deltaq::{
+    charger_eds, Charger, ChargerAppDictionary, ChargerConfig, ChargerEvent,
+};
 use canopen_codec::deltaq::{OperatingMode, Reaction};
 use canopen_codec::device::DeviceEvent;
 use canopen_codec::eds;
@@ -47,8 +54,10 @@ use node::Runner;
 const USAGE: &str = "usage: charger [--node-id N] [--battery-node N] [--mode local|remote|local-override|monitoring]
                [--no-configure] [--self-start] [--heartbeat-ms MS] [--battery-timeout-ms MS]
                [--tpdo-ms A,B,C,D] [--current A] [--voltage V] [--linger-ms MS] [--interface NAME]
-               [--print-eds] [--storage FILE]
+               [--program-store DIR_OR_FILE] [--print-eds] [--storage FILE]
 --storage FILE keeps what 1010h stores (restored at the next start).
+--program-store takes program downloads (CiA 302-3: 1F50h sub 1, 1F51h,
+1F56h, 1F57h) into DIR_OR_FILE (a directory gets program-1.bin).
 --print-eds prints the charger's EDS (CiA 306) as configured by the other
 options on stdout and exits.";
 
@@ -60,6 +69,7 @@ struct Options {
     interface: String,
     print_eds: bool,
     storage: Option<String>,
+    program_store: Option<std::path::PathBuf>,
 }
 
 fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
@@ -79,6 +89,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
         interface: "can0".into(),
         print_eds: false,
         storage: None,
+        program_store: None,
     };
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -107,6 +118,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
             "--no-configure" => o.config.configure_cob_ids = false,
             "--self-start" => o.config.self_start = true,
             "--print-eds" => o.print_eds = true,
+            "--program-store" => o.program_store = Some(value()?.into()),
             "--heartbeat-ms" => {
                 o.config.heartbeat = Duration::from_millis(u64::from(ms(value()?)?))
             }
@@ -208,7 +220,7 @@ fn main() -> ExitCode {
         }
     };
     let (current, voltage) = (o.current_a, o.voltage_v);
-    let set_objects = |obj: &mut ChargerDictionary| {
+    let set_objects = |obj: &mut ChargerAppDictionary| {
         obj.charging_current = (current * 256.0).round() as u16;
         obj.battery_voltage_q8 = (voltage * 256.0).round() as u16;
         obj.battery_voltage_q10 = (voltage * 1024.0).round().min(65535.0) as u16;
@@ -220,6 +232,7 @@ fn main() -> ExitCode {
         print!("{}", eds::write(&charger_eds(&charger)));
         return ExitCode::SUCCESS;
     }
+    #[allow(unused_mut)]
     let mut charger = Charger::new(o.config);
     if let Some(path) = &o.storage {
         match storage::FileStorage::open_for_device(path) {
@@ -228,6 +241,22 @@ fn main() -> ExitCode {
                 eprintln!("charger: {e}");
                 return ExitCode::from(2);
             }
+        }
+    }
+    if let Some(path) = &o.program_store {
+        #[cfg(feature = "program-download")]
+        {
+            let store = program_store::FileProgramStore::new(path);
+            eprintln!("charger: program download into {}", store.path().display());
+            charger.set_program_store(Box::leak(Box::new(store)));
+        }
+        #[cfg(not(feature = "program-download"))]
+        {
+            eprintln!(
+                "charger: --program-store {} needs feature program-download",
+                path.display()
+            );
+            return ExitCode::from(2);
         }
     }
     let (mut runner, boot) = Runner::new(PipeBus::stdin(&o.interface), charger, describe);

@@ -39,6 +39,7 @@
 //! | layer setting services (CiA 305) | [`lss`] |
 //! | an object dictionary for a server or a device | [`od`] |
 //! | a whole CiA 301 device (NMT slave, heartbeat, EMCY, SDO server, PDOs) | [`device`] |
+//! | program download (CiA 302-3: 1F50h-1F57h) | [`device::program`] (the store trait, the codes), `device::ProgramObjects` (feature `program-download`), [`sdo::ProgramDownload`] (the master) |
 //! | EDS and DCF files (CiA 306) | `eds` (feature `alloc`) |
 //! | read candump, PCAN, Vector ASC and CSV traces | [`trace`] ([`trace::candump`] for candump lines) |
 //! | the CiA 418 battery module | [`cia418`] |
@@ -65,7 +66,8 @@
 //!   and TIME), `sdo-block` (SDO block transfer in the client and the
 //!   server), `sdo-client-segmented` (segmented transfers in the SDO
 //!   client), `heartbeat-consumer` (1016h in the device core and the
-//!   Delta-Q charger). Their firmware cost is in `Cargo.toml` and
+//!   Delta-Q charger), `program-download` (1F50h-1F57h served over a
+//!   `device::program::ProgramStore`). Their firmware cost is in `Cargo.toml` and
 //!   `docs/FIRMWARE.md`.
 //! - `sim` (default): models for simulation and whole charge sessions
 //!   (`sim`).

@@ -330,3 +330,39 @@ fn an_eds_with_delta_qs_vendor_id_is_delta_q_evidence() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_program_download_reads_as_one() {
+    // The master's sequence against the charger, recorded on the simulated
+    // bus by tests/program_download.rs (CiA 302-3: stop, clear, the image
+    // by block into 1F50h:01, flash status, software identification, start).
+    let log = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/program-download.log"
+    );
+    let o = run(&[log], None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let seq = transfers(&text(&o));
+    let image = seq[2].clone();
+    assert!(
+        image.starts_with("SDO block download 1F50h:01 to node 10: 64 bytes 57 5C 70 64")
+            && image.ends_with("(program data 1) [CRC checked]"),
+        "{image}"
+    );
+    assert_eq!(
+        [&seq[..2], &seq[3..]].concat(),
+        [
+            "SDO download 1F51h:01 to node 10: 00 (program control 1: stop program / program stopped)",
+            "SDO download 1F51h:01 to node 10: 03 (program control 1: clear program / no program available)",
+            "SDO upload 1F57h:01 from node 10: 00 00 00 00 (flash status identification 1: not in progress, ok)",
+            "SDO upload 1F56h:01 from node 10: 55 22 09 B0 (program software identification 1: B0092255h)",
+            "SDO download 1F51h:01 to node 10: 01 (program control 1: start program / program started)",
+        ]
+    );
+    // A failed download's flash status, in words.
+    let o = run(&["-"], Some("60A#40571F0100000000\n58A#43571F010A000000\n"));
+    assert_eq!(
+        transfers(&text(&o)),
+        ["SDO upload 1F57h:01 from node 10: 0A 00 00 00 (flash status identification 1: not in progress, flash write error)"]
+    );
+}

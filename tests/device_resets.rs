@@ -269,7 +269,8 @@ fn charger_reset_node_restores_each_writable_object_and_keeps_readings() {
 
         c.handle_frame(ms(30), &nmt(cs, 10));
         let _ = sent(&mut c);
-        let mut o = *c.objects();
+        // A copy of the charger's dictionary, to read its objects by SDO rules.
+        let mut o = canopen_codec::od::FixedDictionary::new(*c.objects().objects());
         for (index, before, after) in CHARGER_RW {
             let want = if node_reset { before } else { after };
             let mut buf = [0u8; 4];

@@ -154,7 +154,8 @@ pub use catalogue::{
 };
 #[cfg(feature = "heartbeat-consumer")]
 pub use charger::{
-    Charger, ChargerConfig, ChargerDevice, ChargerEvent, ChargerPowerOn, ChargerProfile,
+    Charger, ChargerAppDictionary, ChargerConfig, ChargerDevice, ChargerEvent, ChargerPowerOn,
+    ChargerProfile,
 };
 pub use charger_objects::{
     ChargerDictionary, ChargerObjects, ChargerPowerOnValues, CHARGER_PARAMETERS_RESTORED,

@@ -149,6 +149,9 @@ mod objects;
 mod parameters;
 mod profile;
 mod profiled;
+pub mod program;
+#[cfg(feature = "program-download")]
+mod program_objects;
 mod services;
 mod snapshot;
 #[cfg(feature = "store")]
@@ -162,6 +165,8 @@ pub use objects::MAX_CONSUMERS;
 pub use objects::{CommObjects, DeviceObjects, ErrorFieldFormat, Identity, ERROR_HISTORY_LEN};
 pub use profile::{DeviceEvent, Profile};
 pub use profiled::{Cia301, DeviceSetup, DeviceSpec, ProfiledDevice};
+#[cfg(feature = "program-download")]
+pub use program_objects::{ProgramObjects, ProgramStoreRef};
 pub use snapshot::PowerOnValues;
 #[cfg(feature = "store")]
 pub use store::{

@@ -102,6 +102,7 @@ mod collect;
 mod crc;
 mod data;
 mod observer;
+mod program_download;
 mod rules;
 mod server;
 mod wire;
@@ -116,6 +117,9 @@ pub use observer::{
     BreakReason, ChannelError, Direction, Observed, Observer, ObserverConfig, ObserverEvent,
     SdoChannel, Transfer, TransferKind, OBSERVER_EVENT_CAPACITY, OBSERVER_EXTRA_CHANNELS,
     OBSERVER_SUB_BLOCK_BUFFERS, SUB_BLOCK_BYTES,
+};
+pub use program_download::{
+    ProgramDownload, ProgramDownloadConfig, ProgramDownloadError, ProgramDownloadEvent, ProgramStep,
 };
 pub use server::{
     AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT,

@@ -60,7 +60,6 @@
 //!   reset communication only the communication objects; both forget the
 //!   pairing and are reported as [`DeviceEvent::Reset`].
 
-use super::charger_objects::ChargerDictionary;
 use super::device_type;
 use super::{emergency_reaction, DeltaQCode, OperatingMode, Reaction, ALARMS_AND_FAULTS};
 use crate::bytes::InlineData;
@@ -82,10 +81,12 @@ use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent, EVENTS_PER_CALL};
 
 mod config;
 mod control;
+mod download;
 use super::charge::{ChargeControl, ChargeEvent, PowerStage, SetPoints};
 use config::default_pdos;
 pub use config::{ChargerConfig, ChargerPowerOn};
 use control::ControlLink;
+pub use download::ChargerAppDictionary;
 
 /// What the charger reports.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -224,7 +225,7 @@ pub struct ChargerProfile {
 }
 
 impl DeviceSpec for ChargerProfile {
-    type Objects = ChargerDictionary;
+    type Objects = ChargerAppDictionary;
     type Event = ChargerEvent;
     type PowerOn = ChargerPowerOn;
 }

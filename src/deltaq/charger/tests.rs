@@ -95,7 +95,7 @@ fn new_in_builds_what_new_builds() {
     assert_eq!(built_in.comm().device_name, "DQ-12");
     assert_eq!(built_in.comm().heartbeat_ms, 1000);
     assert_eq!(built_in.pdo_config(), built.pdo_config());
-    assert_eq!(built_in.objects(), built.objects());
+    assert_eq!(built_in.objects().objects(), built.objects().objects());
     assert_eq!(built_in.nmt_state(), built.nmt_state());
     assert_eq!(built_in.poll_timeout(), built.poll_timeout());
     let expected = transcript(&mut built);
