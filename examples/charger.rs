@@ -32,11 +32,11 @@
 mod bus;
 #[path = "support/node.rs"]
 mod node;
-#[path = "support/storage.rs"]
-mod storage;
 #[cfg(feature = "program-download")]
 #[path = "support/program_store.rs"]
 mod program_store;
+#[path = "support/storage.rs"]
+mod storage;
 
 use std::process::ExitCode;
 use std::time::Duration;

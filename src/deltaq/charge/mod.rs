@@ -761,8 +761,9 @@ impl ChargeControl {
         // (the output at most 4 000 V).
         let v = self.stage.voltage_mv.max(voltage / 2).clamp(1, 4_000_000);
         let milli_watts = c.max_power_w.saturating_mul(1000);
-        let power_limit =
-            (milli_watts / v).saturating_mul(1000).saturating_add(milli_watts % v * 1000 / v);
+        let power_limit = (milli_watts / v)
+            .saturating_mul(1000)
+            .saturating_add(milli_watts % v * 1000 / v);
         if current > power_limit {
             current = power_limit;
             derate |= DerateReasons::AC_CURRENT_LIMIT;
