@@ -39,6 +39,8 @@ use canopen_codec::eds;
 use canopen_codec::lss::{LssAddress, LssSlave, LssSlaveConfig, LssSlaveEvent, LssStatus};
 use canopen_codec::machine::Machine;
 use canopen_codec::sdo::AbortOrigin;
+use canopen_codec::sim::module_link::{self, ReturnedCharge};
+use canopen_codec::sim::{BmsPolicy, Pack, PackSpec};
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 use node::Runner;
 
@@ -72,7 +74,15 @@ sends out on stdout, its events on stderr.
   --heartbeat-ms N       1017h after boot and resets (default 1000; 0 = off)
   --no-enable-tpdos      keep CiA 418's default: TPDO COB-IDs not valid
                          (bit 31) until a tool enables them by SDO
-  --simulate             voltage and state of charge change slowly (1 s steps)
+  --simulate             a simulated pack behind the module (the chemistry of
+                         --battery-type, --cells, --capacity-ah, from --soc at
+                         --temperature): it takes the charge the charger reports
+                         in 6052h; 6000h, 6010h, 6060h, 6070h, 6081h come from
+                         the pack and a CC-then-CV BMS policy asking up to
+                         --max-current-a
+  --speed F              the module's clock (timers, the pack, log stamps) runs F
+                         times the wall clock, 0 < F <= 1000 (default 1): run
+                         the other end at the same F
   --nmt-start            act as the NMT master after boot: send 000#0100 (start all nodes)
   --linger-ms N          keep running N ms after stdin closes (default 2000)
   --interface NAME       interface name in the output lines (default can0)
@@ -94,6 +104,7 @@ struct Options {
     soc: StateOfCharge,
     status: BatteryStatus,
     simulate: bool,
+    speed: f64,
     nmt_start: bool,
     linger: Duration,
     interface: String,
@@ -158,6 +169,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
         soc: StateOfCharge::from_raw(50),
         status: BatteryStatus::READY_TO_CHARGE,
         simulate: false,
+        speed: 1.0,
         nmt_start: false,
         linger: Duration::from_millis(2000),
         interface: "can0".to_string(),
@@ -166,6 +178,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
         storage: None,
         unconfigured: false,
     };
+    let mut device_type_given = false;
     let mut it = args.iter();
     while let Some(a) = it.next() {
         let mut value = || it.next().ok_or_else(|| format!("{a} needs a value"));
@@ -232,7 +245,10 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
                 let v = u8::try_from(v).map_err(|_| format!("bad battery status {v:X}h"))?;
                 o.status = BatteryStatus::from_bits_retain(v);
             }
-            "--device-type" => o.config.device_type = device_type(value()?)?,
+            "--device-type" => {
+                o.config.device_type = device_type(value()?)?;
+                device_type_given = true;
+            }
             "--device-name" => {
                 // The module keeps a &'static str; one leak per run.
                 o.config.device_name = Box::leak(value()?.clone().into_boxed_str());
@@ -254,7 +270,29 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
                 o.config.heartbeat = std::time::Duration::from_millis(u64::from(int(value()?)?));
             }
             "--no-enable-tpdos" => o.config.enable_tpdos = false,
-            "--simulate" => o.simulate = true,
+            "--simulate" => {
+                o.simulate = true;
+                if !device_type_given {
+                    // Every optional PDO: the charger's 6052h and the
+                    // module's 6070h travel in the 2nd and 3rd ones.
+                    o.config.device_type = DeviceType::cia418(
+                        DeviceType::RPDO_2ND
+                            | DeviceType::RPDO_3RD
+                            | DeviceType::TPDO_2ND
+                            | DeviceType::TPDO_3RD,
+                    );
+                }
+            }
+            "--speed" => {
+                let v = value()?;
+                o.speed = v
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|f| *f > 0.0 && *f <= MAX_SPEED)
+                    .ok_or(format!(
+                        "--speed: '{v}' is not above 0 and at most {MAX_SPEED}"
+                    ))?;
+            }
             "--nmt-start" => o.nmt_start = true,
             "--print-eds" => o.print_eds = true,
             "--linger-ms" => {
@@ -275,38 +313,60 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
     Ok(Some(o))
 }
 
-/// The slowly changing values of `--simulate`: one step a second; the
-/// voltage follows a triangle of +-2 % over 60 s starting at the given value, the state of charge rises
-/// by 1 % every 5 s up to 100 %.
+/// The pack behind the module (`--simulate`): the `sim` models, stepped
+/// every [`TICK`]. The charge comes
+/// from what the charger reports in 6052h (a CiA 418 module learns nothing
+/// else of the charger's output: `sim::module_link`); the module's 6000h,
+/// 6010h, 6060h, 6070h and 6081h come from the pack and the BMS policy.
 struct Simulation {
+    pack: Pack,
+    bms: BmsPolicy,
+    returned: ReturnedCharge,
+    /// Seconds of the module's time so far.
+    clock_s: f64,
     next: Timestamp,
-    step: u64,
-    voltage: BatteryVoltage,
+    next_report: Timestamp,
+    /// Ah into the pack since the last report.
+    since_report_ah: f64,
+    /// [`REPORT_EVERY`] in the module's time.
+    report_every: Duration,
 }
+
+/// The physics step, in the module's (real) time.
+const TICK: Duration = Duration::from_millis(250);
+/// The fastest `--speed`: heartbeat timeouts of a second or two stay tens
+/// of wall milliseconds above the scheduler's jitter.
+const MAX_SPEED: f64 = 1000.0;
+/// How often (wall time) the pack is reported on stderr while it charges.
+const REPORT_EVERY: Duration = Duration::from_secs(10);
 
 impl Simulation {
     fn run(&mut self, now: Timestamp, module: &mut BatteryModule) {
-        self.step += 1;
-        self.next = now.add_millis(1000);
-        let phase = i64::try_from(self.step % 60).unwrap_or(0);
-        // 0, 1 .. 15, 14 .. -15, -14 .. -1: a triangle starting at 0.
-        let tri = match phase {
-            0..=15 => phase,
-            16..=45 => 30 - phase,
-            _ => phase - 60,
-        };
-        let base = i64::from(self.voltage.raw());
-        let raw = base + base * tri * 2 / 1500;
-        let voltage = BatteryVoltage::from_raw(u32::try_from(raw.max(0)).unwrap_or(u32::MAX));
-        let step = self.step;
-        module.update(now, |o| {
-            o.battery_voltage = voltage;
-            if step.is_multiple_of(5) {
-                if let Some(p) = o.battery_state_of_charge.percent() {
-                    o.battery_state_of_charge = StateOfCharge::from_raw((p + 1).min(100));
-                }
-            }
-        });
+        let dt = TICK.as_secs_f64();
+        self.clock_s += dt;
+        self.returned
+            .report(self.clock_s, module.ah_returned_during_last_charge());
+        let current = self.returned.draw(dt);
+        self.pack.step(dt, current);
+        self.since_report_ah += current * dt / 3600.0;
+        let request = self.bms.request(&self.pack);
+        let pack = self.pack;
+        module.update(now, |o| module_link::publish(o, &pack, current, request));
+        self.next = now.add_duration(TICK);
+        if now.has_reached(self.next_report) && self.since_report_ah > 0.0 {
+            self.next_report = now.add_duration(self.report_every);
+            eprintln!(
+                "pack: {:.1} % at {:.2} V, {:.3} Ah in the last {:.0} s, {:.1} degC; asking {:.2} A{}",
+                pack.soc() * 100.0,
+                pack.rest_voltage(),
+                self.since_report_ah,
+                self.report_every.as_secs_f64(),
+                pack.temperature_c(),
+                request.current_a,
+                if request.ready { "" } else { " (not ready)" }
+            );
+            self.since_report_ah = 0.0;
+        }
     }
 }
 
@@ -367,7 +427,7 @@ impl Machine for BatteryDevice {
     }
 }
 
-/// An event in words for stderr (every event is printed).
+/// An event in words for stderr (every event but the RPDOs).
 fn describe(e: &BatteryEvent) -> Option<String> {
     let words = match *e {
         BatteryEvent::NmtStateChanged { from, to } => format!("event: NMT {from} -> {to}"),
@@ -376,9 +436,8 @@ fn describe(e: &BatteryEvent) -> Option<String> {
         BatteryEvent::ObjectWritten { index, sub } => {
             format!("event: SDO download to {index:04X}h sub {sub:02X}h")
         }
-        BatteryEvent::RpdoReceived { pdo } => {
-            format!("event: RPDO {pdo} written into the objects")
-        }
+        // The charger's TPDOs come every 200 ms: not printed.
+        BatteryEvent::RpdoReceived { .. } => return None,
         BatteryEvent::RpdoRefused { pdo, error } => format!("event: RPDO {pdo} refused: {error}"),
         BatteryEvent::SdoAborted {
             index,
@@ -481,7 +540,8 @@ fn main() -> ExitCode {
         print!("{}", eds::write(&battery_module_eds(&module)));
         return ExitCode::SUCCESS;
     }
-    let bus = PipeBus::stdin(&o.interface);
+    let mut bus = PipeBus::stdin(&o.interface);
+    bus.set_speed(o.speed);
     let (mut runner, boot) = Runner::new(
         bus,
         BatteryDevice {
@@ -511,11 +571,46 @@ fn main() -> ExitCode {
         }
     );
     module.boot(boot);
-    runner.device.sim = o.simulate.then(|| Simulation {
-        next: boot.add_millis(1000),
-        step: 0,
-        voltage: o.voltage,
-    });
+    if o.simulate {
+        let p = o.parameters;
+        let spec = match PackSpec::new(
+            p.battery_type.chemistry(),
+            p.number_of_cells,
+            f64::from(p.ah_capacity),
+        ) {
+            Ok(mut spec) => {
+                spec.ambient_c = f64::from(o.temperature.raw()) / 8.0;
+                spec
+            }
+            Err(e) => {
+                eprintln!("battery_module: --simulate: {e}");
+                return ExitCode::from(2);
+            }
+        };
+        let soc = f64::from(o.soc.percent().unwrap_or(50)) / 100.0;
+        let pack = Pack::new(spec, soc);
+        let bms = BmsPolicy::for_pack(&spec, f64::from(p.max_charge_current));
+        eprintln!(
+            "battery_module: simulated pack: {} cells of {:?}, {} Ah at {:.0} %, asking up to {} A",
+            spec.cells,
+            spec.chemistry,
+            spec.capacity_ah,
+            soc * 100.0,
+            p.max_charge_current
+        );
+        let mut sim = Simulation {
+            pack,
+            bms,
+            returned: ReturnedCharge::new(),
+            clock_s: 0.0,
+            next: boot,
+            next_report: boot,
+            since_report_ah: 0.0,
+            report_every: REPORT_EVERY.mul_f64(o.speed),
+        };
+        sim.run(boot, &mut runner.device.module);
+        runner.device.sim = Some(sim);
+    }
     runner.flush(boot);
     if o.nmt_start {
         // The BMS as NMT master (the real capture's battery controller sends

@@ -2,7 +2,16 @@
 //! stdin, the frames it sends out on stdout (one candump log line per frame,
 //! flushed), its events in words on stderr. It runs one
 //! [`Charger`](canopen_codec::deltaq::Charger): heartbeat supervision of the
-//! battery module, PDO COB-ID pairing by SDO, TPDOs, EMCYs.
+//! battery module, PDO COB-ID pairing by SDO, TPDOs, EMCYs, and its charge
+//! control. Its power stage and the battery on its output are the `sim`
+//! models ([`PowerStageModel`], [`Pack`]), stepped every 250 ms, so it
+//! charges: in remote mode it delivers the module's 6070h request once the
+//! three conditions hold, in local mode it runs its algorithm; 2002h,
+//! 2006h, 6001h and 6052h follow. `--speed F` runs the charger's whole
+//! clock F times faster than the wall clock (its timers, the charge and its
+//! log stamps: run the other end at the same F). `--current A` /
+//! `--voltage V` replace the models with fixed measurements (the charger
+//! then reports them and never charges).
 //!
 //! ```text
 //! cargo run --example charger -- --node-id 10 --battery-node 1 [--mode local|remote] </dev/null
@@ -24,7 +33,12 @@
 //! "load" keep the parameters in FILE, loaded again at the next start with
 //! the same file: `examples/support/storage.rs`), `--program-store
 //! DIR_OR_FILE` (takes CiA 302-3 program downloads into 1F50h sub 1 and
-//! writes the image there; feature `program-download`).
+//! writes the image there; feature `program-download`). The battery on the
+//! output: `--pack-chemistry lead-acid|li-ion|nicd|nimh` (lead-acid),
+//! `--pack-cells N` (24; 13 for li-ion), `--pack-ah N` (100), `--pack-soc P`
+//! (50 %), `--unplugged` (no battery on the leads), `--no-ac`; `--algorithm
+//! N` the permanent and no-CAN algorithm (1 for lead acid, 11 for lithium
+//! ion), `--speed F` (1).
 //!
 //! Time: see `examples/support/node.rs` (shared with `battery_module`).
 
@@ -42,19 +56,29 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use bus::PipeBus;
+use canopen_codec::cia418::Chemistry;
+use canopen_codec::deltaq::charge::ChargeEvent;
 use canopen_codec::deltaq::{
     charger_eds, Charger, ChargerAppDictionary, ChargerConfig, ChargerEvent,
 };
 use canopen_codec::deltaq::{OperatingMode, Reaction};
 use canopen_codec::device::DeviceEvent;
 use canopen_codec::eds;
-use canopen_codec::{NodeId, Timestamp};
+use canopen_codec::machine::Machine;
+use canopen_codec::sim::{Pack, PackSpec, PowerStageModel};
+use canopen_codec::{CanFrame, NodeId, Timestamp};
 use node::Runner;
 
 const USAGE: &str = "usage: charger [--node-id N] [--battery-node N] [--mode local|remote|local-override|monitoring]
                [--no-configure] [--self-start] [--heartbeat-ms MS] [--battery-timeout-ms MS]
                [--tpdo-ms A,B,C,D] [--current A] [--voltage V] [--linger-ms MS] [--interface NAME]
                [--program-store DIR_OR_FILE] [--print-eds] [--storage FILE]
+               [--pack-chemistry lead-acid|li-ion|nicd|nimh] [--pack-cells N] [--pack-ah N]
+               [--pack-soc P] [--unplugged] [--no-ac] [--algorithm N] [--speed F]
+The power stage and the battery on the output are simulated (a charger that
+charges); --current/--voltage give fixed measurements instead. --speed F runs
+the charger's clock (timers, charge, log stamps) F times the wall clock, 0 < F
+<= 1000: run the other end at the same F.
 --storage FILE keeps what 1010h stores (restored at the next start).
 --program-store takes program downloads (CiA 302-3: 1F50h sub 1, 1F51h,
 1F56h, 1F57h) into DIR_OR_FILE (a directory gets program-1.bin).
@@ -70,6 +94,15 @@ struct Options {
     print_eds: bool,
     storage: Option<String>,
     program_store: Option<std::path::PathBuf>,
+    fixed: bool,
+    chemistry: Chemistry,
+    cells: Option<u16>,
+    capacity_ah: f64,
+    soc: f64,
+    unplugged: bool,
+    no_ac: bool,
+    algorithm: Option<u16>,
+    speed: f64,
 }
 
 fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
@@ -90,6 +123,15 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
         print_eds: false,
         storage: None,
         program_store: None,
+        fixed: false,
+        chemistry: Chemistry::LeadAcid,
+        cells: None,
+        capacity_ah: 100.0,
+        soc: 50.0,
+        unplugged: false,
+        no_ac: false,
+        algorithm: None,
+        speed: 1.0,
     };
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -137,8 +179,44 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
                 };
                 o.config.tpdo_periods = [a, b, c, d].map(|ms| Duration::from_millis(u64::from(ms)));
             }
-            "--current" => o.current_a = number(value()?)?,
-            "--voltage" => o.voltage_v = number(value()?)?,
+            "--current" => {
+                o.current_a = number(value()?)?;
+                o.fixed = true;
+            }
+            "--voltage" => {
+                o.voltage_v = number(value()?)?;
+                o.fixed = true;
+            }
+            "--pack-chemistry" => {
+                o.chemistry = match value()?.as_str() {
+                    "lead-acid" => Chemistry::LeadAcid,
+                    "li-ion" => Chemistry::LithiumIon,
+                    "nicd" => Chemistry::NickelCadmium,
+                    "nimh" => Chemistry::NickelMetalHydride,
+                    other => return Err(format!("--pack-chemistry: no model for '{other}'")),
+                }
+            }
+            "--pack-cells" => {
+                let v = value()?;
+                o.cells = Some(
+                    v.parse()
+                        .ok()
+                        .filter(|n| *n > 0)
+                        .ok_or(format!("--pack-cells: '{v}' is not 1..=65535"))?,
+                );
+            }
+            "--pack-ah" => o.capacity_ah = number(value()?)?,
+            "--pack-soc" => o.soc = number(value()?)?,
+            "--unplugged" => o.unplugged = true,
+            "--no-ac" => o.no_ac = true,
+            "--algorithm" => {
+                let v = value()?;
+                o.algorithm = Some(
+                    v.parse()
+                        .map_err(|_| format!("--algorithm: '{v}' is not 0..=65535"))?,
+                );
+            }
+            "--speed" => o.speed = number(value()?)?,
             "--linger-ms" => o.linger = Duration::from_millis(u64::from(ms(value()?)?)),
             "--interface" => o.interface = value()?.clone(),
             "--storage" => o.storage = Some(value()?.clone()),
@@ -148,6 +226,27 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
     if !(0.0..=255.0).contains(&o.current_a) || !(0.0..=64.0 * 4.0).contains(&o.voltage_v) {
         return Err("--current must be 0..=255 A and --voltage 0..=256 V".into());
     }
+    if !(0.0..=100.0).contains(&o.soc) {
+        return Err(format!("--pack-soc: {} is not 0..=100 %", o.soc));
+    }
+    if !(o.capacity_ah > 0.0 && o.capacity_ah <= 10_000.0) {
+        return Err(format!(
+            "--pack-ah: {} is not above 0 and at most 10 000 Ah",
+            o.capacity_ah
+        ));
+    }
+    if !(o.speed > 0.0 && o.speed <= MAX_SPEED) {
+        return Err(format!(
+            "--speed: {} is not above 0 and at most {MAX_SPEED}",
+            o.speed
+        ));
+    }
+    let algorithm = o.algorithm.unwrap_or(match o.chemistry {
+        Chemistry::LithiumIon => 11,
+        _ => 1,
+    });
+    o.config.charge.permanent_algorithm = Some(algorithm);
+    o.config.charge.no_can_algorithm = Some(algorithm);
     Ok(Some(o))
 }
 
@@ -155,6 +254,13 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
 /// 200 ms).
 fn describe(e: &ChargerEvent) -> Option<String> {
     let words = match *e {
+        ChargerEvent::Charge(ChargeEvent::Phase { from, to }) => {
+            format!("event: charge phase {from} -> {to}")
+        }
+        ChargerEvent::Charge(ChargeEvent::Alarm { alarm, active }) => {
+            let what = if active { "raised" } else { "cleared" };
+            format!("event: charge alarm {alarm:?} {what}")
+        }
         ChargerEvent::Device(DeviceEvent::NmtStateChanged { from, to }) => {
             format!("event: NMT {from} -> {to}")
         }
@@ -204,6 +310,88 @@ fn describe(e: &ChargerEvent) -> Option<String> {
         _ => return None,
     };
     Some(words)
+}
+
+/// The physics step, in the charger's (real) time.
+const TICK: Duration = Duration::from_millis(250);
+/// The fastest `--speed`: heartbeat timeouts of a second or two stay tens
+/// of wall milliseconds above the scheduler's jitter.
+const MAX_SPEED: f64 = 1000.0;
+/// How often (wall time) the charge is reported on stderr while it flows.
+const REPORT_EVERY: Duration = Duration::from_secs(10);
+
+/// The power stage and the battery on its leads, stepped every [`TICK`].
+struct Physics {
+    pack: Pack,
+    stage: PowerStageModel,
+    next: Timestamp,
+    next_report: Timestamp,
+    /// [`REPORT_EVERY`] in the charger's time.
+    report_every: Duration,
+    ah: f64,
+}
+
+impl Physics {
+    /// One step: the stage follows the charger's set points into the pack
+    /// for a [`TICK`], then the charger gets the measurements.
+    fn step(&mut self, now: Timestamp, charger: &mut Charger) {
+        let dt = TICK.as_secs_f64();
+        self.stage.step(dt, charger.set_points(), &self.pack);
+        self.pack.step(dt, self.stage.current_a);
+        self.ah += self.stage.current_a * dt / 3600.0;
+        charger.handle_power_stage(now, self.stage.measure(&self.pack));
+        self.next = now.add_duration(TICK);
+        if now.has_reached(self.next_report) && self.stage.current_a > 0.0 {
+            self.next_report = now.add_duration(self.report_every);
+            eprintln!(
+                "charge: {}, {:.2} A at {:.2} V, battery {:.1} %, {:.3} Ah returned",
+                charger.charge_control().phase(),
+                self.stage.current_a,
+                self.pack.terminal_voltage(self.stage.current_a),
+                self.pack.soc() * 100.0,
+                self.ah
+            );
+        }
+    }
+}
+
+/// The charger and its models, as one machine for the runner: the physics
+/// step is one more timer.
+struct ChargerDevice {
+    charger: Charger,
+    physics: Option<Physics>,
+}
+
+impl Machine for ChargerDevice {
+    type Event = ChargerEvent;
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        self.charger.handle_frame(now, frame);
+    }
+    fn handle_timeout(&mut self, now: Timestamp) {
+        if let Some(p) = self.physics.as_mut().filter(|p| now.has_reached(p.next)) {
+            p.step(now, &mut self.charger);
+        }
+        self.charger.handle_timeout(now);
+    }
+    fn poll_transmit(&mut self) -> Option<CanFrame> {
+        self.charger.poll_transmit()
+    }
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        let physics = self.physics.as_ref().map(|p| p.next);
+        match (self.charger.poll_timeout(), physics) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+    fn poll_event(&mut self) -> Option<ChargerEvent> {
+        self.charger.poll_event()
+    }
+    fn events_dropped(&self) -> u64 {
+        self.charger.events_dropped()
+    }
+    fn frames_dropped(&self) -> u64 {
+        self.charger.frames_dropped()
+    }
 }
 
 fn main() -> ExitCode {
@@ -259,7 +447,36 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     }
-    let (mut runner, boot) = Runner::new(PipeBus::stdin(&o.interface), charger, describe);
+    let physics = if o.fixed {
+        None
+    } else {
+        let cells = o.cells.unwrap_or(match o.chemistry {
+            Chemistry::LithiumIon => 13,
+            _ => 24,
+        });
+        let spec = match PackSpec::new(o.chemistry, cells, o.capacity_ah) {
+            Ok(s) => s,
+            Err(e) => {
+                eprintln!("charger: {e}");
+                return ExitCode::from(2);
+            }
+        };
+        let mut stage = PowerStageModel::new(f64::from(o.config.charge.max_power_w));
+        stage.ac_present = !o.no_ac;
+        stage.battery_connected = !o.unplugged;
+        Some(Physics {
+            pack: Pack::new(spec, o.soc / 100.0),
+            stage,
+            next: Timestamp::ZERO,
+            next_report: Timestamp::ZERO,
+            report_every: REPORT_EVERY.mul_f64(o.speed),
+            ah: 0.0,
+        })
+    };
+    let device = ChargerDevice { charger, physics };
+    let mut bus = PipeBus::stdin(&o.interface);
+    bus.set_speed(o.speed);
+    let (mut runner, boot) = Runner::new(bus, device, describe);
     eprintln!(
         "charger: node {}, battery node {}, mode {}, COB-ID configuration {}",
         o.config.node,
@@ -271,8 +488,33 @@ fn main() -> ExitCode {
             "off (default COB-IDs)"
         }
     );
-    runner.device.boot(boot);
-    runner.device.update(boot, set_objects);
+    if let Some(p) = &runner.device.physics {
+        let spec = p.pack.spec();
+        eprintln!(
+            "charger: {} cells of {:?}, {} Ah at {:.0} %{}{}, algorithm {}, clock x{}",
+            spec.cells,
+            spec.chemistry,
+            spec.capacity_ah,
+            p.pack.soc() * 100.0,
+            if p.stage.battery_connected {
+                ""
+            } else {
+                " (unplugged)"
+            },
+            if p.stage.ac_present { "" } else { ", no AC" },
+            o.config.charge.permanent_algorithm.unwrap_or(0),
+            o.speed
+        );
+    }
+    let d = &mut runner.device;
+    d.charger.boot(boot);
+    match d.physics.as_mut() {
+        Some(p) => {
+            p.next_report = boot;
+            p.step(boot, &mut d.charger);
+        }
+        None => d.charger.update(boot, set_objects),
+    }
     runner.flush(boot);
     runner.run(o.linger);
     ExitCode::SUCCESS

@@ -11,6 +11,8 @@ use canopen_codec::cia418::{
     Temperature,
 };
 #[cfg(feature = "heartbeat-consumer")]
+use canopen_codec::deltaq::charge::PowerStage;
+#[cfg(feature = "heartbeat-consumer")]
 use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
 use canopen_codec::device::DeviceEvent;
 use canopen_codec::machine::Machine;
@@ -49,10 +51,18 @@ fn charger_reset_communication_keeps_application_values_and_reports_it() {
     let mut c = charger();
     c.boot(ms(0));
     c.handle_frame(ms(1), &nmt(0x01, 10));
-    c.update(ms(2), |o| {
-        o.charging_current = 0x137C;
-        o.ac_voltage = 0x07B1;
-    });
+    // 2002h is the charge control's reading of the power stage (19.48 A
+    // = 137Ch in 1/256 A); 2060h an application value.
+    c.handle_power_stage(
+        ms(2),
+        PowerStage {
+            ac_present: true,
+            voltage_mv: 52_000,
+            current_ma: 19_484,
+            temperature_c: 30,
+        },
+    );
+    c.update(ms(2), |o| o.ac_voltage = 0x07B1);
     // An SDO write of 1017h (a communication object): 500 ms.
     c.handle_frame(
         ms(3),
@@ -65,7 +75,7 @@ fn charger_reset_communication_keeps_application_values_and_reports_it() {
     assert_eq!(
         c.objects().charging_current,
         0x137C,
-        "application objects kept"
+        "the charge control's readings kept"
     );
     assert_eq!(c.objects().ac_voltage, 0x07B1);
     assert_eq!(c.comm().heartbeat_ms, 1000, "1017h restored");
@@ -104,11 +114,15 @@ fn charger_reset_node_restores_parameters_from_boot_and_keeps_readings() {
         o.voltage_request = 7;
     });
     c.handle_frame(ms(10), &nmt(0x81, 10));
-    assert_eq!(c.objects().charging_current, 0, "rw: the power-on value");
+    assert_eq!(
+        c.objects().charging_current,
+        0,
+        "2002h: the charge control's reading, nothing measured"
+    );
     assert_eq!(
         c.objects().voltage_request,
-        0x0001_2345,
-        "rw: the value at boot"
+        MAX_VOLTAGE_Q10,
+        "2271h: the voltage limit starts again at the charger's maximum"
     );
     assert_eq!(c.objects().charger_status, 0x00, "ro: the last value set");
     let events: Vec<ChargerEvent> = std::iter::from_fn(|| c.poll_event()).collect();
@@ -217,9 +231,39 @@ fn upload(request: u16, index: u16, sub: u8) -> CanFrame {
     CanFrame::standard(request, &[0x40, lo, hi, sub, 0, 0, 0, 0]).unwrap()
 }
 
+/// The example charger's maximum output voltage, 72 V, in 2271h's 1/1024 V.
+#[cfg(feature = "heartbeat-consumer")]
+const MAX_VOLTAGE_Q10: u32 = 72 * 1024;
+
+/// The writable charger objects that are the charge control's readings
+/// of the power stage and of the cycle, whatever was written: 2002h
+/// current and 2101h voltage (nothing measured: 0), 6052h Ah returned (no
+/// cycle: FFFFh).
+#[cfg(feature = "heartbeat-consumer")]
+fn reading(index: u16) -> Option<&'static [u8]> {
+    Some(match index {
+        0x2002 | 0x2101 => &[0x00, 0x00],
+        0x6052 => &[0xFF, 0xFF],
+        _ => return None,
+    })
+}
+
+/// What reset node makes of the voltage limit: it starts again at the
+/// charger's maximum (2271h, 2276h: 72 V; the voltage request of remote
+/// mode, Delta-Q IC Series CANopen interface specification rev 2.0,
+/// 3.1.1, as `deltaq::charge` reads it).
+#[cfg(feature = "heartbeat-consumer")]
+fn voltage_limit_after_reset_node(index: u16) -> Option<&'static [u8]> {
+    Some(match index {
+        0x2271 => &[0x00, 0x20, 0x01, 0x00],
+        0x2276 => &[0x00, 0x48],
+        _ => return None,
+    })
+}
+
 /// The charger's writable objects, row by row: (index, the value the
 /// application set before boot, the value written after).
-const CHARGER_RW: [(u16, &[u8], &[u8]); 12] = [
+const CHARGER_RW: [(u16, &[u8], &[u8]); 13] = [
     (0x6000, &[0x01], &[0x02]),
     (0x6010, &[0x10, 0x01], &[0x20, 0x02]),
     (0x6052, &[0x11, 0x00], &[0x22, 0x00]),
@@ -229,14 +273,17 @@ const CHARGER_RW: [(u16, &[u8], &[u8]); 12] = [
     (0x2002, &[0x00, 0x10], &[0x00, 0x20]),
     (0x2101, &[0x00, 0x30], &[0x00, 0x34]),
     (0x2241, &[1, 0, 0, 0], &[2, 0, 0, 0]),
+    (0x2250, &[0x40, 0x01], &[0x80, 0x02]),
     (0x2271, &[0x00, 0x00, 0xC0, 0x00], &[0x00, 0x00, 0xD0, 0x00]),
     (0x2276, &[0x00, 0x38], &[0x00, 0x3C]),
     (0x4201, &[0x01], &[0x00]),
 ];
 
 /// Every writable charger object written by SDO after boot is back to its
-/// value at boot after reset node (kept by reset communication); its
-/// read-only readings keep the last value the application set.
+/// value at boot after reset node (kept by reset communication), but the
+/// charge control's readings and the voltage limit (see [`reading`] and
+/// [`voltage_limit_after_reset_node`]); the application's read-only
+/// readings (2060h) keep the last value it set.
 #[cfg(feature = "heartbeat-consumer")]
 #[test]
 fn charger_reset_node_restores_each_writable_object_and_keeps_readings() {
@@ -260,11 +307,9 @@ fn charger_reset_node_restores_each_writable_object_and_keeps_readings() {
             assert_eq!(reply.len(), 1, "{index:04X}h");
             assert!(reply[0].starts_with("58A#60"), "{index:04X}h: {reply:?}");
         }
-        c.update(ms(20), |o| {
-            o.ac_voltage = 0x0E60;
-            o.charger_soc = 77;
-            o.extended_status = 0x0003;
-        });
+        // The charge control publishes its readings (over what was written).
+        c.handle_power_stage(ms(15), PowerStage::OFF);
+        c.update(ms(20), |o| o.ac_voltage = 0x0E60);
         while c.poll_event().is_some() {}
 
         c.handle_frame(ms(30), &nmt(cs, 10));
@@ -272,16 +317,31 @@ fn charger_reset_node_restores_each_writable_object_and_keeps_readings() {
         // A copy of the charger's dictionary, to read its objects by SDO rules.
         let mut o = canopen_codec::od::FixedDictionary::new(*c.objects().objects());
         for (index, before, after) in CHARGER_RW {
-            let want = if node_reset { before } else { after };
+            let want = match (
+                node_reset,
+                reading(index),
+                voltage_limit_after_reset_node(index),
+            ) {
+                (_, Some(reading), _) => reading,
+                (true, None, Some(limit)) => limit,
+                (true, None, None) => before,
+                (false, None, _) => after,
+            };
             let mut buf = [0u8; 4];
             assert_eq!(o.read(index, 0, 0, &mut buf), Ok(want.len()));
             assert_eq!(&buf[..want.len()], want, "{cs:02X}h {index:04X}h");
         }
         assert_eq!(
-            (o.ac_voltage, o.charger_soc, o.extended_status),
-            (0x0E60, 77, 3),
-            "{cs:02X}h"
+            o.ac_voltage, 0x0E60,
+            "{cs:02X}h: 2060h, the application's reading"
         );
+        // 6080h and 2006h are the charge control's: what it says now. Its
+        // 6080h is the module's 6081h: restored to 40 % by reset node,
+        // the 60 % written kept by reset communication.
+        let status = c.charge_control().status();
+        assert_eq!(o.charger_soc, status.charger_soc, "{cs:02X}h");
+        assert_eq!(o.charger_soc, if node_reset { 40 } else { 60 }, "{cs:02X}h");
+        assert_eq!(o.extended_status, status.extended.to_u16(), "{cs:02X}h");
     }
 }
 

@@ -1,6 +1,7 @@
 //! Pipe IO shared by the node examples: candump log lines on stdin (read on
 //! a thread so the main loop can wait with a deadline) and on stdout (one
-//! line per frame, flushed), with a monotonic clock.
+//! line per frame, flushed), with a monotonic clock that can run faster
+//! than the wall clock ([`PipeBus::set_speed`]: the programs' `--speed`).
 #![allow(dead_code)]
 
 use std::io::{BufRead, Write};
@@ -24,6 +25,8 @@ pub struct PipeBus {
     lines: Receiver<String>,
     start: Instant,
     interface: String,
+    /// How many microseconds of the node's time pass per wall microsecond.
+    speed: f64,
 }
 
 impl PipeBus {
@@ -42,12 +45,37 @@ impl PipeBus {
             lines: rx,
             start: Instant::now(),
             interface: interface.to_string(),
+            speed: 1.0,
         }
     }
 
-    /// Microseconds since start on the monotonic clock.
+    /// The node's clock runs `speed` times the wall clock from now on
+    /// (`speed` above 0; call it before the node starts: the time since
+    /// start is scaled as a whole). Every timer of the node (heartbeats,
+    /// PDO event timers, SDO timeouts, a charge's hold-off) then comes that
+    /// much sooner in wall time, so both ends of a pipe must run at the
+    /// same speed, and the heartbeat consumer times must stay well above
+    /// the scheduler's jitter times the speed.
+    pub fn set_speed(&mut self, speed: f64) {
+        if speed > 0.0 && speed.is_finite() {
+            self.speed = speed;
+        }
+    }
+
+    /// Microseconds since start on the monotonic clock, scaled by the speed.
     pub fn now(&self) -> Timestamp {
-        Timestamp::from_micros(u64::try_from(self.start.elapsed().as_micros()).unwrap_or(u64::MAX))
+        let us = self.start.elapsed().as_secs_f64() * 1e6 * self.speed;
+        Timestamp::from_micros(if us < u64::MAX as f64 {
+            us as u64
+        } else {
+            u64::MAX
+        })
+    }
+
+    /// The wall time to wait until `deadline` on [`Self::now`]'s clock.
+    pub fn wait_until(&self, deadline: Timestamp) -> Duration {
+        let node_us = deadline.saturating_micros_since(self.now());
+        Duration::from_secs_f64(node_us as f64 / 1e6 / self.speed)
     }
 
     /// Waits for the next frame until `deadline` (forever if None).
@@ -59,14 +87,11 @@ impl PipeBus {
                     Ok(l) => l,
                     Err(_) => return Input::Closed,
                 },
-                Some(d) => {
-                    let wait = d.saturating_micros_since(self.now());
-                    match self.lines.recv_timeout(Duration::from_micros(wait)) {
-                        Ok(l) => l,
-                        Err(RecvTimeoutError::Timeout) => return Input::Timeout,
-                        Err(RecvTimeoutError::Disconnected) => return Input::Closed,
-                    }
-                }
+                Some(d) => match self.lines.recv_timeout(self.wait_until(d)) {
+                    Ok(l) => l,
+                    Err(RecvTimeoutError::Timeout) => return Input::Timeout,
+                    Err(RecvTimeoutError::Disconnected) => return Input::Closed,
+                },
             };
             if line.trim().is_empty() {
                 continue;

@@ -29,6 +29,11 @@
 //!
 //! When stdin closes the node keeps running on the monotonic clock for the
 //! linger time, then [`Runner::run`] returns.
+//!
+//! With `--speed F` ([`PipeBus::set_speed`]) the monotonic clock above is
+//! the wall clock's time since start times F: the output lines are stamped
+//! in that time, and everything the node does (timers, charging) happens F
+//! times sooner in wall time. Both ends of a pipe run at the same F.
 #![allow(dead_code)]
 
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
@@ -188,11 +193,7 @@ impl<M: Machine> Runner<M> {
 
     /// Sleeps until `external` (or less) on the monotonic clock.
     fn sleep_until(&self, external: i128) {
-        let wait = self
-            .clock
-            .monotonic(external)
-            .saturating_micros_since(self.bus.now());
-        std::thread::sleep(Duration::from_micros(wait));
+        std::thread::sleep(self.bus.wait_until(self.clock.monotonic(external)));
     }
 
     /// Runs until stdin closes, then `linger` more.

@@ -27,6 +27,7 @@
 //! ```
 
 mod bms;
+pub mod module_link;
 mod pack;
 mod power_stage;
 mod scenario;

@@ -17,10 +17,7 @@ use alloc::vec::Vec;
 use core::time::Duration;
 
 use super::{BmsPolicy, Pack, PackSpec, PowerStageModel};
-use crate::cia418::{
-    BatteryModule, BatteryModuleConfig, BatteryStatus, BatteryVoltage, ChargeCurrentRequested,
-    Chemistry, DeviceType, StateOfCharge, Temperature,
-};
+use crate::cia418::{BatteryModule, BatteryModuleConfig, Chemistry, DeviceType};
 use crate::clock::Timestamp;
 use crate::cob_id::NodeId;
 use crate::deltaq::charge::{ChargeEvent, ChargePhase};
@@ -426,22 +423,7 @@ impl Session {
         let request = self.bms.request(&self.pack);
         let pack = self.pack;
         self.module.update(now, |o| {
-            o.battery_status = if request.ready {
-                BatteryStatus::READY_TO_CHARGE
-            } else {
-                BatteryStatus::empty()
-            };
-            // Each object's own step, rounded to the nearest.
-            let eighths = (pack.temperature_c() * 8.0)
-                .round()
-                .clamp(-32768.0, 32767.0);
-            o.temperature = Temperature::from_raw(eighths as i16);
-            let q10 = (pack.terminal_voltage(current).max(0.0) * 1024.0).round();
-            o.battery_voltage = BatteryVoltage::from_raw(q10.min(f64::from(u32::MAX)) as u32);
-            let sixteenths = (request.current_a * 16.0).round().clamp(0.0, 65534.0);
-            o.charge_current_requested = ChargeCurrentRequested::from_raw(sixteenths as u16);
-            let percent = (pack.soc() * 100.0).round() as u8;
-            o.battery_state_of_charge = StateOfCharge::new(percent).unwrap_or_default();
+            super::module_link::publish(o, &pack, current, request)
         });
     }
 
