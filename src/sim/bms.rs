@@ -1,8 +1,10 @@
 //! A simple BMS policy for the simulated battery module: it asks for
 //! constant current, then for the current that holds the pack at its
-//! constant-voltage limit, and says "not ready" (6000h bit 0 clear) once
-//! that current has fallen to its end current. So the CV taper and the
-//! end of charge emerge from the loop of module, charger and pack.
+//! constant-voltage limit, and, when it ends the charge itself
+//! ([`BmsPolicy::ends_charge`], remote mode), says "not ready" (6000h bit 0
+//! clear) once that current has fallen below its end current. So the CV
+//! taper and the end of charge emerge from the loop of module, charger and
+//! pack.
 //!
 //! Ours (CiA 418 leaves the BMS's policy to the application): the CV limit
 //! per cell is 2.45 V for lead acid, 1.45 V for nickel chemistries and

@@ -4,7 +4,7 @@
 //!
 //! Ours: the output current is the least of the current set point, what
 //! holds the terminals at the voltage set point ([`Pack::current_at`]) and
-//! the maximum power at the terminal voltage; the charger's temperature
+//! the maximum power at the pack's rest voltage; the charger's temperature
 //! goes first-order (time constant [`PowerStageModel::thermal_time_s`])
 //! toward ambient plus 20 K per kW of losses (efficiency 92 %).
 

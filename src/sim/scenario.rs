@@ -249,8 +249,9 @@ impl core::fmt::Display for Scenario {
     }
 }
 
-/// The charge is over: floating, complete or at rest after an Ah target
-/// (local), or the BMS said it is done and the charger stopped (remote);
+/// The charge is over: floating or complete (local; an Ah target's rest
+/// leads to float or complete), or the BMS said it is done and the charger
+/// stopped (remote);
 /// a remote session without a BMS never charges, so it is over at once
 /// after the hold-off a local one would wait.
 fn finished(s: &Session) -> bool {

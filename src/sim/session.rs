@@ -131,7 +131,7 @@ pub struct SessionResult {
     pub duration: Duration,
     /// Every phase the charge control entered, with its time.
     pub phases: Vec<(Timestamp, ChargePhase)>,
-    /// Charge and energy into the pack.
+    /// Charge into the pack, Ah.
     pub ah: f64,
     /// Energy into the pack, Wh.
     pub wh: f64,

@@ -119,8 +119,8 @@ impl ChargeAlgorithm {
     }
 
     /// The float-only algorithm of `cycle`: selecting it floats the pack
-    /// at `cycle`'s float voltage (or, without one, its absorption voltage)
-    /// with `cycle`'s float current.
+    /// at `cycle`'s float voltage and float current (or, without a float,
+    /// its absorption voltage and termination current).
     #[must_use]
     pub const fn float_of(id: u16, name: &'static str, cycle: &ChargeAlgorithm) -> Self {
         let float_mv = if cycle.float_mv == 0 {

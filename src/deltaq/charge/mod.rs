@@ -55,7 +55,8 @@
 //!   object list: "limit in local mode, set-point in remote mode").
 //! - 6000h falling to not ready while a cycle runs **terminates** it
 //!   (section 7, "terminate charge via battery ready status object 6000h");
-//!   so does a module EMCY outside 8xxxh (section 4.4.2). A terminated
+//!   so does a module EMCY outside 8xxxh while delivering or resting
+//!   (section 4.4.2). A terminated
 //!   cycle stays terminated, also when the BMS is lost afterwards (section
 //!   7.1.6, "communication failure after charge termination"), until AC is
 //!   lost, the battery is unplugged, or 2241h is written.
@@ -67,9 +68,9 @@
 //!   one is written. Bit 31 (store permanently) makes it the permanent
 //!   algorithm; bit 30 (revert after AC loss) goes back to the permanent
 //!   one when AC is lost.
-//! - An Ah target ([`AH_TARGET`], ours: the documents name no object)
-//!   ends bulk or absorption once the Ah returned reach it (section 7, "set
-//!   Ah target").
+//! - An Ah target ([`AH_TARGET`], ours: the documents give no index) ends
+//!   bulk or absorption once the Ah returned reach it, while the BMS is
+//!   present (section 7, "set Ah target").
 //! - Losing the BMS while charging does not stop a local cycle (section
 //!   7.1.4, "communication failure default"): the charger carries on with
 //!   its own algorithm; the heartbeat-lost alarm is the charger's
@@ -78,8 +79,9 @@
 //! **Local override** is local mode in which the BMS also limits the
 //! current (6070h, as a limit) and asks for equalize or maintenance
 //! (4201h bits 0 and 1) — application note 740-0024 is not public; these
-//! are our reading. 2006h bits 7-6 say "external" while a BMS limit is
-//! below the algorithm's value.
+//! are our reading. In local and local override mode 2006h bits 7-6 say
+//! "external" while a BMS limit (the voltage request, or 6070h in local
+//! override) is below the algorithm's value.
 //!
 //! **Monitoring** (section 3.1: "allow other CANopen devices to monitor the
 //! charging parameters"): the charger runs its own cycle and takes no
@@ -148,13 +150,17 @@ pub use types::{
 
 /// 2250h, Ah target (U16, Q3 Ah as 6052h, FFFFh none), read-write,
 /// PDO-mappable. **Ours**: the Delta-Q document lists "setting an Ah target"
-/// (section 4.1) but names no object for it; 2250h is free in Delta-Q's
-/// published object list.
+/// (section 4.1), and its revision history an "Ah return target object",
+/// but gives no index for it; 2250h is free in Delta-Q's published object
+/// list. Honoured in local and local override mode while the BMS is
+/// present.
 pub const AH_TARGET: u16 = 0x2250;
 
 /// 2251h, charge cycle elapsed time (U32, seconds), read-only,
 /// PDO-mappable. **Ours**, like [`AH_TARGET`]: "reading charge cycle status
-/// information" (section 4.1) without a named object.
+/// information" (section 4.1). The document's revision history mentions an
+/// "Elapsed Time signal (2005h)" that its text does not define (no type or
+/// unit), so that index is not reused.
 pub const ELAPSED_TIME: u16 = 0x2251;
 
 /// Absorption lasts at least this long before its end-current test (the

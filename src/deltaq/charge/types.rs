@@ -5,7 +5,7 @@ use core::time::Duration;
 use super::algorithm::{ChargeAlgorithm, EXAMPLE_ALGORITHMS};
 use crate::deltaq::{DeltaQCode, DerateReasons, ExtendedChargeStatus, ExternalOverride};
 
-/// The configuration of [`ChargeControl`].
+/// The configuration of [`ChargeControl`](super::ChargeControl).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ChargeConfig {
     /// The charger's algorithms (2241h selects among them by id).
@@ -99,7 +99,7 @@ pub struct BusInputs {
     pub voltage_request_mv: u32,
     /// 4201h external override.
     pub external_override: ExternalOverride,
-    /// The Ah target ([`AH_TARGET`], Q3 Ah; FFFFh none).
+    /// The Ah target ([`AH_TARGET`](super::AH_TARGET), Q3 Ah; FFFFh none).
     pub ah_target: u16,
     /// 6081h battery state of charge (%; FFh invalid).
     pub battery_soc: u8,
@@ -234,7 +234,7 @@ impl ChargeAlarms {
     }
 }
 
-/// What [`ChargeControl`] reports.
+/// What [`ChargeControl`](super::ChargeControl) reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum ChargeEvent {
@@ -267,6 +267,6 @@ pub struct ChargeStatus {
     pub ah_returned: u16,
     /// 6080h charger state of charge (%; FFh unknown).
     pub charger_soc: u8,
-    /// Time since the cycle started ([`ELAPSED_TIME`]).
+    /// Time since the cycle started ([`ELAPSED_TIME`](super::ELAPSED_TIME)).
     pub elapsed: Duration,
 }

@@ -48,8 +48,9 @@
 //!   the error register.
 //! - **EMCY consumer**: the module's EMCYs are decoded and reported with the
 //!   reaction of the Delta-Q policy for the operating mode
-//!   ([`crate::deltaq::emergency_reaction`]); acting on it (stopping the
-//!   charge) is the application's part.
+//!   ([`crate::deltaq::emergency_reaction`]) and given to the charge
+//!   control, which acts on it (terminates or shuts down the charge,
+//!   derates on a temperature sensor fault).
 //! - **SDO server** for the charger's own objects ([`ChargerObjects`]) and
 //!   the core's communication objects, including the 1003h error history
 //!   (last 10, newest first).
