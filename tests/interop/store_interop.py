@@ -155,8 +155,16 @@ def second(bus, node):
         got = mapping(node)
         check("node.restore(): nothing changes before the reset", got[0] == 3,
               [hex(v) for v in got])
+        # Watch the bus for the boot-up rather than python-canopen's
+        # wait_for_bootup(), which misses one that comes before it waits.
+        t = time.time()
         node.nmt.send_command(0x81)
-        node.nmt.wait_for_bootup(timeout=3)
+        end = t + 3
+        while time.time() < end and not any(
+                ts >= t and i == 0x700 + node.id and d == b"\x00" for ts, i, d in bus.seen):
+            time.sleep(0.02)
+        check("restore + NMT reset node: the module boots up again",
+              any(ts >= t and i == 0x700 + node.id and d == b"\x00" for ts, i, d in bus.seen))
         time.sleep(0.1)
         got = mapping(node)
         check("restore + NMT reset node: 1A00h has the default mapping (6010h/16, 6000h/8)",
@@ -220,8 +228,11 @@ def lss_store(bus, net):
 
 def lss_restart(bus, net):
     def boots_as_stored():
+        # The boot-up and the stderr line come on two pipes: wait for both.
         end = time.time() + 3
-        while time.time() < end and not any(i == 0x700 + LSS_NODE for _, i, _ in bus.seen):
+        while time.time() < end and not (
+                any(i == 0x700 + LSS_NODE for _, i, _ in bus.seen)
+                and "event: storage: Loaded(Lss)" in bus.stderr_lines):
             time.sleep(0.02)
         hb = [d for _, i, d in bus.seen if i == 0x700 + LSS_NODE]
         check("LSS: restarted on the same file it boots up as node 5 (705#00) by itself",
