@@ -172,6 +172,7 @@ mod calendar;
 mod comm_objects;
 mod csv;
 mod dbc;
+mod decoding;
 mod json;
 mod line_cache;
 mod line_reader;
