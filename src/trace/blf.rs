@@ -164,8 +164,9 @@ pub struct FileHeader {
 /// A classic CAN frame of a BLF file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct BlfFrame {
-    /// The measurement's start plus the object's timestamp (UNIX time when
-    /// the header has a start, time since the start otherwise); `None`
+    /// The measurement's start plus the object's timestamp, to the nearest
+    /// microsecond (UNIX time when the header has a start, time since the
+    /// start otherwise); `None`
     /// when the object's flags name neither unit.
     pub timestamp: Option<Timestamp>,
     /// The channel, as the file numbers it (from 1).
@@ -590,7 +591,9 @@ impl Objects {
         let ticks = u64_at(b, 24);
         let since_start = match u32_at(b, 16) {
             1 => Some(ticks.saturating_mul(10)),
-            2 => Some(ticks / 1000),
+            // To the nearest microsecond (a writer's float seconds make
+            // 1 ms into 999 999 ns).
+            2 => Some(ticks.saturating_add(500) / 1000),
             _ => None,
         };
         let timestamp = since_start.map(|us| start.unwrap_or(Timestamp::ZERO).add_micros(us));

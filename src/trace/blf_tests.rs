@@ -167,7 +167,7 @@ fn three_frames() -> Vec<u8> {
         1,
         86,
         NS,
-        1_500_010_999,
+        1_500_010_500,
         &[
             can(
                 2,
@@ -212,7 +212,7 @@ fn frames_of_a_stored_container_whatever_the_chunks() {
     );
     assert_eq!(
         f[1].timestamp,
-        Some(Timestamp::from_micros(START_US + 1_500_010))
+        Some(Timestamp::from_micros(START_US + 1_500_011))
     );
     assert_eq!((f[1].channel, f[1].direction), (2, RxTx::Tx));
     assert_eq!(

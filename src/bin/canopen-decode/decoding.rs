@@ -6,6 +6,7 @@ use std::io::{self, Write};
 
 use canopen_codec::sdo::Observed;
 use canopen_codec::trace::candump::LogLine;
+use canopen_codec::trace::Unsupported;
 use canopen_codec::{CanId, Message};
 
 use crate::{
@@ -39,6 +40,8 @@ pub struct Decoding<'o> {
     guarding: [bool; 128],
     /// Frames decoded: a log none of whose lines is a frame is an error.
     pub frames: usize,
+    /// Read but not decoded: CAN FD frames, error frames, other events.
+    unsupported: [usize; 3],
 }
 
 impl<'o> Decoding<'o> {
@@ -82,7 +85,28 @@ impl<'o> Decoding<'o> {
             dbc: opts.dbc.as_ref().map(|_| dbc::Dbc::default()),
             guarding: [false; 128],
             frames: 0,
+            unsupported: [0; 3],
         })
+    }
+
+    /// A frame or event read but not decoded (CAN FD, error frames, other
+    /// events), said on `diag` at `at` and counted for the end of the run.
+    pub fn unsupported(
+        &mut self,
+        at: &dyn std::fmt::Display,
+        what: Unsupported,
+        detail: &dyn std::fmt::Display,
+        diag: &mut impl Write,
+    ) {
+        let _ = writeln!(diag, "{at}: {what:?} not decoded: {detail}");
+        let slot = match what {
+            Unsupported::CanFd => 0,
+            Unsupported::ErrorFrame => 1,
+            _ => 2,
+        };
+        if let Some(n) = self.unsupported.get_mut(slot) {
+            *n += 1;
+        }
     }
 
     /// Decodes one frame (`at` names its place in the trace for `diag`).
@@ -110,6 +134,7 @@ impl<'o> Decoding<'o> {
             dbc,
             guarding,
             frames: _,
+            unsupported: _,
         } = self;
         let (opts, collect) = (*opts, *collect);
         // The SDO observer first: a frame on a declared SDO channel is SDO,
@@ -335,8 +360,17 @@ impl<'o> Decoding<'o> {
             learned,
             signals,
             dbc,
+            unsupported,
             ..
         } = self;
+        if let [fd, errors, events] = unsupported {
+            if fd + errors + events > 0 {
+                let _ = writeln!(
+                    diag,
+                    "canopen-decode: read, not decoded: {fd} CAN FD frame(s), {errors} error frame(s), {events} other event(s)"
+                );
+            }
+        }
         for report in sdo.finish() {
             summary.transfer(&report);
             if let Some(page) = page.as_mut() {

@@ -168,6 +168,7 @@
 //! the capture README's DBC adds -40 degC, which the profile does not have.
 
 mod args;
+mod blf_input;
 mod calendar;
 mod comm_objects;
 mod csv;

@@ -208,6 +208,8 @@ pub struct Options {
     pub bundled: Option<&'static str>,
     /// `--format`: the trace format (detected when absent) and `-t d` times.
     pub format: Option<Format>,
+    /// `--format blf`: the input is Vector BLF (also detected by `LOGG`).
+    pub blf: bool,
     pub delta_times: bool,
     /// `--strict`: frames that deviate from CiA 301 are malformed.
     pub strict: bool,
@@ -236,6 +238,24 @@ pub fn run(
     opts: &Options,
 ) -> io::Result<(usize, bool)> {
     let mut run = crate::decoding::Decoding::new(opts, diag)?;
+    // A BLF file is told by its signature unless a line format is given.
+    let mut input = input;
+    let mut head = [0u8; 4];
+    let mut got = 0;
+    if opts.format.is_none() {
+        while got < head.len() {
+            match input.read(head.get_mut(got..).unwrap_or(&mut [])) {
+                Ok(0) => break,
+                Ok(n) => got += n,
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+                Err(e) => return Err(e),
+            }
+        }
+    }
+    let input = head.get(..got).unwrap_or(&[]).chain(input);
+    if opts.blf || canopen_codec::trace::blf::BlfReader::detect(head.get(..got).unwrap_or(&[])) {
+        return crate::blf_input::read(input, run, out, diag);
+    }
     let mut reader = opts.format.map_or_else(LineParser::auto, LineParser::new);
     if opts.delta_times {
         reader = reader.with_delta_times();
@@ -269,7 +289,7 @@ pub fn run(
                     frame: f.frame,
                 },
                 Ok(Record::Unsupported(what)) => {
-                    let _ = writeln!(diag, "line {lineno}: {what:?} not decoded: {line}");
+                    run.unsupported(&format_args!("line {lineno}"), what, &line, diag);
                     continue;
                 }
                 Ok(_) => continue,
