@@ -15,16 +15,8 @@ use libfuzzer_sys::fuzz_target;
 
 #[derive(Debug, Arbitrary)]
 enum Op {
-    Frame {
-        id_sel: u8,
-        raw_id: u16,
-        data: [u8; 8],
-        len: u8,
-    },
-    Advance {
-        micros: u32,
-        backwards: bool,
-    },
+    Frame { id_sel: u8, raw_id: u16, data: [u8; 8], len: u8 },
+    Advance { micros: u32, backwards: bool },
     Fault(bool),
 }
 
@@ -43,16 +35,8 @@ fuzz_target!(|input: (u8, Vec<Op>)| {
     twin.boot(now);
     for op in ops.into_iter().take(300) {
         match op {
-            Op::Frame {
-                id_sel,
-                raw_id,
-                data,
-                len,
-            } => {
-                let id = IDS
-                    .get(usize::from(id_sel))
-                    .copied()
-                    .unwrap_or(raw_id & 0x7FF);
+            Op::Frame { id_sel, raw_id, data, len } => {
+                let id = IDS.get(usize::from(id_sel)).copied().unwrap_or(raw_id & 0x7FF);
                 let len = usize::from(len % 9);
                 let f = CanFrame::new(CanId::Standard(id), &data[..len]).unwrap();
                 m.handle_frame(now, &f);
@@ -72,43 +56,23 @@ fuzz_target!(|input: (u8, Vec<Op>)| {
                 twin.set_temperature_sensor_fault(now, on);
             }
         }
-        assert_eq!(
-            m.poll_timeout(),
-            twin.poll_timeout(),
-            "deadlines differ when undrained"
-        );
+        assert_eq!(m.poll_timeout(), twin.poll_timeout(), "deadlines differ when undrained");
         while let Some(f) = m.poll_transmit() {
-            assert_eq!(
-                twin.poll_transmit(),
-                Some(f),
-                "undrained twin sent otherwise"
-            );
-            let CanId::Standard(id) = f.id() else {
-                panic!("29-bit frame sent: {f}")
-            };
+            assert_eq!(twin.poll_transmit(), Some(f), "undrained twin sent otherwise");
+            let CanId::Standard(id) = f.id() else { panic!("29-bit frame sent: {f}") };
             if [0x701, 0x081, 0x581].contains(&id) {
                 continue;
             }
             let pdos = m.pdo_config();
-            let is_tpdo = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3]
-                .iter()
-                .any(|n| {
-                    pdos.get(PdoDirection::Transmit, *n)
-                        .is_some_and(|s| s.is_valid() && s.comm.cob_id.can_id() == Some(f.id()))
-                });
+            let is_tpdo = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3].iter().any(|n| {
+                pdos.get(PdoDirection::Transmit, *n)
+                    .is_some_and(|s| s.is_valid() && s.comm.cob_id.can_id() == Some(f.id()))
+            });
             assert!(is_tpdo, "frame for another node's COB-ID: {f}");
-            assert_eq!(
-                m.nmt_state(),
-                NmtState::Operational,
-                "TPDO outside operational: {f}"
-            );
+            assert_eq!(m.nmt_state(), NmtState::Operational, "TPDO outside operational: {f}");
         }
         assert_eq!(twin.poll_transmit(), None, "undrained twin sent more");
         while m.poll_event().is_some() {}
-        assert_eq!(
-            m.events_dropped(),
-            0,
-            "drained after every step: nothing dropped"
-        );
+        assert_eq!(m.events_dropped(), 0, "drained after every step: nothing dropped");
     }
 });

@@ -14,7 +14,9 @@ use arbitrary::Arbitrary;
 use canopen_codec::deltaq::charge::{
     BusInputs, ChargeAlarms, ChargeConfig, ChargeControl, ChargeEvent, ChargePhase, PowerStage,
 };
-use canopen_codec::deltaq::{AlgorithmRequest, ChargeStatusFlags, ExternalOverride, OperatingMode};
+use canopen_codec::deltaq::{
+    AlgorithmRequest, ChargeStatusFlags, ExternalOverride, OperatingMode,
+};
 use canopen_codec::emcy::{Emergency, ErrorCode, ErrorRegister};
 use canopen_codec::Timestamp;
 use core::time::Duration;
@@ -22,12 +24,7 @@ use libfuzzer_sys::fuzz_target;
 
 #[derive(Debug, Arbitrary)]
 enum Op {
-    Stage {
-        ac: bool,
-        volts_mv: u32,
-        amps_ma: u32,
-        temp: i16,
-    },
+    Stage { ac: bool, volts_mv: u32, amps_ma: u32, temp: i16 },
     Bus {
         present: bool,
         status: u8,
@@ -96,32 +93,13 @@ fn check(c: &mut ChargeControl, now: Timestamp, alarms: &mut ChargeAlarms) {
     let status = c.status();
     assert_eq!(status.charger_status, u8::from(set.enabled));
     let flags = status.extended.flags;
-    assert_eq!(
-        flags.contains(ChargeStatusFlags::CHARGER_ENABLED),
-        set.enabled
-    );
-    assert_eq!(
-        flags.contains(ChargeStatusFlags::ALARM_ACTIVE),
-        !c.alarms().is_empty()
-    );
-    assert_eq!(
-        flags.contains(ChargeStatusFlags::AC_PRESENT),
-        c.power_stage().ac_present
-    );
-    assert_eq!(
-        flags.contains(ChargeStatusFlags::DERATING),
-        !status.derate.is_empty()
-    );
+    assert_eq!(flags.contains(ChargeStatusFlags::CHARGER_ENABLED), set.enabled);
+    assert_eq!(flags.contains(ChargeStatusFlags::ALARM_ACTIVE), !c.alarms().is_empty());
+    assert_eq!(flags.contains(ChargeStatusFlags::AC_PRESENT), c.power_stage().ac_present);
+    assert_eq!(flags.contains(ChargeStatusFlags::DERATING), !status.derate.is_empty());
     assert!(status.charger_soc <= 100 || status.charger_soc == 0xFF);
-    if matches!(
-        c.phase(),
-        ChargePhase::Idle | ChargePhase::Remote | ChargePhase::Terminated
-    ) {
-        assert_eq!(
-            status.extended.to_u16() >> 8,
-            0,
-            "no charge type or indication"
-        );
+    if matches!(c.phase(), ChargePhase::Idle | ChargePhase::Remote | ChargePhase::Terminated) {
+        assert_eq!(status.extended.to_u16() >> 8, 0, "no charge type or indication");
     }
 }
 
@@ -145,12 +123,7 @@ fuzz_target!(|input: Input| {
     let mut alarms = ChargeAlarms::empty();
     for op in input.ops.into_iter().take(512) {
         match op {
-            Op::Stage {
-                ac,
-                volts_mv,
-                amps_ma,
-                temp,
-            } => {
+            Op::Stage { ac, volts_mv, amps_ma, temp } => {
                 let stage = PowerStage {
                     ac_present: ac,
                     voltage_mv: volts_mv,
@@ -159,16 +132,7 @@ fuzz_target!(|input: Input| {
                 };
                 c.handle_power_stage(now, stage);
             }
-            Op::Bus {
-                present,
-                status,
-                request,
-                volts_mv,
-                over,
-                target,
-                soc,
-                error,
-            } => {
+            Op::Bus { present, status, request, volts_mv, over, target, soc, error } => {
                 let bus = BusInputs {
                     battery_present: present,
                     battery_status: status,

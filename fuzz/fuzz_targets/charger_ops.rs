@@ -18,21 +18,11 @@ use libfuzzer_sys::fuzz_target;
 #[derive(Debug, Arbitrary)]
 enum Op {
     /// A frame; `id_sel` picks from ids that matter to the charger, or any.
-    Frame {
-        id_sel: u8,
-        raw_id: u16,
-        data: [u8; 8],
-        len: u8,
-    },
-    Advance {
-        micros: u32,
-        backwards: bool,
-    },
+    Frame { id_sel: u8, raw_id: u16, data: [u8; 8], len: u8 },
+    Advance { micros: u32, backwards: bool },
 }
 
-const IDS: [u16; 10] = [
-    0x000, 0x701, 0x581, 0x60A, 0x081, 0x181, 0x281, 0x381, 0x20A, 0x080,
-];
+const IDS: [u16; 10] = [0x000, 0x701, 0x581, 0x60A, 0x081, 0x181, 0x281, 0x381, 0x20A, 0x080];
 
 fuzz_target!(|input: (bool, Vec<Op>)| {
     let (configure, ops) = input;
@@ -47,16 +37,8 @@ fuzz_target!(|input: (bool, Vec<Op>)| {
     twin.boot(now);
     for op in ops.into_iter().take(300) {
         match op {
-            Op::Frame {
-                id_sel,
-                raw_id,
-                data,
-                len,
-            } => {
-                let id = IDS
-                    .get(usize::from(id_sel))
-                    .copied()
-                    .unwrap_or(raw_id & 0x7FF);
+            Op::Frame { id_sel, raw_id, data, len } => {
+                let id = IDS.get(usize::from(id_sel)).copied().unwrap_or(raw_id & 0x7FF);
                 let len = usize::from(len % 9);
                 let f = CanFrame::new(CanId::Standard(id), &data[..len]).unwrap();
                 c.handle_frame(now, &f);
@@ -72,46 +54,26 @@ fuzz_target!(|input: (bool, Vec<Op>)| {
                 twin.handle_timeout(now);
             }
         }
-        assert_eq!(
-            c.poll_timeout(),
-            twin.poll_timeout(),
-            "deadlines differ when undrained"
-        );
+        assert_eq!(c.poll_timeout(), twin.poll_timeout(), "deadlines differ when undrained");
         while let Some(f) = c.poll_transmit() {
-            assert_eq!(
-                twin.poll_transmit(),
-                Some(f),
-                "undrained twin sent otherwise"
-            );
-            let CanId::Standard(id) = f.id() else {
-                panic!("29-bit frame sent: {f}")
-            };
+            assert_eq!(twin.poll_transmit(), Some(f), "undrained twin sent otherwise");
+            let CanId::Standard(id) = f.id() else { panic!("29-bit frame sent: {f}") };
             if [0x70A, 0x08A, 0x58A, 0x601].contains(&id) {
                 continue;
             }
             // Anything else must be one of the charger's valid TPDOs, sent
             // while configured and operational.
             let pdos = c.pdo_config();
-            let is_tpdo = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3]
-                .iter()
-                .any(|n| {
-                    pdos.get(PdoDirection::Transmit, *n)
-                        .is_some_and(|s| s.is_valid() && s.comm.cob_id.can_id() == Some(f.id()))
-                });
+            let is_tpdo = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P2, PdoNumber::P3].iter().any(|n| {
+                pdos.get(PdoDirection::Transmit, *n)
+                    .is_some_and(|s| s.is_valid() && s.comm.cob_id.can_id() == Some(f.id()))
+            });
             assert!(is_tpdo, "frame for another node's COB-ID: {f}");
             assert!(c.is_configured(), "TPDO before configuration: {f}");
-            assert_eq!(
-                c.nmt_state(),
-                NmtState::Operational,
-                "TPDO outside operational: {f}"
-            );
+            assert_eq!(c.nmt_state(), NmtState::Operational, "TPDO outside operational: {f}");
         }
         assert_eq!(twin.poll_transmit(), None, "undrained twin sent more");
         while c.poll_event().is_some() {}
-        assert_eq!(
-            c.events_dropped(),
-            0,
-            "drained after every step: nothing dropped"
-        );
+        assert_eq!(c.events_dropped(), 0, "drained after every step: nothing dropped");
     }
 });

@@ -37,10 +37,7 @@ fn frame_from(bytes: &[u8]) -> Option<CanFrame> {
     let len = (flags >> 4) % 9;
     let (id, rest) = if extended {
         let (raw, rest) = rest.split_first_chunk::<4>()?;
-        (
-            CanId::Extended(u32::from_le_bytes(*raw) & 0x1FFF_FFFF),
-            rest,
-        )
+        (CanId::Extended(u32::from_le_bytes(*raw) & 0x1FFF_FFFF), rest)
     } else {
         let (raw, rest) = rest.split_first_chunk::<2>()?;
         (CanId::Standard(u16::from_le_bytes(*raw) & 0x7FF), rest)
@@ -87,10 +84,7 @@ fuzz_target!(|bytes: &[u8]| {
         }
         (Ok(strict), lenient) => assert_eq!(lenient, Ok((strict, None))),
         (Err(err), Ok((msg, deviation))) => {
-            assert!(
-                deviation.is_some(),
-                "{frame}: read leniently without a deviation"
-            );
+            assert!(deviation.is_some(), "{frame}: read leniently without a deviation");
             assert_eq!(msg.kind(), classify(frame.id()), "{frame}");
             let _ = write!(Sink, "{err} {msg}");
         }

@@ -10,9 +10,7 @@ use canopen_codec::NodeId;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let Ok(mut eds) = parse_bytes(data) else {
-        return;
-    };
+    let Ok(mut eds) = parse_bytes(data) else { return };
     if let Ok(text) = std::str::from_utf8(data) {
         assert_eq!(parse(text).as_ref(), Ok(&eds));
     }

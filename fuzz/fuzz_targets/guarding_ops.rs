@@ -11,10 +11,10 @@
 #![no_main]
 
 use arbitrary::Arbitrary;
-use canopen_codec::machine::Machine;
 use canopen_codec::nmt::guarding::{
     GuardingMaster, GuardingSlave, MasterGuardingEvent, SlaveGuardingEvent,
 };
+use canopen_codec::machine::Machine;
 use canopen_codec::nmt::NmtState;
 use canopen_codec::{CanFrame, CanId, NodeId, Timestamp};
 use core::time::Duration;
@@ -23,28 +23,15 @@ use libfuzzer_sys::fuzz_target;
 #[derive(Debug, Arbitrary)]
 enum Op {
     /// An arbitrary frame to the master or the slave.
-    Frame {
-        to_master: bool,
-        near: bool,
-        id: u16,
-        remote: bool,
-        data: [u8; 8],
-        len: u8,
-    },
+    Frame { to_master: bool, near: bool, id: u16, remote: bool, data: [u8; 8], len: u8 },
     /// Time passes; `drop` loses what the two send to each other this step.
-    Advance {
-        micros: u32,
-        drop: bool,
-    },
+    Advance { micros: u32, drop: bool },
     MasterStart,
     MasterStop,
     MasterExpect(Option<u8>),
     SlaveReset,
     SlaveState(u8),
-    SlaveLifeGuarding {
-        guard_ms: u16,
-        factor: u8,
-    },
+    SlaveLifeGuarding { guard_ms: u16, factor: u8 },
     SlaveHeartbeat(bool),
 }
 
@@ -104,10 +91,8 @@ impl Run {
     fn exchange(&mut self, drop: bool) {
         let id = CanId::Standard(0x700 + u16::from(NODE));
         for _ in 0..4 {
-            let from_master: Vec<CanFrame> =
-                core::iter::from_fn(|| self.master.poll_transmit()).collect();
-            let from_slave: Vec<CanFrame> =
-                core::iter::from_fn(|| self.slave.poll_transmit()).collect();
+            let from_master: Vec<CanFrame> = core::iter::from_fn(|| self.master.poll_transmit()).collect();
+            let from_slave: Vec<CanFrame> = core::iter::from_fn(|| self.slave.poll_transmit()).collect();
             if from_master.is_empty() && from_slave.is_empty() {
                 break;
             }
@@ -131,9 +116,7 @@ impl Run {
     fn check_reply(&mut self, f: &CanFrame) {
         assert!(!self.heartbeat, "a reply while the heartbeat runs");
         assert!(!f.is_remote() && f.id() == CanId::Standard(0x700 + u16::from(NODE)));
-        let [b] = f.data() else {
-            panic!("reply of {} bytes", f.data().len())
-        };
+        let [b] = f.data() else { panic!("reply of {} bytes", f.data().len()) };
         assert_eq!(b & 0x80 != 0, self.next_toggle, "toggle did not alternate");
         self.next_toggle = !self.next_toggle;
     }
@@ -152,19 +135,8 @@ fuzz_target!(|ops: Vec<Op>| {
     };
     for op in ops.into_iter().take(512) {
         match op {
-            Op::Frame {
-                to_master,
-                near,
-                id,
-                remote,
-                data,
-                len,
-            } => {
-                let id = if near {
-                    0x700 + u16::from(NODE) + (id % 3) - 1
-                } else {
-                    id & 0x7FF
-                };
+            Op::Frame { to_master, near, id, remote, data, len } => {
+                let id = if near { 0x700 + u16::from(NODE) + (id % 3) - 1 } else { id & 0x7FF };
                 let len = usize::from(len % 9);
                 let frame = if remote {
                     CanFrame::remote(CanId::Standard(id), len as u8)
@@ -200,11 +172,7 @@ fuzz_target!(|ops: Vec<Op>| {
             }
             Op::SlaveState(s) => run.slave.set_state(NmtState::from_bits(s)),
             Op::SlaveLifeGuarding { guard_ms, factor } => {
-                run.slave.set_life_guarding(
-                    run.now,
-                    Duration::from_millis(u64::from(guard_ms)),
-                    factor,
-                );
+                run.slave.set_life_guarding(run.now, Duration::from_millis(u64::from(guard_ms)), factor);
             }
             Op::SlaveHeartbeat(on) => {
                 run.exchange(false);

@@ -16,54 +16,23 @@
 
 use arbitrary::Arbitrary;
 use canopen_codec::machine::Machine;
-use canopen_codec::sdo::{
-    AbortCode, Client, ClientCommand, ClientConfig, ClientError, ClientEvent, SdoRequest,
-};
+use canopen_codec::sdo::{AbortCode, Client, ClientCommand, ClientConfig, ClientError, ClientEvent, SdoRequest};
 use canopen_codec::{CanFrame, CanId, NodeId, Timestamp};
 use libfuzzer_sys::fuzz_target;
 
 #[derive(Debug, Arbitrary)]
 enum Op {
     /// A response frame on the client's response id (or, with `other`, on another id).
-    Frame {
-        other: bool,
-        remote: bool,
-        data: [u8; 8],
-        len: u8,
-    },
+    Frame { other: bool, remote: bool, data: [u8; 8], len: u8 },
     /// Time passes (possibly backwards).
-    Advance {
-        micros: u32,
-        backwards: bool,
-    },
-    StartUpload {
-        index: u16,
-        sub: u8,
-    },
-    StartDownload {
-        index: u16,
-        sub: u8,
-        len: u16,
-    },
-    StartBlockUpload {
-        index: u16,
-        sub: u8,
-    },
-    StartBlockDownload {
-        index: u16,
-        sub: u8,
-        len: u16,
-    },
+    Advance { micros: u32, backwards: bool },
+    StartUpload { index: u16, sub: u8 },
+    StartDownload { index: u16, sub: u8, len: u16 },
+    StartBlockUpload { index: u16, sub: u8 },
+    StartBlockDownload { index: u16, sub: u8, len: u16 },
     /// A well-formed block transfer response for the running transfer.
-    BlockResponse {
-        kind: u8,
-        a: u8,
-        b: u8,
-        data: [u8; 7],
-    },
-    Abort {
-        code: u32,
-    },
+    BlockResponse { kind: u8, a: u8, b: u8, data: [u8; 7] },
+    Abort { code: u32 },
     /// Read the second copy's events now.
     ReadUndrained,
     /// Leave this op's frames unsent until after the next op (both copies).
@@ -109,17 +78,8 @@ fuzz_target!(|ops: Vec<Op>| {
         let was_busy = client.is_busy();
         let hold_now = std::mem::take(&mut hold);
         match op {
-            Op::Frame {
-                other,
-                remote,
-                data,
-                len,
-            } => {
-                let id = if other {
-                    CanId::Standard(0x580 + u16::from(NODE) + 1)
-                } else {
-                    config.response_id
-                };
+            Op::Frame { other, remote, data, len } => {
+                let id = if other { CanId::Standard(0x580 + u16::from(NODE) + 1) } else { config.response_id };
                 let len = usize::from(len % 9);
                 let frame = if remote {
                     CanFrame::remote(id, len as u8).unwrap()
@@ -180,10 +140,7 @@ fuzz_target!(|ops: Vec<Op>| {
             Op::StartBlockDownload { index, sub, len } => {
                 let data: Vec<u8> = (0..usize::from(len) % 2000).map(|i| i as u8).collect();
                 let result = client.start_block_download(now, index, sub, data.clone());
-                assert_eq!(
-                    undrained.start_block_download(now, index, sub, data),
-                    result
-                );
+                assert_eq!(undrained.start_block_download(now, index, sub, data), result);
                 match result {
                     Ok(()) => {
                         assert!(!was_busy);
@@ -222,9 +179,7 @@ fuzz_target!(|ops: Vec<Op>| {
                 assert_eq!(undrained.abort(now, AbortCode::from(code)), aborted);
                 assert_eq!(aborted, was_busy);
             }
-            Op::ReadUndrained => {
-                read_undrained.extend(std::iter::from_fn(|| undrained.poll_event()))
-            }
+            Op::ReadUndrained => read_undrained.extend(std::iter::from_fn(|| undrained.poll_event())),
             Op::HoldTransmit => hold = true,
         }
         // An undrained transmit queue keeps the newest frame and counts the other.
@@ -235,11 +190,7 @@ fuzz_target!(|ops: Vec<Op>| {
         } else {
             let mut frames = Vec::new();
             while let Some(f) = client.poll_transmit() {
-                assert_eq!(
-                    undrained.poll_transmit(),
-                    Some(f),
-                    "the copies' frames differ"
-                );
+                assert_eq!(undrained.poll_transmit(), Some(f), "the copies' frames differ");
                 assert_eq!(f.id(), config.request_id);
                 assert!(!f.is_remote());
                 assert_eq!(f.dlc(), 8, "{f}");
@@ -270,11 +221,7 @@ fuzz_target!(|ops: Vec<Op>| {
                 _ => terminal += 1,
             }
         }
-        assert_eq!(
-            client.events_dropped(),
-            0,
-            "a drained client drops no events"
-        );
+        assert_eq!(client.events_dropped(), 0, "a drained client drops no events");
         assert!(terminal <= started, "more terminal events than transfers");
         // A transfer that is no longer running has ended exactly once.
         if !client.is_busy() {
@@ -289,9 +236,6 @@ fuzz_target!(|ops: Vec<Op>| {
     // (oldest first), and the newest is the newest there is.
     read_undrained.extend(std::iter::from_fn(|| undrained.poll_event()));
     assert!(is_subsequence(&read_undrained, &all_events));
-    assert_eq!(
-        read_undrained.len() as u64 + undrained.events_dropped(),
-        all_events.len() as u64
-    );
+    assert_eq!(read_undrained.len() as u64 + undrained.events_dropped(), all_events.len() as u64);
     assert_eq!(read_undrained.last(), all_events.last());
 });

@@ -15,9 +15,7 @@
 
 use arbitrary::Arbitrary;
 use canopen_codec::machine::Machine;
-use canopen_codec::sdo::{
-    Observed, Observer, ObserverConfig, ObserverEvent, SdoChannel, TransferKind,
-};
+use canopen_codec::sdo::{Observed, Observer, ObserverConfig, ObserverEvent, SdoChannel, TransferKind};
 use canopen_codec::{CanFrame, CanId, NodeId, Timestamp};
 use core::time::Duration;
 use libfuzzer_sys::fuzz_target;
@@ -26,22 +24,9 @@ use libfuzzer_sys::fuzz_target;
 enum Op {
     /// A frame on `channel % 3`, from the server when `server`; `shape`
     /// picks a command to steer towards, `a`, `b`, `data` fill it.
-    Frame {
-        channel: u8,
-        server: bool,
-        shape: u8,
-        a: u8,
-        b: u8,
-        data: [u8; 7],
-        len: u8,
-    },
-    Remote {
-        channel: u8,
-    },
-    Advance {
-        micros: u32,
-        backwards: bool,
-    },
+    Frame { channel: u8, server: bool, shape: u8, a: u8, b: u8, data: [u8; 7], len: u8 },
+    Remote { channel: u8 },
+    Advance { micros: u32, backwards: bool },
 }
 
 #[derive(Default, Clone, Copy)]
@@ -66,11 +51,7 @@ fn channels() -> [SdoChannel; 3] {
 
 fn bytes(shape: u8, a: u8, b: u8, d: [u8; 7]) -> [u8; 8] {
     let [d0, d1, d2, d3, d4, d5, d6] = d;
-    let (lo, hi) = if a & 1 == 0 {
-        (0x00, 0x20)
-    } else {
-        (0x08, 0x10)
-    };
+    let (lo, hi) = if a & 1 == 0 { (0x00, 0x20) } else { (0x08, 0x10) };
     let t = (a & 2) << 3;
     match shape % 18 {
         0 => [0x40, lo, hi, 0, 0, 0, 0, 0],
@@ -89,16 +70,7 @@ fn bytes(shape: u8, a: u8, b: u8, d: [u8; 7]) -> [u8; 8] {
         13 => [0xC1 | (b & 7) << 2, d0, d1, 0, 0, 0, 0, 0],
         14 => [0xA0 | (a & 4), lo, hi, 0, b, a >> 4, 0, 0],
         15 => [0xC0 | (b & 3) << 1 | (b & 4), lo, hi, 0, b >> 3, 0, 0, 0],
-        16 => [
-            [0xA3, 0xA1, 0x80, 0xA1][usize::from(b & 3)],
-            0,
-            0,
-            0,
-            d0,
-            d1,
-            d2,
-            d3,
-        ],
+        16 => [[0xA3, 0xA1, 0x80, 0xA1][usize::from(b & 3)], 0, 0, 0, d0, d1, d2, d3],
         _ => [a, b, d0, d1, d2, d3, d4, d5],
     }
 }
@@ -116,12 +88,7 @@ fuzz_target!(|ops: Vec<Op>| {
     let mut track = [Track::default(); 3];
     let mut started = 0usize;
     let mut ended = 0usize;
-    let which = |c: SdoChannel| {
-        chans
-            .iter()
-            .position(|x| *x == c)
-            .expect("an unknown channel")
-    };
+    let which = |c: SdoChannel| chans.iter().position(|x| *x == c).expect("an unknown channel");
     // `frame_bytes`: what the frame just taken could carry of a value (a
     // transfer it started counts from there).
     let mut check = |e: ObserverEvent, track: &mut [Track; 3], frame_bytes: usize| {
@@ -142,10 +109,7 @@ fuzz_target!(|ops: Vec<Op>| {
                 assert_eq!(offset, t.delivered, "data out of order");
                 assert!(!data.is_empty());
                 t.delivered += data.len();
-                assert!(
-                    t.delivered <= t.carried,
-                    "more bytes delivered than carried"
-                );
+                assert!(t.delivered <= t.carried, "more bytes delivered than carried");
             }
             ObserverEvent::RuleBroken { .. } => assert!(t.open, "a rule broken with nothing open"),
             ObserverEvent::Completed { bytes, .. }
@@ -158,10 +122,7 @@ fuzz_target!(|ops: Vec<Op>| {
                 if let ObserverEvent::Aborted { pending, .. }
                 | ObserverEvent::BrokenOff { pending, .. } = e
                 {
-                    assert!(
-                        t.block || pending == 0,
-                        "pending bytes outside a block transfer"
-                    );
+                    assert!(t.block || pending == 0, "pending bytes outside a block transfer");
                     assert!(bytes + pending <= t.carried, "more bytes held than carried");
                 }
                 t.open = false;
@@ -173,23 +134,11 @@ fuzz_target!(|ops: Vec<Op>| {
     for op in ops.into_iter().take(512) {
         let mut frame_bytes = 0;
         match op {
-            Op::Frame {
-                channel,
-                server,
-                shape,
-                a,
-                b,
-                data,
-                len,
-            } => {
+            Op::Frame { channel, server, shape, a, b, data, len } => {
                 let c = chans[usize::from(channel % 3)];
                 let id = if server { c.response } else { c.request };
                 let full = bytes(shape, a, b, data);
-                let len = if shape & 0x80 != 0 {
-                    usize::from(len % 9)
-                } else {
-                    8
-                };
+                let len = if shape & 0x80 != 0 { usize::from(len % 9) } else { 8 };
                 let frame = CanFrame::new(id, &full[..len]).unwrap();
                 let i = usize::from(channel % 3);
                 // What the frame could carry of a value: up to 7 bytes.
@@ -198,10 +147,7 @@ fuzz_target!(|ops: Vec<Op>| {
                 let seen = obs.observe(now, &frame);
                 if let Observed::BlockSegment { channel, .. } = seen {
                     let t = track[which(channel)];
-                    assert!(
-                        t.open && t.block,
-                        "a block segment outside a block transfer"
-                    );
+                    assert!(t.open && t.block, "a block segment outside a block transfer");
                 }
                 assert!(!matches!(seen, Observed::Other));
             }

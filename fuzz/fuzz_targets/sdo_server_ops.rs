@@ -16,34 +16,17 @@
 use arbitrary::Arbitrary;
 use canopen_codec::machine::Machine;
 use canopen_codec::od::{Access, MemoryDictionary, ObjectDictionary};
-use canopen_codec::sdo::{
-    AbortOrigin, SdoResponse, Server, ServerCommand, ServerConfig, ServerEvent,
-};
+use canopen_codec::sdo::{AbortOrigin, SdoResponse, Server, ServerCommand, ServerConfig, ServerEvent};
 use canopen_codec::{CanFrame, CanId, NodeId, Timestamp};
 use libfuzzer_sys::fuzz_target;
 
 #[derive(Debug, Arbitrary)]
 enum Op {
     /// A request frame; `shape` picks a well-formed command to steer the fuzzer.
-    Frame {
-        other: bool,
-        remote: bool,
-        shape: u8,
-        data: [u8; 8],
-        len: u8,
-    },
-    Advance {
-        micros: u32,
-        backwards: bool,
-    },
+    Frame { other: bool, remote: bool, shape: u8, data: [u8; 8], len: u8 },
+    Advance { micros: u32, backwards: bool },
     /// A well-formed block transfer request on a known object.
-    BlockRequest {
-        kind: u8,
-        object: u8,
-        a: u8,
-        b: u8,
-        data: [u8; 7],
-    },
+    BlockRequest { kind: u8, object: u8, a: u8, b: u8, data: [u8; 7] },
     /// Read the second copy's events now.
     ReadUndrained,
 }
@@ -93,18 +76,8 @@ fuzz_target!(|ops: Vec<Op>| {
     for op in ops.into_iter().take(256) {
         let was_busy = server.is_busy();
         match op {
-            Op::Frame {
-                other,
-                remote,
-                shape,
-                mut data,
-                len,
-            } => {
-                let id = if other {
-                    CanId::Standard(0x600 + u16::from(NODE) + 1)
-                } else {
-                    config.request_id
-                };
+            Op::Frame { other, remote, shape, mut data, len } => {
+                let id = if other { CanId::Standard(0x600 + u16::from(NODE) + 1) } else { config.request_id };
                 // Steer byte 0/1/2 towards real commands on known objects.
                 if shape & 0x80 != 0 {
                     let objects = [0x1000u16, 0x1017, 0x2000, 0x2001, 0x1008, 0x2002, 0x3000];
@@ -131,13 +104,7 @@ fuzz_target!(|ops: Vec<Op>| {
                 server.handle_timeout(now);
                 undrained.handle_timeout(now);
             }
-            Op::BlockRequest {
-                kind,
-                object,
-                a,
-                b,
-                data,
-            } => {
+            Op::BlockRequest { kind, object, a, b, data } => {
                 let objects = [0x1000u16, 0x1017, 0x2000, 0x2001, 0x1008, 0x2002, 0x3000];
                 let [lo, hi] = objects[usize::from(object) % objects.len()].to_le_bytes();
                 let [d0, d1, d2, d3, d4, d5, d6] = data;
@@ -161,17 +128,11 @@ fuzz_target!(|ops: Vec<Op>| {
                 server.handle_frame(now, &frame);
                 undrained.handle_frame(now, &frame);
             }
-            Op::ReadUndrained => {
-                read_undrained.extend(std::iter::from_fn(|| undrained.poll_event()))
-            }
+            Op::ReadUndrained => read_undrained.extend(std::iter::from_fn(|| undrained.poll_event())),
         }
         let mut frames = Vec::new();
         while let Some(f) = server.poll_transmit() {
-            assert_eq!(
-                undrained.poll_transmit(),
-                Some(f),
-                "the copies' frames differ"
-            );
+            assert_eq!(undrained.poll_transmit(), Some(f), "the copies' frames differ");
             assert_eq!(f.id(), config.response_id);
             assert_eq!(f.dlc(), 8);
             frames.push(f);
@@ -182,34 +143,18 @@ fuzz_target!(|ops: Vec<Op>| {
             is_sub_block(&frames) || (is_response(&frames[0]) && is_sub_block(&frames[1..])),
             "not one response and one sub-block: {frames:?}"
         );
-        assert_eq!(
-            (server.frames_dropped(), undrained.frames_dropped()),
-            (0, 0)
-        );
+        assert_eq!((server.frames_dropped(), undrained.frames_dropped()), (0, 0));
         assert_eq!(undrained.poll_timeout(), server.poll_timeout());
         assert_eq!(undrained.is_busy(), server.is_busy());
         let events: Vec<ServerEvent> = std::iter::from_fn(|| server.poll_event()).collect();
-        assert_eq!(
-            server.events_dropped(),
-            0,
-            "a drained server drops no events"
-        );
+        assert_eq!(server.events_dropped(), 0, "a drained server drops no events");
         all_events.extend_from_slice(&events);
         assert!(events.len() <= 2);
         if events.len() == 2 {
-            assert!(matches!(
-                events[0],
-                ServerEvent::Aborted {
-                    origin: AbortOrigin::Superseded,
-                    ..
-                }
-            ));
+            assert!(matches!(events[0], ServerEvent::Aborted { origin: AbortOrigin::Superseded, .. }));
         }
         if was_busy && !server.is_busy() {
-            assert!(
-                !events.is_empty(),
-                "a running transfer ended without an event"
-            );
+            assert!(!events.is_empty(), "a running transfer ended without an event");
         }
         if !was_busy && server.is_busy() {
             assert!(events.is_empty());
@@ -230,9 +175,6 @@ fuzz_target!(|ops: Vec<Op>| {
     }
     read_undrained.extend(std::iter::from_fn(|| undrained.poll_event()));
     assert!(is_subsequence(&read_undrained, &all_events));
-    assert_eq!(
-        read_undrained.len() as u64 + undrained.events_dropped(),
-        all_events.len() as u64
-    );
+    assert_eq!(read_undrained.len() as u64 + undrained.events_dropped(), all_events.len() as u64);
     assert_eq!(read_undrained.last(), all_events.last());
 });

@@ -37,10 +37,7 @@ fuzz_target!(|data: &[u8]| {
     }
 
     let response = ServerCommand::parse(&frame);
-    assert_eq!(
-        response.is_ok(),
-        data.len() >= needed(Side::Server, data[0])
-    );
+    assert_eq!(response.is_ok(), data.len() >= needed(Side::Server, data[0]));
     if let Ok(cmd) = response {
         let mut buf = padded;
         assert!(cmd.emit(&mut buf) <= data.len());
