@@ -209,14 +209,14 @@ impl<'o> Decoding<'o> {
                 parsed.frame.id().raw(),
                 msg,
                 guard_reply,
-                &roles,
+                roles,
             );
         }
         if signals.is_some() || dbc.is_some() {
             let applied = decoded
                 .as_ref()
                 .ok()
-                .and_then(|m| opts.pdos.mapping(&parsed.frame, m, &roles, &learned));
+                .and_then(|m| opts.pdos.mapping(&parsed.frame, m, roles, learned));
             if let (Some((source, catalogue, mapping)), CanId::Standard(id)) =
                 (applied, parsed.frame.id())
             {
@@ -235,7 +235,7 @@ impl<'o> Decoding<'o> {
         if let (Some(page), Ok(msg)) = (page.as_mut(), &decoded) {
             let fields = match msg {
                 Message::Tpdo { .. } | Message::Rpdo { .. } => {
-                    opts.pdos.fields(&parsed.frame, msg, &roles, &learned)
+                    opts.pdos.fields(&parsed.frame, msg, roles, learned)
                 }
                 _ => None,
             };
@@ -245,7 +245,7 @@ impl<'o> Decoding<'o> {
                 msg,
                 fields.as_ref().map(|(_, f)| f),
                 guard_reply,
-                &roles,
+                roles,
             );
         }
         if opts.frames {
@@ -276,11 +276,11 @@ impl<'o> Decoding<'o> {
                 let fields = decoded
                     .as_ref()
                     .ok()
-                    .and_then(|m| opts.pdos.fields(&parsed.frame, m, &roles, &learned));
+                    .and_then(|m| opts.pdos.fields(&parsed.frame, m, roles, learned));
                 let line = FrameLine {
-                    log: &parsed,
+                    log: parsed,
                     decoded: &decoded,
-                    roles: &roles,
+                    roles,
                     fields: fields.as_ref(),
                     notes: &notes,
                 };
@@ -307,7 +307,7 @@ impl<'o> Decoding<'o> {
                 summary.transfer(&report);
             }
             if let Some(page) = page.as_mut() {
-                page_transfer(page, &report, &roles, &learned);
+                page_transfer(page, &report, roles, learned);
             }
             let role_learned = roles.learn(&report);
             let pdo_note = learned.transfer(&report);
@@ -319,7 +319,7 @@ impl<'o> Decoding<'o> {
                 continue;
             }
             let eds = learned.catalogue(report.node);
-            transfer(text, &report, opts.json, &roles, eds, pdo_note.as_deref());
+            transfer(text, &report, opts.json, roles, eds, pdo_note.as_deref());
             if let Some(said) = role_learned {
                 let what = if opts.json {
                     format!(
@@ -363,13 +363,12 @@ impl<'o> Decoding<'o> {
             unsupported,
             ..
         } = self;
-        if let [fd, errors, events] = unsupported {
-            if fd + errors + events > 0 {
-                let _ = writeln!(
-                    diag,
-                    "canopen-decode: read, not decoded: {fd} CAN FD frame(s), {errors} error frame(s), {events} other event(s)"
-                );
-            }
+        let [fd, errors, events] = unsupported;
+        if fd + errors + events > 0 {
+            let _ = writeln!(
+                diag,
+                "canopen-decode: read, not decoded: {fd} CAN FD frame(s), {errors} error frame(s), {events} other event(s)"
+            );
         }
         for report in sdo.finish() {
             summary.transfer(&report);
