@@ -3,8 +3,13 @@
 taken from the tests' own vectors. Rerunnable: rewrites the files it owns.
 
 Covered so far: decode_frame (layout in fuzz/fuzz_targets/decode_frame.rs:
-flags byte, identifier little-endian, data)."""
+flags byte, identifier little-endian, data); blf (a chunk-size byte, a flag
+byte, then a BLF file: stored and zlib containers, v1 and v2 object
+headers, an object straddling two containers, CAN FD and error objects);
+asc_line (a byte choosing the base line, then ASC lines)."""
 import pathlib
+import struct
+import zlib
 
 HERE = pathlib.Path(__file__).resolve().parent
 
@@ -33,6 +38,81 @@ DECODE_FRAME = [
 ]
 
 
+def blf_object(obj_type, body, version=1, flags=2, ticks=0):
+    """A BLF object: base header, v1 (32 bytes) or v2 (40) header, body,
+    size % 4 padding."""
+    header = 32 if version == 1 else 40
+    size = header + len(body)
+    o = b"LOBJ" + struct.pack("<HHLL", header, version, size, obj_type)
+    o += struct.pack("<LHHQ", flags, 0, 0, ticks)
+    if version == 2:
+        o += struct.pack("<Q", ticks)
+    return o + body + b"\0" * (size % 4)
+
+
+def blf_can(channel, flags, dlc, can_id, data):
+    return struct.pack("<HBBL8s", channel, flags, dlc, can_id, data)
+
+
+def blf_container(method, payload, declared):
+    size = 32 + len(payload)
+    o = b"LOBJ" + struct.pack("<HHLL", 16, 1, size, 10)
+    o += struct.pack("<H6xL4x", method, declared)
+    return o + payload + b"\0" * (size % 4)
+
+
+def blf_file(containers):
+    header = b"LOGG" + struct.pack("<L", 144) + bytes([5, 0, 0, 0, 2, 6, 8, 1])
+    header += struct.pack("<QQLL", 0, 0, 3, 0)
+    header += struct.pack("<8H", 2025, 9, 4, 4, 3, 14, 13, 603) + bytes(16)
+    return header + bytes(144 - len(header)) + b"".join(containers)
+
+
+def blf_seeds():
+    stream = b"".join(
+        [
+            blf_object(1, blf_can(1, 0, 8, 0x18A, bytes.fromhex("7413454E70000000")), ticks=1_000_000),
+            blf_object(86, blf_can(2, 1, 1, 0x70A, b"\x05" + bytes(7)) + bytes(8), version=2, flags=1, ticks=150),
+            blf_object(1, blf_can(1, 0x80, 1, 0x70A, bytes(8)), ticks=3_000_000),
+            blf_object(1, blf_can(1, 0, 2, 0x80000000 | 0x18DAF110, b"\x01\x02" + bytes(6))),
+            blf_object(100, bytes(84)),
+            blf_object(73, bytes(32)),
+            blf_object(65, b"text of odd length"),
+        ]
+    )
+    stored = blf_file([blf_container(0, stream[:70], 70), blf_container(0, stream[70:], len(stream) - 70)])
+    packed = blf_file([blf_container(2, zlib.compress(stream), len(stream))])
+    return [
+        ("stored_whole", bytes([255, 0]) + stored),
+        ("stored_small_chunks", bytes([0, 0]) + stored),
+        ("zlib", bytes([7, 0]) + packed),
+        ("objects_after_header", bytes([16, 1]) + stream),
+    ]
+
+
+ASC = """date Thu Sep 04 03:14:13.603 2025
+base hex  timestamps absolute
+internal events logged
+Begin Triggerblock Thu Sep 04 03:14:13.603 2025
+   0.000000 Start of measurement
+   1.234567 1  18A             Rx   d 8 74 13 45 4E 70 00 00 00  Length = 240000 BitCount = 124 ID = 394
+   1.244251 1  70A             Rx   r 1
+   1.331259 1  18DAF110x       Tx   d 2 01 02
+   1.400000 1  ErrorFrame
+   1.500000 CANFD   1 Rx 18A  0 0 8 8 74 13 45 4E 70 00 00 00
+   1.600000 1  Statistic: D 0 R 0 XD 0 XR 0 E 0 O 0 B 0.00%
+   2.000000 1  18A             Rx   d 9 00 00 00 00 00 00 00 00
+End TriggerBlock
+"""
+
+
+def asc_seeds():
+    return [
+        ("python_can_hex", bytes([0]) + ASC.encode()),
+        ("decimal_relative", bytes([3]) + ASC.replace("18A ", "394 ").encode()),
+    ]
+
+
 def write(target, seeds):
     out = HERE / "seeds" / target
     out.mkdir(parents=True, exist_ok=True)
@@ -42,3 +122,5 @@ def write(target, seeds):
 
 if __name__ == "__main__":
     write("decode_frame", DECODE_FRAME)
+    write("blf", blf_seeds())
+    write("asc_line", asc_seeds())

@@ -10,6 +10,8 @@
 
 #[path = "../../src/bin/canopen-decode/args.rs"]
 mod args;
+#[path = "../../src/bin/canopen-decode/blf_input.rs"]
+mod blf_input;
 #[path = "../../src/bin/canopen-decode/calendar.rs"]
 mod calendar;
 #[path = "../../src/bin/canopen-decode/comm_objects.rs"]
@@ -18,6 +20,8 @@ mod comm_objects;
 mod csv;
 #[path = "../../src/bin/canopen-decode/dbc.rs"]
 mod dbc;
+#[path = "../../src/bin/canopen-decode/decoding.rs"]
+mod decoding;
 #[path = "../../src/bin/canopen-decode/json.rs"]
 mod json;
 #[path = "../../src/bin/canopen-decode/line_cache.rs"]

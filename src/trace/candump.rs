@@ -9,7 +9,9 @@
 //! - `701#R`, `701#R1`: remote frames (DLC 0 or the digit given)
 //! - 3 hex digits mean an 11-bit identifier, 8 hex digits a 29-bit one.
 //!
-//! CAN FD (`ID##...`) and error frames are rejected with a typed error.
+//! CAN FD frames (`ID##FDATA`: one hex digit of FD flags, then the data)
+//! are recognised and refused with [`CandumpError::CanFd`] (a malformed one
+//! with the error of its malformed part); error frames with a typed error.
 
 use core::fmt;
 
@@ -309,9 +311,6 @@ fn hex_digit(b: u8) -> Option<u8> {
 /// Parses the `ID#DATA` / `ID#R[dlc]` field alone.
 pub fn parse_frame(field: &str) -> Result<CanFrame, CandumpError> {
     let (id, data) = field.split_once('#').ok_or(CandumpError::MissingFrame)?;
-    if data.starts_with('#') {
-        return Err(CandumpError::CanFd);
-    }
     let raw = id
         .bytes()
         .try_fold(0u32, |acc, b| Some(acc << 4 | u32::from(hex_digit(b)?)))
@@ -321,6 +320,9 @@ pub fn parse_frame(field: &str) -> Result<CanFrame, CandumpError> {
         8 if raw <= MAX_EXTENDED_ID => CanId::Extended(raw),
         _ => return Err(CandumpError::BadId),
     };
+    if let Some(fd) = data.strip_prefix('#') {
+        return Err(fd_frame(fd));
+    }
     if let Some(dlc) = data.strip_prefix('R').or_else(|| data.strip_prefix('r')) {
         let dlc = match dlc.as_bytes() {
             [] => 0,
@@ -348,6 +350,27 @@ pub fn parse_frame(field: &str) -> Result<CanFrame, CandumpError> {
     }
     let len = digits.len() / 2;
     CanFrame::new(id, buf.get(..len).unwrap_or(&[])).map_err(|_| CandumpError::TooLong)
+}
+
+/// The part of a CAN FD field after `ID##`: one hex digit of FD flags
+/// (bit 0 bit-rate switch, bit 1 error state indicator), then the data in
+/// hex pairs, of a CAN FD length (0..=8, 12, 16, 20, 24, 32, 48, 64 bytes,
+/// ISO 11898-1). [`CandumpError::CanFd`] when it is one, the error of the
+/// malformed part otherwise.
+fn fd_frame(fd: &str) -> CandumpError {
+    let Some((&flags, data)) = fd.as_bytes().split_first() else {
+        return CandumpError::BadData;
+    };
+    if hex_digit(flags).is_none()
+        || data.len() % 2 != 0
+        || !data.iter().all(|&b| hex_digit(b).is_some())
+    {
+        return CandumpError::BadData;
+    }
+    match data.len() / 2 {
+        0..=8 | 12 | 16 | 20 | 24 | 32 | 48 | 64 => CandumpError::CanFd,
+        _ => CandumpError::TooLong,
+    }
 }
 
 /// Writes a frame as a candump log line: `(secs.micros) iface ID#DATA`.
@@ -417,6 +440,7 @@ mod tests {
                 "(1.000001) can0 123#R",
                 "(1.000001) can0 123#R8",
                 "(1.000001) can0 123##01",
+                "(1.000001) can0 123##1112233",
                 "(1.000001)  can0 123#00",
                 "(1.000001) can0  123#00",
                 "(1.000001) can0 123#00 ",
@@ -542,7 +566,12 @@ mod tests {
             ("701#R12", BadData),
             ("701#R9", TooLong),
             ("701#000102030405060708", TooLong),
-            ("701##0112", CanFd),
+            ("701##0112", BadData),
+            ("701##", BadData),
+            ("701##G11", BadData),
+            ("701##1ZZ", BadData),
+            ("701##0112233445566778899", TooLong),
+            ("7011##011", BadId),
             ("701#05 extra", TrailingText),
         ] {
             assert_eq!(parse_line(line), Err(err), "{line:?}");

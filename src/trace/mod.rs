@@ -14,6 +14,10 @@
 //! [`Format::detect`] recognises a format from one line; a parser made with
 //! [`LineParser::auto`] detects it from the first line that tells.
 //!
+//! Vector BLF files are binary, not lines: [`blf::BlfReader`] reads them
+//! from the byte chunks the caller feeds (the zlib containers inflated by
+//! the caller), with the same [`Unsupported`] kinds for what it skips.
+//!
 //! ```
 //! use canopen_codec::trace::{Format, LineParser, Record};
 //! let mut p = LineParser::auto();
@@ -29,6 +33,7 @@
 //! ```
 
 mod asc;
+pub mod blf;
 pub mod candump;
 mod csv;
 mod fields;

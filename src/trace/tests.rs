@@ -476,3 +476,35 @@ fn hostile_lines_never_panic() {
         }
     }
 }
+
+/// candump's CAN FD lines (`ID##` then one hex digit of FD flags and the
+/// data, as can-utils' `lib.c` writes them) are CAN FD frames, reported as
+/// such, also as the first line of a trace; a malformed one is an error.
+#[test]
+fn candump_fd_lines_are_can_fd_frames() {
+    let mut p = LineParser::auto();
+    let lines = [
+        "(1757000000.000100) can0 123##1112233",
+        "(1757000000.000200) can0 18A#01",
+        "123##0",
+        "12345678##3000102030405060708090A0B",
+        "(1757000000.000300) can0 123##1112233 T",
+        "(1757000000.000400) can0 123##111223",
+        "(1757000000.000500) can0 123##5",
+        "(1757000000.000600) can0 123##0000102030405060708",
+    ];
+    assert_eq!(
+        run(&mut p, &lines),
+        [
+            "unsupported CanFd",
+            "1757000000000200 18A#01 can0 -",
+            "unsupported CanFd",
+            "unsupported CanFd",
+            "unsupported CanFd",
+            "error Candump(BadData)",
+            "unsupported CanFd",
+            "error Candump(TooLong)",
+        ]
+    );
+    assert_eq!(p.format(), Some(Format::CandumpLog));
+}

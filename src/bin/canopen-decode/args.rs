@@ -36,6 +36,8 @@ pub enum FormatArg {
     Asc,
     /// python-can CSV.
     Csv,
+    /// Vector BLF (binary; detected by its LOGG signature too).
+    Blf,
 }
 
 /// What the bundled data can be.
@@ -200,6 +202,7 @@ impl Cli {
             Some(FormatArg::Trc) => (Some(Format::PcanTrc), false),
             Some(FormatArg::Asc) => (Some(Format::VectorAsc), false),
             Some(FormatArg::Csv) => (Some(Format::PythonCanCsv), false),
+            Some(FormatArg::Blf) => (None, false),
         };
         Ok(Options {
             json: output == Output::Json,
@@ -214,6 +217,7 @@ impl Cli {
             more_files: self.files.get(1..).unwrap_or_default().to_vec(),
             bundled: self.bundled.map(|Bundled::Session| "session"),
             format,
+            blf: self.format == Some(FormatArg::Blf),
             delta_times,
             strict: self.strict,
             sdo_channels: self.sdo,

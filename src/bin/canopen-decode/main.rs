@@ -168,10 +168,12 @@
 //! the capture README's DBC adds -40 degC, which the profile does not have.
 
 mod args;
+mod blf_input;
 mod calendar;
 mod comm_objects;
 mod csv;
 mod dbc;
+mod decoding;
 mod json;
 mod line_cache;
 mod line_reader;

@@ -4,15 +4,12 @@
 
 use std::io::{self, Read, Write};
 
-use canopen_codec::sdo::{Observed, SdoChannel, Side as SdoSide};
+use canopen_codec::sdo::{SdoChannel, Side as SdoSide};
 use canopen_codec::trace::candump::LogLine;
 use canopen_codec::trace::{Format, LineParser, Record};
-use canopen_codec::{CanId, Message, NodeId};
+use canopen_codec::{CanId, NodeId};
 
-use crate::{
-    csv, dbc, json, line_cache, line_reader, pdo_args, pdo_learn, report, sdo, signals, summary,
-    time_column, words,
-};
+use crate::{json, line_reader, pdo_args, pdo_learn, report, sdo, words};
 
 /// A block transfer's sub-block segment (CiA 301 SDO block download and
 /// upload): byte 0 is a sequence number, not a command specifier.
@@ -48,7 +45,7 @@ impl std::fmt::Display for BlockSegment {
 }
 
 /// The default SDO channel of its node (Message::decode names those).
-fn is_default(channel: SdoChannel) -> bool {
+pub fn is_default(channel: SdoChannel) -> bool {
     channel == SdoChannel::default_for(channel.node)
 }
 
@@ -136,7 +133,7 @@ impl Roles {
     /// device (a charger, unless it has another role). Roles given on the
     /// command line or learned before are kept. Returns what was learned,
     /// in words.
-    fn learn(&mut self, report: &sdo::Report) -> Option<String> {
+    pub fn learn(&mut self, report: &sdo::Report) -> Option<String> {
         if !matches!(report.end, sdo::End::Complete)
             || !matches!(report.direction, sdo::Direction::Upload)
         {
@@ -211,6 +208,8 @@ pub struct Options {
     pub bundled: Option<&'static str>,
     /// `--format`: the trace format (detected when absent) and `-t d` times.
     pub format: Option<Format>,
+    /// `--format blf`: the input is Vector BLF (also detected by `LOGG`).
+    pub blf: bool,
     pub delta_times: bool,
     /// `--strict`: frames that deviate from CiA 301 are malformed.
     pub strict: bool,
@@ -238,47 +237,31 @@ pub fn run(
     diag: &mut impl Write,
     opts: &Options,
 ) -> io::Result<(usize, bool)> {
-    let mut roles = opts.roles;
-    let mut summary = summary::Summary::default();
-    // The report's page starts with the summary: collected for either.
-    let collect = opts.summary || opts.report.is_some();
-    let mut page = opts.report.as_ref().map(|_| report::Collector::default());
-    let mut bad = 0;
-    // The output not written yet: lines are appended here and written in
-    // blocks of about `PAGE` bytes (one write per block, no copy per line).
-    const PAGE: usize = 64 * 1024;
-    let mut text = String::with_capacity(2 * PAGE);
-    let mut times = time_column::TimeColumn::new(if opts.json || opts.csv { 0 } else { 10 });
-    let mut sdo = sdo::Tracker::default();
-    let mut learned = pdo_learn::Learned::default();
-    let mut cache = line_cache::LineCache::new(!opts.no_cache);
-    for (node, path) in &opts.eds {
-        load_eds(*node, path, &mut roles, &mut sdo, &mut learned, diag)?;
+    let mut run = crate::decoding::Decoding::new(opts, diag)?;
+    // A BLF file is told by its signature unless a line format is given.
+    let mut input = input;
+    let mut head = [0u8; 4];
+    let mut got = 0;
+    if opts.format.is_none() {
+        while got < head.len() {
+            match input.read(head.get_mut(got..).unwrap_or(&mut [])) {
+                Ok(0) => break,
+                Ok(n) => got += n,
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+                Err(e) => return Err(e),
+            }
+        }
     }
-    for &channel in &opts.sdo_channels {
-        sdo.add_channel(channel)
-            .map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, format!("--sdo: {e}")))?;
+    let input = head.get(..got).unwrap_or(&[]).chain(input);
+    if opts.blf || canopen_codec::trace::blf::BlfReader::detect(head.get(..got).unwrap_or(&[])) {
+        return crate::blf_input::read(input, run, out, diag);
     }
-    let mut signals = opts
-        .signals
-        .as_deref()
-        .map(signals::Signals::create)
-        .transpose()?;
-    let mut dbc = opts.dbc.as_ref().map(|_| dbc::Dbc::default());
     let mut reader = opts.format.map_or_else(LineParser::auto, LineParser::new);
-    if opts.csv {
-        text.push_str(csv::HEADER);
-        text.push('\n');
-    }
-    // Nodes with a node-guarding request not answered yet.
-    let mut guarding = [false; 128];
     if opts.delta_times {
         reader = reader.with_delta_times();
     }
     let mut lines = line_reader::LineReader::new(input);
     let mut lineno = 0usize;
-    // Frames read: a log of lines none of which is a frame is an error.
-    let mut frames = 0usize;
     while let Some(block) = lines.next_block()? {
         for piece in block {
             lineno += 1;
@@ -286,7 +269,7 @@ pub fn run(
                 line_reader::Piece::Line(line) => line,
                 line_reader::Piece::NotUtf8 => {
                     let _ = writeln!(diag, "line {lineno}: not UTF-8 text");
-                    bad += 1;
+                    run.bad += 1;
                     continue;
                 }
                 line_reader::Piece::TooLong => {
@@ -295,314 +278,32 @@ pub fn run(
                         "line {lineno}: longer than {} bytes",
                         line_reader::MAX_LINE
                     );
-                    bad += 1;
+                    run.bad += 1;
                     continue;
                 }
             };
             let parsed = match reader.parse(line) {
-                Ok(Record::Frame(f)) => {
-                    frames += 1;
-                    LogLine {
-                        timestamp: f.timestamp,
-                        interface: f.channel,
-                        frame: f.frame,
-                    }
-                }
+                Ok(Record::Frame(f)) => LogLine {
+                    timestamp: f.timestamp,
+                    interface: f.channel,
+                    frame: f.frame,
+                },
                 Ok(Record::Unsupported(what)) => {
-                    let _ = writeln!(diag, "line {lineno}: {what:?} not decoded: {line}");
+                    run.unsupported(&format_args!("line {lineno}"), what, &line, diag);
                     continue;
                 }
                 Ok(_) => continue,
                 Err(e) => {
                     let _ = writeln!(diag, "line {lineno}: {e}: {line}");
-                    bad += 1;
+                    run.bad += 1;
                     continue;
                 }
             };
-            // The SDO observer first: a frame on a declared SDO channel is SDO,
-            // and a block transfer's sub-block segment is no command.
-            let seen = sdo.handle(parsed.timestamp, &parsed.frame);
-            let (decoded, deviation) = if opts.strict {
-                (Message::decode(&parsed.frame), None)
-            } else {
-                match Message::decode_lenient(&parsed.frame) {
-                    Ok((m, d)) => (Ok(m), d),
-                    Err(e) => (Err(e), None),
-                }
-            };
-            let mut block_segment = None;
-            let decoded = match seen {
-                Observed::Request { channel, request } if !is_default(channel) => {
-                    Ok(Message::SdoRequest {
-                        node: channel.node,
-                        sdo: request,
-                    })
-                }
-                Observed::Response { channel, response } if !is_default(channel) => {
-                    Ok(Message::SdoResponse {
-                        node: channel.node,
-                        sdo: response,
-                    })
-                }
-                Observed::BlockSegment {
-                    channel,
-                    from,
-                    seqno,
-                    last,
-                    data,
-                } => {
-                    block_segment = Some(BlockSegment {
-                        node: channel.node,
-                        from,
-                        seqno,
-                        last,
-                        data,
-                    });
-                    decoded
-                }
-                _ => decoded,
-            };
-            if let (Err(e), None) = (&decoded, block_segment) {
-                let _ = writeln!(
-                    diag,
-                    "line {lineno}: frame {} does not decode: {e}",
-                    parsed.frame
-                );
-                bad += 1;
-            }
-            // A reply on 700h + node after a remote request there is a guarding
-            // reply, whatever its toggle.
-            let guard_reply = match &decoded {
-                Ok(Message::NodeGuardRequest { node, .. }) => {
-                    if let Some(g) = guarding.get_mut(usize::from(node.raw())) {
-                        *g = true;
-                    }
-                    false
-                }
-                Ok(Message::Heartbeat { node, .. }) => guarding
-                    .get_mut(usize::from(node.raw()))
-                    .is_some_and(std::mem::take),
-                _ => false,
-            };
-            let notes = Notes {
-                guard_reply,
-                deviation,
-                block_segment,
-            };
-            if let (true, Ok(msg)) = (collect, &decoded) {
-                summary.frame(
-                    parsed.timestamp,
-                    parsed.frame.id().raw(),
-                    msg,
-                    guard_reply,
-                    &roles,
-                );
-            }
-            if signals.is_some() || dbc.is_some() {
-                let applied = decoded
-                    .as_ref()
-                    .ok()
-                    .and_then(|m| opts.pdos.mapping(&parsed.frame, m, &roles, &learned));
-                if let (Some((source, catalogue, mapping)), CanId::Standard(id)) =
-                    (applied, parsed.frame.id())
-                {
-                    if let Some(s) = signals.as_mut() {
-                        let fields = catalogue.decode(&mapping, parsed.frame.data());
-                        s.frame(parsed.timestamp, id, catalogue, &fields)?;
-                    }
-                    if let Some(note) = dbc
-                        .as_mut()
-                        .and_then(|d| d.frame(id, source, catalogue, mapping))
-                    {
-                        let _ = writeln!(diag, "{note}");
-                    }
-                }
-            }
-            if let (Some(page), Ok(msg)) = (page.as_mut(), &decoded) {
-                let fields = match msg {
-                    Message::Tpdo { .. } | Message::Rpdo { .. } => {
-                        opts.pdos.fields(&parsed.frame, msg, &roles, &learned)
-                    }
-                    _ => None,
-                };
-                page.frame(
-                    parsed.timestamp,
-                    parsed.frame.id().raw(),
-                    msg,
-                    fields.as_ref().map(|(_, f)| f),
-                    guard_reply,
-                    &roles,
-                );
-            }
-            if opts.frames {
-                if opts.csv {
-                    csv::time(&mut text, &mut times, parsed.timestamp);
-                } else if opts.json {
-                    json::time(&mut text, &mut times, parsed.timestamp);
-                } else {
-                    words::time(&mut text, &mut times, parsed.timestamp);
-                }
-                // The text after the time depends on the frame alone for these
-                // (and on the roles and mappings, which clear the cache).
-                let cacheable = !guard_reply
-                    && block_segment.is_none()
-                    && matches!(
-                        decoded,
-                        Ok(Message::Tpdo { .. }
-                            | Message::Rpdo { .. }
-                            | Message::Heartbeat { .. }
-                            | Message::Emcy { .. }
-                            | Message::Nmt(_)
-                            | Message::Sync(_)
-                            | Message::Time(_)
-                            | Message::Unknown(_))
-                    );
-                if !(cacheable && cache.get(&parsed.frame, &mut text)) {
-                    let start = text.len();
-                    let fields = decoded
-                        .as_ref()
-                        .ok()
-                        .and_then(|m| opts.pdos.fields(&parsed.frame, m, &roles, &learned));
-                    let line = FrameLine {
-                        log: &parsed,
-                        decoded: &decoded,
-                        roles: &roles,
-                        fields: fields.as_ref(),
-                        notes: &notes,
-                    };
-                    if opts.csv {
-                        csv::rest(&mut text, &line);
-                    } else if opts.json {
-                        json::rest(&mut text, &line);
-                    } else {
-                        words::rest(&mut text, &line);
-                    }
-                    if cacheable {
-                        cache.put(&parsed.frame, text.get(start..).unwrap_or(""));
-                    }
-                }
-                text.push('\n');
-            }
-            for report in sdo
-                .has_reports()
-                .then(|| sdo.reports())
-                .into_iter()
-                .flatten()
-            {
-                if collect {
-                    summary.transfer(&report);
-                }
-                if let Some(page) = page.as_mut() {
-                    page_transfer(page, &report, &roles, &learned);
-                }
-                let role_learned = roles.learn(&report);
-                let pdo_note = learned.transfer(&report);
-                if role_learned.is_some() || pdo_note.is_some() {
-                    cache.clear();
-                }
-                // CSV rows are frames only.
-                if !opts.frames || opts.csv {
-                    continue;
-                }
-                let eds = learned.catalogue(report.node);
-                transfer(
-                    &mut text,
-                    &report,
-                    opts.json,
-                    &roles,
-                    eds,
-                    pdo_note.as_deref(),
-                );
-                if let Some(said) = role_learned {
-                    let what = if opts.json {
-                        format!(
-                            "{{\"kind\":\"role\",\"node\":{},\"role\":{},\"deltaq\":{},\"text\":\"node {} is {said}\"}}",
-                            report.node,
-                            roles
-                                .role(Some(report.node))
-                                .map_or("null".to_string(), |r| format!("\"{r}\"")),
-                            roles.deltaq == Some(report.node),
-                            report.node
-                        )
-                    } else {
-                        format!("node {} is {said}", report.node)
-                    };
-                    text.push_str(&what);
-                    text.push('\n');
-                }
-            }
-            if text.len() >= PAGE {
-                out.write_all(text.as_bytes())?;
-                text.clear();
-            }
+            run.frame(&format_args!("line {lineno}"), &parsed, out, diag)?;
         }
     }
-    for report in sdo.finish() {
-        summary.transfer(&report);
-        if let Some(page) = page.as_mut() {
-            page_transfer(page, &report, &roles, &learned);
-        }
-        if opts.frames && !opts.csv {
-            let eds = learned.catalogue(report.node);
-            transfer(&mut text, &report, opts.json, &roles, eds, None);
-        }
-    }
-    let mut open = false;
-    // The summary follows the frames in words and JSON; it never enters a
-    // CSV stream (stderr then), and `--summary-file` takes it in any form.
-    let mut report = String::new();
-    if let (Some(page), Some(path)) = (&page, &opts.report) {
-        let mut words = String::new();
-        open = summary.words(&mut words, &roles);
-        let silences = summary.silences();
-        let title = opts
-            .file
-            .as_deref()
-            .or(opts.bundled.map(|_| "the bundled session"))
-            .unwrap_or("stdin");
-        let html = page.page(title, &words, &silences, &roles);
-        std::fs::write(path, html.as_bytes())
-            .map_err(|e| io::Error::new(e.kind(), format!("--report {path}: {e}")))?;
-    }
-    if opts.summary {
-        if opts.json {
-            open = summary.json(&mut report, &roles);
-            report.push('\n');
-        } else {
-            open = summary.words(&mut report, &roles);
-        }
-    }
-    match (&opts.summary_file, opts.csv) {
-        (Some(path), _) => {
-            std::fs::write(path, report.as_bytes())
-                .map_err(|e| io::Error::new(e.kind(), format!("--summary-file {path}: {e}")))?;
-        }
-        (None, true) => diag.write_all(report.as_bytes())?,
-        (None, false) => text.push_str(&report),
-    }
-    out.write_all(text.as_bytes())?;
-    out.flush()?;
-    if let Some(s) = signals {
-        let (rows, columns) = s.finish()?;
-        let _ = writeln!(
-            diag,
-            "canopen-decode: --signals: {rows} row(s), {columns} signal(s)"
-        );
-    }
-    if let (Some(mut d), Some(path)) = (dbc, &opts.dbc) {
-        for (id, mapping) in &opts.pdos.given {
-            let catalogue = pdo_args::catalogue_of(
-                canopen_codec::cob_id::classify_standard(*id).node(),
-                &roles,
-                &learned,
-            );
-            d.given(*id, catalogue, *mapping);
-        }
-        let (messages, text) = d.text();
-        std::fs::write(path, text)
-            .map_err(|e| io::Error::new(e.kind(), format!("--dbc {path}: {e}")))?;
-        let _ = writeln!(diag, "canopen-decode: --dbc: {messages} message(s)");
-    }
+    let frames = run.frames;
+    let (mut bad, open) = run.finish(out, diag)?;
     if frames == 0 && lineno > 0 {
         let tried = reader
             .format()
@@ -625,7 +326,7 @@ pub fn run(
 /// type (1000h) of profile 418 or 419 gives the node its role unless one was
 /// given, and a Delta-Q vendor ID (1018h sub 1 or `VendorNumber`) makes it
 /// a Delta-Q device. Says what it took on `diag`.
-fn load_eds(
+pub fn load_eds(
     node: NodeId,
     path: &str,
     roles: &mut Roles,
@@ -728,7 +429,7 @@ fn load_eds(
 }
 
 /// A finished SDO transfer on the report's timeline, with its line in words.
-fn page_transfer(
+pub fn page_transfer(
     page: &mut report::Collector,
     report: &sdo::Report,
     roles: &Roles,
@@ -742,7 +443,7 @@ fn page_transfer(
 /// Writes the extra line of a finished SDO transfer (its objects named by
 /// the node's EDS catalogue `eds` where it has one); `pdo_note` says how it
 /// changed a PDO's configuration.
-fn transfer(
+pub fn transfer(
     out: &mut String,
     report: &sdo::Report,
     json: bool,

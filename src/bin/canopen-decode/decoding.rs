@@ -1,0 +1,441 @@
+//! One decoding run's state, fed frame by frame whatever the trace format
+//! (text lines or BLF objects): the SDO observer, the roles, the PDO
+//! mappings learned, the summary and the output not written yet.
+
+use std::io::{self, Write};
+
+use canopen_codec::sdo::Observed;
+use canopen_codec::trace::candump::LogLine;
+use canopen_codec::trace::Unsupported;
+use canopen_codec::{CanId, Message};
+
+use crate::{
+    csv, dbc, is_default, json, line_cache, load_eds, page_transfer, pdo_args, pdo_learn, report,
+    sdo, signals, summary, time_column, transfer, words, BlockSegment, FrameLine, Notes, Options,
+    Roles,
+};
+
+/// The output is appended to a text and written in blocks of about this
+/// many bytes (one write per block, no copy per line).
+const PAGE: usize = 64 * 1024;
+
+/// What a run carries from frame to frame.
+pub struct Decoding<'o> {
+    opts: &'o Options,
+    roles: Roles,
+    summary: summary::Summary,
+    /// The summary is collected (for `--summary` or the report's page).
+    collect: bool,
+    page: Option<report::Collector>,
+    /// Bad lines (or objects) so far.
+    pub bad: usize,
+    text: String,
+    times: time_column::TimeColumn,
+    sdo: sdo::Tracker,
+    learned: pdo_learn::Learned,
+    cache: line_cache::LineCache,
+    signals: Option<signals::Signals>,
+    dbc: Option<dbc::Dbc>,
+    /// Nodes with a node-guarding request not answered yet.
+    guarding: [bool; 128],
+    /// Frames decoded: a log none of whose lines is a frame is an error.
+    pub frames: usize,
+    /// Read but not decoded: CAN FD frames, error frames, other events.
+    unsupported: [usize; 3],
+}
+
+impl<'o> Decoding<'o> {
+    /// A run with the roles, EDS files, SDO channels and outputs `opts`
+    /// give (what `--eds` took said on `diag`).
+    pub fn new(opts: &'o Options, diag: &mut impl Write) -> io::Result<Self> {
+        let mut roles = opts.roles;
+        let mut sdo = sdo::Tracker::default();
+        let mut learned = pdo_learn::Learned::default();
+        for (node, path) in &opts.eds {
+            load_eds(*node, path, &mut roles, &mut sdo, &mut learned, diag)?;
+        }
+        for &channel in &opts.sdo_channels {
+            sdo.add_channel(channel)
+                .map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, format!("--sdo: {e}")))?;
+        }
+        let signals = opts
+            .signals
+            .as_deref()
+            .map(signals::Signals::create)
+            .transpose()?;
+        let mut text = String::with_capacity(2 * PAGE);
+        if opts.csv {
+            text.push_str(csv::HEADER);
+            text.push('\n');
+        }
+        Ok(Decoding {
+            opts,
+            roles,
+            summary: summary::Summary::default(),
+            // The report's page starts with the summary: collected for either.
+            collect: opts.summary || opts.report.is_some(),
+            page: opts.report.as_ref().map(|_| report::Collector::default()),
+            bad: 0,
+            text,
+            times: time_column::TimeColumn::new(if opts.json || opts.csv { 0 } else { 10 }),
+            sdo,
+            learned,
+            cache: line_cache::LineCache::new(!opts.no_cache),
+            signals,
+            dbc: opts.dbc.as_ref().map(|_| dbc::Dbc::default()),
+            guarding: [false; 128],
+            frames: 0,
+            unsupported: [0; 3],
+        })
+    }
+
+    /// A frame or event read but not decoded (CAN FD, error frames, other
+    /// events), said on `diag` at `at` and counted for the end of the run.
+    pub fn unsupported(
+        &mut self,
+        at: &dyn std::fmt::Display,
+        what: Unsupported,
+        detail: &dyn std::fmt::Display,
+        diag: &mut impl Write,
+    ) {
+        let _ = writeln!(diag, "{at}: {what:?} not decoded: {detail}");
+        let slot = match what {
+            Unsupported::CanFd => 0,
+            Unsupported::ErrorFrame => 1,
+            _ => 2,
+        };
+        if let Some(n) = self.unsupported.get_mut(slot) {
+            *n += 1;
+        }
+    }
+
+    /// Decodes one frame (`at` names its place in the trace for `diag`).
+    pub fn frame(
+        &mut self,
+        at: &dyn std::fmt::Display,
+        parsed: &LogLine<'_>,
+        out: &mut impl Write,
+        diag: &mut impl Write,
+    ) -> io::Result<()> {
+        self.frames += 1;
+        let Decoding {
+            opts,
+            roles,
+            summary,
+            collect,
+            page,
+            bad,
+            text,
+            times,
+            sdo,
+            learned,
+            cache,
+            signals,
+            dbc,
+            guarding,
+            frames: _,
+            unsupported: _,
+        } = self;
+        let (opts, collect) = (*opts, *collect);
+        // The SDO observer first: a frame on a declared SDO channel is SDO,
+        // and a block transfer's sub-block segment is no command.
+        let seen = sdo.handle(parsed.timestamp, &parsed.frame);
+        let (decoded, deviation) = if opts.strict {
+            (Message::decode(&parsed.frame), None)
+        } else {
+            match Message::decode_lenient(&parsed.frame) {
+                Ok((m, d)) => (Ok(m), d),
+                Err(e) => (Err(e), None),
+            }
+        };
+        let mut block_segment = None;
+        let decoded = match seen {
+            Observed::Request { channel, request } if !is_default(channel) => {
+                Ok(Message::SdoRequest {
+                    node: channel.node,
+                    sdo: request,
+                })
+            }
+            Observed::Response { channel, response } if !is_default(channel) => {
+                Ok(Message::SdoResponse {
+                    node: channel.node,
+                    sdo: response,
+                })
+            }
+            Observed::BlockSegment {
+                channel,
+                from,
+                seqno,
+                last,
+                data,
+            } => {
+                block_segment = Some(BlockSegment {
+                    node: channel.node,
+                    from,
+                    seqno,
+                    last,
+                    data,
+                });
+                decoded
+            }
+            _ => decoded,
+        };
+        if let (Err(e), None) = (&decoded, block_segment) {
+            let _ = writeln!(diag, "{at}: frame {} does not decode: {e}", parsed.frame);
+            *bad += 1;
+        }
+        // A reply on 700h + node after a remote request there is a guarding
+        // reply, whatever its toggle.
+        let guard_reply = match &decoded {
+            Ok(Message::NodeGuardRequest { node, .. }) => {
+                if let Some(g) = guarding.get_mut(usize::from(node.raw())) {
+                    *g = true;
+                }
+                false
+            }
+            Ok(Message::Heartbeat { node, .. }) => guarding
+                .get_mut(usize::from(node.raw()))
+                .is_some_and(std::mem::take),
+            _ => false,
+        };
+        let notes = Notes {
+            guard_reply,
+            deviation,
+            block_segment,
+        };
+        if let (true, Ok(msg)) = (collect, &decoded) {
+            summary.frame(
+                parsed.timestamp,
+                parsed.frame.id().raw(),
+                msg,
+                guard_reply,
+                roles,
+            );
+        }
+        if signals.is_some() || dbc.is_some() {
+            let applied = decoded
+                .as_ref()
+                .ok()
+                .and_then(|m| opts.pdos.mapping(&parsed.frame, m, roles, learned));
+            if let (Some((source, catalogue, mapping)), CanId::Standard(id)) =
+                (applied, parsed.frame.id())
+            {
+                if let Some(s) = signals.as_mut() {
+                    let fields = catalogue.decode(&mapping, parsed.frame.data());
+                    s.frame(parsed.timestamp, id, catalogue, &fields)?;
+                }
+                if let Some(note) = dbc
+                    .as_mut()
+                    .and_then(|d| d.frame(id, source, catalogue, mapping))
+                {
+                    let _ = writeln!(diag, "{note}");
+                }
+            }
+        }
+        if let (Some(page), Ok(msg)) = (page.as_mut(), &decoded) {
+            let fields = match msg {
+                Message::Tpdo { .. } | Message::Rpdo { .. } => {
+                    opts.pdos.fields(&parsed.frame, msg, roles, learned)
+                }
+                _ => None,
+            };
+            page.frame(
+                parsed.timestamp,
+                parsed.frame.id().raw(),
+                msg,
+                fields.as_ref().map(|(_, f)| f),
+                guard_reply,
+                roles,
+            );
+        }
+        if opts.frames {
+            if opts.csv {
+                csv::time(text, times, parsed.timestamp);
+            } else if opts.json {
+                json::time(text, times, parsed.timestamp);
+            } else {
+                words::time(text, times, parsed.timestamp);
+            }
+            // The text after the time depends on the frame alone for these
+            // (and on the roles and mappings, which clear the cache).
+            let cacheable = !guard_reply
+                && block_segment.is_none()
+                && matches!(
+                    decoded,
+                    Ok(Message::Tpdo { .. }
+                        | Message::Rpdo { .. }
+                        | Message::Heartbeat { .. }
+                        | Message::Emcy { .. }
+                        | Message::Nmt(_)
+                        | Message::Sync(_)
+                        | Message::Time(_)
+                        | Message::Unknown(_))
+                );
+            if !(cacheable && cache.get(&parsed.frame, text)) {
+                let start = text.len();
+                let fields = decoded
+                    .as_ref()
+                    .ok()
+                    .and_then(|m| opts.pdos.fields(&parsed.frame, m, roles, learned));
+                let line = FrameLine {
+                    log: parsed,
+                    decoded: &decoded,
+                    roles,
+                    fields: fields.as_ref(),
+                    notes: &notes,
+                };
+                if opts.csv {
+                    csv::rest(text, &line);
+                } else if opts.json {
+                    json::rest(text, &line);
+                } else {
+                    words::rest(text, &line);
+                }
+                if cacheable {
+                    cache.put(&parsed.frame, text.get(start..).unwrap_or(""));
+                }
+            }
+            text.push('\n');
+        }
+        for report in sdo
+            .has_reports()
+            .then(|| sdo.reports())
+            .into_iter()
+            .flatten()
+        {
+            if collect {
+                summary.transfer(&report);
+            }
+            if let Some(page) = page.as_mut() {
+                page_transfer(page, &report, roles, learned);
+            }
+            let role_learned = roles.learn(&report);
+            let pdo_note = learned.transfer(&report);
+            if role_learned.is_some() || pdo_note.is_some() {
+                cache.clear();
+            }
+            // CSV rows are frames only.
+            if !opts.frames || opts.csv {
+                continue;
+            }
+            let eds = learned.catalogue(report.node);
+            transfer(text, &report, opts.json, roles, eds, pdo_note.as_deref());
+            if let Some(said) = role_learned {
+                let what = if opts.json {
+                    format!(
+                            "{{\"kind\":\"role\",\"node\":{},\"role\":{},\"deltaq\":{},\"text\":\"node {} is {said}\"}}",
+                            report.node,
+                            roles
+                                .role(Some(report.node))
+                                .map_or("null".to_string(), |r| format!("\"{r}\"")),
+                            roles.deltaq == Some(report.node),
+                            report.node
+                        )
+                } else {
+                    format!("node {} is {said}", report.node)
+                };
+                text.push_str(&what);
+                text.push('\n');
+            }
+        }
+        if text.len() >= PAGE {
+            out.write_all(text.as_bytes())?;
+            text.clear();
+        }
+        Ok(())
+    }
+
+    /// Ends the run: the transfers still open, the summary, the report,
+    /// the signals and the DBC; returns the number of bad lines and whether
+    /// the summary found a problem still open at the end.
+    pub fn finish(self, out: &mut impl Write, diag: &mut impl Write) -> io::Result<(usize, bool)> {
+        let Decoding {
+            opts,
+            roles,
+            mut summary,
+            mut page,
+            bad,
+            mut text,
+            mut sdo,
+            learned,
+            signals,
+            dbc,
+            unsupported,
+            ..
+        } = self;
+        let [fd, errors, events] = unsupported;
+        if fd + errors + events > 0 {
+            let _ = writeln!(
+                diag,
+                "canopen-decode: read, not decoded: {fd} CAN FD frame(s), {errors} error frame(s), {events} other event(s)"
+            );
+        }
+        for report in sdo.finish() {
+            summary.transfer(&report);
+            if let Some(page) = page.as_mut() {
+                page_transfer(page, &report, &roles, &learned);
+            }
+            if opts.frames && !opts.csv {
+                let eds = learned.catalogue(report.node);
+                transfer(&mut text, &report, opts.json, &roles, eds, None);
+            }
+        }
+        let mut open = false;
+        // The summary follows the frames in words and JSON; it never enters a
+        // CSV stream (stderr then), and `--summary-file` takes it in any form.
+        let mut report = String::new();
+        if let (Some(page), Some(path)) = (&page, &opts.report) {
+            let mut words = String::new();
+            open = summary.words(&mut words, &roles);
+            let silences = summary.silences();
+            let title = opts
+                .file
+                .as_deref()
+                .or(opts.bundled.map(|_| "the bundled session"))
+                .unwrap_or("stdin");
+            let html = page.page(title, &words, &silences, &roles);
+            std::fs::write(path, html.as_bytes())
+                .map_err(|e| io::Error::new(e.kind(), format!("--report {path}: {e}")))?;
+        }
+        if opts.summary {
+            if opts.json {
+                open = summary.json(&mut report, &roles);
+                report.push('\n');
+            } else {
+                open = summary.words(&mut report, &roles);
+            }
+        }
+        match (&opts.summary_file, opts.csv) {
+            (Some(path), _) => {
+                std::fs::write(path, report.as_bytes())
+                    .map_err(|e| io::Error::new(e.kind(), format!("--summary-file {path}: {e}")))?;
+            }
+            (None, true) => diag.write_all(report.as_bytes())?,
+            (None, false) => text.push_str(&report),
+        }
+        out.write_all(text.as_bytes())?;
+        out.flush()?;
+        if let Some(s) = signals {
+            let (rows, columns) = s.finish()?;
+            let _ = writeln!(
+                diag,
+                "canopen-decode: --signals: {rows} row(s), {columns} signal(s)"
+            );
+        }
+        if let (Some(mut d), Some(path)) = (dbc, &opts.dbc) {
+            for (id, mapping) in &opts.pdos.given {
+                let catalogue = pdo_args::catalogue_of(
+                    canopen_codec::cob_id::classify_standard(*id).node(),
+                    &roles,
+                    &learned,
+                );
+                d.given(*id, catalogue, *mapping);
+            }
+            let (messages, text) = d.text();
+            std::fs::write(path, text)
+                .map_err(|e| io::Error::new(e.kind(), format!("--dbc {path}: {e}")))?;
+            let _ = writeln!(diag, "canopen-decode: --dbc: {messages} message(s)");
+        }
+        Ok((bad, open))
+    }
+}
