@@ -223,7 +223,12 @@ pub fn compare(
                         ),
                     );
                 }
-                if let (Some(rp), Some(vp)) = (r.period, v.period) {
+                // SDO requests and answers (580h-67Fh) have no period of
+                // their own: the client's pace sets it, and the player's
+                // pace is the replay's (`--speed`), so only the answers
+                // count for them (`unanswered_sdo`).
+                let sdo = (0x580..=0x67F).contains(&id);
+                if let (Some(rp), Some(vp), false) = (r.period, v.period, sdo) {
                     if (vp as f64 - rp as f64).abs() > rp as f64 * tol.period {
                         push(
                             "period",
