@@ -441,6 +441,34 @@ impl Objects {
         loop {
             match self.step {
                 Step::Signature { slack } => {
+                    // The usual case: the whole object at hand, read where
+                    // it lies (no copy).
+                    if let (0, Some(&base @ [b'L', b'O', b'B', b'J', ..])) =
+                        (self.have, input.first_chunk::<BASE_HEADER>())
+                    {
+                        let whole = *input;
+                        take(input, BASE_HEADER);
+                        self.offset += BASE_HEADER as u64;
+                        if let Some(event) = self.plan(&base)? {
+                            return Ok(Some(event));
+                        }
+                        let Step::Head { want, object_size } = self.step else {
+                            return Ok(None);
+                        };
+                        if let Some(head) = whole.get(..usize::from(want)) {
+                            let rest = usize::from(want) - BASE_HEADER;
+                            take(input, rest);
+                            self.offset += rest as u64;
+                            self.after_head(object_size, want);
+                            return self.object(head, start).map(Some);
+                        }
+                        // Not all at hand: on in the buffer.
+                        if let Some(dst) = self.buf.first_chunk_mut::<BASE_HEADER>() {
+                            *dst = base;
+                        }
+                        self.have = BASE_HEADER;
+                        continue;
+                    }
                     if !self.fill(input, 4) {
                         return Ok(None);
                     }
@@ -462,7 +490,8 @@ impl Objects {
                     if !self.fill(input, BASE_HEADER) {
                         return Ok(None);
                     }
-                    if let Some(event) = self.plan()? {
+                    let base = self.buf;
+                    if let Some(event) = self.plan(&base)? {
                         return Ok(Some(event));
                     }
                 }
@@ -470,8 +499,9 @@ impl Objects {
                     if !self.fill(input, usize::from(want)) {
                         return Ok(None);
                     }
-                    self.skip(object_size - u32::from(want));
-                    return self.object(start).map(Some);
+                    self.after_head(object_size, want);
+                    let head = self.buf;
+                    return self.object(&head, start).map(Some);
                 }
                 Step::Skip { left } => {
                     if left == 0 {
@@ -491,13 +521,22 @@ impl Objects {
         }
     }
 
+    /// After the first `want` bytes of the object: its rest skipped next.
+    fn after_head(&mut self, object_size: u32, want: u8) {
+        self.have = 0;
+        match object_size.saturating_sub(u32::from(want)) {
+            0 => self.step = Step::Signature { slack: 0 },
+            left => self.skip(left),
+        }
+    }
+
     /// After the base header: what to read of the object. An event when
     /// the object is skipped whole.
-    fn plan(&mut self) -> Result<Option<BlfEvent<'static>>, BlfError> {
-        let header_size = u16_at(&self.buf, 4);
-        let version = u16_at(&self.buf, 6);
-        let object_size = u32_at(&self.buf, 8);
-        let object_type = u32_at(&self.buf, 12);
+    fn plan(&mut self, base: &[u8]) -> Result<Option<BlfEvent<'static>>, BlfError> {
+        let header_size = u16_at(base, 4);
+        let version = u16_at(base, 6);
+        let object_size = u32_at(base, 8);
+        let object_type = u32_at(base, 12);
         if (object_size as usize) < BASE_HEADER.max(usize::from(header_size)) {
             return Err(BlfError::ObjectSmallerThanHeader {
                 object_size,
@@ -557,8 +596,11 @@ impl Objects {
     }
 
     /// The object held in the buffer, read; the step after it is set.
-    fn object(&mut self, start: Option<Timestamp>) -> Result<BlfEvent<'static>, BlfError> {
-        let b = &self.buf;
+    fn object(
+        &mut self,
+        b: &[u8],
+        start: Option<Timestamp>,
+    ) -> Result<BlfEvent<'static>, BlfError> {
         let header = usize::from(u16_at(b, 4));
         let object_size = u32_at(b, 8);
         let object_type = u32_at(b, 12);
