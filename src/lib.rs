@@ -41,7 +41,7 @@
 //! | a whole CiA 301 device (NMT slave, heartbeat, EMCY, SDO server, PDOs) | [`device`] |
 //! | program download (CiA 302-3: 1F50h-1F57h) | [`device::program`] (the store trait, the codes), `device::ProgramObjects` (feature `program-download`), [`sdo::ProgramDownload`] (the master) |
 //! | EDS and DCF files (CiA 306) | `eds` (feature `alloc`) |
-//! | read candump, PCAN, Vector ASC and CSV traces | [`trace`] ([`trace::candump`] for candump lines) |
+//! | read candump, PCAN, Vector ASC, CSV and BLF traces | [`trace`] ([`trace::candump`] for candump lines, [`trace::blf`] for BLF) |
 //! | the CiA 418 battery module | [`cia418`] |
 //! | CiA 419 charger objects | [`cia419`] |
 //! | the Delta-Q IC Series charger and its error codes | [`deltaq`] |

@@ -38,9 +38,11 @@
 //! `--format`: `candump` (candump `-L` log lines), `candump-screen`
 //! (candump screen output; `candump-screen-delta` for `-t d` times),
 //! `trc` (PCAN-View 1.0-2.1), `asc` (Vector ASC), `csv` (python-can CSV)
-//! (`canopen_codec::trace`). Header and comment lines are skipped; CAN FD
-//! and error frames are reported on stderr, line by line, and do not count
-//! as bad lines.
+//! (`canopen_codec::trace`), `blf` (Vector BLF, binary; a file beginning
+//! with `LOGG` is read as one: module `blf_input`). Header and comment
+//! lines are skipped; CAN FD and error frames are reported on stderr, line
+//! by line (object by object), counted at the end, and do not count as
+//! bad lines.
 //!
 //! With no FILE it reads stdin; with no FILE and a terminal on stdin it
 //! decodes the bundled session of the crate's own virtual charger and

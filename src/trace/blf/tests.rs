@@ -3,6 +3,7 @@
 //! containers; the zlib protocol with the test as the inflater).
 
 use super::*;
+use crate::frame::CanId;
 use std::string::String;
 use std::vec::Vec;
 
