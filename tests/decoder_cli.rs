@@ -350,6 +350,33 @@ fn every_trace_format_decodes_the_same_frames() {
     assert_eq!(o.status.code(), Some(1));
 }
 
+/// `rxtx` says which way a frame went where the trace tells (candump lines
+/// with python-can's `R` / `T` flag, `.trc` 1.1, ASC), also for the same
+/// frame seen both ways (its text comes from the line cache); a trace that
+/// does not tell gives no `rxtx`.
+#[test]
+fn json_rxtx_where_the_trace_says() {
+    let traces = [
+        "(1.0) can0 70A#05 R\n(1.1) can0 70A#05 T\n(1.2) can0 70A#05 R\n",
+        ";$FILEVERSION=1.1\n     1)      1000.0  Rx         070A  1  05\n\
+         \x20    2)      1100.0  Tx         070A  1  05\n     3)      1200.0  Rx         070A  1  05\n",
+        "base hex  timestamps absolute\n   1.000000 1  70A             Rx   d 1 05\n\
+         \x20  1.100000 2  70A             Tx   d 1 05\n   1.200000 1  70A             Rx   d 1 05\n",
+    ];
+    for trace in traces {
+        let o = run(&["--json"], Some(trace));
+        assert!(o.status.success(), "{trace}");
+        let rxtx: Vec<String> = text(&o)
+            .lines()
+            .map(|l| serde_json::from_str::<Value>(l).unwrap()["rxtx"].to_string())
+            .collect();
+        assert_eq!(rxtx, ["\"rx\"", "\"tx\"", "\"rx\""], "{trace}");
+    }
+    let o = run(&["--json"], Some("(1.0) can0 70A#05\n"));
+    let v: Value = serde_json::from_str(text(&o).trim()).unwrap();
+    assert!(v.get("rxtx").is_none(), "{v}");
+}
+
 /// CiA 301 node guarding: the reply to a remote request on 700h + node is a
 /// guarding reply whatever its toggle (the first reply has toggle 0); a
 /// frame there without a request is a heartbeat.

@@ -175,7 +175,8 @@ mod program {
     }
 
     /// The same frames as a BLF (stored, zlib) and as a candump log decode
-    /// to the same JSON lines.
+    /// to the same JSON lines (the BLF's frames are received: the log says
+    /// so with python-can's ` R` flag, and both give `"rxtx":"rx"`).
     #[test]
     fn blf_decodes_as_the_candump_log_of_the_same_frames() {
         let frames = frames();
@@ -183,7 +184,7 @@ mod program {
             .iter()
             .map(|(us, f)| {
                 let t = START_US + us;
-                format!("({}.{:06}) can0 {f}\n", t / 1_000_000, t % 1_000_000)
+                format!("({}.{:06}) can0 {f} R\n", t / 1_000_000, t % 1_000_000)
             })
             .collect();
         let text = tmp("same-frames.log", log.as_bytes());

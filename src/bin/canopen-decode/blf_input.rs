@@ -48,7 +48,13 @@ fn event(
                 interface: None,
                 frame: f.frame,
             };
-            run.frame(&format_args!("object {}", count.objects), &line, out, diag)?;
+            run.frame(
+                &format_args!("object {}", count.objects),
+                &line,
+                Some(f.direction),
+                out,
+                diag,
+            )?;
         }
         Ok(Some(BlfEvent::Unsupported {
             what, object_type, ..

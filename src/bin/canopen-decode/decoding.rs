@@ -6,7 +6,7 @@ use std::io::{self, Write};
 
 use canopen_codec::sdo::Observed;
 use canopen_codec::trace::candump::LogLine;
-use canopen_codec::trace::Unsupported;
+use canopen_codec::trace::{RxTx, Unsupported};
 use canopen_codec::{CanId, Message};
 
 use crate::{
@@ -109,11 +109,13 @@ impl<'o> Decoding<'o> {
         }
     }
 
-    /// Decodes one frame (`at` names its place in the trace for `diag`).
+    /// Decodes one frame (`at` names its place in the trace for `diag`;
+    /// `direction` is what the trace says of it, Rx or Tx, if anything).
     pub fn frame(
         &mut self,
         at: &dyn std::fmt::Display,
         parsed: &LogLine<'_>,
+        direction: Option<RxTx>,
         out: &mut impl Write,
         diag: &mut impl Write,
     ) -> io::Result<()> {
@@ -253,6 +255,8 @@ impl<'o> Decoding<'o> {
                 csv::time(text, times, parsed.timestamp);
             } else if opts.json {
                 json::time(text, times, parsed.timestamp);
+                // Before the cached text: the same frame may come either way.
+                json::rxtx(text, direction);
             } else {
                 words::time(text, times, parsed.timestamp);
             }

@@ -2,7 +2,8 @@
 //! text after `"t"` is what the line cache keeps and repeats; serde_json
 //! writes the rarer objects, a finished SDO transfer here and the summary).
 //!
-//! Keys: `t` (seconds or null), `id`, `kind` (nmt, sync, time, emcy, tpdo,
+//! Keys: `t` (seconds or null), `rxtx` (`rx` / `tx`, only when the
+//! trace says), `id`, `kind` (nmt, sync, time, emcy, tpdo,
 //! rpdo, sdo_rx, sdo_tx, heartbeat, lss, unknown), `node` (or null), `role`,
 //! `dlc`, `data` (hex), then per-kind fields; `error` when the frame does not
 //! fit its object; `mapping`, `unmapped_bytes` and `fields` when a PDO
@@ -116,6 +117,17 @@ pub fn time(
     match timestamp {
         Some(t) => column.write(out, t),
         None => out.push_str("null"),
+    }
+}
+
+/// `,"rxtx":"rx"` or `"tx"` when the trace says which (ASC, `.trc`
+/// 1.1 and later, BLF, candump lines with python-can's `R` / `T` flag);
+/// nothing when it does not.
+pub fn rxtx(out: &mut String, direction: Option<canopen_codec::trace::RxTx>) {
+    match direction {
+        Some(canopen_codec::trace::RxTx::Rx) => out.push_str(",\"rxtx\":\"rx\""),
+        Some(canopen_codec::trace::RxTx::Tx) => out.push_str(",\"rxtx\":\"tx\""),
+        None => {}
     }
 }
 

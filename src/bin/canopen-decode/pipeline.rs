@@ -282,12 +282,15 @@ pub fn run(
                     continue;
                 }
             };
-            let parsed = match reader.parse(line) {
-                Ok(Record::Frame(f)) => LogLine {
-                    timestamp: f.timestamp,
-                    interface: f.channel,
-                    frame: f.frame,
-                },
+            let (parsed, direction) = match reader.parse(line) {
+                Ok(Record::Frame(f)) => (
+                    LogLine {
+                        timestamp: f.timestamp,
+                        interface: f.channel,
+                        frame: f.frame,
+                    },
+                    f.direction,
+                ),
                 Ok(Record::Unsupported(what)) => {
                     run.unsupported(&format_args!("line {lineno}"), what, &line, diag);
                     continue;
@@ -299,7 +302,13 @@ pub fn run(
                     continue;
                 }
             };
-            run.frame(&format_args!("line {lineno}"), &parsed, out, diag)?;
+            run.frame(
+                &format_args!("line {lineno}"),
+                &parsed,
+                direction,
+                out,
+                diag,
+            )?;
         }
     }
     let frames = run.frames;
