@@ -186,12 +186,39 @@ fn python_can_trc_2_1_with_start_time_and_columns() {
     let out = run(&mut p, &lines);
     assert_eq!(out[..4], ["meta", "meta", "meta", "meta"]);
     // $STARTTIME is 2025-09-04 03:14:13.603308 UTC (python-can wrote the
-    // first frame's own timestamp, 1756955653.603308, at offset 0).
+    // first frame's own timestamp, 1756955653.603308, at offset 0; the
+    // float of days is ...603307.9424 us, read to the nearest).
     let start: i128 = out[4].split(' ').next().unwrap().parse().unwrap();
-    assert!((start - 1_756_955_653_603_308).abs() <= 1, "{start}");
+    assert_eq!(start, 1_756_955_653_603_308);
     assert!(out[4].ends_with(" 18A#7413454E70000000 1 Rx"));
     assert_eq!(out[5], format!("{} 18DAF110#0102 1 Rx", start + 96_692));
     assert_eq!(out[6], format!("{} 000#010A 1 Tx", start + 196_692));
+}
+
+/// `$STARTTIME` is read to the nearest microsecond, not truncated: the
+/// python-can interop run (tests/interop/python_can_interop.py, seed 418)
+/// wrote a first frame at 1756955653.123457 as `45904.13487411408` days,
+/// ...123456.512 us, and the frames read 1 us early.
+#[test]
+fn trc_start_time_to_the_nearest_microsecond() {
+    for (start, want) in [
+        ("45904.13487411408", 1_756_955_653_123_457u64),
+        ("45904.134879667916", 1_756_955_653_603_308),
+        // A whole day; 0.5184 us and 0.432 us after 1970-01-01.
+        ("25570", 86_400_000_000),
+        ("25569.000000000006", 1),
+        ("25569.000000000005", 0),
+    ] {
+        let header = format!(";$STARTTIME={start}");
+        let mut p = LineParser::new(Format::PcanTrc);
+        let lines = [
+            ";$FILEVERSION=2.1",
+            header.as_str(),
+            "      0         0.000 DT  1     018A Rx -  1    74",
+        ];
+        let out = run(&mut p, &lines);
+        assert_eq!(out[2], format!("{want} 18A#74 1 Rx"), "{start}");
+    }
 }
 
 #[test]

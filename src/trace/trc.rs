@@ -210,8 +210,8 @@ fn header_line(h: &str, state: &mut State) {
     }
 }
 
-/// Days since 1899-12-30 (fractional) as UNIX microseconds; `None` before
-/// 1970.
+/// Days since 1899-12-30 (fractional) as UNIX microseconds, to the nearest
+/// microsecond; `None` before 1970.
 fn start_time(value: &str) -> Option<u64> {
     let (int, frac) = value.split_once('.').unwrap_or((value, ""));
     let days = u64::from(dec_u32(int)?);
@@ -226,6 +226,11 @@ fn start_time(value: &str) -> Option<u64> {
         .bytes()
         .fold(0u128, |a, b| a * 10 + u128::from(b - b'0'));
     let den = 10u128.pow(u32::try_from(digits.len()).unwrap_or(0));
-    us = us.checked_add(u64::try_from(num * u128::from(DAY_US) / den).ok()?)?;
+    // To the nearest microsecond: a writer's start time in whole
+    // microseconds comes back as a float of days a fraction of a
+    // microsecond off either way (python-can's 45904.13487411408 is
+    // ...123456.512 us for ...123457), which truncation would lose.
+    let fraction_us = (num * u128::from(DAY_US) + den / 2) / den;
+    us = us.checked_add(u64::try_from(fraction_us).ok()?)?;
     Some(us)
 }
