@@ -117,8 +117,10 @@ def main():
         t0 = time.time()
         time.sleep(1.2)
         tpdo = frames(bus, 0x201, t0)
-        check("charger TPDO 0 on the module's RPDO 0 COB-ID 201h, about every 200 ms",
-              4 <= len(tpdo) <= 8 and all(d == b"\x01" for _, d in tpdo), tpdo)
+        # 6001h is the charge control's: the module never said ready
+        # (6000h = 0), so the charger is not charging (00).
+        check("charger TPDO 0 on the module's RPDO 0 COB-ID 201h, about every 200 ms, 6001h = 00",
+              4 <= len(tpdo) <= 8 and all(d == b"\x00" for _, d in tpdo), tpdo)
         check("charger heartbeat reports operational",
               wait_until(lambda: frames(bus, 0x700 + CHARGER, t0)[-1:] and
                          frames(bus, 0x700 + CHARGER, t0)[-1][1] == b"\x05", 2))
