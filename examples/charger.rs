@@ -57,7 +57,7 @@ use std::time::Duration;
 
 use bus::PipeBus;
 use canopen_codec::cia418::Chemistry;
-use canopen_codec::deltaq::charge::{ChargeEvent, PowerStage};
+use canopen_codec::deltaq::charge::ChargeEvent;
 use canopen_codec::deltaq::{
     charger_eds, Charger, ChargerAppDictionary, ChargerConfig, ChargerEvent,
 };
@@ -513,20 +513,7 @@ fn main() -> ExitCode {
             p.next_report = boot;
             p.step(boot, &mut d.charger);
         }
-        None => {
-            // Fixed readings: the power stage reports them as measured,
-            // so the charge control publishes them (2002h, 2100h, 2101h).
-            d.charger.update(boot, set_objects);
-            d.charger.handle_power_stage(
-                boot,
-                PowerStage {
-                    ac_present: true,
-                    voltage_mv: (voltage * 1000.0).round() as u32,
-                    current_ma: (current * 1000.0).round() as u32,
-                    temperature_c: 25,
-                },
-            );
-        }
+        None => d.charger.update(boot, set_objects),
     }
     runner.flush(boot);
     runner.run(o.linger);
