@@ -601,7 +601,9 @@ fn main() -> ExitCode {
         let mut sim = Simulation {
             pack,
             bms,
-            returned: ReturnedCharge::new(),
+            // Twice what it asks for at most: a bunched 6052h report (the
+            // module's steps stalled and caught up) flows over the next steps.
+            returned: ReturnedCharge::with_max_rate(2.0 * f64::from(p.max_charge_current)),
             clock_s: 0.0,
             next: boot,
             next_report: boot,

@@ -51,10 +51,12 @@ pub struct ReturnedCharge {
     last_rise_s: Option<f64>,
     pending_ah: f64,
     rate_a: f64,
+    max_rate_a: f64,
 }
 
-/// No more than this flows, whatever the reports say (a charger reporting
-/// a jump of kAh in a second is not followed into absurd numbers), A.
+/// No more than this flows by default, whatever the reports say (a
+/// charger reporting a jump of kAh in a second is not followed into
+/// absurd numbers), A.
 const MAX_RATE_A: f64 = 10_000.0;
 
 impl ReturnedCharge {
@@ -66,7 +68,20 @@ impl ReturnedCharge {
             last_rise_s: None,
             pending_ah: 0.0,
             rate_a: 0.0,
+            max_rate_a: MAX_RATE_A,
         }
+    }
+
+    /// The same, flowing at most `amps` (a module's own bound: a report
+    /// that bunches up, as when the module's steps stall and catch up, then
+    /// flows over the next steps instead of as one spike of current).
+    #[must_use]
+    pub fn with_max_rate(amps: f64) -> Self {
+        let mut r = Self::new();
+        if amps > 0.0 {
+            r.max_rate_a = amps.min(MAX_RATE_A);
+        }
+        r
     }
 
     /// Takes the 6052h value seen at `at_s` (simulated seconds); returns
@@ -86,10 +101,10 @@ impl ReturnedCharge {
         let added_ah = f64::from(added) / 8.0;
         if added > 0 {
             if let Some(span) = self.last_rise_s.map(|t| at_s - t).filter(|s| *s > 0.0) {
-                self.rate_a = (added_ah * 3600.0 / span).min(MAX_RATE_A);
+                self.rate_a = (added_ah * 3600.0 / span).min(self.max_rate_a);
             } else if self.rate_a == 0.0 {
                 // Two reports at one instant: all of it in the next step.
-                self.rate_a = MAX_RATE_A;
+                self.rate_a = self.max_rate_a;
             }
             self.last_rise_s = Some(at_s);
             self.pending_ah += added_ah;
@@ -137,6 +152,21 @@ mod tests {
         let flowed: f64 = (0..100).map(|_| r.draw(1.0) / 3600.0).sum();
         assert!((flowed - 0.375).abs() < 1e-9, "{flowed}");
         assert_eq!(r.pending_ah(), 0.0);
+    }
+
+    #[test]
+    fn a_bound_spreads_a_bunched_report() {
+        let mut r = ReturnedCharge::with_max_rate(50.0);
+        r.report(0.0, EighthAmpHours::from_raw(0));
+        // 2 Ah reported 0.25 s after the baseline: 50 A until it has flowed.
+        r.report(0.25, EighthAmpHours::from_raw(16));
+        let mut flowed = 0.0;
+        for _ in 0..144 {
+            let i = r.draw(1.0);
+            assert!(i <= 50.0 + 1e-9, "{i}");
+            flowed += i / 3600.0;
+        }
+        assert!((flowed - 2.0).abs() < 1e-9, "{flowed}");
     }
 
     #[test]
