@@ -35,26 +35,13 @@ import tempfile
 import time
 
 import canopen
-from pipebus import Cases, PipeBus
+from pipebus import Cases, PipeBus, frames, wait_until
 
 CHARGER = 10
 BATTERY = 1
 
 CASES = Cases()
 check = CASES.check
-
-
-def frames(bus, cob_id, since):
-    return [(ts, d) for ts, i, d in bus.seen if i == cob_id and ts >= since]
-
-
-def wait_until(pred, seconds):
-    end = time.time() + seconds
-    while time.time() < end:
-        if pred():
-            return True
-        time.sleep(0.05)
-    return pred()
 
 
 def u16(node, index, sub=0):

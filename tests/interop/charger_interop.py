@@ -21,7 +21,7 @@ import time
 import canopen
 from canopen.objectdictionary import ODRecord, ODVariable, ObjectDictionary
 from canopen.objectdictionary.datatypes import UNSIGNED8, UNSIGNED16, UNSIGNED32
-from pipebus import Cases, PipeBus
+from pipebus import Cases, PipeBus, frames, wait_until
 
 CHARGER = 10
 BATTERY = 1
@@ -68,19 +68,6 @@ def charger_od():
     od.add_object(var("Device type", 0x1000, 0, UNSIGNED32, "ro", 0))
     od.add_object(var("Producer heartbeat time", 0x1017, 0, UNSIGNED16, "rw", 0))
     return od
-
-
-def frames(bus, cob_id, since):
-    return [(ts, d) for ts, i, d in bus.seen if i == cob_id and ts >= since]
-
-
-def wait_until(pred, seconds):
-    end = time.time() + seconds
-    while time.time() < end:
-        if pred():
-            return True
-        time.sleep(0.02)
-    return pred()
 
 
 def charger_network(bus):

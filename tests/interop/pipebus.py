@@ -1,7 +1,7 @@
 """PipeBus: a python-can bus whose other end is a child process speaking
-candump log lines on its stdin/stdout (the crate's example programs), and
-Cases, the counted cases of one run. Shared by the interop scripts in this
-directory."""
+candump log lines on its stdin/stdout (the crate's example programs),
+Cases, the counted cases of one run, and the two waits the scripts share
+(frames, wait_until). Shared by the interop scripts in this directory."""
 
 import queue
 import re
@@ -112,3 +112,18 @@ class Cases:
     def finish(self):
         print(f"{self.cases} interop cases, {len(self.failures)} failed")
         sys.exit(1 if self.failures else 0)
+
+
+def frames(bus, cob_id, since):
+    """(time, data) of every frame `cob_id` the node sent at or after `since`."""
+    return [(ts, d) for ts, i, d in bus.seen if i == cob_id and ts >= since]
+
+
+def wait_until(pred, seconds):
+    """Polls `pred` every 20 ms for up to `seconds`; returns its last value."""
+    end = time.time() + seconds
+    while time.time() < end:
+        if pred():
+            return True
+        time.sleep(0.02)
+    return pred()

@@ -23,7 +23,7 @@ import zlib
 
 import canopen
 from canopen.objectdictionary import ObjectDictionary
-from pipebus import Cases, PipeBus
+from pipebus import Cases, PipeBus, wait_until
 
 CHARGER = 10
 BATTERY = 1
@@ -31,15 +31,6 @@ IMAGE_LEN = 5000
 
 CASES = Cases()
 check = CASES.check
-
-
-def wait_until(pred, seconds):
-    end = time.time() + seconds
-    while time.time() < end:
-        if pred():
-            return True
-        time.sleep(0.02)
-    return pred()
 
 
 def block_download(charger, data):
