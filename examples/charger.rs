@@ -274,6 +274,10 @@ fn describe(e: &ChargerEvent) -> Option<String> {
         ChargerEvent::BatteryLost => {
             "event: battery module heartbeat lost: EMCY E-0-3-2, TPDOs stopped".to_string()
         }
+        ChargerEvent::BatteryGone => {
+            "event: battery module gone (no heartbeat for 2000 ms): EMCY E-0-3-0, leaving operational"
+                .to_string()
+        }
         ChargerEvent::Configured { tpdos, rpdos } => format!(
             "event: PDO COB-IDs configured: TPDOs {tpdos:04b}, RPDOs {rpdos:04b} (bit n = PDO n)"
         ),

@@ -114,6 +114,7 @@ fn run_with(scenario: Scenario, options: &ScenarioOptions) -> Session {
 
 /// E-0-3-2 (8020h), E-0-2-9 (801Dh), E-0-4-5 (802Dh) as their EMCY words.
 const E_0_3_2: u16 = 0x8020;
+const E_0_3_0: u16 = 0x801E;
 const E_0_2_9: u16 = 0x801D;
 const E_0_4_5: u16 = 0x802D;
 
@@ -277,13 +278,20 @@ fn reduce_current_and_voltage() {
 #[test]
 fn bms_lost_before_the_charge_starts_then_the_hold_off_charges() {
     let s = run(Scenario::BmsLostBefore);
-    // The heartbeat is lost 2 s after the module's last one (at 5 s).
+    // The heartbeat is lost 2 s after the module's last one (at 5 s),
+    // and with the 2000 ms consumer time the module is gone then too.
     let e = emcys(&s);
-    assert_eq!(e.len(), 1);
+    assert_eq!(e.len(), 2, "{e:?}");
     assert!(
         close(e[0].0, 7.0, 0.01) && e[0].1 == 0x8130 && e[0].2 == E_0_3_2,
         "{e:?}"
     );
+    assert!(
+        close(e[1].0, 7.0, 0.01) && e[1].1 == 0x8130 && e[1].2 == E_0_3_0,
+        "{e:?}"
+    );
+    // The charger left operational: its heartbeat says pre-operational.
+    assert_eq!(frames(&s, 0x70A).last().unwrap().data, [0x7F]);
     // Not ready: no charge while it was there; then the no-CAN algorithm.
     let r = s.result();
     let bulk = r
@@ -305,8 +313,11 @@ fn bms_lost_before_the_charge_starts_then_the_hold_off_charges() {
 fn bms_lost_during_a_remote_charge_stops_it_with_e_0_3_2() {
     let s = run(Scenario::BmsLostDuring);
     let e = emcys(&s);
-    assert_eq!(e.iter().map(|x| x.2).collect::<Vec<_>>(), [E_0_3_2]);
-    assert!(close(e[0].0, 602.0, 0.01));
+    assert_eq!(
+        e.iter().map(|x| x.2).collect::<Vec<_>>(),
+        [E_0_3_2, E_0_3_0]
+    );
+    assert!(close(e[0].0, 602.0, 0.01) && close(e[1].0, 602.0, 0.01));
     let status = charger_status(&s);
     assert!(
         close(status.last().unwrap().1, 25.0, 0.1),
@@ -324,7 +335,12 @@ fn bms_lost_during_a_local_charge_carries_on() {
         ..ScenarioOptions::default()
     };
     let s = run_with(Scenario::BmsLostDuring, &options);
-    assert_eq!(emcys(&s).iter().map(|x| x.2).collect::<Vec<_>>(), [E_0_3_2]);
+    assert_eq!(
+        emcys(&s).iter().map(|x| x.2).collect::<Vec<_>>(),
+        [E_0_3_2, E_0_3_0]
+    );
+    // Pre-operational, so no TPDOs, but the local charge goes on.
+    assert_eq!(frames(&s, 0x70A).last().unwrap().data, [0x7F]);
     assert_eq!(s.phase(), ChargePhase::Bulk);
     assert!(close(s.stage.current_a, 25.0, 0.01));
 }
@@ -413,12 +429,29 @@ fn ah_target_completes_the_charge() {
 fn communication_restored_reconfigures_and_resumes() {
     let s = run(Scenario::CommunicationRestored);
     let e = emcys(&s);
-    assert_eq!(e.len(), 2, "{e:?}");
+    assert_eq!(e.len(), 3, "{e:?}");
     assert!(close(e[0].0, 302.0, 0.01) && e[0].2 == E_0_3_2);
+    assert!(close(e[1].0, 302.0, 0.01) && e[1].2 == E_0_3_0);
     assert!(
-        e[1].1 == 0 && e[1].0 > 330.0 && e[1].0 < 331.1,
+        e[2].1 == 0 && e[2].0 > 330.0 && e[2].0 < 331.1,
         "error reset on reconfiguration"
     );
+    // Gone, the charger left operational; the BMS started it again at
+    // its first pre-operational heartbeat after the module came back.
+    let states: Vec<(f64, u8)> = frames(&s, 0x70A).iter().map(|f| (f.t, f.data[0])).collect();
+    assert!(
+        states
+            .iter()
+            .any(|&(t, st)| t > 302.0 && t < 331.0 && st == 0x7F),
+        "{states:?}"
+    );
+    assert_eq!(states.last().unwrap().1, 0x05);
+    let starts: Vec<f64> = frames(&s, 0x000)
+        .iter()
+        .filter(|f| f.data == [0x01, 0x0A])
+        .map(|f| f.t)
+        .collect();
+    assert!(starts.iter().any(|&t| t > 330.0 && t < 332.0), "{starts:?}");
     // The charger read the module's device type again when it came back.
     let reads: Vec<f64> = frames(&s, 0x601)
         .iter()

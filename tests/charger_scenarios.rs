@@ -13,6 +13,7 @@ use canopen_codec::deltaq::Reaction;
 use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
 use canopen_codec::device::DeviceEvent;
 use canopen_codec::emcy::ErrorCode;
+use canopen_codec::nmt::NmtState;
 use canopen_codec::sdo::AbortCode;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 use common::devices::{boot_all, charger_bus};
@@ -159,27 +160,40 @@ fn battery_lost_during_charge_then_restored() {
     bus.unplug(b);
     bus.run_until(ms(5000));
     // Last heartbeat received at 2000.5: lost at 4000.5, E-0-3-2 as in the
-    // real capture; the charger's TPDOs stop.
+    // real capture; the charger's TPDOs stop. With the 2000 ms consumer
+    // time the module is gone at once after it: E-0-3-0 (the capture's
+    // second EMCY) and the charger leaves operational.
     assert_eq!(
         bus.frames_on(0x08A),
-        [(4_000_500, vec![0x30, 0x81, 0x01, 0x20, 0x80, 0, 0, 0])]
+        [
+            (4_000_500, vec![0x30, 0x81, 0x01, 0x20, 0x80, 0, 0, 0]),
+            (4_000_501, vec![0x30, 0x81, 0x01, 0x1E, 0x80, 0, 0, 0]),
+        ]
     );
     let tpdos = bus.frames_on(0x201);
     assert_eq!(tpdos.last().unwrap().0, 3_900_500, "no TPDO after the loss");
     let charger = bus.machine(c);
-    assert_eq!(charger.comm().errors(), &[0x2080_8130]);
+    // 1003h, newest first.
+    assert_eq!(charger.comm().errors(), &[0x1E80_8130, 0x2080_8130]);
     assert!(!charger.is_configured());
-    assert!(events(&bus, c).contains(&ChargerEvent::BatteryLost));
+    assert_eq!(charger.nmt_state(), NmtState::PreOperational);
+    let seen = events(&bus, c);
+    let lost = seen.iter().position(|e| *e == ChargerEvent::BatteryLost);
+    let gone = seen.iter().position(|e| *e == ChargerEvent::BatteryGone);
+    assert!(lost.is_some() && gone > lost, "{seen:?}");
     // Communication restored: a new module boots at 6000 ms; the charger
-    // re-reads the configuration, clears the error and resumes its TPDO.
+    // re-reads the configuration and clears the error; the BMS starts it
+    // again and its TPDO resumes.
     bus.plug(b, battery());
     bus.run_until(ms(6000));
     bus.with(b, |m, now| m.boot(now));
+    bus.run_until(ms(6100));
+    bus.inject(CanFrame::standard(0x000, &[0x01, 0x0A]).unwrap());
     bus.run_until(ms(6300));
     assert_eq!(
         bus.lines(6000, 6300),
         [
-            "  6000.000 Charger 70A#05",
+            "  6000.000 Charger 70A#7F",
             "  6000.000 Battery 701#00",
             "  6000.500 Charger 601#4000100000000000",
             "  6001.000 Battery 581#43001000A2010000",
@@ -188,8 +202,8 @@ fn battery_lost_during_charge_then_restored() {
             "  6002.500 Charger 601#4000180100000000",
             "  6003.000 Battery 581#4300180181010000",
             "  6003.500 Charger 08A#0000000000000000",
-            "  6003.500 Charger 201#00",
-            "  6203.500 Charger 201#00",
+            "  6100.000 Test 000#010A",
+            "  6100.500 Charger 201#00",
         ]
     );
     assert!(bus.machine(c).is_configured());
@@ -215,6 +229,8 @@ fn battery_lost_before_charge() {
             // configuration transfer is given up with a general-error abort.
             "  2000.500 Charger 08A#3081012080000000",
             "  2000.500 Charger 601#8000100000000008",
+            // Gone (already pre-operational, so no state change).
+            "  2000.501 Charger 08A#3081011E80000000",
         ]
     );
 }

@@ -90,6 +90,7 @@ fn recorded_session_is_what_the_nodes_produce() {
     // It shows what it should: configuration reads, the loss, the recovery.
     assert!(fresh.contains("vcan0 601#4000100000000000"));
     assert!(fresh.contains("vcan0 08A#3081012080000000"));
+    assert!(fresh.contains("vcan0 08A#3081011E80000000"));
     assert!(fresh.contains("vcan0 08A#0000000000000000"));
     assert_eq!(
         fresh.matches("vcan0 701#00").count(),

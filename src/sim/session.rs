@@ -11,7 +11,10 @@
 //! [`SessionConfig::tick`]: the power stage follows the charger's set
 //! points, the pack takes its current, the charger gets the measurements
 //! and the module's objects (6000h, 6010h, 6060h, 6070h, 6081h) come from
-//! the pack and the [`BmsPolicy`].
+//! the pack and the [`BmsPolicy`]. The module's side is the NMT master, as
+//! the BMS in the real ICL1500 capture: it starts every node at 20 ms and
+//! starts the charger again whenever its heartbeat says pre-operational
+//! (the charger leaves operational when it takes the module as gone).
 
 use alloc::vec::Vec;
 use core::time::Duration;
@@ -157,6 +160,9 @@ pub struct Session {
     /// The module's charge policy.
     pub bms: BmsPolicy,
     module_on_can: bool,
+    /// The BMS heard the charger in pre-operational (it left operational
+    /// when the module was gone): it starts it again.
+    restart_charger: bool,
     /// Enable the charger's TPDO 3 (0x48A: 2002h, 2100h, 2006h) by SDO
     /// once the charger is configured, as a monitoring BMS does.
     pub enable_charger_tpdo3: bool,
@@ -188,6 +194,7 @@ impl Session {
             stage: PowerStageModel::new(f64::from(config.charger.charge.max_power_w)),
             bms,
             module_on_can: config.module_on_can,
+            restart_charger: false,
             enable_charger_tpdo3: true,
             pending_writes: Vec::new(),
             log: Vec::new(),
@@ -445,6 +452,13 @@ impl Session {
                 moved = true;
                 self.deliver(Node::Tool, f);
             }
+            if core::mem::take(&mut self.restart_charger) {
+                let start = [0x01, CHARGER_NODE.raw()];
+                if let Ok(f) = CanFrame::standard(0x000, &start) {
+                    moved = true;
+                    self.deliver(Node::Module, f);
+                }
+            }
             self.drain_events();
             if !moved {
                 break;
@@ -455,6 +469,16 @@ impl Session {
     fn deliver(&mut self, from: Node, frame: CanFrame) {
         let now = self.now;
         self.log.push(Logged { at: now, frame });
+        // The BMS is the NMT master (as in the real capture): a charger
+        // heartbeat saying pre-operational is started again.
+        let charger_heartbeat = 0x700 + u32::from(CHARGER_NODE.raw());
+        if from == Node::Charger
+            && self.module_on_can
+            && frame.identity() == charger_heartbeat
+            && frame.data() == [0x7F]
+        {
+            self.restart_charger = true;
+        }
         if from != Node::Charger {
             self.charger.handle_frame(now, &frame);
         }

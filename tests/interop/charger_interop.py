@@ -9,8 +9,10 @@ charger (node 10: NMT start as the real capture's BMS does with 000#010A,
 SDO reads of the charger's objects, its EMCY consumer). Then the battery's
 heartbeat stops: the charger must raise E-0-3-2 (EMCY 8130h, register 01h,
 Delta-Q code 8020h little-endian) and keep it in 1003h with the Delta-Q byte
-order; then the heartbeat comes back and the charger reconfigures and sends
-an error reset.
+order, then E-0-3-0 when it takes the module as gone (2000 ms without a
+heartbeat) and leave operational, as the real ICL1500 does; then the
+heartbeat comes back, the charger reconfigures and sends an error reset,
+and python-canopen as the master starts it again.
 
 usage: charger_interop.py PATH/TO/charger
 """
@@ -136,11 +138,23 @@ def main():
               e and (hex(e.code), e.register, bytes(e.data).hex()))
         check("lost after the 2000 ms consumer time", e is not None and 1.6 <= e.timestamp - t1 <= 3.5,
               e and e.timestamp - t1)
-        time.sleep(0.6)
+        # With the 2000 ms consumer time the module is gone at once after
+        # the loss: E-0-3-0, and the charger leaves operational (as the
+        # real ICL1500 does in the capture).
+        gone = wait_until(lambda: len(charger.emcy.log) >= 2, 2)
+        g = charger.emcy.log[1] if gone else None
+        check("module gone: EMCY 8130h, Delta-Q E-0-3-0 (1E 80 ...) right after E-0-3-2",
+              g is not None and g.code == 0x8130 and bytes(g.data[:2]) == b"\x1e\x80"
+              and g.timestamp - e.timestamp < 0.5,
+              g and (hex(g.code), bytes(g.data).hex()))
+        time.sleep(1.2)
         check("charger TPDOs stop", not frames(bus, 0x201, time.time() - 0.5))
-        check("1003h:00 = 1", charger.sdo.upload(0x1003, 0) == b"\x01")
-        check("1003h:01 = 20808130h (Delta-Q byte order)",
-              charger.sdo.upload(0x1003, 1) == (0x20808130).to_bytes(4, "little"))
+        hb = frames(bus, 0x70A, time.time() - 1.1)
+        check("the charger's heartbeat says pre-operational (70A#7F)", hb and hb[-1][1] == b"\x7f", hb)
+        check("1003h:00 = 2", charger.sdo.upload(0x1003, 0) == b"\x02")
+        check("1003h:01 = 1E808130h, 1003h:02 = 20808130h (Delta-Q byte order, newest first)",
+              (charger.sdo.upload(0x1003, 1), charger.sdo.upload(0x1003, 2))
+              == ((0x1E808130).to_bytes(4, "little"), (0x20808130).to_bytes(4, "little")))
         # The battery is back: boot-up and heartbeat.
         net.send_message(0x700 + BATTERY, [0x00])
         battery.nmt.start_heartbeat(200)
@@ -149,10 +163,15 @@ def main():
         check("the configuration was read again", reads.count((0x1000, 0)) == 2, reads)
         t2 = time.time()
         time.sleep(0.7)
-        check("charger TPDOs resume", len(frames(bus, 0x201, t2)) >= 2)
+        check("pre-operational: no TPDO until the master starts it", not frames(bus, 0x201, t2))
+        charger.nmt.state = "OPERATIONAL"
+        t3 = time.time()
+        time.sleep(0.7)
+        check("started again: charger TPDOs resume", len(frames(bus, 0x201, t3)) >= 2)
         charger.sdo.download(0x1003, 0, b"\x00")
         check("writing 0 to 1003h:00 clears the history", charger.sdo.upload(0x1003, 0) == b"\x00")
-        check("no EMCY beyond E-0-3-2 and the reset", [x.code for x in charger.emcy.log] == [0x8130, 0],
+        check("no EMCY beyond E-0-3-2, E-0-3-0 and the reset",
+              [x.code for x in charger.emcy.log] == [0x8130, 0x8130, 0],
               [hex(x.code) for x in charger.emcy.log])
     finally:
         battery.nmt.stop_heartbeat()
@@ -160,6 +179,7 @@ def main():
     events = [l for l in bus.stderr_lines if l.startswith("event:")]
     check("the charger reported the loss and the recovery in words",
           any("heartbeat lost" in l for l in events) and
+          any("module gone" in l for l in events) and
           sum("configured" in l for l in events) == 2, events)
     CASES.finish()
 

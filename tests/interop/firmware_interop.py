@@ -362,18 +362,27 @@ def charger_cases(bus, net, battery_node, node, reads):
           e and (hex(e.code), e.register, bytes(e.data).hex()))
     check("charger: after the 2000 ms consumer time",
           e is not None and 1.6 <= e.timestamp - t1 <= 3.5, e and e.timestamp - t1)
-    time.sleep(0.6)
+    gone = wait_until(lambda: len(node.emcy.log) >= 2, 2)
+    g = node.emcy.log[1] if gone else None
+    check("charger: module gone -> EMCY 8130h, Delta-Q E-0-3-0 (1E 80) right after",
+          g is not None and (g.code, bytes(g.data[:2])) == (0x8130, b"\x1e\x80")
+          and g.timestamp - e.timestamp < 0.5, g and (hex(g.code), bytes(g.data).hex()))
+    time.sleep(1.2)
     check("charger: TPDOs stop", not frames(bus, 0x201, time.time() - 0.5))
+    hb = frames(bus, 0x70A, time.time() - 1.1)
+    check("charger: left operational (70A#7F)", hb and hb[-1][1] == b"\x7f", hb)
     guarded("charger 1003h", lambda: check(
-        "charger: 1003h:01 = 20808130h (Delta-Q byte order)",
-        node.sdo.upload(0x1003, 1) == (0x20808130).to_bytes(4, "little")))
+        "charger: 1003h:01 = 1E808130h, 1003h:02 = 20808130h (Delta-Q byte order)",
+        (node.sdo.upload(0x1003, 1), node.sdo.upload(0x1003, 2))
+        == ((0x1E808130).to_bytes(4, "little"), (0x20808130).to_bytes(4, "little"))))
     net.send_message(0x700 + BATTERY, [0x00])
     battery_node.nmt.start_heartbeat(200)
     check("charger: battery back: reconfigured, error reset EMCY 0000h",
           wait_until(lambda: any(x.code == 0 for x in node.emcy.log), 5)
           and reads.count((0x1000, 0)) == 2, ([hex(x.code) for x in node.emcy.log], reads))
+    node.nmt.state = "OPERATIONAL"
     t2 = time.time()
-    check("charger: TPDOs resume", wait_until(lambda: len(frames(bus, 0x201, t2)) >= 2, 1))
+    check("charger: started again, TPDOs resume", wait_until(lambda: len(frames(bus, 0x201, t2)) >= 2, 1))
     # The battery's EMCY (temperature sensor fault): the firmware's policy
     # reaction writes OUTPUT_STOP, which the emulator reports at exit.
     battery_node.emcy.send(0x5010, 0x21)

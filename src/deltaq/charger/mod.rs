@@ -41,11 +41,21 @@
 //!   Delta-Q alarm E-0-3-2, error register 01h, as the real capture shows
 //!   (`08A#3081012080000000`); the entry goes to 1003h in the Delta-Q byte
 //!   order (high word = the Delta-Q code byte-swapped); TPDOs stop and the
-//!   configuration is forgotten. A failed configuration (the module's SDO
-//!   server aborts or does not answer) raises E-0-3-0 "battery module
-//!   communication error" (the capture's `08A#3081011E80000000`). When the
-//!   module is back and configured, an error-reset EMCY (code 0000h) clears
-//!   the error register.
+//!   configuration is forgotten.
+//! - **Battery gone** (no heartbeat for 2000 ms since the last one, the time
+//!   after which Delta-Q section 4 says the charger takes the module as
+//!   gone; never before the consumer time): EMCY E-0-3-0 "battery module
+//!   communication error" (the capture's `08A#3081011E80000000`, 2014 ms
+//!   after the last battery heartbeat where E-0-3-2 came at 342 ms) and
+//!   the charger leaves operational for pre-operational, as the real
+//!   charger does in the capture and as CiA 301's default error behaviour
+//!   (1029h sub 1 = 0) does on a communication error
+//!   ([`ChargerEvent::BatteryGone`]). A charger with
+//!   [`ChargerConfig::self_start`] starts itself again when the module is
+//!   back; otherwise the NMT master does. A failed configuration (the
+//!   module's SDO server aborts or does not answer) raises E-0-3-0 too.
+//!   When the module is back and configured, an error-reset EMCY (code
+//!   0000h) clears the error register.
 //! - **EMCY consumer**: the module's EMCYs are decoded and reported with the
 //!   reaction of the Delta-Q policy for the operating mode
 //!   ([`crate::deltaq::emergency_reaction`]) and given to the charge
@@ -65,7 +75,7 @@ use super::device_type;
 use super::{emergency_reaction, DeltaQCode, OperatingMode, Reaction, ALARMS_AND_FAULTS};
 use crate::bytes::InlineData;
 use crate::cia419::{PdoPair, PDO_PAIRS};
-use crate::clock::Timestamp;
+use crate::clock::{MaybeTimestamp, Timestamp};
 use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
 use crate::device::{
     CommObjects, Device, DeviceEvent, DeviceSetup, DeviceSpec, Profile, ProfiledDevice,
@@ -100,8 +110,11 @@ pub enum ChargerEvent {
         /// The state it reports.
         state: NmtState,
     },
-    /// The battery module's heartbeat was lost.
+    /// The battery module's heartbeat was lost (E-0-3-2).
     BatteryLost,
+    /// No battery heartbeat for 2000 ms: the module is taken as gone
+    /// (E-0-3-0); the charger left operational for pre-operational.
+    BatteryGone,
     /// The PDOs are paired and configured; `tpdos` / `rpdos` say which (bit n = PDO n).
     Configured {
         /// Charger TPDOs in use.
@@ -145,8 +158,11 @@ impl From<DeviceEvent> for ChargerEvent {
 /// Where the configuration of the PDO pairing stands.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Link {
-    /// Module not heard (or lost).
+    /// Module not heard, or gone.
     Absent,
+    /// Heartbeat lost: the module is taken as gone at this time
+    /// ([`MODULE_GONE_MS`] after its last heartbeat) unless it is back.
+    Lost(MaybeTimestamp),
     /// Module heard while NMT stopped (no SDO there, CiA 301): the
     /// configuration starts on entering pre-operational or operational.
     Pending,
@@ -160,6 +176,10 @@ enum Link {
     /// Configuration failed; waits for the module to come back.
     Failed,
 }
+
+/// Delta-Q section 4: without a battery heartbeat for this long the
+/// charger takes the module as gone.
+const MODULE_GONE_MS: u64 = 2000;
 
 /// The CiA 419 pairs, then Delta-Q's TPDO 3 (module RPDO 3 at 1403h).
 const PAIRS: [PdoPair; 7] = {
@@ -425,11 +445,16 @@ impl ChargerProfile {
         now: Timestamp,
         state: NmtState,
     ) {
-        if !matches!(self.link, Link::Absent | Link::Failed) {
+        if !matches!(self.link, Link::Absent | Link::Lost(_) | Link::Failed) {
             // A boot-up while configured: the module reset its PDOs; redo it.
             self.forget_pairing(device, now);
         }
         device.push_event(ChargerEvent::BatteryFound { state });
+        // A self-starting charger that left operational when the module
+        // was gone starts itself again (no NMT master to do it).
+        if self.self_start && matches!(device.nmt_state(), NmtState::PreOperational) {
+            device.set_nmt_state(now, NmtState::Operational, self);
+        }
         if !self.configure_cob_ids {
             self.configured(device, now);
         } else if sdo_allowed(device) {
@@ -455,6 +480,32 @@ impl ChargerProfile {
         let _ = self.client.abort(now, AbortCode::GeneralError);
         while self.client.poll_event().is_some() {}
         self.forget_pairing(device, now);
+        // The consumer time has passed since the last heartbeat: the module
+        // is gone the rest of the 2000 ms later. It never goes in the same
+        // call as the loss (at the earliest a microsecond after it, when the
+        // consumer time is 2000 ms or longer), so that a call reports one
+        // of the two and its EMCY: the firmware's queues hold the worst call.
+        let consumer_ms = device
+            .comm()
+            .consumers()
+            .iter()
+            .find(|e| e.node == self.battery.raw())
+            .map_or(0, |e| u64::from(e.time_ms));
+        let rest_us = MODULE_GONE_MS.saturating_sub(consumer_ms) * 1000;
+        self.link = Link::Lost(MaybeTimestamp::new(Some(now.add_micros(rest_us.max(1)))));
+    }
+
+    /// No heartbeat for [`MODULE_GONE_MS`]: E-0-3-0 and pre-operational.
+    fn battery_gone<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
+        self.link = Link::Absent;
+        device.push_event(ChargerEvent::BatteryGone);
+        Self::raise(
+            device,
+            const { Alarm::of(DeltaQCode::BATTERY_MODULE_COMMUNICATION) },
+        );
+        if matches!(device.nmt_state(), NmtState::Operational) {
+            device.set_nmt_state(now, NmtState::PreOperational, self);
+        }
     }
 
     /// Back to the not-valid default COB-IDs (when configuring them).
@@ -622,6 +673,11 @@ impl<const Q: usize> Profile<ChargerProfile, Q, 4, 3> for ChargerProfile {
     }
 
     fn on_timeout(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
+        if let Link::Lost(gone) = self.link {
+            if gone.get().is_some_and(|t| now.has_reached(t)) {
+                self.battery_gone(device, now);
+            }
+        }
         self.client.handle_timeout(now);
         self.drain_client(device, now);
         self.charge.control.handle_timeout(now);
@@ -633,11 +689,13 @@ impl<const Q: usize> Profile<ChargerProfile, Q, 4, 3> for ChargerProfile {
     }
 
     fn poll_timeout(&self) -> Option<Timestamp> {
-        let client = self.client.poll_timeout();
-        match (client, self.charge.control.poll_timeout()) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
+        let gone = match self.link {
+            Link::Lost(gone) => gone,
+            _ => MaybeTimestamp::NONE,
+        };
+        gone.earlier(self.client.poll_timeout())
+            .earlier(self.charge.control.poll_timeout())
+            .get()
     }
 
     /// Delta-Q's E-0-4-6 "invalid PDO length" with EEC 8210h (Delta-Q IC

@@ -234,3 +234,114 @@ fn only_a_data_frame_on_the_modules_emcy_identifier_is_its_emcy() {
     }
     assert_eq!(reported, 1);
 }
+
+/// The frames `c` sends, as candump strings.
+fn sent(c: &mut Charger<4>) -> Vec<String> {
+    core::iter::from_fn(|| c.poll_transmit())
+        .map(|f| f.to_string())
+        .collect()
+}
+
+/// Runs `c`'s timers up to `until`, one call per due deadline (as the
+/// firmware's loop does); returns what it sent, each with its time in ms.
+fn run_timers(c: &mut Charger<4>, until: Timestamp) -> Vec<(u64, String)> {
+    let mut out = Vec::new();
+    while let Some(due) = c.poll_timeout().filter(|t| *t <= until) {
+        c.handle_timeout(due);
+        out.extend(sent(c).into_iter().map(|f| (due.as_micros() / 1000, f)));
+    }
+    out
+}
+
+#[test]
+fn a_lost_module_is_gone_2000_ms_after_its_last_heartbeat() {
+    // The capture's charger: 340 ms battery consumer time, default COB-IDs,
+    // started by the BMS. E-0-3-2 342 ms and E-0-3-0 2014 ms after the
+    // last battery heartbeat there; here 340 ms and 2000 ms.
+    let mut config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
+    config.configure_cob_ids = false;
+    config.battery_timeout = core::time::Duration::from_millis(340);
+    let mut c = Charger::<4>::with_queue_capacity(config);
+    c.boot(Timestamp::ZERO);
+    c.handle_frame(
+        Timestamp::ZERO,
+        &CanFrame::standard(0x000, &[0x01, 0x0A]).unwrap(),
+    );
+    let heartbeat = CanFrame::standard(0x701, &[0x05]).unwrap();
+    for t in (100..=1000).step_by(100) {
+        run_timers(&mut c, Timestamp::from_millis(t));
+        c.handle_frame(Timestamp::from_millis(t), &heartbeat);
+    }
+    assert_eq!(c.nmt_state(), NmtState::Operational);
+    while c.poll_event().is_some() {}
+    let emcys: Vec<(u64, String)> = run_timers(&mut c, Timestamp::from_millis(4000))
+        .into_iter()
+        .filter(|(_, f)| f.starts_with("08A#"))
+        .collect();
+    assert_eq!(
+        emcys,
+        [
+            (1340, "08A#3081012080000000".to_string()),
+            (3000, "08A#3081011E80000000".to_string()),
+        ]
+    );
+    assert_eq!(c.nmt_state(), NmtState::PreOperational);
+    let events: Vec<ChargerEvent> = core::iter::from_fn(|| c.poll_event()).collect();
+    assert_eq!(
+        events,
+        [
+            ChargerEvent::BatteryLost,
+            ChargerEvent::BatteryGone,
+            ChargerEvent::Device(DeviceEvent::NmtStateChanged {
+                from: NmtState::Operational,
+                to: NmtState::PreOperational,
+            }),
+        ]
+    );
+    // Back before it is gone: no E-0-3-0, still operational.
+    let mut c = Charger::<4>::with_queue_capacity(config);
+    c.boot(Timestamp::ZERO);
+    c.handle_frame(
+        Timestamp::ZERO,
+        &CanFrame::standard(0x000, &[0x01, 0x0A]).unwrap(),
+    );
+    c.handle_frame(Timestamp::from_millis(100), &heartbeat);
+    let lost = run_timers(&mut c, Timestamp::from_millis(1500));
+    assert!(
+        lost.iter()
+            .any(|(t, f)| *t == 440 && f == "08A#3081012080000000"),
+        "{lost:?}"
+    );
+    let mut after = Vec::new();
+    for t in (1500..=5000).step_by(100) {
+        after.extend(run_timers(&mut c, Timestamp::from_millis(t)));
+        c.handle_frame(Timestamp::from_millis(t), &heartbeat);
+        after.extend(sent(&mut c).into_iter().map(|f| (t, f)));
+    }
+    assert!(
+        after.contains(&(1500, "08A#0000000000000000".to_string())),
+        "{after:?}"
+    );
+    assert!(
+        !after.iter().any(|(_, f)| f.starts_with("08A#30810")),
+        "{after:?}"
+    );
+    assert_eq!(c.nmt_state(), NmtState::Operational);
+}
+
+#[test]
+fn a_self_starting_charger_starts_again_when_the_module_is_back() {
+    let mut config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
+    config.configure_cob_ids = false;
+    config.self_start = true;
+    let mut c = Charger::<4>::with_queue_capacity(config);
+    c.boot(Timestamp::ZERO);
+    assert_eq!(c.nmt_state(), NmtState::Operational);
+    let heartbeat = CanFrame::standard(0x701, &[0x05]).unwrap();
+    c.handle_frame(Timestamp::from_millis(100), &heartbeat);
+    run_timers(&mut c, Timestamp::from_millis(2200));
+    assert_eq!(c.nmt_state(), NmtState::PreOperational, "gone at 2100 ms");
+    c.handle_frame(Timestamp::from_millis(3000), &heartbeat);
+    assert_eq!(c.nmt_state(), NmtState::Operational);
+    assert!(c.is_configured());
+}

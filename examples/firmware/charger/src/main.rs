@@ -65,13 +65,15 @@ static ALGORITHMS: [ChargeAlgorithm; 2] = {
 ///   only for an RPDO the master set to the module's SDO response
 ///   identifier 581h and a short answer; NMT commands, heartbeats, the
 ///   module's EMCYs and SDO requests queue none. `handle_timeout` one: the
-///   battery module's loss (E-0-3-2, and its SDO transfer ends silently) or
-///   else the client's timeout (E-0-3-0).
+///   battery module's loss (E-0-3-2, and its SDO transfer ends silently),
+///   the module taken as gone (E-0-3-0: never in the call of the loss,
+///   at the earliest the next turn) or else the client's timeout (E-0-3-0).
 /// - Events: a call reports at most two with the firmware's 1016h (one
 ///   consumer, the battery module): NMT reset (the reset, then the state
 ///   change); an RPDO and the heartbeat or SDO answer on the same
 ///   identifier; a timeout's loss of the module (or the client's timeout)
-///   and the SDO server's own timeout. A 1016h a master extends by SDO to
+///   and the SDO server's own timeout; the module gone and the change to
+///   pre-operational it makes. A 1016h a master extends by SDO to
 ///   four nodes can lose four at once: events are informational, a full
 ///   queue drops its oldest and counts it (the back-pressure rule), and the
 ///   one event acted on below, the module's EMCY, is the last its call
