@@ -248,6 +248,7 @@ impl Signals {
     }
 
     /// The columns, in order.
+    #[cfg(feature = "parquet")]
     pub fn columns(&self) -> &[Column] {
         &self.columns
     }
@@ -323,6 +324,7 @@ impl Signals {
     }
 
     /// The output's path.
+    #[cfg(feature = "parquet")]
     pub fn path(&self) -> &Path {
         &self.path
     }
@@ -353,6 +355,7 @@ pub fn check_path(path: &str) -> Result<(), String> {
     Ok(())
 }
 
+#[cfg(feature = "parquet")]
 pub fn at_path(path: &Path, e: impl std::fmt::Display) -> io::Error {
     io::Error::other(format!("--signals {}: {e}", path.display()))
 }
