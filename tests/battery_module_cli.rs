@@ -3,24 +3,13 @@
 //! time base) out.
 #![cfg(feature = "std")]
 
+mod common;
+
 use std::io::Write;
-use std::path::PathBuf;
 use std::process::{Command, Output, Stdio};
 
-/// `target/<profile>/examples/battery_module`, built by `cargo test` before
-/// the tests run.
-fn program() -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    let dir = exe.parent().unwrap().parent().unwrap();
-    let path = dir
-        .join("examples")
-        .join(format!("battery_module{}", std::env::consts::EXE_SUFFIX));
-    assert!(path.exists(), "{} not built", path.display());
-    path
-}
-
 fn run(args: &[&str], stdin: &str) -> Output {
-    let mut child = Command::new(program())
+    let mut child = Command::new(common::example("battery_module"))
         .args(args)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())

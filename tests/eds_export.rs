@@ -5,7 +5,8 @@
 //! flag and value.
 #![cfg(feature = "std")]
 
-use std::path::PathBuf;
+mod common;
+
 use std::process::Command;
 use std::time::Duration;
 
@@ -169,19 +170,8 @@ fn the_charger_reads_back() {
     assert!(eds.manufacturer.contains(&0x2002));
 }
 
-/// `target/<profile>/examples/<name>`, built by `cargo test`.
-fn example(name: &str) -> PathBuf {
-    let exe = std::env::current_exe().unwrap();
-    let dir = exe.parent().unwrap().parent().unwrap();
-    let path = dir
-        .join("examples")
-        .join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
-    assert!(path.exists(), "{} not built", path.display());
-    path
-}
-
 fn print_eds(name: &str, args: &[&str]) -> Eds {
-    let out = Command::new(example(name))
+    let out = Command::new(common::example(name))
         .args(args)
         .arg("--print-eds")
         .output()

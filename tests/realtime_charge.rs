@@ -15,21 +15,13 @@
     feature = "store"
 ))]
 
+mod common;
+
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Command, Stdio};
 use std::sync::{Arc, Mutex};
 use std::thread;
 use std::time::Duration;
-
-fn example(name: &str) -> String {
-    let exe = std::env::current_exe().unwrap();
-    let dir = exe.parent().unwrap().parent().unwrap();
-    let path = dir
-        .join("examples")
-        .join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
-    assert!(path.exists(), "{} not built", path.display());
-    path.display().to_string()
-}
 
 /// One frame of the log: (time in the nodes' seconds, COB-ID, data).
 fn frame(line: &str) -> Option<(f64, u32, Vec<u8>)> {
@@ -47,7 +39,7 @@ fn frame(line: &str) -> Option<(f64, u32, Vec<u8>)> {
 
 #[test]
 fn charger_and_module_charge_on_a_pipe_pair() {
-    let mut charger = Command::new(example("charger"))
+    let mut charger = Command::new(common::example("charger"))
         .args(["--mode", "remote", "--speed", "20", "--pack-ah", "20"])
         .args(["--pack-soc", "30", "--linger-ms", "0"])
         .stdin(Stdio::piped())
@@ -55,7 +47,7 @@ fn charger_and_module_charge_on_a_pipe_pair() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let mut module = Command::new(example("battery_module"))
+    let mut module = Command::new(common::example("battery_module"))
         .args([
             "--simulate",
             "--nmt-start",
@@ -159,7 +151,7 @@ fn charger_and_module_charge_on_a_pipe_pair() {
 
 #[test]
 fn help_names_the_model_options_and_bad_values_exit_2() {
-    let help = Command::new(example("charger"))
+    let help = Command::new(common::example("charger"))
         .arg("--help")
         .output()
         .unwrap();
@@ -176,7 +168,7 @@ fn help_names_the_model_options_and_bad_values_exit_2() {
     ] {
         assert!(text.contains(opt), "charger --help lacks {opt}");
     }
-    let module_help = Command::new(example("battery_module"))
+    let module_help = Command::new(common::example("battery_module"))
         .arg("--help")
         .output()
         .unwrap();
@@ -191,7 +183,7 @@ fn help_names_the_model_options_and_bad_values_exit_2() {
         ("battery_module", &["--speed", "-1"]),
         ("battery_module", &["--speed", "nan"]),
     ] {
-        let o = Command::new(example(program))
+        let o = Command::new(common::example(program))
             .args(bad)
             .stdin(Stdio::null())
             .output()

@@ -12,16 +12,6 @@ use std::process::{Command, Stdio};
 
 use serde_json::Value;
 
-fn example(name: &str) -> String {
-    let exe = std::env::current_exe().unwrap();
-    let dir = exe.parent().unwrap().parent().unwrap();
-    let path = dir
-        .join("examples")
-        .join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
-    assert!(path.exists(), "{} not built", path.display());
-    path.display().to_string()
-}
-
 fn replay(args: &[&str]) -> (i32, String, String) {
     let o = Command::new(env!("CARGO_BIN_EXE_canopen-replay"))
         .args(args)
@@ -102,7 +92,7 @@ const CAPTURE_CHARGER: [&str; 8] = [
 #[test]
 fn battery_side_of_the_startup_capture_into_the_virtual_charger() {
     let Some(capture) = startup() else { return };
-    let charger = example("charger");
+    let charger = common::example("charger");
     let mut args = vec![&capture[..], "--play", "1", "--speed", "0", "--json"];
     args.extend(["--pdo-capture-mapping", "--", &charger]);
     args.extend(CAPTURE_CHARGER);
@@ -177,7 +167,7 @@ fn battery_side_of_the_startup_capture_into_the_virtual_charger() {
 #[test]
 fn charger_side_of_the_startup_capture_into_the_virtual_battery_module() {
     let Some(capture) = startup() else { return };
-    let module = example("battery_module");
+    let module = common::example("battery_module");
     let (code, out, err) = replay(&[
         &capture,
         "--play",
@@ -213,7 +203,7 @@ fn charger_side_of_the_startup_capture_into_the_virtual_battery_module() {
 #[test]
 fn a_wrong_charger_is_named_difference_by_difference() {
     let Some(capture) = startup() else { return };
-    let charger = example("charger");
+    let charger = common::example("charger");
     // A 500 ms heartbeat instead of 1000 ms, and a consumer time so long
     // that E-0-3-2 never comes within the recording.
     let (code, out, _) = replay(&[
@@ -247,8 +237,8 @@ fn a_wrong_charger_is_named_difference_by_difference() {
 
 #[test]
 fn the_bundled_session_matches_the_virtual_charger_and_waits_for_sdo_answers() {
-    let charger = example("charger");
-    let module = example("battery_module");
+    let charger = common::example("charger");
+    let module = common::example("battery_module");
     let session = virtual_session();
     // The module's side played into the charger, as fast as it answers
     // and at 20 times the recorded pace: the charger's SDO requests to the
@@ -303,7 +293,7 @@ fn stdin_stdout_mode_talks_to_a_device_on_the_other_end_of_the_pipes() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let mut charger = Command::new(example("charger"))
+    let mut charger = Command::new(common::example("charger"))
         .args(["--linger-ms", "0"])
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
@@ -392,7 +382,7 @@ fn a_device_that_cannot_run_or_dies_exits_3() {
 #[test]
 fn a_long_tail_is_cut_at_the_limit_and_said_so() {
     let Some(capture) = startup() else { return };
-    let charger = example("charger");
+    let charger = common::example("charger");
     let started = std::time::Instant::now();
     let (code, out, _) = replay(&[
         &capture,

@@ -21,3 +21,15 @@ pub fn frame(id: u16, hex: &str) -> CanFrame {
         .collect();
     CanFrame::new(CanId::Standard(id), &bytes).unwrap()
 }
+
+/// `target/<profile>/examples/NAME`, which `cargo test` builds before the
+/// tests run, as a path string (for `Command::new` and argument lists).
+pub fn example(name: &str) -> String {
+    let exe = std::env::current_exe().unwrap();
+    let dir = exe.parent().unwrap().parent().unwrap();
+    let path = dir
+        .join("examples")
+        .join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
+    assert!(path.exists(), "{} not built", path.display());
+    path.display().to_string()
+}
