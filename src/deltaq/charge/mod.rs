@@ -553,7 +553,7 @@ impl ChargeControl {
                 }
                 self.end_cycle(now);
             } else if matches!(mode, OperatingMode::Remote) {
-                self.step_remote(now, ready);
+                self.step_remote(now, ready, detected);
             } else {
                 self.step_local(now, bms, ready, detected);
             }
@@ -565,7 +565,12 @@ impl ChargeControl {
         self.update_set_points(bms);
     }
 
-    fn step_remote(&mut self, now: Timestamp, ready: bool) {
+    fn step_remote(&mut self, now: Timestamp, ready: bool, detected: bool) {
+        // No battery on the output: the charge that ran is over, and the
+        // next one counts its Ah and time from zero (as in local mode).
+        if !detected {
+            self.cycle = false;
+        }
         let blocked = self
             .alarms
             .intersects(ChargeAlarms::HIGH_VOLTAGE | ChargeAlarms::BATTERY_DISCONNECTED);

@@ -566,6 +566,37 @@ fn remote_loses_the_bms_and_stops() {
 }
 
 #[test]
+fn remote_counts_a_new_charge_after_the_battery_was_unplugged() {
+    // Ours: 6052h is the Ah of the charge that runs; a loss of the BMS
+    // (idle, then remote again) goes on counting, a battery taken off the
+    // output ends the charge and the next counts from zero.
+    let mut c = control(OperatingMode::Remote);
+    c.handle_power_stage(s(0), pack(50, 0));
+    c.handle_bus(s(1), bms(10));
+    c.handle_power_stage(s(2), pack(50, 10));
+    c.handle_power_stage(s(362), pack(50, 10));
+    let one_hour_tenth = c.status().ah_returned;
+    assert_eq!(one_hour_tenth, 8, "10 A for 360 s: 1 Ah (Q3)");
+    c.handle_bus(
+        s(363),
+        BusInputs {
+            battery_present: false,
+            ..bms(10)
+        },
+    );
+    c.handle_bus(s(364), bms(10));
+    assert_eq!(c.phase(), ChargePhase::Remote);
+    assert_eq!(c.status().ah_returned, one_hour_tenth, "the same charge");
+    // Unplugged, then another battery.
+    c.handle_power_stage(s(365), pack(0, 0));
+    assert_eq!(c.phase(), ChargePhase::Idle);
+    c.handle_power_stage(s(366), pack(50, 0));
+    assert_eq!(c.phase(), ChargePhase::Remote);
+    assert_eq!(c.status().ah_returned, 0, "a new charge");
+    assert_eq!(c.status().elapsed, Duration::ZERO);
+}
+
+#[test]
 fn battery_unplugged_with_can_connected_raises_e_0_4_5() {
     // Section 7.1.8, "CAN connected with battery unplugged".
     let mut c = control(OperatingMode::Remote);
