@@ -10,8 +10,11 @@
 //! 2006h, 6001h and 6052h follow. `--speed F` runs the charger's whole
 //! clock F times faster than the wall clock (its timers, the charge and its
 //! log stamps: run the other end at the same F). `--current A` /
-//! `--voltage V` replace the models with fixed measurements (the charger
-//! then reports them and never charges).
+//! `--voltage V` replace the models with a fixed power stage, a bench
+//! supply rather than a charger: AC on, the output reads V volts and A
+//! amps whatever the set points; the charge control runs on these readings
+//! (its alarms included: a voltage below the battery detection is an
+//! unplugged battery) and 2002h / 2100h / 2101h report them.
 //!
 //! ```text
 //! cargo run --example charger -- --node-id 10 --battery-node 1 [--mode local|remote] </dev/null
@@ -28,7 +31,7 @@
 //! instead of waiting for an NMT start), `--heartbeat-ms` (1000),
 //! `--battery-timeout-ms` (2000), `--tpdo-ms A,B,C,D` (the event timers
 //! of TPDO 0..3; 0 sends that TPDO on events only), `--current A` and `--voltage V` (the
-//! charger's 2002h / 2100h / 2101h measurements), `--linger-ms` (2000),
+//! fixed power stage's readings, above), `--linger-ms` (2000),
 //! `--interface NAME` (can0), `--storage FILE` (1010h "save" and 1011h
 //! "load" keep the parameters in FILE, loaded again at the next start with
 //! the same file: `examples/support/storage.rs`), `--program-store
@@ -57,7 +60,7 @@ use std::time::Duration;
 
 use bus::PipeBus;
 use canopen_codec::cia418::Chemistry;
-use canopen_codec::deltaq::charge::ChargeEvent;
+use canopen_codec::deltaq::charge::{ChargeEvent, PowerStage};
 use canopen_codec::deltaq::{
     charger_eds, Charger, ChargerAppDictionary, ChargerConfig, ChargerEvent,
 };
@@ -76,7 +79,7 @@ const USAGE: &str = "usage: charger [--node-id N] [--battery-node N] [--mode loc
                [--pack-chemistry lead-acid|li-ion|nicd|nimh] [--pack-cells N] [--pack-ah N]
                [--pack-soc P] [--unplugged] [--no-ac] [--algorithm N] [--speed F]
 The power stage and the battery on the output are simulated (a charger that
-charges); --current/--voltage give fixed measurements instead. --speed F runs
+charges); --current/--voltage give a fixed power stage's readings instead. --speed F runs
 the charger's clock (timers, charge, log stamps) F times the wall clock, 0 < F
 <= 1000: run the other end at the same F.
 --storage FILE keeps what 1010h stores (restored at the next start).
@@ -517,7 +520,16 @@ fn main() -> ExitCode {
             p.next_report = boot;
             p.step(boot, &mut d.charger);
         }
-        None => d.charger.update(boot, set_objects),
+        None => {
+            d.charger.update(boot, set_objects);
+            let fixed = PowerStage {
+                ac_present: true,
+                voltage_mv: (voltage * 1000.0).round() as u32,
+                current_ma: (current * 1000.0).round() as u32,
+                temperature_c: 25,
+            };
+            d.charger.handle_power_stage(boot, fixed);
+        }
     }
     runner.flush(boot);
     runner.run(o.linger);

@@ -77,15 +77,14 @@ fn emcy_times(report: &Value, side: &str, name: &str) -> Vec<f64> {
 
 /// The charger the capture shows, as far as the virtual one goes: default
 /// COB-IDs, 340 ms battery heartbeat consumer time, the capture's TPDO
-/// event timers (200 ms, 1000 ms, 1000 ms, the fourth off).
-const CAPTURE_CHARGER: [&str; 8] = [
+/// event timers (200 ms, 1000 ms, 1000 ms, the fourth off); its power
+/// stage and battery are the models.
+const CAPTURE_CHARGER: [&str; 6] = [
     "--no-configure",
     "--battery-timeout-ms",
     "340",
     "--tpdo-ms",
     "200,1000,1000,0",
-    "--current",
-    "19.45",
     "--linger-ms",
 ];
 

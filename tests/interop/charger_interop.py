@@ -119,9 +119,13 @@ def main():
               charger.sdo.upload(0x1008, 0) == b"canopen-codec charger")
         check("1016h:01 = node 1, 2000 ms", charger.sdo.upload(0x1016, 1) == bytes([0xD0, 0x07, 0x01, 0x00]))
         check("1017h = 1000 ms", charger.sdo.upload(0x1017, 0) == (1000).to_bytes(2, "little"))
-        # 2002h is the charge control's reading of its output: nothing
-        # delivered while the module is not ready.
-        check("2002h = 0 A (Q8): not charging", charger.sdo.upload(0x2002, 0) == b"\x00\x00")
+        # 2002h is the charge control's reading of its output: the fixed
+        # power stage (--current 19.5 --voltage 48) reads 19.5 A.
+        check("2002h = 19.5 A (Q8): the fixed power stage's reading",
+              charger.sdo.upload(0x2002, 0) == (19 * 256 + 128).to_bytes(2, "little"),
+              charger.sdo.upload(0x2002, 0).hex())
+        check("2101h = 48 V (Q8)", charger.sdo.upload(0x2101, 0) == (48 * 256).to_bytes(2, "little"),
+              charger.sdo.upload(0x2101, 0).hex())
         check("1003h:00 = 0 (no error yet)", charger.sdo.upload(0x1003, 0) == b"\x00")
         try:
             charger.sdo.download(0x2006, 0, b"\x00\x00")
