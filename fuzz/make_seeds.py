@@ -6,7 +6,9 @@ Covered so far: decode_frame (layout in fuzz/fuzz_targets/decode_frame.rs:
 flags byte, identifier little-endian, data); blf (a chunk-size byte, a flag
 byte, then a BLF file: stored and zlib containers, v1 and v2 object
 headers, an object straddling two containers, CAN FD and error objects);
-asc_line (a byte choosing the base line, then ASC lines)."""
+asc_line (a byte choosing the base line, then ASC lines); trace_line (one
+file per trace format); decoder_run (the tests' own logs under several
+option sets); eds_parse (an EDS and a DCF)."""
 import pathlib
 import struct
 import zlib
@@ -113,6 +115,146 @@ def asc_seeds():
     ]
 
 
+# One file per trace format, each with a header and lines of the shapes its
+# own tools write (the module docs of src/trace/ show them). trace_line's
+# input is (format selector byte, delta-times byte, text); the selector
+# indexes None (detect), candump log, candump screen, .trc, ASC, CSV.
+TRACES = [
+    ("candump_log", 1, """(1756955653.603308) can1 000#010A
+(1756955653.612992) can1 08A#0000000000000000
+(1756955653.669466) can1 18A#7C13464E70000000
+(1756955653.699699) can1 701#05
+(1756955654.000000) can1 701#R
+(1756955654.100000) can1 18DAF110#0102
+(1756955654.200000) can1 123##100112233445566778899AABB
+"""),
+    ("candump_screen", 2, """  can0  18A   [8]  74 13 45 4E 70 00 00 00
+  can0  701   [1]  remote request
+(1700000000.123456)  can0  70A   [1]  05
+  can0  RX - -  18A   [8]  74 13 45 4E 70 00 00 00
+  can0  20000004   [8]  00 04 00 00 00 00 00 00   ERRORFRAME
+  can0  123  [12]  00 11 22 33 44 55 66 77 88 99 AA BB
+"""),
+    ("trc_1_0", 3, """;##########################################################################
+;   Start time: 04.09.2025 03:14:13.603.0
+;##########################################################################
+     1)      1841  0300  8  00 00 00 00 00 00 00 00
+     2)      1842  070A  1  05
+     3)      1843  0701  1  RTR
+"""),
+    ("trc_1_1", 3, """;$FILEVERSION=1.1
+;$STARTTIME=45904.1348796
+     1)      1841.6  Rx         0300  8  00 00 00 00 00 00 00 00
+     2)      1842.0  Tx         070A  1  05
+     3)      1843.2  Warng      FFFFFFFF  4  00 00 00 08 BUSHEAVY
+"""),
+    ("trc_2_1", 3, """;$FILEVERSION=2.1
+;$STARTTIME=45904.1348796
+;$COLUMNS=N,O,T,B,I,d,R,L,D
+     1      1059.900 DT 1      0300 Rx -  7  00 00 00 00 04 00 00
+     2      1060.100 RR 1      0701 Rx -  1
+     3      1061.000 DT 1  18DAF110 Tx -  2  01 02
+     4      1062.000 ER 1         - Rx -  5  00 00 08 01 00
+"""),
+    ("asc", 4, ASC),
+    ("python_can_csv", 5, """timestamp,arbitration_id,extended,remote,error,dlc,data
+1756955653.603308,0x18a,0,0,0,8,dBNFTnAAAAA=
+1756955653.612992,0x70a,0,1,0,1,
+1756955653.700000,0x18daf110,1,0,0,2,AQI=
+"""),
+]
+
+
+def trace_line_seeds():
+    return [(name, bytes([sel, 0]) + text.encode()) for name, sel, text in TRACES] + [
+        ("candump_screen_delta", bytes([2, 1]) + b"(000.000211)  can0  18A   [8]  74 13 45 4E 70 00 00 00\n"),
+    ]
+
+
+# decoder_run: the first byte picks one of its option sets (SETS in
+# fuzz/fuzz_targets/decoder_run.rs), the rest is the trace.
+def decoder_run_seeds():
+    sdo = (HERE.parent / "tests" / "data" / "sdo-sample.log").read_bytes()
+    download = (HERE.parent / "tests" / "data" / "program-download.log").read_bytes()
+    session = (HERE.parent / "tests" / "data" / "virtual-session.log").read_bytes()
+    traces = {name: text.encode() for name, _, text in TRACES}
+    return [
+        ("sdo_sample_words", bytes([0]) + sdo),
+        ("sdo_sample_json_summary", bytes([1]) + sdo),
+        ("session_csv_strict", bytes([2]) + session[:1500]),
+        ("session_roles_summary", bytes([3]) + session),
+        ("program_download_roles_json", bytes([4]) + download),
+        ("screen_check", bytes([5]) + traces["candump_screen"]),
+        ("trc_sdo_channels", bytes([7]) + traces["trc_2_1"]),
+        ("asc_pdo", bytes([8]) + traces["asc"].replace(b"\r", b"")),
+        ("csv_capture_mapping", bytes([9]) + traces["python_can_csv"]),
+    ]
+
+
+# eds_parse: EDS and DCF text, CRLF as tools write it.
+EDS = """[FileInfo]\r
+FileName=seed.eds\r
+FileVersion=1\r
+[DeviceInfo]\r
+VendorName=seed\r
+NrOfRXPDO=1\r
+NrOfTXPDO=1\r
+[MandatoryObjects]\r
+SupportedObjects=2\r
+1=0x1000\r
+2=0x1001\r
+[OptionalObjects]\r
+SupportedObjects=3\r
+1=0x1008\r
+2=0x1017\r
+3=0x1800\r
+[1000]\r
+ParameterName=Device type\r
+ObjectType=0x7\r
+DataType=0x0007\r
+AccessType=ro\r
+DefaultValue=0x000001A2\r
+PDOMapping=0\r
+[1001]\r
+ParameterName=Error register\r
+DataType=0x0005\r
+AccessType=ro\r
+DefaultValue=0\r
+PDOMapping=1\r
+[1008]\r
+ParameterName=Manufacturer Device Name\r
+DataType=0x0009\r
+AccessType=const\r
+DefaultValue=IC650 charger with a long name\r
+[1017]\r
+ParameterName=Producer heartbeat time\r
+DataType=6\r
+AccessType=rw\r
+DefaultValue=1000\r
+[1800]\r
+ParameterName=TPDO 0\r
+ObjectType=9\r
+SubNumber=2\r
+[1800sub0]\r
+ParameterName=Highest sub-index\r
+DataType=5\r
+AccessType=ro\r
+DefaultValue=1\r
+[1800sub1]\r
+ParameterName=COB-ID\r
+DataType=7\r
+AccessType=rw\r
+DefaultValue=$NODEID+0x180\r
+"""
+
+
+def eds_parse_seeds():
+    dcf = EDS.replace("FileName=seed.eds", "FileName=seed.dcf").replace(
+        "DefaultValue=1000\r\n", "DefaultValue=1000\r\nParameterValue=\r\n"
+    ) + "[DeviceComissioning]\r\nNodeID=10\r\nBaudrate=500\r\n"
+    return [("eds", EDS.encode()), ("dcf_empty_parameter_value", dcf.encode())]
+
+
 def write(target, seeds):
     out = HERE / "seeds" / target
     out.mkdir(parents=True, exist_ok=True)
@@ -124,3 +266,6 @@ if __name__ == "__main__":
     write("decode_frame", DECODE_FRAME)
     write("blf", blf_seeds())
     write("asc_line", asc_seeds())
+    write("trace_line", trace_line_seeds())
+    write("decoder_run", decoder_run_seeds())
+    write("eds_parse", eds_parse_seeds())
