@@ -8,7 +8,8 @@ byte, then a BLF file: stored and zlib containers, v1 and v2 object
 headers, an object straddling two containers, CAN FD and error objects);
 asc_line (a byte choosing the base line, then ASC lines); trace_line (one
 file per trace format); decoder_run (the tests' own logs under several
-option sets); eds_parse (an EDS and a DCF)."""
+option sets); eds_parse (an EDS and a DCF); sdo_wire (one SDO frame per command
+kind)."""
 import pathlib
 import struct
 import zlib
@@ -255,6 +256,35 @@ def eds_parse_seeds():
     return [("eds", EDS.encode()), ("dcf_empty_parameter_value", dcf.encode())]
 
 
+# sdo_wire: the 8 data bytes of one SDO frame per command kind, from
+# tests/data/sdo-sample.log and tests/data/program-download.log (the real
+# exchanges of the tests) and the abort of tests/sdo_vectors.rs.
+SDO_WIRE = [
+    ("upload_initiate_request", "40 18 10 01 00 00 00 00"),
+    ("upload_expedited_response", "43 18 10 01 04 00 00 00"),
+    ("download_expedited_request", "2B 17 10 00 A0 0F 00 00"),
+    ("download_initiate_response", "60 17 10 00 00 00 00 00"),
+    ("upload_segmented_response", "41 08 10 00 1A 00 00 00"),
+    ("upload_segment_request", "60 00 00 00 00 00 00 00"),
+    ("upload_segment", "00 54 69 6E 79 20 4E 6F"),
+    ("upload_last_segment", "15 69 6E 73 20 21 00 00"),
+    ("download_segmented_request", "21 00 20 00 0D 00 00 00"),
+    ("download_segment", "00 41 20 6C 6F 6E 67 20"),
+    ("download_last_segment", "13 73 74 72 69 6E 67 00"),
+    ("abort", "80 18 10 01 11 00 09 06"),
+    ("block_download_initiate", "C6 50 1F 01 40 00 00 00"),
+    ("block_download_initiate_response", "A4 50 1F 01 7F 00 00 00"),
+    ("block_segment", "01 57 5C 70 64 C7 45 89"),
+    ("block_last_segment", "8A AB 00 00 00 00 00 00"),
+    ("block_ack", "A2 0A 7F 00 00 00 00 00"),
+    ("block_download_end", "D9 DD D0 00 00 00 00 00"),
+    ("block_end_response", "A1 00 00 00 00 00 00 00"),
+    ("block_upload_initiate", "A4 08 10 00 7F 00 00 00"),
+    ("block_upload_start", "A3 00 00 00 00 00 00 00"),
+    ("short_frame", "40 18 10"),
+]
+
+
 def write(target, seeds):
     out = HERE / "seeds" / target
     out.mkdir(parents=True, exist_ok=True)
@@ -269,3 +299,4 @@ if __name__ == "__main__":
     write("trace_line", trace_line_seeds())
     write("decoder_run", decoder_run_seeds())
     write("eds_parse", eds_parse_seeds())
+    write("sdo_wire", [(name, bytes.fromhex(data)) for name, data in SDO_WIRE])
