@@ -767,3 +767,18 @@ fn a_log_without_frames_exits_1_naming_the_format() {
         "{err}"
     );
 }
+
+/// A trace of headers alone has no bad line: the exit status is 1 for the
+/// missing frames, and the message does not count a bad line that is not.
+#[test]
+fn a_log_of_headers_alone_counts_no_bad_line() {
+    let log = ";$FILEVERSION=2.1\n;$COLUMNS=N,O,T,B,I,d,R,L,D\n";
+    let o = run(&["-"], Some(log));
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("none of the 2 line(s) is a CAN frame (read as trc"),
+        "{err}"
+    );
+    assert!(!err.contains("bad line"), "{err}");
+}

@@ -18,6 +18,7 @@ use canopen_codec::trace::candump::LogLine;
 use flate2::{Decompress, FlushDecompress, Status};
 
 use crate::decoding::Decoding;
+use crate::pipeline::Outcome;
 
 /// The input block.
 const BLOCK: usize = 256 * 1024;
@@ -149,14 +150,13 @@ fn inflate(
 }
 
 /// Decodes the BLF file `input` into `out` (what is wrong on `diag`);
-/// returns the number of bad objects and whether the summary found a
-/// problem open at the end.
+/// returns how it ended (bad objects, a problem open, no frame).
 pub fn read(
     mut input: impl Read,
     mut run: Decoding<'_>,
     out: &mut impl Write,
     diag: &mut impl Write,
-) -> io::Result<(usize, bool)> {
+) -> io::Result<Outcome> {
     let mut file = File {
         reader: BlfReader::new(),
         zlib: Decompress::new(true),
@@ -210,14 +210,18 @@ pub fn read(
         );
     }
     let frames = run.frames;
-    let (mut bad, open) = run.finish(out, diag)?;
-    if frames == 0 {
+    let (bad, open) = run.finish(out, diag)?;
+    let no_frame = frames == 0;
+    if no_frame {
         let _ = writeln!(
             diag,
             "canopen-decode: none of the {} object(s) is a CAN frame (read as blf)",
             count.objects
         );
-        bad = bad.max(1);
     }
-    Ok((bad, open))
+    Ok(Outcome {
+        bad,
+        open,
+        no_frame,
+    })
 }

@@ -242,15 +242,11 @@ fn main() -> ExitCode {
     let (stdout, stderr) = (io::stdout(), io::stderr());
     let (mut out, mut diag) = (stdout.lock(), stderr.lock());
     match run(input, &mut out, &mut diag, &opts) {
-        Ok((_, true)) if opts.check => {
+        Ok(o) if o.open && opts.check => {
             eprintln!("canopen-decode: problems open at the end of the log (--check)");
             ExitCode::from(3)
         }
-        Ok((0, _)) => ExitCode::SUCCESS,
-        Ok((bad, _)) => {
-            eprintln!("canopen-decode: {bad} bad line(s)");
-            ExitCode::from(1)
-        }
+        Ok(o) => exit_status(o),
         Err(e) if e.kind() == io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("canopen-decode: {e}");
@@ -310,7 +306,7 @@ fn several_logs(opts: Options) -> ExitCode {
     }
     let (stdout, stderr) = (io::stdout(), io::stderr());
     let (mut out, mut diag) = (stdout.lock(), stderr.lock());
-    let (mut bad, mut open) = (0, false);
+    let mut all = Outcome::default();
     for (file, (_, part)) in files.iter().zip(parts) {
         let input = match std::fs::File::open(file) {
             Ok(f) => f,
@@ -322,19 +318,26 @@ fn several_logs(opts: Options) -> ExitCode {
         one.signals = part;
         eprintln!("canopen-decode: {file}");
         match run(input, &mut out, &mut diag, &one) {
-            Ok((b, o)) => {
-                bad += b;
-                open |= o;
-            }
+            Ok(o) => all = all.and(o),
             Err(e) if e.kind() == io::ErrorKind::BrokenPipe => return ExitCode::SUCCESS,
             Err(e) => return fail(e.to_string()),
         }
     }
-    if open && opts.check {
+    if all.open && opts.check {
         eprintln!("canopen-decode: problems open at the end of a log (--check)");
         ExitCode::from(3)
-    } else if bad > 0 {
-        eprintln!("canopen-decode: {bad} bad line(s)");
+    } else {
+        exit_status(all)
+    }
+}
+
+/// 0, or 1 with the count of bad lines (a log without a frame has said so
+/// already).
+fn exit_status(o: Outcome) -> ExitCode {
+    if o.bad > 0 {
+        eprintln!("canopen-decode: {} bad line(s)", o.bad);
+    }
+    if o.failed() {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS

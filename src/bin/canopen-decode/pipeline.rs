@@ -227,16 +227,44 @@ pub struct Options {
     pub report: Option<String>,
 }
 
+/// How the decoding of one log ended.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Outcome {
+    /// Lines (or BLF objects) that are neither a frame nor a known event.
+    pub bad: usize,
+    /// The summary found a problem still open at the end.
+    pub open: bool,
+    /// The input held something, but not one CAN frame (said on `diag`).
+    pub no_frame: bool,
+}
+
+impl Outcome {
+    /// Exit status 1: bad lines, or nothing read as a frame.
+    #[must_use]
+    pub fn failed(&self) -> bool {
+        self.bad > 0 || self.no_frame
+    }
+
+    /// Both logs' outcomes, as of one run over several logs.
+    #[must_use]
+    pub fn and(self, other: Outcome) -> Outcome {
+        Outcome {
+            bad: self.bad + other.bad,
+            open: self.open || other.open,
+            no_frame: self.no_frame || other.no_frame,
+        }
+    }
+}
+
 /// Decodes every line of `input` into `out`, with what is wrong with a
 /// line (and what `--eds` took) on `diag` (stderr in the program); returns
-/// the number of bad lines and whether the summary found a problem still
-/// open at the end.
+/// how it ended ([`Outcome`]).
 pub fn run(
     input: impl Read,
     out: &mut impl Write,
     diag: &mut impl Write,
     opts: &Options,
-) -> io::Result<(usize, bool)> {
+) -> io::Result<Outcome> {
     let mut run = crate::decoding::Decoding::new(opts, diag)?;
     // A BLF file is told by its signature unless a line format is given.
     let mut input = input;
@@ -312,8 +340,9 @@ pub fn run(
         }
     }
     let frames = run.frames;
-    let (mut bad, open) = run.finish(out, diag)?;
-    if frames == 0 && lineno > 0 {
+    let (bad, open) = run.finish(out, diag)?;
+    let no_frame = frames == 0 && lineno > 0;
+    if no_frame {
         let tried = reader
             .format()
             .map_or("no format detected".to_string(), |f| {
@@ -323,9 +352,12 @@ pub fn run(
             diag,
             "canopen-decode: none of the {lineno} line(s) is a CAN frame ({tried}; --format names one)"
         );
-        bad = bad.max(1);
     }
-    Ok((bad, open))
+    Ok(Outcome {
+        bad,
+        open,
+        no_frame,
+    })
 }
 
 /// Reads the EDS or DCF of `node` (`--eds NODE=FILE`): its PDOs (COB-IDs
