@@ -52,7 +52,8 @@
 //!   (1029h sub 1 = 0) does on a communication error
 //!   ([`ChargerEvent::BatteryGone`]). A charger with
 //!   [`ChargerConfig::self_start`] starts itself again when the module is
-//!   back; otherwise the NMT master does. A failed configuration (the
+//!   back (unless the NMT master changed its state meanwhile); otherwise
+//!   the NMT master does. A failed configuration (the
 //!   module's SDO server aborts or does not answer) raises E-0-3-0 too.
 //!   When the module is back and configured, an error-reset EMCY (code
 //!   0000h) clears the error register.
@@ -163,6 +164,10 @@ enum Link {
     /// Heartbeat lost: the module is taken as gone at this time
     /// ([`MODULE_GONE_MS`] after its last heartbeat) unless it is back.
     Lost(MaybeTimestamp),
+    /// Gone, and the charger left operational for it: a self-starting one
+    /// starts itself again when the module is back, unless the NMT master
+    /// has changed its state meanwhile.
+    Gone,
     /// Module heard while NMT stopped (no SDO there, CiA 301): the
     /// configuration starts on entering pre-operational or operational.
     Pending,
@@ -437,7 +442,7 @@ impl ChargerProfile {
         }
     }
 
-    /// The module heard: first heard (the callers check [`Link::Absent`]),
+    /// The module heard: first heard (the callers check [`Self::absent`]),
     /// booted or back after a loss.
     fn battery_found<const Q: usize>(
         &mut self,
@@ -445,14 +450,19 @@ impl ChargerProfile {
         now: Timestamp,
         state: NmtState,
     ) {
-        if !matches!(self.link, Link::Absent | Link::Lost(_) | Link::Failed) {
+        let left_for_it = matches!(self.link, Link::Gone);
+        if !matches!(
+            self.link,
+            Link::Absent | Link::Lost(_) | Link::Gone | Link::Failed
+        ) {
             // A boot-up while configured: the module reset its PDOs; redo it.
             self.forget_pairing(device, now);
         }
+        self.link = Link::Absent;
         device.push_event(ChargerEvent::BatteryFound { state });
         // A self-starting charger that left operational when the module
         // was gone starts itself again (no NMT master to do it).
-        if self.self_start && matches!(device.nmt_state(), NmtState::PreOperational) {
+        if self.self_start && left_for_it {
             device.set_nmt_state(now, NmtState::Operational, self);
         }
         if !self.configure_cob_ids {
@@ -505,7 +515,13 @@ impl ChargerProfile {
         );
         if matches!(device.nmt_state(), NmtState::Operational) {
             device.set_nmt_state(now, NmtState::PreOperational, self);
+            self.link = Link::Gone;
         }
+    }
+
+    /// Not heard, or gone: the module's next heartbeat finds it.
+    const fn absent(&self) -> bool {
+        matches!(self.link, Link::Absent | Link::Gone)
     }
 
     /// Back to the not-valid default COB-IDs (when configuring them).
@@ -657,7 +673,7 @@ impl<const Q: usize> Profile<ChargerProfile, Q, 4, 3> for ChargerProfile {
             return;
         }
         // The first heartbeat starts monitoring without an event.
-        if matches!(self.link, Link::Absent) {
+        if self.absent() {
             let consumer = device.heartbeat_consumer();
             if let Some(state) = consumer.state(battery) {
                 if consumer.is_alive(battery) {
@@ -717,6 +733,11 @@ impl ChargerProfile {
         event: &DeviceEvent,
     ) {
         let battery = self.battery;
+        // The master changed the state of a charger that left operational
+        // for a gone module: its word stands when the module is back.
+        if matches!(event, DeviceEvent::NmtStateChanged { .. }) && matches!(self.link, Link::Gone) {
+            self.link = Link::Absent;
+        }
         match *event {
             DeviceEvent::Reset { .. } => {
                 self.restart(device, now);
@@ -752,11 +773,7 @@ impl ChargerProfile {
                     }
                     HeartbeatEvent::BootUp(n) => (n, NmtState::BootUp),
                     HeartbeatEvent::Restored { node, state } => (node, state),
-                    HeartbeatEvent::StateChanged { node, state }
-                        if matches!(self.link, Link::Absent) =>
-                    {
-                        (node, state)
-                    }
+                    HeartbeatEvent::StateChanged { node, state } if self.absent() => (node, state),
                     HeartbeatEvent::StateChanged { .. } => return,
                 };
                 if node == battery {

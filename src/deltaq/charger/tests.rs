@@ -345,3 +345,28 @@ fn a_self_starting_charger_starts_again_when_the_module_is_back() {
     assert_eq!(c.nmt_state(), NmtState::Operational);
     assert!(c.is_configured());
 }
+
+#[test]
+fn a_self_starting_charger_keeps_the_masters_word_after_a_gone_module() {
+    let mut config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
+    config.configure_cob_ids = false;
+    config.self_start = true;
+    let mut c = Charger::<4>::with_queue_capacity(config);
+    c.boot(Timestamp::ZERO);
+    let heartbeat = CanFrame::standard(0x701, &[0x05]).unwrap();
+    c.handle_frame(Timestamp::from_millis(100), &heartbeat);
+    run_timers(&mut c, Timestamp::from_millis(2200));
+    assert_eq!(c.nmt_state(), NmtState::PreOperational, "gone at 2100 ms");
+    // The master starts it, then sends it to pre-operational: the module's
+    // return leaves it there.
+    for (t, cmd) in [(2300, 0x01), (2400, 0x80)] {
+        c.handle_frame(
+            Timestamp::from_millis(t),
+            &CanFrame::standard(0x000, &[cmd, 0x0A]).unwrap(),
+        );
+    }
+    assert_eq!(c.nmt_state(), NmtState::PreOperational);
+    c.handle_frame(Timestamp::from_millis(3000), &heartbeat);
+    assert_eq!(c.nmt_state(), NmtState::PreOperational);
+    assert!(c.is_configured());
+}
