@@ -137,7 +137,20 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
         speed: 1.0,
     };
     let mut it = args.iter();
+    // An option of the models, which --current/--voltage replace.
+    let mut model_option: Option<&str> = None;
     while let Some(a) = it.next() {
+        if matches!(
+            a.as_str(),
+            "--pack-chemistry"
+                | "--pack-cells"
+                | "--pack-ah"
+                | "--pack-soc"
+                | "--unplugged"
+                | "--no-ac"
+        ) {
+            model_option = Some(a.as_str());
+        }
         let mut value = || it.next().ok_or(format!("{a} needs a value"));
         let number = |v: &String| {
             v.parse::<f64>()
@@ -226,6 +239,11 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
             other => return Err(format!("unknown option '{other}'")),
         }
     }
+    if let (true, Some(m)) = (o.fixed, model_option) {
+        return Err(format!(
+            "{m} is an option of the simulated battery, which --current/--voltage (a fixed power stage) replace"
+        ));
+    }
     if !(0.0..=255.0).contains(&o.current_a) || !(0.0..=64.0 * 4.0).contains(&o.voltage_v) {
         return Err("--current must be 0..=255 A and --voltage 0..=256 V".into());
     }
@@ -278,7 +296,7 @@ fn describe(e: &ChargerEvent) -> Option<String> {
             "event: battery module heartbeat lost: EMCY E-0-3-2, TPDOs stopped".to_string()
         }
         ChargerEvent::BatteryGone => {
-            "event: battery module gone (no heartbeat for 2000 ms): EMCY E-0-3-0, leaving operational"
+            "event: battery module gone (no heartbeat for 2000 ms or more): EMCY E-0-3-0, out of operational"
                 .to_string()
         }
         ChargerEvent::Configured { tpdos, rpdos } => format!(

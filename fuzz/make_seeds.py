@@ -182,10 +182,12 @@ def decoder_run_seeds():
     return [
         ("sdo_sample_words", bytes([0]) + sdo),
         ("sdo_sample_json_summary", bytes([1]) + sdo),
-        ("session_csv_strict", bytes([2]) + session[:1500]),
+        ("session_csv_strict", bytes([2]) + b"".join(session.splitlines(True)[:40])),
         ("session_roles_summary", bytes([3]) + session),
         ("program_download_roles_json", bytes([4]) + download),
         ("screen_check", bytes([5]) + traces["candump_screen"]),
+        ("screen_delta", bytes([6]) + b"(000.000211)  can0  18A   [8]  74 13 45 4E 70 00 00 00\n"
+         b"(000.100000)  can0  70A   [1]  05\n"),
         ("trc_sdo_channels", bytes([7]) + traces["trc_2_1"]),
         ("asc_pdo", bytes([8]) + traces["asc"].replace(b"\r", b"")),
         ("csv_capture_mapping", bytes([9]) + traces["python_can_csv"]),

@@ -4,7 +4,9 @@
 //! the wrong length on the module's SDO response identifier, whose answer
 //! is refused) and the most events one call reports (an NMT reset; the
 //! module's loss with the SDO server's own timeout) all come out, none
-//! dropped; one slot fewer drops one.
+//! dropped; one slot fewer drops one. The module gone in the call of the
+//! server's timeout reports three: one (informational) is dropped and
+//! counted, no frame is.
 #![cfg(feature = "heartbeat-consumer")]
 
 use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
@@ -162,4 +164,52 @@ fn one_event_slot_fewer_drops_one() {
     let [reset, timeout] = worst_events(&mut c);
     assert_eq!((reset.len(), timeout.len()), (1, 1));
     assert_eq!(c.events_dropped(), 2);
+}
+
+/// The module gone in the same call as the SDO server's own timeout (the
+/// master's upload of 1008h opened 2000 ms before the gone, to the
+/// microsecond): three events, `BatteryGone`, the change to
+/// pre-operational and the server's abort. At the firmware's capacity the
+/// oldest is dropped and counted (events are informational); both frames,
+/// the server's abort and E-0-3-0, still go out.
+#[test]
+fn the_gone_call_with_a_server_timeout_drops_one_event_and_no_frame() {
+    let mut c = started::<FIRMWARE_CAPACITY>();
+    c.handle_frame(ms(1_000), &frame(0x701, &[0x05]));
+    frames(&mut c);
+    events(&mut c);
+    // Lost at 3000 ms (2000 ms consumer time); gone 1 us later.
+    c.handle_timeout(ms(3_000));
+    assert!(events(&mut c).contains(&ChargerEvent::BatteryLost));
+    frames(&mut c);
+    let gone_at = Timestamp::from_micros(3_000_001);
+    assert_eq!(c.poll_timeout(), Some(gone_at));
+    c.handle_frame(
+        Timestamp::from_micros(1_000_001),
+        &frame(0x60A, &[0x40, 0x08, 0x10, 0x00, 0, 0, 0, 0]),
+    );
+    frames(&mut c);
+    events(&mut c);
+    c.handle_timeout(gone_at);
+    let sent: Vec<String> = frames(&mut c).iter().map(ToString::to_string).collect();
+    assert!(
+        sent.contains(&"08A#3081011E80000000".to_string()),
+        "{sent:?}"
+    );
+    assert!(
+        sent.iter().any(|f| f.starts_with("58A#80081000")),
+        "{sent:?}"
+    );
+    assert_eq!(
+        events(&mut c),
+        [
+            ChargerEvent::BatteryGone,
+            ChargerEvent::Device(DeviceEvent::NmtStateChanged {
+                from: NmtState::Operational,
+                to: NmtState::PreOperational,
+            }),
+        ]
+    );
+    assert_eq!(c.events_dropped(), 1);
+    assert_eq!(c.nmt_state(), NmtState::PreOperational);
 }

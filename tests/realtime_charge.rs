@@ -180,6 +180,9 @@ fn help_names_the_model_options_and_bad_values_exit_2() {
         ("charger", &["--pack-ah", "0"]),
         ("charger", &["--pack-chemistry", "lava"]),
         ("charger", &["--pack-cells", "0"]),
+        // A fixed power stage has no simulated battery to configure.
+        ("charger", &["--current", "5", "--unplugged"]),
+        ("charger", &["--pack-ah", "40", "--voltage", "48"]),
         ("battery_module", &["--speed", "-1"]),
         ("battery_module", &["--speed", "nan"]),
     ] {

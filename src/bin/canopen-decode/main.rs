@@ -243,6 +243,9 @@ fn main() -> ExitCode {
     let (mut out, mut diag) = (stdout.lock(), stderr.lock());
     match run(input, &mut out, &mut diag, &opts) {
         Ok(o) if o.open && opts.check => {
+            if o.bad > 0 {
+                eprintln!("canopen-decode: {} bad line(s)", o.bad);
+            }
             eprintln!("canopen-decode: problems open at the end of the log (--check)");
             ExitCode::from(3)
         }
@@ -324,6 +327,9 @@ fn several_logs(opts: Options) -> ExitCode {
         }
     }
     if all.open && opts.check {
+        if all.bad > 0 {
+            eprintln!("canopen-decode: {} bad line(s)", all.bad);
+        }
         eprintln!("canopen-decode: problems open at the end of a log (--check)");
         ExitCode::from(3)
     } else {

@@ -234,7 +234,8 @@ pub struct Outcome {
     pub bad: usize,
     /// The summary found a problem still open at the end.
     pub open: bool,
-    /// The input held something, but not one CAN frame (said on `diag`).
+    /// Not one CAN frame in an input that had lines (or a BLF file that
+    /// had a header): said on `diag`.
     pub no_frame: bool,
 }
 

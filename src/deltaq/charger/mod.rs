@@ -113,8 +113,9 @@ pub enum ChargerEvent {
     },
     /// The battery module's heartbeat was lost (E-0-3-2).
     BatteryLost,
-    /// No battery heartbeat for 2000 ms: the module is taken as gone
-    /// (E-0-3-0); the charger left operational for pre-operational.
+    /// No battery heartbeat for at least 2000 ms (at least the consumer
+    /// time, when that is longer): the module is taken as gone (E-0-3-0);
+    /// an operational charger left operational for pre-operational.
     BatteryGone,
     /// The PDOs are paired and configured; `tpdos` / `rpdos` say which (bit n = PDO n).
     Configured {

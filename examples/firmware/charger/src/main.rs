@@ -73,10 +73,13 @@ static ALGORITHMS: [ChargeAlgorithm; 2] = {
 ///   change); an RPDO and the heartbeat or SDO answer on the same
 ///   identifier; a timeout's loss of the module (or the client's timeout)
 ///   and the SDO server's own timeout; the module gone and the change to
-///   pre-operational it makes. A 1016h a master extends by SDO to
-///   four nodes can lose four at once: events are informational, a full
-///   queue drops its oldest and counts it (the back-pressure rule), and the
-///   one event acted on below, the module's EMCY, is the last its call
+///   pre-operational it makes. Two calls can report three: the module gone
+///   in the same call as the SDO server's own timeout (a master's transfer
+///   left open 2000 ms before, to the microsecond), and a 1016h a master
+///   extends by SDO to four nodes can lose four at once. Events are
+///   informational: a full queue drops its oldest and counts it (the
+///   back-pressure rule; the frames still go out, as the test shows), and
+///   the one event acted on below, the module's EMCY, is the last its call
 ///   reports, so it is never the one dropped.
 ///
 /// The crate's test `tests/charger_queue_capacity.rs` drives both worst
