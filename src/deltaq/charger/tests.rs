@@ -253,21 +253,45 @@ fn run_timers(c: &mut Charger<4>, until: Timestamp) -> Vec<(u64, String)> {
     out
 }
 
+/// The battery module's (node 1) operational heartbeat.
+fn battery_heartbeat() -> CanFrame {
+    CanFrame::standard(0x701, &[0x05]).unwrap()
+}
+
+/// A charger on its default COB-IDs (as in the capture), booted; the
+/// master starts it unless it starts itself.
+fn booted(self_start: bool, battery_timeout_ms: u64) -> Charger<4> {
+    let mut config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
+    config.configure_cob_ids = false;
+    config.self_start = self_start;
+    config.battery_timeout = core::time::Duration::from_millis(battery_timeout_ms);
+    let mut c = Charger::<4>::with_queue_capacity(config);
+    c.boot(Timestamp::ZERO);
+    if !self_start {
+        let start = CanFrame::standard(0x000, &[0x01, 0x0A]).unwrap();
+        c.handle_frame(Timestamp::ZERO, &start);
+    }
+    assert_eq!(c.nmt_state(), NmtState::Operational);
+    c
+}
+
+/// A self-starting charger whose module was heard at 100 ms only: gone
+/// at 2100 ms, it left operational.
+fn self_started_then_gone() -> Charger<4> {
+    let mut c = booted(true, 2000);
+    c.handle_frame(Timestamp::from_millis(100), &battery_heartbeat());
+    run_timers(&mut c, Timestamp::from_millis(2200));
+    assert_eq!(c.nmt_state(), NmtState::PreOperational, "gone at 2100 ms");
+    c
+}
+
 #[test]
 fn a_lost_module_is_gone_2000_ms_after_its_last_heartbeat() {
     // The capture's charger: 340 ms battery consumer time, default COB-IDs,
     // started by the BMS. E-0-3-2 342 ms and E-0-3-0 2014 ms after the
     // last battery heartbeat there; here 340 ms and 2000 ms.
-    let mut config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
-    config.configure_cob_ids = false;
-    config.battery_timeout = core::time::Duration::from_millis(340);
-    let mut c = Charger::<4>::with_queue_capacity(config);
-    c.boot(Timestamp::ZERO);
-    c.handle_frame(
-        Timestamp::ZERO,
-        &CanFrame::standard(0x000, &[0x01, 0x0A]).unwrap(),
-    );
-    let heartbeat = CanFrame::standard(0x701, &[0x05]).unwrap();
+    let mut c = booted(false, 340);
+    let heartbeat = battery_heartbeat();
     for t in (100..=1000).step_by(100) {
         run_timers(&mut c, Timestamp::from_millis(t));
         c.handle_frame(Timestamp::from_millis(t), &heartbeat);
@@ -299,12 +323,7 @@ fn a_lost_module_is_gone_2000_ms_after_its_last_heartbeat() {
         ]
     );
     // Back before it is gone: no E-0-3-0, still operational.
-    let mut c = Charger::<4>::with_queue_capacity(config);
-    c.boot(Timestamp::ZERO);
-    c.handle_frame(
-        Timestamp::ZERO,
-        &CanFrame::standard(0x000, &[0x01, 0x0A]).unwrap(),
-    );
+    let mut c = booted(false, 340);
     c.handle_frame(Timestamp::from_millis(100), &heartbeat);
     let lost = run_timers(&mut c, Timestamp::from_millis(1500));
     assert!(
@@ -331,32 +350,15 @@ fn a_lost_module_is_gone_2000_ms_after_its_last_heartbeat() {
 
 #[test]
 fn a_self_starting_charger_starts_again_when_the_module_is_back() {
-    let mut config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
-    config.configure_cob_ids = false;
-    config.self_start = true;
-    let mut c = Charger::<4>::with_queue_capacity(config);
-    c.boot(Timestamp::ZERO);
-    assert_eq!(c.nmt_state(), NmtState::Operational);
-    let heartbeat = CanFrame::standard(0x701, &[0x05]).unwrap();
-    c.handle_frame(Timestamp::from_millis(100), &heartbeat);
-    run_timers(&mut c, Timestamp::from_millis(2200));
-    assert_eq!(c.nmt_state(), NmtState::PreOperational, "gone at 2100 ms");
-    c.handle_frame(Timestamp::from_millis(3000), &heartbeat);
+    let mut c = self_started_then_gone();
+    c.handle_frame(Timestamp::from_millis(3000), &battery_heartbeat());
     assert_eq!(c.nmt_state(), NmtState::Operational);
     assert!(c.is_configured());
 }
 
 #[test]
 fn a_self_starting_charger_keeps_the_masters_word_after_a_gone_module() {
-    let mut config = ChargerConfig::new(NodeId::new(10).unwrap(), NodeId::MIN);
-    config.configure_cob_ids = false;
-    config.self_start = true;
-    let mut c = Charger::<4>::with_queue_capacity(config);
-    c.boot(Timestamp::ZERO);
-    let heartbeat = CanFrame::standard(0x701, &[0x05]).unwrap();
-    c.handle_frame(Timestamp::from_millis(100), &heartbeat);
-    run_timers(&mut c, Timestamp::from_millis(2200));
-    assert_eq!(c.nmt_state(), NmtState::PreOperational, "gone at 2100 ms");
+    let mut c = self_started_then_gone();
     // The master starts it, then sends it to pre-operational: the module's
     // return leaves it there.
     for (t, cmd) in [(2300, 0x01), (2400, 0x80)] {
@@ -366,7 +368,7 @@ fn a_self_starting_charger_keeps_the_masters_word_after_a_gone_module() {
         );
     }
     assert_eq!(c.nmt_state(), NmtState::PreOperational);
-    c.handle_frame(Timestamp::from_millis(3000), &heartbeat);
+    c.handle_frame(Timestamp::from_millis(3000), &battery_heartbeat());
     assert_eq!(c.nmt_state(), NmtState::PreOperational);
     assert!(c.is_configured());
 }
