@@ -3,7 +3,7 @@
 //! `tests/interop/sdo_interop.py`), and handy by hand.
 //!
 //! ```text
-//! sdo_node --server --node-id N [--eds FILE]
+//! sdo_node --server --node-id N [--eds FILE [--strict-eds]]
 //! sdo_node --print-eds FILE
 //! sdo_node --client --node-id N [--timeout-ms T] OP...
 //!     OP = read:IDX:SUB | write:IDX:SUB:HEX     (IDX and SUB in hex)
@@ -12,10 +12,18 @@
 //!
 //! The server serves a small in-memory dictionary (listed by `--help`), or
 //! with `--eds` the dictionary an EDS or DCF (CiA 306) describes, built for
-//! the node id (`canopen_codec::eds`), and prints `EVENT ...` lines on stderr. The client waits for the first input
-//! line (any frame: the peer is ready), runs the operations one after the
-//! other, prints one `RESULT ...` line per operation on stderr, and exits.
-//! Time is the process's monotonic clock; input timestamps are ignored.
+//! the node id (`canopen_codec::eds`), and prints `EVENT ...` lines on
+//! stderr. With `--eds` it first says on stderr, once each, what the file
+//! gets wrong (line and deviation), which values it leaves out and why (a
+//! data type it cannot encode, no data type, a value that does not fit),
+//! and how many it serves. It serves every other value and refuses SDO
+//! access to the ones left out with 06040047h (`eds::EdsDictionary`);
+//! `--strict-eds` refuses such a file instead, naming them, and exits 2.
+//!
+//! The client waits for the first input line (any frame: the peer is
+//! ready), runs the operations one after the other, prints one `RESULT ...`
+//! line per operation on stderr, and exits. Time is the process's monotonic
+//! clock; input timestamps are ignored.
 
 #[path = "support/bus.rs"]
 mod bus;
@@ -23,14 +31,18 @@ mod bus;
 use std::process::ExitCode;
 
 use bus::{Input, PipeBus};
+use canopen_codec::eds::EdsDictionary;
 use canopen_codec::machine::Machine;
-use canopen_codec::od::{Access, MemoryDictionary};
+use canopen_codec::od::{Access, MemoryDictionary, ObjectDictionary};
 use canopen_codec::sdo::{
     Client, ClientConfig, Collected, Server, ServerConfig, ServerEvent, UploadBuffer,
 };
 use canopen_codec::NodeId;
 
-const USAGE: &str = "usage: sdo_node --server --node-id N [--eds FILE]
+const USAGE: &str = "usage: sdo_node --server --node-id N [--eds FILE [--strict-eds]]
+         --eds: serve what FILE (EDS/DCF) describes; values it cannot encode are
+                named on stderr and refused with 06040047h
+         --strict-eds: refuse FILE instead when it has such values
        sdo_node --print-eds FILE   (read an EDS/DCF, write it back out)
        sdo_node --client --node-id N [--timeout-ms T] OP...
          OP = read:IDX:SUB | write:IDX:SUB:HEX   (IDX, SUB in hex)
@@ -101,6 +113,7 @@ fn main() -> ExitCode {
     let mut node = None;
     let mut timeout_ms = None;
     let mut eds = None;
+    let mut strict_eds = false;
     let mut ops = Vec::new();
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -109,6 +122,7 @@ fn main() -> ExitCode {
             "--client" => client = true,
             "--node-id" => node = it.next().and_then(|v| v.parse().ok()).and_then(NodeId::new),
             "--eds" => eds = it.next().cloned(),
+            "--strict-eds" => strict_eds = true,
             "--print-eds" => return print_eds(it.next().map_or("", String::as_str)),
             "--timeout-ms" => timeout_ms = it.next().and_then(|v| v.parse::<u64>().ok()),
             "-h" | "--help" => {
@@ -128,13 +142,20 @@ fn main() -> ExitCode {
         eprintln!("sdo_node: --node-id 1..=127 is required\n{USAGE}");
         return ExitCode::from(2);
     };
+    if strict_eds && eds.is_none() {
+        eprintln!("sdo_node: --strict-eds needs --eds FILE\n{USAGE}");
+        return ExitCode::from(2);
+    }
     match (server, client) {
-        (true, false) => match eds.map_or_else(|| Ok(dictionary()), |p| eds_dictionary(&p, node)) {
-            Ok(od) => run_server(node, od),
-            Err(e) => {
-                eprintln!("sdo_node: {e}");
-                ExitCode::from(2)
-            }
+        (true, false) => match eds {
+            None => run_server(node, dictionary()),
+            Some(path) => match eds_dictionary(&path, node, strict_eds) {
+                Ok(od) => run_server(node, od),
+                Err(e) => {
+                    eprintln!("sdo_node: {path}: {e}");
+                    ExitCode::from(2)
+                }
+            },
         },
         (false, true) => run_client(node, timeout_ms, ops),
         _ => {
@@ -159,32 +180,59 @@ fn print_eds(path: &str) -> ExitCode {
     }
 }
 
-/// The dictionary the EDS or DCF at `path` describes, for `node`.
-fn eds_dictionary(path: &str, node: NodeId) -> Result<MemoryDictionary, String> {
-    let bytes = std::fs::read(path).map_err(|e| format!("{path}: {e}"))?;
-    let eds = canopen_codec::eds::parse_bytes(&bytes).map_err(|e| format!("{path}: {e}"))?;
-    for w in &eds.warnings {
-        eprintln!("sdo_node: {path}: line {}: {:?}", w.line, w.kind);
+/// The dictionary the EDS or DCF at `path` describes, for `node`. Says on
+/// stderr what the file gets wrong, once each in line order, and what is
+/// left out and why; with `strict`, a file with values left out is refused.
+fn eds_dictionary(path: &str, node: NodeId, strict: bool) -> Result<EdsDictionary, String> {
+    let bytes = std::fs::read(path).map_err(|e| e.to_string())?;
+    let eds = canopen_codec::eds::parse_bytes(&bytes).map_err(|e| e.to_string())?;
+    let mut warnings = eds.warnings.clone();
+    warnings.sort_by_key(|w| w.line);
+    warnings.dedup();
+    for w in &warnings {
+        eprintln!("sdo_node: {path}: warning: {w}");
     }
-    // The file is served whole or not at all: name what cannot be served.
-    let unserved = eds.unserved();
-    if !unserved.is_empty() {
-        let list: Vec<String> = unserved
-            .iter()
-            .map(|(i, s)| format!("{i:04X}h:{s:02X}"))
-            .collect();
+    let od = eds.dictionary(node);
+    let left_out = od.unserved();
+    if strict && !left_out.is_empty() {
+        let list: Vec<String> = left_out.iter().map(ToString::to_string).collect();
         return Err(format!(
-            "{path}: cannot serve {} object(s) whose data type this crate cannot encode: {}",
+            "--strict-eds: cannot serve {} value(s): {}",
             list.len(),
-            list.join(", ")
+            list.join("; ")
         ));
     }
-    let od = eds.dictionary(node).map_err(|e| format!("{path}: {e}"))?;
-    eprintln!("sdo_node: {path}: serving {} objects", od.len());
+    let code = EdsDictionary::REFUSAL.to_u32();
+    for u in left_out {
+        eprintln!("sdo_node: {path}: left out {u}; SDO access refused with {code:08X}h");
+    }
+    let objects = |keep: &dyn Fn(u16, u8) -> bool| {
+        eds.objects
+            .values()
+            .filter(|o| {
+                let mut subs = o.subs.keys().copied().collect::<Vec<u8>>();
+                if subs.is_empty() {
+                    subs.push(0);
+                }
+                subs.iter().any(|&s| keep(o.index, s))
+            })
+            .count()
+    };
+    let served = objects(&|i, s| od.values().get(i, s).is_some());
+    let refused = objects(&|i, s| od.refused(i, s).is_some());
+    let mut summary = format!("serving {} values of {served} objects", od.values().len());
+    if !left_out.is_empty() {
+        summary += &format!(
+            "; left out {} value(s) of {refused} object(s), refused with {code:08X}h \
+             (--strict-eds refuses the file instead)",
+            left_out.len()
+        );
+    }
+    eprintln!("sdo_node: {path}: {summary}");
     Ok(od)
 }
 
-fn run_server(node: NodeId, od: MemoryDictionary) -> ExitCode {
+fn run_server<D: ObjectDictionary>(node: NodeId, od: D) -> ExitCode {
     let bus = PipeBus::stdin("pipe");
     let mut server = Server::new(ServerConfig::for_node(node), od);
     loop {

@@ -5,7 +5,7 @@
 
 mod common;
 
-use canopen_codec::eds::parse;
+use canopen_codec::eds::{parse, EdsDictionary};
 use canopen_codec::sdo::{AbortCode, ClientEvent};
 use canopen_codec::NodeId;
 use common::sdo::SdoPair;
@@ -18,13 +18,13 @@ DefaultValue=IC650 charger with a long name\r\n\
 [1800sub0]\r\nParameterName=Highest sub-index\r\nDataType=5\r\nAccessType=ro\r\nDefaultValue=1\r\n\
 [1800sub1]\r\nParameterName=COB-ID\r\nDataType=7\r\nAccessType=rw\r\nDefaultValue=$NODEID+0x180\r\n";
 
-fn pair() -> SdoPair {
+fn pair() -> SdoPair<EdsDictionary> {
     let eds = parse(EDS).unwrap();
-    SdoPair::new(10, eds.dictionary(NodeId::new(10).unwrap()).unwrap())
+    SdoPair::new(10, eds.dictionary(NodeId::new(10).unwrap()))
 }
 
 #[cfg(feature = "sdo-client-segmented")]
-fn upload(p: &mut SdoPair, index: u16, sub: u8) -> Vec<u8> {
+fn upload(p: &mut SdoPair<EdsDictionary>, index: u16, sub: u8) -> Vec<u8> {
     p.clear_events();
     p.with_client(|c, now| c.start_upload(now, index, sub))
         .unwrap();
@@ -32,7 +32,7 @@ fn upload(p: &mut SdoPair, index: u16, sub: u8) -> Vec<u8> {
     p.uploaded()
 }
 
-fn download(p: &mut SdoPair, index: u16, sub: u8, value: &[u8]) -> ClientEvent {
+fn download(p: &mut SdoPair<EdsDictionary>, index: u16, sub: u8, value: &[u8]) -> ClientEvent {
     p.clear_events();
     p.with_client(|c, now| c.start_download(now, index, sub, value.to_vec()))
         .unwrap();
@@ -72,7 +72,7 @@ fn access_and_size_come_from_the_description() {
             len: 2
         }
     );
-    assert_eq!(p.od().get(0x1017, 0), Some(&[0xE8, 0x03][..]));
+    assert_eq!(p.od().values().get(0x1017, 0), Some(&[0xE8, 0x03][..]));
     assert_eq!(
         aborted(download(&mut p, 0x1800, 2, &[1])),
         Some(AbortCode::SubIndexDoesNotExist)

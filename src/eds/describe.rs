@@ -448,7 +448,7 @@ mod tests {
         let text = super::super::write(&eds);
         let back = super::super::parse(&text).unwrap();
         let node = NodeId::MIN;
-        let mut od2 = back.dictionary(node).unwrap();
+        let mut od2 = back.dictionary(node);
         for (index, sub) in [
             (0x1000, 0),
             (0x1008, 0),

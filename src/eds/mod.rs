@@ -44,7 +44,7 @@ mod write;
 
 pub(crate) use describe::sub;
 pub use describe::{Described, DeviceHeader, ObjectDescription, SubDescription};
-pub use dictionary::{DictionaryError, PdoDescription, MAX_VARIABLE_LEN};
+pub use dictionary::{EdsDictionary, PdoDescription, Unserved, UnservedReason, MAX_VARIABLE_LEN};
 pub use parse::{parse, parse_bytes};
 pub use types::{AccessType, DataType, ObjectType};
 pub use value::{encode_value, eval_int, parse_int, uses_node_id, ValueError};
@@ -402,6 +402,61 @@ pub enum WarningKind {
     },
     /// A `LowLimit` or `HighLimit` that is not a number.
     InvalidLimit,
+}
+
+impl core::fmt::Display for Warning {
+    /// The line and the deviation in words:
+    /// `line 1042: 3050h has SubNumber=7 but 3 sub-objects are described`.
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        if self.line != 0 {
+            write!(f, "line {}: ", self.line)?;
+        }
+        write!(f, "{}", self.kind)
+    }
+}
+
+impl core::fmt::Display for WarningKind {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match *self {
+            WarningKind::NotUtf8 => f.write_str("not UTF-8 (invalid bytes read as U+FFFD)"),
+            WarningKind::KeyOutsideSection => {
+                f.write_str("Key=Value before any section header (ignored)")
+            }
+            WarningKind::DuplicateKey => {
+                f.write_str("a key given twice in one section (the last one counts)")
+            }
+            WarningKind::DuplicateSection => {
+                f.write_str("a section given twice (its keys merged, the last value counts)")
+            }
+            WarningKind::UnknownAccessType => f.write_str(
+                "AccessType is none of const, ro, wo, rw, rwr, rww (left unset)",
+            ),
+            WarningKind::OrphanSubObject { index } => write!(
+                f,
+                "a sub-object of {index:04X}h, which has no [{index:04X}] section (kept as an unknown section)"
+            ),
+            WarningKind::ListedObjectMissing { index } => {
+                write!(f, "{index:04X}h is in an object list but has no section")
+            }
+            WarningKind::ListCountMismatch { declared, found } => write!(
+                f,
+                "the object list says SupportedObjects={declared} but has {found} {}",
+                if found == 1 { "entry" } else { "entries" }
+            ),
+            WarningKind::SubNumberMismatch {
+                index,
+                declared,
+                found,
+            } => write!(
+                f,
+                "{index:04X}h has SubNumber={declared} but {found} {} described",
+                if found == 1 { "sub-object is" } else { "sub-objects are" }
+            ),
+            WarningKind::InvalidLimit => {
+                f.write_str("a LowLimit or HighLimit that is not a number (kept as text)")
+            }
+        }
+    }
 }
 
 #[cfg(test)]

@@ -1,6 +1,7 @@
 //! Hand-written descriptions, one per quirk real files have (CiA 306,
 //! "Electronic data sheet specification for CANopen").
 
+use alloc::string::ToString;
 use alloc::vec::Vec;
 
 use super::*;
@@ -188,7 +189,7 @@ fn compact_sub_obj_with_names_and_values() {
     assert_eq!(o.subs[&0].default_value.as_deref(), Some("3"));
     assert_eq!(o.subs[&2].parameter_value.as_deref(), Some("0x99"));
     assert_eq!(o.subs[&1].denotation.as_deref(), Some("front left"));
-    let mut od = eds.dictionary(NODE).unwrap();
+    let mut od = eds.dictionary(NODE);
     let mut buf = [0u8; 2];
     od.read(0x3004, 2, 0, &mut buf).unwrap();
     assert_eq!(buf, [0x99, 0]);
@@ -240,7 +241,7 @@ fn dcf_parameter_value_wins_over_default() {
     let e = &eds.objects[&0x1017].entry;
     assert_eq!(e.value(), Some("500"));
     assert_eq!(e.denotation.as_deref(), Some("heartbeat"));
-    let mut od = eds.dictionary(NODE).unwrap();
+    let mut od = eds.dictionary(NODE);
     let mut buf = [0u8; 2];
     od.read(0x1017, 0, 0, &mut buf).unwrap();
     assert_eq!(u16::from_le_bytes(buf), 500);
@@ -355,7 +356,7 @@ fn dictionary_sizes_access_strings_and_domains() {
                   [2000]\nDataType=4\nAccessType=rww\nDefaultValue=-2\n\
                   [2001]\nDataType=5\nAccessType=ro\nDefaultValue=\n\
                   [0005]\nObjectType=5\nDataType=7\n");
-    let mut od = eds.dictionary(NODE).unwrap();
+    let mut od = eds.dictionary(NODE);
     let s = od.info(0x1008, 0).unwrap();
     assert_eq!((s.access, s.len), (Access::Const, 5));
     assert_eq!(
@@ -379,38 +380,12 @@ fn dictionary_sizes_access_strings_and_domains() {
 }
 
 #[test]
-fn dictionary_rejects_a_value_that_does_not_fit() {
-    let eds = ok("[2000]\nDataType=5\nDefaultValue=0x100\n");
-    assert_eq!(
-        eds.dictionary(NODE),
-        Err(DictionaryError::Value {
-            index: 0x2000,
-            sub: 0,
-            error: ValueError::OutOfRange
-        })
-    );
-}
-
-#[test]
-fn values_it_cannot_serve_are_named_not_dropped_silently() {
-    let eds = ok("[2000]\nDataType=0x40\nDefaultValue=0\n\
-                  [2001]\nObjectType=0x9\nSubNumber=2\n\
-                  [2001sub0]\nDataType=5\nDefaultValue=1\n\
-                  [2001sub1]\nAccessType=rw\n\
-                  [2002]\nDataType=7\nDefaultValue=1\n");
-    assert_eq!(eds.unserved(), [(0x2000, 0), (0x2001, 1)]);
-    assert!(ok("[2002]\nDataType=7\nDefaultValue=1\n")
-        .unserved()
-        .is_empty());
-}
-
-#[test]
 fn an_empty_parameter_value_of_a_number_falls_back_to_the_default() {
     let eds = ok(
         "[1017]\nDataType=6\nAccessType=rw\nDefaultValue=500\nParameterValue=\n\
                   [1008]\nDataType=9\nAccessType=const\nDefaultValue=name\nParameterValue=\n",
     );
-    let mut od = eds.dictionary(NODE).unwrap();
+    let mut od = eds.dictionary(NODE);
     let mut buf = [0; 4];
     assert_eq!(od.read(0x1017, 0, 0, &mut buf), Ok(2));
     assert_eq!(buf[..2], 500u16.to_le_bytes());
@@ -455,5 +430,30 @@ fn parse_and_parse_bytes_agree_on_byte_order_marks() {
     assert_eq!(
         parse("\u{feff}[FileInfo]\nFileName=x.eds\n").map(|e| e.file_info.file_name),
         parse("[FileInfo]\nFileName=x.eds\n").map(|e| e.file_info.file_name)
+    );
+}
+
+#[test]
+fn warnings_say_the_line_and_the_deviation_in_words() {
+    let eds = ok("[ManufacturerObjects]\nSupportedObjects=2\n1=0x2000\n\
+                  [2000]\nObjectType=9\nSubNumber=3\n[2000sub0]\nDataType=5\n\
+                  [2001sub1]\nDataType=5\n[2002]\nAccessType=rx\n");
+    let said: Vec<_> = eds.warnings.iter().map(ToString::to_string).collect();
+    assert_eq!(
+        said,
+        [
+            "line 1: the object list says SupportedObjects=2 but has 1 entry",
+            "line 12: AccessType is none of const, ro, wo, rw, rwr, rww (left unset)",
+            "line 9: a sub-object of 2001h, which has no [2001] section (kept as an unknown section)",
+            "line 4: 2000h has SubNumber=3 but 1 sub-object is described",
+        ]
+    );
+    let missing = Warning {
+        line: 0,
+        kind: WarningKind::ListedObjectMissing { index: 0x1018 },
+    };
+    assert_eq!(
+        missing.to_string(),
+        "1018h is in an object list but has no section"
     );
 }
