@@ -81,7 +81,7 @@ sends out on stdout, its events on stderr.
                          the pack and a CC-then-CV BMS policy asking up to
                          --max-current-a
   --speed F              the module's clock (timers, the pack, log stamps) runs F
-                         times the wall clock, 0 < F <= 1000 (default 1): run
+                         times the wall clock, 0.001 to 1000 (default 1): run
                          the other end at the same F
   --nmt-start            act as the NMT master after boot: send 000#0100 (start all nodes)
   --linger-ms N          keep running N ms after stdin closes (default 2000)
@@ -201,22 +201,23 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
                 if o.unconfigured {
                     continue;
                 }
-                o.config.node = v
-                    .parse()
-                    .ok()
-                    .and_then(NodeId::new)
-                    .ok_or_else(|| format!("bad node id '{v}' (1..=127)"))?;
+                o.config.node = v.parse().ok().and_then(NodeId::new).ok_or_else(|| {
+                    format!("{a}: '{v}' is not a node id 1..=127 (or 255 with --lss)")
+                })?;
             }
             "--serial" => o.serial = Some(value()?.clone()),
             "--battery-id" => o.battery_id = Some(value()?.clone()),
-            "--battery-type" => o.parameters.battery_type = battery_type(value()?)?,
+            "--battery-type" => {
+                o.parameters.battery_type =
+                    battery_type(value()?).map_err(|e| format!("{a}: {e}"))?;
+            }
             "--capacity-ah" => o.parameters.ah_capacity = int(value()?)?,
             "--max-current-a" => o.parameters.max_charge_current = int(value()?)?,
             "--cells" => o.parameters.number_of_cells = int(value()?)?,
             "--voltage" => {
                 let v = num(value()?)?;
                 if !(0.0..=4_194_303.0).contains(&v) {
-                    return Err(format!("voltage {v} V out of range"));
+                    return Err(format!("{a}: {v} V is not 0 to 4194303 V"));
                 }
                 // In range: the cast cannot truncate.
                 #[allow(clippy::cast_possible_truncation, clippy::cast_sign_loss)]
@@ -226,7 +227,7 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
             "--temperature" => {
                 let v = num(value()?)?;
                 if !(-4096.0..=4095.0).contains(&v) {
-                    return Err(format!("temperature {v} degC out of range"));
+                    return Err(format!("{a}: {v} degC is not -4096 to 4095 degC"));
                 }
                 #[allow(clippy::cast_possible_truncation)]
                 let raw = (v * 8.0).round() as i16;
@@ -238,15 +239,15 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
                     .parse()
                     .ok()
                     .and_then(StateOfCharge::new)
-                    .ok_or_else(|| format!("bad state of charge '{v}' (0..=100)"))?;
+                    .ok_or_else(|| format!("{a}: '{v}' is not a state of charge 0..=100 %"))?;
             }
             "--battery-status" => {
-                let v = hex_u32(value()?)?;
-                let v = u8::try_from(v).map_err(|_| format!("bad battery status {v:X}h"))?;
+                let v = hex_u32(value()?).map_err(|e| format!("{a}: {e}"))?;
+                let v = u8::try_from(v).map_err(|_| format!("{a}: {v:X}h is not one byte"))?;
                 o.status = BatteryStatus::from_bits_retain(v);
             }
             "--device-type" => {
-                o.config.device_type = device_type(value()?)?;
+                o.config.device_type = device_type(value()?).map_err(|e| format!("{a}: {e}"))?;
                 device_type_given = true;
             }
             "--device-name" => {
@@ -255,7 +256,11 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
             }
             "--identity" => {
                 let v = value()?;
-                let parts = v.split(',').map(hex_u32).collect::<Result<Vec<_>, _>>()?;
+                let parts = v
+                    .split(',')
+                    .map(hex_u32)
+                    .collect::<Result<Vec<_>, _>>()
+                    .map_err(|e| format!("{a}: {e}"))?;
                 let [vendor_id, product_code, revision_number, serial_number] = parts[..] else {
                     return Err(format!("--identity wants 4 hex numbers, got '{v}'"));
                 };
@@ -288,10 +293,8 @@ fn parse_args(args: &[String]) -> Result<Option<Options>, String> {
                 o.speed = v
                     .parse::<f64>()
                     .ok()
-                    .filter(|f| *f > 0.0 && *f <= MAX_SPEED)
-                    .ok_or(format!(
-                        "--speed: '{v}' is not above 0 and at most {MAX_SPEED}"
-                    ))?;
+                    .filter(|f| (MIN_SPEED..=MAX_SPEED).contains(f))
+                    .ok_or(format!("--speed: '{v}' is not {MIN_SPEED} to {MAX_SPEED}"))?;
             }
             "--nmt-start" => o.nmt_start = true,
             "--print-eds" => o.print_eds = true,
@@ -337,6 +340,10 @@ const TICK: Duration = Duration::from_millis(250);
 /// The fastest `--speed`: heartbeat timeouts of a second or two stay tens
 /// of wall milliseconds above the scheduler's jitter.
 const MAX_SPEED: f64 = 1000.0;
+/// The slowest `--speed` (a second of the module's time is 17 wall
+/// minutes): any deadline of the node's clock, scaled to the wall clock,
+/// stays a `Duration`.
+const MIN_SPEED: f64 = 0.001;
 /// How often (wall time) the pack is reported on stderr while it charges.
 const REPORT_EVERY: Duration = Duration::from_secs(10);
 
