@@ -18,8 +18,8 @@ For the bundled session and each real capture given:
   column tells each log's rows, equal to each log's own JSON.
 
 usage: signals_interop.py PATH/TO/canopen-decode [CAPTURE.log...]
-A capture that is absent fails under CI (CI=true); elsewhere it is skipped
-with a message.
+A capture that is absent or unreadable fails under CI (CI=true), after the
+other runs; elsewhere it is skipped with a message.
 """
 
 import csv
@@ -250,15 +250,29 @@ def check_dataset(captures):
         print(f"dataset of {len(captures)} logs: {len(all_rows)} rows in one table, {n} cells compared")
 
 
+def unreadable(path):
+    """Why `path` cannot be read as a file, or None when it can."""
+    try:
+        with open(path, "rb") as f:
+            f.read(1)
+    except OSError as e:
+        return e.strerror or str(e)
+    return None
+
+
 def main():
     runs = [("bundled session", ["--bundled", "session"])]
+    present = []
     for c in CAPTURES:
-        if not os.path.isfile(c):
+        problem = unreadable(c)
+        if problem:
+            message = f"shared test data missing or unreadable: capture {c}: {problem}"
             if os.environ.get("CI") == "true":
-                fail(f"capture {c} is absent")
+                fail(f"{message} (CI=true: every capture given must be there)")
             else:
-                print(f"skipped: capture {c} is absent")
+                print(f"skipped: {message}")
             continue
+        present.append(c)
         runs.append((os.path.basename(c), ["--pdo-capture-mapping", c]))
     parquet = parquet_supported()
     if not parquet:
@@ -273,7 +287,6 @@ def main():
             f"{label}: {len(frames)} PDO frames; cells compared: csv {n_csv}, "
             f"cantools {n_dbc}, parquet (pyarrow + duckdb) {n_pq}"
         )
-    present = [c for c in CAPTURES if os.path.isfile(c)]
     if parquet and len(present) > 1:
         check_dataset(present)
     if FAILS:
