@@ -1,15 +1,18 @@
 //! The `canopen-replay` program against the virtual devices of
-//! `examples/`: the real Delta-Q ICL1500 startup capture played both ways,
-//! a deliberately wrong charger, the stdin/stdout mode, usage errors and a
-//! device that dies.
+//! `examples/`: the real Delta-Q ICL1500 startup capture played both ways
+//! (and from a BLF copy), a deliberately wrong charger, the stdin/stdout
+//! mode, every trace format, usage errors and a device that dies.
 #![cfg(feature = "cli")]
 
+mod blf_support;
 mod common;
 
 use std::io::{Read, Write};
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 
+use canopen_codec::trace::candump::parse_line;
+use canopen_codec::{CanFrame, CanId};
 use serde_json::Value;
 
 fn replay(args: &[&str]) -> (i32, String, String) {
@@ -76,7 +79,10 @@ fn emcy_times(report: &Value, side: &str, name: &str) -> Vec<f64> {
 }
 
 /// The charger the capture shows, as far as the virtual one goes: default
-/// COB-IDs, 340 ms battery heartbeat consumer time, the capture's TPDO
+/// COB-IDs, 340 ms battery heartbeat consumer time (the capture's E-0-3-2
+/// comes 342 ms after the last battery heartbeat; the specification's
+/// recommended 2000 ms does not reproduce it: see
+/// `the_specifications_consumer_time_does_not_reproduce_the_captures_e_0_3_2`), the capture's TPDO
 /// event timers (200 ms, 1000 ms, 1000 ms, the fourth off); its power
 /// stage and battery are the models.
 const CAPTURE_CHARGER: [&str; 6] = [
@@ -196,6 +202,61 @@ fn charger_side_of_the_startup_capture_into_the_virtual_battery_module() {
         differences(&report),
         pairs(&[("missing", "000"), ("missing", "20A"), ("missing", "30A")])
     );
+    assert_eq!(code, 4);
+}
+
+/// Why the reproduction runs the charger with 340 ms: with the Delta-Q
+/// specification's recommended heartbeat consumer time (2000 ms, the
+/// charger's default) E-0-3-2 comes 2000 ms after the last battery
+/// heartbeat, together with E-0-3-0, where the capture's came at 342 ms.
+#[test]
+fn the_specifications_consumer_time_does_not_reproduce_the_captures_e_0_3_2() {
+    let Some(capture) = startup() else { return };
+    let charger = common::example("charger");
+    let mut args = vec![&capture[..], "--play", "1", "--speed", "0", "--json"];
+    args.extend(["--pdo-capture-mapping", "--", &charger]);
+    args.extend(
+        CAPTURE_CHARGER
+            .iter()
+            .filter(|a| !["--battery-timeout-ms", "340"].contains(a)),
+    );
+    args.push("0");
+    let (code, out, err) = replay(&args);
+    let report: Value = serde_json::from_str(&out).unwrap_or_else(|e| panic!("{e}: {out}{err}"));
+    let after_cause = |name: &str| -> Vec<f64> {
+        report["device"]["emcys"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|e| e["name"].as_str().unwrap().ends_with(name))
+            .map(|e| e["after_cause_ms"].as_f64().unwrap())
+            .collect()
+    };
+    // At the 2000 ms (the device's frames are timed by its clock on the
+    // replay's: a few ms of scheduling at most).
+    for name in ["E-0-3-2", "E-0-3-0"] {
+        let t = after_cause(name);
+        assert!(
+            t.len() == 1 && (2000.0..2050.0).contains(&t[0]),
+            "{name}: {t:?}"
+        );
+    }
+    let late: Vec<&str> = report["differences"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|d| d["kind"] == "emcy time")
+        .map(|d| d["words"].as_str().unwrap())
+        .collect();
+    assert_eq!(late.len(), 1, "{late:?}");
+    assert!(late[0].contains("E-0-3-2"), "{late:?}");
+    // 2000 ms where the capture has 342.1 ms.
+    let off: f64 = late[0]
+        .strip_suffix(" ms off")
+        .and_then(|w| w.rsplit_once("the device's +"))
+        .and_then(|(_, ms)| ms.parse().ok())
+        .unwrap_or_else(|| panic!("{late:?}"));
+    assert!((1657.0..1710.0).contains(&off), "{late:?}");
     assert_eq!(code, 4);
 }
 
@@ -360,6 +421,21 @@ fn usage_errors_exit_2() {
         assert!(!err.is_empty(), "{args:?}");
     }
     let _ = std::fs::remove_file(&empty);
+    // A BLF file without a frame, and a text one: each says how it was read.
+    let blf = tmp("no-frame.blf", &blf_support::header(BLF_START));
+    let (code, _, err) = replay(&[&blf, "--play", "1"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("the trace has no frames (0 unreadable object(s), read as blf)"),
+        "{err}"
+    );
+    let text = tmp("no-frame.trc", b";$FILEVERSION=1.1\nnonsense\n");
+    let (code, _, err) = replay(&[&text, "--play", "1"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("(1 unreadable line(s), read as trc; --format names one; the first: line 2: "),
+        "{err}"
+    );
 }
 
 #[test]
@@ -406,5 +482,386 @@ fn a_long_tail_is_cut_at_the_limit_and_said_so() {
     );
     // The heartbeat loss comes 340 ms after the last played frame: cut off.
     assert!(out.contains("E-0-3-2 at 60292.6 ms is missing"), "{out}");
+    assert_eq!(code, 4);
+}
+
+/// A recording's frames: (microseconds since its first frame, frame).
+fn frames_of(log: &str) -> Vec<(u64, CanFrame)> {
+    let lines: Vec<_> = log.lines().map(|l| parse_line(l).unwrap()).collect();
+    let first = lines[0].timestamp.unwrap().as_micros();
+    lines
+        .iter()
+        .map(|l| (l.timestamp.unwrap().as_micros() - first, l.frame))
+        .collect()
+}
+
+/// The UNIX time the written traces start at (where a format has one).
+const UNIX_START_US: u64 = 1_763_800_000_000_000;
+/// The same start as a PCAN `$STARTTIME` (days since 1899-12-30) and as a
+/// BLF SYSTEMTIME (2025-11-22 08:26:40.000, a Saturday).
+const TRC_START: &str = "45983.35185185185";
+const BLF_START: [u16; 8] = [2025, 11, 6, 22, 8, 26, 40, 0];
+
+/// `(seconds, microseconds)` of `us`.
+fn sec(us: u64) -> (u64, u64) {
+    (us / 1_000_000, us % 1_000_000)
+}
+
+/// The data bytes as two hex digits each, spaced.
+fn spaced(f: &CanFrame) -> String {
+    f.data()
+        .iter()
+        .map(|b| format!("{b:02X}"))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The 11-bit identifier of a data frame (what the writers below write).
+fn std_id(f: &CanFrame) -> u16 {
+    match f.id() {
+        CanId::Standard(id) if !f.is_remote() => id,
+        _ => panic!("the line writers here write 11-bit data frames only: {f}"),
+    }
+}
+
+/// Standard base64 with padding (RFC 4648), as python-can's CSV has it.
+fn base64(bytes: &[u8]) -> String {
+    const ABC: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for chunk in bytes.chunks(3) {
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
+        let n = u32::from(b[0]) << 16 | u32::from(b[1]) << 8 | u32::from(b[2]);
+        for i in 0..4 {
+            if i <= chunk.len() {
+                out.push(ABC[(n >> (18 - 6 * i) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+/// `frames` written in one format: `(name, --format to give or None, bytes)`.
+/// Every line format as its writer writes it (candump, PCAN-View, Vector,
+/// python-can), each variant of the README's "Trace formats" table.
+fn every_format(frames: &[(u64, CanFrame)]) -> Vec<(&'static str, Option<&'static str>, Vec<u8>)> {
+    let lines = |head: &str, line: &dyn Fn(usize, u64, &CanFrame) -> String, tail: &str| {
+        let mut text = head.to_string();
+        for (n, (us, f)) in frames.iter().enumerate() {
+            text.push_str(&line(n + 1, *us, f));
+            text.push('\n');
+        }
+        text.push_str(tail);
+        text.into_bytes()
+    };
+    let ms = |us: u64| us as f64 / 1000.0;
+    let screen = |ts: String, f: &CanFrame| {
+        format!(
+            "{ts}  can0  {:03X}   [{}]  {}",
+            std_id(f),
+            f.dlc(),
+            spaced(f)
+        )
+    };
+    let deltas = std::cell::Cell::new(0u64);
+    let mut out = vec![
+        (
+            "candump log",
+            None,
+            lines(
+                "",
+                &|_, us, f| {
+                    let (s, u) = sec(UNIX_START_US + us);
+                    format!("({s}.{u:06}) can0 {f}")
+                },
+                "",
+            ),
+        ),
+        (
+            "candump screen -t a",
+            None,
+            lines(
+                "",
+                &|_, us, f| {
+                    let (s, u) = sec(UNIX_START_US + us);
+                    screen(format!("({s}.{u:06})"), f)
+                },
+                "",
+            ),
+        ),
+        (
+            "candump screen -t z",
+            None,
+            lines(
+                "",
+                &|_, us, f| {
+                    let (s, u) = sec(us);
+                    screen(format!("({s:03}.{u:06})"), f)
+                },
+                "",
+            ),
+        ),
+        (
+            "candump screen -t d",
+            Some("candump-screen-delta"),
+            lines(
+                "",
+                &|_, us, f| {
+                    let (s, u) = sec(us - deltas.replace(us));
+                    screen(format!("({s:03}.{u:06})"), f)
+                },
+                "",
+            ),
+        ),
+        (
+            "PCAN .trc 1.0",
+            Some("trc"),
+            lines(
+                "",
+                &|n, us, f| {
+                    assert_eq!(us % 1000, 0, "PCAN 1.0 offsets are whole ms");
+                    format!(
+                        "{n:>6})  {:>10}  {:04X}  {}  {}",
+                        us / 1000,
+                        std_id(f),
+                        f.dlc(),
+                        spaced(f)
+                    )
+                },
+                "",
+            ),
+        ),
+        (
+            "PCAN .trc 1.1",
+            None,
+            lines(
+                &format!(";$FILEVERSION=1.1\n;$STARTTIME={TRC_START}\n;   comment\n"),
+                &|n, us, f| {
+                    format!(
+                        "{n:>6})  {:>12.1}  Rx         {:04X}  {}  {}",
+                        ms(us),
+                        std_id(f),
+                        f.dlc(),
+                        spaced(f)
+                    )
+                },
+                "",
+            ),
+        ),
+        (
+            "PCAN .trc 1.2",
+            None,
+            lines(
+                ";$FILEVERSION=1.2\n",
+                &|n, us, f| {
+                    format!(
+                        "{n:>6})  {:>12.3} 1  Rx         {:04X}  {}  {}",
+                        ms(us),
+                        std_id(f),
+                        f.dlc(),
+                        spaced(f)
+                    )
+                },
+                "",
+            ),
+        ),
+        (
+            "PCAN .trc 1.3",
+            None,
+            lines(
+                ";$FILEVERSION=1.3\n",
+                &|n, us, f| {
+                    format!(
+                        "{n:>6})  {:>12.3} 1  Rx         {:04X} -  {}  {}",
+                        ms(us),
+                        std_id(f),
+                        f.dlc(),
+                        spaced(f)
+                    )
+                },
+                "",
+            ),
+        ),
+        (
+            "PCAN .trc 2.0",
+            None,
+            lines(
+                ";$FILEVERSION=2.0\n;$COLUMNS=N,O,T,I,d,l,D\n",
+                &|n, us, f| {
+                    format!(
+                        "{n:>7} {:>13.3} DT     {:04X} Rx {}  {}",
+                        ms(us),
+                        std_id(f),
+                        f.dlc(),
+                        spaced(f)
+                    )
+                },
+                "",
+            ),
+        ),
+        (
+            "PCAN .trc 2.1",
+            None,
+            lines(
+                &format!(
+                    ";$FILEVERSION=2.1\n;$STARTTIME={TRC_START}\n;$COLUMNS=N,O,T,B,I,d,R,L,D\n"
+                ),
+                &|n, us, f| {
+                    format!(
+                        "{n:>7} {:>13.3} DT 1      {:04X} Rx -  {}    {}",
+                        ms(us),
+                        std_id(f),
+                        f.dlc(),
+                        spaced(f)
+                    )
+                },
+                "",
+            ),
+        ),
+        (
+            "Vector ASC",
+            None,
+            lines(
+                "date Sat Nov 22 08:26:40.000 2025\nbase hex  timestamps absolute\n\
+                 internal events logged\nBegin Triggerblock Sat Nov 22 08:26:40.000 2025\n\
+                 \x20  0.000000 Start of measurement\n",
+                &|_, us, f| {
+                    let (s, u) = sec(us);
+                    format!(
+                        "{s:>4}.{u:06} 1  {:<15X} Rx   d {} {}",
+                        std_id(f),
+                        f.dlc(),
+                        spaced(f)
+                    )
+                },
+                "End TriggerBlock\n",
+            ),
+        ),
+        (
+            "python-can CSV",
+            None,
+            lines(
+                "timestamp,arbitration_id,extended,remote,error,dlc,data\n",
+                &|_, us, f| {
+                    let (s, u) = sec(UNIX_START_US + us);
+                    format!(
+                        "{s}.{u:06},{:#x},0,0,0,{},{}",
+                        std_id(f),
+                        f.dlc(),
+                        base64(f.data())
+                    )
+                },
+                "",
+            ),
+        ),
+    ];
+    out.push((
+        "Vector BLF",
+        None,
+        blf_support::file(BLF_START, &blf_support::can_objects(frames), 4096, true),
+    ));
+    out
+}
+
+/// Writes `bytes` to a file of the test's own and gives its path.
+fn tmp(name: &str, bytes: &[u8]) -> String {
+    let safe: String = name
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
+        .collect();
+    let path = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("replay-{safe}"));
+    std::fs::write(&path, bytes).unwrap();
+    path.display().to_string()
+}
+
+/// What a replay report says about the recording alone (the same for the
+/// same frames whatever the format) and its verdict.
+fn recording_and_verdict(report: &Value) -> (Value, Value, Value, Value) {
+    (
+        report["recording"].clone(),
+        report["played"].clone(),
+        report["matches"].clone(),
+        Value::from(
+            differences(report)
+                .iter()
+                .map(|(k, c)| format!("{k} {c}"))
+                .collect::<Vec<_>>(),
+        ),
+    )
+}
+
+/// The bundled session (times cut to whole milliseconds, which every
+/// format carries exactly) written in every trace format the decoder
+/// reads: each replays into the virtual charger as its candump log does,
+/// the recording's figures the same to the microsecond and the device a
+/// match (exit 0).
+#[test]
+fn every_trace_format_replays_as_the_candump_log_of_the_same_frames() {
+    let log = std::fs::read_to_string(virtual_session()).unwrap();
+    let frames: Vec<(u64, CanFrame)> = frames_of(&log)
+        .into_iter()
+        .map(|(us, f)| (us / 1000 * 1000, f))
+        .collect();
+    let charger = common::example("charger");
+    let run = |path: &str, format: Option<&str>| {
+        let mut args = vec![path, "--play", "1", "--speed", "0", "--json"];
+        if let Some(f) = format {
+            args.extend(["--format", f]);
+        }
+        args.extend(["--", &charger, "--linger-ms", "0"]);
+        let (code, out, err) = replay(&args);
+        let report: Value =
+            serde_json::from_str(&out).unwrap_or_else(|e| panic!("{path}: {e}: {out}{err}"));
+        (code, recording_and_verdict(&report), err)
+    };
+    let formats = every_format(&frames);
+    let original = tmp("session.log", &formats[0].2);
+    let (code, want, _) = run(&original, None);
+    assert_eq!(code, 0, "{want:?}");
+    assert_eq!(want.1, Value::from(58), "{want:?}");
+    for (name, format, bytes) in &formats {
+        let path = tmp(name, bytes);
+        let (got_code, got, err) = run(&path, *format);
+        assert_eq!(got, want, "{name}: {err}");
+        assert_eq!(got_code, code, "{name}: {err}");
+        assert!(!err.contains("unreadable"), "{name}: {err}");
+    }
+}
+
+/// The real startup capture as a BLF file (zlib containers) replays as
+/// its candump original does: the same recording, the same differences.
+#[test]
+fn a_blf_copy_of_the_startup_capture_replays_as_the_original() {
+    let Some(capture) = startup() else { return };
+    let frames = frames_of(&std::fs::read_to_string(&capture).unwrap());
+    let blf = tmp(
+        "startup.blf",
+        &blf_support::file(
+            BLF_START,
+            &blf_support::can_objects(&frames),
+            64 * 1024,
+            true,
+        ),
+    );
+    let charger = common::example("charger");
+    let run = |path: &str| {
+        let mut args = vec![path, "--play", "1", "--speed", "0", "--json"];
+        args.extend(["--pdo-capture-mapping", "--", &charger]);
+        args.extend(CAPTURE_CHARGER);
+        args.push("0");
+        let (code, out, err) = replay(&args);
+        let report: Value =
+            serde_json::from_str(&out).unwrap_or_else(|e| panic!("{path}: {e}: {out}{err}"));
+        (code, recording_and_verdict(&report))
+    };
+    let (want_code, want) = run(&capture);
+    let (code, got) = run(&blf);
+    assert_eq!(got, want);
+    assert_eq!(code, want_code);
     assert_eq!(code, 4);
 }

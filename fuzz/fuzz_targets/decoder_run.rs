@@ -10,8 +10,6 @@
 
 #[path = "../../src/bin/canopen-decode/args.rs"]
 mod args;
-#[path = "../../src/bin/canopen-decode/blf_input.rs"]
-mod blf_input;
 #[path = "../../src/bin/canopen-decode/calendar.rs"]
 mod calendar;
 #[path = "../../src/bin/canopen-decode/comm_objects.rs"]
@@ -26,8 +24,6 @@ mod decoding;
 mod json;
 #[path = "../../src/bin/canopen-decode/line_cache.rs"]
 mod line_cache;
-#[path = "../../src/bin/canopen-decode/line_reader.rs"]
-mod line_reader;
 #[path = "../../src/bin/canopen-decode/pdo_args.rs"]
 mod pdo_args;
 #[path = "../../src/bin/canopen-decode/pdo_learn.rs"]
@@ -50,6 +46,8 @@ mod summary;
 mod time_column;
 #[path = "../../src/bin/canopen-decode/words.rs"]
 mod words;
+#[path = "../../src/bin/common/trace_input/mod.rs"]
+mod trace_input;
 pub use pipeline::*;
 
 use std::sync::OnceLock;

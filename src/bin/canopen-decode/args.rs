@@ -4,10 +4,10 @@
 use clap::{Parser, ValueEnum};
 
 use canopen_codec::sdo::SdoChannel;
-use canopen_codec::trace::Format;
 use canopen_codec::{CanId, NodeId};
 
 use crate::pdo_args;
+use crate::trace_input::{FormatArg, How};
 use crate::{Options, Roles};
 
 /// Output forms.
@@ -19,25 +19,6 @@ pub enum Output {
     Json,
     /// One CSV row per frame.
     Csv,
-}
-
-/// Trace formats (detected from the content when not given).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum FormatArg {
-    /// candump -L log lines.
-    Candump,
-    /// candump screen output (any -t form but -t d).
-    CandumpScreen,
-    /// candump screen output with -t d (delta) times.
-    CandumpScreenDelta,
-    /// PCAN-View .trc, versions 1.0 to 2.1.
-    Trc,
-    /// Vector ASC.
-    Asc,
-    /// python-can CSV.
-    Csv,
-    /// Vector BLF (binary; detected by its LOGG signature too).
-    Blf,
 }
 
 /// What the bundled data can be.
@@ -78,10 +59,10 @@ pub struct Cli {
     #[arg(long)]
     check: bool,
     /// The Delta-Q charger's node id (Delta-Q names and error labels).
-    #[arg(long, value_name = "N", value_parser = parse_node)]
+    #[arg(long, value_name = "N", value_parser = parse_node, allow_hyphen_values = true)]
     charger_node: Option<NodeId>,
     /// The CiA 418 battery module's node id.
-    #[arg(long, value_name = "N", value_parser = parse_node)]
+    #[arg(long, value_name = "N", value_parser = parse_node, allow_hyphen_values = true)]
     battery_node: Option<NodeId>,
     /// The mapping of the PDO on COBID (hex), entries in mapping order.
     #[arg(long, value_name = "COBID=INDEX:SUB:BITS,...")]
@@ -93,10 +74,15 @@ pub struct Cli {
     #[arg(long)]
     pdo_capture_mapping: bool,
     /// An SDO server on other COB-IDs: NODE (decimal), RXID and TXID (hex).
-    #[arg(long, value_name = "NODE=RXID,TXID", value_parser = parse_sdo_channel)]
+    #[arg(
+        long,
+        value_name = "NODE=RXID,TXID",
+        value_parser = parse_sdo_channel,
+        allow_hyphen_values = true
+    )]
     sdo: Vec<SdoChannel>,
     /// A node's EDS or DCF.
-    #[arg(long, value_name = "NODE=FILE", value_parser = parse_eds)]
+    #[arg(long, value_name = "NODE=FILE", value_parser = parse_eds, allow_hyphen_values = true)]
     eds: Vec<(NodeId, String)>,
     /// Write the PDO fields as signals to PATH (CSV: one row per PDO frame,
     /// a column per named field, `name [unit]`; PATH.parquet: Parquet, with
@@ -194,16 +180,7 @@ impl Cli {
             roles.battery = roles.battery.or(NodeId::new(1));
             roles.deltaq = roles.deltaq.or(roles.charger);
         }
-        let (format, delta_times) = match self.format {
-            None => (None, false),
-            Some(FormatArg::Candump) => (Some(Format::CandumpLog), false),
-            Some(FormatArg::CandumpScreen) => (Some(Format::CandumpScreen), false),
-            Some(FormatArg::CandumpScreenDelta) => (Some(Format::CandumpScreen), true),
-            Some(FormatArg::Trc) => (Some(Format::PcanTrc), false),
-            Some(FormatArg::Asc) => (Some(Format::VectorAsc), false),
-            Some(FormatArg::Csv) => (Some(Format::PythonCanCsv), false),
-            Some(FormatArg::Blf) => (None, false),
-        };
+        let how = How::of(self.format);
         Ok(Options {
             json: output == Output::Json,
             csv: output == Output::Csv,
@@ -216,9 +193,9 @@ impl Cli {
             file: self.files.first().cloned(),
             more_files: self.files.get(1..).unwrap_or_default().to_vec(),
             bundled: self.bundled.map(|Bundled::Session| "session"),
-            format,
-            blf: self.format == Some(FormatArg::Blf),
-            delta_times,
+            format: how.format,
+            blf: how.blf,
+            delta_times: how.delta_times,
             strict: self.strict,
             sdo_channels: self.sdo,
             eds: self.eds,

@@ -39,7 +39,8 @@
 //! (candump screen output; `candump-screen-delta` for `-t d` times),
 //! `trc` (PCAN-View 1.0-2.1), `asc` (Vector ASC), `csv` (python-can CSV)
 //! (`canopen_codec::trace`), `blf` (Vector BLF, binary; a file beginning
-//! with `LOGG` is read as one: module `blf_input`). Header and comment
+//! with `LOGG` is read as one), each file read by the module
+//! `trace_input` (shared with `canopen-replay`). Header and comment
 //! lines are skipped; CAN FD and error frames are reported on stderr, line
 //! by line (object by object), counted at the end, and do not count as
 //! bad lines.
@@ -170,7 +171,6 @@
 //! the capture README's DBC adds -40 degC, which the profile does not have.
 
 mod args;
-mod blf_input;
 mod calendar;
 mod comm_objects;
 mod csv;
@@ -178,7 +178,6 @@ mod dbc;
 mod decoding;
 mod json;
 mod line_cache;
-mod line_reader;
 mod pdo_args;
 mod pdo_learn;
 #[path = "../common/pdo_syntax.rs"]
@@ -191,6 +190,8 @@ mod signals;
 mod signals_parquet;
 mod summary;
 mod time_column;
+#[path = "../common/trace_input/mod.rs"]
+mod trace_input;
 mod words;
 // The decoding loop and what it shares with the modules above (a module of
 // its own so that the pipeline bench builds it too).

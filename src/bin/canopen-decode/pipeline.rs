@@ -6,10 +6,11 @@ use std::io::{self, Read, Write};
 
 use canopen_codec::sdo::{SdoChannel, Side as SdoSide};
 use canopen_codec::trace::candump::LogLine;
-use canopen_codec::trace::{Format, LineParser, Record};
+use canopen_codec::trace::Format;
 use canopen_codec::{CanId, NodeId};
 
-use crate::{json, line_reader, pdo_args, pdo_learn, report, sdo, words};
+use crate::trace_input::{self, Item, Kind};
+use crate::{json, pdo_args, pdo_learn, report, sdo, words};
 
 /// A block transfer's sub-block segment (CiA 301 SDO block download and
 /// upload): byte 0 is a sequence number, not a command specifier.
@@ -267,93 +268,57 @@ pub fn run(
     opts: &Options,
 ) -> io::Result<Outcome> {
     let mut run = crate::decoding::Decoding::new(opts, diag)?;
-    // A BLF file is told by its signature unless a line format is given.
-    let mut input = input;
-    let mut head = [0u8; 4];
-    let mut got = 0;
-    if opts.format.is_none() {
-        while got < head.len() {
-            match input.read(head.get_mut(got..).unwrap_or(&mut [])) {
-                Ok(0) => break,
-                Ok(n) => got += n,
-                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-                Err(e) => return Err(e),
-            }
+    let how = trace_input::How {
+        format: opts.format,
+        blf: opts.blf,
+        delta_times: opts.delta_times,
+    };
+    let totals = trace_input::read(input, how, |item| match item {
+        Item::Frame { at, frame } => {
+            let line = LogLine {
+                timestamp: frame.timestamp,
+                interface: frame.channel,
+                frame: frame.frame,
+            };
+            run.frame(&at, &line, frame.direction, out, diag)
         }
-    }
-    let input = head.get(..got).unwrap_or(&[]).chain(input);
-    if opts.blf || canopen_codec::trace::blf::BlfReader::detect(head.get(..got).unwrap_or(&[])) {
-        return crate::blf_input::read(input, run, out, diag);
-    }
-    let mut reader = opts.format.map_or_else(LineParser::auto, LineParser::new);
-    if opts.delta_times {
-        reader = reader.with_delta_times();
-    }
-    let mut lines = line_reader::LineReader::new(input);
-    let mut lineno = 0usize;
-    while let Some(block) = lines.next_block()? {
-        for piece in block {
-            lineno += 1;
-            let line = match piece {
-                line_reader::Piece::Line(line) => line,
-                line_reader::Piece::NotUtf8 => {
-                    let _ = writeln!(diag, "line {lineno}: not UTF-8 text");
-                    run.bad += 1;
-                    continue;
-                }
-                line_reader::Piece::TooLong => {
-                    let _ = writeln!(
-                        diag,
-                        "line {lineno}: longer than {} bytes",
-                        line_reader::MAX_LINE
-                    );
-                    run.bad += 1;
-                    continue;
-                }
-            };
-            let (parsed, direction) = match reader.parse(line) {
-                Ok(Record::Frame(f)) => (
-                    LogLine {
-                        timestamp: f.timestamp,
-                        interface: f.channel,
-                        frame: f.frame,
-                    },
-                    f.direction,
-                ),
-                Ok(Record::Unsupported(what)) => {
-                    run.unsupported(&format_args!("line {lineno}"), what, &line, diag);
-                    continue;
-                }
-                Ok(_) => continue,
-                Err(e) => {
-                    let _ = writeln!(diag, "line {lineno}: {e}: {line}");
-                    run.bad += 1;
-                    continue;
-                }
-            };
-            run.frame(
-                &format_args!("line {lineno}"),
-                &parsed,
-                direction,
-                out,
+        Item::Unsupported { at, what, detail } => {
+            run.unsupported(&at, what, &detail, diag);
+            Ok(())
+        }
+        Item::Bad { at, why } => {
+            let _ = writeln!(diag, "{at}: {why}");
+            run.bad += 1;
+            Ok(())
+        }
+    })?;
+    if let Kind::Blf { skipped, .. } = totals.kind {
+        if skipped > 0 {
+            let _ = writeln!(
                 diag,
-            )?;
+                "canopen-decode: {skipped} other BLF object(s) skipped (not CAN frames)"
+            );
         }
     }
-    let frames = run.frames;
     let (bad, open) = run.finish(out, diag)?;
-    let no_frame = frames == 0 && lineno > 0;
-    if no_frame {
-        let tried = reader
-            .format()
-            .map_or("no format detected".to_string(), |f| {
-                format!("read as {}", f.name())
-            });
-        let _ = writeln!(
-            diag,
-            "canopen-decode: none of the {lineno} line(s) is a CAN frame ({tried}; --format names one)"
-        );
-    }
+    let no_frame = match totals.kind {
+        _ if totals.frames > 0 => false,
+        Kind::Lines { lines: 0, .. } => false,
+        kind @ Kind::Lines { lines, .. } => {
+            let _ = writeln!(
+                diag,
+                "canopen-decode: none of the {lines} line(s) is a CAN frame ({kind}; --format names one)"
+            );
+            true
+        }
+        kind @ Kind::Blf { objects, .. } => {
+            let _ = writeln!(
+                diag,
+                "canopen-decode: none of the {objects} object(s) is a CAN frame ({kind})"
+            );
+            true
+        }
+    };
     Ok(Outcome {
         bad,
         open,

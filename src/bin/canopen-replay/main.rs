@@ -9,6 +9,8 @@ mod pdo_syntax;
 mod player;
 mod recording;
 mod report;
+#[path = "../common/trace_input/mod.rs"]
+mod trace_input;
 
 use std::collections::BTreeSet;
 use std::process::ExitCode;
@@ -18,13 +20,26 @@ use clap::Parser;
 
 use diff::Tolerances;
 use link::Link;
+use trace_input::FormatArg;
 
 const EXIT_CODES: &str = "Exit status: 0 the device matches the recording within tolerance; \
 4 it differs; 2 usage error (bad option, unreadable trace); 3 the device could not be \
 started or stopped/died before the recording ended.";
 
+/// The slowest `--speed` but 0 (a minute of recording takes 17 hours).
+const MIN_SPEED: f64 = 0.001;
+/// The fastest `--speed`, as the examples' (`charger`, `battery_module`):
+/// a heartbeat consumer time of a second or two stays tens of wall
+/// milliseconds above the scheduler's jitter.
+const MAX_SPEED: f64 = 1000.0;
+/// The widest `--period-tolerance`, in percent.
+const MAX_PERCENT: f64 = 1000.0;
+/// The largest value of each `*-ms` option: 2^32 - 1 ms (49.7 days).
+const MAX_MS: u64 = u32::MAX as u64;
+
 /// Replays the frames of the --play nodes from a recording (any trace
-/// format canopen-decode reads) into a device under test and diffs what the
+/// format canopen-decode reads: candump log or screen, PCAN .trc, Vector
+/// ASC or BLF, python-can CSV) into a device under test and diffs what the
 /// device sends against the recording. The device is the program after
 /// `--` on a candump-line pipe, or, without `--`, the replay's own stdout
 /// (frames to the device) and stdin (frames from it).
@@ -33,28 +48,41 @@ started or stopped/died before the recording ended.";
 struct Args {
     /// The recording.
     trace: std::path::PathBuf,
-    /// The nodes whose frames the replay sends (decimal or 0x hex), comma-separated.
-    #[arg(long, value_delimiter = ',', required = true)]
-    play: Vec<String>,
-    /// Time scale: 2 plays twice as fast; 0 as fast as the device answers.
-    #[arg(long, default_value_t = 1.0)]
+    /// The recording's format (detected from its content when not given;
+    /// candump-screen-delta, for candump -t d, has to be given).
+    #[arg(long, value_enum)]
+    format: Option<FormatArg>,
+    /// The nodes whose frames the replay sends (1..=127, decimal or 0x
+    /// hex), comma-separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        required = true,
+        value_parser = node,
+        allow_hyphen_values = true
+    )]
+    play: Vec<u8>,
+    /// Time scale: 2 plays twice as fast; 0 as fast as the device answers
+    /// (0, or 0.001 to 1000).
+    #[arg(long, default_value_t = 1.0, value_parser = speed, allow_hyphen_values = true)]
     speed: f64,
     /// How many raw units a PDO field may differ from the recording.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = 0, allow_hyphen_values = true)]
     tolerance: u64,
-    /// How much a COB-ID's period may differ, in percent.
-    #[arg(long, default_value_t = 10.0)]
+    /// How much a COB-ID's period may differ, in percent (0 to 1000).
+    #[arg(long, default_value_t = 10.0, value_parser = percent, allow_hyphen_values = true)]
     period_tolerance: f64,
     /// How far an EMCY (and an NMT state change beyond one heartbeat
-    /// period) may be from its recorded time, in ms.
-    #[arg(long, default_value_t = 100)]
+    /// period) may be from its recorded time, in ms (0 to 4294967295).
+    #[arg(long, default_value_t = 100, value_parser = ms(), allow_hyphen_values = true)]
     time_tolerance_ms: u64,
-    /// How long to wait for the device's SDO answer, in ms.
-    #[arg(long, default_value_t = 1000)]
+    /// How long to wait for the device's SDO answer, in ms (0 to
+    /// 4294967295).
+    #[arg(long, default_value_t = 1000, value_parser = ms(), allow_hyphen_values = true)]
     sdo_timeout_ms: u64,
     /// The longest to listen after the last played frame, in ms (the rest
-    /// of the recording, up to this).
-    #[arg(long, default_value_t = 60_000)]
+    /// of the recording, up to this; 0 to 4294967295).
+    #[arg(long, default_value_t = 60_000, value_parser = ms(), allow_hyphen_values = true)]
     tail_limit_ms: u64,
     /// A PDO mapping whose field values are compared: COBID=INDEX:SUB:BITS,...
     #[arg(long)]
@@ -70,13 +98,51 @@ struct Args {
     device: Vec<String>,
 }
 
+/// A node id 1..=127, decimal or `0x` hex.
 fn node(s: &str) -> Result<u8, String> {
-    let v = match s.trim().strip_prefix("0x") {
+    let t = s.trim();
+    let v = match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
         Some(h) => u8::from_str_radix(h, 16).ok(),
-        None => s.trim().parse().ok(),
+        None => t.parse().ok(),
     };
     v.filter(|n| (1..=127).contains(n))
-        .ok_or(format!("--play: '{s}' is not a node id 1..=127"))
+        .ok_or(format!("'{s}' is not a node id 1..=127"))
+}
+
+/// A finite decimal number.
+fn finite(s: &str) -> Result<f64, String> {
+    s.trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .ok_or(format!("'{s}' is not a finite number"))
+}
+
+/// `--speed`: 0, or [`MIN_SPEED`] to [`MAX_SPEED`].
+fn speed(s: &str) -> Result<f64, String> {
+    let v = finite(s)?;
+    if v == 0.0 || (MIN_SPEED..=MAX_SPEED).contains(&v) {
+        Ok(v.abs())
+    } else {
+        Err(format!(
+            "'{s}' is neither 0 (as fast as the device answers) nor {MIN_SPEED} to {MAX_SPEED}"
+        ))
+    }
+}
+
+/// `--period-tolerance`: 0 to [`MAX_PERCENT`].
+fn percent(s: &str) -> Result<f64, String> {
+    let v = finite(s)?;
+    if (0.0..=MAX_PERCENT).contains(&v) {
+        Ok(v.abs())
+    } else {
+        Err(format!("'{s}' is not 0 to {MAX_PERCENT} percent"))
+    }
+}
+
+/// A `*-ms` option: 0 to [`MAX_MS`].
+fn ms() -> clap::builder::RangedU64ValueParser<u64> {
+    clap::value_parser!(u64).range(0..=MAX_MS)
 }
 
 fn usage(e: &str) -> ExitCode {
@@ -92,14 +158,7 @@ fn main() -> ExitCode {
             return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
         }
     };
-    let play: BTreeSet<u8> = match args.play.iter().map(|s| node(s)).collect() {
-        Ok(p) => p,
-        Err(e) => return usage(&e),
-    };
-    let number = |v: f64| v.is_finite() && v >= 0.0;
-    if !number(args.speed) || !number(args.period_tolerance) {
-        return usage("--speed and --period-tolerance must be numbers >= 0");
-    }
+    let play: BTreeSet<u8> = args.play.iter().copied().collect();
     let mut pdos = Vec::new();
     let capture = args.pdo_capture_mapping.then_some(pdo_syntax::CAPTURE_PDOS);
     for a in args
@@ -113,11 +172,13 @@ fn main() -> ExitCode {
             Err(e) => return usage(&e),
         }
     }
-    let text = match std::fs::read(&args.trace) {
-        Ok(b) => String::from_utf8_lossy(&b).into_owned(),
+    let read = std::fs::File::open(&args.trace)
+        .and_then(|f| trace_input::frames(f, trace_input::How::of(args.format)));
+    let frames = match read {
+        Ok(f) => f,
         Err(e) => return usage(&format!("{}: {e}", args.trace.display())),
     };
-    let rec = match recording::read(&text, &play) {
+    let rec = match recording::of(&frames, &play) {
         Ok(r) => r,
         Err(e) => return usage(&format!("{}: {e}", args.trace.display())),
     };
@@ -152,7 +213,7 @@ fn main() -> ExitCode {
     let tol = Tolerances {
         value: args.tolerance,
         period: args.period_tolerance / 100.0,
-        time: args.time_tolerance_ms * 1000,
+        time: args.time_tolerance_ms.saturating_mul(1000),
     };
     let recorded = diff::side(&rec.expected, &rec.played);
     let mut device = diff::side(&played.heard, &rec.played);

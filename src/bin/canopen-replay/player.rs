@@ -18,7 +18,8 @@ use crate::link::{Heard, Link, Next};
 use crate::recording::{Recorded, Recording};
 
 pub struct Options {
-    /// 0: as fast as the device answers.
+    /// 0: as fast as the device answers; otherwise finite and above 0
+    /// (the argument parser's range).
     pub speed: f64,
     pub sdo_timeout: Duration,
     /// The longest the replay listens after its last played frame.
@@ -107,6 +108,25 @@ fn keep(out: &mut Played, clock: &Clock, h: &Heard) {
     }
 }
 
+/// `us` microseconds of the recording on the replay's clock at `speed`
+/// (above 0); saturating, never a panic (`Duration::from_secs_f64` panics
+/// past `Duration::MAX`).
+fn scaled(us: u64, speed: f64) -> Duration {
+    Duration::try_from_secs_f64(us as f64 / 1e6 / speed).unwrap_or(Duration::MAX)
+}
+
+/// `at + d`, or the latest instant the platform's clock can add to `at`
+/// (`Instant + Duration` panics past it): a wait that does not end.
+fn after(at: Instant, d: Duration) -> Instant {
+    let mut d = d;
+    loop {
+        if let Some(t) = at.checked_add(d) {
+            return t;
+        }
+        d /= 2;
+    }
+}
+
 /// Plays `rec` into `link`; `Err` when the device stopped or died.
 pub fn play(rec: &Recording, link: &mut Link, o: &Options) -> Result<Played, String> {
     let awaited = awaited_answers(rec);
@@ -138,9 +158,10 @@ pub fn play(rec: &Recording, link: &mut Link, o: &Options) -> Result<Played, Str
     };
     for (p, answer) in rec.played.iter().zip(&awaited) {
         if o.speed > 0.0 {
-            let due = origin
-                + Duration::from_secs_f64(p.t.saturating_sub(first_t) as f64 / 1e6 / o.speed)
-                + shift;
+            let due = after(
+                origin,
+                scaled(p.t.saturating_sub(first_t), o.speed).saturating_add(shift),
+            );
             loop {
                 let now = Instant::now();
                 if now >= due {
@@ -166,7 +187,7 @@ pub fn play(rec: &Recording, link: &mut Link, o: &Options) -> Result<Played, Str
         clock.last_at = Instant::now();
         if let Some(answer) = answer {
             let start = Instant::now();
-            let deadline = start + o.sdo_timeout;
+            let deadline = after(start, o.sdo_timeout);
             let mut answered = false;
             while !answered {
                 let now = Instant::now();
@@ -193,10 +214,8 @@ pub fn play(rec: &Recording, link: &mut Link, o: &Options) -> Result<Played, Str
                     .played
                     .iter()
                     .find(|n| n.t > p.t)
-                    .map_or(Duration::ZERO, |n| {
-                        Duration::from_secs_f64((n.t - p.t) as f64 / 1e6 / o.speed)
-                    });
-                shift += waited.saturating_sub(planned);
+                    .map_or(Duration::ZERO, |n| scaled(n.t.saturating_sub(p.t), o.speed));
+                shift = shift.saturating_add(waited.saturating_sub(planned));
             }
         }
         if let Some(e) = gone(link) {
@@ -208,7 +227,10 @@ pub fn play(rec: &Recording, link: &mut Link, o: &Options) -> Result<Played, Str
     let tail = Duration::from_micros(rec.end.saturating_sub(clock.last_t));
     out.tail_cut = tail > o.tail_limit;
     let tail = tail.min(o.tail_limit);
-    let until = Instant::now() + tail + Duration::from_millis(100);
+    let until = after(
+        Instant::now(),
+        tail.saturating_add(Duration::from_millis(100)),
+    );
     loop {
         let now = Instant::now();
         if now >= until {

@@ -1,10 +1,11 @@
-//! The recording: every frame of a trace the decoder reads, with its time,
-//! and which side of the replay sent it.
+//! The recording: every frame of a trace (read by `trace_input`, the
+//! decoder's reader), with its time, and which side of the replay sent it.
 
 use std::collections::BTreeSet;
 
-use canopen_codec::trace::{LineParser, Record};
 use canopen_codec::{CanFrame, CanId};
+
+use crate::trace_input::{Frames, Kind};
 
 /// One recorded frame; `t` is microseconds since the recording's first frame.
 #[derive(Clone, Copy)]
@@ -54,37 +55,63 @@ pub fn is_played(frame: &CanFrame, play: &BTreeSet<u8>) -> bool {
     }
 }
 
-/// Reads a trace (any format the decoder reads, detected per line).
-/// Unreadable lines are counted in the error only if nothing is left.
-pub fn read(text: &str, play: &BTreeSet<u8>) -> Result<Recording, String> {
-    let mut parser = LineParser::auto();
-    let mut frames = Vec::new();
-    let mut unreadable = 0usize;
-    let mut first = None;
-    for (n, line) in text.lines().enumerate() {
-        match parser.parse(line) {
-            Ok(Record::Frame(f)) => {
-                let Some(ts) = f.timestamp else {
-                    return Err(format!("line {}: a frame without a time", n + 1));
-                };
-                let us = ts.as_micros();
-                let base = *first.get_or_insert(us);
-                frames.push(Recorded {
-                    t: us.saturating_sub(base),
-                    frame: f.frame,
-                });
-            }
-            Ok(_) => {}
-            Err(_) => unreadable += 1,
-        }
+/// `line(s)` or `object(s)`: what a file of `kind` is read in.
+fn units(kind: Kind) -> &'static str {
+    match kind {
+        Kind::Lines { .. } => "line(s)",
+        Kind::Blf { .. } => "object(s)",
     }
-    if frames.is_empty() {
+}
+
+/// The recording of a trace's frames (read by the decoder's reader, any
+/// format). A frame without a time is an error, and so is a trace with no
+/// frame (which says how it was read and its first unreadable line);
+/// unreadable lines or objects beside frames are said on stderr.
+pub fn of(read: &Frames, play: &BTreeSet<u8>) -> Result<Recording, String> {
+    let totals = read.totals;
+    let first_bad = read
+        .first_bad
+        .as_deref()
+        .map(|b| format!("; the first: {b}"))
+        .unwrap_or_default();
+    if read.frames.is_empty() {
+        let hint = match totals.kind {
+            Kind::Lines { .. } => "; --format names one",
+            Kind::Blf { .. } => "",
+        };
         return Err(format!(
-            "the trace has no frames ({unreadable} unreadable lines)"
+            "the trace has no frames ({} unreadable {}, {}{hint}{first_bad})",
+            totals.bad,
+            units(totals.kind),
+            totals.kind
         ));
     }
-    if unreadable > 0 {
-        eprintln!("canopen-replay: {unreadable} unreadable lines skipped");
+    let mut frames = Vec::with_capacity(read.frames.len());
+    let mut first = None;
+    for f in &read.frames {
+        let Some(ts) = f.timestamp else {
+            return Err(format!("{}: a frame without a time", f.at));
+        };
+        let us = ts.as_micros();
+        let base = *first.get_or_insert(us);
+        frames.push(Recorded {
+            t: us.saturating_sub(base),
+            frame: f.frame,
+        });
+    }
+    if totals.bad > 0 {
+        eprintln!(
+            "canopen-replay: {} unreadable {} skipped{first_bad}",
+            totals.bad,
+            units(totals.kind)
+        );
+    }
+    if let Some(first) = &read.first_unsupported {
+        eprintln!(
+            "canopen-replay: {} {} not replayed (CAN FD or error frames, other events); the first: {first}",
+            totals.unsupported,
+            units(totals.kind)
+        );
     }
     let end = frames.iter().map(|r| r.t).max().unwrap_or(0);
     let (played, expected) = frames.into_iter().partition(|r| is_played(&r.frame, play));
@@ -121,6 +148,11 @@ mod tests {
         assert!(is_played(&f(0x080, &[]), &charger));
     }
 
+    fn read(text: &str, play: &BTreeSet<u8>) -> Result<Recording, String> {
+        let frames = crate::trace_input::frames(text.as_bytes(), Default::default()).unwrap();
+        of(&frames, play)
+    }
+
     #[test]
     fn times_are_relative_and_an_empty_trace_is_an_error() {
         let text = "(100.5) can0 701#05\n(101.0) can0 18A#00\n";
@@ -128,6 +160,18 @@ mod tests {
         assert_eq!(r.end, 500_000);
         assert_eq!(r.played[0].t, 0);
         assert_eq!(r.expected[0].t, 500_000);
-        assert!(read("nothing here\n", &[1].into()).is_err());
+        assert_eq!(
+            read("nothing here\n", &[1].into()).err().as_deref(),
+            Some(
+                "the trace has no frames (1 unreadable line(s), no format detected; \
+                 --format names one; the first: line 1: the line does not match any known trace format: nothing here)"
+            )
+        );
+        assert_eq!(
+            read("  can0  18A   [1]  01\n", &[1].into())
+                .err()
+                .as_deref(),
+            Some("line 1: a frame without a time")
+        );
     }
 }

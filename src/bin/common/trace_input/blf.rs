@@ -1,24 +1,22 @@
 //! Vector BLF input: the file read in blocks through the library's
 //! `trace::blf::BlfReader`, each zlib container inflated here (flate2) and
-//! handed back to it, every classic CAN frame decoded like a text trace's
+//! handed back to it, every classic CAN frame an item like a text trace's
 //! line. Memory stays bounded: one input block and one inflate block,
 //! whatever the file's sizes say (the reader refuses a container that
 //! inflates past its declared size as soon as it does).
 //!
-//! Objects are numbered from 1 in file order (containers not counted) for
-//! the messages on stderr: CAN FD and error frames are reported and
-//! counted, not decoded; other objects are skipped (counted at the end); a
-//! malformed object is a bad object (the run goes on when its size lets
-//! the reader skip it, and stops at an error of the file's structure).
+//! Objects are numbered from 1 in file order (containers not counted):
+//! CAN FD and error frames are unsupported items; other objects are
+//! skipped (counted); a malformed object is a bad item (the read goes on
+//! when its size lets the reader skip it, and stops at an error of the
+//! file's structure).
 
-use std::io::{self, Read, Write};
+use std::io::{self, Read};
 
 use canopen_codec::trace::blf::{BlfError, BlfEvent, BlfReader, Compression};
-use canopen_codec::trace::candump::LogLine;
 use flate2::{Decompress, FlushDecompress, Status};
 
-use crate::decoding::Decoding;
-use crate::pipeline::Outcome;
+use super::{At, Bad, Counted, Detail, Item, Kind};
 
 /// The input block.
 const BLOCK: usize = 256 * 1024;
@@ -33,40 +31,29 @@ struct Count {
     skipped: u64,
 }
 
-/// What one event does to the run; false at a fatal error.
-fn event(
+/// Hands one event on; false at a fatal error.
+fn event<F: FnMut(Item<'_>) -> io::Result<()>>(
     e: Result<Option<BlfEvent<'_>>, BlfError>,
     count: &mut Count,
-    run: &mut Decoding<'_>,
-    out: &mut impl Write,
-    diag: &mut impl Write,
+    each: &mut Counted<'_, F>,
 ) -> io::Result<bool> {
     match e {
         Ok(Some(BlfEvent::Frame(f))) => {
             count.objects += 1;
-            let line = LogLine {
-                timestamp: f.timestamp,
-                interface: None,
-                frame: f.frame,
-            };
-            run.frame(
-                &format_args!("object {}", count.objects),
-                &line,
-                Some(f.direction),
-                out,
-                diag,
-            )?;
+            each.give(Item::Frame {
+                at: At::Object(count.objects),
+                frame: f.trace_frame(),
+            })?;
         }
         Ok(Some(BlfEvent::Unsupported {
             what, object_type, ..
         })) => {
             count.objects += 1;
-            run.unsupported(
-                &format_args!("object {}", count.objects),
+            each.give(Item::Unsupported {
+                at: At::Object(count.objects),
                 what,
-                &format_args!("object type {object_type}"),
-                diag,
-            );
+                detail: Detail::ObjectType(object_type),
+            })?;
         }
         Ok(Some(BlfEvent::Skipped { .. })) => {
             count.objects += 1;
@@ -74,18 +61,18 @@ fn event(
         }
         Ok(None | Some(_)) => {}
         Err(e) if e.is_fatal() => {
-            let _ = writeln!(
-                diag,
-                "after object {}: {e}: the rest is not read",
-                count.objects
-            );
-            run.bad += 1;
+            each.give(Item::Bad {
+                at: At::AfterObject(count.objects),
+                why: Bad::Structure(e),
+            })?;
             return Ok(false);
         }
         Err(e) => {
             count.objects += 1;
-            let _ = writeln!(diag, "object {}: {e}", count.objects);
-            run.bad += 1;
+            each.give(Item::Bad {
+                at: At::Object(count.objects),
+                why: Bad::Object(e),
+            })?;
         }
     }
     Ok(true)
@@ -101,12 +88,10 @@ struct File {
 
 /// Inflates one piece of a zlib container's payload into the reader;
 /// false at a fatal error (of the reader or of zlib).
-fn inflate(
+fn inflate<F: FnMut(Item<'_>) -> io::Result<()>>(
     mut z: &[u8],
     file: &mut File,
-    run: &mut Decoding<'_>,
-    out: &mut impl Write,
-    diag: &mut impl Write,
+    each: &mut Counted<'_, F>,
 ) -> io::Result<bool> {
     let File {
         reader,
@@ -119,12 +104,10 @@ fn inflate(
         let status = match zlib.decompress(z, buf, FlushDecompress::None) {
             Ok(s) => s,
             Err(e) => {
-                let _ = writeln!(
-                    diag,
-                    "after object {}: container does not inflate ({e}): the rest is not read",
-                    count.objects
-                );
-                run.bad += 1;
+                each.give(Item::Bad {
+                    at: At::AfterObject(count.objects),
+                    why: Bad::Inflate(e),
+                })?;
                 return Ok(false);
             }
         };
@@ -136,7 +119,7 @@ fn inflate(
             match reader.read_inflated(&mut inflated) {
                 Ok(None) => break,
                 r => {
-                    if !event(r, count, run, out, diag)? {
+                    if !event(r, count, each)? {
                         return Ok(false);
                     }
                 }
@@ -149,14 +132,11 @@ fn inflate(
     }
 }
 
-/// Decodes the BLF file `input` into `out` (what is wrong on `diag`);
-/// returns how it ended (bad objects, a problem open, no frame).
-pub fn read(
+/// Reads the BLF file `input`, handing each item to `each`.
+pub(super) fn read<F: FnMut(Item<'_>) -> io::Result<()>>(
     mut input: impl Read,
-    mut run: Decoding<'_>,
-    out: &mut impl Write,
-    diag: &mut impl Write,
-) -> io::Result<Outcome> {
+    each: &mut Counted<'_, F>,
+) -> io::Result<Kind> {
     let mut file = File {
         reader: BlfReader::new(),
         zlib: Decompress::new(true),
@@ -181,13 +161,13 @@ pub fn read(
                     ..
                 })) => file.zlib.reset(true),
                 Ok(Some(BlfEvent::Compressed(z))) => {
-                    if !inflate(z, &mut file, &mut run, out, diag)? {
+                    if !inflate(z, &mut file, each)? {
                         going = false;
                         break 'file;
                     }
                 }
                 r => {
-                    if !event(r, &mut file.count, &mut run, out, diag)? {
+                    if !event(r, &mut file.count, each)? {
                         going = false;
                         break 'file;
                     }
@@ -197,31 +177,14 @@ pub fn read(
     }
     if going {
         if let Err(e) = file.reader.finish() {
-            let _ = writeln!(diag, "after object {}: {e}", file.count.objects);
-            run.bad += 1;
+            each.give(Item::Bad {
+                at: At::AfterObject(file.count.objects),
+                why: Bad::End(e),
+            })?;
         }
     }
-    let count = file.count;
-    if count.skipped > 0 {
-        let _ = writeln!(
-            diag,
-            "canopen-decode: {} other BLF object(s) skipped (not CAN frames)",
-            count.skipped
-        );
-    }
-    let frames = run.frames;
-    let (bad, open) = run.finish(out, diag)?;
-    let no_frame = frames == 0;
-    if no_frame {
-        let _ = writeln!(
-            diag,
-            "canopen-decode: none of the {} object(s) is a CAN frame (read as blf)",
-            count.objects
-        );
-    }
-    Ok(Outcome {
-        bad,
-        open,
-        no_frame,
+    Ok(Kind::Blf {
+        objects: file.count.objects,
+        skipped: file.count.skipped,
     })
 }

@@ -1,0 +1,456 @@
+//! Reading a trace file, for both programs (`canopen-decode` and
+//! `canopen-replay`): the bytes of a recording in, its frames with their
+//! times out, one by one, with what could not be read and the format the
+//! file was read as. This is the one place where the programs read a
+//! file; the formats themselves are parsed by the library
+//! (`canopen_codec::trace`: one parser per line format, the BLF reader).
+//!
+//! - Line formats (candump log, candump screen, PCAN `.trc` 1.0-2.1,
+//!   Vector ASC, python-can CSV): the input is read in blocks of lines
+//!   (module `lines`), each line handed to one `LineParser` (the format
+//!   given, or detected from the first line that tells).
+//! - Vector BLF (binary): told by its `LOGG` signature when no line format
+//!   is given, or asked for; read in blocks through the library's
+//!   `BlfReader`, the zlib containers inflated here (module `blf`).
+//!
+//! [`read`] hands each [`Item`] to the caller as it comes (memory stays
+//! bounded on any input: the decoder's way); [`frames`] collects the
+//! frames of a whole file (the replay's way). Neither panics on any input.
+
+mod blf;
+mod lines;
+
+use std::fmt;
+use std::io::{self, Read};
+
+use canopen_codec::trace::blf::{BlfError, BlfReader};
+use canopen_codec::trace::{Format, LineParser, Record, RxTx, TraceError, TraceFrame, Unsupported};
+use canopen_codec::{CanFrame, Timestamp};
+
+pub use lines::MAX_LINE;
+
+/// The trace formats a program's `--format` names (detected from the
+/// content when not given).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum FormatArg {
+    /// candump -L log lines.
+    Candump,
+    /// candump screen output (any -t form but -t d).
+    CandumpScreen,
+    /// candump screen output with -t d (delta) times.
+    CandumpScreenDelta,
+    /// PCAN-View .trc, versions 1.0 to 2.1.
+    Trc,
+    /// Vector ASC.
+    Asc,
+    /// python-can CSV.
+    Csv,
+    /// Vector BLF (binary; detected by its LOGG signature too).
+    Blf,
+}
+
+/// How to read a file: the line format (detected when `None`), BLF, and
+/// whether candump screen times are deltas (`-t d`, which the lines do
+/// not tell).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct How {
+    pub format: Option<Format>,
+    /// Vector BLF (also read so, when `format` is `None`, by its `LOGG`
+    /// signature).
+    pub blf: bool,
+    pub delta_times: bool,
+}
+
+impl How {
+    /// How `--format` (absent: detected) reads.
+    #[must_use]
+    pub fn of(arg: Option<FormatArg>) -> How {
+        let (format, blf, delta_times) = match arg {
+            None => (None, false, false),
+            Some(FormatArg::Candump) => (Some(Format::CandumpLog), false, false),
+            Some(FormatArg::CandumpScreen) => (Some(Format::CandumpScreen), false, false),
+            Some(FormatArg::CandumpScreenDelta) => (Some(Format::CandumpScreen), false, true),
+            Some(FormatArg::Trc) => (Some(Format::PcanTrc), false, false),
+            Some(FormatArg::Asc) => (Some(Format::VectorAsc), false, false),
+            Some(FormatArg::Csv) => (Some(Format::PythonCanCsv), false, false),
+            Some(FormatArg::Blf) => (None, true, false),
+        };
+        How {
+            format,
+            blf,
+            delta_times,
+        }
+    }
+}
+
+/// Where in the file an item is: lines and BLF objects are numbered from
+/// 1 in file order (BLF containers not counted).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum At {
+    Line(usize),
+    Object(u64),
+    /// Past the last object read (an error of the file's structure).
+    AfterObject(u64),
+}
+
+impl fmt::Display for At {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            At::Line(n) => write!(f, "line {n}"),
+            At::Object(n) => write!(f, "object {n}"),
+            At::AfterObject(n) => write!(f, "after object {n}"),
+        }
+    }
+}
+
+/// What a line or object read but not decoded was: the line, or the BLF
+/// object's type.
+#[derive(Clone, Copy, Debug)]
+pub enum Detail<'a> {
+    Line(&'a str),
+    ObjectType(u32),
+}
+
+impl fmt::Display for Detail<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Detail::Line(l) => f.write_str(l),
+            Detail::ObjectType(t) => write!(f, "object type {t}"),
+        }
+    }
+}
+
+/// Why a line or an object could not be read.
+#[derive(Clone, Debug)]
+pub enum Bad<'a> {
+    NotUtf8,
+    TooLong,
+    /// The format's parser refused the line.
+    Line(TraceError, &'a str),
+    /// A malformed BLF object, skipped by its size.
+    Object(BlfError),
+    /// An error of the BLF file's structure: the rest is not read.
+    Structure(BlfError),
+    /// A zlib container that does not inflate: the rest is not read.
+    Inflate(flate2::DecompressError),
+    /// The BLF file ends inside an object or container.
+    End(BlfError),
+}
+
+impl fmt::Display for Bad<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Bad::NotUtf8 => f.write_str("not UTF-8 text"),
+            Bad::TooLong => write!(f, "longer than {MAX_LINE} bytes"),
+            Bad::Line(e, line) => write!(f, "{e}: {line}"),
+            Bad::Object(e) | Bad::End(e) => write!(f, "{e}"),
+            Bad::Structure(e) => write!(f, "{e}: the rest is not read"),
+            Bad::Inflate(e) => write!(f, "container does not inflate ({e}): the rest is not read"),
+        }
+    }
+}
+
+/// One thing the file holds.
+#[derive(Clone, Debug)]
+pub enum Item<'a> {
+    /// A classic CAN frame (BLF frames have no channel name).
+    Frame { at: At, frame: TraceFrame<'a> },
+    /// A CAN FD frame, an error frame or another event, not decoded.
+    Unsupported {
+        at: At,
+        what: Unsupported,
+        detail: Detail<'a>,
+    },
+    /// What cannot be read (`at: why` is the message for it).
+    Bad { at: At, why: Bad<'a> },
+}
+
+/// What the file was read as.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// A line format: the lines read and the format (given or detected;
+    /// `None` when no line told).
+    Lines {
+        lines: usize,
+        format: Option<Format>,
+    },
+    /// Vector BLF: the objects read (containers not counted) and those
+    /// skipped (neither frames nor events of the bus).
+    Blf { objects: u64, skipped: u64 },
+}
+
+/// `read as candump`, `read as blf`, `no format detected`.
+impl fmt::Display for Kind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Kind::Lines {
+                format: Some(format),
+                ..
+            } => write!(f, "read as {}", format.name()),
+            Kind::Lines { format: None, .. } => f.write_str("no format detected"),
+            Kind::Blf { .. } => f.write_str("read as blf"),
+        }
+    }
+}
+
+/// What a whole file held, counted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Totals {
+    pub kind: Kind,
+    pub frames: usize,
+    pub unsupported: usize,
+    /// Lines or objects that could not be read ([`Item::Bad`]).
+    pub bad: usize,
+}
+
+/// Reads every item of `input` as `how` says and hands each to `each` in
+/// file order; an error of `each` ends the read and is returned. Errors
+/// of the input are returned; bad lines and objects are items.
+pub fn read<F>(mut input: impl Read, how: How, mut each: F) -> io::Result<Totals>
+where
+    F: FnMut(Item<'_>) -> io::Result<()>,
+{
+    // A BLF file is told by its signature unless a line format is given.
+    let mut head = [0u8; 4];
+    let mut got = 0;
+    if how.format.is_none() {
+        while got < head.len() {
+            match input.read(head.get_mut(got..).unwrap_or(&mut [])) {
+                Ok(0) => break,
+                Ok(n) => got += n,
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+                Err(e) => return Err(e),
+            }
+        }
+    }
+    let head = head.get(..got).unwrap_or(&[]);
+    let mut counted = Counted {
+        each: &mut each,
+        frames: 0,
+        unsupported: 0,
+        bad: 0,
+    };
+    let input = head.chain(input);
+    let kind = if how.blf || (how.format.is_none() && BlfReader::detect(head)) {
+        blf::read(input, &mut counted)?
+    } else {
+        read_lines(input, how, &mut counted)?
+    };
+    Ok(Totals {
+        kind,
+        frames: counted.frames,
+        unsupported: counted.unsupported,
+        bad: counted.bad,
+    })
+}
+
+/// The caller's `each`, counting what it is handed.
+struct Counted<'f, F> {
+    each: &'f mut F,
+    frames: usize,
+    unsupported: usize,
+    bad: usize,
+}
+
+impl<F: FnMut(Item<'_>) -> io::Result<()>> Counted<'_, F> {
+    fn give(&mut self, item: Item<'_>) -> io::Result<()> {
+        match item {
+            Item::Frame { .. } => self.frames += 1,
+            Item::Unsupported { .. } => self.unsupported += 1,
+            Item::Bad { .. } => self.bad += 1,
+        }
+        (self.each)(item)
+    }
+}
+
+fn read_lines<F: FnMut(Item<'_>) -> io::Result<()>>(
+    input: impl Read,
+    how: How,
+    each: &mut Counted<'_, F>,
+) -> io::Result<Kind> {
+    let mut parser = how.format.map_or_else(LineParser::auto, LineParser::new);
+    if how.delta_times {
+        parser = parser.with_delta_times();
+    }
+    let mut reader = lines::LineReader::new(input);
+    let mut lineno = 0usize;
+    while let Some(block) = reader.next_block()? {
+        for piece in block {
+            lineno += 1;
+            let at = At::Line(lineno);
+            let line = match piece {
+                lines::Piece::Line(line) => line,
+                lines::Piece::NotUtf8 => {
+                    each.give(Item::Bad {
+                        at,
+                        why: Bad::NotUtf8,
+                    })?;
+                    continue;
+                }
+                lines::Piece::TooLong => {
+                    each.give(Item::Bad {
+                        at,
+                        why: Bad::TooLong,
+                    })?;
+                    continue;
+                }
+            };
+            match parser.parse(line) {
+                Ok(Record::Frame(frame)) => each.give(Item::Frame { at, frame })?,
+                Ok(Record::Unsupported(what)) => each.give(Item::Unsupported {
+                    at,
+                    what,
+                    detail: Detail::Line(line),
+                })?,
+                Ok(_) => {}
+                Err(e) => each.give(Item::Bad {
+                    at,
+                    why: Bad::Line(e, line),
+                })?,
+            }
+        }
+    }
+    Ok(Kind::Lines {
+        lines: lineno,
+        format: parser.format(),
+    })
+}
+
+/// A frame of a file, owned.
+// The replay's way (the decoder reads items).
+#[allow(dead_code)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Timed {
+    pub at: At,
+    pub timestamp: Option<Timestamp>,
+    pub direction: Option<RxTx>,
+    pub frame: CanFrame,
+}
+
+/// Every frame of a file, with what could not be read.
+// The replay's way (the decoder reads items).
+#[allow(dead_code)]
+#[derive(Clone, Debug)]
+pub struct Frames {
+    pub frames: Vec<Timed>,
+    pub totals: Totals,
+    /// The first line or object that could not be read, as a message
+    /// (`line 3: bad identifier: ...`).
+    pub first_bad: Option<String>,
+    /// The first one read but not decoded, as a message (`line 4: CanFd
+    /// not decoded: ...`).
+    pub first_unsupported: Option<String>,
+}
+
+/// Reads every frame of `input` as `how` says (see [`read`]).
+// The replay's way (the decoder reads items).
+#[allow(dead_code)]
+pub fn frames(input: impl Read, how: How) -> io::Result<Frames> {
+    let mut frames = Vec::new();
+    let mut first_bad = None;
+    let mut first_unsupported = None;
+    let totals = read(input, how, |item| {
+        match item {
+            Item::Frame { at, frame } => frames.push(Timed {
+                at,
+                timestamp: frame.timestamp,
+                direction: frame.direction,
+                frame: frame.frame,
+            }),
+            Item::Bad { at, why } if first_bad.is_none() => {
+                first_bad = Some(format!("{at}: {why}"));
+            }
+            Item::Unsupported { at, what, detail } if first_unsupported.is_none() => {
+                first_unsupported = Some(format!("{at}: {what:?} not decoded: {detail}"));
+            }
+            _ => {}
+        }
+        Ok(())
+    })?;
+    Ok(Frames {
+        frames,
+        totals,
+        first_bad,
+        first_unsupported,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn count(input: &[u8], how: How) -> (Vec<Timed>, Totals) {
+        let f = frames(input, how).unwrap();
+        (f.frames, f.totals)
+    }
+
+    #[test]
+    fn every_line_format_is_detected_and_counted() {
+        let cases: [(&str, Format); 5] = [
+            ("(1.5) can0 18A#01\n", Format::CandumpLog),
+            ("  can0  18A   [1]  01\n", Format::CandumpScreen),
+            (
+                ";$FILEVERSION=1.1\n     1)      1841.6  Rx         018A  1  01\n",
+                Format::PcanTrc,
+            ),
+            (
+                "   1.500000 1  18A             Rx   d 1 01\n",
+                Format::VectorAsc,
+            ),
+            (
+                "timestamp,arbitration_id,extended,remote,error,dlc,data\n1.5,0x18A,0,0,0,1,AQ==\n",
+                Format::PythonCanCsv,
+            ),
+        ];
+        for (text, format) in cases {
+            let (got, totals) = count(text.as_bytes(), How::default());
+            assert_eq!(got.len(), 1, "{text}");
+            assert_eq!(got[0].frame.to_string(), "18A#01", "{text}");
+            assert_eq!(totals.bad, 0, "{text}");
+            assert!(
+                matches!(totals.kind, Kind::Lines { format: Some(f), .. } if f == format),
+                "{text}: {totals:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn delta_times_are_summed_only_when_asked() {
+        let text = b" (000.100000)  can0  18A   [1]  01\n (000.200000)  can0  18A   [1]  02\n";
+        let t = |how| -> Vec<u64> {
+            count(text, how)
+                .0
+                .iter()
+                .map(|f| f.timestamp.unwrap().as_micros())
+                .collect()
+        };
+        assert_eq!(t(How::default()), [100_000, 200_000]);
+        assert_eq!(
+            t(How::of(Some(FormatArg::CandumpScreenDelta))),
+            [100_000, 300_000]
+        );
+    }
+
+    #[test]
+    fn bad_lines_are_items_with_their_place_and_reason() {
+        let f = frames(&b"(1.0) can0 18A#01\nnonsense\n\xFF\n"[..], How::default()).unwrap();
+        assert_eq!(f.frames.len(), 1);
+        assert_eq!(f.totals.bad, 2);
+        assert_eq!(
+            f.first_bad.as_deref(),
+            Some("line 2: no ID#DATA field: nonsense")
+        );
+    }
+
+    #[test]
+    fn a_file_signed_logg_is_blf_unless_a_line_format_is_given() {
+        let mut file = b"LOGG".to_vec();
+        file.extend([0u8; 140]);
+        let (_, totals) = count(&file, How::default());
+        assert!(matches!(totals.kind, Kind::Blf { .. }), "{totals:?}");
+        let (_, totals) = count(&file, How::of(Some(FormatArg::Candump)));
+        assert!(matches!(totals.kind, Kind::Lines { .. }), "{totals:?}");
+        let (_, totals) = count(b"", How::of(Some(FormatArg::Blf)));
+        assert!(matches!(totals.kind, Kind::Blf { .. }), "{totals:?}");
+    }
+}
