@@ -16,6 +16,7 @@ use super::{AbortCode, Client, ClientEvent, SdoFrame, SegmentData, ServerCommand
 use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::sdo::data::InitiatePayload;
+use crate::sdo::rules::block::is_abort;
 use crate::sdo::server::AbortOrigin;
 
 impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
@@ -38,7 +39,11 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
             return;
         };
         match command {
-            ServerCommand::Abort { code, .. } => return self.aborted_by_peer(code),
+            // Byte 0 80h exactly (CiA 301 section 7.2.4.3, SDO abort
+            // transfer); with its unused bits set it is no abort.
+            ServerCommand::Abort { code, .. } if is_abort(frame.data()) => {
+                return self.aborted_by_peer(code)
+            }
             #[cfg(feature = "sdo-client-segmented")]
             ServerCommand::UploadSegment(segment)
                 if matches!(self.state, State::Uploading { .. }) =>

@@ -2,6 +2,20 @@
 //! a buffer of the pool until the receiver's acknowledgement commits them
 //! (the `sub_block` module), the acknowledgement, and the end
 //! frame.
+//!
+//! A sender can run a sub-block ahead of the receiver's acknowledgements:
+//! CiA 301 numbers the segments of a sub-block but not the sub-blocks, so
+//! a sender that takes a repeated acknowledgement for the one of the
+//! sub-block it just sent goes on with the next one before the receiver's
+//! own acknowledgement is on the bus; the receiver, numbering from 1
+//! again after each sub-block it acknowledged, takes those segments. So
+//! when the sender goes on (a segment of a new sub-block, or its end
+//! frame) after a sub-block was closed (its segment at the block size, or
+//! the one with c = 1, was seen) with no acknowledgement between, the
+//! observer reads the closed sub-block as the sender did: acknowledged as
+//! far as the repeat of the last acknowledgement says. The receiver's own
+//! acknowledgement of it is then owed, and the next one seen is taken as
+//! that one.
 
 use super::{End, Open, Phase};
 use crate::bytes::Payload;
@@ -26,6 +40,12 @@ pub(super) struct Blocks {
     /// The last acknowledgement: a repeat of it with no segment between
     /// is ignored.
     last_ack: Option<Payload>,
+    /// The segment that closes the sub-block held (the block size, or
+    /// c = 1) was seen: the receiver has sent its acknowledgement.
+    closed: bool,
+    /// Sub-blocks read as acknowledged by a repeat (the sender went on)
+    /// whose receiver's own acknowledgement has not been seen yet.
+    owed: u8,
 }
 
 impl Blocks {
@@ -35,6 +55,8 @@ impl Blocks {
             dup: rx.acked_frame(),
             recent: None,
             last_ack: None,
+            closed: false,
+            owed: 0,
         }
     }
 }
@@ -48,6 +70,7 @@ pub(super) fn block_segment(
     from: Side,
     bytes: &[u8],
     pool: &mut [SubBlock],
+    out: &mut Sink,
 ) -> Option<(Observed, Option<BreakReason>)> {
     let o = open.as_mut()?;
     let sender = o.data_sender();
@@ -60,6 +83,26 @@ pub(super) fn block_segment(
         },
     };
     let mut end = None;
+    if let Phase::SubBlocks(b) = o.phase {
+        let repeat = b.dup.is_some_and(|d| d.as_slice() == bytes)
+            || b.recent.is_some_and(|r| r.as_slice() == bytes);
+        let segment_of_a_sub_block = !b.rx.is_done()
+            && (1..=b.rx.block_size()).contains(&segment.seqno)
+            && (segment.last || segment.data.len() == 7);
+        if from == sender && b.closed && !repeat && !is_abort(bytes) {
+            let last_held = sub_block::held(pool, channel).is_some_and(|h| h.closing().is_some());
+            if last_held && segment.seqno != 1 {
+                // After the last sub-block the sender resends from 1 or
+                // sends its end frame: a command.
+                return None;
+            }
+            if segment_of_a_sub_block {
+                if let Some(End::Broken(reason)) = went_on(o, pool, out) {
+                    end = Some(reason);
+                }
+            }
+        }
+    }
     let taken = match &mut o.phase {
         Phase::SubBlocks(b) if from == sender => {
             // An abort is a command in any phase; once the last segment is
@@ -70,7 +113,10 @@ pub(super) fn block_segment(
                 return None;
             }
             let blksize = b.rx.block_size();
-            if dup || bytes.is_empty() {
+            if end.is_some() {
+                // The sender went on past an acknowledgement of segments
+                // the observer did not see.
+            } else if dup || bytes.is_empty() {
                 // A repeat of the frame that ended the last sub-block (or
                 // no data at all): the receiver ignores it.
             } else if segment.seqno == 0 || segment.seqno > blksize {
@@ -87,6 +133,7 @@ pub(super) fn block_segment(
                 o.pending = (buffer.bytes(), buffer.segments());
                 b.dup = None;
                 b.recent = Payload::new(bytes);
+                b.closed |= segment.last || segment.seqno == blksize;
             } else {
                 end = Some(BreakReason::NoSubBlockBuffer {
                     buffers: pool.len(),
@@ -126,13 +173,33 @@ pub(super) fn ack(
     out: &mut Sink,
 ) -> Option<End> {
     let Phase::SubBlocks(mut b) = o.phase else {
+        // After the end frame too: the sender, waiting for the end
+        // confirmation, aborts (05040001h), also when the
+        // acknowledgement is the receiver's own of the last sub-block of a
+        // sender that went on.
         o.violate(AbortCode::InvalidCommandSpecifier, from.other());
         return None;
     };
+    if b.rx.is_done() {
+        // The last segment is acknowledged: the sender has sent its end
+        // frame, or is sending it, and waits for the end confirmation; an
+        // acknowledgement now, a repeat of the last one included, is out
+        // of phase for it (05040001h).
+        o.violate(AbortCode::InvalidCommandSpecifier, from.other());
+        return None;
+    }
+    if b.owed > 0 {
+        // The receiver's own acknowledgement of a sub-block the sender
+        // went on from (read at that point): nothing more is confirmed.
+        b.owed -= 1;
+        b.last_ack = Payload::new(bytes);
+        return next_block_size(o, b, blksize, from);
+    }
     let channel = o.transfer.channel;
     let held = sub_block::held(pool, channel).copied();
     sub_block::give_back(pool, channel);
     o.pending = (0, 0);
+    b.closed = false;
     let segments = held.map_or(0, |h| h.segments());
     if segments == 0 && b.last_ack.is_some_and(|a| a.as_slice() == bytes) {
         // The same acknowledgement again, nothing sent between: the
@@ -146,17 +213,9 @@ pub(super) fn ack(
             got: ackseq,
         }));
     }
-    for seqno in 1..=ackseq {
-        let Some((data, last)) = held.and_then(|h| h.segment(seqno)) else {
-            break;
-        };
-        match b.rx.commit(data, last) {
-            Ok(Some((offset, data))) => o.deliver(offset, data, out),
-            Ok(None) => {}
-            Err(code) => {
-                o.violate(code, from);
-                return None;
-            }
+    if let Some(h) = held {
+        if !commit(o, &mut b, &h, ackseq, from, out) {
+            return None;
         }
     }
     // The receiver ignores a repeat of the segment that completed the
@@ -166,6 +225,73 @@ pub(super) fn ack(
         .take()
         .filter(|r| ackseq > 0 && r.as_slice().first().map(|b0| b0 & 0x7F) == Some(ackseq));
     b.last_ack = Payload::new(bytes);
+    next_block_size(o, b, blksize, from)
+}
+
+/// The sender of the data went on after a closed sub-block with no
+/// acknowledgement seen between (the module's doc says why): the sub-block
+/// is committed as far as the last acknowledgement seen, which the sender
+/// took again, says (at most to its closing segment), and the receiver's
+/// own acknowledgement of it is owed. Before any acknowledgement there is
+/// nothing the sender can have taken, and the segments stay held.
+fn went_on(o: &mut Open, pool: &mut [SubBlock], out: &mut Sink) -> Option<End> {
+    let Phase::SubBlocks(mut b) = o.phase else {
+        return None;
+    };
+    let ackseq = b.last_ack.and_then(|a| a.as_slice().get(1).copied())?;
+    let channel = o.transfer.channel;
+    let held = sub_block::held(pool, channel).copied()?;
+    let n = ackseq.min(held.closing().unwrap_or(ackseq));
+    let have = held.contiguous();
+    sub_block::give_back(pool, channel);
+    o.pending = (0, 0);
+    if n > have {
+        return Some(End::Broken(BreakReason::AckMismatch {
+            expected: have,
+            got: n,
+        }));
+    }
+    let receiver = o.data_sender().other();
+    if !commit(o, &mut b, &held, n, receiver, out) {
+        return None;
+    }
+    b.closed = false;
+    b.owed = b.owed.saturating_add(1);
+    b.dup = None;
+    b.recent = None;
+    o.phase = Phase::SubBlocks(b);
+    None
+}
+
+/// Delivers segments 1..=`n` of `held` as the receiver (`receiver`) took
+/// them; false when that breaks a rule (the transfer is then violated).
+fn commit(
+    o: &mut Open,
+    b: &mut Blocks,
+    held: &SubBlock,
+    n: u8,
+    receiver: Side,
+    out: &mut Sink,
+) -> bool {
+    for seqno in 1..=n {
+        let Some((data, last)) = held.segment(seqno) else {
+            break;
+        };
+        match b.rx.commit(data, last) {
+            Ok(Some((offset, data))) => o.deliver(offset, data, out),
+            Ok(None) => {}
+            Err(code) => {
+                o.violate(code, receiver);
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// After an acknowledgement from `from`: the block size it gives for the
+/// next sub-block must be valid unless the last segment is in.
+fn next_block_size(o: &mut Open, mut b: Blocks, blksize: u8, from: Side) -> Option<End> {
     if b.rx.is_done() {
         o.phase = Phase::SubBlocks(b);
         return None;
@@ -180,19 +306,29 @@ pub(super) fn ack(
     None
 }
 
-/// The sender's end frame; `checker` is the receiver of the data.
+/// The sender's end frame; `checker` is the receiver of the data. Sent
+/// right after the last sub-block closed, it says the sender went on (see
+/// [`went_on`]).
 pub(super) fn end(
     o: &mut Open,
     (unused, crc): (u8, u16),
     bytes: &[u8],
     checker: Side,
+    pool: &mut [SubBlock],
     out: &mut Sink,
-) {
+) -> Option<End> {
+    if matches!(o.phase, Phase::SubBlocks(b) if b.closed && !b.rx.is_done()) {
+        if let Some(broken) = went_on(o, pool, out) {
+            return Some(broken);
+        }
+    }
     let Phase::SubBlocks(Blocks { mut rx, .. }) = o.phase else {
-        return o.violate(AbortCode::InvalidCommandSpecifier, checker);
+        o.violate(AbortCode::InvalidCommandSpecifier, checker);
+        return None;
     };
     if !rx.is_done() {
-        return o.violate(AbortCode::InvalidCommandSpecifier, checker);
+        o.violate(AbortCode::InvalidCommandSpecifier, checker);
+        return None;
     }
     match rx.on_end_lenient(unused, crc) {
         Ok((ended, broken)) => {
@@ -209,4 +345,5 @@ pub(super) fn end(
         }
         Err(code) => o.violate(code, checker),
     }
+    None
 }

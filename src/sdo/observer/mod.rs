@@ -451,7 +451,17 @@ struct Slot {
 /// the observer did not see is [`BreakReason::AckMismatch`]; segments with
 /// no buffer free, [`BreakReason::NoSubBlockBuffer`]; a transfer that
 /// stops before its acknowledgement, [`BreakReason::AckNotSeen`] (what was
-/// held is counted as `pending`, never delivered).
+/// held is counted as `pending`, never delivered). CiA 301 numbers the
+/// segments of a sub-block but not the sub-blocks, so a sender that takes
+/// a repeated acknowledgement for the one of the sub-block it just sent
+/// runs a sub-block ahead: its next segments, or its end frame, come before
+/// the receiver's own acknowledgement. The observer then reads the closed
+/// sub-block as the sender did, acknowledged as far as the repeat says,
+/// and takes the receiver's late acknowledgement as the one owed. An
+/// acknowledgement after the last segment was acknowledged is out of phase
+/// for the sender (05040001h is due from it), and a frame of command
+/// specifier 4 whose unused bits are set is not an abort, as the crate's
+/// client and server read them.
 ///
 /// `EXTRA` is the number of channels besides the default ones that
 /// [`Observer::add_channel`] can add. Implements [`Machine`]:
@@ -766,3 +776,7 @@ mod tests;
 #[cfg(test)]
 #[path = "block_ack_tests.rs"]
 mod block_ack_tests;
+
+#[cfg(test)]
+#[path = "run_ahead_tests.rs"]
+mod run_ahead_tests;

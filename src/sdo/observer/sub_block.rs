@@ -98,6 +98,11 @@ impl SubBlock {
         }
     }
 
+    /// The sequence number of the held segment with c = 1, if any.
+    pub(crate) fn closing(&self) -> Option<u8> {
+        self.last.map(|(n, _)| n)
+    }
+
     /// Segment `seqno` as held: its data and whether it has c = 1.
     pub(crate) fn segment(&self, seqno: u8) -> Option<(SegmentData, bool)> {
         let bit = bit(seqno)?;

@@ -12,7 +12,7 @@ use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::sdo::abort::AbortCode;
 use crate::sdo::data::{InitiatePayload, Segment, SegmentData};
-use crate::sdo::rules::block::{check_block_size, Receiver};
+use crate::sdo::rules::block::{check_block_size, is_abort, Receiver};
 use crate::sdo::rules::segmented::{check_toggle, Segments};
 use crate::sdo::wire::{
     ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoRequest, SdoResponse,
@@ -270,7 +270,7 @@ fn take(
     out: &mut Sink,
 ) -> Observed {
     let bytes = frame.data();
-    if let Some((seen, end)) = block_segment(open, channel, from, bytes, pool) {
+    if let Some((seen, end)) = block_segment(open, channel, from, bytes, pool, out) {
         if let Some(reason) = end {
             if let Some(o) = open.take() {
                 out.push(o.ended(reason));
@@ -306,9 +306,16 @@ fn take(
     if repeat {
         return seen;
     }
+    // An abort as the crate's client and server take it: byte 0 80h
+    // exactly (CiA 301 section 7.2.4.3); command specifier 4 with the
+    // unused bits set is a command that does not fit.
     let abort = match command {
         Command::Client(ClientCommand::Abort { code, .. })
-        | Command::Server(ServerCommand::Abort { code, .. }) => Some(code),
+        | Command::Server(ServerCommand::Abort { code, .. })
+            if is_abort(bytes) =>
+        {
+            Some(code)
+        }
         _ => None,
     };
     if let Some(code) = abort {
@@ -497,7 +504,7 @@ fn client(
             return Some(End::Completed(crc_checked));
         }
         (ClientCommand::BlockDownload(ClientBlockDownload::End { unused, crc }), _) if !upload => {
-            end(o, (unused, crc), bytes, Side::Server, out);
+            return end(o, (unused, crc), bytes, Side::Server, pool, out);
         }
         _ => o.violate(AbortCode::InvalidCommandSpecifier, Side::Server),
     }
@@ -672,7 +679,7 @@ fn server(
             o.phase = Phase::BlockUploadStartDue(Receiver::new(blksize, size, crc).after(bytes));
         }
         (ServerCommand::BlockUpload(ServerBlockUpload::End { unused, crc }), _) if upload => {
-            end(o, (unused, crc), bytes, Side::Client, out);
+            return end(o, (unused, crc), bytes, Side::Client, pool, out);
         }
         _ => o.violate(AbortCode::InvalidCommandSpecifier, Side::Client),
     }

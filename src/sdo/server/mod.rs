@@ -61,7 +61,7 @@ use core::time::Duration;
 
 use super::abort::AbortCode;
 use super::data::InitiatePayload;
-use super::rules::block::MAX_BLOCK_SIZE;
+use super::rules::block::{is_abort, MAX_BLOCK_SIZE};
 #[cfg(feature = "sdo-block")]
 use super::rules::block::{Receiver, Sender};
 use super::rules::segmented::Segments;
@@ -650,7 +650,14 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
                 sub,
                 payload,
             } => (index, sub, Some(payload)),
-            ClientCommand::Abort { code, .. } => return self.abort_by_peer(code),
+            // CiA 301 section 7.2.4.3 (SDO abort transfer): byte 0 is
+            // 80h, its low bits "not used, always 0". A frame of command
+            // specifier 4 with them set is not taken as an abort (it is a
+            // sub-block segment out of phase, seen when a block sender
+            // resends after the last acknowledgement): an unknown command.
+            ClientCommand::Abort { code, .. } if is_abort(frame.data()) => {
+                return self.abort_by_peer(code)
+            }
             #[cfg(feature = "sdo-block")]
             ClientCommand::BlockUpload(b) => return self.on_block_upload(now, b),
             #[cfg(feature = "sdo-block")]
