@@ -1,8 +1,9 @@
 //! Real device descriptions (CiA 306) from public repositories, read at run
 //! time from the folder of EDS files that CI keeps beside the checkout
 //! (`../<shared folder>/eds`, or `$CANOPEN_EDS_DIR`). The files are not
-//! copied into this repository. When the folder is absent each test says
-//! it is skipped and passes without asserting.
+//! copied into this repository. When a file is absent or unreadable each
+//! test fails under `CI=true` and elsewhere says it is skipped and passes
+//! without asserting (`common::captures::shared_file`).
 
 #![cfg(feature = "alloc")]
 
@@ -17,7 +18,7 @@ use canopen_codec::pdo::{MappingEntry, PdoDirection};
 use canopen_codec::sdo::{AbortOrigin, ClientEvent};
 use canopen_codec::NodeId;
 
-/// Parses one real file: `None` (and a note) when the folder is absent.
+/// Parses one real file: `None` (and a note) when it is absent outside CI.
 /// Every real file must parse without an error, and its model must survive
 /// being written and read back.
 fn load(name: &str) -> Option<Eds> {

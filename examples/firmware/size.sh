@@ -10,16 +10,20 @@
 #   state  the node's static (llvm-nm --print-size of its symbol)
 #
 # A figure above its goal fails the run (exit 1) with a message naming the
-# node, the measure, the figure and the goal. budget.txt holds the goals,
-# not measured figures: it changes only when a goal does.
+# node, the measure, the figure and the goal. So does a binary that lacks
+# one of the sections measured (.text, .rodata, .data, .bss,
+# .vector_table) or the state symbol: a figure it cannot read is never
+# taken as 0. budget.txt holds the goals, not measured figures: it
+# changes only when a goal does.
 #
 #   bash examples/firmware/size.sh            build, print, gate
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")"
+SELF=$(basename "${BASH_SOURCE[0]}")
 
 for arg in "$@"; do
     case "$arg" in
-        -h | --help) sed -n '2,15p' "$0"; exit 0 ;;
+        -h | --help) sed -n '2,19p' "$SELF"; exit 0 ;;
         *) echo "unknown argument: $arg (size.sh takes none)" >&2; exit 2 ;;
     esac
 done
@@ -66,8 +70,14 @@ for package in battery-module-firmware charger-firmware; do
     cargo build --release --locked --quiet -p "$package"
 done
 
-section() { # binary section -> size (0 when absent)
-    "$SIZE" -A "$1" | awk -v s="$2" '$1 == s { print $2; found = 1 } END { if (!found) print 0 }'
+section() { # binary section -> size; a section the binary lacks fails the run
+    local size
+    size=$("$SIZE" -A "$1" | awk -v s="$2" '$1 == s { print $2; exit }')
+    if [[ -z "$size" ]]; then
+        echo "size.sh: $1 has no $2 section (llvm-size -A lists none), so it cannot be measured" >&2
+        return 1
+    fi
+    echo "$size"
 }
 # check node measure figure goal: prints the verdict, records a failure
 failures=()
@@ -91,11 +101,12 @@ for row in "${NODES[@]}"; do
         exit 1
     fi
     elf="target/$TARGET/release/$node"
-    text=$(section "$elf" .text)
-    rodata=$(section "$elf" .rodata)
-    data=$(section "$elf" .data)
-    bss=$(section "$elf" .bss)
-    vectors=$(section "$elf" .vector_table)
+    [[ -f "$elf" ]] || { echo "size.sh: $elf was not built" >&2; exit 1; }
+    text=$(section "$elf" .text) || exit 1
+    rodata=$(section "$elf" .rodata) || exit 1
+    data=$(section "$elf" .data) || exit 1
+    bss=$(section "$elf" .bss) || exit 1
+    vectors=$(section "$elf" .vector_table) || exit 1
     flash=$((text + rodata + data))
     state_hex=$("$NM" --print-size "$elf" | awk -v s="$symbol" '$4 == s { print $2 }')
     [[ -n "$state_hex" ]] || { echo "size.sh: $symbol not found in $elf" >&2; exit 1; }

@@ -35,8 +35,9 @@ pub fn run(args: &[&str], stdin: Option<&str>) -> Output {
     out
 }
 
-/// A real capture's path as an argument, or `None` when it is absent (the
-/// test then passes without asserting).
+/// A real capture's path as an argument, or `None` when it is absent or
+/// unreadable outside CI (the test then says it skipped and passes without
+/// asserting); under `CI=true` that fails the test (`common::captures`).
 pub fn capture(name: &str) -> Option<String> {
     crate::common::captures::path(name).map(|p| p.display().to_string())
 }
