@@ -513,6 +513,7 @@ mod tests {
     }
 
     proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig { failure_persistence: Some(std::boxed::Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/src-clock.txt"))), ..proptest::prelude::ProptestConfig::default() })]
         #[test]
         fn duration_conversions_agree_everywhere(s in proptest::num::u64::ANY, n in 0u32..1_000_000_000) {
             let d = Duration::new(s, n);

@@ -10,7 +10,11 @@ use proptest::prelude::*;
 fn config() -> ProptestConfig {
     ProptestConfig {
         cases: 512,
-        failure_persistence: None,
+        failure_persistence: Some(Box::new(
+            proptest::test_runner::FileFailurePersistence::Direct(
+                "tests/proptest-regressions/cia418_props.txt",
+            ),
+        )),
         ..ProptestConfig::default()
     }
 }

@@ -229,7 +229,11 @@ fn the_examples_print_their_eds() {
 fn config() -> ProptestConfig {
     ProptestConfig {
         cases: 96,
-        failure_persistence: None,
+        failure_persistence: Some(Box::new(
+            proptest::test_runner::FileFailurePersistence::Direct(
+                "tests/proptest-regressions/eds_export.txt",
+            ),
+        )),
         ..ProptestConfig::default()
     }
 }

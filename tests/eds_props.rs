@@ -13,7 +13,11 @@ use proptest::prelude::*;
 fn config() -> ProptestConfig {
     ProptestConfig {
         cases: 256,
-        failure_persistence: None,
+        failure_persistence: Some(Box::new(
+            proptest::test_runner::FileFailurePersistence::Direct(
+                "tests/proptest-regressions/eds_props.txt",
+            ),
+        )),
         ..ProptestConfig::default()
     }
 }

@@ -15,7 +15,7 @@ use canopen_codec::{CanFrame, CanId, NodeId, Timestamp};
 use proptest::prelude::*;
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 512, failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 512, failure_persistence: Some(Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/guarding_props.txt"))), ..ProptestConfig::default() })]
 
     #[test]
     fn slave_replies_carry_state_and_alternate(states in proptest::collection::vec(any::<u8>(), 1..60), reset_at in any::<prop::sample::Index>()) {

@@ -8,7 +8,7 @@ use canopen_codec::{CanFrame, NodeId, Timestamp};
 use proptest::prelude::*;
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 1024, failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 1024, failure_persistence: Some(Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/heartbeat_props.txt"))), ..ProptestConfig::default() })]
 
     #[test]
     fn one_lost_per_silence_longer_than_the_time(
@@ -68,7 +68,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 512, failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 512, failure_persistence: Some(Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/heartbeat_props.txt"))), ..ProptestConfig::default() })]
 
     /// The back-pressure rule: a consumer whose events are never read still
     /// takes every heartbeat. A node beating within its time (with state

@@ -14,7 +14,11 @@ use proptest::prelude::*;
 fn config() -> ProptestConfig {
     ProptestConfig {
         cases: 2048,
-        failure_persistence: None,
+        failure_persistence: Some(Box::new(
+            proptest::test_runner::FileFailurePersistence::Direct(
+                "tests/proptest-regressions/lss_props.txt",
+            ),
+        )),
         ..ProptestConfig::default()
     }
 }

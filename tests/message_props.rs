@@ -33,7 +33,11 @@ const CASES: u32 = 2048;
 fn config() -> ProptestConfig {
     ProptestConfig {
         cases: CASES,
-        failure_persistence: None,
+        failure_persistence: Some(Box::new(
+            proptest::test_runner::FileFailurePersistence::Direct(
+                "tests/proptest-regressions/message_props.txt",
+            ),
+        )),
         ..ProptestConfig::default()
     }
 }

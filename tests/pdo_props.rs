@@ -9,7 +9,11 @@ use proptest::prelude::*;
 fn config() -> ProptestConfig {
     ProptestConfig {
         cases: 1024,
-        failure_persistence: None,
+        failure_persistence: Some(Box::new(
+            proptest::test_runner::FileFailurePersistence::Direct(
+                "tests/proptest-regressions/pdo_props.txt",
+            ),
+        )),
         ..ProptestConfig::default()
     }
 }

@@ -432,7 +432,7 @@ fn latency() -> impl Strategy<Value = u64> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 256, failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 256, failure_persistence: Some(Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/sdo_backpressure.txt"))), ..ProptestConfig::default() })]
 
     /// For random sizes, drain patterns and latencies, the frames on the
     /// wire are identical whether or not events are drained.

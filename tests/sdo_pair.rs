@@ -205,7 +205,7 @@ fn every_dropped_frame_of_small_transfers() {
 proptest! {
     #![proptest_config(ProptestConfig {
         cases: 256,
-        failure_persistence: None,
+        failure_persistence: Some(Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/sdo_pair.txt"))),
         ..ProptestConfig::default()
     })]
 

@@ -249,7 +249,7 @@ fn any_frame() -> impl proptest::strategy::Strategy<Value = CanFrame> {
 proptest::proptest! {
     #![proptest_config(proptest::test_runner::Config {
         cases: 4096,
-        failure_persistence: None,
+        failure_persistence: Some(std::boxed::Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/src-message-tests.txt"))),
         ..proptest::test_runner::Config::default()
     })]
 

@@ -235,7 +235,7 @@ fn short_and_long_frames() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { failure_persistence: Some(std::boxed::Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/src-pdo-catalogue-tests.txt"))), ..ProptestConfig::default() })]
 
     /// Decoding is total and displays without panicking, for any mapping
     /// and any payload.

@@ -722,7 +722,7 @@ mod props {
     }
 
     proptest! {
-        #![proptest_config(ProptestConfig { cases: 4096, failure_persistence: None, ..ProptestConfig::default() })]
+        #![proptest_config(ProptestConfig { cases: 4096, failure_persistence: Some(std::boxed::Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/src-sdo-wire-tests.txt"))), ..ProptestConfig::default() })]
 
         /// `emit(parse(x)) == x` for every input that parses, both sides:
         /// emitted over the frame's own bytes, the command gives them back.

@@ -571,7 +571,7 @@ fn system_times_are_unix_times() {
 
 proptest::proptest! {
     #![proptest_config(proptest::prelude::ProptestConfig {
-        failure_persistence: None,
+        failure_persistence: Some(std::boxed::Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/src-trace-blf-tests.txt"))),
         ..proptest::prelude::ProptestConfig::default()
     })]
 
