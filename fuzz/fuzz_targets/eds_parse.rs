@@ -1,7 +1,7 @@
 //! Arbitrary bytes into the EDS/DCF reader: it never panics; text reads
 //! the same through `parse` and `parse_bytes`; whatever parses builds a
-//! dictionary or fails with a typed error, and its PDOs and names can be
-//! asked for; writing it back and reading that gives the same model (line
+//! dictionary of every value it can encode, and the values it leaves out
+//! are the ones `unserved` names; its PDOs and names can be asked for; writing it back and reading that gives the same model (line
 //! numbers and warnings aside), and writing is then a fixed point.
 #![no_main]
 
@@ -15,7 +15,8 @@ fuzz_target!(|data: &[u8]| {
         assert_eq!(parse(text).as_ref(), Ok(&eds));
     }
     for node in [NodeId::MIN, NodeId::MAX] {
-        let _ = eds.dictionary(node);
+        let dictionary = eds.dictionary(node);
+        assert_eq!(dictionary.unserved(), &eds.unserved(node)[..]);
         let _ = eds.pdos(node);
     }
     for (&index, o) in &eds.objects {
