@@ -124,7 +124,16 @@ fn main() -> ExitCode {
             "--eds" => eds = it.next().cloned(),
             "--strict-eds" => strict_eds = true,
             "--print-eds" => return print_eds(it.next().map_or("", String::as_str)),
-            "--timeout-ms" => timeout_ms = it.next().and_then(|v| v.parse::<u64>().ok()),
+            "--timeout-ms" => match it.next().map(|v| (v, v.parse::<u64>())) {
+                Some((_, Ok(ms))) if (1..=u64::from(u32::MAX)).contains(&ms) => {
+                    timeout_ms = Some(ms)
+                }
+                other => {
+                    let v = other.map_or("", |(v, _)| v.as_str());
+                    eprintln!("sdo_node: --timeout-ms: '{v}' is not 1 to 4294967295 ms\n{USAGE}");
+                    return ExitCode::from(2);
+                }
+            },
             "-h" | "--help" => {
                 eprintln!("{USAGE}");
                 return ExitCode::SUCCESS;

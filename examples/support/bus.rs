@@ -75,7 +75,8 @@ impl PipeBus {
     /// The wall time to wait until `deadline` on [`Self::now`]'s clock.
     pub fn wait_until(&self, deadline: Timestamp) -> Duration {
         let node_us = deadline.saturating_micros_since(self.now());
-        Duration::from_secs_f64(node_us as f64 / 1e6 / self.speed)
+        // Saturates: a deadline too far for a Duration is "never".
+        Duration::try_from_secs_f64(node_us as f64 / 1e6 / self.speed).unwrap_or(Duration::MAX)
     }
 
     /// Waits for the next frame until `deadline` (forever if None).
