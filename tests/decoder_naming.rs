@@ -2,7 +2,8 @@
 //! named and explained, Delta-Q names and labels need Delta-Q evidence, a
 //! node without a role or EDS gets no profile names, CSV output stays one
 //! CSV, an invalid 1200h adds no channel, PDO entries mapped narrower than
-//! their objects are read and flagged, and TIME frames say their UTC time.
+//! their objects are read and flagged, TIME frames say their UTC time, and
+//! the option list in docs/DECODER.md is the one the program prints.
 #![cfg(feature = "cli")]
 
 mod common;
@@ -364,5 +365,22 @@ fn a_program_download_reads_as_one() {
     assert_eq!(
         transfers(&text(&o)),
         ["SDO upload 1F57h:01 from node 10: 0A 00 00 00 (flash status identification 1: not in progress, flash write error)"]
+    );
+}
+
+/// docs/DECODER.md shows the program's `-h` as it prints it: the copy
+/// there is checked, not trusted.
+#[test]
+fn the_option_list_in_the_docs_is_the_programs() {
+    let out = run(&["-h"], None);
+    assert!(out.status.success());
+    let help = String::from_utf8(out.stdout).unwrap();
+    let docs = include_str!("../docs/DECODER.md");
+    let marker = "`canopen-decode -h` (`--help` explains each at more length):\n\n```text\n";
+    let start = docs.find(marker).expect("the -h block in docs/DECODER.md") + marker.len();
+    let block = &docs[start..start + docs[start..].find("```").unwrap()];
+    assert_eq!(
+        block, help,
+        "docs/DECODER.md's -h block differs from the program's"
     );
 }
