@@ -90,13 +90,28 @@ pub(super) fn block_segment(
             && (1..=b.rx.block_size()).contains(&segment.seqno)
             && (segment.last || segment.data.len() == 7);
         if from == sender && b.closed && !repeat && !is_abort(bytes) {
-            let last_held = sub_block::held(pool, channel).is_some_and(|h| h.closing().is_some());
-            if last_held && segment.seqno != 1 {
+            let held = sub_block::held(pool, channel).copied();
+            let blksize = b.rx.block_size();
+            // The closed sub-block holds every segment up to its closing one.
+            let complete = held.is_some_and(|h| match h.closing() {
+                Some(n) => h.contiguous() == n,
+                None => h.contiguous() >= blksize,
+            });
+            let last_held = held.is_some_and(|h| h.closing().is_some());
+            if last_held && segment.seqno != 1 && (complete || segment.seqno > blksize) {
                 // After the last sub-block the sender resends from 1 or
                 // sends its end frame: a command.
                 return None;
             }
-            if segment_of_a_sub_block {
+            // A segment numbered 1 other than the one held begins the next
+            // sub-block; any other number fills a gap of the closed one
+            // (a segment delayed behind later ones).
+            let next_sub_block = segment.seqno == 1
+                && held.is_some_and(|h| {
+                    h.segment(1)
+                        .is_some_and(|(data, last)| (data, last) != (segment.data, segment.last))
+                });
+            if segment_of_a_sub_block && next_sub_block {
                 if let Some(End::Broken(reason)) = went_on(o, pool, out) {
                     end = Some(reason);
                 }

@@ -167,28 +167,56 @@ fn a_sender_ahead_whose_acknowledgement_is_lost_stays_one_behind_and_delivers_ev
 
 #[test]
 fn a_sender_going_on_past_segments_not_seen_breaks_the_transfer_off() {
-    // Segment 3 (sequence number 1 of the second sub-block) is not in the
-    // trace; the client goes on as if the repeated acknowledgement said 2:
-    // that acknowledges a segment the observer did not see.
-    let head = frames(&[
-        &[INITIATE, ANSWER],
-        &sub_blocks(0, 2).collect::<Vec<_>>(),
-        &[ACK, ACK],
+    // Sub-blocks of 3: the second one's segment 2 is not in the trace, its
+    // closing segment 3 is; the client goes on with a new segment 1 as if
+    // the repeated acknowledgement (3) were the one of the second
+    // sub-block: that acknowledges a segment the observer did not see.
+    let answer = [0xA0, 0x50, 0x1F, 1, 3, 0, 0, 0];
+    let ack = [0xA2, 3, 3, 0, 0, 0, 0, 0];
+    let (len, _, end) = observe(&[
+        INITIATE,
+        answer,
+        segment(1, 0),
+        segment(2, 1),
+        segment(3, 2),
+        ack,
+        ack,
+        segment(1, 3),
+        segment(3, 5),
+        segment(1, 6),
     ]);
-    let (len, _, end) = observe(&frames(&[&head, &sub_blocks(3, 6).collect::<Vec<_>>()]));
-    assert_eq!(len, 14);
+    assert_eq!(len, 21);
     assert!(
         matches!(
             end,
             ObserverEvent::BrokenOff {
                 reason: BreakReason::AckMismatch {
-                    expected: 0,
-                    got: 2
+                    expected: 1,
+                    got: 3
                 },
-                bytes: 14,
+                bytes: 21,
                 ..
             }
         ),
         "{end:?}"
     );
+}
+
+#[test]
+fn a_segment_delayed_behind_the_closing_one_fills_its_gap() {
+    // Segment 1 of the second sub-block arrives after its closing segment
+    // 2 (reordered): it fills the gap, it does not begin a sub-block.
+    let head = frames(&[
+        &[INITIATE, ANSWER],
+        &sub_blocks(0, 2).collect::<Vec<_>>(),
+        &[ACK],
+    ]);
+    completes_with_every_byte(&frames(&[
+        &head,
+        &[segment(2, 3), segment(1, 2), ACK],
+        &sub_blocks(4, 8).collect::<Vec<_>>()[..2],
+        &[ACK],
+        &sub_blocks(6, 8).collect::<Vec<_>>(),
+        &[ACK, END, CONFIRM],
+    ]));
 }
