@@ -127,11 +127,13 @@ def main():
         check("2101h = 48 V (Q8)", charger.sdo.upload(0x2101, 0) == (48 * 256).to_bytes(2, "little"),
               charger.sdo.upload(0x2101, 0).hex())
         check("1003h:00 = 0 (no error yet)", charger.sdo.upload(0x1003, 0) == b"\x00")
+        code = None
         try:
             charger.sdo.download(0x2006, 0, b"\x00\x00")
-            check("2006h is read-only", False)
         except canopen.SdoAbortedError as e:
-            check("2006h is read-only (06010002h)", e.code == 0x06010002, hex(e.code))
+            code = e.code
+        check("2006h is read-only (06010002h)", code == 0x06010002,
+              "written" if code is None else hex(code))
         # The battery's heartbeat stops.
         battery.nmt.stop_heartbeat()
         t1 = time.time()

@@ -93,12 +93,12 @@ def load(what, text, node):
     with tempfile.NamedTemporaryFile(suffix=".eds") as f:
         f.write(text)
         f.flush()
+        error = None
         try:
             od = canopen.import_od(f.name, node)
         except Exception as e:  # noqa: BLE001 - any importer error is a failure
-            check(f"{what}: python-canopen imports the EDS", False, repr(e))
-            return None
-    check(f"{what}: python-canopen imports the EDS", True)
+            error, od = e, None
+    check(f"{what}: python-canopen imports the EDS", error is None, repr(error))
     return od
 
 
