@@ -59,10 +59,10 @@ mod signals_parquet;
 mod summary;
 #[path = "../src/bin/canopen-decode/time_column.rs"]
 mod time_column;
-#[path = "../src/bin/canopen-decode/words.rs"]
-mod words;
 #[path = "../src/bin/common/trace_input/mod.rs"]
 mod trace_input;
+#[path = "../src/bin/canopen-decode/words.rs"]
+mod words;
 pub use pipeline::*;
 
 // Where the real captures are (the tests' own locator).
