@@ -21,17 +21,14 @@ pub struct InlineData<const N: usize> {
 pub type Payload = InlineData<8>;
 
 impl InlineData<8> {
-    /// A data frame's payload, taken from its zero-padded buffer (no copy
-    /// loop; a remote frame gives an empty payload).
+    /// The payload of a zero-padded 8-byte buffer holding `len` bytes (a
+    /// checked view's buffer: the bytes past `len` are zero, as
+    /// [`InlineData::new`] leaves them).
     #[inline]
-    #[must_use]
-    pub fn from_frame(frame: &crate::frame::CanFrame) -> Self {
-        if frame.is_remote() {
-            return Self::default();
-        }
+    pub(crate) const fn from_padded(bytes: [u8; 8], len: u8) -> Self {
         InlineData {
-            len: frame.dlc().min(8),
-            bytes: frame.padded_data(),
+            len: if len > 8 { 8 } else { len },
+            bytes,
         }
     }
 }

@@ -27,6 +27,7 @@
 //! | I want to ... | Look in |
 //! |---|---|
 //! | decode or encode any frame | [`Message`] ([`message`]); logs with deviations: [`message::lenient`]; words: [`message::display`] |
+//! | parse or emit one protocol's payload | [`wire`] (the [`Codec`] trait: `parse` / `emit` / `buffer_len`, and each protocol's checked view) |
 //! | know which object an identifier is | [`cob_id`] ([`CobKind`], [`NodeId`], the predefined connection set) |
 //! | build or inspect a frame | [`frame`] ([`CanFrame`], [`CanId`]) |
 //! | drive any state machine | [`machine`] (the [`Machine`](machine::Machine) contract and back-pressure rule) |
@@ -117,12 +118,14 @@ pub mod sim;
 pub mod sync;
 pub mod time;
 pub mod trace;
+pub mod wire;
 
 pub use clock::Timestamp;
 pub use cob_id::{CobKind, NodeId, PdoNumber};
 pub use error::DecodeError;
 pub use frame::{CanFrame, CanId, FrameError};
 pub use message::Message;
+pub use wire::Codec;
 
 /// The README's examples, compiled and run as doc tests.
 #[cfg(doctest)]

@@ -16,3 +16,4 @@ pub use crate::cob_id::NodeId;
 pub use crate::frame::CanFrame;
 pub use crate::machine::Machine;
 pub use crate::message::Message;
+pub use crate::wire::Codec;

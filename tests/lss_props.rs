@@ -8,7 +8,7 @@ use canopen_codec::lss::{
     Fastscan, IdentifyPart, LssErrorCode, LssField, LssInquiry, LssMessage, LssMode, LssRequest,
     LssResponse, LssStatus,
 };
-use canopen_codec::{CanFrame, Message};
+use canopen_codec::{CanFrame, Codec, Message};
 use proptest::prelude::*;
 
 fn config() -> ProptestConfig {
@@ -82,9 +82,9 @@ proptest! {
     #[test]
     fn bytes_round_trip(data in proptest::collection::vec(any::<u8>(), 0..=8)) {
         for dir in [LssDirection::MasterToSlave, LssDirection::SlaveToMaster] {
-            let m = LssMessage::decode(dir, &data).unwrap();
+            let m = LssMessage::parse(dir, &data).unwrap();
             let mut buf = [0; 8];
-            let n = m.encode(&mut buf);
+            let n = m.emit(&mut buf);
             prop_assert_eq!(&buf[..n], &data[..]);
             let id = if dir == LssDirection::MasterToSlave { 0x7E5 } else { 0x7E4 };
             let f = CanFrame::standard(id, &data).unwrap();
@@ -98,15 +98,15 @@ proptest! {
     #[test]
     fn requests_round_trip(r in request()) {
         let mut buf = [0; 8];
-        prop_assert_eq!(r.encode(&mut buf), 8);
-        prop_assert_eq!(LssRequest::decode(&buf).unwrap(), r);
+        prop_assert_eq!(r.emit(&mut buf), 8);
+        prop_assert_eq!(LssRequest::parse(&buf).unwrap(), r);
     }
 
     /// Typed responses: 8 bytes that decode to the same response.
     #[test]
     fn responses_round_trip(r in response()) {
         let mut buf = [0; 8];
-        prop_assert_eq!(r.encode(&mut buf), 8);
-        prop_assert_eq!(LssResponse::decode(&buf).unwrap(), r);
+        prop_assert_eq!(r.emit(&mut buf), 8);
+        prop_assert_eq!(LssResponse::parse(&buf).unwrap(), r);
     }
 }

@@ -16,15 +16,15 @@ use canopen_codec::bytes::Payload;
 use canopen_codec::cob_id::{classify, LssDirection};
 use canopen_codec::emcy::{Emergency, ErrorCode, ErrorRegister};
 use canopen_codec::lss::LssMessage;
-use canopen_codec::nmt::{Heartbeat, NmtCommand};
+use canopen_codec::nmt::{Heartbeat, HeartbeatFrame, NmtCommand};
 use canopen_codec::sdo::{
     AbortCode, ClientBlockDownload, ClientBlockUpload, ClientCommand, ExpeditedData,
     InitiatePayload, SdoRequest, SdoResponse, Segment, SegmentData, ServerBlockDownload,
     ServerBlockUpload, ServerCommand,
 };
-use canopen_codec::sync::SyncFrame;
+use canopen_codec::sync::SyncMessage;
 use canopen_codec::time::TimeOfDay;
-use canopen_codec::{CanFrame, CanId, Message, NodeId, PdoNumber};
+use canopen_codec::{CanFrame, CanId, Codec, Message, NodeId, PdoNumber};
 use proptest::prelude::*;
 use proptest::test_runner::Config as ProptestConfig;
 
@@ -109,12 +109,12 @@ proptest! {
         }
         // The bare codecs agree with the message layer.
         if response {
-            if let Ok(r) = SdoResponse::decode(&data) {
+            if let Ok(r) = SdoResponse::parse(&data) {
                 let (bytes, len) = r.encode();
                 prop_assert_eq!(&bytes[..len], &data[..]);
                 prop_assert_eq!(r.bytes(), &data[..]);
             }
-        } else if let Ok(r) = SdoRequest::decode(&data) {
+        } else if let Ok(r) = SdoRequest::parse(&data) {
             let (bytes, len) = r.encode();
             prop_assert_eq!(&bytes[..len], &data[..]);
             prop_assert_eq!(r.bytes(), &data[..]);
@@ -342,7 +342,7 @@ fn plain_message() -> impl Strategy<Value = Message> {
         })),
         (node_id(), any::<u8>()).prop_map(|(node, b)| Message::Heartbeat {
             node,
-            heartbeat: Heartbeat::from_byte(b),
+            heartbeat: Heartbeat::from_view(&HeartbeatFrame::from_byte(b)),
         }),
         (node_id(), 0u8..=8).prop_map(|(node, dlc)| Message::NodeGuardRequest { node, dlc }),
         (node_id(), any::<u16>(), any::<u8>(), any::<[u8; 5]>()).prop_map(
@@ -355,7 +355,7 @@ fn plain_message() -> impl Strategy<Value = Message> {
                 },
             }
         ),
-        any::<Option<u8>>().prop_map(|counter| Message::Sync(SyncFrame { counter })),
+        any::<Option<u8>>().prop_map(|counter| Message::Sync(SyncMessage { counter })),
         (0u32..=0x0FFF_FFFF, any::<u16>(), 0u8..=0x0F).prop_map(|(millis, days, reserved)| {
             Message::Time(TimeOfDay {
                 millis,
@@ -387,7 +387,7 @@ fn plain_message() -> impl Strategy<Value = Message> {
         )
             .prop_map(|(direction, payload)| {
                 Message::Lss(
-                    LssMessage::decode(direction, payload.as_slice()).expect("0..=8 bytes decode"),
+                    LssMessage::parse(direction, payload.as_slice()).expect("0..=8 bytes decode"),
                 )
             }),
     ]

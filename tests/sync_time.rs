@@ -20,7 +20,7 @@ use canopen_codec::pdo::{
 };
 use canopen_codec::sync::{SyncCobId, SyncConsumer, SyncEvent, SyncProducer};
 use canopen_codec::time::{TimeCobId, TimeConsumer, TimeEvent, TimeOfDay, TimeProducer};
-use canopen_codec::{CanFrame, NodeId, PdoNumber, Timestamp};
+use canopen_codec::{CanFrame, CanId, Codec, NodeId, PdoNumber, Timestamp};
 use common::sim::Sim;
 
 type Dev = Device<Cia301<MemoryDictionary>>;
@@ -283,7 +283,7 @@ fn time_round_trip_between_devices() {
     let mut p = TimeProducer::new(TimeCobId::DEFAULT);
     assert!(!p.send_time(ms(0), t));
     let mut c = TimeConsumer::new(TimeCobId::DEFAULT);
-    c.handle_frame(ms(0), &CanFrame::standard(0x100, &t.encode()).unwrap());
+    c.handle_frame(ms(0), &t.to_frame_on(CanId::Standard(0x100)));
     assert_eq!(c.poll_event(), None);
 }
 

@@ -15,7 +15,7 @@ use canopen_codec::lss::{
     LssSlave, LssSlaveConfig, LssState, LssStatus,
 };
 use canopen_codec::machine::Machine;
-use canopen_codec::{CanFrame, NodeId, Timestamp};
+use canopen_codec::{CanFrame, Codec, NodeId, Timestamp};
 use core::time::Duration;
 use libfuzzer_sys::fuzz_target;
 
@@ -61,7 +61,7 @@ struct Bus {
 
 impl Bus {
     fn to_slaves(&mut self, frame: &CanFrame) {
-        let request = LssRequest::decode(frame.data()).ok();
+        let request = LssRequest::parse(frame.data()).ok();
         for s in &mut self.slaves {
             let before = s.pending_node_id();
             let configuring = s.state() == LssState::Configuration;

@@ -17,7 +17,7 @@
 use arbitrary::Arbitrary;
 use canopen_codec::machine::Machine;
 use canopen_codec::sdo::{AbortCode, Client, ClientCommand, ClientConfig, ClientError, ClientEvent, SdoRequest};
-use canopen_codec::{CanFrame, CanId, NodeId, Timestamp};
+use canopen_codec::{CanFrame, CanId, Codec, NodeId, Timestamp};
 use libfuzzer_sys::fuzz_target;
 
 #[derive(Debug, Arbitrary)]
@@ -43,7 +43,7 @@ const NODE: u8 = 3;
 
 /// A valid SDO request (not a sub-block segment).
 fn is_request(f: &CanFrame) -> bool {
-    SdoRequest::decode(f.data()).is_ok_and(|r| !matches!(r.command, ClientCommand::Unknown(_)))
+    SdoRequest::parse(f.data()).is_ok_and(|r| !matches!(r.command, ClientCommand::Unknown(_)))
 }
 
 /// Segments numbered 1, 2, .. (at most 127), the last flag only on the last.

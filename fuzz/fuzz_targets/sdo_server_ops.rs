@@ -17,7 +17,7 @@ use arbitrary::Arbitrary;
 use canopen_codec::machine::Machine;
 use canopen_codec::od::{Access, MemoryDictionary, ObjectDictionary};
 use canopen_codec::sdo::{AbortOrigin, SdoResponse, Server, ServerCommand, ServerConfig, ServerEvent};
-use canopen_codec::{CanFrame, CanId, NodeId, Timestamp};
+use canopen_codec::{CanFrame, CanId, Codec, NodeId, Timestamp};
 use libfuzzer_sys::fuzz_target;
 
 #[derive(Debug, Arbitrary)]
@@ -47,7 +47,7 @@ fn dictionary() -> MemoryDictionary {
 
 /// A valid SDO response (not a sub-block segment).
 fn is_response(f: &CanFrame) -> bool {
-    SdoResponse::decode(f.data()).is_ok_and(|r| !matches!(r.command, ServerCommand::Unknown(_)))
+    SdoResponse::parse(f.data()).is_ok_and(|r| !matches!(r.command, ServerCommand::Unknown(_)))
 }
 
 /// Segments numbered 1, 2, .. (at most 127), the last flag only on the last.

@@ -12,6 +12,7 @@
 use canopen_codec::sdo::{
     needed, BlockSegment, ClientCommand, SdoFrame, SdoRequest, SdoResponse, ServerCommand, Side,
 };
+use canopen_codec::Codec;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
@@ -32,7 +33,7 @@ fuzz_target!(|data: &[u8]| {
         let n = cmd.emit(&mut fresh);
         let again = SdoFrame::new_checked(&fresh[..n]).unwrap();
         assert_eq!(ClientCommand::parse(&again), Ok(cmd));
-        let (bytes, len) = SdoRequest::decode(data).unwrap().encode();
+        let (bytes, len) = SdoRequest::parse(data).unwrap().encode();
         assert_eq!(&bytes[..len], data);
     }
 
@@ -46,7 +47,7 @@ fuzz_target!(|data: &[u8]| {
         let n = cmd.emit(&mut fresh);
         let again = SdoFrame::new_checked(&fresh[..n]).unwrap();
         assert_eq!(ServerCommand::parse(&again), Ok(cmd));
-        let (bytes, len) = SdoResponse::decode(data).unwrap().encode();
+        let (bytes, len) = SdoResponse::parse(data).unwrap().encode();
         assert_eq!(&bytes[..len], data);
     }
 

@@ -10,6 +10,7 @@
 
 use super::*;
 use crate::emcy::{Emergency, ErrorCode, ErrorFieldEntry, ErrorRegister};
+use crate::wire::Codec;
 use DeltaQCode::{Alarm, Fault, Other};
 
 struct Case {
@@ -39,16 +40,16 @@ fn check_row(c: &Case) {
     assert_eq!(format!("{}", c.code), c.label);
     assert_eq!(DeltaQCode::from_label(c.label), Some(c.code));
     // EMCY path.
-    let e = Emergency::decode(&c.emcy).unwrap();
+    let e = Emergency::parse(&c.emcy).unwrap();
     assert_eq!(e.code, eec, "{}", c.label);
     assert_eq!(DeltaQCode::from_emergency(&e), c.code, "{}", c.label);
     assert_eq!(
-        c.code.to_emergency(eec, ErrorRegister::GENERIC).encode(),
+        c.code.to_emergency(eec, ErrorRegister::GENERIC).to_bytes(),
         c.emcy,
         "{}",
         c.label
     );
-    assert_eq!(row.emergency(ErrorRegister::GENERIC).encode(), c.emcy);
+    assert_eq!(row.emergency(ErrorRegister::GENERIC).to_bytes(), c.emcy);
     // 1003h / 2060h path.
     assert_eq!(DeltaQCode::from_error_field(c.field), (eec, c.code));
     assert_eq!(DeltaQCode::from_error_field_lenient(c.field), (eec, c.code));
@@ -235,7 +236,7 @@ fn error_field_erratum_and_the_lenient_reading() {
 #[test]
 fn capture_emcy_frames() {
     // 08A#3081012080000000: E-0-3-2 heartbeat lost.
-    let e = Emergency::decode(&[0x30, 0x81, 0x01, 0x20, 0x80, 0x00, 0x00, 0x00]).unwrap();
+    let e = Emergency::parse(&[0x30, 0x81, 0x01, 0x20, 0x80, 0x00, 0x00, 0x00]).unwrap();
     assert_eq!(e.code, ErrorCode::HEARTBEAT);
     let c = DeltaQCode::from_emergency(&e);
     assert_eq!(c, Alarm(32));
@@ -244,13 +245,13 @@ fn capture_emcy_frames() {
     assert_eq!(c.description(), Some("heartbeat lost"));
     assert_eq!(c.to_emergency(e.code, e.register), e);
     // 08A#3081011E80000000: E-0-3-0 battery module communication error.
-    let e = Emergency::decode(&[0x30, 0x81, 0x01, 0x1E, 0x80, 0x00, 0x00, 0x00]).unwrap();
+    let e = Emergency::parse(&[0x30, 0x81, 0x01, 0x1E, 0x80, 0x00, 0x00, 0x00]).unwrap();
     let c = DeltaQCode::from_emergency(&e);
     assert_eq!(c, Alarm(30));
     assert_eq!(c, DeltaQCode::BATTERY_MODULE_COMMUNICATION);
     assert_eq!(format!("{c}"), "E-0-3-0");
     // 08A#0000000000000000: error reset, no Delta-Q code.
-    let e = Emergency::decode(&[0; 8]).unwrap();
+    let e = Emergency::parse(&[0; 8]).unwrap();
     assert!(e.is_reset());
     let c = DeltaQCode::from_emergency(&e);
     assert_eq!(c, Other(0));
@@ -275,7 +276,7 @@ fn capture_2060h_no_error() {
 
 #[test]
 fn emcy_ignores_manufacturer_bytes_2_to_4() {
-    let e = Emergency::decode(&[0x00, 0x50, 0x81, 0x06, 0xC0, 0xAA, 0xBB, 0xCC]).unwrap();
+    let e = Emergency::parse(&[0x00, 0x50, 0x81, 0x06, 0xC0, 0xAA, 0xBB, 0xCC]).unwrap();
     assert_eq!(DeltaQCode::from_emergency(&e), Fault(6));
 }
 

@@ -29,9 +29,10 @@
 //! ```
 //! use canopen_codec::deltaq::{emcy_reaction, DeltaQCode, OperatingMode, Reaction};
 //! use canopen_codec::emcy::Emergency;
+//! use canopen_codec::wire::Codec;
 //!
 //! // The capture's EMCY 08A#3081012080000000.
-//! let e = Emergency::decode(&[0x30, 0x81, 0x01, 0x20, 0x80, 0, 0, 0]).unwrap();
+//! let e = Emergency::parse(&[0x30, 0x81, 0x01, 0x20, 0x80, 0, 0, 0]).unwrap();
 //! let code = DeltaQCode::from_emergency(&e);
 //! assert_eq!(format!("{code}: {}", code.description().unwrap()), "E-0-3-2: heartbeat lost");
 //! // Had a battery module sent this EEC (8130h), a local-mode charger carries on:
@@ -55,8 +56,9 @@
 //! ```
 //! use canopen_codec::deltaq::DeltaQCode;
 //! use canopen_codec::emcy::{Emergency, ErrorCode, ErrorRegister};
+//! use canopen_codec::wire::Codec;
 //!
-//! let e = Emergency::decode(&[0x00, 0x90, 0x01, 0x01, 0x80, 0, 0, 0]).unwrap();
+//! let e = Emergency::parse(&[0x00, 0x90, 0x01, 0x01, 0x80, 0, 0, 0]).unwrap();
 //! let code = DeltaQCode::from_emergency(&e);
 //! assert_eq!(code, DeltaQCode::Alarm(1));
 //! assert_eq!(format!("{code}"), "E-0-0-1");

@@ -124,6 +124,7 @@ pub const fn emergency_reaction(mode: OperatingMode, emcy: &Emergency) -> Reacti
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::wire::Codec;
     use OperatingMode::{Local, LocalOverride, MonitoringOnly, Remote};
     use Reaction::{Continue, ShutDown, TemperatureSensorFault, TerminateCharging};
 
@@ -206,10 +207,10 @@ mod tests {
     #[test]
     fn from_emergency_frames() {
         // The capture's heartbeat-lost EMCY, as if a module had sent it.
-        let e = Emergency::decode(&[0x30, 0x81, 0x01, 0x20, 0x80, 0, 0, 0]).unwrap();
+        let e = Emergency::parse(&[0x30, 0x81, 0x01, 0x20, 0x80, 0, 0, 0]).unwrap();
         assert_eq!(emergency_reaction(Local, &e), Continue);
         assert_eq!(emergency_reaction(Remote, &e), ShutDown);
-        let reset = Emergency::decode(&[0; 8]).unwrap();
+        let reset = Emergency::parse(&[0; 8]).unwrap();
         for mode in OperatingMode::ALL {
             assert_eq!(emergency_reaction(mode, &reset), Continue);
         }

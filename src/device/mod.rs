@@ -173,10 +173,11 @@ pub use store::{
     ParameterGroup, ParameterStorage, RamStorage, RecordError, StorageError, StorageEvent,
 };
 
+use crate::bytes::Payload;
 use crate::clock::Timestamp;
-use crate::cob_id::{NodeId, EMCY_BASE};
+use crate::cob_id::NodeId;
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
-use crate::frame::{CanFrame, CanId};
+use crate::frame::CanFrame;
 #[cfg(feature = "lss")]
 use crate::lss::LssSlave;
 use crate::machine::Machine;
@@ -193,6 +194,7 @@ use crate::od::index::{RESTORE_DEFAULT_PARAMETERS, STORE_PARAMETERS};
 use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
 use crate::queue::EventQueue;
 use crate::sdo::{Server, ServerEvent, EVENTS_PER_CALL};
+use crate::wire::Codec;
 
 /// The dictionary the SDO server serves: PDO objects, communication
 /// objects, application objects.
@@ -604,10 +606,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         if !self.nmt.sdo_allowed() {
             return;
         }
-        let id = CanId::Standard(EMCY_BASE + u16::from(self.node.raw()));
-        if let Ok(frame) = CanFrame::new(id, &emcy.encode()) {
-            self.send(frame);
-        }
+        self.send(emcy.to_frame(self.node));
     }
 
     /// Queues a frame of the profile's (sent after EMCYs, before SDO
@@ -911,8 +910,11 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         profile: &mut P,
     ) {
         if let Some(pdo) = self.rpdos.rpdo_of(frame) {
-            let Some(result) = RpdoReceiver::apply_data(pdo, frame.data(), self.server.od_mut())
-            else {
+            let Ok(data) = Payload::parse_frame(frame) else {
+                return;
+            };
+            let od = self.server.od_mut();
+            let Some(result) = RpdoReceiver::apply_data(pdo, data.as_slice(), od) else {
                 return;
             };
             match result {

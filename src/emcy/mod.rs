@@ -8,10 +8,16 @@
 //! Object 1003h (pre-defined error field) keeps a history of Unsigned32
 //! entries: low word = error code, high word = manufacturer information
 //! ([`ErrorFieldEntry`]).
+//!
+//! The frame is read and written in one place, the EMCY wire layer
+//! ([`EmcyFrame`] / [`Emergency`], the crate's [`Codec`](crate::wire::Codec)
+//! shape).
 
 mod codes;
+mod wire;
 
 pub use codes::{Document, ErrorClass, NamedCode, NAMED_CODES};
+pub use wire::{EmcyFrame, Emergency};
 
 use core::fmt;
 
@@ -91,64 +97,6 @@ bitflags::bitflags! {
     }
 }
 
-/// One emergency message: code, error register, 5 manufacturer bytes.
-///
-/// ```
-/// use canopen_codec::emcy::{Emergency, ErrorCode, ErrorRegister};
-/// // The real charger's "heartbeat lost" EMCY (08A#3081012080000000).
-/// let e = Emergency::decode(&[0x30, 0x81, 0x01, 0x20, 0x80, 0, 0, 0]).unwrap();
-/// assert_eq!(e.code, ErrorCode::HEARTBEAT);
-/// assert_eq!(e.register, ErrorRegister::GENERIC);
-/// assert_eq!(e.manufacturer, [0x20, 0x80, 0, 0, 0]);
-/// assert_eq!(e.encode(), [0x30, 0x81, 0x01, 0x20, 0x80, 0, 0, 0]);
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub struct Emergency {
-    /// Emergency error code.
-    pub code: ErrorCode,
-    /// Error register (1001h) at the time of the event.
-    pub register: ErrorRegister,
-    /// Manufacturer-specific error field (bytes 3-7).
-    pub manufacturer: [u8; 5],
-}
-
-impl Emergency {
-    /// Length of an EMCY frame's data.
-    pub const LEN: usize = 8;
-
-    /// Decodes the 8 data bytes of an EMCY frame. Any other length is an error.
-    #[inline]
-    pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
-        exact_len(data, Self::LEN)?;
-        let [c0, c1, reg, m0, m1, m2, m3, m4] = *data else {
-            return Err(DecodeError::Truncated {
-                need: Self::LEN,
-                got: data.len(),
-            });
-        };
-        Ok(Emergency {
-            code: ErrorCode(u16::from_le_bytes([c0, c1])),
-            register: ErrorRegister::from_bits_retain(reg),
-            manufacturer: [m0, m1, m2, m3, m4],
-        })
-    }
-
-    /// The 8 data bytes of the EMCY frame.
-    #[must_use]
-    #[inline]
-    pub fn encode(&self) -> [u8; 8] {
-        let [c0, c1] = self.code.0.to_le_bytes();
-        let [m0, m1, m2, m3, m4] = self.manufacturer;
-        [c0, c1, self.register.bits(), m0, m1, m2, m3, m4]
-    }
-
-    /// True for an "error reset / no error" message.
-    #[must_use]
-    pub const fn is_reset(&self) -> bool {
-        self.code.is_reset()
-    }
-}
-
 /// One entry of object 1003h (pre-defined error field), an Unsigned32:
 /// bits 0-15 the error code, bits 16-31 manufacturer-specific information.
 ///
@@ -204,44 +152,8 @@ mod tests {
     use super::*;
 
     #[test]
-    fn public_vectors_e1_e2_e3() {
-        // [E1] python-canopen producer frames.
-        let e = Emergency {
-            code: ErrorCode(0x2001),
-            register: ErrorRegister::CURRENT,
-            manufacturer: [0x2A, 0, 0, 0, 0],
-        };
-        assert_eq!(e.encode(), [0x01, 0x20, 0x02, 0x2A, 0, 0, 0, 0]);
-        let reset = Emergency::decode(&[0x00, 0x00, 0x03, 0xAA, 0xBB, 0, 0, 0]).unwrap();
-        assert!(reset.is_reset());
-        assert_eq!(
-            reset.register,
-            ErrorRegister::GENERIC | ErrorRegister::CURRENT
-        );
-        // [E2] consumer frames.
-        let e = Emergency::decode(&[0x10, 0x90, 0x01, 0x04, 0x03, 0x02, 0x01, 0x00]).unwrap();
-        assert_eq!(e.code, ErrorCode(0x9010));
-        assert_eq!(e.manufacturer, [4, 3, 2, 1, 0]);
-        assert!(Emergency::decode(&[0x99, 0, 1, 0, 0, 0, 0, 0])
-            .unwrap()
-            .is_reset());
-        // [E3] CANopenNode heartbeat consumer EMCY.
-        let e = Emergency::decode(&[0x30, 0x81, 0x10, 0x1B, 0x01, 0, 0, 0]).unwrap();
-        assert_eq!(e.code, ErrorCode::HEARTBEAT);
-        assert_eq!(e.register, ErrorRegister::COMMUNICATION);
-    }
-
-    #[test]
     fn wrong_lengths_are_errors() {
-        crate::error::assert_exact_length(Emergency::decode, 8);
         crate::error::assert_exact_length(ErrorFieldEntry::decode, 4);
-    }
-
-    #[test]
-    fn register_keeps_unknown_bits() {
-        let e = Emergency::decode(&[0, 0x10, 0xFF, 0, 0, 0, 0, 0]).unwrap();
-        assert_eq!(e.register.bits(), 0xFF);
-        assert_eq!(e.encode()[2], 0xFF);
     }
 
     #[test]

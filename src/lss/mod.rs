@@ -54,8 +54,8 @@ pub use master::{LssMaster, LssMasterError, LssMasterEvent, LssService};
 pub use slave::{LssSlave, LssSlaveConfig, LssSlaveEvent, LssState, NODE_ID_UNCONFIGURED};
 
 pub use wire::{
-    Fastscan, IdentifyPart, LssAddress, LssErrorCode, LssField, LssInquiry, LssMessage, LssMode,
-    LssRequest, LssResponse, LssStatus,
+    Fastscan, IdentifyPart, LssAddress, LssErrorCode, LssField, LssFrame, LssInquiry, LssMessage,
+    LssMode, LssRequest, LssResponse, LssStatus,
 };
 
 #[cfg(test)]

@@ -10,6 +10,7 @@ use crate::clock::Timestamp;
 use crate::cob_id::NodeId;
 use crate::frame::CanFrame;
 use crate::machine::Machine;
+use crate::wire::Codec;
 
 const A: LssAddress = LssAddress {
     vendor: 0x0000_029A,
@@ -24,7 +25,7 @@ fn slave() -> LssSlave {
 
 fn req(r: LssRequest) -> CanFrame {
     let mut buf = [0; 8];
-    let n = r.encode(&mut buf);
+    let n = r.emit(&mut buf);
     CanFrame::standard(0x7E5, &buf[..n]).unwrap()
 }
 
@@ -33,7 +34,7 @@ fn answers(s: &mut LssSlave, r: LssRequest) -> Vec<LssResponse> {
     let mut out = Vec::new();
     while let Some(f) = s.poll_transmit() {
         assert_eq!(f.id().raw(), 0x7E4);
-        out.push(LssResponse::decode(f.data()).unwrap());
+        out.push(LssResponse::parse(f.data()).unwrap());
     }
     out
 }
@@ -106,7 +107,7 @@ fn configuration_services_only_in_configuration_state() {
     assert!(s.answer_store(LssStatus::OK));
     assert!(!s.answer_store(LssStatus::OK), "one answer per request");
     assert_eq!(
-        LssResponse::decode(s.poll_transmit().unwrap().data()).unwrap(),
+        LssResponse::parse(s.poll_transmit().unwrap().data()).unwrap(),
         LssResponse::StoreConfiguration(LssStatus::OK)
     );
     // Bit timing is refused by default.

@@ -1,11 +1,61 @@
-//! The LSS frame codec: see the [module docs](crate::lss) for the frames.
-
-use byteorder::{ByteOrder, LittleEndian};
+//! The LSS wire layer: the one place where the bytes of LSS frames (7E5h,
+//! 7E4h) are read and written; see the [module docs](crate::lss) for the
+//! frames. [`LssFrame`] is the checked view, [`LssRequest`] and
+//! [`LssResponse`] the representations (the crate's
+//! [`Codec`](crate::wire::Codec) shape).
 
 use crate::bytes::Payload;
 use crate::cob_id::{LssDirection, LSS_MASTER_TO_SLAVE, LSS_SLAVE_TO_MASTER};
 use crate::error::DecodeError;
 use crate::frame::{CanFrame, CanId};
+use crate::wire::Codec;
+
+/// The checked view of an LSS frame's data: 0..=8 bytes (CiA 305 section
+/// 4 "LSS protocol descriptions": a service frame is 8 bytes, byte 0 the
+/// command specifier; any other length is kept as an `Other` frame).
+///
+/// ```
+/// use canopen_codec::lss::LssFrame;
+/// let f = LssFrame::new_checked(&[0x5E, 0, 0, 0, 0, 0, 0, 0]).unwrap();
+/// assert_eq!(f.service(), Some((0x5E, [0; 7])));
+/// assert_eq!(LssFrame::new_checked(&[0x5E]).unwrap().service(), None);
+/// assert!(LssFrame::new_checked(&[0; 9]).is_err());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct LssFrame {
+    payload: Payload,
+}
+
+impl LssFrame {
+    /// The view of `data`: [`DecodeError::TooLong`] above 8 bytes.
+    #[inline]
+    pub fn new_checked(data: &[u8]) -> Result<Self, DecodeError> {
+        Payload::new(data)
+            .map(|payload| LssFrame { payload })
+            .ok_or(DecodeError::TooLong {
+                max: 8,
+                got: data.len(),
+            })
+    }
+
+    /// The data bytes.
+    #[must_use]
+    #[inline]
+    pub fn as_bytes(&self) -> &[u8] {
+        self.payload.as_slice()
+    }
+
+    /// An 8-byte frame's command specifier (byte 0) and service data
+    /// (bytes 1..=7); `None` for any other length.
+    #[must_use]
+    #[inline]
+    pub fn service(&self) -> Option<(u8, [u8; 7])> {
+        match *self.as_bytes() {
+            [cs, a, b, c, d, e, f, g] => Some((cs, [a, b, c, d, e, f, g])),
+            _ => None,
+        }
+    }
+}
 
 /// One of the four parts of the 128-bit LSS address (object 1018h
 /// sub-indexes 1..=4, CiA 301 section 7.5.2.23 "Object 1018h: Identity
@@ -357,49 +407,37 @@ const fn field_cs(base: u8, field: LssField) -> u8 {
     base + field.index()
 }
 
-fn other(data: &[u8]) -> Result<Payload, DecodeError> {
-    Payload::new(data).ok_or(DecodeError::TooLong {
-        max: 8,
-        got: data.len(),
-    })
-}
-
-/// Splits an 8-byte frame into cs and data; `None` for other lengths.
-fn frame(data: &[u8]) -> Option<(u8, [u8; 7])> {
-    match *data {
-        [cs, a, b, c, d, e, f, g] => Some((cs, [a, b, c, d, e, f, g])),
-        _ => None,
-    }
-}
-
 /// The data bytes `from..` are all zero.
 fn zero_from(rest: &[u8; 7], from: usize) -> bool {
     rest.get(from..).is_some_and(|r| r.iter().all(|b| *b == 0))
 }
 
 fn u32_at(rest: &[u8; 7]) -> u32 {
-    LittleEndian::read_u32(rest.get(..4).unwrap_or(&[0; 4]))
+    let [a, b, c, d, ..] = *rest;
+    u32::from_le_bytes([a, b, c, d])
 }
 
 impl LssRequest {
-    /// Decodes a 7E5h payload (never fails for 0..=8 bytes: see the
-    /// [module docs](crate::lss)).
+    /// The request a checked 7E5h frame carries (every frame is one: see
+    /// the [module docs](crate::lss)).
     ///
     /// ```
     /// use canopen_codec::lss::{LssField, LssRequest};
-    /// let r = LssRequest::decode(&[0x40, 0x9A, 0x02, 0, 0, 0, 0, 0]).unwrap();
+    /// use canopen_codec::wire::Codec;
+    /// let r = LssRequest::parse(&[0x40, 0x9A, 0x02, 0, 0, 0, 0, 0]).unwrap();
     /// assert_eq!(r, LssRequest::SwitchStateSelective(LssField::Vendor, 0x29A));
     /// let mut buf = [0; 8];
-    /// assert_eq!(r.encode(&mut buf), 8);
+    /// assert_eq!(r.emit(&mut buf), 8);
     /// assert_eq!(buf, [0x40, 0x9A, 0x02, 0, 0, 0, 0, 0]);
     /// ```
-    pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
-        let raw = other(data)?;
-        let Some((cs, rest)) = frame(data) else {
-            return Ok(Self::Other(raw));
+    #[must_use]
+    pub fn from_view(frame: &LssFrame) -> Self {
+        let raw = frame.payload;
+        let Some((cs, rest)) = frame.service() else {
+            return Self::Other(raw);
         };
         let [b1, b2, _, _, b5, b6, b7] = rest;
-        let decoded = match cs {
+        match cs {
             0x04 if zero_from(&rest, 1) => Self::SwitchStateGlobal(b1.into()),
             0x40..=0x43 if zero_from(&rest, 4) => LssField::from_index(cs - 0x40)
                 .map(|f| Self::SwitchStateSelective(f, u32_at(&rest)))
@@ -430,13 +468,12 @@ impl LssRequest {
                 next: b7,
             }),
             _ => Self::Other(raw),
-        };
-        Ok(decoded)
+        }
     }
 
-    /// Encodes into `buf`, returning the length (8, or the kept length of
-    /// `Other`). Reserved bytes are 0.
-    pub fn encode(&self, buf: &mut [u8; 8]) -> usize {
+    /// Writes the frame into `buf`, returning the length (8, or the kept
+    /// length of `Other`). Reserved bytes are 0.
+    fn write(&self, buf: &mut [u8; 8]) -> usize {
         *buf = [0; 8];
         let (cs, data): (u8, [u8; 7]) = match *self {
             Self::SwitchStateGlobal(mode) => (0x04, [mode.into(), 0, 0, 0, 0, 0, 0]),
@@ -465,8 +502,17 @@ impl LssRequest {
     #[must_use]
     pub fn cs(&self) -> Option<u8> {
         let mut buf = [0; 8];
-        let n = self.encode(&mut buf);
+        let n = self.emit(&mut buf);
         buf.first().copied().filter(|_| n > 0)
+    }
+
+    /// The bytes [`emit`](Codec::emit) writes: 8, or the kept length of
+    /// `Other`.
+    fn len(&self) -> usize {
+        match self {
+            Self::Other(p) => p.len(),
+            _ => 8,
+        }
     }
 }
 
@@ -479,16 +525,33 @@ macro_rules! lss_frames {
             #[doc = concat!("its identifier whose payload decodes; `None` for any other frame.")]
             #[must_use]
             pub fn of_frame(frame: &CanFrame) -> Option<Self> {
-                let on_id = frame.id() == CanId::Standard($id) && !frame.is_remote();
-                on_id.then(|| Self::decode(frame.data()).ok()).flatten()
+                let on_id = frame.id() == CanId::Standard($id);
+                on_id.then(|| Self::parse_frame(frame).ok()).flatten()
             }
 
             #[doc = concat!("The frame that carries the ", $name, ": its identifier, its bytes.")]
             #[must_use]
             pub fn to_frame(&self) -> CanFrame {
-                let mut buf = [0; 8];
-                let n = self.encode(&mut buf);
-                CanFrame::from_parts(CanId::Standard($id), buf, n as u8)
+                self.to_frame_on(CanId::Standard($id))
+            }
+        }
+
+        impl Codec for $ty {
+            /// Reads a payload of 0..=8 bytes (never fails for those: a
+            /// frame no service describes is `Other`).
+            #[inline]
+            fn parse(data: &[u8]) -> Result<Self, DecodeError> {
+                LssFrame::new_checked(data).map(|f| Self::from_view(&f))
+            }
+
+            #[inline]
+            fn emit(&self, buf: &mut [u8; 8]) -> usize {
+                self.write(buf)
+            }
+
+            #[inline]
+            fn buffer_len(&self) -> usize {
+                self.len()
             }
         }
     };
@@ -506,24 +569,26 @@ lss_frames!(
 );
 
 impl LssResponse {
-    /// Decodes a 7E4h payload (never fails for 0..=8 bytes).
+    /// The response a checked 7E4h frame carries (every frame is one).
     ///
     /// ```
     /// use canopen_codec::lss::{LssResponse, LssStatus};
-    /// let r = LssResponse::decode(&[0x11, 0, 0, 0, 0, 0, 0, 0]).unwrap();
+    /// use canopen_codec::wire::Codec;
+    /// let r = LssResponse::parse(&[0x11, 0, 0, 0, 0, 0, 0, 0]).unwrap();
     /// assert_eq!(r, LssResponse::ConfigureNodeId(LssStatus::OK));
     /// ```
-    pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
-        let raw = other(data)?;
-        let Some((cs, rest)) = frame(data) else {
-            return Ok(Self::Other(raw));
+    #[must_use]
+    pub fn from_view(frame: &LssFrame) -> Self {
+        let raw = frame.payload;
+        let Some((cs, rest)) = frame.service() else {
+            return Self::Other(raw);
         };
         let [b1, b2, ..] = rest;
         let status = LssStatus {
             code: b1.into(),
             specific: b2,
         };
-        let decoded = match cs {
+        match cs {
             0x44 if zero_from(&rest, 0) => Self::SwitchStateSelective,
             0x11 if zero_from(&rest, 2) => Self::ConfigureNodeId(status),
             0x13 if zero_from(&rest, 2) => Self::ConfigureBitTiming(status),
@@ -535,12 +600,20 @@ impl LssResponse {
             0x4F if zero_from(&rest, 0) => Self::IdentifySlave,
             0x50 if zero_from(&rest, 0) => Self::IdentifyNonConfigured,
             _ => Self::Other(raw),
-        };
-        Ok(decoded)
+        }
     }
 
-    /// Encodes into `buf`, returning the length.
-    pub fn encode(&self, buf: &mut [u8; 8]) -> usize {
+    /// The bytes [`emit`](Codec::emit) writes: 8, or the kept length of
+    /// `Other`.
+    fn len(&self) -> usize {
+        match self {
+            Self::Other(p) => p.len(),
+            _ => 8,
+        }
+    }
+
+    /// Writes the frame into `buf`, returning the length.
+    fn write(&self, buf: &mut [u8; 8]) -> usize {
         *buf = [0; 8];
         let st = |s: LssStatus| [s.code.into(), s.specific, 0, 0, 0, 0, 0];
         let (cs, data): (u8, [u8; 7]) = match *self {
@@ -559,19 +632,30 @@ impl LssResponse {
 }
 
 impl LssMessage {
-    /// Decodes the payload of a frame travelling `direction`.
-    pub fn decode(direction: LssDirection, data: &[u8]) -> Result<Self, DecodeError> {
+    /// Parses the payload of a frame travelling `direction`
+    /// ([`LssRequest`] or [`LssResponse`]'s [`Codec::parse`]).
+    pub fn parse(direction: LssDirection, data: &[u8]) -> Result<Self, DecodeError> {
         Ok(match direction {
-            LssDirection::MasterToSlave => Self::Request(LssRequest::decode(data)?),
-            LssDirection::SlaveToMaster => Self::Response(LssResponse::decode(data)?),
+            LssDirection::MasterToSlave => Self::Request(LssRequest::parse(data)?),
+            LssDirection::SlaveToMaster => Self::Response(LssResponse::parse(data)?),
         })
     }
 
-    /// Encodes into `buf`, returning the length.
-    pub fn encode(&self, buf: &mut [u8; 8]) -> usize {
+    /// Writes the frame's bytes into `buf`, returning the length
+    /// ([`Codec::emit`] of the request or response).
+    pub fn emit(&self, buf: &mut [u8; 8]) -> usize {
         match self {
-            Self::Request(r) => r.encode(buf),
-            Self::Response(r) => r.encode(buf),
+            Self::Request(r) => r.emit(buf),
+            Self::Response(r) => r.emit(buf),
+        }
+    }
+
+    /// The bytes [`emit`](Self::emit) writes.
+    #[must_use]
+    pub fn buffer_len(&self) -> usize {
+        match self {
+            Self::Request(r) => r.buffer_len(),
+            Self::Response(r) => r.buffer_len(),
         }
     }
 

@@ -4,6 +4,7 @@
 use super::*;
 use crate::bytes::Payload;
 use crate::cob_id::LssDirection;
+use crate::wire::Codec;
 use std::string::ToString;
 
 /// `bytes` decode as `want` with `decode`, and `want` encodes (8 bytes,
@@ -21,11 +22,11 @@ fn round_trip<T: PartialEq + core::fmt::Debug, E: core::fmt::Debug>(
 }
 
 fn req(bytes: [u8; 8], want: LssRequest) {
-    round_trip(bytes, want, LssRequest::decode, |r, buf| r.encode(buf));
+    round_trip(bytes, want, LssRequest::parse, |r, buf| r.emit(buf));
 }
 
 fn resp(bytes: [u8; 8], want: LssResponse) {
-    round_trip(bytes, want, LssResponse::decode, |r, buf| r.encode(buf));
+    round_trip(bytes, want, LssResponse::parse, |r, buf| r.emit(buf));
 }
 
 #[test]
@@ -163,21 +164,21 @@ fn unlisted_short_and_nonzero_reserved_frames_are_kept_raw() {
         &[0x44, 0, 0, 0, 0, 0, 0, 0xFF], // a response cs on the request id
     ];
     for bytes in cases {
-        let r = LssRequest::decode(bytes).unwrap();
+        let r = LssRequest::parse(bytes).unwrap();
         assert_eq!(r, LssRequest::Other(Payload::new(bytes).unwrap()));
         let mut buf = [0; 8];
-        let n = r.encode(&mut buf);
+        let n = r.emit(&mut buf);
         assert_eq!(&buf[..n], bytes);
-        let s = LssResponse::decode(bytes).unwrap();
-        let n = s.encode(&mut buf);
+        let s = LssResponse::parse(bytes).unwrap();
+        let n = s.emit(&mut buf);
         assert_eq!(&buf[..n], bytes);
     }
     // A request cs on the response id is not a response.
     assert!(matches!(
-        LssResponse::decode(&[0x51, 0, 0, 0, 0, 0x80, 0, 0]).unwrap(),
+        LssResponse::parse(&[0x51, 0, 0, 0, 0, 0x80, 0, 0]).unwrap(),
         LssResponse::Other(_)
     ));
-    assert!(LssRequest::decode(&[0; 9]).is_err());
+    assert!(LssRequest::parse(&[0; 9]).is_err());
 }
 
 /// Frames in words: the direction, the data and what they say.
@@ -218,7 +219,7 @@ const WORDS: &[(LssDirection, &[u8], &str)] = {
 #[test]
 fn words() {
     for &(direction, data, words) in WORDS {
-        let message = LssMessage::decode(direction, data).unwrap();
+        let message = LssMessage::parse(direction, data).unwrap();
         assert_eq!(message.to_string(), words, "{data:02X?}");
     }
 }

@@ -131,7 +131,7 @@ fn lss_lenient(frame: &CanFrame, lss: LssMessage) -> (Message, Option<Deviation>
         return (Message::Lss(lss), None);
     }
     let typed = |bytes: &[u8]| {
-        LssMessage::decode(lss.direction(), bytes).ok().filter(|m| {
+        LssMessage::parse(lss.direction(), bytes).ok().filter(|m| {
             !matches!(
                 m,
                 LssMessage::Request(LssRequest::Other(_))

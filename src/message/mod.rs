@@ -5,6 +5,11 @@
 //! borrows nothing, so a [`Message`] is `Copy` and outlives its frame. It never
 //! allocates and never panics. Every message that decodes encodes back to the
 //! identical frame ([`Message::encode`]).
+//!
+//! A [`Message`] is the enum of the protocols' wire representations (the
+//! [`Codec`] types of [`crate::wire`]): decoding classifies the identifier
+//! and calls that representation's `parse`, encoding calls its `emit`. No
+//! byte of a frame is read or written here.
 
 use crate::bytes::Payload;
 use crate::cob_id::{classify, function_of, CobKind, Function, NodeId, PdoNumber};
@@ -14,8 +19,9 @@ use crate::frame::{CanFrame, CanId};
 use crate::lss::LssMessage;
 use crate::nmt::{Heartbeat, NmtCommand};
 use crate::sdo::{SdoFrame, SdoRequest, SdoResponse};
-use crate::sync::SyncFrame;
+use crate::sync::SyncMessage;
 use crate::time::TimeOfDay;
+use crate::wire::Codec;
 
 pub mod display;
 pub mod lenient;
@@ -28,7 +34,7 @@ pub enum Message {
     /// 0x000: NMT module control.
     Nmt(NmtCommand),
     /// 0x080: SYNC.
-    Sync(SyncFrame),
+    Sync(SyncMessage),
     /// 0x080 + node: emergency.
     Emcy {
         /// The producer.
@@ -140,15 +146,15 @@ impl Message {
         if function == Function::ErrorControl {
             return Ok(Message::Heartbeat {
                 node,
-                heartbeat: Heartbeat::decode_frame(frame)?,
+                heartbeat: Heartbeat::parse_frame(frame)?,
             });
         }
         if let Function::Tpdo(pdo) = function {
-            let payload = Payload::from_frame(frame);
+            let payload = Payload::parse_frame(frame)?;
             return Ok(Message::Tpdo { pdo, node, payload });
         }
         if let Function::Rpdo(pdo) = function {
-            let payload = Payload::from_frame(frame);
+            let payload = Payload::parse_frame(frame)?;
             return Ok(Message::Rpdo { pdo, node, payload });
         }
         match function {
@@ -172,7 +178,7 @@ impl Message {
             }
             Function::SyncOrEmcy => Ok(Message::Emcy {
                 node,
-                emcy: Emergency::decode(frame.data())?,
+                emcy: Emergency::parse_frame(frame)?,
             }),
             _ => Self::decode_classified(frame),
         }
@@ -191,17 +197,17 @@ impl Message {
         Ok(match kind {
             CobKind::NmtErrorControl(node) => Message::Heartbeat {
                 node,
-                heartbeat: Heartbeat::decode(data)?,
+                heartbeat: Heartbeat::parse(data)?,
             },
             CobKind::Tpdo(pdo, node) => Message::Tpdo {
                 pdo,
                 node,
-                payload: Payload::from_frame(frame),
+                payload: Payload::parse(data)?,
             },
             CobKind::Rpdo(pdo, node) => Message::Rpdo {
                 pdo,
                 node,
-                payload: Payload::from_frame(frame),
+                payload: Payload::parse(data)?,
             },
             CobKind::SdoRx(node) => {
                 return Self::decode_sdo_request(node, SdoFrame::of_frame(frame)?)
@@ -211,12 +217,12 @@ impl Message {
             }
             CobKind::Emcy(node) => Message::Emcy {
                 node,
-                emcy: Emergency::decode(data)?,
+                emcy: Emergency::parse(data)?,
             },
-            CobKind::Nmt => Message::Nmt(NmtCommand::decode(data)?),
-            CobKind::Sync => Message::Sync(SyncFrame::decode(data)?),
-            CobKind::Time => Message::Time(TimeOfDay::decode(data)?),
-            CobKind::Lss(direction) => Message::Lss(LssMessage::decode(direction, data)?),
+            CobKind::Nmt => Message::Nmt(NmtCommand::parse(data)?),
+            CobKind::Sync => Message::Sync(SyncMessage::parse(data)?),
+            CobKind::Time => Message::Time(TimeOfDay::parse(data)?),
+            CobKind::Lss(direction) => Message::Lss(LssMessage::parse(direction, data)?),
             CobKind::Unknown => Message::Unknown(*frame),
         })
     }
@@ -244,7 +250,7 @@ impl Message {
     fn decode_sdo_request(node: NodeId, sdo: SdoFrame) -> Result<Message, DecodeError> {
         Ok(Message::SdoRequest {
             node,
-            sdo: SdoRequest::parse(sdo)?,
+            sdo: SdoRequest::from_view(sdo)?,
         })
     }
 
@@ -253,7 +259,7 @@ impl Message {
     fn decode_sdo_response(node: NodeId, sdo: SdoFrame) -> Result<Message, DecodeError> {
         Ok(Message::SdoResponse {
             node,
-            sdo: SdoResponse::parse(sdo)?,
+            sdo: SdoResponse::from_view(sdo)?,
         })
     }
 
@@ -306,50 +312,33 @@ impl Message {
         self.kind().node()
     }
 
-    /// Encodes the message as a frame. For a message returned by
+    /// Encodes the message as a frame: the identifier of its
+    /// [`kind`](Self::kind) and the bytes its representation's
+    /// [`Codec::emit`] writes. For a message returned by
     /// [`Message::decode`], this is the identical frame.
     #[must_use]
     #[inline]
     pub fn encode(&self) -> CanFrame {
-        let id = |kind: CobKind| CanId::Standard(kind.cob_id().unwrap_or(0));
+        let id = CanId::Standard(self.kind().cob_id().unwrap_or(0));
         let mut buf = [0u8; 8];
         let len: usize = match self {
             Message::Unknown(frame) => return *frame,
             Message::TpdoRequest { dlc, .. } | Message::NodeGuardRequest { dlc, .. } => {
-                return CanFrame::remote(id(self.kind()), (*dlc).min(8))
-                    .unwrap_or(CanFrame::from_parts(id(self.kind()), [0; 8], 0));
+                return CanFrame::remote(id, (*dlc).min(8))
+                    .unwrap_or(CanFrame::from_parts(id, [0; 8], 0));
             }
-            Message::Nmt(cmd) => put(&mut buf, &cmd.encode()),
-            Message::Sync(s) => {
-                let (b, n) = s.encode();
-                put(&mut buf, b.get(..n).unwrap_or(&[]))
-            }
-            Message::Emcy { emcy, .. } => put(&mut buf, &emcy.encode()),
-            Message::Time(t) => put(&mut buf, &t.encode()),
-            Message::Tpdo { payload, .. } | Message::Rpdo { payload, .. } => {
-                put(&mut buf, payload.as_slice())
-            }
-            Message::Lss(lss) => lss.encode(&mut buf),
-            Message::SdoRequest { sdo, .. } => {
-                let (b, n) = sdo.encode();
-                buf = b;
-                n
-            }
-            Message::SdoResponse { sdo, .. } => {
-                let (b, n) = sdo.encode();
-                buf = b;
-                n
-            }
-            Message::Heartbeat { heartbeat, .. } => put(&mut buf, &[heartbeat.encode()]),
+            Message::Nmt(cmd) => cmd.emit(&mut buf),
+            Message::Sync(sync) => sync.emit(&mut buf),
+            Message::Emcy { emcy, .. } => emcy.emit(&mut buf),
+            Message::Time(time) => time.emit(&mut buf),
+            Message::Tpdo { payload, .. } | Message::Rpdo { payload, .. } => payload.emit(&mut buf),
+            Message::Lss(lss) => lss.emit(&mut buf),
+            Message::SdoRequest { sdo, .. } => sdo.emit(&mut buf),
+            Message::SdoResponse { sdo, .. } => sdo.emit(&mut buf),
+            Message::Heartbeat { heartbeat, .. } => heartbeat.emit(&mut buf),
         };
-        CanFrame::from_parts(id(self.kind()), buf, len as u8)
+        CanFrame::from_parts(id, buf, len.min(8) as u8)
     }
-}
-
-#[inline]
-fn put(buf: &mut [u8; 8], src: &[u8]) -> usize {
-    crate::bytes::copy_payload(buf, src);
-    src.len().min(8)
 }
 
 #[cfg(test)]

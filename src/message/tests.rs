@@ -123,11 +123,11 @@ fn remote_frames() {
 fn others() {
     assert_eq!(
         round_trip(f(0x080, &[])),
-        Message::Sync(SyncFrame { counter: None })
+        Message::Sync(SyncMessage { counter: None })
     );
     assert_eq!(
         round_trip(f(0x080, &[3])),
-        Message::Sync(SyncFrame { counter: Some(3) })
+        Message::Sync(SyncMessage { counter: Some(3) })
     );
     assert!(matches!(
         round_trip(f(0x100, &[1, 2, 3, 4, 5, 6])),
@@ -182,13 +182,13 @@ fn sdo_fast_paths_match_the_general_decoders() {
     let node = n(5);
     every_payload(|_, data| {
         let resp = f(0x585, data);
-        let want = SdoResponse::decode(data).map(|sdo| Message::SdoResponse { node, sdo });
+        let want = SdoResponse::parse(data).map(|sdo| Message::SdoResponse { node, sdo });
         assert_eq!(Message::decode(&resp), want, "response {resp}");
         let req = f(0x605, data);
-        let want = SdoRequest::decode(data).map(|sdo| Message::SdoRequest { node, sdo });
+        let want = SdoRequest::parse(data).map(|sdo| Message::SdoRequest { node, sdo });
         assert_eq!(Message::decode(&req), want, "request {req}");
-        assert_eq!(SdoRequest::decode_frame(&req), SdoRequest::decode(data));
-        assert_eq!(SdoResponse::decode_frame(&resp), SdoResponse::decode(data));
+        assert_eq!(SdoRequest::decode_frame(&req), SdoRequest::parse(data));
+        assert_eq!(SdoResponse::decode_frame(&resp), SdoResponse::parse(data));
         if let Ok(m) = Message::decode(&req) {
             assert_eq!(m.encode(), req);
         }
@@ -198,13 +198,13 @@ fn sdo_fast_paths_match_the_general_decoders() {
     });
 }
 
-/// The heartbeat arm gives what `Heartbeat::decode` gives, for every byte
+/// The heartbeat arm gives what `Heartbeat::parse` gives, for every byte
 /// and length; every 7-bit state reads back to its bits.
 #[test]
 fn heartbeat_arm_matches_heartbeat_decode() {
     let node = n(5);
     every_payload(|b, data| {
-        let want = Heartbeat::decode(data).map(|heartbeat| Message::Heartbeat { node, heartbeat });
+        let want = Heartbeat::parse(data).map(|heartbeat| Message::Heartbeat { node, heartbeat });
         assert_eq!(Message::decode(&f(0x705, data)), want, "{data:02X?}");
         assert_eq!(NmtState::from_bits(b).bits(), b & 0x7F);
     });

@@ -31,16 +31,12 @@
 use core::time::Duration;
 
 use crate::clock::{timer_kind, Timers, Timestamp};
-use crate::cob_id::{NodeId, NMT_ERROR_CONTROL_BASE};
-use crate::frame::{CanFrame, CanId};
+use crate::cob_id::NodeId;
+use crate::frame::CanFrame;
 use crate::machine::Machine;
-use crate::nmt::{Heartbeat, NmtState};
+use crate::nmt::{error_control_id, guard_request, is_guard_request, Heartbeat, NmtState};
 use crate::queue::{EventQueue, FrameQueue};
-
-/// The error-control identifier of `node` (700h + node).
-const fn error_control_id(node: NodeId) -> CanId {
-    CanId::Standard(NMT_ERROR_CONTROL_BASE + node.raw() as u16)
-}
+use crate::wire::Codec;
 
 /// The node life time in microseconds: guard time (ms) x life time factor.
 const fn life_time_us(guard_time_ms: u16, life_time_factor: u8) -> u64 {
@@ -211,8 +207,7 @@ impl Machine for GuardingSlave {
     /// answered (unless the heartbeat is active) and restarts the node life
     /// time. Every other frame is ignored.
     fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        if !frame.is_remote() || frame.id() != error_control_id(self.node) || self.heartbeat_active
-        {
+        if !is_guard_request(frame, self.node) || self.heartbeat_active {
             return;
         }
         let reply = Heartbeat {
@@ -220,12 +215,7 @@ impl Machine for GuardingSlave {
             toggle: self.toggle,
         };
         self.toggle = !self.toggle;
-        let frame = CanFrame::from_parts(
-            error_control_id(self.node),
-            [reply.encode(), 0, 0, 0, 0, 0, 0, 0],
-            1,
-        );
-        self.out.push(frame);
+        self.out.push(reply.to_frame(self.node));
         self.last_request = Some(now);
         if core::mem::replace(&mut self.lost, false) {
             self.events.push(SlaveGuardingEvent::LifeGuardingResumed);
@@ -423,9 +413,7 @@ impl GuardingMaster {
         if self.guard_time_us == 0 {
             return;
         }
-        if let Ok(frame) = CanFrame::remote(error_control_id(self.node), 1) {
-            self.out.push(frame);
-        }
+        self.out.push(guard_request(self.node));
         self.awaiting = true;
         self.timers.set(
             MasterTimer::NextRequest,
@@ -476,7 +464,7 @@ impl Machine for GuardingMaster {
         if frame.is_remote() || frame.id() != error_control_id(self.node) {
             return;
         }
-        let Ok(reply) = Heartbeat::decode(frame.data()) else {
+        let Ok(reply) = Heartbeat::parse_frame(frame) else {
             return;
         };
         if reply.is_boot_up() && !reply.toggle {

@@ -1,4 +1,5 @@
 use super::*;
+use crate::frame::CanId;
 use std::vec::Vec;
 
 fn node() -> NodeId {

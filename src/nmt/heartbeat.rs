@@ -24,92 +24,11 @@ use core::time::Duration;
 
 use crate::clock::{timer_kind, MaybeTimestamp, Timers, Timestamp};
 use crate::cob_id::{NodeId, NMT_ERROR_CONTROL_BASE};
-use crate::error::DecodeError;
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
-use crate::nmt::NmtState;
+use crate::nmt::{Heartbeat, HeartbeatFrame, NmtState};
 use crate::queue::{DropOldest, EventQueue};
-
-/// A heartbeat, boot-up or node-guarding reply (the 1-byte frame on
-/// 0x700 + node). The wire cannot tell a heartbeat from a guarding reply
-/// except by the toggle bit, which heartbeats keep at 0.
-///
-/// ```
-/// use canopen_codec::nmt::{Heartbeat, NmtState};
-/// assert_eq!(Heartbeat::decode(&[0x7F]).unwrap().state, NmtState::PreOperational);
-/// let reply = Heartbeat::decode(&[0x85]).unwrap(); // guarding reply, toggle set
-/// assert!(reply.toggle);
-/// assert_eq!(reply.state, NmtState::Operational);
-/// assert_eq!(reply.encode(), 0x85);
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct Heartbeat {
-    /// The producer's NMT state.
-    pub state: NmtState,
-    /// Bit 7: the node-guarding toggle (always false in heartbeats).
-    pub toggle: bool,
-}
-
-impl Heartbeat {
-    /// A heartbeat (toggle clear) reporting `state`.
-    #[must_use]
-    pub const fn new(state: NmtState) -> Self {
-        Heartbeat {
-            state,
-            toggle: false,
-        }
-    }
-
-    /// The boot-up message.
-    pub const BOOT_UP: Heartbeat = Heartbeat::new(NmtState::BootUp);
-
-    /// True for the boot-up message (state 0).
-    #[must_use]
-    pub const fn is_boot_up(&self) -> bool {
-        matches!(self.state, NmtState::BootUp)
-    }
-
-    /// Decodes the single data byte.
-    #[inline]
-    pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
-        Self::of_data(data.len(), data.first().copied().unwrap_or(0))
-    }
-
-    /// Decodes the data of a frame (what [`decode`](Self::decode) gives
-    /// for its data bytes).
-    #[inline]
-    pub fn decode_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
-        let [b0, ..] = frame.padded_data();
-        Self::of_data(usize::from(frame.dlc()), b0)
-    }
-
-    /// A heartbeat is exactly one byte.
-    #[inline]
-    fn of_data(len: usize, b0: u8) -> Result<Self, DecodeError> {
-        match len {
-            1 => Ok(Self::from_byte(b0)),
-            0 => Err(DecodeError::Truncated { need: 1, got: 0 }),
-            got => Err(DecodeError::TooLong { max: 1, got }),
-        }
-    }
-
-    /// From the data byte.
-    #[must_use]
-    #[inline]
-    pub const fn from_byte(b: u8) -> Self {
-        Heartbeat {
-            state: NmtState::from_bits(b),
-            toggle: b & 0x80 != 0,
-        }
-    }
-
-    /// The data byte.
-    #[must_use]
-    #[inline]
-    pub const fn encode(&self) -> u8 {
-        self.state.bits() | if self.toggle { 0x80 } else { 0 }
-    }
-}
+use crate::wire::Codec;
 
 /// Sends this node's boot-up message and heartbeats.
 ///
@@ -202,8 +121,7 @@ impl HeartbeatProducer {
     }
 
     fn frame(&self, byte: u8) -> CanFrame {
-        let id = CanId::Standard(NMT_ERROR_CONTROL_BASE + u16::from(self.node.raw()));
-        CanFrame::from_parts(id, [byte, 0, 0, 0, 0, 0, 0, 0], 1)
+        Heartbeat::from_view(&HeartbeatFrame::from_byte(byte)).to_frame(self.node)
     }
 
     fn arm(&mut self, now: Timestamp) {
@@ -217,7 +135,7 @@ impl HeartbeatProducer {
     /// Queues a frame; a full queue (the caller did not drain
     /// `poll_transmit`) drops its oldest: a heartbeat carries the state now.
     fn send(&mut self, state: NmtState) {
-        self.out.push(Heartbeat::new(state).encode());
+        self.out.push(Heartbeat::new(state).byte());
     }
 
     /// (Re)boots: sends the boot-up message and enters pre-operational; the
@@ -519,15 +437,11 @@ impl<const N: usize, const E: usize> HeartbeatConsumer<N, E> {
         let CanId::Standard(raw) = frame.id() else {
             return None;
         };
-        if frame.is_remote() || raw & 0x780 != NMT_ERROR_CONTROL_BASE {
+        if raw & 0x780 != NMT_ERROR_CONTROL_BASE {
             return None;
         }
         let node = NodeId::new((raw & 0x7F) as u8)?;
-        // What `Heartbeat::decode` accepts (one byte), without its error.
-        let [byte] = *frame.data() else {
-            return None;
-        };
-        let hb = Heartbeat::from_byte(byte);
+        let hb = Heartbeat::parse_frame(frame).ok()?;
         let w = self.watches.iter_mut().find(|w| w.watches(node))?;
         // At most 65 535 000 µs: no overflow, no saturating multiply.
         let time_us = u64::from(w.entry.time_ms) * 1000;

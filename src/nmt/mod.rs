@@ -9,161 +9,23 @@
 //! - Node-guarding request: a remote frame on 0x700 + node.
 //!
 //! Unknown command and state values decode to `Unknown(raw)`, never an error.
+//! The frames are read and written in one place, the NMT wire layer
+//! ([`NmtFrame`] / [`NmtCommand`], [`HeartbeatFrame`] / [`Heartbeat`],
+//! [`guard_request`]), through the crate's one codec shape
+//! ([`Codec`](crate::wire::Codec)).
 
 use core::fmt;
-
-use crate::cob_id::NodeId;
-use crate::error::{exact_len, DecodeError};
 
 pub mod guarding;
 pub mod heartbeat;
 mod slave;
-pub use heartbeat::Heartbeat;
+mod wire;
 pub(crate) use slave::NmtCore;
 pub use slave::{NmtSlave, NmtSlaveEvent, ResetKind};
-
-/// NMT command specifier (byte 0 of an NMT frame).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum NmtCommandSpecifier {
-    /// 01h: start remote node (enter operational).
-    Start,
-    /// 02h: stop remote node (enter stopped).
-    Stop,
-    /// 80h: enter pre-operational.
-    EnterPreOperational,
-    /// 81h: reset node.
-    ResetNode,
-    /// 82h: reset communication.
-    ResetCommunication,
-    /// Any other byte, kept.
-    Unknown(u8),
-}
-
-impl From<u8> for NmtCommandSpecifier {
-    fn from(raw: u8) -> Self {
-        match raw {
-            0x01 => Self::Start,
-            0x02 => Self::Stop,
-            0x80 => Self::EnterPreOperational,
-            0x81 => Self::ResetNode,
-            0x82 => Self::ResetCommunication,
-            other => Self::Unknown(other),
-        }
-    }
-}
-
-impl From<NmtCommandSpecifier> for u8 {
-    fn from(cs: NmtCommandSpecifier) -> u8 {
-        match cs {
-            NmtCommandSpecifier::Start => 0x01,
-            NmtCommandSpecifier::Stop => 0x02,
-            NmtCommandSpecifier::EnterPreOperational => 0x80,
-            NmtCommandSpecifier::ResetNode => 0x81,
-            NmtCommandSpecifier::ResetCommunication => 0x82,
-            NmtCommandSpecifier::Unknown(raw) => raw,
-        }
-    }
-}
-
-impl fmt::Display for NmtCommandSpecifier {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Self::Start => f.write_str("start"),
-            Self::Stop => f.write_str("stop"),
-            Self::EnterPreOperational => f.write_str("enter pre-operational"),
-            Self::ResetNode => f.write_str("reset node"),
-            Self::ResetCommunication => f.write_str("reset communication"),
-            Self::Unknown(raw) => write!(f, "unknown command {raw:02X}h"),
-        }
-    }
-}
-
-/// The node(s) an NMT command addresses (byte 1).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum NmtTarget {
-    /// 0: every node.
-    All,
-    /// 1..=127: one node.
-    Node(NodeId),
-    /// 128..=255: not a node id; kept so the frame round-trips.
-    Invalid(u8),
-}
-
-impl From<u8> for NmtTarget {
-    fn from(raw: u8) -> Self {
-        match (raw, NodeId::new(raw)) {
-            (0, _) => NmtTarget::All,
-            (_, Some(n)) => NmtTarget::Node(n),
-            (other, None) => NmtTarget::Invalid(other),
-        }
-    }
-}
-
-impl From<NmtTarget> for u8 {
-    fn from(t: NmtTarget) -> u8 {
-        match t {
-            NmtTarget::All => 0,
-            NmtTarget::Node(n) => n.raw(),
-            NmtTarget::Invalid(raw) => raw,
-        }
-    }
-}
-
-impl NmtTarget {
-    /// True if a node with id `node` must obey a command with this target.
-    #[must_use]
-    pub fn addresses(self, node: NodeId) -> bool {
-        match self {
-            NmtTarget::All => true,
-            NmtTarget::Node(n) => n == node,
-            NmtTarget::Invalid(_) => false,
-        }
-    }
-}
-
-/// An NMT module-control command.
-///
-/// ```
-/// use canopen_codec::nmt::{NmtCommand, NmtCommandSpecifier, NmtTarget};
-/// use canopen_codec::NodeId;
-/// // The real capture's `000#010A`: start node 10.
-/// let cmd = NmtCommand::decode(&[0x01, 0x0A]).unwrap();
-/// assert_eq!(cmd.command, NmtCommandSpecifier::Start);
-/// assert_eq!(cmd.target, NmtTarget::Node(NodeId::new(10).unwrap()));
-/// assert_eq!(cmd.encode(), [0x01, 0x0A]);
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct NmtCommand {
-    /// What to do.
-    pub command: NmtCommandSpecifier,
-    /// Who does it.
-    pub target: NmtTarget,
-}
-
-impl NmtCommand {
-    /// Decodes the 2 data bytes of an NMT frame.
-    #[inline]
-    pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
-        exact_len(data, 2)?;
-        let [cs, node] = *data else {
-            return Err(DecodeError::Truncated {
-                need: 2,
-                got: data.len(),
-            });
-        };
-        Ok(NmtCommand {
-            command: cs.into(),
-            target: node.into(),
-        })
-    }
-
-    /// The 2 data bytes.
-    #[must_use]
-    #[inline]
-    pub fn encode(&self) -> [u8; 2] {
-        [self.command.into(), self.target.into()]
-    }
-}
+pub use wire::{
+    error_control_id, guard_request, is_guard_request, Heartbeat, HeartbeatFrame, NmtCommand,
+    NmtCommandSpecifier, NmtFrame, NmtTarget,
+};
 
 /// An NMT state as heartbeats and node-guarding replies report it (7 bits).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -262,62 +124,5 @@ mod tests {
             let named = matches!(raw & 0x7F, 0x00 | 0x04 | 0x05 | 0x7F);
             assert_eq!(!matches!(state, NmtState::Unknown(_)), named, "{raw:#04x}");
         }
-    }
-
-    #[test]
-    fn public_vectors_n1_n2_n3() {
-        let n1 = NodeId::new(1).unwrap();
-        // [N1] start node 1, then operational heartbeat.
-        let start = NmtCommand::decode(&[0x01, 0x01]).unwrap();
-        assert_eq!(start.command, NmtCommandSpecifier::Start);
-        assert_eq!(start.target, NmtTarget::Node(n1));
-        assert_eq!(
-            Heartbeat::decode(&[0x05]).unwrap().state,
-            NmtState::Operational
-        );
-        // [N2] reset communication node 1, boot-up.
-        let rc = NmtCommand::decode(&[0x82, 0x01]).unwrap();
-        assert_eq!(rc.command, NmtCommandSpecifier::ResetCommunication);
-        assert!(Heartbeat::decode(&[0x00]).unwrap().is_boot_up());
-        // [N3] all nodes pre-operational.
-        let pre = NmtCommand::decode(&[0x80, 0x00]).unwrap();
-        assert_eq!(pre.command, NmtCommandSpecifier::EnterPreOperational);
-        assert_eq!(pre.target, NmtTarget::All);
-        assert!(pre.target.addresses(n1));
-    }
-
-    #[test]
-    fn every_command_and_target_byte_round_trips() {
-        for cs in 0..=255u8 {
-            for node in [0u8, 1, 10, 127, 128, 255] {
-                let cmd = NmtCommand::decode(&[cs, node]).unwrap();
-                assert_eq!(cmd.encode(), [cs, node]);
-            }
-        }
-        assert_eq!(
-            NmtCommandSpecifier::from(0x81),
-            NmtCommandSpecifier::ResetNode
-        );
-        assert_eq!(
-            NmtCommandSpecifier::from(0x03),
-            NmtCommandSpecifier::Unknown(0x03)
-        );
-        assert_eq!(NmtTarget::from(200), NmtTarget::Invalid(200));
-        assert!(!NmtTarget::Invalid(200).addresses(NodeId::MIN));
-    }
-
-    #[test]
-    fn every_heartbeat_byte_round_trips() {
-        for b in 0..=255u8 {
-            assert_eq!(Heartbeat::from_byte(b).encode(), b);
-        }
-        assert_eq!(NmtState::from_bits(0x04), NmtState::Stopped);
-        assert_eq!(NmtState::from_bits(0x06), NmtState::Unknown(0x06));
-    }
-
-    #[test]
-    fn lengths() {
-        crate::error::assert_exact_length(NmtCommand::decode, 2);
-        crate::error::assert_exact_length(Heartbeat::decode, 1);
     }
 }

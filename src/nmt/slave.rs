@@ -20,12 +20,13 @@
 //! producer's); the state change is then reported from the state before
 //! the reset to pre-operational. The slave sends no frames and arms no timers.
 
-use super::{NmtCommandSpecifier, NmtState};
+use super::{NmtCommand, NmtCommandSpecifier, NmtState};
 use crate::clock::Timestamp;
 use crate::cob_id::{NodeId, NMT};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::EventQueue;
+use crate::wire::Codec;
 
 /// Which NMT reset the master commanded.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -212,16 +213,13 @@ impl NmtCore {
         if !self.is_running() || frame.is_remote() || frame.id() != CanId::Standard(NMT) {
             return None;
         }
-        // The two bytes of `NmtCommand` read here directly: a command is
-        // for this node when its node byte is 0 (all) or the node-ID (an
-        // invalid node byte, 128..=255, is neither).
-        let &[cs, target] = frame.data() else {
-            return None;
-        };
-        if target != 0 && target != self.node.raw() {
+        // A command is for this node when its node byte is 0 (all) or the
+        // node-ID (an invalid node byte, 128..=255, is neither).
+        let command = NmtCommand::parse(frame.data()).ok()?;
+        if !command.target.addresses(self.node) {
             return None;
         }
-        match NmtCommandSpecifier::from(cs) {
+        match command.command {
             NmtCommandSpecifier::Start => self.set_state(NmtState::Operational),
             NmtCommandSpecifier::Stop => self.set_state(NmtState::Stopped),
             NmtCommandSpecifier::EnterPreOperational => self.set_state(NmtState::PreOperational),

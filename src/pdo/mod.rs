@@ -7,6 +7,10 @@
 //! PDOs are numbered from 0 ([`crate::PdoNumber`]): RPDO n has its
 //! communication parameters at 1400h + n and mapping at 1600h + n, TPDO n at
 //! 1800h + n and 1A00h + n.
+//!
+//! A PDO frame's bytes are read and written in one place, the PDO wire
+//! layer ([`PdoFrame`], and [`Payload`](crate::bytes::Payload) as the
+//! crate's [`Codec`](crate::wire::Codec) shape).
 
 mod catalogue;
 mod comm;
@@ -18,6 +22,7 @@ mod pack;
 mod producer;
 mod reconfig;
 mod runtime;
+mod wire;
 
 #[cfg(test)]
 pub(crate) use catalogue::test_support as catalogue_test_support;
@@ -39,3 +44,4 @@ pub use pack::{FieldError, FieldKind, PackError, UnpackError, Unpacked, Value};
 pub use producer::TpdoProducer;
 pub use reconfig::{Plan, ReconfigEvent, Reconfigurer, Step};
 pub use runtime::{RpdoFrame, RpdoReceiver, TpdoSet};
+pub use wire::PdoFrame;

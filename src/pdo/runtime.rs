@@ -17,6 +17,7 @@ use crate::cob_id::PdoNumber;
 use crate::frame::{data_frame_identity, CanFrame};
 use crate::machine::Machine;
 use crate::od::ObjectDictionary;
+use crate::wire::Codec;
 
 /// TPDO 0..T of a device (default 4), one [`TpdoProducer`] each. SYNC
 /// frames reach every producer through [`Machine::handle_frame`].
@@ -301,7 +302,7 @@ impl<const R: usize> Machine for RpdoReceiver<R> {
         }
         self.event = Some(RpdoFrame {
             pdo,
-            data: Payload::from_frame(frame),
+            data: Payload::parse_frame(frame).unwrap_or_default(),
         });
     }
 

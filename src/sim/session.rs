@@ -28,7 +28,9 @@ use crate::deltaq::{Charger, ChargerConfig, ChargerEvent, DeltaQCode, OperatingM
 use crate::emcy::{Emergency, ErrorCode};
 use crate::frame::CanFrame;
 use crate::machine::Machine;
+use crate::nmt::{Heartbeat, NmtCommand, NmtCommandSpecifier, NmtState, NmtTarget};
 use crate::sdo::{Client, ClientConfig};
+use crate::wire::Codec;
 
 /// The charger's node id (Delta-Q default).
 pub const CHARGER_NODE: NodeId = match NodeId::new(10) {
@@ -226,9 +228,8 @@ impl Session {
         self.physics(0.0);
         self.next_tick = Timestamp::ZERO.add_duration(self.tick);
         self.run_until(Timestamp::from_millis(20));
-        if let Ok(start_all) = CanFrame::standard(0x000, &[0x01, 0x00]) {
-            self.inject(start_all);
-        }
+        let start_all = NmtCommand::new(NmtCommandSpecifier::Start, NmtTarget::All);
+        self.inject(start_all.to_frame());
     }
 
     /// The time now.
@@ -398,7 +399,7 @@ impl Session {
             .iter()
             .filter(|l| l.frame.identity() == charger_emcy)
             .filter_map(|l| {
-                let e = Emergency::decode(l.frame.data()).ok()?;
+                let e = Emergency::parse_frame(&l.frame).ok()?;
                 (e.code != ErrorCode::NO_ERROR).then(|| (l.at, DeltaQCode::from_emergency(&e)))
             })
             .collect();
@@ -453,11 +454,10 @@ impl Session {
                 self.deliver(Node::Tool, f);
             }
             if core::mem::take(&mut self.restart_charger) {
-                let start = [0x01, CHARGER_NODE.raw()];
-                if let Ok(f) = CanFrame::standard(0x000, &start) {
-                    moved = true;
-                    self.deliver(Node::Module, f);
-                }
+                let start =
+                    NmtCommand::new(NmtCommandSpecifier::Start, NmtTarget::Node(CHARGER_NODE));
+                moved = true;
+                self.deliver(Node::Module, start.to_frame());
             }
             self.drain_events();
             if !moved {
@@ -475,7 +475,7 @@ impl Session {
         if from == Node::Charger
             && self.module_on_can
             && frame.identity() == charger_heartbeat
-            && frame.data() == [0x7F]
+            && Heartbeat::parse_frame(&frame) == Ok(Heartbeat::new(NmtState::PreOperational))
         {
             self.restart_charger = true;
         }

@@ -3,12 +3,13 @@
 
 use core::time::Duration;
 
-use super::{valid_counter_overflow, SyncFrame};
+use super::{valid_counter_overflow, SyncMessage};
 use crate::clock::{MaybeTimestamp, Timestamp};
 use crate::cob_id::SYNC;
 use crate::frame::{data_frame_identity, CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::EventQueue;
+use crate::wire::Codec;
 
 /// What the SYNC consumer reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -231,7 +232,7 @@ impl<const E: usize> SyncConsumer<E> {
         if frame.identity() != self.identity {
             return false;
         }
-        let Ok(sync) = SyncFrame::decode(frame.data()) else {
+        let Ok(sync) = SyncMessage::parse_frame(frame) else {
             return false;
         };
         self.last_sync = MaybeTimestamp::new(Some(now));

@@ -22,12 +22,13 @@
 use core::convert::Infallible;
 use core::time::Duration;
 
-use super::SyncFrame;
+use super::SyncMessage;
 use crate::clock::{timer_kind, Timers, Timestamp};
 use crate::cob_id::SYNC;
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::FrameQueue;
+use crate::wire::Codec;
 
 /// True for a valid 1019h value: 0 (no counter) or 2..=240.
 #[must_use]
@@ -226,7 +227,7 @@ impl SyncProducer {
     /// counter.
     pub fn send_sync(&mut self, now: Timestamp) {
         let _ = now;
-        let sync = SyncFrame {
+        let sync = SyncMessage {
             counter: (self.overflow != 0).then_some(self.counter),
         };
         if self.overflow != 0 {
@@ -236,10 +237,7 @@ impl SyncProducer {
                 self.counter + 1
             };
         }
-        let (data, len) = sync.encode();
-        if let Ok(frame) = CanFrame::new(self.id, data.get(..len).unwrap_or(&[])) {
-            self.out.push(frame);
-        }
+        self.out.push(sync.to_frame_on(self.id));
     }
 }
 

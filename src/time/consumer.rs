@@ -6,6 +6,7 @@ use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::queue::EventQueue;
+use crate::wire::Codec;
 
 /// What the TIME consumer reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -78,7 +79,7 @@ impl Machine for TimeConsumer {
         if !self.cob_id.consumes() || frame.is_remote() || Some(frame.id()) != self.cob_id.id() {
             return;
         }
-        if let Ok(time) = TimeOfDay::decode(frame.data()) {
+        if let Ok(time) = TimeOfDay::parse_frame(frame) {
             self.last = Some(time);
             self.events.push(TimeEvent::Received { time, at: now });
         }

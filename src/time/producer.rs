@@ -16,6 +16,7 @@ use crate::cob_id::TIME;
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::FrameQueue;
+use crate::wire::Codec;
 
 /// The value of 1012h COB-ID TIME.
 ///
@@ -137,10 +138,7 @@ impl TimeProducer {
         let Some(id) = self.cob_id.id().filter(|_| self.cob_id.produces()) else {
             return false;
         };
-        let Ok(frame) = CanFrame::new(id, &time.encode()) else {
-            return false;
-        };
-        self.out.push(frame);
+        self.out.push(time.to_frame_on(id));
         true
     }
 }

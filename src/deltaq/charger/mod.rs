@@ -90,6 +90,7 @@ use crate::nmt::NmtState;
 use crate::od::index::DEVICE_TYPE;
 use crate::pdo::{PdoCobId, PdoDirection, PdoSlot, RpdoError};
 use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent, EVENTS_PER_CALL};
+use crate::wire::Codec;
 
 mod config;
 mod control;
@@ -665,7 +666,7 @@ impl<const Q: usize> Profile<ChargerProfile, Q, 4, 3> for ChargerProfile {
         // A data frame on the module's EMCY identifier: one compare (a
         // remote frame there carries no EMCY either).
         if frame.identity() == u32::from(EMCY_BASE + u16::from(battery.raw())) {
-            if let Ok(emcy) = Emergency::decode(frame.data()) {
+            if let Ok(emcy) = Emergency::parse_frame(frame) {
                 let reaction = emergency_reaction(self.mode, &emcy);
                 device.push_event(ChargerEvent::BatteryEmcy { emcy, reaction });
                 let linked = self.linked();

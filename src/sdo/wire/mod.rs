@@ -36,6 +36,7 @@ use super::abort::AbortCode;
 use super::data::{InitiatePayload, Segment, SegmentData};
 use crate::error::DecodeError;
 use crate::frame::CanFrame;
+use crate::wire::Codec;
 
 mod request;
 mod response;
@@ -543,21 +544,16 @@ macro_rules! sdo_frame {
                 }
             }
 
-            /// Decodes an SDO frame's data (0..=8 bytes).
-            pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
-                Self::parse(SdoFrame::new_checked(data)?)
-            }
-
             /// Decodes a frame's data straight from its 8-byte buffer (no
             /// copy); the segments of a transfer first, the rest by
-            /// [`parse`](Self::parse).
+            /// [`from_view`](Self::from_view).
             #[inline(always)]
             pub fn decode_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
                 let frame = SdoFrame::of_frame(frame)?;
                 if <$cmd>::is_segment(&frame) {
                     return Ok(Self::segment(frame));
                 }
-                Self::parse(frame)
+                Self::from_view(frame)
             }
 
             /// True when `frame` is one of a transfer's segments (what
@@ -568,7 +564,7 @@ macro_rules! sdo_frame {
             }
 
             /// A frame [`is_segment`](Self::is_segment) accepts, read as
-            /// [`parse`](Self::parse) reads it.
+            /// [`from_view`](Self::from_view) reads it.
             #[inline(always)]
             pub(crate) fn segment(frame: SdoFrame) -> Self {
                 $name {
@@ -577,9 +573,9 @@ macro_rules! sdo_frame {
                 }
             }
 
-            /// The command of `frame`, with its bytes kept.
+            /// The command of the checked `frame`, with its bytes kept.
             #[inline]
-            pub fn parse(frame: SdoFrame) -> Result<Self, DecodeError> {
+            pub fn from_view(frame: SdoFrame) -> Result<Self, DecodeError> {
                 Ok($name {
                     command: <$cmd>::parse(&frame)?,
                     frame,
@@ -609,6 +605,36 @@ macro_rules! sdo_frame {
             }
         }
 
+        impl Codec for $name {
+            /// Reads an SDO frame's data (0..=8 bytes).
+            #[inline]
+            fn parse(data: &[u8]) -> Result<Self, DecodeError> {
+                Self::from_view(SdoFrame::new_checked(data)?)
+            }
+
+            /// [`decode_frame`](Self::decode_frame): no copy on the hot path.
+            #[inline]
+            fn parse_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
+                if frame.is_remote() {
+                    return Err(DecodeError::UnexpectedRemote);
+                }
+                Self::decode_frame(frame)
+            }
+
+            /// [`encode`](Self::encode)'s bytes.
+            #[inline]
+            fn emit(&self, buf: &mut [u8; 8]) -> usize {
+                let (bytes, len) = self.encode();
+                *buf = bytes;
+                len
+            }
+
+            #[inline]
+            fn buffer_len(&self) -> usize {
+                self.encode().1
+            }
+        }
+
         impl From<$cmd> for $name {
             fn from(command: $cmd) -> Self {
                 Self::new(command)
@@ -622,8 +648,9 @@ sdo_frame!(
     ///
     /// ```
     /// use canopen_codec::sdo::{ClientCommand, SdoRequest};
+    /// use canopen_codec::wire::Codec;
     /// // [V1] upload 1018h sub 1.
-    /// let req = SdoRequest::decode(&[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]).unwrap();
+    /// let req = SdoRequest::parse(&[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]).unwrap();
     /// assert_eq!(req.command, ClientCommand::InitiateUpload { index: 0x1018, sub: 1 });
     /// assert_eq!(SdoRequest::new(req.command).encode(), ([0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0], 8));
     /// ```
@@ -636,8 +663,9 @@ sdo_frame!(
     ///
     /// ```
     /// use canopen_codec::sdo::{InitiatePayload, SdoResponse, ServerCommand};
+    /// use canopen_codec::wire::Codec;
     /// // [V1b] python-canopen's DLC 5 expedited response: 1 byte, FEh.
-    /// let resp = SdoResponse::decode(&[0x4F, 0x00, 0x14, 0x02, 0xFE]).unwrap();
+    /// let resp = SdoResponse::parse(&[0x4F, 0x00, 0x14, 0x02, 0xFE]).unwrap();
     /// let ServerCommand::InitiateUpload { index, sub, payload } = resp.command else { panic!() };
     /// assert_eq!((index, sub), (0x1400, 2));
     /// let InitiatePayload::Expedited { data, size_indicated } = payload else { panic!() };

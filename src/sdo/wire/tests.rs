@@ -8,14 +8,14 @@ use super::*;
 use crate::sdo::ExpeditedData;
 
 fn req(bytes: &[u8]) -> ClientCommand {
-    let r = SdoRequest::decode(bytes).unwrap();
+    let r = SdoRequest::parse(bytes).unwrap();
     let (b, n) = r.encode();
     assert_eq!(&b[..n], bytes, "request round trip");
     r.command
 }
 
 fn resp(bytes: &[u8]) -> ServerCommand {
-    let r = SdoResponse::decode(bytes).unwrap();
+    let r = SdoResponse::parse(bytes).unwrap();
     let (b, n) = r.encode();
     assert_eq!(&b[..n], bytes, "response round trip");
     r.command
@@ -289,7 +289,7 @@ fn v15_v16_abort() {
     assert_eq!(abort_code_of(&[0x80, 0, 0]), None);
     // An abort needs its code: 7 bytes are truncated.
     assert_eq!(
-        SdoResponse::decode(&[0x80, 0x18, 0x10, 0x01, 0x11, 0x00, 0x09]),
+        SdoResponse::parse(&[0x80, 0x18, 0x10, 0x01, 0x11, 0x00, 0x09]),
         Err(DecodeError::Truncated { need: 8, got: 7 })
     );
 }
@@ -314,7 +314,7 @@ fn v17_block_download() {
     assert_eq!(enc_resp(r), [0xA4, 0x00, 0x20, 0x00, 0x7F, 0, 0, 0]);
     // Sub-block segments have no specifier: they decode as their bits say,
     // and keep their bytes for a block state machine.
-    let s = SdoRequest::decode(&[0x85, 0x2E, 0x2E, 0, 0, 0, 0, 0]).unwrap();
+    let s = SdoRequest::parse(&[0x85, 0x2E, 0x2E, 0, 0, 0, 0, 0]).unwrap();
     assert_eq!(s.bytes(), &[0x85, 0x2E, 0x2E, 0, 0, 0, 0, 0]);
     let ack = ServerCommand::BlockDownload(ServerBlockDownload::Ack {
         ackseq: 5,
@@ -424,9 +424,9 @@ fn reserved_bits_survive_round_trip() {
         [0xBC, 0x08, 0x10, 0x00, 0x7F, 0, 0xAA, 0xBB],
         [0xDB, 0x45, 0x69, 0xCC, 0, 0, 0, 0],
     ] {
-        let r = SdoRequest::decode(&bytes).unwrap();
+        let r = SdoRequest::parse(&bytes).unwrap();
         assert_eq!(r.encode(), (bytes, 8));
-        let s = SdoResponse::decode(&bytes).unwrap();
+        let s = SdoResponse::parse(&bytes).unwrap();
         assert_eq!(s.encode(), (bytes, 8));
     }
 }
@@ -434,29 +434,23 @@ fn reserved_bits_survive_round_trip() {
 #[test]
 fn truncation_is_per_command() {
     let t = |need, got| Err(DecodeError::Truncated { need, got });
-    assert_eq!(SdoRequest::decode(&[]).map(|r| r.command), t(1, 0));
-    assert_eq!(
-        SdoRequest::decode(&[0x40, 0x18]).map(|r| r.command),
-        t(4, 2)
-    );
+    assert_eq!(SdoRequest::parse(&[]).map(|r| r.command), t(1, 0));
+    assert_eq!(SdoRequest::parse(&[0x40, 0x18]).map(|r| r.command), t(4, 2));
     // Expedited with n = 0 needs all 4 data bytes.
     assert_eq!(
-        SdoRequest::decode(&[0x23, 0, 0x14, 1, 4, 2]).map(|r| r.command),
+        SdoRequest::parse(&[0x23, 0, 0x14, 1, 4, 2]).map(|r| r.command),
         t(8, 6)
     );
     // A segment with 7 - n = 3 data bytes needs 4 bytes.
-    assert_eq!(
-        SdoRequest::decode(&[0x09, 1, 2]).map(|r| r.command),
-        t(4, 3)
-    );
-    assert!(SdoRequest::decode(&[0x09, 1, 2, 3]).is_ok());
+    assert_eq!(SdoRequest::parse(&[0x09, 1, 2]).map(|r| r.command), t(4, 3));
+    assert!(SdoRequest::parse(&[0x09, 1, 2, 3]).is_ok());
     // Segmented initiate with size needs 8.
     assert_eq!(
-        SdoResponse::decode(&[0x41, 8, 0x10, 0, 0x1A]).map(|_| ()),
+        SdoResponse::parse(&[0x41, 8, 0x10, 0, 0x1A]).map(|_| ()),
         Err(DecodeError::Truncated { need: 8, got: 5 })
     );
     assert_eq!(
-        SdoRequest::decode(&[0; 9]).map(|r| r.command),
+        SdoRequest::parse(&[0; 9]).map(|r| r.command),
         Err(DecodeError::TooLong { max: 8, got: 9 })
     );
 }
@@ -467,11 +461,11 @@ fn every_one_and_two_byte_frame_is_total() {
         for len in 0..=8usize {
             let bytes = [b0, 0xFF, 0x00, 0x55, 0xAA, 1, 2, 3];
             let data = &bytes[..len];
-            if let Ok(r) = SdoRequest::decode(data) {
+            if let Ok(r) = SdoRequest::parse(data) {
                 let (b, n) = r.encode();
                 assert_eq!(&b[..n], data);
             }
-            if let Ok(r) = SdoResponse::decode(data) {
+            if let Ok(r) = SdoResponse::parse(data) {
                 let (b, n) = r.encode();
                 assert_eq!(&b[..n], data);
             }
@@ -707,8 +701,11 @@ fn segment_reading_agrees_with_parse() {
                 assert_eq!(Ok(cmd), ServerCommand::parse(&frame), "{b0:#04x} {len}");
             }
             let can = CanFrame::standard(0x581, &bytes[..len]).unwrap();
-            assert_eq!(SdoRequest::decode_frame(&can), SdoRequest::parse(frame));
-            assert_eq!(SdoResponse::decode_frame(&can), SdoResponse::parse(frame));
+            assert_eq!(SdoRequest::decode_frame(&can), SdoRequest::from_view(frame));
+            assert_eq!(
+                SdoResponse::decode_frame(&can),
+                SdoResponse::from_view(frame)
+            );
         }
     }
 }
@@ -734,14 +731,14 @@ mod props {
                     let mut buf = bytes;
                     prop_assert!(cmd.emit(&mut buf) <= len);
                     prop_assert_eq!(buf, bytes);
-                    let (b, n) = SdoRequest::parse(frame).unwrap().encode();
+                    let (b, n) = SdoRequest::from_view(frame).unwrap().encode();
                     prop_assert_eq!(&b[..n], data);
                 }
                 if let Ok(cmd) = ServerCommand::parse(&frame) {
                     let mut buf = bytes;
                     prop_assert!(cmd.emit(&mut buf) <= len);
                     prop_assert_eq!(buf, bytes);
-                    let (b, n) = SdoResponse::parse(frame).unwrap().encode();
+                    let (b, n) = SdoResponse::from_view(frame).unwrap().encode();
                     prop_assert_eq!(&b[..n], data);
                 }
                 let seg = BlockSegment::parse(&frame);

@@ -1,0 +1,150 @@
+//! The PDO wire layer, CiA 301 section 7.2.2 (Process data object): the one
+//! place where a PDO frame's bytes are read and written. A PDO carries
+//! 0..=8 data bytes with no framing of its own: what they mean is its
+//! mapping's ([`PdoMapping`](crate::pdo::PdoMapping) packs and unpacks
+//! them), so the representation is the bytes themselves, a
+//! [`Payload`]. A remote frame on a TPDO identifier (a request for that
+//! TPDO) carries no data and is not a PDO frame here.
+
+use crate::bytes::{InlineData, Payload};
+use crate::error::DecodeError;
+use crate::frame::CanFrame;
+use crate::wire::{put, Codec};
+
+/// The checked view of a PDO frame's data: 0..=8 bytes, held padded to 8
+/// with zeros (bytes past the length read as zero).
+///
+/// ```
+/// use canopen_codec::pdo::PdoFrame;
+/// let f = PdoFrame::new_checked(&[0x74, 0x13]).unwrap();
+/// assert_eq!((f.len(), f.word()), (2, 0x1374));
+/// assert!(PdoFrame::new_checked(&[0; 9]).is_err());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct PdoFrame {
+    bytes: [u8; 8],
+    len: u8,
+}
+
+impl PdoFrame {
+    /// The view of `data`: [`DecodeError::TooLong`] above 8 bytes.
+    #[inline]
+    pub fn new_checked(data: &[u8]) -> Result<Self, DecodeError> {
+        if data.len() > 8 {
+            return Err(DecodeError::TooLong {
+                max: 8,
+                got: data.len(),
+            });
+        }
+        let mut bytes = [0u8; 8];
+        put(&mut bytes, data);
+        Ok(PdoFrame {
+            bytes,
+            len: data.len() as u8,
+        })
+    }
+
+    /// The view of a data frame's bytes straight from its padded buffer
+    /// (the hot path: no copy loop); a remote frame is
+    /// [`DecodeError::UnexpectedRemote`].
+    #[inline]
+    pub fn of_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
+        if frame.is_remote() {
+            return Err(DecodeError::UnexpectedRemote);
+        }
+        Ok(PdoFrame {
+            bytes: frame.padded_data(),
+            len: frame.dlc().min(8),
+        })
+    }
+
+    /// The number of data bytes (0..=8).
+    #[must_use]
+    #[inline]
+    pub const fn len(&self) -> usize {
+        self.len as usize
+    }
+
+    /// True for a PDO without data.
+    #[must_use]
+    #[inline]
+    pub const fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The data as one little-endian word (byte `i` is bits `8 i .. 8 i +
+    /// 8`; zero past the length), the form the mapping packs and unpacks.
+    #[must_use]
+    #[inline]
+    pub const fn word(&self) -> u64 {
+        u64::from_le_bytes(self.bytes)
+    }
+
+    /// The payload the frame carries.
+    #[must_use]
+    #[inline]
+    pub fn payload(&self) -> Payload {
+        InlineData::from_padded(self.bytes, self.len)
+    }
+}
+
+impl Codec for Payload {
+    /// Reads a PDO's (or any raw frame's) 0..=8 data bytes.
+    #[inline]
+    fn parse(data: &[u8]) -> Result<Self, DecodeError> {
+        PdoFrame::new_checked(data).map(|f| f.payload())
+    }
+
+    /// [`PdoFrame::of_frame`]: no copy loop on the hot path.
+    #[inline]
+    fn parse_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
+        PdoFrame::of_frame(frame).map(|f| f.payload())
+    }
+
+    #[inline]
+    fn emit(&self, buf: &mut [u8; 8]) -> usize {
+        put(buf, self.as_slice())
+    }
+
+    #[inline]
+    fn buffer_len(&self) -> usize {
+        self.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frame::CanId;
+    use crate::wire::assert_round_trip;
+
+    #[test]
+    fn every_length_round_trips() {
+        let bytes = [0x74, 0x13, 0x45, 0x4E, 0x00, 0xFF, 0x80, 0x01];
+        for len in 0..=8usize {
+            let p = assert_round_trip::<Payload>(&bytes[..len]).unwrap();
+            assert_eq!(p.as_slice(), &bytes[..len]);
+            let frame = CanFrame::standard(0x18A, &bytes[..len]).unwrap();
+            assert_eq!(Payload::parse_frame(&frame), Ok(p));
+            assert_eq!(p.to_frame_on(CanId::Standard(0x18A)), frame);
+        }
+        assert_eq!(
+            Payload::parse(&[0; 9]),
+            Err(DecodeError::TooLong { max: 8, got: 9 })
+        );
+    }
+
+    #[test]
+    fn the_view_reads_the_word_and_refuses_remote_frames() {
+        let f = PdoFrame::new_checked(&[1, 2, 3]).unwrap();
+        assert_eq!(f.word(), 0x03_02_01);
+        assert_eq!(f.len(), 3);
+        assert!(!f.is_empty());
+        assert!(PdoFrame::new_checked(&[]).unwrap().is_empty());
+        let remote = CanFrame::remote(CanId::Standard(0x18A), 2).unwrap();
+        assert_eq!(
+            PdoFrame::of_frame(&remote),
+            Err(DecodeError::UnexpectedRemote)
+        );
+    }
+}
