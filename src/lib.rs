@@ -34,7 +34,7 @@
 //! | give the machines time | [`clock`] ([`Timestamp`], the timer table) |
 //! | NMT commands, a node's state, heartbeat, node guarding | [`nmt`], [`nmt::heartbeat`], [`nmt::guarding`] |
 //! | emergencies and their codes | [`emcy`] |
-//! | SYNC and TIME | [`sync`] ([`sync::SyncFrame`], producer, consumer), [`time`] ([`time::TimeOfDay`], producer, consumer) |
+//! | SYNC and TIME | [`sync`] ([`sync::SyncMessage`], producer, consumer), [`time`] ([`time::TimeOfDay`], producer, consumer) |
 //! | read or write objects over SDO, or follow transfers on a bus | [`sdo`] (client, server, observer; the wire layer in [`sdo::ClientCommand`] / [`sdo::ServerCommand`]) |
 //! | PDO mapping, packing, producers and receivers | [`pdo`] |
 //! | layer setting services (CiA 305) | [`lss`] |
