@@ -173,7 +173,6 @@ pub use store::{
     ParameterGroup, ParameterStorage, RamStorage, RecordError, StorageError, StorageEvent,
 };
 
-use crate::bytes::Payload;
 use crate::clock::Timestamp;
 use crate::cob_id::NodeId;
 use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
@@ -191,10 +190,9 @@ use crate::od::index::PRODUCER_HEARTBEAT_TIME;
 #[cfg(feature = "store")]
 use crate::od::index::{RESTORE_DEFAULT_PARAMETERS, STORE_PARAMETERS};
 
-use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, RpdoReceiver, TpdoSet};
+use crate::pdo::{PdoConfig, PdoDictionary, PdoDirection, PdoFrame, RpdoReceiver, TpdoSet};
 use crate::queue::EventQueue;
 use crate::sdo::{Server, ServerEvent, EVENTS_PER_CALL};
-use crate::wire::Codec;
 
 /// The dictionary the SDO server serves: PDO objects, communication
 /// objects, application objects.
@@ -910,11 +908,11 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         profile: &mut P,
     ) {
         if let Some(pdo) = self.rpdos.rpdo_of(frame) {
-            let Ok(data) = Payload::parse_frame(frame) else {
+            let Ok(data) = PdoFrame::of_frame(frame) else {
                 return;
             };
             let od = self.server.od_mut();
-            let Some(result) = RpdoReceiver::apply_data(pdo, data.as_slice(), od) else {
+            let Some(result) = RpdoReceiver::apply_data(pdo, data.as_bytes(), od) else {
                 return;
             };
             match result {

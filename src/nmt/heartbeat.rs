@@ -26,7 +26,7 @@ use crate::clock::{timer_kind, MaybeTimestamp, Timers, Timestamp};
 use crate::cob_id::{NodeId, NMT_ERROR_CONTROL_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
-use crate::nmt::{Heartbeat, HeartbeatFrame, NmtState};
+use crate::nmt::{Heartbeat, NmtState};
 use crate::queue::{DropOldest, EventQueue};
 use crate::wire::Codec;
 
@@ -54,8 +54,8 @@ pub struct HeartbeatProducer {
     timers: Timers<ProducerTimer, 1>,
     /// Send at once when the state changes (CANopenNode); default false.
     pub send_on_change: bool,
-    /// The heartbeat bytes (states) to send, as frames when polled.
-    out: DropOldest<u8, 2>,
+    /// The states to send, as heartbeat frames when polled.
+    out: DropOldest<NmtState, 2>,
 }
 
 timer_kind! {
@@ -77,7 +77,7 @@ impl HeartbeatProducer {
             state: NmtState::BootUp,
             timers: Timers::new(),
             send_on_change: false,
-            out: DropOldest::new(0),
+            out: DropOldest::new(NmtState::BootUp),
         }
     }
 
@@ -92,7 +92,7 @@ impl HeartbeatProducer {
             state: NmtState::BootUp,
             timers: Timers::new(),
             send_on_change: false,
-            out: DropOldest::new(0),
+            out: DropOldest::new(NmtState::BootUp),
         }
     }
 
@@ -120,10 +120,6 @@ impl HeartbeatProducer {
         self.timers.earliest()
     }
 
-    fn frame(&self, byte: u8) -> CanFrame {
-        Heartbeat::from_view(&HeartbeatFrame::from_byte(byte)).to_frame(self.node)
-    }
-
     fn arm(&mut self, now: Timestamp) {
         // Zero period: no heartbeat; at the end of the clock: no later one.
         self.timers.set(
@@ -135,7 +131,7 @@ impl HeartbeatProducer {
     /// Queues a frame; a full queue (the caller did not drain
     /// `poll_transmit`) drops its oldest: a heartbeat carries the state now.
     fn send(&mut self, state: NmtState) {
-        self.out.push(Heartbeat::new(state).byte());
+        self.out.push(state);
     }
 
     /// (Re)boots: sends the boot-up message and enters pre-operational; the
@@ -202,7 +198,9 @@ impl Machine for HeartbeatProducer {
     }
 
     fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.out.pop().map(|byte| self.frame(byte))
+        self.out
+            .pop()
+            .map(|state| Heartbeat::new(state).to_frame(self.node))
     }
 
     /// When the next heartbeat is due.

@@ -20,13 +20,12 @@
 //! producer's); the state change is then reported from the state before
 //! the reset to pre-operational. The slave sends no frames and arms no timers.
 
-use super::{NmtCommand, NmtCommandSpecifier, NmtState};
+use super::{NmtCommandSpecifier, NmtFrame, NmtState};
 use crate::clock::Timestamp;
 use crate::cob_id::{NodeId, NMT};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::EventQueue;
-use crate::wire::Codec;
 
 /// Which NMT reset the master commanded.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -214,12 +213,15 @@ impl NmtCore {
             return None;
         }
         // A command is for this node when its node byte is 0 (all) or the
-        // node-ID (an invalid node byte, 128..=255, is neither).
-        let command = NmtCommand::parse(frame.data()).ok()?;
-        if !command.target.addresses(self.node) {
+        // node-ID (an invalid node byte, 128..=255, is neither): what
+        // `NmtTarget::addresses` says, read from the checked view without
+        // building the target.
+        let command = NmtFrame::new_checked(frame.data()).ok()?;
+        let target = command.target();
+        if target != 0 && target != self.node.raw() {
             return None;
         }
-        match command.command {
+        match NmtCommandSpecifier::from(command.command()) {
             NmtCommandSpecifier::Start => self.set_state(NmtState::Operational),
             NmtCommandSpecifier::Stop => self.set_state(NmtState::Stopped),
             NmtCommandSpecifier::EnterPreOperational => self.set_state(NmtState::PreOperational),

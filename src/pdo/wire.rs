@@ -58,6 +58,13 @@ impl PdoFrame {
         })
     }
 
+    /// The data bytes.
+    #[must_use]
+    #[inline]
+    pub fn as_bytes(&self) -> &[u8] {
+        self.bytes.get(..self.len()).unwrap_or(&[])
+    }
+
     /// The number of data bytes (0..=8).
     #[must_use]
     #[inline]
@@ -138,6 +145,7 @@ mod tests {
     fn the_view_reads_the_word_and_refuses_remote_frames() {
         let f = PdoFrame::new_checked(&[1, 2, 3]).unwrap();
         assert_eq!(f.word(), 0x03_02_01);
+        assert_eq!(f.as_bytes(), &[1, 2, 3]);
         assert_eq!(f.len(), 3);
         assert!(!f.is_empty());
         assert!(PdoFrame::new_checked(&[]).unwrap().is_empty());
