@@ -4,6 +4,7 @@
 use super::*;
 use crate::bytes::Payload;
 use crate::cob_id::LssDirection;
+use crate::error::DecodeError;
 use crate::wire::Codec;
 use std::string::ToString;
 
@@ -169,9 +170,11 @@ fn unlisted_short_and_nonzero_reserved_frames_are_kept_raw() {
         let mut buf = [0; 8];
         let n = r.emit(&mut buf);
         assert_eq!(&buf[..n], bytes);
+        assert_eq!(r.buffer_len(), bytes.len());
         let s = LssResponse::parse(bytes).unwrap();
         let n = s.emit(&mut buf);
         assert_eq!(&buf[..n], bytes);
+        assert_eq!(s.buffer_len(), bytes.len());
     }
     // A request cs on the response id is not a response.
     assert!(matches!(
@@ -179,6 +182,29 @@ fn unlisted_short_and_nonzero_reserved_frames_are_kept_raw() {
         LssResponse::Other(_)
     ));
     assert!(LssRequest::parse(&[0; 9]).is_err());
+}
+
+#[test]
+fn the_checked_view_splits_service_frames_only() {
+    let f = LssFrame::new_checked(&[0x51, 1, 2, 3, 4, 31, 2, 3]).unwrap();
+    assert_eq!(f.service(), Some((0x51, [1, 2, 3, 4, 31, 2, 3])));
+    assert_eq!(f.as_bytes(), &[0x51, 1, 2, 3, 4, 31, 2, 3]);
+    for len in 0..8usize {
+        let f = LssFrame::new_checked(&[0x5E; 8][..len]).unwrap();
+        assert_eq!(f.service(), None, "{len} bytes");
+        assert_eq!(f.as_bytes().len(), len);
+    }
+    assert_eq!(
+        LssFrame::new_checked(&[0; 9]),
+        Err(DecodeError::TooLong { max: 8, got: 9 })
+    );
+    // Typed services are 8 bytes, and the request round-trips through
+    // the frame it builds.
+    let r = LssRequest::SwitchStateGlobal(LssMode::Configuration);
+    assert_eq!(r.buffer_len(), 8);
+    assert_eq!(LssRequest::of_frame(&r.to_frame()), Some(r));
+    let s = LssResponse::NodeId(5);
+    assert_eq!(LssResponse::parse_frame(&s.to_frame()), Ok(s));
 }
 
 /// Frames in words: the direction, the data and what they say.

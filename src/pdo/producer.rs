@@ -31,6 +31,7 @@
 use core::convert::Infallible;
 
 use super::comm::PdoCommParams;
+use super::wire::PdoFrame;
 use crate::bytes::Payload;
 use crate::clock::{timer_kind, MaybeTimestamp, Timers, Timestamp};
 use crate::cob_id::SYNC;
@@ -89,9 +90,9 @@ pub struct TpdoProducer {
     timers: Timers<TpdoTimer, 1>,
     /// Undrained frames replaced by a newer one (saturating).
     dropped: u32,
-    /// What the next frame carries, little-endian: the latest payload (a
-    /// PDO carries the latest value; an undrained frame is not sent twice).
-    payload: [u8; 8],
+    /// What the next frame carries: the latest payload (a PDO carries the
+    /// latest value; an undrained frame is not sent twice).
+    next: PdoFrame,
     /// Of the communication parameters, what the producer uses: the
     /// COB-ID's identifier as the word of its data frames ([`NO_ID`] when
     /// it may not send: a frame is made from it without a conversion),
@@ -102,7 +103,6 @@ pub struct TpdoProducer {
     inhibit_time_100us: u16,
     event_timer_ms: u16,
     transmission_type: u8,
-    payload_len: u8,
     sync_count: u8,
     flags: u8,
 }
@@ -121,13 +121,12 @@ impl TpdoProducer {
             last_sent: MaybeTimestamp::NONE,
             timers: Timers::new(),
             dropped: 0,
-            payload: [0; 8],
+            next: PdoFrame::from_word(0, 0),
             frame_identity: NO_ID,
             sync_identity: SYNC as u32,
             inhibit_time_100us: 0,
             event_timer_ms: 0,
             transmission_type: 0,
-            payload_len: 0,
             sync_count: 0,
             flags: 0,
         }
@@ -218,10 +217,9 @@ impl TpdoProducer {
     /// of `word` (bytes past `len` zero).
     #[inline]
     pub(crate) fn set_payload_word(&mut self, now: Timestamp, word: u64, len: u8) {
-        let bytes = word.to_le_bytes();
-        if bytes != self.payload || len != self.payload_len {
-            self.payload = bytes;
-            self.payload_len = len;
+        let next = PdoFrame::from_word(word, len);
+        if next != self.next {
+            self.next = next;
             self.trigger(now);
         }
     }
@@ -339,11 +337,7 @@ impl Machine for TpdoProducer {
         if self.frame_identity == NO_ID {
             return None;
         }
-        Some(CanFrame::from_identity(
-            self.frame_identity,
-            self.payload,
-            self.payload_len,
-        ))
+        Some(self.next.frame_on_identity(self.frame_identity))
     }
 
     /// The earlier of the event timer and the end of the inhibit time.

@@ -65,6 +65,33 @@ impl PdoFrame {
         self.bytes.get(..self.len()).unwrap_or(&[])
     }
 
+    /// The frame of `len` (at most 8) little-endian bytes of `word`, bytes
+    /// past `len` zero: a TPDO's payload as its mapping packed it.
+    #[must_use]
+    #[inline]
+    pub(crate) const fn from_word(word: u64, len: u8) -> Self {
+        let len = if len > 8 { 8 } else { len };
+        let mask = if len >= 8 {
+            u64::MAX
+        } else {
+            (1u64 << (8 * len as u32)) - 1
+        };
+        PdoFrame {
+            bytes: (word & mask).to_le_bytes(),
+            len,
+        }
+    }
+
+    /// The data frame carrying these bytes on the identifier whose word is
+    /// `identity` ([`data_frame_identity`](crate::frame::data_frame_identity)
+    /// of an identifier in range: a producer that keeps the word, not the
+    /// identifier).
+    #[must_use]
+    #[inline]
+    pub(crate) const fn frame_on_identity(&self, identity: u32) -> CanFrame {
+        CanFrame::from_identity(identity, self.bytes, self.len)
+    }
+
     /// The number of data bytes (0..=8).
     #[must_use]
     #[inline]
@@ -138,6 +165,20 @@ mod tests {
         assert_eq!(
             Payload::parse(&[0; 9]),
             Err(DecodeError::TooLong { max: 8, got: 9 })
+        );
+    }
+
+    #[test]
+    fn a_packed_word_is_the_frame_of_its_bytes() {
+        let f = PdoFrame::from_word(0x1122_3344_5566_7788, 3);
+        assert_eq!(f.as_bytes(), &[0x88, 0x77, 0x66]);
+        assert_eq!(f.word(), 0x66_7788);
+        assert_eq!(PdoFrame::from_word(u64::MAX, 8).as_bytes(), &[0xFF; 8]);
+        assert_eq!(PdoFrame::from_word(u64::MAX, 0).word(), 0);
+        let identity = crate::frame::data_frame_identity(CanId::Standard(0x18A));
+        assert_eq!(
+            f.frame_on_identity(identity),
+            CanFrame::standard(0x18A, &[0x88, 0x77, 0x66]).unwrap()
         );
     }
 
