@@ -12,7 +12,9 @@
 //! byte of a frame is read or written here.
 
 use crate::bytes::Payload;
-use crate::cob_id::{classify, function_of, CobKind, Function, NodeId, PdoNumber};
+use crate::cob_id::{
+    classify, function_of, CobKind, Function, NodeId, PdoNumber, NMT_ERROR_CONTROL_BASE,
+};
 use crate::emcy::Emergency;
 use crate::error::DecodeError;
 use crate::frame::{CanFrame, CanId};
@@ -141,14 +143,17 @@ impl Message {
             return Self::decode_classified(frame);
         };
         // In the order of a bus's traffic: a mixed stream predicts these
-        // tests better than one jump on the function.
-        let function = function_of(raw);
-        if function == Function::ErrorControl {
+        // tests better than one jump on the function. The heartbeat test
+        // is on the identifier's bits, not on the function, so that the
+        // compiler keeps it a test of its own (on the function it folds it
+        // into the jump on the function that follows).
+        if raw & 0x780 == NMT_ERROR_CONTROL_BASE {
             return Ok(Message::Heartbeat {
                 node,
                 heartbeat: Heartbeat::parse_frame(frame)?,
             });
         }
+        let function = function_of(raw);
         if let Function::Tpdo(pdo) = function {
             let payload = Payload::parse_frame(frame)?;
             return Ok(Message::Tpdo { pdo, node, payload });
