@@ -5,67 +5,24 @@
 //! `$CANOPEN_SHARED_DIR`; our own recorded session when they are absent).
 //!
 //! - `pipeline/{words,json,csv,summary-only}`: the program's own loop
-//!   (`pipeline::run`, the one `main` calls), roles given as the program is
-//!   run on the captures (`--charger-node 10 --battery-node 1`), with its
-//!   line cache; `*-no-cache` formats every line anew.
+//!   (`canopen_codec::log::run`, the one `main` calls), roles given as the
+//!   program is run on the captures (`--charger-node 10 --battery-node 1`),
+//!   with its line cache; `*-no-cache` formats every line anew.
 //! - `json_object/{ours,serde_json}`: writing the JSON object of each of
-//!   the log's distinct frames: our writer (`json::rest`) against
+//!   the log's distinct frames: our writer (`log::json::rest`) against
 //!   `serde_json::to_writer` of the same object already built as a
 //!   `serde_json::Value` (so serde's figure leaves out building it: a lower
 //!   bound of what JSON through serde would cost).
 //!
-//! `cargo bench --features cli --bench decoder_pipeline`. The whole program
+//! `cargo bench --features log --bench decoder_pipeline` (or `--features
+//! cli`, which has `log`). The whole program
 //! on a 1-million-line file is timed by `benches/decoder_program.sh`.
-// The program's modules are built here for their pipeline: what the bench
-// does not call, and their unit tests' imports, are unused.
-#![allow(dead_code, unused_imports)]
+use canopen_codec::log::{json, pdo_learn, run, FrameLine, Notes, Options, Roles};
+use canopen_codec::NodeId;
 
-#[path = "../src/bin/canopen-decode/args.rs"]
-mod args;
-#[path = "../src/bin/canopen-decode/calendar.rs"]
-mod calendar;
-#[path = "../src/bin/canopen-decode/comm_objects.rs"]
-mod comm_objects;
-#[path = "../src/bin/canopen-decode/csv.rs"]
-mod csv;
-#[path = "../src/bin/canopen-decode/dbc.rs"]
-mod dbc;
-#[path = "../src/bin/canopen-decode/decoding.rs"]
-mod decoding;
-#[path = "../src/bin/canopen-decode/json.rs"]
-mod json;
-#[path = "../src/bin/canopen-decode/line_cache.rs"]
-mod line_cache;
-#[path = "../src/bin/canopen-decode/pdo_args.rs"]
-mod pdo_args;
-#[path = "../src/bin/canopen-decode/pdo_learn.rs"]
-mod pdo_learn;
-#[path = "../src/bin/common/pdo_syntax.rs"]
-mod pdo_syntax;
-#[path = "../src/bin/canopen-decode/pipeline.rs"]
-mod pipeline;
-#[path = "../src/bin/canopen-decode/report/mod.rs"]
-mod report;
-#[path = "../src/bin/canopen-decode/sdo.rs"]
-mod sdo;
-#[path = "../src/bin/canopen-decode/sdo_value.rs"]
-mod sdo_value;
-#[path = "../src/bin/canopen-decode/signals.rs"]
-mod signals;
-#[cfg(feature = "parquet")]
-#[path = "../src/bin/canopen-decode/signals_parquet.rs"]
-mod signals_parquet;
-#[path = "../src/bin/canopen-decode/summary.rs"]
-mod summary;
-#[path = "../src/bin/canopen-decode/time_column.rs"]
-mod time_column;
-#[path = "../src/bin/common/trace_input/mod.rs"]
-mod trace_input;
-#[path = "../src/bin/canopen-decode/words.rs"]
-mod words;
-pub use pipeline::*;
-
-// Where the real captures are (the tests' own locator).
+// Where the real captures are (the tests' own locator; the bench uses
+// part of it).
+#[allow(dead_code)]
 #[path = "../tests/common/captures.rs"]
 mod captures;
 
@@ -76,7 +33,6 @@ use std::path::{Path, PathBuf};
 
 use canopen_codec::trace::candump::{parse_line, LogLine};
 use canopen_codec::Message;
-use clap::Parser;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
 const CAPTURES: [&str; 2] = [captures::STARTUP, captures::CHARGING];
@@ -111,18 +67,27 @@ fn log() -> String {
     out
 }
 
+/// The options of `canopen-decode --charger-node 10 --battery-node 1` and
+/// `extra`.
 fn options(extra: &[&str]) -> Options {
-    let mut argv = vec![
-        "canopen-decode",
-        "--charger-node",
-        "10",
-        "--battery-node",
-        "1",
-    ];
-    argv.extend_from_slice(extra);
-    args::Cli::parse_from(argv)
-        .options()
-        .expect("bench options")
+    let mut o = Options {
+        roles: Roles {
+            charger: NodeId::new(10),
+            battery: NodeId::new(1),
+            deltaq: NodeId::new(10),
+        },
+        ..Options::default()
+    };
+    for e in extra {
+        match *e {
+            "--json" => o.json = true,
+            "csv" => o.csv = true,
+            "--summary-only" => (o.summary, o.frames) = (true, false),
+            "--no-cache" => o.no_cache = true,
+            _ => {}
+        }
+    }
+    o
 }
 
 fn pipeline(c: &mut Criterion) {

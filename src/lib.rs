@@ -48,6 +48,7 @@
 //! | the Delta-Q IC Series charger and its error codes | [`deltaq`] |
 //! | the charger's own charge logic (modes, algorithms, set points, status) | [`deltaq::charge`] |
 //! | a battery pack, a power stage and whole charge sessions in simulated time | `sim` (feature `sim`) |
+//! | read a CAN log, reassemble SDO, name the objects, summarise a bus | `log` (feature `log`: what the programs do, as a library) |
 //! | the common imports in one line | [`prelude`] |
 //!
 //! The CiA 301 modules never import the profiles (`cia418`, `cia419`,
@@ -72,8 +73,11 @@
 //!   `docs/FIRMWARE.md`.
 //! - `sim` (default): models for simulation and whole charge sessions
 //!   (`sim`).
-//! - `cli`: the `canopen-decode` program (its dependencies never reach the
-//!   library).
+//! - `log`: log analysis (trace reading, SDO reassembly, naming, PDO
+//!   learning, summary, signals, DBC, report), no dependency of its own;
+//!   implies `std` and every device service.
+//! - `cli`: the `canopen-decode` and `canopen-replay` programs (`log` plus
+//!   their own dependencies, which never reach the library).
 //!
 //! ## PDO numbering
 //!
@@ -86,10 +90,11 @@
 
 #[cfg(feature = "alloc")]
 extern crate alloc;
-#[cfg(test)]
+// The log module formats text: `format!` and `vec!` from std.
+#[cfg(any(test, feature = "log"))]
 #[macro_use]
 extern crate std;
-#[cfg(all(feature = "std", not(test)))]
+#[cfg(all(feature = "std", not(any(test, feature = "log"))))]
 extern crate std;
 
 pub mod bytes;
@@ -104,6 +109,8 @@ pub mod eds;
 pub mod emcy;
 pub mod error;
 pub mod frame;
+#[cfg(feature = "log")]
+pub mod log;
 pub mod lss;
 pub mod machine;
 pub mod message;

@@ -1,7 +1,9 @@
 //! The layering rule, checked: the CiA 301 layers (frame, message, NMT,
 //! heartbeat, EMCY, SDO, PDO, object dictionary, COB-IDs, SYNC, TIME and the
 //! device core) never name a device profile. Profiles (`cia418`, `cia419`,
-//! `deltaq`) sit on top and may use anything below them.
+//! `deltaq`) sit on top and may use anything below them. The log analysis
+//! (`log`) sits at the programs' level, with `sim` and `bin`: it may use
+//! everything, and nothing but the programs uses it.
 //!
 //! Every `.rs` file under `src/` is read; all of them except `lib.rs` and
 //! the profile directories are CiA 301 layers. A profile counts as named
@@ -19,9 +21,9 @@ const PROFILES: [&str; 3] = ["cia418", "cia419", "deltaq"];
 
 /// Directories under `src/` that are profiles (allowed to name each other
 /// and everything below them).
-// `bin` holds the programs and `sim` the simulation models and sessions,
-// which sit on top of every layer.
-const PROFILE_DIRS: [&str; 5] = ["cia418", "cia419", "deltaq", "sim", "bin"];
+// `bin` holds the programs, `log` the log analysis they are made of and
+// `sim` the simulation models and sessions, which sit on top of every layer.
+const PROFILE_DIRS: [&str; 6] = ["cia418", "cia419", "deltaq", "sim", "bin", "log"];
 
 /// Files under `src/` that are not a layer: the crate root declares every
 /// module, profiles included.
@@ -174,9 +176,67 @@ fn which_files_are_layers() {
         "deltaq/catalogue.rs",
         "sim/session.rs",
         "bin/canopen-decode/main.rs",
+        "log/pipeline.rs",
+        "log/input/blf.rs",
     ] {
         assert!(!is_cia301_layer(Path::new(not)), "{not}");
     }
+}
+
+/// Every line of `text` that names the log module as a path
+/// (`crate::log`, `super::log::X`, `canopen_codec::log`), by number from 1.
+fn log_paths(text: &str) -> Vec<usize> {
+    let mut hits = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let mut from = 0;
+        while let Some(found) = line[from..].find("::log") {
+            let end = from + found + "::log".len();
+            from = end;
+            let after = line.as_bytes().get(end).copied();
+            let before = &line[..end - "::log".len()];
+            let root = ["crate", "super", "canopen_codec"]
+                .iter()
+                .any(|r| before.ends_with(r));
+            if root && !after.is_some_and(is_ident) {
+                hits.push(i + 1);
+                break;
+            }
+        }
+    }
+    hits
+}
+
+#[test]
+fn only_the_programs_use_the_log_module() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut problems = Vec::new();
+    for file in &files {
+        let rel = file.strip_prefix(&src).expect("under src");
+        let top = rel
+            .components()
+            .next()
+            .map(|c| c.as_os_str().to_string_lossy());
+        if matches!(top.as_deref(), Some("log" | "bin" | "lib.rs")) {
+            continue;
+        }
+        let text = fs::read_to_string(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        for line in log_paths(&text) {
+            problems.push(format!("src/{}:{line}", rel.display()));
+        }
+    }
+    assert!(
+        problems.is_empty(),
+        "only src/bin and src/log may name the log module:\n{}",
+        problems.join("\n")
+    );
+    assert_eq!(
+        log_paths("use crate::log::input;\nlet x = super::log;\n"),
+        [1, 2]
+    );
+    assert!(log_paths("fn logs() { a::login(); a::log_level(); }").is_empty());
+    assert!(log_paths("kept in [`Session::log`]").is_empty());
 }
 
 #[test]

@@ -1,104 +1,131 @@
-//! The `canopen-decode` program's whole pipeline (`pipeline::run`, what
-//! `main` calls) under arbitrary bytes, in every output and with every
+//! The `canopen-decode` program's whole pipeline (`canopen_codec::log::run`,
+//! what `main` calls) under arbitrary bytes, in every output and with every
 //! trace format forced or detected. Invariants: no panic, no I/O error
 //! into a sink, and every JSON output line is valid JSON (the frame objects
 //! are written by hand). The first byte picks the options.
 #![no_main]
-// The program's modules are built here for their pipeline: what the target
-// does not call, and their unit tests' imports, are unused.
-#![allow(dead_code, unused_imports)]
-
-#[path = "../../src/bin/canopen-decode/args.rs"]
-mod args;
-#[path = "../../src/bin/canopen-decode/calendar.rs"]
-mod calendar;
-#[path = "../../src/bin/canopen-decode/comm_objects.rs"]
-mod comm_objects;
-#[path = "../../src/bin/canopen-decode/csv.rs"]
-mod csv;
-#[path = "../../src/bin/canopen-decode/dbc.rs"]
-mod dbc;
-#[path = "../../src/bin/canopen-decode/decoding.rs"]
-mod decoding;
-#[path = "../../src/bin/canopen-decode/json.rs"]
-mod json;
-#[path = "../../src/bin/canopen-decode/line_cache.rs"]
-mod line_cache;
-#[path = "../../src/bin/canopen-decode/pdo_args.rs"]
-mod pdo_args;
-#[path = "../../src/bin/canopen-decode/pdo_learn.rs"]
-mod pdo_learn;
-#[path = "../../src/bin/common/pdo_syntax.rs"]
-mod pdo_syntax;
-#[path = "../../src/bin/canopen-decode/pipeline.rs"]
-mod pipeline;
-#[path = "../../src/bin/canopen-decode/report/mod.rs"]
-mod report;
-#[path = "../../src/bin/canopen-decode/sdo.rs"]
-mod sdo;
-#[path = "../../src/bin/canopen-decode/sdo_value.rs"]
-mod sdo_value;
-#[path = "../../src/bin/canopen-decode/signals.rs"]
-mod signals;
-#[path = "../../src/bin/canopen-decode/summary.rs"]
-mod summary;
-#[path = "../../src/bin/canopen-decode/time_column.rs"]
-mod time_column;
-#[path = "../../src/bin/canopen-decode/words.rs"]
-mod words;
-#[path = "../../src/bin/common/trace_input/mod.rs"]
-mod trace_input;
-pub use pipeline::*;
 
 use std::sync::OnceLock;
 
-use clap::Parser;
+use canopen_codec::log::input::{Inflate, Inflated};
+use canopen_codec::log::{run, Options, Roles};
+use canopen_codec::sdo::SdoChannel;
+use canopen_codec::trace::Format;
+use canopen_codec::{CanId, NodeId};
 use libfuzzer_sys::fuzz_target;
 
-/// The option sets, as command lines (after the program name).
-const SETS: [&[&str]; 10] = [
-    &[],
-    &["--json", "--summary"],
-    &["--output", "csv", "--strict"],
-    &["--charger-node", "10", "--battery-node", "1", "--summary"],
-    &[
-        "--charger-node",
-        "10",
-        "--battery-node",
-        "1",
-        "--json",
-        "--no-cache",
-    ],
-    &[
-        "--format",
-        "candump-screen",
-        "--summary-only",
-        "--check",
-        "--json",
-    ],
-    &["--format", "candump-screen-delta", "--json"],
-    &["--format", "trc", "--json", "--sdo", "65=241,1C1"],
-    &[
-        "--format",
-        "asc",
-        "--json",
-        "--pdo",
-        "18A=2002:0:16,2101:0:16,6:0:16",
-    ],
-    &["--format", "csv", "--json", "--pdo-capture-mapping"],
-];
+/// flate2's inflater, as the programs pass it (BLF zlib containers).
+struct Zlib(flate2::Decompress);
 
+impl Inflate for Zlib {
+    fn reset(&mut self) {
+        self.0.reset(true);
+    }
+
+    fn inflate(&mut self, z: &[u8], out: &mut [u8]) -> Result<Inflated, String> {
+        let (before_in, before_out) = (self.0.total_in(), self.0.total_out());
+        let status = self
+            .0
+            .decompress(z, out, flate2::FlushDecompress::None)
+            .map_err(|e| e.to_string())?;
+        Ok(Inflated {
+            used: usize::try_from(self.0.total_in() - before_in).unwrap_or(z.len()),
+            made: usize::try_from(self.0.total_out() - before_out).unwrap_or(0),
+            end: status == flate2::Status::StreamEnd,
+        })
+    }
+}
+
+/// The option sets, each as the program's options (in a comment) would
+/// make it.
 fn options() -> &'static [Options] {
     static OPTIONS: OnceLock<Vec<Options>> = OnceLock::new();
     OPTIONS.get_or_init(|| {
-        SETS.iter()
-            .map(|set| {
-                let argv = std::iter::once(&"canopen-decode").chain(set.iter());
-                args::Cli::parse_from(argv)
-                    .options()
-                    .expect("the fuzz target's options are valid")
-            })
-            .collect()
+        let base = || Options {
+            inflater: Some(|| Box::new(Zlib(flate2::Decompress::new(true)))),
+            ..Options::default()
+        };
+        let roles = Roles {
+            charger: NodeId::new(10),
+            battery: NodeId::new(1),
+            deltaq: NodeId::new(10),
+        };
+        let format = |f| Options {
+            format: Some(f),
+            json: true,
+            ..base()
+        };
+        let mut sets = vec![
+            // (none)
+            base(),
+            // --json --summary
+            Options {
+                json: true,
+                summary: true,
+                ..base()
+            },
+            // --output csv --strict
+            Options {
+                csv: true,
+                strict: true,
+                ..base()
+            },
+            // --charger-node 10 --battery-node 1 --summary
+            Options {
+                roles,
+                summary: true,
+                ..base()
+            },
+            // --charger-node 10 --battery-node 1 --json --no-cache
+            Options {
+                roles,
+                json: true,
+                no_cache: true,
+                ..base()
+            },
+            // --format candump-screen --summary-only --check --json
+            Options {
+                summary: true,
+                frames: false,
+                check: true,
+                ..format(Format::CandumpScreen)
+            },
+            // --format candump-screen-delta --json
+            Options {
+                delta_times: true,
+                ..format(Format::CandumpScreen)
+            },
+            // --format trc --json --sdo 65=241,1C1
+            Options {
+                sdo_channels: NodeId::new(65)
+                    .zip(CanId::standard(0x241))
+                    .zip(CanId::standard(0x1C1))
+                    .map(|((node, request), response)| SdoChannel {
+                        node,
+                        request,
+                        response,
+                    })
+                    .into_iter()
+                    .collect(),
+                ..format(Format::PcanTrc)
+            },
+            // --format asc --json --pdo 18A=2002:0:16,2101:0:16,6:0:16
+            format(Format::VectorAsc),
+            // --format csv --json --pdo-capture-mapping
+            Options {
+                roles,
+                ..format(Format::PythonCanCsv)
+            },
+        ];
+        if let Some(asc) = sets.get_mut(8) {
+            asc.pdos
+                .add("18A=2002:0:16,2101:0:16,6:0:16")
+                .expect("a valid mapping");
+        }
+        if let Some(capture) = sets.last_mut() {
+            capture.pdos.add_capture().expect("the capture's mapping");
+        }
+        sets
     })
 }
 

@@ -6,9 +6,45 @@ use clap::{Parser, ValueEnum};
 use canopen_codec::sdo::SdoChannel;
 use canopen_codec::{CanId, NodeId};
 
-use crate::pdo_args;
-use crate::trace_input::{FormatArg, How};
-use crate::{Options, Roles};
+use canopen_codec::log::input::How;
+use canopen_codec::log::{mappings, signals, Options, Roles};
+use canopen_codec::trace::Format;
+
+/// The trace formats `--format` names (detected from the content when not
+/// given).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FormatArg {
+    /// candump -L log lines.
+    Candump,
+    /// candump screen output (any -t form but -t d).
+    CandumpScreen,
+    /// candump screen output with -t d (delta) times.
+    CandumpScreenDelta,
+    /// PCAN-View .trc, versions 1.0 to 2.1.
+    Trc,
+    /// Vector ASC.
+    Asc,
+    /// python-can CSV.
+    Csv,
+    /// Vector BLF (binary; detected by its LOGG signature too).
+    Blf,
+}
+
+/// How `--format` (absent: detected) reads.
+pub fn how(arg: Option<FormatArg>) -> How {
+    match arg {
+        None => How::default(),
+        Some(FormatArg::Candump) => How::format(Some(Format::CandumpLog)),
+        Some(FormatArg::CandumpScreen) => How::format(Some(Format::CandumpScreen)),
+        Some(FormatArg::CandumpScreenDelta) => {
+            How::format(Some(Format::CandumpScreen)).with_delta_times()
+        }
+        Some(FormatArg::Trc) => How::format(Some(Format::PcanTrc)),
+        Some(FormatArg::Asc) => How::format(Some(Format::VectorAsc)),
+        Some(FormatArg::Csv) => How::format(Some(Format::PythonCanCsv)),
+        Some(FormatArg::Blf) => How::blf(),
+    }
+}
 
 /// Output forms.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -157,15 +193,21 @@ impl Cli {
             (None, true) => Output::Json,
             (None, false) => Output::Words,
         };
-        let mut pdos = pdo_args::Mappings {
+        let mut pdos = mappings::Mappings {
             given: Vec::new(),
             defaults: !self.no_default_pdos,
         };
         for p in &self.pdo {
             pdos.add(p)?;
         }
+        // A Parquet path in a decoder built without the `parquet` feature
+        // is an error before the log is read.
         if let Some(path) = &self.signals {
-            crate::signals::check_path(path)?;
+            if signals::is_parquet(std::path::Path::new(path)) && !cfg!(feature = "parquet") {
+                return Err(format!(
+                    "--signals {path}: Parquet needs the decoder built with the `parquet` feature"
+                ));
+            }
         }
         let mut roles = Roles {
             charger: self.charger_node,
@@ -180,7 +222,7 @@ impl Cli {
             roles.battery = roles.battery.or(NodeId::new(1));
             roles.deltaq = roles.deltaq.or(roles.charger);
         }
-        let how = How::of(self.format);
+        let how = how(self.format);
         Ok(Options {
             json: output == Output::Json,
             csv: output == Output::Csv,
@@ -203,6 +245,8 @@ impl Cli {
             signals: self.signals,
             dbc: self.dbc,
             report: self.report,
+            inflater: None,
+            parquet: None,
         })
     }
 }

@@ -40,7 +40,7 @@
 //! `trc` (PCAN-View 1.0-2.1), `asc` (Vector ASC), `csv` (python-can CSV)
 //! (`canopen_codec::trace`), `blf` (Vector BLF, binary; a file beginning
 //! with `LOGG` is read as one), each file read by the module
-//! `trace_input` (shared with `canopen-replay`). Header and comment
+//! `canopen_codec::log::input` (as `canopen-replay`'s). Header and comment
 //! lines are skipped; CAN FD and error frames are reported on stderr, line
 //! by line (object by object), counted at the end, and do not count as
 //! bad lines.
@@ -171,35 +171,43 @@
 //! the capture README's DBC adds -40 degC, which the profile does not have.
 
 mod args;
-mod calendar;
-mod comm_objects;
-mod csv;
-mod dbc;
-mod decoding;
-mod json;
-mod line_cache;
-mod pdo_args;
-mod pdo_learn;
-#[path = "../common/pdo_syntax.rs"]
-mod pdo_syntax;
-mod report;
-mod sdo;
-mod sdo_value;
-mod signals;
 #[cfg(feature = "parquet")]
 mod signals_parquet;
-mod summary;
-mod time_column;
-#[path = "../common/trace_input/mod.rs"]
-mod trace_input;
-mod words;
-// The decoding loop and what it shares with the modules above (a module of
-// its own so that the pipeline bench builds it too).
-mod pipeline;
-pub use pipeline::*;
 
+use canopen_codec::log::{input, run, signals, Options, Outcome};
 use std::io::{self, IsTerminal, Read};
 use std::process::ExitCode;
+
+/// flate2's inflater for the BLF reader's zlib containers.
+struct Zlib(flate2::Decompress);
+
+impl input::Inflate for Zlib {
+    fn reset(&mut self) {
+        self.0.reset(true);
+    }
+
+    fn inflate(&mut self, z: &[u8], out: &mut [u8]) -> Result<input::Inflated, String> {
+        let (before_in, before_out) = (self.0.total_in(), self.0.total_out());
+        let status = self
+            .0
+            .decompress(z, out, flate2::FlushDecompress::None)
+            .map_err(|e| e.to_string())?;
+        Ok(input::Inflated {
+            used: usize::try_from(self.0.total_in() - before_in).unwrap_or(z.len()),
+            made: usize::try_from(self.0.total_out() - before_out).unwrap_or(0),
+            end: status == flate2::Status::StreamEnd,
+        })
+    }
+}
+
+/// The program's hooks: flate2 for BLF, the Parquet writer.
+fn hooks(opts: &mut Options) {
+    opts.inflater = Some(|| Box::new(Zlib(flate2::Decompress::new(true))));
+    #[cfg(feature = "parquet")]
+    {
+        opts.parquet = Some(signals_parquet::write);
+    }
+}
 
 const SESSION: &str = include_str!("../../../tests/data/virtual-session.log");
 const SESSION_NAME: &str =
@@ -216,6 +224,7 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    hooks(&mut opts);
     if !opts.more_files.is_empty() {
         return several_logs(opts);
     }

@@ -1,5 +1,5 @@
 //! `--signals FILE.parquet` (feature `parquet`): the signals of
-//! [`crate::signals`] as typed Parquet columns, written with the parquet
+//! [`canopen_codec::log::signals`] as typed Parquet columns, written with the parquet
 //! crate's own column writer (no arrow: the arrow crates would add a large
 //! build for nothing the decoder needs).
 //!
@@ -19,7 +19,7 @@ use parquet::file::properties::WriterProperties;
 use parquet::file::writer::SerializedFileWriter;
 use parquet::schema::types::Type;
 
-use crate::signals::{at_path, Signals};
+use canopen_codec::log::signals::{at_path, Signals};
 
 /// Rows per row group.
 pub const ROWS_PER_GROUP: usize = 65_536;

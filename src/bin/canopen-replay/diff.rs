@@ -486,7 +486,8 @@ mod tests {
 
     #[test]
     fn pdo_fields_beyond_the_tolerance_are_named() {
-        let (_, mapping) = crate::pdo_syntax::parse_pdo("18A=2002:0:16,2101:0:16").unwrap();
+        let (_, mapping) =
+            canopen_codec::log::pdo_syntax::parse_pdo("18A=2002:0:16,2101:0:16").unwrap();
         let rec = [at(0, 0x18A, &[0x7C, 0x13, 0x45, 0x4E])];
         let dev = [
             at(10, 0x18A, &[0x7C, 0x13, 0x50, 0x4E]),

@@ -4,23 +4,78 @@
 
 mod diff;
 mod link;
-#[path = "../common/pdo_syntax.rs"]
-mod pdo_syntax;
 mod player;
 mod recording;
 mod report;
-#[path = "../common/trace_input/mod.rs"]
-mod trace_input;
 
 use std::collections::BTreeSet;
 use std::process::ExitCode;
 use std::time::Duration;
 
-use clap::Parser;
+use canopen_codec::log::{input, pdo_syntax};
+use canopen_codec::trace::Format;
+use clap::{Parser, ValueEnum};
 
 use diff::Tolerances;
 use link::Link;
-use trace_input::FormatArg;
+
+/// The trace formats `--format` names (as `canopen-decode`'s).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum FormatArg {
+    /// candump -L log lines.
+    Candump,
+    /// candump screen output (any -t form but -t d).
+    CandumpScreen,
+    /// candump screen output with -t d (delta) times.
+    CandumpScreenDelta,
+    /// PCAN-View .trc, versions 1.0 to 2.1.
+    Trc,
+    /// Vector ASC.
+    Asc,
+    /// python-can CSV.
+    Csv,
+    /// Vector BLF (binary; detected by its LOGG signature too).
+    Blf,
+}
+
+/// How `--format` (absent: detected) reads.
+fn how(arg: Option<FormatArg>) -> input::How {
+    use input::How;
+    match arg {
+        None => How::default(),
+        Some(FormatArg::Candump) => How::format(Some(Format::CandumpLog)),
+        Some(FormatArg::CandumpScreen) => How::format(Some(Format::CandumpScreen)),
+        Some(FormatArg::CandumpScreenDelta) => {
+            How::format(Some(Format::CandumpScreen)).with_delta_times()
+        }
+        Some(FormatArg::Trc) => How::format(Some(Format::PcanTrc)),
+        Some(FormatArg::Asc) => How::format(Some(Format::VectorAsc)),
+        Some(FormatArg::Csv) => How::format(Some(Format::PythonCanCsv)),
+        Some(FormatArg::Blf) => How::blf(),
+    }
+}
+
+/// flate2's inflater for the BLF reader's zlib containers.
+struct Zlib(flate2::Decompress);
+
+impl input::Inflate for Zlib {
+    fn reset(&mut self) {
+        self.0.reset(true);
+    }
+
+    fn inflate(&mut self, z: &[u8], out: &mut [u8]) -> Result<input::Inflated, String> {
+        let (before_in, before_out) = (self.0.total_in(), self.0.total_out());
+        let status = self
+            .0
+            .decompress(z, out, flate2::FlushDecompress::None)
+            .map_err(|e| e.to_string())?;
+        Ok(input::Inflated {
+            used: usize::try_from(self.0.total_in() - before_in).unwrap_or(z.len()),
+            made: usize::try_from(self.0.total_out() - before_out).unwrap_or(0),
+            end: status == flate2::Status::StreamEnd,
+        })
+    }
+}
 
 const EXIT_CODES: &str = "Exit status: 0 the device matches the recording within tolerance; \
 4 it differs; 2 usage error (bad option, unreadable trace); 3 the device could not be \
@@ -172,8 +227,10 @@ fn main() -> ExitCode {
             Err(e) => return usage(&e),
         }
     }
-    let read = std::fs::File::open(&args.trace)
-        .and_then(|f| trace_input::frames(f, trace_input::How::of(args.format)));
+    let read = std::fs::File::open(&args.trace).and_then(|f| {
+        let mut zlib = Zlib(flate2::Decompress::new(true));
+        input::frames(f, how(args.format), &mut zlib)
+    });
     let frames = match read {
         Ok(f) => f,
         Err(e) => return usage(&format!("{}: {e}", args.trace.display())),

@@ -1,11 +1,11 @@
-//! The recording: every frame of a trace (read by `trace_input`, the
+//! The recording: every frame of a trace (read by `canopen_codec::log::input`, the
 //! decoder's reader), with its time, and which side of the replay sent it.
 
 use std::collections::BTreeSet;
 
 use canopen_codec::{CanFrame, CanId};
 
-use crate::trace_input::{Frames, Kind};
+use canopen_codec::log::input::{Frames, Kind};
 
 /// One recorded frame; `t` is microseconds since the recording's first frame.
 #[derive(Clone, Copy)]
@@ -149,7 +149,12 @@ mod tests {
     }
 
     fn read(text: &str, play: &BTreeSet<u8>) -> Result<Recording, String> {
-        let frames = crate::trace_input::frames(text.as_bytes(), Default::default()).unwrap();
+        let frames = canopen_codec::log::input::frames(
+            text.as_bytes(),
+            Default::default(),
+            &mut canopen_codec::log::input::NoInflate,
+        )
+        .unwrap();
         of(&frames, play)
     }
 

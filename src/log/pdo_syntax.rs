@@ -1,7 +1,8 @@
 //! The `--pdo COBID=INDEX:SUB:BITS,...` syntax and the real capture's
 //! mapping in it, shared by `canopen-decode` and `canopen-replay`.
 
-use canopen_codec::pdo::{MappingEntry, PdoMapping, MAX_ENTRIES};
+use crate::pdo::{MappingEntry, PdoMapping, MAX_ENTRIES};
+use std::prelude::rust_2021::*;
 
 /// The mapping of the real capture, from tests/data/CAPTURES.md, in
 /// `--pdo` syntax. Unnamed padding uses CiA 301 dummy entries (0005h

@@ -1,9 +1,8 @@
-//! Reading a trace file, for both programs (`canopen-decode` and
-//! `canopen-replay`): the bytes of a recording in, its frames with their
-//! times out, one by one, with what could not be read and the format the
-//! file was read as. This is the one place where the programs read a
-//! file; the formats themselves are parsed by the library
-//! (`canopen_codec::trace`: one parser per line format, the BLF reader).
+//! Reading a trace file (both programs, `canopen-decode` and
+//! `canopen-replay`, read through it): the bytes of a recording in, its
+//! frames with their times out, one by one, with what could not be read
+//! and the format the file was read as. The formats themselves are parsed
+//! by [`crate::trace`] (one parser per line format, the BLF reader).
 //!
 //! - Line formats (candump log, candump screen, PCAN `.trc` 1.0-2.1,
 //!   Vector ASC, python-can CSV): the input is read in blocks of lines
@@ -11,7 +10,9 @@
 //!   given, or detected from the first line that tells).
 //! - Vector BLF (binary): told by its `LOGG` signature when no line format
 //!   is given, or asked for; read in blocks through the library's
-//!   `BlfReader`, the zlib containers inflated here (module `blf`).
+//!   `BlfReader`, the zlib containers inflated by the caller's
+//!   [`Inflate`] (this crate has no zlib: the programs pass flate2's;
+//!   [`NoInflate`] reports each compressed container as unreadable).
 //!
 //! [`read`] hands each [`Item`] to the caller as it comes (memory stays
 //! bounded on any input: the decoder's way); [`frames`] collects the
@@ -20,65 +21,58 @@
 mod blf;
 mod lines;
 
+use std::prelude::rust_2021::*;
+
 use std::fmt;
 use std::io::{self, Read};
 
-use canopen_codec::trace::blf::{BlfError, BlfReader};
-use canopen_codec::trace::{Format, LineParser, Record, RxTx, TraceError, TraceFrame, Unsupported};
-use canopen_codec::{CanFrame, Timestamp};
+use crate::trace::blf::{BlfError, BlfReader};
+use crate::trace::{Format, LineParser, Record, RxTx, TraceError, TraceFrame, Unsupported};
+use crate::{CanFrame, Timestamp};
 
-pub use lines::MAX_LINE;
-
-/// The trace formats a program's `--format` names (detected from the
-/// content when not given).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum FormatArg {
-    /// candump -L log lines.
-    Candump,
-    /// candump screen output (any -t form but -t d).
-    CandumpScreen,
-    /// candump screen output with -t d (delta) times.
-    CandumpScreenDelta,
-    /// PCAN-View .trc, versions 1.0 to 2.1.
-    Trc,
-    /// Vector ASC.
-    Asc,
-    /// python-can CSV.
-    Csv,
-    /// Vector BLF (binary; detected by its LOGG signature too).
-    Blf,
-}
+pub use blf::{Inflate, Inflated, NoInflate};
+pub use lines::{Block, LineReader, Piece, MAX_LINE};
 
 /// How to read a file: the line format (detected when `None`), BLF, and
 /// whether candump screen times are deltas (`-t d`, which the lines do
 /// not tell).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct How {
+    /// The line format; `None`: detected from the first line that tells.
     pub format: Option<Format>,
     /// Vector BLF (also read so, when `format` is `None`, by its `LOGG`
     /// signature).
     pub blf: bool,
+    /// candump screen times are deltas (`-t d`).
     pub delta_times: bool,
 }
 
 impl How {
-    /// How `--format` (absent: detected) reads.
+    /// Read as `format` (a line format), or detected from the content
+    /// when `None`.
     #[must_use]
-    pub fn of(arg: Option<FormatArg>) -> How {
-        let (format, blf, delta_times) = match arg {
-            None => (None, false, false),
-            Some(FormatArg::Candump) => (Some(Format::CandumpLog), false, false),
-            Some(FormatArg::CandumpScreen) => (Some(Format::CandumpScreen), false, false),
-            Some(FormatArg::CandumpScreenDelta) => (Some(Format::CandumpScreen), false, true),
-            Some(FormatArg::Trc) => (Some(Format::PcanTrc), false, false),
-            Some(FormatArg::Asc) => (Some(Format::VectorAsc), false, false),
-            Some(FormatArg::Csv) => (Some(Format::PythonCanCsv), false, false),
-            Some(FormatArg::Blf) => (None, true, false),
-        };
+    pub fn format(format: Option<Format>) -> How {
         How {
             format,
-            blf,
-            delta_times,
+            ..How::default()
+        }
+    }
+
+    /// Read as Vector BLF.
+    #[must_use]
+    pub fn blf() -> How {
+        How {
+            blf: true,
+            ..How::default()
+        }
+    }
+
+    /// The same, with candump screen times read as deltas (`-t d`).
+    #[must_use]
+    pub fn with_delta_times(self) -> How {
+        How {
+            delta_times: true,
+            ..self
         }
     }
 }
@@ -87,7 +81,9 @@ impl How {
 /// 1 in file order (BLF containers not counted).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum At {
+    /// A line of a text trace.
     Line(usize),
+    /// A BLF object.
     Object(u64),
     /// Past the last object read (an error of the file's structure).
     AfterObject(u64),
@@ -107,7 +103,9 @@ impl fmt::Display for At {
 /// object's type.
 #[derive(Clone, Copy, Debug)]
 pub enum Detail<'a> {
+    /// The line as read.
     Line(&'a str),
+    /// The BLF object's type number.
     ObjectType(u32),
 }
 
@@ -122,8 +120,11 @@ impl fmt::Display for Detail<'_> {
 
 /// Why a line or an object could not be read.
 #[derive(Clone, Debug)]
+#[non_exhaustive]
 pub enum Bad<'a> {
+    /// A line that is not UTF-8 text.
     NotUtf8,
+    /// A line longer than [`MAX_LINE`] bytes.
     TooLong,
     /// The format's parser refused the line.
     Line(TraceError, &'a str),
@@ -132,7 +133,9 @@ pub enum Bad<'a> {
     /// An error of the BLF file's structure: the rest is not read.
     Structure(BlfError),
     /// A zlib container that does not inflate: the rest is not read.
-    Inflate(flate2::DecompressError),
+    /// A zlib container that does not inflate (the inflater's message):
+    /// the rest is not read.
+    Inflate(String),
     /// The BLF file ends inside an object or container.
     End(BlfError),
 }
@@ -154,15 +157,28 @@ impl fmt::Display for Bad<'_> {
 #[derive(Clone, Debug)]
 pub enum Item<'a> {
     /// A classic CAN frame (BLF frames have no channel name).
-    Frame { at: At, frame: TraceFrame<'a> },
+    Frame {
+        /// Where it is.
+        at: At,
+        /// The frame.
+        frame: TraceFrame<'a>,
+    },
     /// A CAN FD frame, an error frame or another event, not decoded.
     Unsupported {
+        /// Where it is.
         at: At,
+        /// What it is.
         what: Unsupported,
+        /// The line, or the object's type.
         detail: Detail<'a>,
     },
     /// What cannot be read (`at: why` is the message for it).
-    Bad { at: At, why: Bad<'a> },
+    Bad {
+        /// Where it is.
+        at: At,
+        /// Why it cannot be read.
+        why: Bad<'a>,
+    },
 }
 
 /// What the file was read as.
@@ -171,12 +187,19 @@ pub enum Kind {
     /// A line format: the lines read and the format (given or detected;
     /// `None` when no line told).
     Lines {
+        /// Lines read.
         lines: usize,
+        /// The format given or detected.
         format: Option<Format>,
     },
     /// Vector BLF: the objects read (containers not counted) and those
     /// skipped (neither frames nor events of the bus).
-    Blf { objects: u64, skipped: u64 },
+    Blf {
+        /// Objects read.
+        objects: u64,
+        /// Objects skipped.
+        skipped: u64,
+    },
 }
 
 /// `read as candump`, `read as blf`, `no format detected`.
@@ -196,17 +219,26 @@ impl fmt::Display for Kind {
 /// What a whole file held, counted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Totals {
+    /// What the file was read as.
     pub kind: Kind,
+    /// Frames read ([`Item::Frame`]).
     pub frames: usize,
+    /// Items read but not decoded ([`Item::Unsupported`]).
     pub unsupported: usize,
     /// Lines or objects that could not be read ([`Item::Bad`]).
     pub bad: usize,
 }
 
 /// Reads every item of `input` as `how` says and hands each to `each` in
-/// file order; an error of `each` ends the read and is returned. Errors
-/// of the input are returned; bad lines and objects are items.
-pub fn read<F>(mut input: impl Read, how: How, mut each: F) -> io::Result<Totals>
+/// file order, BLF zlib containers inflated by `zlib`; an error of `each`
+/// ends the read and is returned. Errors of the input are returned; bad
+/// lines and objects are items.
+pub fn read<F>(
+    mut input: impl Read,
+    how: How,
+    zlib: &mut dyn Inflate,
+    mut each: F,
+) -> io::Result<Totals>
 where
     F: FnMut(Item<'_>) -> io::Result<()>,
 {
@@ -232,7 +264,7 @@ where
     };
     let input = head.chain(input);
     let kind = if how.blf || (how.format.is_none() && BlfReader::detect(head)) {
-        blf::read(input, &mut counted)?
+        blf::read(input, zlib, &mut counted)?
     } else {
         read_lines(input, how, &mut counted)?
     };
@@ -317,22 +349,24 @@ fn read_lines<F: FnMut(Item<'_>) -> io::Result<()>>(
 }
 
 /// A frame of a file, owned.
-// The replay's way (the decoder reads items).
-#[allow(dead_code)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Timed {
+    /// Where it is.
     pub at: At,
+    /// Its time, when the trace has one.
     pub timestamp: Option<Timestamp>,
+    /// Rx or Tx, when the trace says.
     pub direction: Option<RxTx>,
+    /// The frame.
     pub frame: CanFrame,
 }
 
 /// Every frame of a file, with what could not be read.
-// The replay's way (the decoder reads items).
-#[allow(dead_code)]
 #[derive(Clone, Debug)]
 pub struct Frames {
+    /// The frames, in file order.
     pub frames: Vec<Timed>,
+    /// What the file held, counted.
     pub totals: Totals,
     /// The first line or object that could not be read, as a message
     /// (`line 3: bad identifier: ...`).
@@ -343,13 +377,11 @@ pub struct Frames {
 }
 
 /// Reads every frame of `input` as `how` says (see [`read`]).
-// The replay's way (the decoder reads items).
-#[allow(dead_code)]
-pub fn frames(input: impl Read, how: How) -> io::Result<Frames> {
+pub fn frames(input: impl Read, how: How, zlib: &mut dyn Inflate) -> io::Result<Frames> {
     let mut frames = Vec::new();
     let mut first_bad = None;
     let mut first_unsupported = None;
-    let totals = read(input, how, |item| {
+    let totals = read(input, how, zlib, |item| {
         match item {
             Item::Frame { at, frame } => frames.push(Timed {
                 at,
@@ -380,7 +412,7 @@ mod tests {
     use super::*;
 
     fn count(input: &[u8], how: How) -> (Vec<Timed>, Totals) {
-        let f = frames(input, how).unwrap();
+        let f = frames(input, how, &mut NoInflate).unwrap();
         (f.frames, f.totals)
     }
 
@@ -426,14 +458,19 @@ mod tests {
         };
         assert_eq!(t(How::default()), [100_000, 200_000]);
         assert_eq!(
-            t(How::of(Some(FormatArg::CandumpScreenDelta))),
+            t(How::format(Some(Format::CandumpScreen)).with_delta_times()),
             [100_000, 300_000]
         );
     }
 
     #[test]
     fn bad_lines_are_items_with_their_place_and_reason() {
-        let f = frames(&b"(1.0) can0 18A#01\nnonsense\n\xFF\n"[..], How::default()).unwrap();
+        let f = frames(
+            &b"(1.0) can0 18A#01\nnonsense\n\xFF\n"[..],
+            How::default(),
+            &mut NoInflate,
+        )
+        .unwrap();
         assert_eq!(f.frames.len(), 1);
         assert_eq!(f.totals.bad, 2);
         assert_eq!(
@@ -448,9 +485,9 @@ mod tests {
         file.extend([0u8; 140]);
         let (_, totals) = count(&file, How::default());
         assert!(matches!(totals.kind, Kind::Blf { .. }), "{totals:?}");
-        let (_, totals) = count(&file, How::of(Some(FormatArg::Candump)));
+        let (_, totals) = count(&file, How::format(Some(Format::CandumpLog)));
         assert!(matches!(totals.kind, Kind::Lines { .. }), "{totals:?}");
-        let (_, totals) = count(b"", How::of(Some(FormatArg::Blf)));
+        let (_, totals) = count(b"", How::blf());
         assert!(matches!(totals.kind, Kind::Blf { .. }), "{totals:?}");
     }
 }

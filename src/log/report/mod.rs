@@ -16,13 +16,14 @@ mod page;
 pub mod series;
 
 use std::collections::BTreeMap;
+use std::prelude::rust_2021::*;
 
-use canopen_codec::nmt::NmtTarget;
-use canopen_codec::pdo::{FieldValue, NamedFields};
-use canopen_codec::{Message, NodeId, Timestamp};
+use crate::nmt::NmtTarget;
+use crate::pdo::{FieldValue, NamedFields};
+use crate::{Message, NodeId, Timestamp};
 
-use crate::sdo::{End, Report as Transfer};
-use crate::Roles;
+use crate::log::sdo::{End, Report as Transfer};
+use crate::log::Roles;
 use series::Series;
 
 /// Marks drawn per timeline row (more are counted, not drawn).
@@ -33,13 +34,21 @@ pub const MAX_STATES: usize = 5000;
 /// What a mark on a node's timeline is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum MarkKind {
+    /// A boot-up.
     BootUp,
+    /// An EMCY.
     Emcy,
+    /// An EMCY error reset (no error).
     EmcyReset,
+    /// A completed SDO transfer.
     Sdo,
+    /// An aborted SDO transfer.
     SdoAbort,
+    /// An SDO transfer broken off.
     SdoIncomplete,
+    /// A node-guarding request.
     GuardRequest,
+    /// An NMT command.
     Nmt,
 }
 
@@ -171,7 +180,10 @@ impl Collector {
                     (MarkKind::EmcyReset, "EMCY error reset".to_string())
                 } else {
                     let charger = roles.is_deltaq_charger(*node);
-                    (MarkKind::Emcy, crate::summary::emcy_text(emcy, charger))
+                    (
+                        MarkKind::Emcy,
+                        crate::log::summary::emcy_text(emcy, charger),
+                    )
                 };
                 self.row(*node).mark(t, kind, text);
             }

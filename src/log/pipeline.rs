@@ -3,14 +3,15 @@
 //! the summary carried from line to line.
 
 use std::io::{self, Read, Write};
+use std::prelude::rust_2021::*;
 
-use canopen_codec::sdo::{SdoChannel, Side as SdoSide};
-use canopen_codec::trace::candump::LogLine;
-use canopen_codec::trace::Format;
-use canopen_codec::{CanId, NodeId};
+use crate::sdo::{SdoChannel, Side as SdoSide};
+use crate::trace::candump::LogLine;
+use crate::trace::Format;
+use crate::{CanId, NodeId};
 
-use crate::trace_input::{self, Item, Kind};
-use crate::{json, pdo_args, pdo_learn, report, sdo, words};
+use crate::log::input::{self, Item, Kind};
+use crate::log::{json, mappings, pdo_learn, report, sdo, words};
 
 /// A block transfer's sub-block segment (CiA 301 SDO block download and
 /// upload): byte 0 is a sequence number, not a command specifier.
@@ -20,9 +21,12 @@ pub struct BlockSegment {
     pub node: NodeId,
     /// The sender of the data.
     pub from: SdoSide,
+    /// The sequence number (1 to 127).
     pub seqno: u8,
+    /// The last segment of the transfer.
     pub last: bool,
-    pub data: canopen_codec::sdo::SegmentData,
+    /// The segment's data (7 bytes).
+    pub data: crate::sdo::SegmentData,
 }
 
 impl std::fmt::Display for BlockSegment {
@@ -55,13 +59,13 @@ pub fn is_default(channel: SdoChannel) -> bool {
 #[derive(Clone, Copy)]
 pub struct FrameLine<'a> {
     /// The line as read.
-    pub log: &'a canopen_codec::trace::candump::LogLine<'a>,
+    pub log: &'a crate::trace::candump::LogLine<'a>,
     /// What the frame decoded to.
-    pub decoded: &'a Result<canopen_codec::Message, canopen_codec::DecodeError>,
+    pub decoded: &'a Result<crate::Message, crate::DecodeError>,
     /// Which node is which.
     pub roles: &'a Roles,
     /// The PDO's named fields, with where their mapping came from.
-    pub fields: Option<&'a (crate::pdo_args::Source, canopen_codec::pdo::NamedFields)>,
+    pub fields: Option<&'a (crate::log::mappings::Source, crate::pdo::NamedFields)>,
     /// What the decoder knows besides the message.
     pub notes: &'a Notes,
 }
@@ -72,7 +76,7 @@ pub struct Notes {
     /// The frame answers a node-guarding request.
     pub guard_reply: bool,
     /// How the frame deviates from CiA 301 (read anyway).
-    pub deviation: Option<canopen_codec::message::lenient::Deviation>,
+    pub deviation: Option<crate::message::lenient::Deviation>,
     /// The frame is a block transfer's sub-block segment.
     pub block_segment: Option<BlockSegment>,
 }
@@ -87,16 +91,19 @@ pub struct Notes {
 /// otherwise it is a CiA 419 charger, named with the CiA 419 objects only.
 #[derive(Clone, Copy, Default)]
 pub struct Roles {
+    /// The charger (Delta-Q or CiA 419).
     pub charger: Option<NodeId>,
+    /// The CiA 418 battery module.
     pub battery: Option<NodeId>,
     /// The node known to be a Delta-Q device.
     pub deltaq: Option<NodeId>,
 }
 
 /// Delta-Q's vendor ID (1018h sub 1).
-const DELTAQ_VENDOR_ID: u32 = canopen_codec::deltaq::VENDOR_ID;
+const DELTAQ_VENDOR_ID: u32 = crate::deltaq::VENDOR_ID;
 
 impl Roles {
+    /// `charger`, `battery` or nothing, for `node`.
     pub fn role(&self, node: Option<NodeId>) -> Option<&'static str> {
         match node {
             Some(n) if Some(n) == self.charger => Some("charger"),
@@ -188,8 +195,13 @@ impl Roles {
     }
 }
 
+/// What a run does: the output form, what it prints, which node is which,
+/// the PDO mappings and SDO channels it knows, and the files it writes
+/// besides its output (each option of `canopen-decode` is one field:
+/// docs/DECODER.md). [`Options::default`] is the program with no option.
 #[derive(Clone)]
 pub struct Options {
+    /// `--json`: one JSON object per frame.
     pub json: bool,
     /// `--output csv`.
     pub csv: bool,
@@ -198,10 +210,15 @@ pub struct Options {
     /// `--summary-file PATH`: the summary goes there instead of stdout (or
     /// stderr, where a CSV stream is on stdout).
     pub summary_file: Option<String>,
+    /// The frames are printed (not with `--summary-only`).
     pub frames: bool,
+    /// `--check`: the caller exits 3 when a problem is open at the end.
     pub check: bool,
+    /// Which node is which, as given.
     pub roles: Roles,
-    pub pdos: pdo_args::Mappings,
+    /// The PDO mappings given, and whether the defaults apply.
+    pub pdos: mappings::Mappings,
+    /// The log's file name (the report's title).
     pub file: Option<String>,
     /// The logs after the first (each decoded on its own).
     pub more_files: Vec<String>,
@@ -211,6 +228,7 @@ pub struct Options {
     pub format: Option<Format>,
     /// `--format blf`: the input is Vector BLF (also detected by `LOGG`).
     pub blf: bool,
+    /// candump screen times are deltas (`-t d`).
     pub delta_times: bool,
     /// `--strict`: frames that deviate from CiA 301 are malformed.
     pub strict: bool,
@@ -226,6 +244,46 @@ pub struct Options {
     pub dbc: Option<String>,
     /// `--report FILE.html`: the session as an HTML page.
     pub report: Option<String>,
+    /// Makes the inflater of a BLF file's zlib containers (`None`: none,
+    /// [`input::NoInflate`]).
+    pub inflater: Option<fn() -> Box<dyn input::Inflate>>,
+    /// Writes `--signals` to a `.parquet` path (`None`: such a path is an
+    /// error at the end of the run). The program passes its Parquet writer.
+    pub parquet: Option<crate::log::signals::ParquetWriter>,
+}
+
+impl Default for Options {
+    /// The program with no option: words, every frame, the default PDOs.
+    fn default() -> Self {
+        Options {
+            json: false,
+            csv: false,
+            summary: false,
+            summary_file: None,
+            frames: true,
+            check: false,
+            roles: Roles::default(),
+            pdos: mappings::Mappings {
+                given: Vec::new(),
+                defaults: true,
+            },
+            file: None,
+            more_files: Vec::new(),
+            bundled: None,
+            format: None,
+            blf: false,
+            delta_times: false,
+            strict: false,
+            sdo_channels: Vec::new(),
+            eds: Vec::new(),
+            no_cache: false,
+            signals: None,
+            dbc: None,
+            report: None,
+            inflater: None,
+            parquet: None,
+        }
+    }
 }
 
 /// How the decoding of one log ended.
@@ -267,13 +325,17 @@ pub fn run(
     diag: &mut impl Write,
     opts: &Options,
 ) -> io::Result<Outcome> {
-    let mut run = crate::decoding::Decoding::new(opts, diag)?;
-    let how = trace_input::How {
+    let mut run = crate::log::decoding::Decoding::new(opts, diag)?;
+    let how = input::How {
         format: opts.format,
         blf: opts.blf,
         delta_times: opts.delta_times,
     };
-    let totals = trace_input::read(input, how, |item| match item {
+    let mut zlib = opts.inflater.map_or_else(
+        || Box::new(input::NoInflate) as Box<dyn input::Inflate>,
+        |make| make(),
+    );
+    let totals = input::read(input, how, zlib.as_mut(), |item| match item {
         Item::Frame { at, frame } => {
             let line = LogLine {
                 timestamp: frame.timestamp,
@@ -341,8 +403,8 @@ pub fn load_eds(
     learned: &mut pdo_learn::Learned,
     diag: &mut impl Write,
 ) -> io::Result<()> {
-    use canopen_codec::eds::{eval_int, parse_bytes};
-    use canopen_codec::pdo::PdoDirection;
+    use crate::eds::{eval_int, parse_bytes};
+    use crate::pdo::PdoDirection;
     let invalid = |e: String| io::Error::new(io::ErrorKind::InvalidInput, e);
     let bytes = std::fs::read(path).map_err(|e| invalid(format!("--eds {path}: {e}")))?;
     let eds = parse_bytes(&bytes).map_err(|e| invalid(format!("--eds {path}: {e}")))?;
@@ -369,11 +431,11 @@ pub fn load_eds(
         }
     }
     let profile = if roles.is_battery(node) {
-        Some(canopen_codec::cia418::BATTERY_MODULE_CATALOGUE)
+        Some(crate::cia418::BATTERY_MODULE_CATALOGUE)
     } else if roles.is_deltaq_charger(node) {
-        Some(canopen_codec::deltaq::CHARGER_CATALOGUE)
+        Some(crate::deltaq::CHARGER_CATALOGUE)
     } else if roles.is_charger(node) {
-        Some(canopen_codec::cia419::CHARGER_CATALOGUE)
+        Some(crate::cia419::CHARGER_CATALOGUE)
     } else {
         None
     };
@@ -455,7 +517,7 @@ pub fn transfer(
     report: &sdo::Report,
     json: bool,
     roles: &Roles,
-    eds: Option<canopen_codec::pdo::Catalogue>,
+    eds: Option<crate::pdo::Catalogue>,
     pdo_note: Option<&str>,
 ) {
     let mut text = String::new();

@@ -17,14 +17,15 @@
 
 use std::collections::BTreeMap;
 use std::fmt::Write;
+use std::prelude::rust_2021::*;
 
-use canopen_codec::deltaq::DeltaQCode;
-use canopen_codec::lss::{Fastscan, LssMessage, LssRequest, LssResponse};
-use canopen_codec::nmt::{NmtCommandSpecifier, NmtState, NmtTarget};
-use canopen_codec::{Message, NodeId, Timestamp};
+use crate::deltaq::DeltaQCode;
+use crate::lss::{Fastscan, LssMessage, LssRequest, LssResponse};
+use crate::nmt::{NmtCommandSpecifier, NmtState, NmtTarget};
+use crate::{Message, NodeId, Timestamp};
 
-use crate::sdo::{End, Report};
-use crate::Roles;
+use crate::log::sdo::{End, Report};
+use crate::log::Roles;
 
 /// Heartbeat gaps kept per node for the period (the median of them).
 pub const PERIOD_SAMPLES: usize = 64;
@@ -249,89 +250,121 @@ impl Summary {
         format!("+{}.{:03} s", us / 1_000_000, us % 1_000_000 / 1000)
     }
 
-    /// The summary as one JSON object (`"kind":"summary"`, written by
-    /// serde_json from the [`json`] shapes); true when a problem is still
+    /// The summary as one JSON object (`"kind":"summary"`, its keys in
+    /// the order serde_json once wrote them); true when a problem is still
     /// open.
     pub fn json(&mut self, out: &mut String, roles: &Roles) -> bool {
+        use crate::log::json::{opt_text, text};
         let open = self.finish();
-        let nodes = self
-            .nodes
-            .iter()
-            .map(|(id, n)| json::Node {
-                node: *id,
-                role: roles.role(NodeId::new(*id)),
-                heartbeats: n.heartbeats,
-                period_ms: period(&n.gaps).map(|p| p / 1000),
-                largest_gap_ms: n.largest_gap / 1000,
-                states: n
-                    .transitions
-                    .iter()
-                    .map(|(t, st)| json::State {
-                        t: json::Secs(*t),
-                        state: st.to_string(),
-                    })
-                    .collect(),
-                boot_ups: n
-                    .boot_ups
-                    .iter()
-                    .map(|(t, after)| json::BootUp {
-                        t: json::Secs(*t),
-                        after: *after,
-                    })
-                    .collect(),
-                silences: n
-                    .silences
-                    .iter()
-                    .map(|(from, to)| json::Silence {
-                        from: json::Secs(*from),
-                        to: to.map(json::Secs),
-                    })
-                    .collect(),
-                emcys: n
-                    .emcys
-                    .iter()
-                    .map(|(t, text, cleared)| json::Emcy {
-                        t: json::Secs(*t),
-                        text,
-                        cleared: *cleared,
-                    })
-                    .collect(),
-                sdo_transfers: n.sdo_transfers,
-                sdo_aborts: &n.sdo_aborts,
-                guard_requests: n.guard_requests,
-                guard_replies: n.guard_replies,
-            })
-            .collect();
-        let pdos = self
-            .pdos
-            .iter()
-            .map(|(id, (frames, first, last))| json::Pdo {
-                cob_id: *id,
-                frames: *frames,
-                first: json::Secs(*first),
-                last: json::Secs(*last),
-            })
-            .collect();
-        let summary = json::Summary {
-            kind: "summary",
-            nodes,
-            pdos,
-            lss: json::Lss {
-                frames: self.lss.frames,
-                fastscans: self.lss.fastscans,
-                node_ids_configured: &self.lss.configured,
-            },
-            open_problems: open,
+        let secs = |out: &mut String, t: Timestamp| {
+            let _ = write!(out, "{t}");
         };
-        match serde_json::to_string(&summary) {
-            Ok(text) => out.push_str(&text),
-            // Only a time that is no JSON number could fail, and none is.
-            Err(e) => {
-                let _ = write!(out, "{{\"kind\":\"summary\",\"error\":");
-                crate::json::display(out, &e);
+        // `[..]` of `n` items, `each` writing the `i`th.
+        fn list(out: &mut String, n: usize, each: &mut dyn FnMut(&mut String, usize)) {
+            out.push('[');
+            for i in 0..n {
+                if i > 0 {
+                    out.push(',');
+                }
+                each(out, i);
+            }
+            out.push(']');
+        }
+        out.push_str("{\"kind\":\"summary\",\"nodes\":");
+        let nodes: Vec<(&u8, &Node)> = self.nodes.iter().collect();
+        list(out, nodes.len(), &mut |out, i| {
+            let Some((id, n)) = nodes.get(i) else { return };
+            let _ = write!(out, "{{\"node\":{id},\"role\":");
+            opt_text(out, roles.role(NodeId::new(**id)));
+            let _ = write!(out, ",\"heartbeats\":{},\"period_ms\":", n.heartbeats);
+            match period(&n.gaps) {
+                Some(p) => {
+                    let _ = write!(out, "{}", p / 1000);
+                }
+                None => out.push_str("null"),
+            }
+            let _ = write!(out, ",\"largest_gap_ms\":{}", n.largest_gap / 1000);
+            out.push_str(",\"states\":");
+            list(out, n.transitions.len(), &mut |out, i| {
+                if let Some((t, st)) = n.transitions.get(i) {
+                    out.push_str("{\"t\":");
+                    secs(out, *t);
+                    out.push_str(",\"state\":");
+                    text(out, &st.to_string());
+                    out.push('}');
+                }
+            });
+            out.push_str(",\"boot_ups\":");
+            list(out, n.boot_ups.len(), &mut |out, i| {
+                if let Some((t, after)) = n.boot_ups.get(i) {
+                    out.push_str("{\"t\":");
+                    secs(out, *t);
+                    out.push_str(",\"after\":");
+                    opt_text(out, *after);
+                    out.push('}');
+                }
+            });
+            out.push_str(",\"silences\":");
+            list(out, n.silences.len(), &mut |out, i| {
+                if let Some((from, to)) = n.silences.get(i) {
+                    out.push_str("{\"from\":");
+                    secs(out, *from);
+                    out.push_str(",\"to\":");
+                    match to {
+                        Some(t) => secs(out, *t),
+                        None => out.push_str("null"),
+                    }
+                    out.push('}');
+                }
+            });
+            out.push_str(",\"emcys\":");
+            list(out, n.emcys.len(), &mut |out, i| {
+                if let Some((t, what, cleared)) = n.emcys.get(i) {
+                    out.push_str("{\"t\":");
+                    secs(out, *t);
+                    out.push_str(",\"text\":");
+                    text(out, what);
+                    let _ = write!(out, ",\"cleared\":{cleared}}}");
+                }
+            });
+            let _ = write!(
+                out,
+                ",\"sdo_transfers\":{},\"sdo_aborts\":",
+                n.sdo_transfers
+            );
+            list(out, n.sdo_aborts.len(), &mut |out, i| {
+                if let Some(a) = n.sdo_aborts.get(i) {
+                    text(out, a);
+                }
+            });
+            let _ = write!(
+                out,
+                ",\"guard_requests\":{},\"guard_replies\":{}}}",
+                n.guard_requests, n.guard_replies
+            );
+        });
+        out.push_str(",\"pdos\":");
+        let pdos: Vec<_> = self.pdos.iter().collect();
+        list(out, pdos.len(), &mut |out, i| {
+            if let Some((id, (frames, first, last))) = pdos.get(i) {
+                let _ = write!(out, "{{\"cob_id\":{id},\"frames\":{frames},\"first\":");
+                secs(out, *first);
+                out.push_str(",\"last\":");
+                secs(out, *last);
                 out.push('}');
             }
-        }
+        });
+        let _ = write!(
+            out,
+            ",\"lss\":{{\"frames\":{},\"fastscans\":{},\"node_ids_configured\":",
+            self.lss.frames, self.lss.fastscans
+        );
+        list(out, self.lss.configured.len(), &mut |out, i| {
+            if let Some(n) = self.lss.configured.get(i) {
+                let _ = write!(out, "{n}");
+            }
+        });
+        let _ = write!(out, "}},\"open_problems\":{open}}}");
         open
     }
 
@@ -455,7 +488,7 @@ impl Summary {
 
 /// An EMCY in words: its error code, and the Delta-Q code with its
 /// label on a Delta-Q charger.
-pub fn emcy_text(emcy: &canopen_codec::emcy::Emergency, deltaq_charger: bool) -> String {
+pub fn emcy_text(emcy: &crate::emcy::Emergency, deltaq_charger: bool) -> String {
     let mut text = emcy.code.to_string();
     if deltaq_charger {
         let code = DeltaQCode::from_emergency(emcy);
@@ -474,77 +507,4 @@ fn period(gaps: &[u64]) -> Option<u64> {
     let mut g = gaps.to_vec();
     g.sort_unstable();
     g.get(g.len() / 2).copied()
-}
-
-/// The JSON summary's shapes, in the order of their keys.
-mod json {
-    use serde::Serialize;
-
-    pub use crate::json::Secs;
-
-    #[derive(Serialize)]
-    pub struct Summary<'a> {
-        pub kind: &'static str,
-        pub nodes: Vec<Node<'a>>,
-        pub pdos: Vec<Pdo>,
-        pub lss: Lss<'a>,
-        pub open_problems: bool,
-    }
-
-    #[derive(Serialize)]
-    pub struct Node<'a> {
-        pub node: u8,
-        pub role: Option<&'static str>,
-        pub heartbeats: u64,
-        pub period_ms: Option<u64>,
-        pub largest_gap_ms: u64,
-        pub states: Vec<State>,
-        pub boot_ups: Vec<BootUp>,
-        pub silences: Vec<Silence>,
-        pub emcys: Vec<Emcy<'a>>,
-        pub sdo_transfers: u64,
-        pub sdo_aborts: &'a [String],
-        pub guard_requests: u64,
-        pub guard_replies: u64,
-    }
-
-    #[derive(Serialize)]
-    pub struct State {
-        pub t: Secs,
-        pub state: String,
-    }
-
-    #[derive(Serialize)]
-    pub struct BootUp {
-        pub t: Secs,
-        pub after: Option<&'static str>,
-    }
-
-    #[derive(Serialize)]
-    pub struct Silence {
-        pub from: Secs,
-        pub to: Option<Secs>,
-    }
-
-    #[derive(Serialize)]
-    pub struct Emcy<'a> {
-        pub t: Secs,
-        pub text: &'a str,
-        pub cleared: bool,
-    }
-
-    #[derive(Serialize)]
-    pub struct Pdo {
-        pub cob_id: u32,
-        pub frames: u64,
-        pub first: Secs,
-        pub last: Secs,
-    }
-
-    #[derive(Serialize)]
-    pub struct Lss<'a> {
-        pub frames: u64,
-        pub fastscans: u64,
-        pub node_ids_configured: &'a [u8],
-    }
 }

@@ -4,6 +4,8 @@
 //! way (1020h, 1F52h-1F54h). Proleptic Gregorian calendar, no leap seconds
 //! (CiA 301 counts whole days).
 
+use std::prelude::rust_2021::*;
+
 /// Days from 1970-01-01 to 1984-01-01, the CiA 301 epoch.
 const EPOCH_1984: i64 = 5113;
 
@@ -45,7 +47,7 @@ pub fn utc(days: u16, ms: u32) -> String {
 
 /// The UTC instant a TIME frame names (`2025-08-31T14:07:33.612Z`), or
 /// `None` when its milliseconds are not within a day.
-pub fn time_frame(t: &canopen_codec::time::TimeOfDay) -> Option<String> {
+pub fn time_frame(t: &crate::time::TimeOfDay) -> Option<String> {
     (t.millis < 86_400_000).then(|| utc(t.days, t.millis))
 }
 

@@ -1,16 +1,17 @@
 //! One line of words per frame.
 
 use std::fmt::Write;
+use std::prelude::rust_2021::*;
 
-use canopen_codec::cob_id::classify;
-use canopen_codec::deltaq::DeltaQCode;
-use canopen_codec::pdo::{Catalogue, FieldValue, NamedFields};
-use canopen_codec::{Message, NodeId};
+use crate::cob_id::classify;
+use crate::deltaq::DeltaQCode;
+use crate::pdo::{Catalogue, FieldValue, NamedFields};
+use crate::{Message, NodeId};
 
-use crate::pdo_args::Source;
-use crate::sdo::{End, Report, Side};
-use crate::sdo_value::{describe, quote, Described, Role};
-use crate::Roles;
+use crate::log::mappings::Source;
+use crate::log::sdo::{End, Report, Side};
+use crate::log::sdo_value::{describe, quote, Described, Role};
+use crate::log::Roles;
 
 /// A message in words; a frame on 700h + node that answers a node-guarding
 /// remote request is a guarding reply whatever its toggle bit (CiA 301:
@@ -40,8 +41,8 @@ impl std::fmt::Display for Text<'_> {
 /// `1756955653.612992  08A  charger  EMCY node 10: 8130h ..., Delta-Q E-0-3-2 heartbeat lost`.
 pub fn time(
     out: &mut String,
-    column: &mut crate::time_column::TimeColumn,
-    timestamp: Option<canopen_codec::Timestamp>,
+    column: &mut crate::log::time_column::TimeColumn,
+    timestamp: Option<crate::Timestamp>,
 ) {
     match timestamp {
         Some(t) => column.write(out, t),
@@ -51,8 +52,8 @@ pub fn time(
 
 /// Everything after the time column: identifier, role and message (the
 /// same for the same frame while roles and mappings stay).
-pub fn rest(out: &mut String, line: &crate::FrameLine<'_>) {
-    let crate::FrameLine {
+pub fn rest(out: &mut String, line: &crate::log::FrameLine<'_>) {
+    let crate::log::FrameLine {
         log: l,
         decoded: _m,
         roles,
@@ -61,8 +62,8 @@ pub fn rest(out: &mut String, line: &crate::FrameLine<'_>) {
     } = *line;
     let id = l.frame.id();
     let (raw, width) = match id {
-        canopen_codec::CanId::Standard(r) => (u32::from(r), 3),
-        canopen_codec::CanId::Extended(r) => (r, 8),
+        crate::CanId::Standard(r) => (u32::from(r), 3),
+        crate::CanId::Extended(r) => (r, 8),
     };
     let mut hex = [b' '; 8];
     for (k, slot) in hex.iter_mut().rev().take(width).enumerate() {
@@ -82,8 +83,8 @@ pub fn rest(out: &mut String, line: &crate::FrameLine<'_>) {
 
 /// The message part of a line (after the time, identifier and role
 /// columns): what the CSV output's `text` column holds too.
-pub fn message(out: &mut String, line: &crate::FrameLine<'_>) {
-    let crate::FrameLine {
+pub fn message(out: &mut String, line: &crate::log::FrameLine<'_>) {
+    let crate::log::FrameLine {
         log: l,
         decoded: m,
         roles,
@@ -99,7 +100,7 @@ pub fn message(out: &mut String, line: &crate::FrameLine<'_>) {
         Ok(msg) => {
             let _ = write!(out, "{}", Text { msg, guard_reply });
             if let Message::Time(t) = msg {
-                match crate::calendar::time_frame(t) {
+                match crate::log::calendar::time_frame(t) {
                     Some(utc) => {
                         let _ = write!(out, " = {utc}");
                     }

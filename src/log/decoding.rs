@@ -3,14 +3,15 @@
 //! mappings learned, the summary and the output not written yet.
 
 use std::io::{self, Write};
+use std::prelude::rust_2021::*;
 
-use canopen_codec::sdo::Observed;
-use canopen_codec::trace::candump::LogLine;
-use canopen_codec::trace::{RxTx, Unsupported};
-use canopen_codec::{CanId, Message};
+use crate::sdo::Observed;
+use crate::trace::candump::LogLine;
+use crate::trace::{RxTx, Unsupported};
+use crate::{CanId, Message};
 
-use crate::{
-    csv, dbc, is_default, json, line_cache, load_eds, page_transfer, pdo_args, pdo_learn, report,
+use crate::log::{
+    csv, dbc, is_default, json, line_cache, load_eds, mappings, page_transfer, pdo_learn, report,
     sdo, signals, summary, time_column, transfer, words, BlockSegment, FrameLine, Notes, Options,
     Roles,
 };
@@ -420,7 +421,7 @@ impl<'o> Decoding<'o> {
         out.write_all(text.as_bytes())?;
         out.flush()?;
         if let Some(s) = signals {
-            let (rows, columns) = s.finish()?;
+            let (rows, columns) = s.finish(opts.parquet)?;
             let _ = writeln!(
                 diag,
                 "canopen-decode: --signals: {rows} row(s), {columns} signal(s)"
@@ -428,8 +429,8 @@ impl<'o> Decoding<'o> {
         }
         if let (Some(mut d), Some(path)) = (dbc, &opts.dbc) {
             for (id, mapping) in &opts.pdos.given {
-                let catalogue = pdo_args::catalogue_of(
-                    canopen_codec::cob_id::classify_standard(*id).node(),
+                let catalogue = mappings::catalogue_of(
+                    crate::cob_id::classify_standard(*id).node(),
                     &roles,
                     &learned,
                 );

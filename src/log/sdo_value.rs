@@ -4,10 +4,11 @@
 //! battery node, the CiA 419 objects on a charger, Delta-Q's then CiA 418's
 //! on a Delta-Q charger; a node without a role gets no profile names.
 
-use canopen_codec::cia418::BATTERY_MODULE_CATALOGUE;
-use canopen_codec::cia419::CHARGER_CATALOGUE as CIA419_CATALOGUE;
-use canopen_codec::deltaq::CHARGER_CATALOGUE as DELTAQ_CATALOGUE;
-use canopen_codec::pdo::{Catalogue, FieldValue, MappingEntry};
+use crate::cia418::BATTERY_MODULE_CATALOGUE;
+use crate::cia419::CHARGER_CATALOGUE as CIA419_CATALOGUE;
+use crate::deltaq::CHARGER_CATALOGUE as DELTAQ_CATALOGUE;
+use crate::pdo::{Catalogue, FieldValue, MappingEntry};
+use std::prelude::rust_2021::*;
 
 /// The objects of a node with no role: CiA 301 names nothing past 1FFFh.
 pub const NO_CATALOGUE: Catalogue = Catalogue::new("a device without a known profile", &[]);
@@ -26,8 +27,11 @@ pub enum Value {
 /// The name and meaning of one transferred value.
 #[derive(Clone, Debug)]
 pub struct Described {
+    /// The object's name, where it is known.
     pub name: Option<String>,
+    /// The value.
     pub value: Value,
+    /// The unit's symbol.
     pub unit: Option<&'static str>,
     /// Words, e.g. `4000 ms`, `charger enabled`.
     pub meaning: Option<String>,
@@ -36,6 +40,7 @@ pub struct Described {
 }
 
 impl Described {
+    /// Named `name`, with no value.
     pub fn named(name: impl Into<String>) -> Self {
         Described {
             name: Some(name.into()),
@@ -60,7 +65,9 @@ pub enum Role {
     DeltaQCharger,
     /// A CiA 419 charger (no Delta-Q evidence).
     Charger,
+    /// The CiA 418 battery module.
     Battery,
+    /// No role known.
     Other,
 }
 
@@ -130,12 +137,12 @@ pub fn describe(
         Role::Battery => BATTERY_MODULE_CATALOGUE,
         Role::Other => NO_CATALOGUE,
     });
-    let ctx = crate::comm_objects::Context {
+    let ctx = crate::log::comm_objects::Context {
         role,
         deltaq_on_bus,
         catalogue,
     };
-    crate::comm_objects::describe(index, sub, bytes, ctx, exact)
+    crate::log::comm_objects::describe(index, sub, bytes, ctx, exact)
         .unwrap_or_else(|| profile(index, sub, bytes, catalogue, exact))
 }
 

@@ -4,8 +4,9 @@
 //! from the previous line and only the six digits of microseconds are new.
 
 use std::fmt::Write;
+use std::prelude::rust_2021::*;
 
-use canopen_codec::Timestamp;
+use crate::Timestamp;
 
 /// `"000102...9899"`: the two digits of every number below 100.
 const PAIRS: &str = {
@@ -21,7 +22,7 @@ const PAIRS: &str = {
     };
     match std::str::from_utf8(&BYTES) {
         Ok(s) => s,
-        Err(_) => panic!("digits are ASCII"),
+        Err(_) => core::panic!("digits are ASCII"),
     }
 };
 

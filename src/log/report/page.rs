@@ -2,18 +2,19 @@
 //! HTML, drawn by the page's own script (`page.js`) and styled by
 //! `page.css`, both inline, so the file opens anywhere with no network.
 
-use serde::Serialize;
+use std::fmt::Write as _;
+use std::prelude::rust_2021::*;
 
-use canopen_codec::{NodeId, Timestamp};
+use crate::log::json::{float, opt_text, text};
+use crate::{NodeId, Timestamp};
 
 use super::{Collector, MarkKind};
-use crate::Roles;
+use crate::log::Roles;
 
 const SCRIPT: &str = include_str!("page.js");
 const STYLE: &str = include_str!("page.css");
 
 /// The page's data, in the shapes `page.js` reads.
-#[derive(Serialize)]
 struct Data<'a> {
     title: &'a str,
     /// The log's first time, as the log gives it (seconds).
@@ -26,7 +27,6 @@ struct Data<'a> {
     marks: usize,
 }
 
-#[derive(Serialize)]
 struct Row<'a> {
     node: u8,
     label: String,
@@ -41,7 +41,6 @@ struct Row<'a> {
     not_drawn: Vec<(&'static str, u64)>,
 }
 
-#[derive(Serialize)]
 struct Series<'a> {
     label: String,
     cob_id: u32,
@@ -152,11 +151,10 @@ pub fn write(
         series,
         marks,
     };
-    // serde_json writes no "</": nothing in the data can end the script
-    // element early, but a text may hold "</script>", so "</" is escaped.
-    let json = serde_json::to_string(&data)
-        .unwrap_or_else(|e| format!("{{\"error\":{:?}}}", e.to_string()))
-        .replace("</", "<\\/");
+    // The JSON has no "</" of its own: nothing in the data can end the
+    // script element early, but a text may hold "</script>", so "</" is
+    // escaped.
+    let json = data.json().replace("</", "<\\/");
     let mut html = String::with_capacity(json.len() + SCRIPT.len() + summary.len() + 4096);
     html.push_str("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n");
     html.push_str("<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n");
@@ -191,6 +189,114 @@ pub fn write(
     html.push_str(SCRIPT);
     html.push_str("</script>\n</body>\n</html>\n");
     html
+}
+
+impl Data<'_> {
+    /// The data as one JSON object, keys in declaration order (as
+    /// serde_json wrote them before: `tests/log_json.rs` compares).
+    fn json(&self) -> String {
+        let mut out = String::with_capacity(4096);
+        out.push_str("{\"title\":");
+        text(&mut out, self.title);
+        out.push_str(",\"start\":");
+        text(&mut out, &self.start);
+        out.push_str(",\"span\":");
+        float(&mut out, self.span);
+        out.push_str(",\"rows\":[");
+        for (i, r) in self.rows.iter().enumerate() {
+            if i > 0 {
+                out.push(',');
+            }
+            r.json(&mut out);
+        }
+        out.push_str("],\"series\":[");
+        for (i, s) in self.series.iter().enumerate() {
+            if i > 0 {
+                out.push(',');
+            }
+            s.json(&mut out);
+        }
+        let _ = write!(out, "],\"marks\":{}}}", self.marks);
+        out
+    }
+}
+
+impl Row<'_> {
+    fn json(&self, out: &mut String) {
+        let _ = write!(out, "{{\"node\":{},\"label\":", self.node);
+        text(out, &self.label);
+        out.push_str(",\"states\":[");
+        for (i, (t, s)) in self.states.iter().enumerate() {
+            out.push_str(if i > 0 { ",[" } else { "[" });
+            float(out, *t);
+            out.push(',');
+            text(out, s);
+            out.push(']');
+        }
+        let _ = write!(
+            out,
+            "],\"states_not_drawn\":{},\"marks\":[",
+            self.states_not_drawn
+        );
+        for (i, (t, kind, what)) in self.marks.iter().enumerate() {
+            out.push_str(if i > 0 { ",[" } else { "[" });
+            float(out, *t);
+            out.push(',');
+            text(out, kind);
+            out.push(',');
+            text(out, what);
+            out.push(']');
+        }
+        out.push_str("],\"silences\":[");
+        for (i, (from, to)) in self.silences.iter().enumerate() {
+            out.push_str(if i > 0 { ",[" } else { "[" });
+            float(out, *from);
+            out.push(',');
+            match to {
+                Some(t) => float(out, *t),
+                None => out.push_str("null"),
+            }
+            out.push(']');
+        }
+        out.push_str("],\"not_drawn\":[");
+        for (i, (kind, n)) in self.not_drawn.iter().enumerate() {
+            out.push_str(if i > 0 { ",[" } else { "[" });
+            text(out, kind);
+            let _ = write!(out, ",{n}]");
+        }
+        out.push_str("]}");
+    }
+}
+
+impl Series<'_> {
+    fn json(&self, out: &mut String) {
+        out.push_str("{\"label\":");
+        text(out, &self.label);
+        let _ = write!(
+            out,
+            ",\"cob_id\":{},\"index\":{},\"sub\":{},\"name\":",
+            self.cob_id, self.index, self.sub
+        );
+        text(out, self.name);
+        out.push_str(",\"unit\":");
+        opt_text(out, self.unit);
+        let _ = write!(
+            out,
+            ",\"raw\":{},\"samples\":{},\"invalid\":{},\"exact\":{}",
+            self.raw, self.samples, self.invalid, self.exact
+        );
+        for (k, values) in [("t", &self.t), ("v", &self.v), ("gaps", &self.gaps)] {
+            let _ = write!(out, ",\"{k}\":[");
+            for (i, v) in values.iter().enumerate() {
+                if i > 0 {
+                    out.push(',');
+                }
+                float(out, *v);
+            }
+            out.push(']');
+        }
+        out.push('}');
+    }
 }
 
 /// Text into HTML.

@@ -11,7 +11,8 @@
 //! [`LineCache::clear`] is called whenever a role or a mapping changes. A
 //! test decodes the same log with and without the cache and compares.
 
-use canopen_codec::{CanFrame, CanId};
+use crate::{CanFrame, CanId};
+use std::prelude::rust_2021::*;
 
 /// Frames kept per identifier: a PDO's values often flicker between a few
 /// (on the real Delta-Q captures, one frame per identifier misses 8 593 of
@@ -26,7 +27,7 @@ struct Entry {
     text: String,
 }
 
-/// The last [`WAYS`] cacheable frames per standard identifier, most
+/// The last `WAYS` (4) cacheable frames per standard identifier, most
 /// recently used first (2048 identifiers; 29-bit identifiers are not
 /// cached).
 pub struct LineCache {

@@ -1,7 +1,7 @@
-//! Vector BLF input: the file read in blocks through the library's
-//! `trace::blf::BlfReader`, each zlib container inflated here (flate2) and
-//! handed back to it, every classic CAN frame an item like a text trace's
-//! line. Memory stays bounded: one input block and one inflate block,
+//! Vector BLF input: the file read in blocks through
+//! [`crate::trace::blf::BlfReader`], each zlib container inflated by the
+//! caller's [`Inflate`] and handed back to it, every classic CAN frame an
+//! item like a text trace's line. Memory stays bounded: one input block and one inflate block,
 //! whatever the file's sizes say (the reader refuses a container that
 //! inflates past its declared size as soon as it does).
 //!
@@ -12,9 +12,47 @@
 //! file's structure).
 
 use std::io::{self, Read};
+use std::prelude::rust_2021::*;
+use std::vec;
 
-use canopen_codec::trace::blf::{BlfError, BlfEvent, BlfReader, Compression};
-use flate2::{Decompress, FlushDecompress, Status};
+use crate::trace::blf::{BlfError, BlfEvent, BlfReader, Compression};
+
+/// A zlib (RFC 1950) inflater for the zlib containers of a BLF file. This
+/// crate has no zlib of its own: a caller that reads compressed BLF files
+/// passes one (the programs wrap flate2's `Decompress`, see
+/// `src/bin/canopen-decode/main.rs`); [`NoInflate`] reads the
+/// uncompressed objects and reports the first compressed container.
+pub trait Inflate {
+    /// Starts a new zlib stream (one per container).
+    fn reset(&mut self);
+    /// Inflates from `input` into `output`, as much as fits: what was used
+    /// and made, or the stream's error in words.
+    fn inflate(&mut self, input: &[u8], output: &mut [u8]) -> Result<Inflated, String>;
+}
+
+/// What one [`Inflate::inflate`] call did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Inflated {
+    /// Bytes of the input used.
+    pub used: usize,
+    /// Bytes written to the output.
+    pub made: usize,
+    /// The zlib stream ended.
+    pub end: bool,
+}
+
+/// No inflater: every zlib container is an [`Bad::Inflate`] item (and
+/// the rest of the file is not read).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoInflate;
+
+impl Inflate for NoInflate {
+    fn reset(&mut self) {}
+
+    fn inflate(&mut self, _: &[u8], _: &mut [u8]) -> Result<Inflated, String> {
+        Err("no zlib inflater given".to_string())
+    }
+}
 
 use super::{At, Bad, Counted, Detail, Item, Kind};
 
@@ -79,9 +117,9 @@ fn event<F: FnMut(Item<'_>) -> io::Result<()>>(
 }
 
 /// The reader and the inflater of one file.
-struct File {
+struct File<'z> {
     reader: BlfReader,
-    zlib: Decompress,
+    zlib: &'z mut dyn Inflate,
     buf: Vec<u8>,
     count: Count,
 }
@@ -90,7 +128,7 @@ struct File {
 /// false at a fatal error (of the reader or of zlib).
 fn inflate<F: FnMut(Item<'_>) -> io::Result<()>>(
     mut z: &[u8],
-    file: &mut File,
+    file: &mut File<'_>,
     each: &mut Counted<'_, F>,
 ) -> io::Result<bool> {
     let File {
@@ -100,8 +138,7 @@ fn inflate<F: FnMut(Item<'_>) -> io::Result<()>>(
         count,
     } = file;
     loop {
-        let (before_in, before_out) = (zlib.total_in(), zlib.total_out());
-        let status = match zlib.decompress(z, buf, FlushDecompress::None) {
+        let Inflated { used, made, end } = match zlib.inflate(z, buf) {
             Ok(s) => s,
             Err(e) => {
                 each.give(Item::Bad {
@@ -111,8 +148,7 @@ fn inflate<F: FnMut(Item<'_>) -> io::Result<()>>(
                 return Ok(false);
             }
         };
-        let used = usize::try_from(zlib.total_in() - before_in).unwrap_or(z.len());
-        let made = usize::try_from(zlib.total_out() - before_out).unwrap_or(0);
+        let made = made.min(buf.len());
         z = z.get(used..).unwrap_or(&[]);
         let mut inflated = buf.get(..made).unwrap_or(&[]);
         loop {
@@ -126,7 +162,7 @@ fn inflate<F: FnMut(Item<'_>) -> io::Result<()>>(
             }
         }
         let stuck = used == 0 && made == 0;
-        if status == Status::StreamEnd || stuck || (z.is_empty() && made < buf.len()) {
+        if end || stuck || (z.is_empty() && made < buf.len()) {
             return Ok(true);
         }
     }
@@ -135,11 +171,12 @@ fn inflate<F: FnMut(Item<'_>) -> io::Result<()>>(
 /// Reads the BLF file `input`, handing each item to `each`.
 pub(super) fn read<F: FnMut(Item<'_>) -> io::Result<()>>(
     mut input: impl Read,
+    zlib: &mut dyn Inflate,
     each: &mut Counted<'_, F>,
 ) -> io::Result<Kind> {
     let mut file = File {
         reader: BlfReader::new(),
-        zlib: Decompress::new(true),
+        zlib,
         buf: vec![0u8; INFLATE],
         count: Count::default(),
     };
@@ -159,7 +196,7 @@ pub(super) fn read<F: FnMut(Item<'_>) -> io::Result<()>>(
                 Ok(Some(BlfEvent::ContainerStart {
                     compression: Compression::Zlib,
                     ..
-                })) => file.zlib.reset(true),
+                })) => file.zlib.reset(),
                 Ok(Some(BlfEvent::Compressed(z))) => {
                     if !inflate(z, &mut file, each)? {
                         going = false;

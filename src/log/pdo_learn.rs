@@ -16,14 +16,15 @@
 //!   (PDOs 0..=3: TPDO 180h/280h/380h/480h + node, RPDO 200h.. + node).
 
 use std::collections::HashMap;
+use std::prelude::rust_2021::*;
 
-use canopen_codec::eds::{DataType, Eds};
-use canopen_codec::pdo::{
+use crate::eds::{DataType, Eds};
+use crate::pdo::{
     Catalogue, CatalogueEntry, Interpretation, MappingEntry, Marker, PdoMapping, MAX_ENTRIES,
 };
-use canopen_codec::NodeId;
+use crate::NodeId;
 
-use crate::sdo::{End, Report};
+use crate::log::sdo::{End, Report};
 
 /// One PDO of one node as the log shows it.
 #[derive(Default, Clone, Copy)]

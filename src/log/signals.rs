@@ -32,13 +32,14 @@ use std::fmt::Write as _;
 use std::fs::File;
 use std::io::{self, BufRead, BufReader, BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::prelude::rust_2021::*;
 
-use canopen_codec::pdo::{
+use crate::pdo::{
     Catalogue, FieldValue, Interpretation, MappingEntry, NamedField, NamedFields, Unit,
 };
-use canopen_codec::Timestamp;
+use crate::Timestamp;
 
-use crate::time_column::TimeColumn;
+use crate::log::time_column::TimeColumn;
 
 /// What a PDO field is as a signal, from the mapping entry and the
 /// catalogue entry of its object: the one description `--signals` and
@@ -248,7 +249,6 @@ impl Signals {
     }
 
     /// The columns, in order.
-    #[cfg(feature = "parquet")]
     pub fn columns(&self) -> &[Column] {
         &self.columns
     }
@@ -285,12 +285,15 @@ impl Signals {
         Ok(n)
     }
 
-    /// Writes the output file (CSV, or Parquet for a `.parquet` path):
-    /// returns the number of rows and of signals.
-    pub fn finish(self) -> io::Result<(usize, usize)> {
+    /// Writes the output file (CSV, or Parquet for a `.parquet` path,
+    /// written by `parquet`: this crate has no Parquet writer, the program
+    /// has one): returns the number of rows and of signals.
+    pub fn finish(self, parquet: Option<ParquetWriter>) -> io::Result<(usize, usize)> {
         if is_parquet(&self.path) {
-            #[cfg(feature = "parquet")]
-            return crate::signals_parquet::write(self);
+            return match parquet {
+                Some(write) => write(self),
+                None => Err(at_path(&self.path, "no Parquet writer given")),
+            };
         }
         self.finish_csv()
     }
@@ -300,7 +303,7 @@ impl Signals {
         let mut header = String::from("time,cob_id");
         for h in self.headers() {
             header.push(',');
-            crate::csv::field(&mut header, &h);
+            crate::log::csv::field(&mut header, &h);
         }
         header.push('\n');
         let path = self.path.clone();
@@ -314,7 +317,7 @@ impl Signals {
                 if i > 0 {
                     line.push(',');
                 }
-                crate::csv::field(&mut line, c);
+                crate::log::csv::field(&mut line, c);
             }
             line.push('\n');
             out.write_all(line.as_bytes()).map_err(|e| at(&path, e))
@@ -324,7 +327,6 @@ impl Signals {
     }
 
     /// The output's path.
-    #[cfg(feature = "parquet")]
     pub fn path(&self) -> &Path {
         &self.path
     }
@@ -344,18 +346,11 @@ pub fn is_parquet(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("parquet"))
 }
 
-/// `--signals PATH`: an error for a Parquet path in a decoder built without
-/// the `parquet` feature (before the log is read).
-pub fn check_path(path: &str) -> Result<(), String> {
-    if is_parquet(Path::new(path)) && !cfg!(feature = "parquet") {
-        return Err(format!(
-            "--signals {path}: Parquet needs the decoder built with the `parquet` feature"
-        ));
-    }
-    Ok(())
-}
+/// Writes [`Signals`] as Parquet (the rows through [`Signals::rows`]):
+/// returns the number of rows and of signals.
+pub type ParquetWriter = fn(Signals) -> io::Result<(usize, usize)>;
 
-#[cfg(feature = "parquet")]
+/// An error of the signals file `path`: `--signals PATH: why`.
 pub fn at_path(path: &Path, e: impl std::fmt::Display) -> io::Error {
     io::Error::other(format!("--signals {}: {e}", path.display()))
 }

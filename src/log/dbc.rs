@@ -20,12 +20,13 @@
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
+use std::prelude::rust_2021::*;
 
-use canopen_codec::cob_id::{classify_standard, CobKind};
-use canopen_codec::pdo::{Catalogue, PdoMapping};
+use crate::cob_id::{classify_standard, CobKind};
+use crate::pdo::{Catalogue, PdoMapping};
 
-use crate::pdo_args::Source;
-use crate::signals::describe;
+use crate::log::mappings::Source;
+use crate::log::signals::describe;
 
 /// The mappings collected for the DBC.
 #[derive(Default)]

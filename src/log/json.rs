@@ -12,18 +12,19 @@
 //! [`transfer`]).
 
 use std::fmt::Write;
+use std::prelude::rust_2021::*;
 
-use canopen_codec::cob_id::{classify, CobKind};
-use canopen_codec::lss::{LssInquiry, LssMessage, LssRequest, LssResponse};
-use canopen_codec::pdo::{FieldValue, NamedFields};
-use canopen_codec::sdo::{ClientCommand, InitiatePayload, ServerCommand};
-use canopen_codec::Message;
+use crate::cob_id::{classify, CobKind};
+use crate::lss::{LssInquiry, LssMessage, LssRequest, LssResponse};
+use crate::pdo::{FieldValue, NamedFields};
+use crate::sdo::{ClientCommand, InitiatePayload, ServerCommand};
+use crate::Message;
 
-use crate::pdo_args::Source;
-use crate::sdo::{End, Report};
-use crate::sdo_value::Value;
-use crate::words::{deltaq, described, sentence};
-use crate::Roles;
+use crate::log::mappings::Source;
+use crate::log::sdo::{End, Report};
+use crate::log::sdo_value::Value;
+use crate::log::words::{deltaq, described, sentence};
+use crate::log::Roles;
 
 /// Writes JSON-escaped text into a `String`: the runs that need no escape
 /// are copied whole (the usual case: the whole string). The bytes that need
@@ -92,6 +93,7 @@ pub fn key(out: &mut String, k: &str) {
     out.push_str("\":");
 }
 
+/// The `kind` key of a frame: `nmt`, `sync`, `emcy`, `tpdo`, `sdo_rx`, `heartbeat`, ...
 pub fn kind_name(kind: CobKind) -> &'static str {
     match kind {
         CobKind::Nmt => "nmt",
@@ -110,8 +112,8 @@ pub fn kind_name(kind: CobKind) -> &'static str {
 /// `{"t":..`: the start of a frame's object.
 pub fn time(
     out: &mut String,
-    column: &mut crate::time_column::TimeColumn,
-    timestamp: Option<canopen_codec::Timestamp>,
+    column: &mut crate::log::time_column::TimeColumn,
+    timestamp: Option<crate::Timestamp>,
 ) {
     out.push_str("{\"t\":");
     match timestamp {
@@ -123,18 +125,18 @@ pub fn time(
 /// `,"rxtx":"rx"` or `"tx"` when the trace says which (ASC, `.trc`
 /// 1.1 and later, BLF, candump lines with python-can's `R` / `T` flag);
 /// nothing when it does not.
-pub fn rxtx(out: &mut String, direction: Option<canopen_codec::trace::RxTx>) {
+pub fn rxtx(out: &mut String, direction: Option<crate::trace::RxTx>) {
     match direction {
-        Some(canopen_codec::trace::RxTx::Rx) => out.push_str(",\"rxtx\":\"rx\""),
-        Some(canopen_codec::trace::RxTx::Tx) => out.push_str(",\"rxtx\":\"tx\""),
+        Some(crate::trace::RxTx::Rx) => out.push_str(",\"rxtx\":\"rx\""),
+        Some(crate::trace::RxTx::Tx) => out.push_str(",\"rxtx\":\"tx\""),
         None => {}
     }
 }
 
 /// The rest of a frame's object after `"t"` (the same for the same frame
 /// while roles and mappings stay).
-pub fn rest(out: &mut String, line: &crate::FrameLine<'_>) {
-    let crate::FrameLine {
+pub fn rest(out: &mut String, line: &crate::log::FrameLine<'_>) {
+    let crate::log::FrameLine {
         log: l,
         decoded: m,
         roles,
@@ -241,7 +243,7 @@ fn pdo_fields(out: &mut String, source: Source, fields: &NamedFields) {
 
 fn fields(out: &mut String, msg: &Message, roles: &Roles, guard_reply: bool) {
     key(out, "text");
-    display(out, &crate::words::Text { msg, guard_reply });
+    display(out, &crate::log::words::Text { msg, guard_reply });
     if guard_reply {
         out.push_str(",\"guard_reply\":true");
     }
@@ -260,7 +262,7 @@ fn fields(out: &mut String, msg: &Message, roles: &Roles, guard_reply: bool) {
         Message::Time(t) => {
             let _ = write!(out, ",\"days\":{},\"millis\":{}", t.days, t.millis);
             key(out, "utc");
-            match crate::calendar::time_frame(t) {
+            match crate::log::calendar::time_frame(t) {
                 Some(utc) => string(out, &utc),
                 None => out.push_str("null"),
             }
@@ -313,8 +315,6 @@ fn fields(out: &mut String, msg: &Message, roles: &Roles, guard_reply: bool) {
         }
         Message::Lss(lss) => lss_fields(out, lss),
         Message::Unknown(_) => {}
-        // A kind of message added later: its text is enough.
-        _ => {}
     }
 }
 
@@ -455,14 +455,14 @@ fn initiate(out: &mut String, p: &InitiatePayload) {
     }
 }
 
-fn abort(out: &mut String, index: u16, sub: u8, code: canopen_codec::sdo::AbortCode) {
+fn abort(out: &mut String, index: u16, sub: u8, code: crate::sdo::AbortCode) {
     multiplexer(out, "abort", index, sub);
     let _ = write!(out, ",\"abort_code\":{}", code.to_u32());
     key(out, "abort_meaning");
     string(out, code.description());
 }
 
-fn segment(out: &mut String, command: &str, s: &canopen_codec::sdo::Segment) {
+fn segment(out: &mut String, command: &str, s: &crate::sdo::Segment) {
     key(out, "command");
     string(out, command);
     let _ = write!(out, ",\"toggle\":{},\"last\":{}", s.toggle, s.last);
@@ -542,164 +542,227 @@ fn server(out: &mut String, c: &ServerCommand) {
 
 /// The extra object after the frame that ended an SDO transfer:
 /// `{"t":..,"kind":"sdo_transfer","node":..,"role":..,"direction":..,
-/// "index":..,"sub":..,"status":"complete"|"aborted"|"incomplete",
+/// "block":..,"crc_checked":..,"index":..,"sub":..,
+/// "status":"complete"|"aborted"|"incomplete",
 /// "size":..,"indicated_size":..,"size_indicated":..,"size_mismatch":..,
 /// "truncated":..,"bytes":"hex","name":..,"value":..,"unit":..,
 /// "meaning":..,"text":..}`, with `"abort":{"code":..,"meaning":..,"by":..}`
-/// or `"incomplete":"why"` where the transfer did not complete. `value`,
-/// `unit` and `meaning` are null unless it completed.
+/// or `"incomplete":"why"` where the transfer did not complete (before
+/// `text`), and `"pdo_config"` last when it changed a PDO's configuration.
+/// `value`, `unit` and `meaning` are null unless it completed.
 pub fn transfer(
     out: &mut String,
     r: &Report,
     roles: &Roles,
-    eds: Option<canopen_codec::pdo::Catalogue>,
+    eds: Option<crate::pdo::Catalogue>,
     pdo_config: Option<&str>,
 ) {
     let d = described(r, roles, eds);
     let complete = r.end == End::Complete;
-    let line = shapes::Transfer {
-        t: r.t.map(Secs),
-        kind: "sdo_transfer",
-        node: r.node.raw(),
-        role: roles.role(Some(r.node)),
-        direction: r.direction.name(),
-        block: r.block,
-        crc_checked: r.crc_checked,
-        index: r.index,
-        sub: r.sub,
-        status: match r.end {
+    out.push_str("{\"t\":");
+    match r.t {
+        Some(t) => {
+            let _ = write!(out, "{t}");
+        }
+        None => out.push_str("null"),
+    }
+    out.push_str(",\"kind\":\"sdo_transfer\"");
+    let _ = write!(out, ",\"node\":{}", r.node.raw());
+    key(out, "role");
+    opt_text(out, roles.role(Some(r.node)));
+    key(out, "direction");
+    text(out, r.direction.name());
+    let _ = write!(
+        out,
+        ",\"block\":{},\"crc_checked\":{},\"index\":{},\"sub\":{}",
+        r.block, r.crc_checked, r.index, r.sub
+    );
+    key(out, "status");
+    text(
+        out,
+        match r.end {
             End::Complete => "complete",
             End::Aborted { .. } => "aborted",
             End::Incomplete(_) => "incomplete",
         },
-        size: r.total,
-        indicated_size: r.indicated,
-        size_indicated: r.size_indicated,
-        size_mismatch: r.size_mismatch().is_some(),
-        truncated: r.truncated(),
-        bytes: shapes::HexBytes(&r.bytes),
-        name: d.name.as_deref(),
-        value: match &d.value {
-            Value::Number(n) if complete => shapes::Value::Number(n),
-            Value::Text(s) if complete => shapes::Value::Text(s),
-            _ => shapes::Value::Null,
-        },
-        unit: d.unit.filter(|_| complete),
-        meaning: d.meaning.as_deref().filter(|_| complete),
-        abort: match &r.end {
-            End::Aborted { code, by } => Some(shapes::Abort {
-                code: code.to_u32(),
-                meaning: code.description(),
-                by: by.name(),
-            }),
-            _ => None,
-        },
-        incomplete: match &r.end {
-            End::Incomplete(why) => Some(why.as_str()),
-            _ => None,
-        },
-        text: sentence(r, &d),
-        pdo_config,
-    };
-    match serde_json::to_string(&line) {
-        Ok(text) => out.push_str(&text),
-        Err(e) => {
-            out.push_str("{\"kind\":\"sdo_transfer\",\"error\":");
-            display(out, &e);
+    );
+    let _ = write!(out, ",\"size\":{},\"indicated_size\":", r.total);
+    match r.indicated {
+        Some(n) => {
+            let _ = write!(out, "{n}");
+        }
+        None => out.push_str("null"),
+    }
+    let _ = write!(
+        out,
+        ",\"size_indicated\":{},\"size_mismatch\":{},\"truncated\":{}",
+        r.size_indicated,
+        r.size_mismatch().is_some(),
+        r.truncated()
+    );
+    key(out, "bytes");
+    hex_string(out, &r.bytes);
+    key(out, "name");
+    opt_text(out, d.name.as_deref());
+    key(out, "value");
+    match &d.value {
+        Value::Number(n) if complete && is_number(n) => out.push_str(n),
+        Value::Number(n) | Value::Text(n) if complete => text(out, n),
+        _ => out.push_str("null"),
+    }
+    key(out, "unit");
+    opt_text(out, d.unit.filter(|_| complete));
+    key(out, "meaning");
+    opt_text(out, d.meaning.as_deref().filter(|_| complete));
+    match &r.end {
+        End::Aborted { code, by } => {
+            let _ = write!(out, ",\"abort\":{{\"code\":{}", code.to_u32());
+            key(out, "meaning");
+            text(out, code.description());
+            key(out, "by");
+            text(out, by.name());
             out.push('}');
         }
+        End::Incomplete(why) => {
+            key(out, "incomplete");
+            text(out, why);
+        }
+        End::Complete => {}
+    }
+    key(out, "text");
+    text(out, &sentence(r, &d));
+    if let Some(note) = pdo_config {
+        key(out, "pdo_config");
+        text(out, note);
+    }
+    out.push('}');
+}
+
+/// Appends `s` as a JSON string escaped as serde_json escapes it (`\"`,
+/// `\\`, `\b`, `\f`, `\n`, `\r`, `\t`, `\u00XX` for the other controls
+/// below 20h): the objects serde_json once wrote keep their bytes.
+pub fn text(out: &mut String, s: &str) {
+    out.push('"');
+    let mut rest = s;
+    while let Some(at) = rest
+        .bytes()
+        .position(|b| b == b'"' || b == b'\\' || b < 0x20)
+    {
+        let (clean, tail) = rest.split_at(at);
+        out.push_str(clean);
+        let mut chars = tail.chars();
+        match chars.next() {
+            Some('"') => out.push_str("\\\""),
+            Some('\\') => out.push_str("\\\\"),
+            Some('\u{8}') => out.push_str("\\b"),
+            Some('\u{c}') => out.push_str("\\f"),
+            Some('\n') => out.push_str("\\n"),
+            Some('\r') => out.push_str("\\r"),
+            Some('\t') => out.push_str("\\t"),
+            Some(c) => {
+                let _ = write!(out, "\\u{:04x}", c as u32);
+            }
+            None => {}
+        }
+        rest = chars.as_str();
+    }
+    out.push_str(rest);
+    out.push('"');
+}
+
+/// [`text`], or `null`.
+pub fn opt_text(out: &mut String, s: Option<&str>) {
+    match s {
+        Some(s) => text(out, s),
+        None => out.push_str("null"),
     }
 }
 
-/// A time as the log gives it, a JSON number with its 6 decimals
-/// (`1756955653.612992`) exactly as the frame lines write it.
-pub struct Secs(pub canopen_codec::Timestamp);
-
-impl serde::Serialize for Secs {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        serde_json::value::RawValue::from_string(self.0.to_string())
-            .map_err(serde::ser::Error::custom)?
-            .serialize(s)
+/// True when `s` is a JSON number (RFC 8259, section 6): `-`, digits
+/// without a leading zero, a fraction, an exponent.
+pub fn is_number(s: &str) -> bool {
+    let digits = |b: &[u8]| b.iter().take_while(|c| c.is_ascii_digit()).count();
+    let b = s.as_bytes();
+    let b = b.strip_prefix(b"-").unwrap_or(b);
+    let int = digits(b);
+    if int == 0 || (int > 1 && b.first() == Some(&b'0')) {
+        return false;
     }
+    let mut rest = b.get(int..).unwrap_or(&[]);
+    if let Some(frac) = rest.strip_prefix(b".") {
+        let n = digits(frac);
+        if n == 0 {
+            return false;
+        }
+        rest = frac.get(n..).unwrap_or(&[]);
+    }
+    if let Some(exp) = rest.strip_prefix(b"e").or_else(|| rest.strip_prefix(b"E")) {
+        let exp = exp
+            .strip_prefix(b"+")
+            .or_else(|| exp.strip_prefix(b"-"))
+            .unwrap_or(exp);
+        let n = digits(exp);
+        if n == 0 {
+            return false;
+        }
+        rest = exp.get(n..).unwrap_or(&[]);
+    }
+    rest.is_empty()
 }
 
-/// The shapes of the objects serde_json writes, their fields in key order.
-mod shapes {
-    use serde::Serialize;
-
-    use super::Secs;
-
-    /// See [`super::transfer`].
-    #[derive(Serialize)]
-    pub struct Transfer<'a> {
-        pub t: Option<Secs>,
-        pub kind: &'static str,
-        pub node: u8,
-        pub role: Option<&'static str>,
-        pub direction: &'static str,
-        pub block: bool,
-        pub crc_checked: bool,
-        pub index: u16,
-        pub sub: u8,
-        pub status: &'static str,
-        pub size: usize,
-        pub indicated_size: Option<u32>,
-        pub size_indicated: bool,
-        pub size_mismatch: bool,
-        pub truncated: bool,
-        pub bytes: HexBytes<'a>,
-        pub name: Option<&'a str>,
-        pub value: Value<'a>,
-        pub unit: Option<&'static str>,
-        pub meaning: Option<&'a str>,
-        #[serde(skip_serializing_if = "Option::is_none")]
-        pub abort: Option<Abort>,
-        #[serde(skip_serializing_if = "Option::is_none")]
-        pub incomplete: Option<&'a str>,
-        pub text: String,
-        #[serde(skip_serializing_if = "Option::is_none")]
-        pub pdo_config: Option<&'a str>,
+/// Appends `v` as serde_json writes an `f64`: the shortest digits that
+/// read back as `v`, laid out as serde_json lays them out (`1.0`, `0.25`,
+/// `1e-7`, `1.5e+300`), and `null` for NaN and the infinities. Where two
+/// shortest digit strings are equally near `v` (a tie, only at 16 or 17
+/// significant digits) std's pick may differ from serde_json's in the last
+/// digit; both read back as `v` (`tests/log_json.rs`).
+pub fn float(out: &mut String, v: f64) {
+    if !v.is_finite() {
+        out.push_str("null");
+        return;
     }
-
-    #[derive(Serialize)]
-    pub struct Abort {
-        pub code: u32,
-        pub meaning: &'static str,
-        pub by: &'static str,
+    // `{:e}` gives the shortest round-trip digits: `-1.2345e-7`.
+    let sci = format!("{v:e}");
+    let (mantissa, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
+    let (sign, mantissa) = match mantissa.strip_prefix('-') {
+        Some(m) => ("-", m),
+        None => ("", mantissa),
+    };
+    let digits: String = mantissa.chars().filter(char::is_ascii_digit).collect();
+    let exp: i32 = exp.parse().unwrap_or(0);
+    out.push_str(sign);
+    if digits.bytes().all(|d| d == b'0') {
+        out.push_str("0.0");
+        return;
     }
-
-    /// Bytes as a string of lower-case hex digits.
-    pub struct HexBytes<'a>(pub &'a [u8]);
-
-    impl Serialize for HexBytes<'_> {
-        fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-            let mut text = String::with_capacity(2 * self.0.len());
-            for b in self.0 {
-                text.push_str(&format!("{b:02x}"));
-            }
-            s.serialize_str(&text)
+    let length = i32::try_from(digits.len()).unwrap_or(i32::MAX);
+    // The value is 0.DIGITS * 10^kk.
+    let kk = exp + 1;
+    let k = kk - length;
+    if 0 <= k && kk <= 16 {
+        out.push_str(&digits);
+        for _ in 0..k {
+            out.push('0');
         }
-    }
-
-    /// A transfer's value: an exact number (written as its literal), text,
-    /// or null.
-    pub enum Value<'a> {
-        Number(&'a str),
-        Text(&'a str),
-        Null,
-    }
-
-    impl Serialize for Value<'_> {
-        fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-            match self {
-                // A literal that is no JSON number is written as a string.
-                Value::Number(n) => match serde_json::value::RawValue::from_string(n.to_string()) {
-                    Ok(raw) => raw.serialize(s),
-                    Err(_) => s.serialize_str(n),
-                },
-                Value::Text(t) => s.serialize_str(t),
-                Value::Null => s.serialize_none(),
-            }
+        out.push_str(".0");
+    } else if 0 < kk && kk <= 16 {
+        let (head, tail) = digits.split_at(usize::try_from(kk).unwrap_or(0));
+        out.push_str(head);
+        out.push('.');
+        out.push_str(tail);
+    } else if -5 < kk && kk <= 0 {
+        out.push_str("0.");
+        for _ in 0..-kk {
+            out.push('0');
         }
+        out.push_str(&digits);
+    } else {
+        let (head, tail) = digits.split_at(1);
+        out.push_str(head);
+        if !tail.is_empty() {
+            out.push('.');
+            out.push_str(tail);
+        }
+        let _ = write!(out, "e{:+}", kk - 1);
     }
 }

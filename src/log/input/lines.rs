@@ -9,6 +9,8 @@
 //! skipped up to the next line), so memory stays bounded on any input.
 
 use std::io::{self, Read};
+use std::prelude::rust_2021::*;
+use std::vec;
 
 /// The longest line read (no trace format comes near it).
 pub const MAX_LINE: usize = 64 * 1024;
@@ -18,8 +20,11 @@ const BLOCK: usize = 256 * 1024;
 /// One line of the input, without its line ending (`\n` or `\r\n`).
 #[derive(Debug, PartialEq, Eq)]
 pub enum Piece<'a> {
+    /// A line of text.
     Line(&'a str),
+    /// A line that is not UTF-8.
     NotUtf8,
+    /// A line longer than [`MAX_LINE`] (its bytes skipped).
     TooLong,
 }
 
@@ -39,6 +44,7 @@ pub struct LineReader<R> {
 }
 
 impl<R: Read> LineReader<R> {
+    /// A reader of `input`'s lines.
     pub fn new(input: R) -> Self {
         LineReader {
             input,
@@ -184,7 +190,7 @@ impl<'a> Iterator for Block<'a> {
                 }
             }
         }
-        let (line, text) = match memchr::memchr(b'\n', self.text.as_bytes()) {
+        let (line, text) = match self.text.bytes().position(|b| b == b'\n') {
             Some(i) => (
                 self.text.get(..i).unwrap_or(""),
                 self.text.get(i + 1..).unwrap_or(""),

@@ -13,14 +13,15 @@
 
 use std::collections::HashMap;
 use std::fmt::Write;
+use std::prelude::rust_2021::*;
 use std::time::Duration;
 
-use canopen_codec::machine::Machine;
-use canopen_codec::sdo::{
+use crate::machine::Machine;
+use crate::sdo::{
     self, AbortCode, BreakReason, ChannelError, Observed, Observer, ObserverConfig, ObserverEvent,
     SdoChannel, Transfer, TransferKind,
 };
-use canopen_codec::{CanFrame, NodeId, Timestamp};
+use crate::{CanFrame, NodeId, Timestamp};
 
 /// At most this many bytes of one transfer are kept; the rest are counted.
 pub const MAX_BYTES: usize = 64 * 1024;
@@ -37,12 +38,16 @@ pub const EXTRA_CHANNELS: usize = 32;
 pub const SUB_BLOCK_BUFFERS: usize = 16;
 
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
+/// Which way a transfer moves the value.
 pub enum Direction {
+    /// From the server to the client.
     Upload,
+    /// From the client to the server.
     Download,
 }
 
 impl Direction {
+    /// `upload` / `download`.
     pub fn name(self) -> &'static str {
         match self {
             Direction::Upload => "upload",
@@ -62,11 +67,14 @@ impl Direction {
 /// Which side sent a frame.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum Side {
+    /// The SDO client.
     Client,
+    /// The SDO server.
     Server,
 }
 
 impl Side {
+    /// `client` / `server`.
     pub fn name(self) -> &'static str {
         match self {
             Side::Client => "client",
@@ -87,8 +95,16 @@ impl From<sdo::Side> for Side {
 /// How a transfer ended.
 #[derive(Clone, PartialEq, Eq, Debug)]
 pub enum End {
+    /// The transfer completed.
     Complete,
-    Aborted { code: AbortCode, by: Side },
+    /// Aborted.
+    Aborted {
+        /// The abort code.
+        code: AbortCode,
+        /// Who aborted.
+        by: Side,
+    },
+    /// Broken off, and why in words.
     Incomplete(String),
 }
 
@@ -98,11 +114,15 @@ pub struct Report {
     /// Time of the frame that ended it (the last frame seen of it when the
     /// log ended).
     pub t: Option<Timestamp>,
+    /// The server's node.
     pub node: NodeId,
+    /// Upload or download.
     pub direction: Direction,
     /// A block transfer.
     pub block: bool,
+    /// The object's index.
     pub index: u16,
+    /// The object's sub-index.
     pub sub: u8,
     /// The data, at most [`MAX_BYTES`].
     pub bytes: Vec<u8>,
@@ -117,10 +137,12 @@ pub struct Report {
     /// A rule of CiA 301 the transfer broke and went on past (the peer
     /// accepted it), in words.
     pub broken: Option<String>,
+    /// How it ended.
     pub end: End,
 }
 
 impl Report {
+    /// More bytes were transferred than kept ([`MAX_BYTES`]).
     pub fn truncated(&self) -> bool {
         self.total > self.bytes.len()
     }
@@ -214,7 +236,6 @@ impl Tracker {
             | Observed::Response { channel, .. }
             | Observed::BlockSegment { channel, .. }
             | Observed::Malformed { channel, .. } => channel,
-            _ => return seen,
         };
         self.last_seen = seen;
         if let Some(c) = self.open.get_mut(&channel) {
@@ -359,7 +380,6 @@ impl Tracker {
                         s
                     }
                     BreakReason::EndOfTrace => "the log ends".to_string(),
-                    _ => "broken off".to_string(),
                 };
                 let at = if matches!(
                     reason,
@@ -382,7 +402,6 @@ impl Tracker {
                     self.reports.push(r);
                 }
             }
-            _ => {}
         }
     }
 

@@ -1,21 +1,22 @@
 //! PDO mappings for the decoder: `--pdo COBID=INDEX:SUB:BITS,...`, the
 //! bundled capture's mapping (`--pdo-capture-mapping`) and the defaults.
 
-use canopen_codec::cia418::BATTERY_MODULE_CATALOGUE;
-use canopen_codec::cia419::CHARGER_CATALOGUE as CIA419_CATALOGUE;
-use canopen_codec::cob_id::classify_standard;
-use canopen_codec::deltaq::{default_mapping_for_cob_id, CHARGER_CATALOGUE};
-use canopen_codec::pdo::{Catalogue, NamedFields, PdoMapping};
-use canopen_codec::NodeId;
-use canopen_codec::{CanFrame, CanId, Message};
+use crate::cia418::BATTERY_MODULE_CATALOGUE;
+use crate::cia419::CHARGER_CATALOGUE as CIA419_CATALOGUE;
+use crate::cob_id::classify_standard;
+use crate::deltaq::{default_mapping_for_cob_id, CHARGER_CATALOGUE};
+use crate::pdo::{Catalogue, NamedFields, PdoMapping};
+use crate::NodeId;
+use crate::{CanFrame, CanId, Message};
+use std::prelude::rust_2021::*;
 
-use crate::pdo_learn::{Learned, Origin};
-pub use crate::pdo_syntax::{parse_pdo, CAPTURE_PDOS};
-use crate::Roles;
+use crate::log::pdo_learn::{Learned, Origin};
+pub use crate::log::pdo_syntax::{parse_pdo, CAPTURE_PDOS};
+use crate::log::Roles;
 
 /// The objects of a node with no role: CiA 301 names nothing in a PDO, so
 /// fields print as index, sub-index and raw value.
-use crate::sdo_value::NO_CATALOGUE;
+use crate::log::sdo_value::NO_CATALOGUE;
 
 /// The catalogue whose names a PDO of `node` gets: its EDS's, else its
 /// role's (the Delta-Q charger's only with Delta-Q evidence, a CiA 419
@@ -53,6 +54,7 @@ pub enum Source {
 }
 
 impl Source {
+    /// `given`, `charger default`, `battery default`, `learned`, ...: the JSON `mapping` key.
     pub fn name(self) -> &'static str {
         match self {
             Source::Given => "given",
@@ -67,7 +69,9 @@ impl Source {
 /// The mappings the user gave, and whether the defaults apply.
 #[derive(Clone)]
 pub struct Mappings {
+    /// The mappings given (`--pdo`), by COB-ID.
     pub given: Vec<(u16, PdoMapping)>,
+    /// The default PDOs apply to nodes with a role (not with `--no-default-pdos`).
     pub defaults: bool,
 }
 

@@ -18,10 +18,11 @@
 //! break. SDO transfer and role lines of the other outputs are not rows.
 
 use std::fmt::Write;
+use std::prelude::rust_2021::*;
 
-use canopen_codec::cob_id::classify;
+use crate::cob_id::classify;
 
-use crate::Notes;
+use crate::log::Notes;
 
 /// The header row.
 pub const HEADER: &str = "time,id,extended,remote,dlc,data,kind,node,role,text,deviation,error";
@@ -40,8 +41,8 @@ pub fn field(out: &mut String, field: &str) {
 /// The `time` column.
 pub fn time(
     out: &mut String,
-    column: &mut crate::time_column::TimeColumn,
-    timestamp: Option<canopen_codec::Timestamp>,
+    column: &mut crate::log::time_column::TimeColumn,
+    timestamp: Option<crate::Timestamp>,
 ) {
     if let Some(t) = timestamp {
         column.write(out, t);
@@ -50,8 +51,8 @@ pub fn time(
 
 /// The columns after `time` (the same for the same frame while roles and
 /// mappings stay).
-pub fn rest(out: &mut String, line: &crate::FrameLine<'_>) {
-    let crate::FrameLine {
+pub fn rest(out: &mut String, line: &crate::log::FrameLine<'_>) {
+    let crate::log::FrameLine {
         log: l,
         decoded: m,
         roles,
@@ -70,7 +71,7 @@ pub fn rest(out: &mut String, line: &crate::FrameLine<'_>) {
     for b in l.frame.data() {
         let _ = write!(out, "{b:02X}");
     }
-    let _ = write!(out, ",{},", crate::json::kind_name(kind));
+    let _ = write!(out, ",{},", crate::log::json::kind_name(kind));
     if let Some(n) = kind.node() {
         let _ = write!(out, "{n}");
     }
@@ -83,9 +84,9 @@ pub fn rest(out: &mut String, line: &crate::FrameLine<'_>) {
             deviation: None,
             ..*notes
         };
-        crate::words::message(
+        crate::log::words::message(
             &mut text,
-            &crate::FrameLine {
+            &crate::log::FrameLine {
                 notes: &notes,
                 ..*line
             },

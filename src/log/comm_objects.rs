@@ -5,19 +5,22 @@
 //! 302-2). An index of the area that neither document gives an object is
 //! named as reserved, so no transfer of the area goes unnamed.
 
-use canopen_codec::cia418::DeviceType;
-use canopen_codec::deltaq::{device_type, DeltaQCode};
-use canopen_codec::emcy::{ErrorCode, ErrorRegister};
-use canopen_codec::pdo::{Catalogue, MappingEntry};
+use crate::cia418::DeviceType;
+use crate::deltaq::{device_type, DeltaQCode};
+use crate::emcy::{ErrorCode, ErrorRegister};
+use crate::pdo::{Catalogue, MappingEntry};
+use std::prelude::rust_2021::*;
 
-use crate::sdo_value::{unsigned, Described, Role, Value};
+use crate::log::sdo_value::{unsigned, Described, Role, Value};
 
 /// What naming a value may rely on besides the object: the node's role and
 /// whether a Delta-Q charger is known to be on the bus (Delta-Q's reading
 /// of a battery module's 1000h bits 20 and 21 applies only then).
 #[derive(Clone, Copy, Debug)]
 pub struct Context {
+    /// The role of the node the object belongs to.
     pub role: Role,
+    /// A Delta-Q device is on the bus (Delta-Q names for its objects).
     pub deltaq_on_bus: bool,
     /// The catalogue PDO mapping entries name objects with.
     pub catalogue: Catalogue,
@@ -51,7 +54,7 @@ fn device_type(v: u32, deltaq: bool) -> String {
             )
         }
     }
-    let list = |s: canopen_codec::cia418::PdoSet| {
+    let list = |s: crate::cia418::PdoSet| {
         s.iter()
             .map(|p| p.to_string())
             .collect::<Vec<_>>()
@@ -302,13 +305,16 @@ fn nmt_startup(v: u64) -> String {
 }
 
 fn days_since_1984(v: u64) -> String {
-    format!("{v} days since 1984-01-01 ({})", crate::calendar::date(v))
+    format!(
+        "{v} days since 1984-01-01 ({})",
+        crate::log::calendar::date(v)
+    )
 }
 
 fn ms_after_midnight(v: u64) -> String {
     format!(
         "{v} ms after midnight ({})",
-        crate::calendar::time_of_day(v)
+        crate::log::calendar::time_of_day(v)
     )
 }
 
@@ -665,7 +671,7 @@ fn expected(index: u16) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sdo_value::NO_CATALOGUE;
+    use crate::log::sdo_value::NO_CATALOGUE;
 
     const CTX: Context = Context {
         role: Role::Other,

@@ -7,6 +7,8 @@
 //! doubles and neighbours merge. The sample count and the samples without
 //! a value (the object's "invalid" marker) are counted, never dropped.
 
+use std::prelude::rust_2021::*;
+
 /// At most this many buckets per series (two screen widths of columns): a
 /// series of fewer samples keeps every sample.
 pub const MAX_BUCKETS: usize = 2400;
@@ -14,7 +16,9 @@ pub const MAX_BUCKETS: usize = 2400;
 /// A sample: microseconds since the log's first frame, and the value.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sample {
+    /// Microseconds since the log's first frame.
     pub t: u64,
+    /// The value.
     pub v: f64,
 }
 
