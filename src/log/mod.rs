@@ -54,6 +54,7 @@
 //! | PDO fields as signal columns, a DBC of the mappings | [`signals`], [`dbc`] |
 //! | the HTML report page | [`report`] |
 //! | CiA 301 dates (TIME, 1020h) as UTC | [`calendar`] |
+//! | split a recording into the frames to play and those to expect, and diff a device's traffic against it (`canopen-replay`) | [`replay`], [`replay::diff`] |
 //!
 //! ## Why a module, and its dependencies
 //!
@@ -90,6 +91,7 @@ pub mod mappings;
 pub mod pdo_learn;
 pub mod pdo_syntax;
 mod pipeline;
+pub mod replay;
 pub mod report;
 pub mod sdo;
 mod sdo_value;

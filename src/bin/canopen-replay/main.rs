@@ -2,16 +2,15 @@
 //! under test and diffs what the device sends against what the recording
 //! shows for it. See docs/REPLAY.md.
 
-mod diff;
 mod link;
 mod player;
-mod recording;
 mod report;
 
 use std::collections::BTreeSet;
 use std::process::ExitCode;
 use std::time::Duration;
 
+use canopen_codec::log::replay::{self as recording, diff};
 use canopen_codec::log::{input, pdo_syntax};
 use canopen_codec::trace::Format;
 use clap::{Parser, ValueEnum};

@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 use canopen_codec::{CanId, Timestamp};
 
 use crate::link::{Heard, Link, Next};
-use crate::recording::{Recorded, Recording};
+use canopen_codec::log::replay::{Recorded, Recording};
 
 pub struct Options {
     /// 0: as fast as the device answers; otherwise finite and above 0

@@ -4,13 +4,15 @@
 //! frame before them.
 
 use std::collections::{BTreeMap, BTreeSet};
+use std::prelude::rust_2021::*;
 
-use canopen_codec::deltaq::DeltaQCode;
-use canopen_codec::pdo::PdoMapping;
-use canopen_codec::CanId;
+use crate::deltaq::DeltaQCode;
+use crate::pdo::PdoMapping;
+use crate::CanId;
 
-use crate::recording::Recorded;
+use super::Recorded;
 
+/// How far the device may be from the recording.
 pub struct Tolerances {
     /// PDO field values, in raw units of the field.
     pub value: u64,
@@ -22,15 +24,22 @@ pub struct Tolerances {
 
 /// One difference, with a stable `kind` for scripts.
 pub struct Difference {
+    /// `missing`, `unexpected`, `kinds`, `period`, `nmt`, `emcy missing`,
+    /// `emcy time`, `emcy unexpected`, `pdo length`, `pdo value` (the
+    /// program adds `sdo unanswered`).
     pub kind: &'static str,
+    /// The COB-ID it is about, if one.
     pub cob_id: Option<u16>,
+    /// The difference in words.
     pub words: String,
 }
 
 /// A COB-ID's traffic on one side.
 #[derive(Default, Clone)]
 pub struct Traffic {
+    /// Frames.
     pub count: usize,
+    /// What they were ([`kind`]).
     pub kinds: BTreeSet<&'static str>,
     /// The median time between frames, microseconds.
     pub period: Option<u64>,
@@ -42,16 +51,22 @@ pub type StateChange = (u64, u8, u8);
 /// An EMCY: time, its 8 bytes, the time since the played frame before it.
 #[derive(Clone)]
 pub struct Emcy {
+    /// Microseconds since the recording's start.
     pub t: u64,
+    /// The frame's bytes.
     pub data: Vec<u8>,
+    /// Microseconds since the played frame before it.
     pub after_cause: Option<u64>,
 }
 
 /// One side (recording or device) summarised.
 #[derive(Default)]
 pub struct Side {
+    /// Traffic per COB-ID.
     pub traffic: BTreeMap<u16, Traffic>,
+    /// NMT state changes per node.
     pub states: BTreeMap<u8, Vec<StateChange>>,
+    /// EMCYs per COB-ID.
     pub emcys: BTreeMap<u16, Vec<Emcy>>,
 }
 
@@ -169,6 +184,9 @@ fn delta(a: u64, b: u64) -> String {
     format!("{:+.1} ms", (a as f64 - b as f64) / 1000.0)
 }
 
+/// The differences of the device's side `dev` from the recording's `rec`
+/// within `tol`: traffic, periods, PDO field values (of the mappings
+/// `pdos`, from the frames `expected` and `heard`), NMT states and EMCYs.
 pub fn compare(
     rec: &Side,
     dev: &Side,
@@ -427,7 +445,7 @@ fn pdo_values(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use canopen_codec::CanFrame;
+    use crate::CanFrame;
 
     fn at(t_ms: u64, id: u16, data: &[u8]) -> Recorded {
         Recorded {
@@ -486,8 +504,7 @@ mod tests {
 
     #[test]
     fn pdo_fields_beyond_the_tolerance_are_named() {
-        let (_, mapping) =
-            canopen_codec::log::pdo_syntax::parse_pdo("18A=2002:0:16,2101:0:16").unwrap();
+        let (_, mapping) = crate::log::pdo_syntax::parse_pdo("18A=2002:0:16,2101:0:16").unwrap();
         let rec = [at(0, 0x18A, &[0x7C, 0x13, 0x45, 0x4E])];
         let dev = [
             at(10, 0x18A, &[0x7C, 0x13, 0x50, 0x4E]),

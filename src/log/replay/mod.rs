@@ -1,22 +1,35 @@
-//! The recording: every frame of a trace (read by `canopen_codec::log::input`, the
-//! decoder's reader), with its time, and which side of the replay sent it.
+//! What `canopen-replay` makes of a recording: every frame of a trace
+//! (read by [`crate::log::input`], the decoder's reader) with its time,
+//! split into the frames of the played nodes (sent to the device under
+//! test) and the rest (what the device should send), and, in [`diff`],
+//! each side's traffic summarised and the device's compared with the
+//! recording's. The real-time playing and the device's pipe stay in the
+//! program (`src/bin/canopen-replay/`).
+
+pub mod diff;
+
+use std::prelude::rust_2021::*;
 
 use std::collections::BTreeSet;
 
-use canopen_codec::{CanFrame, CanId};
+use crate::{CanFrame, CanId};
 
-use canopen_codec::log::input::{Frames, Kind};
+use crate::log::input::{Frames, Kind};
 
 /// One recorded frame; `t` is microseconds since the recording's first frame.
 #[derive(Clone, Copy)]
 pub struct Recorded {
+    /// Microseconds since the recording's first frame.
     pub t: u64,
+    /// The frame.
     pub frame: CanFrame,
 }
 
 /// The recording split into what the replay sends and what it expects.
 pub struct Recording {
+    /// The played nodes' frames (and NMT, SYNC, TIME), to send.
     pub played: Vec<Recorded>,
+    /// The other frames: what the device under test should send.
     pub expected: Vec<Recorded>,
     /// The time of the recording's last frame.
     pub end: u64,
@@ -149,10 +162,10 @@ mod tests {
     }
 
     fn read(text: &str, play: &BTreeSet<u8>) -> Result<Recording, String> {
-        let frames = canopen_codec::log::input::frames(
+        let frames = crate::log::input::frames(
             text.as_bytes(),
             Default::default(),
-            &mut canopen_codec::log::input::NoInflate,
+            &mut crate::log::input::NoInflate,
         )
         .unwrap();
         of(&frames, play)
