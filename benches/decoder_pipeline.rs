@@ -20,12 +20,6 @@
 use canopen_codec::log::{json, pdo_learn, run, FrameLine, Notes, Options, Roles};
 use canopen_codec::NodeId;
 
-// Where the real captures are (the tests' own locator; the bench uses
-// part of it).
-#[allow(dead_code)]
-#[path = "../tests/common/captures.rs"]
-mod captures;
-
 use std::collections::HashSet;
 use std::hint::black_box;
 use std::io;
@@ -35,12 +29,23 @@ use canopen_codec::trace::candump::{parse_line, LogLine};
 use canopen_codec::Message;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
-const CAPTURES: [&str; 2] = [captures::STARTUP, captures::CHARGING];
+/// The real captures (third-party data: tests/data/CAPTURES.md).
+const CAPTURES: [&str; 2] = ["deltaq-icl1500-startup.log", "deltaq-icl1500-charging.log"];
+
+/// The captures' folder, as the tests find it (`tests/common/captures.rs`):
+/// `$CANOPEN_SHARED_DIR/spec/captures`, else the shared data folder beside
+/// the checkout.
+fn captures_dir() -> PathBuf {
+    std::env::var_os("CANOPEN_SHARED_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared"))
+        .join("spec/captures")
+}
 const LINES: usize = 100_000;
 
 /// The log: the captures (or our session) repeated to [`LINES`] lines.
 fn log() -> String {
-    let dir = captures::dir();
+    let dir = captures_dir();
     let mut paths: Vec<PathBuf> = CAPTURES.iter().map(|n| dir.join(n)).collect();
     if !paths.iter().all(|p| p.is_file()) {
         eprintln!(

@@ -18,8 +18,8 @@ use std::hint::black_box;
 use canopen_codec::pdo::{MappingEntry, PdoMapping, Value};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
-#[path = "common/tpdo3.rs"]
-mod tpdo3;
+mod common;
+use common::tpdo3;
 
 const WIDTHS: [u8; 8] = [4, 12, 1, 7, 16, 3, 13, 8];
 

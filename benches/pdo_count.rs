@@ -14,8 +14,8 @@ use std::hint::black_box;
 
 use canopen_codec::pdo::PdoMapping;
 
-#[path = "common/tpdo3.rs"]
-mod tpdo3;
+mod common;
+use common::tpdo3;
 
 /// The `pdo` bench's decode, out of line so callgrind can count it alone.
 #[inline(never)]

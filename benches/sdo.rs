@@ -17,8 +17,8 @@ use canopen_codec::sdo::{Client, ClientConfig, ClientEvent, Server, ServerConfig
 use canopen_codec::{NodeId, Timestamp};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
-#[path = "common/sdo_pair.rs"]
-mod sdo_pair;
+mod common;
+use common::sdo_pair;
 
 use sdo_pair::{download, pair, upload, DomainOd, LEN, SEGMENTS};
 

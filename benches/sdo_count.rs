@@ -11,8 +11,8 @@
 //! Instructions per segment = collected / (transfers x 143).
 //! Without arguments (as `cargo bench` runs it) it does one transfer each way.
 
-#[path = "common/sdo_pair.rs"]
-mod sdo_pair;
+mod common;
+use common::sdo_pair;
 
 use sdo_pair::{download, pair, upload, SEGMENTS};
 

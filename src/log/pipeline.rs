@@ -250,6 +250,9 @@ pub struct Options {
     /// Writes `--signals` to a `.parquet` path (`None`: such a path is an
     /// error at the end of the run). The program passes its Parquet writer.
     pub parquet: Option<crate::log::signals::ParquetWriter>,
+    /// Finds a line's end in a text trace (`None`:
+    /// [`input::newline`]); the program passes memchr's.
+    pub find_newline: Option<input::FindNewline>,
 }
 
 impl Default for Options {
@@ -282,6 +285,7 @@ impl Default for Options {
             report: None,
             inflater: None,
             parquet: None,
+            find_newline: None,
         }
     }
 }
@@ -330,6 +334,7 @@ pub fn run(
         format: opts.format,
         blf: opts.blf,
         delta_times: opts.delta_times,
+        find_newline: opts.find_newline,
     };
     let mut zlib = opts.inflater.map_or_else(
         || Box::new(input::NoInflate) as Box<dyn input::Inflate>,

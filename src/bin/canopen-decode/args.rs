@@ -247,6 +247,7 @@ impl Cli {
             report: self.report,
             inflater: None,
             parquet: None,
+            find_newline: None,
         })
     }
 }

@@ -200,9 +200,11 @@ impl input::Inflate for Zlib {
     }
 }
 
-/// The program's hooks: flate2 for BLF, the Parquet writer.
+/// The program's hooks: flate2 for BLF, memchr (SIMD) for line ends, the
+/// Parquet writer.
 fn hooks(opts: &mut Options) {
     opts.inflater = Some(|| Box::new(Zlib(flate2::Decompress::new(true))));
+    opts.find_newline = Some(|bytes| memchr::memchr(b'\n', bytes));
     #[cfg(feature = "parquet")]
     {
         opts.parquet = Some(signals_parquet::write);

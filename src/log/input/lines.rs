@@ -17,6 +17,16 @@ pub const MAX_LINE: usize = 64 * 1024;
 /// The block size.
 const BLOCK: usize = 256 * 1024;
 
+/// Finds the first `\n` in a slice: the line splitter's search. The
+/// default is [`newline`]; a program may pass a faster one (the programs
+/// pass the memchr crate's, which this crate does not depend on).
+pub type FindNewline = fn(&[u8]) -> Option<usize>;
+
+/// The default [`FindNewline`]: `<[u8]>::iter().position`.
+pub fn newline(bytes: &[u8]) -> Option<usize> {
+    bytes.iter().position(|&b| b == b'\n')
+}
+
 /// One line of the input, without its line ending (`\n` or `\r\n`).
 #[derive(Debug, PartialEq, Eq)]
 pub enum Piece<'a> {
@@ -41,12 +51,20 @@ pub struct LineReader<R> {
     /// `buf[start..scanned]` has no line ending (so a line that comes in
     /// small reads is searched once, not once per read).
     scanned: usize,
+    /// The search for a line's end.
+    find: FindNewline,
 }
 
 impl<R: Read> LineReader<R> {
     /// A reader of `input`'s lines.
     pub fn new(input: R) -> Self {
+        LineReader::with_search(input, newline)
+    }
+
+    /// A reader of `input`'s lines that finds each line's end with `find`.
+    pub fn with_search(input: R, find: FindNewline) -> Self {
         LineReader {
+            find,
             input,
             buf: vec![0; BLOCK + MAX_LINE],
             start: 0,
@@ -81,7 +99,10 @@ impl<R: Read> LineReader<R> {
                 if let Some(last) = new.iter().rposition(|&b| b == b'\n') {
                     let (from, to) = (self.start, from_scan + last + 1);
                     self.start = to;
-                    return Ok(Some(Block::new(self.buf.get(from..to).unwrap_or(&[]))));
+                    return Ok(Some(Block::new(
+                        self.buf.get(from..to).unwrap_or(&[]),
+                        self.find,
+                    )));
                 }
                 self.scanned = self.end;
                 if self.eof {
@@ -91,7 +112,10 @@ impl<R: Read> LineReader<R> {
                     // The last line has no line ending.
                     let (from, to) = (self.start, self.end);
                     self.start = to;
-                    return Ok(Some(Block::new(self.buf.get(from..to).unwrap_or(&[]))));
+                    return Ok(Some(Block::new(
+                        self.buf.get(from..to).unwrap_or(&[]),
+                        self.find,
+                    )));
                 }
                 if pending.len() > MAX_LINE {
                     self.start = self.end;
@@ -134,14 +158,16 @@ pub struct Block<'a> {
     /// Bytes not checked yet.
     rest: &'a [u8],
     too_long: bool,
+    find: FindNewline,
 }
 
 impl<'a> Block<'a> {
-    fn new(bytes: &'a [u8]) -> Self {
+    fn new(bytes: &'a [u8], find: FindNewline) -> Self {
         Block {
             text: "",
             rest: bytes,
             too_long: false,
+            find,
         }
     }
 
@@ -150,6 +176,7 @@ impl<'a> Block<'a> {
             text: "",
             rest: &[],
             too_long: true,
+            find: newline,
         }
     }
 }
@@ -190,7 +217,7 @@ impl<'a> Iterator for Block<'a> {
                 }
             }
         }
-        let (line, text) = match self.text.bytes().position(|b| b == b'\n') {
+        let (line, text) = match (self.find)(self.text.as_bytes()) {
             Some(i) => (
                 self.text.get(..i).unwrap_or(""),
                 self.text.get(i + 1..).unwrap_or(""),
@@ -226,7 +253,11 @@ mod tests {
     }
 
     fn pieces(input: &[u8], chunk: usize) -> Vec<String> {
-        let mut r = LineReader::new(Trickle { input, chunk });
+        pieces_with(input, chunk, newline)
+    }
+
+    fn pieces_with(input: &[u8], chunk: usize, find: FindNewline) -> Vec<String> {
+        let mut r = LineReader::with_search(Trickle { input, chunk }, find);
         let mut out = Vec::new();
         while let Some(block) = r.next_block().unwrap() {
             for p in block {
@@ -281,5 +312,24 @@ mod tests {
                 assert_eq!(pieces(input, chunk), expected(input), "chunk {chunk}");
             }
         }
+    }
+
+    static SEARCHES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+    /// A search of its own, counting its calls.
+    fn counted(bytes: &[u8]) -> Option<usize> {
+        SEARCHES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        bytes
+            .iter()
+            .enumerate()
+            .find(|(_, b)| **b == b'\n')
+            .map(|(i, _)| i)
+    }
+
+    #[test]
+    fn the_callers_search_splits_the_lines() {
+        let input = b"one\r\ntwo\n\xFF\nthree";
+        assert_eq!(pieces_with(input, 2, counted), expected(input));
+        assert!(SEARCHES.load(std::sync::atomic::Ordering::Relaxed) >= 3);
     }
 }

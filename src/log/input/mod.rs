@@ -31,12 +31,12 @@ use crate::trace::{Format, LineParser, Record, RxTx, TraceError, TraceFrame, Uns
 use crate::{CanFrame, Timestamp};
 
 pub use blf::{Inflate, Inflated, NoInflate};
-pub use lines::{Block, LineReader, Piece, MAX_LINE};
+pub use lines::{newline, Block, FindNewline, LineReader, Piece, MAX_LINE};
 
-/// How to read a file: the line format (detected when `None`), BLF, and
+/// How to read a file: the line format (detected when `None`), BLF,
 /// whether candump screen times are deltas (`-t d`, which the lines do
-/// not tell).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// not tell), and the search for a line's end.
+#[derive(Clone, Copy, Debug, Default)]
 pub struct How {
     /// The line format; `None`: detected from the first line that tells.
     pub format: Option<Format>,
@@ -45,6 +45,8 @@ pub struct How {
     pub blf: bool,
     /// candump screen times are deltas (`-t d`).
     pub delta_times: bool,
+    /// The search for a line's end (`None`: [`newline`]).
+    pub find_newline: Option<FindNewline>,
 }
 
 impl How {
@@ -304,7 +306,8 @@ fn read_lines<F: FnMut(Item<'_>) -> io::Result<()>>(
     if how.delta_times {
         parser = parser.with_delta_times();
     }
-    let mut reader = lines::LineReader::new(input);
+    let mut reader =
+        lines::LineReader::with_search(input, how.find_newline.unwrap_or(lines::newline));
     let mut lineno = 0usize;
     while let Some(block) = reader.next_block()? {
         for piece in block {

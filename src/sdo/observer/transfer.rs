@@ -20,7 +20,6 @@ use crate::sdo::wire::{
 };
 use block_phase::{ack, block_segment, end, Blocks};
 
-#[path = "block_phase.rs"]
 mod block_phase;
 
 /// Where an open transfer stands: what the next frame may be.

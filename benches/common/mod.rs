@@ -1,0 +1,7 @@
+//! Helpers the benches share (each bench uses one of them; the other is
+//! dead code there).
+
+#[allow(dead_code)]
+pub mod sdo_pair;
+#[allow(dead_code)]
+pub mod tpdo3;
