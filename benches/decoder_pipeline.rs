@@ -73,9 +73,10 @@ fn log() -> String {
 }
 
 /// The options of `canopen-decode --charger-node 10 --battery-node 1` and
-/// `extra`.
+/// `extra`, with the program's line search (memchr).
 fn options(extra: &[&str]) -> Options {
     let mut o = Options {
+        find_newline: Some(|bytes| memchr::memchr(b'\n', bytes)),
         roles: Roles {
             charger: NodeId::new(10),
             battery: NodeId::new(1),
