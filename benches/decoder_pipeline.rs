@@ -33,13 +33,14 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 const CAPTURES: [&str; 2] = ["deltaq-icl1500-startup.log", "deltaq-icl1500-charging.log"];
 
 /// The captures' folder, as the tests find it (`tests/common/captures.rs`):
-/// `$CANOPEN_SHARED_DIR/spec/captures`, else the shared data folder beside
-/// the checkout.
+/// its captures folder under `$CANOPEN_SHARED_DIR`, else under the shared
+/// data folder beside the checkout.
 fn captures_dir() -> PathBuf {
     std::env::var_os("CANOPEN_SHARED_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared"))
-        .join("spec/captures")
+        .join("spec")
+        .join("captures")
 }
 const LINES: usize = 100_000;
 
