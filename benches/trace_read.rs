@@ -8,7 +8,7 @@
 //!
 //! `cargo bench --bench trace_read`. Throughput is in frames.
 
-#[path = "../tests/blf_support/mod.rs"]
+#[path = "../tests/decoder/blf_support.rs"]
 mod blf_support;
 
 use std::hint::black_box;

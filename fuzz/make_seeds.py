@@ -23,7 +23,7 @@ def frame(cob_id, data_hex, remote=False):
     return bytes([flags]) + cob_id.to_bytes(2, "little") + data
 
 
-# (file name, bytes): frames from tests/sdo_vectors.rs and the CiA 301 services.
+# (file name, bytes): frames from tests/sdo/vectors.rs and the CiA 301 services.
 DECODE_FRAME = [
     ("nmt_start_all", frame(0x000, "01 00")),
     ("sync", frame(0x080, "")),
@@ -260,7 +260,7 @@ def eds_parse_seeds():
 
 # sdo_wire: the 8 data bytes of one SDO frame per command kind, from
 # tests/data/sdo-sample.log and tests/data/program-download.log (the real
-# exchanges of the tests) and the abort of tests/sdo_vectors.rs.
+# exchanges of the tests) and the abort of tests/sdo/vectors.rs.
 SDO_WIRE = [
     ("upload_initiate_request", "40 18 10 01 00 00 00 00"),
     ("upload_expedited_response", "43 18 10 01 04 00 00 00"),

@@ -258,7 +258,7 @@ pub struct Device<
     /// held while the profile sees the reset: reported after it, or before
     /// a state change the profile makes then (`set_nmt_state`, the Delta-Q
     /// charger starts itself), so the order is that of the NMT slave's own
-    /// queue (tests/device_event_capacity.rs).
+    /// queue (tests/devices/event_capacity.rs).
     nmt_boot: Option<NmtState>,
     heartbeat: HeartbeatProducer,
     /// The heartbeat consumer (consumer.rs): its events are reported as

@@ -2,7 +2,7 @@
 //! 2.0", section 7, as scripted sessions: each [`Scenario`] sets up a
 //! [`Session`], makes the bus events of its use case happen at fixed
 //! simulated times, and runs until its outcome shows. The program
-//! `examples/charge_session.rs` runs them by name; `tests/charge_sessions.rs`
+//! `examples/charge_session.rs` runs them by name; `tests/sessions/charge_sessions.rs`
 //! asserts what each one's bus shows.
 
 use core::time::Duration;

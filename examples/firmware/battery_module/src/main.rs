@@ -40,7 +40,7 @@ const SENSOR_STATUS: usize = 0x4001_240C;
 /// when the fault changes), `handle_frame` one (EMCY 8210h for an RPDO of
 /// the wrong length: a frame matches one RPDO; NMT, SDO and resets queue
 /// none), `handle_timeout` none (the crate's test
-/// `tests/module_queue_capacity.rs` drives that worst case). Events are
+/// `tests/devices/module_queue_capacity.rs` drives that worst case). Events are
 /// informational: a full event queue drops its oldest and counts it (the
 /// back-pressure rule).
 const QUEUE_CAPACITY: usize = 2;

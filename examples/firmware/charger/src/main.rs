@@ -82,7 +82,7 @@ static ALGORITHMS: [ChargeAlgorithm; 2] = {
 ///   the one event acted on below, the module's EMCY, is the last its call
 ///   reports, so it is never the one dropped.
 ///
-/// The crate's test `tests/charger_queue_capacity.rs` drives both worst
+/// The crate's test `tests/devices/charger_queue_capacity.rs` drives both worst
 /// cases and fails with one slot fewer.
 const QUEUE_CAPACITY: usize = 2;
 

@@ -1,0 +1,32 @@
+//! The log tools: the trace readers through the public API (Vector BLF),
+//! and the programs `canopen-decode` and `canopen-replay` (feature `cli`, run
+//! from `env!("CARGO_BIN_EXE_...")`) on our logs, on every trace format and
+//! on the real captures.
+
+mod blf_support;
+#[path = "../common/mod.rs"]
+mod common;
+#[cfg(feature = "cli")]
+mod decoder_support;
+#[cfg(feature = "cli")]
+mod trace_writers;
+
+#[cfg(feature = "cli")]
+mod cli;
+#[cfg(feature = "cli")]
+mod dbc;
+#[cfg(feature = "cli")]
+mod naming;
+#[cfg(feature = "cli")]
+mod pdo;
+#[cfg(feature = "cli")]
+mod program_options;
+#[cfg(feature = "cli")]
+mod replay_cli;
+#[cfg(feature = "cli")]
+mod report;
+#[cfg(feature = "cli")]
+mod sdo;
+#[cfg(feature = "cli")]
+mod signals;
+mod trace_blf;

@@ -1,0 +1,35 @@
+//! The devices on the CiA 301 device core: the CiA 418 battery module
+//! and the Delta-Q charger (NMT, resets, queues at the firmware's capacities,
+//! scenarios on the simulated bus), and the device services one by one (store /
+//! restore, node guarding, LSS, SYNC and TIME, program download, PDO
+//! reconfiguration), the end of the clock and the frame back-pressure rule.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod battery_module;
+#[cfg(feature = "heartbeat-consumer")]
+mod charger_nmt;
+#[cfg(feature = "heartbeat-consumer")]
+mod charger_queue_capacity;
+#[cfg(feature = "heartbeat-consumer")]
+mod charger_scenarios;
+mod end_of_time;
+mod event_capacity;
+mod frame_backpressure;
+#[cfg(all(feature = "alloc", feature = "guarding"))]
+mod guarding;
+#[cfg(feature = "lss")]
+mod lss_scenarios;
+mod module_queue_capacity;
+#[cfg(feature = "alloc")]
+mod pdo_reconfig;
+#[cfg(all(feature = "heartbeat-consumer", feature = "program-download"))]
+mod program_download;
+mod resets;
+#[cfg(feature = "store")]
+mod store_props;
+#[cfg(feature = "store")]
+mod store_restore;
+#[cfg(all(feature = "alloc", feature = "sync-time"))]
+mod sync_time;

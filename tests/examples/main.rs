@@ -1,0 +1,19 @@
+//! The example programs run as a user runs them (built by `cargo test`,
+//! found with `common::example`): the battery module on candump scripts, and
+//! the charger and the battery module charging in real time on a pipe pair.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+#[cfg(feature = "std")]
+mod battery_module_cli;
+#[cfg(all(
+    feature = "std",
+    feature = "sim",
+    feature = "lss",
+    feature = "guarding",
+    feature = "sync-time",
+    feature = "heartbeat-consumer",
+    feature = "store"
+))]
+mod realtime_charge;
