@@ -10,7 +10,12 @@ pub mod observe;
 pub mod sdo;
 pub mod sim;
 
-use canopen_codec::{CanFrame, CanId};
+use canopen_codec::{CanFrame, CanId, Timestamp};
+
+/// The time `n` milliseconds after `Timestamp::ZERO`.
+pub fn ms(n: u64) -> Timestamp {
+    Timestamp::from_millis(n)
+}
 
 /// A standard frame from an id and a hex string with optional spaces.
 pub fn frame(id: u16, hex: &str) -> CanFrame {

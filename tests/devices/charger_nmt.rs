@@ -5,14 +5,11 @@
 //! in the middle of it and refuses a module that is not one (E-0-4-2).
 //! Driven directly through the public API, frame by frame.
 
+use crate::common::ms;
 use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
 use canopen_codec::machine::Machine;
 use canopen_codec::nmt::NmtState;
-use canopen_codec::{CanFrame, NodeId, Timestamp};
-
-fn ms(n: u64) -> Timestamp {
-    Timestamp::from_millis(n)
-}
+use canopen_codec::{CanFrame, NodeId};
 
 fn frame(id: u16, data: &[u8]) -> CanFrame {
     CanFrame::standard(id, data).unwrap()

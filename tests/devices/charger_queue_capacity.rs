@@ -8,6 +8,7 @@
 //! server's timeout reports three: one (informational) is dropped and
 //! counted, no frame is.
 
+use crate::common::ms;
 use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
 use canopen_codec::device::DeviceEvent;
 use canopen_codec::machine::Machine;
@@ -16,10 +17,6 @@ use canopen_codec::{CanFrame, CanId, NodeId, Timestamp};
 
 /// The firmware's `QUEUE_CAPACITY`.
 const FIRMWARE_CAPACITY: usize = 2;
-
-fn ms(n: u64) -> Timestamp {
-    Timestamp::from_millis(n)
-}
 
 fn frame(id: u16, data: &[u8]) -> CanFrame {
     CanFrame::standard(id, data).unwrap()

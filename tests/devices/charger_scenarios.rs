@@ -7,6 +7,7 @@
 
 use crate::common;
 
+use crate::common::ms;
 use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig, BatteryStatus, DeviceType};
 use canopen_codec::deltaq::Reaction;
 use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
@@ -14,13 +15,9 @@ use canopen_codec::device::DeviceEvent;
 use canopen_codec::emcy::ErrorCode;
 use canopen_codec::nmt::NmtState;
 use canopen_codec::sdo::AbortCode;
-use canopen_codec::{CanFrame, NodeId, Timestamp};
+use canopen_codec::{CanFrame, NodeId};
 use common::devices::{boot_all, charger_bus};
 use common::sim::{Handle, Sim};
-
-fn ms(n: u64) -> Timestamp {
-    Timestamp::from_millis(n)
-}
 
 fn charger() -> Charger {
     Charger::new(ChargerConfig::new(

@@ -6,20 +6,17 @@
 
 use core::time::Duration;
 
+use crate::common::ms;
 use canopen_codec::machine::Machine;
 use canopen_codec::nmt::guarding::{GuardingMaster, GuardingSlave};
 use canopen_codec::nmt::heartbeat::HeartbeatProducer;
 use canopen_codec::pdo::{PdoCobId, PdoCommParams, TpdoProducer};
 use canopen_codec::sync::SyncProducer;
 use canopen_codec::time::{TimeCobId, TimeOfDay, TimeProducer};
-use canopen_codec::{CanFrame, CanId, NodeId, Timestamp};
+use canopen_codec::{CanFrame, CanId, NodeId};
 
 fn node(n: u8) -> NodeId {
     NodeId::new(n).unwrap()
-}
-
-fn ms(n: u64) -> Timestamp {
-    Timestamp::from_millis(n)
 }
 
 /// Every frame left, as candump text.

@@ -10,21 +10,18 @@ use crate::common;
 
 use core::time::Duration;
 
+use crate::common::ms;
 use canopen_codec::device::{Cia301, Device, DeviceConfig, DeviceEvent};
 use canopen_codec::nmt::guarding::{GuardingMaster, MasterGuardingEvent, SlaveGuardingEvent};
 use canopen_codec::nmt::NmtState;
 use canopen_codec::od::MemoryDictionary;
-use canopen_codec::{CanFrame, NodeId, Timestamp};
+use canopen_codec::{CanFrame, NodeId};
 use common::sim::{Handle, Sim};
 
 type Slave = Device<Cia301<MemoryDictionary>>;
 
 const SLAVE: &str = "Slave";
 const MASTER: &str = "Master";
-
-fn ms(v: u64) -> Timestamp {
-    Timestamp::from_millis(v)
-}
 
 fn node() -> NodeId {
     NodeId::new(5).unwrap()

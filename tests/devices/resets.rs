@@ -6,6 +6,7 @@
 //! application's; both are reported as `Reset`, send the boot-up message
 //! and drop the PDO pairing / configuration changes.
 
+use crate::common::ms;
 use canopen_codec::cia418::{
     BatteryModule, BatteryModuleConfig, BatteryVoltage, PackedStringObject, StateOfCharge,
     Temperature,
@@ -18,11 +19,7 @@ use canopen_codec::device::DeviceEvent;
 use canopen_codec::machine::Machine;
 #[cfg(feature = "heartbeat-consumer")]
 use canopen_codec::nmt::NmtState;
-use canopen_codec::{CanFrame, NodeId, Timestamp};
-
-fn ms(n: u64) -> Timestamp {
-    Timestamp::from_millis(n)
-}
+use canopen_codec::{CanFrame, NodeId};
 
 fn nmt(cs: u8, node: u8) -> CanFrame {
     CanFrame::standard(0x000, &[cs, node]).unwrap()

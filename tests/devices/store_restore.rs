@@ -6,18 +6,15 @@
 //! sends the remapped TPDO; "load" to 1011h sub 1 and reset node give the
 //! defaults back, in that module and in the next one.
 
+use crate::common::ms;
 use canopen_codec::cia418::{BatteryModule, BatteryModuleConfig};
 use canopen_codec::device::{
     DeviceEvent, ParameterGroup, ParameterStorage, RamStorage, StorageEvent,
 };
 use canopen_codec::machine::Machine;
-use canopen_codec::{CanFrame, NodeId, Timestamp};
+use canopen_codec::{CanFrame, NodeId};
 
 const SDO_REQUEST: u16 = 0x601;
-
-fn ms(n: u64) -> Timestamp {
-    Timestamp::from_millis(n)
-}
 
 fn sent(m: &mut impl Machine) -> Vec<String> {
     std::iter::from_fn(|| m.poll_transmit())

@@ -10,6 +10,7 @@ use crate::common;
 
 use core::time::Duration;
 
+use crate::common::ms;
 use canopen_codec::device::{Cia301, Device, DeviceConfig, DeviceEvent};
 use canopen_codec::machine::{drive_timers, Machine};
 use canopen_codec::od::{Access, MemoryDictionary};
@@ -23,10 +24,6 @@ use canopen_codec::{CanFrame, CanId, Codec, NodeId, PdoNumber, Timestamp};
 use common::sim::Sim;
 
 type Dev = Device<Cia301<MemoryDictionary>>;
-
-fn ms(v: u64) -> Timestamp {
-    Timestamp::from_millis(v)
-}
 
 fn node(n: u8) -> NodeId {
     NodeId::new(n).unwrap()

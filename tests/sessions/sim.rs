@@ -20,15 +20,11 @@ use canopen_codec::nmt::NmtState;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 #[cfg(feature = "heartbeat-consumer")]
 use common::devices::{boot_all, charger_bus};
-use common::frame;
 use common::sim::{Handle, Sim, TEST};
+use common::{frame, ms};
 
 fn us(n: u64) -> Timestamp {
     Timestamp::from_micros(n)
-}
-
-fn ms(n: u64) -> Timestamp {
-    Timestamp::from_millis(n)
 }
 
 /// A machine that reports every frame it hears as an event, sends what it

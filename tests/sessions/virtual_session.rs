@@ -8,6 +8,7 @@
 
 use crate::common;
 
+use crate::common::ms;
 use canopen_codec::cia418::{
     BatteryModule, BatteryModuleConfig, BatteryStatus, BatteryVoltage, StateOfCharge, Temperature,
 };
@@ -19,10 +20,6 @@ use common::devices::{boot_all, charger_bus};
 
 const EPOCH_US: u64 = 1_763_800_000_000_000;
 const FILE: &str = "tests/data/virtual-session.log";
-
-fn ms(n: u64) -> Timestamp {
-    Timestamp::from_millis(n)
-}
 
 fn battery(now: Timestamp) -> BatteryModule {
     let mut b = BatteryModule::new(BatteryModuleConfig::new(NodeId::new(1).unwrap()));
