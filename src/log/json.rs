@@ -715,7 +715,7 @@ pub fn is_number(s: &str) -> bool {
 /// `1e-7`, `1.5e+300`), and `null` for NaN and the infinities. Where two
 /// shortest digit strings are equally near `v` (a tie, only at 16 or 17
 /// significant digits) std's pick may differ from serde_json's in the last
-/// digit; both read back as `v` (`tests/log_json.rs`).
+/// digit; both read back as `v` (`tests/decoder/log_json.rs`).
 pub fn float(out: &mut String, v: f64) {
     if !v.is_finite() {
         out.push_str("null");

@@ -62,7 +62,7 @@
 //! device service), not a crate of its own: the repository's layout keeps
 //! one crate, and the analysis uses the codec's own types throughout. It
 //! adds no dependency: the JSON it writes is written by hand (checked
-//! against serde_json by `tests/log_json.rs`), a text trace's line ends
+//! against serde_json by `tests/decoder/log_json.rs`), a text trace's line ends
 //! are found by the caller's [`input::FindNewline`] (by default
 //! `<[u8]>::iter().position`; the programs pass memchr's SIMD search,
 //! which is a few per cent faster on a whole log), and BLF zlib containers
@@ -79,7 +79,7 @@
 //!
 //! The log module sits at the programs' level: it may use every layer
 //! and profile of the crate, and nothing below it uses it
-//! (`tests/layering.rs`).
+//! (`tests/meta/layering.rs`).
 
 pub mod calendar;
 mod comm_objects;

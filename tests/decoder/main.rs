@@ -1,4 +1,5 @@
 //! The log tools: the trace readers through the public API (Vector BLF),
+//! the log analysis library's hand-written JSON (feature `log`),
 //! and the programs `canopen-decode` and `canopen-replay` (feature `cli`, run
 //! from `env!("CARGO_BIN_EXE_...")`) on our logs, on every trace format and
 //! on the real captures.
@@ -15,6 +16,8 @@ mod trace_writers;
 mod cli;
 #[cfg(feature = "cli")]
 mod dbc;
+#[cfg(feature = "log")]
+mod log_json;
 #[cfg(feature = "cli")]
 mod naming;
 #[cfg(feature = "cli")]

@@ -193,7 +193,7 @@ pub fn write(
 
 impl Data<'_> {
     /// The data as one JSON object, keys in declaration order (as
-    /// serde_json wrote them before: `tests/log_json.rs` compares).
+    /// serde_json wrote them before: `tests/decoder/log_json.rs` compares).
     fn json(&self) -> String {
         let mut out = String::with_capacity(4096);
         out.push_str("{\"title\":");

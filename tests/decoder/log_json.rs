@@ -3,7 +3,6 @@
 //! summary and the report page, the page's floating-point numbers, a
 //! transfer's value literal) are checked here against serde_json itself,
 //! so the programs' output keeps its bytes.
-#![cfg(feature = "log")]
 
 use canopen_codec::log::json::{float, is_number, opt_text, text};
 use proptest::prelude::*;
