@@ -18,6 +18,7 @@
 
 use crate::sdo::AbortCode;
 
+mod address;
 mod fixed;
 #[cfg(test)]
 pub(crate) mod fixture;
@@ -25,6 +26,7 @@ pub mod index;
 #[cfg(feature = "alloc")]
 mod memory;
 mod write_buffer;
+pub use address::Address;
 pub use fixed::{FixedDictionary, FixedEntry, FixedObject, FixedObjects};
 #[cfg(feature = "alloc")]
 pub use memory::MemoryDictionary;
