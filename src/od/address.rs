@@ -47,7 +47,10 @@ impl Address {
     /// The same object at sub-index `sub`.
     #[must_use]
     pub const fn with_sub(self, sub: u8) -> Self {
-        Address { index: self.index, sub }
+        Address {
+            index: self.index,
+            sub,
+        }
     }
 
     /// The SDO multiplexer bytes: the index little-endian, then the sub-index.
