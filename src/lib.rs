@@ -36,6 +36,7 @@
 //! | emergencies and their codes | [`emcy`] |
 //! | SYNC and TIME | [`sync`] ([`sync::SyncMessage`], producer, consumer), [`time`] ([`time::TimeOfDay`], producer, consumer) |
 //! | read or write objects over SDO, or follow transfers on a bus | [`sdo`] (client, server, observer; the wire layer in [`sdo::ClientCommand`] / [`sdo::ServerCommand`]) |
+//! | SDO abort codes (also why the object dictionary refused an access) | [`abort`] ([`abort::AbortCode`], re-exported as [`sdo::AbortCode`]) |
 //! | PDO mapping, packing, producers and receivers | [`pdo`] |
 //! | layer setting services (CiA 305) | [`lss`] |
 //! | an object dictionary for a server or a device | [`od`] |
@@ -97,6 +98,7 @@ extern crate std;
 #[cfg(all(feature = "std", not(any(test, feature = "log"))))]
 extern crate std;
 
+pub mod abort;
 pub mod bytes;
 pub mod cia418;
 pub mod cia419;

@@ -137,7 +137,7 @@ fn a_fourth_pdo_has_no_room() {
         assert_eq!(buf, [0x81, 0x04, 0, 0]);
         assert_eq!(
             od.read(fourth, 1, 0, &mut buf),
-            Err(crate::sdo::AbortCode::ObjectDoesNotExist)
+            Err(crate::abort::AbortCode::ObjectDoesNotExist)
         );
     }
 }

@@ -49,8 +49,8 @@ use super::{
     CHARGER_STATUS, CHARGE_CURRENT_REQUESTED, CUMULATIVE_TOTAL_AH_CHARGE,
     DATE_OF_LAST_EQUALIZATION, TEMPERATURE, VEHICLE_ID, VEHICLE_SERIAL_NUMBER, WATER_LEVEL_STATUS,
 };
+use crate::abort::AbortCode;
 use crate::od::{Access, FixedDictionary, FixedEntry, FixedObject, FixedObjects};
-use crate::sdo::AbortCode;
 
 /// Every index [`BatteryObjects`] serves.
 pub const BATTERY_OBJECT_INDEXES: [u16; 18] = [

@@ -17,8 +17,8 @@
 //! state and keep the value the application last set (a boot-time value
 //! restored would be published until its next update).
 
+use crate::abort::AbortCode;
 use crate::od::{Access, FixedDictionary, FixedEntry, FixedObject, FixedObjects};
-use crate::sdo::AbortCode;
 
 /// The charger's object values. Fields are the application's to read and
 /// write; SDO access goes through [`FixedDictionary`] with the access

@@ -6,6 +6,7 @@
 //! Objects the table does not name are passed to the application's
 //! dictionary, which may add communication objects of its own.
 
+use crate::abort::AbortCode;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::emcy::{Emergency, ErrorFieldEntry, ErrorRegister};
 #[cfg(feature = "heartbeat-consumer")]
@@ -21,7 +22,6 @@ use crate::od::index::{
 #[cfg(feature = "store")]
 use crate::od::index::{RESTORE_DEFAULT_PARAMETERS, STORE_PARAMETERS};
 use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
-use crate::sdo::AbortCode;
 use crate::sync::{valid_counter_overflow, SyncCobId};
 use crate::time::TimeCobId;
 

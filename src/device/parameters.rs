@@ -8,10 +8,11 @@ use super::store::{
     StorageError, StorageEvent, RECORD_CAPACITY,
 };
 use super::{Device, DeviceEvent, DeviceSpec, PowerOnValues, Profile};
+use crate::abort::AbortCode;
 use crate::clock::Timestamp;
 use crate::nmt::ResetKind;
 use crate::od::index::STORE_PARAMETERS;
-use crate::sdo::{AbortCode, AbortOrigin};
+use crate::sdo::AbortOrigin;
 
 /// What loading the stored records at a reset did: communication,
 /// application.

@@ -2,6 +2,7 @@
 //! to it ([`Profile`]).
 
 use super::{Device, DeviceSpec};
+use crate::abort::AbortCode;
 use crate::clock::Timestamp;
 use crate::cob_id::PdoNumber;
 use crate::emcy::{Emergency, ErrorRegister};
@@ -14,7 +15,7 @@ use crate::nmt::guarding::SlaveGuardingEvent;
 use crate::nmt::heartbeat::HeartbeatEvent;
 use crate::nmt::NmtState;
 use crate::pdo::RpdoError;
-use crate::sdo::{AbortCode, AbortOrigin};
+use crate::sdo::AbortOrigin;
 use crate::sync::SyncEvent;
 #[cfg(feature = "sync-time")]
 use crate::time::TimeEvent;

@@ -37,8 +37,8 @@ use super::program::{
     PROGRAM_SOFTWARE_IDENTIFICATION,
 };
 use super::PowerOnValues;
+use crate::abort::AbortCode;
 use crate::od::{read_at, Access, ObjectDictionary, ObjectInfo, SizeRule};
-use crate::sdo::AbortCode;
 
 /// The store a device serves its program download objects over: owned by
 /// the application for the life of the program (a firmware's static, a

@@ -519,7 +519,7 @@ fn a_failing_storage_aborts_with_06060000h() {
             download(&mut d, index, 2, value),
             abort(index, 2, 0x0606_0000)
         );
-        let code = crate::sdo::AbortCode::HardwareError;
+        let code = crate::abort::AbortCode::HardwareError;
         assert_eq!(
             events(&mut d),
             [

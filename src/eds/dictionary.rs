@@ -14,9 +14,9 @@ use core::fmt;
 
 use super::value::{encode_value, eval_int, ValueError};
 use super::{DataType, Eds, Entry, ObjectType};
+use crate::abort::AbortCode;
 use crate::od::{Access, MemoryDictionary, ObjectDictionary, ObjectInfo};
 use crate::pdo::{MappingEntry, MappingError, PdoCobId, PdoDirection, PdoMapping};
-use crate::sdo::AbortCode;
 use crate::NodeId;
 
 /// The longest download a string or domain object of the built dictionary

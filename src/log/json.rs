@@ -455,7 +455,7 @@ fn initiate(out: &mut String, p: &InitiatePayload) {
     }
 }
 
-fn abort(out: &mut String, index: u16, sub: u8, code: crate::sdo::AbortCode) {
+fn abort(out: &mut String, index: u16, sub: u8, code: crate::abort::AbortCode) {
     multiplexer(out, "abort", index, sub);
     let _ = write!(out, ",\"abort_code\":{}", code.to_u32());
     key(out, "abort_meaning");

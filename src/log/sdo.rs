@@ -16,10 +16,11 @@ use std::fmt::Write;
 use std::prelude::rust_2021::*;
 use std::time::Duration;
 
+use crate::abort::AbortCode;
 use crate::machine::Machine;
 use crate::sdo::{
-    self, AbortCode, BreakReason, ChannelError, Observed, Observer, ObserverConfig, ObserverEvent,
-    SdoChannel, Transfer, TransferKind,
+    self, BreakReason, ChannelError, Observed, Observer, ObserverConfig, ObserverEvent, SdoChannel,
+    Transfer, TransferKind,
 };
 use crate::{CanFrame, NodeId, Timestamp};
 

@@ -17,7 +17,7 @@
 use core::ops::{Deref, DerefMut};
 
 use super::{Access, ObjectDictionary, ObjectInfo, WriteBuffer};
-use crate::sdo::AbortCode;
+use crate::abort::AbortCode;
 
 /// One sub-object as a [`FixedObjects`] dictionary finds it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

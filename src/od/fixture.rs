@@ -4,7 +4,7 @@
 //! sub-index of 2000h neither (06090011h).
 
 use super::{read_at, Access, ObjectDictionary, ObjectInfo};
-use crate::sdo::AbortCode;
+use crate::abort::AbortCode;
 
 /// The one object's value; a write stores the bytes written.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -6,7 +6,7 @@ use alloc::collections::BTreeMap;
 use alloc::vec::Vec;
 
 use super::{Access, ObjectDictionary, ObjectInfo, SizeRule};
-use crate::sdo::AbortCode;
+use crate::abort::AbortCode;
 
 #[derive(Debug, Clone, PartialEq, Eq)]
 struct Entry {

@@ -16,7 +16,7 @@
 //! implementation that must apply values atomically buffers until
 //! `finish_write`; a simple one writes through and ignores the two hooks.
 
-use crate::sdo::AbortCode;
+use crate::abort::AbortCode;
 
 mod address;
 mod fixed;

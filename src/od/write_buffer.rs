@@ -4,8 +4,8 @@
 //! and a refused or aborted download changes nothing.
 
 use super::{Access, ObjectInfo};
+use crate::abort::AbortCode;
 use crate::bytes::InlineData;
-use crate::sdo::AbortCode;
 
 /// The bytes of one download in progress, at most 4.
 ///

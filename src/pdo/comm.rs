@@ -11,10 +11,10 @@
 
 use core::fmt;
 
+use crate::abort::AbortCode;
 use crate::cob_id::PdoNumber;
 use crate::frame::CanId;
 use crate::od::index::{RPDO_COMMUNICATION, TPDO_COMMUNICATION};
-use crate::sdo::AbortCode;
 
 /// Direction of a PDO, seen from the device that holds it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

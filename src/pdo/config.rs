@@ -39,9 +39,9 @@
 
 use super::comm::{PdoCobId, PdoCommParams, PdoDirection, TransmissionType};
 use super::mapping::{MappingEntry, MappingError, PdoMapping, MAX_BITS, MAX_ENTRIES};
+use crate::abort::AbortCode;
 use crate::cob_id::PdoNumber;
 use crate::od::{Access, ObjectDictionary, ObjectInfo, WriteBuffer};
-use crate::sdo::AbortCode;
 
 /// One PDO's configuration: communication parameters and mapping entries
 /// (all 8 sub-indexes are kept, counted or not).

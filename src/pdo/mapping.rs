@@ -8,8 +8,8 @@
 
 use core::fmt;
 
+use crate::abort::AbortCode;
 use crate::od::ObjectDictionary;
-use crate::sdo::AbortCode;
 
 /// Most entries in one mapping.
 pub const MAX_ENTRIES: usize = 8;

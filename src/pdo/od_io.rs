@@ -3,10 +3,10 @@
 //! received RPDO's fields into the mapped objects.
 
 use super::mapping::{extract_bits, MappingEntry, PdoMapping};
+use crate::abort::AbortCode;
 use crate::bytes::Payload;
 use crate::emcy::ErrorCode;
 use crate::od::ObjectDictionary;
-use crate::sdo::AbortCode;
 
 /// Why a received RPDO was not (fully) processed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, thiserror::Error)]

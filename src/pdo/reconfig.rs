@@ -15,13 +15,14 @@
 
 use super::comm::{PdoCobId, PdoDirection};
 use super::mapping::{PdoMapping, MAX_ENTRIES};
+use crate::abort::AbortCode;
 use crate::bytes::InlineData;
 use crate::clock::Timestamp;
 use crate::cob_id::PdoNumber;
 use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::queue::EventQueue;
-use crate::sdo::{AbortCode, AbortOrigin, Client, ClientConfig, ClientError, ClientEvent};
+use crate::sdo::{AbortOrigin, Client, ClientConfig, ClientError, ClientEvent};
 
 /// One SDO download of the procedure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -2,9 +2,9 @@
 
 use alloc::vec::Vec;
 
-use super::abort::AbortCode;
 use super::client::ClientEvent;
 use super::server::AbortOrigin;
+use crate::abort::AbortCode;
 
 /// How a collected transfer ended.
 #[derive(Debug, Clone, PartialEq, Eq)]

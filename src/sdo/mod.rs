@@ -95,7 +95,6 @@
 //! the frame that opened the transfer or closed a sub-block are recognised
 //! and ignored (see above).
 
-mod abort;
 mod client;
 #[cfg(feature = "alloc")]
 mod collect;
@@ -107,7 +106,7 @@ mod rules;
 mod server;
 mod wire;
 
-pub use abort::{AbortCode, ALL_ABORT_CODES};
+pub use crate::abort::{AbortCode, ALL_ABORT_CODES};
 pub use client::{Client, ClientConfig, ClientError, ClientEvent};
 #[cfg(feature = "alloc")]
 pub use collect::{Collected, UploadBuffer};

@@ -74,6 +74,7 @@
 
 use super::device_type;
 use super::{emergency_reaction, DeltaQCode, OperatingMode, Reaction, ALARMS_AND_FAULTS};
+use crate::abort::AbortCode;
 use crate::bytes::InlineData;
 use crate::cia419::{PdoPair, PDO_PAIRS};
 use crate::clock::{MaybeTimestamp, Timestamp};
@@ -89,7 +90,7 @@ use crate::nmt::heartbeat::HeartbeatEvent;
 use crate::nmt::NmtState;
 use crate::od::index::DEVICE_TYPE;
 use crate::pdo::{PdoCobId, PdoDirection, PdoSlot, RpdoError};
-use crate::sdo::{AbortCode, Client, ClientConfig, ClientEvent, EVENTS_PER_CALL};
+use crate::sdo::{Client, ClientConfig, ClientEvent, EVENTS_PER_CALL};
 use crate::wire::Codec;
 
 mod config;

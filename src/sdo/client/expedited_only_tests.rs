@@ -3,8 +3,9 @@
 
 use std::vec::Vec;
 
+use crate::abort::AbortCode;
 use crate::machine::Machine;
-use crate::sdo::{AbortCode, AbortOrigin, Client, ClientConfig, ClientError, ClientEvent};
+use crate::sdo::{AbortOrigin, Client, ClientConfig, ClientError, ClientEvent};
 use crate::{CanFrame, NodeId, Timestamp};
 
 fn client() -> Client<&'static [u8]> {

@@ -71,7 +71,6 @@
 
 use core::time::Duration;
 
-use super::abort::AbortCode;
 use super::data::{ExpeditedData, InitiatePayload, SegmentData};
 use super::rules::block::MAX_BLOCK_SIZE;
 #[cfg(feature = "sdo-block")]
@@ -80,6 +79,7 @@ use super::rules::block::{Receiver, Sender};
 use super::rules::segmented::Segments;
 use super::server::{AbortOrigin, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT};
 use super::wire::{ClientCommand, SdoFrame, ServerCommand};
+use crate::abort::AbortCode;
 use crate::clock::{Timers, Timestamp};
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};

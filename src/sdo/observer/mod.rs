@@ -3,11 +3,11 @@
 
 use core::time::Duration;
 
-use super::abort::AbortCode;
 use super::data::SegmentData;
 use super::server::DEFAULT_TIMEOUT;
 pub use super::wire::Side;
 use super::wire::{SdoRequest, SdoResponse};
+use crate::abort::AbortCode;
 use crate::clock::Timestamp;
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::error::DecodeError;

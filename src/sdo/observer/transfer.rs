@@ -7,10 +7,10 @@ use super::sub_block::SubBlock;
 use super::{
     BreakReason, Direction, Observed, ObserverEvent, SdoChannel, Side, Sink, Transfer, TransferKind,
 };
+use crate::abort::AbortCode;
 use crate::bytes::Payload;
 use crate::clock::Timestamp;
 use crate::frame::CanFrame;
-use crate::sdo::abort::AbortCode;
 use crate::sdo::data::{InitiatePayload, Segment, SegmentData};
 use crate::sdo::rules::block::{check_block_size, is_abort, Receiver};
 use crate::sdo::rules::segmented::{check_toggle, Segments};

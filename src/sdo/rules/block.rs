@@ -17,8 +17,8 @@
 //!   passes every in-order segment on at once except the one with c = 1,
 //!   which it holds until the end frame says how many of its bytes are data.
 
+use crate::abort::AbortCode;
 use crate::bytes::Payload;
-use crate::sdo::abort::AbortCode;
 use crate::sdo::crc::crc16_update;
 use crate::sdo::data::SegmentData;
 #[cfg(feature = "sdo-block")]

@@ -12,7 +12,7 @@
 //!   06070012h, and a last segment (c = 1) that leaves the total below it
 //!   is 06070013h.
 
-use crate::sdo::abort::AbortCode;
+use crate::abort::AbortCode;
 use crate::sdo::data::Segment;
 
 /// The toggle rule for a request or acknowledgement: it must carry the

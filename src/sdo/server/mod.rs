@@ -59,13 +59,13 @@
 
 use core::time::Duration;
 
-use super::abort::AbortCode;
 use super::data::InitiatePayload;
 use super::rules::block::{is_abort, MAX_BLOCK_SIZE};
 #[cfg(feature = "sdo-block")]
 use super::rules::block::{Receiver, Sender};
 use super::rules::segmented::Segments;
 use super::wire::{ClientCommand, SdoFrame, ServerCommand};
+use crate::abort::AbortCode;
 use crate::clock::{Timers, Timestamp};
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::frame::{CanFrame, CanId};

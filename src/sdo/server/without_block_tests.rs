@@ -1,8 +1,9 @@
 //! The server without block transfer (feature `sdo-block` off): the block
 //! commands refused as the feature docs say.
+use crate::abort::AbortCode;
 use crate::device::CommObjects;
 use crate::machine::Machine;
-use crate::sdo::{AbortCode, AbortOrigin, Server, ServerConfig, ServerEvent};
+use crate::sdo::{AbortOrigin, Server, ServerConfig, ServerEvent};
 use crate::{CanFrame, NodeId, Timestamp};
 
 fn server() -> Server<CommObjects> {

@@ -32,8 +32,8 @@
 
 use byteorder::{ByteOrder, LittleEndian};
 
-use super::abort::AbortCode;
 use super::data::{InitiatePayload, Segment, SegmentData};
+use crate::abort::AbortCode;
 use crate::error::DecodeError;
 use crate::frame::CanFrame;
 use crate::wire::Codec;

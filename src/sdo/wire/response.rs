@@ -6,8 +6,8 @@ use super::{
     emit_abort, emit_block_ack, emit_block_data_initiate, emit_block_end, emit_initiate,
     emit_segment, needed, put_command, put_data, put_mux, segment_data_len, SdoFrame, Side,
 };
+use crate::abort::AbortCode;
 use crate::error::DecodeError;
-use crate::sdo::abort::AbortCode;
 use crate::sdo::data::{InitiatePayload, Segment};
 
 /// Block download responses a server sends (scs = 5).

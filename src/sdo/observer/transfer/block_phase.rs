@@ -18,8 +18,8 @@
 //! that one.
 
 use super::{End, Open, Phase};
+use crate::abort::AbortCode;
 use crate::bytes::Payload;
-use crate::sdo::abort::AbortCode;
 use crate::sdo::data::SegmentData;
 use crate::sdo::observer::sub_block::{self, Seen, SubBlock};
 use crate::sdo::observer::{BreakReason, Observed, SdoChannel, Side, Sink};

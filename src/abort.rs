@@ -1,6 +1,11 @@
-//! SDO abort codes, CiA 301: all 31 codes CiA 301 defines, with the
-//! meanings the open implementations (python-canopen, CANopenNode, Lely)
-//! agree on.
+//! SDO abort codes, CiA 301 section 7.2.4.3.17: all 31 codes CiA 301
+//! defines, with the meanings the open implementations (python-canopen,
+//! CANopenNode, Lely) agree on.
+//!
+//! A leaf at the base of the crate: the object dictionary ([`crate::od`])
+//! refuses an access with one of these codes and the SDO layer
+//! ([`crate::sdo`], which re-exports them) carries it on the wire, so both
+//! import it from here and neither climbs to the other.
 
 use core::fmt;
 
