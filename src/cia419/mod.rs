@@ -6,6 +6,7 @@
 //! [`crate::deltaq::Charger`].
 
 use crate::cob_id::PdoNumber;
+use crate::od::index::{RPDO_COMMUNICATION, TPDO_COMMUNICATION};
 use crate::pdo::{Catalogue, PdoDirection};
 
 /// A CiA 419 battery charger's application objects for naming PDO fields
@@ -53,12 +54,32 @@ const fn pair(index: u16, dir: PdoDirection, pdo: PdoNumber, bit: u32) -> PdoPai
 /// RPDO 1 / 2; RPDO 1 / 2 when bits 18 / 19 say it has TPDO 1 / 2
 /// (CiA 418 v1.0.1, 6.2.1).
 pub const PDO_PAIRS: [PdoPair; 6] = [
-    pair(0x1400, PdoDirection::Transmit, PdoNumber::P0, 0),
-    pair(0x1800, PdoDirection::Receive, PdoNumber::P0, 0),
-    pair(0x1401, PdoDirection::Transmit, PdoNumber::P1, 1 << 16),
-    pair(0x1402, PdoDirection::Transmit, PdoNumber::P2, 1 << 17),
-    pair(0x1801, PdoDirection::Receive, PdoNumber::P1, 1 << 18),
-    pair(0x1802, PdoDirection::Receive, PdoNumber::P2, 1 << 19),
+    pair(RPDO_COMMUNICATION, PdoDirection::Transmit, PdoNumber::P0, 0),
+    pair(TPDO_COMMUNICATION, PdoDirection::Receive, PdoNumber::P0, 0),
+    pair(
+        RPDO_COMMUNICATION + 1,
+        PdoDirection::Transmit,
+        PdoNumber::P1,
+        1 << 16,
+    ),
+    pair(
+        RPDO_COMMUNICATION + 2,
+        PdoDirection::Transmit,
+        PdoNumber::P2,
+        1 << 17,
+    ),
+    pair(
+        TPDO_COMMUNICATION + 1,
+        PdoDirection::Receive,
+        PdoNumber::P1,
+        1 << 18,
+    ),
+    pair(
+        TPDO_COMMUNICATION + 2,
+        PdoDirection::Receive,
+        PdoNumber::P2,
+        1 << 19,
+    ),
 ];
 
 impl PdoPair {

@@ -4,6 +4,15 @@
 
 use crate::eds::DataType::{Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8};
 use crate::eds::{sub, DataType, ObjectDescription, ObjectType, SubDescription};
+use crate::od::index::{
+    COB_ID_SYNC, COB_ID_TIME, COMMUNICATION_CYCLE_PERIOD, CONSUMER_HEARTBEAT_TIME, DEVICE_TYPE,
+    ERROR_REGISTER, GUARD_TIME, IDENTITY, LIFE_TIME_FACTOR, MANUFACTURER_DEVICE_NAME,
+    PRE_DEFINED_ERROR_FIELD, PRODUCER_HEARTBEAT_TIME, RESTORE_DEFAULT_PARAMETERS,
+    RPDO_COMMUNICATION, RPDO_COMMUNICATION_LAST, RPDO_MAPPING, RPDO_MAPPING_LAST,
+    SDO_SERVER_PARAMETER, STORE_PARAMETERS, SYNCHRONOUS_COUNTER_OVERFLOW,
+    SYNCHRONOUS_WINDOW_LENGTH, TPDO_COMMUNICATION, TPDO_COMMUNICATION_LAST, TPDO_MAPPING,
+    TPDO_MAPPING_LAST,
+};
 
 const HIGHEST: SubDescription = sub(0, 0, "Highest sub-index supported", U8);
 
@@ -39,11 +48,11 @@ const PDO_MAPPING: &[SubDescription] = &[
 /// named with its number from 1 ("RPDO communication parameter 1" is
 /// 1400h, the crate's `PdoNumber::P0`).
 pub const COMM_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
-    ObjectDescription::var(0x1000, "Device type", U32),
-    ObjectDescription::var(0x1001, "Error register", U8),
+    ObjectDescription::var(DEVICE_TYPE, "Device type", U32),
+    ObjectDescription::var(ERROR_REGISTER, "Error register", U8),
     ObjectDescription::with_subs(
-        0x1003,
-        0x1003,
+        PRE_DEFINED_ERROR_FIELD,
+        PRE_DEFINED_ERROR_FIELD,
         "Pre-defined error field",
         ObjectType::Array,
         &[
@@ -51,15 +60,23 @@ pub const COMM_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
             sub(1, 254, "Standard error field", U32),
         ],
     ),
-    ObjectDescription::var(0x1005, "COB-ID SYNC message", U32),
-    ObjectDescription::var(0x1006, "Communication cycle period", U32),
-    ObjectDescription::var(0x1007, "Synchronous window length", U32),
-    ObjectDescription::var(0x1008, "Manufacturer device name", DataType::VisibleString),
-    ObjectDescription::var(0x100C, "Guard time", U16),
-    ObjectDescription::var(0x100D, "Life time factor", U8),
+    ObjectDescription::var(COB_ID_SYNC, "COB-ID SYNC message", U32),
+    ObjectDescription::var(
+        COMMUNICATION_CYCLE_PERIOD,
+        "Communication cycle period",
+        U32,
+    ),
+    ObjectDescription::var(SYNCHRONOUS_WINDOW_LENGTH, "Synchronous window length", U32),
+    ObjectDescription::var(
+        MANUFACTURER_DEVICE_NAME,
+        "Manufacturer device name",
+        DataType::VisibleString,
+    ),
+    ObjectDescription::var(GUARD_TIME, "Guard time", U16),
+    ObjectDescription::var(LIFE_TIME_FACTOR, "Life time factor", U8),
     ObjectDescription::with_subs(
-        0x1010,
-        0x1010,
+        STORE_PARAMETERS,
+        STORE_PARAMETERS,
         "Store parameters",
         ObjectType::Array,
         &[
@@ -70,8 +87,8 @@ pub const COMM_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
         ],
     ),
     ObjectDescription::with_subs(
-        0x1011,
-        0x1011,
+        RESTORE_DEFAULT_PARAMETERS,
+        RESTORE_DEFAULT_PARAMETERS,
         "Restore default parameters",
         ObjectType::Array,
         &[
@@ -81,18 +98,18 @@ pub const COMM_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
             sub(3, 3, "Restore application default parameters", U32),
         ],
     ),
-    ObjectDescription::var(0x1012, "COB-ID time stamp object", U32),
+    ObjectDescription::var(COB_ID_TIME, "COB-ID time stamp object", U32),
     ObjectDescription::with_subs(
-        0x1016,
-        0x1016,
+        CONSUMER_HEARTBEAT_TIME,
+        CONSUMER_HEARTBEAT_TIME,
         "Consumer heartbeat time",
         ObjectType::Array,
         &[HIGHEST, sub(1, 127, "Consumer heartbeat time", U32)],
     ),
-    ObjectDescription::var(0x1017, "Producer heartbeat time", U16),
+    ObjectDescription::var(PRODUCER_HEARTBEAT_TIME, "Producer heartbeat time", U16),
     ObjectDescription::with_subs(
-        0x1018,
-        0x1018,
+        IDENTITY,
+        IDENTITY,
         "Identity object",
         ObjectType::Record,
         &[
@@ -103,10 +120,14 @@ pub const COMM_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
             sub(4, 4, "Serial number", U32),
         ],
     ),
-    ObjectDescription::var(0x1019, "Synchronous counter overflow value", U8),
+    ObjectDescription::var(
+        SYNCHRONOUS_COUNTER_OVERFLOW,
+        "Synchronous counter overflow value",
+        U8,
+    ),
     ObjectDescription::with_subs(
-        0x1200,
-        0x1200,
+        SDO_SERVER_PARAMETER,
+        SDO_SERVER_PARAMETER,
         "SDO server parameter",
         ObjectType::Record,
         &[
@@ -117,29 +138,29 @@ pub const COMM_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
         ],
     ),
     ObjectDescription::with_subs(
-        0x1400,
-        0x15FF,
+        RPDO_COMMUNICATION,
+        RPDO_COMMUNICATION_LAST,
         "RPDO communication parameter",
         ObjectType::Record,
         PDO_COMM_RX,
     ),
     ObjectDescription::with_subs(
-        0x1600,
-        0x17FF,
+        RPDO_MAPPING,
+        RPDO_MAPPING_LAST,
         "RPDO mapping parameter",
         ObjectType::Record,
         PDO_MAPPING,
     ),
     ObjectDescription::with_subs(
-        0x1800,
-        0x19FF,
+        TPDO_COMMUNICATION,
+        TPDO_COMMUNICATION_LAST,
         "TPDO communication parameter",
         ObjectType::Record,
         PDO_COMM_TX,
     ),
     ObjectDescription::with_subs(
-        0x1A00,
-        0x1BFF,
+        TPDO_MAPPING,
+        TPDO_MAPPING_LAST,
         "TPDO mapping parameter",
         ObjectType::Record,
         PDO_MAPPING,

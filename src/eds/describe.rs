@@ -7,6 +7,10 @@ use alloc::vec::Vec;
 use alloc::{format, vec};
 
 use super::{AccessType, DataType, Eds, Entry, Keys, Object, ObjectType};
+use crate::od::index::{
+    DEVICE_TYPE, ERROR_REGISTER, IDENTITY, MANUFACTURER_DEVICE_NAME, RPDO_COMMUNICATION,
+    RPDO_COMMUNICATION_LAST, TPDO_COMMUNICATION, TPDO_COMMUNICATION_LAST,
+};
 use crate::od::{Access, ObjectDictionary, ObjectInfo};
 
 /// What the caller says about one sub-object found in the dictionary: its
@@ -126,7 +130,7 @@ impl Eds {
                 },
             };
             let list: &mut Vec<u16> = match index {
-                0x1000 | 0x1001 | 0x1018 => &mut eds.mandatory,
+                DEVICE_TYPE | ERROR_REGISTER | IDENTITY => &mut eds.mandatory,
                 0x2000..=0x5FFF => &mut eds.manufacturer,
                 _ => &mut eds.optional,
             };
@@ -333,16 +337,19 @@ impl Eds {
         let count = |range: core::ops::RangeInclusive<u16>| {
             u16::try_from(indexes.iter().filter(|i| range.contains(i)).count()).unwrap_or(u16::MAX)
         };
-        let (rx, tx) = (count(0x1400..=0x15FF), count(0x1800..=0x19FF));
+        let (rx, tx) = (
+            count(RPDO_COMMUNICATION..=RPDO_COMMUNICATION_LAST),
+            count(TPDO_COMMUNICATION..=TPDO_COMMUNICATION_LAST),
+        );
         let mut name = vec![0u8; 256];
-        let product = match od.read(0x1008, 0, 0, &mut name) {
+        let product = match od.read(MANUFACTURER_DEVICE_NAME, 0, 0, &mut name) {
             Ok(n) => core::str::from_utf8(name.get(..n).unwrap_or(&[]))
                 .ok()
                 .and_then(plain)
                 .map(ToString::to_string),
             Err(_) => None,
         };
-        let [vendor, code, revision] = [1, 2, 3].map(|sub| read_u32(od, 0x1018, sub));
+        let [vendor, code, revision] = [1, 2, 3].map(|sub| read_u32(od, IDENTITY, sub));
 
         let file = &mut eds.file_info;
         file.file_name = plain(header.file_name).map(ToString::to_string);

@@ -15,6 +15,10 @@ use core::fmt;
 use super::value::{encode_value, eval_int, ValueError};
 use super::{DataType, Eds, Entry, ObjectType};
 use crate::abort::AbortCode;
+use crate::od::index::{
+    RPDO_COMMUNICATION, RPDO_COMMUNICATION_LAST, RPDO_MAPPING, TPDO_COMMUNICATION,
+    TPDO_COMMUNICATION_LAST,
+};
 use crate::od::{Access, MemoryDictionary, ObjectDictionary, ObjectInfo};
 use crate::pdo::{MappingEntry, MappingError, PdoCobId, PdoDirection, PdoMapping};
 use crate::NodeId;
@@ -337,15 +341,21 @@ impl Eds {
     pub fn pdos(&self, node: NodeId) -> Vec<PdoDescription> {
         let node = node.raw();
         let ranges = [
-            (PdoDirection::Receive, 0x1400u16..=0x15FF),
-            (PdoDirection::Transmit, 0x1800..=0x19FF),
+            (
+                PdoDirection::Receive,
+                RPDO_COMMUNICATION..=RPDO_COMMUNICATION_LAST,
+            ),
+            (
+                PdoDirection::Transmit,
+                TPDO_COMMUNICATION..=TPDO_COMMUNICATION_LAST,
+            ),
         ];
         let mut out = Vec::new();
         for (direction, range) in ranges {
             let base = *range.start();
             for (&index, _) in self.objects.range(range) {
                 let number = index.saturating_sub(base);
-                let mapping_index = index.saturating_add(0x200);
+                let mapping_index = index.saturating_add(RPDO_MAPPING - RPDO_COMMUNICATION);
                 let count = int_of(self.entry(mapping_index, 0), node).unwrap_or(0);
                 let entries = (1..=count.clamp(0, 0x40))
                     .filter_map(|sub| {

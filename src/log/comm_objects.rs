@@ -8,6 +8,17 @@
 use crate::cia418::DeviceType;
 use crate::deltaq::{device_type, DeltaQCode};
 use crate::emcy::{ErrorCode, ErrorRegister};
+use crate::od::index::{
+    COB_ID_EMCY, COB_ID_SYNC, COB_ID_TIME, COMMUNICATION_AREA_FIRST, COMMUNICATION_AREA_LAST,
+    COMMUNICATION_CYCLE_PERIOD, CONSUMER_HEARTBEAT_TIME, DEVICE_TYPE, ERROR_BEHAVIOUR,
+    ERROR_REGISTER, GUARD_TIME, IDENTITY, INHIBIT_TIME_EMCY, LIFE_TIME_FACTOR,
+    MANUFACTURER_DEVICE_NAME, MANUFACTURER_HARDWARE_VERSION, MANUFACTURER_SOFTWARE_VERSION,
+    PRE_DEFINED_ERROR_FIELD, PRODUCER_HEARTBEAT_TIME, RESTORE_DEFAULT_PARAMETERS,
+    RPDO_COMMUNICATION, RPDO_COMMUNICATION_LAST, RPDO_MAPPING, RPDO_MAPPING_LAST,
+    SDO_CLIENT_PARAMETER, SDO_SERVER_PARAMETER, STORE_PARAMETERS, SYNCHRONOUS_COUNTER_OVERFLOW,
+    SYNCHRONOUS_WINDOW_LENGTH, TPDO_COMMUNICATION, TPDO_COMMUNICATION_LAST, TPDO_MAPPING,
+    TPDO_MAPPING_LAST,
+};
 use crate::pdo::{Catalogue, MappingEntry};
 use std::prelude::rust_2021::*;
 
@@ -342,7 +353,7 @@ fn decimal(v: u64) -> String {
 /// profile area; `None` outside it. `exact` is false for an expedited value
 /// with s = 0.
 pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) -> Option<Described> {
-    if !(0x1000..=0x1FFF).contains(&index) {
+    if !(COMMUNICATION_AREA_FIRST..=COMMUNICATION_AREA_LAST).contains(&index) {
         return None;
     }
     let num = |name: String, n: usize, meaning: fn(u64) -> String| {
@@ -357,53 +368,55 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
     };
     let bytes_only = |name: String| Described::named(name);
     let d = match (index, sub) {
-        (0x1000, 0) => unsigned(Described::named("device type"), bytes, 4, exact, |v| {
+        (DEVICE_TYPE, 0) => unsigned(Described::named("device type"), bytes, 4, exact, |v| {
             device_type(v as u32, ctx.deltaq_on_bus)
         }),
-        (0x1001, 0) => unsigned(Described::named("error register"), bytes, 1, exact, |v| {
+        (ERROR_REGISTER, 0) => unsigned(Described::named("error register"), bytes, 1, exact, |v| {
             error_register(v as u8)
         }),
         (0x1002, 0) => num("manufacturer status register".into(), 4, hex32),
-        (0x1003, 0) => num("number of errors".into(), 1, decimal),
-        (0x1003, _) => unsigned(
+        (PRE_DEFINED_ERROR_FIELD, 0) => num("number of errors".into(), 1, decimal),
+        (PRE_DEFINED_ERROR_FIELD, _) => unsigned(
             Described::named("pre-defined error field"),
             bytes,
             4,
             exact,
             |v| error_field(v as u32, ctx.role),
         ),
-        (0x1005, 0) => unsigned(Described::named("COB-ID SYNC"), bytes, 4, exact, |v| {
+        (COB_ID_SYNC, 0) => unsigned(Described::named("COB-ID SYNC"), bytes, 4, exact, |v| {
             cob_id_sync(v as u32)
         }),
-        (0x1006, 0) => num("communication cycle period".into(), 4, |v| match v {
-            0 => "0 us (no SYNC produced)".into(),
-            v => us(v),
-        }),
-        (0x1007, 0) => num("synchronous window length".into(), 4, |v| match v {
+        (COMMUNICATION_CYCLE_PERIOD, 0) => {
+            num("communication cycle period".into(), 4, |v| match v {
+                0 => "0 us (no SYNC produced)".into(),
+                v => us(v),
+            })
+        }
+        (SYNCHRONOUS_WINDOW_LENGTH, 0) => num("synchronous window length".into(), 4, |v| match v {
             0 => "0 us (no window)".into(),
             v => us(v),
         }),
-        (0x1008, 0) => text("manufacturer device name"),
-        (0x1009, 0) => text("manufacturer hardware version"),
-        (0x100A, 0) => text("manufacturer software version"),
-        (0x100C, 0) => num("guard time".into(), 2, |v| match v {
+        (MANUFACTURER_DEVICE_NAME, 0) => text("manufacturer device name"),
+        (MANUFACTURER_HARDWARE_VERSION, 0) => text("manufacturer hardware version"),
+        (MANUFACTURER_SOFTWARE_VERSION, 0) => text("manufacturer software version"),
+        (GUARD_TIME, 0) => num("guard time".into(), 2, |v| match v {
             0 => "0 ms (no node guarding)".into(),
             v => ms(v),
         }),
-        (0x100D, 0) => num("life time factor".into(), 1, |v| match v {
+        (LIFE_TIME_FACTOR, 0) => num("life time factor".into(), 1, |v| match v {
             0 => "0 (no life guarding)".into(),
             v => format!("node life time = {v} x guard time"),
         }),
-        (0x1010, 0) => highest("store parameters"),
-        (0x1010, _) => unsigned(
+        (STORE_PARAMETERS, 0) => highest("store parameters"),
+        (STORE_PARAMETERS, _) => unsigned(
             Described::named(format!("store parameters: {}", parameter_group(sub))),
             bytes,
             4,
             exact,
             |v| store_restore(v, SAVE, "saves"),
         ),
-        (0x1011, 0) => highest("restore default parameters"),
-        (0x1011, _) => unsigned(
+        (RESTORE_DEFAULT_PARAMETERS, 0) => highest("restore default parameters"),
+        (RESTORE_DEFAULT_PARAMETERS, _) => unsigned(
             Described::named(format!(
                 "restore default parameters: {}",
                 parameter_group(sub)
@@ -413,16 +426,16 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
             exact,
             |v| store_restore(v, LOAD, "restores"),
         ),
-        (0x1012, 0) => unsigned(Described::named("COB-ID TIME"), bytes, 4, exact, |v| {
+        (COB_ID_TIME, 0) => unsigned(Described::named("COB-ID TIME"), bytes, 4, exact, |v| {
             cob_id_time(v as u32)
         }),
         (0x1013, 0) => num("high resolution time stamp".into(), 4, us),
-        (0x1014, 0) => unsigned(Described::named("COB-ID EMCY"), bytes, 4, exact, |v| {
+        (COB_ID_EMCY, 0) => unsigned(Described::named("COB-ID EMCY"), bytes, 4, exact, |v| {
             cob_id(v as u32, "reserved bit 30")
         }),
-        (0x1015, 0) => num("inhibit time EMCY".into(), 2, times_100us),
-        (0x1016, 0) => highest("consumer heartbeat time"),
-        (0x1016, _) => num("consumer heartbeat time".into(), 4, |v| {
+        (INHIBIT_TIME_EMCY, 0) => num("inhibit time EMCY".into(), 2, times_100us),
+        (CONSUMER_HEARTBEAT_TIME, 0) => highest("consumer heartbeat time"),
+        (CONSUMER_HEARTBEAT_TIME, _) => num("consumer heartbeat time".into(), 4, |v| {
             let (node, ms) = ((v >> 16) & 0xFF, v & 0xFFFF);
             if node == 0 || ms == 0 {
                 format!("disabled (node {node}, {ms} ms)")
@@ -430,7 +443,7 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
                 format!("node {node}, {ms} ms")
             }
         }),
-        (0x1017, 0) => {
+        (PRODUCER_HEARTBEAT_TIME, 0) => {
             let mut d = num("producer heartbeat time".into(), 2, |v| match v {
                 0 => "disabled".into(),
                 v => ms(v),
@@ -440,8 +453,8 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
             }
             d
         }
-        (0x1018, 0) => highest("identity"),
-        (0x1018, 1..=4) => {
+        (IDENTITY, 0) => highest("identity"),
+        (IDENTITY, 1..=4) => {
             let name = [
                 "identity vendor-ID",
                 "identity product code",
@@ -450,7 +463,7 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
             ][usize::from(sub - 1)];
             num(name.into(), 4, hex32)
         }
-        (0x1019, 0) => num(
+        (SYNCHRONOUS_COUNTER_OVERFLOW, 0) => num(
             "synchronous counter overflow value".into(),
             1,
             |v| match v {
@@ -501,8 +514,8 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
             exact,
             |v| cob_id(v as u32, "reserved bit 30"),
         ),
-        (0x1029, 0) => highest("error behaviour"),
-        (0x1029, _) => {
+        (ERROR_BEHAVIOUR, 0) => highest("error behaviour"),
+        (ERROR_BEHAVIOUR, _) => {
             let what = match sub {
                 1 => "communication error".to_string(),
                 _ => format!("error class {sub}"),
@@ -510,8 +523,8 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
             num(format!("error behaviour: {what}"), 1, error_behaviour)
         }
         (0x102A, 0) => num("NMT inhibit time".into(), 2, times_100us),
-        (0x1200..=0x12FF, _) => {
-            let client = index >= 0x1280;
+        (SDO_SERVER_PARAMETER..=0x12FF, _) => {
+            let client = index >= SDO_CLIENT_PARAMETER;
             let sdo = format!(
                 "SDO {} parameter {}",
                 if client { "client" } else { "server" },
@@ -544,10 +557,18 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
                 _ => bytes_only(format!("{sdo}: sub-index {sub}")),
             }
         }
-        (0x1400..=0x15FF | 0x1800..=0x19FF, _) => {
+        (
+            RPDO_COMMUNICATION..=RPDO_COMMUNICATION_LAST
+            | TPDO_COMMUNICATION..=TPDO_COMMUNICATION_LAST,
+            _,
+        ) => {
             let pdo = format!(
                 "{}{} communication",
-                if index < 0x1800 { "RPDO" } else { "TPDO" },
+                if index < TPDO_COMMUNICATION {
+                    "RPDO"
+                } else {
+                    "TPDO"
+                },
                 index & 0x1FF
             );
             match sub {
@@ -567,10 +588,10 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
                 _ => bytes_only(format!("{pdo}: sub-index {sub}")),
             }
         }
-        (0x1600..=0x17FF | 0x1A00..=0x1BFF, _) => {
+        (RPDO_MAPPING..=RPDO_MAPPING_LAST | TPDO_MAPPING..=TPDO_MAPPING_LAST, _) => {
             let pdo = format!(
                 "{}{} mapping",
-                if index < 0x1A00 { "RPDO" } else { "TPDO" },
+                if index < TPDO_MAPPING { "RPDO" } else { "TPDO" },
                 index & 0x1FF
             );
             match sub {

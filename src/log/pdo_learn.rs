@@ -19,6 +19,10 @@ use std::collections::HashMap;
 use std::prelude::rust_2021::*;
 
 use crate::eds::{DataType, Eds};
+use crate::od::index::{
+    RPDO_COMMUNICATION, RPDO_COMMUNICATION_LAST, RPDO_MAPPING, RPDO_MAPPING_LAST,
+    TPDO_COMMUNICATION, TPDO_COMMUNICATION_LAST, TPDO_MAPPING, TPDO_MAPPING_LAST,
+};
 use crate::pdo::{
     Catalogue, CatalogueEntry, Interpretation, MappingEntry, Marker, PdoMapping, MAX_ENTRIES,
 };
@@ -166,10 +170,10 @@ impl Learned {
             return None;
         }
         let (tx, comm, base) = match r.index {
-            0x1400..=0x15FF => (false, true, 0x1400),
-            0x1600..=0x17FF => (false, false, 0x1600),
-            0x1800..=0x19FF => (true, true, 0x1800),
-            0x1A00..=0x1BFF => (true, false, 0x1A00),
+            RPDO_COMMUNICATION..=RPDO_COMMUNICATION_LAST => (false, true, RPDO_COMMUNICATION),
+            RPDO_MAPPING..=RPDO_MAPPING_LAST => (false, false, RPDO_MAPPING),
+            TPDO_COMMUNICATION..=TPDO_COMMUNICATION_LAST => (true, true, TPDO_COMMUNICATION),
+            TPDO_MAPPING..=TPDO_MAPPING_LAST => (true, false, TPDO_MAPPING),
             _ => return None,
         };
         let key: Key = (r.node, tx, r.index - base);

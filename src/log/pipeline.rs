@@ -5,6 +5,7 @@
 use std::io::{self, Read, Write};
 use std::prelude::rust_2021::*;
 
+use crate::od::index::{DEVICE_TYPE, IDENTITY, SDO_SERVER_PARAMETER};
 use crate::sdo::{SdoChannel, Side as SdoSide};
 use crate::trace::candump::LogLine;
 use crate::trace::Format;
@@ -148,15 +149,17 @@ impl Roles {
             return None;
         }
         match (report.index, report.sub, &report.bytes[..]) {
-            (0x1000, 0, [a, b, ..]) => {
+            (DEVICE_TYPE, 0, [a, b, ..]) => {
                 let (name, given) =
                     self.give_by_profile(report.node, u16::from_le_bytes([*a, *b]))?;
-                given.then(|| format!("the {name} (its device type, 1000h, says so)"))
+                given.then(|| format!("the {name} (its device type, {DEVICE_TYPE:04X}h, says so)"))
             }
-            (0x1018, 1, [a, b, c, d]) => {
+            (IDENTITY, 1, [a, b, c, d]) => {
                 let vendor = u32::from_le_bytes([*a, *b, *c, *d]);
                 self.give_deltaq(report.node, vendor).then(|| {
-                    format!("a Delta-Q device (its vendor ID, 1018h:01, is {vendor:08X}h)")
+                    format!(
+                        "a Delta-Q device (its vendor ID, {IDENTITY:04X}h:01, is {vendor:08X}h)"
+                    )
                 })
             }
             _ => None,
@@ -420,7 +423,7 @@ pub fn load_eds(
             .and_then(|v| u32::try_from(v).ok())
     };
     let mut said = Vec::new();
-    if let Some(device_type) = int(0x1000, 0) {
+    if let Some(device_type) = int(DEVICE_TYPE, 0) {
         let profile = (device_type & 0xFFFF) as u16;
         said.push(match roles.give_by_profile(node, profile) {
             Some((role, _)) => format!("device type {device_type:08X}h: the {role}"),
@@ -428,7 +431,7 @@ pub fn load_eds(
         });
     }
     // The vendor ID: 1018h sub 1, else the file's VendorNumber.
-    if let Some(vendor) = int(0x1018, 1).or(eds.device_info.vendor_number) {
+    if let Some(vendor) = int(IDENTITY, 1).or(eds.device_info.vendor_number) {
         if vendor == DELTAQ_VENDOR_ID
             && (roles.give_deltaq(node, vendor) || roles.deltaq == Some(node))
         {
@@ -463,11 +466,11 @@ pub fn load_eds(
     }
     // CiA 301, SDO server parameter (1200h): bit 31 of a COB-ID set means
     // the SDO is not valid, so it adds no channel.
-    let ids = (int(0x1200, 1), int(0x1200, 2));
+    let ids = (int(SDO_SERVER_PARAMETER, 1), int(SDO_SERVER_PARAMETER, 2));
     if let (Some(rx), Some(tx)) = ids {
         if (rx | tx) & (1 << 31) != 0 {
             said.push(format!(
-                "SDO server parameter 1200h not valid (COB-IDs {rx:08X}h/{tx:08X}h, bit 31 set): no channel"
+                "SDO server parameter {SDO_SERVER_PARAMETER:04X}h not valid (COB-IDs {rx:08X}h/{tx:08X}h, bit 31 set): no channel"
             ));
         }
     }

@@ -95,13 +95,31 @@ pub const TPDO_COMMUNICATION: u16 = 0x1800;
 /// 1A00h + n (up to 1BFFh), laid out as [`RPDO_MAPPING`].
 pub const TPDO_MAPPING: u16 = 0x1A00;
 
+/// How many PDOs of each direction the index ranges above have room for
+/// (CiA 301, 7.5.2.35-7.5.2.38: 512 each, numbered 1-512 in the standard,
+/// 0-511 here).
+pub const PDO_SLOTS: u16 = 512;
+/// The last RPDO communication parameter (15FFh).
+pub const RPDO_COMMUNICATION_LAST: u16 = RPDO_COMMUNICATION + (PDO_SLOTS - 1);
+/// The last RPDO mapping parameter (17FFh).
+pub const RPDO_MAPPING_LAST: u16 = RPDO_MAPPING + (PDO_SLOTS - 1);
+/// The last TPDO communication parameter (19FFh).
+pub const TPDO_COMMUNICATION_LAST: u16 = TPDO_COMMUNICATION + (PDO_SLOTS - 1);
+/// The last TPDO mapping parameter (1BFFh).
+pub const TPDO_MAPPING_LAST: u16 = TPDO_MAPPING + (PDO_SLOTS - 1);
+/// The first index of the communication profile area (CiA 301, 7.4.1
+/// "Object dictionary", table 42: 1000h-1FFFh).
+pub const COMMUNICATION_AREA_FIRST: u16 = DEVICE_TYPE;
+/// The last index of the communication profile area (1FFFh).
+pub const COMMUNICATION_AREA_LAST: u16 = 0x1FFF;
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn cia301_indexes() {
-        let rows: [(u16, u16); 29] = [
+        let rows: [(u16, u16); 35] = [
             (DEVICE_TYPE, 0x1000),
             (ERROR_REGISTER, 0x1001),
             (PRE_DEFINED_ERROR_FIELD, 0x1003),
@@ -131,6 +149,12 @@ mod tests {
             (TPDO_MAPPING, 0x1A00),
             (RPDO_MAPPING - RPDO_COMMUNICATION, 0x200),
             (TPDO_MAPPING - TPDO_COMMUNICATION, 0x200),
+            (RPDO_COMMUNICATION_LAST, 0x15FF),
+            (RPDO_MAPPING_LAST, 0x17FF),
+            (TPDO_COMMUNICATION_LAST, 0x19FF),
+            (TPDO_MAPPING_LAST, 0x1BFF),
+            (COMMUNICATION_AREA_FIRST, 0x1000),
+            (COMMUNICATION_AREA_LAST, 0x1FFF),
         ];
         for (got, want) in rows {
             assert_eq!(got, want, "{want:04X}h");
