@@ -41,7 +41,7 @@
 //! | layer setting services (CiA 305) | [`lss`] |
 //! | an object dictionary for a server or a device | [`od`] |
 //! | a whole CiA 301 device (NMT slave, heartbeat, EMCY, SDO server, PDOs) | [`device`] |
-//! | program download (CiA 302-3: 1F50h-1F57h) | [`device::program`] (the store trait, the codes), `device::ProgramObjects` (feature `program-download`), [`sdo::ProgramDownload`] (the master) |
+//! | program download (CiA 302-3: 1F50h-1F57h) | [`program`] (the objects, the store trait, the codes), `device::ProgramObjects` (feature `program-download`), [`sdo::ProgramDownload`] (the master) |
 //! | EDS and DCF files (CiA 306) | `eds` (feature `alloc`) |
 //! | read candump, PCAN, Vector ASC, CSV and BLF traces | [`trace`] ([`trace::candump`] for candump lines, [`trace::blf`] for BLF) |
 //! | the CiA 418 battery module | [`cia418`] |
@@ -70,7 +70,7 @@
 //!   server), `sdo-client-segmented` (segmented transfers in the SDO
 //!   client), `heartbeat-consumer` (1016h in the device core and the
 //!   Delta-Q charger), `program-download` (1F50h-1F57h served over a
-//!   `device::program::ProgramStore`). Their firmware cost is in `Cargo.toml` and
+//!   `program::ProgramStore`). Their firmware cost is in `Cargo.toml` and
 //!   `docs/FIRMWARE.md`.
 //! - `sim` (default): models for simulation and whole charge sessions
 //!   (`sim`).
@@ -120,6 +120,7 @@ pub mod nmt;
 pub mod od;
 pub mod pdo;
 pub mod prelude;
+pub mod program;
 mod queue;
 pub mod sdo;
 #[cfg(feature = "sim")]

@@ -149,7 +149,6 @@ mod objects;
 mod parameters;
 mod profile;
 mod profiled;
-pub mod program;
 #[cfg(feature = "program-download")]
 mod program_objects;
 mod services;
@@ -157,6 +156,9 @@ mod snapshot;
 #[cfg(feature = "store")]
 pub mod store;
 
+/// The program download definitions, at their home [`crate::program`]
+/// (below the SDO layer, whose master uses them too).
+pub use crate::program;
 pub use config::{DeviceConfig, Policies, PowerOn};
 #[cfg(feature = "alloc")]
 pub use descriptions::COMM_OBJECT_DESCRIPTIONS;

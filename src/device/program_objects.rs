@@ -1,6 +1,6 @@
 //! [`ProgramObjects`]: an application dictionary with the program download
 //! objects of CiA 302-3 (1F50h, 1F51h, 1F56h, 1F57h; see
-//! [`program`](super::program)) in front, served over the application's
+//! [`program`](crate::program)) in front, served over the application's
 //! [`ProgramStore`] (feature `program-download`).
 //!
 //! The image is streamed, not buffered: every SDO segment of a download
@@ -31,14 +31,14 @@
 
 use core::ops::{Deref, DerefMut};
 
-use super::program::{
+use super::PowerOnValues;
+use crate::abort::AbortCode;
+use crate::od::{read_at, Access, ObjectDictionary, ObjectInfo, SizeRule};
+use crate::program::{
     FlashError, FlashStatus, ProgramCommand, ProgramState, ProgramStore,
     FLASH_STATUS_IDENTIFICATION, PROGRAM_1, PROGRAM_CONTROL, PROGRAM_DATA,
     PROGRAM_SOFTWARE_IDENTIFICATION,
 };
-use super::PowerOnValues;
-use crate::abort::AbortCode;
-use crate::od::{read_at, Access, ObjectDictionary, ObjectInfo, SizeRule};
 
 /// The store a device serves its program download objects over: owned by
 /// the application for the life of the program (a firmware's static, a
@@ -53,7 +53,7 @@ pub type ProgramStoreRef = &'static mut (dyn ProgramStore + Send);
 ///
 /// ```
 /// # #[cfg(feature = "alloc")] {
-/// use canopen_codec::device::program::{FlashError, ProgramStore};
+/// use canopen_codec::program::{FlashError, ProgramStore};
 /// use canopen_codec::device::ProgramObjects;
 /// use canopen_codec::od::{MemoryDictionary, ObjectDictionary};
 /// use canopen_codec::sdo::AbortCode;

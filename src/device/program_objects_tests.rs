@@ -2,7 +2,7 @@
 //! streamed image and the failures.
 
 use super::*;
-use crate::device::program::Crc32;
+use crate::program::Crc32;
 
 /// An application dictionary with one object, 2000h.
 #[derive(Debug, Default)]

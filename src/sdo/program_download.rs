@@ -1,5 +1,5 @@
 //! The master's side of program download (CiA 302-3, the program download
-//! objects; see [`device::program`](crate::device::program)): one
+//! objects; see [`program`](crate::program)): one
 //! sans-IO machine that drives the whole sequence on one SDO client.
 //!
 //! 1. 1F51h sub n = 0: stop the program;
@@ -33,12 +33,12 @@
 
 use super::{AbortCode, AbortOrigin, Client, ClientConfig, ClientError, ClientEvent};
 use crate::clock::Timestamp;
-use crate::device::program::{
+use crate::frame::CanFrame;
+use crate::machine::Machine;
+use crate::program::{
     FlashStatus, ProgramCommand, FLASH_STATUS_IDENTIFICATION, PROGRAM_CONTROL, PROGRAM_DATA,
     PROGRAM_SOFTWARE_IDENTIFICATION,
 };
-use crate::frame::CanFrame;
-use crate::machine::Machine;
 use crate::queue::EventQueue;
 
 /// The events the machine's queue holds.
@@ -145,7 +145,7 @@ impl ProgramDownloadConfig {
     pub const fn for_server(server: crate::cob_id::NodeId) -> Self {
         ProgramDownloadConfig {
             client: ClientConfig::for_server(server),
-            program: crate::device::program::PROGRAM_1,
+            program: crate::program::PROGRAM_1,
             block: true,
             settle: core::time::Duration::from_millis(100),
         }

@@ -3,10 +3,10 @@
 //! objects 1F50h, 1F51h and 1F57h; its application note is not part of
 //! this repository, so the public CiA 302-3 definitions are used, with
 //! 1F56h for the software identification: see
-//! [`device::program`](crate::device::program)). With feature
+//! [`program`](crate::program)). With feature
 //! `program-download` the charger's application dictionary is its
 //! [`ChargerDictionary`] behind [`ProgramObjects`], and a charger given a
-//! [`ProgramStore`](crate::device::program::ProgramStore)
+//! [`ProgramStore`](crate::program::ProgramStore)
 //! ([`Charger::with_program_store`]) serves the four objects over it;
 //! without a store (or without the feature) they do not exist
 //! (06020000h).

@@ -28,7 +28,8 @@
 //! | 1-7 | error code ([`FlashError::code`]): 0 no error, 1 no valid program, 2 data format unknown, 3 data format error or CRC error, 4 flash not cleared before write, 5 flash write error, 6 general address error, 7 flash secured (write access currently forbidden), 8-63 reserved, 64-127 manufacturer-specific |
 //! | 8-31 | manufacturer-specific (kept, not interpreted) |
 //!
-//! The objects are served by [`ProgramObjects`](super::ProgramObjects)
+//! A leaf below the SDO layer and the device core, which both use it:
+//! the objects are served by [`ProgramObjects`](crate::device::ProgramObjects)
 //! (feature `program-download`) in front of an application dictionary; a
 //! master drives the sequence with
 //! [`sdo::ProgramDownload`](crate::sdo::ProgramDownload).
@@ -42,7 +43,7 @@ pub const PROGRAM_SOFTWARE_IDENTIFICATION: u16 = 0x1F56;
 /// 1F57h flash status identification (U32 per program).
 pub const FLASH_STATUS_IDENTIFICATION: u16 = 0x1F57;
 /// The sub-index of program 1, the one program a
-/// [`ProgramObjects`](super::ProgramObjects) serves.
+/// [`ProgramObjects`](crate::device::ProgramObjects) serves.
 pub const PROGRAM_1: u8 = 1;
 
 /// What a [`ProgramStore`] reports when an operation on its flash fails:
@@ -114,7 +115,7 @@ impl FlashError {
 /// the bits). Lossless: every bit of the raw word is kept.
 ///
 /// ```
-/// use canopen_codec::device::program::{FlashError, FlashStatus};
+/// use canopen_codec::program::{FlashError, FlashStatus};
 /// let s = FlashStatus::from_raw(0x0000_000A);
 /// assert_eq!((s.in_progress(), s.error()), (false, Some(FlashError::FlashWriteError)));
 /// assert_eq!(FlashStatus::new(true, None).raw(), 1);
@@ -329,7 +330,7 @@ pub trait ProgramStore {
 /// any tool can recompute.
 ///
 /// ```
-/// use canopen_codec::device::program::Crc32;
+/// use canopen_codec::program::Crc32;
 /// let mut crc = Crc32::new();
 /// crc.update(b"1234");
 /// crc.update(b"56789");
