@@ -8,12 +8,9 @@
 //!
 //! `cargo bench --bench trace_read`. Throughput is in frames.
 
-#[path = "../tests/decoder/blf_support.rs"]
-mod blf_support;
-
 use std::hint::black_box;
 
-use canopen_codec::trace::blf::{BlfEvent, BlfReader, Compression};
+use canopen_codec::trace::blf::{BlfEvent, BlfReader, BlfWriter, Compression, Deflate};
 use canopen_codec::trace::{Format, LineParser, Record};
 use canopen_codec::{CanFrame, CanId};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
@@ -96,13 +93,28 @@ fn read_blf(file: &[u8], zlib: &mut flate2::Decompress, buf: &mut [u8]) -> u64 {
     n
 }
 
+/// flate2's zlib for the writer's containers, as python-can compresses them.
+struct Zlib;
+
+impl Deflate for Zlib {
+    fn deflate(&mut self, payload: &[u8], out: &mut Vec<u8>) {
+        use std::io::Write;
+        let mut z = flate2::write::ZlibEncoder::new(out, flate2::Compression::default());
+        z.write_all(payload).unwrap();
+        z.finish().unwrap();
+    }
+}
+
 fn trace_read(c: &mut Criterion) {
     let frames = frames();
     let text = candump(&frames);
-    let objects = blf_support::can_objects(&frames);
     let start = [2025, 9, 4, 4, 3, 14, 13, 603];
-    let stored = blf_support::file(start, &objects, 128 * 1024, false);
-    let packed = blf_support::file(start, &objects, 128 * 1024, true);
+    let mut writer = BlfWriter::new(Some(start), 128 * 1024);
+    for (us, f) in &frames {
+        writer.push(*us, f, false);
+    }
+    let stored = writer.clone().finish(None);
+    let packed = writer.finish(Some(&mut Zlib));
     let mut zlib = flate2::Decompress::new(true);
     let mut buf = vec![0u8; CHUNK];
     assert_eq!(read_blf(&stored, &mut zlib, &mut buf), N);

@@ -87,6 +87,10 @@
 //! ```
 
 mod objects;
+#[cfg(feature = "alloc")]
+pub mod write;
+#[cfg(feature = "alloc")]
+pub use write::{BlfWriter, Deflate};
 
 use super::{RxTx, TraceFrame, Unsupported};
 use crate::clock::Timestamp;
