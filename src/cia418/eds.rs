@@ -1,9 +1,11 @@
 //! The CiA 418 battery module described as an EDS (CiA 306): the object
 //! names and data types of CiA 418 v1.0.1 and the module's own dictionary.
 
-use crate::device::COMM_OBJECT_DESCRIPTIONS;
 use crate::eds::DataType::{Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8};
-use crate::eds::{sub, DataType, DeviceHeader, Eds, ObjectDescription, ObjectType, SubDescription};
+use crate::eds::{
+    sub, DataType, DeviceHeader, Eds, ObjectDescription, ObjectType, SubDescription,
+    COMM_OBJECT_DESCRIPTIONS,
+};
 
 use super::BatteryModule;
 

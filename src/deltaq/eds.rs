@@ -7,8 +7,7 @@ use crate::eds::{sub, ObjectDescription, ObjectType};
 #[cfg(feature = "heartbeat-consumer")]
 use crate::{
     cia418::CIA418_OBJECT_DESCRIPTIONS,
-    device::COMM_OBJECT_DESCRIPTIONS,
-    eds::{DeviceHeader, Eds},
+    eds::{DeviceHeader, Eds, COMM_OBJECT_DESCRIPTIONS},
 };
 
 use super::index;

@@ -140,8 +140,6 @@ use core::mem::MaybeUninit;
 mod config;
 #[cfg(feature = "heartbeat-consumer")]
 mod consumer;
-#[cfg(feature = "alloc")]
-mod descriptions;
 #[cfg(feature = "lss")]
 mod lss;
 mod objects;
@@ -161,7 +159,6 @@ pub mod store;
 pub use crate::program;
 pub use config::{DeviceConfig, Policies, PowerOn};
 #[cfg(feature = "alloc")]
-pub use descriptions::COMM_OBJECT_DESCRIPTIONS;
 #[cfg(feature = "heartbeat-consumer")]
 pub use objects::MAX_CONSUMERS;
 pub use objects::{CommObjects, DeviceObjects, ErrorFieldFormat, Identity, ERROR_HISTORY_LEN};

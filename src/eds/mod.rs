@@ -35,6 +35,7 @@ use alloc::collections::BTreeMap;
 use alloc::string::String;
 use alloc::vec::Vec;
 
+mod comm_objects;
 mod describe;
 mod dictionary;
 mod parse;
@@ -42,6 +43,7 @@ mod types;
 mod value;
 mod write;
 
+pub use comm_objects::COMM_OBJECT_DESCRIPTIONS;
 pub(crate) use describe::sub;
 pub use describe::{Described, DeviceHeader, ObjectDescription, SubDescription};
 pub use dictionary::{EdsDictionary, PdoDescription, Unserved, UnservedReason, MAX_VARIABLE_LEN};

@@ -39,7 +39,7 @@ const PDO_MAPPING: &[SubDescription] = &[
 ];
 
 /// The CiA 301 communication objects of the device core
-/// ([`CommObjects`](super::CommObjects): 1000h, 1001h, 1003h, 1005h-1008h,
+/// ([`CommObjects`](crate::device::CommObjects): 1000h, 1001h, 1003h, 1005h-1008h,
 /// 100Ch, 100Dh, 1010h and 1011h (feature `store`), 1012h, 1016h-1019h, 1200h) and the PDO communication and mapping parameters
 /// (1400h-1BFFh), with the object and sub-object names of CiA 301
 /// ("CANopen application layer and communication profile", section 7.5.2
