@@ -7,8 +7,8 @@ use crate::bytes::InlineData;
 use crate::message::Message;
 use crate::nmt::NmtTarget;
 use crate::sdo::{
-    ClientBlockDownload, ClientBlockUpload, ClientCommand, InitiatePayload, Segment,
-    ServerBlockDownload, ServerBlockUpload, ServerCommand,
+    BlockDataCommand, ClientBlockUpload, ClientCommand, InitiatePayload, Segment,
+    ServerBlockDownload, ServerCommand,
 };
 
 /// Writes bytes as space-separated hex (`74 13 45`), or `-` when empty.
@@ -86,6 +86,33 @@ fn segment(f: &mut fmt::Formatter<'_>, what: &str, s: &Segment) -> fmt::Result {
     )
 }
 
+/// The frames around a block's data, the same both ways: `initiate` and
+/// `end` name them for the direction.
+fn block_data(
+    f: &mut fmt::Formatter<'_>,
+    b: &BlockDataCommand,
+    initiate: &str,
+    end: &str,
+) -> fmt::Result {
+    match b {
+        BlockDataCommand::Initiate {
+            index,
+            sub,
+            crc,
+            size,
+        } => {
+            write!(f, "{initiate} {index:04X}h sub {sub}")?;
+            if let Some(n) = size {
+                write!(f, ", {n} bytes")?;
+            }
+            write!(f, ", crc {}", if *crc { "yes" } else { "no" })
+        }
+        BlockDataCommand::End { unused, crc } => {
+            write!(f, "{end}, {unused} unused, crc {crc:04X}h")
+        }
+    }
+}
+
 impl fmt::Display for ClientCommand {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -125,23 +152,9 @@ impl fmt::Display for ClientCommand {
                 }
                 ClientBlockUpload::End => f.write_str("block upload end"),
             },
-            ClientCommand::BlockDownload(b) => match b {
-                ClientBlockDownload::Initiate {
-                    index,
-                    sub,
-                    crc,
-                    size,
-                } => {
-                    write!(f, "initiate block download {index:04X}h sub {sub}")?;
-                    if let Some(n) = size {
-                        write!(f, ", {n} bytes")?;
-                    }
-                    write!(f, ", crc {}", if *crc { "yes" } else { "no" })
-                }
-                ClientBlockDownload::End { unused, crc } => {
-                    write!(f, "block download end, {unused} unused, crc {crc:04X}h")
-                }
-            },
+            ClientCommand::BlockDownload(b) => {
+                block_data(f, b, "initiate block download", "block download end")
+            }
             ClientCommand::Unknown(b) => write!(f, "invalid command specifier {b:02X}h"),
         }
     }
@@ -184,23 +197,7 @@ impl fmt::Display for ServerCommand {
                 }
                 ServerBlockDownload::End => f.write_str("block download end acknowledged"),
             },
-            ServerCommand::BlockUpload(b) => match b {
-                ServerBlockUpload::Initiate {
-                    index,
-                    sub,
-                    crc,
-                    size,
-                } => {
-                    write!(f, "block upload {index:04X}h sub {sub}")?;
-                    if let Some(n) = size {
-                        write!(f, ", {n} bytes")?;
-                    }
-                    write!(f, ", crc {}", if *crc { "yes" } else { "no" })
-                }
-                ServerBlockUpload::End { unused, crc } => {
-                    write!(f, "block upload end, {unused} unused, crc {crc:04X}h")
-                }
-            },
+            ServerCommand::BlockUpload(b) => block_data(f, b, "block upload", "block upload end"),
             ServerCommand::Unknown(b) => write!(f, "invalid command specifier {b:02X}h"),
         }
     }

@@ -32,17 +32,19 @@
 
 use byteorder::{ByteOrder, LittleEndian};
 
-use super::data::{InitiatePayload, Segment, SegmentData};
+use super::data::{InitiatePayload, Segment};
 use crate::abort::AbortCode;
 use crate::error::DecodeError;
 use crate::frame::CanFrame;
 use crate::wire::Codec;
 
+mod block;
 mod request;
 mod response;
 
-pub use request::{ClientBlockDownload, ClientBlockUpload, ClientCommand};
-pub use response::{ServerBlockDownload, ServerBlockUpload, ServerCommand};
+pub use block::{BlockDataCommand, BlockSegment, ClientBlockDownload, ServerBlockUpload};
+pub use request::{ClientBlockUpload, ClientCommand};
+pub use response::{ServerBlockDownload, ServerCommand};
 
 /// Which end of an SDO channel sent a frame, or aborted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -225,13 +227,46 @@ impl SdoFrame {
         }
     }
 
+    /// The t bit (bit 4 of byte 0) of a segment, a segment request or a
+    /// segment acknowledgement.
+    #[inline]
+    const fn toggle(&self) -> bool {
+        self.command() & 0x10 != 0
+    }
+
+    /// The cc / sc bit (bit 2 of byte 0) of a block initiate: its sender
+    /// supports CRC.
+    #[inline]
+    const fn crc_supported(&self) -> bool {
+        self.command() & 0x04 != 0
+    }
+
+    /// The abort code of an abort frame (bytes 4..=7).
+    #[inline]
+    fn abort_code(&self) -> AbortCode {
+        AbortCode::from(self.u32_at_4())
+    }
+
+    /// True when the frame is a segment (specifier 0, with its data) or
+    /// the toggle-only command of specifier `toggle_only` that answers
+    /// one (the upload segment request, 3, or the download segment
+    /// acknowledgement, 1): the frames that make nearly every step of a
+    /// segmented transfer.
+    #[inline(always)]
+    fn is_segment_or(&self, toggle_only: u8) -> bool {
+        match self.specifier() {
+            0 => self.len() > segment_data_len(self.command()),
+            s => s == toggle_only,
+        }
+    }
+
     /// A segment (request ccs = 0, response scs = 0): toggle bit 4, c bit 0,
     /// 7 - n data bytes after byte 0 (n in bits 3..=1).
     #[inline]
     fn segment(&self) -> Segment {
         let b0 = self.command();
         Segment {
-            toggle: b0 & 0x10 != 0,
+            toggle: self.toggle(),
             last: b0 & 0x01 != 0,
             data: self.data_at(1, segment_data_len(b0)),
         }
@@ -262,17 +297,6 @@ impl SdoFrame {
                     None
                 },
             }
-        }
-    }
-
-    /// The indicated size (bytes 4..=7) of a block initiate when its s bit
-    /// (bit 1) is set.
-    #[inline]
-    fn block_size_field(&self) -> Option<u32> {
-        if self.command() & 0x02 != 0 {
-            Some(self.u32_at_4())
-        } else {
-            None
         }
     }
 }
@@ -436,40 +460,6 @@ fn emit_abort(buf: &mut [u8; 8], index: u16, sub: u8, code: AbortCode) -> usize 
     8
 }
 
-/// Emits the initiate that announces a block's data (client block
-/// download, server block upload; cs/ss = 0 of specifier 6).
-#[inline]
-fn emit_block_data_initiate(
-    buf: &mut [u8; 8],
-    index: u16,
-    sub: u8,
-    crc: bool,
-    size: Option<u32>,
-) -> usize {
-    put_command(
-        buf,
-        0xE7,
-        0xC0 | u8::from(crc) << 2 | u8::from(size.is_some()) << 1,
-    );
-    put_mux(buf, index, sub);
-    match size {
-        Some(size) => {
-            put_u32(buf, size);
-            8
-        }
-        None => 4,
-    }
-}
-
-/// Emits the end frame of a block's data (specifier 6, cs/ss = 1): the
-/// unused bytes of the last segment and the CRC.
-#[inline]
-fn emit_block_end(buf: &mut [u8; 8], unused: u8, crc: u16) -> usize {
-    put_command(buf, 0xFD, 0xC1 | (unused & 0x07) << 2);
-    put_data(buf, 1, &crc.to_le_bytes());
-    3
-}
-
 /// Emits a block acknowledgement (specifier 5, cs/ss = 2): the last
 /// sequence number received in order and the next block size.
 #[inline]
@@ -477,50 +467,6 @@ fn emit_block_ack(buf: &mut [u8; 8], ackseq: u8, blksize: u8) -> usize {
     put_command(buf, 0xE3, 0xA2);
     put_data(buf, 1, &[ackseq, blksize]);
     3
-}
-
-/// One segment of a block transfer's sub-block (CiA 301 section 7.2.4.3,
-/// SDO block download / upload): no command specifier, byte 0 is the
-/// sequence number (bits 6..=0) and the c bit (bit 7, no more segments),
-/// bytes 1..=7 the data. Its data length is not in the frame: every
-/// segment carries 7 bytes, the last one's unused bytes are in the end
-/// frame, so `data` holds every byte after byte 0.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct BlockSegment {
-    /// Sequence number in the sub-block (1..=127 on a valid frame).
-    pub seqno: u8,
-    /// The c bit: the last segment of the value.
-    pub last: bool,
-    /// The bytes after byte 0 (0..=7; 7 in a complete segment).
-    pub data: SegmentData,
-}
-
-impl BlockSegment {
-    /// Reads a sub-block segment (every checked frame is one).
-    #[must_use]
-    #[inline]
-    pub fn parse(frame: &SdoFrame) -> Self {
-        let b0 = frame.command();
-        BlockSegment {
-            seqno: b0 & 0x7F,
-            last: b0 & 0x80 != 0,
-            data: frame.data_at(1, frame.len().saturating_sub(1)),
-        }
-    }
-
-    /// Writes the segment into `buf`; returns its length (1 + data).
-    #[inline]
-    pub fn emit(&self, buf: &mut [u8; 8]) -> usize {
-        put_command(buf, 0xFF, (self.seqno & 0x7F) | u8::from(self.last) << 7);
-        put_data(buf, 1, self.data.as_slice());
-        self.buffer_len()
-    }
-
-    /// The bytes the segment takes: byte 0 and its data.
-    #[must_use]
-    pub const fn buffer_len(&self) -> usize {
-        1 + self.data.len()
-    }
 }
 
 macro_rules! sdo_frame {

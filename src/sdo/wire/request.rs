@@ -3,8 +3,8 @@
 //! frame in one place.
 
 use super::{
-    emit_abort, emit_block_ack, emit_block_data_initiate, emit_block_end, emit_initiate,
-    emit_segment, needed, put_command, put_data, put_mux, segment_data_len, SdoFrame, Side,
+    emit_abort, emit_block_ack, emit_initiate, emit_segment, needed, put_command, put_data,
+    put_mux, BlockDataCommand, ClientBlockDownload, SdoFrame, Side,
 };
 use crate::abort::AbortCode;
 use crate::error::DecodeError;
@@ -38,29 +38,6 @@ pub enum ClientBlockUpload {
     },
     /// cs = 1: end of the transfer acknowledged.
     End,
-}
-
-/// Block download commands a client sends (ccs = 6).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum ClientBlockDownload {
-    /// cs = 0: initiate, with CRC support and the size when indicated.
-    Initiate {
-        /// Object index.
-        index: u16,
-        /// Sub-index.
-        sub: u8,
-        /// cc: client supports CRC.
-        crc: bool,
-        /// Total size when s = 1.
-        size: Option<u32>,
-    },
-    /// cs = 1: end, with the unused bytes of the last segment and the CRC.
-    End {
-        /// n: bytes of the last segment that carry no data (0..=7).
-        unused: u8,
-        /// CRC-16/XMODEM of the whole value (0 when CRC is not in use).
-        crc: u16,
-    },
 }
 
 /// A client-to-server SDO command.
@@ -115,24 +92,18 @@ impl ClientCommand {
     /// frame (the wire layer's tests).
     #[inline(always)]
     pub(crate) fn is_segment(frame: &SdoFrame) -> bool {
-        let b0 = frame.command();
-        match b0 >> 5 {
-            0 => frame.len() > segment_data_len(b0),
-            3 => true,
-            _ => false,
-        }
+        frame.is_segment_or(3)
     }
 
     /// The command of a frame [`is_segment`](Self::is_segment) accepts
     /// (what [`parse`](Self::parse) gives for it).
     #[inline(always)]
     pub(crate) fn parse_segment(frame: &SdoFrame) -> Self {
-        let b0 = frame.command();
-        if b0 >> 5 == 0 {
+        if frame.specifier() == 0 {
             ClientCommand::DownloadSegment(frame.segment())
         } else {
             ClientCommand::UploadSegment {
-                toggle: b0 & 0x10 != 0,
+                toggle: frame.toggle(),
             }
         }
     }
@@ -145,7 +116,7 @@ impl ClientCommand {
         let b0 = frame.command();
         frame.check_len(needed(Side::Client, b0))?;
         let (index, sub) = (frame.index(), frame.sub());
-        let crc = b0 & 0x04 != 0;
+        let crc = frame.crc_supported();
         Ok(match b0 >> 5 {
             0 => ClientCommand::DownloadSegment(frame.segment()),
             1 => ClientCommand::InitiateDownload {
@@ -155,12 +126,12 @@ impl ClientCommand {
             },
             2 => ClientCommand::InitiateUpload { index, sub },
             3 => ClientCommand::UploadSegment {
-                toggle: b0 & 0x10 != 0,
+                toggle: frame.toggle(),
             },
             4 => ClientCommand::Abort {
                 index,
                 sub,
-                code: AbortCode::from(frame.u32_at_4()),
+                code: frame.abort_code(),
             },
             5 => ClientCommand::BlockUpload(match b0 & 0x03 {
                 0 => ClientBlockUpload::Initiate {
@@ -177,19 +148,7 @@ impl ClientCommand {
                 },
                 _ => ClientBlockUpload::Start,
             }),
-            6 => ClientCommand::BlockDownload(if b0 & 0x01 == 0 {
-                ClientBlockDownload::Initiate {
-                    index,
-                    sub,
-                    crc,
-                    size: frame.block_size_field(),
-                }
-            } else {
-                ClientBlockDownload::End {
-                    unused: (b0 >> 2) & 0x07,
-                    crc: frame.block_crc(),
-                }
-            }),
+            6 => ClientCommand::BlockDownload(BlockDataCommand::parse(frame)),
             _ => ClientCommand::Unknown(b0),
         })
     }
@@ -241,15 +200,7 @@ impl ClientCommand {
                     1
                 }
             },
-            ClientCommand::BlockDownload(b) => match b {
-                ClientBlockDownload::Initiate {
-                    index,
-                    sub,
-                    crc,
-                    size,
-                } => emit_block_data_initiate(buf, *index, *sub, *crc, *size),
-                ClientBlockDownload::End { unused, crc } => emit_block_end(buf, *unused, *crc),
-            },
+            ClientCommand::BlockDownload(b) => b.emit(buf),
             ClientCommand::Unknown(b) => {
                 put_command(buf, 0xFF, *b);
                 1

@@ -3,8 +3,8 @@
 //! frame in one place.
 
 use super::{
-    emit_abort, emit_block_ack, emit_block_data_initiate, emit_block_end, emit_initiate,
-    emit_segment, needed, put_command, put_data, put_mux, segment_data_len, SdoFrame, Side,
+    emit_abort, emit_block_ack, emit_initiate, emit_segment, needed, put_command, put_data,
+    put_mux, BlockDataCommand, SdoFrame, ServerBlockUpload, Side,
 };
 use crate::abort::AbortCode;
 use crate::error::DecodeError;
@@ -33,29 +33,6 @@ pub enum ServerBlockDownload {
     },
     /// ss = 1: end acknowledged.
     End,
-}
-
-/// Block upload responses a server sends (scs = 6).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum ServerBlockUpload {
-    /// ss = 0: initiate response, with CRC support and size when indicated.
-    Initiate {
-        /// Object index.
-        index: u16,
-        /// Sub-index.
-        sub: u8,
-        /// sc: server supports CRC.
-        crc: bool,
-        /// Total size when s = 1.
-        size: Option<u32>,
-    },
-    /// ss = 1: end, with the unused bytes of the last segment and the CRC.
-    End {
-        /// n: bytes of the last segment that carry no data (0..=7).
-        unused: u8,
-        /// CRC-16/XMODEM of the whole value.
-        crc: u16,
-    },
 }
 
 /// A server-to-client SDO command.
@@ -110,24 +87,18 @@ impl ServerCommand {
     /// every frame (the wire layer's tests).
     #[inline(always)]
     pub(crate) fn is_segment(frame: &SdoFrame) -> bool {
-        let b0 = frame.command();
-        match b0 >> 5 {
-            0 => frame.len() > segment_data_len(b0),
-            1 => true,
-            _ => false,
-        }
+        frame.is_segment_or(1)
     }
 
     /// The command of a frame [`is_segment`](Self::is_segment) accepts
     /// (what [`parse`](Self::parse) gives for it).
     #[inline(always)]
     pub(crate) fn parse_segment(frame: &SdoFrame) -> Self {
-        let b0 = frame.command();
-        if b0 >> 5 == 0 {
+        if frame.specifier() == 0 {
             ServerCommand::UploadSegment(frame.segment())
         } else {
             ServerCommand::DownloadSegment {
-                toggle: b0 & 0x10 != 0,
+                toggle: frame.toggle(),
             }
         }
     }
@@ -141,11 +112,11 @@ impl ServerCommand {
         let b0 = frame.command();
         frame.check_len(needed(Side::Server, b0))?;
         let (index, sub) = (frame.index(), frame.sub());
-        let crc = b0 & 0x04 != 0;
+        let crc = frame.crc_supported();
         Ok(match b0 >> 5 {
             0 => ServerCommand::UploadSegment(frame.segment()),
             1 => ServerCommand::DownloadSegment {
-                toggle: b0 & 0x10 != 0,
+                toggle: frame.toggle(),
             },
             2 => ServerCommand::InitiateUpload {
                 index,
@@ -156,7 +127,7 @@ impl ServerCommand {
             4 => ServerCommand::Abort {
                 index,
                 sub,
-                code: AbortCode::from(frame.u32_at_4()),
+                code: frame.abort_code(),
             },
             5 => match b0 & 0x03 {
                 0 => ServerCommand::BlockDownload(ServerBlockDownload::Initiate {
@@ -172,19 +143,7 @@ impl ServerCommand {
                 }),
                 _ => ServerCommand::Unknown(b0),
             },
-            6 => ServerCommand::BlockUpload(if b0 & 0x01 == 0 {
-                ServerBlockUpload::Initiate {
-                    index,
-                    sub,
-                    crc,
-                    size: frame.block_size_field(),
-                }
-            } else {
-                ServerBlockUpload::End {
-                    unused: (b0 >> 2) & 0x07,
-                    crc: frame.block_crc(),
-                }
-            }),
+            6 => ServerCommand::BlockUpload(BlockDataCommand::parse(frame)),
             _ => ServerCommand::Unknown(b0),
         })
     }
@@ -233,15 +192,7 @@ impl ServerCommand {
                     emit_block_ack(buf, *ackseq, *blksize)
                 }
             },
-            ServerCommand::BlockUpload(b) => match b {
-                ServerBlockUpload::Initiate {
-                    index,
-                    sub,
-                    crc,
-                    size,
-                } => emit_block_data_initiate(buf, *index, *sub, *crc, *size),
-                ServerBlockUpload::End { unused, crc } => emit_block_end(buf, *unused, *crc),
-            },
+            ServerCommand::BlockUpload(b) => b.emit(buf),
             ServerCommand::Unknown(b) => {
                 put_command(buf, 0xFF, *b);
                 1

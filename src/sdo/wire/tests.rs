@@ -5,7 +5,7 @@
 //! command specifier.
 
 use super::*;
-use crate::sdo::ExpeditedData;
+use crate::sdo::{ExpeditedData, SegmentData};
 
 fn req(bytes: &[u8]) -> ClientCommand {
     let r = SdoRequest::parse(bytes).unwrap();
