@@ -44,6 +44,7 @@ impl BlockDataCommand {
     /// [`needed`](super::needed)): bit 0 tells the initiate from the end;
     /// the initiate's s bit (bit 1) says whether bytes 4..=7 hold the size,
     /// the end's n (bits 4..=2) and CRC (bytes 1..=2) follow.
+    #[inline]
     pub(super) fn parse(frame: &SdoFrame) -> Self {
         let b0 = frame.command();
         if b0 & 0x01 == 0 {
@@ -51,7 +52,11 @@ impl BlockDataCommand {
                 index: frame.index(),
                 sub: frame.sub(),
                 crc: frame.crc_supported(),
-                size: (b0 & 0x02 != 0).then(|| frame.u32_at_4()),
+                size: if b0 & 0x02 != 0 {
+                    Some(frame.u32_at_4())
+                } else {
+                    None
+                },
             }
         } else {
             BlockDataCommand::End {
@@ -62,6 +67,7 @@ impl BlockDataCommand {
     }
 
     /// Writes the frame into `buf`; returns the bytes it needs.
+    #[inline]
     pub(super) fn emit(&self, buf: &mut [u8; 8]) -> usize {
         match *self {
             BlockDataCommand::Initiate {
