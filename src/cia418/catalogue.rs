@@ -25,11 +25,21 @@
 
 use core::fmt;
 
-use crate::pdo::{
-    Catalogue, CatalogueEntry, FlagField, FlagWord, Interpretation, Marker, Unit, ValueFormat,
+use crate::od::Access::{ReadOnly as Ro, ReadWrite as Rw};
+use crate::od::DataType::{
+    Integer16 as I16, Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8,
 };
+use crate::od::{Address, ObjectRow, ObjectType};
+use crate::pdo::{Catalogue, FlagField, FlagWord, Interpretation, Marker, Unit, ValueFormat};
 
 use super::{BatteryStatus, BatteryType, ChargerStatus, WaterLevelStatus};
+use super::{
+    AH_EXPENDED_SINCE_LAST_CHARGE, AH_RETURNED_DURING_LAST_CHARGE, AH_SINCE_LAST_EQUALIZATION,
+    BATTERY_ID, BATTERY_PARAMETERS, BATTERY_SERIAL_NUMBER, BATTERY_STATE_OF_CHARGE, BATTERY_STATUS,
+    BATTERY_VOLTAGE, CHARGER_STATE_OF_CHARGE, CHARGER_STATUS, CHARGE_CURRENT_REQUESTED,
+    CUMULATIVE_TOTAL_AH_CHARGE, DATE_OF_LAST_EQUALIZATION, TEMPERATURE, VEHICLE_ID,
+    VEHICLE_SERIAL_NUMBER, WATER_LEVEL_STATUS,
+};
 
 /// 6000h battery status (CiA 418 v1.0.1, 7.3.1): bit 0 set means the
 /// battery is ready to be charged; the other bits are kept as
@@ -98,54 +108,88 @@ pub(crate) const V: Option<Unit> = Some(Unit::Volt);
 pub(crate) const AH: Option<Unit> = Some(Unit::AmpereHour);
 const PCT: Option<Unit> = Some(Unit::Percent);
 
-/// The CiA 418 application objects 6000h-6090h (CiA 418 v1.0.1, 7.3.1-7.3.18):
-/// name, size and scale of each. 6051h-6053h are 0.125 Ah per bit, 6060h
-/// 1/1024 V, 6070h 1/16 A; 6080h and 6081h are 0..100 % with 0xFF invalid.
+/// The CiA 418 application objects 6000h-6090h, the area's one table
+/// (CiA 418 v1.0.1, "Device profile for battery modules", section 7.3
+/// "Detailed object specifications", 7.3.1 battery status to 7.3.18 water
+/// level status): for each entry its name and data type as the profile
+/// (and so an EDS) gives them, access, PDO mapping and power-on value as
+/// the battery module serves them ([`BatteryObjects`](super::BatteryObjects)),
+/// and the decoder's name, scale and unit. 6051h-6053h are 0.125 Ah per
+/// bit, 6060h 1/1024 V, 6070h 1/16 A; 6080h and 6081h are 0..100 % with
+/// 0xFF invalid. The charger (CiA 419, Delta-Q) shares these objects.
 #[rustfmt::skip]
-pub const CIA418_OBJECTS: &[CatalogueEntry] = &[
-    CatalogueEntry::new(0x6000, "battery status", 8, Interpretation::Flags(&BATTERY_STATUS_FLAGS)),
-    CatalogueEntry::new(0x6001, "charger status", 8, Interpretation::Flags(&CHARGER_STATUS_FLAGS)),
-    CatalogueEntry::new(
-        0x6010,
-        "temperature",
-        16,
-        Interpretation::Signed {
-            frac_bits: 3,
-            unit: Some(Unit::DegreeCelsius),
-        },
-    ),
-    CatalogueEntry::scaled(0x6020, "battery parameters: highest sub-index", 8, 0, None),
-    CatalogueEntry::new(0x6020, "battery type", 8, Interpretation::Formatted(&BATTERY_TYPE_FORMAT))
-    .subs(1, 1),
-    CatalogueEntry::scaled(0x6020, "Ah capacity", 16, 0, AH).subs(2, 2),
-    CatalogueEntry::scaled(0x6020, "maximum charge current", 16, 0, A).subs(3, 3),
-    CatalogueEntry::scaled(0x6020, "number of cells", 16, 0, None).subs(4, 4),
-    CatalogueEntry::scaled(0x6030, "battery serial number: elements", 8, 0, None),
-    CatalogueEntry::new(0x6030, "battery serial number", 32, Interpretation::Chars).subs(1, 3),
-    CatalogueEntry::scaled(0x6031, "battery ID: elements", 8, 0, None),
-    CatalogueEntry::new(0x6031, "battery ID", 32, Interpretation::Chars).subs(1, 5),
-    CatalogueEntry::scaled(0x6040, "vehicle serial number: elements", 8, 0, None),
-    CatalogueEntry::new(0x6040, "vehicle serial number", 32, Interpretation::Chars).subs(1, 5),
-    CatalogueEntry::scaled(0x6041, "vehicle ID: elements", 8, 0, None),
-    CatalogueEntry::new(0x6041, "vehicle ID", 32, Interpretation::Chars).subs(1, 5),
-    CatalogueEntry::scaled(0x6050, "cumulative total Ah charge", 32, 0, AH),
-    CatalogueEntry::scaled(0x6051, "Ah expended since last charge", 16, 3, AH),
-    CatalogueEntry::scaled(0x6052, "Ah returned during last charge", 16, 3, AH),
-    CatalogueEntry::scaled(0x6053, "Ah since last equalization", 16, 3, AH),
-    CatalogueEntry::scaled(0x6054, "date of last equalization: elements", 8, 0, None),
-    CatalogueEntry::scaled(0x6054, "last equalization, minutes since midnight", 16, 0, Some(Unit::Minute))
-    .subs(1, 1),
-    CatalogueEntry::scaled(0x6054, "last equalization, days since 1984-01-01", 16, 0, Some(Unit::Day))
-    .subs(2, 2),
-    CatalogueEntry::scaled(0x6060, "battery voltage", 32, 10, V),
-    CatalogueEntry::scaled(0x6070, "charge current requested", 16, 4, A)
-        .marked(Marker::Invalid(0xFFFF), None),
-    CatalogueEntry::scaled(0x6080, "charger state of charge", 8, 0, PCT)
-        .marked(Marker::Invalid(0xFF), Some(100)),
-    CatalogueEntry::scaled(0x6081, "battery state of charge", 8, 0, PCT)
-        .marked(Marker::Invalid(0xFF), Some(100)),
-    CatalogueEntry::new(0x6090, "water level status", 8, Interpretation::Flags(&WATER_LEVEL_STATUS_FLAGS)),
+pub const CIA418_OBJECTS: &[ObjectRow] = &[
+    ObjectRow::var(BATTERY_STATUS, "Battery status", U8, Ro).short("battery status").mappable()
+        .reading(Interpretation::Flags(&BATTERY_STATUS_FLAGS)),
+    ObjectRow::var(CHARGER_STATUS, "Charger status", U8, Rw).short("charger status").mappable()
+        .reading(Interpretation::Flags(&CHARGER_STATUS_FLAGS)),
+    ObjectRow::var(TEMPERATURE, "Temperature", I16, Ro).short("temperature").mappable()
+        .scaled(3, Some(Unit::DegreeCelsius)),
+    ObjectRow::var(BATTERY_PARAMETERS, "Highest sub-index supported", U8, Ro)
+        .heads("Battery parameters", ObjectType::Record)
+        .short("battery parameters: highest sub-index").default(4),
+    ObjectRow::new(Address::new(BATTERY_PARAMETERS, 1), "Battery type", U8, Ro).short("battery type")
+        .reading(Interpretation::Formatted(&BATTERY_TYPE_FORMAT)),
+    ObjectRow::new(Address::new(BATTERY_PARAMETERS, 2), "Ah capacity", U16, Ro).scaled(0, AH),
+    ObjectRow::new(Address::new(BATTERY_PARAMETERS, 3), "Maximum charge current", U16, Ro)
+        .short("maximum charge current").scaled(0, A),
+    ObjectRow::new(Address::new(BATTERY_PARAMETERS, 4), "Number of cells", U16, Ro)
+        .short("number of cells"),
+    packed_count(BATTERY_SERIAL_NUMBER, "Battery serial number", "battery serial number: elements"),
+    packed(BATTERY_SERIAL_NUMBER, "battery serial number", 3),
+    packed_count(BATTERY_ID, "Battery ID", "battery ID: elements"),
+    packed(BATTERY_ID, "battery ID", 5),
+    packed_count(VEHICLE_SERIAL_NUMBER, "Vehicle serial number", "vehicle serial number: elements"),
+    packed(VEHICLE_SERIAL_NUMBER, "vehicle serial number", 5),
+    packed_count(VEHICLE_ID, "Vehicle ID", "vehicle ID: elements"),
+    packed(VEHICLE_ID, "vehicle ID", 5),
+    ObjectRow::var(CUMULATIVE_TOTAL_AH_CHARGE, "Cumulative total Ah charge", U32, Ro)
+        .short("cumulative total Ah charge").scaled(0, AH),
+    ObjectRow::var(AH_EXPENDED_SINCE_LAST_CHARGE, "Ah expended since last charge", U16, Ro)
+        .scaled(3, AH),
+    ObjectRow::var(AH_RETURNED_DURING_LAST_CHARGE, "Ah returned during last charge", U16, Rw)
+        .mappable().scaled(3, AH),
+    ObjectRow::var(AH_SINCE_LAST_EQUALIZATION, "Ah since last equalization", U16, Rw)
+        .scaled(3, AH),
+    ObjectRow::var(DATE_OF_LAST_EQUALIZATION, "Number of elements", U8, Ro)
+        .heads("Date of last equalization", ObjectType::Record)
+        .short("date of last equalization: elements").default(2),
+    ObjectRow::new(Address::new(DATE_OF_LAST_EQUALIZATION, 1), "Minutes since midnight", U16, Rw)
+        .short("last equalization, minutes since midnight").scaled(0, Some(Unit::Minute)),
+    ObjectRow::new(Address::new(DATE_OF_LAST_EQUALIZATION, 2), "Days since 1984-01-01", U16, Rw)
+        .short("last equalization, days since 1984-01-01").scaled(0, Some(Unit::Day)),
+    ObjectRow::var(BATTERY_VOLTAGE, "Battery voltage", U32, Ro).short("battery voltage").mappable()
+        .scaled(10, V),
+    ObjectRow::var(CHARGE_CURRENT_REQUESTED, "Charge current requested", U16, Ro)
+        .short("charge current requested").mappable().default(0xFFFF)
+        .scaled(4, A).marked(Marker::Invalid(0xFFFF), None),
+    ObjectRow::var(CHARGER_STATE_OF_CHARGE, "Charger state of charge", U8, Rw)
+        .short("charger state of charge").mappable().default(0xFF)
+        .scaled(0, PCT).marked(Marker::Invalid(0xFF), Some(100)),
+    ObjectRow::var(BATTERY_STATE_OF_CHARGE, "Battery state of charge", U8, Ro)
+        .short("battery state of charge").mappable().default(0xFF)
+        .scaled(0, PCT).marked(Marker::Invalid(0xFF), Some(100)),
+    ObjectRow::var(WATER_LEVEL_STATUS, "Water level status", U8, Ro).short("water level status")
+        .reading(Interpretation::Flags(&WATER_LEVEL_STATUS_FLAGS)),
 ];
+
+/// Sub-index 0 of a packed string (CiA 418 v1.0.1, 7.3.5-7.3.8): the
+/// element count of the ARRAY `name`, one element when empty.
+const fn packed_count(index: u16, name: &'static str, short: &'static str) -> ObjectRow {
+    ObjectRow::var(index, "Highest sub-index supported", U8, Ro)
+        .heads(name, ObjectType::Array)
+        .short(short)
+        .default(1)
+}
+
+/// Sub-indexes 1..=`last` of a packed string: Unsigned32 elements of four
+/// ISO 646 characters each.
+const fn packed(index: u16, short: &'static str, last: u8) -> ObjectRow {
+    ObjectRow::new(Address::new(index, 1), "Packed characters", U32, Ro)
+        .through(last)
+        .short(short)
+        .reading(Interpretation::Chars)
+}
 
 /// A CiA 418 battery module: [`CIA418_OBJECTS`] only.
 pub const BATTERY_MODULE_CATALOGUE: Catalogue =

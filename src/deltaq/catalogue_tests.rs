@@ -242,9 +242,9 @@ proptest! {
         for cat in [BATTERY_MODULE_CATALOGUE, CHARGER_CATALOGUE] {
             let table = [CIA418_OBJECTS, DELTAQ_OBJECTS].concat();
             let def = &table[pick % table.len()];
-            let bits = u32::from(def.bits);
+            let bits = u32::from(def.bits());
             let raw = raw & (u64::MAX >> (64 - bits));
-            let f = cat.interpret(MappingEntry::new(def.index, def.first_sub, def.bits), raw);
+            let f = cat.interpret(MappingEntry::new(def.address.index, def.address.sub, def.bits()), raw);
             let _ = format!("{f} {f:.2} {}", f.value);
         }
     }

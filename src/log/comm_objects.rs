@@ -183,7 +183,7 @@ fn mapping_entry(v: u32, catalogue: Catalogue) -> String {
         s.push_str(" padding");
     } else if let Some(e) = catalogue.lookup(index, sub) {
         s.push(' ');
-        s.push_str(e.name);
+        s.push_str(e.short);
     }
     s
 }

@@ -23,9 +23,8 @@ use crate::od::index::{
     RPDO_COMMUNICATION, RPDO_COMMUNICATION_LAST, RPDO_MAPPING, RPDO_MAPPING_LAST,
     TPDO_COMMUNICATION, TPDO_COMMUNICATION_LAST, TPDO_MAPPING, TPDO_MAPPING_LAST,
 };
-use crate::pdo::{
-    Catalogue, CatalogueEntry, Interpretation, MappingEntry, Marker, PdoMapping, MAX_ENTRIES,
-};
+use crate::od::{Access, Address, ObjectRow};
+use crate::pdo::{Catalogue, MappingEntry, PdoMapping, MAX_ENTRIES};
 use crate::NodeId;
 
 use crate::log::sdo::{End, Report};
@@ -97,40 +96,28 @@ impl Learned {
     pub fn name_objects(&mut self, node: NodeId, eds: &Eds, profile: Option<Catalogue>) {
         let mut own = Vec::new();
         for (index, sub, name, data_type) in eds_variables(eds) {
-            let interpretation = if data_type.is_signed() {
-                Interpretation::Signed {
-                    frac_bits: 0,
-                    unit: None,
-                }
-            } else if data_type.is_unsigned() || data_type == DataType::Boolean {
-                Interpretation::Unsigned {
-                    frac_bits: 0,
-                    unit: None,
-                    marker: Marker::None,
-                    max: None,
-                }
-            } else {
+            // Plain integers of the types a PDO can carry (a BOOLEAN is
+            // mapped as 1 bit, the others at their size).
+            if !(data_type.is_signed() || data_type.is_unsigned() || data_type == DataType::Boolean)
+                || data_type.fixed_size().is_none_or(|n| n > 8)
+            {
                 continue;
-            };
-            // A PDO maps a BOOLEAN as 1 bit, the others at their size.
-            let bits = match data_type {
-                DataType::Boolean => 1,
-                t => match t.fixed_size().and_then(|n| u8::try_from(n * 8).ok()) {
-                    Some(b) => b,
-                    None => continue,
-                },
-            };
+            }
             let name: &'static str = Box::leak(name.into_boxed_str());
-            let mut entry = CatalogueEntry::new(index, name, bits, interpretation);
-            entry.first_sub = sub;
-            entry.last_sub = sub;
-            own.push(entry);
+            // Access and mapping are the node's business; the decoder reads
+            // the name and the type.
+            own.push(ObjectRow::new(
+                Address::new(index, sub),
+                name,
+                data_type,
+                Access::ReadWrite,
+            ));
         }
-        let own: &'static [CatalogueEntry] = Box::leak(own.into_boxed_slice());
-        let mut tables: Vec<&'static [CatalogueEntry]> =
+        let own: &'static [ObjectRow] = Box::leak(own.into_boxed_slice());
+        let mut tables: Vec<&'static [ObjectRow]> =
             profile.map(|c| c.tables().to_vec()).unwrap_or_default();
         tables.push(own);
-        let tables: &'static [&'static [CatalogueEntry]] = Box::leak(tables.into_boxed_slice());
+        let tables: &'static [&'static [ObjectRow]] = Box::leak(tables.into_boxed_slice());
         self.catalogues
             .insert(node, Catalogue::new("the node's EDS", tables));
     }

@@ -157,9 +157,9 @@ fn profile(index: u16, sub: u8, bytes: &[u8], catalogue: Catalogue, exact: bool)
             string: false,
         };
     };
-    let d = Described::named(def.name);
+    let d = Described::named(def.short);
     // A BOOLEAN (1 bit in a PDO) travels by SDO as one byte.
-    let raw = match uint(bytes, usize::from(def.bits.div_ceil(8)), exact) {
+    let raw = match uint(bytes, usize::from(def.bits().div_ceil(8)), exact) {
         Ok(raw) => raw,
         Err(e) => {
             return Described {
@@ -168,8 +168,8 @@ fn profile(index: u16, sub: u8, bytes: &[u8], catalogue: Catalogue, exact: bool)
             }
         }
     };
-    let field = catalogue.interpret(MappingEntry::new(index, sub, def.bits), raw);
-    let digits = usize::from(def.bits).div_ceil(4);
+    let field = catalogue.interpret(MappingEntry::new(index, sub, def.bits()), raw);
+    let digits = usize::from(def.bits()).div_ceil(4);
     let (value, meaning) = match &field.value {
         FieldValue::Scaled { value, .. } | FieldValue::OutOfRange { value, .. } => (
             Value::Number(value.to_string()),

@@ -82,7 +82,7 @@ pub fn describe(catalogue: Catalogue, entry: MappingEntry) -> Option<Signal> {
         _ => (false, 0, None),
     };
     Some(Signal {
-        name: def.name,
+        name: def.short,
         unit,
         signed,
         frac_bits,

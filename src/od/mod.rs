@@ -25,11 +25,17 @@ pub(crate) mod fixture;
 pub mod index;
 #[cfg(feature = "alloc")]
 mod memory;
+mod reading;
+mod row;
+mod types;
 mod write_buffer;
 pub use address::Address;
 pub use fixed::{FixedDictionary, FixedEntry, FixedObject, FixedObjects};
 #[cfg(feature = "alloc")]
 pub use memory::MemoryDictionary;
+pub use reading::{FlagField, FlagWord, Interpretation, Marker, Unit, ValueFormat};
+pub use row::{Compound, ObjectRow};
+pub use types::{DataType, ObjectType};
 pub use write_buffer::WriteBuffer;
 
 /// Access rights of an object, CiA 301.

@@ -27,8 +27,8 @@ mod wire;
 #[cfg(test)]
 pub(crate) use catalogue::test_support as catalogue_test_support;
 pub use catalogue::{
-    Catalogue, CatalogueEntry, FieldValue, Fixed, FlagField, FlagWord, Flags, Formatted,
-    Interpretation, Marker, NamedField, NamedFields, Unit, ValueFormat,
+    Catalogue, FieldValue, Fixed, FlagField, FlagWord, Flags, Formatted, Interpretation, Marker,
+    NamedField, NamedFields, Unit, ValueFormat,
 };
 pub use comm::{
     PdoCobId, PdoCommParams, PdoDirection, SubValue, TransmissionType, TransmissionTypeError,

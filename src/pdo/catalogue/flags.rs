@@ -3,66 +3,7 @@
 
 use core::fmt;
 
-/// One field of a bit-field object.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum FlagField {
-    /// A flag: says `set` when every bit of `mask` is set, otherwise
-    /// `clear` (or nothing).
-    Bit {
-        /// The flag's bit(s).
-        mask: u64,
-        /// Words when set.
-        set: &'static str,
-        /// Words when clear, if any.
-        clear: Option<&'static str>,
-    },
-    /// A multi-bit field whose values have names: `(value, words)`, with
-    /// `None` for a value that says nothing. An unlisted value reads
-    /// `"{unknown} {value}"`.
-    Choice {
-        /// The field's bits (contiguous); the value is shifted down to bit 0.
-        mask: u64,
-        /// The named values.
-        values: &'static [(u64, Option<&'static str>)],
-        /// What an unlisted value is called (`charge type` gives
-        /// `charge type 15`).
-        unknown: &'static str,
-    },
-    /// Bits within `mask` that no [`FlagField::Bit`] or
-    /// [`FlagField::Choice`] of the word covers: when any is set, says
-    /// `other bits XXh` (in place, two hex digits at least).
-    OtherBits {
-        /// Where unknown bits are looked for.
-        mask: u64,
-    },
-}
-
-/// How to say a bit-field object in words: its fields in the order they
-/// are written, and what to say when none of them writes anything.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct FlagWord {
-    /// The fields, in writing order.
-    pub fields: &'static [FlagField],
-    /// Written when no field wrote anything (`none`), if anything.
-    pub when_empty: Option<&'static str>,
-}
-
-impl FlagWord {
-    /// The bits some [`FlagField::Bit`] or [`FlagField::Choice`] covers.
-    #[must_use]
-    pub const fn known_bits(&self) -> u64 {
-        let mut known = 0;
-        let mut rest = self.fields;
-        while let [field, tail @ ..] = rest {
-            known |= match *field {
-                FlagField::Bit { mask, .. } | FlagField::Choice { mask, .. } => mask,
-                FlagField::OtherBits { .. } => 0,
-            };
-            rest = tail;
-        }
-        known
-    }
-}
+use crate::od::{FlagField, FlagWord};
 
 /// The decoded value of a bit-field object; `Display` says it in words.
 ///

@@ -9,11 +9,15 @@
 //! dictionary holds, first match wins.
 //!
 //! ```
-//! use canopen_codec::pdo::{Catalogue, CatalogueEntry, MappingEntry, PdoMapping, Unit};
+//! use canopen_codec::od::{Access, DataType, ObjectRow};
+//! use canopen_codec::pdo::{Catalogue, MappingEntry, PdoMapping, Unit};
 //!
 //! // A made-up manufacturer object: 2000h, U16 in 1/16 V.
-//! const OBJECTS: &[CatalogueEntry] =
-//!     &[CatalogueEntry::scaled(0x2000, "bus voltage", 16, 4, Some(Unit::Volt))];
+//! const OBJECTS: &[ObjectRow] = &[
+//!     ObjectRow::var(0x2000, "Bus Voltage", DataType::Unsigned16, Access::ReadOnly)
+//!         .short("bus voltage")
+//!         .scaled(4, Some(Unit::Volt)),
+//! ];
 //! const DEVICE: Catalogue = Catalogue::new("example device", &[OBJECTS]);
 //!
 //! let mapping = PdoMapping::new(&[
@@ -56,59 +60,16 @@
 
 use core::fmt;
 
-use core::hash::{Hash, Hasher};
+use core::hash::Hash;
 
 use super::mapping::{extract_bits, sign_extend, MappingEntry, PdoMapping, MAX_ENTRIES};
 
 mod fixed;
 mod flags;
+use crate::od::ObjectRow;
+pub use crate::od::{FlagField, FlagWord, Interpretation, Marker, Unit, ValueFormat};
 pub use fixed::Fixed;
-pub use flags::{FlagField, FlagWord, Flags};
-
-/// A unit of a scaled value.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[non_exhaustive]
-pub enum Unit {
-    /// Ampere.
-    Ampere,
-    /// Volt (also V rms for the AC voltage).
-    Volt,
-    /// Ampere-hour.
-    AmpereHour,
-    /// Degree Celsius.
-    DegreeCelsius,
-    /// Percent.
-    Percent,
-    /// Milliohm.
-    Milliohm,
-    /// Minute.
-    Minute,
-    /// Day.
-    Day,
-}
-
-impl Unit {
-    /// The symbol: `A`, `V`, `Ah`, `degC`, `%`, `mOhm`, `min`, `d`.
-    #[must_use]
-    pub const fn symbol(self) -> &'static str {
-        match self {
-            Unit::Ampere => "A",
-            Unit::Volt => "V",
-            Unit::AmpereHour => "Ah",
-            Unit::DegreeCelsius => "degC",
-            Unit::Percent => "%",
-            Unit::Milliohm => "mOhm",
-            Unit::Minute => "min",
-            Unit::Day => "d",
-        }
-    }
-}
-
-impl fmt::Display for Unit {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.symbol())
-    }
-}
+pub use flags::Flags;
 
 /// Writes `v` with the formatter's precision and `#` flag (and nothing
 /// else) passed on.
@@ -118,48 +79,6 @@ fn forward<T: fmt::Display>(f: &mut fmt::Formatter<'_>, v: &T) -> fmt::Result {
         (Some(p), false) => write!(f, "{v:.p$}"),
         (None, true) => write!(f, "{v:#}"),
         (None, false) => write!(f, "{v}"),
-    }
-}
-
-/// A raw value with a special meaning.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Marker {
-    /// No special value.
-    None,
-    /// This raw value marks an invalid reading (CiA 418 marks its sensor
-    /// readings this way).
-    Invalid(u64),
-    /// This raw value means "no value" (Delta-Q's defaults of 0xFFFF and
-    /// 0xFFFF_FFFF are).
-    NoValue(u64),
-}
-
-/// How a profile writes a value that a table cannot describe: a function
-/// of the raw bits, named by `kind`. Formats are told apart by `kind`
-/// alone (equality and hashing ignore the functions).
-#[derive(Debug, Clone, Copy)]
-pub struct ValueFormat {
-    /// A short name for machine output (`error`, `algorithm`,
-    /// `battery_type`); [`FieldValue::kind`] returns it.
-    pub kind: &'static str,
-    /// False for raw values that mean "no value"; the field then decodes as
-    /// [`FieldValue::NoValue`].
-    pub has_value: fn(u64) -> bool,
-    /// Writes the value in words (precision and `#` are the formatter's).
-    pub write: fn(u64, &mut fmt::Formatter<'_>) -> fmt::Result,
-}
-
-impl PartialEq for ValueFormat {
-    fn eq(&self, other: &Self) -> bool {
-        self.kind == other.kind
-    }
-}
-
-impl Eq for ValueFormat {}
-
-impl Hash for ValueFormat {
-    fn hash<H: Hasher>(&self, state: &mut H) {
-        self.kind.hash(state);
     }
 }
 
@@ -178,145 +97,21 @@ impl fmt::Display for Formatted {
     }
 }
 
-/// How a catalogue entry turns raw bits into a value.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Interpretation {
-    /// Unsigned integer: `raw / 2^frac_bits` in `unit`.
-    Unsigned {
-        /// Fractional bits of the scale (Q8 is 8).
-        frac_bits: u8,
-        /// The unit, if the object has one.
-        unit: Option<Unit>,
-        /// A raw value with a special meaning.
-        marker: Marker,
-        /// Largest raw value in the object's range, if it has one.
-        max: Option<u64>,
-    },
-    /// Two's complement integer: `raw / 2^frac_bits` in `unit`.
-    Signed {
-        /// Fractional bits of the scale.
-        frac_bits: u8,
-        /// The unit, if the object has one.
-        unit: Option<Unit>,
-    },
-    /// A bit-field object, described by its flag word.
-    Flags(&'static FlagWord),
-    /// A value the profile writes itself.
-    Formatted(&'static ValueFormat),
-    /// One Unsigned32 element of a packed string: four ISO 646 characters,
-    /// the first in the least significant byte.
-    Chars,
-    /// Padding: the bits carry nothing.
-    Padding,
-}
-
-/// One object (or a run of sub-indexes) of a catalogue.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct CatalogueEntry {
-    /// Object index.
-    pub index: u16,
-    /// First sub-index covered.
-    pub first_sub: u8,
-    /// Last sub-index covered.
-    pub last_sub: u8,
-    /// Name in words (lower case, as in "2002h charging current").
-    pub name: &'static str,
-    /// The object's size in bits.
-    pub bits: u8,
-    /// How to read it.
-    pub interpretation: Interpretation,
-}
-
-impl CatalogueEntry {
-    /// An entry for sub-index 0 of `index`.
-    #[must_use]
-    pub const fn new(
-        index: u16,
-        name: &'static str,
-        bits: u8,
-        interpretation: Interpretation,
-    ) -> Self {
-        CatalogueEntry {
-            index,
-            first_sub: 0,
-            last_sub: 0,
-            name,
-            bits,
-            interpretation,
-        }
-    }
-
-    /// An unsigned entry for sub-index 0 of `index`: `raw / 2^frac_bits`
-    /// in `unit`, no marker, no range limit.
-    #[must_use]
-    pub const fn scaled(
-        index: u16,
-        name: &'static str,
-        bits: u8,
-        frac_bits: u8,
-        unit: Option<Unit>,
-    ) -> Self {
-        Self::new(
-            index,
-            name,
-            bits,
-            Interpretation::Unsigned {
-                frac_bits,
-                unit,
-                marker: Marker::None,
-                max: None,
-            },
-        )
-    }
-
-    /// This entry covering sub-indexes `first..=last` instead.
-    #[must_use]
-    pub const fn subs(mut self, first: u8, last: u8) -> Self {
-        self.first_sub = first;
-        self.last_sub = last;
-        self
-    }
-
-    /// This unsigned entry with a marker and a largest raw value in range
-    /// (other interpretations are returned unchanged).
-    #[must_use]
-    pub const fn marked(mut self, marker: Marker, range_max: Option<u64>) -> Self {
-        if let Interpretation::Unsigned {
-            frac_bits, unit, ..
-        } = self.interpretation
-        {
-            self.interpretation = Interpretation::Unsigned {
-                frac_bits,
-                unit,
-                marker,
-                max: range_max,
-            };
-        }
-        self
-    }
-
-    /// True if this entry describes `index`:`sub`.
-    #[must_use]
-    pub const fn covers(&self, index: u16, sub: u8) -> bool {
-        self.index == index && sub >= self.first_sub && sub <= self.last_sub
-    }
-}
-
 /// Whose object dictionary a PDO's entries name: a device's tables of
-/// [`CatalogueEntry`], searched in order (an object's meaning belongs to
+/// [`ObjectRow`], searched in order (an object's meaning belongs to
 /// the device whose dictionary holds it, so a catalogue is chosen per
 /// device, not per index).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Catalogue {
     name: &'static str,
-    tables: &'static [&'static [CatalogueEntry]],
+    tables: &'static [&'static [ObjectRow]],
 }
 
 impl Catalogue {
     /// A catalogue named `name` that looks `index`:`sub` up in `tables`, in
     /// order.
     #[must_use]
-    pub const fn new(name: &'static str, tables: &'static [&'static [CatalogueEntry]]) -> Self {
+    pub const fn new(name: &'static str, tables: &'static [&'static [ObjectRow]]) -> Self {
         Catalogue { name, tables }
     }
 
@@ -328,14 +123,14 @@ impl Catalogue {
 
     /// Its tables, searched in order.
     #[must_use]
-    pub const fn tables(self) -> &'static [&'static [CatalogueEntry]] {
+    pub const fn tables(self) -> &'static [&'static [ObjectRow]] {
         self.tables
     }
 
     /// The catalogue entry of `index`:`sub`, if known: the first match in
     /// the first table that has one.
     #[must_use]
-    pub fn lookup(self, index: u16, sub: u8) -> Option<&'static CatalogueEntry> {
+    pub fn lookup(self, index: u16, sub: u8) -> Option<&'static ObjectRow> {
         self.tables
             .iter()
             .find_map(|t| t.iter().find(|e| e.covers(index, sub)))
@@ -359,9 +154,9 @@ impl Catalogue {
             return named("unknown object", FieldValue::Raw);
         };
         if def.interpretation == Interpretation::Padding {
-            return named(def.name, FieldValue::Padding);
+            return named(def.short, FieldValue::Padding);
         }
-        if entry.bits < def.bits {
+        if entry.bits < def.bits() {
             // Lenient in: the mapped bits are the low bits of the object.
             let value = match def.interpretation {
                 Interpretation::Unsigned {
@@ -376,20 +171,20 @@ impl Catalogue {
             };
             if let Some((value, unit)) = value {
                 return named(
-                    def.name,
+                    def.short,
                     FieldValue::Narrowed {
                         value,
                         unit,
-                        object_bits: def.bits,
+                        object_bits: def.bits(),
                     },
                 );
             }
         }
-        if def.bits != entry.bits {
+        if def.bits() != entry.bits {
             return named(
-                def.name,
+                def.short,
                 FieldValue::WrongWidth {
-                    object_bits: def.bits,
+                    object_bits: def.bits(),
                 },
             );
         }
@@ -423,7 +218,7 @@ impl Catalogue {
             Interpretation::Chars => FieldValue::Chars((raw as u32).to_le_bytes()),
             Interpretation::Padding => FieldValue::Padding,
         };
-        named(def.name, value)
+        named(def.short, value)
     }
 
     /// Decodes a PDO payload with its mapping into named fields, in entry

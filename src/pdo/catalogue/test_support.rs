@@ -7,7 +7,7 @@ use std::vec::Vec;
 
 use proptest::prelude::*;
 
-use super::{Catalogue, CatalogueEntry, FieldValue, Fixed, MappingEntry, PdoMapping};
+use super::{Catalogue, FieldValue, Fixed, MappingEntry, ObjectRow, PdoMapping};
 
 /// One catalogue row read in words: `(mapping entry, raw, words)`, the
 /// entry as a PDO mapping parameter holds it (CiA 301, 7.5.2.36: index,
@@ -60,20 +60,24 @@ pub(crate) fn mapping(entries: &[(u16, u8, u8)]) -> PdoMapping {
 
 /// No row of `table` overlaps another, every width is a CiA 301 basic
 /// type's (1 to 32 bits), and every index of `complete` has a row.
-pub(crate) fn assert_table_consistent(table: &[CatalogueEntry], complete: &[u16]) {
+pub(crate) fn assert_table_consistent(table: &[ObjectRow], complete: &[u16]) {
     for (i, a) in table.iter().enumerate() {
         assert!(
-            a.first_sub <= a.last_sub && (1..=32).contains(&a.bits),
+            a.address.sub <= a.last_sub && (1..=32).contains(&a.bits()),
             "{a:?}"
         );
         for b in &table[i + 1..] {
-            let overlap =
-                a.index == b.index && a.first_sub <= b.last_sub && b.first_sub <= a.last_sub;
+            let overlap = a.address.index == b.address.index
+                && a.address.sub <= b.last_sub
+                && b.address.sub <= a.last_sub;
             assert!(!overlap, "{a:?} overlaps {b:?}");
         }
     }
     for &index in complete {
-        assert!(table.iter().any(|e| e.index == index), "{index:04X}h");
+        assert!(
+            table.iter().any(|e| e.address.index == index),
+            "{index:04X}h"
+        );
     }
 }
 

@@ -10,6 +10,8 @@ use super::test_support::{
     any_pdo, assert_decode_total, assert_short_and_long_frames, assert_vectors,
 };
 use super::*;
+use crate::od::DataType::{Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8};
+use crate::od::{Access, Address, DataType};
 
 #[test]
 fn fixed_exact_and_rounded() {
@@ -103,31 +105,30 @@ const CODE: ValueFormat = ValueFormat {
     write: write_code,
 };
 
+/// A read-only VAR of the tables below.
+const fn row(index: u16, name: &'static str, data_type: DataType) -> ObjectRow {
+    ObjectRow::var(index, name, data_type, Access::ReadOnly)
+}
+
 #[rustfmt::skip]
-const TABLE: &[CatalogueEntry] = &[
-    CatalogueEntry::scaled(0x2000, "current", 16, 8, Some(Unit::Ampere))
+const TABLE: &[ObjectRow] = &[
+    row(0x2000, "current", U16).scaled(8, Some(Unit::Ampere))
         .marked(Marker::NoValue(0xFFFF), None),
-    CatalogueEntry::scaled(0x2001, "level", 8, 0, Some(Unit::Percent))
+    row(0x2001, "level", U8).scaled(0, Some(Unit::Percent))
         .marked(Marker::Invalid(0xFF), Some(100)),
-    CatalogueEntry::new(
-        0x2002,
-        "temperature",
-        16,
-        Interpretation::Signed {
-            frac_bits: 3,
-            unit: Some(Unit::DegreeCelsius),
-        },
-    ),
-    CatalogueEntry::new(0x2003, "status", 8, Interpretation::Flags(&WORD)),
-    CatalogueEntry::new(0x2004, "code", 8, Interpretation::Formatted(&CODE)),
-    CatalogueEntry::new(0x2005, "name", 32, Interpretation::Chars).subs(1, 2),
-    CatalogueEntry::new(0x2006, "filler", 8, Interpretation::Padding).subs(1, 1),
-    CatalogueEntry::new(0x2007, "alarms", 8, Interpretation::Flags(&QUIET)),
+    row(0x2002, "temperature", DataType::Integer16).scaled(3, Some(Unit::DegreeCelsius)),
+    row(0x2003, "status", U8).reading(Interpretation::Flags(&WORD)),
+    row(0x2004, "code", U8).reading(Interpretation::Formatted(&CODE)),
+    ObjectRow::new(Address::new(0x2005, 1), "name", U32, Access::ReadOnly).through(2)
+        .reading(Interpretation::Chars),
+    ObjectRow::new(Address::new(0x2006, 1), "filler", U8, Access::ReadOnly)
+        .reading(Interpretation::Padding),
+    row(0x2007, "alarms", U8).reading(Interpretation::Flags(&QUIET)),
 ];
 #[rustfmt::skip]
-const SECOND: &[CatalogueEntry] = &[
-    CatalogueEntry::scaled(0x2000, "shadowed", 16, 0, None),
-    CatalogueEntry::scaled(0x3000, "counter", 32, 0, None),
+const SECOND: &[ObjectRow] = &[
+    row(0x2000, "shadowed", U16),
+    row(0x3000, "counter", U32),
 ];
 const CAT: Catalogue = Catalogue::new("test device", &[TABLE, SECOND]);
 
