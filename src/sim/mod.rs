@@ -7,7 +7,9 @@
 //!
 //! The charger's behaviour (modes, handshake, set points, algorithms,
 //! status) is protocol logic and lives in [`crate::deltaq`]; this module
-//! holds only the physics and the test bench around it.
+//! holds only the physics and the test bench around it: one simulated
+//! bus ([`bus::Bus`]: any number of machines, latency, faults, loss,
+//! bus-off) that sessions, tests, benches and fuzz targets all run on.
 //!
 //! ```
 //! use canopen_codec::cia418::Chemistry;
@@ -27,6 +29,7 @@
 //! ```
 
 mod bms;
+pub mod bus;
 pub mod module_link;
 mod pack;
 mod power_stage;

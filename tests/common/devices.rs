@@ -4,7 +4,7 @@
 use canopen_codec::cia418::BatteryModule;
 use canopen_codec::deltaq::Charger;
 
-use super::sim::{Handle, Sim};
+use super::sim::{bus, Bus, Handle};
 
 pub const CHARGER: &str = "Charger";
 pub const BATTERY: &str = "Battery";
@@ -13,18 +13,18 @@ pub const BATTERY: &str = "Battery";
 pub fn charger_bus(
     charger: Charger,
     battery: Option<BatteryModule>,
-) -> (Sim, Handle<Charger>, Handle<BatteryModule>) {
-    let mut sim = Sim::new(500);
+) -> (Bus, Handle<Charger>, Handle<BatteryModule>) {
+    let mut sim = bus(500);
     let c = sim.add(CHARGER, charger);
     let b = sim.add_unplugged(BATTERY);
     if let Some(battery) = battery {
-        sim.plug(b, battery);
+        assert!(sim.plug(b, battery).is_ok());
     }
     (sim, c, b)
 }
 
 /// Boots the plugged ones at the current time, the charger first.
-pub fn boot_all(sim: &mut Sim, charger: Handle<Charger>, battery: Handle<BatteryModule>) {
+pub fn boot_all(sim: &mut Bus, charger: Handle<Charger>, battery: Handle<BatteryModule>) {
     if sim.is_plugged(charger) {
         sim.with(charger, |m, now| m.boot(now));
     }

@@ -2,12 +2,13 @@
 #![allow(dead_code)]
 
 pub mod captures;
-#[cfg(feature = "heartbeat-consumer")]
+#[cfg(feature = "sim")]
 pub mod devices;
-#[cfg(feature = "alloc")]
+#[cfg(feature = "sim")]
 pub mod observe;
-#[cfg(feature = "alloc")]
+#[cfg(feature = "sim")]
 pub mod sdo;
+#[cfg(feature = "sim")]
 pub mod sim;
 
 use canopen_codec::{CanFrame, CanId, Timestamp};

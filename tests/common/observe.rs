@@ -6,7 +6,7 @@
 use canopen_codec::machine::Machine;
 use canopen_codec::sdo::{AbortCode, Observer, ObserverEvent, Side};
 
-use super::sim::Sim;
+use super::sim::{Bus, Fate};
 
 /// What the observer made of a run.
 #[derive(Debug, Default)]
@@ -71,7 +71,7 @@ impl Observed {
 
 /// Replays the frames of `sim` (delivered `latency_us` after sending)
 /// through an observer, draining it after every frame.
-pub fn replay(sim: &Sim, latency_us: u64) -> Observed {
+pub fn replay(sim: &Bus, latency_us: u64) -> Observed {
     let mut obs = Observer::default();
     let mut seen = Observed::default();
     let take = |obs: &mut Observer, seen: &mut Observed| {
@@ -80,15 +80,17 @@ pub fn replay(sim: &Sim, latency_us: u64) -> Observed {
         }
     };
     for sent in sim.log() {
-        if sent.dropped {
-            continue;
-        }
+        let copies = match sent.fate {
+            Fate::Delivered => 1,
+            Fate::Duplicated => 2,
+            _ => continue,
+        };
         // Replayed in send order: a delayed (reordered) frame would be
         // out of place; tests that delay frames watch at the receiver.
-        assert_eq!(sent.delay_us, 0, "replay of a delayed frame");
-        seen.repeated_frames |= sent.duplicated;
+        assert!(sent.delay.is_zero(), "replay of a delayed frame");
+        seen.repeated_frames |= copies == 2;
         let at = sent.at.add_micros(latency_us);
-        for _ in 0..if sent.duplicated { 2 } else { 1 } {
+        for _ in 0..copies {
             obs.handle_timeout(at);
             take(&mut obs, &mut seen);
             obs.handle_frame(at, &sent.frame);
@@ -104,10 +106,10 @@ pub fn replay(sim: &Sim, latency_us: u64) -> Observed {
 
 /// The abort frames that reached the machines, with their sender's side
 /// (`client` is the client's name in the sim).
-pub fn aborts_on_the_bus(sim: &Sim, client: &str) -> Vec<(Side, AbortCode)> {
+pub fn aborts_on_the_bus(sim: &Bus, client: &str) -> Vec<(Side, AbortCode)> {
     sim.log()
         .iter()
-        .filter(|s| !s.dropped && s.frame.data().first() == Some(&0x80))
+        .filter(|s| s.fate.reached_the_bus() && s.frame.data().first() == Some(&0x80))
         .filter_map(|s| {
             let code = canopen_codec::sdo::abort_code_of(s.frame.data())?;
             let side = if s.from == client {

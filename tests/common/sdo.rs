@@ -7,13 +7,13 @@ use canopen_codec::od::{MemoryDictionary, ObjectDictionary};
 use canopen_codec::sdo::{Client, ClientConfig, ClientEvent, Server, ServerConfig, ServerEvent};
 use canopen_codec::NodeId;
 
-use super::sim::{Handle, Sim};
+use super::sim::{bus, Bus, Handle};
 
 pub const CLIENT: &str = "client";
 pub const SERVER: &str = "server";
 
 /// The value collected from a client's `UploadData` events, in order.
-pub fn uploaded<D: AsRef<[u8]> + 'static>(sim: &Sim, client: Handle<Client<D>>) -> Vec<u8> {
+pub fn uploaded<D: AsRef<[u8]> + 'static>(sim: &Bus, client: Handle<Client<D>>) -> Vec<u8> {
     let mut v = Vec::new();
     for (_, e) in sim.events(client) {
         if let ClientEvent::UploadData { offset, data, .. } = e {
@@ -25,9 +25,9 @@ pub fn uploaded<D: AsRef<[u8]> + 'static>(sim: &Sim, client: Handle<Client<D>>) 
 }
 
 /// A client for node `node` and that node's server, on one bus. Derefs to
-/// the [`Sim`].
+/// the [`Bus`].
 pub struct SdoPair<D: ObjectDictionary + 'static = MemoryDictionary> {
-    pub sim: Sim,
+    pub sim: Bus,
     pub client: Handle<Client<Vec<u8>>>,
     pub server: Handle<Server<D>>,
 }
@@ -35,7 +35,7 @@ pub struct SdoPair<D: ObjectDictionary + 'static = MemoryDictionary> {
 impl<D: ObjectDictionary + 'static> SdoPair<D> {
     pub fn new(node: u8, od: D) -> Self {
         let node = NodeId::new(node).unwrap();
-        let mut sim = Sim::new(1_000);
+        let mut sim = bus(1_000);
         let client = sim.add(CLIENT, Client::new(ClientConfig::for_server(node)));
         let server = sim.add(SERVER, Server::new(ServerConfig::for_node(node), od));
         SdoPair {
@@ -64,32 +64,32 @@ impl<D: ObjectDictionary + 'static> SdoPair<D> {
         command: impl FnOnce(&mut Client<Vec<u8>>, canopen_codec::Timestamp) -> R,
     ) -> R {
         let c = self.client;
-        self.sim.with(c, command)
+        self.sim.with(c, command).unwrap()
     }
 
     pub fn client(&self) -> &Client<Vec<u8>> {
-        self.sim.machine(self.client)
+        self.sim.machine(self.client).unwrap()
     }
 
     pub fn server(&self) -> &Server<D> {
-        self.sim.machine(self.server)
+        self.sim.machine(self.server).unwrap()
     }
 
     /// The server's dictionary.
     pub fn od(&self) -> &D {
-        self.sim.machine(self.server).od()
+        self.sim.machine(self.server).unwrap().od()
     }
 }
 
 impl<D: ObjectDictionary + 'static> Deref for SdoPair<D> {
-    type Target = Sim;
-    fn deref(&self) -> &Sim {
+    type Target = Bus;
+    fn deref(&self) -> &Bus {
         &self.sim
     }
 }
 
 impl<D: ObjectDictionary + 'static> DerefMut for SdoPair<D> {
-    fn deref_mut(&mut self) -> &mut Sim {
+    fn deref_mut(&mut self) -> &mut Bus {
         &mut self.sim
     }
 }

@@ -14,13 +14,13 @@ use canopen_codec::nmt::NmtState;
 use canopen_codec::pdo::{PdoDirection, RpdoError};
 use canopen_codec::sdo::{AbortCode, AbortOrigin};
 use canopen_codec::{CanFrame, NodeId, PdoNumber, Timestamp};
-use common::sim::{Handle, Sim};
+use common::sim::{bus, Bus, Handle};
 
 /// A module alone on the simulated bus (`common::sim`, no latency): the
 /// test is the other end. Every frame the module sends is logged as
 /// `(ms, candump text)`.
 struct Bench {
-    sim: Sim,
+    sim: Bus,
     h: Handle<BatteryModule>,
     /// How much of the sim's log has been collected.
     seen: usize,
@@ -29,7 +29,7 @@ struct Bench {
 
 impl Bench {
     fn with(config: BatteryModuleConfig) -> Self {
-        let mut sim = Sim::new(0);
+        let mut sim = bus(0);
         let h = sim.add("Battery", BatteryModule::new(config));
         sim.set_drain_events(h, false);
         sim.with(h, |m, now| m.boot(now));
@@ -49,7 +49,7 @@ impl Bench {
 
     /// The module (for its getters).
     fn m(&self) -> &BatteryModule {
-        self.sim.machine(self.h)
+        self.sim.machine(self.h).unwrap()
     }
 
     /// The bus's clock.
@@ -77,7 +77,7 @@ impl Bench {
 
     /// Advances the clock to `ms`, firing every deadline on the way.
     fn advance_to(&mut self, ms: u64) {
-        self.sim.run_until(Timestamp::from_millis(ms));
+        self.sim.run_until(Timestamp::from_millis(ms)).unwrap();
         self.collect();
     }
 
@@ -85,13 +85,13 @@ impl Bench {
     fn send(&mut self, id: u16, data: &[u8]) -> Vec<String> {
         self.sim.inject(CanFrame::standard(id, data).unwrap());
         let now = self.sim.now();
-        self.sim.run_until(now);
+        self.sim.run_until(now).unwrap();
         self.collect()
     }
 
     fn events(&mut self) -> Vec<BatteryEvent> {
         let h = self.h;
-        std::iter::from_fn(|| self.sim.machine_mut(h).poll_event()).collect()
+        std::iter::from_fn(|| self.sim.machine_mut(h).unwrap().poll_event()).collect()
     }
 
     fn take_log(&mut self) -> Vec<(u64, String)> {
@@ -461,7 +461,7 @@ fn back_to_back_rpdos_are_each_applied() {
     b.sim
         .inject(CanFrame::standard(0x301, &[0x01, 0x10, 0x02]).unwrap());
     let now = b.now();
-    b.sim.run_until(now);
+    b.sim.run_until(now).unwrap();
     let pdos = [PdoNumber::P0, PdoNumber::P1, PdoNumber::P0, PdoNumber::P1];
     assert_eq!(
         b.events(),

@@ -17,7 +17,7 @@ use canopen_codec::nmt::NmtState;
 use canopen_codec::sdo::AbortCode;
 use canopen_codec::{CanFrame, NodeId};
 use common::devices::{boot_all, charger_bus};
-use common::sim::{Handle, Sim};
+use common::sim::{Bus, Handle};
 
 fn charger() -> Charger {
     Charger::new(ChargerConfig::new(
@@ -37,29 +37,29 @@ fn battery() -> BatteryModule {
 }
 
 /// The simulated bus with the charger and the battery module's place.
-type Bus = (Sim, Handle<Charger>, Handle<BatteryModule>);
+type Nodes = (Bus, Handle<Charger>, Handle<BatteryModule>);
 
-fn start_all(bus: &mut Sim) {
+fn start_all(bus: &mut Bus) {
     bus.inject(CanFrame::standard(0x000, &[0x01, 0x00]).unwrap());
 }
 
 /// Boots both, starts them at 100 ms.
-fn started() -> Bus {
+fn started() -> Nodes {
     let (mut bus, c, b) = charger_bus(charger(), Some(battery()));
     boot_all(&mut bus, c, b);
-    bus.run_until(ms(100));
+    bus.run_until(ms(100)).unwrap();
     start_all(&mut bus);
     (bus, c, b)
 }
 
-fn events(bus: &Sim, c: Handle<Charger>) -> Vec<ChargerEvent> {
+fn events(bus: &Bus, c: Handle<Charger>) -> Vec<ChargerEvent> {
     bus.event_list(c)
 }
 
 #[test]
 fn normal_start() {
     let (mut bus, c, _) = started();
-    bus.run_until(ms(1000));
+    bus.run_until(ms(1000)).unwrap();
     // Boot-ups; the charger finds the module at its boot-up and reads 1000h
     // (418, no optional PDOs), then the module's RPDO 0 and TPDO 0 COB-IDs;
     // NMT start at 100 ms; both TPDO 0 at once and every 200 ms; heartbeats
@@ -75,7 +75,7 @@ fn normal_start() {
             "     2.000 Battery 581#4300140101020000",
             "     2.500 Charger 601#4000180100000000",
             "     3.000 Battery 581#4300180181010000",
-            "   100.000 Test 000#0100",
+            "   100.000 Outside 000#0100",
             "   100.500 Charger 201#00",
             "   100.500 Battery 181#000000",
             "   300.500 Charger 201#00",
@@ -106,9 +106,9 @@ fn normal_start() {
             },
         ]
     );
-    assert!(bus.machine(c).is_configured());
+    assert!(bus.machine(c).unwrap().is_configured());
     // The charger's TPDO 0 now uses the module's RPDO 0 identifier.
-    let pdos = bus.machine(c).pdo_config();
+    let pdos = bus.machine(c).unwrap().pdo_config();
     let t0 = pdos
         .get(
             canopen_codec::pdo::PdoDirection::Transmit,
@@ -121,17 +121,17 @@ fn normal_start() {
 #[test]
 fn terminate_charge_via_battery_status() {
     let (mut bus, c, b) = started();
-    bus.run_until(ms(2000));
+    bus.run_until(ms(2000)).unwrap();
     bus.with(b, |m, now| {
         m.set_battery_status(now, BatteryStatus::READY_TO_CHARGE)
     });
-    bus.run_until(ms(2500));
-    assert_eq!(bus.machine(c).objects().battery_status, 0x01);
+    bus.run_until(ms(2500)).unwrap();
+    assert_eq!(bus.machine(c).unwrap().objects().battery_status, 0x01);
     // The BMS withdraws "ready to charge": an event, sent at once.
     bus.with(b, |m, now| {
         m.set_battery_status(now, BatteryStatus::empty())
     });
-    bus.run_until(ms(2600));
+    bus.run_until(ms(2600)).unwrap();
     assert_eq!(
         bus.lines(2000, 2600)
             .into_iter()
@@ -145,16 +145,16 @@ fn terminate_charge_via_battery_status() {
             "  2500.000 Battery 181#000000",
         ]
     );
-    assert_eq!(bus.machine(c).objects().battery_status, 0x00);
+    assert_eq!(bus.machine(c).unwrap().objects().battery_status, 0x00);
 }
 
 #[test]
 fn battery_lost_during_charge_then_restored() {
     let (mut bus, c, b) = started();
-    bus.run_until(ms(2000));
+    bus.run_until(ms(2000)).unwrap();
     // Unplugged right after its 2000 ms heartbeat.
     bus.unplug(b);
-    bus.run_until(ms(5000));
+    bus.run_until(ms(5000)).unwrap();
     // Last heartbeat received at 2000.5: lost at 4000.5, E-0-3-2 as in the
     // real capture; the charger's TPDOs stop. With the 2000 ms consumer
     // time the module is gone at once after it: E-0-3-0 (the capture's
@@ -168,7 +168,7 @@ fn battery_lost_during_charge_then_restored() {
     );
     let tpdos = bus.frames_on(0x201);
     assert_eq!(tpdos.last().unwrap().0, 3_900_500, "no TPDO after the loss");
-    let charger = bus.machine(c);
+    let charger = bus.machine(c).unwrap();
     // 1003h, newest first.
     assert_eq!(charger.comm().errors(), &[0x1E80_8130, 0x2080_8130]);
     assert!(!charger.is_configured());
@@ -180,12 +180,12 @@ fn battery_lost_during_charge_then_restored() {
     // Communication restored: a new module boots at 6000 ms; the charger
     // re-reads the configuration and clears the error; the BMS starts it
     // again and its TPDO resumes.
-    bus.plug(b, battery());
-    bus.run_until(ms(6000));
+    assert!(bus.plug(b, battery()).is_ok());
+    bus.run_until(ms(6000)).unwrap();
     bus.with(b, |m, now| m.boot(now));
-    bus.run_until(ms(6100));
+    bus.run_until(ms(6100)).unwrap();
     bus.inject(CanFrame::standard(0x000, &[0x01, 0x0A]).unwrap());
-    bus.run_until(ms(6300));
+    bus.run_until(ms(6300)).unwrap();
     assert_eq!(
         bus.lines(6000, 6300),
         [
@@ -198,11 +198,11 @@ fn battery_lost_during_charge_then_restored() {
             "  6002.500 Charger 601#4000180100000000",
             "  6003.000 Battery 581#4300180181010000",
             "  6003.500 Charger 08A#0000000000000000",
-            "  6100.000 Test 000#010A",
+            "  6100.000 Outside 000#010A",
             "  6100.500 Charger 201#00",
         ]
     );
-    assert!(bus.machine(c).is_configured());
+    assert!(bus.machine(c).unwrap().is_configured());
 }
 
 #[test]
@@ -212,7 +212,7 @@ fn battery_lost_before_charge() {
     // Unplugged right after its boot-up message: the configuration read is
     // never answered.
     bus.unplug(b);
-    bus.run_until(ms(2500));
+    bus.run_until(ms(2500)).unwrap();
     assert_eq!(
         bus.lines(0, 2500),
         [
@@ -235,16 +235,16 @@ fn battery_lost_before_charge() {
 fn can_connected_with_battery_unplugged() {
     let (mut bus, c, b) = charger_bus(charger(), None);
     boot_all(&mut bus, c, b);
-    bus.run_until(ms(100));
+    bus.run_until(ms(100)).unwrap();
     start_all(&mut bus);
-    bus.run_until(ms(3500));
+    bus.run_until(ms(3500)).unwrap();
     // Only heartbeats: no configuration, no TPDO, no EMCY (monitoring starts
     // at the module's first heartbeat).
     assert_eq!(
         bus.lines(0, 3500),
         [
             "     0.000 Charger 70A#00",
-            "   100.000 Test 000#0100",
+            "   100.000 Outside 000#0100",
             "  1000.000 Charger 70A#05",
             "  2000.000 Charger 70A#05",
             "  3000.000 Charger 70A#05",
@@ -259,7 +259,7 @@ fn module_with_every_optional_pdo() {
     );
     let (mut bus, c, b) = charger_bus(charger(), Some(battery_with(all)));
     boot_all(&mut bus, c, b);
-    bus.run_until(ms(50));
+    bus.run_until(ms(50)).unwrap();
     let reads: Vec<String> = bus
         .lines(0, 50)
         .into_iter()
@@ -282,7 +282,7 @@ fn module_with_every_optional_pdo() {
         rpdos: 0b111
     }));
     start_all(&mut bus);
-    bus.run_until(ms(400));
+    bus.run_until(ms(400)).unwrap();
     // Charger TPDOs 0-2 on the module's RPDO identifiers, every 200 ms.
     for id in [0x201u16, 0x301, 0x401] {
         let times: Vec<u64> = bus.frames_on(id).iter().map(|(t, _)| *t).collect();
@@ -301,9 +301,9 @@ fn module_whose_sdo_server_aborts() {
         ))),
     );
     boot_all(&mut bus, c, b);
-    bus.run_until(ms(100));
+    bus.run_until(ms(100)).unwrap();
     start_all(&mut bus);
-    bus.run_until(ms(1500));
+    bus.run_until(ms(1500)).unwrap();
     let l = bus.lines(0, 10);
     assert_eq!(
         l[l.len() - 3..],
@@ -324,15 +324,15 @@ fn module_whose_sdo_server_aborts() {
         bus.frames_on(0x201).is_empty(),
         "no TPDO without a configuration"
     );
-    assert_eq!(bus.machine(c).comm().errors(), &[0x1E80_8130]);
+    assert_eq!(bus.machine(c).unwrap().comm().errors(), &[0x1E80_8130]);
 }
 
 #[test]
 fn battery_emcy_is_reported_with_the_policy_reaction() {
     let (mut bus, c, b) = started();
-    bus.run_until(ms(500));
+    bus.run_until(ms(500)).unwrap();
     bus.with(b, |m, now| m.set_temperature_sensor_fault(now, true));
-    bus.run_until(ms(600));
+    bus.run_until(ms(600)).unwrap();
     assert_eq!(
         bus.frames_on(0x081),
         [(500_000, vec![0x10, 0x50, 0x21, 0, 0, 0, 0, 0])]
@@ -360,9 +360,9 @@ fn without_cob_id_configuration_defaults_are_used() {
     config.configure_cob_ids = false;
     let (mut bus, c, b) = charger_bus(Charger::new(config), Some(battery()));
     boot_all(&mut bus, c, b);
-    bus.run_until(ms(100));
+    bus.run_until(ms(100)).unwrap();
     start_all(&mut bus);
-    bus.run_until(ms(1000));
+    bus.run_until(ms(1000)).unwrap();
     assert!(bus.lines(0, 1000).iter().all(|l| !l.contains("601#")));
     let times: Vec<u64> = bus.frames_on(0x18A).iter().map(|(t, _)| *t).collect();
     assert_eq!(times, [100_500, 300_500, 500_500, 700_500, 900_500]);
@@ -375,16 +375,16 @@ fn without_cob_id_configuration_defaults_are_used() {
 #[test]
 fn module_reset_while_configured_is_configured_again() {
     let (mut bus, c, _) = started();
-    bus.run_until(ms(500));
+    bus.run_until(ms(500)).unwrap();
     // The BMS resets the module's communication: it boots again (default
     // PDOs), and the charger pairs again without raising any error.
     bus.inject(CanFrame::standard(0x000, &[0x82, 0x01]).unwrap());
-    bus.run_until(ms(700));
+    bus.run_until(ms(700)).unwrap();
     let l = bus.lines(500, 510);
     assert_eq!(
         l,
         [
-            "   500.000 Test 000#8201",
+            "   500.000 Outside 000#8201",
             "   500.500 Battery 701#00",
             // The charger's TPDO period falls here, before the boot-up arrives.
             "   500.500 Charger 201#00",

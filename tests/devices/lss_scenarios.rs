@@ -14,7 +14,7 @@ use canopen_codec::lss::{
 };
 use canopen_codec::nmt::NmtState;
 use canopen_codec::{NodeId, Timestamp};
-use common::sim::{Handle, Sim};
+use common::sim::{bus, Bus, Handle};
 
 fn address(serial: u32) -> LssAddress {
     LssAddress {
@@ -37,17 +37,17 @@ fn module(serial: u32) -> BatteryModule {
     BatteryModule::with_lss(config, LssSlave::new(LssSlaveConfig::new(a, None)))
 }
 
-fn master_events(sim: &mut Sim, m: Handle<LssMaster>) -> Vec<LssMasterEvent> {
+fn master_events(sim: &mut Bus, m: Handle<LssMaster>) -> Vec<LssMasterEvent> {
     sim.take_events(m).into_iter().map(|(_, e)| e).collect()
 }
 
-fn later(sim: &Sim, ms: u64) -> Timestamp {
+fn later(sim: &Bus, ms: u64) -> Timestamp {
     sim.now().add_millis(ms)
 }
 
 #[test]
 fn fastscan_two_unconfigured_modules_and_assign_5_and_6() {
-    let mut sim = Sim::new(200);
+    let mut sim = bus(200);
     let m = sim.add("Master", LssMaster::new(Duration::from_millis(10)));
     // Serial 2 first on the bus; serial 1 has the lower address.
     let a = sim.add("Module serial 2", module(2));
@@ -55,20 +55,20 @@ fn fastscan_two_unconfigured_modules_and_assign_5_and_6() {
     sim.with(a, |x, now| x.boot(now));
     sim.with(b, |x, now| x.boot(now));
     let end = later(&sim, 3000);
-    sim.run_until(end);
+    sim.run_until(end).unwrap();
     assert_eq!(
         sim.log().len(),
         0,
         "no boot-up, no heartbeat without a node-ID"
     );
-    assert!(!sim.machine(a).device().is_running());
+    assert!(!sim.machine(a).unwrap().device().is_running());
 
     // Node 5 step by step: fastscan, configure node-ID, switch to waiting.
     {
         let (node, serial, module) = (5u8, 1u32, b);
         sim.with(m, |x, now| x.fastscan(now).unwrap());
         let end = later(&sim, 1500);
-        sim.run_until(end);
+        sim.run_until(end).unwrap();
         assert_eq!(
             master_events(&mut sim, m),
             [LssMasterEvent::FastscanFound(address(serial))],
@@ -77,19 +77,19 @@ fn fastscan_two_unconfigured_modules_and_assign_5_and_6() {
         let id = NodeId::new(node).unwrap();
         sim.with(m, |x, now| x.configure_node_id(now, Some(id)).unwrap());
         let end = later(&sim, 20);
-        sim.run_until(end);
+        sim.run_until(end).unwrap();
         assert_eq!(
             master_events(&mut sim, m),
             [LssMasterEvent::NodeIdConfigured(LssStatus::OK)]
         );
         assert!(
-            !sim.machine(module).device().is_running(),
+            !sim.machine(module).unwrap().device().is_running(),
             "pending until the reset"
         );
         sim.with(m, |x, now| x.switch_state_global(now, LssMode::Waiting));
         let end = later(&sim, 20);
-        sim.run_until(end);
-        let dev = sim.machine(module).device();
+        sim.run_until(end).unwrap();
+        let dev = sim.machine(module).unwrap().device();
         assert_eq!(dev.node(), id);
         assert_eq!(dev.nmt_state(), NmtState::PreOperational);
         let bootup = sim.frames_on(0x700 + u16::from(node));
@@ -103,7 +103,7 @@ fn fastscan_two_unconfigured_modules_and_assign_5_and_6() {
     let six = NodeId::new(6).unwrap();
     sim.with(m, |x, now| x.fastscan_assign(now, six).unwrap());
     let end = later(&sim, 1500);
-    sim.run_until(end);
+    sim.run_until(end).unwrap();
     assert_eq!(
         master_events(&mut sim, m),
         [
@@ -111,7 +111,7 @@ fn fastscan_two_unconfigured_modules_and_assign_5_and_6() {
             LssMasterEvent::NodeIdConfigured(LssStatus::OK)
         ]
     );
-    assert_eq!(sim.machine(a).device().node(), six);
+    assert_eq!(sim.machine(a).unwrap().device().node(), six);
     let bootup = sim.frames_on(0x706);
     assert_eq!(
         bootup.first().map(|(_, d)| d.clone()),
@@ -121,7 +121,7 @@ fn fastscan_two_unconfigured_modules_and_assign_5_and_6() {
     // Both run, each under its own node-ID, heartbeating; nobody is left.
     sim.inject(common::frame(0x000, "01 00"));
     let end = later(&sim, 2500);
-    sim.run_until(end);
+    sim.run_until(end).unwrap();
     for node in [5u16, 6] {
         assert!(
             sim.frames_on(0x700 + node).len() >= 3,
@@ -139,7 +139,7 @@ fn fastscan_two_unconfigured_modules_and_assign_5_and_6() {
     );
     sim.with(m, |x, now| x.fastscan(now).unwrap());
     let end = later(&sim, 100);
-    sim.run_until(end);
+    sim.run_until(end).unwrap();
     assert_eq!(
         master_events(&mut sim, m),
         [LssMasterEvent::FastscanNotFound]
@@ -148,7 +148,7 @@ fn fastscan_two_unconfigured_modules_and_assign_5_and_6() {
 
 #[test]
 fn configured_module_changes_node_id_at_reset_communication() {
-    let mut sim = Sim::new(200);
+    let mut sim = bus(200);
     let m = sim.add("Master", LssMaster::new(Duration::from_millis(10)));
     let a = address(9);
     let mut config = BatteryModuleConfig::new(NodeId::new(3).unwrap());
@@ -158,7 +158,7 @@ fn configured_module_changes_node_id_at_reset_communication() {
     sim.with(x, |x, now| x.boot(now));
     sim.with(m, |mm, now| mm.switch_state_selective(now, a).unwrap());
     let end = later(&sim, 50);
-    sim.run_until(end);
+    sim.run_until(end).unwrap();
     assert_eq!(
         master_events(&mut sim, m),
         [LssMasterEvent::SwitchedSelective]
@@ -167,11 +167,14 @@ fn configured_module_changes_node_id_at_reset_communication() {
         mm.configure_node_id(now, NodeId::new(12)).unwrap();
     });
     let end = later(&sim, 50);
-    sim.run_until(end);
+    sim.run_until(end).unwrap();
     sim.with(m, |mm, now| mm.switch_state_global(now, LssMode::Waiting));
     let end = later(&sim, 300);
-    sim.run_until(end);
-    assert_eq!(sim.machine(x).device().node(), NodeId::new(3).unwrap());
+    sim.run_until(end).unwrap();
+    assert_eq!(
+        sim.machine(x).unwrap().device().node(),
+        NodeId::new(3).unwrap()
+    );
     assert!(
         sim.frames_on(0x70C).is_empty(),
         "a configured node waits for NMT"
@@ -179,8 +182,11 @@ fn configured_module_changes_node_id_at_reset_communication() {
     // NMT reset communication to node 3.
     sim.inject(common::frame(0x000, "82 03"));
     let end = later(&sim, 300);
-    sim.run_until(end);
-    assert_eq!(sim.machine(x).device().node(), NodeId::new(12).unwrap());
+    sim.run_until(end).unwrap();
+    assert_eq!(
+        sim.machine(x).unwrap().device().node(),
+        NodeId::new(12).unwrap()
+    );
     let f = sim.frames_on(0x70C);
     assert_eq!(f.first().map(|(_, d)| d.clone()), Some(vec![0]));
 }

@@ -7,29 +7,30 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+#[cfg(feature = "sim")]
 mod battery_module;
 #[cfg(feature = "heartbeat-consumer")]
 mod charger_nmt;
 #[cfg(feature = "heartbeat-consumer")]
 mod charger_queue_capacity;
-#[cfg(feature = "heartbeat-consumer")]
+#[cfg(feature = "sim")]
 mod charger_scenarios;
 mod end_of_time;
 mod event_capacity;
 mod frame_backpressure;
-#[cfg(all(feature = "alloc", feature = "guarding"))]
+#[cfg(all(feature = "sim", feature = "guarding"))]
 mod guarding;
-#[cfg(feature = "lss")]
+#[cfg(all(feature = "sim", feature = "lss"))]
 mod lss_scenarios;
 mod module_queue_capacity;
-#[cfg(feature = "alloc")]
+#[cfg(feature = "sim")]
 mod pdo_reconfig;
-#[cfg(all(feature = "heartbeat-consumer", feature = "program-download"))]
+#[cfg(all(feature = "sim", feature = "program-download"))]
 mod program_download;
 mod resets;
 #[cfg(feature = "store")]
 mod store_props;
 #[cfg(feature = "store")]
 mod store_restore;
-#[cfg(all(feature = "alloc", feature = "sync-time"))]
+#[cfg(all(feature = "sim", feature = "sync-time"))]
 mod sync_time;

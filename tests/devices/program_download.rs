@@ -17,7 +17,7 @@ use canopen_codec::sdo::{
 };
 use canopen_codec::trace::candump::LogLineDisplay;
 use canopen_codec::{NodeId, Timestamp};
-use common::sim::Sim;
+use common::sim::Bus;
 
 const CHARGER: u8 = 10;
 const EPOCH_US: u64 = 1_763_800_000_000_000;
@@ -98,7 +98,7 @@ type Master = common::sim::Handle<ProgramDownload<Vec<u8>>>;
 fn bus(
     store: Option<Flash>,
     block: bool,
-) -> (Sim, common::sim::Handle<Charger>, Master, Arc<Mutex<Flash>>) {
+) -> (Bus, common::sim::Handle<Charger>, Master, Arc<Mutex<Flash>>) {
     let flash = Arc::new(Mutex::new(Flash::default()));
     let config = ChargerConfig::new(node(), NodeId::new(1).unwrap());
     let charger = match store {
@@ -109,7 +109,7 @@ fn bus(
         }
         None => Charger::new(config),
     };
-    let mut sim = Sim::new(500);
+    let mut sim = common::sim::bus(500);
     let c = sim.add("Charger", charger);
     let config = ProgramDownloadConfig {
         block,
@@ -122,10 +122,11 @@ fn bus(
 
 /// Starts the master with `image` and runs the bus for 5 s (more than the
 /// 2 s SDO timeout).
-fn run(sim: &mut Sim, m: Master, image: Vec<u8>) {
+fn run(sim: &mut Bus, m: Master, image: Vec<u8>) {
     let start = sim.now();
-    sim.with(m, |m, now| m.start(now, image)).unwrap();
-    sim.run_until(Timestamp::from_millis(start.as_millis() + 5000));
+    sim.with(m, |m, now| m.start(now, image)).unwrap().unwrap();
+    sim.run_until(Timestamp::from_millis(start.as_millis() + 5000))
+        .unwrap();
 }
 
 fn steps_then(last: ProgramDownloadEvent, done: &[ProgramStep]) -> Vec<ProgramDownloadEvent> {
@@ -164,7 +165,7 @@ fn the_image_arrives_byte_exact_by_block_and_segmented() {
         let f = flash.lock().unwrap();
         assert!(f.image == img, "block {block}: the image in the store");
         assert_eq!((f.cleared, f.started), (1, true));
-        let program = sim.machine(c).objects();
+        let program = sim.machine(c).unwrap().objects();
         assert_eq!(program.state(), ProgramState::Started);
         assert_eq!(program.software_id(), Some(Crc32::of(&img)));
         // The transfer went the way asked: the first request on 60Ah after
@@ -176,7 +177,7 @@ fn the_image_arrives_byte_exact_by_block_and_segmented() {
             if block { 0xC6 } else { 0x21 },
             "block {block}"
         );
-        assert!(!sim.machine(m).is_busy());
+        assert!(!sim.machine(m).unwrap().is_busy());
     }
 }
 
@@ -196,7 +197,7 @@ fn a_store_that_fails_is_in_1f57h_and_the_master_reports_it() {
         sim.event_list(m),
         steps_then(failed, &[ProgramStep::Stop, ProgramStep::Clear])
     );
-    let program = sim.machine(c).objects();
+    let program = sim.machine(c).unwrap().objects();
     assert_eq!(
         (program.state(), program.software_id()),
         (ProgramState::NoProgram, None)
@@ -211,16 +212,20 @@ fn a_store_that_fails_is_in_1f57h_and_the_master_reports_it() {
 fn a_download_while_started_is_refused_with_08000022h() {
     let (mut sim, c, m, _flash) = bus(Some(Flash::default()), true);
     run(&mut sim, m, image(300));
-    assert_eq!(sim.machine(c).objects().state(), ProgramState::Started);
+    assert_eq!(
+        sim.machine(c).unwrap().objects().state(),
+        ProgramState::Started
+    );
     // Another master writes into 1F50h:01 without stopping the program.
     let other: Client<Vec<u8>> = Client::new(ClientConfig::for_server(node()));
     let o = sim.add("Other", other);
     sim.with(o, |o, now| {
         o.start_block_download(now, 0x1F50, 1, image(100))
     })
+    .unwrap()
     .unwrap();
     let end = Timestamp::from_millis(sim.now().as_millis() + 500);
-    sim.run_until(end);
+    sim.run_until(end).unwrap();
     assert_eq!(
         sim.event_list(o),
         [ClientEvent::Aborted {
@@ -230,7 +235,10 @@ fn a_download_while_started_is_refused_with_08000022h() {
             origin: AbortOrigin::Peer,
         }]
     );
-    assert_eq!(sim.machine(c).objects().state(), ProgramState::Started);
+    assert_eq!(
+        sim.machine(c).unwrap().objects().state(),
+        ProgramState::Started
+    );
 }
 
 #[test]

@@ -21,7 +21,7 @@ use canopen_codec::pdo::{
 use canopen_codec::sync::{SyncCobId, SyncConsumer, SyncEvent, SyncProducer};
 use canopen_codec::time::{TimeCobId, TimeConsumer, TimeEvent, TimeOfDay, TimeProducer};
 use canopen_codec::{CanFrame, CanId, Codec, NodeId, PdoNumber, Timestamp};
-use common::sim::Sim;
+use common::sim::bus;
 
 type Dev = Device<Cia301<MemoryDictionary>>;
 
@@ -107,18 +107,18 @@ fn device_generating_sync_runs_its_own_synchronous_tpdos() {
         sync_counter_overflow: 3,
         ..DeviceConfig::new(node(3))
     };
-    let mut sim = Sim::new(100);
+    let mut sim = bus(100);
     let d = sim.add("Device", Dev::new(config, app()));
     sim.with(d, |dev, now| dev.boot(now, &mut ()));
     // Pre-operational: SYNC only.
-    sim.run_until(ms(25));
+    sim.run_until(ms(25)).unwrap();
     assert_eq!(
         sim.lines(1, 25),
         ["    10.000 Device 080#01", "    20.000 Device 080#02"]
     );
     // Operational: each SYNC followed by the synchronous TPDO.
     sim.inject(CanFrame::standard(0x000, &[0x01, 3]).unwrap());
-    sim.run_until(ms(45));
+    sim.run_until(ms(45)).unwrap();
     assert_eq!(
         sim.lines(26, 45),
         [
@@ -130,15 +130,15 @@ fn device_generating_sync_runs_its_own_synchronous_tpdos() {
     );
     // Stopped: no SYNC, no PDO.
     sim.inject(CanFrame::standard(0x000, &[0x02, 3]).unwrap());
-    sim.run_until(ms(100));
+    sim.run_until(ms(100)).unwrap();
     assert_eq!(sim.lines(46, 100), Vec::<String>::new());
     // Reset communication: pre-operational again, counter from 1.
     sim.inject(CanFrame::standard(0x000, &[0x82, 3]).unwrap());
-    sim.run_until(ms(111));
+    sim.run_until(ms(111)).unwrap();
     assert_eq!(
         sim.lines(100, 111),
         [
-            "   100.000 Test 000#8203",
+            "   100.000 Outside 000#8203",
             "   100.100 Device 703#00",
             "   110.100 Device 080#01"
         ]
@@ -155,7 +155,7 @@ fn device_consumes_external_sync_and_reports_a_skip() {
         sync_counter_overflow: 5,
         ..DeviceConfig::new(node(4))
     };
-    let mut sim = Sim::new(100);
+    let mut sim = bus(100);
     let d = sim.add("Device", Dev::new(config, app()));
     let mut producer = SyncProducer::new(Duration::from_millis(10), 5).unwrap();
     producer.start(Timestamp::ZERO);
@@ -163,7 +163,7 @@ fn device_consumes_external_sync_and_reports_a_skip() {
     sim.with(d, |dev, now| dev.boot(now, &mut ()));
     sim.inject(CanFrame::standard(0x000, &[0x01, 4]).unwrap());
     sim.drop_if(|s| s.from == "Master" && s.at == ms(30));
-    sim.run_until(ms(55));
+    sim.run_until(ms(55)).unwrap();
     let tpdos = sim.frames_on(0x184).len();
     assert_eq!(tpdos, 4, "{:#?}", sim.lines(0, 55));
     let skips: Vec<_> = sim
@@ -250,18 +250,18 @@ fn time_round_trip_between_devices() {
         time_cob_id: TimeCobId::DEFAULT.with_consume(true),
         ..DeviceConfig::new(node(7))
     };
-    let mut sim = Sim::new(100);
+    let mut sim = bus(100);
     let a = sim.add("A", Dev::new(producing, app()));
     let b = sim.add("B", Dev::new(consuming, app()));
     sim.with(a, |d, now| d.boot(now, &mut ()));
     sim.with(b, |d, now| d.boot(now, &mut ()));
-    sim.run_until(ms(5));
+    sim.run_until(ms(5)).unwrap();
     // 2026-12-01T11:30:00.250Z.
     let t = TimeOfDay::from_unix_millis(1_796_124_600_250).unwrap();
-    assert!(sim.with(a, |d, now| d.send_time(now, t)));
+    assert_eq!(sim.with(a, |d, now| d.send_time(now, t)), Some(true));
     // The consumer cannot send.
-    assert!(!sim.with(b, |d, now| d.send_time(now, t)));
-    sim.run_until(ms(10));
+    assert_eq!(sim.with(b, |d, now| d.send_time(now, t)), Some(false));
+    sim.run_until(ms(10)).unwrap();
     let received: Vec<_> = sim
         .events(b)
         .iter()
@@ -271,7 +271,7 @@ fn time_round_trip_between_devices() {
         })
         .collect();
     assert_eq!(received, [(t, 5_100)]);
-    assert_eq!(sim.machine(b).last_time(), Some(t));
+    assert_eq!(sim.machine(b).unwrap().last_time(), Some(t));
     assert_eq!(sim.frames_on(0x100).len(), 1);
     assert_eq!(t.unix_millis(), 1_796_124_600_250);
     // The bare machines: no produce bit, nothing sent; no consume bit,
@@ -287,7 +287,7 @@ fn time_round_trip_between_devices() {
 /// starts producing at once; clearing the bit stops it.
 #[test]
 fn sync_production_switched_over_sdo() {
-    let mut sim = Sim::new(100);
+    let mut sim = bus(100);
     let d = sim.add("Device", Dev::new(DeviceConfig::new(node(8)), app()));
     sim.with(d, |dev, now| dev.boot(now, &mut ()));
     let sdo = |index: u16, value: u32| {
@@ -297,12 +297,12 @@ fn sync_production_switched_over_sdo() {
     };
     sim.inject(sdo(0x1006, 5_000));
     sim.inject(sdo(0x1005, 0x4000_0080));
-    sim.run_until(ms(12));
+    sim.run_until(ms(12)).unwrap();
     sim.inject(sdo(0x1005, 0x0000_0080));
-    sim.run_until(ms(30));
+    sim.run_until(ms(30)).unwrap();
     let syncs: Vec<u64> = sim.frames_on(0x080).iter().map(|(t, _)| *t).collect();
     assert_eq!(syncs, [5_100, 10_100]);
-    assert!(!sim.machine(d).sync_producer().is_running());
+    assert!(!sim.machine(d).unwrap().sync_producer().is_running());
     // Every SDO write was answered (2 x 1005h, 1006h).
     assert_eq!(sim.frames_on(0x588).len(), 3);
 }

@@ -6,7 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
-#[cfg(feature = "alloc")]
+#[cfg(feature = "sim")]
 mod dcf;
 #[cfg(feature = "std")]
 mod export;
@@ -14,5 +14,5 @@ mod export;
 mod props;
 #[cfg(feature = "alloc")]
 mod real;
-#[cfg(feature = "alloc")]
+#[cfg(feature = "sim")]
 mod sdo;

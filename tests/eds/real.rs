@@ -172,6 +172,14 @@ fn sample_eds_is_served_but_for_the_object_it_cannot_encode() {
 
     // On the bus: an upload and a download of 2020h are refused with
     // 06040047h by the server; 2020h:01 does not exist (06090011h).
+    #[cfg(feature = "sim")]
+    served_on_the_bus(od);
+}
+
+/// The server of [`sample_eds_is_served_but_for_the_object_it_cannot_encode`]
+/// refuses 2020h on the simulated bus.
+#[cfg(feature = "sim")]
+fn served_on_the_bus(od: EdsDictionary) {
     let mut p = common::sdo::SdoPair::new(10, od);
     let mut refused = |start: &dyn Fn(&mut common::sdo::SdoPair<EdsDictionary>)| {
         p.clear_events();

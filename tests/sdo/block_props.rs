@@ -1,5 +1,5 @@
 //! Block download and block upload between the client and the server on one
-//! simulated bus (`common::sim::Sim`), for any value of 0..=10 000 bytes,
+//! simulated bus (`common::sim::Bus`), for any value of 0..=10 000 bytes,
 //! random block sizes on both sides, CRC support on either side or both,
 //! and dropped and duplicated frames: either exactly the bytes sent arrive,
 //! or exactly one abort with a block-transfer code ends the transfer on each
@@ -21,7 +21,7 @@ use canopen_codec::sdo::{
 use canopen_codec::NodeId;
 use common::observe;
 use common::sdo::{uploaded, CLIENT, SERVER};
-use common::sim::Sim;
+use common::sim::bus;
 use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
 
@@ -60,7 +60,7 @@ fn run(r: &Run) {
     let mut od = MemoryDictionary::new();
     let initial: &[u8] = if r.upload { &r.value } else { b"" };
     od.insert_variable(INDEX, SUB, Access::ReadWrite, initial, 10_000);
-    let mut sim = Sim::new(r.latency_us);
+    let mut sim = bus(r.latency_us);
     let client = sim.add(
         CLIENT,
         Client::<Vec<u8>>::new(ClientConfig {
@@ -92,11 +92,13 @@ fn run(r: &Run) {
     let value = r.value.clone();
     if r.upload {
         sim.with(client, |c, now| c.start_block_upload(now, INDEX, SUB))
+            .unwrap()
             .unwrap();
     } else {
         sim.with(client, |c, now| {
             c.start_block_download(now, INDEX, SUB, value)
         })
+        .unwrap()
         .unwrap();
     }
     sim.drive_bounded(100_000).unwrap();
@@ -154,7 +156,13 @@ fn run(r: &Run) {
             }
         ));
     }
-    let stored = sim.machine(server).od().get(INDEX, SUB).unwrap().to_vec();
+    let stored = sim
+        .machine(server)
+        .unwrap()
+        .od()
+        .get(INDEX, SUB)
+        .unwrap()
+        .to_vec();
     match c {
         ClientEvent::Uploaded { len, .. } => {
             assert!(r.upload);

@@ -14,11 +14,11 @@ mod common;
 mod aborts;
 #[cfg(all(feature = "alloc", feature = "sdo-client-segmented"))]
 mod backpressure;
-#[cfg(all(feature = "alloc", feature = "sdo-block"))]
+#[cfg(all(feature = "sim", feature = "sdo-block"))]
 mod block_props;
-#[cfg(all(feature = "alloc", feature = "sdo-block"))]
+#[cfg(all(feature = "sim", feature = "sdo-block"))]
 mod observer_props;
-#[cfg(all(feature = "alloc", feature = "sdo-client-segmented"))]
+#[cfg(all(feature = "sim", feature = "sdo-client-segmented"))]
 mod pair;
 #[cfg(all(feature = "alloc", feature = "sdo-client-segmented"))]
 mod segment_paths;

@@ -1,5 +1,5 @@
 //! The passive observer beside our own block transfers under faults: the
-//! client and the server on one simulated bus (`common::sim::Sim`), block
+//! client and the server on one simulated bus (`common::sim::Bus`), block
 //! upload and block download of 1..=3000 bytes, random block sizes and CRC
 //! support, and the data sender's frames dropped, duplicated and delayed
 //! behind later ones (reordered). The observer is tapped at the receiver of
@@ -18,6 +18,8 @@
 //!
 //! Cases: 64 by default (CI); `SDO_OBSERVER_PROPS_CASES=N` for more.
 
+use std::time::Duration;
+
 use crate::common;
 
 use canopen_codec::machine::Machine;
@@ -28,7 +30,7 @@ use canopen_codec::sdo::{
 };
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 use common::sdo::{CLIENT, SERVER};
-use common::sim::{Sent, Sim};
+use common::sim::{bus, Sent};
 use proptest::prelude::*;
 
 const INDEX: u16 = 0x2E01;
@@ -176,7 +178,7 @@ fn run(r: &Run) {
     let mut od = MemoryDictionary::new();
     let initial: &[u8] = if r.upload { &r.value } else { b"" };
     od.insert_variable(INDEX, SUB, Access::ReadWrite, initial, 4_000);
-    let mut sim = Sim::new(r.latency_us);
+    let mut sim = bus(r.latency_us);
     let client = sim.add(
         CLIENT,
         Tap::new(Client::<Vec<u8>>::new(ClientConfig {
@@ -213,17 +215,19 @@ fn run(r: &Run) {
         match fault {
             Fault::Drop => sim.drop_if(nth_of_sender),
             Fault::Duplicate => sim.duplicate_if(nth_of_sender),
-            Fault::Delay(us) => sim.delay_if(us, nth_of_sender),
+            Fault::Delay(us) => sim.delay_if(Duration::from_micros(us), nth_of_sender),
         }
     }
     let value = r.value.clone();
     if r.upload {
         sim.with(client, |c, now| c.inner.start_block_upload(now, INDEX, SUB))
+            .unwrap()
             .unwrap();
     } else {
         sim.with(client, |c, now| {
             c.inner.start_block_download(now, INDEX, SUB, value)
         })
+        .unwrap()
         .unwrap();
     }
     sim.drive_bounded(100_000).unwrap();
@@ -244,7 +248,7 @@ fn run(r: &Run) {
                 _ => {}
             }
         }
-        (data, done, sim.machine_mut(client).finish())
+        (data, done, sim.machine_mut(client).unwrap().finish())
     } else {
         let done = sim
             .event_list(server)
@@ -252,12 +256,13 @@ fn run(r: &Run) {
             .any(|e| matches!(e, ServerEvent::Downloaded { .. }));
         let stored = sim
             .machine(server)
+            .unwrap()
             .inner
             .od()
             .get(INDEX, SUB)
             .unwrap()
             .to_vec();
-        (stored, done, sim.machine_mut(server).finish())
+        (stored, done, sim.machine_mut(server).unwrap().finish())
     };
     let (delivered, ends) = observed(&events);
     let log = || sim.lines(0, u64::MAX);

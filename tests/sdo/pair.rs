@@ -1,6 +1,8 @@
 //! Client and server on one simulated bus (`common::sdo::SdoPair`): whole
 //! transfers, random values, latencies and dropped frames.
 
+use std::time::Duration;
+
 use crate::common;
 
 use canopen_codec::od::{Access, MemoryDictionary};
@@ -20,7 +22,7 @@ fn od_with(index: u16, sub: u8, max: usize) -> MemoryDictionary {
 /// Writes `value` then reads it back through the pair; returns the pair.
 fn write_then_read(index: u16, sub: u8, value: &[u8], latency_us: u64) -> SdoPair {
     let mut p = SdoPair::new(5, od_with(index, sub, 4096));
-    p.latency_us = latency_us;
+    p.set_latency(Duration::from_micros(latency_us));
     p.with_client(|c, now| c.start_download(now, index, sub, value.to_vec()))
         .unwrap();
     p.drive_bounded(10_000).unwrap();
@@ -131,7 +133,7 @@ fn check_drop(len: usize, upload: bool, k: usize, latency_us: u64) {
     let mut od = od_with(index, 0, 4096);
     od.set(index, 0, &value);
     let mut p = SdoPair::new(9, od);
-    p.latency_us = latency_us;
+    p.set_latency(Duration::from_micros(latency_us));
     p.drop_nth(k);
     if upload {
         p.with_client(|c, now| c.start_upload(now, index, 0))

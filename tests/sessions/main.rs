@@ -1,12 +1,15 @@
 //! Whole sessions in simulated time: the simulated bus itself
-//! (`common::sim::Sim`), every charge scenario of `sim::Scenario`, and the
+//! (`canopen_codec::sim::bus`), every charge scenario of `sim::Scenario`, and the
 //! recorded virtual session (`tests/data/virtual-session.log`).
 
 #[path = "../common/mod.rs"]
 mod common;
 
 #[cfg(feature = "sim")]
+mod bus_faults;
+#[cfg(feature = "sim")]
 mod charge_sessions;
+#[cfg(feature = "sim")]
 mod sim;
-#[cfg(feature = "heartbeat-consumer")]
+#[cfg(feature = "sim")]
 mod virtual_session;

@@ -48,17 +48,17 @@ fn session() -> String {
         temperature_c: 25,
     };
     bus.with(c, |m, now| m.handle_power_stage(now, stage));
-    bus.run_until(ms(20));
+    bus.run_until(ms(20)).unwrap();
     // The BMS starts every node.
     bus.inject(CanFrame::standard(0x000, &[0x01, 0x00]).unwrap());
-    bus.run_until(ms(5000));
+    bus.run_until(ms(5000)).unwrap();
     bus.unplug(b);
-    bus.run_until(ms(9000));
-    bus.plug(b, battery(ms(9000)));
+    bus.run_until(ms(9000)).unwrap();
+    assert!(bus.plug(b, battery(ms(9000))).is_ok());
     bus.with(b, |m, now| m.boot(now));
-    bus.run_until(ms(9020));
+    bus.run_until(ms(9020)).unwrap();
     bus.inject(CanFrame::standard(0x000, &[0x01, 0x00]).unwrap());
-    bus.run_until(ms(12_000));
+    bus.run_until(ms(12_000)).unwrap();
     let mut out = String::new();
     for s in bus.log() {
         let line = LogLineDisplay {
