@@ -126,12 +126,7 @@ pub(super) fn parse<'a>(line: &'a str, state: &mut State) -> Result<Record<'a>, 
         _ if remote => 0,
         _ => return Err(TraceError::BadDlc),
     };
-    let frame = frame(
-        id,
-        dlc,
-        remote,
-        tokens.take(if remote { 0 } else { usize::from(dlc) }),
-    )?;
+    let frame = frame(id, dlc, remote, tokens.take(usize::from(dlc)))?;
     Ok(Record::Frame(TraceFrame {
         timestamp: Some(Timestamp::from_micros(us)),
         channel: Some(channel),

@@ -53,7 +53,8 @@ pub(super) fn can_id(raw: u32, extended: bool) -> Result<CanId, TraceError> {
     }
 }
 
-/// A data frame from space-separated hex bytes, or a remote frame of `dlc`.
+/// A data frame from space-separated hex bytes, or a remote frame of `dlc`
+/// (which carries no data: `bytes` is not read).
 pub(super) fn frame<'a>(
     id: CanId,
     dlc: u8,

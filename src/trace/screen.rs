@@ -68,12 +68,7 @@ pub(super) fn parse<'a>(line: &'a str, state: &mut State) -> Result<Record<'a>, 
     let dlc = u8::try_from(len).map_err(|_| TraceError::BadDlc)?;
     let mut data = tokens.peekable();
     let remote = data.peek() == Some(&"remote");
-    let frame = frame(
-        id,
-        dlc,
-        remote,
-        data.take(if remote { 0 } else { usize::from(dlc) }),
-    )?;
+    let frame = frame(id, dlc, remote, data.take(usize::from(dlc)))?;
     Ok(Record::Frame(TraceFrame {
         timestamp,
         channel: Some(channel),

@@ -95,7 +95,7 @@ pub(super) fn parse<'a>(line: &'a str, state: &mut State) -> Result<Record<'a>, 
     let id = can_id(raw, id_text.len() > 4)?;
     let mut data = tokens.peekable();
     let remote = data.peek() == Some(&"RTR");
-    let frame = frame(id, dlc, remote, data.take(if remote { 0 } else { 8 }))?;
+    let frame = frame(id, dlc, remote, data.take(8))?;
     Ok(Record::Frame(TraceFrame {
         timestamp: Some(timestamp),
         channel,
@@ -163,7 +163,7 @@ fn parse_v2<'a>(
         .and_then(|d| u8::try_from(d).ok())
         .ok_or(TraceError::BadDlc)?;
     let remote = kind == "RR";
-    let frame = frame(id, dlc, remote, tokens.take(if remote { 0 } else { 8 }))?;
+    let frame = frame(id, dlc, remote, tokens.take(8))?;
     Ok(Record::Frame(TraceFrame {
         timestamp,
         channel,

@@ -7,6 +7,8 @@
 //! an acknowledgement, and a pool with no buffer free.
 
 use super::*;
+extern crate std;
+use std::vec::Vec;
 
 const REQ: u16 = 0x605;
 const RESP: u16 = 0x585;
@@ -148,6 +150,50 @@ impl Frames {
     fn all(&self) -> &[[u8; 8]] {
         &self.f[..self.n]
     }
+    /// Segments numbered `seqs`, each carrying the value's segment of its
+    /// number (the first sub-block, as the sender sends it).
+    fn segments(&mut self, seqs: impl IntoIterator<Item = u8>) {
+        for seq in seqs {
+            self.put(segment(seq, usize::from(seq) - 1));
+        }
+    }
+    /// After an acknowledgement of 50: the sender's next sub-block,
+    /// segments 51..=56 of the value numbered 1..=6, its acknowledgement,
+    /// and the end.
+    fn resent_from_51(&mut self) {
+        for seq in 1..=6u8 {
+            self.put(segment(seq, 49 + usize::from(seq)));
+        }
+        self.put(ack(6));
+        self.end();
+    }
+    /// The client's end frame and the server's confirmation.
+    fn end(&mut self) {
+        self.put(END);
+        self.put(CONFIRM);
+    }
+}
+
+/// [`feed`] of `frames` to a fresh observer, to the end of the trace.
+fn feed_fresh(frames: &[[u8; 8]]) -> Read {
+    feed(&mut Observer::new(ObserverConfig::default()), frames, true)
+}
+
+/// The whole value was delivered and the transfer completed (no CRC).
+fn assert_completed(read: &Read) {
+    assert_eq!(read.value(), value());
+    let end = read.end();
+    assert!(
+        matches!(
+            end,
+            ObserverEvent::Completed {
+                bytes: LEN,
+                crc_checked: false,
+                ..
+            }
+        ),
+        "{end:?}"
+    );
 }
 
 #[test]
@@ -156,12 +202,8 @@ fn a_lost_segment_acknowledged_at_50_and_resent_from_51() {
     // none of them: it acknowledges 50. The sender resends segments 51..=56
     // of the value as sequence numbers 1..=6 of the next sub-block.
     let mut f = Frames::new();
-    for seq in 1..=50u8 {
-        f.put(segment(seq, usize::from(seq) - 1));
-    }
-    for seq in 52..=56u8 {
-        f.put(segment(seq, usize::from(seq) - 1));
-    }
+    f.segments(1..=50u8);
+    f.segments(52..=56u8);
     f.put(ack(50));
     let mut obs: Observer = Observer::default();
     let first = feed(&mut obs, f.all(), false);
@@ -170,23 +212,10 @@ fn a_lost_segment_acknowledged_at_50_and_resent_from_51() {
     assert_eq!(first.n_ends, 0);
 
     let mut f = Frames::new();
-    for seq in 1..=6u8 {
-        f.put(segment(seq, 49 + usize::from(seq)));
-    }
-    f.put(ack(6));
-    f.put(END);
-    f.put(CONFIRM);
+    f.resent_from_51();
     let mut read = first;
     feed_into(&mut obs, &f.all()[2..], true, &mut read);
-    assert_eq!(read.value(), value());
-    assert!(matches!(
-        read.end(),
-        ObserverEvent::Completed {
-            bytes: LEN,
-            crc_checked: false,
-            ..
-        }
-    ));
+    assert_completed(&read);
 }
 
 #[test]
@@ -195,19 +224,11 @@ fn a_late_segment_a_receiver_took_is_delivered_as_acknowledged() {
     // acknowledges 56 (the ack decides); one that does not acknowledges
     // 50 and the sender resends from 51.
     let mut f = Frames::new();
-    for seq in (1..=50u8).chain([52, 51]).chain(53..=56) {
-        f.put(segment(seq, usize::from(seq) - 1));
-    }
+    f.segments((1..=50u8).chain([52, 51]).chain(53..=56));
     let segments_end = f.n;
     f.put(ack(56));
-    f.put(END);
-    f.put(CONFIRM);
-    let read = feed(&mut Observer::new(ObserverConfig::default()), f.all(), true);
-    assert_eq!(read.value(), value());
-    assert!(matches!(
-        read.end(),
-        ObserverEvent::Completed { bytes: LEN, .. }
-    ));
+    f.end();
+    assert_completed(&feed_fresh(f.all()));
 
     // The in-order receiver: ack 50, then 51..=56 again as 1..=6.
     let mut f2 = Frames::new();
@@ -215,87 +236,64 @@ fn a_late_segment_a_receiver_took_is_delivered_as_acknowledged() {
         f2.put(*frame);
     }
     f2.put(ack(50));
-    for seq in 1..=6u8 {
-        f2.put(segment(seq, 49 + usize::from(seq)));
-    }
-    f2.put(ack(6));
-    f2.put(END);
-    f2.put(CONFIRM);
-    let read = feed(
-        &mut Observer::new(ObserverConfig::default()),
-        f2.all(),
-        true,
-    );
-    assert_eq!(read.value(), value());
-    assert!(matches!(
-        read.end(),
-        ObserverEvent::Completed { bytes: LEN, .. }
-    ));
+    f2.resent_from_51();
+    assert_completed(&feed_fresh(f2.all()));
 }
 
 #[test]
-fn a_duplicated_segment_is_held_once() {
-    // Segment 3 twice, 10 twice after an out-of-order 12: the bytes are
+fn segments_repeated_around_the_acknowledgement_are_held_once() {
+    // Each sub-block (by sequence number) is acknowledged at 56, with
+    // `after` between the acknowledgement and the end frame: the bytes are
     // those of each sequence number, once.
-    let mut f = Frames::new();
-    for seq in [1u8, 2, 3, 3, 4, 5, 6, 7, 8, 9, 10, 12, 10, 11]
+    let in_order: Vec<u8> = (1..=56).collect();
+    // Segment 3 twice, 10 twice after an out-of-order 12.
+    let duplicated: Vec<u8> = [1, 2, 3, 3, 4, 5, 6, 7, 8, 9, 10, 12, 10, 11]
         .into_iter()
         .chain(13..=56)
-    {
-        f.put(segment(seq, usize::from(seq) - 1));
-    }
-    f.put(ack(56));
-    f.put(END);
-    f.put(CONFIRM);
-    let read = feed(&mut Observer::new(ObserverConfig::default()), f.all(), true);
-    assert_eq!(read.value(), value());
-    assert!(matches!(
-        read.end(),
-        ObserverEvent::Completed { bytes: LEN, .. }
-    ));
-}
-
-#[test]
-fn a_repeat_of_the_last_segment_after_its_acknowledgement_is_ignored() {
+        .collect();
     // The receiver ignores a repeat of the segment it acknowledged last;
     // after the last one it is not the end frame either.
-    let mut f = Frames::new();
-    for seq in 1..=56u8 {
-        f.put(segment(seq, usize::from(seq) - 1));
+    let repeated_last = [segment(56, 55)];
+    for (seqs, after) in [(&duplicated, &[][..]), (&in_order, &repeated_last[..])] {
+        let mut f = Frames::new();
+        f.segments(seqs.iter().copied());
+        f.put(ack(56));
+        for frame in after {
+            f.put(*frame);
+        }
+        f.end();
+        assert_completed(&feed_fresh(f.all()));
     }
-    f.put(ack(56));
-    f.put(segment(56, 55));
-    f.put(END);
-    f.put(CONFIRM);
-    let read = feed(&mut Observer::new(ObserverConfig::default()), f.all(), true);
-    assert_eq!(read.value(), value());
-    assert!(matches!(
-        read.end(),
-        ObserverEvent::Completed { bytes: LEN, .. }
-    ));
+}
+
+/// The observer delivered nothing and broke the transfer off: the bytes
+/// it held back unacknowledged, and why.
+fn broken_off_undelivered(read: &Read) -> (usize, BreakReason) {
+    assert_eq!(read.value(), b"");
+    match read.end() {
+        ObserverEvent::BrokenOff {
+            bytes: 0,
+            pending,
+            reason,
+            ..
+        } => (pending, reason),
+        e => panic!("{e:?}"),
+    }
 }
 
 #[test]
 fn segments_never_acknowledged_are_not_delivered() {
     let mut f = Frames::new();
-    for seq in 1..=20u8 {
-        f.put(segment(seq, usize::from(seq) - 1));
-    }
+    f.segments(1..=20u8);
     // The trace ends before the acknowledgement.
-    let read = feed(&mut Observer::new(ObserverConfig::default()), f.all(), true);
-    assert_eq!(read.value(), b"");
-    assert!(matches!(
-        read.end(),
-        ObserverEvent::BrokenOff {
-            bytes: 0,
-            pending: 140,
-            reason: BreakReason::AckNotSeen {
-                segments: 20,
-                trace_ended: true
-            },
-            ..
-        }
-    ));
+    let not_seen = |trace_ended| BreakReason::AckNotSeen {
+        segments: 20,
+        trace_ended,
+    };
+    assert_eq!(
+        broken_off_undelivered(&feed_fresh(f.all())),
+        (140, not_seen(true))
+    );
     // Silence instead: the timeout says the same.
     let mut obs: Observer = Observer::new(ObserverConfig {
         default_channels: true,
@@ -306,32 +304,16 @@ fn segments_never_acknowledged_are_not_delivered() {
     while let Some(e) = obs.poll_event() {
         read.take(e);
     }
-    assert!(matches!(
-        read.end(),
-        ObserverEvent::BrokenOff {
-            pending: 140,
-            reason: BreakReason::AckNotSeen {
-                segments: 20,
-                trace_ended: false
-            },
-            ..
-        }
-    ));
+    assert_eq!(broken_off_undelivered(&read), (140, not_seen(false)));
     // An acknowledgement of 0: nothing taken, nothing delivered, the
     // transfer goes on.
     let mut f = Frames::new();
     f.put(segment(2, 1));
     f.put(ack(0));
-    let read = feed(&mut Observer::new(ObserverConfig::default()), f.all(), true);
-    assert_eq!(read.value(), b"");
-    assert!(matches!(
-        read.end(),
-        ObserverEvent::BrokenOff {
-            pending: 0,
-            reason: BreakReason::EndOfTrace,
-            ..
-        }
-    ));
+    assert_eq!(
+        broken_off_undelivered(&feed_fresh(f.all())),
+        (0, BreakReason::EndOfTrace)
+    );
 }
 
 #[test]

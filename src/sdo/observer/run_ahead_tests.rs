@@ -87,6 +87,21 @@ fn frames(parts: &[&[[u8; 8]]]) -> Vec<[u8; 8]> {
     parts.concat()
 }
 
+/// The client a sub-block ahead: the first acknowledgement comes twice,
+/// the client sends segments 3-6 at once; then `acks` from the server,
+/// segments 7-8 and `closing`.
+fn one_sub_block_ahead(acks: &[[u8; 8]], closing: &[[u8; 8]]) -> Vec<[u8; 8]> {
+    frames(&[
+        &[INITIATE, ANSWER],
+        &sub_blocks(0, 2).collect::<Vec<_>>(),
+        &[ACK, ACK],
+        &sub_blocks(2, 6).collect::<Vec<_>>(),
+        acks,
+        &sub_blocks(6, 8).collect::<Vec<_>>(),
+        closing,
+    ])
+}
+
 fn completes_with_every_byte(frames: &[[u8; 8]]) {
     let (len, got, end) = observe(frames);
     assert_eq!((len, &got[..]), (LEN, &value()[..]));
@@ -102,31 +117,12 @@ fn sub_blocks_sent_before_the_acknowledgement_of_the_one_before_are_delivered() 
     // for the acknowledgement of segments 3-4, sent in reply to the first,
     // and sends 5-6 at once: both are on the bus before the server's
     // acknowledgement of 3-4.
-    let head = frames(&[
-        &[INITIATE, ANSWER],
-        &sub_blocks(0, 2).collect::<Vec<_>>(),
-        &[ACK, ACK],
-    ]);
-    let ahead: Vec<_> = sub_blocks(2, 6).collect();
-    let tail: Vec<_> = sub_blocks(6, 8).collect();
-    completes_with_every_byte(&frames(&[
-        &head,
-        &ahead,
-        &[ACK, ACK],
-        &tail,
-        &[ACK, END, CONFIRM],
-    ]));
+    completes_with_every_byte(&one_sub_block_ahead(&[ACK, ACK], &[ACK, END, CONFIRM]));
     // Still a sub-block ahead at the end: the client's end frame comes
     // before the server's acknowledgement of the last sub-block, which the
     // client, waiting for the end confirmation, answers with 05040001h.
     let abort = [0x80, 0x50, 0x1F, 1, 0x01, 0x00, 0x04, 0x05];
-    let (len, got, end) = observe(&frames(&[
-        &head,
-        &ahead,
-        &[ACK, ACK],
-        &tail,
-        &[END, ACK, abort],
-    ]));
+    let (len, got, end) = observe(&one_sub_block_ahead(&[ACK, ACK], &[END, ACK, abort]));
     assert_eq!((len, &got[..]), (LEN, &value()[..]));
     assert!(
         matches!(
@@ -149,20 +145,7 @@ fn a_sender_ahead_whose_acknowledgement_is_lost_stays_one_behind_and_delivers_ev
     // in step again; the observer reads each later acknowledgement as the
     // one of the sub-block before (the bytes are the same) and the end
     // frame as the client's word that the last one was taken.
-    let head = frames(&[
-        &[INITIATE, ANSWER],
-        &sub_blocks(0, 2).collect::<Vec<_>>(),
-        &[ACK, ACK],
-    ]);
-    let ahead: Vec<_> = sub_blocks(2, 6).collect();
-    let tail: Vec<_> = sub_blocks(6, 8).collect();
-    completes_with_every_byte(&frames(&[
-        &head,
-        &ahead,
-        &[ACK],
-        &tail,
-        &[ACK, END, CONFIRM],
-    ]));
+    completes_with_every_byte(&one_sub_block_ahead(&[ACK], &[ACK, END, CONFIRM]));
 }
 
 #[test]
