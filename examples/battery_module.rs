@@ -4,8 +4,8 @@
 //! [`BatteryModule`] (SDO server, default PDOs, heartbeat, EMCY, NMT slave).
 //!
 //! ```text
-//! cargo run --example battery_module -- --node-id 1 </dev/null
-//! printf '000#0101\n' | cargo run --example battery_module -- --node-id 1 --linger-ms 1000
+//! cargo run --features sim --example battery_module -- --node-id 1 </dev/null
+//! printf '000#0101\n' | cargo run --features sim --example battery_module -- --node-id 1 --linger-ms 1000
 //! ```
 //!
 //! `--help` lists the options (object values, heartbeat, PDO bits, ...).

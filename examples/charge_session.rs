@@ -4,7 +4,7 @@
 //! session as a candump log and prints a one-screen result.
 //!
 //! ```text
-//! cargo run --release --example charge_session -- --scenario normal-local --soc 20 --ah 100
+//! cargo run --release --features sim --example charge_session -- --scenario normal-local --soc 20 --ah 100
 //! canopen-decode --summary normal-local.log
 //! ```
 //!

@@ -17,11 +17,11 @@
 //! unplugged battery) and 2002h / 2100h / 2101h report them.
 //!
 //! ```text
-//! cargo run --example charger -- --node-id 10 --battery-node 1 [--mode local|remote] </dev/null
+//! cargo run --features sim --example charger -- --node-id 10 --battery-node 1 [--mode local|remote] </dev/null
 //! # a whole session: the module's output feeds the charger and back
 //! mkfifo /tmp/c2b
-//! cargo run -q --example battery_module -- --simulate --nmt-start </tmp/c2b \
-//!   | cargo run -q --example charger >/tmp/c2b
+//! cargo run -q --features sim --example battery_module -- --simulate --nmt-start </tmp/c2b \
+//!   | cargo run -q --features sim --example charger >/tmp/c2b
 //! ```
 //!
 //! Options: `--node-id N` (10), `--battery-node N` (1), `--mode

@@ -48,6 +48,7 @@
 //! | CiA 419 charger objects | [`cia419`] |
 //! | the Delta-Q IC Series charger and its error codes | [`deltaq`] |
 //! | the charger's own charge logic (modes, algorithms, set points, status) | [`deltaq::charge`] |
+//! | a simulated bus for any set of machines (latency, faults, loss, bus-off) | `sim::bus` (feature `sim`) |
 //! | a battery pack, a power stage and whole charge sessions in simulated time | `sim` (feature `sim`) |
 //! | read a CAN log, reassemble SDO, name the objects, summarise a bus | `log` (feature `log`: what the programs do, as a library) |
 //! | the common imports in one line | [`prelude`] |
@@ -72,8 +73,9 @@
 //!   Delta-Q charger), `program-download` (1F50h-1F57h served over a
 //!   `program::ProgramStore`). Their firmware cost is in `Cargo.toml` and
 //!   `docs/FIRMWARE.md`.
-//! - `sim` (default): models for simulation and whole charge sessions
-//!   (`sim`).
+//! - `sim` (not default): the simulated bus (`sim::bus::Bus`) every test,
+//!   bench, session and fuzz target runs on, the simulation models and
+//!   whole charge sessions (`sim`).
 //! - `log`: log analysis (trace reading, SDO reassembly, naming, PDO
 //!   learning, summary, signals, DBC, report), no dependency of its own;
 //!   implies `std` and every device service.

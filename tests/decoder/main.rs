@@ -24,7 +24,8 @@ mod naming;
 mod pdo;
 #[cfg(feature = "cli")]
 mod program_options;
-#[cfg(feature = "cli")]
+// It runs the `charger` and `battery_module` examples (feature `sim`).
+#[cfg(all(feature = "cli", feature = "sim"))]
 mod replay_cli;
 #[cfg(feature = "cli")]
 mod report;

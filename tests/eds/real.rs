@@ -8,12 +8,10 @@
 use crate::common;
 
 use canopen_codec::eds::{
-    parse, parse_bytes, write, DataType, Eds, EdsDictionary, ObjectType, Unserved, UnservedReason,
-    WarningKind,
+    parse, parse_bytes, write, DataType, Eds, ObjectType, Unserved, UnservedReason, WarningKind,
 };
 use canopen_codec::od::{Access, ObjectDictionary};
 use canopen_codec::pdo::{MappingEntry, PdoDirection};
-use canopen_codec::sdo::{AbortOrigin, ClientEvent};
 use canopen_codec::NodeId;
 
 /// Parses one real file: `None` (and a note) when it is absent outside CI.
@@ -179,7 +177,10 @@ fn sample_eds_is_served_but_for_the_object_it_cannot_encode() {
 /// The server of [`sample_eds_is_served_but_for_the_object_it_cannot_encode`]
 /// refuses 2020h on the simulated bus.
 #[cfg(feature = "sim")]
-fn served_on_the_bus(od: EdsDictionary) {
+fn served_on_the_bus(od: canopen_codec::eds::EdsDictionary) {
+    use canopen_codec::eds::EdsDictionary;
+    use canopen_codec::sdo::{AbortOrigin, ClientEvent};
+
     let mut p = common::sdo::SdoPair::new(10, od);
     let mut refused = |start: &dyn Fn(&mut common::sdo::SdoPair<EdsDictionary>)| {
         p.clear_events();

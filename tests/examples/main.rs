@@ -5,15 +5,19 @@
 #[path = "../common/mod.rs"]
 mod common;
 
-#[cfg(feature = "std")]
-mod battery_module_cli;
 #[cfg(all(
-    feature = "std",
     feature = "sim",
     feature = "lss",
     feature = "guarding",
     feature = "sync-time",
-    feature = "heartbeat-consumer",
+    feature = "store"
+))]
+mod battery_module_cli;
+#[cfg(all(
+    feature = "sim",
+    feature = "lss",
+    feature = "guarding",
+    feature = "sync-time",
     feature = "store"
 ))]
 mod realtime_charge;
