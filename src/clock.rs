@@ -203,11 +203,9 @@ impl<K: TimerKind, const N: usize> Timers<K, N> {
     /// [`Timestamp::MAX`] is kept one microsecond earlier (the end of the
     /// clock is the table's "none"): it still expires once at the end of
     /// the clock, as every running timer does.
-    #[inline(never)]
+    #[inline]
     pub fn set(&mut self, timer: K, deadline: Option<Timestamp>) {
-        if let Some(d) = self.deadlines.get_mut(timer.index()) {
-            *d = MaybeTimestamp::new(deadline);
-        }
+        set_slot(&mut self.deadlines, timer.index(), deadline);
     }
 
     /// The deadline of `timer`.
@@ -219,17 +217,9 @@ impl<K: TimerKind, const N: usize> Timers<K, N> {
 
     /// True (and the timer stopped) when `timer` is armed and `now` has
     /// reached its deadline.
-    #[inline(never)]
+    #[inline]
     pub fn expire(&mut self, timer: K, now: Timestamp) -> bool {
-        match self.deadlines.get_mut(timer.index()) {
-            // A stopped timer holds u64::MAX, which `now` reaches only when
-            // it is u64::MAX itself: excluded by the first test.
-            Some(d) if d.0 != u64::MAX && now.0 >= d.0 => {
-                *d = MaybeTimestamp::NONE;
-                true
-            }
-            _ => false,
-        }
+        expire_slot(&mut self.deadlines, timer.index(), now)
     }
 
     /// Stops every timer.
@@ -239,21 +229,73 @@ impl<K: TimerKind, const N: usize> Timers<K, N> {
 
     /// The earliest armed deadline.
     #[must_use]
-    #[inline(never)]
-    pub fn next(&self) -> Option<Timestamp> {
-        self.earliest().get()
-    }
-
-    /// The earliest armed deadline, kept as the table keeps it (for an
-    /// owner that takes the minimum of several machines' deadlines).
-    #[must_use]
     #[inline]
-    pub(crate) fn earliest(&self) -> MaybeTimestamp {
-        // Stopped timers hold u64::MAX, so the plain minimum is the answer.
-        self.deadlines
-            .iter()
-            .fold(MaybeTimestamp::NONE, |m, d| m.min(*d))
+    pub fn next(&self) -> Option<Timestamp> {
+        earliest_slot(&self.deadlines)
     }
+}
+
+// The table's work, once for every machine's table (a firmware carries
+// one copy, not one per timer enum): slot `i` of `slots`.
+
+#[inline(never)]
+fn set_slot(slots: &mut [MaybeTimestamp], i: usize, deadline: Option<Timestamp>) {
+    if let Some(d) = slots.get_mut(i) {
+        *d = MaybeTimestamp::new(deadline);
+    }
+}
+
+#[inline(never)]
+fn expire_slot(slots: &mut [MaybeTimestamp], i: usize, now: Timestamp) -> bool {
+    match slots.get_mut(i) {
+        // A stopped timer holds u64::MAX, which `now` reaches only when
+        // it is u64::MAX itself: excluded by the first test.
+        Some(d) if d.0 != u64::MAX && now.0 >= d.0 => {
+            *d = MaybeTimestamp::NONE;
+            true
+        }
+        _ => false,
+    }
+}
+
+#[inline(never)]
+fn earliest_slot(slots: &[MaybeTimestamp]) -> Option<Timestamp> {
+    // Stopped timers hold u64::MAX, so the plain minimum is the answer.
+    slots
+        .iter()
+        .fold(MaybeTimestamp::NONE, |m, d| m.min(*d))
+        .get()
+}
+
+/// The earliest of `deadlines` (`None` where none is armed): the one way
+/// every machine of the crate combines deadlines. A machine answers
+/// [`Machine::poll_timeout`](crate::machine::Machine::poll_timeout) with
+/// its own [`Timers::next`] alone, or, when it owns other machines, with
+/// this over theirs and its own:
+/// `earliest([self.client.poll_timeout(), self.timers.next()])`. A
+/// deadline is kept as given (no saturation, no rounding); an empty input
+/// or one of `None`s only is `None`.
+///
+/// ```
+/// use canopen_codec::clock::earliest;
+/// use canopen_codec::Timestamp;
+///
+/// let (a, b) = (Timestamp::from_millis(30), Timestamp::from_millis(10));
+/// assert_eq!(earliest([Some(a), None, Some(b)]), Some(b));
+/// assert_eq!(earliest([None, None]), None);
+/// // Any iterator: a table of machines.
+/// assert_eq!(earliest([Some(a), Some(b)].iter().copied().filter(|d| *d != Some(b))), Some(a));
+/// ```
+#[must_use]
+#[inline]
+pub fn earliest(deadlines: impl IntoIterator<Item = Option<Timestamp>>) -> Option<Timestamp> {
+    deadlines
+        .into_iter()
+        .fold(None, |first, d| match (first, d) {
+            (Some(f), Some(t)) if t.0 < f.0 => d,
+            (None, _) => d,
+            _ => first,
+        })
 }
 
 /// Declares a machine's timer enum and its [`TimerKind`] (variants
@@ -300,18 +342,6 @@ impl MaybeTimestamp {
             Some(Timestamp(u64::MAX)) => MaybeTimestamp(u64::MAX - 1),
             Some(t) => MaybeTimestamp(t.0),
             None => Self::NONE,
-        }
-    }
-
-    /// The earlier of `self` and `t` (none is later than any instant).
-    #[must_use]
-    #[inline(never)]
-    pub(crate) fn earlier(self, t: Option<Timestamp>) -> Self {
-        let t = Self::new(t);
-        if t.0 < self.0 {
-            t
-        } else {
-            self
         }
     }
 
@@ -420,7 +450,6 @@ mod tests {
         t.set(A, Some(Timestamp::ZERO));
         t.set(C, Some(Timestamp::from_micros(u64::MAX - 1)));
         assert_eq!(t.next(), Some(Timestamp::ZERO));
-        assert_eq!(t.earliest(), MaybeTimestamp(0));
         assert_eq!(t.get(C), Some(Timestamp::from_micros(u64::MAX - 1)));
         assert!(t.expire(A, Timestamp::ZERO));
         assert_eq!(t.next(), Some(Timestamp::from_micros(u64::MAX - 1)));
@@ -443,6 +472,28 @@ mod tests {
     }
 
     #[test]
+    fn earliest_is_the_first_armed_deadline_of_every_source() {
+        let t = |ms| Some(Timestamp::from_millis(ms));
+        assert_eq!(earliest([]), None);
+        assert_eq!(earliest([None, None, None]), None);
+        assert_eq!(earliest([t(5), None, t(3), t(9)]), t(3));
+        assert_eq!(earliest([None, t(7)]), t(7));
+        assert_eq!(earliest([t(7), None]), t(7));
+        // The ends of the clock are kept as given.
+        assert_eq!(earliest([Some(Timestamp::MAX), None]), Some(Timestamp::MAX));
+        assert_eq!(
+            earliest([Some(Timestamp::MAX), Some(Timestamp::ZERO)]),
+            Some(Timestamp::ZERO)
+        );
+        // A timer table and other machines' deadlines together.
+        let mut own: Timers<Three, 3> = Timers::new();
+        own.set(Three::B, t(4));
+        assert_eq!(earliest([t(6), own.next()]), t(4));
+        own.set(Three::B, None);
+        assert_eq!(earliest([t(6), own.next()]), t(6));
+    }
+
+    #[test]
     fn maybe_timestamp_keeps_all_but_the_last_microsecond() {
         for us in [0, 1, 1_756_955_646_068_614, u64::MAX - 1] {
             let t = Some(Timestamp::from_micros(us));
@@ -458,16 +509,6 @@ mod tests {
         assert_eq!((one.min(two), two.min(one)), (one, one));
         assert_eq!(MaybeTimestamp::NONE.min(two).min(MaybeTimestamp::NONE), two);
         assert_eq!(MaybeTimestamp::NONE.min(MaybeTimestamp::NONE).get(), None);
-        let five = Some(Timestamp::from_micros(5));
-        let m = MaybeTimestamp::NONE.earlier(None).earlier(five);
-        assert_eq!(m.earlier(Some(Timestamp::from_micros(9))).get(), five);
-        assert_eq!(m.earlier(None).earlier(Some(Timestamp::MAX)).get(), five);
-        let max = MaybeTimestamp::NONE.earlier(Some(Timestamp::MAX));
-        assert_eq!(max.get(), Some(Timestamp::from_micros(u64::MAX - 1)));
-        assert_eq!(
-            m.earlier(Some(Timestamp::ZERO)).get(),
-            Some(Timestamp::ZERO)
-        );
     }
 
     #[test]
@@ -514,6 +555,13 @@ mod tests {
 
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig { failure_persistence: Some(std::boxed::Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/src-clock.txt"))), ..proptest::prelude::ProptestConfig::default() })]
+        #[test]
+        fn earliest_is_the_minimum_of_the_armed(deadlines in proptest::collection::vec(proptest::option::of(proptest::num::u64::ANY), 0..12)) {
+            let deadlines: std::vec::Vec<Option<Timestamp>> = deadlines.into_iter().map(|d| d.map(Timestamp::from_micros)).collect();
+            let armed = deadlines.iter().flatten().copied().min();
+            proptest::prop_assert_eq!(earliest(deadlines.iter().copied()), armed);
+        }
+
         #[test]
         fn duration_conversions_agree_everywhere(s in proptest::num::u64::ANY, n in 0u32..1_000_000_000) {
             let d = Duration::new(s, n);

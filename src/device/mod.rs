@@ -158,7 +158,6 @@ pub mod store;
 /// (below the SDO layer, whose master uses them too).
 pub use crate::program;
 pub use config::{DeviceConfig, Policies, PowerOn};
-#[cfg(feature = "alloc")]
 #[cfg(feature = "heartbeat-consumer")]
 pub use objects::MAX_CONSUMERS;
 pub use objects::{CommObjects, DeviceObjects, ErrorFieldFormat, Identity, ERROR_HISTORY_LEN};
@@ -714,19 +713,18 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         if !self.nmt.is_running() {
             return None;
         }
-        // The earliest of the deadlines (a stopped timer is none).
-        let earliest = self.heartbeat.deadline();
-        #[cfg(feature = "heartbeat-consumer")]
-        let earliest = earliest.min(self.consumer.deadline());
-        #[cfg(feature = "guarding")]
-        let earliest = earliest.earlier(self.services.guarding.poll_timeout());
-        #[cfg(feature = "sync-time")]
-        let earliest = earliest.earlier(self.services.sync_producer.poll_timeout());
-        let earliest = earliest
-            .earlier(self.server.poll_timeout())
-            .earlier(profile.poll_timeout())
-            .min(self.tpdos.deadline());
-        earliest.get()
+        crate::clock::earliest([
+            self.heartbeat.poll_timeout(),
+            #[cfg(feature = "heartbeat-consumer")]
+            self.consumer.poll_timeout(),
+            #[cfg(feature = "guarding")]
+            self.services.guarding.poll_timeout(),
+            #[cfg(feature = "sync-time")]
+            self.services.sync_producer.poll_timeout(),
+            self.server.poll_timeout(),
+            profile.poll_timeout(),
+            self.tpdos.poll_timeout(),
+        ])
     }
 
     // ----- internals -------------------------------------------------------

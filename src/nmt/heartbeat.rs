@@ -22,7 +22,7 @@
 use core::convert::Infallible;
 use core::time::Duration;
 
-use crate::clock::{timer_kind, MaybeTimestamp, Timers, Timestamp};
+use crate::clock::{earliest, timer_kind, MaybeTimestamp, Timers, Timestamp};
 use crate::cob_id::{NodeId, NMT_ERROR_CONTROL_BASE};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
@@ -112,12 +112,6 @@ impl HeartbeatProducer {
     /// core's timers count it.
     pub(crate) const fn period_us(&self) -> u64 {
         self.period_us
-    }
-
-    /// When the next heartbeat is due ([`Machine::poll_timeout`] as the
-    /// timer keeps it, for the device's minimum of deadlines).
-    pub(crate) fn deadline(&self) -> MaybeTimestamp {
-        self.timers.earliest()
     }
 
     fn arm(&mut self, now: Timestamp) {
@@ -485,14 +479,6 @@ impl<const N: usize, const E: usize> HeartbeatConsumer<N, E> {
         None
     }
 
-    /// The earliest deadline ([`Machine::poll_timeout`] as the watches
-    /// keep it, for the device's minimum of deadlines).
-    pub(crate) fn deadline(&self) -> MaybeTimestamp {
-        self.watches
-            .iter()
-            .fold(MaybeTimestamp::NONE, |m, w| m.min(w.deadline))
-    }
-
     fn watch(&self, node: NodeId) -> Option<&Watch> {
         self.watches.iter().find(|w| w.watches(node))
     }
@@ -515,9 +501,9 @@ impl<const N: usize, const E: usize> Machine for HeartbeatConsumer<N, E> {
         }
     }
 
-    /// The earliest deadline.
+    /// The earliest deadline of the watches.
     fn poll_timeout(&self) -> Option<Timestamp> {
-        self.deadline().get()
+        earliest(self.watches.iter().map(|w| w.deadline.get()))
     }
 
     crate::machine::queued_outputs!(frames: none, events: events);

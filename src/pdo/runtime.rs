@@ -12,7 +12,7 @@ use super::config::{PdoConfig, PdoDictionary};
 use super::od_io::{read_entries, write_entries, RpdoError};
 use super::producer::TpdoProducer;
 use crate::bytes::Payload;
-use crate::clock::{MaybeTimestamp, Timestamp};
+use crate::clock::{earliest, Timestamp};
 use crate::cob_id::PdoNumber;
 use crate::frame::{data_frame_identity, CanFrame};
 use crate::machine::Machine;
@@ -47,14 +47,6 @@ impl<const T: usize> TpdoSet<T> {
         TpdoSet {
             producers: [const { TpdoProducer::new() }; T],
         }
-    }
-
-    /// The earliest TPDO deadline ([`Machine::poll_timeout`] as a
-    /// [`MaybeTimestamp`], for the device's minimum of deadlines).
-    pub(crate) fn deadline(&self) -> MaybeTimestamp {
-        self.producers
-            .iter()
-            .fold(MaybeTimestamp::NONE, |m, p| m.earlier(p.poll_timeout()))
     }
 
     /// Gives each producer its TPDO's current communication parameters (a
@@ -142,10 +134,7 @@ impl<const T: usize> Machine for TpdoSet<T> {
 
     /// The earliest TPDO deadline.
     fn poll_timeout(&self) -> Option<Timestamp> {
-        self.producers
-            .iter()
-            .filter_map(TpdoProducer::poll_timeout)
-            .min()
+        earliest(self.producers.iter().map(TpdoProducer::poll_timeout))
     }
 
     crate::machine::queued_outputs!(events: none);
@@ -409,13 +398,12 @@ mod deadline_tests {
     use super::*;
     use crate::pdo::{PdoCobId, PdoCommParams, PdoMapping, PdoSlot};
 
-    /// The device's minimum of deadlines takes the set's as a
-    /// `MaybeTimestamp`: the same as `poll_timeout`, none or the earliest
-    /// event timer.
+    /// The set's deadline is its producers' earliest: none or the
+    /// earliest event timer.
     #[test]
-    fn the_deadline_is_poll_timeout() {
+    fn the_deadline_is_the_earliest_event_timer() {
         let mut set: TpdoSet<4> = TpdoSet::empty();
-        assert_eq!((set.deadline().get(), set.poll_timeout()), (None, None));
+        assert_eq!(set.poll_timeout(), None);
         let mut config: PdoConfig<4, 4> = PdoConfig::new();
         for (n, ms) in [(PdoNumber::P0, 300), (PdoNumber::P2, 200)] {
             let comm = PdoCommParams::event_driven(PdoCobId::from_u32(0x180 + ms), ms as u16);
@@ -428,11 +416,8 @@ mod deadline_tests {
         set.reconfigure(Timestamp::ZERO, &config);
         set.set_operational(Timestamp::ZERO, true);
         let earliest = Some(Timestamp::from_millis(200));
-        assert_eq!(
-            (set.deadline().get(), set.poll_timeout()),
-            (earliest, earliest)
-        );
+        assert_eq!(set.poll_timeout(), earliest);
         set.set_operational(Timestamp::ZERO, false);
-        assert_eq!((set.deadline().get(), set.poll_timeout()), (None, None));
+        assert_eq!(set.poll_timeout(), None);
     }
 }

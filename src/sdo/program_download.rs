@@ -32,7 +32,7 @@
 //! `poll_event`. Events go to a queue of 4, oldest dropped and counted.
 
 use super::{AbortCode, AbortOrigin, Client, ClientConfig, ClientError, ClientEvent};
-use crate::clock::Timestamp;
+use crate::clock::{earliest, timer_kind, Timers, Timestamp};
 use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::program::{
@@ -168,6 +168,17 @@ impl<D: AsRef<[u8]>> AsRef<[u8]> for Payload<D> {
     }
 }
 
+timer_kind! {
+    /// The program download's own deadline (the SDO client keeps the
+    /// transfers').
+    enum DownloadTimer {
+        /// 1F57h is read this long ([`ProgramDownloadConfig::settle`])
+        /// after the device aborted the download: the rest of the
+        /// sub-block passes first.
+        ReadStatus,
+    }
+}
+
 /// The master's program download machine for one device (see the module
 /// docs). `D` is the image (a slice, an array, a `Vec`), held until it is
 /// sent.
@@ -196,8 +207,8 @@ pub struct ProgramDownload<D> {
     download_abort: Option<AbortCode>,
     /// 1F56h as read.
     software_id: u32,
-    /// When 1F57h is read after the device aborted the download.
-    read_status_at: Option<Timestamp>,
+    /// Its own deadline ([`DownloadTimer`]); the client keeps its own.
+    timers: Timers<DownloadTimer, 1>,
     events: EventQueue<ProgramDownloadEvent, EVENT_CAPACITY>,
 }
 
@@ -214,7 +225,7 @@ impl<D: AsRef<[u8]>> ProgramDownload<D> {
             value: [0; 4],
             download_abort: None,
             software_id: 0,
-            read_status_at: None,
+            timers: Timers::new(),
             events: EventQueue::new(ProgramDownloadEvent::StepDone(ProgramStep::Stop)),
         }
     }
@@ -240,7 +251,7 @@ impl<D: AsRef<[u8]>> ProgramDownload<D> {
         self.len = image.as_ref().len();
         self.image = Some(image);
         self.download_abort = None;
-        self.read_status_at = None;
+        self.timers.clear();
         self.begin(now, ProgramStep::Stop);
         Ok(())
     }
@@ -253,7 +264,7 @@ impl<D: AsRef<[u8]>> ProgramDownload<D> {
         }
         if !self.client.abort(now, code) {
             // Waiting to read 1F57h, no transfer runs: fail without a frame.
-            self.read_status_at = None;
+            self.timers.clear();
             self.fail_aborted(code, AbortOrigin::Local);
         }
         self.drain(now);
@@ -333,7 +344,8 @@ impl<D: AsRef<[u8]>> ProgramDownload<D> {
                         self.download_abort = Some(code);
                         self.step = Some(ProgramStep::FlashStatus);
                         let settle = crate::clock::micros_of(self.config.settle);
-                        self.read_status_at = Some(now.add_micros(settle));
+                        let at = now.add_micros(settle);
+                        self.timers.set(DownloadTimer::ReadStatus, Some(at));
                     } else {
                         self.fail_aborted(code, origin);
                     }
@@ -391,8 +403,7 @@ impl<D: AsRef<[u8]>> Machine for ProgramDownload<D> {
     fn handle_timeout(&mut self, now: Timestamp) {
         self.client.handle_timeout(now);
         self.drain(now);
-        if self.read_status_at.is_some_and(|at| now >= at) {
-            self.read_status_at = None;
+        if self.timers.expire(DownloadTimer::ReadStatus, now) {
             self.begin(now, ProgramStep::FlashStatus);
         }
     }
@@ -401,16 +412,83 @@ impl<D: AsRef<[u8]>> Machine for ProgramDownload<D> {
         self.client.poll_transmit()
     }
 
+    /// The earlier of the client's deadline and the sequence's own.
     fn poll_timeout(&self) -> Option<Timestamp> {
-        match (self.client.poll_timeout(), self.read_status_at) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
+        earliest([self.client.poll_timeout(), self.timers.next()])
     }
 
     crate::machine::queued_outputs!(@events events);
 
     fn frames_dropped(&self) -> u64 {
         self.client.frames_dropped()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cob_id::NodeId;
+    use std::string::ToString;
+
+    /// An answer of node 10's SDO server.
+    fn answer(bytes: [u8; 8]) -> CanFrame {
+        CanFrame::standard(0x58A, &bytes).unwrap()
+    }
+
+    #[test]
+    fn reads_the_flash_status_at_its_own_deadline_and_not_before() {
+        let t = Timestamp::from_millis;
+        let mut config = ProgramDownloadConfig::for_server(NodeId::new(10).unwrap());
+        config.block = false;
+        let mut m = ProgramDownload::new(config);
+        assert_eq!(m.poll_timeout(), None);
+        m.start(t(0), &[0xAA; 20][..]).unwrap();
+        // Stop and clear, each acknowledged at once.
+        for sent in ["60A#2F511F0100000000", "60A#2F511F0103000000"] {
+            assert_eq!(m.poll_transmit().unwrap().to_string(), sent);
+            m.handle_frame(t(1), &answer([0x60, 0x51, 0x1F, 1, 0, 0, 0, 0]));
+        }
+        // The download: the device refuses it (08000020h).
+        assert_eq!(
+            m.poll_transmit().unwrap().to_string(),
+            "60A#21501F0114000000"
+        );
+        assert_eq!(m.poll_timeout(), Some(t(1 + 2000)));
+        m.handle_frame(t(2), &answer([0x80, 0x50, 0x1F, 1, 0x20, 0, 0, 0x08]));
+        assert_eq!(m.poll_transmit(), None);
+        // No transfer runs: the read of 1F57h, `settle` later, is the only
+        // deadline, and nothing is sent before it.
+        assert_eq!(m.poll_timeout(), Some(t(102)));
+        m.handle_timeout(t(101));
+        assert_eq!((m.poll_transmit(), m.poll_timeout()), (None, Some(t(102))));
+        m.handle_timeout(t(102));
+        assert_eq!(
+            m.poll_transmit().unwrap().to_string(),
+            "60A#40571F0100000000"
+        );
+        // Its own timer fired once; the client's transfer deadline is next.
+        assert_eq!(m.poll_timeout(), Some(t(102 + 2000)));
+        m.handle_timeout(t(103));
+        assert_eq!(m.poll_transmit(), None);
+    }
+
+    #[test]
+    fn an_abort_while_waiting_stops_the_timer() {
+        let t = Timestamp::from_millis;
+        let mut config = ProgramDownloadConfig::for_server(NodeId::new(10).unwrap());
+        config.block = false;
+        let mut m = ProgramDownload::new(config);
+        m.start(t(0), &[0xAA; 20][..]).unwrap();
+        for _ in 0..2 {
+            let _ = m.poll_transmit();
+            m.handle_frame(t(1), &answer([0x60, 0x51, 0x1F, 1, 0, 0, 0, 0]));
+        }
+        let _ = m.poll_transmit();
+        m.handle_frame(t(2), &answer([0x80, 0x50, 0x1F, 1, 0x20, 0, 0, 0x08]));
+        assert_eq!(m.poll_timeout(), Some(t(102)));
+        assert!(m.abort(t(50), AbortCode::GeneralError));
+        assert_eq!((m.poll_transmit(), m.poll_timeout()), (None, None));
+        m.handle_timeout(t(102));
+        assert_eq!(m.poll_transmit(), None);
     }
 }

@@ -138,7 +138,7 @@ use super::{
     ChargeIndication, ChargeStatusFlags, ChargeType, DerateReasons, ExtendedChargeStatus,
     ExternalOverride, OperatingMode, OverrideSource, Reaction,
 };
-use crate::clock::{micros_of, Timestamp};
+use crate::clock::{micros_of, timer_kind, Timers, Timestamp};
 use crate::emcy::Emergency;
 use crate::queue::EventQueue;
 pub use algorithm::{AlgorithmKind, ChargeAlgorithm, EXAMPLE_ALGORITHMS};
@@ -166,6 +166,19 @@ pub const ELAPSED_TIME: u16 = 0x2251;
 /// Absorption lasts at least this long before its end-current test (the
 /// power stage's current settles after the change from bulk). Ours.
 pub const ABSORPTION_MIN: Duration = Duration::from_secs(60);
+
+timer_kind! {
+    /// The charge control's deadlines, each a slot of its timer table.
+    enum ChargeTimer {
+        /// The CAN hold-off ([`ChargeConfig::can_hold_off`], local mode
+        /// without a BMS) runs out: the no-CAN algorithm starts.
+        HoldOff,
+        /// The timed phase running ends: absorption after its maximum
+        /// (at least [`ABSORPTION_MIN`]), equalize after its time, rest
+        /// after [`ChargeConfig::rest`] (one phase runs at a time).
+        PhaseEnd,
+    }
+}
 
 /// Why a charge was ended from outside.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -201,7 +214,11 @@ pub struct ChargeControl {
     alarms: ChargeAlarms,
     bus: BusInputs,
     stage: PowerStage,
-    hold_off_until: Option<Timestamp>,
+    /// Its deadlines ([`ChargeTimer`]).
+    timers: Timers<ChargeTimer, 2>,
+    /// The CAN hold-off ran out with no BMS heard (until the cycle ends,
+    /// a cycle starts or a BMS is heard).
+    held_off: bool,
     /// The BMS said ready at the last step (6000h edge).
     was_ready: bool,
     latch: Latch,
@@ -233,7 +250,8 @@ impl ChargeControl {
             alarms: ChargeAlarms::empty(),
             bus: BusInputs::none(config.max_voltage_mv),
             stage: PowerStage::OFF,
-            hold_off_until: None,
+            timers: Timers::new(),
+            held_off: false,
             was_ready: false,
             latch: Latch::None,
             temperature_fault: false,
@@ -373,20 +391,11 @@ impl ChargeControl {
         self.step(now);
     }
 
-    /// When the next timer (hold-off, absorption limit, equalize, rest)
-    /// runs out.
+    /// When the next timer (the CAN hold-off, the end of the absorption,
+    /// equalize or rest phase) runs out.
     #[must_use]
     pub fn poll_timeout(&self) -> Option<Timestamp> {
-        let since = |d: Duration| Some(self.phase_since.add_duration(d));
-        match self.phase {
-            ChargePhase::HoldOff => self.hold_off_until,
-            ChargePhase::Absorption => self
-                .algorithm()
-                .and_then(|a| since(a.absorption_max.max(ABSORPTION_MIN))),
-            ChargePhase::Equalize => self.algorithm().and_then(|a| since(a.equalize_time)),
-            ChargePhase::Rest => since(self.config.rest),
-            _ => None,
-        }
+        self.timers.next()
     }
 
     /// The next event.
@@ -491,10 +500,17 @@ impl ChargeControl {
     /// The cycle ends (AC lost, battery unplugged, restart): idle, the
     /// counters kept for reading until the next cycle starts.
     fn end_cycle(&mut self, now: Timestamp) {
-        self.hold_off_until = None;
+        self.stop_hold_off();
         self.enter(now, ChargePhase::Idle);
     }
 
+    /// No hold-off runs or ran out.
+    fn stop_hold_off(&mut self) {
+        self.timers.set(ChargeTimer::HoldOff, None);
+        self.held_off = false;
+    }
+
+    /// Enters `to` (if not in it) and arms the end of a timed phase.
     fn enter(&mut self, now: Timestamp, to: ChargePhase) {
         if self.phase != to {
             self.events.push(ChargeEvent::Phase {
@@ -503,6 +519,16 @@ impl ChargeControl {
             });
             self.phase = to;
             self.phase_since = now;
+            let lasts = match to {
+                ChargePhase::Absorption => self
+                    .algorithm()
+                    .map(|a| a.absorption_max.max(ABSORPTION_MIN)),
+                ChargePhase::Equalize => self.algorithm().map(|a| a.equalize_time),
+                ChargePhase::Rest => Some(self.config.rest),
+                _ => None,
+            };
+            let end = lasts.map(|d| now.add_duration(d));
+            self.timers.set(ChargeTimer::PhaseEnd, end);
         }
     }
 
@@ -518,7 +544,7 @@ impl ChargeControl {
             return;
         };
         self.active = Some(a.id);
-        self.hold_off_until = None;
+        self.stop_hold_off();
         let to = match a.kind {
             AlgorithmKind::Cycle => ChargePhase::Bulk,
             AlgorithmKind::Float => ChargePhase::Float,
@@ -535,6 +561,12 @@ impl ChargeControl {
     /// settles (a chain of zero-length phases runs through in one call, so
     /// no timer is ever left at or before `now`).
     fn step(&mut self, now: Timestamp) {
+        // The timers due run out first (the rules below read the phase's
+        // time themselves): a hold-off that ran out is remembered.
+        if self.timers.expire(ChargeTimer::HoldOff, now) {
+            self.held_off = true;
+        }
+        let _ = self.timers.expire(ChargeTimer::PhaseEnd, now);
         let mode = self.mode;
         let listens = !matches!(mode, OperatingMode::MonitoringOnly) && !self.bus.bus_error;
         let bms = listens && self.bus.battery_present;
@@ -543,7 +575,7 @@ impl ChargeControl {
         // A phase chain is at most bulk, absorption, equalize, rest, float.
         for _ in 0..8 {
             let before = self.phase;
-            self.update_alarms(now, ready, detected);
+            self.update_alarms(ready, detected);
             if !self.stage.ac_present {
                 if self.phase != ChargePhase::Idle && self.revert_on_ac_loss {
                     self.active = self.permanent;
@@ -607,7 +639,7 @@ impl ChargeControl {
         match self.phase {
             P::Idle | P::HoldOff | P::Terminated => {
                 if bms {
-                    self.hold_off_until = None;
+                    self.stop_hold_off();
                     if ready && self.active.is_some() {
                         self.start(now, self.active);
                     } else {
@@ -616,10 +648,14 @@ impl ChargeControl {
                 } else if matches!(self.mode, OperatingMode::MonitoringOnly) {
                     self.start(now, self.active);
                 } else {
-                    let until = *self
-                        .hold_off_until
-                        .get_or_insert(now.add_duration(self.config.can_hold_off));
-                    if !now.has_reached(until) {
+                    if !self.held_off && self.timers.get(ChargeTimer::HoldOff).is_none() {
+                        let until = now.add_duration(self.config.can_hold_off);
+                        self.timers.set(ChargeTimer::HoldOff, Some(until));
+                    }
+                    if self.timers.expire(ChargeTimer::HoldOff, now) {
+                        self.held_off = true;
+                    }
+                    if !self.held_off {
                         self.enter(now, P::HoldOff);
                     } else if self.no_can_algorithm().is_some() {
                         self.start(now, self.no_can_algorithm());
@@ -696,7 +732,7 @@ impl ChargeControl {
             .filter(|id| self.config.algorithm(*id).is_some())
     }
 
-    fn update_alarms(&mut self, at: Timestamp, ready: bool, detected: bool) {
+    fn update_alarms(&mut self, ready: bool, detected: bool) {
         let threshold = match (self.mode, self.algorithm()) {
             (OperatingMode::Remote, _) | (_, None) => self.config.max_voltage_mv,
             (_, Some(a)) => a.high_voltage_mv,
@@ -707,7 +743,7 @@ impl ChargeControl {
         let local = !matches!(self.mode, OperatingMode::Remote);
         let mut now = ChargeAlarms::empty();
         now.set(ChargeAlarms::HIGH_VOLTAGE, high);
-        let held_off = self.hold_off_until.is_some_and(|u| at.has_reached(u));
+        let held_off = self.held_off;
         let nothing = (ready && self.active.is_none())
             || (held_off && !ready && self.no_can_algorithm().is_none());
         now.set(ChargeAlarms::ALGORITHM_NOT_SET, local && nothing);
@@ -801,3 +837,7 @@ impl ChargeControl {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+#[path = "timer_tests.rs"]
+mod timer_tests;

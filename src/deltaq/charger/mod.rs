@@ -77,7 +77,7 @@ use super::{emergency_reaction, DeltaQCode, OperatingMode, Reaction, ALARMS_AND_
 use crate::abort::AbortCode;
 use crate::bytes::InlineData;
 use crate::cia419::{PdoPair, PDO_PAIRS};
-use crate::clock::{MaybeTimestamp, Timestamp};
+use crate::clock::{earliest, timer_kind, Timers, Timestamp};
 use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
 use crate::device::{
     CommObjects, Device, DeviceEvent, DeviceSetup, DeviceSpec, Profile, ProfiledDevice,
@@ -164,9 +164,10 @@ impl From<DeviceEvent> for ChargerEvent {
 enum Link {
     /// Module not heard, or gone.
     Absent,
-    /// Heartbeat lost: the module is taken as gone at this time
-    /// ([`MODULE_GONE_MS`] after its last heartbeat) unless it is back.
-    Lost(MaybeTimestamp),
+    /// Heartbeat lost: the module is taken as gone when
+    /// [`LinkTimer::ModuleGone`] runs out ([`MODULE_GONE_MS`] after its
+    /// last heartbeat) unless it is back.
+    Lost,
     /// Gone, and the charger left operational for it: a self-starting one
     /// starts itself again when the module is back, unless the NMT master
     /// has changed its state meanwhile.
@@ -176,13 +177,22 @@ enum Link {
     Pending,
     /// Reading 1000h.
     DeviceType,
-    /// Reading the module's COB-ID of pair `i` (index into [`PAIRS`]), the
+    /// Reading the module's COB-ID of pair `i` (index into [`PAIRS`], of 7), the
     /// module's device type.
-    CobId(usize, u32),
+    CobId(u8, u32),
     /// Configured: TPDOs may run.
     Ready,
     /// Configuration failed; waits for the module to come back.
     Failed,
+}
+
+timer_kind! {
+    /// The charger profile's own deadline (the SDO client and the charge
+    /// control keep theirs).
+    enum LinkTimer {
+        /// The lost module is taken as gone ([`Link::Lost`]).
+        ModuleGone,
+    }
 }
 
 /// Delta-Q section 4: without a battery heartbeat for this long the
@@ -247,6 +257,8 @@ pub struct ChargerProfile {
     self_start: bool,
     client: Client<&'static [u8], EVENTS_PER_CALL>,
     link: Link,
+    /// Its own deadline ([`LinkTimer`]).
+    timers: Timers<LinkTimer, 1>,
     /// The value of the upload in progress (1000h or a COB-ID: 4 bytes).
     upload_value: [u8; 4],
     /// The charge control and what it was last given.
@@ -368,6 +380,7 @@ impl ChargerProfile {
             self_start: config.self_start,
             client: Self::client(&config),
             link: Link::Absent,
+            timers: Timers::new(),
             upload_value: [0; 4],
             charge: ControlLink::new(config.mode, config.charge),
         }
@@ -409,6 +422,7 @@ impl ChargerProfile {
     fn restart<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
         self.fresh_client();
         self.link = Link::Absent;
+        self.timers.clear();
         device.set_tpdos_enabled(now, false);
     }
 
@@ -456,12 +470,13 @@ impl ChargerProfile {
         let left_for_it = matches!(self.link, Link::Gone);
         if !matches!(
             self.link,
-            Link::Absent | Link::Lost(_) | Link::Gone | Link::Failed
+            Link::Absent | Link::Lost | Link::Gone | Link::Failed
         ) {
             // A boot-up while configured: the module reset its PDOs; redo it.
             self.forget_pairing(device, now);
         }
         self.link = Link::Absent;
+        self.timers.clear();
         device.push_event(ChargerEvent::BatteryFound { state });
         // A self-starting charger that left operational when the module
         // was gone starts itself again (no NMT master to do it).
@@ -505,7 +520,9 @@ impl ChargerProfile {
             .find(|e| e.node == self.battery.raw())
             .map_or(0, |e| u64::from(e.time_ms));
         let rest_us = MODULE_GONE_MS.saturating_sub(consumer_ms) * 1000;
-        self.link = Link::Lost(MaybeTimestamp::new(Some(now.add_micros(rest_us.max(1)))));
+        self.link = Link::Lost;
+        let gone = now.add_micros(rest_us.max(1));
+        self.timers.set(LinkTimer::ModuleGone, Some(gone));
     }
 
     /// No heartbeat for [`MODULE_GONE_MS`]: E-0-3-0 and pre-operational.
@@ -580,7 +597,7 @@ impl ChargerProfile {
             }
             Link::DeviceType => (0, value),
             Link::CobId(i, device_type) => {
-                if let Some(p) = PAIRS.get(i) {
+                if let Some(p) = PAIRS.get(usize::from(i)) {
                     let module = PdoCobId::from_u32(value);
                     let mine = PdoCobId::from_u32(module.to_u32() & !PdoCobId::NOT_VALID);
                     let (dir, n) = (p.charger_direction, p.charger_pdo);
@@ -590,7 +607,7 @@ impl ChargerProfile {
                         }
                     });
                 }
-                (i + 1, device_type)
+                (i.saturating_add(1), device_type)
             }
             _ => return,
         };
@@ -602,13 +619,13 @@ impl ChargerProfile {
         &mut self,
         device: &mut ChargerDevice<Q>,
         now: Timestamp,
-        from: usize,
+        from: u8,
         dt: u32,
     ) {
         // Every charger PDO of `PAIRS` has its slot (`default_pdos` writes
         // all seven at every reset and none is ever removed).
         let mut i = from;
-        while let Some(p) = PAIRS.get(i) {
+        while let Some(p) = PAIRS.get(usize::from(i)) {
             if p.is_declared(dt) {
                 self.link = Link::CobId(i, dt);
                 if self
@@ -692,10 +709,8 @@ impl<const Q: usize> Profile<ChargerProfile, Q, 4, 3> for ChargerProfile {
     }
 
     fn on_timeout(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
-        if let Link::Lost(gone) = self.link {
-            if gone.get().is_some_and(|t| now.has_reached(t)) {
-                self.battery_gone(device, now);
-            }
+        if self.timers.expire(LinkTimer::ModuleGone, now) && matches!(self.link, Link::Lost) {
+            self.battery_gone(device, now);
         }
         self.client.handle_timeout(now);
         self.drain_client(device, now);
@@ -707,14 +722,14 @@ impl<const Q: usize> Profile<ChargerProfile, Q, 4, 3> for ChargerProfile {
         self.client.poll_transmit()
     }
 
+    /// The earliest of its own deadline, the SDO client's and the charge
+    /// control's.
     fn poll_timeout(&self) -> Option<Timestamp> {
-        let gone = match self.link {
-            Link::Lost(gone) => gone,
-            _ => MaybeTimestamp::NONE,
-        };
-        gone.earlier(self.client.poll_timeout())
-            .earlier(self.charge.control.poll_timeout())
-            .get()
+        earliest([
+            self.timers.next(),
+            self.client.poll_timeout(),
+            self.charge.control.poll_timeout(),
+        ])
     }
 
     /// Delta-Q's E-0-4-6 "invalid PDO length" with EEC 8210h (Delta-Q IC

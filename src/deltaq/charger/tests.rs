@@ -372,3 +372,28 @@ fn a_self_starting_charger_keeps_the_masters_word_after_a_gone_module() {
     assert_eq!(c.nmt_state(), NmtState::PreOperational);
     assert!(c.is_configured());
 }
+
+#[test]
+fn the_module_gone_timer_is_the_profiles_deadline_until_the_module_is_back() {
+    let ms = Timestamp::from_millis;
+    let own = |c: &Charger<4>| Profile::<ChargerProfile, 4, 4, 3>::poll_timeout(c.profile());
+    let mut c = booted(false, 340);
+    c.handle_frame(ms(100), &battery_heartbeat());
+    // No timer of the profile's runs (idle client, no charge).
+    assert_eq!(own(&c), None);
+    while c.poll_event().is_some() {}
+    c.handle_timeout(ms(440));
+    assert_eq!(c.poll_event(), Some(ChargerEvent::BatteryLost));
+    // Gone 2000 ms after the last heartbeat: the profile's one deadline,
+    // and not run before it.
+    assert_eq!(own(&c), Some(ms(2100)));
+    c.handle_timeout(Timestamp::from_micros(2_099_999));
+    assert!(!sent(&mut c).iter().any(|f| f.starts_with("08A#3081011E")));
+    assert_eq!(own(&c), Some(ms(2100)));
+    // Back before it: the timer is stopped.
+    c.handle_frame(ms(2000), &battery_heartbeat());
+    assert_eq!(own(&c), None);
+    c.handle_timeout(ms(2100));
+    assert!(!sent(&mut c).iter().any(|f| f.starts_with("08A#3081011E")));
+    assert_eq!(c.nmt_state(), NmtState::Operational);
+}

@@ -8,7 +8,7 @@ use super::server::DEFAULT_TIMEOUT;
 pub use super::wire::Side;
 use super::wire::{SdoRequest, SdoResponse};
 use crate::abort::AbortCode;
-use crate::clock::Timestamp;
+use crate::clock::{earliest, timer_kind, MaybeTimestamp, Timers, Timestamp};
 use crate::cob_id::{NodeId, SDO_RX_BASE, SDO_TX_BASE};
 use crate::error::DecodeError;
 use crate::frame::{CanFrame, CanId};
@@ -479,10 +479,21 @@ pub struct Observer<
     extra_used: usize,
     /// The sub-block buffers, lent to one block transfer at a time.
     buffers: [SubBlock; BUFFERS],
-    /// No open transfer's deadline is before this (a lower bound; exact
-    /// after every [`Machine::handle_timeout`]).
-    earliest: Option<Timestamp>,
+    /// Its timer ([`ObserverTimer`]).
+    timers: Timers<ObserverTimer, 1>,
     events: EventQueue<ObserverEvent, OBSERVER_EVENT_CAPACITY>,
+}
+
+timer_kind! {
+    /// The observer's one timer: the open transfers' deadlines (each
+    /// [`ObserverConfig::timeout`] after its last frame) are many, in the
+    /// channels' slots; the timer is the earliest of them.
+    enum ObserverTimer {
+        /// No open transfer's deadline is before this (a lower bound, as
+        /// a transfer's frame only moves its deadline later; exact after
+        /// every [`Machine::handle_timeout`] that reaches it).
+        Inactivity,
+    }
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -530,7 +541,7 @@ impl<const EXTRA: usize, const BUFFERS: usize> Observer<EXTRA, BUFFERS> {
             extra: [None; EXTRA],
             extra_used: 0,
             buffers: [sub_block::FREE; BUFFERS],
-            earliest: None,
+            timers: Timers::new(),
             events: EventQueue::new(FILLER),
         }
     }
@@ -624,20 +635,12 @@ impl<const EXTRA: usize, const BUFFERS: usize> Observer<EXTRA, BUFFERS> {
         if held && !open.as_ref().is_some_and(Open::holds_segments) {
             sub_block::give_back(&mut self.buffers, channel);
         }
-        let deadline = match (open.as_mut(), timeout) {
-            (Some(o), Some(us)) => {
-                let d = now.add_micros(us);
-                o.deadline = Some(d);
-                Some(d)
-            }
-            (Some(o), None) => {
-                o.deadline = None;
-                None
-            }
-            _ => None,
-        };
-        if let Some(d) = deadline {
-            self.earliest = Some(self.earliest.map_or(d, |e| e.min(d)));
+        if let Some(o) = open.as_mut() {
+            // Kept as the timer table keeps it (the end of the clock a
+            // microsecond early), so the transfer expires when its timer does.
+            o.deadline = timeout.and_then(|us| MaybeTimestamp::new(Some(now.add_micros(us))).get());
+            let next = earliest([self.timers.get(ObserverTimer::Inactivity), o.deadline]);
+            self.timers.set(ObserverTimer::Inactivity, next);
         }
         seen
     }
@@ -668,7 +671,7 @@ impl<const EXTRA: usize, const BUFFERS: usize> Observer<EXTRA, BUFFERS> {
     }
 
     fn expire(&mut self, now: Timestamp) {
-        let mut earliest: Option<Timestamp> = None;
+        let mut next: Option<Timestamp> = None;
         let events = &mut self.events;
         let opens = self
             .extra
@@ -686,10 +689,10 @@ impl<const EXTRA: usize, const BUFFERS: usize> Observer<EXTRA, BUFFERS> {
                     events.push(o.ended(BreakReason::Timeout));
                 }
             } else {
-                earliest = Some(earliest.map_or(deadline, |e| e.min(deadline)));
+                next = earliest([next, Some(deadline)]);
             }
         }
-        self.earliest = earliest;
+        self.timers.set(ObserverTimer::Inactivity, next);
     }
 }
 
@@ -755,7 +758,7 @@ impl<const EXTRA: usize, const BUFFERS: usize> Machine for Observer<EXTRA, BUFFE
 
     /// Breaks off every transfer with no frame for the timeout.
     fn handle_timeout(&mut self, now: Timestamp) {
-        if self.earliest.is_some_and(|e| now.has_reached(e)) {
+        if self.timers.expire(ObserverTimer::Inactivity, now) {
             self.expire(now);
         }
     }
@@ -763,7 +766,7 @@ impl<const EXTRA: usize, const BUFFERS: usize> Machine for Observer<EXTRA, BUFFE
     /// When the next open transfer may time out (possibly earlier than any
     /// does: an extra [`Machine::handle_timeout`] is harmless).
     fn poll_timeout(&self) -> Option<Timestamp> {
-        self.earliest
+        self.timers.next()
     }
 
     // The observer only listens: no frame to send, none dropped.
@@ -780,3 +783,7 @@ mod block_ack_tests;
 #[cfg(test)]
 #[path = "run_ahead_tests.rs"]
 mod run_ahead_tests;
+
+#[cfg(test)]
+#[path = "timer_tests.rs"]
+mod timer_tests;
