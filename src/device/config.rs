@@ -11,6 +11,8 @@ use crate::cob_id::NodeId;
 #[cfg(feature = "heartbeat-consumer")]
 use crate::nmt::heartbeat::ConsumerEntry;
 use crate::pdo::PdoConfig;
+#[cfg(feature = "lss")]
+use crate::pdo::PdoDirection;
 use crate::sdo::{ServerConfig, DEFAULT_TIMEOUT};
 use crate::sync::SyncCobId;
 use crate::time::TimeCobId;
@@ -287,7 +289,35 @@ impl PowerOn for DeviceConfig {
     /// node-ID move to the new one; COB-IDs set otherwise stay.
     #[cfg(feature = "lss")]
     fn move_node(&mut self, node: NodeId) {
-        super::lss::renumber_pdos(&mut self.pdos, self.node, node);
+        renumber_pdos(&mut self.pdos, self.node, node);
         self.node = node;
+    }
+}
+
+/// Moves the PDO COB-IDs that are the predefined connection set's for
+/// node `old` (CiA 301 section 7.3.5: 180h/200h + 100h × n + node-ID) to
+/// node `new`; COB-IDs set otherwise stay.
+#[cfg(feature = "lss")]
+fn renumber_pdos(pdos: &mut PdoConfig, old: NodeId, new: NodeId) {
+    for dir in [PdoDirection::Receive, PdoDirection::Transmit] {
+        let base: u32 = match dir {
+            PdoDirection::Receive => 0x200,
+            PdoDirection::Transmit => 0x180,
+        };
+        for n in 0..4u8 {
+            let Some(pdo) = crate::cob_id::PdoNumber::new(n) else {
+                continue;
+            };
+            let Some(slot) = pdos.get_mut(dir, pdo) else {
+                continue;
+            };
+            let default = base + 0x100 * u32::from(n);
+            let cob = slot.comm.cob_id;
+            if !cob.is_extended() && cob.id_bits() == default + u32::from(old.raw()) {
+                let flags = cob.to_u32() & !0x1FFF_FFFF;
+                slot.comm.cob_id =
+                    crate::pdo::PdoCobId::from_u32(flags | (default + u32::from(new.raw())));
+            }
+        }
     }
 }

@@ -4,11 +4,9 @@
 
 use super::{Device, DeviceEvent, DeviceSpec, PowerOn, Profile};
 use crate::clock::Timestamp;
-use crate::cob_id::NodeId;
 use crate::lss::{LssSlave, LssSlaveEvent};
 use crate::machine::Machine;
 use crate::nmt::{NmtSlaveEvent, ResetKind};
-use crate::pdo::{PdoConfig, PdoDirection};
 
 impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q, T, R> {
     /// A device that also carries an LSS slave (CiA 305; feature `lss`). When the slave
@@ -73,33 +71,6 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
             if event == LssSlaveEvent::ResetCommunication {
                 let reset = NmtSlaveEvent::Reset(ResetKind::Communication);
                 self.nmt_event(now, reset, profile);
-            }
-        }
-    }
-}
-
-/// Moves the PDO COB-IDs that are the predefined connection set's for
-/// node `old` (CiA 301 section 7.3.5: 180h/200h + 100h × n + node-ID) to
-/// node `new`; COB-IDs set otherwise stay.
-pub(super) fn renumber_pdos(pdos: &mut PdoConfig, old: NodeId, new: NodeId) {
-    for dir in [PdoDirection::Receive, PdoDirection::Transmit] {
-        let base: u32 = match dir {
-            PdoDirection::Receive => 0x200,
-            PdoDirection::Transmit => 0x180,
-        };
-        for n in 0..4u8 {
-            let Some(pdo) = crate::cob_id::PdoNumber::new(n) else {
-                continue;
-            };
-            let Some(slot) = pdos.get_mut(dir, pdo) else {
-                continue;
-            };
-            let default = base + 0x100 * u32::from(n);
-            let cob = slot.comm.cob_id;
-            if !cob.is_extended() && cob.id_bits() == default + u32::from(old.raw()) {
-                let flags = cob.to_u32() & !0x1FFF_FFFF;
-                slot.comm.cob_id =
-                    crate::pdo::PdoCobId::from_u32(flags | (default + u32::from(new.raw())));
             }
         }
     }

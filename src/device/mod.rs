@@ -161,8 +161,8 @@ pub use config::{DeviceConfig, Policies, PowerOn};
 #[cfg(feature = "heartbeat-consumer")]
 pub use objects::MAX_CONSUMERS;
 pub use objects::{CommObjects, DeviceObjects, ErrorFieldFormat, Identity, ERROR_HISTORY_LEN};
-pub use profile::{DeviceEvent, Profile};
-pub use profiled::{Cia301, DeviceSetup, DeviceSpec, ProfiledDevice};
+pub use profile::{DeviceEvent, DeviceSpec, Profile};
+pub use profiled::{Cia301, DeviceSetup, ProfiledDevice};
 #[cfg(feature = "program-download")]
 pub use program_objects::{ProgramObjects, ProgramStoreRef};
 pub use snapshot::PowerOnValues;

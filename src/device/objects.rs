@@ -31,6 +31,17 @@ pub const ERROR_HISTORY_LEN: usize = 10;
 /// (feature `heartbeat-consumer`).
 #[cfg(feature = "heartbeat-consumer")]
 pub const MAX_CONSUMERS: usize = 4;
+/// 1010h's signature: "save" (73 61 76 65) read as a little-endian U32
+/// (CiA 301 section 7.5.2.13).
+#[cfg(feature = "store")]
+pub const SAVE_SIGNATURE: u32 = 0x6576_6173;
+/// 1011h's signature: "load" (6C 6F 61 64) read as a little-endian U32
+/// (CiA 301 section 7.5.2.14).
+#[cfg(feature = "store")]
+pub const LOAD_SIGNATURE: u32 = 0x6461_6F6C;
+/// The capability word of a group stored (or restored) on command.
+#[cfg(feature = "store")]
+pub const ON_COMMAND: u32 = 1;
 
 /// 1018h identity object: sub 1-4 (CiA 301).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -255,7 +266,7 @@ impl CommObjects {
     }
 
     /// The capability word of 1010h/1011h sub `sub` (1 all, 2
-    /// communication, 3 application): [`ON_COMMAND`](super::store::ON_COMMAND)
+    /// communication, 3 application): [`ON_COMMAND`]
     /// when the device stores that group on command, else 0.
     #[cfg(feature = "store")]
     #[must_use]
@@ -267,7 +278,7 @@ impl CommObjects {
             _ => 0,
         };
         if self.storable & group != 0 {
-            super::store::ON_COMMAND
+            ON_COMMAND
         } else {
             0
         }
@@ -412,9 +423,9 @@ impl CommObjects {
             #[cfg(feature = "store")]
             STORE_PARAMETERS | RESTORE_DEFAULT_PARAMETERS => {
                 let signature = if index == STORE_PARAMETERS {
-                    super::store::SAVE_SIGNATURE
+                    SAVE_SIGNATURE
                 } else {
-                    super::store::LOAD_SIGNATURE
+                    LOAD_SIGNATURE
                 };
                 if word != signature || self.store_capability(sub) == 0 {
                     return Err(AbortCode::DataCannotBeStored);

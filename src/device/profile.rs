@@ -1,7 +1,8 @@
-//! What the device core reports ([`DeviceEvent`]) and what a profile adds
-//! to it ([`Profile`]).
+//! What a device is made of ([`DeviceSpec`]: its application objects, its
+//! events, its power-on configuration), what the device core reports
+//! ([`DeviceEvent`]) and what a profile adds to it ([`Profile`]).
 
-use super::{Device, DeviceSpec};
+use super::{Device, PowerOn, PowerOnValues};
 use crate::abort::AbortCode;
 use crate::clock::Timestamp;
 use crate::cob_id::PdoNumber;
@@ -14,11 +15,54 @@ use crate::nmt::guarding::SlaveGuardingEvent;
 #[cfg(feature = "heartbeat-consumer")]
 use crate::nmt::heartbeat::HeartbeatEvent;
 use crate::nmt::NmtState;
+use crate::od::ObjectDictionary;
 use crate::pdo::RpdoError;
 use crate::sdo::AbortOrigin;
 use crate::sync::SyncEvent;
 #[cfg(feature = "sync-time")]
 use crate::time::TimeEvent;
+
+/// The one type a [`Device`] is named by: what its application objects
+/// are, what it reports and where its power-on configuration comes from.
+/// A profile is usually its own spec ([`ProfiledDevice`](super::ProfiledDevice)); [`Cia301`](super::Cia301) is
+/// the spec of a plain CiA 301 device over any dictionary.
+///
+/// ```
+/// # #[cfg(feature = "alloc")] {
+/// use canopen_codec::device::{DeviceConfig, DeviceEvent, DeviceSpec, Profile, ProfiledDevice};
+/// use canopen_codec::machine::Machine;
+/// use canopen_codec::od::MemoryDictionary;
+/// use canopen_codec::{NodeId, Timestamp};
+///
+/// /// A profile of one's own: the core's behaviour, its own name.
+/// #[derive(Debug, Default)]
+/// struct Logger;
+///
+/// impl DeviceSpec for Logger {
+///     type Objects = MemoryDictionary;
+///     type Event = DeviceEvent;
+///     type PowerOn = DeviceConfig;
+/// }
+/// impl Profile<Logger> for Logger {}
+///
+/// let config = DeviceConfig::new(NodeId::new(7).unwrap());
+/// let mut node: ProfiledDevice<Logger> =
+///     ProfiledDevice::from_parts(canopen_codec::device::Device::new(config, MemoryDictionary::new()), Logger);
+/// node.boot(Timestamp::ZERO);
+/// assert_eq!(node.poll_transmit().unwrap().to_string(), "707#00");
+/// assert_eq!(node.node().raw(), 7); // the core's getters, through `Deref`
+/// # }
+/// ```
+pub trait DeviceSpec {
+    /// The application's dictionary (what reset node restores of it is its
+    /// [`PowerOnValues`]).
+    type Objects: ObjectDictionary + PowerOnValues + core::fmt::Debug;
+    /// What the device reports: the core's [`DeviceEvent`]s and the
+    /// profile's own.
+    type Event: Copy + From<DeviceEvent> + core::fmt::Debug;
+    /// What the power-on configuration is made from ([`PowerOn`]).
+    type PowerOn: PowerOn + core::fmt::Debug;
+}
 
 /// What the device core reports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,6 +1,5 @@
-//! What a device is made of ([`DeviceSpec`]: its application objects, its
-//! events, its power-on configuration), the plain CiA 301 device
-//! ([`Cia301`]) and a profile with its core as one machine
+//! The plain CiA 301 device ([`Cia301`]: the [`DeviceSpec`] of a device
+//! over any dictionary) and a profile with its core as one machine
 //! ([`ProfiledDevice`], made from the profile's configuration by
 //! [`DeviceSetup`]).
 
@@ -8,54 +7,14 @@ use core::marker::PhantomData;
 use core::mem::MaybeUninit;
 use core::ops::Deref;
 
-use super::{CommObjects, Device, DeviceConfig, DeviceEvent, PowerOn, PowerOnValues, Profile};
+use super::{
+    CommObjects, Device, DeviceConfig, DeviceEvent, DeviceSpec, PowerOn, PowerOnValues, Profile,
+};
 use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::od::ObjectDictionary;
 use crate::pdo::PdoConfig;
-
-/// The one type a [`Device`] is named by: what its application objects
-/// are, what it reports and where its power-on configuration comes from.
-/// A profile is usually its own spec ([`ProfiledDevice`]); [`Cia301`] is
-/// the spec of a plain CiA 301 device over any dictionary.
-///
-/// ```
-/// # #[cfg(feature = "alloc")] {
-/// use canopen_codec::device::{DeviceConfig, DeviceEvent, DeviceSpec, Profile, ProfiledDevice};
-/// use canopen_codec::machine::Machine;
-/// use canopen_codec::od::MemoryDictionary;
-/// use canopen_codec::{NodeId, Timestamp};
-///
-/// /// A profile of one's own: the core's behaviour, its own name.
-/// #[derive(Debug, Default)]
-/// struct Logger;
-///
-/// impl DeviceSpec for Logger {
-///     type Objects = MemoryDictionary;
-///     type Event = DeviceEvent;
-///     type PowerOn = DeviceConfig;
-/// }
-/// impl Profile<Logger> for Logger {}
-///
-/// let config = DeviceConfig::new(NodeId::new(7).unwrap());
-/// let mut node: ProfiledDevice<Logger> =
-///     ProfiledDevice::from_parts(canopen_codec::device::Device::new(config, MemoryDictionary::new()), Logger);
-/// node.boot(Timestamp::ZERO);
-/// assert_eq!(node.poll_transmit().unwrap().to_string(), "707#00");
-/// assert_eq!(node.node().raw(), 7); // the core's getters, through `Deref`
-/// # }
-/// ```
-pub trait DeviceSpec {
-    /// The application's dictionary (what reset node restores of it is its
-    /// [`PowerOnValues`]).
-    type Objects: ObjectDictionary + PowerOnValues + core::fmt::Debug;
-    /// What the device reports: the core's [`DeviceEvent`]s and the
-    /// profile's own.
-    type Event: Copy + From<DeviceEvent> + core::fmt::Debug;
-    /// What the power-on configuration is made from ([`PowerOn`]).
-    type PowerOn: PowerOn + core::fmt::Debug;
-}
 
 /// The spec of a plain CiA 301 device over the dictionary `A`, reporting
 /// `E` (default [`DeviceEvent`]), configured by `C` (default

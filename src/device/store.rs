@@ -61,6 +61,9 @@
 //! [`Device::boot`]: super::Device::boot
 
 use super::objects::CommObjects;
+// The signatures and the capability word of 1010h and 1011h, defined with
+// the objects that check them.
+pub use super::objects::{LOAD_SIGNATURE, ON_COMMAND, SAVE_SIGNATURE};
 #[cfg(feature = "lss")]
 use crate::cob_id::NodeId;
 use crate::cob_id::PdoNumber;
@@ -71,12 +74,6 @@ use crate::pdo::{
 use crate::sync::SyncCobId;
 use crate::time::TimeCobId;
 
-/// 1010h's signature: "save" (73 61 76 65) read as a little-endian U32.
-pub const SAVE_SIGNATURE: u32 = 0x6576_6173;
-/// 1011h's signature: "load" (6C 6F 61 64) read as a little-endian U32.
-pub const LOAD_SIGNATURE: u32 = 0x6461_6F6C;
-/// The capability word of a group stored (or restored) on command.
-pub const ON_COMMAND: u32 = 1;
 /// The longest record: room for the communication group of 4 TPDOs and 4
 /// RPDOs (403 bytes) and an application group of up to
 /// `RECORD_CAPACITY - 12` bytes.
