@@ -173,8 +173,7 @@ pub fn rest(out: &mut String, line: &crate::log::FrameLine<'_>) {
         (_, Some(seg)) => {
             key(out, "text");
             display(out, &seg);
-            key(out, "command");
-            string(out, "block segment");
+            command(out, "block segment");
             let _ = write!(out, ",\"seqno\":{},\"last\":{}", seg.seqno, seg.last);
             key(out, "segment_data");
             hex_string(out, seg.data.as_slice());
@@ -325,6 +324,13 @@ fn lss_fields(out: &mut String, lss: &LssMessage) {
         key(out, k);
         let _ = write!(out, "{v}");
     };
+    // A service that names an identity field (or the node-ID) and its value.
+    let field_value = |out: &mut String, service: &str, field: &str, v: u64| {
+        string(out, service);
+        key(out, "field");
+        string(out, field);
+        num(out, "value", v);
+    };
     key(out, "direction");
     string(
         out,
@@ -341,10 +347,7 @@ fn lss_fields(out: &mut String, lss: &LssMessage) {
                 num(out, "mode", u8::from(mode).into());
             }
             LssRequest::SwitchStateSelective(field, v) => {
-                string(out, "switch_state_selective");
-                key(out, "field");
-                string(out, field.name());
-                num(out, "value", v.into());
+                field_value(out, "switch_state_selective", field.name(), v.into());
             }
             LssRequest::ConfigureNodeId(id) => {
                 string(out, "configure_node_id");
@@ -372,10 +375,12 @@ fn lss_fields(out: &mut String, lss: &LssMessage) {
                 );
             }
             LssRequest::IdentifyRemoteSlave(part, v) => {
-                string(out, "identify_remote_slave");
-                key(out, "field");
-                string(out, &part.name().replace(' ', "_"));
-                num(out, "value", v.into());
+                field_value(
+                    out,
+                    "identify_remote_slave",
+                    &part.name().replace(' ', "_"),
+                    v.into(),
+                );
             }
             LssRequest::IdentifyNonConfigured => {
                 string(out, "identify_non_configured_remote_slave");
@@ -406,16 +411,10 @@ fn lss_fields(out: &mut String, lss: &LssMessage) {
                 num(out, "specific_error", s.specific.into());
             }
             LssResponse::Address(field, v) => {
-                string(out, "inquire_response");
-                key(out, "field");
-                string(out, field.name());
-                num(out, "value", v.into());
+                field_value(out, "inquire_response", field.name(), v.into());
             }
             LssResponse::NodeId(id) => {
-                string(out, "inquire_response");
-                key(out, "field");
-                string(out, "node_id");
-                num(out, "value", id.into());
+                field_value(out, "inquire_response", "node_id", id.into());
             }
             LssResponse::IdentifySlave => string(out, "identify_slave"),
             LssResponse::IdentifyNonConfigured => string(out, "identify_non_configured_slave"),
@@ -424,13 +423,28 @@ fn lss_fields(out: &mut String, lss: &LssMessage) {
     }
 }
 
-fn multiplexer(out: &mut String, command: &str, index: u16, sub: u8) {
+/// The SDO command's name: `"command":"<name>"`.
+fn command(out: &mut String, name: &str) {
     key(out, "command");
-    string(out, command);
+    string(out, name);
+}
+
+/// A command whose only field is the t bit (an upload segment request,
+/// a download segment acknowledgement).
+fn toggle_command(out: &mut String, name: &str, toggle: bool) {
+    command(out, name);
+    let _ = write!(out, ",\"toggle\":{toggle}");
+}
+
+fn multiplexer(out: &mut String, name: &str, index: u16, sub: u8) {
+    command(out, name);
     let _ = write!(out, ",\"index\":{index},\"sub\":{sub}");
 }
 
-fn initiate(out: &mut String, p: &InitiatePayload) {
+/// An initiate that carries a payload (a download request, an upload
+/// response): its multiplexer, then expedited data or the size.
+fn initiate(out: &mut String, name: &str, index: u16, sub: u8, p: &InitiatePayload) {
+    multiplexer(out, name, index, sub);
     match p {
         InitiatePayload::Expedited {
             data,
@@ -462,9 +476,8 @@ fn abort(out: &mut String, index: u16, sub: u8, code: crate::abort::AbortCode) {
     string(out, code.description());
 }
 
-fn segment(out: &mut String, command: &str, s: &crate::sdo::Segment) {
-    key(out, "command");
-    string(out, command);
+fn segment(out: &mut String, name: &str, s: &crate::sdo::Segment) {
+    command(out, name);
     let _ = write!(out, ",\"toggle\":{},\"last\":{}", s.toggle, s.last);
     key(out, "bytes");
     hex_string(out, s.data.as_slice());
@@ -477,31 +490,15 @@ fn client(out: &mut String, c: &ClientCommand) {
             index,
             sub,
             payload,
-        } => {
-            multiplexer(out, "initiate_download", *index, *sub);
-            initiate(out, payload);
-        }
+        } => initiate(out, "initiate_download", *index, *sub, payload),
         ClientCommand::InitiateUpload { index, sub } => {
             multiplexer(out, "initiate_upload", *index, *sub)
         }
-        ClientCommand::UploadSegment { toggle } => {
-            key(out, "command");
-            string(out, "upload_segment");
-            let _ = write!(out, ",\"toggle\":{toggle}");
-        }
+        ClientCommand::UploadSegment { toggle } => toggle_command(out, "upload_segment", *toggle),
         ClientCommand::Abort { index, sub, code } => abort(out, *index, *sub, *code),
-        ClientCommand::BlockUpload(_) => {
-            key(out, "command");
-            string(out, "block_upload");
-        }
-        ClientCommand::BlockDownload(_) => {
-            key(out, "command");
-            string(out, "block_download");
-        }
-        ClientCommand::Unknown(_) => {
-            key(out, "command");
-            string(out, "invalid");
-        }
+        ClientCommand::BlockUpload(_) => command(out, "block_upload"),
+        ClientCommand::BlockDownload(_) => command(out, "block_download"),
+        ClientCommand::Unknown(_) => command(out, "invalid"),
     }
 }
 
@@ -509,34 +506,20 @@ fn server(out: &mut String, c: &ServerCommand) {
     match c {
         ServerCommand::UploadSegment(s) => segment(out, "upload_segment", s),
         ServerCommand::DownloadSegment { toggle } => {
-            key(out, "command");
-            string(out, "download_segment_ack");
-            let _ = write!(out, ",\"toggle\":{toggle}");
+            toggle_command(out, "download_segment_ack", *toggle)
         }
         ServerCommand::InitiateUpload {
             index,
             sub,
             payload,
-        } => {
-            multiplexer(out, "initiate_upload_response", *index, *sub);
-            initiate(out, payload);
-        }
+        } => initiate(out, "initiate_upload_response", *index, *sub, payload),
         ServerCommand::InitiateDownload { index, sub } => {
             multiplexer(out, "initiate_download_response", *index, *sub)
         }
         ServerCommand::Abort { index, sub, code } => abort(out, *index, *sub, *code),
-        ServerCommand::BlockDownload(_) => {
-            key(out, "command");
-            string(out, "block_download");
-        }
-        ServerCommand::BlockUpload(_) => {
-            key(out, "command");
-            string(out, "block_upload");
-        }
-        ServerCommand::Unknown(_) => {
-            key(out, "command");
-            string(out, "invalid");
-        }
+        ServerCommand::BlockDownload(_) => command(out, "block_download"),
+        ServerCommand::BlockUpload(_) => command(out, "block_upload"),
+        ServerCommand::Unknown(_) => command(out, "invalid"),
     }
 }
 

@@ -397,19 +397,29 @@ impl BlfReader {
         bytes.starts_with(&FILE_SIGNATURE)
     }
 
-    /// The next event from the file's bytes `input` (advanced past what is
-    /// read); `None` when `input` is used up.
-    pub fn read<'i>(&mut self, input: &mut &'i [u8]) -> Result<Option<BlfEvent<'i>>, BlfError> {
+    /// `read`, unless a fatal error came before (then that error again);
+    /// a fatal error `read` meets is kept for every later call
+    /// ([`BlfError::is_fatal`]).
+    fn unless_failed<T>(
+        &mut self,
+        read: impl FnOnce(&mut Self) -> Result<T, BlfError>,
+    ) -> Result<T, BlfError> {
         if let Some(e) = self.failed {
             return Err(e);
         }
-        let r = self.read_file(input);
+        let r = read(self);
         if let Err(e) = r {
             if e.is_fatal() {
                 self.failed = Some(e);
             }
         }
         r
+    }
+
+    /// The next event from the file's bytes `input` (advanced past what is
+    /// read); `None` when `input` is used up.
+    pub fn read<'i>(&mut self, input: &mut &'i [u8]) -> Result<Option<BlfEvent<'i>>, BlfError> {
+        self.unless_failed(|reader| reader.read_file(input))
     }
 
     fn read_file<'i>(&mut self, input: &mut &'i [u8]) -> Result<Option<BlfEvent<'i>>, BlfError> {
@@ -549,16 +559,7 @@ impl BlfReader {
         &mut self,
         inflated: &mut &[u8],
     ) -> Result<Option<BlfEvent<'static>>, BlfError> {
-        if let Some(e) = self.failed {
-            return Err(e);
-        }
-        let r = self.inflated(inflated);
-        if let Err(e) = r {
-            if e.is_fatal() {
-                self.failed = Some(e);
-            }
-        }
-        r
+        self.unless_failed(|reader| reader.inflated(inflated))
     }
 
     fn inflated(&mut self, input: &mut &[u8]) -> Result<Option<BlfEvent<'static>>, BlfError> {
