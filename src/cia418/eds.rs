@@ -3,9 +3,9 @@
 
 use crate::eds::DataType::{Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8};
 use crate::eds::{
-    sub, DataType, DeviceHeader, Eds, ObjectDescription, ObjectType, SubDescription,
-    COMM_OBJECT_DESCRIPTIONS,
+    sub, DataType, DeviceHeader, Eds, ObjectDescription, ObjectNames, ObjectType, SubDescription,
 };
+use crate::od::comm::COMM_OBJECTS;
 
 use super::BatteryModule;
 
@@ -73,7 +73,7 @@ pub const CIA418_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
 /// (`dictionary()`: the PDO objects, the CiA 301
 /// communication objects, the CiA 418 application objects) with its
 /// access, PDO-mappable flag and current value as `DefaultValue`, named
-/// and typed by CiA 301 ([`COMM_OBJECT_DESCRIPTIONS`]) and CiA 418 v1.0.1
+/// and typed by CiA 301 ([`COMM_OBJECTS`]) and CiA 418 v1.0.1
 /// ([`CIA418_OBJECT_DESCRIPTIONS`]); `[DeviceInfo]` from 1008h and 1018h
 /// (see [`Eds::describe`]).
 ///
@@ -92,7 +92,10 @@ pub fn battery_module_eds(module: &BatteryModule) -> Eds {
     let mut od = module.dictionary().clone();
     Eds::describe(
         &mut od,
-        &[COMM_OBJECT_DESCRIPTIONS, CIA418_OBJECT_DESCRIPTIONS],
+        &[
+            ObjectNames::Rows(COMM_OBJECTS),
+            ObjectNames::Descriptions(CIA418_OBJECT_DESCRIPTIONS),
+        ],
         &DeviceHeader {
             file_name: "battery_module.eds",
             description: "CiA 418 battery module (canopen-codec)",

@@ -7,7 +7,8 @@ use crate::eds::{sub, ObjectDescription, ObjectType};
 #[cfg(feature = "heartbeat-consumer")]
 use crate::{
     cia418::CIA418_OBJECT_DESCRIPTIONS,
-    eds::{DeviceHeader, Eds, COMM_OBJECT_DESCRIPTIONS},
+    eds::{DeviceHeader, Eds, ObjectNames},
+    od::comm::COMM_OBJECTS,
 };
 
 use super::index;
@@ -62,7 +63,7 @@ pub const CHARGE_CONTROL_OBJECT_DESCRIPTIONS: &[ObjectDescription] = &[
 /// objects with 1016h, the CiA 418 objects it shares with the module and
 /// the Delta-Q objects) with its access, PDO-mappable flag and current
 /// value as `DefaultValue`, named and typed by CiA 301
-/// ([`COMM_OBJECT_DESCRIPTIONS`]), CiA 418 v1.0.1
+/// ([`COMM_OBJECTS`]), CiA 418 v1.0.1
 /// ([`CIA418_OBJECT_DESCRIPTIONS`]) and Delta-Q
 /// ([`DELTAQ_OBJECT_DESCRIPTIONS`]) and ours for the charge control
 /// ([`CHARGE_CONTROL_OBJECT_DESCRIPTIONS`]); `[DeviceInfo]` from 1008h and 1018h
@@ -84,10 +85,10 @@ pub fn charger_eds(charger: &Charger) -> Eds {
     Eds::describe(
         &mut od,
         &[
-            COMM_OBJECT_DESCRIPTIONS,
-            CIA418_OBJECT_DESCRIPTIONS,
-            DELTAQ_OBJECT_DESCRIPTIONS,
-            CHARGE_CONTROL_OBJECT_DESCRIPTIONS,
+            ObjectNames::Rows(COMM_OBJECTS),
+            ObjectNames::Descriptions(CIA418_OBJECT_DESCRIPTIONS),
+            ObjectNames::Descriptions(DELTAQ_OBJECT_DESCRIPTIONS),
+            ObjectNames::Descriptions(CHARGE_CONTROL_OBJECT_DESCRIPTIONS),
         ],
         &DeviceHeader {
             file_name: "charger.eds",

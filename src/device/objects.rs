@@ -21,7 +21,38 @@ use crate::od::index::{
 };
 #[cfg(feature = "store")]
 use crate::od::index::{RESTORE_DEFAULT_PARAMETERS, STORE_PARAMETERS};
-use crate::od::{Access, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
+use crate::od::{comm, Access, Address, ObjectDictionary, ObjectInfo, SizeRule, WriteBuffer};
+
+/// The row of the communication table ([`comm::COMM_OBJECTS`]) for
+/// `$index` sub `$sub` (0 if left out), found when the crate is built: an
+/// object the device core serves without a row does not build.
+macro_rules! row {
+    ($index:expr) => {
+        row!($index, 0)
+    };
+    ($index:expr, $sub:expr) => {
+        const {
+            match comm::find(Address::new($index, $sub)) {
+                Some(row) => *row,
+                None => panic!("every object the device core serves has a row in od::comm"),
+            }
+        }
+    };
+}
+
+/// The access rights of an object (see [`row!`]).
+macro_rules! access {
+    ($($address:expr),+) => {
+        const { row!($($address),+).access }
+    };
+}
+
+/// The power-on value of an object (see [`row!`]).
+macro_rules! default {
+    ($($address:expr),+) => {
+        const { row!($($address),+).default }
+    };
+}
 use crate::sync::{valid_counter_overflow, SyncCobId};
 use crate::time::TimeCobId;
 
@@ -57,8 +88,9 @@ pub struct Identity {
 }
 
 impl Identity {
-    /// Value of sub 0, highest sub-index supported.
-    pub const HIGHEST_SUB_INDEX: u8 = 4;
+    /// Value of sub 0, highest sub-index supported (the communication
+    /// table's power-on value of 1018h sub 0).
+    pub const HIGHEST_SUB_INDEX: u8 = default!(IDENTITY) as u8;
 
     /// All zero.
     pub const ZERO: Identity = Identity {
@@ -316,65 +348,107 @@ impl CommObjects {
     /// [`info`](ObjectDictionary::info), [`read`](ObjectDictionary::read)
     /// and the writes share.
     fn entry(&self, index: u16, sub: u8) -> Result<Entry, AbortCode> {
-        use Access::{Const, ReadOnly as Ro, ReadWrite as Rw};
         let node = u32::from(self.node.raw());
         // The single-value objects first, by index alone (one dense
         // switch), their one sub-index checked once.
         let single = match index {
-            DEVICE_TYPE => Some((Const, Value::u32(self.device_type))),
-            ERROR_REGISTER => Some((Ro, Value::u8(self.error_register.bits()))),
-            MANUFACTURER_DEVICE_NAME => Some((Const, Value::Name)),
-            PRODUCER_HEARTBEAT_TIME => Some((Rw, Value::u16(self.heartbeat_ms))),
-            COB_ID_SYNC => Some((Rw, Value::u32(self.sync_cob_id.raw()))),
+            DEVICE_TYPE => Some((access!(DEVICE_TYPE), Value::u32(self.device_type))),
+            ERROR_REGISTER => Some((
+                access!(ERROR_REGISTER),
+                Value::u8(self.error_register.bits()),
+            )),
+            MANUFACTURER_DEVICE_NAME => Some((access!(MANUFACTURER_DEVICE_NAME), Value::Name)),
+            PRODUCER_HEARTBEAT_TIME => Some((
+                access!(PRODUCER_HEARTBEAT_TIME),
+                Value::u16(self.heartbeat_ms),
+            )),
+            COB_ID_SYNC => Some((access!(COB_ID_SYNC), Value::u32(self.sync_cob_id.raw()))),
             #[cfg(feature = "sync-time")]
-            COMMUNICATION_CYCLE_PERIOD => Some((Rw, Value::u32(self.cycle_period_us))),
-            SYNCHRONOUS_WINDOW_LENGTH => Some((Rw, Value::u32(self.sync_window_us))),
+            COMMUNICATION_CYCLE_PERIOD => Some((
+                access!(COMMUNICATION_CYCLE_PERIOD),
+                Value::u32(self.cycle_period_us),
+            )),
+            SYNCHRONOUS_WINDOW_LENGTH => Some((
+                access!(SYNCHRONOUS_WINDOW_LENGTH),
+                Value::u32(self.sync_window_us),
+            )),
             #[cfg(feature = "guarding")]
-            GUARD_TIME => Some((Rw, Value::u16(self.guard_time_ms))),
+            GUARD_TIME => Some((access!(GUARD_TIME), Value::u16(self.guard_time_ms))),
             #[cfg(feature = "guarding")]
-            LIFE_TIME_FACTOR => Some((Rw, Value::u8(self.life_time_factor))),
+            LIFE_TIME_FACTOR => Some((access!(LIFE_TIME_FACTOR), Value::u8(self.life_time_factor))),
             #[cfg(feature = "sync-time")]
-            COB_ID_TIME => Some((Rw, Value::u32(self.time_cob_id.raw()))),
-            SYNCHRONOUS_COUNTER_OVERFLOW => Some((Rw, Value::u8(self.sync_counter_overflow))),
+            COB_ID_TIME => Some((access!(COB_ID_TIME), Value::u32(self.time_cob_id.raw()))),
+            SYNCHRONOUS_COUNTER_OVERFLOW => Some((
+                access!(SYNCHRONOUS_COUNTER_OVERFLOW),
+                Value::u8(self.sync_counter_overflow),
+            )),
             _ => None,
         };
         let (access, value) = match (single, index, sub) {
             (Some(object), _, 0) => object,
             (Some(_), _, _) => return Err(AbortCode::SubIndexDoesNotExist),
-            (None, PRE_DEFINED_ERROR_FIELD, 0) => (Rw, Value::u8(self.history_len)),
+            (None, PRE_DEFINED_ERROR_FIELD, 0) => (
+                access!(PRE_DEFINED_ERROR_FIELD),
+                Value::u8(self.history_len),
+            ),
             (None, PRE_DEFINED_ERROR_FIELD, 1..=10) => {
+                let access = access!(PRE_DEFINED_ERROR_FIELD, 1);
                 match self.errors().get(usize::from(sub) - 1) {
-                    Some(e) => (Ro, Value::u32(*e)),
-                    None => (Ro, Value::NoData),
+                    Some(e) => (access, Value::u32(*e)),
+                    None => (access, Value::NoData),
                 }
             }
             #[cfg(feature = "heartbeat-consumer")]
-            (None, CONSUMER_HEARTBEAT_TIME, 0) if self.consumer_slots > 0 => {
-                (Const, Value::u8(self.consumer_slots))
-            }
+            (None, CONSUMER_HEARTBEAT_TIME, 0) if self.consumer_slots > 0 => (
+                access!(CONSUMER_HEARTBEAT_TIME),
+                Value::u8(self.consumer_slots),
+            ),
             #[cfg(feature = "heartbeat-consumer")]
             (None, CONSUMER_HEARTBEAT_TIME, s) if s > 0 => {
                 match self.consumers().get(usize::from(s) - 1) {
-                    Some(e) => (Rw, Value::u32(e.to_u32())),
+                    Some(e) => (access!(CONSUMER_HEARTBEAT_TIME, 1), Value::u32(e.to_u32())),
                     None => return Err(AbortCode::SubIndexDoesNotExist),
                 }
             }
             // CiA 301 sections 7.5.2.13/7.5.2.14: sub 0 the highest sub,
             // subs 1-3 the capability words.
             #[cfg(feature = "store")]
-            (None, STORE_PARAMETERS | RESTORE_DEFAULT_PARAMETERS, 0) => (Const, Value::u8(3)),
+            (None, STORE_PARAMETERS, 0) => (
+                access!(STORE_PARAMETERS),
+                Value::u8(default!(STORE_PARAMETERS) as u8),
+            ),
             #[cfg(feature = "store")]
-            (None, STORE_PARAMETERS | RESTORE_DEFAULT_PARAMETERS, 1..=3) => {
-                (Rw, Value::u32(self.store_capability(sub)))
-            }
-            (None, IDENTITY, 0) => (Ro, Value::u8(Identity::HIGHEST_SUB_INDEX)),
+            (None, RESTORE_DEFAULT_PARAMETERS, 0) => (
+                access!(RESTORE_DEFAULT_PARAMETERS),
+                Value::u8(default!(RESTORE_DEFAULT_PARAMETERS) as u8),
+            ),
+            #[cfg(feature = "store")]
+            (None, STORE_PARAMETERS, 1..=3) => (
+                access!(STORE_PARAMETERS, 1),
+                Value::u32(self.store_capability(sub)),
+            ),
+            #[cfg(feature = "store")]
+            (None, RESTORE_DEFAULT_PARAMETERS, 1..=3) => (
+                access!(RESTORE_DEFAULT_PARAMETERS, 1),
+                Value::u32(self.store_capability(sub)),
+            ),
+            (None, IDENTITY, 0) => (access!(IDENTITY), Value::u8(Identity::HIGHEST_SUB_INDEX)),
             (None, IDENTITY, s) => match self.identity.sub(s) {
-                Some(v) => (Ro, Value::u32(v)),
+                Some(v) => (access!(IDENTITY, 1), Value::u32(v)),
                 None => return Err(AbortCode::SubIndexDoesNotExist),
             },
-            (None, SDO_SERVER_PARAMETER, 0) => (Ro, Value::u8(2)),
-            (None, SDO_SERVER_PARAMETER, 1) => (Ro, Value::u32(u32::from(SDO_RX_BASE) + node)),
-            (None, SDO_SERVER_PARAMETER, 2) => (Ro, Value::u32(u32::from(SDO_TX_BASE) + node)),
+            (None, SDO_SERVER_PARAMETER, 0) => (
+                access!(SDO_SERVER_PARAMETER),
+                Value::u8(default!(SDO_SERVER_PARAMETER) as u8),
+            ),
+            (None, SDO_SERVER_PARAMETER, 1) => (
+                access!(SDO_SERVER_PARAMETER, 1),
+                Value::u32(u32::from(SDO_RX_BASE) + node),
+            ),
+            (None, SDO_SERVER_PARAMETER, 2) => (
+                access!(SDO_SERVER_PARAMETER, 2),
+                Value::u32(u32::from(SDO_TX_BASE) + node),
+            ),
             (None, i, _) if self.has_object(i) => return Err(AbortCode::SubIndexDoesNotExist),
             _ => return Err(AbortCode::ObjectDoesNotExist),
         };

@@ -409,3 +409,42 @@ fn no_1016h_without_the_heartbeat_consumer() {
     // The producer's 1017h is still there.
     assert_eq!(read(&mut c, 0x1017, 0), Ok(std::vec![0xE8, 0x03]));
 }
+
+/// Every entry the device core serves is a row of the communication table
+/// (od::comm) with the access it is served with, and a fixed-size one has
+/// the row's size; the sub-index 0 of each of its ARRAYs and RECORDs
+/// reads the row's power-on value.
+#[test]
+fn every_served_entry_is_a_row_of_the_communication_table() {
+    let mut c = comm();
+    c.push_error(ErrorFieldEntry {
+        code: crate::emcy::ErrorCode::GENERIC,
+        info: 0,
+    });
+    let mut served = 0;
+    for index in 0x1000..=0x1FFFu16 {
+        for sub in 0..=u8::MAX {
+            let Ok(info) = c.info(index, sub) else {
+                continue;
+            };
+            served += 1;
+            let row = comm::find(Address::new(index, sub))
+                .unwrap_or_else(|| panic!("{index:04X}h:{sub} has no row"));
+            assert_eq!(info.access, row.access, "{index:04X}h:{sub} access");
+            if row.size() > 0 {
+                assert_eq!(info.len, usize::from(row.size()), "{index:04X}h:{sub} size");
+            }
+            if sub == 0 && row.compound.is_some() && index != PRE_DEFINED_ERROR_FIELD {
+                let want = row.default.to_le_bytes()[..1].to_vec();
+                #[cfg(feature = "heartbeat-consumer")]
+                let want = if index == CONSUMER_HEARTBEAT_TIME {
+                    std::vec![c.consumer_slots]
+                } else {
+                    want
+                };
+                assert_eq!(read(&mut c, index, 0).unwrap(), want, "{index:04X}h:0");
+            }
+        }
+    }
+    assert!(served >= 20, "only {served} entries served");
+}

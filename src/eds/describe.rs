@@ -11,7 +11,7 @@ use crate::od::index::{
     DEVICE_TYPE, ERROR_REGISTER, IDENTITY, MANUFACTURER_DEVICE_NAME, RPDO_COMMUNICATION,
     RPDO_COMMUNICATION_LAST, TPDO_COMMUNICATION, TPDO_COMMUNICATION_LAST,
 };
-use crate::od::{Access, ObjectDictionary, ObjectInfo};
+use crate::od::{Access, Address, ObjectDictionary, ObjectInfo, ObjectRow};
 
 /// What the caller says about one sub-object found in the dictionary: its
 /// `ParameterName` and data type (the dictionary itself knows only sizes).
@@ -273,12 +273,103 @@ pub struct DeviceHeader<'a> {
     pub vendor_name: Option<&'a str>,
 }
 
-/// The line of `tables` that covers `index`.
-fn line_of<'t>(tables: &[&'t [ObjectDescription]], index: u16) -> Option<&'t ObjectDescription> {
-    tables
-        .iter()
-        .flat_map(|t| t.iter())
-        .find(|d| (d.first..=d.last).contains(&index))
+/// A table [`Eds::describe`] reads names and types from: CiA 306 object
+/// descriptions, or the rows of an object table (such as the CiA 301
+/// communication objects, [`crate::od::comm::COMM_OBJECTS`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ObjectNames<'t> {
+    /// Object descriptions, one line per object or run of objects.
+    Descriptions(&'t [ObjectDescription]),
+    /// Object rows: an object's `ParameterName` and `ObjectType` are
+    /// those of its sub-index 0 row ([`ObjectRow::compound`], else the
+    /// row's own name and VAR), a sub-object's those of its row; a run of
+    /// objects appends `" <n>"` to the object name (`n` from 1), a run of
+    /// sub-indexes `" <sub>"` to the sub-object's.
+    Rows(&'t [ObjectRow]),
+}
+
+impl ObjectNames<'_> {
+    /// Every index the table has an object at (a run counted whole).
+    fn indexes(&self) -> Vec<u16> {
+        let runs: Vec<(u16, u16)> = match self {
+            ObjectNames::Descriptions(d) => d.iter().map(|d| (d.first, d.last)).collect(),
+            ObjectNames::Rows(rows) => rows
+                .iter()
+                .filter(|r| r.address.sub == 0)
+                .map(|r| (r.address.index, r.last_index))
+                .collect(),
+        };
+        runs.into_iter()
+            .flat_map(|(first, last)| first..=last)
+            .collect()
+    }
+
+    /// The `ParameterName` and `ObjectType` of object `index`, if the table
+    /// has it.
+    fn object(&self, index: u16) -> Option<(String, ObjectType)> {
+        match self {
+            ObjectNames::Descriptions(_) => {
+                let d = self.description(index)?;
+                Some((d.object_name(index), d.object_type))
+            }
+            ObjectNames::Rows(rows) => {
+                let row = ObjectRow::find(rows, Address::index(index)).ok()?;
+                let (name, object_type) = row
+                    .compound
+                    .map_or((row.name, ObjectType::Var), |c| (c.name, c.object_type));
+                Some((
+                    run_name(name, index, row.address.index, row.last_index),
+                    object_type,
+                ))
+            }
+        }
+    }
+
+    /// The name and data type of `sub` of `index`, if the table has it.
+    fn sub(&self, index: u16, sub: u8) -> Option<Described> {
+        match self {
+            ObjectNames::Descriptions(_) => self.description(index)?.sub(index, sub),
+            ObjectNames::Rows(rows) => {
+                let row = ObjectRow::find(rows, Address::new(index, sub)).ok()?;
+                let name = if row.compound.is_none() && row.address.sub == 0 {
+                    // A VAR: named as its object.
+                    run_name(row.name, index, row.address.index, row.last_index)
+                } else if row.last_sub > row.address.sub {
+                    format!("{} {sub}", row.name)
+                } else {
+                    row.name.to_string()
+                };
+                Some(Described {
+                    name,
+                    data_type: row.data_type,
+                })
+            }
+        }
+    }
+
+    /// The description line that covers `index`.
+    fn description(&self, index: u16) -> Option<&ObjectDescription> {
+        match self {
+            ObjectNames::Descriptions(d) => d.iter().find(|d| (d.first..=d.last).contains(&index)),
+            ObjectNames::Rows(_) => None,
+        }
+    }
+}
+
+/// `name`, or for object `at` of the run `first..=last` `"name <n>"` (`n`
+/// from 1 at `first`).
+fn run_name(name: &str, at: u16, first: u16, last: u16) -> String {
+    if first == last {
+        name.to_string()
+    } else {
+        let n = u32::from(at.saturating_sub(first)).saturating_add(1);
+        format!("{name} {n}")
+    }
+}
+
+/// The first of `tables` that has object `index`.
+fn table_of<'a, 't>(tables: &'a [ObjectNames<'t>], index: u16) -> Option<&'a ObjectNames<'t>> {
+    tables.iter().find(|t| t.object(index).is_some())
 }
 
 /// A text fit for an EDS line (no comment, no line break, not padded).
@@ -310,27 +401,27 @@ impl Eds {
     /// runs at), no LSS, simple boot-up slave.
     pub fn describe<D: ObjectDictionary + ?Sized>(
         od: &mut D,
-        tables: &[&[ObjectDescription]],
+        tables: &[ObjectNames<'_>],
         header: &DeviceHeader<'_>,
     ) -> Eds {
         let mut indexes = Vec::new();
-        for d in tables.iter().flat_map(|t| t.iter()) {
-            for index in d.first..=d.last {
-                // Every object has a sub-index 0 (CiA 301, section 7.4.3).
-                if od.info(index, 0).is_ok() && !indexes.contains(&index) {
-                    indexes.push(index);
-                }
+        for index in tables.iter().flat_map(ObjectNames::indexes) {
+            // Every object has a sub-index 0 (CiA 301, section 7.4.3).
+            if od.info(index, 0).is_ok() && !indexes.contains(&index) {
+                indexes.push(index);
             }
         }
         indexes.sort_unstable();
         let mut eds = Eds::from_dictionary(od, &indexes, |index, sub, _| {
-            line_of(tables, index)?.sub(index, sub)
+            table_of(tables, index)?.sub(index, sub)
         });
         for o in eds.objects.values_mut() {
-            if let Some(d) = line_of(tables, o.index) {
+            if let Some((name, object_type)) =
+                table_of(tables, o.index).and_then(|t| t.object(o.index))
+            {
                 if !o.subs.is_empty() {
-                    o.entry.name = d.object_name(o.index);
-                    o.entry.object_type = d.object_type;
+                    o.entry.name = name;
+                    o.entry.object_type = object_type;
                 }
             }
         }
@@ -513,7 +604,7 @@ mod tests {
             description: "test",
             vendor_name: Some("Vendor"),
         };
-        let eds = Eds::describe(&mut od, &[TABLE], &header);
+        let eds = Eds::describe(&mut od, &[ObjectNames::Descriptions(TABLE)], &header);
         // 1008h and 3000h are in no table; 2001h sub 9 is in no line.
         assert_eq!(
             eds.objects.keys().copied().collect::<Vec<_>>(),

@@ -35,7 +35,6 @@ use alloc::collections::BTreeMap;
 use alloc::string::String;
 use alloc::vec::Vec;
 
-mod comm_objects;
 mod describe;
 mod dictionary;
 mod parse;
@@ -43,9 +42,8 @@ mod types;
 mod value;
 mod write;
 
-pub use comm_objects::COMM_OBJECT_DESCRIPTIONS;
 pub(crate) use describe::sub;
-pub use describe::{Described, DeviceHeader, ObjectDescription, SubDescription};
+pub use describe::{Described, DeviceHeader, ObjectDescription, ObjectNames, SubDescription};
 pub use dictionary::{EdsDictionary, PdoDescription, Unserved, UnservedReason, MAX_VARIABLE_LEN};
 pub use parse::{parse, parse_bytes};
 pub use types::{AccessType, DataType, ObjectType};

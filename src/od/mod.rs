@@ -19,6 +19,7 @@
 use crate::abort::AbortCode;
 
 mod address;
+pub mod comm;
 mod fixed;
 #[cfg(test)]
 pub(crate) mod fixture;

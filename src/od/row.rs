@@ -86,6 +86,11 @@ pub struct ObjectRow {
     pub address: Address,
     /// The last sub-index of the run (`address.sub` for one entry).
     pub last_sub: u8,
+    /// The last index of a run of objects of one shape (`address.index`
+    /// for one object): the PDO parameters 1400h-15FFh, for one, are 512
+    /// objects with the same sub-indexes (CiA 301, 7.5.2.35). An EDS
+    /// appends `" <n>"`, from 1 at `address.index`, to their object names.
+    pub last_index: u16,
     /// `ParameterName` as the defining document spells it; for a run,
     /// an EDS appends `" <sub>"`.
     pub name: &'static str,
@@ -120,6 +125,7 @@ impl ObjectRow {
         ObjectRow {
             address,
             last_sub: address.sub,
+            last_index: address.index,
             name,
             short: name,
             data_type,
@@ -142,6 +148,14 @@ impl ObjectRow {
     #[must_use]
     pub const fn through(mut self, last_sub: u8) -> Self {
         self.last_sub = last_sub;
+        self
+    }
+
+    /// This row covering the objects up to `last_index` too, each with the
+    /// same sub-indexes.
+    #[must_use]
+    pub const fn indexes_through(mut self, last_index: u16) -> Self {
+        self.last_index = last_index;
         self
     }
 
@@ -229,13 +243,27 @@ impl ObjectRow {
     /// True if this row describes `index` sub `sub`.
     #[must_use]
     pub const fn covers(&self, index: u16, sub: u8) -> bool {
-        self.address.index == index && sub >= self.address.sub && sub <= self.last_sub
+        self.covers_index(index) && sub >= self.address.sub && sub <= self.last_sub
     }
 
-    /// How many sub-indexes the row covers.
+    /// True if this row describes some sub-index of object `index`.
+    #[must_use]
+    pub const fn covers_index(&self, index: u16) -> bool {
+        index >= self.address.index && index <= self.last_index
+    }
+
+    /// How many sub-indexes the row covers in each of its objects.
     #[must_use]
     pub const fn sub_count(&self) -> usize {
         (self.last_sub as usize + 1).saturating_sub(self.address.sub as usize)
+    }
+
+    /// How many entries the row covers: its sub-indexes in each of its
+    /// objects.
+    #[must_use]
+    pub const fn entry_count(&self) -> usize {
+        let objects = (self.last_index as usize + 1).saturating_sub(self.address.index as usize);
+        objects * self.sub_count()
     }
 
     /// True for a parameter: an entry an SDO download or an RPDO can
@@ -268,7 +296,7 @@ impl ObjectRow {
         if let Some(row) = rows.iter().find(|r| r.covers(index, sub)) {
             return Ok(row);
         }
-        Err(if rows.iter().any(|r| r.address.index == index) {
+        Err(if rows.iter().any(|r| r.covers_index(index)) {
             AbortCode::SubIndexDoesNotExist
         } else {
             AbortCode::ObjectDoesNotExist
@@ -283,7 +311,7 @@ impl ObjectRow {
         let (mut i, mut n) = (0, 0);
         while i < rows.len() {
             if rows[i].is_parameter() {
-                n += rows[i].sub_count();
+                n += rows[i].entry_count();
             }
             i += 1;
         }
@@ -297,7 +325,7 @@ impl ObjectRow {
         let (mut i, mut n) = (0, 0);
         while i < rows.len() {
             if rows[i].is_parameter() {
-                n += rows[i].sub_count() * rows[i].size() as usize;
+                n += rows[i].entry_count() * rows[i].size() as usize;
             }
             i += 1;
         }
@@ -313,16 +341,21 @@ impl ObjectRow {
         let (mut i, mut n) = (0, 0);
         while i < rows.len() {
             let row = rows[i];
-            if row.is_parameter() {
+            let mut index = row.address.index;
+            while row.is_parameter() && index <= row.last_index {
                 let mut sub = row.address.sub;
                 while sub <= row.last_sub && n < N {
-                    list[n] = (row.address.index, sub);
+                    list[n] = (index, sub);
                     n += 1;
                     if sub == u8::MAX {
                         break;
                     }
                     sub += 1;
                 }
+                if index == u16::MAX {
+                    break;
+                }
+                index += 1;
             }
             i += 1;
         }

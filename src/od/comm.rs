@@ -1,0 +1,376 @@
+//! The CiA 301 communication objects (1000h-1FFFh) as one table: one
+//! [`ObjectRow`] per entry, or per run of sub-indexes (and, for the PDO
+//! parameters, of objects) of one shape, with the `ParameterName` and data
+//! type CiA 301 gives it ("CANopen application layer and communication
+//! profile", section 7.5.2 "Object dictionary entries": 7.5.2.1 device
+//! type to 7.5.2.38 TPDO mapping parameter), the access the device core
+//! serves it with, its power-on value and the decoder's name for it.
+//!
+//! Derived from these rows: the EDS text of every device
+//! ([`Eds::describe`](crate::eds::Eds::describe)), the access rights and
+//! power-on values of the device core's objects
+//! (`device::CommObjects`) and the names the log analysis gives SDO
+//! transfers in the area. Adding a communication object is one row here
+//! (and the state that serves it in the device core).
+//!
+//! ```
+//! use canopen_codec::od::comm::COMM_OBJECTS;
+//! use canopen_codec::od::{index, Access, Address, DataType, ObjectRow};
+//!
+//! let heartbeat = ObjectRow::find(COMM_OBJECTS, Address::index(index::PRODUCER_HEARTBEAT_TIME)).unwrap();
+//! assert_eq!((heartbeat.name, heartbeat.data_type), ("Producer heartbeat time", DataType::Unsigned16));
+//! assert_eq!(heartbeat.access, Access::ReadWrite);
+//! // The third TPDO's transmission type: one row for 1800h-19FFh sub 2.
+//! let tt = ObjectRow::find(COMM_OBJECTS, Address::new(index::TPDO_COMMUNICATION + 2, 2)).unwrap();
+//! assert_eq!(tt.name, "Transmission type");
+//! ```
+
+use super::index::{
+    COB_ID_SYNC, COB_ID_TIME, COMMUNICATION_CYCLE_PERIOD, CONSUMER_HEARTBEAT_TIME, DEVICE_TYPE,
+    ERROR_REGISTER, GUARD_TIME, IDENTITY, LIFE_TIME_FACTOR, MANUFACTURER_DEVICE_NAME,
+    PRE_DEFINED_ERROR_FIELD, PRODUCER_HEARTBEAT_TIME, RESTORE_DEFAULT_PARAMETERS,
+    RPDO_COMMUNICATION, RPDO_COMMUNICATION_LAST, RPDO_MAPPING, RPDO_MAPPING_LAST,
+    SDO_SERVER_PARAMETER, STORE_PARAMETERS, SYNCHRONOUS_COUNTER_OVERFLOW,
+    SYNCHRONOUS_WINDOW_LENGTH, TPDO_COMMUNICATION, TPDO_COMMUNICATION_LAST, TPDO_MAPPING,
+    TPDO_MAPPING_LAST,
+};
+use super::Access::{self, Const, ReadOnly as Ro, ReadWrite as Rw};
+use super::DataType::{self, Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8};
+use super::ObjectType::{self, Array, Record};
+use super::{Address, ObjectRow};
+use crate::cob_id::{SYNC, TIME};
+
+/// Sub-index 0 of the ARRAY or RECORD `object` at `index`: the highest
+/// sub-index supported, named `short` by the decoder.
+const fn highest(
+    index: u16,
+    object: &'static str,
+    object_type: ObjectType,
+    access: Access,
+    short: &'static str,
+) -> ObjectRow {
+    ObjectRow::var(index, "Highest sub-index supported", U8, access)
+        .heads(object, object_type)
+        .short(short)
+}
+
+/// Sub-index `sub` of `index`.
+const fn at(
+    index: u16,
+    sub: u8,
+    name: &'static str,
+    data_type: DataType,
+    access: Access,
+) -> ObjectRow {
+    ObjectRow::new(Address::new(index, sub), name, data_type, access)
+}
+
+/// The sub-objects of the RPDO or TPDO communication parameters `first` to
+/// `last` (CiA 301, 7.5.2.35 and 7.5.2.37), their COB-ID named `cob_id`.
+const fn pdo_communication(
+    first: u16,
+    last: u16,
+    object: &'static str,
+    cob_id: &'static str,
+) -> [ObjectRow; 7] {
+    [
+        highest(first, object, Record, Const, "highest sub-index").indexes_through(last),
+        at(first, 1, cob_id, U32, Rw).indexes_through(last),
+        at(first, 2, "Transmission type", U8, Rw).indexes_through(last),
+        at(first, 3, "Inhibit time", U16, Rw).indexes_through(last),
+        at(first, 4, "Compatibility entry", U8, Rw).indexes_through(last),
+        at(first, 5, "Event-timer", U16, Rw).indexes_through(last),
+        at(first, 6, "SYNC start value", U8, Rw).indexes_through(last),
+    ]
+}
+
+/// The RPDO or TPDO mapping parameters `first` to `last` (CiA 301,
+/// 7.5.2.36 and 7.5.2.38): the number of entries, then up to 64 entries.
+const fn pdo_mapping(first: u16, last: u16, object: &'static str) -> [ObjectRow; 2] {
+    [
+        ObjectRow::var(first, "Number of mapped application objects in PDO", U8, Rw)
+            .heads(object, Record)
+            .short("number of entries")
+            .indexes_through(last),
+        at(first, 1, "Application object", U32, Rw)
+            .through(64)
+            .indexes_through(last),
+    ]
+}
+
+const RPDO_COMMUNICATION_ROWS: [ObjectRow; 7] = pdo_communication(
+    RPDO_COMMUNICATION,
+    RPDO_COMMUNICATION_LAST,
+    "RPDO communication parameter",
+    "COB-ID used by RPDO",
+);
+const RPDO_MAPPING_ROWS: [ObjectRow; 2] =
+    pdo_mapping(RPDO_MAPPING, RPDO_MAPPING_LAST, "RPDO mapping parameter");
+const TPDO_COMMUNICATION_ROWS: [ObjectRow; 7] = pdo_communication(
+    TPDO_COMMUNICATION,
+    TPDO_COMMUNICATION_LAST,
+    "TPDO communication parameter",
+    "COB-ID used by TPDO",
+);
+const TPDO_MAPPING_ROWS: [ObjectRow; 2] =
+    pdo_mapping(TPDO_MAPPING, TPDO_MAPPING_LAST, "TPDO mapping parameter");
+
+/// The rows of `rows` one after the other (`N` their total length).
+const fn joined<const N: usize>(parts: &[&[ObjectRow]]) -> [ObjectRow; N] {
+    let mut out = [ObjectRow::var(0, "", U8, Const); N];
+    let (mut part, mut n) = (0, 0);
+    while part < parts.len() {
+        let mut i = 0;
+        while i < parts[part].len() {
+            out[n] = parts[part][i];
+            n += 1;
+            i += 1;
+        }
+        part += 1;
+    }
+    assert!(n == N, "the joined length is the sum of the parts");
+    out
+}
+
+/// The objects the device core serves (1000h-1200h), in index order.
+const SINGLE_OBJECTS: &[ObjectRow] = &[
+    ObjectRow::var(DEVICE_TYPE, "Device type", U32, Const).short("device type"),
+    ObjectRow::var(ERROR_REGISTER, "Error register", U8, Ro).short("error register"),
+    ObjectRow::var(PRE_DEFINED_ERROR_FIELD, "Number of errors", U8, Rw)
+        .heads("Pre-defined error field", Array)
+        .short("number of errors"),
+    at(PRE_DEFINED_ERROR_FIELD, 1, "Standard error field", U32, Ro)
+        .through(254)
+        .short("pre-defined error field"),
+    ObjectRow::var(COB_ID_SYNC, "COB-ID SYNC message", U32, Rw)
+        .short("COB-ID SYNC")
+        .default(SYNC as u32),
+    ObjectRow::var(
+        COMMUNICATION_CYCLE_PERIOD,
+        "Communication cycle period",
+        U32,
+        Rw,
+    )
+    .short("communication cycle period"),
+    ObjectRow::var(
+        SYNCHRONOUS_WINDOW_LENGTH,
+        "Synchronous window length",
+        U32,
+        Rw,
+    )
+    .short("synchronous window length"),
+    ObjectRow::var(
+        MANUFACTURER_DEVICE_NAME,
+        "Manufacturer device name",
+        DataType::VisibleString,
+        Const,
+    )
+    .short("manufacturer device name"),
+    ObjectRow::var(GUARD_TIME, "Guard time", U16, Rw).short("guard time"),
+    ObjectRow::var(LIFE_TIME_FACTOR, "Life time factor", U8, Rw).short("life time factor"),
+    highest(
+        STORE_PARAMETERS,
+        "Store parameters",
+        Array,
+        Const,
+        "store parameters: highest sub-index",
+    )
+    .default(3),
+    at(STORE_PARAMETERS, 1, "Save all parameters", U32, Rw),
+    at(
+        STORE_PARAMETERS,
+        2,
+        "Save communication parameters",
+        U32,
+        Rw,
+    ),
+    at(STORE_PARAMETERS, 3, "Save application parameters", U32, Rw),
+    highest(
+        RESTORE_DEFAULT_PARAMETERS,
+        "Restore default parameters",
+        Array,
+        Const,
+        "restore default parameters: highest sub-index",
+    )
+    .default(3),
+    at(
+        RESTORE_DEFAULT_PARAMETERS,
+        1,
+        "Restore all default parameters",
+        U32,
+        Rw,
+    ),
+    at(
+        RESTORE_DEFAULT_PARAMETERS,
+        2,
+        "Restore communication default parameters",
+        U32,
+        Rw,
+    ),
+    at(
+        RESTORE_DEFAULT_PARAMETERS,
+        3,
+        "Restore application default parameters",
+        U32,
+        Rw,
+    ),
+    ObjectRow::var(COB_ID_TIME, "COB-ID time stamp object", U32, Rw)
+        .short("COB-ID TIME")
+        .default(TIME as u32),
+    highest(
+        CONSUMER_HEARTBEAT_TIME,
+        "Consumer heartbeat time",
+        Array,
+        Const,
+        "consumer heartbeat time: highest sub-index",
+    ),
+    at(
+        CONSUMER_HEARTBEAT_TIME,
+        1,
+        "Consumer heartbeat time",
+        U32,
+        Rw,
+    )
+    .through(127)
+    .short("consumer heartbeat time"),
+    ObjectRow::var(PRODUCER_HEARTBEAT_TIME, "Producer heartbeat time", U16, Rw)
+        .short("producer heartbeat time"),
+    highest(
+        IDENTITY,
+        "Identity object",
+        Record,
+        Ro,
+        "identity: highest sub-index",
+    )
+    .default(4),
+    at(IDENTITY, 1, "Vendor-ID", U32, Ro).short("identity vendor-ID"),
+    at(IDENTITY, 2, "Product code", U32, Ro).short("identity product code"),
+    at(IDENTITY, 3, "Revision number", U32, Ro).short("identity revision number"),
+    at(IDENTITY, 4, "Serial number", U32, Ro).short("identity serial number"),
+    ObjectRow::var(
+        SYNCHRONOUS_COUNTER_OVERFLOW,
+        "Synchronous counter overflow value",
+        U8,
+        Rw,
+    )
+    .short("synchronous counter overflow value"),
+    highest(
+        SDO_SERVER_PARAMETER,
+        "SDO server parameter",
+        Record,
+        Ro,
+        "SDO server parameter 0: highest sub-index",
+    )
+    .default(2),
+    at(
+        SDO_SERVER_PARAMETER,
+        1,
+        "COB-ID client to server (rx)",
+        U32,
+        Ro,
+    ),
+    at(
+        SDO_SERVER_PARAMETER,
+        2,
+        "COB-ID server to client (tx)",
+        U32,
+        Ro,
+    ),
+    at(SDO_SERVER_PARAMETER, 3, "Node-ID of the SDO client", U8, Ro),
+];
+
+/// The number of rows of [`COMM_OBJECTS`].
+const ROWS: usize = SINGLE_OBJECTS.len()
+    + RPDO_COMMUNICATION_ROWS.len()
+    + RPDO_MAPPING_ROWS.len()
+    + TPDO_COMMUNICATION_ROWS.len()
+    + TPDO_MAPPING_ROWS.len();
+
+/// The CiA 301 communication objects: those of the device core (1000h,
+/// 1001h, 1003h, 1005h-1008h, 100Ch, 100Dh, 1010h, 1011h, 1012h,
+/// 1016h-1019h, 1200h) and the PDO communication and mapping parameters
+/// (1400h-1BFFh), in index order (see the [module docs](self)).
+pub const COMM_OBJECTS: &[ObjectRow] = &joined::<ROWS>(&[
+    SINGLE_OBJECTS,
+    &RPDO_COMMUNICATION_ROWS,
+    &RPDO_MAPPING_ROWS,
+    &TPDO_COMMUNICATION_ROWS,
+    &TPDO_MAPPING_ROWS,
+]);
+
+/// The row of [`COMM_OBJECTS`] that covers `address`, if any: what
+/// [`ObjectRow::find`] finds, as a `const fn` for facts a program reads at
+/// build time (`const { comm::find(..) }`).
+#[must_use]
+pub const fn find(address: Address) -> Option<&'static ObjectRow> {
+    let mut i = 0;
+    while i < COMM_OBJECTS.len() {
+        if COMM_OBJECTS[i].covers(address.index, address.sub) {
+            return Some(&COMM_OBJECTS[i]);
+        }
+        i += 1;
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::abort::AbortCode;
+
+    #[test]
+    fn rows_in_order_each_entry_once_and_every_object_with_a_sub_0() {
+        for pair in COMM_OBJECTS.windows(2) {
+            let (a, b) = (pair[0], pair[1]);
+            let after = (b.address.index, b.address.sub) > (a.address.index, a.last_sub)
+                || b.address.index > a.last_index;
+            assert!(after, "{} after {}", b.address, a.address);
+        }
+        for row in COMM_OBJECTS {
+            let head = find(Address::new(row.address.index, 0)).expect("a sub-index 0 row");
+            assert_eq!(head.last_index, row.last_index, "{}", row.address);
+            assert!(row.size() > 0 || row.data_type == DataType::VisibleString);
+            assert_eq!(find(row.address), Some(row));
+        }
+    }
+
+    #[test]
+    fn a_pdo_parameter_row_covers_its_512_objects() {
+        for (first, last) in [
+            (RPDO_COMMUNICATION, RPDO_COMMUNICATION_LAST),
+            (RPDO_MAPPING, RPDO_MAPPING_LAST),
+            (TPDO_COMMUNICATION, TPDO_COMMUNICATION_LAST),
+            (TPDO_MAPPING, TPDO_MAPPING_LAST),
+        ] {
+            assert_eq!(last - first + 1, 512);
+            let head = find(Address::index(first)).unwrap();
+            assert_eq!(find(Address::index(last)), Some(head));
+            assert_eq!(head.entry_count(), 512);
+            assert_ne!(find(Address::index(last + 1)), Some(head));
+            assert_ne!(find(Address::index(first - 1)), Some(head));
+        }
+        let entry = find(Address::new(RPDO_MAPPING + 7, 64)).unwrap();
+        assert_eq!((entry.name, entry.data_type), ("Application object", U32));
+        assert_eq!(find(Address::new(RPDO_MAPPING, 65)), None);
+    }
+
+    #[test]
+    fn the_const_lookup_agrees_with_object_row_find() {
+        for index in 0x1000..=0x1FFFu16 {
+            for sub in [0, 1, 2, 3, 4, 6, 7, 64, 65, 127, 128, 254, 255] {
+                let address = Address::new(index, sub);
+                let found = ObjectRow::find(COMM_OBJECTS, address);
+                assert_eq!(found.ok(), find(address), "{address}");
+                if let Err(abort) = found {
+                    let object = find(Address::index(index)).is_some();
+                    let want = if object {
+                        AbortCode::SubIndexDoesNotExist
+                    } else {
+                        AbortCode::ObjectDoesNotExist
+                    };
+                    assert_eq!(abort, want, "{address}");
+                }
+            }
+        }
+    }
+}
