@@ -18,6 +18,7 @@ use canopen_codec::deltaq::{
     AlgorithmRequest, ChargeStatusFlags, ExternalOverride, OperatingMode,
 };
 use canopen_codec::emcy::{Emergency, ErrorCode, ErrorRegister};
+use canopen_codec::machine::Machine;
 use canopen_codec::Timestamp;
 use core::time::Duration;
 use libfuzzer_sys::fuzz_target;

@@ -112,6 +112,7 @@
 //!
 //! ```
 //! use canopen_codec::deltaq::charge::{BusInputs, ChargeConfig, ChargeControl, ChargePhase, PowerStage};
+//! use canopen_codec::machine::Machine;
 //! use canopen_codec::Timestamp;
 //! use core::time::Duration;
 //!
@@ -129,17 +130,17 @@
 
 pub mod algorithm;
 mod meter;
+mod outputs;
 mod types;
 
 use core::time::Duration;
 
 use super::AlgorithmRequest;
-use super::{
-    ChargeIndication, ChargeStatusFlags, ChargeType, DerateReasons, ExtendedChargeStatus,
-    ExternalOverride, OperatingMode, OverrideSource, Reaction,
-};
+use super::{DerateReasons, ExternalOverride, OperatingMode, Reaction};
 use crate::clock::{micros_of, timer_kind, Timers, Timestamp};
 use crate::emcy::Emergency;
+use crate::frame::CanFrame;
+use crate::machine::Machine;
 use crate::queue::EventQueue;
 pub use algorithm::{AlgorithmKind, ChargeAlgorithm, EXAMPLE_ALGORITHMS};
 use meter::CycleMeter;
@@ -190,17 +191,18 @@ enum Latch {
     ShutDown,
 }
 
-/// The charger's charge logic (see the module docs). Inputs:
+/// The charger's charge logic (see the module docs), a
+/// [`Machine`] of the crate's contract with no
+/// frames of its own. Inputs (commands):
 /// [`handle_power_stage`](Self::handle_power_stage),
 /// [`handle_bus`](Self::handle_bus),
 /// [`request_algorithm`](Self::request_algorithm),
-/// [`handle_battery_emcy`](Self::handle_battery_emcy),
-/// [`handle_timeout`](Self::handle_timeout); outputs:
-/// [`set_points`](Self::set_points), [`status`](Self::status),
-/// [`phase`](Self::phase), [`poll_event`](Self::poll_event) and
-/// [`poll_timeout`](Self::poll_timeout). After any input, poll the events
-/// until `None`; an undrained event queue changes nothing (oldest dropped
-/// and counted).
+/// [`handle_battery_emcy`](Self::handle_battery_emcy), and the trait's
+/// `handle_timeout`; outputs: [`set_points`](Self::set_points),
+/// [`status`](Self::status), [`phase`](Self::phase), and the trait's
+/// `poll_event` and `poll_timeout` (`poll_transmit` is always `None`).
+/// After any input, poll the events until `None`; an undrained event
+/// queue changes nothing (oldest dropped and counted).
 #[derive(Debug, Clone)]
 pub struct ChargeControl {
     mode: OperatingMode,
@@ -383,103 +385,6 @@ impl ChargeControl {
             }
         }
         self.step(now);
-    }
-
-    /// Time has passed.
-    pub fn handle_timeout(&mut self, now: Timestamp) {
-        self.integrate(now);
-        self.step(now);
-    }
-
-    /// When the next timer (the CAN hold-off, the end of the absorption,
-    /// equalize or rest phase) runs out.
-    #[must_use]
-    pub fn poll_timeout(&self) -> Option<Timestamp> {
-        self.timers.next()
-    }
-
-    /// The next event.
-    #[must_use]
-    pub fn poll_event(&mut self) -> Option<ChargeEvent> {
-        self.events.pop()
-    }
-
-    /// Events dropped because the queue was full.
-    #[must_use]
-    pub fn events_dropped(&self) -> u64 {
-        self.events.dropped()
-    }
-
-    /// The status objects.
-    #[must_use]
-    pub fn status(&self) -> ChargeStatus {
-        use ChargePhase as P;
-        let (charge_type, indication) = match self.phase {
-            P::Bulk => (ChargeType::Normal, ChargeIndication::Below80),
-            P::Absorption => {
-                let finishing = self
-                    .algorithm()
-                    .is_some_and(|a| self.stage.current_ma <= a.termination_ma * 2);
-                let indication = if finishing {
-                    ChargeIndication::Finishing
-                } else {
-                    ChargeIndication::Above80
-                };
-                (ChargeType::Normal, indication)
-            }
-            P::Equalize => (ChargeType::Normal, ChargeIndication::Equalize),
-            P::Rest => (ChargeType::Normal, ChargeIndication::Resting),
-            P::Complete => (ChargeType::Normal, ChargeIndication::Complete),
-            P::Float => (ChargeType::Maintenance, ChargeIndication::Complete),
-            P::Idle | P::HoldOff | P::Remote | P::Terminated => {
-                (ChargeType::None, ChargeIndication::Inactive)
-            }
-        };
-        let external = self.external_limit || matches!(self.mode, OperatingMode::Remote);
-        let mut flags = ChargeStatusFlags::empty();
-        flags.set(ChargeStatusFlags::CHARGER_ENABLED, self.set.enabled);
-        flags.set(ChargeStatusFlags::AC_PRESENT, self.stage.ac_present);
-        flags.set(ChargeStatusFlags::DERATING, !self.derate.is_empty());
-        flags.set(ChargeStatusFlags::ALARM_ACTIVE, !self.alarms.is_empty());
-        let ah = self.meter.q3;
-        ChargeStatus {
-            extended: ExtendedChargeStatus {
-                charge_type,
-                indication,
-                override_source: if external {
-                    OverrideSource::External
-                } else {
-                    OverrideSource::Internal
-                },
-                flags,
-            },
-            charger_status: u8::from(self.set.enabled),
-            derate: self.derate,
-            // FFFFh is "no value": a cycle that returned more shows FFFEh.
-            ah_returned: if self.cycle {
-                ah.min(0xFFFE) as u16
-            } else {
-                0xFFFF
-            },
-            charger_soc: self.charger_soc(),
-            elapsed: Duration::from_secs(self.meter.seconds as u64),
-        }
-    }
-
-    /// 6080h (ours): 100 % once complete or floating; in absorption 80 %
-    /// plus the share of the taper done (up to 99 %); otherwise the
-    /// module's 6081h when valid, else FFh.
-    fn charger_soc(&self) -> u8 {
-        match (self.phase, self.algorithm()) {
-            (ChargePhase::Complete | ChargePhase::Float, _) => 100,
-            (ChargePhase::Absorption, Some(a)) if a.bulk_ma > a.termination_ma => {
-                let span = a.bulk_ma - a.termination_ma;
-                let done = a.bulk_ma.saturating_sub(self.stage.current_ma).min(span);
-                (80 + done * 19 / span) as u8
-            }
-            _ if self.bus.battery_soc <= 100 => self.bus.battery_soc,
-            _ => 0xFF,
-        }
     }
 
     fn algorithm(&self) -> Option<&'static ChargeAlgorithm> {
@@ -762,77 +667,39 @@ impl ChargeControl {
         }
         self.alarms = now;
     }
+}
 
-    fn update_set_points(&mut self, bms: bool) {
-        use ChargePhase as P;
-        let a = self.algorithm();
-        let (mut current, mut voltage) = match (self.phase, a) {
-            (P::Bulk | P::Absorption, Some(a)) => (a.bulk_ma, a.absorption_mv),
-            (P::Equalize, Some(a)) => (a.bulk_ma / 10, a.equalize_mv),
-            (P::Float, Some(a)) => (a.float_ma, a.float_mv),
-            // 1/16 A per bit: 62.5 mA.
-            (P::Remote, _) => (
-                u32::from(self.bus.current_request) * 125 / 2,
-                self.bus.voltage_request_mv,
-            ),
-            _ => (0, 0),
-        };
-        let own = (current, voltage);
-        if bms && !matches!(self.phase, P::Remote) {
-            voltage = voltage.min(self.bus.voltage_request_mv);
-            if matches!(self.mode, OperatingMode::LocalOverride)
-                && self.bus.current_request != 0xFFFF
-            {
-                current = current.min(u32::from(self.bus.current_request) * 125 / 2);
-            }
-        }
-        self.external_limit = (current, voltage) != own;
-        current = current.min(self.config.max_current_ma);
-        voltage = voltage.min(self.config.max_voltage_mv);
+/// The charge control is a machine of the crate's contract
+/// ([`crate::machine`]) with no frames of its own: what it needs of the
+/// bus comes decoded, as commands ([`handle_bus`](ChargeControl::handle_bus),
+/// [`handle_battery_emcy`](ChargeControl::handle_battery_emcy),
+/// [`request_algorithm`](ChargeControl::request_algorithm)), from its owner
+/// that reads the objects and the battery module's supervision (the
+/// [`Charger`](crate::deltaq::Charger)); the power stage's readings come
+/// by [`handle_power_stage`](ChargeControl::handle_power_stage).
+impl Machine for ChargeControl {
+    type Event = ChargeEvent;
 
-        let mut derate = DerateReasons::empty();
-        let c = &self.config;
-        let t = self.stage.temperature_c;
-        if t > c.derate_start_c && current > 0 {
-            // current x left / span in 32 bits (span at most 65 535).
-            let span = (i32::from(c.derate_stop_c) - i32::from(c.derate_start_c)).max(1) as u32;
-            let left = (i32::from(c.derate_stop_c) - i32::from(t)).clamp(0, span as i32) as u32;
-            current = current / span * left + current % span * left / span;
-            derate |= DerateReasons::TEMPERATURE;
-        }
-        if self.temperature_fault && current > 0 {
-            current /= 2;
-            derate |= DerateReasons::TEMPERATURE;
-        }
-        // The power at the output's voltage: W x 10^6 / mV = mA, in 32 bits
-        // (the output at most 4 000 V).
-        let v = self.stage.voltage_mv.max(voltage / 2).clamp(1, 4_000_000);
-        let milli_watts = c.max_power_w.saturating_mul(1000);
-        let power_limit = (milli_watts / v)
-            .saturating_mul(1000)
-            .saturating_add(milli_watts % v * 1000 / v);
-        if current > power_limit {
-            current = power_limit;
-            derate |= DerateReasons::AC_CURRENT_LIMIT;
-        }
-        let stop = ChargeAlarms::HIGH_VOLTAGE | ChargeAlarms::BATTERY_DISCONNECTED;
-        let enabled =
-            self.phase.delivers() && !self.alarms.intersects(stop) && current > 0 && voltage > 0;
-        self.derate = if enabled {
-            derate
-        } else {
-            DerateReasons::empty()
-        };
-        self.set = if enabled {
-            SetPoints {
-                enabled,
-                current_ma: current,
-                voltage_mv: voltage,
-            }
-        } else {
-            SetPoints::default()
-        };
+    /// Ignored: the bus inputs come decoded (see the impl's docs).
+    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
+        let _ = (now, frame);
     }
+
+    /// Time has passed: the Ah returned count up to `now`, the timers due
+    /// run out, and the rules apply (an early or repeated call changes
+    /// nothing but the count).
+    fn handle_timeout(&mut self, now: Timestamp) {
+        self.integrate(now);
+        self.step(now);
+    }
+
+    /// When the next timer (the CAN hold-off, the end of the absorption,
+    /// equalize or rest phase) runs out.
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        self.timers.next()
+    }
+
+    crate::machine::queued_outputs!(frames: none, events: events);
 }
 
 #[cfg(test)]

@@ -3,7 +3,7 @@
 //! "ours" where the document is silent).
 
 use super::*;
-use crate::deltaq::DeltaQCode;
+use crate::deltaq::{ChargeIndication, ChargeStatusFlags, ChargeType, DeltaQCode, OverrideSource};
 use crate::emcy::{ErrorCode, ErrorRegister};
 use std::vec::Vec;
 

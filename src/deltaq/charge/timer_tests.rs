@@ -106,3 +106,35 @@ fn an_input_after_a_deadline_runs_its_timer() {
     c.handle_timeout(s(13));
     assert_eq!(c.phase(), ChargePhase::Bulk);
 }
+
+#[test]
+fn it_is_driven_through_the_machine_contract() {
+    let mut c = ChargeControl::new(OperatingMode::Local, ChargeConfig::example());
+    c.handle_power_stage(s(0), pack(48, 0));
+    // One timer run (the hold-off at 10 s), no frame sent.
+    let mut sent = 0;
+    let runs = crate::machine::drive_timers(&mut c, s(100), |_, _| sent += 1);
+    assert_eq!((runs, sent, c.phase()), (1, 0, ChargePhase::Bulk));
+    // A frame changes nothing: the bus inputs come decoded.
+    let heartbeat = CanFrame::standard(0x701, &[0x05]).unwrap();
+    c.handle_frame(s(101), &heartbeat);
+    assert_eq!(
+        (c.phase(), c.poll_transmit(), c.frames_dropped()),
+        (ChargePhase::Bulk, None, 0)
+    );
+    let phases: std::vec::Vec<ChargeEvent> = core::iter::from_fn(|| c.poll_event()).collect();
+    assert_eq!(
+        phases,
+        [
+            ChargeEvent::Phase {
+                from: ChargePhase::Idle,
+                to: ChargePhase::HoldOff
+            },
+            ChargeEvent::Phase {
+                from: ChargePhase::HoldOff,
+                to: ChargePhase::Bulk
+            },
+        ]
+    );
+    assert_eq!(c.events_dropped(), 0);
+}

@@ -15,6 +15,7 @@ use crate::deltaq::{
     VoltageRequest16,
 };
 use crate::emcy::{Emergency, ErrorRegister};
+use crate::machine::Machine;
 
 /// What the charger keeps to feed its [`ChargeControl`].
 #[derive(Debug, Clone)]
