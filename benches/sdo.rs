@@ -6,75 +6,26 @@
 //!
 //! cargo bench --bench sdo
 //!
-//! The 1000-byte pair is `common/sdo_pair.rs`, shared with the `sdo_count`
-//! harness that callgrind counts instructions per segment with.
+//! The pairs are `common/sdo_pair.rs` (client and server on the library's
+//! simulated bus), shared with the `sdo_count` harness that callgrind
+//! counts instructions per segment with.
 
-use std::hint::black_box;
 use std::time::Duration;
 
-use canopen_codec::machine::Machine;
-use canopen_codec::sdo::{Client, ClientConfig, ClientEvent, Server, ServerConfig};
-use canopen_codec::{NodeId, Timestamp};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
 mod common;
 use common::sdo_pair;
 
-use sdo_pair::{download, pair, upload, DomainOd, LEN, SEGMENTS};
+use sdo_pair::{download, pair, upload, DomainOd, Pair, LEN, SEGMENTS};
 
 const BIG: usize = 64 * 1024;
 static BIG_DATA: [u8; BIG] = [0xA5; BIG];
 
-/// One domain at 2000h:00 of up to 64 KiB (allocated once, before the loop).
-type BigOd = DomainOd<Vec<u8>>;
-
-type BigPair = (Client<&'static [u8]>, Server<BigOd>);
-
-fn big_pair(len: usize) -> BigPair {
-    let node = NodeId::new(1).unwrap();
-    (
-        Client::new(ClientConfig::for_server(node)),
-        Server::new(
-            ServerConfig::for_node(node),
-            DomainOd::new(vec![0x5A; BIG], len),
-        ),
-    )
-}
-
-/// Runs the started transfer to its end, delivering every frame as soon
-/// as it is sent (a block sender sends a whole sub-block per drain);
-/// returns the bytes uploaded.
-fn run_any((client, server): &mut BigPair) -> usize {
-    let now = Timestamp::ZERO;
-    let mut got = 0;
-    let mut take = |client: &mut Client<&'static [u8]>| {
-        while let Some(e) = client.poll_event() {
-            if let ClientEvent::UploadData { data, .. } = e {
-                got += black_box(data.as_slice()).len();
-            }
-        }
-    };
-    loop {
-        let mut moved = false;
-        while let Some(req) = client.poll_transmit() {
-            moved = true;
-            server.handle_frame(now, &req);
-            while server.poll_event().is_some() {}
-            while let Some(resp) = server.poll_transmit() {
-                client.handle_frame(now, &resp);
-                take(client);
-            }
-        }
-        while let Some(resp) = server.poll_transmit() {
-            moved = true;
-            client.handle_frame(now, &resp);
-            take(client);
-        }
-        if !moved {
-            break;
-        }
-    }
-    got
+/// A pair over one domain at 2000h:00 of up to 64 KiB (allocated once,
+/// before the loop), `len` bytes of it set.
+fn big_pair(len: usize) -> Pair<Vec<u8>> {
+    Pair::new(DomainOd::new(vec![0x5A; BIG], len))
 }
 
 fn block_vs_segmented(c: &mut Criterion) {
@@ -87,33 +38,34 @@ fn block_vs_segmented(c: &mut Criterion) {
         g.bench_function("segmented_upload", |b| {
             let mut p = big_pair(len);
             b.iter(|| {
-                p.0.start_upload(Timestamp::ZERO, 0x2000, 0).unwrap();
-                assert_eq!(run_any(&mut p), len);
+                p.start(|c, now| c.start_upload(now, 0x2000, 0)).unwrap();
+                assert_eq!(p.run(), len);
             })
         });
         g.bench_function("block_upload", |b| {
             let mut p = big_pair(len);
             b.iter(|| {
-                p.0.start_block_upload(Timestamp::ZERO, 0x2000, 0).unwrap();
-                assert_eq!(run_any(&mut p), len);
+                p.start(|c, now| c.start_block_upload(now, 0x2000, 0))
+                    .unwrap();
+                assert_eq!(p.run(), len);
             })
         });
         g.bench_function("segmented_download", |b| {
             let mut p = big_pair(len);
             b.iter(|| {
-                p.0.start_download(Timestamp::ZERO, 0x2000, 0, data)
+                p.start(|c, now| c.start_download(now, 0x2000, 0, data))
                     .unwrap();
-                run_any(&mut p);
-                assert_eq!(p.1.od().len, len);
+                p.run();
+                assert_eq!(p.od().len, len);
             })
         });
         g.bench_function("block_download", |b| {
             let mut p = big_pair(len);
             b.iter(|| {
-                p.0.start_block_download(Timestamp::ZERO, 0x2000, 0, data)
+                p.start(|c, now| c.start_block_download(now, 0x2000, 0, data))
                     .unwrap();
-                run_any(&mut p);
-                assert_eq!(p.1.od().len, len);
+                p.run();
+                assert_eq!(p.od().len, len);
             })
         });
         g.finish();

@@ -1,13 +1,16 @@
 //! The in-memory SDO client/server pair of the `sdo` bench and the
-//! `sdo_count` profiling harness: one 1000-byte domain at 2000h:00 in a
-//! fixed buffer (no allocation anywhere in the loop); the `sdo` bench's
+//! `sdo_count` profiling harness, on the library's simulated bus
+//! (`canopen_codec::sim::bus::Bus`, no latency, no log): one 1000-byte
+//! domain at 2000h:00 in a fixed buffer (no allocation in the loop once
+//! the bus's queues have grown to a transfer's size); the `sdo` bench's
 //! 64 KiB domain is the same dictionary over a `Vec`.
 
 use std::hint::black_box;
+use std::time::Duration;
 
-use canopen_codec::machine::Machine;
 use canopen_codec::od::{Access, ObjectDictionary, ObjectInfo, SizeRule};
 use canopen_codec::sdo::{AbortCode, Client, ClientConfig, ClientEvent, Server, ServerConfig};
+use canopen_codec::sim::bus::{Bus, Handle};
 use canopen_codec::{NodeId, Timestamp};
 
 /// Bytes of the value.
@@ -71,53 +74,83 @@ impl<B: AsRef<[u8]> + AsMut<[u8]>> ObjectDictionary for DomainOd<B> {
     }
 }
 
-/// A client and the server it talks to (node 1).
-pub type Pair = (Client<&'static [u8]>, Server<FixedOd>);
+/// A client and the server it talks to (node 1) on a bus of their own.
+pub struct Pair<B: 'static = [u8; LEN]> {
+    pub bus: Bus,
+    pub client: Handle<Client<&'static [u8]>>,
+    pub server: Handle<Server<DomainOd<B>>>,
+}
+
+impl<B: AsRef<[u8]> + AsMut<[u8]> + 'static> Pair<B> {
+    /// A fresh pair whose server holds `od`.
+    pub fn new(od: DomainOd<B>) -> Self {
+        let node = NodeId::new(1).expect("node 1");
+        let mut bus = Bus::new(Duration::ZERO);
+        bus.set_logging(false);
+        let client = bus.add("client", Client::new(ClientConfig::for_server(node)));
+        let server = bus.add("server", Server::new(ServerConfig::for_node(node), od));
+        Pair {
+            bus,
+            client,
+            server,
+        }
+    }
+
+    /// Starts a transfer on the client at the bus's time.
+    pub fn start<R>(
+        &mut self,
+        command: impl FnOnce(&mut Client<&'static [u8]>, Timestamp) -> R,
+    ) -> R {
+        let c = self.client;
+        self.bus.with(c, command).expect("the client is plugged")
+    }
+
+    /// Runs the started transfer to its end (every frame delivered as soon
+    /// as it is sent); returns the bytes uploaded.
+    pub fn run(&mut self) -> usize {
+        self.bus
+            .drive_bounded(1_000_000)
+            .expect("the transfer ends");
+        let got = self
+            .bus
+            .events(self.client)
+            .iter()
+            .map(|(_, e)| match e {
+                ClientEvent::UploadData { data, .. } => black_box(data.as_slice()).len(),
+                _ => 0,
+            })
+            .sum();
+        self.bus.clear_events();
+        got
+    }
+
+    /// The server's dictionary.
+    pub fn od(&self) -> &DomainOd<B> {
+        self.bus
+            .machine(self.server)
+            .expect("the server is plugged")
+            .od()
+    }
+}
 
 /// A fresh pair; the server holds a 1000-byte value.
 pub fn pair() -> Pair {
-    let node = NodeId::new(1).expect("node 1");
-    (
-        Client::new(ClientConfig::for_server(node)),
-        Server::new(
-            ServerConfig::for_node(node),
-            DomainOd::new([0x5A; LEN], LEN),
-        ),
-    )
-}
-
-/// Runs the started transfer to its end; returns the bytes uploaded.
-pub fn run((client, server): &mut Pair) -> usize {
-    let now = Timestamp::ZERO;
-    let mut got = 0;
-    while let Some(req) = client.poll_transmit() {
-        server.handle_frame(now, &req);
-        while server.poll_event().is_some() {}
-        if let Some(resp) = server.poll_transmit() {
-            client.handle_frame(now, &resp);
-        }
-        while let Some(e) = client.poll_event() {
-            if let ClientEvent::UploadData { data, .. } = e {
-                got += black_box(data.as_slice()).len();
-            }
-        }
-    }
-    got
+    Pair::new(DomainOd::new([0x5A; LEN], LEN))
 }
 
 /// One whole 1000-byte upload (initiate included).
 #[inline(never)]
 pub fn upload(p: &mut Pair) {
-    p.0.start_upload(Timestamp::ZERO, 0x2000, 0)
+    p.start(|c, now| c.start_upload(now, 0x2000, 0))
         .expect("client idle");
-    assert_eq!(run(p), LEN);
+    assert_eq!(p.run(), LEN);
 }
 
 /// One whole 1000-byte download (initiate included).
 #[inline(never)]
 pub fn download(p: &mut Pair) {
-    p.0.start_download(Timestamp::ZERO, 0x2000, 0, &DATA[..])
+    p.start(|c, now| c.start_download(now, 0x2000, 0, &DATA[..]))
         .expect("client idle");
-    run(p);
-    assert_eq!(p.1.od().len, LEN);
+    p.run();
+    assert_eq!(p.od().len, LEN);
 }
