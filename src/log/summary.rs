@@ -270,6 +270,23 @@ impl Summary {
             }
             out.push(']');
         }
+        // `[{"<first>":<t>,"<second>":..},..]` of `items`, `value` writing
+        // each second field.
+        fn timed<V>(
+            out: &mut String,
+            items: &[(Timestamp, V)],
+            first: &str,
+            second: &str,
+            value: &dyn Fn(&mut String, &V),
+        ) {
+            list(out, items.len(), &mut |out, i| {
+                if let Some((t, v)) = items.get(i) {
+                    let _ = write!(out, "{{\"{first}\":{t},\"{second}\":");
+                    value(out, v);
+                    out.push('}');
+                }
+            });
+        }
         out.push_str("{\"kind\":\"summary\",\"nodes\":");
         let nodes: Vec<(&u8, &Node)> = self.nodes.iter().collect();
         list(out, nodes.len(), &mut |out, i| {
@@ -285,37 +302,17 @@ impl Summary {
             }
             let _ = write!(out, ",\"largest_gap_ms\":{}", n.largest_gap / 1000);
             out.push_str(",\"states\":");
-            list(out, n.transitions.len(), &mut |out, i| {
-                if let Some((t, st)) = n.transitions.get(i) {
-                    out.push_str("{\"t\":");
-                    secs(out, *t);
-                    out.push_str(",\"state\":");
-                    text(out, &st.to_string());
-                    out.push('}');
-                }
+            timed(out, &n.transitions, "t", "state", &|out, st| {
+                text(out, &st.to_string())
             });
             out.push_str(",\"boot_ups\":");
-            list(out, n.boot_ups.len(), &mut |out, i| {
-                if let Some((t, after)) = n.boot_ups.get(i) {
-                    out.push_str("{\"t\":");
-                    secs(out, *t);
-                    out.push_str(",\"after\":");
-                    opt_text(out, *after);
-                    out.push('}');
-                }
+            timed(out, &n.boot_ups, "t", "after", &|out, after| {
+                opt_text(out, *after)
             });
             out.push_str(",\"silences\":");
-            list(out, n.silences.len(), &mut |out, i| {
-                if let Some((from, to)) = n.silences.get(i) {
-                    out.push_str("{\"from\":");
-                    secs(out, *from);
-                    out.push_str(",\"to\":");
-                    match to {
-                        Some(t) => secs(out, *t),
-                        None => out.push_str("null"),
-                    }
-                    out.push('}');
-                }
+            timed(out, &n.silences, "from", "to", &|out, to| match to {
+                Some(t) => secs(out, *t),
+                None => out.push_str("null"),
             });
             out.push_str(",\"emcys\":");
             list(out, n.emcys.len(), &mut |out, i| {

@@ -203,12 +203,7 @@ pub fn compare(
             words,
         })
     };
-    let ids: BTreeSet<u16> = rec
-        .traffic
-        .keys()
-        .chain(dev.traffic.keys())
-        .copied()
-        .collect();
+    let ids = either(&rec.traffic, &dev.traffic);
     for id in ids {
         match (rec.traffic.get(&id), dev.traffic.get(&id)) {
             (Some(r), None) => push(
@@ -263,12 +258,7 @@ pub fn compare(
             (None, None) => {}
         }
     }
-    let nodes: BTreeSet<u8> = rec
-        .states
-        .keys()
-        .chain(dev.states.keys())
-        .copied()
-        .collect();
+    let nodes = either(&rec.states, &dev.states);
     for node in nodes {
         let (r, v) = (
             rec.states.get(&node).cloned().unwrap_or_default(),
@@ -298,7 +288,7 @@ pub fn compare(
             );
         }
     }
-    let ids: BTreeSet<u16> = rec.emcys.keys().chain(dev.emcys.keys()).copied().collect();
+    let ids = either(&rec.emcys, &dev.emcys);
     for id in ids {
         let (r, v) = (
             rec.emcys.get(&id).cloned().unwrap_or_default(),
@@ -440,6 +430,12 @@ fn pdo_values(
         })
         .collect();
     (fields, unfit)
+}
+
+/// The keys of two maps, the recording's and the device's, in order, once:
+/// what either side has, so that what one side lacks is compared too.
+fn either<K: Ord + Copy, A, B>(rec: &BTreeMap<K, A>, dev: &BTreeMap<K, B>) -> BTreeSet<K> {
+    rec.keys().chain(dev.keys()).copied().collect()
 }
 
 #[cfg(test)]
