@@ -19,6 +19,7 @@ use crate::od::index::{
     SYNCHRONOUS_WINDOW_LENGTH, TPDO_COMMUNICATION, TPDO_COMMUNICATION_LAST, TPDO_MAPPING,
     TPDO_MAPPING_LAST,
 };
+use crate::od::{comm, Address};
 use crate::pdo::{Catalogue, MappingEntry};
 use std::prelude::rust_2021::*;
 
@@ -349,6 +350,27 @@ fn decimal(v: u64) -> String {
     v.to_string()
 }
 
+/// `bytes` of the entry `address` of the communication table
+/// ([`comm::COMM_OBJECTS`]): named and sized by its row, explained by
+/// `meaning`.
+fn from_row(
+    address: Address,
+    bytes: &[u8],
+    exact: bool,
+    meaning: impl Fn(u64) -> String,
+) -> Described {
+    match comm::find(address) {
+        Some(row) => unsigned(
+            Described::named(row.short),
+            bytes,
+            usize::from(row.size()),
+            exact,
+            meaning,
+        ),
+        None => Described::named(format!("{address:#}")),
+    }
+}
+
 /// Names and explains `bytes` of `index`:`sub` in the communication
 /// profile area; `None` outside it. `exact` is false for an expedited value
 /// with s = 0.
@@ -367,47 +389,46 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
         d
     };
     let bytes_only = |name: String| Described::named(name);
+    // An entry of the communication table (od::comm) at sub-index `$sub`
+    // of `index`: its decoder name and size from its row, `$meaning` from
+    // here.
+    macro_rules! row {
+        ($sub:expr, $meaning:expr $(,)?) => {
+            from_row(Address::new(index, $sub), bytes, exact, $meaning)
+        };
+    }
     let d = match (index, sub) {
-        (DEVICE_TYPE, 0) => unsigned(Described::named("device type"), bytes, 4, exact, |v| {
-            device_type(v as u32, ctx.deltaq_on_bus)
-        }),
-        (ERROR_REGISTER, 0) => unsigned(Described::named("error register"), bytes, 1, exact, |v| {
-            error_register(v as u8)
-        }),
+        (DEVICE_TYPE, 0) => row!(sub, |v| device_type(v as u32, ctx.deltaq_on_bus)),
+        (ERROR_REGISTER, 0) => row!(sub, |v| error_register(v as u8)),
         (0x1002, 0) => num("manufacturer status register".into(), 4, hex32),
-        (PRE_DEFINED_ERROR_FIELD, 0) => num("number of errors".into(), 1, decimal),
-        (PRE_DEFINED_ERROR_FIELD, _) => unsigned(
-            Described::named("pre-defined error field"),
-            bytes,
-            4,
-            exact,
-            |v| error_field(v as u32, ctx.role),
-        ),
-        (COB_ID_SYNC, 0) => unsigned(Described::named("COB-ID SYNC"), bytes, 4, exact, |v| {
-            cob_id_sync(v as u32)
-        }),
+        (PRE_DEFINED_ERROR_FIELD, 0) => row!(0, decimal),
+        // Every sub-index past 0 is read as an entry, 255 too.
+        (PRE_DEFINED_ERROR_FIELD, _) => row!(1, |v| error_field(v as u32, ctx.role)),
+        (COB_ID_SYNC, 0) => row!(sub, |v| cob_id_sync(v as u32)),
         (COMMUNICATION_CYCLE_PERIOD, 0) => {
-            num("communication cycle period".into(), 4, |v| match v {
+            row!(sub, |v| match v {
                 0 => "0 us (no SYNC produced)".into(),
                 v => us(v),
             })
         }
-        (SYNCHRONOUS_WINDOW_LENGTH, 0) => num("synchronous window length".into(), 4, |v| match v {
+        (SYNCHRONOUS_WINDOW_LENGTH, 0) => row!(sub, |v| match v {
             0 => "0 us (no window)".into(),
             v => us(v),
         }),
-        (MANUFACTURER_DEVICE_NAME, 0) => text("manufacturer device name"),
+        (MANUFACTURER_DEVICE_NAME, 0) => {
+            text(comm::find(Address::index(index)).map_or("", |r| r.short))
+        }
         (MANUFACTURER_HARDWARE_VERSION, 0) => text("manufacturer hardware version"),
         (MANUFACTURER_SOFTWARE_VERSION, 0) => text("manufacturer software version"),
-        (GUARD_TIME, 0) => num("guard time".into(), 2, |v| match v {
+        (GUARD_TIME, 0) => row!(sub, |v| match v {
             0 => "0 ms (no node guarding)".into(),
             v => ms(v),
         }),
-        (LIFE_TIME_FACTOR, 0) => num("life time factor".into(), 1, |v| match v {
+        (LIFE_TIME_FACTOR, 0) => row!(sub, |v| match v {
             0 => "0 (no life guarding)".into(),
             v => format!("node life time = {v} x guard time"),
         }),
-        (STORE_PARAMETERS, 0) => highest("store parameters"),
+        (STORE_PARAMETERS, 0) => row!(0, decimal),
         (STORE_PARAMETERS, _) => unsigned(
             Described::named(format!("store parameters: {}", parameter_group(sub))),
             bytes,
@@ -415,7 +436,7 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
             exact,
             |v| store_restore(v, SAVE, "saves"),
         ),
-        (RESTORE_DEFAULT_PARAMETERS, 0) => highest("restore default parameters"),
+        (RESTORE_DEFAULT_PARAMETERS, 0) => row!(0, decimal),
         (RESTORE_DEFAULT_PARAMETERS, _) => unsigned(
             Described::named(format!(
                 "restore default parameters: {}",
@@ -426,16 +447,15 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
             exact,
             |v| store_restore(v, LOAD, "restores"),
         ),
-        (COB_ID_TIME, 0) => unsigned(Described::named("COB-ID TIME"), bytes, 4, exact, |v| {
-            cob_id_time(v as u32)
-        }),
+        (COB_ID_TIME, 0) => row!(sub, |v| cob_id_time(v as u32)),
         (0x1013, 0) => num("high resolution time stamp".into(), 4, us),
         (COB_ID_EMCY, 0) => unsigned(Described::named("COB-ID EMCY"), bytes, 4, exact, |v| {
             cob_id(v as u32, "reserved bit 30")
         }),
         (INHIBIT_TIME_EMCY, 0) => num("inhibit time EMCY".into(), 2, times_100us),
-        (CONSUMER_HEARTBEAT_TIME, 0) => highest("consumer heartbeat time"),
-        (CONSUMER_HEARTBEAT_TIME, _) => num("consumer heartbeat time".into(), 4, |v| {
+        (CONSUMER_HEARTBEAT_TIME, 0) => row!(0, decimal),
+        // Every sub-index past 0 is read as an entry, 128-255 too.
+        (CONSUMER_HEARTBEAT_TIME, _) => row!(1, |v| {
             let (node, ms) = ((v >> 16) & 0xFF, v & 0xFFFF);
             if node == 0 || ms == 0 {
                 format!("disabled (node {node}, {ms} ms)")
@@ -444,7 +464,7 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
             }
         }),
         (PRODUCER_HEARTBEAT_TIME, 0) => {
-            let mut d = num("producer heartbeat time".into(), 2, |v| match v {
+            let mut d = row!(sub, |v| match v {
                 0 => "disabled".into(),
                 v => ms(v),
             });
@@ -453,25 +473,13 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
             }
             d
         }
-        (IDENTITY, 0) => highest("identity"),
-        (IDENTITY, 1..=4) => {
-            let name = [
-                "identity vendor-ID",
-                "identity product code",
-                "identity revision number",
-                "identity serial number",
-            ][usize::from(sub - 1)];
-            num(name.into(), 4, hex32)
-        }
-        (SYNCHRONOUS_COUNTER_OVERFLOW, 0) => num(
-            "synchronous counter overflow value".into(),
-            1,
-            |v| match v {
-                0 => "0 (SYNC without counter)".into(),
-                2..=240 => format!("counter counts 1 to {v}"),
-                _ => format!("{v} (reserved)"),
-            },
-        ),
+        (IDENTITY, 0) => row!(0, decimal),
+        (IDENTITY, 1..=4) => row!(sub, hex32),
+        (SYNCHRONOUS_COUNTER_OVERFLOW, 0) => row!(sub, |v| match v {
+            0 => "0 (SYNC without counter)".into(),
+            2..=240 => format!("counter counts 1 to {v}"),
+            _ => format!("{v} (reserved)"),
+        }),
         (0x1020, 0) => highest("verify configuration"),
         (0x1020, 1) => num(
             "verify configuration: configuration date".into(),
@@ -715,6 +723,20 @@ mod tests {
         }
         assert!(describe(0x2000, 0, &[0], CTX, true).is_none());
         assert!(describe(0x0FFF, 0, &[0], CTX, true).is_none());
+    }
+
+    #[test]
+    fn the_tables_entries_are_named_and_sized_by_their_rows() {
+        let name = |index, sub, bytes: &[u8]| meaning(index, sub, bytes).0;
+        assert_eq!(name(0x1018, 2, &[0; 4]), "identity product code");
+        assert_eq!(name(0x1018, 0, &[4]), "identity: highest sub-index");
+        // Past the rows' runs the entries keep their names.
+        assert_eq!(name(0x1003, 255, &[0; 4]), "pre-defined error field");
+        assert_eq!(name(0x1016, 200, &[0; 4]), "consumer heartbeat time");
+        assert_eq!(meaning(0x1017, 0, &[0xE8, 3]).1, "1000 ms");
+        assert_eq!(meaning(0x1017, 0, &[0xE8, 3, 0, 0]).1, "4 bytes, the object has 2");
+        assert_eq!(meaning(0x1019, 0, &[10, 0]).1, "2 bytes, the object has 1");
+        assert_eq!(name(0x1008, 0, b"x"), "manufacturer device name");
     }
 
     #[test]
