@@ -415,11 +415,12 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
             0 => "0 us (no window)".into(),
             v => us(v),
         }),
-        (MANUFACTURER_DEVICE_NAME, 0) => {
-            text(comm::find(Address::index(index)).map_or("", |r| r.short))
-        }
-        (MANUFACTURER_HARDWARE_VERSION, 0) => text("manufacturer hardware version"),
-        (MANUFACTURER_SOFTWARE_VERSION, 0) => text("manufacturer software version"),
+        (
+            MANUFACTURER_DEVICE_NAME
+            | MANUFACTURER_HARDWARE_VERSION
+            | MANUFACTURER_SOFTWARE_VERSION,
+            0,
+        ) => text(comm::find(Address::index(index)).map_or("", |r| r.short)),
         (GUARD_TIME, 0) => row!(sub, |v| match v {
             0 => "0 ms (no node guarding)".into(),
             v => ms(v),
@@ -449,10 +450,8 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
         ),
         (COB_ID_TIME, 0) => row!(sub, |v| cob_id_time(v as u32)),
         (0x1013, 0) => num("high resolution time stamp".into(), 4, us),
-        (COB_ID_EMCY, 0) => unsigned(Described::named("COB-ID EMCY"), bytes, 4, exact, |v| {
-            cob_id(v as u32, "reserved bit 30")
-        }),
-        (INHIBIT_TIME_EMCY, 0) => num("inhibit time EMCY".into(), 2, times_100us),
+        (COB_ID_EMCY, 0) => row!(sub, |v| cob_id(v as u32, "reserved bit 30")),
+        (INHIBIT_TIME_EMCY, 0) => row!(sub, times_100us),
         (CONSUMER_HEARTBEAT_TIME, 0) => row!(0, decimal),
         // Every sub-index past 0 is read as an entry, 128-255 too.
         (CONSUMER_HEARTBEAT_TIME, _) => row!(1, |v| {
@@ -522,7 +521,7 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
             exact,
             |v| cob_id(v as u32, "reserved bit 30"),
         ),
-        (ERROR_BEHAVIOUR, 0) => highest("error behaviour"),
+        (ERROR_BEHAVIOUR, 0) => row!(sub, decimal),
         (ERROR_BEHAVIOUR, _) => {
             let what = match sub {
                 1 => "communication error".to_string(),
@@ -734,9 +733,18 @@ mod tests {
         assert_eq!(name(0x1003, 255, &[0; 4]), "pre-defined error field");
         assert_eq!(name(0x1016, 200, &[0; 4]), "consumer heartbeat time");
         assert_eq!(meaning(0x1017, 0, &[0xE8, 3]).1, "1000 ms");
-        assert_eq!(meaning(0x1017, 0, &[0xE8, 3, 0, 0]).1, "4 bytes, the object has 2");
+        assert_eq!(
+            meaning(0x1017, 0, &[0xE8, 3, 0, 0]).1,
+            "4 bytes, the object has 2"
+        );
         assert_eq!(meaning(0x1019, 0, &[10, 0]).1, "2 bytes, the object has 1");
         assert_eq!(name(0x1008, 0, b"x"), "manufacturer device name");
+        assert_eq!(name(0x100A, 0, b"x"), "manufacturer software version");
+        assert_eq!(
+            meaning(0x1015, 0, &[3, 0]),
+            ("inhibit time EMCY".into(), "300 us".into())
+        );
+        assert_eq!(name(0x1029, 0, &[1]), "error behaviour: highest sub-index");
     }
 
     #[test]

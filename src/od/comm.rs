@@ -26,11 +26,12 @@
 //! ```
 
 use super::index::{
-    COB_ID_SYNC, COB_ID_TIME, COMMUNICATION_CYCLE_PERIOD, CONSUMER_HEARTBEAT_TIME, DEVICE_TYPE,
-    ERROR_REGISTER, GUARD_TIME, IDENTITY, LIFE_TIME_FACTOR, MANUFACTURER_DEVICE_NAME,
-    PRE_DEFINED_ERROR_FIELD, PRODUCER_HEARTBEAT_TIME, RESTORE_DEFAULT_PARAMETERS,
-    RPDO_COMMUNICATION, RPDO_COMMUNICATION_LAST, RPDO_MAPPING, RPDO_MAPPING_LAST,
-    SDO_SERVER_PARAMETER, STORE_PARAMETERS, SYNCHRONOUS_COUNTER_OVERFLOW,
+    COB_ID_EMCY, COB_ID_SYNC, COB_ID_TIME, COMMUNICATION_CYCLE_PERIOD, CONSUMER_HEARTBEAT_TIME,
+    DEVICE_TYPE, ERROR_BEHAVIOUR, ERROR_REGISTER, GUARD_TIME, IDENTITY, INHIBIT_TIME_EMCY,
+    LIFE_TIME_FACTOR, MANUFACTURER_DEVICE_NAME, MANUFACTURER_HARDWARE_VERSION,
+    MANUFACTURER_SOFTWARE_VERSION, PRE_DEFINED_ERROR_FIELD, PRODUCER_HEARTBEAT_TIME,
+    RESTORE_DEFAULT_PARAMETERS, RPDO_COMMUNICATION, RPDO_COMMUNICATION_LAST, RPDO_MAPPING,
+    RPDO_MAPPING_LAST, SDO_SERVER_PARAMETER, STORE_PARAMETERS, SYNCHRONOUS_COUNTER_OVERFLOW,
     SYNCHRONOUS_WINDOW_LENGTH, TPDO_COMMUNICATION, TPDO_COMMUNICATION_LAST, TPDO_MAPPING,
     TPDO_MAPPING_LAST,
 };
@@ -132,7 +133,11 @@ const fn joined<const N: usize>(parts: &[&[ObjectRow]]) -> [ObjectRow; N] {
     out
 }
 
-/// The objects the device core serves (1000h-1200h), in index order.
+/// The objects of 1000h-1200h, in index order: those the device core
+/// serves, and the error behaviour, EMCY and version objects it does not
+/// but a log analysis names. A value that depends on the node id (1014h,
+/// 1200h sub 1 and 2: 80h, 600h, 580h + node id) has no power-on value in
+/// its row.
 const SINGLE_OBJECTS: &[ObjectRow] = &[
     ObjectRow::var(DEVICE_TYPE, "Device type", U32, Const).short("device type"),
     ObjectRow::var(ERROR_REGISTER, "Error register", U8, Ro).short("error register"),
@@ -166,6 +171,20 @@ const SINGLE_OBJECTS: &[ObjectRow] = &[
         Const,
     )
     .short("manufacturer device name"),
+    ObjectRow::var(
+        MANUFACTURER_HARDWARE_VERSION,
+        "Manufacturer hardware version",
+        DataType::VisibleString,
+        Const,
+    )
+    .short("manufacturer hardware version"),
+    ObjectRow::var(
+        MANUFACTURER_SOFTWARE_VERSION,
+        "Manufacturer software version",
+        DataType::VisibleString,
+        Const,
+    )
+    .short("manufacturer software version"),
     ObjectRow::var(GUARD_TIME, "Guard time", U16, Rw).short("guard time"),
     ObjectRow::var(LIFE_TIME_FACTOR, "Life time factor", U8, Rw).short("life time factor"),
     highest(
@@ -217,6 +236,8 @@ const SINGLE_OBJECTS: &[ObjectRow] = &[
     ObjectRow::var(COB_ID_TIME, "COB-ID time stamp object", U32, Rw)
         .short("COB-ID TIME")
         .default(TIME as u32),
+    ObjectRow::var(COB_ID_EMCY, "COB-ID EMCY", U32, Rw).short("COB-ID EMCY"),
+    ObjectRow::var(INHIBIT_TIME_EMCY, "Inhibit time EMCY", U16, Rw).short("inhibit time EMCY"),
     highest(
         CONSUMER_HEARTBEAT_TIME,
         "Consumer heartbeat time",
@@ -255,6 +276,15 @@ const SINGLE_OBJECTS: &[ObjectRow] = &[
     )
     .short("synchronous counter overflow value"),
     highest(
+        ERROR_BEHAVIOUR,
+        "Error behavior object",
+        Array,
+        Const,
+        "error behaviour: highest sub-index",
+    ),
+    at(ERROR_BEHAVIOUR, 1, "Communication error", U8, Rw),
+    at(ERROR_BEHAVIOUR, 2, "Error class", U8, Rw).through(0xFE),
+    highest(
         SDO_SERVER_PARAMETER,
         "SDO server parameter",
         Record,
@@ -288,8 +318,10 @@ const ROWS: usize = SINGLE_OBJECTS.len()
 
 /// The CiA 301 communication objects: those of the device core (1000h,
 /// 1001h, 1003h, 1005h-1008h, 100Ch, 100Dh, 1010h, 1011h, 1012h,
-/// 1016h-1019h, 1200h) and the PDO communication and mapping parameters
-/// (1400h-1BFFh), in index order (see the [module docs](self)).
+/// 1016h-1019h, 1200h), the version, EMCY and error behaviour objects
+/// (1009h, 100Ah, 1014h, 1015h, 1029h) and the PDO communication and
+/// mapping parameters (1400h-1BFFh), in index order (see the
+/// [module docs](self)).
 pub const COMM_OBJECTS: &[ObjectRow] = &joined::<ROWS>(&[
     SINGLE_OBJECTS,
     &RPDO_COMMUNICATION_ROWS,
