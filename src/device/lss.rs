@@ -15,17 +15,17 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
     ///
     /// ```
     /// # #[cfg(feature = "alloc")] {
-    /// use canopen_codec::device::{Cia301, Device, DeviceConfig};
+    /// use canopen_codec::device::{Cia301Device, DeviceConfig, ProfiledDevice};
     /// use canopen_codec::lss::{LssAddress, LssSlave, LssSlaveConfig};
     /// use canopen_codec::machine::Machine;
     /// use canopen_codec::od::MemoryDictionary;
     /// use canopen_codec::{CanFrame, NodeId, Timestamp};
     /// let lss = LssSlave::new(LssSlaveConfig::new(LssAddress::default(), None));
     /// let config = DeviceConfig::new(NodeId::MAX);
-    /// let mut dev: Device<Cia301<MemoryDictionary>> =
-    ///     Device::with_lss(config, MemoryDictionary::new(), lss);
+    /// let mut dev: Cia301Device<MemoryDictionary> =
+    ///     ProfiledDevice::plain_with_lss(config, MemoryDictionary::new(), lss);
     /// let t = Timestamp::ZERO;
-    /// dev.boot(t, &mut ());
+    /// dev.boot(t);
     /// assert_eq!(dev.poll_transmit(), None, "no boot-up without a node-ID");
     /// for data in [[0x04, 1, 0, 0, 0, 0, 0, 0], [0x11, 5, 0, 0, 0, 0, 0, 0], [0x04, 0, 0, 0, 0, 0, 0, 0]] {
     ///     dev.handle_frame(t, &CanFrame::standard(0x7E5, &data).unwrap());

@@ -10,16 +10,26 @@
 //!
 //! A device is named by one type, its [`DeviceSpec`] (application objects,
 //! events, power-on configuration), and its capacities (`Q`, `T`, `R`,
-//! with defaults). [`ProfiledDevice`] owns the core and a [`Profile`] and
-//! is the [`Machine`] of the crate's
-//! [state-machine contract](crate::machine): `boot` once at power-on, then
-//! `handle_frame` / `handle_timeout`, and drain `poll_transmit` after
-//! every call; the battery module and the charger are two of them. The
-//! core alone is driven the same way with the profile passed in
-//! ([`Device::boot`], [`Device::handle_frame_with`],
-//! [`Device::handle_timeout_with`], [`Device::poll_transmit_with`]);
-//! `Device<Cia301<A>>` with no profile (`()`) implements [`Machine`]
-//! itself: a plain CiA 301 slave over any dictionary `A`.
+//! with defaults). **Every device is driven one way: as a
+//! [`ProfiledDevice`]**, the core and its [`Profile`] as one [`Machine`] of
+//! the crate's [state-machine contract](crate::machine): `boot` once at
+//! power-on, then `handle_frame` / `handle_timeout`, and drain
+//! `poll_transmit` (and `poll_event`) after every call. The battery module
+//! ([`BatteryModule`](crate::cia418::BatteryModule)), the charger
+//! ([`Charger`](crate::deltaq::Charger)), a profile of one's own
+//! ([`ProfiledDevice::from_parts`]) and the plain CiA 301 slave over any
+//! dictionary `A` ([`Cia301Device`], made by [`ProfiledDevice::plain`])
+//! are all of that type. Why one way: the core's inputs and outputs need
+//! the profile at every call (its hooks see every frame, event and
+//! timeout, its frames and deadline join the core's), so a core driven
+//! apart from its profile, or a profile's inputs called beside the
+//! machine, could miss one; with one driver, one loop (and one test
+//! harness) drives any device, and a firmware carries one copy of the
+//! plumbing. The core ([`Device`], reached through `Deref`/`DerefMut`)
+//! keeps its getters and commands (`update`, `raise_error`,
+//! `set_nmt_state`, ...); its per-call plumbing with the profile passed
+//! in is private. A profile's own inputs (the charger's power stage) are
+//! inherent commands of its `ProfiledDevice`.
 //!
 //! `poll_transmit` order: heartbeat and boot-up, then EMCY and the
 //! profile's queued frames, then SDO responses, then the profile's own
@@ -135,8 +145,6 @@
 //! dictionary, which may add communication objects of its own; the PDO
 //! objects (1400h-1A03h) are served by [`PdoDictionary`] above both.
 
-use core::mem::MaybeUninit;
-
 mod config;
 #[cfg(feature = "heartbeat-consumer")]
 mod consumer;
@@ -162,7 +170,7 @@ pub use config::{DeviceConfig, Policies, PowerOn};
 pub use objects::MAX_CONSUMERS;
 pub use objects::{CommObjects, DeviceObjects, ErrorFieldFormat, Identity, ERROR_HISTORY_LEN};
 pub use profile::{DeviceEvent, DeviceSpec, Profile};
-pub use profiled::{Cia301, DeviceSetup, ProfiledDevice};
+pub use profiled::{Cia301, Cia301Device, DeviceSetup, ProfiledDevice};
 #[cfg(feature = "program-download")]
 pub use program_objects::{ProgramObjects, ProgramStoreRef};
 pub use snapshot::PowerOnValues;
@@ -210,21 +218,8 @@ pub const DEFAULT_QUEUE_CAPACITY: usize = 16;
 
 /// The CiA 301 device core. See the [module docs](self).
 ///
-/// ```
-/// # #[cfg(feature = "alloc")] {
-/// use canopen_codec::device::{Cia301, Device, DeviceConfig};
-/// use canopen_codec::machine::Machine;
-/// use canopen_codec::od::MemoryDictionary;
-/// use canopen_codec::{CanFrame, NodeId, Timestamp};
-/// let config = DeviceConfig::new(NodeId::new(3).unwrap());
-/// let mut dev: Device<Cia301<MemoryDictionary>> = Device::new(config, MemoryDictionary::new());
-/// dev.boot(Timestamp::ZERO, &mut ());
-/// assert_eq!(dev.poll_transmit().unwrap().to_string(), "703#00");
-/// // An SDO upload of 1017h: 1000 ms.
-/// dev.handle_frame(Timestamp::ZERO, &CanFrame::standard(0x603, &[0x40, 0x17, 0x10, 0, 0, 0, 0, 0]).unwrap());
-/// assert_eq!(dev.poll_transmit().unwrap().to_string(), "583#4B171000E8030000");
-/// # }
-/// ```
+/// A core is driven with its profile, as a [`ProfiledDevice`] (see the
+/// [module docs](self) and [`Cia301Device`] for a plain one).
 ///
 /// `A` is the application's dictionary; what reset node restores of it is
 /// its [`PowerOnValues`] (taken at [`boot`](Self::boot)).
@@ -322,29 +317,6 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
     /// booted.
     pub fn new(config: S::PowerOn, app: S::Objects) -> Self {
         let mut device = Self::blank(config, app);
-        device.load_power_on();
-        device
-    }
-
-    /// [`new`](Self::new) built in `slot` (e.g. a firmware's static): the
-    /// blank device is written there and its power-on values are loaded in
-    /// place, so the whole device is not built elsewhere and moved.
-    ///
-    /// ```
-    /// # #[cfg(feature = "alloc")] {
-    /// use core::mem::MaybeUninit;
-    /// use canopen_codec::device::{Cia301, Device, DeviceConfig};
-    /// use canopen_codec::od::MemoryDictionary;
-    /// use canopen_codec::NodeId;
-    /// let mut slot = MaybeUninit::uninit();
-    /// let config = DeviceConfig::new(NodeId::new(3).unwrap());
-    /// let dev: &mut Device<Cia301<MemoryDictionary>> =
-    ///     Device::new_in(&mut slot, config, MemoryDictionary::new());
-    /// assert_eq!((dev.node().raw(), dev.comm().heartbeat_ms), (3, 1000));
-    /// # }
-    /// ```
-    pub fn new_in(slot: &mut MaybeUninit<Self>, config: S::PowerOn, app: S::Objects) -> &mut Self {
-        let device = slot.write(Self::blank(config, app));
         device.load_power_on();
         device
     }
@@ -476,7 +448,8 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
     // ----- commands --------------------------------------------------------
 
     /// Boots the device (power-on): boot-up message, pre-operational. The
-    /// profile sees the state change (use `&mut ()` for a plain device).
+    /// profile sees the state change: what [`Profile::boot`] does (a
+    /// device is booted by [`ProfiledDevice::boot`]).
     pub fn boot<P: Profile<S, Q, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
         // The application's parameters as they are now are the power-on
         // values reset node restores.
@@ -625,7 +598,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
 
     /// Feeds a received frame: NMT, heartbeats of 1016h's nodes, SYNC, this
     /// node's SDO requests and RPDOs, then the profile's frames.
-    pub fn handle_frame_with<P: Profile<S, Q, T, R>>(
+    fn handle_frame_with<P: Profile<S, Q, T, R>>(
         &mut self,
         now: Timestamp,
         frame: &CanFrame,
@@ -660,7 +633,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
 
     /// Tells the device time has passed: heartbeat, supervision, SDO
     /// timeout, the profile's timers, TPDO timers.
-    pub fn handle_timeout_with<P: Profile<S, Q, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
+    fn handle_timeout_with<P: Profile<S, Q, T, R>>(&mut self, now: Timestamp, profile: &mut P) {
         if !self.nmt.is_running() {
             return;
         }
@@ -679,10 +652,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
 
     /// The next frame to send (order in the module docs).
     #[must_use]
-    pub fn poll_transmit_with<P: Profile<S, Q, T, R>>(
-        &mut self,
-        profile: &mut P,
-    ) -> Option<CanFrame> {
+    fn poll_transmit_with<P: Profile<S, Q, T, R>>(&mut self, profile: &mut P) -> Option<CanFrame> {
         // The order of the module docs: the first source with a frame.
         if let Some(frame) = self.heartbeat.poll_transmit() {
             return Some(frame);
@@ -709,7 +679,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
 
     /// The earliest deadline of the core's and the profile's timers.
     #[must_use]
-    pub fn poll_timeout_with<P: Profile<S, Q, T, R>>(&self, profile: &P) -> Option<Timestamp> {
+    fn poll_timeout_with<P: Profile<S, Q, T, R>>(&self, profile: &P) -> Option<Timestamp> {
         if !self.nmt.is_running() {
             return None;
         }
@@ -927,36 +897,6 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
             self.refresh_tpdos(now);
         }
     }
-}
-
-/// A plain CiA 301 device (no profile, `()`) is a machine itself.
-impl<S, const Q: usize, const T: usize, const R: usize> Machine for Device<S, Q, T, R>
-where
-    S: DeviceSpec<Event = DeviceEvent>,
-{
-    type Event = DeviceEvent;
-
-    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        self.handle_frame_with(now, frame, &mut ());
-    }
-
-    fn handle_timeout(&mut self, now: Timestamp) {
-        self.handle_timeout_with(now, &mut ());
-    }
-
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.poll_transmit_with(&mut ())
-    }
-
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        self.poll_timeout_with(&())
-    }
-
-    fn frames_dropped(&self) -> u64 {
-        self.transmit.dropped()
-    }
-
-    crate::machine::queued_outputs!(@events events);
 }
 
 #[cfg(test)]

@@ -143,8 +143,8 @@ pub enum DeviceEvent {
 
 /// What a profile adds to the device core of spec `S` (usually the
 /// profile itself, [`ProfiledDevice`](super::ProfiledDevice)). Every
-/// method has a default that does nothing more than the core, so `()` is
-/// the profile of a plain CiA 301 device. `Q` is the device's queue
+/// method has a default that does nothing more than the core, so
+/// [`Cia301`](super::Cia301) is the profile of a plain CiA 301 device. `Q` is the device's queue
 /// capacity, `T` and `R` its TPDO and RPDO counts (see [`Device`]).
 pub trait Profile<
     S: DeviceSpec,
@@ -211,5 +211,3 @@ pub trait Profile<
         })
     }
 }
-
-impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Profile<S, Q, T, R> for () {}

@@ -5,7 +5,7 @@
 use super::*;
 use crate::clock::Timestamp;
 use crate::cob_id::NodeId;
-use crate::device::{Cia301, Device, DeviceConfig, DeviceEvent, PowerOnValues};
+use crate::device::{Cia301Device, DeviceConfig, DeviceEvent, PowerOnValues, ProfiledDevice};
 use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::od::fixture::Word;
@@ -50,7 +50,7 @@ impl PowerOnValues for Unstorable {
     }
 }
 
-type Dev = Device<Cia301<App>>;
+type Dev = Cia301Device<App>;
 
 const NODE: u8 = 4;
 const T0: Timestamp = Timestamp::ZERO;
@@ -80,11 +80,11 @@ fn ram() -> &'static mut RamStorage {
 /// A device on `storage` (if any), booted, its boot frames and events
 /// drained.
 fn device(storage: Option<&'static mut dyn ParameterStorage>) -> Dev {
-    let mut d = Dev::new(config(), Word(0x0102));
+    let mut d = Dev::plain(config(), Word(0x0102));
     if let Some(s) = storage {
         d.set_storage(s);
     }
-    d.boot(T0, &mut ());
+    d.boot(T0);
     let _ = sent(&mut d);
     d
 }
@@ -246,10 +246,10 @@ fn subs_the_device_does_not_support() {
         abort(0x1010, 4, 0x0609_0011)
     );
     assert_eq!(upload(&mut d, 0x1011, 4), abort(0x1011, 4, 0x0609_0011));
-    let mut u: Device<Cia301<Unstorable>> = Device::new(config(), Word(1));
+    let mut u: Cia301Device<Unstorable> = ProfiledDevice::plain(config(), Word(1));
     u.set_storage(ram());
-    u.boot(T0, &mut ());
-    let answers = |u: &mut Device<Cia301<Unstorable>>, data: [u8; 8]| {
+    u.boot(T0);
+    let answers = |u: &mut Cia301Device<Unstorable>, data: [u8; 8]| {
         u.handle_frame(T0, &CanFrame::standard(0x604, &data).unwrap());
         core::iter::from_fn(|| u.poll_transmit())
             .map(|f| f.to_string())
@@ -404,9 +404,9 @@ fn corrupt_records_are_ignored() {
             error: RecordError::Truncated { need: 14, got: 13 },
         },
     ];
-    let mut d = Dev::new(config(), Word(0x0102));
+    let mut d = Dev::plain(config(), Word(0x0102));
     d.set_storage(Box::leak(Box::new(corrupt)));
-    d.boot(T0, &mut ());
+    d.boot(T0);
     assert_eq!(storage_events(&mut d), ignored);
     assert_eq!(changed(&d), DEFAULTS);
     nmt(&mut d, RESET_NODE);
@@ -495,9 +495,9 @@ fn a_failing_storage_aborts_with_06060000h() {
             Err(StorageError::Medium)
         }
     }
-    let mut d = Dev::new(config(), Word(0x0102));
+    let mut d = Dev::plain(config(), Word(0x0102));
     d.set_storage(Box::leak(Box::new(Broken)));
-    d.boot(T0, &mut ());
+    d.boot(T0);
     let _ = sent(&mut d);
     let failed = StorageEvent::Failed {
         group: ParameterGroup::Communication,
@@ -548,9 +548,9 @@ fn lss_store_configuration_uses_the_storage() {
         bytes[..2].copy_from_slice(&data);
         CanFrame::standard(0x7E5, &bytes).unwrap()
     };
-    let mut d = Dev::with_lss(config(), Word(0x0102), unconfigured());
+    let mut d = Dev::plain_with_lss(config(), Word(0x0102), unconfigured());
     d.set_storage(ram());
-    d.boot(T0, &mut ());
+    d.boot(T0);
     for data in [[0x04, 1], [0x11, 9], [0x17, 0]] {
         d.handle_frame(T0, &lss_frame(data));
     }
@@ -560,14 +560,14 @@ fn lss_store_configuration_uses_the_storage() {
     );
     assert!(storage_events(&mut d).contains(&StorageEvent::Stored(ParameterGroup::Lss)));
     let storage = d.take_storage().unwrap();
-    let mut again = Dev::with_lss(config(), Word(0x0102), unconfigured());
+    let mut again = Dev::plain_with_lss(config(), Word(0x0102), unconfigured());
     again.set_storage(storage);
-    again.boot(T0, &mut ());
+    again.boot(T0);
     assert_eq!(sent(&mut again), ["709#00"]);
     assert_eq!(again.node(), NodeId::new(9).unwrap());
     // Without a storage the request is the application's: no answer.
-    let mut plain = Dev::with_lss(config(), Word(0x0102), unconfigured());
-    plain.boot(T0, &mut ());
+    let mut plain = Dev::plain_with_lss(config(), Word(0x0102), unconfigured());
+    plain.boot(T0);
     for data in [[0x04, 1], [0x11, 9], [0x17, 0]] {
         plain.handle_frame(T0, &lss_frame(data));
     }

@@ -26,7 +26,7 @@ impl PowerOnValues for App {
     }
 }
 
-type Dev = Device<Cia301<App>>;
+type Dev = Cia301Device<App>;
 
 fn node() -> NodeId {
     NodeId::new(4).unwrap()
@@ -76,8 +76,8 @@ fn config() -> DeviceConfig {
 }
 
 fn booted() -> Dev {
-    let mut d = Dev::new(config(), Word(7));
-    d.boot(ms(0), &mut ());
+    let mut d = Dev::plain(config(), Word(7));
+    d.boot(ms(0));
     d
 }
 
@@ -90,8 +90,8 @@ fn entry(node: u8) -> ConsumerEntry {
 /// A booted device whose 1016h watches nodes 1 and 2 (1 s each).
 #[cfg(feature = "heartbeat-consumer")]
 fn watching_nodes_1_and_2() -> Dev {
-    let mut d = Dev::new(config().with_consumers(&[entry(1), entry(2)]), Word(7));
-    d.boot(ms(0), &mut ());
+    let mut d = Dev::plain(config().with_consumers(&[entry(1), entry(2)]), Word(7));
+    d.boot(ms(0));
     d
 }
 
@@ -123,11 +123,11 @@ fn sdo_write_u8(d: &mut Dev, now: Timestamp, index: u16, value: u8) {
 
 #[test]
 fn nothing_before_boot_then_boot_up_and_pre_operational() {
-    let mut d = Dev::new(config(), Word(7));
+    let mut d = Dev::plain(config(), Word(7));
     d.handle_frame(ms(0), &frame(0x000, &[0x01, 0x04]));
     d.handle_timeout(ms(5000));
     assert_eq!((sent(&mut d), d.poll_timeout()), (Vec::new(), None));
-    d.boot(ms(0), &mut ());
+    d.boot(ms(0));
     assert_eq!(sent(&mut d), ["704#00"]);
     assert_eq!(d.nmt_state(), NmtState::PreOperational);
     assert_eq!(
@@ -342,8 +342,9 @@ fn a_dropped_download_is_aborted_in_the_dictionary() {
     for cs in [0x02u8, 0x82] {
         let mut od = MemoryDictionary::new();
         od.insert(0x2100, 0, Access::ReadWrite, &[0; 8]);
-        let mut d: Device<Cia301<MemoryDictionary>> = Device::new(DeviceConfig::new(node()), od);
-        d.boot(ms(0), &mut ());
+        let mut d: Cia301Device<MemoryDictionary> =
+            ProfiledDevice::plain(DeviceConfig::new(node()), od);
+        d.boot(ms(0));
         let _ = sent(&mut d);
         // Segmented download of 8 bytes: initiate, first segment.
         d.handle_frame(ms(1), &frame(0x604, &[0x21, 0x00, 0x21, 0, 8, 0, 0, 0]));
@@ -456,11 +457,12 @@ fn reset_node_restores_every_object_of_a_memory_dictionary() {
         let mut od = MemoryDictionary::new();
         od.insert(0x2000, 0, Access::ReadWrite, &[1]);
         od.insert(0x2001, 0, Access::ReadOnly, &[2, 0]);
-        let mut d: Device<Cia301<MemoryDictionary>> = Device::new(DeviceConfig::new(node()), od);
+        let mut d: Cia301Device<MemoryDictionary> =
+            ProfiledDevice::plain(DeviceConfig::new(node()), od);
         d.update(ms(0), |o| {
             o.set(0x2001, 0, &[3, 0]);
         });
-        d.boot(ms(0), &mut ());
+        d.boot(ms(0));
         let at_boot = d.objects().clone();
         d.handle_frame(ms(1), &frame(0x604, &[0x2F, 0x00, 0x20, 0, 9, 0, 0, 0]));
         d.update(ms(2), |o| {

@@ -8,21 +8,30 @@
 //! sees the reset, and reported before a state change the profile makes).
 
 use canopen_codec::cia418::{BatteryDictionary, BatteryObjects};
-use canopen_codec::device::{Cia301, Device, DeviceConfig, DeviceEvent, Profile};
+use canopen_codec::device::{
+    Cia301Device, Device, DeviceConfig, DeviceEvent, DeviceSpec, Profile, ProfiledDevice,
+};
 use canopen_codec::machine::Machine;
 use canopen_codec::nmt::NmtState;
 use canopen_codec::sync::SyncEvent;
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 
-type Spec = Cia301<BatteryDictionary>;
-type Core = Device<Spec>;
+/// A plain CiA 301 device over the CiA 418 objects.
+type Plain = Cia301Device<BatteryDictionary>;
 
 /// A profile that enters operational by itself after every reset (as the
 /// Delta-Q charger does).
+#[derive(Debug)]
 struct SelfStart;
 
-impl Profile<Spec> for SelfStart {
-    fn on_event(&mut self, device: &mut Core, now: Timestamp, event: &DeviceEvent) {
+impl DeviceSpec for SelfStart {
+    type Objects = BatteryDictionary;
+    type Event = DeviceEvent;
+    type PowerOn = DeviceConfig;
+}
+
+impl Profile<SelfStart> for SelfStart {
+    fn on_event(&mut self, device: &mut Device<SelfStart>, now: Timestamp, event: &DeviceEvent) {
         if let DeviceEvent::Reset { .. } = event {
             device.set_nmt_state(now, NmtState::Operational, self);
         }
@@ -33,25 +42,25 @@ fn nmt(cs: u8) -> CanFrame {
     CanFrame::standard(0x000, &[cs, 0x05]).unwrap()
 }
 
-fn events(dev: &mut Core) -> Vec<DeviceEvent> {
+fn events(dev: &mut impl Machine<Event = DeviceEvent>) -> Vec<DeviceEvent> {
     core::iter::from_fn(|| dev.poll_event()).collect()
 }
 
 #[test]
 fn a_reset_with_a_self_start_reports_both_state_changes() {
     let node = NodeId::new(5).unwrap();
-    let mut dev = Core::new(
+    let core = Device::new(
         DeviceConfig::new(node),
         BatteryDictionary::new(BatteryObjects::new()),
     );
-    let mut profile = SelfStart;
-    dev.boot(Timestamp::ZERO, &mut profile);
-    dev.handle_frame_with(Timestamp::ZERO, &nmt(0x01), &mut profile);
+    let mut dev = ProfiledDevice::<SelfStart>::from_parts(core, SelfStart);
+    dev.boot(Timestamp::ZERO);
+    dev.handle_frame(Timestamp::ZERO, &nmt(0x01));
     let _ = events(&mut dev);
     // Reset node from operational: the reset's own change (operational to
     // pre-operational) is still held when the profile starts the device
     // again: it is reported first.
-    dev.handle_frame_with(Timestamp::from_millis(1), &nmt(0x81), &mut profile);
+    dev.handle_frame(Timestamp::from_millis(1), &nmt(0x81));
     assert_eq!(
         events(&mut dev),
         [
@@ -74,8 +83,8 @@ fn a_reset_with_a_self_start_reports_both_state_changes() {
 fn a_skipped_sync_counter_is_reported_and_nothing_is_dropped() {
     let mut config = DeviceConfig::new(NodeId::new(5).unwrap());
     config.sync_counter_overflow = 4;
-    let mut dev = Core::new(config, BatteryDictionary::new(BatteryObjects::new()));
-    dev.boot(Timestamp::ZERO, &mut ());
+    let mut dev = Plain::plain(config, BatteryDictionary::new(BatteryObjects::new()));
+    dev.boot(Timestamp::ZERO);
     let _ = events(&mut dev);
     for (ms, counter) in [(1, 1), (2, 3), (3, 4), (4, 1)] {
         let sync = CanFrame::standard(0x080, &[counter]).unwrap();
@@ -109,8 +118,8 @@ fn four_nodes_lost_at_once_are_four_events_in_order() {
     let nodes = [7, 3, 9, 2];
     let entries = nodes.map(|id| ConsumerEntry::new(n(id), Duration::from_millis(100)));
     let config = DeviceConfig::new(n(5)).with_consumers(&entries);
-    let mut dev = Core::new(config, BatteryDictionary::new(BatteryObjects::new()));
-    dev.boot(Timestamp::ZERO, &mut ());
+    let mut dev = Plain::plain(config, BatteryDictionary::new(BatteryObjects::new()));
+    dev.boot(Timestamp::ZERO);
     let _ = events(&mut dev);
     for id in nodes {
         let boot_up = CanFrame::standard(0x700 + u16::from(id), &[0x00]).unwrap();

@@ -11,14 +11,14 @@ use crate::common;
 use core::time::Duration;
 
 use crate::common::ms;
-use canopen_codec::device::{Cia301, Device, DeviceConfig, DeviceEvent};
+use canopen_codec::device::{Cia301Device, DeviceConfig, DeviceEvent};
 use canopen_codec::nmt::guarding::{GuardingMaster, MasterGuardingEvent, SlaveGuardingEvent};
 use canopen_codec::nmt::NmtState;
 use canopen_codec::od::MemoryDictionary;
 use canopen_codec::{CanFrame, NodeId};
 use common::sim::{Bus, Handle};
 
-type Slave = Device<Cia301<MemoryDictionary>>;
+type Slave = Cia301Device<MemoryDictionary>;
 
 const SLAVE: &str = "Slave";
 const MASTER: &str = "Master";
@@ -45,8 +45,8 @@ fn nmt(cs: u8) -> CanFrame {
 /// (guard time 100 ms, factor 3, expecting operational).
 fn bus(config: DeviceConfig) -> (Bus, Handle<Slave>, Handle<GuardingMaster>) {
     let mut sim = common::sim::bus(200);
-    let s = sim.add(SLAVE, Slave::new(config, MemoryDictionary::new()));
-    sim.with(s, |d, now| d.boot(now, &mut ()));
+    let s = sim.add(SLAVE, Slave::plain(config, MemoryDictionary::new()));
+    sim.with(s, |d, now| d.boot(now));
     sim.inject(nmt(0x01));
     let m = sim.add(
         MASTER,

@@ -11,7 +11,7 @@ use crate::common;
 use core::time::Duration;
 
 use crate::common::ms;
-use canopen_codec::device::{Cia301, Device, DeviceConfig, DeviceEvent};
+use canopen_codec::device::{Cia301Device, DeviceConfig, DeviceEvent};
 use canopen_codec::machine::{drive_timers, Machine};
 use canopen_codec::od::{Access, MemoryDictionary};
 use canopen_codec::pdo::{
@@ -23,7 +23,7 @@ use canopen_codec::time::{TimeCobId, TimeConsumer, TimeEvent, TimeOfDay, TimePro
 use canopen_codec::{CanFrame, CanId, Codec, NodeId, PdoNumber, Timestamp};
 use common::sim::bus;
 
-type Dev = Device<Cia301<MemoryDictionary>>;
+type Dev = Cia301Device<MemoryDictionary>;
 
 fn node(n: u8) -> NodeId {
     NodeId::new(n).unwrap()
@@ -108,8 +108,8 @@ fn device_generating_sync_runs_its_own_synchronous_tpdos() {
         ..DeviceConfig::new(node(3))
     };
     let mut sim = bus(100);
-    let d = sim.add("Device", Dev::new(config, app()));
-    sim.with(d, |dev, now| dev.boot(now, &mut ()));
+    let d = sim.add("Device", Dev::plain(config, app()));
+    sim.with(d, |dev, now| dev.boot(now));
     // Pre-operational: SYNC only.
     sim.run_until(ms(25)).unwrap();
     assert_eq!(
@@ -156,11 +156,11 @@ fn device_consumes_external_sync_and_reports_a_skip() {
         ..DeviceConfig::new(node(4))
     };
     let mut sim = bus(100);
-    let d = sim.add("Device", Dev::new(config, app()));
+    let d = sim.add("Device", Dev::plain(config, app()));
     let mut producer = SyncProducer::new(Duration::from_millis(10), 5).unwrap();
     producer.start(Timestamp::ZERO);
     sim.add("Master", producer);
-    sim.with(d, |dev, now| dev.boot(now, &mut ()));
+    sim.with(d, |dev, now| dev.boot(now));
     sim.inject(CanFrame::standard(0x000, &[0x01, 4]).unwrap());
     sim.drop_if(|s| s.from == "Master" && s.at == ms(30));
     sim.run_until(ms(55)).unwrap();
@@ -191,8 +191,8 @@ fn synchronous_rpdo_outside_the_window() {
         sync_window: Duration::from_millis(2),
         ..DeviceConfig::new(node(5))
     };
-    let mut dev = Dev::new(config, app());
-    dev.boot(ms(0), &mut ());
+    let mut dev = Dev::plain(config, app());
+    dev.boot(ms(0));
     dev.handle_frame(ms(0), &CanFrame::standard(0x000, &[0x01, 5]).unwrap());
     dev.handle_frame(ms(10), &CanFrame::standard(0x080, &[]).unwrap());
     // 1 ms after the SYNC: inside; 3 ms after: outside.
@@ -251,10 +251,10 @@ fn time_round_trip_between_devices() {
         ..DeviceConfig::new(node(7))
     };
     let mut sim = bus(100);
-    let a = sim.add("A", Dev::new(producing, app()));
-    let b = sim.add("B", Dev::new(consuming, app()));
-    sim.with(a, |d, now| d.boot(now, &mut ()));
-    sim.with(b, |d, now| d.boot(now, &mut ()));
+    let a = sim.add("A", Dev::plain(producing, app()));
+    let b = sim.add("B", Dev::plain(consuming, app()));
+    sim.with(a, |d, now| d.boot(now));
+    sim.with(b, |d, now| d.boot(now));
     sim.run_until(ms(5)).unwrap();
     // 2026-12-01T11:30:00.250Z.
     let t = TimeOfDay::from_unix_millis(1_796_124_600_250).unwrap();
@@ -288,8 +288,8 @@ fn time_round_trip_between_devices() {
 #[test]
 fn sync_production_switched_over_sdo() {
     let mut sim = bus(100);
-    let d = sim.add("Device", Dev::new(DeviceConfig::new(node(8)), app()));
-    sim.with(d, |dev, now| dev.boot(now, &mut ()));
+    let d = sim.add("Device", Dev::plain(DeviceConfig::new(node(8)), app()));
+    sim.with(d, |dev, now| dev.boot(now));
     let sdo = |index: u16, value: u32| {
         let [i0, i1] = index.to_le_bytes();
         let [a, b, c, e] = value.to_le_bytes();
