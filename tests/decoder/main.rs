@@ -4,6 +4,8 @@
 //! from `env!("CARGO_BIN_EXE_...")`) on our logs, on every trace format and
 //! on the real captures.
 
+// BLF files are written by the library's writer (feature `alloc`).
+#[cfg(feature = "alloc")]
 mod blf_support;
 #[path = "../common/mod.rs"]
 mod common;
@@ -33,4 +35,5 @@ mod report;
 mod sdo;
 #[cfg(feature = "cli")]
 mod signals;
+#[cfg(feature = "alloc")]
 mod trace_blf;
