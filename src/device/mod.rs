@@ -14,9 +14,9 @@
 //! [`ProfiledDevice`]**, the core and its [`Profile`] as one [`Machine`] of
 //! the crate's [state-machine contract](crate::machine): `boot` once at
 //! power-on, then `handle_frame` / `handle_timeout`, and drain
-//! `poll_transmit` (and `poll_event`) after every call. The battery module
-//! ([`BatteryModule`](crate::cia418::BatteryModule)), the charger
-//! ([`Charger`](crate::deltaq::Charger)), a profile of one's own
+//! `poll_transmit` (and `poll_event`) after every call. The CiA 418
+//! battery module and the Delta-Q charger (each a profile of its own
+//! area, above this layer), a profile of one's own
 //! ([`ProfiledDevice::from_parts`]) and the plain CiA 301 slave over any
 //! dictionary `A` ([`Cia301Device`], made by [`ProfiledDevice::plain`])
 //! are all of that type. Why one way: the core's inputs and outputs need
