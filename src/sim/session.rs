@@ -329,15 +329,12 @@ impl Session {
         let mut same = 0u32;
         loop {
             self.pump();
-            let next = [
+            let next = crate::clock::earliest([
                 self.charger.poll_timeout(),
                 self.module.poll_timeout(),
                 self.tool.poll_timeout(),
                 Some(self.next_tick),
-            ]
-            .into_iter()
-            .flatten()
-            .min()
+            ])
             .unwrap_or(end);
             if next > end {
                 self.now = end.max(self.now);

@@ -463,11 +463,8 @@ impl Bus {
     /// every plugged machine's timer (`None`: quiescent).
     #[must_use]
     pub fn next_due(&self) -> Option<Timestamp> {
-        self.in_flight
-            .iter()
-            .map(|d| d.arrives)
-            .chain(self.entries.iter().filter_map(|e| e.node.poll_timeout()))
-            .min()
+        let deliveries = self.in_flight.iter().map(|d| Some(d.arrives));
+        crate::clock::earliest(deliveries.chain(self.entries.iter().map(|e| e.node.poll_timeout())))
     }
 
     /// Moves the clock to `to` (never back) without running anything:
