@@ -75,7 +75,7 @@ const fn pdo_communication(
     cob_id: &'static str,
 ) -> [ObjectRow; 7] {
     [
-        highest(first, object, Record, Const, "highest sub-index").indexes_through(last),
+        highest(first, object, Record, Ro, "highest sub-index").indexes_through(last),
         at(first, 1, cob_id, U32, Rw).indexes_through(last),
         at(first, 2, "Transmission type", U8, Rw).indexes_through(last),
         at(first, 3, "Inhibit time", U16, Rw).indexes_through(last),
@@ -380,6 +380,17 @@ mod tests {
             assert_eq!(head.entry_count(), 512);
             assert_ne!(find(Address::index(last + 1)), Some(head));
             assert_ne!(find(Address::index(first - 1)), Some(head));
+        }
+        // RPDO and TPDO parameters alike (the PDO layer reads the TPDO
+        // rows for both).
+        for sub in 0..=u8::MAX {
+            let access = |index| find(Address::new(index, sub)).map(|r| (r.access, r.data_type));
+            assert_eq!(
+                access(RPDO_COMMUNICATION),
+                access(TPDO_COMMUNICATION),
+                "sub {sub}"
+            );
+            assert_eq!(access(RPDO_MAPPING), access(TPDO_MAPPING), "sub {sub}");
         }
         let entry = find(Address::new(RPDO_MAPPING + 7, 64)).unwrap();
         assert_eq!((entry.name, entry.data_type), ("Application object", U32));

@@ -41,7 +41,26 @@ use super::comm::{PdoCobId, PdoCommParams, PdoDirection, TransmissionType};
 use super::mapping::{MappingEntry, MappingError, PdoMapping, MAX_BITS, MAX_ENTRIES};
 use crate::abort::AbortCode;
 use crate::cob_id::PdoNumber;
-use crate::od::{Access, ObjectDictionary, ObjectInfo, WriteBuffer};
+use crate::od::index::{TPDO_COMMUNICATION, TPDO_MAPPING};
+use crate::od::{comm, Access, Address, ObjectDictionary, ObjectInfo, WriteBuffer};
+
+/// The access rights of a PDO parameter sub-index as the communication
+/// table ([`comm::COMM_OBJECTS`]) gives them, read when the crate is built
+/// (RPDOs and TPDOs alike; the tests hold them equal).
+const fn table_access(index: u16, sub: u8) -> Access {
+    match comm::find(Address::new(index, sub)) {
+        Some(row) => row.access,
+        None => panic!("the communication table has a row for every PDO parameter"),
+    }
+}
+/// Sub-index 0 of a communication parameter (the highest sub-index).
+const COMM_COUNT_ACCESS: Access = table_access(TPDO_COMMUNICATION, 0);
+/// Sub-indexes 1-6 of a communication parameter.
+const COMM_ACCESS: Access = table_access(TPDO_COMMUNICATION, 1);
+/// Sub-index 0 of a mapping parameter (the number of entries).
+const MAPPING_COUNT_ACCESS: Access = table_access(TPDO_MAPPING, 0);
+/// The entries of a mapping parameter.
+const MAPPING_ACCESS: Access = table_access(TPDO_MAPPING, 1);
 
 /// One PDO's configuration: communication parameters and mapping entries
 /// (all 8 sub-indexes are kept, counted or not).
@@ -320,10 +339,11 @@ impl<D: ObjectDictionary, const T: usize, const R: usize> PdoDictionary<D, T, R>
             (true, s) => slot.entry(s).map(|e| (e.to_u32(), 4)),
             (false, s) => slot.comm.sub_word(s),
         };
-        let access = if !is_mapping && sub == 0 {
-            Access::ReadOnly
-        } else {
-            Access::ReadWrite
+        let access = match (is_mapping, sub) {
+            (false, 0) => COMM_COUNT_ACCESS,
+            (false, _) => COMM_ACCESS,
+            (true, 0) => MAPPING_COUNT_ACCESS,
+            (true, _) => MAPPING_ACCESS,
         };
         Some(match value {
             Some((word, len)) => Ok((access, word, len)),
