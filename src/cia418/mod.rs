@@ -70,7 +70,7 @@ pub use catalogue::{
 pub use date::{CalendarDateTime, DateError, EqualizationDate};
 pub use device_type::{DeviceType, PdoSet};
 #[cfg(feature = "alloc")]
-pub use eds::{battery_module_eds, CIA418_OBJECT_DESCRIPTIONS};
+pub use eds::battery_module_eds;
 pub use module::{
     BatteryEvent, BatteryModule, BatteryModuleConfig, BatteryModuleDevice, BatteryModulePowerOn,
     BatteryModuleProfile,

@@ -52,20 +52,16 @@
 //! assert_eq!(fields.as_slice()[0].to_string(), "2002h charging current 19.453125 A");
 //! ```
 
-use crate::cia418::catalogue::{A, AH, V};
 use core::fmt;
 
-use crate::cia418::{
-    AH_RETURNED_DURING_LAST_CHARGE, BATTERY_STATE_OF_CHARGE, BATTERY_STATUS, BATTERY_VOLTAGE,
-    CHARGER_STATE_OF_CHARGE, CHARGER_STATUS, CHARGE_CURRENT_REQUESTED, CIA418_OBJECTS, TEMPERATURE,
-};
-use crate::od::Access::{self, Const, ReadOnly as Ro, ReadWrite as Rw};
-use crate::od::DataType::{Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8};
-use crate::od::{Address, ObjectRow, ObjectType};
-use crate::pdo::{Catalogue, FlagField, FlagWord, Interpretation, Marker, Unit, ValueFormat};
+use crate::cia418::CIA418_OBJECTS;
+use crate::od::Access::ReadWrite as Rw;
+use crate::od::DataType::Unsigned8 as U8;
+use crate::od::ObjectRow;
+use crate::pdo::{Catalogue, FlagField, FlagWord, Unit, ValueFormat};
 
-use super::charge::{AH_TARGET, ELAPSED_TIME};
 use super::index;
+use super::DELTAQ_OBJECTS;
 
 #[cfg(doc)]
 use crate::cia418::BATTERY_MODULE_CATALOGUE;
@@ -222,86 +218,6 @@ pub const ALGORITHM_REQUEST_FORMAT: ValueFormat = ValueFormat {
     has_value: algorithm_has_value,
     write: write_algorithm,
 };
-
-const NO_16: Marker = Marker::NoValue(0xFFFF);
-const NO_32: Marker = Marker::NoValue(0xFFFF_FFFF);
-
-/// The charger's row of a CiA 418 object it shares with the battery
-/// module (CiA 419 uses them for the values the two exchange): the CiA 418
-/// names, type and reading ([`CIA418_OBJECTS`]) with the charger's access,
-/// PDO-mappable. A row of the charger's table whose object CiA 418 lacks
-/// would have an empty name (a test checks every row has one).
-const fn shared(index: u16, access: Access) -> ObjectRow {
-    let mut rows = CIA418_OBJECTS;
-    while let [row, rest @ ..] = rows {
-        if row.address.index == index && row.address.sub == 0 {
-            let mut row = *row;
-            row.access = access;
-            row.mappable = true;
-            return row;
-        }
-        rows = rest;
-    }
-    ObjectRow::var(index, "", U8, access)
-}
-
-/// The Delta-Q IC Series charger's objects, the area's one table: the
-/// CiA 418 objects it shares with the battery module (with the charger's
-/// access and its reading of 6052h: Q3 Ah like CiA 418, but 0xFFFF is "no
-/// value"), the Delta-Q manufacturer objects of the IC Series CANopen
-/// interface specification rev 2.0 (section 5, "Object dictionary", names
-/// as Delta-Q's own EDS spells them), the 2FFAh padding objects its PDO
-/// mappings use, and the charge control's two objects the Delta-Q
-/// documents do not name (ours: 2250h Ah target, 2251h elapsed time; see
-/// [`charge`](super::charge)). Every entry is PDO-mappable but 2FFAh sub
-/// 0; 0xFFFF (0xFFFF_FFFF for 32 bits) is "no value". The charger's
-/// dictionary ([`ChargerObjects`](super::ChargerObjects)), its EDS and
-/// [`CHARGER_CATALOGUE`] are derived from it.
-#[rustfmt::skip]
-pub const DELTAQ_OBJECTS: &[ObjectRow] = &[
-    shared(BATTERY_STATUS, Rw),
-    shared(CHARGER_STATUS, Ro),
-    shared(TEMPERATURE, Rw),
-    shared(AH_RETURNED_DURING_LAST_CHARGE, Rw).default(0xFFFF).marked(NO_16, None),
-    shared(BATTERY_VOLTAGE, Rw),
-    shared(CHARGE_CURRENT_REQUESTED, Rw).default(0xFFFF),
-    shared(CHARGER_STATE_OF_CHARGE, Ro).default(0xFF),
-    shared(BATTERY_STATE_OF_CHARGE, Rw).default(0xFF),
-    ObjectRow::var(index::CHARGING_CURRENT, "Charging Current", U16, Rw).mappable()
-        .short("charging current").scaled(8, A).marked(NO_16, None),
-    ObjectRow::var(index::EXTENDED_CHARGE_STATUS, "Extended Charge Status", U16, Ro).mappable()
-        .short("extended charge status")
-        .reading(Interpretation::Flags(&EXTENDED_CHARGE_STATUS_FLAGS)),
-    ObjectRow::var(index::DERATE_REASONS, "Derate Reasons", U8, Ro).mappable()
-        .short("derate reasons").reading(Interpretation::Flags(&DERATE_REASONS_FLAGS)),
-    ObjectRow::var(index::DISPLAYED_ERROR, "Current Displayed Error/Fault", U32, Ro).mappable()
-        .short("displayed error").reading(Interpretation::Formatted(&DISPLAYED_ERROR_FORMAT)),
-    ObjectRow::var(index::BATTERY_VOLTAGE_LEGACY, "Battery Voltage UINT16", U16, Ro).mappable()
-        .short("battery voltage (legacy)").default(0xFFFF).scaled(10, V).marked(NO_16, None),
-    ObjectRow::var(index::BATTERY_VOLTAGE, "Battery Voltage Q8.8", U16, Rw).mappable()
-        .short("battery voltage").default(0xFFFF).scaled(8, V).marked(NO_16, None),
-    ObjectRow::var(index::AC_VOLTAGE, "AC Voltage", U16, Ro).mappable()
-        .short("AC voltage").default(0xFFFF).scaled(4, V).marked(NO_16, None),
-    ObjectRow::var(index::ALGORITHM_REQUEST, "Active Algorithm Request", U32, Rw).mappable()
-        .short("algorithm request").default(0xFFFF_FFFF)
-        .reading(Interpretation::Formatted(&ALGORITHM_REQUEST_FORMAT)),
-    ObjectRow::var(index::VOLTAGE_REQUEST, "Voltage Request", U32, Rw).mappable()
-        .short("voltage request").default(0xFFFF_FFFF).scaled(10, V).marked(NO_32, None),
-    ObjectRow::var(index::VOLTAGE_REQUEST_16, "Voltage Request U16 Q8", U16, Rw).mappable()
-        .short("voltage request").default(0xFFFF).scaled(8, V).marked(NO_16, None),
-    ObjectRow::var(index::PADDING, "NrOfEntries", U8, Const).heads("Zero-Filling", ObjectType::Array)
-        .short("padding: highest sub-index").default(2),
-    ObjectRow::new(Address::new(index::PADDING, 1), "ZeroRxFilling", U8, Rw).mappable()
-        .short("padding").reading(Interpretation::Padding),
-    ObjectRow::new(Address::new(index::PADDING, 2), "ZeroTxFilling", U8, Rw).mappable()
-        .short("padding").reading(Interpretation::Padding),
-    ObjectRow::var(index::EXTERNAL_OVERRIDE, "External Override", U8, Rw).mappable()
-        .short("external override").reading(Interpretation::Flags(&EXTERNAL_OVERRIDE_FLAGS)),
-    ObjectRow::var(AH_TARGET, "Ah Target", U16, Rw).mappable()
-        .short("Ah target").default(0xFFFF).scaled(3, AH).marked(NO_16, None),
-    ObjectRow::var(ELAPSED_TIME, "Charge Cycle Elapsed Time", U32, Ro).mappable()
-        .short("charge cycle elapsed time"),
-];
 
 /// Objects of Delta-Q's list the charger model does not serve, known to
 /// the decoder: 2275h cable resistance (U8 mOhm, not PDO-mappable).

@@ -1,331 +1,275 @@
-//! The Delta-Q charger's application objects: the CiA 418 objects a CiA
-//! 419 charger shares with the battery module (6000h-6081h) and the
-//! Delta-Q manufacturer objects (Delta-Q IC Series CANopen interface
-//! specification rev 2.0, section 5: 2002h, 2006h, 2008h, 2060h, 2100h,
-//! 2101h, 2200h, 2241h, 2271h, 2276h, 4201h, and the 2FFAh padding objects
-//! its PDO mappings use), and the two objects of the charge control the
-//! documents do not name (ours: 2250h Ah target, 2251h elapsed time; see
-//! [`charge`](super::charge)), declared for the crate's fixed-word dictionary
-//! ([`FixedDictionary`], which serves them by SDO). Fixed storage, no
-//! allocation. The communication objects (1000h-1FFFh) are the device
-//! core's ([`crate::device`]).
+//! The Delta-Q charger's application objects, the area's one table
+//! ([`DELTAQ_OBJECTS`]) and the struct holding their values
+//! ([`ChargerObjects`]), declared together once: the CiA 418 objects a CiA
+//! 419 charger shares with the battery module (6000h-6081h), the Delta-Q
+//! manufacturer objects (Delta-Q IC Series CANopen interface specification
+//! rev 2.0, section 5: 2002h, 2006h, 2008h, 2060h, 2100h, 2101h, 2200h,
+//! 2241h, 2271h, 2276h, 4201h, and the 2FFAh padding objects its PDO
+//! mappings use), and the two objects of the charge control the documents
+//! do not name (ours: 2250h Ah target, 2251h elapsed time; see
+//! [`charge`](super::charge)). The crate's fixed-word dictionary
+//! ([`FixedDictionary`]) serves them by SDO; the charger's EDS and
+//! [`CHARGER_CATALOGUE`](super::CHARGER_CATALOGUE) are derived from the
+//! same rows. Fixed storage, no allocation. The communication objects
+//! (1000h-1FFFh) are the device core's ([`crate::device`]).
 //!
 //! NMT reset node sets the writable objects (what the battery module's
 //! TPDOs and an SDO client write: the parameters) back to their values at
-//! boot ([`CHARGER_PARAMETERS_RESTORED`]); the read-only ones (6001h,
-//! 6080h, 2006h, 2060h, 2100h, 2200h) are the charger's own readings and
-//! state and keep the value the application last set (a boot-time value
-//! restored would be published until its next update).
+//! boot ([`CHARGER_PARAMETERS_RESTORED`]); the read-only ones are the
+//! charger's own readings and state and keep the value the application
+//! last set (a boot-time value restored would be published until its next
+//! update).
 
-use crate::abort::AbortCode;
-use crate::od::{Access, FixedDictionary, FixedEntry, FixedObject, FixedObjects};
+use crate::cia418::{
+    AH_RETURNED_DURING_LAST_CHARGE, BATTERY_STATE_OF_CHARGE, BATTERY_STATUS, BATTERY_VOLTAGE,
+    CHARGER_STATE_OF_CHARGE, CHARGER_STATUS, CHARGE_CURRENT_REQUESTED, CIA418_OBJECTS, TEMPERATURE,
+};
+use crate::od::Access::{self, Const, ReadOnly as Ro, ReadWrite as Rw};
+use crate::od::DataType::{Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8};
+use crate::od::{Address, FixedDictionary, Interpretation, Marker, ObjectRow, ObjectType, Unit};
 
-/// The charger's object values. Fields are the application's to read and
-/// write; SDO access goes through [`FixedDictionary`] with the access
-/// rights of each object ([`ChargerDictionary`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ChargerObjects {
-    /// 6000h battery status (written by the BMS).
-    pub battery_status: u8,
-    /// 6001h charger status (bit 0: able to charge).
-    pub charger_status: u8,
-    /// 6010h battery temperature (0.125 degC).
-    pub temperature: i16,
-    /// 6052h Ah returned (Delta-Q: Q3 Ah, FFFFh no value).
-    pub ah_returned: u16,
-    /// 6060h battery voltage (1/1024 V).
-    pub battery_voltage: u32,
-    /// 6070h charge current requested (1/16 A).
-    pub current_requested: u16,
-    /// 6080h charger state of charge (%; FFh invalid).
-    pub charger_soc: u8,
-    /// 6081h battery state of charge (%; FFh invalid).
-    pub battery_soc: u8,
-    /// 2002h charging current (Q8 A).
-    pub charging_current: u16,
-    /// 2006h extended charge status.
-    pub extended_status: u16,
-    /// 2060h current displayed error (a 1003h-style entry; 0 none).
-    pub displayed_error: u32,
-    /// 2100h battery voltage, legacy (Q10 V).
-    pub battery_voltage_q10: u16,
-    /// 2101h battery voltage (Q8 V).
-    pub battery_voltage_q8: u16,
-    /// 2200h AC voltage (Q4 V).
-    pub ac_voltage: u16,
-    /// 2241h active algorithm request (FFFFFFFFh none).
-    pub algorithm_request: u32,
-    /// 2271h voltage request (Q10 V, FFFFFFFFh none).
-    pub voltage_request: u32,
-    /// 2276h voltage request (Q8 V, FFFFh none).
-    pub voltage_request_q8: u16,
-    /// 4201h external override.
-    pub external_override: u8,
-    /// 2008h derate reasons.
-    pub derate_reasons: u8,
-    /// 2250h Ah target (ours, Q3 Ah, FFFFh none; see
-    /// [`charge::AH_TARGET`](super::charge::AH_TARGET)).
-    pub ah_target: u16,
-    /// 2251h charge cycle elapsed time (ours, seconds; see
-    /// [`charge::ELAPSED_TIME`](super::charge::ELAPSED_TIME)).
-    pub elapsed_s: u32,
+use super::charge::{AH_TARGET, ELAPSED_TIME};
+use super::index;
+use super::{
+    ALGORITHM_REQUEST_FORMAT, DERATE_REASONS_FLAGS, DISPLAYED_ERROR_FORMAT,
+    EXTENDED_CHARGE_STATUS_FLAGS, EXTERNAL_OVERRIDE_FLAGS,
+};
+
+const NO_16: Marker = Marker::NoValue(0xFFFF);
+const NO_32: Marker = Marker::NoValue(0xFFFF_FFFF);
+const A: Option<Unit> = Some(Unit::Ampere);
+const V: Option<Unit> = Some(Unit::Volt);
+const AH: Option<Unit> = Some(Unit::AmpereHour);
+
+/// The charger's row of a CiA 418 object it shares with the battery
+/// module (CiA 419 uses them for the values the two exchange): the CiA 418
+/// names, type and reading ([`CIA418_OBJECTS`]) with the charger's access,
+/// PDO-mappable. A row whose object CiA 418 lacks would have an empty name
+/// (a test checks every row has one).
+const fn shared(index: u16, access: Access) -> ObjectRow {
+    let mut rows = CIA418_OBJECTS;
+    while let [row, rest @ ..] = rows {
+        if row.address.index == index && row.address.sub == 0 {
+            let mut row = *row;
+            row.access = access;
+            row.mappable = true;
+            return row;
+        }
+        rows = rest;
+    }
+    ObjectRow::var(index, "", U8, access)
+}
+
+crate::fixed_objects! {
+    /// The charger's object values. Fields are the application's to read
+    /// and write; SDO access goes through [`FixedDictionary`] with the
+    /// access rights of each object's row in [`DELTAQ_OBJECTS`]
+    /// ([`ChargerDictionary`]).
+    pub struct ChargerObjects;
+    /// The Delta-Q IC Series charger's objects, the area's one table: the
+    /// CiA 418 objects it shares with the battery module (with the
+    /// charger's access and its reading of 6052h: Q3 Ah like CiA 418, but
+    /// 0xFFFF is "no value"), the Delta-Q manufacturer objects (names as
+    /// Delta-Q's own EDS spells them), the 2FFAh padding objects and the
+    /// charge control's 2250h and 2251h (ours). Every entry is
+    /// PDO-mappable but 2FFAh sub 0; 0xFFFF (0xFFFF_FFFF for 32 bits) is
+    /// "no value".
+    pub const DELTAQ_OBJECTS;
+    /// What NMT reset node restores of [`ChargerObjects`]: its writable
+    /// objects (2FFAh stores nothing), as they were at boot. The read-only
+    /// objects are the charger's own readings and state, not parameters
+    /// (CiA 301 7.3.2.2.1: reset node restores the parameters of the
+    /// profile areas): they keep what the application last set, so no
+    /// stale boot-time value is published until its next update.
+    pub const CHARGER_PARAMETERS_RESTORED;
+    /// The values of [`CHARGER_PARAMETERS_RESTORED`] kept at boot, their
+    /// bytes one after the other.
+    ///
+    /// ```
+    /// use canopen_codec::deltaq::ChargerObjects;
+    /// use canopen_codec::device::PowerOnValues;
+    /// use canopen_codec::od::FixedDictionary;
+    /// let mut od = FixedDictionary::new(ChargerObjects::new());
+    /// let at_boot = od.snapshot();
+    /// od.battery_soc = 80; // written by the battery module's TPDO
+    /// od.ac_voltage = 230 * 16; // measured
+    /// od.restore(&at_boot); // reset node
+    /// assert_eq!((od.battery_soc, od.ac_voltage), (0xFF, 230 * 16));
+    /// ```
+    pub type POWER_ON = ChargerPowerOnValues;
+    fields {
+        /// 6000h battery status (written by the BMS).
+        battery_status: u8 = shared(BATTERY_STATUS, Rw),
+        /// 6001h charger status (bit 0: able to charge).
+        charger_status: u8 = shared(CHARGER_STATUS, Ro),
+        /// 6010h battery temperature (0.125 degC).
+        temperature: i16 = shared(TEMPERATURE, Rw),
+        /// 6052h Ah returned (Delta-Q: Q3 Ah, FFFFh no value).
+        ah_returned: u16 = shared(AH_RETURNED_DURING_LAST_CHARGE, Rw)
+            .default(0xFFFF)
+            .marked(NO_16, None),
+        /// 6060h battery voltage (1/1024 V).
+        battery_voltage: u32 = shared(BATTERY_VOLTAGE, Rw),
+        /// 6070h charge current requested (1/16 A).
+        current_requested: u16 = shared(CHARGE_CURRENT_REQUESTED, Rw).default(0xFFFF),
+        /// 6080h charger state of charge (%; FFh invalid).
+        charger_soc: u8 = shared(CHARGER_STATE_OF_CHARGE, Ro).default(0xFF),
+        /// 6081h battery state of charge (%; FFh invalid).
+        battery_soc: u8 = shared(BATTERY_STATE_OF_CHARGE, Rw).default(0xFF),
+        /// 2002h charging current (Q8 A).
+        charging_current: u16 = ObjectRow::var(index::CHARGING_CURRENT, "Charging Current", U16, Rw)
+            .mappable()
+            .short("charging current")
+            .scaled(8, A)
+            .marked(NO_16, None),
+        /// 2006h extended charge status.
+        extended_status: u16 =
+            ObjectRow::var(index::EXTENDED_CHARGE_STATUS, "Extended Charge Status", U16, Ro)
+                .mappable()
+                .short("extended charge status")
+                .reading(Interpretation::Flags(&EXTENDED_CHARGE_STATUS_FLAGS)),
+        /// 2060h current displayed error (a 1003h-style entry; 0 none).
+        displayed_error: u32 =
+            ObjectRow::var(index::DISPLAYED_ERROR, "Current Displayed Error/Fault", U32, Ro)
+                .mappable()
+                .short("displayed error")
+                .reading(Interpretation::Formatted(&DISPLAYED_ERROR_FORMAT)),
+        /// 2100h battery voltage, legacy (Q10 V).
+        battery_voltage_q10: u16 =
+            ObjectRow::var(index::BATTERY_VOLTAGE_LEGACY, "Battery Voltage UINT16", U16, Ro)
+                .mappable()
+                .short("battery voltage (legacy)")
+                .default(0xFFFF)
+                .scaled(10, V)
+                .marked(NO_16, None),
+        /// 2101h battery voltage (Q8 V).
+        battery_voltage_q8: u16 =
+            ObjectRow::var(index::BATTERY_VOLTAGE, "Battery Voltage Q8.8", U16, Rw)
+                .mappable()
+                .short("battery voltage")
+                .default(0xFFFF)
+                .scaled(8, V)
+                .marked(NO_16, None),
+        /// 2200h AC voltage (Q4 V).
+        ac_voltage: u16 = ObjectRow::var(index::AC_VOLTAGE, "AC Voltage", U16, Ro)
+            .mappable()
+            .short("AC voltage")
+            .default(0xFFFF)
+            .scaled(4, V)
+            .marked(NO_16, None),
+        /// 2241h active algorithm request (FFFFFFFFh none).
+        algorithm_request: u32 =
+            ObjectRow::var(index::ALGORITHM_REQUEST, "Active Algorithm Request", U32, Rw)
+                .mappable()
+                .short("algorithm request")
+                .default(0xFFFF_FFFF)
+                .reading(Interpretation::Formatted(&ALGORITHM_REQUEST_FORMAT)),
+        /// 2271h voltage request (Q10 V, FFFFFFFFh none).
+        voltage_request: u32 = ObjectRow::var(index::VOLTAGE_REQUEST, "Voltage Request", U32, Rw)
+            .mappable()
+            .short("voltage request")
+            .default(0xFFFF_FFFF)
+            .scaled(10, V)
+            .marked(NO_32, None),
+        /// 2276h voltage request (Q8 V, FFFFh none).
+        voltage_request_q8: u16 =
+            ObjectRow::var(index::VOLTAGE_REQUEST_16, "Voltage Request U16 Q8", U16, Rw)
+                .mappable()
+                .short("voltage request")
+                .default(0xFFFF)
+                .scaled(8, V)
+                .marked(NO_16, None),
+        /// 4201h external override.
+        external_override: u8 =
+            ObjectRow::var(index::EXTERNAL_OVERRIDE, "External Override", U8, Rw)
+                .mappable()
+                .short("external override")
+                .reading(Interpretation::Flags(&EXTERNAL_OVERRIDE_FLAGS)),
+        /// 2008h derate reasons.
+        derate_reasons: u8 = ObjectRow::var(index::DERATE_REASONS, "Derate Reasons", U8, Ro)
+            .mappable()
+            .short("derate reasons")
+            .reading(Interpretation::Flags(&DERATE_REASONS_FLAGS)),
+        /// 2250h Ah target (ours, Q3 Ah, FFFFh none; see
+        /// [`charge::AH_TARGET`](super::charge::AH_TARGET)).
+        ah_target: u16 = ObjectRow::var(AH_TARGET, "Ah Target", U16, Rw)
+            .mappable()
+            .short("Ah target")
+            .default(0xFFFF)
+            .scaled(3, AH)
+            .marked(NO_16, None),
+        /// 2251h charge cycle elapsed time (ours, seconds; see
+        /// [`charge::ELAPSED_TIME`](super::charge::ELAPSED_TIME)).
+        elapsed_s: u32 = ObjectRow::var(ELAPSED_TIME, "Charge Cycle Elapsed Time", U32, Ro)
+            .mappable()
+            .short("charge cycle elapsed time"),
+    }
+    without_field {
+        // 2FFAh: the padding objects of the Delta-Q PDO mappings (sub 0 =
+        // 2, two writable dummy bytes that store nothing).
+        ObjectRow::var(index::PADDING, "NrOfEntries", U8, Const)
+            .heads("Zero-Filling", ObjectType::Array)
+            .short("padding: highest sub-index")
+            .default(2),
+        ObjectRow::new(Address::new(index::PADDING, 1), "ZeroRxFilling", U8, Rw)
+            .mappable()
+            .short("padding")
+            .reading(Interpretation::Padding),
+        ObjectRow::new(Address::new(index::PADDING, 2), "ZeroTxFilling", U8, Rw)
+            .mappable()
+            .short("padding")
+            .reading(Interpretation::Padding),
+    }
 }
 
 /// The charger's application dictionary as its device core serves it.
 pub type ChargerDictionary = FixedDictionary<ChargerObjects>;
 
-impl Default for ChargerObjects {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
-impl ChargerObjects {
-    /// Power-on values: the Delta-Q "no value" markers, SOC invalid.
-    #[must_use]
-    pub const fn new() -> Self {
-        ChargerObjects {
-            battery_status: 0,
-            charger_status: 0,
-            temperature: 0,
-            ah_returned: 0xFFFF,
-            battery_voltage: 0,
-            current_requested: 0xFFFF,
-            charger_soc: 0xFF,
-            battery_soc: 0xFF,
-            charging_current: 0,
-            extended_status: 0,
-            displayed_error: 0,
-            battery_voltage_q10: 0xFFFF,
-            battery_voltage_q8: 0xFFFF,
-            ac_voltage: 0xFFFF,
-            algorithm_request: 0xFFFF_FFFF,
-            voltage_request: 0xFFFF_FFFF,
-            voltage_request_q8: 0xFFFF,
-            external_override: 0,
-            derate_reasons: 0,
-            ah_target: 0xFFFF,
-            elapsed_s: 0,
-        }
-    }
-
-    /// The field of writable row `row` of [`OBJECTS`]; `None` for the
-    /// read-only rows (SDO never stores there) and 2FFAh ([`NO_FIELD`]).
-    fn writable_field(&mut self, row: u8) -> Option<Field<'_>> {
-        Some(match row {
-            0 => Field::U8(&mut self.battery_status),
-            2 => Field::I16(&mut self.temperature),
-            3 => Field::U16(&mut self.ah_returned),
-            4 => Field::U32(&mut self.battery_voltage),
-            5 => Field::U16(&mut self.current_requested),
-            7 => Field::U8(&mut self.battery_soc),
-            8 => Field::U16(&mut self.charging_current),
-            12 => Field::U16(&mut self.battery_voltage_q8),
-            14 => Field::U32(&mut self.algorithm_request),
-            15 => Field::U32(&mut self.voltage_request),
-            16 => Field::U16(&mut self.voltage_request_q8),
-            17 => Field::U8(&mut self.external_override),
-            19 => Field::U16(&mut self.ah_target),
-            _ => return None,
-        })
-    }
-
-    /// The value of row `row` of [`OBJECTS`].
-    fn value(&self, row: usize) -> u32 {
-        match row {
-            0 => self.battery_status.into(),
-            1 => self.charger_status.into(),
-            2 => u32::from(self.temperature as u16),
-            3 => self.ah_returned.into(),
-            4 => self.battery_voltage,
-            5 => self.current_requested.into(),
-            6 => self.charger_soc.into(),
-            7 => self.battery_soc.into(),
-            8 => self.charging_current.into(),
-            9 => self.extended_status.into(),
-            10 => self.displayed_error,
-            11 => self.battery_voltage_q10.into(),
-            12 => self.battery_voltage_q8.into(),
-            13 => self.ac_voltage.into(),
-            14 => self.algorithm_request,
-            15 => self.voltage_request,
-            16 => self.voltage_request_q8.into(),
-            17 => self.external_override.into(),
-            18 => self.derate_reasons.into(),
-            19 => self.ah_target.into(),
-            _ => self.elapsed_s,
-        }
-    }
-}
-
-/// A writable field of [`ChargerObjects`] by its type.
-enum Field<'a> {
-    U8(&'a mut u8),
-    U16(&'a mut u16),
-    I16(&'a mut i16),
-    U32(&'a mut u32),
-}
-
-/// 2FFAh: the padding objects of the Delta-Q PDO mappings (sub 0 = 2, two
-/// writable dummy bytes that store nothing).
-const PADDING: u16 = 0x2FFA;
-
-/// [`FixedEntry::slot`] of the 2FFAh padding objects: no field.
-const NO_FIELD: u8 = u8::MAX;
-
-/// The charger's objects besides 2FFAh, in the order of the rows of
-/// `ChargerObjects::field`: one table for SDO info, reads, writes and what
-/// reset node restores (every one PDO-mappable).
-const OBJECTS: [FixedObject; 21] = {
-    use Access::{ReadOnly as Ro, ReadWrite as Rw};
-    const fn object(index: u16, width: u8, access: Access) -> FixedObject {
-        FixedObject::new(index, width, access, true)
-    }
-    [
-        object(0x6000, 1, Rw),
-        object(0x6001, 1, Ro),
-        object(0x6010, 2, Rw),
-        object(0x6052, 2, Rw),
-        object(0x6060, 4, Rw),
-        object(0x6070, 2, Rw),
-        object(0x6080, 1, Ro),
-        object(0x6081, 1, Rw),
-        object(0x2002, 2, Rw),
-        object(0x2006, 2, Ro),
-        object(0x2060, 4, Ro),
-        object(0x2100, 2, Ro),
-        object(0x2101, 2, Rw),
-        object(0x2200, 2, Ro),
-        object(0x2241, 4, Rw),
-        object(0x2271, 4, Rw),
-        object(0x2276, 2, Rw),
-        object(0x4201, 1, Rw),
-        object(0x2008, 1, Ro),
-        object(0x2250, 2, Rw),
-        object(0x2251, 4, Ro),
-    ]
-};
-
-/// How many rows of [`OBJECTS`] are writable, and their bytes.
-const fn writable_rows() -> (usize, usize) {
-    let (mut i, mut n, mut bytes) = (0, 0, 0);
-    while i < OBJECTS.len() {
-        if OBJECTS[i].access.is_writable() {
-            n += 1;
-            bytes += OBJECTS[i].width as usize;
-        }
-        i += 1;
-    }
-    (n, bytes)
-}
-
-/// What NMT reset node restores of [`ChargerObjects`]: its writable
-/// objects (6000h, 6010h, 6052h, 6060h, 6070h, 6081h, 2002h, 2101h, 2241h,
-/// 2271h, 2276h, 4201h, 2250h; 2FFAh stores nothing), the writable rows of
-/// its table, as they were at boot. The read-only objects (6001h, 6080h,
-/// 2006h, 2008h, 2060h, 2100h, 2200h, 2251h) are the charger's own readings and state,
-/// not parameters (CiA 301 7.3.2.2.1: reset node restores the parameters
-/// of the profile areas): they keep what the application last set, so no
-/// stale boot-time value is published until its next update.
-pub const CHARGER_PARAMETERS_RESTORED: [(u16, u8); writable_rows().0] = {
-    let mut list = [(0u16, 0u8); writable_rows().0];
-    let (mut i, mut n) = (0, 0);
-    while i < OBJECTS.len() {
-        if OBJECTS[i].access.is_writable() {
-            list[n] = (OBJECTS[i].index, 0);
-            n += 1;
-        }
-        i += 1;
-    }
-    list
-};
-
-/// The values of [`CHARGER_PARAMETERS_RESTORED`] kept at boot, their bytes
-/// one after the other.
-///
-/// ```
-/// use canopen_codec::deltaq::ChargerObjects;
-/// use canopen_codec::device::PowerOnValues;
-/// use canopen_codec::od::FixedDictionary;
-/// let mut od = FixedDictionary::new(ChargerObjects::new());
-/// let at_boot = od.snapshot();
-/// od.battery_soc = 80; // written by the battery module's TPDO
-/// od.ac_voltage = 230 * 16; // measured
-/// od.restore(&at_boot); // reset node
-/// assert_eq!((od.battery_soc, od.ac_voltage), (0xFF, 230 * 16));
-/// ```
-pub type ChargerPowerOnValues = [u8; writable_rows().1];
-
-impl FixedObjects for ChargerObjects {
-    type Parameters = ChargerPowerOnValues;
-    const PARAMETERS: &'static [(u16, u8)] = &CHARGER_PARAMETERS_RESTORED;
-
-    fn entry(&self, index: u16, sub: u8) -> Result<FixedEntry, AbortCode> {
-        if index == PADDING {
-            let (access, word) = match sub {
-                0 => (Access::Const, 2),
-                1 | 2 => (Access::ReadWrite, 0),
-                _ => return Err(AbortCode::SubIndexDoesNotExist),
-            };
-            return Ok(FixedEntry {
-                mappable: sub != 0,
-                slot: NO_FIELD,
-                ..FixedEntry::new(access, word, 1)
-            });
-        }
-        FixedObject::lookup(&OBJECTS, index, sub, |row| self.value(row))
-            .unwrap_or(Err(AbortCode::ObjectDoesNotExist))
-    }
-
-    /// Stores the value in the field of the entry's row; 2FFAh
-    /// stores nothing.
-    fn store(&mut self, entry: &FixedEntry, _: u16, _: u8, word: u32) {
-        // Truncations to the object's width (the value has no more bytes).
-        match self.writable_field(entry.slot) {
-            Some(Field::U8(f)) => *f = word as u8,
-            Some(Field::U16(f)) => *f = word as u16,
-            Some(Field::I16(f)) => *f = word as u16 as i16,
-            Some(Field::U32(f)) => *f = word,
-            None => {}
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::abort::AbortCode;
     use crate::od::ObjectDictionary;
+
+    const PADDING: u16 = index::PADDING;
+
+    /// The single-value rows of the table (2FFAh aside), as (index,
+    /// access, length).
+    fn single_values() -> impl Iterator<Item = (u16, Access, usize)> {
+        DELTAQ_OBJECTS
+            .iter()
+            .filter(|r| r.address.index != PADDING)
+            .map(|r| (r.address.index, r.access, usize::from(r.size())))
+    }
+
+    /// Every row is named (as its EDS spells it and for the decoder),
+    /// fixed-size, PDO-mappable but 2FFAh sub 0, and found by its address.
+    #[test]
+    fn every_row_is_named_sized_and_found() {
+        for row in DELTAQ_OBJECTS {
+            assert!(!row.name.is_empty() && !row.short.is_empty(), "{row:?}");
+            assert!(matches!(row.size(), 1 | 2 | 4), "{row:?}");
+            assert_eq!(row.mappable, row.address != Address::index(PADDING));
+            let found = ObjectRow::find(DELTAQ_OBJECTS, row.address).unwrap();
+            assert_eq!(found, row);
+        }
+        assert_eq!(DELTAQ_OBJECTS.len(), 24);
+        // Reset node restores the writable rows but padding.
+        let writable = DELTAQ_OBJECTS
+            .iter()
+            .filter(|r| r.access.is_writable() && r.address.index != PADDING);
+        assert!(writable
+            .map(|r| (r.address.index, r.address.sub))
+            .eq(CHARGER_PARAMETERS_RESTORED));
+    }
 
     /// Every object's access, length and field: written (if writable)
     /// and read back through the dictionary, the field changed with it.
     #[test]
     fn every_object_writes_and_reads_its_own_field() {
-        use Access::{ReadOnly as Ro, ReadWrite as Rw};
-        let expected: [(u16, Access, usize); 21] = [
-            (0x6000, Rw, 1),
-            (0x6001, Ro, 1),
-            (0x6010, Rw, 2),
-            (0x6052, Rw, 2),
-            (0x6060, Rw, 4),
-            (0x6070, Rw, 2),
-            (0x6080, Ro, 1),
-            (0x6081, Rw, 1),
-            (0x2002, Rw, 2),
-            (0x2006, Ro, 2),
-            (0x2060, Ro, 4),
-            (0x2100, Ro, 2),
-            (0x2101, Rw, 2),
-            (0x2200, Ro, 2),
-            (0x2241, Rw, 4),
-            (0x2271, Rw, 4),
-            (0x2276, Rw, 2),
-            (0x4201, Rw, 1),
-            (0x2008, Ro, 1),
-            (0x2250, Rw, 2),
-            (0x2251, Ro, 4),
-        ];
         let mut o = FixedDictionary::new(ChargerObjects::new());
-        for (index, access, len) in expected {
+        let fresh = o;
+        for (index, access, len) in single_values() {
             let info = o.info(index, 0).unwrap();
             assert_eq!(
                 (info.access, info.len, info.pdo_mappable),
@@ -337,12 +281,15 @@ mod tests {
             let result = o.finish_write(index, 0, len);
             let mut buf = [0u8; 4];
             assert_eq!(o.read(index, 0, 0, &mut buf), Ok(len));
-            if access == Rw {
+            if access == Access::ReadWrite {
                 assert_eq!(result, Ok(()), "{index:04X}h");
                 assert_eq!(&buf[..len], data, "{index:04X}h");
             } else {
                 assert_eq!(result, Err(AbortCode::WriteOfReadOnlyObject));
-                assert_ne!(&buf[..len], data, "{index:04X}h");
+                let mut before = [0u8; 4];
+                let mut fresh = fresh;
+                assert_eq!(fresh.read(index, 0, 0, &mut before), Ok(len));
+                assert_eq!(buf, before, "{index:04X}h unchanged");
             }
         }
         assert_eq!(o.battery_status, 0xA1);
@@ -402,15 +349,11 @@ mod tests {
         let values = |o: &ChargerDictionary| *o.objects();
         let mut o = FixedDictionary::new(ChargerObjects::new());
         let before = values(&o);
-        let rows: [u16; 18] = [
-            0x6000, 0x6001, 0x6010, 0x6052, 0x6060, 0x6070, 0x6080, 0x6081, 0x2002, 0x2006, 0x2060,
-            0x2100, 0x2101, 0x2200, 0x2241, 0x2271, 0x2276, 0x4201,
-        ];
         let finish = |o: &mut ChargerDictionary, index: u16, sub: u8, data: &[u8]| {
             o.write(index, sub, 0, data)
                 .and_then(|()| o.finish_write(index, sub, data.len()))
         };
-        for index in rows {
+        for (index, ..) in single_values() {
             let info = o.info(index, 0).unwrap();
             let len = info.len;
             let long = [0x5Au8; 5];

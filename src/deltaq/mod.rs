@@ -144,16 +144,15 @@ mod charger;
 mod charger_objects;
 mod codes;
 pub mod device_type;
-#[cfg(feature = "alloc")]
+#[cfg(all(feature = "alloc", feature = "heartbeat-consumer"))]
 mod eds;
 mod objects;
 mod pdo;
 mod policy;
 
 pub use catalogue::{
-    ALGORITHM_REQUEST_FORMAT, CHARGER_CATALOGUE, DELTAQ_OBJECTS, DELTAQ_UNSERVED_OBJECTS,
-    DERATE_REASONS_FLAGS, DISPLAYED_ERROR_FORMAT, EXTENDED_CHARGE_STATUS_FLAGS,
-    EXTERNAL_OVERRIDE_FLAGS,
+    ALGORITHM_REQUEST_FORMAT, CHARGER_CATALOGUE, DELTAQ_UNSERVED_OBJECTS, DERATE_REASONS_FLAGS,
+    DISPLAYED_ERROR_FORMAT, EXTENDED_CHARGE_STATUS_FLAGS, EXTERNAL_OVERRIDE_FLAGS,
 };
 #[cfg(feature = "heartbeat-consumer")]
 pub use charger::{
@@ -162,12 +161,11 @@ pub use charger::{
 };
 pub use charger_objects::{
     ChargerDictionary, ChargerObjects, ChargerPowerOnValues, CHARGER_PARAMETERS_RESTORED,
+    DELTAQ_OBJECTS,
 };
 pub use codes::{AlarmFaultEntry, DeltaQCode, ALARMS_AND_FAULTS};
 #[cfg(all(feature = "alloc", feature = "heartbeat-consumer"))]
 pub use eds::charger_eds;
-#[cfg(feature = "alloc")]
-pub use eds::{CHARGE_CONTROL_OBJECT_DESCRIPTIONS, DELTAQ_OBJECT_DESCRIPTIONS};
 pub use objects::{
     AcVoltage, AlgorithmRequest, BatteryVoltage, BatteryVoltageLegacy, ChargeIndication,
     ChargeStatusFlags, ChargeType, ChargerAhReturned, ChargingCurrent, DerateReasons,

@@ -28,6 +28,7 @@ pub mod index;
 mod memory;
 mod reading;
 mod row;
+mod table;
 mod types;
 mod write_buffer;
 pub use address::Address;
