@@ -177,22 +177,6 @@ pub struct SubDescription {
     pub data_type: DataType,
 }
 
-/// Sub-indexes `first..=last` named `name`, of type `data_type`: one line
-/// of an ARRAY's or RECORD's [`ObjectDescription::with_subs`].
-pub(crate) const fn sub(
-    first: u8,
-    last: u8,
-    name: &'static str,
-    data_type: DataType,
-) -> SubDescription {
-    SubDescription {
-        first,
-        last,
-        name,
-        data_type,
-    }
-}
-
 impl ObjectDescription {
     /// A VAR at `index`.
     #[must_use]

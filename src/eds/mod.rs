@@ -42,7 +42,6 @@ mod types;
 mod value;
 mod write;
 
-pub(crate) use describe::sub;
 pub use describe::{Described, DeviceHeader, ObjectDescription, ObjectNames, SubDescription};
 pub use dictionary::{EdsDictionary, PdoDescription, Unserved, UnservedReason, MAX_VARIABLE_LEN};
 pub use parse::{parse, parse_bytes};

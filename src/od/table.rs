@@ -21,7 +21,9 @@
 ///   and the type of their power-on values, `POWER_ON` (`[u8; N]`);
 /// - the [`FixedObjects`](crate::od::FixedObjects) implementation:
 ///   `entry` from the row (06020000h / 06090011h for what the table
-///   lacks), `store` into the field.
+///   lacks), `store` into the field. They read a compact copy of each
+///   row's access, size, mapping and default: the names and readings stay
+///   out of a firmware that does not use the table itself.
 ///
 /// ```
 /// use canopen_codec::od::{Access, DataType, FixedDictionary, ObjectDictionary, ObjectRow};
@@ -118,39 +120,131 @@ macro_rules! fixed_objects {
             }
         }
 
-        impl $crate::od::FixedObjects for $name {
-            type Parameters = $power_on;
-            const PARAMETERS: &'static [(u16, u8)] = &$params;
-
-            #[allow(clippy::cast_sign_loss)]
-            fn entry(
-                &self,
-                index: u16,
-                sub: u8,
-            ) -> Result<$crate::od::FixedEntry, $crate::abort::AbortCode> {
-                $({
-                    const ROW: $crate::od::ObjectRow = $row;
-                    if ROW.covers(index, sub) {
-                        // A signed value's high bytes are past its size:
-                        // only the first `size` bytes are served.
-                        return Ok(ROW.entry(self.$field as u32));
-                    }
-                })*
-                let row = $crate::od::ObjectRow::find($table, $crate::od::Address::new(index, sub))?;
-                Ok(row.entry(row.default))
+        // The fields' numbers, the entries the dictionary serves and the
+        // access to the fields, private to this block.
+        const _: () = {
+            /// The fields, numbered in declaration order: the
+            /// [`FixedEntry::slot`]($crate::od::FixedEntry::slot) of
+            /// their entries.
+            #[allow(non_camel_case_types, dead_code)]
+            #[derive(Clone, Copy)]
+            enum Field {
+                $($field,)*
             }
 
-            #[allow(clippy::cast_possible_truncation, clippy::cast_possible_wrap)]
-            fn store(&mut self, _: &$crate::od::FixedEntry, index: u16, sub: u8, word: u32) {
+            /// The slot of an entry without a field.
+            const NO_FIELD: u8 = u8::MAX;
+
+            /// An entry as the dictionary serves it: its object, its
+            /// sub-indexes, access, size and PDO mapping.
+            type Compact = (u16, u8, u8, $crate::od::Access, u8, bool);
+
+            /// The fields' entries, in field order (a firmware keeps
+            /// these, not the rows' names or readings).
+            const FIELDS: &[Compact] = &[
                 $({
                     const ROW: $crate::od::ObjectRow = $row;
-                    if ROW.covers(index, sub) {
-                        // The value has no more bytes than the field.
-                        self.$field = word as $ty;
-                        return;
-                    }
-                })*
+                    // One object per row: no runs of indexes here.
+                    const _: () = assert!(ROW.last_index == ROW.address.index);
+                    let a = ROW.address;
+                    (a.index, a.sub, ROW.last_sub, ROW.access, ROW.size(), ROW.mappable)
+                },)*
+            ];
+            const _: () = assert!(FIELDS.len() < NO_FIELD as usize);
+
+            /// The entries without a field, with their value.
+            const FREE: &[(Compact, u32)] = &[
+                $({
+                    const ROW: $crate::od::ObjectRow = $free;
+                    const _: () = assert!(ROW.last_index == ROW.address.index);
+                    let a = ROW.address;
+                    let c = (a.index, a.sub, ROW.last_sub, ROW.access, ROW.size(), ROW.mappable);
+                    (c, ROW.default)
+                },)*
+            ];
+
+            impl $name {
+                /// The value of the field in `slot` (0 for none).
+                #[allow(clippy::cast_sign_loss)]
+                fn field_word(&self, slot: u8) -> u32 {
+                    $(
+                        if slot == Field::$field as u8 {
+                            // A signed value's high bytes are past its
+                            // size: only the first `size` bytes are served.
+                            return self.$field as u32;
+                        }
+                    )*
+                    0
+                }
             }
-        }
+
+            impl $crate::od::FixedObjects for $name {
+                type Parameters = $power_on;
+                const PARAMETERS: &'static [(u16, u8)] = &$params;
+
+                fn entry(
+                    &self,
+                    index: u16,
+                    sub: u8,
+                ) -> Result<$crate::od::FixedEntry, $crate::abort::AbortCode> {
+                    let mut object = false;
+                    let mut slot = 0u8;
+                    for &(at, first_sub, last_sub, access, len, mappable) in FIELDS {
+                        if at == index {
+                            if first_sub <= sub && sub <= last_sub {
+                                let word = self.field_word(slot);
+                                return Ok($crate::od::FixedEntry {
+                                    access,
+                                    word,
+                                    len,
+                                    mappable,
+                                    slot,
+                                });
+                            }
+                            object = true;
+                        }
+                        slot = slot.wrapping_add(1);
+                    }
+                    for &((at, first_sub, last_sub, access, len, mappable), word) in FREE {
+                        if at == index {
+                            if first_sub <= sub && sub <= last_sub {
+                                return Ok($crate::od::FixedEntry {
+                                    access,
+                                    word,
+                                    len,
+                                    mappable,
+                                    slot: NO_FIELD,
+                                });
+                            }
+                            object = true;
+                        }
+                    }
+                    Err(if object {
+                        $crate::abort::AbortCode::SubIndexDoesNotExist
+                    } else {
+                        $crate::abort::AbortCode::ObjectDoesNotExist
+                    })
+                }
+
+                #[allow(clippy::cast_possible_truncation, clippy::cast_possible_wrap)]
+                fn store(&mut self, entry: &$crate::od::FixedEntry, _: u16, _: u8, word: u32) {
+                    $(
+                        {
+                            // Only writable entries are stored (the
+                            // others are refused before `store`).
+                            const WRITABLE: bool = {
+                                const ROW: $crate::od::ObjectRow = $row;
+                                ROW.access.is_writable()
+                            };
+                            if WRITABLE && entry.slot == Field::$field as u8 {
+                                // The value has no more bytes than the field.
+                                self.$field = word as $ty;
+                                return;
+                            }
+                        }
+                    )*
+                }
+            }
+        };
     };
 }
