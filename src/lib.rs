@@ -53,8 +53,23 @@
 //! | read a CAN log, reassemble SDO, name the objects, summarise a bus | `log` (feature `log`: what the programs do, as a library) |
 //! | the common imports in one line | [`prelude`] |
 //!
-//! The CiA 301 modules never import the profiles (`cia418`, `cia419`,
-//! `deltaq`); the profiles build on them.
+//! The modules are layered; each imports only from the layers below it
+//! (and, where marked, from its own), and no modules import each other in
+//! a circle, at any level (`tests/meta/layering.rs` checks both on the
+//! real import graph):
+//!
+//! 1. the base, each other's peers: [`abort`], [`bytes`], [`clock`],
+//!    [`cob_id`], [`error`], [`frame`], [`machine`], [`wire`];
+//! 2. [`od`] and [`program`];
+//! 3. the protocols, each other's peers: [`emcy`], [`lss`], [`nmt`],
+//!    [`pdo`], [`sdo`], [`sync`], [`time`], [`trace`];
+//! 4. [`message`] and the [`prelude`];
+//! 5. the device core, [`device`];
+//! 6. `eds` (describes a device);
+//! 7. the profiles, in order: [`cia418`], [`cia419`], [`deltaq`];
+//! 8. `sim`, then `log`, then the programs.
+//!
+//! The CiA 301 layers (1 to 6) never name a profile, `sim` or `log`.
 //!
 //! ## Features
 //!

@@ -2,7 +2,7 @@
 //! (text lines or BLF objects): the SDO observer, the roles, the PDO
 //! mappings learned, the summary and the output not written yet.
 
-use std::io::{self, Write};
+use std::io::{self, Read, Write};
 use std::prelude::rust_2021::*;
 
 use crate::sdo::Observed;
@@ -10,10 +10,11 @@ use crate::trace::candump::LogLine;
 use crate::trace::{RxTx, Unsupported};
 use crate::{CanId, Message};
 
+use crate::log::input::{self, Item, Kind};
 use crate::log::{
     csv, dbc, is_default, json, line_cache, load_eds, mappings, page_transfer, pdo_learn, report,
     sdo, signals, summary, time_column, transfer, words, BlockSegment, FrameLine, Notes, Options,
-    Roles,
+    Outcome, Roles,
 };
 
 /// The output is appended to a text and written in blocks of about this
@@ -443,4 +444,77 @@ impl<'o> Decoding<'o> {
         }
         Ok((bad, open))
     }
+}
+
+/// Decodes every line of `input` into `out`, with what is wrong with a
+/// line (and what `--eds` took) on `diag` (stderr in the program); returns
+/// how it ended ([`Outcome`]).
+pub fn run(
+    input: impl Read,
+    out: &mut impl Write,
+    diag: &mut impl Write,
+    opts: &Options,
+) -> io::Result<Outcome> {
+    let mut run = crate::log::decoding::Decoding::new(opts, diag)?;
+    let how = input::How {
+        format: opts.format,
+        blf: opts.blf,
+        delta_times: opts.delta_times,
+        find_newline: opts.find_newline,
+    };
+    let mut zlib = opts.inflater.map_or_else(
+        || Box::new(input::NoInflate) as Box<dyn input::Inflate>,
+        |make| make(),
+    );
+    let totals = input::read(input, how, zlib.as_mut(), |item| match item {
+        Item::Frame { at, frame } => {
+            let line = LogLine {
+                timestamp: frame.timestamp,
+                interface: frame.channel,
+                frame: frame.frame,
+            };
+            run.frame(&at, &line, frame.direction, out, diag)
+        }
+        Item::Unsupported { at, what, detail } => {
+            run.unsupported(&at, what, &detail, diag);
+            Ok(())
+        }
+        Item::Bad { at, why } => {
+            let _ = writeln!(diag, "{at}: {why}");
+            run.bad += 1;
+            Ok(())
+        }
+    })?;
+    if let Kind::Blf { skipped, .. } = totals.kind {
+        if skipped > 0 {
+            let _ = writeln!(
+                diag,
+                "canopen-decode: {skipped} other BLF object(s) skipped (not CAN frames)"
+            );
+        }
+    }
+    let (bad, open) = run.finish(out, diag)?;
+    let no_frame = match totals.kind {
+        _ if totals.frames > 0 => false,
+        Kind::Lines { lines: 0, .. } => false,
+        kind @ Kind::Lines { lines, .. } => {
+            let _ = writeln!(
+                diag,
+                "canopen-decode: none of the {lines} line(s) is a CAN frame ({kind}; --format names one)"
+            );
+            true
+        }
+        kind @ Kind::Blf { objects, .. } => {
+            let _ = writeln!(
+                diag,
+                "canopen-decode: none of the {objects} object(s) is a CAN frame ({kind})"
+            );
+            true
+        }
+    };
+    Ok(Outcome {
+        bad,
+        open,
+        no_frame,
+    })
 }

@@ -86,15 +86,18 @@ mod comm_objects;
 pub mod csv;
 pub mod dbc;
 mod decoding;
+mod frame_line;
 pub mod input;
 pub mod json;
 mod line_cache;
 pub mod mappings;
+pub mod naming;
 pub mod pdo_learn;
 pub mod pdo_syntax;
 mod pipeline;
 pub mod replay;
 pub mod report;
+mod roles;
 pub mod sdo;
 mod sdo_value;
 pub mod signals;
@@ -102,16 +105,9 @@ pub mod summary;
 mod time_column;
 pub mod words;
 
-/// Naming: the names, units and meanings of objects and their values.
-pub mod naming {
-    pub use super::comm_objects::{describe as describe_comm_object, Context};
-    pub use super::sdo_value::{describe, quote, unsigned, Described, Role, Value, NO_CATALOGUE};
-}
-
-pub use decoding::Decoding;
+pub use decoding::{run, Decoding};
+pub use frame_line::{is_default, BlockSegment, FrameLine, Notes};
 pub use line_cache::LineCache;
-pub use pipeline::{
-    is_default, load_eds, page_transfer, run, transfer, BlockSegment, FrameLine, Notes, Options,
-    Outcome, Roles,
-};
+pub use pipeline::{load_eds, page_transfer, transfer, Options, Outcome};
+pub use roles::Roles;
 pub use time_column::TimeColumn;

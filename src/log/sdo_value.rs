@@ -1,13 +1,9 @@
-//! The name and meaning of an object transferred by SDO: the CiA 301
-//! communication objects (1000h-1FFFh, in `comm_objects`) on every node,
-//! profile objects from the catalogue of the node's role: CiA 418 on the
-//! battery node, the CiA 419 objects on a charger, Delta-Q's then CiA 418's
-//! on a Delta-Q charger; a node without a role gets no profile names.
+//! What the name and meaning of an object transferred by SDO is made of
+//! ([`Described`], [`Value`]), the role of its node ([`Role`]) and the
+//! readings every table shares ([`unsigned`], [`quote`]); the naming
+//! itself is [`naming::describe`](super::naming::describe).
 
-use crate::cia418::BATTERY_MODULE_CATALOGUE;
-use crate::cia419::CHARGER_CATALOGUE as CIA419_CATALOGUE;
-use crate::deltaq::CHARGER_CATALOGUE as DELTAQ_CATALOGUE;
-use crate::pdo::{Catalogue, FieldValue, MappingEntry};
+use crate::pdo::Catalogue;
 use std::prelude::rust_2021::*;
 
 /// The objects of a node with no role: CiA 301 names nothing past 1FFFh.
@@ -91,7 +87,7 @@ pub fn quote(bytes: &[u8]) -> String {
 
 /// Little-endian unsigned of exactly `n` bytes; with `exact` false (an
 /// expedited s = 0 value, "up to 4 bytes") a longer value is cut to `n`.
-fn uint(bytes: &[u8], n: usize, exact: bool) -> Result<u64, String> {
+pub(super) fn uint(bytes: &[u8], n: usize, exact: bool) -> Result<u64, String> {
     let b = match bytes.get(..n) {
         Some(b) if bytes.len() == n || !exact => b,
         _ => return Err(format!("{} bytes, the object has {n}", bytes.len())),
@@ -114,90 +110,5 @@ pub fn unsigned(
             meaning: Some(e),
             ..d
         },
-    }
-}
-
-/// Names and interprets `bytes` of `index`:`sub` on a node with `role`
-/// (`deltaq_on_bus`: a Delta-Q charger is known to be on the bus; `eds`:
-/// the catalogue built from the node's EDS, its role's tables first, which
-/// then names the node's objects). `exact` is false for an expedited value
-/// with s = 0.
-pub fn describe(
-    index: u16,
-    sub: u8,
-    bytes: &[u8],
-    role: Role,
-    deltaq_on_bus: bool,
-    eds: Option<Catalogue>,
-    exact: bool,
-) -> Described {
-    let catalogue = eds.unwrap_or(match role {
-        Role::DeltaQCharger => DELTAQ_CATALOGUE,
-        Role::Charger => CIA419_CATALOGUE,
-        Role::Battery => BATTERY_MODULE_CATALOGUE,
-        Role::Other => NO_CATALOGUE,
-    });
-    let ctx = crate::log::comm_objects::Context {
-        role,
-        deltaq_on_bus,
-        catalogue,
-    };
-    crate::log::comm_objects::describe(index, sub, bytes, ctx, exact)
-        .unwrap_or_else(|| profile(index, sub, bytes, catalogue, exact))
-}
-
-/// An object of the node's catalogue (CiA 418, Delta-Q), or bytes only.
-fn profile(index: u16, sub: u8, bytes: &[u8], catalogue: Catalogue, exact: bool) -> Described {
-    let Some(def) = catalogue.lookup(index, sub) else {
-        return Described {
-            name: None,
-            value: Value::None,
-            unit: None,
-            meaning: None,
-            string: false,
-        };
-    };
-    let d = Described::named(def.short);
-    // A BOOLEAN (1 bit in a PDO) travels by SDO as one byte.
-    let raw = match uint(bytes, usize::from(def.bits().div_ceil(8)), exact) {
-        Ok(raw) => raw,
-        Err(e) => {
-            return Described {
-                meaning: Some(e),
-                ..d
-            }
-        }
-    };
-    let field = catalogue.interpret(MappingEntry::new(index, sub, def.bits()), raw);
-    let digits = usize::from(def.bits()).div_ceil(4);
-    let (value, meaning) = match &field.value {
-        FieldValue::Scaled { value, .. } | FieldValue::OutOfRange { value, .. } => (
-            Value::Number(value.to_string()),
-            format!("{:#.2}", field.value),
-        ),
-        v @ (FieldValue::Invalid | FieldValue::NoValue) => {
-            (Value::None, format!("{v} (raw {raw:0digits$X}h)"))
-        }
-        v @ FieldValue::Chars(chars) => (
-            Value::Text(
-                chars
-                    .iter()
-                    .filter(|&&c| c != 0)
-                    .map(|&c| char::from(c))
-                    .collect(),
-            ),
-            v.to_string(),
-        ),
-        FieldValue::Raw
-        | FieldValue::Padding
-        | FieldValue::Missing
-        | FieldValue::WrongWidth { .. } => (Value::None, format!("raw {raw:0digits$X}h")),
-        v => (Value::Text(v.to_string()), v.to_string()),
-    };
-    Described {
-        value,
-        unit: field.value.unit().map(|u| u.symbol()),
-        meaning: Some(meaning),
-        ..d
     }
 }

@@ -9,8 +9,9 @@ use crate::pdo::{Catalogue, FieldValue, NamedFields};
 use crate::{Message, NodeId};
 
 use crate::log::mappings::Source;
+use crate::log::naming::describe;
 use crate::log::sdo::{End, Report, Side};
-use crate::log::sdo_value::{describe, quote, Described, Role};
+use crate::log::sdo_value::{quote, Described, Role};
 use crate::log::Roles;
 
 /// A message in words; a frame on 700h + node that answers a node-guarding

@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod imports;
 mod index_literals;
 mod layering;
 mod shared_data;
