@@ -232,7 +232,7 @@ pub mod index {
     pub const EXTERNAL_OVERRIDE: u16 = 0x4201;
     /// 6052h Ah returned during the last charge; on the charger U16 Q3 Ah,
     /// 0xFFFF = no value ([`ChargerAhReturned`](super::ChargerAhReturned)).
-    pub const AH_RETURNED: u16 = 0x6052;
+    pub const AH_RETURNED: u16 = crate::cia418::AH_RETURNED_DURING_LAST_CHARGE;
 }
 
 /// Delta-Q's recommended timeouts and periods, in milliseconds ("Delta-Q IC

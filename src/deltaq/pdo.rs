@@ -35,12 +35,16 @@
 //! assert_eq!(charger_default_mapping(PdoDirection::Receive, PdoNumber::P3), None);
 //! ```
 
-use crate::cia418::{battery_default_mapping, BATTERY_MODULE_CATALOGUE};
+use crate::cia418::{
+    battery_default_mapping, AH_RETURNED_DURING_LAST_CHARGE, BATTERY_MODULE_CATALOGUE,
+    BATTERY_STATE_OF_CHARGE, BATTERY_STATUS, BATTERY_VOLTAGE, CHARGER_STATE_OF_CHARGE,
+    CHARGER_STATUS, CHARGE_CURRENT_REQUESTED, TEMPERATURE,
+};
 use crate::cob_id::{classify_standard, CobKind, NodeId, PdoNumber};
 use crate::od::index::{RPDO_COMMUNICATION, TPDO_COMMUNICATION};
 use crate::pdo::{find_default, Catalogue, DefaultPdo, PdoDirection, PdoMapping};
 
-use super::CHARGER_CATALOGUE;
+use super::{index, CHARGER_CATALOGUE};
 
 /// Transmission type 255: asynchronous, event-driven (device profile).
 const TT_ASYNC: u8 = 255;
@@ -74,48 +78,72 @@ use PdoDirection::{Receive, Transmit};
 /// take the module's 6010h and 6000h (+ 6060h), and 6070h with 6081h;
 /// RPDO 3 has no published mapping.
 pub const CHARGER_DEFAULT_PDOS: [DefaultPdo; 8] = [
-    row(Transmit, PdoNumber::P0, 0x180, 200, &[(0x6001, 0, 8)]),
+    row(
+        Transmit,
+        PdoNumber::P0,
+        0x180,
+        200,
+        &[(CHARGER_STATUS, 0, 8)],
+    ),
     row(
         Transmit,
         PdoNumber::P1,
         0x280,
         200,
-        &[(0x6001, 0, 8), (0x6052, 0, 16)],
+        &[
+            (CHARGER_STATUS, 0, 8),
+            (AH_RETURNED_DURING_LAST_CHARGE, 0, 16),
+        ],
     ),
     row(
         Transmit,
         PdoNumber::P2,
         0x380,
         200,
-        &[(0x6001, 0, 8), (0x6052, 0, 16), (0x6080, 0, 8)],
+        &[
+            (CHARGER_STATUS, 0, 8),
+            (AH_RETURNED_DURING_LAST_CHARGE, 0, 16),
+            (CHARGER_STATE_OF_CHARGE, 0, 8),
+        ],
     ),
     row(
         Transmit,
         PdoNumber::P3,
         0x480,
         1000,
-        &[(0x2002, 0, 16), (0x2100, 0, 16), (0x2006, 0, 16)],
+        &[
+            (index::CHARGING_CURRENT, 0, 16),
+            (index::BATTERY_VOLTAGE_LEGACY, 0, 16),
+            (index::EXTENDED_CHARGE_STATUS, 0, 16),
+        ],
     ),
     row(
         Receive,
         PdoNumber::P0,
         0x200,
         0,
-        &[(0x6010, 0, 16), (0x6000, 0, 8)],
+        &[(TEMPERATURE, 0, 16), (BATTERY_STATUS, 0, 8)],
     ),
     row(
         Receive,
         PdoNumber::P1,
         0x300,
         0,
-        &[(0x6010, 0, 16), (0x6000, 0, 8), (0x6060, 0, 32)],
+        &[
+            (TEMPERATURE, 0, 16),
+            (BATTERY_STATUS, 0, 8),
+            (BATTERY_VOLTAGE, 0, 32),
+        ],
     ),
     row(
         Receive,
         PdoNumber::P2,
         0x400,
         0,
-        &[(0x6070, 0, 16), (0x6081, 0, 8)],
+        &[
+            (CHARGE_CURRENT_REQUESTED, 0, 16),
+            (BATTERY_STATE_OF_CHARGE, 0, 8),
+        ],
     ),
     // Not published by Delta-Q: no entries rather than a guess.
     row(Receive, PdoNumber::P3, 0x500, 0, &[]),
