@@ -37,18 +37,8 @@ impl PowerOnValues for App {
 }
 
 /// An application whose parameters cannot be stored (the default
-/// methods): 2000h, three bytes.
-type Unstorable = Word<3>;
-
-impl PowerOnValues for Unstorable {
-    type Snapshot = u32;
-    fn snapshot(&self) -> u32 {
-        self.0
-    }
-    fn restore(&mut self, snapshot: &u32) {
-        self.0 = *snapshot;
-    }
-}
+/// methods): the device tests' one U8 object, 2000h.
+use crate::device::tests::App as Unstorable;
 
 type Dev = Cia301Device<App>;
 
@@ -170,6 +160,15 @@ fn change(d: &mut Dev) {
     let _ = (sent(d), events(d));
 }
 
+/// A device on RAM storage with [`change`]'s changes stored by 1010h
+/// sub 1 ("save all parameters").
+fn changed_and_saved() -> Dev {
+    let mut d = device(Some(ram()));
+    change(&mut d);
+    assert_eq!(download(&mut d, 0x1010, 1, SAVE), ok(0x1010, 1));
+    d
+}
+
 fn changed(d: &Dev) -> (u16, u32, u32) {
     (d.comm().heartbeat_ms, tpdo_cob(d), d.objects().0)
 }
@@ -283,9 +282,7 @@ fn subs_the_device_does_not_support() {
 /// in a new device on the same storage (power cycle).
 #[test]
 fn save_all_survives_reset_node_and_power_cycle() {
-    let mut d = device(Some(ram()));
-    change(&mut d);
-    assert_eq!(download(&mut d, 0x1010, 1, SAVE), ok(0x1010, 1));
+    let mut d = changed_and_saved();
     assert_eq!(
         storage_events(&mut d),
         [
@@ -333,9 +330,7 @@ fn each_group_alone() {
 /// application objects, reset node brings both back.
 #[test]
 fn restore_then_reset_communication_or_node() {
-    let mut d = device(Some(ram()));
-    change(&mut d);
-    assert_eq!(download(&mut d, 0x1010, 1, SAVE), ok(0x1010, 1));
+    let mut d = changed_and_saved();
     assert_eq!(download(&mut d, 0x1011, 1, LOAD), ok(0x1011, 1));
     assert_eq!(
         storage_events(&mut d),
@@ -359,9 +354,7 @@ fn restore_then_reset_communication_or_node() {
 /// application group.
 #[test]
 fn reset_communication_loads_the_communication_group_only() {
-    let mut d = device(Some(ram()));
-    change(&mut d);
-    assert_eq!(download(&mut d, 0x1010, 1, SAVE), ok(0x1010, 1));
+    let mut d = changed_and_saved();
     d.update(T0, |a| a.0 = 0x0777);
     assert_eq!(heartbeat(&mut d, 500), ok(0x1017, 0));
     let _ = events(&mut d);
@@ -377,9 +370,7 @@ fn reset_communication_loads_the_communication_group_only() {
 /// event at boot and at every reset; the defaults stay.
 #[test]
 fn corrupt_records_are_ignored() {
-    let mut d = device(Some(ram()));
-    change(&mut d);
-    assert_eq!(download(&mut d, 0x1010, 1, SAVE), ok(0x1010, 1));
+    let mut d = changed_and_saved();
     let storage = d.take_storage().unwrap();
     let mut corrupt = RamStorage::<RECORD_CAPACITY>::new();
     let mut buf = [0u8; RECORD_CAPACITY];

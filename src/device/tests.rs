@@ -13,7 +13,7 @@ use std::string::{String, ToString};
 use std::vec::Vec;
 
 /// The application: one mappable, writable U8 object, 2000h:00.
-type App = Word<1>;
+pub(super) type App = Word<1>;
 
 /// Its one object is a parameter: a full copy.
 impl PowerOnValues for App {
@@ -118,7 +118,12 @@ fn events(d: &mut Dev) -> Vec<DeviceEvent> {
 
 fn sdo_write_u8(d: &mut Dev, now: Timestamp, index: u16, value: u8) {
     let [lo, hi] = index.to_le_bytes();
-    d.handle_frame(now, &frame(0x604, &[0x2F, lo, hi, 0, value, 0, 0, 0]));
+    sdo_request(d, now, [0x2F, lo, hi, 0, value, 0, 0, 0]);
+}
+
+/// The SDO client's request `data` to this node (604h).
+fn sdo_request(d: &mut impl Machine, now: Timestamp, data: [u8; 8]) {
+    d.handle_frame(now, &frame(0x604, &data));
 }
 
 #[test]
@@ -168,10 +173,7 @@ fn reset_node_restores_every_object_reset_communication_only_the_communication_o
 fn sdo_write_of_1017h_rearms_the_heartbeat() {
     let mut d = booted();
     let _ = sent(&mut d);
-    d.handle_frame(
-        ms(100),
-        &frame(0x604, &[0x2B, 0x17, 0x10, 0, 0xF4, 0x01, 0, 0]),
-    );
+    sdo_request(&mut d, ms(100), [0x2B, 0x17, 0x10, 0, 0xF4, 0x01, 0, 0]);
     assert_eq!(sent(&mut d), ["584#6017100000000000"]);
     assert_eq!(d.poll_timeout(), Some(ms(600)));
     assert_eq!(
@@ -214,7 +216,7 @@ fn stopped_drops_a_transfer_silently_and_serves_no_sdo() {
     let _ = sent(&mut d);
     // A segmented upload of 1008h ("dev" is 3 bytes: expedited) -- use a
     // segmented download to 1008h instead: initiate, then stop.
-    d.handle_frame(ms(1), &frame(0x604, &[0x21, 0x00, 0x20, 0, 1, 0, 0, 0]));
+    sdo_request(&mut d, ms(1), [0x21, 0x00, 0x20, 0, 1, 0, 0, 0]);
     assert_eq!(sent(&mut d), ["584#6000200000000000"]);
     d.handle_frame(ms(2), &frame(0x000, &[0x02, 0]));
     d.handle_timeout(ms(10_000));
@@ -222,10 +224,7 @@ fn stopped_drops_a_transfer_silently_and_serves_no_sdo() {
         sent(&mut d).iter().all(|f| f.starts_with("704#")),
         "no abort frame in stopped"
     );
-    d.handle_frame(
-        ms(10_001),
-        &frame(0x604, &[0x40, 0x00, 0x10, 0, 0, 0, 0, 0]),
-    );
+    sdo_request(&mut d, ms(10_001), [0x40, 0x00, 0x10, 0, 0, 0, 0, 0]);
     assert_eq!(sent(&mut d), Vec::<String>::new());
 }
 
@@ -347,15 +346,15 @@ fn a_dropped_download_is_aborted_in_the_dictionary() {
         d.boot(ms(0));
         let _ = sent(&mut d);
         // Segmented download of 8 bytes: initiate, first segment.
-        d.handle_frame(ms(1), &frame(0x604, &[0x21, 0x00, 0x21, 0, 8, 0, 0, 0]));
+        sdo_request(&mut d, ms(1), [0x21, 0x00, 0x21, 0, 8, 0, 0, 0]);
         assert_eq!(sent(&mut d), ["584#6000210000000000"]);
-        d.handle_frame(ms(2), &frame(0x604, &[0x00, 1, 2, 3, 4, 5, 6, 7]));
+        sdo_request(&mut d, ms(2), [0x00, 1, 2, 3, 4, 5, 6, 7]);
         assert_eq!(sent(&mut d), ["584#2000000000000000"]);
         d.handle_frame(ms(3), &frame(0x000, &[cs, 4]));
         d.handle_frame(ms(4), &frame(0x000, &[0x80, 4]));
         let _ = sent(&mut d);
         // The same object again, expedited.
-        d.handle_frame(ms(5), &frame(0x604, &[0x23, 0x00, 0x21, 0, 9, 9, 9, 9]));
+        sdo_request(&mut d, ms(5), [0x23, 0x00, 0x21, 0, 9, 9, 9, 9]);
         assert_eq!(
             sent(&mut d),
             ["584#8000210013000706"],
@@ -396,20 +395,14 @@ fn sdo_writes_of_1016h() {
     let mut d = watching_nodes_1_and_2();
     let _ = sent(&mut d);
     // 1016h sub 1 = node 3, 500 ms (0003_01F4h).
-    d.handle_frame(
-        ms(1),
-        &frame(0x604, &[0x23, 0x16, 0x10, 1, 0xF4, 0x01, 3, 0]),
-    );
+    sdo_request(&mut d, ms(1), [0x23, 0x16, 0x10, 1, 0xF4, 0x01, 3, 0]);
     assert_eq!(sent(&mut d), ["584#6016100100000000"]);
     assert_eq!(
         d.heartbeat_consumer().entry(0),
         Some(ConsumerEntry::new(n(3), Duration::from_millis(500)))
     );
     // Sub 2 = node 3 as well: refused, sub 2 still watches node 2.
-    d.handle_frame(
-        ms(2),
-        &frame(0x604, &[0x23, 0x16, 0x10, 2, 0xE8, 0x03, 3, 0]),
-    );
+    sdo_request(&mut d, ms(2), [0x23, 0x16, 0x10, 2, 0xE8, 0x03, 3, 0]);
     assert_eq!(sent(&mut d), ["584#8016100243000406"]);
     assert_eq!(
         d.comm().consumers(),
@@ -433,10 +426,10 @@ fn sdo_writes_of_1016h() {
 #[test]
 fn sdo_writes_of_1003h() {
     let mut d = with_errors(&[ErrorRegister::CURRENT, ErrorRegister::CURRENT]);
-    d.handle_frame(ms(600), &frame(0x604, &[0x2F, 0x03, 0x10, 0, 1, 0, 0, 0]));
+    sdo_request(&mut d, ms(600), [0x2F, 0x03, 0x10, 0, 1, 0, 0, 0]);
     assert_eq!(sent(&mut d), ["584#8003100030000906"]);
     assert_eq!(d.comm().errors().len(), 2);
-    d.handle_frame(ms(601), &frame(0x604, &[0x2F, 0x03, 0x10, 0, 0, 0, 0, 0]));
+    sdo_request(&mut d, ms(601), [0x2F, 0x03, 0x10, 0, 0, 0, 0, 0]);
     assert_eq!(sent(&mut d), ["584#6003100000000000"]);
     assert!(d.comm().errors().is_empty());
     assert!(
@@ -464,7 +457,7 @@ fn reset_node_restores_every_object_of_a_memory_dictionary() {
         });
         d.boot(ms(0));
         let at_boot = d.objects().clone();
-        d.handle_frame(ms(1), &frame(0x604, &[0x2F, 0x00, 0x20, 0, 9, 0, 0, 0]));
+        sdo_request(&mut d, ms(1), [0x2F, 0x00, 0x20, 0, 9, 0, 0, 0]);
         d.update(ms(2), |o| {
             o.set(0x2001, 0, &[4, 0]);
             o.insert(0x2002, 0, Access::ReadOnly, &[5]);
@@ -508,7 +501,7 @@ fn no_1016h_over_sdo_without_the_heartbeat_consumer() {
     assert!(evs
         .iter()
         .all(|e| matches!(e, DeviceEvent::SdoAborted { index: 0x1016, .. })));
-    d.handle_frame(ms(2), &frame(0x604, &[0x40, 0x17, 0x10, 0, 0, 0, 0, 0]));
+    sdo_request(&mut d, ms(2), [0x40, 0x17, 0x10, 0, 0, 0, 0, 0]);
     assert_eq!(sent(&mut d), ["584#4B171000E8030000"]);
 }
 

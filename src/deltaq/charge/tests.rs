@@ -7,12 +7,13 @@ use crate::deltaq::{ChargeIndication, ChargeStatusFlags, ChargeType, DeltaQCode,
 use crate::emcy::{ErrorCode, ErrorRegister};
 use std::vec::Vec;
 
-fn s(n: u64) -> Timestamp {
+/// `n` seconds after the start.
+pub(super) fn s(n: u64) -> Timestamp {
     Timestamp::from_millis(n * 1000)
 }
 
-/// A 24-cell lead-acid pack at `volts` on the output, AC on.
-fn pack(volts: u32, amps: u32) -> PowerStage {
+/// A 24-cell lead-acid pack at `volts` on the output giving `amps`, AC on.
+pub(super) fn pack(volts: u32, amps: u32) -> PowerStage {
     PowerStage {
         ac_present: true,
         voltage_mv: volts * 1000,
@@ -22,7 +23,7 @@ fn pack(volts: u32, amps: u32) -> PowerStage {
 }
 
 /// A BMS present, ready, asking `amps` (6070h) with no voltage request.
-fn bms(amps: u16) -> BusInputs {
+pub(super) fn bms(amps: u16) -> BusInputs {
     BusInputs {
         battery_present: true,
         battery_status: 1,
@@ -31,11 +32,72 @@ fn bms(amps: u16) -> BusInputs {
     }
 }
 
-fn control(mode: OperatingMode) -> ChargeControl {
+/// The BMS of [`bms`] saying it is not ready (6000h = 0).
+fn bms_not_ready(amps: u16) -> BusInputs {
+    BusInputs {
+        battery_status: 0,
+        ..bms(amps)
+    }
+}
+
+/// The BMS of [`bms`] asking `mv` as well (2271h / 2276h).
+fn bms_asking_volts(amps: u16, mv: u32) -> BusInputs {
+    BusInputs {
+        voltage_request_mv: mv,
+        ..bms(amps)
+    }
+}
+
+/// The battery module gone from the bus (no heartbeat).
+fn bms_absent(amps: u16) -> BusInputs {
+    BusInputs {
+        battery_present: false,
+        ..bms(amps)
+    }
+}
+
+/// The power stage of [`pack`] with AC off.
+fn ac_off(volts: u32) -> PowerStage {
+    PowerStage {
+        ac_present: false,
+        ..pack(volts, 0)
+    }
+}
+
+/// The battery module's emergency `code` with `register`, no
+/// manufacturer bytes.
+fn emcy(code: ErrorCode, register: ErrorRegister) -> Emergency {
+    Emergency {
+        code,
+        register,
+        manufacturer: [0; 5],
+    }
+}
+
+/// The default configuration in `mode`.
+pub(super) fn control(mode: OperatingMode) -> ChargeControl {
     ChargeControl::new(mode, ChargeConfig::example())
 }
 
-fn events(c: &mut ChargeControl) -> Vec<ChargeEvent> {
+/// Local mode with a ready BMS heard at 0 s and `output` measured then.
+fn local_charge(output: PowerStage) -> ChargeControl {
+    let mut c = control(OperatingMode::Local);
+    c.handle_bus(s(0), bms(0));
+    c.handle_power_stage(s(0), output);
+    c
+}
+
+/// Remote mode: AC on at 0 s with a 50 V pack, then at 1 s a ready BMS
+/// asking `amps`.
+fn remote_charge(amps: u16) -> ChargeControl {
+    let mut c = control(OperatingMode::Remote);
+    c.handle_power_stage(s(0), pack(50, 0));
+    c.handle_bus(s(1), bms(amps));
+    c
+}
+
+/// The events queued so far, drained.
+pub(super) fn events(c: &mut ChargeControl) -> Vec<ChargeEvent> {
     core::iter::from_fn(|| c.poll_event()).collect()
 }
 
@@ -61,14 +123,8 @@ fn remote_charges_only_with_heartbeat_ready_and_a_valid_request() {
     assert_eq!(c.phase(), ChargePhase::Idle);
     // Each condition missing alone keeps the output off.
     for bus in [
-        BusInputs {
-            battery_present: false,
-            ..bms(5)
-        },
-        BusInputs {
-            battery_status: 0,
-            ..bms(5)
-        },
+        bms_absent(5),
+        bms_not_ready(5),
         BusInputs {
             current_request: 0xFFFF,
             ..bms(5)
@@ -90,13 +146,7 @@ fn remote_charges_only_with_heartbeat_ready_and_a_valid_request() {
         }
     );
     // The charger stops as soon as one goes false.
-    c.handle_bus(
-        s(3),
-        BusInputs {
-            battery_status: 0,
-            ..bms(5)
-        },
-    );
+    c.handle_bus(s(3), bms_not_ready(5));
     assert!(!c.set_points().enabled);
 }
 
@@ -116,13 +166,7 @@ fn remote_status_is_bms_run_as_the_capture_shows() {
 fn remote_voltage_request_is_the_set_point() {
     let mut c = control(OperatingMode::Remote);
     c.handle_power_stage(s(0), pack(50, 0));
-    c.handle_bus(
-        s(1),
-        BusInputs {
-            voltage_request_mv: 54_600,
-            ..bms(10)
-        },
-    );
+    c.handle_bus(s(1), bms_asking_volts(10, 54_600));
     assert_eq!(c.set_points().voltage_mv, 54_600);
     assert_eq!(c.set_points().current_ma, 10_000);
 }
@@ -131,31 +175,19 @@ fn remote_voltage_request_is_the_set_point() {
 fn remote_shuts_down_on_any_module_emcy_until_its_error_reset() {
     // Section 4.4.2: "in remote control mode the charger shall shutdown on
     // receiving any error code". Ours: until the module's error reset.
-    let mut c = control(OperatingMode::Remote);
-    c.handle_power_stage(s(0), pack(50, 0));
-    c.handle_bus(s(1), bms(5));
-    let emcy = Emergency {
-        code: ErrorCode::HEARTBEAT,
-        register: ErrorRegister::GENERIC,
-        manufacturer: [0; 5],
-    };
-    c.handle_battery_emcy(s(2), &emcy);
+    let mut c = remote_charge(5);
+    let heartbeat_lost = emcy(ErrorCode::HEARTBEAT, ErrorRegister::GENERIC);
+    c.handle_battery_emcy(s(2), &heartbeat_lost);
     assert_eq!(c.phase(), ChargePhase::Terminated);
     assert!(!c.set_points().enabled);
-    let reset = Emergency {
-        code: ErrorCode::NO_ERROR,
-        register: ErrorRegister::empty(),
-        manufacturer: [0; 5],
-    };
+    let reset = emcy(ErrorCode::NO_ERROR, ErrorRegister::empty());
     c.handle_battery_emcy(s(3), &reset);
     assert_eq!(c.phase(), ChargePhase::Remote);
 }
 
 #[test]
 fn remote_stops_on_a_can_bus_error() {
-    let mut c = control(OperatingMode::Remote);
-    c.handle_power_stage(s(0), pack(50, 0));
-    c.handle_bus(s(1), bms(5));
+    let mut c = remote_charge(5);
     c.handle_bus(
         s(2),
         BusInputs {
@@ -188,13 +220,7 @@ fn local_without_can_charges_after_the_hold_off() {
 #[test]
 fn local_with_a_ready_bms_starts_at_once_and_a_not_ready_one_holds() {
     let mut c = control(OperatingMode::Local);
-    c.handle_bus(
-        s(0),
-        BusInputs {
-            battery_status: 0,
-            ..bms(0)
-        },
-    );
+    c.handle_bus(s(0), bms_not_ready(0));
     c.handle_power_stage(s(0), pack(48, 0));
     assert_eq!(c.phase(), ChargePhase::Idle);
     c.handle_timeout(s(30));
@@ -210,9 +236,7 @@ fn local_with_a_ready_bms_starts_at_once_and_a_not_ready_one_holds() {
 #[test]
 fn local_cycle_bulk_absorption_rest_float() {
     // Our three-stage profile (algorithm module docs).
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
-    c.handle_power_stage(s(0), pack(50, 25));
+    let mut c = local_charge(pack(50, 25));
     assert_eq!(c.phase(), ChargePhase::Bulk);
     assert_eq!(c.status().extended.indication, ChargeIndication::Below80);
     // The pack reaches 58.8 V - 0.5 %: absorption.
@@ -221,22 +245,14 @@ fn local_cycle_bulk_absorption_rest_float() {
     assert_eq!(c.status().extended.indication, ChargeIndication::Above80);
     // The current tapers to the termination current (1.25 A): not before
     // a minute in absorption.
-    c.handle_power_stage(
-        s(130),
-        PowerStage {
-            current_ma: 1000,
-            ..pack(59, 0)
-        },
-    );
+    let tapered = PowerStage {
+        current_ma: 1000,
+        ..pack(59, 0)
+    };
+    c.handle_power_stage(s(130), tapered);
     assert_eq!(c.phase(), ChargePhase::Absorption);
     assert_eq!(c.status().extended.indication, ChargeIndication::Finishing);
-    c.handle_power_stage(
-        s(161),
-        PowerStage {
-            current_ma: 1000,
-            ..pack(59, 0)
-        },
-    );
+    c.handle_power_stage(s(161), tapered);
     assert_eq!(c.phase(), ChargePhase::Rest);
     assert!(!c.set_points().enabled);
     assert_eq!(c.status().extended.indication, ChargeIndication::Resting);
@@ -280,17 +296,9 @@ fn lithium_has_no_float_and_completes() {
 fn terminate_via_6000h_stays_terminated_after_the_bms_is_lost() {
     // Section 7: "terminate charge via battery ready status object 6000h";
     // section 7.1.6: communication failure after charge termination.
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
-    c.handle_power_stage(s(0), pack(50, 25));
+    let mut c = local_charge(pack(50, 25));
     assert_eq!(c.phase(), ChargePhase::Bulk);
-    c.handle_bus(
-        s(10),
-        BusInputs {
-            battery_status: 0,
-            ..bms(0)
-        },
-    );
+    c.handle_bus(s(10), bms_not_ready(0));
     assert_eq!(c.phase(), ChargePhase::Terminated);
     assert!(!c.set_points().enabled);
     c.handle_bus(s(20), BusInputs::none(72_000));
@@ -301,13 +309,7 @@ fn terminate_via_6000h_stays_terminated_after_the_bms_is_lost() {
         "no restart on the no-CAN algorithm"
     );
     // AC cycled: a new charge may begin.
-    c.handle_power_stage(
-        s(70),
-        PowerStage {
-            ac_present: false,
-            ..pack(50, 0)
-        },
-    );
+    c.handle_power_stage(s(70), ac_off(50));
     c.handle_power_stage(s(71), pack(50, 0));
     assert_eq!(c.phase(), ChargePhase::HoldOff);
 }
@@ -315,9 +317,7 @@ fn terminate_via_6000h_stays_terminated_after_the_bms_is_lost() {
 #[test]
 fn restart_via_2241h_begins_a_new_cycle() {
     // Section 7: "restart charge via set active algo".
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
-    c.handle_power_stage(s(0), pack(59, 25));
+    let mut c = local_charge(pack(59, 25));
     c.handle_power_stage(s(3600), pack(59, 25));
     assert_eq!(c.phase(), ChargePhase::Absorption);
     assert!(c.status().ah_returned > 0);
@@ -346,9 +346,7 @@ fn restart_via_2241h_begins_a_new_cycle() {
 #[test]
 fn change_algorithm_mid_charge() {
     // Section 7: "change algo to a different algo".
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
-    c.handle_power_stage(s(0), pack(50, 25));
+    let mut c = local_charge(pack(50, 25));
     c.request_algorithm(s(5), Some(AlgorithmRequest::new(2)));
     assert_eq!(c.active_algorithm(), Some(2));
     assert_eq!(c.phase(), ChargePhase::Bulk);
@@ -358,9 +356,7 @@ fn change_algorithm_mid_charge() {
 #[test]
 fn complete_via_the_float_algorithm() {
     // Section 7: "complete charge via set active algo to float 2241h".
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
-    c.handle_power_stage(s(0), pack(50, 25));
+    let mut c = local_charge(pack(50, 25));
     c.request_algorithm(s(5), Some(AlgorithmRequest::new(3)));
     assert_eq!(c.phase(), ChargePhase::Float);
     assert_eq!(c.set_points().voltage_mv, 24 * 2270);
@@ -370,9 +366,7 @@ fn complete_via_the_float_algorithm() {
 #[test]
 fn an_unknown_algorithm_raises_e_0_2_8_and_stops() {
     // Section 4.4.1: E-0-2-8 incompatible algorithm.
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
-    c.handle_power_stage(s(0), pack(50, 25));
+    let mut c = local_charge(pack(50, 25));
     let _ = events(&mut c);
     c.request_algorithm(s(5), Some(AlgorithmRequest::new(77)));
     assert_eq!(alarms_raised(&mut c), [DeltaQCode::Alarm(28)]);
@@ -403,31 +397,17 @@ fn no_active_algorithm_raises_e_0_2_0() {
 #[test]
 fn revert_after_ac_loss_goes_back_to_the_permanent_algorithm() {
     // Section 5, 2241h bit 30.
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
-    c.handle_power_stage(s(0), pack(50, 0));
+    let mut c = local_charge(pack(50, 0));
     let mut r = AlgorithmRequest::new(2);
     r.revert_after_ac_loss = true;
     c.request_algorithm(s(1), Some(r));
     assert_eq!(c.active_algorithm(), Some(2));
-    c.handle_power_stage(
-        s(2),
-        PowerStage {
-            ac_present: false,
-            ..pack(50, 0)
-        },
-    );
+    c.handle_power_stage(s(2), ac_off(50));
     assert_eq!(c.active_algorithm(), Some(1));
     // Bit 31: stored permanently, survives AC loss.
     c.handle_power_stage(s(3), pack(50, 0));
     c.request_algorithm(s(4), Some(AlgorithmRequest::new(2).permanent()));
-    c.handle_power_stage(
-        s(5),
-        PowerStage {
-            ac_present: false,
-            ..pack(50, 0)
-        },
-    );
+    c.handle_power_stage(s(5), ac_off(50));
     assert_eq!(c.active_algorithm(), Some(2));
 }
 
@@ -455,13 +435,7 @@ fn ah_target_completes_the_charge() {
 fn voltage_request_limits_in_local_mode() {
     // Delta-Q's object list, 2271h: "limit in local mode".
     let mut c = control(OperatingMode::Local);
-    c.handle_bus(
-        s(0),
-        BusInputs {
-            voltage_request_mv: 56_000,
-            ..bms(0)
-        },
-    );
+    c.handle_bus(s(0), bms_asking_volts(0, 56_000));
     c.handle_power_stage(s(0), pack(50, 0));
     assert_eq!(c.set_points().voltage_mv, 56_000);
     assert_eq!(
@@ -501,17 +475,9 @@ fn local_override_takes_the_current_request_as_a_limit_and_equalize() {
 #[test]
 fn reduce_current_and_voltage() {
     // Section 7: "reduce current and voltage" (remote: the set points follow).
-    let mut c = control(OperatingMode::Remote);
-    c.handle_power_stage(s(0), pack(50, 0));
-    c.handle_bus(s(1), bms(20));
+    let mut c = remote_charge(20);
     assert_eq!(c.set_points().current_ma, 20_000);
-    c.handle_bus(
-        s(2),
-        BusInputs {
-            voltage_request_mv: 52_000,
-            ..bms(8)
-        },
-    );
+    c.handle_bus(s(2), bms_asking_volts(8, 52_000));
     assert_eq!(c.set_points().current_ma, 8_000);
     assert_eq!(c.set_points().voltage_mv, 52_000);
 }
@@ -519,9 +485,7 @@ fn reduce_current_and_voltage() {
 #[test]
 fn losing_the_bms_during_a_local_charge_carries_on() {
     // Section 7.1.4, "communication failure default".
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
-    c.handle_power_stage(s(0), pack(50, 25));
+    let mut c = local_charge(pack(50, 25));
     c.handle_bus(s(5), BusInputs::none(72_000));
     assert_eq!(c.phase(), ChargePhase::Bulk);
     assert!(c.set_points().enabled);
@@ -531,13 +495,7 @@ fn losing_the_bms_during_a_local_charge_carries_on() {
 fn losing_the_bms_before_the_start_falls_back_to_the_hold_off() {
     // Section 7: "lose battery controller – before charge starts".
     let mut c = control(OperatingMode::Local);
-    c.handle_bus(
-        s(0),
-        BusInputs {
-            battery_status: 0,
-            ..bms(0)
-        },
-    );
+    c.handle_bus(s(0), bms_not_ready(0));
     c.handle_power_stage(s(0), pack(50, 0));
     assert_eq!(c.phase(), ChargePhase::Idle);
     c.handle_bus(s(5), BusInputs::none(72_000));
@@ -548,16 +506,8 @@ fn losing_the_bms_before_the_start_falls_back_to_the_hold_off() {
 
 #[test]
 fn remote_loses_the_bms_and_stops() {
-    let mut c = control(OperatingMode::Remote);
-    c.handle_power_stage(s(0), pack(50, 0));
-    c.handle_bus(s(1), bms(10));
-    c.handle_bus(
-        s(2),
-        BusInputs {
-            battery_present: false,
-            ..bms(10)
-        },
-    );
+    let mut c = remote_charge(10);
+    c.handle_bus(s(2), bms_absent(10));
     assert_eq!(c.phase(), ChargePhase::Idle);
     assert!(!c.set_points().enabled);
     // Communication restored (section 7.1.7): charging resumes.
@@ -570,20 +520,12 @@ fn remote_counts_a_new_charge_after_the_battery_was_unplugged() {
     // Ours: 6052h is the Ah of the charge that runs; a loss of the BMS
     // (idle, then remote again) goes on counting, a battery taken off the
     // output ends the charge and the next counts from zero.
-    let mut c = control(OperatingMode::Remote);
-    c.handle_power_stage(s(0), pack(50, 0));
-    c.handle_bus(s(1), bms(10));
+    let mut c = remote_charge(10);
     c.handle_power_stage(s(2), pack(50, 10));
     c.handle_power_stage(s(362), pack(50, 10));
     let one_hour_tenth = c.status().ah_returned;
     assert_eq!(one_hour_tenth, 8, "10 A for 360 s: 1 Ah (Q3)");
-    c.handle_bus(
-        s(363),
-        BusInputs {
-            battery_present: false,
-            ..bms(10)
-        },
-    );
+    c.handle_bus(s(363), bms_absent(10));
     c.handle_bus(s(364), bms(10));
     assert_eq!(c.phase(), ChargePhase::Remote);
     assert_eq!(c.status().ah_returned, one_hour_tenth, "the same charge");
@@ -612,9 +554,7 @@ fn battery_unplugged_with_can_connected_raises_e_0_4_5() {
 #[test]
 fn high_voltage_stops_the_output_with_e_0_0_1_and_hysteresis() {
     // Section 4.4.1: E-0-0-1 "battery high voltage (threshold from the algorithm)".
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
-    c.handle_power_stage(s(0), pack(50, 25));
+    let mut c = local_charge(pack(50, 25));
     let _ = events(&mut c);
     c.handle_power_stage(s(1), pack(64, 0)); // above 24 x 2.65 V = 63.6 V
     assert_eq!(alarms_raised(&mut c), [DeltaQCode::Alarm(1)]);
@@ -640,31 +580,19 @@ fn high_voltage_stops_the_output_with_e_0_0_1_and_hysteresis() {
 #[test]
 fn local_emcy_outside_8xxx_terminates_and_8xxx_does_not() {
     // Section 4.4.2: local mode terminates on any code but 8xxxh.
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
-    c.handle_power_stage(s(0), pack(50, 25));
-    let emcy = |code| Emergency {
-        code: ErrorCode(code),
-        register: ErrorRegister::GENERIC,
-        manufacturer: [0; 5],
-    };
-    c.handle_battery_emcy(s(1), &emcy(0x8130));
+    let mut c = local_charge(pack(50, 25));
+    let generic = |code| emcy(ErrorCode(code), ErrorRegister::GENERIC);
+    c.handle_battery_emcy(s(1), &generic(0x8130));
     assert_eq!(c.phase(), ChargePhase::Bulk);
-    c.handle_battery_emcy(s(2), &emcy(0x3100));
+    c.handle_battery_emcy(s(2), &generic(0x3100));
     assert_eq!(c.phase(), ChargePhase::Terminated);
 }
 
 #[test]
 fn temperature_sensor_fault_halves_the_current() {
     // Section 4.4.2 (5010h's section is missing; ours: derate by half).
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
-    c.handle_power_stage(s(0), pack(50, 20));
-    let fault = Emergency {
-        code: ErrorCode::TEMPERATURE_SENSOR_FAULT,
-        register: ErrorRegister::GENERIC,
-        manufacturer: [0; 5],
-    };
+    let mut c = local_charge(pack(50, 20));
+    let fault = emcy(ErrorCode::TEMPERATURE_SENSOR_FAULT, ErrorRegister::GENERIC);
     c.handle_battery_emcy(s(1), &fault);
     assert_eq!(c.set_points().current_ma, 12_500);
     assert_eq!(c.status().derate, DerateReasons::TEMPERATURE);
@@ -717,9 +645,7 @@ fn monitoring_takes_no_command_from_the_bus() {
 #[test]
 fn local_can_bus_error_carries_on_without_the_bus() {
     // Section 7: "CAN bus error" (ours: local mode ignores the bus while it lasts).
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
-    c.handle_power_stage(s(0), pack(50, 25));
+    let mut c = local_charge(pack(50, 25));
     c.handle_bus(
         s(1),
         BusInputs {

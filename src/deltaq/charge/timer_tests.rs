@@ -2,36 +2,20 @@
 //! timed phase running, each firing at its time and not before, stopped
 //! when what armed it is over, and run by any input that comes after it.
 
+use super::tests::{bms, control, events, pack, s};
 use super::*;
-
-fn s(n: u64) -> Timestamp {
-    Timestamp::from_millis(n * 1000)
-}
-
-/// A 24-cell lead-acid pack at `volts` on the output giving `amps`, AC on.
-fn pack(volts: u32, amps: u32) -> PowerStage {
-    PowerStage {
-        ac_present: true,
-        voltage_mv: volts * 1000,
-        current_ma: amps * 1000,
-        temperature_c: 25,
-    }
-}
 
 /// A BMS present and ready that asks for equalize (4201h bit 0).
 fn equalizing_bms() -> BusInputs {
     BusInputs {
-        battery_present: true,
-        battery_status: 1,
-        current_request: 10 * 16,
         external_override: ExternalOverride::EQUALIZE,
-        ..BusInputs::none(72_000)
+        ..bms(10)
     }
 }
 
 #[test]
 fn each_timed_phase_ends_at_its_own_deadline_and_not_before() {
-    let mut c = ChargeControl::new(OperatingMode::LocalOverride, ChargeConfig::example());
+    let mut c = control(OperatingMode::LocalOverride);
     c.handle_bus(s(0), equalizing_bms());
     c.handle_power_stage(s(0), pack(50, 10));
     // Bulk has no end of its own.
@@ -68,7 +52,7 @@ fn each_timed_phase_ends_at_its_own_deadline_and_not_before() {
 
 #[test]
 fn a_phase_left_early_leaves_no_deadline_behind() {
-    let mut c = ChargeControl::new(OperatingMode::Local, ChargeConfig::example());
+    let mut c = control(OperatingMode::Local);
     c.handle_power_stage(s(0), pack(48, 0));
     assert_eq!(c.poll_timeout(), Some(s(10)));
     // A BMS heard during the hold-off stops it.
@@ -96,7 +80,7 @@ fn a_phase_left_early_leaves_no_deadline_behind() {
 fn an_input_after_a_deadline_runs_its_timer() {
     // No timeout call at the end of the hold-off: the next measurement
     // finds it over and charges, and no timer is left at or before it.
-    let mut c = ChargeControl::new(OperatingMode::Local, ChargeConfig::example());
+    let mut c = control(OperatingMode::Local);
     c.handle_power_stage(s(0), pack(48, 0));
     assert_eq!(c.phase(), ChargePhase::HoldOff);
     c.handle_power_stage(s(12), pack(48, 25));
@@ -109,7 +93,7 @@ fn an_input_after_a_deadline_runs_its_timer() {
 
 #[test]
 fn it_is_driven_through_the_machine_contract() {
-    let mut c = ChargeControl::new(OperatingMode::Local, ChargeConfig::example());
+    let mut c = control(OperatingMode::Local);
     c.handle_power_stage(s(0), pack(48, 0));
     // One timer run (the hold-off at 10 s), no frame sent.
     let mut sent = 0;
@@ -122,7 +106,7 @@ fn it_is_driven_through_the_machine_contract() {
         (c.phase(), c.poll_transmit(), c.frames_dropped()),
         (ChargePhase::Bulk, None, 0)
     );
-    let phases: std::vec::Vec<ChargeEvent> = core::iter::from_fn(|| c.poll_event()).collect();
+    let phases = events(&mut c);
     assert_eq!(
         phases,
         [
