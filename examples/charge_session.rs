@@ -166,7 +166,11 @@ fn result_text(o: &Options, session: &Session, wall_ms: u128) -> String {
             let _ = writeln!(t, "  {} {code} {what}", clock(*at));
         }
     }
-    let status = session.charger().charge_control().status();
+    let status = session
+        .charger()
+        .expect("the session's charger")
+        .charge_control()
+        .status();
     let _ = writeln!(
         t,
         "charger now: 2006h = {:04X}h, 6001h = {:02X}h, 6052h = {} (Q3 Ah), 6080h = {}",

@@ -41,5 +41,5 @@ pub use pack::{Pack, PackError, PackSpec};
 pub use power_stage::PowerStageModel;
 pub use scenario::{Scenario, ScenarioOptions};
 pub use session::{
-    Logged, Session, SessionConfig, SessionResult, CHARGER_NODE, LOG_EPOCH, MODULE_NODE,
+    BmsMaster, Logged, Session, SessionConfig, SessionResult, CHARGER_NODE, LOG_EPOCH, MODULE_NODE,
 };

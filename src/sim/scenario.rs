@@ -256,13 +256,13 @@ impl core::fmt::Display for Scenario {
 /// after the hold-off a local one would wait.
 fn finished(s: &Session) -> bool {
     let phase = s.phase();
-    match s.charger().charge_control().mode() {
+    let Some(charger) = s.charger() else {
+        return true;
+    };
+    match charger.charge_control().mode() {
         OperatingMode::Remote => {
             (s.bms.is_done() && phase == ChargePhase::Idle)
-                || (!s
-                    .charger()
-                    .heartbeat_consumer()
-                    .is_alive(super::MODULE_NODE)
+                || (!charger.heartbeat_consumer().is_alive(super::MODULE_NODE)
                     && s.now() > Timestamp::from_millis(60_000))
         }
         _ => matches!(phase, ChargePhase::Float | ChargePhase::Complete),

@@ -6,19 +6,23 @@
 //! 2271h, the charger's TPDO 3). Hours of charge run in milliseconds;
 //! the same inputs give the same log.
 //!
-//! Every frame on the bus is delivered to the other nodes at the time it
-//! is sent and kept in [`Session::log`]. The physics runs every
+//! The nodes run on the library's simulated bus ([`Bus`], no latency):
+//! every frame is delivered to the other nodes at the time it is sent, and
+//! every frame that reached the bus is kept in [`Session::log`]. The physics runs every
 //! [`SessionConfig::tick`]: the power stage follows the charger's set
 //! points, the pack takes its current, the charger gets the measurements
 //! and the module's objects (6000h, 6010h, 6060h, 6070h, 6081h) come from
 //! the pack and the [`BmsPolicy`]. The module's side is the NMT master, as
 //! the BMS in the real ICL1500 capture: it starts every node at 20 ms and
 //! starts the charger again whenever its heartbeat says pre-operational
-//! (the charger leaves operational when it takes the module as gone).
+//! (the charger leaves operational when it takes the module as gone); on
+//! the bus that BMS is one more machine ([`BmsMaster`]), on the CAN bus
+//! exactly when the module is.
 
 use alloc::vec::Vec;
 use core::time::Duration;
 
+use super::bus::{Bus, Handle};
 use super::{BmsPolicy, Pack, PackSpec, PowerStageModel};
 use crate::cia418::{BatteryModule, BatteryModuleConfig, Chemistry, DeviceType};
 use crate::clock::Timestamp;
@@ -29,6 +33,7 @@ use crate::emcy::{Emergency, ErrorCode};
 use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::nmt::{Heartbeat, NmtCommand, NmtCommandSpecifier, NmtState, NmtTarget};
+use crate::queue::FrameSlot;
 use crate::sdo::{Client, ClientConfig};
 use crate::wire::Codec;
 
@@ -116,13 +121,43 @@ pub struct Logged {
     pub frame: CanFrame,
 }
 
-/// Who sent a frame.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Node {
-    Charger,
-    Module,
-    Tool,
-    Outside,
+/// The BMS as the NMT master (as in the real ICL1500 capture): it hears
+/// the charger's heartbeat and starts the charger again whenever it says
+/// pre-operational. A machine on the session's bus, connected exactly
+/// when the battery module is.
+#[derive(Debug)]
+pub struct BmsMaster {
+    out: FrameSlot,
+}
+
+impl BmsMaster {
+    const fn new() -> Self {
+        BmsMaster {
+            out: FrameSlot::new(),
+        }
+    }
+}
+
+impl Machine for BmsMaster {
+    type Event = core::convert::Infallible;
+
+    fn handle_frame(&mut self, _now: Timestamp, frame: &CanFrame) {
+        let charger_heartbeat = 0x700 + u32::from(CHARGER_NODE.raw());
+        if frame.identity() == charger_heartbeat
+            && Heartbeat::parse_frame(frame) == Ok(Heartbeat::new(NmtState::PreOperational))
+        {
+            let start = NmtCommand::new(NmtCommandSpecifier::Start, NmtTarget::Node(CHARGER_NODE));
+            self.out.push(start.to_frame());
+        }
+    }
+
+    fn handle_timeout(&mut self, _now: Timestamp) {}
+
+    fn poll_timeout(&self) -> Option<Timestamp> {
+        None
+    }
+
+    crate::machine::queued_outputs!(frames: out, events: none);
 }
 
 /// The figures of a session.
@@ -146,25 +181,27 @@ pub struct SessionResult {
     pub max_pack_temperature_c: f64,
 }
 
+/// Same-instant bus steps after which a session moves its clock on by a
+/// microsecond: a deadline a machine keeps re-arming in the past cannot
+/// hold the clock.
+const MAX_STEPS_AT_ONE_INSTANT: u32 = 100_000;
+
 /// A charger and a battery module on a simulated bus (see the module docs).
 #[derive(Debug)]
 pub struct Session {
-    now: Timestamp,
     next_tick: Timestamp,
     tick: Duration,
-    charger: Charger,
-    module: BatteryModule,
-    tool: Client<Vec<u8>>,
+    bus: Bus,
+    charger: Handle<Charger>,
+    module: Handle<BatteryModule>,
+    master: Handle<BmsMaster>,
+    tool: Handle<Client<Vec<u8>>>,
     /// The pack.
     pub pack: Pack,
     /// The power stage.
     pub stage: PowerStageModel,
     /// The module's charge policy.
     pub bms: BmsPolicy,
-    module_on_can: bool,
-    /// The BMS heard the charger in pre-operational (it left operational
-    /// when the module was gone): it starts it again.
-    restart_charger: bool,
     /// Enable the charger's TPDO 3 (0x48A: 2002h, 2100h, 2006h) by SDO
     /// once the charger is configured, as a monitoring BMS does.
     pub enable_charger_tpdo3: bool,
@@ -185,18 +222,36 @@ impl Session {
         let pack = Pack::new(config.pack, config.start_soc);
         let mut bms = BmsPolicy::for_pack(&config.pack, config.max_current_a);
         bms.ends_charge = matches!(config.charger.mode, OperatingMode::Remote);
+        let mut module = BatteryModule::new(config.module);
+        let spec = config.pack;
+        let max_current = config.max_current_a;
+        module.update(Timestamp::ZERO, |o| {
+            o.battery_parameters.battery_type =
+                crate::cia418::BatteryType::from_u8(spec.chemistry.code() << 4);
+            o.battery_parameters.ah_capacity = spec.capacity_ah.round().clamp(0.0, 65535.0) as u16;
+            o.battery_parameters.max_charge_current =
+                max_current.round().clamp(0.0, 65535.0) as u16;
+            o.battery_parameters.number_of_cells = spec.cells;
+        });
+        let mut bus = Bus::new(Duration::ZERO);
+        let charger = bus.add("Charger", Charger::new(config.charger));
+        let module = bus.add("Module", module);
+        let master = bus.add("BMS", BmsMaster::new());
+        let tool = bus.add("Tool", Client::new(ClientConfig::for_server(CHARGER_NODE)));
+        // The module's and the tool's events are of no use to the session.
+        bus.set_drain_events(module, false);
+        bus.set_drain_events(tool, false);
         let mut s = Session {
-            now: Timestamp::ZERO,
             next_tick: Timestamp::ZERO,
             tick: config.tick.max(Duration::from_millis(1)),
-            charger: Charger::new(config.charger),
-            module: BatteryModule::new(config.module),
-            tool: Client::new(ClientConfig::for_server(CHARGER_NODE)),
+            bus,
+            charger,
+            module,
+            master,
+            tool,
             pack,
             stage: PowerStageModel::new(f64::from(config.charger.charge.max_power_w)),
             bms,
-            module_on_can: config.module_on_can,
-            restart_charger: false,
             enable_charger_tpdo3: true,
             pending_writes: Vec::new(),
             log: Vec::new(),
@@ -206,16 +261,7 @@ impl Session {
             wh: 0.0,
             max_temperature: pack.temperature_c(),
         };
-        let spec = config.pack;
-        let max_current = config.max_current_a;
-        s.module.update(Timestamp::ZERO, |o| {
-            o.battery_parameters.battery_type =
-                crate::cia418::BatteryType::from_u8(spec.chemistry.code() << 4);
-            o.battery_parameters.ah_capacity = spec.capacity_ah.round().clamp(0.0, 65535.0) as u16;
-            o.battery_parameters.max_charge_current =
-                max_current.round().clamp(0.0, 65535.0) as u16;
-            o.battery_parameters.number_of_cells = spec.cells;
-        });
+        s.set_module_on_can(config.module_on_can);
         s
     }
 
@@ -223,8 +269,8 @@ impl Session {
     /// (the module's side) starts every node with NMT at 20 ms, as in the
     /// real ICL1500 capture.
     pub fn start(&mut self) {
-        self.charger.boot(Timestamp::ZERO);
-        self.module.boot(Timestamp::ZERO);
+        let _ = self.bus.with(self.charger, |c, now| c.boot(now));
+        let _ = self.bus.with(self.module, |m, now| m.boot(now));
         self.physics(0.0);
         self.next_tick = Timestamp::ZERO.add_duration(self.tick);
         self.run_until(Timestamp::from_millis(20));
@@ -235,22 +281,30 @@ impl Session {
     /// The time now.
     #[must_use]
     pub const fn now(&self) -> Timestamp {
-        self.now
+        self.bus.now()
     }
 
-    /// The charger.
+    /// The charger (`None` never: the session's bus holds it from
+    /// [`new`](Self::new) on).
     #[must_use]
-    pub const fn charger(&self) -> &Charger {
-        &self.charger
+    pub fn charger(&self) -> Option<&Charger> {
+        self.bus.machine(self.charger)
     }
 
-    /// The battery module.
+    /// The battery module (`None` never, as [`charger`](Self::charger)).
     #[must_use]
-    pub const fn module(&self) -> &BatteryModule {
-        &self.module
+    pub fn module(&self) -> Option<&BatteryModule> {
+        self.bus.machine(self.module)
     }
 
-    /// Every frame so far.
+    /// The simulated bus the nodes run on (its own log is taken into
+    /// [`log`](Self::log) as the session runs).
+    #[must_use]
+    pub const fn bus(&self) -> &Bus {
+        &self.bus
+    }
+
+    /// Every frame that reached the bus so far.
     #[must_use]
     pub fn log(&self) -> &[Logged] {
         &self.log
@@ -274,39 +328,44 @@ impl Session {
     /// The phase the charge control is in.
     #[must_use]
     pub fn phase(&self) -> ChargePhase {
-        self.charger.charge_control().phase()
+        self.charger()
+            .map_or(ChargePhase::Idle, |c| c.charge_control().phase())
     }
 
     /// Puts `frame` on the bus now (another node's: an NMT master's).
     pub fn inject(&mut self, frame: CanFrame) {
-        self.deliver(Node::Outside, frame);
-        self.pump();
+        self.bus.inject(frame);
+        self.settle();
     }
 
     /// The module joins (`true`) or leaves the CAN bus: its frames stop
-    /// reaching anyone (its heartbeat is lost) and nothing reaches it.
+    /// reaching anyone (its heartbeat is lost) and nothing reaches it; the
+    /// BMS's NMT master goes with it.
     pub fn set_module_on_can(&mut self, on: bool) {
-        self.module_on_can = on;
+        self.bus.set_connected(self.module, on);
+        self.bus.set_connected(self.master, on);
     }
 
     /// The charger's CAN controller reports a bus error, or is back.
     pub fn set_bus_error(&mut self, error: bool) {
-        self.charger.set_bus_error(self.now, error);
-        self.pump();
+        let _ = self
+            .bus
+            .with(self.charger, |c, now| c.set_bus_error(now, error));
+        self.settle();
     }
 
     /// AC on or off at the charger.
     pub fn set_ac(&mut self, on: bool) {
         self.stage.ac_present = on;
         self.physics(0.0);
-        self.pump();
+        self.settle();
     }
 
     /// The battery's DC leads connected to the charger or not.
     pub fn set_battery_connected(&mut self, on: bool) {
         self.stage.battery_connected = on;
         self.physics(0.0);
-        self.pump();
+        self.settle();
     }
 
     /// The BMS writes `value` to the charger's `index`/`sub` by SDO
@@ -314,60 +373,51 @@ impl Session {
     pub fn write_charger(&mut self, index: u16, sub: u8, value: &[u8]) {
         self.pending_writes.push((index, sub, value.to_vec()));
         self.start_next_write();
-        self.pump();
+        self.settle();
     }
 
     fn start_next_write(&mut self) {
-        if !self.tool.is_busy() && !self.pending_writes.is_empty() {
+        let idle = self.bus.machine(self.tool).is_some_and(|t| !t.is_busy());
+        if idle && !self.pending_writes.is_empty() {
             let (index, sub, data) = self.pending_writes.remove(0);
-            let _ = self.tool.start_download(self.now, index, sub, data);
+            let _ = self
+                .bus
+                .with(self.tool, |t, now| t.start_download(now, index, sub, data));
         }
     }
 
-    /// Runs until `end`.
+    /// Runs until `end`: the bus's deliveries and timers, and the physics
+    /// every tick (after the bus at the same instant).
     pub fn run_until(&mut self, end: Timestamp) {
         let mut same = 0u32;
         loop {
-            self.pump();
-            let next = crate::clock::earliest([
-                self.charger.poll_timeout(),
-                self.module.poll_timeout(),
-                self.tool.poll_timeout(),
-                Some(self.next_tick),
-            ])
-            .unwrap_or(end);
-            if next > end {
-                self.now = end.max(self.now);
+            self.after_step();
+            let now = self.bus.now();
+            let due = self.bus.next_due();
+            let Some(next) = crate::clock::earliest([due, Some(self.next_tick)]) else {
                 break;
-            }
-            // A deadline at or before now runs now; one that a machine
-            // keeps re-arming in the past cannot hold the clock.
-            let next = if next <= self.now {
-                same += 1;
-                if same > 64 {
-                    same = 0;
-                    self.now.add_micros(1)
-                } else {
-                    self.now
-                }
-            } else {
-                same = 0;
-                next
             };
-            self.now = next;
-            self.charger.handle_timeout(next);
-            self.module.handle_timeout(next);
-            self.tool.handle_timeout(next);
-            while next.has_reached(self.next_tick) {
-                let dt = self.tick.as_secs_f64();
-                self.next_tick = self.next_tick.add_duration(self.tick);
-                self.physics(dt);
-            }
-            if next == end {
-                self.pump();
+            if !end.has_reached(next) {
+                self.bus.advance(end);
                 break;
+            }
+            if due.is_some_and(|d| self.next_tick.has_reached(d)) {
+                same = if now.has_reached(next) { same + 1 } else { 0 };
+                if same > MAX_STEPS_AT_ONE_INSTANT {
+                    same = 0;
+                    self.bus.advance(now.add_micros(1));
+                }
+                let _ = self.bus.step(next.max(self.bus.now()));
+            } else {
+                self.bus.advance(self.next_tick);
+                while self.bus.now().has_reached(self.next_tick) {
+                    let dt = self.tick.as_secs_f64();
+                    self.next_tick = self.next_tick.add_duration(self.tick);
+                    self.physics(dt);
+                }
             }
         }
+        self.after_step();
     }
 
     /// Runs while `condition` holds, at most until `limit`, checking every
@@ -377,11 +427,11 @@ impl Session {
         limit: Timestamp,
         mut condition: impl FnMut(&Session) -> bool,
     ) -> bool {
-        while self.now < limit {
+        while self.now() < limit {
             if !condition(self) {
                 return true;
             }
-            let step = self.now.add_millis(1000).min(limit);
+            let step = self.now().add_millis(1000).min(limit);
             self.run_until(step);
         }
         !condition(self)
@@ -403,7 +453,7 @@ impl Session {
         SessionResult {
             start_soc: self.start_soc,
             end_soc: self.pack.soc(),
-            duration: self.now.saturating_duration_since(Timestamp::ZERO),
+            duration: self.now().saturating_duration_since(Timestamp::ZERO),
             phases: self.phases.clone(),
             ah: self.ah,
             wh: self.wh,
@@ -414,8 +464,9 @@ impl Session {
 
     /// One physics step of `dt` seconds (0: just the measurements).
     fn physics(&mut self, dt: f64) {
-        let now = self.now;
-        let set = self.charger.set_points();
+        let Some(set) = self.charger().map(Charger::set_points) else {
+            return;
+        };
         self.stage.step(dt, set, &self.pack);
         let current = self.stage.current_a;
         let volts = self.pack.terminal_voltage(current);
@@ -424,74 +475,41 @@ impl Session {
         self.wh += current * volts * dt / 3600.0;
         self.max_temperature = self.max_temperature.max(self.pack.temperature_c());
         let measured = self.stage.measure(&self.pack);
-        self.charger.handle_power_stage(now, measured);
+        let _ = self
+            .bus
+            .with(self.charger, |c, now| c.handle_power_stage(now, measured));
         let request = self.bms.request(&self.pack);
         let pack = self.pack;
-        self.module.update(now, |o| {
-            super::module_link::publish(o, &pack, current, request)
+        let _ = self.bus.with(self.module, |m, now| {
+            m.update(now, |o| {
+                super::module_link::publish(o, &pack, current, request);
+            });
         });
     }
 
-    /// Delivers everything the nodes have to send, until nobody has more.
-    fn pump(&mut self) {
-        for _ in 0..10_000 {
-            let mut moved = false;
-            while let Some(f) = self.charger.poll_transmit() {
-                moved = true;
-                self.deliver(Node::Charger, f);
-            }
-            while let Some(f) = self.module.poll_transmit() {
-                moved = true;
-                if self.module_on_can {
-                    self.deliver(Node::Module, f);
-                }
-            }
-            while let Some(f) = self.tool.poll_transmit() {
-                moved = true;
-                self.deliver(Node::Tool, f);
-            }
-            if core::mem::take(&mut self.restart_charger) {
-                let start =
-                    NmtCommand::new(NmtCommandSpecifier::Start, NmtTarget::Node(CHARGER_NODE));
-                moved = true;
-                self.deliver(Node::Module, start.to_frame());
-            }
-            self.drain_events();
-            if !moved {
-                break;
-            }
-        }
+    /// Runs what is due now on the bus (the answers to what was just put
+    /// on it), so a command's effects are there when it returns.
+    fn settle(&mut self) {
+        let now = self.bus.now();
+        self.run_until(now);
     }
 
-    fn deliver(&mut self, from: Node, frame: CanFrame) {
-        let now = self.now;
-        self.log.push(Logged { at: now, frame });
-        // The BMS is the NMT master (as in the real capture): a charger
-        // heartbeat saying pre-operational is started again.
-        let charger_heartbeat = 0x700 + u32::from(CHARGER_NODE.raw());
-        if from == Node::Charger
-            && self.module_on_can
-            && frame.identity() == charger_heartbeat
-            && Heartbeat::parse_frame(&frame) == Ok(Heartbeat::new(NmtState::PreOperational))
-        {
-            self.restart_charger = true;
+    /// After a bus step: the frames that reached the bus into the log, the
+    /// charger's phases, and the BMS's writes (the next one started once
+    /// the tool is idle; 1803h queued when the charger is configured).
+    fn after_step(&mut self) {
+        for sent in self.bus.take_log() {
+            if sent.fate.reached_the_bus() {
+                self.log.push(Logged {
+                    at: sent.at,
+                    frame: sent.frame,
+                });
+            }
         }
-        if from != Node::Charger {
-            self.charger.handle_frame(now, &frame);
-        }
-        if from != Node::Module && self.module_on_can {
-            self.module.handle_frame(now, &frame);
-        }
-        if from != Node::Tool {
-            self.tool.handle_frame(now, &frame);
-        }
-    }
-
-    fn drain_events(&mut self) {
-        while let Some(e) = self.charger.poll_event() {
+        for (at, e) in self.bus.take_events(self.charger) {
             match e {
                 ChargerEvent::Charge(ChargeEvent::Phase { to, .. }) => {
-                    self.phases.push((self.now, to));
+                    self.phases.push((at, to));
                 }
                 ChargerEvent::Configured { .. } if self.enable_charger_tpdo3 => {
                     // 1803h sub 1: TPDO 3 valid on 48Ah + node.
@@ -502,8 +520,13 @@ impl Session {
                 _ => {}
             }
         }
-        while self.module.poll_event().is_some() {}
-        while self.tool.poll_event().is_some() {}
+        // Their queues are left undrained: keep them from filling.
+        if let Some(m) = self.bus.machine_mut(self.module) {
+            while m.poll_event().is_some() {}
+        }
+        if let Some(t) = self.bus.machine_mut(self.tool) {
+            while t.poll_event().is_some() {}
+        }
         self.start_next_write();
     }
 }

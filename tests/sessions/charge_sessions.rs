@@ -260,7 +260,7 @@ fn reduce_current_and_voltage() {
     let lowered_mv = (u64::from(q10) * 1000 + 512) / 1024;
     assert!(close(lowered_mv as f64, 56_800.0, 1.0), "{lowered_mv}");
     assert_eq!(
-        u64::from(s.charger().set_points().voltage_mv),
+        u64::from(s.charger().unwrap().set_points().voltage_mv),
         lowered_mv,
         "the set point follows 2271h"
     );
@@ -539,7 +539,7 @@ fn decoder_check(scenario: Scenario, s: &Session) {
     let path = dir.join(format!(
         "{}-{:?}.log",
         scenario,
-        s.charger().charge_control().mode()
+        s.charger().unwrap().charge_control().mode()
     ));
     std::fs::write(&path, text).unwrap();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_canopen-decode"))

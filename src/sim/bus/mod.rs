@@ -426,6 +426,13 @@ impl Bus {
         &self.log
     }
 
+    /// Takes the log so far, leaving it empty (frames are still numbered
+    /// on): for a caller that keeps its own record of a long run. A frame
+    /// taken while still in flight keeps the fate it had when taken.
+    pub fn take_log(&mut self) -> Vec<Sent> {
+        core::mem::take(&mut self.log)
+    }
+
     /// How many frames were sent so far (logged or not).
     #[must_use]
     pub const fn frames_sent(&self) -> usize {
