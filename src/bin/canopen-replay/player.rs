@@ -127,6 +127,43 @@ fn after(at: Instant, d: Duration) -> Instant {
     }
 }
 
+/// Why the device is gone, if it has exited.
+fn gone(link: &mut Link) -> Option<String> {
+    match link.exited() {
+        Some(Err(e)) => Some(e),
+        Some(Ok(())) => Some("the device exited before the recording ended".into()),
+        None => None,
+    }
+}
+
+/// Keeps what the device sends until `deadline`, or until it sends the
+/// frame `answer` names (an SDO answer's identifier); whether that came.
+/// An error when the device closed its output.
+fn listen(
+    link: &mut Link,
+    out: &mut Played,
+    clock: &Clock,
+    deadline: Instant,
+    answer: Option<u16>,
+) -> Result<bool, String> {
+    loop {
+        let now = Instant::now();
+        if now >= deadline {
+            return Ok(false);
+        }
+        match link.next(deadline - now) {
+            Next::Frame(h) => {
+                keep(out, clock, &h);
+                if answer.is_some_and(|id| h.frame.id() == CanId::Standard(id)) {
+                    return Ok(true);
+                }
+            }
+            Next::Timeout => return Ok(false),
+            Next::Closed => return Err(gone(link).unwrap_or("the device closed its output".into())),
+        }
+    }
+}
+
 /// Plays `rec` into `link`; `Err` when the device stopped or died.
 pub fn play(rec: &Recording, link: &mut Link, o: &Options) -> Result<Played, String> {
     let awaited = awaited_answers(rec);
@@ -149,32 +186,13 @@ pub fn play(rec: &Recording, link: &mut Link, o: &Options) -> Result<Played, Str
     let origin = Instant::now();
     // Time lost waiting for SDO answers moves the rest of the schedule.
     let mut shift = Duration::ZERO;
-    let gone = |link: &mut Link| -> Option<String> {
-        match link.exited() {
-            Some(Err(e)) => Some(e),
-            Some(Ok(())) => Some("the device exited before the recording ended".into()),
-            None => None,
-        }
-    };
     for (p, answer) in rec.played.iter().zip(&awaited) {
         if o.speed > 0.0 {
             let due = after(
                 origin,
                 scaled(p.t.saturating_sub(first_t), o.speed).saturating_add(shift),
             );
-            loop {
-                let now = Instant::now();
-                if now >= due {
-                    break;
-                }
-                match link.next(due - now) {
-                    Next::Frame(h) => keep(&mut out, &clock, &h),
-                    Next::Timeout => break,
-                    Next::Closed => {
-                        return Err(gone(link).unwrap_or("the device closed its output".into()))
-                    }
-                }
-            }
+            listen(link, &mut out, &clock, due, None)?;
         }
         // Whatever the device has said by now belongs before this frame.
         while let Next::Frame(h) = link.next(Duration::ZERO) {
@@ -188,24 +206,7 @@ pub fn play(rec: &Recording, link: &mut Link, o: &Options) -> Result<Played, Str
         if let Some(answer) = answer {
             let start = Instant::now();
             let deadline = after(start, o.sdo_timeout);
-            let mut answered = false;
-            while !answered {
-                let now = Instant::now();
-                if now >= deadline {
-                    break;
-                }
-                match link.next(deadline - now) {
-                    Next::Frame(h) => {
-                        answered = h.frame.id() == CanId::Standard(*answer);
-                        keep(&mut out, &clock, &h);
-                    }
-                    Next::Timeout => break,
-                    Next::Closed => {
-                        return Err(gone(link).unwrap_or("the device closed its output".into()))
-                    }
-                }
-            }
-            if !answered {
+            if !listen(link, &mut out, &clock, deadline, Some(*answer))? {
                 out.unanswered_sdo.push((p.t, *answer));
             }
             if o.speed > 0.0 {
@@ -231,17 +232,7 @@ pub fn play(rec: &Recording, link: &mut Link, o: &Options) -> Result<Played, Str
         Instant::now(),
         tail.saturating_add(Duration::from_millis(100)),
     );
-    loop {
-        let now = Instant::now();
-        if now >= until {
-            break;
-        }
-        match link.next(until - now) {
-            Next::Frame(h) => keep(&mut out, &clock, &h),
-            Next::Timeout => break,
-            Next::Closed => return Err(gone(link).unwrap_or("the device closed its output".into())),
-        }
-    }
+    listen(link, &mut out, &clock, until, None)?;
     out.heard.sort_by_key(|r| r.t);
     // A recording that starts after the device's boot has no boot-up: the
     // device's boot-up at its start is then not compared.
