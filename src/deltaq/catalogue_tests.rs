@@ -9,6 +9,7 @@ use proptest::prelude::*;
 
 use super::*;
 use crate::cia418::BATTERY_MODULE_CATALOGUE;
+use crate::deltaq::*;
 use crate::pdo::catalogue_test_support::{
     any_pdo, assert_decode_total, assert_short_and_long_frames, assert_table_consistent,
     assert_vectors, mapping,

@@ -146,14 +146,12 @@ mod codes;
 pub mod device_type;
 #[cfg(all(feature = "alloc", feature = "heartbeat-consumer"))]
 mod eds;
+mod formats;
 mod objects;
 mod pdo;
 mod policy;
 
-pub use catalogue::{
-    ALGORITHM_REQUEST_FORMAT, CHARGER_CATALOGUE, DELTAQ_UNSERVED_OBJECTS, DERATE_REASONS_FLAGS,
-    DISPLAYED_ERROR_FORMAT, EXTENDED_CHARGE_STATUS_FLAGS, EXTERNAL_OVERRIDE_FLAGS,
-};
+pub use catalogue::{CHARGER_CATALOGUE, DELTAQ_UNSERVED_OBJECTS};
 #[cfg(feature = "heartbeat-consumer")]
 pub use charger::{
     Charger, ChargerAppDictionary, ChargerConfig, ChargerDevice, ChargerEvent, ChargerPowerOn,
@@ -166,6 +164,10 @@ pub use charger_objects::{
 pub use codes::{AlarmFaultEntry, DeltaQCode, ALARMS_AND_FAULTS};
 #[cfg(all(feature = "alloc", feature = "heartbeat-consumer"))]
 pub use eds::charger_eds;
+pub use formats::{
+    ALGORITHM_REQUEST_FORMAT, DERATE_REASONS_FLAGS, DISPLAYED_ERROR_FORMAT,
+    EXTENDED_CHARGE_STATUS_FLAGS, EXTERNAL_OVERRIDE_FLAGS,
+};
 pub use objects::{
     AcVoltage, AlgorithmRequest, BatteryVoltage, BatteryVoltageLegacy, ChargeIndication,
     ChargeStatusFlags, ChargeType, ChargerAhReturned, ChargingCurrent, DerateReasons,
