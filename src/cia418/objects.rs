@@ -39,6 +39,7 @@
 //! application's measurements and identity and keep the value it last set
 //! (a boot-time reading restored would be published until its next update).
 
+use super::CIA418_OBJECTS;
 use super::{AmpHours, EighthAmpHours};
 use super::{
     BatteryParameters, BatteryStatus, BatteryVoltage, ChargeCurrentRequested, ChargerStatus,
@@ -50,7 +51,7 @@ use super::{
     DATE_OF_LAST_EQUALIZATION, TEMPERATURE, VEHICLE_ID, VEHICLE_SERIAL_NUMBER, WATER_LEVEL_STATUS,
 };
 use crate::abort::AbortCode;
-use crate::od::{Access, FixedDictionary, FixedEntry, FixedObject, FixedObjects};
+use crate::od::{Access, FixedDictionary, FixedEntry, FixedObjects, ObjectRow};
 
 /// Every index [`BatteryObjects`] serves.
 pub const BATTERY_OBJECT_INDEXES: [u16; 18] = [
@@ -144,26 +145,19 @@ pub struct BatteryObjects {
     packed: [PackedValue; 4],
 }
 
-/// The single-value objects in the order of `BatteryObjects::scalar`'s
-/// rows: one table for their access, length and mappability.
-const SCALARS: [FixedObject; 12] = {
-    use Access::{ReadOnly as Ro, ReadWrite as Rw};
-    let scalar = FixedObject::new;
-    [
-        scalar(BATTERY_STATUS, 1, Ro, true),
-        scalar(CHARGER_STATUS, 1, Rw, true),
-        scalar(TEMPERATURE, 2, Ro, true),
-        scalar(CUMULATIVE_TOTAL_AH_CHARGE, 4, Ro, false),
-        scalar(AH_EXPENDED_SINCE_LAST_CHARGE, 2, Ro, false),
-        scalar(AH_RETURNED_DURING_LAST_CHARGE, 2, Rw, true),
-        scalar(AH_SINCE_LAST_EQUALIZATION, 2, Rw, false),
-        scalar(BATTERY_VOLTAGE, 4, Ro, true),
-        scalar(CHARGE_CURRENT_REQUESTED, 2, Ro, true),
-        scalar(CHARGER_STATE_OF_CHARGE, 1, Rw, true),
-        scalar(BATTERY_STATE_OF_CHARGE, 1, Ro, true),
-        scalar(WATER_LEVEL_STATUS, 1, Ro, false),
-    ]
-};
+/// The SDO facts (access, size, PDO mapping) of entry `index` sub `sub`
+/// as its row in [`CIA418_OBJECTS`] states them, evaluated when the crate
+/// is built (an entry without a row reads as an empty constant).
+const fn facts(index: u16, sub: u8) -> FixedEntry {
+    let mut rows = CIA418_OBJECTS;
+    while let [row, rest @ ..] = rows {
+        if row.covers(index, sub) {
+            return row.entry(row.default);
+        }
+        rows = rest;
+    }
+    FixedEntry::new(Access::Const, 0, 0)
+}
 
 fn packed_slot(object: PackedStringObject) -> usize {
     match object {
@@ -257,26 +251,65 @@ impl BatteryObjects {
         BATTERY_OBJECT_INDEXES.contains(&index)
     }
 
-    /// The value of the object in row `row` of [`SCALARS`].
-    fn scalar(&self, row: usize) -> u32 {
-        match row {
-            0 => self.battery_status.bits().into(),
-            1 => self.charger_status.bits().into(),
-            2 => u32::from(self.temperature.raw() as u16),
-            3 => self.cumulative_total_ah_charge.raw(),
-            4 => self.ah_expended_since_last_charge.raw().into(),
-            5 => self.ah_returned_during_last_charge.raw().into(),
-            6 => self.ah_since_last_equalization.raw().into(),
-            7 => self.battery_voltage.raw(),
-            8 => self.charge_current_requested.raw().into(),
-            9 => self.charger_state_of_charge.raw().into(),
-            10 => self.battery_state_of_charge.raw().into(),
-            _ => self.water_level.bits().into(),
-        }
+    /// The entry of single-value object `index` (sub-index 0) holding
+    /// its field's value, its facts from its row; `None` for the others.
+    fn scalar(&self, index: u16) -> Option<FixedEntry> {
+        let (word, entry) = match index {
+            BATTERY_STATUS => (
+                self.battery_status.bits().into(),
+                const { facts(BATTERY_STATUS, 0) },
+            ),
+            CHARGER_STATUS => (
+                self.charger_status.bits().into(),
+                const { facts(CHARGER_STATUS, 0) },
+            ),
+            TEMPERATURE => (
+                u32::from(self.temperature.raw() as u16),
+                const { facts(TEMPERATURE, 0) },
+            ),
+            CUMULATIVE_TOTAL_AH_CHARGE => (
+                self.cumulative_total_ah_charge.raw(),
+                const { facts(CUMULATIVE_TOTAL_AH_CHARGE, 0) },
+            ),
+            AH_EXPENDED_SINCE_LAST_CHARGE => (
+                self.ah_expended_since_last_charge.raw().into(),
+                const { facts(AH_EXPENDED_SINCE_LAST_CHARGE, 0) },
+            ),
+            AH_RETURNED_DURING_LAST_CHARGE => (
+                self.ah_returned_during_last_charge.raw().into(),
+                const { facts(AH_RETURNED_DURING_LAST_CHARGE, 0) },
+            ),
+            AH_SINCE_LAST_EQUALIZATION => (
+                self.ah_since_last_equalization.raw().into(),
+                const { facts(AH_SINCE_LAST_EQUALIZATION, 0) },
+            ),
+            BATTERY_VOLTAGE => (
+                self.battery_voltage.raw(),
+                const { facts(BATTERY_VOLTAGE, 0) },
+            ),
+            CHARGE_CURRENT_REQUESTED => (
+                self.charge_current_requested.raw().into(),
+                const { facts(CHARGE_CURRENT_REQUESTED, 0) },
+            ),
+            CHARGER_STATE_OF_CHARGE => (
+                self.charger_state_of_charge.raw().into(),
+                const { facts(CHARGER_STATE_OF_CHARGE, 0) },
+            ),
+            BATTERY_STATE_OF_CHARGE => (
+                self.battery_state_of_charge.raw().into(),
+                const { facts(BATTERY_STATE_OF_CHARGE, 0) },
+            ),
+            WATER_LEVEL_STATUS => (
+                self.water_level.bits().into(),
+                const { facts(WATER_LEVEL_STATUS, 0) },
+            ),
+            _ => return None,
+        };
+        Some(FixedEntry { word, ..entry })
     }
 
-    /// The objects besides [`SCALARS`]: 6020h's record, 6054h's array and
-    /// the packed strings.
+    /// The objects besides the single values: 6020h's record, 6054h's
+    /// array and the packed strings.
     fn compound_entry(&self, index: u16, sub: u8) -> Result<FixedEntry, AbortCode> {
         use Access::{ReadOnly as Ro, ReadWrite as Rw};
         let (access, word, len) = match (index, sub) {
@@ -319,19 +352,13 @@ impl BatteryObjects {
 
 /// What NMT reset node restores of [`BatteryObjects`]: its `rw` objects
 /// (6001h, 6052h, 6053h, 6054h, 6080h: what the charger writes by SDO or
-/// RPDO) as they were at boot. The `ro` objects are not in it: they are
+/// RPDO; the writable rows of [`CIA418_OBJECTS`]) as they were at boot. The `ro` objects are not in it: they are
 /// the module's measurements and identity, not parameters (CiA 301
 /// 7.3.2.2.1: reset node restores the parameters of the profile areas),
 /// and keep what the application last set, so no stale boot-time reading
 /// is published until its next update.
-pub const BATTERY_PARAMETERS_RESTORED: [(u16, u8); 6] = [
-    (CHARGER_STATUS, 0),
-    (AH_RETURNED_DURING_LAST_CHARGE, 0),
-    (AH_SINCE_LAST_EQUALIZATION, 0),
-    (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_MINUTES),
-    (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_DAYS),
-    (CHARGER_STATE_OF_CHARGE, 0),
-];
+pub const BATTERY_PARAMETERS_RESTORED: [(u16, u8); ObjectRow::parameter_count(CIA418_OBJECTS)] =
+    ObjectRow::parameters(CIA418_OBJECTS);
 
 /// The values of [`BATTERY_PARAMETERS_RESTORED`] kept at boot, their bytes
 /// one after the other (1 + 2 + 2 + 2 + 2 + 1).
@@ -348,15 +375,16 @@ pub const BATTERY_PARAMETERS_RESTORED: [(u16, u8); 6] = [
 /// assert_eq!(od.charger_state_of_charge, StateOfCharge::INVALID);
 /// assert_eq!(od.temperature, Temperature::from_celsius(30).unwrap());
 /// ```
-pub type BatteryPowerOnValues = [u8; 10];
+pub type BatteryPowerOnValues = [u8; ObjectRow::parameter_bytes(CIA418_OBJECTS)];
 
 impl FixedObjects for BatteryObjects {
     type Parameters = BatteryPowerOnValues;
     const PARAMETERS: &'static [(u16, u8)] = &BATTERY_PARAMETERS_RESTORED;
 
     fn entry(&self, index: u16, sub: u8) -> Result<FixedEntry, AbortCode> {
-        match FixedObject::lookup(&SCALARS, index, sub, |row| self.scalar(row)) {
-            Some(entry) => entry,
+        match self.scalar(index) {
+            Some(_) if sub != 0 => Err(AbortCode::SubIndexDoesNotExist),
+            Some(entry) => Ok(entry),
             None => self.compound_entry(index, sub),
         }
     }
