@@ -405,14 +405,26 @@ fn corrupt_records_are_ignored() {
     assert_eq!(changed(&d), DEFAULTS);
 }
 
-/// The record's header: magic, format, group and layout are checked; a
-/// record of another PDO count (another device) is foreign.
-#[test]
-fn record_header_checks() {
+/// The communication objects and PDOs of [`config`] as they are at boot,
+/// and their communication record (in a buffer, its length).
+fn default_comm_record() -> (
+    crate::device::CommObjects,
+    PdoConfig,
+    [u8; RECORD_CAPACITY],
+    usize,
+) {
     let mut buf = [0u8; RECORD_CAPACITY];
     let comm = crate::device::CommObjects::new(NodeId::new(NODE).unwrap());
     let pdos = config().pdos;
     let n = encode_comm(&mut buf, &comm, &pdos).unwrap();
+    (comm, pdos, buf, n)
+}
+
+/// The record's header: magic, format, group and layout are checked; a
+/// record of another PDO count (another device) is foreign.
+#[test]
+fn record_header_checks() {
+    let (comm, pdos, buf, n) = default_comm_record();
     assert_eq!(n, 12 + 39 + 8 * 44);
     let record = &buf[..n];
     let (mut c, mut p) = (comm.clone(), pdos);
@@ -452,10 +464,7 @@ fn record_header_checks() {
 /// (a reserved transmission type) is refused whole.
 #[test]
 fn record_with_an_invalid_value_is_refused_whole() {
-    let mut buf = [0u8; RECORD_CAPACITY];
-    let comm = crate::device::CommObjects::new(NodeId::new(NODE).unwrap());
-    let pdos = config().pdos;
-    let n = encode_comm(&mut buf, &comm, &pdos).unwrap();
+    let (comm, _, mut buf, n) = default_comm_record();
     // RPDO 1's transmission type: header, 39 bytes, present, COB-ID.
     buf[10 + 39 + 5] = 245;
     let crc = crate::sdo::crc16(&buf[..n - 2]);
