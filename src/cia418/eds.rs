@@ -2,8 +2,7 @@
 //! names and data types of CiA 418 v1.0.1 (its table, [`CIA418_OBJECTS`])
 //! and the module's own dictionary.
 
-use crate::eds::{DeviceHeader, Eds, ObjectNames};
-use crate::od::comm::COMM_OBJECTS;
+use crate::eds::{DeviceHeader, Eds};
 
 use super::{BatteryModule, CIA418_OBJECTS};
 
@@ -12,9 +11,9 @@ use super::{BatteryModule, CIA418_OBJECTS};
 /// (`dictionary()`: the PDO objects, the CiA 301
 /// communication objects, the CiA 418 application objects) with its
 /// access, PDO-mappable flag and current value as `DefaultValue`, named
-/// and typed by CiA 301 ([`COMM_OBJECTS`]) and CiA 418 v1.0.1
+/// and typed by CiA 301 ([`COMM_OBJECTS`](crate::od::comm::COMM_OBJECTS)) and CiA 418 v1.0.1
 /// ([`CIA418_OBJECTS`]); `[DeviceInfo]` from 1008h and 1018h
-/// (see [`Eds::describe`]).
+/// (see [`Eds::describe_profile`]).
 ///
 /// ```
 /// use canopen_codec::cia418::{battery_module_eds, BatteryModule, BatteryModuleConfig};
@@ -29,12 +28,9 @@ use super::{BatteryModule, CIA418_OBJECTS};
 #[must_use]
 pub fn battery_module_eds(module: &BatteryModule) -> Eds {
     let mut od = module.dictionary().clone();
-    Eds::describe(
+    Eds::describe_profile(
         &mut od,
-        &[
-            ObjectNames::Rows(COMM_OBJECTS),
-            ObjectNames::Rows(CIA418_OBJECTS),
-        ],
+        CIA418_OBJECTS,
         &DeviceHeader {
             file_name: "battery_module.eds",
             description: "CiA 418 battery module (canopen-codec)",

@@ -4,8 +4,7 @@
 //! charge control), the CiA 301 names of the communication objects, and
 //! the charger's own dictionary.
 
-use crate::eds::{DeviceHeader, Eds, ObjectNames};
-use crate::od::comm::COMM_OBJECTS;
+use crate::eds::{DeviceHeader, Eds};
 
 use super::{Charger, DELTAQ_OBJECTS};
 
@@ -15,9 +14,9 @@ use super::{Charger, DELTAQ_OBJECTS};
 /// objects with 1016h, the CiA 418 objects it shares with the module and
 /// the Delta-Q objects) with its access, PDO-mappable flag and current
 /// value as `DefaultValue`, named and typed by CiA 301
-/// ([`COMM_OBJECTS`]) and the charger's table
+/// ([`COMM_OBJECTS`](crate::od::comm::COMM_OBJECTS)) and the charger's table
 /// ([`DELTAQ_OBJECTS`]: CiA 418 v1.0.1, Delta-Q, ours for the charge
-/// control); `[DeviceInfo]` from 1008h and 1018h (see [`Eds::describe`]).
+/// control); `[DeviceInfo]` from 1008h and 1018h (see [`Eds::describe_profile`]).
 ///
 /// ```
 /// use canopen_codec::deltaq::{charger_eds, Charger, ChargerConfig};
@@ -31,12 +30,9 @@ use super::{Charger, DELTAQ_OBJECTS};
 #[must_use]
 pub fn charger_eds(charger: &Charger) -> Eds {
     let mut od = charger.dictionary().clone();
-    Eds::describe(
+    Eds::describe_profile(
         &mut od,
-        &[
-            ObjectNames::Rows(COMM_OBJECTS),
-            ObjectNames::Rows(DELTAQ_OBJECTS),
-        ],
+        DELTAQ_OBJECTS,
         &DeviceHeader {
             file_name: "charger.eds",
             description: "Delta-Q IC Series charger (canopen-codec)",

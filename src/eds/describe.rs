@@ -7,6 +7,7 @@ use alloc::vec::Vec;
 use alloc::{format, vec};
 
 use super::{AccessType, DataType, Eds, Entry, Keys, Object, ObjectType};
+use crate::od::comm::COMM_OBJECTS;
 use crate::od::index::{
     DEVICE_TYPE, ERROR_REGISTER, IDENTITY, MANUFACTURER_DEVICE_NAME, RPDO_COMMUNICATION,
     RPDO_COMMUNICATION_LAST, TPDO_COMMUNICATION, TPDO_COMMUNICATION_LAST,
@@ -68,6 +69,23 @@ fn value_text(t: DataType, bytes: &[u8]) -> Option<String> {
 }
 
 impl Eds {
+    /// Describes a device profile's node (see [`describe`](Self::describe)):
+    /// the communication objects named and typed by CiA 301
+    /// ([`COMM_OBJECTS`]), the application objects by the rows of its
+    /// profile's table `profile` (CiA 418 v1.0.1 for a battery module, the
+    /// Delta-Q table for the IC Series charger).
+    pub fn describe_profile<D: ObjectDictionary + ?Sized>(
+        od: &mut D,
+        profile: &[ObjectRow],
+        header: &DeviceHeader<'_>,
+    ) -> Eds {
+        Self::describe(
+            od,
+            &[ObjectNames::Rows(COMM_OBJECTS), ObjectNames::Rows(profile)],
+            header,
+        )
+    }
+
     /// Describes the objects `indexes` of `od`: each sub-object that
     /// answers [`ObjectDictionary::info`] (an object with sub-objects 1 and
     /// up becomes a RECORD, one with only sub-index 0 a VAR), with its
