@@ -430,6 +430,14 @@ mod tests {
     use crate::cob_id::NodeId;
     use std::string::ToString;
 
+    /// A download to node 10 by segmented transfer (no block transfer),
+    /// not started.
+    fn segmented_to_node_10() -> ProgramDownload<&'static [u8]> {
+        let mut config = ProgramDownloadConfig::for_server(NodeId::new(10).unwrap());
+        config.block = false;
+        ProgramDownload::new(config)
+    }
+
     /// An answer of node 10's SDO server.
     fn answer(bytes: [u8; 8]) -> CanFrame {
         CanFrame::standard(0x58A, &bytes).unwrap()
@@ -438,9 +446,7 @@ mod tests {
     #[test]
     fn reads_the_flash_status_at_its_own_deadline_and_not_before() {
         let t = Timestamp::from_millis;
-        let mut config = ProgramDownloadConfig::for_server(NodeId::new(10).unwrap());
-        config.block = false;
-        let mut m = ProgramDownload::new(config);
+        let mut m = segmented_to_node_10();
         assert_eq!(m.poll_timeout(), None);
         m.start(t(0), &[0xAA; 20][..]).unwrap();
         // Stop and clear, each acknowledged at once.
@@ -475,9 +481,7 @@ mod tests {
     #[test]
     fn an_abort_while_waiting_stops_the_timer() {
         let t = Timestamp::from_millis;
-        let mut config = ProgramDownloadConfig::for_server(NodeId::new(10).unwrap());
-        config.block = false;
-        let mut m = ProgramDownload::new(config);
+        let mut m = segmented_to_node_10();
         m.start(t(0), &[0xAA; 20][..]).unwrap();
         for _ in 0..2 {
             let _ = m.poll_transmit();
