@@ -8,6 +8,8 @@ mod common;
 #[cfg(feature = "sim")]
 mod bus_faults;
 #[cfg(feature = "sim")]
+mod bus_observe;
+#[cfg(feature = "sim")]
 mod charge_sessions;
 #[cfg(feature = "sim")]
 mod sim;

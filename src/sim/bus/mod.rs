@@ -39,6 +39,11 @@
 //!   controller's bus-off (CiA 301 section 7.2.8, the error counters of
 //!   ISO 11898-1) is reported to a device by its application, which a test
 //!   does through [`Bus::with`] (for example `Charger::set_bus_error`).
+//! - **Observation**: [`Bus::run_until_observed`] and
+//!   [`Bus::step_observed`] call an observer around every single delivery
+//!   ([`Delivery`]: which frame, to which machine, before or after it was
+//!   handled) with the whole bus to look at, for checks that must hold at
+//!   each frame rather than after a step (a fuzz target's invariants).
 //! - **Log**: every frame sent, with its number, send time, sender and fate
 //!   ([`Bus::log`], [`Bus::lines`]); [`Bus::set_logging`] turns it off for
 //!   long runs and benches (frames are still numbered).
@@ -106,9 +111,12 @@ pub const RUN_UNTIL_MAX_STEPS: usize = 1_000_000;
 mod record;
 mod slot;
 
-pub use record::{Fate, Handle, Livelock, Sent};
+pub use record::{Delivery, Fate, Handle, Livelock, Sent};
 use record::{Loss, SplitMix64};
 use slot::{Node, Slot};
+
+/// What [`Bus::step_observed`] calls around every delivery.
+type Observer<'a> = &'a mut dyn FnMut(&Delivery, &Bus);
 
 struct Entry {
     name: &'static str,
@@ -483,7 +491,41 @@ impl Bus {
     /// One clock step (see the [module docs](self)) if something is due
     /// no later than `limit`; returns whether it took one.
     pub fn step(&mut self, limit: Timestamp) -> bool {
-        self.step_until(Some(limit))
+        self.step_until(Some(limit), None)
+    }
+
+    /// [`Bus::step`], calling `observe` with the bus just before and just
+    /// after each machine handles each frame delivered in the step (see
+    /// [`Delivery`]). Timers run after the deliveries, unobserved.
+    pub fn step_observed(
+        &mut self,
+        limit: Timestamp,
+        observe: &mut dyn FnMut(&Delivery, &Bus),
+    ) -> bool {
+        self.step_until(Some(limit), Some(observe))
+    }
+
+    /// [`Bus::run_until`], calling `observe` around every delivery as
+    /// [`Bus::step_observed`] does.
+    ///
+    /// # Errors
+    ///
+    /// [`Livelock`] after [`RUN_UNTIL_MAX_STEPS`] steps.
+    pub fn run_until_observed(
+        &mut self,
+        end: Timestamp,
+        observe: &mut dyn FnMut(&Delivery, &Bus),
+    ) -> Result<(), Livelock> {
+        for _ in 0..RUN_UNTIL_MAX_STEPS {
+            if !self.step_until(Some(end), Some(&mut *observe)) {
+                self.advance(end);
+                return Ok(());
+            }
+        }
+        Err(Livelock {
+            steps: RUN_UNTIL_MAX_STEPS,
+            now: self.now,
+        })
     }
 
     /// Runs every delivery and timer up to and including `end`; the clock
@@ -495,7 +537,7 @@ impl Bus {
     /// where the last step left it).
     pub fn run_until(&mut self, end: Timestamp) -> Result<(), Livelock> {
         for _ in 0..RUN_UNTIL_MAX_STEPS {
-            if !self.step_until(Some(end)) {
+            if !self.step_until(Some(end), None) {
                 self.advance(end);
                 return Ok(());
             }
@@ -513,7 +555,7 @@ impl Bus {
     /// [`Livelock`] if still busy after `max_steps` clock steps.
     pub fn drive_bounded(&mut self, max_steps: usize) -> Result<(), Livelock> {
         for _ in 0..max_steps {
-            if !self.step_until(None) {
+            if !self.step_until(None, None) {
                 return Ok(());
             }
         }
@@ -640,7 +682,7 @@ impl Bus {
     }
 
     /// One clock step, if something is due no later than `limit`.
-    fn step_until(&mut self, limit: Option<Timestamp>) -> bool {
+    fn step_until(&mut self, limit: Option<Timestamp>, mut observe: Option<Observer<'_>>) -> bool {
         for i in 0..self.entries.len() {
             self.flush(i);
         }
@@ -663,13 +705,35 @@ impl Bus {
                 self.lost_in_flight(d.n);
                 continue;
             }
+            let from = d
+                .from
+                .and_then(|i| self.entries.get(i))
+                .map_or(OUTSIDE, |e| e.name);
             for i in 0..self.entries.len() {
-                let Some(e) = self.entries.get_mut(i) else {
+                let Some(e) = self.entries.get(i) else {
                     break;
                 };
-                if Some(i) != d.from && e.node.is_connected() {
+                if Some(i) == d.from || !e.node.is_connected() {
+                    continue;
+                }
+                let mut seen = Delivery {
+                    n: d.n,
+                    at: self.now,
+                    from,
+                    to: e.name,
+                    frame: d.frame,
+                    handled: false,
+                };
+                if let Some(o) = observe.as_mut() {
+                    o(&seen, self);
+                }
+                if let Some(e) = self.entries.get_mut(i) {
                     e.node.handle_frame(self.now, &d.frame);
-                    self.flush(i);
+                }
+                self.flush(i);
+                if let Some(o) = observe.as_mut() {
+                    seen.handled = true;
+                    o(&seen, self);
                 }
             }
         }

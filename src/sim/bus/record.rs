@@ -148,3 +148,24 @@ pub(super) struct Loss {
     pub(super) all: bool,
     pub(super) rng: SplitMix64,
 }
+
+/// One frame handed to one machine during a step, as an observer of
+/// [`Bus::run_until_observed`] or [`Bus::step_observed`] sees it: once
+/// just before the machine handles it (`handled` false) and once just
+/// after, when what the machine queued in answer is already on the bus
+/// (in its log) and its events are recorded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Delivery {
+    /// The frame's send number (its index in the log while logging).
+    pub n: usize,
+    /// When it is delivered (the bus's clock).
+    pub at: Timestamp,
+    /// Who sent it ([`OUTSIDE`] for an injected frame).
+    pub from: &'static str,
+    /// The machine it is handed to, by the name it was added with.
+    pub to: &'static str,
+    /// The frame.
+    pub frame: CanFrame,
+    /// Whether the machine has handled it yet.
+    pub handled: bool,
+}
