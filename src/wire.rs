@@ -51,8 +51,13 @@ pub trait Codec: Sized {
     /// part of the frame.
     fn emit(&self, buf: &mut [u8; 8]) -> usize;
 
-    /// The number of data bytes [`Codec::emit`] writes (0..=8).
-    fn buffer_len(&self) -> usize;
+    /// The number of data bytes [`Codec::emit`] writes (0..=8): by
+    /// default, what `emit` returns into a scratch buffer, so the length
+    /// is stated once, in `emit`.
+    #[inline]
+    fn buffer_len(&self) -> usize {
+        self.emit(&mut [0u8; 8])
+    }
 
     /// [`Codec::parse`] of a data frame's bytes; a remote frame is
     /// [`DecodeError::UnexpectedRemote`] (CANopen's remote frames carry
@@ -74,6 +79,30 @@ pub trait Codec: Sized {
         CanFrame::from_parts(id, buf, len.min(8) as u8)
     }
 }
+
+/// [`Codec::parse`] through a checked view: `$view::new_checked(data)`,
+/// then the representation's `from_view`. With `of_frame`, also
+/// [`Codec::parse_frame`] through `$view::of_frame`, which reads a data
+/// frame's bytes without a slice (the decode hot path).
+macro_rules! parse_through_view {
+    ($view:ident) => {
+        #[inline]
+        fn parse(data: &[u8]) -> Result<Self, $crate::error::DecodeError> {
+            $view::new_checked(data).map(|f| Self::from_view(&f))
+        }
+    };
+    ($view:ident, of_frame) => {
+        $crate::wire::parse_through_view!($view);
+
+        #[inline]
+        fn parse_frame(
+            frame: &$crate::frame::CanFrame,
+        ) -> Result<Self, $crate::error::DecodeError> {
+            $view::of_frame(frame).map(|f| Self::from_view(&f))
+        }
+    };
+}
+pub(crate) use parse_through_view;
 
 /// The view of a fixed-length payload: `data` as exactly `N` bytes, or
 /// the `Truncated` / `TooLong` error naming `N` (the length check every

@@ -11,7 +11,7 @@
 use crate::cob_id::{NodeId, EMCY_BASE};
 use crate::error::DecodeError;
 use crate::frame::{CanFrame, CanId};
-use crate::wire::{fixed, Codec};
+use crate::wire::{fixed, parse_through_view, Codec};
 
 use super::{ErrorCode, ErrorRegister};
 
@@ -150,25 +150,11 @@ impl Emergency {
 }
 
 impl Codec for Emergency {
-    #[inline]
-    fn parse(data: &[u8]) -> Result<Self, DecodeError> {
-        EmcyFrame::new_checked(data).map(|f| Self::from_view(&f))
-    }
-
-    /// [`EmcyFrame::of_frame`]: no slice on the hot path.
-    #[inline]
-    fn parse_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
-        EmcyFrame::of_frame(frame).map(|f| Self::from_view(&f))
-    }
+    parse_through_view!(EmcyFrame, of_frame);
 
     #[inline]
     fn emit(&self, buf: &mut [u8; 8]) -> usize {
         *buf = self.to_bytes();
-        Self::LEN
-    }
-
-    #[inline]
-    fn buffer_len(&self) -> usize {
         Self::LEN
     }
 }

@@ -21,7 +21,7 @@ use crate::cob_id::{NodeId, NMT, NMT_ERROR_CONTROL_BASE};
 use crate::error::DecodeError;
 use crate::frame::{CanFrame, CanId};
 use crate::nmt::NmtState;
-use crate::wire::{fixed, Codec};
+use crate::wire::{fixed, parse_through_view, Codec};
 
 /// NMT command specifier (byte 0 of an NMT frame).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -216,21 +216,13 @@ impl NmtCommand {
 }
 
 impl Codec for NmtCommand {
-    #[inline]
-    fn parse(data: &[u8]) -> Result<Self, DecodeError> {
-        NmtFrame::new_checked(data).map(|f| Self::from_view(&f))
-    }
+    parse_through_view!(NmtFrame);
 
     #[inline]
     fn emit(&self, buf: &mut [u8; 8]) -> usize {
         let [cs, node, ..] = buf;
         *cs = self.command.into();
         *node = self.target.into();
-        Self::LEN
-    }
-
-    #[inline]
-    fn buffer_len(&self) -> usize {
         Self::LEN
     }
 }
@@ -375,26 +367,12 @@ impl Heartbeat {
 }
 
 impl Codec for Heartbeat {
-    #[inline]
-    fn parse(data: &[u8]) -> Result<Self, DecodeError> {
-        HeartbeatFrame::new_checked(data).map(|f| Self::from_view(&f))
-    }
-
-    /// [`HeartbeatFrame::of_frame`]: no slice on the hot path.
-    #[inline]
-    fn parse_frame(frame: &CanFrame) -> Result<Self, DecodeError> {
-        HeartbeatFrame::of_frame(frame).map(|f| Self::from_view(&f))
-    }
+    parse_through_view!(HeartbeatFrame, of_frame);
 
     #[inline]
     fn emit(&self, buf: &mut [u8; 8]) -> usize {
         let [b0, ..] = buf;
         *b0 = self.byte();
-        1
-    }
-
-    #[inline]
-    fn buffer_len(&self) -> usize {
         1
     }
 }

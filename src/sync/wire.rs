@@ -5,7 +5,7 @@
 //! received).
 
 use crate::error::DecodeError;
-use crate::wire::Codec;
+use crate::wire::{parse_through_view, Codec};
 
 /// The checked view of a SYNC frame's data: 0 or 1 byte.
 ///
@@ -73,10 +73,7 @@ impl SyncMessage {
 }
 
 impl Codec for SyncMessage {
-    #[inline]
-    fn parse(data: &[u8]) -> Result<Self, DecodeError> {
-        SyncFrame::new_checked(data).map(|f| Self::from_view(&f))
-    }
+    parse_through_view!(SyncFrame);
 
     #[inline]
     fn emit(&self, buf: &mut [u8; 8]) -> usize {
@@ -88,11 +85,6 @@ impl Codec for SyncMessage {
             }
             None => 0,
         }
-    }
-
-    #[inline]
-    fn buffer_len(&self) -> usize {
-        usize::from(self.counter.is_some())
     }
 }
 

@@ -5,7 +5,7 @@
 //! since 1984-01-01, all little-endian.
 
 use crate::error::DecodeError;
-use crate::wire::{fixed, Codec};
+use crate::wire::{fixed, parse_through_view, Codec};
 
 /// Milliseconds in a day.
 pub const MS_PER_DAY: u32 = 86_400_000;
@@ -136,10 +136,7 @@ impl TimeOfDay {
 }
 
 impl Codec for TimeOfDay {
-    #[inline]
-    fn parse(data: &[u8]) -> Result<Self, DecodeError> {
-        TimeFrame::new_checked(data).map(|f| Self::from_view(&f))
-    }
+    parse_through_view!(TimeFrame);
 
     #[inline]
     fn emit(&self, buf: &mut [u8; 8]) -> usize {
@@ -147,11 +144,6 @@ impl Codec for TimeOfDay {
         let [a, b, c, d, e, f, ..] = buf;
         [*a, *b, *c, *d] = word.to_le_bytes();
         [*e, *f] = self.days.to_le_bytes();
-        Self::LEN
-    }
-
-    #[inline]
-    fn buffer_len(&self) -> usize {
         Self::LEN
     }
 }

@@ -574,11 +574,6 @@ macro_rules! sdo_frame {
                 *buf = bytes;
                 len
             }
-
-            #[inline]
-            fn buffer_len(&self) -> usize {
-                self.encode().1
-            }
         }
 
         impl From<$cmd> for $name {
