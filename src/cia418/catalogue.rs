@@ -41,48 +41,43 @@ use super::{
     VEHICLE_SERIAL_NUMBER, WATER_LEVEL_STATUS,
 };
 
+/// A CiA 418 status byte of one defined bit (CiA 418 v1.0.1, sections
+/// 7.3.1, 7.3.2 and 7.3.18): `set` or `clear` for the bit `flag`, the
+/// other bits kept as `other bits XXh`.
+macro_rules! one_bit_status {
+    ($flag:expr, $set:literal, $clear:literal) => {
+        FlagWord {
+            fields: &[
+                FlagField::Bit {
+                    mask: $flag.bits() as u64,
+                    set: $set,
+                    clear: Some($clear),
+                },
+                FlagField::OtherBits { mask: 0xFF },
+            ],
+            when_empty: None,
+        }
+    };
+}
+
 /// 6000h battery status (CiA 418 v1.0.1, 7.3.1): bit 0 set means the
 /// battery is ready to be charged; the other bits are kept as
 /// `other bits XXh`.
-pub const BATTERY_STATUS_FLAGS: FlagWord = FlagWord {
-    fields: &[
-        FlagField::Bit {
-            mask: BatteryStatus::READY_TO_CHARGE.bits() as u64,
-            set: "ready to charge",
-            clear: Some("not ready to charge"),
-        },
-        FlagField::OtherBits { mask: 0xFF },
-    ],
-    when_empty: None,
-};
+pub const BATTERY_STATUS_FLAGS: FlagWord = one_bit_status!(
+    BatteryStatus::READY_TO_CHARGE,
+    "ready to charge",
+    "not ready to charge"
+);
 
 /// 6001h charger status (CiA 418 v1.0.1, 7.3.2): bit 0 set means the
 /// charger is enabled (able to charge).
-pub const CHARGER_STATUS_FLAGS: FlagWord = FlagWord {
-    fields: &[
-        FlagField::Bit {
-            mask: ChargerStatus::ENABLED.bits() as u64,
-            set: "enabled",
-            clear: Some("not enabled"),
-        },
-        FlagField::OtherBits { mask: 0xFF },
-    ],
-    when_empty: None,
-};
+pub const CHARGER_STATUS_FLAGS: FlagWord =
+    one_bit_status!(ChargerStatus::ENABLED, "enabled", "not enabled");
 
 /// 6090h water level status (CiA 418 v1.0.1, 7.3.18): bit 0 is 1 for full,
 /// 0 for low.
-pub const WATER_LEVEL_STATUS_FLAGS: FlagWord = FlagWord {
-    fields: &[
-        FlagField::Bit {
-            mask: WaterLevelStatus::FULL.bits() as u64,
-            set: "full",
-            clear: Some("low"),
-        },
-        FlagField::OtherBits { mask: 0xFF },
-    ],
-    when_empty: None,
-};
+pub const WATER_LEVEL_STATUS_FLAGS: FlagWord =
+    one_bit_status!(WaterLevelStatus::FULL, "full", "low");
 
 fn battery_type_has_value(_: u64) -> bool {
     true
