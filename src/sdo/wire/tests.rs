@@ -46,21 +46,32 @@ fn enc_resp(c: ServerCommand) -> [u8; 8] {
     b
 }
 
+/// A vector read and written both ways: `bytes` decode to `c` (and back to
+/// `bytes`), and `c` built from scratch encodes to `bytes`.
+fn both_ways_req(bytes: [u8; 8], c: ClientCommand) {
+    assert_eq!(req(&bytes), c);
+    assert_eq!(enc_req(c), bytes);
+}
+
+/// [`both_ways_req`] for a response.
+fn both_ways_resp(bytes: [u8; 8], c: ServerCommand) {
+    assert_eq!(resp(&bytes), c);
+    assert_eq!(enc_resp(c), bytes);
+}
+
 #[test]
 fn v1_v3_expedited_upload() {
     let up = ClientCommand::InitiateUpload {
         index: 0x1018,
         sub: 1,
     };
-    assert_eq!(req(&[0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]), up);
-    assert_eq!(enc_req(up), [0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0]);
+    both_ways_req([0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0], up);
     let r = ServerCommand::InitiateUpload {
         index: 0x1018,
         sub: 1,
         payload: exp(&[4, 0, 0, 0]),
     };
-    assert_eq!(resp(&[0x43, 0x18, 0x10, 0x01, 0x04, 0, 0, 0]), r);
-    assert_eq!(enc_resp(r), [0x43, 0x18, 0x10, 0x01, 0x04, 0, 0, 0]);
+    both_ways_resp([0x43, 0x18, 0x10, 0x01, 0x04, 0, 0, 0], r);
     // V1b: DLC 5, n = 3, one byte.
     assert_eq!(
         resp(&[0x4F, 0x00, 0x14, 0x02, 0xFE]),
@@ -108,22 +119,19 @@ fn v4_v7_expedited_download() {
         sub: 0,
         payload: exp(&[0xA0, 0x0F]),
     };
-    assert_eq!(req(&[0x2B, 0x17, 0x10, 0x00, 0xA0, 0x0F, 0, 0]), d);
-    assert_eq!(enc_req(d), [0x2B, 0x17, 0x10, 0x00, 0xA0, 0x0F, 0, 0]);
+    both_ways_req([0x2B, 0x17, 0x10, 0x00, 0xA0, 0x0F, 0, 0], d);
     let ack = ServerCommand::InitiateDownload {
         index: 0x1017,
         sub: 0,
     };
-    assert_eq!(resp(&[0x60, 0x17, 0x10, 0, 0, 0, 0, 0]), ack);
-    assert_eq!(enc_resp(ack), [0x60, 0x17, 0x10, 0, 0, 0, 0, 0]);
+    both_ways_resp([0x60, 0x17, 0x10, 0, 0, 0, 0, 0], ack);
     // V6: 4 bytes, n = 0.
     let d = ClientCommand::InitiateDownload {
         index: 0x1400,
         sub: 1,
         payload: exp(&[0x04, 0x02, 0x00, 0x80]),
     };
-    assert_eq!(req(&[0x23, 0x00, 0x14, 0x01, 0x04, 0x02, 0x00, 0x80]), d);
-    assert_eq!(enc_req(d), [0x23, 0x00, 0x14, 0x01, 0x04, 0x02, 0x00, 0x80]);
+    both_ways_req([0x23, 0x00, 0x14, 0x01, 0x04, 0x02, 0x00, 0x80], d);
     // V7
     assert_eq!(
         req(&[0x23, 0x16, 0x10, 0x02, 0xF0, 0x00, 0x01, 0x00]),
@@ -158,18 +166,13 @@ fn v8_segmented_upload() {
         [0x70, 0, 0, 0, 0, 0, 0, 0]
     );
     let s = ServerCommand::UploadSegment(seg(false, false, b"Tiny No"));
-    assert_eq!(resp(&[0x00, 0x54, 0x69, 0x6E, 0x79, 0x20, 0x4E, 0x6F]), s);
-    assert_eq!(
-        enc_resp(s),
-        [0x00, 0x54, 0x69, 0x6E, 0x79, 0x20, 0x4E, 0x6F]
-    );
+    both_ways_resp([0x00, 0x54, 0x69, 0x6E, 0x79, 0x20, 0x4E, 0x6F], s);
     assert_eq!(
         resp(&[0x10, 0x64, 0x65, 0x20, 0x2D, 0x20, 0x4D, 0x65]),
         ServerCommand::UploadSegment(seg(true, false, b"de - Me"))
     );
     let last = ServerCommand::UploadSegment(seg(true, true, b"ins !"));
-    assert_eq!(resp(&[0x15, 0x69, 0x6E, 0x73, 0x20, 0x21, 0, 0]), last);
-    assert_eq!(enc_resp(last), [0x15, 0x69, 0x6E, 0x73, 0x20, 0x21, 0, 0]);
+    both_ways_resp([0x15, 0x69, 0x6E, 0x73, 0x20, 0x21, 0, 0], last);
 }
 
 #[test]
@@ -210,8 +213,7 @@ fn v11_v14_segmented_download() {
         sub: 0,
         payload: InitiatePayload::Segmented { size: Some(13) },
     };
-    assert_eq!(req(&[0x21, 0x00, 0x20, 0x00, 0x0D, 0, 0, 0]), init);
-    assert_eq!(enc_req(init), [0x21, 0x00, 0x20, 0x00, 0x0D, 0, 0, 0]);
+    both_ways_req([0x21, 0x00, 0x20, 0x00, 0x0D, 0, 0, 0], init);
     let s0 = ClientCommand::DownloadSegment(seg(false, false, b"A long "));
     assert_eq!(req(&[0x00, 0x41, 0x20, 0x6C, 0x6F, 0x6E, 0x67, 0x20]), s0);
     // The fixture's ack has non-zero reserved bytes: ignored, and kept.
@@ -224,11 +226,7 @@ fn v11_v14_segmented_download() {
         [0x20, 0, 0, 0, 0, 0, 0, 0]
     );
     let s1 = ClientCommand::DownloadSegment(seg(true, true, b"string"));
-    assert_eq!(req(&[0x13, 0x73, 0x74, 0x72, 0x69, 0x6E, 0x67, 0x00]), s1);
-    assert_eq!(
-        enc_req(s1),
-        [0x13, 0x73, 0x74, 0x72, 0x69, 0x6E, 0x67, 0x00]
-    );
+    both_ways_req([0x13, 0x73, 0x74, 0x72, 0x69, 0x6E, 0x67, 0x00], s1);
     assert_eq!(
         resp(&[0x30, 0x00, 0x20, 0x00, 0, 0, 0, 0]),
         ServerCommand::DownloadSegment { toggle: true }
@@ -248,16 +246,14 @@ fn v11_v14_segmented_download() {
         }
     );
     let empty = ClientCommand::DownloadSegment(seg(false, true, &[]));
-    assert_eq!(req(&[0x0F, 0, 0, 0, 0, 0, 0, 0]), empty);
-    assert_eq!(enc_req(empty), [0x0F, 0, 0, 0, 0, 0, 0, 0]);
+    both_ways_req([0x0F, 0, 0, 0, 0, 0, 0, 0], empty);
     // V14: size not indicated, short non-final segment.
     let nosize = ClientCommand::InitiateDownload {
         index: 0x2000,
         sub: 0,
         payload: InitiatePayload::Segmented { size: None },
     };
-    assert_eq!(req(&[0x20, 0x00, 0x20, 0x00, 0, 0, 0, 0]), nosize);
-    assert_eq!(enc_req(nosize), [0x20, 0x00, 0x20, 0x00, 0, 0, 0, 0]);
+    both_ways_req([0x20, 0x00, 0x20, 0x00, 0, 0, 0, 0], nosize);
     assert_eq!(
         req(&[0x1A, 0x38, 0x39, 0, 0, 0, 0, 0]),
         ClientCommand::DownloadSegment(seg(true, false, b"89"))
@@ -271,11 +267,7 @@ fn v15_v16_abort() {
         sub: 1,
         code: AbortCode::SubIndexDoesNotExist,
     };
-    assert_eq!(resp(&[0x80, 0x18, 0x10, 0x01, 0x11, 0x00, 0x09, 0x06]), a);
-    assert_eq!(
-        enc_resp(a),
-        [0x80, 0x18, 0x10, 0x01, 0x11, 0x00, 0x09, 0x06]
-    );
+    both_ways_resp([0x80, 0x18, 0x10, 0x01, 0x11, 0x00, 0x09, 0x06], a);
     let a = ClientCommand::Abort {
         index: 0,
         sub: 0,
@@ -302,16 +294,14 @@ fn v17_block_download() {
         crc: true,
         size: Some(30),
     });
-    assert_eq!(req(&[0xC6, 0x00, 0x20, 0x00, 0x1E, 0, 0, 0]), init);
-    assert_eq!(enc_req(init), [0xC6, 0x00, 0x20, 0x00, 0x1E, 0, 0, 0]);
+    both_ways_req([0xC6, 0x00, 0x20, 0x00, 0x1E, 0, 0, 0], init);
     let r = ServerCommand::BlockDownload(ServerBlockDownload::Initiate {
         index: 0x2000,
         sub: 0,
         crc: true,
         blksize: 127,
     });
-    assert_eq!(resp(&[0xA4, 0x00, 0x20, 0x00, 0x7F, 0, 0, 0]), r);
-    assert_eq!(enc_resp(r), [0xA4, 0x00, 0x20, 0x00, 0x7F, 0, 0, 0]);
+    both_ways_resp([0xA4, 0x00, 0x20, 0x00, 0x7F, 0, 0, 0], r);
     // Sub-block segments have no specifier: they decode as their bits say,
     // and keep their bytes for a block state machine.
     let s = SdoRequest::parse(&[0x85, 0x2E, 0x2E, 0, 0, 0, 0, 0]).unwrap();
@@ -320,17 +310,14 @@ fn v17_block_download() {
         ackseq: 5,
         blksize: 127,
     });
-    assert_eq!(resp(&[0xA2, 0x05, 0x7F, 0, 0, 0, 0, 0]), ack);
-    assert_eq!(enc_resp(ack), [0xA2, 0x05, 0x7F, 0, 0, 0, 0, 0]);
+    both_ways_resp([0xA2, 0x05, 0x7F, 0, 0, 0, 0, 0], ack);
     let end = ClientCommand::BlockDownload(ClientBlockDownload::End {
         unused: 5,
         crc: 0x6945,
     });
-    assert_eq!(req(&[0xD5, 0x45, 0x69, 0, 0, 0, 0, 0]), end);
-    assert_eq!(enc_req(end), [0xD5, 0x45, 0x69, 0, 0, 0, 0, 0]);
+    both_ways_req([0xD5, 0x45, 0x69, 0, 0, 0, 0, 0], end);
     let done = ServerCommand::BlockDownload(ServerBlockDownload::End);
-    assert_eq!(resp(&[0xA1, 0, 0, 0, 0, 0, 0, 0]), done);
-    assert_eq!(enc_resp(done), [0xA1, 0, 0, 0, 0, 0, 0, 0]);
+    both_ways_resp([0xA1, 0, 0, 0, 0, 0, 0, 0], done);
 }
 
 #[test]
@@ -342,25 +329,21 @@ fn v18_v19_block_upload() {
         blksize: 127,
         pst: 0,
     });
-    assert_eq!(req(&[0xA4, 0x08, 0x10, 0x00, 0x7F, 0, 0, 0]), init);
-    assert_eq!(enc_req(init), [0xA4, 0x08, 0x10, 0x00, 0x7F, 0, 0, 0]);
+    both_ways_req([0xA4, 0x08, 0x10, 0x00, 0x7F, 0, 0, 0], init);
     let r = ServerCommand::BlockUpload(ServerBlockUpload::Initiate {
         index: 0x1008,
         sub: 0,
         crc: true,
         size: Some(26),
     });
-    assert_eq!(resp(&[0xC6, 0x08, 0x10, 0x00, 0x1A, 0, 0, 0]), r);
-    assert_eq!(enc_resp(r), [0xC6, 0x08, 0x10, 0x00, 0x1A, 0, 0, 0]);
+    both_ways_resp([0xC6, 0x08, 0x10, 0x00, 0x1A, 0, 0, 0], r);
     let start = ClientCommand::BlockUpload(ClientBlockUpload::Start);
-    assert_eq!(req(&[0xA3, 0, 0, 0, 0, 0, 0, 0]), start);
-    assert_eq!(enc_req(start), [0xA3, 0, 0, 0, 0, 0, 0, 0]);
+    both_ways_req([0xA3, 0, 0, 0, 0, 0, 0, 0], start);
     let ack = ClientCommand::BlockUpload(ClientBlockUpload::Ack {
         ackseq: 4,
         blksize: 127,
     });
-    assert_eq!(req(&[0xA2, 0x04, 0x7F, 0, 0, 0, 0, 0]), ack);
-    assert_eq!(enc_req(ack), [0xA2, 0x04, 0x7F, 0, 0, 0, 0, 0]);
+    both_ways_req([0xA2, 0x04, 0x7F, 0, 0, 0, 0, 0], ack);
     // V19's retransmit ack.
     assert_eq!(
         req(&[0xA2, 0x32, 0x7F, 0, 0, 0, 0, 0]),
@@ -373,8 +356,7 @@ fn v18_v19_block_upload() {
         unused: 2,
         crc: 0xE140,
     });
-    assert_eq!(resp(&[0xC9, 0x40, 0xE1, 0, 0, 0, 0, 0]), end);
-    assert_eq!(enc_resp(end), [0xC9, 0x40, 0xE1, 0, 0, 0, 0, 0]);
+    both_ways_resp([0xC9, 0x40, 0xE1, 0, 0, 0, 0, 0], end);
     assert_eq!(
         resp(&[0xC9, 0x3B, 0x49, 0, 0, 0, 0, 0]),
         ServerCommand::BlockUpload(ServerBlockUpload::End {
@@ -383,8 +365,7 @@ fn v18_v19_block_upload() {
         })
     );
     let fin = ClientCommand::BlockUpload(ClientBlockUpload::End);
-    assert_eq!(req(&[0xA1, 0, 0, 0, 0, 0, 0, 0]), fin);
-    assert_eq!(enc_req(fin), [0xA1, 0, 0, 0, 0, 0, 0, 0]);
+    both_ways_req([0xA1, 0, 0, 0, 0, 0, 0, 0], fin);
 }
 
 #[test]
