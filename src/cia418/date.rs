@@ -248,20 +248,6 @@ impl EqualizationDate {
         })
     }
 
-    /// Validates a calendar date and time and converts it.
-    pub const fn from_calendar(
-        year: u16,
-        month: u8,
-        day: u8,
-        hour: u8,
-        minute: u8,
-    ) -> Result<Self, DateError> {
-        match CalendarDateTime::new(year, month, day, hour, minute) {
-            Ok(c) => Ok(Self::from_date_time(c)),
-            Err(e) => Err(e),
-        }
-    }
-
     /// Converts a (valid by construction) calendar date and time.
     #[must_use]
     pub const fn from_date_time(c: CalendarDateTime) -> Self {

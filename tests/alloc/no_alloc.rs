@@ -472,7 +472,8 @@ const CASES: &[Case] = &[
         "cia418 packed strings, battery type, device type, date",
         |_| {
             use cia418::{
-                BatteryType, DeviceType, EqualizationDate, PackedString, PackedStringObject,
+                BatteryType, CalendarDateTime, DeviceType, EqualizationDate, PackedString,
+                PackedStringObject,
             };
             let p = PackedString::encode(
                 PackedStringObject::BatterySerialNumber,
@@ -496,7 +497,8 @@ const CASES: &[Case] = &[
             let d = DeviceType::from_raw(black_box(0x000F_01A2));
             black_box((d.rpdos().len(), d.tpdos().len(), d.encode()));
             let _ = black_box(
-                EqualizationDate::from_calendar(2026, 11, 22, 10, 30).map(|d| d.to_calendar()),
+                CalendarDateTime::new(2026, 11, 22, 10, 30)
+                    .map(|c| EqualizationDate::from(c).to_calendar()),
             );
         },
     ),
