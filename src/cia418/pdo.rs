@@ -20,7 +20,7 @@ pub use crate::pdo::{DefaultPdo, PdoDirection};
 
 use crate::pdo::{default_mapping, PdoMapping};
 
-const TT_ASYNC: u8 = 255;
+use PdoDirection::{Receive, Transmit};
 
 /// The CiA 418 default PDOs: 1st, 2nd, 3rd RPDO, then 1st, 2nd, 3rd TPDO
 /// (CiA 418 v1.0.1, 6.2.3-6.2.8). The 1st RPDO and TPDO are mandatory, the
@@ -39,86 +39,60 @@ const TT_ASYNC: u8 = 255;
 /// assert!(first_tpdo.is_present(DeviceType::cia418(0)));
 /// ```
 pub const DEFAULT_PDOS: [DefaultPdo; 6] = [
-    DefaultPdo {
-        direction: PdoDirection::Receive,
-        number: PdoNumber::P0,
-        communication_index: PdoDirection::Receive.comm_index(PdoNumber::P0),
-        mapping_index: PdoDirection::Receive.mapping_index(PdoNumber::P0),
-        cob_id_base: 0x200,
-        transmission_type: TT_ASYNC,
-        event_timer_ms: 0,
-        entries: &[(CHARGER_STATUS, 0, 8)],
-        enabled_by: None,
-    },
-    DefaultPdo {
-        direction: PdoDirection::Receive,
-        number: PdoNumber::P1,
-        communication_index: PdoDirection::Receive.comm_index(PdoNumber::P1),
-        mapping_index: PdoDirection::Receive.mapping_index(PdoNumber::P1),
-        cob_id_base: 0x300,
-        transmission_type: TT_ASYNC,
-        event_timer_ms: 0,
-        entries: &[
+    DefaultPdo::asynchronous(Receive, PdoNumber::P0, 0x200, 0, &[(CHARGER_STATUS, 0, 8)]),
+    DefaultPdo::asynchronous(
+        Receive,
+        PdoNumber::P1,
+        0x300,
+        0,
+        &[
             (CHARGER_STATUS, 0, 8),
             (AH_RETURNED_DURING_LAST_CHARGE, 0, 16),
         ],
-        enabled_by: Some(DeviceType::RPDO_2ND),
-    },
-    DefaultPdo {
-        direction: PdoDirection::Receive,
-        number: PdoNumber::P2,
-        communication_index: PdoDirection::Receive.comm_index(PdoNumber::P2),
-        mapping_index: PdoDirection::Receive.mapping_index(PdoNumber::P2),
-        cob_id_base: 0x400,
-        transmission_type: TT_ASYNC,
-        event_timer_ms: 0,
-        entries: &[
+    )
+    .when_device_type(DeviceType::RPDO_2ND),
+    DefaultPdo::asynchronous(
+        Receive,
+        PdoNumber::P2,
+        0x400,
+        0,
+        &[
             (CHARGER_STATUS, 0, 8),
             (AH_RETURNED_DURING_LAST_CHARGE, 0, 16),
             (CHARGER_STATE_OF_CHARGE, 0, 8),
         ],
-        enabled_by: Some(DeviceType::RPDO_3RD),
-    },
-    DefaultPdo {
-        direction: PdoDirection::Transmit,
-        number: PdoNumber::P0,
-        communication_index: PdoDirection::Transmit.comm_index(PdoNumber::P0),
-        mapping_index: PdoDirection::Transmit.mapping_index(PdoNumber::P0),
-        cob_id_base: 0x8000_0180,
-        transmission_type: TT_ASYNC,
-        event_timer_ms: 200,
-        entries: &[(TEMPERATURE, 0, 16), (BATTERY_STATUS, 0, 8)],
-        enabled_by: None,
-    },
-    DefaultPdo {
-        direction: PdoDirection::Transmit,
-        number: PdoNumber::P1,
-        communication_index: PdoDirection::Transmit.comm_index(PdoNumber::P1),
-        mapping_index: PdoDirection::Transmit.mapping_index(PdoNumber::P1),
-        cob_id_base: 0x8000_0280,
-        transmission_type: TT_ASYNC,
-        event_timer_ms: 200,
-        entries: &[
+    )
+    .when_device_type(DeviceType::RPDO_3RD),
+    DefaultPdo::asynchronous(
+        Transmit,
+        PdoNumber::P0,
+        0x8000_0180,
+        200,
+        &[(TEMPERATURE, 0, 16), (BATTERY_STATUS, 0, 8)],
+    ),
+    DefaultPdo::asynchronous(
+        Transmit,
+        PdoNumber::P1,
+        0x8000_0280,
+        200,
+        &[
             (TEMPERATURE, 0, 16),
             (BATTERY_STATUS, 0, 8),
             (BATTERY_VOLTAGE, 0, 32),
         ],
-        enabled_by: Some(DeviceType::TPDO_2ND),
-    },
-    DefaultPdo {
-        direction: PdoDirection::Transmit,
-        number: PdoNumber::P2,
-        communication_index: PdoDirection::Transmit.comm_index(PdoNumber::P2),
-        mapping_index: PdoDirection::Transmit.mapping_index(PdoNumber::P2),
-        cob_id_base: 0x8000_0380,
-        transmission_type: TT_ASYNC,
-        event_timer_ms: 200,
-        entries: &[
+    )
+    .when_device_type(DeviceType::TPDO_2ND),
+    DefaultPdo::asynchronous(
+        Transmit,
+        PdoNumber::P2,
+        0x8000_0380,
+        200,
+        &[
             (CHARGE_CURRENT_REQUESTED, 0, 16),
             (BATTERY_STATE_OF_CHARGE, 0, 8),
         ],
-        enabled_by: Some(DeviceType::TPDO_3RD),
-    },
+    )
+    .when_device_type(DeviceType::TPDO_3RD),
 ];
 
 /// The CiA 418 battery module's default mapping of one of its PDOs (from

@@ -46,30 +46,6 @@ use crate::pdo::{find_default, Catalogue, DefaultPdo, PdoDirection, PdoMapping};
 
 use super::{index, CHARGER_CATALOGUE};
 
-/// Transmission type 255: asynchronous, event-driven (device profile).
-const TT_ASYNC: u8 = 255;
-
-const fn row(
-    direction: PdoDirection,
-    number: PdoNumber,
-    cob_id_base: u32,
-    event_timer_ms: u16,
-    entries: &'static [(u16, u8, u8)],
-) -> DefaultPdo {
-    let communication_index = direction.comm_index(number);
-    DefaultPdo {
-        direction,
-        number,
-        communication_index,
-        mapping_index: communication_index + 0x200,
-        cob_id_base,
-        transmission_type: TT_ASYNC,
-        event_timer_ms,
-        entries,
-        enabled_by: None,
-    }
-}
-
 use PdoDirection::{Receive, Transmit};
 
 /// The Delta-Q charger's default PDOs: TPDO 0..3, then RPDO 0..3. TPDOs
@@ -78,14 +54,14 @@ use PdoDirection::{Receive, Transmit};
 /// take the module's 6010h and 6000h (+ 6060h), and 6070h with 6081h;
 /// RPDO 3 has no published mapping.
 pub const CHARGER_DEFAULT_PDOS: [DefaultPdo; 8] = [
-    row(
+    DefaultPdo::asynchronous(
         Transmit,
         PdoNumber::P0,
         0x180,
         200,
         &[(CHARGER_STATUS, 0, 8)],
     ),
-    row(
+    DefaultPdo::asynchronous(
         Transmit,
         PdoNumber::P1,
         0x280,
@@ -95,7 +71,7 @@ pub const CHARGER_DEFAULT_PDOS: [DefaultPdo; 8] = [
             (AH_RETURNED_DURING_LAST_CHARGE, 0, 16),
         ],
     ),
-    row(
+    DefaultPdo::asynchronous(
         Transmit,
         PdoNumber::P2,
         0x380,
@@ -106,7 +82,7 @@ pub const CHARGER_DEFAULT_PDOS: [DefaultPdo; 8] = [
             (CHARGER_STATE_OF_CHARGE, 0, 8),
         ],
     ),
-    row(
+    DefaultPdo::asynchronous(
         Transmit,
         PdoNumber::P3,
         0x480,
@@ -117,14 +93,14 @@ pub const CHARGER_DEFAULT_PDOS: [DefaultPdo; 8] = [
             (index::EXTENDED_CHARGE_STATUS, 0, 16),
         ],
     ),
-    row(
+    DefaultPdo::asynchronous(
         Receive,
         PdoNumber::P0,
         0x200,
         0,
         &[(TEMPERATURE, 0, 16), (BATTERY_STATUS, 0, 8)],
     ),
-    row(
+    DefaultPdo::asynchronous(
         Receive,
         PdoNumber::P1,
         0x300,
@@ -135,7 +111,7 @@ pub const CHARGER_DEFAULT_PDOS: [DefaultPdo; 8] = [
             (BATTERY_VOLTAGE, 0, 32),
         ],
     ),
-    row(
+    DefaultPdo::asynchronous(
         Receive,
         PdoNumber::P2,
         0x400,
@@ -146,7 +122,7 @@ pub const CHARGER_DEFAULT_PDOS: [DefaultPdo; 8] = [
         ],
     ),
     // Not published by Delta-Q: no entries rather than a guess.
-    row(Receive, PdoNumber::P3, 0x500, 0, &[]),
+    DefaultPdo::asynchronous(Receive, PdoNumber::P3, 0x500, 0, &[]),
 ];
 
 /// The charger's default PDO row for a direction and number.

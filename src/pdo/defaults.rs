@@ -69,6 +69,40 @@ pub struct DefaultPdo {
 }
 
 impl DefaultPdo {
+    /// An asynchronous, event-driven default PDO (transmission type 255,
+    /// CiA 301 section 7.5.2.35): PDO `number` of `direction` at its
+    /// communication and mapping parameters (1400h/1800h + n,
+    /// 1600h/1A00h + n), present on every device (see
+    /// [`when_device_type`](Self::when_device_type)).
+    #[must_use]
+    pub const fn asynchronous(
+        direction: PdoDirection,
+        number: PdoNumber,
+        cob_id_base: u32,
+        event_timer_ms: u16,
+        entries: &'static [(u16, u8, u8)],
+    ) -> Self {
+        DefaultPdo {
+            direction,
+            number,
+            communication_index: direction.comm_index(number),
+            mapping_index: direction.mapping_index(number),
+            cob_id_base,
+            transmission_type: 255,
+            event_timer_ms,
+            entries,
+            enabled_by: None,
+        }
+    }
+
+    /// This PDO present only on a device whose device type (1000h) has all
+    /// of `bits` set.
+    #[must_use]
+    pub const fn when_device_type(mut self, bits: u32) -> Self {
+        self.enabled_by = Some(bits);
+        self
+    }
+
     /// The default COB-ID (communication parameter sub 1) for a device with
     /// id `node`, flags included.
     #[must_use]
