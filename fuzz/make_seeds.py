@@ -9,7 +9,7 @@ headers, an object straddling two containers, CAN FD and error objects);
 asc_line (a byte choosing the base line, then ASC lines); trace_line (one
 file per trace format); decoder_run (the tests' own logs under several
 option sets); eds_parse (an EDS and a DCF); sdo_wire (one SDO frame per command
-kind)."""
+kind); concise_dcf (the unit tests' concise DCF vectors, src/od/concise_tests.rs)."""
 import pathlib
 import struct
 import zlib
@@ -287,6 +287,23 @@ SDO_WIRE = [
 ]
 
 
+def concise(entries):
+    """A concise DCF (CiA 302-3 section 4): count, then index, sub, size, data."""
+    out = struct.pack("<I", len(entries))
+    for index, sub, data in entries:
+        out += struct.pack("<HBI", index, sub, len(data)) + data
+    return out
+
+
+CONCISE_DCF = [
+    ("empty", concise([])),
+    ("two_entries", concise([(0x1017, 0, b"\xf4\x01"), (0x1800, 1, bytes.fromhex("85010040"))])),
+    ("zero_size", concise([(0x1F50, 1, b"")])),
+    ("count_too_large", b"\x03" + concise([(0x1017, 0, b"\xf4\x01")])[1:]),
+    ("size_past_end", concise([(0x1017, 0, b"\xf4\x01")])[:-1]),
+]
+
+
 def write(target, seeds):
     out = HERE / "seeds" / target
     out.mkdir(parents=True, exist_ok=True)
@@ -302,3 +319,4 @@ if __name__ == "__main__":
     write("decoder_run", decoder_run_seeds())
     write("eds_parse", eds_parse_seeds())
     write("sdo_wire", [(name, bytes.fromhex(data)) for name, data in SDO_WIRE])
+    write("concise_dcf", CONCISE_DCF)

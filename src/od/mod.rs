@@ -20,6 +20,7 @@ use crate::abort::AbortCode;
 
 mod address;
 pub mod comm;
+mod concise;
 mod fixed;
 #[cfg(test)]
 pub(crate) mod fixture;
@@ -32,6 +33,7 @@ mod table;
 mod types;
 mod write_buffer;
 pub use address::Address;
+pub use concise::{ConciseDcf, ConciseDcfError, ConciseEntries, ConciseEntry, ConciseWriter};
 pub use fixed::{FixedDictionary, FixedEntry, FixedObject, FixedObjects};
 #[cfg(feature = "alloc")]
 pub use memory::MemoryDictionary;
