@@ -80,7 +80,10 @@ pub use objects::{
     BATTERY_PARAMETERS_RESTORED,
 };
 pub use packed::{PackedString, PackedStringError, PackedStringObject, PackedText};
-pub use pdo::{battery_default_mapping, DefaultPdo, PdoDirection, DEFAULT_PDOS};
+pub use pdo::{
+    battery_default_mapping, DefaultPdo, PdoDirection, DEFAULT_PDOS, RPDO_1ST_ENTRIES,
+    RPDO_2ND_ENTRIES, RPDO_3RD_ENTRIES, TPDO_1ST_ENTRIES, TPDO_2ND_ENTRIES, TPDO_3RD_ENTRIES,
+};
 pub use status::{BatteryStatus, ChargerStatus, WaterLevelStatus};
 pub use units::{
     AmpHours, BatteryVoltage, ChargeCurrentRequested, EighthAmpHours, SocReading, StateOfCharge,

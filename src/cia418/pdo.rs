@@ -22,6 +22,35 @@ use crate::pdo::{default_mapping, PdoMapping};
 
 use PdoDirection::{Receive, Transmit};
 
+/// The 1st RPDO's mapping (CiA 418 v1.0.1, 6.2.3): the charger's 6001h.
+/// A Delta-Q charger's TPDO 0 carries the same (it pairs with this PDO).
+pub const RPDO_1ST_ENTRIES: &[(u16, u8, u8)] = &[(CHARGER_STATUS, 0, 8)];
+/// The 2nd RPDO's mapping (CiA 418 v1.0.1, 6.2.4): 6001h, 6052h.
+pub const RPDO_2ND_ENTRIES: &[(u16, u8, u8)] = &[
+    (CHARGER_STATUS, 0, 8),
+    (AH_RETURNED_DURING_LAST_CHARGE, 0, 16),
+];
+/// The 3rd RPDO's mapping (CiA 418 v1.0.1, 6.2.5): 6001h, 6052h, 6080h.
+pub const RPDO_3RD_ENTRIES: &[(u16, u8, u8)] = &[
+    (CHARGER_STATUS, 0, 8),
+    (AH_RETURNED_DURING_LAST_CHARGE, 0, 16),
+    (CHARGER_STATE_OF_CHARGE, 0, 8),
+];
+/// The 1st TPDO's mapping (CiA 418 v1.0.1, 6.2.6): 6010h, 6000h. A
+/// Delta-Q charger's RPDO 0 takes the same (it pairs with this PDO).
+pub const TPDO_1ST_ENTRIES: &[(u16, u8, u8)] = &[(TEMPERATURE, 0, 16), (BATTERY_STATUS, 0, 8)];
+/// The 2nd TPDO's mapping (CiA 418 v1.0.1, 6.2.7): 6010h, 6000h, 6060h.
+pub const TPDO_2ND_ENTRIES: &[(u16, u8, u8)] = &[
+    (TEMPERATURE, 0, 16),
+    (BATTERY_STATUS, 0, 8),
+    (BATTERY_VOLTAGE, 0, 32),
+];
+/// The 3rd TPDO's mapping (CiA 418 v1.0.1, 6.2.8): 6070h, 6081h.
+pub const TPDO_3RD_ENTRIES: &[(u16, u8, u8)] = &[
+    (CHARGE_CURRENT_REQUESTED, 0, 16),
+    (BATTERY_STATE_OF_CHARGE, 0, 8),
+];
+
 /// The CiA 418 default PDOs: 1st, 2nd, 3rd RPDO, then 1st, 2nd, 3rd TPDO
 /// (CiA 418 v1.0.1, 6.2.3-6.2.8). The 1st RPDO and TPDO are mandatory, the
 /// others exist when device-type bits 16-19 say so; the RPDOs carry the
@@ -39,60 +68,16 @@ use PdoDirection::{Receive, Transmit};
 /// assert!(first_tpdo.is_present(DeviceType::cia418(0)));
 /// ```
 pub const DEFAULT_PDOS: [DefaultPdo; 6] = [
-    DefaultPdo::asynchronous(Receive, PdoNumber::P0, 0x200, 0, &[(CHARGER_STATUS, 0, 8)]),
-    DefaultPdo::asynchronous(
-        Receive,
-        PdoNumber::P1,
-        0x300,
-        0,
-        &[
-            (CHARGER_STATUS, 0, 8),
-            (AH_RETURNED_DURING_LAST_CHARGE, 0, 16),
-        ],
-    )
-    .when_device_type(DeviceType::RPDO_2ND),
-    DefaultPdo::asynchronous(
-        Receive,
-        PdoNumber::P2,
-        0x400,
-        0,
-        &[
-            (CHARGER_STATUS, 0, 8),
-            (AH_RETURNED_DURING_LAST_CHARGE, 0, 16),
-            (CHARGER_STATE_OF_CHARGE, 0, 8),
-        ],
-    )
-    .when_device_type(DeviceType::RPDO_3RD),
-    DefaultPdo::asynchronous(
-        Transmit,
-        PdoNumber::P0,
-        0x8000_0180,
-        200,
-        &[(TEMPERATURE, 0, 16), (BATTERY_STATUS, 0, 8)],
-    ),
-    DefaultPdo::asynchronous(
-        Transmit,
-        PdoNumber::P1,
-        0x8000_0280,
-        200,
-        &[
-            (TEMPERATURE, 0, 16),
-            (BATTERY_STATUS, 0, 8),
-            (BATTERY_VOLTAGE, 0, 32),
-        ],
-    )
-    .when_device_type(DeviceType::TPDO_2ND),
-    DefaultPdo::asynchronous(
-        Transmit,
-        PdoNumber::P2,
-        0x8000_0380,
-        200,
-        &[
-            (CHARGE_CURRENT_REQUESTED, 0, 16),
-            (BATTERY_STATE_OF_CHARGE, 0, 8),
-        ],
-    )
-    .when_device_type(DeviceType::TPDO_3RD),
+    DefaultPdo::asynchronous(Receive, PdoNumber::P0, 0x200, 0, RPDO_1ST_ENTRIES),
+    DefaultPdo::asynchronous(Receive, PdoNumber::P1, 0x300, 0, RPDO_2ND_ENTRIES)
+        .when_device_type(DeviceType::RPDO_2ND),
+    DefaultPdo::asynchronous(Receive, PdoNumber::P2, 0x400, 0, RPDO_3RD_ENTRIES)
+        .when_device_type(DeviceType::RPDO_3RD),
+    DefaultPdo::asynchronous(Transmit, PdoNumber::P0, 0x8000_0180, 200, TPDO_1ST_ENTRIES),
+    DefaultPdo::asynchronous(Transmit, PdoNumber::P1, 0x8000_0280, 200, TPDO_2ND_ENTRIES)
+        .when_device_type(DeviceType::TPDO_2ND),
+    DefaultPdo::asynchronous(Transmit, PdoNumber::P2, 0x8000_0380, 200, TPDO_3RD_ENTRIES)
+        .when_device_type(DeviceType::TPDO_3RD),
 ];
 
 /// The CiA 418 battery module's default mapping of one of its PDOs (from

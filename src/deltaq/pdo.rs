@@ -36,9 +36,8 @@
 //! ```
 
 use crate::cia418::{
-    battery_default_mapping, AH_RETURNED_DURING_LAST_CHARGE, BATTERY_MODULE_CATALOGUE,
-    BATTERY_STATE_OF_CHARGE, BATTERY_STATUS, BATTERY_VOLTAGE, CHARGER_STATE_OF_CHARGE,
-    CHARGER_STATUS, CHARGE_CURRENT_REQUESTED, TEMPERATURE,
+    battery_default_mapping, BATTERY_MODULE_CATALOGUE, RPDO_1ST_ENTRIES, RPDO_2ND_ENTRIES,
+    RPDO_3RD_ENTRIES, TPDO_1ST_ENTRIES, TPDO_2ND_ENTRIES, TPDO_3RD_ENTRIES,
 };
 use crate::cob_id::{classify_standard, CobKind, NodeId, PdoNumber};
 use crate::od::index::{RPDO_COMMUNICATION, TPDO_COMMUNICATION};
@@ -50,38 +49,15 @@ use PdoDirection::{Receive, Transmit};
 
 /// The Delta-Q charger's default PDOs: TPDO 0..3, then RPDO 0..3. TPDOs
 /// send every 200 ms (TPDO 3 every 1000 ms); RPDOs have no timer. TPDO 0-2
-/// carry 6001h (+ 6052h, + 6080h), TPDO 3 2002h, 2100h, 2006h; RPDO 0-2
-/// take the module's 6010h and 6000h (+ 6060h), and 6070h with 6081h;
-/// RPDO 3 has no published mapping.
+/// and RPDO 0-2 carry the mappings of the battery module's PDOs they pair
+/// with (section 4.5.5; [`paired_module_pdo`]): TPDO n the module's RPDO n
+/// (6001h, then 6052h, then 6080h added), RPDO n the module's TPDO n
+/// (6010h and 6000h, then 6060h added; 6070h with 6081h); TPDO 3 carries
+/// 2002h, 2100h, 2006h; RPDO 3 has no published mapping.
 pub const CHARGER_DEFAULT_PDOS: [DefaultPdo; 8] = [
-    DefaultPdo::asynchronous(
-        Transmit,
-        PdoNumber::P0,
-        0x180,
-        200,
-        &[(CHARGER_STATUS, 0, 8)],
-    ),
-    DefaultPdo::asynchronous(
-        Transmit,
-        PdoNumber::P1,
-        0x280,
-        200,
-        &[
-            (CHARGER_STATUS, 0, 8),
-            (AH_RETURNED_DURING_LAST_CHARGE, 0, 16),
-        ],
-    ),
-    DefaultPdo::asynchronous(
-        Transmit,
-        PdoNumber::P2,
-        0x380,
-        200,
-        &[
-            (CHARGER_STATUS, 0, 8),
-            (AH_RETURNED_DURING_LAST_CHARGE, 0, 16),
-            (CHARGER_STATE_OF_CHARGE, 0, 8),
-        ],
-    ),
+    DefaultPdo::asynchronous(Transmit, PdoNumber::P0, 0x180, 200, RPDO_1ST_ENTRIES),
+    DefaultPdo::asynchronous(Transmit, PdoNumber::P1, 0x280, 200, RPDO_2ND_ENTRIES),
+    DefaultPdo::asynchronous(Transmit, PdoNumber::P2, 0x380, 200, RPDO_3RD_ENTRIES),
     DefaultPdo::asynchronous(
         Transmit,
         PdoNumber::P3,
@@ -93,34 +69,9 @@ pub const CHARGER_DEFAULT_PDOS: [DefaultPdo; 8] = [
             (index::EXTENDED_CHARGE_STATUS, 0, 16),
         ],
     ),
-    DefaultPdo::asynchronous(
-        Receive,
-        PdoNumber::P0,
-        0x200,
-        0,
-        &[(TEMPERATURE, 0, 16), (BATTERY_STATUS, 0, 8)],
-    ),
-    DefaultPdo::asynchronous(
-        Receive,
-        PdoNumber::P1,
-        0x300,
-        0,
-        &[
-            (TEMPERATURE, 0, 16),
-            (BATTERY_STATUS, 0, 8),
-            (BATTERY_VOLTAGE, 0, 32),
-        ],
-    ),
-    DefaultPdo::asynchronous(
-        Receive,
-        PdoNumber::P2,
-        0x400,
-        0,
-        &[
-            (CHARGE_CURRENT_REQUESTED, 0, 16),
-            (BATTERY_STATE_OF_CHARGE, 0, 8),
-        ],
-    ),
+    DefaultPdo::asynchronous(Receive, PdoNumber::P0, 0x200, 0, TPDO_1ST_ENTRIES),
+    DefaultPdo::asynchronous(Receive, PdoNumber::P1, 0x300, 0, TPDO_2ND_ENTRIES),
+    DefaultPdo::asynchronous(Receive, PdoNumber::P2, 0x400, 0, TPDO_3RD_ENTRIES),
     // Not published by Delta-Q: no entries rather than a guess.
     DefaultPdo::asynchronous(Receive, PdoNumber::P3, 0x500, 0, &[]),
 ];
