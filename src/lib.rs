@@ -41,6 +41,7 @@
 //! | layer setting services (CiA 305) | [`lss`] |
 //! | an object dictionary for a server or a device | [`od`] |
 //! | a whole CiA 301 device (NMT slave, heartbeat, EMCY, SDO server, PDOs) | [`device`] |
+//! | boot a network as its NMT master: check, configure and start each slave (CiA 302-2) | [`manager`] ([`manager::BootManager`], the error status letters in [`manager::BootError`]) |
 //! | program download (CiA 302-3: 1F50h-1F57h) | [`program`] (the objects, the store trait, the codes), `device::ProgramObjects` (feature `program-download`), [`sdo::ProgramDownload`] (the master) |
 //! | EDS and DCF files (CiA 306) | `eds` (feature `alloc`) |
 //! | read candump, PCAN, Vector ASC, CSV and BLF traces | [`trace`] ([`trace::candump`] for candump lines, [`trace::blf`] for BLF) |
@@ -64,12 +65,13 @@
 //! 3. the protocols, each other's peers: [`emcy`], [`lss`], [`nmt`],
 //!    [`pdo`], [`sdo`], [`sync`], [`time`], [`trace`];
 //! 4. [`message`] and the [`prelude`];
-//! 5. the device core, [`device`];
-//! 6. `eds` (describes a device);
-//! 7. the profiles, in order: [`cia418`], [`cia419`], [`deltaq`];
-//! 8. `sim`, then `log`, then the programs.
+//! 5. the CiA 302-2 boot-up manager, [`manager`];
+//! 6. the device core, [`device`];
+//! 7. `eds` (describes a device);
+//! 8. the profiles, in order: [`cia418`], [`cia419`], [`deltaq`];
+//! 9. `sim`, then `log`, then the programs.
 //!
-//! The CiA 301 layers (1 to 6) never name a profile, `sim` or `log`.
+//! The CiA 301 layers (1 to 7) never name a profile, `sim` or `log`.
 //!
 //! ## Features
 //!
@@ -132,6 +134,7 @@ pub mod frame;
 pub mod log;
 pub mod lss;
 pub mod machine;
+pub mod manager;
 pub mod message;
 pub mod nmt;
 pub mod od;

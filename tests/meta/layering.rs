@@ -57,6 +57,11 @@ const LAYERS: &[Layer] = &[
         sideways: true,
     },
     Layer {
+        name: "the CiA 302-2 boot-up manager",
+        modules: &["manager"],
+        sideways: false,
+    },
+    Layer {
         name: "the CiA 301 device core",
         modules: &["device"],
         sideways: false,

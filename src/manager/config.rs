@@ -1,0 +1,274 @@
+//! The manager's configuration, mirroring the CiA 302-2 objects an NMT
+//! master keeps: 1F80h NMT start-up ([`NmtStartup`]), 1F81h NMT slave
+//! assignment ([`SlaveAssignment`]), 1F84h-1F88h the expected identity of
+//! each slave ([`ExpectedIdentity`]), and the times the boot process uses
+//! ([`ManagerConfig`]).
+
+use core::time::Duration;
+
+use crate::cob_id::NodeId;
+
+bitflags::bitflags! {
+    /// Object 1F80h "NMT start-up" (CiA 302-2 "Network management", section
+    /// 4.2, object 1F80h): how the NMT master starts the network. The bits
+    /// the manager acts on are [`START_ALL`](Self::START_ALL),
+    /// [`NO_SLAVE_START`](Self::NO_SLAVE_START),
+    /// [`RESET_ALL`](Self::RESET_ALL) and [`STOP_ALL`](Self::STOP_ALL); the
+    /// others are kept so the word round-trips.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+    pub struct NmtStartup: u32 {
+        /// Bit 0: the device is the NMT master.
+        const MASTER = 1 << 0;
+        /// Bit 1: start the slaves with one NMT "start remote node" to all
+        /// nodes (node-ID 0) instead of one command per slave.
+        const START_ALL = 1 << 1;
+        /// Bit 2: the master does not enter operational by itself (the
+        /// application switches it).
+        const NO_SELF_OPERATIONAL = 1 << 2;
+        /// Bit 3: the master does not start the slaves; the application
+        /// does.
+        const NO_SLAVE_START = 1 << 3;
+        /// Bit 4: at start-up, reset the communication of all nodes with
+        /// one NMT command (node-ID 0) instead of one per slave.
+        const RESET_ALL = 1 << 4;
+        /// Bit 5: the master takes part in flying-master negotiation (not
+        /// done here).
+        const FLYING_MASTER = 1 << 5;
+        /// Bit 6: on an error control event of a mandatory slave, stop all
+        /// nodes (NMT "stop remote node" to node-ID 0).
+        const STOP_ALL = 1 << 6;
+        /// Any other bit, kept.
+        const _ = !0;
+    }
+}
+
+impl Default for NmtStartup {
+    /// The NMT master that starts every slave individually: bit 0 only.
+    fn default() -> Self {
+        NmtStartup::MASTER
+    }
+}
+
+/// One sub-index of object 1F81h "NMT slave assignment" (CiA 302-2
+/// "Network management", section 4.2, object 1F81h): bit 0 the node is a
+/// slave of this master, bit 2 the master may boot it (check and
+/// configure it), bit 3 it is mandatory, bit 4 keep alive (its
+/// communication is not reset at start-up), bits 8-15 the retry factor and
+/// bits 16-31 the guard time in ms for node guarding.
+///
+/// ```
+/// use canopen_codec::manager::SlaveAssignment;
+/// use core::time::Duration;
+///
+/// let a = SlaveAssignment::BOOTED.mandatory().with_guarding(Duration::from_millis(100), 3);
+/// assert_eq!(a.raw(), 0x0064_030D);
+/// assert!(a.is_slave() && a.may_boot() && a.is_mandatory() && !a.keeps_alive());
+/// assert_eq!((a.guard_time(), a.retry_factor()), (Duration::from_millis(100), 3));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct SlaveAssignment(u32);
+
+impl SlaveAssignment {
+    /// Bit 0: the node is a slave of this master.
+    const SLAVE: u32 = 1 << 0;
+    /// Bit 2: the master boots the slave (checks and configures it).
+    const BOOT: u32 = 1 << 2;
+    /// Bit 3: the slave is mandatory.
+    const MANDATORY: u32 = 1 << 3;
+    /// Bit 4: keep alive (its communication is not reset at start-up).
+    const KEEP_ALIVE: u32 = 1 << 4;
+
+    /// An optional slave the master boots: bits 0 and 2.
+    pub const BOOTED: SlaveAssignment = SlaveAssignment(Self::SLAVE | Self::BOOT);
+
+    /// The 1F81h word as it is.
+    #[must_use]
+    pub const fn from_raw(raw: u32) -> Self {
+        SlaveAssignment(raw)
+    }
+
+    /// The 1F81h word.
+    #[must_use]
+    pub const fn raw(self) -> u32 {
+        self.0
+    }
+
+    /// The same assignment, mandatory (bit 3).
+    #[must_use]
+    pub const fn mandatory(self) -> Self {
+        SlaveAssignment(self.0 | Self::MANDATORY)
+    }
+
+    /// The same assignment, keep alive (bit 4).
+    #[must_use]
+    pub const fn keep_alive(self) -> Self {
+        SlaveAssignment(self.0 | Self::KEEP_ALIVE)
+    }
+
+    /// The same assignment with node guarding: guard time (whole ms,
+    /// saturating at 65 535) and retry factor (the life time factor).
+    #[must_use]
+    pub fn with_guarding(self, guard_time: Duration, retry_factor: u8) -> Self {
+        let guard = u32::from(crate::clock::millis_u16(guard_time));
+        SlaveAssignment((self.0 & 0xFF) | u32::from(retry_factor) << 8 | guard << 16)
+    }
+
+    /// Bit 0: the node is a slave of this master (in its network list).
+    #[must_use]
+    pub const fn is_slave(self) -> bool {
+        self.0 & Self::SLAVE != 0
+    }
+
+    /// Bit 2: the master checks and configures the slave; when clear, the
+    /// manager skips the identity check and the configuration download
+    /// and only starts error control and the node.
+    #[must_use]
+    pub const fn may_boot(self) -> bool {
+        self.0 & Self::BOOT != 0
+    }
+
+    /// Bit 3: the slave is mandatory: the network is not started while
+    /// it has not booted.
+    #[must_use]
+    pub const fn is_mandatory(self) -> bool {
+        self.0 & Self::MANDATORY != 0
+    }
+
+    /// Bit 4: keep alive: its communication is not reset at start-up; its
+    /// boot process begins at once.
+    #[must_use]
+    pub const fn keeps_alive(self) -> bool {
+        self.0 & Self::KEEP_ALIVE != 0
+    }
+
+    /// Bits 8-15: the retry factor (node guarding's life time factor).
+    #[must_use]
+    pub const fn retry_factor(self) -> u8 {
+        (self.0 >> 8) as u8
+    }
+
+    /// Bits 16-31: the guard time (0: the node is not guarded).
+    #[must_use]
+    pub const fn guard_time(self) -> Duration {
+        Duration::from_millis((self.0 >> 16) as u64)
+    }
+}
+
+/// The identity a slave must have: 1F84h "device type identification" and
+/// 1F85h-1F88h "vendor identification", "product code", "revision number"
+/// and "serial number" (CiA 302-2 "Network management", section 4.2),
+/// compared with the slave's 1000h and 1018h sub 1-4 (CiA 301 sections
+/// 7.5.2.1 and 7.5.2.30). **0 means "do not check"**, as in CiA 302-2.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct ExpectedIdentity {
+    /// 1F84h: the expected 1000h.
+    pub device_type: u32,
+    /// 1F85h: the expected 1018h sub 1.
+    pub vendor_id: u32,
+    /// 1F86h: the expected 1018h sub 2.
+    pub product_code: u32,
+    /// 1F87h: the expected 1018h sub 3.
+    pub revision: u32,
+    /// 1F88h: the expected 1018h sub 4.
+    pub serial: u32,
+}
+
+impl ExpectedIdentity {
+    /// The expected value of 1018h `sub` (1-4), 0 (no check) for any other.
+    #[must_use]
+    pub const fn identity(&self, sub: u8) -> u32 {
+        match sub {
+            1 => self.vendor_id,
+            2 => self.product_code,
+            3 => self.revision,
+            4 => self.serial,
+            _ => 0,
+        }
+    }
+}
+
+/// What the manager knows of one slave: its node-ID, its 1F81h
+/// assignment, its expected identity, its configuration as a concise DCF
+/// (CiA 302-3 section 4.3, the format of object 1F22h: written entry by
+/// entry in order) and the heartbeat period it produces once configured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct NodeConfig<'a> {
+    /// The slave.
+    pub node: NodeId,
+    /// Its 1F81h sub-index.
+    pub assignment: SlaveAssignment,
+    /// Its 1F84h-1F88h sub-indexes.
+    pub expected: ExpectedIdentity,
+    /// Its configuration: a concise DCF (may be empty: nothing written).
+    pub configuration: &'a [u8],
+    /// The heartbeat producer time (1017h) the slave has once configured:
+    /// the manager consumes its heartbeat. `None`: no heartbeat (node
+    /// guarding with the 1F81h guard time, if non-zero).
+    pub heartbeat: Option<Duration>,
+}
+
+impl<'a> NodeConfig<'a> {
+    /// An optional slave the master boots (1F81h bits 0 and 2), nothing
+    /// checked, nothing written, no error control.
+    #[must_use]
+    pub const fn new(node: NodeId) -> Self {
+        NodeConfig {
+            node,
+            assignment: SlaveAssignment::BOOTED,
+            expected: ExpectedIdentity {
+                device_type: 0,
+                vendor_id: 0,
+                product_code: 0,
+                revision: 0,
+                serial: 0,
+            },
+            configuration: &[],
+            heartbeat: None,
+        }
+    }
+}
+
+/// The manager's times and start-up word.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ManagerConfig {
+    /// 1F80h.
+    pub startup: NmtStartup,
+    /// The SDO timeout of every transfer (default 500 ms; restarts on
+    /// every segment, as the SDO client's).
+    pub sdo_timeout: Duration,
+    /// How many times an unanswered read of 1000h is tried again before
+    /// the boot ends with error B (default 2: three tries in all).
+    pub retries: u8,
+    /// How long after the NMT reset communication the boot process waits
+    /// for the slave's boot-up message before it reads 1000h anyway
+    /// (default 1 s).
+    pub boot_up_wait: Duration,
+    /// Added to one and a half heartbeat periods to make the consumer
+    /// time the manager watches a slave's heartbeat with (default 20 ms).
+    pub heartbeat_margin: Duration,
+}
+
+impl Default for ManagerConfig {
+    fn default() -> Self {
+        ManagerConfig {
+            startup: NmtStartup::default(),
+            sdo_timeout: Duration::from_millis(500),
+            retries: 2,
+            boot_up_wait: Duration::from_secs(1),
+            heartbeat_margin: Duration::from_millis(20),
+        }
+    }
+}
+
+impl ManagerConfig {
+    /// The consumer time of a slave producing heartbeats every `period`:
+    /// 1.5 x `period` + [`heartbeat_margin`](Self::heartbeat_margin)
+    /// (CiA 301 section 7.2.8.3.2.2: the consumer time must exceed the
+    /// producer time; the half period covers bus load and jitter).
+    #[must_use]
+    pub fn consumer_time(&self, period: Duration) -> Duration {
+        period
+            .saturating_add(period / 2)
+            .saturating_add(self.heartbeat_margin)
+    }
+}

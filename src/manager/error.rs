@@ -1,0 +1,255 @@
+//! The boot process's error status (CiA 302-2 "Network management",
+//! section 4.4, the "boot NMT slave" process and its error status letters
+//! A to O), and the events the manager reports.
+
+use crate::abort::AbortCode;
+use crate::cob_id::NodeId;
+use crate::sdo::{AbortOrigin, ClientError};
+
+/// Which check of the slave's identity failed: 1000h or one 1018h sub.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum IdentityCheck {
+    /// 1000h against 1F84h (error status C).
+    DeviceType,
+    /// 1018h sub 1 against 1F85h (D).
+    VendorId,
+    /// 1018h sub 2 against 1F86h (M).
+    ProductCode,
+    /// 1018h sub 3 against 1F87h (N).
+    Revision,
+    /// 1018h sub 4 against 1F88h (O).
+    Serial,
+}
+
+impl IdentityCheck {
+    /// The check of 1018h `sub` (1-4); the device type for any other.
+    pub(crate) const fn of_identity_sub(sub: u8) -> Self {
+        match sub {
+            1 => IdentityCheck::VendorId,
+            2 => IdentityCheck::ProductCode,
+            3 => IdentityCheck::Revision,
+            4 => IdentityCheck::Serial,
+            _ => IdentityCheck::DeviceType,
+        }
+    }
+}
+
+/// Why a configuration write failed (error status J).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ConfigurationFailure {
+    /// The transfer ended in an abort (the slave's, or the manager's own,
+    /// e.g. an SDO timeout 05040000h).
+    Aborted {
+        /// The abort code.
+        code: AbortCode,
+        /// Who aborted.
+        origin: AbortOrigin,
+    },
+    /// The SDO client could not start the write (e.g. a value above 4
+    /// bytes without the segmented client): nothing was sent.
+    Refused(ClientError),
+}
+
+/// How a slave's boot process failed, or its error control after it: one
+/// CiA 302-2 error status letter ([`letter`](Self::letter)) with what the
+/// manager saw.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+#[non_exhaustive]
+pub enum BootError {
+    /// A: the node sent a boot-up message but is not in the network list
+    /// (1F81h bit 0).
+    #[error("A: the node is not in the network list (1F81h)")]
+    NotListed,
+    /// B: no answer to the read of 1000h (after the retries), or the read
+    /// was aborted.
+    #[error("B: no response to the read of 1000h ({code})")]
+    NoResponse {
+        /// The abort that ended the last try (05040000h: SDO timeout).
+        code: AbortCode,
+    },
+    /// C, D, M, N, O: 1000h or a 1018h sub differs from its 1F84h-1F88h
+    /// value (`read` `None`: the read of 1018h failed).
+    #[error("{}: {} differs: expected {expected:#010X}, read {}", check_letter(*.check), check_name(*.check), Hex(*.read))]
+    Identity {
+        /// The check that failed.
+        check: IdentityCheck,
+        /// The expected value (1F84h-1F88h).
+        expected: u32,
+        /// The value read, `None` when it could not be read.
+        read: Option<u32>,
+    },
+    /// E: the slave's heartbeat was lost after its boot.
+    #[error("E: heartbeat event: no heartbeat received within the consumer time")]
+    HeartbeatLost,
+    /// F: node guarding found the slave lost.
+    #[error("F: node guarding event: no answer to the guarding requests")]
+    GuardingLost,
+    /// J: the configuration download failed at `index`, `sub`.
+    #[error("J: configuration download failed at {index:04X}h:{sub:02X} ({failure:?})")]
+    Configuration {
+        /// The object written.
+        index: u16,
+        /// Its sub-index.
+        sub: u8,
+        /// How the write failed.
+        failure: ConfigurationFailure,
+    },
+    /// K: no heartbeat within the consumer time when error control was
+    /// started during the boot.
+    #[error("K: no heartbeat received when error control was started")]
+    ErrorControlStart,
+}
+
+/// The letter of an identity check.
+const fn check_letter(check: IdentityCheck) -> char {
+    match check {
+        IdentityCheck::DeviceType => 'C',
+        IdentityCheck::VendorId => 'D',
+        IdentityCheck::ProductCode => 'M',
+        IdentityCheck::Revision => 'N',
+        IdentityCheck::Serial => 'O',
+    }
+}
+
+/// The object an identity check reads, in words.
+const fn check_name(check: IdentityCheck) -> &'static str {
+    match check {
+        IdentityCheck::DeviceType => "device type 1000h",
+        IdentityCheck::VendorId => "vendor-ID 1018h:01",
+        IdentityCheck::ProductCode => "product code 1018h:02",
+        IdentityCheck::Revision => "revision number 1018h:03",
+        IdentityCheck::Serial => "serial number 1018h:04",
+    }
+}
+
+/// A value read, or "nothing" (for the error text).
+struct Hex(Option<u32>);
+
+impl core::fmt::Display for Hex {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self.0 {
+            Some(v) => write!(f, "{v:#010X}"),
+            None => f.write_str("nothing (the read failed)"),
+        }
+    }
+}
+
+impl BootError {
+    /// The CiA 302-2 error status letter (section 4.4; the letters as
+    /// lely-core's `co_nmt_es2str` spells them out).
+    ///
+    /// ```
+    /// use canopen_codec::manager::{BootError, IdentityCheck};
+    /// let e = BootError::Identity { check: IdentityCheck::ProductCode, expected: 7, read: Some(8) };
+    /// assert_eq!(e.letter(), 'M');
+    /// assert_eq!(e.reason(), "value of 1018h sub-index 02 differs from 1F86h (product code)");
+    /// ```
+    #[must_use]
+    pub const fn letter(&self) -> char {
+        match self {
+            BootError::NotListed => 'A',
+            BootError::NoResponse { .. } => 'B',
+            BootError::Identity { check, .. } => check_letter(*check),
+            BootError::HeartbeatLost => 'E',
+            BootError::GuardingLost => 'F',
+            BootError::Configuration { .. } => 'J',
+            BootError::ErrorControlStart => 'K',
+        }
+    }
+
+    /// What the letter means, in CiA 302-2's words.
+    #[must_use]
+    pub const fn reason(&self) -> &'static str {
+        match self {
+            BootError::NotListed => "the node is not listed in 1F81h",
+            BootError::NoResponse { .. } => "no response received for the upload of 1000h",
+            BootError::Identity { check, .. } => match check {
+                IdentityCheck::DeviceType => "value of 1000h differs from 1F84h (device type)",
+                IdentityCheck::VendorId => {
+                    "value of 1018h sub-index 01 differs from 1F85h (vendor-ID)"
+                }
+                IdentityCheck::ProductCode => {
+                    "value of 1018h sub-index 02 differs from 1F86h (product code)"
+                }
+                IdentityCheck::Revision => {
+                    "value of 1018h sub-index 03 differs from 1F87h (revision number)"
+                }
+                IdentityCheck::Serial => {
+                    "value of 1018h sub-index 04 differs from 1F88h (serial number)"
+                }
+            },
+            BootError::HeartbeatLost => "heartbeat event: no heartbeat received from the node",
+            BootError::GuardingLost => {
+                "node guarding event: no confirmation for guarding requests received"
+            }
+            BootError::Configuration { .. } => "the configuration download failed",
+            BootError::ErrorControlStart => "heartbeat failure during the start of error control",
+        }
+    }
+}
+
+/// What the manager reports, in the order it happens.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum BootEvent {
+    /// The slave sent its boot-up message: its boot process starts (again).
+    BootUp {
+        /// The slave.
+        node: NodeId,
+    },
+    /// 1000h and the 1018h subs the manager checks matched.
+    Identified {
+        /// The slave.
+        node: NodeId,
+        /// Its 1000h.
+        device_type: u32,
+    },
+    /// Every entry of the slave's concise DCF was written.
+    ConfigurationWritten {
+        /// The slave.
+        node: NodeId,
+        /// How many entries.
+        entries: u32,
+    },
+    /// The boot process ended well: checked, configured, under error
+    /// control; the slave waits for its start.
+    Booted {
+        /// The slave.
+        node: NodeId,
+    },
+    /// The NMT "start remote node" that starts the slave was sent (to it,
+    /// or to all nodes).
+    Operational {
+        /// The slave.
+        node: NodeId,
+    },
+    /// The network was started: every mandatory slave has booted and every
+    /// slave's first boot process has ended.
+    NetworkStarted,
+    /// A mandatory slave failed before the network was started: the start
+    /// waits for it to boot.
+    StartHeld {
+        /// The slave.
+        node: NodeId,
+    },
+    /// The slave's boot process ended in `error`.
+    Error {
+        /// The slave.
+        node: NodeId,
+        /// The error status.
+        error: BootError,
+    },
+    /// Error control lost the slave after its boot: `error` is
+    /// [`BootError::HeartbeatLost`] (E) or [`BootError::GuardingLost`] (F).
+    Lost {
+        /// The slave.
+        node: NodeId,
+        /// The error status.
+        error: BootError,
+    },
+    /// Error control hears the slave again after [`Lost`](Self::Lost).
+    Restored {
+        /// The slave.
+        node: NodeId,
+    },
+}

@@ -1,0 +1,82 @@
+//! The CANopen manager's boot-up: the NMT master start-up and the "boot NMT
+//! slave" process of CiA 302-2 "Network management" (sections 4.3 and 4.4),
+//! as one sans-IO [`Machine`](crate::machine::Machine), [`BootManager`].
+//!
+//! For every slave assigned to it ([`NodeConfig`]: the 1F81h assignment,
+//! the 1F84h-1F88h expected identity, the heartbeat it produces) the
+//! manager
+//!
+//! 1. resets its communication at [`BootManager::start`] and waits for its
+//!    boot-up message (CiA 301 section 7.2.8.3.3);
+//! 2. reads 1000h (no answer after [`ManagerConfig::retries`] more tries:
+//!    **B**; a value other than 1F84h: **C**) and 1018h sub 1-4 where an
+//!    expected value is not 0 (**D**, **M**, **N**, **O**);
+//! 3. starts error control: waits for a heartbeat within the consumer time
+//!    ([`ManagerConfig::consumer_time`]; none: **K**), or guards the node
+//!    with the 1F81h guard time and retry factor (no answer: **F**), or
+//!    neither when the slave has no heartbeat and no guard time;
+//! 4. is then [`Booted`](BootEvent::Booted), and is started once the
+//!    network is: when every mandatory slave (1F81h bit 3) has booted and
+//!    every slave's first boot process has ended (a choice: an optional
+//!    slave is not started before it is configured), by one NMT "start" to
+//!    all nodes (1F80h [`START_ALL`](NmtStartup::START_ALL)) or one per
+//!    slave; a slave that boots afterwards is started on its own. A
+//!    mandatory slave's failure holds the start
+//!    ([`StartHeld`](BootEvent::StartHeld)); an optional slave's does not.
+//!
+//! After its boot, a heartbeat missing for the consumer time is
+//! [`Lost`](BootEvent::Lost) with **E** (guarding: **F**), reported once;
+//! 1F80h [`STOP_ALL`](NmtStartup::STOP_ALL) then stops all nodes when the
+//! slave is mandatory. A boot-up message from a slave at any time starts
+//! its boot process again; one from a node that is not a slave is an
+//! [`Error`](BootEvent::Error) with **A**. Every failure is one
+//! [`BootError`], whose [`letter`](BootError::letter) is the CiA 302-2
+//! error status (the letters as lely-core's `co_nmt_es2str` writes them).
+//!
+//! The manager never allocates and never reads a clock: each slave has an
+//! SDO client on the CiA 301 default channel (600h/580h + node-ID, CiA 301
+//! section 7.3.3) and its own frame queue, the caller's clock drives every
+//! timer. It keeps `E` events, the oldest dropped and counted (the
+//! back-pressure rule of [`crate::machine`]).
+//!
+//! ```
+//! use canopen_codec::machine::Machine;
+//! use canopen_codec::manager::{BootEvent, BootManager, ManagerConfig, NodeConfig};
+//! use canopen_codec::{CanFrame, NodeId, Timestamp};
+//!
+//! let node = NodeId::new(5).unwrap();
+//! let mut slave = NodeConfig::new(node);
+//! slave.expected.device_type = 0x0001_0191;
+//! let mut manager: BootManager<'_, 4> = BootManager::new(ManagerConfig::default());
+//! manager.add_node(slave).unwrap();
+//! manager.start(Timestamp::ZERO);
+//! // Reset communication of node 5, then its boot-up starts the process.
+//! assert_eq!(manager.poll_transmit().unwrap().to_string(), "000#8205");
+//! manager.handle_frame(Timestamp::from_millis(10), &CanFrame::standard(0x705, &[0]).unwrap());
+//! assert_eq!(manager.poll_transmit().unwrap().to_string(), "605#4000100000000000");
+//! let answer = CanFrame::standard(0x585, &[0x43, 0, 0x10, 0, 0x91, 0x01, 0x01, 0]).unwrap();
+//! manager.handle_frame(Timestamp::from_millis(12), &answer);
+//! // Identified, booted (no error control asked for) and started.
+//! assert_eq!(manager.poll_transmit().unwrap().to_string(), "000#0105");
+//! let events: Vec<_> = core::iter::from_fn(|| manager.poll_event()).collect();
+//! assert_eq!(events, [
+//!     BootEvent::BootUp { node },
+//!     BootEvent::Identified { node, device_type: 0x0001_0191 },
+//!     BootEvent::Booted { node },
+//!     BootEvent::NetworkStarted,
+//!     BootEvent::Operational { node },
+//! ]);
+//! ```
+
+mod boot;
+mod config;
+mod error;
+mod slave;
+
+pub use boot::{BootManager, ManagerError};
+pub use config::{ExpectedIdentity, ManagerConfig, NmtStartup, NodeConfig, SlaveAssignment};
+pub use error::{BootError, BootEvent, ConfigurationFailure, IdentityCheck};
+pub use slave::BootPhase;
+
+#[cfg(test)]
+mod tests;
