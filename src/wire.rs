@@ -104,6 +104,36 @@ macro_rules! parse_through_view {
 }
 pub(crate) use parse_through_view;
 
+/// A checked view over a fixed-length payload (the EMCY, NMT module-control
+/// and TIME frames of CiA 301 section 7.2: their data has one length, no
+/// more, no less): the view type, holding a copy of the `$len` bytes, and
+/// its `new_checked`, which makes the one length check ([`fixed`]). The
+/// type's own accessors follow in its module.
+macro_rules! fixed_view {
+    ($(#[$meta:meta])* $name:ident, $len:literal) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub struct $name {
+            bytes: [u8; $len],
+        }
+
+        impl $name {
+            #[doc = concat!(
+                "The view of `data`: [`DecodeError::Truncated`](crate::error::DecodeError::Truncated) below ",
+                stringify!($len),
+                " bytes, [`DecodeError::TooLong`](crate::error::DecodeError::TooLong) above."
+            )]
+            #[inline]
+            pub fn new_checked(data: &[u8]) -> Result<Self, $crate::error::DecodeError> {
+                Ok($name {
+                    bytes: *$crate::wire::fixed::<$len>(data)?,
+                })
+            }
+        }
+    };
+}
+pub(crate) use fixed_view;
+
 /// The view of a fixed-length payload: `data` as exactly `N` bytes, or
 /// the `Truncated` / `TooLong` error naming `N` (the length check every
 /// fixed-length checked view makes once).

@@ -11,34 +11,24 @@
 use crate::cob_id::{NodeId, EMCY_BASE};
 use crate::error::DecodeError;
 use crate::frame::{CanFrame, CanId};
-use crate::wire::{fixed, parse_through_view, Codec};
+use crate::wire::{fixed_view, parse_through_view, Codec};
 
 use super::{ErrorCode, ErrorRegister};
 
-/// The checked view of an EMCY frame's data: exactly 8 bytes.
-///
-/// ```
-/// use canopen_codec::emcy::EmcyFrame;
-/// let f = EmcyFrame::new_checked(&[0x30, 0x81, 0x01, 0x20, 0x80, 0, 0, 0]).unwrap();
-/// assert_eq!((f.code(), f.register()), (0x8130, 0x01));
-/// assert_eq!(f.manufacturer(), [0x20, 0x80, 0, 0, 0]);
-/// assert!(EmcyFrame::new_checked(&[0x30, 0x81, 0x01]).is_err());
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct EmcyFrame {
-    bytes: [u8; 8],
+fixed_view! {
+    /// The checked view of an EMCY frame's data: exactly 8 bytes.
+    ///
+    /// ```
+    /// use canopen_codec::emcy::EmcyFrame;
+    /// let f = EmcyFrame::new_checked(&[0x30, 0x81, 0x01, 0x20, 0x80, 0, 0, 0]).unwrap();
+    /// assert_eq!((f.code(), f.register()), (0x8130, 0x01));
+    /// assert_eq!(f.manufacturer(), [0x20, 0x80, 0, 0, 0]);
+    /// assert!(EmcyFrame::new_checked(&[0x30, 0x81, 0x01]).is_err());
+    /// ```
+    EmcyFrame, 8
 }
 
 impl EmcyFrame {
-    /// The view of `data`: [`DecodeError::Truncated`] below 8 bytes,
-    /// [`DecodeError::TooLong`] above.
-    #[inline]
-    pub fn new_checked(data: &[u8]) -> Result<Self, DecodeError> {
-        Ok(EmcyFrame {
-            bytes: *fixed::<8>(data)?,
-        })
-    }
-
     /// The view of a data frame's bytes straight from its padded buffer
     /// (the hot path: no slice), the same checks as
     /// [`new_checked`](Self::new_checked); a remote frame is

@@ -21,7 +21,7 @@ use crate::cob_id::{NodeId, NMT, NMT_ERROR_CONTROL_BASE};
 use crate::error::DecodeError;
 use crate::frame::{CanFrame, CanId};
 use crate::nmt::NmtState;
-use crate::wire::{fixed, parse_through_view, Codec};
+use crate::wire::{fixed, fixed_view, parse_through_view, Codec};
 
 /// NMT command specifier (byte 0 of an NMT frame).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -122,30 +122,20 @@ impl NmtTarget {
     }
 }
 
-/// The checked view of an NMT module-control frame's data: exactly 2
-/// bytes.
-///
-/// ```
-/// use canopen_codec::nmt::NmtFrame;
-/// let f = NmtFrame::new_checked(&[0x01, 0x0A]).unwrap();
-/// assert_eq!((f.command(), f.target()), (0x01, 0x0A));
-/// assert!(NmtFrame::new_checked(&[0x01]).is_err());
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct NmtFrame {
-    bytes: [u8; 2],
+fixed_view! {
+    /// The checked view of an NMT module-control frame's data: exactly 2
+    /// bytes.
+    ///
+    /// ```
+    /// use canopen_codec::nmt::NmtFrame;
+    /// let f = NmtFrame::new_checked(&[0x01, 0x0A]).unwrap();
+    /// assert_eq!((f.command(), f.target()), (0x01, 0x0A));
+    /// assert!(NmtFrame::new_checked(&[0x01]).is_err());
+    /// ```
+    NmtFrame, 2
 }
 
 impl NmtFrame {
-    /// The view of `data`: [`DecodeError::Truncated`] below 2 bytes,
-    /// [`DecodeError::TooLong`] above.
-    #[inline]
-    pub fn new_checked(data: &[u8]) -> Result<Self, DecodeError> {
-        Ok(NmtFrame {
-            bytes: *fixed::<2>(data)?,
-        })
-    }
-
     /// Byte 0: the command specifier.
     #[must_use]
     #[inline]

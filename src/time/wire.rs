@@ -4,35 +4,24 @@
 //! milliseconds after midnight, bits 28..=31 reserved, then a u16 of days
 //! since 1984-01-01, all little-endian.
 
-use crate::error::DecodeError;
-use crate::wire::{fixed, parse_through_view, Codec};
+use crate::wire::{fixed_view, parse_through_view, Codec};
 
 /// Milliseconds in a day.
 pub const MS_PER_DAY: u32 = 86_400_000;
 
-/// The checked view of a TIME frame's data: exactly 6 bytes.
-///
-/// ```
-/// use canopen_codec::time::TimeFrame;
-/// let f = TimeFrame::new_checked(&[0x00, 0x2E, 0x93, 0xF2, 0x02, 0x00]).unwrap();
-/// assert_eq!((f.millis(), f.reserved(), f.days()), (12 * 3_600_000, 0xF, 2));
-/// assert!(TimeFrame::new_checked(&[0; 5]).is_err());
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct TimeFrame {
-    bytes: [u8; 6],
+fixed_view! {
+    /// The checked view of a TIME frame's data: exactly 6 bytes.
+    ///
+    /// ```
+    /// use canopen_codec::time::TimeFrame;
+    /// let f = TimeFrame::new_checked(&[0x00, 0x2E, 0x93, 0xF2, 0x02, 0x00]).unwrap();
+    /// assert_eq!((f.millis(), f.reserved(), f.days()), (12 * 3_600_000, 0xF, 2));
+    /// assert!(TimeFrame::new_checked(&[0; 5]).is_err());
+    /// ```
+    TimeFrame, 6
 }
 
 impl TimeFrame {
-    /// The view of `data`: [`DecodeError::Truncated`] below 6 bytes,
-    /// [`DecodeError::TooLong`] above.
-    #[inline]
-    pub fn new_checked(data: &[u8]) -> Result<Self, DecodeError> {
-        Ok(TimeFrame {
-            bytes: *fixed::<6>(data)?,
-        })
-    }
-
     /// Bytes 0..=3, little-endian: milliseconds and the reserved bits.
     #[must_use]
     #[inline]
@@ -151,6 +140,7 @@ impl Codec for TimeOfDay {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::DecodeError;
     use crate::wire::assert_round_trip;
 
     #[test]
