@@ -7,34 +7,12 @@
 
 use std::sync::OnceLock;
 
-use canopen_codec::log::input::{Inflate, Inflated};
+use canopen_codec::log::input::Zlib;
 use canopen_codec::log::{run, Options, Roles};
 use canopen_codec::sdo::SdoChannel;
 use canopen_codec::trace::Format;
 use canopen_codec::{CanId, NodeId};
 use libfuzzer_sys::fuzz_target;
-
-/// flate2's inflater, as the programs pass it (BLF zlib containers).
-struct Zlib(flate2::Decompress);
-
-impl Inflate for Zlib {
-    fn reset(&mut self) {
-        self.0.reset(true);
-    }
-
-    fn inflate(&mut self, z: &[u8], out: &mut [u8]) -> Result<Inflated, String> {
-        let (before_in, before_out) = (self.0.total_in(), self.0.total_out());
-        let status = self
-            .0
-            .decompress(z, out, flate2::FlushDecompress::None)
-            .map_err(|e| e.to_string())?;
-        Ok(Inflated {
-            used: usize::try_from(self.0.total_in() - before_in).unwrap_or(z.len()),
-            made: usize::try_from(self.0.total_out() - before_out).unwrap_or(0),
-            end: status == flate2::Status::StreamEnd,
-        })
-    }
-}
 
 /// The option sets, each as the program's options (in a comment) would
 /// make it.
@@ -42,7 +20,8 @@ fn options() -> &'static [Options] {
     static OPTIONS: OnceLock<Vec<Options>> = OnceLock::new();
     OPTIONS.get_or_init(|| {
         let base = || Options {
-            inflater: Some(|| Box::new(Zlib(flate2::Decompress::new(true)))),
+            // flate2's inflater, as the programs pass it (BLF zlib containers).
+            inflater: Some(|| Box::<Zlib>::default()),
             ..Options::default()
         };
         let roles = Roles {

@@ -1,49 +1,19 @@
 //! The command line, parsed with clap (derive): what each option means is
 //! in the module docs of `main.rs` and in `--help`.
 
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Parser, ValueEnum};
 
 use canopen_codec::sdo::SdoChannel;
 use canopen_codec::{CanId, NodeId};
 
-use canopen_codec::log::input::How;
+use canopen_codec::log::input::{How, FORMAT_NAMES};
 use canopen_codec::log::{mappings, signals, Options, Roles};
-use canopen_codec::trace::Format;
 
-/// The trace formats `--format` names (detected from the content when not
-/// given).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum FormatArg {
-    /// candump -L log lines.
-    Candump,
-    /// candump screen output (any -t form but -t d).
-    CandumpScreen,
-    /// candump screen output with -t d (delta) times.
-    CandumpScreenDelta,
-    /// PCAN-View .trc, versions 1.0 to 2.1.
-    Trc,
-    /// Vector ASC.
-    Asc,
-    /// python-can CSV.
-    Csv,
-    /// Vector BLF (binary; detected by its LOGG signature too).
-    Blf,
-}
-
-/// How `--format` (absent: detected) reads.
-pub fn how(arg: Option<FormatArg>) -> How {
-    match arg {
-        None => How::default(),
-        Some(FormatArg::Candump) => How::format(Some(Format::CandumpLog)),
-        Some(FormatArg::CandumpScreen) => How::format(Some(Format::CandumpScreen)),
-        Some(FormatArg::CandumpScreenDelta) => {
-            How::format(Some(Format::CandumpScreen)).with_delta_times()
-        }
-        Some(FormatArg::Trc) => How::format(Some(Format::PcanTrc)),
-        Some(FormatArg::Asc) => How::format(Some(Format::VectorAsc)),
-        Some(FormatArg::Csv) => How::format(Some(Format::PythonCanCsv)),
-        Some(FormatArg::Blf) => How::blf(),
-    }
+/// `--format`: the names of [`FORMAT_NAMES`], each with its help.
+pub fn format_names() -> impl TypedValueParser<Value = How> {
+    let names = FORMAT_NAMES.map(|f| PossibleValue::new(f.name).help(f.help));
+    PossibleValuesParser::new(names).map(|name| How::named(&name).unwrap_or_default())
 }
 
 /// Output forms.
@@ -79,8 +49,8 @@ pub struct Cli {
     #[arg(long)]
     strict: bool,
     /// The trace format (detected from the content when not given).
-    #[arg(long, value_enum)]
-    format: Option<FormatArg>,
+    #[arg(long, value_parser = format_names())]
+    format: Option<How>,
     /// Print the bus-health summary after the frames.
     #[arg(long)]
     summary: bool,
@@ -222,7 +192,7 @@ impl Cli {
             roles.battery = roles.battery.or(NodeId::new(1));
             roles.deltaq = roles.deltaq.or(roles.charger);
         }
-        let how = how(self.format);
+        let how = self.format.unwrap_or_default();
         Ok(Options {
             json: output == Output::Json,
             csv: output == Output::Csv,

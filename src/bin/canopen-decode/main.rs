@@ -178,32 +178,10 @@ use canopen_codec::log::{input, run, signals, Options, Outcome};
 use std::io::{self, IsTerminal, Read};
 use std::process::ExitCode;
 
-/// flate2's inflater for the BLF reader's zlib containers.
-struct Zlib(flate2::Decompress);
-
-impl input::Inflate for Zlib {
-    fn reset(&mut self) {
-        self.0.reset(true);
-    }
-
-    fn inflate(&mut self, z: &[u8], out: &mut [u8]) -> Result<input::Inflated, String> {
-        let (before_in, before_out) = (self.0.total_in(), self.0.total_out());
-        let status = self
-            .0
-            .decompress(z, out, flate2::FlushDecompress::None)
-            .map_err(|e| e.to_string())?;
-        Ok(input::Inflated {
-            used: usize::try_from(self.0.total_in() - before_in).unwrap_or(z.len()),
-            made: usize::try_from(self.0.total_out() - before_out).unwrap_or(0),
-            end: status == flate2::Status::StreamEnd,
-        })
-    }
-}
-
 /// The program's hooks: flate2 for BLF, memchr (SIMD) for line ends, the
 /// Parquet writer.
 fn hooks(opts: &mut Options) {
-    opts.inflater = Some(|| Box::new(Zlib(flate2::Decompress::new(true))));
+    opts.inflater = Some(|| Box::<input::Zlib>::default());
     opts.find_newline = Some(|bytes| memchr::memchr(b'\n', bytes));
     #[cfg(feature = "parquet")]
     {

@@ -12,68 +12,17 @@ use std::time::Duration;
 
 use canopen_codec::log::replay::{self as recording, diff};
 use canopen_codec::log::{input, pdo_syntax};
-use canopen_codec::trace::Format;
-use clap::{Parser, ValueEnum};
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+use clap::Parser;
 
 use diff::Tolerances;
 use link::Link;
 
-/// The trace formats `--format` names (as `canopen-decode`'s).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-enum FormatArg {
-    /// candump -L log lines.
-    Candump,
-    /// candump screen output (any -t form but -t d).
-    CandumpScreen,
-    /// candump screen output with -t d (delta) times.
-    CandumpScreenDelta,
-    /// PCAN-View .trc, versions 1.0 to 2.1.
-    Trc,
-    /// Vector ASC.
-    Asc,
-    /// python-can CSV.
-    Csv,
-    /// Vector BLF (binary; detected by its LOGG signature too).
-    Blf,
-}
-
-/// How `--format` (absent: detected) reads.
-fn how(arg: Option<FormatArg>) -> input::How {
-    use input::How;
-    match arg {
-        None => How::default(),
-        Some(FormatArg::Candump) => How::format(Some(Format::CandumpLog)),
-        Some(FormatArg::CandumpScreen) => How::format(Some(Format::CandumpScreen)),
-        Some(FormatArg::CandumpScreenDelta) => {
-            How::format(Some(Format::CandumpScreen)).with_delta_times()
-        }
-        Some(FormatArg::Trc) => How::format(Some(Format::PcanTrc)),
-        Some(FormatArg::Asc) => How::format(Some(Format::VectorAsc)),
-        Some(FormatArg::Csv) => How::format(Some(Format::PythonCanCsv)),
-        Some(FormatArg::Blf) => How::blf(),
-    }
-}
-
-/// flate2's inflater for the BLF reader's zlib containers.
-struct Zlib(flate2::Decompress);
-
-impl input::Inflate for Zlib {
-    fn reset(&mut self) {
-        self.0.reset(true);
-    }
-
-    fn inflate(&mut self, z: &[u8], out: &mut [u8]) -> Result<input::Inflated, String> {
-        let (before_in, before_out) = (self.0.total_in(), self.0.total_out());
-        let status = self
-            .0
-            .decompress(z, out, flate2::FlushDecompress::None)
-            .map_err(|e| e.to_string())?;
-        Ok(input::Inflated {
-            used: usize::try_from(self.0.total_in() - before_in).unwrap_or(z.len()),
-            made: usize::try_from(self.0.total_out() - before_out).unwrap_or(0),
-            end: status == flate2::Status::StreamEnd,
-        })
-    }
+/// `--format`: the names of [`input::FORMAT_NAMES`], each with its help
+/// (as `canopen-decode`'s).
+fn format_names() -> impl TypedValueParser<Value = input::How> {
+    let names = input::FORMAT_NAMES.map(|f| PossibleValue::new(f.name).help(f.help));
+    PossibleValuesParser::new(names).map(|name| input::How::named(&name).unwrap_or_default())
 }
 
 const EXIT_CODES: &str = "Exit status: 0 the device matches the recording within tolerance; \
@@ -104,8 +53,8 @@ struct Args {
     trace: std::path::PathBuf,
     /// The recording's format (detected from its content when not given;
     /// candump-screen-delta, for candump -t d, has to be given).
-    #[arg(long, value_enum)]
-    format: Option<FormatArg>,
+    #[arg(long, value_parser = format_names())]
+    format: Option<input::How>,
     /// The nodes whose frames the replay sends (1..=127, decimal or 0x
     /// hex), comma-separated.
     #[arg(
@@ -227,11 +176,11 @@ fn main() -> ExitCode {
         }
     }
     let read = std::fs::File::open(&args.trace).and_then(|f| {
-        let mut zlib = Zlib(flate2::Decompress::new(true));
+        let mut zlib = input::Zlib::default();
         let how = input::How {
             // memchr's SIMD search for line ends, as canopen-decode's.
             find_newline: Some(|bytes| memchr::memchr(b'\n', bytes)),
-            ..how(args.format)
+            ..args.format.unwrap_or_default()
         };
         input::frames(f, how, &mut zlib)
     });

@@ -18,10 +18,10 @@ use std::vec;
 use crate::trace::blf::{BlfError, BlfEvent, BlfReader, Compression};
 
 /// A zlib (RFC 1950) inflater for the zlib containers of a BLF file. This
-/// crate has no zlib of its own: a caller that reads compressed BLF files
-/// passes one (the programs wrap flate2's `Decompress`, see
-/// `src/bin/canopen-decode/main.rs`); [`NoInflate`] reads the
-/// uncompressed objects and reports the first compressed container.
+/// crate has no zlib of its own but with feature `zlib`: a caller that
+/// reads compressed BLF files passes one (`Zlib`, flate2's, which the
+/// programs pass); [`NoInflate`] reads the uncompressed objects and
+/// reports the first compressed container.
 pub trait Inflate {
     /// Starts a new zlib stream (one per container).
     fn reset(&mut self);

@@ -11,8 +11,9 @@
 //! - Vector BLF (binary): told by its `LOGG` signature when no line format
 //!   is given, or asked for; read in blocks through the library's
 //!   `BlfReader`, the zlib containers inflated by the caller's
-//!   [`Inflate`] (this crate has no zlib: the programs pass flate2's;
-//!   [`NoInflate`] reports each compressed container as unreadable).
+//!   [`Inflate`] (with feature `zlib`, flate2's: [`Zlib`], which the
+//!   programs pass; [`NoInflate`] reports each compressed container as
+//!   unreadable).
 //!
 //! [`read`] hands each [`Item`] to the caller as it comes (memory stays
 //! bounded on any input: the decoder's way); [`frames`] collects the
@@ -20,6 +21,8 @@
 
 mod blf;
 mod lines;
+#[cfg(feature = "zlib")]
+mod zlib;
 
 use std::prelude::rust_2021::*;
 
@@ -32,6 +35,8 @@ use crate::{CanFrame, Timestamp};
 
 pub use blf::{Inflate, Inflated, NoInflate};
 pub use lines::{newline, Block, FindNewline, LineReader, Piece, MAX_LINE};
+#[cfg(feature = "zlib")]
+pub use zlib::Zlib;
 
 /// How to read a file: the line format (detected when `None`), BLF,
 /// whether candump screen times are deltas (`-t d`, which the lines do
@@ -53,31 +58,104 @@ impl How {
     /// Read as `format` (a line format), or detected from the content
     /// when `None`.
     #[must_use]
-    pub fn format(format: Option<Format>) -> How {
+    pub const fn format(format: Option<Format>) -> How {
         How {
             format,
-            ..How::default()
+            blf: false,
+            delta_times: false,
+            find_newline: None,
         }
     }
 
     /// Read as Vector BLF.
     #[must_use]
-    pub fn blf() -> How {
+    pub const fn blf() -> How {
         How {
             blf: true,
-            ..How::default()
+            ..How::format(None)
         }
     }
 
     /// The same, with candump screen times read as deltas (`-t d`).
     #[must_use]
-    pub fn with_delta_times(self) -> How {
+    pub const fn with_delta_times(self) -> How {
         How {
             delta_times: true,
             ..self
         }
     }
+
+    /// The way of reading [`FORMAT_NAMES`] gives `name`; `None` for a
+    /// name it does not list.
+    ///
+    /// ```
+    /// use canopen_codec::log::input::How;
+    /// use canopen_codec::trace::Format;
+    /// let how = How::named("candump-screen-delta").unwrap();
+    /// assert_eq!((how.format, how.delta_times), (Some(Format::CandumpScreen), true));
+    /// assert!(How::named("blf").unwrap().blf);
+    /// assert!(How::named("pcap").is_none());
+    /// ```
+    #[must_use]
+    pub fn named(name: &str) -> Option<How> {
+        FORMAT_NAMES.iter().find(|f| f.name == name).map(|f| f.how)
+    }
 }
+
+/// One named way of reading a file: what the programs' `--format` option
+/// takes.
+#[derive(Clone, Copy, Debug)]
+pub struct FormatName {
+    /// The name (`candump`, `trc`, ...).
+    pub name: &'static str,
+    /// What it reads, in a few words (the programs' `--help`).
+    pub help: &'static str,
+    /// How it reads.
+    pub how: How,
+}
+
+impl FormatName {
+    const fn new(name: &'static str, help: &'static str, how: How) -> Self {
+        FormatName { name, help, how }
+    }
+}
+
+/// Every format by name; a file of none of them given is detected from its
+/// content ([`How::default`]). candump's screen output with `-t d` (delta
+/// times) cannot be told from its lines, so it has a name of its own.
+pub const FORMAT_NAMES: [FormatName; 7] = [
+    FormatName::new(
+        "candump",
+        "candump -L log lines",
+        How::format(Some(Format::CandumpLog)),
+    ),
+    FormatName::new(
+        "candump-screen",
+        "candump screen output (any -t form but -t d)",
+        How::format(Some(Format::CandumpScreen)),
+    ),
+    FormatName::new(
+        "candump-screen-delta",
+        "candump screen output with -t d (delta) times",
+        How::format(Some(Format::CandumpScreen)).with_delta_times(),
+    ),
+    FormatName::new(
+        "trc",
+        "PCAN-View .trc, versions 1.0 to 2.1",
+        How::format(Some(Format::PcanTrc)),
+    ),
+    FormatName::new("asc", "Vector ASC", How::format(Some(Format::VectorAsc))),
+    FormatName::new(
+        "csv",
+        "python-can CSV",
+        How::format(Some(Format::PythonCanCsv)),
+    ),
+    FormatName::new(
+        "blf",
+        "Vector BLF (binary; detected by its LOGG signature too)",
+        How::blf(),
+    ),
+];
 
 /// Where in the file an item is: lines and BLF objects are numbered from
 /// 1 in file order (BLF containers not counted).
