@@ -145,6 +145,55 @@ pub enum CobKind {
     Unknown,
 }
 
+/// The type of a COB-ID object's Unsigned32 whose identifier a device
+/// produces or consumes on (CiA 301 section 7.5.2: 1005h COB-ID SYNC,
+/// 1012h COB-ID TIME): bit 29 the frame format, bits 28-0 the identifier
+/// ([`can_id_of_cob_word`]), bits 31-30 the object's own flags (its
+/// module names them), every bit kept as written. The type's `DEFAULT`
+/// (CiA 301's default value) is the [`Default`].
+macro_rules! cob_id_word {
+    ($(#[$meta:meta])* $name:ident, $object:literal) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub struct $name(u32);
+
+        impl $name {
+            /// Bit 29: 29-bit identifier.
+            pub const EXTENDED: u32 = 0x2000_0000;
+
+            #[doc = concat!("From the Unsigned32 of ", $object, ".")]
+            #[must_use]
+            pub const fn from_raw(raw: u32) -> Self {
+                $name(raw)
+            }
+
+            /// The Unsigned32.
+            #[must_use]
+            pub const fn raw(self) -> u32 {
+                self.0
+            }
+
+            /// The identifier (`None` when an 11-bit one is above 7FFh).
+            #[must_use]
+            pub const fn id(self) -> Option<$crate::frame::CanId> {
+                $crate::cob_id::can_id_of_cob_word(self.0)
+            }
+
+            /// The same with the flag `bit` set (`on`) or cleared.
+            const fn with_bit(self, bit: u32, on: bool) -> Self {
+                $name(if on { self.0 | bit } else { self.0 & !bit })
+            }
+        }
+
+        impl Default for $name {
+            fn default() -> Self {
+                Self::DEFAULT
+            }
+        }
+    };
+}
+pub(crate) use cob_id_word;
+
 /// The CAN identifier a COB-ID entry names (CiA 301 section 7.5.2, the
 /// COB-ID objects 1005h, 1012h, 14xxh/18xxh ...: bit 29 set, a 29-bit
 /// identifier in bits 28-0; clear, an 11-bit one in bits 10-0). `None` for

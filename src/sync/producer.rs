@@ -24,7 +24,7 @@ use core::time::Duration;
 
 use super::SyncMessage;
 use crate::clock::{timer_kind, Timers, Timestamp};
-use crate::cob_id::SYNC;
+use crate::cob_id::{cob_id_word, SYNC};
 use crate::frame::{CanFrame, CanId};
 use crate::machine::Machine;
 use crate::queue::FrameQueue;
@@ -36,41 +36,28 @@ pub const fn valid_counter_overflow(value: u8) -> bool {
     matches!(value, 0 | 2..=240)
 }
 
-/// The value of 1005h COB-ID SYNC: bit 30 "generate" (this device is the
-/// SYNC producer), bit 29 the frame format (29-bit identifier), bits 28-0
-/// the identifier. Bit 31 is kept as written.
-///
-/// ```
-/// use canopen_codec::sync::SyncCobId;
-/// use canopen_codec::CanId;
-/// let c = SyncCobId::from_raw(0x4000_0080);
-/// assert!(c.generates());
-/// assert_eq!(c.id(), Some(CanId::Standard(0x080)));
-/// assert_eq!(SyncCobId::DEFAULT.raw(), 0x80);
-/// assert_eq!(SyncCobId::DEFAULT.with_generate(true).raw(), 0x4000_0080);
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct SyncCobId(u32);
+cob_id_word! {
+    /// The value of 1005h COB-ID SYNC: bit 30 "generate" (this device is the
+    /// SYNC producer), bit 29 the frame format (29-bit identifier), bits 28-0
+    /// the identifier. Bit 31 is kept as written.
+    ///
+    /// ```
+    /// use canopen_codec::sync::SyncCobId;
+    /// use canopen_codec::CanId;
+    /// let c = SyncCobId::from_raw(0x4000_0080);
+    /// assert!(c.generates());
+    /// assert_eq!(c.id(), Some(CanId::Standard(0x080)));
+    /// assert_eq!(SyncCobId::DEFAULT.raw(), 0x80);
+    /// assert_eq!(SyncCobId::DEFAULT.with_generate(true).raw(), 0x4000_0080);
+    /// ```
+    SyncCobId, "1005h"
+}
 
 impl SyncCobId {
     /// Bit 30: the device generates SYNC.
     pub const GENERATE: u32 = 0x4000_0000;
-    /// Bit 29: 29-bit identifier.
-    pub const EXTENDED: u32 = 0x2000_0000;
     /// 080h, consumer only (the CiA 301 default).
     pub const DEFAULT: SyncCobId = SyncCobId(SYNC as u32);
-
-    /// From the Unsigned32 of 1005h.
-    #[must_use]
-    pub const fn from_raw(raw: u32) -> Self {
-        SyncCobId(raw)
-    }
-
-    /// The Unsigned32.
-    #[must_use]
-    pub const fn raw(self) -> u32 {
-        self.0
-    }
 
     /// True when the device produces SYNC.
     #[must_use]
@@ -81,23 +68,7 @@ impl SyncCobId {
     /// The same with the generate bit set or cleared.
     #[must_use]
     pub const fn with_generate(self, generate: bool) -> Self {
-        if generate {
-            SyncCobId(self.0 | Self::GENERATE)
-        } else {
-            SyncCobId(self.0 & !Self::GENERATE)
-        }
-    }
-
-    /// The identifier (`None` when an 11-bit one is above 7FFh).
-    #[must_use]
-    pub const fn id(self) -> Option<CanId> {
-        crate::cob_id::can_id_of_cob_word(self.0)
-    }
-}
-
-impl Default for SyncCobId {
-    fn default() -> Self {
-        Self::DEFAULT
+        self.with_bit(Self::GENERATE, generate)
     }
 }
 

@@ -12,46 +12,33 @@ use core::convert::Infallible;
 
 use super::TimeOfDay;
 use crate::clock::Timestamp;
-use crate::cob_id::TIME;
-use crate::frame::{CanFrame, CanId};
+use crate::cob_id::{cob_id_word, TIME};
+use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::queue::FrameQueue;
 use crate::wire::Codec;
 
-/// The value of 1012h COB-ID TIME.
-///
-/// ```
-/// use canopen_codec::time::TimeCobId;
-/// use canopen_codec::CanId;
-/// let c = TimeCobId::from_raw(0x8000_0100);
-/// assert!(c.consumes() && !c.produces());
-/// assert_eq!(c.id(), Some(CanId::Standard(0x100)));
-/// assert_eq!(TimeCobId::DEFAULT.with_produce(true).raw(), 0x4000_0100);
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct TimeCobId(u32);
+cob_id_word! {
+    /// The value of 1012h COB-ID TIME.
+    ///
+    /// ```
+    /// use canopen_codec::time::TimeCobId;
+    /// use canopen_codec::CanId;
+    /// let c = TimeCobId::from_raw(0x8000_0100);
+    /// assert!(c.consumes() && !c.produces());
+    /// assert_eq!(c.id(), Some(CanId::Standard(0x100)));
+    /// assert_eq!(TimeCobId::DEFAULT.with_produce(true).raw(), 0x4000_0100);
+    /// ```
+    TimeCobId, "1012h"
+}
 
 impl TimeCobId {
     /// Bit 31: the device consumes TIME.
     pub const CONSUME: u32 = 0x8000_0000;
     /// Bit 30: the device produces TIME.
     pub const PRODUCE: u32 = 0x4000_0000;
-    /// Bit 29: 29-bit identifier.
-    pub const EXTENDED: u32 = 0x2000_0000;
     /// 100h, neither consumer nor producer.
     pub const DEFAULT: TimeCobId = TimeCobId(TIME as u32);
-
-    /// From the Unsigned32 of 1012h.
-    #[must_use]
-    pub const fn from_raw(raw: u32) -> Self {
-        TimeCobId(raw)
-    }
-
-    /// The Unsigned32.
-    #[must_use]
-    pub const fn raw(self) -> u32 {
-        self.0
-    }
 
     /// True when the device consumes TIME.
     #[must_use]
@@ -75,22 +62,6 @@ impl TimeCobId {
     #[must_use]
     pub const fn with_produce(self, on: bool) -> Self {
         self.with_bit(Self::PRODUCE, on)
-    }
-
-    const fn with_bit(self, bit: u32, on: bool) -> Self {
-        TimeCobId(if on { self.0 | bit } else { self.0 & !bit })
-    }
-
-    /// The identifier (`None` when an 11-bit one is above 7FFh).
-    #[must_use]
-    pub const fn id(self) -> Option<CanId> {
-        crate::cob_id::can_id_of_cob_word(self.0)
-    }
-}
-
-impl Default for TimeCobId {
-    fn default() -> Self {
-        Self::DEFAULT
     }
 }
 
