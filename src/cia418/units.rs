@@ -6,7 +6,7 @@
 
 use crate::error::DecodeError;
 
-use super::{read_u16, read_u32, read_u8};
+use super::exact;
 
 /// `value` in steps of `step` when it is a whole number of them and at
 /// most `max` steps: the exact conversions from a fine unit to an object's
@@ -17,6 +17,73 @@ const fn whole_steps(value: u64, step: u64, max: u64) -> Option<u64> {
     } else {
         Some(value / step)
     }
+}
+
+/// The raw side of a CiA 418 quantity `$name($raw)`, an object of
+/// `$bytes` little-endian bytes: `from_raw` (any raw value, kept as is),
+/// `raw`, `decode` (exactly `$bytes` bytes, else a [`DecodeError`]) and
+/// `encode`; `$per_bit` says what one raw step is. Optionally the
+/// checked ways in: `whole: fn` from whole units (`$steps` raw steps per
+/// unit, `None` when the raw value would overflow), then `fine: fn` from
+/// a sub-unit that divides the resolution (`$per_step` of it per raw
+/// step; `None` unless a whole number of steps, at most `$max`).
+macro_rules! object_value {
+    (
+        $name:ident($raw:ty; $bytes:literal), $per_bit:literal;
+        $(
+            $(#[$wdoc:meta])* whole: fn $whole:ident($w:ident) * $steps:literal;
+            $($(#[$fdoc:meta])* fine: fn $fine:ident($f:ident: $fty:ty) / $per_step:expr, max $max:expr;)?
+        )?
+    ) => {
+        impl $name {
+            /// Wraps a raw object value (any value, kept as is).
+            #[must_use]
+            pub const fn from_raw(raw: $raw) -> Self {
+                $name(raw)
+            }
+
+            #[doc = concat!("The raw object value (", $per_bit, " per bit).")]
+            #[must_use]
+            pub const fn raw(self) -> $raw {
+                self.0
+            }
+
+            #[doc = concat!("Decodes the ", $bytes, " little-endian byte(s) of the object.")]
+            pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
+                exact(data).map(<$raw>::from_le_bytes).map($name)
+            }
+
+            #[doc = concat!("The ", $bytes, " little-endian byte(s) of the object.")]
+            #[must_use]
+            pub const fn encode(self) -> [u8; $bytes] {
+                self.0.to_le_bytes()
+            }
+
+            $(
+                $(#[$wdoc])*
+                #[must_use]
+                pub const fn $whole($w: $raw) -> Option<Self> {
+                    match $w.checked_mul($steps) {
+                        Some(raw) => Some($name(raw)),
+                        None => None,
+                    }
+                }
+
+                $(
+                    $(#[$fdoc])*
+                    #[must_use]
+                    #[allow(clippy::cast_possible_truncation)]
+                    pub const fn $fine($f: $fty) -> Option<Self> {
+                        // At most `$max` steps, which fits `$raw`.
+                        match whole_steps($f as u64, $per_step as u64, $max as u64) {
+                            Some(raw) => Some($name(raw as $raw)),
+                            None => None,
+                        }
+                    }
+                )?
+            )?
+        }
+    };
 }
 
 /// 6010h temperature, Integer16, 0.125 degC per bit (CiA 418 section 7.3.3).
@@ -32,6 +99,13 @@ const fn whole_steps(value: u64, step: u64, max: u64) -> Option<u64> {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
 pub struct Temperature(i16);
 
+object_value! {
+    Temperature(i16; 2), "0.125 degC";
+    /// Whole degrees Celsius; `None` outside the `i16` range (beyond
+    /// -4096..=4095 degC).
+    whole: fn from_celsius(deg) * 8;
+}
+
 impl Temperature {
     /// Millidegrees Celsius per bit.
     pub const MILLIDEGREES_PER_BIT: i32 = 125;
@@ -39,18 +113,6 @@ impl Temperature {
     pub const SPECIFIED_MIN: Temperature = Temperature(-320);
     /// Upper end of the range every module must cover: 680 (85.0 degC).
     pub const SPECIFIED_MAX: Temperature = Temperature(680);
-
-    /// Wraps a raw object value (any `i16`).
-    #[must_use]
-    pub const fn from_raw(raw: i16) -> Self {
-        Temperature(raw)
-    }
-
-    /// The raw object value (eighths of a degree Celsius).
-    #[must_use]
-    pub const fn raw(self) -> i16 {
-        self.0
-    }
 
     /// Exact value in millidegrees Celsius (raw * 125).
     #[must_use]
@@ -72,16 +134,6 @@ impl Temperature {
         }
     }
 
-    /// Whole degrees Celsius; `None` outside the `i16` range (beyond
-    /// -4096..=4095 degC).
-    #[must_use]
-    pub const fn from_celsius(deg: i16) -> Option<Self> {
-        match deg.checked_mul(8) {
-            Some(raw) => Some(Temperature(raw)),
-            None => None,
-        }
-    }
-
     /// Degrees Celsius as `f32` (exact: every raw value is representable).
     #[must_use]
     pub fn as_celsius_f32(self) -> f32 {
@@ -93,17 +145,6 @@ impl Temperature {
     #[must_use]
     pub const fn in_specified_range(self) -> bool {
         self.0 >= Self::SPECIFIED_MIN.0 && self.0 <= Self::SPECIFIED_MAX.0
-    }
-
-    /// Decodes the 2 little-endian bytes of the object.
-    pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
-        read_u16(data).map(|v| Temperature(v as i16))
-    }
-
-    /// The 2 little-endian bytes of the object.
-    #[must_use]
-    pub const fn encode(self) -> [u8; 2] {
-        self.0.to_le_bytes()
     }
 }
 
@@ -119,19 +160,9 @@ impl Temperature {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
 pub struct AmpHours(u32);
 
+object_value! { AmpHours(u32; 4), "1 Ah"; }
+
 impl AmpHours {
-    /// Wraps a raw object value.
-    #[must_use]
-    pub const fn from_raw(raw: u32) -> Self {
-        AmpHours(raw)
-    }
-
-    /// The raw object value.
-    #[must_use]
-    pub const fn raw(self) -> u32 {
-        self.0
-    }
-
     /// Ampere-hours (the raw value: 1 Ah per bit).
     #[must_use]
     pub const fn amp_hours(self) -> u32 {
@@ -142,17 +173,6 @@ impl AmpHours {
     #[must_use]
     pub const fn milliamp_hours(self) -> u64 {
         self.0 as u64 * 1000
-    }
-
-    /// Decodes the 4 little-endian bytes of the object.
-    pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
-        read_u32(data).map(AmpHours)
-    }
-
-    /// The 4 little-endian bytes of the object.
-    #[must_use]
-    pub const fn encode(self) -> [u8; 4] {
-        self.0.to_le_bytes()
     }
 }
 
@@ -174,6 +194,14 @@ impl AmpHours {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
 pub struct EighthAmpHours(u16);
 
+object_value! {
+    EighthAmpHours(u16; 2), "0.125 Ah";
+    /// Whole ampere-hours; `None` above 8191 Ah.
+    whole: fn from_amp_hours(ah) * 8;
+    /// `Some` if `mah` is a multiple of 125 mAh that fits 16 bits.
+    fine: fn from_milliamp_hours(mah: u32) / Self::MILLIAMP_HOURS_PER_BIT, max u16::MAX;
+}
+
 impl EighthAmpHours {
     /// Milliampere-hours per bit.
     pub const MILLIAMP_HOURS_PER_BIT: u32 = 125;
@@ -181,58 +209,16 @@ impl EighthAmpHours {
     /// meaning).
     pub const MAX: EighthAmpHours = EighthAmpHours(0xFFFF);
 
-    /// Wraps a raw object value.
-    #[must_use]
-    pub const fn from_raw(raw: u16) -> Self {
-        EighthAmpHours(raw)
-    }
-
-    /// The raw object value (eighths of an Ah).
-    #[must_use]
-    pub const fn raw(self) -> u16 {
-        self.0
-    }
-
     /// Exact milliampere-hours (raw * 125).
     #[must_use]
     pub const fn milliamp_hours(self) -> u32 {
         self.0 as u32 * Self::MILLIAMP_HOURS_PER_BIT
     }
 
-    /// `Some` if `mah` is a multiple of 125 mAh that fits 16 bits.
-    #[must_use]
-    pub const fn from_milliamp_hours(mah: u32) -> Option<Self> {
-        let per_bit = Self::MILLIAMP_HOURS_PER_BIT as u64;
-        match whole_steps(mah as u64, per_bit, u16::MAX as u64) {
-            Some(raw) => Some(EighthAmpHours(raw as u16)),
-            None => None,
-        }
-    }
-
-    /// Whole ampere-hours; `None` above 8191 Ah.
-    #[must_use]
-    pub const fn from_amp_hours(ah: u16) -> Option<Self> {
-        match ah.checked_mul(8) {
-            Some(raw) => Some(EighthAmpHours(raw)),
-            None => None,
-        }
-    }
-
     /// Ampere-hours as `f32` (exact).
     #[must_use]
     pub fn as_amp_hours_f32(self) -> f32 {
         f32::from(self.0) / 8.0
-    }
-
-    /// Decodes the 2 little-endian bytes of the object.
-    pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
-        read_u16(data).map(EighthAmpHours)
-    }
-
-    /// The 2 little-endian bytes of the object.
-    #[must_use]
-    pub const fn encode(self) -> [u8; 2] {
-        self.0.to_le_bytes()
     }
 }
 
@@ -254,44 +240,22 @@ impl EighthAmpHours {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
 pub struct BatteryVoltage(u32);
 
+object_value! {
+    BatteryVoltage(u32; 4), "1/1024 V";
+    /// Whole volts; `None` above 4 194 303 V.
+    whole: fn from_volts(volts) * 1024;
+    /// `Some` if `pv` is a whole number of 1/1024 V steps that fits 32 bits.
+    fine: fn from_picovolts(pv: u64) / Self::PICOVOLTS_PER_BIT, max u32::MAX;
+}
+
 impl BatteryVoltage {
     /// Picovolts per bit (1e12 / 1024, exact).
     pub const PICOVOLTS_PER_BIT: u64 = 976_562_500;
-
-    /// Wraps a raw object value.
-    #[must_use]
-    pub const fn from_raw(raw: u32) -> Self {
-        BatteryVoltage(raw)
-    }
-
-    /// The raw object value (1/1024 V).
-    #[must_use]
-    pub const fn raw(self) -> u32 {
-        self.0
-    }
-
-    /// Whole volts; `None` above 4 194 303 V.
-    #[must_use]
-    pub const fn from_volts(volts: u32) -> Option<Self> {
-        match volts.checked_mul(1024) {
-            Some(raw) => Some(BatteryVoltage(raw)),
-            None => None,
-        }
-    }
 
     /// Exact picovolts (raw * 976 562 500; never overflows `u64`).
     #[must_use]
     pub const fn picovolts(self) -> u64 {
         self.0 as u64 * Self::PICOVOLTS_PER_BIT
-    }
-
-    /// `Some` if `pv` is a whole number of 1/1024 V steps that fits 32 bits.
-    #[must_use]
-    pub const fn from_picovolts(pv: u64) -> Option<Self> {
-        match whole_steps(pv, Self::PICOVOLTS_PER_BIT, u32::MAX as u64) {
-            Some(raw) => Some(BatteryVoltage(raw as u32)),
-            None => None,
-        }
     }
 
     /// Millivolts rounded to nearest (half up); not exact.
@@ -304,17 +268,6 @@ impl BatteryVoltage {
     #[must_use]
     pub fn as_volts_f64(self) -> f64 {
         f64::from(self.0) / 1024.0
-    }
-
-    /// Decodes the 4 little-endian bytes of the object.
-    pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
-        read_u32(data).map(BatteryVoltage)
-    }
-
-    /// The 4 little-endian bytes of the object.
-    #[must_use]
-    pub const fn encode(self) -> [u8; 4] {
-        self.0.to_le_bytes()
     }
 }
 
@@ -338,23 +291,20 @@ impl BatteryVoltage {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct ChargeCurrentRequested(u16);
 
+object_value! {
+    ChargeCurrentRequested(u16; 2), "1/16 A";
+    /// Whole amperes; `None` above 4095 A.
+    whole: fn from_amps(amps) * 16;
+    /// `Some` if `ua` is a multiple of 62 500 uA below the invalid marker
+    /// (at most 4095.875 A).
+    fine: fn from_microamps(ua: u32) / Self::MICROAMPS_PER_BIT, max Self::INVALID.0 - 1;
+}
+
 impl ChargeCurrentRequested {
     /// Microamperes per bit (1/16 A, exact).
     pub const MICROAMPS_PER_BIT: u32 = 62_500;
     /// 0xFFFF: no valid request.
     pub const INVALID: ChargeCurrentRequested = ChargeCurrentRequested(0xFFFF);
-
-    /// Wraps a raw object value (any `u16`, 0xFFFF being invalid).
-    #[must_use]
-    pub const fn from_raw(raw: u16) -> Self {
-        ChargeCurrentRequested(raw)
-    }
-
-    /// The raw object value (1/16 A).
-    #[must_use]
-    pub const fn raw(self) -> u16 {
-        self.0
-    }
 
     /// True for the invalid marker 0xFFFF.
     #[must_use]
@@ -372,26 +322,6 @@ impl ChargeCurrentRequested {
         }
     }
 
-    /// `Some` if `ua` is a multiple of 62 500 uA below the invalid marker
-    /// (at most 4095.875 A).
-    #[must_use]
-    pub const fn from_microamps(ua: u32) -> Option<Self> {
-        let below_invalid = Self::INVALID.0 as u64 - 1;
-        match whole_steps(ua as u64, Self::MICROAMPS_PER_BIT as u64, below_invalid) {
-            Some(raw) => Some(ChargeCurrentRequested(raw as u16)),
-            None => None,
-        }
-    }
-
-    /// Whole amperes; `None` above 4095 A.
-    #[must_use]
-    pub const fn from_amps(amps: u16) -> Option<Self> {
-        match amps.checked_mul(16) {
-            Some(raw) => Some(ChargeCurrentRequested(raw)),
-            None => None,
-        }
-    }
-
     /// Amperes as `f32` (exact), `None` for the invalid marker.
     #[must_use]
     pub fn as_amps_f32(self) -> Option<f32> {
@@ -400,17 +330,6 @@ impl ChargeCurrentRequested {
         } else {
             Some(f32::from(self.0) / 16.0)
         }
-    }
-
-    /// Decodes the 2 little-endian bytes of the object.
-    pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
-        read_u16(data).map(ChargeCurrentRequested)
-    }
-
-    /// The 2 little-endian bytes of the object.
-    #[must_use]
-    pub const fn encode(self) -> [u8; 2] {
-        self.0.to_le_bytes()
     }
 }
 
@@ -444,6 +363,8 @@ pub enum SocReading {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct StateOfCharge(u8);
 
+object_value! { StateOfCharge(u8; 1), "1 %"; }
+
 impl Default for StateOfCharge {
     /// 0xFF (invalid), the default of 6080h.
     fn default() -> Self {
@@ -463,18 +384,6 @@ impl StateOfCharge {
         } else {
             None
         }
-    }
-
-    /// Wraps any raw byte (kept as is).
-    #[must_use]
-    pub const fn from_raw(raw: u8) -> Self {
-        StateOfCharge(raw)
-    }
-
-    /// The raw byte.
-    #[must_use]
-    pub const fn raw(self) -> u8 {
-        self.0
     }
 
     /// What the byte means.
@@ -506,17 +415,6 @@ impl StateOfCharge {
     #[must_use]
     pub const fn is_out_of_range(self) -> bool {
         matches!(self.reading(), SocReading::OutOfRange(_))
-    }
-
-    /// Decodes the 1-byte object value (any byte).
-    pub fn decode(data: &[u8]) -> Result<Self, DecodeError> {
-        read_u8(data).map(StateOfCharge)
-    }
-
-    /// The 1-byte object value.
-    #[must_use]
-    pub const fn encode(self) -> [u8; 1] {
-        [self.0]
     }
 }
 

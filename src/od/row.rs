@@ -15,6 +15,21 @@ pub struct Compound {
     pub object_type: ObjectType,
 }
 
+/// The row's builder methods that set one of its fields: `name(field:
+/// type)` is a `const fn` taking the row and the field's new value.
+macro_rules! setters {
+    ($($(#[$doc:meta])* $name:ident($field:ident: $ty:ty);)*) => {
+        $(
+            $(#[$doc])*
+            #[must_use]
+            pub const fn $name(mut self, $field: $ty) -> Self {
+                self.$field = $field;
+                self
+            }
+        )*
+    };
+}
+
 /// Every fact of one object-dictionary entry, or of a run of sub-indexes
 /// of the same shape.
 ///
@@ -144,39 +159,23 @@ impl ObjectRow {
         Self::new(Address::index(index), name, data_type, access)
     }
 
-    /// This row covering the sub-indexes up to `last_sub` too.
-    #[must_use]
-    pub const fn through(mut self, last_sub: u8) -> Self {
-        self.last_sub = last_sub;
-        self
-    }
-
-    /// This row covering the objects up to `last_index` too, each with the
-    /// same sub-indexes.
-    #[must_use]
-    pub const fn indexes_through(mut self, last_index: u16) -> Self {
-        self.last_index = last_index;
-        self
-    }
-
-    /// This row with the decoder's name `short`.
-    #[must_use]
-    pub const fn short(mut self, short: &'static str) -> Self {
-        self.short = short;
-        self
+    setters! {
+        /// This row covering the sub-indexes up to `last_sub` too.
+        through(last_sub: u8);
+        /// This row covering the objects up to `last_index` too, each with
+        /// the same sub-indexes.
+        indexes_through(last_index: u16);
+        /// This row with the decoder's name `short`.
+        short(short: &'static str);
+        /// This row with the power-on value `default` (its little-endian
+        /// word).
+        default(default: u32);
     }
 
     /// This row PDO-mappable.
     #[must_use]
     pub const fn mappable(mut self) -> Self {
         self.mappable = true;
-        self
-    }
-
-    /// This row with the power-on value `word`.
-    #[must_use]
-    pub const fn default(mut self, word: u32) -> Self {
-        self.default = word;
         self
     }
 
