@@ -19,7 +19,6 @@ use crate::abort::AbortCode;
 use crate::bytes::InlineData;
 use crate::clock::Timestamp;
 use crate::cob_id::PdoNumber;
-use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::queue::EventQueue;
 use crate::sdo::{AbortOrigin, Client, ClientConfig, ClientError, ClientEvent};
@@ -218,33 +217,4 @@ impl Reconfigurer {
     }
 }
 
-impl Machine for Reconfigurer {
-    type Event = ReconfigEvent;
-
-    /// Feeds a received frame (the server's SDO responses).
-    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        self.client.handle_frame(now, frame);
-        self.drain(now);
-    }
-
-    /// The SDO timeout of the running step.
-    fn handle_timeout(&mut self, now: Timestamp) {
-        self.client.handle_timeout(now);
-        self.drain(now);
-    }
-
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.client.poll_transmit()
-    }
-
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        self.client.poll_timeout()
-    }
-
-    fn frames_dropped(&self) -> u64 {
-        self.client.frames_dropped()
-    }
-
-    // The events: the outcome of each run.
-    crate::machine::queued_outputs!(@events outcomes);
-}
+crate::sdo::sdo_client_sequence_machine!(impl Machine for Reconfigurer, ReconfigEvent, outcomes);

@@ -193,6 +193,64 @@ macro_rules! sdo_endpoint_machine {
 }
 use sdo_endpoint_machine;
 
+/// The [`Machine`](crate::machine::Machine) of a master machine that runs
+/// a sequence of SDO transfers on its own [`Client`], in the field
+/// `client` (the PDO reconfiguration of CiA 301 section 7.5.2.35, the
+/// program download of CiA 302-3): received frames and timeouts go to the
+/// client, then its events to the machine's `drain(now)`, which moves the
+/// sequence on; the frames sent are the client's; the machine's own
+/// events are in the queue `$events`. A machine with a deadline of its
+/// own keeps it in a timer table (`own $timers: $timer => $on`): `$on(now)`
+/// runs when it expires, and the deadline is the earlier of it and the
+/// client's.
+macro_rules! sdo_client_sequence_machine {
+    (impl $([$($generics:tt)*])? Machine for $machine:ty, $event:ty, $events:ident $(, own $timers:ident: $timer:expr => $on:ident)?) => {
+        impl $(<$($generics)*>)? $crate::machine::Machine for $machine {
+            type Event = $event;
+
+            /// Feeds a received frame (the server's SDO responses).
+            fn handle_frame(
+                &mut self,
+                now: $crate::clock::Timestamp,
+                frame: &$crate::frame::CanFrame,
+            ) {
+                self.client.handle_frame(now, frame);
+                self.drain(now);
+            }
+
+            /// The SDO timeout of the running transfer, then the
+            /// machine's own deadline.
+            fn handle_timeout(&mut self, now: $crate::clock::Timestamp) {
+                self.client.handle_timeout(now);
+                self.drain(now);
+                $(if self.$timers.expire($timer, now) {
+                    self.$on(now);
+                })?
+            }
+
+            /// The client's frames.
+            fn poll_transmit(&mut self) -> Option<$crate::frame::CanFrame> {
+                self.client.poll_transmit()
+            }
+
+            /// The earlier of the client's deadline and the machine's own.
+            fn poll_timeout(&self) -> Option<$crate::clock::Timestamp> {
+                $crate::clock::earliest([
+                    self.client.poll_timeout(),
+                    $(self.$timers.next(),)?
+                ])
+            }
+
+            fn frames_dropped(&self) -> u64 {
+                self.client.frames_dropped()
+            }
+
+            $crate::machine::queued_outputs!(@events $events);
+        }
+    };
+}
+pub(crate) use sdo_client_sequence_machine;
+
 #[cfg(test)]
 mod capacity_tests;
 #[cfg(test)]

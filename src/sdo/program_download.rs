@@ -32,8 +32,7 @@
 //! `poll_event`. Events go to a queue of 4, oldest dropped and counted.
 
 use super::{AbortCode, AbortOrigin, Client, ClientConfig, ClientError, ClientEvent};
-use crate::clock::{earliest, timer_kind, Timers, Timestamp};
-use crate::frame::CanFrame;
+use crate::clock::{timer_kind, Timers, Timestamp};
 use crate::machine::Machine;
 use crate::program::{
     FlashStatus, ProgramCommand, FLASH_STATUS_IDENTIFICATION, PROGRAM_CONTROL, PROGRAM_DATA,
@@ -354,6 +353,12 @@ impl<D: AsRef<[u8]>> ProgramDownload<D> {
         }
     }
 
+    /// The settle time after the device aborted the download is over:
+    /// 1F57h (flash status) is read to explain the abort.
+    fn read_status(&mut self, now: Timestamp) {
+        self.begin(now, ProgramStep::FlashStatus);
+    }
+
     fn step_done(&mut self, now: Timestamp, step: ProgramStep) {
         let value = u32::from_le_bytes(self.value);
         let next = match step {
@@ -392,37 +397,12 @@ impl<D: AsRef<[u8]>> ProgramDownload<D> {
     }
 }
 
-impl<D: AsRef<[u8]>> Machine for ProgramDownload<D> {
-    type Event = ProgramDownloadEvent;
-
-    fn handle_frame(&mut self, now: Timestamp, frame: &CanFrame) {
-        self.client.handle_frame(now, frame);
-        self.drain(now);
-    }
-
-    fn handle_timeout(&mut self, now: Timestamp) {
-        self.client.handle_timeout(now);
-        self.drain(now);
-        if self.timers.expire(DownloadTimer::ReadStatus, now) {
-            self.begin(now, ProgramStep::FlashStatus);
-        }
-    }
-
-    fn poll_transmit(&mut self) -> Option<CanFrame> {
-        self.client.poll_transmit()
-    }
-
-    /// The earlier of the client's deadline and the sequence's own.
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        earliest([self.client.poll_timeout(), self.timers.next()])
-    }
-
-    crate::machine::queued_outputs!(@events events);
-
-    fn frames_dropped(&self) -> u64 {
-        self.client.frames_dropped()
-    }
-}
+super::sdo_client_sequence_machine!(
+    impl [D: AsRef<[u8]>] Machine for ProgramDownload<D>,
+    ProgramDownloadEvent,
+    events,
+    own timers: DownloadTimer::ReadStatus => read_status
+);
 
 // The image (20 bytes) goes by segmented transfer: without the segmented
 // client, a program download is refused before its first frame.
@@ -430,6 +410,7 @@ impl<D: AsRef<[u8]>> Machine for ProgramDownload<D> {
 mod tests {
     use super::*;
     use crate::cob_id::NodeId;
+    use crate::frame::CanFrame;
     use std::string::ToString;
 
     /// A download to node 10 by segmented transfer (no block transfer),

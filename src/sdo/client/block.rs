@@ -5,7 +5,7 @@
 //! The sub-block rules themselves are shared with the server
 //! (`crate::sdo::rules::block`).
 
-use super::{AbortCode, Client, ClientCommand, ClientError, ClientEvent, ServerCommand, State};
+use super::{AbortCode, Client, ClientCommand, ClientEvent, ServerCommand, State};
 use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::sdo::rules::block::{check_block_size, clamp_block_size, Acked, Receiver, Sender};
@@ -14,46 +14,6 @@ use crate::sdo::wire::{
 };
 
 impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
-    /// [`Client::start_block_upload`] with block transfer built in.
-    pub(super) fn begin_block_upload(
-        &mut self,
-        now: Timestamp,
-        index: u16,
-        sub: u8,
-    ) -> Result<(), ClientError> {
-        self.check_idle()?;
-        let command = ClientCommand::BlockUpload(ClientBlockUpload::Initiate {
-            index,
-            sub,
-            crc: self.config.crc,
-            blksize: clamp_block_size(self.config.block_size),
-            pst: self.config.block_threshold,
-        });
-        self.open(now, command, State::BlockUploadInitiated { index, sub })
-    }
-
-    /// [`Client::start_block_download`] with block transfer built in.
-    pub(super) fn begin_block_download(
-        &mut self,
-        now: Timestamp,
-        index: u16,
-        sub: u8,
-        data: D,
-    ) -> Result<(), ClientError> {
-        let size = self.download_size(&data)?;
-        let command = ClientCommand::BlockDownload(ClientBlockDownload::Initiate {
-            index,
-            sub,
-            crc: self.config.crc,
-            size: Some(size),
-        });
-        self.open(
-            now,
-            command,
-            State::BlockDownloadInitiated { index, sub, data },
-        )
-    }
-
     /// A block upload's sub-block segment: handled here (true), or a
     /// command for the normal path (false).
     pub(super) fn block_segment(&mut self, now: Timestamp, frame: &CanFrame) -> bool {
@@ -100,6 +60,20 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         CanFrame::new(self.config.request_id, &frame).ok()
     }
 
+    /// Sends the next sub-block of a block download (its segments are made
+    /// when polled, see `next_block_segment`) and waits for the server's
+    /// acknowledgement of it (CiA 301 section 7.2.4.3.9: after the initiate
+    /// confirmation and after every acknowledgement that asks for more).
+    fn send_sub_block(&mut self, now: Timestamp, index: u16, sub: u8, data: D, tx: Sender) {
+        let state = State::BlockDownloading {
+            index,
+            sub,
+            data,
+            tx,
+        };
+        self.wait(now, state);
+    }
+
     /// A response in one of the block states (`state` was taken out of
     /// `self.state`, which is `Idle` meanwhile).
     pub(super) fn on_block_response(
@@ -132,15 +106,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                     Err(code) => return self.abort_object(index, sub, code),
                 };
                 let tx = Sender::new(data.as_ref().len(), blksize, crc && self.config.crc);
-                self.wait(
-                    now,
-                    State::BlockDownloading {
-                        index,
-                        sub,
-                        data,
-                        tx,
-                    },
-                );
+                self.send_sub_block(now, index, sub, data, tx);
             }
             State::BlockDownloading {
                 index,
@@ -155,17 +121,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                 };
                 match tx.on_ack(ackseq, blksize) {
                     Err(code) => self.abort_object(index, sub, code),
-                    Ok(Acked::More) => {
-                        self.wait(
-                            now,
-                            State::BlockDownloading {
-                                index,
-                                sub,
-                                data,
-                                tx,
-                            },
-                        );
-                    }
+                    Ok(Acked::More) => self.send_sub_block(now, index, sub, data, tx),
                     Ok(Acked::Done { unused, crc }) => {
                         self.send(ClientCommand::BlockDownload(ClientBlockDownload::End {
                             unused,

@@ -74,10 +74,12 @@ use core::time::Duration;
 use super::data::{ExpeditedData, InitiatePayload, SegmentData};
 use super::rules::block::MAX_BLOCK_SIZE;
 #[cfg(feature = "sdo-block")]
-use super::rules::block::{Receiver, Sender};
+use super::rules::block::{clamp_block_size, Receiver, Sender};
 #[cfg(feature = "sdo-client-segmented")]
 use super::rules::segmented::Segments;
 use super::server::{AbortOrigin, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT};
+#[cfg(feature = "sdo-block")]
+use super::wire::{ClientBlockDownload, ClientBlockUpload};
 use super::wire::{ClientCommand, SdoFrame, ServerCommand};
 use crate::abort::AbortCode;
 use crate::clock::{Timers, Timestamp};
@@ -517,7 +519,17 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         sub: u8,
     ) -> Result<(), ClientError> {
         #[cfg(feature = "sdo-block")]
-        return self.begin_block_upload(now, index, sub);
+        {
+            self.check_idle()?;
+            let command = ClientCommand::BlockUpload(ClientBlockUpload::Initiate {
+                index,
+                sub,
+                crc: self.config.crc,
+                blksize: clamp_block_size(self.config.block_size),
+                pst: self.config.block_threshold,
+            });
+            self.open(now, command, State::BlockUploadInitiated { index, sub })
+        }
         #[cfg(not(feature = "sdo-block"))]
         {
             let _ = (now, index, sub);
@@ -541,7 +553,20 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         data: D,
     ) -> Result<(), ClientError> {
         #[cfg(feature = "sdo-block")]
-        return self.begin_block_download(now, index, sub, data);
+        {
+            let size = self.download_size(&data)?;
+            let command = ClientCommand::BlockDownload(ClientBlockDownload::Initiate {
+                index,
+                sub,
+                crc: self.config.crc,
+                size: Some(size),
+            });
+            self.open(
+                now,
+                command,
+                State::BlockDownloadInitiated { index, sub, data },
+            )
+        }
         #[cfg(not(feature = "sdo-block"))]
         {
             let _ = (now, index, sub, data);

@@ -627,13 +627,17 @@ impl<const EXTRA: usize, const BUFFERS: usize> Observer<EXTRA, BUFFERS> {
         };
         let mut out = Sink {
             queue: &mut self.events,
+            pool: &mut self.buffers,
         };
         // Only a transfer in the sub-block phase holds a buffer: one that
         // leaves it (or ends) gives it back.
         let held = open.as_ref().is_some_and(Open::holds_segments);
-        let seen = transfer::step(open, channel, from, frame, &mut self.buffers, &mut out);
+        let seen = transfer::step(open, channel, from, frame, &mut out);
+        if let Some(broken) = open.as_mut().and_then(Open::rule_broken) {
+            out.push(broken);
+        }
         if held && !open.as_ref().is_some_and(Open::holds_segments) {
-            sub_block::give_back(&mut self.buffers, channel);
+            sub_block::give_back(out.pool, channel);
         }
         if let Some(o) = open.as_mut() {
             // Kept as the timer table keeps it (the end of the clock a
@@ -736,10 +740,12 @@ impl<const EXTRA: usize, const BUFFERS: usize> Default for Observer<EXTRA, BUFFE
     }
 }
 
-/// Where the transitions put the events one frame makes: the observer's
-/// queue.
+/// What the transitions of one frame write to: the observer's event queue
+/// and its pool of sub-block buffers (a block transfer's segments are held
+/// there until the receiver acknowledges them).
 pub(super) struct Sink<'a> {
     queue: &'a mut EventQueue<ObserverEvent, OBSERVER_EVENT_CAPACITY>,
+    pool: &'a mut [SubBlock],
 }
 
 impl Sink<'_> {

@@ -3,7 +3,6 @@
 //! server's (`crate::sdo::rules`); this file only says which side applies
 //! which rule when (see [`super`]).
 
-use super::sub_block::SubBlock;
 use super::{
     BreakReason, Direction, Observed, ObserverEvent, SdoChannel, Side, Sink, Transfer, TransferKind,
 };
@@ -192,6 +191,30 @@ impl Open {
         });
     }
 
+    /// The server's answer to a block initiate, for the object `answered`
+    /// and with CRC when both sides announced it (`crc`, CiA 301 section
+    /// 7.2.4.3.9): the transfer goes on by block, CRC or not, when it names
+    /// the transfer's own object; otherwise the client is due to abort
+    /// (06040043h) and `None`.
+    fn block_answer(&mut self, answered: (u16, u8), crc: bool) -> Option<bool> {
+        if answered != (self.transfer.index, self.transfer.sub) {
+            self.violate(AbortCode::GeneralParameterIncompatibility, Side::Client);
+            return None;
+        }
+        self.transfer.kind = Some(TransferKind::Block { crc });
+        Some(crc)
+    }
+
+    /// The rule the last frame broke, as the event that reports it (once).
+    pub(super) fn rule_broken(&mut self) -> Option<ObserverEvent> {
+        let (code, by) = self.broken.take()?;
+        Some(ObserverEvent::RuleBroken {
+            channel: self.transfer.channel,
+            code,
+            by,
+        })
+    }
+
     /// A rule the transfer can be followed past (the indicated size, the
     /// CRC) is broken: `by` should abort with `code`, and if it does not,
     /// the transfer goes on as the peers run it.
@@ -245,31 +268,17 @@ enum Command {
 }
 
 /// Takes one frame from `from` on `channel` with the transfer `open` there.
+/// A rule it broke stays flagged in the transfer, for
+/// [`Open::rule_broken`].
 pub(super) fn step(
     open: &mut Option<Open>,
     channel: SdoChannel,
     from: Side,
     frame: &CanFrame,
-    pool: &mut [SubBlock],
-    out: &mut Sink,
-) -> Observed {
-    let seen = take(open, channel, from, frame, pool, out);
-    if let Some((code, by)) = open.as_mut().and_then(|o| o.broken.take()) {
-        out.push(ObserverEvent::RuleBroken { channel, code, by });
-    }
-    seen
-}
-
-fn take(
-    open: &mut Option<Open>,
-    channel: SdoChannel,
-    from: Side,
-    frame: &CanFrame,
-    pool: &mut [SubBlock],
     out: &mut Sink,
 ) -> Observed {
     let bytes = frame.data();
-    if let Some((seen, end)) = block_segment(open, channel, from, bytes, pool, out) {
+    if let Some((seen, end)) = block_segment(open, channel, from, bytes, out) {
         if let Some(reason) = end {
             if let Some(o) = open.take() {
                 out.push(o.ended(reason));
@@ -367,8 +376,8 @@ fn take(
         return seen;
     };
     let done = match command {
-        Command::Client(c) => client(o, c, bytes, pool, out),
-        Command::Server(s) => server(o, s, bytes, pool, out),
+        Command::Client(c) => client(o, c, bytes, out),
+        Command::Server(s) => server(o, s, bytes, out),
     };
     if let Some(end) = done {
         if let Some(o) = open.take() {
@@ -469,13 +478,7 @@ fn initiate(channel: SdoChannel, c: &ClientCommand, bytes: &[u8]) -> Option<(Tra
 
 /// Takes a client command (not an initiate, not an abort); `Some` when it
 /// ended the transfer.
-fn client(
-    o: &mut Open,
-    c: ClientCommand,
-    bytes: &[u8],
-    pool: &mut [SubBlock],
-    out: &mut Sink,
-) -> Option<End> {
+fn client(o: &mut Open, c: ClientCommand, bytes: &[u8], out: &mut Sink) -> Option<End> {
     let upload = o.transfer.direction == Direction::Upload;
     match (c, o.phase) {
         (ClientCommand::UploadSegment { toggle }, Phase::UploadRequestDue(rx)) => {
@@ -494,7 +497,7 @@ fn client(
             o.phase = Phase::SubBlocks(Blocks::new(rx));
         }
         (ClientCommand::BlockUpload(ClientBlockUpload::Ack { ackseq, blksize }), _) if upload => {
-            return ack(o, (ackseq, blksize), bytes, Side::Client, pool, out);
+            return ack(o, (ackseq, blksize), bytes, Side::Client, out);
         }
         (
             ClientCommand::BlockUpload(ClientBlockUpload::End),
@@ -503,7 +506,7 @@ fn client(
             return Some(End::Completed(crc_checked));
         }
         (ClientCommand::BlockDownload(ClientBlockDownload::End { unused, crc }), _) if !upload => {
-            return end(o, (unused, crc), bytes, Side::Server, pool, out);
+            return end(o, (unused, crc), bytes, Side::Server, out);
         }
         _ => o.violate(AbortCode::InvalidCommandSpecifier, Side::Server),
     }
@@ -525,13 +528,7 @@ fn download_segment(o: &mut Open, rx: &mut Segments, seg: &Segment, out: &mut Si
 
 /// Takes a server command (not an abort); `Some` when it ended the
 /// transfer.
-fn server(
-    o: &mut Open,
-    s: ServerCommand,
-    bytes: &[u8],
-    pool: &mut [SubBlock],
-    out: &mut Sink,
-) -> Option<End> {
+fn server(o: &mut Open, s: ServerCommand, bytes: &[u8], out: &mut Sink) -> Option<End> {
     let upload = o.transfer.direction == Direction::Upload;
     let (index, sub) = (o.transfer.index, o.transfer.sub);
     let names_other = |ri: u16, rs: u8| (ri, rs) != (index, sub);
@@ -630,12 +627,7 @@ fn server(
                 frame,
             },
         ) => {
-            if names_other(ri, rs) {
-                o.violate(AbortCode::GeneralParameterIncompatibility, Side::Client);
-                return None;
-            }
-            let crc = crc && client_crc;
-            o.transfer.kind = Some(TransferKind::Block { crc });
+            let crc = o.block_answer((ri, rs), crc && client_crc)?;
             match check_block_size(blksize) {
                 Ok(b) => {
                     let rx = Receiver::new(b, size, crc).after(frame.as_slice());
@@ -647,7 +639,7 @@ fn server(
         (ServerCommand::BlockDownload(ServerBlockDownload::Ack { ackseq, blksize }), _)
             if !upload =>
         {
-            return ack(o, (ackseq, blksize), bytes, Side::Server, pool, out);
+            return ack(o, (ackseq, blksize), bytes, Side::Server, out);
         }
         (
             ServerCommand::BlockDownload(ServerBlockDownload::End),
@@ -667,18 +659,13 @@ fn server(
                 crc: client_crc,
             },
         ) => {
-            if names_other(ri, rs) {
-                o.violate(AbortCode::GeneralParameterIncompatibility, Side::Client);
-                return None;
-            }
-            let crc = crc && client_crc;
-            o.transfer.kind = Some(TransferKind::Block { crc });
+            let crc = o.block_answer((ri, rs), crc && client_crc)?;
             o.transfer.indicated = size;
             let size = size.map(|s| usize::try_from(s).unwrap_or(usize::MAX));
             o.phase = Phase::BlockUploadStartDue(Receiver::new(blksize, size, crc).after(bytes));
         }
         (ServerCommand::BlockUpload(ServerBlockUpload::End { unused, crc }), _) if upload => {
-            return end(o, (unused, crc), bytes, Side::Client, pool, out);
+            return end(o, (unused, crc), bytes, Side::Client, out);
         }
         _ => o.violate(AbortCode::InvalidCommandSpecifier, Side::Client),
     }

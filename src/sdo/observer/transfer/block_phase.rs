@@ -69,7 +69,6 @@ pub(super) fn block_segment(
     channel: SdoChannel,
     from: Side,
     bytes: &[u8],
-    pool: &mut [SubBlock],
     out: &mut Sink,
 ) -> Option<(Observed, Option<BreakReason>)> {
     let o = open.as_mut()?;
@@ -90,7 +89,7 @@ pub(super) fn block_segment(
             && (1..=b.rx.block_size()).contains(&segment.seqno)
             && (segment.last || segment.data.len() == 7);
         if from == sender && b.closed && !repeat && !is_abort(bytes) {
-            let held = sub_block::held(pool, channel).copied();
+            let held = sub_block::held(out.pool, channel).copied();
             let blksize = b.rx.block_size();
             // The closed sub-block holds every segment up to its closing one.
             let complete = held.is_some_and(|h| match h.closing() {
@@ -112,7 +111,7 @@ pub(super) fn block_segment(
                         .is_some_and(|(data, last)| (data, last) != (segment.data, segment.last))
                 });
             if segment_of_a_sub_block && next_sub_block {
-                if let Some(End::Broken(reason)) = went_on(o, pool, out) {
+                if let Some(End::Broken(reason)) = went_on(o, out) {
                     end = Some(reason);
                 }
             }
@@ -139,7 +138,7 @@ pub(super) fn block_segment(
             } else if !segment.last && segment.data.len() < 7 {
                 // Without c and shorter than 8 bytes: its data is not all
                 // there; the receiver ignores it.
-            } else if let Some(buffer) = sub_block::lend(pool, channel) {
+            } else if let Some(buffer) = sub_block::lend(out.pool, channel) {
                 buffer.hold(Seen {
                     seqno: segment.seqno,
                     last: segment.last,
@@ -151,7 +150,7 @@ pub(super) fn block_segment(
                 b.closed |= segment.last || segment.seqno == blksize;
             } else {
                 end = Some(BreakReason::NoSubBlockBuffer {
-                    buffers: pool.len(),
+                    buffers: out.pool.len(),
                 });
             }
             true
@@ -184,7 +183,6 @@ pub(super) fn ack(
     (ackseq, blksize): (u8, u8),
     bytes: &[u8],
     from: Side,
-    pool: &mut [SubBlock],
     out: &mut Sink,
 ) -> Option<End> {
     let Phase::SubBlocks(mut b) = o.phase else {
@@ -211,8 +209,8 @@ pub(super) fn ack(
         return next_block_size(o, b, blksize, from);
     }
     let channel = o.transfer.channel;
-    let held = sub_block::held(pool, channel).copied();
-    sub_block::give_back(pool, channel);
+    let held = sub_block::held(out.pool, channel).copied();
+    sub_block::give_back(out.pool, channel);
     o.pending = (0, 0);
     b.closed = false;
     let segments = held.map_or(0, |h| h.segments());
@@ -249,16 +247,16 @@ pub(super) fn ack(
 /// took again, says (at most to its closing segment), and the receiver's
 /// own acknowledgement of it is owed. Before any acknowledgement there is
 /// nothing the sender can have taken, and the segments stay held.
-fn went_on(o: &mut Open, pool: &mut [SubBlock], out: &mut Sink) -> Option<End> {
+fn went_on(o: &mut Open, out: &mut Sink) -> Option<End> {
     let Phase::SubBlocks(mut b) = o.phase else {
         return None;
     };
     let ackseq = b.last_ack.and_then(|a| a.as_slice().get(1).copied())?;
     let channel = o.transfer.channel;
-    let held = sub_block::held(pool, channel).copied()?;
+    let held = sub_block::held(out.pool, channel).copied()?;
     let n = ackseq.min(held.closing().unwrap_or(ackseq));
     let have = held.contiguous();
-    sub_block::give_back(pool, channel);
+    sub_block::give_back(out.pool, channel);
     o.pending = (0, 0);
     if n > have {
         return Some(End::Broken(BreakReason::AckMismatch {
@@ -329,11 +327,10 @@ pub(super) fn end(
     (unused, crc): (u8, u16),
     bytes: &[u8],
     checker: Side,
-    pool: &mut [SubBlock],
     out: &mut Sink,
 ) -> Option<End> {
     if matches!(o.phase, Phase::SubBlocks(b) if b.closed && !b.rx.is_done()) {
-        if let Some(broken) = went_on(o, pool, out) {
+        if let Some(broken) = went_on(o, out) {
             return Some(broken);
         }
     }
