@@ -247,18 +247,27 @@ fn int_of(entry: Option<&Entry>, node: u8) -> Option<i128> {
     eval_int(entry?.value()?, Some(node)).ok()
 }
 
+/// The data type of a value entry: `Ok(None)` for an entry that is not a
+/// value (a DEFTYPE or DEFSTRUCT definition), or why it has none this
+/// crate encodes.
+pub(super) fn data_type_of(e: &Entry) -> Result<Option<DataType>, UnservedReason> {
+    if matches!(e.object_type, ObjectType::DefType | ObjectType::DefStruct) {
+        return Ok(None);
+    }
+    match (e.data_type, e.object_type) {
+        (Some(DataType::Other(raw)), _) => Err(UnservedReason::UnknownDataType(raw)),
+        (Some(t), _) => Ok(Some(t)),
+        (None, ObjectType::Domain) => Ok(Some(DataType::Domain)),
+        (None, _) => Err(UnservedReason::NoDataType),
+    }
+}
+
 /// What the dictionary holds for one entry: `Ok(None)` for an entry that
 /// is not a value (a DEFTYPE or DEFSTRUCT definition), else its data type
 /// and its bytes for `node`, or why it is left out.
 fn value_of(e: &Entry, node: u8) -> Result<Option<(DataType, Vec<u8>)>, UnservedReason> {
-    if matches!(e.object_type, ObjectType::DefType | ObjectType::DefStruct) {
+    let Some(data_type) = data_type_of(e)? else {
         return Ok(None);
-    }
-    let data_type = match (e.data_type, e.object_type) {
-        (Some(DataType::Other(raw)), _) => return Err(UnservedReason::UnknownDataType(raw)),
-        (Some(t), _) => t,
-        (None, ObjectType::Domain) => DataType::Domain,
-        (None, _) => return Err(UnservedReason::NoDataType),
     };
     let value = encode_value(data_type, e.value().unwrap_or(""), Some(node))
         .map_err(UnservedReason::Value)?;
@@ -268,7 +277,7 @@ fn value_of(e: &Entry, node: u8) -> Result<Option<(DataType, Vec<u8>)>, Unserved
 impl Eds {
     /// Every entry that describes a value, in index and sub-index order: a
     /// VAR's own section at sub-index 0, each sub-object of the others.
-    fn value_entries(&self) -> impl Iterator<Item = (u16, u8, &Entry)> + '_ {
+    pub(super) fn value_entries(&self) -> impl Iterator<Item = (u16, u8, &Entry)> + '_ {
         self.objects.values().flat_map(|o| {
             let own = o.subs.is_empty().then_some((o.index, 0, &o.entry));
             let subs = o.subs.iter().map(move |(&sub, e)| (o.index, sub, e));

@@ -35,6 +35,7 @@ use alloc::collections::BTreeMap;
 use alloc::string::String;
 use alloc::vec::Vec;
 
+mod dcf;
 mod describe;
 mod dictionary;
 mod parse;
@@ -42,6 +43,7 @@ mod types;
 mod value;
 mod write;
 
+pub use dcf::DcfError;
 pub use describe::{Described, DeviceHeader, ObjectDescription, ObjectNames, SubDescription};
 pub use dictionary::{EdsDictionary, PdoDescription, Unserved, UnservedReason, MAX_VARIABLE_LEN};
 pub use parse::{parse, parse_bytes};
@@ -130,8 +132,8 @@ pub struct DeviceInfo {
     pub keys: Keys,
 }
 
-/// `[DeviceCommissioning]` of a DCF, also read under the misspelling
-/// `[DeviceComissioning]` that CiA 306 itself once used.
+/// `[DeviceComissioning]` of a DCF (CiA 306's own spelling, which the
+/// writer keeps), also read as `[DeviceCommissioning]`.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Commissioning {
     /// `NodeID` (decimal or `0x` hex).
@@ -254,7 +256,7 @@ pub struct Eds {
     pub manufacturer: Vec<u16>,
     /// Every object, by index.
     pub objects: BTreeMap<u16, Object>,
-    /// `[DeviceCommissioning]` (DCF).
+    /// `[DeviceComissioning]` (DCF).
     pub commissioning: Option<Commissioning>,
     /// Every section not interpreted above, in file order.
     pub other_sections: Vec<Section>,

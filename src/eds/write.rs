@@ -78,7 +78,9 @@ fn entry(out: &mut String, e: &Entry) {
 /// text in the layout of CiA 306 ("Electronic data sheet specification for
 /// CANopen", section 4 "EDS structure"): file and device information, dummy
 /// usage, comments, the three object lists, each object followed by its
-/// sub-objects, the commissioning section, then every other section.
+/// sub-objects, the commissioning section (spelt `[DeviceComissioning]`,
+/// as CiA 306 writes it and as python-canopen and CANopenNode's tools read
+/// it), then every other section.
 ///
 /// Every key the model keeps is written, so [`parse`](super::parse) reads
 /// the text back to the same model (positions and warnings aside, see
@@ -137,7 +139,7 @@ pub fn write(eds: &Eds) -> String {
         }
     }
     if let Some(c) = &eds.commissioning {
-        section(&mut out, "DeviceCommissioning");
+        section(&mut out, "DeviceComissioning");
         keys(&mut out, &c.keys);
     }
     for s in &eds.other_sections {

@@ -7,10 +7,13 @@
 
 use crate::common;
 
+use std::collections::BTreeMap;
+
 use canopen_codec::eds::{
-    parse, parse_bytes, write, DataType, Eds, ObjectType, Unserved, UnservedReason, WarningKind,
+    encode_value, parse, parse_bytes, write, DataType, Eds, ObjectType, Unserved, UnservedReason,
+    WarningKind,
 };
-use canopen_codec::od::{Access, ObjectDictionary};
+use canopen_codec::od::{Access, Address, ConciseDcf, ObjectDictionary};
 use canopen_codec::pdo::{MappingEntry, PdoDirection};
 use canopen_codec::NodeId;
 
@@ -327,4 +330,82 @@ fn deltaq_charger() {
         p.mapping().unwrap().check(&od).unwrap();
     }
     assert!(od.info(0x6001, 0).unwrap().pdo_mappable);
+}
+
+/// The writable values of `eds` with a non-empty `DefaultValue` that its
+/// dictionary for node 10 serves, in index and sub-index order.
+fn writable_defaults(eds: &Eds) -> Vec<(Address, String)> {
+    let unserved: Vec<(u16, u8)> = eds
+        .unserved(node10())
+        .iter()
+        .map(|u| (u.index, u.sub))
+        .collect();
+    let mut out = Vec::new();
+    for o in eds.objects.values() {
+        let entries: Vec<(u8, &canopen_codec::eds::Entry)> = if o.subs.is_empty() {
+            vec![(0, &o.entry)]
+        } else {
+            o.subs.iter().map(|(s, e)| (*s, e)).collect()
+        };
+        for (sub, e) in entries {
+            let writable = e.access.is_some_and(|a| a.access().is_writable());
+            let default = e.default_value.as_deref().unwrap_or("").trim();
+            if writable && !default.is_empty() && !unserved.contains(&(o.index, sub)) {
+                out.push((Address::new(o.index, sub), default.to_string()));
+            }
+        }
+    }
+    out
+}
+
+/// python-canopen's sample file is a DCF (`NodeID=0x10`, a few
+/// `ParameterValue`s): of those only 1017h is writable, so its concise DCF
+/// (CiA 302-3 section 4) is that one write. Every real file configured
+/// with its own defaults (as a tool writes a DCF: a `ParameterValue` for
+/// each writable value) is written, read back and converted, and its
+/// concise DCF writes exactly those values, each with its default. The
+/// counts are python-canopen's (2.4.1, `import_od` at node 10: writable
+/// variables with a non-empty `default_raw`), less 2020h of `sample.eds`,
+/// whose data type 0040h has no encoding (python-canopen counts 59).
+#[test]
+fn real_files_as_dcfs_convert_to_concise_dcfs() {
+    if let Some(sample) = load("sample.eds") {
+        assert_eq!(
+            sample.to_concise_dcf().unwrap(),
+            [1, 0, 0, 0, 0x17, 0x10, 0, 2, 0, 0, 0, 0, 0]
+        );
+    }
+    for (name, expected) in [
+        ("sample.eds", 58),
+        ("datatypes.eds", 23),
+        ("DS301_profile.eds", 131),
+        ("deltaq-iq3k3-charger.eds", 321),
+    ] {
+        let Some(eds) = load(name) else {
+            continue;
+        };
+        let values = writable_defaults(&eds);
+        let dcf = eds
+            .to_dcf(node10(), values.iter().map(|(a, t)| (*a, t.as_str())))
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let again = parse(&write(&dcf)).unwrap();
+        let bytes = again.to_concise_dcf().unwrap();
+        let concise = ConciseDcf::new_checked(&bytes).unwrap();
+        // The last write of each object is its configured value.
+        let mut written: BTreeMap<Address, &[u8]> = BTreeMap::new();
+        for e in &concise {
+            written.insert(e.addr, e.data);
+        }
+        assert_eq!(written.len(), values.len(), "{name}");
+        assert_eq!(values.len(), expected, "{name}");
+        for (addr, text) in &values {
+            let t = again
+                .entry(addr.index, addr.sub)
+                .unwrap()
+                .data_type
+                .unwrap();
+            let want = encode_value(t, text, Some(10)).unwrap();
+            assert_eq!(written.get(addr).copied(), Some(&want[..]), "{name} {addr}");
+        }
+    }
 }
