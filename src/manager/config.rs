@@ -7,6 +7,7 @@
 use core::time::Duration;
 
 use crate::cob_id::NodeId;
+use crate::od::{Address, ConciseDcf};
 
 bitflags::bitflags! {
     /// Object 1F80h "NMT start-up" (CiA 302-2 "Network management", section
@@ -199,8 +200,9 @@ pub struct NodeConfig<'a> {
     pub assignment: SlaveAssignment,
     /// Its 1F84h-1F88h sub-indexes.
     pub expected: ExpectedIdentity,
-    /// Its configuration: a concise DCF (may be empty: nothing written).
-    pub configuration: &'a [u8],
+    /// Its configuration, written entry by entry in order (`None`:
+    /// nothing written).
+    pub configuration: Option<ConciseDcf<'a>>,
     /// The heartbeat producer time (1017h) the slave has once configured:
     /// the manager consumes its heartbeat. `None`: no heartbeat (node
     /// guarding with the 1F81h guard time, if non-zero).
@@ -222,11 +224,44 @@ impl<'a> NodeConfig<'a> {
                 revision: 0,
                 serial: 0,
             },
-            configuration: &[],
+            configuration: None,
             heartbeat: None,
         }
     }
+
+    /// The same slave configured by `dcf`; when `dcf` writes a non-zero
+    /// producer heartbeat time (1017h, CiA 301 section 7.5.2.21: UNSIGNED16
+    /// ms), that is the heartbeat the manager consumes.
+    ///
+    /// ```
+    /// use canopen_codec::manager::NodeConfig;
+    /// use canopen_codec::od::ConciseDcf;
+    /// use canopen_codec::NodeId;
+    /// use core::time::Duration;
+    ///
+    /// // One entry: 1017h:00 = 500 ms.
+    /// let bytes = [1, 0, 0, 0, 0x17, 0x10, 0, 2, 0, 0, 0, 0xF4, 0x01];
+    /// let dcf = ConciseDcf::new_checked(&bytes).unwrap();
+    /// let node = NodeConfig::new(NodeId::new(5).unwrap()).with_configuration(dcf);
+    /// assert_eq!(node.heartbeat, Some(Duration::from_millis(500)));
+    /// ```
+    #[must_use]
+    pub fn with_configuration(mut self, dcf: ConciseDcf<'a>) -> Self {
+        let producer = dcf
+            .iter()
+            .filter(|e| e.addr == Address::index(PRODUCER_HEARTBEAT_TIME))
+            .find_map(|e| <[u8; 2]>::try_from(e.data).ok())
+            .map(u16::from_le_bytes);
+        if let Some(ms) = producer.filter(|ms| *ms != 0) {
+            self.heartbeat = Some(Duration::from_millis(u64::from(ms)));
+        }
+        self.configuration = Some(dcf);
+        self
+    }
 }
+
+/// Object 1017h "producer heartbeat time" (CiA 301 section 7.5.2.21).
+const PRODUCER_HEARTBEAT_TIME: u16 = 0x1017;
 
 /// The manager's times and start-up word.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -5,13 +5,14 @@
 //! frames it sends.
 
 use super::config::{ManagerConfig, NmtStartup, NodeConfig};
-use super::error::{BootError, BootEvent, IdentityCheck};
+use super::error::{BootError, BootEvent, ConfigurationFailure, IdentityCheck};
 use crate::abort::AbortCode;
 use crate::clock::{earliest, micros_of, timer_kind, Timers, Timestamp};
 use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::nmt::guarding::{GuardingMaster, MasterGuardingEvent};
 use crate::nmt::{error_control_id, Heartbeat, NmtCommand, NmtCommandSpecifier, NmtTarget};
+use crate::od::ConciseEntries;
 use crate::queue::{EventQueue, FrameQueue};
 use crate::sdo::{AbortOrigin, Client, ClientConfig, ClientEvent, EVENTS_PER_CALL};
 use crate::wire::Codec;
@@ -33,6 +34,8 @@ pub enum BootPhase {
     DeviceType,
     /// Reading 1018h at this sub-index.
     Identity(u8),
+    /// Writing this entry (0-based) of its concise DCF.
+    Configuration(u32),
     /// Starting error control: the first heartbeat or guarding reply is
     /// awaited.
     ErrorControl,
@@ -71,6 +74,8 @@ pub(crate) struct BootSlave<'a> {
     value: [u8; 4],
     /// 1000h as read.
     device_type: u32,
+    /// The entries of its concise DCF still to write.
+    entries: Option<ConciseEntries<'a>>,
     /// Its first boot process has ended (booted or failed).
     settled: bool,
     /// Error control reported it lost.
@@ -101,6 +106,7 @@ impl<'a> BootSlave<'a> {
             tries: 0,
             value: [0; 4],
             device_type: 0,
+            entries: None,
             settled: false,
             lost: false,
             timers: Timers::new(),
@@ -245,9 +251,44 @@ impl<'a> BootSlave<'a> {
                     node: self.config.node,
                     device_type: self.device_type,
                 });
-                self.start_error_control(now, events);
+                self.entries = self.config.configuration.map(|dcf| dcf.iter());
+                self.write_next(now, 0, events);
             }
         }
+    }
+
+    /// Writes entry `n` of the concise DCF, or, when all are written,
+    /// starts error control (CiA 302-2 section 4.4: the configuration
+    /// download comes after the identity check and before error control).
+    fn write_next<const E: usize>(
+        &mut self,
+        now: Timestamp,
+        n: u32,
+        events: &mut EventQueue<BootEvent, E>,
+    ) {
+        let Some(entry) = self.entries.as_mut().and_then(Iterator::next) else {
+            if self.config.configuration.is_some() {
+                events.push(BootEvent::ConfigurationWritten {
+                    node: self.config.node,
+                    entries: n,
+                });
+            }
+            return self.start_error_control(now, events);
+        };
+        self.phase = BootPhase::Configuration(n);
+        let (index, sub) = (entry.addr.index, entry.addr.sub);
+        if let Err(error) = self.client.start_download(now, index, sub, entry.data) {
+            let failure = ConfigurationFailure::Refused(error);
+            return self.fail(
+                BootError::Configuration {
+                    index,
+                    sub,
+                    failure,
+                },
+                events,
+            );
+        }
+        self.pump();
     }
 
     fn step_failed<const E: usize>(
@@ -371,9 +412,28 @@ impl<'a> BootSlave<'a> {
                     }
                 }
                 ClientEvent::Uploaded { .. } => self.uploaded(now, events),
-                ClientEvent::Downloaded { .. } => {}
-                ClientEvent::Aborted { code, origin, .. } => {
-                    self.step_failed(now, code, origin, events);
+                ClientEvent::Downloaded { .. } => {
+                    if let BootPhase::Configuration(n) = self.phase {
+                        self.write_next(now, n.saturating_add(1), events);
+                    }
+                }
+                ClientEvent::Aborted {
+                    index,
+                    sub,
+                    code,
+                    origin,
+                } => {
+                    if let BootPhase::Configuration(_) = self.phase {
+                        let failure = ConfigurationFailure::Aborted { code, origin };
+                        let error = BootError::Configuration {
+                            index,
+                            sub,
+                            failure,
+                        };
+                        self.fail(error, events);
+                    } else {
+                        self.step_failed(now, code, origin, events);
+                    }
                 }
             }
             self.pump();

@@ -3,6 +3,8 @@
 use super::*;
 use crate::abort::AbortCode;
 use crate::machine::{drive_timers, Machine};
+use crate::od::{Address, ConciseDcf, ConciseEntry};
+use crate::sdo::AbortOrigin;
 use crate::{CanFrame, NodeId, Timestamp};
 use core::time::Duration;
 use std::string::{String, ToString};
@@ -393,4 +395,85 @@ fn hostile_answers_never_panic_and_only_the_managers_frames_go_out() {
         let _ = events(&mut m);
     }
     assert_eq!(m.frames_dropped(), 0);
+}
+
+/// 1017h = 100 ms, then 1800h:05 = 0x01F4 (two entries), leaked for the
+/// manager's `'static` borrow.
+fn two_entries() -> ConciseDcf<'static> {
+    let entries = [
+        ConciseEntry::new(Address::index(0x1017), &[100, 0]),
+        ConciseEntry::new(Address::new(0x1800, 5), &[0xF4, 0x01]),
+    ];
+    let buf: &'static mut [u8] = std::vec![0u8; 32].leak();
+    let len = ConciseDcf::encode(entries, buf).unwrap();
+    ConciseDcf::new_checked(buf.get(..len).unwrap()).unwrap()
+}
+
+#[test]
+fn the_configuration_is_written_in_order_then_error_control_starts() {
+    let n = node5().with_configuration(two_entries());
+    assert_eq!(n.heartbeat, Some(Duration::from_millis(100)));
+    let mut m = started(NmtStartup::MASTER, &[n]);
+    m.handle_frame(t(1), &beat(5, 0));
+    m.handle_frame(t(2), &value(5, 0x1000, 0, 0x191));
+    m.handle_frame(t(3), &value(5, 0x1018, 1, 0x2A));
+    assert_eq!(m.phase(id(5)), Some(BootPhase::Configuration(0)));
+    let ack = |index: u16, sub| {
+        let [lo, hi] = index.to_le_bytes();
+        CanFrame::standard(0x585, &[0x60, lo, hi, sub, 0, 0, 0, 0]).unwrap()
+    };
+    m.handle_frame(t(4), &ack(0x1017, 0));
+    m.handle_frame(t(5), &ack(0x1800, 5));
+    assert_eq!(
+        sent(&mut m)[2..],
+        ["605#2B17100064000000", "605#2B001805F4010000"]
+    );
+    let node = id(5);
+    assert_eq!(
+        events(&mut m)[2..],
+        [BootEvent::ConfigurationWritten { node, entries: 2 }]
+    );
+    assert_eq!(m.phase(node), Some(BootPhase::ErrorControl));
+    m.handle_frame(t(6), &beat(5, 0x7F));
+    assert_eq!(m.phase(node), Some(BootPhase::Operational));
+}
+
+#[test]
+fn an_aborted_or_unanswered_write_is_j_with_its_object_and_code() {
+    for (answer, code, origin) in [
+        (
+            Some(0x0609_0030),
+            AbortCode::InvalidValue,
+            AbortOrigin::Peer,
+        ),
+        (None, AbortCode::SdoProtocolTimedOut, AbortOrigin::Local),
+    ] {
+        let n = node5().with_configuration(two_entries());
+        let mut m = started(NmtStartup::MASTER, &[n]);
+        m.handle_frame(t(1), &beat(5, 0));
+        m.handle_frame(t(2), &value(5, 0x1000, 0, 0x191));
+        m.handle_frame(t(3), &value(5, 0x1018, 1, 0x2A));
+        m.handle_frame(
+            t(4),
+            &CanFrame::standard(0x585, &[0x60, 0x17, 0x10, 0, 0, 0, 0, 0]).unwrap(),
+        );
+        match answer {
+            Some(c) => m.handle_frame(t(5), &abort(5, 0x1800, 5, c)),
+            None => m.handle_timeout(t(504)),
+        }
+        let failure = ConfigurationFailure::Aborted { code, origin };
+        let error = BootError::Configuration {
+            index: 0x1800,
+            sub: 5,
+            failure,
+        };
+        let got = events(&mut m);
+        assert!(
+            got.contains(&BootEvent::Error { node: id(5), error }),
+            "{got:?}"
+        );
+        assert_eq!(error.letter(), 'J');
+        // Not started: only the manager's own abort frame, if any, follows.
+        assert!(!sent(&mut m).iter().any(|f| f.starts_with("000#01")));
+    }
 }

@@ -9,6 +9,8 @@ mod common;
 
 #[cfg(feature = "sim")]
 mod battery_module;
+#[cfg(feature = "sim")]
+mod boot_manager;
 #[cfg(feature = "heartbeat-consumer")]
 mod charger_nmt;
 #[cfg(feature = "heartbeat-consumer")]
