@@ -148,18 +148,31 @@ pub enum CobKind {
 /// The type of a COB-ID object's Unsigned32 whose identifier a device
 /// produces or consumes on (CiA 301 section 7.5.2: 1005h COB-ID SYNC,
 /// 1012h COB-ID TIME): bit 29 the frame format, bits 28-0 the identifier
-/// ([`can_id_of_cob_word`]), bits 31-30 the object's own flags (its
-/// module names them), every bit kept as written. The type's `DEFAULT`
-/// (CiA 301's default value) is the [`Default`].
+/// ([`can_id_of_cob_word`]), and the object's own flags in bits 31-30,
+/// one row each (the constant, its bit, the getter, the setter, what it
+/// says); every bit is kept as written. `DEFAULT` is CiA 301's default
+/// value and the [`Default`].
 macro_rules! cob_id_word {
-    ($(#[$meta:meta])* $name:ident, $object:literal) => {
+    (
+        $(#[$meta:meta])*
+        $name:ident, $object:literal,
+        $(#[$default_meta:meta])*
+        DEFAULT = $default:expr,
+        flags: [$(($flag:ident, $bit:literal, $get:ident, $set:ident, $what:literal)),* $(,)?] $(,)?
+    ) => {
         $(#[$meta])*
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
         pub struct $name(u32);
 
         impl $name {
+            $(
+                #[doc = concat!("Bit ", $bit, ": ", $what, ".")]
+                pub const $flag: u32 = 1 << $bit;
+            )*
             /// Bit 29: 29-bit identifier.
             pub const EXTENDED: u32 = 0x2000_0000;
+            $(#[$default_meta])*
+            pub const DEFAULT: $name = $name($default as u32);
 
             #[doc = concat!("From the Unsigned32 of ", $object, ".")]
             #[must_use]
@@ -179,10 +192,19 @@ macro_rules! cob_id_word {
                 $crate::cob_id::can_id_of_cob_word(self.0)
             }
 
-            /// The same with the flag `bit` set (`on`) or cleared.
-            const fn with_bit(self, bit: u32, on: bool) -> Self {
-                $name(if on { self.0 | bit } else { self.0 & !bit })
-            }
+            $(
+                #[doc = concat!("True when ", $what, " (bit ", $bit, ").")]
+                #[must_use]
+                pub const fn $get(self) -> bool {
+                    self.0 & Self::$flag != 0
+                }
+
+                #[doc = concat!("The same with bit ", $bit, " (", $what, ") set or cleared.")]
+                #[must_use]
+                pub const fn $set(self, on: bool) -> Self {
+                    $name(if on { self.0 | Self::$flag } else { self.0 & !Self::$flag })
+                }
+            )*
         }
 
         impl Default for $name {

@@ -50,26 +50,10 @@ cob_id_word! {
     /// assert_eq!(SyncCobId::DEFAULT.raw(), 0x80);
     /// assert_eq!(SyncCobId::DEFAULT.with_generate(true).raw(), 0x4000_0080);
     /// ```
-    SyncCobId, "1005h"
-}
-
-impl SyncCobId {
-    /// Bit 30: the device generates SYNC.
-    pub const GENERATE: u32 = 0x4000_0000;
+    SyncCobId, "1005h",
     /// 080h, consumer only (the CiA 301 default).
-    pub const DEFAULT: SyncCobId = SyncCobId(SYNC as u32);
-
-    /// True when the device produces SYNC.
-    #[must_use]
-    pub const fn generates(self) -> bool {
-        self.0 & Self::GENERATE != 0
-    }
-
-    /// The same with the generate bit set or cleared.
-    #[must_use]
-    pub const fn with_generate(self, generate: bool) -> Self {
-        self.with_bit(Self::GENERATE, generate)
-    }
+    DEFAULT = SYNC,
+    flags: [(GENERATE, 30, generates, with_generate, "the device generates SYNC")],
 }
 
 /// Sends SYNC every communication cycle period, with the counter of 1019h.

@@ -29,40 +29,13 @@ cob_id_word! {
     /// assert_eq!(c.id(), Some(CanId::Standard(0x100)));
     /// assert_eq!(TimeCobId::DEFAULT.with_produce(true).raw(), 0x4000_0100);
     /// ```
-    TimeCobId, "1012h"
-}
-
-impl TimeCobId {
-    /// Bit 31: the device consumes TIME.
-    pub const CONSUME: u32 = 0x8000_0000;
-    /// Bit 30: the device produces TIME.
-    pub const PRODUCE: u32 = 0x4000_0000;
+    TimeCobId, "1012h",
     /// 100h, neither consumer nor producer.
-    pub const DEFAULT: TimeCobId = TimeCobId(TIME as u32);
-
-    /// True when the device consumes TIME.
-    #[must_use]
-    pub const fn consumes(self) -> bool {
-        self.0 & Self::CONSUME != 0
-    }
-
-    /// True when the device produces TIME.
-    #[must_use]
-    pub const fn produces(self) -> bool {
-        self.0 & Self::PRODUCE != 0
-    }
-
-    /// The same with the consume bit set or cleared.
-    #[must_use]
-    pub const fn with_consume(self, on: bool) -> Self {
-        self.with_bit(Self::CONSUME, on)
-    }
-
-    /// The same with the produce bit set or cleared.
-    #[must_use]
-    pub const fn with_produce(self, on: bool) -> Self {
-        self.with_bit(Self::PRODUCE, on)
-    }
+    DEFAULT = TIME,
+    flags: [
+        (CONSUME, 31, consumes, with_consume, "the device consumes TIME"),
+        (PRODUCE, 30, produces, with_produce, "the device produces TIME"),
+    ],
 }
 
 /// Sends TIME on command while 1012h has the produce bit.
