@@ -73,6 +73,29 @@ pub fn display(out: &mut String, value: &impl std::fmt::Display) {
     out.push('"');
 }
 
+/// Appends the value of a PDO field as the machine outputs give it (this
+/// JSON's `value`, the signals' cell): a number (scaled, out of range,
+/// narrowed) in its exact decimal form, which is a valid JSON number;
+/// words (a bit field, a formatted value, characters) through `words`.
+/// False, nothing appended, for the rest (markers, padding, a missing or
+/// unread field): the JSON writes `null` there.
+pub fn field_value(
+    out: &mut String,
+    value: &FieldValue,
+    words: fn(&mut String, &FieldValue),
+) -> bool {
+    match value {
+        FieldValue::Scaled { value, .. }
+        | FieldValue::OutOfRange { value, .. }
+        | FieldValue::Narrowed { value, .. } => {
+            let _ = write!(out, "{value}");
+        }
+        FieldValue::Flags(_) | FieldValue::Formatted(_) | FieldValue::Chars(_) => words(out, value),
+        _ => return false,
+    }
+    true
+}
+
 /// Appends `bytes` as a JSON string of lower-case hex digits.
 pub fn hex_string(out: &mut String, bytes: &[u8]) {
     const DIGITS: &[u8; 16] = b"0123456789abcdef";
@@ -217,17 +240,8 @@ fn pdo_fields(out: &mut String, source: Source, fields: &NamedFields) {
         key(out, "kind");
         string(out, f.value.kind());
         key(out, "value");
-        match &f.value {
-            // The exact decimal form is a valid JSON number.
-            FieldValue::Scaled { value, .. }
-            | FieldValue::OutOfRange { value, .. }
-            | FieldValue::Narrowed { value, .. } => {
-                let _ = write!(out, "{value}");
-            }
-            v @ (FieldValue::Flags(_) | FieldValue::Formatted(_) | FieldValue::Chars(_)) => {
-                display(out, &v)
-            }
-            _ => out.push_str("null"),
+        if !field_value(out, &f.value, display) {
+            out.push_str("null");
         }
         if let Some(unit) = f.value.unit() {
             key(out, "unit");

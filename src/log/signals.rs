@@ -93,19 +93,12 @@ pub fn describe(catalogue: Catalogue, entry: MappingEntry) -> Option<Signal> {
 /// Appends the cell of `field`: the JSON output's `value` (the raw integer
 /// for an object the dictionary does not name), empty where that is null.
 pub fn cell(out: &mut String, field: &NamedField) {
-    match &field.value {
-        FieldValue::Scaled { value, .. }
-        | FieldValue::OutOfRange { value, .. }
-        | FieldValue::Narrowed { value, .. } => {
-            let _ = write!(out, "{value}");
-        }
-        v @ (FieldValue::Flags(_) | FieldValue::Formatted(_) | FieldValue::Chars(_)) => {
-            let _ = write!(out, "{v}");
-        }
-        FieldValue::Raw | FieldValue::WrongWidth { .. } => {
-            let _ = write!(out, "{}", field.raw);
-        }
-        _ => {}
+    let words = |out: &mut String, v: &FieldValue| {
+        let _ = write!(out, "{v}");
+    };
+    let unnamed = matches!(field.value, FieldValue::Raw | FieldValue::WrongWidth { .. });
+    if !crate::log::json::field_value(out, &field.value, words) && unnamed {
+        let _ = write!(out, "{}", field.raw);
     }
 }
 

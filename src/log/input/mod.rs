@@ -391,20 +391,15 @@ fn read_lines<F: FnMut(Item<'_>) -> io::Result<()>>(
         for piece in block {
             lineno += 1;
             let at = At::Line(lineno);
-            let line = match piece {
-                lines::Piece::Line(line) => line,
-                lines::Piece::NotUtf8 => {
-                    each.give(Item::Bad {
-                        at,
-                        why: Bad::NotUtf8,
-                    })?;
-                    continue;
-                }
-                lines::Piece::TooLong => {
-                    each.give(Item::Bad {
-                        at,
-                        why: Bad::TooLong,
-                    })?;
+            let why = match piece {
+                lines::Piece::Line(line) => Ok(line),
+                lines::Piece::NotUtf8 => Err(Bad::NotUtf8),
+                lines::Piece::TooLong => Err(Bad::TooLong),
+            };
+            let line = match why {
+                Ok(line) => line,
+                Err(why) => {
+                    each.give(Item::Bad { at, why })?;
                     continue;
                 }
             };
