@@ -222,6 +222,25 @@ impl<K: TimerKind, const N: usize> Timers<K, N> {
         expire_slot(&mut self.deadlines, timer.index(), now)
     }
 
+    /// The step of a periodic producer (the heartbeat producer, CiA 301
+    /// section 7.2.8.3.2.2; the SYNC producer, section 7.2.5): true when
+    /// `timer` is armed and `now` has reached its deadline, and the timer
+    /// then re-armed for the next one ([`Timestamp::next_period`]: one
+    /// `period_us` after the deadline just due, so a late call does not
+    /// make the period drift, or one period from `now` when the call is
+    /// more than a period late). False, nothing changed, otherwise.
+    #[inline]
+    pub(crate) fn periodic(&mut self, timer: K, now: Timestamp, period_us: u64) -> bool {
+        let Some(due) = self.get(timer) else {
+            return false;
+        };
+        if !now.has_reached(due) {
+            return false;
+        }
+        self.set(timer, due.next_period(now, period_us));
+        true
+    }
+
     /// Stops every timer.
     pub fn clear(&mut self) {
         self.deadlines = [MaybeTimestamp::NONE; N];

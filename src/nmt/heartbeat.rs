@@ -178,17 +178,10 @@ impl Machine for HeartbeatProducer {
     /// drift), or one period from `now` when the call is more than a period
     /// late.
     fn handle_timeout(&mut self, now: Timestamp) {
-        let Some(due) = self.timers.get(ProducerTimer::NextHeartbeat) else {
-            return;
-        };
-        if !now.has_reached(due) {
-            return;
+        let next = ProducerTimer::NextHeartbeat;
+        if self.timers.periodic(next, now, self.period_us) {
+            self.send(self.state);
         }
-        self.send(self.state);
-        self.timers.set(
-            ProducerTimer::NextHeartbeat,
-            due.next_period(now, self.period_us),
-        );
     }
 
     fn poll_transmit(&mut self) -> Option<CanFrame> {

@@ -205,17 +205,12 @@ impl Machine for SyncProducer {
     /// Sends the SYNC when due; the next one a period after the one due (no
     /// drift), or a period from `now` when the call is more than that late.
     fn handle_timeout(&mut self, now: Timestamp) {
-        let Some(due) = self.timers.get(ProducerTimer::NextSync) else {
-            return;
-        };
-        if !self.timers.expire(ProducerTimer::NextSync, now) {
-            return;
+        if self
+            .timers
+            .periodic(ProducerTimer::NextSync, now, self.period_us)
+        {
+            self.send_sync(now);
         }
-        self.send_sync(now);
-        self.timers.set(
-            ProducerTimer::NextSync,
-            due.next_period(now, self.period_us),
-        );
     }
 
     /// When the next SYNC is due.
