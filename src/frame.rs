@@ -486,6 +486,14 @@ mod embedded_tests {
     }
 }
 
+/// For the crate's tests: the 11-bit data frame on `id` carrying `data`
+/// (the caller's literals are in range: `id` at most 7FFh, at most 8
+/// bytes).
+#[cfg(test)]
+pub(crate) fn standard_frame(id: u16, data: &[u8]) -> CanFrame {
+    CanFrame::standard(id, data).expect("an 11-bit identifier and at most 8 bytes")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

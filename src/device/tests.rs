@@ -36,9 +36,7 @@ fn ms(n: u64) -> Timestamp {
     Timestamp::from_millis(n)
 }
 
-fn frame(id: u16, data: &[u8]) -> CanFrame {
-    CanFrame::standard(id, data).unwrap()
-}
+use crate::frame::standard_frame as frame;
 
 /// TPDO 0 on 184h and RPDO 0 on 204h, both mapping 2000h (8 bits); node 1
 /// watched for 1000 ms (1016h, feature `heartbeat-consumer`).

@@ -171,9 +171,7 @@ mod tests {
     use super::*;
     use std::string::ToString;
 
-    fn f(id: u16, data: &[u8]) -> CanFrame {
-        CanFrame::standard(id, data).unwrap()
-    }
+    use crate::frame::standard_frame as f;
 
     #[test]
     fn every_deviation_row() {

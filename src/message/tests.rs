@@ -3,9 +3,7 @@ use crate::emcy::ErrorCode;
 use crate::nmt::{NmtCommandSpecifier, NmtState, NmtTarget};
 use crate::sdo::{ClientCommand, ServerCommand};
 
-fn f(id: u16, data: &[u8]) -> CanFrame {
-    CanFrame::standard(id, data).unwrap()
-}
+use crate::frame::standard_frame as f;
 
 /// `check` for every first byte at every length 0..=8 (the other bytes a
 /// fixed filler), with the first byte beside the data.

@@ -139,9 +139,7 @@ pub fn of(read: &Frames, play: &BTreeSet<u8>) -> Result<Recording, String> {
 mod tests {
     use super::*;
 
-    fn f(id: u16, data: &[u8]) -> CanFrame {
-        CanFrame::standard(id, data).unwrap()
-    }
+    use crate::frame::standard_frame as f;
 
     #[test]
     fn sides_follow_the_predefined_connection_set() {
