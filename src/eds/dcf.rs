@@ -33,6 +33,7 @@ use alloc::vec::Vec;
 
 use super::dictionary::data_type_of;
 use super::{encode_value, AccessType, Commissioning, Eds, UnservedReason};
+use crate::od::index::{RPDO_COMMUNICATION, TPDO_COMMUNICATION};
 use crate::od::{Address, ConciseDcf, ConciseDcfError, ConciseEntry};
 use crate::NodeId;
 
@@ -194,13 +195,18 @@ fn set_key(c: &mut Commissioning, key: &str, value: String) {
 
 /// The communication index of the PDO `index` belongs to (its own for a
 /// communication object, 200h below for a mapping object), and whether it
-/// is the mapping.
+/// is the mapping: CiA 301 section 7.5.2.35-7.5.2.38 give each direction
+/// 512 PDOs (1400h-15FFh / 1600h-17FFh receive, 1800h-19FFh / 1A00h-1BFFh
+/// transmit).
 fn pdo_of(index: u16) -> Option<(u16, bool)> {
-    match index {
-        0x1400..=0x15FF | 0x1800..=0x19FF => Some((index, false)),
-        0x1600..=0x17FF | 0x1A00..=0x1BFF => Some((index.wrapping_sub(0x200), true)),
-        _ => None,
-    }
+    const PDOS: u16 = 0x200;
+    [RPDO_COMMUNICATION, TPDO_COMMUNICATION]
+        .into_iter()
+        .find_map(|comm| match index.checked_sub(comm)? {
+            n if n < PDOS => Some((index, false)),
+            n if n < 2 * PDOS => Some((index.wrapping_sub(PDOS), true)),
+            _ => None,
+        })
 }
 
 /// Where a configured value goes in the download order: the object (a

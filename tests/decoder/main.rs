@@ -1,8 +1,8 @@
 //! The log tools: the trace readers through the public API (Vector BLF),
 //! the log analysis library's hand-written JSON (feature `log`),
-//! and the programs `canopen-decode` and `canopen-replay` (feature `cli`, run
-//! from `env!("CARGO_BIN_EXE_...")`) on our logs, on every trace format and
-//! on the real captures.
+//! and the programs `canopen-decode`, `canopen-replay` and `canopen-boot`
+//! (feature `cli`, run from `env!("CARGO_BIN_EXE_...")`) on our logs, on
+//! every trace format and on the real captures.
 
 // BLF files are written by the library's writer (feature `alloc`).
 #[cfg(feature = "alloc")]
@@ -14,6 +14,8 @@ mod decoder_support;
 #[cfg(feature = "cli")]
 mod trace_writers;
 
+#[cfg(feature = "cli")]
+mod boot_cli;
 #[cfg(feature = "cli")]
 mod cli;
 #[cfg(feature = "cli")]

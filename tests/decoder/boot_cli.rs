@@ -1,0 +1,133 @@
+//! The `canopen-boot` program's `concise` subcommand: a hand-written DCF
+//! turned into its concise DCF (CiA 302-3 section 4) checked byte by byte,
+//! `--node-id` for `$NODEID`, and the exit status of each failure.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn boot(args: &[&str]) -> (i32, Vec<u8>, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_canopen-boot"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        o.status.code().unwrap(),
+        o.stdout,
+        String::from_utf8(o.stderr).unwrap(),
+    )
+}
+
+/// A fresh folder for one test's files.
+fn scratch(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("canopen-boot-{test}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Node 3: the heartbeat time (rw, 500), TPDO 1's transmission type (rw,
+/// `$NODEID` in a sum), the device type (ro: never written) and a value
+/// with a default only (not written).
+const DCF: &str = "\
+[DeviceComissioning]
+NodeID=3
+
+[1000]
+ParameterName=Device type
+DataType=0x0007
+AccessType=ro
+ParameterValue=0x00010192
+
+[1017]
+ParameterName=Producer heartbeat time
+DataType=0x0006
+AccessType=rw
+ParameterValue=500
+
+[2000]
+ParameterName=Limit
+DataType=0x0007
+AccessType=rw
+ParameterValue=$NODEID+0x100
+
+[2001]
+ParameterName=Default only
+DataType=0x0005
+AccessType=rw
+DefaultValue=4
+";
+
+fn path(p: &std::path::Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn concise_writes_the_configured_values() {
+    let dir = scratch("concise");
+    let dcf = dir.join("node3.dcf");
+    let out = dir.join("node3.bin");
+    std::fs::write(&dcf, DCF).unwrap();
+    let (code, stdout, stderr) = boot(&["concise", path(&dcf), path(&out)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stdout.is_empty());
+    assert!(stderr.contains("2 entries, 24 bytes"), "{stderr}");
+    #[rustfmt::skip]
+    let expected: &[u8] = &[
+        2, 0, 0, 0,
+        0x17, 0x10, 0, 2, 0, 0, 0, 0xF4, 0x01, // 1017h = 500
+        0x00, 0x20, 0, 4, 0, 0, 0, 0x03, 0x01, 0, 0, // 2000h = 103h
+    ];
+    assert_eq!(std::fs::read(&out).unwrap(), expected);
+
+    // Another node id for $NODEID.
+    let (code, _, stderr) = boot(&["concise", path(&dcf), path(&out), "--node-id", "0x10"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert_eq!(&std::fs::read(&out).unwrap()[20..24], &[0x10, 0x01, 0, 0]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn each_failure_has_its_exit_status() {
+    let dir = scratch("failures");
+    let out = dir.join("out.bin");
+    // A missing DCF: usage error, the path named.
+    let missing = dir.join("missing.dcf");
+    let (code, _, stderr) = boot(&["concise", path(&missing), path(&out)]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("missing.dcf"), "{stderr}");
+    assert!(!out.exists());
+    // A value that does not fit its type: the entry named, status 1.
+    let bad = dir.join("bad.dcf");
+    std::fs::write(
+        &bad,
+        DCF.replace("ParameterValue=500", "ParameterValue=70000"),
+    )
+    .unwrap();
+    let (code, _, stderr) = boot(&["concise", path(&bad), path(&out)]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("1017h sub 0"), "{stderr}");
+    // $NODEID without a NodeID.
+    let anonymous = dir.join("anonymous.dcf");
+    std::fs::write(&anonymous, DCF.replace("NodeID=3\n", "")).unwrap();
+    let (code, _, stderr) = boot(&["concise", path(&anonymous), path(&out)]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("2000h sub 0"), "{stderr}");
+    // Not a device description at all.
+    let text = dir.join("text.dcf");
+    std::fs::write(&text, "[1017\n").unwrap();
+    let (code, _, stderr) = boot(&["concise", path(&text), path(&out)]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("line 1"), "{stderr}");
+    // An output that cannot be written.
+    let good = dir.join("good.dcf");
+    std::fs::write(&good, DCF).unwrap();
+    let nowhere = dir.join("no/such/folder/out.bin");
+    let (code, _, stderr) = boot(&["concise", path(&good), path(&nowhere)]);
+    assert_eq!(code, 2, "{stderr}");
+    // Usage errors: no subcommand, a bad node id.
+    assert_eq!(boot(&[]).0, 2);
+    let (code, _, stderr) = boot(&["concise", path(&good), path(&out), "--node-id", "128"]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("not a node id"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
