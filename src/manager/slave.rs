@@ -135,6 +135,7 @@ impl<'a> BootSlave<'a> {
         reset_sent: bool,
         events: &mut EventQueue<BootEvent, E>,
     ) {
+        self.settled = false;
         if self.config.assignment.keeps_alive() {
             return self.begin(now, events);
         }

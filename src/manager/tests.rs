@@ -477,3 +477,24 @@ fn an_aborted_or_unanswered_write_is_j_with_its_object_and_code() {
         assert!(!sent(&mut m).iter().any(|f| f.starts_with("000#01")));
     }
 }
+
+#[test]
+fn a_second_start_waits_for_every_first_boot_again() {
+    // Start all: the network starts once the node's first boot has ended,
+    // after the first start and after the second alike.
+    let mut m = started(NmtStartup::MASTER | NmtStartup::START_ALL, &[node5()]);
+    assert!(!m.network_started());
+    for at in [0, 10] {
+        if at > 0 {
+            m.start(t(at));
+            assert!(!m.network_started());
+        }
+        m.handle_frame(t(at + 1), &beat(5, 0));
+        m.handle_frame(t(at + 2), &value(5, 0x1000, 0, 0x191));
+        m.handle_frame(t(at + 3), &value(5, 0x1018, 1, 0x2A));
+        assert!(m.network_started());
+        let frames = sent(&mut m);
+        assert!(frames.contains(&"000#0100".to_string()), "{frames:?}");
+        assert!(!frames.contains(&"000#0105".to_string()), "{frames:?}");
+    }
+}
