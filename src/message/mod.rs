@@ -163,24 +163,10 @@ impl Message {
             return Ok(Message::Rpdo { pdo, node, payload });
         }
         match function {
-            // A transfer's segments (nearly every SDO frame) in their own
-            // small functions, the other commands in theirs.
-            Function::SdoTx => {
-                let sdo = SdoFrame::of_frame(frame)?;
-                if SdoResponse::is_segment(&sdo) {
-                    Self::sdo_response_segment(node, sdo)
-                } else {
-                    Self::decode_sdo_response(node, sdo)
-                }
-            }
-            Function::SdoRx => {
-                let sdo = SdoFrame::of_frame(frame)?;
-                if SdoRequest::is_segment(&sdo) {
-                    Self::sdo_request_segment(node, sdo)
-                } else {
-                    Self::decode_sdo_request(node, sdo)
-                }
-            }
+            // Out of line and handed the frame itself (a tail call: this
+            // function keeps no stack frame for them).
+            Function::SdoTx => Self::decode_sdo_response_frame(frame, node),
+            Function::SdoRx => Self::decode_sdo_request_frame(frame, node),
             Function::SyncOrEmcy => Ok(Message::Emcy {
                 node,
                 emcy: Emergency::parse_frame(frame)?,
@@ -232,22 +218,32 @@ impl Message {
         })
     }
 
-    /// 580h + node: one of a transfer's segments.
+    /// 580h + node: an SDO response; a transfer's segments (nearly every
+    /// SDO frame) are built straight into the result, the other commands
+    /// by [`SdoResponse::from_view`].
     #[inline(never)]
-    fn sdo_response_segment(node: NodeId, sdo: SdoFrame) -> Result<Message, DecodeError> {
-        Ok(Message::SdoResponse {
-            node,
-            sdo: SdoResponse::segment(sdo),
-        })
+    fn decode_sdo_response_frame(frame: &CanFrame, node: NodeId) -> Result<Message, DecodeError> {
+        let sdo = SdoFrame::of_frame(frame)?;
+        if SdoResponse::is_segment(&sdo) {
+            return Ok(Message::SdoResponse {
+                node,
+                sdo: SdoResponse::segment(sdo),
+            });
+        }
+        Self::decode_sdo_response(node, sdo)
     }
 
-    /// 600h + node: one of a transfer's segments.
+    /// 600h + node: an SDO request, as [`Self::decode_sdo_response_frame`].
     #[inline(never)]
-    fn sdo_request_segment(node: NodeId, sdo: SdoFrame) -> Result<Message, DecodeError> {
-        Ok(Message::SdoRequest {
-            node,
-            sdo: SdoRequest::segment(sdo),
-        })
+    fn decode_sdo_request_frame(frame: &CanFrame, node: NodeId) -> Result<Message, DecodeError> {
+        let sdo = SdoFrame::of_frame(frame)?;
+        if SdoRequest::is_segment(&sdo) {
+            return Ok(Message::SdoRequest {
+                node,
+                sdo: SdoRequest::segment(sdo),
+            });
+        }
+        Self::decode_sdo_request(node, sdo)
     }
 
     /// 600h + node: an SDO request.

@@ -252,11 +252,20 @@ impl HeartbeatFrame {
         let [byte, ..] = frame.padded_data();
         match frame.dlc() {
             1 => Ok(HeartbeatFrame { byte }),
-            0 => Err(DecodeError::Truncated { need: 1, got: 0 }),
-            got => Err(DecodeError::TooLong {
+            got => Err(Self::length_error(got)),
+        }
+    }
+
+    /// The error of a frame that is not 1 byte long (out of line: one
+    /// compare on the decode path).
+    #[cold]
+    fn length_error(got: u8) -> DecodeError {
+        match got {
+            0 => DecodeError::Truncated { need: 1, got: 0 },
+            got => DecodeError::TooLong {
                 max: 1,
                 got: usize::from(got),
-            }),
+            },
         }
     }
 
