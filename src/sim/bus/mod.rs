@@ -516,16 +516,7 @@ impl Bus {
         end: Timestamp,
         observe: &mut dyn FnMut(&Delivery, &Bus),
     ) -> Result<(), Livelock> {
-        for _ in 0..RUN_UNTIL_MAX_STEPS {
-            if !self.step_until(Some(end), Some(&mut *observe)) {
-                self.advance(end);
-                return Ok(());
-            }
-        }
-        Err(Livelock {
-            steps: RUN_UNTIL_MAX_STEPS,
-            now: self.now,
-        })
+        self.run_until_with(end, Some(observe))
     }
 
     /// Runs every delivery and timer up to and including `end`; the clock
@@ -536,8 +527,19 @@ impl Bus {
     /// [`Livelock`] after [`RUN_UNTIL_MAX_STEPS`] steps (the clock stays
     /// where the last step left it).
     pub fn run_until(&mut self, end: Timestamp) -> Result<(), Livelock> {
+        self.run_until_with(end, None)
+    }
+
+    /// [`run_until`](Self::run_until), each delivery shown to `observe`
+    /// when there is one.
+    fn run_until_with(
+        &mut self,
+        end: Timestamp,
+        mut observe: Option<Observer<'_>>,
+    ) -> Result<(), Livelock> {
         for _ in 0..RUN_UNTIL_MAX_STEPS {
-            if !self.step_until(Some(end), None) {
+            let again = observe.as_mut().map(|o| &mut **o as Observer<'_>);
+            if !self.step_until(Some(end), again) {
                 self.advance(end);
                 return Ok(());
             }
