@@ -418,30 +418,15 @@ fn u32_at(rest: &[u8; 7]) -> u32 {
 }
 
 impl LssRequest {
-    /// The request a checked 7E5h frame carries (every frame is one: see
-    /// the [module docs](crate::lss)).
-    ///
-    /// ```
-    /// use canopen_codec::lss::{LssField, LssRequest};
-    /// use canopen_codec::wire::Codec;
-    /// let r = LssRequest::parse(&[0x40, 0x9A, 0x02, 0, 0, 0, 0, 0]).unwrap();
-    /// assert_eq!(r, LssRequest::SwitchStateSelective(LssField::Vendor, 0x29A));
-    /// let mut buf = [0; 8];
-    /// assert_eq!(r.emit(&mut buf), 8);
-    /// assert_eq!(buf, [0x40, 0x9A, 0x02, 0, 0, 0, 0, 0]);
-    /// ```
-    #[must_use]
-    pub fn from_view(frame: &LssFrame) -> Self {
-        let raw = frame.payload;
-        let Some((cs, rest)) = frame.service() else {
-            return Self::Other(raw);
-        };
+    /// The request command specifier `cs` and the service data `rest`
+    /// describe; `None` for a combination no service has.
+    fn from_service(cs: u8, rest: [u8; 7]) -> Option<Self> {
         let [b1, b2, _, _, b5, b6, b7] = rest;
-        match cs {
+        Some(match cs {
             0x04 if zero_from(&rest, 1) => Self::SwitchStateGlobal(b1.into()),
-            0x40..=0x43 if zero_from(&rest, 4) => LssField::from_index(cs - 0x40)
-                .map(|f| Self::SwitchStateSelective(f, u32_at(&rest)))
-                .unwrap_or(Self::Other(raw)),
+            0x40..=0x43 if zero_from(&rest, 4) => {
+                Self::SwitchStateSelective(LssField::from_index(cs - 0x40)?, u32_at(&rest))
+            }
             0x11 if zero_from(&rest, 1) => Self::ConfigureNodeId(b1),
             0x13 if zero_from(&rest, 2) => Self::ConfigureBitTiming {
                 table: b1,
@@ -451,15 +436,14 @@ impl LssRequest {
                 delay_ms: u16::from_le_bytes([b1, b2]),
             },
             0x17 if zero_from(&rest, 0) => Self::StoreConfiguration,
-            0x5A..=0x5D if zero_from(&rest, 0) => LssField::from_index(cs - 0x5A)
-                .map(|f| Self::Inquire(LssInquiry::Address(f)))
-                .unwrap_or(Self::Other(raw)),
+            0x5A..=0x5D if zero_from(&rest, 0) => {
+                Self::Inquire(LssInquiry::Address(LssField::from_index(cs - 0x5A)?))
+            }
             0x5E if zero_from(&rest, 0) => Self::Inquire(LssInquiry::NodeId),
-            0x46..=0x4B if zero_from(&rest, 4) => IdentifyPart::ALL
-                .into_iter()
-                .find(|p| p.cs() == cs)
-                .map(|p| Self::IdentifyRemoteSlave(p, u32_at(&rest)))
-                .unwrap_or(Self::Other(raw)),
+            0x46..=0x4B if zero_from(&rest, 4) => {
+                let part = IdentifyPart::ALL.into_iter().find(|p| p.cs() == cs)?;
+                Self::IdentifyRemoteSlave(part, u32_at(&rest))
+            }
             0x4C if zero_from(&rest, 0) => Self::IdentifyNonConfigured,
             0x51 => Self::Fastscan(Fastscan {
                 id_number: u32_at(&rest),
@@ -467,8 +451,8 @@ impl LssRequest {
                 sub: b6,
                 next: b7,
             }),
-            _ => Self::Other(raw),
-        }
+            _ => return None,
+        })
     }
 
     /// Writes the frame into `buf`, returning the length (8, or the kept
@@ -519,8 +503,17 @@ impl LssRequest {
 /// The frame methods of an LSS message type: the message a frame on its
 /// identifier carries, and the frame that carries a message.
 macro_rules! lss_frames {
-    ($ty:ident, $id:ident, $name:literal) => {
+    ($(#[$from_view:meta])* $ty:ident, $id:ident, $name:literal) => {
         impl $ty {
+            #[doc = concat!("The ", $name, " a checked frame carries: every frame is one, a")]
+            #[doc = "payload no service describes (or not 8 bytes long) is `Other`."]
+            $(#[$from_view])*
+            #[must_use]
+            pub fn from_view(frame: &LssFrame) -> Self {
+                let known = frame.service().and_then(|(cs, rest)| Self::from_service(cs, rest));
+                known.unwrap_or(Self::Other(frame.payload))
+            }
+
             #[doc = concat!("The ", $name, " a frame carries: a data frame on ")]
             #[doc = concat!("its identifier whose payload decodes; `None` for any other frame.")]
             #[must_use]
@@ -558,49 +551,55 @@ macro_rules! lss_frames {
 }
 
 lss_frames!(
+    /// See the [module docs](crate::lss).
+    ///
+    /// ```
+    /// use canopen_codec::lss::{LssField, LssRequest};
+    /// use canopen_codec::wire::Codec;
+    /// let r = LssRequest::parse(&[0x40, 0x9A, 0x02, 0, 0, 0, 0, 0]).unwrap();
+    /// assert_eq!(r, LssRequest::SwitchStateSelective(LssField::Vendor, 0x29A));
+    /// let mut buf = [0; 8];
+    /// assert_eq!(r.emit(&mut buf), 8);
+    /// assert_eq!(buf, [0x40, 0x9A, 0x02, 0, 0, 0, 0, 0]);
+    /// ```
     LssRequest,
     LSS_MASTER_TO_SLAVE,
     "request (7E5h, master to slave)"
 );
 lss_frames!(
-    LssResponse,
-    LSS_SLAVE_TO_MASTER,
-    "response (7E4h, slave to master)"
-);
-
-impl LssResponse {
-    /// The response a checked 7E4h frame carries (every frame is one).
-    ///
     /// ```
     /// use canopen_codec::lss::{LssResponse, LssStatus};
     /// use canopen_codec::wire::Codec;
     /// let r = LssResponse::parse(&[0x11, 0, 0, 0, 0, 0, 0, 0]).unwrap();
     /// assert_eq!(r, LssResponse::ConfigureNodeId(LssStatus::OK));
     /// ```
-    #[must_use]
-    pub fn from_view(frame: &LssFrame) -> Self {
-        let raw = frame.payload;
-        let Some((cs, rest)) = frame.service() else {
-            return Self::Other(raw);
-        };
+    LssResponse,
+    LSS_SLAVE_TO_MASTER,
+    "response (7E4h, slave to master)"
+);
+
+impl LssResponse {
+    /// The response command specifier `cs` and the service data `rest`
+    /// describe; `None` for a combination no service has.
+    fn from_service(cs: u8, rest: [u8; 7]) -> Option<Self> {
         let [b1, b2, ..] = rest;
         let status = LssStatus {
             code: b1.into(),
             specific: b2,
         };
-        match cs {
+        Some(match cs {
             0x44 if zero_from(&rest, 0) => Self::SwitchStateSelective,
             0x11 if zero_from(&rest, 2) => Self::ConfigureNodeId(status),
             0x13 if zero_from(&rest, 2) => Self::ConfigureBitTiming(status),
             0x17 if zero_from(&rest, 2) => Self::StoreConfiguration(status),
-            0x5A..=0x5D if zero_from(&rest, 4) => LssField::from_index(cs - 0x5A)
-                .map(|f| Self::Address(f, u32_at(&rest)))
-                .unwrap_or(Self::Other(raw)),
+            0x5A..=0x5D if zero_from(&rest, 4) => {
+                Self::Address(LssField::from_index(cs - 0x5A)?, u32_at(&rest))
+            }
             0x5E if zero_from(&rest, 1) => Self::NodeId(b1),
             0x4F if zero_from(&rest, 0) => Self::IdentifySlave,
             0x50 if zero_from(&rest, 0) => Self::IdentifyNonConfigured,
-            _ => Self::Other(raw),
-        }
+            _ => return None,
+        })
     }
 
     /// The bytes [`emit`](Codec::emit) writes: 8, or the kept length of
