@@ -1,6 +1,7 @@
-//! The `canopen-boot` program's `concise` subcommand: a hand-written DCF
-//! turned into its concise DCF (CiA 302-3 section 4) checked byte by byte,
-//! `--node-id` for `$NODEID`, and the exit status of each failure.
+//! The `canopen-boot` program: `concise` on a hand-written DCF
+//! (its concise DCF, CiA 302-3 section 4, checked byte by byte),
+//! `--node-id` for `$NODEID`, the exit status of each failure, and `dcf`
+//! configuring an EDS for a node.
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -129,5 +130,74 @@ fn each_failure_has_its_exit_status() {
     let (code, _, stderr) = boot(&["concise", path(&good), path(&out), "--node-id", "128"]);
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("not a node id"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn dcf_configures_an_eds_for_a_node() {
+    let dir = scratch("dcf");
+    let eds = dir.join("device.eds");
+    // The DCF above without its commissioning section and values.
+    let text: String = DCF
+        .lines()
+        .filter(|l| !l.starts_with("ParameterValue") && !l.starts_with("NodeID"))
+        .filter(|l| *l != "[DeviceComissioning]")
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(&eds, text).unwrap();
+    let out = dir.join("node7.dcf");
+    let (code, _, stderr) = boot(&[
+        "dcf",
+        path(&eds),
+        path(&out),
+        "--node-id",
+        "7",
+        "--set",
+        "1017=1000",
+        "--set",
+        "2000h:0h=$NODEID+0x100",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let dcf = canopen_codec::eds::parse(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(dcf.node_id().map(|n| n.raw()), Some(7));
+    let values: Vec<(u16, u8, Vec<u8>)> = dcf
+        .configured_values()
+        .unwrap()
+        .into_iter()
+        .map(|(a, v)| (a.index, a.sub, v))
+        .collect();
+    assert_eq!(
+        values,
+        [
+            (0x1017, 0, vec![0xE8, 0x03]),
+            (0x2000, 0, vec![0x07, 0x01, 0, 0])
+        ]
+    );
+    // A read-only object: refused, nothing written; a malformed --set:
+    // a usage error.
+    let refused = dir.join("refused.dcf");
+    let (code, _, stderr) = boot(&[
+        "dcf",
+        path(&eds),
+        path(&refused),
+        "--node-id",
+        "7",
+        "--set",
+        "1000=1",
+    ]);
+    assert_eq!(code, 1, "{stderr}");
+    assert!(stderr.contains("1000h sub 0: not writable"), "{stderr}");
+    assert!(!refused.exists());
+    let (code, _, stderr) = boot(&[
+        "dcf",
+        path(&eds),
+        path(&refused),
+        "--node-id",
+        "7",
+        "--set",
+        "1017",
+    ]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(stderr.contains("INDEX[:SUB]=VALUE"), "{stderr}");
     let _ = std::fs::remove_dir_all(&dir);
 }
