@@ -45,35 +45,18 @@ use super::{
     BatteryParameters, BatteryStatus, BatteryVoltage, ChargeCurrentRequested, ChargerStatus,
     EqualizationDate, PackedString, PackedStringError, PackedStringObject, StateOfCharge,
     Temperature, WaterLevelStatus, AH_EXPENDED_SINCE_LAST_CHARGE, AH_RETURNED_DURING_LAST_CHARGE,
-    AH_SINCE_LAST_EQUALIZATION, BATTERY_ID, BATTERY_PARAMETERS, BATTERY_SERIAL_NUMBER,
-    BATTERY_STATE_OF_CHARGE, BATTERY_STATUS, BATTERY_VOLTAGE, CHARGER_STATE_OF_CHARGE,
-    CHARGER_STATUS, CHARGE_CURRENT_REQUESTED, CUMULATIVE_TOTAL_AH_CHARGE,
-    DATE_OF_LAST_EQUALIZATION, TEMPERATURE, VEHICLE_ID, VEHICLE_SERIAL_NUMBER, WATER_LEVEL_STATUS,
+    AH_SINCE_LAST_EQUALIZATION, BATTERY_PARAMETERS, BATTERY_SERIAL_NUMBER, BATTERY_STATE_OF_CHARGE,
+    BATTERY_STATUS, BATTERY_VOLTAGE, CHARGER_STATE_OF_CHARGE, CHARGER_STATUS,
+    CHARGE_CURRENT_REQUESTED, CUMULATIVE_TOTAL_AH_CHARGE, DATE_OF_LAST_EQUALIZATION, TEMPERATURE,
+    WATER_LEVEL_STATUS,
 };
 use crate::abort::AbortCode;
 use crate::od::{Access, FixedDictionary, FixedEntry, FixedObjects, ObjectRow};
 
-/// Every index [`BatteryObjects`] serves.
-pub const BATTERY_OBJECT_INDEXES: [u16; 18] = [
-    BATTERY_STATUS,
-    CHARGER_STATUS,
-    TEMPERATURE,
-    BATTERY_PARAMETERS,
-    BATTERY_SERIAL_NUMBER,
-    BATTERY_ID,
-    VEHICLE_SERIAL_NUMBER,
-    VEHICLE_ID,
-    CUMULATIVE_TOTAL_AH_CHARGE,
-    AH_EXPENDED_SINCE_LAST_CHARGE,
-    AH_RETURNED_DURING_LAST_CHARGE,
-    AH_SINCE_LAST_EQUALIZATION,
-    DATE_OF_LAST_EQUALIZATION,
-    BATTERY_VOLTAGE,
-    CHARGE_CURRENT_REQUESTED,
-    CHARGER_STATE_OF_CHARGE,
-    BATTERY_STATE_OF_CHARGE,
-    WATER_LEVEL_STATUS,
-];
+/// Every index [`BatteryObjects`] serves: the objects of
+/// [`CIA418_OBJECTS`], each once, in the table's order.
+pub const BATTERY_OBJECT_INDEXES: [u16; ObjectRow::object_count(CIA418_OBJECTS)] =
+    ObjectRow::object_indexes(CIA418_OBJECTS);
 
 /// A packed-string ARRAY as stored: element count and elements.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -251,86 +234,65 @@ impl BatteryObjects {
         BATTERY_OBJECT_INDEXES.contains(&index)
     }
 
-    /// The entry of single-value object `index` (sub-index 0) holding
-    /// its field's value, its facts from its row; `None` for the others.
+    /// The entry of single-value object `index` (sub-index 0): its
+    /// field's value, with the access, size and PDO mapping its row in
+    /// [`CIA418_OBJECTS`] gives; `None` for the others.
     fn scalar(&self, index: u16) -> Option<FixedEntry> {
-        let (word, entry) = match index {
-            BATTERY_STATUS => (
-                self.battery_status.bits().into(),
-                const { facts(BATTERY_STATUS, 0) },
-            ),
-            CHARGER_STATUS => (
-                self.charger_status.bits().into(),
-                const { facts(CHARGER_STATUS, 0) },
-            ),
-            TEMPERATURE => (
-                u32::from(self.temperature.raw() as u16),
-                const { facts(TEMPERATURE, 0) },
-            ),
-            CUMULATIVE_TOTAL_AH_CHARGE => (
-                self.cumulative_total_ah_charge.raw(),
-                const { facts(CUMULATIVE_TOTAL_AH_CHARGE, 0) },
-            ),
-            AH_EXPENDED_SINCE_LAST_CHARGE => (
-                self.ah_expended_since_last_charge.raw().into(),
-                const { facts(AH_EXPENDED_SINCE_LAST_CHARGE, 0) },
-            ),
-            AH_RETURNED_DURING_LAST_CHARGE => (
-                self.ah_returned_during_last_charge.raw().into(),
-                const { facts(AH_RETURNED_DURING_LAST_CHARGE, 0) },
-            ),
-            AH_SINCE_LAST_EQUALIZATION => (
-                self.ah_since_last_equalization.raw().into(),
-                const { facts(AH_SINCE_LAST_EQUALIZATION, 0) },
-            ),
-            BATTERY_VOLTAGE => (
-                self.battery_voltage.raw(),
-                const { facts(BATTERY_VOLTAGE, 0) },
-            ),
-            CHARGE_CURRENT_REQUESTED => (
-                self.charge_current_requested.raw().into(),
-                const { facts(CHARGE_CURRENT_REQUESTED, 0) },
-            ),
-            CHARGER_STATE_OF_CHARGE => (
-                self.charger_state_of_charge.raw().into(),
-                const { facts(CHARGER_STATE_OF_CHARGE, 0) },
-            ),
-            BATTERY_STATE_OF_CHARGE => (
-                self.battery_state_of_charge.raw().into(),
-                const { facts(BATTERY_STATE_OF_CHARGE, 0) },
-            ),
-            WATER_LEVEL_STATUS => (
-                self.water_level.bits().into(),
-                const { facts(WATER_LEVEL_STATUS, 0) },
-            ),
-            _ => return None,
+        // One arm per object, its index written once: the value, and the
+        // facts of its row evaluated when the crate is built.
+        macro_rules! scalars {
+            ($($object:ident => $word:expr,)*) => {
+                match index {
+                    $($object => (u32::from($word), const { facts($object, 0) }),)*
+                    _ => return None,
+                }
+            };
+        }
+        let (word, entry) = scalars! {
+            BATTERY_STATUS => self.battery_status.bits(),
+            CHARGER_STATUS => self.charger_status.bits(),
+            TEMPERATURE => self.temperature.raw() as u16,
+            CUMULATIVE_TOTAL_AH_CHARGE => self.cumulative_total_ah_charge.raw(),
+            AH_EXPENDED_SINCE_LAST_CHARGE => self.ah_expended_since_last_charge.raw(),
+            AH_RETURNED_DURING_LAST_CHARGE => self.ah_returned_during_last_charge.raw(),
+            AH_SINCE_LAST_EQUALIZATION => self.ah_since_last_equalization.raw(),
+            BATTERY_VOLTAGE => self.battery_voltage.raw(),
+            CHARGE_CURRENT_REQUESTED => self.charge_current_requested.raw(),
+            CHARGER_STATE_OF_CHARGE => self.charger_state_of_charge.raw(),
+            BATTERY_STATE_OF_CHARGE => self.battery_state_of_charge.raw(),
+            WATER_LEVEL_STATUS => self.water_level.bits(),
         };
         Some(FixedEntry { word, ..entry })
     }
 
-    /// The objects besides the single values: 6020h's record, 6054h's
-    /// array and the packed strings.
+    /// The entries of the objects with sub-indexes: 6020h's record,
+    /// 6054h's array and the packed strings' element counts and elements,
+    /// with the facts of their rows; 06090011h for a sub-index the object
+    /// lacks (a packed string has as many elements as it stores),
+    /// 06020000h for an object the table lacks.
     fn compound_entry(&self, index: u16, sub: u8) -> Result<FixedEntry, AbortCode> {
-        use Access::{ReadOnly as Ro, ReadWrite as Rw};
-        let (access, word, len) = match (index, sub) {
-            (BATTERY_PARAMETERS, s) => {
-                let (word, len) = self
-                    .battery_parameters
-                    .sub_word(s)
-                    .ok_or(AbortCode::SubIndexDoesNotExist)?;
-                (Ro, u32::from(word), len)
+        use EqualizationDate as Date;
+        const DATE: u16 = DATE_OF_LAST_EQUALIZATION;
+        let missing_sub = AbortCode::SubIndexDoesNotExist;
+        let (word, entry) = match (index, sub) {
+            (DATE, 0) => (Date::NUMBER_OF_ELEMENTS.into(), const { facts(DATE, 0) }),
+            (DATE, Date::SUB_MINUTES) => (
+                self.date_of_last_equalization.minutes.into(),
+                const { facts(DATE, Date::SUB_MINUTES) },
+            ),
+            (DATE, Date::SUB_DAYS) => (
+                self.date_of_last_equalization.days.into(),
+                const { facts(DATE, Date::SUB_DAYS) },
+            ),
+            (BATTERY_PARAMETERS, _) => {
+                let (word, len) = self.battery_parameters.sub_word(sub).ok_or(missing_sub)?;
+                let entry = const { facts(BATTERY_PARAMETERS, 0) };
+                (word.into(), FixedEntry { len, ..entry })
             }
-            (DATE_OF_LAST_EQUALIZATION, 0) => (Ro, EqualizationDate::NUMBER_OF_ELEMENTS.into(), 1),
-            (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_MINUTES) => {
-                (Rw, self.date_of_last_equalization.minutes.into(), 2)
-            }
-            (DATE_OF_LAST_EQUALIZATION, EqualizationDate::SUB_DAYS) => {
-                (Rw, self.date_of_last_equalization.days.into(), 2)
-            }
-            (i, s) => {
-                let Some(object) = PackedStringObject::from_index(i) else {
-                    return Err(if Self::has_object(i) {
-                        AbortCode::SubIndexDoesNotExist
+            _ => {
+                let Some(object) = PackedStringObject::from_index(index) else {
+                    return Err(if Self::has_object(index) {
+                        missing_sub
                     } else {
                         AbortCode::ObjectDoesNotExist
                     });
@@ -339,14 +301,18 @@ impl BatteryObjects {
                     .packed
                     .get(packed_slot(object))
                     .unwrap_or(&PackedValue::EMPTY);
-                if s == 0 {
-                    (Ro, v.count.into(), 1)
+                // The four packed strings' rows differ only in their last
+                // sub-index (`packed_count`, `packed`), which `v.word`
+                // enforces.
+                if sub == 0 {
+                    (v.count.into(), const { facts(BATTERY_SERIAL_NUMBER, 0) })
                 } else {
-                    (Ro, v.word(s).ok_or(AbortCode::SubIndexDoesNotExist)?, 4)
+                    let word = v.word(sub).ok_or(missing_sub)?;
+                    (word, const { facts(BATTERY_SERIAL_NUMBER, 1) })
                 }
             }
         };
-        Ok(FixedEntry::new(access, word, len))
+        Ok(FixedEntry { word, ..entry })
     }
 }
 

@@ -110,6 +110,21 @@ fn every_object_has_its_access_length_and_mapping() {
     }
 }
 
+/// The indexes the application dictionary serves are the objects of CiA
+/// 418 v1.0.1, 7.3.1-7.3.18, each once and in index order: the 6000h-6FFFh
+/// ones of the literal table above.
+#[test]
+fn the_served_indexes_are_the_profiles_objects() {
+    let mut want: std::vec::Vec<u16> = TABLE
+        .iter()
+        .map(|&(index, ..)| index)
+        .filter(|index| (0x6000..=0x6FFF).contains(index))
+        .collect();
+    want.dedup();
+    assert_eq!(want.len(), 18);
+    assert_eq!(BATTERY_OBJECT_INDEXES.as_slice(), want.as_slice());
+}
+
 #[test]
 fn every_table_index_is_served() {
     for index in BATTERY_OBJECT_INDEXES {

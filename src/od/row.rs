@@ -94,6 +94,9 @@ macro_rules! setters {
 /// // What reset node restores: the writable entries, 2 bytes each.
 /// assert_eq!(ObjectRow::parameter_count(ROWS), 2);
 /// assert_eq!(ObjectRow::parameter_bytes(ROWS), 4);
+/// // The objects, each once: 2001h has two rows.
+/// assert_eq!(ObjectRow::object_count(ROWS), 2);
+/// assert_eq!(ObjectRow::object_indexes::<2>(ROWS), [0x2000, 0x2001]);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct ObjectRow {
@@ -302,29 +305,78 @@ impl ObjectRow {
         })
     }
 
-    /// How many entries of `rows` are parameters
-    /// ([`is_parameter`](Self::is_parameter)), each sub-index of a run
-    /// counted.
+    /// How many objects `rows` describe: each index once, however many
+    /// rows (sub-indexes) it has.
     #[must_use]
-    pub const fn parameter_count(rows: &[ObjectRow]) -> usize {
+    pub const fn object_count(rows: &[ObjectRow]) -> usize {
+        let mut list = [0u16; 0];
+        Self::objects_into(rows, &mut list)
+    }
+
+    /// The indexes of the objects `rows` describe, each once, in the order
+    /// of their first row; `N` is [`object_count`](Self::object_count)
+    /// (indexes past it are left out, missing ones are 0).
+    #[must_use]
+    pub const fn object_indexes<const N: usize>(rows: &[ObjectRow]) -> [u16; N] {
+        let mut list = [0u16; N];
+        Self::objects_into(rows, &mut list);
+        list
+    }
+
+    /// Writes the indexes of the objects of `rows` into `list` (as many as
+    /// fit) and counts them all.
+    const fn objects_into(rows: &[ObjectRow], list: &mut [u16]) -> usize {
         let (mut i, mut n) = (0, 0);
         while i < rows.len() {
-            if rows[i].is_parameter() {
-                n += rows[i].entry_count();
+            let mut index = rows[i].address.index;
+            while index <= rows[i].last_index {
+                // Seen before: an earlier row of the same object.
+                let mut seen = false;
+                let mut j = 0;
+                while j < i {
+                    seen |= rows[j].covers_index(index);
+                    j += 1;
+                }
+                if !seen {
+                    if n < list.len() {
+                        list[n] = index;
+                    }
+                    n += 1;
+                }
+                if index == u16::MAX {
+                    break;
+                }
+                index += 1;
             }
             i += 1;
         }
         n
     }
 
+    /// How many entries of `rows` are parameters
+    /// ([`is_parameter`](Self::is_parameter)), each sub-index of a run
+    /// counted.
+    #[must_use]
+    pub const fn parameter_count(rows: &[ObjectRow]) -> usize {
+        Self::sum_parameters(rows, false)
+    }
+
     /// The bytes of the values of the parameters of `rows`, one after the
     /// other.
     #[must_use]
     pub const fn parameter_bytes(rows: &[ObjectRow]) -> usize {
+        Self::sum_parameters(rows, true)
+    }
+
+    /// The parameter entries of `rows`, each counted as its size in bytes
+    /// (`bytes`) or as one.
+    const fn sum_parameters(rows: &[ObjectRow], bytes: bool) -> usize {
         let (mut i, mut n) = (0, 0);
         while i < rows.len() {
-            if rows[i].is_parameter() {
-                n += rows[i].entry_count() * rows[i].size() as usize;
+            let row = &rows[i];
+            if row.is_parameter() {
+                let each = if bytes { row.size() as usize } else { 1 };
+                n += row.entry_count() * each;
             }
             i += 1;
         }
