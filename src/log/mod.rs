@@ -54,6 +54,7 @@
 //! | PDO fields as signal columns, a DBC of the mappings | [`signals`], [`dbc`] |
 //! | the HTML report page | [`report`] |
 //! | CiA 301 dates (TIME, 1020h) as UTC | [`calendar`] |
+//! | boot a network from DCFs and report each node's boot as a JSON line (`canopen-boot`) | [`boot`] ([`boot::BootNode`], [`boot::BootRun`], [`boot::event_json`]) |
 //! | split a recording into the frames to play and those to expect, and diff a device's traffic against it (`canopen-replay`) | [`replay`], [`replay::diff`] |
 //!
 //! ## Why a module, and its dependencies
@@ -81,6 +82,7 @@
 //! and profile of the crate, and nothing below it uses it
 //! (`tests/meta/layering.rs`).
 
+pub mod boot;
 pub mod calendar;
 mod comm_objects;
 pub mod csv;

@@ -17,6 +17,8 @@ mod trace_writers;
 #[cfg(feature = "cli")]
 mod boot_cli;
 #[cfg(feature = "cli")]
+mod boot_master_cli;
+#[cfg(feature = "cli")]
 mod cli;
 #[cfg(feature = "cli")]
 mod dbc;

@@ -1,27 +1,55 @@
-//! `canopen-boot`: the CiA 302-2 network manager's program. `dcf` writes
-//! the DCF of a configured device from its EDS (CiA 306); `concise` turns a
-//! DCF into the concise DCF (CiA 302-3 section 4, the value of 1F22h) a
+//! `canopen-boot`: the CiA 302-2 network manager's program. With `--node
+//! N=FILE.dcf ...` it is the NMT master on a candump-line pipe (stdin in,
+//! stdout out): it boots each node from its DCF and reports each boot's end
+//! and later events as JSON lines on stderr (`log::boot`). `dcf` writes the
+//! DCF of a configured device from its EDS (CiA 306); `concise` turns a DCF
+//! into the concise DCF (CiA 302-3 section 4, the value of 1F22h) a
 //! configuration manager downloads. See docs/BOOT.md.
+
+mod pipe;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::Duration;
 
 use canopen_codec::eds::{self, parse_int};
+use canopen_codec::log::boot::{BootNode, BootRun};
+use canopen_codec::manager::{ManagerConfig, NmtStartup};
 use canopen_codec::od::{Address, ConciseDcf};
 use canopen_codec::NodeId;
 use clap::{Parser, Subcommand};
 
-const EXIT_CODES: &str = "Exit status: 0 done; 1 the DCF is not one this program can \
-convert (a value that does not encode in its data type, $NODEID without a node id); \
-2 usage error (bad option, unreadable DCF, unwritable output).";
+const EXIT_CODES: &str = "Exit status: 0 done (as the manager: every node operational \
+when stdin closed); 1 a node's boot ended in an error, or the DCF is not one this \
+program can convert (a value that does not encode in its data type, $NODEID without \
+a node id); 2 usage error (bad option, unreadable DCF, unwritable output).";
 
-/// The CiA 302-2 network manager's program: a node's configuration as a
-/// DCF (CiA 306) and as the concise DCF a manager downloads.
+/// The CiA 302-2 network manager's program: the NMT master that boots the
+/// nodes of their DCFs (CiA 306) on a candump-line pipe, or a node's
+/// configuration as a DCF and as the concise DCF a manager downloads.
 #[derive(Parser)]
-#[command(name = "canopen-boot", after_help = EXIT_CODES)]
+#[command(
+    name = "canopen-boot",
+    after_help = EXIT_CODES,
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true
+)]
 struct Args {
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
+    /// A node to boot and its DCF, N=FILE.dcf (repeat for each node): its
+    /// 1000h and 1018h are checked, its configured values written.
+    #[arg(long = "node", value_name = "N=FILE.dcf", value_parser = node_dcf, required = true)]
+    nodes: Vec<(NodeId, PathBuf)>,
+    /// The mandatory nodes, N,N,...: the network starts once they booted.
+    #[arg(long, value_delimiter = ',', value_parser = node)]
+    mandatory: Vec<NodeId>,
+    /// Start the nodes with one NMT command to all (1F80h bit 1).
+    #[arg(long)]
+    start_all: bool,
+    /// The SDO timeout, in ms.
+    #[arg(long, default_value_t = 500, value_parser = clap::value_parser!(u64).range(1..=60_000))]
+    sdo_timeout_ms: u64,
 }
 
 #[derive(Subcommand)]
@@ -77,6 +105,14 @@ fn setting(s: &str) -> Result<(Address, String), String> {
     Ok((Address::new(index, sub), value.to_string()))
 }
 
+/// `N=FILE.dcf`.
+fn node_dcf(s: &str) -> Result<(NodeId, PathBuf), String> {
+    let (n, file) = s
+        .split_once('=')
+        .ok_or(format!("'{s}' is not N=FILE.dcf"))?;
+    Ok((node(n)?, PathBuf::from(file)))
+}
+
 /// A failure and its exit status.
 struct Failure(u8, String);
 
@@ -89,13 +125,19 @@ fn main() -> ExitCode {
         }
     };
     let result = match args.command {
-        Command::Dcf {
+        Some(Command::Dcf {
             eds,
             out,
             node_id,
             values,
-        } => dcf(&eds, &out, node_id, &values),
-        Command::Concise { dcf, out, node_id } => concise(&dcf, &out, node_id),
+        }) => dcf(&eds, &out, node_id, &values),
+        Some(Command::Concise { dcf, out, node_id }) => concise(&dcf, &out, node_id),
+        None => manage(
+            &args.nodes,
+            &args.mandatory,
+            args.start_all,
+            args.sdo_timeout_ms,
+        ),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -144,5 +186,36 @@ fn concise(dcf: &Path, out: &Path, node_id: Option<NodeId>) -> Result<(), Failur
         out.display(),
         concise.len()
     );
+    Ok(())
+}
+
+/// The manager: the nodes from their DCFs, then the run until stdin closes.
+fn manage(
+    nodes: &[(NodeId, PathBuf)],
+    mandatory: &[NodeId],
+    start_all: bool,
+    sdo_timeout_ms: u64,
+) -> Result<(), Failure> {
+    let mut boot = Vec::new();
+    for (node, path) in nodes {
+        let name = path.display();
+        let text = std::fs::read(path).map_err(|e| Failure(2, format!("{name}: {e}")))?;
+        let mut n =
+            BootNode::from_dcf(*node, &text).map_err(|e| Failure(1, format!("{name}: {e}")))?;
+        n.mandatory = mandatory.contains(node);
+        boot.push(n);
+    }
+    let mut startup = NmtStartup::MASTER;
+    startup.set(NmtStartup::START_ALL, start_all);
+    let config = ManagerConfig {
+        startup,
+        sdo_timeout: Duration::from_millis(sdo_timeout_ms),
+        ..ManagerConfig::default()
+    };
+    let mut run = BootRun::new(config, &boot).map_err(|e| Failure(2, e))?;
+    let failed = pipe::run(&mut run);
+    if failed {
+        return Err(Failure(1, "a node's boot ended in an error".into()));
+    }
     Ok(())
 }
