@@ -1,10 +1,13 @@
 //! Whole sessions in simulated time: the simulated bus itself
-//! (`canopen_codec::sim::bus`), every charge scenario of `sim::Scenario`, and the
-//! recorded virtual session (`tests/data/virtual-session.log`).
+//! (`canopen_codec::sim::bus`), every charge scenario of `sim::Scenario`, the
+//! recorded virtual session (`tests/data/virtual-session.log`), and our own
+//! nodes booted by the CiA 302-2 boot-up manager from DCFs of their EDS.
 
 #[path = "../common/mod.rs"]
 mod common;
 
+#[cfg(feature = "sim")]
+mod boot_manager;
 #[cfg(feature = "sim")]
 mod bus_faults;
 #[cfg(feature = "sim")]
