@@ -11,6 +11,7 @@ use crate::trace::{RxTx, Unsupported};
 use crate::{CanId, Message};
 
 use crate::log::input::{self, Item, Kind};
+use crate::log::summary::Decoded;
 use crate::log::{
     csv, dbc, is_default, json, line_cache, load_eds, mappings, page_transfer, pdo_learn, report,
     sdo, signals, summary, time_column, transfer, words, BlockSegment, FrameLine, Notes, Options,
@@ -207,14 +208,15 @@ impl<'o> Decoding<'o> {
             deviation,
             block_segment,
         };
-        if let (true, Ok(msg)) = (collect, &decoded) {
-            summary.frame(
-                parsed.timestamp,
-                parsed.frame.id().raw(),
-                msg,
-                guard_reply,
-                roles,
-            );
+        let seen = decoded.as_ref().ok().map(|msg| Decoded {
+            t: parsed.timestamp,
+            cob_id: parsed.frame.id().raw(),
+            msg,
+            guard_reply,
+            roles,
+        });
+        if let (true, Some(seen)) = (collect, &seen) {
+            summary.frame(seen);
         }
         if signals.is_some() || dbc.is_some() {
             let applied = decoded
@@ -236,21 +238,14 @@ impl<'o> Decoding<'o> {
                 }
             }
         }
-        if let (Some(page), Ok(msg)) = (page.as_mut(), &decoded) {
-            let fields = match msg {
+        if let (Some(page), Some(seen)) = (page.as_mut(), &seen) {
+            let fields = match seen.msg {
                 Message::Tpdo { .. } | Message::Rpdo { .. } => {
-                    opts.pdos.fields(&parsed.frame, msg, roles, learned)
+                    opts.pdos.fields(&parsed.frame, seen.msg, roles, learned)
                 }
                 _ => None,
             };
-            page.frame(
-                parsed.timestamp,
-                parsed.frame.id().raw(),
-                msg,
-                fields.as_ref().map(|(_, f)| f),
-                guard_reply,
-                roles,
-            );
+            page.frame(seen, fields.as_ref().map(|(_, f)| f));
         }
         if opts.frames {
             if opts.csv {

@@ -16,7 +16,7 @@ use crate::log::sdo;
 /// Delta-Q evidence: `--charger-node`, an EDS whose vendor ID (1018h:01 or
 /// `VendorNumber`) is Delta-Q's, or that vendor ID read by SDO in the log;
 /// otherwise it is a CiA 419 charger, named with the CiA 419 objects only.
-#[derive(Clone, Copy, Default)]
+#[derive(Clone, Copy, Debug, Default)]
 pub struct Roles {
     /// The charger (Delta-Q or CiA 419).
     pub charger: Option<NodeId>,

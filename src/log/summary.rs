@@ -84,20 +84,37 @@ fn secs(t: Timestamp) -> String {
     t.to_string()
 }
 
+/// One decoded frame as the pipeline hands it to the summary and to the
+/// report.
+#[derive(Clone, Copy, Debug)]
+pub struct Decoded<'a> {
+    /// Its time, if the log gives one.
+    pub t: Option<Timestamp>,
+    /// Its identifier.
+    pub cob_id: u32,
+    /// What it carries.
+    pub msg: &'a Message,
+    /// A heartbeat-shaped frame that answers a node-guarding request (CiA
+    /// 301 section 7.2.8.3.2.1: the reply has the heartbeat's identifier).
+    pub guard_reply: bool,
+    /// Which nodes are the charger and the battery module.
+    pub roles: &'a Roles,
+}
+
 impl Summary {
     fn node(&mut self, n: NodeId) -> &mut Node {
         self.nodes.entry(n.raw()).or_default()
     }
 
-    /// One decoded frame at `t`.
-    pub fn frame(
-        &mut self,
-        t: Option<Timestamp>,
-        id: u32,
-        msg: &Message,
-        guard_reply: bool,
-        roles: &Roles,
-    ) {
+    /// One decoded frame.
+    pub fn frame(&mut self, seen: &Decoded<'_>) {
+        let Decoded {
+            t,
+            cob_id: id,
+            msg,
+            guard_reply,
+            roles,
+        } = *seen;
         let t = t.or(self.last).unwrap_or(Timestamp::ZERO);
         self.first.get_or_insert(t);
         self.last = Some(self.last.map_or(t, |l| l.max(t)));

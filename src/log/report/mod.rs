@@ -23,6 +23,7 @@ use crate::pdo::{FieldValue, NamedFields};
 use crate::{Message, NodeId, Timestamp};
 
 use crate::log::sdo::{End, Report as Transfer};
+use crate::log::summary::Decoded;
 use crate::log::Roles;
 use series::Series;
 
@@ -146,17 +147,15 @@ impl Collector {
         self.rows.entry(node.raw()).or_default()
     }
 
-    /// One decoded frame: `fields` are its named PDO fields, `guard_reply`
-    /// says a heartbeat-shaped frame answers a node-guarding request.
-    pub fn frame(
-        &mut self,
-        t: Option<Timestamp>,
-        cob_id: u32,
-        msg: &Message,
-        fields: Option<&NamedFields>,
-        guard_reply: bool,
-        roles: &Roles,
-    ) {
+    /// One decoded frame; `fields` are its named PDO fields.
+    pub fn frame(&mut self, seen: &Decoded<'_>, fields: Option<&NamedFields>) {
+        let Decoded {
+            t,
+            cob_id,
+            msg,
+            guard_reply,
+            roles,
+        } = *seen;
         let t = self.at(t);
         match msg {
             Message::Heartbeat { node, heartbeat } => {
