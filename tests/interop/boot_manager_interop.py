@@ -159,10 +159,12 @@ def main():
 
     bus = PipeBus(args)
     network = canopen.Network(bus)
-    network.connect()
     ok_node = local_node(network, 5, eds_path, {})
     vendor = local_node(network, 6, eds_path, {(0x1018, 1): 0x99})
     devtype = local_node(network, 7, eds_path, {(0x1000, 0): 0x195})
+    # Connected once the nodes listen: the manager's first frames (its NMT
+    # resets) wait in the pipe until then, so every node sees its reset.
+    network.connect()
 
     def results():
         out = {}
