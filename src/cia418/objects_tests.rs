@@ -325,13 +325,7 @@ fn segmented_write_in_pieces_and_abort() {
         od.write(0x6052, 0, 3, &[0]),
         Err(AbortCode::DataTypeLengthTooHigh)
     );
-    // An aborted download changes nothing.
-    od.write(0x6052, 0, 0, &[0xAA]).unwrap();
-    od.abort_write(0x6052, 0);
-    assert_eq!(
-        od.finish_write(0x6052, 0, 2),
-        Err(AbortCode::DataTypeLengthTooLow)
-    );
+    crate::od::fixture::assert_aborted_write_changes_nothing(&mut od, 0x6052, 0, 2);
     assert_eq!(od.inner.app.ah_returned_during_last_charge.raw(), 0x0210);
 }
 

@@ -66,14 +66,19 @@ const fn at(
     ObjectRow::new(Address::new(index, sub), name, data_type, access)
 }
 
-/// The sub-objects of the RPDO or TPDO communication parameters `first` to
-/// `last` (CiA 301, 7.5.2.35 and 7.5.2.37), their COB-ID named `cob_id`.
-const fn pdo_communication(
-    first: u16,
-    last: u16,
-    object: &'static str,
-    cob_id: &'static str,
-) -> [ObjectRow; 7] {
+/// The RPDO or TPDO parameters, one direction's nine rows: the
+/// communication parameters `communication.0` to `communication.1` (CiA
+/// 301, 7.5.2.35 and 7.5.2.37), then the mapping parameters `mapping.0` to
+/// `mapping.1` with the number of entries and up to 64 entries (7.5.2.36
+/// and 7.5.2.38). `names` are the communication object's, its COB-ID
+/// entry's and the mapping object's.
+const fn pdo_parameters(
+    communication: (u16, u16),
+    mapping: (u16, u16),
+    names: [&'static str; 3],
+) -> [ObjectRow; 9] {
+    let ((first, last), (map, map_last)) = (communication, mapping);
+    let [object, cob_id, map_object] = names;
     [
         highest(first, object, Record, Ro, "highest sub-index").indexes_through(last),
         at(first, 1, cob_id, U32, Rw).indexes_through(last),
@@ -82,39 +87,34 @@ const fn pdo_communication(
         at(first, 4, "Compatibility entry", U8, Rw).indexes_through(last),
         at(first, 5, "Event-timer", U16, Rw).indexes_through(last),
         at(first, 6, "SYNC start value", U8, Rw).indexes_through(last),
-    ]
-}
-
-/// The RPDO or TPDO mapping parameters `first` to `last` (CiA 301,
-/// 7.5.2.36 and 7.5.2.38): the number of entries, then up to 64 entries.
-const fn pdo_mapping(first: u16, last: u16, object: &'static str) -> [ObjectRow; 2] {
-    [
-        ObjectRow::var(first, "Number of mapped application objects in PDO", U8, Rw)
-            .heads(object, Record)
+        ObjectRow::var(map, "Number of mapped application objects in PDO", U8, Rw)
+            .heads(map_object, Record)
             .short("number of entries")
-            .indexes_through(last),
-        at(first, 1, "Application object", U32, Rw)
+            .indexes_through(map_last),
+        at(map, 1, "Application object", U32, Rw)
             .through(64)
-            .indexes_through(last),
+            .indexes_through(map_last),
     ]
 }
 
-const RPDO_COMMUNICATION_ROWS: [ObjectRow; 7] = pdo_communication(
-    RPDO_COMMUNICATION,
-    RPDO_COMMUNICATION_LAST,
-    "RPDO communication parameter",
-    "COB-ID used by RPDO",
+const RPDO_ROWS: [ObjectRow; 9] = pdo_parameters(
+    (RPDO_COMMUNICATION, RPDO_COMMUNICATION_LAST),
+    (RPDO_MAPPING, RPDO_MAPPING_LAST),
+    [
+        "RPDO communication parameter",
+        "COB-ID used by RPDO",
+        "RPDO mapping parameter",
+    ],
 );
-const RPDO_MAPPING_ROWS: [ObjectRow; 2] =
-    pdo_mapping(RPDO_MAPPING, RPDO_MAPPING_LAST, "RPDO mapping parameter");
-const TPDO_COMMUNICATION_ROWS: [ObjectRow; 7] = pdo_communication(
-    TPDO_COMMUNICATION,
-    TPDO_COMMUNICATION_LAST,
-    "TPDO communication parameter",
-    "COB-ID used by TPDO",
+const TPDO_ROWS: [ObjectRow; 9] = pdo_parameters(
+    (TPDO_COMMUNICATION, TPDO_COMMUNICATION_LAST),
+    (TPDO_MAPPING, TPDO_MAPPING_LAST),
+    [
+        "TPDO communication parameter",
+        "COB-ID used by TPDO",
+        "TPDO mapping parameter",
+    ],
 );
-const TPDO_MAPPING_ROWS: [ObjectRow; 2] =
-    pdo_mapping(TPDO_MAPPING, TPDO_MAPPING_LAST, "TPDO mapping parameter");
 
 /// The rows of `rows` one after the other (`N` their total length).
 const fn joined<const N: usize>(parts: &[&[ObjectRow]]) -> [ObjectRow; N] {
@@ -310,11 +310,7 @@ const SINGLE_OBJECTS: &[ObjectRow] = &[
 ];
 
 /// The number of rows of [`COMM_OBJECTS`].
-const ROWS: usize = SINGLE_OBJECTS.len()
-    + RPDO_COMMUNICATION_ROWS.len()
-    + RPDO_MAPPING_ROWS.len()
-    + TPDO_COMMUNICATION_ROWS.len()
-    + TPDO_MAPPING_ROWS.len();
+const ROWS: usize = SINGLE_OBJECTS.len() + RPDO_ROWS.len() + TPDO_ROWS.len();
 
 /// The CiA 301 communication objects: those of the device core (1000h,
 /// 1001h, 1003h, 1005h-1008h, 100Ch, 100Dh, 1010h, 1011h, 1012h,
@@ -322,13 +318,7 @@ const ROWS: usize = SINGLE_OBJECTS.len()
 /// (1009h, 100Ah, 1014h, 1015h, 1029h) and the PDO communication and
 /// mapping parameters (1400h-1BFFh), in index order (see the
 /// [module docs](self)).
-pub const COMM_OBJECTS: &[ObjectRow] = &joined::<ROWS>(&[
-    SINGLE_OBJECTS,
-    &RPDO_COMMUNICATION_ROWS,
-    &RPDO_MAPPING_ROWS,
-    &TPDO_COMMUNICATION_ROWS,
-    &TPDO_MAPPING_ROWS,
-]);
+pub const COMM_OBJECTS: &[ObjectRow] = &joined::<ROWS>(&[SINGLE_OBJECTS, &RPDO_ROWS, &TPDO_ROWS]);
 
 /// The row of [`COMM_OBJECTS`] that covers `address`, if any: what
 /// [`ObjectRow::find`] finds, as a `const fn` for facts a program reads at

@@ -39,3 +39,30 @@ impl<const LEN: usize> ObjectDictionary for Word<LEN> {
         Ok(())
     }
 }
+
+/// The rule every dictionary keeps for a download broken off (CiA 301
+/// 7.2.4.3.12: an SDO abort ends the transfer; a value is stored whole
+/// when its download completes): the first byte of the `len`-byte object
+/// `index`/`sub` written, then the download aborted; completing it
+/// afterwards finds no bytes held (06070013h), and the object reads what
+/// it read before.
+pub(crate) fn assert_aborted_write_changes_nothing(
+    od: &mut impl ObjectDictionary,
+    index: u16,
+    sub: u8,
+    len: usize,
+) {
+    let mut before = [0u8; 4];
+    let n = od.read(index, sub, 0, &mut before).unwrap();
+    let [first, ..] = before;
+    od.write(index, sub, 0, &[!first]).unwrap();
+    od.abort_write(index, sub);
+    assert_eq!(
+        od.finish_write(index, sub, len),
+        Err(AbortCode::DataTypeLengthTooLow),
+        "{index:04X}h:{sub}"
+    );
+    let mut after = [0u8; 4];
+    assert_eq!(od.read(index, sub, 0, &mut after), Ok(n));
+    assert_eq!(after, before, "{index:04X}h:{sub} unchanged");
+}
