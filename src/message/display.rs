@@ -86,6 +86,15 @@ fn segment(f: &mut fmt::Formatter<'_>, what: &str, s: &Segment) -> fmt::Result {
     )
 }
 
+/// How a block initiate's CRC support flag (cc / sc) reads.
+const fn yes_no(crc: bool) -> &'static str {
+    if crc {
+        "yes"
+    } else {
+        "no"
+    }
+}
+
 /// The frames around a block's data, the same both ways: `initiate` and
 /// `end` name them for the direction.
 fn block_data(
@@ -95,17 +104,12 @@ fn block_data(
     end: &str,
 ) -> fmt::Result {
     match b {
-        BlockDataCommand::Initiate {
-            index,
-            sub,
-            crc,
-            size,
-        } => {
-            write!(f, "{initiate} {index:04X}h sub {sub}")?;
-            if let Some(n) = size {
+        BlockDataCommand::Initiate(i) => {
+            write!(f, "{initiate} {:04X}h sub {}", i.index, i.sub)?;
+            if let Some(n) = i.size {
                 write!(f, ", {n} bytes")?;
             }
-            write!(f, ", crc {}", if *crc { "yes" } else { "no" })
+            write!(f, ", crc {}", yes_no(i.crc))
         }
         BlockDataCommand::End { unused, crc } => {
             write!(f, "{end}, {unused} unused, crc {crc:04X}h")
@@ -135,16 +139,14 @@ impl fmt::Display for ClientCommand {
                 write!(f, "abort {index:04X}h sub {sub}: {code}")
             }
             ClientCommand::BlockUpload(b) => match b {
-                ClientBlockUpload::Initiate {
-                    index,
-                    sub,
-                    crc,
-                    blksize,
-                    pst,
-                } => write!(
+                ClientBlockUpload::Initiate(i) => write!(
                     f,
-                    "initiate block upload {index:04X}h sub {sub}, blksize {blksize}, pst {pst}, crc {}",
-                    if *crc { "yes" } else { "no" }
+                    "initiate block upload {:04X}h sub {}, blksize {}, pst {}, crc {}",
+                    i.index,
+                    i.sub,
+                    i.blksize,
+                    i.pst,
+                    yes_no(i.crc)
                 ),
                 ClientBlockUpload::Start => f.write_str("block upload start"),
                 ClientBlockUpload::Ack { ackseq, blksize } => {
@@ -182,15 +184,13 @@ impl fmt::Display for ServerCommand {
                 write!(f, "abort {index:04X}h sub {sub}: {code}")
             }
             ServerCommand::BlockDownload(b) => match b {
-                ServerBlockDownload::Initiate {
-                    index,
-                    sub,
-                    crc,
-                    blksize,
-                } => write!(
+                ServerBlockDownload::Initiate(a) => write!(
                     f,
-                    "block download {index:04X}h sub {sub} accepted, blksize {blksize}, crc {}",
-                    if *crc { "yes" } else { "no" }
+                    "block download {:04X}h sub {} accepted, blksize {}, crc {}",
+                    a.index,
+                    a.sub,
+                    a.blksize,
+                    yes_no(a.crc)
                 ),
                 ServerBlockDownload::Ack { ackseq, blksize } => {
                     write!(f, "block download ack seq {ackseq}, blksize {blksize}")

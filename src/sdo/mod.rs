@@ -125,9 +125,9 @@ pub use server::{
     EVENTS_PER_CALL,
 };
 pub use wire::{
-    abort_code_of, needed, BlockDataCommand, BlockSegment, ClientBlockDownload, ClientBlockUpload,
-    ClientCommand, SdoFrame, SdoRequest, SdoResponse, ServerBlockDownload, ServerBlockUpload,
-    ServerCommand, Side,
+    abort_code_of, needed, BlockDataCommand, BlockDataInitiate, BlockDownloadAccept, BlockSegment,
+    BlockUploadInitiate, ClientBlockDownload, ClientBlockUpload, ClientCommand, SdoFrame,
+    SdoRequest, SdoResponse, ServerBlockDownload, ServerBlockUpload, ServerCommand, Side,
 };
 
 /// Queues an SDO frame of 8 data bytes on `id` (checked when the machine

@@ -18,9 +18,9 @@ use canopen_codec::emcy::{Emergency, ErrorCode, ErrorRegister};
 use canopen_codec::lss::LssMessage;
 use canopen_codec::nmt::{Heartbeat, HeartbeatFrame, NmtCommand};
 use canopen_codec::sdo::{
-    AbortCode, ClientBlockDownload, ClientBlockUpload, ClientCommand, ExpeditedData,
-    InitiatePayload, SdoRequest, SdoResponse, Segment, SegmentData, ServerBlockDownload,
-    ServerBlockUpload, ServerCommand,
+    AbortCode, BlockDataInitiate, BlockDownloadAccept, BlockUploadInitiate, ClientBlockDownload,
+    ClientBlockUpload, ClientCommand, ExpeditedData, InitiatePayload, SdoRequest, SdoResponse,
+    Segment, SegmentData, ServerBlockDownload, ServerBlockUpload, ServerCommand,
 };
 use canopen_codec::sync::SyncMessage;
 use canopen_codec::time::TimeOfDay;
@@ -200,13 +200,15 @@ fn client_command() -> impl Strategy<Value = ClientCommand> {
         }),
         prop_oneof![
             (mux, any::<bool>(), any::<u8>(), any::<u8>()).prop_map(
-                |((index, sub), crc, blksize, pst)| ClientBlockUpload::Initiate {
-                    index,
-                    sub,
-                    crc,
-                    blksize,
-                    pst
-                }
+                |((index, sub), crc, blksize, pst)| ClientBlockUpload::Initiate(
+                    BlockUploadInitiate {
+                        index,
+                        sub,
+                        crc,
+                        blksize,
+                        pst
+                    }
+                )
             ),
             Just(ClientBlockUpload::Start),
             (any::<u8>(), any::<u8>())
@@ -216,12 +218,12 @@ fn client_command() -> impl Strategy<Value = ClientCommand> {
         .prop_map(ClientCommand::BlockUpload),
         prop_oneof![
             (mux, any::<bool>(), any::<Option<u32>>()).prop_map(|((index, sub), crc, size)| {
-                ClientBlockDownload::Initiate {
+                ClientBlockDownload::Initiate(BlockDataInitiate {
                     index,
                     sub,
                     crc,
                     size,
-                }
+                })
             }),
             (0u8..=7, any::<u16>())
                 .prop_map(|(unused, crc)| ClientBlockDownload::End { unused, crc }),
@@ -252,12 +254,12 @@ fn server_command() -> impl Strategy<Value = ServerCommand> {
         }),
         prop_oneof![
             (mux, any::<bool>(), any::<u8>()).prop_map(|((index, sub), crc, blksize)| {
-                ServerBlockDownload::Initiate {
+                ServerBlockDownload::Initiate(BlockDownloadAccept {
                     index,
                     sub,
                     crc,
                     blksize,
-                }
+                })
             }),
             (any::<u8>(), any::<u8>())
                 .prop_map(|(ackseq, blksize)| ServerBlockDownload::Ack { ackseq, blksize }),
@@ -266,12 +268,12 @@ fn server_command() -> impl Strategy<Value = ServerCommand> {
         .prop_map(ServerCommand::BlockDownload),
         prop_oneof![
             (mux, any::<bool>(), any::<Option<u32>>()).prop_map(|((index, sub), crc, size)| {
-                ServerBlockUpload::Initiate {
+                ServerBlockUpload::Initiate(BlockDataInitiate {
                     index,
                     sub,
                     crc,
                     size,
-                }
+                })
             }),
             (0u8..=7, any::<u16>())
                 .prop_map(|(unused, crc)| ServerBlockUpload::End { unused, crc }),

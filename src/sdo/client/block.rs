@@ -10,7 +10,8 @@ use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::sdo::rules::block::{check_block_size, clamp_block_size, Acked, Receiver, Sender};
 use crate::sdo::wire::{
-    ClientBlockDownload, ClientBlockUpload, ServerBlockDownload, ServerBlockUpload,
+    BlockDataInitiate, BlockDownloadAccept, ClientBlockDownload, ClientBlockUpload,
+    ServerBlockDownload, ServerBlockUpload,
 };
 
 impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
@@ -74,6 +75,17 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         self.wait(now, state);
     }
 
+    /// True when the server's answer to a block initiate names the
+    /// transfer's own object; otherwise the transfer is aborted with
+    /// 06040043h (CiA 301 section 7.2.4.3: a response for another object).
+    fn answers_object(&mut self, (index, sub): (u16, u8), answered: (u16, u8)) -> bool {
+        if answered == (index, sub) {
+            return true;
+        }
+        self.abort_object(index, sub, AbortCode::GeneralParameterIncompatibility);
+        false
+    }
+
     /// A response in one of the block states (`state` was taken out of
     /// `self.state`, which is `Idle` meanwhile).
     pub(super) fn on_block_response(
@@ -85,21 +97,13 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     ) {
         match state {
             State::BlockDownloadInitiated { index, sub, data } => {
-                let ServerCommand::BlockDownload(ServerBlockDownload::Initiate {
-                    index: ri,
-                    sub: rs,
-                    crc,
-                    blksize,
-                }) = cmd
+                let ServerCommand::BlockDownload(ServerBlockDownload::Initiate(accept)) = cmd
                 else {
                     return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
                 };
-                if (ri, rs) != (index, sub) {
-                    return self.abort_object(
-                        index,
-                        sub,
-                        AbortCode::GeneralParameterIncompatibility,
-                    );
+                let BlockDownloadAccept { crc, blksize, .. } = accept;
+                if !self.answers_object((index, sub), (accept.index, accept.sub)) {
+                    return;
                 }
                 let blksize = match check_block_size(blksize) {
                     Ok(b) => b,
@@ -145,18 +149,10 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                 self.finish(ClientEvent::Downloaded { index, sub, len });
             }
             State::BlockUploadInitiated { index, sub } => match cmd {
-                ServerCommand::BlockUpload(ServerBlockUpload::Initiate {
-                    index: ri,
-                    sub: rs,
-                    crc,
-                    size,
-                }) => {
-                    if (ri, rs) != (index, sub) {
-                        return self.abort_object(
-                            index,
-                            sub,
-                            AbortCode::GeneralParameterIncompatibility,
-                        );
+                ServerCommand::BlockUpload(ServerBlockUpload::Initiate(answer)) => {
+                    let BlockDataInitiate { crc, size, .. } = answer;
+                    if !self.answers_object((index, sub), (answer.index, answer.sub)) {
+                        return;
                     }
                     let size = size.map(|s| usize::try_from(s).unwrap_or(usize::MAX));
                     let blksize = clamp_block_size(self.config.block_size);

@@ -79,7 +79,7 @@ use super::rules::block::{clamp_block_size, Receiver, Sender};
 use super::rules::segmented::Segments;
 use super::server::{AbortOrigin, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT};
 #[cfg(feature = "sdo-block")]
-use super::wire::{ClientBlockDownload, ClientBlockUpload};
+use super::wire::{BlockDataInitiate, BlockUploadInitiate, ClientBlockDownload, ClientBlockUpload};
 use super::wire::{ClientCommand, SdoFrame, ServerCommand};
 use crate::abort::AbortCode;
 use crate::clock::{Timers, Timestamp};
@@ -521,13 +521,14 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         #[cfg(feature = "sdo-block")]
         {
             self.check_idle()?;
-            let command = ClientCommand::BlockUpload(ClientBlockUpload::Initiate {
-                index,
-                sub,
-                crc: self.config.crc,
-                blksize: clamp_block_size(self.config.block_size),
-                pst: self.config.block_threshold,
-            });
+            let command =
+                ClientCommand::BlockUpload(ClientBlockUpload::Initiate(BlockUploadInitiate {
+                    index,
+                    sub,
+                    crc: self.config.crc,
+                    blksize: clamp_block_size(self.config.block_size),
+                    pst: self.config.block_threshold,
+                }));
             self.open(now, command, State::BlockUploadInitiated { index, sub })
         }
         #[cfg(not(feature = "sdo-block"))]
@@ -555,12 +556,13 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         #[cfg(feature = "sdo-block")]
         {
             let size = self.download_size(&data)?;
-            let command = ClientCommand::BlockDownload(ClientBlockDownload::Initiate {
-                index,
-                sub,
-                crc: self.config.crc,
-                size: Some(size),
-            });
+            let command =
+                ClientCommand::BlockDownload(ClientBlockDownload::Initiate(BlockDataInitiate {
+                    index,
+                    sub,
+                    crc: self.config.crc,
+                    size: Some(size),
+                }));
             self.open(
                 now,
                 command,

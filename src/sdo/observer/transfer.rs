@@ -361,8 +361,8 @@ pub(super) fn step(
                     out,
                 );
             }
-            if let ClientCommand::BlockUpload(ClientBlockUpload::Initiate { blksize, .. }) = c {
-                if let Err(code) = check_block_size(*blksize) {
+            if let ClientCommand::BlockUpload(ClientBlockUpload::Initiate(i)) = c {
+                if let Err(code) = check_block_size(i.blksize) {
                     o.violate(code, Side::Server);
                 }
             }
@@ -401,6 +401,17 @@ fn initiate(channel: SdoChannel, c: &ClientCommand, bytes: &[u8]) -> Option<(Tra
         kind,
         indicated,
     };
+    // A block transfer, with CRC as the client offered it (the server's
+    // answer may still turn it off).
+    let block = |direction, index, sub, crc, indicated| {
+        transfer(
+            direction,
+            index,
+            sub,
+            Some(TransferKind::Block { crc }),
+            indicated,
+        )
+    };
     Some(match *c {
         ClientCommand::InitiateUpload { index, sub } => (
             transfer(Direction::Upload, index, sub, None, None),
@@ -437,38 +448,18 @@ fn initiate(channel: SdoChannel, c: &ClientCommand, bytes: &[u8]) -> Option<(Tra
                 Phase::DownloadInitiated { expedited: false },
             ),
         },
-        ClientCommand::BlockUpload(ClientBlockUpload::Initiate {
-            index,
-            sub,
-            crc,
-            blksize,
-            ..
-        }) => (
-            transfer(
-                Direction::Upload,
-                index,
-                sub,
-                Some(TransferKind::Block { crc }),
-                None,
-            ),
-            Phase::BlockUploadInitiated { blksize, crc },
+        ClientCommand::BlockUpload(ClientBlockUpload::Initiate(i)) => (
+            block(Direction::Upload, i.index, i.sub, i.crc, None),
+            Phase::BlockUploadInitiated {
+                blksize: i.blksize,
+                crc: i.crc,
+            },
         ),
-        ClientCommand::BlockDownload(ClientBlockDownload::Initiate {
-            index,
-            sub,
-            crc,
-            size,
-        }) => (
-            transfer(
-                Direction::Download,
-                index,
-                sub,
-                Some(TransferKind::Block { crc }),
-                size,
-            ),
+        ClientCommand::BlockDownload(ClientBlockDownload::Initiate(i)) => (
+            block(Direction::Download, i.index, i.sub, i.crc, i.size),
             Phase::BlockDownloadInitiated {
-                crc,
-                size: size.map(|s| usize::try_from(s).unwrap_or(usize::MAX)),
+                crc: i.crc,
+                size: i.size.map(|s| usize::try_from(s).unwrap_or(usize::MAX)),
                 frame: Payload::new(bytes).unwrap_or_default(),
             },
         ),
@@ -615,20 +606,15 @@ fn server(o: &mut Open, s: ServerCommand, bytes: &[u8], out: &mut Sink) -> Optio
             Err(code) => o.violate(code, Side::Client),
         },
         (
-            ServerCommand::BlockDownload(ServerBlockDownload::Initiate {
-                index: ri,
-                sub: rs,
-                crc,
-                blksize,
-            }),
+            ServerCommand::BlockDownload(ServerBlockDownload::Initiate(a)),
             Phase::BlockDownloadInitiated {
                 crc: client_crc,
                 size,
                 frame,
             },
         ) => {
-            let crc = o.block_answer((ri, rs), crc && client_crc)?;
-            match check_block_size(blksize) {
+            let crc = o.block_answer((a.index, a.sub), a.crc && client_crc)?;
+            match check_block_size(a.blksize) {
                 Ok(b) => {
                     let rx = Receiver::new(b, size, crc).after(frame.as_slice());
                     o.phase = Phase::SubBlocks(Blocks::new(rx));
@@ -648,20 +634,15 @@ fn server(o: &mut Open, s: ServerCommand, bytes: &[u8], out: &mut Sink) -> Optio
             return Some(End::Completed(crc_checked));
         }
         (
-            ServerCommand::BlockUpload(ServerBlockUpload::Initiate {
-                index: ri,
-                sub: rs,
-                crc,
-                size,
-            }),
+            ServerCommand::BlockUpload(ServerBlockUpload::Initiate(i)),
             Phase::BlockUploadInitiated {
                 blksize,
                 crc: client_crc,
             },
         ) => {
-            let crc = o.block_answer((ri, rs), crc && client_crc)?;
-            o.transfer.indicated = size;
-            let size = size.map(|s| usize::try_from(s).unwrap_or(usize::MAX));
+            let crc = o.block_answer((i.index, i.sub), i.crc && client_crc)?;
+            o.transfer.indicated = i.size;
+            let size = i.size.map(|s| usize::try_from(s).unwrap_or(usize::MAX));
             o.phase = Phase::BlockUploadStartDue(Receiver::new(blksize, size, crc).after(bytes));
         }
         (ServerCommand::BlockUpload(ServerBlockUpload::End { unused, crc }), _) if upload => {

@@ -8,7 +8,8 @@ use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::sdo::rules::block::{check_block_size, clamp_block_size, Acked, Receiver, Sender};
 use crate::sdo::wire::{
-    ClientBlockDownload, ClientBlockUpload, ServerBlockDownload, ServerBlockUpload,
+    BlockDataInitiate, BlockDownloadAccept, ClientBlockDownload, ClientBlockUpload,
+    ServerBlockDownload, ServerBlockUpload,
 };
 
 impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
@@ -98,18 +99,9 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
 
     pub(super) fn on_block_upload(&mut self, now: Timestamp, cmd: ClientBlockUpload) {
         match (cmd, self.state) {
-            (
-                ClientBlockUpload::Initiate {
-                    index,
-                    sub,
-                    crc,
-                    blksize,
-                    pst,
-                },
-                _,
-            ) => {
+            (ClientBlockUpload::Initiate(i), _) => {
                 self.supersede();
-                self.initiate_block_upload(now, (index, sub), crc, blksize, pst);
+                self.initiate_block_upload(now, (i.index, i.sub), i.crc, i.blksize, i.pst);
             }
             (
                 ClientBlockUpload::Start,
@@ -181,16 +173,18 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         let Ok(size) = u32::try_from(info.len) else {
             return self.abort_object(index, sub, AbortCode::OutOfMemory);
         };
-        self.send(ServerCommand::BlockUpload(ServerBlockUpload::Initiate {
-            index,
-            sub,
-            // CiA 301 section 7.2.4.3.13: sc says the server will send a CRC
-            // at the end. Set only when the client asked for one (cc): a
-            // client that did not ask may still check a CRC it is told of,
-            // and the end frame's CRC is then zero.
-            crc: crc && self.config.crc,
-            size: Some(size),
-        }));
+        self.send(ServerCommand::BlockUpload(ServerBlockUpload::Initiate(
+            BlockDataInitiate {
+                index,
+                sub,
+                // CiA 301 section 7.2.4.3.13: sc says the server will send a
+                // CRC at the end. Set only when the client asked for one
+                // (cc): a client that did not ask may still check a CRC it
+                // is told of, and the end frame's CRC is then zero.
+                crc: crc && self.config.crc,
+                size: Some(size),
+            },
+        )));
         self.state = State::BlockUploadInitiated {
             index,
             sub,
@@ -208,17 +202,9 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         frame: &[u8],
     ) {
         match (cmd, self.state) {
-            (
-                ClientBlockDownload::Initiate {
-                    index,
-                    sub,
-                    crc,
-                    size,
-                },
-                _,
-            ) => {
+            (ClientBlockDownload::Initiate(i), _) => {
                 self.supersede();
-                self.initiate_block_download(now, (index, sub), crc, size, frame);
+                self.initiate_block_download(now, (i.index, i.sub), i.crc, i.size, frame);
             }
             (
                 ClientBlockDownload::End { unused, crc },
@@ -275,14 +261,14 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             }
         }
         let blksize = clamp_block_size(self.config.block_size);
-        self.send(ServerCommand::BlockDownload(
-            ServerBlockDownload::Initiate {
+        self.send(ServerCommand::BlockDownload(ServerBlockDownload::Initiate(
+            BlockDownloadAccept {
                 index,
                 sub,
                 crc: self.config.crc,
                 blksize,
             },
-        ));
+        )));
         self.state = State::BlockDownloading {
             index,
             sub,

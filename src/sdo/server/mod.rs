@@ -669,16 +669,12 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             // its own object; any other block command aborts the running
             // transfer, as an unknown command does.
             #[cfg(not(feature = "sdo-block"))]
-            ClientCommand::BlockUpload(crate::sdo::ClientBlockUpload::Initiate {
-                index,
-                sub,
-                ..
-            })
-            | ClientCommand::BlockDownload(crate::sdo::ClientBlockDownload::Initiate {
-                index,
-                sub,
-                ..
-            }) => {
+            ClientCommand::BlockUpload(crate::sdo::ClientBlockUpload::Initiate(
+                crate::sdo::BlockUploadInitiate { index, sub, .. },
+            ))
+            | ClientCommand::BlockDownload(crate::sdo::ClientBlockDownload::Initiate(
+                crate::sdo::BlockDataInitiate { index, sub, .. },
+            )) => {
                 self.supersede();
                 return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
             }

@@ -13,16 +13,7 @@ use crate::sdo::data::SegmentData;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum BlockDataCommand {
     /// cs / ss = 0: initiate, with CRC support and the size when indicated.
-    Initiate {
-        /// Object index.
-        index: u16,
-        /// Sub-index.
-        sub: u8,
-        /// cc / sc: the sender supports CRC.
-        crc: bool,
-        /// Total size when s = 1.
-        size: Option<u32>,
-    },
+    Initiate(BlockDataInitiate),
     /// cs / ss = 1: end, with the unused bytes of the last segment and the
     /// CRC.
     End {
@@ -31,6 +22,22 @@ pub enum BlockDataCommand {
         /// CRC-16/XMODEM of the whole value (0 when CRC is not in use).
         crc: u16,
     },
+}
+
+/// The initiate frame of the side that sends a block transfer's data (CiA
+/// 301 section 7.2.4.3, initiate SDO block download request, initiate SDO
+/// block upload response): the object, the sender's CRC support and the
+/// size when indicated.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct BlockDataInitiate {
+    /// Object index.
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// cc / sc: the sender supports CRC.
+    pub crc: bool,
+    /// Total size when s = 1.
+    pub size: Option<u32>,
 }
 
 /// Block download commands a client sends (ccs = 6).
@@ -48,7 +55,7 @@ impl BlockDataCommand {
     pub(super) fn parse(frame: &SdoFrame) -> Self {
         let b0 = frame.command();
         if b0 & 0x01 == 0 {
-            BlockDataCommand::Initiate {
+            BlockDataCommand::Initiate(BlockDataInitiate {
                 index: frame.index(),
                 sub: frame.sub(),
                 crc: frame.crc_supported(),
@@ -57,7 +64,7 @@ impl BlockDataCommand {
                 } else {
                     None
                 },
-            }
+            })
         } else {
             BlockDataCommand::End {
                 unused: (b0 >> 2) & 0x07,
@@ -70,19 +77,14 @@ impl BlockDataCommand {
     #[inline]
     pub(super) fn emit(&self, buf: &mut [u8; 8]) -> usize {
         match *self {
-            BlockDataCommand::Initiate {
-                index,
-                sub,
-                crc,
-                size,
-            } => {
+            BlockDataCommand::Initiate(i) => {
                 put_command(
                     buf,
                     0xE7,
-                    0xC0 | u8::from(crc) << 2 | u8::from(size.is_some()) << 1,
+                    0xC0 | u8::from(i.crc) << 2 | u8::from(i.size.is_some()) << 1,
                 );
-                put_mux(buf, index, sub);
-                match size {
+                put_mux(buf, i.index, i.sub);
+                match i.size {
                     Some(size) => {
                         put_u32(buf, size);
                         8

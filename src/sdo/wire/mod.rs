@@ -42,9 +42,11 @@ mod block;
 mod request;
 mod response;
 
-pub use block::{BlockDataCommand, BlockSegment, ClientBlockDownload, ServerBlockUpload};
-pub use request::{ClientBlockUpload, ClientCommand};
-pub use response::{ServerBlockDownload, ServerCommand};
+pub use block::{
+    BlockDataCommand, BlockDataInitiate, BlockSegment, ClientBlockDownload, ServerBlockUpload,
+};
+pub use request::{BlockUploadInitiate, ClientBlockUpload, ClientCommand};
+pub use response::{BlockDownloadAccept, ServerBlockDownload, ServerCommand};
 
 /// Which end of an SDO channel sent a frame, or aborted.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -10,23 +10,29 @@ use crate::abort::AbortCode;
 use crate::error::DecodeError;
 use crate::sdo::data::{InitiatePayload, Segment};
 
+/// The client's initiate of a block upload (CiA 301 section 7.2.4.3,
+/// initiate SDO block upload request): the object, the client's CRC
+/// support, the block size it asks for and its protocol switch threshold.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct BlockUploadInitiate {
+    /// Object index.
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// cc: client supports CRC.
+    pub crc: bool,
+    /// Segments per block, 1..=127 (kept as received).
+    pub blksize: u8,
+    /// Protocol switch threshold (0: no switch).
+    pub pst: u8,
+}
+
 /// Block upload commands a client sends (ccs = 5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ClientBlockUpload {
     /// cs = 0: initiate, with the client's CRC support, block size and
     /// protocol switch threshold.
-    Initiate {
-        /// Object index.
-        index: u16,
-        /// Sub-index.
-        sub: u8,
-        /// cc: client supports CRC.
-        crc: bool,
-        /// Segments per block, 1..=127 (kept as received).
-        blksize: u8,
-        /// Protocol switch threshold (0: no switch).
-        pst: u8,
-    },
+    Initiate(BlockUploadInitiate),
     /// cs = 3: start the upload.
     Start,
     /// cs = 2: acknowledge a sub-block.
@@ -134,13 +140,13 @@ impl ClientCommand {
                 code: frame.abort_code(),
             },
             5 => ClientCommand::BlockUpload(match b0 & 0x03 {
-                0 => ClientBlockUpload::Initiate {
+                0 => ClientBlockUpload::Initiate(BlockUploadInitiate {
                     index,
                     sub,
                     crc,
                     blksize: frame.byte(4),
                     pst: frame.byte(5),
-                },
+                }),
                 1 => ClientBlockUpload::End,
                 2 => ClientBlockUpload::Ack {
                     ackseq: frame.byte(1),
@@ -176,16 +182,10 @@ impl ClientCommand {
             }
             ClientCommand::Abort { index, sub, code } => emit_abort(buf, *index, *sub, *code),
             ClientCommand::BlockUpload(b) => match b {
-                ClientBlockUpload::Initiate {
-                    index,
-                    sub,
-                    crc,
-                    blksize,
-                    pst,
-                } => {
-                    put_command(buf, 0xE7, 0xA0 | u8::from(*crc) << 2);
-                    put_mux(buf, *index, *sub);
-                    put_data(buf, 4, &[*blksize, *pst]);
+                ClientBlockUpload::Initiate(i) => {
+                    put_command(buf, 0xE7, 0xA0 | u8::from(i.crc) << 2);
+                    put_mux(buf, i.index, i.sub);
+                    put_data(buf, 4, &[i.blksize, i.pst]);
                     6
                 }
                 ClientBlockUpload::End => {

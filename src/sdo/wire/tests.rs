@@ -288,19 +288,19 @@ fn v15_v16_abort() {
 
 #[test]
 fn v17_block_download() {
-    let init = ClientCommand::BlockDownload(ClientBlockDownload::Initiate {
+    let init = ClientCommand::BlockDownload(ClientBlockDownload::Initiate(BlockDataInitiate {
         index: 0x2000,
         sub: 0,
         crc: true,
         size: Some(30),
-    });
+    }));
     both_ways_req([0xC6, 0x00, 0x20, 0x00, 0x1E, 0, 0, 0], init);
-    let r = ServerCommand::BlockDownload(ServerBlockDownload::Initiate {
+    let r = ServerCommand::BlockDownload(ServerBlockDownload::Initiate(BlockDownloadAccept {
         index: 0x2000,
         sub: 0,
         crc: true,
         blksize: 127,
-    });
+    }));
     both_ways_resp([0xA4, 0x00, 0x20, 0x00, 0x7F, 0, 0, 0], r);
     // Sub-block segments have no specifier: they decode as their bits say,
     // and keep their bytes for a block state machine.
@@ -322,20 +322,20 @@ fn v17_block_download() {
 
 #[test]
 fn v18_v19_block_upload() {
-    let init = ClientCommand::BlockUpload(ClientBlockUpload::Initiate {
+    let init = ClientCommand::BlockUpload(ClientBlockUpload::Initiate(BlockUploadInitiate {
         index: 0x1008,
         sub: 0,
         crc: true,
         blksize: 127,
         pst: 0,
-    });
+    }));
     both_ways_req([0xA4, 0x08, 0x10, 0x00, 0x7F, 0, 0, 0], init);
-    let r = ServerCommand::BlockUpload(ServerBlockUpload::Initiate {
+    let r = ServerCommand::BlockUpload(ServerBlockUpload::Initiate(BlockDataInitiate {
         index: 0x1008,
         sub: 0,
         crc: true,
         size: Some(26),
-    });
+    }));
     both_ways_resp([0xC6, 0x08, 0x10, 0x00, 0x1A, 0, 0, 0], r);
     let start = ClientCommand::BlockUpload(ClientBlockUpload::Start);
     both_ways_req([0xA3, 0, 0, 0, 0, 0, 0, 0], start);
@@ -375,21 +375,21 @@ fn unknown_specifiers_and_no_size_variants() {
     assert_eq!(resp(&[0xA3, 0, 0, 0]), ServerCommand::Unknown(0xA3));
     assert_eq!(
         req(&[0xC0, 0x00, 0x20, 0x01]),
-        ClientCommand::BlockDownload(ClientBlockDownload::Initiate {
+        ClientCommand::BlockDownload(ClientBlockDownload::Initiate(BlockDataInitiate {
             index: 0x2000,
             sub: 1,
             crc: false,
             size: None
-        })
+        }))
     );
     assert_eq!(
         resp(&[0xC0, 0x00, 0x20, 0x01]),
-        ServerCommand::BlockUpload(ServerBlockUpload::Initiate {
+        ServerCommand::BlockUpload(ServerBlockUpload::Initiate(BlockDataInitiate {
             index: 0x2000,
             sub: 1,
             crc: false,
             size: None
-        })
+        }))
     );
 }
 
@@ -563,8 +563,8 @@ fn machine_frames_as_byte_literals() {
         (ClientCommand::DownloadSegment(seg(false, true, &[])), [0x0F, 0, 0, 0, 0, 0, 0, 0]),
         (ClientCommand::UploadSegment { toggle: true }, [0x70, 0, 0, 0, 0, 0, 0, 0]),
         // Block transfer.
-        (ClientCommand::BlockUpload(ClientBlockUpload::Initiate { index, sub, crc: true, blksize: 127, pst: 4 }), [0xA4, 0x00, 0x20, 0x7F, 127, 4, 0, 0]),
-        (ClientCommand::BlockDownload(ClientBlockDownload::Initiate { index, sub, crc: true, size: Some(7) }), [0xC6, 0x00, 0x20, 0x7F, 7, 0, 0, 0]),
+        (ClientCommand::BlockUpload(ClientBlockUpload::Initiate(BlockUploadInitiate { index, sub, crc: true, blksize: 127, pst: 4 })), [0xA4, 0x00, 0x20, 0x7F, 127, 4, 0, 0]),
+        (ClientCommand::BlockDownload(ClientBlockDownload::Initiate(BlockDataInitiate { index, sub, crc: true, size: Some(7) })), [0xC6, 0x00, 0x20, 0x7F, 7, 0, 0, 0]),
         (ClientCommand::BlockUpload(ClientBlockUpload::Ack { ackseq: 5, blksize: 127 }), [0xA2, 5, 127, 0, 0, 0, 0, 0]),
         (ClientCommand::BlockDownload(ClientBlockDownload::End { unused: 3, crc: 0x1234 }), [0xCD, 0x34, 0x12, 0, 0, 0, 0, 0]),
         (ClientCommand::BlockUpload(ClientBlockUpload::Start), [0xA3, 0, 0, 0, 0, 0, 0, 0]),
@@ -576,8 +576,8 @@ fn machine_frames_as_byte_literals() {
         (ServerCommand::UploadSegment(seg(true, true, &[9])), [0x1D, 9, 0, 0, 0, 0, 0, 0]),
         (ServerCommand::DownloadSegment { toggle: true }, [0x30, 0, 0, 0, 0, 0, 0, 0]),
         // Block transfer.
-        (ServerCommand::BlockDownload(ServerBlockDownload::Initiate { index, sub, crc: true, blksize: 127 }), [0xA4, 0x00, 0x20, 0x7F, 127, 0, 0, 0]),
-        (ServerCommand::BlockUpload(ServerBlockUpload::Initiate { index, sub, crc: false, size: Some(7) }), [0xC2, 0x00, 0x20, 0x7F, 7, 0, 0, 0]),
+        (ServerCommand::BlockDownload(ServerBlockDownload::Initiate(BlockDownloadAccept { index, sub, crc: true, blksize: 127 })), [0xA4, 0x00, 0x20, 0x7F, 127, 0, 0, 0]),
+        (ServerCommand::BlockUpload(ServerBlockUpload::Initiate(BlockDataInitiate { index, sub, crc: false, size: Some(7) })), [0xC2, 0x00, 0x20, 0x7F, 7, 0, 0, 0]),
         (ServerCommand::BlockDownload(ServerBlockDownload::Ack { ackseq: 5, blksize: 127 }), [0xA2, 5, 127, 0, 0, 0, 0, 0]),
         (ServerCommand::BlockUpload(ServerBlockUpload::End { unused: 3, crc: 0x1234 }), [0xCD, 0x34, 0x12, 0, 0, 0, 0, 0]),
         (ServerCommand::BlockDownload(ServerBlockDownload::End), [0xA1, 0, 0, 0, 0, 0, 0, 0]),
