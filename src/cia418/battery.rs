@@ -288,6 +288,51 @@ pub enum BatteryType {
 const W: u8 = 0b1000;
 const Y: u8 = 0b0010;
 const Z: u8 = 0b0001;
+const YZ: u8 = Y | Z;
+
+/// The variant fields coded in bits of the nibble `wxyz` (CiA 418
+/// appendix A): for each, the bits `$mask` and the code of every value in
+/// place (`Type: mask => Value code, ...`). `from_wxyz` reads a field from
+/// the nibble (its codes cover every value of the bits), `wxyz` gives the
+/// field's bits in place.
+macro_rules! nibble_fields {
+    ($($ty:ident: $mask:ident => $($value:ident $code:expr),+;)*) => {
+        $(
+            impl $ty {
+                /// The value the nibble's bits code.
+                const fn from_wxyz(sub: u8) -> Self {
+                    let bits = sub & $mask;
+                    $(
+                        if bits == $code {
+                            return Self::$value;
+                        }
+                    )+
+                    // Not reached: the codes cover every value of the bits.
+                    nibble_fields!(@last $($value)+)
+                }
+
+                /// The value's bits in place in the nibble.
+                const fn wxyz(self) -> u8 {
+                    match self {
+                        $(Self::$value => $code,)+
+                    }
+                }
+            }
+        )*
+    };
+    (@last $first:ident $($rest:ident)*) => {
+        Self::$first
+    };
+}
+
+nibble_fields! {
+    Gravity: Y => Normal 0, High Y;
+    Plate: Z => Flat 0, Tubular Z;
+    MaintenanceFree: YZ => Agm 0b00, Gel 0b01, Hybrid 0b10, Unused 0b11;
+    NickelCadmiumCell: W => Vented 0, Sealed W;
+    NickelCadmiumPlate: Z => Pocket 0, Sintered Z;
+    SilverOxide: YZ => AgZn 0b00, AgCd 0b01, AgFe 0b10, Unused 0b11;
+}
 
 impl BatteryType {
     /// Decodes a battery-type byte (total: every byte has a meaning).
@@ -298,24 +343,11 @@ impl BatteryType {
             Chemistry::LeadAcid => {
                 let kind = if sub & W == 0 {
                     LeadAcid::Flooded {
-                        gravity: if sub & Y == 0 {
-                            Gravity::Normal
-                        } else {
-                            Gravity::High
-                        },
-                        plate: if sub & Z == 0 {
-                            Plate::Flat
-                        } else {
-                            Plate::Tubular
-                        },
+                        gravity: Gravity::from_wxyz(sub),
+                        plate: Plate::from_wxyz(sub),
                     }
                 } else {
-                    LeadAcid::MaintenanceFree(match sub & 0b11 {
-                        0b00 => MaintenanceFree::Agm,
-                        0b01 => MaintenanceFree::Gel,
-                        0b10 => MaintenanceFree::Hybrid,
-                        _ => MaintenanceFree::Unused,
-                    })
+                    LeadAcid::MaintenanceFree(MaintenanceFree::from_wxyz(sub))
                 };
                 Self::LeadAcid {
                     kind,
@@ -323,25 +355,12 @@ impl BatteryType {
                 }
             }
             Chemistry::NickelCadmium => Self::NickelCadmium {
-                cell: if sub & W == 0 {
-                    NickelCadmiumCell::Vented
-                } else {
-                    NickelCadmiumCell::Sealed
-                },
-                plate: if sub & Z == 0 {
-                    NickelCadmiumPlate::Pocket
-                } else {
-                    NickelCadmiumPlate::Sintered
-                },
+                cell: NickelCadmiumCell::from_wxyz(sub),
+                plate: NickelCadmiumPlate::from_wxyz(sub),
                 reserved: sub & 0b0110,
             },
             Chemistry::SilverOxide => Self::SilverOxide {
-                couple: match sub & 0b11 {
-                    0b00 => SilverOxide::AgZn,
-                    0b01 => SilverOxide::AgCd,
-                    0b10 => SilverOxide::AgFe,
-                    _ => SilverOxide::Unused,
-                },
+                couple: SilverOxide::from_wxyz(sub),
                 reserved: sub & 0b1100,
             },
             Chemistry::NickelZinc => Self::NickelZinc { reserved: sub },
@@ -369,25 +388,8 @@ impl BatteryType {
         let (code, sub) = match self {
             Self::LeadAcid { kind, reserved } => {
                 let bits = match kind {
-                    LeadAcid::Flooded { gravity, plate } => {
-                        (if matches!(gravity, Gravity::High) {
-                            Y
-                        } else {
-                            0
-                        }) | (if matches!(plate, Plate::Tubular) {
-                            Z
-                        } else {
-                            0
-                        })
-                    }
-                    LeadAcid::MaintenanceFree(m) => {
-                        W | match m {
-                            MaintenanceFree::Agm => 0b00,
-                            MaintenanceFree::Gel => 0b01,
-                            MaintenanceFree::Hybrid => 0b10,
-                            MaintenanceFree::Unused => 0b11,
-                        }
-                    }
+                    LeadAcid::Flooded { gravity, plate } => gravity.wxyz() | plate.wxyz(),
+                    LeadAcid::MaintenanceFree(m) => W | m.wxyz(),
                 };
                 (
                     const { Chemistry::LeadAcid.code() },
@@ -400,24 +402,11 @@ impl BatteryType {
                 reserved,
             } => (
                 const { Chemistry::NickelCadmium.code() },
-                (if matches!(cell, NickelCadmiumCell::Sealed) {
-                    W
-                } else {
-                    0
-                }) | (if matches!(plate, NickelCadmiumPlate::Sintered) {
-                    Z
-                } else {
-                    0
-                }) | (reserved & 0b0110),
+                cell.wxyz() | plate.wxyz() | (reserved & 0b0110),
             ),
             Self::SilverOxide { couple, reserved } => (
                 const { Chemistry::SilverOxide.code() },
-                (match couple {
-                    SilverOxide::AgZn => 0b00,
-                    SilverOxide::AgCd => 0b01,
-                    SilverOxide::AgFe => 0b10,
-                    SilverOxide::Unused => 0b11,
-                }) | (reserved & 0b1100),
+                couple.wxyz() | (reserved & 0b1100),
             ),
             Self::NickelZinc { reserved } => (const { Chemistry::NickelZinc.code() }, reserved),
             Self::NickelIron { reserved } => (const { Chemistry::NickelIron.code() }, reserved),
