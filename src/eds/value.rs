@@ -34,7 +34,8 @@ pub enum ValueError {
 
 /// Reads an integer: decimal (leading zeros allowed) or `0x`/`0X` hex, with
 /// an optional sign; spaces around it are ignored. `None` if it is not one
-/// or does not fit an `i128`.
+/// or does not fit an `i128`. The sign may also follow the `0x` (`0x-5`),
+/// as python-canopen's DCF writer puts it.
 ///
 /// ```
 /// use canopen_codec::eds::parse_int;
@@ -51,9 +52,11 @@ pub fn parse_int(s: &str) -> Option<i128> {
         [b'+', ..] => (false, s.get(1..)?),
         _ => (false, s),
     };
-    let (digits, radix) = match s.as_bytes() {
-        [b'0', b'x' | b'X', ..] => (s.get(2..)?, 16),
-        _ => (s, 10),
+    let (negative, digits, radix) = match s.as_bytes() {
+        // `0x-5`: python-canopen's DCF writer spells a negative number so.
+        [b'0', b'x' | b'X', b'-', ..] if !negative => (true, s.get(3..)?, 16),
+        [b'0', b'x' | b'X', ..] => (negative, s.get(2..)?, 16),
+        _ => (negative, s, 10),
     };
     if digits.is_empty() {
         return None;
@@ -199,6 +202,9 @@ mod tests {
         assert_eq!(parse_int("0X1f"), Some(31));
         assert_eq!(parse_int("007"), Some(7));
         assert_eq!(parse_int("-0x10"), Some(-16));
+        assert_eq!(parse_int("0x-10"), Some(-16));
+        assert_eq!(parse_int("-0x-10"), None);
+        assert_eq!(parse_int("0x-"), None);
         assert_eq!(parse_int(""), None);
         assert_eq!(parse_int("-"), None);
         assert_eq!(parse_int("12a"), None);

@@ -23,6 +23,8 @@ C. For every EDS given (the shared real files) and the one above:
    the concise DCF python-canopen's objects give, and its entry count is
    python-canopen's count of configured writable variables (plus the PDO
    procedure's extra writes, counted from the same objects).
+D. A negative integer in python-canopen's DCF (`ParameterValue=0x-14`) is
+   read as -20.
 
 usage: boot_interop.py PATH/TO/canopen-boot [EDS_FILE ...]
 """
@@ -448,7 +450,7 @@ def part_c(path, tmp):
         default_raw = (getattr(v, "default_raw", None) or "").strip()
         if v.access_type in WRITABLE and default_raw and v.default is not None:
             # python-canopen 2.4.1 writes a negative integer as `0x-5`,
-            # which neither it nor CiA 306 reads: left unconfigured.
+            # which it cannot read back (we do: part D): left unconfigured.
             if isinstance(v.default, int) and v.default < 0:
                 continue
             try:
@@ -474,6 +476,37 @@ def part_c(path, tmp):
           f"ours {len(got)} bytes, python-canopen's {len(want)}")
 
 
+def entries_of(blob):
+    """(index, sub, data) of each entry of a concise DCF."""
+    (count,) = struct.unpack_from("<I", blob)
+    pos, out = 4, []
+    for _ in range(count):
+        index, sub, size = struct.unpack_from("<HBI", blob, pos)
+        pos += 7
+        out.append((index, sub, blob[pos:pos + size]))
+        pos += size
+    return out
+
+
+def part_d(tmp):
+    eds = os.path.join(tmp, "px20.eds")
+    od = canopen.import_od(eds, NODE)
+    od[0x1017].value = 100
+    od[0x2006].value = -20
+    dcf = os.path.join(tmp, "negative.dcf")
+    canopen.export_od(od, dcf, doc_type="dcf")
+    with open(dcf) as f:
+        text = f.read()
+    check("D: python-canopen writes -20 as 0x-14", "ParameterValue=0x-14" in text)
+    code, err = run(["concise", dcf, dcf + ".bin"])
+    check("D: canopen-boot concise reads it", code == 0, err)
+    if code == 0:
+        with open(dcf + ".bin", "rb") as f:
+            got = entries_of(f.read())
+        want = [(0x1017, 0, struct.pack("<H", 100)), (0x2006, 0, struct.pack("<i", -20))]
+        check("D: as 1017h = 100 and 2006h = -20", got == want, got)
+
+
 def main():
     global BOOT
     if len(sys.argv) < 2:
@@ -485,6 +518,7 @@ def main():
         pump = os.path.join(tmp, "px20.eds")
         for path in [pump, *sys.argv[2:]]:
             guarded(f"C: {os.path.basename(path)}", lambda p=path: part_c(p, tmp))
+        guarded("D: a negative number from python-canopen", lambda: part_d(tmp))
     CASES.finish()
 
 
