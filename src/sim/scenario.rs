@@ -152,7 +152,6 @@ impl Scenario {
         let mut config =
             SessionConfig::new(mode, options.chemistry, options.capacity_ah, options.soc)?;
         let lithium = matches!(options.chemistry, Chemistry::LithiumIon);
-        let (cycle, other, float) = if lithium { (11, 13, 12) } else { (1, 2, 3) };
         if matches!(self, Scenario::NeverCan) {
             config.module_on_can = false;
         }
@@ -163,83 +162,154 @@ impl Scenario {
             _ => {}
         }
         s.start();
-        let at = |s: &Session, d: Duration| s.now().add_duration(d);
-        let algorithm = |id: u16| AlgorithmRequest::new(id).to_u32().to_le_bytes();
-        match self {
-            Scenario::NormalLocal | Scenario::NeverCan | Scenario::NormalRemote => {
-                let limit = at(&s, WHOLE_CHARGE);
-                s.run_while(limit, |s| !finished(s));
-                let end = at(&s, minutes(5));
-                s.run_until(end);
-            }
-            Scenario::Terminate6000h => {
-                s.run_until(at(&s, minutes(20)));
-                s.bms.hold = true;
-                s.run_until(at(&s, minutes(5)));
-            }
-            Scenario::CompleteFloat => {
-                s.run_until(at(&s, minutes(20)));
-                s.write_charger(index::ALGORITHM_REQUEST, 0, &algorithm(float));
-                s.run_until(at(&s, minutes(10)));
-            }
-            Scenario::ReduceCurrentVoltage => {
-                s.run_until(at(&s, minutes(10)));
-                s.bms.current_limit_a = Some(10.0);
-                let lowered_mv = (s.bms.cv_volts * 1000.0) as u32 - 2000;
-                let q10 = (u64::from(lowered_mv) * 1024 / 1000) as u32;
-                s.write_charger(index::VOLTAGE_REQUEST, 0, &q10.to_le_bytes());
-                s.run_until(at(&s, minutes(10)));
-            }
-            Scenario::BmsLostBefore => {
-                s.run_until(Timestamp::from_millis(5000));
-                s.set_module_on_can(false);
-                s.run_until(at(&s, minutes(10)));
-            }
-            Scenario::BmsLostDuring => {
-                s.run_until(at(&s, minutes(10)));
-                s.set_module_on_can(false);
-                s.run_until(at(&s, minutes(2)));
-            }
-            Scenario::CanBusError => {
-                s.run_until(at(&s, minutes(5)));
-                s.set_bus_error(true);
-                s.run_until(at(&s, minutes(1)));
-                s.set_bus_error(false);
-                s.run_until(at(&s, minutes(5)));
-            }
-            Scenario::ChangeAlgorithm => {
-                s.run_until(at(&s, minutes(10)));
-                s.write_charger(index::ALGORITHM_REQUEST, 0, &algorithm(other));
-                s.run_until(at(&s, minutes(10)));
-            }
-            Scenario::AhTarget => {
-                s.run_until(Timestamp::from_millis(1000));
-                s.write_charger(AH_TARGET, 0, &(20u16 * 8).to_le_bytes());
-                let limit = at(&s, WHOLE_CHARGE);
-                s.run_while(limit, |s| !finished(s));
-                s.run_until(at(&s, minutes(5)));
-            }
-            Scenario::CommunicationRestored => {
-                s.run_until(at(&s, minutes(5)));
-                s.set_module_on_can(false);
-                s.run_until(at(&s, Duration::from_secs(30)));
-                s.set_module_on_can(true);
-                s.run_until(at(&s, minutes(5)));
-            }
-            Scenario::BatteryUnplugged => {
-                s.run_until(at(&s, minutes(2)));
-                s.set_battery_connected(true);
-                s.run_until(at(&s, minutes(5)));
-            }
-            Scenario::RestartCharge => {
-                let limit = at(&s, WHOLE_CHARGE);
-                s.run_while(limit, |s| !finished(s));
-                s.run_until(at(&s, minutes(5)));
-                s.write_charger(index::ALGORITHM_REQUEST, 0, &algorithm(cycle));
-                s.run_until(at(&s, minutes(5)));
-            }
+        for step in self.script() {
+            step.run(&mut s, lithium);
         }
         Ok(s)
+    }
+}
+
+impl Scenario {
+    /// Its bus events at their simulated times, after the session's start.
+    fn script(self) -> &'static [Step] {
+        use Step::{
+            Algorithm, BatteryConnected, BusError, CurrentLimit, Hold, LowerVoltage, Minutes,
+            ModuleOnCan, Seconds, SetAhTarget, UntilFinished, UntilMs,
+        };
+        match self {
+            Scenario::NormalLocal | Scenario::NeverCan | Scenario::NormalRemote => {
+                &[UntilFinished, Minutes(5)]
+            }
+            Scenario::Terminate6000h => &[Minutes(20), Hold, Minutes(5)],
+            Scenario::CompleteFloat => &[Minutes(20), Algorithm(Pick::Float), Minutes(10)],
+            Scenario::ReduceCurrentVoltage => &[
+                Minutes(10),
+                CurrentLimit(10.0),
+                LowerVoltage { mv: 2000 },
+                Minutes(10),
+            ],
+            Scenario::BmsLostBefore => &[UntilMs(5000), ModuleOnCan(false), Minutes(10)],
+            Scenario::BmsLostDuring => &[Minutes(10), ModuleOnCan(false), Minutes(2)],
+            Scenario::CanBusError => &[
+                Minutes(5),
+                BusError(true),
+                Minutes(1),
+                BusError(false),
+                Minutes(5),
+            ],
+            Scenario::ChangeAlgorithm => &[Minutes(10), Algorithm(Pick::Other), Minutes(10)],
+            Scenario::AhTarget => &[
+                UntilMs(1000),
+                SetAhTarget { ah: 20 },
+                UntilFinished,
+                Minutes(5),
+            ],
+            Scenario::CommunicationRestored => &[
+                Minutes(5),
+                ModuleOnCan(false),
+                Seconds(30),
+                ModuleOnCan(true),
+                Minutes(5),
+            ],
+            Scenario::BatteryUnplugged => &[Minutes(2), BatteryConnected(true), Minutes(5)],
+            Scenario::RestartCharge => &[
+                UntilFinished,
+                Minutes(5),
+                Algorithm(Pick::Cycle),
+                Minutes(5),
+            ],
+        }
+    }
+}
+
+/// Which of the chemistry's charge algorithms the BMS asks for (2241h):
+/// lead acid 1, 2, 3; lithium-ion 11, 13, 12.
+#[derive(Debug, Clone, Copy)]
+enum Pick {
+    /// The normal charge cycle.
+    Cycle,
+    /// Another algorithm (12 A).
+    Other,
+    /// Float.
+    Float,
+}
+
+/// One step of a scenario's script.
+#[derive(Debug, Clone, Copy)]
+enum Step {
+    /// Runs the session this many minutes.
+    Minutes(u64),
+    /// Runs the session this many seconds.
+    Seconds(u64),
+    /// Runs the session until its clock reads this many milliseconds.
+    UntilMs(u64),
+    /// Runs the session until the charge is over ([`finished`]), a whole
+    /// charge at most.
+    UntilFinished,
+    /// The BMS holds: 6000h not ready.
+    Hold,
+    /// The BMS asks for one of the chemistry's algorithms (2241h).
+    Algorithm(Pick),
+    /// The BMS asks for at most this current, A (6070h).
+    CurrentLimit(f64),
+    /// The BMS lowers its voltage request (2271h, 1/1024 V) below its
+    /// constant voltage by `mv` millivolts.
+    LowerVoltage {
+        /// How far below, mV.
+        mv: u32,
+    },
+    /// The battery module's node is on the bus, or off it.
+    ModuleOnCan(bool),
+    /// The charger's CAN controller reports a bus error, or no more.
+    BusError(bool),
+    /// The battery's leads are connected, or not.
+    BatteryConnected(bool),
+    /// The BMS sets an Ah target (2250h, ours: 1/8 Ah).
+    SetAhTarget {
+        /// The target, Ah.
+        ah: u16,
+    },
+}
+
+impl Step {
+    /// Makes the step happen on `s` (`lithium`: the chemistry's algorithm
+    /// numbers).
+    fn run(self, s: &mut Session, lithium: bool) {
+        let at = |s: &Session, d: Duration| s.now().add_duration(d);
+        match self {
+            Step::Minutes(n) => s.run_until(at(s, minutes(n))),
+            Step::Seconds(n) => s.run_until(at(s, Duration::from_secs(n))),
+            Step::UntilMs(ms) => s.run_until(Timestamp::from_millis(ms)),
+            Step::UntilFinished => {
+                let limit = at(s, WHOLE_CHARGE);
+                s.run_while(limit, |s| !finished(s));
+            }
+            Step::Hold => s.bms.hold = true,
+            Step::Algorithm(pick) => {
+                let id = match (pick, lithium) {
+                    (Pick::Cycle, false) => 1,
+                    (Pick::Other, false) => 2,
+                    (Pick::Float, false) => 3,
+                    (Pick::Cycle, true) => 11,
+                    (Pick::Other, true) => 13,
+                    (Pick::Float, true) => 12,
+                };
+                let value = AlgorithmRequest::new(id).to_u32().to_le_bytes();
+                s.write_charger(index::ALGORITHM_REQUEST, 0, &value);
+            }
+            Step::CurrentLimit(a) => s.bms.current_limit_a = Some(a),
+            Step::LowerVoltage { mv } => {
+                let lowered_mv = ((s.bms.cv_volts * 1000.0) as u32).saturating_sub(mv);
+                let q10 = (u64::from(lowered_mv) * 1024 / 1000) as u32;
+                s.write_charger(index::VOLTAGE_REQUEST, 0, &q10.to_le_bytes());
+            }
+            Step::ModuleOnCan(on) => s.set_module_on_can(on),
+            Step::BusError(on) => s.set_bus_error(on),
+            Step::BatteryConnected(on) => s.set_battery_connected(on),
+            Step::SetAhTarget { ah } => {
+                s.write_charger(AH_TARGET, 0, &ah.saturating_mul(8).to_le_bytes())
+            }
+        }
     }
 }
 
