@@ -35,9 +35,10 @@ pub enum ManagerError {
 
 /// The boot-up manager: the NMT master start-up and the boot process of up
 /// to `N` slaves, each with its own SDO client; `E` events are kept (the
-/// oldest dropped and counted beyond; 4 per slave is enough for a caller
-/// that reads them after every call). See the [module docs](super) for
-/// the process and an example.
+/// oldest dropped and counted beyond; one call makes at most 4 per slave
+/// and 2 of the network, so 4 x `N` + 2 is enough for a caller that reads
+/// them after every call). See the [module docs](super) for the process
+/// and an example.
 ///
 /// Poll order after every `handle_*` call and [`start`](Self::start):
 /// [`poll_transmit`](Machine::poll_transmit) until `None` (the NMT

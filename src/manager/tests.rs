@@ -498,3 +498,26 @@ fn a_second_start_waits_for_every_first_boot_again() {
         assert!(!frames.contains(&"000#0105".to_string()), "{frames:?}");
     }
 }
+
+#[test]
+fn a_lost_mandatory_slave_stops_all_nodes_when_1f80h_says_so() {
+    for (startup, stop) in [
+        (NmtStartup::MASTER | NmtStartup::STOP_ALL, true),
+        (NmtStartup::MASTER, false),
+    ] {
+        let n = NodeConfig {
+            assignment: SlaveAssignment::BOOTED.mandatory(),
+            heartbeat: Some(Duration::from_millis(100)),
+            ..node5()
+        };
+        let mut m = started(startup, &[n]);
+        m.handle_frame(t(1), &beat(5, 0));
+        m.handle_frame(t(2), &value(5, 0x1000, 0, 0x191));
+        m.handle_frame(t(3), &value(5, 0x1018, 1, 0x2A));
+        m.handle_frame(t(4), &beat(5, 0x7F));
+        let _ = sent(&mut m);
+        m.handle_timeout(t(500));
+        let expected: &[&str] = if stop { &["000#0200"] } else { &[] };
+        assert_eq!(sent(&mut m), expected);
+    }
+}
