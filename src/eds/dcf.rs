@@ -11,12 +11,12 @@
 //! `NodeID` of `[DeviceComissioning]`. Never a `ro` or `const` value: the
 //! node refuses the write (CiA 301 section 7.2.4.3.17, abort 06010002h),
 //! and the identity objects 1000h and 1018h are what a manager checks, not
-//! what it writes (CiA 302-2 section 4, the boot slave process). A value
+//! what it writes (CiA 302-2 section 4.4, the boot slave process). A value
 //! with only a `DefaultValue` is left out: it is what the device holds
 //! after a reset of its application and communication (CiA 301 section
-//! 7.3.2.2.1, "NMT states"), so writing it again changes nothing; a
-//! `ParameterValue` is the DCF's statement that the integrator configured
-//! the value. An empty `ParameterValue=` configures nothing (tools write
+//! 7.3.2.2.1, NMT state initialisation), so writing it again changes
+//! nothing; a `ParameterValue` is the DCF's statement that the integrator
+//! configured the value. An empty `ParameterValue=` configures nothing (tools write
 //! the key for every object), for a string as for a number.
 //!
 //! **Order.** Index and sub-index order, but a PDO is written by the CiA
