@@ -25,7 +25,7 @@ use crate::cia418::{
     CHARGER_STATE_OF_CHARGE, CHARGER_STATUS, CHARGE_CURRENT_REQUESTED, CIA418_OBJECTS, TEMPERATURE,
 };
 use crate::od::Access::{self, Const, ReadOnly as Ro, ReadWrite as Rw};
-use crate::od::DataType::{Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8};
+use crate::od::DataType::{self, Unsigned16 as U16, Unsigned32 as U32, Unsigned8 as U8};
 use crate::od::{Address, FixedDictionary, Interpretation, Marker, ObjectRow, ObjectType, Unit};
 
 use super::charge::{AH_TARGET, ELAPSED_TIME};
@@ -35,8 +35,6 @@ use super::{
     EXTENDED_CHARGE_STATUS_FLAGS, EXTERNAL_OVERRIDE_FLAGS,
 };
 
-const NO_16: Marker = Marker::NoValue(0xFFFF);
-const NO_32: Marker = Marker::NoValue(0xFFFF_FFFF);
 const A: Option<Unit> = Some(Unit::Ampere);
 const V: Option<Unit> = Some(Unit::Volt);
 const AH: Option<Unit> = Some(Unit::AmpereHour);
@@ -58,6 +56,37 @@ const fn shared(index: u16, access: Access) -> ObjectRow {
         rows = rest;
     }
     ObjectRow::var(index, "", U8, access)
+}
+
+/// A Delta-Q manufacturer object of the charger (Delta-Q IC Series
+/// CANopen interface specification rev 2.0, section 5), named `name` as
+/// Delta-Q's EDS spells it: PDO-mappable, like every entry of the table
+/// but 2FFAh sub 0.
+const fn delta_q(index: u16, name: &'static str, data_type: DataType, access: Access) -> ObjectRow {
+    ObjectRow::var(index, name, data_type, access).mappable()
+}
+
+/// All ones of the row's size (FFh, FFFFh, FFFF_FFFFh).
+const fn all_ones(row: &ObjectRow) -> u32 {
+    match row.size() {
+        1 => 0xFF,
+        2 => 0xFFFF,
+        _ => u32::MAX,
+    }
+}
+
+/// `row` (a scaled reading) with all ones of its size read as "no value",
+/// Delta-Q's marker for a reading or request that is not set.
+const fn no_value(row: ObjectRow) -> ObjectRow {
+    let ones = all_ones(&row);
+    row.marked(Marker::NoValue(ones as u64), None)
+}
+
+/// `row` with "no value" (all ones) as its marker and its power-on value:
+/// not set until the charger measures it or the bus writes it.
+const fn unset(row: ObjectRow) -> ObjectRow {
+    let ones = all_ones(&row);
+    no_value(row.default(ones))
 }
 
 crate::fixed_objects! {
@@ -105,9 +134,7 @@ crate::fixed_objects! {
         /// 6010h battery temperature (0.125 degC).
         temperature: i16 = shared(TEMPERATURE, Rw),
         /// 6052h Ah returned (Delta-Q: Q3 Ah, FFFFh no value).
-        ah_returned: u16 = shared(AH_RETURNED_DURING_LAST_CHARGE, Rw)
-            .default(0xFFFF)
-            .marked(NO_16, None),
+        ah_returned: u16 = unset(shared(AH_RETURNED_DURING_LAST_CHARGE, Rw)),
         /// 6060h battery voltage (1/1024 V).
         battery_voltage: u32 = shared(BATTERY_VOLTAGE, Rw),
         /// 6070h charge current requested (1/16 A).
@@ -116,92 +143,57 @@ crate::fixed_objects! {
         charger_soc: u8 = shared(CHARGER_STATE_OF_CHARGE, Ro).default(0xFF),
         /// 6081h battery state of charge (%; FFh invalid).
         battery_soc: u8 = shared(BATTERY_STATE_OF_CHARGE, Rw).default(0xFF),
-        /// 2002h charging current (Q8 A).
-        charging_current: u16 = ObjectRow::var(index::CHARGING_CURRENT, "Charging Current", U16, Rw)
-            .mappable()
-            .short("charging current")
-            .scaled(8, A)
-            .marked(NO_16, None),
+        /// 2002h charging current (Q8 A; 0 at power-on).
+        charging_current: u16 =
+            no_value(delta_q(index::CHARGING_CURRENT, "Charging Current", U16, Rw)
+                .short("charging current").scaled(8, A)),
         /// 2006h extended charge status.
         extended_status: u16 =
-            ObjectRow::var(index::EXTENDED_CHARGE_STATUS, "Extended Charge Status", U16, Ro)
-                .mappable()
+            delta_q(index::EXTENDED_CHARGE_STATUS, "Extended Charge Status", U16, Ro)
                 .short("extended charge status")
                 .reading(Interpretation::Flags(&EXTENDED_CHARGE_STATUS_FLAGS)),
         /// 2060h current displayed error (a 1003h-style entry; 0 none).
         displayed_error: u32 =
-            ObjectRow::var(index::DISPLAYED_ERROR, "Current Displayed Error/Fault", U32, Ro)
-                .mappable()
+            delta_q(index::DISPLAYED_ERROR, "Current Displayed Error/Fault", U32, Ro)
                 .short("displayed error")
                 .reading(Interpretation::Formatted(&DISPLAYED_ERROR_FORMAT)),
         /// 2100h battery voltage, legacy (Q10 V).
         battery_voltage_q10: u16 =
-            ObjectRow::var(index::BATTERY_VOLTAGE_LEGACY, "Battery Voltage UINT16", U16, Ro)
-                .mappable()
-                .short("battery voltage (legacy)")
-                .default(0xFFFF)
-                .scaled(10, V)
-                .marked(NO_16, None),
+            unset(delta_q(index::BATTERY_VOLTAGE_LEGACY, "Battery Voltage UINT16", U16, Ro)
+                .short("battery voltage (legacy)").scaled(10, V)),
         /// 2101h battery voltage (Q8 V).
         battery_voltage_q8: u16 =
-            ObjectRow::var(index::BATTERY_VOLTAGE, "Battery Voltage Q8.8", U16, Rw)
-                .mappable()
-                .short("battery voltage")
-                .default(0xFFFF)
-                .scaled(8, V)
-                .marked(NO_16, None),
+            unset(delta_q(index::BATTERY_VOLTAGE, "Battery Voltage Q8.8", U16, Rw)
+                .short("battery voltage").scaled(8, V)),
         /// 2200h AC voltage (Q4 V).
-        ac_voltage: u16 = ObjectRow::var(index::AC_VOLTAGE, "AC Voltage", U16, Ro)
-            .mappable()
-            .short("AC voltage")
-            .default(0xFFFF)
-            .scaled(4, V)
-            .marked(NO_16, None),
-        /// 2241h active algorithm request (FFFFFFFFh none).
+        ac_voltage: u16 =
+            unset(delta_q(index::AC_VOLTAGE, "AC Voltage", U16, Ro)
+                .short("AC voltage").scaled(4, V)),
+        /// 2241h active algorithm request (FFFFFFFFh none, its format says so).
         algorithm_request: u32 =
-            ObjectRow::var(index::ALGORITHM_REQUEST, "Active Algorithm Request", U32, Rw)
-                .mappable()
+            unset(delta_q(index::ALGORITHM_REQUEST, "Active Algorithm Request", U32, Rw)
                 .short("algorithm request")
-                .default(0xFFFF_FFFF)
-                .reading(Interpretation::Formatted(&ALGORITHM_REQUEST_FORMAT)),
+                .reading(Interpretation::Formatted(&ALGORITHM_REQUEST_FORMAT))),
         /// 2271h voltage request (Q10 V, FFFFFFFFh none).
-        voltage_request: u32 = ObjectRow::var(index::VOLTAGE_REQUEST, "Voltage Request", U32, Rw)
-            .mappable()
-            .short("voltage request")
-            .default(0xFFFF_FFFF)
-            .scaled(10, V)
-            .marked(NO_32, None),
+        voltage_request: u32 = unset(delta_q(index::VOLTAGE_REQUEST, "Voltage Request", U32, Rw)
+            .short("voltage request").scaled(10, V)),
         /// 2276h voltage request (Q8 V, FFFFh none).
         voltage_request_q8: u16 =
-            ObjectRow::var(index::VOLTAGE_REQUEST_16, "Voltage Request U16 Q8", U16, Rw)
-                .mappable()
-                .short("voltage request")
-                .default(0xFFFF)
-                .scaled(8, V)
-                .marked(NO_16, None),
+            unset(delta_q(index::VOLTAGE_REQUEST_16, "Voltage Request U16 Q8", U16, Rw)
+                .short("voltage request").scaled(8, V)),
         /// 4201h external override.
-        external_override: u8 =
-            ObjectRow::var(index::EXTERNAL_OVERRIDE, "External Override", U8, Rw)
-                .mappable()
-                .short("external override")
-                .reading(Interpretation::Flags(&EXTERNAL_OVERRIDE_FLAGS)),
+        external_override: u8 = delta_q(index::EXTERNAL_OVERRIDE, "External Override", U8, Rw)
+            .short("external override").reading(Interpretation::Flags(&EXTERNAL_OVERRIDE_FLAGS)),
         /// 2008h derate reasons.
-        derate_reasons: u8 = ObjectRow::var(index::DERATE_REASONS, "Derate Reasons", U8, Ro)
-            .mappable()
-            .short("derate reasons")
-            .reading(Interpretation::Flags(&DERATE_REASONS_FLAGS)),
+        derate_reasons: u8 = delta_q(index::DERATE_REASONS, "Derate Reasons", U8, Ro)
+            .short("derate reasons").reading(Interpretation::Flags(&DERATE_REASONS_FLAGS)),
         /// 2250h Ah target (ours, Q3 Ah, FFFFh none; see
         /// [`charge::AH_TARGET`](super::charge::AH_TARGET)).
-        ah_target: u16 = ObjectRow::var(AH_TARGET, "Ah Target", U16, Rw)
-            .mappable()
-            .short("Ah target")
-            .default(0xFFFF)
-            .scaled(3, AH)
-            .marked(NO_16, None),
+        ah_target: u16 =
+            unset(delta_q(AH_TARGET, "Ah Target", U16, Rw).short("Ah target").scaled(3, AH)),
         /// 2251h charge cycle elapsed time (ours, seconds; see
         /// [`charge::ELAPSED_TIME`](super::charge::ELAPSED_TIME)).
-        elapsed_s: u32 = ObjectRow::var(ELAPSED_TIME, "Charge Cycle Elapsed Time", U32, Ro)
-            .mappable()
+        elapsed_s: u32 = delta_q(ELAPSED_TIME, "Charge Cycle Elapsed Time", U32, Ro)
             .short("charge cycle elapsed time"),
     }
     without_field {
