@@ -31,6 +31,13 @@ impl InlineData<8> {
             bytes,
         }
     }
+
+    /// The zero-padded 8-byte buffer and the length (0..=8): what a CAN
+    /// frame carries.
+    #[inline]
+    pub(crate) const fn padded(&self) -> ([u8; 8], u8) {
+        (self.bytes, self.len)
+    }
 }
 
 impl<const N: usize> InlineData<N> {

@@ -12,36 +12,28 @@ use crate::frame::CanFrame;
 use crate::wire::{put, Codec};
 
 /// The checked view of a PDO frame's data: 0..=8 bytes, held padded to 8
-/// with zeros (bytes past the length read as zero).
+/// with zeros (bytes past the length read as zero): the [`Payload`] it
+/// carries, with the PDO's own readings of it.
 ///
 /// ```
 /// use canopen_codec::pdo::PdoFrame;
 /// let f = PdoFrame::new_checked(&[0x74, 0x13]).unwrap();
-/// assert_eq!((f.len(), f.word()), (2, 0x1374));
+/// assert_eq!((f.as_bytes().len(), f.word()), (2, 0x1374));
 /// assert!(PdoFrame::new_checked(&[0; 9]).is_err());
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct PdoFrame {
-    bytes: [u8; 8],
-    len: u8,
-}
+pub struct PdoFrame(Payload);
 
 impl PdoFrame {
     /// The view of `data`: [`DecodeError::TooLong`] above 8 bytes.
     #[inline]
     pub fn new_checked(data: &[u8]) -> Result<Self, DecodeError> {
-        if data.len() > 8 {
-            return Err(DecodeError::TooLong {
-                max: 8,
+        Payload::new(data)
+            .map(PdoFrame)
+            .ok_or(DecodeError::TooLong {
+                max: Payload::CAPACITY,
                 got: data.len(),
-            });
-        }
-        let mut bytes = [0u8; 8];
-        put(&mut bytes, data);
-        Ok(PdoFrame {
-            bytes,
-            len: data.len() as u8,
-        })
+            })
     }
 
     /// The view of a data frame's bytes straight from its padded buffer
@@ -52,17 +44,17 @@ impl PdoFrame {
         if frame.is_remote() {
             return Err(DecodeError::UnexpectedRemote);
         }
-        Ok(PdoFrame {
-            bytes: frame.padded_data(),
-            len: frame.dlc().min(8),
-        })
+        Ok(PdoFrame(InlineData::from_padded(
+            frame.padded_data(),
+            frame.dlc(),
+        )))
     }
 
     /// The data bytes.
     #[must_use]
     #[inline]
     pub fn as_bytes(&self) -> &[u8] {
-        self.bytes.get(..self.len()).unwrap_or(&[])
+        self.0.as_slice()
     }
 
     /// The frame of `len` (at most 8) little-endian bytes of `word`, bytes
@@ -76,10 +68,7 @@ impl PdoFrame {
         } else {
             (1u64 << (8 * len as u32)) - 1
         };
-        PdoFrame {
-            bytes: (word & mask).to_le_bytes(),
-            len,
-        }
+        PdoFrame(InlineData::from_padded((word & mask).to_le_bytes(), len))
     }
 
     /// The data frame carrying these bytes on the identifier whose word is
@@ -89,21 +78,8 @@ impl PdoFrame {
     #[must_use]
     #[inline]
     pub(crate) const fn frame_on_identity(&self, identity: u32) -> CanFrame {
-        CanFrame::from_identity(identity, self.bytes, self.len)
-    }
-
-    /// The number of data bytes (0..=8).
-    #[must_use]
-    #[inline]
-    pub const fn len(&self) -> usize {
-        self.len as usize
-    }
-
-    /// True for a PDO without data.
-    #[must_use]
-    #[inline]
-    pub const fn is_empty(&self) -> bool {
-        self.len == 0
+        let (bytes, len) = self.0.padded();
+        CanFrame::from_identity(identity, bytes, len)
     }
 
     /// The data as one little-endian word (byte `i` is bits `8 i .. 8 i +
@@ -111,14 +87,14 @@ impl PdoFrame {
     #[must_use]
     #[inline]
     pub const fn word(&self) -> u64 {
-        u64::from_le_bytes(self.bytes)
+        u64::from_le_bytes(self.0.padded().0)
     }
 
     /// The payload the frame carries.
     #[must_use]
     #[inline]
-    pub fn payload(&self) -> Payload {
-        InlineData::from_padded(self.bytes, self.len)
+    pub const fn payload(&self) -> Payload {
+        self.0
     }
 }
 
@@ -187,9 +163,8 @@ mod tests {
         let f = PdoFrame::new_checked(&[1, 2, 3]).unwrap();
         assert_eq!(f.word(), 0x03_02_01);
         assert_eq!(f.as_bytes(), &[1, 2, 3]);
-        assert_eq!(f.len(), 3);
-        assert!(!f.is_empty());
-        assert!(PdoFrame::new_checked(&[]).unwrap().is_empty());
+        assert_eq!(f.payload().len(), 3);
+        assert!(PdoFrame::new_checked(&[]).unwrap().as_bytes().is_empty());
         let remote = CanFrame::remote(CanId::Standard(0x18A), 2).unwrap();
         assert_eq!(
             PdoFrame::of_frame(&remote),
