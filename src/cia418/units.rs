@@ -376,13 +376,14 @@ impl StateOfCharge {
     /// 0xFF: no valid estimate.
     pub const INVALID: StateOfCharge = StateOfCharge(0xFF);
 
-    /// A percentage `0..=100`; `None` otherwise.
+    /// A percentage `0..=100` (a byte [`reading`](Self::reading) reads as
+    /// [`SocReading::Percent`]); `None` otherwise.
     #[must_use]
     pub const fn new(percent: u8) -> Option<Self> {
-        if percent <= 100 {
-            Some(StateOfCharge(percent))
-        } else {
-            None
+        let soc = StateOfCharge(percent);
+        match soc.reading() {
+            SocReading::Percent(_) => Some(soc),
+            _ => None,
         }
     }
 
