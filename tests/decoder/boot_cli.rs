@@ -80,6 +80,13 @@ fn concise_writes_the_configured_values() {
     ];
     assert_eq!(std::fs::read(&out).unwrap(), expected);
 
+    // One entry: the count in words.
+    let one = dir.join("one.dcf");
+    std::fs::write(&one, DCF.replace("ParameterValue=$NODEID+0x100", "")).unwrap();
+    let (code, _, stderr) = boot(&["concise", path(&one), path(&out)]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("1 entry, 13 bytes"), "{stderr}");
+
     // Another node id for $NODEID.
     let (code, _, stderr) = boot(&["concise", path(&dcf), path(&out), "--node-id", "0x10"]);
     assert_eq!(code, 0, "{stderr}");

@@ -181,8 +181,9 @@ fn concise(dcf: &Path, out: &Path, node_id: Option<NodeId>) -> Result<(), Failur
         .map_err(|e| Failure(1, format!("{name}: {e}")))?;
     std::fs::write(out, &concise).map_err(|e| Failure(2, format!("{}: {e}", out.display())))?;
     let entries = ConciseDcf::new_checked(&concise).map_or(0, |c| c.len());
+    let noun = if entries == 1 { "entry" } else { "entries" };
     eprintln!(
-        "canopen-boot: {}: {entries} entries, {} bytes",
+        "canopen-boot: {}: {entries} {noun}, {} bytes",
         out.display(),
         concise.len()
     );
