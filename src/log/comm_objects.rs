@@ -236,27 +236,40 @@ fn parameter_group(sub: u8) -> String {
     }
 }
 
+/// A code whose values from 0 up are `listed`, the rest up to 7Fh
+/// reserved and 80h-FFh manufacturer-specific (the convention of CiA 301's
+/// 1029h and CiA 302-3's 1F51h).
+fn listed_code(v: u64, listed: &[&str]) -> String {
+    match usize::try_from(v).ok().and_then(|i| listed.get(i)) {
+        Some(text) => (*text).into(),
+        None if v <= 0x7F => "reserved".into(),
+        None => "manufacturer-specific".into(),
+    }
+}
+
 /// 1029h: the state a communication or other error sends the device to.
 fn error_behaviour(v: u64) -> String {
-    match v {
-        0 => "pre-operational (if operational)".into(),
-        1 => "no change of state".into(),
-        2 => "stopped".into(),
-        3..=127 => "reserved".into(),
-        _ => "manufacturer-specific".into(),
-    }
+    listed_code(
+        v,
+        &[
+            "pre-operational (if operational)",
+            "no change of state",
+            "stopped",
+        ],
+    )
 }
 
 /// 1F51h program control.
 fn program_control(v: u64) -> String {
-    match v {
-        0 => "stop program / program stopped".into(),
-        1 => "start program / program started".into(),
-        2 => "reset program".into(),
-        3 => "clear program / no program available".into(),
-        4..=0x7F => "reserved".into(),
-        _ => "manufacturer-specific".into(),
-    }
+    listed_code(
+        v,
+        &[
+            "stop program / program stopped",
+            "start program / program started",
+            "reset program",
+            "clear program / no program available",
+        ],
+    )
 }
 
 /// 1F57h flash status identification: bit 0 in progress, bits 1-7 status.
@@ -382,6 +395,11 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
         unsigned(Described::named(name), bytes, n, exact, meaning)
     };
     let highest = |what: &str| num(format!("{what}: highest sub-index"), 1, decimal);
+    // The two halves of a TIME_OF_DAY kept apart (1020h in CiA 301, the
+    // CiA 302 date and time objects): Unsigned32 days since 1984-01-01,
+    // Unsigned32 milliseconds after midnight.
+    let date = |name: String| num(name, 4, days_since_1984);
+    let time = |name: String| num(name, 4, ms_after_midnight);
     let text = |name: &str| {
         let mut d = Described::named(name);
         d.string = true;
@@ -480,16 +498,8 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
             _ => format!("{v} (reserved)"),
         }),
         (0x1020, 0) => highest("verify configuration"),
-        (0x1020, 1) => num(
-            "verify configuration: configuration date".into(),
-            4,
-            days_since_1984,
-        ),
-        (0x1020, 2) => num(
-            "verify configuration: configuration time".into(),
-            4,
-            ms_after_midnight,
-        ),
+        (0x1020, 1) => date("verify configuration: configuration date".into()),
+        (0x1020, 2) => time("verify configuration: configuration time".into()),
         (0x1021, 0) => bytes_only("store EDS".into()),
         (0x1022, 0) => num("store format".into(), 1, |v| match v {
             0 => "0 (ISO 10646, not compressed)".into(),
@@ -616,28 +626,12 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
         (0x1F51, 0) => highest("program control"),
         (0x1F51, _) => num(format!("program control {sub}"), 1, program_control),
         (0x1F52, 0) => highest("verify application software"),
-        (0x1F52, 1) => num(
-            "verify application software: date".into(),
-            4,
-            days_since_1984,
-        ),
-        (0x1F52, 2) => num(
-            "verify application software: time".into(),
-            4,
-            ms_after_midnight,
-        ),
+        (0x1F52, 1) => date("verify application software: date".into()),
+        (0x1F52, 2) => time("verify application software: time".into()),
         (0x1F53, 0) => highest("expected application software date"),
-        (0x1F53, _) => num(
-            format!("expected application software date of node {sub}"),
-            4,
-            days_since_1984,
-        ),
+        (0x1F53, _) => date(format!("expected application software date of node {sub}")),
         (0x1F54, 0) => highest("expected application software time"),
-        (0x1F54, _) => num(
-            format!("expected application software time of node {sub}"),
-            4,
-            ms_after_midnight,
-        ),
+        (0x1F54, _) => time(format!("expected application software time of node {sub}")),
         (0x1F55, 0) => highest("expected software identification"),
         (0x1F55, _) => num(
             format!("expected software identification of node {sub}"),
@@ -668,16 +662,8 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
         (0x1F21, _) => num(format!("storage format {sub}"), 1, decimal),
         (0x1F22, _) => bytes_only(format!("concise DCF {sub}")),
         (0x1F25, _) => num(format!("configuration request {sub}"), 4, hex32),
-        (0x1F26, _) => num(
-            format!("expected configuration date of node {sub}"),
-            4,
-            days_since_1984,
-        ),
-        (0x1F27, _) => num(
-            format!("expected configuration time of node {sub}"),
-            4,
-            ms_after_midnight,
-        ),
+        (0x1F26, _) => date(format!("expected configuration date of node {sub}")),
+        (0x1F27, _) => time(format!("expected configuration time of node {sub}")),
         _ => bytes_only(format!(
             "{index:04X}h:{sub:02X}, reserved in the communication profile area"
         )),
@@ -757,38 +743,48 @@ mod tests {
             )
         );
         assert_eq!(
-            meaning(0x1011, 1, b"load").1,
-            "signature \"load\": restores now"
-        );
-        assert_eq!(
-            meaning(0x1011, 1, &[0, 0, 0, 0]).1,
-            "does not restore on command"
-        );
-        assert_eq!(
-            meaning(0x1012, 0, &[0x00, 0x01, 0x00, 0xC0]).1,
-            "100h, TIME consumer and producer"
-        );
-        assert_eq!(meaning(0x1014, 0, &[0x8A, 0, 0, 0x80]).1, "08Ah, invalid");
-        assert_eq!(meaning(0x1029, 2, &[2]).1, "stopped");
-        assert_eq!(meaning(0x1029, 1, &[200]).1, "manufacturer-specific");
-        assert_eq!(
-            meaning(0x1F80, 0, &[0x0F, 0, 0, 0]).1,
-            "NMT master, starts all nodes, does not enter operational by itself, \
-             does not start the slaves"
-        );
-        assert_eq!(
-            meaning(0x1F57, 1, &[0x00, 0x01, 0, 0]).1,
-            "not in progress, ok, manufacturer-specific 000001h"
-        );
-        assert_eq!(
-            meaning(0x1020, 1, &[2, 0, 0, 0]).1,
-            "2 days since 1984-01-01 (1984-01-03)"
-        );
-        assert_eq!(
             meaning(0x1280, 3, &[5]).0,
             "SDO client parameter 0: node-ID of the SDO server"
         );
-        // A value of the wrong size says so instead of a meaning.
-        assert_eq!(meaning(0x100C, 0, &[1]).1, "1 bytes, the object has 2");
+        // (index, sub, value, what it means)
+        let meanings: [(u16, u8, &[u8], &str); 12] = [
+            (0x1011, 1, b"load", "signature \"load\": restores now"),
+            (0x1011, 1, &[0, 0, 0, 0], "does not restore on command"),
+            (
+                0x1012,
+                0,
+                &[0x00, 0x01, 0x00, 0xC0],
+                "100h, TIME consumer and producer",
+            ),
+            (0x1014, 0, &[0x8A, 0, 0, 0x80], "08Ah, invalid"),
+            (0x1029, 2, &[2], "stopped"),
+            (0x1029, 1, &[3], "reserved"),
+            (0x1029, 1, &[200], "manufacturer-specific"),
+            (0x1F51, 1, &[3], "clear program / no program available"),
+            (
+                0x1F80,
+                0,
+                &[0x0F, 0, 0, 0],
+                "NMT master, starts all nodes, does not enter operational by itself, \
+                 does not start the slaves",
+            ),
+            (
+                0x1F57,
+                1,
+                &[0x00, 0x01, 0, 0],
+                "not in progress, ok, manufacturer-specific 000001h",
+            ),
+            (
+                0x1020,
+                1,
+                &[2, 0, 0, 0],
+                "2 days since 1984-01-01 (1984-01-03)",
+            ),
+            // A value of the wrong size says so instead of a meaning.
+            (0x100C, 0, &[1], "1 bytes, the object has 2"),
+        ];
+        for (index, sub, value, want) in meanings {
+            assert_eq!(meaning(index, sub, value).1, want, "{index:04X}h:{sub}");
+        }
     }
 }
