@@ -1,7 +1,9 @@
 //! Block transfer byte vectors (CiA 301 section 7.2.4.3, SDO protocols, frame
 //! layouts; V17/V18 are python-canopen's test transfers) through the client
 //! and the server, each direction on its own, and the crash sequences seen
-//! in another Rust stack. No allocation needed.
+//! in another Rust stack. The exchanges are transcripts of the bus
+//! (`block_transcripts.txt`), one per case, and one runner checks a client
+//! or a server against them; no allocation needed in the machines.
 
 use std::string::String;
 use std::vec::Vec;
@@ -154,33 +156,149 @@ pub(super) fn resp<D: AsRef<[u8]>>(c: &mut Client<D>, hex: &str) -> Vec<String> 
     sent(c)
 }
 
-/// Each step's frame fed through `feed` (`req` or `resp`), and what the
-/// machine sends then compared with the step's frames.
-pub(super) fn script<M>(
-    m: &mut M,
-    feed: fn(&mut M, &str) -> Vec<String>,
-    steps: &[(&str, &[&str])],
-) {
-    for &(input, output) in steps {
-        assert_eq!(feed(m, input), output, "after {input}");
+/// How a transfer ended, in the same words for the client and the server,
+/// as a transcript's `=` line writes it: `downloaded 2000:00 30`,
+/// `uploaded 1008:00 26`, `aborted 2000:00 05040004 Local` (the abort code
+/// as CiA 301 section 7.2.4.3.17 lists it, and who aborted).
+pub(super) trait Ending {
+    /// The words for an event that ends a transfer; `None` for the others.
+    fn ending(&self) -> Option<String>;
+}
+
+fn ended(what: &str, index: u16, sub: u8, detail: impl core::fmt::Display) -> String {
+    std::format!("{what} {index:04X}:{sub:02X} {detail}")
+}
+
+fn aborted(index: u16, sub: u8, code: AbortCode, origin: AbortOrigin) -> String {
+    let detail = std::format!("{:08X} {origin:?}", code.to_u32());
+    ended("aborted", index, sub, detail)
+}
+
+impl Ending for ClientEvent {
+    fn ending(&self) -> Option<String> {
+        Some(match *self {
+            ClientEvent::UploadData { .. } => return None,
+            ClientEvent::Uploaded { index, sub, len } => ended("uploaded", index, sub, len),
+            ClientEvent::Downloaded { index, sub, len } => ended("downloaded", index, sub, len),
+            ClientEvent::Aborted {
+                index,
+                sub,
+                code,
+                origin,
+            } => aborted(index, sub, code, origin),
+        })
     }
 }
 
+impl Ending for ServerEvent {
+    fn ending(&self) -> Option<String> {
+        let (index, sub) = self.object();
+        Some(match *self {
+            ServerEvent::Downloaded { len, .. } => ended("downloaded", index, sub, len),
+            ServerEvent::Uploaded { len, .. } => ended("uploaded", index, sub, len),
+            ServerEvent::Aborted { code, origin, .. } => aborted(index, sub, code, origin),
+        })
+    }
+}
+
+/// The block exchanges, one section a case (the file's head gives the
+/// format).
+const TRANSCRIPTS: &str = include_str!("block_transcripts.txt");
+
+/// The transcript of the case `name` (its `## name` section).
+pub(super) fn transcript(name: &str) -> &'static str {
+    let section = |s: &'static str| s.strip_prefix(name)?.strip_prefix('\n');
+    let found = TRANSCRIPTS.split("\n## ").find_map(section);
+    found.unwrap_or_else(|| panic!("no transcript {name}"))
+}
+
+/// Runs the transcripts of `cases`, one after the other, against one side of the
+/// exchange: `incoming` marks the frames it receives, fed through `feed`;
+/// after each (and at the start) it must send exactly the frames of the
+/// other arrow that follow, before the next frame it receives. So one
+/// transcript checks both sides of an exchange: [`serve`] feeds the server
+/// the `>` frames, [`drive`] the client the `<` frames. A `lost` frame
+/// counts only for its sender. The transfers must end as the `=` lines say.
+/// Returns every event of the run.
+fn run<M>(
+    m: &mut M,
+    feed: fn(&mut M, &str) -> Vec<String>,
+    incoming: char,
+    cases: &[&str],
+) -> Vec<M::Event>
+where
+    M: Machine,
+    M::Event: Ending,
+{
+    let mut seen = Vec::new();
+    let (mut ends, mut expected) = (Vec::new(), Vec::<&str>::new());
+    let (mut after, mut out) = ("the start", sent(m));
+    let outgoing = if incoming == '>' { '<' } else { '>' };
+    let lines = cases
+        .iter()
+        .flat_map(|c| transcript(c).lines())
+        .map(str::trim);
+    for line in lines.filter(|l| !l.is_empty() && !l.starts_with('#')) {
+        let (mark, rest) = line.split_at(1);
+        let rest = rest.trim();
+        let (frame, lost) = match rest.strip_suffix("lost") {
+            Some(frame) => (frame.trim(), true),
+            None => (rest, false),
+        };
+        match mark.chars().next() {
+            Some('=') => ends.push(rest),
+            Some(c) if c == incoming && lost => {}
+            Some(c) if c == incoming || c == '~' => {
+                assert_eq!(out, expected, "{cases:?}, after {after}");
+                expected.clear();
+                out = if c == '~' {
+                    let due = m.poll_timeout().expect("a deadline to pass");
+                    m.handle_timeout(due);
+                    sent(m)
+                } else {
+                    feed(m, frame)
+                };
+                after = line;
+                seen.extend(events(m));
+            }
+            Some(c) if c == outgoing => expected.push(frame),
+            _ => panic!("{cases:?}: no frame, deadline or end: {line}"),
+        }
+    }
+    assert_eq!(out, expected, "{cases:?}, after {after}");
+    let endings: Vec<String> = seen.iter().filter_map(Ending::ending).collect();
+    assert_eq!(endings, ends, "{cases:?}: how the transfers ended");
+    seen
+}
+
+/// Runs the transcripts of `cases` against the server (see [`run`]).
+pub(super) fn serve(s: &mut Server<Od>, cases: &[&str]) -> Vec<ServerEvent> {
+    run(s, req, '>', cases)
+}
+
+/// Runs the transcripts of `cases` against a client just started (see
+/// [`run`]): their first frames are the ones the start sends.
+pub(super) fn drive<D: AsRef<[u8]>>(c: &mut Client<D>, cases: &[&str]) -> Vec<ClientEvent> {
+    run(c, resp, '<', cases)
+}
+
+/// The value an upload delivered, from its `UploadData` events in order.
+fn uploaded(events: &[ClientEvent]) -> Vec<u8> {
+    let mut value = Vec::new();
+    for e in events {
+        if let ClientEvent::UploadData { offset, data, .. } = e {
+            assert_eq!(*offset, value.len());
+            value.extend_from_slice(data.as_slice());
+        }
+    }
+    value
+}
+
+/// V17, python-canopen's block download value (30 bytes).
 pub(super) const V17: &[u8] = b"A really really long string...";
-pub(super) const V17_SEGMENTS: [&str; 5] = [
-    "01 41 20 72 65 61 6C 6C",
-    "02 79 20 72 65 61 6C 6C",
-    "03 79 20 6C 6F 6E 67 20",
-    "04 73 74 72 69 6E 67 2E",
-    "85 2E 2E 00 00 00 00 00",
-];
+
+/// V18, python-canopen's block upload value, 1008h (26 bytes).
 pub(super) const V18: &[u8] = b"Tiny Node - Mega Domains !";
-pub(super) const V18_SEGMENTS: [&str; 4] = [
-    "01 54 69 6E 79 20 4E 6F",
-    "02 64 65 20 2D 20 4D 65",
-    "03 67 61 20 44 6F 6D 61",
-    "84 69 6E 73 20 21 00 00",
-];
 
 #[test]
 fn sender_and_receiver_cores() {
@@ -234,218 +352,49 @@ fn sender_and_receiver_cores() {
 }
 
 #[test]
-fn v17_block_download_client_side() {
+fn v17_block_download_both_sides() {
+    let v17 = ["v17 sub-block", "v17 end"];
     let mut c = client();
     c.start_block_download(T0, 0x2000, 0, V17).unwrap();
-    assert_eq!(sent(&mut c), ["C6 00 20 00 1E 00 00 00"]);
-    // One segment per poll: the whole sub-block comes out of the drain.
-    assert_eq!(resp(&mut c, "A4 00 20 00 7F 00 00 00"), V17_SEGMENTS);
-    script(
-        &mut c,
-        resp,
-        &[
-            ("A2 05 7F 00 00 00 00 00", &["D5 45 69 00 00 00 00 00"]),
-            ("A1 00 00 00 00 00 00 00", &[]),
-        ],
-    );
-    assert_eq!(
-        events(&mut c),
-        [ClientEvent::Downloaded {
-            index: 0x2000,
-            sub: 0,
-            len: 30
-        }]
-    );
+    drive(&mut c, &v17);
     assert!(!c.is_busy() && c.poll_timeout().is_none());
-}
-
-#[test]
-fn v17_block_download_server_side() {
     let mut s = server(Od::new(b""));
-    assert_eq!(
-        req(&mut s, "C6 00 20 00 1E 00 00 00"),
-        ["A4 00 20 00 7F 00 00 00"]
-    );
-    for seg in &V17_SEGMENTS[..4] {
-        assert_eq!(req(&mut s, seg), Vec::<String>::new());
-    }
-    assert_eq!(req(&mut s, V17_SEGMENTS[4]), ["A2 05 7F 00 00 00 00 00"]);
-    assert_eq!(
-        req(&mut s, "D5 45 69 00 00 00 00 00"),
-        ["A1 00 00 00 00 00 00 00"]
-    );
-    assert_eq!(
-        events(&mut s),
-        [ServerEvent::Downloaded {
-            index: 0x2000,
-            sub: 0,
-            len: 30
-        }]
-    );
-    assert_eq!(s.od().written(), V17);
-    assert_eq!(s.od().finished, Some(30));
+    serve(&mut s, &v17);
+    assert_eq!((s.od().written(), s.od().finished), (V17, Some(30)));
 }
 
 #[test]
 fn block_download_without_size_and_without_crc() {
     let mut s = server(Od::new(b""));
-    // cc = 0, s = 0: no CRC, no size.
-    script(
-        &mut s,
-        req,
-        &[
-            ("C0 00 20 00 00 00 00 00", &["A4 00 20 00 7F 00 00 00"]),
-            ("81 41 42 43 00 00 00 00", &["A2 01 7F 00 00 00 00 00"]),
-        ],
-    );
-    // CRC not in use: the CRC field is not checked.
-    assert_eq!(
-        req(&mut s, "D1 12 34 00 00 00 00 00"),
-        ["A1 00 00 00 00 00 00 00"]
-    );
+    serve(&mut s, &["download without size and without crc"]);
     assert_eq!(s.od().written(), b"ABC");
 }
 
 #[test]
-fn v18_block_upload_client_side() {
+fn v18_block_upload_both_sides() {
+    let v18 = ["v18 sub-block", "v18 end"];
     let mut c = client();
     c.start_block_upload(T0, 0x1008, 0).unwrap();
-    assert_eq!(sent(&mut c), ["A4 08 10 00 7F 00 00 00"]);
-    assert_eq!(
-        resp(&mut c, "C6 08 10 00 1A 00 00 00"),
-        ["A3 00 00 00 00 00 00 00"]
-    );
-    let mut seen = Vec::new();
-    for seg in &V18_SEGMENTS[..3] {
-        assert_eq!(resp(&mut c, seg), Vec::<String>::new());
-        seen.extend(events(&mut c));
-    }
-    assert_eq!(resp(&mut c, V18_SEGMENTS[3]), ["A2 04 7F 00 00 00 00 00"]);
-    assert_eq!(
-        resp(&mut c, "C9 40 E1 00 00 00 00 00"),
-        ["A1 00 00 00 00 00 00 00"]
-    );
-    seen.extend(events(&mut c));
-    let mut value = Vec::new();
-    for e in seen {
-        match e {
-            ClientEvent::UploadData { offset, data, .. } => {
-                assert_eq!(offset, value.len());
-                value.extend_from_slice(data.as_slice());
-            }
-            e => assert_eq!(
-                e,
-                ClientEvent::Uploaded {
-                    index: 0x1008,
-                    sub: 0,
-                    len: 26
-                }
-            ),
-        }
-    }
-    assert_eq!(value, V18);
-}
-
-#[test]
-fn v18_block_upload_server_side() {
-    let mut s = server(Od::new(V18));
-    assert_eq!(
-        req(&mut s, "A4 08 10 00 7F 00 00 00"),
-        ["C6 08 10 00 1A 00 00 00"]
-    );
-    assert_eq!(req(&mut s, "A3 00 00 00 00 00 00 00"), V18_SEGMENTS);
-    script(
-        &mut s,
-        req,
-        &[
-            ("A2 04 7F 00 00 00 00 00", &["C9 40 E1 00 00 00 00 00"]),
-            ("A1 00 00 00 00 00 00 00", &[]),
-        ],
-    );
-    assert_eq!(
-        events(&mut s),
-        [ServerEvent::Uploaded {
-            index: 0x1008,
-            sub: 0,
-            len: 26
-        }]
-    );
+    assert_eq!(uploaded(&drive(&mut c, &v18)), V18);
+    serve(&mut server(Od::new(V18)), &v18);
 }
 
 #[test]
 fn lost_segment_is_acknowledged_and_resent_download() {
-    // Server as receiver, block size 3: segment 2 is lost.
+    let lost = ["lost segment, download"];
     let mut s = server_with(3, Od::new(b""));
-    assert_eq!(
-        req(&mut s, "C6 00 20 00 1E 00 00 00"),
-        ["A4 00 20 00 03 00 00 00"]
-    );
-    assert_eq!(req(&mut s, V17_SEGMENTS[0]), Vec::<String>::new());
-    // Seq 3 (the block's last number) after a gap: ack the last in order.
-    assert_eq!(
-        req(&mut s, "03 79 20 6C 6F 6E 67 20"),
-        ["A2 01 03 00 00 00 00 00"]
-    );
-    // The client resends from segment 2, numbering from 1.
-    script(
-        &mut s,
-        req,
-        &[
-            ("01 79 20 72 65 61 6C 6C", &[]),
-            ("02 79 20 6C 6F 6E 67 20", &[]),
-            ("03 73 74 72 69 6E 67 2E", &["A2 03 03 00 00 00 00 00"]),
-            ("81 2E 2E 00 00 00 00 00", &["A2 01 03 00 00 00 00 00"]),
-            ("D5 45 69 00 00 00 00 00", &["A1 00 00 00 00 00 00 00"]),
-        ],
-    );
+    serve(&mut s, &lost);
     assert_eq!(s.od().written(), V17);
-
-    // Client as sender of the same exchange.
     let mut c = client();
     c.start_block_download(T0, 0x2000, 0, V17).unwrap();
-    let _ = sent(&mut c);
-    assert_eq!(resp(&mut c, "A4 00 20 00 03 00 00 00"), &V17_SEGMENTS[..3]);
-    script(
-        &mut c,
-        resp,
-        &[
-            (
-                "A2 01 03 00 00 00 00 00",
-                &[
-                    "01 79 20 72 65 61 6C 6C",
-                    "02 79 20 6C 6F 6E 67 20",
-                    "03 73 74 72 69 6E 67 2E",
-                ],
-            ),
-            ("A2 03 03 00 00 00 00 00", &["81 2E 2E 00 00 00 00 00"]),
-            ("A2 01 03 00 00 00 00 00", &["D5 45 69 00 00 00 00 00"]),
-        ],
-    );
+    drive(&mut c, &lost);
 }
 
 #[test]
 fn lost_segment_is_acknowledged_and_resent_upload() {
     let mut c = client_with(2);
     c.start_block_upload(T0, 0x1008, 0).unwrap();
-    assert_eq!(sent(&mut c), ["A4 08 10 00 02 00 00 00"]);
-    let _ = resp(&mut c, "C6 08 10 00 1A 00 00 00");
-    // Segment 1 lost: seq 2 ends the block, nothing in order.
-    assert_eq!(resp(&mut c, V18_SEGMENTS[1]), ["A2 00 02 00 00 00 00 00"]);
-    assert_eq!(resp(&mut c, V18_SEGMENTS[0]), Vec::<String>::new());
-
-    let mut s = server(Od::new(V18));
-    let _ = req(&mut s, "A4 08 10 00 02 00 00 00");
-    assert_eq!(req(&mut s, "A3 00 00 00 00 00 00 00"), &V18_SEGMENTS[..2]);
-    script(
-        &mut s,
-        req,
-        &[
-            (
-                "A2 01 02 00 00 00 00 00",
-                &["01 64 65 20 2D 20 4D 65", "02 67 61 20 44 6F 6D 61"],
-            ),
-            ("A2 02 02 00 00 00 00 00", &["81 69 6E 73 20 21 00 00"]),
-            ("A2 01 02 00 00 00 00 00", &["C9 40 E1 00 00 00 00 00"]),
-        ],
-    );
+    drive(&mut c, &["lost segment, upload to the client"]);
+    let from_server = ["lost segment, upload from the server"];
+    serve(&mut server(Od::new(V18)), &from_server);
 }
