@@ -70,15 +70,6 @@ impl Default for NmtStartup {
 pub struct SlaveAssignment(u32);
 
 impl SlaveAssignment {
-    /// Bit 0: the node is a slave of this master.
-    const SLAVE: u32 = 1 << 0;
-    /// Bit 2: the master boots the slave (checks and configures it).
-    const BOOT: u32 = 1 << 2;
-    /// Bit 3: the slave is mandatory.
-    const MANDATORY: u32 = 1 << 3;
-    /// Bit 4: keep alive (its communication is not reset at start-up).
-    const KEEP_ALIVE: u32 = 1 << 4;
-
     /// An optional slave the master boots: bits 0 and 2.
     pub const BOOTED: SlaveAssignment = SlaveAssignment(Self::SLAVE | Self::BOOT);
 
@@ -94,52 +85,12 @@ impl SlaveAssignment {
         self.0
     }
 
-    /// The same assignment, mandatory (bit 3).
-    #[must_use]
-    pub const fn mandatory(self) -> Self {
-        SlaveAssignment(self.0 | Self::MANDATORY)
-    }
-
-    /// The same assignment, keep alive (bit 4).
-    #[must_use]
-    pub const fn keep_alive(self) -> Self {
-        SlaveAssignment(self.0 | Self::KEEP_ALIVE)
-    }
-
     /// The same assignment with node guarding: guard time (whole ms,
     /// saturating at 65 535) and retry factor (the life time factor).
     #[must_use]
     pub fn with_guarding(self, guard_time: Duration, retry_factor: u8) -> Self {
         let guard = u32::from(crate::clock::millis_u16(guard_time));
         SlaveAssignment((self.0 & 0xFF) | u32::from(retry_factor) << 8 | guard << 16)
-    }
-
-    /// Bit 0: the node is a slave of this master (in its network list).
-    #[must_use]
-    pub const fn is_slave(self) -> bool {
-        self.0 & Self::SLAVE != 0
-    }
-
-    /// Bit 2: the master checks and configures the slave; when clear, the
-    /// manager skips the identity check and the configuration download
-    /// and only starts error control and the node.
-    #[must_use]
-    pub const fn may_boot(self) -> bool {
-        self.0 & Self::BOOT != 0
-    }
-
-    /// Bit 3: the slave is mandatory: the network is not started while
-    /// it has not booted.
-    #[must_use]
-    pub const fn is_mandatory(self) -> bool {
-        self.0 & Self::MANDATORY != 0
-    }
-
-    /// Bit 4: keep alive: its communication is not reset at start-up; its
-    /// boot process begins at once.
-    #[must_use]
-    pub const fn keeps_alive(self) -> bool {
-        self.0 & Self::KEEP_ALIVE != 0
     }
 
     /// Bits 8-15: the retry factor (node guarding's life time factor).
@@ -153,6 +104,54 @@ impl SlaveAssignment {
     pub const fn guard_time(self) -> Duration {
         Duration::from_millis((self.0 >> 16) as u64)
     }
+}
+
+/// Declares each flag bit of 1F81h once: its mask, its test and, for the
+/// bits an application sets on [`SlaveAssignment::BOOTED`], its setter.
+macro_rules! assignment_bits {
+    ($(
+        $(#[$doc:meta])*
+        $mask:ident = $bit:literal, $test:ident $(, $set:ident)?;
+    )*) => {
+        impl SlaveAssignment {
+            $(
+                #[doc = concat!("Bit ", stringify!($bit), " of 1F81h.")]
+                const $mask: u32 = 1 << $bit;
+
+                $(#[$doc])*
+                #[must_use]
+                pub const fn $test(self) -> bool {
+                    self.0 & Self::$mask != 0
+                }
+
+                $(
+                    #[doc = concat!(
+                        "The same assignment with bit ", stringify!($bit),
+                        " set ([`", stringify!($test), "`](Self::", stringify!($test), "))."
+                    )]
+                    #[must_use]
+                    pub const fn $set(self) -> Self {
+                        SlaveAssignment(self.0 | Self::$mask)
+                    }
+                )?
+            )*
+        }
+    };
+}
+
+assignment_bits! {
+    /// Bit 0: the node is a slave of this master (in its network list).
+    SLAVE = 0, is_slave;
+    /// Bit 2: the master checks and configures the slave; when clear, the
+    /// manager skips the identity check and the configuration download
+    /// and only starts error control and the node.
+    BOOT = 2, may_boot;
+    /// Bit 3: the slave is mandatory: the network is not started while
+    /// it has not booted.
+    MANDATORY = 3, is_mandatory, mandatory;
+    /// Bit 4: keep alive: its communication is not reset at start-up; its
+    /// boot process begins at once.
+    KEEP_ALIVE = 4, keeps_alive, keep_alive;
 }
 
 /// The identity a slave must have: 1F84h "device type identification" and
