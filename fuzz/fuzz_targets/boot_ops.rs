@@ -55,8 +55,9 @@ fn manager(start_all: bool) -> BootManager<'static, 4> {
     });
     let dcf = ConciseDcf::new_checked(&CONFIGURATION).expect("a valid concise DCF");
     let mut first = NodeConfig::new(NodeId::new(5).unwrap()).with_configuration(dcf);
-    first.assignment = SlaveAssignment::BOOTED.mandatory();
+    first.assignment = SlaveAssignment::BOOTED.mandatory().verify_software();
     first.expected.device_type = 0x191;
+    first.expected.software = 0x5150;
     first.expected.vendor_id = 0x2A;
     let mut guarded = NodeConfig::new(NodeId::new(6).unwrap());
     guarded.assignment = SlaveAssignment::BOOTED.with_guarding(Duration::from_millis(20), 2);

@@ -54,7 +54,8 @@ impl Default for NmtStartup {
 /// "Network management", section 4.2, object 1F81h): bit 0 the node is a
 /// slave of this master, bit 2 the master may boot it (check and
 /// configure it), bit 3 it is mandatory, bit 4 keep alive (its
-/// communication is not reset at start-up), bits 8-15 the retry factor and
+/// communication is not reset at start-up), bit 5 verify its application
+/// software, bits 8-15 the retry factor and
 /// bits 16-31 the guard time in ms for node guarding.
 ///
 /// ```
@@ -152,6 +153,15 @@ assignment_bits! {
     /// Bit 4: keep alive: its communication is not reset at start-up; its
     /// boot process begins at once.
     KEEP_ALIVE = 4, keeps_alive, keep_alive;
+    /// Bit 5: verify the slave's application software: its 1F56h sub 1
+    /// "program software identification" (CiA 302-3 "Configuration and
+    /// program download", section 4) is read and compared with
+    /// [`ExpectedIdentity::software`] (1F55h) before its configuration is
+    /// written (CiA 302-2 "Network management", section 4.4, "check
+    /// software version"). The manager never downloads a program (bit 6,
+    /// "software update allowed", is kept but not acted on): a difference
+    /// ends the boot with error status H.
+    VERIFY_SOFTWARE = 5, verifies_software, verify_software;
 }
 
 /// The identity a slave must have: 1F84h "device type identification" and
@@ -171,6 +181,12 @@ pub struct ExpectedIdentity {
     pub revision: u32,
     /// 1F88h: the expected 1018h sub 4.
     pub serial: u32,
+    /// 1F55h "expected software identification" (CiA 302-3
+    /// "Configuration and program download", section 4): the expected
+    /// 1F56h sub 1 "program software identification" of the slave, checked
+    /// when its 1F81h has [`SlaveAssignment::verify_software`]; there, 0
+    /// means "not configured" (error status G), as lely-core reads it.
+    pub software: u32,
 }
 
 impl ExpectedIdentity {
@@ -222,6 +238,7 @@ impl<'a> NodeConfig<'a> {
                 product_code: 0,
                 revision: 0,
                 serial: 0,
+                software: 0,
             },
             configuration: None,
             heartbeat: None,

@@ -84,6 +84,28 @@ pub enum BootError {
     /// F: node guarding found the slave lost.
     #[error("F: node guarding event: no answer to the guarding requests")]
     GuardingLost,
+    /// G: 1F81h asks for the program check (bit 5) but 1F55h, the
+    /// expected software identification, is 0: "objects for the program
+    /// check not configured".
+    #[error("G: the software check is asked for (1F81h bit 5) but 1F55h is not configured")]
+    SoftwareNotConfigured,
+    /// G: the slave's 1F56h sub 1 could not be read (the objects for the
+    /// program check are inconsistent: lely-core ends the boot with G
+    /// there too).
+    #[error("G: the read of 1F56h:01 (program software identification) failed ({code})")]
+    SoftwareUnreadable {
+        /// The abort that ended the read (05040000h: SDO timeout).
+        code: AbortCode,
+    },
+    /// H: the slave's 1F56h sub 1 differs from 1F55h, and the manager does
+    /// not update the program (CiA 302-2's "software update not allowed").
+    #[error("H: program software identification 1F56h:01 differs: expected {expected:#010X}, read {read:#010X}")]
+    SoftwareDiffers {
+        /// 1F55h.
+        expected: u32,
+        /// 1F56h sub 1 as read.
+        read: u32,
+    },
     /// J: the configuration download failed at `index`, `sub`.
     #[error("J: configuration download failed at {index:04X}h:{sub:02X} ({failure:?})")]
     Configuration {
@@ -152,6 +174,8 @@ impl BootError {
             BootError::Identity { check, .. } => check_letter(*check),
             BootError::HeartbeatLost => 'E',
             BootError::GuardingLost => 'F',
+            BootError::SoftwareNotConfigured | BootError::SoftwareUnreadable { .. } => 'G',
+            BootError::SoftwareDiffers { .. } => 'H',
             BootError::Configuration { .. } => 'J',
             BootError::ErrorControlStart => 'K',
         }
@@ -182,6 +206,12 @@ impl BootError {
             BootError::GuardingLost => {
                 "node guarding event: no confirmation for guarding requests received"
             }
+            BootError::SoftwareNotConfigured | BootError::SoftwareUnreadable { .. } => {
+                "the objects for the program check are not configured or inconsistent"
+            }
+            BootError::SoftwareDiffers { .. } => {
+                "the software version check failed and a software update is not allowed"
+            }
             BootError::Configuration { .. } => "the configuration download failed",
             BootError::ErrorControlStart => "heartbeat failure during the start of error control",
         }
@@ -203,6 +233,13 @@ pub enum BootEvent {
         node: NodeId,
         /// Its 1000h.
         device_type: u32,
+    },
+    /// The slave's 1F56h sub 1 equals 1F55h (1F81h bit 5).
+    SoftwareVerified {
+        /// The slave.
+        node: NodeId,
+        /// Its program software identification.
+        identification: u32,
     },
     /// Every entry of the slave's concise DCF was written.
     ConfigurationWritten {

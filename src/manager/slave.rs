@@ -21,6 +21,9 @@ use crate::wire::Codec;
 const DEVICE_TYPE: u16 = 0x1000;
 /// Object 1018h "identity object" (CiA 301 section 7.5.2.30).
 const IDENTITY: u16 = 0x1018;
+/// Object 1F56h "program software identification", sub 1 the slave's
+/// program (CiA 302-3 "Configuration and program download", section 4).
+const SOFTWARE_IDENTIFICATION: u16 = 0x1F56;
 
 /// Where a slave's boot process is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -34,6 +37,9 @@ pub enum BootPhase {
     DeviceType,
     /// Reading 1018h at this sub-index.
     Identity(u8),
+    /// Reading 1F56h sub 1, the program software identification (1F81h
+    /// bit 5).
+    Software,
     /// Writing this entry (0-based) of its concise DCF.
     Configuration(u32),
     /// Starting error control: the first heartbeat or guarding reply is
@@ -198,6 +204,7 @@ impl<'a> BootSlave<'a> {
     ) {
         let (index, sub) = match phase {
             BootPhase::Identity(sub) => (IDENTITY, sub),
+            BootPhase::Software => (SOFTWARE_IDENTIFICATION, 1),
             _ => (DEVICE_TYPE, 0),
         };
         self.phase = phase;
@@ -223,6 +230,9 @@ impl<'a> BootSlave<'a> {
     fn uploaded<const E: usize>(&mut self, now: Timestamp, events: &mut EventQueue<BootEvent, E>) {
         let read = self.value_read();
         let expected = self.config.expected;
+        if self.phase == BootPhase::Software {
+            return self.software_read(now, read, events);
+        }
         let (check, want, done_sub) = match self.phase {
             BootPhase::DeviceType => (IdentityCheck::DeviceType, expected.device_type, 0),
             BootPhase::Identity(sub) => (
@@ -252,10 +262,51 @@ impl<'a> BootSlave<'a> {
                     node: self.config.node,
                     device_type: self.device_type,
                 });
-                self.entries = self.config.configuration.map(|dcf| dcf.iter());
-                self.write_next(now, 0, events);
+                self.check_software(now, events);
             }
         }
+    }
+
+    /// The "check software version" step (CiA 302-2 section 4.4, after the
+    /// identity check, before the configuration; as lely-core orders it):
+    /// with 1F81h bit 5, 1F56h sub 1 is read, unless 1F55h is 0 (**G**).
+    fn check_software<const E: usize>(
+        &mut self,
+        now: Timestamp,
+        events: &mut EventQueue<BootEvent, E>,
+    ) {
+        if !self.config.assignment.verifies_software() {
+            return self.configure(now, events);
+        }
+        if self.config.expected.software == 0 {
+            return self.fail(BootError::SoftwareNotConfigured, events);
+        }
+        self.read(now, BootPhase::Software, events);
+    }
+
+    /// 1F56h sub 1 read: equal to 1F55h, the configuration follows; else
+    /// **H** (the manager never updates the program).
+    fn software_read<const E: usize>(
+        &mut self,
+        now: Timestamp,
+        read: u32,
+        events: &mut EventQueue<BootEvent, E>,
+    ) {
+        let expected = self.config.expected.software;
+        if read != expected {
+            return self.fail(BootError::SoftwareDiffers { expected, read }, events);
+        }
+        events.push(BootEvent::SoftwareVerified {
+            node: self.config.node,
+            identification: read,
+        });
+        self.configure(now, events);
+    }
+
+    /// Starts the configuration download from its first entry.
+    fn configure<const E: usize>(&mut self, now: Timestamp, events: &mut EventQueue<BootEvent, E>) {
+        self.entries = self.config.configuration.map(|dcf| dcf.iter());
+        self.write_next(now, 0, events);
     }
 
     /// Writes entry `n` of the concise DCF, or, when all are written,
@@ -321,6 +372,7 @@ impl<'a> BootSlave<'a> {
                     events,
                 );
             }
+            BootPhase::Software => self.fail(BootError::SoftwareUnreadable { code }, events),
             _ => {}
         }
     }

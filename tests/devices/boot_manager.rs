@@ -2,10 +2,10 @@
 //! with plain CiA 301 devices as its slaves: a matching node checked,
 //! configured (the values arrive in its dictionary) and started; wrong
 //! identities refused with their letters; an absent node; a refused
-//! configuration; a heartbeat lost after the boot; a node that resets
-//! mid-run; and a mandatory failure holding the start of all nodes while
-//! an optional one does not (CiA 302-2 "Network management", sections 4.3
-//! and 4.4).
+//! configuration; the software check (G, H); a heartbeat lost after the
+//! boot; a node that resets mid-run; and a mandatory failure holding the
+//! start of all nodes while an optional one does not (CiA 302-2 "Network
+//! management", sections 4.3 and 4.4).
 
 use crate::common;
 
@@ -311,5 +311,92 @@ fn a_mandatory_failure_holds_start_all_and_an_optional_failure_does_not() {
             sim.machine(h).unwrap().nmt_state(),
             NmtState::PreOperational
         );
+    }
+}
+
+/// The program software identification a slave serves in 1F56h sub 1
+/// (CiA 302-3 "Configuration and program download", section 4).
+const SOFTWARE: u32 = 0x2026_0107;
+
+#[test]
+fn the_software_check_reads_1f56h_and_refuses_with_g_or_h() {
+    struct Case {
+        name: &'static str,
+        /// 1F56h sub 1 of the slave (`None`: it has no 1F56h).
+        serves: Option<u32>,
+        /// 1F55h for the slave.
+        expected: u32,
+        /// The error letter, or `None`: verified, configured and started.
+        letter: Option<char>,
+        /// Whether the manager reads 1F56h sub 1.
+        reads: bool,
+    }
+    let cases = [
+        Case {
+            name: "the same identification",
+            serves: Some(SOFTWARE),
+            expected: SOFTWARE,
+            letter: None,
+            reads: true,
+        },
+        Case {
+            name: "another identification",
+            serves: Some(SOFTWARE + 1),
+            expected: SOFTWARE,
+            letter: Some('H'),
+            reads: true,
+        },
+        Case {
+            name: "1F55h not configured",
+            serves: Some(SOFTWARE),
+            expected: 0,
+            letter: Some('G'),
+            reads: false,
+        },
+        Case {
+            name: "no 1F56h on the slave",
+            serves: None,
+            expected: SOFTWARE,
+            letter: Some('G'),
+            reads: true,
+        },
+    ];
+    for case in cases {
+        let mut device = slave(5, DEVICE_TYPE, IDENTITY);
+        if let Some(value) = case.serves {
+            let od = device.objects_mut();
+            od.insert(0x1F56, 1, Access::ReadOnly, &value.to_le_bytes());
+        }
+        let mut node = expected(5);
+        node.assignment = SlaveAssignment::BOOTED.verify_software();
+        node.expected.software = case.expected;
+        let (mut sim, s, m) = network(NmtStartup::MASTER, vec![device], &[node]);
+        sim.run_until(ms(500)).unwrap();
+        let name = case.name;
+        let read_1f56 = sim
+            .frames_on(0x605)
+            .iter()
+            .any(|(_, d)| d[..4] == [0x40, 0x56, 0x1F, 1]);
+        assert_eq!(read_1f56, case.reads, "{name}: read of 1F56h:01");
+        let events = sim.event_list(m);
+        let configured = sim.machine(s[0]).unwrap().objects().get(0x2000, 0)
+            == Some(&[0x78, 0x56, 0x34, 0x12][..]);
+        let state = sim.machine(s[0]).unwrap().nmt_state();
+        match case.letter {
+            None => {
+                let verified = BootEvent::SoftwareVerified {
+                    node: id(5),
+                    identification: SOFTWARE,
+                };
+                assert!(events.contains(&verified), "{name}: {events:?}");
+                assert!(configured, "{name}: configured");
+                assert_eq!(state, NmtState::Operational, "{name}");
+            }
+            Some(letter) => {
+                assert_eq!(errors(&sim, m), [(5, letter)], "{name}");
+                assert!(!configured, "{name}: not configured");
+                assert_eq!(state, NmtState::PreOperational, "{name}");
+            }
+        }
     }
 }
