@@ -167,3 +167,19 @@ pub fn drive_timers<M: Machine + ?Sized>(
     }
     runs
 }
+
+/// Test support for the contract's deadlines: `m` names `due` as its next
+/// deadline, and time passing up to a millisecond before it sends nothing
+/// and leaves that deadline as it was (the deadline is exact). Events are
+/// left in the queue.
+#[cfg(test)]
+pub(crate) fn assert_quiet_until<M: Machine + ?Sized>(m: &mut M, due: Timestamp) {
+    assert_eq!(m.poll_timeout(), Some(due), "the next deadline");
+    m.handle_timeout(Timestamp::from_micros(due.as_micros() - 1000));
+    assert!(m.poll_transmit().is_none(), "a frame before {due}");
+    assert_eq!(
+        m.poll_timeout(),
+        Some(due),
+        "the deadline after time passed"
+    );
+}

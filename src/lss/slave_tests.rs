@@ -9,7 +9,7 @@ use super::*;
 use crate::clock::Timestamp;
 use crate::cob_id::NodeId;
 use crate::frame::CanFrame;
-use crate::machine::Machine;
+use crate::machine::{assert_quiet_until, Machine};
 use crate::wire::Codec;
 
 const A: LssAddress = LssAddress {
@@ -334,8 +334,7 @@ fn master_confirmed_services_and_timeouts() {
         m.poll_transmit().unwrap().to_string(),
         "7E5#1105000000000000"
     );
-    assert_eq!(m.poll_timeout(), Some(Timestamp::from_millis(10)));
-    m.handle_timeout(Timestamp::from_millis(9));
+    assert_quiet_until(&mut m, Timestamp::from_millis(10));
     assert_eq!(m.poll_event(), None);
     m.handle_timeout(Timestamp::from_millis(10));
     assert_eq!(

@@ -6,7 +6,7 @@
 use super::*;
 use crate::clock::Timestamp;
 use crate::frame::CanFrame;
-use crate::machine::Machine;
+use crate::machine::{assert_quiet_until, Machine};
 use crate::od::{Access, ObjectDictionary, ObjectInfo};
 use crate::NodeId;
 
@@ -183,9 +183,7 @@ fn server_timer_runs_with_undrained_events() {
         s.poll_transmit(),
         Some(frame(0x581, [0x60, 0x01, 0x20, 0, 0, 0, 0, 0]))
     );
-    assert_eq!(s.poll_timeout(), Some(Timestamp::from_millis(2010)));
-    s.handle_timeout(Timestamp::from_millis(2009));
-    assert_eq!(s.poll_transmit(), None);
+    assert_quiet_until(&mut s, Timestamp::from_millis(2010));
     s.handle_timeout(Timestamp::from_millis(2010));
     assert_eq!(
         s.poll_transmit(),

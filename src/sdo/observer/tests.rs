@@ -4,6 +4,7 @@
 //! repeated block segments, and the end of a trace.
 
 use super::*;
+use crate::machine::assert_quiet_until;
 use crate::sdo::crc16;
 
 const NODE: u8 = 5;
@@ -688,8 +689,7 @@ fn silence_breaks_a_transfer_off_at_the_timeout() {
     let f = CanFrame::standard(REQ, &[0x40, 0x08, 0x10, 0, 0, 0, 0, 0]).unwrap();
     obs.observe(Timestamp::from_millis(10), &f);
     while obs.poll_event().is_some() {}
-    assert_eq!(obs.poll_timeout(), Some(Timestamp::from_millis(110)));
-    obs.handle_timeout(Timestamp::from_millis(109));
+    assert_quiet_until(&mut obs, Timestamp::from_millis(110));
     assert_eq!(obs.poll_event(), None);
     obs.handle_timeout(Timestamp::from_millis(110));
     assert!(matches!(

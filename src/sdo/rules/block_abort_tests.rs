@@ -4,7 +4,7 @@
 
 use super::tests::*;
 use crate::clock::Timestamp;
-use crate::machine::Machine;
+use crate::machine::{assert_quiet_until, Machine};
 use crate::sdo::*;
 
 #[test]
@@ -134,8 +134,7 @@ fn timer_restarts_on_every_segment() {
         Timestamp::from_millis(1500),
         &frame(0x602, "01 41 20 72 65 61 6C 6C"),
     );
-    assert_eq!(s.poll_timeout(), Some(Timestamp::from_millis(3500)));
-    s.handle_timeout(Timestamp::from_millis(3499));
+    assert_quiet_until(&mut s, Timestamp::from_millis(3500));
     assert!(s.is_busy());
     s.handle_timeout(Timestamp::from_millis(3500));
     assert_eq!(sent(&mut s), ["80 00 20 00 00 00 04 05"]);
