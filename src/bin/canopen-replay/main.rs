@@ -154,13 +154,9 @@ fn usage(e: &str) -> ExitCode {
 }
 
 fn main() -> ExitCode {
-    let args = match Args::try_parse() {
-        Ok(a) => a,
-        Err(e) => {
-            let _ = e.print();
-            return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
-        }
-    };
+    // clap prints --help (exit 0) or a usage error (exit 2), as
+    // canopen-decode does.
+    let args = Args::parse();
     let play: BTreeSet<u8> = args.play.iter().copied().collect();
     let mut pdos = Vec::new();
     let capture = args.pdo_capture_mapping.then_some(pdo_syntax::CAPTURE_PDOS);
