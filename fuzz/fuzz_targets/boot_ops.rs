@@ -1,7 +1,7 @@
 //! The CiA 302-2 boot-up manager (`canopen_codec::manager::BootManager`)
-//! with three slaves (a mandatory one with heartbeat and a configuration, a
-//! guarded one, an optional one checked only) under an arbitrary sequence
-//! of frames (the slaves' SDO answers, heartbeats, boot-ups and anything
+//! with three slaves (a mandatory keep-alive one with heartbeat, a software
+//! check and a configuration, a guarded one, an optional one checked only)
+//! under an arbitrary sequence of frames (the slaves' SDO answers, heartbeats, boot-ups and anything
 //! else), time steps and start commands. Invariants after every call: no
 //! panic; no frame dropped for a caller that drains after every call; the
 //! manager sends only NMT commands (000h, two bytes, to all or to one of
@@ -55,7 +55,10 @@ fn manager(start_all: bool) -> BootManager<'static, 4> {
     });
     let dcf = ConciseDcf::new_checked(&CONFIGURATION).expect("a valid concise DCF");
     let mut first = NodeConfig::new(NodeId::new(5).unwrap()).with_configuration(dcf);
-    first.assignment = SlaveAssignment::BOOTED.mandatory().verify_software();
+    first.assignment = SlaveAssignment::BOOTED
+        .mandatory()
+        .keep_alive()
+        .verify_software();
     first.expected.device_type = 0x191;
     first.expected.software = 0x5150;
     first.expected.vendor_id = 0x2A;

@@ -178,7 +178,8 @@ impl<'a> BootRun<'a> {
 /// "error", "code": "D", "reason": "...", "detail": "..."}`) and the events
 /// after it (`{"node": 5, "event": "heartbeat", "code": "E"}`, `"guarding"`
 /// with F, `"restored"`, `"start held"` for a mandatory slave that holds
-/// the network's start). Other steps have no line.
+/// the network's start, `"initially operational"` with L for a keep-alive
+/// slave found running). Other steps have no line.
 ///
 /// ```
 /// use canopen_codec::log::boot::event_json;
@@ -213,6 +214,10 @@ pub fn event_json(event: &BootEvent) -> Option<String> {
         }
         BootEvent::Restored { node } => (node, String::from(r#""event": "restored""#)),
         BootEvent::StartHeld { node } => (node, String::from(r#""event": "start held""#)),
+        BootEvent::InitiallyOperational { node } => (
+            node,
+            String::from(r#""event": "initially operational", "code": "L""#),
+        ),
         _ => return None,
     };
     Some(std::format!(r#"{{"node": {}, {tail}}}"#, node.raw()))

@@ -78,7 +78,8 @@ pub enum BootError {
         /// The value read, `None` when it could not be read.
         read: Option<u32>,
     },
-    /// E: the slave's heartbeat was lost after its boot.
+    /// E: the slave's heartbeat was lost after its boot, or a keep-alive
+    /// slave sent none when its state was checked.
     #[error("E: heartbeat event: no heartbeat received within the consumer time")]
     HeartbeatLost,
     /// F: node guarding found the slave lost.
@@ -240,6 +241,15 @@ pub enum BootEvent {
         node: NodeId,
         /// Its program software identification.
         identification: u32,
+    },
+    /// A keep-alive slave (1F81h bit 4) was operational at its state
+    /// check: CiA 302-2's error status **L**, "the slave was initially
+    /// operational" (the manager may go on with the others: lely-core
+    /// reports it with the boot's success). It is not configured, and not
+    /// started again; [`Booted`](Self::Booted) follows.
+    InitiallyOperational {
+        /// The slave.
+        node: NodeId,
     },
     /// Every entry of the slave's concise DCF was written.
     ConfigurationWritten {

@@ -11,21 +11,28 @@
 //! 2. reads 1000h (no answer after [`ManagerConfig::retries`] more tries:
 //!    **B**; a value other than 1F84h: **C**) and 1018h sub 1-4 where an
 //!    expected value is not 0 (**D**, **M**, **N**, **O**);
-//! 3. with 1F81h bit 5 ([`SlaveAssignment::verify_software`]), reads
+//! 3. for a keep-alive slave (1F81h bit 4, not reset at
+//!    [`BootManager::start`]), checks its state once by its heartbeat: an
+//!    operational slave is **L**
+//!    ([`InitiallyOperational`](BootEvent::InitiallyOperational)), keeps
+//!    running and skips the steps up to error control; any other state
+//!    resets its communication and the boot goes on from its boot-up;
+//!    no heartbeat: **E**;
+//! 4. with 1F81h bit 5 ([`SlaveAssignment::verify_software`]), reads
 //!    its 1F56h sub 1 "program software identification" (CiA 302-3
 //!    section 4) and compares it with 1F55h
 //!    ([`ExpectedIdentity::software`]; 0: **G**, the read failed: **G**,
 //!    it differs: **H**, as lely-core's "check software" step; the
 //!    manager never downloads a program, so never reports **I**);
-//! 4. writes its configuration, a concise DCF (CiA 302-3 section 4, the
+//! 5. writes its configuration, a concise DCF (CiA 302-3 section 4, the
 //!    format of 1F22h: [`ConciseDcf`](crate::od::ConciseDcf)), entry by
 //!    entry in order by SDO download (an abort or a timeout: **J**, with
 //!    the object and the abort code);
-//! 5. starts error control: waits for a heartbeat within the consumer time
+//! 6. starts error control: waits for a heartbeat within the consumer time
 //!    ([`ManagerConfig::consumer_time`]; none: **K**), or guards the node
 //!    with the 1F81h guard time and retry factor (no answer: **F**), or
 //!    neither when the slave has no heartbeat and no guard time;
-//! 6. is then [`Booted`](BootEvent::Booted), and is started once the
+//! 7. is then [`Booted`](BootEvent::Booted), and is started once the
 //!    network is: when every mandatory slave (1F81h bit 3) has booted and
 //!    every slave's first boot process has ended (a choice: an optional
 //!    slave is not started before it is configured), by one NMT "start" to

@@ -11,7 +11,9 @@ use crate::clock::{earliest, micros_of, timer_kind, Timers, Timestamp};
 use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::nmt::guarding::{GuardingMaster, MasterGuardingEvent};
-use crate::nmt::{error_control_id, Heartbeat, NmtCommand, NmtCommandSpecifier, NmtTarget};
+use crate::nmt::{
+    error_control_id, Heartbeat, NmtCommand, NmtCommandSpecifier, NmtState, NmtTarget,
+};
 use crate::od::ConciseEntries;
 use crate::queue::{EventQueue, FrameQueue};
 use crate::sdo::{AbortOrigin, Client, ClientConfig, ClientEvent, EVENTS_PER_CALL};
@@ -37,6 +39,9 @@ pub enum BootPhase {
     DeviceType,
     /// Reading 1018h at this sub-index.
     Identity(u8),
+    /// A keep-alive slave's state is checked (1F81h bit 4): its heartbeat
+    /// is awaited.
+    NodeState,
     /// Reading 1F56h sub 1, the program software identification (1F81h
     /// bit 5).
     Software,
@@ -86,6 +91,12 @@ pub(crate) struct BootSlave<'a> {
     settled: bool,
     /// Error control reported it lost.
     lost: bool,
+    /// A keep-alive slave whose state is still to be checked after its
+    /// identity (once per [`start`](Self::start)).
+    check_state: bool,
+    /// The state check found it operational (**L**): it is not configured
+    /// and not started again.
+    initially_operational: bool,
     timers: Timers<SlaveTimer, 2>,
     out: FrameQueue<4>,
 }
@@ -115,6 +126,8 @@ impl<'a> BootSlave<'a> {
             entries: None,
             settled: false,
             lost: false,
+            check_state: false,
+            initially_operational: false,
             timers: Timers::new(),
             out: FrameQueue::empty(),
         }
@@ -142,12 +155,20 @@ impl<'a> BootSlave<'a> {
         events: &mut EventQueue<BootEvent, E>,
     ) {
         self.settled = false;
-        if self.config.assignment.keeps_alive() {
+        self.initially_operational = false;
+        self.check_state = self.config.assignment.keeps_alive();
+        if self.check_state {
             return self.begin(now, events);
         }
         if !reset_sent {
             self.nmt(NmtCommandSpecifier::ResetCommunication, false);
         }
+        self.await_boot_up(now);
+    }
+
+    /// Waits for the slave's boot-up message, or
+    /// [`boot_up_wait`](ManagerConfig::boot_up_wait) without one.
+    fn await_boot_up(&mut self, now: Timestamp) {
         self.stop_all_timers();
         self.phase = BootPhase::AwaitBootUp;
         let wait = micros_of(self.manager.boot_up_wait);
@@ -156,8 +177,11 @@ impl<'a> BootSlave<'a> {
     }
 
     /// Starts the slave with its own NMT command.
+    /// (Not one found operational at its state check: it runs already.)
     pub(crate) fn start_node<const E: usize>(&mut self, events: &mut EventQueue<BootEvent, E>) {
-        self.nmt(NmtCommandSpecifier::Start, false);
+        if !self.initially_operational {
+            self.nmt(NmtCommandSpecifier::Start, false);
+        }
         self.started(events);
     }
 
@@ -189,6 +213,7 @@ impl<'a> BootSlave<'a> {
     fn begin<const E: usize>(&mut self, now: Timestamp, events: &mut EventQueue<BootEvent, E>) {
         self.stop_all_timers();
         self.tries = 0;
+        self.initially_operational = false;
         if self.config.assignment.may_boot() {
             self.read(now, BootPhase::DeviceType, events);
         } else {
@@ -262,9 +287,46 @@ impl<'a> BootSlave<'a> {
                     node: self.config.node,
                     device_type: self.device_type,
                 });
+                if core::mem::replace(&mut self.check_state, false) {
+                    return self.check_node_state(now);
+                }
                 self.check_software(now, events);
             }
         }
+    }
+
+    /// A keep-alive slave's "check node state" step (CiA 302-2 section 4.4,
+    /// after the identity, as lely-core orders it): its next heartbeat
+    /// says whether it is operational already (**L**: it is neither
+    /// configured nor reset, and keeps running), or not (its communication
+    /// is reset and its boot goes on as any slave's). No heartbeat within
+    /// the consumer time: **E**. A slave without a heartbeat has no state
+    /// to check here: it is reset.
+    fn check_node_state(&mut self, now: Timestamp) {
+        let Some(us) = self.consumer_us else {
+            self.nmt(NmtCommandSpecifier::ResetCommunication, false);
+            return self.await_boot_up(now);
+        };
+        self.phase = BootPhase::NodeState;
+        self.timers.set(SlaveTimer::Phase, Some(now.add_micros(us)));
+    }
+
+    /// The heartbeat seen at a keep-alive slave's state check.
+    fn node_state<const E: usize>(
+        &mut self,
+        now: Timestamp,
+        state: NmtState,
+        events: &mut EventQueue<BootEvent, E>,
+    ) {
+        if state != NmtState::Operational {
+            self.nmt(NmtCommandSpecifier::ResetCommunication, false);
+            return self.await_boot_up(now);
+        }
+        self.initially_operational = true;
+        events.push(BootEvent::InitiallyOperational {
+            node: self.config.node,
+        });
+        self.booted(events);
     }
 
     /// The "check software version" step (CiA 302-2 section 4.4, after the
@@ -543,6 +605,12 @@ impl<'a> BootSlave<'a> {
         }
         let Some(us) = self.consumer_us else { return };
         match self.phase {
+            BootPhase::NodeState => {
+                self.node_state(now, beat.state, events);
+                if self.phase == BootPhase::AwaitBootUp {
+                    return;
+                }
+            }
             BootPhase::ErrorControl => {
                 self.booted(events);
             }
@@ -566,6 +634,7 @@ impl<'a> BootSlave<'a> {
             match self.phase {
                 BootPhase::AwaitBootUp => self.begin(now, events),
                 BootPhase::ErrorControl => self.fail(BootError::ErrorControlStart, events),
+                BootPhase::NodeState => self.fail(BootError::HeartbeatLost, events),
                 _ => {}
             }
         }

@@ -2,10 +2,11 @@
 //! with plain CiA 301 devices as its slaves: a matching node checked,
 //! configured (the values arrive in its dictionary) and started; wrong
 //! identities refused with their letters; an absent node; a refused
-//! configuration; the software check (G, H); a heartbeat lost after the
-//! boot; a node that resets mid-run; and a mandatory failure holding the
-//! start of all nodes while an optional one does not (CiA 302-2 "Network
-//! management", sections 4.3 and 4.4).
+//! configuration; the software check (G, H); a keep-alive slave found
+//! running (L) or reset; a heartbeat lost after the boot; a node that
+//! resets mid-run; and a mandatory failure holding the start of all nodes
+//! while an optional one does not (CiA 302-2 "Network management",
+//! sections 4.3 and 4.4).
 
 use crate::common;
 
@@ -13,11 +14,12 @@ use core::time::Duration;
 
 use crate::common::ms;
 use canopen_codec::device::{Cia301Device, DeviceConfig, Identity};
+use canopen_codec::machine::Machine;
 use canopen_codec::manager::{
     BootError, BootEvent, BootManager, BootPhase, ManagerConfig, NmtStartup, NodeConfig,
     SlaveAssignment,
 };
-use canopen_codec::nmt::NmtState;
+use canopen_codec::nmt::{NmtCommand, NmtCommandSpecifier, NmtState, NmtTarget};
 use canopen_codec::od::{Access, Address, ConciseDcf, ConciseEntry, MemoryDictionary};
 use canopen_codec::NodeId;
 use common::sim::{Bus, Handle};
@@ -397,6 +399,74 @@ fn the_software_check_reads_1f56h_and_refuses_with_g_or_h() {
                 assert!(!configured, "{name}: not configured");
                 assert_eq!(state, NmtState::PreOperational, "{name}");
             }
+        }
+    }
+}
+
+#[test]
+fn a_keep_alive_slave_running_already_is_l_and_is_neither_reset_nor_configured() {
+    let node = id(5);
+    // Node 5 produces a 100 ms heartbeat; `running`: it was started before
+    // the manager comes up.
+    for running in [true, false] {
+        let mut sim = common::sim::bus(200);
+        let config = DeviceConfig {
+            device_type: DEVICE_TYPE,
+            identity: IDENTITY,
+            heartbeat: Duration::from_millis(100),
+            ..DeviceConfig::new(node)
+        };
+        let mut app = MemoryDictionary::new();
+        app.insert(SETTING.index, SETTING.sub, Access::ReadWrite, &[0; 4]);
+        let s = sim.add("Slave", Slave::plain(config, app));
+        sim.with(s, |d, now| {
+            d.boot(now);
+            if running {
+                let start = NmtCommand::new(NmtCommandSpecifier::Start, NmtTarget::Node(node));
+                d.handle_frame(now, &start.to_frame());
+            }
+        });
+        let mut manager = Manager::new(ManagerConfig::default());
+        let mut slave = expected(5);
+        slave.assignment = SlaveAssignment::BOOTED.keep_alive();
+        manager.add_node(slave).unwrap();
+        let m = sim.add("Manager", manager);
+        sim.run_until(ms(1)).unwrap();
+        sim.with(m, |m, now| m.start(now));
+        sim.run_until(ms(600)).unwrap();
+        let events = sim.event_list(m);
+        let nmt = sim.frames_on(0x000);
+        let reset = nmt.iter().any(|(_, d)| d == &[0x82, 5]);
+        let configured =
+            sim.machine(s).unwrap().objects().get(0x2000, 0) == Some(&[0x78, 0x56, 0x34, 0x12][..]);
+        assert_eq!(
+            sim.machine(s).unwrap().nmt_state(),
+            NmtState::Operational,
+            "running {running}"
+        );
+        if running {
+            let identified = BootEvent::Identified {
+                node,
+                device_type: DEVICE_TYPE,
+            };
+            assert_eq!(
+                events,
+                [
+                    identified,
+                    BootEvent::InitiallyOperational { node },
+                    BootEvent::Booted { node },
+                    BootEvent::NetworkStarted,
+                    BootEvent::Operational { node },
+                ]
+            );
+            assert!(!reset && !configured, "not reset, not configured");
+            assert!(!nmt.iter().any(|(_, d)| d == &[1, 5]), "not started again");
+        } else {
+            assert!(reset, "a pre-operational keep-alive slave is reset");
+            assert!(events.contains(&BootEvent::BootUp { node }), "{events:?}");
+            assert!(!events.contains(&BootEvent::InitiallyOperational { node }));
+            assert_eq!(events.last(), Some(&BootEvent::Operational { node }));
+            assert!(configured, "configured after its reset");
         }
     }
 }
