@@ -31,6 +31,10 @@ enum Op {
     Advance { millis: u16 },
     /// The manager starts (again).
     Start,
+    /// The application starts one slave (1F80h bit 3).
+    StartNode { slave: u8 },
+    /// The application starts the network.
+    StartNetwork,
 }
 
 /// 1017h = 50 ms, 2000h:01 = 0x11223344.
@@ -52,6 +56,8 @@ fn manager(start_all: bool) -> BootManager<'static, 4> {
         retries: 1,
         boot_up_wait: Duration::from_millis(40),
         heartbeat_margin: Duration::from_millis(5),
+        boot_time: Duration::from_millis(300),
+        retry_interval: Duration::from_millis(70),
     });
     let dcf = ConciseDcf::new_checked(&CONFIGURATION).expect("a valid concise DCF");
     let mut first = NodeConfig::new(NodeId::new(5).unwrap()).with_configuration(dcf);
@@ -149,6 +155,12 @@ fuzz_target!(|input: (bool, Vec<Op>)| {
                 checks.booted = [false; 3];
                 m.start(now);
             }
+            Op::StartNode { slave } => {
+                let node = NodeId::new(SLAVES[usize::from(slave) % 3]).unwrap();
+                // Refused unless booted: the checks catch a start otherwise.
+                let _ = m.start_node(now, node);
+            }
+            Op::StartNetwork => m.start_network(now),
         }
         checks.drain(&mut m);
     }

@@ -31,6 +31,13 @@ pub enum ManagerError {
     /// The manager has started: slaves are added before [`BootManager::start`].
     #[error("slaves are added before the manager starts")]
     Started,
+    /// [`BootManager::start_node`] of a node the manager does not manage.
+    #[error("node {0} is not managed")]
+    NotManaged(NodeId),
+    /// [`BootManager::start_node`] of a slave that has not booted (or is
+    /// started already).
+    #[error("node {0} has not booted")]
+    NotBooted(NodeId),
 }
 
 /// The boot-up manager: the NMT master start-up and the boot process of up
@@ -51,6 +58,8 @@ pub struct BootManager<'a, const N: usize, const E: usize = 32> {
     slaves: [Option<BootSlave<'a>>; N],
     started: bool,
     network_started: bool,
+    /// When 1F89h, the boot time, ends (armed by [`start`](Self::start)).
+    boot_deadline: Option<Timestamp>,
     /// NMT commands to all nodes.
     out: FrameQueue<2>,
     events: EventQueue<BootEvent, E>,
@@ -65,6 +74,7 @@ impl<'a, const N: usize, const E: usize> BootManager<'a, N, E> {
             slaves: [const { None }; N],
             started: false,
             network_started: false,
+            boot_deadline: None,
             out: FrameQueue::empty(),
             events: EventQueue::new(BootEvent::NetworkStarted),
         }
@@ -124,6 +134,8 @@ impl<'a, const N: usize, const E: usize> BootManager<'a, N, E> {
     pub fn start(&mut self, now: Timestamp) {
         self.started = true;
         self.network_started = false;
+        let boot_time = crate::clock::micros_of(self.config.boot_time);
+        self.boot_deadline = (boot_time != 0).then(|| now.add_micros(boot_time));
         let reset_all = self.config.startup.contains(NmtStartup::RESET_ALL);
         if reset_all {
             self.nmt_all(NmtCommandSpecifier::ResetCommunication);
@@ -131,7 +143,37 @@ impl<'a, const N: usize, const E: usize> BootManager<'a, N, E> {
         for slave in self.slaves.iter_mut().flatten() {
             slave.start(now, reset_all, &mut self.events);
         }
-        self.start_network();
+        self.auto_start();
+    }
+
+    /// The application starts `node` (for 1F80h
+    /// [`NO_SLAVE_START`](NmtStartup::NO_SLAVE_START), CiA 302-2 section
+    /// 4.3: the application, not the manager, starts the slaves): one NMT
+    /// "start remote node" to it and [`BootEvent::Operational`]. The slave
+    /// must have [`Booted`](BootPhase::Booted).
+    pub fn start_node(&mut self, now: Timestamp, node: NodeId) -> Result<(), ManagerError> {
+        let _ = now;
+        let mut slaves = self.slaves.iter_mut().flatten();
+        let Some(slave) = slaves.find(|s| s.config().node == node) else {
+            return Err(ManagerError::NotManaged(node));
+        };
+        if slave.phase() != BootPhase::Booted {
+            return Err(ManagerError::NotBooted(node));
+        }
+        slave.start_node(&mut self.events);
+        Ok(())
+    }
+
+    /// The application starts the network now (1F80h
+    /// [`NO_SLAVE_START`](NmtStartup::NO_SLAVE_START), or to start without
+    /// the mandatory slaves that are missing): [`BootEvent::NetworkStarted`],
+    /// then every booted slave is started as the manager would (one NMT
+    /// command to all nodes with [`START_ALL`](NmtStartup::START_ALL)).
+    /// Slaves that boot afterwards are started by the manager, unless
+    /// `NO_SLAVE_START` leaves that to [`start_node`](Self::start_node).
+    pub fn start_network(&mut self, now: Timestamp) {
+        let _ = now;
+        self.launch();
     }
 
     fn nmt_all(&mut self, command: NmtCommandSpecifier) {
@@ -142,7 +184,7 @@ impl<'a, const N: usize, const E: usize> BootManager<'a, N, E> {
     /// Starts the network once every mandatory slave has booted and every
     /// slave's first boot process has ended; afterwards starts each slave
     /// that boots.
-    fn start_network(&mut self) {
+    fn auto_start(&mut self) {
         if !self.started || self.config.startup.contains(NmtStartup::NO_SLAVE_START) {
             return;
         }
@@ -151,24 +193,52 @@ impl<'a, const N: usize, const E: usize> BootManager<'a, N, E> {
                 s.settled()
                     && (!s.config().assignment.is_mandatory() || s.phase() == BootPhase::Booted)
             });
-            if !ready {
-                return;
+            if ready {
+                self.launch();
             }
-            self.network_started = true;
-            self.events.push(BootEvent::NetworkStarted);
-            if self.config.startup.contains(NmtStartup::START_ALL) {
-                self.nmt_all(NmtCommandSpecifier::Start);
-                for slave in self.slaves.iter_mut().flatten() {
-                    if slave.phase() == BootPhase::Booted {
-                        slave.started(&mut self.events);
-                    }
-                }
-                return;
+            return;
+        }
+        self.start_booted();
+    }
+
+    /// The network's start: [`BootEvent::NetworkStarted`] and every booted
+    /// slave started.
+    fn launch(&mut self) {
+        self.network_started = true;
+        self.boot_deadline = None;
+        self.events.push(BootEvent::NetworkStarted);
+        if !self.config.startup.contains(NmtStartup::START_ALL) {
+            return self.start_booted();
+        }
+        self.nmt_all(NmtCommandSpecifier::Start);
+        for slave in self.slaves.iter_mut().flatten() {
+            if slave.phase() == BootPhase::Booted {
+                slave.started(&mut self.events);
             }
         }
+    }
+
+    /// Starts each booted slave with its own NMT command.
+    fn start_booted(&mut self) {
         for slave in self.slaves.iter_mut().flatten() {
             if slave.phase() == BootPhase::Booted {
                 slave.start_node(&mut self.events);
+            }
+        }
+    }
+
+    /// 1F89h passed: each mandatory slave not booted is reported.
+    fn boot_time_elapsed(&mut self, now: Timestamp) {
+        if self.boot_deadline.is_none_or(|at| now < at) {
+            return;
+        }
+        self.boot_deadline = None;
+        for slave in self.slaves.iter().flatten() {
+            let missing = slave.phase() != BootPhase::Booted;
+            if missing && slave.config().assignment.is_mandatory() {
+                self.events.push(BootEvent::BootTimeElapsed {
+                    node: slave.config().node,
+                });
             }
         }
     }
@@ -187,7 +257,7 @@ impl<'a, const N: usize, const E: usize> BootManager<'a, N, E> {
                 });
             }
         }
-        self.start_network();
+        self.auto_start();
     }
 
     /// A boot-up message of a node that is not a slave: error status A.
@@ -230,6 +300,7 @@ impl<const N: usize, const E: usize> Machine for BootManager<'_, N, E> {
             return;
         }
         self.each_slave(|s, events| s.handle_timeout(now, events));
+        self.boot_time_elapsed(now);
     }
 
     fn poll_transmit(&mut self) -> Option<CanFrame> {
@@ -244,7 +315,8 @@ impl<const N: usize, const E: usize> Machine for BootManager<'_, N, E> {
 
     /// The earliest deadline of every slave.
     fn poll_timeout(&self) -> Option<Timestamp> {
-        earliest(self.slaves.iter().flatten().map(BootSlave::poll_timeout))
+        let slaves = self.slaves.iter().flatten().map(BootSlave::poll_timeout);
+        earliest(slaves.chain([self.boot_deadline]))
     }
 
     fn poll_event(&mut self) -> Option<BootEvent> {

@@ -297,6 +297,18 @@ pub struct ManagerConfig {
     /// Added to one and a half heartbeat periods to make the consumer
     /// time the manager watches a slave's heartbeat with (default 20 ms).
     pub heartbeat_margin: Duration,
+    /// 1F89h "boot time" (CiA 302-2 section 4.2, object 1F89h): how long
+    /// after [`BootManager::start`](super::BootManager::start) the
+    /// mandatory slaves have to boot; when it has passed with the network
+    /// not started, each mandatory slave not booted is reported
+    /// ([`BootTimeElapsed`](super::BootEvent::BootTimeElapsed)). Zero
+    /// (the default): no limit, as 1F89h = 0.
+    pub boot_time: Duration,
+    /// How long after an error B (no answer to 1000h) the boot process of
+    /// the slave starts again by itself (CiA 302-2 section 4.4: the boot
+    /// of a slave that is absent is retried asynchronously). Zero (the
+    /// default): not retried; its boot-up message still starts it again.
+    pub retry_interval: Duration,
 }
 
 impl Default for ManagerConfig {
@@ -307,6 +319,8 @@ impl Default for ManagerConfig {
             retries: 2,
             boot_up_wait: Duration::from_secs(1),
             heartbeat_margin: Duration::from_millis(20),
+            boot_time: Duration::ZERO,
+            retry_interval: Duration::ZERO,
         }
     }
 }

@@ -279,6 +279,13 @@ pub enum BootEvent {
         /// The slave.
         node: NodeId,
     },
+    /// 1F89h, the boot time, passed with the network not started, and this
+    /// mandatory slave has not booted (reported once per
+    /// [`start`](super::BootManager::start)).
+    BootTimeElapsed {
+        /// The slave.
+        node: NodeId,
+    },
     /// The slave's boot process ended in `error`.
     Error {
         /// The slave.

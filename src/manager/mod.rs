@@ -41,6 +41,14 @@
 //!    mandatory slave's failure holds the start
 //!    ([`StartHeld`](BootEvent::StartHeld)); an optional slave's does not.
 //!
+//! With 1F80h [`NO_SLAVE_START`](NmtStartup::NO_SLAVE_START) the
+//! application starts the slaves ([`BootManager::start_node`],
+//! [`BootManager::start_network`]). [`ManagerConfig::boot_time`] (1F89h)
+//! bounds the wait for the mandatory slaves
+//! ([`BootTimeElapsed`](BootEvent::BootTimeElapsed));
+//! [`ManagerConfig::retry_interval`] boots a slave that ended in **B**
+//! again by itself.
+//!
 //! After its boot, a heartbeat missing for the consumer time is
 //! [`Lost`](BootEvent::Lost) with **E** (guarding: **F**), reported once;
 //! 1F80h [`STOP_ALL`](NmtStartup::STOP_ALL) then stops all nodes when the

@@ -66,6 +66,8 @@ timer_kind! {
         Phase,
         /// The heartbeat consumer time, while supervising.
         Heartbeat,
+        /// The asynchronous retry after an error B.
+        Retry,
     }
 }
 
@@ -97,7 +99,7 @@ pub(crate) struct BootSlave<'a> {
     /// The state check found it operational (**L**): it is not configured
     /// and not started again.
     initially_operational: bool,
-    timers: Timers<SlaveTimer, 2>,
+    timers: Timers<SlaveTimer, 3>,
     out: FrameQueue<4>,
 }
 
@@ -421,6 +423,11 @@ impl<'a> BootSlave<'a> {
                     return self.read(now, BootPhase::DeviceType, events);
                 }
                 self.fail(BootError::NoResponse { code }, events);
+                let retry = micros_of(self.manager.retry_interval);
+                if retry != 0 {
+                    let at = now.add_micros(retry);
+                    self.timers.set(SlaveTimer::Retry, Some(at));
+                }
             }
             BootPhase::Identity(sub) => {
                 let check = IdentityCheck::of_identity_sub(sub);
@@ -640,6 +647,9 @@ impl<'a> BootSlave<'a> {
         }
         if self.timers.expire(SlaveTimer::Heartbeat, now) {
             self.lose(BootError::HeartbeatLost, events);
+        }
+        if self.timers.expire(SlaveTimer::Retry, now) {
+            self.begin(now, events);
         }
     }
 

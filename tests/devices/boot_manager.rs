@@ -4,9 +4,10 @@
 //! identities refused with their letters; an absent node; a refused
 //! configuration; the software check (G, H); a keep-alive slave found
 //! running (L) or reset; a heartbeat lost after the boot; a node that
-//! resets mid-run; and a mandatory failure holding the start of all nodes
-//! while an optional one does not (CiA 302-2 "Network management",
-//! sections 4.3 and 4.4).
+//! resets mid-run; a mandatory failure holding the start of all nodes
+//! while an optional one does not; the application starting the slaves
+//! (1F80h bit 3); the boot time (1F89h); an absent slave retried (CiA
+//! 302-2 "Network management", sections 4.3 and 4.4).
 
 use crate::common;
 
@@ -16,8 +17,8 @@ use crate::common::ms;
 use canopen_codec::device::{Cia301Device, DeviceConfig, Identity};
 use canopen_codec::machine::Machine;
 use canopen_codec::manager::{
-    BootError, BootEvent, BootManager, BootPhase, ManagerConfig, NmtStartup, NodeConfig,
-    SlaveAssignment,
+    BootError, BootEvent, BootManager, BootPhase, ManagerConfig, ManagerError, NmtStartup,
+    NodeConfig, SlaveAssignment,
 };
 use canopen_codec::nmt::{NmtCommand, NmtCommandSpecifier, NmtState, NmtTarget};
 use canopen_codec::od::{Access, Address, ConciseDcf, ConciseEntry, MemoryDictionary};
@@ -83,6 +84,20 @@ fn network(
     slaves: Vec<Slave>,
     nodes: &[NodeConfig<'static>],
 ) -> (Bus, Vec<Handle<Slave>>, Handle<Manager>) {
+    let config = ManagerConfig {
+        startup,
+        sdo_timeout: Duration::from_millis(100),
+        ..ManagerConfig::default()
+    };
+    network_with(config, slaves, nodes)
+}
+
+/// [`network`] with the manager's whole configuration.
+fn network_with(
+    config: ManagerConfig,
+    slaves: Vec<Slave>,
+    nodes: &[NodeConfig<'static>],
+) -> (Bus, Vec<Handle<Slave>>, Handle<Manager>) {
     let mut sim = common::sim::bus(200);
     let handles: Vec<_> = slaves
         .into_iter()
@@ -92,11 +107,7 @@ fn network(
             h
         })
         .collect();
-    let mut manager = Manager::new(ManagerConfig {
-        startup,
-        sdo_timeout: Duration::from_millis(100),
-        ..ManagerConfig::default()
-    });
+    let mut manager = Manager::new(config);
     for n in nodes {
         manager.add_node(*n).unwrap();
     }
@@ -469,4 +480,124 @@ fn a_keep_alive_slave_running_already_is_l_and_is_neither_reset_nor_configured()
             assert!(configured, "configured after its reset");
         }
     }
+}
+
+#[test]
+fn with_1f80h_bit_3_the_application_starts_the_slaves() {
+    let startup = NmtStartup::MASTER | NmtStartup::NO_SLAVE_START;
+    let (mut sim, s, m) = network(
+        startup,
+        vec![
+            slave(5, DEVICE_TYPE, IDENTITY),
+            slave(6, DEVICE_TYPE, IDENTITY),
+        ],
+        &[expected(5), expected(6)],
+    );
+    sim.run_until(ms(500)).unwrap();
+    // Both booted, neither started by the manager.
+    let state = |sim: &Bus, i: usize| sim.machine(s[i]).unwrap().nmt_state();
+    assert_eq!(
+        sim.machine(m).unwrap().phase(id(5)),
+        Some(BootPhase::Booted)
+    );
+    assert!(!sim.machine(m).unwrap().network_started());
+    assert_eq!(state(&sim, 0), NmtState::PreOperational);
+    // The application starts node 5 alone.
+    let started = sim.with(m, |m, now| m.start_node(now, id(5)));
+    assert_eq!(started, Some(Ok(())));
+    sim.run_until(ms(510)).unwrap();
+    assert_eq!(state(&sim, 0), NmtState::Operational);
+    assert_eq!(state(&sim, 1), NmtState::PreOperational);
+    assert!(sim
+        .event_list(m)
+        .contains(&BootEvent::Operational { node: id(5) }));
+    // Started already; not managed.
+    let again = sim.with(m, |m, now| m.start_node(now, id(5)));
+    assert_eq!(again, Some(Err(ManagerError::NotBooted(id(5)))));
+    let unknown = sim.with(m, |m, now| m.start_node(now, id(9)));
+    assert_eq!(unknown, Some(Err(ManagerError::NotManaged(id(9)))));
+    // Then the network: node 6 is started too, node 5 not a second time.
+    sim.with(m, |m, now| m.start_network(now));
+    sim.run_until(ms(520)).unwrap();
+    assert_eq!(state(&sim, 1), NmtState::Operational);
+    assert!(sim.machine(m).unwrap().network_started());
+    let starts: Vec<_> = sim
+        .frames_on(0x000)
+        .into_iter()
+        .filter(|(_, d)| d[0] == 1)
+        .map(|(_, d)| d[1])
+        .collect();
+    assert_eq!(starts, [5, 6]);
+}
+
+#[test]
+fn the_boot_time_reports_each_missing_mandatory_slave_once() {
+    let config = ManagerConfig {
+        boot_time: Duration::from_millis(700),
+        sdo_timeout: Duration::from_millis(100),
+        ..ManagerConfig::default()
+    };
+    let mandatory = |n| NodeConfig {
+        assignment: SlaveAssignment::BOOTED.mandatory(),
+        ..expected(n)
+    };
+    // 5 boots; mandatory 9 and optional 8 are absent.
+    let nodes = [mandatory(5), mandatory(9), expected(8)];
+    let (mut sim, _, m) = network_with(config, vec![slave(5, DEVICE_TYPE, IDENTITY)], &nodes);
+    let elapsed = |sim: &Bus| {
+        sim.event_list(m)
+            .into_iter()
+            .filter_map(|e| match e {
+                BootEvent::BootTimeElapsed { node } => Some(node.raw()),
+                _ => None,
+            })
+            .collect::<Vec<_>>()
+    };
+    sim.run_until(ms(700)).unwrap();
+    assert_eq!(elapsed(&sim), Vec::<u8>::new(), "before 1 + 700 ms");
+    sim.run_until(ms(3000)).unwrap();
+    assert_eq!(elapsed(&sim), [9]);
+    assert!(!sim.machine(m).unwrap().network_started());
+}
+
+#[test]
+fn an_absent_slave_is_retried_at_the_interval_and_boots_when_it_answers() {
+    let config = ManagerConfig {
+        retry_interval: Duration::from_millis(1000),
+        sdo_timeout: Duration::from_millis(100),
+        ..ManagerConfig::default()
+    };
+    // Node 9 is off the bus when it boots: the manager never sees its
+    // boot-up, and reads 1000h in vain (B at 1302 ms).
+    let mut sim = common::sim::bus(200);
+    let s = sim.add("Slave", slave(9, DEVICE_TYPE, IDENTITY));
+    sim.set_connected(s, false);
+    sim.with(s, |d, now| d.boot(now));
+    let mut manager = Manager::new(config);
+    manager.add_node(expected(9)).unwrap();
+    let m = sim.add("Manager", manager);
+    sim.run_until(ms(1)).unwrap();
+    sim.with(m, |m, now| m.start(now));
+    sim.run_until(ms(1400)).unwrap();
+    assert_eq!(errors(&sim, m), [(9, 'B')]);
+    let reads = |sim: &Bus| {
+        sim.frames_on(0x609)
+            .iter()
+            .filter(|(_, d)| d[..3] == [0x40, 0x00, 0x10])
+            .count()
+    };
+    assert_eq!(reads(&sim), 3);
+    // Still absent at the first retry (2302 ms): B again.
+    sim.run_until(ms(2700)).unwrap();
+    assert_eq!(errors(&sim, m), [(9, 'B'), (9, 'B')]);
+    assert_eq!(reads(&sim), 6);
+    // On the bus before the second retry (3602 ms): booted and started.
+    sim.set_connected(s, true);
+    sim.run_until(ms(4000)).unwrap();
+    assert_eq!(errors(&sim, m).len(), 2);
+    assert_eq!(
+        sim.event_list(m).last(),
+        Some(&BootEvent::Operational { node: id(9) })
+    );
+    assert_eq!(sim.machine(s).unwrap().nmt_state(), NmtState::Operational);
 }
