@@ -239,30 +239,41 @@ fn a_dcf_written_from_an_eds_reads_back_with_its_values() {
 fn to_dcf_refuses_what_a_node_cannot_be_configured_with() {
     let eds = eds();
     let node = NodeId::new(9).unwrap();
-    let one = |index, sub, text| eds.to_dcf(node, [(Address::new(index, sub), text)]);
-    assert_eq!(
-        one(0x1000, 0, "1"),
-        Err(DcfError::NotWritable(Address::new(0x1000, 0)))
-    );
-    assert_eq!(
-        one(0x2003, 0, "1"),
-        Err(DcfError::NotWritable(Address::new(0x2003, 0)))
-    );
-    assert_eq!(
-        one(0x3000, 0, "1"),
-        Err(DcfError::NoEntry(Address::new(0x3000, 0)))
-    );
-    assert_eq!(
-        one(0x1017, 1, "1"),
-        Err(DcfError::NoEntry(Address::new(0x1017, 1)))
-    );
-    assert_eq!(
-        one(0x1017, 0, "x"),
-        Err(DcfError::Value {
-            addr: Address::new(0x1017, 0),
-            reason: UnservedReason::Value(ValueError::NotANumber)
-        })
-    );
+    let not_a_number: fn(Address) -> DcfError = |addr| DcfError::Value {
+        addr,
+        reason: UnservedReason::Value(ValueError::NotANumber),
+    };
+    // (what is wrong, the entry and value asked for, the refusal, which
+    // names the entry)
+    let cases: [(_, _, _, fn(Address) -> DcfError); 5] = [
+        (
+            "read-only",
+            Address::new(0x1000, 0),
+            "1",
+            DcfError::NotWritable,
+        ),
+        ("const", Address::new(0x2003, 0), "1", DcfError::NotWritable),
+        (
+            "no such object",
+            Address::new(0x3000, 0),
+            "1",
+            DcfError::NoEntry,
+        ),
+        (
+            "no such sub-index",
+            Address::new(0x1017, 1),
+            "1",
+            DcfError::NoEntry,
+        ),
+        ("not a number", Address::new(0x1017, 0), "x", not_a_number),
+    ];
+    for (what, addr, text, refusal) in cases {
+        assert_eq!(
+            eds.to_dcf(node, [(addr, text)]),
+            Err(refusal(addr)),
+            "{what}"
+        );
+    }
     // Existing commissioning keys are kept, NodeID replaced.
     let mut with_rate = eds.clone();
     with_rate.commissioning = parse("[DeviceComissioning]\nnodeid=3\nBaudrate=500\n")
