@@ -139,22 +139,33 @@ fn configured_values_are_the_writable_parameter_values() {
 
 #[test]
 fn a_value_that_does_not_encode_is_a_typed_error() {
-    let no_node = DCF.replace("NodeID=5\n", "");
-    assert_eq!(
-        parse(&no_node).unwrap().to_concise_dcf(),
-        Err(DcfError::Value {
-            addr: Address::new(0x1400, 1),
-            reason: UnservedReason::Value(ValueError::NoNodeId)
-        })
-    );
-    let too_big = DCF.replace("ParameterValue=0xFE", "ParameterValue=0x1FE");
-    assert_eq!(
-        parse(&too_big).unwrap().to_concise_dcf(),
-        Err(DcfError::Value {
-            addr: Address::new(0x1400, 2),
-            reason: UnservedReason::Value(ValueError::OutOfRange)
-        })
-    );
+    // (what the DCF gets wrong, the edit that makes it so, the entry that
+    // cannot be encoded and why)
+    let cases = [
+        (
+            "no NodeID for a $NODEID value",
+            ("NodeID=5\n", ""),
+            Address::new(0x1400, 1),
+            ValueError::NoNodeId,
+        ),
+        (
+            "a value wider than its type",
+            ("ParameterValue=0xFE", "ParameterValue=0x1FE"),
+            Address::new(0x1400, 2),
+            ValueError::OutOfRange,
+        ),
+    ];
+    for (what, (from, to), addr, error) in cases {
+        let text = DCF.replace(from, to);
+        assert_eq!(
+            parse(&text).unwrap().to_concise_dcf(),
+            Err(DcfError::Value {
+                addr,
+                reason: UnservedReason::Value(error)
+            }),
+            "{what}"
+        );
+    }
 }
 
 #[test]
@@ -239,13 +250,14 @@ fn a_dcf_written_from_an_eds_reads_back_with_its_values() {
 fn to_dcf_refuses_what_a_node_cannot_be_configured_with() {
     let eds = eds();
     let node = NodeId::new(9).unwrap();
-    let not_a_number: fn(Address) -> DcfError = |addr| DcfError::Value {
+    /// The refusal for an entry, which names it.
+    type Refusal = fn(Address) -> DcfError;
+    let not_a_number: Refusal = |addr| DcfError::Value {
         addr,
         reason: UnservedReason::Value(ValueError::NotANumber),
     };
-    // (what is wrong, the entry and value asked for, the refusal, which
-    // names the entry)
-    let cases: [(_, _, _, fn(Address) -> DcfError); 5] = [
+    // (what is wrong, the entry and value asked for, the refusal)
+    let cases: [(_, _, _, Refusal); 5] = [
         (
             "read-only",
             Address::new(0x1000, 0),

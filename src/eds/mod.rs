@@ -38,6 +38,7 @@ use alloc::vec::Vec;
 mod dcf;
 mod describe;
 mod dictionary;
+mod info;
 mod parse;
 mod types;
 mod value;
@@ -46,6 +47,7 @@ mod write;
 pub use dcf::DcfError;
 pub use describe::{Described, DeviceHeader, ObjectDescription, ObjectNames, SubDescription};
 pub use dictionary::{EdsDictionary, PdoDescription, Unserved, UnservedReason, MAX_VARIABLE_LEN};
+pub use info::{Commissioning, DeviceInfo, FileInfo};
 pub use parse::{parse, parse_bytes};
 pub use types::{AccessType, DataType, ObjectType};
 pub use value::{encode_value, eval_int, parse_int, uses_node_id, ValueError};
@@ -87,64 +89,6 @@ pub struct Section {
     /// Its line number (from 1).
     pub line: usize,
     /// Its keys.
-    pub keys: Keys,
-}
-
-/// `[FileInfo]` (CiA 306, section 4.2 "File information").
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub struct FileInfo {
-    /// `FileName`.
-    pub file_name: Option<String>,
-    /// `FileVersion`.
-    pub file_version: Option<String>,
-    /// `EDSVersion`.
-    pub eds_version: Option<String>,
-    /// `Description`.
-    pub description: Option<String>,
-    /// `CreatedBy`.
-    pub created_by: Option<String>,
-    /// Every key of the section, as written.
-    pub keys: Keys,
-}
-
-/// `[DeviceInfo]` (CiA 306, section 4.3 "General device information").
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub struct DeviceInfo {
-    /// `VendorName`.
-    pub vendor_name: Option<String>,
-    /// `VendorNumber`.
-    pub vendor_number: Option<u32>,
-    /// `ProductName`.
-    pub product_name: Option<String>,
-    /// `ProductNumber`.
-    pub product_number: Option<u32>,
-    /// `RevisionNumber`.
-    pub revision_number: Option<u32>,
-    /// The bit rates in kbit/s whose `BaudRate_<n>` key is 1, ascending.
-    pub baud_rates: Vec<u16>,
-    /// `NrOfRXPDO`.
-    pub nr_of_rx_pdo: Option<u16>,
-    /// `NrOfTXPDO`.
-    pub nr_of_tx_pdo: Option<u16>,
-    /// `LSS_Supported`.
-    pub lss_supported: bool,
-    /// Every key of the section, as written.
-    pub keys: Keys,
-}
-
-/// `[DeviceComissioning]` of a DCF (CiA 306's own spelling, which the
-/// writer keeps), also read as `[DeviceCommissioning]`.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub struct Commissioning {
-    /// `NodeID` (decimal or `0x` hex).
-    pub node_id: Option<u8>,
-    /// `NodeName`.
-    pub node_name: Option<String>,
-    /// `Baudrate` in kbit/s.
-    pub baudrate: Option<u16>,
-    /// `NetNumber`.
-    pub net_number: Option<u32>,
-    /// Every key of the section, as written.
     pub keys: Keys,
 }
 

@@ -339,64 +339,6 @@ fn object_list(sec: &RawSection<'_>, warnings: &mut Vec<Warning>) -> Result<Vec<
     Ok(list)
 }
 
-fn file_info(sec: &RawSection<'_>) -> FileInfo {
-    let keys = keys_of(sec);
-    let s = |k: &str| keys.get(k).map(ToString::to_string);
-    FileInfo {
-        file_name: s("FileName"),
-        file_version: s("FileVersion"),
-        eds_version: s("EDSVersion"),
-        description: s("Description"),
-        created_by: s("CreatedBy"),
-        keys,
-    }
-}
-
-fn device_info(sec: &RawSection<'_>) -> DeviceInfo {
-    let keys = keys_of(sec);
-    let s = |k: &str| keys.get(k).map(ToString::to_string);
-    let n = |k: &str| keys.get(k).and_then(parse_int);
-    let u32_of = |k: &str| n(k).and_then(|v| u32::try_from(v).ok());
-    let u16_of = |k: &str| n(k).and_then(|v| u16::try_from(v).ok());
-    let mut baud_rates: Vec<u16> = keys
-        .0
-        .iter()
-        .filter_map(|(k, v)| {
-            let rate = k
-                .get(..9)?
-                .eq_ignore_ascii_case("BaudRate_")
-                .then(|| k.get(9..))??;
-            (parse_int(v)? != 0).then(|| rate.parse().ok())?
-        })
-        .collect();
-    baud_rates.sort_unstable();
-    baud_rates.dedup();
-    DeviceInfo {
-        vendor_name: s("VendorName"),
-        vendor_number: u32_of("VendorNumber"),
-        product_name: s("ProductName"),
-        product_number: u32_of("ProductNumber"),
-        revision_number: u32_of("RevisionNumber"),
-        baud_rates,
-        nr_of_rx_pdo: u16_of("NrOfRXPDO"),
-        nr_of_tx_pdo: u16_of("NrOfTXPDO"),
-        lss_supported: n("LSS_Supported").is_some_and(|v| v != 0),
-        keys,
-    }
-}
-
-fn commissioning(sec: &RawSection<'_>) -> Commissioning {
-    let keys = keys_of(sec);
-    let n = |k: &str| keys.get(k).and_then(parse_int);
-    Commissioning {
-        node_id: n("NodeID").and_then(|v| u8::try_from(v).ok()),
-        node_name: keys.get("NodeName").map(ToString::to_string),
-        baudrate: n("Baudrate").and_then(|v| u16::try_from(v).ok()),
-        net_number: n("NetNumber").and_then(|v| u32::try_from(v).ok()),
-        keys,
-    }
-}
-
 /// The sub-objects a `CompactSubObj=n` describes (CiA 306, section 4.6
 /// "Object descriptions", compact storage): sub-index 0 is an UNSIGNED8
 /// `ro` holding n, named `NrOfObjects`; sub-indexes 1..=n take the
@@ -436,9 +378,9 @@ fn build(sections: &[RawSection<'_>], mut warnings: Vec<Warning>) -> Result<Eds,
     let mut compact: Vec<(Kind, &RawSection<'_>)> = Vec::new();
     for sec in sections {
         match classify(sec.name) {
-            Kind::FileInfo => eds.file_info = file_info(sec),
-            Kind::DeviceInfo => eds.device_info = device_info(sec),
-            Kind::Commissioning => eds.commissioning = Some(commissioning(sec)),
+            Kind::FileInfo => eds.file_info = FileInfo::from_keys(keys_of(sec)),
+            Kind::DeviceInfo => eds.device_info = DeviceInfo::from_keys(keys_of(sec)),
+            Kind::Commissioning => eds.commissioning = Some(Commissioning::from_keys(keys_of(sec))),
             Kind::DummyUsage => {
                 for (k, v, _) in &sec.keys {
                     let idx = k
