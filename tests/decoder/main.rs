@@ -16,6 +16,9 @@ mod trace_writers;
 
 #[cfg(feature = "cli")]
 mod boot_cli;
+// It runs the boot-up manager on the simulated bus (feature `sim`).
+#[cfg(all(feature = "cli", feature = "sim"))]
+mod boot_decode;
 #[cfg(feature = "cli")]
 mod boot_master_cli;
 #[cfg(feature = "cli")]
