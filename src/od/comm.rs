@@ -133,12 +133,13 @@ const fn joined<const N: usize>(parts: &[&[ObjectRow]]) -> [ObjectRow; N] {
     out
 }
 
-/// The objects of 1000h-1200h, in index order: those the device core
-/// serves, and the error behaviour, EMCY and version objects it does not
+/// The objects of 1000h-100Dh (and, after [`STORE_ROWS`] and
+/// [`RESTORE_ROWS`], those of 1012h-1200h), in index order: those the
+/// device core serves, and the error behaviour, EMCY and version objects it does not
 /// but a log analysis names. A value that depends on the node id (1014h,
 /// 1200h sub 1 and 2: 80h, 600h, 580h + node id) has no power-on value in
 /// its row.
-const SINGLE_OBJECTS: &[ObjectRow] = &[
+const OBJECTS_TO_100D: &[ObjectRow] = &[
     ObjectRow::var(DEVICE_TYPE, "Device type", U32, Const).short("device type"),
     ObjectRow::var(ERROR_REGISTER, "Error register", U8, Ro).short("error register"),
     ObjectRow::var(PRE_DEFINED_ERROR_FIELD, "Number of errors", U8, Rw)
@@ -187,52 +188,51 @@ const SINGLE_OBJECTS: &[ObjectRow] = &[
     .short("manufacturer software version"),
     ObjectRow::var(GUARD_TIME, "Guard time", U16, Rw).short("guard time"),
     ObjectRow::var(LIFE_TIME_FACTOR, "Life time factor", U8, Rw).short("life time factor"),
-    highest(
-        STORE_PARAMETERS,
+];
+
+/// 1010h store parameters and 1011h restore default parameters: the
+/// highest sub-index (3, power-on value), then one entry per parameter
+/// group CiA 301 gives both objects (sections 7.5.2.13 and 7.5.2.14): sub 1
+/// all parameters, sub 2 the communication parameters (1000h-1FFFh), sub 3
+/// the application parameters (6000h-9FFFh). `names` are the object's and
+/// its three groups' entries'; `short` is the decoder's name for sub 0.
+const fn parameter_groups(
+    index: u16,
+    names: [&'static str; 4],
+    short: &'static str,
+) -> [ObjectRow; 4] {
+    let [object, all, communication, application] = names;
+    [
+        highest(index, object, Array, Const, short).default(3),
+        at(index, 1, all, U32, Rw),
+        at(index, 2, communication, U32, Rw),
+        at(index, 3, application, U32, Rw),
+    ]
+}
+
+const STORE_ROWS: [ObjectRow; 4] = parameter_groups(
+    STORE_PARAMETERS,
+    [
         "Store parameters",
-        Array,
-        Const,
-        "store parameters: highest sub-index",
-    )
-    .default(3),
-    at(STORE_PARAMETERS, 1, "Save all parameters", U32, Rw),
-    at(
-        STORE_PARAMETERS,
-        2,
+        "Save all parameters",
         "Save communication parameters",
-        U32,
-        Rw,
-    ),
-    at(STORE_PARAMETERS, 3, "Save application parameters", U32, Rw),
-    highest(
-        RESTORE_DEFAULT_PARAMETERS,
+        "Save application parameters",
+    ],
+    "store parameters: highest sub-index",
+);
+const RESTORE_ROWS: [ObjectRow; 4] = parameter_groups(
+    RESTORE_DEFAULT_PARAMETERS,
+    [
         "Restore default parameters",
-        Array,
-        Const,
-        "restore default parameters: highest sub-index",
-    )
-    .default(3),
-    at(
-        RESTORE_DEFAULT_PARAMETERS,
-        1,
         "Restore all default parameters",
-        U32,
-        Rw,
-    ),
-    at(
-        RESTORE_DEFAULT_PARAMETERS,
-        2,
         "Restore communication default parameters",
-        U32,
-        Rw,
-    ),
-    at(
-        RESTORE_DEFAULT_PARAMETERS,
-        3,
         "Restore application default parameters",
-        U32,
-        Rw,
-    ),
+    ],
+    "restore default parameters: highest sub-index",
+);
+
+/// The objects of 1012h-1200h, in index order (see [`OBJECTS_TO_100D`]).
+const OBJECTS_FROM_1012: &[ObjectRow] = &[
     ObjectRow::var(COB_ID_TIME, "COB-ID time stamp object", U32, Rw)
         .short("COB-ID TIME")
         .default(TIME as u32),
@@ -310,7 +310,12 @@ const SINGLE_OBJECTS: &[ObjectRow] = &[
 ];
 
 /// The number of rows of [`COMM_OBJECTS`].
-const ROWS: usize = SINGLE_OBJECTS.len() + RPDO_ROWS.len() + TPDO_ROWS.len();
+const ROWS: usize = OBJECTS_TO_100D.len()
+    + STORE_ROWS.len()
+    + RESTORE_ROWS.len()
+    + OBJECTS_FROM_1012.len()
+    + RPDO_ROWS.len()
+    + TPDO_ROWS.len();
 
 /// The CiA 301 communication objects: those of the device core (1000h,
 /// 1001h, 1003h, 1005h-1008h, 100Ch, 100Dh, 1010h, 1011h, 1012h,
@@ -318,7 +323,14 @@ const ROWS: usize = SINGLE_OBJECTS.len() + RPDO_ROWS.len() + TPDO_ROWS.len();
 /// (1009h, 100Ah, 1014h, 1015h, 1029h) and the PDO communication and
 /// mapping parameters (1400h-1BFFh), in index order (see the
 /// [module docs](self)).
-pub const COMM_OBJECTS: &[ObjectRow] = &joined::<ROWS>(&[SINGLE_OBJECTS, &RPDO_ROWS, &TPDO_ROWS]);
+pub const COMM_OBJECTS: &[ObjectRow] = &joined::<ROWS>(&[
+    OBJECTS_TO_100D,
+    &STORE_ROWS,
+    &RESTORE_ROWS,
+    OBJECTS_FROM_1012,
+    &RPDO_ROWS,
+    &TPDO_ROWS,
+]);
 
 /// The row of [`COMM_OBJECTS`] that covers `address`, if any: what
 /// [`ObjectRow::find`] finds, as a `const fn` for facts a program reads at
