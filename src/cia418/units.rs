@@ -26,13 +26,20 @@ const fn whole_steps(value: u64, step: u64, max: u64) -> Option<u64> {
 /// checked ways in: `whole: fn` from whole units (`$steps` raw steps per
 /// unit, `None` when the raw value would overflow), then `fine: fn` from
 /// a sub-unit that divides the resolution (`$per_step` of it per raw
-/// step; `None` unless a whole number of steps, at most `$max`).
+/// step, declared as `Self::$per_name`; `None` unless a whole number of
+/// steps, at most `$max`), and optionally `exact: fn`, the way out to that
+/// sub-unit (raw times `$per_step`): the scale is declared once for both
+/// directions.
 macro_rules! object_value {
     (
         $name:ident($raw:ty; $bytes:literal), $per_bit:literal;
         $(
             $(#[$wdoc:meta])* whole: fn $whole:ident($w:ident) * $steps:literal;
-            $($(#[$fdoc:meta])* fine: fn $fine:ident($f:ident: $fty:ty) / $per_step:expr, max $max:expr;)?
+            $(
+                $(#[$fdoc:meta])*
+                fine: fn $fine:ident($f:ident: $fty:ty) / $per_name:ident = $per_step:literal, max $max:expr;
+                $($(#[$edoc:meta])* exact: fn $exact:ident;)?
+            )?
         )?
     ) => {
         impl $name {
@@ -70,16 +77,27 @@ macro_rules! object_value {
                 }
 
                 $(
+                    #[doc = concat!("The sub-unit of [`", stringify!($fine), "`](Self::", stringify!($fine), ") per bit (one bit is ", $per_bit, ").")]
+                    pub const $per_name: $fty = $per_step;
+
                     $(#[$fdoc])*
                     #[must_use]
                     #[allow(clippy::cast_possible_truncation)]
                     pub const fn $fine($f: $fty) -> Option<Self> {
                         // At most `$max` steps, which fits `$raw`.
-                        match whole_steps($f as u64, $per_step as u64, $max as u64) {
+                        match whole_steps($f as u64, Self::$per_name as u64, $max as u64) {
                             Some(raw) => Some($name(raw as $raw)),
                             None => None,
                         }
                     }
+
+                    $(
+                        $(#[$edoc])*
+                        #[must_use]
+                        pub const fn $exact(self) -> $fty {
+                            self.0 as $fty * Self::$per_name
+                        }
+                    )?
                 )?
             )?
         }
@@ -199,21 +217,15 @@ object_value! {
     /// Whole ampere-hours; `None` above 8191 Ah.
     whole: fn from_amp_hours(ah) * 8;
     /// `Some` if `mah` is a multiple of 125 mAh that fits 16 bits.
-    fine: fn from_milliamp_hours(mah: u32) / Self::MILLIAMP_HOURS_PER_BIT, max u16::MAX;
+    fine: fn from_milliamp_hours(mah: u32) / MILLIAMP_HOURS_PER_BIT = 125, max u16::MAX;
+    /// Exact milliampere-hours (raw * 125).
+    exact: fn milliamp_hours;
 }
 
 impl EighthAmpHours {
-    /// Milliampere-hours per bit.
-    pub const MILLIAMP_HOURS_PER_BIT: u32 = 125;
     /// 0xFFFF, the largest value: 8191.875 Ah (CiA 418 gives it no special
     /// meaning).
     pub const MAX: EighthAmpHours = EighthAmpHours(0xFFFF);
-
-    /// Exact milliampere-hours (raw * 125).
-    #[must_use]
-    pub const fn milliamp_hours(self) -> u32 {
-        self.0 as u32 * Self::MILLIAMP_HOURS_PER_BIT
-    }
 
     /// Ampere-hours as `f32` (exact).
     #[must_use]
@@ -245,19 +257,12 @@ object_value! {
     /// Whole volts; `None` above 4 194 303 V.
     whole: fn from_volts(volts) * 1024;
     /// `Some` if `pv` is a whole number of 1/1024 V steps that fits 32 bits.
-    fine: fn from_picovolts(pv: u64) / Self::PICOVOLTS_PER_BIT, max u32::MAX;
+    fine: fn from_picovolts(pv: u64) / PICOVOLTS_PER_BIT = 976_562_500, max u32::MAX;
+    /// Exact picovolts (raw * 976 562 500; never overflows `u64`).
+    exact: fn picovolts;
 }
 
 impl BatteryVoltage {
-    /// Picovolts per bit (1e12 / 1024, exact).
-    pub const PICOVOLTS_PER_BIT: u64 = 976_562_500;
-
-    /// Exact picovolts (raw * 976 562 500; never overflows `u64`).
-    #[must_use]
-    pub const fn picovolts(self) -> u64 {
-        self.0 as u64 * Self::PICOVOLTS_PER_BIT
-    }
-
     /// Millivolts rounded to nearest (half up); not exact.
     #[must_use]
     pub const fn millivolts_rounded(self) -> u32 {
@@ -297,12 +302,10 @@ object_value! {
     whole: fn from_amps(amps) * 16;
     /// `Some` if `ua` is a multiple of 62 500 uA below the invalid marker
     /// (at most 4095.875 A).
-    fine: fn from_microamps(ua: u32) / Self::MICROAMPS_PER_BIT, max Self::INVALID.0 - 1;
+    fine: fn from_microamps(ua: u32) / MICROAMPS_PER_BIT = 62_500, max Self::INVALID.0 - 1;
 }
 
 impl ChargeCurrentRequested {
-    /// Microamperes per bit (1/16 A, exact).
-    pub const MICROAMPS_PER_BIT: u32 = 62_500;
     /// 0xFFFF: no valid request.
     pub const INVALID: ChargeCurrentRequested = ChargeCurrentRequested(0xFFFF);
 
