@@ -573,7 +573,7 @@ mod tests {
     }
 
     proptest::proptest! {
-        #![proptest_config(proptest::prelude::ProptestConfig { failure_persistence: Some(std::boxed::Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/src-clock.txt"))), ..proptest::prelude::ProptestConfig::default() })]
+        #![proptest_config(crate::testing::proptest_config("tests/proptest-regressions/src-clock.txt"))]
         #[test]
         fn earliest_is_the_minimum_of_the_armed(deadlines in proptest::collection::vec(proptest::option::of(proptest::num::u64::ANY), 0..12)) {
             let deadlines: std::vec::Vec<Option<Timestamp>> = deadlines.into_iter().map(|d| d.map(Timestamp::from_micros)).collect();

@@ -150,6 +150,9 @@ pub mod time;
 pub mod trace;
 pub mod wire;
 
+#[cfg(test)]
+mod testing;
+
 pub use clock::Timestamp;
 pub use cob_id::{CobKind, NodeId, PdoNumber};
 pub use error::DecodeError;

@@ -207,14 +207,9 @@ mod tests {
 
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig {
-            cases: 4096,
-            failure_persistence: Some(std::boxed::Box::new(
-                proptest::test_runner::FileFailurePersistence::Direct(
-                    "tests/proptest-regressions/src-wire.txt",
-                ),
-            )),
-            ..proptest::prelude::ProptestConfig::default()
-        })]
+        cases: 4096,
+        ..crate::testing::proptest_config("tests/proptest-regressions/src-wire.txt")
+    })]
 
         /// Every representation emits back exactly the bytes it parsed
         /// from, for every payload of 0..=8 bytes that parses, and reads a

@@ -223,7 +223,7 @@ fn flag_words_agree_with_the_typed_values() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { failure_persistence: Some(std::boxed::Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/src-deltaq-catalogue_tests.txt"))), ..ProptestConfig::default() })]
+    #![proptest_config(crate::testing::proptest_config("tests/proptest-regressions/src-deltaq-catalogue_tests.txt"))]
 
     /// Decoding is total and displays without panicking, for any mapping
     /// and any payload, in both catalogues.

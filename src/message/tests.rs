@@ -245,10 +245,9 @@ fn any_frame() -> impl proptest::strategy::Strategy<Value = CanFrame> {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::test_runner::Config {
+    #![proptest_config(proptest::prelude::ProptestConfig {
         cases: 4096,
-        failure_persistence: Some(std::boxed::Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/src-message-tests.txt"))),
-        ..proptest::test_runner::Config::default()
+        ..crate::testing::proptest_config("tests/proptest-regressions/src-message-tests.txt")
     })]
 
     /// The hot path of `Message::decode` (the objects of a node, straight

@@ -324,7 +324,7 @@ mod tests {
     }
 
     proptest::proptest! {
-        #![proptest_config(proptest::prelude::ProptestConfig { failure_persistence: Some(std::boxed::Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/src-nmt-slave.txt"))), ..proptest::prelude::ProptestConfig::default() })]
+        #![proptest_config(crate::testing::proptest_config("tests/proptest-regressions/src-nmt-slave.txt"))]
         /// At most one event per call, whatever the call and the frame:
         /// what lets the device core keep two slots.
         #[test]

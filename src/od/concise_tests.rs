@@ -151,10 +151,7 @@ fn writer_refuses_what_does_not_fit_and_keeps_what_did() {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig {
-        failure_persistence: Some(std::boxed::Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/src-od-concise.txt"))),
-        ..proptest::prelude::ProptestConfig::default()
-    })]
+    #![proptest_config(crate::testing::proptest_config("tests/proptest-regressions/src-od-concise.txt"))]
 
     /// Whatever entries are written read back the same, in order, and the
     /// buffer and Vec writers agree byte for byte.

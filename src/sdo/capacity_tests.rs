@@ -200,7 +200,10 @@ where
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 512, failure_persistence: Some(std::boxed::Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/src-sdo-capacity_tests.txt"))), ..ProptestConfig::default() })]
+    #![proptest_config(proptest::prelude::ProptestConfig {
+        cases: 512,
+        ..crate::testing::proptest_config("tests/proptest-regressions/src-sdo-capacity_tests.txt")
+    })]
 
     #[test]
     fn the_server_leaves_at_most_events_per_call(ops in prop::collection::vec(op(), 1..60)) {

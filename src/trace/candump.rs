@@ -491,7 +491,7 @@ mod tests {
     }
 
     proptest::proptest! {
-        #![proptest_config(proptest::prelude::ProptestConfig { failure_persistence: Some(std::boxed::Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/src-trace-candump.txt"))), ..proptest::prelude::ProptestConfig::default() })]
+        #![proptest_config(crate::testing::proptest_config("tests/proptest-regressions/src-trace-candump.txt"))]
         /// Lines near the usual shape read the same by the fast reader and
         /// by the general one.
         #[test]

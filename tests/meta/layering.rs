@@ -37,7 +37,8 @@ const LAYERS: &[Layer] = &[
     Layer {
         name: "base: frames, identifiers, errors, time, the contract, abort codes",
         modules: &[
-            "abort", "bytes", "clock", "cob_id", "error", "frame", "machine", "queue", "wire",
+            "abort", "bytes", "clock", "cob_id", "error", "frame", "machine", "queue", "testing",
+            "wire",
         ],
         sideways: true,
     },

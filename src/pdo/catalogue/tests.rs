@@ -236,7 +236,7 @@ fn short_and_long_frames() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { failure_persistence: Some(std::boxed::Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/src-pdo-catalogue-tests.txt"))), ..ProptestConfig::default() })]
+    #![proptest_config(crate::testing::proptest_config("tests/proptest-regressions/src-pdo-catalogue-tests.txt"))]
 
     /// Decoding is total and displays without panicking, for any mapping
     /// and any payload.

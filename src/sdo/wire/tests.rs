@@ -700,7 +700,10 @@ mod props {
     }
 
     proptest! {
-        #![proptest_config(ProptestConfig { cases: 4096, failure_persistence: Some(std::boxed::Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/src-sdo-wire-tests.txt"))), ..ProptestConfig::default() })]
+        #![proptest_config(proptest::prelude::ProptestConfig {
+        cases: 4096,
+        ..crate::testing::proptest_config("tests/proptest-regressions/src-sdo-wire-tests.txt")
+    })]
 
         /// `emit(parse(x)) == x` for every input that parses, both sides:
         /// emitted over the frame's own bytes, the command gives them back.

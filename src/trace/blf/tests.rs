@@ -570,10 +570,7 @@ fn system_times_are_unix_times() {
 }
 
 proptest::proptest! {
-    #![proptest_config(proptest::prelude::ProptestConfig {
-        failure_persistence: Some(std::boxed::Box::new(proptest::test_runner::FileFailurePersistence::Direct("tests/proptest-regressions/src-trace-blf-tests.txt"))),
-        ..proptest::prelude::ProptestConfig::default()
-    })]
+    #![proptest_config(crate::testing::proptest_config("tests/proptest-regressions/src-trace-blf-tests.txt"))]
 
     /// Any bytes after a file header, in any chunks: typed results, and
     /// every event takes input (no unbounded loop).
