@@ -99,7 +99,16 @@ pub trait Machine {
 /// `EventQueue` drop the oldest item and count it), written once.
 /// `frames: none` / `events: none` for a machine that sends or reports
 /// nothing; `events: none` alone for one that makes its frames itself.
+/// A leading `timers: FIELD` also answers `poll_timeout` with the earliest
+/// deadline of the machine's [`Timers`](crate::clock::Timers) table, for
+/// the machines whose deadlines all live there.
 macro_rules! queued_outputs {
+    (timers: $timers:ident, $($outputs:tt)*) => {
+        fn poll_timeout(&self) -> Option<$crate::clock::Timestamp> {
+            self.$timers.next()
+        }
+        $crate::machine::queued_outputs!($($outputs)*);
+    };
     (events: none) => {
         fn poll_event(&mut self) -> Option<Self::Event> {
             None

@@ -426,9 +426,5 @@ impl Machine for LssMaster {
         }
     }
 
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        self.timers.next()
-    }
-
-    crate::machine::queued_outputs!(frames: tx, events: events);
+    crate::machine::queued_outputs!(timers: timers, frames: tx, events: events);
 }

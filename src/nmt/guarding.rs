@@ -231,12 +231,8 @@ impl Machine for GuardingSlave {
         }
     }
 
-    /// The end of the node life time, while life guarding runs.
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        self.timers.next()
-    }
-
-    crate::machine::queued_outputs!(frames: out, events: events);
+    // The end of the node life time, while life guarding runs.
+    crate::machine::queued_outputs!(timers: timers, frames: out, events: events);
 }
 
 /// What the guarding master reports about its node.
@@ -503,12 +499,8 @@ impl Machine for GuardingMaster {
         }
     }
 
-    /// When the next request is due.
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        self.timers.next()
-    }
-
-    crate::machine::queued_outputs!(frames: out, events: events);
+    // When the next request is due.
+    crate::machine::queued_outputs!(timers: timers, frames: out, events: events);
 }
 
 #[cfg(test)]

@@ -190,12 +190,8 @@ impl Machine for HeartbeatProducer {
             .map(|state| Heartbeat::new(state).to_frame(self.node))
     }
 
-    /// When the next heartbeat is due.
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        self.timers.next()
-    }
-
-    crate::machine::queued_outputs!(events: none);
+    // When the next heartbeat is due.
+    crate::machine::queued_outputs!(timers: timers, events: none);
 
     fn frames_dropped(&self) -> u64 {
         self.out.dropped()

@@ -340,12 +340,8 @@ impl Machine for TpdoProducer {
         Some(self.next.frame_on_identity(self.frame_identity))
     }
 
-    /// The earlier of the event timer and the end of the inhibit time.
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        self.timers.next()
-    }
-
-    crate::machine::queued_outputs!(events: none);
+    // The earlier of the event timer and the end of the inhibit time.
+    crate::machine::queued_outputs!(timers: timers, events: none);
 
     fn frames_dropped(&self) -> u64 {
         u64::from(self.dropped)

@@ -177,17 +177,13 @@ macro_rules! sdo_endpoint_machine {
                 queued
             }
 
-            /// The deadline of the running transfer (`None` when idle).
-            fn poll_timeout(&self) -> Option<Timestamp> {
-                self.timers.next()
-            }
-
             /// Frames of the one-frame queue dropped unsent.
             fn frames_dropped(&self) -> u64 {
                 self.transmit.dropped()
             }
 
-            crate::machine::queued_outputs!(@events events);
+            // The deadline of the running transfer (`None` when idle).
+            crate::machine::queued_outputs!(timers: timers, @events events);
         }
     };
 }

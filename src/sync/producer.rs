@@ -213,10 +213,6 @@ impl Machine for SyncProducer {
         }
     }
 
-    /// When the next SYNC is due.
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        self.timers.next()
-    }
-
-    crate::machine::queued_outputs!(frames: out, events: none);
+    // When the next SYNC is due.
+    crate::machine::queued_outputs!(timers: timers, frames: out, events: none);
 }

@@ -693,13 +693,9 @@ impl Machine for ChargeControl {
         self.step(now);
     }
 
-    /// When the next timer (the CAN hold-off, the end of the absorption,
-    /// equalize or rest phase) runs out.
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        self.timers.next()
-    }
-
-    crate::machine::queued_outputs!(frames: none, events: events);
+    // When the next timer (the CAN hold-off, the end of the absorption,
+    // equalize or rest phase) runs out.
+    crate::machine::queued_outputs!(timers: timers, frames: none, events: events);
 }
 
 #[cfg(test)]

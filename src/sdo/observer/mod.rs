@@ -769,14 +769,10 @@ impl<const EXTRA: usize, const BUFFERS: usize> Machine for Observer<EXTRA, BUFFE
         }
     }
 
-    /// When the next open transfer may time out (possibly earlier than any
-    /// does: an extra [`Machine::handle_timeout`] is harmless).
-    fn poll_timeout(&self) -> Option<Timestamp> {
-        self.timers.next()
-    }
-
     // The observer only listens: no frame to send, none dropped.
-    crate::machine::queued_outputs!(frames: none, events: events);
+    // When the next open transfer may time out (possibly earlier than any
+    // does: an extra [`Machine::handle_timeout`] is harmless).
+    crate::machine::queued_outputs!(timers: timers, frames: none, events: events);
 }
 
 #[cfg(test)]
