@@ -18,12 +18,14 @@
 //! keeps running for `--linger-ms` (default 2000 ms, so `</dev/null` shows
 //! the boot-up and two heartbeats), then exits with status 0.
 
-#[path = "support/bus.rs"]
-mod bus;
-#[path = "support/node.rs"]
-mod node;
-#[path = "support/storage.rs"]
-mod storage;
+/// The pipe bus, the node loop and the parameter storage the example
+/// programs share (examples/support/).
+mod support {
+    pub mod bus;
+    pub mod node;
+    pub mod storage;
+}
+use support::{bus, node, storage};
 
 use std::collections::VecDeque;
 use std::process::ExitCode;

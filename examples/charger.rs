@@ -49,15 +49,18 @@
 //!
 //! Time: see `examples/support/node.rs` (shared with `battery_module`).
 
-#[path = "support/bus.rs"]
-mod bus;
-#[path = "support/node.rs"]
-mod node;
+/// The pipe bus, the node loop, the program store and the parameter
+/// storage the example programs share (examples/support/).
+mod support {
+    pub mod bus;
+    pub mod node;
+    #[cfg(feature = "program-download")]
+    pub mod program_store;
+    pub mod storage;
+}
 #[cfg(feature = "program-download")]
-#[path = "support/program_store.rs"]
-mod program_store;
-#[path = "support/storage.rs"]
-mod storage;
+use support::program_store;
+use support::{bus, node, storage};
 
 use std::process::ExitCode;
 use std::time::Duration;

@@ -25,8 +25,10 @@
 //! line per operation on stderr, and exits. Time is the process's monotonic
 //! clock; input timestamps are ignored.
 
-#[path = "support/bus.rs"]
-mod bus;
+mod support {
+    pub mod bus;
+}
+use support::bus;
 
 use std::process::ExitCode;
 

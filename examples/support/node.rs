@@ -41,7 +41,7 @@ use std::time::{Duration, SystemTime, UNIX_EPOCH};
 use canopen_codec::machine::Machine;
 use canopen_codec::{CanFrame, Timestamp};
 
-use crate::bus::{Input, PipeBus};
+use super::bus::{Input, PipeBus};
 
 /// Most timer runs one catch-up performs.
 const MAX_STEPS: usize = 1_000_000;
