@@ -604,6 +604,14 @@ impl<'a> BootSlave<'a> {
             events.push(BootEvent::BootUp {
                 node: self.config.node,
             });
+            // A read of 1000h already outstanding is the first step of the
+            // process this boot-up starts (a boot-up sent before the
+            // manager's reset, then the one after it): a second request
+            // would leave the answer to the first on the one SDO channel
+            // (CiA 301 section 7.2.4), taken for the answer to the next step.
+            if self.phase == BootPhase::DeviceType {
+                return;
+            }
             return self.begin(now, events);
         }
         if self.guard.is_running() {

@@ -209,6 +209,38 @@ fn a_boot_up_starts_the_process_again_at_any_time() {
     assert_eq!(m.phase(node), Some(BootPhase::DeviceType));
 }
 
+#[test]
+fn a_boot_up_while_1000h_is_read_keeps_the_one_read() {
+    let mut m = started(NmtStartup::MASTER, &[node5()]);
+    m.handle_frame(t(1), &beat(5, 0));
+    assert_eq!(sent(&mut m), ["605#4000100000000000"]);
+    // The boot-up after the reset, the read still outstanding: one request
+    // on the channel, so its one answer moves the process on.
+    m.handle_frame(t(2), &beat(5, 0));
+    assert_eq!(sent(&mut m), Vec::<String>::new());
+    m.handle_frame(t(3), &value(5, 0x1000, 0, 0x191));
+    assert_eq!(sent(&mut m), ["605#4018100100000000"]);
+    m.handle_frame(t(4), &value(5, 0x1018, 1, 0x2A));
+    assert_eq!(sent(&mut m), ["000#0105"]);
+    let node = id(5);
+    let events = events(&mut m);
+    assert_eq!(
+        events[..3],
+        [
+            BootEvent::BootUp { node },
+            BootEvent::BootUp { node },
+            BootEvent::Identified {
+                node,
+                device_type: 0x191
+            },
+        ]
+    );
+    assert!(
+        events.contains(&BootEvent::Operational { node }),
+        "{events:?}"
+    );
+}
+
 /// Node 5 booted to the start of error control at 3 ms.
 fn to_error_control(n: NodeConfig<'static>) -> BootManager<'static, 4> {
     let mut m = started(NmtStartup::MASTER, &[n]);
