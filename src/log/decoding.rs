@@ -453,7 +453,7 @@ pub fn run(
     let mut run = crate::log::decoding::Decoding::new(opts, diag)?;
     let how = input::How {
         format: opts.format,
-        blf: opts.blf,
+        binary: opts.binary,
         delta_times: opts.delta_times,
         find_newline: opts.find_newline,
     };
@@ -480,11 +480,16 @@ pub fn run(
             Ok(())
         }
     })?;
-    if let Kind::Blf { skipped, .. } = totals.kind {
+    if let Kind::Binary {
+        binary, skipped, ..
+    } = totals.kind
+    {
         if skipped > 0 {
             let _ = writeln!(
                 diag,
-                "canopen-decode: {skipped} other BLF object(s) skipped (not CAN frames)"
+                "canopen-decode: {skipped} other {} {} skipped (not CAN frames)",
+                binary.name().to_uppercase(),
+                binary.units()
             );
         }
     }
@@ -499,10 +504,11 @@ pub fn run(
             );
             true
         }
-        kind @ Kind::Blf { objects, .. } => {
+        kind @ Kind::Binary { objects, .. } => {
             let _ = writeln!(
                 diag,
-                "canopen-decode: none of the {objects} object(s) is a CAN frame ({kind})"
+                "canopen-decode: none of the {objects} {} is a CAN frame ({kind})",
+                kind.units()
             );
             true
         }

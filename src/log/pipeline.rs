@@ -47,8 +47,9 @@ pub struct Options {
     pub bundled: Option<&'static str>,
     /// `--format`: the trace format (detected when absent) and `-t d` times.
     pub format: Option<Format>,
-    /// `--format blf`: the input is Vector BLF (also detected by `LOGG`).
-    pub blf: bool,
+    /// `--format blf` (or another binary format): the input is of that
+    /// format (also detected by its magic number when no format is given).
+    pub binary: Option<input::Binary>,
     /// candump screen times are deltas (`-t d`).
     pub delta_times: bool,
     /// `--strict`: frames that deviate from CiA 301 are malformed.
@@ -95,7 +96,7 @@ impl Default for Options {
             more_files: Vec::new(),
             bundled: None,
             format: None,
-            blf: false,
+            binary: None,
             delta_times: false,
             strict: false,
             sdo_channels: Vec::new(),

@@ -206,7 +206,7 @@ impl Cli {
             more_files: self.files.get(1..).unwrap_or_default().to_vec(),
             bundled: self.bundled.map(|Bundled::Session| "session"),
             format: how.format,
-            blf: how.blf,
+            binary: how.binary,
             delta_times: how.delta_times,
             strict: self.strict,
             sdo_channels: self.sdo,

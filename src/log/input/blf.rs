@@ -220,7 +220,8 @@ pub(super) fn read<F: FnMut(Item<'_>) -> io::Result<()>>(
             })?;
         }
     }
-    Ok(Kind::Blf {
+    Ok(Kind::Binary {
+        binary: super::Binary::Blf,
         objects: file.count.objects,
         skipped: file.count.skipped,
     })

@@ -8,8 +8,9 @@
 //!   Vector ASC, python-can CSV): the input is read in blocks of lines
 //!   (module `lines`), each line handed to one `LineParser` (the format
 //!   given, or detected from the first line that tells).
-//! - Vector BLF (binary): told by its `LOGG` signature when no line format
-//!   is given, or asked for; read in blocks through the library's
+//! - Binary formats ([`Binary`]): told by their magic bytes when no line
+//!   format is given, or asked for. Vector BLF is read in blocks through
+//!   the library's
 //!   `BlfReader`, the zlib containers inflated by the caller's
 //!   [`Inflate`] (with feature `zlib`, flate2's: [`Zlib`], which the
 //!   programs pass; [`NoInflate`] reports each compressed container as
@@ -38,16 +39,64 @@ pub use lines::{newline, Block, FindNewline, LineReader, Piece, MAX_LINE};
 #[cfg(feature = "zlib")]
 pub use zlib::Zlib;
 
-/// How to read a file: the line format (detected when `None`), BLF,
-/// whether candump screen times are deltas (`-t d`, which the lines do
-/// not tell), and the search for a line's end.
+/// A binary trace format: told from a file's first bytes (its magic
+/// number, [`Binary::detect`]) when no line format is given, or named by
+/// `--format`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Binary {
+    /// Vector BLF (CANalyzer / CANoe, python-can's `BLFWriter`): `LOGG`.
+    Blf,
+}
+
+impl Binary {
+    /// The most bytes [`Binary::detect`] looks at.
+    pub const HEAD: usize = 8;
+
+    /// The binary format whose magic number `head` (the first bytes of a
+    /// file, up to [`Binary::HEAD`] of them) begins with, if any.
+    ///
+    /// ```
+    /// use canopen_codec::log::input::Binary;
+    /// assert_eq!(Binary::detect(b"LOGG\x90\0\0\0"), Some(Binary::Blf));
+    /// assert_eq!(Binary::detect(b"(1.5) ca"), None);
+    /// ```
+    #[must_use]
+    pub fn detect(head: &[u8]) -> Option<Binary> {
+        if BlfReader::detect(head) {
+            return Some(Binary::Blf);
+        }
+        None
+    }
+
+    /// Its `--format` name (`blf`).
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Binary::Blf => "blf",
+        }
+    }
+
+    /// What the format's items are called, in the plural form the
+    /// messages use (`object(s)`).
+    #[must_use]
+    pub const fn units(self) -> &'static str {
+        match self {
+            Binary::Blf => "object(s)",
+        }
+    }
+}
+
+/// How to read a file: the line format (detected when `None`) or a binary
+/// format, whether candump screen times are deltas (`-t d`, which the
+/// lines do not tell), and the search for a line's end.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct How {
     /// The line format; `None`: detected from the first line that tells.
     pub format: Option<Format>,
-    /// Vector BLF (also read so, when `format` is `None`, by its `LOGG`
-    /// signature).
-    pub blf: bool,
+    /// A binary format; `None` (with `format` `None`): detected from the
+    /// file's magic number ([`Binary::detect`]).
+    pub binary: Option<Binary>,
     /// candump screen times are deltas (`-t d`).
     pub delta_times: bool,
     /// The search for a line's end (`None`: [`newline`]).
@@ -61,17 +110,17 @@ impl How {
     pub const fn format(format: Option<Format>) -> How {
         How {
             format,
-            blf: false,
+            binary: None,
             delta_times: false,
             find_newline: None,
         }
     }
 
-    /// Read as Vector BLF.
+    /// Read as the binary format `binary`.
     #[must_use]
-    pub const fn blf() -> How {
+    pub const fn binary(binary: Binary) -> How {
         How {
-            blf: true,
+            binary: Some(binary),
             ..How::format(None)
         }
     }
@@ -89,11 +138,11 @@ impl How {
     /// name it does not list.
     ///
     /// ```
-    /// use canopen_codec::log::input::How;
+    /// use canopen_codec::log::input::{Binary, How};
     /// use canopen_codec::trace::Format;
     /// let how = How::named("candump-screen-delta").unwrap();
     /// assert_eq!((how.format, how.delta_times), (Some(Format::CandumpScreen), true));
-    /// assert!(How::named("blf").unwrap().blf);
+    /// assert_eq!(How::named("blf").unwrap().binary, Some(Binary::Blf));
     /// assert!(How::named("pcap").is_none());
     /// ```
     #[must_use]
@@ -153,7 +202,7 @@ pub const FORMAT_NAMES: [FormatName; 7] = [
     FormatName::new(
         "blf",
         "Vector BLF (binary; detected by its LOGG signature too)",
-        How::blf(),
+        How::binary(Binary::Blf),
     ),
 ];
 
@@ -272,14 +321,28 @@ pub enum Kind {
         /// The format given or detected.
         format: Option<Format>,
     },
-    /// Vector BLF: the objects read (containers not counted) and those
-    /// skipped (neither frames nor events of the bus).
-    Blf {
-        /// Objects read.
+    /// A binary format: its objects or packets read (BLF containers not
+    /// counted) and those skipped (neither frames nor events of the bus).
+    Binary {
+        /// The format.
+        binary: Binary,
+        /// Objects or packets read.
         objects: u64,
-        /// Objects skipped.
+        /// Objects or packets skipped.
         skipped: u64,
     },
+}
+
+impl Kind {
+    /// What the file's items are called, in the plural form the messages
+    /// use: `line(s)`, `object(s)`.
+    #[must_use]
+    pub const fn units(self) -> &'static str {
+        match self {
+            Kind::Lines { .. } => "line(s)",
+            Kind::Binary { binary, .. } => binary.units(),
+        }
+    }
 }
 
 /// `read as candump`, `read as blf`, `no format detected`.
@@ -291,7 +354,7 @@ impl fmt::Display for Kind {
                 ..
             } => write!(f, "read as {}", format.name()),
             Kind::Lines { format: None, .. } => f.write_str("no format detected"),
-            Kind::Blf { .. } => f.write_str("read as blf"),
+            Kind::Binary { binary, .. } => write!(f, "read as {}", binary.name()),
         }
     }
 }
@@ -322,10 +385,10 @@ pub fn read<F>(
 where
     F: FnMut(Item<'_>) -> io::Result<()>,
 {
-    // A BLF file is told by its signature unless a line format is given.
-    let mut head = [0u8; 4];
+    // A binary file is told by its magic number unless a format is given.
+    let mut head = [0u8; Binary::HEAD];
     let mut got = 0;
-    if how.format.is_none() {
+    if how.format.is_none() && how.binary.is_none() {
         while got < head.len() {
             match input.read(head.get_mut(got..).unwrap_or(&mut [])) {
                 Ok(0) => break,
@@ -343,10 +406,13 @@ where
         bad: 0,
     };
     let input = head.chain(input);
-    let kind = if how.blf || (how.format.is_none() && BlfReader::detect(head)) {
-        blf::read(input, zlib, &mut counted)?
-    } else {
-        read_lines(input, how, &mut counted)?
+    let binary = match how.format {
+        None => how.binary.or_else(|| Binary::detect(head)),
+        Some(_) => None,
+    };
+    let kind = match binary {
+        Some(Binary::Blf) => blf::read(input, zlib, &mut counted)?,
+        None => read_lines(input, how, &mut counted)?,
     };
     Ok(Totals {
         kind,
@@ -560,10 +626,20 @@ mod tests {
         let mut file = b"LOGG".to_vec();
         file.extend([0u8; 140]);
         let (_, totals) = count(&file, How::default());
-        assert!(matches!(totals.kind, Kind::Blf { .. }), "{totals:?}");
+        let blf = |kind| {
+            matches!(
+                kind,
+                Kind::Binary {
+                    binary: Binary::Blf,
+                    ..
+                }
+            )
+        };
+        assert!(blf(totals.kind), "{totals:?}");
         let (_, totals) = count(&file, How::format(Some(Format::CandumpLog)));
         assert!(matches!(totals.kind, Kind::Lines { .. }), "{totals:?}");
-        let (_, totals) = count(b"", How::blf());
-        assert!(matches!(totals.kind, Kind::Blf { .. }), "{totals:?}");
+        let (_, totals) = count(b"", How::binary(Binary::Blf));
+        assert!(blf(totals.kind), "{totals:?}");
+        assert_eq!(totals.kind.to_string(), "read as blf");
     }
 }

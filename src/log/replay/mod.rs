@@ -68,14 +68,6 @@ pub fn is_played(frame: &CanFrame, play: &BTreeSet<u8>) -> bool {
     }
 }
 
-/// `line(s)` or `object(s)`: what a file of `kind` is read in.
-fn units(kind: Kind) -> &'static str {
-    match kind {
-        Kind::Lines { .. } => "line(s)",
-        Kind::Blf { .. } => "object(s)",
-    }
-}
-
 /// The recording of a trace's frames (read by the decoder's reader, any
 /// format). A frame without a time is an error, and so is a trace with no
 /// frame (which says how it was read and its first unreadable line);
@@ -90,12 +82,12 @@ pub fn of(read: &Frames, play: &BTreeSet<u8>) -> Result<Recording, String> {
     if read.frames.is_empty() {
         let hint = match totals.kind {
             Kind::Lines { .. } => "; --format names one",
-            Kind::Blf { .. } => "",
+            Kind::Binary { .. } => "",
         };
         return Err(format!(
             "the trace has no frames ({} unreadable {}, {}{hint}{first_bad})",
             totals.bad,
-            units(totals.kind),
+            totals.kind.units(),
             totals.kind
         ));
     }
@@ -116,14 +108,14 @@ pub fn of(read: &Frames, play: &BTreeSet<u8>) -> Result<Recording, String> {
         eprintln!(
             "canopen-replay: {} unreadable {} skipped{first_bad}",
             totals.bad,
-            units(totals.kind)
+            totals.kind.units()
         );
     }
     if let Some(first) = &read.first_unsupported {
         eprintln!(
             "canopen-replay: {} {} not replayed (CAN FD or error frames, other events); the first: {first}",
             totals.unsupported,
-            units(totals.kind)
+            totals.kind.units()
         );
     }
     let end = frames.iter().map(|r| r.t).max().unwrap_or(0);
