@@ -11,7 +11,8 @@
 //! - [`Temperature`], [`AmpHours`], [`EighthAmpHours`], [`BatteryVoltage`],
 //!   [`ChargeCurrentRequested`], [`StateOfCharge`]: scaled quantities with
 //!   exact integer conversions.
-//! - [`BatteryParameters`] (6020h) and [`BatteryType`] (`cccc wxyz`).
+//! - [`BatteryParameters`] (6020h) and [`BatteryType`] (`cccc wxyz`), with
+//!   names for the types ([`BATTERY_TYPE_NAMES`]: `flooded`, `agm`, `li-ion`, ...).
 //! - [`PackedString`] (6030h, 6031h, 6040h, 6041h): strings packed four
 //!   characters per Unsigned32.
 //! - [`EqualizationDate`] (6054h) and [`CalendarDateTime`].
@@ -33,6 +34,7 @@
 //! its "2nd RPDO" is `PdoNumber::P1` (Delta-Q's "RPDO 1").
 
 mod battery;
+mod battery_names;
 pub(crate) mod catalogue;
 mod date;
 mod device_type;
@@ -63,6 +65,7 @@ pub use battery::{
     BatteryParameterValue, BatteryParameters, BatteryType, Chemistry, Gravity, LeadAcid,
     MaintenanceFree, NickelCadmiumCell, NickelCadmiumPlate, ObjectError, Plate, SilverOxide,
 };
+pub use battery_names::NAMES as BATTERY_TYPE_NAMES;
 pub use catalogue::{
     BATTERY_MODULE_CATALOGUE, BATTERY_STATUS_FLAGS, BATTERY_TYPE_FORMAT, CHARGER_STATUS_FLAGS,
     CIA418_OBJECTS, WATER_LEVEL_STATUS_FLAGS,

@@ -13,7 +13,7 @@
 //! point. The model is simple on purpose: no hysteresis, no diffusion
 //! time constants, coulombic efficiency 1.
 
-use crate::cia418::Chemistry;
+use crate::cia418::{BatteryType, Chemistry};
 
 /// Why a pack cannot be modelled.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -62,6 +62,9 @@ fn chemistry_model(chemistry: Chemistry) -> Option<(&'static Curve, f64)> {
 pub struct PackSpec {
     /// The chemistry (CiA 418 6020h sub 1, high nibble).
     pub chemistry: Chemistry,
+    /// The battery type (6020h sub 1, the whole byte: the chemistry and
+    /// its variant, e.g. flooded or AGM lead acid).
+    pub battery_type: BatteryType,
     /// Cells in series (6020h sub 4).
     pub cells: u16,
     /// Capacity, Ah (6020h sub 2).
@@ -81,6 +84,20 @@ impl PackSpec {
     /// chemistry's resistance and a thermal mass of 250 J/K per Ah
     /// (about 30 kg for 100 Ah of lead acid), 0.15 K/W to a 25 degC ambient.
     pub fn new(chemistry: Chemistry, cells: u16, capacity_ah: f64) -> Result<Self, PackError> {
+        Self::of_type(
+            BatteryType::from_u8(chemistry.code() << 4),
+            cells,
+            capacity_ah,
+        )
+    }
+
+    /// The same for a whole 6020h battery type (`BatteryType::from_name("agm")`).
+    pub fn of_type(
+        battery_type: BatteryType,
+        cells: u16,
+        capacity_ah: f64,
+    ) -> Result<Self, PackError> {
+        let chemistry = battery_type.chemistry();
         let (_, r_ah) =
             chemistry_model(chemistry).ok_or(PackError::UnsupportedChemistry(chemistry))?;
         if cells == 0 || capacity_ah.is_nan() || capacity_ah <= 0.0 {
@@ -88,6 +105,7 @@ impl PackSpec {
         }
         Ok(PackSpec {
             chemistry,
+            battery_type,
             cells,
             capacity_ah,
             resistance_ohm: f64::from(cells) * r_ah / capacity_ah,
@@ -117,6 +135,8 @@ impl PackSpec {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pack {
     spec: PackSpec,
+    /// Cells shorted ([`Pack::short_cells`]), at most all of them.
+    shorted: u16,
     soc: f64,
     temperature_c: f64,
     charged_ah: f64,
@@ -128,6 +148,7 @@ impl Pack {
     pub fn new(spec: PackSpec, soc: f64) -> Self {
         Pack {
             spec,
+            shorted: 0,
             soc: soc.clamp(0.0, 1.0),
             temperature_c: spec.ambient_c,
             charged_ah: 0.0,
@@ -152,6 +173,44 @@ impl Pack {
         self.temperature_c
     }
 
+    /// The battery is held at `celsius` from now on (a bench's
+    /// temperature: a pack in a climate chamber, or its sensor's reading in
+    /// 6010h): its temperature and the ambient it cools toward both become
+    /// `celsius`, so its own I²R heat rises above it again as it charges.
+    pub fn set_temperature_c(&mut self, celsius: f64) {
+        if celsius.is_finite() {
+            self.temperature_c = celsius;
+            self.spec.ambient_c = celsius;
+        }
+    }
+
+    /// `n` more cells short-circuit (a failed cell whose separator gave
+    /// way): each takes its share of the pack's rest voltage and
+    /// resistance with it, so the pack's voltage drops by `n` cells'
+    /// worth and a charger's per-cell thresholds, set for the whole count,
+    /// are too high for what is left. At most every cell shorts.
+    pub fn short_cells(&mut self, n: u16) {
+        self.shorted = self.shorted.saturating_add(n).min(self.spec.cells);
+    }
+
+    /// Cells shorted so far.
+    #[must_use]
+    pub const fn shorted_cells(&self) -> u16 {
+        self.shorted
+    }
+
+    /// Cells still working (in series, between the terminals).
+    #[must_use]
+    pub const fn working_cells(&self) -> u16 {
+        self.spec.cells.saturating_sub(self.shorted)
+    }
+
+    /// The share of the pack between the terminals (1 with no cell
+    /// shorted).
+    fn working_share(&self) -> f64 {
+        f64::from(self.working_cells()) / f64::from(self.spec.cells.max(1))
+    }
+
     /// Ah charged since the pack was made.
     #[must_use]
     pub const fn charged_ah(&self) -> f64 {
@@ -161,20 +220,30 @@ impl Pack {
     /// The pack's rest (open-circuit) voltage, V.
     #[must_use]
     pub fn rest_voltage(&self) -> f64 {
-        f64::from(self.spec.cells) * self.spec.cell_rest_voltage(self.soc)
+        f64::from(self.working_cells()) * self.spec.cell_rest_voltage(self.soc)
+    }
+
+    /// The resistance between the terminals (the working cells'), Ohm.
+    fn resistance(&self) -> f64 {
+        self.spec.resistance_ohm * self.working_share()
     }
 
     /// The terminal voltage while `current_a` flows in, V.
     #[must_use]
     pub fn terminal_voltage(&self, current_a: f64) -> f64 {
-        self.rest_voltage() + current_a * self.spec.resistance_ohm
+        self.rest_voltage() + current_a * self.resistance()
     }
 
     /// The current that holds the terminals at `volts` (0 when the pack is
     /// above it), A.
     #[must_use]
     pub fn current_at(&self, volts: f64) -> f64 {
-        ((volts - self.rest_voltage()) / self.spec.resistance_ohm).max(0.0)
+        let r = self.resistance();
+        if r <= 0.0 {
+            // Every cell shorted: a dead short takes what the source gives.
+            return if volts > 0.0 { f64::MAX } else { 0.0 };
+        }
+        ((volts - self.rest_voltage()) / r).max(0.0)
     }
 
     /// `current_a` flowed in for `seconds`: the charge and the heat.
@@ -182,7 +251,7 @@ impl Pack {
         let ah = current_a * seconds / 3600.0;
         self.charged_ah += ah;
         self.soc = (self.soc + ah / self.spec.capacity_ah).clamp(0.0, 1.0);
-        let heat_w = current_a * current_a * self.spec.resistance_ohm;
+        let heat_w = current_a * current_a * self.resistance();
         let loss_w =
             (self.temperature_c - self.spec.ambient_c) / self.spec.thermal_resistance_k_per_w;
         self.temperature_c += (heat_w - loss_w) * seconds / self.spec.heat_capacity_j_per_k;
@@ -237,6 +306,44 @@ mod tests {
         }
         assert!(first > 20.0, "{first}");
         assert!(pack.current_at(cv) < 1.0, "{}", pack.current_at(cv));
+    }
+
+    #[test]
+    fn a_set_temperature_holds_and_shorted_cells_take_their_voltage() {
+        let mut pack = Pack::new(lead_100(), 0.5);
+        pack.set_temperature_c(-10.0);
+        for _ in 0..3600 {
+            pack.step(1.0, 0.0);
+        }
+        assert!((pack.temperature_c() + 10.0).abs() < 1e-9);
+        pack.set_temperature_c(f64::NAN);
+        assert!((pack.temperature_c() + 10.0).abs() < 1e-9);
+
+        let whole = pack.rest_voltage();
+        let at_58 = pack.current_at(58.0);
+        pack.short_cells(2);
+        assert_eq!((pack.shorted_cells(), pack.working_cells()), (2, 22));
+        let per_cell = pack.spec().cell_rest_voltage(0.5);
+        assert!((whole - pack.rest_voltage() - 2.0 * per_cell).abs() < 1e-9);
+        // The same charging voltage over fewer cells drives more current.
+        assert!(pack.current_at(58.0) > at_58);
+        pack.short_cells(u16::MAX);
+        assert_eq!(pack.working_cells(), 0);
+        assert_eq!(pack.rest_voltage(), 0.0);
+    }
+
+    #[test]
+    fn a_pack_of_a_named_type_keeps_its_byte() {
+        let agm = BatteryType::from_name("agm").unwrap();
+        let spec = PackSpec::of_type(agm, 24, 100.0).unwrap();
+        assert_eq!(
+            (spec.chemistry, spec.battery_type),
+            (Chemistry::LeadAcid, agm)
+        );
+        assert_eq!(
+            lead_100().battery_type,
+            BatteryType::from_name("flooded").unwrap()
+        );
     }
 
     #[test]

@@ -226,8 +226,7 @@ impl Session {
         let spec = config.pack;
         let max_current = config.max_current_a;
         module.update(Timestamp::ZERO, |o| {
-            o.battery_parameters.battery_type =
-                crate::cia418::BatteryType::from_u8(spec.chemistry.code() << 4);
+            o.battery_parameters.battery_type = spec.battery_type;
             o.battery_parameters.ah_capacity = spec.capacity_ah.round().clamp(0.0, 65535.0) as u16;
             o.battery_parameters.max_charge_current =
                 max_current.round().clamp(0.0, 65535.0) as u16;
