@@ -71,7 +71,7 @@ impl BootNode {
             product_code: value(0x1018, 2)?,
             revision: value(0x1018, 3)?,
             serial: value(0x1018, 4)?,
-            software: 0,
+            ..ExpectedIdentity::default()
         };
         Ok(BootNode {
             node,

@@ -55,7 +55,7 @@ impl Default for NmtStartup {
 /// slave of this master, bit 2 the master may boot it (check and
 /// configure it), bit 3 it is mandatory, bit 4 keep alive (its
 /// communication is not reset at start-up), bit 5 verify its application
-/// software, bits 8-15 the retry factor and
+/// software, bit 6 software update allowed, bits 8-15 the retry factor and
 /// bits 16-31 the guard time in ms for node guarding.
 ///
 /// ```
@@ -153,15 +153,25 @@ assignment_bits! {
     /// Bit 4: keep alive: its communication is not reset at start-up; its
     /// boot process begins at once.
     KEEP_ALIVE = 4, keeps_alive, keep_alive;
-    /// Bit 5: verify the slave's application software: its 1F56h sub 1
-    /// "program software identification" (CiA 302-3 "Configuration and
-    /// program download", section 4) is read and compared with
-    /// [`ExpectedIdentity::software`] (1F55h) before its configuration is
-    /// written (CiA 302-2 "Network management", section 4.4, "check
-    /// software version"). The manager never downloads a program (bit 6,
-    /// "software update allowed", is kept but not acted on): a difference
-    /// ends the boot with error status H.
+    /// Bit 5: verify the slave's application software before its
+    /// configuration is written (CiA 302-2 "Network management", section
+    /// 4.4, "check and update software version"): its 1F56h sub 1
+    /// "program software identification" against 1F55h
+    /// ([`ExpectedIdentity::software`]) and its 1F52h "verify application
+    /// software" date and time against 1F53h and 1F54h
+    /// ([`ExpectedIdentity::software_date`],
+    /// [`ExpectedIdentity::software_time`]), whichever are configured
+    /// (neither: error status G). A difference ends the boot with H, or
+    /// downloads the program with bit 6.
     VERIFY_SOFTWARE = 5, verifies_software, verify_software;
+    /// Bit 6: software update allowed: when the software check of bit 5
+    /// finds a difference, the manager downloads [`NodeConfig::program`]
+    /// into the slave's 1F50h sub 1 (CiA 302-3 "Configuration and program
+    /// download", the program download objects: stop by 1F51h, clear,
+    /// download, check 1F57h and 1F56h, start) and boots it again; no
+    /// program, or a download that fails, is error status I. Not acted on
+    /// for a keep-alive slave (bit 4), which stays H, as lely-core has it.
+    SOFTWARE_UPDATE = 6, allows_software_update, allow_software_update;
 }
 
 /// The identity a slave must have: 1F84h "device type identification" and
@@ -185,8 +195,20 @@ pub struct ExpectedIdentity {
     /// "Configuration and program download", section 4): the expected
     /// 1F56h sub 1 "program software identification" of the slave, checked
     /// when its 1F81h has [`SlaveAssignment::verify_software`]; there, 0
-    /// means "not configured" (error status G), as lely-core reads it.
+    /// means "not configured", as lely-core reads it.
     pub software: u32,
+    /// 1F53h "expected application software date" (CiA 302-2 "Network
+    /// management", section 4.2; CiA 302-3 section 4): the expected 1F52h
+    /// sub 1 "application software date" of the slave (days since 1
+    /// January 1984, as CiA 301's TIME_OF_DAY counts them), checked with
+    /// [`SlaveAssignment::verify_software`]. 0: not configured (no date
+    /// and time check).
+    pub software_date: u32,
+    /// 1F54h "expected application software time": the expected 1F52h sub
+    /// 2 "application software time" (ms after midnight), checked with the
+    /// date whenever [`software_date`](Self::software_date) is configured
+    /// (here 0 is midnight, not "unconfigured").
+    pub software_time: u32,
 }
 
 impl ExpectedIdentity {
@@ -222,6 +244,12 @@ pub struct NodeConfig<'a> {
     /// the manager consumes its heartbeat. `None`: no heartbeat (node
     /// guarding with the 1F81h guard time, if non-zero).
     pub heartbeat: Option<Duration>,
+    /// The program image downloaded into the slave's 1F50h sub 1 when its
+    /// software check fails and 1F81h bit 6
+    /// ([`SlaveAssignment::allow_software_update`]) allows an update (the
+    /// manager's 1F58h "program data" of CiA 302-3). `None`: nothing to
+    /// download, an update that is required fails with error status I.
+    pub program: Option<&'a [u8]>,
 }
 
 impl<'a> NodeConfig<'a> {
@@ -239,9 +267,12 @@ impl<'a> NodeConfig<'a> {
                 revision: 0,
                 serial: 0,
                 software: 0,
+                software_date: 0,
+                software_time: 0,
             },
             configuration: None,
             heartbeat: None,
+            program: None,
         }
     }
 

@@ -4,7 +4,66 @@
 
 use crate::abort::AbortCode;
 use crate::cob_id::NodeId;
-use crate::sdo::{AbortOrigin, ClientError};
+use crate::sdo::{AbortOrigin, ClientError, ProgramDownloadError};
+
+/// One comparison of the software check (1F81h bit 5, CiA 302-2 "Network
+/// management", section 4.4, "check and update software version"): what
+/// the manager reads of the slave and what it compares it with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SoftwareCheck {
+    /// 1F56h sub 1 "program software identification" (CiA 302-3) against
+    /// 1F55h "expected software identification".
+    Identification,
+    /// 1F52h sub 1 "application software date" against 1F53h "expected
+    /// application software date".
+    Date,
+    /// 1F52h sub 2 "application software time" against 1F54h "expected
+    /// application software time".
+    Time,
+}
+
+impl SoftwareCheck {
+    /// The object and sub-index the manager reads on the slave.
+    #[must_use]
+    pub const fn address(self) -> (u16, u8) {
+        match self {
+            SoftwareCheck::Identification => (0x1F56, 1),
+            SoftwareCheck::Date => (0x1F52, 1),
+            SoftwareCheck::Time => (0x1F52, 2),
+        }
+    }
+
+    /// The manager's object holding the expected value.
+    #[must_use]
+    pub const fn expected_index(self) -> u16 {
+        match self {
+            SoftwareCheck::Identification => 0x1F55,
+            SoftwareCheck::Date => 0x1F53,
+            SoftwareCheck::Time => 0x1F54,
+        }
+    }
+}
+
+/// Why the software update of a slave failed (error status I).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UpdateFailure {
+    /// The manager has no program for the slave
+    /// ([`NodeConfig::program`](super::NodeConfig::program) is `None`).
+    NoProgram,
+    /// The program download (stop, clear, 1F50h, 1F57h, 1F56h, start)
+    /// failed.
+    Download(ProgramDownloadError),
+    /// The program was downloaded and started, and the check still finds
+    /// this difference.
+    StillDiffers {
+        /// The comparison that failed.
+        check: SoftwareCheck,
+        /// The expected value.
+        expected: u32,
+        /// The value read.
+        read: u32,
+    },
+}
 
 /// Which check of the slave's identity failed: 1000h or one 1018h sub.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -85,27 +144,39 @@ pub enum BootError {
     /// F: node guarding found the slave lost.
     #[error("F: node guarding event: no answer to the guarding requests")]
     GuardingLost,
-    /// G: 1F81h asks for the program check (bit 5) but 1F55h, the
-    /// expected software identification, is 0: "objects for the program
+    /// G: 1F81h asks for the software check (bit 5) but neither 1F55h,
+    /// the expected software identification, nor 1F53h, the expected
+    /// application software date, is configured: "objects for the program
     /// check not configured".
-    #[error("G: the software check is asked for (1F81h bit 5) but 1F55h is not configured")]
+    #[error("G: the software check is asked for (1F81h bit 5) but neither 1F55h nor 1F53h is configured")]
     SoftwareNotConfigured,
-    /// G: the slave's 1F56h sub 1 could not be read (the objects for the
-    /// program check are inconsistent: lely-core ends the boot with G
-    /// there too).
-    #[error("G: the read of 1F56h:01 (program software identification) failed ({code})")]
+    /// G: the slave's 1F56h sub 1 or 1F52h could not be read (the objects
+    /// for the program check are inconsistent: lely-core ends the boot
+    /// with G there too).
+    #[error("G: the read of {:04X}h:{:02X} for the software check failed ({code})", check.address().0, check.address().1)]
     SoftwareUnreadable {
+        /// The comparison whose read failed.
+        check: SoftwareCheck,
         /// The abort that ended the read (05040000h: SDO timeout).
         code: AbortCode,
     },
-    /// H: the slave's 1F56h sub 1 differs from 1F55h, and the manager does
-    /// not update the program (CiA 302-2's "software update not allowed").
-    #[error("H: program software identification 1F56h:01 differs: expected {expected:#010X}, read {read:#010X}")]
+    /// H: the slave's software differs from what the manager expects and
+    /// an update is not allowed (1F81h bit 6 clear, or a keep-alive slave).
+    #[error("H: {:04X}h:{:02X} differs from {:04X}h: expected {expected:#010X}, read {read:#010X}", check.address().0, check.address().1, check.expected_index())]
     SoftwareDiffers {
-        /// 1F55h.
+        /// The comparison that failed.
+        check: SoftwareCheck,
+        /// The expected value (1F55h, 1F53h or 1F54h).
         expected: u32,
-        /// 1F56h sub 1 as read.
+        /// The value read (1F56h sub 1, 1F52h sub 1 or 2).
         read: u32,
+    },
+    /// I: the software differs, an update is allowed (1F81h bit 6), and it
+    /// failed.
+    #[error("I: software update failed: {failure:?}")]
+    SoftwareUpdate {
+        /// How it failed.
+        failure: UpdateFailure,
     },
     /// J: the configuration download failed at `index`, `sub`.
     #[error("J: configuration download failed at {index:04X}h:{sub:02X} ({failure:?})")]
@@ -177,6 +248,7 @@ impl BootError {
             BootError::GuardingLost => 'F',
             BootError::SoftwareNotConfigured | BootError::SoftwareUnreadable { .. } => 'G',
             BootError::SoftwareDiffers { .. } => 'H',
+            BootError::SoftwareUpdate { .. } => 'I',
             BootError::Configuration { .. } => 'J',
             BootError::ErrorControlStart => 'K',
         }
@@ -213,6 +285,9 @@ impl BootError {
             BootError::SoftwareDiffers { .. } => {
                 "the software version check failed and a software update is not allowed"
             }
+            BootError::SoftwareUpdate { .. } => {
+                "a software update is required, but the program download failed"
+            }
             BootError::Configuration { .. } => "the configuration download failed",
             BootError::ErrorControlStart => "heartbeat failure during the start of error control",
         }
@@ -235,11 +310,26 @@ pub enum BootEvent {
         /// Its 1000h.
         device_type: u32,
     },
-    /// The slave's 1F56h sub 1 equals 1F55h (1F81h bit 5).
+    /// One comparison of the software check matched (1F81h bit 5): the
+    /// slave's 1F56h sub 1 equals 1F55h, or its 1F52h sub 1 or 2 equals
+    /// 1F53h or 1F54h.
     SoftwareVerified {
         /// The slave.
         node: NodeId,
-        /// Its program software identification.
+        /// The comparison.
+        check: SoftwareCheck,
+        /// The value read.
+        value: u32,
+    },
+    /// The software check found a difference and the manager downloaded
+    /// [`NodeConfig::program`](super::NodeConfig::program) into the slave
+    /// and started it (1F81h bit 6): its boot starts again from 1000h.
+    SoftwareUpdated {
+        /// The slave.
+        node: NodeId,
+        /// Bytes downloaded.
+        len: usize,
+        /// The slave's 1F56h sub 1 after the download.
         identification: u32,
     },
     /// A keep-alive slave (1F81h bit 4) was operational at its state

@@ -18,12 +18,19 @@
 //!    running and skips the steps up to error control; any other state
 //!    resets its communication and the boot goes on from its boot-up;
 //!    no heartbeat: **E**;
-//! 4. with 1F81h bit 5 ([`SlaveAssignment::verify_software`]), reads
-//!    its 1F56h sub 1 "program software identification" (CiA 302-3
-//!    section 4) and compares it with 1F55h
-//!    ([`ExpectedIdentity::software`]; 0: **G**, the read failed: **G**,
-//!    it differs: **H**, as lely-core's "check software" step; the
-//!    manager never downloads a program, so never reports **I**);
+//! 4. with 1F81h bit 5 ([`SlaveAssignment::verify_software`]), checks its
+//!    software ([`SoftwareCheck`]): its 1F56h sub 1 "program software
+//!    identification" against 1F55h ([`ExpectedIdentity::software`]), its
+//!    1F52h "verify application software" date and time against 1F53h and
+//!    1F54h ([`ExpectedIdentity::software_date`],
+//!    [`ExpectedIdentity::software_time`]), whichever are configured
+//!    (none, or a read that fails: **G**). A difference is **H**, unless
+//!    1F81h bit 6 ([`SlaveAssignment::allow_software_update`]) lets the
+//!    manager download [`NodeConfig::program`] into the slave (CiA 302-3
+//!    "Configuration and program download", by
+//!    [`ProgramDownload`](crate::sdo::ProgramDownload)) and boot it again
+//!    from 1000h; no program, a failed download, or a difference after it
+//!    is **I**;
 //! 5. writes its configuration, a concise DCF (CiA 302-3 section 4, the
 //!    format of 1F22h: [`ConciseDcf`](crate::od::ConciseDcf)), entry by
 //!    entry in order by SDO download (an abort or a timeout: **J**, with
@@ -100,7 +107,9 @@ mod slave;
 
 pub use boot::{BootManager, ManagerError};
 pub use config::{ExpectedIdentity, ManagerConfig, NmtStartup, NodeConfig, SlaveAssignment};
-pub use error::{BootError, BootEvent, ConfigurationFailure, IdentityCheck};
+pub use error::{
+    BootError, BootEvent, ConfigurationFailure, IdentityCheck, SoftwareCheck, UpdateFailure,
+};
 pub use slave::BootPhase;
 
 #[cfg(test)]

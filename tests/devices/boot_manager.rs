@@ -18,7 +18,7 @@ use canopen_codec::device::{Cia301Device, DeviceConfig, Identity};
 use canopen_codec::machine::Machine;
 use canopen_codec::manager::{
     BootError, BootEvent, BootManager, BootPhase, ManagerConfig, ManagerError, NmtStartup,
-    NodeConfig, SlaveAssignment,
+    NodeConfig, SlaveAssignment, SoftwareCheck,
 };
 use canopen_codec::nmt::{NmtCommand, NmtCommandSpecifier, NmtState, NmtTarget};
 use canopen_codec::od::{Access, Address, ConciseDcf, ConciseEntry, MemoryDictionary};
@@ -399,7 +399,8 @@ fn the_software_check_reads_1f56h_and_refuses_with_g_or_h() {
             None => {
                 let verified = BootEvent::SoftwareVerified {
                     node: id(5),
-                    identification: SOFTWARE,
+                    check: SoftwareCheck::Identification,
+                    value: SOFTWARE,
                 };
                 assert!(events.contains(&verified), "{name}: {events:?}");
                 assert!(configured, "{name}: configured");

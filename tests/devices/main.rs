@@ -11,6 +11,8 @@ mod common;
 mod battery_module;
 #[cfg(feature = "sim")]
 mod boot_manager;
+#[cfg(all(feature = "sim", feature = "program-download"))]
+mod boot_software;
 #[cfg(feature = "heartbeat-consumer")]
 mod charger_nmt;
 #[cfg(feature = "heartbeat-consumer")]

@@ -2,10 +2,12 @@
 //! 4.4, "boot NMT slave"), driven by the [`BootManager`](super::BootManager)
 //! that owns it: its SDO client (CiA 301 default channel 600h/580h + node),
 //! its error control (heartbeat consumer time, or node guarding) and the
-//! frames it sends.
+//! frames it sends. Its software check and update are in [`software`].
+
+mod software;
 
 use super::config::{ManagerConfig, NmtStartup, NodeConfig};
-use super::error::{BootError, BootEvent, ConfigurationFailure, IdentityCheck};
+use super::error::{BootError, BootEvent, ConfigurationFailure, IdentityCheck, SoftwareCheck};
 use crate::abort::AbortCode;
 use crate::clock::{earliest, micros_of, timer_kind, Timers, Timestamp};
 use crate::frame::CanFrame;
@@ -16,16 +18,15 @@ use crate::nmt::{
 };
 use crate::od::ConciseEntries;
 use crate::queue::{EventQueue, FrameQueue};
-use crate::sdo::{AbortOrigin, Client, ClientConfig, ClientEvent, EVENTS_PER_CALL};
+use crate::sdo::{
+    AbortOrigin, Client, ClientConfig, ClientEvent, ProgramDownload, EVENTS_PER_CALL,
+};
 use crate::wire::Codec;
 
 /// Object 1000h "device type" (CiA 301 section 7.5.2.1).
 const DEVICE_TYPE: u16 = 0x1000;
 /// Object 1018h "identity object" (CiA 301 section 7.5.2.30).
 const IDENTITY: u16 = 0x1018;
-/// Object 1F56h "program software identification", sub 1 the slave's
-/// program (CiA 302-3 "Configuration and program download", section 4).
-const SOFTWARE_IDENTIFICATION: u16 = 0x1F56;
 
 /// Where a slave's boot process is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -42,9 +43,12 @@ pub enum BootPhase {
     /// A keep-alive slave's state is checked (1F81h bit 4): its heartbeat
     /// is awaited.
     NodeState,
-    /// Reading 1F56h sub 1, the program software identification (1F81h
-    /// bit 5).
-    Software,
+    /// Reading the object of this comparison of the software check
+    /// (1F81h bit 5): 1F56h sub 1, 1F52h sub 1 or 2.
+    Software(SoftwareCheck),
+    /// Downloading the program into the slave (1F81h bit 6): stop, clear,
+    /// 1F50h, 1F57h, 1F56h, start (CiA 302-3).
+    SoftwareUpdate,
     /// Writing this entry (0-based) of its concise DCF.
     Configuration(u32),
     /// Starting error control: the first heartbeat or guarding reply is
@@ -99,6 +103,11 @@ pub(crate) struct BootSlave<'a> {
     /// The state check found it operational (**L**): it is not configured
     /// and not started again.
     initially_operational: bool,
+    /// The program download of a software update, while it runs.
+    update: Option<ProgramDownload<&'a [u8]>>,
+    /// The program was downloaded in this boot process: a software check
+    /// that still differs is I, not a second download.
+    updated: bool,
     timers: Timers<SlaveTimer, 3>,
     out: FrameQueue<4>,
 }
@@ -130,6 +139,8 @@ impl<'a> BootSlave<'a> {
             lost: false,
             check_state: false,
             initially_operational: false,
+            update: None,
+            updated: false,
             timers: Timers::new(),
             out: FrameQueue::empty(),
         }
@@ -158,6 +169,7 @@ impl<'a> BootSlave<'a> {
     ) {
         self.settled = false;
         self.initially_operational = false;
+        self.updated = false;
         self.check_state = self.config.assignment.keeps_alive();
         if self.check_state {
             return self.begin(now, events);
@@ -207,6 +219,7 @@ impl<'a> BootSlave<'a> {
     fn stop_all_timers(&mut self) {
         self.client.reset();
         self.guard.stop();
+        self.update = None;
         self.timers.clear();
         self.lost = false;
     }
@@ -231,7 +244,7 @@ impl<'a> BootSlave<'a> {
     ) {
         let (index, sub) = match phase {
             BootPhase::Identity(sub) => (IDENTITY, sub),
-            BootPhase::Software => (SOFTWARE_IDENTIFICATION, 1),
+            BootPhase::Software(check) => check.address(),
             _ => (DEVICE_TYPE, 0),
         };
         self.phase = phase;
@@ -257,8 +270,8 @@ impl<'a> BootSlave<'a> {
     fn uploaded<const E: usize>(&mut self, now: Timestamp, events: &mut EventQueue<BootEvent, E>) {
         let read = self.value_read();
         let expected = self.config.expected;
-        if self.phase == BootPhase::Software {
-            return self.software_read(now, read, events);
+        if let BootPhase::Software(check) = self.phase {
+            return self.software_read(now, check, read, events);
         }
         let (check, want, done_sub) = match self.phase {
             BootPhase::DeviceType => (IdentityCheck::DeviceType, expected.device_type, 0),
@@ -329,42 +342,6 @@ impl<'a> BootSlave<'a> {
             node: self.config.node,
         });
         self.booted(events);
-    }
-
-    /// The "check software version" step (CiA 302-2 section 4.4, after the
-    /// identity check, before the configuration; as lely-core orders it):
-    /// with 1F81h bit 5, 1F56h sub 1 is read, unless 1F55h is 0 (**G**).
-    fn check_software<const E: usize>(
-        &mut self,
-        now: Timestamp,
-        events: &mut EventQueue<BootEvent, E>,
-    ) {
-        if !self.config.assignment.verifies_software() {
-            return self.configure(now, events);
-        }
-        if self.config.expected.software == 0 {
-            return self.fail(BootError::SoftwareNotConfigured, events);
-        }
-        self.read(now, BootPhase::Software, events);
-    }
-
-    /// 1F56h sub 1 read: equal to 1F55h, the configuration follows; else
-    /// **H** (the manager never updates the program).
-    fn software_read<const E: usize>(
-        &mut self,
-        now: Timestamp,
-        read: u32,
-        events: &mut EventQueue<BootEvent, E>,
-    ) {
-        let expected = self.config.expected.software;
-        if read != expected {
-            return self.fail(BootError::SoftwareDiffers { expected, read }, events);
-        }
-        events.push(BootEvent::SoftwareVerified {
-            node: self.config.node,
-            identification: read,
-        });
-        self.configure(now, events);
     }
 
     /// Starts the configuration download from its first entry.
@@ -441,7 +418,9 @@ impl<'a> BootSlave<'a> {
                     events,
                 );
             }
-            BootPhase::Software => self.fail(BootError::SoftwareUnreadable { code }, events),
+            BootPhase::Software(check) => {
+                self.fail(BootError::SoftwareUnreadable { check, code }, events);
+            }
             _ => {}
         }
     }
@@ -466,6 +445,7 @@ impl<'a> BootSlave<'a> {
         self.timers.set(SlaveTimer::Phase, None);
         self.phase = BootPhase::Booted;
         self.settled = true;
+        self.updated = false;
         events.push(BootEvent::Booted {
             node: self.config.node,
         });
@@ -475,6 +455,7 @@ impl<'a> BootSlave<'a> {
         self.stop_all_timers();
         self.phase = BootPhase::Failed(error);
         self.settled = true;
+        self.updated = false;
         events.push(BootEvent::Error {
             node: self.config.node,
             error,
@@ -511,6 +492,9 @@ impl<'a> BootSlave<'a> {
             self.out.push(frame);
         }
         while let Some(frame) = self.guard.poll_transmit() {
+            self.out.push(frame);
+        }
+        while let Some(frame) = self.update.as_mut().and_then(Machine::poll_transmit) {
             self.out.push(frame);
         }
     }
@@ -592,8 +576,16 @@ impl<'a> BootSlave<'a> {
         if self.phase == BootPhase::Idle {
             return;
         }
-        self.client.handle_frame(now, frame);
-        self.drain_client(now, events);
+        // The SDO answers go to the program download while it runs, else
+        // to the client (never both: an answer that ends one step must not
+        // be taken for the first answer of the next).
+        if let Some(update) = self.update.as_mut() {
+            update.handle_frame(now, frame);
+            self.drain_update(now, events);
+        } else {
+            self.client.handle_frame(now, frame);
+            self.drain_client(now, events);
+        }
         if frame.is_remote() || frame.id() != error_control_id(self.config.node) {
             return;
         }
@@ -609,7 +601,12 @@ impl<'a> BootSlave<'a> {
             // manager's reset, then the one after it): a second request
             // would leave the answer to the first on the one SDO channel
             // (CiA 301 section 7.2.4), taken for the answer to the next step.
-            if self.phase == BootPhase::DeviceType {
+            // A slave whose program is being downloaded may restart into
+            // its boot loader: the download goes on.
+            if matches!(
+                self.phase,
+                BootPhase::DeviceType | BootPhase::SoftwareUpdate
+            ) {
                 return;
             }
             return self.begin(now, events);
@@ -645,6 +642,10 @@ impl<'a> BootSlave<'a> {
         self.drain_client(now, events);
         self.guard.handle_timeout(now);
         self.drain_guard(events);
+        if let Some(update) = self.update.as_mut() {
+            update.handle_timeout(now);
+            self.drain_update(now, events);
+        }
         if self.timers.expire(SlaveTimer::Phase, now) {
             match self.phase {
                 BootPhase::AwaitBootUp => self.begin(now, events),
@@ -666,6 +667,7 @@ impl<'a> BootSlave<'a> {
             self.timers.next(),
             self.client.poll_timeout(),
             self.guard.poll_timeout(),
+            self.update.as_ref().and_then(Machine::poll_timeout),
         ])
     }
 
