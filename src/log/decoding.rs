@@ -74,7 +74,7 @@ impl<'o> Decoding<'o> {
         Ok(Decoding {
             opts,
             roles,
-            summary: summary::Summary::default(),
+            summary: summary::Summary::with_bitrate(opts.bitrate),
             // The report's page starts with the summary: collected for either.
             collect: opts.summary || opts.report.is_some(),
             page: opts.report.as_ref().map(|_| report::Collector::default()),
@@ -102,6 +102,9 @@ impl<'o> Decoding<'o> {
         diag: &mut impl Write,
     ) {
         let _ = writeln!(diag, "{at}: {what:?} not decoded: {detail}");
+        if self.collect {
+            self.summary.unsupported(what);
+        }
         let slot = match what {
             Unsupported::CanFd => 0,
             Unsupported::ErrorFrame => 1,
@@ -142,6 +145,9 @@ impl<'o> Decoding<'o> {
             unsupported: _,
         } = self;
         let (opts, collect) = (*opts, *collect);
+        if collect {
+            summary.bus_frame(parsed.timestamp, &parsed.frame);
+        }
         // The SDO observer first: a frame on a declared SDO channel is SDO,
         // and a block transfer's sub-block segment is no command.
         let seen = sdo.handle(parsed.timestamp, &parsed.frame);

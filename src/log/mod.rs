@@ -83,6 +83,7 @@
 //! (`tests/meta/layering.rs`).
 
 pub mod boot;
+pub mod bus_load;
 pub mod calendar;
 mod comm_objects;
 pub mod csv;

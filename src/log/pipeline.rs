@@ -35,6 +35,9 @@ pub struct Options {
     pub frames: bool,
     /// `--check`: the caller exits 3 when a problem is open at the end.
     pub check: bool,
+    /// `--bitrate BPS`: the bus's bit rate for the summary's bus load
+    /// (`None`: 250 kbit/s, said to be assumed).
+    pub bitrate: Option<u32>,
     /// Which node is which, as given.
     pub roles: Roles,
     /// The PDO mappings given, and whether the defaults apply.
@@ -87,6 +90,7 @@ impl Default for Options {
             summary_file: None,
             frames: true,
             check: false,
+            bitrate: None,
             roles: Roles::default(),
             pdos: mappings::Mappings {
                 given: Vec::new(),

@@ -11,7 +11,10 @@
 //! them, SDO transfers (count, aborts with object and code), node-guarding
 //! requests and replies. Per PDO COB-ID: frames and rate. LSS (CiA 305):
 //! frames, fastscans started, and the node-IDs a slave accepted by
-//! configure node-ID. `--check` makes
+//! configure node-ID. The bus load ([`crate::log::bus_load`]): the mean,
+//! the busiest 1-second window, each node's and COB-ID's share, error
+//! frames. A node is listed when it has something to say (a node addressed
+//! by NMT commands that never sends is not). `--check` makes
 //! the program exit 3 when a problem is still open at the end: a node
 //! silent until the end, or an EMCY not cleared.
 
@@ -22,8 +25,9 @@ use std::prelude::rust_2021::*;
 use crate::deltaq::DeltaQCode;
 use crate::lss::{Fastscan, LssMessage, LssRequest, LssResponse};
 use crate::nmt::{NmtCommandSpecifier, NmtState, NmtTarget};
-use crate::{Message, NodeId, Timestamp};
+use crate::{CanFrame, Message, NodeId, Timestamp};
 
+use crate::log::bus_load::{BusLoad, FrameBits};
 use crate::log::sdo::{End, Report};
 use crate::log::Roles;
 
@@ -56,6 +60,19 @@ struct Node {
     guard_replies: u64,
 }
 
+impl Node {
+    /// Nothing to list: only addressed (an NMT reset), never heard.
+    fn is_empty(&self) -> bool {
+        self.heartbeats == 0
+            && self.boot_ups.is_empty()
+            && self.emcys.is_empty()
+            && self.emcys_more == 0
+            && self.sdo_transfers == 0
+            && self.guard_requests == 0
+            && self.guard_replies == 0
+    }
+}
+
 /// The summary being collected.
 #[derive(Default)]
 pub struct Summary {
@@ -67,6 +84,8 @@ pub struct Summary {
     lss: Lss,
     /// The silences until the end are closed ([`Summary::finish`]).
     finished: bool,
+    /// The bus load of every frame read.
+    bus: BusLoad,
 }
 
 /// LSS traffic: frames, fastscans (reset steps) and accepted node-IDs.
@@ -102,6 +121,40 @@ pub struct Decoded<'a> {
 }
 
 impl Summary {
+    /// A summary whose bus load is at `bitrate` bit/s (`None`: assumed,
+    /// [`crate::log::bus_load::DEFAULT_BITRATE`]).
+    #[must_use]
+    pub fn with_bitrate(bitrate: Option<u32>) -> Self {
+        Summary {
+            bus: BusLoad::new(bitrate),
+            ..Summary::default()
+        }
+    }
+
+    /// The bus load so far.
+    #[must_use]
+    pub fn bus_load(&self) -> &BusLoad {
+        &self.bus
+    }
+
+    /// Any frame read, decoded or not, for the bus load; returns its bits.
+    pub fn bus_frame(&mut self, t: Option<Timestamp>, frame: &CanFrame) -> FrameBits {
+        self.bus.frame(t, frame)
+    }
+
+    /// A frame read but not decoded: error frames and CAN FD frames are
+    /// counted beside the bus load.
+    pub fn unsupported(&mut self, what: crate::trace::Unsupported) {
+        use crate::trace::Unsupported;
+        match what {
+            Unsupported::CanFd => self.bus.fd_frames = self.bus.fd_frames.saturating_add(1),
+            Unsupported::ErrorFrame => {
+                self.bus.error_frames = self.bus.error_frames.saturating_add(1);
+            }
+            _ => {}
+        }
+    }
+
     fn node(&mut self, n: NodeId) -> &mut Node {
         self.nodes.entry(n.raw()).or_default()
     }
@@ -305,7 +358,7 @@ impl Summary {
             });
         }
         out.push_str("{\"kind\":\"summary\",\"nodes\":");
-        let nodes: Vec<(&u8, &Node)> = self.nodes.iter().collect();
+        let nodes: Vec<(&u8, &Node)> = self.nodes.iter().filter(|n| !n.1.is_empty()).collect();
         list(out, nodes.len(), &mut |out, i| {
             let Some((id, n)) = nodes.get(i) else { return };
             let _ = write!(out, "{{\"node\":{id},\"role\":");
@@ -378,7 +431,11 @@ impl Summary {
                 let _ = write!(out, "{n}");
             }
         });
-        let _ = write!(out, "}},\"open_problems\":{open}}}");
+        out.push_str("},\"bus_load_percent\":");
+        crate::log::json::float(out, self.bus.mean_percent().1);
+        out.push_str(",\"bus_load\":");
+        self.bus.json(out);
+        let _ = write!(out, ",\"open_problems\":{open}}}");
         open
     }
 
@@ -386,7 +443,7 @@ impl Summary {
     pub fn words(&mut self, out: &mut String, roles: &Roles) -> bool {
         let open = self.finish();
         let _ = writeln!(out, "summary:");
-        for (id, n) in &self.nodes {
+        for (id, n) in self.nodes.iter().filter(|n| !n.1.is_empty()) {
             let node = NodeId::new(*id);
             let role = roles
                 .role(node)
@@ -491,6 +548,7 @@ impl Summary {
                 }
             );
         }
+        self.bus.words(out);
         let _ = writeln!(
             out,
             "  open problems at the end: {}",

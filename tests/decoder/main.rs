@@ -22,6 +22,8 @@ mod boot_decode;
 #[cfg(feature = "cli")]
 mod boot_master_cli;
 #[cfg(feature = "cli")]
+mod bus_load;
+#[cfg(feature = "cli")]
 mod cli;
 #[cfg(feature = "cli")]
 mod dbc;

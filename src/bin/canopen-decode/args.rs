@@ -64,6 +64,10 @@ pub struct Cli {
     /// Print the summary; exit 3 when a problem is open at the end.
     #[arg(long)]
     check: bool,
+    /// The bus's bit rate for the summary's bus load (default 250000,
+    /// said to be assumed).
+    #[arg(long, value_name = "BPS", value_parser = clap::value_parser!(u32).range(1..))]
+    bitrate: Option<u32>,
     /// The Delta-Q charger's node id (Delta-Q names and error labels).
     #[arg(long, value_name = "N", value_parser = parse_node, allow_hyphen_values = true)]
     charger_node: Option<NodeId>,
@@ -200,6 +204,7 @@ impl Cli {
             summary_file: self.summary_file,
             frames: !self.summary_only && frames_asked,
             check: self.check,
+            bitrate: self.bitrate,
             roles,
             pdos,
             file: self.files.first().cloned(),
