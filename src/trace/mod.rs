@@ -37,6 +37,10 @@ pub mod blf;
 pub mod candump;
 mod csv;
 mod fields;
+#[cfg(feature = "alloc")]
+pub mod inflate;
+#[cfg(feature = "alloc")]
+pub mod mf4;
 mod screen;
 mod trc;
 

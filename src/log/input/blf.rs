@@ -17,42 +17,7 @@ use std::vec;
 
 use crate::trace::blf::{BlfError, BlfEvent, BlfReader, Compression};
 
-/// A zlib (RFC 1950) inflater for the zlib containers of a BLF file. This
-/// crate has no zlib of its own but with feature `zlib`: a caller that
-/// reads compressed BLF files passes one (`Zlib`, flate2's, which the
-/// programs pass); [`NoInflate`] reads the uncompressed objects and
-/// reports the first compressed container.
-pub trait Inflate {
-    /// Starts a new zlib stream (one per container).
-    fn reset(&mut self);
-    /// Inflates from `input` into `output`, as much as fits: what was used
-    /// and made, or the stream's error in words.
-    fn inflate(&mut self, input: &[u8], output: &mut [u8]) -> Result<Inflated, String>;
-}
-
-/// What one [`Inflate::inflate`] call did.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Inflated {
-    /// Bytes of the input used.
-    pub used: usize,
-    /// Bytes written to the output.
-    pub made: usize,
-    /// The zlib stream ended.
-    pub end: bool,
-}
-
-/// No inflater: every zlib container is an [`Bad::Inflate`] item (and
-/// the rest of the file is not read).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct NoInflate;
-
-impl Inflate for NoInflate {
-    fn reset(&mut self) {}
-
-    fn inflate(&mut self, _: &[u8], _: &mut [u8]) -> Result<Inflated, String> {
-        Err("no zlib inflater given".to_string())
-    }
-}
+pub use crate::trace::inflate::{Inflate, Inflated, NoInflate};
 
 use super::{At, Bad, Counted, Detail, Item, Kind};
 

@@ -2,7 +2,8 @@
 //! `canopen-replay`, read through it): the bytes of a recording in, its
 //! frames with their times out, one by one, with what could not be read
 //! and the format the file was read as. The formats themselves are parsed
-//! by [`crate::trace`] (one parser per line format, the BLF reader).
+//! by [`crate::trace`] (one parser per line format, the BLF and MF4
+//! readers).
 //!
 //! - Line formats (candump log, candump screen, PCAN `.trc` 1.0-2.1,
 //!   Vector ASC, python-can CSV): the input is read in blocks of lines
@@ -15,13 +16,18 @@
 //!   [`Inflate`] (with feature `zlib`, flate2's: [`Zlib`], which the
 //!   programs pass; [`NoInflate`] reports each compressed container as
 //!   unreadable).
+//!   ASAM MDF 4 bus logging is read into memory (its blocks link to
+//!   anywhere in the file) and then record by record through the
+//!   library's `Mf4Reader`, each `##DZ` block inflated by the same
+//!   [`Inflate`], the frames of its data groups merged by time.
 //!
 //! [`read`] hands each [`Item`] to the caller as it comes (memory stays
-//! bounded on any input: the decoder's way); [`frames`] collects the
+//! bounded on any input but an MF4 file's size: the decoder's way); [`frames`] collects the
 //! frames of a whole file (the replay's way). Neither panics on any input.
 
 mod blf;
 mod lines;
+mod mf4;
 #[cfg(feature = "zlib")]
 mod zlib;
 
@@ -31,6 +37,7 @@ use std::fmt;
 use std::io::{self, Read};
 
 use crate::trace::blf::{BlfError, BlfReader};
+use crate::trace::mf4::{Mf4Error, Mf4Reader};
 use crate::trace::{Format, LineParser, Record, RxTx, TraceError, TraceFrame, Unsupported};
 use crate::{CanFrame, Timestamp};
 
@@ -47,6 +54,9 @@ pub use zlib::Zlib;
 pub enum Binary {
     /// Vector BLF (CANalyzer / CANoe, python-can's `BLFWriter`): `LOGG`.
     Blf,
+    /// ASAM MDF 4 bus logging (python-can's `MF4Writer`, CANedge, Vector):
+    /// `MDF     `.
+    Mf4,
 }
 
 impl Binary {
@@ -59,12 +69,16 @@ impl Binary {
     /// ```
     /// use canopen_codec::log::input::Binary;
     /// assert_eq!(Binary::detect(b"LOGG\x90\0\0\0"), Some(Binary::Blf));
+    /// assert_eq!(Binary::detect(b"MDF     "), Some(Binary::Mf4));
     /// assert_eq!(Binary::detect(b"(1.5) ca"), None);
     /// ```
     #[must_use]
     pub fn detect(head: &[u8]) -> Option<Binary> {
         if BlfReader::detect(head) {
             return Some(Binary::Blf);
+        }
+        if Mf4Reader::detect(head) {
+            return Some(Binary::Mf4);
         }
         None
     }
@@ -74,6 +88,7 @@ impl Binary {
     pub const fn name(self) -> &'static str {
         match self {
             Binary::Blf => "blf",
+            Binary::Mf4 => "mf4",
         }
     }
 
@@ -83,6 +98,7 @@ impl Binary {
     pub const fn units(self) -> &'static str {
         match self {
             Binary::Blf => "object(s)",
+            Binary::Mf4 => "record(s)",
         }
     }
 }
@@ -172,7 +188,7 @@ impl FormatName {
 /// Every format by name; a file of none of them given is detected from its
 /// content ([`How::default`]). candump's screen output with `-t d` (delta
 /// times) cannot be told from its lines, so it has a name of its own.
-pub const FORMAT_NAMES: [FormatName; 7] = [
+pub const FORMAT_NAMES: [FormatName; 8] = [
     FormatName::new(
         "candump",
         "candump -L log lines",
@@ -204,10 +220,16 @@ pub const FORMAT_NAMES: [FormatName; 7] = [
         "Vector BLF (binary; detected by its LOGG signature too)",
         How::binary(Binary::Blf),
     ),
+    FormatName::new(
+        "mf4",
+        "ASAM MDF 4 bus logging (binary; detected by its MDF identification too)",
+        How::binary(Binary::Mf4),
+    ),
 ];
 
 /// Where in the file an item is: lines and BLF objects are numbered from
-/// 1 in file order (BLF containers not counted).
+/// 1 in file order (BLF containers not counted), MF4 bus-logging records
+/// from 1 in the order read (time order).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum At {
     /// A line of a text trace.
@@ -216,6 +238,10 @@ pub enum At {
     Object(u64),
     /// Past the last object read (an error of the file's structure).
     AfterObject(u64),
+    /// An MF4 bus-logging record.
+    Record(u64),
+    /// Past the last MF4 record read (an error of the file's structure).
+    AfterRecord(u64),
 }
 
 impl fmt::Display for At {
@@ -224,6 +250,8 @@ impl fmt::Display for At {
             At::Line(n) => write!(f, "line {n}"),
             At::Object(n) => write!(f, "object {n}"),
             At::AfterObject(n) => write!(f, "after object {n}"),
+            At::Record(n) => write!(f, "record {n}"),
+            At::AfterRecord(n) => write!(f, "after record {n}"),
         }
     }
 }
@@ -236,6 +264,8 @@ pub enum Detail<'a> {
     Line(&'a str),
     /// The BLF object's type number.
     ObjectType(u32),
+    /// An MF4 bus-logging record (its event type says what it is).
+    Record,
 }
 
 impl fmt::Display for Detail<'_> {
@@ -243,6 +273,7 @@ impl fmt::Display for Detail<'_> {
         match self {
             Detail::Line(l) => f.write_str(l),
             Detail::ObjectType(t) => write!(f, "object type {t}"),
+            Detail::Record => f.write_str("MF4 bus-logging record"),
         }
     }
 }
@@ -267,6 +298,11 @@ pub enum Bad<'a> {
     Inflate(String),
     /// The BLF file ends inside an object or container.
     End(BlfError),
+    /// A malformed MF4 record, skipped.
+    Mf4Record(Mf4Error),
+    /// An error of the MF4 file's structure (or a `##DZ` block that does
+    /// not inflate): the rest is not read.
+    Mf4Structure(Mf4Error),
 }
 
 impl fmt::Display for Bad<'_> {
@@ -276,6 +312,8 @@ impl fmt::Display for Bad<'_> {
             Bad::TooLong => write!(f, "longer than {MAX_LINE} bytes"),
             Bad::Line(e, line) => write!(f, "{e}: {line}"),
             Bad::Object(e) | Bad::End(e) => write!(f, "{e}"),
+            Bad::Mf4Record(e) => write!(f, "{e}"),
+            Bad::Mf4Structure(e) => write!(f, "{e}: the rest is not read"),
             Bad::Structure(e) => write!(f, "{e}: the rest is not read"),
             Bad::Inflate(e) => write!(f, "container does not inflate ({e}): the rest is not read"),
         }
@@ -412,6 +450,7 @@ where
     };
     let kind = match binary {
         Some(Binary::Blf) => blf::read(input, zlib, &mut counted)?,
+        Some(Binary::Mf4) => mf4::read(input, zlib, &mut counted)?,
         None => read_lines(input, how, &mut counted)?,
     };
     Ok(Totals {

@@ -1,0 +1,81 @@
+//! ASAM MDF 4 bus-logging input: the file read into memory (its links
+//! point anywhere in it), then read through [`crate::trace::mf4::Mf4Reader`]
+//! record by record, each `##DZ` block inflated by the caller's
+//! [`Inflate`]; every classic CAN frame an item like a text trace's line,
+//! in time order. Besides the file, memory stays bounded by one data block
+//! per data group.
+//!
+//! Records of the bus-logging channel groups are numbered from 1 in the
+//! order read: CAN FD, error frames and other CAN events are unsupported
+//! items; a malformed record is a bad item (the read goes on); an error of
+//! the file's structure (a block past the end, links that loop, a block
+//! that does not inflate) ends the read.
+
+use std::io::{self, Read};
+use std::prelude::rust_2021::*;
+
+use crate::trace::mf4::{Mf4Event, Mf4Reader};
+
+use super::{At, Bad, Binary, Counted, Item, Kind};
+use crate::trace::inflate::Inflate;
+
+/// Reads the MF4 file `input`, handing each item to `each`.
+pub(super) fn read<F: FnMut(Item<'_>) -> io::Result<()>>(
+    mut input: impl Read,
+    zlib: &mut dyn Inflate,
+    each: &mut Counted<'_, F>,
+) -> io::Result<Kind> {
+    let mut file = Vec::new();
+    input.read_to_end(&mut file)?;
+    let mut records = 0u64;
+    let kind = |records| Kind::Binary {
+        binary: Binary::Mf4,
+        objects: records,
+        skipped: 0,
+    };
+    let mut reader = match Mf4Reader::new(&file) {
+        Ok(r) => r,
+        Err(e) => {
+            each.give(Item::Bad {
+                at: At::AfterRecord(0),
+                why: Bad::Mf4Structure(e),
+            })?;
+            return Ok(kind(0));
+        }
+    };
+    loop {
+        match reader.next(zlib) {
+            Ok(None) => break,
+            Ok(Some(Mf4Event::Frame(f))) => {
+                records += 1;
+                each.give(Item::Frame {
+                    at: At::Record(records),
+                    frame: f.trace_frame(),
+                })?;
+            }
+            Ok(Some(Mf4Event::Unsupported { what, .. })) => {
+                records += 1;
+                each.give(Item::Unsupported {
+                    at: At::Record(records),
+                    what,
+                    detail: super::Detail::Record,
+                })?;
+            }
+            Err(e) if e.is_fatal() => {
+                each.give(Item::Bad {
+                    at: At::AfterRecord(records),
+                    why: Bad::Mf4Structure(e),
+                })?;
+                break;
+            }
+            Err(e) => {
+                records += 1;
+                each.give(Item::Bad {
+                    at: At::Record(records),
+                    why: Bad::Mf4Record(e),
+                })?;
+            }
+        }
+    }
+    Ok(kind(records))
+}

@@ -1,0 +1,365 @@
+//! The reader: the file's data groups opened (their channel groups'
+//! layouts read once), each read as a stream of records, the bus-logging
+//! records decoded and merged by time across the data groups.
+
+use alloc::collections::BTreeSet;
+use alloc::vec::Vec;
+
+use super::blocks::{block, id, HEADER};
+use super::data::Stream;
+use super::layout::{layout, Event, Field, Layout};
+use super::{Mf4Error, Mf4Event, Mf4Frame, Mf4Header, FILE_MAGIC};
+use crate::clock::Timestamp;
+use crate::frame::{CanFrame, CanId, MAX_STANDARD_ID};
+use crate::trace::inflate::Inflate;
+use crate::trace::{RxTx, Unsupported};
+
+/// The largest record read (data and invalidation bytes).
+const MAX_RECORD: u64 = 1 << 20;
+/// The most data groups with bus logging read at once.
+const MAX_DATA_GROUPS: usize = 4096;
+
+/// What a channel group's records are.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Records {
+    /// CAN bus logging.
+    Bus(Layout),
+    /// Fixed-size records of another kind, skipped.
+    Other,
+    /// Variable-length signal data (u32 length, bytes), skipped.
+    Variable,
+}
+
+/// A channel group of a data group.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Group {
+    record_id: u64,
+    /// Data and invalidation bytes of one record.
+    size: usize,
+    records: Records,
+    /// Records of it read.
+    index: u64,
+}
+
+/// One data group being read.
+#[derive(Debug)]
+struct Cursor<'a> {
+    stream: Stream<'a>,
+    record_id_size: u8,
+    groups: Vec<Group>,
+    /// The next event, read ahead for the merge by time.
+    head: Option<Mf4Event>,
+    done: bool,
+}
+
+/// Reads the CAN frames of an MF4 file held in memory. See the
+/// [module docs](super).
+///
+/// Call [`next`](Self::next) until it returns `None`; an error that is
+/// not [fatal](Mf4Error::is_fatal) skipped one record, and reading goes
+/// on.
+#[derive(Debug)]
+pub struct Mf4Reader<'a> {
+    header: Mf4Header,
+    start_ns: u64,
+    cursors: Vec<Cursor<'a>>,
+    failed: Option<Mf4Error>,
+}
+
+impl<'a> Mf4Reader<'a> {
+    /// True when `bytes` (the start of a file) begin with `MDF     `.
+    #[must_use]
+    pub fn detect(bytes: &[u8]) -> bool {
+        bytes.starts_with(&FILE_MAGIC)
+    }
+
+    /// Opens the MF4 file `file`: reads its `##ID` and `##HD` blocks and
+    /// the channels of every data group (no data yet).
+    pub fn new(file: &'a [u8]) -> Result<Self, Mf4Error> {
+        if !Self::detect(file) {
+            return Err(Mf4Error::NotMf4);
+        }
+        let Some(id_block) = file.get(..64) else {
+            return Err(Mf4Error::PastEnd { at: 0 });
+        };
+        let version = u16::from_le_bytes([
+            id_block.get(28).copied().unwrap_or(0),
+            id_block.get(29).copied().unwrap_or(0),
+        ]);
+        if version < 400 {
+            return Err(Mf4Error::Version { version });
+        }
+        let mut program = [0u8; 8];
+        if let Some(p) = id_block.get(16..24) {
+            program.copy_from_slice(p);
+        }
+        let hd = block(file, 64, &[id::HD])?;
+        let start_ns = hd.u64(0);
+        let header = Mf4Header {
+            version,
+            program,
+            start: (start_ns != 0)
+                .then(|| Timestamp::from_micros(start_ns.saturating_add(500) / 1000)),
+        };
+        let mut hops = file.len() as u64 / HEADER + 1;
+        // Data and channel groups met: one met again is a loop.
+        let mut met = BTreeSet::new();
+        let mut cursors = Vec::new();
+        let mut dg_at = hd.link(0);
+        while dg_at != 0 {
+            if !met.insert(dg_at) {
+                return Err(Mf4Error::LinkCycle { what: "data group" });
+            }
+            let dg = block(file, dg_at, &[id::DG])?;
+            let record_id_size = dg.u8(0);
+            if !matches!(record_id_size, 0 | 1 | 2 | 4 | 8) {
+                return Err(Mf4Error::RecordIdSize {
+                    at: dg_at,
+                    size: record_id_size,
+                });
+            }
+            let mut groups = Vec::new();
+            let mut cg_at = dg.link(1);
+            while cg_at != 0 {
+                if !met.insert(cg_at) {
+                    return Err(Mf4Error::LinkCycle {
+                        what: "channel group",
+                    });
+                }
+                let cg = block(file, cg_at, &[id::CG])?;
+                let flags = cg.u16(16);
+                let size = u64::from(cg.u32(24)) + u64::from(cg.u32(28));
+                let records = if flags & 1 != 0 {
+                    Records::Variable
+                } else {
+                    match layout(file, &cg, &mut hops)? {
+                        Some(l) => Records::Bus(l),
+                        None => Records::Other,
+                    }
+                };
+                if size > MAX_RECORD {
+                    return Err(Mf4Error::RecordTooLarge { size });
+                }
+                groups.push(Group {
+                    record_id: cg.u64(0),
+                    size: size as usize,
+                    records,
+                    index: 0,
+                });
+                cg_at = cg.link(0);
+            }
+            if record_id_size == 0 && groups.len() > 1 {
+                return Err(Mf4Error::SortedGroups { at: dg_at });
+            }
+            if groups.iter().any(|g| matches!(g.records, Records::Bus(_))) {
+                if cursors.len() >= MAX_DATA_GROUPS {
+                    return Err(Mf4Error::LinkCycle { what: "data group" });
+                }
+                cursors.push(Cursor {
+                    stream: Stream::new(file, dg.link(2)),
+                    record_id_size,
+                    groups,
+                    head: None,
+                    done: false,
+                });
+            }
+            dg_at = dg.link(0);
+        }
+        Ok(Mf4Reader {
+            header,
+            start_ns,
+            cursors,
+            failed: None,
+        })
+    }
+
+    /// What the file's identification and header say.
+    #[must_use]
+    pub const fn header(&self) -> Mf4Header {
+        self.header
+    }
+
+    /// The next frame or event in time order (ties in data group order),
+    /// `##DZ` blocks inflated by `zlib`; `None` at the end.
+    pub fn next(&mut self, zlib: &mut dyn Inflate) -> Result<Option<Mf4Event>, Mf4Error> {
+        if let Some(e) = self.failed {
+            return Err(e);
+        }
+        let start_ns = self.start_ns;
+        for c in &mut self.cursors {
+            if c.head.is_none() && !c.done {
+                match c.next(start_ns, zlib) {
+                    Ok(Some(e)) => c.head = Some(e),
+                    Ok(None) => c.done = true,
+                    Err(e) => {
+                        if e.is_fatal() {
+                            self.failed = Some(e);
+                        }
+                        return Err(e);
+                    }
+                }
+            }
+        }
+        let first = self
+            .cursors
+            .iter_mut()
+            .filter(|c| c.head.is_some())
+            .min_by_key(|c| {
+                c.head
+                    .as_ref()
+                    .map_or(0, |e| time_of(e).map_or(0, Timestamp::as_micros))
+            });
+        Ok(first.and_then(|c| c.head.take()))
+    }
+}
+
+/// An event's time.
+fn time_of(e: &Mf4Event) -> Option<Timestamp> {
+    match e {
+        Mf4Event::Frame(f) => f.timestamp,
+        Mf4Event::Unsupported { timestamp, .. } => *timestamp,
+    }
+}
+
+impl Cursor<'_> {
+    /// The next bus-logging event of this data group.
+    fn next(
+        &mut self,
+        start_ns: u64,
+        zlib: &mut dyn Inflate,
+    ) -> Result<Option<Mf4Event>, Mf4Error> {
+        loop {
+            let record_id = match self.record_id_size {
+                0 => self.groups.first().map_or(0, |g| g.record_id),
+                n => match self.stream.take(usize::from(n), zlib)? {
+                    Some(bytes) => bytes.iter().rev().fold(0u64, |v, &b| v << 8 | u64::from(b)),
+                    None => return Ok(None),
+                },
+            };
+            let Some(group) = self
+                .groups
+                .iter_mut()
+                .find(|g| self.record_id_size == 0 || g.record_id == record_id)
+            else {
+                return Err(Mf4Error::UnknownRecordId { record_id });
+            };
+            let index = group.index;
+            group.index = index.saturating_add(1);
+            match group.records {
+                Records::Variable => {
+                    let Some(len) = self.stream.take(4, zlib)? else {
+                        return Err(Mf4Error::RecordPastEnd { need: 4, left: 0 });
+                    };
+                    let len = len.iter().rev().fold(0u64, |v, &b| v << 8 | u64::from(b));
+                    self.stream.skip(len, zlib)?;
+                }
+                Records::Other => {
+                    let size = group.size;
+                    if self.stream.take(size, zlib)?.is_none() && self.record_id_size == 0 {
+                        return Ok(None);
+                    }
+                }
+                Records::Bus(l) => {
+                    let size = group.size;
+                    let Some(record) = self.stream.take(size, zlib)? else {
+                        if self.record_id_size == 0 {
+                            return Ok(None);
+                        }
+                        return Err(Mf4Error::RecordPastEnd {
+                            need: size,
+                            left: 0,
+                        });
+                    };
+                    return decode(&l, record, index, start_ns).map(Some);
+                }
+            }
+        }
+    }
+}
+
+/// The record's time: the start plus its seconds, to the nearest
+/// microsecond.
+fn timestamp(l: &Layout, record: &[u8], index: u64, start_ns: u64) -> Option<Timestamp> {
+    let s = l.time.seconds(record, index)?;
+    let ns = s * 1e9;
+    // Round half away from zero (`as` saturates, never panics).
+    let ns = if ns >= 0.0 { ns + 0.5 } else { ns - 0.5 } as i128;
+    let total = i128::from(start_ns).checked_add(ns)?;
+    let us = total.checked_add(500)?.div_euclid(1000);
+    u64::try_from(us).ok().map(Timestamp::from_micros)
+}
+
+/// A field's value, or the error naming it.
+fn need(field: Option<Field>, record: &[u8], name: &'static str) -> Result<u64, Mf4Error> {
+    field
+        .and_then(|f| f.uint(record))
+        .ok_or(Mf4Error::MissingField { field: name })
+}
+
+/// One bus-logging record as an event.
+fn decode(l: &Layout, record: &[u8], index: u64, start_ns: u64) -> Result<Mf4Event, Mf4Error> {
+    let timestamp = timestamp(l, record, index, start_ns);
+    let unsupported = |what| Ok(Mf4Event::Unsupported { what, timestamp });
+    match l.event {
+        Event::Error => return unsupported(Unsupported::ErrorFrame),
+        Event::Other => return unsupported(Unsupported::Event),
+        Event::Data | Event::Remote => {}
+    }
+    let flag = |f: Option<Field>| f.and_then(|f| f.uint(record)).is_some_and(|v| v != 0);
+    if flag(l.edl) {
+        return unsupported(Unsupported::CanFd);
+    }
+    let raw = need(l.id, record, "ID")?;
+    let extended = flag(l.ide) || raw & 0x8000_0000 != 0;
+    let raw = (raw & 0x1FFF_FFFF) as u32;
+    let id = if extended {
+        CanId::extended(raw)
+    } else if raw <= u32::from(MAX_STANDARD_ID) {
+        CanId::standard(raw as u16)
+    } else {
+        None
+    }
+    .ok_or(Mf4Error::BadId { raw })?;
+    let frame = if l.event == Event::Remote {
+        let dlc = need(l.dlc.or(l.data_length), record, "DLC")?;
+        if dlc > 8 {
+            return Err(Mf4Error::BadDlc { dlc });
+        }
+        CanFrame::remote(id, dlc as u8).map_err(|_| Mf4Error::BadDlc { dlc })?
+    } else {
+        let length = need(l.data_length.or(l.dlc), record, "DataLength")?;
+        if length > 8 {
+            return unsupported(Unsupported::CanFd);
+        }
+        let bytes = l
+            .data_bytes
+            .and_then(|f| f.bytes(record))
+            .ok_or(Mf4Error::MissingField { field: "DataBytes" })?;
+        let data = bytes
+            .get(..length as usize)
+            .ok_or(Mf4Error::DataPastField { length })?;
+        CanFrame::new(id, data).map_err(|_| Mf4Error::DataPastField { length })?
+    };
+    Ok(Mf4Event::Frame(Mf4Frame {
+        timestamp,
+        channel: l.bus_channel.and_then(|f| f.uint(record)),
+        direction: l.dir.and_then(|f| direction(f, record)),
+        frame,
+    }))
+}
+
+/// `Dir`: 0 Rx, 1 Tx, or the text `Rx` / `Tx`.
+fn direction(f: Field, record: &[u8]) -> Option<RxTx> {
+    if f.text {
+        return match f.bytes(record)? {
+            [b'T', b'x', ..] => Some(RxTx::Tx),
+            [b'R', b'x', ..] => Some(RxTx::Rx),
+            _ => None,
+        };
+    }
+    match f.uint(record)? {
+        0 => Some(RxTx::Rx),
+        1 => Some(RxTx::Tx),
+        _ => None,
+    }
+}
