@@ -1,0 +1,179 @@
+#!/usr/bin/env python3
+"""python-can's MF4Writer and asammdf write, canopen-decode reads (ASAM MDF 4).
+
+Usage: mf4_interop.py CANOPEN_DECODE CAPTURE.log [CAPTURE.log ...]
+
+Each real capture (candump -L lines) is written as MF4 bus logging by other
+tools:
+
+- python-can's `MF4Writer` (through asammdf) with each of its compression
+  levels: 0 (##DT), 1 (deflate ##DZ) and 2 (transposed deflate ##DZ);
+- asammdf itself re-saving that file as MDF 4.20 in 4 KiB data fragments
+  (an ##HL and its ##DL list of transposed ##DZ blocks);
+- python-can's `MF4Writer` with remote and error frames added between the
+  capture's frames (python-can puts them in data groups of their own, so
+  the decoder must merge the groups by time).
+
+Each file is decoded by `canopen-decode --json` (detected by its MDF
+identification) and must give exactly the candump original's frames, in
+order: identifier, 29-bit flag, remote flag, DLC, data and the time to the
+microsecond (MF4Writer stores seconds as float64 since the header's start
+in nanoseconds). The error frames must be reported on stderr and counted,
+not decoded; python-can's own `MF4Reader` must read back the same frames
+(the file is a real MF4). Prints one line per case and "N cases, 0
+failed"; exits 1 on any mismatch.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import can
+from asammdf import MDF
+
+
+def candump(path):
+    """The capture's frames: (us, id, extended, remote, dlc, data)."""
+    frames = []
+    with open(path) as f:
+        for line in f:
+            line = line.strip()
+            if not line:
+                continue
+            stamp, _iface, frame = line.split()
+            secs, frac = stamp.strip("()").split(".")
+            us = int(secs) * 1_000_000 + int(frac.ljust(6, "0")[:6])
+            ident, data = frame.split("#", 1)
+            remote = data.startswith("R")
+            if remote:
+                dlc = int(data[1:] or "0")
+                payload = b""
+            else:
+                payload = bytes.fromhex(data)
+                dlc = len(payload)
+            frames.append((us, int(ident, 16), len(ident) == 8, remote, dlc, payload))
+    return frames
+
+
+def message(f, channel=1):
+    us, ident, extended, remote, dlc, data = f
+    return can.Message(
+        timestamp=us / 1e6,
+        arbitration_id=ident,
+        is_extended_id=extended,
+        is_remote_frame=remote,
+        dlc=dlc,
+        data=data,
+        channel=channel,
+    )
+
+
+def with_events(frames):
+    """The frames with a remote frame and an error frame in every 50th gap
+    of at least 3 us (at distinct microseconds, so the order is the
+    time's)."""
+    out, errors = [], 0
+    for i, f in enumerate(frames):
+        out.append(f)
+        nxt = frames[i + 1][0] if i + 1 < len(frames) else f[0] + 10
+        if i % 50 == 25 and nxt - f[0] >= 3:
+            out.append((f[0] + 1, 0x600 + i % 127 + 1, False, True, 4, b""))
+            out.append(("error", f[0] + 2))
+            errors += 1
+    return out, errors
+
+
+def write_python_can(path, frames, level):
+    w = can.MF4Writer(path, compression_level=level)
+    for f in frames:
+        if f[0] == "error":
+            w.on_message_received(can.Message(timestamp=f[1] / 1e6, arbitration_id=0x7, is_extended_id=False, is_error_frame=True, channel=1))
+        else:
+            w.on_message_received(message(f))
+    w.stop()
+
+
+def resave_asammdf(src, dst):
+    """asammdf's own writer: MDF 4.20, transposed deflate, 4 KiB fragments."""
+    with MDF(src) as mdf:
+        converted = mdf.convert("4.20")
+        converted.configure(write_fragment_size=4096)
+        converted.save(dst, compression=2, overwrite=True)
+        converted.close()
+
+
+def decode(decoder, path):
+    run = subprocess.run([decoder, "--json", path], capture_output=True, text=True)
+    got = [json.loads(l) for l in run.stdout.splitlines() if l.strip()]
+    return run, [g for g in got if "id" in g]
+
+
+def check(name, decoder, path, frames, errors):
+    want = [f for f in frames if f[0] != "error"]
+    run, got = decode(decoder, path)
+    bad = []
+    for line in run.stderr.splitlines():
+        if line.startswith(("record ", "after record")) and "does not decode" not in line and "not decoded" not in line:
+            bad.append(f"stderr: {line}")
+    if run.returncode not in (0, 1):
+        bad.append(f"exit {run.returncode}: {run.stderr[-500:]}")
+    if len(got) != len(want):
+        bad.append(f"{len(got)} frames read, {len(want)} written")
+    for i, (f, g) in enumerate(zip(want, got)):
+        us, ident, extended, remote, dlc, data = f
+        exp = {"id": ident, "extended": extended, "remote": remote, "dlc": dlc, "data": "" if remote else data.hex().upper()}
+        have = {k: g.get(k) for k in exp}
+        have["data"] = (have["data"] or "").upper()
+        if have != exp:
+            bad.append(f"frame {i}: {have} != {exp}")
+        if round(g["t"] * 1e6) != us:
+            bad.append(f"frame {i}: t {g['t']:.6f} != {us / 1e6:.6f}")
+    if errors and f"{errors} error frame(s)" not in run.stderr:
+        bad.append(f"stderr lacks '{errors} error frame(s)': {run.stderr[-300:]}")
+    with can.MF4Reader(path) as r:
+        back = [m for m in r if not m.is_error_frame]
+    if [(m.arbitration_id, m.is_remote_frame, bytes(m.data)) for m in back] != [
+        (f[1], f[3], f[5]) for f in want
+    ]:
+        bad.append("python-can's MF4Reader reads other frames")
+    elif [round(m.timestamp * 1e6) for m in back] != [f[0] for f in want]:
+        bad.append("python-can's MF4Reader reads other times")
+    print(f"{name}: {len(want)} frames written, {len(got)} read, {errors} error frames reported, {len(bad)} mismatches")
+    for x in bad[:10]:
+        print("   ", x)
+    return not bad
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("decoder")
+    ap.add_argument("captures", nargs="+")
+    args = ap.parse_args()
+    cases = failed = 0
+    with tempfile.TemporaryDirectory() as tmp:
+        for capture in args.captures:
+            frames = candump(capture)
+            base = os.path.splitext(os.path.basename(capture))[0]
+            for level in (0, 1, 2):
+                path = os.path.join(tmp, f"{base}-python-can-{level}.mf4")
+                write_python_can(path, frames, level)
+                cases += 1
+                failed += not check(f"{base} python-can compression {level}", args.decoder, path, frames, 0)
+            src = os.path.join(tmp, f"{base}-python-can-0.mf4")
+            dst = os.path.join(tmp, f"{base}-asammdf-4.20.mf4")
+            resave_asammdf(src, dst)
+            cases += 1
+            failed += not check(f"{base} asammdf 4.20 4 KiB fragments", args.decoder, dst, frames, 0)
+            mixed, errors = with_events(frames)
+            path = os.path.join(tmp, f"{base}-events.mf4")
+            write_python_can(path, mixed, 2)
+            cases += 1
+            failed += not check(f"{base} python-can remote and error frames", args.decoder, path, mixed, errors)
+    print(f"{cases} cases, {failed} failed")
+    sys.exit(1 if failed else 0)
+
+
+if __name__ == "__main__":
+    main()
