@@ -510,7 +510,7 @@ fn main() -> ExitCode {
             }
         };
         let mut stage = PowerStageModel::new(f64::from(o.config.charge.max_power_w));
-        stage.ac_present = !o.no_ac;
+        stage.set_ac(!o.no_ac);
         stage.battery_connected = !o.unplugged;
         Some(Physics {
             pack: Pack::new(spec, o.soc / 100.0),
@@ -549,7 +549,7 @@ fn main() -> ExitCode {
             } else {
                 " (unplugged)"
             },
-            if p.stage.ac_present { "" } else { ", no AC" },
+            if p.stage.ac_present() { "" } else { ", no AC" },
             o.config.charge.permanent_algorithm.unwrap_or(0),
             o.speed
         );
@@ -564,10 +564,10 @@ fn main() -> ExitCode {
         None => {
             d.charger.update(boot, set_objects);
             let fixed = PowerStage {
-                ac_present: true,
-                voltage_mv: (voltage * 1000.0).round() as u32,
+                ac_mv: PowerStage::AC_NOMINAL_MV,
+                voltage_mv: (voltage * 1000.0).round() as i32,
                 current_ma: (current * 1000.0).round() as u32,
-                temperature_c: 25,
+                ..PowerStage::OFF
             };
             d.charger.handle_power_stage(boot, fixed);
         }

@@ -25,7 +25,7 @@ use libfuzzer_sys::fuzz_target;
 
 #[derive(Debug, Arbitrary)]
 enum Op {
-    Stage { ac: bool, volts_mv: u32, amps_ma: u32, temp: i16 },
+    Stage { ac: bool, volts_mv: i32, amps_ma: u32, temp: i16 },
     Bus {
         present: bool,
         status: u8,
@@ -80,7 +80,7 @@ fn check(c: &mut ChargeControl, now: Timestamp, alarms: &mut ChargeAlarms) {
     if set.enabled {
         assert!(set.current_ma > 0 && set.current_ma <= config.max_current_ma);
         assert!(set.voltage_mv > 0 && set.voltage_mv <= config.max_voltage_mv);
-        assert!(c.power_stage().ac_present);
+        assert!(c.ac_present());
         assert!(c.phase().delivers());
         if c.mode() == OperatingMode::Remote {
             let bus = c.bus();
@@ -96,7 +96,7 @@ fn check(c: &mut ChargeControl, now: Timestamp, alarms: &mut ChargeAlarms) {
     let flags = status.extended.flags;
     assert_eq!(flags.contains(ChargeStatusFlags::CHARGER_ENABLED), set.enabled);
     assert_eq!(flags.contains(ChargeStatusFlags::ALARM_ACTIVE), !c.alarms().is_empty());
-    assert_eq!(flags.contains(ChargeStatusFlags::AC_PRESENT), c.power_stage().ac_present);
+    assert_eq!(flags.contains(ChargeStatusFlags::AC_PRESENT), c.ac_present());
     assert_eq!(flags.contains(ChargeStatusFlags::DERATING), !status.derate.is_empty());
     assert!(status.charger_soc <= 100 || status.charger_soc == 0xFF);
     if matches!(c.phase(), ChargePhase::Idle | ChargePhase::Remote | ChargePhase::Terminated) {
@@ -126,10 +126,11 @@ fuzz_target!(|input: Input| {
         match op {
             Op::Stage { ac, volts_mv, amps_ma, temp } => {
                 let stage = PowerStage {
-                    ac_present: ac,
+                    ac_mv: if ac { PowerStage::AC_NOMINAL_MV } else { 0 },
                     voltage_mv: volts_mv,
                     current_ma: amps_ma,
                     temperature_c: temp,
+                    ..PowerStage::OFF
                 };
                 c.handle_power_stage(now, stage);
             }

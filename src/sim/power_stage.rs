@@ -7,17 +7,34 @@
 //! the maximum power at the pack's rest voltage; the charger's temperature
 //! goes first-order (time constant [`PowerStageModel::thermal_time_s`])
 //! toward ambient plus 20 K per kW of losses (efficiency 92 %).
+//!
+//! What a bench drives on it: the AC input's voltage
+//! ([`set_ac_voltage`](PowerStageModel::set_ac_voltage),
+//! [`set_ac`](PowerStageModel::set_ac)), the battery's leads
+//! ([`set_battery_connected`](PowerStageModel::set_battery_connected),
+//! [`set_reverse_polarity`](PowerStageModel::set_reverse_polarity): the
+//! terminals then read the pack's voltage negated and, as a real charger's
+//! reverse-polarity protection does, the stage delivers nothing) and the
+//! hardware faults its monitoring reports
+//! ([`inject_fault`](PowerStageModel::inject_fault), F-0-0-1 to F-0-0-6 of
+//! the Delta-Q IC Series CANopen interface specification rev 2.0, section
+//! 4.4.1). An AC input outside the stage's working range (below
+//! [`PowerStageModel::AC_WORKING_MIN_V`]) delivers nothing either.
 
 use super::Pack;
-use crate::deltaq::charge::{PowerStage, SetPoints};
+use crate::deltaq::charge::{PowerStage, SetPoints, StageFaults};
 
 /// The power stage's state.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PowerStageModel {
-    /// AC (mains) present.
-    pub ac_present: bool,
+    /// AC (mains) input voltage, RMS, V (0: no AC).
+    pub ac_voltage_v: f64,
     /// The battery's DC leads are connected.
     pub battery_connected: bool,
+    /// The battery's leads are connected the wrong way round.
+    pub reversed: bool,
+    /// The hardware faults the stage reports (injected).
+    pub faults: StageFaults,
     /// Maximum output power, W.
     pub max_power_w: f64,
     /// Efficiency, 0..1.
@@ -33,12 +50,23 @@ pub struct PowerStageModel {
 }
 
 impl PowerStageModel {
-    /// A stage of `max_power_w`, AC on, battery connected, at 25 degC.
+    /// The AC input of a stage switched on, RMS, V.
+    pub const AC_NOMINAL_V: f64 = 230.0;
+
+    /// Below this AC input (RMS, V) the stage cannot work and delivers
+    /// nothing (ours: a universal-input charger's stage drops out a little
+    /// below its rated 85 VAC).
+    pub const AC_WORKING_MIN_V: f64 = 80.0;
+
+    /// A stage of `max_power_w`, AC on (230 V), battery connected the right
+    /// way round, no fault, at 25 degC.
     #[must_use]
     pub const fn new(max_power_w: f64) -> Self {
         PowerStageModel {
-            ac_present: true,
+            ac_voltage_v: Self::AC_NOMINAL_V,
             battery_connected: true,
+            reversed: false,
+            faults: StageFaults::empty(),
             max_power_w,
             efficiency: 0.92,
             ambient_c: 25.0,
@@ -48,9 +76,48 @@ impl PowerStageModel {
         }
     }
 
+    /// Mains on (at [`AC_NOMINAL_V`](Self::AC_NOMINAL_V)) or off.
+    pub fn set_ac(&mut self, on: bool) {
+        self.ac_voltage_v = if on { Self::AC_NOMINAL_V } else { 0.0 };
+    }
+
+    /// The AC input is `volts` RMS (0: off; above 270 V the charger raises
+    /// E-0-2-3, Delta-Q section 4.4.1).
+    pub fn set_ac_voltage(&mut self, volts: f64) {
+        self.ac_voltage_v = if volts.is_finite() {
+            volts.max(0.0)
+        } else {
+            0.0
+        };
+    }
+
+    /// AC is on at a voltage the stage works from.
+    #[must_use]
+    pub fn ac_present(&self) -> bool {
+        self.ac_voltage_v >= Self::AC_WORKING_MIN_V
+    }
+
+    /// The battery's leads are connected (`true`) or unplugged.
+    pub fn set_battery_connected(&mut self, on: bool) {
+        self.battery_connected = on;
+    }
+
+    /// The battery's leads are connected the wrong way round (`true`) or
+    /// the right way.
+    pub fn set_reverse_polarity(&mut self, reversed: bool) {
+        self.reversed = reversed;
+    }
+
+    /// The stage's monitoring reports `fault` (one or more flags) from now
+    /// on (`true`) or no longer (`false`).
+    pub fn inject_fault(&mut self, fault: StageFaults, on: bool) {
+        self.faults.set(fault, on);
+    }
+
     /// Sets the output for `set` into `pack` and runs `seconds` of heat.
     pub fn step(&mut self, seconds: f64, set: SetPoints, pack: &Pack) {
-        self.current_a = if self.ac_present && self.battery_connected && set.enabled {
+        let works = self.ac_present() && self.battery_connected && !self.reversed;
+        self.current_a = if works && set.enabled {
             let held = pack.current_at(f64::from(set.voltage_mv) / 1000.0);
             let limit = f64::from(set.current_ma) / 1000.0;
             let power = self.max_power_w / pack.terminal_voltage(0.0).max(1.0);
@@ -66,19 +133,21 @@ impl PowerStageModel {
     }
 
     /// What the stage measures (what the charger's [`PowerStage`] input
-    /// takes): no voltage without the battery's leads.
+    /// takes): no voltage without the battery's leads, a negative one with
+    /// them reversed, the injected faults.
     #[must_use]
     pub fn measure(&self, pack: &Pack) -> PowerStage {
-        let volts = if self.battery_connected {
-            pack.terminal_voltage(self.current_a)
-        } else {
-            0.0
+        let volts = match (self.battery_connected, self.reversed) {
+            (false, _) => 0.0,
+            (true, false) => pack.terminal_voltage(self.current_a),
+            (true, true) => -pack.terminal_voltage(0.0),
         };
         PowerStage {
-            ac_present: self.ac_present,
-            voltage_mv: (volts * 1000.0).round() as u32,
+            ac_mv: (self.ac_voltage_v * 1000.0).round() as u32,
+            voltage_mv: (volts * 1000.0).round() as i32,
             current_ma: (self.current_a * 1000.0).round() as u32,
             temperature_c: self.temperature_c.round() as i16,
+            faults: self.faults,
         }
     }
 }
@@ -132,10 +201,14 @@ mod tests {
     fn nothing_without_ac_leads_or_enable() {
         let p = pack(0.5);
         let mut s = PowerStageModel::new(1500.0);
-        s.ac_present = false;
+        s.set_ac(false);
         s.step(1.0, set(20, 60), &p);
         assert_eq!(s.current_a, 0.0);
-        s.ac_present = true;
+        assert_eq!(s.measure(&p).ac_mv, 0);
+        s.set_ac_voltage(60.0);
+        s.step(1.0, set(20, 60), &p);
+        assert_eq!(s.current_a, 0.0, "below the stage's working range");
+        s.set_ac(true);
         s.battery_connected = false;
         s.step(1.0, set(20, 60), &p);
         assert_eq!(s.measure(&p).voltage_mv, 0);
@@ -144,8 +217,39 @@ mod tests {
         assert_eq!(s.current_a, 0.0);
         assert_eq!(
             s.measure(&p).voltage_mv,
-            (p.rest_voltage() * 1000.0).round() as u32
+            (p.rest_voltage() * 1000.0).round() as i32
         );
+    }
+
+    #[test]
+    fn reversed_leads_read_negative_and_deliver_nothing() {
+        let p = pack(0.5);
+        let mut s = PowerStageModel::new(1500.0);
+        s.set_reverse_polarity(true);
+        s.step(1.0, set(20, 60), &p);
+        assert_eq!(s.current_a, 0.0);
+        let m = s.measure(&p);
+        assert_eq!(m.voltage_mv, -((p.rest_voltage() * 1000.0).round() as i32));
+        assert_eq!(m.battery_mv(), 0);
+        s.set_reverse_polarity(false);
+        s.step(1.0, set(20, 60), &p);
+        assert!(s.current_a > 0.0);
+    }
+
+    #[test]
+    fn injected_faults_are_measured_until_cleared() {
+        let p = pack(0.5);
+        let mut s = PowerStageModel::new(1500.0);
+        s.inject_fault(StageFaults::RELAY, true);
+        s.inject_fault(StageFaults::OUTPUT_STAGE, true);
+        assert_eq!(
+            s.measure(&p).faults,
+            StageFaults::RELAY | StageFaults::OUTPUT_STAGE
+        );
+        s.inject_fault(StageFaults::RELAY, false);
+        assert_eq!(s.measure(&p).faults, StageFaults::OUTPUT_STAGE);
+        s.set_ac_voltage(280.0);
+        assert_eq!(s.measure(&p).ac_mv, 280_000);
     }
 
     #[test]

@@ -355,7 +355,7 @@ impl Session {
 
     /// AC on or off at the charger.
     pub fn set_ac(&mut self, on: bool) {
-        self.stage.ac_present = on;
+        self.stage.set_ac(on);
         self.physics(0.0);
         self.settle();
     }

@@ -53,13 +53,13 @@ fn charger_reset_communication_keeps_application_values_and_reports_it() {
     c.handle_power_stage(
         ms(2),
         PowerStage {
-            ac_present: true,
+            ac_mv: PowerStage::AC_NOMINAL_MV,
             voltage_mv: 52_000,
             current_ma: 19_484,
             temperature_c: 30,
+            ..PowerStage::OFF
         },
     );
-    c.update(ms(2), |o| o.ac_voltage = 0x07B1);
     // An SDO write of 1017h (a communication object): 500 ms.
     c.handle_frame(
         ms(3),
@@ -74,7 +74,11 @@ fn charger_reset_communication_keeps_application_values_and_reports_it() {
         0x137C,
         "the charge control's readings kept"
     );
-    assert_eq!(c.objects().ac_voltage, 0x07B1);
+    assert_eq!(
+        c.objects().ac_voltage,
+        230 * 16,
+        "2200h, the power stage's AC reading, kept"
+    );
     assert_eq!(c.comm().heartbeat_ms, 1000, "1017h restored");
     assert_eq!(c.nmt_state(), NmtState::PreOperational);
     assert_eq!(sent(&mut c), ["70A#00"]);
@@ -280,7 +284,7 @@ const CHARGER_RW: [(u16, &[u8], &[u8]); 13] = [
 /// value at boot after reset node (kept by reset communication), but the
 /// charge control's readings and the voltage limit (see [`reading`] and
 /// [`voltage_limit_after_reset_node`]); the application's read-only
-/// readings (2060h) keep the last value it set.
+/// readings (2200h, the power stage's AC voltage) keep their value.
 #[cfg(feature = "heartbeat-consumer")]
 #[test]
 fn charger_reset_node_restores_each_writable_object_and_keeps_readings() {
@@ -305,8 +309,11 @@ fn charger_reset_node_restores_each_writable_object_and_keeps_readings() {
             assert!(reply[0].starts_with("58A#60"), "{index:04X}h: {reply:?}");
         }
         // The charge control publishes its readings (over what was written).
-        c.handle_power_stage(ms(15), PowerStage::OFF);
-        c.update(ms(20), |o| o.ac_voltage = 0x0E60);
+        let on = PowerStage {
+            ac_mv: PowerStage::AC_NOMINAL_MV,
+            ..PowerStage::OFF
+        };
+        c.handle_power_stage(ms(15), on);
         while c.poll_event().is_some() {}
 
         c.handle_frame(ms(30), &nmt(cs, 10));
@@ -330,7 +337,7 @@ fn charger_reset_node_restores_each_writable_object_and_keeps_readings() {
         }
         assert_eq!(
             o.ac_voltage, 0x0E60,
-            "{cs:02X}h: 2060h, the application's reading"
+            "{cs:02X}h: 2200h, the power stage's reading (230 V)"
         );
         // 6080h and 2006h are the charge control's: what it says now. Its
         // 6080h is the module's 6081h: restored to 40 % by reset node,

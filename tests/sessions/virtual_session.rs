@@ -42,10 +42,10 @@ fn session() -> String {
     // The power stage: AC on, 19.5 A into a 48 V pack (local mode: the
     // charge control starts bulk once the module says ready).
     let stage = PowerStage {
-        ac_present: true,
+        ac_mv: PowerStage::AC_NOMINAL_MV,
         voltage_mv: 48_000,
         current_ma: 19_500,
-        temperature_c: 25,
+        ..PowerStage::OFF
     };
     bus.with(c, |m, now| m.handle_power_stage(now, stage));
     bus.run_until(ms(20)).unwrap();

@@ -120,7 +120,7 @@
 //! let mut c = ChargeControl::new(OperatingMode::Local, ChargeConfig::example());
 //! let t = Timestamp::ZERO;
 //! // AC on, a 48 V lead-acid pack on the output, no BMS on the bus.
-//! c.handle_power_stage(t, PowerStage { ac_present: true, voltage_mv: 48_000, ..PowerStage::OFF });
+//! c.handle_power_stage(t, PowerStage { ac_mv: 230_000, voltage_mv: 48_000, ..PowerStage::OFF });
 //! assert_eq!(c.phase(), ChargePhase::HoldOff);
 //! // The CAN hold-off passes: the no-CAN algorithm charges at its bulk current.
 //! c.handle_timeout(t.add_duration(Duration::from_secs(10)));
@@ -146,7 +146,7 @@ pub use algorithm::{AlgorithmKind, ChargeAlgorithm, EXAMPLE_ALGORITHMS};
 use meter::CycleMeter;
 pub use types::{
     BusInputs, ChargeAlarms, ChargeConfig, ChargeEvent, ChargePhase, ChargeStatus, PowerStage,
-    SetPoints,
+    SetPoints, StageFaults,
 };
 
 /// 2250h, Ah target (U16, Q3 Ah as 6052h, FFFFh none), read-write,
@@ -322,6 +322,13 @@ impl ChargeControl {
         &self.stage
     }
 
+    /// AC is present: the measured input at least
+    /// [`ChargeConfig::ac_min_mv`].
+    #[must_use]
+    pub const fn ac_present(&self) -> bool {
+        self.stage.ac_mv >= self.config.ac_min_mv
+    }
+
     /// The power stage measured `stage`.
     pub fn handle_power_stage(&mut self, now: Timestamp, stage: PowerStage) {
         self.integrate(now);
@@ -476,12 +483,12 @@ impl ChargeControl {
         let listens = !matches!(mode, OperatingMode::MonitoringOnly) && !self.bus.bus_error;
         let bms = listens && self.bus.battery_present;
         let ready = bms && self.bus.battery_status & 1 != 0;
-        let detected = self.stage.voltage_mv >= self.config.battery_detect_mv;
+        let detected = self.stage.battery_mv() >= self.config.battery_detect_mv;
         // A phase chain is at most bulk, absorption, equalize, rest, float.
         for _ in 0..8 {
             let before = self.phase;
             self.update_alarms(ready, detected);
-            if !self.stage.ac_present {
+            if !self.ac_present() {
                 if self.phase != ChargePhase::Idle && self.revert_on_ac_loss {
                     self.active = self.permanent;
                 }
@@ -595,7 +602,7 @@ impl ChargeControl {
         let next = match phase {
             P::Bulk | P::Absorption if target_reached => P::Rest,
             P::Bulk
-                if self.stage.voltage_mv
+                if self.stage.battery_mv()
                     >= a.absorption_mv
                         - a.absorption_mv / 1000 * algorithm::ABSORPTION_ENTRY_PERMILLE =>
             {
@@ -642,7 +649,7 @@ impl ChargeControl {
             (OperatingMode::Remote, _) | (_, None) => self.config.max_voltage_mv,
             (_, Some(a)) => a.high_voltage_mv,
         };
-        let v = self.stage.voltage_mv;
+        let v = self.stage.battery_mv();
         let high = v > threshold
             || (self.alarms.contains(ChargeAlarms::HIGH_VOLTAGE) && v > threshold - threshold / 50);
         let local = !matches!(self.mode, OperatingMode::Remote);
@@ -656,7 +663,7 @@ impl ChargeControl {
         now.set(ChargeAlarms::BUS_ERROR, self.bus.bus_error);
         now.set(
             ChargeAlarms::BATTERY_DISCONNECTED,
-            ready && !detected && self.stage.ac_present,
+            ready && !detected && self.ac_present(),
         );
         let changed = now.symmetric_difference(self.alarms);
         for alarm in changed.iter() {

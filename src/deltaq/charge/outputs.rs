@@ -40,7 +40,7 @@ impl ChargeControl {
         let external = self.external_limit || matches!(self.mode, OperatingMode::Remote);
         let mut flags = ChargeStatusFlags::empty();
         flags.set(ChargeStatusFlags::CHARGER_ENABLED, self.set.enabled);
-        flags.set(ChargeStatusFlags::AC_PRESENT, self.stage.ac_present);
+        flags.set(ChargeStatusFlags::AC_PRESENT, self.ac_present());
         flags.set(ChargeStatusFlags::DERATING, !self.derate.is_empty());
         flags.set(ChargeStatusFlags::ALARM_ACTIVE, !self.alarms.is_empty());
         let ah = self.meter.q3;
@@ -131,7 +131,7 @@ impl ChargeControl {
         }
         // The power at the output's voltage: W x 10^6 / mV = mA, in 32 bits
         // (the output at most 4 000 V).
-        let v = self.stage.voltage_mv.max(voltage / 2).clamp(1, 4_000_000);
+        let v = self.stage.battery_mv().max(voltage / 2).clamp(1, 4_000_000);
         let milli_watts = c.max_power_w.saturating_mul(1000);
         let power_limit = (milli_watts / v)
             .saturating_mul(1000)

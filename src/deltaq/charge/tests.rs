@@ -15,10 +15,11 @@ pub(super) fn s(n: u64) -> Timestamp {
 /// A 24-cell lead-acid pack at `volts` on the output giving `amps`, AC on.
 pub(super) fn pack(volts: u32, amps: u32) -> PowerStage {
     PowerStage {
-        ac_present: true,
-        voltage_mv: volts * 1000,
+        ac_mv: PowerStage::AC_NOMINAL_MV,
+        voltage_mv: volts as i32 * 1000,
         current_ma: amps * 1000,
         temperature_c: 25,
+        faults: StageFaults::empty(),
     }
 }
 
@@ -59,7 +60,7 @@ fn bms_absent(amps: u16) -> BusInputs {
 /// The power stage of [`pack`] with AC off.
 fn ac_off(volts: u32) -> PowerStage {
     PowerStage {
-        ac_present: false,
+        ac_mv: 0,
         ..pack(volts, 0)
     }
 }

@@ -31,6 +31,12 @@ pub struct ChargeConfig {
     pub derate_start_c: i16,
     /// Charger temperature where the current reaches zero, degC.
     pub derate_stop_c: i16,
+    /// AC input below this (RMS, mV) is no AC: the charger stops as on a
+    /// mains loss (ours: the IC Series' rated input starts at 85 VAC).
+    pub ac_min_mv: u32,
+    /// AC input above this (RMS, mV) raises E-0-2-3 "high AC voltage"
+    /// (Delta-Q section 4.4.1: ">270 VAC") and stops the output.
+    pub ac_max_mv: u32,
 }
 
 impl ChargeConfig {
@@ -38,7 +44,7 @@ impl ChargeConfig {
     /// 72 V) with [`EXAMPLE_ALGORITHMS`]: permanent
     /// algorithm 1 (flooded lead acid), no-CAN algorithm 1, a 10 s CAN
     /// hold-off, 60 s rest, battery detected from 12 V, derating from 70 to
-    /// 90 degC.
+    /// 90 degC, AC from 85 V to 270 V RMS.
     #[must_use]
     pub const fn example() -> Self {
         ChargeConfig {
@@ -53,6 +59,8 @@ impl ChargeConfig {
             battery_detect_mv: 12_000,
             derate_start_c: 70,
             derate_stop_c: 90,
+            ac_min_mv: 85_000,
+            ac_max_mv: 270_000,
         }
     }
 
@@ -63,27 +71,115 @@ impl ChargeConfig {
     }
 }
 
-/// What the power stage measures.
+/// What the power stage measures: what a real charger's input and output
+/// stages read (Delta-Q IC Series CANopen interface specification rev 2.0,
+/// section 4.4.1: the alarms and faults raised from these readings, and
+/// section 5: 2200h AC voltage, 2101h battery voltage, 2002h current).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct PowerStage {
-    /// AC (mains) present.
-    pub ac_present: bool,
-    /// Output (battery) voltage, mV.
-    pub voltage_mv: u32,
+    /// AC (mains) input voltage, RMS, mV (0: no AC). Below
+    /// [`ChargeConfig::ac_min_mv`] the charger takes AC as absent; above
+    /// [`ChargeConfig::ac_max_mv`] it raises E-0-2-3 "high AC voltage".
+    pub ac_mv: u32,
+    /// Output (battery) voltage at the terminals, mV, signed: negative
+    /// when a battery is connected the wrong way round (E-0-1-2 "reverse
+    /// polarity").
+    pub voltage_mv: i32,
     /// Output current, mA.
     pub current_ma: u32,
     /// The charger's temperature, degC.
     pub temperature_c: i16,
+    /// The hardware faults the stage's own monitoring reports (F-0-0-1 to
+    /// F-0-0-6).
+    pub faults: StageFaults,
 }
 
 impl PowerStage {
-    /// No AC, nothing on the output, 25 degC.
+    /// No AC, nothing on the output, 25 degC, no fault.
     pub const OFF: PowerStage = PowerStage {
-        ac_present: false,
+        ac_mv: 0,
         voltage_mv: 0,
         current_ma: 0,
         temperature_c: 25,
+        faults: StageFaults::empty(),
     };
+
+    /// The nominal AC input of our example charger, 230 V RMS, mV.
+    pub const AC_NOMINAL_MV: u32 = 230_000;
+
+    /// The output voltage as a battery connected the right way round
+    /// gives it, mV (0 for a reversed one).
+    #[must_use]
+    pub const fn battery_mv(&self) -> u32 {
+        if self.voltage_mv > 0 {
+            self.voltage_mv.unsigned_abs()
+        } else {
+            0
+        }
+    }
+}
+
+bitflags::bitflags! {
+    /// The power stage's hardware faults (Delta-Q IC Series CANopen
+    /// interface specification rev 2.0, section 4.4.1, faults F-0-0-1 to
+    /// F-0-0-6, EEC 5000h "CANopen device hardware"): flag bit `n` is
+    /// fault F-0-0-(`n`+1). Any of them turns the output off while it
+    /// stands.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+    pub struct StageFaults: u8 {
+        /// F-0-0-1 output stage error.
+        const OUTPUT_STAGE = 1 << 0;
+        /// F-0-0-2 input stage error.
+        const INPUT_STAGE = 1 << 1;
+        /// F-0-0-3 input stage error (the document's second input stage
+        /// code; ours: the input stage's second monitor, e.g. its PFC bus).
+        const INPUT_STAGE_2 = 1 << 2;
+        /// F-0-0-4 current measurement error.
+        const CURRENT_MEASUREMENT = 1 << 3;
+        /// F-0-0-5 DC output relay test error (high voltage across the
+        /// closed relay).
+        const RELAY = 1 << 4;
+        /// F-0-0-6 output current error.
+        const OUTPUT_CURRENT = 1 << 5;
+    }
+}
+
+impl StageFaults {
+    /// The Delta-Q fault code of a single flag (F-0-0-1 for
+    /// [`OUTPUT_STAGE`](Self::OUTPUT_STAGE), ...); `None` for no flag or
+    /// several.
+    #[must_use]
+    pub const fn code(self) -> Option<DeltaQCode> {
+        if self.bits().count_ones() == 1 {
+            Some(DeltaQCode::Fault(self.bits().trailing_zeros() as u8 + 1))
+        } else {
+            None
+        }
+    }
+
+    /// The flag of a fault's name, as a scenario or a bench names it:
+    /// `output-stage`, `input-stage`, `input-stage-2`,
+    /// `current-measurement`, `relay`, `output-current`, or its Delta-Q
+    /// label (`F-0-0-1` ...).
+    #[must_use]
+    pub fn from_label(name: &str) -> Option<Self> {
+        const NAMES: [(&str, &str, StageFaults); 6] = [
+            ("output-stage", "F-0-0-1", StageFaults::OUTPUT_STAGE),
+            ("input-stage", "F-0-0-2", StageFaults::INPUT_STAGE),
+            ("input-stage-2", "F-0-0-3", StageFaults::INPUT_STAGE_2),
+            (
+                "current-measurement",
+                "F-0-0-4",
+                StageFaults::CURRENT_MEASUREMENT,
+            ),
+            ("relay", "F-0-0-5", StageFaults::RELAY),
+            ("output-current", "F-0-0-6", StageFaults::OUTPUT_CURRENT),
+        ];
+        NAMES
+            .iter()
+            .find(|(n, l, _)| name.eq_ignore_ascii_case(n) || name.eq_ignore_ascii_case(l))
+            .map(|(_, _, f)| *f)
+    }
 }
 
 /// What the bus says (the charger's objects and its supervision).

@@ -166,8 +166,9 @@ impl ControlLink {
             o.charger_soc = status.charger_soc;
             o.elapsed_s = u32::try_from(status.elapsed.as_secs()).unwrap_or(u32::MAX);
             o.charging_current = q16(stage.current_ma, 8);
-            o.battery_voltage_q8 = q16(stage.voltage_mv, 8);
-            o.battery_voltage_q10 = q16(stage.voltage_mv, 10);
+            o.battery_voltage_q8 = q16(stage.battery_mv(), 8);
+            o.battery_voltage_q10 = q16(stage.battery_mv(), 10);
+            o.ac_voltage = q16(stage.ac_mv, 4);
         });
         while let Some(e) = self.control.poll_event() {
             device.push_event(ChargerEvent::Charge(e));

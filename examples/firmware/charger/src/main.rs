@@ -15,7 +15,7 @@
 use core::mem::MaybeUninit;
 use core::ptr::addr_of_mut;
 
-use canopen_codec::deltaq::charge::{ChargeAlgorithm, PowerStage};
+use canopen_codec::deltaq::charge::{ChargeAlgorithm, PowerStage, StageFaults};
 use canopen_codec::deltaq::{Charger, ChargerConfig, ChargerEvent};
 use canopen_codec::machine::Machine;
 use canopen_codec::{NodeId, Timestamp};
@@ -28,6 +28,8 @@ const SENSOR_CURRENT: usize = 0x4001_2400;
 const SENSOR_VOLTAGE: usize = 0x4001_2404;
 /// Sensor block: AC line voltage in 1/256 V.
 const SENSOR_AC_VOLTAGE: usize = 0x4001_2408;
+/// Sensor block: the stage's hardware fault flags (bit n: F-0-0-(n+1)).
+const SENSOR_FAULTS: usize = 0x4001_241C;
 /// Output stage: write 1 to stop charging (the EMCY policy's reaction).
 const OUTPUT_STOP: usize = 0x4001_2410;
 /// Output stage: the current set point, mA (0: output off).
@@ -113,9 +115,6 @@ fn main() -> ! {
     let mut measure_at = Timestamp::ZERO;
     loop {
         let now = clock.now();
-        charger.update(now, |o| {
-            o.ac_voltage = read_register(SENSOR_AC_VOLTAGE) as u16;
-        });
         // The contract loop (`machine::Machine`), one call a turn and the
         // queues drained after it ([`QUEUE_CAPACITY`]): the due timers
         // first (then their deadlines are ahead, so the next turn takes
@@ -131,10 +130,12 @@ fn main() -> ! {
             // Q8 (1/256) registers to milli-units.
             let milli = |register| read_register(register).saturating_mul(125) / 32;
             let stage = PowerStage {
-                ac_present: read_register(SENSOR_AC_VOLTAGE) != 0,
-                voltage_mv: milli(SENSOR_VOLTAGE),
+                ac_mv: milli(SENSOR_AC_VOLTAGE),
+                // Two's complement: a reversed battery reads negative.
+                voltage_mv: (read_register(SENSOR_VOLTAGE) as i32).saturating_mul(125) / 32,
                 current_ma: milli(SENSOR_CURRENT),
                 temperature_c: 25,
+                faults: StageFaults::from_bits_truncate(read_register(SENSOR_FAULTS) as u8),
             };
             charger.handle_power_stage(now, stage);
             let set = charger.set_points();
