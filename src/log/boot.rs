@@ -7,7 +7,10 @@
 //!
 //! The expected identity (CiA 302-2 "Network management", objects
 //! 1F84h-1F88h) is the DCF's 1000h and 1018h sub 1-4 values; a value of 0
-//! or none is not checked, as CiA 302-2 says of 0.
+//! or none is not checked, as CiA 302-2 says of 0. What a DCF has no
+//! place for, the program's options set per node ([`NodeSetting`]): the
+//! 1F81h flags mandatory and keep alive, and the software check's expected
+//! values (1F55h, 1F53h, 1F54h).
 
 use std::string::{String, ToString};
 use std::vec::Vec;
@@ -42,6 +45,27 @@ pub struct BootNode {
     pub expected: ExpectedIdentity,
     /// 1F81h bit 3.
     pub mandatory: bool,
+    /// 1F81h bit 4.
+    pub keep_alive: bool,
+}
+
+/// One setting `canopen-boot`'s options give a node beyond its DCF.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NodeSetting {
+    /// 1F81h bit 3: the network starts once it has booted.
+    Mandatory,
+    /// 1F81h bit 4: not reset at the start; found operational, it is
+    /// reported with L and left running.
+    KeepAlive,
+    /// 1F55h: its expected 1F56h sub 1 "program software identification"
+    /// (sets 1F81h bit 5).
+    SoftwareId(u32),
+    /// 1F53h: its expected 1F52h sub 1 "application software date", days
+    /// since 1 January 1984 (sets 1F81h bit 5).
+    SoftwareDate(u32),
+    /// 1F54h: its expected 1F52h sub 2 "application software time", ms
+    /// after midnight, checked with the date (sets 1F81h bit 5).
+    SoftwareTime(u32),
 }
 
 impl BootNode {
@@ -78,7 +102,29 @@ impl BootNode {
             concise,
             expected,
             mandatory: false,
+            keep_alive: false,
         })
+    }
+
+    /// Applies one setting of the program's options.
+    pub fn apply(&mut self, setting: NodeSetting) {
+        match setting {
+            NodeSetting::Mandatory => self.mandatory = true,
+            NodeSetting::KeepAlive => self.keep_alive = true,
+            NodeSetting::SoftwareId(v) => self.expected.software = v,
+            NodeSetting::SoftwareDate(v) => self.expected.software_date = v,
+            NodeSetting::SoftwareTime(v) => self.expected.software_time = v,
+        }
+    }
+
+    /// Whether a software check is configured: 1F55h, 1F53h or 1F54h
+    /// given (then 1F81h bit 5 is set; 1F54h alone is "objects for the
+    /// program check not configured", error status G, as CiA 302-2 has
+    /// it).
+    #[must_use]
+    pub const fn verifies_software(&self) -> bool {
+        let e = &self.expected;
+        e.software != 0 || e.software_date != 0 || e.software_time != 0
     }
 
     /// The manager's view of it (its 1017h, if configured, is the heartbeat
@@ -87,11 +133,47 @@ impl BootNode {
         let dcf = ConciseDcf::new_checked(&self.concise)?;
         let mut config = NodeConfig::new(self.node).with_configuration(dcf);
         config.expected = self.expected;
+        let mut assignment = SlaveAssignment::BOOTED;
         if self.mandatory {
-            config.assignment = SlaveAssignment::BOOTED.mandatory();
+            assignment = assignment.mandatory();
         }
+        if self.keep_alive {
+            assignment = assignment.keep_alive();
+        }
+        if self.verifies_software() {
+            assignment = assignment.verify_software();
+        }
+        config.assignment = assignment;
         Ok(config)
     }
+}
+
+/// Applies `settings` (node, setting) to `nodes`; a setting for a node
+/// that is not among them is an error.
+///
+/// ```
+/// use canopen_codec::log::boot::{apply_settings, BootNode, NodeSetting};
+/// use canopen_codec::NodeId;
+///
+/// let five = NodeId::new(5).unwrap();
+/// let mut nodes = [BootNode::from_dcf(five, b"").unwrap()];
+/// apply_settings(&mut nodes, [(five, NodeSetting::SoftwareDate(15_340))]).unwrap();
+/// assert!(nodes[0].verifies_software());
+/// let six = NodeId::new(6).unwrap();
+/// assert!(apply_settings(&mut nodes, [(six, NodeSetting::KeepAlive)]).is_err());
+/// ```
+pub fn apply_settings(
+    nodes: &mut [BootNode],
+    settings: impl IntoIterator<Item = (NodeId, NodeSetting)>,
+) -> Result<(), String> {
+    for (node, setting) in settings {
+        let target = nodes.iter_mut().find(|n| n.node == node);
+        let Some(target) = target else {
+            return Err(std::format!("node {node} is not one of the --node options"));
+        };
+        target.apply(setting);
+    }
+    Ok(())
 }
 
 /// The DCF's value of `index`:`sub` as a u32 (0: absent, not checked).
@@ -178,7 +260,8 @@ impl<'a> BootRun<'a> {
 /// "error", "code": "D", "reason": "...", "detail": "..."}`) and the events
 /// after it (`{"node": 5, "event": "heartbeat", "code": "E"}`, `"guarding"`
 /// with F, `"restored"`, `"start held"` for a mandatory slave that holds
-/// the network's start, `"initially operational"` with L for a keep-alive
+/// the network's start, `"boot time elapsed"` for a mandatory slave not
+/// booted when 1F89h has passed, `"initially operational"` with L for a keep-alive
 /// slave found running). Other steps have no line.
 ///
 /// ```
@@ -214,6 +297,9 @@ pub fn event_json(event: &BootEvent) -> Option<String> {
         }
         BootEvent::Restored { node } => (node, String::from(r#""event": "restored""#)),
         BootEvent::StartHeld { node } => (node, String::from(r#""event": "start held""#)),
+        BootEvent::BootTimeElapsed { node } => {
+            (node, String::from(r#""event": "boot time elapsed""#))
+        }
         BootEvent::InitiallyOperational { node } => (
             node,
             String::from(r#""event": "initially operational", "code": "L""#),

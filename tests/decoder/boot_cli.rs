@@ -3,27 +3,15 @@
 //! `--node-id` for `$NODEID`, the exit status of each failure, and `dcf`
 //! configuring an EDS for a node.
 
-use std::path::PathBuf;
-use std::process::Command;
+use crate::decoder_support::{canopen_boot, scratch};
 
 fn boot(args: &[&str]) -> (i32, Vec<u8>, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_canopen-boot"))
-        .args(args)
-        .output()
-        .unwrap();
+    let o = canopen_boot(args).output().unwrap();
     (
         o.status.code().unwrap(),
         o.stdout,
         String::from_utf8(o.stderr).unwrap(),
     )
-}
-
-/// A fresh folder for one test's files.
-fn scratch(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("canopen-boot-{test}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
 }
 
 /// Node 3: the heartbeat time (rw, 500), TPDO 1's transmission type (rw,

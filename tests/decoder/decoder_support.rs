@@ -1,5 +1,6 @@
-//! What the `canopen-decode` test files share: running the program (built
-//! by cargo for the test crate, feature `cli`) and reading its output.
+//! What the program test files share: running `canopen-decode` and
+//! `canopen-boot` (built by cargo for the test crate, feature `cli`),
+//! reading their output, and a scratch folder for their files.
 #![allow(dead_code)]
 
 use std::io::Write;
@@ -11,6 +12,22 @@ use serde_json::Value;
 /// The program, built by cargo for this test crate.
 pub fn decoder() -> PathBuf {
     PathBuf::from(env!("CARGO_BIN_EXE_canopen-decode"))
+}
+
+/// `canopen-boot` with `args`, to be run (`output()`) or spawned with
+/// pipes.
+pub fn canopen_boot(args: &[&str]) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_canopen-boot"));
+    c.args(args);
+    c
+}
+
+/// A fresh folder for one test's files (emptied if it exists).
+pub fn scratch(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("canopen-boot-{test}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
 }
 
 pub fn run(args: &[&str], stdin: Option<&str>) -> Output {

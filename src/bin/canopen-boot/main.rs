@@ -13,7 +13,7 @@ use std::process::ExitCode;
 use std::time::Duration;
 
 use canopen_codec::eds::{self, parse_int};
-use canopen_codec::log::boot::{BootNode, BootRun};
+use canopen_codec::log::boot::{apply_settings, BootNode, BootRun, NodeSetting};
 use canopen_codec::manager::{ManagerConfig, NmtStartup};
 use canopen_codec::od::{Address, ConciseDcf};
 use canopen_codec::NodeId;
@@ -47,9 +47,72 @@ struct Args {
     /// Start the nodes with one NMT command to all (1F80h bit 1).
     #[arg(long)]
     start_all: bool,
+    /// The keep-alive nodes, N,N,...: not reset at the start (1F81h bit
+    /// 4); one found operational by its heartbeat is reported with L and
+    /// left running.
+    #[arg(long, value_delimiter = ',', value_parser = node)]
+    keep_alive: Vec<NodeId>,
+    /// A node's expected program software identification, N=ID (1F55h,
+    /// compared with its 1F56h sub 1; 1F81h bit 5); repeatable.
+    #[arg(long, value_name = "N=ID", value_parser = node_u32)]
+    software_id: Vec<(NodeId, u32)>,
+    /// A node's expected application software date, N=DAYS since 1
+    /// January 1984 (1F53h, compared with its 1F52h sub 1; 1F81h bit 5).
+    #[arg(long, value_name = "N=DAYS", value_parser = node_u32)]
+    software_date: Vec<(NodeId, u32)>,
+    /// A node's expected application software time, N=MS after midnight
+    /// (1F54h, compared with its 1F52h sub 2 with the date).
+    #[arg(long, value_name = "N=MS", value_parser = node_u32)]
+    software_time: Vec<(NodeId, u32)>,
+    /// The boot time, in ms (1F89h): when it has passed with the network
+    /// not started, each mandatory node not booted is reported (0: none).
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=3_600_000))]
+    boot_time_ms: u64,
+    /// How long after error B (no answer to 1000h) a node's boot starts
+    /// again by itself, in ms (0: only at its boot-up message).
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u64).range(0..=3_600_000))]
+    retry_interval_ms: u64,
+    /// How many times an unanswered read of 1000h is tried again before B.
+    #[arg(long, default_value_t = 2)]
+    sdo_retries: u8,
     /// The SDO timeout, in ms.
     #[arg(long, default_value_t = 500, value_parser = clap::value_parser!(u64).range(1..=60_000))]
     sdo_timeout_ms: u64,
+}
+
+impl Args {
+    /// The per-node settings of the options.
+    fn settings(&self) -> Vec<(NodeId, NodeSetting)> {
+        let mut out = Vec::new();
+        out.extend(self.mandatory.iter().map(|n| (*n, NodeSetting::Mandatory)));
+        out.extend(self.keep_alive.iter().map(|n| (*n, NodeSetting::KeepAlive)));
+        let values = [
+            (
+                &self.software_id,
+                NodeSetting::SoftwareId as fn(u32) -> NodeSetting,
+            ),
+            (&self.software_date, NodeSetting::SoftwareDate),
+            (&self.software_time, NodeSetting::SoftwareTime),
+        ];
+        for (pairs, setting) in values {
+            out.extend(pairs.iter().map(|(n, v)| (*n, setting(*v))));
+        }
+        out
+    }
+
+    /// The manager's configuration (1F80h, 1F89h, the SDO times).
+    fn config(&self) -> ManagerConfig {
+        let mut startup = NmtStartup::MASTER;
+        startup.set(NmtStartup::START_ALL, self.start_all);
+        ManagerConfig {
+            startup,
+            sdo_timeout: Duration::from_millis(self.sdo_timeout_ms),
+            retries: self.sdo_retries,
+            boot_time: Duration::from_millis(self.boot_time_ms),
+            retry_interval: Duration::from_millis(self.retry_interval_ms),
+            ..ManagerConfig::default()
+        }
+    }
 }
 
 #[derive(Subcommand)]
@@ -105,6 +168,14 @@ fn setting(s: &str) -> Result<(Address, String), String> {
     Ok((Address::new(index, sub), value.to_string()))
 }
 
+/// `N=VALUE`, the value decimal or 0x hex, at most 32 bits.
+fn node_u32(s: &str) -> Result<(NodeId, u32), String> {
+    let bad = || format!("'{s}' is not N=VALUE (a node id, then a 32-bit number)");
+    let (n, v) = s.split_once('=').ok_or_else(bad)?;
+    let v = parse_int(v).and_then(|v| u32::try_from(v).ok());
+    Ok((node(n)?, v.ok_or_else(bad)?))
+}
+
 /// `N=FILE.dcf`.
 fn node_dcf(s: &str) -> Result<(NodeId, PathBuf), String> {
     let (n, file) = s
@@ -132,12 +203,7 @@ fn main() -> ExitCode {
             values,
         }) => dcf(&eds, &out, node_id, &values),
         Some(Command::Concise { dcf, out, node_id }) => concise(&dcf, &out, node_id),
-        None => manage(
-            &args.nodes,
-            &args.mandatory,
-            args.start_all,
-            args.sdo_timeout_ms,
-        ),
+        None => manage(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -190,32 +256,19 @@ fn concise(dcf: &Path, out: &Path, node_id: Option<NodeId>) -> Result<(), Failur
     Ok(())
 }
 
-/// The manager: the nodes from their DCFs, then the run until stdin closes.
-fn manage(
-    nodes: &[(NodeId, PathBuf)],
-    mandatory: &[NodeId],
-    start_all: bool,
-    sdo_timeout_ms: u64,
-) -> Result<(), Failure> {
+/// The manager: the nodes from their DCFs and the options, then the run
+/// until stdin closes.
+fn manage(args: &Args) -> Result<(), Failure> {
     let mut boot = Vec::new();
-    for (node, path) in nodes {
+    for (node, path) in &args.nodes {
         let name = path.display();
         let text = std::fs::read(path).map_err(|e| Failure(2, format!("{name}: {e}")))?;
-        let mut n =
-            BootNode::from_dcf(*node, &text).map_err(|e| Failure(1, format!("{name}: {e}")))?;
-        n.mandatory = mandatory.contains(node);
+        let n = BootNode::from_dcf(*node, &text).map_err(|e| Failure(1, format!("{name}: {e}")))?;
         boot.push(n);
     }
-    let mut startup = NmtStartup::MASTER;
-    startup.set(NmtStartup::START_ALL, start_all);
-    let config = ManagerConfig {
-        startup,
-        sdo_timeout: Duration::from_millis(sdo_timeout_ms),
-        ..ManagerConfig::default()
-    };
-    let mut run = BootRun::new(config, &boot).map_err(|e| Failure(2, e))?;
-    let failed = pipe::run(&mut run);
-    if failed {
+    apply_settings(&mut boot, args.settings()).map_err(|e| Failure(2, e))?;
+    let mut run = BootRun::new(args.config(), &boot).map_err(|e| Failure(2, e))?;
+    if pipe::run(&mut run) {
         return Err(Failure(1, "a node's boot ended in an error".into()));
     }
     Ok(())
