@@ -37,7 +37,7 @@ mod scenario;
 mod session;
 
 pub use bms::{BmsPolicy, BmsRequest};
-pub use pack::{Pack, PackError, PackSpec};
+pub use pack::{cell_model, CellModel, Pack, PackError, PackSpec};
 pub use power_stage::PowerStageModel;
 pub use scenario::{Scenario, ScenarioOptions};
 pub use session::{

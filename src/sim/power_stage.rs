@@ -181,7 +181,7 @@ mod tests {
             (s.current_a - 1500.0 / p.rest_voltage()).abs() < 1e-9,
             "power-limited"
         );
-        let v = p.rest_voltage() + 0.144 * 5.0;
+        let v = p.terminal_voltage(5.0);
         s.step(
             1.0,
             SetPoints {
