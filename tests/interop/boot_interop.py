@@ -38,6 +38,7 @@ import tempfile
 
 import canopen
 from canopen.objectdictionary import ODVariable
+from edstext import comm_objects
 from pipebus import Cases
 
 CASES = Cases()
@@ -48,7 +49,7 @@ WRITABLE = ("rw", "wo", "rwr", "rww")
 
 # A device the project has never described: CiA 306 text as a vendor tool
 # writes it (CRLF, hex and decimal numbers, $NODEID sums).
-PUMP_EDS = """[FileInfo]
+PUMP_EDS = ("""[FileInfo]
 FileName=px20.eds
 FileVersion=1
 EDSVersion=4.0
@@ -91,53 +92,7 @@ SupportedObjects=8
 7=0x2006
 8=0x2007
 
-[1000]
-ParameterName=Device type
-DataType=0x0007
-AccessType=ro
-DefaultValue=0x00000191
-
-[1001]
-ParameterName=Error register
-DataType=0x0005
-AccessType=ro
-DefaultValue=0
-
-[1017]
-ParameterName=Producer heartbeat time
-DataType=0x0006
-AccessType=rw
-DefaultValue=0
-
-[1018]
-ParameterName=Identity object
-ObjectType=0x9
-SubNumber=4
-
-[1018sub0]
-ParameterName=Highest sub-index supported
-DataType=0x0005
-AccessType=const
-DefaultValue=3
-
-[1018sub1]
-ParameterName=Vendor-ID
-DataType=0x0007
-AccessType=ro
-DefaultValue=0x00004A43
-
-[1018sub2]
-ParameterName=Product code
-DataType=0x0007
-AccessType=ro
-DefaultValue=0x20
-
-[1018sub3]
-ParameterName=Revision number
-DataType=0x0007
-AccessType=ro
-DefaultValue=0x00010002
-
+""" + comm_objects(0x191, 0x4A43, 0x20, 0x00010002, "const") + """
 [1400]
 ParameterName=RPDO 1 communication parameter
 ObjectType=0x9
@@ -279,7 +234,7 @@ ParameterName=Left at its default
 DataType=0x0005
 AccessType=rw
 DefaultValue=3
-""".replace("\n", "\r\n")
+""").replace("\n", "\r\n")
 
 NODE = 5
 # (index, sub, text for --set, the value python-canopen must read)

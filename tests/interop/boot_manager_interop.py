@@ -13,7 +13,12 @@ B. node 6 has another vendor-ID than its DCF: refused with letter D, not
    configured, not started;
 C. node 7 has another device type: refused with letter C;
 D. node 8 is absent: letter B after the retries;
-E. node 5's heartbeat stops: `{"node": 5, "event": "heartbeat", "code": "E"}`.
+E. node 5's heartbeat stops: `{"node": 5, "event": "heartbeat", "code": "E"}`;
+F. nodes 9 and 10 describe their application software's date and time in
+   1F52h (CiA 302-3) and the manager checks them (`--software-date`,
+   `--software-time`: 1F53h, 1F54h): node 9's match, it is configured and
+   started; node 10's date differs, it is refused with letter H, not
+   configured.
 
 The LocalNodes boot as CiA 301 devices do: on an NMT reset (to them or to
 all) they send their boot-up message and enter pre-operational.
@@ -30,6 +35,7 @@ import tempfile
 import time
 
 import canopen
+from edstext import comm_objects, software_stamp
 from pipebus import Cases, PipeBus, wait_until
 
 CASES = Cases()
@@ -62,53 +68,7 @@ SupportedObjects=2
 1=0x2000
 2=0x2001
 
-[1000]
-ParameterName=Device type
-DataType=0x0007
-AccessType=ro
-DefaultValue=0x00000194
-
-[1001]
-ParameterName=Error register
-DataType=0x0005
-AccessType=ro
-DefaultValue=0
-
-[1017]
-ParameterName=Producer heartbeat time
-DataType=0x0006
-AccessType=rw
-DefaultValue=0
-
-[1018]
-ParameterName=Identity object
-ObjectType=0x9
-SubNumber=4
-
-[1018sub0]
-ParameterName=Highest sub-index supported
-DataType=0x0005
-AccessType=ro
-DefaultValue=3
-
-[1018sub1]
-ParameterName=Vendor-ID
-DataType=0x0007
-AccessType=ro
-DefaultValue=0x00004A44
-
-[1018sub2]
-ParameterName=Product code
-DataType=0x0007
-AccessType=ro
-DefaultValue=0x07
-
-[1018sub3]
-ParameterName=Revision number
-DataType=0x0007
-AccessType=ro
-DefaultValue=0x00020001
-
+""" + comm_objects(0x194, 0x4A44, 0x07, 0x00020001) + """
 [2000]
 ParameterName=Opening time
 DataType=0x0007
@@ -121,6 +81,17 @@ DataType=0x0006
 AccessType=rw
 DefaultValue=0
 """
+
+
+# The application software's date (days since 1984) and time (ms after
+# midnight) nodes 9 and 10 are expected to have.
+SW_DATE = 15340
+SW_TIME = 43200000
+
+# The valve with its application software's stamp in 1F52h.
+VALVE_SW_EDS = VALVE_EDS.replace(
+    "SupportedObjects=1\n1=0x1017\n", "SupportedObjects=2\n1=0x1017\n2=0x1F52\n"
+) + "\n" + software_stamp(SW_DATE, SW_TIME)
 
 
 def local_node(network, node_id, eds_path, changes):
@@ -148,13 +119,19 @@ def main():
     eds_path = os.path.join(tmp, "vc7.eds")
     with open(eds_path, "w") as f:
         f.write(VALVE_EDS)
+    sw_eds_path = os.path.join(tmp, "vc7sw.eds")
+    with open(sw_eds_path, "w") as f:
+        f.write(VALVE_SW_EDS)
     args = [boot]
-    for n in (5, 6, 7, 8):
+    for n in (5, 6, 7, 8, 9, 10):
         dcf = os.path.join(tmp, f"node{n}.dcf")
-        subprocess.run([boot, "dcf", eds_path, dcf, "--node-id", str(n),
+        eds = sw_eds_path if n in (9, 10) else eds_path
+        subprocess.run([boot, "dcf", eds, dcf, "--node-id", str(n),
                         "--set", "1017=100", "--set", "2000=0x12345678",
                         "--set", "2001=750"], check=True, capture_output=True)
         args += ["--node", f"{n}={dcf}"]
+    for n in (9, 10):
+        args += ["--software-date", f"{n}={SW_DATE}", "--software-time", f"{n}={SW_TIME}"]
     args += ["--sdo-timeout-ms", "200"]
 
     bus = PipeBus(args)
@@ -162,6 +139,8 @@ def main():
     ok_node = local_node(network, 5, eds_path, {})
     vendor = local_node(network, 6, eds_path, {(0x1018, 1): 0x99})
     devtype = local_node(network, 7, eds_path, {(0x1000, 0): 0x195})
+    dated = local_node(network, 9, sw_eds_path, {})
+    misdated = local_node(network, 10, sw_eds_path, {(0x1F52, 1): SW_DATE + 1})
     # Connected once the nodes listen: the manager's first frames (its NMT
     # resets) wait in the pipe until then, so every node sees its reset.
     network.connect()
@@ -175,7 +154,7 @@ def main():
         return out
 
     # A-D: every boot ends (B takes the 1 s boot-up wait and three reads).
-    wait_until(lambda: len(results()) == 4, 10)
+    wait_until(lambda: len(results()) == 6, 10)
     r = results()
     check("A: node 5 operational", r.get(5, [{}])[0].get("result") == "operational", r.get(5))
     check("A: node 5 configured (2000h, 2001h)",
@@ -191,6 +170,18 @@ def main():
               (node.sdo[0x2000].raw, node.nmt.state))
     first = r.get(8, [{}])[0]
     check("D: absent node 8 is B", first.get("code") == "B", first)
+    check("F: node 9's software date and time match: operational",
+          r.get(9, [{}])[0].get("result") == "operational", r.get(9))
+    check("F: node 9 configured and started",
+          dated.sdo[0x2000].raw == 0x12345678 and dated.nmt.state == "OPERATIONAL",
+          (dated.sdo[0x2000].raw, dated.nmt.state))
+    first = r.get(10, [{}])[0]
+    check("F: node 10's software date differs: H",
+          first.get("result") == "error" and first.get("code") == "H"
+          and "1F52h:01" in first.get("detail", ""), first)
+    check("F: node 10 neither configured nor started",
+          misdated.sdo[0x2000].raw == 0 and misdated.nmt.state != "OPERATIONAL",
+          (misdated.sdo[0x2000].raw, misdated.nmt.state))
 
     # E: node 5 goes silent.
     ok_node.nmt.stop_heartbeat()
