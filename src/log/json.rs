@@ -16,8 +16,10 @@ use std::prelude::rust_2021::*;
 
 use crate::cob_id::{classify, CobKind};
 use crate::lss::{LssInquiry, LssMessage, LssRequest, LssResponse};
+use crate::od::Address;
 use crate::pdo::{FieldValue, NamedFields};
-use crate::sdo::{ClientCommand, InitiatePayload, ServerCommand};
+use crate::sdo::wire::view::{BlockView, CommandView, Names, CLIENT_NAMES, SERVER_NAMES};
+use crate::sdo::InitiatePayload;
 use crate::Message;
 
 use crate::log::mappings::Source;
@@ -311,8 +313,8 @@ fn fields(out: &mut String, msg: &Message, roles: &Roles, guard_reply: bool) {
                 pdo.raw()
             );
         }
-        Message::SdoRequest { sdo, .. } => client(out, &sdo.command),
-        Message::SdoResponse { sdo, .. } => server(out, &sdo.command),
+        Message::SdoRequest { sdo, .. } => sdo_command(out, sdo.command.view(), &CLIENT_NAMES),
+        Message::SdoResponse { sdo, .. } => sdo_command(out, sdo.command.view(), &SERVER_NAMES),
         Message::Heartbeat { heartbeat, .. } => {
             key(out, "state");
             display(out, &heartbeat.state);
@@ -450,15 +452,15 @@ fn toggle_command(out: &mut String, name: &str, toggle: bool) {
     let _ = write!(out, ",\"toggle\":{toggle}");
 }
 
-fn multiplexer(out: &mut String, name: &str, index: u16, sub: u8) {
+fn multiplexer(out: &mut String, name: &str, at: Address) {
     command(out, name);
-    let _ = write!(out, ",\"index\":{index},\"sub\":{sub}");
+    let _ = write!(out, ",\"index\":{},\"sub\":{}", at.index, at.sub);
 }
 
 /// An initiate that carries a payload (a download request, an upload
 /// response): its multiplexer, then expedited data or the size.
-fn initiate(out: &mut String, name: &str, index: u16, sub: u8, p: &InitiatePayload) {
-    multiplexer(out, name, index, sub);
+fn initiate(out: &mut String, name: &str, at: Address, p: &InitiatePayload) {
+    multiplexer(out, name, at);
     match p {
         InitiatePayload::Expedited {
             data,
@@ -483,8 +485,8 @@ fn initiate(out: &mut String, name: &str, index: u16, sub: u8, p: &InitiatePaylo
     }
 }
 
-fn abort(out: &mut String, index: u16, sub: u8, code: crate::abort::AbortCode) {
-    multiplexer(out, "abort", index, sub);
+fn abort(out: &mut String, at: Address, code: crate::abort::AbortCode) {
+    multiplexer(out, "abort", at);
     let _ = write!(out, ",\"abort_code\":{}", code.to_u32());
     key(out, "abort_meaning");
     string(out, code.description());
@@ -497,43 +499,21 @@ fn segment(out: &mut String, name: &str, s: &crate::sdo::Segment) {
     hex_string(out, s.data.as_slice());
 }
 
-fn client(out: &mut String, c: &ClientCommand) {
-    match c {
-        ClientCommand::DownloadSegment(s) => segment(out, "download_segment", s),
-        ClientCommand::InitiateDownload {
-            index,
-            sub,
-            payload,
-        } => initiate(out, "initiate_download", *index, *sub, payload),
-        ClientCommand::InitiateUpload { index, sub } => {
-            multiplexer(out, "initiate_upload", *index, *sub)
+/// One command of either side, `names` naming the side's shapes.
+fn sdo_command(out: &mut String, view: CommandView<'_>, names: &Names) {
+    match view {
+        CommandView::Segment(s) => segment(out, names.segment.json, s),
+        CommandView::Toggle(t) => toggle_command(out, names.toggle.json, t),
+        CommandView::InitiateData(at, p) => initiate(out, names.initiate_data.json, at, p),
+        CommandView::Initiate(at) => multiplexer(out, names.initiate.json, at),
+        CommandView::Abort(at, code) => abort(out, at, code),
+        CommandView::Block(BlockView::ClientUpload(_) | BlockView::ServerUpload(_)) => {
+            command(out, "block_upload")
         }
-        ClientCommand::UploadSegment { toggle } => toggle_command(out, "upload_segment", *toggle),
-        ClientCommand::Abort { index, sub, code } => abort(out, *index, *sub, *code),
-        ClientCommand::BlockUpload(_) => command(out, "block_upload"),
-        ClientCommand::BlockDownload(_) => command(out, "block_download"),
-        ClientCommand::Unknown(_) => command(out, "invalid"),
-    }
-}
-
-fn server(out: &mut String, c: &ServerCommand) {
-    match c {
-        ServerCommand::UploadSegment(s) => segment(out, "upload_segment", s),
-        ServerCommand::DownloadSegment { toggle } => {
-            toggle_command(out, "download_segment_ack", *toggle)
+        CommandView::Block(BlockView::ClientDownload(_) | BlockView::ServerDownload(_)) => {
+            command(out, "block_download")
         }
-        ServerCommand::InitiateUpload {
-            index,
-            sub,
-            payload,
-        } => initiate(out, "initiate_upload_response", *index, *sub, payload),
-        ServerCommand::InitiateDownload { index, sub } => {
-            multiplexer(out, "initiate_download_response", *index, *sub)
-        }
-        ServerCommand::Abort { index, sub, code } => abort(out, *index, *sub, *code),
-        ServerCommand::BlockDownload(_) => command(out, "block_download"),
-        ServerCommand::BlockUpload(_) => command(out, "block_upload"),
-        ServerCommand::Unknown(_) => command(out, "invalid"),
+        CommandView::Unknown(_) => command(out, "invalid"),
     }
 }
 

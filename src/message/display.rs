@@ -6,6 +6,8 @@ use core::fmt;
 use crate::bytes::InlineData;
 use crate::message::Message;
 use crate::nmt::NmtTarget;
+use crate::od::Address;
+use crate::sdo::wire::view::{BlockView, CommandView, Names, CLIENT_NAMES, SERVER_NAMES};
 use crate::sdo::{
     BlockDataCommand, ClientBlockUpload, ClientCommand, InitiatePayload, Segment,
     ServerBlockDownload, ServerCommand,
@@ -78,7 +80,7 @@ fn payload(f: &mut fmt::Formatter<'_>, p: &InitiatePayload) -> fmt::Result {
 fn segment(f: &mut fmt::Formatter<'_>, what: &str, s: &Segment) -> fmt::Result {
     write!(
         f,
-        "{what} segment t={}, {} bytes: {}{}",
+        "{what} t={}, {} bytes: {}{}",
         u8::from(s.toggle),
         s.data.len(),
         s.data,
@@ -117,89 +119,70 @@ fn block_data(
     }
 }
 
+/// One command of either side in words, `words` naming the side's shapes.
+fn command(f: &mut fmt::Formatter<'_>, view: CommandView<'_>, words: &Names) -> fmt::Result {
+    match view {
+        CommandView::Segment(s) => segment(f, words.segment.text, s),
+        CommandView::Toggle(t) => write!(f, "{} t={}", words.toggle.text, u8::from(t)),
+        CommandView::InitiateData(at, p) => {
+            write!(f, "{} {at}, ", words.initiate_data.text)?;
+            payload(f, p)
+        }
+        CommandView::Initiate(at) => {
+            let (before, after) = (words.initiate.text, words.initiate_after);
+            write!(f, "{before} {at}{after}")
+        }
+        CommandView::Abort(at, code) => write!(f, "abort {at}: {code}"),
+        CommandView::Block(b) => block(f, b),
+        CommandView::Unknown(b) => write!(f, "invalid command specifier {b:02X}h"),
+    }
+}
+
+/// A block transfer command in words.
+fn block(f: &mut fmt::Formatter<'_>, b: BlockView<'_>) -> fmt::Result {
+    match b {
+        BlockView::ClientUpload(ClientBlockUpload::Initiate(i)) => write!(
+            f,
+            "initiate block upload {}, blksize {}, pst {}, crc {}",
+            Address::new(i.index, i.sub),
+            i.blksize,
+            i.pst,
+            yes_no(i.crc)
+        ),
+        BlockView::ClientUpload(ClientBlockUpload::Start) => f.write_str("block upload start"),
+        BlockView::ClientUpload(ClientBlockUpload::Ack { ackseq, blksize }) => {
+            write!(f, "block upload ack seq {ackseq}, blksize {blksize}")
+        }
+        BlockView::ClientUpload(ClientBlockUpload::End) => f.write_str("block upload end"),
+        BlockView::ClientDownload(c) => {
+            block_data(f, c, "initiate block download", "block download end")
+        }
+        BlockView::ServerDownload(ServerBlockDownload::Initiate(a)) => write!(
+            f,
+            "block download {} accepted, blksize {}, crc {}",
+            Address::new(a.index, a.sub),
+            a.blksize,
+            yes_no(a.crc)
+        ),
+        BlockView::ServerDownload(ServerBlockDownload::Ack { ackseq, blksize }) => {
+            write!(f, "block download ack seq {ackseq}, blksize {blksize}")
+        }
+        BlockView::ServerDownload(ServerBlockDownload::End) => {
+            f.write_str("block download end acknowledged")
+        }
+        BlockView::ServerUpload(c) => block_data(f, c, "block upload", "block upload end"),
+    }
+}
+
 impl fmt::Display for ClientCommand {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ClientCommand::DownloadSegment(s) => segment(f, "download", s),
-            ClientCommand::InitiateDownload {
-                index,
-                sub,
-                payload: p,
-            } => {
-                write!(f, "initiate download {index:04X}h sub {sub}, ")?;
-                payload(f, p)
-            }
-            ClientCommand::InitiateUpload { index, sub } => {
-                write!(f, "initiate upload {index:04X}h sub {sub}")
-            }
-            ClientCommand::UploadSegment { toggle } => {
-                write!(f, "upload segment request t={}", u8::from(*toggle))
-            }
-            ClientCommand::Abort { index, sub, code } => {
-                write!(f, "abort {index:04X}h sub {sub}: {code}")
-            }
-            ClientCommand::BlockUpload(b) => match b {
-                ClientBlockUpload::Initiate(i) => write!(
-                    f,
-                    "initiate block upload {:04X}h sub {}, blksize {}, pst {}, crc {}",
-                    i.index,
-                    i.sub,
-                    i.blksize,
-                    i.pst,
-                    yes_no(i.crc)
-                ),
-                ClientBlockUpload::Start => f.write_str("block upload start"),
-                ClientBlockUpload::Ack { ackseq, blksize } => {
-                    write!(f, "block upload ack seq {ackseq}, blksize {blksize}")
-                }
-                ClientBlockUpload::End => f.write_str("block upload end"),
-            },
-            ClientCommand::BlockDownload(b) => {
-                block_data(f, b, "initiate block download", "block download end")
-            }
-            ClientCommand::Unknown(b) => write!(f, "invalid command specifier {b:02X}h"),
-        }
+        command(f, self.view(), &CLIENT_NAMES)
     }
 }
 
 impl fmt::Display for ServerCommand {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            ServerCommand::UploadSegment(s) => segment(f, "upload", s),
-            ServerCommand::DownloadSegment { toggle } => {
-                write!(f, "download segment ack t={}", u8::from(*toggle))
-            }
-            ServerCommand::InitiateUpload {
-                index,
-                sub,
-                payload: p,
-            } => {
-                write!(f, "upload {index:04X}h sub {sub}, ")?;
-                payload(f, p)
-            }
-            ServerCommand::InitiateDownload { index, sub } => {
-                write!(f, "download {index:04X}h sub {sub} acknowledged")
-            }
-            ServerCommand::Abort { index, sub, code } => {
-                write!(f, "abort {index:04X}h sub {sub}: {code}")
-            }
-            ServerCommand::BlockDownload(b) => match b {
-                ServerBlockDownload::Initiate(a) => write!(
-                    f,
-                    "block download {:04X}h sub {} accepted, blksize {}, crc {}",
-                    a.index,
-                    a.sub,
-                    a.blksize,
-                    yes_no(a.crc)
-                ),
-                ServerBlockDownload::Ack { ackseq, blksize } => {
-                    write!(f, "block download ack seq {ackseq}, blksize {blksize}")
-                }
-                ServerBlockDownload::End => f.write_str("block download end acknowledged"),
-            },
-            ServerCommand::BlockUpload(b) => block_data(f, b, "block upload", "block upload end"),
-            ServerCommand::Unknown(b) => write!(f, "invalid command specifier {b:02X}h"),
-        }
+        command(f, self.view(), &SERVER_NAMES)
     }
 }
 

@@ -104,7 +104,7 @@ mod observer;
 mod program_download;
 mod rules;
 mod server;
-mod wire;
+pub(crate) mod wire;
 
 pub use crate::abort::{AbortCode, ALL_ABORT_CODES};
 pub use client::{Client, ClientConfig, ClientError, ClientEvent};

@@ -41,6 +41,7 @@ use crate::wire::Codec;
 mod block;
 mod request;
 mod response;
+pub(crate) mod view;
 
 pub use block::{
     BlockDataCommand, BlockDataInitiate, BlockSegment, ClientBlockDownload, ServerBlockUpload,
