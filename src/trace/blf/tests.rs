@@ -199,28 +199,29 @@ fn frames_of_a_stored_container_whatever_the_chunks() {
     let whole = read(&file, file.len());
     assert_eq!(whole.end, Ok(()));
     assert_eq!(whole.errors, []);
-    let f = &whole.frames;
-    assert_eq!(f.len(), 3);
-    assert_eq!(f[0].frame, frame(CanId::Standard(0x18A), &[0x74, 0x13]));
+    // A frame `us` after the start, on `channel`.
+    let at = |us: u64, channel: u16, direction: RxTx, frame: CanFrame| BlfFrame {
+        timestamp: Some(Timestamp::from_micros(START_US + us)),
+        channel,
+        direction,
+        frame,
+    };
+    let extended = frame(CanId::Extended(0x1234_5678), &[1, 2, 3, 4, 5, 6, 7, 8]);
+    let remote = CanFrame::remote(CanId::Standard(0x70A), 1).unwrap();
     assert_eq!(
-        f[0].timestamp,
-        Some(Timestamp::from_micros(START_US + 1_500_000))
+        whole.frames,
+        [
+            at(
+                1_500_000,
+                1,
+                RxTx::Rx,
+                frame(CanId::Standard(0x18A), &[0x74, 0x13])
+            ),
+            at(1_500_011, 2, RxTx::Tx, extended),
+            at(2_000_000, 1, RxTx::Rx, remote),
+        ]
     );
-    assert_eq!((f[0].channel, f[0].direction), (1, RxTx::Rx));
-    assert_eq!(
-        f[1].frame,
-        frame(CanId::Extended(0x1234_5678), &[1, 2, 3, 4, 5, 6, 7, 8])
-    );
-    assert_eq!(
-        f[1].timestamp,
-        Some(Timestamp::from_micros(START_US + 1_500_011))
-    );
-    assert_eq!((f[1].channel, f[1].direction), (2, RxTx::Tx));
-    assert_eq!(
-        f[2].frame,
-        CanFrame::remote(CanId::Standard(0x70A), 1).unwrap()
-    );
-    assert_eq!(f[2].trace_frame().direction, Some(RxTx::Rx));
+    assert_eq!(whole.frames[2].trace_frame().direction, Some(RxTx::Rx));
     match whole.others[0] {
         BlfEvent::Header(h) => {
             assert_eq!(
@@ -459,18 +460,82 @@ fn lying_sizes_are_typed_errors() {
         o[at..at + bytes.len()].copy_from_slice(bytes);
         in_container(&o)
     };
-    // Object size below its header, or below the base header.
-    assert_eq!(
-        read(&with(8, &20u32.to_le_bytes()), 99).end,
-        Err(BlfError::ObjectSmallerThanHeader {
-            object_size: 20,
-            header_size: 32
-        })
-    );
-    assert!(matches!(
-        read(&with(8, &3u32.to_le_bytes()), 99).end,
-        Err(BlfError::ObjectSmallerThanHeader { .. })
-    ));
+    // A file of one container holding `payload`, declaring `declared`.
+    let file_of = |method: u16, payload: &[u8], declared: usize| {
+        let mut f = header(true);
+        f.extend(container(method, payload, declared));
+        f
+    };
+    let short_container = {
+        let mut c = container(0, &[], 0);
+        c[8..12].copy_from_slice(&20u32.to_le_bytes());
+        let mut f = header(true);
+        f.extend(c);
+        f
+    };
+    let short_header = {
+        let mut f = header(true);
+        f[4..8].copy_from_slice(&71u32.to_le_bytes());
+        f
+    };
+    // The errors that end the reading: (what, file, the end it reads to).
+    let fatal = [
+        (
+            "object size below its header",
+            with(8, &20u32.to_le_bytes()),
+            BlfError::ObjectSmallerThanHeader {
+                object_size: 20,
+                header_size: 32,
+            },
+        ),
+        (
+            "object size below the base header",
+            with(8, &3u32.to_le_bytes()),
+            BlfError::ObjectSmallerThanHeader {
+                object_size: 3,
+                header_size: 32,
+            },
+        ),
+        (
+            "object size past its container and the file",
+            with(8, &4000u32.to_le_bytes()),
+            BlfError::Truncated("an object"),
+        ),
+        (
+            "no LOBJ where an object begins",
+            with(0, b"LOBX"),
+            BlfError::BadSignature {
+                offset: 3,
+                in_container: true,
+            },
+        ),
+        (
+            "a stored size that is not the payload's",
+            file_of(0, &message, 47),
+            BlfError::StoredSizeMismatch {
+                payload: 48,
+                declared: 47,
+            },
+        ),
+        (
+            "an unknown compression method",
+            file_of(1, &message, 48),
+            BlfError::UnknownCompression { method: 1 },
+        ),
+        (
+            "a container too short for its header",
+            short_container,
+            BlfError::ContainerTooShort { object_size: 20 },
+        ),
+        (
+            "a file header size below its fields",
+            short_header,
+            BlfError::FileHeaderSize { header_size: 71 },
+        ),
+    ];
+    for (what, file, end) in fatal {
+        assert_eq!(read(&file, 99).end, Err(end), "{what}");
+    }
     // Header size below its version's fields: the object is skipped.
     let out = read(&with(4, &20u16.to_le_bytes()), 99);
     assert_eq!(
@@ -481,11 +546,6 @@ fn lying_sizes_are_typed_errors() {
         }]
     );
     assert_eq!(out.end, Ok(()));
-    // An object size past its container and the file: truncated.
-    assert_eq!(
-        read(&with(8, &4000u32.to_le_bytes()), 99).end,
-        Err(BlfError::Truncated("an object"))
-    );
     // A CAN message too short for its fields: skipped, reading goes on.
     let mut short = object(1, 1, NS, 0, &[0; 8]);
     short.extend(message.clone());
@@ -501,46 +561,6 @@ fn lying_sizes_are_typed_errors() {
     // An 11-bit identifier above 7FFh: skipped, reading goes on.
     let out = read(&with(36, &0x800u32.to_le_bytes()), 5);
     assert_eq!(out.errors, [BlfError::BadId { raw: 0x800 }]);
-    // No LOBJ where an object begins.
-    assert_eq!(
-        read(&with(0, b"LOBX"), 99).end,
-        Err(BlfError::BadSignature {
-            offset: 3,
-            in_container: true
-        })
-    );
-    // Containers: a stored size that is not the payload's, unknown methods,
-    // too short for their header.
-    let mut f = header(true);
-    f.extend(container(0, &message, 47));
-    assert_eq!(
-        read(&f, 99).end,
-        Err(BlfError::StoredSizeMismatch {
-            payload: 48,
-            declared: 47
-        })
-    );
-    let mut f = header(true);
-    f.extend(container(1, &message, 48));
-    assert_eq!(
-        read(&f, 99).end,
-        Err(BlfError::UnknownCompression { method: 1 })
-    );
-    let mut f = header(true);
-    let mut c = container(0, &[], 0);
-    c[8..12].copy_from_slice(&20u32.to_le_bytes());
-    f.extend(c);
-    assert_eq!(
-        read(&f, 99).end,
-        Err(BlfError::ContainerTooShort { object_size: 20 })
-    );
-    // The file header.
-    let mut f = header(true);
-    f[4..8].copy_from_slice(&71u32.to_le_bytes());
-    assert_eq!(
-        read(&f, 99).end,
-        Err(BlfError::FileHeaderSize { header_size: 71 })
-    );
     assert_eq!(read(b"LOGX and more", 2).end, Err(BlfError::NotBlf));
     assert_eq!(read(b"", 2).end, Err(BlfError::NotBlf));
     // A fatal error stays.
