@@ -77,7 +77,10 @@ impl<'o> Decoding<'o> {
             summary: summary::Summary::with_bitrate(opts.bitrate),
             // The report's page starts with the summary: collected for either.
             collect: opts.summary || opts.report.is_some(),
-            page: opts.report.as_ref().map(|_| report::Collector::default()),
+            page: opts
+                .report
+                .as_ref()
+                .map(|_| report::Collector::with_bitrate(opts.bitrate)),
             bad: 0,
             text,
             times: time_column::TimeColumn::new(if opts.json || opts.csv { 0 } else { 10 }),
@@ -146,7 +149,10 @@ impl<'o> Decoding<'o> {
         } = self;
         let (opts, collect) = (*opts, *collect);
         if collect {
-            summary.bus_frame(parsed.timestamp, &parsed.frame);
+            let bits = summary.bus_frame(parsed.timestamp, &parsed.frame);
+            if let Some(page) = page.as_mut() {
+                page.bus_frame(parsed.timestamp, &parsed.frame, bits);
+            }
         }
         // The SDO observer first: a frame on a declared SDO channel is SDO,
         // and a block transfer's sub-block segment is no command.
@@ -217,6 +223,7 @@ impl<'o> Decoding<'o> {
         let seen = decoded.as_ref().ok().map(|msg| Decoded {
             t: parsed.timestamp,
             cob_id: parsed.frame.id().raw(),
+            frame: &parsed.frame,
             msg,
             guard_reply,
             roles,

@@ -111,6 +111,8 @@ pub struct Decoded<'a> {
     pub t: Option<Timestamp>,
     /// Its identifier.
     pub cob_id: u32,
+    /// The frame itself.
+    pub frame: &'a CanFrame,
     /// What it carries.
     pub msg: &'a Message,
     /// A heartbeat-shaped frame that answers a node-guarding request (CiA
@@ -167,6 +169,7 @@ impl Summary {
             msg,
             guard_reply,
             roles,
+            ..
         } = *seen;
         let t = t.or(self.last).unwrap_or(Timestamp::ZERO);
         self.first.get_or_insert(t);

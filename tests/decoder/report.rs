@@ -184,3 +184,76 @@ fn a_long_log_gives_a_small_page_with_every_sample_counted() {
     assert_eq!(boot_ups as u64, 2 * copies);
     assert!(page.len() < 1_500_000, "{} bytes", page.len());
 }
+
+/// A foreign trace (no role, no mapping): the report plots the bus load
+/// per 1-second window, each node's frames per second and the raw bytes
+/// of the PDO no mapping names; a node only addressed by NMT has no row.
+#[test]
+fn a_foreign_trace_plots_its_traffic_and_lists_only_nodes_heard() {
+    // NMT resets node 5, which never sends; node 6 sends TPDO1 (no
+    // mapping) and a heartbeat.
+    let log = "(1.000000) can0 000#8105\n(1.100000) can0 186#0102\n(1.500000) can0 186#0304\n\
+               (2.200000) can0 186#05\n(2.300000) can0 706#05\n";
+    let (_, data, _) = report(&[], Some(log), "foreign");
+    let rows: Vec<(&str, usize)> = data["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| {
+            (
+                r["label"].as_str().unwrap(),
+                r["marks"].as_array().unwrap().len(),
+            )
+        })
+        .collect();
+    // The reset of node 5 is drawn on the bus row.
+    assert_eq!(rows, [("bus (NMT)", 1), ("node 6", 0)]);
+    let plots = data["plots"].as_array().unwrap();
+    let labels: Vec<&str> = plots.iter().map(|p| p["label"].as_str().unwrap()).collect();
+    assert_eq!(
+        labels,
+        [
+            "bus load per 1-second window (aligned to the first frame) at 250000 bit/s [%]",
+            "frames of no node (NMT, SYNC, TIME, other identifiers) per second (1 in all)",
+            "node 6 frames per second (4 in all)",
+            "186h byte 0 (no mapping) [raw]",
+            "186h byte 1 (no mapping) [raw]",
+        ]
+    );
+    let points = |i: usize| -> Vec<(f64, f64)> {
+        let p = &plots[i];
+        let t = p["t"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap());
+        let v = p["v"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap());
+        t.zip(v).collect()
+    };
+    assert_eq!(points(1), [(0.0, 1.0)]);
+    assert_eq!(points(2), [(0.0, 2.0), (1.0, 2.0)]);
+    assert_eq!(points(3), [(0.1, 1.0), (0.5, 3.0), (1.2, 5.0)]);
+    assert_eq!(points(4), [(0.1, 2.0), (0.5, 4.0)]);
+    // The bus load plot holds every frame's bits: as many as the summary
+    // counts, and its busiest window is the summary's peak.
+    let o = run(&["--summary-only", "--json"], Some(log));
+    let lines = json_lines(&o);
+    let bus = &lines.iter().find(|l| l["kind"] == "summary").unwrap()["bus_load"];
+    let bits: u64 = bus["cob_ids"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["bits"].as_u64().unwrap())
+        .sum();
+    let load = points(0);
+    assert_eq!(load.len(), 2);
+    let plotted: f64 = load.iter().map(|(_, v)| v * 250_000.0 / 100.0).sum();
+    assert!((plotted - bits as f64).abs() < 1e-6, "{plotted} {bits}");
+    let peak = load.iter().map(|(_, v)| *v).fold(0.0, f64::max);
+    let want = bus["peak_window"]["bus_load_percent"].as_f64().unwrap();
+    assert!((peak - want).abs() < 1e-9, "{peak} {want}");
+}

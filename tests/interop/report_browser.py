@@ -11,6 +11,11 @@ script publishes what it drew on <body data-*>. The test checks
     distinct (COB-ID, index, sub-index) fields with a value that
     `canopen-decode --json` gives for the same log (an independent path
     through the decoder's JSON writer);
+  * it drew one traffic plot per plot in the page's data (the bus load per
+    1-second window, frames per second per node, the raw bytes of PDOs
+    without a mapping), a bus-load plot among them, and on a foreign trace
+    (--generated: random frames on random identifiers, no PDO mapping)
+    more than one plot in all;
   * it drew every timeline mark (past a row's cap, counted on the page as
     not drawn), and their number equals what `--json --summary` shows: boot-ups, EMCYs (error resets included), NMT
     commands, SDO transfers, node-guarding requests and heartbeat
@@ -21,7 +26,7 @@ script publishes what it drew on <body data-*>. The test checks
 and keeps a screenshot of each page in target/report-screenshots/ (a CI
 artifact).
 
-Usage: report_browser.py DECODER CHROMIUM OUTDIR [--bundled] [LOG ...]
+Usage: report_browser.py DECODER CHROMIUM OUTDIR [--bundled] [--generated] [LOG ...]
 A LOG given as capture:PATH is decoded with --pdo-capture-mapping. A log
 that is absent or unreadable (the real captures are third-party data
 beside the checkout, not in it) fails the run with CI=true; elsewhere the
@@ -29,12 +34,28 @@ script says it skipped that log.
 """
 import json
 import os
+import random
 import re
 import subprocess
 import sys
 
 # Fields that are plotted: every kind with a value or a value marker.
 NOT_PLOTTED = {"raw", "padding", "missing", "wrong_width", "chars"}
+
+
+def generated_trace(path, seed=37, count=400):
+    """A foreign trace: candump lines of random frames on random 11- and
+    29-bit identifiers over a minute, no PDO mapping known."""
+    rng = random.Random(seed)
+    t = 1_700_000_000_000_000
+    with open(path, "w", encoding="ascii") as f:
+        for _ in range(count):
+            t += rng.randint(100, 300_000)
+            extended = rng.random() < 0.2
+            ident = rng.randrange(1 << 29 if extended else 1 << 11)
+            data = bytes(rng.randrange(256) for _ in range(rng.randint(0, 8)))
+            name = f"{ident:08X}" if extended else f"{ident:03X}"
+            f.write(f"({t // 1_000_000}.{t % 1_000_000:06d}) can0 {name}#{data.hex().upper()}\n")
 
 
 def decoder_args(log):
@@ -71,6 +92,8 @@ def expected(decoder, log):
     for line in out.stdout.splitlines():
         o = json.loads(line)
         kind = o.get("kind")
+        if o.get("error"):
+            continue  # a frame that does not decode: no field, no mark
         if kind in ("tpdo", "rpdo"):
             for f in o.get("fields") or []:
                 if f["kind"] not in NOT_PLOTTED:
@@ -91,9 +114,14 @@ def main():
     if len(sys.argv) < 4:
         sys.exit(__doc__)
     decoder, chromium, outdir = sys.argv[1:4]
-    logs = ["bundled" if a == "--bundled" else a for a in sys.argv[4:]]
+    os.makedirs(outdir, exist_ok=True)
+    generated = os.path.abspath(os.path.join(outdir, "generated-foreign.log"))
+    logs = ["bundled" if a == "--bundled" else generated if a == "--generated" else a
+            for a in sys.argv[4:]]
     if not logs:
         sys.exit("no log given")
+    if generated in logs:
+        generated_trace(generated)
     given = len(logs)
     logs = [log for log in logs if readable(log)]
     skipped = f" ({given - len(logs)} log(s) skipped: absent or unreadable)" if len(logs) < given else ""
@@ -132,15 +160,24 @@ def main():
             ("marks drawn = marks in the data", attrs.get("marks"), str(data["marks"])),
             ("marks drawn + counted as not drawn = events in --json --summary",
              int(attrs.get("marks", "-1")) + not_drawn, want_marks),
+            ("traffic plots drawn = plots in the data", attrs.get("plots"), str(len(data["plots"]))),
+            ("a bus-load plot", sum(p["kind"] == "bus-load" for p in data["plots"]), 1),
             ("timeline rows", attrs.get("rows"), str(len(data["rows"]))),
             ("external references", len(external), 0),
             ("screenshot written", os.path.isfile(png) and os.path.getsize(png) > 0, True),
         ]
+        if log == generated:
+            plots = int(attrs.get("plots", "0")) + int(attrs.get("series", "0"))
+            checks += [
+                ("a foreign trace draws more than one plot", plots > 1, True),
+                ("... and its unmapped PDOs' bytes", any(p["kind"] == "pdo-byte" for p in data["plots"]), True),
+            ]
         for what, got, want in checks:
             ok = got == want
             failures += not ok
             print(f"{'ok  ' if ok else 'FAIL'} {name}: {what}: {got!r}" + ("" if ok else f", expected {want!r}"))
-        print(f"     {name}: {len(page)} bytes, {attrs.get('points')} points, screenshot {png}")
+        print(f"     {name}: {len(page)} bytes, {attrs.get('series')} field plots, "
+              f"{attrs.get('plots')} traffic plots, {attrs.get('points')} points, screenshot {png}")
     if failures:
         sys.exit(f"report browser test: {failures} check(s) failed")
     print(f"report browser test: {len(logs)} report(s), all checks passed{skipped}")

@@ -108,7 +108,8 @@ pub struct Cli {
     #[arg(long, hide = true)]
     no_cache: bool,
     /// Write the session as one self-contained HTML page: the summary, a
-    /// timeline per node and a plot of every named PDO field. With it the
+    /// timeline per node, the bus traffic (load, frames per second per
+    /// node) and a plot of every named PDO field. With it the
     /// frames are printed only when --output or --json asks for them.
     #[arg(long, value_name = "FILE.html")]
     report: Option<String>,

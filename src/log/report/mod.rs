@@ -2,8 +2,12 @@
 //! and styles inline, no network access): the bus summary at the top, a
 //! timeline per node (NMT states from the heartbeats, silences marked,
 //! boot-ups, EMCYs by name, SDO transfers and aborts, node guarding, NMT
-//! commands on the bus row) and a plot of every named PDO field over time
-//! with its unit, zoom, pan and values on hover.
+//! commands on the bus row), the bus's traffic as plots for any trace (the
+//! bus load per 1-second window, the frames per second of each node, and
+//! the raw bytes of the PDOs no mapping names) and a plot of every named
+//! PDO field over time with its unit, zoom, pan and values on hover. A
+//! node with no frame of its own (only addressed by NMT commands) has no
+//! row: its marks go to the bus row.
 //!
 //! Memory is bounded by the number of nodes and fields, not by the log:
 //! each field is decimated as it streams in ([`series`]: the lowest and
@@ -20,17 +24,24 @@ use std::prelude::rust_2021::*;
 
 use crate::nmt::NmtTarget;
 use crate::pdo::{FieldValue, NamedFields};
-use crate::{Message, NodeId, Timestamp};
+use crate::{CanFrame, Message, NodeId, Timestamp};
 
+use crate::log::bus_load::{FrameBits, DEFAULT_BITRATE};
 use crate::log::sdo::{End, Report as Transfer};
 use crate::log::summary::Decoded;
 use crate::log::Roles;
-use series::Series;
+use series::{PerSecond, Series};
 
 /// Marks drawn per timeline row (more are counted, not drawn).
 pub const MAX_MARKS: usize = 5000;
 /// State changes drawn per timeline row (more are counted, not drawn).
 pub const MAX_STATES: usize = 5000;
+/// PDO COB-IDs without a mapping whose bytes are plotted (the first seen;
+/// more are counted, not drawn).
+pub const MAX_RAW_PDOS: usize = 8;
+/// Nodes whose frames per second are plotted (those with the most frames;
+/// more are counted, not drawn).
+pub const MAX_NODE_PLOTS: usize = 16;
 
 /// What a mark on a node's timeline is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -122,17 +133,87 @@ struct Field {
     series: Series,
 }
 
-/// The report being collected.
+/// The bus's traffic over time, for any trace.
 #[derive(Default)]
+struct Traffic {
+    /// Stuffed bits per window (the bus load once divided by the rate).
+    bits: PerSecond,
+    /// Frames per window of each node (0: frames of no node), and their
+    /// count.
+    nodes: BTreeMap<u8, (u64, PerSecond)>,
+    /// The bytes of PDOs without a mapping: COB-ID -> one series per byte.
+    raw_pdos: BTreeMap<u32, Vec<Series>>,
+    /// PDO COB-IDs without a mapping past [`MAX_RAW_PDOS`].
+    raw_pdos_not_drawn: std::collections::BTreeSet<u32>,
+}
+
+/// The report being collected.
 pub struct Collector {
     start: Option<Timestamp>,
     /// The latest time seen (µs since the start).
     last: u64,
     rows: BTreeMap<u8, Row>,
     fields: BTreeMap<(u32, u16, u8), Field>,
+    /// The bit rate of the bus-load plot (bit/s).
+    bitrate: u32,
+    traffic: Traffic,
+}
+
+impl Default for Collector {
+    fn default() -> Self {
+        Collector::with_bitrate(None)
+    }
 }
 
 impl Collector {
+    /// A report whose bus-load plot is at `bitrate` bit/s (`None` or 0:
+    /// [`DEFAULT_BITRATE`], as the summary assumes).
+    #[must_use]
+    pub fn with_bitrate(bitrate: Option<u32>) -> Self {
+        Collector {
+            start: None,
+            last: 0,
+            rows: BTreeMap::new(),
+            fields: BTreeMap::new(),
+            bitrate: bitrate.filter(|&b| b > 0).unwrap_or(DEFAULT_BITRATE),
+            traffic: Traffic::default(),
+        }
+    }
+
+    /// Any frame read, decoded or not, with its bits: the bus load and
+    /// the frames per second of the node its COB-ID belongs to.
+    pub fn bus_frame(&mut self, t: Option<Timestamp>, frame: &CanFrame, bits: FrameBits) {
+        let t = self.at(t);
+        self.traffic.bits.add(t, f64::from(bits.stuffed));
+        let node = match frame.id() {
+            crate::CanId::Standard(raw) => crate::cob_id::classify_standard(raw)
+                .node()
+                .map_or(0, |n| n.raw()),
+            crate::CanId::Extended(_) => 0,
+        };
+        let (count, per_second) = self.traffic.nodes.entry(node).or_default();
+        *count = count.saturating_add(1);
+        per_second.add(t, 1.0);
+    }
+
+    /// A PDO's bytes when no mapping names its fields.
+    fn raw_pdo(&mut self, t: u64, cob_id: u32, data: &[u8]) {
+        let traffic = &mut self.traffic;
+        if !traffic.raw_pdos.contains_key(&cob_id) && traffic.raw_pdos.len() >= MAX_RAW_PDOS {
+            traffic.raw_pdos_not_drawn.insert(cob_id);
+            return;
+        }
+        let bytes = traffic.raw_pdos.entry(cob_id).or_default();
+        for (i, &b) in data.iter().enumerate() {
+            if bytes.len() <= i {
+                bytes.push(Series::default());
+            }
+            if let Some(s) = bytes.get_mut(i) {
+                s.push(t, f64::from(b));
+            }
+        }
+    }
+
     /// Microseconds since the log's first frame (a frame without a time
     /// takes the latest one seen).
     fn at(&mut self, t: Option<Timestamp>) -> u64 {
@@ -155,6 +236,7 @@ impl Collector {
             msg,
             guard_reply,
             roles,
+            ..
         } = *seen;
         let t = self.at(t);
         match msg {
@@ -193,11 +275,10 @@ impl Collector {
                     _ => self.rows.entry(0).or_default().mark(t, MarkKind::Nmt, text),
                 }
             }
-            Message::Tpdo { .. } | Message::Rpdo { .. } => {
-                if let Some(fields) = fields {
-                    self.pdo(t, cob_id, fields);
-                }
-            }
+            Message::Tpdo { .. } | Message::Rpdo { .. } => match fields {
+                Some(fields) => self.pdo(t, cob_id, fields),
+                None => self.raw_pdo(t, cob_id, seen.frame.data()),
+            },
             _ => {}
         }
     }

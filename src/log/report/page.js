@@ -1,16 +1,19 @@
 "use strict";
 // Draws the report's data (the JSON in #report-data): one timeline canvas
-// with a row per node, one plot canvas per PDO field, a shared time axis
+// with a row per node, one plot canvas per traffic plot (bus load, frames
+// per second per node, raw bytes of unmapped PDOs) and per PDO field, a
+// shared time axis
 // (wheel zooms, drag pans, double-click shows the whole log) and a tooltip
 // on hover. What was drawn is published on <body data-*> and in #selftest
 // so a headless browser can check the page rendered.
 (function () {
-  var status = { rendered: false, errors: [], series: 0, points: 0, marks: 0, rows: 0 };
+  var status = { rendered: false, errors: [], series: 0, plots: 0, points: 0, marks: 0, rows: 0 };
   function publish() {
     var b = document.body;
     b.dataset.rendered = status.rendered ? "ok" : "no";
     b.dataset.errors = String(status.errors.length);
     b.dataset.series = String(status.series);
+    b.dataset.plots = String(status.plots);
     b.dataset.points = String(status.points);
     b.dataset.marks = String(status.marks);
     b.dataset.rows = String(status.rows);
@@ -190,8 +193,8 @@
     document.getElementById("not-drawn").textContent = notes.length ? notes.join("; ") + " (the summary counts them all)" : "";
   }
 
-  // ---- one plot per field ----
-  function plot(s) {
+  // ---- one plot per field or traffic plot ----
+  function plot(s, where) {
     var box = document.createElement("div"), title = document.createElement("h3"), canvas = document.createElement("canvas");
     box.className = "plot";
     title.textContent = s.label + " ";
@@ -201,7 +204,8 @@
       (s.exact ? "" : "; drawn as the lowest and highest value per column") + ")";
     title.appendChild(meta);
     box.appendChild(title); box.appendChild(canvas);
-    document.getElementById("plots").appendChild(box);
+    document.getElementById(where).appendChild(box);
+    var steps = s.raw || s.step;
     var H = 150, PAD = 10, lo = Infinity, hi = -Infinity;
     s.v.forEach(function (v) { if (v < lo) lo = v; if (v > hi) hi = v; });
     if (!isFinite(lo)) { lo = 0; hi = 1; }
@@ -222,12 +226,12 @@
       c.save(); c.beginPath(); c.rect(LEFT, 0, w - LEFT - RIGHT, H - AXIS); c.clip();
       var i = Math.max(0, lowerBound(s.t, view.t0) - 1), end = Math.min(s.t.length, lowerBound(s.t, view.t1) + 1);
       var gi = lowerBound(s.gaps, s.t[i]), prev = null;
-      c.strokeStyle = s.raw ? "#6a1b9a" : "#1565c0"; c.lineWidth = 1.2; c.beginPath();
+      c.strokeStyle = s.raw ? "#6a1b9a" : s.step ? "#00796b" : "#1565c0"; c.lineWidth = 1.2; c.beginPath();
       for (; i < end; i++) {
         var x = xOf(s.t[i], w), y = yOf(s.v[i]), broken = false;
         while (gi < s.gaps.length && s.gaps[gi] <= s.t[i]) { broken = true; gi++; }
         if (prev === null || broken) c.moveTo(x, y);
-        else if (s.raw) { c.lineTo(x, prev); c.lineTo(x, y); }
+        else if (steps) { c.lineTo(x, prev); c.lineTo(x, y); }
         else c.lineTo(x, y);
         prev = y;
       }
@@ -245,13 +249,15 @@
       var v = s.raw ? s.v[k] + " (0x" + s.v[k].toString(16).toUpperCase() + ")" : fmt(s.v[k]) + (s.unit ? " " + s.unit : "");
       return s.label + "\n" + fmt(s.t[k]) + " s: " + v;
     });
-    status.series++;
+    if (where === "plots") status.series++; else status.plots++;
     status.points += s.t.length;
   }
 
   try {
     timeline();
-    data.series.forEach(plot);
+    (data.plots || []).forEach(function (s) { plot(s, "traffic"); });
+    document.getElementById("traffic-not-drawn").textContent = data.plots_not_drawn || "";
+    data.series.forEach(function (s) { plot(s, "plots"); });
     if (data.series.length === 0) {
       var p = document.createElement("p");
       p.textContent = "No named PDO field in this log (give the mapping with --pdo, --eds or a role).";

@@ -23,6 +23,10 @@ struct Data<'a> {
     span: f64,
     rows: Vec<Row<'a>>,
     series: Vec<Series<'a>>,
+    /// The bus's traffic: load, frames per second per node, raw PDO bytes.
+    plots: Vec<Plot>,
+    /// What of the traffic was counted but not plotted.
+    plots_not_drawn: String,
     /// Marks and silences to draw, in all (the page checks it drew them).
     marks: usize,
 }
@@ -58,6 +62,136 @@ struct Series<'a> {
     v: Vec<f64>,
     /// Times of samples without a value (the line breaks there).
     gaps: Vec<f64>,
+}
+
+/// A plot of the bus's traffic (drawn as steps: one value per window, or a
+/// byte's value until the next frame).
+struct Plot {
+    label: String,
+    /// "bus-load", "node-rate" or "pdo-byte".
+    kind: &'static str,
+    unit: &'static str,
+    /// Windows or frames behind the points.
+    samples: u64,
+    exact: bool,
+    t: Vec<f64>,
+    v: Vec<f64>,
+}
+
+impl Plot {
+    fn new(label: String, kind: &'static str, unit: &'static str) -> Self {
+        Plot {
+            label,
+            kind,
+            unit,
+            samples: 0,
+            exact: true,
+            t: Vec::new(),
+            v: Vec::new(),
+        }
+    }
+
+    fn json(&self, out: &mut String) {
+        out.push_str("{\"label\":");
+        text(out, &self.label);
+        out.push_str(",\"kind\":");
+        text(out, self.kind);
+        out.push_str(",\"unit\":");
+        text(out, self.unit);
+        let _ = write!(
+            out,
+            ",\"step\":true,\"raw\":{},\"samples\":{},\"invalid\":0,\"exact\":{}",
+            self.kind == "pdo-byte",
+            self.samples,
+            self.exact
+        );
+        for (k, values) in [("t", &self.t), ("v", &self.v)] {
+            let _ = write!(out, ",\"{k}\":[");
+            for (i, v) in values.iter().enumerate() {
+                if i > 0 {
+                    out.push(',');
+                }
+                float(out, *v);
+            }
+            out.push(']');
+        }
+        out.push_str(",\"gaps\":[]}");
+    }
+}
+
+/// The traffic plots: the bus load, the nodes with the most frames, the
+/// raw bytes of unmapped PDOs; and what was not plotted, in words.
+fn plots(c: &Collector) -> (Vec<Plot>, String) {
+    let mut plots = Vec::new();
+    let t = &c.traffic;
+    if t.bits.windows() > 0 {
+        let (points, exact) = t.bits.points();
+        let rate = f64::from(c.bitrate);
+        let mut p = Plot::new(
+            format!(
+                "bus load per 1-second window (aligned to the first frame) at {} bit/s [%]",
+                c.bitrate
+            ),
+            "bus-load",
+            "%",
+        );
+        p.samples = t.bits.windows();
+        p.exact = exact;
+        p.t = points.iter().map(|s| secs(s.t)).collect();
+        p.v = points.iter().map(|s| s.v * 100.0 / rate).collect();
+        plots.push(p);
+    }
+    let mut nodes: Vec<(&u8, &(u64, super::series::PerSecond))> = t.nodes.iter().collect();
+    nodes.sort_by(|a, b| b.1 .0.cmp(&a.1 .0).then(a.0.cmp(b.0)));
+    let mut notes = Vec::new();
+    if nodes.len() > super::MAX_NODE_PLOTS {
+        notes.push(format!(
+            "{} more nodes' frames per second not plotted (those with the fewest frames)",
+            nodes.len() - super::MAX_NODE_PLOTS
+        ));
+    }
+    nodes.truncate(super::MAX_NODE_PLOTS);
+    nodes.sort_by_key(|n| *n.0);
+    for (node, (count, per_second)) in nodes {
+        let who = if *node == 0 {
+            "frames of no node (NMT, SYNC, TIME, other identifiers)".to_string()
+        } else {
+            format!("node {node} frames")
+        };
+        let (points, exact) = per_second.points();
+        let mut p = Plot::new(
+            format!("{who} per second ({count} in all)"),
+            "node-rate",
+            "frames/s",
+        );
+        p.samples = per_second.windows();
+        p.exact = exact;
+        p.t = points.iter().map(|s| secs(s.t)).collect();
+        p.v = points.iter().map(|s| s.v).collect();
+        plots.push(p);
+    }
+    for (cob_id, bytes) in &t.raw_pdos {
+        for (i, series) in bytes.iter().enumerate() {
+            let points = series.points();
+            let mut p = Plot::new(
+                format!("{cob_id:03X}h byte {i} (no mapping) [raw]"),
+                "pdo-byte",
+                "raw",
+            );
+            p.samples = series.samples;
+            p.exact = series.exact();
+            p.t = points.iter().map(|s| secs(s.t)).collect();
+            p.v = points.iter().map(|s| s.v).collect();
+            plots.push(p);
+        }
+    }
+    if !t.raw_pdos_not_drawn.is_empty() {
+        notes.push(format!(
+            "{} more PDO COB-IDs without a mapping not plotted",
+            t.raw_pdos_not_drawn.len()
+        ));
+    }
+    (plots, notes.join("; "))
 }
 
 /// Seconds, rounded to the microsecond the logs carry.
@@ -103,6 +237,37 @@ pub fn write(
                 .collect(),
         })
         .collect();
+    // A node with no frame of its own (only addressed by NMT commands) has
+    // no row: its marks go to the bus row.
+    let heard = |node: u8| {
+        c.traffic.nodes.is_empty() || c.traffic.nodes.get(&node).is_some_and(|n| n.0 > 0)
+    };
+    let (kept, unheard): (Vec<Row<'_>>, Vec<Row<'_>>) =
+        rows.into_iter().partition(|r| r.node == 0 || heard(r.node));
+    rows = kept;
+    if !unheard.is_empty() {
+        if rows.first().is_none_or(|r| r.node != 0) {
+            rows.insert(
+                0,
+                Row {
+                    node: 0,
+                    label: "bus (NMT)".to_string(),
+                    states: Vec::new(),
+                    states_not_drawn: 0,
+                    marks: Vec::new(),
+                    silences: Vec::new(),
+                    not_drawn: Vec::new(),
+                },
+            );
+        }
+        if let Some(bus) = rows.first_mut() {
+            for r in unheard {
+                bus.marks.extend(r.marks);
+                bus.not_drawn.extend(r.not_drawn);
+            }
+            bus.marks.sort_by(|a, b| a.0.total_cmp(&b.0));
+        }
+    }
     for &(node, from, to) in silences {
         if let Some(row) = rows.iter_mut().find(|r| r.node == node) {
             row.silences.push((rel(from), to.map(rel)));
@@ -143,12 +308,15 @@ pub fn write(
         })
         .collect();
     let marks = rows.iter().map(|r| r.marks.len() + r.silences.len()).sum();
+    let (plots, plots_not_drawn) = plots(c);
     let data = Data {
         title,
         start: start.to_string(),
         span: secs(c.last),
         rows,
         series,
+        plots,
+        plots_not_drawn,
         marks,
     };
     // The JSON has no "</" of its own: nothing in the data can end the
@@ -167,10 +335,11 @@ pub fn write(
     html.push_str(" &middot; first frame at ");
     escape(&mut html, &data.start);
     html.push_str(&format!(
-        " s &middot; {:.3} s &middot; {} timeline rows &middot; {} signals</p></header>\n",
+        " s &middot; {:.3} s &middot; {} timeline rows &middot; {} signals &middot; {} traffic plots</p></header>\n",
         data.span,
         data.rows.len(),
-        data.series.len()
+        data.series.len(),
+        data.plots.len()
     ));
     html.push_str("<section id=\"summary\"><h2>Bus summary</h2><pre>");
     escape(&mut html, summary);
@@ -180,6 +349,9 @@ pub fn write(
          <p class=\"help\">Wheel: zoom &middot; drag: pan &middot; double-click: whole log \
          &middot; hover: details</p><div id=\"legend\"></div>\
          <canvas id=\"timeline-canvas\"></canvas><p id=\"not-drawn\"></p></section>\n",
+    );
+    html.push_str(
+        "<section id=\"traffic\"><h2>Bus traffic</h2><p id=\"traffic-not-drawn\"></p></section>\n",
     );
     html.push_str("<section id=\"plots\"><h2>Signals</h2></section>\n");
     html.push_str("<div id=\"tooltip\" hidden></div>\n<pre id=\"selftest\" hidden></pre>\n");
@@ -216,7 +388,16 @@ impl Data<'_> {
             }
             s.json(&mut out);
         }
-        let _ = write!(out, "],\"marks\":{}}}", self.marks);
+        out.push_str("],\"plots\":[");
+        for (i, p) in self.plots.iter().enumerate() {
+            if i > 0 {
+                out.push(',');
+            }
+            p.json(&mut out);
+        }
+        out.push_str("],\"plots_not_drawn\":");
+        text(&mut out, &self.plots_not_drawn);
+        let _ = write!(out, ",\"marks\":{}}}", self.marks);
         out
     }
 }

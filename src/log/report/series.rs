@@ -159,6 +159,59 @@ impl Series {
     }
 }
 
+/// A sum per aligned 1-second window (frames, bits), as a series of one
+/// sample per window at its start: windows start at the log's first frame
+/// and follow each other. Windows without anything are zero: the series
+/// gets one zero sample after a busy window and one before the next, so a
+/// silent hour costs two samples, not 3 600.
+#[derive(Debug, Default)]
+pub struct PerSecond {
+    /// The current window's number and its sum.
+    current: Option<(u64, f64)>,
+    series: Series,
+}
+
+impl PerSecond {
+    /// Adds `amount` at `t` (µs since the log's start). A time before the
+    /// current window (an out-of-order log) joins the current window.
+    pub fn add(&mut self, t: u64, amount: f64) {
+        let w = t / 1_000_000;
+        match self.current {
+            Some((cur, ref mut sum)) if w <= cur => *sum += amount,
+            Some((cur, sum)) => {
+                self.series.push(cur.saturating_mul(1_000_000), sum);
+                let next = cur.saturating_add(1);
+                if w > next {
+                    self.series.push(next.saturating_mul(1_000_000), 0.0);
+                    if w > next.saturating_add(1) {
+                        self.series.push((w - 1).saturating_mul(1_000_000), 0.0);
+                    }
+                }
+                self.current = Some((w, amount));
+            }
+            None => self.current = Some((w, amount)),
+        }
+    }
+
+    /// The windows' samples so far (the current one included), in the
+    /// shape [`Series::points`] gives, and whether none was merged.
+    pub fn points(&self) -> (Vec<Sample>, bool) {
+        let mut p = self.series.points();
+        if let Some((cur, sum)) = self.current {
+            p.push(Sample {
+                t: cur.saturating_mul(1_000_000),
+                v: sum,
+            });
+        }
+        (p, self.series.exact())
+    }
+
+    /// Windows counted so far (merged or not).
+    pub fn windows(&self) -> u64 {
+        self.series.samples + u64::from(self.current.is_some())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -224,5 +277,33 @@ mod tests {
             vec![Sample { t: 1000, v: 7.0 }, Sample { t: 5000, v: 1.0 }]
         );
         assert_eq!(s.gaps(), &[6000, 7000]);
+    }
+
+    #[test]
+    fn per_second_sums_windows_and_fills_silences_with_two_zeros() {
+        let mut p = PerSecond::default();
+        for t in [0, 300_000, 999_999, 1_000_000] {
+            p.add(t, 1.0);
+        }
+        // An hour of silence, then a frame out of order.
+        p.add(3_601_500_000, 2.0);
+        p.add(3_601_400_000, 1.0);
+        p.add(u64::MAX, 5.0);
+        let (points, exact) = p.points();
+        assert!(exact);
+        let want = [
+            (0, 3.0),
+            (1_000_000, 1.0),
+            (2_000_000, 0.0),
+            (3_600_000_000, 0.0),
+            (3_601_000_000, 3.0),
+            (3_602_000_000, 0.0),
+        ];
+        for (i, (t, v)) in want.iter().enumerate() {
+            assert_eq!(points[i], Sample { t: *t, v: *v }, "{i}");
+        }
+        assert_eq!(points.len(), 8);
+        assert_eq!(points[7].v, 5.0);
+        assert_eq!(p.windows(), 8);
     }
 }
