@@ -304,6 +304,47 @@ CONCISE_DCF = [
 ]
 
 
+def mf4_seeds():
+    """Small MF4 files of other tools (the fuzz target's first byte: 1 for
+    flate2's zlib): python-can's MF4Writer at each compression level (with a
+    remote and an error frame, in data groups of their own) and asammdf's
+    MDF 4.20 in 256-byte fragments (an ##HL / ##DL list). Needs python-can
+    and asammdf; without them the committed seeds are kept."""
+    try:
+        import tempfile
+
+        import can
+        from asammdf import MDF
+    except ImportError:
+        return None
+    t = 1757000000.25
+    frames = [
+        can.Message(timestamp=t, arbitration_id=0x18A, is_extended_id=False, data=bytes.fromhex("7413454E70000000"), channel=1),
+        can.Message(timestamp=t + 0.001, arbitration_id=0x70A, is_extended_id=False, data=b"\x05", channel=1),
+        can.Message(timestamp=t + 0.002, arbitration_id=0x18DAF110, is_extended_id=True, data=b"\x01\x02", channel=2, is_rx=False),
+        can.Message(timestamp=t + 0.003, arbitration_id=0x70A, is_extended_id=False, is_remote_frame=True, dlc=1, channel=1),
+        can.Message(timestamp=t + 0.004, arbitration_id=0x7, is_extended_id=False, is_error_frame=True, channel=1),
+        can.Message(timestamp=t + 0.005, arbitration_id=0x58A, is_extended_id=False, data=bytes.fromhex("4B17100009000000"), channel=1),
+    ]
+    seeds = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for level in (0, 1, 2):
+            path = f"{tmp}/{level}.mf4"
+            w = can.MF4Writer(path, compression_level=level)
+            for m in frames:
+                w.on_message_received(m)
+            w.stop()
+            seeds.append((f"python_can_{level}", bytes([1]) + open(path, "rb").read()))
+        with MDF(f"{tmp}/0.mf4") as mdf:
+            converted = mdf.convert("4.20")
+            converted.configure(write_fragment_size=256)
+            converted.save(f"{tmp}/420.mf4", compression=2, overwrite=True)
+            converted.close()
+        seeds.append(("asammdf_420_fragments", bytes([1]) + open(f"{tmp}/420.mf4", "rb").read()))
+        seeds.append(("python_can_0_copying", bytes([0]) + seeds[0][1][1:]))
+    return seeds
+
+
 def write(target, seeds):
     out = HERE / "seeds" / target
     out.mkdir(parents=True, exist_ok=True)
@@ -314,6 +355,9 @@ def write(target, seeds):
 if __name__ == "__main__":
     write("decode_frame", DECODE_FRAME)
     write("blf", blf_seeds())
+    mf4 = mf4_seeds()
+    if mf4 is not None:
+        write("mf4", mf4)
     write("asc_line", asc_seeds())
     write("trace_line", trace_line_seeds())
     write("decoder_run", decoder_run_seeds())

@@ -46,3 +46,5 @@ mod sdo;
 mod signals;
 #[cfg(feature = "alloc")]
 mod trace_blf;
+#[cfg(feature = "zlib")]
+mod trace_mf4;

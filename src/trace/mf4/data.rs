@@ -22,6 +22,8 @@ pub const WINDOW: usize = 1 << 20;
 /// The largest original length of a `##DZ` block inflated (writers keep
 /// them to a few MiB: asammdf to 4 MiB).
 pub const MAX_INFLATED: u64 = 64 << 20;
+/// The piece inflated at a time.
+const PIECE: usize = 64 * 1024;
 
 /// Where the stream is in its chain of blocks.
 #[derive(Debug, Clone, Copy)]
@@ -210,23 +212,32 @@ pub(super) fn inflate_dz(
         .ok()
         .and_then(|n| compressed.get(..n))
         .ok_or(Mf4Error::PastEnd { at })?;
-    // declared <= MAX_INFLATED: fits usize on every target with alloc.
+    // Inflated in pieces, so a block that declares much and holds little
+    // costs what it holds (declared <= MAX_INFLATED fits usize).
     let size = declared as usize;
-    let mut raw = vec![0u8; size];
+    let mut raw = Vec::new();
+    let mut piece = vec![0u8; PIECE.min(size.max(1))];
     zlib.reset();
-    let (mut used, mut made) = (0usize, 0usize);
+    let mut used = 0usize;
     loop {
         let input = compressed.get(used..).unwrap_or(&[]);
-        let output = raw.get_mut(made..).unwrap_or(&mut []);
         let r = zlib
-            .inflate(input, output)
+            .inflate(input, &mut piece)
             .map_err(|_| Mf4Error::Inflate { at })?;
         used = used.saturating_add(r.used).min(compressed.len());
-        made = made.saturating_add(r.made).min(size);
+        raw.extend_from_slice(piece.get(..r.made).unwrap_or(&piece));
+        if raw.len() > size {
+            return Err(Mf4Error::InflatedSize {
+                at,
+                declared,
+                inflated: raw.len() as u64,
+            });
+        }
         if r.end || (r.used == 0 && r.made == 0) {
             break;
         }
     }
+    let made = raw.len();
     if made != size {
         return Err(Mf4Error::InflatedSize {
             at,

@@ -228,6 +228,11 @@ impl Cursor<'_> {
         start_ns: u64,
         zlib: &mut dyn Inflate,
     ) -> Result<Option<Mf4Event>, Mf4Error> {
+        if self.record_id_size == 0 && self.groups.first().is_none_or(|g| g.size == 0) {
+            // A sorted group of 0-byte records holds no frames (and
+            // reading them would take no bytes).
+            return Ok(None);
+        }
         loop {
             let record_id = match self.record_id_size {
                 0 => self.groups.first().map_or(0, |g| g.record_id),

@@ -598,3 +598,13 @@ fn a_bad_record_is_skipped_and_the_next_is_read() {
     let (got, _) = read_all(&file, &mut NoInflate);
     assert_eq!(got[2], "bad: data length 8 is past the record's data bytes");
 }
+
+#[test]
+fn a_sorted_group_of_empty_records_holds_no_frames() {
+    // Reading 0-byte records would take no bytes: the group is empty.
+    let good = sorted(&ROWS, dt);
+    let cg = find(&good, b"##CG");
+    let mut f = good.clone();
+    f[cg + 72 + 24..cg + 72 + 28].copy_from_slice(&0u32.to_le_bytes());
+    assert_eq!(read_all(&f, &mut NoInflate), (Vec::new(), Ok(())));
+}
