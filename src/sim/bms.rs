@@ -7,13 +7,20 @@
 //! pack.
 //!
 //! Ours (CiA 418 leaves the BMS's policy to the application): the CV limit
-//! per cell is 2.45 V for lead acid, 1.45 V for nickel chemistries and
-//! 4.15 V for lithium ion; the end current is a twentieth of the maximum;
-//! above 50 degC the module is not ready; after the end it asks again once
-//! the state of charge falls below 95 %.
+//! per cell is the absorption voltage of the battery type's charge figures
+//! ([`figures_for`]: 2.45 V flooded lead acid, 1.50 V NiCd, 4.15 V lithium
+//! ion, ...), compensated for the pack's temperature as a charger does
+//! ([`CellFigures::compensation_uv`]); the end current is a twentieth of
+//! the maximum; above 50 degC the module is not ready, nor below 0 degC
+//! for lithium ion (charging it there plates lithium), nor below -20 degC
+//! for the others; after the end it asks again once the state of charge
+//! falls below 95 %.
 
 use super::{Pack, PackSpec};
 use crate::cia418::Chemistry;
+use crate::deltaq::charge::algorithm::figures_for;
+#[cfg(doc)]
+use crate::deltaq::charge::algorithm::CellFigures;
 
 /// What the module asks of the charger.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -29,8 +36,13 @@ pub struct BmsRequest {
 pub struct BmsPolicy {
     /// The most it asks for (6020h sub 3), A.
     pub max_current_a: f64,
-    /// Its constant-voltage limit for the pack, V.
+    /// Its constant-voltage limit for the pack at 25 degC, V.
     pub cv_volts: f64,
+    /// How the limit moves per degC of the pack above 25 degC, V (taken
+    /// within -20..=50 degC).
+    pub compensation_v_per_c: f64,
+    /// Below this the battery is not ready, degC.
+    pub min_temperature_c: f64,
     /// Below this the charge is over, A.
     pub end_current_a: f64,
     /// Above this the battery is not ready, degC.
@@ -51,14 +63,23 @@ impl BmsPolicy {
     /// The policy for `spec` asking at most `max_current_a`.
     #[must_use]
     pub fn for_pack(spec: &PackSpec, max_current_a: f64) -> Self {
-        let cell = match spec.chemistry {
-            Chemistry::LeadAcid => 2.45,
-            Chemistry::LithiumIon => 4.15,
-            _ => 1.45,
-        };
+        let figures = figures_for(u8::from(spec.battery_type));
+        let cells = f64::from(spec.cells);
+        let (cell, compensation) = figures.map_or((2.45, 0.0), |f| {
+            (
+                f64::from(f.absorption_mv) / 1000.0,
+                f64::from(f.compensation_uv) * 1e-6,
+            )
+        });
         BmsPolicy {
             max_current_a,
-            cv_volts: cell * f64::from(spec.cells),
+            cv_volts: cell * cells,
+            compensation_v_per_c: compensation * cells,
+            min_temperature_c: if spec.chemistry == Chemistry::LithiumIon {
+                0.0
+            } else {
+                -20.0
+            },
             end_current_a: max_current_a / 20.0,
             max_temperature_c: 50.0,
             resume_soc: 0.95,
@@ -80,15 +101,18 @@ impl BmsPolicy {
         if self.done && pack.soc() < self.resume_soc {
             self.done = false;
         }
+        let t = pack.temperature_c();
+        let cv = self.cv_volts + self.compensation_v_per_c * (t.clamp(-20.0, 50.0) - 25.0);
         let wanted = pack
-            .current_at(self.cv_volts)
+            .current_at(cv)
             .min(self.max_current_a)
             .min(self.current_limit_a.unwrap_or(f64::MAX));
-        if !self.done && pack.current_at(self.cv_volts) < self.end_current_a {
+        if !self.done && pack.current_at(cv) < self.end_current_a {
             self.done = true;
         }
         let over = self.done && self.ends_charge;
-        let ready = !over && !self.hold && pack.temperature_c() <= self.max_temperature_c;
+        let ready =
+            !over && !self.hold && t <= self.max_temperature_c && t >= self.min_temperature_c;
         BmsRequest {
             ready,
             current_a: if ready { wanted } else { 0.0 },
@@ -131,6 +155,25 @@ mod tests {
     }
 
     #[test]
+    fn the_limit_is_the_types_absorption_compensated_for_temperature() {
+        let nicd = PackSpec::new(Chemistry::NickelCadmium, 40, 100.0).unwrap();
+        assert!((BmsPolicy::for_pack(&nicd, 25.0).cv_volts - 60.0).abs() < 1e-9);
+        let spec = PackSpec::new(Chemistry::LeadAcid, 24, 100.0).unwrap();
+        let mut bms = BmsPolicy::for_pack(&spec, 25.0);
+        assert!((bms.cv_volts - 58.8).abs() < 1e-9);
+        assert!((bms.compensation_v_per_c + 0.096).abs() < 1e-9);
+        // Warm, the pack takes less at the limit than it would at 25 degC.
+        let mut warm = Pack::new(spec, 0.99);
+        warm.set_temperature_c(40.0);
+        let asked = bms.request(&warm).current_a;
+        assert!(asked < warm.current_at(58.8) * 0.8, "{asked}");
+        assert!((asked - warm.current_at(58.8 - 0.096 * 15.0)).abs() < 1e-9);
+        // -20 degC and below: not ready.
+        warm.set_temperature_c(-21.0);
+        assert!(!bms.request(&warm).ready);
+    }
+
+    #[test]
     fn hold_limit_and_temperature() {
         let spec = PackSpec::new(Chemistry::LithiumIon, 13, 50.0).unwrap();
         let mut bms = BmsPolicy::for_pack(&spec, 25.0);
@@ -148,6 +191,13 @@ mod tests {
         bms.hold = false;
         bms.max_temperature_c = 10.0;
         assert!(!bms.request(&pack).ready);
+        // Lithium ion below freezing: not ready.
+        bms.max_temperature_c = 50.0;
+        let mut cold = pack;
+        cold.set_temperature_c(-1.0);
+        assert!(!bms.request(&cold).ready);
+        cold.set_temperature_c(1.0);
+        assert!(bms.request(&cold).ready);
         // A monitoring BMS stays ready after the end current.
         let mut full = Pack::new(spec, 1.0);
         let mut monitor = BmsPolicy::for_pack(&spec, 25.0);
