@@ -134,6 +134,8 @@ pub(super) mod id {
     pub const CC: [u8; 4] = *b"##CC";
     /// Data (records).
     pub const DT: [u8; 4] = *b"##DT";
+    /// Signal data (variable-length values).
+    pub const SD: [u8; 4] = *b"##SD";
     /// Compressed data.
     pub const DZ: [u8; 4] = *b"##DZ";
     /// A data list.

@@ -47,12 +47,25 @@ pub(super) struct Stream<'a> {
     pos: usize,
     /// Blocks of the chain left to visit (against link cycles).
     hops: u64,
+    /// The uncompressed block type: `##DT` (records) or `##SD` (signal
+    /// data: a u32 length and that many bytes, per value).
+    leaf: [u8; 4],
 }
 
 impl<'a> Stream<'a> {
     /// The stream of the data group whose data link is `data` (0: no
     /// records).
     pub(super) fn new(file: &'a [u8], data: u64) -> Self {
+        Self::of(file, data, id::DT)
+    }
+
+    /// The stream of a variable-length channel's signal data (its
+    /// `cn_data` link: `##SD`, a `##DZ` of one, or a list of them).
+    pub(super) fn signal(file: &'a [u8], data: u64) -> Self {
+        Self::of(file, data, id::SD)
+    }
+
+    fn of(file: &'a [u8], data: u64, leaf: [u8; 4]) -> Self {
         Stream {
             file,
             chain: if data == 0 {
@@ -64,6 +77,7 @@ impl<'a> Stream<'a> {
             buf: Vec::new(),
             pos: 0,
             hops: file.len() as u64 / HEADER + 1,
+            leaf,
         }
     }
 
@@ -122,12 +136,12 @@ impl<'a> Stream<'a> {
             let Some(at) = self.next_block()? else {
                 return Ok(false);
             };
-            let b = block(self.file, at, &[id::DT, id::DZ])?;
-            if b.id == id::DT {
+            let b = block(self.file, at, &[self.leaf, id::DZ])?;
+            if b.id == self.leaf {
                 self.dt = b.data;
             } else {
                 let before = self.buf.len();
-                inflate_dz(&b, &mut self.buf, zlib)?;
+                inflate_dz(&b, self.leaf, &mut self.buf, zlib)?;
                 if self.buf.len() > before {
                     return Ok(true);
                 }
@@ -145,7 +159,7 @@ impl<'a> Stream<'a> {
             match self.chain {
                 Chain::Done => return Ok(None),
                 Chain::One(at) => {
-                    let b = block(self.file, at, &[id::DT, id::DZ, id::DL, id::HL])?;
+                    let b = block(self.file, at, &[self.leaf, id::DZ, id::DL, id::HL])?;
                     self.chain = if b.id == id::HL {
                         match b.link(0) {
                             0 => Chain::Done,
@@ -183,18 +197,19 @@ impl<'a> Stream<'a> {
     }
 }
 
-/// Inflates the `##DZ` block `b` (of a `##DT`) onto `out`: deflate (zip
+/// Inflates the `##DZ` block `b` (of a `leaf`: `##DT` or `##SD`) onto `out`: deflate (zip
 /// type 0) or transposed deflate (1: the records' bytes stored column by
 /// column, `dz_zip_parameter` columns; the bytes past the last whole row
 /// as they are), ASAM MDF 4.1 section 5.26.
 pub(super) fn inflate_dz(
     b: &Block<'_>,
+    leaf: [u8; 4],
     out: &mut Vec<u8>,
     zlib: &mut dyn Inflate,
 ) -> Result<(), Mf4Error> {
     let at = b.at;
     let original = [b.u8(0), b.u8(1)];
-    if &original != b"DT" {
+    if original != [leaf[2], leaf[3]] {
         return Err(Mf4Error::UnexpectedBlock {
             at,
             found: [b'#', b'#', original[0], original[1]],

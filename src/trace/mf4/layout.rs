@@ -7,7 +7,11 @@
 //! `.ESI`; their byte offsets count from the record's start (after its
 //! record id). The master channel (channel type 2, or 3 virtual, sync
 //! type 1 time) gives the time in seconds since the header's start time,
-//! through its `##CC` linear conversion when it has one.
+//! through its `##CC` linear conversion when it has one. `DataBytes` may
+//! be a variable-length channel (channel type 1, section 5.18.2): its
+//! record field is an offset into signal data (a `##SD` chain, or in MDF
+//! 4.2 a variable-length channel group of the same data group), where each
+//! value is a u32 length and its bytes.
 
 use super::blocks::{block, id, text, Block};
 use super::Mf4Error;
@@ -115,6 +119,11 @@ pub(super) struct Layout {
     pub(super) dlc: Option<Field>,
     pub(super) data_length: Option<Field>,
     pub(super) data_bytes: Option<Field>,
+    /// `DataBytes` as a variable-length channel (channel type 1): the
+    /// record holds an offset (its field) into the signal data its
+    /// `cn_data` links (a `##SD` chain, or a variable-length channel
+    /// group of the same data group).
+    pub(super) vlsd: Option<(Field, u64)>,
     pub(super) bus_channel: Option<Field>,
     pub(super) dir: Option<Field>,
     pub(super) edl: Option<Field>,
@@ -139,6 +148,7 @@ pub(super) fn layout(
         dlc: None,
         data_length: None,
         data_bytes: None,
+        vlsd: None,
         bus_channel: None,
         dir: None,
         edl: None,
@@ -192,6 +202,8 @@ pub(super) fn layout(
                 };
                 if slot.is_none() && channel_type == 0 {
                     *slot = Some(f);
+                } else if member == "DataBytes" && channel_type == 1 && l.vlsd.is_none() {
+                    l.vlsd = Some((f, cn.link(5)));
                 }
             }
             at = cn.link(0);

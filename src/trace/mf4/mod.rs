@@ -15,7 +15,10 @@
 //!   channel groups (record id, data and invalidation bytes per record;
 //!   flag bit 0 a variable-length signal data group, whose records are a
 //!   u32 length and that many bytes); **`##CN`** channels with their
-//!   `##TX` names, place in the record and `##CC` conversion;
+//!   `##TX` names, place in the record and `##CC` conversion; a
+//!   variable-length `DataBytes` (channel type 1) reads its values from a
+//!   **`##SD`** chain (read forward) or from the variable-length channel
+//!   group its `cn_data` links (the value just before the record);
 //! - the data: **`##DT`** (records), **`##DZ`** (a `##DT` compressed
 //!   with deflate, or transposed then deflated), **`##DL`** lists of them
 //!   and **`##HL`** header lists (module `data`).
@@ -271,6 +274,13 @@ pub enum Mf4Error {
         /// The length.
         length: u64,
     },
+    /// A record's variable-length `DataBytes` offset names no value of
+    /// its signal data.
+    #[error("no variable-length DataBytes value at offset {offset}")]
+    SignalOffset {
+        /// The offset.
+        offset: u64,
+    },
     /// A remote frame's DLC above 8.
     #[error("remote frame DLC {dlc} is above 8")]
     BadDlc {
@@ -291,6 +301,7 @@ impl Mf4Error {
                 | Mf4Error::BadId { .. }
                 | Mf4Error::DataPastField { .. }
                 | Mf4Error::BadDlc { .. }
+                | Mf4Error::SignalOffset { .. }
         )
     }
 }

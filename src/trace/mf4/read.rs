@@ -30,15 +30,47 @@ enum Records {
     Variable,
 }
 
+/// The most bytes of one variable-length value kept (a CAN FD frame's).
+const MAX_VALUE: usize = 64;
+
+/// A variable-length value: its offset in its signal data, its first
+/// bytes.
+#[derive(Debug, Clone, Copy)]
+struct Value {
+    offset: u64,
+    len: usize,
+    bytes: [u8; MAX_VALUE],
+}
+
+impl Value {
+    fn bytes(&self) -> &[u8] {
+        self.bytes.get(..self.len).unwrap_or(&self.bytes)
+    }
+}
+
+/// Where a bus group's variable-length `DataBytes` are.
+#[derive(Debug)]
+enum Signal<'a> {
+    /// Fixed `DataBytes` (or none).
+    None,
+    /// A variable-length channel group of the same data group (MDF 4.2).
+    Group { record_id: u64 },
+    /// A `##SD` chain, read forward: the offset read up to.
+    Data { stream: Stream<'a>, pos: u64 },
+}
+
 /// A channel group of a data group.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Group {
+#[derive(Debug)]
+struct Group<'a> {
     record_id: u64,
     /// Data and invalidation bytes of one record.
     size: usize,
     records: Records,
     /// Records of it read.
     index: u64,
+    /// A variable-length group: the offset of its next value.
+    pos: u64,
+    signal: Signal<'a>,
 }
 
 /// One data group being read.
@@ -46,7 +78,9 @@ struct Group {
 struct Cursor<'a> {
     stream: Stream<'a>,
     record_id_size: u8,
-    groups: Vec<Group>,
+    groups: Vec<Group<'a>>,
+    /// The last value of a variable-length group: its record id and value.
+    last: Option<(u64, Value)>,
     /// The next event, read ahead for the merge by time.
     head: Option<Mf4Event>,
     done: bool,
@@ -140,11 +174,32 @@ impl<'a> Mf4Reader<'a> {
                 if size > MAX_RECORD {
                     return Err(Mf4Error::RecordTooLarge { size });
                 }
+                let signal = match records {
+                    Records::Bus(Layout {
+                        vlsd: Some((_, data)),
+                        ..
+                    }) if data != 0 => {
+                        let b = block(file, data, &[id::CG, id::SD, id::DZ, id::DL, id::HL])?;
+                        if b.id == id::CG {
+                            Signal::Group {
+                                record_id: b.u64(0),
+                            }
+                        } else {
+                            Signal::Data {
+                                stream: Stream::signal(file, data),
+                                pos: 0,
+                            }
+                        }
+                    }
+                    _ => Signal::None,
+                };
                 groups.push(Group {
                     record_id: cg.u64(0),
                     size: size as usize,
                     records,
                     index: 0,
+                    pos: 0,
+                    signal,
                 });
                 cg_at = cg.link(0);
             }
@@ -159,6 +214,7 @@ impl<'a> Mf4Reader<'a> {
                     stream: Stream::new(file, dg.link(2)),
                     record_id_size,
                     groups,
+                    last: None,
                     head: None,
                     done: false,
                 });
@@ -252,11 +308,11 @@ impl Cursor<'_> {
             group.index = index.saturating_add(1);
             match group.records {
                 Records::Variable => {
-                    let Some(len) = self.stream.take(4, zlib)? else {
-                        return Err(Mf4Error::RecordPastEnd { need: 4, left: 0 });
-                    };
-                    let len = len.iter().rev().fold(0u64, |v, &b| v << 8 | u64::from(b));
-                    self.stream.skip(len, zlib)?;
+                    let offset = group.pos;
+                    let value = read_value(&mut self.stream, offset, zlib)?
+                        .ok_or(Mf4Error::RecordPastEnd { need: 4, left: 0 })?;
+                    group.pos = offset.saturating_add(4).saturating_add(value.1);
+                    self.last = Some((group.record_id, value.0));
                 }
                 Records::Other => {
                     let size = group.size;
@@ -275,9 +331,92 @@ impl Cursor<'_> {
                             left: 0,
                         });
                     };
-                    return decode(&l, record, index, start_ns).map(Some);
+                    let value = match (&mut group.signal, l.vlsd) {
+                        (Signal::None, _) | (_, None) => None,
+                        (signal, Some((field, _))) => Some(
+                            field
+                                .uint(record)
+                                .ok_or(Mf4Error::MissingField { field: "DataBytes" })
+                                .and_then(|offset| value_at(signal, self.last, offset, zlib)),
+                        ),
+                    };
+                    let value = match value {
+                        Some(Ok(v)) => Some(v),
+                        Some(Err(e)) => return Err(e),
+                        None => None,
+                    };
+                    let data = value.as_ref().map(Value::bytes);
+                    return decode(&l, record, data, index, start_ns).map(Some);
                 }
             }
+        }
+    }
+}
+
+/// Reads one variable-length value (u32 length, bytes) at `offset` of
+/// `stream`: the value (its first [`MAX_VALUE`] bytes) and its length;
+/// `None` at the end of the data.
+fn read_value(
+    stream: &mut Stream<'_>,
+    offset: u64,
+    zlib: &mut dyn Inflate,
+) -> Result<Option<(Value, u64)>, Mf4Error> {
+    let Some(len) = stream.take(4, zlib)? else {
+        return Ok(None);
+    };
+    let len = len.iter().rev().fold(0u64, |v, &b| v << 8 | u64::from(b));
+    let keep = usize::try_from(len).unwrap_or(MAX_VALUE).min(MAX_VALUE);
+    let mut value = Value {
+        offset,
+        len: keep,
+        bytes: [0; MAX_VALUE],
+    };
+    let Some(bytes) = stream.take(keep, zlib)? else {
+        return Err(Mf4Error::RecordPastEnd {
+            need: keep,
+            left: 0,
+        });
+    };
+    if let Some(to) = value.bytes.get_mut(..bytes.len()) {
+        to.copy_from_slice(bytes);
+    }
+    stream.skip(len.saturating_sub(keep as u64), zlib)?;
+    Ok(Some((value, len)))
+}
+
+/// The variable-length value at `offset` of a bus group's signal data:
+/// the last value of its variable-length group, or read forward in its
+/// `##SD` chain (an offset behind the one read, or past the end, names no
+/// value).
+fn value_at(
+    signal: &mut Signal<'_>,
+    last: Option<(u64, Value)>,
+    offset: u64,
+    zlib: &mut dyn Inflate,
+) -> Result<Value, Mf4Error> {
+    let none = Mf4Error::SignalOffset { offset };
+    match signal {
+        Signal::None => Err(none),
+        Signal::Group { record_id } => match last {
+            Some((id, v)) if id == *record_id && v.offset == offset => Ok(v),
+            _ => Err(none),
+        },
+        Signal::Data { stream, pos } => {
+            let ahead = offset.checked_sub(*pos).ok_or(none)?;
+            let read = stream
+                .skip(ahead, zlib)
+                .and_then(|()| read_value(stream, offset, zlib));
+            let (value, len) = match read {
+                Ok(Some(v)) => v,
+                Ok(None) | Err(Mf4Error::RecordPastEnd { .. }) => {
+                    // Past the end: nothing further can be read.
+                    *pos = u64::MAX;
+                    return Err(none);
+                }
+                Err(e) => return Err(e),
+            };
+            *pos = offset.saturating_add(4).saturating_add(len);
+            Ok(value)
         }
     }
 }
@@ -302,7 +441,13 @@ fn need(field: Option<Field>, record: &[u8], name: &'static str) -> Result<u64, 
 }
 
 /// One bus-logging record as an event.
-fn decode(l: &Layout, record: &[u8], index: u64, start_ns: u64) -> Result<Mf4Event, Mf4Error> {
+fn decode(
+    l: &Layout,
+    record: &[u8],
+    value: Option<&[u8]>,
+    index: u64,
+    start_ns: u64,
+) -> Result<Mf4Event, Mf4Error> {
     let timestamp = timestamp(l, record, index, start_ns);
     let unsupported = |what| Ok(Mf4Event::Unsupported { what, timestamp });
     match l.event {
@@ -332,14 +477,16 @@ fn decode(l: &Layout, record: &[u8], index: u64, start_ns: u64) -> Result<Mf4Eve
         }
         CanFrame::remote(id, dlc as u8).map_err(|_| Mf4Error::BadDlc { dlc })?
     } else {
-        let length = need(l.data_length.or(l.dlc), record, "DataLength")?;
+        let bytes = value
+            .or_else(|| l.data_bytes.and_then(|f| f.bytes(record)))
+            .ok_or(Mf4Error::MissingField { field: "DataBytes" })?;
+        let length = match (l.data_length.or(l.dlc), value) {
+            (None, Some(v)) => v.len() as u64,
+            (field, _) => need(field, record, "DataLength")?,
+        };
         if length > 8 {
             return unsupported(Unsupported::CanFd);
         }
-        let bytes = l
-            .data_bytes
-            .and_then(|f| f.bytes(record))
-            .ok_or(Mf4Error::MissingField { field: "DataBytes" })?;
         let data = bytes
             .get(..length as usize)
             .ok_or(Mf4Error::DataPastField { length })?;

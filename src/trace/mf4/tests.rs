@@ -608,3 +608,112 @@ fn a_sorted_group_of_empty_records_holds_no_frames() {
     f[cg + 72 + 24..cg + 72 + 28].copy_from_slice(&0u32.to_le_bytes());
     assert_eq!(read_all(&f, &mut NoInflate), (Vec::new(), Ok(())));
 }
+
+/// The link `i` of the block at `at`.
+fn link_of(file: &[u8], at: usize, i: usize) -> usize {
+    let p = at + 24 + 8 * i;
+    u64::from_le_bytes(file[p..p + 8].try_into().unwrap()) as usize
+}
+
+/// The `DataBytes` member of the channel group at `cg` made a
+/// variable-length channel (type 1) whose signal data is at `data`.
+fn vlsd_data_bytes(file: &mut [u8], cg: usize, data: u64) {
+    let time = link_of(file, cg, 1);
+    let composed = link_of(file, time, 0);
+    let mut member = link_of(file, composed, 1);
+    for _ in 0..5 {
+        member = link_of(file, member, 0);
+    }
+    file[member + 24 + 64] = 1;
+    file[member + 24 + 40..member + 24 + 48].copy_from_slice(&data.to_le_bytes());
+}
+
+/// `rows` as records whose `DataBytes` is an offset into `signal`, with
+/// the `##SD` values (u32 length, bytes).
+fn vlsd_rows(rows: &[Row]) -> (Vec<u8>, Vec<u8>) {
+    let (mut records, mut signal) = (Vec::new(), Vec::new());
+    for r in rows {
+        let mut rec = record(r);
+        rec[16..24].copy_from_slice(&(signal.len() as u64).to_le_bytes());
+        records.extend(rec);
+        signal.extend((r.3.len() as u32).to_le_bytes());
+        signal.extend_from_slice(r.3);
+    }
+    (records, signal)
+}
+
+#[test]
+fn variable_length_data_bytes_read_from_signal_data_blocks() {
+    let (records, signal) = vlsd_rows(&ROWS);
+    for compressed in [false, true] {
+        let mut f = File(sorted(&ROWS, |f, _| dt(f, &records)));
+        let sd = if compressed {
+            // A list of a deflated SD and a stored one, split in a value.
+            let (a, b) = signal.split_at(5);
+            let first = f.block(b"##SD", &[], a);
+            let mut d = b"SD".to_vec();
+            d.extend_from_slice(&[0; 6]);
+            let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
+            z.write_all(b).unwrap();
+            let z = z.finish().unwrap();
+            d.extend_from_slice(&(b.len() as u64).to_le_bytes());
+            d.extend_from_slice(&(z.len() as u64).to_le_bytes());
+            d.extend_from_slice(&z);
+            let second = f.block(b"##DZ", &[], &d);
+            dl(&mut f, 0, &[first, second])
+        } else {
+            f.block(b"##SD", &[], &signal)
+        };
+        let cg = find(&f.0, b"##CG");
+        vlsd_data_bytes(&mut f.0, cg, sd);
+        assert_eq!(
+            read_all(&f.0, &mut Zlib::new()),
+            (expected(), Ok(())),
+            "compressed {compressed}"
+        );
+    }
+    // An offset behind the one read names no value; the next is read.
+    let (mut records, signal) = vlsd_rows(&ROWS[..3]);
+    records[RECORD as usize + 16..RECORD as usize + 24].copy_from_slice(&0u64.to_le_bytes());
+    let mut f = File(sorted(&ROWS[..3], |f, _| dt(f, &records)));
+    let sd = f.block(b"##SD", &[], &signal);
+    let cg = find(&f.0, b"##CG");
+    vlsd_data_bytes(&mut f.0, cg, sd);
+    let (got, end) = read_all(&f.0, &mut NoInflate);
+    assert_eq!(end, Ok(()));
+    assert_eq!(
+        got[1],
+        "bad: no variable-length DataBytes value at offset 0"
+    );
+    assert_eq!(got[2], expected()[2]);
+}
+
+#[test]
+fn variable_length_data_bytes_read_from_a_variable_length_group() {
+    // MDF 4.2: the values are records of channel group 4 in the same
+    // unsorted data group, each just before the frame pointing at it.
+    let mut b = Vec::new();
+    let mut offset = 0u64;
+    for r in &ROWS[..3] {
+        b.push(4);
+        b.extend((r.3.len() as u32).to_le_bytes());
+        b.extend_from_slice(r.3);
+        let mut rec = record(r);
+        rec[16..24].copy_from_slice(&offset.to_le_bytes());
+        offset += 4 + r.3.len() as u64;
+        b.push(1);
+        b.extend(rec);
+    }
+    let mut file = unsorted(&b);
+    let cg = find(&file, b"##CG");
+    let variable = (0..file.len() - 24)
+        .step_by(8)
+        .filter(|&i| &file[i..i + 4] == b"##CG")
+        .last()
+        .unwrap();
+    vlsd_data_bytes(&mut file, cg, variable as u64);
+    assert_eq!(
+        read_all(&file, &mut NoInflate),
+        (expected()[..3].to_vec(), Ok(()))
+    );
+}
