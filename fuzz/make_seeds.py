@@ -9,7 +9,10 @@ headers, an object straddling two containers, CAN FD and error objects);
 asc_line (a byte choosing the base line, then ASC lines); trace_line (one
 file per trace format); decoder_run (the tests' own logs under several
 option sets); eds_parse (an EDS and a DCF); sdo_wire (one SDO frame per command
-kind); concise_dcf (the unit tests' concise DCF vectors, src/od/concise_tests.rs)."""
+kind); concise_dcf (the unit tests' concise DCF vectors, src/od/concise_tests.rs);
+pcap (a chunk-size byte, a flag byte, then a pcap or pcapng file: both
+byte orders, nanosecond times, two interfaces, Simple and obsolete Packet
+Blocks, a skipped block, CAN FD, error and Ethernet packets)."""
 import pathlib
 import struct
 import zlib
@@ -345,6 +348,58 @@ def mf4_seeds():
     return seeds
 
 
+def socketcan(word, data, fd_flags=0, size=16):
+    p = struct.pack(">I", word) + bytes([len(data), fd_flags, 0, 0]) + data
+    return p + bytes(max(0, size - len(p)))
+
+
+def pcap_file(order, magic, link, packets):
+    f = struct.pack(order + "IHHiIII", magic, 2, 4, 0, 0, 65535, link)
+    for sec, frac, data in packets:
+        f += struct.pack(order + "IIII", sec, frac, len(data), len(data)) + data
+    return f
+
+
+def ng_block(order, block_type, body):
+    body += bytes(-len(body) % 4)
+    n = 12 + len(body)
+    return struct.pack(order + "II", block_type, n) + body + struct.pack(order + "I", n)
+
+
+def pcapng_file(order):
+    f = ng_block(order, 0x0A0D0D0A, struct.pack(order + "IHHq", 0x1A2B3C4D, 1, 0, -1))
+    opts = struct.pack(order + "HH", 9, 1) + bytes([9, 0, 0, 0]) + struct.pack(order + "HHq", 14, 8, 2) + bytes(4)
+    f += ng_block(order, 1, struct.pack(order + "HHI", 227, 0, 0) + opts)
+    f += ng_block(order, 1, struct.pack(order + "HHI", 227, 0, 0))
+    f += ng_block(order, 4, bytes(8))
+    ts = 1756955646068614123
+    for i, (word, data, fd, size) in enumerate([
+        (0x70A, b"\x7f", 0, 16),
+        (0x8000_0000 | 0x18DAF110, b"\x01\x02", 0, 16),
+        (0x4000_0000 | 0x70A, b"", 0, 16),
+        (0x123, bytes(range(12)), 4, 72),
+        (0x2000_0000 | 0x7FF, bytes(8), 0, 16),
+    ]):
+        p = socketcan(word, data, fd, size)
+        f += ng_block(order, 6, struct.pack(order + "IIIII", i % 2, ts >> 32, ts & 0xFFFFFFFF, len(p), len(p)) + p)
+    p = socketcan(0x18A, bytes.fromhex("7413454E70000000"))
+    f += ng_block(order, 3, struct.pack(order + "I", len(p)) + p)
+    f += ng_block(order, 2, struct.pack(order + "HHIIII", 0, 0, 0, 7, len(p), len(p)) + p)
+    return f
+
+
+def pcap_seeds():
+    pkts = [(1756955646, 68614, socketcan(0x70A, b"\x7f")), (1756955647, 1, socketcan(0x123, bytes(12), 4, 72))]
+    return [
+        ("pcap_le_us", bytes([255, 0]) + pcap_file("<", 0xA1B2C3D4, 227, pkts)),
+        ("pcap_be_ns_small_chunks", bytes([0, 0]) + pcap_file(">", 0xA1B23C4D, 227, pkts)),
+        ("pcap_ethernet", bytes([255, 0]) + pcap_file("<", 0xA1B2C3D4, 1, [(1, 0, bytes(60))])),
+        ("pcapng_le", bytes([255, 0]) + pcapng_file("<")),
+        ("pcapng_be_small_chunks", bytes([0, 0]) + pcapng_file(">")),
+        ("after_pcap_header", bytes([7, 2]) + struct.pack("<IIII", 1, 2, 16, 16) + socketcan(0x18A, b"\x01")),
+    ]
+
+
 def write(target, seeds):
     out = HERE / "seeds" / target
     out.mkdir(parents=True, exist_ok=True)
@@ -358,6 +413,7 @@ if __name__ == "__main__":
     mf4 = mf4_seeds()
     if mf4 is not None:
         write("mf4", mf4)
+    write("pcap", pcap_seeds())
     write("asc_line", asc_seeds())
     write("trace_line", trace_line_seeds())
     write("decoder_run", decoder_run_seeds())

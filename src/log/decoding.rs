@@ -43,8 +43,9 @@ pub struct Decoding<'o> {
     guarding: [bool; 128],
     /// Frames decoded: a log none of whose lines is a frame is an error.
     pub frames: usize,
-    /// Read but not decoded: CAN FD frames, error frames, other events.
-    unsupported: [usize; 3],
+    /// Read but not decoded: CAN FD frames, error frames, other events,
+    /// CAN XL frames, packets of another link type.
+    unsupported: [usize; 5],
 }
 
 impl<'o> Decoding<'o> {
@@ -91,7 +92,7 @@ impl<'o> Decoding<'o> {
             dbc: opts.dbc.as_ref().map(|_| dbc::Dbc::default()),
             guarding: [false; 128],
             frames: 0,
-            unsupported: [0; 3],
+            unsupported: [0; 5],
         })
     }
 
@@ -111,6 +112,8 @@ impl<'o> Decoding<'o> {
         let slot = match what {
             Unsupported::CanFd => 0,
             Unsupported::ErrorFrame => 1,
+            Unsupported::CanXl => 3,
+            Unsupported::LinkType => 4,
             _ => 2,
         };
         if let Some(n) = self.unsupported.get_mut(slot) {
@@ -377,11 +380,18 @@ impl<'o> Decoding<'o> {
             unsupported,
             ..
         } = self;
-        let [fd, errors, events] = unsupported;
-        if fd + errors + events > 0 {
+        let [fd, errors, events, xl, links] = unsupported;
+        if fd + errors + events + xl + links > 0 {
+            let mut more = String::new();
+            if xl > 0 {
+                more += &format!(", {xl} CAN XL frame(s)");
+            }
+            if links > 0 {
+                more += &format!(", {links} packet(s) of another link type than SocketCAN");
+            }
             let _ = writeln!(
                 diag,
-                "canopen-decode: read, not decoded: {fd} CAN FD frame(s), {errors} error frame(s), {events} other event(s)"
+                "canopen-decode: read, not decoded: {fd} CAN FD frame(s), {errors} error frame(s), {events} other event(s){more}"
             );
         }
         for report in sdo.finish() {

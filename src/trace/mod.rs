@@ -16,7 +16,9 @@
 //!
 //! Vector BLF files are binary, not lines: [`blf::BlfReader`] reads them
 //! from the byte chunks the caller feeds (the zlib containers inflated by
-//! the caller), with the same [`Unsupported`] kinds for what it skips.
+//! the caller), with the same [`Unsupported`] kinds for what it skips;
+//! so does [`pcap::PcapReader`] for pcap and pcapng captures of SocketCAN
+//! interfaces.
 //!
 //! ```
 //! use canopen_codec::trace::{Format, LineParser, Record};
@@ -41,6 +43,7 @@ mod fields;
 pub mod inflate;
 #[cfg(feature = "alloc")]
 pub mod mf4;
+pub mod pcap;
 mod screen;
 mod trc;
 
@@ -159,6 +162,11 @@ pub enum Unsupported {
     ErrorFrame,
     /// Another event line of the format (status, statistics, markers).
     Event,
+    /// A CAN XL frame (a SocketCAN capture's).
+    CanXl,
+    /// A packet of a capture whose link type is not SocketCAN (pcap,
+    /// pcapng).
+    LinkType,
 }
 
 /// What one line of a trace is.

@@ -48,3 +48,5 @@ mod signals;
 mod trace_blf;
 #[cfg(feature = "zlib")]
 mod trace_mf4;
+#[cfg(feature = "cli")]
+mod trace_pcap;

@@ -15,11 +15,16 @@
 //!   `BlfReader`, the zlib containers inflated by the caller's
 //!   [`Inflate`] (with feature `zlib`, flate2's: [`Zlib`], which the
 //!   programs pass; [`NoInflate`] reports each compressed container as
-//!   unreadable).
+//!   unreadable). pcap and pcapng captures of SocketCAN interfaces are
+//!   read in blocks through the library's `PcapReader`.
 //!   ASAM MDF 4 bus logging is read into memory (its blocks link to
 //!   anywhere in the file) and then record by record through the
 //!   library's `Mf4Reader`, each `##DZ` block inflated by the same
 //!   [`Inflate`], the frames of its data groups merged by time.
+//! - gzip-compressed input of any format (`.gz`, told by its magic
+//!   number `1F 8B`) is decompressed first, with feature `zlib` (flate2's
+//!   `MultiGzDecoder`); without it such input is an error that names the
+//!   feature.
 //!
 //! [`read`] hands each [`Item`] to the caller as it comes (memory stays
 //! bounded on any input but an MF4 file's size: the decoder's way); [`frames`] collects the
@@ -28,6 +33,7 @@
 mod blf;
 mod lines;
 mod mf4;
+mod pcap;
 #[cfg(feature = "zlib")]
 mod zlib;
 
@@ -38,6 +44,7 @@ use std::io::{self, Read};
 
 use crate::trace::blf::{BlfError, BlfReader};
 use crate::trace::mf4::{Mf4Error, Mf4Reader};
+use crate::trace::pcap::{Flavor, PcapError};
 use crate::trace::{Format, LineParser, Record, RxTx, TraceError, TraceFrame, Unsupported};
 use crate::{CanFrame, Timestamp};
 
@@ -57,6 +64,13 @@ pub enum Binary {
     /// ASAM MDF 4 bus logging (python-can's `MF4Writer`, CANedge, Vector):
     /// `MDF     `.
     Mf4,
+    /// pcap (libpcap, tcpdump) with the SocketCAN link type: `A1B2C3D4h`
+    /// or `A1B23C4Dh` in either byte order. Read by the same reader as
+    /// [`Binary::PcapNg`] (the magic number tells them apart).
+    Pcap,
+    /// pcapng (Wireshark, dumpcap) with the SocketCAN link type: a
+    /// Section Header Block, `0A0D0D0Ah`.
+    PcapNg,
 }
 
 impl Binary {
@@ -70,6 +84,8 @@ impl Binary {
     /// use canopen_codec::log::input::Binary;
     /// assert_eq!(Binary::detect(b"LOGG\x90\0\0\0"), Some(Binary::Blf));
     /// assert_eq!(Binary::detect(b"MDF     "), Some(Binary::Mf4));
+    /// assert_eq!(Binary::detect(&[0x0A, 0x0D, 0x0D, 0x0A, 0x1C, 0, 0, 0]), Some(Binary::PcapNg));
+    /// assert_eq!(Binary::detect(&[0xD4, 0xC3, 0xB2, 0xA1, 2, 0, 4, 0]), Some(Binary::Pcap));
     /// assert_eq!(Binary::detect(b"(1.5) ca"), None);
     /// ```
     #[must_use]
@@ -80,7 +96,10 @@ impl Binary {
         if Mf4Reader::detect(head) {
             return Some(Binary::Mf4);
         }
-        None
+        match Flavor::detect(head)? {
+            Flavor::Pcap { .. } => Some(Binary::Pcap),
+            Flavor::PcapNg => Some(Binary::PcapNg),
+        }
     }
 
     /// Its `--format` name (`blf`).
@@ -89,6 +108,8 @@ impl Binary {
         match self {
             Binary::Blf => "blf",
             Binary::Mf4 => "mf4",
+            Binary::Pcap => "pcap",
+            Binary::PcapNg => "pcapng",
         }
     }
 
@@ -99,6 +120,7 @@ impl Binary {
         match self {
             Binary::Blf => "object(s)",
             Binary::Mf4 => "record(s)",
+            Binary::Pcap | Binary::PcapNg => "packet(s)",
         }
     }
 }
@@ -159,7 +181,8 @@ impl How {
     /// let how = How::named("candump-screen-delta").unwrap();
     /// assert_eq!((how.format, how.delta_times), (Some(Format::CandumpScreen), true));
     /// assert_eq!(How::named("blf").unwrap().binary, Some(Binary::Blf));
-    /// assert!(How::named("pcap").is_none());
+    /// assert_eq!(How::named("pcap").unwrap().binary, Some(Binary::Pcap));
+    /// assert!(How::named("tcpdump").is_none());
     /// ```
     #[must_use]
     pub fn named(name: &str) -> Option<How> {
@@ -188,7 +211,7 @@ impl FormatName {
 /// Every format by name; a file of none of them given is detected from its
 /// content ([`How::default`]). candump's screen output with `-t d` (delta
 /// times) cannot be told from its lines, so it has a name of its own.
-pub const FORMAT_NAMES: [FormatName; 8] = [
+pub const FORMAT_NAMES: [FormatName; 10] = [
     FormatName::new(
         "candump",
         "candump -L log lines",
@@ -225,11 +248,22 @@ pub const FORMAT_NAMES: [FormatName; 8] = [
         "ASAM MDF 4 bus logging (binary; detected by its MDF identification too)",
         How::binary(Binary::Mf4),
     ),
+    FormatName::new(
+        "pcap",
+        "pcap of a SocketCAN interface (binary; detected by its magic number too)",
+        How::binary(Binary::Pcap),
+    ),
+    FormatName::new(
+        "pcapng",
+        "pcapng of SocketCAN interfaces (binary; detected by its magic number too)",
+        How::binary(Binary::PcapNg),
+    ),
 ];
 
-/// Where in the file an item is: lines and BLF objects are numbered from
-/// 1 in file order (BLF containers not counted), MF4 bus-logging records
-/// from 1 in the order read (time order).
+/// Where in the file an item is: lines, BLF objects and pcap packets are
+/// numbered from 1 in file order (BLF containers and pcapng blocks other
+/// than packets not counted), MF4 bus-logging records from 1 in the order
+/// read (time order).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum At {
     /// A line of a text trace.
@@ -242,6 +276,10 @@ pub enum At {
     Record(u64),
     /// Past the last MF4 record read (an error of the file's structure).
     AfterRecord(u64),
+    /// A packet of a pcap or pcapng file (Wireshark's frame number).
+    Packet(u64),
+    /// Past the last packet read (an error of the file's structure).
+    AfterPacket(u64),
 }
 
 impl fmt::Display for At {
@@ -252,12 +290,14 @@ impl fmt::Display for At {
             At::AfterObject(n) => write!(f, "after object {n}"),
             At::Record(n) => write!(f, "record {n}"),
             At::AfterRecord(n) => write!(f, "after record {n}"),
+            At::Packet(n) => write!(f, "packet {n}"),
+            At::AfterPacket(n) => write!(f, "after packet {n}"),
         }
     }
 }
 
-/// What a line or object read but not decoded was: the line, or the BLF
-/// object's type.
+/// What a line, object or packet read but not decoded was: the line, the
+/// BLF object's type, or the packet's link type.
 #[derive(Clone, Copy, Debug)]
 pub enum Detail<'a> {
     /// The line as read.
@@ -266,6 +306,8 @@ pub enum Detail<'a> {
     ObjectType(u32),
     /// An MF4 bus-logging record (its event type says what it is).
     Record,
+    /// The pcap link type of the packet's interface (227: SocketCAN).
+    LinkType(u16),
 }
 
 impl fmt::Display for Detail<'_> {
@@ -274,6 +316,7 @@ impl fmt::Display for Detail<'_> {
             Detail::Line(l) => f.write_str(l),
             Detail::ObjectType(t) => write!(f, "object type {t}"),
             Detail::Record => f.write_str("MF4 bus-logging record"),
+            Detail::LinkType(t) => write!(f, "link type {t}"),
         }
     }
 }
@@ -292,7 +335,6 @@ pub enum Bad<'a> {
     Object(BlfError),
     /// An error of the BLF file's structure: the rest is not read.
     Structure(BlfError),
-    /// A zlib container that does not inflate: the rest is not read.
     /// A zlib container that does not inflate (the inflater's message):
     /// the rest is not read.
     Inflate(String),
@@ -303,6 +345,11 @@ pub enum Bad<'a> {
     /// An error of the MF4 file's structure (or a `##DZ` block that does
     /// not inflate): the rest is not read.
     Mf4Structure(Mf4Error),
+    /// A malformed pcap packet, skipped by its length.
+    Packet(PcapError),
+    /// An error of a pcap file's structure (or its end inside a block or
+    /// record): the rest is not read.
+    Capture(PcapError),
 }
 
 impl fmt::Display for Bad<'_> {
@@ -314,6 +361,8 @@ impl fmt::Display for Bad<'_> {
             Bad::Object(e) | Bad::End(e) => write!(f, "{e}"),
             Bad::Mf4Record(e) => write!(f, "{e}"),
             Bad::Mf4Structure(e) => write!(f, "{e}: the rest is not read"),
+            Bad::Packet(e) => write!(f, "{e}"),
+            Bad::Capture(e) => write!(f, "{e}: the rest is not read"),
             Bad::Structure(e) => write!(f, "{e}: the rest is not read"),
             Bad::Inflate(e) => write!(f, "container does not inflate ({e}): the rest is not read"),
         }
@@ -415,7 +464,7 @@ pub struct Totals {
 /// ends the read and is returned. Errors of the input are returned; bad
 /// lines and objects are items.
 pub fn read<F>(
-    mut input: impl Read,
+    input: impl Read,
     how: How,
     zlib: &mut dyn Inflate,
     mut each: F,
@@ -423,42 +472,89 @@ pub fn read<F>(
 where
     F: FnMut(Item<'_>) -> io::Result<()>,
 {
-    // A binary file is told by its magic number unless a format is given.
-    let mut head = [0u8; Binary::HEAD];
-    let mut got = 0;
-    if how.format.is_none() && how.binary.is_none() {
-        while got < head.len() {
-            match input.read(head.get_mut(got..).unwrap_or(&mut [])) {
-                Ok(0) => break,
-                Ok(n) => got += n,
-                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-                Err(e) => return Err(e),
-            }
-        }
-    }
-    let head = head.get(..got).unwrap_or(&[]);
     let mut counted = Counted {
         each: &mut each,
         frames: 0,
         unsupported: 0,
         bad: 0,
     };
-    let input = head.chain(input);
-    let binary = match how.format {
-        None => how.binary.or_else(|| Binary::detect(head)),
-        Some(_) => None,
-    };
-    let kind = match binary {
-        Some(Binary::Blf) => blf::read(input, zlib, &mut counted)?,
-        Some(Binary::Mf4) => mf4::read(input, zlib, &mut counted)?,
-        None => read_lines(input, how, &mut counted)?,
-    };
+    let kind = read_file(input, how, zlib, &mut counted, true)?;
     Ok(Totals {
         kind,
         frames: counted.frames,
         unsupported: counted.unsupported,
         bad: counted.bad,
     })
+}
+
+/// The first bytes of a gzip member (RFC 1952 section 2.3.1).
+const GZIP_MAGIC: [u8; 2] = [0x1F, 0x8B];
+
+/// Reads `input` as `how` says, a gzip-compressed one decompressed first
+/// (when `gunzip`: once, not a gzip inside it).
+fn read_file<F: FnMut(Item<'_>) -> io::Result<()>>(
+    mut input: impl Read,
+    how: How,
+    zlib: &mut dyn Inflate,
+    counted: &mut Counted<'_, F>,
+    gunzip: bool,
+) -> io::Result<Kind> {
+    // A gzip or binary file is told by its magic number (the binary
+    // formats unless a format is given).
+    let mut head = [0u8; Binary::HEAD];
+    let mut got = 0;
+    while got < head.len() {
+        match input.read(head.get_mut(got..).unwrap_or(&mut [])) {
+            Ok(0) => break,
+            Ok(n) => got += n,
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+    let head = head.get(..got).unwrap_or(&[]);
+    let input = head.chain(input);
+    if gunzip && head.starts_with(&GZIP_MAGIC) {
+        return read_gzip(input, how, zlib, counted);
+    }
+    let binary = match how.format {
+        None => how.binary.or_else(|| Binary::detect(head)),
+        Some(_) => None,
+    };
+    match binary {
+        Some(Binary::Blf) => blf::read(input, zlib, counted),
+        Some(Binary::Mf4) => mf4::read(input, zlib, counted),
+        Some(b @ (Binary::Pcap | Binary::PcapNg)) => pcap::read(input, b, counted),
+        None => read_lines(input, how, counted),
+    }
+}
+
+/// A gzip-compressed file (`.gz`, of any format): its members
+/// decompressed one after the other by flate2's `MultiGzDecoder`, as
+/// `gzip -d` does, and read as `how` says.
+#[cfg(feature = "zlib")]
+fn read_gzip<F: FnMut(Item<'_>) -> io::Result<()>>(
+    input: impl Read,
+    how: How,
+    zlib: &mut dyn Inflate,
+    counted: &mut Counted<'_, F>,
+) -> io::Result<Kind> {
+    let mut gz = zlib::Gunzip(flate2::read::MultiGzDecoder::new(input));
+    read_file(&mut gz as &mut dyn Read, how, zlib, counted, false)
+}
+
+/// Without feature `zlib` there is no gzip decompressor: an error that
+/// says so.
+#[cfg(not(feature = "zlib"))]
+fn read_gzip<F: FnMut(Item<'_>) -> io::Result<()>>(
+    _: impl Read,
+    _: How,
+    _: &mut dyn Inflate,
+    _: &mut Counted<'_, F>,
+) -> io::Result<Kind> {
+    Err(io::Error::new(
+        io::ErrorKind::Unsupported,
+        "the input is gzip-compressed and this build lacks feature `zlib` (flate2's gzip decompressor)",
+    ))
 }
 
 /// The caller's `each`, counting what it is handed.
@@ -589,96 +685,4 @@ pub fn frames(input: impl Read, how: How, zlib: &mut dyn Inflate) -> io::Result<
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn count(input: &[u8], how: How) -> (Vec<Timed>, Totals) {
-        let f = frames(input, how, &mut NoInflate).unwrap();
-        (f.frames, f.totals)
-    }
-
-    #[test]
-    fn every_line_format_is_detected_and_counted() {
-        let cases: [(&str, Format); 5] = [
-            ("(1.5) can0 18A#01\n", Format::CandumpLog),
-            ("  can0  18A   [1]  01\n", Format::CandumpScreen),
-            (
-                ";$FILEVERSION=1.1\n     1)      1841.6  Rx         018A  1  01\n",
-                Format::PcanTrc,
-            ),
-            (
-                "   1.500000 1  18A             Rx   d 1 01\n",
-                Format::VectorAsc,
-            ),
-            (
-                "timestamp,arbitration_id,extended,remote,error,dlc,data\n1.5,0x18A,0,0,0,1,AQ==\n",
-                Format::PythonCanCsv,
-            ),
-        ];
-        for (text, format) in cases {
-            let (got, totals) = count(text.as_bytes(), How::default());
-            assert_eq!(got.len(), 1, "{text}");
-            assert_eq!(got[0].frame.to_string(), "18A#01", "{text}");
-            assert_eq!(totals.bad, 0, "{text}");
-            assert!(
-                matches!(totals.kind, Kind::Lines { format: Some(f), .. } if f == format),
-                "{text}: {totals:?}"
-            );
-        }
-    }
-
-    #[test]
-    fn delta_times_are_summed_only_when_asked() {
-        let text = b" (000.100000)  can0  18A   [1]  01\n (000.200000)  can0  18A   [1]  02\n";
-        let t = |how| -> Vec<u64> {
-            count(text, how)
-                .0
-                .iter()
-                .map(|f| f.timestamp.unwrap().as_micros())
-                .collect()
-        };
-        assert_eq!(t(How::default()), [100_000, 200_000]);
-        assert_eq!(
-            t(How::format(Some(Format::CandumpScreen)).with_delta_times()),
-            [100_000, 300_000]
-        );
-    }
-
-    #[test]
-    fn bad_lines_are_items_with_their_place_and_reason() {
-        let f = frames(
-            &b"(1.0) can0 18A#01\nnonsense\n\xFF\n"[..],
-            How::default(),
-            &mut NoInflate,
-        )
-        .unwrap();
-        assert_eq!(f.frames.len(), 1);
-        assert_eq!(f.totals.bad, 2);
-        assert_eq!(
-            f.first_bad.as_deref(),
-            Some("line 2: no ID#DATA field: nonsense")
-        );
-    }
-
-    #[test]
-    fn a_file_signed_logg_is_blf_unless_a_line_format_is_given() {
-        let mut file = b"LOGG".to_vec();
-        file.extend([0u8; 140]);
-        let (_, totals) = count(&file, How::default());
-        let blf = |kind| {
-            matches!(
-                kind,
-                Kind::Binary {
-                    binary: Binary::Blf,
-                    ..
-                }
-            )
-        };
-        assert!(blf(totals.kind), "{totals:?}");
-        let (_, totals) = count(&file, How::format(Some(Format::CandumpLog)));
-        assert!(matches!(totals.kind, Kind::Lines { .. }), "{totals:?}");
-        let (_, totals) = count(b"", How::binary(Binary::Blf));
-        assert!(blf(totals.kind), "{totals:?}");
-        assert_eq!(totals.kind.to_string(), "read as blf");
-    }
-}
+mod tests;

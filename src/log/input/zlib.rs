@@ -1,5 +1,6 @@
-//! The zlib inflater of the flate2 crate for BLF's compressed containers
-//! (feature `zlib`).
+//! The zlib inflater of the flate2 crate for BLF's compressed containers,
+//! and its gzip decompressor for `.gz` input of any format (feature
+//! `zlib`).
 
 use std::prelude::rust_2021::*;
 
@@ -55,5 +56,17 @@ impl Inflate for Zlib {
             made: usize::try_from(made).unwrap_or(0),
             end: status == flate2::Status::StreamEnd,
         })
+    }
+}
+
+/// A gzip decompressor whose errors say they are the gzip stream's (a
+/// truncated or corrupt `.gz` file).
+pub(super) struct Gunzip<R>(pub(super) R);
+
+impl<R: std::io::Read> std::io::Read for Gunzip<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        self.0
+            .read(buf)
+            .map_err(|e| std::io::Error::new(e.kind(), format!("gzip-compressed input: {e}")))
     }
 }
