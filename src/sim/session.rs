@@ -67,23 +67,26 @@ pub struct SessionConfig {
 }
 
 impl SessionConfig {
-    /// A 48 V session in `mode`: 24 lead-acid cells (or 13 lithium-ion
-    /// ones) of `capacity_ah`, at `start_soc`, the module asking up to
-    /// 25 A, a 250 ms physics step. The charger's permanent and no-CAN
-    /// algorithm is the example table's for the chemistry (1 for lead
-    /// acid, 11 for lithium ion).
+    /// A 48 V session in `mode`: a pack of `chemistry` (24 lead-acid, 40
+    /// nickel or 13 lithium-ion cells, [`PackSpec::cells_for`]) of
+    /// `capacity_ah`, at `start_soc`, the module asking up to 25 A, a
+    /// 250 ms physics step. The charger's permanent and no-CAN algorithm
+    /// is the example table's for the pack
+    /// ([`select`](crate::deltaq::charge::algorithm::select): 1 flooded
+    /// lead acid, 11 lithium ion, 21 NiCd, 31 NiMH).
     pub fn new(
         mode: OperatingMode,
         chemistry: Chemistry,
         capacity_ah: f64,
         start_soc: f64,
     ) -> Result<Self, super::PackError> {
-        let (cells, algorithm) = match chemistry {
-            Chemistry::LithiumIon => (13, 11),
-            _ => (24, 1),
-        };
+        let cells = PackSpec::cells_for(chemistry, 48.0).max(1);
         let pack = PackSpec::new(chemistry, cells, capacity_ah)?;
         let mut charger = ChargerConfig::new(CHARGER_NODE, MODULE_NODE);
+        let table = charger.charge.algorithms;
+        let algorithm =
+            crate::deltaq::charge::algorithm::select(table, pack.battery_type.into(), cells)
+                .map_or(1, |a| a.id);
         charger.mode = mode;
         charger.charge.permanent_algorithm = Some(algorithm);
         charger.charge.no_can_algorithm = Some(algorithm);

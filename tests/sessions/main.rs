@@ -15,6 +15,8 @@ mod bus_observe;
 #[cfg(feature = "sim")]
 mod charge_sessions;
 #[cfg(feature = "sim")]
+mod chemistries;
+#[cfg(feature = "sim")]
 mod sim;
 #[cfg(feature = "sim")]
 mod virtual_session;
