@@ -30,18 +30,31 @@ impl CanId {
     /// An 11-bit identifier, or `None` above `0x7FF`.
     #[must_use]
     pub const fn standard(raw: u16) -> Option<Self> {
-        if raw <= MAX_STANDARD_ID {
-            Some(CanId::Standard(raw))
-        } else {
-            None
-        }
+        CanId::Standard(raw).checked()
     }
 
     /// A 29-bit identifier, or `None` above `0x1FFF_FFFF`.
     #[must_use]
     pub const fn extended(raw: u32) -> Option<Self> {
-        if raw <= MAX_EXTENDED_ID {
-            Some(CanId::Extended(raw))
+        CanId::Extended(raw).checked()
+    }
+
+    /// True when the value fits its format: at most [`MAX_STANDARD_ID`]
+    /// for an 11-bit identifier (CAN 2.0A), [`MAX_EXTENDED_ID`] for a
+    /// 29-bit one (CAN 2.0B): the check of [`CanId::standard`] and
+    /// [`CanId::extended`].
+    #[must_use]
+    pub const fn fits(self) -> bool {
+        match self {
+            CanId::Standard(raw) => raw <= MAX_STANDARD_ID,
+            CanId::Extended(raw) => raw <= MAX_EXTENDED_ID,
+        }
+    }
+
+    /// `Some(self)` when it [`fits`](Self::fits).
+    const fn checked(self) -> Option<Self> {
+        if self.fits() {
+            Some(self)
         } else {
             None
         }
@@ -526,6 +539,9 @@ mod tests {
         assert!(CanId::standard(0x800).is_none());
         assert!(CanId::extended(0x1FFF_FFFF).is_some());
         assert!(CanId::extended(0x2000_0000).is_none());
+        // The range each format allows, at its edges.
+        assert!(CanId::Standard(0x7FF).fits() && !CanId::Standard(0x800).fits());
+        assert!(CanId::Extended(0x1FFF_FFFF).fits() && !CanId::Extended(0x2000_0000).fits());
     }
 
     #[test]
