@@ -23,6 +23,7 @@ use crate::od::{comm, Address};
 use crate::pdo::{Catalogue, MappingEntry};
 use std::prelude::rust_2021::*;
 
+use crate::log::manager_objects::{self, Meaning};
 use crate::log::sdo_value::{unsigned, Described, Role, Value};
 
 /// What naming a value may rely on besides the object: the node's role and
@@ -625,42 +626,31 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
         (0x1F50, _) => bytes_only(format!("program data {sub}")),
         (0x1F51, 0) => highest("program control"),
         (0x1F51, _) => num(format!("program control {sub}"), 1, program_control),
-        (0x1F52, 0) => highest("verify application software"),
-        (0x1F52, 1) => date("verify application software: date".into()),
-        (0x1F52, 2) => time("verify application software: time".into()),
-        (0x1F53, 0) => highest("expected application software date"),
-        (0x1F53, _) => date(format!("expected application software date of node {sub}")),
-        (0x1F54, 0) => highest("expected application software time"),
-        (0x1F54, _) => time(format!("expected application software time of node {sub}")),
-        (0x1F55, 0) => highest("expected software identification"),
-        (0x1F55, _) => num(
-            format!("expected software identification of node {sub}"),
-            4,
-            hex32,
-        ),
-        (0x1F56, 0) => highest("program software identification"),
-        (0x1F56, _) => num(format!("program software identification {sub}"), 4, hex32),
+        _ if manager_objects::is_manager_object(index) => {
+            let (name, size, meaning) = manager_objects::entry(Address::new(index, sub));
+            let meaning: fn(u64) -> String = match meaning {
+                Meaning::Count | Meaning::Decimal => decimal,
+                Meaning::Date => days_since_1984,
+                Meaning::Time => ms_after_midnight,
+                Meaning::NmtStartup => nmt_startup,
+                Meaning::Ms => ms,
+                Meaning::Hex => hex32,
+            };
+            match size {
+                0 => Described::named(name),
+                n => num(name, usize::from(n), meaning),
+            }
+        }
         (0x1F57, 0) => highest("flash status identification"),
         (0x1F57, _) => num(
             format!("flash status identification {sub}"),
             4,
             flash_status,
         ),
-        (0x1F80, 0) => num("NMT start-up".into(), 4, nmt_startup),
-        (0x1F81, 0) => highest("NMT slave assignment"),
-        (0x1F81, _) => num(format!("NMT slave assignment of node {sub}"), 4, hex32),
-        (0x1F82, 0) => highest("request NMT"),
-        (0x1F82, _) => num(format!("request NMT of node {sub}"), 1, decimal),
-        (0x1F83, 0) => highest("request node guarding"),
-        (0x1F83, _) => num(format!("request node guarding of node {sub}"), 1, decimal),
-        (0x1F84..=0x1F88, 0) => highest(expected(index)),
-        (0x1F84..=0x1F88, _) => num(format!("{} of node {sub}", expected(index)), 4, hex32),
-        (0x1F89, 0) => num("boot time".into(), 4, ms),
         (0x1F8A, 0) => highest("restore configuration"),
         (0x1F8A, _) => num(format!("restore configuration of node {sub}"), 4, hex32),
         (0x1F20, _) => bytes_only(format!("store DCF {sub}")),
         (0x1F21, _) => num(format!("storage format {sub}"), 1, decimal),
-        (0x1F22, _) => bytes_only(format!("concise DCF {sub}")),
         (0x1F25, _) => num(format!("configuration request {sub}"), 4, hex32),
         (0x1F26, _) => date(format!("expected configuration date of node {sub}")),
         (0x1F27, _) => time(format!("expected configuration time of node {sub}")),
@@ -669,17 +659,6 @@ pub fn describe(index: u16, sub: u8, bytes: &[u8], ctx: Context, exact: bool) ->
         )),
     };
     Some(d)
-}
-
-/// The names of the NMT master's expected identity objects 1F84h-1F88h.
-fn expected(index: u16) -> &'static str {
-    match index {
-        0x1F84 => "device type identification",
-        0x1F85 => "vendor identification",
-        0x1F86 => "product code",
-        0x1F87 => "revision number",
-        _ => "serial number",
-    }
 }
 
 #[cfg(test)]

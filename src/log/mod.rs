@@ -93,6 +93,7 @@ mod frame_line;
 pub mod input;
 pub mod json;
 mod line_cache;
+mod manager_objects;
 pub mod mappings;
 pub mod naming;
 pub mod pdo_learn;

@@ -4,6 +4,11 @@
 
 use crate::abort::AbortCode;
 use crate::cob_id::NodeId;
+use crate::od::index::{
+    EXPECTED_APPLICATION_SW_DATE, EXPECTED_APPLICATION_SW_TIME, EXPECTED_SOFTWARE_IDENTIFICATION,
+    VERIFY_APPLICATION_SOFTWARE,
+};
+use crate::program::PROGRAM_SOFTWARE_IDENTIFICATION;
 use crate::sdo::{AbortOrigin, ClientError, ProgramDownloadError};
 
 /// One comparison of the software check (1F81h bit 5, CiA 302-2 "Network
@@ -27,9 +32,9 @@ impl SoftwareCheck {
     #[must_use]
     pub const fn address(self) -> (u16, u8) {
         match self {
-            SoftwareCheck::Identification => (0x1F56, 1),
-            SoftwareCheck::Date => (0x1F52, 1),
-            SoftwareCheck::Time => (0x1F52, 2),
+            SoftwareCheck::Identification => (PROGRAM_SOFTWARE_IDENTIFICATION, 1),
+            SoftwareCheck::Date => (VERIFY_APPLICATION_SOFTWARE, 1),
+            SoftwareCheck::Time => (VERIFY_APPLICATION_SOFTWARE, 2),
         }
     }
 
@@ -37,9 +42,9 @@ impl SoftwareCheck {
     #[must_use]
     pub const fn expected_index(self) -> u16 {
         match self {
-            SoftwareCheck::Identification => 0x1F55,
-            SoftwareCheck::Date => 0x1F53,
-            SoftwareCheck::Time => 0x1F54,
+            SoftwareCheck::Identification => EXPECTED_SOFTWARE_IDENTIFICATION,
+            SoftwareCheck::Date => EXPECTED_APPLICATION_SW_DATE,
+            SoftwareCheck::Time => EXPECTED_APPLICATION_SW_TIME,
         }
     }
 }

@@ -4,7 +4,10 @@
 //! type CiA 301 gives it ("CANopen application layer and communication
 //! profile", section 7.5.2 "Object dictionary entries": 7.5.2.1 device
 //! type to 7.5.2.38 TPDO mapping parameter), the access the device core
-//! serves it with, its power-on value and the decoder's name for it.
+//! serves it with, its power-on value and the decoder's name for it; and
+//! the objects a network manager keeps (CiA 302-2 "Network management",
+//! section 4.2, 1F80h-1F89h; CiA 302-3 "Configuration and program
+//! download", section 4, 1F22h and 1F52h-1F56h).
 //!
 //! Derived from these rows: the EDS text of every device
 //! ([`Eds::describe`](crate::eds::Eds::describe)), the access rights and
@@ -25,6 +28,13 @@
 //! assert_eq!(tt.name, "Transmission type");
 //! ```
 
+use super::index::{
+    BOOT_TIME, CONCISE_DCF, DEVICE_TYPE_IDENTIFICATION, EXPECTED_APPLICATION_SW_DATE,
+    EXPECTED_APPLICATION_SW_TIME, EXPECTED_SOFTWARE_IDENTIFICATION, NMT_SLAVE_ASSIGNMENT,
+    NMT_STARTUP, PRODUCT_CODE_IDENTIFICATION, REQUEST_NMT, REQUEST_NODE_GUARDING,
+    REVISION_NUMBER_IDENTIFICATION, SERIAL_NUMBER_IDENTIFICATION, VENDOR_IDENTIFICATION,
+    VERIFY_APPLICATION_SOFTWARE,
+};
 use super::index::{
     COB_ID_EMCY, COB_ID_SYNC, COB_ID_TIME, COMMUNICATION_CYCLE_PERIOD, CONSUMER_HEARTBEAT_TIME,
     DEVICE_TYPE, ERROR_BEHAVIOUR, ERROR_REGISTER, GUARD_TIME, IDENTITY, INHIBIT_TIME_EMCY,
@@ -309,20 +319,182 @@ const OBJECTS_FROM_1012: &[ObjectRow] = &[
     at(SDO_SERVER_PARAMETER, 3, "Node-ID of the SDO client", U8, Ro),
 ];
 
+/// An ARRAY of the NMT master with one `data_type` entry per node 1-127
+/// (CiA 302-2 "Network management", section 4.2): the highest sub-index
+/// (127) and the run of entries, named `name` (`short` for the decoder,
+/// which adds "of node N").
+const fn per_node(
+    index: u16,
+    name: &'static str,
+    short: &'static str,
+    data_type: DataType,
+    access: Access,
+) -> [ObjectRow; 2] {
+    [
+        ObjectRow::var(index, "Highest sub-index supported", U8, Const)
+            .heads(name, Array)
+            .short(short)
+            .default(127),
+        at(index, 1, name, data_type, access)
+            .through(127)
+            .short(short),
+    ]
+}
+
+/// The configuration manager's and NMT master's objects of CiA 302-2
+/// "Network management" (section 4.2: 1F80h-1F89h) and CiA 302-3
+/// "Configuration and program download" (section 4: 1F22h, 1F52h-1F56h),
+/// in index order. No device of ours serves them; the boot-up manager
+/// keeps their values in its configuration (`manager::ManagerConfig`,
+/// `NodeConfig`), and the log analysis names them by these rows.
+const MANAGER_ROWS: [ObjectRow; 31] = joined::<31>(&[
+    &[
+        ObjectRow::var(CONCISE_DCF, "Highest sub-index supported", U8, Const)
+            .heads("Concise DCF", Array)
+            .short("concise DCF")
+            .default(127),
+        at(CONCISE_DCF, 1, "Concise DCF", DataType::Domain, Rw)
+            .through(127)
+            .short("concise DCF"),
+        ObjectRow::var(
+            VERIFY_APPLICATION_SOFTWARE,
+            "Highest sub-index supported",
+            U8,
+            Const,
+        )
+        .heads("Verify application software", Record)
+        .short("verify application software")
+        .default(2),
+        at(
+            VERIFY_APPLICATION_SOFTWARE,
+            1,
+            "Application software date",
+            U32,
+            Rw,
+        )
+        .short("verify application software: date"),
+        at(
+            VERIFY_APPLICATION_SOFTWARE,
+            2,
+            "Application software time",
+            U32,
+            Rw,
+        )
+        .short("verify application software: time"),
+    ],
+    &per_node(
+        EXPECTED_APPLICATION_SW_DATE,
+        "Expected application SW date",
+        "expected application software date",
+        U32,
+        Rw,
+    ),
+    &per_node(
+        EXPECTED_APPLICATION_SW_TIME,
+        "Expected application SW time",
+        "expected application software time",
+        U32,
+        Rw,
+    ),
+    &per_node(
+        EXPECTED_SOFTWARE_IDENTIFICATION,
+        "Expected software identification",
+        "expected software identification",
+        U32,
+        Rw,
+    ),
+    &[
+        ObjectRow::var(0x1F56, "Highest sub-index supported", U8, Const)
+            .heads("Program software identification", Array)
+            .short("program software identification")
+            .default(1),
+        at(0x1F56, 1, "Program software identification", U32, Ro)
+            .through(0xFE)
+            .short("program software identification"),
+        ObjectRow::var(NMT_STARTUP, "NMT start-up", U32, Rw).short("NMT start-up"),
+    ],
+    &per_node(
+        NMT_SLAVE_ASSIGNMENT,
+        "NMT slave assignment",
+        "NMT slave assignment",
+        U32,
+        Rw,
+    ),
+    &[
+        ObjectRow::var(REQUEST_NMT, "Highest sub-index supported", U8, Const)
+            .heads("Request NMT", Array)
+            .short("request NMT")
+            .default(128),
+        at(REQUEST_NMT, 1, "Request NMT", U8, Rw)
+            .through(128)
+            .short("request NMT"),
+        ObjectRow::var(
+            REQUEST_NODE_GUARDING,
+            "Highest sub-index supported",
+            U8,
+            Const,
+        )
+        .heads("Request node guarding", Array)
+        .short("request node guarding")
+        .default(128),
+        at(REQUEST_NODE_GUARDING, 1, "Request node guarding", U8, Rw)
+            .through(128)
+            .short("request node guarding"),
+    ],
+    &per_node(
+        DEVICE_TYPE_IDENTIFICATION,
+        "Device type identification",
+        "device type identification",
+        U32,
+        Rw,
+    ),
+    &per_node(
+        VENDOR_IDENTIFICATION,
+        "Vendor identification",
+        "vendor identification",
+        U32,
+        Rw,
+    ),
+    &per_node(
+        PRODUCT_CODE_IDENTIFICATION,
+        "Product code",
+        "product code",
+        U32,
+        Rw,
+    ),
+    &per_node(
+        REVISION_NUMBER_IDENTIFICATION,
+        "Revision number",
+        "revision number",
+        U32,
+        Rw,
+    ),
+    &per_node(
+        SERIAL_NUMBER_IDENTIFICATION,
+        "Serial number",
+        "serial number",
+        U32,
+        Rw,
+    ),
+    &[ObjectRow::var(BOOT_TIME, "Boot time", U32, Rw).short("boot time")],
+]);
+
 /// The number of rows of [`COMM_OBJECTS`].
 const ROWS: usize = OBJECTS_TO_100D.len()
     + STORE_ROWS.len()
     + RESTORE_ROWS.len()
     + OBJECTS_FROM_1012.len()
     + RPDO_ROWS.len()
-    + TPDO_ROWS.len();
+    + TPDO_ROWS.len()
+    + MANAGER_ROWS.len();
 
 /// The CiA 301 communication objects: those of the device core (1000h,
 /// 1001h, 1003h, 1005h-1008h, 100Ch, 100Dh, 1010h, 1011h, 1012h,
 /// 1016h-1019h, 1200h), the version, EMCY and error behaviour objects
-/// (1009h, 100Ah, 1014h, 1015h, 1029h) and the PDO communication and
-/// mapping parameters (1400h-1BFFh), in index order (see the
-/// [module docs](self)).
+/// (1009h, 100Ah, 1014h, 1015h, 1029h), the PDO communication and
+/// mapping parameters (1400h-1BFFh) and the CiA 302-2/302-3 objects of a
+/// network manager (1F22h, 1F52h-1F56h, 1F80h-1F89h), in index order (see
+/// the [module docs](self)).
 pub const COMM_OBJECTS: &[ObjectRow] = &joined::<ROWS>(&[
     OBJECTS_TO_100D,
     &STORE_ROWS,
@@ -330,6 +502,7 @@ pub const COMM_OBJECTS: &[ObjectRow] = &joined::<ROWS>(&[
     OBJECTS_FROM_1012,
     &RPDO_ROWS,
     &TPDO_ROWS,
+    &MANAGER_ROWS,
 ]);
 
 /// The row of [`COMM_OBJECTS`] that covers `address`, if any: what
@@ -363,7 +536,8 @@ mod tests {
         for row in COMM_OBJECTS {
             let head = find(Address::new(row.address.index, 0)).expect("a sub-index 0 row");
             assert_eq!(head.last_index, row.last_index, "{}", row.address);
-            assert!(row.size() > 0 || row.data_type == DataType::VisibleString);
+            let variable = [DataType::VisibleString, DataType::Domain];
+            assert!(row.size() > 0 || variable.contains(&row.data_type));
             assert_eq!(find(row.address), Some(row));
         }
     }

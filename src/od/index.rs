@@ -113,13 +113,47 @@ pub const COMMUNICATION_AREA_FIRST: u16 = DEVICE_TYPE;
 /// The last index of the communication profile area (1FFFh).
 pub const COMMUNICATION_AREA_LAST: u16 = 0x1FFF;
 
+/// 1F22h "concise DCF", per node (CiA 302-3 "Configuration and program
+/// download", section 4).
+pub const CONCISE_DCF: u16 = 0x1F22;
+/// 1F52h "verify application software": sub 1 date, sub 2 time (CiA 302-3
+/// section 4).
+pub const VERIFY_APPLICATION_SOFTWARE: u16 = 0x1F52;
+/// 1F53h "expected application software date", per node (CiA 302-3).
+pub const EXPECTED_APPLICATION_SW_DATE: u16 = 0x1F53;
+/// 1F54h "expected application software time", per node (CiA 302-3).
+pub const EXPECTED_APPLICATION_SW_TIME: u16 = 0x1F54;
+/// 1F55h "expected software identification", per node (CiA 302-3).
+pub const EXPECTED_SOFTWARE_IDENTIFICATION: u16 = 0x1F55;
+/// 1F80h "NMT start-up" (CiA 302-2 "Network management", section 4.2).
+pub const NMT_STARTUP: u16 = 0x1F80;
+/// 1F81h "NMT slave assignment", per node (CiA 302-2 section 4.2).
+pub const NMT_SLAVE_ASSIGNMENT: u16 = 0x1F81;
+/// 1F82h "request NMT", per node, 128 all nodes (CiA 302-2 section 4.2).
+pub const REQUEST_NMT: u16 = 0x1F82;
+/// 1F83h "request node guarding", per node (CiA 302-2 section 4.2).
+pub const REQUEST_NODE_GUARDING: u16 = 0x1F83;
+/// 1F84h "device type identification", per node (CiA 302-2 section 4.2);
+/// 1F85h-1F88h follow it: vendor, product code, revision, serial number.
+pub const DEVICE_TYPE_IDENTIFICATION: u16 = 0x1F84;
+/// 1F85h "vendor identification", per node (CiA 302-2 section 4.2).
+pub const VENDOR_IDENTIFICATION: u16 = DEVICE_TYPE_IDENTIFICATION + 1;
+/// 1F86h "product code", per node (CiA 302-2 section 4.2).
+pub const PRODUCT_CODE_IDENTIFICATION: u16 = DEVICE_TYPE_IDENTIFICATION + 2;
+/// 1F87h "revision number", per node (CiA 302-2 section 4.2).
+pub const REVISION_NUMBER_IDENTIFICATION: u16 = DEVICE_TYPE_IDENTIFICATION + 3;
+/// 1F88h "serial number", per node (CiA 302-2 section 4.2).
+pub const SERIAL_NUMBER_IDENTIFICATION: u16 = DEVICE_TYPE_IDENTIFICATION + 4;
+/// 1F89h "boot time" (CiA 302-2 section 4.2).
+pub const BOOT_TIME: u16 = 0x1F89;
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn cia301_indexes() {
-        let rows: [(u16, u16); 35] = [
+        let rows: [(u16, u16); 50] = [
             (DEVICE_TYPE, 0x1000),
             (ERROR_REGISTER, 0x1001),
             (PRE_DEFINED_ERROR_FIELD, 0x1003),
@@ -155,6 +189,21 @@ mod tests {
             (TPDO_MAPPING_LAST, 0x1BFF),
             (COMMUNICATION_AREA_FIRST, 0x1000),
             (COMMUNICATION_AREA_LAST, 0x1FFF),
+            (CONCISE_DCF, 0x1F22),
+            (VERIFY_APPLICATION_SOFTWARE, 0x1F52),
+            (EXPECTED_APPLICATION_SW_DATE, 0x1F53),
+            (EXPECTED_APPLICATION_SW_TIME, 0x1F54),
+            (EXPECTED_SOFTWARE_IDENTIFICATION, 0x1F55),
+            (NMT_STARTUP, 0x1F80),
+            (NMT_SLAVE_ASSIGNMENT, 0x1F81),
+            (REQUEST_NMT, 0x1F82),
+            (REQUEST_NODE_GUARDING, 0x1F83),
+            (DEVICE_TYPE_IDENTIFICATION, 0x1F84),
+            (VENDOR_IDENTIFICATION, 0x1F85),
+            (PRODUCT_CODE_IDENTIFICATION, 0x1F86),
+            (REVISION_NUMBER_IDENTIFICATION, 0x1F87),
+            (SERIAL_NUMBER_IDENTIFICATION, 0x1F88),
+            (BOOT_TIME, 0x1F89),
         ];
         for (got, want) in rows {
             assert_eq!(got, want, "{want:04X}h");
