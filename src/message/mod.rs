@@ -109,6 +109,36 @@ pub enum Message {
     Unknown(CanFrame),
 }
 
+/// The SDO decoders of one direction, the same for requests and
+/// responses: `$frame` reads a frame whose identifier is known to be SDO,
+/// a transfer's segments (nearly every SDO frame) built straight into the
+/// result and the other commands by `$view` (`from_view`), out of line.
+macro_rules! sdo_decoders {
+    ($($(#[$doc:meta])* $frame:ident, $view:ident: $sdo:ident;)*) => {$(
+        $(#[$doc])*
+        #[inline(never)]
+        fn $frame(frame: &CanFrame, node: NodeId) -> Result<Message, DecodeError> {
+            let sdo = SdoFrame::of_frame(frame)?;
+            if $sdo::is_segment(&sdo) {
+                return Ok(Message::$sdo {
+                    node,
+                    sdo: $sdo::segment(sdo),
+                });
+            }
+            Self::$view(node, sdo)
+        }
+
+        $(#[$doc])*
+        #[inline(never)]
+        fn $view(node: NodeId, sdo: SdoFrame) -> Result<Message, DecodeError> {
+            Ok(Message::$sdo {
+                node,
+                sdo: $sdo::from_view(sdo)?,
+            })
+        }
+    )*};
+}
+
 impl Message {
     /// Classifies and decodes one frame.
     ///
@@ -218,50 +248,11 @@ impl Message {
         })
     }
 
-    /// 580h + node: an SDO response; a transfer's segments (nearly every
-    /// SDO frame) are built straight into the result, the other commands
-    /// by [`SdoResponse::from_view`].
-    #[inline(never)]
-    fn decode_sdo_response_frame(frame: &CanFrame, node: NodeId) -> Result<Message, DecodeError> {
-        let sdo = SdoFrame::of_frame(frame)?;
-        if SdoResponse::is_segment(&sdo) {
-            return Ok(Message::SdoResponse {
-                node,
-                sdo: SdoResponse::segment(sdo),
-            });
-        }
-        Self::decode_sdo_response(node, sdo)
-    }
-
-    /// 600h + node: an SDO request, as [`Self::decode_sdo_response_frame`].
-    #[inline(never)]
-    fn decode_sdo_request_frame(frame: &CanFrame, node: NodeId) -> Result<Message, DecodeError> {
-        let sdo = SdoFrame::of_frame(frame)?;
-        if SdoRequest::is_segment(&sdo) {
-            return Ok(Message::SdoRequest {
-                node,
-                sdo: SdoRequest::segment(sdo),
-            });
-        }
-        Self::decode_sdo_request(node, sdo)
-    }
-
-    /// 600h + node: an SDO request.
-    #[inline(never)]
-    fn decode_sdo_request(node: NodeId, sdo: SdoFrame) -> Result<Message, DecodeError> {
-        Ok(Message::SdoRequest {
-            node,
-            sdo: SdoRequest::from_view(sdo)?,
-        })
-    }
-
-    /// 580h + node: an SDO response.
-    #[inline(never)]
-    fn decode_sdo_response(node: NodeId, sdo: SdoFrame) -> Result<Message, DecodeError> {
-        Ok(Message::SdoResponse {
-            node,
-            sdo: SdoResponse::from_view(sdo)?,
-        })
+    sdo_decoders! {
+        /// 580h + node: an SDO response.
+        decode_sdo_response_frame, decode_sdo_response: SdoResponse;
+        /// 600h + node: an SDO request.
+        decode_sdo_request_frame, decode_sdo_request: SdoRequest;
     }
 
     /// A remote frame: only a TPDO request and a node-guarding request
