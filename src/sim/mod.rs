@@ -28,6 +28,7 @@
 //! assert!(session.result().ah > 0.3);
 //! ```
 
+pub mod bench;
 mod bms;
 pub mod bus;
 pub mod module_link;
@@ -41,5 +42,6 @@ pub use pack::{cell_model, CellModel, Pack, PackError, PackSpec};
 pub use power_stage::PowerStageModel;
 pub use scenario::{Scenario, ScenarioOptions};
 pub use session::{
-    BmsMaster, Logged, Session, SessionConfig, SessionResult, CHARGER_NODE, LOG_EPOCH, MODULE_NODE,
+    AlarmChange, BmsMaster, Logged, Session, SessionConfig, SessionResult, CHARGER_NODE,
+    DEFAULT_SEED, LOG_EPOCH, MODULE_NODE,
 };

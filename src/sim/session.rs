@@ -6,9 +6,12 @@
 //! 2271h, the charger's TPDO 3). Hours of charge run in milliseconds;
 //! the same inputs give the same log.
 //!
-//! The nodes run on the library's simulated bus ([`Bus`], no latency):
-//! every frame is delivered to the other nodes at the time it is sent, and
-//! every frame that reached the bus is kept in [`Session::log`]. The physics runs every
+//! The nodes run on the library's simulated bus ([`Bus`]): every frame is
+//! delivered to the other nodes one [`SessionConfig::bus_latency`] after it
+//! is sent (none by default) unless the bus loses it
+//! ([`SessionConfig::bus_loss`], seeded: the same configuration loses the
+//! same frames; [`Session::set_loss`]) or is off ([`Session::bus_off`]),
+//! and every frame that reached the bus is kept in [`Session::log`]. The physics runs every
 //! [`SessionConfig::tick`]: the power stage follows the charger's set
 //! points, the pack takes its current, the charger gets the measurements
 //! and the module's objects (6000h, 6010h, 6060h, 6070h, 6081h) come from
@@ -29,7 +32,7 @@ use crate::clock::Timestamp;
 use crate::cob_id::NodeId;
 use crate::deltaq::charge::{ChargeEvent, ChargePhase};
 use crate::deltaq::{Charger, ChargerConfig, ChargerEvent, DeltaQCode, OperatingMode};
-use crate::emcy::{Emergency, ErrorCode};
+use crate::emcy::{Emergency, ErrorCode, ErrorRegister};
 use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::nmt::{Heartbeat, NmtCommand, NmtCommandSpecifier, NmtState, NmtTarget};
@@ -64,6 +67,14 @@ pub struct SessionConfig {
     pub tick: Duration,
     /// The module is on the CAN bus from the start.
     pub module_on_can: bool,
+    /// How long a frame takes from its sender to the other nodes.
+    pub bus_latency: Duration,
+    /// The probability that a frame is lost on the bus (0: none), drawn
+    /// from a generator seeded with [`bus_seed`](Self::bus_seed): the same
+    /// configuration loses the same frames.
+    pub bus_loss: f64,
+    /// The seed of the bus's loss.
+    pub bus_seed: u64,
 }
 
 impl SessionConfig {
@@ -106,9 +117,16 @@ impl SessionConfig {
             max_current_a: 25.0,
             tick: Duration::from_millis(250),
             module_on_can: true,
+            bus_latency: Duration::ZERO,
+            bus_loss: 0.0,
+            bus_seed: DEFAULT_SEED,
         })
     }
 }
+
+/// The seed of a session's lossy bus unless its configuration says
+/// otherwise.
+pub const DEFAULT_SEED: u64 = 0x5EED_CA11;
 
 /// The wall-clock time a session's log starts at when written
 /// ([`Session::candump`]): 2026-01-01 00:00:00 UTC in microseconds, so the
@@ -215,6 +233,25 @@ pub struct Session {
     ah: f64,
     wh: f64,
     max_temperature: f64,
+    bus_seed: u64,
+    /// When the bus-off of [`Session::bus_off`] ends.
+    bus_back: Option<Timestamp>,
+    /// The charger's alarms and faults active now, in the order raised.
+    active: Vec<DeltaQCode>,
+    /// Every raise and clear of them.
+    alarm_changes: Vec<AlarmChange>,
+}
+
+/// A Delta-Q alarm or fault of the charger raised or cleared ("Delta-Q IC
+/// Series CANopen interface specification rev 2.0", section 4.4.1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AlarmChange {
+    /// When.
+    pub at: Timestamp,
+    /// The alarm or fault.
+    pub code: DeltaQCode,
+    /// Raised (`true`) or cleared.
+    pub raised: bool,
 }
 
 impl Session {
@@ -235,7 +272,8 @@ impl Session {
                 max_current.round().clamp(0.0, 65535.0) as u16;
             o.battery_parameters.number_of_cells = spec.cells;
         });
-        let mut bus = Bus::new(Duration::ZERO);
+        let mut bus = Bus::new(config.bus_latency);
+        bus.set_loss(config.bus_loss, config.bus_seed);
         let charger = bus.add("Charger", Charger::new(config.charger));
         let module = bus.add("Module", module);
         let master = bus.add("BMS", BmsMaster::new());
@@ -262,6 +300,10 @@ impl Session {
             ah: 0.0,
             wh: 0.0,
             max_temperature: pack.temperature_c(),
+            bus_seed: config.bus_seed,
+            bus_back: None,
+            active: Vec::new(),
+            alarm_changes: Vec::new(),
         };
         s.set_module_on_can(config.module_on_can);
         s
@@ -327,6 +369,12 @@ impl Session {
             })
     }
 
+    /// Every phase the charge control entered so far, with its time.
+    #[must_use]
+    pub fn phases(&self) -> &[(Timestamp, ChargePhase)] {
+        &self.phases
+    }
+
     /// The phase the charge control is in.
     #[must_use]
     pub fn phase(&self) -> ChargePhase {
@@ -353,6 +401,71 @@ impl Session {
         let _ = self
             .bus
             .with(self.charger, |c, now| c.set_bus_error(now, error));
+        self.settle();
+    }
+
+    /// From now on each frame is lost with `probability` (0: none), drawn
+    /// from the generator of the configuration's
+    /// [`bus_seed`](SessionConfig::bus_seed).
+    pub fn set_loss(&mut self, probability: f64) {
+        self.bus.set_loss(probability, self.bus_seed);
+    }
+
+    /// The bus is off for `duration` from now (CiA 301 section 7.2.8:
+    /// the error counters of ISO 11898-1 took the charger's controller to
+    /// bus-off): nothing is sent or delivered, and the charger's CAN
+    /// controller reports a bus error (Delta-Q E-0-2-9) until it is back.
+    pub fn bus_off(&mut self, duration: Duration) {
+        let now = self.now();
+        let back = now.add_duration(duration);
+        self.bus.bus_off(now, back);
+        self.bus_back = Some(back);
+        self.set_bus_error(true);
+    }
+
+    /// The charger's alarms and faults active now, in the order raised
+    /// (from its events and the EMCYs it sent, whether or not they reached
+    /// the bus).
+    #[must_use]
+    pub fn active_alarms(&self) -> &[DeltaQCode] {
+        &self.active
+    }
+
+    /// Every raise and clear of the charger's alarms and faults so far.
+    #[must_use]
+    pub fn alarm_changes(&self) -> &[AlarmChange] {
+        &self.alarm_changes
+    }
+
+    /// The battery module signals `code` by EMCY (CiA 301 section 7.2.7;
+    /// CiA 418's codes): 5010h is its temperature sensor fault (6010h no
+    /// longer valid); any other code is recorded in its 1003h with its
+    /// 1001h bit (current, voltage, temperature, communication, else
+    /// manufacturer) and sent; 0000h clears them all (the error reset).
+    /// Sent only while the module is on the bus, as its other frames.
+    pub fn module_emcy(&mut self, code: u16) {
+        let _ = self.bus.with(self.module, |m, now| match code {
+            0 => {
+                m.set_temperature_sensor_fault(now, false);
+                m.device_mut().clear_error(ErrorRegister::all());
+            }
+            0x5010 => m.set_temperature_sensor_fault(now, true),
+            _ => {
+                let bits = match code >> 12 {
+                    2 => ErrorRegister::CURRENT,
+                    3 => ErrorRegister::VOLTAGE,
+                    4 => ErrorRegister::TEMPERATURE,
+                    8 => ErrorRegister::COMMUNICATION,
+                    _ => ErrorRegister::MANUFACTURER,
+                };
+                let emcy = Emergency {
+                    code: ErrorCode(code),
+                    register: ErrorRegister::empty(),
+                    manufacturer: [0; 5],
+                };
+                m.device_mut().raise_error(bits, emcy);
+            }
+        });
         self.settle();
     }
 
@@ -396,12 +509,21 @@ impl Session {
             self.after_step();
             let now = self.bus.now();
             let due = self.bus.next_due();
-            let Some(next) = crate::clock::earliest([due, Some(self.next_tick)]) else {
+            let Some(next) = crate::clock::earliest([due, Some(self.next_tick), self.bus_back])
+            else {
                 break;
             };
             if !end.has_reached(next) {
                 self.bus.advance(end);
                 break;
+            }
+            if let Some(back) = self.bus_back.filter(|b| next.has_reached(*b)) {
+                self.bus.advance(back);
+                self.bus_back = None;
+                let _ = self
+                    .bus
+                    .with(self.charger, |c, now| c.set_bus_error(now, false));
+                continue;
             }
             if due.is_some_and(|d| self.next_tick.has_reached(d)) {
                 same = if now.has_reached(next) { same + 1 } else { 0 };
@@ -500,7 +622,16 @@ impl Session {
     /// charger's phases, and the BMS's writes (the next one started once
     /// the tool is idle; 1803h queued when the charger is configured).
     fn after_step(&mut self) {
+        let charger_emcy = 0x080 + u32::from(CHARGER_NODE.raw());
         for sent in self.bus.take_log() {
+            if sent.from == "Charger" && sent.frame.identity() == charger_emcy {
+                if let Ok(e) = Emergency::parse_frame(&sent.frame) {
+                    match DeltaQCode::from_emergency(&e) {
+                        DeltaQCode::NONE => self.clear_alarms(sent.at, |_| true),
+                        code => self.raise_alarm(sent.at, code),
+                    }
+                }
+            }
             if sent.fate.reached_the_bus() {
                 self.log.push(Logged {
                     at: sent.at,
@@ -513,11 +644,29 @@ impl Session {
                 ChargerEvent::Charge(ChargeEvent::Phase { to, .. }) => {
                     self.phases.push((at, to));
                 }
-                ChargerEvent::Configured { .. } if self.enable_charger_tpdo3 => {
-                    // 1803h sub 1: TPDO 3 valid on 48Ah + node.
-                    let cob = 0x480 + u32::from(CHARGER_NODE.raw());
-                    self.pending_writes
-                        .push((0x1803, 1, cob.to_le_bytes().to_vec()));
+                ChargerEvent::Charge(ChargeEvent::Alarm { alarm, active }) => {
+                    let code = alarm.code();
+                    if active {
+                        self.raise_alarm(at, code);
+                    } else {
+                        self.clear_alarms(at, |c| c == code);
+                    }
+                }
+                ChargerEvent::Configured { .. } => {
+                    // The module is back and paired: its communication
+                    // alarms are over (section 7.1.7).
+                    self.clear_alarms(at, |c| {
+                        matches!(
+                            c,
+                            DeltaQCode::HEARTBEAT_LOST | DeltaQCode::BATTERY_MODULE_COMMUNICATION
+                        )
+                    });
+                    if self.enable_charger_tpdo3 {
+                        // 1803h sub 1: TPDO 3 valid on 48Ah + node.
+                        let cob = 0x480 + u32::from(CHARGER_NODE.raw());
+                        self.pending_writes
+                            .push((0x1803, 1, cob.to_le_bytes().to_vec()));
+                    }
                 }
                 _ => {}
             }
@@ -530,5 +679,31 @@ impl Session {
             while t.poll_event().is_some() {}
         }
         self.start_next_write();
+    }
+
+    fn raise_alarm(&mut self, at: Timestamp, code: DeltaQCode) {
+        if !self.active.contains(&code) {
+            self.active.push(code);
+            self.alarm_changes.push(AlarmChange {
+                at,
+                code,
+                raised: true,
+            });
+        }
+    }
+
+    fn clear_alarms(&mut self, at: Timestamp, which: impl Fn(DeltaQCode) -> bool) {
+        let changes = &mut self.alarm_changes;
+        self.active.retain(|&code| {
+            let cleared = which(code);
+            if cleared {
+                changes.push(AlarmChange {
+                    at,
+                    code,
+                    raised: false,
+                });
+            }
+            !cleared
+        });
     }
 }
