@@ -1,6 +1,7 @@
 //! Whole sessions in simulated time: the simulated bus itself
-//! (`canopen_codec::sim::bus`), every charge scenario of `sim::Scenario`, the
-//! recorded virtual session (`tests/data/virtual-session.log`), and our own
+//! (`canopen_codec::sim::bus`), every charge scenario of `sim::Scenario`
+//! and every file of `scenarios/` (`sim::bench`), the recorded virtual
+//! session (`tests/data/virtual-session.log`), and our own
 //! nodes booted by the CiA 302-2 boot-up manager from DCFs of their EDS.
 
 #[path = "../common/mod.rs"]
@@ -16,6 +17,8 @@ mod bus_observe;
 mod charge_sessions;
 #[cfg(feature = "sim")]
 mod chemistries;
+#[cfg(feature = "sim")]
+mod scenario_files;
 #[cfg(feature = "sim")]
 mod sim;
 #[cfg(feature = "sim")]

@@ -39,9 +39,11 @@
 //! let script = Script::from_document(&root).unwrap();
 //! let mut lines = Vec::new();
 //! let (_session, summary) = script.run(|e| lines.push(e.json())).unwrap();
-//! // After the 10 s CAN hold-off the charger charges in bulk at 25 A.
-//! assert!(lines.contains(&r#"{"t": 10.25, "event": "state", "state": "bulk"}"#.to_string()));
-//! assert!((summary.ah - 25.0 * (600.0 - 10.25) / 3600.0).abs() < 0.05);
+//! // The module is there from the start: the charger charges in bulk at
+//! // 25 A once the BMS starts it (20 ms).
+//! assert!(lines.contains(&r#"{"t": 0.02, "event": "state", "state": "bulk"}"#.to_string()));
+//! assert!((summary.ah - 25.0 * 600.0 / 3600.0).abs() < 0.01);
+//! assert_eq!(lines.iter().filter(|l| l.contains("sample")).count(), 10);
 //! assert!(script.expect.check(&summary).is_empty());
 //! ```
 
@@ -50,7 +52,7 @@ mod run;
 mod script;
 
 pub use document::{Item, ScriptError, Value};
-pub use run::{apply, BenchEvent, Summary, SAMPLE_EVERY};
+pub use run::{apply, BenchEvent, Summary, SAMPLE_EVERY, TICK};
 pub use script::{
     parse_code, state_name, Action, Battery, BusSetup, Expect, Script, TimedAction, ACTIONS, STATES,
 };

@@ -7,9 +7,10 @@ use alloc::vec::Vec;
 use core::time::Duration;
 
 use super::document::{Fields, Item, ScriptError, Value};
-use crate::cia418::Chemistry;
+use crate::cia418::BatteryType;
 use crate::deltaq::charge::ChargePhase;
 use crate::deltaq::{DeltaQCode, OperatingMode};
+use crate::sim::PackSpec;
 
 /// A bench run (see [the module docs](super) for the file format).
 #[derive(Debug, Clone, PartialEq)]
@@ -32,8 +33,9 @@ pub struct Script {
 /// The battery at the start.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Battery {
-    /// Its chemistry (a 6020h battery type name).
-    pub chemistry: Chemistry,
+    /// Its 6020h battery type (by name: `flooded`, `agm`, `li-ion`, ..;
+    /// [`BatteryType::from_name`]).
+    pub battery_type: BatteryType,
     /// Cells in series.
     pub cells: u16,
     /// Capacity, Ah.
@@ -207,17 +209,6 @@ pub fn parse_code(label: &str) -> Option<DeltaQCode> {
     }
 }
 
-/// A chemistry from its 6020h battery type name.
-fn chemistry(name: &str) -> Option<Chemistry> {
-    Some(match name {
-        "lead-acid" | "flooded" | "agm" | "gel" => Chemistry::LeadAcid,
-        "li-ion" => Chemistry::LithiumIon,
-        "nicd" => Chemistry::NickelCadmium,
-        "nimh" => Chemistry::NickelMetalHydride,
-        _ => return None,
-    })
-}
-
 impl Script {
     /// Reads a scenario file's tree (see [the module docs](super)).
     ///
@@ -291,12 +282,13 @@ fn unknown(line: u32, what: &str, got: &str, known: &str) -> ScriptError {
 fn read_battery(item: &Item) -> Result<Battery, ScriptError> {
     let mut f = Fields::of("[battery]", item)?;
     let name = f.need("chemistry")?;
-    let chemistry = chemistry(name.text("a chemistry")?).ok_or_else(|| {
-        let known = "lead-acid, flooded, agm, gel, li-ion, nicd, nimh";
-        unknown(name.line, "chemistry", name.text("").unwrap_or(""), known)
+    let text = name.text("a 6020h battery type name")?;
+    let battery_type = BatteryType::from_name(text).ok_or_else(|| {
+        let known = "flooded, agm, gel, li-ion, nicd, nimh, .. (CiA 418 6020h)";
+        unknown(name.line, "chemistry", text, known)
     })?;
     let battery = Battery {
-        chemistry,
+        battery_type,
         cells: f.need("cells")?.number("a cell count", 1.0..=200.0)? as u16,
         capacity_ah: f
             .need("capacity_ah")?
@@ -309,6 +301,9 @@ fn read_battery(item: &Item) -> Result<Battery, ScriptError> {
             None => 25.0,
         },
     };
+    // The pack model must know the chemistry.
+    PackSpec::of_type(battery_type, battery.cells, battery.capacity_ah)
+        .map_err(|e| ScriptError::new(name.line, format!("{text}: {e}")))?;
     f.finish()?;
     Ok(battery)
 }
