@@ -143,9 +143,17 @@ pub struct Report {
 }
 
 impl Report {
-    /// More bytes were transferred than kept ([`MAX_BYTES`]).
+    /// More bytes were transferred than kept ([`MAX_BYTES`]; an upload of
+    /// more bytes than indicated keeps the indicated size, as
+    /// python-canopen does, and is not truncated by that).
     pub fn truncated(&self) -> bool {
-        self.total > self.bytes.len()
+        let value = match (self.direction, self.indicated) {
+            (Direction::Upload, Some(n)) => {
+                self.total.min(usize::try_from(n).unwrap_or(usize::MAX))
+            }
+            _ => self.total,
+        };
+        value > self.bytes.len()
     }
 
     /// The indicated size when it differs from what was transferred.
@@ -371,10 +379,6 @@ impl Tracker {
                         },
                         if segments == 1 { "" } else { "s" },
                     ),
-                    BreakReason::MoreThanIndicated { indicated, sent } => format!(
-                        "the server sent {sent} bytes where it indicated {indicated} \
-                         (the client should abort with 06070012h; {indicated} kept)"
-                    ),
                     BreakReason::Timeout => {
                         let mut s = String::new();
                         let _ = write!(s, "no frame for {} s", TIMEOUT.as_secs());
@@ -390,11 +394,7 @@ impl Tracker {
                 } else {
                     t
                 };
-                let mut r = self.report(transfer, at, End::Incomplete(why), false);
-                if let BreakReason::MoreThanIndicated { sent, .. } = reason {
-                    // Transferred on the bus: more than the bytes kept.
-                    r.total = r.total.max(sent);
-                }
+                let r = self.report(transfer, at, End::Incomplete(why), false);
                 if reason == BreakReason::NewInitiate {
                     if let Some(p) = pending_new.replace(r) {
                         self.reports.push(p);
@@ -413,6 +413,15 @@ impl Tracker {
         } else {
             None
         };
+        // An upload of more bytes than indicated keeps the indicated size,
+        // as python-canopen's client does (the total transferred stays, and
+        // the report names the size mismatch).
+        if let (Some(n), sdo::Direction::Upload) = (tr.indicated, tr.direction) {
+            let n = usize::try_from(n).unwrap_or(usize::MAX);
+            if c.total > n && c.bytes.len() > n {
+                c.bytes.truncate(n);
+            }
+        }
         Report {
             t,
             node: tr.channel.node,

@@ -232,14 +232,21 @@ pub fn sentence(r: &Report, d: &Described) -> String {
         End::Complete => {}
     }
     s.push_str(": ");
+    // The value's size: what was transferred, but the indicated size of an
+    // upload that sent more (the value kept, as python-canopen keeps it).
+    let size = if r.truncated() {
+        r.total
+    } else {
+        r.bytes.len()
+    };
     if d.string {
-        let _ = write!(s, "{} bytes {}", r.total, quote(&r.bytes));
-    } else if r.total == 0 {
+        let _ = write!(s, "{size} bytes {}", quote(&r.bytes));
+    } else if size == 0 {
         s.push_str("0 bytes");
-    } else if r.total <= 8 {
+    } else if size <= 8 {
         s.push_str(&hex_spaced(&r.bytes));
     } else {
-        let _ = write!(s, "{} bytes {}", r.total, hex_spaced(&r.bytes));
+        let _ = write!(s, "{size} bytes {}", hex_spaced(&r.bytes));
     }
     match (&d.name, &d.meaning) {
         (Some(n), Some(m)) => {

@@ -288,8 +288,9 @@ fn sdo_toggle_error_is_reported_once() {
 
 #[test]
 fn sdo_size_mismatch_truncation_and_log_end_are_reported() {
-    // V9: more data than indicated (ends the transfer; the bytes indicated
-    // are kept); V10: less; then a transfer the log cuts.
+    // V9: more data than indicated (the transfer completes with the
+    // indicated size kept and the mismatch named, as python-canopen's
+    // client takes it); V10: less; then a transfer the log cuts.
     let input = format!(
         "602#4008100000000000\n582#4108100004000000\n602#6000000000000000\n582#0554696E79200000\n\
 602#401B200000000000\n582#411B2000FEFDFCFB\n602#6000000000000000\n582#00B2012002911203\n\
@@ -300,9 +301,8 @@ fn sdo_size_mismatch_truncation_and_log_end_are_reported() {
     assert_eq!(
         transfers(&text(&o)),
         [
-            "SDO upload 1008h:00 from node 2 incomplete: the server sent 5 bytes where it \
-             indicated 4 (the client should abort with 06070012h; 4 kept) \
-             (5 bytes transferred of 4 indicated)",
+            "SDO upload 1008h:00 from node 2: 4 bytes \"Tiny\" (manufacturer device name) \
+             [size mismatch: 4 bytes indicated, 5 transferred]",
             "SDO upload 201Bh:00 from node 2: B2 01 20 02 91 12 03 19 \
              [size mismatch: 4227661310 bytes indicated, 8 transferred]",
             "SDO upload 1008h:00 from node 2 incomplete: the log ends (7 bytes transferred of 26 indicated)",
@@ -313,7 +313,8 @@ fn sdo_size_mismatch_truncation_and_log_end_are_reported() {
     assert_eq!(v[0]["indicated_size"], 4);
     assert_eq!(v[0]["size"], 5);
     // Never more bytes than indicated: "Tiny" of "Tiny ".
-    assert_eq!(v[0]["status"], "incomplete");
+    assert_eq!(v[0]["status"], "complete");
+    assert_eq!(v[0]["truncated"], false);
     assert_eq!(v[0]["bytes"], "54696e79");
     assert_eq!(v[2]["incomplete"], "the log ends");
     assert!(v[2]["t"].is_null()); // the log has no timestamps

@@ -151,15 +151,6 @@ pub enum BreakReason {
         /// transfer timed out.
         trace_ended: bool,
     },
-    /// A segmented upload's server sent more bytes than it indicated in the
-    /// initiate response (06070012h for the client): the bytes up to the
-    /// indicated size were delivered, none beyond.
-    MoreThanIndicated {
-        /// The size indicated.
-        indicated: u32,
-        /// The bytes the segments made, the last one included.
-        sent: usize,
-    },
     /// No frame of the transfer for [`ObserverConfig::timeout`].
     Timeout,
     /// [`Observer::end_of_trace`]: the trace ended with the transfer open.

@@ -258,9 +258,9 @@ fn a_repeated_toggle_waits_for_the_abort_it_calls_for() {
 
 #[test]
 fn sizes_and_objects_that_do_not_fit_are_rule_breaks() {
-    // More than the indicated 3 bytes (06070012h for the client): the
-    // first 3 are delivered, the transfer ends there naming both sizes,
-    // and the client's abort after it is a stray frame.
+    // More than the indicated 3 bytes (06070012h for the client): flagged
+    // and followed; the client's abort after it ends the transfer as the
+    // abort the rule called for.
     let seen = run(&[
         (REQ, &[0x40, 0x08, 0x10, 0, 0, 0, 0, 0]),
         (RESP, &[0x41, 0x08, 0x10, 0, 3, 0, 0, 0]),
@@ -270,19 +270,18 @@ fn sizes_and_objects_that_do_not_fit_are_rule_breaks() {
     ]);
     assert!(matches!(
         seen.terminal(),
-        [ObserverEvent::BrokenOff {
-            reason: BreakReason::MoreThanIndicated {
-                indicated: 3,
-                sent: 7
-            },
-            bytes: 3,
-            pending: 0,
+        [ObserverEvent::Aborted {
+            code: AbortCode::DataTypeLengthTooHigh,
+            expected: Some(AbortCode::DataTypeLengthTooHigh),
+            bytes: 7,
             ..
         }]
     ));
-    assert_eq!(seen.value(), [1, 2, 3]);
-    // The same past a first full segment: 7 + 7 of 10 indicated.
-    let seen = run(&[
+    // The same past a first full segment, 7 + 7 of 10 indicated, and no
+    // abort (python-canopen's client reads on and keeps the indicated
+    // size): the rule broken is reported, the transfer completes with
+    // every byte the bus carried.
+    let seen = run_to_the_end(&[
         (REQ, &[0x40, 0x08, 0x10, 0, 0, 0, 0, 0]),
         (RESP, &[0x41, 0x08, 0x10, 0, 10, 0, 0, 0]),
         (REQ, &[0x60, 0, 0, 0, 0, 0, 0, 0]),
@@ -290,18 +289,19 @@ fn sizes_and_objects_that_do_not_fit_are_rule_breaks() {
         (REQ, &[0x70, 0, 0, 0, 0, 0, 0, 0]),
         (RESP, &[0x11, 8, 9, 10, 11, 12, 13, 14]),
     ]);
-    assert!(matches!(
-        seen.terminal(),
-        [ObserverEvent::BrokenOff {
-            reason: BreakReason::MoreThanIndicated {
-                indicated: 10,
-                sent: 14
-            },
-            bytes: 10,
+    assert!(seen.events().any(|e| matches!(
+        e,
+        ObserverEvent::RuleBroken {
+            code: AbortCode::DataTypeLengthTooHigh,
+            by: Side::Client,
             ..
-        }]
-    ));
-    assert_eq!(seen.value(), [1, 2, 3, 4, 5, 6, 7, 8, 9, 10]);
+        }
+    )));
+    assert_eq!(completed(&seen).1, 14);
+    assert_eq!(
+        seen.value(),
+        [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14]
+    );
     // The answer names another object: 06040043h.
     let seen = run(&[
         (REQ, &[0x40, 0x08, 0x10, 0, 0, 0, 0, 0]),

@@ -579,9 +579,9 @@ fn server(o: &mut Open, s: ServerCommand, bytes: &[u8], out: &mut Sink) -> Optio
             o.phase = Phase::DownloadSegmentDue(Segments::new(size));
         }
         (ServerCommand::UploadSegment(seg), Phase::UploadSegmentDue(mut rx)) => {
-            if rx.check(&seg) == Err(AbortCode::DataTypeLengthTooHigh) {
-                return Some(more_than_indicated(o, &seg, out));
-            }
+            // More bytes than indicated (06070012h for the client) is
+            // flagged and followed, as python-canopen's client reads on and
+            // keeps the indicated size.
             if let Some(offset) = o.segment(&mut rx, &seg, Side::Client) {
                 o.deliver(offset, seg.data, out);
                 if seg.last && o.flagged.is_some() {
@@ -651,19 +651,4 @@ fn server(o: &mut Open, s: ServerCommand, bytes: &[u8], out: &mut Sink) -> Optio
         _ => o.violate(AbortCode::InvalidCommandSpecifier, Side::Client),
     }
     None
-}
-
-/// A segmented upload's segment takes the value past the size the server
-/// indicated (06070012h for the client): the bytes up to the indicated size
-/// are delivered, none beyond, and the transfer ends there.
-fn more_than_indicated(o: &mut Open, seg: &Segment, out: &mut Sink) -> End {
-    let indicated = o.transfer.indicated.unwrap_or(0);
-    let sent = o.bytes.saturating_add(seg.data.len());
-    let room = usize::try_from(indicated)
-        .unwrap_or(usize::MAX)
-        .saturating_sub(o.bytes);
-    if let Some(prefix) = seg.data.as_slice().get(..room.min(seg.data.len())) {
-        o.deliver(o.bytes, SegmentData::new(prefix).unwrap_or_default(), out);
-    }
-    End::Broken(BreakReason::MoreThanIndicated { indicated, sent })
 }
