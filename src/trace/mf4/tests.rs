@@ -708,8 +708,7 @@ fn variable_length_data_bytes_read_from_a_variable_length_group() {
     let cg = find(&file, b"##CG");
     let variable = (0..file.len() - 24)
         .step_by(8)
-        .filter(|&i| &file[i..i + 4] == b"##CG")
-        .last()
+        .rfind(|&i| &file[i..i + 4] == b"##CG")
         .unwrap();
     vlsd_data_bytes(&mut file, cg, variable as u64);
     assert_eq!(
