@@ -13,6 +13,10 @@
 //!   `serde_json::to_writer` of the same object already built as a
 //!   `serde_json::Value` (so serde's figure leaves out building it: a lower
 //!   bound of what JSON through serde would cost).
+//! - `bus_load/{frame_bits,bus_load}`: the summary's bit count of each
+//!   frame of the log (`log::bus_load::FrameBits::of`: the frame's bits
+//!   laid out, its CRC-15 computed, its stuff bits counted), and the same
+//!   fed to the summary's `BusLoad` (windows, shares), per frame.
 //!
 //! `cargo bench --features log --bench decoder_pipeline` (or `--features
 //! cli`, which has `log`). The whole program
@@ -199,5 +203,32 @@ fn json_object(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, pipeline, json_object);
+fn bus_load(c: &mut Criterion) {
+    use canopen_codec::log::bus_load::{BusLoad, FrameBits};
+    let log = log();
+    let frames: Vec<LogLine<'_>> = log.lines().filter_map(|l| parse_line(l).ok()).collect();
+    let mut g = c.benchmark_group("bus_load");
+    g.throughput(Throughput::Elements(frames.len() as u64));
+    g.sample_size(20);
+    g.bench_function("frame_bits", |b| {
+        b.iter(|| {
+            frames
+                .iter()
+                .map(|l| u64::from(FrameBits::of(black_box(&l.frame)).stuffed))
+                .sum::<u64>()
+        })
+    });
+    g.bench_function("bus_load", |b| {
+        b.iter(|| {
+            let mut load = BusLoad::new(None);
+            for l in &frames {
+                load.frame(l.timestamp, black_box(&l.frame));
+            }
+            black_box(load.mean_percent())
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, pipeline, json_object, bus_load);
 criterion_main!(benches);

@@ -1,6 +1,83 @@
 use super::*;
 use proptest::prelude::*;
 
+/// The reference: the frame's bits fed one at a time, the CRC shifted a
+/// bit at a time, a stuff bit after every five equal bits (ISO 11898-1
+/// section 10.5, as the rules say it).
+fn stuff_bits_bit_by_bit(frame: &CanFrame) -> u32 {
+    let mut s = Stuffing::default();
+    s.field(0, 1);
+    let rtr = u32::from(frame.is_remote());
+    match frame.id() {
+        CanId::Standard(id) => {
+            s.field(u32::from(id), 11);
+            s.field(rtr, 1);
+            s.field(0, 2);
+        }
+        CanId::Extended(id) => {
+            s.field(id >> 18, 11);
+            s.field(0b11, 2);
+            s.field(id & 0x3_FFFF, 18);
+            s.field(rtr, 1);
+            s.field(0, 2);
+        }
+    }
+    s.field(u32::from(frame.dlc()), 4);
+    if !frame.is_remote() {
+        for &byte in frame.data() {
+            s.field(u32::from(byte), 8);
+        }
+    }
+    let crc = s.crc;
+    s.crc_done = true;
+    s.field(u32::from(crc), 15);
+    s.stuff
+}
+
+/// The stuffing and the CRC over a frame's bits, fed most significant bit
+/// first.
+#[derive(Default)]
+struct Stuffing {
+    crc: u16,
+    /// The CRC sequence is being sent: it is not its own input.
+    crc_done: bool,
+    /// The last bit sent (stuff bits included) and how many equal ones.
+    last: bool,
+    run: u8,
+    stuff: u32,
+}
+
+impl Stuffing {
+    /// The `n` low bits of `value`, most significant first.
+    fn field(&mut self, value: u32, n: u32) {
+        for i in (0..n).rev() {
+            self.bit(value.checked_shr(i).unwrap_or(0) & 1 == 1);
+        }
+    }
+
+    fn bit(&mut self, bit: bool) {
+        if !self.crc_done {
+            let top = self.crc & 0x4000 != 0;
+            self.crc = (self.crc << 1) & 0x7FFF;
+            if bit != top {
+                self.crc ^= CRC15_POLY;
+            }
+        }
+        if self.run > 0 && bit == self.last {
+            self.run += 1;
+        } else {
+            self.last = bit;
+            self.run = 1;
+        }
+        if self.run == 5 {
+            // The stuff bit, of the opposite value, starts the next run.
+            self.stuff += 1;
+            self.last = !bit;
+            self.run = 1;
+        }
+    }
+}
+
 fn frame(text: &str) -> CanFrame {
     crate::trace::candump::parse_frame(text).unwrap()
 }
@@ -123,9 +200,30 @@ fn any_frame() -> impl Strategy<Value = CanFrame> {
 
 proptest! {
     #[test]
+    fn the_table_and_run_count_agrees_with_the_bit_by_bit_count(f in any_frame()) {
+        prop_assert_eq!(stuff_bits(&f), stuff_bits_bit_by_bit(&f), "{}", f);
+    }
+
+    #[test]
     fn the_exact_count_lies_between_the_bounds(f in any_frame()) {
         let b = FrameBits::of(&f);
         prop_assert!(b.unstuffed <= b.stuffed && b.stuffed <= b.worst_case, "{f}: {b:?}");
+    }
+
+    #[test]
+    fn the_load_counts_each_frame_as_frame_bits_does(
+        frames in proptest::collection::vec(any_frame(), 1..40),
+        repeats in proptest::collection::vec(0usize..40, 0..200),
+    ) {
+        // Frames repeated (the cache's hits) and new ones.
+        let mut l = BusLoad::new(None);
+        let mut want = 0u64;
+        for f in frames.iter().chain(repeats.iter().filter_map(|&i| frames.get(i))) {
+            let b = l.frame(None, f);
+            prop_assert_eq!(b, FrameBits::of(f));
+            want += u64::from(b.stuffed);
+        }
+        prop_assert_eq!(l.bits().stuffed, want);
     }
 
     #[test]
@@ -143,5 +241,29 @@ proptest! {
         let p = l.peak().unwrap();
         let (lo, mid, hi) = l.window_percent(&p);
         prop_assert!(lo <= mid && mid <= hi);
+    }
+}
+
+#[test]
+fn long_runs_agree_with_the_bit_by_bit_count() {
+    // Runs of equal bits across field borders, stuff bits ending runs.
+    let ids = [
+        CanId::Standard(0),
+        CanId::Standard(0x7FF),
+        CanId::Standard(0x41F),
+        CanId::Extended(0),
+        CanId::Extended(0x1FFF_FFFF),
+        CanId::Extended(0x0783_E0F8),
+    ];
+    for id in ids {
+        for len in 0..=8usize {
+            for pattern in [0x00u8, 0xFF, 0x0F, 0xF0, 0x1F, 0x83, 0xE0] {
+                let data = vec![pattern; len];
+                let f = CanFrame::new(id, &data).unwrap();
+                assert_eq!(stuff_bits(&f), stuff_bits_bit_by_bit(&f), "{f}");
+            }
+            let r = CanFrame::remote(id, len as u8).unwrap();
+            assert_eq!(stuff_bits(&r), stuff_bits_bit_by_bit(&r), "{r}");
+        }
     }
 }
