@@ -81,6 +81,11 @@ impl<'a> Stream<'a> {
         }
     }
 
+    /// The bytes it holds (read ahead, inflated).
+    pub(super) fn held(&self) -> usize {
+        self.buf.len()
+    }
+
     /// The next `n` bytes; `None` at the end of the data (an error when
     /// it ends inside them).
     pub(super) fn take(

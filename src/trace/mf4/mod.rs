@@ -42,7 +42,7 @@
 //! borrows the whole file (`&[u8]`: the programs read an `.mf4` into
 //! memory). Besides it, memory is bounded per data group by one data
 //! block (a `##DT` is copied in windows of 1 MiB; a `##DZ` inflated whole,
-//! at most 64 MiB). Every link and size is checked: a block past the end,
+//! at most 64 MiB), and across the data groups by [`MAX_HELD`]. Every link and size is checked: a block past the end,
 //! a length below its links, a chain that loops (each chain may visit at
 //! most one block per 24 bytes of the file) are typed errors, never a
 //! panic or an endless loop. Needs feature `alloc`.
@@ -70,7 +70,7 @@ use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::trace::{RxTx, TraceFrame, Unsupported};
 
-pub use read::Mf4Reader;
+pub use read::{Mf4Reader, MAX_HELD};
 
 /// The file identification's first 8 bytes.
 pub const FILE_MAGIC: [u8; 8] = *b"MDF     ";
@@ -214,6 +214,13 @@ pub enum Mf4Error {
         at: u64,
         /// Its original length.
         size: u64,
+    },
+    /// The data groups' streams hold more than [`MAX_HELD`] bytes at once
+    /// (one data block each).
+    #[error("the data groups hold {held} bytes at once, over the 256 MiB this reader holds")]
+    TooMuchHeld {
+        /// The bytes held.
+        held: u64,
     },
     /// A `##DZ` block that does not inflate (or no inflater given).
     #[error("the compressed block at byte {at} does not inflate")]

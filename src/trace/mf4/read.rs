@@ -18,6 +18,9 @@ use crate::trace::{RxTx, Unsupported};
 const MAX_RECORD: u64 = 1 << 20;
 /// The most data groups with bus logging read at once.
 const MAX_DATA_GROUPS: usize = 4096;
+/// The most bytes the data groups' streams hold at once (each holds one
+/// data block: many groups of large compressed blocks would hold more).
+pub const MAX_HELD: usize = 256 << 20;
 
 /// What a channel group's records are.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -98,6 +101,8 @@ pub struct Mf4Reader<'a> {
     start_ns: u64,
     cursors: Vec<Cursor<'a>>,
     failed: Option<Mf4Error>,
+    /// [`MAX_HELD`] (smaller in tests).
+    pub(super) held_limit: usize,
 }
 
 impl<'a> Mf4Reader<'a> {
@@ -226,6 +231,7 @@ impl<'a> Mf4Reader<'a> {
             start_ns,
             cursors,
             failed: None,
+            held_limit: MAX_HELD,
         })
     }
 
@@ -256,6 +262,16 @@ impl<'a> Mf4Reader<'a> {
                 }
             }
         }
+        let held = self
+            .cursors
+            .iter()
+            .map(Cursor::held)
+            .fold(0usize, usize::saturating_add);
+        if held > self.held_limit {
+            let e = Mf4Error::TooMuchHeld { held: held as u64 };
+            self.failed = Some(e);
+            return Err(e);
+        }
         let first = self
             .cursors
             .iter_mut()
@@ -278,6 +294,17 @@ fn time_of(e: &Mf4Event) -> Option<Timestamp> {
 }
 
 impl Cursor<'_> {
+    /// The bytes its streams hold.
+    fn held(&self) -> usize {
+        self.groups
+            .iter()
+            .map(|g| match &g.signal {
+                Signal::Data { stream, .. } => stream.held(),
+                _ => 0,
+            })
+            .fold(self.stream.held(), usize::saturating_add)
+    }
+
     /// The next bus-logging event of this data group.
     fn next(
         &mut self,

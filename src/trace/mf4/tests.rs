@@ -716,3 +716,17 @@ fn variable_length_data_bytes_read_from_a_variable_length_group() {
         (expected()[..3].to_vec(), Ok(()))
     );
 }
+
+#[test]
+fn the_bytes_held_across_data_groups_are_bounded() {
+    let file = sorted(&ROWS, |f, b| dz(f, b, 0, 0));
+    let mut r = Mf4Reader::new(&file).unwrap();
+    // The inflated block (4 records) is over a limit of 3 records.
+    r.held_limit = 3 * RECORD as usize;
+    let e = Mf4Error::TooMuchHeld {
+        held: 4 * u64::from(RECORD),
+    };
+    assert_eq!(r.next(&mut Zlib::new()), Err(e));
+    assert!(e.is_fatal());
+    assert_eq!(r.next(&mut Zlib::new()), Err(e));
+}
