@@ -13,6 +13,7 @@
 use arbitrary::Arbitrary;
 use canopen_codec::deltaq::charge::{
     BusInputs, ChargeAlarms, ChargeConfig, ChargeControl, ChargeEvent, ChargePhase, PowerStage,
+    StageFaults,
 };
 use canopen_codec::deltaq::{
     AlgorithmRequest, ChargeStatusFlags, ExternalOverride, OperatingMode,
@@ -25,7 +26,7 @@ use libfuzzer_sys::fuzz_target;
 
 #[derive(Debug, Arbitrary)]
 enum Op {
-    Stage { ac: bool, volts_mv: i32, amps_ma: u32, temp: i16 },
+    Stage { ac_v: u16, volts_mv: i32, amps_ma: u32, temp: i16, faults: u8 },
     Bus {
         present: bool,
         status: u8,
@@ -35,6 +36,7 @@ enum Op {
         target: u16,
         soc: u8,
         error: bool,
+        battery_temperature: i16,
     },
     Algorithm(u32),
     Emcy(u16),
@@ -81,6 +83,7 @@ fn check(c: &mut ChargeControl, now: Timestamp, alarms: &mut ChargeAlarms) {
         assert!(set.current_ma > 0 && set.current_ma <= config.max_current_ma);
         assert!(set.voltage_mv > 0 && set.voltage_mv <= config.max_voltage_mv);
         assert!(c.ac_present());
+        assert!(!c.alarms().intersects(ChargeAlarms::STOPS_OUTPUT));
         assert!(c.phase().delivers());
         if c.mode() == OperatingMode::Remote {
             let bus = c.bus();
@@ -124,17 +127,27 @@ fuzz_target!(|input: Input| {
     let mut alarms = ChargeAlarms::empty();
     for op in input.ops.into_iter().take(512) {
         match op {
-            Op::Stage { ac, volts_mv, amps_ma, temp } => {
+            Op::Stage { ac_v, volts_mv, amps_ma, temp, faults } => {
                 let stage = PowerStage {
-                    ac_mv: if ac { PowerStage::AC_NOMINAL_MV } else { 0 },
+                    ac_mv: u32::from(ac_v) * 1000,
                     voltage_mv: volts_mv,
                     current_ma: amps_ma,
                     temperature_c: temp,
-                    ..PowerStage::OFF
+                    faults: StageFaults::from_bits_truncate(faults),
                 };
                 c.handle_power_stage(now, stage);
             }
-            Op::Bus { present, status, request, volts_mv, over, target, soc, error } => {
+            Op::Bus {
+                present,
+                status,
+                request,
+                volts_mv,
+                over,
+                target,
+                soc,
+                error,
+                battery_temperature,
+            } => {
                 let bus = BusInputs {
                     battery_present: present,
                     battery_status: status,
@@ -144,6 +157,7 @@ fuzz_target!(|input: Input| {
                     ah_target: target,
                     battery_soc: soc,
                     bus_error: error,
+                    battery_temperature,
                 };
                 c.handle_bus(now, bus);
             }

@@ -91,14 +91,51 @@
 //! ## Alarms
 //!
 //! Raised and cleared as [`ChargeEvent::Alarm`]; the charger sends them as
-//! EMCYs. E-0-0-1 battery high voltage (the output above the algorithm's
-//! threshold, or the charger's maximum in remote mode: the output goes off
-//! until it is 2 % below), E-0-2-0 active algorithm not set, E-0-2-8
-//! incompatible algorithm, E-0-2-9 CAN-bus communication error (the CAN
-//! controller's error state, [`BusInputs::bus_error`]: remote mode stops,
-//! local mode carries on without the bus), E-0-4-5 battery disconnected (a
-//! BMS that says ready but no battery voltage on the output: section 7.1.8,
-//! "CAN connected with battery unplugged").
+//! EMCYs. E-0-2-0 active algorithm not set, E-0-2-8 incompatible
+//! algorithm, E-0-2-9 CAN-bus communication error (the CAN controller's
+//! error state, [`BusInputs::bus_error`]: remote mode stops, local mode
+//! carries on without the bus), E-0-4-5 battery disconnected (a BMS that
+//! says ready but no battery voltage on the output: section 7.1.8, "CAN
+//! connected with battery unplugged"), and the protections.
+//!
+//! ## Protections
+//!
+//! Every alarm of section 4.4.1 with a physical cause, raised from what
+//! the charge control measures, with the active algorithm's thresholds
+//! ([`ChargeAlgorithm::high_voltage_mv`], [`ProtectionLimits`]); the
+//! document gives neither thresholds nor clearing, so both are ours. A
+//! *latched* alarm ends the charge (terminated) until the cycle ends (AC
+//! lost, battery unplugged, 2241h written; in remote mode also the BMS
+//! saying not ready); the others hold the output off while their cause
+//! stands ([`ChargeAlarms::STOPS_OUTPUT`]).
+//!
+//! - E-0-0-1 high voltage: the output at or above the algorithm's
+//!   threshold, in every mode (the voltage set point never exceeds it:
+//!   a remote BMS asking more cannot push the pack past it); cleared 2 %
+//!   below.
+//! - E-0-0-2 low voltage (local): a battery below `low_voltage_mv`; no
+//!   cycle starts.
+//! - E-0-0-3 charge timeout (local, latched): bulk longer than
+//!   `safety_time`.
+//! - E-0-0-4 minimum voltage (local, latched): below `min_voltage_mv` bulk
+//!   trickles at a tenth of its current; still below after `trickle_max`.
+//! - E-0-0-7 Ah limit (latched): the cycle's Ah reach `ah_limit_q3`.
+//! - E-0-0-8 battery temperature (the module's 6010h, while present):
+//!   outside the algorithm's range the charge **pauses** (phase kept,
+//!   output off; the BMS's 6000h falling meanwhile does not terminate it)
+//!   and resumes [`TEMPERATURE_HYSTERESIS_C`] back inside.
+//! - E-0-1-2 reverse polarity: the output reads negative.
+//! - E-0-1-3 no current (latched): the output on, not voltage-limited,
+//!   under a fiftieth of its set current for [`NO_CURRENT_TIME`].
+//! - E-0-1-4 cells invalid (local, latched): a cycle about to start finds
+//!   the battery at rest above `cells_max_mv`.
+//! - E-0-2-3 high AC: above [`ChargeConfig::ac_max_mv`].
+//! - E-0-2-5 low AC oscillation: [`AC_DROPS`] drop-outs within
+//!   [`AC_WINDOW`]; cleared after AC stays up that long.
+//! - E-0-3-6 temperature sensor: the module's EMCY 5010h (half current, as
+//!   in derating below) until its error reset.
+//! - F-0-0-1 to F-0-0-6: the power stage's [`PowerStage::faults`], while
+//!   it reports them.
 //!
 //! ## Derating (2008h)
 //!
@@ -131,6 +168,7 @@
 pub mod algorithm;
 mod meter;
 mod outputs;
+mod protect;
 mod types;
 
 use core::time::Duration;
@@ -144,9 +182,13 @@ use crate::machine::Machine;
 use crate::queue::EventQueue;
 pub use algorithm::{AlgorithmKind, ChargeAlgorithm, EXAMPLE_ALGORITHMS};
 use meter::CycleMeter;
+use protect::ProtectState;
+pub use protect::{
+    ProtectionLimits, AC_DROPS, AC_WINDOW, NO_CURRENT_TIME, TEMPERATURE_HYSTERESIS_C,
+};
 pub use types::{
     BusInputs, ChargeAlarms, ChargeConfig, ChargeEvent, ChargePhase, ChargeStatus, PowerStage,
-    SetPoints, StageFaults,
+    SetPoints, StageFaults, ALARM_CODES,
 };
 
 /// 2250h, Ah target (U16, Q3 Ah as 6052h, FFFFh none), read-write,
@@ -232,6 +274,8 @@ pub struct ChargeControl {
     set: SetPoints,
     derate: DerateReasons,
     external_limit: bool,
+    /// The protections' state ([`protect`]).
+    protect: ProtectState,
     events: EventQueue<ChargeEvent, 4>,
 }
 
@@ -267,6 +311,7 @@ impl ChargeControl {
             },
             derate: DerateReasons::empty(),
             external_limit: false,
+            protect: ProtectState::NEW,
             events: EventQueue::new(ChargeEvent::Phase {
                 from: ChargePhase::Idle,
                 to: ChargePhase::Idle,
@@ -413,6 +458,7 @@ impl ChargeControl {
     /// counters kept for reading until the next cycle starts.
     fn end_cycle(&mut self, now: Timestamp) {
         self.stop_hold_off();
+        self.protect.tripped = ChargeAlarms::empty();
         self.enter(now, ChargePhase::Idle);
     }
 
@@ -461,6 +507,10 @@ impl ChargeControl {
             AlgorithmKind::Cycle => ChargePhase::Bulk,
             AlgorithmKind::Float => ChargePhase::Float,
         };
+        if !self.cells_valid() {
+            self.enter(now, ChargePhase::Terminated);
+            return;
+        }
         // A float algorithm completes the charge that ran: its Ah and
         // time go on; a cycle (or a float from nothing) starts afresh.
         if to == ChargePhase::Bulk || !self.cycle {
@@ -484,10 +534,13 @@ impl ChargeControl {
         let bms = listens && self.bus.battery_present;
         let ready = bms && self.bus.battery_status & 1 != 0;
         let detected = self.stage.battery_mv() >= self.config.battery_detect_mv;
+        self.watch_ac(now);
+        self.check_trips(now);
+        self.clear_trips(ready, detected);
         // A phase chain is at most bulk, absorption, equalize, rest, float.
         for _ in 0..8 {
             let before = self.phase;
-            self.update_alarms(ready, detected);
+            self.update_alarms(bms, ready, detected);
             if !self.ac_present() {
                 if self.phase != ChargePhase::Idle && self.revert_on_ac_loss {
                     self.active = self.permanent;
@@ -518,7 +571,7 @@ impl ChargeControl {
         let blocked = self
             .alarms
             .intersects(ChargeAlarms::HIGH_VOLTAGE | ChargeAlarms::BATTERY_DISCONNECTED);
-        let to = if matches!(self.latch, Latch::ShutDown) {
+        let to = if matches!(self.latch, Latch::ShutDown) || !self.protect.tripped.is_empty() {
             ChargePhase::Terminated
         } else if ready && self.bus.current_request != 0xFFFF && !blocked {
             ChargePhase::Remote
@@ -540,7 +593,7 @@ impl ChargeControl {
             self.end_cycle(now);
             return;
         }
-        if !matches!(self.latch, Latch::None) {
+        if !matches!(self.latch, Latch::None) || !self.protect.tripped.is_empty() {
             self.enter(now, P::Terminated);
             return;
         }
@@ -552,13 +605,17 @@ impl ChargeControl {
             P::Idle | P::HoldOff | P::Terminated => {
                 if bms {
                     self.stop_hold_off();
-                    if ready && self.active.is_some() {
+                    if self.alarms.contains(ChargeAlarms::LOW_VOLTAGE) {
+                        self.enter(now, P::Idle);
+                    } else if ready && self.active.is_some() {
                         self.start(now, self.active);
                     } else {
                         self.enter(now, P::Idle);
                     }
                 } else if matches!(self.mode, OperatingMode::MonitoringOnly) {
-                    self.start(now, self.active);
+                    if !self.alarms.contains(ChargeAlarms::LOW_VOLTAGE) {
+                        self.start(now, self.active);
+                    }
                 } else {
                     if !self.held_off && self.timers.get(ChargeTimer::HoldOff).is_none() {
                         let until = now.add_duration(self.config.can_hold_off);
@@ -569,6 +626,8 @@ impl ChargeControl {
                     }
                     if !self.held_off {
                         self.enter(now, P::HoldOff);
+                    } else if self.alarms.contains(ChargeAlarms::LOW_VOLTAGE) {
+                        self.enter(now, P::Idle);
                     } else if self.no_can_algorithm().is_some() {
                         self.start(now, self.no_can_algorithm());
                     } else {
@@ -577,7 +636,13 @@ impl ChargeControl {
                     }
                 }
             }
-            _ if bms && self.was_ready && !ready => {
+            // A BMS not ready for the battery's temperature pauses with
+            // E-0-0-8 instead (the output stays off until it is ready).
+            _ if bms
+                && self.was_ready
+                && !ready
+                && !self.alarms.contains(ChargeAlarms::TEMPERATURE) =>
+            {
                 // 6000h: the BMS ends the charge (section 7).
                 self.latch = Latch::Terminated;
                 self.enter(now, P::Terminated);
@@ -644,17 +709,9 @@ impl ChargeControl {
             .filter(|id| self.config.algorithm(*id).is_some())
     }
 
-    fn update_alarms(&mut self, ready: bool, detected: bool) {
-        let threshold = match (self.mode, self.algorithm()) {
-            (OperatingMode::Remote, _) | (_, None) => self.config.max_voltage_mv,
-            (_, Some(a)) => a.high_voltage_mv,
-        };
-        let v = self.stage.battery_mv();
-        let high = v > threshold
-            || (self.alarms.contains(ChargeAlarms::HIGH_VOLTAGE) && v > threshold - threshold / 50);
+    fn update_alarms(&mut self, bms: bool, ready: bool, detected: bool) {
         let local = !matches!(self.mode, OperatingMode::Remote);
-        let mut now = ChargeAlarms::empty();
-        now.set(ChargeAlarms::HIGH_VOLTAGE, high);
+        let mut now = self.measured_alarms(bms, detected);
         let held_off = self.held_off;
         let nothing = (ready && self.active.is_none())
             || (held_off && !ready && self.no_can_algorithm().is_none());
@@ -711,3 +768,7 @@ mod tests;
 #[cfg(test)]
 #[path = "timer_tests.rs"]
 mod timer_tests;
+
+#[cfg(test)]
+#[path = "protect_tests.rs"]
+mod protect_tests;

@@ -42,7 +42,13 @@ impl ChargeControl {
         flags.set(ChargeStatusFlags::CHARGER_ENABLED, self.set.enabled);
         flags.set(ChargeStatusFlags::AC_PRESENT, self.ac_present());
         flags.set(ChargeStatusFlags::DERATING, !self.derate.is_empty());
-        flags.set(ChargeStatusFlags::ALARM_ACTIVE, !self.alarms.is_empty());
+        let faults = self.alarms.intersection(ChargeAlarms::FAULTS);
+        flags.set(ChargeStatusFlags::ALARM_ACTIVE, self.alarms != faults);
+        flags.set(ChargeStatusFlags::FAULT_ACTIVE, !faults.is_empty());
+        flags.set(
+            ChargeStatusFlags::HW_SHUTDOWN,
+            self.alarms.intersects(ChargeAlarms::STOPS_OUTPUT),
+        );
         let ah = self.meter.q3;
         ChargeStatus {
             extended: ExtendedChargeStatus {
@@ -102,6 +108,12 @@ impl ChargeControl {
             ),
             _ => (0, 0),
         };
+        // Below the minimum voltage, bulk is a trickle (E-0-0-4).
+        if let (P::Bulk, Some(a), Some(l)) = (self.phase, a, self.limits()) {
+            if self.stage.battery_mv() < l.min_voltage_mv {
+                current = a.bulk_ma / 10;
+            }
+        }
         let own = (current, voltage);
         if bms && !matches!(self.phase, P::Remote) {
             voltage = voltage.min(self.bus.voltage_request_mv);
@@ -113,7 +125,9 @@ impl ChargeControl {
         }
         self.external_limit = (current, voltage) != own;
         current = current.min(self.config.max_current_ma);
-        voltage = voltage.min(self.config.max_voltage_mv);
+        voltage = voltage
+            .min(self.config.max_voltage_mv)
+            .min(self.high_voltage_mv());
 
         let mut derate = DerateReasons::empty();
         let c = &self.config;
@@ -140,9 +154,14 @@ impl ChargeControl {
             current = power_limit;
             derate |= DerateReasons::AC_CURRENT_LIMIT;
         }
-        let stop = ChargeAlarms::HIGH_VOLTAGE | ChargeAlarms::BATTERY_DISCONNECTED;
-        let enabled =
-            self.phase.delivers() && !self.alarms.intersects(stop) && current > 0 && voltage > 0;
+        // A BMS present and not ready holds a local cycle (paused for
+        // the battery's temperature: E-0-0-8).
+        let held = bms && !self.was_ready;
+        let enabled = self.phase.delivers()
+            && !self.alarms.intersects(ChargeAlarms::STOPS_OUTPUT)
+            && !held
+            && current > 0
+            && voltage > 0;
         self.derate = if enabled {
             derate
         } else {

@@ -137,13 +137,15 @@ fn remote_charges_only_with_heartbeat_ready_and_a_valid_request() {
     }
     c.handle_bus(s(2), bms(5));
     assert_eq!(c.phase(), ChargePhase::Remote);
-    // 5 A requested (80 x 1/16 A); the voltage request starts at the maximum.
+    // 5 A requested (80 x 1/16 A); the voltage request starts at the
+    // maximum, and the set point never exceeds the active algorithm's
+    // E-0-0-1 threshold (24 x 2.65 V).
     assert_eq!(
         c.set_points(),
         SetPoints {
             enabled: true,
             current_ma: 5000,
-            voltage_mv: 72_000
+            voltage_mv: 63_600
         }
     );
     // The charger stops as soon as one goes false.

@@ -201,6 +201,9 @@ pub struct BusInputs {
     pub battery_soc: u8,
     /// The CAN controller reports a bus error (error passive or bus off).
     pub bus_error: bool,
+    /// 6010h battery temperature as the module reports it (1/8 degC),
+    /// read while the module is present (E-0-0-8).
+    pub battery_temperature: i16,
 }
 
 impl BusInputs {
@@ -217,6 +220,7 @@ impl BusInputs {
             ah_target: 0xFFFF,
             battery_soc: 0xFF,
             bus_error: false,
+            battery_temperature: 25 * 8,
         }
     }
 }
@@ -296,9 +300,13 @@ impl core::fmt::Display for ChargePhase {
 }
 
 bitflags::bitflags! {
-    /// The alarms [`ChargeControl`] raises (each a Delta-Q code).
+    /// The alarms and faults [`ChargeControl`](super::ChargeControl)
+    /// raises, each a Delta-Q code (Delta-Q IC Series CANopen interface
+    /// specification rev 2.0, section 4.4.1; flag bit `n` is
+    /// [`ALARM_CODES`]`[n]`). What raises and clears each is in the
+    /// [protections](super#protections).
     #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-    pub struct ChargeAlarms: u8 {
+    pub struct ChargeAlarms: u32 {
         /// E-0-0-1 battery high voltage.
         const HIGH_VOLTAGE = 1 << 0;
         /// E-0-2-0 active algorithm not set.
@@ -309,24 +317,113 @@ bitflags::bitflags! {
         const BUS_ERROR = 1 << 3;
         /// E-0-4-5 battery disconnected.
         const BATTERY_DISCONNECTED = 1 << 4;
+        /// E-0-0-2 battery low voltage.
+        const LOW_VOLTAGE = 1 << 5;
+        /// E-0-0-3 charge timeout (the safety timer).
+        const CHARGE_TIMEOUT = 1 << 6;
+        /// E-0-0-4 battery could not meet minimum voltage.
+        const MINIMUM_VOLTAGE = 1 << 7;
+        /// E-0-0-7 battery amp-hour limit exceeded.
+        const AH_LIMIT = 1 << 8;
+        /// E-0-0-8 battery temperature out of range.
+        const TEMPERATURE = 1 << 9;
+        /// E-0-1-2 reverse polarity.
+        const REVERSE_POLARITY = 1 << 10;
+        /// E-0-1-3 battery does not take current.
+        const NO_CURRENT = 1 << 11;
+        /// E-0-1-4 number of cells invalid.
+        const CELLS_INVALID = 1 << 12;
+        /// E-0-2-3 high AC voltage.
+        const HIGH_AC = 1 << 13;
+        /// E-0-2-5 low AC voltage oscillation.
+        const AC_OSCILLATION = 1 << 14;
+        /// E-0-3-6 battery temperature sensor (the module's EMCY 5010h).
+        const TEMPERATURE_SENSOR = 1 << 15;
+        /// F-0-0-1 output stage error.
+        const FAULT_OUTPUT_STAGE = 1 << 16;
+        /// F-0-0-2 input stage error.
+        const FAULT_INPUT_STAGE = 1 << 17;
+        /// F-0-0-3 input stage error (second).
+        const FAULT_INPUT_STAGE_2 = 1 << 18;
+        /// F-0-0-4 current measurement error.
+        const FAULT_CURRENT_MEASUREMENT = 1 << 19;
+        /// F-0-0-5 DC output relay test error.
+        const FAULT_RELAY = 1 << 20;
+        /// F-0-0-6 output current error.
+        const FAULT_OUTPUT_CURRENT = 1 << 21;
     }
 }
 
+/// The Delta-Q code of each [`ChargeAlarms`] flag, by bit (section 4.4.1).
+pub const ALARM_CODES: [DeltaQCode; 22] = {
+    use DeltaQCode::{Alarm as A, Fault as F};
+    [
+        A(1),
+        A(20),
+        A(28),
+        A(29),
+        A(45),
+        A(2),
+        A(3),
+        A(4),
+        A(7),
+        A(8),
+        A(12),
+        A(13),
+        A(14),
+        A(23),
+        A(25),
+        A(36),
+        F(1),
+        F(2),
+        F(3),
+        F(4),
+        F(5),
+        F(6),
+    ]
+};
+
+/// The bit of the first [`ChargeAlarms`] fault flag (F-0-0-1).
+const FAULT_SHIFT: u32 = 16;
+
 impl ChargeAlarms {
-    /// The Delta-Q code of a single alarm flag (section 4.4.1).
+    /// The faults F-0-0-1 to F-0-0-6.
+    pub const FAULTS: ChargeAlarms = ChargeAlarms::from_bits_retain(0x3F << FAULT_SHIFT);
+
+    /// What stops the output while it stands: every alarm and fault but
+    /// E-0-2-0 and E-0-2-8 (no algorithm: nothing runs anyway), E-0-2-9
+    /// (local mode charges on without the bus; remote mode stops by its
+    /// own rule) and E-0-3-6 (the charge goes on at half current).
+    pub const STOPS_OUTPUT: ChargeAlarms = ChargeAlarms::all()
+        .difference(ChargeAlarms::ALGORITHM_NOT_SET)
+        .difference(ChargeAlarms::INCOMPATIBLE_ALGORITHM)
+        .difference(ChargeAlarms::BUS_ERROR)
+        .difference(ChargeAlarms::TEMPERATURE_SENSOR);
+
+    /// The fault flags of the power stage's `faults`.
     #[must_use]
-    pub fn code(self) -> DeltaQCode {
-        if self == ChargeAlarms::HIGH_VOLTAGE {
-            DeltaQCode::Alarm(1)
-        } else if self == ChargeAlarms::ALGORITHM_NOT_SET {
-            DeltaQCode::Alarm(20)
-        } else if self == ChargeAlarms::INCOMPATIBLE_ALGORITHM {
-            DeltaQCode::Alarm(28)
-        } else if self == ChargeAlarms::BUS_ERROR {
-            DeltaQCode::CAN_BUS_COMMUNICATION
+    pub const fn of_faults(faults: StageFaults) -> ChargeAlarms {
+        ChargeAlarms::from_bits_retain((faults.bits() as u32) << FAULT_SHIFT)
+    }
+
+    /// The Delta-Q code of a single flag (section 4.4.1); for several, the
+    /// lowest one's, and for none, [`DeltaQCode::NONE`].
+    #[must_use]
+    pub const fn code(self) -> DeltaQCode {
+        let bit = self.bits().trailing_zeros() as usize;
+        if bit < ALARM_CODES.len() {
+            ALARM_CODES[bit]
         } else {
-            DeltaQCode::BATTERY_DISCONNECTED
+            DeltaQCode::NONE
         }
+    }
+
+    /// The one to display (2060h): the first fault, else the first alarm.
+    #[must_use]
+    pub const fn displayed(self) -> ChargeAlarms {
+        let faults = self.intersection(ChargeAlarms::FAULTS);
+        let from = if faults.is_empty() { self } else { faults };
+        ChargeAlarms::from_bits_retain(from.bits() & from.bits().wrapping_neg())
     }
 }
 

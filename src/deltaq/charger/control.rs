@@ -9,7 +9,7 @@
 use super::{Alarm, ChargerDevice, ChargerEvent, ChargerProfile};
 use crate::clock::Timestamp;
 use crate::cob_id::NodeId;
-use crate::deltaq::charge::{BusInputs, ChargeAlarms, ChargeConfig, ChargeControl};
+use crate::deltaq::charge::{BusInputs, ChargeAlarms, ChargeConfig, ChargeControl, ALARM_CODES};
 use crate::deltaq::{
     AlgorithmRequest, ChargerObjects, DeltaQCode, ExternalOverride, OperatingMode, VoltageRequest,
     VoltageRequest16,
@@ -32,25 +32,25 @@ pub(super) struct ControlLink {
     announced: ChargeAlarms,
 }
 
-/// The alarm's Delta-Q code with the EEC of its table row, looked up when
-/// the crate compiles.
-fn alarm(a: ChargeAlarms) -> Alarm {
-    const HIGH_VOLTAGE: Alarm = Alarm::of(DeltaQCode::Alarm(1));
-    const NOT_SET: Alarm = Alarm::of(DeltaQCode::Alarm(20));
-    const INCOMPATIBLE: Alarm = Alarm::of(DeltaQCode::Alarm(28));
-    const BUS_ERROR: Alarm = Alarm::of(DeltaQCode::CAN_BUS_COMMUNICATION);
-    const DISCONNECTED: Alarm = Alarm::of(DeltaQCode::BATTERY_DISCONNECTED);
-    if a == ChargeAlarms::HIGH_VOLTAGE {
-        HIGH_VOLTAGE
-    } else if a == ChargeAlarms::ALGORITHM_NOT_SET {
-        NOT_SET
-    } else if a == ChargeAlarms::INCOMPATIBLE_ALGORITHM {
-        INCOMPATIBLE
-    } else if a == ChargeAlarms::BUS_ERROR {
-        BUS_ERROR
-    } else {
-        DISCONNECTED
+/// Each alarm's Delta-Q code with the EEC of its table row, looked up
+/// when the crate compiles (by bit, as [`ALARM_CODES`]).
+const ALARMS: [Alarm; ALARM_CODES.len()] = {
+    let mut out = [Alarm::of(DeltaQCode::NONE); ALARM_CODES.len()];
+    let mut i = 0;
+    while i < ALARM_CODES.len() {
+        out[i] = Alarm::of(ALARM_CODES[i]);
+        i += 1;
     }
+    out
+};
+
+/// The alarm's Delta-Q code and EEC (a single flag; the lowest of several).
+fn alarm(a: ChargeAlarms) -> Alarm {
+    let bit = a.bits().trailing_zeros() as usize;
+    ALARMS
+        .get(bit)
+        .copied()
+        .unwrap_or(const { Alarm::of(DeltaQCode::NONE) })
 }
 
 /// `milli` thousandths in `q` (8 or 10) fractional bits, rounded, at
@@ -119,6 +119,7 @@ impl ControlLink {
             ah_target: o.ah_target,
             battery_soc: o.battery_soc,
             bus_error: self.bus_error,
+            battery_temperature: o.temperature,
         };
         let algorithm = o.algorithm_request;
         if bus != *self.control.bus() {
@@ -158,6 +159,14 @@ impl ControlLink {
     ) {
         let status = self.control.status();
         let stage = *self.control.power_stage();
+        // 2060h: the fault or alarm shown, as its 1003h entry (0 none).
+        let shown = self.control.alarms().displayed();
+        let displayed = if shown.is_empty() {
+            0
+        } else {
+            let Alarm(code, eec) = alarm(shown);
+            code.to_error_field(eec)
+        };
         device.update(now, |o| {
             o.extended_status = status.extended.to_u16();
             o.charger_status = o.charger_status & !1 | status.charger_status;
@@ -169,6 +178,7 @@ impl ControlLink {
             o.battery_voltage_q8 = q16(stage.battery_mv(), 8);
             o.battery_voltage_q10 = q16(stage.battery_mv(), 10);
             o.ac_voltage = q16(stage.ac_mv, 4);
+            o.displayed_error = displayed;
         });
         while let Some(e) = self.control.poll_event() {
             device.push_event(ChargerEvent::Charge(e));

@@ -397,3 +397,63 @@ fn the_module_gone_timer_is_the_profiles_deadline_until_the_module_is_back() {
     assert!(!sent(&mut c).iter().any(|f| f.starts_with("08A#3081011E")));
     assert_eq!(c.nmt_state(), NmtState::Operational);
 }
+
+#[test]
+fn protections_go_out_as_delta_q_emcys_with_their_1003h_and_2060h_entries() {
+    use crate::deltaq::charge::StageFaults;
+    use crate::deltaq::ChargeStatusFlags;
+    let ms = Timestamp::from_millis;
+    let on = PowerStage {
+        ac_mv: 230_000,
+        voltage_mv: 48_000,
+        ..PowerStage::OFF
+    };
+    // What the stage measures, the EMCY (EEC, error register 01h, the
+    // Delta-Q code little-endian) and the 1003h / 2060h entry, as the
+    // alarm table of section 4.4.1 gives them (DIGEST: E-0-2-3 17809000h,
+    // E-0-1-2 0C809000h, F-0-0-5 05C05000h).
+    let cases = [
+        (
+            PowerStage {
+                ac_mv: 275_000,
+                ..on
+            },
+            "08A#0090011780000000",
+            0x1780_9000_u32,
+            ChargeStatusFlags::ALARM_ACTIVE,
+        ),
+        (
+            PowerStage {
+                voltage_mv: -48_000,
+                ..on
+            },
+            "08A#0090010C80000000",
+            0x0C80_9000,
+            ChargeStatusFlags::ALARM_ACTIVE,
+        ),
+        (
+            PowerStage {
+                faults: StageFaults::RELAY,
+                ..on
+            },
+            "08A#00500105C0000000",
+            0x05C0_5000,
+            ChargeStatusFlags::FAULT_ACTIVE,
+        ),
+    ];
+    for (stage, frame, entry, flag) in cases {
+        let mut c = booted(false, 2000);
+        c.handle_power_stage(ms(10), on);
+        let _ = sent(&mut c);
+        c.handle_power_stage(ms(20), stage);
+        assert_eq!(sent(&mut c), [frame]);
+        assert_eq!(c.comm().errors().first(), Some(&entry), "{frame}");
+        assert_eq!(c.objects().displayed_error, entry, "{frame}");
+        let status = c.objects().extended_status;
+        let want = u16::from((flag | ChargeStatusFlags::HW_SHUTDOWN).bits());
+        assert_eq!(status & want, want, "{frame}: {status:04X}");
+        c.handle_power_stage(ms(30), on);
+        assert_eq!(c.objects().displayed_error, 0, "{frame}: cleared");
+        assert_eq!(c.objects().extended_status & 0x07, 0, "{frame}");
+    }
+}

@@ -1,0 +1,351 @@
+//! One test per protection of [`ChargeControl`] (protect.rs): raised at the
+//! right moment from the measurements, the output off, 2006h's bits, and
+//! cleared or latched ("Delta-Q IC Series CANopen interface specification
+//! rev 2.0", section 4.4.1 names the alarms; the thresholds and clearings
+//! are ours, see the module docs).
+
+use super::tests::{bms, control, events, pack, s};
+use super::*;
+use crate::deltaq::{ChargeStatusFlags, DeltaQCode};
+use crate::emcy::{ErrorCode, ErrorRegister};
+use std::string::ToString;
+use std::vec::Vec;
+
+/// The alarms raised (`true`) or cleared since the last call, as codes.
+fn changes(c: &mut ChargeControl) -> Vec<(DeltaQCode, bool)> {
+    events(c)
+        .into_iter()
+        .filter_map(|e| match e {
+            ChargeEvent::Alarm { alarm, active } => Some((alarm.code(), active)),
+            ChargeEvent::Phase { .. } => None,
+        })
+        .collect()
+}
+
+/// 2006h's flags now.
+fn flags(c: &ChargeControl) -> ChargeStatusFlags {
+    c.status().extended.flags
+}
+
+/// Local mode, a ready BMS, the pack at `volts` taking `amps`: bulk.
+fn bulk(volts: u32, amps: u32) -> ChargeControl {
+    let mut c = control(OperatingMode::Local);
+    c.handle_bus(s(0), bms(0));
+    c.handle_power_stage(s(0), pack(volts, amps));
+    assert_eq!(c.phase(), ChargePhase::Bulk);
+    let _ = events(&mut c);
+    c
+}
+
+/// The BMS of [`bms`] reporting `celsius` in 6010h.
+fn bms_at(celsius: i16) -> BusInputs {
+    BusInputs {
+        battery_temperature: celsius * 8,
+        ..bms(0)
+    }
+}
+
+fn stage(f: impl FnOnce(&mut PowerStage)) -> PowerStage {
+    let mut p = pack(50, 25);
+    f(&mut p);
+    p
+}
+
+#[test]
+fn e_0_0_1_a_remote_bms_asking_too_much_never_gets_past_the_algorithm() {
+    let mut c = control(OperatingMode::Remote);
+    c.handle_power_stage(s(0), pack(50, 0));
+    // A faulty BMS asks 80 V: the set point stays at the algorithm's
+    // 63.6 V (24 x 2.65 V), the charger's maximum being 72 V.
+    c.handle_bus(
+        s(1),
+        BusInputs {
+            voltage_request_mv: 80_000,
+            ..bms(25)
+        },
+    );
+    assert_eq!(c.set_points().voltage_mv, 63_600);
+    let _ = events(&mut c);
+    c.handle_power_stage(s(2), pack(63, 5));
+    assert!(c.alarms().is_empty(), "below the threshold");
+    c.handle_power_stage(
+        s(3),
+        PowerStage {
+            voltage_mv: 63_600,
+            ..pack(0, 5)
+        },
+    );
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(1), true)]);
+    assert!(!c.set_points().enabled);
+    let f = flags(&c);
+    assert!(f.contains(ChargeStatusFlags::ALARM_ACTIVE | ChargeStatusFlags::HW_SHUTDOWN));
+    assert!(!f.contains(ChargeStatusFlags::FAULT_ACTIVE));
+}
+
+#[test]
+fn e_0_0_2_a_battery_below_the_low_voltage_is_not_charged() {
+    let mut c = control(OperatingMode::Local);
+    c.handle_bus(s(0), bms(0));
+    // 20 V: detected (12 V) but below 24 x 0.97 V.
+    c.handle_power_stage(s(0), pack(20, 0));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(2), true)]);
+    assert_eq!(c.phase(), ChargePhase::Idle);
+    assert!(!c.set_points().enabled);
+    c.handle_power_stage(s(1), pack(24, 0));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(2), false)]);
+    assert_eq!(c.phase(), ChargePhase::Bulk);
+}
+
+#[test]
+fn e_0_0_3_bulk_past_the_safety_timer_terminates_until_the_cycle_ends() {
+    // A pack that never reaches absorption (shorted cells): 12 h.
+    let mut c = bulk(50, 25);
+    c.handle_power_stage(s(12 * 3600 - 1), pack(52, 25));
+    assert!(c.alarms().is_empty());
+    c.handle_power_stage(s(12 * 3600), pack(52, 25));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(3), true)]);
+    assert_eq!(c.phase(), ChargePhase::Terminated);
+    assert!(!c.set_points().enabled);
+    // Latched: the pack at rest changes nothing ...
+    c.handle_power_stage(s(12 * 3600 + 60), pack(50, 0));
+    assert_eq!(c.phase(), ChargePhase::Terminated);
+    assert!(c.alarms().contains(ChargeAlarms::CHARGE_TIMEOUT));
+    // ... until the battery is unplugged: a new cycle.
+    c.handle_power_stage(s(12 * 3600 + 61), pack(0, 0));
+    assert!(changes(&mut c).contains(&(DeltaQCode::Alarm(3), false)));
+    c.handle_power_stage(s(12 * 3600 + 62), pack(50, 0));
+    assert_eq!(c.phase(), ChargePhase::Bulk);
+}
+
+#[test]
+fn e_0_0_4_a_trickle_that_does_not_reach_the_minimum_voltage() {
+    // 40 V is below 24 x 1.75 V: a tenth of the bulk current.
+    let mut c = bulk(40, 2);
+    assert_eq!(c.set_points().current_ma, 2500);
+    c.handle_power_stage(s(3599), pack(41, 2));
+    assert!(c.alarms().is_empty());
+    c.handle_power_stage(s(3600), pack(41, 2));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(4), true)]);
+    assert_eq!(c.phase(), ChargePhase::Terminated);
+    // One that gets there charges at the full current.
+    let mut c = bulk(40, 2);
+    c.handle_power_stage(s(1800), pack(43, 2));
+    assert_eq!(c.set_points().current_ma, 25_000);
+    c.handle_power_stage(s(3600), pack(44, 25));
+    assert!(c.alarms().is_empty());
+}
+
+#[test]
+fn e_0_0_7_the_ah_limit_ends_a_remote_charge_until_the_bms_stops() {
+    // Algorithm 1: 12 h of 25 A, 300 Ah (2400 in Q3).
+    let mut c = control(OperatingMode::Remote);
+    c.handle_power_stage(s(0), pack(50, 0));
+    c.handle_bus(s(0), bms(25));
+    c.handle_power_stage(s(0), pack(50, 25));
+    let _ = events(&mut c);
+    // Measured every minute (the meter bounds a longer gap).
+    for minute in 1..12 * 60 {
+        c.handle_power_stage(s(minute * 60), pack(50, 25));
+    }
+    assert!(c.alarms().is_empty(), "{:?}", c.status().ah_returned);
+    c.handle_power_stage(s(12 * 3600), pack(50, 25));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(7), true)]);
+    assert_eq!(c.phase(), ChargePhase::Terminated);
+    assert!(!c.set_points().enabled);
+    // The BMS says not ready: the charge is over, the alarm clears.
+    c.handle_bus(
+        s(12 * 3600 + 1),
+        BusInputs {
+            battery_status: 0,
+            ..bms(25)
+        },
+    );
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(7), false)]);
+}
+
+#[test]
+fn e_0_0_8_out_of_range_pauses_and_resumes_when_back() {
+    let mut c = bulk(50, 25);
+    c.handle_bus(s(1), bms_at(51));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(8), true)]);
+    assert_eq!(c.phase(), ChargePhase::Bulk, "paused, not terminated");
+    assert!(!c.set_points().enabled);
+    // The BMS, too hot as well, says not ready: still only paused.
+    c.handle_bus(
+        s(2),
+        BusInputs {
+            battery_status: 0,
+            ..bms_at(51)
+        },
+    );
+    assert_eq!(c.phase(), ChargePhase::Bulk);
+    // 49 degC is in range but not 2 degC inside: still paused.
+    c.handle_bus(s(3), bms_at(49));
+    assert!(c.alarms().contains(ChargeAlarms::TEMPERATURE));
+    c.handle_bus(s(4), bms_at(47));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(8), false)]);
+    assert!(c.set_points().enabled);
+    assert_eq!(c.phase(), ChargePhase::Bulk);
+    // Below the range too (lead acid: -20 degC).
+    c.handle_bus(s(5), bms_at(-21));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(8), true)]);
+}
+
+#[test]
+fn e_0_1_2_reverse_polarity() {
+    let mut c = control(OperatingMode::Local);
+    c.handle_bus(s(0), bms(0));
+    c.handle_power_stage(
+        s(0),
+        PowerStage {
+            voltage_mv: -48_000,
+            ..pack(0, 0)
+        },
+    );
+    // The BMS says ready but no battery shows: E-0-4-5 as well.
+    let raised = changes(&mut c);
+    assert!(
+        raised.contains(&(DeltaQCode::Alarm(12), true)),
+        "{raised:?}"
+    );
+    assert!(!c.set_points().enabled);
+    assert_eq!(c.phase(), ChargePhase::Idle);
+    c.handle_power_stage(s(1), pack(48, 0));
+    assert!(c.alarms().is_empty());
+    assert_eq!(c.phase(), ChargePhase::Bulk);
+}
+
+#[test]
+fn e_0_1_3_a_battery_that_takes_no_current() {
+    let mut c = bulk(50, 0);
+    c.handle_power_stage(s(1), pack(50, 0));
+    c.handle_power_stage(s(60), pack(50, 0));
+    assert!(c.alarms().is_empty(), "59 s without current");
+    c.handle_power_stage(s(61), pack(50, 0));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(13), true)]);
+    assert_eq!(c.phase(), ChargePhase::Terminated);
+    // Current that flows resets the wait.
+    let mut c = bulk(50, 0);
+    c.handle_power_stage(s(1), pack(50, 0));
+    c.handle_power_stage(s(50), pack(50, 20));
+    c.handle_power_stage(s(51), pack(50, 0));
+    c.handle_power_stage(s(100), pack(50, 0));
+    assert!(c.alarms().is_empty());
+}
+
+#[test]
+fn e_0_1_4_more_cells_than_the_algorithm() {
+    let mut c = control(OperatingMode::Local);
+    c.handle_bus(s(0), bms(0));
+    // 61 V at rest: above 24 x 2.385 V (halfway from 2.12 to 2.65 V).
+    c.handle_power_stage(s(0), pack(61, 0));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(14), true)]);
+    assert_eq!(c.phase(), ChargePhase::Terminated);
+    assert!(!c.set_points().enabled);
+    c.handle_power_stage(s(1), pack(0, 0));
+    assert!(changes(&mut c).contains(&(DeltaQCode::Alarm(14), false)));
+}
+
+#[test]
+fn e_0_2_3_high_ac_stops_the_output_while_it_stands() {
+    let mut c = bulk(50, 25);
+    c.handle_power_stage(s(1), stage(|p| p.ac_mv = 270_000));
+    assert!(c.alarms().is_empty(), "270 V is the limit");
+    c.handle_power_stage(s(2), stage(|p| p.ac_mv = 275_000));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(23), true)]);
+    assert!(!c.set_points().enabled);
+    assert_eq!(c.phase(), ChargePhase::Bulk);
+    c.handle_power_stage(s(3), stage(|p| p.ac_mv = 240_000));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(23), false)]);
+    assert!(c.set_points().enabled);
+}
+
+#[test]
+fn e_0_2_5_ac_dropping_out_three_times_in_a_minute() {
+    let mut c = bulk(50, 25);
+    let off = stage(|p| p.ac_mv = 60_000);
+    for t in [10, 20, 30] {
+        c.handle_power_stage(s(t), off);
+        c.handle_power_stage(s(t + 1), pack(50, 25));
+    }
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(25), true)]);
+    assert!(!c.set_points().enabled);
+    // AC stays up a minute: cleared.
+    c.handle_power_stage(s(90), pack(50, 25));
+    assert!(c.alarms().contains(ChargeAlarms::AC_OSCILLATION));
+    c.handle_power_stage(s(91), pack(50, 25));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(25), false)]);
+    // Drops further apart than the window do not count.
+    let mut c = bulk(50, 25);
+    for t in [10, 80, 150] {
+        c.handle_power_stage(s(t), off);
+        c.handle_power_stage(s(t + 1), pack(50, 25));
+    }
+    assert!(c.alarms().is_empty());
+}
+
+#[test]
+fn e_0_3_6_the_modules_temperature_sensor_fault_until_its_error_reset() {
+    let mut c = bulk(50, 20);
+    let emcy = |code| Emergency {
+        code: ErrorCode(code),
+        register: ErrorRegister::GENERIC,
+        manufacturer: [0; 5],
+    };
+    c.handle_battery_emcy(s(1), &emcy(0x5010));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(36), true)]);
+    assert!(c.set_points().enabled, "charges on at half current");
+    c.handle_battery_emcy(s(2), &emcy(0x0000));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(36), false)]);
+}
+
+#[test]
+fn each_stage_fault_stops_the_output_while_the_stage_reports_it() {
+    for (n, fault) in StageFaults::all().iter().enumerate() {
+        let mut c = bulk(50, 25);
+        c.handle_power_stage(s(1), stage(|p| p.faults = fault));
+        let code = DeltaQCode::Fault(n as u8 + 1);
+        assert_eq!(changes(&mut c), [(code, true)]);
+        assert!(!c.set_points().enabled, "{code}");
+        let f = flags(&c);
+        assert!(f.contains(ChargeStatusFlags::FAULT_ACTIVE | ChargeStatusFlags::HW_SHUTDOWN));
+        assert!(!f.contains(ChargeStatusFlags::ALARM_ACTIVE), "{code}");
+        assert_eq!(c.alarms().displayed().code(), code);
+        c.handle_power_stage(s(2), pack(50, 25));
+        assert_eq!(changes(&mut c), [(code, false)]);
+        assert!(c.set_points().enabled);
+    }
+}
+
+#[test]
+fn a_fault_is_displayed_before_an_alarm() {
+    let both = ChargeAlarms::HIGH_VOLTAGE | ChargeAlarms::FAULT_RELAY;
+    assert_eq!(both.displayed(), ChargeAlarms::FAULT_RELAY);
+    let alarms = ChargeAlarms::TEMPERATURE | ChargeAlarms::HIGH_AC;
+    assert_eq!(alarms.displayed(), ChargeAlarms::TEMPERATURE);
+    assert!(ChargeAlarms::empty().displayed().is_empty());
+}
+
+#[test]
+fn every_flag_has_its_rows_code() {
+    // Each flag's code is a row of the section 4.4.1 table.
+    for flag in ChargeAlarms::all().iter() {
+        let code = flag.code();
+        assert!(code.entry().is_some(), "{flag:?}: {code}");
+    }
+    assert_eq!(ChargeAlarms::REVERSE_POLARITY.code().to_string(), "E-0-1-2");
+    assert_eq!(
+        ChargeAlarms::FAULT_OUTPUT_CURRENT.code().to_string(),
+        "F-0-0-6"
+    );
+    assert_eq!(
+        StageFaults::from_label("relay"),
+        Some(StageFaults::RELAY),
+        "by name"
+    );
+    assert_eq!(
+        StageFaults::from_label("F-0-0-4"),
+        Some(StageFaults::CURRENT_MEASUREMENT)
+    );
+    assert_eq!(StageFaults::from_label("fan"), None);
+}
