@@ -208,6 +208,47 @@ fn unwritable_signals_path_is_an_error() {
     assert!(!PathBuf::from(format!("{arg}.rows")).exists());
 }
 
+/// `--signals` and `--dbc`, like `--report`, make their file the output:
+/// the frames go to stdout only when `--json` or `--output` asks, and
+/// `--summary` still prints the summary.
+#[test]
+fn signals_and_dbc_print_frames_only_when_asked() {
+    let csv = temp("quiet.csv").display().to_string();
+    let dbc = temp("quiet.dbc").display().to_string();
+    let plain = run(&["--bundled", "session"], None);
+    let frames = text(&plain).lines().count();
+    assert!(frames > 100);
+    for file in [["--signals", &csv], ["--dbc", &dbc]] {
+        let o = run(&["--bundled", "session", file[0], file[1]], None);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert_eq!(text(&o), "", "{}", file[0]);
+        assert!(std::fs::metadata(file[1]).unwrap().len() > 0);
+        let o = run(&["--bundled", "session", file[0], file[1], "--json"], None);
+        assert_eq!(json_lines(&o).len(), frames, "{}", file[0]);
+        let o = run(
+            &[
+                "--bundled",
+                "session",
+                file[0],
+                file[1],
+                "--output",
+                "words",
+            ],
+            None,
+        );
+        assert_eq!(text(&o), text(&plain), "{}", file[0]);
+        let o = run(
+            &["--bundled", "session", file[0], file[1], "--summary"],
+            None,
+        );
+        let out = text(&o);
+        assert!(
+            out.contains("summary") && out.lines().count() < frames,
+            "{out}"
+        );
+    }
+}
+
 /// Several logs in one run: one dataset partitioned by log, each part the
 /// file a run on that log alone writes.
 #[test]

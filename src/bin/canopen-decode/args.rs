@@ -98,9 +98,12 @@ pub struct Cli {
     /// a column per named field, `name [unit]`; PATH.parquet: Parquet, with
     /// feature `parquet`). With several logs PATH is a folder holding one
     /// dataset partitioned by log: PATH/log=NAME/part-0.csv or .parquet.
+    /// With it the frames are printed only when --output or --json asks
+    /// for them.
     #[arg(long, value_name = "PATH")]
     signals: Option<String>,
-    /// Write the PDO mappings in use to PATH as a DBC file.
+    /// Write the PDO mappings in use to PATH as a DBC file. With it the
+    /// frames are printed only when --output or --json asks for them.
     #[arg(long, value_name = "PATH")]
     dbc: Option<String>,
     /// Format every line anew instead of repeating the text of an equal
@@ -161,8 +164,11 @@ impl Cli {
     /// The options the program runs with; errors that need more than one
     /// argument (a COB-ID given twice) are found here.
     pub fn options(self) -> Result<Options, String> {
-        // With --report alone the page is the output: no frame lines.
-        let frames_asked = self.output.is_some() || self.json || self.report.is_none();
+        // With --report, --signals or --dbc the file written is the output:
+        // frame lines only when --output or --json asks for them.
+        let frames_asked = self.output.is_some()
+            || self.json
+            || (self.report.is_none() && self.signals.is_none() && self.dbc.is_none());
         let output = match (self.output, self.json) {
             (Some(o), _) => o,
             (None, true) => Output::Json,

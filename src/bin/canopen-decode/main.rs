@@ -13,6 +13,8 @@
 //! `.parquet` path with feature `parquet`; several logs: one dataset
 //! partitioned by log), `--dbc PATH` the PDO mappings in use as a DBC
 //! (docs/DECODER.md, modules `signals`, `signals_parquet` and `dbc`).
+//! With either (as with `--report`) the written file is the output: the
+//! frames are printed only when `--json` or `--output` asks for them.
 //!
 //! SDO transfers are followed by the library's passive observer
 //! (`canopen_codec::sdo::Observer`) on the default channel of every node
