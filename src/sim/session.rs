@@ -476,6 +476,30 @@ impl Session {
         self.settle();
     }
 
+    /// The mains at the charger is `volts` RMS (0: off; Delta-Q section
+    /// 4.4.1: too high raises E-0-2-3).
+    pub fn set_ac_voltage(&mut self, volts: f64) {
+        self.stage.set_ac_voltage(volts);
+        self.physics(0.0);
+        self.settle();
+    }
+
+    /// The battery's leads are connected the wrong way round (`true`) or
+    /// the right way.
+    pub fn set_reverse_polarity(&mut self, reversed: bool) {
+        self.stage.set_reverse_polarity(reversed);
+        self.physics(0.0);
+        self.settle();
+    }
+
+    /// The power stage's monitoring reports hardware `fault` (F-0-0-1..6)
+    /// from now on (`true`) or no longer.
+    pub fn inject_fault(&mut self, fault: crate::deltaq::charge::StageFaults, on: bool) {
+        self.stage.inject_fault(fault, on);
+        self.physics(0.0);
+        self.settle();
+    }
+
     /// The battery's DC leads connected to the charger or not.
     pub fn set_battery_connected(&mut self, on: bool) {
         self.stage.battery_connected = on;

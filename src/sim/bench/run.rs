@@ -320,16 +320,23 @@ pub fn apply(s: &mut Session, action: Action) {
     match action {
         Action::AcOff => s.set_ac(false),
         Action::AcOn => s.set_ac(true),
-        Action::AcVoltage(v) => s.set_ac(v > 0.0),
+        Action::AcVoltage(v) => s.set_ac_voltage(v),
         Action::BmsSilent => s.set_module_on_can(false),
         Action::BmsBack => s.set_module_on_can(true),
         Action::BusOff(d) => s.bus_off(d),
         Action::BusLoss(p) => s.set_loss(p),
         Action::Temperature(t) => s.pack.set_temperature_c(t),
         Action::CellShort(n) => s.pack.short_cells(n),
-        Action::ReversePolarity | Action::Fault(_) => {}
+        Action::ReversePolarity => {
+            s.set_battery_connected(true);
+            s.set_reverse_polarity(true);
+        }
+        Action::Fault(fault) => s.inject_fault(fault, true),
         Action::Unplug => s.set_battery_connected(false),
-        Action::Plug => s.set_battery_connected(true),
+        Action::Plug => {
+            s.set_reverse_polarity(false);
+            s.set_battery_connected(true);
+        }
         Action::BatteryStatus(v) => s.bms.hold = v & 1 == 0,
         Action::Request {
             current_a,

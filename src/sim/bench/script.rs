@@ -8,7 +8,7 @@ use core::time::Duration;
 
 use super::document::{Fields, Item, ScriptError, Value};
 use crate::cia418::BatteryType;
-use crate::deltaq::charge::ChargePhase;
+use crate::deltaq::charge::{ChargePhase, StageFaults};
 use crate::deltaq::{DeltaQCode, OperatingMode};
 use crate::sim::PackSpec;
 
@@ -111,8 +111,8 @@ pub enum Action {
     Algorithm(u16),
     /// `bms-emcy`: the battery module sends this EMCY code.
     BmsEmcy(u16),
-    /// `fault`: a hardware fault of the charger (F-0-0-1..6).
-    Fault(DeltaQCode),
+    /// `fault`: a hardware fault of the charger's power stage (F-0-0-1..6).
+    Fault(StageFaults),
     /// `cell-short`: this many cells of the pack are shorted.
     CellShort(u16),
 }
@@ -159,15 +159,6 @@ pub const ACTIONS: [&str; 18] = [
     "bms-emcy",
     "fault",
     "cell-short",
-];
-
-/// The hardware faults by name (Delta-Q section 4.4.1's table).
-const FAULTS: [(&str, u8); 5] = [
-    ("output-stage", 1),
-    ("input-stage", 2),
-    ("current-measurement", 4),
-    ("relay", 5),
-    ("output-current", 6),
 ];
 
 /// The charge's states by name, as the bench writes and reads them.
@@ -385,14 +376,11 @@ fn read_event(item: &Item) -> Result<TimedAction, ScriptError> {
         "fault" => {
             let v = f.need("value")?;
             let name = v.text("a fault name")?;
-            let by_name = FAULTS
-                .iter()
-                .find(|(n, _)| *n == name)
-                .and_then(|(_, y)| DeltaQCode::fault(0, *y));
-            let code = by_name.or_else(|| parse_code(name).filter(|c| c.is_fault()));
-            let known =
-                "output-stage, input-stage, current-measurement, relay, output-current, F-0-0-1..6";
-            Action::Fault(code.ok_or_else(|| unknown(v.line, "fault", name, known))?)
+            let known = "output-stage, input-stage, input-stage-2, current-measurement, relay, output-current, F-0-0-1..6";
+            Action::Fault(
+                StageFaults::from_label(name)
+                    .ok_or_else(|| unknown(v.line, "fault", name, known))?,
+            )
         }
         "cell-short" => Action::CellShort(value(&mut f, "a number of cells", 1.0..=200.0)? as u16),
         other => {
