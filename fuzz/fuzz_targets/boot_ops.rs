@@ -1,6 +1,8 @@
 //! The CiA 302-2 boot-up manager (`canopen_codec::manager::BootManager`)
 //! with three slaves (a mandatory keep-alive one with heartbeat, a software
-//! check and a configuration, a guarded one, an optional one checked only)
+//! check and a configuration, a guarded one whose software date and time
+//! are checked and updated by a program download when they differ, an
+//! optional one checked only)
 //! under an arbitrary sequence of frames (the slaves' SDO answers, heartbeats, boot-ups and anything
 //! else), time steps and start commands. Invariants after every call: no
 //! panic; no frame dropped for a caller that drains after every call; the
@@ -43,6 +45,9 @@ const CONFIGURATION: [u8; 24] = [
     0x11,
 ];
 const SLAVES: [u8; 3] = [5, 6, 7];
+/// The program the manager downloads into node 6 when its software differs
+/// (segmented: 10 bytes).
+const PROGRAM: [u8; 10] = *b"program v2";
 
 fn manager(start_all: bool) -> BootManager<'static, 4> {
     let startup = if start_all {
@@ -69,8 +74,14 @@ fn manager(start_all: bool) -> BootManager<'static, 4> {
     first.expected.software = 0x5150;
     first.expected.vendor_id = 0x2A;
     let mut guarded = NodeConfig::new(NodeId::new(6).unwrap());
-    guarded.assignment = SlaveAssignment::BOOTED.with_guarding(Duration::from_millis(20), 2);
+    guarded.assignment = SlaveAssignment::BOOTED
+        .verify_software()
+        .allow_software_update()
+        .with_guarding(Duration::from_millis(20), 2);
     guarded.expected.serial = 9;
+    guarded.expected.software_date = 15_340;
+    guarded.expected.software_time = 43_200_000;
+    guarded.program = Some(&PROGRAM);
     let mut plain = NodeConfig::new(NodeId::new(7).unwrap());
     plain.assignment = SlaveAssignment::from_raw(1);
     for n in [first, guarded, plain] {
