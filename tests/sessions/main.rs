@@ -18,6 +18,8 @@ mod charge_sessions;
 #[cfg(feature = "sim")]
 mod chemistries;
 #[cfg(feature = "sim")]
+mod protections;
+#[cfg(feature = "sim")]
 mod scenario_files;
 #[cfg(feature = "sim")]
 mod sim;

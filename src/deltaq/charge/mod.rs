@@ -109,8 +109,8 @@
 //! saying not ready); the others hold the output off while their cause
 //! stands ([`ChargeAlarms::STOPS_OUTPUT`]).
 //!
-//! - E-0-0-1 high voltage: the output at or above the algorithm's
-//!   threshold, in every mode (the voltage set point never exceeds it:
+//! - E-0-0-1 high voltage: the output at the algorithm's threshold
+//!   (within 0.5 %) or above, in every mode (the voltage set point never exceeds it:
 //!   a remote BMS asking more cannot push the pack past it); cleared 2 %
 //!   below.
 //! - E-0-0-2 low voltage (local): a battery below `low_voltage_mv`; no

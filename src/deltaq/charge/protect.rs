@@ -247,7 +247,9 @@ impl ChargeControl {
         let s = &self.stage;
         let threshold = self.high_voltage_mv();
         let v = s.battery_mv();
-        let high = v >= threshold
+        // The set point stops at the threshold: reaching it (within
+        // 0.5 %) is the alarm.
+        let high = v >= threshold - threshold / 200
             || (self.alarms.contains(ChargeAlarms::HIGH_VOLTAGE) && v > threshold - threshold / 50);
         a.set(ChargeAlarms::HIGH_VOLTAGE, high);
         let local = !matches!(self.mode, OperatingMode::Remote);
