@@ -2,7 +2,7 @@
 //! fixed buffer, then acted on by what they are (file header, record
 //! header, block header, fields, options, packet data).
 
-use super::socketcan;
+use super::socketcan::{self, Packet};
 use super::{
     Flavor, PcapError, PcapEvent, BYTE_ORDER_MAGIC, EPB, IDB, MAX_BLOCK, MAX_INTERFACES,
     MAX_RECORD, PB, SHB, SPB,
@@ -103,15 +103,6 @@ enum State {
     SpbHead,
     /// A block's trailing length (4 bytes, after the rest is skipped).
     Tail,
-}
-
-/// A packet whose data is being collected.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) struct Packet {
-    pub(super) interface: u32,
-    pub(super) link_type: u16,
-    pub(super) captured: u32,
-    pub(super) timestamp: Option<Timestamp>,
 }
 
 /// A pcap or pcapng reader: feed it the file's bytes in chunks of any

@@ -2,10 +2,19 @@
 //! type registry, entry 227): the Linux `struct can_frame` /
 //! `struct canfd_frame`, its identifier word in network byte order.
 
-use super::reader::Packet;
 use super::{PcapError, PcapEvent, PcapFrame, LINKTYPE_CAN_SOCKETCAN};
+use crate::clock::Timestamp;
 use crate::frame::{CanFrame, CanId};
 use crate::trace::Unsupported;
+
+/// A packet whose data is being collected.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Packet {
+    pub(super) interface: u32,
+    pub(super) link_type: u16,
+    pub(super) captured: u32,
+    pub(super) timestamp: Option<Timestamp>,
+}
 
 /// Bit 31 of the identifier word: a 29-bit identifier (`CAN_EFF_FLAG`).
 const EFF: u32 = 0x8000_0000;
