@@ -410,7 +410,8 @@ fn protections_go_out_as_delta_q_emcys_with_their_1003h_and_2060h_entries() {
     };
     // What the stage measures, the EMCY (EEC, error register 01h, the
     // Delta-Q code little-endian) and the 1003h / 2060h entry, as the
-    // alarm table of section 4.4.1 gives them (DIGEST: E-0-2-3 17809000h,
+    // alarm table of the Delta-Q IC Series CANopen interface specification,
+    // section 4.4.1, gives them (E-0-2-3 17809000h,
     // E-0-1-2 0C809000h, F-0-0-5 05C05000h).
     let cases = [
         (
