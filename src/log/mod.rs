@@ -87,6 +87,7 @@ pub mod bus_load;
 pub mod calendar;
 mod comm_objects;
 pub mod csv;
+pub mod dataset;
 pub mod dbc;
 mod decoding;
 mod frame_line;

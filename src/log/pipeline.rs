@@ -65,6 +65,11 @@ pub struct Options {
     pub no_cache: bool,
     /// `--signals PATH`: the PDO fields as signals (CSV).
     pub signals: Option<String>,
+    /// `--dataset FORMAT`, or logs named by a folder or a glob: `--signals
+    /// PATH` is a folder holding one dataset partitioned by log, its parts
+    /// in this format, even for one log (several logs always make one, its
+    /// parts' format from PATH's name: [`crate::log::dataset`]).
+    pub dataset: Option<crate::log::dataset::PartFormat>,
     /// `--dbc PATH`: the PDO mappings in use as a DBC file.
     pub dbc: Option<String>,
     /// `--report FILE.html`: the session as an HTML page.
@@ -107,6 +112,7 @@ impl Default for Options {
             eds: Vec::new(),
             no_cache: false,
             signals: None,
+            dataset: None,
             dbc: None,
             report: None,
             inflater: None,

@@ -295,6 +295,62 @@ fn several_logs_make_one_dataset_partitioned_by_log() {
     assert_eq!(o.status.code(), Some(2));
 }
 
+/// `--dataset` makes a dataset of one log; a folder of logs is a dataset
+/// of its files; either's parts are what a run on that log alone writes.
+#[test]
+fn dataset_option_and_folder_of_logs() {
+    let Some(startup) = capture(common::captures::STARTUP) else {
+        return;
+    };
+    let alone = temp("startup-alone.csv");
+    let alone_arg = alone.display().to_string();
+    let one = run(
+        &["--pdo-capture-mapping", "--signals", &alone_arg, &startup],
+        None,
+    );
+    assert!(one.status.success());
+    let want = std::fs::read_to_string(&alone).unwrap();
+
+    let root = temp("one-log-dataset");
+    let root_arg = root.display().to_string();
+    let args = [
+        "--pdo-capture-mapping",
+        "--dataset",
+        "csv",
+        "--signals",
+        &root_arg,
+        &startup,
+    ];
+    let o = run(&args, None);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let part = root.join("log=deltaq-icl1500-startup/part-0.csv");
+    assert_eq!(std::fs::read_to_string(part).unwrap(), want);
+
+    // A folder holding two logs (copies of the capture): two partitions.
+    let logs = temp("logs");
+    std::fs::create_dir_all(&logs).unwrap();
+    for name in ["bus-a.log", "bus-b.log"] {
+        std::fs::copy(&startup, logs.join(name)).unwrap();
+    }
+    let fleet = temp("fleet-of-folder");
+    let fleet_arg = fleet.display().to_string();
+    let logs_arg = logs.display().to_string();
+    let o = run(
+        &["--pdo-capture-mapping", "--signals", &fleet_arg, &logs_arg],
+        None,
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for name in ["bus-a", "bus-b"] {
+        let part = fleet.join(format!("log={name}")).join("part-0.csv");
+        assert_eq!(std::fs::read_to_string(part).unwrap(), want, "{name}");
+    }
+    // An empty folder or a glob matching nothing is a usage error.
+    let glob = format!("{logs_arg}/*.trc");
+    let o = run(&["--signals", &fleet_arg, &glob], None);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no log there"));
+}
+
 /// A Parquet path in a decoder built without the `parquet` feature is a
 /// usage error, before the log is read.
 #[cfg(not(feature = "parquet"))]

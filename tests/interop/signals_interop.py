@@ -25,6 +25,7 @@ other runs; elsewhere it is skipped with a message.
 import csv
 import json
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -248,6 +249,45 @@ def check_dataset(captures):
             signal_headers = [h for h in headers if h not in ("log", "file_row_number")]
             n += check_table(f"dataset {name}", signal_headers, rows, frames)
         print(f"dataset of {len(captures)} logs: {len(all_rows)} rows in one table, {n} cells compared")
+    check_fleet_folder(captures)
+
+
+def check_fleet_folder(captures):
+    """A folder of logs with `--dataset parquet` into a folder not named
+    .parquet: pyarrow's hive dataset and DuckDB's hive_partitioning count
+    each log's PDO frames under its name, the total their sum."""
+    import duckdb
+    import pyarrow.dataset as ds
+
+    want = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        logs = os.path.join(tmp, "logs")
+        os.mkdir(logs)
+        for c in captures:
+            shutil.copy(c, logs)
+            name = os.path.splitext(os.path.basename(c))[0]
+            want[name] = len(frames_of(["--pdo-capture-mapping", c]))
+        root = os.path.join(tmp, "fleet")
+        decode(["--pdo-capture-mapping", "--dataset", "parquet", "--signals", root, logs])
+        table = ds.dataset(root, format="parquet", partitioning="hive").to_table()
+        logs_column = [str(x) for x in table.column("log").to_pylist()]
+        got = {name: logs_column.count(name) for name in set(logs_column)}
+        if got != want or table.num_rows != sum(want.values()):
+            fail(f"pyarrow hive dataset: rows per log {got}, PDO frames per log {want}")
+        con = duckdb.connect()
+        counted = dict(
+            con.execute(
+                f"SELECT log, count(*) FROM read_parquet('{root}/*/*.parquet', "
+                "hive_partitioning = true, union_by_name = true) GROUP BY log"
+            ).fetchall()
+        )
+        if counted != want:
+            fail(f"duckdb hive_partitioning: rows per log {counted}, PDO frames per log {want}")
+        print(
+            f"fleet folder of {len(captures)} logs (--dataset parquet): "
+            f"pyarrow {table.num_rows} rows, duckdb {sum(counted.values())}, "
+            f"PDO frames {sum(want.values())}"
+        )
 
 
 def unreadable(path):

@@ -7,6 +7,7 @@ use clap::{Parser, ValueEnum};
 use canopen_codec::sdo::SdoChannel;
 use canopen_codec::{CanId, NodeId};
 
+use canopen_codec::log::dataset::{self, PartFormat};
 use canopen_codec::log::input::{How, FORMAT_NAMES};
 use canopen_codec::log::{mappings, signals, Options, Roles};
 
@@ -102,6 +103,13 @@ pub struct Cli {
     /// for them.
     #[arg(long, value_name = "PATH")]
     signals: Option<String>,
+    /// With --signals PATH: PATH is a folder holding one dataset
+    /// partitioned by log (PATH/log=NAME/part-0.FORMAT), even for one log;
+    /// csv or parquet, whatever PATH's name. Logs named by a folder or a
+    /// glob make one too, its format from PATH's name.
+    #[arg(long, value_name = "FORMAT", requires = "signals",
+          value_parser = clap::builder::PossibleValuesParser::new(["csv", "parquet"]))]
+    dataset: Option<String>,
     /// Write the PDO mappings in use to PATH as a DBC file. With it the
     /// frames are printed only when --output or --json asks for them.
     #[arg(long, value_name = "PATH")]
@@ -120,8 +128,9 @@ pub struct Cli {
     #[arg(long, value_enum, conflicts_with = "files")]
     bundled: Option<Bundled>,
     /// The trace ('-' for stdin; none: stdin, or the bundled session on a terminal).
-    /// Several logs are decoded one after the other, each on its own (with
-    /// --signals, into one dataset partitioned by log).
+    /// Several logs (files, folders: their files, globs such as 'logs/*.log')
+    /// are decoded one after the other, each on its own (with --signals,
+    /// into one dataset partitioned by log).
     files: Vec<String>,
 }
 
@@ -183,8 +192,18 @@ impl Cli {
         }
         // A Parquet path in a decoder built without the `parquet` feature
         // is an error before the log is read.
+        let (files, many) = dataset::logs(&self.files)?;
+        let dataset = match (self.dataset.as_deref(), &self.signals) {
+            (Some("parquet"), _) => Some(PartFormat::Parquet),
+            (Some(_), _) => Some(PartFormat::Csv),
+            (None, Some(path)) if many => Some(PartFormat::of(std::path::Path::new(path))),
+            (None, _) => None,
+        };
         if let Some(path) = &self.signals {
-            if signals::is_parquet(std::path::Path::new(path)) && !cfg!(feature = "parquet") {
+            let parquet = dataset.map_or(signals::is_parquet(std::path::Path::new(path)), |d| {
+                d == PartFormat::Parquet
+            });
+            if parquet && !cfg!(feature = "parquet") {
                 return Err(format!(
                     "--signals {path}: Parquet needs the decoder built with the `parquet` feature"
                 ));
@@ -214,8 +233,8 @@ impl Cli {
             bitrate: self.bitrate,
             roles,
             pdos,
-            file: self.files.first().cloned(),
-            more_files: self.files.get(1..).unwrap_or_default().to_vec(),
+            file: files.first().cloned(),
+            more_files: files.get(1..).unwrap_or_default().to_vec(),
             bundled: self.bundled.map(|Bundled::Session| "session"),
             format: how.format,
             binary: how.binary,
@@ -225,6 +244,7 @@ impl Cli {
             eds: self.eds,
             no_cache: self.no_cache,
             signals: self.signals,
+            dataset,
             dbc: self.dbc,
             report: self.report,
             inflater: None,

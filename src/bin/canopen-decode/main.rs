@@ -176,7 +176,7 @@ mod args;
 #[cfg(feature = "parquet")]
 mod signals_parquet;
 
-use canopen_codec::log::{input, run, signals, Options, Outcome};
+use canopen_codec::log::{dataset, input, run, Options, Outcome};
 use std::io::{self, IsTerminal, Read};
 use std::process::ExitCode;
 
@@ -207,7 +207,7 @@ fn main() -> ExitCode {
         }
     };
     hooks(&mut opts);
-    if !opts.more_files.is_empty() {
+    if !opts.more_files.is_empty() || opts.dataset.is_some() {
         return several_logs(opts);
     }
     let input: Box<dyn Read> = match (opts.bundled, opts.file.as_deref()) {
@@ -250,14 +250,13 @@ fn main() -> ExitCode {
     }
 }
 
-/// Several logs: each decoded on its own, one after the other, its frames
-/// on stdout; with `--signals PATH` the signals of all of them form one
-/// dataset partitioned by log, hive style: `PATH/log=NAME/part-0.csv` (or
-/// `.parquet` when PATH ends in `.parquet`), NAME the log's file name
-/// without its extension, which Spark, DuckDB
-/// (`read_parquet('PATH/*/*.parquet', hive_partitioning = true)`) and
-/// Polars read as one table with a `log` column. The exit status is the
-/// worst of the runs.
+/// Several logs (or one with `--dataset`): each decoded on its own, one
+/// after the other, its frames on stdout; with `--signals PATH` the
+/// signals of all of them form one dataset partitioned by log, hive style:
+/// `PATH/log=NAME/part-0.csv` (or `.parquet` when PATH ends in `.parquet`
+/// or `--dataset parquet` says so), NAME the log's file name without its
+/// extension (module `canopen_codec::log::dataset`). The exit status is
+/// the worst of the runs.
 fn several_logs(opts: Options) -> ExitCode {
     let mut files = vec![opts.file.clone().unwrap_or_default()];
     files.extend(opts.more_files.iter().cloned());
@@ -265,44 +264,28 @@ fn several_logs(opts: Options) -> ExitCode {
         eprintln!("canopen-decode: {why}");
         ExitCode::from(2)
     };
-    if files.iter().any(|f| f == "-") {
-        return fail("'-' (stdin) cannot be one of several logs".into());
+    if files.iter().any(|f| f == "-" || f.is_empty()) {
+        return fail("stdin cannot be one of several logs nor a dataset".into());
     }
     if opts.dbc.is_some() {
         return fail("--dbc takes one log (the mappings of several may differ)".into());
     }
     // Each log's partition, its name unique and free of path separators.
-    let mut parts = Vec::new();
-    if let Some(dir) = &opts.signals {
-        let ext = if signals::is_parquet(std::path::Path::new(dir)) {
-            "parquet"
-        } else {
-            "csv"
-        };
-        for f in &files {
-            let stem = std::path::Path::new(f)
-                .file_stem()
-                .map(|s| s.to_string_lossy().replace(['/', '\\', '='], "_"))
-                .unwrap_or_default();
-            if stem.is_empty() || parts.iter().any(|(s, _)| *s == stem) {
-                return fail(format!(
-                    "--signals {dir}: two logs named '{stem}': a partition each is needed"
-                ));
+    let parts = match &opts.signals {
+        Some(dir) => {
+            let root = std::path::Path::new(dir);
+            let format = opts.dataset.unwrap_or(dataset::PartFormat::of(root));
+            match dataset::parts(root, &files, format) {
+                Ok(p) => p.iter().map(|p| Some(p.display().to_string())).collect(),
+                Err(why) => return fail(why),
             }
-            let folder = std::path::Path::new(dir).join(format!("log={stem}"));
-            if let Err(e) = std::fs::create_dir_all(&folder) {
-                return fail(format!("--signals {}: {e}", folder.display()));
-            }
-            let part = folder.join(format!("part-0.{ext}"));
-            parts.push((stem, Some(part.display().to_string())));
         }
-    } else {
-        parts = files.iter().map(|f| (f.clone(), None)).collect();
-    }
+        None => vec![None; files.len()],
+    };
     let (stdout, stderr) = (io::stdout(), io::stderr());
     let (mut out, mut diag) = (stdout.lock(), stderr.lock());
     let mut all = Outcome::default();
-    for (file, (_, part)) in files.iter().zip(parts) {
+    for (file, part) in files.iter().zip(parts) {
         let input = match std::fs::File::open(file) {
             Ok(f) => f,
             Err(e) => return fail(format!("{file}: {e}")),
