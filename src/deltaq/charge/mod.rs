@@ -123,7 +123,9 @@
 //! - E-0-0-8 battery temperature (the module's 6010h, while present):
 //!   outside the algorithm's range the charge **pauses** (phase kept,
 //!   output off; the BMS's 6000h falling meanwhile does not terminate it)
-//!   and resumes [`TEMPERATURE_HYSTERESIS_C`] back inside.
+//!   and resumes [`TEMPERATURE_HYSTERESIS_C`] back inside; a reading
+//!   outside [`PLAUSIBLE_TEMPERATURE_C`] is no temperature and changes
+//!   nothing.
 //! - E-0-1-2 reverse polarity: the output reads negative.
 //! - E-0-1-3 no current (latched): the output on, not voltage-limited,
 //!   under a fiftieth of its set current for [`NO_CURRENT_TIME`].
@@ -184,7 +186,8 @@ pub use algorithm::{AlgorithmKind, ChargeAlgorithm, EXAMPLE_ALGORITHMS};
 use meter::CycleMeter;
 use protect::ProtectState;
 pub use protect::{
-    ProtectionLimits, AC_DROPS, AC_WINDOW, NO_CURRENT_TIME, TEMPERATURE_HYSTERESIS_C,
+    ProtectionLimits, AC_DROPS, AC_WINDOW, NO_CURRENT_TIME, PLAUSIBLE_TEMPERATURE_C,
+    TEMPERATURE_HYSTERESIS_C,
 };
 pub use types::{
     BusInputs, ChargeAlarms, ChargeConfig, ChargeEvent, ChargePhase, ChargeStatus, PowerStage,

@@ -108,6 +108,14 @@ pub const AC_WINDOW: Duration = Duration::from_secs(60);
 /// E-0-0-8 to clear (degC). Ours.
 pub const TEMPERATURE_HYSTERESIS_C: i16 = 2;
 
+/// The battery temperatures a reading of 6010h can be (degC, inclusive):
+/// a battery sensor's measuring range (-40 to 125 degC, the usual NTC
+/// range of a BMS). A reading outside is no temperature (a sensor fault,
+/// or a PDO whose bytes at 6010h hold something else) and is ignored:
+/// E-0-0-8 keeps its state, neither raised nor cleared by it, so an
+/// implausible reading between plausible ones cannot make it flap. Ours.
+pub const PLAUSIBLE_TEMPERATURE_C: (i16, i16) = (-40, 125);
+
 /// The alarms a protection latched (cleared when the cycle ends: AC lost,
 /// battery unplugged, 2241h written; in remote mode also when the BMS
 /// says not ready).
@@ -262,8 +270,13 @@ impl ChargeControl {
             let t = self.bus.battery_temperature >> 3;
             let was = self.alarms.contains(ChargeAlarms::TEMPERATURE);
             let margin = if was { TEMPERATURE_HYSTERESIS_C } else { 0 };
-            let out = t < l.min_temperature_c.saturating_add(margin)
-                || t > l.max_temperature_c.saturating_sub(margin);
+            let (lowest, highest) = PLAUSIBLE_TEMPERATURE_C;
+            let out = if (lowest..=highest).contains(&t) {
+                t < l.min_temperature_c.saturating_add(margin)
+                    || t > l.max_temperature_c.saturating_sub(margin)
+            } else {
+                was
+            };
             a.set(ChargeAlarms::TEMPERATURE, bms && out);
         }
         a.set(

@@ -192,6 +192,29 @@ fn e_0_0_8_out_of_range_pauses_and_resumes_when_back() {
 }
 
 #[test]
+fn e_0_0_8_ignores_a_reading_that_is_no_temperature() {
+    // A module whose PDOs alternate 6010h between 2432 degC (bytes of
+    // another object where 6010h is expected) and 25 degC: no alarm.
+    let mut c = bulk(50, 25);
+    for i in 1..=6 {
+        let t = if i % 2 == 0 { 25 } else { 2432 };
+        c.handle_bus(s(i), bms_at(t));
+        assert!(!c.alarms().contains(ChargeAlarms::TEMPERATURE), "{t} degC");
+    }
+    assert!(changes(&mut c).is_empty());
+    assert!(c.set_points().enabled);
+    // Raised by a real reading, it stands through implausible ones and
+    // clears at a plausible one back inside.
+    c.handle_bus(s(7), bms_at(51));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(8), true)]);
+    c.handle_bus(s(8), bms_at(-41));
+    c.handle_bus(s(9), bms_at(126));
+    assert!(c.alarms().contains(ChargeAlarms::TEMPERATURE));
+    c.handle_bus(s(10), bms_at(25));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(8), false)]);
+}
+
+#[test]
 fn e_0_1_2_reverse_polarity() {
     let mut c = control(OperatingMode::Local);
     c.handle_bus(s(0), bms(0));
