@@ -235,3 +235,33 @@ mod program {
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }
+
+#[test]
+fn voltage_max_bounds_the_highest_battery_voltage_of_the_run() {
+    let text = format!("{BASE}[run]\nuntil = \"0:30:00\"\n");
+    let mut samples = Vec::new();
+    let (_, summary) = script(&text)
+        .unwrap()
+        .run(|e| {
+            if let BenchEvent::Sample { voltage_v, .. } = e {
+                samples.push(*voltage_v);
+            }
+        })
+        .unwrap();
+    let sampled = samples.iter().copied().fold(f64::MIN, f64::max);
+    // Charging at 25 A the voltage rises: the highest of every step is at
+    // least every minute's sample, and below the algorithm's 13 x 4.25 V.
+    assert!(sampled > samples[0], "{samples:?}");
+    assert!(summary.voltage_max >= sampled, "{summary:?}");
+    assert!(summary.voltage_max < 13.0 * 4.25, "{summary:?}");
+    let check = |v: f64| {
+        script(&format!("{text}[expect]\nvoltage_max = {v}\n"))
+            .unwrap()
+            .expect
+            .check(&summary)
+    };
+    assert!(check(summary.voltage_max + 0.01).is_empty());
+    let failed = check(sampled - 0.01);
+    assert_eq!(failed.len(), 1, "{failed:?}");
+    assert!(failed[0].contains("highest battery voltage"), "{failed:?}");
+}

@@ -78,6 +78,9 @@ pub struct Summary {
     pub states: Vec<ChargePhase>,
     /// The output delivers current at the end.
     pub output_on: bool,
+    /// The battery's highest terminal voltage during the run, V (every
+    /// simulated second).
+    pub voltage_max: f64,
 }
 
 /// Seconds since the start, to the millisecond.
@@ -237,11 +240,16 @@ impl Script {
         let end = Timestamp::ZERO.add_duration(self.until);
         let mut seen = (0, 0);
         let mut next_sample = Timestamp::ZERO.add_duration(SAMPLE_EVERY);
+        let mut highest = terminal_voltage(&s);
         loop {
             let next_action = actions.peek().map(|a| Timestamp::ZERO.add_duration(a.at));
             let next = crate::clock::earliest([next_action, Some(next_sample)])
                 .map_or(end, |t| t.min(end));
-            s.run_until(next);
+            s.run_while(next, |s| {
+                highest = highest.max(terminal_voltage(s));
+                true
+            });
+            highest = highest.max(terminal_voltage(&s));
             changes(&s, &mut seen, &mut report);
             while let Some(a) =
                 actions.next_if(|a| next.has_reached(Timestamp::ZERO.add_duration(a.at)))
@@ -257,7 +265,7 @@ impl Script {
                 break;
             }
         }
-        let summary = summary(&s);
+        let summary = summary(&s, highest);
         report(&BenchEvent::End(summary.clone()));
         Ok((s, summary))
     }
@@ -285,17 +293,22 @@ fn changes(s: &Session, seen: &mut (usize, usize), report: &mut impl FnMut(&Benc
     events.iter().for_each(report);
 }
 
+/// The battery's terminal voltage with the current flowing now, V.
+fn terminal_voltage(s: &Session) -> f64 {
+    s.pack.terminal_voltage(s.stage.current_a)
+}
+
 fn sample(s: &Session, at: Timestamp) -> BenchEvent {
     BenchEvent::Sample {
         at,
         current_a: s.stage.current_a,
-        voltage_v: s.pack.terminal_voltage(s.stage.current_a),
+        voltage_v: terminal_voltage(s),
         soc: s.pack.soc() * 100.0,
         temperature_c: s.pack.temperature_c(),
     }
 }
 
-fn summary(s: &Session) -> Summary {
+fn summary(s: &Session, voltage_max: f64) -> Summary {
     let r = s.result();
     let mut raised: Vec<DeltaQCode> = Vec::new();
     for c in s.alarm_changes() {
@@ -312,6 +325,7 @@ fn summary(s: &Session) -> Summary {
         raised,
         states: r.phases.iter().map(|(_, p)| *p).collect(),
         output_on: s.stage.current_a > 0.01,
+        voltage_max,
     }
 }
 
@@ -421,6 +435,12 @@ impl Expect {
         for (what, unit, (min, max), got) in [
             ("charge delivered", "Ah", self.ah, summary.ah),
             ("state of charge at the end", "%", self.soc, summary.soc),
+            (
+                "highest battery voltage",
+                "V",
+                (None, self.voltage_max),
+                summary.voltage_max,
+            ),
         ] {
             if min.is_some_and(|m| got < m) || max.is_some_and(|m| got > m) {
                 let bound = |b: Option<f64>| b.map_or("-".into(), |b| format!("{b}"));

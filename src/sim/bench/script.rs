@@ -137,6 +137,9 @@ pub struct Expect {
     pub ah: (Option<f64>, Option<f64>),
     /// `soc_min`, `soc_max`: bounds of the state of charge at the end, %.
     pub soc: (Option<f64>, Option<f64>),
+    /// `voltage_max`: the battery's terminal voltage never went above
+    /// this during the run, V.
+    pub voltage_max: Option<f64>,
 }
 
 /// The actions' names in the file, in [`Action`]'s order.
@@ -472,6 +475,7 @@ fn read_expect(item: &Item) -> Result<Expect, ScriptError> {
         bound("soc_min", "a state of charge in %", 100.0)?,
         bound("soc_max", "a state of charge in %", 100.0)?,
     );
+    e.voltage_max = bound("voltage_max", "a voltage in V", 1000.0)?;
     f.finish()?;
     Ok(e)
 }
