@@ -254,6 +254,9 @@ pub struct ChargeControl {
     config: ChargeConfig,
     phase: ChargePhase,
     phase_since: Timestamp,
+    /// When the charge paused for the battery's temperature (E-0-0-8):
+    /// the pause is not time spent in the phase.
+    paused_since: Option<Timestamp>,
     active: Option<u16>,
     permanent: Option<u16>,
     revert_on_ac_loss: bool,
@@ -292,6 +295,7 @@ impl ChargeControl {
             config,
             phase: ChargePhase::Idle,
             phase_since: Timestamp::ZERO,
+            paused_since: None,
             active: config.permanent_algorithm,
             permanent: config.permanent_algorithm,
             revert_on_ac_loss: false,
@@ -480,6 +484,7 @@ impl ChargeControl {
             });
             self.phase = to;
             self.phase_since = now;
+            self.paused_since = None;
             let lasts = match to {
                 ChargePhase::Absorption => self
                     .algorithm()
@@ -650,7 +655,21 @@ impl ChargeControl {
                 self.latch = Latch::Terminated;
                 self.enter(now, P::Terminated);
             }
-            phase => self.advance(now, phase, bms),
+            // Paused for the battery's temperature (E-0-0-8): the phase is
+            // kept as it is; its output is off, so the current it reads is
+            // no sign of a full battery (absorption's termination current).
+            _ if self.alarms.contains(ChargeAlarms::TEMPERATURE) => {
+                self.paused_since.get_or_insert(now);
+            }
+            phase => {
+                // Back from a pause: the phase's clock (absorption's limit,
+                // the safety timer) counts the time it charged, not the pause.
+                if let Some(at) = self.paused_since.take() {
+                    let paused = now.saturating_micros_since(at);
+                    self.phase_since = self.phase_since.add_micros(paused);
+                }
+                self.advance(now, phase, bms)
+            }
         }
     }
 

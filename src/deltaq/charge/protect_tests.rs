@@ -372,3 +372,31 @@ fn every_flag_has_its_rows_code() {
     );
     assert_eq!(StageFaults::from_label("fan"), None);
 }
+
+#[test]
+fn e_0_0_8_in_absorption_keeps_the_phase_and_its_clock() {
+    let mut c = bulk(50, 25);
+    c.handle_power_stage(s(100), pack(59, 25));
+    assert_eq!(c.phase(), ChargePhase::Absorption);
+    // Too hot after two minutes of absorption: paused, output off, and
+    // the 0 A it now reads is no termination current.
+    c.handle_bus(s(220), bms_at(51));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(8), true)]);
+    for t in [230, 400, 900] {
+        c.handle_power_stage(s(t), pack(57, 0));
+        assert_eq!(c.phase(), ChargePhase::Absorption, "paused at {t} s");
+    }
+    // Cooled after 800 s: absorption goes on where it was, two minutes
+    // in, and ends on its tapered current.
+    c.handle_power_stage(s(1019), pack(58, 20));
+    assert_eq!(c.phase(), ChargePhase::Absorption);
+    c.handle_bus(s(1020), bms_at(40));
+    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(8), false)]);
+    assert_eq!(c.phase(), ChargePhase::Absorption);
+    let tapered = PowerStage {
+        current_ma: 1000,
+        ..pack(59, 0)
+    };
+    c.handle_power_stage(s(1021), tapered);
+    assert_eq!(c.phase(), ChargePhase::Rest);
+}
