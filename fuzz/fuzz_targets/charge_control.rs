@@ -98,7 +98,15 @@ fn check(c: &mut ChargeControl, now: Timestamp, alarms: &mut ChargeAlarms) {
     assert_eq!(status.charger_status, u8::from(set.enabled));
     let flags = status.extended.flags;
     assert_eq!(flags.contains(ChargeStatusFlags::CHARGER_ENABLED), set.enabled);
-    assert_eq!(flags.contains(ChargeStatusFlags::ALARM_ACTIVE), !c.alarms().is_empty());
+    // 2006h separates the two kinds: an alarm bit for the E- codes, a fault
+    // bit for the power stage's F-0-0-x.
+    let faults = c.alarms().intersection(ChargeAlarms::FAULTS);
+    assert_eq!(flags.contains(ChargeStatusFlags::ALARM_ACTIVE), c.alarms() != faults);
+    assert_eq!(flags.contains(ChargeStatusFlags::FAULT_ACTIVE), !faults.is_empty());
+    assert_eq!(
+        flags.contains(ChargeStatusFlags::HW_SHUTDOWN),
+        c.alarms().intersects(ChargeAlarms::STOPS_OUTPUT)
+    );
     assert_eq!(flags.contains(ChargeStatusFlags::AC_PRESENT), c.ac_present());
     assert_eq!(flags.contains(ChargeStatusFlags::DERATING), !status.derate.is_empty());
     assert!(status.charger_soc <= 100 || status.charger_soc == 0xFF);
