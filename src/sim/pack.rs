@@ -94,108 +94,72 @@ pub struct CellModel {
     pub heat_j_per_k_wh: f64,
 }
 
-/// Flooded lead acid. OCV = SG + 0.84 V from SG 1.10 (empty) to 1.28
-/// (full): 1.94 to 2.12 V ("Handbook of Batteries", ch. 23). 6 mOhm for a
-/// 100 Ah cell; the side current 0.06 % C at the 2.27 V float voltage,
-/// doubling every 60 mV (a float current of 0.5-1 mA/Ah, as chapter 23's
-/// float figures), 4 mV/K earlier when warm (the -3 to -5 mV/cell/degC
-/// compensation chargers apply, BU-403); 92 % charge efficiency, so a
-/// whole charge takes 105-130 % of the Ah; 2.65 V/cell at most
-/// (equalize goes to 2.58).
-pub const FLOODED: CellModel = CellModel {
-    ocv: [
-        1.94, 1.96, 1.98, 2.00, 2.02, 2.04, 2.06, 2.08, 2.09, 2.11, 2.12,
-    ],
-    r_ah: 0.6,
-    acceptance_ah: 0.21,
-    gas_c: 0.0006,
-    gas_v: 2.27,
-    gas_slope_v: 0.0866,
-    gas_temp_v: -0.004,
-    efficiency: 0.92,
-    max_v: 2.65,
-    nominal_v: 2.0,
-    heat_j_per_k_wh: 26.0,
-};
+/// The chemistries' [`CellModel`]s, one row each: the rest voltage curve
+/// (V at 0, 10, ... 100 %), then the other columns in the struct's order:
+/// resistance and charge acceptance (Ohm Ah), the side reaction's current
+/// (C) at its voltage (V), its slope (V per e-fold) and its temperature
+/// shift (V/K), the charge efficiency, the highest and the nominal cell
+/// voltage (V) and the heat capacity (J/K per Wh).
+macro_rules! cell_models {
+    ($(
+        $(#[$doc:meta])*
+        $name:ident: [$($ocv:literal)*]
+        $r:literal $acceptance:literal | $gas_c:literal $gas_v:literal $slope:literal $temp:literal
+        | $efficiency:literal | $max:literal $nominal:literal | $heat:literal;
+    )*) => {$(
+        $(#[$doc])*
+        pub const $name: CellModel = CellModel {
+            ocv: [$($ocv),*],
+            r_ah: $r,
+            acceptance_ah: $acceptance,
+            gas_c: $gas_c,
+            gas_v: $gas_v,
+            gas_slope_v: $slope,
+            gas_temp_v: $temp,
+            efficiency: $efficiency,
+            max_v: $max,
+            nominal_v: $nominal,
+            heat_j_per_k_wh: $heat,
+        };
+    )*};
+}
 
-/// Valve-regulated lead acid (AGM, gel): the rest voltage 30 mV above
-/// flooded (a stronger acid: 2.15 V/cell full), lower resistance, the
-/// side reaction (oxygen recombination) 0.1 % C at 2.27 V, 95 % charge
-/// efficiency; 2.50 V/cell at most (no equalize: it would dry the cells
-/// out).
-pub const VALVE_REGULATED: CellModel = CellModel {
-    ocv: [
-        1.97, 1.99, 2.01, 2.03, 2.05, 2.07, 2.09, 2.11, 2.12, 2.14, 2.15,
-    ],
-    r_ah: 0.4,
-    acceptance_ah: 0.18,
-    gas_c: 0.001,
-    gas_v: 2.27,
-    gas_slope_v: 0.0866,
-    gas_temp_v: -0.004,
-    efficiency: 0.95,
-    max_v: 2.50,
-    nominal_v: 2.0,
-    heat_j_per_k_wh: 26.0,
-};
-
-/// Nickel cadmium (vented, pocket plates): rest 1.10 to 1.32 V/cell, the
-/// side reaction (oxygen) 0.2 % C at the 1.40 V float voltage, doubling
-/// every 50 mV, 3 mV/K earlier when warm; 83 % charge efficiency (Saft's
-/// charge factor 1.2-1.4); 1.70 V/cell at most.
-pub const NICKEL_CADMIUM: CellModel = CellModel {
-    ocv: [
-        1.10, 1.18, 1.22, 1.24, 1.25, 1.26, 1.27, 1.28, 1.29, 1.30, 1.32,
-    ],
-    r_ah: 0.4,
-    acceptance_ah: 0.074,
-    gas_c: 0.002,
-    gas_v: 1.40,
-    gas_slope_v: 0.072,
-    gas_temp_v: -0.003,
-    efficiency: 0.83,
-    max_v: 1.70,
-    nominal_v: 1.2,
-    heat_j_per_k_wh: 26.0,
-};
-
-/// Nickel metal hydride: rest 1.15 to 1.38 V/cell, the side reaction
-/// 0.1 % C at 1.40 V, 88 % charge efficiency (charge input 120-150 %,
-/// "Handbook of Batteries", ch. 30); 1.60 V/cell at most.
-pub const NICKEL_METAL_HYDRIDE: CellModel = CellModel {
-    ocv: [
-        1.15, 1.22, 1.25, 1.27, 1.28, 1.29, 1.30, 1.31, 1.33, 1.35, 1.38,
-    ],
-    r_ah: 0.4,
-    acceptance_ah: 0.028,
-    gas_c: 0.001,
-    gas_v: 1.40,
-    gas_slope_v: 0.072,
-    gas_temp_v: -0.003,
-    efficiency: 0.88,
-    max_v: 1.60,
-    nominal_v: 1.2,
-    heat_j_per_k_wh: 20.0,
-};
-
-/// Lithium ion (NMC): rest 3.00 to 4.18 V/cell, no side reaction, 99.5 %
-/// efficiency, 4.20 V/cell at most (BU-409); charged below 0 degC it
-/// plates lithium ([`Pack::plated_ah`]).
-pub const LITHIUM_ION: CellModel = CellModel {
-    ocv: [
-        3.00, 3.45, 3.55, 3.62, 3.68, 3.75, 3.83, 3.92, 4.00, 4.08, 4.18,
-    ],
-    r_ah: 0.2,
-    acceptance_ah: 0.0,
-    gas_c: 0.0,
-    gas_v: 4.2,
-    gas_slope_v: 0.1,
-    gas_temp_v: 0.0,
-    efficiency: 0.995,
-    max_v: 4.20,
-    nominal_v: 3.7,
-    heat_j_per_k_wh: 8.0,
-};
+cell_models! {
+    // rest V at 0, 10, ... 100 %                                r   accept | gas C  at V slope  per K  | eff   | max  nom | J/K Wh
+    /// Flooded lead acid. OCV = SG + 0.84 V from SG 1.10 (empty) to 1.28
+    /// (full): 1.94 to 2.12 V ("Handbook of Batteries", ch. 23). 6 mOhm for
+    /// a 100 Ah cell; the side current 0.06 % C at the 2.27 V float
+    /// voltage, doubling every 60 mV (a float current of 0.5-1 mA/Ah, as
+    /// chapter 23's float figures), 4 mV/K earlier when warm (the -3 to -5
+    /// mV/cell/degC compensation chargers apply, BU-403); 92 % charge
+    /// efficiency, so a whole charge takes 105-130 % of the Ah; 2.65 V/cell
+    /// at most (equalize goes to 2.58).
+    FLOODED:
+        [1.94 1.96 1.98 2.00 2.02 2.04 2.06 2.08 2.09 2.11 2.12] 0.6 0.21  | 0.0006 2.27 0.0866 -0.004 | 0.92  | 2.65 2.0 | 26.0;
+    /// Valve-regulated lead acid (AGM, gel): the rest voltage 30 mV above
+    /// flooded (a stronger acid: 2.15 V/cell full), lower resistance, the
+    /// side reaction (oxygen recombination) 0.1 % C at 2.27 V, 95 % charge
+    /// efficiency; 2.50 V/cell at most (no equalize: it would dry the cells
+    /// out).
+    VALVE_REGULATED:
+        [1.97 1.99 2.01 2.03 2.05 2.07 2.09 2.11 2.12 2.14 2.15] 0.4 0.18  | 0.001  2.27 0.0866 -0.004 | 0.95  | 2.50 2.0 | 26.0;
+    /// Nickel cadmium (vented, pocket plates): rest 1.10 to 1.32 V/cell, the
+    /// side reaction (oxygen) 0.2 % C at the 1.40 V float voltage, doubling
+    /// every 50 mV, 3 mV/K earlier when warm; 83 % charge efficiency (Saft's
+    /// charge factor 1.2-1.4); 1.70 V/cell at most.
+    NICKEL_CADMIUM:
+        [1.10 1.18 1.22 1.24 1.25 1.26 1.27 1.28 1.29 1.30 1.32] 0.4 0.074 | 0.002  1.40 0.072  -0.003 | 0.83  | 1.70 1.2 | 26.0;
+    /// Nickel metal hydride: rest 1.15 to 1.38 V/cell, the side reaction
+    /// 0.1 % C at 1.40 V, 88 % charge efficiency (charge input 120-150 %,
+    /// "Handbook of Batteries", ch. 30); 1.60 V/cell at most.
+    NICKEL_METAL_HYDRIDE:
+        [1.15 1.22 1.25 1.27 1.28 1.29 1.30 1.31 1.33 1.35 1.38] 0.4 0.028 | 0.001  1.40 0.072  -0.003 | 0.88  | 1.60 1.2 | 20.0;
+    /// Lithium ion (NMC): rest 3.00 to 4.18 V/cell, no side reaction, 99.5 %
+    /// efficiency, 4.20 V/cell at most (BU-409); charged below 0 degC it
+    /// plates lithium ([`Pack::plated_ah`]).
+    LITHIUM_ION:
+        [3.00 3.45 3.55 3.62 3.68 3.75 3.83 3.92 4.00 4.08 4.18] 0.2 0.0   | 0.0    4.2  0.1    0.0    | 0.995 | 4.20 3.7 | 8.0;
+}
 
 /// The model of `battery_type` (lead acid flooded or valve-regulated,
 /// nickel cadmium, nickel metal hydride, lithium ion).

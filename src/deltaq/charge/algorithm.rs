@@ -82,105 +82,72 @@ pub struct CellFigures {
     pub absorption_max: Duration,
 }
 
-/// Flooded lead acid (0001 0000): absorption 2.45, float 2.27, equalize
-/// 2.58, high 2.65 V/cell, -4 mV/cell/degC ("Battery University" BU-403
-/// "Charging lead acid": 2.40-2.45 V absorption, 2.25-2.27 float, 3-5 mV
-/// per degC); rest 1.94-2.12 V/cell (OCV = specific gravity + 0.84 V,
-/// "Handbook of Batteries" ch. 23); 90 % efficiency (a flooded battery
-/// takes 105-130 % of its discharge back); absorption at most 4 h.
-pub const FLOODED: CellFigures = CellFigures {
-    battery_type: 0x10,
-    absorption_mv: 2450,
-    float_mv: 2270,
-    equalize_mv: 2580,
-    high_mv: 2650,
-    compensation_uv: -4000,
-    rest_empty_mv: 1940,
-    rest_full_mv: 2120,
-    efficiency_permille: 900,
-    absorption_max: Duration::from_secs(4 * 3600),
-};
+/// The chemistries' [`CellFigures`], one row each, the columns in the
+/// struct's order: the battery type (6020h sub 1); the absorption, float,
+/// equalize and high voltages, mV per cell (0: no float, no equalize); the
+/// temperature compensation, uV per cell per degC; the rest voltages of an
+/// empty and a full cell, mV; the efficiency, per mille; the longest
+/// absorption, hours.
+macro_rules! cell_figures {
+    ($(
+        $(#[$doc:meta])*
+        $name:ident: $type:literal | $absorption:literal $float:literal $equalize:literal
+        $high:literal | $compensation:literal | $empty:literal $full:literal | $efficiency:literal
+        | $hours:literal h;
+    )*) => {$(
+        $(#[$doc])*
+        pub const $name: CellFigures = CellFigures {
+            battery_type: $type,
+            absorption_mv: $absorption,
+            float_mv: $float,
+            equalize_mv: $equalize,
+            high_mv: $high,
+            compensation_uv: $compensation,
+            rest_empty_mv: $empty,
+            rest_full_mv: $full,
+            efficiency_permille: $efficiency,
+            absorption_max: Duration::from_secs($hours * 3600),
+        };
+    )*};
+}
 
-/// AGM lead acid (0001 1000): absorption 2.40, float 2.27, no equalize
-/// (it would vent and dry a valve-regulated cell), high 2.50 V/cell,
-/// -4 mV/cell/degC; rest 1.97-2.15 V/cell; 95 % efficiency (oxygen
-/// recombination) (BU-403; manufacturers' AGM charging guides).
-pub const AGM: CellFigures = CellFigures {
-    battery_type: 0x18,
-    absorption_mv: 2400,
-    float_mv: 2270,
-    equalize_mv: 0,
-    high_mv: 2500,
-    compensation_uv: -4000,
-    rest_empty_mv: 1970,
-    rest_full_mv: 2150,
-    efficiency_permille: 950,
-    absorption_max: Duration::from_secs(4 * 3600),
-};
-
-/// Gel lead acid (0001 1001): as AGM with a lower absorption voltage,
-/// 2.35 V/cell, float 2.25 V/cell (gel cells gas and void at AGM
-/// voltages; BU-403).
-pub const GEL: CellFigures = CellFigures {
-    battery_type: 0x19,
-    absorption_mv: 2350,
-    float_mv: 2250,
-    high_mv: 2450,
-    ..AGM
-};
-
-/// Nickel cadmium (0010 0000, vented pocket plates): charge 1.50, float
-/// 1.40, high 1.65 V/cell, -3 mV/cell/degC; rest 1.10-1.32 V/cell; 80 %
-/// efficiency (charge factor 1.2-1.4); absorption at most 6 h (Saft,
-/// "Nickel-cadmium batteries for stationary applications, technical
-/// manual": float 1.40-1.42, charge 1.50-1.65 V/cell).
-pub const NICKEL_CADMIUM: CellFigures = CellFigures {
-    battery_type: 0x20,
-    absorption_mv: 1500,
-    float_mv: 1400,
-    equalize_mv: 0,
-    high_mv: 1650,
-    compensation_uv: -3000,
-    rest_empty_mv: 1100,
-    rest_full_mv: 1320,
-    efficiency_permille: 800,
-    absorption_max: Duration::from_secs(6 * 3600),
-};
-
-/// Nickel metal hydride (1000 0000): charge 1.48, high 1.60 V/cell, no
-/// float (a NiMH cell kept on float overheats; a finished charge ends
-/// complete), -3 mV/cell/degC; rest 1.15-1.38 V/cell; 85 % efficiency
-/// ("Handbook of Batteries" ch. 30: charge input 120-150 %).
-pub const NICKEL_METAL_HYDRIDE: CellFigures = CellFigures {
-    battery_type: 0x80,
-    absorption_mv: 1480,
-    float_mv: 0,
-    equalize_mv: 0,
-    high_mv: 1600,
-    compensation_uv: -3000,
-    rest_empty_mv: 1150,
-    rest_full_mv: 1380,
-    efficiency_permille: 850,
-    absorption_max: Duration::from_secs(4 * 3600),
-};
-
-/// Lithium ion (1010 0000, NMC): absorption 4.15, high 4.25 V/cell, no
-/// float, no equalize, no temperature compensation (a lithium cell has no
-/// gassing to compensate; its limit is a fixed voltage); rest 3.00-4.18
-/// V/cell; 99 % efficiency; absorption at most 2 h ("Battery University"
-/// BU-409 "Charging lithium-ion").
-pub const LITHIUM_ION: CellFigures = CellFigures {
-    battery_type: 0xA0,
-    absorption_mv: 4150,
-    float_mv: 0,
-    equalize_mv: 0,
-    high_mv: 4250,
-    compensation_uv: 0,
-    rest_empty_mv: 3000,
-    rest_full_mv: 4180,
-    efficiency_permille: 990,
-    absorption_max: Duration::from_secs(2 * 3600),
-};
+cell_figures! {
+    //                       type | absorb float equal high | uV/degC | rest empty full | per mille | absorb max
+    /// Flooded lead acid (0001 0000): absorption 2.45, float 2.27,
+    /// equalize 2.58, high 2.65 V/cell, -4 mV/cell/degC ("Battery
+    /// University" BU-403 "Charging lead acid": 2.40-2.45 V absorption,
+    /// 2.25-2.27 float, 3-5 mV per degC); rest 1.94-2.12 V/cell (OCV =
+    /// specific gravity + 0.84 V, "Handbook of Batteries" ch. 23); 90 %
+    /// efficiency (a flooded battery takes 105-130 % of its discharge back);
+    /// absorption at most 4 h.
+    FLOODED:                 0x10 | 2450   2270  2580  2650 |   -4000 | 1940 2120       |       900 | 4 h;
+    /// AGM lead acid (0001 1000): absorption 2.40, float 2.27, no equalize
+    /// (it would vent and dry a valve-regulated cell), high 2.50 V/cell,
+    /// -4 mV/cell/degC; rest 1.97-2.15 V/cell; 95 % efficiency (oxygen
+    /// recombination) (BU-403; manufacturers' AGM charging guides).
+    AGM:                     0x18 | 2400   2270     0  2500 |   -4000 | 1970 2150       |       950 | 4 h;
+    /// Gel lead acid (0001 1001): as AGM with a lower absorption voltage,
+    /// 2.35 V/cell, float 2.25 V/cell (gel cells gas and void at AGM
+    /// voltages; BU-403).
+    GEL:                     0x19 | 2350   2250     0  2450 |   -4000 | 1970 2150       |       950 | 4 h;
+    /// Nickel cadmium (0010 0000, vented pocket plates): charge 1.50, float
+    /// 1.40, high 1.65 V/cell, -3 mV/cell/degC; rest 1.10-1.32 V/cell; 80 %
+    /// efficiency (charge factor 1.2-1.4); absorption at most 6 h (Saft,
+    /// "Nickel-cadmium batteries for stationary applications, technical
+    /// manual": float 1.40-1.42, charge 1.50-1.65 V/cell).
+    NICKEL_CADMIUM:          0x20 | 1500   1400     0  1650 |   -3000 | 1100 1320       |       800 | 6 h;
+    /// Nickel metal hydride (1000 0000): charge 1.48, high 1.60 V/cell, no
+    /// float (a NiMH cell kept on float overheats; a finished charge ends
+    /// complete), -3 mV/cell/degC; rest 1.15-1.38 V/cell; 85 % efficiency
+    /// ("Handbook of Batteries" ch. 30: charge input 120-150 %).
+    NICKEL_METAL_HYDRIDE:    0x80 | 1480      0     0  1600 |   -3000 | 1150 1380       |       850 | 4 h;
+    /// Lithium ion (1010 0000, NMC): absorption 4.15, high 4.25 V/cell, no
+    /// float, no equalize, no temperature compensation (a lithium cell has
+    /// no gassing to compensate; its limit is a fixed voltage); rest
+    /// 3.00-4.18 V/cell; 99 % efficiency; absorption at most 2 h ("Battery
+    /// University" BU-409 "Charging lithium-ion").
+    LITHIUM_ION:             0xA0 | 4150      0     0  4250 |       0 | 3000 4180       |       990 | 2 h;
+}
 
 /// The figures for a battery type byte (6020h sub 1): the lead-acid
 /// kinds by their bits (maintenance free: AGM, gel, hybrid as AGM;
