@@ -4,7 +4,7 @@
 //! rev 2.0", section 4.4.1 names the alarms; the thresholds and clearings
 //! are ours, see the module docs).
 
-use super::tests::{bms, control, events, pack, s};
+use super::tests::{bms, events, local_charge, pack, remote_idle, s};
 use super::*;
 use crate::deltaq::{ChargeStatusFlags, DeltaQCode};
 use crate::emcy::{ErrorCode, ErrorRegister};
@@ -29,9 +29,7 @@ fn flags(c: &ChargeControl) -> ChargeStatusFlags {
 
 /// Local mode, a ready BMS, the pack at `volts` taking `amps`: bulk.
 fn bulk(volts: u32, amps: u32) -> ChargeControl {
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
-    c.handle_power_stage(s(0), pack(volts, amps));
+    let mut c = local_charge(pack(volts, amps));
     assert_eq!(c.phase(), ChargePhase::Bulk);
     let _ = events(&mut c);
     c
@@ -53,8 +51,7 @@ fn stage(f: impl FnOnce(&mut PowerStage)) -> PowerStage {
 
 #[test]
 fn e_0_0_1_a_remote_bms_asking_too_much_never_gets_past_the_algorithm() {
-    let mut c = control(OperatingMode::Remote);
-    c.handle_power_stage(s(0), pack(50, 0));
+    let mut c = remote_idle();
     // A faulty BMS asks 80 V: the set point stays at the algorithm's
     // 63.6 V (24 x 2.65 V), the charger's maximum being 72 V.
     c.handle_bus(
@@ -84,10 +81,8 @@ fn e_0_0_1_a_remote_bms_asking_too_much_never_gets_past_the_algorithm() {
 
 #[test]
 fn e_0_0_2_a_battery_below_the_low_voltage_is_not_charged() {
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
     // 20 V: detected (12 V) but below 24 x 0.97 V.
-    c.handle_power_stage(s(0), pack(20, 0));
+    let mut c = local_charge(pack(20, 0));
     assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(2), true)]);
     assert_eq!(c.phase(), ChargePhase::Idle);
     assert!(!c.set_points().enabled);
@@ -138,8 +133,7 @@ fn e_0_0_4_a_trickle_that_does_not_reach_the_minimum_voltage() {
 #[test]
 fn e_0_0_7_the_ah_limit_ends_a_remote_charge_until_the_bms_stops() {
     // Algorithm 1: 12 h of 25 A, 300 Ah (2400 in Q3).
-    let mut c = control(OperatingMode::Remote);
-    c.handle_power_stage(s(0), pack(50, 0));
+    let mut c = remote_idle();
     c.handle_bus(s(0), bms(25));
     c.handle_power_stage(s(0), pack(50, 25));
     let _ = events(&mut c);
@@ -216,15 +210,10 @@ fn e_0_0_8_ignores_a_reading_that_is_no_temperature() {
 
 #[test]
 fn e_0_1_2_reverse_polarity() {
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
-    c.handle_power_stage(
-        s(0),
-        PowerStage {
-            voltage_mv: -48_000,
-            ..pack(0, 0)
-        },
-    );
+    let mut c = local_charge(PowerStage {
+        voltage_mv: -48_000,
+        ..pack(0, 0)
+    });
     // The BMS says ready but no battery shows: E-0-4-5 as well.
     let raised = changes(&mut c);
     assert!(
@@ -258,10 +247,8 @@ fn e_0_1_3_a_battery_that_takes_no_current() {
 
 #[test]
 fn e_0_1_4_more_cells_than_the_algorithm() {
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
     // 61 V at rest: above 24 x 2.385 V (halfway from 2.12 to 2.65 V).
-    c.handle_power_stage(s(0), pack(61, 0));
+    let mut c = local_charge(pack(61, 0));
     assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(14), true)]);
     assert_eq!(c.phase(), ChargePhase::Terminated);
     assert!(!c.set_points().enabled);

@@ -81,18 +81,23 @@ pub(super) fn control(mode: OperatingMode) -> ChargeControl {
 }
 
 /// Local mode with a ready BMS heard at 0 s and `output` measured then.
-fn local_charge(output: PowerStage) -> ChargeControl {
+pub(super) fn local_charge(output: PowerStage) -> ChargeControl {
     let mut c = control(OperatingMode::Local);
     c.handle_bus(s(0), bms(0));
     c.handle_power_stage(s(0), output);
     c
 }
 
-/// Remote mode: AC on at 0 s with a 50 V pack, then at 1 s a ready BMS
-/// asking `amps`.
-fn remote_charge(amps: u16) -> ChargeControl {
+/// Remote mode: AC on at 0 s with a 50 V pack, no BMS heard yet.
+pub(super) fn remote_idle() -> ChargeControl {
     let mut c = control(OperatingMode::Remote);
     c.handle_power_stage(s(0), pack(50, 0));
+    c
+}
+
+/// [`remote_idle`], then at 1 s a ready BMS asking `amps`.
+fn remote_charge(amps: u16) -> ChargeControl {
+    let mut c = remote_idle();
     c.handle_bus(s(1), bms(amps));
     c
 }
@@ -119,8 +124,7 @@ fn alarms_raised(c: &mut ChargeControl) -> Vec<DeltaQCode> {
 
 #[test]
 fn remote_charges_only_with_heartbeat_ready_and_a_valid_request() {
-    let mut c = control(OperatingMode::Remote);
-    c.handle_power_stage(s(0), pack(50, 0));
+    let mut c = remote_idle();
     assert_eq!(c.phase(), ChargePhase::Idle);
     // Each condition missing alone keeps the output off.
     for bus in [
@@ -157,8 +161,7 @@ fn remote_charges_only_with_heartbeat_ready_and_a_valid_request() {
 fn remote_status_is_bms_run_as_the_capture_shows() {
     // Section 5 (2006h): the real ICL1500 in remote mode reports 0050h
     // idle with AC and 0070h while delivering.
-    let mut c = control(OperatingMode::Remote);
-    c.handle_power_stage(s(0), pack(50, 0));
+    let mut c = remote_idle();
     assert_eq!(c.status().extended.to_u16(), 0x0050);
     c.handle_bus(s(1), bms(20));
     assert_eq!(c.status().extended.to_u16(), 0x0070);
@@ -167,8 +170,7 @@ fn remote_status_is_bms_run_as_the_capture_shows() {
 
 #[test]
 fn remote_voltage_request_is_the_set_point() {
-    let mut c = control(OperatingMode::Remote);
-    c.handle_power_stage(s(0), pack(50, 0));
+    let mut c = remote_idle();
     c.handle_bus(s(1), bms_asking_volts(10, 54_600));
     assert_eq!(c.set_points().voltage_mv, 54_600);
     assert_eq!(c.set_points().current_ma, 10_000);
@@ -269,10 +271,8 @@ fn local_cycle_bulk_absorption_rest_float() {
 
 #[test]
 fn absorption_ends_at_its_safety_timer() {
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
     // At the absorption voltage already: bulk and absorption in one call.
-    c.handle_power_stage(s(0), pack(59, 25));
+    let mut c = local_charge(pack(59, 25));
     c.handle_power_stage(s(1), pack(59, 20));
     assert_eq!(c.phase(), ChargePhase::Absorption);
     assert_eq!(c.poll_timeout(), Some(s(4 * 3600)));
@@ -609,15 +609,10 @@ fn temperature_sensor_fault_halves_the_current() {
 #[test]
 fn derating_by_temperature_and_power() {
     // Ours: linear from 70 to 90 degC; 1.5 kW at the output.
-    let mut c = control(OperatingMode::Local);
-    c.handle_bus(s(0), bms(0));
-    c.handle_power_stage(
-        s(0),
-        PowerStage {
-            temperature_c: 80,
-            ..pack(50, 0)
-        },
-    );
+    let mut c = local_charge(PowerStage {
+        temperature_c: 80,
+        ..pack(50, 0)
+    });
     assert_eq!(c.set_points().current_ma, 12_500);
     assert_eq!(c.status().derate, DerateReasons::TEMPERATURE);
     c.handle_power_stage(s(1), pack(62, 0));
@@ -663,8 +658,7 @@ fn local_can_bus_error_carries_on_without_the_bus() {
 
 #[test]
 fn ah_and_elapsed_follow_the_delivered_current() {
-    let mut c = control(OperatingMode::Remote);
-    c.handle_power_stage(s(0), pack(50, 0));
+    let mut c = remote_idle();
     assert_eq!(c.status().ah_returned, 0xFFFF, "no charge yet: no value");
     c.handle_bus(s(0), bms(16));
     c.handle_power_stage(s(0), pack(50, 16));
@@ -676,8 +670,7 @@ fn ah_and_elapsed_follow_the_delivered_current() {
 
 #[test]
 fn the_event_queue_drops_the_oldest_and_counts() {
-    let mut c = control(OperatingMode::Remote);
-    c.handle_power_stage(s(0), pack(50, 0));
+    let mut c = remote_idle();
     for i in 0..10 {
         let status = (i % 2) as u8;
         c.handle_bus(
