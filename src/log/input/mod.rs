@@ -48,10 +48,10 @@ use crate::trace::pcap::{Flavor, PcapError};
 use crate::trace::{Format, LineParser, Record, RxTx, TraceError, TraceFrame, Unsupported};
 use crate::{CanFrame, Timestamp};
 
+#[cfg(feature = "zlib")]
+pub use crate::trace::inflate::Zlib;
 pub use blf::{Inflate, Inflated, NoInflate};
 pub use lines::{newline, Block, FindNewline, LineReader, Piece, MAX_LINE};
-#[cfg(feature = "zlib")]
-pub use zlib::Zlib;
 
 /// A binary trace format: told from a file's first bytes (its magic
 /// number, [`Binary::detect`]) when no line format is given, or named by

@@ -4,39 +4,11 @@
 //! case named on a file broken in one place.
 
 use super::*;
-use crate::trace::inflate::{Inflate, Inflated, NoInflate};
+use crate::trace::inflate::{Inflate, NoInflate, Zlib};
 use std::io::Write;
-use std::string::{String, ToString};
+use std::string::String;
 use std::vec;
 use std::vec::Vec;
-
-/// flate2's zlib, as the programs pass it.
-struct Zlib(flate2::Decompress);
-
-impl Zlib {
-    fn new() -> Self {
-        Zlib(flate2::Decompress::new(true))
-    }
-}
-
-impl Inflate for Zlib {
-    fn reset(&mut self) {
-        self.0.reset(true);
-    }
-
-    fn inflate(&mut self, input: &[u8], output: &mut [u8]) -> Result<Inflated, String> {
-        let (i, o) = (self.0.total_in(), self.0.total_out());
-        let s = self
-            .0
-            .decompress(input, output, flate2::FlushDecompress::None)
-            .map_err(|e| e.to_string())?;
-        Ok(Inflated {
-            used: (self.0.total_in() - i) as usize,
-            made: (self.0.total_out() - o) as usize,
-            end: s == flate2::Status::StreamEnd,
-        })
-    }
-}
 
 /// A file being built: blocks appended, links patched by offset.
 struct File(Vec<u8>);
@@ -265,7 +237,7 @@ fn deflated_and_transposed_blocks_read_as_the_stored_one() {
     for (zip, columns) in [(0, 0), (1, RECORD), (1, 7)] {
         let file = sorted(&ROWS, |f, b| dz(f, b, zip, columns));
         assert_eq!(
-            read_all(&file, &mut Zlib::new()),
+            read_all(&file, &mut Zlib::default()),
             (expected(), Ok(())),
             "zip {zip} columns {columns}"
         );
@@ -288,7 +260,7 @@ fn a_record_split_across_the_blocks_of_a_list_and_its_chain_is_whole() {
         let list = dl(f, second, &first);
         f.block(b"##HL", &[list], &[0; 8])
     });
-    assert_eq!(read_all(&file, &mut Zlib::new()), (expected(), Ok(())));
+    assert_eq!(read_all(&file, &mut Zlib::default()), (expected(), Ok(())));
 }
 
 /// An unsorted data group (1-byte record ids): `CAN_DataFrame` (id 1),
@@ -404,7 +376,7 @@ fn patched(file: &[u8], at: usize, v: u64) -> Vec<u8> {
 #[test]
 fn files_broken_in_one_place_give_their_named_errors() {
     let good = sorted(&ROWS, dt);
-    let err = |f: &[u8]| read_all(f, &mut Zlib::new()).1.unwrap_err();
+    let err = |f: &[u8]| read_all(f, &mut Zlib::default()).1.unwrap_err();
     assert_eq!(err(b"MDX     "), Mf4Error::NotMf4);
     assert_eq!(err(b"MDF     "), Mf4Error::PastEnd { at: 0 });
     let mut v3 = good.clone();
@@ -487,7 +459,7 @@ fn files_broken_in_one_place_give_their_named_errors() {
 
 #[test]
 fn broken_data_lists_and_compressed_blocks_give_their_named_errors() {
-    let err = |f: &[u8]| read_all(f, &mut Zlib::new()).1.unwrap_err();
+    let err = |f: &[u8]| read_all(f, &mut Zlib::default()).1.unwrap_err();
     // A data list whose next link is itself.
     let looped = sorted(&ROWS, |f, b| {
         let one = [dt(f, b)];
@@ -667,7 +639,7 @@ fn variable_length_data_bytes_read_from_signal_data_blocks() {
         let cg = find(&f.0, b"##CG");
         vlsd_data_bytes(&mut f.0, cg, sd);
         assert_eq!(
-            read_all(&f.0, &mut Zlib::new()),
+            read_all(&f.0, &mut Zlib::default()),
             (expected(), Ok(())),
             "compressed {compressed}"
         );
@@ -726,7 +698,7 @@ fn the_bytes_held_across_data_groups_are_bounded() {
     let e = Mf4Error::TooMuchHeld {
         held: 4 * u64::from(RECORD),
     };
-    assert_eq!(r.next(&mut Zlib::new()), Err(e));
+    assert_eq!(r.next(&mut Zlib::default()), Err(e));
     assert!(e.is_fatal());
-    assert_eq!(r.next(&mut Zlib::new()), Err(e));
+    assert_eq!(r.next(&mut Zlib::default()), Err(e));
 }
