@@ -19,7 +19,7 @@ use crate::trace::blf::{BlfError, BlfEvent, BlfReader, Compression};
 
 pub use crate::trace::inflate::{Inflate, Inflated, NoInflate};
 
-use super::{At, Bad, Counted, Detail, Item, Kind};
+use super::{read_some, At, Bad, Counted, Detail, Item, Kind};
 
 /// The input block.
 const BLOCK: usize = 256 * 1024;
@@ -148,12 +148,10 @@ pub(super) fn read<F: FnMut(Item<'_>) -> io::Result<()>>(
     let mut block = vec![0u8; BLOCK];
     let mut going = true;
     'file: while going {
-        let n = match input.read(&mut block) {
-            Ok(0) => break,
-            Ok(n) => n,
-            Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
-            Err(e) => return Err(e),
-        };
+        let n = read_some(&mut input, &mut block)?;
+        if n == 0 {
+            break;
+        }
         let mut chunk = block.get(..n).unwrap_or(&[]);
         loop {
             match file.reader.read(&mut chunk) {

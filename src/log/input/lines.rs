@@ -134,20 +134,11 @@ impl<R: Read> LineReader<R> {
         self.scanned = self.scanned.saturating_sub(self.start);
         self.start = 0;
         let free = self.buf.get_mut(self.end..).unwrap_or(&mut []);
-        loop {
-            match self.input.read(free) {
-                Ok(0) => {
-                    self.eof = true;
-                    return Ok(());
-                }
-                Ok(n) => {
-                    self.end += n;
-                    return Ok(());
-                }
-                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-                Err(e) => return Err(e),
-            }
+        match super::read_some(&mut self.input, free)? {
+            0 => self.eof = true,
+            n => self.end += n,
         }
+        Ok(())
     }
 }
 

@@ -504,11 +504,9 @@ fn read_file<F: FnMut(Item<'_>) -> io::Result<()>>(
     let mut head = [0u8; Binary::HEAD];
     let mut got = 0;
     while got < head.len() {
-        match input.read(head.get_mut(got..).unwrap_or(&mut [])) {
-            Ok(0) => break,
-            Ok(n) => got += n,
-            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-            Err(e) => return Err(e),
+        match read_some(&mut input, head.get_mut(got..).unwrap_or(&mut []))? {
+            0 => break,
+            n => got += n,
         }
     }
     let head = head.get(..got).unwrap_or(&[]);
@@ -525,6 +523,19 @@ fn read_file<F: FnMut(Item<'_>) -> io::Result<()>>(
         Some(Binary::Mf4) => mf4::read(input, zlib, counted),
         Some(b @ (Binary::Pcap | Binary::PcapNg)) => pcap::read(input, b, counted),
         None => read_lines(input, how, counted),
+    }
+}
+
+/// One `read` of `input` into `buf`, tried again while it is interrupted
+/// (`io::ErrorKind::Interrupted`, a signal: not an error of the input, as
+/// `Read::read_exact` also takes it): how many bytes came, 0 at the end of
+/// the input. Every reader of this module reads its blocks through it.
+fn read_some<R: Read + ?Sized>(input: &mut R, buf: &mut [u8]) -> io::Result<usize> {
+    loop {
+        match input.read(buf) {
+            Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+            read => return read,
+        }
     }
 }
 

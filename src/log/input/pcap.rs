@@ -12,7 +12,7 @@ use std::vec;
 
 use crate::trace::pcap::{Flavor, PcapError, PcapEvent, PcapReader};
 
-use super::{At, Bad, Binary, Counted, Detail, Item, Kind};
+use super::{read_some, At, Bad, Binary, Counted, Detail, Item, Kind};
 
 /// The input block.
 const BLOCK: usize = 64 * 1024;
@@ -29,12 +29,10 @@ pub(super) fn read<F: FnMut(Item<'_>) -> io::Result<()>>(
     let mut packets = 0u64;
     let mut fatal = false;
     'file: loop {
-        let n = match input.read(&mut block) {
-            Ok(0) => break,
-            Ok(n) => n,
-            Err(e) if e.kind() == io::ErrorKind::Interrupted => continue,
-            Err(e) => return Err(e),
-        };
+        let n = read_some(&mut input, &mut block)?;
+        if n == 0 {
+            break;
+        }
         let mut chunk = block.get(..n).unwrap_or(&[]);
         loop {
             let item = match reader.read(&mut chunk) {
