@@ -105,16 +105,7 @@ impl Plot {
             self.samples,
             self.exact
         );
-        for (k, values) in [("t", &self.t), ("v", &self.v)] {
-            let _ = write!(out, ",\"{k}\":[");
-            for (i, v) in values.iter().enumerate() {
-                if i > 0 {
-                    out.push(',');
-                }
-                float(out, *v);
-            }
-            out.push(']');
-        }
+        float_arrays(out, &[("t", self.t.as_slice()), ("v", self.v.as_slice())]);
         out.push_str(",\"gaps\":[]}");
     }
 }
@@ -466,17 +457,31 @@ impl Series<'_> {
             ",\"raw\":{},\"samples\":{},\"invalid\":{},\"exact\":{}",
             self.raw, self.samples, self.invalid, self.exact
         );
-        for (k, values) in [("t", &self.t), ("v", &self.v), ("gaps", &self.gaps)] {
-            let _ = write!(out, ",\"{k}\":[");
-            for (i, v) in values.iter().enumerate() {
-                if i > 0 {
-                    out.push(',');
-                }
-                float(out, *v);
-            }
-            out.push(']');
-        }
+        float_arrays(
+            out,
+            &[
+                ("t", self.t.as_slice()),
+                ("v", self.v.as_slice()),
+                ("gaps", self.gaps.as_slice()),
+            ],
+        );
         out.push('}');
+    }
+}
+
+/// A plotted line's number arrays as the page's script reads them, each
+/// `,"name":[..]`: `t` the times in seconds from the start of the log,
+/// `v` the values at those times, `gaps` the times where the line breaks.
+fn float_arrays(out: &mut String, arrays: &[(&str, &[f64])]) {
+    for (name, values) in arrays {
+        let _ = write!(out, ",\"{name}\":[");
+        for (i, v) in values.iter().enumerate() {
+            if i > 0 {
+                out.push(',');
+            }
+            float(out, *v);
+        }
+        out.push(']');
     }
 }
 
