@@ -22,6 +22,15 @@ fn changes(c: &mut ChargeControl) -> Vec<(DeltaQCode, bool)> {
         .collect()
 }
 
+/// Since the last events, alarm `alarm` alone was raised; the charge is in
+/// `phase` and the output is off.
+fn stopped_by(c: &mut ChargeControl, alarm: u8, phase: ChargePhase) {
+    let code = DeltaQCode::Alarm(alarm);
+    assert_eq!(changes(c), [(code, true)]);
+    assert_eq!(c.phase(), phase, "{code}");
+    assert!(!c.set_points().enabled, "{code}: the output is off");
+}
+
 /// 2006h's flags now.
 fn flags(c: &ChargeControl) -> ChargeStatusFlags {
     c.status().extended.flags
@@ -83,9 +92,7 @@ fn e_0_0_1_a_remote_bms_asking_too_much_never_gets_past_the_algorithm() {
 fn e_0_0_2_a_battery_below_the_low_voltage_is_not_charged() {
     // 20 V: detected (12 V) but below 24 x 0.97 V.
     let mut c = local_charge(pack(20, 0));
-    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(2), true)]);
-    assert_eq!(c.phase(), ChargePhase::Idle);
-    assert!(!c.set_points().enabled);
+    stopped_by(&mut c, 2, ChargePhase::Idle);
     c.handle_power_stage(s(1), pack(24, 0));
     assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(2), false)]);
     assert_eq!(c.phase(), ChargePhase::Bulk);
@@ -98,9 +105,7 @@ fn e_0_0_3_bulk_past_the_safety_timer_terminates_until_the_cycle_ends() {
     c.handle_power_stage(s(12 * 3600 - 1), pack(52, 25));
     assert!(c.alarms().is_empty());
     c.handle_power_stage(s(12 * 3600), pack(52, 25));
-    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(3), true)]);
-    assert_eq!(c.phase(), ChargePhase::Terminated);
-    assert!(!c.set_points().enabled);
+    stopped_by(&mut c, 3, ChargePhase::Terminated);
     // Latched: the pack at rest changes nothing ...
     c.handle_power_stage(s(12 * 3600 + 60), pack(50, 0));
     assert_eq!(c.phase(), ChargePhase::Terminated);
@@ -143,9 +148,7 @@ fn e_0_0_7_the_ah_limit_ends_a_remote_charge_until_the_bms_stops() {
     }
     assert!(c.alarms().is_empty(), "{:?}", c.status().ah_returned);
     c.handle_power_stage(s(12 * 3600), pack(50, 25));
-    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(7), true)]);
-    assert_eq!(c.phase(), ChargePhase::Terminated);
-    assert!(!c.set_points().enabled);
+    stopped_by(&mut c, 7, ChargePhase::Terminated);
     // The BMS says not ready: the charge is over, the alarm clears.
     c.handle_bus(
         s(12 * 3600 + 1),
@@ -161,9 +164,8 @@ fn e_0_0_7_the_ah_limit_ends_a_remote_charge_until_the_bms_stops() {
 fn e_0_0_8_out_of_range_pauses_and_resumes_when_back() {
     let mut c = bulk(50, 25);
     c.handle_bus(s(1), bms_at(51));
-    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(8), true)]);
-    assert_eq!(c.phase(), ChargePhase::Bulk, "paused, not terminated");
-    assert!(!c.set_points().enabled);
+    // Paused, not terminated.
+    stopped_by(&mut c, 8, ChargePhase::Bulk);
     // The BMS, too hot as well, says not ready: still only paused.
     c.handle_bus(
         s(2),
@@ -249,9 +251,7 @@ fn e_0_1_3_a_battery_that_takes_no_current() {
 fn e_0_1_4_more_cells_than_the_algorithm() {
     // 61 V at rest: above 24 x 2.385 V (halfway from 2.12 to 2.65 V).
     let mut c = local_charge(pack(61, 0));
-    assert_eq!(changes(&mut c), [(DeltaQCode::Alarm(14), true)]);
-    assert_eq!(c.phase(), ChargePhase::Terminated);
-    assert!(!c.set_points().enabled);
+    stopped_by(&mut c, 14, ChargePhase::Terminated);
     c.handle_power_stage(s(1), pack(0, 0));
     assert!(changes(&mut c).contains(&(DeltaQCode::Alarm(14), false)));
 }
