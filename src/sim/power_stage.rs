@@ -170,12 +170,21 @@ mod tests {
         }
     }
 
+    /// A 1.5 kW stage on the 24-cell, 100 Ah lead-acid pack at `soc`.
+    fn stage(soc: f64) -> (PowerStageModel, Pack) {
+        (PowerStageModel::new(1500.0), pack(soc))
+    }
+
+    /// One second asking 20 A up to 60 V: the current the stage gives, A.
+    fn ask(s: &mut PowerStageModel, p: &Pack) -> f64 {
+        s.step(1.0, set(20, 60), p);
+        s.current_a
+    }
+
     #[test]
     fn the_least_of_current_voltage_and_power() {
-        let mut s = PowerStageModel::new(1500.0);
-        let p = pack(0.2);
-        s.step(1.0, set(20, 60), &p);
-        assert!((s.current_a - 20.0).abs() < 1e-9, "current-limited");
+        let (mut s, p) = stage(0.2);
+        assert!((ask(&mut s, &p) - 20.0).abs() < 1e-9, "current-limited");
         s.step(1.0, set(100, 60), &p);
         assert!(
             (s.current_a - 1500.0 / p.rest_voltage()).abs() < 1e-9,
@@ -199,15 +208,12 @@ mod tests {
 
     #[test]
     fn nothing_without_ac_leads_or_enable() {
-        let p = pack(0.5);
-        let mut s = PowerStageModel::new(1500.0);
+        let (mut s, p) = stage(0.5);
         s.set_ac(false);
-        s.step(1.0, set(20, 60), &p);
-        assert_eq!(s.current_a, 0.0);
+        assert_eq!(ask(&mut s, &p), 0.0);
         assert_eq!(s.measure(&p).ac_mv, 0);
         s.set_ac_voltage(60.0);
-        s.step(1.0, set(20, 60), &p);
-        assert_eq!(s.current_a, 0.0, "below the stage's working range");
+        assert_eq!(ask(&mut s, &p), 0.0, "below the stage's working range");
         s.set_ac(true);
         s.battery_connected = false;
         s.step(1.0, set(20, 60), &p);
@@ -223,23 +229,19 @@ mod tests {
 
     #[test]
     fn reversed_leads_read_negative_and_deliver_nothing() {
-        let p = pack(0.5);
-        let mut s = PowerStageModel::new(1500.0);
+        let (mut s, p) = stage(0.5);
         s.set_reverse_polarity(true);
-        s.step(1.0, set(20, 60), &p);
-        assert_eq!(s.current_a, 0.0);
+        assert_eq!(ask(&mut s, &p), 0.0);
         let m = s.measure(&p);
         assert_eq!(m.voltage_mv, -((p.rest_voltage() * 1000.0).round() as i32));
         assert_eq!(m.battery_mv(), 0);
         s.set_reverse_polarity(false);
-        s.step(1.0, set(20, 60), &p);
-        assert!(s.current_a > 0.0);
+        assert!(ask(&mut s, &p) > 0.0);
     }
 
     #[test]
     fn injected_faults_are_measured_until_cleared() {
-        let p = pack(0.5);
-        let mut s = PowerStageModel::new(1500.0);
+        let (mut s, p) = stage(0.5);
         s.inject_fault(StageFaults::RELAY, true);
         s.inject_fault(StageFaults::OUTPUT_STAGE, true);
         assert_eq!(
@@ -254,8 +256,7 @@ mod tests {
 
     #[test]
     fn the_charger_warms_with_its_losses() {
-        let p = pack(0.2);
-        let mut s = PowerStageModel::new(1500.0);
+        let (mut s, p) = stage(0.2);
         for _ in 0..3600 {
             s.step(1.0, set(25, 60), &p);
         }
