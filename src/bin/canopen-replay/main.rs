@@ -3,14 +3,13 @@
 //! shows for it. See docs/REPLAY.md.
 
 mod link;
-mod player;
 mod report;
 
 use std::collections::BTreeSet;
 use std::process::ExitCode;
 use std::time::Duration;
 
-use canopen_codec::log::replay::{self as recording, diff};
+use canopen_codec::log::replay::{self as recording, diff, player};
 use canopen_codec::log::{input, pdo_syntax};
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::Parser;
@@ -207,7 +206,7 @@ fn main() -> ExitCode {
         sdo_timeout: Duration::from_millis(args.sdo_timeout_ms),
         tail_limit: Duration::from_millis(args.tail_limit_ms),
     };
-    let played = match player::play(&rec, &mut link, &options) {
+    let played = match link::play(&rec, &mut link, &options) {
         Ok(p) => p,
         Err(e) => {
             eprintln!("canopen-replay: {e}");
@@ -221,35 +220,11 @@ fn main() -> ExitCode {
         period: args.period_tolerance / 100.0,
         time: args.time_tolerance_ms.saturating_mul(1000),
     };
-    let recorded = diff::side(&rec.expected, &rec.played);
-    let mut device = diff::side(&played.heard, &rec.played);
-    for id in &played.boot_ups_at_start {
-        if let Some(t) = device.traffic.get_mut(id) {
-            t.kinds.remove("boot-up");
-            t.count -= 1;
-            if t.count == 0 {
-                device.traffic.remove(id);
-            }
-        }
-    }
-    let mut differences = diff::compare(
-        &recorded,
-        &device,
-        &rec.expected,
-        &played.heard,
-        &pdos,
-        &tol,
-    );
-    for (t, id) in &played.unanswered_sdo {
-        differences.push(diff::Difference {
-            kind: "sdo unanswered",
-            cob_id: Some(*id),
-            words: format!(
-                "the SDO request at {:.1} ms got no answer on {id:03X}h",
-                *t as f64 / 1000.0
-            ),
-        });
-    }
+    let player::Comparison {
+        recording: recorded,
+        device,
+        differences,
+    } = played.compare(&rec, &pdos, &tol);
     let report = report::Report {
         recording: &recorded,
         device: &device,

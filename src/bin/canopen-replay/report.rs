@@ -2,8 +2,8 @@
 
 use serde_json::{json, Value};
 
-use crate::player::Played;
 use canopen_codec::log::replay::diff::{emcy_name, Difference, Side};
+use canopen_codec::log::replay::player::Played;
 
 pub struct Report<'a> {
     pub recording: &'a Side,

@@ -3,10 +3,12 @@
 //! split into the frames of the played nodes (sent to the device under
 //! test) and the rest (what the device should send), and, in [`diff`],
 //! each side's traffic summarised and the device's compared with the
-//! recording's. The real-time playing and the device's pipe stay in the
-//! program (`src/bin/canopen-replay/`).
+//! recording's. [`player`] plays the recording into a device on the
+//! caller's clock (sans-IO); the device's pipe and the wall clock stay in
+//! the program (`src/bin/canopen-replay/`).
 
 pub mod diff;
+pub mod player;
 
 use std::prelude::rust_2021::*;
 
