@@ -192,6 +192,7 @@ fn identity_value(dcf: &Eds, node: NodeId, index: u16, sub: u8) -> Result<u32, S
 #[derive(Debug)]
 pub struct BootRun<'a> {
     manager: std::boxed::Box<BootManager<'a, MAX_SLAVES, EVENTS>>,
+    failed: bool,
 }
 
 impl<'a> BootRun<'a> {
@@ -206,7 +207,10 @@ impl<'a> BootRun<'a> {
                 .add_node(c)
                 .map_err(|e: ManagerError| e.to_string())?;
         }
-        Ok(BootRun { manager })
+        Ok(BootRun {
+            manager,
+            failed: false,
+        })
     }
 
     /// The manager.
@@ -236,10 +240,18 @@ impl<'a> BootRun<'a> {
         }
         crate::machine::drive_timers(&mut *self.manager, now, |_, f| send(f));
         while let Some(e) = self.manager.poll_event() {
+            self.failed |= matches!(e, BootEvent::Error { .. });
             if let Some(line) = event_json(&e) {
                 report(line);
             }
         }
+    }
+
+    /// Whether a slave's boot has ended in an error (CiA 302-2 "Network
+    /// management", the boot slave process's error statuses B to M).
+    #[must_use]
+    pub fn failed(&self) -> bool {
+        self.failed
     }
 
     /// When [`step`](Self::step) must next be called without a frame.
@@ -307,4 +319,46 @@ pub fn event_json(event: &BootEvent) -> Option<String> {
         _ => return None,
     };
     Some(std::format!(r#"{{"node": {}, {tail}}}"#, node.raw()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    use crate::frame::standard_frame as f;
+    use crate::manager::NmtStartup;
+
+    #[test]
+    fn a_node_that_never_answers_1000h_fails_the_run_with_error_b() {
+        let dcf = "[1000]\nParameterName=Device type\nDataType=0x0007\nAccessType=ro\n\
+                   DefaultValue=0x00010191\n";
+        let node = NodeId::new(5).unwrap();
+        let nodes = [BootNode::from_dcf(node, dcf.as_bytes()).unwrap()];
+        let config = ManagerConfig {
+            startup: NmtStartup::MASTER,
+            ..ManagerConfig::default()
+        };
+        let mut run = BootRun::new(config, &nodes).unwrap();
+        let (mut sent, mut lines) = (Vec::new(), Vec::new());
+        run.start(Timestamp::ZERO, |fr| sent.push(fr));
+        // The slave boots up: the manager reads its 1000h.
+        let boot_up = f(0x705, &[0]);
+        let t = Timestamp::from_micros(1_000);
+        run.step(t, Some(&boot_up), |fr| sent.push(fr), |l| lines.push(l));
+        assert!(sent.iter().any(|fr| fr.id() == f(0x605, &[]).id()));
+        assert!(!run.failed());
+        // No answer through the timeout and both retries.
+        let mut now = t;
+        for _ in 0..100 {
+            let Some(d) = run.deadline().filter(|_| !run.failed()) else {
+                break;
+            };
+            now = d.max(now);
+            run.step(now, None, |fr| sent.push(fr), |l| lines.push(l));
+        }
+        assert!(run.failed());
+        assert!(lines
+            .iter()
+            .any(|l| l.starts_with(r#"{"node": 5, "result": "error", "code": "B""#)));
+    }
 }

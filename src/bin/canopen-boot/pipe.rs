@@ -33,11 +33,7 @@ pub fn run(boot: &mut BootRun<'_>) -> bool {
         let _ = writeln!(out, "{line}");
         let _ = out.flush();
     };
-    let mut failed = false;
-    let mut report = |line: String| {
-        failed |= line.contains(r#""result": "error""#);
-        eprintln!("{line}");
-    };
+    let report = |line: String| eprintln!("{line}");
     boot.start(now(), send);
     loop {
         let wait = boot.deadline().map_or(Duration::from_secs(3600), |d| {
@@ -55,7 +51,7 @@ pub fn run(boot: &mut BootRun<'_>) -> bool {
             Err(RecvTimeoutError::Timeout) => None,
             Err(RecvTimeoutError::Disconnected) => break,
         };
-        boot.step(now(), frame.as_ref(), send, &mut report);
+        boot.step(now(), frame.as_ref(), send, report);
     }
-    failed
+    boot.failed()
 }
