@@ -122,14 +122,12 @@ fn defaults_by_cob_id() {
 /// Delta-Q charger TPDO 3: 2002h/16 charging current (Q8 A), 2100h/16
 /// battery voltage legacy (Q10 V: the 2100h scale erratum, see
 /// [`BatteryVoltageLegacy`]), 2006h/16 extended charge
-/// status. Bytes from the capture's `18A#7413454E70000000`.
+/// status. Bytes from the capture's `18A#7413454E70000000`, read through
+/// the catalogue's mapping (its row is checked against the specification
+/// above).
 #[test]
 fn deltaq_tpdo3() {
-    let m = mapping(&[
-        (index::CHARGING_CURRENT, 0, 16),
-        (index::BATTERY_VOLTAGE_LEGACY, 0, 16),
-        (index::EXTENDED_CHARGE_STATUS, 0, 16),
-    ]);
+    let m = charger_default_mapping(Transmit, PdoNumber::P3).unwrap();
     let data = [0x74, 0x13, 0x45, 0x4E, 0x70, 0x00];
     let u = m.unpack(&data).unwrap();
     assert!(!u.longer_than_mapping());
