@@ -4,6 +4,33 @@
 use super::TraceError;
 use crate::frame::{CanFrame, CanId, MAX_EXTENDED_ID, MAX_STANDARD_ID};
 
+/// The `N` bytes of a binary trace's fixed-width field at `at`, zeros
+/// when the field is not all in `bytes` (the readers check an object's,
+/// a block's or a record's length before they read its fields, so zeros
+/// come only from a length they have already refused).
+pub(super) fn field<const N: usize>(bytes: &[u8], at: usize) -> [u8; N] {
+    at.checked_add(N)
+        .and_then(|end| bytes.get(at..end))
+        .and_then(|s| <[u8; N]>::try_from(s).ok())
+        .unwrap_or([0; N])
+}
+
+/// The little-endian `u16` at `at` (0 past the end): Vector BLF and
+/// ASAM MDF 4 store every number little-endian.
+pub(super) fn u16_at(bytes: &[u8], at: usize) -> u16 {
+    u16::from_le_bytes(field(bytes, at))
+}
+
+/// The little-endian `u32` at `at` (0 past the end).
+pub(super) fn u32_at(bytes: &[u8], at: usize) -> u32 {
+    u32::from_le_bytes(field(bytes, at))
+}
+
+/// The little-endian `u64` at `at` (0 past the end).
+pub(super) fn u64_at(bytes: &[u8], at: usize) -> u64 {
+    u64::from_le_bytes(field(bytes, at))
+}
+
 /// A hex digit's value.
 pub(super) const fn hex_digit(b: u8) -> Option<u8> {
     match b {

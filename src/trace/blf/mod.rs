@@ -95,7 +95,8 @@ pub use write::{BlfWriter, Deflate};
 use super::{RxTx, TraceFrame, Unsupported};
 use crate::clock::Timestamp;
 use crate::frame::CanFrame;
-use objects::{take, u16_at, u32_at, u64_at, Objects, Step};
+use crate::trace::fields::{u16_at, u32_at, u64_at};
+use objects::{take, Objects, Step};
 
 /// The file header's signature.
 pub const FILE_SIGNATURE: [u8; 4] = *b"LOGG";

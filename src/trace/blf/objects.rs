@@ -8,6 +8,7 @@ use super::{
 };
 use crate::clock::Timestamp;
 use crate::frame::{CanFrame, CanId, MAX_EXTENDED_ID, MAX_STANDARD_ID};
+use crate::trace::fields::{u16_at, u32_at, u64_at};
 use crate::trace::{RxTx, Unsupported};
 
 /// Where an object stream is.
@@ -40,24 +41,6 @@ pub(super) struct Objects {
     pub(super) offset: u64,
     /// The file's top level (its containers are opened).
     top: bool,
-}
-
-pub(super) fn u16_at(buf: &[u8], at: usize) -> u16 {
-    match buf.get(at..at + 2) {
-        Some(&[a, b]) => u16::from_le_bytes([a, b]),
-        _ => 0,
-    }
-}
-
-pub(super) fn u32_at(buf: &[u8], at: usize) -> u32 {
-    match buf.get(at..at + 4) {
-        Some(&[a, b, c, d]) => u32::from_le_bytes([a, b, c, d]),
-        _ => 0,
-    }
-}
-
-pub(super) fn u64_at(buf: &[u8], at: usize) -> u64 {
-    u64::from(u32_at(buf, at)) | u64::from(u32_at(buf, at + 4)) << 32
 }
 
 /// Takes `n` bytes of `input` (at most its length), returning them.

@@ -6,6 +6,7 @@
 //! index out of bounds (a field past the block's end reads as 0).
 
 use super::Mf4Error;
+use crate::trace::fields::u64_at;
 
 /// The header every block but `##ID` begins with.
 pub(super) const HEADER: u64 = 24;
@@ -98,14 +99,6 @@ impl<'a> Block<'a> {
     /// The data section from `at` on.
     pub(super) fn data_from(&self, at: usize) -> &'a [u8] {
         self.data.get(at..).unwrap_or(&[])
-    }
-}
-
-/// The little-endian u64 of `bytes` at `at` (0 past the end).
-pub(super) fn u64_at(bytes: &[u8], at: usize) -> u64 {
-    match at.checked_add(8).and_then(|end| bytes.get(at..end)) {
-        Some(&[a, b, c, d, e, f, g, h]) => u64::from_le_bytes([a, b, c, d, e, f, g, h]),
-        _ => 0,
     }
 }
 

@@ -8,6 +8,7 @@ use super::{
     MAX_RECORD, PB, SHB, SPB,
 };
 use crate::clock::Timestamp;
+use crate::trace::fields::field;
 
 /// What is kept of a packet: a CAN FD frame (16-byte header, 64 bytes).
 const BUF: usize = 96;
@@ -19,40 +20,25 @@ enum Order {
     Big,
 }
 
-impl Order {
-    fn u16(self, b: &[u8], at: usize) -> u16 {
-        let a = b
-            .get(at..at + 2)
-            .and_then(|s| <[u8; 2]>::try_from(s).ok())
-            .unwrap_or_default();
-        match self {
-            Order::Little => u16::from_le_bytes(a),
-            Order::Big => u16::from_be_bytes(a),
+/// The field readers of [`Order`], one per width: the field's bytes at
+/// `at` (zeros past the end of `b`) as a number in this byte order.
+macro_rules! order_fields {
+    ($($ty:ident),+) => {
+        impl Order {
+            $(
+                fn $ty(self, b: &[u8], at: usize) -> $ty {
+                    let a = field(b, at);
+                    match self {
+                        Order::Little => $ty::from_le_bytes(a),
+                        Order::Big => $ty::from_be_bytes(a),
+                    }
+                }
+            )+
         }
-    }
-
-    fn u32(self, b: &[u8], at: usize) -> u32 {
-        let a = b
-            .get(at..at + 4)
-            .and_then(|s| <[u8; 4]>::try_from(s).ok())
-            .unwrap_or_default();
-        match self {
-            Order::Little => u32::from_le_bytes(a),
-            Order::Big => u32::from_be_bytes(a),
-        }
-    }
-
-    fn u64(self, b: &[u8], at: usize) -> u64 {
-        let a = b
-            .get(at..at + 8)
-            .and_then(|s| <[u8; 8]>::try_from(s).ok())
-            .unwrap_or_default();
-        match self {
-            Order::Little => u64::from_le_bytes(a),
-            Order::Big => u64::from_be_bytes(a),
-        }
-    }
+    };
 }
+
+order_fields!(u16, u32, u64);
 
 /// An interface of a pcapng section (or the link of a pcap file).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
