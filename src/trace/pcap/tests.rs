@@ -17,23 +17,15 @@ impl W {
             out: Vec::new(),
         }
     }
+    /// A number, given in both byte orders: the file's is written.
+    fn ordered<const N: usize>(&mut self, little: [u8; N], big: [u8; N]) -> &mut W {
+        self.bytes(if self.big { &big } else { &little })
+    }
     fn u16(&mut self, v: u16) -> &mut W {
-        let b = if self.big {
-            v.to_be_bytes()
-        } else {
-            v.to_le_bytes()
-        };
-        self.out.extend_from_slice(&b);
-        self
+        self.ordered(v.to_le_bytes(), v.to_be_bytes())
     }
     fn u32(&mut self, v: u32) -> &mut W {
-        let b = if self.big {
-            v.to_be_bytes()
-        } else {
-            v.to_le_bytes()
-        };
-        self.out.extend_from_slice(&b);
-        self
+        self.ordered(v.to_le_bytes(), v.to_be_bytes())
     }
     fn bytes(&mut self, b: &[u8]) -> &mut W {
         self.out.extend_from_slice(b);
