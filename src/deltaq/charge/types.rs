@@ -119,31 +119,6 @@ impl PowerStage {
     }
 }
 
-bitflags::bitflags! {
-    /// The power stage's hardware faults (Delta-Q IC Series CANopen
-    /// interface specification rev 2.0, section 4.4.1, faults F-0-0-1 to
-    /// F-0-0-6, EEC 5000h "CANopen device hardware"): flag bit `n` is
-    /// fault F-0-0-(`n`+1). Any of them turns the output off while it
-    /// stands.
-    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-    pub struct StageFaults: u8 {
-        /// F-0-0-1 output stage error.
-        const OUTPUT_STAGE = 1 << 0;
-        /// F-0-0-2 input stage error.
-        const INPUT_STAGE = 1 << 1;
-        /// F-0-0-3 input stage error (the document's second input stage
-        /// code; ours: the input stage's second monitor, e.g. its PFC bus).
-        const INPUT_STAGE_2 = 1 << 2;
-        /// F-0-0-4 current measurement error.
-        const CURRENT_MEASUREMENT = 1 << 3;
-        /// F-0-0-5 DC output relay test error (high voltage across the
-        /// closed relay).
-        const RELAY = 1 << 4;
-        /// F-0-0-6 output current error.
-        const OUTPUT_CURRENT = 1 << 5;
-    }
-}
-
 impl StageFaults {
     /// The Delta-Q fault code of a single flag (F-0-0-1 for
     /// [`OUTPUT_STAGE`](Self::OUTPUT_STAGE), ...); `None` for no flag or
@@ -299,92 +274,135 @@ impl core::fmt::Display for ChargePhase {
     }
 }
 
-bitflags::bitflags! {
+/// The power stage's faults and the charge control's alarms, one row per
+/// flag (Delta-Q IC Series CANopen interface specification rev 2.0,
+/// section 4.4.1): each fault row declares its flag of [`StageFaults`]
+/// (bit `n`, fault F-0-0-(`n`+1)) and, `as`, its flag of [`ChargeAlarms`]
+/// (bit [`FAULT_SHIFT`] + `n`); each alarm row its flag of
+/// [`ChargeAlarms`] with its code. [`ALARM_CODES`], the code of each
+/// [`ChargeAlarms`] bit, follows from the rows; a row out of bit order
+/// fails to compile.
+macro_rules! alarm_flags {
+    (
+        $(#[$faults_meta:meta])*
+        pub struct StageFaults: u8 {
+            $($(#[doc = $fault_doc:literal])* const $stage:ident = 1 << $fault_bit:literal, as $fault:ident;)*
+        }
+        $(#[$alarms_meta:meta])*
+        pub struct ChargeAlarms: u32 {
+            $($(#[doc = $alarm_doc:literal])* const $alarm:ident = 1 << $alarm_bit:literal, code $code:ident($n:literal);)*
+        }
+    ) => {
+        bitflags::bitflags! {
+            $(#[$faults_meta])*
+            pub struct StageFaults: u8 {
+                $($(#[doc = $fault_doc])* const $stage = 1 << $fault_bit;)*
+            }
+        }
+
+        bitflags::bitflags! {
+            $(#[$alarms_meta])*
+            pub struct ChargeAlarms: u32 {
+                $($(#[doc = $alarm_doc])* const $alarm = 1 << $alarm_bit;)*
+                $($(#[doc = $fault_doc])* const $fault = 1 << (FAULT_SHIFT + $fault_bit);)*
+            }
+        }
+
+        /// The bit of the first [`ChargeAlarms`] fault flag (F-0-0-1): the
+        /// fault flags follow the alarms.
+        const FAULT_SHIFT: u32 = [$($alarm_bit),*].len() as u32;
+
+        /// The Delta-Q code of each [`ChargeAlarms`] flag, by bit (section
+        /// 4.4.1): the alarms' codes, then F-0-0-1 to F-0-0-6.
+        pub const ALARM_CODES: [DeltaQCode; [$($alarm_bit,)* $($fault_bit,)*].len()] = [
+            $(DeltaQCode::$code($n),)*
+            $(DeltaQCode::Fault($fault_bit + 1),)*
+        ];
+
+        // Each list's row `n` is its flag bit `n`.
+        const _: () = {
+            let mut alarms: &[u32] = &[$($alarm_bit),*];
+            let mut bit = 0;
+            while let [first, rest @ ..] = alarms {
+                assert!(*first == bit, "alarm rows in bit order");
+                (alarms, bit) = (rest, bit + 1);
+            }
+            let mut faults: &[u8] = &[$($fault_bit),*];
+            let mut bit = 0;
+            while let [first, rest @ ..] = faults {
+                assert!(*first == bit, "fault rows in bit order");
+                (faults, bit) = (rest, bit + 1);
+            }
+        };
+    };
+}
+
+alarm_flags! {
+    /// The power stage's hardware faults (Delta-Q IC Series CANopen
+    /// interface specification rev 2.0, section 4.4.1, faults F-0-0-1 to
+    /// F-0-0-6, EEC 5000h "CANopen device hardware"): flag bit `n` is
+    /// fault F-0-0-(`n`+1). Any of them turns the output off while it
+    /// stands.
+    #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+    pub struct StageFaults: u8 {
+        /// F-0-0-1 output stage error.
+        const OUTPUT_STAGE = 1 << 0, as FAULT_OUTPUT_STAGE;
+        /// F-0-0-2 input stage error.
+        const INPUT_STAGE = 1 << 1, as FAULT_INPUT_STAGE;
+        /// F-0-0-3 input stage error (the document's second input stage
+        /// code; ours: the input stage's second monitor, e.g. its PFC bus).
+        const INPUT_STAGE_2 = 1 << 2, as FAULT_INPUT_STAGE_2;
+        /// F-0-0-4 current measurement error.
+        const CURRENT_MEASUREMENT = 1 << 3, as FAULT_CURRENT_MEASUREMENT;
+        /// F-0-0-5 DC output relay test error (high voltage across the
+        /// closed relay).
+        const RELAY = 1 << 4, as FAULT_RELAY;
+        /// F-0-0-6 output current error.
+        const OUTPUT_CURRENT = 1 << 5, as FAULT_OUTPUT_CURRENT;
+    }
+
     /// The alarms and faults [`ChargeControl`](super::ChargeControl)
     /// raises, each a Delta-Q code (Delta-Q IC Series CANopen interface
     /// specification rev 2.0, section 4.4.1; flag bit `n` is
-    /// [`ALARM_CODES`]`[n]`). What raises and clears each is in the
-    /// [protections](super#protections).
+    /// [`ALARM_CODES`]`[n]`): the alarms, then the power stage's faults
+    /// ([`StageFaults`] from bit 16). What raises and clears each is in
+    /// the [protections](super#protections).
     #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
     pub struct ChargeAlarms: u32 {
         /// E-0-0-1 battery high voltage.
-        const HIGH_VOLTAGE = 1 << 0;
+        const HIGH_VOLTAGE = 1 << 0, code Alarm(1);
         /// E-0-2-0 active algorithm not set.
-        const ALGORITHM_NOT_SET = 1 << 1;
+        const ALGORITHM_NOT_SET = 1 << 1, code Alarm(20);
         /// E-0-2-8 incompatible algorithm.
-        const INCOMPATIBLE_ALGORITHM = 1 << 2;
+        const INCOMPATIBLE_ALGORITHM = 1 << 2, code Alarm(28);
         /// E-0-2-9 CAN-bus communication error.
-        const BUS_ERROR = 1 << 3;
+        const BUS_ERROR = 1 << 3, code Alarm(29);
         /// E-0-4-5 battery disconnected.
-        const BATTERY_DISCONNECTED = 1 << 4;
+        const BATTERY_DISCONNECTED = 1 << 4, code Alarm(45);
         /// E-0-0-2 battery low voltage.
-        const LOW_VOLTAGE = 1 << 5;
+        const LOW_VOLTAGE = 1 << 5, code Alarm(2);
         /// E-0-0-3 charge timeout (the safety timer).
-        const CHARGE_TIMEOUT = 1 << 6;
+        const CHARGE_TIMEOUT = 1 << 6, code Alarm(3);
         /// E-0-0-4 battery could not meet minimum voltage.
-        const MINIMUM_VOLTAGE = 1 << 7;
+        const MINIMUM_VOLTAGE = 1 << 7, code Alarm(4);
         /// E-0-0-7 battery amp-hour limit exceeded.
-        const AH_LIMIT = 1 << 8;
+        const AH_LIMIT = 1 << 8, code Alarm(7);
         /// E-0-0-8 battery temperature out of range.
-        const TEMPERATURE = 1 << 9;
+        const TEMPERATURE = 1 << 9, code Alarm(8);
         /// E-0-1-2 reverse polarity.
-        const REVERSE_POLARITY = 1 << 10;
+        const REVERSE_POLARITY = 1 << 10, code Alarm(12);
         /// E-0-1-3 battery does not take current.
-        const NO_CURRENT = 1 << 11;
+        const NO_CURRENT = 1 << 11, code Alarm(13);
         /// E-0-1-4 number of cells invalid.
-        const CELLS_INVALID = 1 << 12;
+        const CELLS_INVALID = 1 << 12, code Alarm(14);
         /// E-0-2-3 high AC voltage.
-        const HIGH_AC = 1 << 13;
+        const HIGH_AC = 1 << 13, code Alarm(23);
         /// E-0-2-5 low AC voltage oscillation.
-        const AC_OSCILLATION = 1 << 14;
+        const AC_OSCILLATION = 1 << 14, code Alarm(25);
         /// E-0-3-6 battery temperature sensor (the module's EMCY 5010h).
-        const TEMPERATURE_SENSOR = 1 << 15;
-        /// F-0-0-1 output stage error.
-        const FAULT_OUTPUT_STAGE = 1 << 16;
-        /// F-0-0-2 input stage error.
-        const FAULT_INPUT_STAGE = 1 << 17;
-        /// F-0-0-3 input stage error (second).
-        const FAULT_INPUT_STAGE_2 = 1 << 18;
-        /// F-0-0-4 current measurement error.
-        const FAULT_CURRENT_MEASUREMENT = 1 << 19;
-        /// F-0-0-5 DC output relay test error.
-        const FAULT_RELAY = 1 << 20;
-        /// F-0-0-6 output current error.
-        const FAULT_OUTPUT_CURRENT = 1 << 21;
+        const TEMPERATURE_SENSOR = 1 << 15, code Alarm(36);
     }
 }
-
-/// The Delta-Q code of each [`ChargeAlarms`] flag, by bit (section 4.4.1).
-pub const ALARM_CODES: [DeltaQCode; 22] = {
-    use DeltaQCode::{Alarm as A, Fault as F};
-    [
-        A(1),
-        A(20),
-        A(28),
-        A(29),
-        A(45),
-        A(2),
-        A(3),
-        A(4),
-        A(7),
-        A(8),
-        A(12),
-        A(13),
-        A(14),
-        A(23),
-        A(25),
-        A(36),
-        F(1),
-        F(2),
-        F(3),
-        F(4),
-        F(5),
-        F(6),
-    ]
-};
-
-/// The bit of the first [`ChargeAlarms`] fault flag (F-0-0-1).
-const FAULT_SHIFT: u32 = 16;
 
 impl ChargeAlarms {
     /// The faults F-0-0-1 to F-0-0-6.
