@@ -39,8 +39,9 @@ impl Roles {
         }
     }
 
-    /// The bundled session's nodes (the Delta-Q charger 10, the battery
-    /// module 1) unless given.
+    /// The nodes of the bundled session and of the real Delta-Q captures
+    /// (tests/data/CAPTURES.md): the Delta-Q charger 10 and the battery
+    /// module 1, unless given.
     pub fn demo(&mut self) {
         self.charger = self.charger.or(NodeId::new(10));
         self.battery = self.battery.or(NodeId::new(1));

@@ -217,10 +217,7 @@ impl Cli {
         };
         if self.pdo_capture_mapping {
             pdos.add_capture()?;
-            // The capture's nodes: the Delta-Q charger 10, the battery module 1.
-            roles.charger = roles.charger.or(NodeId::new(10));
-            roles.battery = roles.battery.or(NodeId::new(1));
-            roles.deltaq = roles.deltaq.or(roles.charger);
+            roles.demo();
         }
         let how = self.format.unwrap_or_default();
         Ok(Options {

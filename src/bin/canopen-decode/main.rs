@@ -207,38 +207,24 @@ fn main() -> ExitCode {
         }
     };
     hooks(&mut opts);
-    if !opts.more_files.is_empty() || opts.dataset.is_some() {
-        return several_logs(opts);
-    }
-    let input: Box<dyn Read> = match (opts.bundled, opts.file.as_deref()) {
-        (Some(_), _) => {
-            opts.roles.demo();
-            eprintln!("canopen-decode: decoding {SESSION_NAME}");
-            Box::new(SESSION.as_bytes())
-        }
-        (None, Some("-")) => Box::new(io::stdin().lock()),
-        (None, Some(path)) => match std::fs::File::open(path) {
-            Ok(f) => Box::new(f),
-            Err(e) => {
-                eprintln!("canopen-decode: {path}: {e}");
-                return ExitCode::from(2);
-            }
-        },
-        (None, None) if io::stdin().is_terminal() => {
-            opts.roles.demo();
-            eprintln!("canopen-decode: no input given; decoding {SESSION_NAME}");
-            Box::new(SESSION.as_bytes())
-        }
-        (None, None) => Box::new(io::stdin().lock()),
-    };
     let (stdout, stderr) = (io::stdout(), io::stderr());
     let (mut out, mut diag) = (stdout.lock(), stderr.lock());
-    match run(input, &mut out, &mut diag, &opts) {
+    // Several logs (or one with `--dataset`): each decoded on its own
+    // (`canopen_codec::log::dataset::run_each`); the exit status is the
+    // worst of the runs.
+    let several = !opts.more_files.is_empty() || opts.dataset.is_some();
+    let result = if several {
+        dataset::run_each(&opts, &mut out, &mut diag)
+    } else {
+        input(&mut opts).and_then(|input| run(input, &mut out, &mut diag, &opts))
+    };
+    match result {
         Ok(o) if o.open && opts.check => {
             if o.bad > 0 {
                 eprintln!("canopen-decode: {} bad line(s)", o.bad);
             }
-            eprintln!("canopen-decode: problems open at the end of the log (--check)");
+            let which = if several { "a" } else { "the" };
+            eprintln!("canopen-decode: problems open at the end of {which} log (--check)");
             ExitCode::from(3)
         }
         Ok(o) => exit_status(o),
@@ -250,66 +236,27 @@ fn main() -> ExitCode {
     }
 }
 
-/// Several logs (or one with `--dataset`): each decoded on its own, one
-/// after the other, its frames on stdout; with `--signals PATH` the
-/// signals of all of them form one dataset partitioned by log, hive style:
-/// `PATH/log=NAME/part-0.csv` (or `.parquet` when PATH ends in `.parquet`
-/// or `--dataset parquet` says so), NAME the log's file name without its
-/// extension (module `canopen_codec::log::dataset`). The exit status is
-/// the worst of the runs.
-fn several_logs(opts: Options) -> ExitCode {
-    let mut files = vec![opts.file.clone().unwrap_or_default()];
-    files.extend(opts.more_files.iter().cloned());
-    let fail = |why: String| {
-        eprintln!("canopen-decode: {why}");
-        ExitCode::from(2)
-    };
-    if files.iter().any(|f| f == "-" || f.is_empty()) {
-        return fail("stdin cannot be one of several logs nor a dataset".into());
-    }
-    if opts.dbc.is_some() {
-        return fail("--dbc takes one log (the mappings of several may differ)".into());
-    }
-    // Each log's partition, its name unique and free of path separators.
-    let parts = match &opts.signals {
-        Some(dir) => {
-            let root = std::path::Path::new(dir);
-            let format = opts.dataset.unwrap_or(dataset::PartFormat::of(root));
-            match dataset::parts(root, &files, format) {
-                Ok(p) => p.iter().map(|p| Some(p.display().to_string())).collect(),
-                Err(why) => return fail(why),
-            }
+/// The one log: the file, stdin, or the bundled session (asked for, or
+/// no input given with a terminal on stdin).
+fn input(opts: &mut Options) -> io::Result<Box<dyn Read>> {
+    Ok(match (opts.bundled, opts.file.as_deref()) {
+        (Some(_), _) => {
+            opts.roles.demo();
+            eprintln!("canopen-decode: decoding {SESSION_NAME}");
+            Box::new(SESSION.as_bytes())
         }
-        None => vec![None; files.len()],
-    };
-    let (stdout, stderr) = (io::stdout(), io::stderr());
-    let (mut out, mut diag) = (stdout.lock(), stderr.lock());
-    let mut all = Outcome::default();
-    for (file, part) in files.iter().zip(parts) {
-        let input = match std::fs::File::open(file) {
-            Ok(f) => f,
-            Err(e) => return fail(format!("{file}: {e}")),
-        };
-        let mut one = opts.clone();
-        one.file = Some(file.clone());
-        one.more_files.clear();
-        one.signals = part;
-        eprintln!("canopen-decode: {file}");
-        match run(input, &mut out, &mut diag, &one) {
-            Ok(o) => all = all.and(o),
-            Err(e) if e.kind() == io::ErrorKind::BrokenPipe => return ExitCode::SUCCESS,
-            Err(e) => return fail(e.to_string()),
+        (None, Some("-")) => Box::new(io::stdin().lock()),
+        (None, Some(path)) => Box::new(
+            std::fs::File::open(path)
+                .map_err(|e| io::Error::new(e.kind(), format!("{path}: {e}")))?,
+        ),
+        (None, None) if io::stdin().is_terminal() => {
+            opts.roles.demo();
+            eprintln!("canopen-decode: no input given; decoding {SESSION_NAME}");
+            Box::new(SESSION.as_bytes())
         }
-    }
-    if all.open && opts.check {
-        if all.bad > 0 {
-            eprintln!("canopen-decode: {} bad line(s)", all.bad);
-        }
-        eprintln!("canopen-decode: problems open at the end of a log (--check)");
-        ExitCode::from(3)
-    } else {
-        exit_status(all)
-    }
+        (None, None) => Box::new(io::stdin().lock()),
+    })
 }
 
 /// 0, or 1 with the count of bad lines (a log without a frame has said so
