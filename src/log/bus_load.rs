@@ -228,25 +228,7 @@ fn count_stuff(bits: u128, len: u32) -> u32 {
 
 /// CRC-15 of CAN one byte at a time: entry i is the register after the 8
 /// bits of i entered a register of `i << 7`.
-const CRC15_TABLE: [u16; 256] = {
-    let mut table = [0u16; 256];
-    let mut i = 0;
-    while i < 256 {
-        let mut crc = (i as u16) << 7;
-        let mut bit = 0;
-        while bit < 8 {
-            crc = if crc & 0x4000 != 0 {
-                (crc << 1) ^ CRC15_POLY
-            } else {
-                crc << 1
-            } & 0x7FFF;
-            bit += 1;
-        }
-        table[i] = crc;
-        i += 1;
-    }
-    table
-};
+const CRC15_TABLE: [u16; 256] = crate::sdo::crc::msb_first_table(15, CRC15_POLY);
 
 /// Slots of [`StuffCache`].
 const CACHE_SLOTS: usize = 256;
@@ -688,27 +670,17 @@ impl BusLoad {
             self.frames
         );
         float(out, self.duration());
-        out.push_str(",\"bus_load_percent\":");
-        float(out, mean);
-        out.push_str(",\"unstuffed_percent\":");
-        float(out, lo);
-        out.push_str(",\"worst_case_percent\":");
-        float(out, hi);
+        json_percents(out, (lo, mean, hi));
         out.push_str(",\"peak_window\":");
         match self.peak() {
             Some(p) => {
-                let (lo, mid, hi) = self.window_percent(&p);
                 let _ = write!(
                     out,
-                    "{{\"aligned\":true,\"seconds\":1,\"start\":{},\"frames\":{},\"bus_load_percent\":",
+                    "{{\"aligned\":true,\"seconds\":1,\"start\":{},\"frames\":{}",
                     self.window_start(&p),
                     p.frames
                 );
-                float(out, mid);
-                out.push_str(",\"unstuffed_percent\":");
-                float(out, lo);
-                out.push_str(",\"worst_case_percent\":");
-                float(out, hi);
+                json_percents(out, self.window_percent(&p));
                 out.push('}');
             }
             None => out.push_str("null"),
@@ -755,6 +727,22 @@ impl BusLoad {
             other.frames, other.bits, self.error_frames, self.fd_frames
         );
     }
+}
+
+/// One load (the mean, or the peak window's) as the JSON summary gives
+/// it, from `(unstuffed, stuffed, worst case)` as
+/// [`BusLoad::mean_percent`] and [`BusLoad::window_percent`] return them:
+/// `bus_load_percent` with the stuff bits the frames have,
+/// `unstuffed_percent` without any, `worst_case_percent` with the most
+/// bit stuffing can add (ISO 11898-1 section 10.5).
+fn json_percents(out: &mut String, (lo, mid, hi): (f64, f64, f64)) {
+    use crate::log::json::float;
+    out.push_str(",\"bus_load_percent\":");
+    float(out, mid);
+    out.push_str(",\"unstuffed_percent\":");
+    float(out, lo);
+    out.push_str(",\"worst_case_percent\":");
+    float(out, hi);
 }
 
 #[cfg(test)]
