@@ -6,25 +6,37 @@
 /// The CRC register after each byte value from a zero register (256
 /// entries of polynomial 1021h, built at compile time): one lookup per data
 /// byte.
-const TABLE: [u16; 256] = {
+const TABLE: [u16; 256] = msb_first_table(16, 0x1021);
+
+/// The byte table of a CRC of `width` bits (9 to 16) with polynomial
+/// `poly`, shifted most significant bit first with no reflection: entry
+/// `i` is the register after the 8 bits of `i` entered a register of `i`
+/// in its top 8 bits. One algorithm for the two CRCs of this crate: SDO
+/// block transfer's CRC-16/CCITT (width 16, 1021h; CiA 301 section
+/// 7.2.4.3) and the CRC-15 of a CAN frame that the log's bus load counts
+/// the stuff bits over (width 15, 4599h; ISO 11898-1 section 10.4.2.6).
+/// Evaluated at compile time.
+pub(crate) const fn msb_first_table(width: u32, poly: u16) -> [u16; 256] {
+    let top = 1u16 << (width - 1);
+    let mask = u16::MAX >> (16 - width);
     let mut table = [0u16; 256];
     let mut i = 0;
     while i < 256 {
-        let mut crc = (i as u16) << 8;
+        let mut crc = (i as u16) << (width - 8);
         let mut bit = 0;
         while bit < 8 {
-            crc = if crc & 0x8000 != 0 {
-                (crc << 1) ^ 0x1021
+            crc = if crc & top != 0 {
+                (crc << 1) ^ poly
             } else {
                 crc << 1
-            };
+            } & mask;
             bit += 1;
         }
         table[i] = crc;
         i += 1;
     }
     table
-};
+}
 
 /// Continues a CRC-16/CCITT (polynomial 1021h) over `data`, starting from
 /// `crc` (0 for a new transfer): feeding a value in pieces gives the same

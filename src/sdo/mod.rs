@@ -98,7 +98,7 @@
 mod client;
 #[cfg(feature = "alloc")]
 mod collect;
-mod crc;
+pub(crate) mod crc;
 mod data;
 mod observer;
 mod program_download;
