@@ -41,6 +41,23 @@ fn can(channel: u16, flags: u8, dlc: u8, id: u32, data: [u8; 8]) -> Vec<u8> {
     b
 }
 
+/// A CAN_MESSAGE2 body: a CAN_MESSAGE body, then the frame length and
+/// bit count (8 bytes, not read).
+fn can2(channel: u16, flags: u8, dlc: u8, id: u32, data: [u8; 8]) -> Vec<u8> {
+    let mut b = can(channel, flags, dlc, id, data);
+    b.extend_from_slice(&[0; 8]);
+    b
+}
+
+/// A file of `objects` (concatenated) in one stored container, after a
+/// header with or without a start time.
+fn stored(start: bool, objects: &[Vec<u8>]) -> Vec<u8> {
+    let payload = objects.concat();
+    let mut f = header(start);
+    f.extend(container(0, &payload, payload.len()));
+    f
+}
+
 /// A container of `payload` with compression `method`, declaring `declared`.
 fn container(method: u16, payload: &[u8], declared: usize) -> Vec<u8> {
     let size = 32 + payload.len();
@@ -157,40 +174,27 @@ fn frame(id: CanId, data: &[u8]) -> CanFrame {
 /// Three frames in one stored container: v1 ns times, channel 2, Tx, a
 /// 29-bit identifier, a remote frame, a DLC above 8.
 fn three_frames() -> Vec<u8> {
-    let mut payload = object(
-        1,
-        1,
-        NS,
-        1_500_000_000,
-        &can(1, 0, 2, 0x18A, [0x74, 0x13, 9, 9, 9, 9, 9, 9]),
-    );
-    payload.extend(object(
-        1,
-        86,
-        NS,
-        1_500_010_500,
+    let extended = 0x8000_0000 | 0x1234_5678;
+    stored(
+        true,
         &[
-            can(
-                2,
+            object(
                 1,
-                12,
-                0x8000_0000 | 0x1234_5678,
-                [1, 2, 3, 4, 5, 6, 7, 8],
+                1,
+                NS,
+                1_500_000_000,
+                &can(1, 0, 2, 0x18A, [0x74, 0x13, 9, 9, 9, 9, 9, 9]),
             ),
-            vec![0; 8],
-        ]
-        .concat(),
-    ));
-    payload.extend(object(
-        1,
-        1,
-        NS,
-        2_000_000_000,
-        &can(1, 0x80, 1, 0x70A, [0; 8]),
-    ));
-    let mut f = header(true);
-    f.extend(container(0, &payload, payload.len()));
-    f
+            object(
+                1,
+                86,
+                NS,
+                1_500_010_500,
+                &can2(2, 1, 12, extended, [1, 2, 3, 4, 5, 6, 7, 8]),
+            ),
+            object(1, 1, NS, 2_000_000_000, &can(1, 0x80, 1, 0x70A, [0; 8])),
+        ],
+    )
 }
 
 #[test]
@@ -239,24 +243,21 @@ fn frames_of_a_stored_container_whatever_the_chunks() {
 
 #[test]
 fn v2_headers_ten_microsecond_units_and_no_start() {
-    let mut payload = object(
-        2,
-        1,
-        TEN_US,
-        123_456,
-        &can(1, 0, 1, 0x70A, [5, 0, 0, 0, 0, 0, 0, 0]),
+    let file = stored(
+        false,
+        &[
+            object(
+                2,
+                1,
+                TEN_US,
+                123_456,
+                &can(1, 0, 1, 0x70A, [5, 0, 0, 0, 0, 0, 0, 0]),
+            ),
+            object(2, 86, NS, 7_000, &can2(1, 0, 0, 0x080, [0; 8])),
+            // Flags naming no unit: no time.
+            object(1, 1, 0, 99, &can(1, 0, 0, 0x000, [0; 8])),
+        ],
     );
-    payload.extend(object(
-        2,
-        86,
-        NS,
-        7_000,
-        &[can(1, 0, 0, 0x080, [0; 8]), vec![0; 8]].concat(),
-    ));
-    // Flags naming no unit: no time.
-    payload.extend(object(1, 1, 0, 99, &can(1, 0, 0, 0x000, [0; 8])));
-    let mut file = header(false);
-    file.extend(container(0, &payload, payload.len()));
     for chunk in [1, 5, 64, file.len()] {
         let out = read(&file, chunk);
         assert_eq!(out.end, Ok(()));
@@ -313,22 +314,25 @@ fn objects_straddle_containers_and_top_level_objects_are_read() {
 
 #[test]
 fn unknown_error_and_fd_objects_are_skipped_by_their_size() {
-    let mut payload = object(1, 65, NS, 1, b"an application text of odd length");
-    payload.extend(object(1, 73, NS, 2, &[0; 32]));
-    payload.extend(object(1, 2, NS, 3, &[0; 4]));
-    payload.extend(object(1, 100, NS, 4, &[0; 84]));
-    payload.extend(object(1, 101, NS, 5, &[0; 41]));
     // A header version this reader does not know.
     let mut v3 = object(1, 1, NS, 6, &can(1, 0, 0, 0x123, [0; 8]));
     v3[6] = 3;
-    payload.extend(v3);
     // Padding to 4 instead of `size % 4` (33 + 32 = 65 bytes: 3, not 1).
     let mut odd = object(1, 96, NS, 7, &[0; 33]);
     odd.extend([0, 0]);
-    payload.extend(odd);
-    payload.extend(object(1, 1, NS, 8, &can(1, 0, 0, 0x123, [0; 8])));
-    let mut file = header(true);
-    file.extend(container(0, &payload, payload.len()));
+    let file = stored(
+        true,
+        &[
+            object(1, 65, NS, 1, b"an application text of odd length"),
+            object(1, 73, NS, 2, &[0; 32]),
+            object(1, 2, NS, 3, &[0; 4]),
+            object(1, 100, NS, 4, &[0; 84]),
+            object(1, 101, NS, 5, &[0; 41]),
+            v3,
+            odd,
+            object(1, 1, NS, 8, &can(1, 0, 0, 0x123, [0; 8])),
+        ],
+    );
     for chunk in [1, 7, file.len()] {
         let out = read(&file, chunk);
         assert_eq!(out.end, Ok(()));
@@ -450,11 +454,7 @@ fn truncated_files_are_errors_at_the_end() {
 #[test]
 fn lying_sizes_are_typed_errors() {
     let message = object(1, 1, NS, 0, &can(1, 0, 0, 0x123, [0; 8]));
-    let in_container = |o: &[u8]| {
-        let mut f = header(true);
-        f.extend(container(0, o, o.len()));
-        f
-    };
+    let in_container = |o: &[u8]| stored(true, &[o.to_vec()]);
     let with = |at: usize, bytes: &[u8]| {
         let mut o = message.clone();
         o[at..at + bytes.len()].copy_from_slice(bytes);
