@@ -16,7 +16,7 @@
 
 use arbitrary::Arbitrary;
 use canopen_codec::machine::Machine;
-use canopen_codec::sdo::{AbortCode, Client, ClientCommand, ClientConfig, ClientError, ClientEvent, SdoRequest};
+use canopen_codec::sdo::{AbortCode, Client, ClientCommand, ClientConfig, ClientError, ClientEvent, TransferEnd, SdoRequest};
 use canopen_codec::{CanFrame, CanId, Codec, NodeId, Timestamp};
 use libfuzzer_sys::fuzz_target;
 
@@ -214,7 +214,7 @@ fuzz_target!(|ops: Vec<Op>| {
                     assert!(!data.is_empty());
                     expected_offset += data.len();
                 }
-                ClientEvent::Uploaded { len, .. } => {
+                ClientEvent::Ended(TransferEnd::Uploaded { len, .. }) => {
                     assert_eq!(len, expected_offset);
                     terminal += 1;
                 }

@@ -21,7 +21,7 @@ use crate::clock::Timestamp;
 use crate::cob_id::PdoNumber;
 use crate::machine::Machine;
 use crate::queue::EventQueue;
-use crate::sdo::{AbortOrigin, Client, ClientConfig, ClientError, ClientEvent};
+use crate::sdo::{AbortOrigin, Client, ClientConfig, ClientError, ClientEvent, TransferEnd};
 
 /// One SDO download of the procedure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -196,11 +196,11 @@ impl Reconfigurer {
     fn drain(&mut self, now: Timestamp) {
         while let Some(e) = self.client.poll_event() {
             match e {
-                ClientEvent::Downloaded { .. } if self.running => {
+                ClientEvent::Ended(TransferEnd::Downloaded { .. }) if self.running => {
                     self.next += 1;
                     self.advance(now);
                 }
-                ClientEvent::Aborted { code, origin, .. } if self.running => {
+                ClientEvent::Ended(TransferEnd::Aborted { code, origin, .. }) if self.running => {
                     let at = self.plan.steps().get(self.next).copied();
                     if let Some(at) = at {
                         self.finish(ReconfigEvent::Failed {

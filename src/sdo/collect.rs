@@ -3,7 +3,8 @@
 use alloc::vec::Vec;
 
 use super::client::ClientEvent;
-use super::server::AbortOrigin;
+use super::end::AbortOrigin;
+use super::end::TransferEnd;
 use crate::abort::AbortCode;
 
 /// How a collected transfer ended.
@@ -25,12 +26,12 @@ pub enum Collected {
 /// Gathers [`ClientEvent`]s into whole values.
 ///
 /// ```
-/// use canopen_codec::sdo::{ClientEvent, Collected, SegmentData, UploadBuffer};
+/// use canopen_codec::sdo::{ClientEvent, Collected, SegmentData, TransferEnd, UploadBuffer};
 /// let mut buf = UploadBuffer::new();
 /// let piece = |offset, b: &[u8]| ClientEvent::UploadData { index: 0x1008, sub: 0, offset, data: SegmentData::new(b).unwrap() };
 /// assert_eq!(buf.push(&piece(0, b"Tiny No")), None);
 /// assert_eq!(buf.push(&piece(7, b"de")), None);
-/// let done = ClientEvent::Uploaded { index: 0x1008, sub: 0, len: 9 };
+/// let done = ClientEvent::Ended(TransferEnd::Uploaded { index: 0x1008, sub: 0, len: 9 });
 /// assert_eq!(buf.push(&done), Some(Collected::Value(b"Tiny Node".to_vec())));
 /// ```
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -57,12 +58,14 @@ impl UploadBuffer {
                 self.data.extend_from_slice(data.as_slice());
                 None
             }
-            ClientEvent::Uploaded { .. } => Some(Collected::Value(core::mem::take(&mut self.data))),
-            ClientEvent::Downloaded { len, .. } => {
+            ClientEvent::Ended(TransferEnd::Uploaded { .. }) => {
+                Some(Collected::Value(core::mem::take(&mut self.data)))
+            }
+            ClientEvent::Ended(TransferEnd::Downloaded { len, .. }) => {
                 self.data.clear();
                 Some(Collected::Written(len))
             }
-            ClientEvent::Aborted { code, origin, .. } => {
+            ClientEvent::Ended(TransferEnd::Aborted { code, origin, .. }) => {
                 self.data.clear();
                 Some(Collected::Aborted { code, origin })
             }

@@ -92,12 +92,12 @@ fn client_commands_are_never_refused_for_undrained_events() {
     for i in 6..10 {
         assert_eq!(
             c.poll_event(),
-            Some(ClientEvent::Aborted {
+            Some(ClientEvent::Ended(TransferEnd::Aborted {
                 index: 0x2000,
                 sub: 0,
                 code: AbortCode::Other(i),
                 origin: AbortOrigin::Local
-            })
+            }))
         );
     }
     assert_eq!(c.poll_event(), None);
@@ -118,13 +118,14 @@ fn client_keeps_the_newest_frame_when_transmits_are_not_drained() {
     );
     assert_eq!(c.poll_transmit(), None);
     assert_eq!(c.poll_timeout(), None);
-    assert!(matches!(
+    assert_eq!(
         c.poll_event(),
-        Some(ClientEvent::Aborted {
-            code: AbortCode::SdoProtocolTimedOut,
-            ..
-        })
-    ));
+        Some(ClientEvent::Ended(TransferEnd::local_abort(
+            0x2000,
+            0,
+            AbortCode::SdoProtocolTimedOut
+        )))
+    );
 }
 
 #[test]

@@ -100,6 +100,7 @@ mod client;
 mod collect;
 pub(crate) mod crc;
 mod data;
+mod end;
 mod observer;
 mod program_download;
 mod rules;
@@ -112,6 +113,7 @@ pub use client::{Client, ClientConfig, ClientError, ClientEvent};
 pub use collect::{Collected, UploadBuffer};
 pub use crc::{crc16, crc16_update};
 pub use data::{ExpeditedData, InitiatePayload, InlineData, Segment, SegmentData};
+pub use end::{AbortOrigin, TransferEnd};
 pub use observer::{
     BreakReason, ChannelError, Direction, Observed, Observer, ObserverConfig, ObserverEvent,
     SdoChannel, Transfer, TransferKind, OBSERVER_EVENT_CAPACITY, OBSERVER_EXTRA_CHANNELS,
@@ -121,8 +123,7 @@ pub use program_download::{
     ProgramDownload, ProgramDownloadConfig, ProgramDownloadError, ProgramDownloadEvent, ProgramStep,
 };
 pub use server::{
-    AbortOrigin, Server, ServerConfig, ServerEvent, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT,
-    EVENTS_PER_CALL,
+    Server, ServerConfig, ServerEvent, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT, EVENTS_PER_CALL,
 };
 pub use wire::{
     abort_code_of, needed, BlockDataCommand, BlockDataInitiate, BlockDownloadAccept, BlockSegment,
@@ -145,7 +146,8 @@ fn queue_frame(transmit: &mut crate::queue::FrameSlot, id: crate::frame::CanId, 
 /// the one timer `$timer` running out aborts the transfer with 05040000h
 /// (SDO protocol timed out, CiA 301 section 7.2.4.3.4); the one-frame queue
 /// comes first, then, with block transfer, the next segment of the running
-/// sub-block, made when the caller asks for it.
+/// sub-block, made when the caller asks for it. Its events are queued and a
+/// transfer is timed and finished the same way for both.
 macro_rules! sdo_endpoint_machine {
     ($endpoint:ident<$d:ident: $bound:path>, $event:ty, $timer:expr, $filter:ident, $receive:ident) => {
         impl<$d: $bound, const EVENTS: usize> Machine for $endpoint<$d, EVENTS> {
@@ -184,6 +186,30 @@ macro_rules! sdo_endpoint_machine {
 
             // The deadline of the running transfer (`None` when idle).
             crate::machine::queued_outputs!(timers: timers, @events events);
+        }
+
+        impl<$d: $bound, const EVENTS: usize> $endpoint<$d, EVENTS> {
+            /// Queues an event (when the queue is full the oldest is
+            /// dropped and counted).
+            fn emit(&mut self, event: impl Into<$event>) {
+                self.events.push(event.into());
+            }
+
+            /// Restarts the SDO timeout: the peer's next frame is due
+            /// within the configured timeout of `now` (CiA 301: the timer
+            /// restarts on every frame of the transfer).
+            fn arm(&mut self, now: Timestamp) {
+                self.timers
+                    .set($timer, Some(now.add_micros(self.timeout_us)));
+            }
+
+            /// Ends the running transfer as `end` says: idle, no deadline,
+            /// its one terminal event.
+            fn finish(&mut self, end: crate::sdo::TransferEnd) {
+                self.state = State::Idle;
+                self.timers.set($timer, None);
+                self.emit(end);
+            }
         }
     };
 }

@@ -31,7 +31,7 @@
 //! `handle_*` call, drain `poll_transmit` (the SDO client's frames), then
 //! `poll_event`. Events go to a queue of 4, oldest dropped and counted.
 
-use super::{AbortCode, AbortOrigin, Client, ClientConfig, ClientError, ClientEvent};
+use super::{AbortCode, AbortOrigin, Client, ClientConfig, ClientError, ClientEvent, TransferEnd};
 use crate::clock::{timer_kind, Timers, Timestamp};
 use crate::machine::Machine;
 use crate::program::{
@@ -333,10 +333,11 @@ impl<D: AsRef<[u8]>> ProgramDownload<D> {
                         }
                     }
                 }
-                ClientEvent::Uploaded { .. } | ClientEvent::Downloaded { .. } => {
+                ClientEvent::Ended(TransferEnd::Uploaded { .. })
+                | ClientEvent::Ended(TransferEnd::Downloaded { .. }) => {
                     self.step_done(now, step);
                 }
-                ClientEvent::Aborted { code, origin, .. } => {
+                ClientEvent::Ended(TransferEnd::Aborted { code, origin, .. }) => {
                     if step == ProgramStep::Download && origin == AbortOrigin::Peer {
                         // The device refused the image: 1F57h says why,
                         // once the rest of the sub-block has passed.

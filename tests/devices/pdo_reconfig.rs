@@ -13,7 +13,9 @@ use canopen_codec::pdo::{
     MappingEntry, PdoCobId, PdoCommParams, PdoConfig, PdoDictionary, PdoDirection, PdoMapping,
     PdoSlot, Plan, ReconfigEvent, Reconfigurer, TransmissionType,
 };
-use canopen_codec::sdo::{AbortCode, AbortOrigin, ClientConfig, ClientEvent, ServerEvent};
+use canopen_codec::sdo::{
+    AbortCode, AbortOrigin, ClientConfig, ClientEvent, ServerEvent, TransferEnd,
+};
 use canopen_codec::{NodeId, PdoNumber, Timestamp};
 use common::sdo::{SdoPair, SERVER};
 
@@ -76,7 +78,7 @@ fn write(
         .unwrap();
     p.drive_bounded(1_000).unwrap();
     match p.client_events().as_slice() {
-        [ClientEvent::Downloaded { .. }] => {
+        [ClientEvent::Ended(TransferEnd::Downloaded { .. })] => {
             assert_eq!(
                 p.server_events(),
                 vec![ServerEvent::Downloaded {
@@ -87,11 +89,11 @@ fn write(
             );
             Ok(())
         }
-        [ClientEvent::Aborted {
+        [ClientEvent::Ended(TransferEnd::Aborted {
             code,
             origin: AbortOrigin::Peer,
             ..
-        }] => {
+        })] => {
             let [lo, hi] = index.to_le_bytes();
             let mut abort = vec![0x80, lo, hi, sub];
             abort.extend_from_slice(&code.to_u32().to_le_bytes());

@@ -13,7 +13,7 @@ use canopen_codec::deltaq::{Charger, ChargerConfig};
 use canopen_codec::device::program::{Crc32, FlashError, FlashStatus, ProgramState, ProgramStore};
 use canopen_codec::sdo::{
     AbortCode, AbortOrigin, Client, ClientConfig, ClientEvent, ProgramDownload,
-    ProgramDownloadConfig, ProgramDownloadError, ProgramDownloadEvent, ProgramStep,
+    ProgramDownloadConfig, ProgramDownloadError, ProgramDownloadEvent, ProgramStep, TransferEnd,
 };
 use canopen_codec::trace::candump::LogLineDisplay;
 use canopen_codec::{NodeId, Timestamp};
@@ -228,12 +228,12 @@ fn a_download_while_started_is_refused_with_08000022h() {
     sim.run_until(end).unwrap();
     assert_eq!(
         sim.event_list(o),
-        [ClientEvent::Aborted {
+        [ClientEvent::Ended(TransferEnd::Aborted {
             index: 0x1F50,
             sub: 1,
             code: AbortCode::DataCannotBeStoredDeviceState,
             origin: AbortOrigin::Peer,
-        }]
+        })]
     );
     assert_eq!(
         sim.machine(c).unwrap().objects().state(),

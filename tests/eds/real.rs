@@ -182,7 +182,7 @@ fn sample_eds_is_served_but_for_the_object_it_cannot_encode() {
 #[cfg(feature = "sim")]
 fn served_on_the_bus(od: canopen_codec::eds::EdsDictionary) {
     use canopen_codec::eds::EdsDictionary;
-    use canopen_codec::sdo::{AbortOrigin, ClientEvent};
+    use canopen_codec::sdo::{AbortOrigin, ClientEvent, TransferEnd};
 
     let mut p = common::sdo::SdoPair::new(10, od);
     let mut refused = |start: &dyn Fn(&mut common::sdo::SdoPair<EdsDictionary>)| {
@@ -190,7 +190,9 @@ fn served_on_the_bus(od: canopen_codec::eds::EdsDictionary) {
         start(&mut p);
         p.drive_bounded(10_000).unwrap();
         match p.client_events().pop() {
-            Some(ClientEvent::Aborted { code, origin, .. }) => (code.to_u32(), origin),
+            Some(ClientEvent::Ended(TransferEnd::Aborted { code, origin, .. })) => {
+                (code.to_u32(), origin)
+            }
             other => panic!("not aborted: {other:?}"),
         }
     };

@@ -5,7 +5,7 @@
 use crate::common;
 
 use canopen_codec::eds::{parse, EdsDictionary};
-use canopen_codec::sdo::{AbortCode, ClientEvent};
+use canopen_codec::sdo::{AbortCode, ClientEvent, TransferEnd};
 use canopen_codec::NodeId;
 use common::sdo::SdoPair;
 
@@ -52,7 +52,7 @@ fn serves_values_with_node_id_resolved() {
 fn access_and_size_come_from_the_description() {
     let mut p = pair();
     let aborted = |e: ClientEvent| match e {
-        ClientEvent::Aborted { code, .. } => Some(code),
+        ClientEvent::Ended(TransferEnd::Aborted { code, .. }) => Some(code),
         _ => None,
     };
     assert_eq!(
@@ -65,11 +65,11 @@ fn access_and_size_come_from_the_description() {
     );
     assert_eq!(
         download(&mut p, 0x1017, 0, &[0xE8, 0x03]),
-        ClientEvent::Downloaded {
+        ClientEvent::Ended(TransferEnd::Downloaded {
             index: 0x1017,
             sub: 0,
             len: 2
-        }
+        })
     );
     assert_eq!(p.od().values().get(0x1017, 0), Some(&[0xE8, 0x03][..]));
     assert_eq!(

@@ -7,6 +7,7 @@ use canopen_codec::machine::Machine;
 use canopen_codec::od::{Access, MemoryDictionary};
 use canopen_codec::sdo::{
     AbortCode, AbortOrigin, Client, ClientConfig, ClientEvent, Server, ServerConfig, ServerEvent,
+    TransferEnd,
 };
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 use common::frame;
@@ -54,12 +55,12 @@ fn server_abort(index: u16, sub: u8, code: AbortCode) -> ServerEvent {
 }
 
 fn client_abort(index: u16, sub: u8, code: AbortCode) -> ClientEvent {
-    ClientEvent::Aborted {
+    ClientEvent::Ended(TransferEnd::Aborted {
         index,
         sub,
         code,
         origin: AbortOrigin::Local,
-    }
+    })
 }
 
 /// Asserts the last frame is `abort` and exactly one terminal event, the given one.
@@ -473,22 +474,22 @@ fn client_received_abort_sends_nothing() {
     assert_eq!(out, vec![frame(0x601, "4000200000000000")]);
     assert_eq!(
         ev,
-        vec![ClientEvent::Aborted {
+        vec![ClientEvent::Ended(TransferEnd::Aborted {
             index: 0x2000,
             sub: 0,
             code: AbortCode::ReadOfWriteOnlyObject,
             origin: AbortOrigin::Peer
-        }]
+        })]
     );
     let (_, ev) = client_run(download(0x1017, 0, &[1]), &["8017100000000000"]);
     assert_eq!(
         ev,
-        vec![ClientEvent::Aborted {
+        vec![ClientEvent::Ended(TransferEnd::Aborted {
             index: 0x1017,
             sub: 0,
             code: AbortCode::GeneralError,
             origin: AbortOrigin::Peer
-        }]
+        })]
     );
 }
 

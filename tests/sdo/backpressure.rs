@@ -15,6 +15,7 @@ use canopen_codec::machine::Machine;
 use canopen_codec::od::{Access, MemoryDictionary};
 use canopen_codec::sdo::{
     AbortCode, AbortOrigin, Client, ClientConfig, ClientEvent, Server, ServerConfig, ServerEvent,
+    TransferEnd,
 };
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 use proptest::prelude::*;
@@ -352,11 +353,11 @@ fn segmented_upload_wire_and_times_are_exact_when_never_drained() {
     assert_eq!(never.client_queued.len(), 4);
     assert_eq!(
         never.client_queued.last(),
-        Some(&ClientEvent::Uploaded {
+        Some(&ClientEvent::Ended(TransferEnd::Uploaded {
             index: 0x2000,
             sub: 0,
             len: 20
-        })
+        }))
     );
 }
 
@@ -393,12 +394,12 @@ fn a_timeout_with_undrained_events_still_aborts_once() {
     let mut latencies = vec![1_000; 8];
     latencies.push(2_500_000);
     let drained = check_against_drained(&transfers, &latencies, Drain::never());
-    let timed_out = ClientEvent::Aborted {
+    let timed_out = ClientEvent::Ended(TransferEnd::Aborted {
         index: 0x2000,
         sub: 0,
         code: AbortCode::SdoProtocolTimedOut,
         origin: AbortOrigin::Local,
-    };
+    });
     assert_eq!(drained.client_read.last(), Some(&timed_out));
     let aborts: Vec<&(Timestamp, Dir, CanFrame)> = drained
         .wire

@@ -17,6 +17,7 @@ use crate::common;
 use canopen_codec::od::{Access, MemoryDictionary};
 use canopen_codec::sdo::{
     AbortCode, AbortOrigin, Client, ClientConfig, ClientEvent, Server, ServerConfig, ServerEvent,
+    TransferEnd,
 };
 use canopen_codec::NodeId;
 use common::observe;
@@ -150,10 +151,10 @@ fn run(r: &Run) {
     if server_end.is_empty() {
         assert!(matches!(
             c,
-            ClientEvent::Aborted {
+            ClientEvent::Ended(TransferEnd::Aborted {
                 code: AbortCode::SdoProtocolTimedOut,
                 ..
-            }
+            })
         ));
     }
     let stored = sim
@@ -164,17 +165,17 @@ fn run(r: &Run) {
         .unwrap()
         .to_vec();
     match c {
-        ClientEvent::Uploaded { len, .. } => {
+        ClientEvent::Ended(TransferEnd::Uploaded { len, .. }) => {
             assert!(r.upload);
             assert_eq!(uploaded(&sim, client), r.value);
             assert_eq!(len, r.value.len());
         }
-        ClientEvent::Downloaded { len, .. } => {
+        ClientEvent::Ended(TransferEnd::Downloaded { len, .. }) => {
             assert!(!r.upload);
             assert_eq!(stored, r.value);
             assert_eq!(len, r.value.len());
         }
-        ClientEvent::Aborted { code, .. } => {
+        ClientEvent::Ended(TransferEnd::Aborted { code, .. }) => {
             assert!(FAULT_CODES.contains(&code), "client {code:?}");
         }
         e => panic!("{e:?}"),
@@ -199,17 +200,17 @@ fn run(r: &Run) {
             }
             if origin == AbortOrigin::Peer {
                 assert!(
-                    matches!(c, ClientEvent::Aborted { code: cc, origin: AbortOrigin::Local, .. } if cc == code)
+                    matches!(c, ClientEvent::Ended(TransferEnd::Aborted { code: cc, origin: AbortOrigin::Local, .. }) if cc == code)
                 );
             }
         }
         e => panic!("{e:?}"),
     }
-    if let ClientEvent::Aborted {
+    if let ClientEvent::Ended(TransferEnd::Aborted {
         code,
         origin: AbortOrigin::Peer,
         ..
-    } = c
+    }) = c
     {
         assert!(
             matches!(s, ServerEvent::Aborted { code: sc, origin: AbortOrigin::Local, .. } if sc == code)
@@ -231,7 +232,8 @@ fn run(r: &Run) {
     // The observer, fed the same frames, reports what both sides saw.
     let both = matches!(
         c,
-        ClientEvent::Uploaded { .. } | ClientEvent::Downloaded { .. }
+        ClientEvent::Ended(TransferEnd::Uploaded { .. })
+            | ClientEvent::Ended(TransferEnd::Downloaded { .. })
     ) && matches!(
         s,
         ServerEvent::Uploaded { .. } | ServerEvent::Downloaded { .. }
@@ -247,7 +249,8 @@ fn run(r: &Run) {
     if r.faults.is_empty() {
         assert!(matches!(
             c,
-            ClientEvent::Uploaded { .. } | ClientEvent::Downloaded { .. }
+            ClientEvent::Ended(TransferEnd::Uploaded { .. })
+                | ClientEvent::Ended(TransferEnd::Downloaded { .. })
         ));
         assert!(matches!(
             s,

@@ -26,7 +26,7 @@ use canopen_codec::machine::Machine;
 use canopen_codec::od::{Access, MemoryDictionary};
 use canopen_codec::sdo::{
     BreakReason, Client, ClientConfig, ClientEvent, Observer, ObserverConfig, ObserverEvent,
-    Server, ServerConfig, ServerEvent, Transfer,
+    Server, ServerConfig, ServerEvent, Transfer, TransferEnd,
 };
 use canopen_codec::{CanFrame, NodeId, Timestamp};
 use common::sdo::{CLIENT, SERVER};
@@ -244,7 +244,7 @@ fn run(r: &Run) {
                     assert_eq!(*offset, data.len());
                     data.extend_from_slice(d.as_slice());
                 }
-                ClientEvent::Uploaded { .. } => done = true,
+                ClientEvent::Ended(TransferEnd::Uploaded { .. }) => done = true,
                 _ => {}
             }
         }

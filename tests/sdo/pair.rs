@@ -7,7 +7,7 @@ use crate::common;
 
 use canopen_codec::od::{Access, MemoryDictionary};
 use canopen_codec::sdo::ObserverEvent;
-use canopen_codec::sdo::{ClientEvent, ServerEvent};
+use canopen_codec::sdo::{AbortCode, ClientEvent, ServerEvent, TransferEnd};
 use canopen_codec::Timestamp;
 use common::observe;
 use common::sdo::{SdoPair, CLIENT};
@@ -28,11 +28,11 @@ fn write_then_read(index: u16, sub: u8, value: &[u8], latency_us: u64) -> SdoPai
     p.drive_bounded(10_000).unwrap();
     assert_eq!(
         p.client_events(),
-        vec![ClientEvent::Downloaded {
+        vec![ClientEvent::Ended(TransferEnd::Downloaded {
             index,
             sub,
             len: value.len()
-        }]
+        })]
     );
     assert_eq!(
         p.server_events(),
@@ -50,11 +50,11 @@ fn write_then_read(index: u16, sub: u8, value: &[u8], latency_us: u64) -> SdoPai
     assert_eq!(p.uploaded(), value);
     assert_eq!(
         p.client_events().last(),
-        Some(&ClientEvent::Uploaded {
+        Some(&ClientEvent::Ended(TransferEnd::Uploaded {
             index,
             sub,
             len: value.len()
-        })
+        }))
     );
     assert_eq!(
         p.server_events(),
@@ -113,8 +113,15 @@ fn frames_of(len: usize) -> usize {
     }
 }
 
-fn is_timeout_abort<E: std::fmt::Debug>(e: &E) -> bool {
-    format!("{e:?}").starts_with("Aborted") && format!("{e:?}").contains("SdoProtocolTimedOut")
+/// The transfer ended in the SDO timeout (05040000h), whoever aborted.
+fn is_timeout_abort(end: &TransferEnd) -> bool {
+    matches!(
+        end,
+        TransferEnd::Aborted {
+            code: AbortCode::SdoProtocolTimedOut,
+            ..
+        }
+    )
 }
 
 /// With frame number `k` dropped: the client ends in exactly one timeout
@@ -148,7 +155,10 @@ fn check_drop(len: usize, upload: bool, k: usize, latency_us: u64) {
     let server_events = p.server_events();
     let terminal: Vec<&ClientEvent> = client_events.iter().filter(|e| e.is_terminal()).collect();
     assert_eq!(terminal.len(), 1, "{ctx}");
-    assert!(is_timeout_abort(terminal[0]), "{ctx}");
+    assert!(
+        matches!(terminal[0], ClientEvent::Ended(end) if is_timeout_abort(end)),
+        "{ctx}"
+    );
     if k == 0 {
         assert_eq!(p.server_events(), vec![], "first request lost: {ctx}");
     } else if k == n - 1 {

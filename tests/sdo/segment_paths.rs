@@ -7,7 +7,9 @@
 
 use canopen_codec::machine::Machine;
 use canopen_codec::od::{Access, MemoryDictionary};
-use canopen_codec::sdo::{Client, ClientConfig, ClientEvent, Server, ServerConfig, ServerEvent};
+use canopen_codec::sdo::{
+    Client, ClientConfig, ClientEvent, Server, ServerConfig, ServerEvent, TransferEnd,
+};
 use canopen_codec::{CanFrame, CanId, NodeId, Timestamp};
 
 const VALUE: [u8; 20] = *b"battery module 0418!";
@@ -87,11 +89,11 @@ fn upload_segments_ignore_what_the_general_path_ignores() {
     assert_eq!(got, VALUE);
     assert_eq!(
         ce.last(),
-        Some(&ClientEvent::Uploaded {
+        Some(&ClientEvent::Ended(TransferEnd::Uploaded {
             index: 0x2000,
             sub: 0,
             len: 20
-        })
+        }))
     );
     assert_eq!(
         se,
@@ -113,11 +115,11 @@ fn download_segments_ignore_what_the_general_path_ignores() {
     let (ce, se) = run(&mut c, &mut s);
     assert_eq!(
         ce,
-        [ClientEvent::Downloaded {
+        [ClientEvent::Ended(TransferEnd::Downloaded {
             index: 0x2000,
             sub: 0,
             len: 31
-        }]
+        })]
     );
     assert_eq!(
         se,

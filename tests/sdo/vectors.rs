@@ -10,6 +10,7 @@ use canopen_codec::machine::Machine;
 use canopen_codec::od::{Access, MemoryDictionary};
 use canopen_codec::sdo::{
     AbortCode, AbortOrigin, Client, ClientConfig, ClientEvent, Server, ServerConfig, ServerEvent,
+    TransferEnd,
 };
 use canopen_codec::{NodeId, Timestamp};
 use common::frame;
@@ -241,11 +242,11 @@ fn client_v1_v1b_v2_v3_expedited_uploads() {
             client_events(&mut c),
             vec![
                 data(index, sub, 0, value),
-                ClientEvent::Uploaded {
+                ClientEvent::Ended(TransferEnd::Uploaded {
                     index,
                     sub,
                     len: value.len()
-                }
+                })
             ]
         );
         assert!(!c.is_busy());
@@ -261,11 +262,11 @@ fn client_v4_expedited_download() {
     c.handle_frame(Timestamp::from_millis(1), &frame(0x582, "6017100000000000"));
     assert_eq!(
         client_events(&mut c),
-        vec![ClientEvent::Downloaded {
+        vec![ClientEvent::Ended(TransferEnd::Downloaded {
             index: 0x1017,
             sub: 0,
             len: 2
-        }]
+        })]
     );
 }
 
@@ -292,11 +293,11 @@ fn client_v8_segmented_upload() {
     ev.extend(client_events(&mut c));
     assert_eq!(
         ev.last(),
-        Some(&ClientEvent::Uploaded {
+        Some(&ClientEvent::Ended(TransferEnd::Uploaded {
             index: 0x1008,
             sub: 0,
             len: 26
-        })
+        }))
     );
     let mut value = Vec::new();
     for e in &ev {
@@ -320,12 +321,12 @@ fn client_v9_lenient_too_much_data_is_aborted() {
     assert_eq!(sent(&mut c), vec![frame(0x602, "8008100012000706")]);
     assert_eq!(
         client_events(&mut c),
-        vec![ClientEvent::Aborted {
+        vec![ClientEvent::Ended(TransferEnd::Aborted {
             index: 0x1008,
             sub: 0,
             code: AbortCode::DataTypeLengthTooHigh,
             origin: AbortOrigin::Local
-        }]
+        })]
     );
 }
 
@@ -346,12 +347,12 @@ fn client_v10_lenient_bogus_size_is_aborted() {
     ev.extend(client_events(&mut c));
     assert_eq!(
         ev.last(),
-        Some(&ClientEvent::Aborted {
+        Some(&ClientEvent::Ended(TransferEnd::Aborted {
             index: 0x201B,
             sub: 0,
             code: AbortCode::DataTypeLengthTooLow,
             origin: AbortOrigin::Local
-        })
+        }))
     );
     assert_eq!(ev.iter().filter(|e| e.is_terminal()).count(), 1);
 }
@@ -371,11 +372,11 @@ fn client_v11_v13_segmented_downloads() {
     c.handle_frame(Timestamp::ZERO, &frame(0x582, "3000200000000000"));
     assert_eq!(
         client_events(&mut c),
-        vec![ClientEvent::Downloaded {
+        vec![ClientEvent::Ended(TransferEnd::Downloaded {
             index: 0x2000,
             sub: 0,
             len: 13
-        }]
+        })]
     );
     // V13: the empty value is one empty last segment.
     c.start_download(Timestamp::ZERO, 0x2000, 0, Vec::new())
@@ -386,11 +387,11 @@ fn client_v11_v13_segmented_downloads() {
     c.handle_frame(Timestamp::ZERO, &frame(0x582, "2000000000000000"));
     assert_eq!(
         client_events(&mut c),
-        vec![ClientEvent::Downloaded {
+        vec![ClientEvent::Ended(TransferEnd::Downloaded {
             index: 0x2000,
             sub: 0,
             len: 0
-        }]
+        })]
     );
 }
 
@@ -403,12 +404,12 @@ fn client_v15_received_abort() {
     assert_eq!(sent(&mut c), vec![], "nothing is sent back");
     assert_eq!(
         client_events(&mut c),
-        vec![ClientEvent::Aborted {
+        vec![ClientEvent::Ended(TransferEnd::Aborted {
             index: 0x1018,
             sub: 1,
             code: AbortCode::SubIndexDoesNotExist,
             origin: AbortOrigin::Peer
-        }]
+        })]
     );
 }
 
@@ -425,12 +426,12 @@ fn client_v16_timeout_abort_carries_the_multiplexer() {
     assert_eq!(sent(&mut c), vec![frame(0x602, "8018100100000405")]);
     assert_eq!(
         client_events(&mut c),
-        vec![ClientEvent::Aborted {
+        vec![ClientEvent::Ended(TransferEnd::Aborted {
             index: 0x1018,
             sub: 1,
             code: AbortCode::SdoProtocolTimedOut,
             origin: AbortOrigin::Local
-        }]
+        })]
     );
     assert_eq!(c.poll_timeout(), None);
 }

@@ -90,7 +90,7 @@ use crate::nmt::heartbeat::HeartbeatEvent;
 use crate::nmt::NmtState;
 use crate::od::index::DEVICE_TYPE;
 use crate::pdo::{PdoCobId, PdoDirection, PdoSlot, RpdoError};
-use crate::sdo::{Client, ClientConfig, ClientEvent, EVENTS_PER_CALL};
+use crate::sdo::{Client, ClientConfig, ClientEvent, TransferEnd, EVENTS_PER_CALL};
 use crate::wire::Codec;
 
 mod config;
@@ -441,10 +441,10 @@ impl ChargerProfile {
         while let Some(e) = self.client.poll_event() {
             match e {
                 ClientEvent::UploadData { offset, data, .. } => self.on_upload_data(offset, data),
-                ClientEvent::Uploaded { .. } => self.on_uploaded(device, now),
-                ClientEvent::Aborted {
+                ClientEvent::Ended(TransferEnd::Uploaded { .. }) => self.on_uploaded(device, now),
+                ClientEvent::Ended(TransferEnd::Aborted {
                     index, sub, code, ..
-                } => {
+                }) => {
                     if matches!(self.link, Link::DeviceType | Link::CobId(..)) {
                         self.link = Link::Failed;
                         device.push_event(ChargerEvent::ConfigurationFailed { index, sub, code });

@@ -19,7 +19,7 @@ use crate::nmt::{
 use crate::od::ConciseEntries;
 use crate::queue::{EventQueue, FrameQueue};
 use crate::sdo::{
-    AbortOrigin, Client, ClientConfig, ClientEvent, ProgramDownload, EVENTS_PER_CALL,
+    AbortOrigin, Client, ClientConfig, ClientEvent, ProgramDownload, TransferEnd, EVENTS_PER_CALL,
 };
 use crate::wire::Codec;
 
@@ -517,18 +517,18 @@ impl<'a> BootSlave<'a> {
                         }
                     }
                 }
-                ClientEvent::Uploaded { .. } => self.uploaded(now, events),
-                ClientEvent::Downloaded { .. } => {
+                ClientEvent::Ended(TransferEnd::Uploaded { .. }) => self.uploaded(now, events),
+                ClientEvent::Ended(TransferEnd::Downloaded { .. }) => {
                     if let BootPhase::Configuration(n) = self.phase {
                         self.write_next(now, n.saturating_add(1), events);
                     }
                 }
-                ClientEvent::Aborted {
+                ClientEvent::Ended(TransferEnd::Aborted {
                     index,
                     sub,
                     code,
                     origin,
-                } => {
+                }) => {
                     if let BootPhase::Configuration(_) = self.phase {
                         let failure = ConfigurationFailure::Aborted { code, origin };
                         let error = BootError::Configuration {

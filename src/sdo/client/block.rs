@@ -5,7 +5,7 @@
 //! The sub-block rules themselves are shared with the server
 //! (`crate::sdo::rules::block`).
 
-use super::{AbortCode, Client, ClientCommand, ClientEvent, ServerCommand, State};
+use super::{AbortCode, Client, ClientCommand, ServerCommand, State, TransferEnd};
 use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::sdo::rules::block::{check_block_size, clamp_block_size, Acked, Receiver, Sender};
@@ -146,7 +146,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                 if cmd != ServerCommand::BlockDownload(ServerBlockDownload::End) {
                     return self.abort_object(index, sub, AbortCode::InvalidCommandSpecifier);
                 }
-                self.finish(ClientEvent::Downloaded { index, sub, len });
+                self.finish(TransferEnd::Downloaded { index, sub, len });
             }
             State::BlockUploadInitiated { index, sub } => match cmd {
                 ServerCommand::BlockUpload(ServerBlockUpload::Initiate(answer)) => {
@@ -186,7 +186,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                         }
                         // End acknowledged.
                         self.send(ClientCommand::BlockUpload(ClientBlockUpload::End));
-                        self.finish(ClientEvent::Uploaded {
+                        self.finish(TransferEnd::Uploaded {
                             index,
                             sub,
                             len: ended.total,

@@ -5,7 +5,7 @@ use std::vec::Vec;
 
 use crate::abort::AbortCode;
 use crate::machine::Machine;
-use crate::sdo::{AbortOrigin, Client, ClientConfig, ClientError, ClientEvent};
+use crate::sdo::{AbortOrigin, Client, ClientConfig, ClientError, ClientEvent, TransferEnd};
 use crate::{CanFrame, NodeId, Timestamp};
 
 fn client() -> Client<&'static [u8]> {
@@ -44,11 +44,11 @@ fn downloads_that_need_segments_are_refused() {
     );
     assert_eq!(
         c.poll_event(),
-        Some(ClientEvent::Downloaded {
+        Some(ClientEvent::Ended(TransferEnd::Downloaded {
             index: 0x2000,
             sub: 1,
             len: 4
-        })
+        }))
     );
 }
 
@@ -74,12 +74,12 @@ fn segmented_upload_responses_are_aborted() {
         assert_eq!(sent(&mut c), None);
         assert_eq!(
             c.poll_event(),
-            Some(ClientEvent::Aborted {
+            Some(ClientEvent::Ended(TransferEnd::Aborted {
                 index: 0x1008,
                 sub: 0,
                 code: AbortCode::InvalidCommandSpecifier,
                 origin: AbortOrigin::Local,
-            })
+            }))
         );
         assert_eq!(c.poll_event(), None);
         assert!(!c.is_busy());
@@ -110,11 +110,11 @@ fn expedited_uploads_still_run() {
     ));
     assert_eq!(
         c.poll_event(),
-        Some(ClientEvent::Uploaded {
+        Some(ClientEvent::Ended(TransferEnd::Uploaded {
             index: 0x1000,
             sub: 0,
             len: 4
-        })
+        }))
     );
     assert_eq!(sent(&mut c), None);
 }
@@ -140,13 +140,14 @@ fn other_commands_while_initiating() {
         sent(&mut c),
         Some(vec![0x80, 0x08, 0x10, 0x00, 0x01, 0x00, 0x04, 0x05])
     );
-    assert!(matches!(
+    assert_eq!(
         c.poll_event(),
-        Some(ClientEvent::Aborted {
-            code: AbortCode::InvalidCommandSpecifier,
-            ..
-        })
-    ));
+        Some(ClientEvent::Ended(TransferEnd::local_abort(
+            0x1008,
+            0,
+            AbortCode::InvalidCommandSpecifier
+        )))
+    );
 }
 
 /// The bound of the event queue: one call leaves at most
@@ -208,30 +209,30 @@ fn one_call_leaves_at_most_events_per_call() {
 #[test]
 fn responses_against_the_running_transfer() {
     let local = |code| {
-        Some(ClientEvent::Aborted {
+        Some(ClientEvent::Ended(TransferEnd::Aborted {
             index: 0x1008,
             sub: 0,
             code,
             origin: AbortOrigin::Local,
-        })
+        }))
     };
     let peer = |code| {
-        Some(ClientEvent::Aborted {
+        Some(ClientEvent::Ended(TransferEnd::Aborted {
             index: 0x1008,
             sub: 0,
             code,
             origin: AbortOrigin::Peer,
-        })
+        }))
     };
     let cases: [(bool, [u8; 8], Option<ClientEvent>); 9] = [
         (
             false,
             [0x60, 0x08, 0x10, 0x00, 0, 0, 0, 0],
-            Some(ClientEvent::Downloaded {
+            Some(ClientEvent::Ended(TransferEnd::Downloaded {
                 index: 0x1008,
                 sub: 0,
                 len: 2,
-            }),
+            })),
         ),
         (
             false,
@@ -290,14 +291,16 @@ fn responses_against_the_running_transfer() {
         // The client sends an abort exactly when it aborts itself.
         let aborts = matches!(
             event,
-            Some(ClientEvent::Aborted {
+            Some(ClientEvent::Ended(TransferEnd::Aborted {
                 origin: AbortOrigin::Local,
                 ..
-            })
+            }))
         );
         let abort = sent(&mut c);
         assert_eq!(abort.is_some(), aborts, "{answer:02X?}");
-        if let (Some(frame), Some(ClientEvent::Aborted { code, .. })) = (abort, event) {
+        if let (Some(frame), Some(ClientEvent::Ended(TransferEnd::Aborted { code, .. }))) =
+            (abort, event)
+        {
             let mut expected = vec![0x80, 0x08, 0x10, 0x00];
             expected.extend_from_slice(&code.to_u32().to_le_bytes());
             assert_eq!(frame, expected);

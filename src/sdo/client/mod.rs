@@ -6,7 +6,7 @@
 //! transfers only (values of 1..=4 bytes): [`Client::start_download`] of
 //! any other length returns [`ClientError::SegmentedUnsupported`] and
 //! sends nothing, and a server that answers an upload initiate segmented
-//! gets abort 05040001h (one [`ClientEvent::Aborted`], origin local).
+//! gets abort 05040001h (one [`TransferEnd::Aborted`], origin local).
 //!
 //! # Driving it
 //!
@@ -44,7 +44,7 @@
 //! # Data without allocation
 //!
 //! An upload is delivered as it arrives: one [`ClientEvent::UploadData`] per
-//! frame (at most 7 bytes, with its offset), then [`ClientEvent::Uploaded`]
+//! frame (at most 7 bytes, with its offset), then [`TransferEnd::Uploaded`]
 //! with the total length. A download reads from the caller's data `D`
 //! (anything `AsRef<[u8]>`: a slice, an array, a `Vec`), which the client
 //! holds until the transfer ends. With the `alloc` feature,
@@ -72,12 +72,13 @@
 use core::time::Duration;
 
 use super::data::{ExpeditedData, InitiatePayload, SegmentData};
+use super::end::TransferEnd;
 use super::rules::block::MAX_BLOCK_SIZE;
 #[cfg(feature = "sdo-block")]
 use super::rules::block::{clamp_block_size, Receiver, Sender};
 #[cfg(feature = "sdo-client-segmented")]
 use super::rules::segmented::Segments;
-use super::server::{AbortOrigin, DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT};
+use super::server::{DEFAULT_EVENT_CAPACITY, DEFAULT_TIMEOUT};
 #[cfg(feature = "sdo-block")]
 use super::wire::{BlockDataInitiate, BlockUploadInitiate, ClientBlockDownload, ClientBlockUpload};
 use super::wire::{ClientCommand, SdoFrame, ServerCommand};
@@ -96,7 +97,8 @@ crate::clock::timer_kind! {
     }
 }
 
-/// What the client reports.
+/// What the client reports: the value an upload reads, piece by piece,
+/// then how the transfer ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum ClientEvent {
@@ -111,42 +113,23 @@ pub enum ClientEvent {
         /// 1..=7 bytes.
         data: SegmentData,
     },
-    /// The upload completed with `len` bytes in total.
-    Uploaded {
-        /// Object index.
-        index: u16,
-        /// Sub-index.
-        sub: u8,
-        /// Total bytes delivered in `UploadData` events.
-        len: usize,
-    },
-    /// The download completed: the server accepted `len` bytes.
-    Downloaded {
-        /// Object index.
-        index: u16,
-        /// Sub-index.
-        sub: u8,
-        /// Bytes written.
-        len: usize,
-    },
-    /// The transfer ended in an abort.
-    Aborted {
-        /// Object index of the transfer.
-        index: u16,
-        /// Sub-index of the transfer.
-        sub: u8,
-        /// The abort code sent or received.
-        code: AbortCode,
-        /// Who aborted.
-        origin: AbortOrigin,
-    },
+    /// The transfer ended: uploaded (`len`, the bytes delivered in
+    /// `UploadData` events), downloaded (the server accepted `len` bytes)
+    /// or aborted.
+    Ended(TransferEnd),
+}
+
+impl From<TransferEnd> for ClientEvent {
+    fn from(end: TransferEnd) -> Self {
+        ClientEvent::Ended(end)
+    }
 }
 
 impl ClientEvent {
     /// True for the events that end a transfer.
     #[must_use]
     pub const fn is_terminal(&self) -> bool {
-        !matches!(self, ClientEvent::UploadData { .. })
+        matches!(self, ClientEvent::Ended(_))
     }
 }
 
@@ -288,7 +271,7 @@ enum State<D> {
 ///
 /// ```
 /// use canopen_codec::machine::Machine;
-/// use canopen_codec::sdo::{Client, ClientConfig, ClientEvent};
+/// use canopen_codec::sdo::{Client, ClientConfig, ClientEvent, TransferEnd};
 /// use canopen_codec::{CanFrame, NodeId, Timestamp};
 ///
 /// let server = NodeId::new(2).unwrap();
@@ -298,7 +281,7 @@ enum State<D> {
 ///            CanFrame::standard(0x602, &[0x2B, 0x17, 0x10, 0, 0xA0, 0x0F, 0, 0]).unwrap());
 /// let ack = CanFrame::standard(0x582, &[0x60, 0x17, 0x10, 0, 0, 0, 0, 0]).unwrap();
 /// client.handle_frame(Timestamp::from_millis(3), &ack);
-/// assert_eq!(client.poll_event(), Some(ClientEvent::Downloaded { index: 0x1017, sub: 0, len: 2 }));
+/// assert_eq!(client.poll_event(), Some(ClientEvent::Ended(TransferEnd::Downloaded { index: 0x1017, sub: 0, len: 2 })));
 /// ```
 ///
 /// `EVENTS` is the capacity of the event queue (default
@@ -495,7 +478,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// [`ClientConfig::crc`] and the protocol switch threshold
     /// [`ClientConfig::block_threshold`]. The value arrives as
     /// [`ClientEvent::UploadData`] pieces, as in a segmented upload, then
-    /// [`ClientEvent::Uploaded`].
+    /// [`TransferEnd::Uploaded`].
     ///
     /// Without the feature `sdo-block` it refuses with
     /// [`ClientError::BlockUnsupported`] and sends nothing (use
@@ -577,7 +560,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     }
 
     /// Aborts the running transfer with `code`: sends the abort frame and
-    /// reports [`ClientEvent::Aborted`]. Returns false (and does nothing)
+    /// reports [`TransferEnd::Aborted`]. Returns false (and does nothing)
     /// when idle.
     pub fn abort(&mut self, now: Timestamp, code: AbortCode) -> bool {
         let _ = now;
@@ -634,11 +617,6 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         });
     }
 
-    fn arm(&mut self, now: Timestamp) {
-        self.timers
-            .set(ClientTimer::Response, Some(now.add_micros(self.timeout_us)));
-    }
-
     /// Queues `command` as a frame of 8 bytes on the request identifier
     /// (every byte the command leaves undefined zero).
     #[inline]
@@ -653,16 +631,6 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         }
     }
 
-    fn emit(&mut self, event: ClientEvent) {
-        self.events.push(event);
-    }
-
-    fn finish(&mut self, event: ClientEvent) {
-        self.state = State::Idle;
-        self.timers.set(ClientTimer::Response, None);
-        self.emit(event);
-    }
-
     fn abort_local(&mut self, code: AbortCode) {
         let (index, sub) = self.object();
         self.abort_object(index, sub, code);
@@ -670,12 +638,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
 
     fn abort_object(&mut self, index: u16, sub: u8, code: AbortCode) {
         self.send(ClientCommand::Abort { index, sub, code });
-        self.finish(ClientEvent::Aborted {
-            index,
-            sub,
-            code,
-            origin: AbortOrigin::Local,
-        });
+        self.finish(TransferEnd::local_abort(index, sub, code));
     }
 }
 

@@ -12,12 +12,12 @@
 //! One call leaves at most two events (an expedited upload's data, then
 //! `Uploaded`): [`EVENTS_PER_CALL`](crate::sdo::EVENTS_PER_CALL).
 
-use super::{AbortCode, Client, ClientEvent, SdoFrame, SegmentData, ServerCommand, State};
+use super::{AbortCode, Client, SdoFrame, SegmentData, ServerCommand, State, TransferEnd};
 use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::sdo::data::InitiatePayload;
 use crate::sdo::rules::block::is_abort;
-use crate::sdo::server::AbortOrigin;
+use crate::sdo::AbortOrigin;
 
 impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
     /// A data frame on the response identifier. Frames too short for
@@ -84,7 +84,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
             AbortCode::Other(0) => AbortCode::GeneralError,
             c => c,
         };
-        self.finish(ClientEvent::Aborted {
+        self.finish(TransferEnd::Aborted {
             index,
             sub,
             code,
@@ -119,7 +119,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
                     let piece = SegmentData::new(data.as_slice()).unwrap_or_default();
                     self.deliver(index, sub, 0, piece);
                 }
-                self.finish(ClientEvent::Uploaded {
+                self.finish(TransferEnd::Uploaded {
                     index,
                     sub,
                     len: data.len(),
@@ -162,6 +162,6 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
             State::DownloadInitiated { data, .. } => data.as_ref().len(),
             _ => 0,
         };
-        self.finish(ClientEvent::Downloaded { index, sub, len })
+        self.finish(TransferEnd::Downloaded { index, sub, len })
     }
 }

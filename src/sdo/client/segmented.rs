@@ -3,7 +3,7 @@
 //! `sdo-client-segmented`: the segments after a non-expedited initiate and
 //! their toggle and size checks (the rules in `crate::sdo::rules`).
 
-use super::{Client, ClientCommand, ClientEvent, State};
+use super::{Client, ClientCommand, State, TransferEnd};
 use crate::clock::Timestamp;
 use crate::sdo::data::{Segment, SegmentData};
 use crate::sdo::rules::segmented::{check_toggle, Segments};
@@ -42,7 +42,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
             self.deliver(index, sub, placed.offset, segment.data);
         }
         if segment.last {
-            return self.finish(ClientEvent::Uploaded {
+            return self.finish(TransferEnd::Uploaded {
                 index,
                 sub,
                 len: placed.total,
@@ -89,7 +89,7 @@ impl<D: AsRef<[u8]>, const EVENTS: usize> Client<D, EVENTS> {
         let value = data.as_ref();
         let len = value.len();
         if *sent >= len {
-            return self.finish(ClientEvent::Downloaded { index, sub, len });
+            return self.finish(TransferEnd::Downloaded { index, sub, len });
         }
         *toggle = !*toggle;
         let (segment, next) = segment_of(value, *sent, *toggle);

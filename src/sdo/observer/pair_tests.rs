@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::od::{Access, MemoryDictionary};
-use crate::sdo::{Client, ClientConfig, ClientEvent, Server, ServerConfig};
+use crate::sdo::{Client, ClientConfig, ClientEvent, Server, ServerConfig, TransferEnd};
 use alloc::vec::Vec;
 
 fn exchange(
@@ -96,7 +96,7 @@ fn every_transfer_type_of_every_length() {
                 panic!("{name} of {len}: {ends:?}");
             };
             assert_eq!(*bytes, len);
-            assert!(client_events.iter().any(|e| matches!(e, ClientEvent::Uploaded { len: l, .. } | ClientEvent::Downloaded { len: l, .. } if *l == len)));
+            assert!(client_events.iter().any(|e| matches!(e, ClientEvent::Ended(TransferEnd::Uploaded { len: l, .. }) | ClientEvent::Ended(TransferEnd::Downloaded { len: l, .. }) if *l == len)));
             if block {
                 assert!(matches!(
                     transfer.kind,

@@ -178,14 +178,18 @@ impl Ending for ClientEvent {
     fn ending(&self) -> Option<String> {
         Some(match *self {
             ClientEvent::UploadData { .. } => return None,
-            ClientEvent::Uploaded { index, sub, len } => ended("uploaded", index, sub, len),
-            ClientEvent::Downloaded { index, sub, len } => ended("downloaded", index, sub, len),
-            ClientEvent::Aborted {
+            ClientEvent::Ended(TransferEnd::Uploaded { index, sub, len }) => {
+                ended("uploaded", index, sub, len)
+            }
+            ClientEvent::Ended(TransferEnd::Downloaded { index, sub, len }) => {
+                ended("downloaded", index, sub, len)
+            }
+            ClientEvent::Ended(TransferEnd::Aborted {
                 index,
                 sub,
                 code,
                 origin,
-            } => aborted(index, sub, code, origin),
+            }) => aborted(index, sub, code, origin),
         })
     }
 }

@@ -60,6 +60,7 @@
 use core::time::Duration;
 
 use super::data::InitiatePayload;
+use super::end::{AbortOrigin, TransferEnd};
 use super::rules::block::{is_abort, MAX_BLOCK_SIZE};
 #[cfg(feature = "sdo-block")]
 use super::rules::block::{Receiver, Sender};
@@ -105,65 +106,9 @@ type Initiated = Result<(ServerCommand, Option<ServerEvent>), AbortCode>;
 /// The default SDO timeout: 2000 ms, Delta-Q's recommendation.
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_millis(2000);
 
-/// Who ended a transfer with an abort.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[non_exhaustive]
-pub enum AbortOrigin {
-    /// This side detected the failure and sent the abort frame.
-    Local,
-    /// The peer sent an abort frame; nothing was sent back.
-    Peer,
-    /// A new initiate request replaced the transfer (server only; no frame
-    /// sent, the code is [`AbortCode::GeneralError`]).
-    Superseded,
-}
-
-/// What the server reports.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[non_exhaustive]
-pub enum ServerEvent {
-    /// An upload completed: `len` bytes were read by the client.
-    Uploaded {
-        /// Object index.
-        index: u16,
-        /// Sub-index.
-        sub: u8,
-        /// Bytes transferred.
-        len: usize,
-    },
-    /// A download completed and the dictionary accepted it.
-    Downloaded {
-        /// Object index.
-        index: u16,
-        /// Sub-index.
-        sub: u8,
-        /// Bytes written.
-        len: usize,
-    },
-    /// The transfer ended in an abort.
-    Aborted {
-        /// Object index of the transfer.
-        index: u16,
-        /// Sub-index of the transfer.
-        sub: u8,
-        /// The abort code sent or received.
-        code: AbortCode,
-        /// Who aborted.
-        origin: AbortOrigin,
-    },
-}
-
-impl ServerEvent {
-    /// The object the event is about.
-    #[must_use]
-    pub const fn object(&self) -> (u16, u8) {
-        match *self {
-            ServerEvent::Uploaded { index, sub, .. }
-            | ServerEvent::Downloaded { index, sub, .. }
-            | ServerEvent::Aborted { index, sub, .. } => (index, sub),
-        }
-    }
-}
+/// What the server reports: how each transfer ended, the one type the
+/// client reports it with too ([`TransferEnd`]).
+pub type ServerEvent = TransferEnd;
 
 /// Identifiers and timeout of one SDO server channel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -508,16 +453,6 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         }
     }
 
-    fn emit(&mut self, event: ServerEvent) {
-        self.events.push(event);
-    }
-
-    fn finish(&mut self, event: ServerEvent) {
-        self.state = State::Idle;
-        self.timers.set(ServerTimer::Request, None);
-        self.emit(event);
-    }
-
     /// Ends the running transfer (or answers a stray request) with an abort
     /// frame and, for a running transfer, an Aborted event.
     fn abort_local(&mut self, code: AbortCode) {
@@ -528,12 +463,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
     fn abort_object(&mut self, index: u16, sub: u8, code: AbortCode) {
         self.cancel();
         self.send(ServerCommand::Abort { index, sub, code });
-        self.emit(ServerEvent::Aborted {
-            index,
-            sub,
-            code,
-            origin: AbortOrigin::Local,
-        });
+        self.emit(TransferEnd::local_abort(index, sub, code));
     }
 
     fn abort_by_peer(&mut self, code: AbortCode) {
@@ -566,11 +496,6 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         });
     }
 
-    fn arm(&mut self, now: Timestamp) {
-        self.timers
-            .set(ServerTimer::Request, Some(now.add_micros(self.timeout_us)));
-    }
-
     /// A new transfer of `index`/`sub` (an upload when `download` is
     /// `None`): the running one superseded, the object looked up, and every
     /// failure answered by one abort frame for the object (one call site of
@@ -601,12 +526,7 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
             Ok(answer) => answer,
             Err(code) => (
                 ServerCommand::Abort { index, sub, code },
-                Some(ServerEvent::Aborted {
-                    index,
-                    sub,
-                    code,
-                    origin: AbortOrigin::Local,
-                }),
+                Some(TransferEnd::local_abort(index, sub, code)),
             ),
         };
         self.send(response);
