@@ -1,5 +1,64 @@
 //! PDO mappings for the decoder: `--pdo COBID=INDEX:SUB:BITS,...`, the
 //! bundled capture's mapping (`--pdo-capture-mapping`) and the defaults.
+//!
+//! A PDO's bytes mean nothing without its mapping, so the decoder takes it
+//! as configuration:
+//!
+//! - `--pdo COBID=INDEX:SUB:BITS,...` (repeatable, one COB-ID each) gives
+//!   the mapping of the PDO on identifier COBID: COBID, INDEX and SUB in hex
+//!   (`18A` or `0x18A`), BITS in decimal, entries in mapping order. Dummy
+//!   entries (index 1..1F, e.g. `6:0:16`) and 2FFAh are padding. The
+//!   objects are named from the dictionary of the node the COB-ID belongs
+//!   to, as far as the evidence says whose it is: its EDS, else the battery
+//!   node's CiA 418, a Delta-Q charger's Delta-Q and CiA 418 objects, a
+//!   CiA 419 charger's CiA 418/419 objects; a node without a role or EDS
+//!   names nothing (`2002h unknown object: raw 1374h (16 bits)`). An entry
+//!   mapped with fewer bits than its object is read from those bits
+//!   (sign-extended for a signed object) and flagged `[deviates: mapped as
+//!   4 bits, object has 8]`.
+//! - Without `--pdo` for a COB-ID, the defaults apply to nodes with a role:
+//!   the Delta-Q charger's default PDOs on a Delta-Q charger's COB-IDs, the
+//!   CiA 418 battery-module defaults on the battery module's. A node has a
+//!   role only from evidence: `--charger-node` / `--battery-node`, its
+//!   EDS's 1000h, or its 1000h read by SDO in the log (profile 419:
+//!   charger, 418: battery module; reported on a line of its own). A charger
+//!   is a Delta-Q one only with Delta-Q evidence: `--charger-node`, an EDS
+//!   with Delta-Q's vendor ID, or 1018h:01 read in the log with Delta-Q's
+//!   vendor ID (00000110h; reported on a line of its own; in JSON each
+//!   fact learned is `{"kind":"role","node","role","deltaq","text"}`).
+//!   `--pdo-capture-mapping` and the bundled session imply the Delta-Q
+//!   charger 10 and battery module 1. `--no-default-pdos` turns the
+//!   defaults off. A frame with no known mapping is printed raw, as before.
+//! - `--pdo-capture-mapping` decodes the real Delta-Q captures (third-party
+//!   data, not in this repository; see tests/data/CAPTURES.md): it adds the
+//!   mapping of tests/data/CAPTURES.md (the integrator remapped that
+//!   charger) and implies `--no-default-pdos`; 0x28A, whose layout is not
+//!   published, stays raw. It is the same as
+//!
+//! ```text
+//! canopen-decode --no-default-pdos \
+//!     --pdo 18A=2002:0:16,2101:0:16,2006:0:16,6:0:16 \
+//!     --pdo 38A=2060:0:32,2200:0:16,6080:0:8,5:0:8 \
+//!     --pdo 20A=2FFA:1:8,6081:0:8,4201:0:8,2276:0:16,6070:0:16,6000:0:8 \
+//!     --pdo 30A=2FFA:1:8,2FFA:1:8,2002:0:16,2101:0:16,6010:0:16 \
+//!     deltaq-icl1500-charging.log
+//! ```
+//!
+//! In words, the fields follow the frame after ` = `, numbers **rounded to
+//! at most 2 decimals** with trailing zeros dropped (halves away from zero:
+//! 0x1374/256 A prints `19.45 A`, 0x07BA/16 V `123.63 V`, 0x5200/256 V
+//! `82 V`), padding left out, and
+//! `(+N unmapped bytes)` when the frame is longer than its mapping; a
+//! default mapping is labelled `[charger default]` / `[battery default]`.
+//! In `--json` the frame gets `mapping` (`given`, `charger default`,
+//! `battery default`), `unmapped_bytes` and `fields`: one object per entry
+//! with `index`, `sub`, `bits`, `name`, `raw`, `kind` (`scaled`, `flags`,
+//! `invalid`, `no_value`, `padding`, `missing`, `raw`, ...), `value` (the
+//! **exact** number for scaled values, e.g. 19.453125; words for bit fields
+//! and codes; null otherwise), `unit` where the object has one, and `text`.
+//!
+//! 6010h temperature is decoded per CiA 418 (0.125 degC/bit, no offset):
+//! the capture README's DBC adds -40 degC, which the profile does not have.
 
 use crate::cia418::BATTERY_MODULE_CATALOGUE;
 use crate::cia419::CHARGER_CATALOGUE as CIA419_CATALOGUE;

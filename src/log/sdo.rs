@@ -10,6 +10,52 @@
 //! abort after it, by an acknowledgement the frames on the bus do not make,
 //! by silence longer than [`TIMEOUT`], or by the end of the log
 //! ([`Tracker::finish`]). Each is reported once.
+//!
+//! ## The program's transfer lines
+//!
+//! The decoder follows one SDO transfer per server node (requests on
+//! 0x600 + node, responses on 0x580 + node) and, after the frame that ends
+//! one, prints one extra line (in `--json`, one extra object):
+//!
+//! ```text
+//! 1757100000.207750  transfer  -        SDO upload 1008h:00 from node 2: 26 bytes "Tiny Node - Mega Domains !" (manufacturer device name)
+//! 1757100000.101350  transfer  -        SDO download 1017h:00 to node 2: A0 0F (producer heartbeat time: 4000 ms)
+//! 1757100000.501350  transfer  -        SDO upload 1018h:01 from node 2 aborted: 06090011h Sub-index does not exist
+//! ```
+//!
+//! - A transfer ends with the expedited response or acknowledgement, the
+//!   last upload segment (c = 1), the acknowledgement of the last download
+//!   segment, or an abort from either side (`aborted by the client` when the
+//!   client sent it; the transfer's own index and sub-index are shown, not
+//!   the abort frame's).
+//! - A transfer broken off (a new initiate on its channel, a wrong toggle
+//!   bit, a response for another object, a frame that does not fit, a
+//!   malformed frame, or the end of the log) is reported once as
+//!   `incomplete: <why> (N bytes transferred of M indicated)`. Frames with no
+//!   transfer open (a stray segment, an abort) add no transfer line.
+//! - An indicated size other than the bytes transferred is printed as
+//!   `[size mismatch: ...]` (JSON `size_mismatch`, `indicated_size`, `size`);
+//!   an expedited value with s = 0 as `[size not indicated]`. At most 64 KiB
+//!   of a transfer are kept (`[truncated: ...]`, JSON `truncated`); the
+//!   count goes on.
+//! - The value is named and interpreted where the object is known: every
+//!   object of the CiA 301 communication profile area 1000h-1FFFh on any
+//!   node (1000h with the CiA 418 optional PDOs when its profile is 418,
+//!   1003h with the Delta-Q code on a Delta-Q charger, 100Ch/100Dh, 1005h,
+//!   1010h/1011h, 1029h, 1200h-12FFh, the PDO parameters 1400h-1BFFh
+//!   numbered from 0 as the frame lines do: 1800h is TPDO0, 1F50h-1F57h,
+//!   1F80h, ...; an unassigned index as reserved), and the profile objects
+//!   of the node's catalogue: Delta-Q then CiA 418 on a Delta-Q charger,
+//!   CiA 418/419 on a CiA 419 charger and on the battery node. A node with
+//!   no role gets no profile names: bytes only.
+//! - Block transfers are reassembled like segmented ones.
+//!
+//! JSON: `{"t","kind":"sdo_transfer","node","role","direction":"upload"|
+//! "download","index","sub","status":"complete"|"aborted"|"incomplete",
+//! "size","indicated_size","size_indicated","size_mismatch","truncated",
+//! "bytes"(hex),"name","value","unit","meaning","text"}` plus
+//! `"abort":{"code","meaning","by"}` or `"incomplete":"why"`; `value`,
+//! `unit` and `meaning` are null unless the transfer completed.
 
 use std::collections::HashMap;
 use std::fmt::Write;
