@@ -35,7 +35,8 @@ pub enum Scenario {
     BmsLostBefore,
     /// The BMS is lost at 10 min while charging (remote: the charge stops).
     BmsLostDuring,
-    /// The charger's CAN controller reports a bus error from 5 to 6 min.
+    /// The bus is off from 5 to 6 min (a CAN bus error): the charger's
+    /// controller goes bus-off and reports it.
     CanBusError,
     /// No BMS ever appears: local mode charges after the hold-off with its
     /// no-CAN algorithm; remote mode never charges.
@@ -173,7 +174,7 @@ impl Scenario {
     /// Its bus events at their simulated times, after the session's start.
     fn script(self) -> &'static [Step] {
         use Step::{
-            Algorithm, BatteryConnected, BusError, CurrentLimit, Hold, LowerVoltage, Minutes,
+            Algorithm, BatteryConnected, BusOff, CurrentLimit, Hold, LowerVoltage, Minutes,
             ModuleOnCan, Seconds, SetAhTarget, UntilFinished, UntilMs,
         };
         match self {
@@ -190,13 +191,7 @@ impl Scenario {
             ],
             Scenario::BmsLostBefore => &[UntilMs(5000), ModuleOnCan(false), Minutes(10)],
             Scenario::BmsLostDuring => &[Minutes(10), ModuleOnCan(false), Minutes(2)],
-            Scenario::CanBusError => &[
-                Minutes(5),
-                BusError(true),
-                Minutes(1),
-                BusError(false),
-                Minutes(5),
-            ],
+            Scenario::CanBusError => &[Minutes(5), BusOff(60), Minutes(6)],
             Scenario::ChangeAlgorithm => &[Minutes(10), Algorithm(Pick::Other), Minutes(10)],
             Scenario::AhTarget => &[
                 UntilMs(1000),
@@ -260,8 +255,8 @@ enum Step {
     },
     /// The battery module's node is on the bus, or off it.
     ModuleOnCan(bool),
-    /// The charger's CAN controller reports a bus error, or no more.
-    BusError(bool),
+    /// The bus is off (a CAN bus error) for this many seconds.
+    BusOff(u64),
     /// The battery's leads are connected, or not.
     BatteryConnected(bool),
     /// The BMS sets an Ah target (2250h, ours: 1/8 Ah).
@@ -304,7 +299,7 @@ impl Step {
                 s.write_charger(index::VOLTAGE_REQUEST, 0, &q10.to_le_bytes());
             }
             Step::ModuleOnCan(on) => s.set_module_on_can(on),
-            Step::BusError(on) => s.set_bus_error(on),
+            Step::BusOff(n) => s.bus_off(Duration::from_secs(n)),
             Step::BatteryConnected(on) => s.set_battery_connected(on),
             Step::SetAhTarget { ah } => {
                 s.write_charger(AH_TARGET, 0, &ah.saturating_mul(8).to_le_bytes())

@@ -11,7 +11,12 @@
 //! is sent (none by default) unless the bus loses it
 //! ([`SessionConfig::bus_loss`], seeded: the same configuration loses the
 //! same frames; [`Session::set_loss`]) or is off ([`Session::bus_off`]),
-//! and every frame that reached the bus is kept in [`Session::log`]. The physics runs every
+//! and every frame that reached the bus is kept in [`Session::log`]. The
+//! bus models each node's CAN controller ([`Bus::confine_errors`]): a bus
+//! that is off takes a node that sends to bus-off, a heavy loss takes it
+//! error passive, and the charger's application reports its controller's
+//! state to it as a real one reads its CAN controller's status (Delta-Q
+//! E-0-2-9 while not error active). The physics runs every
 //! [`SessionConfig::tick`]: the power stage follows the charger's set
 //! points, the pack takes its current, the charger gets the measurements
 //! and the module's objects (6000h, 6010h, 6060h, 6070h, 6081h) come from
@@ -25,7 +30,7 @@
 use alloc::vec::Vec;
 use core::time::Duration;
 
-use super::bus::{Bus, Handle};
+use super::bus::{Bus, ControllerState, Handle};
 use super::{BmsPolicy, Pack, PackSpec, PowerStageModel};
 use crate::cia418::{BatteryModule, BatteryModuleConfig, Chemistry, DeviceType};
 use crate::clock::Timestamp;
@@ -234,8 +239,8 @@ pub struct Session {
     wh: f64,
     max_temperature: f64,
     bus_seed: u64,
-    /// When the bus-off of [`Session::bus_off`] ends.
-    bus_back: Option<Timestamp>,
+    /// The charger's CAN controller's state as last reported to it.
+    controller: ControllerState,
     /// The charger's alarms and faults active now, in the order raised.
     active: Vec<DeltaQCode>,
     /// Every raise and clear of them.
@@ -274,6 +279,7 @@ impl Session {
         });
         let mut bus = Bus::new(config.bus_latency);
         bus.set_loss(config.bus_loss, config.bus_seed);
+        bus.confine_errors(true);
         let charger = bus.add("Charger", Charger::new(config.charger));
         let module = bus.add("Module", module);
         let master = bus.add("BMS", BmsMaster::new());
@@ -301,7 +307,7 @@ impl Session {
             wh: 0.0,
             max_temperature: pack.temperature_c(),
             bus_seed: config.bus_seed,
-            bus_back: None,
+            controller: ControllerState::ErrorActive,
             active: Vec::new(),
             alarm_changes: Vec::new(),
         };
@@ -396,12 +402,12 @@ impl Session {
         self.bus.set_connected(self.master, on);
     }
 
-    /// The charger's CAN controller reports a bus error, or is back.
-    pub fn set_bus_error(&mut self, error: bool) {
-        let _ = self
-            .bus
-            .with(self.charger, |c, now| c.set_bus_error(now, error));
-        self.settle();
+    /// The charger's CAN controller's state now (ISO 11898-1 fault
+    /// confinement, on the session's bus): what its application reports
+    /// to it (E-0-2-9 while not error active).
+    #[must_use]
+    pub fn charger_controller(&self) -> ControllerState {
+        self.bus.controller_state(self.charger)
     }
 
     /// From now on each frame is lost with `probability` (0: none), drawn
@@ -411,16 +417,16 @@ impl Session {
         self.bus.set_loss(probability, self.bus_seed);
     }
 
-    /// The bus is off for `duration` from now (CiA 301 section 7.2.8:
-    /// the error counters of ISO 11898-1 took the charger's controller to
-    /// bus-off): nothing is sent or delivered, and the charger's CAN
-    /// controller reports a bus error (Delta-Q E-0-2-9) until it is back.
+    /// The bus is off for `duration` from now (a CAN bus error: shorted
+    /// or open lines): nothing is sent or delivered. A node that tries to
+    /// send fails every retransmission, and the error counters of ISO
+    /// 11898-1 take its controller to bus-off until the bus is back and it
+    /// has recovered; the charger's reports it (Delta-Q E-0-2-9) from its
+    /// first frame in the window until then.
     pub fn bus_off(&mut self, duration: Duration) {
         let now = self.now();
-        let back = now.add_duration(duration);
-        self.bus.bus_off(now, back);
-        self.bus_back = Some(back);
-        self.set_bus_error(true);
+        self.bus.bus_off(now, now.add_duration(duration));
+        self.settle();
     }
 
     /// The charger's alarms and faults active now, in the order raised
@@ -533,20 +539,16 @@ impl Session {
             self.after_step();
             let now = self.bus.now();
             let due = self.bus.next_due();
-            let Some(next) = crate::clock::earliest([due, Some(self.next_tick), self.bus_back])
-            else {
+            let back = self.bus.recovers_at(self.charger);
+            let Some(next) = crate::clock::earliest([due, Some(self.next_tick), back]) else {
                 break;
             };
             if !end.has_reached(next) {
                 self.bus.advance(end);
                 break;
             }
-            if let Some(back) = self.bus_back.filter(|b| next.has_reached(*b)) {
+            if let Some(back) = back.filter(|b| next.has_reached(*b)) {
                 self.bus.advance(back);
-                self.bus_back = None;
-                let _ = self
-                    .bus
-                    .with(self.charger, |c, now| c.set_bus_error(now, false));
                 continue;
             }
             if due.is_some_and(|d| self.next_tick.has_reached(d)) {
@@ -646,6 +648,14 @@ impl Session {
     /// charger's phases, and the BMS's writes (the next one started once
     /// the tool is idle; 1803h queued when the charger is configured).
     fn after_step(&mut self) {
+        let state = self.bus.controller_state(self.charger);
+        if state != self.controller {
+            self.controller = state;
+            let error = state != ControllerState::ErrorActive;
+            let _ = self
+                .bus
+                .with(self.charger, |c, now| c.set_bus_error(now, error));
+        }
         let charger_emcy = 0x080 + u32::from(CHARGER_NODE.raw());
         for sent in self.bus.take_log() {
             if sent.from == "Charger" && sent.frame.identity() == charger_emcy {

@@ -39,6 +39,10 @@
 //!   controller's bus-off (CiA 301 section 7.2.8, the error counters of
 //!   ISO 11898-1) is reported to a device by its application, which a test
 //!   does through [`Bus::with`] (for example `Charger::set_bus_error`).
+//! - **Fault confinement** ([`Bus::confine_errors`], off by default): each
+//!   machine's CAN controller counts the errors it sees (ISO 11898-1), so
+//!   a lossy bus takes it error passive and a bus that is off takes it
+//!   bus-off, deaf and mute until it recovers ([`Bus::controller_state`]).
 //! - **Observation**: [`Bus::run_until_observed`] and
 //!   [`Bus::step_observed`] call an observer around every single delivery
 //!   ([`Delivery`]: which frame, to which machine, before or after it was
@@ -108,9 +112,12 @@ pub const OUTSIDE: &str = "Outside";
 /// Clock steps [`Bus::run_until`] takes before it reports a [`Livelock`].
 pub const RUN_UNTIL_MAX_STEPS: usize = 1_000_000;
 
+mod controller;
 mod record;
 mod slot;
 
+use controller::Controller;
+pub use controller::{ControllerState, RECOVERY};
 pub use record::{Delivery, Fate, Handle, Livelock, Sent};
 use record::{Loss, SplitMix64};
 use slot::{Node, Slot};
@@ -121,6 +128,7 @@ type Observer<'a> = &'a mut dyn FnMut(&Delivery, &Bus);
 struct Entry {
     name: &'static str,
     node: Box<dyn Node>,
+    controller: Controller,
 }
 
 struct InFlight {
@@ -157,6 +165,8 @@ pub struct Bus {
     /// The bus-off window, `[from, until)`.
     off: Option<(Timestamp, Timestamp)>,
     lost_to_bus_off: u64,
+    /// The controllers' fault confinement is modelled.
+    confine: bool,
 }
 
 impl fmt::Debug for Bus {
@@ -191,6 +201,7 @@ impl Bus {
             loss: None,
             off: None,
             lost_to_bus_off: 0,
+            confine: false,
         }
     }
 
@@ -231,6 +242,7 @@ impl Bus {
                 drain: true,
                 connected: true,
             }),
+            controller: Controller::default(),
         });
         Handle {
             index: self.entries.len().saturating_sub(1),
@@ -400,6 +412,9 @@ impl Bus {
     /// ([`Fate::BusOff`]). Replaces an earlier window.
     pub fn bus_off(&mut self, from: Timestamp, until: Timestamp) {
         self.off = Some((from, until));
+        for e in &mut self.entries {
+            e.controller.extend(from, until);
+        }
     }
 
     /// Whether the bus is off at `at`.
@@ -588,7 +603,7 @@ impl Bus {
 
     /// The fate of a frame sent now by `from`, with its delay.
     fn fate(&mut self, sent: &mut Sent, from: Option<usize>) {
-        if self.is_off(self.now) {
+        if self.confined_off(from) || self.is_off(self.now) {
             sent.fate = Fate::BusOff;
             self.lost_to_bus_off = self.lost_to_bus_off.saturating_add(1);
             return;
@@ -623,6 +638,9 @@ impl Bus {
         } else {
             Fate::Delivered
         };
+        if let Some(i) = from.filter(|_| self.confine) {
+            self.confine_sent(i, sent.fate);
+        }
     }
 
     fn put(&mut self, from: Option<usize>, frame: CanFrame) {
@@ -715,7 +733,7 @@ impl Bus {
                 let Some(e) = self.entries.get(i) else {
                     break;
                 };
-                if Some(i) == d.from || !e.node.is_connected() {
+                if Some(i) == d.from || !e.node.is_connected() || self.deaf(i) {
                     continue;
                 }
                 let mut seen = Delivery {
