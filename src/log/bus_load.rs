@@ -661,7 +661,7 @@ impl BusLoad {
 
     /// The load as the JSON summary's `"bus_load"` object.
     pub fn json(&self, out: &mut String) {
-        use crate::log::json::float;
+        use crate::log::json::{array, float};
         let (bitrate, assumed) = self.bitrate();
         let (lo, mean, hi) = self.mean_percent();
         let _ = write!(
@@ -685,11 +685,8 @@ impl BusLoad {
             }
             None => out.push_str("null"),
         }
-        out.push_str(",\"nodes\":[");
-        for (i, (n, s)) in self.nodes().iter().enumerate() {
-            if i > 0 {
-                out.push(',');
-            }
+        out.push_str(",\"nodes\":");
+        array(out, &self.nodes(), |out, (n, s)| {
             out.push_str("{\"node\":");
             if *n == 0 {
                 out.push_str("null");
@@ -703,13 +700,10 @@ impl BusLoad {
             );
             float(out, self.share_percent(s));
             out.push('}');
-        }
-        out.push_str("],\"cob_ids\":[");
+        });
+        out.push_str(",\"cob_ids\":");
         let (ids, other) = self.cob_ids();
-        for (i, (id, s)) in ids.iter().enumerate() {
-            if i > 0 {
-                out.push(',');
-            }
+        array(out, &ids, |out, (id, s)| {
             let _ = write!(
                 out,
                 "{{\"cob_id\":{},\"extended\":{},\"frames\":{},\"bits\":{},\"share_percent\":",
@@ -720,10 +714,10 @@ impl BusLoad {
             );
             float(out, self.share_percent(s));
             out.push('}');
-        }
+        });
         let _ = write!(
             out,
-            "],\"other_cob_ids\":{{\"frames\":{},\"bits\":{}}},\"error_frames\":{},\"fd_frames\":{}}}",
+            ",\"other_cob_ids\":{{\"frames\":{},\"bits\":{}}},\"error_frames\":{},\"fd_frames\":{}}}",
             other.frames, other.bits, self.error_frames, self.fd_frames
         );
     }

@@ -687,6 +687,27 @@ pub fn is_number(s: &str) -> bool {
     rest.is_empty()
 }
 
+/// Appends a JSON array of `items`, `item` writing each one (the commas
+/// between them are written here): every list of the summary, the bus
+/// load and the report's data goes through it.
+///
+/// ```
+/// use canopen_codec::log::json::array;
+/// let mut out = String::new();
+/// array(&mut out, &[1, 2, 3], |out, n| out.push_str(&(n * 10).to_string()));
+/// assert_eq!(out, "[10,20,30]");
+/// ```
+pub fn array<T>(out: &mut String, items: &[T], mut item: impl FnMut(&mut String, &T)) {
+    out.push('[');
+    for (i, x) in items.iter().enumerate() {
+        if i > 0 {
+            out.push(',');
+        }
+        item(out, x);
+    }
+    out.push(']');
+}
+
 /// Appends `v` as serde_json writes an `f64`: the shortest digits that
 /// read back as `v`, laid out as serde_json lays them out (`1.0`, `0.25`,
 /// `1e-7`, `1.5e+300`), and `null` for NaN and the infinities. Where two

@@ -327,22 +327,11 @@ impl Summary {
     /// the order serde_json once wrote them); true when a problem is still
     /// open.
     pub fn json(&mut self, out: &mut String, roles: &Roles) -> bool {
-        use crate::log::json::{opt_text, text};
+        use crate::log::json::{array, opt_text, text};
         let open = self.finish();
         let secs = |out: &mut String, t: Timestamp| {
             let _ = write!(out, "{t}");
         };
-        // `[..]` of `n` items, `each` writing the `i`th.
-        fn list(out: &mut String, n: usize, each: &mut dyn FnMut(&mut String, usize)) {
-            out.push('[');
-            for i in 0..n {
-                if i > 0 {
-                    out.push(',');
-                }
-                each(out, i);
-            }
-            out.push(']');
-        }
         // `[{"<first>":<t>,"<second>":..},..]` of `items`, `value` writing
         // each second field.
         fn timed<V>(
@@ -352,18 +341,15 @@ impl Summary {
             second: &str,
             value: &dyn Fn(&mut String, &V),
         ) {
-            list(out, items.len(), &mut |out, i| {
-                if let Some((t, v)) = items.get(i) {
-                    let _ = write!(out, "{{\"{first}\":{t},\"{second}\":");
-                    value(out, v);
-                    out.push('}');
-                }
+            array(out, items, |out, (t, v)| {
+                let _ = write!(out, "{{\"{first}\":{t},\"{second}\":");
+                value(out, v);
+                out.push('}');
             });
         }
         out.push_str("{\"kind\":\"summary\",\"nodes\":");
         let nodes: Vec<(&u8, &Node)> = self.nodes.iter().filter(|n| !n.1.is_empty()).collect();
-        list(out, nodes.len(), &mut |out, i| {
-            let Some((id, n)) = nodes.get(i) else { return };
+        array(out, &nodes, |out, (id, n)| {
             let _ = write!(out, "{{\"node\":{id},\"role\":");
             opt_text(out, roles.role(NodeId::new(**id)));
             let _ = write!(out, ",\"heartbeats\":{},\"period_ms\":", n.heartbeats);
@@ -388,25 +374,19 @@ impl Summary {
                 None => out.push_str("null"),
             });
             out.push_str(",\"emcys\":");
-            list(out, n.emcys.len(), &mut |out, i| {
-                if let Some((t, what, cleared)) = n.emcys.get(i) {
-                    out.push_str("{\"t\":");
-                    secs(out, *t);
-                    out.push_str(",\"text\":");
-                    text(out, what);
-                    let _ = write!(out, ",\"cleared\":{cleared}}}");
-                }
+            array(out, &n.emcys, |out, (t, what, cleared)| {
+                out.push_str("{\"t\":");
+                secs(out, *t);
+                out.push_str(",\"text\":");
+                text(out, what);
+                let _ = write!(out, ",\"cleared\":{cleared}}}");
             });
             let _ = write!(
                 out,
                 ",\"sdo_transfers\":{},\"sdo_aborts\":",
                 n.sdo_transfers
             );
-            list(out, n.sdo_aborts.len(), &mut |out, i| {
-                if let Some(a) = n.sdo_aborts.get(i) {
-                    text(out, a);
-                }
-            });
+            array(out, &n.sdo_aborts, |out, a| text(out, a));
             let _ = write!(
                 out,
                 ",\"guard_requests\":{},\"guard_replies\":{}}}",
@@ -415,24 +395,20 @@ impl Summary {
         });
         out.push_str(",\"pdos\":");
         let pdos: Vec<_> = self.pdos.iter().collect();
-        list(out, pdos.len(), &mut |out, i| {
-            if let Some((id, (frames, first, last))) = pdos.get(i) {
-                let _ = write!(out, "{{\"cob_id\":{id},\"frames\":{frames},\"first\":");
-                secs(out, *first);
-                out.push_str(",\"last\":");
-                secs(out, *last);
-                out.push('}');
-            }
+        array(out, &pdos, |out, (id, (frames, first, last))| {
+            let _ = write!(out, "{{\"cob_id\":{id},\"frames\":{frames},\"first\":");
+            secs(out, *first);
+            out.push_str(",\"last\":");
+            secs(out, *last);
+            out.push('}');
         });
         let _ = write!(
             out,
             ",\"lss\":{{\"frames\":{},\"fastscans\":{},\"node_ids_configured\":",
             self.lss.frames, self.lss.fastscans
         );
-        list(out, self.lss.configured.len(), &mut |out, i| {
-            if let Some(n) = self.lss.configured.get(i) {
-                let _ = write!(out, "{n}");
-            }
+        array(out, &self.lss.configured, |out, n| {
+            let _ = write!(out, "{n}");
         });
         out.push_str("},\"bus_load_percent\":");
         crate::log::json::float(out, self.bus.mean_percent().1);

@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 use std::prelude::rust_2021::*;
 
-use crate::log::json::{float, opt_text, text};
+use crate::log::json::{array, float, opt_text, text};
 use crate::{NodeId, Timestamp};
 
 use super::{Collector, MarkKind};
@@ -365,28 +365,13 @@ impl Data<'_> {
         text(&mut out, &self.start);
         out.push_str(",\"span\":");
         float(&mut out, self.span);
-        out.push_str(",\"rows\":[");
-        for (i, r) in self.rows.iter().enumerate() {
-            if i > 0 {
-                out.push(',');
-            }
-            r.json(&mut out);
-        }
-        out.push_str("],\"series\":[");
-        for (i, s) in self.series.iter().enumerate() {
-            if i > 0 {
-                out.push(',');
-            }
-            s.json(&mut out);
-        }
-        out.push_str("],\"plots\":[");
-        for (i, p) in self.plots.iter().enumerate() {
-            if i > 0 {
-                out.push(',');
-            }
-            p.json(&mut out);
-        }
-        out.push_str("],\"plots_not_drawn\":");
+        out.push_str(",\"rows\":");
+        array(&mut out, &self.rows, |out, r| r.json(out));
+        out.push_str(",\"series\":");
+        array(&mut out, &self.series, |out, s| s.json(out));
+        out.push_str(",\"plots\":");
+        array(&mut out, &self.plots, |out, p| p.json(out));
+        out.push_str(",\"plots_not_drawn\":");
         text(&mut out, &self.plots_not_drawn);
         let _ = write!(out, ",\"marks\":{}}}", self.marks);
         out
@@ -397,31 +382,31 @@ impl Row<'_> {
     fn json(&self, out: &mut String) {
         let _ = write!(out, "{{\"node\":{},\"label\":", self.node);
         text(out, &self.label);
-        out.push_str(",\"states\":[");
-        for (i, (t, s)) in self.states.iter().enumerate() {
-            out.push_str(if i > 0 { ",[" } else { "[" });
+        out.push_str(",\"states\":");
+        array(out, &self.states, |out, (t, s)| {
+            out.push('[');
             float(out, *t);
             out.push(',');
             text(out, s);
             out.push(']');
-        }
+        });
         let _ = write!(
             out,
-            "],\"states_not_drawn\":{},\"marks\":[",
+            ",\"states_not_drawn\":{},\"marks\":",
             self.states_not_drawn
         );
-        for (i, (t, kind, what)) in self.marks.iter().enumerate() {
-            out.push_str(if i > 0 { ",[" } else { "[" });
+        array(out, &self.marks, |out, (t, kind, what)| {
+            out.push('[');
             float(out, *t);
             out.push(',');
             text(out, kind);
             out.push(',');
             text(out, what);
             out.push(']');
-        }
-        out.push_str("],\"silences\":[");
-        for (i, (from, to)) in self.silences.iter().enumerate() {
-            out.push_str(if i > 0 { ",[" } else { "[" });
+        });
+        out.push_str(",\"silences\":");
+        array(out, &self.silences, |out, (from, to)| {
+            out.push('[');
             float(out, *from);
             out.push(',');
             match to {
@@ -429,14 +414,14 @@ impl Row<'_> {
                 None => out.push_str("null"),
             }
             out.push(']');
-        }
-        out.push_str("],\"not_drawn\":[");
-        for (i, (kind, n)) in self.not_drawn.iter().enumerate() {
-            out.push_str(if i > 0 { ",[" } else { "[" });
+        });
+        out.push_str(",\"not_drawn\":");
+        array(out, &self.not_drawn, |out, (kind, n)| {
+            out.push('[');
             text(out, kind);
             let _ = write!(out, ",{n}]");
-        }
-        out.push_str("]}");
+        });
+        out.push('}');
     }
 }
 
@@ -473,15 +458,9 @@ impl Series<'_> {
 /// `,"name":[..]`: `t` the times in seconds from the start of the log,
 /// `v` the values at those times, `gaps` the times where the line breaks.
 fn float_arrays(out: &mut String, arrays: &[(&str, &[f64])]) {
-    for (name, values) in arrays {
-        let _ = write!(out, ",\"{name}\":[");
-        for (i, v) in values.iter().enumerate() {
-            if i > 0 {
-                out.push(',');
-            }
-            float(out, *v);
-        }
-        out.push(']');
+    for &(name, values) in arrays {
+        let _ = write!(out, ",\"{name}\":");
+        array(out, values, |out, v| float(out, *v));
     }
 }
 
