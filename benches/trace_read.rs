@@ -1,21 +1,35 @@
-//! Reading the same frames from a trace, per frame: as candump `-L` text
-//! (`trace::LineParser`), and as Vector BLF (`trace::blf::BlfReader`) with
-//! stored containers and with zlib ones (inflated with flate2, as
-//! `canopen-decode` does), the file fed in 64 KiB chunks as a program
-//! reads it. 20 000 frames of a CANopen mix (heartbeats, PDOs, SDO, SYNC,
-//! a remote and a 29-bit frame) with varying data, times 1 ms apart,
-//! containers of 128 KiB (python-can's `BLFWriter` size).
+//! Reading the same frames from a trace, per frame, through each format's
+//! public reader: candump `-L` text (`trace::LineParser`), Vector BLF
+//! (`trace::blf::BlfReader`) with stored containers and with zlib ones,
+//! pcapng (`trace::pcap::PcapReader`: the SocketCAN link type, one
+//! Enhanced Packet Block a frame, as dumpcap writes it) and ASAM MDF 4 bus
+//! logging (`trace::mf4::Mf4Reader`) as python-can's `MF4Writer` writes
+//! it, uncompressed (`##DT`) and in transposed deflate `##DZ` blocks (zlib
+//! inflated with flate2, as `canopen-decode` does). Files are fed in 64 KiB
+//! chunks, as a program reads them. Beside them the copy baseline: a
+//! memcpy of the candump text, the largest of the inputs.
+//!
+//! 100 000 frames of a CANopen mix (heartbeats, PDOs, SDO, SYNC, a remote
+//! and a 29-bit frame) with varying data, times 1 ms apart. BLF is written
+//! by the library's `BlfWriter` (containers of 128 KiB, python-can's
+//! `BLFWriter` size), pcapng by the lines below (PCAP Next Generation
+//! Dump File Format, sections 4.1 to 4.3), the MF4 files by python-can
+//! (`python3` with python-can and asammdf, run in the setup; without them
+//! the MF4 rows are left out and the bench says so).
 //!
 //! `cargo bench --bench trace_read`. Throughput is in frames.
 
 use std::hint::black_box;
 
 use canopen_codec::trace::blf::{BlfEvent, BlfReader, BlfWriter, Compression, Deflate};
+use canopen_codec::trace::inflate::{Inflate, Inflated};
+use canopen_codec::trace::mf4::{Mf4Event, Mf4Reader};
+use canopen_codec::trace::pcap::{PcapEvent, PcapReader};
 use canopen_codec::trace::{Format, LineParser, Record};
 use canopen_codec::{CanFrame, CanId};
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
-const N: u64 = 20_000;
+const N: u64 = 100_000;
 const START_US: u64 = 1_756_955_653_603_000;
 const CHUNK: usize = 64 * 1024;
 
@@ -105,6 +119,137 @@ impl Deflate for Zlib {
     }
 }
 
+/// A pcapng file of the frames: a Section Header Block, one Interface
+/// Description Block (link type 227, SocketCAN; microsecond times), one
+/// Enhanced Packet Block a frame (the identifier word in network byte
+/// order with the EFF and RTR flags, the length, three bytes, the data
+/// padded to 8).
+fn pcapng(frames: &[(u64, CanFrame)]) -> Vec<u8> {
+    fn block(out: &mut Vec<u8>, kind: u32, body: &[u8]) {
+        let padded = body.len().div_ceil(4) * 4;
+        let length = (12 + padded) as u32;
+        out.extend_from_slice(&kind.to_le_bytes());
+        out.extend_from_slice(&length.to_le_bytes());
+        out.extend_from_slice(body);
+        out.resize(out.len() + padded - body.len(), 0);
+        out.extend_from_slice(&length.to_le_bytes());
+    }
+    let mut out = Vec::new();
+    let mut shb = 0x1A2B_3C4Du32.to_le_bytes().to_vec();
+    shb.extend_from_slice(&[1, 0, 0, 0]);
+    shb.extend_from_slice(&[0xFF; 8]);
+    block(&mut out, 0x0A0D_0D0A, &shb);
+    let mut idb = 227u16.to_le_bytes().to_vec();
+    idb.extend_from_slice(&[0, 0]);
+    idb.extend_from_slice(&0u32.to_le_bytes());
+    block(&mut out, 1, &idb);
+    for (us, f) in frames {
+        let t = START_US + us;
+        let (raw, eff) = match f.id() {
+            CanId::Standard(id) => (u32::from(id), 0),
+            CanId::Extended(id) => (id, 0x8000_0000),
+        };
+        let rtr = if f.is_remote() { 0x4000_0000 } else { 0 };
+        let mut packet = (raw | eff | rtr).to_be_bytes().to_vec();
+        packet.extend_from_slice(&[f.dlc(), 0, 0, 0]);
+        packet.extend_from_slice(f.data());
+        packet.resize(16, 0);
+        let mut epb = 0u32.to_le_bytes().to_vec();
+        epb.extend_from_slice(&((t >> 32) as u32).to_le_bytes());
+        epb.extend_from_slice(&(t as u32).to_le_bytes());
+        epb.extend_from_slice(&16u32.to_le_bytes());
+        epb.extend_from_slice(&16u32.to_le_bytes());
+        epb.extend_from_slice(&packet);
+        block(&mut out, 6, &epb);
+    }
+    out
+}
+
+/// Reads a pcap or pcapng file, counting frames.
+fn read_pcap(file: &[u8]) -> u64 {
+    let mut r = PcapReader::new();
+    let mut n = 0;
+    for mut chunk in file.chunks(CHUNK) {
+        while let Some(e) = r.read(&mut chunk).unwrap() {
+            if let PcapEvent::Frame(f) = e {
+                black_box(f);
+                n += 1;
+            }
+        }
+    }
+    r.finish().unwrap();
+    n
+}
+
+/// python-can's `MF4Writer` (through asammdf) writing the candump log
+/// `argv[1]` to `argv[2]` with compression level `argv[3]`.
+const MF4_WRITER: &str = "
+import sys, can
+with can.MF4Writer(sys.argv[2], compression_level=int(sys.argv[3])) as w:
+    for m in can.CanutilsLogReader(sys.argv[1]):
+        w.on_message_received(m)
+";
+
+/// The frames as MF4 files written by python-can, uncompressed and in
+/// transposed deflate blocks; `None` (said on stderr) without python-can.
+fn mf4_files(text: &str) -> Option<(Vec<u8>, Vec<u8>)> {
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"));
+    let log = dir.join("trace_read.log");
+    std::fs::write(&log, text).ok()?;
+    let mut files = Vec::new();
+    for level in ["0", "2"] {
+        let out = dir.join(format!("trace_read-{level}.mf4"));
+        let status = std::process::Command::new("python3")
+            .args(["-c", MF4_WRITER])
+            .arg(&log)
+            .arg(&out)
+            .arg(level)
+            .status();
+        if !status.is_ok_and(|s| s.success()) {
+            eprintln!("trace_read: python-can's MF4Writer did not run: no MF4 rows");
+            return None;
+        }
+        files.push(std::fs::read(&out).ok()?);
+    }
+    let packed = files.pop()?;
+    Some((files.pop()?, packed))
+}
+
+/// flate2's zlib inflater for the MF4 reader's `##DZ` blocks.
+struct Inflater(flate2::Decompress);
+
+impl Inflate for Inflater {
+    fn reset(&mut self) {
+        self.0.reset(true);
+    }
+
+    fn inflate(&mut self, input: &[u8], output: &mut [u8]) -> Result<Inflated, String> {
+        let (i, o) = (self.0.total_in(), self.0.total_out());
+        let status = self
+            .0
+            .decompress(input, output, flate2::FlushDecompress::None)
+            .map_err(|e| e.to_string())?;
+        Ok(Inflated {
+            used: (self.0.total_in() - i) as usize,
+            made: (self.0.total_out() - o) as usize,
+            end: status == flate2::Status::StreamEnd,
+        })
+    }
+}
+
+/// Reads an MF4 file, counting frames.
+fn read_mf4(file: &[u8], zlib: &mut Inflater) -> u64 {
+    let mut r = Mf4Reader::new(file).unwrap();
+    let mut n = 0;
+    while let Some(e) = r.next(zlib).unwrap() {
+        if let Mf4Event::Frame(f) = e {
+            black_box(f);
+            n += 1;
+        }
+    }
+    n
+}
+
 fn trace_read(c: &mut Criterion) {
     let frames = frames();
     let text = candump(&frames);
@@ -119,14 +264,32 @@ fn trace_read(c: &mut Criterion) {
     let mut buf = vec![0u8; CHUNK];
     assert_eq!(read_blf(&stored, &mut zlib, &mut buf), N);
     assert_eq!(read_blf(&packed, &mut zlib, &mut buf), N);
+    let ng = pcapng(&frames);
+    assert_eq!(read_pcap(&ng), N);
+    let mut inflater = Inflater(flate2::Decompress::new(true));
+    let mf4 = mf4_files(&text);
+    if let Some((dt, dz)) = &mf4 {
+        assert_eq!(read_mf4(dt, &mut inflater), N);
+        assert_eq!(read_mf4(dz, &mut inflater), N);
+    }
     eprintln!(
-        "trace_read: {N} frames: candump {} B, BLF stored {} B, BLF zlib {} B",
+        "trace_read: {N} frames: candump {} B, BLF stored {} B, BLF zlib {} B, pcapng {} B, \
+         MF4 {:?} B",
         text.len(),
         stored.len(),
-        packed.len()
+        packed.len(),
+        ng.len(),
+        mf4.as_ref().map(|(dt, dz)| (dt.len(), dz.len()))
     );
+    let mut copy = vec![0u8; text.len()];
     let mut g = c.benchmark_group("trace_read");
     g.throughput(Throughput::Elements(N));
+    g.bench_function("copy_candump_bytes", |b| {
+        b.iter(|| {
+            copy.copy_from_slice(black_box(text.as_bytes()));
+            black_box(&mut copy);
+        })
+    });
     g.bench_function("candump_text", |b| {
         b.iter(|| {
             let mut p = LineParser::new(Format::CandumpLog);
@@ -146,6 +309,17 @@ fn trace_read(c: &mut Criterion) {
     g.bench_function("blf_zlib", |b| {
         b.iter(|| assert_eq!(read_blf(black_box(&packed), &mut zlib, &mut buf), N))
     });
+    g.bench_function("pcapng", |b| {
+        b.iter(|| assert_eq!(read_pcap(black_box(&ng)), N))
+    });
+    if let Some((dt, dz)) = &mf4 {
+        g.bench_function("mf4_stored", |b| {
+            b.iter(|| assert_eq!(read_mf4(black_box(dt), &mut inflater), N))
+        });
+        g.bench_function("mf4_transposed_deflate", |b| {
+            b.iter(|| assert_eq!(read_mf4(black_box(dz), &mut inflater), N))
+        });
+    }
     g.finish();
 }
 

@@ -13,8 +13,9 @@
 use alloc::vec;
 use alloc::vec::Vec;
 
-use super::blocks::{block, id, Block, HEADER};
+use super::blocks::{block, head, id, Head, Source, HEADER};
 use super::Mf4Error;
+use crate::trace::fields::{u32_at, u64_at};
 use crate::trace::inflate::Inflate;
 
 /// The most of a `##DT` block copied at once.
@@ -22,27 +23,32 @@ pub const WINDOW: usize = 1 << 20;
 /// The largest original length of a `##DZ` block inflated (writers keep
 /// them to a few MiB: asammdf to 4 MiB).
 pub const MAX_INFLATED: u64 = 64 << 20;
-/// The piece inflated at a time.
+/// The piece read or inflated at a time.
 const PIECE: usize = 64 * 1024;
 
 /// Where the stream is in its chain of blocks.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 enum Chain {
     /// No more blocks.
     Done,
     /// One block (the data group's own link), not yet read.
     One(u64),
-    /// A `##DL` block and the index of its next data link.
-    List { at: u64, next: usize },
+    /// A `##DL` block's data links, the index of the next one, and the
+    /// next `##DL` of the chain (0: none).
+    List {
+        links: Vec<u64>,
+        next: usize,
+        next_list: u64,
+    },
 }
 
 /// One data group's records as a stream of bytes.
 #[derive(Debug)]
-pub(super) struct Stream<'a> {
-    file: &'a [u8],
+pub(super) struct Stream {
     chain: Chain,
-    /// The `##DT` being copied in windows: its data not yet copied.
-    dt: &'a [u8],
+    /// The `##DT` being copied in windows: where its data not yet copied
+    /// begins and where it ends.
+    dt: (u64, u64),
     buf: Vec<u8>,
     pos: usize,
     /// Blocks of the chain left to visit (against link cycles).
@@ -52,31 +58,30 @@ pub(super) struct Stream<'a> {
     leaf: [u8; 4],
 }
 
-impl<'a> Stream<'a> {
+impl Stream {
     /// The stream of the data group whose data link is `data` (0: no
-    /// records).
-    pub(super) fn new(file: &'a [u8], data: u64) -> Self {
-        Self::of(file, data, id::DT)
+    /// records), in a file of `size` bytes.
+    pub(super) fn new(size: u64, data: u64) -> Self {
+        Self::of(size, data, id::DT)
     }
 
     /// The stream of a variable-length channel's signal data (its
     /// `cn_data` link: `##SD`, a `##DZ` of one, or a list of them).
-    pub(super) fn signal(file: &'a [u8], data: u64) -> Self {
-        Self::of(file, data, id::SD)
+    pub(super) fn signal(size: u64, data: u64) -> Self {
+        Self::of(size, data, id::SD)
     }
 
-    fn of(file: &'a [u8], data: u64, leaf: [u8; 4]) -> Self {
+    fn of(size: u64, data: u64, leaf: [u8; 4]) -> Self {
         Stream {
-            file,
             chain: if data == 0 {
                 Chain::Done
             } else {
                 Chain::One(data)
             },
-            dt: &[],
+            dt: (0, 0),
             buf: Vec::new(),
             pos: 0,
-            hops: file.len() as u64 / HEADER + 1,
+            hops: size / HEADER + 1,
             leaf,
         }
     }
@@ -91,10 +96,11 @@ impl<'a> Stream<'a> {
     pub(super) fn take(
         &mut self,
         n: usize,
+        src: &mut dyn Source,
         zlib: &mut dyn Inflate,
     ) -> Result<Option<&[u8]>, Mf4Error> {
         while self.buf.len().saturating_sub(self.pos) < n {
-            if !self.more(zlib)? {
+            if !self.more(src, zlib)? {
                 let left = self.buf.len().saturating_sub(self.pos);
                 if left == 0 {
                     return Ok(None);
@@ -108,7 +114,12 @@ impl<'a> Stream<'a> {
     }
 
     /// Skips `n` bytes (a record not read), piece by piece.
-    pub(super) fn skip(&mut self, mut n: u64, zlib: &mut dyn Inflate) -> Result<(), Mf4Error> {
+    pub(super) fn skip(
+        &mut self,
+        mut n: u64,
+        src: &mut dyn Source,
+        zlib: &mut dyn Inflate,
+    ) -> Result<(), Mf4Error> {
         loop {
             let have = self.buf.len().saturating_sub(self.pos) as u64;
             if have >= n {
@@ -117,7 +128,7 @@ impl<'a> Stream<'a> {
             }
             n -= have;
             self.pos = self.buf.len();
-            if !self.more(zlib)? {
+            if !self.more(src, zlib)? {
                 return Err(Mf4Error::RecordPastEnd {
                     need: usize::try_from(n).unwrap_or(usize::MAX),
                     left: 0,
@@ -128,25 +139,31 @@ impl<'a> Stream<'a> {
 
     /// Appends the next piece of data to the buffer (what is read
     /// dropped first); false at the end of the chain.
-    fn more(&mut self, zlib: &mut dyn Inflate) -> Result<bool, Mf4Error> {
+    fn more(&mut self, src: &mut dyn Source, zlib: &mut dyn Inflate) -> Result<bool, Mf4Error> {
         self.buf.drain(..self.pos.min(self.buf.len()));
         self.pos = 0;
         loop {
-            if !self.dt.is_empty() {
-                let (piece, rest) = self.dt.split_at(self.dt.len().min(WINDOW));
-                self.buf.extend_from_slice(piece);
-                self.dt = rest;
+            let (from, end) = self.dt;
+            if from < end {
+                // At most WINDOW: the cast holds.
+                let n = (end - from).min(WINDOW as u64) as usize;
+                let old = self.buf.len();
+                self.buf.resize(old.saturating_add(n), 0);
+                if let Some(to) = self.buf.get_mut(old..) {
+                    src.read_at(from, to)?;
+                }
+                self.dt = (from.saturating_add(n as u64), end);
                 return Ok(true);
             }
-            let Some(at) = self.next_block()? else {
+            let Some(at) = self.next_block(src)? else {
                 return Ok(false);
             };
-            let b = block(self.file, at, &[self.leaf, id::DZ])?;
-            if b.id == self.leaf {
-                self.dt = b.data;
+            let h = head(src, at, &[self.leaf, id::DZ])?;
+            if h.id == self.leaf {
+                self.dt = (h.data, h.end);
             } else {
                 let before = self.buf.len();
-                inflate_dz(&b, self.leaf, &mut self.buf, zlib)?;
+                inflate_dz(src, &h, self.leaf, &mut self.buf, zlib)?;
                 if self.buf.len() > before {
                     return Ok(true);
                 }
@@ -155,49 +172,53 @@ impl<'a> Stream<'a> {
     }
 
     /// The offset of the chain's next data block.
-    fn next_block(&mut self) -> Result<Option<u64>, Mf4Error> {
+    fn next_block(&mut self, src: &mut dyn Source) -> Result<Option<u64>, Mf4Error> {
         loop {
             self.hops = self
                 .hops
                 .checked_sub(1)
                 .ok_or(Mf4Error::LinkCycle { what: "data list" })?;
-            match self.chain {
+            let list_at = match &mut self.chain {
                 Chain::Done => return Ok(None),
                 Chain::One(at) => {
-                    let b = block(self.file, at, &[self.leaf, id::DZ, id::DL, id::HL])?;
-                    self.chain = if b.id == id::HL {
-                        match b.link(0) {
-                            0 => Chain::Done,
-                            dl => Chain::List { at: dl, next: 0 },
-                        }
-                    } else if b.id == id::DL {
-                        Chain::List { at, next: 0 }
+                    let at = *at;
+                    let h = head(src, at, &[self.leaf, id::DZ, id::DL, id::HL])?;
+                    if h.id == id::HL {
+                        block(src, at, &[id::HL])?.link(0)
+                    } else if h.id == id::DL {
+                        at
                     } else {
                         self.chain = Chain::Done;
                         return Ok(Some(at));
-                    };
-                }
-                Chain::List { at, next } => {
-                    let dl = block(self.file, at, &[id::DL])?;
-                    // dl_dl_next, then dl_count data links.
-                    let count = (dl.u32(4) as usize).min(dl.link_count().saturating_sub(1));
-                    if next < count {
-                        self.chain = Chain::List { at, next: next + 1 };
-                        match dl.link(next + 1) {
-                            0 => {}
-                            data => return Ok(Some(data)),
-                        }
-                    } else {
-                        self.chain = match dl.link(0) {
-                            0 => Chain::Done,
-                            next_dl => Chain::List {
-                                at: next_dl,
-                                next: 0,
-                            },
-                        };
                     }
                 }
-            }
+                Chain::List {
+                    links,
+                    next,
+                    next_list,
+                } => {
+                    if let Some(&data) = links.get(*next) {
+                        *next += 1;
+                        if data != 0 {
+                            return Ok(Some(data));
+                        }
+                        continue;
+                    }
+                    *next_list
+                }
+            };
+            self.chain = if list_at == 0 {
+                Chain::Done
+            } else {
+                let dl = block(src, list_at, &[id::DL])?;
+                // dl_dl_next, then dl_count data links.
+                let count = (dl.u32(4) as usize).min(dl.link_count().saturating_sub(1));
+                Chain::List {
+                    links: (1..=count).map(|i| dl.link(i)).collect(),
+                    next: 0,
+                    next_list: dl.link(0),
+                }
+            };
         }
     }
 }
@@ -207,44 +228,63 @@ impl<'a> Stream<'a> {
 /// column, `dz_zip_parameter` columns; the bytes past the last whole row
 /// as they are), ASAM MDF 4.1 section 5.26.
 pub(super) fn inflate_dz(
-    b: &Block<'_>,
+    src: &mut dyn Source,
+    b: &Head,
     leaf: [u8; 4],
     out: &mut Vec<u8>,
     zlib: &mut dyn Inflate,
 ) -> Result<(), Mf4Error> {
     let at = b.at;
-    let original = [b.u8(0), b.u8(1)];
+    // dz_org_block_type (2), dz_zip_type, reserved, dz_zip_parameter (u32),
+    // dz_org_data_length (u64), dz_data_length (u64).
+    let mut fixed = [0u8; 24];
+    if b.end.saturating_sub(b.data) < 24 {
+        return Err(Mf4Error::PastEnd { at });
+    }
+    src.read_at(b.data, &mut fixed)?;
+    let original = [fixed[0], fixed[1]];
     if original != [leaf[2], leaf[3]] {
         return Err(Mf4Error::UnexpectedBlock {
             at,
             found: [b'#', b'#', original[0], original[1]],
         });
     }
-    let zip = b.u8(2);
-    let columns = b.u32(4) as usize;
-    let declared = b.u64(8);
-    let compressed_len = b.u64(16);
+    let zip = fixed[2];
+    let columns = u32_at(&fixed, 4) as usize;
+    let declared = u64_at(&fixed, 8);
+    let compressed_len = u64_at(&fixed, 16);
     if declared > MAX_INFLATED {
         return Err(Mf4Error::BlockTooLarge { at, size: declared });
     }
-    let compressed = b.data_from(24);
-    let compressed = usize::try_from(compressed_len)
-        .ok()
-        .and_then(|n| compressed.get(..n))
+    let from = b.data.saturating_add(24);
+    let compressed_end = from
+        .checked_add(compressed_len)
+        .filter(|&end| end <= b.end)
         .ok_or(Mf4Error::PastEnd { at })?;
     // Inflated in pieces, so a block that declares much and holds little
     // costs what it holds (declared <= MAX_INFLATED fits usize).
     let size = declared as usize;
     let mut raw = Vec::new();
     let mut piece = vec![0u8; PIECE.min(size.max(1))];
+    // The compressed bytes, read a piece at a time: `input[used..have]`
+    // not yet inflated, `next` the file's next compressed byte.
+    let mut input = vec![0u8; PIECE];
+    let (mut used, mut have, mut next) = (0usize, 0usize, from);
     zlib.reset();
-    let mut used = 0usize;
     loop {
-        let input = compressed.get(used..).unwrap_or(&[]);
+        if used == have && next < compressed_end {
+            // At most PIECE: the cast holds.
+            have = (compressed_end - next).min(PIECE as u64) as usize;
+            used = 0;
+            let to = input.get_mut(..have).unwrap_or(&mut []);
+            src.read_at(next, to)?;
+            next = next.saturating_add(have as u64);
+        }
+        let pending = input.get(used..have).unwrap_or(&[]);
         let r = zlib
-            .inflate(input, &mut piece)
+            .inflate(pending, &mut piece)
             .map_err(|_| Mf4Error::Inflate { at })?;
-        used = used.saturating_add(r.used).min(compressed.len());
+        used = used.saturating_add(r.used).min(have);
         raw.extend_from_slice(piece.get(..r.made).unwrap_or(&piece));
         if raw.len() > size {
             return Err(Mf4Error::InflatedSize {

@@ -13,7 +13,7 @@
 //! 4.2 a variable-length channel group of the same data group), where each
 //! value is a u32 length and its bytes.
 
-use super::blocks::{block, id, text, Block};
+use super::blocks::{block, id, text, Block, Source};
 use super::Mf4Error;
 
 /// The event type of a bus-logging channel group.
@@ -136,8 +136,8 @@ const MAX_CHANNELS: usize = 4096;
 /// not a CAN bus-logging group (no `CAN_` event channel). `hops` counts
 /// the blocks left to visit against link cycles.
 pub(super) fn layout(
-    file: &[u8],
-    cg: &Block<'_>,
+    src: &mut dyn Source,
+    cg: &Block,
     hops: &mut u64,
 ) -> Result<Option<Layout>, Mf4Error> {
     let mut l = Layout {
@@ -168,8 +168,9 @@ pub(super) fn layout(
             if seen > MAX_CHANNELS {
                 return Err(Mf4Error::LinkCycle { what: "channel" });
             }
-            let cn = block(file, at, &[id::CN])?;
-            let name = text(file, cn.link(2)).unwrap_or("");
+            let cn = block(src, at, &[id::CN])?;
+            let name = text(src, cn.link(2)).unwrap_or_default();
+            let name = name.as_str();
             let (prefix, member) = match name.rsplit_once('.') {
                 Some((p, m)) => (p, m),
                 None => (name, ""),
@@ -186,7 +187,7 @@ pub(super) fn layout(
             let channel_type = cn.u8(0);
             let sync = cn.u8(1);
             if (channel_type == 2 || channel_type == 3) && sync == 1 {
-                l.time = time(file, &cn, at)?;
+                l.time = time(src, &cn, at)?;
             } else if event_of(prefix).is_some() {
                 let f = field(&cn);
                 let slot = match member {
@@ -224,7 +225,7 @@ fn event_of(name: &str) -> Option<Event> {
 }
 
 /// A channel's place in the record.
-fn field(cn: &Block<'_>) -> Field {
+fn field(cn: &Block) -> Field {
     let data_type = cn.u8(2);
     Field {
         byte: cn.u32(4),
@@ -236,11 +237,11 @@ fn field(cn: &Block<'_>) -> Field {
 }
 
 /// The master channel `cn` (at `at`) as a time.
-fn time(file: &[u8], cn: &Block<'_>, at: u64) -> Result<Time, Mf4Error> {
+fn time(src: &mut dyn Source, cn: &Block, at: u64) -> Result<Time, Mf4Error> {
     let (offset, factor) = match cn.link(4) {
         0 => (0.0, 1.0),
         cc_at => {
-            let cc = block(file, cc_at, &[id::CC])?;
+            let cc = block(src, cc_at, &[id::CC])?;
             match cc.u8(0) {
                 0 => (0.0, 1.0),
                 1 => (cc.f64(24), cc.f64(32)),

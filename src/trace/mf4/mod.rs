@@ -39,19 +39,25 @@
 //! part of the standard, read here in one place.
 //!
 //! **How it reads**: MDF 4 links point anywhere in the file, so the reader
-//! borrows the whole file (`&[u8]`: the programs read an `.mf4` into
-//! memory). Besides it, memory is bounded per data group by one data
-//! block (a `##DT` is copied in windows of 1 MiB; a `##DZ` inflated whole,
-//! at most 64 MiB), and across the data groups by [`MAX_HELD`]. Every link and size is checked: a block past the end,
-//! a length below its links, a chain that loops (each chain may visit at
-//! most one block per 24 bytes of the file) are typed errors, never a
-//! panic or an endless loop. Needs feature `alloc`.
+//! reads it through a [`Source`] of random access: the file in memory
+//! (`&[u8]`) or, with feature `std`, a file that seeks ([`SeekSource`],
+//! which the programs use for a file on disk), so memory stays constant in
+//! the file's size. The blocks that describe the groups and channels are
+//! read once when the reader is made (each at most [`MAX_BLOCK`]); then
+//! each data group's data blocks are read in order, a `##DL` list followed
+//! as its blocks are reached: a `##DT` in windows of 1 MiB, a `##DZ`
+//! inflated one at a time (whole, at most 64 MiB), and the data groups
+//! together hold at most [`MAX_HELD`]. Every link and size is checked: a
+//! block past the end, a length below its links, a chain that loops (each
+//! chain may visit at most one block per 24 bytes of the file) are typed
+//! errors, never a panic or an endless loop. Needs feature `alloc`.
 //!
 //! ```no_run
 //! use canopen_codec::trace::mf4::{Mf4Event, Mf4Reader};
 //! use canopen_codec::trace::inflate::NoInflate;
-//! let file = std::fs::read("capture.mf4")?;
-//! let mut reader = Mf4Reader::new(&file)?;
+//! let file = std::fs::File::open("capture.mf4")?;
+//! // In place: the file's data blocks are read as they are reached.
+//! let mut reader = Mf4Reader::new(canopen_codec::trace::mf4::SeekSource::new(file)?)?;
 //! // NoInflate reads uncompressed files; pass a zlib inflater for ##DZ.
 //! while let Some(event) = reader.next(&mut NoInflate)? {
 //!     if let Mf4Event::Frame(f) = event {
@@ -65,12 +71,17 @@ mod blocks;
 mod data;
 mod layout;
 mod read;
+#[cfg(feature = "std")]
+mod seek;
 
 use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::trace::{RxTx, TraceFrame, Unsupported};
 
+pub use blocks::{Source, MAX_BLOCK};
 pub use read::{Mf4Reader, MAX_HELD};
+#[cfg(feature = "std")]
+pub use seek::SeekSource;
 
 /// The file identification's first 8 bytes.
 pub const FILE_MAGIC: [u8; 8] = *b"MDF     ";
@@ -165,6 +176,22 @@ pub enum Mf4Error {
         at: u64,
         /// Its length.
         length: u64,
+    },
+    /// A block other than a data block is longer than
+    /// [`MAX_BLOCK`] (16 MiB): it is not read.
+    #[error("the block at byte {at} is {length} bytes long, over the 16 MiB this reader takes")]
+    BlockTooLong {
+        /// The block's offset.
+        at: u64,
+        /// Its length.
+        length: u64,
+    },
+    /// The file could not be read at a place (an I/O error of a
+    /// [`SeekSource`]: it keeps the error).
+    #[error("the file could not be read at byte {at}")]
+    Read {
+        /// The place.
+        at: u64,
     },
     /// A chain of links visits more blocks than the file can hold: it
     /// loops.

@@ -5,7 +5,7 @@
 use alloc::collections::BTreeSet;
 use alloc::vec::Vec;
 
-use super::blocks::{block, id, HEADER};
+use super::blocks::{block, head, id, Source, HEADER};
 use super::data::Stream;
 use super::layout::{layout, Event, Field, Layout};
 use super::{Mf4Error, Mf4Event, Mf4Frame, Mf4Header, FILE_MAGIC};
@@ -53,18 +53,18 @@ impl Value {
 
 /// Where a bus group's variable-length `DataBytes` are.
 #[derive(Debug)]
-enum Signal<'a> {
+enum Signal {
     /// Fixed `DataBytes` (or none).
     None,
     /// A variable-length channel group of the same data group (MDF 4.2).
     Group { record_id: u64 },
     /// A `##SD` chain, read forward: the offset read up to.
-    Data { stream: Stream<'a>, pos: u64 },
+    Data { stream: Stream, pos: u64 },
 }
 
 /// A channel group of a data group.
 #[derive(Debug)]
-struct Group<'a> {
+struct Group {
     record_id: u64,
     /// Data and invalidation bytes of one record.
     size: usize,
@@ -73,15 +73,15 @@ struct Group<'a> {
     index: u64,
     /// A variable-length group: the offset of its next value.
     pos: u64,
-    signal: Signal<'a>,
+    signal: Signal,
 }
 
 /// One data group being read.
 #[derive(Debug)]
-struct Cursor<'a> {
-    stream: Stream<'a>,
+struct Cursor {
+    stream: Stream,
     record_id_size: u8,
-    groups: Vec<Group<'a>>,
+    groups: Vec<Group>,
     /// The last value of a variable-length group: its record id and value.
     last: Option<(u64, Value)>,
     /// The next event, read ahead for the merge by time.
@@ -89,38 +89,45 @@ struct Cursor<'a> {
     done: bool,
 }
 
-/// Reads the CAN frames of an MF4 file held in memory. See the
-/// [module docs](super).
+/// Reads the CAN frames of an MF4 file through its [`Source`] (`&[u8]`
+/// for a file in memory, [`SeekSource`](super::SeekSource) for one read
+/// in place). See the [module docs](super).
 ///
 /// Call [`next`](Self::next) until it returns `None`; an error that is
 /// not [fatal](Mf4Error::is_fatal) skipped one record, and reading goes
 /// on.
 #[derive(Debug)]
-pub struct Mf4Reader<'a> {
+pub struct Mf4Reader<S> {
+    src: S,
     header: Mf4Header,
     start_ns: u64,
-    cursors: Vec<Cursor<'a>>,
+    cursors: Vec<Cursor>,
     failed: Option<Mf4Error>,
     /// [`MAX_HELD`] (smaller in tests).
     pub(super) held_limit: usize,
 }
 
-impl<'a> Mf4Reader<'a> {
+impl Mf4Reader<&'static [u8]> {
     /// True when `bytes` (the start of a file) begin with `MDF     `.
     #[must_use]
     pub fn detect(bytes: &[u8]) -> bool {
         bytes.starts_with(&FILE_MAGIC)
     }
+}
 
-    /// Opens the MF4 file `file`: reads its `##ID` and `##HD` blocks and
+impl<S: Source> Mf4Reader<S> {
+    /// Opens the MF4 file `src`: reads its `##ID` and `##HD` blocks and
     /// the channels of every data group (no data yet).
-    pub fn new(file: &'a [u8]) -> Result<Self, Mf4Error> {
-        if !Self::detect(file) {
+    pub fn new(mut src: S) -> Result<Self, Mf4Error> {
+        let file_size = src.size();
+        let mut id_block = [0u8; 64];
+        let magic = id_block.get_mut(..FILE_MAGIC.len()).unwrap_or(&mut []);
+        if src.read_at(0, magic).is_err() || !Mf4Reader::detect(magic) {
             return Err(Mf4Error::NotMf4);
         }
-        let Some(id_block) = file.get(..64) else {
+        if src.read_at(0, &mut id_block).is_err() {
             return Err(Mf4Error::PastEnd { at: 0 });
-        };
+        }
         let version = u16::from_le_bytes([
             id_block.get(28).copied().unwrap_or(0),
             id_block.get(29).copied().unwrap_or(0),
@@ -132,6 +139,7 @@ impl<'a> Mf4Reader<'a> {
         if let Some(p) = id_block.get(16..24) {
             program.copy_from_slice(p);
         }
+        let file: &mut dyn Source = &mut src;
         let hd = block(file, 64, &[id::HD])?;
         let start_ns = hd.u64(0);
         let header = Mf4Header {
@@ -140,7 +148,7 @@ impl<'a> Mf4Reader<'a> {
             start: (start_ns != 0)
                 .then(|| Timestamp::from_micros(start_ns.saturating_add(500) / 1000)),
         };
-        let mut hops = file.len() as u64 / HEADER + 1;
+        let mut hops = file_size / HEADER + 1;
         // Data and channel groups met: one met again is a loop.
         let mut met = BTreeSet::new();
         let mut cursors = Vec::new();
@@ -184,14 +192,14 @@ impl<'a> Mf4Reader<'a> {
                         vlsd: Some((_, data)),
                         ..
                     }) if data != 0 => {
-                        let b = block(file, data, &[id::CG, id::SD, id::DZ, id::DL, id::HL])?;
-                        if b.id == id::CG {
+                        let h = head(file, data, &[id::CG, id::SD, id::DZ, id::DL, id::HL])?;
+                        if h.id == id::CG {
                             Signal::Group {
-                                record_id: b.u64(0),
+                                record_id: block(file, data, &[id::CG])?.u64(0),
                             }
                         } else {
                             Signal::Data {
-                                stream: Stream::signal(file, data),
+                                stream: Stream::signal(file_size, data),
                                 pos: 0,
                             }
                         }
@@ -216,7 +224,7 @@ impl<'a> Mf4Reader<'a> {
                     return Err(Mf4Error::LinkCycle { what: "data group" });
                 }
                 cursors.push(Cursor {
-                    stream: Stream::new(file, dg.link(2)),
+                    stream: Stream::new(file_size, dg.link(2)),
                     record_id_size,
                     groups,
                     last: None,
@@ -227,6 +235,7 @@ impl<'a> Mf4Reader<'a> {
             dg_at = dg.link(0);
         }
         Ok(Mf4Reader {
+            src,
             header,
             start_ns,
             cursors,
@@ -250,7 +259,7 @@ impl<'a> Mf4Reader<'a> {
         let start_ns = self.start_ns;
         for c in &mut self.cursors {
             if c.head.is_none() && !c.done {
-                match c.next(start_ns, zlib) {
+                match c.next(start_ns, &mut self.src, zlib) {
                     Ok(Some(e)) => c.head = Some(e),
                     Ok(None) => c.done = true,
                     Err(e) => {
@@ -293,7 +302,7 @@ fn time_of(e: &Mf4Event) -> Option<Timestamp> {
     }
 }
 
-impl Cursor<'_> {
+impl Cursor {
     /// The bytes its streams hold.
     fn held(&self) -> usize {
         self.groups
@@ -309,6 +318,7 @@ impl Cursor<'_> {
     fn next(
         &mut self,
         start_ns: u64,
+        src: &mut dyn Source,
         zlib: &mut dyn Inflate,
     ) -> Result<Option<Mf4Event>, Mf4Error> {
         if self.record_id_size == 0 && self.groups.first().is_none_or(|g| g.size == 0) {
@@ -319,7 +329,7 @@ impl Cursor<'_> {
         loop {
             let record_id = match self.record_id_size {
                 0 => self.groups.first().map_or(0, |g| g.record_id),
-                n => match self.stream.take(usize::from(n), zlib)? {
+                n => match self.stream.take(usize::from(n), src, zlib)? {
                     Some(bytes) => bytes.iter().rev().fold(0u64, |v, &b| v << 8 | u64::from(b)),
                     None => return Ok(None),
                 },
@@ -336,20 +346,20 @@ impl Cursor<'_> {
             match group.records {
                 Records::Variable => {
                     let offset = group.pos;
-                    let value = read_value(&mut self.stream, offset, zlib)?
+                    let value = read_value(&mut self.stream, offset, src, zlib)?
                         .ok_or(Mf4Error::RecordPastEnd { need: 4, left: 0 })?;
                     group.pos = offset.saturating_add(4).saturating_add(value.1);
                     self.last = Some((group.record_id, value.0));
                 }
                 Records::Other => {
                     let size = group.size;
-                    if self.stream.take(size, zlib)?.is_none() && self.record_id_size == 0 {
+                    if self.stream.take(size, src, zlib)?.is_none() && self.record_id_size == 0 {
                         return Ok(None);
                     }
                 }
                 Records::Bus(l) => {
                     let size = group.size;
-                    let Some(record) = self.stream.take(size, zlib)? else {
+                    let Some(record) = self.stream.take(size, src, zlib)? else {
                         if self.record_id_size == 0 {
                             return Ok(None);
                         }
@@ -364,7 +374,7 @@ impl Cursor<'_> {
                             field
                                 .uint(record)
                                 .ok_or(Mf4Error::MissingField { field: "DataBytes" })
-                                .and_then(|offset| value_at(signal, self.last, offset, zlib)),
+                                .and_then(|offset| value_at(signal, self.last, offset, src, zlib)),
                         ),
                     };
                     let value = match value {
@@ -384,11 +394,12 @@ impl Cursor<'_> {
 /// `stream`: the value (its first [`MAX_VALUE`] bytes) and its length;
 /// `None` at the end of the data.
 fn read_value(
-    stream: &mut Stream<'_>,
+    stream: &mut Stream,
     offset: u64,
+    src: &mut dyn Source,
     zlib: &mut dyn Inflate,
 ) -> Result<Option<(Value, u64)>, Mf4Error> {
-    let Some(len) = stream.take(4, zlib)? else {
+    let Some(len) = stream.take(4, src, zlib)? else {
         return Ok(None);
     };
     let len = len.iter().rev().fold(0u64, |v, &b| v << 8 | u64::from(b));
@@ -398,7 +409,7 @@ fn read_value(
         len: keep,
         bytes: [0; MAX_VALUE],
     };
-    let Some(bytes) = stream.take(keep, zlib)? else {
+    let Some(bytes) = stream.take(keep, src, zlib)? else {
         return Err(Mf4Error::RecordPastEnd {
             need: keep,
             left: 0,
@@ -407,7 +418,7 @@ fn read_value(
     if let Some(to) = value.bytes.get_mut(..bytes.len()) {
         to.copy_from_slice(bytes);
     }
-    stream.skip(len.saturating_sub(keep as u64), zlib)?;
+    stream.skip(len.saturating_sub(keep as u64), src, zlib)?;
     Ok(Some((value, len)))
 }
 
@@ -416,9 +427,10 @@ fn read_value(
 /// `##SD` chain (an offset behind the one read, or past the end, names no
 /// value).
 fn value_at(
-    signal: &mut Signal<'_>,
+    signal: &mut Signal,
     last: Option<(u64, Value)>,
     offset: u64,
+    src: &mut dyn Source,
     zlib: &mut dyn Inflate,
 ) -> Result<Value, Mf4Error> {
     let none = Mf4Error::SignalOffset { offset };
@@ -431,8 +443,8 @@ fn value_at(
         Signal::Data { stream, pos } => {
             let ahead = offset.checked_sub(*pos).ok_or(none)?;
             let read = stream
-                .skip(ahead, zlib)
-                .and_then(|()| read_value(stream, offset, zlib));
+                .skip(ahead, src, zlib)
+                .and_then(|()| read_value(stream, offset, src, zlib));
             let (value, len) = match read {
                 Ok(Some(v)) => v,
                 Ok(None) | Err(Mf4Error::RecordPastEnd { .. }) => {

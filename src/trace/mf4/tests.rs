@@ -6,7 +6,7 @@
 use super::*;
 use crate::trace::inflate::{Inflate, NoInflate, Zlib};
 use std::io::Write;
-use std::string::String;
+use std::string::{String, ToString};
 use std::vec;
 use std::vec::Vec;
 
@@ -185,7 +185,7 @@ const ROWS: [Row; 4] = [
 ];
 
 /// Every event of `file`, with the end.
-fn read_all(file: &[u8], zlib: &mut dyn Inflate) -> (Vec<String>, Result<(), Mf4Error>) {
+fn read_all<S: Source>(file: S, zlib: &mut dyn Inflate) -> (Vec<String>, Result<(), Mf4Error>) {
     let mut out = Vec::new();
     let mut r = match Mf4Reader::new(file) {
         Ok(r) => r,
@@ -701,4 +701,85 @@ fn the_bytes_held_across_data_groups_are_bounded() {
     assert_eq!(r.next(&mut Zlib::default()), Err(e));
     assert!(e.is_fatal());
     assert_eq!(r.next(&mut Zlib::default()), Err(e));
+}
+
+/// A file in memory that records the largest read asked of it.
+struct Largest<'a>(&'a [u8], usize);
+
+impl Source for Largest<'_> {
+    fn size(&self) -> u64 {
+        self.0.len() as u64
+    }
+    fn read_at(&mut self, at: u64, buf: &mut [u8]) -> Result<(), Mf4Error> {
+        self.1 = self.1.max(buf.len());
+        (&self.0).read_at(at, buf)
+    }
+}
+
+#[test]
+fn a_file_read_in_place_reads_as_in_memory_in_windows() {
+    // 50 000 records (1.3 MB) in one ##DT, in a list of a ##DT and a
+    // transposed ##DZ.
+    let rows: Vec<Row> = (0..50_000)
+        .map(|i| (f64::from(i) * 0.001, 0x18A, 0, &[1, 2][..], 0, 0))
+        .collect();
+    let files = [
+        sorted(&rows, dt),
+        sorted(&rows, |f, b| {
+            let (x, y) = b.split_at(1_000_003);
+            let blocks = [dt(f, x), dz(f, y, 1, RECORD)];
+            dl(f, 0, &blocks)
+        }),
+    ];
+    for file in &files {
+        let in_memory = read_all(file, &mut Zlib::default());
+        assert_eq!(in_memory.0.len(), 50_000);
+        assert_eq!(in_memory.1, Ok(()));
+        let seek = SeekSource::new(std::io::Cursor::new(file)).unwrap();
+        assert_eq!(read_all(seek, &mut Zlib::default()), in_memory);
+        // No read of the whole file: one window of a data block at most.
+        let mut largest = Largest(file, 0);
+        let mut r = Mf4Reader::new(&mut largest).unwrap();
+        while r.next(&mut Zlib::default()).unwrap().is_some() {}
+        drop(r);
+        assert!(
+            largest.1 <= data::WINDOW,
+            "{} bytes read at once",
+            largest.1
+        );
+    }
+}
+
+/// A file whose reads that begin in a range of bytes fail.
+struct Failing(std::io::Cursor<Vec<u8>>, core::ops::Range<u64>);
+
+impl std::io::Read for Failing {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        if self.1.contains(&self.0.position()) {
+            return Err(std::io::Error::other("disk gone"));
+        }
+        self.0.read(buf)
+    }
+}
+
+impl std::io::Seek for Failing {
+    fn seek(&mut self, to: std::io::SeekFrom) -> std::io::Result<u64> {
+        self.0.seek(to)
+    }
+}
+
+#[test]
+fn an_error_reading_the_file_ends_the_read_and_is_kept() {
+    // 60 000 records (1.56 MB), then the data group: the second window
+    // of the ##DT fails.
+    let rows: Vec<Row> = (0..60_000)
+        .map(|i| (f64::from(i) * 0.001, 0x18A, 0, &[1, 2][..], 0, 0))
+        .collect();
+    let file = sorted(&rows, dt);
+    let mut src = SeekSource::new(Failing(std::io::Cursor::new(file), 900_000..1_200_000)).unwrap();
+    let (frames, end) = read_all(&mut src, &mut NoInflate);
+    assert!(matches!(end, Err(Mf4Error::Read { .. })), "{end:?}");
+    assert!(end.is_err_and(|e| e.is_fatal()));
+    assert!(!frames.is_empty() && frames.len() < 60_000);
+    assert_eq!(src.take_error().unwrap().to_string(), "disk gone");
 }
