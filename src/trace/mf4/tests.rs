@@ -366,11 +366,17 @@ fn find(file: &[u8], id: &[u8; 4]) -> usize {
         .unwrap()
 }
 
-/// `file` with the u64 at `at` set to `v`.
-fn patched(file: &[u8], at: usize, v: u64) -> Vec<u8> {
+/// `file` with the bytes at `at` set to `bytes`: a file broken in one
+/// place.
+fn poked(file: &[u8], at: usize, bytes: &[u8]) -> Vec<u8> {
     let mut f = file.to_vec();
-    f[at..at + 8].copy_from_slice(&v.to_le_bytes());
+    f[at..at + bytes.len()].copy_from_slice(bytes);
     f
+}
+
+/// `file` with the u64 at `at` (a link or a length) set to `v`.
+fn patched(file: &[u8], at: usize, v: u64) -> Vec<u8> {
+    poked(file, at, &v.to_le_bytes())
 }
 
 #[test]
@@ -379,9 +385,10 @@ fn files_broken_in_one_place_give_their_named_errors() {
     let err = |f: &[u8]| read_all(f, &mut Zlib::default()).1.unwrap_err();
     assert_eq!(err(b"MDX     "), Mf4Error::NotMf4);
     assert_eq!(err(b"MDF     "), Mf4Error::PastEnd { at: 0 });
-    let mut v3 = good.clone();
-    v3[28..30].copy_from_slice(&330u16.to_le_bytes());
-    assert_eq!(err(&v3), Mf4Error::Version { version: 330 });
+    assert_eq!(
+        err(&poked(&good, 28, &330u16.to_le_bytes())),
+        Mf4Error::Version { version: 330 }
+    );
     let hd = 64;
     let dg = find(&good, b"##DG");
     let cg = find(&good, b"##CG");
@@ -421,10 +428,8 @@ fn files_broken_in_one_place_give_their_named_errors() {
         Mf4Error::LinkCycle { what: "channel" }
     );
     // A record id size of 3; a second channel group in a sorted group.
-    let mut f = good.clone();
-    f[dg + 56] = 3;
     assert_eq!(
-        err(&f),
+        err(&poked(&good, dg + 56, &[3])),
         Mf4Error::RecordIdSize {
             at: dg as u64,
             size: 3
@@ -444,9 +449,8 @@ fn files_broken_in_one_place_give_their_named_errors() {
     };
     assert_eq!(err(&two), Mf4Error::SortedGroups { at: dg as u64 });
     // Records over 1 MiB; data ending inside a record.
-    let mut f = good.clone();
-    f[cg + 72 + 24..cg + 72 + 28].copy_from_slice(&(2u32 << 20).to_le_bytes());
-    assert_eq!(err(&f), Mf4Error::RecordTooLarge { size: 2 << 20 });
+    let large = poked(&good, cg + 72 + 24, &(2u32 << 20).to_le_bytes());
+    assert_eq!(err(&large), Mf4Error::RecordTooLarge { size: 2 << 20 });
     let short = patched(&good, data + 8, 24 + 4 * u64::from(RECORD) - 1);
     assert_eq!(
         err(&short),
@@ -488,26 +492,23 @@ fn broken_data_lists_and_compressed_blocks_give_their_named_errors() {
             inflated: 4 * u64::from(RECORD)
         }
     );
-    let mut f = z.clone();
-    f[data + 2] = 2;
     assert_eq!(
-        err(&f),
+        err(&poked(&z, data + 2, &[2])),
         Mf4Error::UnknownZip {
             at: at as u64,
             zip_type: 2
         }
     );
-    let mut f = z.clone();
-    f[data..data + 2].copy_from_slice(b"SD");
-    assert!(matches!(err(&f), Mf4Error::UnexpectedBlock { .. }));
+    assert!(matches!(
+        err(&poked(&z, data, b"SD")),
+        Mf4Error::UnexpectedBlock { .. }
+    ));
     assert_eq!(
         err(&patched(&z, data + 16, 1 << 20)),
         Mf4Error::PastEnd { at: at as u64 }
     );
-    let mut f = z.clone();
-    let end = at + 24 + 24 + 4;
-    f[end..end + 4].copy_from_slice(&[0xFF; 4]);
-    assert_eq!(err(&f), Mf4Error::Inflate { at: at as u64 });
+    let corrupt = poked(&z, at + 24 + 24 + 4, &[0xFF; 4]);
+    assert_eq!(err(&corrupt), Mf4Error::Inflate { at: at as u64 });
 }
 
 #[test]
@@ -515,10 +516,10 @@ fn a_time_channel_not_a_number_or_not_linear_is_named() {
     let good = sorted(&ROWS, dt);
     let cg = find(&good, b"##CG");
     let time = u64::from_le_bytes(good[cg + 32..cg + 40].try_into().unwrap()) as usize;
-    let mut f = good.clone();
-    f[time + 24 + 64 + 2] = 6; // a string
+    // Data type 6: a string.
+    let string = poked(&good, time + 24 + 64 + 2, &[6]);
     assert_eq!(
-        read_all(&f, &mut NoInflate).1,
+        read_all(&string, &mut NoInflate).1,
         Err(Mf4Error::TimeType {
             at: time as u64,
             data_type: 6
@@ -576,9 +577,8 @@ fn a_sorted_group_of_empty_records_holds_no_frames() {
     // Reading 0-byte records would take no bytes: the group is empty.
     let good = sorted(&ROWS, dt);
     let cg = find(&good, b"##CG");
-    let mut f = good.clone();
-    f[cg + 72 + 24..cg + 72 + 28].copy_from_slice(&0u32.to_le_bytes());
-    assert_eq!(read_all(&f, &mut NoInflate), (Vec::new(), Ok(())));
+    let empty = poked(&good, cg + 72 + 24, &0u32.to_le_bytes());
+    assert_eq!(read_all(&empty, &mut NoInflate), (Vec::new(), Ok(())));
 }
 
 /// The link `i` of the block at `at`.
