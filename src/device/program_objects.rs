@@ -29,8 +29,6 @@
 //! - NMT resets leave the program state alone: it is the application's,
 //!   not a communication parameter.
 
-use core::ops::{Deref, DerefMut};
-
 use super::PowerOnValues;
 use crate::abort::AbortCode;
 use crate::od::{read_at, Access, ObjectDictionary, ObjectInfo, SizeRule};
@@ -125,18 +123,7 @@ impl<A: Default> Default for ProgramObjects<A> {
     }
 }
 
-impl<A> Deref for ProgramObjects<A> {
-    type Target = A;
-    fn deref(&self) -> &A {
-        &self.app
-    }
-}
-
-impl<A> DerefMut for ProgramObjects<A> {
-    fn deref_mut(&mut self) -> &mut A {
-        &mut self.app
-    }
-}
+crate::od::layered_over!(ProgramObjects<A>, app);
 
 impl<A> ProgramObjects<A> {
     /// `app` with no store: no program download objects.

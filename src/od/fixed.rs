@@ -14,8 +14,6 @@
 //! whole at [`finish_write`](ObjectDictionary::finish_write), so a refused
 //! or aborted download changes nothing.
 
-use core::ops::{Deref, DerefMut};
-
 use super::{Access, ObjectDictionary, ObjectInfo, WriteBuffer};
 use crate::abort::AbortCode;
 
@@ -261,19 +259,7 @@ impl<O: FixedObjects> FixedDictionary<O> {
     }
 }
 
-impl<O> Deref for FixedDictionary<O> {
-    type Target = O;
-
-    fn deref(&self) -> &O {
-        &self.objects
-    }
-}
-
-impl<O> DerefMut for FixedDictionary<O> {
-    fn deref_mut(&mut self) -> &mut O {
-        &mut self.objects
-    }
-}
+super::layered_over!(FixedDictionary<O>, objects);
 
 impl<O: FixedObjects> ObjectDictionary for FixedDictionary<O> {
     fn info(&self, index: u16, sub: u8) -> Result<ObjectInfo, AbortCode> {

@@ -201,6 +201,30 @@ impl<T: ObjectDictionary + ?Sized> ObjectDictionary for &mut T {
     }
 }
 
+/// `Deref`/`DerefMut` of a dictionary layered over the application's
+/// objects (its field `$field`): the application reads and updates its
+/// own values through the layer, which serves some objects itself
+/// ([`FixedDictionary`] over its fixed objects, the device's program
+/// download objects over the application's dictionary).
+macro_rules! layered_over {
+    ($layer:ident<$inner:ident>, $field:ident) => {
+        impl<$inner> core::ops::Deref for $layer<$inner> {
+            type Target = $inner;
+
+            fn deref(&self) -> &$inner {
+                &self.$field
+            }
+        }
+
+        impl<$inner> core::ops::DerefMut for $layer<$inner> {
+            fn deref_mut(&mut self) -> &mut $inner {
+                &mut self.$field
+            }
+        }
+    };
+}
+pub(crate) use layered_over;
+
 #[cfg(test)]
 mod tests {
     use super::*;
