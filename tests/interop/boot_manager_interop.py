@@ -3,7 +3,7 @@
 python-canopen `LocalNode` slaves whose device description the project has
 not seen (a valve controller written here), through candump lines on a pipe.
 
-`canopen-boot dcf` configures the EDS for each node (heartbeat 100 ms, two
+`canopen-boot dcf` configures the EDS for each node (heartbeat 250 ms, two
 application values); the manager then boots four nodes at once:
 
 A. node 5 matches its DCF: it is configured (the values arrive in the
@@ -126,8 +126,11 @@ def main():
     for n in (5, 6, 7, 8, 9, 10):
         dcf = os.path.join(tmp, f"node{n}.dcf")
         eds = sw_eds_path if n in (9, 10) else eds_path
+        # 250 ms: the manager expects the first heartbeat within 1.5 periods
+        # and 20 ms; python-canopen's heartbeat thread on a loaded two-core
+        # machine was seen to miss the 170 ms a 100 ms period gives.
         subprocess.run([boot, "dcf", eds, dcf, "--node-id", str(n),
-                        "--set", "1017=100", "--set", "2000=0x12345678",
+                        "--set", "1017=250", "--set", "2000=0x12345678",
                         "--set", "2001=750"], check=True, capture_output=True)
         args += ["--node", f"{n}={dcf}"]
     for n in (9, 10):
