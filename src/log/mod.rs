@@ -43,7 +43,7 @@
 //! | I want to ... | Look in |
 //! |---|---|
 //! | read a trace file (candump, screen, PCAN, ASC, CSV, BLF) item by item, or all its frames | [`input`] ([`input::read`], [`input::frames`]; BLF zlib through [`input::Inflate`]) |
-//! | decode a whole log as the program does | [`run`] with [`Options`] (what `canopen-decode` prints), [`Decoding`] frame by frame |
+//! | decode a whole log as the program does | [`run`] with [`Options`] (what `canopen-decode` prints), [`Decoding`] frame by frame, several logs or a dataset with [`dataset::run_each`] |
 //! | which node is the charger, the battery module, a Delta-Q device | [`Roles`] (given, or learned from 1000h/1018h in the log) |
 //! | reassemble SDO transfers from frames | [`sdo`] ([`sdo::Tracker`] over [`crate::sdo::Observer`], one [`sdo::Report`] per transfer) |
 //! | name an object and interpret its value | [`naming`] (the CiA 301 area, the profiles' catalogues, an EDS's names) |
@@ -55,7 +55,7 @@
 //! | the HTML report page | [`report`] |
 //! | CiA 301 dates (TIME, 1020h) as UTC | [`calendar`] |
 //! | boot a network from DCFs and report each node's boot as a JSON line (`canopen-boot`) | [`boot`] ([`boot::BootNode`], [`boot::BootRun`], [`boot::event_json`]) |
-//! | split a recording into the frames to play and those to expect, and diff a device's traffic against it (`canopen-replay`) | [`replay`], [`replay::diff`] |
+//! | split a recording into the frames to play and those to expect, play it into a device on your clock, and diff the device's traffic against it (`canopen-replay`) | [`replay`], [`replay::player`], [`replay::diff`] |
 //!
 //! ## Why a module, and its dependencies
 //!
