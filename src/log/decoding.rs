@@ -10,6 +10,7 @@ use crate::trace::candump::LogLine;
 use crate::trace::{RxTx, Unsupported};
 use crate::{CanId, Message};
 
+use crate::log::dataset::{self, PartFormat};
 use crate::log::input::{self, Item, Kind};
 use crate::log::summary::Decoded;
 use crate::log::{
@@ -541,4 +542,80 @@ pub fn run(
         open,
         no_frame,
     })
+}
+
+/// Decodes several logs (or one as a dataset): [`Options::file`] then
+/// [`Options::more_files`], each on its own with [`run`], one after the
+/// other, its name on `diag` and its frames on `out`. With
+/// [`Options::signals`] the signals of all of them form one dataset
+/// partitioned by log ([`dataset::parts`](crate::log::dataset::parts); Parquet parts when the folder's name or
+/// [`Options::dataset`] says so). How they all ended ([`Outcome::and`]); an
+/// error for stdin among them, for `--dbc` (the mappings of several logs
+/// may differ), for a partition that cannot be made, and for a log that
+/// cannot be opened (naming it).
+///
+/// ```
+/// use canopen_codec::log::{run_each, Options};
+///
+/// let dir = std::env::temp_dir().join(format!("canopen-run-each-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir)?;
+/// let (a, b) = (dir.join("a.log"), dir.join("b.log"));
+/// std::fs::write(&a, "(1.000000) can0 70A#05\n")?;
+/// std::fs::write(&b, "(2.000000) can0 70A#7F\nnot a frame\n")?;
+/// let opts = Options {
+///     file: Some(a.display().to_string()),
+///     more_files: vec![b.display().to_string()],
+///     ..Options::default()
+/// };
+/// let (mut out, mut diag) = (Vec::new(), Vec::new());
+/// let outcome = run_each(&opts, &mut out, &mut diag)?;
+/// assert_eq!(outcome.bad, 1);
+/// assert_eq!(String::from_utf8_lossy(&out).lines().count(), 2);
+/// let stdin = Options { more_files: vec!["-".into()], ..opts };
+/// assert!(run_each(&stdin, &mut out, &mut diag).is_err());
+/// std::fs::remove_dir_all(&dir)?;
+/// # Ok::<(), std::io::Error>(())
+/// ```
+pub fn run_each(
+    opts: &Options,
+    out: &mut impl Write,
+    diag: &mut impl Write,
+) -> io::Result<Outcome> {
+    let mut files = vec![opts.file.clone().unwrap_or_default()];
+    files.extend(opts.more_files.iter().cloned());
+    if files.iter().any(|f| f == "-" || f.is_empty()) {
+        return Err(io::Error::other(
+            "stdin cannot be one of several logs nor a dataset",
+        ));
+    }
+    if opts.dbc.is_some() {
+        return Err(io::Error::other(
+            "--dbc takes one log (the mappings of several may differ)",
+        ));
+    }
+    // Each log's partition, its name unique and free of path separators.
+    let parts = match &opts.signals {
+        Some(dir) => {
+            let root = std::path::Path::new(dir);
+            let format = opts.dataset.unwrap_or(PartFormat::of(root));
+            let parts = dataset::parts(root, &files, format).map_err(io::Error::other)?;
+            parts
+                .iter()
+                .map(|p| Some(p.display().to_string()))
+                .collect()
+        }
+        None => vec![None; files.len()],
+    };
+    let mut all = Outcome::default();
+    for (file, part) in files.iter().zip(parts) {
+        let input = std::fs::File::open(file)
+            .map_err(|e| io::Error::new(e.kind(), format!("{file}: {e}")))?;
+        let mut one = opts.clone();
+        one.file = Some(file.clone());
+        one.more_files.clear();
+        one.signals = part;
+        writeln!(diag, "canopen-decode: {file}")?;
+        all = all.and(run(input, out, diag, &one)?);
+    }
+    Ok(all)
 }

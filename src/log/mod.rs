@@ -43,7 +43,7 @@
 //! | I want to ... | Look in |
 //! |---|---|
 //! | read a trace file (candump, screen, PCAN, ASC, CSV, BLF) item by item, or all its frames | [`input`] ([`input::read`], [`input::frames`]; BLF zlib through [`input::Inflate`]) |
-//! | decode a whole log as the program does | [`run`] with [`Options`] (what `canopen-decode` prints), [`Decoding`] frame by frame, several logs or a dataset with [`dataset::run_each`] |
+//! | decode a whole log as the program does | [`run`] with [`Options`] (what `canopen-decode` prints), [`Decoding`] frame by frame, several logs or a dataset with [`run_each`] |
 //! | which node is the charger, the battery module, a Delta-Q device | [`Roles`] (given, or learned from 1000h/1018h in the log) |
 //! | reassemble SDO transfers from frames | [`sdo`] ([`sdo::Tracker`] over [`crate::sdo::Observer`], one [`sdo::Report`] per transfer) |
 //! | name an object and interpret its value | [`naming`] (the CiA 301 area, the profiles' catalogues, an EDS's names) |
@@ -110,7 +110,7 @@ pub mod summary;
 mod time_column;
 pub mod words;
 
-pub use decoding::{run, Decoding};
+pub use decoding::{run, run_each, Decoding};
 pub use frame_line::{is_default, BlockSegment, FrameLine, Notes};
 pub use line_cache::LineCache;
 pub use pipeline::{load_eds, page_transfer, transfer, Options, Outcome};

@@ -74,7 +74,7 @@ mod args;
 #[cfg(feature = "parquet")]
 mod signals_parquet;
 
-use canopen_codec::log::{dataset, input, run, Options, Outcome};
+use canopen_codec::log::{input, run, run_each, Options, Outcome};
 use std::io::{self, IsTerminal, Read};
 use std::process::ExitCode;
 
@@ -108,11 +108,11 @@ fn main() -> ExitCode {
     let (stdout, stderr) = (io::stdout(), io::stderr());
     let (mut out, mut diag) = (stdout.lock(), stderr.lock());
     // Several logs (or one with `--dataset`): each decoded on its own
-    // (`canopen_codec::log::dataset::run_each`); the exit status is the
+    // (`canopen_codec::log::run_each`); the exit status is the
     // worst of the runs.
     let several = !opts.more_files.is_empty() || opts.dataset.is_some();
     let result = if several {
-        dataset::run_each(&opts, &mut out, &mut diag)
+        run_each(&opts, &mut out, &mut diag)
     } else {
         input(&mut opts).and_then(|input| run(input, &mut out, &mut diag, &opts))
     };
