@@ -264,6 +264,11 @@ pub struct Device<
     rpdos: RpdoReceiver<R>,
     /// The profile allows TPDOs (besides NMT operational).
     tpdos_enabled: bool,
+    /// The objects may have changed since the TPDOs last read them (set by
+    /// every mutable access to the dictionary, see
+    /// [`od_mut`](Self::od_mut)): the refresh after an input reads them
+    /// again only then.
+    tpdos_stale: bool,
     /// The application's power-on values, taken at boot (restored by
     /// reset node).
     power_on: <S::Objects as PowerOnValues>::Snapshot,
@@ -349,6 +354,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
             tpdos: TpdoSet::empty(),
             rpdos: RpdoReceiver::empty(),
             tpdos_enabled: true,
+            tpdos_stale: true,
             power_on,
             transmit: EventQueue::new(CanFrame::EMPTY),
             events: EventQueue::new(<S::Event>::from(DeviceEvent::Reset { node: true })),
@@ -367,7 +373,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
     /// 1018h) into the blank before [`load_power_on`](Self::load_power_on)
     /// reads them.
     pub(crate) fn comm_before_power_on(&mut self) -> &mut CommObjects {
-        &mut self.server.od_mut().inner.comm
+        &mut self.od_mut().inner.comm
     }
 
     /// Writes the power-on values of the communication objects and the PDO
@@ -376,6 +382,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
     /// what [`new`](Self::new) and every reset do (the same path, no
     /// second dictionary or server built and moved).
     pub(crate) fn load_power_on(&mut self) {
+        self.tpdos_stale = true;
         let od = self.server.od_mut();
         let policies = self.config.restore(&mut od.inner.comm, &mut od.config);
         let period_ms = od.inner.comm.heartbeat_ms;
@@ -486,15 +493,25 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
     /// Changes application objects in `f`; mapped values that changed are
     /// events for the event-driven TPDOs.
     pub fn update(&mut self, now: Timestamp, f: impl FnOnce(&mut S::Objects)) {
-        f(&mut self.server.od_mut().inner.app);
+        f(&mut self.od_mut().inner.app);
         self.refresh_tpdos(now);
+    }
+
+    /// [`update`](Self::update) for an `f` that says whether it changed
+    /// anything (an application that writes its whole state every time,
+    /// most of it as it was): the mapped objects are read again only when
+    /// it did, or when something else changed the objects since the TPDOs
+    /// last read them.
+    pub fn update_changed(&mut self, now: Timestamp, f: impl FnOnce(&mut S::Objects) -> bool) {
+        self.tpdos_stale |= f(&mut self.server.od_mut().inner.app);
+        self.refresh_stale_tpdos(now);
     }
 
     /// Changes communication objects in `f` (the application's own
     /// changes; no SDO rules applied): a changed 1017h re-arms the
     /// heartbeat, changed 1016h entries restart their supervision.
     pub fn update_comm(&mut self, now: Timestamp, f: impl FnOnce(&mut CommObjects)) {
-        f(&mut self.server.od_mut().inner.comm);
+        f(&mut self.od_mut().inner.comm);
         self.apply_heartbeat_period(now);
         #[cfg(feature = "heartbeat-consumer")]
         self.apply_consumers();
@@ -505,14 +522,14 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
     /// Changes the PDO configuration in `f` (no SDO rules applied) and puts
     /// it into effect.
     pub fn update_pdos(&mut self, now: Timestamp, f: impl FnOnce(&mut PdoConfig<T, R>)) {
-        f(&mut self.server.od_mut().config);
+        f(&mut self.od_mut().config);
         self.reconfigure_pdos(now);
     }
 
     /// Mutable access to the application objects without side effects
     /// (for the profile's own bookkeeping).
     pub fn objects_mut(&mut self) -> &mut S::Objects {
-        &mut self.server.od_mut().inner.app
+        &mut self.od_mut().inner.app
     }
 
     /// Whether the TPDOs may run besides NMT operational (the profile's
@@ -541,9 +558,10 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
     /// Sets `bits` (and the generic bit) in 1001h, records `emcy` in 1003h
     /// and sends it with the new register value.
     pub fn raise_error(&mut self, bits: ErrorRegister, mut emcy: Emergency) {
-        let comm = &mut self.server.od_mut().inner.comm;
+        let entry = self.error_field.entry(&emcy);
+        let comm = &mut self.od_mut().inner.comm;
         comm.error_register |= bits | ErrorRegister::GENERIC;
-        comm.push_error(self.error_field.entry(&emcy));
+        comm.push_error(entry);
         emcy.register = comm.error_register;
         self.send_emergency(&emcy);
     }
@@ -554,7 +572,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
     /// kept, even when `bits` names it, while one is. Does nothing when none
     /// of `bits` is set.
     pub fn clear_error(&mut self, bits: ErrorRegister) {
-        let reg = &mut self.server.od_mut().inner.comm.error_register;
+        let reg = &mut self.od_mut().inner.comm.error_register;
         if !reg.intersects(bits) {
             return;
         }
@@ -589,9 +607,29 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         self.events.push(event);
     }
 
-    /// Re-reads the TPDO payloads from the objects now.
+    /// Re-reads the TPDO payloads from the objects now (the device does
+    /// after every input that may have changed them: an application whose
+    /// objects change by themselves, a live reading in its dictionary's
+    /// `read`, calls this when they do).
     pub fn refresh_tpdos(&mut self, now: Timestamp) {
+        self.tpdos_stale = false;
         self.tpdos.refresh(now, self.server.od_mut());
+    }
+
+    /// [`refresh_tpdos`](Self::refresh_tpdos) if anything may have changed
+    /// the objects since the last one: re-reading unchanged objects would
+    /// give the same payloads, which are no event.
+    fn refresh_stale_tpdos(&mut self, now: Timestamp) {
+        if self.tpdos_stale {
+            self.refresh_tpdos(now);
+        }
+    }
+
+    /// The dictionary, mutably: whatever is done through it may change a
+    /// mapped object, so the TPDOs read them again at the next refresh.
+    fn od_mut(&mut self) -> &mut Dictionary<S::Objects, T, R> {
+        self.tpdos_stale = true;
+        self.server.od_mut()
     }
 
     // ----- inputs ----------------------------------------------------------
@@ -622,6 +660,9 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         #[cfg(feature = "heartbeat-consumer")]
         self.consumer_frame(now, frame, profile);
         if self.nmt.sdo_allowed() {
+            // A request, or a frame while a transfer runs, may write the
+            // objects (a download's value, or its abort).
+            self.tpdos_stale |= self.server.is_busy() || self.server.is_request(frame);
             self.server.handle_frame(now, frame);
             self.drain_server(now, profile);
         }
@@ -641,10 +682,12 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         #[cfg(feature = "heartbeat-consumer")]
         self.consumer_timeout(now, profile);
         self.services_timeout(now, profile);
+        // A transfer that times out aborts its download in the dictionary.
+        self.tpdos_stale |= self.server.is_busy();
         self.server.handle_timeout(now);
         self.drain_server(now, profile);
         profile.on_timeout(self, now);
-        self.refresh_tpdos(now);
+        self.refresh_stale_tpdos(now);
         self.tpdos.handle_timeout(now);
     }
 
@@ -764,6 +807,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         // dictionary before the application objects are kept.
         self.server.cancel();
         if kind == ResetKind::Node {
+            self.tpdos_stale = true;
             self.server.od_mut().inner.app.restore(&self.power_on);
         }
         self.load_power_on();
@@ -785,7 +829,9 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
     /// The core's part of entering `to`.
     fn entered(&mut self, now: Timestamp, to: NmtState) {
         if to == NmtState::Stopped {
-            // No SDO in stopped: the running transfer ends silently.
+            // No SDO in stopped: the running transfer ends silently (a
+            // download is aborted in the dictionary).
+            self.tpdos_stale |= self.server.is_busy();
             self.server.cancel();
         }
         self.heartbeat.set_state(now, to);
@@ -878,7 +924,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
             let Ok(data) = PdoFrame::of_frame(frame) else {
                 return;
             };
-            let od = self.server.od_mut();
+            let od = self.od_mut();
             let Some(result) = RpdoReceiver::apply_data(pdo, data.as_bytes(), od) else {
                 return;
             };
@@ -894,7 +940,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
                     self.emit(now, DeviceEvent::RpdoRefused { pdo, error }, profile);
                 }
             }
-            self.refresh_tpdos(now);
+            self.refresh_stale_tpdos(now);
         }
     }
 }

@@ -51,7 +51,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         let has = self.storage.is_some();
         let fits = |b: &[u8]| b.len() <= RECORD_CAPACITY - 12;
         let app = has && S::Objects::parameter_bytes(&self.power_on).is_some_and(fits);
-        self.server.od_mut().inner.comm.set_storable(has, app);
+        self.od_mut().inner.comm.set_storable(has, app);
     }
 
     /// The groups 1010h/1011h sub `sub` names (sub 1: both, the
@@ -149,7 +149,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
         let record = buf.get(..len).unwrap_or(&[]);
         let result = match group {
             ParameterGroup::Communication => {
-                let od = self.server.od_mut();
+                let od = self.od_mut();
                 apply_comm(record, &mut od.inner.comm, &mut od.config)
             }
             _ => {
@@ -157,7 +157,7 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
                 let layout = S::Objects::parameter_layout();
                 match S::Objects::parameter_bytes_mut(&mut snapshot) {
                     Some(bytes) => apply_app(record, layout, bytes)
-                        .map(|()| self.server.od_mut().inner.app.restore(&snapshot)),
+                        .map(|()| self.od_mut().inner.app.restore(&snapshot)),
                     None => Err(RecordError::Value),
                 }
             }

@@ -253,6 +253,33 @@ fn pdos_only_in_operational_and_short_rpdos_refused() {
     assert!(sent(&mut d).iter().all(|f| !f.starts_with("184#")));
 }
 
+/// The TPDOs read the mapped objects again after any input that may have
+/// changed them, and may skip the reading otherwise: a value set without
+/// side effects is an event at the next input, a value set before an
+/// update that reports no change of its own is one at that update, and an
+/// SDO download of the mapped object is one at once.
+#[test]
+fn a_mapped_value_changed_by_any_path_is_an_event() {
+    let mut d = booted();
+    let _ = sent(&mut d);
+    d.handle_frame(ms(1), &frame(0x000, &[0x01, 4]));
+    assert_eq!(sent(&mut d), ["184#07"]);
+    d.objects_mut().0 = 8;
+    assert!(sent(&mut d).is_empty(), "no side effects");
+    d.handle_timeout(ms(2));
+    assert_eq!(sent(&mut d), ["184#08"]);
+    d.update_changed(ms(3), |_| false);
+    d.handle_timeout(ms(4));
+    assert!(sent(&mut d).is_empty(), "nothing changed");
+    d.objects_mut().0 = 9;
+    d.update_changed(ms(5), |_| false);
+    assert_eq!(sent(&mut d), ["184#09"]);
+    d.update_changed(ms(6), |o| core::mem::replace(&mut o.0, 10) != 10);
+    assert_eq!(sent(&mut d), ["184#0A"]);
+    sdo_write_u8(&mut d, ms(7), 0x2000, 11);
+    assert_eq!(sent(&mut d), ["584#6000200000000000", "184#0B"]);
+}
+
 #[test]
 fn undrained_events_change_nothing() {
     // Two devices fed the same frames; one is drained, one never.

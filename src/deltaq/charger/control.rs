@@ -61,6 +61,11 @@ fn q16(milli: u32, q: u32) -> u16 {
     ((scaled + 62) / 125).min(0xFFFE) as u16
 }
 
+/// Writes `value` into `field`; whether that changed it.
+fn put<V: Copy + PartialEq>(field: &mut V, value: V) -> bool {
+    core::mem::replace(field, value) != value
+}
+
 impl ControlLink {
     pub(super) const fn new(mode: OperatingMode, config: ChargeConfig) -> Self {
         ControlLink {
@@ -167,18 +172,22 @@ impl ControlLink {
             let Alarm(code, eec) = alarm(shown);
             code.to_error_field(eec)
         };
-        device.update(now, |o| {
-            o.extended_status = status.extended.to_u16();
-            o.charger_status = o.charger_status & !1 | status.charger_status;
-            o.derate_reasons = status.derate.bits();
-            o.ah_returned = status.ah_returned;
-            o.charger_soc = status.charger_soc;
-            o.elapsed_s = u32::try_from(status.elapsed.as_secs()).unwrap_or(u32::MAX);
-            o.charging_current = q16(stage.current_ma, 8);
-            o.battery_voltage_q8 = q16(stage.battery_mv(), 8);
-            o.battery_voltage_q10 = q16(stage.battery_mv(), 10);
-            o.ac_voltage = q16(stage.ac_mv, 4);
-            o.displayed_error = displayed;
+        // Called on every input: most calls change nothing, and then the
+        // TPDOs need not read the objects again.
+        device.update_changed(now, |o| {
+            let charger_status = o.charger_status & !1 | status.charger_status;
+            let elapsed_s = u32::try_from(status.elapsed.as_secs()).unwrap_or(u32::MAX);
+            put(&mut o.extended_status, status.extended.to_u16())
+                | put(&mut o.charger_status, charger_status)
+                | put(&mut o.derate_reasons, status.derate.bits())
+                | put(&mut o.ah_returned, status.ah_returned)
+                | put(&mut o.charger_soc, status.charger_soc)
+                | put(&mut o.elapsed_s, elapsed_s)
+                | put(&mut o.charging_current, q16(stage.current_ma, 8))
+                | put(&mut o.battery_voltage_q8, q16(stage.battery_mv(), 8))
+                | put(&mut o.battery_voltage_q10, q16(stage.battery_mv(), 10))
+                | put(&mut o.ac_voltage, q16(stage.ac_mv, 4))
+                | put(&mut o.displayed_error, displayed)
         });
         while let Some(e) = self.control.poll_event() {
             device.push_event(ChargerEvent::Charge(e));

@@ -386,6 +386,13 @@ impl<D: ObjectDictionary, const EVENTS: usize> Server<D, EVENTS> {
         !matches!(self.state, State::Idle)
     }
 
+    /// Whether `frame` is a request on this server's channel (the frames
+    /// [`handle_frame`](Machine::handle_frame) acts on).
+    #[must_use]
+    pub(crate) fn is_request(&self, frame: &CanFrame) -> bool {
+        frame.identity() == self.request_filter
+    }
+
     /// Turns the answer to the download that just completed (the one its
     /// [`ServerEvent::Downloaded`] reported, not sent yet) into an abort of
     /// `index`/`sub` with `code`: for a device whose write takes effect
