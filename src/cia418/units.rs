@@ -24,17 +24,19 @@ const fn whole_steps(value: u64, step: u64, max: u64) -> Option<u64> {
 /// `raw`, `decode` (exactly `$bytes` bytes, else a [`DecodeError`]) and
 /// `encode`; `$per_bit` says what one raw step is. Optionally the
 /// checked ways in: `whole: fn` from whole units (`$steps` raw steps per
-/// unit, `None` when the raw value would overflow), then `fine: fn` from
-/// a sub-unit that divides the resolution (`$per_step` of it per raw
-/// step, declared as `Self::$per_name`; `None` unless a whole number of
-/// steps, at most `$max`), and optionally `exact: fn`, the way out to that
-/// sub-unit (raw times `$per_step`): the scale is declared once for both
-/// directions.
+/// unit, `None` when the raw value would overflow), after a comma
+/// optionally `float: fn`, the way out to those units as a float (raw
+/// over `$steps`), then `fine: fn` from a sub-unit that divides the
+/// resolution (`$per_step` of it per raw step, declared as
+/// `Self::$per_name`; `None` unless a whole number of steps, at most
+/// `$max`), and optionally `exact: fn`, the way out to that sub-unit (raw
+/// times `$per_step`): each scale is declared once for both directions.
 macro_rules! object_value {
     (
         $name:ident($raw:ty; $bytes:literal), $per_bit:literal;
         $(
-            $(#[$wdoc:meta])* whole: fn $whole:ident($w:ident) * $steps:literal;
+            $(#[$wdoc:meta])* whole: fn $whole:ident($w:ident) * $steps:literal
+            $(, $(#[$float_doc:meta])* float: fn $float:ident -> $float_ty:ty)?;
             $(
                 $(#[$fdoc:meta])*
                 fine: fn $fine:ident($f:ident: $fty:ty) / $per_name:ident = $per_step:literal, max $max:expr;
@@ -75,6 +77,15 @@ macro_rules! object_value {
                         None => None,
                     }
                 }
+
+                $(
+                    $(#[$float_doc])*
+                    #[must_use]
+                    pub fn $float(self) -> $float_ty {
+                        let steps: $raw = $steps;
+                        <$float_ty>::from(self.0) / <$float_ty>::from(steps)
+                    }
+                )?
 
                 $(
                     #[doc = concat!("The sub-unit of [`", stringify!($fine), "`](Self::", stringify!($fine), ") per bit (one bit is ", $per_bit, ").")]
@@ -121,7 +132,9 @@ object_value! {
     Temperature(i16; 2), "0.125 degC";
     /// Whole degrees Celsius; `None` outside the `i16` range (beyond
     /// -4096..=4095 degC).
-    whole: fn from_celsius(deg) * 8;
+    whole: fn from_celsius(deg) * 8,
+        /// Degrees Celsius as `f32` (exact: every raw value is representable).
+        float: fn as_celsius_f32 -> f32;
 }
 
 impl Temperature {
@@ -150,12 +163,6 @@ impl Temperature {
         } else {
             Some(Temperature(raw as i16))
         }
-    }
-
-    /// Degrees Celsius as `f32` (exact: every raw value is representable).
-    #[must_use]
-    pub fn as_celsius_f32(self) -> f32 {
-        f32::from(self.0) / 8.0
     }
 
     /// True inside the range CiA 418 requires a module to cover
@@ -215,7 +222,9 @@ pub struct EighthAmpHours(u16);
 object_value! {
     EighthAmpHours(u16; 2), "0.125 Ah";
     /// Whole ampere-hours; `None` above 8191 Ah.
-    whole: fn from_amp_hours(ah) * 8;
+    whole: fn from_amp_hours(ah) * 8,
+        /// Ampere-hours as `f32` (exact).
+        float: fn as_amp_hours_f32 -> f32;
     /// `Some` if `mah` is a multiple of 125 mAh that fits 16 bits.
     fine: fn from_milliamp_hours(mah: u32) / MILLIAMP_HOURS_PER_BIT = 125, max u16::MAX;
     /// Exact milliampere-hours (raw * 125).
@@ -226,12 +235,6 @@ impl EighthAmpHours {
     /// 0xFFFF, the largest value: 8191.875 Ah (CiA 418 gives it no special
     /// meaning).
     pub const MAX: EighthAmpHours = EighthAmpHours(0xFFFF);
-
-    /// Ampere-hours as `f32` (exact).
-    #[must_use]
-    pub fn as_amp_hours_f32(self) -> f32 {
-        f32::from(self.0) / 8.0
-    }
 }
 
 /// 6060h battery voltage, Unsigned32, 1/1024 V per bit (CiA 418 section
@@ -255,7 +258,9 @@ pub struct BatteryVoltage(u32);
 object_value! {
     BatteryVoltage(u32; 4), "1/1024 V";
     /// Whole volts; `None` above 4 194 303 V.
-    whole: fn from_volts(volts) * 1024;
+    whole: fn from_volts(volts) * 1024,
+        /// Volts as `f64` (exact).
+        float: fn as_volts_f64 -> f64;
     /// `Some` if `pv` is a whole number of 1/1024 V steps that fits 32 bits.
     fine: fn from_picovolts(pv: u64) / PICOVOLTS_PER_BIT = 976_562_500, max u32::MAX;
     /// Exact picovolts (raw * 976 562 500; never overflows `u64`).
@@ -267,12 +272,6 @@ impl BatteryVoltage {
     #[must_use]
     pub const fn millivolts_rounded(self) -> u32 {
         ((self.0 as u64 * 1000 + 512) / 1024) as u32
-    }
-
-    /// Volts as `f64` (exact).
-    #[must_use]
-    pub fn as_volts_f64(self) -> f64 {
-        f64::from(self.0) / 1024.0
     }
 }
 
