@@ -52,16 +52,42 @@ struct Series<'a> {
     sub: u8,
     name: &'a str,
     unit: Option<&'a str>,
-    /// A bit field or code drawn as its raw bits.
+    line: Line,
+}
+
+/// What the page's script draws of a line, a signal's or a traffic plot's.
+#[derive(Default)]
+struct Line {
+    /// A bit field or code (or a PDO byte) drawn as its raw bits.
     raw: bool,
+    /// Samples (or windows, or frames) behind the points.
     samples: u64,
+    /// Samples without a value.
     invalid: u64,
     /// Every sample is drawn (none merged into a column).
     exact: bool,
+    /// The times, in seconds from the start of the log.
     t: Vec<f64>,
+    /// The values at those times.
     v: Vec<f64>,
     /// Times of samples without a value (the line breaks there).
     gaps: Vec<f64>,
+}
+
+impl Line {
+    /// The line's figures and arrays, and the end of its object.
+    fn json(&self, out: &mut String) {
+        let _ = write!(
+            out,
+            ",\"raw\":{},\"samples\":{},\"invalid\":{},\"exact\":{}",
+            self.raw, self.samples, self.invalid, self.exact
+        );
+        for (name, values) in [("t", &self.t), ("v", &self.v), ("gaps", &self.gaps)] {
+            let _ = write!(out, ",\"{name}\":");
+            array(out, values, |out, v| float(out, *v));
+        }
+        out.push('}');
+    }
 }
 
 /// A plot of the bus's traffic (drawn as steps: one value per window, or a
@@ -71,11 +97,9 @@ struct Plot {
     /// "bus-load", "node-rate" or "pdo-byte".
     kind: &'static str,
     unit: &'static str,
-    /// Windows or frames behind the points.
-    samples: u64,
-    exact: bool,
-    t: Vec<f64>,
-    v: Vec<f64>,
+    /// Its line: `samples` counts the windows or frames behind the
+    /// points; a traffic plot has no gaps and no invalid samples.
+    line: Line,
 }
 
 impl Plot {
@@ -84,10 +108,11 @@ impl Plot {
             label,
             kind,
             unit,
-            samples: 0,
-            exact: true,
-            t: Vec::new(),
-            v: Vec::new(),
+            line: Line {
+                raw: kind == "pdo-byte",
+                exact: true,
+                ..Line::default()
+            },
         }
     }
 
@@ -98,15 +123,8 @@ impl Plot {
         text(out, self.kind);
         out.push_str(",\"unit\":");
         text(out, self.unit);
-        let _ = write!(
-            out,
-            ",\"step\":true,\"raw\":{},\"samples\":{},\"invalid\":0,\"exact\":{}",
-            self.kind == "pdo-byte",
-            self.samples,
-            self.exact
-        );
-        float_arrays(out, &[("t", self.t.as_slice()), ("v", self.v.as_slice())]);
-        out.push_str(",\"gaps\":[]}");
+        out.push_str(",\"step\":true");
+        self.line.json(out);
     }
 }
 
@@ -126,10 +144,10 @@ fn plots(c: &Collector) -> (Vec<Plot>, String) {
             "bus-load",
             "%",
         );
-        p.samples = t.bits.windows();
-        p.exact = exact;
-        p.t = points.iter().map(|s| secs(s.t)).collect();
-        p.v = points.iter().map(|s| s.v * 100.0 / rate).collect();
+        p.line.samples = t.bits.windows();
+        p.line.exact = exact;
+        p.line.t = points.iter().map(|s| secs(s.t)).collect();
+        p.line.v = points.iter().map(|s| s.v * 100.0 / rate).collect();
         plots.push(p);
     }
     let mut nodes: Vec<(&u8, &(u64, super::series::PerSecond))> = t.nodes.iter().collect();
@@ -155,10 +173,10 @@ fn plots(c: &Collector) -> (Vec<Plot>, String) {
             "node-rate",
             "frames/s",
         );
-        p.samples = per_second.windows();
-        p.exact = exact;
-        p.t = points.iter().map(|s| secs(s.t)).collect();
-        p.v = points.iter().map(|s| s.v).collect();
+        p.line.samples = per_second.windows();
+        p.line.exact = exact;
+        p.line.t = points.iter().map(|s| secs(s.t)).collect();
+        p.line.v = points.iter().map(|s| s.v).collect();
         plots.push(p);
     }
     for (cob_id, bytes) in &t.raw_pdos {
@@ -169,10 +187,10 @@ fn plots(c: &Collector) -> (Vec<Plot>, String) {
                 "pdo-byte",
                 "raw",
             );
-            p.samples = series.samples;
-            p.exact = series.exact();
-            p.t = points.iter().map(|s| secs(s.t)).collect();
-            p.v = points.iter().map(|s| s.v).collect();
+            p.line.samples = series.samples;
+            p.line.exact = series.exact();
+            p.line.t = points.iter().map(|s| secs(s.t)).collect();
+            p.line.v = points.iter().map(|s| s.v).collect();
             plots.push(p);
         }
     }
@@ -288,13 +306,15 @@ pub fn write(
                 sub: f.sub,
                 name: f.name,
                 unit,
-                raw: f.raw,
-                samples: f.series.samples,
-                invalid: f.series.invalid,
-                exact: f.series.exact(),
-                t: points.iter().map(|p| secs(p.t)).collect(),
-                v: points.iter().map(|p| p.v).collect(),
-                gaps: f.series.gaps().iter().map(|&g| secs(g)).collect(),
+                line: Line {
+                    raw: f.raw,
+                    samples: f.series.samples,
+                    invalid: f.series.invalid,
+                    exact: f.series.exact(),
+                    t: points.iter().map(|p| secs(p.t)).collect(),
+                    v: points.iter().map(|p| p.v).collect(),
+                    gaps: f.series.gaps().iter().map(|&g| secs(g)).collect(),
+                },
             }
         })
         .collect();
@@ -437,30 +457,7 @@ impl Series<'_> {
         text(out, self.name);
         out.push_str(",\"unit\":");
         opt_text(out, self.unit);
-        let _ = write!(
-            out,
-            ",\"raw\":{},\"samples\":{},\"invalid\":{},\"exact\":{}",
-            self.raw, self.samples, self.invalid, self.exact
-        );
-        float_arrays(
-            out,
-            &[
-                ("t", self.t.as_slice()),
-                ("v", self.v.as_slice()),
-                ("gaps", self.gaps.as_slice()),
-            ],
-        );
-        out.push('}');
-    }
-}
-
-/// A plotted line's number arrays as the page's script reads them, each
-/// `,"name":[..]`: `t` the times in seconds from the start of the log,
-/// `v` the values at those times, `gaps` the times where the line breaks.
-fn float_arrays(out: &mut String, arrays: &[(&str, &[f64])]) {
-    for &(name, values) in arrays {
-        let _ = write!(out, ",\"{name}\":");
-        array(out, values, |out, v| float(out, *v));
+        self.line.json(out);
     }
 }
 
