@@ -474,6 +474,53 @@ pub fn run(
     diag: &mut impl Write,
     opts: &Options,
 ) -> io::Result<Outcome> {
+    run_with(
+        |how, zlib, each| input::read(input, how, zlib, each),
+        out,
+        diag,
+        opts,
+    )
+}
+
+/// [`run`] on a file that seeks (the file a program is given): an MF4 file
+/// is read in place ([`input::read_seekable`]), its memory constant in its
+/// size.
+pub fn run_file(
+    file: impl Read + io::Seek,
+    out: &mut impl Write,
+    diag: &mut impl Write,
+    opts: &Options,
+) -> io::Result<Outcome> {
+    run_with(
+        |how, zlib, each| input::read_seekable(file, how, zlib, each),
+        out,
+        diag,
+        opts,
+    )
+}
+
+/// [`run_file`] on the file at `path` (an error opening it names it).
+pub fn run_path(
+    path: &str,
+    out: &mut impl Write,
+    diag: &mut impl Write,
+    opts: &Options,
+) -> io::Result<Outcome> {
+    let file =
+        std::fs::File::open(path).map_err(|e| io::Error::new(e.kind(), format!("{path}: {e}")))?;
+    run_file(file, out, diag, opts)
+}
+
+/// The items a reading gives.
+type Each<'e> = &'e mut dyn FnMut(Item<'_>) -> io::Result<()>;
+
+/// [`run`] with the reading of the input given.
+fn run_with(
+    read: impl FnOnce(input::How, &mut dyn input::Inflate, Each<'_>) -> io::Result<input::Totals>,
+    out: &mut impl Write,
+    diag: &mut impl Write,
+    opts: &Options,
+) -> io::Result<Outcome> {
     let mut run = crate::log::decoding::Decoding::new(opts, diag)?;
     let how = input::How {
         format: opts.format,
@@ -485,7 +532,7 @@ pub fn run(
         || Box::new(input::NoInflate) as Box<dyn input::Inflate>,
         |make| make(),
     );
-    let totals = input::read(input, how, zlib.as_mut(), |item| match item {
+    let totals = read(how, zlib.as_mut(), &mut |item| match item {
         Item::Frame { at, frame } => {
             let line = LogLine {
                 timestamp: frame.timestamp,
@@ -608,14 +655,12 @@ pub fn run_each(
     };
     let mut all = Outcome::default();
     for (file, part) in files.iter().zip(parts) {
-        let input = std::fs::File::open(file)
-            .map_err(|e| io::Error::new(e.kind(), format!("{file}: {e}")))?;
         let mut one = opts.clone();
         one.file = Some(file.clone());
         one.more_files.clear();
         one.signals = part;
         writeln!(diag, "canopen-decode: {file}")?;
-        all = all.and(run(input, out, diag, &one)?);
+        all = all.and(run_path(file, out, diag, &one)?);
     }
     Ok(all)
 }

@@ -74,7 +74,7 @@ mod args;
 #[cfg(feature = "parquet")]
 mod signals_parquet;
 
-use canopen_codec::log::{input, run, run_each, Options, Outcome};
+use canopen_codec::log::{input, run, run_each, run_path, Options, Outcome};
 use std::io::{self, IsTerminal, Read};
 use std::process::ExitCode;
 
@@ -111,8 +111,11 @@ fn main() -> ExitCode {
     // (`canopen_codec::log::run_each`); the exit status is the
     // worst of the runs.
     let several = !opts.more_files.is_empty() || opts.dataset.is_some();
+    let file = opts.file.clone().filter(|f| f != "-");
     let result = if several {
         run_each(&opts, &mut out, &mut diag)
+    } else if let Some(path) = file.filter(|_| opts.bundled.is_none()) {
+        run_path(&path, &mut out, &mut diag, &opts) // an MF4 file read in place
     } else {
         input(&mut opts).and_then(|input| run(input, &mut out, &mut diag, &opts))
     };
@@ -134,7 +137,7 @@ fn main() -> ExitCode {
     }
 }
 
-/// The one log: the file, stdin, or the bundled session (asked for, or
+/// The one log but a file (`run_path`): stdin, or the bundled session (asked for, or
 /// no input given with a terminal on stdin).
 fn input(opts: &mut Options) -> io::Result<Box<dyn Read>> {
     Ok(match (opts.bundled, opts.file.as_deref()) {
@@ -143,11 +146,7 @@ fn input(opts: &mut Options) -> io::Result<Box<dyn Read>> {
             eprintln!("canopen-decode: decoding {SESSION_NAME}");
             Box::new(SESSION.as_bytes())
         }
-        (None, Some("-")) => Box::new(io::stdin().lock()),
-        (None, Some(path)) => Box::new(
-            std::fs::File::open(path)
-                .map_err(|e| io::Error::new(e.kind(), format!("{path}: {e}")))?,
-        ),
+        (None, Some(_)) => Box::new(io::stdin().lock()),
         (None, None) if io::stdin().is_terminal() => {
             opts.roles.demo();
             eprintln!("canopen-decode: no input given; decoding {SESSION_NAME}");

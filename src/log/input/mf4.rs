@@ -1,9 +1,11 @@
-//! ASAM MDF 4 bus-logging input: the file read into memory (its links
-//! point anywhere in it), then read through [`crate::trace::mf4::Mf4Reader`]
-//! record by record, each `##DZ` block inflated by the caller's
-//! [`Inflate`]; every classic CAN frame an item like a text trace's line,
-//! in time order. Besides the file, memory stays bounded by one data block
-//! per data group.
+//! ASAM MDF 4 bus-logging input: a file that seeks read in place
+//! ([`SeekSource`]: its data blocks as they are reached, memory constant in
+//! the file's size), any other input (a pipe, a gzip-compressed file) read
+//! into memory first (its links point anywhere in it); then read through
+//! [`crate::trace::mf4::Mf4Reader`] record by record, each `##DZ` block
+//! inflated by the caller's [`Inflate`]; every classic CAN frame an item
+//! like a text trace's line, in time order. Besides the file, memory stays
+//! bounded by one data block per data group.
 //!
 //! Records of the bus-logging channel groups are numbered from 1 in the
 //! order read: CAN FD, error frames and other CAN events are unsupported
@@ -11,15 +13,15 @@
 //! the file's structure (a block past the end, links that loop, a block
 //! that does not inflate) ends the read.
 
-use std::io::{self, Read};
+use std::io::{self, Read, Seek};
 use std::prelude::rust_2021::*;
 
-use crate::trace::mf4::{Mf4Event, Mf4Reader};
+use crate::trace::mf4::{Mf4Error, Mf4Event, Mf4Reader, SeekSource, Source};
 
 use super::{At, Bad, Binary, Counted, Item, Kind};
 use crate::trace::inflate::Inflate;
 
-/// Reads the MF4 file `input`, handing each item to `each`.
+/// Reads the MF4 file `input` (into memory), handing each item to `each`.
 pub(super) fn read<F: FnMut(Item<'_>) -> io::Result<()>>(
     mut input: impl Read,
     zlib: &mut dyn Inflate,
@@ -27,14 +29,41 @@ pub(super) fn read<F: FnMut(Item<'_>) -> io::Result<()>>(
 ) -> io::Result<Kind> {
     let mut file = Vec::new();
     input.read_to_end(&mut file)?;
+    items(&file, zlib, each)
+}
+
+/// Reads the MF4 file `file` in place, handing each item to `each`; an
+/// error reading the file is returned.
+pub(super) fn read_in_place<F: FnMut(Item<'_>) -> io::Result<()>>(
+    file: impl Read + Seek,
+    zlib: &mut dyn Inflate,
+    each: &mut Counted<'_, F>,
+) -> io::Result<Kind> {
+    let mut src = SeekSource::new(file)?;
+    let kind = items(&mut src, zlib, each);
+    match src.take_error() {
+        Some(e) => Err(e),
+        None => kind,
+    }
+}
+
+/// The items of the MF4 file `src`: an error reading it ends the read
+/// (the caller returns the I/O error).
+fn items<S: Source, F: FnMut(Item<'_>) -> io::Result<()>>(
+    src: S,
+    zlib: &mut dyn Inflate,
+    each: &mut Counted<'_, F>,
+) -> io::Result<Kind> {
     let mut records = 0u64;
     let kind = |records| Kind::Binary {
         binary: Binary::Mf4,
         objects: records,
         skipped: 0,
     };
-    let mut reader = match Mf4Reader::new(&file) {
+    let read_error = |e| io::Error::other(format!("{e}"));
+    let mut reader = match Mf4Reader::new(src) {
         Ok(r) => r,
+        Err(e @ Mf4Error::Read { .. }) => return Err(read_error(e)),
         Err(e) => {
             each.give(Item::Bad {
                 at: At::AfterRecord(0),
@@ -61,6 +90,7 @@ pub(super) fn read<F: FnMut(Item<'_>) -> io::Result<()>>(
                     detail: super::Detail::Record,
                 })?;
             }
+            Err(e @ Mf4Error::Read { .. }) => return Err(read_error(e)),
             Err(e) if e.is_fatal() => {
                 each.give(Item::Bad {
                     at: At::AfterRecord(records),

@@ -17,17 +17,19 @@
 //!   programs pass; [`NoInflate`] reports each compressed container as
 //!   unreadable). pcap and pcapng captures of SocketCAN interfaces are
 //!   read in blocks through the library's `PcapReader`.
-//!   ASAM MDF 4 bus logging is read into memory (its blocks link to
-//!   anywhere in the file) and then record by record through the
+//!   ASAM MDF 4 bus logging is read record by record through the
 //!   library's `Mf4Reader`, each `##DZ` block inflated by the same
-//!   [`Inflate`], the frames of its data groups merged by time.
+//!   [`Inflate`], the frames of its data groups merged by time: a file
+//!   that seeks in place ([`read_seekable`]), other input into memory
+//!   first (its blocks link to anywhere in the file).
 //! - gzip-compressed input of any format (`.gz`, told by its magic
 //!   number `1F 8B`) is decompressed first, with feature `zlib` (flate2's
 //!   `MultiGzDecoder`); without it such input is an error that names the
 //!   feature.
 //!
 //! [`read`] hands each [`Item`] to the caller as it comes (memory stays
-//! bounded on any input but an MF4 file's size: the decoder's way); [`frames`] collects the
+//! bounded on any input but an MF4 file's size; [`read_seekable`] bounds
+//! that too: the decoder's way); [`frames`] collects the
 //! frames of a whole file (the replay's way). Neither panics on any input.
 
 mod blf;
@@ -40,7 +42,7 @@ mod zlib;
 use std::prelude::rust_2021::*;
 
 use std::fmt;
-use std::io::{self, Read};
+use std::io::{self, Read, Seek};
 
 use crate::trace::blf::{BlfError, BlfReader};
 use crate::trace::mf4::{Mf4Error, Mf4Reader};
@@ -479,6 +481,53 @@ where
         bad: 0,
     };
     let kind = read_file(input, how, zlib, &mut counted, true)?;
+    Ok(Totals {
+        kind,
+        frames: counted.frames,
+        unsupported: counted.unsupported,
+        bad: counted.bad,
+    })
+}
+
+/// Reads every item of the file `file` as [`read`] does, an MF4 file in
+/// place: its data blocks read as they are reached (through the library's
+/// `SeekSource`), so that memory stays constant in the file's size, where
+/// [`read`] reads an MF4 file into memory (its links point anywhere in
+/// it). The programs read a file named on their command line so.
+pub fn read_seekable<F>(
+    mut file: impl Read + Seek,
+    how: How,
+    zlib: &mut dyn Inflate,
+    mut each: F,
+) -> io::Result<Totals>
+where
+    F: FnMut(Item<'_>) -> io::Result<()>,
+{
+    let start = file.stream_position()?;
+    let mut head = [0u8; Binary::HEAD];
+    let mut got = 0;
+    while got < head.len() {
+        match read_some(&mut file, head.get_mut(got..).unwrap_or(&mut []))? {
+            0 => break,
+            n => got += n,
+        }
+    }
+    file.seek(io::SeekFrom::Start(start))?;
+    let head = head.get(..got).unwrap_or(&[]);
+    let mf4 = how.format.is_none()
+        && start == 0
+        && how.binary.or_else(|| Binary::detect(head)) == Some(Binary::Mf4)
+        && !head.starts_with(&GZIP_MAGIC);
+    if !mf4 {
+        return read(file, how, zlib, each);
+    }
+    let mut counted = Counted {
+        each: &mut each,
+        frames: 0,
+        unsupported: 0,
+        bad: 0,
+    };
+    let kind = mf4::read_in_place(file, zlib, &mut counted)?;
     Ok(Totals {
         kind,
         frames: counted.frames,

@@ -174,3 +174,63 @@ fn gzip_input_of_any_format_is_decompressed_member_by_member() {
     let e = frames(&text[..text.len() - 9], How::default(), &mut NoInflate).unwrap_err();
     assert!(e.to_string().starts_with("gzip-compressed input: "), "{e}");
 }
+
+/// The items of a reading, in words, and its totals.
+fn items_of(
+    read: impl FnOnce(&mut dyn FnMut(Item<'_>) -> io::Result<()>) -> io::Result<Totals>,
+) -> (Vec<String>, Totals) {
+    let mut items = Vec::new();
+    let totals = read(&mut |item| {
+        items.push(format!("{item:?}"));
+        Ok(())
+    })
+    .unwrap();
+    (items, totals)
+}
+
+#[test]
+fn a_seekable_file_reads_as_a_stream_an_mf4_in_place() {
+    let mf4: &[u8] = include_bytes!("../../../tests/data/python-can-mf4writer.mf4");
+    let mut truncated = mf4.to_vec();
+    truncated.truncate(mf4.len() - 100);
+    let candump = b"(1.5) can0 18A#01\n(1.6) can0 701#05\n";
+    for (file, how) in [
+        (mf4, How::default()),
+        (mf4, How::binary(Binary::Mf4)),
+        (&truncated[..], How::default()),
+        (&candump[..], How::default()),
+        // Read as lines when a line format is given, as `read` does.
+        (mf4, How::format(Some(Format::CandumpLog))),
+    ] {
+        let zlib = &mut crate::trace::inflate::Zlib::default();
+        let streamed = items_of(|each| read(file, how, zlib, each));
+        let in_place = items_of(|each| read_seekable(io::Cursor::new(file), how, zlib, each));
+        assert_eq!(in_place, streamed, "{how:?}");
+        assert!(streamed.1.frames > 0 || streamed.1.bad > 0);
+    }
+}
+
+/// A file whose reads fail after the first few.
+struct Failing(io::Cursor<Vec<u8>>, usize);
+
+impl Read for Failing {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        self.1 = self.1.checked_sub(1).ok_or(io::Error::other("disk gone"))?;
+        self.0.read(buf)
+    }
+}
+
+impl io::Seek for Failing {
+    fn seek(&mut self, to: io::SeekFrom) -> io::Result<u64> {
+        self.0.seek(to)
+    }
+}
+
+#[test]
+fn an_error_reading_an_mf4_in_place_is_returned() {
+    let mf4 = include_bytes!("../../../tests/data/python-can-mf4writer.mf4").to_vec();
+    // The first read tells the format; the MF4 reader's first fails.
+    let file = Failing(io::Cursor::new(mf4), 1);
+    let e = read_seekable(file, How::default(), &mut NoInflate, |_| Ok(())).unwrap_err();
+    assert_eq!(e.to_string(), "disk gone");
+}
