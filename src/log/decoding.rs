@@ -474,32 +474,12 @@ pub fn run(
     diag: &mut impl Write,
     opts: &Options,
 ) -> io::Result<Outcome> {
-    run_with(
-        |how, zlib, each| input::read(input, how, zlib, each),
-        out,
-        diag,
-        opts,
-    )
+    run_with(|h, z, each| input::read(input, h, z, each), out, diag, opts)
 }
 
-/// [`run`] on a file that seeks (the file a program is given): an MF4 file
-/// is read in place ([`input::read_seekable`]), its memory constant in its
-/// size.
-pub fn run_file(
-    file: impl Read + io::Seek,
-    out: &mut impl Write,
-    diag: &mut impl Write,
-    opts: &Options,
-) -> io::Result<Outcome> {
-    run_with(
-        |how, zlib, each| input::read_seekable(file, how, zlib, each),
-        out,
-        diag,
-        opts,
-    )
-}
-
-/// [`run_file`] on the file at `path` (an error opening it names it).
+/// [`run`] on the file at `path` (an error opening it names it), read so
+/// that an MF4 file is read in place ([`input::read_seekable`]), its
+/// memory constant in its size: the programs' way with a file.
 pub fn run_path(
     path: &str,
     out: &mut impl Write,
@@ -508,7 +488,12 @@ pub fn run_path(
 ) -> io::Result<Outcome> {
     let file =
         std::fs::File::open(path).map_err(|e| io::Error::new(e.kind(), format!("{path}: {e}")))?;
-    run_file(file, out, diag, opts)
+    run_with(
+        |h, z, e| input::read_seekable(file, h, z, e),
+        out,
+        diag,
+        opts,
+    )
 }
 
 /// The items a reading gives.

@@ -110,7 +110,7 @@ pub mod summary;
 mod time_column;
 pub mod words;
 
-pub use decoding::{run, run_each, run_file, run_path, Decoding};
+pub use decoding::{run, run_each, run_path, Decoding};
 pub use frame_line::{is_default, BlockSegment, FrameLine, Notes};
 pub use line_cache::LineCache;
 pub use pipeline::{load_eds, page_transfer, transfer, Options, Outcome};

@@ -474,19 +474,42 @@ pub fn read<F>(
 where
     F: FnMut(Item<'_>) -> io::Result<()>,
 {
+    counting(&mut each, |counted| {
+        read_file(input, how, zlib, counted, true)
+    })
+}
+
+/// What `read` gives to `each`, counted, and the totals.
+fn counting<F: FnMut(Item<'_>) -> io::Result<()>>(
+    each: &mut F,
+    read: impl FnOnce(&mut Counted<'_, F>) -> io::Result<Kind>,
+) -> io::Result<Totals> {
     let mut counted = Counted {
-        each: &mut each,
+        each,
         frames: 0,
         unsupported: 0,
         bad: 0,
     };
-    let kind = read_file(input, how, zlib, &mut counted, true)?;
+    let kind = read(&mut counted)?;
     Ok(Totals {
         kind,
         frames: counted.frames,
         unsupported: counted.unsupported,
         bad: counted.bad,
     })
+}
+
+/// The first bytes of `input`, up to [`Binary::HEAD`] (fewer at its end):
+/// how many.
+fn head_of(input: &mut impl Read, head: &mut [u8; Binary::HEAD]) -> io::Result<usize> {
+    let mut got = 0;
+    while got < head.len() {
+        match read_some(input, head.get_mut(got..).unwrap_or(&mut []))? {
+            0 => break,
+            n => got += n,
+        }
+    }
+    Ok(got)
 }
 
 /// Reads every item of the file `file` as [`read`] does, an MF4 file in
@@ -505,13 +528,7 @@ where
 {
     let start = file.stream_position()?;
     let mut head = [0u8; Binary::HEAD];
-    let mut got = 0;
-    while got < head.len() {
-        match read_some(&mut file, head.get_mut(got..).unwrap_or(&mut []))? {
-            0 => break,
-            n => got += n,
-        }
-    }
+    let got = head_of(&mut file, &mut head)?;
     file.seek(io::SeekFrom::Start(start))?;
     let head = head.get(..got).unwrap_or(&[]);
     let mf4 = how.format.is_none()
@@ -521,19 +538,7 @@ where
     if !mf4 {
         return read(file, how, zlib, each);
     }
-    let mut counted = Counted {
-        each: &mut each,
-        frames: 0,
-        unsupported: 0,
-        bad: 0,
-    };
-    let kind = mf4::read_in_place(file, zlib, &mut counted)?;
-    Ok(Totals {
-        kind,
-        frames: counted.frames,
-        unsupported: counted.unsupported,
-        bad: counted.bad,
-    })
+    counting(&mut each, |counted| mf4::read_in_place(file, zlib, counted))
 }
 
 /// The first bytes of a gzip member (RFC 1952 section 2.3.1).
@@ -551,13 +556,7 @@ fn read_file<F: FnMut(Item<'_>) -> io::Result<()>>(
     // A gzip or binary file is told by its magic number (the binary
     // formats unless a format is given).
     let mut head = [0u8; Binary::HEAD];
-    let mut got = 0;
-    while got < head.len() {
-        match read_some(&mut input, head.get_mut(got..).unwrap_or(&mut []))? {
-            0 => break,
-            n => got += n,
-        }
-    }
+    let got = head_of(&mut input, &mut head)?;
     let head = head.get(..got).unwrap_or(&[]);
     let input = head.chain(input);
     if gunzip && head.starts_with(&GZIP_MAGIC) {
