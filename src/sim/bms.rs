@@ -11,10 +11,17 @@
 //! ([`figures_for`]: 2.45 V flooded lead acid, 1.50 V NiCd, 4.15 V lithium
 //! ion, ...), compensated for the pack's temperature as a charger does
 //! ([`CellFigures::compensation_uv`]); the end current is a twentieth of
-//! the maximum; above 50 degC the module is not ready, nor below 0 degC
-//! for lithium ion (charging it there plates lithium), nor below -20 degC
-//! for the others; after the end it asks again once the state of charge
-//! falls below 95 %.
+//! the maximum; above 55 degC (lead acid) or 50 degC (the others) the
+//! module is not ready: 5 degC above the charger's own charge range
+//! ([`ProtectionLimits`](crate::deltaq::charge::ProtectionLimits): -20 to
+//! 50 / 0 to 45 degC), so that a pack warming up meets the charger's
+//! E-0-0-8 pause first and the BMS's cut only if that fails (with the same
+//! 50 degC both, the module said "not ready" at 50.0 degC before the
+//! charger's whole-degree reading passed 50, and the charger took it as
+//! the BMS ending the charge: terminated without an alarm). Not ready
+//! below 0 degC for lithium ion either (charging it there plates lithium),
+//! nor below -20 degC for the others; after the end it asks again once the
+//! state of charge falls below 95 %.
 
 use super::{Pack, PackSpec};
 use crate::cia418::Chemistry;
@@ -81,7 +88,11 @@ impl BmsPolicy {
                 -20.0
             },
             end_current_a: max_current_a / 20.0,
-            max_temperature_c: 50.0,
+            max_temperature_c: if spec.chemistry == Chemistry::LeadAcid {
+                55.0
+            } else {
+                50.0
+            },
             resume_soc: 0.95,
             current_limit_a: None,
             hold: false,

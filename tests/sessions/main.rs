@@ -1,6 +1,6 @@
 //! Whole sessions in simulated time: the simulated bus itself
-//! (`canopen_codec::sim::bus`), every charge scenario of `sim::Scenario`
-//! and every file of `scenarios/` (`sim::bench`), the recorded virtual
+//! (`canopen_codec::sim::bus`), every charge scenario of `sim::Scenario`,
+//! every file of `scenarios/` (`sim::bench`) and generated ones, the recorded virtual
 //! session (`tests/data/virtual-session.log`), and our own
 //! nodes booted by the CiA 302-2 boot-up manager from DCFs of their EDS.
 
@@ -17,6 +17,8 @@ mod bus_observe;
 mod charge_sessions;
 #[cfg(feature = "sim")]
 mod chemistries;
+#[cfg(feature = "sim")]
+mod generated_scenarios;
 #[cfg(feature = "sim")]
 mod protections;
 #[cfg(feature = "sim")]

@@ -17,7 +17,7 @@ fn scenarios() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenarios")
 }
 
-fn script(text: &str) -> Result<Script, ScriptError> {
+pub(crate) fn script(text: &str) -> Result<Script, ScriptError> {
     Script::from_document(&toml_tree::read(text)?)
 }
 
