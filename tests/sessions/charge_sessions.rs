@@ -153,10 +153,12 @@ fn normal_local_charge_runs_bulk_absorption_rest_float() {
         cv.first().unwrap().1 > 20.0 && cv.last().unwrap().1 < 1.5,
         "taper"
     );
-    assert!(
-        cv.windows(2).all(|w| w[1].1 <= w[0].1 + 0.05),
-        "monotonic taper"
-    );
+    // The absorption voltage follows the pack's temperature (6010h,
+    // -4 mV/cell/degC in whole degrees): as the tapering pack cools a
+    // degree the set point rises 96 mV and the current steps up, by less
+    // than 0.1 A.
+    let rises: Vec<_> = cv.windows(2).filter(|w| w[1].1 > w[0].1 + 0.1).collect();
+    assert!(rises.is_empty(), "monotonic taper {rises:?}");
     let last = status.last().unwrap();
     assert_eq!(charge_type(last.2), 2, "maintenance");
     assert_eq!(last.2 & 0x30, 0x30, "enabled, AC present");

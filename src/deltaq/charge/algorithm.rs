@@ -275,10 +275,21 @@ impl ChargeAlgorithm {
         if mv == 0 {
             return 0;
         }
-        let delta_c = i64::from(t.clamp(-20, 50)) - 25;
-        let uv = i64::from(self.cell.compensation_uv) * i64::from(self.cells) * delta_c;
-        let out = i64::from(mv) + uv / 1000;
-        out.clamp(0, i64::from(u32::MAX)) as u32
+        // In 32 bits (a 64-bit division is a library routine on the
+        // charger's controller), saturating.
+        let delta_c = i32::from(t.clamp(-20, 50)) - 25;
+        let cells = i32::try_from(self.cells).unwrap_or(i32::MAX);
+        let uv = self
+            .cell
+            .compensation_uv
+            .saturating_mul(delta_c)
+            .saturating_mul(cells);
+        let d = uv / 1000;
+        if d >= 0 {
+            mv.saturating_add(d.unsigned_abs())
+        } else {
+            mv.saturating_sub(d.unsigned_abs())
+        }
     }
 
     /// The charger's state of charge estimate (6080h, percent): the
@@ -471,6 +482,36 @@ mod tests {
         assert_eq!(a.compensated(0, Some(0)), 0);
         let li = ChargeAlgorithm::lithium_ion(11, "", 13, 25_000);
         assert_eq!(li.compensated(53_950, Some(40)), 53_950);
+    }
+
+    #[test]
+    fn the_charge_control_compensates_for_the_modules_temperature() {
+        use super::super::tests::{bms, control, pack, s};
+        use super::super::{BusInputs, ChargePhase};
+        use crate::deltaq::OperatingMode;
+        // Local mode, flooded lead acid 24 cells: bulk's voltage limit is
+        // 58.80 V at 25 degC, 0.96 V lower at 35 degC, 2.40 V higher at
+        // 0 degC (6010h in 1/8 degC).
+        for (celsius, mv) in [(25, 58_800), (35, 57_840), (0, 61_200)] {
+            let mut c = control(OperatingMode::Local);
+            let at = BusInputs {
+                battery_temperature: celsius * 8,
+                ..bms(0)
+            };
+            c.handle_bus(s(0), at);
+            c.handle_power_stage(s(0), pack(50, 0));
+            assert_eq!(c.phase(), ChargePhase::Bulk);
+            assert_eq!(c.set_points().voltage_mv, mv, "{celsius} degC");
+            // Bulk ends at the compensated voltage (less 5 per mille):
+            // 57.60 V ends it at 35 degC only.
+            let at_57_6 = super::super::PowerStage {
+                voltage_mv: 57_600,
+                ..pack(0, 25)
+            };
+            c.handle_power_stage(s(1), at_57_6);
+            let ends = c.phase() == ChargePhase::Absorption;
+            assert_eq!(ends, celsius == 35, "{celsius} degC");
+        }
     }
 
     #[test]

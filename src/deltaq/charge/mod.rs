@@ -689,9 +689,10 @@ impl ChargeControl {
         let next = match phase {
             P::Bulk | P::Absorption if target_reached => P::Rest,
             P::Bulk
-                if self.stage.battery_mv()
-                    >= a.absorption_mv
-                        - a.absorption_mv / 1000 * algorithm::ABSORPTION_ENTRY_PERMILLE =>
+                if self.stage.battery_mv() >= {
+                    let mv = a.compensated(a.absorption_mv, self.battery_c(bms));
+                    mv - mv / 1000 * algorithm::ABSORPTION_ENTRY_PERMILLE
+                } =>
             {
                 P::Absorption
             }

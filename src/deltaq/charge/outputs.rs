@@ -92,15 +92,31 @@ impl ChargeControl {
 }
 
 impl ChargeControl {
+    /// The battery's temperature for the algorithm's temperature
+    /// compensation ([`ChargeAlgorithm::compensated`](super::ChargeAlgorithm::compensated)), whole
+    /// degC: the module's 6010h while a BMS is heard (`bms`) and has not
+    /// reported its temperature sensor faulty (EMCY 5010h); otherwise
+    /// none, and the algorithm's 25 degC voltages (ours: what a charger
+    /// without a battery sensor does).
+    pub(super) fn battery_c(&self, bms: bool) -> Option<i16> {
+        (bms && !self.temperature_fault).then_some(self.bus.battery_temperature >> 3)
+    }
+
     /// The set points of the phase, limited by the BMS, the charger's
     /// maxima, the derating and the power (see the module docs).
     pub(super) fn update_set_points(&mut self, bms: bool) {
         use ChargePhase as P;
         let a = self.algorithm();
         let (mut current, mut voltage) = match (self.phase, a) {
-            (P::Bulk | P::Absorption, Some(a)) => (a.bulk_ma, a.absorption_mv),
-            (P::Equalize, Some(a)) => (a.bulk_ma / 10, a.equalize_mv),
-            (P::Float, Some(a)) => (a.float_ma, a.float_mv),
+            (P::Bulk | P::Absorption, Some(a)) => (
+                a.bulk_ma,
+                a.compensated(a.absorption_mv, self.battery_c(bms)),
+            ),
+            (P::Equalize, Some(a)) => (
+                a.bulk_ma / 10,
+                a.compensated(a.equalize_mv, self.battery_c(bms)),
+            ),
+            (P::Float, Some(a)) => (a.float_ma, a.compensated(a.float_mv, self.battery_c(bms))),
             // 1/16 A per bit: 62.5 mA.
             (P::Remote, _) => (
                 u32::from(self.bus.current_request) * 125 / 2,
