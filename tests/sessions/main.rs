@@ -8,6 +8,8 @@
 mod common;
 
 #[cfg(feature = "sim")]
+mod battery_type;
+#[cfg(feature = "sim")]
 mod boot_manager;
 #[cfg(feature = "sim")]
 mod bus_faults;

@@ -301,22 +301,25 @@ impl ChargeAlgorithm {
     /// of the cycle says full.
     #[must_use]
     pub fn estimate_soc(&self, start_mv: u32, delivered_q3: u32, capacity_ah: u32) -> u8 {
+        // In 32 bits (a 64-bit division is a library routine on the
+        // charger's controller): the span is at most 2^16 mV x 2^16 cells
+        // only in theory, so both factors are bounded first.
         let c = self.cell;
-        let empty = c.rest_empty_mv.saturating_mul(self.cells);
-        let span = c
-            .rest_full_mv
-            .saturating_sub(c.rest_empty_mv)
-            .saturating_mul(self.cells)
-            .max(1);
-        let start = u64::from(start_mv.saturating_sub(empty).min(span)) * 1000 / u64::from(span);
+        let cells = self.cells.min(1000);
+        let empty = c.rest_empty_mv.min(65_535) * cells;
+        let span = (c.rest_full_mv.min(65_535).saturating_sub(c.rest_empty_mv) * cells).max(1);
+        let below = start_mv.saturating_sub(empty).min(span);
+        // Per mille of the span, without overflow: span < 2^26.
+        let start = below / span * 1000 + below % span * 1000 / span;
         let capacity = if capacity_ah == 0 {
             (self.bulk_ma / 250).max(1)
         } else {
-            capacity_ah
+            capacity_ah.min(65_535)
         };
-        // Q3 Ah x per mille / (8 x Ah) = per mille of the capacity.
-        let added =
-            u64::from(delivered_q3) * u64::from(c.efficiency_permille) / (8 * u64::from(capacity));
+        // Q3 Ah x per mille / (8 x Ah) = per mille of the capacity; the
+        // charge counted at most twice the capacity (it says 99 % then).
+        let delivered = delivered_q3.min(16 * capacity);
+        let added = delivered * c.efficiency_permille.min(1000) / (8 * capacity);
         ((start + added) / 10).min(99) as u8
     }
 

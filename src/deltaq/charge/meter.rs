@@ -16,6 +16,10 @@ pub(super) struct CycleMeter {
     pub(super) seconds: u32,
     /// Time below one second, us.
     rest_s_us: u32,
+    /// The battery's voltage when the cycle started (the output still
+    /// off: its rest voltage), mV; where the state-of-charge estimate
+    /// starts.
+    pub(super) start_mv: u32,
 }
 
 impl CycleMeter {
@@ -26,7 +30,16 @@ impl CycleMeter {
         rest_ms_us: 0,
         seconds: 0,
         rest_s_us: 0,
+        start_mv: 0,
     };
+
+    /// A new cycle's count, from a battery at rest at `start_mv`.
+    pub(super) const fn from_rest(start_mv: u32) -> Self {
+        CycleMeter {
+            start_mv,
+            ..Self::ZERO
+        }
+    }
 
     /// `current_ma` flowed for `dt_us`. A gap over an hour between two
     /// inputs counts as an hour, a current over 1 048 A as that much (a

@@ -168,6 +168,7 @@
 //! ```
 
 pub mod algorithm;
+mod identify;
 mod meter;
 mod outputs;
 mod protect;
@@ -183,6 +184,7 @@ use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::queue::EventQueue;
 pub use algorithm::{AlgorithmKind, ChargeAlgorithm, EXAMPLE_ALGORITHMS};
+pub use identify::{BatteryIdentity, Identification};
 use meter::CycleMeter;
 use protect::ProtectState;
 pub use protect::{
@@ -282,6 +284,8 @@ pub struct ChargeControl {
     external_limit: bool,
     /// The protections' state ([`protect`]).
     protect: ProtectState,
+    /// The battery the module described ([`identify`]).
+    identity: Identification,
     events: EventQueue<ChargeEvent, 4>,
 }
 
@@ -319,6 +323,7 @@ impl ChargeControl {
             derate: DerateReasons::empty(),
             external_limit: false,
             protect: ProtectState::NEW,
+            identity: Identification::Unknown,
             events: EventQueue::new(ChargeEvent::Phase {
                 from: ChargePhase::Idle,
                 to: ChargePhase::Idle,
@@ -501,7 +506,7 @@ impl ChargeControl {
     /// A new cycle's Ah and time from zero.
     fn restart_meter(&mut self) {
         self.cycle = true;
-        self.meter = CycleMeter::default();
+        self.meter = CycleMeter::from_rest(self.stage.battery_mv());
     }
 
     /// Starts a cycle with `id` (bulk, or float for a float algorithm).
@@ -615,7 +620,7 @@ impl ChargeControl {
                     self.stop_hold_off();
                     if self.alarms.contains(ChargeAlarms::LOW_VOLTAGE) {
                         self.enter(now, P::Idle);
-                    } else if ready && self.active.is_some() {
+                    } else if ready && self.active.is_some() && !self.identifying() {
                         self.start(now, self.active);
                     } else {
                         self.enter(now, P::Idle);
@@ -724,19 +729,11 @@ impl ChargeControl {
         self.enter(now, next);
     }
 
-    /// The algorithm local mode charges with without a BMS.
-    fn no_can_algorithm(&self) -> Option<u16> {
-        self.config
-            .no_can_algorithm
-            .or(self.active)
-            .filter(|id| self.config.algorithm(*id).is_some())
-    }
-
     fn update_alarms(&mut self, bms: bool, ready: bool, detected: bool) {
         let local = !matches!(self.mode, OperatingMode::Remote);
         let mut now = self.measured_alarms(bms, detected);
         let held_off = self.held_off;
-        let nothing = (ready && self.active.is_none())
+        let nothing = (ready && self.active.is_none() && !self.identifying())
             || (held_off && !ready && self.no_can_algorithm().is_none());
         now.set(ChargeAlarms::ALGORITHM_NOT_SET, local && nothing);
         now.set(ChargeAlarms::INCOMPATIBLE_ALGORITHM, self.incompatible);

@@ -74,16 +74,21 @@ impl ChargeControl {
         }
     }
 
-    /// 6080h (ours): 100 % once complete or floating; in absorption 80 %
-    /// plus the share of the taper done (up to 99 %); otherwise the
-    /// module's 6081h when valid, else FFh.
+    /// 6080h, the charger's state of charge (ours; the Delta-Q IC Series
+    /// CANopen interface specification gives the object, not how it is
+    /// reckoned): 100 % once complete or floating; while a local cycle
+    /// counts, the active algorithm's estimate
+    /// ([`ChargeAlgorithm::estimate_soc`](super::ChargeAlgorithm::estimate_soc):
+    /// the battery's voltage when the cycle started, the Ah delivered
+    /// since times the chemistry's efficiency, over the capacity the
+    /// module gave in 6020h sub 2), at most 99 %; otherwise the module's
+    /// 6081h when valid, else FFh (unknown).
     fn charger_soc(&self) -> u8 {
+        let local = !matches!(self.mode, OperatingMode::Remote);
         match (self.phase, self.algorithm()) {
             (ChargePhase::Complete | ChargePhase::Float, _) => 100,
-            (ChargePhase::Absorption, Some(a)) if a.bulk_ma > a.termination_ma => {
-                let span = a.bulk_ma - a.termination_ma;
-                let done = a.bulk_ma.saturating_sub(self.stage.current_ma).min(span);
-                (80 + done * 19 / span) as u8
+            (_, Some(a)) if local && self.cycle && self.meter.start_mv > 0 => {
+                a.estimate_soc(self.meter.start_mv, self.meter.q3, self.capacity_ah())
             }
             _ if self.bus.battery_soc <= 100 => self.bus.battery_soc,
             _ => 0xFF,

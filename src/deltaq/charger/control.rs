@@ -22,7 +22,7 @@ use crate::machine::Machine;
 pub(super) struct ControlLink {
     pub(super) control: ChargeControl,
     /// 2241h, 2271h and 2276h as last seen: what changed was written.
-    algorithm: u32,
+    pub(super) algorithm: u32,
     request_q10: u32,
     request_q8: u16,
     /// The voltage request of the one written last, mV.

@@ -35,6 +35,13 @@
 //!   the configuration restarts it. Without `configure_cob_ids` the charger uses its own
 //!   default COB-IDs (18Ah, 28Ah, 38Ah, 48Ah; 20Ah, 30Ah, 40Ah), as in the
 //!   real capture.
+//! - **The module's battery** (6020h, CiA 418 section 7.2.1; the Delta-Q
+//!   document is silent, this is ours): in local and local override mode
+//!   with no permanent algorithm, once the pairing is done, the charger's
+//!   SDO client reads 6020h sub 1, 2 and 4 and the charge control charges
+//!   with the algorithm for that battery (the rules: docs/CHARGING.md,
+//!   [`ChargerEvent::BatteryIdentified`] /
+//!   [`ChargerEvent::IdentificationFailed`] the outcome).
 //! - **TPDOs** are sent only while configured, NMT operational and the
 //!   battery module present, at 200 ms (TPDO 0-2) and 1000 ms (TPDO 3).
 //! - **Battery lost** (no heartbeat for the consumer time): EMCY 8130h with
@@ -73,7 +80,7 @@
 //!   pairing and are reported as [`DeviceEvent::Reset`].
 
 use super::device_type;
-use super::{emergency_reaction, DeltaQCode, OperatingMode, Reaction, ALARMS_AND_FAULTS};
+use super::{emergency_reaction, DeltaQCode, OperatingMode, ALARMS_AND_FAULTS};
 use crate::abort::AbortCode;
 use crate::bytes::InlineData;
 use crate::cia419::{PdoPair, PDO_PAIRS};
@@ -93,71 +100,17 @@ use crate::pdo::{PdoCobId, PdoDirection, PdoSlot, RpdoError};
 use crate::sdo::{Client, ClientConfig, ClientEvent, TransferEnd, EVENTS_PER_CALL};
 use crate::wire::Codec;
 
+mod battery;
 mod config;
 mod control;
 mod download;
-use super::charge::{ChargeControl, ChargeEvent, PowerStage, SetPoints};
+mod event;
+use super::charge::{BatteryIdentity, ChargeControl, PowerStage, SetPoints};
 use config::default_pdos;
 pub use config::{ChargerConfig, ChargerPowerOn};
 use control::ControlLink;
 pub use download::ChargerAppDictionary;
-
-/// What the charger reports.
-#[derive(Debug, Clone, Copy, PartialEq)]
-#[non_exhaustive]
-pub enum ChargerEvent {
-    /// An event of the device core (NMT, SDO, RPDOs, heartbeats, resets).
-    Device(DeviceEvent),
-    /// The battery module was heard (first heartbeat, boot-up, or back after a loss).
-    BatteryFound {
-        /// The state it reports.
-        state: NmtState,
-    },
-    /// The battery module's heartbeat was lost (E-0-3-2).
-    BatteryLost,
-    /// No battery heartbeat for at least 2000 ms (at least the consumer
-    /// time, when that is longer): the module is taken as gone (E-0-3-0);
-    /// an operational charger left operational for pre-operational.
-    BatteryGone,
-    /// The PDOs are paired and configured; `tpdos` / `rpdos` say which (bit n = PDO n).
-    Configured {
-        /// Charger TPDOs in use.
-        tpdos: u8,
-        /// Charger RPDOs in use.
-        rpdos: u8,
-    },
-    /// Reading the module's configuration failed.
-    ConfigurationFailed {
-        /// Object read.
-        index: u16,
-        /// Sub-index.
-        sub: u8,
-        /// Abort code.
-        code: AbortCode,
-    },
-    /// 1000h does not name profile 418.
-    NotABatteryModule {
-        /// The module's 1000h.
-        device_type: u32,
-    },
-    /// The module sent an EMCY; `reaction` is the policy's answer (the
-    /// charge control acts on it).
-    BatteryEmcy {
-        /// The emergency.
-        emcy: Emergency,
-        /// What the charger does.
-        reaction: Reaction,
-    },
-    /// The charge control changed phase or raised or cleared an alarm
-    /// (each alarm also goes out as a Delta-Q EMCY).
-    Charge(ChargeEvent),
-}
-
-impl From<DeviceEvent> for ChargerEvent {
-    fn from(e: DeviceEvent) -> Self {
-        ChargerEvent::Device(e)
-    }
-}
+pub use event::ChargerEvent;
 
 /// Where the configuration of the PDO pairing stands.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -259,8 +212,13 @@ pub struct ChargerProfile {
     link: Link,
     /// Its own deadline ([`LinkTimer`]).
     timers: Timers<LinkTimer, 1>,
-    /// The value of the upload in progress (1000h or a COB-ID: 4 bytes).
+    /// The value of the upload in progress (1000h, a COB-ID or 6020h: 4
+    /// bytes at most).
     upload_value: [u8; 4],
+    /// The step of the 6020h read in progress ([`battery`]), and what it
+    /// has read.
+    reading: Option<u8>,
+    found: BatteryIdentity,
     /// The charge control and what it was last given.
     charge: ControlLink,
 }
@@ -382,6 +340,12 @@ impl ChargerProfile {
             link: Link::Absent,
             timers: Timers::new(),
             upload_value: [0; 4],
+            reading: None,
+            found: BatteryIdentity {
+                battery_type: 0,
+                capacity_ah: 0,
+                cells: 0,
+            },
             charge: ControlLink::new(config.mode, config.charge),
         }
     }
@@ -418,9 +382,16 @@ impl ChargerProfile {
         self.client.reset();
     }
 
+    /// The pairing failed ([`Link::Failed`]): no 6020h read follows.
+    fn config_failed<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
+        self.link = Link::Failed;
+        self.identification_dropped(device, now);
+    }
+
     /// Boot or NMT reset: no transfer, no pairing.
     fn restart<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
         self.fresh_client();
+        self.identification_dropped(device, now);
         self.link = Link::Absent;
         self.timers.clear();
         device.set_tpdos_enabled(now, false);
@@ -441,12 +412,17 @@ impl ChargerProfile {
         while let Some(e) = self.client.poll_event() {
             match e {
                 ClientEvent::UploadData { offset, data, .. } => self.on_upload_data(offset, data),
-                ClientEvent::Ended(TransferEnd::Uploaded { .. }) => self.on_uploaded(device, now),
+                ClientEvent::Ended(TransferEnd::Uploaded { .. }) => match self.reading {
+                    Some(step) => self.on_parameter(device, now, step),
+                    None => self.on_uploaded(device, now),
+                },
                 ClientEvent::Ended(TransferEnd::Aborted {
                     index, sub, code, ..
                 }) => {
-                    if matches!(self.link, Link::DeviceType | Link::CobId(..)) {
-                        self.link = Link::Failed;
+                    if self.reading.is_some() {
+                        self.identification_failed(device, now, sub, code);
+                    } else if matches!(self.link, Link::DeviceType | Link::CobId(..)) {
+                        self.config_failed(device, now);
                         device.push_event(ChargerEvent::ConfigurationFailed { index, sub, code });
                         Self::raise(
                             device,
@@ -478,6 +454,7 @@ impl ChargerProfile {
         self.link = Link::Absent;
         self.timers.clear();
         device.push_event(ChargerEvent::BatteryFound { state });
+        self.battery_heard(device, now);
         // A self-starting charger that left operational when the module
         // was gone starts itself again (no NMT master to do it).
         if self.self_start && left_for_it {
@@ -486,7 +463,7 @@ impl ChargerProfile {
         if !self.configure_cob_ids {
             self.configured(device, now);
         } else if sdo_allowed(device) {
-            self.start_configuration(now);
+            self.start_configuration(device, now);
         } else {
             self.link = Link::Pending;
         }
@@ -494,11 +471,15 @@ impl ChargerProfile {
 
     /// Reads the module's 1000h with a fresh client: a transfer of an
     /// earlier attempt (a module that rebooted meanwhile) ends silently.
-    fn start_configuration(&mut self, now: Timestamp) {
+    fn start_configuration<const Q: usize>(
+        &mut self,
+        device: &mut ChargerDevice<Q>,
+        now: Timestamp,
+    ) {
         self.fresh_client();
         self.link = Link::DeviceType;
         if self.client.start_upload(now, DEVICE_TYPE, 0).is_err() {
-            self.link = Link::Failed;
+            self.config_failed(device, now);
         }
     }
 
@@ -507,6 +488,7 @@ impl ChargerProfile {
         Self::raise(device, const { Alarm::of(DeltaQCode::HEARTBEAT_LOST) });
         let _ = self.client.abort(now, AbortCode::GeneralError);
         while self.client.poll_event().is_some() {}
+        self.reading = None;
         self.forget_pairing(device, now);
         // The consumer time has passed since the last heartbeat: the module
         // is gone the rest of the 2000 ms later. It never goes in the same
@@ -571,6 +553,7 @@ impl ChargerProfile {
             device.clear_error(ErrorRegister::GENERIC);
         }
         device.set_tpdos_enabled(now, true);
+        self.start_identification(device, now);
     }
 
     fn on_upload_data(&mut self, offset: usize, data: InlineData<7>) {
@@ -590,7 +573,7 @@ impl ChargerProfile {
         // One call of `next_pair`: the pair to look from and the device type.
         let (from, device_type) = match self.link {
             Link::DeviceType if value & 0xFFFF != 418 => {
-                self.link = Link::Failed;
+                self.config_failed(device, now);
                 device.push_event(ChargerEvent::NotABatteryModule { device_type: value });
                 Self::raise(device, const { Alarm::of(DeltaQCode::CAN_CONFIGURATION) });
                 return;
@@ -633,7 +616,7 @@ impl ChargerProfile {
                     .start_upload(now, p.module_comm_index, 1)
                     .is_err()
                 {
-                    self.link = Link::Failed;
+                    self.config_failed(device, now);
                 }
                 return;
             }
@@ -773,12 +756,15 @@ impl ChargerProfile {
                 if matches!(self.link, Link::DeviceType | Link::CobId(..)) {
                     self.fresh_client();
                     self.link = Link::Pending;
+                } else if self.reading.is_some() {
+                    self.fresh_client();
+                    self.identification_dropped(device, now);
                 }
             }
             DeviceEvent::NmtStateChanged {
                 to: NmtState::PreOperational | NmtState::Operational,
                 ..
-            } if matches!(self.link, Link::Pending) => self.start_configuration(now),
+            } if matches!(self.link, Link::Pending) => self.start_configuration(device, now),
             DeviceEvent::Heartbeat(e) => {
                 // The module found: booted, back, or first heard with a
                 // state change (the first heartbeat is `on_frame`'s).
@@ -805,3 +791,7 @@ impl ChargerProfile {
 
 #[cfg(test)]
 mod tests;
+
+#[cfg(test)]
+#[path = "battery_tests.rs"]
+mod battery_tests;
