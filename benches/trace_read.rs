@@ -22,7 +22,7 @@
 use std::hint::black_box;
 
 use canopen_codec::trace::blf::{BlfEvent, BlfReader, BlfWriter, Compression, Deflate};
-use canopen_codec::trace::inflate::{Inflate, Inflated};
+use canopen_codec::trace::inflate;
 use canopen_codec::trace::mf4::{Mf4Event, Mf4Reader};
 use canopen_codec::trace::pcap::{PcapEvent, PcapReader};
 use canopen_codec::trace::{Format, LineParser, Record};
@@ -215,30 +215,8 @@ fn mf4_files(text: &str) -> Option<(Vec<u8>, Vec<u8>)> {
     Some((files.pop()?, packed))
 }
 
-/// flate2's zlib inflater for the MF4 reader's `##DZ` blocks.
-struct Inflater(flate2::Decompress);
-
-impl Inflate for Inflater {
-    fn reset(&mut self) {
-        self.0.reset(true);
-    }
-
-    fn inflate(&mut self, input: &[u8], output: &mut [u8]) -> Result<Inflated, String> {
-        let (i, o) = (self.0.total_in(), self.0.total_out());
-        let status = self
-            .0
-            .decompress(input, output, flate2::FlushDecompress::None)
-            .map_err(|e| e.to_string())?;
-        Ok(Inflated {
-            used: (self.0.total_in() - i) as usize,
-            made: (self.0.total_out() - o) as usize,
-            end: status == flate2::Status::StreamEnd,
-        })
-    }
-}
-
 /// Reads an MF4 file, counting frames.
-fn read_mf4(file: &[u8], zlib: &mut Inflater) -> u64 {
+fn read_mf4(file: &[u8], zlib: &mut inflate::Zlib) -> u64 {
     let mut r = Mf4Reader::new(file).unwrap();
     let mut n = 0;
     while let Some(e) = r.next(zlib).unwrap() {
@@ -266,7 +244,7 @@ fn trace_read(c: &mut Criterion) {
     assert_eq!(read_blf(&packed, &mut zlib, &mut buf), N);
     let ng = pcapng(&frames);
     assert_eq!(read_pcap(&ng), N);
-    let mut inflater = Inflater(flate2::Decompress::new(true));
+    let mut inflater = inflate::Zlib::default();
     let mf4 = mf4_files(&text);
     if let Some((dt, dz)) = &mf4 {
         assert_eq!(read_mf4(dt, &mut inflater), N);
