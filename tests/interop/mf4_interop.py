@@ -12,7 +12,9 @@ tools:
   (an ##HL and its ##DL list of transposed ##DZ blocks);
 - python-can's `MF4Writer` with remote and error frames added between the
   capture's frames (python-can puts them in data groups of their own, so
-  the decoder must merge the groups by time).
+  the decoder must merge the groups by time);
+- the stored and the transposed deflate files and asammdf's, each
+  gzip-compressed (Python's gzip), as fleets keep their logs.
 
 Each file is decoded by `canopen-decode --json` (detected by its MDF
 identification) and must give exactly the candump original's frames, in
@@ -24,6 +26,7 @@ not decoded; python-can's own `MF4Reader` must read back the same frames
 failed"; exits 1 on any mismatch.
 """
 import argparse
+import gzip
 import json
 import os
 import subprocess
@@ -110,7 +113,8 @@ def decode(decoder, path):
     return run, [g for g in got if "id" in g]
 
 
-def check(name, decoder, path, frames, errors):
+def check(name, decoder, path, frames, errors, mf4=None):
+    """mf4: the MF4 file python-can reads back, when PATH is a gzip of it."""
     want = [f for f in frames if f[0] != "error"]
     run, got = decode(decoder, path)
     bad = []
@@ -132,7 +136,7 @@ def check(name, decoder, path, frames, errors):
             bad.append(f"frame {i}: t {g['t']:.6f} != {us / 1e6:.6f}")
     if errors and f"{errors} error frame(s)" not in run.stderr:
         bad.append(f"stderr lacks '{errors} error frame(s)': {run.stderr[-300:]}")
-    with can.MF4Reader(path) as r:
+    with can.MF4Reader(mf4 or path) as r:
         back = [m for m in r if not m.is_error_frame]
     if [(m.arbitration_id, m.is_remote_frame, bytes(m.data)) for m in back] != [
         (f[1], f[3], f[5]) for f in want
@@ -171,6 +175,12 @@ def main():
             write_python_can(path, mixed, 2)
             cases += 1
             failed += not check(f"{base} python-can remote and error frames", args.decoder, path, mixed, errors)
+            for name in (f"{base}-python-can-0.mf4", f"{base}-python-can-2.mf4", f"{base}-asammdf-4.20.mf4"):
+                src = os.path.join(tmp, name)
+                with open(src, "rb") as f, gzip.open(src + ".gz", "wb") as g:
+                    g.write(f.read())
+                cases += 1
+                failed += not check(f"{name}.gz", args.decoder, src + ".gz", frames, 0, mf4=src)
     print(f"{cases} cases, {failed} failed")
     sys.exit(1 if failed else 0)
 
