@@ -14,8 +14,13 @@ script publishes what it drew on <body data-*>. The test checks
   * it drew one traffic plot per plot in the page's data (the bus load per
     1-second window, frames per second per node, the raw bytes of PDOs
     without a mapping), a bus-load plot among them, and on a foreign trace
-    (--generated: random frames on random identifiers, no PDO mapping)
-    more than one plot in all;
+    (--generated: random frames on random identifiers, no PDO mapping;
+    --python-can: the same kind of trace written by python-can's
+    ASCWriter) more than one plot in all;
+  * the rendered DOM holds one <canvas> per plot in the page's data
+    besides the timeline's (counted in the DOM, not from the page's own
+    count), and no timeline row (node entry) is empty: each has a state,
+    a mark or a silence;
   * it drew every timeline mark (past a row's cap, counted on the page as
     not drawn), and their number equals what `--json --summary` shows: boot-ups, EMCYs (error resets included), NMT
     commands, SDO transfers, node-guarding requests and heartbeat
@@ -26,7 +31,7 @@ script publishes what it drew on <body data-*>. The test checks
 and keeps a screenshot of each page in target/report-screenshots/ (a CI
 artifact).
 
-Usage: report_browser.py DECODER CHROMIUM OUTDIR [--bundled] [--generated] [LOG ...]
+Usage: report_browser.py DECODER CHROMIUM OUTDIR [--bundled] [--generated] [--python-can] [LOG ...]
 A LOG given as capture:PATH is decoded with --pdo-capture-mapping. A log
 that is absent or unreadable (the real captures are third-party data
 beside the checkout, not in it) fails the run with CI=true; elsewhere the
@@ -56,6 +61,24 @@ def generated_trace(path, seed=37, count=400):
             data = bytes(rng.randrange(256) for _ in range(rng.randint(0, 8)))
             name = f"{ident:08X}" if extended else f"{ident:03X}"
             f.write(f"({t // 1_000_000}.{t % 1_000_000:06d}) can0 {name}#{data.hex().upper()}\n")
+
+
+def python_can_trace(path, seed=37, count=600):
+    """A foreign trace written by python-can's ASCWriter: random frames on
+    random 11- and 29-bit identifiers, no PDO mapping known."""
+    import can  # only this trace needs python-can
+
+    rng = random.Random(seed)
+    t = 1_700_000_000.0
+    w = can.ASCWriter(path)
+    for _ in range(count):
+        t += rng.uniform(0.0001, 0.2)
+        extended = rng.random() < 0.2
+        ident = rng.randrange(1 << 29 if extended else 1 << 11)
+        dlc = rng.randrange(9)
+        data = bytes(rng.randrange(256) for _ in range(dlc))
+        w.on_message_received(can.Message(timestamp=t, arbitration_id=ident, is_extended_id=extended, dlc=dlc, data=data))
+    w.stop()
 
 
 def decoder_args(log):
@@ -116,12 +139,15 @@ def main():
     decoder, chromium, outdir = sys.argv[1:4]
     os.makedirs(outdir, exist_ok=True)
     generated = os.path.abspath(os.path.join(outdir, "generated-foreign.log"))
-    logs = ["bundled" if a == "--bundled" else generated if a == "--generated" else a
-            for a in sys.argv[4:]]
+    python_can = os.path.abspath(os.path.join(outdir, "python-can-foreign.asc"))
+    named = {"--bundled": "bundled", "--generated": generated, "--python-can": python_can}
+    logs = [named.get(a, a) for a in sys.argv[4:]]
     if not logs:
         sys.exit("no log given")
     if generated in logs:
         generated_trace(generated)
+    if python_can in logs:
+        python_can_trace(python_can)
     given = len(logs)
     logs = [log for log in logs if readable(log)]
     skipped = f" ({given - len(logs)} log(s) skipped: absent or unreadable)" if len(logs) < given else ""
@@ -152,6 +178,8 @@ def main():
         want_series, want_marks = expected(decoder, log)
         # Marks past a row's cap are counted on the page, not drawn.
         not_drawn = sum(n for r in data["rows"] for _, n in r["not_drawn"])
+        canvases = len(re.findall(r"<canvas(?![^>]*timeline-canvas)", dom))
+        empty_rows = [r["label"] for r in data["rows"] if not (r["states"] or r["marks"] or r["silences"])]
         checks = [
             ("rendered", attrs.get("rendered"), "ok"),
             ("script errors", attrs.get("errors"), "0"),
@@ -163,10 +191,12 @@ def main():
             ("traffic plots drawn = plots in the data", attrs.get("plots"), str(len(data["plots"]))),
             ("a bus-load plot", sum(p["kind"] == "bus-load" for p in data["plots"]), 1),
             ("timeline rows", attrs.get("rows"), str(len(data["rows"]))),
+            ("canvases in the DOM = plots in the data", canvases, len(data["series"]) + len(data["plots"])),
+            ("empty node entries", empty_rows, []),
             ("external references", len(external), 0),
             ("screenshot written", os.path.isfile(png) and os.path.getsize(png) > 0, True),
         ]
-        if log == generated:
+        if log in (generated, python_can):
             plots = int(attrs.get("plots", "0")) + int(attrs.get("series", "0"))
             checks += [
                 ("a foreign trace draws more than one plot", plots > 1, True),
