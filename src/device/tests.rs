@@ -2,11 +2,12 @@ use super::*;
 #[cfg(feature = "heartbeat-consumer")]
 use crate::cob_id::test_node as n;
 use crate::cob_id::PdoNumber;
+use crate::machine::Machine;
 #[cfg(feature = "heartbeat-consumer")]
 use crate::nmt::heartbeat::{ConsumerEntry, HeartbeatEvent};
 use crate::od::fixture::Word;
-use crate::pdo::RpdoError;
 use crate::pdo::{MappingEntry, PdoCobId, PdoCommParams, PdoMapping, PdoSlot};
+use crate::pdo::{PdoDirection, RpdoError};
 #[cfg(feature = "heartbeat-consumer")]
 use core::time::Duration;
 use std::string::{String, ToString};
