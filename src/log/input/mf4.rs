@@ -1,7 +1,10 @@
 //! ASAM MDF 4 bus-logging input: a file that seeks read in place
 //! ([`SeekSource`]: its data blocks as they are reached, memory constant in
-//! the file's size), any other input (a pipe, a gzip-compressed file) read
-//! into memory first (its links point anywhere in it); then read through
+//! the file's size); any other input (a pipe, a gzip-compressed file) read
+//! into memory when it is at most [`IN_MEMORY`] bytes long, else copied to
+//! a temporary file first and read in place from there (module `spill`:
+//! its blocks link to anywhere in it, the describing ones after the data
+//! in the files python-can and asammdf write); then read through
 //! [`crate::trace::mf4::Mf4Reader`] record by record, each `##DZ` block
 //! inflated by the caller's [`Inflate`]; every classic CAN frame an item
 //! like a text trace's line, in time order. Besides the file, memory stays
@@ -14,22 +17,47 @@
 //! that does not inflate) ends the read.
 
 use std::io::{self, Read, Seek};
+use std::path::Path;
 use std::prelude::rust_2021::*;
 
 use crate::trace::mf4::{Mf4Error, Mf4Event, Mf4Reader, SeekSource, Source};
 
+use super::spill::Spill;
 use super::{At, Bad, Binary, Counted, Item, Kind};
 use crate::trace::inflate::Inflate;
 
-/// Reads the MF4 file `input` (into memory), handing each item to `each`.
+/// The longest MF4 read from input that cannot seek held in memory: a
+/// longer one is copied to a temporary file (1 MiB, the order of the
+/// reader's own windows).
+pub(super) const IN_MEMORY: usize = 1 << 20;
+
+/// Reads the MF4 file `input` (in memory, or spilled to a temporary file
+/// of the system's temporary folder), handing each item to `each`.
 pub(super) fn read<F: FnMut(Item<'_>) -> io::Result<()>>(
-    mut input: impl Read,
+    input: impl Read,
     zlib: &mut dyn Inflate,
     each: &mut Counted<'_, F>,
 ) -> io::Result<Kind> {
-    let mut file = Vec::new();
-    input.read_to_end(&mut file)?;
-    items(&file, zlib, each)
+    read_spilling(input, IN_MEMORY, &std::env::temp_dir(), zlib, each)
+}
+
+/// [`read`] with the most held in memory and the temporary folder given.
+pub(super) fn read_spilling<F: FnMut(Item<'_>) -> io::Result<()>>(
+    mut input: impl Read,
+    in_memory: usize,
+    dir: &Path,
+    zlib: &mut dyn Inflate,
+    each: &mut Counted<'_, F>,
+) -> io::Result<Kind> {
+    let mut first = Vec::new();
+    let limit = u64::try_from(in_memory).map_or(u64::MAX, |n| n.saturating_add(1));
+    (&mut input).take(limit).read_to_end(&mut first)?;
+    if first.len() <= in_memory {
+        return items(&first, zlib, each);
+    }
+    let mut spill = Spill::copy(dir, &first, &mut input)?;
+    drop(first);
+    read_in_place(spill.file()?, zlib, each)
 }
 
 /// Reads the MF4 file `file` in place, handing each item to `each`; an

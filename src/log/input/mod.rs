@@ -20,22 +20,27 @@
 //!   ASAM MDF 4 bus logging is read record by record through the
 //!   library's `Mf4Reader`, each `##DZ` block inflated by the same
 //!   [`Inflate`], the frames of its data groups merged by time: a file
-//!   that seeks in place ([`read_seekable`]), other input into memory
-//!   first (its blocks link to anywhere in the file).
+//!   that seeks in place ([`read_seekable`]); other input (a pipe, a
+//!   gzip-compressed file) into memory when it is at most 1 MiB, else
+//!   copied to a temporary file of the system's temporary folder first
+//!   and read in place from there (its blocks link to anywhere in the
+//!   file, and python-can's and asammdf's describing blocks come after
+//!   the data), the file removed when the reading ends.
 //! - gzip-compressed input of any format (`.gz`, told by its magic
 //!   number `1F 8B`) is decompressed first, with feature `zlib` (flate2's
 //!   `MultiGzDecoder`); without it such input is an error that names the
 //!   feature.
 //!
 //! [`read`] hands each [`Item`] to the caller as it comes (memory stays
-//! bounded on any input but an MF4 file's size; [`read_seekable`] bounds
-//! that too: the decoder's way); [`frames`] collects the
+//! bounded on any input; an MF4 file given by [`read_seekable`] needs no
+//! temporary file: the decoder's way); [`frames`] collects the
 //! frames of a whole file (the replay's way). Neither panics on any input.
 
 mod blf;
 mod lines;
 mod mf4;
 mod pcap;
+mod spill;
 #[cfg(feature = "zlib")]
 mod zlib;
 
@@ -515,8 +520,9 @@ fn head_of(input: &mut impl Read, head: &mut [u8; Binary::HEAD]) -> io::Result<u
 /// Reads every item of the file `file` as [`read`] does, an MF4 file in
 /// place: its data blocks read as they are reached (through the library's
 /// `SeekSource`), so that memory stays constant in the file's size, where
-/// [`read`] reads an MF4 file into memory (its links point anywhere in
-/// it). The programs read a file named on their command line so.
+/// [`read`] copies an MF4 of more than 1 MiB to a temporary file first
+/// (its links point anywhere in it). The programs read a file named on
+/// their command line so.
 pub fn read_seekable<F>(
     mut file: impl Read + Seek,
     how: How,

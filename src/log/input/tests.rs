@@ -234,3 +234,84 @@ fn an_error_reading_an_mf4_in_place_is_returned() {
     let e = read_seekable(file, How::default(), &mut NoInflate, |_| Ok(())).unwrap_err();
     assert_eq!(e.to_string(), "disk gone");
 }
+
+/// A pipe: no seek, and a few bytes at a time.
+struct Pipe<'a>(&'a [u8]);
+
+impl Read for Pipe<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        let n = buf.len().min(self.0.len()).min(7);
+        let (now, rest) = self.0.split_at(n);
+        buf[..n].copy_from_slice(now);
+        self.0 = rest;
+        Ok(n)
+    }
+}
+
+/// A folder of the system's temporary folder of its own, for `name`.
+fn folder(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[cfg(feature = "zlib")]
+#[test]
+fn an_mf4_from_a_pipe_or_gzip_reads_as_the_file_in_place() {
+    use std::io::Write;
+    let mf4: &[u8] = include_bytes!("../../../tests/data/python-can-mf4writer.mf4");
+    let zlib = &mut crate::trace::inflate::Zlib::default();
+    let in_place = items_of(|each| read_seekable(io::Cursor::new(mf4), How::default(), zlib, each));
+    assert_eq!(in_place.1.frames, 8);
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    gz.write_all(mf4).unwrap();
+    let gz = gz.finish().unwrap();
+    // In memory (the file is below IN_MEMORY), from a pipe and gzip'd,
+    // through `read` and through `read_seekable` (which takes a gzip'd
+    // file as a stream).
+    assert!(mf4.len() < mf4::IN_MEMORY);
+    for input in [mf4, &gz[..]] {
+        let piped = items_of(|each| read(Pipe(input), How::default(), zlib, each));
+        assert_eq!(piped, in_place);
+        let file =
+            items_of(|each| read_seekable(io::Cursor::new(input), How::default(), zlib, each));
+        assert_eq!(file, in_place);
+    }
+    // Spilled to a temporary file (nothing held in memory), which is
+    // removed when the reading ends.
+    let dir = folder("mf4-spill");
+    let spilled = items_of(|each| {
+        let mut each = |item: Item<'_>| {
+            // Read from the temporary file while it is there.
+            assert_eq!(std::fs::read_dir(&dir)?.count(), 1);
+            each(item)
+        };
+        counting(&mut each, |counted| {
+            mf4::read_spilling(Pipe(mf4), 0, &dir, zlib, counted)
+        })
+    });
+    assert_eq!(spilled, in_place);
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+    std::fs::remove_dir(&dir).unwrap();
+}
+
+#[test]
+fn an_mf4_that_cannot_be_spilled_says_where_and_why() {
+    let mf4: &[u8] = include_bytes!("../../../tests/data/python-can-mf4writer.mf4");
+    let gone = folder("mf4-spill-gone");
+    std::fs::remove_dir(&gone).unwrap();
+    let mut each = |_: Item<'_>| Ok(());
+    let e = counting(&mut each, |counted| {
+        mf4::read_spilling(Pipe(mf4), 1000, &gone, &mut NoInflate, counted)
+    })
+    .unwrap_err();
+    let e = e.to_string();
+    assert!(e.contains("is copied to a temporary file"), "{e}");
+    assert!(e.contains(&gone.display().to_string()), "{e}");
+    assert!(e.contains("set TMPDIR to a writable folder"), "{e}");
+    // Held in memory, it needs no folder.
+    let e = counting(&mut each, |counted| {
+        mf4::read_spilling(Pipe(mf4), mf4.len(), &gone, &mut NoInflate, counted)
+    });
+    assert!(e.is_ok());
+}
