@@ -14,7 +14,15 @@ tools:
   capture's frames (python-can puts them in data groups of their own, so
   the decoder must merge the groups by time);
 - the stored and the transposed deflate files and asammdf's, each
-  gzip-compressed (Python's gzip), as fleets keep their logs.
+  gzip-compressed (Python's gzip), as fleets keep their logs, given by
+  their path and on stdin (`canopen-decode -`), and the stored file on
+  stdin;
+- the capture repeated (times shifted) until python-can's stored file is
+  over the 1 MiB the decoder holds in memory from stdin or gzip: from
+  stdin and gzip-compressed it is copied to a temporary file, which must
+  be gone from $TMPDIR (a folder of the script's own) when the decoder
+  ends; with $TMPDIR a folder that does not exist, the decoder exits 2
+  with an error naming it.
 
 Each file is decoded by `canopen-decode --json` (detected by its MDF
 identification) and must give exactly the candump original's frames, in
@@ -107,17 +115,30 @@ def resave_asammdf(src, dst):
         converted.close()
 
 
-def decode(decoder, path):
-    run = subprocess.run([decoder, "--json", path], capture_output=True, text=True)
+def decode(decoder, path, stdin=False, spill=None):
+    """`canopen-decode --json PATH`, or `-` with the file on stdin; TMPDIR
+    is `spill` when given."""
+    env = dict(os.environ, TMPDIR=spill) if spill else None
+    with open(path, "rb") as f:
+        run = subprocess.run(
+            [decoder, "--json", "-" if stdin else path],
+            stdin=f if stdin else subprocess.DEVNULL,
+            capture_output=True,
+            text=True,
+            env=env,
+        )
     got = [json.loads(l) for l in run.stdout.splitlines() if l.strip()]
     return run, [g for g in got if "id" in g]
 
 
-def check(name, decoder, path, frames, errors, mf4=None):
-    """mf4: the MF4 file python-can reads back, when PATH is a gzip of it."""
+def check(name, decoder, path, frames, errors, mf4=None, stdin=False):
+    """mf4: the MF4 file python-can reads back, when PATH is a gzip of it;
+    stdin: PATH given on stdin."""
     want = [f for f in frames if f[0] != "error"]
-    run, got = decode(decoder, path)
-    bad = []
+    with tempfile.TemporaryDirectory() as spill:
+        run, got = decode(decoder, path, stdin, spill)
+        left = os.listdir(spill)
+    bad = [f"left in the temporary folder: {left}"] if left else []
     for line in run.stderr.splitlines():
         if line.startswith(("record ", "after record")) and "does not decode" not in line and "not decoded" not in line:
             bad.append(f"stderr: {line}")
@@ -150,6 +171,42 @@ def check(name, decoder, path, frames, errors, mf4=None):
     return not bad
 
 
+def repeated(frames):
+    """The frames again and again, each copy 1 s after the last one's end,
+    until python-can's stored file of them is over 1 MiB (it takes about
+    84 bytes a frame)."""
+    span = frames[-1][0] - frames[0][0] + 1_000_000
+    copies = (1 << 20) // (84 * len(frames)) + 2
+    return [(f[0] + k * span,) + f[1:] for k in range(copies) for f in frames]
+
+
+def spilled(decoder, tmp, base, frames):
+    """The repeated capture's stored file by its path, on stdin, and
+    gzip-compressed by its path and on stdin: (cases, failed)."""
+    frames = repeated(frames)
+    path = os.path.join(tmp, f"{base}-repeated-0.mf4")
+    write_python_can(path, frames, 0)
+    if os.path.getsize(path) <= 1 << 20:
+        print(f"{path}: {os.path.getsize(path)} bytes, not over 1 MiB")
+        return 1, 1
+    with open(path, "rb") as f, gzip.open(path + ".gz", "wb") as g:
+        g.write(f.read())
+    name = os.path.basename(path)
+    cases = failed = 0
+    for src, stdin in ((path, False), (path, True), (path + ".gz", False), (path + ".gz", True)):
+        cases += 1
+        way = f"{name}{'.gz' if src.endswith('.gz') else ''}{' on stdin' if stdin else ''}"
+        failed += not check(f"{way} ({len(frames)} frames)", decoder, src, frames, 0, mf4=path, stdin=stdin)
+    # A temporary folder that cannot be written: an error that says so.
+    gone = os.path.join(tmp, "no-such-folder")
+    run, _ = decode(decoder, path, stdin=True, spill=gone)
+    cases += 1
+    said = run.returncode == 2 and gone in run.stderr and "set TMPDIR to a writable folder" in run.stderr
+    print(f"{name} on stdin, TMPDIR missing: exit {run.returncode}, {'the folder named' if said else 'MISMATCH: ' + run.stderr[-300:]}")
+    failed += not said
+    return cases, failed
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("decoder")
@@ -179,8 +236,16 @@ def main():
                 src = os.path.join(tmp, name)
                 with open(src, "rb") as f, gzip.open(src + ".gz", "wb") as g:
                     g.write(f.read())
-                cases += 1
-                failed += not check(f"{name}.gz", args.decoder, src + ".gz", frames, 0, mf4=src)
+                for stdin in (False, True):
+                    cases += 1
+                    way = " on stdin" if stdin else ""
+                    failed += not check(f"{name}.gz{way}", args.decoder, src + ".gz", frames, 0, mf4=src, stdin=stdin)
+            src = os.path.join(tmp, f"{base}-python-can-0.mf4")
+            cases += 1
+            failed += not check(f"{base}-python-can-0.mf4 on stdin", args.decoder, src, frames, 0, stdin=True)
+            n, bad = spilled(args.decoder, tmp, base, frames)
+            cases += n
+            failed += bad
     print(f"{cases} cases, {failed} failed")
     sys.exit(1 if failed else 0)
 
