@@ -1,8 +1,10 @@
 //! Whole sessions in simulated time: the simulated bus itself
 //! (`canopen_codec::sim::bus`), every charge scenario of `sim::Scenario`,
-//! every file of `scenarios/` (`sim::bench`) and generated ones, the recorded virtual
-//! session (`tests/data/virtual-session.log`), and our own
-//! nodes booted by the CiA 302-2 boot-up manager from DCFs of their EDS.
+//! every file of `scenarios/` (`sim::bench`), generated ones and the
+//! unseen ones written apart from the charger (`tests/sessions/unseen/`),
+//! the recorded virtual session (`tests/data/virtual-session.log`), and
+//! our own nodes booted by the CiA 302-2 boot-up manager from DCFs of
+//! their EDS.
 
 #[path = "../common/mod.rs"]
 mod common;
@@ -27,5 +29,7 @@ mod protections;
 mod scenario_files;
 #[cfg(feature = "sim")]
 mod sim;
+#[cfg(feature = "sim")]
+mod unseen_files;
 #[cfg(feature = "sim")]
 mod virtual_session;

@@ -120,6 +120,9 @@
 //! - E-0-0-4 minimum voltage (local, latched): below `min_voltage_mv` bulk
 //!   trickles at a tenth of its current; still below after `trickle_max`.
 //! - E-0-0-7 Ah limit (latched): the cycle's Ah reach `ah_limit_q3`.
+//!   With the capacity known from 6020h, neither the safety timer nor the
+//!   Ah limit is tighter than a normal charge of that battery needs
+//!   ([`ProtectionLimits::for_capacity`]).
 //! - E-0-0-8 battery temperature (the module's 6010h, while present):
 //!   outside the algorithm's range the charge **pauses** (phase kept,
 //!   output off; the BMS's 6000h falling meanwhile does not terminate it)
@@ -188,8 +191,8 @@ pub use identify::{BatteryIdentity, Identification};
 use meter::CycleMeter;
 use protect::ProtectState;
 pub use protect::{
-    ProtectionLimits, AC_DROPS, AC_WINDOW, NO_CURRENT_TIME, PLAUSIBLE_TEMPERATURE_C,
-    TEMPERATURE_HYSTERESIS_C,
+    ProtectionLimits, AC_DROPS, AC_WINDOW, CAPACITY_FACTOR_PERMILLE, NO_CURRENT_TIME,
+    PLAUSIBLE_TEMPERATURE_C, TEMPERATURE_HYSTERESIS_C,
 };
 pub use types::{
     BusInputs, ChargeAlarms, ChargeConfig, ChargeEvent, ChargePhase, ChargeStatus, PowerStage,

@@ -58,7 +58,9 @@ impl ProtectionLimits {
     ///   high voltage (2.39 / 4.22 V/cell): no pack of the algorithm's
     ///   cell count rests that high;
     /// - safety timer: three times the absorption's maximum (12 h / 6 h);
-    /// - Ah limit: what the bulk current delivers in the safety time;
+    /// - Ah limit: what the bulk current delivers in the safety time
+    ///   (both widened for a large battery whose capacity 6020h gives:
+    ///   [`for_capacity`](Self::for_capacity));
     /// - temperature: -20 to 50 degC for lead acid, 0 to 45 degC for the
     ///   others (no lithium charge below freezing: plating; nickel cells
     ///   do not accept charge when cold; the cell makers' usual charge
@@ -90,7 +92,52 @@ impl ProtectionLimits {
             max_temperature_c: if lead_acid { 50 } else { 45 },
         }
     }
+
+    /// These limits for a battery of `capacity_ah` (6020h sub 2; 0: not
+    /// known, the limits unchanged) charged at `bulk_ma`: never tighter
+    /// than a normal charge of that battery needs. From empty, a pack
+    /// takes up to [`CAPACITY_FACTOR_PERMILLE`] of its capacity (lead
+    /// acid's coulombic efficiency and gassing, nickel's 120-140 %), so the
+    /// Ah limit is at least that and the safety timer at least the time
+    /// the bulk current takes to deliver it: a 600 Ah pack on a 25 A
+    /// charger is not timed out after 6 h, nor a 200 Ah pack cut at 150 Ah.
+    /// Ours: the Delta-Q IC Series CANopen interface specification names
+    /// E-0-0-3 and E-0-0-7 (section 4.4.1) without their figures.
+    #[must_use]
+    pub const fn for_capacity(self, capacity_ah: u32, bulk_ma: u32) -> Self {
+        if capacity_ah == 0 {
+            return self;
+        }
+        // Q3 Ah (8 a Ah) x per mille, in 32 bits: capacity at most 2^16.
+        let capacity = if capacity_ah > 65_535 {
+            65_535
+        } else {
+            capacity_ah
+        };
+        let need_q3 = capacity * 8 * CAPACITY_FACTOR_PERMILLE / 1000;
+        // Whole hours of the bulk current (Q3 A), rounded up.
+        let q3_a = if bulk_ma / 125 == 0 { 1 } else { bulk_ma / 125 };
+        let need_s = need_q3.div_ceil(q3_a).saturating_mul(3600);
+        let safety_s = self.safety_time.as_secs();
+        ProtectionLimits {
+            safety_time: if (need_s as u64) > safety_s {
+                Duration::from_secs(need_s as u64)
+            } else {
+                self.safety_time
+            },
+            ah_limit_q3: if need_q3 > self.ah_limit_q3 {
+                need_q3
+            } else {
+                self.ah_limit_q3
+            },
+            ..self
+        }
+    }
 }
+
+/// The most a normal charge from empty puts into a pack, per mille of its
+/// capacity ([`ProtectionLimits::for_capacity`]): 150 %. Ours.
+pub const CAPACITY_FACTOR_PERMILLE: u32 = 1500;
 
 /// A delivering output whose current stays below a fiftieth of its set
 /// point (not voltage-limited) this long raises E-0-1-3. Ours.
@@ -156,11 +203,13 @@ impl ProtectState {
 }
 
 impl ChargeControl {
-    /// The active algorithm's protection limits (one copy of their
-    /// arithmetic in the firmware).
+    /// The active algorithm's protection limits for the battery 6020h
+    /// described (one copy of their arithmetic in the firmware).
     #[inline(never)]
     pub(super) fn limits(&self) -> Option<ProtectionLimits> {
-        self.algorithm().map(ProtectionLimits::of)
+        let capacity = self.capacity_ah();
+        self.algorithm()
+            .map(|a| ProtectionLimits::of(a).for_capacity(capacity, a.bulk_ma))
     }
 
     /// The E-0-0-1 threshold: the algorithm's high voltage, or the

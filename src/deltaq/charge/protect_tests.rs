@@ -387,3 +387,52 @@ fn e_0_0_8_in_absorption_keeps_the_phase_and_its_clock() {
     c.handle_power_stage(s(1021), tapered);
     assert_eq!(c.phase(), ChargePhase::Rest);
 }
+
+#[test]
+fn a_known_capacity_widens_the_safety_timer_and_the_ah_limit_never_narrows_them() {
+    let flooded = ChargeConfig::example().algorithm(1).unwrap();
+    let own = ProtectionLimits::of(flooded);
+    assert_eq!(
+        (own.safety_time.as_secs(), own.ah_limit_q3),
+        (12 * 3600, 2400)
+    );
+    // 600 Ah: 150 % is 900 Ah (7200 in Q3), 36 h of 25 A.
+    let big = own.for_capacity(600, 25_000);
+    assert_eq!(
+        (big.safety_time.as_secs(), big.ah_limit_q3),
+        (36 * 3600, 7200)
+    );
+    assert_eq!(big.min_voltage_mv, own.min_voltage_mv);
+    // Unknown (0) or small enough for the algorithm's own: unchanged.
+    assert_eq!(own.for_capacity(0, 25_000), own);
+    assert_eq!(own.for_capacity(100, 25_000), own);
+    // Rounded up to whole hours; a zero bulk current divides by one.
+    assert_eq!(
+        own.for_capacity(210, 25_000).safety_time.as_secs(),
+        13 * 3600
+    );
+    assert_eq!(own.for_capacity(65_535, 0).ah_limit_q3, 786_420);
+}
+
+#[test]
+fn a_600_ah_pack_from_6020h_is_still_in_bulk_after_the_algorithms_12_h() {
+    let mut c = bulk(50, 25);
+    let big = BatteryIdentity {
+        battery_type: 0x10,
+        capacity_ah: 600,
+        cells: 24,
+    };
+    c.handle_identification(s(1), Identification::Known(big));
+    for minute in 1..=13 * 60 {
+        c.handle_power_stage(s(minute * 60), pack(52, 25));
+    }
+    // 13 h and 325 Ah: past algorithm 1's 12 h and 300 Ah, not this pack's.
+    assert!(c.alarms().is_empty(), "{:?}", c.alarms());
+    assert_eq!(c.phase(), ChargePhase::Bulk);
+    // Its own 36 h still end a bulk that never reaches absorption.
+    for minute in 13 * 60 + 1..=36 * 60 {
+        c.handle_power_stage(s(minute * 60), pack(52, 25));
+    }
+    assert_eq!(c.phase(), ChargePhase::Terminated);
+    assert!(c.alarms().contains(ChargeAlarms::CHARGE_TIMEOUT));
+}

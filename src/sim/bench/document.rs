@@ -153,6 +153,21 @@ impl Item {
         }
     }
 
+    /// A whole number within `range` (a cell count, an id, a byte: `24.5`
+    /// is no cell count).
+    pub(super) fn whole(
+        &self,
+        what: &str,
+        range: core::ops::RangeInclusive<f64>,
+    ) -> Result<f64, ScriptError> {
+        let x = self.number(what, range)?;
+        if x.fract() == 0.0 {
+            Ok(x)
+        } else {
+            Err(self.bad(&format!("{what} (a whole number)")))
+        }
+    }
+
     /// A string.
     pub(super) fn text(&self, what: &str) -> Result<&str, ScriptError> {
         match &self.value {
@@ -178,6 +193,18 @@ impl Item {
         let what = "a time h:mm:ss";
         let text = self.text(what)?;
         parse_time(text).ok_or_else(|| self.bad(what))
+    }
+
+    /// A time `h:mm:ss` no later than `max`.
+    pub(super) fn time_to(&self, max: Duration) -> Result<Duration, ScriptError> {
+        let t = self.time()?;
+        if t <= max {
+            Ok(t)
+        } else {
+            let s = max.as_secs();
+            let (h, m, s) = (s / 3600, s / 60 % 60, s % 60);
+            Err(self.bad(&format!("a time h:mm:ss up to {h}:{m:02}:{s:02}")))
+        }
     }
 }
 

@@ -54,5 +54,6 @@ mod script;
 pub use document::{Item, ScriptError, Value};
 pub use run::{apply, BenchEvent, Summary, SAMPLE_EVERY, TICK};
 pub use script::{
-    parse_code, state_name, Action, Battery, BusSetup, Expect, Script, TimedAction, ACTIONS, STATES,
+    parse_code, state_name, Action, Battery, BusSetup, Expect, Script, TimedAction, ACTIONS,
+    MAX_RUN, STATES,
 };

@@ -142,6 +142,12 @@ pub struct Expect {
     pub voltage_max: Option<f64>,
 }
 
+/// The longest run a file may ask for (`[run] until`): three days, longer
+/// than any charge's safety timer; the session keeps its bus log in memory
+/// (a few MB a simulated hour), so a far longer run would take minutes and
+/// gigabytes for nothing a charge can show.
+pub const MAX_RUN: Duration = Duration::from_secs(72 * 3600);
+
 /// The actions' names in the file, in [`Action`]'s order.
 pub const ACTIONS: [&str; 18] = [
     "ac-off",
@@ -246,12 +252,12 @@ impl Script {
                 ));
             };
             for item in items {
-                events.push(read_event(item)?);
+                events.push(read_event(item, battery.cells)?);
             }
         }
         events.sort_by_key(|e| e.at);
         let mut run = Fields::of("[run]", file.need("run")?)?;
-        let until = run.need("until")?.time()?;
+        let until = run.need("until")?.time_to(MAX_RUN)?;
         run.finish()?;
         let expect = match file.take("expect") {
             Some(item) => read_expect(item)?,
@@ -283,7 +289,7 @@ fn read_battery(item: &Item) -> Result<Battery, ScriptError> {
     })?;
     let battery = Battery {
         battery_type,
-        cells: f.need("cells")?.number("a cell count", 1.0..=200.0)? as u16,
+        cells: f.need("cells")?.whole("a cell count", 1.0..=200.0)? as u16,
         capacity_ah: f
             .need("capacity_ah")?
             .number("a capacity in Ah", 1.0..=10_000.0)?,
@@ -308,7 +314,7 @@ fn read_bus(item: &Item) -> Result<BusSetup, ScriptError> {
     let latency = f
         .take("latency_ms")
         .map(|i| i.number("a latency in ms", 0.0..=10_000.0));
-    let seed = f.take("seed").map(|i| i.number("a seed", 0.0..=9e15));
+    let seed = f.take("seed").map(|i| i.whole("a seed", 0.0..=9e15));
     f.finish()?;
     Ok(BusSetup {
         loss: loss.transpose()?.unwrap_or(0.0),
@@ -319,7 +325,8 @@ fn read_bus(item: &Item) -> Result<BusSetup, ScriptError> {
     })
 }
 
-fn read_event(item: &Item) -> Result<TimedAction, ScriptError> {
+/// `cells`: the pack's, the most a `cell-short` can short.
+fn read_event(item: &Item, cells: u16) -> Result<TimedAction, ScriptError> {
     let mut f = Fields::of("[[event]]", item)?;
     let at = f.need("at")?.time()?;
     let name_item = f.need("action")?;
@@ -339,7 +346,7 @@ fn read_event(item: &Item) -> Result<TimedAction, ScriptError> {
         "plug" => Action::Plug,
         "reverse-polarity" => Action::ReversePolarity,
         "battery-status" => {
-            Action::BatteryStatus(value(&mut f, "a 6000h value", 0.0..=255.0)? as u8)
+            Action::BatteryStatus(f.need("value")?.whole("a 6000h value", 0.0..=255.0)? as u8)
         }
         "request" => {
             let current = f
@@ -361,7 +368,9 @@ fn read_event(item: &Item) -> Result<TimedAction, ScriptError> {
             }
         }
         "ah-target" => Action::AhTarget(value(&mut f, "a charge in Ah", 0.0..=8000.0)?),
-        "algorithm" => Action::Algorithm(value(&mut f, "an algorithm id", 0.0..=65535.0)? as u16),
+        "algorithm" => {
+            Action::Algorithm(f.need("value")?.whole("an algorithm id", 0.0..=65535.0)? as u16)
+        }
         "bms-emcy" => {
             let v = f.need("value")?;
             let code = v.text("an EMCY code \"0xXXXX\"")?;
@@ -385,7 +394,11 @@ fn read_event(item: &Item) -> Result<TimedAction, ScriptError> {
                     .ok_or_else(|| unknown(v.line, "fault", name, known))?,
             )
         }
-        "cell-short" => Action::CellShort(value(&mut f, "a number of cells", 1.0..=200.0)? as u16),
+        "cell-short" => {
+            let most = f64::from(cells);
+            let what = "a number of the pack's cells";
+            Action::CellShort(f.need("value")?.whole(what, 1.0..=most)? as u16)
+        }
         other => {
             let known = ACTIONS.join(", ");
             return Err(unknown(name_item.line, "action", other, &known));
