@@ -129,15 +129,21 @@ fn matches(pattern: &[u8], name: &[u8]) -> bool {
 }
 
 /// Each log's part under `root`, the `log=NAME` folders made: NAME is the
-/// log's file name without its extension (`/`, `\` and `=` made `_`), one
-/// per log; two logs of one NAME are an error (a partition each is
-/// needed).
+/// log's file name without its extension, and without `.gz` first for a
+/// gzip-compressed log (`truck-017.log.gz` is `truck-017`, as
+/// `truck-017.log`), with `/`, `\` and `=` made `_`; one per log; two logs
+/// of one NAME are an error (a partition each is needed).
 pub fn parts(root: &Path, files: &[String], format: PartFormat) -> Result<Vec<PathBuf>, String> {
     let fail = |why: String| format!("--signals {}: {why}", root.display());
     let mut names: Vec<String> = Vec::new();
     let mut parts = Vec::new();
     for f in files {
-        let name = Path::new(f)
+        let file = Path::new(f);
+        let file = match file.extension() {
+            Some(gz) if gz == "gz" => file.file_stem().map_or(file, Path::new),
+            _ => file,
+        };
+        let name = file
             .file_stem()
             .map(|s| s.to_string_lossy().replace(['/', '\\', '='], "_"))
             .unwrap_or_default();
@@ -216,6 +222,16 @@ mod tests {
             PartFormat::Csv,
         );
         assert!(twice.unwrap_err().contains("two logs named 'a'"));
+        // A gzip-compressed log is named by its log's file name.
+        let gz = parts(
+            &root,
+            &["x/truck-1.log.gz".into(), "truck-2.pcapng.gz".into()],
+            PartFormat::Csv,
+        );
+        assert_eq!(gz.unwrap()[0], root.join("log=truck-1/part-0.csv"));
+        assert!(root.join("log=truck-2").is_dir());
+        let same = parts(&root, &["a.log".into(), "a.log.gz".into()], PartFormat::Csv);
+        assert!(same.unwrap_err().contains("two logs named 'a'"));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

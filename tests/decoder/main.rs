@@ -27,6 +27,8 @@ mod bus_load;
 mod cli;
 #[cfg(feature = "cli")]
 mod dbc;
+#[cfg(feature = "cli")]
+mod hostile_files;
 #[cfg(feature = "log")]
 mod log_json;
 #[cfg(feature = "cli")]

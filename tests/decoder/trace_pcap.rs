@@ -15,14 +15,14 @@ use canopen_codec::CanFrame;
 use crate::blf_support;
 use crate::common::captures::{self, CHARGING, STARTUP};
 
-fn decode(args: &[&str]) -> Output {
+pub(crate) fn decode(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_canopen-decode"))
         .args(args)
         .output()
         .unwrap()
 }
 
-fn tmp(name: &str, bytes: &[u8]) -> String {
+pub(crate) fn tmp(name: &str, bytes: &[u8]) -> String {
     let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
     std::fs::write(&path, bytes).unwrap();
     path.display().to_string()
@@ -54,7 +54,7 @@ fn put(out: &mut Vec<u8>, big: bool, v: u32) {
 }
 
 /// A pcap file of `frames` (UNIX microseconds, frame), link type 227.
-fn pcap(frames: &[(u64, CanFrame)], big: bool, nanos: bool) -> Vec<u8> {
+pub(crate) fn pcap(frames: &[(u64, CanFrame)], big: bool, nanos: bool) -> Vec<u8> {
     let mut f = Vec::new();
     put(&mut f, big, if nanos { 0xA1B2_3C4D } else { 0xA1B2_C3D4 });
     let version = if big { [0, 2, 0, 4] } else { [2, 0, 4, 0] };
@@ -92,7 +92,7 @@ fn block(out: &mut Vec<u8>, block_type: u32, body: &[u8]) {
 
 /// A pcapng file of `frames`, alternately on two SocketCAN interfaces
 /// with nanosecond times, a Name Resolution Block after the first packet.
-fn pcapng(frames: &[(u64, CanFrame)]) -> Vec<u8> {
+pub(crate) fn pcapng(frames: &[(u64, CanFrame)]) -> Vec<u8> {
     let mut f = Vec::new();
     let mut shb = 0x1A2B_3C4Du32.to_le_bytes().to_vec();
     shb.extend([1, 0, 0, 0]);
@@ -119,7 +119,7 @@ fn pcapng(frames: &[(u64, CanFrame)]) -> Vec<u8> {
     f
 }
 
-fn gzip(bytes: &[u8]) -> Vec<u8> {
+pub(crate) fn gzip(bytes: &[u8]) -> Vec<u8> {
     let mut e = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
     e.write_all(bytes).unwrap();
     e.finish().unwrap()

@@ -23,6 +23,7 @@ other runs; elsewhere it is skipped with a message.
 """
 
 import csv
+import gzip
 import json
 import os
 import shutil
@@ -250,6 +251,67 @@ def check_dataset(captures):
             n += check_table(f"dataset {name}", signal_headers, rows, frames)
         print(f"dataset of {len(captures)} logs: {len(all_rows)} rows in one table, {n} cells compared")
     check_fleet_folder(captures)
+    check_files_and_glob(captures)
+
+
+def check_files_and_glob(captures):
+    """Three logs named as files (the captures and a gzip-compressed copy
+    of the first, `truck-3.log.gz`) and the captures by a glob
+    (`logs/*.log`, which the copy does not match): DuckDB's
+    `read_parquet('ROOT/**/*.parquet', hive_partitioning = true)` and
+    pyarrow's hive dataset count each log's mapped PDO frames under its
+    NAME (the copy's without `.log.gz`), and every part has the schema
+    docs/DECODER.md gives: `time` an optional DOUBLE, `cob_id` a required
+    INT32, each signal an optional DOUBLE or string."""
+    import duckdb
+    import pyarrow as pa
+    import pyarrow.dataset as ds
+    import pyarrow.parquet as pq
+
+    with tempfile.TemporaryDirectory() as tmp:
+        logs = os.path.join(tmp, "logs")
+        os.mkdir(logs)
+        want = {}
+        for c in captures:
+            shutil.copy(c, logs)
+            want[os.path.splitext(os.path.basename(c))[0]] = len(frames_of(["--pdo-capture-mapping", c]))
+        copy = os.path.join(logs, "truck-3.log.gz")
+        with open(captures[0], "rb") as f, gzip.open(copy, "wb") as g:
+            g.write(f.read())
+        first = os.path.splitext(os.path.basename(captures[0]))[0]
+        three = dict(want, **{"truck-3": want[first]})
+        files = [os.path.join(logs, os.path.basename(c)) for c in captures] + [copy]
+        for label, named, expected in (
+            (f"{len(files)} logs as files", files, three),
+            ("a glob of the logs", [os.path.join(logs, "*.log")], want),
+        ):
+            root = os.path.join(tmp, f"{len(expected)}-{label[0]}.parquet")
+            decode(["--pdo-capture-mapping", "--signals", root, *named])
+            counted = dict(
+                duckdb.connect()
+                .execute(
+                    f"SELECT log, count(*) FROM read_parquet('{root}/**/*.parquet', "
+                    "hive_partitioning = true, union_by_name = true) GROUP BY log"
+                )
+                .fetchall()
+            )
+            table = ds.dataset(root, format="parquet", partitioning="hive").to_table()
+            column = [str(x) for x in table.column("log").to_pylist()]
+            by_pyarrow = {name: column.count(name) for name in set(column)}
+            if counted != expected or by_pyarrow != expected:
+                fail(f"{label}: rows per log duckdb {counted}, pyarrow {by_pyarrow}, mapped PDO frames {expected}")
+            for name in expected:
+                schema = pq.read_schema(os.path.join(root, f"log={name}", "part-0.parquet"))
+                time, cob_id = schema.field("time"), schema.field("cob_id")
+                wrong = [
+                    f.name
+                    for f in schema
+                    if f.name not in ("time", "cob_id")
+                    and not (f.nullable and (f.type == pa.float64() or f.type == pa.string()))
+                ]
+                if time.type != pa.float64() or not time.nullable or cob_id.type != pa.int32() or cob_id.nullable or wrong:
+                    fail(f"{label}: log={name}'s schema is not the documented one: {schema}")
+            print(f"dataset of {label}: {sum(counted.values())} rows in {len(counted)} partitions (duckdb **, pyarrow), schema as documented")
 
 
 def check_fleet_folder(captures):
