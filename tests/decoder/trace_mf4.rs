@@ -2,8 +2,9 @@
 //! file python-can's `MF4Writer` wrote (tests/data/python-can-mf4writer.mf4:
 //! transposed deflate, its data frames, a remote frame and an error frame
 //! in three data groups) reads as the candump log of the same frames, by
-//! detection and with `--format mf4`; truncated and wrongly named files
-//! exit non-zero with the error of the file's structure.
+//! detection and with `--format mf4`, on stdin and gzip-compressed as by
+//! its path; truncated and wrongly named files exit non-zero with the
+//! error of the file's structure.
 
 use canopen_codec::log::input::{frames, Binary, How, Kind, NoInflate, Zlib};
 
@@ -87,6 +88,50 @@ mod program {
                 err.contains("record 5: ErrorFrame not decoded: MF4 bus-logging record"),
                 "{err}"
             );
+            assert!(err.contains("0 CAN FD frame(s), 1 error frame(s)"), "{err}");
+            assert_eq!(
+                String::from_utf8_lossy(&got.stdout),
+                String::from_utf8_lossy(&want.stdout)
+            );
+        }
+    }
+
+    /// The program's output with `input` on its stdin.
+    fn decode_stdin(args: &[&str], input: &[u8]) -> std::process::Output {
+        use std::io::Write;
+        use std::process::Stdio;
+        let mut child = Command::new(env!("CARGO_BIN_EXE_canopen-decode"))
+            .args(args)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut stdin = child.stdin.take().unwrap();
+        let input = input.to_vec();
+        // Written beside the reading, so a full pipe cannot stall either.
+        let writer = std::thread::spawn(move || stdin.write_all(&input));
+        let out = child.wait_with_output().unwrap();
+        writer.join().unwrap().unwrap();
+        out
+    }
+
+    #[test]
+    fn mf4_on_stdin_and_gzipped_decodes_as_the_file_by_its_path() {
+        use std::io::Write;
+        let want = decode(&["--json", &tmp("python-can-by-path.mf4", FILE)]);
+        assert!(want.status.success());
+        let mut e = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+        e.write_all(FILE).unwrap();
+        let gz = e.finish().unwrap();
+        let by_path = decode(&["--json", &tmp("python-can.mf4.gz", &gz)]);
+        for got in [
+            decode_stdin(&["--json", "-"], FILE),
+            decode_stdin(&["--json", "-"], &gz),
+            by_path,
+        ] {
+            let err = String::from_utf8_lossy(&got.stderr);
+            assert!(got.status.success(), "{err}");
             assert!(err.contains("0 CAN FD frame(s), 1 error frame(s)"), "{err}");
             assert_eq!(
                 String::from_utf8_lossy(&got.stdout),
