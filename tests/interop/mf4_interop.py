@@ -9,7 +9,9 @@ tools:
 - python-can's `MF4Writer` (through asammdf) with each of its compression
   levels: 0 (##DT), 1 (deflate ##DZ) and 2 (transposed deflate ##DZ);
 - asammdf itself re-saving that file as MDF 4.20 in 4 KiB data fragments
-  (an ##HL and its ##DL list of transposed ##DZ blocks);
+  (an ##HL and its ##DL list of transposed ##DZ blocks), and joining two
+  python-can files of the capture's halves with its `MDF.concatenate`
+  (one data group, deflate) and its `MDF.stack` (a data group each);
 - python-can's `MF4Writer` with remote and error frames added between the
   capture's frames (python-can puts them in data groups of their own, so
   the decoder must merge the groups by time);
@@ -113,6 +115,25 @@ def resave_asammdf(src, dst):
         converted.configure(write_fragment_size=4096)
         converted.save(dst, compression=2, overwrite=True)
         converted.close()
+
+
+def join_asammdf(tmp, base, frames):
+    """asammdf's own writer joining two python-can files, each of one half
+    of the frames: `MDF.concatenate` (the halves one after the other in one
+    data group, deflate) and `MDF.stack` (a data group per half)."""
+    half = len(frames) // 2
+    parts = []
+    for i, part in enumerate((frames[:half], frames[half:])):
+        parts.append(os.path.join(tmp, f"{base}-half-{i}.mf4"))
+        write_python_can(parts[-1], part, 2)
+    joined = []
+    for how in ("concatenate", "stack"):
+        dst = os.path.join(tmp, f"{base}-asammdf-{how}.mf4")
+        mdf = getattr(MDF, how)(parts)
+        mdf.save(dst, compression=1, overwrite=True)
+        mdf.close()
+        joined.append((how, dst))
+    return joined
 
 
 def decode(decoder, path, stdin=False, spill=None):
@@ -227,6 +248,9 @@ def main():
             resave_asammdf(src, dst)
             cases += 1
             failed += not check(f"{base} asammdf 4.20 4 KiB fragments", args.decoder, dst, frames, 0)
+            for how, path in join_asammdf(tmp, base, frames):
+                cases += 1
+                failed += not check(f"{base} asammdf {how} of two halves", args.decoder, path, frames, 0)
             mixed, errors = with_events(frames)
             path = os.path.join(tmp, f"{base}-events.mf4")
             write_python_can(path, mixed, 2)
