@@ -12,8 +12,10 @@ With --editcap, Wireshark's editcap re-writes scapy's pcap as pcapng
 (`editcap -F pcapng`) and scapy's pcapng as nanosecond pcap, and its
 mergecap merges two pcaps of the capture (node 10's frames in
 microseconds, the others' in nanoseconds) into one pcapng of two
-interfaces (the second with if_tsresol 9). scapy's pcapng and nanosecond
-pcap gzip-compressed are cases, and so is scapy's pcapng with a CAN FD
+interfaces (the second with if_tsresol 9). Where tcpdump is installed,
+libpcap re-writes scapy's pcapng as pcap (`tcpdump -r -w`) and scapy's
+pcap as nanosecond pcap (`--time-stamp-precision=nano`). scapy's pcapng
+and nanosecond pcap gzip-compressed are cases, and so is scapy's pcapng with a CAN FD
 frame (scapy's CANFD) after every 40th frame: the same classic frames,
 each FD frame reported on stderr (`packet N: CanFd not decoded`) and
 counted. The candump log gzip-compressed (Python's gzip) is a case too,
@@ -188,6 +190,9 @@ def main():
     if not editcap:
         print("editcap (Wireshark) not found: its cases are not run")
     mergecap = shutil.which("mergecap")
+    tcpdump = shutil.which("tcpdump")
+    if not tcpdump:
+        print("tcpdump not found: its cases are not run")
     tshark = shutil.which("tshark")
     if not tshark:
         print("tshark (Wireshark) not found: it is not a reference reader here")
@@ -223,6 +228,9 @@ def main():
                 write_scapy(others, [p for p in packets if p.identifier & 0x7F != 10], PcapWriter, nano=True)
                 merged = case("mergecap-two-interfaces.pcapng")
                 subprocess.run([mergecap, "-F", "pcapng", "-w", merged, node10, others], check=True)
+            if tcpdump:
+                for name, source, nano in (("tcpdump.pcap", ng, []), ("tcpdump-nano.pcap", us_pcap, ["--time-stamp-precision=nano"])):
+                    subprocess.run([tcpdump, "-r", source, "-w", case(name), *nano], check=True, capture_output=True)
             for name in ("scapy.pcapng", "scapy-nano.pcap"):
                 src = os.path.join(tmp, f"{base}.{name}")
                 with open(src, "rb") as f, gzip.open(case(name + ".gz"), "wb") as g:
