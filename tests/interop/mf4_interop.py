@@ -12,6 +12,8 @@ tools:
   (an ##HL and its ##DL list of transposed ##DZ blocks), and joining two
   python-can files of the capture's halves with its `MDF.concatenate`
   (one data group, deflate) and its `MDF.stack` (a data group each);
+- python-can's `MF4Writer` with CAN FD frames among the capture's (the
+  decoder reports and counts them, and gives the classic frames);
 - python-can's `MF4Writer` with remote and error frames added between the
   capture's frames (python-can puts them in data groups of their own, so
   the decoder must merge the groups by time);
@@ -117,6 +119,22 @@ def resave_asammdf(src, dst):
         converted.close()
 
 
+def write_with_fd(path, frames):
+    """python-can's MF4Writer with a 12-byte CAN FD frame (BRS) 1 us after
+    every 40th frame; returns how many."""
+    w = can.MF4Writer(path, compression_level=2)
+    fd = 0
+    for i, f in enumerate(frames):
+        w.on_message_received(message(f))
+        if i % 40 == 7:
+            fd += 1
+            w.on_message_received(
+                can.Message(timestamp=(f[0] + 1) / 1e6, arbitration_id=0x123, is_fd=True, bitrate_switch=True, data=bytes(range(12)), channel=1)
+            )
+    w.stop()
+    return fd
+
+
 def join_asammdf(tmp, base, frames):
     """asammdf's own writer joining two python-can files, each of one half
     of the frames: `MDF.concatenate` (the halves one after the other in one
@@ -152,9 +170,10 @@ def decode(decoder, path, stdin=False, spill=None):
     return run, [g for g in got if "id" in g]
 
 
-def check(name, decoder, path, frames, errors, mf4=None, stdin=False):
+def check(name, decoder, path, frames, errors, mf4=None, stdin=False, fd=0):
     """mf4: the MF4 file python-can reads back, when PATH is a gzip of it;
-    stdin: PATH given on stdin."""
+    stdin: PATH given on stdin; fd: the CAN FD frames PATH holds besides
+    FRAMES (reported and counted, not decoded)."""
     want = [f for f in frames if f[0] != "error"]
     with tempfile.TemporaryDirectory() as spill:
         run, got = decode(decoder, path, stdin, spill)
@@ -178,8 +197,10 @@ def check(name, decoder, path, frames, errors, mf4=None, stdin=False):
             bad.append(f"frame {i}: t {g['t']:.6f} != {us / 1e6:.6f}")
     if errors and f"{errors} error frame(s)" not in run.stderr:
         bad.append(f"stderr lacks '{errors} error frame(s)': {run.stderr[-300:]}")
+    if fd and f"{fd} CAN FD frame(s)" not in run.stderr:
+        bad.append(f"stderr lacks '{fd} CAN FD frame(s)': {run.stderr[-300:]}")
     with can.MF4Reader(mf4 or path) as r:
-        back = [m for m in r if not m.is_error_frame]
+        back = [m for m in r if not m.is_error_frame and not m.is_fd]
     if [(m.arbitration_id, m.is_remote_frame, bytes(m.data)) for m in back] != [
         (f[1], f[3], f[5]) for f in want
     ]:
@@ -251,6 +272,10 @@ def main():
             for how, path in join_asammdf(tmp, base, frames):
                 cases += 1
                 failed += not check(f"{base} asammdf {how} of two halves", args.decoder, path, frames, 0)
+            path = os.path.join(tmp, f"{base}-fd.mf4")
+            fd = write_with_fd(path, frames)
+            cases += 1
+            failed += not check(f"{base} python-can CAN FD frames among them", args.decoder, path, frames, 0, fd=fd)
             mixed, errors = with_events(frames)
             path = os.path.join(tmp, f"{base}-events.mf4")
             write_python_can(path, mixed, 2)
