@@ -25,7 +25,8 @@
 //!   copied to a temporary file of the system's temporary folder first
 //!   and read in place from there (its blocks link to anywhere in the
 //!   file, and python-can's and asammdf's describing blocks come after
-//!   the data), the file removed when the reading ends.
+//!   the data), the file removed at once on Unix (the open file stays
+//!   readable), when the reading ends elsewhere.
 //! - gzip-compressed input of any format (`.gz`, told by its magic
 //!   number `1F 8B`) is decompressed first, with feature `zlib` (flate2's
 //!   `MultiGzDecoder`); without it such input is an error that names the

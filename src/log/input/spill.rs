@@ -7,8 +7,10 @@
 //! forward to), so the data cannot be read before the end of the input
 //! is. The input is copied to a file of the system's temporary folder
 //! (`std::env::temp_dir`, `TMPDIR` on Unix) named after the process, read
-//! in place from there like a file given by its path, and removed when
-//! the reading ends.
+//! in place from there like a file given by its path. On Unix its name
+//! is removed as soon as it is open (the open file stays readable and
+//! its space is freed when it is closed, even when the program is
+//! killed); elsewhere the file is removed when the reading ends.
 
 use std::fs::{File, OpenOptions};
 use std::io::{self, Read, Seek, Write};
@@ -23,7 +25,8 @@ static MADE: AtomicUsize = AtomicUsize::new(0);
 /// the same id is skipped).
 const TRIES: usize = 16;
 
-/// A temporary copy of an input, removed on drop.
+/// A temporary copy of an input: its name removed at once on Unix, the
+/// file removed on drop elsewhere.
 #[derive(Debug)]
 pub(super) struct Spill {
     /// The file (taken on drop, to close it before it is removed).
@@ -68,10 +71,14 @@ impl Spill {
                 .open(&path)
             {
                 Ok(file) => {
+                    // Unix keeps an open file whose name is gone: nothing
+                    // is left behind whatever ends the program.
+                    #[cfg(unix)]
+                    let _ = std::fs::remove_file(&path);
                     return Ok(Spill {
                         file: Some(file),
                         path,
-                    })
+                    });
                 }
                 Err(e) if e.kind() == io::ErrorKind::AlreadyExists => last = Some((path, e)),
                 Err(e) => return Err(cannot(&path, e)),
@@ -93,8 +100,9 @@ impl Spill {
 impl Drop for Spill {
     fn drop(&mut self) {
         drop(self.file.take());
-        // Nothing to do when it cannot be removed: it is in the temporary
-        // folder, and its name says which program left it.
+        // Nothing to do when it cannot be removed (or is gone already, on
+        // Unix): it is in the temporary folder, and its name says which
+        // program left it.
         let _ = std::fs::remove_file(&self.path);
     }
 }
