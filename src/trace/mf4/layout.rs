@@ -54,7 +54,25 @@ impl Field {
 
     /// Its value as an unsigned integer (at most 64 bits), when it lies
     /// inside `record`.
+    #[inline]
     pub(super) fn uint(&self, record: &[u8]) -> Option<u64> {
+        if self.bit == 0 && !self.big_endian {
+            // Whole little-endian bytes, as bus logging writes its fields.
+            let at = record.get(self.byte as usize..)?;
+            match self.bits {
+                8 => return at.first().map(|&b| u64::from(b)),
+                16 => return at.first_chunk().map(|b| u64::from(u16::from_le_bytes(*b))),
+                32 => return at.first_chunk().map(|b| u64::from(u32::from_le_bytes(*b))),
+                64 => return at.first_chunk().map(|b| u64::from_le_bytes(*b)),
+                _ => {}
+            }
+        }
+        self.bits_of(record)
+    }
+
+    /// [`uint`](Self::uint) of any bit offset, width and byte order.
+    #[inline(never)]
+    fn bits_of(&self, record: &[u8]) -> Option<u64> {
         if self.bits == 0 || self.bits > 64 {
             return None;
         }

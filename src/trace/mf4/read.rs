@@ -257,8 +257,12 @@ impl<S: Source> Mf4Reader<S> {
             return Err(e);
         }
         let start_ns = self.start_ns;
+        // Only a cursor whose head was taken reads; the bytes held are
+        // summed again when one of them holds more.
+        let mut grew = false;
         for c in &mut self.cursors {
             if c.head.is_none() && !c.done {
+                let before = c.held();
                 match c.next(start_ns, &mut self.src, zlib) {
                     Ok(Some(e)) => c.head = Some(e),
                     Ok(None) => c.done = true,
@@ -269,28 +273,31 @@ impl<S: Source> Mf4Reader<S> {
                         return Err(e);
                     }
                 }
+                grew |= c.held() > before;
             }
         }
-        let held = self
-            .cursors
-            .iter()
-            .map(Cursor::held)
-            .fold(0usize, usize::saturating_add);
-        if held > self.held_limit {
-            let e = Mf4Error::TooMuchHeld { held: held as u64 };
-            self.failed = Some(e);
-            return Err(e);
+        if grew {
+            let held = self
+                .cursors
+                .iter()
+                .map(Cursor::held)
+                .fold(0usize, usize::saturating_add);
+            if held > self.held_limit {
+                let e = Mf4Error::TooMuchHeld { held: held as u64 };
+                self.failed = Some(e);
+                return Err(e);
+            }
         }
-        let first = self
-            .cursors
-            .iter_mut()
-            .filter(|c| c.head.is_some())
-            .min_by_key(|c| {
-                c.head
-                    .as_ref()
-                    .map_or(0, |e| time_of(e).map_or(0, Timestamp::as_micros))
-            });
-        Ok(first.and_then(|c| c.head.take()))
+        // The earliest head, the first of equal ones.
+        let mut first: Option<(u64, &mut Option<Mf4Event>)> = None;
+        for c in &mut self.cursors {
+            let Some(e) = &c.head else { continue };
+            let key = time_of(e).map_or(0, Timestamp::as_micros);
+            if first.as_ref().is_none_or(|(k, _)| key < *k) {
+                first = Some((key, &mut c.head));
+            }
+        }
+        Ok(first.and_then(|(_, head)| head.take()))
     }
 }
 
@@ -343,7 +350,7 @@ impl Cursor {
             };
             let index = group.index;
             group.index = index.saturating_add(1);
-            match group.records {
+            match &group.records {
                 Records::Variable => {
                     let offset = group.pos;
                     let value = read_value(&mut self.stream, offset, src, zlib)?
@@ -383,7 +390,7 @@ impl Cursor {
                         None => None,
                     };
                     let data = value.as_ref().map(Value::bytes);
-                    return decode(&l, record, data, index, start_ns).map(Some);
+                    return decode(l, record, data, index, start_ns).map(Some);
                 }
             }
         }
@@ -466,10 +473,21 @@ fn timestamp(l: &Layout, record: &[u8], index: u64, start_ns: u64) -> Option<Tim
     let s = l.time.seconds(record, index)?;
     let ns = s * 1e9;
     // Round half away from zero (`as` saturates, never panics).
-    let ns = if ns >= 0.0 { ns + 0.5 } else { ns - 0.5 } as i128;
-    let total = i128::from(start_ns).checked_add(ns)?;
-    let us = total.checked_add(500)?.div_euclid(1000);
-    u64::try_from(us).ok().map(Timestamp::from_micros)
+    let ns = if ns >= 0.0 { ns + 0.5 } else { ns - 0.5 };
+    // Within 292 years of the start (any real log) in 64 bits, which
+    // costs less than 128 per record.
+    let total = if ns.abs() < 9e18 {
+        i128::from(start_ns).checked_add(i128::from(ns as i64))?
+    } else {
+        i128::from(start_ns).checked_add(ns as i128)?
+    };
+    // Negative (before 1970) below a half microsecond: no time.
+    let half_up = u128::try_from(total.checked_add(500)?).ok()?;
+    let us = match u64::try_from(half_up) {
+        Ok(v) => v / 1000,
+        Err(_) => u64::try_from(half_up / 1000).ok()?,
+    };
+    Some(Timestamp::from_micros(us))
 }
 
 /// A field's value, or the error naming it.
