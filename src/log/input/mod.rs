@@ -470,7 +470,10 @@ pub struct Totals {
 /// Reads every item of `input` as `how` says and hands each to `each` in
 /// file order, BLF zlib containers inflated by `zlib`; an error of `each`
 /// ends the read and is returned. Errors of the input are returned; bad
-/// lines and objects are items.
+/// lines and objects are items. An MF4 of more than 1 MiB (after gzip)
+/// is first copied to a temporary file of `std::env::temp_dir()` (ASAM
+/// MDF 4 blocks link to anywhere in the file; the name is removed as soon
+/// as it is open on Unix): an error writing it is returned and names it.
 pub fn read<F>(
     input: impl Read,
     how: How,
