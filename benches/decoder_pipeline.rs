@@ -214,7 +214,7 @@ fn bus_load(c: &mut Criterion) {
         b.iter(|| {
             frames
                 .iter()
-                .map(|l| u64::from(FrameBits::of(black_box(&l.frame)).stuffed))
+                .map(|l| u64::from(FrameBits::of(black_box(&l.frame)).nominal.stuffed))
                 .sum::<u64>()
         })
     });

@@ -1,62 +1,24 @@
 //! Bus load: how much of the bus's time a log's frames occupy, at a bit
 //! rate given (`--bitrate`) or assumed ([`DEFAULT_BITRATE`], the CiA 301
 //! recommendation for CANopen networks of up to 250 m, CiA 301 section
-//! 7.1, and what the Delta-Q chargers use).
+//! 7.1, and what the Delta-Q chargers use). The data phase of a CAN FD
+//! frame whose BRS is set runs at the data bit rate given
+//! (`--data-bitrate`) or assumed ([`DEFAULT_DATA_BITRATE`], said to be
+//! assumed when such a frame is read); a data bit rate below the nominal
+//! one is taken as the nominal one (CAN FD's data phase is never slower).
 //!
 //! ## The bit count
 //!
-//! A classic data or remote frame (ISO 11898-1:2015 section 10.4 "Frame
-//! formats"; Bosch CAN Specification 2.0 part B section 3.1 "Frame
-//! types") occupies, before stuffing:
-//!
-//! | field | base (11-bit) | extended (29-bit) |
-//! |---|---|---|
-//! | start of frame | 1 | 1 |
-//! | arbitration | identifier 11, RTR 1 | identifier 11, SRR 1, IDE 1, identifier 18, RTR 1 |
-//! | control | IDE 1, r0 1, DLC 4 | r1 1, r0 1, DLC 4 |
-//! | data | 8 per byte (none in a remote frame) | 8 per byte |
-//! | CRC | sequence 15, delimiter 1 | 15, 1 |
-//! | ACK | slot 1, delimiter 1 | 1, 1 |
-//! | end of frame | 7 | 7 |
-//! | intermission (interframe space) | 3 | 3 |
-//! | **total** | **47 + 8n** | **67 + 8n** |
-//!
-//! Bit stuffing (CAN 2.0 part B section 5 "Bit stuffing"; ISO 11898-1
-//! section 10.5) covers start of frame through the CRC sequence (34 + 8n
-//! bits in a base frame, 54 + 8n in an extended one): after five equal bits
-//! the transmitter inserts one of the opposite value, which counts in the
-//! next run. The worst case is one stuff bit per four bits after the first,
-//! floor((g - 1) / 4) for g stuffed bits (Davis, Burns, Bril and Lukkien,
-//! "Controller Area Network (CAN) schedulability analysis: refuted,
-//! revisited and revised", Real-Time Systems 35(3), 2007, section 3).
-//!
-//! The load this module gives uses the **exact stuffed count**: the
-//! frame's bits are laid out, its CRC-15 computed (generator
-//! x^15 + x^14 + x^10 + x^8 + x^7 + x^4 + x^3 + 1, ISO 11898-1 section
-//! 10.4.2.6), and the stuff bits counted; the loads of the unstuffed and
-//! the worst-case counts are given beside it as bounds. For a few frames
-//! (n data bytes, g stuffed bits):
-//!
-//! | frame | unstuffed | g | worst case | exact |
-//! |---|---|---|---|---|
-//! | base, 0 bytes: `000#` | 47 | 34 | 47 + 8 = 55 | 47 + 6 = 53 |
-//! | base remote, DLC 0: `000#R` | 47 | 34 | 55 | 47 + 3 = 50 |
-//! | base, 8 bytes: `6F8#FF000CFE00000000` | 111 | 98 | 111 + 24 = 135 | 124 |
-//! | extended, 8 bytes: `18EBFF00#01A00FA6603BD140` | 131 | 118 | 131 + 29 = 160 | 141 |
-//!
-//! By hand: `000#` is 34 dominant bits (start of frame, identifier, RTR,
-//! IDE, r0 and DLC are 19, and the CRC-15 of an all-dominant input is 0:
-//! 15 more); a recessive stuff bit follows every fifth, 6 in all. `000#R`
-//! is 12 dominant bits (stuff bits after the 5th and the 10th), a recessive
-//! RTR, 6 dominant bits (IDE, r0, DLC: a stuff bit after the 5th), then the
-//! CRC `111001111000101` (73C5h), whose longest run is 4: 3 stuff bits.
-//! The two 8-byte frames are from python-can's test log `logfile.asc`,
-//! written by Vector CANoe, whose `BitCount` column (intermission
-//! included) gives 124 and 141; this module's count agrees with CANoe's
-//! for five of that log's six frames (for the sixth, `6F9#050C000000000000`,
-//! CANoe counts one bit more than the 123 computed here). The tests check
-//! these counts, and that every frame's exact count lies between its
-//! unstuffed and worst-case counts.
+//! [`crate::log::frame_bits`] counts each frame's bits three ways: without
+//! stuff bits, with the **exact stuff bits** its bits need (the load this
+//! module gives) and with the most a frame of its shape can have (the
+//! loads of the two bounds are given beside it). A classic frame of n data
+//! bytes is 47 + 8n bits unstuffed (11-bit identifier) or 67 + 8n (29-bit),
+//! all at the nominal bit rate. A CAN FD frame is 62 + 8n or 81 + 8n bits
+//! (n <= 16; 5 more above, its CRC-21), of which, when its BRS is set, ESI
+//! through the CRC field (5 + 8n + 27 or 32 bits and their stuff bits) run
+//! at the data bit rate. An error frame is 17 bits in the unstuffed and
+//! exact counts, 23 in the worst case (no or 6 superposed error flag bits).
 //!
 //! ## Its cost
 //!
@@ -71,15 +33,21 @@
 //!
 //! ## The load
 //!
-//! The mean load is the bits of every frame over the log's duration: from
-//! the start of its first frame (its time, less its own bits at the bit
-//! rate: the logs time a frame when it has been received) to the time of
-//! the last, all at the same bit rate. The peak is the busiest **aligned**
-//! 1-second window: windows start at the first frame's time and follow each
-//! other (a frame counts whole in the window of its time). Frames read but
-//! not decoded are not in the load: CAN FD frames (their bit count would
-//! need the data phase's rate) and error frames (the readers give no time
-//! for them); the summary counts them beside it. A node's share is that of
+//! A frame's time on the bus is its bits at the nominal rate over that
+//! rate plus its bits at the data rate over that one; it is kept exactly,
+//! in ticks of 1 / (nominal rate x data rate) second ([`BusTime`]). The
+//! mean load is the time of every frame over the log's duration: from the
+//! start of its first frame (its time, less its own time on the bus: the
+//! logs time a frame when it has been received) to the time of the last.
+//! The peak is the busiest **aligned** 1-second window: windows start at
+//! the first frame's time and follow each other (a frame counts whole in
+//! the window of its time). Error frames and CAN FD frames are in the
+//! load; one read without a time (the error frames of candump screen, PCAN
+//! trc and python-can CSV lines; candump and ASC lines, BLF, pcap and MF4
+//! give theirs) takes the time of the frame before it, and a CAN FD frame
+//! whose reader does not give its identifier and data (every reader but
+//! candump's) is only counted, beside the load. A node's share
+//! (of the bus time) is that of
 //! the COB-IDs the CiA 301 predefined connection set gives it (section
 //! 7.3.5: an RPDO or an SDO request counts for the node it addresses);
 //! NMT, SYNC, TIME, extended and other identifiers count for no node.
@@ -97,138 +65,17 @@ use crate::{CanFrame, CanId, Timestamp};
 
 /// The bit rate assumed when none is given (bit/s): 250 kbit/s.
 pub const DEFAULT_BITRATE: u32 = 250_000;
-/// The intermission after every frame (bits).
-pub const INTERMISSION: u32 = 3;
+/// The data bit rate of CAN FD frames with BRS set assumed when none is
+/// given (bit/s): 2 Mbit/s, a usual data phase rate of CAN FD networks
+/// (the summary says it is assumed).
+pub const DEFAULT_DATA_BITRATE: u32 = 2_000_000;
 /// Nodes and COB-IDs listed in words by their share (all in JSON).
 pub const LISTED: usize = 10;
 /// 29-bit identifiers counted one by one; more are counted together.
 pub const MAX_COB_IDS: usize = 4096;
-/// The CRC-15 generator polynomial of CAN (without its x^15 term).
-const CRC15_POLY: u16 = 0x4599;
 
-/// The bits before stuffing that are covered by stuffing (start of frame
-/// to the end of the CRC sequence).
-const fn stuffed_field_bits(extended: bool, data_bytes: u32) -> u32 {
-    (if extended { 54 } else { 34 }) + 8 * data_bytes
-}
-
-/// A frame's data bytes on the bus: none in a remote frame.
-fn data_bytes(frame: &CanFrame) -> u32 {
-    if frame.is_remote() {
-        0
-    } else {
-        u32::try_from(frame.data().len()).unwrap_or(8)
-    }
-}
-
-/// The bits one classic frame occupies: without stuffing, with its exact
-/// stuff bits, and with the most stuff bits a frame of its shape can have.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct FrameBits {
-    /// Without stuff bits (intermission included).
-    pub unstuffed: u32,
-    /// With the stuff bits this frame's bits need.
-    pub stuffed: u32,
-    /// With one stuff bit per four bits after the first.
-    pub worst_case: u32,
-}
-
-impl FrameBits {
-    /// The bits of `frame` (see the module's table).
-    #[must_use]
-    pub fn of(frame: &CanFrame) -> FrameBits {
-        FrameBits::with_stuff(frame, stuff_bits(frame))
-    }
-
-    /// The bits of `frame` whose stuff bits are `stuff`.
-    fn with_stuff(frame: &CanFrame, stuff: u32) -> FrameBits {
-        let extended = frame.id().is_extended();
-        let g = stuffed_field_bits(extended, data_bytes(frame));
-        // CRC delimiter, ACK slot and delimiter, end of frame, intermission.
-        let unstuffed = g + 1 + 2 + 7 + INTERMISSION;
-        FrameBits {
-            unstuffed,
-            stuffed: unstuffed + stuff,
-            worst_case: unstuffed + (g - 1) / 4,
-        }
-    }
-}
-
-/// The stuff bits `frame` needs: its bits from start of frame to the end of
-/// the CRC sequence laid out, the CRC-15 computed over start of frame to
-/// the data, and one stuff bit counted after every five equal bits.
-///
-/// The bits (at most 118: an extended 8-byte frame) are one `u128`; the
-/// CRC goes a byte at a time through a table (zero bits in front of the
-/// message leave a CRC that starts at 0 unchanged, so the message is
-/// padded to whole bytes), and the stuffing is counted a run of equal bits
-/// at a time (a run of e bits, counting a stuff bit of the same value just
-/// before it, holds floor(e / 5) stuff bits, and when e is a multiple of 5
-/// its last stuff bit starts the next run). The tests check it against a
-/// bit-by-bit count of the same rules on every frame shape.
-#[must_use]
-pub fn stuff_bits(frame: &CanFrame) -> u32 {
-    let (mut bits, mut len) = header(frame);
-    if !frame.is_remote() {
-        for &byte in frame.data() {
-            bits = bits << 8 | u128::from(byte);
-            len += 8;
-        }
-    }
-    // The message in whole bytes, most significant first.
-    let bytes = len.div_ceil(8);
-    let mut crc: u16 = 0;
-    for k in (0..bytes).rev() {
-        let byte = (bits.checked_shr(8 * k).unwrap_or(0) & 0xFF) as u8;
-        let index = usize::from((crc >> 7) as u8 ^ byte);
-        crc = (crc << 8 ^ CRC15_TABLE.get(index).copied().unwrap_or(0)) & 0x7FFF;
-    }
-    let bits = bits << 15 | u128::from(crc);
-    count_stuff(bits, len + 15)
-}
-
-/// Start of frame, arbitration and control fields as bits (the last one
-/// lowest) and their number.
-fn header(frame: &CanFrame) -> (u128, u32) {
-    let rtr = u128::from(frame.is_remote());
-    let dlc = u128::from(frame.dlc() & 0xF);
-    match frame.id() {
-        // SOF 0, identifier 11, RTR, IDE 0, r0 0, DLC 4.
-        CanId::Standard(id) => ((u128::from(id) << 1 | rtr) << 6 | dlc, 19),
-        // SOF 0, identifier 11, SRR 1, IDE 1, identifier 18, RTR, r1 0,
-        // r0 0, DLC 4.
-        CanId::Extended(id) => {
-            let base = u128::from(id >> 18) << 2 | 0b11;
-            let ext = (base << 18 | u128::from(id & 0x3_FFFF)) << 1 | rtr;
-            (ext << 6 | dlc, 39)
-        }
-    }
-}
-
-/// The stuff bits of the `len` low bits of `bits` (sent highest first).
-fn count_stuff(bits: u128, len: u32) -> u32 {
-    let Some(mut s) = bits.checked_shl(128u32.saturating_sub(len)) else {
-        return 0;
-    };
-    let mut left = len.min(128);
-    let mut stuff = 0;
-    // A stuff bit ended the last run: it has the next run's value.
-    let mut carry = 0;
-    while left > 0 {
-        let ones = s >> 127 == 1;
-        let run = if ones { !s } else { s }.leading_zeros().min(left);
-        let e = run + carry;
-        stuff += e / 5;
-        carry = u32::from(e % 5 == 0);
-        s = s.checked_shl(run).unwrap_or(0);
-        left -= run;
-    }
-    stuff
-}
-
-/// CRC-15 of CAN one byte at a time: entry i is the register after the 8
-/// bits of i entered a register of `i << 7`.
-const CRC15_TABLE: [u16; 256] = crate::sdo::crc::msb_first_table(15, CRC15_POLY);
+pub use crate::log::frame_bits::{stuff_bits, Counts, FrameBits, INTERMISSION};
+use crate::trace::{FdFrame, OnBus};
 
 /// Slots of [`StuffCache`].
 const CACHE_SLOTS: usize = 256;
@@ -269,9 +116,12 @@ impl StuffCache {
     }
 }
 
-/// Bits counted three ways (see [`FrameBits`]).
+/// Time on the bus counted three ways (see [`Counts`]), in ticks of
+/// 1 / (nominal rate x data rate) second: a bit at the nominal rate is
+/// as many ticks as the data rate in bit/s, a bit at the data rate as
+/// many as the nominal rate.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Bits {
+pub struct BusTime {
     /// Without stuff bits.
     pub unstuffed: u64,
     /// With each frame's stuff bits.
@@ -280,39 +130,49 @@ pub struct Bits {
     pub worst_case: u64,
 }
 
-impl Bits {
-    fn add(&mut self, b: FrameBits) {
-        self.unstuffed = self.unstuffed.saturating_add(u64::from(b.unstuffed));
-        self.stuffed = self.stuffed.saturating_add(u64::from(b.stuffed));
-        self.worst_case = self.worst_case.saturating_add(u64::from(b.worst_case));
+impl BusTime {
+    fn add(&mut self, t: BusTime) {
+        self.unstuffed = self.unstuffed.saturating_add(t.unstuffed);
+        self.stuffed = self.stuffed.saturating_add(t.stuffed);
+        self.worst_case = self.worst_case.saturating_add(t.worst_case);
     }
 }
 
-/// Frames and their (stuffed) bits, of a node or a COB-ID.
+/// Frames, their bits and their time on the bus (stuff bits included),
+/// of a node or a COB-ID.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Share {
     /// Frames.
     pub frames: u64,
-    /// Their bits, stuff bits included.
+    /// Their bits, at either rate.
     pub bits: u64,
+    /// Their time on the bus in [`BusTime`]'s ticks.
+    pub time: u64,
 }
 
 impl Share {
-    fn add(&mut self, bits: u32) {
+    fn add(&mut self, bits: &FrameBits, time: u64) {
         self.frames = self.frames.saturating_add(1);
-        self.bits = self.bits.saturating_add(u64::from(bits));
+        self.bits = self.bits.saturating_add(u64::from(bits.total().stuffed));
+        self.time = self.time.saturating_add(time);
+    }
+
+    fn sum(&mut self, s: &Share) {
+        self.frames = self.frames.saturating_add(s.frames);
+        self.bits = self.bits.saturating_add(s.bits);
+        self.time = self.time.saturating_add(s.time);
     }
 }
 
-/// The 1-second window with the most bits.
+/// The 1-second window with the most bus time.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Window {
     /// Its number: it starts this many seconds after the first frame.
     pub index: u64,
     /// Frames in it.
     pub frames: u64,
-    /// Their bits.
-    pub bits: Bits,
+    /// Their time on the bus.
+    pub time: BusTime,
 }
 
 /// The node a COB-ID belongs to in the predefined connection set (0: none).
@@ -329,10 +189,12 @@ fn node_of(id: CanId) -> u8 {
 pub struct BusLoad {
     bitrate: u32,
     assumed: bool,
-    first: Option<(Timestamp, u32)>,
+    data_bitrate: u32,
+    data_assumed: bool,
+    first: Option<(Timestamp, u64)>,
     last: Option<Timestamp>,
     frames: u64,
-    total: Bits,
+    total: BusTime,
     window: Window,
     peak: Option<Window>,
     /// Each 11-bit identifier's share, by identifier (the nodes' shares
@@ -342,11 +204,15 @@ pub struct BusLoad {
     extended: BTreeMap<u32, Share>,
     /// 29-bit identifiers past [`MAX_COB_IDS`].
     other_cob_ids: Share,
+    /// Error frames' share.
+    errors: Share,
     cache: StuffCache,
-    /// Error frames read (not in the load).
-    pub error_frames: u64,
-    /// CAN FD frames read (not in the load).
-    pub fd_frames: u64,
+    /// CAN FD frames in the load, and those of them with BRS set.
+    fd_frames: u64,
+    fd_brs_frames: u64,
+    /// CAN FD frames read without their identifier and data (not in the
+    /// load).
+    fd_not_in_load: u64,
 }
 
 impl Default for BusLoad {
@@ -357,26 +223,43 @@ impl Default for BusLoad {
 
 impl BusLoad {
     /// A load at `bitrate` bit/s; `None` (or 0): [`DEFAULT_BITRATE`],
-    /// said to be assumed.
+    /// said to be assumed. The data bit rate is
+    /// [`DEFAULT_DATA_BITRATE`], assumed ([`BusLoad::with_data_bitrate`]
+    /// gives it).
     #[must_use]
     pub fn new(bitrate: Option<u32>) -> Self {
         let given = bitrate.filter(|&b| b > 0);
         BusLoad {
             bitrate: given.unwrap_or(DEFAULT_BITRATE),
             assumed: given.is_none(),
+            data_bitrate: DEFAULT_DATA_BITRATE.max(given.unwrap_or(DEFAULT_BITRATE)),
+            data_assumed: true,
             first: None,
             last: None,
             frames: 0,
-            total: Bits::default(),
+            total: BusTime::default(),
             window: Window::default(),
             peak: None,
             standard: vec![Share::default(); 0x800],
             extended: BTreeMap::new(),
             other_cob_ids: Share::default(),
+            errors: Share::default(),
             cache: StuffCache::new(),
-            error_frames: 0,
             fd_frames: 0,
+            fd_brs_frames: 0,
+            fd_not_in_load: 0,
         }
+    }
+
+    /// The load with the data phase of CAN FD frames whose BRS is set at
+    /// `data_bitrate` bit/s (`None` or 0: [`DEFAULT_DATA_BITRATE`], said to
+    /// be assumed; below the nominal rate: the nominal rate).
+    #[must_use]
+    pub fn with_data_bitrate(mut self, data_bitrate: Option<u32>) -> Self {
+        let given = data_bitrate.filter(|&b| b > 0);
+        self.data_bitrate = given.unwrap_or(DEFAULT_DATA_BITRATE).max(self.bitrate);
+        self.data_assumed = given.is_none();
+        self
     }
 
     /// The bit rate (bit/s) and whether it is assumed.
@@ -385,12 +268,76 @@ impl BusLoad {
         (self.bitrate, self.assumed)
     }
 
-    /// One frame at `t` (a frame without a time takes the latest one).
-    /// Returns its bits.
+    /// The data bit rate of CAN FD frames with BRS set (bit/s) and
+    /// whether it is assumed.
+    #[must_use]
+    pub fn data_bitrate(&self) -> (u32, bool) {
+        (self.data_bitrate, self.data_assumed)
+    }
+
+    /// The time of `bits` on the bus, in [`BusTime`]'s ticks.
+    #[must_use]
+    pub fn time(&self, bits: &FrameBits) -> BusTime {
+        let (n, d) = (u64::from(self.bitrate), u64::from(self.data_bitrate));
+        let ticks = |nominal: u32, data: u32| {
+            u64::from(nominal)
+                .saturating_mul(d)
+                .saturating_add(u64::from(data).saturating_mul(n))
+        };
+        BusTime {
+            unstuffed: ticks(bits.nominal.unstuffed, bits.data.unstuffed),
+            stuffed: ticks(bits.nominal.stuffed, bits.data.stuffed),
+            worst_case: ticks(bits.nominal.worst_case, bits.data.worst_case),
+        }
+    }
+
+    /// Ticks of [`BusTime`] as bit times at the nominal rate.
+    #[must_use]
+    pub fn nominal_bit_times(&self, ticks: u64) -> f64 {
+        ticks as f64 / f64::from(self.data_bitrate)
+    }
+
+    /// One classic frame at `t` (a frame without a time takes the latest
+    /// one). Returns its bits.
     pub fn frame(&mut self, t: Option<Timestamp>, frame: &CanFrame) -> FrameBits {
         let bits = self.cache.bits(frame);
+        self.count(t, Some(frame.id()), &bits);
+        bits
+    }
+
+    /// A CAN FD or an error frame at `t` (as [`BusLoad::frame`]). Returns
+    /// its bits.
+    pub fn on_bus(&mut self, t: Option<Timestamp>, what: &OnBus) -> FrameBits {
+        match what {
+            OnBus::Fd(frame) => self.fd_frame(t, frame),
+            OnBus::ErrorFrame => {
+                let bits = FrameBits::error_frame();
+                self.count(t, None, &bits);
+                bits
+            }
+        }
+    }
+
+    /// A CAN FD frame at `t` (as [`BusLoad::frame`]). Returns its bits.
+    pub fn fd_frame(&mut self, t: Option<Timestamp>, frame: &FdFrame) -> FrameBits {
+        let bits = FrameBits::of_fd(frame);
+        self.fd_frames = self.fd_frames.saturating_add(1);
+        self.fd_brs_frames = self.fd_brs_frames.saturating_add(u64::from(frame.brs()));
+        self.count(t, Some(frame.id()), &bits);
+        bits
+    }
+
+    /// A CAN FD frame read without its identifier and data: counted, not
+    /// in the load.
+    pub fn fd_frame_not_read(&mut self) {
+        self.fd_not_in_load = self.fd_not_in_load.saturating_add(1);
+    }
+
+    /// A frame of `bits` with identifier `id` (none: an error frame) at `t`.
+    fn count(&mut self, t: Option<Timestamp>, id: Option<CanId>, bits: &FrameBits) {
+        let time = self.time(bits);
         let t = t.or(self.last).unwrap_or(Timestamp::ZERO);
-        let (start, _) = *self.first.get_or_insert((t, bits.stuffed));
+        let (start, _) = *self.first.get_or_insert((t, time.stuffed));
         self.last = Some(self.last.map_or(t, |l| l.max(t)));
         let index = t.saturating_micros_since(start) / 1_000_000;
         // A frame out of order joins the current window.
@@ -402,71 +349,92 @@ impl BusLoad {
             };
         }
         self.window.frames = self.window.frames.saturating_add(1);
-        self.window.bits.add(bits);
+        self.window.time.add(time);
         self.frames = self.frames.saturating_add(1);
-        self.total.add(bits);
-        match frame.id() {
-            CanId::Standard(raw) => {
+        self.total.add(time);
+        match id {
+            Some(CanId::Standard(raw)) => {
                 if let Some(s) = self.standard.get_mut(usize::from(raw)) {
-                    s.add(bits.stuffed);
+                    s.add(bits, time.stuffed);
                 }
             }
-            CanId::Extended(raw) => {
+            Some(CanId::Extended(raw)) => {
                 if self.extended.len() < MAX_COB_IDS || self.extended.contains_key(&raw) {
-                    self.extended.entry(raw).or_default().add(bits.stuffed);
+                    self.extended
+                        .entry(raw)
+                        .or_default()
+                        .add(bits, time.stuffed);
                 } else {
-                    self.other_cob_ids.add(bits.stuffed);
+                    self.other_cob_ids.add(bits, time.stuffed);
                 }
             }
+            None => self.errors.add(bits, time.stuffed),
         }
-        bits
     }
 
     fn close_window(&mut self) {
         if self.window.frames > 0
             && self
                 .peak
-                .is_none_or(|p| self.window.bits.stuffed > p.bits.stuffed)
+                .is_none_or(|p| self.window.time.stuffed > p.time.stuffed)
         {
             self.peak = Some(self.window);
         }
     }
 
-    /// Frames counted.
+    /// Frames counted (error frames included).
     #[must_use]
     pub fn frames(&self) -> u64 {
         self.frames
     }
 
-    /// The bits of every frame.
+    /// Error frames counted.
     #[must_use]
-    pub fn bits(&self) -> Bits {
+    pub fn error_frames(&self) -> u64 {
+        self.errors.frames
+    }
+
+    /// CAN FD frames: in the load, of them with BRS set, and read without
+    /// their identifier and data (not in the load).
+    #[must_use]
+    pub fn fd_frames(&self) -> (u64, u64, u64) {
+        (self.fd_frames, self.fd_brs_frames, self.fd_not_in_load)
+    }
+
+    /// The time on the bus of every frame.
+    #[must_use]
+    pub fn time_on_bus(&self) -> BusTime {
         self.total
+    }
+
+    /// The ticks of [`BusTime`] in one second.
+    fn ticks_per_second(&self) -> f64 {
+        f64::from(self.bitrate) * f64::from(self.data_bitrate)
     }
 
     /// The log's duration in seconds (see the module's doc), 0 with no frame.
     #[must_use]
     pub fn duration(&self) -> f64 {
         match (self.first, self.last) {
-            (Some((first, bits)), Some(last)) => {
+            (Some((first, ticks)), Some(last)) => {
                 last.saturating_micros_since(first) as f64 / 1e6
-                    + f64::from(bits) / f64::from(self.bitrate)
+                    + ticks as f64 / self.ticks_per_second()
             }
             _ => 0.0,
         }
     }
 
-    /// `bits` in percent of the bus's capacity over `seconds`.
-    fn percent(&self, bits: u64, seconds: f64) -> f64 {
+    /// `ticks` in percent of the bus's time over `seconds`.
+    fn percent(&self, ticks: u64, seconds: f64) -> f64 {
         if seconds > 0.0 {
-            bits as f64 * 100.0 / (f64::from(self.bitrate) * seconds)
+            ticks as f64 * 100.0 / (self.ticks_per_second() * seconds)
         } else {
             0.0
         }
     }
 
-    /// The mean load in percent: with the exact stuff bits, and the bounds
-    /// without stuff bits and with the most (unstuffed, stuffed, worst case).
+    /// The mean load in percent: without stuff bits, with the exact stuff
+    /// bits and with the most (unstuffed, stuffed, worst case).
     #[must_use]
     pub fn mean_percent(&self) -> (f64, f64, f64) {
         let d = self.duration();
@@ -483,7 +451,7 @@ impl BusLoad {
     pub fn peak(&self) -> Option<Window> {
         let current = (self.window.frames > 0).then_some(self.window);
         match (self.peak, current) {
-            (Some(p), Some(c)) if c.bits.stuffed > p.bits.stuffed => Some(c),
+            (Some(p), Some(c)) if c.time.stuffed > p.time.stuffed => Some(c),
             (Some(p), _) => Some(p),
             (None, c) => c,
         }
@@ -494,9 +462,9 @@ impl BusLoad {
     #[must_use]
     pub fn window_percent(&self, w: &Window) -> (f64, f64, f64) {
         (
-            self.percent(w.bits.unstuffed, 1.0),
-            self.percent(w.bits.stuffed, 1.0),
-            self.percent(w.bits.worst_case, 1.0),
+            self.percent(w.time.unstuffed, 1.0),
+            self.percent(w.time.stuffed, 1.0),
+            self.percent(w.time.worst_case, 1.0),
         )
     }
 
@@ -518,26 +486,22 @@ impl BusLoad {
             .map(|(id, s)| (id, *s))
     }
 
-    /// Each node's share (node 0: frames of no node), the largest first.
+    /// Each node's share (node 0: frames of no node; error frames are no
+    /// node's), the largest first.
     #[must_use]
     pub fn nodes(&self) -> Vec<(u8, Share)> {
         let mut nodes: BTreeMap<u8, Share> = BTreeMap::new();
-        let mut sum = |node: u8, s: &Share| {
-            let n = nodes.entry(node).or_default();
-            n.frames = n.frames.saturating_add(s.frames);
-            n.bits = n.bits.saturating_add(s.bits);
-        };
         for (id, s) in self.standard_ids() {
             let node = CanId::standard(id).map_or(0, node_of);
-            sum(node, &s);
+            nodes.entry(node).or_default().sum(&s);
         }
         for s in self.extended.values().chain([&self.other_cob_ids]) {
             if s.frames > 0 {
-                sum(0, s);
+                nodes.entry(0).or_default().sum(s);
             }
         }
         let mut v: Vec<(u8, Share)> = nodes.into_iter().collect();
-        v.sort_by(|a, b| b.1.bits.cmp(&a.1.bits).then(a.0.cmp(&b.0)));
+        v.sort_by(|a, b| b.1.time.cmp(&a.1.time).then(a.0.cmp(&b.0)));
         v
     }
 
@@ -554,16 +518,16 @@ impl BusLoad {
                     .filter_map(|(id, s)| CanId::extended(*id).map(|id| (id, *s))),
             )
             .collect();
-        v.sort_by(|a, b| b.1.bits.cmp(&a.1.bits).then(a.0.cmp(&b.0)));
+        v.sort_by(|a, b| b.1.time.cmp(&a.1.time).then(a.0.cmp(&b.0)));
         (v, self.other_cob_ids)
     }
 
-    /// A share in percent of every frame's bits.
+    /// A share in percent of every frame's time on the bus.
     fn share_percent(&self, s: &Share) -> f64 {
         if self.total.stuffed == 0 {
             0.0
         } else {
-            s.bits as f64 * 100.0 / self.total.stuffed as f64
+            s.time as f64 * 100.0 / self.total.stuffed as f64
         }
     }
 
@@ -610,14 +574,34 @@ impl BusLoad {
             .map(|(id, s)| (format!("{id}h"), s))
             .collect();
         self.listed(out, "COB-ID", "COB-IDs", ids, other);
-        if self.error_frames > 0 || self.fd_frames > 0 {
-            let _ = writeln!(
+        let _ = writeln!(
+            out,
+            "    error frames: {} ({:.2}% of the bus time: {} bits each, {} with superposed error flags)",
+            self.errors.frames,
+            self.share_percent(&self.errors),
+            crate::log::frame_bits::ERROR_FRAME,
+            crate::log::frame_bits::ERROR_FRAME + crate::log::frame_bits::ERROR_SUPERPOSITION,
+        );
+        if self.fd_frames > 0 || self.fd_not_in_load > 0 {
+            let (data, assumed) = self.data_bitrate();
+            let assumed = if assumed {
+                " (assumed: --data-bitrate gives it)"
+            } else {
+                ""
+            };
+            let _ = write!(
                 out,
-                "    error frames: {}; CAN FD frames: {} (neither in the load)",
-                self.error_frames, self.fd_frames
+                "    CAN FD frames: {} in the load ({} with BRS, their data phase at {data} bit/s{assumed})",
+                self.fd_frames, self.fd_brs_frames
             );
-        } else {
-            let _ = writeln!(out, "    error frames: 0");
+            if self.fd_not_in_load > 0 {
+                let _ = write!(
+                    out,
+                    "; {} more read without their identifier and data, not in the load",
+                    self.fd_not_in_load
+                );
+            }
+            out.push('\n');
         }
     }
 
@@ -641,8 +625,7 @@ impl BusLoad {
             .collect();
         let more = shares.len().saturating_sub(LISTED);
         let rest = shares.iter().skip(LISTED).fold(other, |mut acc, (_, s)| {
-            acc.frames = acc.frames.saturating_add(s.frames);
-            acc.bits = acc.bits.saturating_add(s.bits);
+            acc.sum(s);
             acc
         });
         if rest.frames > 0 {
@@ -664,9 +647,10 @@ impl BusLoad {
         use crate::log::json::{array, float};
         let (bitrate, assumed) = self.bitrate();
         let (lo, mean, hi) = self.mean_percent();
+        let (data, data_assumed) = self.data_bitrate();
         let _ = write!(
             out,
-            "{{\"bitrate\":{bitrate},\"bitrate_assumed\":{assumed},\"bit_count\":\"exact stuffed\",\"frames\":{},\"duration_s\":",
+            "{{\"bitrate\":{bitrate},\"bitrate_assumed\":{assumed},\"data_bitrate\":{data},\"data_bitrate_assumed\":{data_assumed},\"bit_count\":\"exact stuffed\",\"frames\":{},\"duration_s\":",
             self.frames
         );
         float(out, self.duration());
@@ -717,8 +701,14 @@ impl BusLoad {
         });
         let _ = write!(
             out,
-            ",\"other_cob_ids\":{{\"frames\":{},\"bits\":{}}},\"error_frames\":{},\"fd_frames\":{}}}",
-            other.frames, other.bits, self.error_frames, self.fd_frames
+            ",\"other_cob_ids\":{{\"frames\":{},\"bits\":{}}},\"error_frames\":{},\"error_frames_share_percent\":",
+            other.frames, other.bits, self.errors.frames
+        );
+        float(out, self.share_percent(&self.errors));
+        let _ = write!(
+            out,
+            ",\"fd_frames\":{},\"fd_brs_frames\":{},\"fd_frames_not_in_load\":{}}}",
+            self.fd_frames, self.fd_brs_frames, self.fd_not_in_load
         );
     }
 }

@@ -7,7 +7,8 @@ use std::prelude::rust_2021::*;
 
 use crate::sdo::Observed;
 use crate::trace::candump::LogLine;
-use crate::trace::{RxTx, Unsupported};
+use crate::trace::{OnBus, RxTx, Unsupported};
+use crate::Timestamp;
 use crate::{CanId, Message};
 
 use crate::log::dataset::{self, PartFormat};
@@ -76,7 +77,7 @@ impl<'o> Decoding<'o> {
         Ok(Decoding {
             opts,
             roles,
-            summary: summary::Summary::with_bitrate(opts.bitrate),
+            summary: summary::Summary::with_bitrates(opts.bitrate, opts.data_bitrate),
             // The report's page starts with the summary: collected for either.
             collect: opts.summary || opts.report.is_some(),
             page: opts
@@ -98,17 +99,38 @@ impl<'o> Decoding<'o> {
     }
 
     /// A frame or event read but not decoded (CAN FD, error frames, other
-    /// events), said on `diag` at `at` and counted for the end of the run.
+    /// events), said on `diag` at `at` and counted for the end of the run;
+    /// CAN FD frames (`on_bus`: when the reader gives them) and error
+    /// frames go to the bus load at `t` (`None`: the last frame's time).
     pub fn unsupported(
         &mut self,
         at: &dyn std::fmt::Display,
         what: Unsupported,
+        (t, on_bus): (Option<Timestamp>, Option<&OnBus>),
         detail: &dyn std::fmt::Display,
         diag: &mut impl Write,
     ) {
         let _ = writeln!(diag, "{at}: {what:?} not decoded: {detail}");
         if self.collect {
-            self.summary.unsupported(what);
+            let bus = match (on_bus, what) {
+                (Some(w), _) => Some(*w),
+                (None, Unsupported::ErrorFrame) => Some(OnBus::ErrorFrame),
+                (None, Unsupported::CanFd) => {
+                    self.summary.fd_frame_not_read();
+                    None
+                }
+                _ => None,
+            };
+            if let Some(w) = bus {
+                let bit_times = self.summary.on_bus(t, &w);
+                let id = match w {
+                    OnBus::Fd(f) => Some(f.id()),
+                    _ => None,
+                };
+                if let Some(page) = self.page.as_mut() {
+                    page.bus_frame(t, id, bit_times);
+                }
+            }
         }
         let slot = match what {
             Unsupported::CanFd => 0,
@@ -153,9 +175,9 @@ impl<'o> Decoding<'o> {
         } = self;
         let (opts, collect) = (*opts, *collect);
         if collect {
-            let bits = summary.bus_frame(parsed.timestamp, &parsed.frame);
+            let bit_times = summary.bus_frame(parsed.timestamp, &parsed.frame);
             if let Some(page) = page.as_mut() {
-                page.bus_frame(parsed.timestamp, &parsed.frame, bits);
+                page.bus_frame(parsed.timestamp, Some(parsed.frame.id()), bit_times);
             }
         }
         // The SDO observer first: a frame on a declared SDO channel is SDO,
@@ -526,8 +548,14 @@ fn run_with(
             };
             run.frame(&at, &line, frame.direction, out, diag)
         }
-        Item::Unsupported { at, what, detail } => {
-            run.unsupported(&at, what, &detail, diag);
+        Item::Unsupported {
+            at,
+            what,
+            detail,
+            timestamp,
+            on_bus,
+        } => {
+            run.unsupported(&at, what, (timestamp, on_bus.as_ref()), &detail, diag);
             Ok(())
         }
         Item::Bad { at, why } => {

@@ -90,6 +90,7 @@ pub mod csv;
 pub mod dataset;
 pub mod dbc;
 mod decoding;
+pub mod frame_bits;
 mod frame_line;
 pub mod input;
 pub mod json;

@@ -38,6 +38,9 @@ pub struct Options {
     /// `--bitrate BPS`: the bus's bit rate for the summary's bus load
     /// (`None`: 250 kbit/s, said to be assumed).
     pub bitrate: Option<u32>,
+    /// `--data-bitrate BPS`: the data phase's bit rate of CAN FD frames
+    /// with BRS set (`None`: 2 Mbit/s, said to be assumed).
+    pub data_bitrate: Option<u32>,
     /// Which node is which, as given.
     pub roles: Roles,
     /// The PDO mappings given, and whether the defaults apply.
@@ -96,6 +99,7 @@ impl Default for Options {
             frames: true,
             check: false,
             bitrate: None,
+            data_bitrate: None,
             roles: Roles::default(),
             pdos: mappings::Mappings {
                 given: Vec::new(),

@@ -13,8 +13,9 @@
 //! frames, fastscans started, and the node-IDs a slave accepted by
 //! configure node-ID. The bus load ([`crate::log::bus_load`]): the mean,
 //! the busiest 1-second window, each node's and COB-ID's share, error
-//! frames. A node is listed when it has something to say (a node addressed
-//! by NMT commands that never sends is not). `--check` makes
+//! frames and CAN FD frames (both in the load). A node is listed when it
+//! has something to say (a node addressed by NMT commands that never sends
+//! is not). `--check` makes
 //! the program exit 3 when a problem is still open at the end: a node
 //! silent until the end, or an EMCY not cleared.
 
@@ -27,9 +28,10 @@ use crate::lss::{Fastscan, LssMessage, LssRequest, LssResponse};
 use crate::nmt::{NmtCommandSpecifier, NmtState, NmtTarget};
 use crate::{CanFrame, Message, NodeId, Timestamp};
 
-use crate::log::bus_load::{BusLoad, FrameBits};
+use crate::log::bus_load::BusLoad;
 use crate::log::sdo::{End, Report};
 use crate::log::Roles;
+use crate::trace::OnBus;
 
 /// Heartbeat gaps kept per node for the period (the median of them).
 pub const PERIOD_SAMPLES: usize = 64;
@@ -124,11 +126,13 @@ pub struct Decoded<'a> {
 
 impl Summary {
     /// A summary whose bus load is at `bitrate` bit/s (`None`: assumed,
-    /// [`crate::log::bus_load::DEFAULT_BITRATE`]).
+    /// [`crate::log::bus_load::DEFAULT_BITRATE`]), CAN FD data phases at
+    /// `data_bitrate` (`None`: assumed,
+    /// [`crate::log::bus_load::DEFAULT_DATA_BITRATE`]).
     #[must_use]
-    pub fn with_bitrate(bitrate: Option<u32>) -> Self {
+    pub fn with_bitrates(bitrate: Option<u32>, data_bitrate: Option<u32>) -> Self {
         Summary {
-            bus: BusLoad::new(bitrate),
+            bus: BusLoad::new(bitrate).with_data_bitrate(data_bitrate),
             ..Summary::default()
         }
     }
@@ -139,22 +143,24 @@ impl Summary {
         &self.bus
     }
 
-    /// Any frame read, decoded or not, for the bus load; returns its bits.
-    pub fn bus_frame(&mut self, t: Option<Timestamp>, frame: &CanFrame) -> FrameBits {
-        self.bus.frame(t, frame)
+    /// Any classic frame read, decoded or not, for the bus load; returns
+    /// its time on the bus in bit times at the nominal rate.
+    pub fn bus_frame(&mut self, t: Option<Timestamp>, frame: &CanFrame) -> f64 {
+        let bits = self.bus.frame(t, frame);
+        self.bus.nominal_bit_times(self.bus.time(&bits).stuffed)
     }
 
-    /// A frame read but not decoded: error frames and CAN FD frames are
-    /// counted beside the bus load.
-    pub fn unsupported(&mut self, what: crate::trace::Unsupported) {
-        use crate::trace::Unsupported;
-        match what {
-            Unsupported::CanFd => self.bus.fd_frames = self.bus.fd_frames.saturating_add(1),
-            Unsupported::ErrorFrame => {
-                self.bus.error_frames = self.bus.error_frames.saturating_add(1);
-            }
-            _ => {}
-        }
+    /// A CAN FD or error frame read (not decoded), for the bus load;
+    /// returns its time on the bus as [`Summary::bus_frame`] does.
+    pub fn on_bus(&mut self, t: Option<Timestamp>, what: &OnBus) -> f64 {
+        let bits = self.bus.on_bus(t, what);
+        self.bus.nominal_bit_times(self.bus.time(&bits).stuffed)
+    }
+
+    /// A CAN FD frame read without its identifier and data: counted beside
+    /// the bus load.
+    pub fn fd_frame_not_read(&mut self) {
+        self.bus.fd_frame_not_read();
     }
 
     fn node(&mut self, n: NodeId) -> &mut Node {

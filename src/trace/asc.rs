@@ -27,7 +27,7 @@
 //! with a time that is not a frame is an error.
 
 use super::fields::{can_id, dec_u32, decimal_scaled, frame, hex_u32};
-use super::{Record, RxTx, State, TraceError, TraceFrame, Unsupported};
+use super::{OnBus, Record, RxTx, State, TraceError, TraceFrame, Unsupported};
 use crate::clock::Timestamp;
 
 /// True when the line is an ASC frame line.
@@ -85,7 +85,10 @@ pub(super) fn parse<'a>(line: &'a str, state: &mut State) -> Result<Record<'a>, 
     let channel = second;
     let id_text = tokens.next().ok_or(TraceError::MissingField)?;
     if id_text.eq_ignore_ascii_case("ErrorFrame") {
-        return Ok(Record::Unsupported(Unsupported::ErrorFrame));
+        return Ok(Record::OnBus {
+            timestamp: Some(Timestamp::from_micros(us)),
+            what: OnBus::ErrorFrame,
+        });
     }
     if matches!(id_text, "Statistic:" | "Status:" | "SV:") {
         return Ok(Record::Unsupported(Unsupported::Event));

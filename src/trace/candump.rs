@@ -11,12 +11,17 @@
 //!
 //! CAN FD frames (`ID##FDATA`: one hex digit of FD flags, then the data)
 //! are recognised and refused with [`CandumpError::CanFd`] (a malformed one
-//! with the error of its malformed part); error frames with a typed error.
+//! with the error of its malformed part), and error frames (an 8-digit
+//! identifier with SocketCAN's `CAN_ERR_FLAG`, 2000 0000h, as candump
+//! writes them: `20000004#0004000000000000`) with
+//! [`CandumpError::ErrorFrame`]; [`parse_on_bus`] reads both for the bus
+//! load.
 
 use core::fmt;
 
 use crate::clock::Timestamp;
 use crate::frame::{CanFrame, CanId, MAX_EXTENDED_ID, MAX_STANDARD_ID};
+use crate::trace::{FdFrame, OnBus};
 
 /// Why a candump line did not parse.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -46,7 +51,13 @@ pub enum CandumpError {
     /// Extra fields after the frame.
     #[error("unexpected text after the frame")]
     TrailingText,
+    /// An error frame (SocketCAN's `CAN_ERR_FLAG` in the identifier).
+    #[error("error frame")]
+    ErrorFrame,
 }
+
+/// SocketCAN's `CAN_ERR_FLAG` (linux/can.h): the frame is an error frame.
+const CAN_ERR_FLAG: u32 = 0x2000_0000;
 
 /// One parsed log line. Borrows the interface name from the line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -240,6 +251,24 @@ fn usual_frame(text: &[u8]) -> Option<CanFrame> {
 
 /// Any line: whitespace-separated fields.
 fn parse_general(line: &str) -> Result<LogLine<'_>, CandumpError> {
+    let (timestamp, interface, field, trailing) = split_fields(line)?;
+    let frame = parse_frame(field)?;
+    if trailing {
+        return Err(CandumpError::TrailingText);
+    }
+    Ok(LogLine {
+        timestamp,
+        interface,
+        frame,
+    })
+}
+
+/// A line's time, interface and frame field, and whether text follows it.
+type Fields<'a> = (Option<Timestamp>, Option<&'a str>, &'a str, bool);
+
+/// The fields of a line: `(time) interface frame`, either of the first two
+/// left out.
+fn split_fields(line: &str) -> Result<Fields<'_>, CandumpError> {
     let mut fields = line.split_ascii_whitespace();
     let mut field = fields.next().ok_or(CandumpError::Empty)?;
     let mut timestamp = None;
@@ -255,15 +284,42 @@ fn parse_general(line: &str) -> Result<LogLine<'_>, CandumpError> {
         interface = Some(field);
         field = fields.next().ok_or(CandumpError::MissingFrame)?;
     }
-    let frame = parse_frame(field)?;
-    if fields.next().is_some() {
+    Ok((timestamp, interface, field, fields.next().is_some()))
+}
+
+/// A line whose frame is a CAN FD frame (`123##1` and its data) or an error
+/// frame (`20000004#...`), with its time: what the bus load counts of it.
+/// A classic frame is [`CandumpError::MissingFrame`].
+pub fn parse_on_bus(line: &str) -> Result<(Option<Timestamp>, OnBus), CandumpError> {
+    let (timestamp, _, field, trailing) = split_fields(line)?;
+    if trailing {
         return Err(CandumpError::TrailingText);
     }
-    Ok(LogLine {
-        timestamp,
-        interface,
-        frame,
-    })
+    let (id, data) = field.split_once('#').ok_or(CandumpError::MissingFrame)?;
+    match (parse_id(id), data.strip_prefix('#')) {
+        (Err(CandumpError::ErrorFrame), _) => Ok((timestamp, OnBus::ErrorFrame)),
+        (Ok(id), Some(fd)) => {
+            fd_frame(fd)?;
+            let (flags, data) = fd.split_at_checked(1).ok_or(CandumpError::BadData)?;
+            let flags = flags.bytes().next().and_then(hex_digit).unwrap_or(0);
+            let mut buf = [0u8; 64];
+            let mut len = 0;
+            for (dst, pair) in buf.iter_mut().zip(data.as_bytes().chunks_exact(2)) {
+                let [hi, lo] = *pair else {
+                    return Err(CandumpError::BadData);
+                };
+                *dst = hex_digit(hi).ok_or(CandumpError::BadData)? << 4
+                    | hex_digit(lo).ok_or(CandumpError::BadData)?;
+                len += 1;
+            }
+            let data = buf.get(..len).unwrap_or(&[]);
+            FdFrame::new(id, data, flags & 1 != 0, flags & 2 != 0)
+                .map(|f| (timestamp, OnBus::Fd(f)))
+                .ok_or(CandumpError::TooLong)
+        }
+        (Err(e), _) => Err(e),
+        (Ok(_), None) => Err(CandumpError::MissingFrame),
+    }
 }
 
 fn parse_timestamp(field: &str) -> Result<Timestamp, CandumpError> {
@@ -311,17 +367,9 @@ fn hex_digit(b: u8) -> Option<u8> {
 /// Parses the `ID#DATA` / `ID#R[dlc]` field alone.
 pub fn parse_frame(field: &str) -> Result<CanFrame, CandumpError> {
     let (id, data) = field.split_once('#').ok_or(CandumpError::MissingFrame)?;
-    let raw = id
-        .bytes()
-        .try_fold(0u32, |acc, b| Some(acc << 4 | u32::from(hex_digit(b)?)))
-        .ok_or(CandumpError::BadId)?;
-    let id = match id.len() {
-        3 if raw <= u32::from(MAX_STANDARD_ID) => CanId::Standard(raw as u16),
-        8 if raw <= MAX_EXTENDED_ID => CanId::Extended(raw),
-        _ => return Err(CandumpError::BadId),
-    };
+    let id = parse_id(id)?;
     if let Some(fd) = data.strip_prefix('#') {
-        return Err(fd_frame(fd));
+        return Err(fd_frame(fd).err().unwrap_or(CandumpError::CanFd));
     }
     if let Some(dlc) = data.strip_prefix('R').or_else(|| data.strip_prefix('r')) {
         let dlc = match dlc.as_bytes() {
@@ -352,24 +400,39 @@ pub fn parse_frame(field: &str) -> Result<CanFrame, CandumpError> {
     CanFrame::new(id, buf.get(..len).unwrap_or(&[])).map_err(|_| CandumpError::TooLong)
 }
 
-/// The part of a CAN FD field after `ID##`: one hex digit of FD flags
-/// (bit 0 bit-rate switch, bit 1 error state indicator), then the data in
-/// hex pairs, of a CAN FD length (0..=8, 12, 16, 20, 24, 32, 48, 64 bytes,
-/// ISO 11898-1). [`CandumpError::CanFd`] when it is one, the error of the
-/// malformed part otherwise.
-fn fd_frame(fd: &str) -> CandumpError {
+/// The identifier field: 3 hex digits for an 11-bit identifier, 8 for a
+/// 29-bit one; [`CandumpError::ErrorFrame`] for 8 digits with
+/// `CAN_ERR_FLAG` set.
+fn parse_id(id: &str) -> Result<CanId, CandumpError> {
+    let raw = id
+        .bytes()
+        .try_fold(0u32, |acc, b| Some(acc << 4 | u32::from(hex_digit(b)?)))
+        .ok_or(CandumpError::BadId)?;
+    match id.len() {
+        3 if raw <= u32::from(MAX_STANDARD_ID) => Ok(CanId::Standard(raw as u16)),
+        8 if raw <= MAX_EXTENDED_ID => Ok(CanId::Extended(raw)),
+        8 if raw & !MAX_EXTENDED_ID == CAN_ERR_FLAG => Err(CandumpError::ErrorFrame),
+        _ => Err(CandumpError::BadId),
+    }
+}
+
+/// Checks the part of a CAN FD field after `ID##`: one hex digit of FD
+/// flags (bit 0 bit-rate switch, bit 1 error state indicator), then the
+/// data in hex pairs, of a CAN FD length (0..=8, 12, 16, 20, 24, 32, 48, 64
+/// bytes, ISO 11898-1); the error of the malformed part otherwise.
+fn fd_frame(fd: &str) -> Result<(), CandumpError> {
     let Some((&flags, data)) = fd.as_bytes().split_first() else {
-        return CandumpError::BadData;
+        return Err(CandumpError::BadData);
     };
     if hex_digit(flags).is_none()
         || data.len() % 2 != 0
         || !data.iter().all(|&b| hex_digit(b).is_some())
     {
-        return CandumpError::BadData;
+        return Err(CandumpError::BadData);
     }
     match data.len() / 2 {
-        0..=8 | 12 | 16 | 20 | 24 | 32 | 48 | 64 => CandumpError::CanFd,
-        _ => CandumpError::TooLong,
+        0..=8 | 12 | 16 | 20 | 24 | 32 | 48 | 64 => Ok(()),
+        _ => Err(CandumpError::TooLong),
     }
 }
 
@@ -561,7 +624,9 @@ mod tests {
             ("7011#05", BadId),
             ("800#05", BadId),
             ("G01#05", BadId),
-            ("20000000#05", BadId),
+            ("20000000#05", ErrorFrame),
+            ("40000000#05", BadId),
+            ("1FFFFFFF##05", BadData),
             ("701#0", BadData),
             ("701#ZZ", BadData),
             ("701#R12", BadData),
@@ -577,6 +642,43 @@ mod tests {
         ] {
             assert_eq!(parse_line(line), Err(err), "{line:?}");
         }
+    }
+
+    #[test]
+    fn fd_and_error_frames_for_the_bus_load() {
+        use std::string::ToString;
+        let t = Some(Timestamp::from_micros(1_500_000));
+        let fd = |text: &str| match parse_on_bus(text) {
+            Ok((time, OnBus::Fd(f))) => (time, f),
+            other => panic!("{text}: {other:?}"),
+        };
+        let (time, f) = fd("(1.5) can0 123##1AABB");
+        assert_eq!(
+            (time, f.id(), f.data(), f.brs(), f.esi()),
+            (t, CanId::Standard(0x123), &[0xAA, 0xBB][..], true, false)
+        );
+        let (_, f) = fd("1FFFFFFF##2");
+        assert_eq!(
+            (f.id(), f.dlc(), f.brs(), f.esi()),
+            (CanId::Extended(0x1FFF_FFFF), 0, false, true)
+        );
+        let twelve = "00".repeat(12);
+        let (_, f) = fd(&format!("123##3{twelve}"));
+        assert_eq!((f.dlc(), f.data().len()), (9, 12));
+        assert_eq!(f.to_string(), format!("123##3{twelve}"));
+        assert_eq!(
+            parse_on_bus("(1.5) can0 20000004#0004000000000000"),
+            Ok((t, OnBus::ErrorFrame))
+        );
+        assert_eq!(
+            parse_on_bus("(1.5) can0 123#00"),
+            Err(CandumpError::MissingFrame)
+        );
+        assert_eq!(
+            parse_on_bus("123##1001122334455667788"),
+            Err(CandumpError::TooLong)
+        );
+        assert_eq!(parse_on_bus("123##Z"), Err(CandumpError::BadData));
     }
 
     #[test]

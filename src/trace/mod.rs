@@ -7,7 +7,9 @@
 //! number base) and gives one [`Record`] per line: a frame with what the
 //! line says about it, a header or comment line ([`Record::Meta`]), or a
 //! line about something this crate does not decode ([`Record::Unsupported`]:
-//! CAN FD and error frames, reported per line and never fatal). Lines that
+//! CAN FD and error frames, reported per line and never fatal; or
+//! [`Record::OnBus`] when the line gives what the bus load needs of them:
+//! their time and an FD frame's identifier, flags and data). Lines that
 //! cannot be read are a typed [`TraceError`]. Every parser is total: any
 //! text gives one of these, never a panic.
 //!
@@ -38,6 +40,7 @@ mod asc;
 pub mod blf;
 pub mod candump;
 mod csv;
+mod fd;
 mod fields;
 #[cfg(feature = "alloc")]
 pub mod inflate;
@@ -49,6 +52,8 @@ mod trc;
 
 use crate::clock::Timestamp;
 use crate::frame::CanFrame;
+
+pub use fd::{FdFrame, FD_LENGTHS};
 
 /// The trace formats.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -169,6 +174,27 @@ pub enum Unsupported {
     LinkType,
 }
 
+/// A frame on the bus the crate does not decode, as far as a trace tells
+/// it: what the bus load counts of it (`log::bus_load`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum OnBus {
+    /// A CAN FD frame.
+    Fd(FdFrame),
+    /// An error frame (ISO 11898-1:2015 section 10.4.4).
+    ErrorFrame,
+}
+
+impl OnBus {
+    /// What the line is, as [`Record::Unsupported`] would say.
+    #[must_use]
+    pub const fn kind(&self) -> Unsupported {
+        match self {
+            OnBus::Fd(_) => Unsupported::CanFd,
+            OnBus::ErrorFrame => Unsupported::ErrorFrame,
+        }
+    }
+}
+
 /// What one line of a trace is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
@@ -179,6 +205,14 @@ pub enum Record<'a> {
     Meta,
     /// A line about something the crate does not decode.
     Unsupported(Unsupported),
+    /// A CAN FD or error frame (not decoded) with its time, when the line
+    /// gives it.
+    OnBus {
+        /// The line's time (as [`TraceFrame::timestamp`]).
+        timestamp: Option<Timestamp>,
+        /// The frame.
+        what: OnBus,
+    },
 }
 
 /// Why a line of a trace could not be read.
@@ -332,16 +366,18 @@ fn candump_log(line: &str) -> Result<Record<'_>, TraceError> {
     } else {
         (t, None)
     };
-    match crate::trace::candump::parse_line(body) {
+    use crate::trace::candump::{parse_line, parse_on_bus, CandumpError};
+    match parse_line(body) {
         Ok(l) => Ok(Record::Frame(TraceFrame {
             timestamp: l.timestamp,
             channel: l.interface,
             direction,
             frame: l.frame,
         })),
-        Err(crate::trace::candump::CandumpError::CanFd) => {
-            Ok(Record::Unsupported(Unsupported::CanFd))
-        }
+        Err(CandumpError::CanFd | CandumpError::ErrorFrame) => match parse_on_bus(body) {
+            Ok((timestamp, what)) => Ok(Record::OnBus { timestamp, what }),
+            Err(e) => Err(TraceError::Candump(e)),
+        },
         Err(e) => Err(TraceError::Candump(e)),
     }
 }

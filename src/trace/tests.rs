@@ -27,6 +27,10 @@ fn run(p: &mut LineParser, lines: &[&str]) -> Vec<String> {
             ),
             Ok(Record::Meta) => "meta".to_string(),
             Ok(Record::Unsupported(u)) => format!("unsupported {u:?}"),
+            Ok(Record::OnBus { timestamp, what }) => format!(
+                "on bus {} {what:?}",
+                timestamp.map_or(-1, |t| t.as_micros() as i128)
+            ),
             Err(e) => format!("error {e:?}"),
         })
         .collect()
@@ -96,7 +100,7 @@ fn traces_read_line_by_line() {
             want: &[
                 "meta",
                 "1500000 18A#0102 2 Rx",
-                "unsupported ErrorFrame",
+                "on bus 1600000 ErrorFrame",
                 "unsupported CanFd",
                 "unsupported Event",
                 "1900000 70A#R 1 Rx",
@@ -212,7 +216,7 @@ fn traces_read_line_by_line() {
                 "1756955653603308 18A#7413454E70000000 can0 Rx",
                 "1756955653612992 70A#R can0 Rx",
                 "1756955653800000 000#010A can0 Tx",
-                "unsupported CanFd",
+                "on bus -1 Fd(18A##07413454E)",
                 "error Candump(TrailingText)",
             ],
             format: Some(Format::CandumpLog),
@@ -234,13 +238,13 @@ fn traces_read_line_by_line() {
                 "(1757000000.000600) can0 123##0000102030405060708",
             ],
             want: &[
-                "unsupported CanFd",
+                "on bus 1757000000000100 Fd(123##1112233)",
                 "1757000000000200 18A#01 can0 -",
-                "unsupported CanFd",
-                "unsupported CanFd",
-                "unsupported CanFd",
+                "on bus -1 Fd(123##0)",
+                "on bus -1 Fd(12345678##3000102030405060708090A0B)",
+                "on bus 1757000000000300 Fd(123##1112233)",
                 "error Candump(BadData)",
-                "unsupported CanFd",
+                "on bus 1757000000000500 Fd(123##1)",
                 "error Candump(TooLong)",
             ],
             format: Some(Format::CandumpLog),

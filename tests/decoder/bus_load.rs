@@ -103,10 +103,13 @@ fn the_words_say_the_rate_is_assumed_and_count_error_frames() {
         t.contains("bus load at 250000 bit/s (assumed: --bitrate gives it): "),
         "{t}"
     );
+    // 17 bits of 57 + 17 + 67: 70A#05 is 55 bits and 2 stuff bits,
+    // 000#010A 63 and 4 (counted bit by bit, CRC-15 included).
     assert!(
-        t.contains("error frames: 1; CAN FD frames: 0 (neither in the load)"),
+        t.contains("error frames: 1 (12.06% of the bus time: 17 bits each, 23 with superposed error flags)"),
         "{t}"
     );
+    assert!(!t.contains("CAN FD frames"), "{t}");
     assert!(
         t.contains("by node: no node ") && t.contains(", node 10 "),
         "{t}"
@@ -143,4 +146,70 @@ fn nodes_only_addressed_are_not_listed() {
         .map(|n| n["node"].as_u64().unwrap())
         .collect();
     assert_eq!(nodes, [6]);
+}
+
+#[test]
+fn fd_and_error_frames_of_a_candump_log_are_in_the_load() {
+    // At 500 kbit/s (2 µs a bit) and 2 Mbit/s (0.5 µs), the bits counted
+    // by hand in the library's `log::bus_load` tests (unstuffed, exact,
+    // worst case; nominal and data phase):
+    // 000#: 47, 53, 55 nominal: 94, 106, 110 µs
+    // 123##1 + 64 FFh: 30, 30, 34 nominal; 549, 652, 678 data:
+    //   334.5, 386, 407 µs
+    // an error frame: 17, 17, 23 nominal: 34, 34, 46 µs
+    // 12345678##1 + 12 zero bytes: 49, 49, 57 nominal; 128, 147, 154 data:
+    //   162, 171.5, 191 µs
+    let log = format!(
+        "(1.000000) can0 000#\n(1.100000) can0 123##1{}\n(1.200000) can0 20000004#0004000000000000\n(2.000000) can0 12345678##1{}\n",
+        "FF".repeat(64),
+        "00".repeat(12)
+    );
+    let args = ["--bitrate", "500000", "--data-bitrate", "2000000"];
+    let s = summary(&log, &args);
+    let b = &s["bus_load"];
+    assert_eq!(
+        (b["frames"].as_u64(), b["error_frames"].as_u64()),
+        (Some(4), Some(1))
+    );
+    assert_eq!(
+        (b["fd_frames"].as_u64(), b["fd_brs_frames"].as_u64()),
+        (Some(2), Some(2))
+    );
+    assert_eq!(b["data_bitrate"], 2_000_000);
+    assert_eq!(b["data_bitrate_assumed"], false);
+    // From the start of the first frame (its 106 µs) to the last.
+    close(&b["duration_s"], 1.000_106);
+    let load = |us: f64| us * 1e-6 / 1.000_106 * 100.0;
+    let (lo, hi) = (
+        load(94.0 + 334.5 + 34.0 + 162.0),
+        load(110.0 + 407.0 + 46.0 + 191.0),
+    );
+    close(&b["unstuffed_percent"], lo);
+    close(&b["worst_case_percent"], hi);
+    close(&s["bus_load_percent"], load(106.0 + 386.0 + 34.0 + 171.5));
+    let mid = s["bus_load_percent"].as_f64().unwrap();
+    assert!(lo < mid && mid < hi, "{lo} {mid} {hi}");
+    // The FD frames have their COB-IDs' shares; the error frame none.
+    let share = |id: u64| {
+        b["cob_ids"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["cob_id"] == id)
+            .map(|c| c["share_percent"].as_f64().unwrap())
+    };
+    let all = 106.0 + 386.0 + 34.0 + 171.5;
+    assert!((share(0x123).unwrap() - 386.0 * 100.0 / all).abs() < 1e-9);
+    assert!((share(0x1234_5678).unwrap() - 171.5 * 100.0 / all).abs() < 1e-9);
+    close(&b["error_frames_share_percent"], 34.0 * 100.0 / all);
+    let o = run(&["--summary-only", "--bitrate", "500000"], Some(&log));
+    let t = text(&o);
+    assert!(
+        t.contains("CAN FD frames: 2 in the load (2 with BRS, their data phase at 2000000 bit/s (assumed: --data-bitrate gives it))"),
+        "{t}"
+    );
+    for bad in ["0", "fast"] {
+        let o = run(&["--data-bitrate", bad, "--summary-only"], Some(&log));
+        assert_eq!(o.status.code(), Some(2), "--data-bitrate {bad}");
+    }
 }

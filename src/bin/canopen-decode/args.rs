@@ -65,10 +65,12 @@ pub struct Cli {
     /// Print the summary; exit 3 when a problem is open at the end.
     #[arg(long)]
     check: bool,
-    /// The bus's bit rate for the summary's bus load (default 250000,
-    /// said to be assumed).
+    /// The bus's bit rate for the summary's bus load (default 250000, said to be assumed).
     #[arg(long, value_name = "BPS", value_parser = clap::value_parser!(u32).range(1..))]
     bitrate: Option<u32>,
+    /// The data phase's bit rate of CAN FD frames with BRS set (default 2000000, said to be assumed).
+    #[arg(long, value_name = "BPS", value_parser = clap::value_parser!(u32).range(1..))]
+    data_bitrate: Option<u32>,
     /// The Delta-Q charger's node id (Delta-Q names and error labels).
     #[arg(long, value_name = "N", value_parser = parse_node, allow_hyphen_values = true)]
     charger_node: Option<NodeId>,
@@ -178,11 +180,10 @@ impl Cli {
         let frames_asked = self.output.is_some()
             || self.json
             || (self.report.is_none() && self.signals.is_none() && self.dbc.is_none());
-        let output = match (self.output, self.json) {
-            (Some(o), _) => o,
-            (None, true) => Output::Json,
-            (None, false) => Output::Words,
-        };
+        let output = self
+            .output
+            .or(self.json.then_some(Output::Json))
+            .unwrap_or(Output::Words);
         let mut pdos = mappings::Mappings {
             given: Vec::new(),
             defaults: !self.no_default_pdos,
@@ -228,6 +229,7 @@ impl Cli {
             frames: !self.summary_only && frames_asked,
             check: self.check,
             bitrate: self.bitrate,
+            data_bitrate: self.data_bitrate,
             roles,
             pdos,
             file: files.first().cloned(),
@@ -244,9 +246,7 @@ impl Cli {
             dataset,
             dbc: self.dbc,
             report: self.report,
-            inflater: None,
-            parquet: None,
-            find_newline: None,
+            ..Options::default()
         })
     }
 }

@@ -43,9 +43,9 @@
 //! (`canopen_codec::trace`), `blf` (Vector BLF, binary; a file beginning
 //! with `LOGG` is read as one), each file read by the module
 //! `canopen_codec::log::input` (as `canopen-replay`'s). Header and comment
-//! lines are skipped; CAN FD and error frames are reported on stderr, line
-//! by line (object by object), counted at the end, and do not count as
-//! bad lines.
+//! lines are skipped; CAN FD and error frames are reported on stderr (line
+//! by line or object by object), counted at the end and in the bus load,
+//! not as bad lines.
 //!
 //! With no FILE it reads stdin; with no FILE and a terminal on stdin it
 //! decodes the bundled session of the crate's own virtual charger and

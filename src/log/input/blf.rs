@@ -49,13 +49,17 @@ fn event<F: FnMut(Item<'_>) -> io::Result<()>>(
             })?;
         }
         Ok(Some(BlfEvent::Unsupported {
-            what, object_type, ..
+            what,
+            object_type,
+            timestamp,
         })) => {
             count.objects += 1;
             each.give(Item::Unsupported {
                 at: At::Object(count.objects),
                 what,
                 detail: Detail::ObjectType(object_type),
+                timestamp,
+                on_bus: None,
             })?;
         }
         Ok(Some(BlfEvent::Skipped { .. })) => {

@@ -110,12 +110,14 @@ fn items<S: Source, F: FnMut(Item<'_>) -> io::Result<()>>(
                     frame: f.trace_frame(),
                 })?;
             }
-            Ok(Some(Mf4Event::Unsupported { what, .. })) => {
+            Ok(Some(Mf4Event::Unsupported { what, timestamp })) => {
                 records += 1;
                 each.give(Item::Unsupported {
                     at: At::Record(records),
                     what,
                     detail: super::Detail::Record,
+                    timestamp,
+                    on_bus: None,
                 })?;
             }
             Err(e @ Mf4Error::Read { .. }) => return Err(read_error(e)),

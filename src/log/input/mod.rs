@@ -53,7 +53,7 @@ use std::io::{self, Read, Seek};
 use crate::trace::blf::{BlfError, BlfReader};
 use crate::trace::mf4::{Mf4Error, Mf4Reader};
 use crate::trace::pcap::{Flavor, PcapError};
-use crate::trace::{Format, LineParser, Record, RxTx, TraceError, TraceFrame, Unsupported};
+use crate::trace::{Format, LineParser, OnBus, Record, RxTx, TraceError, TraceFrame, Unsupported};
 use crate::{CanFrame, Timestamp};
 
 #[cfg(feature = "zlib")]
@@ -395,6 +395,11 @@ pub enum Item<'a> {
         what: Unsupported,
         /// The line, or the object's type.
         detail: Detail<'a>,
+        /// Its time, when the reader gives it.
+        timestamp: Option<Timestamp>,
+        /// What the bus load counts of it, when the reader gives it (a CAN
+        /// FD frame's identifier, flags and data).
+        on_bus: Option<OnBus>,
     },
     /// What cannot be read (`at: why` is the message for it).
     Bad {
@@ -679,6 +684,15 @@ fn read_lines<F: FnMut(Item<'_>) -> io::Result<()>>(
                     at,
                     what,
                     detail: Detail::Line(line),
+                    timestamp: None,
+                    on_bus: None,
+                })?,
+                Ok(Record::OnBus { timestamp, what }) => each.give(Item::Unsupported {
+                    at,
+                    what: what.kind(),
+                    detail: Detail::Line(line),
+                    timestamp,
+                    on_bus: Some(what),
                 })?,
                 Ok(_) => {}
                 Err(e) => each.give(Item::Bad {
@@ -738,7 +752,9 @@ pub fn frames(input: impl Read, how: How, zlib: &mut dyn Inflate) -> io::Result<
             Item::Bad { at, why } if first_bad.is_none() => {
                 first_bad = Some(format!("{at}: {why}"));
             }
-            Item::Unsupported { at, what, detail } if first_unsupported.is_none() => {
+            Item::Unsupported {
+                at, what, detail, ..
+            } if first_unsupported.is_none() => {
                 first_unsupported = Some(format!("{at}: {what:?} not decoded: {detail}"));
             }
             _ => {}

@@ -45,13 +45,17 @@ pub(super) fn read<F: FnMut(Item<'_>) -> io::Result<()>>(
                     }
                 }
                 Ok(Some(PcapEvent::Unsupported {
-                    what, link_type, ..
+                    what,
+                    link_type,
+                    timestamp,
                 })) => {
                     packets += 1;
                     Item::Unsupported {
                         at: At::Packet(packets),
                         what,
                         detail: Detail::LinkType(link_type),
+                        timestamp,
+                        on_bus: None,
                     }
                 }
                 Err(e) if e.is_fatal() => {

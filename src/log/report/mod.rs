@@ -3,7 +3,8 @@
 //! timeline per node (NMT states from the heartbeats, silences marked,
 //! boot-ups, EMCYs by name, SDO transfers and aborts, node guarding, NMT
 //! commands on the bus row), the bus's traffic as plots for any trace (the
-//! bus load per 1-second window, the frames per second of each node, and
+//! bus load per 1-second window, CAN FD and error frames included as the
+//! summary counts them, the frames per second of each node, and
 //! the raw bytes of the PDOs no mapping names) and a plot of every named
 //! PDO field over time with its unit, zoom, pan and values on hover. A
 //! node with no frame of its own (only addressed by NMT commands) has no
@@ -24,9 +25,9 @@ use std::prelude::rust_2021::*;
 
 use crate::nmt::NmtTarget;
 use crate::pdo::{FieldValue, NamedFields};
-use crate::{CanFrame, Message, NodeId, Timestamp};
+use crate::{Message, NodeId, Timestamp};
 
-use crate::log::bus_load::{FrameBits, DEFAULT_BITRATE};
+use crate::log::bus_load::DEFAULT_BITRATE;
 use crate::log::sdo::{End, Report as Transfer};
 use crate::log::summary::Decoded;
 use crate::log::Roles;
@@ -136,7 +137,8 @@ struct Field {
 /// The bus's traffic over time, for any trace.
 #[derive(Default)]
 struct Traffic {
-    /// Stuffed bits per window (the bus load once divided by the rate).
+    /// Stuffed bit times at the nominal rate per window (the bus load
+    /// once divided by the rate).
     bits: PerSecond,
     /// Frames per window of each node (0: frames of no node), and their
     /// count.
@@ -180,16 +182,20 @@ impl Collector {
         }
     }
 
-    /// Any frame read, decoded or not, with its bits: the bus load and
-    /// the frames per second of the node its COB-ID belongs to.
-    pub fn bus_frame(&mut self, t: Option<Timestamp>, frame: &CanFrame, bits: FrameBits) {
+    /// Any frame read, decoded or not (CAN FD and error frames included),
+    /// with its time on the bus in bit times at the nominal rate (as
+    /// [`crate::log::summary::Summary::bus_frame`] gives it): the bus load
+    /// and the frames per second of the node its COB-ID belongs to (none:
+    /// an error frame, in the load only).
+    pub fn bus_frame(&mut self, t: Option<Timestamp>, id: Option<crate::CanId>, bit_times: f64) {
         let t = self.at(t);
-        self.traffic.bits.add(t, f64::from(bits.stuffed));
-        let node = match frame.id() {
-            crate::CanId::Standard(raw) => crate::cob_id::classify_standard(raw)
+        self.traffic.bits.add(t, bit_times);
+        let node = match id {
+            Some(crate::CanId::Standard(raw)) => crate::cob_id::classify_standard(raw)
                 .node()
                 .map_or(0, |n| n.raw()),
-            crate::CanId::Extended(_) => 0,
+            Some(crate::CanId::Extended(_)) => 0,
+            None => return,
         };
         let (count, per_second) = self.traffic.nodes.entry(node).or_default();
         *count = count.saturating_add(1);
