@@ -1,6 +1,7 @@
 //! The pcap / pcapng reader's state machine: bytes collected into one
 //! fixed buffer, then acted on by what they are (file header, record
-//! header, block header, fields, options, packet data).
+//! header, block header, fields, options, packet data); a whole packet
+//! at hand in the caller's chunk is read where it lies (the usual case).
 
 use super::socketcan::{self, Packet};
 use super::{
@@ -159,11 +160,16 @@ impl PcapReader {
             return Err(e);
         }
         loop {
-            if !self.fill(input) {
-                return Ok(None);
-            }
-            let have = core::mem::take(&mut self.have);
-            let r = self.step(have);
+            let r = match self.whole_packet(input) {
+                Some(r) => r.map(Some),
+                None => {
+                    if !self.fill(input) {
+                        return Ok(None);
+                    }
+                    let have = core::mem::take(&mut self.have);
+                    self.step(have)
+                }
+            };
             match r {
                 Ok(None) => {}
                 Ok(Some(event)) => return Ok(Some(event)),
@@ -194,6 +200,57 @@ impl PcapReader {
             }
             _ => Err(PcapError::Truncated("a block")),
         }
+    }
+
+    /// The usual case, a whole packet at hand where the next begins (a
+    /// pcap record, or an Enhanced Packet Block up to its trailing
+    /// length): read where it lies, with no copy, and the reader left as
+    /// the byte-by-byte reading leaves it after the packet. `None`, with
+    /// nothing read, for anything else (another block, a packet cut by
+    /// the chunk's end, any error of the file's structure), which the
+    /// byte-by-byte reading reads.
+    fn whole_packet(&mut self, input: &mut &[u8]) -> Option<Result<PcapEvent, PcapError>> {
+        if self.have != 0 || self.skip != 0 {
+            return None;
+        }
+        let o = self.order;
+        let (packet, at, size) = match self.state {
+            State::Record => {
+                let packet = self.record(input.get(..16)?).ok()?;
+                (packet, 16, 16 + usize::try_from(packet.captured).ok()?)
+            }
+            State::BlockHead if o.u32(input, 0) == EPB => {
+                let length = o.u32(input, 4);
+                let block = input.get(..usize::try_from(length).ok()?)?;
+                let fields = block.get(8..28)?;
+                let (interface, units, captured) = packet_fields(o, EPB, fields);
+                let tail = block.len().checked_sub(4)?;
+                if !block_length_ok(length)
+                    || o.u32(block, tail) != length
+                    || u64::from(captured) > u64::from(length).checked_sub(32)?
+                {
+                    return None;
+                }
+                let i = self.described(interface).ok()?;
+                self.block = (EPB, length, self.offset);
+                let packet = Packet {
+                    interface,
+                    link_type: i.link_type,
+                    captured,
+                    timestamp: block_time(units, i),
+                };
+                (packet, 28, block.len())
+            }
+            _ => return None,
+        };
+        let kept = usize::try_from(packet.captured).unwrap_or(BUF).min(BUF);
+        let data = input.get(at..)?.get(..kept)?;
+        let rest = input.get(size..)?;
+        let event = socketcan::event(packet, data);
+        *input = rest;
+        self.offset = self.offset.saturating_add(size as u64);
+        self.left = 0;
+        Some(event)
     }
 
     /// Skips what is to be skipped, then collects up to `want` bytes:
@@ -287,25 +344,9 @@ impl PcapReader {
                 Ok(None)
             }
             State::Record => {
-                let captured = o.u32(b, 8);
-                if captured > MAX_RECORD {
-                    return Err(PcapError::RecordLength { length: captured });
-                }
-                let link = self.interfaces.first().copied().unwrap_or(NO_INTERFACE);
-                let frac = u64::from(o.u32(b, 4));
-                let seconds = u64::from(o.u32(b, 0));
-                let timestamp = if link.resolution == 9 {
-                    micros_of(seconds, (frac + 500) / 1000)
-                } else {
-                    micros_of(seconds, frac)
-                };
-                self.left = u64::from(captured);
-                self.data(Packet {
-                    interface: 0,
-                    link_type: link.link_type,
-                    captured,
-                    timestamp,
-                })
+                let packet = self.record(b)?;
+                self.left = u64::from(packet.captured);
+                self.data(packet)
             }
             State::Data(packet) => {
                 let event = socketcan::event(packet, b);
@@ -388,14 +429,7 @@ impl PcapReader {
                 self.option(n)
             }
             State::PacketHead(block_type) => {
-                // EPB: interface (u32); PB: interface (u16), drops (u16).
-                let interface = if block_type == EPB {
-                    o.u32(b, 0)
-                } else {
-                    u32::from(o.u16(b, 0))
-                };
-                let ts = (u64::from(o.u32(b, 4)) << 32) | u64::from(o.u32(b, 8));
-                let captured = o.u32(b, 12);
+                let (interface, ts, captured) = packet_fields(o, block_type, b);
                 let i = self.interface(interface)?;
                 if u64::from(captured) > self.room() {
                     self.skip_to_tail();
@@ -452,10 +486,33 @@ impl PcapReader {
         Ok(None)
     }
 
+    /// A pcap record header's packet (its time, its length checked).
+    fn record(&self, b: &[u8]) -> Result<Packet, PcapError> {
+        let o = self.order;
+        let captured = o.u32(b, 8);
+        if captured > MAX_RECORD {
+            return Err(PcapError::RecordLength { length: captured });
+        }
+        let link = self.interfaces.first().copied().unwrap_or(NO_INTERFACE);
+        let frac = u64::from(o.u32(b, 4));
+        let seconds = u64::from(o.u32(b, 0));
+        let timestamp = if link.resolution == 9 {
+            micros_of(seconds, (frac + 500) / 1000)
+        } else {
+            micros_of(seconds, frac)
+        };
+        Ok(Packet {
+            interface: 0,
+            link_type: link.link_type,
+            captured,
+            timestamp,
+        })
+    }
+
     /// Keeps the block's type, length and start; checks the length.
     fn start_block(&mut self, block_type: u32, length: u32, offset: u64) -> Result<(), PcapError> {
         self.block = (block_type, length, offset);
-        if length < 12 || !length.is_multiple_of(4) || length > MAX_BLOCK {
+        if !block_length_ok(length) {
             return Err(PcapError::BlockLength { offset, length });
         }
         self.left = u64::from(length) - 8;
@@ -493,16 +550,22 @@ impl PcapReader {
     }
 
     /// The interface numbered `n` in the section.
-    fn interface(&mut self, n: u32) -> Result<Interface, PcapError> {
+    fn described(&self, n: u32) -> Result<Interface, PcapError> {
         let i = usize::try_from(n).unwrap_or(usize::MAX);
-        let found = if i >= self.described {
+        if i >= self.described {
             Err(PcapError::UnknownInterface { interface: n })
         } else {
             self.interfaces
                 .get(i)
                 .copied()
                 .ok_or(PcapError::TooManyInterfaces { interface: n })
-        };
+        }
+    }
+
+    /// The interface numbered `n` in the section; the block skipped when
+    /// there is none.
+    fn interface(&mut self, n: u32) -> Result<Interface, PcapError> {
+        let found = self.described(n);
         if found.is_err() {
             self.skip_to_tail();
         }
@@ -519,6 +582,26 @@ impl PcapReader {
     }
 }
 
+/// A block length pcapng allows (section 3.1: a multiple of 4, at least
+/// the 12 bytes of type, length and trailing length), up to [`MAX_BLOCK`].
+const fn block_length_ok(length: u32) -> bool {
+    length >= 12 && length.is_multiple_of(4) && length <= MAX_BLOCK
+}
+
+/// An Enhanced Packet Block's or a Packet Block's interface, time (in
+/// its interface's units) and captured length, from its fixed fields
+/// (EPB: interface u32; PB: interface u16, drops u16; then the time's
+/// high and low words and the captured length).
+fn packet_fields(o: Order, block_type: u32, b: &[u8]) -> (u32, u64, u32) {
+    let interface = if block_type == EPB {
+        o.u32(b, 0)
+    } else {
+        u32::from(o.u16(b, 0))
+    };
+    let units = (u64::from(o.u32(b, 4)) << 32) | u64::from(o.u32(b, 8));
+    (interface, units, o.u32(b, 12))
+}
+
 /// `seconds` and `micros` as a [`Timestamp`], if in its range.
 fn micros_of(seconds: u64, micros: u64) -> Option<Timestamp> {
     let us = seconds.checked_mul(1_000_000)?.checked_add(micros)?;
@@ -528,6 +611,10 @@ fn micros_of(seconds: u64, micros: u64) -> Option<Timestamp> {
 /// A pcapng time (`units` of the interface's resolution since the UNIX
 /// epoch, plus its offset in seconds) to the nearest microsecond.
 pub(super) fn block_time(units: u64, i: Interface) -> Option<Timestamp> {
+    if i.resolution == 6 && i.offset == 0 {
+        // Microseconds (the default) and no offset: the units as they are.
+        return Some(Timestamp::from_micros(units));
+    }
     let units = u128::from(units);
     let exp = u32::from(i.resolution & 0x7F);
     let us: u128 = if i.resolution & 0x80 == 0 {

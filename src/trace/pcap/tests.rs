@@ -408,9 +408,15 @@ fn hostile_bytes_end_in_events_or_errors_never_a_panic() {
                 let at = (x as usize) % f.len();
                 f[at] = (x >> 32) as u8;
             }
-            let (events, _, _) = read_all(&f, 1 + (x as usize >> 40) % 64);
+            let (events, end, _) = read_all(&f, 1 + (x as usize >> 40) % 64);
             // No more events than bytes: every event consumed some.
             assert!(events.len() <= f.len());
+            // Whole packets read where they lie give what reading byte
+            // by byte gives.
+            let (bytewise, bytewise_end, _) = read_all(&f, 1);
+            let (whole, whole_end, _) = read_all(&f, f.len());
+            assert_eq!((&whole, whole_end), (&bytewise, bytewise_end));
+            assert_eq!((events, end), (bytewise, bytewise_end));
         }
     }
 }
