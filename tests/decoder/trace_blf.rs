@@ -146,7 +146,9 @@ fn lying_zlib_sizes_and_truncated_files_are_errors() {
             "{delta}: {end:?}"
         );
     }
-    for cut in [100, 150, 170, good.len() - 1] {
+    // The last cut is inside the last container whatever its padding (at
+    // most 3 bytes, which may end a file).
+    for cut in [100, 150, 170, good.len() - 4] {
         let (_, end) = read(&good[..cut], 64);
         assert!(
             matches!(end, Err(BlfError::Truncated(_))),
