@@ -46,7 +46,7 @@
 //! trc and python-can CSV lines; candump and ASC lines, BLF, pcap and MF4
 //! give theirs) takes the time of the frame before it, and a CAN FD frame
 //! whose reader does not give its identifier and data (every reader but
-//! candump's) is only counted, beside the load. A node's share
+//! candump's and pcap's) is only counted, beside the load. A node's share
 //! (of the bus time) is that of
 //! the COB-IDs the CiA 301 predefined connection set gives it (section
 //! 7.3.5: an RPDO or an SDO request counts for the node it addresses);

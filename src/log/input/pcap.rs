@@ -48,6 +48,7 @@ pub(super) fn read<F: FnMut(Item<'_>) -> io::Result<()>>(
                     what,
                     link_type,
                     timestamp,
+                    on_bus,
                 })) => {
                     packets += 1;
                     Item::Unsupported {
@@ -55,7 +56,7 @@ pub(super) fn read<F: FnMut(Item<'_>) -> io::Result<()>>(
                         what,
                         detail: Detail::LinkType(link_type),
                         timestamp,
-                        on_bus: None,
+                        on_bus,
                     }
                 }
                 Err(e) if e.is_fatal() => {

@@ -193,6 +193,9 @@ pub enum PcapEvent {
         link_type: u16,
         /// Its time, as a frame's.
         timestamp: Option<Timestamp>,
+        /// What the bus load counts of a CAN FD frame (its identifier,
+        /// flags and data) or an error frame; `None` for anything else.
+        on_bus: Option<crate::trace::OnBus>,
     },
 }
 

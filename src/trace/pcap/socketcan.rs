@@ -5,7 +5,7 @@
 use super::{PcapError, PcapEvent, PcapFrame, LINKTYPE_CAN_SOCKETCAN};
 use crate::clock::Timestamp;
 use crate::frame::{CanFrame, CanId};
-use crate::trace::Unsupported;
+use crate::trace::{FdFrame, OnBus, Unsupported};
 
 /// A packet whose data is being collected.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -36,11 +36,13 @@ const CANFD_FRAME: u32 = 72;
 /// The event of one packet; `data` is what was kept of its captured bytes
 /// (the first 96 or fewer).
 pub(super) fn event(packet: Packet, data: &[u8]) -> Result<PcapEvent, PcapError> {
-    let unsupported = |what| PcapEvent::Unsupported {
+    let on_bus = |what, on_bus| PcapEvent::Unsupported {
         what,
         link_type: packet.link_type,
         timestamp: packet.timestamp,
+        on_bus,
     };
+    let unsupported = |what| on_bus(what, None);
     if packet.link_type != LINKTYPE_CAN_SOCKETCAN {
         return Ok(unsupported(Unsupported::LinkType));
     }
@@ -59,18 +61,24 @@ pub(super) fn event(packet: Packet, data: &[u8]) -> Result<PcapEvent, PcapError>
     }
     let word = u32::from_be_bytes(word);
     if word & ERR != 0 {
-        return Ok(unsupported(Unsupported::ErrorFrame));
-    }
-    if fd_flags & FDF != 0 || packet.captured == CANFD_FRAME || length > 8 {
-        return Ok(unsupported(Unsupported::CanFd));
+        return Ok(on_bus(Unsupported::ErrorFrame, Some(OnBus::ErrorFrame)));
     }
     let raw = word & ID;
     let id = if word & EFF != 0 {
         CanId::extended(raw)
     } else {
         u16::try_from(raw).ok().and_then(CanId::standard)
+    };
+    if fd_flags & FDF != 0 || packet.captured == CANFD_FRAME || length > 8 {
+        // The frame for the bus load when its identifier and data are
+        // whole (FD flags: bit 0 BRS, bit 1 ESI).
+        let fd = id.and_then(|id| {
+            let payload = data.get(HEADER..HEADER + usize::from(length))?;
+            FdFrame::new(id, payload, fd_flags & 1 != 0, fd_flags & 2 != 0)
+        });
+        return Ok(on_bus(Unsupported::CanFd, fd.map(OnBus::Fd)));
     }
-    .ok_or(PcapError::BadId { raw })?;
+    let id = id.ok_or(PcapError::BadId { raw })?;
     let frame = if word & RTR != 0 {
         CanFrame::remote(id, length)
     } else {

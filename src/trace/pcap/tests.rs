@@ -247,7 +247,7 @@ fn pcapng_sections_interfaces_and_resolutions_are_honoured() {
 fn what_is_not_a_classic_frame_is_one_unsupported_event_per_packet() {
     let packets = [
         (1, 0, can(0x123 | 0x2000_0000, &[0; 8], 0, 16)),
-        (2, 0, can(0x123, &[1; 12], FDF_FLAG, 72)),
+        (2, 0, can(0x123, &[1; 12], FDF_FLAG | 1, 72)),
         (3, 0, can(0x123, &[1; 4], 0, 72)),
         (4, 0, can(0x123, &[1; 4], FDF_FLAG, 16)),
         (5, 0, {
@@ -263,14 +263,23 @@ fn what_is_not_a_classic_frame_is_one_unsupported_event_per_packet() {
     let what: Vec<_> = events
         .iter()
         .map(|e| match e {
-            Ok(PcapEvent::Unsupported { what, .. }) => format!("{what:?}"),
+            Ok(PcapEvent::Unsupported { what, on_bus, .. }) => format!("{what:?} {on_bus:?}"),
             Ok(PcapEvent::Frame(f)) => f.frame.to_string(),
             Err(e) => e.to_string(),
         })
         .collect();
+    // The FD frames with their identifier, flags (BRS the first) and data
+    // for the bus load.
     assert_eq!(
         what,
-        ["ErrorFrame", "CanFd", "CanFd", "CanFd", "CanXl", "123#09"]
+        [
+            "ErrorFrame Some(ErrorFrame)",
+            "CanFd Some(Fd(123##1010101010101010101010101))",
+            "CanFd Some(Fd(123##001010101))",
+            "CanFd Some(Fd(123##001010101))",
+            "CanXl None",
+            "123#09"
+        ]
     );
     // Ethernet packets: each one is reported, not dropped.
     let file = pcap_file(true, false, 1, &[(1, 0, vec![0; 60]), (2, 0, vec![0; 14])]);
@@ -282,6 +291,7 @@ fn what_is_not_a_classic_frame_is_one_unsupported_event_per_packet() {
             what: Unsupported::LinkType,
             link_type: 1,
             timestamp: Some(Timestamp::from_micros(s * 1_000_000)),
+            on_bus: None,
         }))
     );
 }
