@@ -16,8 +16,23 @@ delimiter, end of frame, intermission: 13 bits) added. The unstuffed
 count is the same without stuff bits, the worst case adds floor((g - 1)
 / 4) stuff bits to the g stuffed-region bits.
 
+A third trace python-can writes holds CAN FD frames (0-64 bytes, BRS
+and ESI at random, 11- and 29-bit) and error frames among classic ones.
+A CAN FD frame is laid out as ISO 11898-1:2015 section 10.4.2 has it:
+start of frame, identifier with RRS (SRR and IDE for 29 bits), FDF, res,
+BRS (the arbitration phase, at the nominal rate), then ESI, DLC and the
+data; dynamic stuff bits over those, none due after the last data bit
+(the CRC field's first fixed stuff bit takes its place); the CRC field
+(stuff count 4, CRC-17 or CRC-21 above 16 bytes, 6 or 7 fixed stuff
+bits) in the data phase, at the data rate when BRS is set; the tail (13
+bits) at the nominal rate. The worst case adds floor((g - 1) / 4) stuff
+bits, floor((a - 1) / 4) of them in the a bits of the arbitration phase.
+An error frame is 17 bits (23 in the worst case) at the nominal rate.
+The time of a frame is its nominal bits over the nominal rate plus its
+data-phase bits over the data rate; the loads and shares are of time.
+
 `canopen-decode --json --summary-only --bitrate 250000` (and 125000 for
-one log) must give: the exact bits of every COB-ID and every node
+one log; and with `--data-bitrate` for the FD trace) must give: the exact bits of every COB-ID and every node
 (predefined connection set: 080h+n EMCY, 180h-57Fh PDOs, 580h+n and
 600h+n SDO, 700h+n heartbeat; anything else no node), the frames, the
 mean load over the log (from the first frame's start to the last
@@ -83,6 +98,50 @@ def frame_bits(ident, extended, remote, dlc, data):
     return g + stuffed + tail, g + tail, g + tail + (g - 1) // 4
 
 
+FD_LENGTHS = [0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 20, 24, 32, 48, 64]
+
+
+def fd_frame_bits(ident, extended, brs, esi, data):
+    """((exact, unstuffed, worst) at the nominal rate, (the same) at the
+    data rate) of a CAN FD frame."""
+    dlc = next(i for i, n in enumerate(FD_LENGTHS) if n >= len(data))
+    data = bytes(data) + bytes(FD_LENGTHS[dlc] - len(data))
+    bits = [0]
+    if extended:
+        bits += to_bits(ident >> 18, 11) + [1, 1] + to_bits(ident & 0x3FFFF, 18) + [0]
+    else:
+        bits += to_bits(ident, 11) + [0, 0]
+    bits += [1, 0, 1 if brs else 0]  # FDF, res, BRS
+    a = len(bits)
+    bits += [1 if esi else 0] + to_bits(dlc, 4)
+    for byte in data:
+        bits += to_bits(byte, 8)
+    g = len(bits)
+    stuff_at = []  # the index of the bit each stuff bit follows
+    run_bit, run = None, 0
+    for i, b in enumerate(bits):
+        if b == run_bit:
+            run += 1
+        else:
+            run_bit, run = b, 1
+        if run == 5:
+            stuff_at.append(i)
+            run_bit, run = 1 - b, 1
+    stuff_at = [i for i in stuff_at if i != g - 1]  # the fixed stuff bit instead
+    s_a = sum(1 for i in stuff_at if i < a - 1)
+    s_d = len(stuff_at) - s_a
+    crc_field = 4 + 17 + 6 if len(data) <= 16 else 4 + 21 + 7
+    w, w_a = (g - 1) // 4, (a - 1) // 4
+    nominal = (a + 13 + s_a, a + 13, a + 13 + w_a)
+    fast = (g - a + crc_field + s_d, g - a + crc_field, g - a + crc_field + w - w_a)
+    if brs:
+        return nominal, fast
+    return tuple(x + y for x, y in zip(nominal, fast)), (0, 0, 0)
+
+
+ERROR_FRAME = ((17, 17, 23), (0, 0, 0))
+
+
 def node_of(ident, extended):
     if extended:
         return None
@@ -94,46 +153,64 @@ def node_of(ident, extended):
     return None
 
 
-def our_load(path, bitrate):
+def our_load(path, bitrate, data_bitrate):
     frames = []
     with can.CanutilsLogReader(path) as r:
         for m in r:
-            if m.is_error_frame or m.is_fd:
-                continue
             us = int((Decimal(repr(m.timestamp)) * 1000000).to_integral_value())
-            counts = frame_bits(m.arbitration_id, m.is_extended_id, m.is_remote_frame, m.dlc, bytes(m.data))
-            frames.append((us, m.arbitration_id, m.is_extended_id, counts))
+            if m.is_error_frame:
+                counts, key = ERROR_FRAME, None
+            elif m.is_fd:
+                counts = fd_frame_bits(m.arbitration_id, m.is_extended_id, m.bitrate_switch, m.error_state_indicator, bytes(m.data))
+                key = (m.arbitration_id, m.is_extended_id)
+            else:
+                counts = (frame_bits(m.arbitration_id, m.is_extended_id, m.is_remote_frame, m.dlc, bytes(m.data)), (0, 0, 0))
+                key = (m.arbitration_id, m.is_extended_id)
+            # Seconds on the bus: (exact, unstuffed, worst case).
+            time = [counts[0][i] / bitrate + counts[1][i] / data_bitrate for i in range(3)]
+            frames.append((us, key, counts, time))
     per_cob = defaultdict(int)
     per_node = defaultdict(int)
+    node_time = defaultdict(float)
     totals = [0, 0, 0]
-    for us, ident, extended, counts in frames:
-        per_cob[(ident, extended)] += counts[0]
-        per_node[node_of(ident, extended)] += counts[0]
+    total_time = [0.0, 0.0, 0.0]
+    errors = fd = brs = 0
+    for us, key, counts, time in frames:
+        bits = counts[0][0] + counts[1][0]
+        if key is None:
+            errors += 1
+        else:
+            per_cob[key] += bits
+            per_node[node_of(*key)] += bits
+            node_time[node_of(*key)] += time[0]
         for i in range(3):
-            totals[i] += counts[i]
+            totals[i] += counts[0][i] + counts[1][i]
+            total_time[i] += time[i]
     first_us, last_us = frames[0][0], frames[-1][0]
     # The log runs from the first frame's start (its time less its own
-    # exact bits) to the last frame's time.
-    duration = (last_us - first_us) / 1e6 + frames[0][3][0] / bitrate
-    mean = [100 * t / bitrate / duration for t in totals]
-    windows = defaultdict(lambda: [0, 0, 0, 0])
-    for us, _ident, _extended, counts in frames:
+    # exact time on the bus) to the last frame's time.
+    duration = (last_us - first_us) / 1e6 + frames[0][3][0]
+    mean = [100 * t / duration for t in total_time]
+    windows = defaultdict(lambda: [0, 0.0, 0.0, 0.0])
+    for us, _key, _counts, time in frames:
         w = windows[(us - first_us) // 1000000]
         w[0] += 1
         for i in range(3):
-            w[i + 1] += counts[i]
+            w[i + 1] += time[i]
     k, w = max(sorted(windows.items()), key=lambda kw: kw[1][1])
     peak = {
         "start": (first_us + k * 1000000) / 1e6,
         "frames": w[0],
-        "loads": [100 * b / bitrate for b in w[1:]],
+        "loads": [100 * t for t in w[1:]],
     }
-    return len(frames), totals, mean, peak, dict(per_cob), dict(per_node)
+    shares = {n: 100 * t / total_time[0] for n, t in node_time.items()}
+    return len(frames), totals, mean, peak, dict(per_cob), dict(per_node), shares, errors
 
 
-def decoder_load(decoder, path, bitrate):
+def decoder_load(decoder, path, bitrate, data_bitrate):
+    rates = ["--bitrate", str(bitrate)] + (["--data-bitrate", str(data_bitrate)] if data_bitrate else [])
     run = subprocess.run(
-        [decoder, "--json", "--summary-only", "--bitrate", str(bitrate), path],
+        [decoder, "--json", "--summary-only", *rates, path],
         capture_output=True,
         text=True,
     )
@@ -144,10 +221,12 @@ def decoder_load(decoder, path, bitrate):
     return run, None
 
 
-def check(name, decoder, path, bitrate):
+def check(name, decoder, path, bitrate, data_bitrate=None):
+    """`data_bitrate` None: the decoder's assumed 2 Mbit/s."""
     problems = []
-    count, totals, mean, peak, per_cob, per_node = our_load(path, bitrate)
-    run, summary = decoder_load(decoder, path, bitrate)
+    data_rate = max(data_bitrate or 2000000, bitrate)
+    count, totals, mean, peak, per_cob, per_node, shares, errors = our_load(path, bitrate, data_rate)
+    run, summary = decoder_load(decoder, path, bitrate, data_bitrate)
     if summary is None:
         print(f"{name}: no summary (exit {run.returncode}): {run.stderr[-300:]}")
         return False
@@ -156,6 +235,10 @@ def check(name, decoder, path, bitrate):
         problems.append("panicked")
     if b["bitrate"] != bitrate or b["bitrate_assumed"] or b["frames"] != count:
         problems.append(f"bitrate {b['bitrate']} assumed {b['bitrate_assumed']} frames {b['frames']} (ours {count})")
+    if b["data_bitrate"] != data_rate or b["data_bitrate_assumed"] != (data_bitrate is None):
+        problems.append(f"data bitrate {b['data_bitrate']} assumed {b['data_bitrate_assumed']}")
+    if b["error_frames"] != errors or b["fd_frames_not_in_load"]:
+        problems.append(f"error frames {b['error_frames']} (ours {errors}), FD not in the load {b['fd_frames_not_in_load']}")
     got_mean = [b["bus_load_percent"], b["unstuffed_percent"], b["worst_case_percent"]]
     if any(abs(g - w) > 1e-9 for g, w in zip(got_mean, mean)):
         problems.append(f"mean loads {got_mean}, ours {mean}")
@@ -179,12 +262,12 @@ def check(name, decoder, path, bitrate):
     nodes = {n["node"]: n["bits"] for n in b["nodes"]}
     if nodes != per_node:
         problems.append(f"node bits {nodes}, ours {per_node}")
-    total = sum(per_node.values())
     for n in b["nodes"]:
-        if abs(n["share_percent"] - 100 * n["bits"] / total) > 1e-9:
-            problems.append(f"node {n['node']} share {n['share_percent']}")
+        if abs(n["share_percent"] - shares[n["node"]]) > 1e-9:
+            problems.append(f"node {n['node']} share {n['share_percent']}, ours {shares[n['node']]}")
+    rates = f"{bitrate} bit/s" + (f", data {data_rate} bit/s" if b["fd_frames"] else "")
     print(
-        f"{name} at {bitrate} bit/s: {count} frames, {totals[0]} bits (unstuffed {totals[1]}, worst {totals[2]}), "
+        f"{name} at {rates}: {count} frames ({b['fd_frames']} FD, {errors} error), {totals[0]} bits (unstuffed {totals[1]}, worst {totals[2]}), "
         f"mean {got_mean[0]:.4f}% in [{got_mean[1]:.4f}, {got_mean[2]:.4f}], peak {got_peak[0]:.4f}%, "
         f"{len(per_node)} node entries: {'ok' if not problems else 'FAILED'}"
     )
@@ -212,6 +295,39 @@ def random_trace(path):
     w.stop()
 
 
+def random_fd_trace(path):
+    """A random trace of python-can's writer with CAN FD frames (BRS, ESI,
+    0-64 bytes) and error frames among classic ones: 400 frames."""
+    rng = random.Random(418)
+    t = 1_700_000_000.0
+    w = can.CanutilsLogWriter(path, channel="can0")
+    for i in range(400):
+        t += rng.choice([0.0002, 0.001, 0.01, 0.05])
+        extended = rng.random() < 0.3
+        ident = rng.randrange(1 << 29) if extended else rng.randrange(0x800)
+        kind = rng.random()
+        if kind < 0.05:
+            m = can.Message(timestamp=t, is_error_frame=True, arbitration_id=rng.choice([0x4, 0x80]), data=bytes(8))
+        elif kind < 0.5:
+            n = rng.choice(FD_LENGTHS)
+            data = bytes(rng.choice([0x00, 0xFF, 0x55, rng.randrange(256)]) for _ in range(n))
+            m = can.Message(
+                timestamp=t,
+                arbitration_id=ident,
+                is_extended_id=extended,
+                is_fd=True,
+                bitrate_switch=rng.random() < 0.7,
+                error_state_indicator=rng.random() < 0.2,
+                data=data,
+            )
+        else:
+            dlc = rng.randrange(9)
+            data = bytes(rng.choice([0x00, 0xFF, rng.randrange(256)]) for _ in range(dlc))
+            m = can.Message(timestamp=t, arbitration_id=ident, is_extended_id=extended, data=data)
+        w.on_message_received(m)
+    w.stop()
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("decoder")
@@ -224,6 +340,18 @@ def main():
     # the worst case is 8).
     assert crc15([0] * 19) == 0
     assert frame_bits(0, False, False, 0, b"") == (47 + 6, 47, 47 + 8)
+    # CAN FD by hand: 123h, BRS, 64 bytes FFh: 17 + 13 nominal bits (no
+    # stuff bit: runs of at most 3), at most 4 stuff bits there; ESI 0,
+    # DLC 1111 and 512 ones are one run of 516 ones (103 stuff bits), with
+    # the CRC field's 4 + 21 + 7 bits: 549 + 103, at most 549 + 133 - 4.
+    assert fd_frame_bits(0x123, False, True, False, b"\xff" * 64) == ((30, 30, 34), (652, 549, 678))
+    # 123h, BRS, 1Fh: FDF 1, res 0, BRS 1, ESI 0, DLC 0001, 0001 1111:
+    # the run of 5 ones ending the data takes no dynamic stuff bit; 62 + 8
+    # bits, 30 nominal and 5 + 8 + 27 data; at most 4 and 3 stuff bits.
+    assert fd_frame_bits(0x123, False, True, False, b"\x1f") == ((30, 30, 34), (40, 40, 43))
+    # Without BRS: res, BRS, ESI and the DLC's three zeros are a run of 6,
+    # one stuff bit; all 71 bits nominal.
+    assert fd_frame_bits(0x123, False, False, False, b"\x1f") == ((71, 70, 77), (0, 0, 0))
     cases = failed = 0
     with tempfile.TemporaryDirectory() as tmp:
         generated = os.path.join(tmp, "python-can-random.log")
@@ -233,6 +361,11 @@ def main():
             for bitrate in (250000,) if path != generated else (125000, 1000000):
                 cases += 1
                 failed += not check(name, args.decoder, path, bitrate)
+        fd_trace = os.path.join(tmp, "python-can-fd.log")
+        random_fd_trace(fd_trace)
+        for bitrate, data_bitrate in ((500000, 2000000), (1000000, 8000000), (250000, None)):
+            cases += 1
+            failed += not check("python-can CAN FD and error frames", args.decoder, fd_trace, bitrate, data_bitrate)
     print(f"{cases} cases, {failed} failed")
     sys.exit(1 if failed else 0)
 
