@@ -12,7 +12,7 @@ use crate::Timestamp;
 use crate::{CanId, Message};
 
 use crate::log::dataset::{self, PartFormat};
-use crate::log::input::{self, Item, Kind};
+use crate::log::input::{self, Item, Kind, Printable};
 use crate::log::summary::Decoded;
 use crate::log::{
     csv, dbc, is_default, json, line_cache, load_eds, mappings, page_transfer, pdo_learn, report,
@@ -110,7 +110,7 @@ impl<'o> Decoding<'o> {
         detail: &dyn std::fmt::Display,
         diag: &mut impl Write,
     ) {
-        let _ = writeln!(diag, "{at}: {what:?} not decoded: {detail}");
+        let _ = writeln!(diag, "{at}: {what:?} not decoded: {}", Printable(detail));
         if self.collect {
             let bus = match (on_bus, what) {
                 (Some(w), _) => Some(*w),
@@ -559,7 +559,7 @@ fn run_with(
             Ok(())
         }
         Item::Bad { at, why } => {
-            let _ = writeln!(diag, "{at}: {why}");
+            let _ = writeln!(diag, "{at}: {}", Printable(&why));
             run.bad += 1;
             Ok(())
         }

@@ -5,7 +5,8 @@
 //! with no log, a `.gz` that is not gzip and a path that does not exist.
 //! Each ends in an error that says what is wrong and the documented exit
 //! status (1 bad input or no frame, 2 an I/O or usage error, 0 for an
-//! empty input), never a panic.
+//! empty input), never a panic; control characters in what is echoed
+//! (escape sequences in a bad line, NULs in a block) are escaped.
 
 use std::process::Output;
 
@@ -98,6 +99,25 @@ fn hostile_files_end_in_a_clear_error_never_a_panic() {
         let (code, err) = status(name, &o);
         assert_eq!(code, Some(want), "{name}: {err}");
         assert!(err.contains(says), "{name}: {err}");
+    }
+    // Control characters in what is echoed (a bad line's escape sequences,
+    // an MF4 block's NUL bytes) are escaped: they never reach the terminal.
+    let mut mf4 = vec![0u8; 4096];
+    mf4[..28].copy_from_slice(b"MDF     4.10    hostile\0\0\0\0\0");
+    mf4[28..30].copy_from_slice(&410u16.to_le_bytes());
+    let cases: [(&str, Vec<u8>, &str); 2] = [
+        (
+            "hostile-escapes.log",
+            b"(1.000000) can0 70A#05\n(2.000000) can0 70A#05\x1b[31mRED\n\x1b]0;t\x07\n".to_vec(),
+            "70A#05\\u{1b}[31mRED",
+        ),
+        ("hostile-nul.mf4", mf4, "is \\u{0}\\u{0}\\u{0}\\u{0}, not"),
+    ];
+    for (name, bytes, says) in cases {
+        let (code, err) = status(name, &decode(&[&tmp(name, &bytes)]));
+        assert_eq!(code, Some(1), "{name}: {err}");
+        assert!(err.contains(says), "{name}: {err}");
+        assert!(!err.contains(['\x1b', '\x07', '\0']), "{name}: {err:?}");
     }
     let folder = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("hostile-folder");
     std::fs::create_dir_all(&folder).unwrap();

@@ -41,6 +41,7 @@ mod blf;
 mod lines;
 mod mf4;
 mod pcap;
+mod printable;
 mod spill;
 #[cfg(feature = "zlib")]
 mod zlib;
@@ -60,6 +61,7 @@ use crate::{CanFrame, Timestamp};
 pub use crate::trace::inflate::Zlib;
 pub use blf::{Inflate, Inflated, NoInflate};
 pub use lines::{newline, Block, FindNewline, LineReader, Piece, MAX_LINE};
+pub(crate) use printable::Printable;
 
 /// A binary trace format: told from a file's first bytes (its magic
 /// number, [`Binary::detect`]) when no line format is given, or named by
@@ -750,12 +752,15 @@ pub fn frames(input: impl Read, how: How, zlib: &mut dyn Inflate) -> io::Result<
                 frame: frame.frame,
             }),
             Item::Bad { at, why } if first_bad.is_none() => {
-                first_bad = Some(format!("{at}: {why}"));
+                first_bad = Some(format!("{at}: {}", Printable(&why)));
             }
             Item::Unsupported {
                 at, what, detail, ..
             } if first_unsupported.is_none() => {
-                first_unsupported = Some(format!("{at}: {what:?} not decoded: {detail}"));
+                first_unsupported = Some(format!(
+                    "{at}: {what:?} not decoded: {}",
+                    Printable(&detail)
+                ));
             }
             _ => {}
         }
