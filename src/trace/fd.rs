@@ -1,6 +1,6 @@
 //! A CAN FD frame as a trace gives it (ISO 11898-1:2015 section 10.4.2,
 //! the FD base and extended frame formats): the crate does not decode CAN
-//! FD, but the bus load counts its bits (`log::bus_load`).
+//! FD, but a bus load counts its bits.
 
 use crate::frame::CanId;
 

@@ -175,7 +175,7 @@ pub enum Unsupported {
 }
 
 /// A frame on the bus the crate does not decode, as far as a trace tells
-/// it: what the bus load counts of it (`log::bus_load`).
+/// it: what a bus load counts of it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum OnBus {
     /// A CAN FD frame.
