@@ -49,8 +49,12 @@ pub(super) struct Stream {
     /// The `##DT` being copied in windows: where its data not yet copied
     /// begins and where it ends.
     dt: (u64, u64),
+    /// The bytes read ahead: `buf[pos..end]` not yet taken (the buffer
+    /// keeps its length, so that it is not filled again before each
+    /// read).
     buf: Vec<u8>,
     pos: usize,
+    end: usize,
     /// A transposed `##DZ` block inflated, before it is turned back into
     /// records (kept for the next one).
     spare: Vec<u8>,
@@ -84,16 +88,17 @@ impl Stream {
             dt: (0, 0),
             buf: Vec::new(),
             pos: 0,
+            end: 0,
             spare: Vec::new(),
             hops: size / HEADER + 1,
             leaf,
         }
     }
 
-    /// The bytes it holds (read ahead, inflated; and the room kept for
-    /// a transposed block).
+    /// The bytes it holds (its buffer, as long as the most read ahead or
+    /// inflated at once, and the room kept for a transposed block).
     pub(super) fn held(&self) -> usize {
-        self.buf.len().saturating_add(self.spare.capacity())
+        self.buf.len().saturating_add(self.spare.len())
     }
 
     /// The next `n` bytes; `None` at the end of the data (an error when
@@ -104,9 +109,9 @@ impl Stream {
         src: &mut dyn Source,
         zlib: &mut dyn Inflate,
     ) -> Result<Option<&[u8]>, Mf4Error> {
-        while self.buf.len().saturating_sub(self.pos) < n {
+        while self.end.saturating_sub(self.pos) < n {
             if !self.more(src, zlib)? {
-                let left = self.buf.len().saturating_sub(self.pos);
+                let left = self.end.saturating_sub(self.pos);
                 if left == 0 {
                     return Ok(None);
                 }
@@ -126,13 +131,13 @@ impl Stream {
         zlib: &mut dyn Inflate,
     ) -> Result<(), Mf4Error> {
         loop {
-            let have = self.buf.len().saturating_sub(self.pos) as u64;
+            let have = self.end.saturating_sub(self.pos) as u64;
             if have >= n {
                 self.pos = self.pos.saturating_add(n as usize);
                 return Ok(());
             }
             n -= have;
-            self.pos = self.buf.len();
+            self.pos = self.end;
             if !self.more(src, zlib)? {
                 return Err(Mf4Error::RecordPastEnd {
                     need: usize::try_from(n).unwrap_or(usize::MAX),
@@ -145,19 +150,25 @@ impl Stream {
     /// Appends the next piece of data to the buffer (what is read
     /// dropped first); false at the end of the chain.
     fn more(&mut self, src: &mut dyn Source, zlib: &mut dyn Inflate) -> Result<bool, Mf4Error> {
-        self.buf.drain(..self.pos.min(self.buf.len()));
-        self.pos = 0;
+        let (pos, end) = (self.pos.min(self.end), self.end);
+        if end <= self.buf.len() {
+            self.buf.copy_within(pos..end, 0);
+        }
+        (self.pos, self.end) = (0, end - pos);
         loop {
-            let (from, end) = self.dt;
-            if from < end {
+            let (from, to) = self.dt;
+            if from < to {
                 // At most WINDOW: the cast holds.
-                let n = (end - from).min(WINDOW as u64) as usize;
-                let old = self.buf.len();
-                self.buf.resize(old.saturating_add(n), 0);
-                if let Some(to) = self.buf.get_mut(old..) {
-                    src.read_at(from, to)?;
+                let n = (to - from).min(WINDOW as u64) as usize;
+                let filled = self.end.saturating_add(n);
+                if self.buf.len() < filled {
+                    self.buf.resize(filled, 0);
                 }
-                self.dt = (from.saturating_add(n as u64), end);
+                if let Some(window) = self.buf.get_mut(self.end..filled) {
+                    src.read_at(from, window)?;
+                }
+                self.end = filled;
+                self.dt = (from.saturating_add(n as u64), to);
                 return Ok(true);
             }
             let Some(at) = self.next_block(src)? else {
@@ -167,9 +178,10 @@ impl Stream {
             if h.id == self.leaf {
                 self.dt = (h.data, h.end);
             } else {
-                let before = self.buf.len();
-                inflate_dz(src, &h, self.leaf, &mut self.buf, &mut self.spare, zlib)?;
-                if self.buf.len() > before {
+                let out = (&mut self.buf, self.end);
+                let made = inflate_dz(src, &h, self.leaf, out, &mut self.spare, zlib)?;
+                self.end = self.end.saturating_add(made);
+                if made > 0 {
                     return Ok(true);
                 }
             }
@@ -228,20 +240,21 @@ impl Stream {
     }
 }
 
-/// Inflates the `##DZ` block `b` (of a `leaf`: `##DT` or `##SD`) onto `out`: deflate (zip
-/// type 0) or transposed deflate (1: the records' bytes stored column by
-/// column, `dz_zip_parameter` columns; the bytes past the last whole row
-/// as they are), ASAM MDF 4.1 section 5.26. A transposed block is
-/// inflated into `spare` (kept for the next block) and turned back into
-/// rows on `out`.
+/// Inflates the `##DZ` block `b` (of a `leaf`: `##DT` or `##SD`) into
+/// `out.0` from byte `out.1` on, and says how many bytes it made: deflate
+/// (zip type 0) or transposed deflate (1: the records' bytes stored column
+/// by column, `dz_zip_parameter` columns; the bytes past the last whole
+/// row as they are), ASAM MDF 4.1 section 5.26. A transposed block is
+/// inflated into `spare` (kept for the next block), then turned back into
+/// records. The buffers grow when the block needs it, never shrink.
 pub(super) fn inflate_dz(
     src: &mut dyn Source,
     b: &Head,
     leaf: [u8; 4],
-    out: &mut Vec<u8>,
+    (out, base): (&mut Vec<u8>, usize),
     spare: &mut Vec<u8>,
     zlib: &mut dyn Inflate,
-) -> Result<(), Mf4Error> {
+) -> Result<usize, Mf4Error> {
     let at = b.at;
     // dz_org_block_type (2), dz_zip_type, reserved, dz_zip_parameter (u32),
     // dz_org_data_length (u64), dz_data_length (u64).
@@ -276,29 +289,33 @@ pub(super) fn inflate_dz(
     // declared <= MAX_INFLATED fits usize.
     let size = declared as usize;
     if zip == 0 || columns == 0 {
-        return inflate(src, at, compressed, size, out, zlib);
+        inflate(src, at, compressed, size, (out, base), zlib)?;
+        return Ok(size);
     }
-    spare.clear();
-    inflate(src, at, compressed, size, spare, zlib)?;
-    let base = out.len();
-    out.resize(base.saturating_add(size), 0);
-    untranspose(spare, columns, out.get_mut(base..).unwrap_or(&mut []));
-    Ok(())
+    inflate(src, at, compressed, size, (spare, 0), zlib)?;
+    let end = base.saturating_add(size);
+    if out.len() < end {
+        out.resize(end, 0);
+    }
+    let raw = spare.get(..size).unwrap_or(&[]);
+    untranspose(raw, columns, out.get_mut(base..end).unwrap_or(&mut []));
+    Ok(size)
 }
 
 /// Inflates the zlib stream at `compressed` (its first byte and its end
-/// in the file) of the block at `at` onto `out`: exactly `size` bytes, or
-/// the error. The output grows as it is made (doubling from [`PIECE`]),
-/// so a block that declares much and holds little costs what it holds.
+/// in the file) of the block at `at` into `out.0` from byte `out.1` on:
+/// exactly `size` bytes, or the error. The buffer grows as the bytes are
+/// made (doubling from [`PIECE`]), so a block that declares much and
+/// holds little costs what it holds.
 fn inflate(
     src: &mut dyn Source,
     at: u64,
     (mut next, end): (u64, u64),
     size: usize,
-    out: &mut Vec<u8>,
+    (out, base): (&mut Vec<u8>, usize),
     zlib: &mut dyn Inflate,
 ) -> Result<(), Mf4Error> {
-    let base = out.len();
+    let before = out.len();
     // One byte of room past `size`, so that a stream inflating to more is
     // seen.
     let limit = base.saturating_add(size).saturating_add(1);
@@ -319,7 +336,7 @@ fn inflate(
             }
             next = next.saturating_add(have as u64);
         }
-        if made == out.len() {
+        if made >= out.len() {
             let grown = made.saturating_add(PIECE.max(made - base)).min(limit);
             out.resize(grown, 0);
         }
@@ -337,12 +354,9 @@ fn inflate(
             break Ok(());
         }
     };
+    // What grew past the bytes made (the byte of room) goes.
+    out.truncate(before.max(made));
     let inflated = made - base;
-    out.truncate(if result.is_ok() && inflated == size {
-        made
-    } else {
-        base
-    });
     match result {
         Ok(()) if inflated == size => Ok(()),
         Err(Some(e)) => Err(e),

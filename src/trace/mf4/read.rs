@@ -84,6 +84,8 @@ struct Cursor {
     groups: Vec<Group>,
     /// The last value of a variable-length group: its record id and value.
     last: Option<(u64, Value)>,
+    /// Whether a group reads `##SD` signal data (a stream of its own).
+    signals: bool,
     /// The next event, read ahead for the merge by time.
     head: Option<Mf4Event>,
     done: bool,
@@ -226,6 +228,9 @@ impl<S: Source> Mf4Reader<S> {
                 cursors.push(Cursor {
                     stream: Stream::new(file_size, dg.link(2)),
                     record_id_size,
+                    signals: groups
+                        .iter()
+                        .any(|g| matches!(g.signal, Signal::Data { .. })),
                     groups,
                     last: None,
                     head: None,
@@ -312,6 +317,9 @@ fn time_of(e: &Mf4Event) -> Option<Timestamp> {
 impl Cursor {
     /// The bytes its streams hold.
     fn held(&self) -> usize {
+        if !self.signals {
+            return self.stream.held();
+        }
         self.groups
             .iter()
             .map(|g| match &g.signal {
