@@ -45,8 +45,8 @@
 //! load; one read without a time (the error frames of candump screen, PCAN
 //! trc and python-can CSV lines; candump and ASC lines, BLF, pcap and MF4
 //! give theirs) takes the time of the frame before it, and a CAN FD frame
-//! whose reader does not give its identifier and data (every reader but
-//! candump's and pcap's) is only counted, beside the load. A node's share
+//! whose reader does not give its identifier and data (BLF, MF4, candump
+//! screen, trc) is only counted, beside the load. A node's share
 //! (of the bus time) is that of
 //! the COB-IDs the CiA 301 predefined connection set gives it (section
 //! 7.3.5: an RPDO or an SDO request counts for the node it addresses);

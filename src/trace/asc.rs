@@ -24,11 +24,59 @@
 //! trailer CANalyzer and CANoe write) is ignored. `Start of measurement`,
 //! `Log trigger event`, `Statistic:`, `Status:`, `ErrorFrame`, `CANFD` and
 //! system-variable (`SV:`) lines are events, not frames; any other line
-//! with a time that is not a frame is an error.
+//! with a time that is not a frame is an error. `ErrorFrame` and `CANFD`
+//! lines give the bus load their time and an FD frame's identifier, flags
+//! and data ([`Record::OnBus`]).
 
 use super::fields::{can_id, dec_u32, decimal_scaled, frame, hex_u32};
-use super::{OnBus, Record, RxTx, State, TraceError, TraceFrame, Unsupported};
+use super::{FdFrame, OnBus, Record, RxTx, State, TraceError, TraceFrame, Unsupported};
 use crate::clock::Timestamp;
+
+/// The frame of a `CANFD` line after its time and `CANFD`: channel,
+/// direction, identifier (`x` after a 29-bit one), an optional symbolic
+/// name, BRS and ESI (0 or 1), the DLC (hex), the data length (decimal)
+/// and the data bytes, as CANoe and python-can's `ASCWriter` write it
+/// (`1 Rx 123  1 0 9 12 00 01 ... 0B`); the trailer after the data
+/// (duration, length, flags, CRC, bit timings) is not read.
+fn fd_frame<'a>(mut tokens: impl Iterator<Item = &'a str>, state: &State) -> Option<FdFrame> {
+    let (_channel, _direction, id_text) = (tokens.next()?, tokens.next()?, tokens.next()?);
+    let id = frame_id(id_text, state).ok()?;
+    let flag = |t: &str| match t {
+        "0" => Some(false),
+        "1" => Some(true),
+        _ => None,
+    };
+    let mut tokens = tokens.peekable();
+    // A symbolic name before the flags.
+    if tokens.peek().copied().and_then(flag).is_none() {
+        tokens.next();
+    }
+    let brs = flag(tokens.next()?)?;
+    let esi = flag(tokens.next()?)?;
+    let _dlc = hex_u32(tokens.next()?)?;
+    let len = usize::try_from(dec_u32(tokens.next()?)?).ok()?;
+    let mut data = [0u8; 64];
+    for byte in data.get_mut(..len)? {
+        *byte = u8::try_from(hex_u32(tokens.next()?)?).ok()?;
+    }
+    FdFrame::new(id, data.get(..len)?, brs, esi)
+}
+
+/// An identifier field: hex (decimal after `base dec`), `x` after a
+/// 29-bit one.
+fn frame_id(id_text: &str, state: &State) -> Result<crate::frame::CanId, TraceError> {
+    let (digits, extended) = match id_text.strip_suffix(['x', 'X']) {
+        Some(d) => (d, true),
+        None => (id_text, false),
+    };
+    let raw = if state.asc_decimal {
+        dec_u32(digits)
+    } else {
+        hex_u32(digits)
+    }
+    .ok_or(TraceError::BadId)?;
+    can_id(raw, extended)
+}
 
 /// True when the line is an ASC frame line.
 pub(super) fn looks_like_frame(line: &str) -> bool {
@@ -71,7 +119,16 @@ pub(super) fn parse<'a>(line: &'a str, state: &mut State) -> Result<Record<'a>, 
     };
     let second = tokens.next().ok_or(TraceError::MissingField)?;
     if second.eq_ignore_ascii_case("CANFD") {
-        return Ok(Record::Unsupported(Unsupported::CanFd));
+        // A line whose frame does not read is still a CAN FD frame,
+        // counted beside the bus load.
+        return Ok(
+            fd_frame(tokens, state).map_or(Record::Unsupported(Unsupported::CanFd), |f| {
+                Record::OnBus {
+                    timestamp: Some(Timestamp::from_micros(us)),
+                    what: OnBus::Fd(f),
+                }
+            }),
+        );
     }
     if dec_u32(second).is_none() {
         // `Start of measurement`, `Log trigger event`, system variables.
@@ -98,17 +155,7 @@ pub(super) fn parse<'a>(line: &'a str, state: &mut State) -> Result<Record<'a>, 
         Some("Tx") => RxTx::Tx,
         _ => return Err(TraceError::MissingField),
     };
-    let (digits, extended) = match id_text.strip_suffix(['x', 'X']) {
-        Some(d) => (d, true),
-        None => (id_text, false),
-    };
-    let raw = if state.asc_decimal {
-        dec_u32(digits)
-    } else {
-        hex_u32(digits)
-    }
-    .ok_or(TraceError::BadId)?;
-    let id = can_id(raw, extended)?;
+    let id = frame_id(id_text, state)?;
     let remote = match tokens.next() {
         Some("d") => false,
         Some("r") => true,

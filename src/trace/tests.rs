@@ -81,6 +81,27 @@ fn traces_read_line_by_line() {
             ],
             format: Some(Format::VectorAsc),
         },
+        // python-can's ASCWriter's CAN FD lines (BRS, ESI, DLC, length,
+        // data, its trailer), one with a symbolic name, one cut short.
+        Case {
+            name: "ASC: CAN FD frames for the bus load",
+            parser: || LineParser::new(Format::VectorAsc),
+            lines: &[
+                "base hex  timestamps absolute",
+                " 0.000000 CANFD   1 Rx        123                                   1 0 9 12 00 01 02 03 04 05 06 07 08 09 0A 0B        0    0     3000        0        0        0        0        0",
+                " 0.100000 CANFD   1 Rx   12345678x                                   0 1 3  3 01 01 01        0    0     5000        0        0        0        0        0",
+                " 0.200000 CANFD   1 Tx   123  MotorStatus  1 1 0  0",
+                " 0.300000 CANFD   1 Rx   123  1 0 9 12 00 01",
+            ],
+            want: &[
+                "meta",
+                "on bus 0 Fd(123##1000102030405060708090A0B)",
+                "on bus 100000 Fd(12345678##2010101)",
+                "on bus 200000 Fd(123##3)",
+                "unsupported CanFd",
+            ],
+            format: None,
+        },
         Case {
             name: "ASC: decimal base, error frames, CAN FD and trailing text",
             parser: || LineParser::new(Format::VectorAsc),

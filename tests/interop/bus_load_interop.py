@@ -328,6 +328,38 @@ def random_fd_trace(path):
     w.stop()
 
 
+def same_as_asc(decoder, log, asc):
+    """The FD trace written again by python-can's ASCWriter (CANFD and
+    ErrorFrame lines) gives the candump log's bus load: the same bits per
+    COB-ID, FD and error frames, and mean loads."""
+    with can.CanutilsLogReader(log) as r, can.ASCWriter(asc) as w:
+        for m in r:
+            m.channel = 0
+            w.on_message_received(m)
+    loads = []
+    for path in (log, asc):
+        run, summary = decoder_load(decoder, path, 500000, 2000000)
+        if summary is None:
+            print(f"ASC copy: no summary for {path} (exit {run.returncode}): {run.stderr[-300:]}")
+            return False
+        b = summary["bus_load"]
+        cobs = {(c["cob_id"], c["extended"]): c["bits"] for c in b["cob_ids"]}
+        counts = [b[k] for k in ("frames", "error_frames", "fd_frames", "fd_brs_frames", "fd_frames_not_in_load")]
+        loads.append((cobs, counts, [b["bus_load_percent"], b["unstuffed_percent"], b["worst_case_percent"]]))
+    (cobs, counts, mean), (a_cobs, a_counts, a_mean) = loads
+    problems = []
+    if cobs != a_cobs:
+        problems.append(f"{len(set(cobs.items()) ^ set(a_cobs.items()))} COB-ID bit counts differ")
+    if counts != a_counts:
+        problems.append(f"frames, error, FD, BRS, FD not in the load: {a_counts}, the candump log's {counts}")
+    if any(abs(x - y) > 1e-6 for x, y in zip(mean, a_mean)):
+        problems.append(f"mean loads {a_mean}, the candump log's {mean}")
+    print(f"python-can ASC copy of the FD trace: {a_counts[0]} frames ({a_counts[2]} FD, {a_counts[1]} error): {'ok' if not problems else 'FAILED'}")
+    for x in problems:
+        print("   ", x)
+    return not problems
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("decoder")
@@ -366,6 +398,8 @@ def main():
         for bitrate, data_bitrate in ((500000, 2000000), (1000000, 8000000), (250000, None)):
             cases += 1
             failed += not check("python-can CAN FD and error frames", args.decoder, fd_trace, bitrate, data_bitrate)
+        cases += 1
+        failed += not same_as_asc(args.decoder, fd_trace, os.path.join(tmp, "python-can-fd.asc"))
     print(f"{cases} cases, {failed} failed")
     sys.exit(1 if failed else 0)
 
