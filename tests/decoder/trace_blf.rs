@@ -235,6 +235,28 @@ mod program {
         assert!(err.contains("1 CAN FD frame(s), 1 error frame(s)"), "{err}");
         assert!(err.contains("1 other BLF object(s) skipped"), "{err}");
         assert_eq!(String::from_utf8_lossy(&o.stdout).lines().count(), 1);
+        // The bus load: the error object's 17 bits beside 70A#05's 57 (55
+        // and 2 stuff bits); the FD object, whose frame the reader does not
+        // give, counted beside the load.
+        let blf = tmp("mixed-load.blf", &file(START, &objects, 64, true));
+        let o = decode(&["--json", "--summary-only", &blf]);
+        let out = String::from_utf8_lossy(&o.stdout);
+        let summary: serde_json::Value = out
+            .lines()
+            .filter_map(|l| serde_json::from_str(l).ok())
+            .find(|v: &serde_json::Value| v["kind"] == "summary")
+            .expect("a summary");
+        let b = &summary["bus_load"];
+        assert_eq!(
+            (b["frames"].as_u64(), b["error_frames"].as_u64()),
+            (Some(2), Some(1))
+        );
+        assert_eq!(
+            (b["fd_frames"].as_u64(), b["fd_frames_not_in_load"].as_u64()),
+            (Some(0), Some(1))
+        );
+        let share = b["error_frames_share_percent"].as_f64().unwrap();
+        assert!((share - 17.0 * 100.0 / 74.0).abs() < 1e-9, "{share}");
     }
 
     #[test]
