@@ -580,7 +580,12 @@ fn run_with(
     let (bad, open) = run.finish(out, diag)?;
     let no_frame = match totals.kind {
         _ if totals.frames > 0 => false,
-        Kind::Lines { lines: 0, .. } => false,
+        // An empty input (a 0-byte file, a pipe closed before its first
+        // line) is read as nothing: said, never a silent empty summary.
+        Kind::Lines { lines: 0, .. } => {
+            let _ = writeln!(diag, "canopen-decode: the input is empty: no line, no frame");
+            true
+        }
         kind @ Kind::Lines { lines, .. } => {
             let _ = writeln!(
                 diag,

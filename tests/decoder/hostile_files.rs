@@ -4,8 +4,8 @@
 //! alone, gzip-compressed and cut, random bytes, an empty file, a folder
 //! with no log, a `.gz` that is not gzip and a path that does not exist.
 //! Each ends in an error that says what is wrong and the documented exit
-//! status (1 bad input or no frame, 2 an I/O or usage error, 0 for an
-//! empty input), never a panic; control characters in what is echoed
+//! status (1 bad input or no frame, an empty input included: a file read
+//! as nothing is an error; 2 an I/O or usage error), never a panic; control characters in what is echoed
 //! (escape sequences in a bad line, NULs in a block) are escaped.
 
 use std::process::Output;
@@ -86,7 +86,7 @@ fn hostile_files_end_in_a_clear_error_never_a_panic() {
     }
     let cases: [(&str, Vec<u8>, i32, &str); 3] = [
         ("hostile-noise", noise(5000), 1, "no format detected"),
-        ("hostile-empty.log", Vec::new(), 0, ""),
+        ("hostile-empty.log", Vec::new(), 1, "the input is empty"),
         (
             "hostile-not.gz",
             [&[0x1F, 0x8B][..], &noise(300)].concat(),
