@@ -18,6 +18,8 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 fn script(mode: OperatingMode, hours: f64, loss: f64) -> Script {
     Script {
         mode,
+        algorithm: None,
+        no_can_algorithm: None,
         battery: Battery {
             battery_type: BatteryType::from_name("flooded").unwrap(),
             cells: 24,

@@ -85,11 +85,7 @@ pub struct SessionConfig {
 impl SessionConfig {
     /// A 48 V session in `mode`: a pack of `chemistry` (24 lead-acid, 40
     /// nickel or 13 lithium-ion cells, [`PackSpec::cells_for`]) of
-    /// `capacity_ah`, at `start_soc`, the module asking up to 25 A, a
-    /// 250 ms physics step. The charger's permanent and no-CAN algorithm
-    /// is the example table's for the pack
-    /// ([`select`](crate::deltaq::charge::algorithm::select): 1 flooded
-    /// lead acid, 11 lithium ion, 21 NiCd, 31 NiMH).
+    /// `capacity_ah`, at `start_soc`; the rest as [`for_pack`](Self::for_pack).
     pub fn new(
         mode: OperatingMode,
         chemistry: Chemistry,
@@ -98,14 +94,29 @@ impl SessionConfig {
     ) -> Result<Self, super::PackError> {
         let cells = PackSpec::cells_for(chemistry, 48.0).max(1);
         let pack = PackSpec::new(chemistry, cells, capacity_ah)?;
+        Ok(Self::for_pack(mode, pack, start_soc))
+    }
+
+    /// A session in `mode` of `pack` at `start_soc`, the module asking up
+    /// to 25 A, a 250 ms physics step. The charger has no permanent
+    /// algorithm: as a Delta-Q charger on a CANopen battery it charges
+    /// with the algorithm of its table for the battery the module reports
+    /// in 6020h ([`Identification`](crate::deltaq::charge::Identification);
+    /// none fits: none, E-0-2-0 in local mode). Its no-CAN algorithm (the
+    /// default without a module, or when the 6020h read fails; what a
+    /// monitoring charger runs) is the table's for `pack`
+    /// ([`select`](crate::deltaq::charge::algorithm::select) on its type
+    /// and cells, as the installer sets it for the fleet's battery), none
+    /// when none fits.
+    #[must_use]
+    pub fn for_pack(mode: OperatingMode, pack: PackSpec, start_soc: f64) -> Self {
         let mut charger = ChargerConfig::new(CHARGER_NODE, MODULE_NODE);
         let table = charger.charge.algorithms;
-        let algorithm =
-            crate::deltaq::charge::algorithm::select(table, pack.battery_type.into(), cells)
-                .map_or(1, |a| a.id);
+        let fits =
+            crate::deltaq::charge::algorithm::select(table, pack.battery_type.into(), pack.cells);
         charger.mode = mode;
-        charger.charge.permanent_algorithm = Some(algorithm);
-        charger.charge.no_can_algorithm = Some(algorithm);
+        charger.charge.permanent_algorithm = None;
+        charger.charge.no_can_algorithm = fits.map(|a| a.id);
         let mut module = BatteryModuleConfig::new(MODULE_NODE);
         module.device_type = DeviceType::cia418(
             DeviceType::RPDO_2ND
@@ -114,7 +125,7 @@ impl SessionConfig {
                 | DeviceType::TPDO_3RD,
         );
         module.device_name = "canopen-codec battery module";
-        Ok(SessionConfig {
+        SessionConfig {
             charger,
             module,
             pack,
@@ -125,7 +136,7 @@ impl SessionConfig {
             bus_latency: Duration::ZERO,
             bus_loss: 0.0,
             bus_seed: DEFAULT_SEED,
-        })
+        }
     }
 }
 

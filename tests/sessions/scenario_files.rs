@@ -78,6 +78,42 @@ fn unknown_keys_and_bad_values_name_their_line() {
     assert!(e.message.contains("line 1"), "{e}");
 }
 
+#[test]
+fn the_charger_chooses_from_6020h_unless_the_file_sets_its_algorithms() {
+    let active = |text: &str| {
+        let (s, summary) = script(text).unwrap().run(|_| {}).unwrap();
+        let c = s.charger().unwrap().charge_control();
+        (c.active_algorithm(), c.permanent_algorithm(), summary)
+    };
+    let minute = "[run]\nuntil = \"0:01:00\"\n";
+    // Remote, no permanent algorithm: the module's 13 li-ion cells choose
+    // 11 (its thresholds), the BMS's 25 A flow meanwhile.
+    let (id, permanent, summary) = active(&format!("{BASE}{minute}"));
+    assert_eq!((id, permanent), (Some(11), None));
+    assert!(summary.output_on);
+    // A permanent algorithm is kept whatever the module says.
+    let set = BASE.replace("mode = \"remote\"\n", "mode = \"remote\"\nalgorithm = 13\n");
+    assert_eq!(active(&format!("{set}{minute}")).0, Some(13));
+    // Local without CAN: after the hold-off the file's default, 12 A.
+    let alone = BASE.replace(
+        "mode = \"remote\"\n",
+        "mode = \"local\"\nno_can_algorithm = 13\n",
+    );
+    let silent = "[[event]]\nat = \"0:00:00\"\naction = \"bms-silent\"\n";
+    let (id, _, summary) = active(&format!("{alone}{silent}{minute}"));
+    assert_eq!(id, Some(13));
+    assert_eq!(
+        summary.state,
+        canopen_codec::deltaq::charge::ChargePhase::Bulk
+    );
+    assert!(summary.ah > 12.0 * 50.0 / 3600.0 * 0.95 && summary.ah < 12.0 * 50.0 / 3600.0 * 1.05);
+    // An id the charger does not have names its line.
+    let bad = BASE.replace("mode = \"remote\"\n", "mode = \"remote\"\nalgorithm = 99\n");
+    let e = script(&format!("{bad}{minute}")).unwrap_err();
+    assert_eq!(e.line, 3, "{e}");
+    assert!(e.message.contains("unknown algorithm \"99\""), "{e}");
+}
+
 /// The run of `script` with the JSON lines it reports.
 fn run(text: &str) -> (Vec<String>, canopen_codec::sim::bench::Summary) {
     let mut lines = Vec::new();

@@ -4,16 +4,18 @@
 //! the algorithm chosen for it ([`algorithm::select`]).
 //!
 //! The Delta-Q IC Series CANopen interface specification is silent on the
-//! charger reading 6020h; what follows is ours. In local and local
-//! override mode a charger with no permanent algorithm
+//! charger reading 6020h; what follows is ours. In every mode but
+//! monitoring a charger with no permanent algorithm
 //! ([`ChargeConfig::permanent_algorithm`](super::ChargeConfig) `None`,
 //! and none stored by a 2241h write with bit 31) asks the module for its
 //! battery when it finds it ([`Charger`](crate::deltaq::Charger)): while
 //! the answer is [`Identification::Pending`] a BMS that says ready does
-//! not start a cycle; a [`Identification::Known`] battery makes the
-//! table's algorithm for its type and cells active (none fits: none is
-//! active, E-0-2-0 "active algorithm not set", rather than another
-//! chemistry's curve); a [`Identification::Failed`] read keeps the active
+//! not start a local cycle (a remote BMS's set points do not wait); a
+//! [`Identification::Known`] battery makes the table's algorithm for its
+//! type and cells active (none fits: none is active, in local mode
+//! E-0-2-0 "active algorithm not set", rather than another chemistry's
+//! curve; in remote mode the charger's maximum voltage is then the
+//! high-voltage threshold); a [`Identification::Failed`] read keeps the active
 //! algorithm or, with none, makes the no-CAN algorithm
 //! ([`ChargeConfig::no_can_algorithm`](super::ChargeConfig)) active. A
 //! choice is made only while no cycle runs (idle, CAN hold-off,

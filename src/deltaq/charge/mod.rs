@@ -33,6 +33,11 @@
 //! The current set point is the request, the voltage set point the voltage
 //! request (2271h, or 2276h in 16 bits: whichever was written last), which
 //! starts at the charger's maximum ([`ChargeConfig::max_voltage_mv`]).
+//! The active algorithm runs no cycle in remote mode; it sets the
+//! protections' thresholds (section 4.4.1: "as set by the algorithm
+//! profile in operation"; until the module's 6020h answers, with no
+//! algorithm, the high-voltage threshold is the charger's maximum). The
+//! output does not wait for that answer: the BMS runs the charge.
 //! 2006h shows charge type "none", indication "inactive" and override
 //! "external" in remote mode: the BMS runs the cycle (what the real ICL1500
 //! capture shows, 2006h = 0050h idle and 0070h while delivering).
@@ -86,7 +91,8 @@
 //! **Monitoring** (section 3.1: "allow other CANopen devices to monitor the
 //! charging parameters"): the charger runs its own cycle and takes no
 //! command from the bus (6000h, 6070h, 2271h/2276h, 2241h, 4201h and the
-//! module's EMCYs change nothing); no hold-off.
+//! module's EMCYs change nothing); no hold-off; its active algorithm, or
+//! with none its no-CAN algorithm (it is as a charger without CAN).
 //!
 //! ## Alarms
 //!
@@ -629,8 +635,10 @@ impl ChargeControl {
                         self.enter(now, P::Idle);
                     }
                 } else if matches!(self.mode, OperatingMode::MonitoringOnly) {
+                    // Nothing from the bus: its own algorithm, else its
+                    // default without CAN.
                     if !self.alarms.contains(ChargeAlarms::LOW_VOLTAGE) {
-                        self.start(now, self.active);
+                        self.start(now, self.active.or(self.config.no_can_algorithm));
                     }
                 } else {
                     if !self.held_off && self.timers.get(ChargeTimer::HoldOff).is_none() {

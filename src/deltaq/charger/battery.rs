@@ -1,18 +1,30 @@
 //! The charger asks the battery module for its battery: 6020h sub 1
 //! (battery type), sub 2 (Ah capacity) and sub 4 (number of cells), CiA
 //! 418 section 7.2.1, read by the charger's SDO client once the module is
-//! found and the PDO pairing is done, in local and local override mode
-//! when no permanent algorithm is set. The charge control picks the
+//! found and the PDO pairing is done, in local, local override and remote
+//! mode when no permanent algorithm is set. The charge control picks the
 //! algorithm for the answer ([`crate::deltaq::charge::Identification`]).
 //!
 //! The Delta-Q IC Series CANopen interface specification is silent on the
 //! charger reading 6020h; ours: in remote mode the BMS commands the set
-//! points and no algorithm runs, and in monitoring mode the charger takes
-//! nothing from the bus and runs its configured algorithm, so neither
-//! asks. A read the module aborts or leaves unanswered (the SDO timeout)
-//! is [`ChargerEvent::IdentificationFailed`] and the charger keeps its
-//! default; it never holds the charge longer than the SDO timeout per
-//! sub-index.
+//! points (section 3.1.1), but the alarms' thresholds are still "as set by
+//! the algorithm profile in operation" (section 4.4.1, E-0-0-1 and
+//! E-0-0-2) and section 7 runs its algorithm use cases in remote mode too,
+//! so a remote charger asks as well: its protections fit the battery. In
+//! monitoring mode the charger takes nothing from the bus (section 3.1)
+//! and runs its configured algorithm, so it does not ask.
+//!
+//! A read the module aborts is [`ChargerEvent::IdentificationFailed`] at
+//! once and the charger keeps its default (the module said no: asking
+//! again would say no again). A read left unanswered (the SDO timeout) is
+//! asked again from the sub-index it stopped at, [`ATTEMPTS`] reads in all
+//! for one finding of the module, and then fails the same way: a local
+//! start waits at most that many SDO timeouts. A charger that is NMT
+//! stopped when it finds the module, or stopped during the read, has no
+//! SDO (CiA 301 section 7.3.2.2): the question waits and the read starts
+//! (again) on its next transition into pre-operational or operational. A
+//! module found again (its heartbeat back after a loss, or its boot-up)
+//! is asked afresh.
 
 use super::{sdo_allowed, ChargerDevice, ChargerEvent, ChargerProfile};
 use crate::abort::AbortCode;
@@ -20,18 +32,21 @@ use crate::cia418::BATTERY_PARAMETERS;
 use crate::clock::Timestamp;
 use crate::deltaq::charge::{BatteryIdentity, Identification};
 use crate::deltaq::{AlgorithmRequest, OperatingMode};
+use crate::machine::Machine;
 
 /// 6020h sub-indexes read, in order: battery type, Ah capacity, cells.
 const SUBS: [u8; 3] = [1, 2, 4];
 
+/// Reads of 6020h for one finding of the module: the first and two more
+/// after SDO timeouts (ours).
+pub(super) const ATTEMPTS: u8 = 3;
+
 impl ChargerProfile {
-    /// This charger asks the module for its battery: local or local
-    /// override mode, no permanent algorithm.
+    /// This charger asks the module for its battery: any mode but
+    /// monitoring, no permanent algorithm.
     fn identifies(&self) -> bool {
-        matches!(
-            self.mode,
-            OperatingMode::Local | OperatingMode::LocalOverride
-        ) && self.charge.control.permanent_algorithm().is_none()
+        !matches!(self.mode, OperatingMode::MonitoringOnly)
+            && self.charge.control.permanent_algorithm().is_none()
     }
 
     /// The module was found: a charger that asks holds its cycle until
@@ -42,21 +57,25 @@ impl ChargerProfile {
         now: Timestamp,
     ) {
         self.reading = None;
+        self.attempts = 1;
         if self.identifies() {
             self.identified(device, now, Identification::Pending);
         }
     }
 
-    /// The pairing is done: the read starts if the charger waits for it.
+    /// The pairing is done, or the charger may use SDO again: the read
+    /// starts if the charger waits for it and none runs (while NMT
+    /// stopped it waits).
     pub(super) fn start_identification<const Q: usize>(
         &mut self,
         device: &mut ChargerDevice<Q>,
         now: Timestamp,
     ) {
-        if !matches!(
+        let waits = matches!(
             self.charge.control.identification(),
             Identification::Pending
-        ) {
+        );
+        if !waits || self.reading.is_some() || !sdo_allowed(device) {
             return;
         }
         self.found = BatteryIdentity {
@@ -64,11 +83,36 @@ impl ChargerProfile {
             capacity_ah: 0,
             cells: 0,
         };
-        if !sdo_allowed(device) {
-            self.identified(device, now, Identification::Failed);
-            return;
-        }
         self.read_sub(device, now, 0);
+    }
+
+    /// The read of `sub` ended without an answer (`code`): after an SDO
+    /// timeout it is asked again while attempts are left, else it failed.
+    pub(super) fn read_failed<const Q: usize>(
+        &mut self,
+        device: &mut ChargerDevice<Q>,
+        now: Timestamp,
+        sub: u8,
+        code: AbortCode,
+    ) {
+        match self.reading {
+            Some(step) if code == AbortCode::SdoProtocolTimedOut && self.attempts < ATTEMPTS => {
+                self.attempts += 1;
+                // The client's abort frame goes out before the new request
+                // (the client holds one frame).
+                if let Some(abort) = self.client.poll_transmit() {
+                    device.send(abort);
+                }
+                self.read_sub(device, now, step);
+            }
+            _ => self.identification_failed(device, now, sub, code),
+        }
+    }
+
+    /// NMT stopped during the read (no SDO there): the question waits for
+    /// pre-operational or operational.
+    pub(super) fn read_interrupted(&mut self) {
+        self.reading = None;
     }
 
     /// Starts reading `SUBS[i]`.

@@ -117,6 +117,28 @@ fn charges_with_the_default_after(c: &Charger<8>, events: &[ChargerEvent], code:
     assert_eq!(c.charge_control().phase(), ChargePhase::Bulk);
 }
 
+/// The module's heartbeat (operational) at each second from `from` to
+/// `to` s, each followed by the charger's timeout 10 ms later; the SDO
+/// requests it sent to the module and its events meanwhile.
+fn heartbeats(c: &mut Charger<8>, from: u64, to: u64) -> (Vec<String>, Vec<ChargerEvent>) {
+    let (mut frames, mut events) = (Vec::new(), Vec::new());
+    for t in from..=to {
+        c.handle_frame(ms(t * 1_000), &frame(0x701, &[0x05]));
+        c.handle_timeout(ms(t * 1_000 + 10));
+        let (f, e) = drain(c);
+        frames.extend(f);
+        events.extend(e);
+    }
+    (frames, events)
+}
+
+fn failures(events: &[ChargerEvent]) -> usize {
+    events
+        .iter()
+        .filter(|e| matches!(e, ChargerEvent::IdentificationFailed { .. }))
+        .count()
+}
+
 #[test]
 fn a_module_that_aborts_the_read_leaves_the_default() {
     let mut c = charger(None);
@@ -127,6 +149,11 @@ fn a_module_that_aborts_the_read_leaves_the_default() {
     let (frames, events) = drain(&mut c);
     assert!(frames.is_empty(), "{frames:?}");
     charges_with_the_default_after(&c, &events, AbortCode::ObjectDoesNotExist);
+    // The module said no: it is not asked again while it stays.
+    let (frames, events) = heartbeats(&mut c, 1, 20);
+    assert!(frames.is_empty(), "{frames:?}");
+    assert_eq!(failures(&events), 0);
+    assert_eq!(c.charge_control().active_algorithm(), Some(2));
 }
 
 #[test]
@@ -135,15 +162,80 @@ fn a_module_that_never_answers_times_out_to_the_default() {
     c.handle_frame(ms(10), &frame(0x701, &[0x05]));
     let _ = drain(&mut c);
     // The SDO timeout (2000 ms) runs out, the module's heartbeat still
-    // heard: the charger aborts the read and charges with its default.
-    c.handle_frame(ms(1_000), &frame(0x701, &[0x05]));
-    c.handle_timeout(ms(2_010));
-    let (frames, events) = drain(&mut c);
-    assert!(
-        frames.iter().any(|f| f == "601#8020600100000405"),
+    // heard: the charger aborts the read and asks again, three reads in
+    // all (ATTEMPTS), then charges with its default; then no more.
+    let (frames, events) = heartbeats(&mut c, 1, 7);
+    let abort = "601#8020600100000405";
+    assert_eq!(
+        frames.iter().filter(|f| *f == abort).count(),
+        3,
         "{frames:?}"
     );
+    assert_eq!(frames.iter().filter(|f| **f == request(1)).count(), 2);
+    assert_eq!(failures(&events), 1, "{events:?}");
     charges_with_the_default_after(&c, &events, AbortCode::SdoProtocolTimedOut);
+    let (frames, _) = heartbeats(&mut c, 8, 20);
+    assert!(frames.is_empty(), "{frames:?}");
+}
+
+#[test]
+fn a_read_that_timed_out_is_asked_again_and_the_answer_chooses() {
+    let mut c = charger(None);
+    c.handle_frame(ms(10), &frame(0x701, &[0x05]));
+    let _ = drain(&mut c);
+    let _ = answer(&mut c, 11, 1, &[0xA0]);
+    // Sub 2 is not answered: at its timeout the charger asks for sub 2
+    // again (what it has read stands) and holds the start meanwhile.
+    let (frames, events) = heartbeats(&mut c, 1, 3);
+    assert_eq!(frames, ["601#8020600200000405".to_string(), request(2)]);
+    assert_eq!(failures(&events), 0);
+    assert_eq!(c.charge_control().phase(), ChargePhase::Idle);
+    let (frames, _) = answer(&mut c, 3_100, 2, &100u16.to_le_bytes());
+    assert_eq!(frames, [request(4)]);
+    let (_, events) = answer(&mut c, 3_101, 4, &13u16.to_le_bytes());
+    assert!(
+        events.iter().any(|e| matches!(
+            e,
+            ChargerEvent::BatteryIdentified {
+                algorithm: Some(11),
+                ..
+            }
+        )),
+        "{events:?}"
+    );
+    assert_eq!(c.charge_control().phase(), ChargePhase::Bulk);
+}
+
+#[test]
+fn a_module_found_while_stopped_is_asked_once_the_charger_may_use_sdo() {
+    let mut c = charger(None);
+    // The NMT master stops the charger (000#020A) and the module is found
+    // meanwhile: no SDO in stopped (CiA 301), so the question waits, and
+    // so does the ready BMS's start.
+    c.handle_frame(ms(5), &frame(0x000, &[0x02, 0x0A]));
+    c.handle_frame(ms(10), &frame(0x701, &[0x05]));
+    let (frames, events) = heartbeats(&mut c, 1, 5);
+    assert!(frames.is_empty(), "{frames:?}");
+    assert_eq!(failures(&events), 0, "{events:?}");
+    assert_eq!(c.charge_control().phase(), ChargePhase::Idle);
+    // Started (000#010A): the read starts.
+    c.handle_frame(ms(5_500), &frame(0x000, &[0x01, 0x0A]));
+    let (frames, _) = drain(&mut c);
+    assert_eq!(frames, [request(1)]);
+    // Stopped during the read: it ends silently; pre-operational
+    // (000#800A) asks again from the start.
+    c.handle_frame(ms(5_600), &frame(0x000, &[0x02, 0x0A]));
+    let (frames, _) = drain(&mut c);
+    assert!(frames.is_empty(), "{frames:?}");
+    c.handle_frame(ms(5_700), &frame(0x000, &[0x80, 0x0A]));
+    let (frames, _) = drain(&mut c);
+    assert_eq!(frames, [request(1)]);
+    let _ = answer(&mut c, 5_701, 1, &[0x20]);
+    let _ = answer(&mut c, 5_702, 2, &150u16.to_le_bytes());
+    let (_, events) = answer(&mut c, 5_703, 4, &40u16.to_le_bytes());
+    assert_eq!(failures(&events), 0);
+    assert_eq!(c.charge_control().active_algorithm(), Some(21));
+    assert_eq!(c.charge_control().phase(), ChargePhase::Bulk);
 }
 
 #[test]

@@ -218,6 +218,9 @@ pub struct ChargerProfile {
     /// The step of the 6020h read in progress ([`battery`]), and what it
     /// has read.
     reading: Option<u8>,
+    /// Reads of 6020h started for this finding of the module
+    /// ([`battery::ATTEMPTS`] at most).
+    attempts: u8,
     found: BatteryIdentity,
     /// The charge control and what it was last given.
     charge: ControlLink,
@@ -341,6 +344,7 @@ impl ChargerProfile {
             timers: Timers::new(),
             upload_value: [0; 4],
             reading: None,
+            attempts: 0,
             found: BatteryIdentity {
                 battery_type: 0,
                 capacity_ah: 0,
@@ -420,7 +424,7 @@ impl ChargerProfile {
                     index, sub, code, ..
                 }) => {
                     if self.reading.is_some() {
-                        self.identification_failed(device, now, sub, code);
+                        self.read_failed(device, now, sub, code);
                     } else if matches!(self.link, Link::DeviceType | Link::CobId(..)) {
                         self.config_failed(device, now);
                         device.push_event(ChargerEvent::ConfigurationFailed { index, sub, code });
@@ -758,13 +762,18 @@ impl ChargerProfile {
                     self.link = Link::Pending;
                 } else if self.reading.is_some() {
                     self.fresh_client();
-                    self.identification_dropped(device, now);
+                    self.read_interrupted();
                 }
             }
             DeviceEvent::NmtStateChanged {
                 to: NmtState::PreOperational | NmtState::Operational,
                 ..
-            } if matches!(self.link, Link::Pending) => self.start_configuration(device, now),
+            } => match self.link {
+                Link::Pending => self.start_configuration(device, now),
+                // A 6020h question that waited for SDO.
+                Link::Ready => self.start_identification(device, now),
+                _ => {}
+            },
             DeviceEvent::Heartbeat(e) => {
                 // The module found: booted, back, or first heard with a
                 // state change (the first heartbeat is `on_frame`'s).

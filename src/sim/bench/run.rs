@@ -204,13 +204,14 @@ impl Script {
     /// A battery the pack model cannot be (see [`PackSpec::new`]).
     pub fn session(&self) -> Result<Session, PackError> {
         let b = &self.battery;
-        let chemistry = b.battery_type.chemistry();
-        let mut config =
-            SessionConfig::new(self.mode, chemistry, b.capacity_ah, b.soc_percent / 100.0)?;
-        config.pack = PackSpec {
+        let pack = PackSpec {
             ambient_c: b.temperature_c,
             ..PackSpec::of_type(b.battery_type, b.cells, b.capacity_ah)?
         };
+        let mut config = SessionConfig::for_pack(self.mode, pack, b.soc_percent / 100.0);
+        let charge = &mut config.charger.charge;
+        charge.permanent_algorithm = self.algorithm;
+        charge.no_can_algorithm = self.no_can_algorithm.or(charge.no_can_algorithm);
         config.tick = TICK;
         config.bus_latency = self.bus.latency;
         config.bus_loss = self.bus.loss;

@@ -3,6 +3,7 @@
 //! at its end, read from a scenario file's [`Item`] tree.
 
 use alloc::format;
+use alloc::string::String;
 use alloc::vec::Vec;
 use core::time::Duration;
 
@@ -17,6 +18,13 @@ use crate::sim::PackSpec;
 pub struct Script {
     /// The charger's operating mode (`[charger] mode`).
     pub mode: OperatingMode,
+    /// Its permanent algorithm (`[charger] algorithm`, an id of its
+    /// table); none: it charges with the algorithm for the battery the
+    /// module reports in 6020h.
+    pub algorithm: Option<u16>,
+    /// Its default without CAN (`[charger] no_can_algorithm`); none: the
+    /// table's for the battery.
+    pub no_can_algorithm: Option<u16>,
     /// The battery (`[battery]`).
     pub battery: Battery,
     /// The bus (`[bus]`; a perfect bus without it).
@@ -233,6 +241,11 @@ impl Script {
                 ))
             }
         };
+        let algorithm = charger.take("algorithm").map(algorithm_id).transpose()?;
+        let no_can_algorithm = charger
+            .take("no_can_algorithm")
+            .map(algorithm_id)
+            .transpose()?;
         charger.finish()?;
         let battery = read_battery(file.need("battery")?)?;
         let bus = match file.take("bus") {
@@ -266,6 +279,8 @@ impl Script {
         file.finish()?;
         Ok(Script {
             mode,
+            algorithm,
+            no_can_algorithm,
             battery,
             bus,
             events,
@@ -277,6 +292,23 @@ impl Script {
 
 fn unknown(line: u32, what: &str, got: &str, known: &str) -> ScriptError {
     ScriptError::new(line, format!("unknown {what} \"{got}\" (known: {known})"))
+}
+
+/// An algorithm id of the simulated charger's table
+/// ([`EXAMPLE_ALGORITHMS`](crate::deltaq::charge::EXAMPLE_ALGORITHMS)).
+fn algorithm_id(item: &Item) -> Result<u16, ScriptError> {
+    let table = &crate::deltaq::charge::EXAMPLE_ALGORITHMS;
+    let id = item.number("an algorithm id", 0.0..=65535.0)? as u16;
+    if table.iter().any(|a| a.id == id) {
+        return Ok(id);
+    }
+    let known: Vec<String> = table.iter().map(|a| format!("{}", a.id)).collect();
+    Err(unknown(
+        item.line,
+        "algorithm",
+        &format!("{id}"),
+        &known.join(", "),
+    ))
 }
 
 fn read_battery(item: &Item) -> Result<Battery, ScriptError> {
