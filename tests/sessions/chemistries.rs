@@ -1,6 +1,7 @@
 //! One whole local-mode charge per battery type (issue 35, item 5): the
-//! charger charges each pack with the example table's algorithm for its
-//! 6020h type and cells (`algorithm::select`), and the pack's physics
+//! charger reads the module's 6020h and charges each pack with the
+//! example table's algorithm for its type and cells (`algorithm::select`,
+//! no permanent algorithm), and the pack's physics
 //! (`sim::CellModel`) decide what it takes. Each session checks what
 //! physics bounds: the charge delivered against what the pack lacked over
 //! its chemistry's charge efficiency, the pack never above its cells'
@@ -12,7 +13,6 @@
 use core::time::Duration;
 
 use canopen_codec::cia418::{BatteryType, Chemistry};
-use canopen_codec::deltaq::charge::algorithm::select;
 use canopen_codec::deltaq::charge::ChargePhase;
 use canopen_codec::deltaq::{DeltaQCode, OperatingMode};
 use canopen_codec::sim::{PackSpec, Session, SessionConfig};
@@ -110,11 +110,9 @@ const CASES: [Case; 6] = [
 /// the session and the highest terminal voltage seen, V.
 fn charge(case: &Case) -> (Session, f64) {
     let t = BatteryType::from_name(case.name).unwrap();
-    let mut config = SessionConfig::new(OperatingMode::Local, t.chemistry(), 100.0, 0.2).unwrap();
-    config.pack = PackSpec::of_type(t, case.cells, 100.0).unwrap();
-    let algorithm = select(config.charger.charge.algorithms, t.into(), case.cells).unwrap();
-    config.charger.charge.permanent_algorithm = Some(algorithm.id);
-    config.charger.charge.no_can_algorithm = Some(algorithm.id);
+    // The charger chooses the algorithm from the module's 6020h.
+    let pack = PackSpec::of_type(t, case.cells, 100.0).unwrap();
+    let mut config = SessionConfig::for_pack(OperatingMode::Local, pack, 0.2);
     config.tick = Duration::from_secs(1);
     let mut s = Session::new(&config);
     s.start();
@@ -198,13 +196,15 @@ fn agm_and_gel_take_their_own_voltages() {
 
 #[test]
 fn nickel_cadmium_gets_its_own_algorithm_not_250_ah() {
-    // The default configuration of a NiCd session picks the NiCd
-    // algorithm (it used to charge 24 NiCd cells on the lead-acid curve,
-    // which never ended: 250 Ah into 100 Ah).
+    // A NiCd session's charger chooses the NiCd algorithm from the
+    // module's 6020h, and its default without CAN is the same (it used to
+    // charge 24 NiCd cells on the lead-acid curve, which never ended: 250
+    // Ah into 100 Ah).
     let config =
         SessionConfig::new(OperatingMode::Local, Chemistry::NickelCadmium, 100.0, 0.2).unwrap();
     assert_eq!(config.pack.cells, 40);
-    assert_eq!(config.charger.charge.permanent_algorithm, Some(21));
+    assert_eq!(config.charger.charge.permanent_algorithm, None);
+    assert_eq!(config.charger.charge.no_can_algorithm, Some(21));
     check(&CASES[3]);
 }
 

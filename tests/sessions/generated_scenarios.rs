@@ -27,11 +27,30 @@
 //!   terminated (issue 35: "45 degC latches the charge terminated for
 //!   ever"), and a pack below 90 % takes current again.
 //!
+//! The packs are of every 6020h battery type the pack model has (the
+//! lead-acid kinds, NiCd vented and sealed, NiMH, lithium ion) in the
+//! 12, 24, 36, 48, 72 and 80 V classes (lead acid 6-40 cells, lithium ion
+//! 4-24, nickel 10-60). The charger chooses its algorithm from the
+//! module's 6020h, and the simulated charger (48 V class: 25 A, 72 V at
+//! most) has algorithms for the 48 V packs only (24 lead-acid, 13
+//! lithium-ion, 40 nickel cells): any other pack is outside what it can
+//! charge, and a local charger refuses it with E-0-2-0 "active algorithm
+//! not set" (Delta-Q section 4.4.1) as soon as the BMS says ready, never
+//! with E-0-1-4 "cells invalid" (that is a configured algorithm meeting a
+//! pack of more cells, not a choice from 6020h), and delivers nothing. A
+//! remote charger is generated for the 48 V packs only (its BMS is set up
+//! for the charger it drives). A 6020h type the pack model has not (nickel
+//! zinc, silver oxide, ...) is refused when the file is read, naming the
+//! chemistry's line.
+//!
 //! 24 cases by default; `PROPTEST_CASES` runs more. Also three files
 //! written by hand in another style (`tests/data/scenarios-elsewhere/`).
 
 use std::collections::BTreeSet;
 
+use canopen_codec::cia418::BatteryType;
+use canopen_codec::deltaq::charge::algorithm::select;
+use canopen_codec::deltaq::charge::EXAMPLE_ALGORITHMS;
 use canopen_codec::sim::bench::{state_name, BenchEvent, Summary};
 use proptest::prelude::*;
 
@@ -41,53 +60,64 @@ use super::scenario_files::script;
 /// of 6010h, the physics step of a second, the charger's check).
 const LATENCY: f64 = 5.0;
 
-/// A chemistry: its 6020h name, the cells of a 48 V pack, the highest
-/// charge voltage per cell (V) and the worst charge factor.
+/// A chemistry: its 6020h names, the cells of its packs of the 12, 24,
+/// 36, 48, 72 and 80 V classes, the highest charge voltage per cell (V)
+/// and the worst charge factor.
 struct Chem {
-    name: &'static str,
-    cells: u32,
+    names: &'static [&'static str],
+    cells: &'static [u16],
     cell_max_v: f64,
     charge_factor: f64,
 }
 
-const CHEMISTRIES: [Chem; 6] = [
+const LEAD_ACID_CELLS: &[u16] = &[6, 12, 18, 24, 36, 40];
+const NICKEL_CELLS: &[u16] = &[10, 20, 30, 40, 60];
+
+const CHEMISTRIES: [Chem; 5] = [
     Chem {
-        name: "flooded",
-        cells: 24,
+        names: &[
+            "flooded",
+            "flooded-tubular",
+            "flooded-high-gravity",
+            "flooded-high-gravity-tubular",
+        ],
+        cells: LEAD_ACID_CELLS,
         cell_max_v: 2.58,
         charge_factor: 1.30,
     },
     Chem {
-        name: "agm",
-        cells: 24,
+        names: &["agm", "gel", "lead-acid-hybrid"],
+        cells: LEAD_ACID_CELLS,
         cell_max_v: 2.50,
         charge_factor: 1.30,
     },
     Chem {
-        name: "gel",
-        cells: 24,
-        cell_max_v: 2.50,
-        charge_factor: 1.30,
-    },
-    Chem {
-        name: "li-ion",
-        cells: 13,
+        names: &["li-ion"],
+        cells: &[4, 7, 10, 13, 20, 22, 24],
         cell_max_v: 4.20,
         charge_factor: 1.05,
     },
     Chem {
-        name: "nicd",
-        cells: 40,
+        names: &[
+            "nicd",
+            "nicd-sintered",
+            "nicd-sealed",
+            "nicd-sealed-sintered",
+        ],
+        cells: NICKEL_CELLS,
         cell_max_v: 1.65,
         charge_factor: 1.50,
     },
     Chem {
-        name: "nimh",
-        cells: 40,
+        names: &["nimh"],
+        cells: NICKEL_CELLS,
         cell_max_v: 1.60,
         charge_factor: 1.50,
     },
 ];
+
+/// 6020h types the pack model has no curve for: the file is refused.
+const WITHOUT_MODEL: [&str; 6] = ["nizn", "nife", "agzn", "nih2", "alkaline", "li-fes"];
 
 /// One thing that happens, over a window of minutes.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -107,6 +137,9 @@ enum Episode {
 #[derive(Debug, Clone)]
 struct Case {
     chem: usize,
+    /// Which of its names, and which of its classes' cell counts.
+    name: usize,
+    class: usize,
     capacity_ah: u32,
     soc: u32,
     temperature_c: i32,
@@ -125,6 +158,23 @@ struct Window {
 impl Case {
     fn chem(&self) -> &'static Chem {
         &CHEMISTRIES[self.chem]
+    }
+
+    fn name(&self) -> &'static str {
+        let names = self.chem().names;
+        names[self.name % names.len()]
+    }
+
+    fn cells(&self) -> u16 {
+        let cells = self.chem().cells;
+        cells[self.class % cells.len()]
+    }
+
+    /// The charger has an algorithm for the pack (its 6020h type and
+    /// cells): the pack is within what it can charge.
+    fn fits(&self) -> bool {
+        let t = BatteryType::from_name(self.name()).unwrap();
+        select(&EXAMPLE_ALGORITHMS, t.into(), self.cells()).is_some()
     }
 
     /// The windows: the first at 0:10:30, each 5 min after the one before
@@ -151,11 +201,14 @@ impl Case {
 
     /// The scenario file, in the format of docs/SCENARIOS.md.
     fn toml(&self) -> String {
-        let c = self.chem();
         let mode = if self.remote { "remote" } else { "local" };
         let mut t = format!(
             "# generated\n[charger]\nmode = \"{mode}\"\n[battery]\nchemistry = \"{}\"\ncells = {}\ncapacity_ah = {}\nsoc = {}\ntemperature_c = {}\n",
-            c.name, c.cells, self.capacity_ah, self.soc, self.temperature_c
+            self.name(),
+            self.cells(),
+            self.capacity_ah,
+            self.soc,
+            self.temperature_c
         );
         let mut event = |at: f64, action: &str, value: Option<String>| {
             t.push_str(&format!(
@@ -209,7 +262,7 @@ fn case() -> impl Strategy<Value = Case> {
         (5u32..=20).prop_map(Episode::Request),
     ];
     (
-        0..CHEMISTRIES.len(),
+        (0..CHEMISTRIES.len(), 0usize..4, 0usize..7),
         40u32..=400,
         10u32..=80,
         10i32..=35,
@@ -217,21 +270,27 @@ fn case() -> impl Strategy<Value = Case> {
         prop::collection::vec((episode, 3u32..=15), 1..=3),
     )
         .prop_map(
-            |(chem, capacity_ah, soc, temperature_c, remote, mut episodes)| {
-                // A new request is the remote BMS's; locally, heat instead.
-                for e in &mut episodes {
-                    if !remote && matches!(e.0, Episode::Request(_)) {
-                        e.0 = Episode::Heat;
-                    }
-                }
-                Case {
+            |((chem, name, class), capacity_ah, soc, temperature_c, remote, mut episodes)| {
+                let mut case = Case {
                     chem,
+                    name,
+                    class,
                     capacity_ah,
                     soc,
                     temperature_c,
                     remote,
-                    episodes,
+                    episodes: Vec::new(),
+                };
+                // A remote BMS is set up for its charger's packs.
+                case.remote = remote && case.fits();
+                // A new request is the remote BMS's; locally, heat instead.
+                for e in &mut episodes {
+                    if !case.remote && matches!(e.0, Episode::Request(_)) {
+                        e.0 = Episode::Heat;
+                    }
                 }
+                case.episodes = episodes;
+                case
             },
         )
 }
@@ -300,6 +359,9 @@ fn secs(at: canopen_codec::Timestamp) -> f64 {
 fn check(case: &Case) -> Result<(), TestCaseError> {
     let text = case.toml();
     let script = script(&text).map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;
+    if !case.fits() {
+        return check_refused(case, &script, &text);
+    }
     let mut events = Vec::new();
     let (_, summary) = script
         .run(|e| events.push(e.clone()))
@@ -329,7 +391,7 @@ fn check(case: &Case) -> Result<(), TestCaseError> {
         s.ah
     );
     // The voltage within the chemistry's charge limit.
-    let ceiling = f64::from(c.cells) * c.cell_max_v * 1.01;
+    let ceiling = f64::from(case.cells()) * c.cell_max_v * 1.01;
     prop_assert!(
         s.voltage_max <= ceiling,
         "{} V > {ceiling} V\n{text}",
@@ -391,6 +453,42 @@ fn check(case: &Case) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+/// A pack the charger has no algorithm for (local mode): E-0-2-0 as
+/// soon as the BMS says ready (the module's answer at the start), never
+/// E-0-1-4, and nothing delivered at any time.
+fn check_refused(
+    case: &Case,
+    script: &canopen_codec::sim::bench::Script,
+    text: &str,
+) -> Result<(), TestCaseError> {
+    let mut events = Vec::new();
+    let (_, summary) = script
+        .run(|e| events.push(e.clone()))
+        .map_err(|e| TestCaseError::fail(format!("{e}")))?;
+    let run = Run { events, summary };
+    prop_assert!(!case.remote);
+    let refused = run.change("E-0-2-0", true, 0.0, LATENCY);
+    prop_assert!(refused.is_some(), "no E-0-2-0 by {LATENCY} s\n{text}");
+    prop_assert!(
+        !run.summary
+            .raised
+            .iter()
+            .any(|c| c.to_string() == "E-0-1-4"),
+        "E-0-1-4 raised\n{text}"
+    );
+    prop_assert!(run.summary.ah <= 0.001, "{} Ah\n{text}", run.summary.ah);
+    for (t, amps, _) in run.samples() {
+        prop_assert!(amps <= 0.05, "{amps} A at {t} s\n{text}");
+    }
+    let charging = run
+        .summary
+        .states
+        .iter()
+        .find(|s| !matches!(state_name(**s), "idle" | "hold-off"));
+    prop_assert!(charging.is_none(), "{charging:?}\n{text}");
+    Ok(())
+}
+
 fn cases() -> u32 {
     std::env::var("PROPTEST_CASES")
         .ok()
@@ -404,6 +502,20 @@ proptest! {
     #[test]
     fn generated_scenario_files_give_what_physics_and_the_specification_predict(case in case()) {
         check(&case)?;
+    }
+}
+
+/// A 6020h battery type the pack model has no curve for is refused when
+/// the file is read, naming the chemistry's line.
+#[test]
+fn a_battery_type_without_a_model_is_refused_on_its_line() {
+    for name in WITHOUT_MODEL {
+        let text = format!(
+            "# generated\n[charger]\nmode = \"local\"\n[battery]\nchemistry = \"{name}\"\ncells = 24\ncapacity_ah = 100\nsoc = 50\n[run]\nuntil = \"0:10:00\"\n"
+        );
+        let e = script(&text).unwrap_err();
+        assert_eq!(e.line, 5, "{name}: {e}");
+        assert!(e.message.contains(name), "{name}: {e}");
     }
 }
 

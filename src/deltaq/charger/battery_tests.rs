@@ -48,6 +48,15 @@ fn charger(permanent: Option<u16>) -> Charger<8> {
     c
 }
 
+/// A charger without a permanent algorithm that found the module (its
+/// heartbeat at 10 ms) and asked for 6020h sub 1.
+fn asked() -> Charger<8> {
+    let mut c = charger(None);
+    c.handle_frame(ms(10), &frame(0x701, &[0x05]));
+    let _ = drain(&mut c);
+    c
+}
+
 /// The module's answer to the charger's upload of 6020h `sub`: `value`
 /// (1 or 2 bytes, expedited).
 fn answer(c: &mut Charger<8>, at: u64, sub: u8, value: &[u8]) -> (Vec<String>, Vec<ChargerEvent>) {
@@ -141,9 +150,7 @@ fn failures(events: &[ChargerEvent]) -> usize {
 
 #[test]
 fn a_module_that_aborts_the_read_leaves_the_default() {
-    let mut c = charger(None);
-    c.handle_frame(ms(10), &frame(0x701, &[0x05]));
-    let _ = drain(&mut c);
+    let mut c = asked();
     // 0602 0000h: the object does not exist.
     c.handle_frame(ms(11), &frame(0x581, &[0x80, 0x20, 0x60, 0x01, 0, 0, 2, 6]));
     let (frames, events) = drain(&mut c);
@@ -158,9 +165,7 @@ fn a_module_that_aborts_the_read_leaves_the_default() {
 
 #[test]
 fn a_module_that_never_answers_times_out_to_the_default() {
-    let mut c = charger(None);
-    c.handle_frame(ms(10), &frame(0x701, &[0x05]));
-    let _ = drain(&mut c);
+    let mut c = asked();
     // The SDO timeout (2000 ms) runs out, the module's heartbeat still
     // heard: the charger aborts the read and asks again, three reads in
     // all (ATTEMPTS), then charges with its default; then no more.
@@ -180,9 +185,7 @@ fn a_module_that_never_answers_times_out_to_the_default() {
 
 #[test]
 fn a_read_that_timed_out_is_asked_again_and_the_answer_chooses() {
-    let mut c = charger(None);
-    c.handle_frame(ms(10), &frame(0x701, &[0x05]));
-    let _ = drain(&mut c);
+    let mut c = asked();
     let _ = answer(&mut c, 11, 1, &[0xA0]);
     // Sub 2 is not answered: at its timeout the charger asks for sub 2
     // again (what it has read stands) and holds the start meanwhile.
@@ -277,9 +280,7 @@ fn a_permanent_algorithm_wins_over_the_modules_battery() {
 fn a_battery_no_algorithm_fits_is_not_charged() {
     // NiCd of 24 cells: the table has NiCd for 40 cells only. No other
     // chemistry's curve: E-0-2-0, no output.
-    let mut c = charger(None);
-    c.handle_frame(ms(10), &frame(0x701, &[0x05]));
-    let _ = drain(&mut c);
+    let mut c = asked();
     let _ = answer(&mut c, 11, 1, &[0x20]);
     let _ = answer(&mut c, 12, 2, &100u16.to_le_bytes());
     let (_, events) = answer(&mut c, 13, 4, &24u16.to_le_bytes());
