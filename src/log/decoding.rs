@@ -583,7 +583,10 @@ fn run_with(
         // An empty input (a 0-byte file, a pipe closed before its first
         // line) is read as nothing: said, never a silent empty summary.
         Kind::Lines { lines: 0, .. } => {
-            let _ = writeln!(diag, "canopen-decode: the input is empty: no line, no frame");
+            let _ = writeln!(
+                diag,
+                "canopen-decode: the input is empty: no line, no frame"
+            );
             true
         }
         kind @ Kind::Lines { lines, .. } => {
