@@ -482,7 +482,7 @@ fn timestamp(l: &Layout, record: &[u8], index: u64, start_ns: u64) -> Option<Tim
     let ns = s * 1e9;
     // Round half away from zero (`as` saturates, never panics).
     let ns = if ns >= 0.0 { ns + 0.5 } else { ns - 0.5 };
-    // Within 292 years of the start (any real log) in 64 bits, which
+    // Within 285 years of the start (any real log) in 64 bits, which
     // costs less than 128 per record.
     let total = if ns.abs() < 9e18 {
         i128::from(start_ns).checked_add(i128::from(ns as i64))?
