@@ -211,7 +211,17 @@ impl<S: DeviceSpec, const Q: usize, const T: usize, const R: usize> Device<S, Q,
             let Ok(data) = PdoFrame::of_frame(frame) else {
                 return;
             };
-            let od = self.od_mut();
+            // Values the objects already hold change nothing the TPDOs
+            // read: no refresh for them (unless something else asks). On
+            // a host, where long simulated sessions make the read-back
+            // pay; a no-alloc firmware, whose RPDOs come a few times a
+            // second, keeps the 290 B of flash it takes and reads again.
+            let od = self.server.od_mut();
+            #[cfg(feature = "alloc")]
+            let changes = self.tpdos_stale || !RpdoReceiver::holds_data(pdo, data.as_bytes(), od);
+            #[cfg(not(feature = "alloc"))]
+            let changes = true;
+            self.tpdos_stale = changes;
             let Some(result) = RpdoReceiver::apply_data(pdo, data.as_bytes(), od) else {
                 return;
             };

@@ -63,8 +63,9 @@
 //!   [`Device::clear_error`] clears bits and sends the error reset (0000h).
 //! - **TPDOs** run only in operational and while the profile allows
 //!   ([`Device::set_tpdos_enabled`]); their payloads are read from the
-//!   mapped objects before every transmission chance, and a changed mapped
-//!   value is an event. **RPDOs** are written into the mapped objects only
+//!   mapped objects after every input that may have changed them (with
+//!   feature `alloc`, not after an RPDO whose mapped objects already held
+//!   its values), and a changed mapped value is an event. **RPDOs** are written into the mapped objects only
 //!   in operational; a payload shorter than its mapping is refused whole
 //!   with EMCY 8210h ([`Profile::rpdo_emergency`]).
 //! - **Heartbeat**: the boot-up message at boot and resets, then the state
@@ -264,8 +265,9 @@ pub struct Device<
     tpdos_enabled: bool,
     /// The objects may have changed since the TPDOs last read them (set by
     /// every mutable access to the dictionary, see
-    /// [`od_mut`](Self::od_mut)): the refresh after an input reads them
-    /// again only then.
+    /// [`od_mut`](Self::od_mut), and by an RPDO unless its mapped objects
+    /// already held its values, feature `alloc`): the refresh after an
+    /// input reads them again only then.
     tpdos_stale: bool,
     /// The application's power-on values, taken at boot (restored by
     /// reset node).

@@ -110,6 +110,41 @@ pub fn write_mapped<D: ObjectDictionary + ?Sized>(
     write_entries(mapping.entries(), payload, od)
 }
 
+/// Whether the mapped objects already hold the fields of `payload`: each
+/// one reads back as the bits [`write_entries`] would write, so writing
+/// it would change no value (the device core reads its TPDOs' objects
+/// again after an RPDO only when one did not). A payload shorter than the
+/// mapping, or an object that cannot be read, is `false`.
+#[cfg(feature = "alloc")]
+pub(crate) fn holds_entries<D: ObjectDictionary + ?Sized>(
+    entries: &[MappingEntry],
+    payload: &[u8],
+    od: &mut D,
+) -> bool {
+    // The bits the fields take (dummies and what follows the mapping are
+    // no value), compared with what `read_entries` makes of the objects.
+    let mut fields = 0u64;
+    let mut offset = 0u32;
+    for entry in entries {
+        let bits = u32::from(entry.bits);
+        if !entry.is_dummy() && offset < 64 {
+            let ones = if bits >= 64 {
+                u64::MAX
+            } else {
+                (1 << bits) - 1
+            };
+            fields |= ones << offset;
+        }
+        offset += bits;
+    }
+    if payload.len() < field_len(offset) {
+        return false;
+    }
+    let mut word = [0u8; 8];
+    crate::bytes::copy_payload(&mut word, payload);
+    read_entries(entries, od).is_ok_and(|(held, _)| held == u64::from_le_bytes(word) & fields)
+}
+
 /// [`write_mapped`] over the entries of a valid mapping.
 pub(crate) fn write_entries<D: ObjectDictionary + ?Sized>(
     entries: &[MappingEntry],
@@ -218,5 +253,22 @@ mod tests {
                 ..
             })
         ));
+    }
+
+    #[test]
+    fn rpdo_fields_already_held() {
+        // 6001h/8, a dummy byte, 6052h/16: what `od()` holds is 00, 0000.
+        let m = entries(&[(0x6001, 0, 8), (0x0005, 0, 8), (0x6052, 0, 16)]);
+        let mut od = od();
+        // The dummy's byte, and bytes past the mapping, are no value.
+        assert!(holds_entries(m.entries(), &[0, 0xAA, 0, 0, 0xBB], &mut od));
+        assert!(!holds_entries(m.entries(), &[0, 0, 0, 1], &mut od));
+        assert!(!holds_entries(m.entries(), &[1, 0, 0, 0], &mut od));
+        assert!(!holds_entries(m.entries(), &[0, 0, 0], &mut od), "short");
+        write_mapped(&m, &[0x01, 0, 0x34, 0x12], &mut od).unwrap();
+        assert!(holds_entries(m.entries(), &[0x01, 0, 0x34, 0x12], &mut od));
+        // An object that cannot be read holds nothing.
+        let m = entries(&[(0x6099, 0, 8)]);
+        assert!(!holds_entries(m.entries(), &[0], &mut od));
     }
 }

@@ -9,6 +9,8 @@ use core::convert::Infallible;
 
 use super::comm::PdoDirection;
 use super::config::{PdoConfig, PdoDictionary};
+#[cfg(feature = "alloc")]
+use super::od_io::holds_entries;
 use super::od_io::{read_entries, write_entries, RpdoError};
 use super::producer::TpdoProducer;
 use crate::bytes::Payload;
@@ -260,6 +262,21 @@ impl<const R: usize> RpdoReceiver<R> {
     ) -> Option<Result<bool, RpdoError>> {
         let slot = pdos.config.get(PdoDirection::Receive, pdo)?;
         Some(write_entries(slot.mapped(), data, &mut pdos.inner))
+    }
+
+    /// Whether RPDO `pdo`'s mapped objects already hold the fields of
+    /// `data` (writing it would change no value; `false` for a PDO the
+    /// configuration lacks, a short `data` or an unreadable object).
+    #[cfg(feature = "alloc")]
+    #[inline]
+    pub(crate) fn holds_data<D: ObjectDictionary, const T: usize>(
+        pdo: PdoNumber,
+        data: &[u8],
+        pdos: &mut PdoDictionary<D, T, R>,
+    ) -> bool {
+        pdos.config
+            .get(PdoDirection::Receive, pdo)
+            .is_some_and(|slot| holds_entries(slot.mapped(), data, &mut pdos.inner))
     }
 
     /// The RPDO `frame` is on while enabled, if any: what `handle_frame`
