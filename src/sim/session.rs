@@ -30,7 +30,7 @@
 use alloc::vec::Vec;
 use core::time::Duration;
 
-use super::bus::{Bus, ControllerState, Handle};
+use super::bus::{Bus, ControllerState, Handle, Sent};
 use super::{BmsPolicy, Pack, PackSpec, PowerStageModel};
 use crate::cia418::{BatteryModule, BatteryModuleConfig, Chemistry, DeviceType};
 use crate::clock::Timestamp;
@@ -244,6 +244,9 @@ pub struct Session {
     pub enable_charger_tpdo3: bool,
     pending_writes: Vec<(u16, u8, Vec<u8>)>,
     log: Vec<Logged>,
+    /// The bus's log of the last step, read into [`log`](Self::log) (its
+    /// storage kept from step to step).
+    sent: Vec<Sent>,
     phases: Vec<(Timestamp, ChargePhase)>,
     start_soc: f64,
     ah: f64,
@@ -312,6 +315,7 @@ impl Session {
             enable_charger_tpdo3: true,
             pending_writes: Vec::new(),
             log: Vec::new(),
+            sent: Vec::new(),
             phases: Vec::from([(Timestamp::ZERO, ChargePhase::Idle)]),
             start_soc: pack.soc(),
             ah: 0.0,
@@ -668,7 +672,9 @@ impl Session {
                 .with(self.charger, |c, now| c.set_bus_error(now, error));
         }
         let charger_emcy = 0x080 + u32::from(CHARGER_NODE.raw());
-        for sent in self.bus.take_log() {
+        let mut log = core::mem::take(&mut self.sent);
+        self.bus.take_log_into(&mut log);
+        for sent in log.drain(..) {
             if sent.from == "Charger" && sent.frame.identity() == charger_emcy {
                 if let Ok(e) = Emergency::parse_frame(&sent.frame) {
                     match DeltaQCode::from_emergency(&e) {
@@ -684,6 +690,7 @@ impl Session {
                 });
             }
         }
+        self.sent = log;
         for (at, e) in self.bus.take_events(self.charger) {
             match e {
                 ChargerEvent::Charge(ChargeEvent::Phase { to, .. }) => {

@@ -116,20 +116,13 @@ mod controller;
 mod record;
 mod slot;
 
-use controller::Controller;
 pub use controller::{ControllerState, RECOVERY};
 pub use record::{Delivery, Fate, Handle, Livelock, Sent};
 use record::{Loss, SplitMix64};
-use slot::{Node, Slot};
+use slot::{Entry, Slot};
 
 /// What [`Bus::step_observed`] calls around every delivery.
 type Observer<'a> = &'a mut dyn FnMut(&Delivery, &Bus);
-
-struct Entry {
-    name: &'static str,
-    node: Box<dyn Node>,
-    controller: Controller,
-}
 
 struct InFlight {
     arrives: Timestamp,
@@ -234,16 +227,7 @@ impl Bus {
 
     /// Adds a place for a machine of type `M` with nothing plugged in yet.
     pub fn add_unplugged<M: Machine + 'static>(&mut self, name: &'static str) -> Handle<M> {
-        self.entries.push(Entry {
-            name,
-            node: Box::new(Slot::<M> {
-                machine: None,
-                events: Vec::new(),
-                drain: true,
-                connected: true,
-            }),
-            controller: Controller::default(),
-        });
+        self.entries.push(Entry::new::<M>(name));
         Handle {
             index: self.entries.len().saturating_sub(1),
             machine: PhantomData,
@@ -456,6 +440,14 @@ impl Bus {
         core::mem::take(&mut self.log)
     }
 
+    /// [`take_log`](Self::take_log) into `into` (emptied first), the bus
+    /// keeping `into`'s storage for the log that follows: a caller that
+    /// takes the log after every step allocates no more for it.
+    pub fn take_log_into(&mut self, into: &mut Vec<Sent>) {
+        into.clear();
+        core::mem::swap(&mut self.log, into);
+    }
+
     /// How many frames were sent so far (logged or not).
     #[must_use]
     pub const fn frames_sent(&self) -> usize {
@@ -494,7 +486,7 @@ impl Bus {
     #[must_use]
     pub fn next_due(&self) -> Option<Timestamp> {
         let deliveries = self.in_flight.iter().map(|d| Some(d.arrives));
-        crate::clock::earliest(deliveries.chain(self.entries.iter().map(|e| e.node.poll_timeout())))
+        crate::clock::earliest(deliveries.chain(self.entries.iter().map(Entry::due)))
     }
 
     /// Moves the clock to `to` (never back) without running anything:
@@ -593,12 +585,13 @@ impl Bus {
         self.entries.get(h.index)?.node.as_any().downcast_ref()
     }
 
+    /// The slot, for the caller: what it does there is flushed at the
+    /// next step, and the machine's deadline asked again.
     fn slot_mut<M: Machine + 'static>(&mut self, h: Handle<M>) -> Option<&mut Slot<M>> {
-        self.entries
-            .get_mut(h.index)?
-            .node
-            .as_any_mut()
-            .downcast_mut()
+        let e = self.entries.get_mut(h.index)?;
+        e.due.set(None);
+        e.touched = true;
+        e.node.as_any_mut().downcast_mut()
     }
 
     /// The fate of a frame sent now by `from`, with its delay.
@@ -684,6 +677,10 @@ impl Bus {
         }
         if let Some(e) = self.entries.get_mut(i) {
             e.node.record_events(self.now);
+            // A call into the machine, its sending included, may move
+            // its deadline.
+            e.due.set(None);
+            e.touched = false;
         }
     }
 
@@ -703,8 +700,12 @@ impl Bus {
 
     /// One clock step, if something is due no later than `limit`.
     fn step_until(&mut self, limit: Option<Timestamp>, mut observe: Option<Observer<'_>>) -> bool {
+        // What the caller did to a machine since (every call of the bus's
+        // own is flushed at once).
         for i in 0..self.entries.len() {
-            self.flush(i);
+            if self.entries.get(i).is_some_and(|e| e.touched) {
+                self.flush(i);
+            }
         }
         let Some(next) = self
             .next_due()

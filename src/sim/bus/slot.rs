@@ -1,12 +1,59 @@
 //! A place on the simulated bus: a machine of any type (or none) with its
 //! recorded events, behind one object-safe trait.
 
+use alloc::boxed::Box;
 use alloc::vec::Vec;
 use core::any::Any;
+use core::cell::Cell;
+
+use super::controller::Controller;
 
 use crate::clock::Timestamp;
 use crate::frame::CanFrame;
 use crate::machine::Machine;
+
+/// A place on the bus: its name, its machine and the machine's CAN
+/// controller.
+pub(super) struct Entry {
+    pub(super) name: &'static str,
+    pub(super) node: Box<dyn Node>,
+    pub(super) controller: Controller,
+    /// The machine's `poll_timeout` as last asked (`None`: to ask again).
+    /// Asked at most once between two calls into the machine: every
+    /// call the bus makes is followed by `Bus::flush`, and every access
+    /// of the caller's goes through `Bus::slot_mut`, which both forget it.
+    pub(super) due: Cell<Option<Option<Timestamp>>>,
+    /// The caller reached the machine since its last flush: it may have
+    /// queued frames or events (the step flushes it first).
+    pub(super) touched: bool,
+}
+
+impl Entry {
+    /// A place called `name` for a machine of type `M`, none plugged in.
+    pub(super) fn new<M: Machine + 'static>(name: &'static str) -> Self {
+        Entry {
+            name,
+            node: Box::new(Slot::<M> {
+                machine: None,
+                events: Vec::new(),
+                drain: true,
+                connected: true,
+            }),
+            controller: Controller::default(),
+            due: Cell::new(None),
+            touched: false,
+        }
+    }
+
+    /// The machine's next deadline, asked only when not known.
+    pub(super) fn due(&self) -> Option<Timestamp> {
+        self.due.get().unwrap_or_else(|| {
+            let due = self.node.poll_timeout();
+            self.due.set(Some(due));
+            due
+        })
+    }
+}
 
 /// A machine with its recorded events, behind `dyn Node`.
 pub(super) struct Slot<M: Machine> {
