@@ -194,3 +194,97 @@ fn module_that_is_not_a_battery_module_raises_e_0_4_2() {
         "no TPDO unconfigured: {all:?}"
     );
 }
+
+/// Runs `c` from `from` to `to` ms in 100 ms steps, the module's
+/// heartbeat every second, and gives the SDO requests and EMCYs it sent.
+fn run_with_heartbeats(c: &mut Charger, from: u64, to: u64) -> Vec<String> {
+    let mut out = Vec::new();
+    for t in (from..to).step_by(100) {
+        if t % 1000 == 0 {
+            c.handle_frame(ms(t), &beat());
+        }
+        while c.poll_timeout().is_some_and(|d| d <= ms(t)) {
+            c.handle_timeout(ms(t));
+        }
+        out.extend(sent(c).into_iter().filter(|f| !f.starts_with("70A#")));
+    }
+    out
+}
+
+/// A pairing request left unanswered (a frame lost on a lossy bus) ends
+/// in the client's SDO timeout abort (05040000h) and is asked again, the
+/// same request, three in all for one finding of the module; the
+/// configuration then completes with no E-0-3-0. Failed before the fix:
+/// the first timeout failed the pairing for good (E-0-3-0 standing, no
+/// TPDO) until the module was lost and found again.
+#[test]
+fn an_unanswered_pairing_request_is_asked_again() {
+    let mut c = booted(config());
+    assert_eq!(
+        run_with_heartbeats(&mut c, 0, 2100),
+        [READ_1000H, "601#8000100000000405", READ_1000H],
+        "the timeout's abort, then 1000h asked again"
+    );
+    // 1000h answered, 1400h sub 1 unanswered: asked again (the third
+    // request of this finding), then answered.
+    c.handle_frame(
+        ms(2150),
+        &frame(0x581, &[0x43, 0x00, 0x10, 0, 0xA2, 0x01, 0, 0]),
+    );
+    assert_eq!(sent(&mut c), ["601#4000140100000000"]);
+    assert_eq!(
+        run_with_heartbeats(&mut c, 2200, 4300),
+        ["601#8000140100000405", "601#4000140100000000"]
+    );
+    let events: Vec<ChargerEvent> = std::iter::from_fn(|| c.poll_event()).collect();
+    assert!(
+        !events
+            .iter()
+            .any(|e| matches!(e, ChargerEvent::ConfigurationFailed { .. })),
+        "{events:?}"
+    );
+    c.handle_frame(
+        ms(4250),
+        &frame(0x581, &[0x43, 0x00, 0x14, 1, 0x01, 0x02, 0, 0]),
+    );
+    assert_eq!(sent(&mut c), ["601#4000180100000000"]);
+    c.handle_frame(
+        ms(4251),
+        &frame(0x581, &[0x43, 0x00, 0x18, 1, 0x81, 0x01, 0, 0]),
+    );
+    let _ = sent(&mut c);
+    assert!(c.is_configured());
+    assert!(c.error_register().is_empty(), "no E-0-3-0 recorded");
+}
+
+/// Three unanswered requests for one finding fail the pairing: one abort
+/// each, then `ConfigurationFailed` with the timeout's code and E-0-3-0
+/// (EMCY 8130h, Delta-Q code 1Eh), and no fourth request.
+#[test]
+fn a_module_that_never_answers_fails_the_pairing_after_three_requests() {
+    let mut c = booted(config());
+    assert_eq!(
+        run_with_heartbeats(&mut c, 0, 10_000),
+        [
+            READ_1000H,
+            "601#8000100000000405",
+            READ_1000H,
+            "601#8000100000000405",
+            READ_1000H,
+            // E-0-3-0 is raised as the last timeout ends the transfer; the
+            // client's abort frame follows it.
+            "08A#3081011E80000000",
+            "601#8000100000000405",
+        ]
+    );
+    let events: Vec<ChargerEvent> = std::iter::from_fn(|| c.poll_event()).collect();
+    assert!(
+        events.contains(&ChargerEvent::ConfigurationFailed {
+            index: 0x1000,
+            sub: 0,
+            code: canopen_codec::abort::AbortCode::SdoProtocolTimedOut
+        }),
+        "{events:?}"
+    );
+    assert!(!c.is_configured());
+}

@@ -32,7 +32,11 @@
 //!   charger is stopped, or a configuration that an NMT stop interrupts
 //!   (silently: no abort frame in stopped), is read from 1000h again on
 //!   entering pre-operational or operational; a module boot-up during
-//!   the configuration restarts it. Without `configure_cob_ids` the charger uses its own
+//!   the configuration restarts it. A request left unanswered (the SDO
+//!   timeout: a frame lost on a lossy bus) is asked again, three requests
+//!   per finding of the module; the module's abort, or a third timeout,
+//!   fails the pairing ([`ChargerEvent::ConfigurationFailed`], E-0-3-0)
+//!   until the module is found again. Without `configure_cob_ids` the charger uses its own
 //!   default COB-IDs (18Ah, 28Ah, 38Ah, 48Ah; 20Ah, 30Ah, 40Ah), as in the
 //!   real capture.
 //! - **The module's battery** (6020h, CiA 418 section 7.2.1; the Delta-Q
@@ -82,7 +86,6 @@
 use super::device_type;
 use super::{emergency_reaction, DeltaQCode, OperatingMode, ALARMS_AND_FAULTS};
 use crate::abort::AbortCode;
-use crate::bytes::InlineData;
 use crate::cia419::{PdoPair, PDO_PAIRS};
 use crate::clock::{earliest, timer_kind, Timers, Timestamp};
 use crate::cob_id::{NodeId, PdoNumber, EMCY_BASE};
@@ -95,8 +98,7 @@ use crate::frame::CanFrame;
 use crate::machine::Machine;
 use crate::nmt::heartbeat::HeartbeatEvent;
 use crate::nmt::NmtState;
-use crate::od::index::DEVICE_TYPE;
-use crate::pdo::{PdoCobId, PdoDirection, PdoSlot, RpdoError};
+use crate::pdo::{PdoDirection, RpdoError};
 use crate::sdo::{Client, ClientConfig, ClientEvent, TransferEnd, EVENTS_PER_CALL};
 use crate::wire::Codec;
 
@@ -105,8 +107,8 @@ mod config;
 mod control;
 mod download;
 mod event;
+mod pairing;
 use super::charge::{BatteryIdentity, ChargeControl, PowerStage, SetPoints};
-use config::default_pdos;
 pub use config::{ChargerConfig, ChargerPowerOn};
 use control::ControlLink;
 pub use download::ChargerAppDictionary;
@@ -135,7 +137,8 @@ enum Link {
     CobId(u8, u32),
     /// Configured: TPDOs may run.
     Ready,
-    /// Configuration failed; waits for the module to come back.
+    /// Configuration failed (an abort, or three timeouts); waits for the
+    /// module to be found again.
     Failed,
 }
 
@@ -386,12 +389,6 @@ impl ChargerProfile {
         self.client.reset();
     }
 
-    /// The pairing failed ([`Link::Failed`]): no 6020h read follows.
-    fn config_failed<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
-        self.link = Link::Failed;
-        self.identification_dropped(device, now);
-    }
-
     /// Boot or NMT reset: no transfer, no pairing.
     fn restart<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
         self.fresh_client();
@@ -426,12 +423,7 @@ impl ChargerProfile {
                     if self.reading.is_some() {
                         self.read_failed(device, now, sub, code);
                     } else if matches!(self.link, Link::DeviceType | Link::CobId(..)) {
-                        self.config_failed(device, now);
-                        device.push_event(ChargerEvent::ConfigurationFailed { index, sub, code });
-                        Self::raise(
-                            device,
-                            const { Alarm::of(DeltaQCode::BATTERY_MODULE_COMMUNICATION) },
-                        );
+                        self.pairing_aborted(device, now, index, sub, code);
                     }
                 }
                 _ => {}
@@ -470,20 +462,6 @@ impl ChargerProfile {
             self.start_configuration(device, now);
         } else {
             self.link = Link::Pending;
-        }
-    }
-
-    /// Reads the module's 1000h with a fresh client: a transfer of an
-    /// earlier attempt (a module that rebooted meanwhile) ends silently.
-    fn start_configuration<const Q: usize>(
-        &mut self,
-        device: &mut ChargerDevice<Q>,
-        now: Timestamp,
-    ) {
-        self.fresh_client();
-        self.link = Link::DeviceType;
-        if self.client.start_upload(now, DEVICE_TYPE, 0).is_err() {
-            self.config_failed(device, now);
         }
     }
 
@@ -528,105 +506,6 @@ impl ChargerProfile {
     /// Not heard, or gone: the module's next heartbeat finds it.
     const fn absent(&self) -> bool {
         matches!(self.link, Link::Absent | Link::Gone)
-    }
-
-    /// Back to the not-valid default COB-IDs (when configuring them).
-    fn forget_pairing<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
-        if self.configure_cob_ids {
-            let power_on = *device.power_on();
-            device.update_pdos(now, |c| default_pdos(&power_on, c));
-        }
-        self.link = Link::Absent;
-        device.set_tpdos_enabled(now, false);
-    }
-
-    /// Configured ([`Link::Ready`]): reported, the error cleared, the TPDOs
-    /// on.
-    fn configured<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
-        self.link = Link::Ready;
-        let config = device.pdo_config();
-        // Bit n: PDO n is there and valid (the slots are PDO 0..3 in order).
-        let mask = |slots: &[Option<PdoSlot>]| {
-            slots.iter().rev().fold(0u8, |m, slot| {
-                m << 1 | u8::from(slot.as_ref().is_some_and(PdoSlot::is_valid))
-            })
-        };
-        let (tpdos, rpdos) = (mask(config.tpdos()), mask(config.rpdos()));
-        device.push_event(ChargerEvent::Configured { tpdos, rpdos });
-        if self.charge.control.alarms().is_empty() {
-            device.clear_error(ErrorRegister::GENERIC);
-        }
-        device.set_tpdos_enabled(now, true);
-        self.start_identification(device, now);
-    }
-
-    fn on_upload_data(&mut self, offset: usize, data: InlineData<7>) {
-        // Values read here are at most 4 bytes; keep them in the pending slot.
-        if offset == 0 {
-            self.upload_value = [0; 4];
-        }
-        for (i, b) in data.as_slice().iter().enumerate() {
-            if let Some(slot) = self.upload_value.get_mut(offset + i) {
-                *slot = *b;
-            }
-        }
-    }
-
-    fn on_uploaded<const Q: usize>(&mut self, device: &mut ChargerDevice<Q>, now: Timestamp) {
-        let value = u32::from_le_bytes(self.upload_value);
-        // One call of `next_pair`: the pair to look from and the device type.
-        let (from, device_type) = match self.link {
-            Link::DeviceType if value & 0xFFFF != 418 => {
-                self.config_failed(device, now);
-                device.push_event(ChargerEvent::NotABatteryModule { device_type: value });
-                Self::raise(device, const { Alarm::of(DeltaQCode::CAN_CONFIGURATION) });
-                return;
-            }
-            Link::DeviceType => (0, value),
-            Link::CobId(i, device_type) => {
-                if let Some(p) = PAIRS.get(usize::from(i)) {
-                    let module = PdoCobId::from_u32(value);
-                    let mine = PdoCobId::from_u32(module.to_u32() & !PdoCobId::NOT_VALID);
-                    let (dir, n) = (p.charger_direction, p.charger_pdo);
-                    device.update_pdos(now, |c| {
-                        if let Some(slot) = c.get_mut(dir, n) {
-                            slot.comm.cob_id = mine;
-                        }
-                    });
-                }
-                (i.saturating_add(1), device_type)
-            }
-            _ => return,
-        };
-        self.next_pair(device, now, from, device_type);
-    }
-
-    /// Starts reading the next pair the device type declares, or finishes.
-    fn next_pair<const Q: usize>(
-        &mut self,
-        device: &mut ChargerDevice<Q>,
-        now: Timestamp,
-        from: u8,
-        dt: u32,
-    ) {
-        // Every charger PDO of `PAIRS` has its slot (`default_pdos` writes
-        // all seven at every reset and none is ever removed).
-        let mut i = from;
-        while let Some(p) = PAIRS.get(usize::from(i)) {
-            if p.is_declared(dt) {
-                self.link = Link::CobId(i, dt);
-                if self
-                    .client
-                    .start_upload(now, p.module_comm_index, 1)
-                    .is_err()
-                {
-                    self.config_failed(device, now);
-                }
-                return;
-            }
-            i += 1;
-        }
-        self.configured(device, now);
     }
 }
 

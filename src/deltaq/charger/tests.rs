@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::frame::{CanFrame, CanId};
+use crate::pdo::{PdoCobId, PdoSlot};
 use core::mem::MaybeUninit;
 use std::string::{String, ToString};
 use std::vec::Vec;
